@@ -1,0 +1,77 @@
+// tern/msg/path.hpp: waypoints (topic `waypoints`) and the current path (topic `current_path`).
+// Mirrors ROSplane's Waypoint and CurrentPath messages.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string_view>
+
+#include <Eigen/Core>
+
+#include "tern/time.hpp"
+
+namespace tern::msg {
+
+/// One mission waypoint (ROSplane's Waypoint).
+struct Waypoint {
+  static constexpr std::string_view type_name = "tern/Waypoint";
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< NED position (m) relative to the origin, or (lat deg, lon deg, alt m MSL) when lla
+  bool lla = false;                             ///< w is latitude, longitude, altitude
+  double chi_d = 0.0;                           ///< desired course at the waypoint, rad (used when use_chi)
+  bool use_chi = false;                         ///< fly a Dubins path honouring chi_d, else a fillet
+  double Va_d = 0.0;                            ///< desired airspeed, m/s
+  template <class V> static constexpr void describe(V& v) {
+    v(&Waypoint::w, "w", "m|deg", "0,1,2");
+    v(&Waypoint::lla, "lla", "bool");
+    v(&Waypoint::chi_d, "chi_d", "rad");
+    v(&Waypoint::use_chi, "use_chi", "bool");
+    v(&Waypoint::Va_d, "Va_d", "m/s");
+  }
+};
+
+/// The whole mission as the planner hands it to the path manager, topic `waypoints`.
+/// Positions are NED (lla waypoints are converted by the planner once the origin is known).
+struct WaypointList {
+  static constexpr std::string_view type_name = "tern/WaypointList";
+  static constexpr std::size_t kCapacity = 64;
+  Nanos stamp = 0;
+  std::uint32_t revision = 0;  ///< increases on every edit of the mission
+  std::uint32_t count = 0;     ///< valid entries in items, <= kCapacity
+  bool loop = true;            ///< after the last waypoint, start again at the first
+  std::array<Waypoint, kCapacity> items{};
+  template <class V> static constexpr void describe(V& v) {
+    v(&WaypointList::stamp, "stamp", "ns");
+    v(&WaypointList::revision, "revision", "");
+    v(&WaypointList::count, "count", "");
+    v(&WaypointList::loop, "loop", "bool");
+    v(&WaypointList::items, "items", "");
+  }
+};
+
+/// The path segment to follow now, topic `current_path` (ROSplane's CurrentPath).
+struct CurrentPath {
+  static constexpr std::string_view type_name = "tern/CurrentPath";
+  enum Type : std::uint8_t { orbit = 0, line = 1 };
+  Nanos stamp = 0;
+  std::uint8_t path_type = line;                 ///< orbit (0) or line (1)
+  double Va_d = 0.0;                             ///< desired airspeed, m/s
+  Eigen::Vector3d r = Eigen::Vector3d::Zero();   ///< a point on the line, NED, m
+  Eigen::Vector3d q = Eigen::Vector3d::UnitX();  ///< unit direction of the line, NED
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();   ///< orbit centre, NED, m
+  double rho = 0.0;                              ///< orbit radius, m
+  std::int8_t lambda = 1;                        ///< orbit direction: 1 clockwise, -1 counter-clockwise
+  std::int32_t waypoint_index = -1;              ///< index of the waypoint being flown to, -1 if none
+  template <class V> static constexpr void describe(V& v) {
+    v(&CurrentPath::stamp, "stamp", "ns");
+    v(&CurrentPath::path_type, "path_type", "enum");
+    v(&CurrentPath::Va_d, "Va_d", "m/s");
+    v(&CurrentPath::r, "r", "m", "n,e,d");
+    v(&CurrentPath::q, "q", "", "n,e,d");
+    v(&CurrentPath::c, "c", "m", "n,e,d");
+    v(&CurrentPath::rho, "rho", "m");
+    v(&CurrentPath::lambda, "lambda", "");
+    v(&CurrentPath::waypoint_index, "waypoint_index", "");
+  }
+};
+
+}  // namespace tern::msg

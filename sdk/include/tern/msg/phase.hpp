@@ -1,0 +1,46 @@
+// tern/msg/phase.hpp: the flight phase, topic `flight_phase` (published by the host's phase
+// machine; the phase router runs the controller the mission config names for it).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+#include "tern/time.hpp"
+
+namespace tern::msg {
+
+enum class Phase : std::uint8_t { takeoff = 0, climb = 1, cruise = 2, landing = 3, loiter = 4 };
+
+inline constexpr std::string_view phase_name(Phase p) {
+  switch (p) {
+    case Phase::takeoff: return "takeoff";
+    case Phase::climb: return "climb";
+    case Phase::cruise: return "cruise";
+    case Phase::landing: return "landing";
+    case Phase::loiter: return "loiter";
+  }
+  return "unknown";
+}
+
+inline constexpr std::optional<Phase> phase_from_name(std::string_view s) {
+  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter})
+    if (phase_name(p) == s) return p;
+  return std::nullopt;
+}
+
+struct FlightPhase {
+  static constexpr std::string_view type_name = "tern/FlightPhase";
+  Nanos stamp = 0;
+  Phase phase = Phase::takeoff;
+  Phase previous = Phase::takeoff;
+  Nanos since = 0;  ///< flight time at which the current phase began, ns
+  template <class V> static constexpr void describe(V& v) {
+    v(&FlightPhase::stamp, "stamp", "ns");
+    v(&FlightPhase::phase, "phase", "enum");
+    v(&FlightPhase::previous, "previous", "enum");
+    v(&FlightPhase::since, "since", "ns");
+  }
+};
+
+}  // namespace tern::msg

@@ -1,0 +1,218 @@
+// tern/plugin.hpp: the plugin base class, its context, and the registration macro.
+//
+// A plugin is one class derived from tern::Plugin, registered once per shared object with
+//
+//   TERN_PLUGIN(MyController, "my_controller", tern::PluginKind::controller, "one line");
+//
+// and built with tern_add_plugin() into libtern_my_controller.so. Its life, driven by the host:
+//   configure()  declare ports (declare(input_, "state")) and parameters (declare(kp_, "kp", ...));
+//                read parameter values, open files. Nothing runs yet.
+//   start()      once, before the first step of a flight.
+//   step(now)    at the configured rate, or when the trigger input has new data.
+//   reset()      between flights, and when the phase router hands control to this controller:
+//                integrators and filters start clean.
+//   stop()       once, after the last step.
+// A plugin never sleeps, never keeps a thread running after stop(), and never keeps a pointer
+// into another plugin. Exceptions thrown from these functions end the flight with an error line
+// naming the instance; the flight log is kept.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include <boost/config.hpp>
+#include <boost/dll/alias.hpp>
+#include <spdlog/fwd.h>
+
+#include "tern/export.hpp"
+#include "tern/msg/all.hpp"
+#include "tern/param.hpp"
+#include "tern/port.hpp"
+#include "tern/time.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace tern {
+
+/// Version of the plugin API (this header, ports, parameters, messages). The host refuses a
+/// plugin built against another version.
+inline constexpr std::uint32_t kSdkApiVersion = 1;
+
+/// What a plugin is for; the host runs `io` plugins first in every tick.
+enum class PluginKind : std::uint8_t {
+  io, estimator, controller, path_planner, path_manager, path_follower, generic
+};
+constexpr const char* kind_name(PluginKind k) {
+  switch (k) {
+    case PluginKind::io: return "io";
+    case PluginKind::estimator: return "estimator";
+    case PluginKind::controller: return "controller";
+    case PluginKind::path_planner: return "path_planner";
+    case PluginKind::path_manager: return "path_manager";
+    case PluginKind::path_follower: return "path_follower";
+    case PluginKind::generic: return "generic";
+  }
+  return "generic";
+}
+inline std::optional<PluginKind> plugin_kind_from_name(std::string_view s) {
+  for (auto k : {PluginKind::io, PluginKind::estimator, PluginKind::controller,
+                 PluginKind::path_planner, PluginKind::path_manager, PluginKind::path_follower,
+                 PluginKind::generic})
+    if (s == kind_name(k)) return k;
+  return std::nullopt;
+}
+
+/// What the host (or the test harness) offers a plugin instance.
+class TERN_API Context {
+ public:
+  virtual ~Context();
+  /// Instance name from the mission config, e.g. "slc".
+  virtual const std::string& instance_name() const = 0;
+  /// Value the mission config (or its parameter file) sets for this instance's parameter, if any,
+  /// already resolved relative to the file that set it when the parameter is a path.
+  virtual std::optional<ParamValue> configured_value(const std::string& param,
+                                                     const ParamSpec& spec) const = 0;
+  /// Random seed for this instance: derived from the mission seed and the instance name, so that
+  /// instances draw independent streams and a flight is repeatable.
+  virtual std::uint64_t seed() const = 0;
+  /// Logger named after the instance, writing to the console and the flight's text log.
+  virtual std::shared_ptr<spdlog::logger> logger() const = 0;
+  /// Directory of the mission config (for plugin-specific relative paths); empty if none.
+  virtual std::filesystem::path config_dir() const = 0;
+  /// The mission config's `mission:` section (waypoints etc.); a null node when absent.
+  virtual const YAML::Node& mission() const = 0;
+  /// The aircraft file named by the mission config's `aircraft:` key, resolved; empty if none.
+  virtual std::filesystem::path aircraft_file() const = 0;
+  /// True when the host only wants the plugin's ports and parameters (`tern plugins`,
+  /// `tern params`): configure() should declare everything and open no file or device.
+  virtual bool describing() const { return false; }
+};
+
+class TERN_API Plugin {
+ public:
+  Plugin();
+  virtual ~Plugin();
+  Plugin(const Plugin&) = delete;
+  Plugin& operator=(const Plugin&) = delete;
+
+  virtual void configure() = 0;
+  virtual void start() {}
+  virtual void step(Nanos now) = 0;
+  virtual void reset() {}
+  virtual void stop() {}
+  /// Figures this plugin adds to the flight's summary.json (name, value), after stop().
+  virtual std::vector<std::pair<std::string, double>> summary() const { return {}; }
+
+  // ---- host side ----
+  void attach(Context* ctx) { ctx_ = ctx; }
+  const std::vector<InputBase*>& inputs() const { return inputs_; }
+  const std::vector<OutputBase*>& outputs() const { return outputs_; }
+  const std::vector<ParamBase*>& params() const { return params_; }
+  InputBase* find_input(std::string_view name) const;
+  OutputBase* find_output(std::string_view name) const;
+  ParamBase* find_param(std::string_view name) const;
+
+ protected:
+  Context& context() const;
+  spdlog::logger& log() const;
+
+  template <class T>
+  void declare(Input<T>& port, std::string name, std::string description = {},
+               Need need = Need::required) {
+    port.set_need(need);
+    add_input(port, std::move(name), std::move(description));
+  }
+  template <class T>
+  void declare(Output<T>& port, std::string name, std::string description = {}) {
+    add_output(port, std::move(name), std::move(description));
+  }
+  /// Declares a parameter with its default and spec, then applies the configured value if the
+  /// mission config sets one (throws ParamError if that value is invalid).
+  template <class T>
+  void declare(Param<T>& param, std::string name, T default_value, ParamSpec spec = {}) {
+    param.init(default_value);
+    add_param(param, std::move(name), ParamValue(std::move(default_value)), std::move(spec));
+  }
+  /// String literals declare text parameters.
+  void declare(Param<std::string>& param, std::string name, const char* default_value,
+               ParamSpec spec = {}) {
+    declare(param, std::move(name), std::string(default_value), std::move(spec));
+  }
+
+ private:
+  void add_input(InputBase& port, std::string name, std::string description);
+  void add_output(OutputBase& port, std::string name, std::string description);
+  void add_param(ParamBase& param, std::string name, ParamValue default_value, ParamSpec spec);
+
+  Context* ctx_ = nullptr;
+  std::vector<InputBase*> inputs_;
+  std::vector<OutputBase*> outputs_;
+  std::vector<ParamBase*> params_;
+};
+
+}  // namespace tern
+
+// ---- the handshake: plain C, checked by the host before any C++ is called ----------------------
+
+extern "C" {
+struct tern_message_fingerprint {
+  const char* type_name;
+  std::uint64_t fingerprint;
+};
+struct tern_plugin_handshake {
+  std::uint32_t magic;            ///< TERN_HANDSHAKE_MAGIC
+  std::uint32_t sdk_api_version;  ///< tern::kSdkApiVersion the plugin was built with
+  const char* abi_tag;            ///< TERN_ABI_TAG the plugin was built with
+  const char* plugin_name;
+  const char* kind;               ///< tern::kind_name(PluginKind)
+  const char* description;
+  std::uint32_t message_count;
+  const tern_message_fingerprint* messages;  ///< the standard messages as the plugin sees them
+};
+}
+
+#define TERN_HANDSHAKE_MAGIC 0x4E524554u /* "TERN" */
+#define TERN_HANDSHAKE_SYMBOL tern_plugin_handshake_v1
+#define TERN_FACTORY_ALIAS tern_create_plugin
+
+#define TERN_STR_(x) #x
+#define TERN_STR(x) TERN_STR_(x)
+#if defined(_LIBCPP_VERSION)
+#define TERN_STDLIB_TAG_ "libc++" TERN_STR(_LIBCPP_VERSION)
+#else
+#define TERN_STDLIB_TAG_ "libstdc++" TERN_STR(_GLIBCXX_RELEASE) ";cxx11abi=" TERN_STR(_GLIBCXX_USE_CXX11_ABI)
+#endif
+/// What must match between host and plugin besides the API version: the C++ standard library
+/// and its string ABI, and Eigen's version and static alignment (which -march can change).
+#define TERN_ABI_TAG                                                                          \
+  TERN_STDLIB_TAG_ ";eigen=" TERN_STR(EIGEN_WORLD_VERSION) "." TERN_STR(EIGEN_MAJOR_VERSION) "." \
+      TERN_STR(EIGEN_MINOR_VERSION) ";eigen_align=" TERN_STR(EIGEN_MAX_STATIC_ALIGN_BYTES)
+
+#define TERN_FINGERPRINT_ENTRY_(T) {T::type_name.data(), ::tern::reflect::fingerprint<T>()},
+
+/// Registers `Class` as this shared object's plugin. Use once, in one .cpp file of the plugin.
+#define TERN_PLUGIN(Class, name, kind, description)                                          \
+  namespace {                                                                                \
+  ::tern::Plugin* tern_plugin_factory_() { return new Class(); }                             \
+  constexpr tern_message_fingerprint tern_plugin_fingerprints_[] = {                         \
+      TERN_STANDARD_MESSAGES(TERN_FINGERPRINT_ENTRY_)};                                      \
+  }                                                                                          \
+  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL;          \
+  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL = {       \
+      TERN_HANDSHAKE_MAGIC,                                                                  \
+      ::tern::kSdkApiVersion,                                                                \
+      TERN_ABI_TAG,                                                                          \
+      name,                                                                                  \
+      ::tern::kind_name(kind),                              \
+      description,                                                                           \
+      sizeof(tern_plugin_fingerprints_) / sizeof(tern_plugin_fingerprints_[0]),              \
+      tern_plugin_fingerprints_};                                                            \
+  BOOST_DLL_ALIAS(tern_plugin_factory_, TERN_FACTORY_ALIAS)

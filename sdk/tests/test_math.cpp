@@ -1,0 +1,38 @@
+#include <doctest/doctest.h>
+
+#include "tern/math.hpp"
+#include "tern/time.hpp"
+
+using namespace tern;
+
+TEST_CASE("wrap_pi maps every angle to [-pi, pi)") {
+  CHECK(wrap_pi(0.0) == doctest::Approx(0.0));
+  CHECK(wrap_pi(3 * kPi) == doctest::Approx(-kPi));
+  CHECK(wrap_pi(-3 * kPi / 2) == doctest::Approx(kPi / 2));
+  CHECK(wrap_pi(7.0) == doctest::Approx(7.0 - 2 * kPi));
+  CHECK(wrap_2pi(-0.5) == doctest::Approx(2 * kPi - 0.5));
+  CHECK(unwrap_near(3.0, -3.0) == doctest::Approx(3.0 - 2 * kPi));
+}
+
+TEST_CASE("Euler, quaternion and rotation matrix agree and round-trip") {
+  const double phi = 0.3, theta = -0.2, psi = 2.5;
+  const Eigen::Quaterniond q = quaternion_from_euler(phi, theta, psi);
+  const Eigen::Matrix3d R = rotation_from_euler(phi, theta, psi);
+  CHECK((q.toRotationMatrix() - R).norm() < 1e-12);
+  const Eigen::Vector3d e = euler_from_quaternion(q);
+  CHECK(e.x() == doctest::Approx(phi));
+  CHECK(e.y() == doctest::Approx(theta));
+  CHECK(e.z() == doctest::Approx(psi));
+  // A body x axis pitched up 0.2 rad points up (negative down) in NED.
+  const Eigen::Vector3d nose = rotation_from_euler(0, 0.2, 0) * Eigen::Vector3d::UnitX();
+  CHECK(nose.z() == doctest::Approx(-std::sin(0.2)));
+}
+
+TEST_CASE("time: integer nanoseconds and exact periods") {
+  CHECK(period_from_hz(400) == 2'500'000);
+  CHECK(period_from_hz(10) == 100'000'000);
+  CHECK_THROWS_WITH_AS(period_from_hz(390), doctest::Contains("no whole-nanosecond period"), std::invalid_argument);
+  CHECK_THROWS_AS(period_from_hz(0), std::invalid_argument);
+  CHECK(from_seconds(1.5) == 1'500'000'000);
+  CHECK(to_seconds(2'500'000) == doctest::Approx(0.0025));
+}
