@@ -9,8 +9,9 @@
 //                read parameter values, open files. Nothing runs yet.
 //   start()      once, before the first step of a flight.
 //   step(now)    at the configured rate, or when the trigger input has new data.
-//   reset()      between flights, and when the phase router hands control to this controller:
-//                integrators and filters start clean.
+//   reset()      between flights: integrators and filters start clean.
+//   take_over(a) when the phase router hands control to this controller; a is the last actuator
+//                command, to start from (bumpless). Default: reset().
 //   stop()       once, after the last step.
 // A plugin never sleeps, never keeps a thread running after stop(), and never keeps a pointer
 // into another plugin. Exceptions thrown from these functions end the flight with an error line
@@ -107,6 +108,13 @@ class TERN_API Plugin {
   virtual void start() {}
   virtual void step(Nanos now) = 0;
   virtual void reset() {}
+  /// The phase router made this controller the active one. `last_command` is what the
+  /// outgoing controller commanded last: start from it (bumpless transfer: no surface jump).
+  /// The default resets the plugin.
+  virtual void take_over(const msg::Actuators& last_command) {
+    (void)last_command;
+    reset();
+  }
   virtual void stop() {}
   /// Figures this plugin adds to the flight's summary.json (name, value), after stop().
   virtual std::vector<std::pair<std::string, double>> summary() const { return {}; }

@@ -17,7 +17,8 @@
 //
 // Supported field types: bool, integral and enum types, float, double, std::array of those,
 // Eigen::Matrix<double, N, 1>, Eigen::Quaterniond (columns w, x, y, z), and nested described
-// structs or std::array of them (part of the fingerprint, not logged as columns).
+// structs or std::array of them, and std::array<char, N> text (part of the fingerprint, not
+// logged as columns).
 #pragma once
 
 #include <array>
@@ -184,7 +185,7 @@ struct LayoutVisitor {
       // nested structs are part of the fingerprint, not log columns
     } else if constexpr (is_std_array<F>::value) {
       using E = typename F::value_type;
-      if constexpr (!is_described<E>::value && !is_eigen_vec<E>::value) {
+      if constexpr (!is_described<E>::value && !is_eigen_vec<E>::value && !std::is_same_v<E, char>) {  // char arrays are text: not logged
         const auto names = detail::split_components(components, std::tuple_size_v<F>);
         for (std::size_t i = 0; i < std::tuple_size_v<F>; ++i)
           cols->push_back({n + "_" + names[i], u, scalar_of<E>(), off + i * sizeof(E)});
