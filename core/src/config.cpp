@@ -1,0 +1,279 @@
+#include "config.hpp"
+
+#include <cmath>
+#include <set>
+
+#include "error.hpp"
+
+namespace tern::core {
+
+namespace {
+
+std::string str(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : std::string("<") + (n.IsMap() ? "map" : n.IsSequence() ? "list" : "null") + ">"; }
+
+void check_keys(const YAML::Node& map, const fs::path& file, const std::string& field,
+                const std::vector<std::string>& allowed) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    bool ok = false;
+    for (const auto& a : allowed) ok = ok || a == key;
+    if (!ok) {
+      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "unknown key '" + key + "'" +
+                        did_you_mean(key, allowed));
+    }
+  }
+}
+
+void require_map(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + str(n));
+}
+
+double as_number(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsScalar()) throw ConfigError(where(file, n) + field + ": expected a number, got " + str(n));
+  try {
+    const double v = n.as<double>();
+    if (!std::isfinite(v)) throw YAML::Exception(n.Mark(), "not finite");
+    return v;
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(file, n) + field + ": expected a number, got '" + n.Scalar() + "'");
+  }
+}
+
+std::string as_string(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsScalar() || n.Scalar().empty()) throw ConfigError(where(file, n) + field + ": expected a non-empty string, got " + str(n));
+  return n.Scalar();
+}
+
+fs::path resolve(const fs::path& base_dir, const std::string& p) {
+  fs::path path(p);
+  if (path.is_relative()) path = base_dir / path;
+  return path.lexically_normal();
+}
+
+std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const fs::path& file,
+                                                    const std::string& field, bool strict) {
+  std::map<std::string, ParamSetting> out;
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    out[key] = ParamSetting{kv.second, file, field + "." + key, strict};
+  }
+  return out;
+}
+
+YAML::Node load_yaml(const fs::path& file, const char* what) {
+  if (!fs::exists(file)) throw ConfigError(std::string(what) + " '" + file.string() + "' not found");
+  try {
+    return YAML::LoadFile(file.string());
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError(where(file, e.mark) + "YAML syntax error: " + e.msg);
+  } catch (const YAML::BadFile&) {
+    throw ConfigError(std::string("cannot read ") + what + " '" + file.string() + "'");
+  }
+}
+
+}  // namespace
+
+ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const std::string& field) {
+  if (node.IsSequence()) {
+    std::vector<double> v;
+    for (const auto& e : node) {
+      if (!e.IsScalar()) throw ConfigError(where(file, e) + field + ": expected a list of numbers");
+      try {
+        v.push_back(e.as<double>());
+      } catch (const YAML::Exception&) {
+        throw ConfigError(where(file, e) + field + ": expected a list of numbers, got '" + e.Scalar() + "'");
+      }
+    }
+    return v;
+  }
+  if (!node.IsScalar()) throw ConfigError(where(file, node) + field + ": expected a value, got " + str(node));
+  const std::string& s = node.Scalar();
+  if (node.Tag() == "!") return s;  // quoted: always text
+  if (s == "true" || s == "True" || s == "TRUE") return true;
+  if (s == "false" || s == "False" || s == "FALSE") return false;
+  {
+    std::size_t pos = 0;
+    try {
+      const long long i = std::stoll(s, &pos, 10);
+      if (pos == s.size()) return static_cast<std::int64_t>(i);
+    } catch (const std::exception&) {
+    }
+  }
+  try {
+    const double d = node.as<double>();
+    return d;
+  } catch (const YAML::Exception&) {
+  }
+  return s;
+}
+
+std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance,
+                                                    const std::string& plugin) {
+  const YAML::Node root = load_yaml(file, "parameter file");
+  if (root.IsNull()) return {};
+  require_map(root, file, "parameter file");
+  bool ros2 = false;
+  for (const auto& kv : root) {
+    if (kv.second.IsMap() && kv.second["ros__parameters"]) ros2 = true;
+  }
+  if (!ros2) return params_from_map(root, file, "", true);
+  std::map<std::string, ParamSetting> out;
+  for (const std::string& block : {std::string("/**"), plugin, instance}) {
+    for (const std::string& key : {block, "/" + block}) {
+      const YAML::Node b = root[key];
+      if (!b || !b.IsMap() || !b["ros__parameters"]) continue;
+      const YAML::Node p = b["ros__parameters"];
+      require_map(p, file, key + ".ros__parameters");
+      for (auto& [k, v] : params_from_map(p, file, key + ".ros__parameters", false)) out[k] = v;
+    }
+  }
+  return out;
+}
+
+MissionConfig load_config(const fs::path& file_in) {
+  MissionConfig c;
+  c.file = fs::absolute(file_in).lexically_normal();
+  c.dir = c.file.parent_path();
+  const YAML::Node root = load_yaml(c.file, "config file");
+  const fs::path& f = c.file;
+  if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
+  c.root = root;
+  check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
+                           "phases", "fallback", "phase_machine", "mission", "dds"});
+
+  c.name = root["name"] ? as_string(root["name"], f, "name") : c.file.stem().string();
+  if (root["seed"]) {
+    try {
+      c.seed = root["seed"].as<std::uint64_t>();
+    } catch (const YAML::Exception&) {
+      throw ConfigError(where(f, root["seed"]) + "seed: expected a non-negative integer, got '" + str(root["seed"]) + "'");
+    }
+  }
+  if (root["duration"]) {
+    c.duration = as_number(root["duration"], f, "duration");
+    if (!(c.duration > 0)) throw ConfigError(where(f, root["duration"]) + "duration: must be > 0 s, got " + str(root["duration"]));
+  }
+  if (root["base_rate"]) c.base_rate = as_number(root["base_rate"], f, "base_rate");
+  if (root["aircraft"]) c.aircraft = resolve(c.dir, as_string(root["aircraft"], f, "aircraft"));
+  if (const YAML::Node pp = root["plugin_path"]) {
+    if (pp.IsScalar()) {
+      c.plugin_path.push_back(resolve(c.dir, pp.Scalar()));
+    } else if (pp.IsSequence()) {
+      for (std::size_t i = 0; i < pp.size(); ++i)
+        c.plugin_path.push_back(resolve(c.dir, as_string(pp[i], f, "plugin_path[" + std::to_string(i) + "]")));
+    } else {
+      throw ConfigError(where(f, pp) + "plugin_path: expected a directory or a list of directories");
+    }
+  }
+
+  c.log.dir = fs::current_path() / "runs";
+  if (const YAML::Node log = root["log"]) {
+    require_map(log, f, "log");
+    check_keys(log, f, "log", {"dir", "topics"});
+    if (log["dir"]) c.log.dir = resolve(c.dir, as_string(log["dir"], f, "log.dir"));
+    if (const YAML::Node t = log["topics"]) {
+      if (t.IsScalar() && t.Scalar() == "all") {
+        c.log.all_topics = true;
+      } else if (t.IsSequence()) {
+        c.log.all_topics = false;
+        for (std::size_t i = 0; i < t.size(); ++i)
+          c.log.topics.push_back(as_string(t[i], f, "log.topics[" + std::to_string(i) + "]"));
+      } else {
+        throw ConfigError(where(f, t) + "log.topics: expected 'all' or a list of topic names");
+      }
+    }
+  }
+
+  const YAML::Node plugins = root["plugins"];
+  if (!plugins) throw ConfigError(f.string() + ": plugins: missing (the list of plugin instances to load)");
+  if (!plugins.IsSequence() || plugins.size() == 0)
+    throw ConfigError(where(f, plugins) + "plugins: expected a non-empty list of plugin instances");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < plugins.size(); ++i) {
+    const YAML::Node p = plugins[i];
+    const std::string field = "plugins[" + std::to_string(i) + "]";
+    require_map(p, f, field);
+    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us"});
+    InstanceConfig ic;
+    ic.index = i;
+    ic.node = p;
+    if (!p["plugin"]) throw ConfigError(where(f, p) + field + ": missing key 'plugin' (the plugin to load, e.g. sim_aero)");
+    ic.plugin = as_string(p["plugin"], f, field + ".plugin");
+    ic.name = p["name"] ? as_string(p["name"], f, field + ".name") : ic.plugin;
+    if (ic.name.find_first_of(". /") != std::string::npos)
+      throw ConfigError(where(f, p["name"]) + field + ".name: '" + ic.name + "' must not contain '.', '/' or spaces");
+    if (!names.insert(ic.name).second)
+      throw ConfigError(where(f, p["name"] ? p["name"] : p) + field + ".name: instance name '" + ic.name + "' is used twice");
+    if (p["rate"]) {
+      ic.rate = as_number(p["rate"], f, field + ".rate");
+      if (!(*ic.rate > 0)) throw ConfigError(where(f, p["rate"]) + field + ".rate: must be > 0 Hz, got " + str(p["rate"]));
+    }
+    if (p["trigger"]) ic.trigger = as_string(p["trigger"], f, field + ".trigger");
+    if (ic.rate && ic.trigger)
+      throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
+    if (!ic.rate && !ic.trigger)
+      throw ConfigError(where(f, p) + field + " (" + ic.name + "): missing 'rate' (Hz) or 'trigger' (an input port name)");
+    if (p["budget_us"]) ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
+    if (const YAML::Node pf = p["param_file"]) {
+      const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));
+      try {
+        ic.params = load_param_file(pfile, ic.name, ic.plugin);
+      } catch (const ConfigError& e) {
+        if (!fs::exists(pfile))
+          throw ConfigError(where(f, pf) + field + ".param_file: '" + pfile.string() + "' not found");
+        throw;
+      }
+    }
+    if (const YAML::Node pr = p["params"]) {
+      if (!pr.IsNull()) {
+        require_map(pr, f, field + ".params");
+        for (auto& [k, v] : params_from_map(pr, f, field + ".params", true)) ic.params[k] = v;
+      }
+    }
+    if (const YAML::Node rm = p["remap"]) {
+      require_map(rm, f, field + ".remap");
+      for (const auto& kv : rm)
+        ic.remap[kv.first.as<std::string>()] = as_string(kv.second, f, field + ".remap." + kv.first.as<std::string>());
+    }
+    c.plugins.push_back(std::move(ic));
+  }
+
+  std::vector<std::string> instance_names;
+  for (const auto& ic : c.plugins) instance_names.push_back(ic.name);
+  auto check_instance = [&](const YAML::Node& n, const std::string& field) {
+    const std::string v = as_string(n, f, field);
+    if (!names.count(v))
+      throw ConfigError(where(f, n) + field + ": no plugin instance named '" + v + "'" + did_you_mean(v, instance_names));
+    return v;
+  };
+  if (const YAML::Node ph = root["phases"]) {
+    require_map(ph, f, "phases");
+    std::vector<std::string> phase_names;
+    for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise, msg::Phase::landing, msg::Phase::loiter})
+      phase_names.emplace_back(msg::phase_name(p));
+    check_keys(ph, f, "phases", phase_names);
+    for (const auto& kv : ph) {
+      const std::string key = kv.first.as<std::string>();
+      c.phases[*msg::phase_from_name(key)] = check_instance(kv.second, "phases." + key);
+    }
+    for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise}) {
+      if (!c.phases.count(p))
+        throw ConfigError(where(f, ph) + "phases: no controller for phase '" + std::string(msg::phase_name(p)) +
+                          "' (takeoff, climb and cruise are required)");
+    }
+  }
+  if (root["fallback"]) {
+    if (!root["phases"]) throw ConfigError(where(f, root["fallback"]) + "fallback: needs a 'phases:' table");
+    c.fallback = check_instance(root["fallback"], "fallback");
+  }
+  if (const YAML::Node pm = root["phase_machine"]) {
+    if (!root["phases"]) throw ConfigError(where(f, pm) + "phase_machine: needs a 'phases:' table");
+    require_map(pm, f, "phase_machine");
+    c.phase_params = params_from_map(pm, f, "phase_machine", true);
+  }
+  c.mission = root["mission"];
+  c.dds = root["dds"];
+  return c;
+}
+
+}  // namespace tern::core

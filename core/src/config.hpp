@@ -1,0 +1,82 @@
+// core/src/config.hpp: the mission config (configs/missions/*.yaml), loaded and validated.
+//
+// Every key is checked: an unknown key is an error that suggests the closest valid one. Paths
+// are relative to the file that names them. See docs/mission-config.md for the format.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "tern/msg/phase.hpp"
+#include "tern/param.hpp"
+
+namespace tern::core {
+
+namespace fs = std::filesystem;
+
+/// One parameter value from the config or a parameter file, with where it came from.
+struct ParamSetting {
+  YAML::Node node;   ///< the value
+  fs::path file;     ///< file that set it (relative paths resolve against its directory)
+  std::string field; ///< e.g. "plugins[2].params.roll_kp"
+  bool strict = true;  ///< unknown names are errors (false for shared ROS 2 parameter files)
+};
+
+struct InstanceConfig {
+  std::size_t index = 0;       ///< position in `plugins:`
+  std::string name;            ///< instance name
+  std::string plugin;          ///< plugin name or a path to a .so
+  std::optional<double> rate;  ///< Hz
+  std::optional<std::string> trigger;  ///< input port name
+  std::optional<double> budget_us;     ///< per-step time budget (default: the period)
+  std::map<std::string, ParamSetting> params;
+  std::map<std::string, std::string> remap;  ///< port -> topic
+  YAML::Node node;             ///< the entry, for error locations
+};
+
+struct LogConfig {
+  fs::path dir;                      ///< parent of the run directories
+  bool all_topics = true;
+  std::vector<std::string> topics;   ///< when !all_topics
+};
+
+struct MissionConfig {
+  fs::path file;               ///< absolute path of the config
+  fs::path dir;                ///< its directory
+  std::string name;
+  std::uint64_t seed = 1;
+  double duration = 60.0;      ///< s
+  std::optional<double> base_rate;  ///< Hz
+  fs::path aircraft;           ///< resolved, empty if none
+  std::vector<fs::path> plugin_path;
+  LogConfig log;
+  std::vector<InstanceConfig> plugins;
+  std::map<msg::Phase, std::string> phases;  ///< phase -> controller instance
+  std::optional<std::string> fallback;
+  std::map<std::string, ParamSetting> phase_params;  ///< `phase_machine:` parameters
+  YAML::Node mission;          ///< free-form, for the path planner
+  YAML::Node dds;              ///< free-form, for the DDS bridge
+  YAML::Node root;             ///< the whole document as loaded
+};
+
+/// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what).
+MissionConfig load_config(const fs::path& file);
+
+/// A YAML scalar or sequence as a parameter value: true/false -> bool, integer literal ->
+/// integer, number -> real, sequence of numbers -> vector, anything else (or quoted) -> text.
+/// Throws ConfigError for maps and mixed sequences.
+ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const std::string& field);
+
+/// Reads a parameter file: a flat map `name: value`, or ROS 2 style
+/// `<node>: {ros__parameters: {...}}` where the blocks named `/**`, `instance` or `plugin`
+/// apply (in that order, later wins). Throws ConfigError.
+std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance,
+                                                    const std::string& plugin);
+
+}  // namespace tern::core

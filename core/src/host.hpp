@@ -1,0 +1,149 @@
+// core/src/host.hpp: the host: builds the port graph from a mission config, runs flights on a
+// deterministic single-threaded schedule, routes the controller per flight phase, and writes
+// the flight log.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "config.hpp"
+#include "loader.hpp"
+#include "phase_machine.hpp"
+#include "tern/plugin.hpp"
+
+namespace tern::core {
+
+class FlightLog;
+class InstanceContext;
+
+/// Step-time statistics of one instance (wall clock; not part of the deterministic log).
+struct StepStats {
+  std::uint64_t steps = 0;
+  std::uint64_t overruns = 0;  ///< steps longer than budget_ns
+  Nanos budget_ns = 0;
+  Nanos max_ns = 0;
+  Nanos total_ns = 0;
+  std::array<std::uint32_t, 96> histogram{};  ///< log-spaced buckets (ratio 2^(1/4)) from 1 ns
+  void add(Nanos dt);
+  Nanos percentile(double p) const;  ///< approximate (bucket upper bound), 0 when no steps
+};
+
+struct Instance {
+  InstanceConfig cfg;
+  std::shared_ptr<PluginLibrary> lib;      // outlives `plugin`
+  std::unique_ptr<InstanceContext> ctx;
+  std::unique_ptr<Plugin> plugin;          // destroyed first
+  PluginInfo info;
+  std::int64_t divisor = 0;                // rate instances: step when tick % divisor == 0
+  InputBase* trigger = nullptr;            // trigger instances
+  bool routed = false;                     // a controller behind the phase router
+  bool builtin = false;
+  StepStats stats;
+};
+
+struct HostOptions {
+  std::optional<std::uint64_t> seed;
+  std::optional<double> duration;          ///< s
+  std::optional<fs::path> log_dir;         ///< parent of run directories
+  bool realtime = false;
+  bool progress = false;                   ///< live status line on stdout
+  bool describing = false;                 ///< configure only (check/params): open no files/devices
+  bool quiet = false;                      ///< no console log below warnings
+};
+
+struct Handover {
+  Nanos t;
+  std::string from, to, reason;
+};
+
+struct FlightResult {
+  fs::path run_dir;
+  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "error: ..."
+  bool ok = true;
+  Nanos flown = 0;
+  double wall_s = 0;
+};
+
+/// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
+void request_stop(int signal_number);
+/// Installs SIGINT/SIGTERM handlers that call request_stop.
+void install_signal_handlers();
+
+class Host {
+ public:
+  Host(MissionConfig config, HostOptions options);
+  ~Host();  ///< unbinds, destroys every instance, then unloads every library
+  Host(const Host&) = delete;
+  Host& operator=(const Host&) = delete;
+
+  /// Loads plugins, configures instances, binds ports, orders the schedule. Throws ConfigError.
+  void build();
+  /// Flies one flight (build() first). Never throws for plugin failures: see FlightResult.
+  FlightResult fly();
+
+  const MissionConfig& config() const { return config_; }
+  const std::vector<std::unique_ptr<Instance>>& instances() const { return instances_; }
+  /// Instance names in schedule order.
+  std::vector<std::string> schedule() const;
+  Nanos base_period() const { return base_period_; }
+  /// Port graph as text (schedule, rates, topics, feedback edges) or Graphviz.
+  std::string graph_text() const;
+  std::string graph_dot() const;
+  /// Every parameter: "instance.name" -> ParamBase.
+  std::vector<std::pair<std::string, const ParamBase*>> parameters() const;
+  const std::vector<Handover>& handovers() const { return handovers_; }
+  std::shared_ptr<spdlog::logger> logger() const { return logger_; }
+  /// Milliseconds from the Host constructor to the first tick of the last flight.
+  double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
+
+ private:
+  struct Topic;
+  struct Edge {
+    std::size_t from, to;
+    std::string topic;
+    bool feedback = false;
+  };
+  void load_instances();
+  void configure_instance(Instance& inst);
+  void bind_ports();
+  void order_schedule();
+  void resolve_rates();
+  void route_to(std::size_t idx, Nanos now, const std::string& reason, bool from_failure);
+  bool step_instance(Instance& inst, Nanos now, std::string& error);
+  void engage_fallback(Nanos now, const std::string& why);
+  std::string resolved_config_yaml() const;
+  std::string summary_json(const FlightResult& r) const;
+  std::string timing_json(const FlightResult& r) const;
+  void print_summary(const FlightResult& r) const;
+
+  MissionConfig config_;
+  HostOptions options_;
+  std::shared_ptr<spdlog::logger> logger_;
+  std::vector<std::unique_ptr<Instance>> instances_;
+  std::vector<std::size_t> order_;
+  std::vector<Edge> edges_;
+  std::vector<std::unique_ptr<Topic>> topics_;
+  Nanos base_period_ = 0;
+  std::uint64_t seed_ = 1;
+  // phase router
+  PhaseMachine* phase_machine_ = nullptr;
+  std::size_t phase_machine_idx_ = SIZE_MAX;
+  std::uint64_t phase_seen_ = 0;
+  std::optional<std::size_t> active_;      // active controller instance
+  std::optional<std::size_t> fallback_;
+  bool fallback_engaged_ = false;
+  std::vector<Handover> handovers_;
+  msg::Actuators last_good_{};
+  std::vector<std::shared_ptr<spdlog::sinks::sink>> extra_sinks_;
+  std::int64_t created_ns_ = 0;
+  double start_to_first_tick_ms_ = 0;
+  bool built_ = false;
+};
+
+}  // namespace tern::core

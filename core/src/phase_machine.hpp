@@ -1,0 +1,50 @@
+// core/src/phase_machine.hpp: the host's flight-phase machine (ROSplane 2.0's takeoff ->
+// climb -> altitude hold, here takeoff -> climb -> cruise).
+//
+// A built-in plugin instance named `phase_machine`, present when the config has `phases:`.
+// It steps whenever `state` updates and publishes `flight_phase`. Altitude h = -p_d (above the
+// origin, m); commanded altitude h_c from `controller_command` (h_c = h when none).
+//   takeoff -> climb   when h >= alt_toz
+//   climb   -> cruise  when |h_c - h| < alt_hz
+//   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
+//   climb/cruise -> takeoff when h < alt_toz for min_phase_time (lost altitude near the ground)
+// Every transition is recorded with its time and reason.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "tern/plugin.hpp"
+
+namespace tern::core {
+
+struct PhaseTransition {
+  Nanos t = 0;
+  msg::Phase from = msg::Phase::takeoff;
+  msg::Phase to = msg::Phase::takeoff;
+  std::string reason;
+};
+
+class PhaseMachine final : public Plugin {
+ public:
+  void configure() override;
+  void start() override;
+  void step(Nanos now) override;
+  void reset() override;
+
+  msg::Phase phase() const { return phase_; }
+  const std::vector<PhaseTransition>& transitions() const { return transitions_; }
+
+ private:
+  void enter(Nanos now, msg::Phase to, std::string reason);
+  Input<msg::State> state_;
+  Input<msg::ControllerCommand> command_;
+  Output<msg::FlightPhase> phase_out_;
+  Param<double> alt_toz_, alt_hz_, min_phase_time_;
+  msg::Phase phase_ = msg::Phase::takeoff;
+  Nanos since_ = 0;
+  Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
+  std::vector<PhaseTransition> transitions_;
+};
+
+}  // namespace tern::core
