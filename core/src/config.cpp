@@ -271,8 +271,8 @@ MissionConfig load_config(const fs::path& file_in) {
     require_map(pm, f, "phase_machine");
     c.phase_params = params_from_map(pm, f, "phase_machine", true);
   }
-  c.mission = root["mission"];
-  c.dds = root["dds"];
+  if (root["mission"]) c.mission = root["mission"];
+  if (root["dds"]) c.dds = root["dds"];
   return c;
 }
 

@@ -41,7 +41,16 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
     }
   }
   const std::size_t limit = std::max<std::size_t>(2, word.size() / 3);
-  if (best.empty() || best_d > limit) return "";
+  if (best.empty()) return "";
+  if (best_d > limit) {
+    // a candidate contained in the word or the word in a candidate ("imu_data" -> "imu")
+    best.clear();
+    for (const auto& c : candidates)
+      if (c.size() >= 2 && (word.find(c) != std::string_view::npos || c.find(word) != std::string::npos) &&
+          (best.empty() || c.size() > best.size()))
+        best = c;
+    if (best.empty()) return "";
+  }
   return " (did you mean '" + best + "'?)";
 }
 

@@ -251,7 +251,7 @@ void Host::load_instances() {
     inst->cfg.plugin = "phase_machine (built in)";
     inst->cfg.trigger = "state";
     inst->cfg.params = config_.phase_params;
-    inst->cfg.node = config_.root["phase_machine"];
+    if (config_.root["phase_machine"]) inst->cfg.node = config_.root["phase_machine"];
     inst->builtin = true;
     inst->info = PluginInfo{"phase_machine", PluginKind::generic, "the host's flight-phase machine", {}};
     for (const auto& other : instances_)

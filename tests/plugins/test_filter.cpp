@@ -1,0 +1,33 @@
+// test_filter: an estimator test plugin. Steps on `imu`; publishes `state` = truth, and counts
+// steps in which the imu it reads was not published in the same tick (ordering check).
+#include "tern/plugin.hpp"
+
+namespace {
+class TestFilter final : public tern::Plugin {
+ public:
+  void configure() override {
+    declare(imu_, "imu");
+    declare(truth_, "truth", "", tern::Need::optional);
+    declare(state_, "state");
+  }
+  void step(tern::Nanos now) override {
+    if (imu_->stamp != now) ++stale_;
+    tern::msg::State s = truth_.get();
+    s.stamp = now;
+    s.p_n = imu_->accel.x();  // carries the seeded noise into the state log
+    state_.publish(s);
+    ++steps_;
+  }
+  std::vector<std::pair<std::string, double>> summary() const override {
+    return {{"stale_imu_steps", static_cast<double>(stale_)}, {"steps", static_cast<double>(steps_)}};
+  }
+
+ private:
+  tern::Input<tern::msg::Imu> imu_;
+  tern::Input<tern::msg::State> truth_;
+  tern::Output<tern::msg::State> state_;
+  long stale_ = 0, steps_ = 0;
+};
+}  // namespace
+
+TERN_PLUGIN(TestFilter, "test_filter", tern::PluginKind::estimator, "host test: passes truth through on each imu sample")

@@ -1,0 +1,160 @@
+// Flights: determinism, the flight log, the phase router, SIGINT.
+#include <doctest/doctest.h>
+
+#include <signal.h>
+#include <fcntl.h>
+#include <sys/wait.h>
+
+#include <chrono>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "test_util.hpp"
+
+using namespace tern::core;
+
+namespace {
+FlightResult fly(const std::string& yaml, const std::string& logdir, std::optional<std::uint64_t> seed = {}) {
+  HostOptions o;
+  o.quiet = true;
+  o.seed = seed;
+  o.log_dir = test_dir() / logdir;
+  Host h(load_config(write_file("flight.yaml", yaml)), o);
+  h.build();
+  return h.fly();
+}
+
+std::vector<std::string> lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string l; std::getline(ss, l);) out.push_back(l);
+  return out;
+}
+
+const std::string kRouted = base_config(
+    "  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
+    "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nfallback: ctl\nphase_machine: {alt_toz: 2, alt_hz: 3}\n");
+}  // namespace
+
+TEST_CASE("the same seed gives byte-identical logs; another seed does not") {
+  const FlightResult a = fly(kRouted, "det_a", 11);
+  const FlightResult b = fly(kRouted, "det_b", 11);
+  const FlightResult c = fly(kRouted, "det_c", 12);
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(a.run_dir / "topics")) {
+    const std::string name = e.path().filename().string();
+    CHECK_MESSAGE(read_file(e.path()) == read_file(b.run_dir / "topics" / name), name);
+    ++files;
+  }
+  CHECK(files >= 6);  // imu, truth, state, actuators, controller_internals, flight_phase
+  CHECK(read_file(a.run_dir / "summary.json") == read_file(b.run_dir / "summary.json"));
+  CHECK(read_file(a.run_dir / "params.csv") == read_file(b.run_dir / "params.csv"));
+  CHECK(read_file(a.run_dir / "topics" / "imu.csv") != read_file(c.run_dir / "topics" / "imu.csv"));
+}
+
+TEST_CASE("the flight log: header with units, one row per message, resolved config, parameters") {
+  const FlightResult r = fly(base_config(), "log");
+  REQUIRE(r.ok);
+  const auto imu = lines(read_file(r.run_dir / "topics" / "imu.csv"));
+  REQUIRE(imu.size() == 802);  // header + 801 samples over 2 s at 400 Hz
+  CHECK(imu[0] == "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]");
+  CHECK(imu[2].rfind("0.002500000,2500000,", 0) == 0);
+  const auto act = lines(read_file(r.run_dir / "topics" / "actuators.csv"));
+  CHECK(act.size() == 202);
+  const std::string cfg = read_file(r.run_dir / "config.yaml");
+  CHECK(cfg.find("climb_gain: 10") != std::string::npos);  // defaults resolved into the config
+  const auto params = lines(read_file(r.run_dir / "params.csv"));
+  CHECK(params[0] == "t [s],parameter,value,source");
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl.kp,0.05,default") != params.end());
+  CHECK(fs::exists(r.run_dir / "tern.log"));
+  const auto timing = nlohmann::json::parse(read_file(r.run_dir / "timing.json"));
+  CHECK(timing["instances"]["sensor"]["steps"] == 801);
+}
+
+TEST_CASE("phase router: takeoff -> climb -> cruise hands actuators to the cruise controller") {
+  const FlightResult r = fly(kRouted, "router");
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  REQUIRE(s["phases"].size() == 3);
+  CHECK(s["phases"][1]["phase"] == "climb");
+  CHECK(s["phases"][2]["phase"] == "cruise");
+  CHECK(s["controller_handovers"].size() == 1);
+  CHECK(s["controller_handovers"][0]["to"] == "ctl2");
+  CHECK(s["instances"]["ctl2"]["take_overs"] == 1.0);
+  CHECK(s["instances"]["ctl2"]["last_take_over_delta_t"].get<double>() > 0.5);  // ctl's last command: climbing
+  // before the handover actuators carry ctl's tag (0), after it ctl2's (0.2)
+  const auto act = lines(read_file(r.run_dir / "topics" / "actuators.csv"));
+  CHECK(act[1].find(",0,") != std::string::npos);
+  CHECK(act.back().find(",0.2,") != std::string::npos);
+  CHECK(s["fallback_engaged"] == false);
+}
+
+TEST_CASE("phase router: a controller that throws or writes NaN is replaced by the fallback in the same tick") {
+  for (const std::string mode : {"throw", "nan"}) {
+    std::string cfg = kRouted;
+    cfg.replace(cfg.find("tag: 0.2"), 8, "tag: 0.2, fail_mode: " + mode + ", fail_at: 1.5");
+    const FlightResult r = fly(cfg, "fallback_" + mode);
+    CHECK_MESSAGE(r.ok, mode);
+    CHECK(r.end_reason == "duration");
+    const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+    CHECK(s["fallback_engaged"] == true);
+    const auto& h = s["controller_handovers"];
+    REQUIRE(h.size() == 2);
+    CHECK(h[1]["to"] == "ctl");
+    CHECK(h[1]["t_s"].get<double>() == doctest::Approx(1.5));
+    CHECK(h[1]["reason"].get<std::string>().find(mode == "throw" ? "ctl2.step threw: deliberate failure" : "non-finite") != std::string::npos);
+    // no NaN ever reached the actuators topic
+    const std::string act = read_file(r.run_dir / "topics" / "actuators.csv");
+    CHECK(act.find("nan") == std::string::npos);
+  }
+}
+
+TEST_CASE("a plugin that throws ends the flight with an error and a complete log") {
+  std::string cfg = base_config();
+  cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 1}}");
+  const FlightResult r = fly(cfg, "throw");
+  CHECK_FALSE(r.ok);
+  CHECK(r.end_reason == "error: ctl.step threw at t=1.000 s: deliberate failure");
+  CHECK(fs::exists(r.run_dir / "summary.json"));
+  const auto imu = lines(read_file(r.run_dir / "topics" / "imu.csv"));
+  CHECK(imu.size() == 402);  // up to and including the failing tick
+}
+
+TEST_CASE("SIGINT ends the flight cleanly with a complete log") {
+  const fs::path cfg = write_file("sigint.yaml", base_config().replace(base_config().find("duration: 2"), 11, "duration: 600"));
+  const fs::path logdir = test_dir() / "sigint_runs";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    const int devnull = ::open("/dev/null", O_WRONLY);
+    dup2(devnull, 1);
+    dup2(devnull, 2);
+    execl(TERN_BIN, TERN_BIN, "fly", cfg.c_str(), "--realtime", "--log-dir", logdir.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  std::vector<fs::path> runs;
+  for (const auto& e : fs::directory_iterator(logdir)) runs.push_back(e.path());
+  REQUIRE(runs.size() == 1);
+  const auto s = nlohmann::json::parse(read_file(runs[0] / "summary.json"));
+  CHECK(s["end_reason"] == "SIGINT");
+  const double flown = s["duration_s"].get<double>();
+  CHECK(flown > 0.5);
+  CHECK(flown < 600);
+  // every row is complete, and the last row is the last tick flown
+  const std::string imu = read_file(runs[0] / "topics" / "imu.csv");
+  REQUIRE(!imu.empty());
+  CHECK(imu.back() == '\n');
+  const auto rows = lines(imu);
+  const auto commas = std::count(rows[0].begin(), rows[0].end(), ',');
+  for (const auto& row : rows) CHECK(std::count(row.begin(), row.end(), ',') == commas);
+  CHECK(rows.size() == static_cast<std::size_t>(std::llround(flown * 400)) + 2);
+}

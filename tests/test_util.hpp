@@ -1,0 +1,64 @@
+// Helpers for the host tests: temporary configs and reading run directories.
+#pragma once
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "config.hpp"
+#include "error.hpp"
+#include "host.hpp"
+
+namespace fs = std::filesystem;
+
+inline fs::path test_dir() {
+  static const fs::path d = [] {
+    fs::path p = fs::temp_directory_path() / ("tern_host_tests_" + std::to_string(::getpid()));
+    fs::create_directories(p);
+    return p;
+  }();
+  return d;
+}
+
+inline fs::path write_file(const std::string& name, const std::string& text) {
+  const fs::path p = test_dir() / name;
+  fs::create_directories(p.parent_path());
+  std::ofstream(p) << text;
+  return p;
+}
+
+inline std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+/// The standard three-instance test flight, with `extra` appended to the instance list or the
+/// document (give it correctly indented YAML).
+inline std::string base_config(const std::string& plugins_extra = "", const std::string& top_extra = "") {
+  return "name: hostcheck\nseed: 7\nduration: 2\n" + top_extra +
+         "plugins:\n"
+         "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
+         "  - {name: filter, plugin: test_filter, trigger: imu}\n"
+         "  - {name: ctl, plugin: test_controller, rate: 100}\n" +
+         plugins_extra;
+}
+
+/// The one-line error that loading and building `yaml` gives ("" if none).
+inline std::string build_error(const std::string& yaml, const std::string& file = "cfg.yaml") {
+  const fs::path p = write_file(file, yaml);
+  try {
+    tern::core::HostOptions o;
+    o.describing = true;
+    o.quiet = true;
+    tern::core::Host h(tern::core::load_config(p), o);
+    h.build();
+  } catch (const tern::core::ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
