@@ -1,0 +1,151 @@
+// tern/path/manager.hpp: the path manager of Beard & McLain, *Small Unmanned Aircraft*, ch. 11:
+// turns a waypoint list into the segment (line or orbit) to follow now. Plain C++, no host types.
+//
+// Per waypoint, as ROSplane's path manager:
+//   * use_chi            -> a Dubins path (Alg. 8) arriving at the waypoint with course chi_d;
+//   * otherwise, corner = fillet (ROSplane's default) -> a fillet (Alg. 6) of radius R_min
+//     rounds the corner at the waypoint; corner = line -> straight lines with half-plane
+//     switching (Alg. 5).
+// A Dubins segment starts from the previous waypoint and its chi_d when that waypoint was
+// itself reached by a Dubins path (Alg. 8), otherwise from the aircraft's position and course
+// at the moment the segment begins. (ROSplane picks Dubins by the waypoint flown *from*; tern by
+// the waypoint flown *to*, matching the Waypoint message's "desired course at this waypoint".)
+//
+// A new list starts from the aircraft's position: the first leg runs from there (at the first
+// waypoint's altitude) to waypoint 0. After the last waypoint the manager loops to waypoint 0
+// (list loop = true and orbit_last = false) or orbits the last waypoint (radius R_min,
+// clockwise). With no waypoints it orbits the origin at default_altitude.
+//
+// Degenerate input never yields NaN nor a stuck aircraft; each case is reported once per list
+// through the warn callback and has a fallback:
+//   * repeated waypoints (closer than min_separation horizontally, also last == first in a
+//     loop): the repeat is skipped;
+//   * non-finite waypoint positions: skipped; non-finite chi_d: the waypoint uses a fillet;
+//     Va_d not > 0: default_airspeed;
+//   * corners too sharp for a fillet of radius R_min (up to 180-degree doubling back): fly over
+//     the waypoint, then turn onto the next leg (half-plane switching at the waypoint);
+//   * Dubins waypoints closer than 2 R_min: RSL/LSR are impossible there, the shortest of the
+//     possible types is flown (RSR and LSL always exist);
+//   * one-waypoint missions: orbit the waypoint; two-waypoint loops: fly back and forth,
+//     turning around beyond each waypoint (or Dubins turns when use_chi).
+//
+// Edits: a list that extends the current one (same first entries, same loop flag) is taken
+// over at once without changing the segment being flown. Any other list takes effect at the
+// next waypoint decision (when the current segment's waypoint is reached), and is then flown
+// from waypoint 0; if the manager is orbiting (no list, or mission complete) it takes effect
+// at once. An empty list takes effect at once: orbit the origin.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "tern/path/follower.hpp"
+#include "tern/path/geometry.hpp"
+
+namespace tern::path {
+
+/// One waypoint in local NED (the planner converts latitude/longitude before this).
+struct MissionPoint {
+  Vec3 w = Vec3::Zero();  ///< position NED, m (d = -altitude above the origin)
+  double chi_d = 0.0;     ///< desired course at the waypoint, rad (used when use_chi)
+  bool use_chi = false;   ///< arrive with course chi_d (Dubins path), else fillet/line
+  double Va_d = 0.0;      ///< desired airspeed, m/s; <= 0: the manager's default_airspeed
+};
+
+struct ManagerConfig {
+  enum class Corner { fillet, line };
+  double R_min = 50.0;             ///< minimum turn radius (fillets, Dubins, orbits), m, > 0
+  bool orbit_last = false;         ///< orbit the last waypoint instead of looping
+  double default_altitude = 50.0;  ///< altitude of the origin orbit when there are no waypoints, m
+  double default_airspeed = 15.0;  ///< airspeed when a waypoint has none, m/s, > 0
+  Corner corner = Corner::fillet;  ///< corners of non-Dubins waypoints
+  double min_separation = 1.0;     ///< waypoints closer than this (horizontally) repeat, m, > 0
+};
+
+class PathManager {
+ public:
+  using Message = std::function<void(const std::string&)>;
+  enum class Mode { origin_orbit, waypoint_orbit, route };
+  enum class Stage {
+    line,          ///< straight line to the waypoint, half-plane switching (Alg. 5)
+    fillet_line,   ///< fillet, state 1 (Alg. 6): line until z1
+    fillet_orbit,  ///< fillet, state 2: orbit until z2
+    dubins_1, dubins_2, dubins_3, dubins_4, dubins_5,  ///< Alg. 8 states 1..5
+    orbit,         ///< orbiting (origin, single waypoint, mission complete)
+  };
+
+  /// warn: one line per degenerate case (once per list); info: mission progress.
+  explicit PathManager(ManagerConfig config = {}, Message warn = {}, Message info = {});
+
+  /// New parameters; they apply from the next segment on. Throws std::invalid_argument if a
+  /// value is out of range (R_min, default_airspeed, min_separation must be finite and > 0).
+  void set_config(const ManagerConfig& config);
+  const ManagerConfig& config() const { return cfg_; }
+
+  /// A new waypoint list (see "Edits" above). loop: the list's own loop flag.
+  void set_waypoints(const std::vector<MissionPoint>& list, bool loop);
+
+  /// One step: p is the aircraft's NED position (m), chi its course (rad). Returns the segment
+  /// to follow now. Non-finite input keeps the previous segment (warned once).
+  PathSegment update(const Vec3& p, double chi);
+
+  Mode mode() const { return mode_; }
+  Stage stage() const { return stage_; }
+  /// Index (in the list as given) of the waypoint being flown to or orbited, -1: none.
+  int target() const;
+  /// Indices (in the list they belonged to) of the waypoints passed so far, in order.
+  const std::vector<int>& passed() const { return passed_; }
+  /// Geometry of the current segment, valid in the fillet / Dubins stages.
+  const Fillet& fillet() const { return fillet_; }
+  const DubinsPath& dubins() const { return dubins_; }
+  /// Number of the waypoints as they are flown (after repeats were skipped).
+  std::size_t active_count() const { return wps_.size(); }
+
+ private:
+  struct Entry {
+    MissionPoint wp;
+    int index;  ///< index in the list as given
+  };
+  std::vector<Entry> clean(const std::vector<MissionPoint>& list);  ///< uses loop_, warns once
+  void adopt(const std::vector<MissionPoint>& list, bool loop, const Vec3& p, double chi, int first);
+  void start_route(std::size_t first, const Vec3& p, double chi);
+  void begin_segment(const Vec3& p, double chi);
+  void advance(const Vec3& p, double chi);
+  std::optional<std::size_t> next_of(std::size_t i) const;
+  double airspeed(const MissionPoint& w) const;
+  void warn_once(const std::string& key, const std::string& text);
+  PathSegment orbit_segment(const Vec3& c, int index, double Va) const;
+  PathSegment current_segment() const;
+  bool same_prefix(const std::vector<MissionPoint>& list, bool loop) const;
+
+  ManagerConfig cfg_;
+  Message warn_, info_;
+  std::set<std::string> warned_;
+
+  std::vector<MissionPoint> raw_;  ///< the list as given
+  bool raw_loop_ = true;
+  std::optional<std::pair<std::vector<MissionPoint>, bool>> pending_;
+  bool need_adopt_ = false;  ///< raw_ was replaced while not on a route: adopt at next update
+  int adopt_first_ = 0;      ///< ... starting at this index of raw_
+  double seg_R_ = 50.0;      ///< turn radius of the current segment, m
+
+  std::vector<Entry> wps_;  ///< the list as flown (repeats skipped)
+  bool loop_ = true;
+  Mode mode_ = Mode::origin_orbit;
+  Stage stage_ = Stage::orbit;
+  std::size_t target_ = 0;
+  Vec3 prev_ = Vec3::Zero();     ///< start of the current leg
+  bool prev_chi_valid_ = false;  ///< the current leg starts at a waypoint reached by Dubins
+  double prev_chi_ = 0.0;
+  Vec3 switch_z_ = Vec3::Zero(), switch_n_ = Vec3::UnitX();  ///< line stage half-plane
+  Fillet fillet_;
+  DubinsPath dubins_;
+  std::vector<int> passed_;
+  PathSegment last_{};
+  bool have_last_ = false;
+};
+
+}  // namespace tern::path

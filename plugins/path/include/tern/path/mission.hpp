@@ -1,0 +1,101 @@
+// tern/path/mission.hpp: reading missions (waypoint lists) and converting latitude/longitude
+// to local NED. Plain C++ (yaml-cpp, GeographicLib), no host types: the path planner plugin,
+// the host's command line and its DDS bridge use the same functions, so a file that one of
+// them accepts, all accept.
+//
+// Three sources, one result (a Mission):
+//
+// 1. The mission config's `mission:` section (parse_mission_section):
+//      mission:
+//        loop: true                 # optional, default true: after the last waypoint, the first
+//        Va_d: 17.0                 # optional default airspeed of the entries, m/s
+//        waypoints:
+//          - [400.0, -250.0, -70.0]                     # NED, m (d = -altitude above origin)
+//          - {ned: [-400, -50, -70], Va_d: 17}
+//          - {lla: [40.2455, -111.6480, 1450.0]}        # lat deg, lon deg, alt m MSL
+//          - {w: [-400, -250, -70], chi_d: 1.1518, use_chi: true, va_d: 17, lla: false}
+//      or
+//        file: ../missions/fixedwing_mission.yaml     # relative to the config's directory
+//    (`waypoints` and `file` are exclusive.)
+// 2. A tern waypoint file (load_mission_file): a YAML map with the same keys as the section
+//    (loop, Va_d, waypoints); `file` is not allowed inside a file.
+// 3. A ROSplane mission file, unchanged (load_mission_file detects it by its top-level `wp:`
+//    keys): one `wp:` map per waypoint with w, lla (bool), chi_d, use_chi, va_d. The file
+//    repeats the key `wp:`, which a YAML map cannot hold; a line-level pre-pass splits the
+//    document at every top-level `wp:` line (column 0) and parses each chunk on its own, so
+//    every waypoint is read, in file order, on any yaml-cpp version.
+//
+// Entry keys: ned | w (3 numbers), lla (3 numbers, or a bool flag saying that w is lat/lon/alt),
+// chi_d (rad, finite), use_chi (bool), Va_d | va_d (m/s, >= 0; 0: the path manager's default).
+// Latitude must be in [-90, 90] deg, longitude in [-180, 180] deg. Unknown keys are errors.
+//
+// Errors: every function throws MissionError (a std::runtime_error) with one line naming the
+// file (or "mission config"), the waypoint number and field, and the bad value.
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace YAML {
+class Node;
+}
+
+namespace tern::path {
+
+class MissionError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One waypoint as the mission gives it.
+struct MissionWaypoint {
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< NED m, or (lat deg, lon deg, alt m MSL) when lla
+  bool lla = false;
+  double chi_d = 0.0;    ///< desired course at the waypoint, rad
+  bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
+  double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
+};
+
+struct Mission {
+  std::vector<MissionWaypoint> waypoints;
+  bool loop = true;
+  std::string source;  ///< "mission config" or the file path, for messages
+  /// True when at least one waypoint is latitude/longitude/altitude.
+  bool has_lla() const;
+};
+
+/// Reads the mission config's `mission:` section. base_dir resolves a relative `file:`. A null
+/// or empty section gives an empty mission. Throws MissionError.
+Mission parse_mission_section(const YAML::Node& section, const std::filesystem::path& base_dir);
+
+/// Reads a tern waypoint file or a ROSplane mission file. Throws MissionError (also when the
+/// file cannot be read).
+Mission load_mission_file(const std::filesystem::path& file);
+
+/// Reads a mission from text (tern or ROSplane format); `source` names it in errors.
+Mission parse_mission_text(const std::string& text, const std::string& source);
+
+/// Geodetic origin of the local NED frame (the estimator's origin_lat/lon/alt).
+struct GeoOrigin {
+  double lat = 0.0;  ///< deg
+  double lon = 0.0;  ///< deg
+  double alt = 0.0;  ///< m (same datum as the waypoints' altitudes)
+};
+
+/// NED position (m) of (lat deg, lon deg, alt m) relative to the origin, computed with
+/// GeographicLib::LocalCartesian (WGS84, exact, no flat-earth approximation). Throws
+/// MissionError for out-of-range or non-finite input.
+Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoOrigin& origin);
+
+/// The mission's waypoints with every LLA position converted to NED (the others unchanged).
+std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoOrigin& origin);
+
+/// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0); `where` names it
+/// in the error, e.g. "mission_edit 7". Throws MissionError.
+void validate_waypoint(const MissionWaypoint& wp, const std::string& where);
+
+}  // namespace tern::path

@@ -1,0 +1,89 @@
+// Adapters binding the path library (tern/path/*.hpp) to tern ports and parameters: the
+// path_planner, path_manager and path_follower plugins. Each is registered in its own shared
+// object (register_*.cpp); the tests use the classes directly with the SDK harness.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tern/path/follower.hpp"
+#include "tern/path/manager.hpp"
+#include "tern/path/mission.hpp"
+#include "tern/plugin.hpp"
+
+namespace tern::path {
+
+/// path_planner: the mission (config section, waypoint file or ROSplane file) as a NED
+/// WaypointList on `waypoints`, with runtime edits from `mission_edit` and LLA waypoints held
+/// back until `state` reports a valid origin.
+class PlannerPlugin final : public Plugin {
+ public:
+  void configure() override;
+  void start() override;
+  void step(Nanos now) override;
+  void reset() override;
+  std::vector<std::pair<std::string, double>> summary() const override;
+
+ private:
+  void apply_edit(const msg::MissionEdit& e);
+  void replace(Mission m, const std::string& why);
+
+  Input<msg::State> state_;
+  Input<msg::MissionEdit> edit_;
+  Output<msg::WaypointList> waypoints_;
+  Param<std::string> mission_file_;
+
+  Mission configured_;               ///< the mission as configured (reset() returns to it)
+  std::vector<MissionWaypoint> wps_; ///< the mission now (lla entries unconverted)
+  bool loop_ = true;
+  bool dirty_ = true;                ///< the list changed since the last publish
+  bool waiting_logged_ = false;
+  bool held_ = false;                ///< edits made with publish_now = false wait to be published
+  std::optional<GeoOrigin> origin_;  ///< origin the published list was converted with
+  std::uint32_t revision_ = 0;
+  std::uint64_t edits_ = 0;
+};
+
+/// path_manager: waypoints -> the segment to follow (`current_path`), see tern/path/manager.hpp.
+class ManagerPlugin final : public Plugin {
+ public:
+  void configure() override;
+  void start() override;
+  void step(Nanos now) override;
+  void reset() override;
+  std::vector<std::pair<std::string, double>> summary() const override;
+
+ private:
+  ManagerConfig config() const;
+  void rebuild();
+
+  Input<msg::State> state_;
+  Input<msg::WaypointList> waypoints_;
+  Output<msg::CurrentPath> path_;
+  Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_;
+  Param<bool> orbit_last_;
+  Param<std::string> corner_;
+
+  std::unique_ptr<PathManager> manager_;
+  std::optional<std::uint32_t> revision_;
+};
+
+/// path_follower: current_path + state -> controller_command (Va_c, h_c, chi_c, phi_ff), see
+/// tern/path/follower.hpp.
+class FollowerPlugin final : public Plugin {
+ public:
+  void configure() override;
+  void step(Nanos now) override;
+
+ private:
+  Input<msg::State> state_;
+  Input<msg::CurrentPath> path_;
+  Output<msg::ControllerCommand> command_;
+  Param<double> chi_infty_, k_path_, k_orbit_;
+  bool warned_nan_ = false;
+};
+
+}  // namespace tern::path

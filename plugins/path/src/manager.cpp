@@ -1,0 +1,380 @@
+// Path manager, Beard & McLain, ch. 11 (Alg. 5, 6, 8). See manager.hpp.
+#include "tern/path/manager.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+
+namespace tern::path {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+std::string fmt(double v, int decimals = 1) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.*f", decimals, v);
+  return b;
+}
+
+bool same(const MissionPoint& a, const MissionPoint& b) {
+  return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d;
+}
+
+Vec3 unit3(const Vec3& from, const Vec3& to, const Vec3& fallback) {
+  const Vec3 d = to - from;
+  if (d.head<2>().norm() < 1e-9) return fallback;
+  return d.normalized();
+}
+}  // namespace
+
+PathManager::PathManager(ManagerConfig config, Message warn, Message info)
+    : warn_(std::move(warn)), info_(std::move(info)) {
+  set_config(config);
+}
+
+void PathManager::set_config(const ManagerConfig& c) {
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v))
+      throw std::invalid_argument(std::string("path manager: ") + name + " must be finite and > 0, got " + fmt(v, 6));
+  };
+  positive(c.R_min, "R_min");
+  positive(c.default_airspeed, "default_airspeed");
+  positive(c.min_separation, "min_separation");
+  if (!std::isfinite(c.default_altitude))
+    throw std::invalid_argument("path manager: default_altitude must be finite");
+  cfg_ = c;
+  loop_ = raw_loop_ && !cfg_.orbit_last;
+}
+
+void PathManager::warn_once(const std::string& key, const std::string& text) {
+  if (warned_.insert(key).second && warn_) warn_(text);
+}
+
+double PathManager::airspeed(const MissionPoint& w) const {
+  return (std::isfinite(w.Va_d) && w.Va_d > 0.0) ? w.Va_d : cfg_.default_airspeed;
+}
+
+int PathManager::target() const {
+  if (mode_ == Mode::origin_orbit || wps_.empty()) return -1;
+  return wps_[target_].index;
+}
+
+bool PathManager::same_prefix(const std::vector<MissionPoint>& list, bool loop) const {
+  if (loop != raw_loop_ || list.size() < raw_.size()) return false;
+  for (std::size_t i = 0; i < raw_.size(); ++i)
+    if (!same(list[i], raw_[i])) return false;
+  return true;
+}
+
+void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop) {
+  if (list.empty()) {
+    raw_.clear();
+    raw_loop_ = loop;
+    pending_.reset();
+    need_adopt_ = false;
+    wps_.clear();
+    mode_ = Mode::origin_orbit;
+    stage_ = Stage::orbit;
+    if (info_) info_("no waypoints: orbiting the origin");
+    return;
+  }
+  if (pending_) {  // a replacement is already waiting for the next decision: this one replaces it
+    pending_.emplace(list, loop);
+    return;
+  }
+  const bool extends = !raw_.empty() && same_prefix(list, loop);
+  if (mode_ == Mode::route && !need_adopt_) {
+    if (extends) {
+      // Same mission, more waypoints: keep flying the current segment; the new ones come at
+      // their turn.
+      const int current = wps_[target_].index;
+      std::vector<Entry> cleaned = clean(list);
+      for (std::size_t k = 0; k < cleaned.size(); ++k) {
+        if (cleaned[k].index == current) {
+          raw_ = list;
+          wps_ = std::move(cleaned);
+          target_ = k;
+          if (info_) info_("mission extended to " + std::to_string(list.size()) + " waypoints");
+          return;
+        }
+      }
+      // The target vanished (not for a true extension): replace at the next decision below.
+    }
+    pending_.emplace(list, loop);
+    if (info_) info_("new mission of " + std::to_string(list.size()) + " waypoints: flown from the next waypoint decision");
+    return;
+  }
+  // Orbiting (origin, single waypoint, mission complete) or not started: take it now.
+  int first = 0;
+  if (extends && mode_ == Mode::waypoint_orbit && !wps_.empty()) first = wps_[target_].index + 1;
+  raw_ = list;
+  raw_loop_ = loop;
+  need_adopt_ = true;
+  adopt_first_ = first;
+}
+
+std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoint>& list) {
+  std::vector<Entry> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    Entry e{list[i], static_cast<int>(i)};
+    if (!e.wp.w.allFinite()) {
+      warn_once("nan" + std::to_string(i), "waypoint " + std::to_string(i) + " has a non-finite position: skipped");
+      continue;
+    }
+    if (e.wp.use_chi && !std::isfinite(e.wp.chi_d)) {
+      warn_once("chi" + std::to_string(i), "waypoint " + std::to_string(i) + " has a non-finite chi_d: flown without it");
+      e.wp.use_chi = false;
+    }
+    if (!out.empty()) {
+      const double d = horizontal_distance(out.back().wp.w, e.wp.w);
+      if (d < cfg_.min_separation) {
+        warn_once("rep" + std::to_string(i), "waypoint " + std::to_string(i) + " repeats waypoint " +
+                                                 std::to_string(out.back().index) + " (" + fmt(d, 2) +
+                                                 " m apart): skipped");
+        continue;
+      }
+    }
+    out.push_back(e);
+  }
+  if (loop_ && out.size() > 1) {
+    const double d = horizontal_distance(out.back().wp.w, out.front().wp.w);
+    if (d < cfg_.min_separation) {
+      warn_once("rep" + std::to_string(out.back().index),
+                "waypoint " + std::to_string(out.back().index) + " repeats waypoint " +
+                    std::to_string(out.front().index) + " where the loop closes: skipped");
+      out.pop_back();
+    }
+  }
+  return out;
+}
+
+void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const Vec3& p, double chi, int first) {
+  raw_ = list;
+  raw_loop_ = loop;
+  loop_ = loop && !cfg_.orbit_last;
+  warned_.clear();
+  wps_ = clean(list);
+  passed_.reserve(passed_.size() + wps_.size());
+  if (wps_.empty()) {
+    warn_once("none", "no usable waypoint in a list of " + std::to_string(list.size()) + ": orbiting the origin");
+    mode_ = Mode::origin_orbit;
+    stage_ = Stage::orbit;
+    return;
+  }
+  if (wps_.size() == 1) {
+    warn_once("one", "one-waypoint mission: orbiting waypoint " + std::to_string(wps_[0].index) + " (radius " +
+                         fmt(cfg_.R_min) + " m)");
+    mode_ = Mode::waypoint_orbit;
+    stage_ = Stage::orbit;
+    target_ = 0;
+    return;
+  }
+  if (wps_.size() == 2) {
+    if (loop_)
+      warn_once("two", "two-waypoint mission: flying back and forth, turning around beyond each waypoint");
+    else
+      warn_once("two", "two-waypoint mission: flying to both waypoints, then orbiting the last");
+  }
+  std::size_t k = 0;
+  while (k < wps_.size() && wps_[k].index < first) ++k;
+  if (k == wps_.size()) {
+    if (!loop_) {  // nothing left to fly: orbit the last waypoint
+      mode_ = Mode::waypoint_orbit;
+      stage_ = Stage::orbit;
+      target_ = wps_.size() - 1;
+      return;
+    }
+    k = 0;
+  }
+  start_route(k, p, chi);
+}
+
+void PathManager::start_route(std::size_t first, const Vec3& p, double chi) {
+  mode_ = Mode::route;
+  target_ = first;
+  prev_ = Vec3(p.x(), p.y(), wps_[first].wp.w.z());
+  prev_chi_valid_ = false;
+  begin_segment(p, chi);
+}
+
+std::optional<std::size_t> PathManager::next_of(std::size_t i) const {
+  if (i + 1 < wps_.size()) return i + 1;
+  if (loop_ && wps_.size() > 1) return 0;
+  return std::nullopt;
+}
+
+void PathManager::begin_segment(const Vec3& p, double chi) {
+  const MissionPoint& wt = wps_[target_].wp;
+  const int idx = wps_[target_].index;
+  const double R = cfg_.R_min;
+  seg_R_ = R;
+  if (horizontal_distance(prev_, wt.w) < cfg_.min_separation) {  // already there
+    advance(p, chi);
+    return;
+  }
+  const auto nx = next_of(target_);
+  if (wt.use_chi) {
+    Vec3 ps;
+    double chi_s;
+    if (prev_chi_valid_) {
+      ps = prev_;
+      chi_s = prev_chi_;
+    } else {
+      ps = Vec3(p.x(), p.y(), prev_.z());
+      chi_s = std::isfinite(chi) ? chi : std::atan2(wt.w.y() - p.y(), wt.w.x() - p.x());
+    }
+    dubins_ = dubins_path(ps, chi_s, wt.w, wt.chi_d, R);
+    if (dubins_.close)
+      warn_once("dubins" + std::to_string(idx),
+                "waypoint " + std::to_string(idx) + ": Dubins path starts " + fmt(horizontal_distance(ps, wt.w)) +
+                    " m away, closer than 2 R_min = " + fmt(2 * R) + " m: flying the shortest possible type (" +
+                    std::string(dubins_type_name(dubins_.type)) + ", " + fmt(dubins_.length) + " m)");
+    // Alg. 8 state 1 waits until the aircraft is behind z1; when the start arc is shorter than
+    // half a circle the aircraft (at ps) already is, and waiting could cost a full circle when
+    // the arc is ~0 and the aircraft has just passed z1.
+    stage_ = dubins_.arc_s < kPi ? Stage::dubins_2 : Stage::dubins_1;
+    return;
+  }
+  const Vec3 q_in = Vec3(wt.w.x() - prev_.x(), wt.w.y() - prev_.y(), 0.0).normalized();
+  switch_z_ = wt.w;
+  switch_n_ = q_in;
+  stage_ = Stage::line;
+  if (!nx || wps_[*nx].wp.use_chi) return;  // last waypoint, or a Dubins path follows: pass over it
+  const Vec3& w_next = wps_[*nx].wp.w;
+  if (cfg_.corner == ManagerConfig::Corner::fillet) {
+    fillet_ = compute_fillet(prev_, wt.w, w_next, R);
+    if (fillet_.kind == Fillet::Kind::fillet) {
+      stage_ = Stage::fillet_line;
+    } else if (fillet_.kind == Fillet::Kind::too_sharp) {
+      const double turn_deg = (kPi - fillet_.varrho) * 180.0 / kPi;
+      warn_once("sharp" + std::to_string(idx),
+                "waypoint " + std::to_string(idx) + ": the " + fmt(turn_deg, 0) + " deg corner needs " +
+                    (std::isfinite(fillet_.offset) ? fmt(fillet_.offset) + " m" : std::string("unbounded room")) +
+                    " of leg for a fillet of radius " + fmt(R) + " m: flying over the waypoint, then turning");
+    }
+    return;
+  }
+  const Vec3 q_out = Vec3(w_next.x() - wt.w.x(), w_next.y() - wt.w.y(), 0.0).normalized();
+  switch_n_ = line_switch_normal(q_in, q_out);
+  if ((q_in + q_out).norm() < 1e-6)
+    warn_once("back" + std::to_string(idx), "waypoint " + std::to_string(idx) +
+                                                ": the path doubles back (180 deg): switching when the aircraft passes it");
+}
+
+void PathManager::advance(const Vec3& p, double chi) {
+  passed_.push_back(wps_[target_].index);
+  if (info_) info_("passed waypoint " + std::to_string(wps_[target_].index));
+  const bool was_dubins = stage_ == Stage::dubins_5 || stage_ == Stage::dubins_4;
+  if (pending_) {
+    auto next = std::move(*pending_);
+    pending_.reset();
+    adopt(next.first, next.second, p, chi, 0);
+    return;
+  }
+  const auto nx = next_of(target_);
+  if (!nx) {
+    mode_ = Mode::waypoint_orbit;
+    stage_ = Stage::orbit;
+    if (info_) info_("mission complete: orbiting waypoint " + std::to_string(wps_[target_].index));
+    return;
+  }
+  prev_ = wps_[target_].wp.w;
+  prev_chi_valid_ = was_dubins;
+  prev_chi_ = wps_[target_].wp.chi_d;
+  target_ = *nx;
+  begin_segment(p, chi);
+}
+
+PathSegment PathManager::orbit_segment(const Vec3& c, int index, double Va) const {
+  PathSegment s;
+  s.type = PathSegment::Type::orbit;
+  s.c = c;
+  s.rho = cfg_.R_min;
+  s.lambda = 1;
+  s.Va_d = Va;
+  s.waypoint_index = index;
+  return s;
+}
+
+PathSegment PathManager::current_segment() const {
+  if (mode_ == Mode::origin_orbit)
+    return orbit_segment(Vec3(0.0, 0.0, -cfg_.default_altitude), -1, cfg_.default_airspeed);
+  const MissionPoint& wt = wps_[target_].wp;
+  const int idx = wps_[target_].index;
+  if (mode_ == Mode::waypoint_orbit) return orbit_segment(wt.w, idx, airspeed(wt));
+  PathSegment s;
+  s.Va_d = airspeed(wt);
+  s.waypoint_index = idx;
+  auto orbit = [&](const Vec3& c, int lambda) {
+    s.type = PathSegment::Type::orbit;
+    s.c = c;
+    s.rho = seg_R_;
+    s.lambda = lambda;
+  };
+  switch (stage_) {
+    case Stage::line:
+    case Stage::fillet_line:
+      s.type = PathSegment::Type::line;
+      s.r = prev_;
+      s.q = unit3(prev_, wt.w, switch_n_);
+      break;
+    case Stage::fillet_orbit: orbit(fillet_.c, fillet_.lambda); break;
+    case Stage::dubins_1:
+    case Stage::dubins_2: orbit(dubins_.cs, dubins_.lambda_s); break;
+    case Stage::dubins_3:
+      s.type = PathSegment::Type::line;
+      s.r = dubins_.z1;
+      s.q = unit3(dubins_.z1, dubins_.z2, dubins_.q1);
+      break;
+    case Stage::dubins_4:
+    case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;
+    case Stage::orbit: return orbit_segment(wt.w, idx, airspeed(wt));
+  }
+  return s;
+}
+
+PathSegment PathManager::update(const Vec3& p, double chi) {
+  if (!p.allFinite()) {
+    warn_once("state", "aircraft position is not finite: keeping the current segment");
+    return have_last_ ? last_ : current_segment();
+  }
+  if (need_adopt_) {
+    need_adopt_ = false;
+    adopt(raw_, raw_loop_, p, chi, adopt_first_);
+  }
+  if (mode_ == Mode::route) {
+    switch (stage_) {
+      case Stage::line:
+        if (in_half_plane(p, switch_z_, switch_n_)) advance(p, chi);
+        break;
+      case Stage::fillet_line:
+        if (in_half_plane(p, fillet_.z1, fillet_.q_in)) stage_ = Stage::fillet_orbit;
+        break;
+      case Stage::fillet_orbit:
+        if (in_half_plane(p, fillet_.z2, fillet_.q_out)) advance(p, chi);
+        break;
+      case Stage::dubins_1:
+        if (in_half_plane(p, dubins_.z1, -dubins_.q1)) stage_ = Stage::dubins_2;
+        break;
+      case Stage::dubins_2:
+        if (in_half_plane(p, dubins_.z1, dubins_.q1)) stage_ = Stage::dubins_3;
+        break;
+      case Stage::dubins_3:
+        if (in_half_plane(p, dubins_.z2, dubins_.q1))
+          stage_ = dubins_.arc_e < kPi ? Stage::dubins_5 : Stage::dubins_4;
+        break;
+      case Stage::dubins_4:
+        if (in_half_plane(p, dubins_.z3, -dubins_.q3)) stage_ = Stage::dubins_5;
+        break;
+      case Stage::dubins_5:
+        if (in_half_plane(p, dubins_.z3, dubins_.q3)) advance(p, chi);
+        break;
+      case Stage::orbit: break;
+    }
+  }
+  last_ = current_segment();
+  have_last_ = true;
+  return last_;
+}
+
+}  // namespace tern::path

@@ -1,0 +1,104 @@
+// path_manager adapter. See adapters.hpp and tern/path/manager.hpp.
+#include <spdlog/spdlog.h>
+
+#include "adapters.hpp"
+
+namespace tern::path {
+
+void ManagerPlugin::configure() {
+  declare(state_, "state", "vehicle state (position, course)");
+  declare(waypoints_, "waypoints", "the mission from the path planner, NED");
+  declare(path_, "current_path", "the segment to follow now (line or orbit)");
+  // Defaults: ROSplane's Anaconda parameters (rosplane/params/anaconda_autopilot_params.yaml).
+  declare(R_min_, "R_min", 50.0,
+          ParamSpec("m", 1.0, 10000.0, "minimum turn radius: fillets, Dubins paths and orbits"));
+  declare(orbit_last_, "orbit_last", false,
+          ParamSpec("", 0, 0, "orbit the last waypoint instead of looping the mission"));
+  declare(default_altitude_, "default_altitude", 50.0,
+          ParamSpec("m", -1000.0, 20000.0, "altitude above the origin of the origin orbit (no waypoints)"));
+  declare(default_airspeed_, "default_airspeed", 15.0,
+          ParamSpec("m/s", 1.0, 200.0, "airspeed of waypoints with Va_d = 0 and of the origin orbit"));
+  declare(corner_, "corner", "fillet",
+          ParamSpec("", 0, 0, "corners of waypoints without use_chi: fillet (Alg. 6) or line (Alg. 5)")
+              .one_of({"fillet", "line"}));
+  declare(min_separation_, "min_separation", 1.0,
+          ParamSpec("m", 0.01, 1000.0, "waypoints closer than this (horizontally) count as repeats"));
+  R_min_.on_change([this](const double&) { rebuild(); });
+  orbit_last_.on_change([this](const bool&) { rebuild(); });
+  default_altitude_.on_change([this](const double&) { rebuild(); });
+  default_airspeed_.on_change([this](const double&) { rebuild(); });
+  corner_.on_change([this](const std::string&) { rebuild(); });
+  min_separation_.on_change([this](const double&) { rebuild(); });
+  if (context().describing()) return;
+  auto logger = context().logger();
+  manager_ = std::make_unique<PathManager>(
+      config(), [logger](const std::string& s) { logger->warn("{}", s); },
+      [logger](const std::string& s) { logger->info("{}", s); });
+}
+
+ManagerConfig ManagerPlugin::config() const {
+  ManagerConfig c;
+  c.R_min = R_min_();
+  c.orbit_last = orbit_last_();
+  c.default_altitude = default_altitude_();
+  c.default_airspeed = default_airspeed_();
+  c.corner = corner_() == "line" ? ManagerConfig::Corner::line : ManagerConfig::Corner::fillet;
+  c.min_separation = min_separation_();
+  return c;
+}
+
+void ManagerPlugin::rebuild() {
+  if (manager_) manager_->set_config(config());
+}
+
+void ManagerPlugin::start() { revision_.reset(); }
+
+void ManagerPlugin::reset() {
+  auto logger = context().logger();
+  manager_ = std::make_unique<PathManager>(
+      config(), [logger](const std::string& s) { logger->warn("{}", s); },
+      [logger](const std::string& s) { logger->info("{}", s); });
+  revision_.reset();
+}
+
+void ManagerPlugin::step(Nanos now) {
+  if (waypoints_.has_value() && (!revision_ || *revision_ != waypoints_->revision)) {
+    const auto& list = *waypoints_;
+    revision_ = list.revision;
+    const std::size_t n = std::min<std::size_t>(list.count, msg::WaypointList::kCapacity);
+    if (list.count > msg::WaypointList::kCapacity)
+      log().warn("waypoints revision {}: count {} exceeds the capacity {}: the rest is ignored", list.revision,
+                 list.count, msg::WaypointList::kCapacity);
+    std::vector<MissionPoint> wps(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto& w = list.items[i];
+      if (w.lla) log().warn("waypoint {} is still lat/lon (the planner converts those): skipped", i);
+      wps[i].w = w.lla ? Vec3::Constant(std::nan("")) : w.w;
+      wps[i].chi_d = w.chi_d;
+      wps[i].use_chi = w.use_chi;
+      wps[i].Va_d = w.Va_d;
+    }
+    manager_->set_waypoints(wps, list.loop);
+  }
+  if (!state_.has_value()) return;
+  const auto& s = *state_;
+  const PathSegment seg = manager_->update(Vec3(s.p_n, s.p_e, s.p_d), s.chi);
+  msg::CurrentPath out;
+  out.stamp = now;
+  out.path_type = seg.type == PathSegment::Type::line ? msg::CurrentPath::line : msg::CurrentPath::orbit;
+  out.Va_d = seg.Va_d;
+  out.r = seg.r;
+  out.q = seg.q;
+  out.c = seg.c;
+  out.rho = seg.rho;
+  out.lambda = static_cast<std::int8_t>(seg.lambda >= 0 ? 1 : -1);
+  out.waypoint_index = seg.waypoint_index;
+  path_.publish(out);
+}
+
+std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
+  if (!manager_) return {};
+  return {{"waypoints_passed", static_cast<double>(manager_->passed().size())}};
+}
+
+}  // namespace tern::path
