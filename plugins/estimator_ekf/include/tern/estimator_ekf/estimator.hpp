@@ -1,0 +1,213 @@
+// tern/estimator_ekf/estimator.hpp: the full estimator around the EKF core: sensor checks,
+// initialisation (GNSS origin, attitude from accelerometer and magnetometer, barometer
+// calibration), measurement routing, time-outs, GNSS reset, and the msg::State output.
+//
+// Plain C++: it reads the SDK's sensor message structs (tern/msg/sensors.hpp) and writes
+// msg::State, but knows nothing of plugins, ports or parameters, so tests, benchmarks and a
+// replay tool can drive it directly. Not thread safe; never allocates after construction except
+// when an event is queued (rare: origin set, time-outs, resets).
+//
+// Life of an estimate:
+//   1. Before initialisation, IMU samples feed low-pass averages of accel, gyro and mag, and
+//      barometer samples feed the ground calibration (the first baro_calibration_count samples).
+//   2. The first GNSS solution with fix_type >= min_fix_type sets the origin (lat, lon, alt):
+//      NED positions are those of GeographicLib::LocalCartesian at the origin.
+//   3. Initialisation needs the origin, init_min_imu_samples IMU samples and, if a magnetometer
+//      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
+//      Roll and pitch come from the averaged specific force, yaw from the tilt-compensated
+//      magnetometer (or the GNSS course when moving without magnetometer, else 0 with a 1-rad
+//      sigma), the gyro bias from the averaged gyro when at rest.
+//   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
+// NaN/Inf or out-of-range samples are rejected and counted, never used. A sensor that was
+// heard from and falls silent longer than its time-out raises a sensor_timeout event (and
+// sensor_recovered when it comes back). GNSS positions rejected by the gate for longer than
+// gnss_reset_time reset position and velocity to the GNSS solution (a gnss_reset event).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <GeographicLib/LocalCartesian.hpp>
+
+#include "tern/estimator_ekf/filter.hpp"
+#include "tern/estimator_ekf/measurements.hpp"
+#include "tern/msg/sensors.hpp"
+#include "tern/msg/state.hpp"
+
+namespace tern::ekf {
+
+enum class Sensor : std::uint8_t { imu = 0, gnss, baro, diff_pressure, mag };
+inline constexpr int kSensorCount = 5;
+const char* sensor_name(Sensor s);
+
+/// Every figure of the estimator. Defaults: ROSplane 2.0's estimator.yaml where a figure maps,
+/// the ROSflight simulator's sensor models otherwise (sensor rates IMU 400 Hz, mag 50 Hz,
+/// baro 100 Hz, pitot 100 Hz, GNSS 10 Hz).
+struct EstimatorConfig {
+  double gravity = 9.81;  ///< m/s^2
+  double rho = 1.225;     ///< air density for the pitot, kg/m^3
+  ProcessNoise process;   ///< IMU noise and random walks (filter.hpp)
+
+  // GNSS
+  int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
+  double gnss_pos_sigma_h = 0.21;     ///< m
+  double gnss_pos_sigma_v = 0.4;      ///< m
+  double gnss_vel_sigma_h = 0.01;     ///< m/s
+  double gnss_vel_sigma_v = 0.01;     ///< m/s
+  double gnss_pos_gate = kChi2_999[3];
+  double gnss_vel_gate = kChi2_999[3];
+  double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset
+  // magnetometer
+  double mag_declination = 0.1857972802;  ///< rad
+  double mag_inclination = 1.139436457;   ///< rad
+  double mag_field_strength = 5.07163e-5; ///< T
+  double mag_sigma = 3e-6;                ///< T per axis
+  double mag_gate = kChi2_999[3];
+  double mag_init_wait = 2.0;             ///< s to wait for a magnetometer at initialisation
+  // barometer
+  double baro_sigma = 4.0;                ///< Pa
+  double baro_gate = kChi2_999[1];
+  int baro_calibration_count = 100;       ///< samples averaged for the ground calibration
+  // pitot and sideslip
+  double diff_pressure_sigma = 1.15;      ///< Pa
+  double diff_pressure_gate = kChi2_999[1];
+  double min_airspeed = 8.0;              ///< m/s, below it neither pitot nor sideslip update
+  bool use_sideslip = true;
+  double sideslip_sigma = 0.5;            ///< m/s
+  double sideslip_gate = kChi2_999[1];
+  // initialisation
+  int init_min_imu_samples = 40;
+  double init_average_time = 0.25;        ///< s, time constant of the pre-init averages
+  double init_tilt_sigma = 0.0707;        ///< rad (ROSplane phi/theta_initial_cov 0.005)
+  double init_yaw_sigma = 0.2;            ///< rad, with a magnetometer (1 rad without)
+  double init_gyro_bias_sigma = 0.01;     ///< rad/s (ROSplane bias_initial_cov 1e-4)
+  double init_accel_bias_sigma = 0.3;     ///< m/s^2
+  double init_wind_sigma = 5.0;           ///< m/s
+  double init_baro_bias_sigma = 1.0;      ///< m
+  // sensor checks
+  double accel_max = 160.0;               ///< m/s^2 per axis (16 g)
+  double gyro_max = 35.0;                 ///< rad/s per axis (2000 deg/s)
+  double imu_max_dt = 0.05;               ///< s, longer IMU gaps are counted and clamped
+  std::array<double, kSensorCount> timeout{0.1, 1.0, 0.5, 0.5, 0.5};  ///< s, per Sensor
+};
+
+/// Counters of one sensor.
+struct SensorCounters {
+  std::uint64_t received = 0;  ///< messages offered
+  std::uint64_t invalid = 0;   ///< NaN/Inf, out of range or stamp going backwards
+  std::uint64_t timeouts = 0;  ///< times it fell silent longer than its time-out
+  bool timed_out = false;
+  Nanos last_stamp = -1;       ///< stamp of the last valid message (-1: none yet)
+};
+
+enum class EventKind : std::uint8_t {
+  origin_set, initialized, baro_calibrated, sensor_timeout, sensor_recovered, gnss_reset,
+  imu_gap, filter_reset, first_invalid
+};
+
+/// Something worth a log line. `value`: the gap for imu_gap, the innovation norm for gnss_reset.
+struct Event {
+  Nanos stamp = 0;
+  EventKind kind = EventKind::initialized;
+  Sensor sensor = Sensor::imu;
+  double value = 0.0;
+};
+/// One line describing the event, e.g. "gnss: no valid message for 1.2 s (time-out 1 s)".
+std::string describe(const Event& e);
+
+class Estimator {
+ public:
+  explicit Estimator(const EstimatorConfig& config = {});
+
+  /// New figures (keeps the state; noise and gates apply from the next sample).
+  void set_config(const EstimatorConfig& config);
+  const EstimatorConfig& config() const { return cfg_; }
+  /// Whether to wait (up to mag_init_wait) for a magnetometer before initialising.
+  void expect_mag(bool expected) { expect_mag_ = expected; }
+  /// Back to the uninitialised state: no origin, no calibration, counters kept.
+  void reset();
+
+  /// One IMU sample: propagates (after initialisation) to its stamp. Returns false if rejected.
+  bool add_imu(const msg::Imu& m);
+  bool add_gnss(const msg::Gnss& m);
+  bool add_baro(const msg::Baro& m);
+  bool add_diff_pressure(const msg::DiffPressure& m);
+  bool add_mag(const msg::Mag& m);
+  /// Raises time-out events for sensors silent for longer than their time-out at `now`.
+  void check_timeouts(Nanos now);
+
+  bool initialized() const { return initialized_; }
+  bool origin_valid() const { return origin_.has_value(); }
+  /// The estimate as a message (valid = initialised). stamp: that of the last IMU sample.
+  msg::State state() const;
+  /// The same into an existing message (allocation free).
+  void fill_state(msg::State& s) const;
+
+  const Filter& filter() const { return filter_; }
+  const SensorCounters& counters(Sensor s) const { return counters_[static_cast<int>(s)]; }
+  const GnssPosition& gnss_position_model() const { return gnss_pos_; }
+  const GnssVelocity& gnss_velocity_model() const { return gnss_vel_; }
+  const Magnetometer& mag_model() const { return mag_; }
+  const BaroAltitude& baro_model() const { return baro_; }
+  const DiffPressure& diff_pressure_model() const { return pitot_; }
+  const ZeroSideslip& sideslip_model() const { return sideslip_; }
+  std::uint64_t gnss_resets() const { return gnss_resets_; }
+  std::uint64_t filter_resets() const { return filter_resets_; }
+
+  /// Events since the last call (the caller logs them).
+  std::vector<Event> take_events();
+  bool has_events() const { return !events_.empty(); }
+
+  /// NED position (m) of a geodetic point relative to the origin (origin must be set).
+  Vec3 ned_from_geodetic(double lat_deg, double lon_deg, double alt_m) const;
+  /// Altitude (m) of the International Standard Atmosphere for a static pressure p (Pa).
+  static double isa_altitude(double pressure);
+  /// Rotation body -> NED from a specific force (body, at rest: -R^T g e3) and a magnetic field
+  /// (body) given the field's declination (rad); yaw from the tilt-compensated field.
+  static Eigen::Quaterniond attitude_from_accel_mag(const Vec3& f_body, const Vec3& m_body,
+                                                    double declination);
+  /// The same without a magnetometer: roll and pitch from the specific force, yaw given.
+  static Eigen::Quaterniond attitude_from_accel(const Vec3& f_body, double psi);
+
+ private:
+  bool accept(Sensor s, Nanos stamp, bool ok);
+  void push(Nanos stamp, EventKind kind, Sensor s, double value = 0.0);
+  void try_initialize(const msg::Gnss& m, const Vec3& p_ned);
+  void apply_models_config();
+
+  EstimatorConfig cfg_;
+  Filter filter_;
+  GnssPosition gnss_pos_;
+  GnssVelocity gnss_vel_;
+  Magnetometer mag_;
+  BaroAltitude baro_;
+  DiffPressure pitot_;
+  ZeroSideslip sideslip_;
+
+  bool initialized_ = false;
+  bool expect_mag_ = true;
+  std::optional<GeographicLib::LocalCartesian> origin_;
+  double origin_lat_ = 0.0, origin_lon_ = 0.0, origin_alt_ = 0.0;
+  Nanos origin_stamp_ = 0;
+
+  // pre-initialisation averages
+  Vec3 accel_avg_ = Vec3::Zero(), gyro_avg_ = Vec3::Zero(), mag_avg_ = Vec3::Zero();
+  std::int64_t imu_samples_ = 0, mag_samples_ = 0;
+  // barometer calibration: altitude offset = mean(isa_altitude(p) - altitude estimate)
+  int baro_cal_count_ = 0;
+  double baro_cal_sum_ = 0.0;
+  double baro_offset_ = 0.0;
+  bool baro_calibrated_ = false;
+
+  Nanos imu_stamp_ = -1;
+  Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro
+  Nanos gnss_reject_since_ = -1;
+  std::uint64_t gnss_resets_ = 0, filter_resets_ = 0;
+  std::array<SensorCounters, kSensorCount> counters_{};
+  std::vector<Event> events_;
+};
+
+}  // namespace tern::ekf

@@ -1,0 +1,236 @@
+// tern/estimator_ekf/filter.hpp: the error-state (multiplicative) extended Kalman filter core.
+//
+// Plain C++ and Eigen: no tern host or plugin types. All matrices are fixed size; propagate() and
+// update() never allocate.
+//
+// Nominal state x (NominalState):
+//   p      NED position relative to the origin, m
+//   v      NED ground velocity, m/s
+//   q      attitude, unit quaternion rotating body FRD vectors into NED (v_ned = q * v_body)
+//   b_g    gyro bias, body FRD, rad/s          (gyro = omega + b_g + noise)
+//   b_a    accelerometer bias, body FRD, m/s^2 (accel = f + b_a + noise, f = specific force)
+//   wind   horizontal wind (w_n, w_e), m/s; the vertical wind is taken as 0
+//   b_baro barometric-altitude bias, m         (baro altitude = -p_d + b_baro + noise)
+//
+// Error state dx (18 components, index constants in namespace idx):
+//   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1)
+// with the attitude error defined in the body frame: q_true = q (x) exp(dtheta / 2), i.e.
+// R_true = R (I + [dtheta]x) to first order ("multiplicative" EKF: Markley, "Attitude error
+// representations for Kalman filtering", JGCD 2003; Sola, "Quaternion kinematics for the
+// error-state Kalman filter", 2017, sections 5 and 6).
+//
+// Continuous-time model (Sola 2017, eq. 235 with the local attitude error; Beard & McLain
+// section 8.11 for the same full-state structure):
+//   p_dot = v
+//   v_dot = R (a_m - b_a - n_a) + g e3                       (a_m: measured specific force)
+//   q_dot = 1/2 q (x) (0, w_m - b_g - n_g)                    (w_m: measured body rate)
+//   b_g_dot = n_bg,  b_a_dot = n_ba,  wind_dot = n_w,  b_baro_dot = n_bb   (random walks)
+// Error dynamics (first order in dx), with a = a_m - b_a and w = w_m - b_g:
+//   dp_dot     = dv
+//   dv_dot     = -R [a]x dtheta - R db_a - R n_a
+//   dtheta_dot = -[w]x dtheta - db_g - n_g
+// Discrete transition over one IMU interval dt (Sola 2017, eq. 270 / 310):
+//   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - dt db_g.
+// Discrete process noise: Q_v = (sigma_a dt)^2 I, Q_theta = (sigma_g dt)^2 I, where sigma_a and
+// sigma_g are the per-sample standard deviations of the accelerometer and gyro (white noise of
+// one sample held over dt); random walks: Q = sigma^2 dt with sigma in unit/sqrt(s).
+//
+// Measurement update (any model of the shape described in measurements.hpp):
+//   y = z - h(x),  S = H P H^T + R,  NIS = y^T S^-1 y (chi-square gate),
+//   K = P H^T S^-1,  dx = K y,  x <- x [+] dx,
+//   P <- (I - K H) P (I - K H)^T + K R K^T   (Joseph form), then P <- (P + P^T) / 2.
+// The covariance is therefore kept symmetric; it stays positive definite as long as R > 0 and
+// the process noise is > 0 (checked by healthy()).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include <Eigen/Cholesky>
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace tern::ekf {
+
+inline constexpr int kErrDim = 18;  ///< error-state dimension
+
+/// Offsets of the error-state blocks.
+namespace idx {
+inline constexpr int p = 0;     ///< position, 3
+inline constexpr int v = 3;     ///< velocity, 3
+inline constexpr int th = 6;    ///< attitude error (body frame), 3
+inline constexpr int bg = 9;    ///< gyro bias, 3
+inline constexpr int ba = 12;   ///< accelerometer bias, 3
+inline constexpr int w = 15;    ///< wind north, east, 2
+inline constexpr int bb = 17;   ///< barometer bias, 1
+}  // namespace idx
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using ErrVec = Eigen::Matrix<double, kErrDim, 1>;
+using Cov = Eigen::Matrix<double, kErrDim, kErrDim>;
+
+/// The estimated (nominal) state. Units and frames as in the file comment.
+struct NominalState {
+  Vec3 p = Vec3::Zero();
+  Vec3 v = Vec3::Zero();
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+  Vec3 b_g = Vec3::Zero();
+  Vec3 b_a = Vec3::Zero();
+  Eigen::Vector2d wind = Eigen::Vector2d::Zero();
+  double b_baro = 0.0;
+
+  /// Rotation body FRD -> NED.
+  Mat3 R() const { return q.toRotationMatrix(); }
+  /// Wind vector in NED (w_d = 0), m/s.
+  Vec3 wind_ned() const { return {wind.x(), wind.y(), 0.0}; }
+  /// Air-relative velocity in body FRD, (u_r, v_r, w_r) = R^T (v - w), m/s (Beard & McLain eq. 2.7).
+  Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
+  bool all_finite() const {
+    return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() &&
+           b_a.allFinite() && wind.allFinite() && std::isfinite(b_baro);
+  }
+};
+
+/// Rotation vector -> unit quaternion (exponential map), exact for any angle.
+inline Eigen::Quaterniond quat_exp(const Vec3& rotvec) {
+  const double angle = rotvec.norm();
+  if (angle < 1e-9) {
+    return Eigen::Quaterniond(1.0, 0.5 * rotvec.x(), 0.5 * rotvec.y(), 0.5 * rotvec.z()).normalized();
+  }
+  const double s = std::sin(0.5 * angle) / angle;
+  return Eigen::Quaterniond(std::cos(0.5 * angle), s * rotvec.x(), s * rotvec.y(), s * rotvec.z());
+}
+
+/// x [+] dx: applies an error-state correction to a nominal state (attitude multiplicatively).
+NominalState boxplus(const NominalState& x, const ErrVec& dx);
+
+/// Skew-symmetric matrix: skew(a) b = a x b.
+inline Mat3 skew3(const Vec3& a) {
+  Mat3 S;
+  S << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
+  return S;
+}
+
+/// Process-noise figures (see the file comment for how they enter Q).
+struct ProcessNoise {
+  double accel = 0.2;             ///< accelerometer white noise, 1 sigma per sample, m/s^2
+  double gyro = 0.0023;           ///< gyro white noise, 1 sigma per sample, rad/s
+  double gyro_bias_walk = 1e-4;   ///< gyro-bias random walk, rad/s/sqrt(s)
+  double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
+  double wind_walk = 0.1;         ///< horizontal-wind random walk, m/s/sqrt(s)
+  double baro_bias_walk = 0.02;   ///< barometer-bias random walk, m/sqrt(s)
+  double position = 0.0;          ///< extra position random walk (model error), m/sqrt(s)
+};
+
+/// Outcome of one measurement update.
+enum class UpdateResult : std::uint8_t {
+  accepted,    ///< applied to the state
+  rejected,    ///< failed the chi-square gate
+  skipped,     ///< the model is not applicable now (e.g. airspeed below its minimum)
+  invalid      ///< non-finite measurement, or innovation covariance not positive definite
+};
+
+/// Counters every measurement model keeps.
+struct UpdateStats {
+  std::uint64_t accepted = 0;
+  std::uint64_t rejected = 0;  ///< by the chi-square gate
+  std::uint64_t skipped = 0;
+  std::uint64_t invalid = 0;
+  std::uint64_t consecutive_rejected = 0;  ///< rejections since the last accepted update
+  double last_nis = 0.0;  ///< normalised innovation squared of the last gated update
+};
+
+/// The filter: nominal state, 18x18 covariance, propagation and the generic update.
+class Filter {
+ public:
+  /// Sets the state and covariance (P0 must be symmetric positive definite).
+  void initialize(const NominalState& x0, const Cov& P0) {
+    x_ = x0;
+    P_ = P0;
+  }
+
+  /// Propagates over dt seconds (> 0) with one IMU sample: accel = measured specific force
+  /// (body FRD, m/s^2), gyro = measured rate (body FRD, rad/s). Allocation free.
+  void propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise,
+                 double gravity);
+
+  /// The nominal-state part of propagate(): constant specific force and rate over dt.
+  static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,
+                                        double dt, double gravity);
+  /// The dense error-state transition F of propagate() (for tests and documentation; propagate()
+  /// applies it block-wise without forming it).
+  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt);
+  /// The discrete process noise Q of propagate() (diagonal).
+  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt);
+
+  /// Generic measurement update with a model (measurements.hpp describes the interface):
+  /// residual z - h(x), Jacobian H, noise R, chi-square gate model.gate (<= 0: no gate).
+  template <class Model>
+  UpdateResult update(Model& model, const typename Model::Vec& z);
+
+  /// Applies an error-state correction without touching P (used by resets).
+  void inject(const ErrVec& dx) { x_ = boxplus(x_, dx); }
+
+  /// Covariance finite with a positive diagonal, state finite.
+  bool healthy() const {
+    return P_.allFinite() && (P_.diagonal().array() > 0.0).all() && x_.all_finite();
+  }
+
+  const NominalState& x() const { return x_; }
+  const Cov& P() const { return P_; }
+  NominalState& mutable_x() { return x_; }
+  Cov& mutable_P() { return P_; }
+
+ private:
+  NominalState x_;
+  Cov P_ = Cov::Identity();
+};
+
+template <class Model>
+UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
+  constexpr int M = Model::kDim;
+  using VecM = Eigen::Matrix<double, M, 1>;
+  using MatM = Eigen::Matrix<double, M, M>;
+  using Jac = Eigen::Matrix<double, M, kErrDim>;
+  if (!z.allFinite()) {
+    ++model.stats.invalid;
+    return UpdateResult::invalid;
+  }
+  if (!model.applicable(x_, z)) {
+    ++model.stats.skipped;
+    return UpdateResult::skipped;
+  }
+  const VecM y = model.residual(x_, z);
+  const Jac H = model.jacobian(x_);
+  const MatM R = model.noise();
+  const Eigen::Matrix<double, M, kErrDim> HP = H * P_;
+  const MatM S = HP * H.transpose() + R;
+  const Eigen::LLT<MatM> llt(S);
+  if (!y.allFinite() || !S.allFinite() || llt.info() != Eigen::Success) {
+    ++model.stats.invalid;
+    return UpdateResult::invalid;
+  }
+  const double nis = y.dot(llt.solve(y));
+  model.stats.last_nis = nis;
+  if (model.gate > 0.0 && !(nis <= model.gate)) {
+    ++model.stats.rejected;
+    ++model.stats.consecutive_rejected;
+    return UpdateResult::rejected;
+  }
+  // K = P H^T S^-1 = (S^-1 H P)^T (P and S symmetric).
+  const Eigen::Matrix<double, kErrDim, M> K = llt.solve(HP).transpose();
+  x_ = boxplus(x_, K * y);
+  // Joseph form: P = (I - K H) P (I - K H)^T + K R K^T.
+  Cov A = -K * H;
+  A.diagonal().array() += 1.0;
+  const Cov AP = A * P_;
+  P_.noalias() = AP * A.transpose();
+  P_.noalias() += K * R * K.transpose();
+  P_ = 0.5 * (P_ + P_.transpose()).eval();
+  ++model.stats.accepted;
+  model.stats.consecutive_rejected = 0;
+  return UpdateResult::accepted;
+}
+
+}  // namespace tern::ekf

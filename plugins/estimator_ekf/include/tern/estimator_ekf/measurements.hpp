@@ -1,0 +1,116 @@
+// tern/estimator_ekf/measurements.hpp: the measurement models of the EKF, one small class each.
+//
+// A model of an M-dimensional measurement z derives from Measurement<Self, M> and provides
+//   Vec   h(const NominalState& x) const       predicted measurement h(x)
+//   Jac   jacobian(const NominalState& x) const  H = dh/d(dx), M x 18, at x (error-state Jacobian:
+//                                              h(x [+] dx) = h(x) + H dx + O(|dx|^2))
+//   Noise noise() const                        measurement covariance R, M x M, positive definite
+// and may redefine
+//   bool  applicable(const NominalState& x, const Vec& z) const   default: always
+//   Vec   residual(const NominalState& x, const Vec& z) const     default: z - h(x)
+// Every model has a chi-square gate (`gate`, the largest accepted normalised innovation squared
+// y^T S^-1 y; <= 0 disables it) and counters (`stats`). Filter::update(model, z) does the rest.
+// docs/adding-a-sensor.md walks through adding one.
+//
+// Jacobians use the body-frame attitude error of filter.hpp: R_true = R (I + [dtheta]x), hence
+//   d(R^T a)/d(dtheta) = [R^T a]x   for a fixed NED vector a.
+#pragma once
+
+#include <cmath>
+
+#include "tern/estimator_ekf/filter.hpp"
+
+namespace tern::ekf {
+
+/// Chi-square quantiles at 99.9 % (default gates): 1, 2, 3 degrees of freedom.
+inline constexpr double kChi2_999[4] = {0.0, 10.828, 13.816, 16.266};
+
+template <class Derived, int M>
+struct Measurement {
+  static constexpr int kDim = M;
+  using Vec = Eigen::Matrix<double, M, 1>;
+  using Jac = Eigen::Matrix<double, M, kErrDim>;
+  using Noise = Eigen::Matrix<double, M, M>;
+
+  double gate = kChi2_999[M <= 3 ? M : 3];  ///< chi-square gate on the NIS (<= 0: none)
+  UpdateStats stats;
+
+  bool applicable(const NominalState& /*x*/, const Vec& /*z*/) const { return true; }
+  Vec residual(const NominalState& x, const Vec& z) const {
+    return z - static_cast<const Derived&>(*this).h(x);
+  }
+};
+
+/// GNSS position: z = NED position of the antenna relative to the origin, m (the geodetic fix
+/// converted by a local tangent plane at the origin). h(x) = p; H = [I 0 ...].
+struct GnssPosition : Measurement<GnssPosition, 3> {
+  double sigma_h = 0.21;  ///< horizontal noise, 1 sigma, m
+  double sigma_v = 0.4;   ///< vertical noise, 1 sigma, m
+  Vec h(const NominalState& x) const { return x.p; }
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const;
+};
+
+/// GNSS velocity: z = NED ground velocity, m/s. h(x) = v; H = [0 I 0 ...].
+struct GnssVelocity : Measurement<GnssVelocity, 3> {
+  double sigma_h = 0.01;  ///< horizontal noise, 1 sigma, m/s
+  double sigma_v = 0.01;  ///< vertical noise, 1 sigma, m/s
+  Vec h(const NominalState& x) const { return x.v; }
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const;
+};
+
+/// Magnetometer, 3-axis, direction only: z = field / |field| (unit vector, body FRD).
+/// h(x) = R^T m_n with the unit field direction in NED from declination D (east of north) and
+/// inclination I (down from horizontal): m_n = (cos I cos D, cos I sin D, sin I).
+/// H_theta = [R^T m_n]x. Noise: sigma / field_strength on each axis (sigma in tesla).
+struct Magnetometer : Measurement<Magnetometer, 3> {
+  double declination = 0.1857972802;  ///< rad (ROSflight simulator default, Provo UT)
+  double inclination = 1.139436457;   ///< rad
+  double sigma = 3e-6;                ///< noise of each axis, 1 sigma, T
+  double field_strength = 5.07163e-5; ///< total intensity, T (scales sigma to the unit vector)
+  Vec3 field_direction_ned() const;
+  Vec h(const NominalState& x) const;
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const;
+};
+
+/// Barometric altitude: z = altitude above the origin from static pressure (after the ground
+/// calibration), m. h(x) = -p_d + b_baro; H_pd = -1, H_bb = 1.
+struct BaroAltitude : Measurement<BaroAltitude, 1> {
+  double sigma = 0.33;  ///< m (4 Pa / (rho g))
+  Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro); }
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const { return Noise(sigma * sigma); }
+};
+
+/// Differential (pitot) pressure: z = p_diff, Pa. h(x) = 0.5 rho u_r^2 with
+/// (u_r, v_r, w_r) = R^T (v - w) (Beard & McLain eq. 7.3 with the airspeed along the pitot tube).
+/// Applicable when the measured airspeed sqrt(2 z / rho) >= min_airspeed.
+/// H = rho u_r e1^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
+struct DiffPressure : Measurement<DiffPressure, 1> {
+  double rho = 1.225;         ///< air density, kg/m^3
+  double sigma = 1.15;        ///< Pa
+  double min_airspeed = 8.0;  ///< m/s
+  bool applicable(const NominalState& x, const Vec& z) const;
+  Vec h(const NominalState& x) const;
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const { return Noise(sigma * sigma); }
+};
+
+/// Zero-sideslip pseudo-measurement: z = 0 = v_r, the body-y air velocity (coordinated flight,
+/// Beard & McLain section 8.10.2). Applicable when the estimated airspeed >= min_airspeed.
+/// H = e2^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
+struct ZeroSideslip : Measurement<ZeroSideslip, 1> {
+  double sigma = 0.5;         ///< m/s: how far from coordinated the aircraft flies
+  double min_airspeed = 8.0;  ///< m/s
+  bool applicable(const NominalState& x, const Vec& z) const;
+  Vec h(const NominalState& x) const { return Vec(x.air_velocity_body().y()); }
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const { return Noise(sigma * sigma); }
+};
+
+/// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x 18).
+Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x);
+
+}  // namespace tern::ekf

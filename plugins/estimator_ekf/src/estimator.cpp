@@ -1,0 +1,398 @@
+// Estimator: sensor checks, initialisation, routing to the EKF, output (see estimator.hpp).
+#include "tern/estimator_ekf/estimator.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "tern/math.hpp"
+
+namespace tern::ekf {
+
+const char* sensor_name(Sensor s) {
+  switch (s) {
+    case Sensor::imu: return "imu";
+    case Sensor::gnss: return "gnss";
+    case Sensor::baro: return "baro";
+    case Sensor::diff_pressure: return "diff_pressure";
+    case Sensor::mag: return "mag";
+  }
+  return "?";
+}
+
+std::string describe(const Event& e) {
+  char buf[200];
+  const char* s = sensor_name(e.sensor);
+  switch (e.kind) {
+    case EventKind::origin_set:
+      std::snprintf(buf, sizeof buf, "origin set from the first 3-D GNSS fix");
+      break;
+    case EventKind::initialized:
+      std::snprintf(buf, sizeof buf, "initialised (%s)", e.value > 0.5 ? "yaw from magnetometer"
+                                                                        : "no magnetometer: yaw from GNSS course or 0");
+      break;
+    case EventKind::baro_calibrated:
+      std::snprintf(buf, sizeof buf, "barometer calibrated: altitude offset %.2f m", e.value);
+      break;
+    case EventKind::sensor_timeout:
+      std::snprintf(buf, sizeof buf, "%s: time-out, no valid message for %.3f s", s, e.value);
+      break;
+    case EventKind::sensor_recovered:
+      std::snprintf(buf, sizeof buf, "%s: valid messages again after %.3f s", s, e.value);
+      break;
+    case EventKind::gnss_reset:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: position rejected for too long, reset to GNSS (innovation %.1f m)", e.value);
+      break;
+    case EventKind::imu_gap:
+      std::snprintf(buf, sizeof buf, "imu: gap of %.3f s between samples (propagation clamped)", e.value);
+      break;
+    case EventKind::filter_reset:
+      std::snprintf(buf, sizeof buf, "filter diverged (non-finite state or covariance): re-initialising");
+      break;
+    case EventKind::first_invalid:
+      std::snprintf(buf, sizeof buf, "%s: invalid sample rejected (NaN/Inf, out of range or stamp going back); further ones are only counted", s);
+      break;
+  }
+  return buf;
+}
+
+Estimator::Estimator(const EstimatorConfig& config) {
+  events_.reserve(32);
+  set_config(config);
+}
+
+void Estimator::set_config(const EstimatorConfig& config) {
+  cfg_ = config;
+  apply_models_config();
+}
+
+void Estimator::apply_models_config() {
+  gnss_pos_.sigma_h = cfg_.gnss_pos_sigma_h;
+  gnss_pos_.sigma_v = cfg_.gnss_pos_sigma_v;
+  gnss_pos_.gate = cfg_.gnss_pos_gate;
+  gnss_vel_.sigma_h = cfg_.gnss_vel_sigma_h;
+  gnss_vel_.sigma_v = cfg_.gnss_vel_sigma_v;
+  gnss_vel_.gate = cfg_.gnss_vel_gate;
+  mag_.declination = cfg_.mag_declination;
+  mag_.inclination = cfg_.mag_inclination;
+  mag_.field_strength = cfg_.mag_field_strength;
+  mag_.sigma = cfg_.mag_sigma;
+  mag_.gate = cfg_.mag_gate;
+  baro_.sigma = cfg_.baro_sigma / (cfg_.rho * cfg_.gravity);
+  baro_.gate = cfg_.baro_gate;
+  pitot_.rho = cfg_.rho;
+  pitot_.sigma = cfg_.diff_pressure_sigma;
+  pitot_.gate = cfg_.diff_pressure_gate;
+  pitot_.min_airspeed = cfg_.min_airspeed;
+  sideslip_.sigma = cfg_.sideslip_sigma;
+  sideslip_.gate = cfg_.sideslip_gate;
+  sideslip_.min_airspeed = cfg_.min_airspeed;
+}
+
+void Estimator::reset() {
+  initialized_ = false;
+  origin_.reset();
+  origin_lat_ = origin_lon_ = origin_alt_ = 0.0;
+  accel_avg_.setZero();
+  gyro_avg_.setZero();
+  mag_avg_.setZero();
+  imu_samples_ = mag_samples_ = 0;
+  baro_cal_count_ = 0;
+  baro_cal_sum_ = baro_offset_ = 0.0;
+  baro_calibrated_ = false;
+  imu_stamp_ = -1;
+  rate_.setZero();
+  gnss_reject_since_ = -1;
+  filter_ = Filter{};
+  for (auto& c : counters_) {
+    c.timed_out = false;
+    c.last_stamp = -1;
+  }
+}
+
+void Estimator::push(Nanos stamp, EventKind kind, Sensor s, double value) {
+  events_.push_back(Event{stamp, kind, s, value});
+}
+
+std::vector<Event> Estimator::take_events() {
+  std::vector<Event> out;
+  out.swap(events_);
+  events_.reserve(32);
+  return out;
+}
+
+bool Estimator::accept(Sensor s, Nanos stamp, bool ok) {
+  SensorCounters& c = counters_[static_cast<int>(s)];
+  ++c.received;
+  if (!ok || (c.last_stamp >= 0 && stamp < c.last_stamp)) {
+    if (c.invalid++ == 0) push(stamp, EventKind::first_invalid, s);
+    return false;
+  }
+  if (c.timed_out) {
+    c.timed_out = false;
+    push(stamp, EventKind::sensor_recovered, s, to_seconds(stamp - c.last_stamp));
+  }
+  c.last_stamp = stamp;
+  return true;
+}
+
+void Estimator::check_timeouts(Nanos now) {
+  for (int i = 0; i < kSensorCount; ++i) {
+    SensorCounters& c = counters_[i];
+    if (c.last_stamp < 0 || c.timed_out) continue;
+    const double silent = to_seconds(now - c.last_stamp);
+    if (silent > cfg_.timeout[i]) {
+      c.timed_out = true;
+      ++c.timeouts;
+      push(now, EventKind::sensor_timeout, static_cast<Sensor>(i), silent);
+    }
+  }
+}
+
+double Estimator::isa_altitude(double pressure) {
+  // ISA troposphere: h = T0/L (1 - (p/p0)^(R L / (g M))), T0 = 288.15 K, L = 0.0065 K/m.
+  return 44330.769 * (1.0 - std::pow(pressure / 101325.0, 0.190263));
+}
+
+Eigen::Quaterniond Estimator::attitude_from_accel(const Vec3& f, double psi) {
+  // At rest f = -R^T g e3 = g (sin theta, -sin phi cos theta, -cos phi cos theta).
+  const double phi = std::atan2(-f.y(), -f.z());
+  const double theta = std::atan2(f.x(), std::hypot(f.y(), f.z()));
+  return quaternion_from_euler(phi, theta, psi);
+}
+
+Eigen::Quaterniond Estimator::attitude_from_accel_mag(const Vec3& f, const Vec3& m,
+                                                      double declination) {
+  const double phi = std::atan2(-f.y(), -f.z());
+  const double theta = std::atan2(f.x(), std::hypot(f.y(), f.z()));
+  // Field in the level (yaw-only) frame: m_l = R_y(theta) R_x(phi) m_b = Rz(psi)^T m_n, whose
+  // horizontal part points at (declination - psi).
+  const Vec3 m_l = rotation_from_euler(phi, theta, 0.0) * m;
+  const double psi = wrap_pi(declination - std::atan2(m_l.y(), m_l.x()));
+  return quaternion_from_euler(phi, theta, psi);
+}
+
+Vec3 Estimator::ned_from_geodetic(double lat, double lon, double alt) const {
+  double e = 0, n = 0, u = 0;
+  origin_->Forward(lat, lon, alt, e, n, u);
+  return {n, e, -u};
+}
+
+bool Estimator::add_imu(const msg::Imu& m) {
+  const bool ok = m.accel.allFinite() && m.gyro.allFinite() &&
+                  m.accel.cwiseAbs().maxCoeff() <= cfg_.accel_max &&
+                  m.gyro.cwiseAbs().maxCoeff() <= cfg_.gyro_max &&
+                  (imu_stamp_ < 0 || m.stamp > imu_stamp_);
+  if (!accept(Sensor::imu, m.stamp, ok)) return false;
+  double dt = imu_stamp_ < 0 ? 0.0 : to_seconds(m.stamp - imu_stamp_);
+  imu_stamp_ = m.stamp;
+  if (!initialized_) {
+    // Low-pass averages for the initial attitude and gyro bias.
+    const double a = imu_samples_ == 0 ? 1.0 : std::clamp(dt / cfg_.init_average_time, 0.0, 1.0);
+    accel_avg_ += a * (m.accel - accel_avg_);
+    gyro_avg_ += a * (m.gyro - gyro_avg_);
+    ++imu_samples_;
+    rate_ = m.gyro;
+    return true;
+  }
+  if (dt > cfg_.imu_max_dt) {
+    push(m.stamp, EventKind::imu_gap, Sensor::imu, dt);
+    dt = cfg_.imu_max_dt;
+  }
+  if (dt > 0.0) filter_.propagate(m.accel, m.gyro, dt, cfg_.process, cfg_.gravity);
+  rate_ = m.gyro - filter_.x().b_g;
+  if (!filter_.healthy()) {
+    ++filter_resets_;
+    push(m.stamp, EventKind::filter_reset, Sensor::imu);
+    initialized_ = false;
+    imu_samples_ = 0;
+    mag_samples_ = 0;
+  }
+  return true;
+}
+
+bool Estimator::add_mag(const msg::Mag& m) {
+  const double n = m.field.norm();
+  const bool ok = m.field.allFinite() && n > 1e-7 && n < 1e-3;
+  if (!accept(Sensor::mag, m.stamp, ok)) return false;
+  if (!initialized_) {
+    const double a = mag_samples_ == 0 ? 1.0 : 0.1;
+    mag_avg_ += a * (m.field - mag_avg_);
+    ++mag_samples_;
+    return true;
+  }
+  filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  return true;
+}
+
+bool Estimator::add_baro(const msg::Baro& m) {
+  const bool ok = std::isfinite(m.pressure) && m.pressure > 1000.0 && m.pressure < 120000.0;
+  if (!accept(Sensor::baro, m.stamp, ok)) return false;
+  const double h = isa_altitude(m.pressure);
+  if (!baro_calibrated_) {
+    // Ground calibration: before initialisation the aircraft is at the origin (altitude 0).
+    baro_cal_sum_ += h - (initialized_ ? -filter_.x().p.z() : 0.0);
+    if (++baro_cal_count_ >= cfg_.baro_calibration_count) {
+      baro_offset_ = baro_cal_sum_ / baro_cal_count_;
+      baro_calibrated_ = true;
+      push(m.stamp, EventKind::baro_calibrated, Sensor::baro, baro_offset_);
+    }
+    return true;
+  }
+  if (initialized_) filter_.update(baro_, BaroAltitude::Vec(h - baro_offset_));
+  return true;
+}
+
+bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
+  const bool ok = std::isfinite(m.pressure) && m.pressure > -1000.0 && m.pressure < 20000.0;
+  if (!accept(Sensor::diff_pressure, m.stamp, ok)) return false;
+  if (!initialized_) return true;
+  filter_.update(pitot_, DiffPressure::Vec(m.pressure));
+  if (cfg_.use_sideslip) filter_.update(sideslip_, ZeroSideslip::Vec(0.0));
+  return true;
+}
+
+bool Estimator::add_gnss(const msg::Gnss& m) {
+  if (static_cast<int>(m.fix_type) < cfg_.min_fix_type) {
+    ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
+    return false;
+  }
+  const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) &&
+                  m.vel.allFinite() && std::fabs(m.lat) <= 90.0 && std::fabs(m.lon) <= 180.0 &&
+                  m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
+  if (!accept(Sensor::gnss, m.stamp, ok)) return false;
+  if (!origin_) {
+    origin_.emplace(m.lat, m.lon, m.alt);
+    origin_lat_ = m.lat;
+    origin_lon_ = m.lon;
+    origin_alt_ = m.alt;
+    origin_stamp_ = m.stamp;
+    push(m.stamp, EventKind::origin_set, Sensor::gnss);
+  }
+  const Vec3 p = ned_from_geodetic(m.lat, m.lon, m.alt);
+  if (!initialized_) {
+    try_initialize(m, p);
+    return true;
+  }
+  const UpdateResult r = filter_.update(gnss_pos_, p);
+  if (r == UpdateResult::rejected) {
+    if (gnss_reject_since_ < 0) {
+      gnss_reject_since_ = m.stamp;
+    } else if (to_seconds(m.stamp - gnss_reject_since_) > cfg_.gnss_reset_time) {
+      // The GNSS has disagreed for too long: trust it again (reset position and velocity).
+      NominalState& x = filter_.mutable_x();
+      const double innovation = (p - x.p).norm();
+      x.p = p;
+      x.v = m.vel;
+      Cov& P = filter_.mutable_P();
+      P.middleRows<6>(idx::p).setZero();
+      P.middleCols<6>(idx::p).setZero();
+      const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
+      P.diagonal().segment<3>(idx::p) << sh * sh, sh * sh, sv * sv;
+      P.diagonal().segment<3>(idx::v) << 1.0, 1.0, 1.0;
+      gnss_pos_.stats.consecutive_rejected = 0;
+      gnss_reject_since_ = -1;
+      ++gnss_resets_;
+      push(m.stamp, EventKind::gnss_reset, Sensor::gnss, innovation);
+      return true;
+    }
+  } else if (r == UpdateResult::accepted) {
+    gnss_reject_since_ = -1;
+  }
+  filter_.update(gnss_vel_, m.vel);
+  return true;
+}
+
+void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
+  if (imu_samples_ < cfg_.init_min_imu_samples) return;
+  const bool have_mag = mag_samples_ > 0;
+  if (!have_mag && expect_mag_ && to_seconds(m.stamp - origin_stamp_) < cfg_.mag_init_wait) return;
+
+  NominalState x;
+  double yaw_sigma = cfg_.init_yaw_sigma;
+  if (have_mag) {
+    x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
+  } else if (m.vel.head<2>().norm() > 3.0) {
+    x.q = attitude_from_accel(accel_avg_, std::atan2(m.vel.y(), m.vel.x()));
+    yaw_sigma = 0.5;
+  } else {
+    x.q = attitude_from_accel(accel_avg_, 0.0);
+    yaw_sigma = 1.0;
+  }
+  const bool at_rest = m.vel.norm() < 0.5 &&
+                       std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && gyro_avg_.norm() < 0.5;
+  x.p = p_ned;
+  x.v = m.vel;
+  x.b_g = at_rest ? gyro_avg_ : Vec3::Zero();
+
+  Cov P0 = Cov::Zero();
+  const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
+  P0.diagonal().segment<3>(idx::p) << sh * sh, sh * sh, sv * sv;
+  const double vh = std::max(cfg_.gnss_vel_sigma_h, 0.05), vv = std::max(cfg_.gnss_vel_sigma_v, 0.05);
+  P0.diagonal().segment<3>(idx::v) << vh * vh, vh * vh, vv * vv;
+  // Tilt and yaw uncertainty are about NED axes: P_theta(body) = R^T diag(t^2, t^2, y^2) R.
+  const Mat3 R = x.R();
+  const double t2 = cfg_.init_tilt_sigma * cfg_.init_tilt_sigma;
+  const Mat3 Pg = Vec3(t2, t2, yaw_sigma * yaw_sigma).asDiagonal();
+  P0.block<3, 3>(idx::th, idx::th) = R.transpose() * Pg * R;
+  const double gb = at_rest ? cfg_.init_gyro_bias_sigma : std::max(cfg_.init_gyro_bias_sigma, 0.05);
+  P0.diagonal().segment<3>(idx::bg).setConstant(gb * gb);
+  P0.diagonal().segment<3>(idx::ba).setConstant(cfg_.init_accel_bias_sigma * cfg_.init_accel_bias_sigma);
+  P0.diagonal().segment<2>(idx::w).setConstant(cfg_.init_wind_sigma * cfg_.init_wind_sigma);
+  P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
+  filter_.initialize(x, P0);
+  initialized_ = true;
+  gnss_reject_since_ = -1;
+  rate_ = (imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero()) - x.b_g;
+  push(m.stamp, EventKind::initialized, Sensor::gnss, have_mag ? 1.0 : 0.0);
+}
+
+msg::State Estimator::state() const {
+  msg::State s;
+  fill_state(s);
+  return s;
+}
+
+void Estimator::fill_state(msg::State& s) const {
+  const NominalState& x = filter_.x();
+  s.stamp = std::max<Nanos>(imu_stamp_, 0);
+  s.origin_lat = origin_lat_;
+  s.origin_lon = origin_lon_;
+  s.origin_alt = origin_alt_;
+  s.origin_valid = origin_.has_value();
+  s.valid = initialized_;
+  s.p_n = x.p.x();
+  s.p_e = x.p.y();
+  s.p_d = x.p.z();
+  s.v_n = x.v.x();
+  s.v_e = x.v.y();
+  s.v_d = x.v.z();
+  const Vec3 vb = x.q.conjugate() * x.v;
+  s.u = vb.x();
+  s.v = vb.y();
+  s.w = vb.z();
+  const Vec3 e = euler_from_quaternion(x.q);
+  s.phi = e.x();
+  s.theta = e.y();
+  s.psi = e.z();
+  s.quat = x.q;
+  s.p = rate_.x();
+  s.q = rate_.y();
+  s.r = rate_.z();
+  const Vec3 vr = x.air_velocity_body();
+  s.Va = vr.norm();
+  s.alpha = std::atan2(vr.z(), vr.x());
+  s.beta = s.Va > 1e-3 ? std::asin(std::clamp(vr.y() / s.Va, -1.0, 1.0)) : 0.0;
+  s.Vg = x.v.norm();
+  s.chi = wrap_pi(std::atan2(x.v.y(), x.v.x()));
+  s.gamma = s.Vg > 1e-3 ? std::asin(std::clamp(-x.v.z() / s.Vg, -1.0, 1.0)) : 0.0;
+  s.w_n = x.wind.x();
+  s.w_e = x.wind.y();
+  s.w_d = 0.0;
+  s.b_x = x.b_g.x();
+  s.b_y = x.b_g.y();
+  s.b_z = x.b_g.z();
+}
+
+}  // namespace tern::ekf

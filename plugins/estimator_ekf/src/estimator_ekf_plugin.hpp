@@ -1,0 +1,253 @@
+// estimator_ekf plugin class (header so that tests can instantiate it): binds tern::ekf::Estimator to ports and parameters.
+//
+// Inputs: imu (required; the trigger: `trigger: imu`), gnss, baro, diff_pressure, mag (optional).
+// Output: state (msg::State), every output_decimation-th IMU sample.
+// Every figure of EstimatorConfig is a parameter (table below); changes apply from the next step.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "tern/estimator_ekf/estimator.hpp"
+#include "tern/math.hpp"
+#include "tern/plugin.hpp"
+
+namespace tern::ekf::plugin {
+
+using tern::ekf::EstimatorConfig;
+
+struct RealParam {
+  const char* name;
+  const char* unit;
+  double min, max;
+  const char* description;
+  double& (*field)(EstimatorConfig&);
+};
+
+#define TERN_EKF_FIELD(expr) [](EstimatorConfig& c) -> double& { return c.expr; }
+
+
+
+inline const RealParam kReal[] = {
+    {"gravity", "m/s^2", 9.0, 10.5, "gravitational acceleration", TERN_EKF_FIELD(gravity)},
+    {"rho", "kg/m^3", 0.3, 1.5, "air density for the differential pressure", TERN_EKF_FIELD(rho)},
+    {"accel_noise", "m/s^2", 1e-4, 10.0, "accelerometer white noise, 1 sigma per IMU sample",
+     TERN_EKF_FIELD(process.accel)},
+    {"gyro_noise", "rad/s", 1e-6, 1.0, "gyro white noise, 1 sigma per IMU sample",
+     TERN_EKF_FIELD(process.gyro)},
+    {"gyro_bias_walk", "rad/s/sqrt(s)", 0.0, 1.0, "gyro-bias random walk",
+     TERN_EKF_FIELD(process.gyro_bias_walk)},
+    {"accel_bias_walk", "m/s^2/sqrt(s)", 0.0, 10.0, "accelerometer-bias random walk",
+     TERN_EKF_FIELD(process.accel_bias_walk)},
+    {"wind_walk", "m/s/sqrt(s)", 0.0, 10.0, "horizontal-wind random walk",
+     TERN_EKF_FIELD(process.wind_walk)},
+    {"baro_bias_walk", "m/sqrt(s)", 0.0, 10.0, "barometer-bias random walk",
+     TERN_EKF_FIELD(process.baro_bias_walk)},
+    {"pos_process_noise", "m/sqrt(s)", 0.0, 10.0, "extra position random walk (model error)",
+     TERN_EKF_FIELD(process.position)},
+    {"gnss_pos_noise_h", "m", 1e-3, 100.0, "GNSS horizontal position noise, 1 sigma",
+     TERN_EKF_FIELD(gnss_pos_sigma_h)},
+    {"gnss_pos_noise_v", "m", 1e-3, 100.0, "GNSS altitude noise, 1 sigma",
+     TERN_EKF_FIELD(gnss_pos_sigma_v)},
+    {"gnss_vel_noise_h", "m/s", 1e-4, 10.0, "GNSS horizontal velocity noise, 1 sigma",
+     TERN_EKF_FIELD(gnss_vel_sigma_h)},
+    {"gnss_vel_noise_v", "m/s", 1e-4, 10.0, "GNSS vertical velocity noise, 1 sigma",
+     TERN_EKF_FIELD(gnss_vel_sigma_v)},
+    {"gnss_pos_gate", "", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)",
+     TERN_EKF_FIELD(gnss_pos_gate)},
+    {"gnss_vel_gate", "", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)",
+     TERN_EKF_FIELD(gnss_vel_gate)},
+    {"gnss_reset_time", "s", 0.5, 600.0,
+     "continuous GNSS position rejection after which the state is reset to GNSS",
+     TERN_EKF_FIELD(gnss_reset_time)},
+    {"mag_declination", "rad", -tern::kPi, tern::kPi, "magnetic declination, east of true north",
+     TERN_EKF_FIELD(mag_declination)},
+    {"mag_inclination", "rad", -tern::kPi / 2, tern::kPi / 2, "magnetic inclination, down from horizontal",
+     TERN_EKF_FIELD(mag_inclination)},
+    {"mag_field_strength", "T", 1e-6, 1e-3, "total magnetic field intensity",
+     TERN_EKF_FIELD(mag_field_strength)},
+    {"mag_noise", "T", 1e-9, 1e-4, "magnetometer noise per axis, 1 sigma", TERN_EKF_FIELD(mag_sigma)},
+    {"mag_gate", "", 0.0, 1e6, "chi-square gate of the magnetometer (3 dof; 0: off)",
+     TERN_EKF_FIELD(mag_gate)},
+    {"mag_init_wait", "s", 0.0, 60.0,
+     "time to wait for a magnetometer sample after the origin is set before initialising without",
+     TERN_EKF_FIELD(mag_init_wait)},
+    {"baro_noise", "Pa", 1e-3, 1000.0, "static-pressure noise, 1 sigma", TERN_EKF_FIELD(baro_sigma)},
+    {"baro_gate", "", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)",
+     TERN_EKF_FIELD(baro_gate)},
+    {"diff_pressure_noise", "Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma",
+     TERN_EKF_FIELD(diff_pressure_sigma)},
+    {"diff_pressure_gate", "", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)",
+     TERN_EKF_FIELD(diff_pressure_gate)},
+    {"min_airspeed", "m/s", 0.0, 100.0,
+     "airspeed below which the pitot and zero-sideslip updates are skipped",
+     TERN_EKF_FIELD(min_airspeed)},
+    {"sideslip_noise", "m/s", 1e-3, 100.0, "zero-sideslip pseudo-measurement noise (body-y air velocity)",
+     TERN_EKF_FIELD(sideslip_sigma)},
+    {"sideslip_gate", "", 0.0, 1e6, "chi-square gate of the zero-sideslip update (1 dof; 0: off)",
+     TERN_EKF_FIELD(sideslip_gate)},
+    {"init_average_time", "s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation",
+     TERN_EKF_FIELD(init_average_time)},
+    {"init_tilt_sigma", "rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_tilt_sigma)},
+    {"init_yaw_sigma", "rad", 1e-4, 3.2, "initial yaw uncertainty with a magnetometer, 1 sigma",
+     TERN_EKF_FIELD(init_yaw_sigma)},
+    {"init_gyro_bias_sigma", "rad/s", 1e-6, 1.0, "initial gyro-bias uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_gyro_bias_sigma)},
+    {"init_accel_bias_sigma", "m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_accel_bias_sigma)},
+    {"init_wind_sigma", "m/s", 1e-3, 50.0, "initial wind uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_wind_sigma)},
+    {"init_baro_bias_sigma", "m", 1e-3, 1000.0, "initial barometer-bias uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_baro_bias_sigma)},
+    {"accel_max", "m/s^2", 1.0, 2000.0, "accelerometer samples beyond this (any axis) are rejected",
+     TERN_EKF_FIELD(accel_max)},
+    {"gyro_max", "rad/s", 0.1, 100.0, "gyro samples beyond this (any axis) are rejected",
+     TERN_EKF_FIELD(gyro_max)},
+    {"imu_max_dt", "s", 1e-4, 1.0, "longest IMU interval propagated in one step (longer gaps are clamped)",
+     TERN_EKF_FIELD(imu_max_dt)},
+    {"imu_timeout", "s", 1e-3, 60.0, "IMU silence reported as a time-out", TERN_EKF_FIELD(timeout[0])},
+    {"gnss_timeout", "s", 1e-3, 60.0, "GNSS silence (or no fix) reported as a time-out",
+     TERN_EKF_FIELD(timeout[1])},
+    {"baro_timeout", "s", 1e-3, 60.0, "barometer silence reported as a time-out", TERN_EKF_FIELD(timeout[2])},
+    {"diff_pressure_timeout", "s", 1e-3, 60.0, "differential-pressure silence reported as a time-out",
+     TERN_EKF_FIELD(timeout[3])},
+    {"mag_timeout", "s", 1e-3, 60.0, "magnetometer silence reported as a time-out", TERN_EKF_FIELD(timeout[4])},
+};
+#undef TERN_EKF_FIELD
+constexpr std::size_t kRealCount = sizeof(kReal) / sizeof(kReal[0]);
+
+class EstimatorEkf final : public tern::Plugin {
+ public:
+  void configure() override {
+    using tern::Need;
+    declare(imu_, "imu", "IMU samples; each one propagates the filter (use trigger: imu)");
+    declare(gnss_, "gnss", "GNSS solutions: origin, position and velocity updates", Need::optional);
+    declare(baro_, "baro", "static pressure: altitude updates after the ground calibration", Need::optional);
+    declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates",
+            Need::optional);
+    declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
+    declare(state_, "state", "the estimate (valid once initialised)");
+
+    const EstimatorConfig def;
+    EstimatorConfig scratch = def;
+    for (std::size_t i = 0; i < kRealCount; ++i) {
+      const RealParam& d = kReal[i];
+      declare(reals_[i], d.name, d.field(scratch), tern::ParamSpec(d.unit, d.min, d.max, d.description));
+      reals_[i].on_change([this](const double&) { dirty_ = true; });
+    }
+    declare(min_fix_type_, "min_gnss_fix_type", std::int64_t{def.min_fix_type},
+            tern::ParamSpec("", 2, 3, "minimum GNSS fix type used (2: 2-D, 3: 3-D)"));
+    declare(baro_cal_count_, "baro_calibration_count", std::int64_t{def.baro_calibration_count},
+            tern::ParamSpec("", 1, 100000, "barometer samples averaged for the ground calibration"));
+    declare(init_min_imu_, "init_min_imu_samples", std::int64_t{def.init_min_imu_samples},
+            tern::ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
+    declare(decimation_, "output_decimation", std::int64_t{1},
+            tern::ParamSpec("", 1, 1000, "publish state every n-th IMU sample"));
+    declare(use_sideslip_, "use_sideslip", def.use_sideslip,
+            tern::ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement"));
+    min_fix_type_.on_change([this](const std::int64_t&) { dirty_ = true; });
+    baro_cal_count_.on_change([this](const std::int64_t&) { dirty_ = true; });
+    init_min_imu_.on_change([this](const std::int64_t&) { dirty_ = true; });
+    use_sideslip_.on_change([this](const bool&) { dirty_ = true; });
+    estimator_.set_config(make_config());
+  }
+
+  void start() override {
+    estimator_.set_config(make_config());
+    estimator_.expect_mag(mag_.connected());
+    ticks_ = 0;
+  }
+
+  void step(tern::Nanos now) override {
+    if (dirty_) {
+      estimator_.set_config(make_config());
+      dirty_ = false;
+    }
+    const bool imu_new = imu_.updated();
+    if (imu_new) estimator_.add_imu(*imu_);
+    if (gnss_.updated()) estimator_.add_gnss(*gnss_);
+    if (baro_.updated()) estimator_.add_baro(*baro_);
+    if (diff_.updated()) estimator_.add_diff_pressure(*diff_);
+    if (mag_.updated()) estimator_.add_mag(*mag_);
+    estimator_.check_timeouts(imu_.has_value() ? imu_->stamp : now);
+    if (estimator_.has_events()) {
+      for (const auto& e : estimator_.take_events()) {
+        if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
+            e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::first_invalid ||
+            e.kind == tern::ekf::EventKind::imu_gap)
+          log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
+        else
+          log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
+      }
+    }
+    if (imu_new && (ticks_++ % decimation_()) == 0) {
+      estimator_.fill_state(out_);
+      state_.publish(out_);
+    }
+  }
+
+  void reset() override {
+    estimator_.reset();
+    ticks_ = 0;
+  }
+
+  std::vector<std::pair<std::string, double>> summary() const override {
+    using tern::ekf::Sensor;
+    std::vector<std::pair<std::string, double>> s;
+    for (int i = 0; i < tern::ekf::kSensorCount; ++i) {
+      const auto sensor = static_cast<Sensor>(i);
+      const auto& c = estimator_.counters(sensor);
+      const std::string n = tern::ekf::sensor_name(sensor);
+      s.emplace_back(n + "_received", static_cast<double>(c.received));
+      s.emplace_back(n + "_invalid", static_cast<double>(c.invalid));
+      s.emplace_back(n + "_timeouts", static_cast<double>(c.timeouts));
+    }
+    const auto rej = [&](const char* name, const tern::ekf::UpdateStats& st) {
+      s.emplace_back(std::string(name) + "_accepted", static_cast<double>(st.accepted));
+      s.emplace_back(std::string(name) + "_rejected", static_cast<double>(st.rejected));
+    };
+    rej("gnss_pos", estimator_.gnss_position_model().stats);
+    rej("gnss_vel", estimator_.gnss_velocity_model().stats);
+    rej("mag", estimator_.mag_model().stats);
+    rej("baro", estimator_.baro_model().stats);
+    rej("diff_pressure", estimator_.diff_pressure_model().stats);
+    rej("sideslip", estimator_.sideslip_model().stats);
+    s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
+    s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
+    return s;
+  }
+
+  /// For tests in the same process: the estimator behind the ports.
+  const tern::ekf::Estimator& estimator() const { return estimator_; }
+
+ private:
+  EstimatorConfig make_config() {
+    EstimatorConfig c;
+    for (std::size_t i = 0; i < kRealCount; ++i) kReal[i].field(c) = reals_[i]();
+    c.min_fix_type = static_cast<int>(min_fix_type_());
+    c.baro_calibration_count = static_cast<int>(baro_cal_count_());
+    c.init_min_imu_samples = static_cast<int>(init_min_imu_());
+    c.use_sideslip = use_sideslip_();
+    return c;
+  }
+
+  tern::Input<tern::msg::Imu> imu_;
+  tern::Input<tern::msg::Gnss> gnss_;
+  tern::Input<tern::msg::Baro> baro_;
+  tern::Input<tern::msg::DiffPressure> diff_;
+  tern::Input<tern::msg::Mag> mag_;
+  tern::Output<tern::msg::State> state_;
+  std::array<tern::Param<double>, kRealCount> reals_;
+  tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_;
+  tern::Param<bool> use_sideslip_;
+  tern::ekf::Estimator estimator_;
+  tern::msg::State out_;
+  std::uint64_t ticks_ = 0;
+  bool dirty_ = false;
+};
+
+}  // namespace tern::ekf::plugin

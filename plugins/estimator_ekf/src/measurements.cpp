@@ -1,0 +1,84 @@
+// Measurement models: Jacobians and noise (equations in measurements.hpp).
+#include "tern/estimator_ekf/measurements.hpp"
+
+namespace tern::ekf {
+
+GnssPosition::Jac GnssPosition::jacobian(const NominalState& /*x*/) const {
+  Jac H = Jac::Zero();
+  H.block<3, 3>(0, idx::p).setIdentity();
+  return H;
+}
+
+GnssPosition::Noise GnssPosition::noise() const {
+  return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
+}
+
+GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& /*x*/) const {
+  Jac H = Jac::Zero();
+  H.block<3, 3>(0, idx::v).setIdentity();
+  return H;
+}
+
+GnssVelocity::Noise GnssVelocity::noise() const {
+  return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
+}
+
+Vec3 Magnetometer::field_direction_ned() const {
+  return {std::cos(inclination) * std::cos(declination),
+          std::cos(inclination) * std::sin(declination), std::sin(inclination)};
+}
+
+Magnetometer::Vec Magnetometer::h(const NominalState& x) const {
+  return x.q.conjugate() * field_direction_ned();
+}
+
+Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
+  Jac H = Jac::Zero();
+  H.block<3, 3>(0, idx::th) = skew3(h(x));
+  return H;
+}
+
+Magnetometer::Noise Magnetometer::noise() const {
+  const double s = sigma / field_strength;
+  return Noise::Identity() * (s * s);
+}
+
+BaroAltitude::Jac BaroAltitude::jacobian(const NominalState& /*x*/) const {
+  Jac H = Jac::Zero();
+  H(0, idx::p + 2) = -1.0;
+  H(0, idx::bb) = 1.0;
+  return H;
+}
+
+Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x) {
+  Eigen::Matrix<double, 3, kErrDim> J = Eigen::Matrix<double, 3, kErrDim>::Zero();
+  const Mat3 Rt = x.R().transpose();
+  J.block<3, 3>(0, idx::v) = Rt;
+  J.block<3, 3>(0, idx::th) = skew3(x.air_velocity_body());
+  J.block<3, 2>(0, idx::w) = -Rt.leftCols<2>();
+  return J;
+}
+
+bool DiffPressure::applicable(const NominalState& /*x*/, const Vec& z) const {
+  return z(0) >= 0.5 * rho * min_airspeed * min_airspeed;
+}
+
+DiffPressure::Vec DiffPressure::h(const NominalState& x) const {
+  const double u_r = x.air_velocity_body().x();
+  return Vec(0.5 * rho * u_r * u_r);
+}
+
+DiffPressure::Jac DiffPressure::jacobian(const NominalState& x) const {
+  const double u_r = x.air_velocity_body().x();
+  return rho * u_r * air_velocity_jacobian(x).row(0);
+}
+
+bool ZeroSideslip::applicable(const NominalState& x, const Vec& /*z*/) const {
+  return x.air_velocity_body().norm() >= min_airspeed;
+}
+
+ZeroSideslip::Jac ZeroSideslip::jacobian(const NominalState& x) const {
+  return air_velocity_jacobian(x).row(1);
+}
+
+}  // namespace tern::ekf

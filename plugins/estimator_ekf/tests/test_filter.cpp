@@ -1,0 +1,160 @@
+// EKF core: Jacobians against finite differences, block propagation against F P F^T + Q,
+// the Joseph-form update and the chi-square gate.
+#include <doctest/doctest.h>
+
+#include <random>
+
+#include "tern/estimator_ekf/filter.hpp"
+#include "tern/estimator_ekf/measurements.hpp"
+#include "tern/math.hpp"
+
+using namespace tern::ekf;
+
+namespace {
+
+NominalState sample_state() {
+  NominalState x;
+  x.p = Vec3(120.0, -40.0, -85.0);
+  x.v = Vec3(14.0, 9.0, -1.5);
+  x.q = tern::quaternion_from_euler(0.4, -0.2, 2.5);
+  x.b_g = Vec3(0.01, -0.02, 0.005);
+  x.b_a = Vec3(0.1, 0.05, -0.2);
+  x.wind = Eigen::Vector2d(3.0, -4.0);
+  x.b_baro = 1.5;
+  return x;
+}
+
+/// x1 [-] x0: the error state that takes x0 to x1.
+ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
+  ErrVec d;
+  d.segment<3>(idx::p) = x1.p - x0.p;
+  d.segment<3>(idx::v) = x1.v - x0.v;
+  const Eigen::AngleAxisd aa(x0.q.conjugate() * x1.q);
+  d.segment<3>(idx::th) = aa.angle() * aa.axis();
+  d.segment<3>(idx::bg) = x1.b_g - x0.b_g;
+  d.segment<3>(idx::ba) = x1.b_a - x0.b_a;
+  d.segment<2>(idx::w) = x1.wind - x0.wind;
+  d(idx::bb) = x1.b_baro - x0.b_baro;
+  return d;
+}
+
+template <class Model>
+void check_jacobian(const Model& m, const NominalState& x) {
+  const auto H = m.jacobian(x);
+  const double eps = 1e-6;
+  for (int i = 0; i < kErrDim; ++i) {
+    ErrVec d = ErrVec::Zero();
+    d(i) = eps;
+    const auto num = ((m.h(boxplus(x, d)) - m.h(boxplus(x, -d))) / (2 * eps)).eval();
+    for (int r = 0; r < Model::kDim; ++r) {
+      INFO("row " << r << " column " << i);
+      CHECK(H(r, i) == doctest::Approx(num(r)).epsilon(1e-5).scale(1.0));
+    }
+  }
+}
+
+Cov random_spd(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::normal_distribution<double> n;
+  Cov A;
+  for (int i = 0; i < kErrDim; ++i)
+    for (int j = 0; j < kErrDim; ++j) A(i, j) = n(rng);
+  return A * A.transpose() * 0.1 + Cov::Identity() * 0.01;
+}
+
+}  // namespace
+
+TEST_CASE("measurement Jacobians match finite differences") {
+  const NominalState x = sample_state();
+  SUBCASE("gnss position") { check_jacobian(GnssPosition{}, x); }
+  SUBCASE("gnss velocity") { check_jacobian(GnssVelocity{}, x); }
+  SUBCASE("magnetometer") { check_jacobian(Magnetometer{}, x); }
+  SUBCASE("barometer") { check_jacobian(BaroAltitude{}, x); }
+  SUBCASE("differential pressure") { check_jacobian(DiffPressure{}, x); }
+  SUBCASE("zero sideslip") { check_jacobian(ZeroSideslip{}, x); }
+}
+
+TEST_CASE("transition matrix matches finite differences of the nominal propagation") {
+  const NominalState x = sample_state();
+  const Vec3 accel(1.5, -0.8, -11.0), gyro(0.3, -0.2, 0.25);
+  const double dt = 0.0025, g = 9.81;
+  const Cov F = Filter::transition(x, accel, gyro, dt);
+  const NominalState x1 = Filter::propagate_nominal(x, accel, gyro, dt, g);
+  const double eps = 1e-6;
+  for (int i = 0; i < kErrDim; ++i) {
+    ErrVec d = ErrVec::Zero();
+    d(i) = eps;
+    const ErrVec num = (boxminus(Filter::propagate_nominal(boxplus(x, d), accel, gyro, dt, g), x1) -
+                        boxminus(Filter::propagate_nominal(boxplus(x, -d), accel, gyro, dt, g), x1)) /
+                       (2 * eps);
+    for (int r = 0; r < kErrDim; ++r) {
+      INFO("row " << r << " column " << i);
+      // F is first order in dt: the neglected terms are O(dt^2 |a|) ~ 1e-4.
+      CHECK(std::fabs(F(r, i) - num(r)) <= 2e-4 * std::max(1.0, std::fabs(num(r))));
+    }
+  }
+}
+
+TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
+  Filter f;
+  const NominalState x = sample_state();
+  const Cov P0 = random_spd(3);
+  f.initialize(x, P0);
+  const Vec3 accel(1.5, -0.8, -11.0), gyro(0.3, -0.2, 0.25);
+  ProcessNoise qn;
+  qn.position = 0.01;
+  const double dt = 0.0025;
+  f.propagate(accel, gyro, dt, qn, 9.81);
+  const Cov F = Filter::transition(x, accel, gyro, dt);
+  Cov expected = F * P0 * F.transpose();
+  expected.diagonal() += Filter::process_noise_diagonal(qn, dt);
+  CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
+  CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
+  const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81);
+  CHECK((f.x().p - xn.p).norm() == 0.0);
+}
+
+TEST_CASE("update: Joseph form, variance shrinks, gate rejects and counts outliers") {
+  Filter f;
+  NominalState x = sample_state();
+  Cov P = Cov::Identity();
+  f.initialize(x, P);
+  GnssPosition m;
+  m.sigma_h = 1.0;
+  m.sigma_v = 1.0;
+  const Vec3 z = x.p + Vec3(0.5, -0.5, 0.2);
+  CHECK(f.update(m, z) == UpdateResult::accepted);
+  // Scalar case: posterior variance 1*1/(1+1) = 0.5, state moves half-way.
+  CHECK(f.P()(0, 0) == doctest::Approx(0.5));
+  CHECK(f.x().p.x() == doctest::Approx(x.p.x() + 0.25));
+  CHECK(Eigen::LLT<Cov>(f.P()).info() == Eigen::Success);
+  CHECK((f.P() - f.P().transpose()).norm() == 0.0);
+  // A 100 m outlier: NIS = 100^2 / 1.5 >> 16.3.
+  const NominalState before = f.x();
+  CHECK(f.update(m, Vec3(f.x().p + Vec3(100.0, 0.0, 0.0))) == UpdateResult::rejected);
+  CHECK(m.stats.rejected == 1);
+  CHECK(m.stats.accepted == 1);
+  CHECK(m.stats.last_nis > 1000.0);
+  CHECK((f.x().p - before.p).norm() == 0.0);
+  // Non-finite measurement: refused before anything is computed.
+  CHECK(f.update(m, Vec3(NAN, 0.0, 0.0)) == UpdateResult::invalid);
+  CHECK(m.stats.invalid == 1);
+  CHECK(f.x().all_finite());
+  // Gate 0 disables gating.
+  m.gate = 0.0;
+  CHECK(f.update(m, Vec3(f.x().p + Vec3(100.0, 0.0, 0.0))) == UpdateResult::accepted);
+}
+
+TEST_CASE("pitot and sideslip apply only above the minimum airspeed") {
+  Filter f;
+  NominalState x = sample_state();
+  f.initialize(x, Cov::Identity() * 0.01);
+  DiffPressure pitot;
+  pitot.min_airspeed = 8.0;
+  CHECK(f.update(pitot, DiffPressure::Vec(0.5 * 1.225 * 5.0 * 5.0)) == UpdateResult::skipped);
+  CHECK(pitot.stats.skipped == 1);
+  ZeroSideslip beta;
+  x.v = x.wind_ned() + Vec3(1.0, 1.0, 0.0);  // 1.4 m/s airspeed
+  f.initialize(x, Cov::Identity() * 0.01);
+  CHECK(f.update(beta, ZeroSideslip::Vec(0.0)) == UpdateResult::skipped);
+}
