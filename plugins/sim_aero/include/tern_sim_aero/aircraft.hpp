@@ -1,0 +1,114 @@
+// tern_sim_aero/aircraft.hpp: the parameters of a fixed-wing aircraft for the uavbook model
+// (Beard & McLain, *Small Unmanned Aircraft*, ch. 3-4 and the propulsion supplement), and the
+// loader of aircraft files.
+//
+// Two file formats are read:
+//  * tern's own format (configs/aircraft/*.yaml): sections mass/inertia/environment/wing/aero/
+//    propulsion/servos/gear with the book's symbols (C_L_0, C_m_alpha, ...), SI units
+//    (documented field by field in configs/aircraft/anaconda.yaml);
+//  * ROSflight simulator files (`*_dynamics.yaml`), unchanged: ROS 2 `<node>: ros__parameters:`
+//    nesting under the nodes `/**`, `/fixedwing_forces_and_moments` and `/standalone_dynamics`,
+//    ROSflight's coefficient names (C_L_O, CT_0, KQ, wing_s, Jxx, ...), deflection limits in
+//    degrees, and the ROSflight drag polar (C_D_p, Oswald factor fixed at 0.9 as ROSflight does).
+//    As ROSflight's simulator does with these files, the lift is linear (no stall blend: its
+//    sigma(alpha) is set to 0; the Anaconda's wing_alpha0 of 3 deg would otherwise stall it at
+//    cruise); wing_epsilon, servo_refresh_rate and the *_channel keys are read and not used.
+//
+// Errors: every problem (file missing, malformed YAML, unknown key, missing required field,
+// non-finite or out-of-range value such as a negative mass or inertia) throws
+// std::runtime_error with one line "<file>: <field>: <what is wrong>".
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace YAML {
+class Node;
+}
+
+namespace tern::sim {
+
+/// Aerodynamic coefficients of the uavbook model (book section 4.2, symbols as in the book).
+/// Dimensionless; rates are normalised by c/(2 Va) (longitudinal) or b/(2 Va) (lateral).
+struct AeroCoefficients {
+  // longitudinal
+  double C_L_0 = 0, C_L_alpha = 0, C_L_q = 0, C_L_delta_e = 0;
+  double C_D_0 = 0, C_D_alpha = 0;  ///< linear drag model: kept for the ch. 5 linear models only
+  double C_D_p = 0;                 ///< parasitic drag of the polar C_D = C_D_p + C_L^2/(pi e AR)
+  double C_D_q = 0, C_D_delta_e = 0;
+  double C_m_0 = 0, C_m_alpha = 0, C_m_q = 0, C_m_delta_e = 0;
+  // lateral
+  double C_Y_0 = 0, C_Y_beta = 0, C_Y_p = 0, C_Y_r = 0, C_Y_delta_a = 0, C_Y_delta_r = 0;
+  double C_ell_0 = 0, C_ell_beta = 0, C_ell_p = 0, C_ell_r = 0, C_ell_delta_a = 0, C_ell_delta_r = 0;
+  double C_n_0 = 0, C_n_beta = 0, C_n_p = 0, C_n_r = 0, C_n_delta_a = 0, C_n_delta_r = 0;
+};
+
+/// Motor and propeller (uavbook propulsion supplement to ch. 4).
+struct Propulsion {
+  double D_prop = 0;             ///< propeller diameter, m
+  double C_T_0 = 0, C_T_1 = 0, C_T_2 = 0;  ///< thrust coefficient C_T(J) = C_T_2 J^2 + C_T_1 J + C_T_0
+  double C_Q_0 = 0, C_Q_1 = 0, C_Q_2 = 0;  ///< torque coefficient C_Q(J), same form
+  double K_V = 0;                ///< motor speed constant, RPM/V (informative)
+  double K_Q = 0;                ///< torque constant, N m/A; also the back-EMF constant in V s/rad
+  double R_motor = 0;            ///< winding resistance, ohm
+  double i0 = 0;                 ///< no-load current, A
+  double V_max = 0;              ///< battery voltage at full throttle, V
+};
+
+/// One landing-gear contact point (wheel bottom) in the body frame FRD about the CG, m.
+using ContactPoint = Eigen::Vector3d;
+
+/// Ground contact: spring-damper wheels with rolling and lateral friction.
+struct Gear {
+  std::vector<ContactPoint> points;   ///< body FRD, m (z > 0: below the CG)
+  double static_deflection = 0.02;    ///< wheel compression at rest with the weight shared evenly, m
+  double damping_ratio = 1.0;         ///< per wheel, of the heave mode (>= 1: no bounce)
+  double mu_roll = 0.03;              ///< rolling friction coefficient along the wheel
+  double mu_lateral = 0.5;            ///< side friction coefficient across the wheel
+  double v_slip = 0.1;                ///< speed below which friction is viscous (no chatter at rest), m/s
+};
+
+/// Everything the uavbook model needs to know about one aircraft. Units SI, frames FRD.
+struct Aircraft {
+  std::string name;
+  std::string source;          ///< file it was loaded from (for messages)
+  double mass = 0;             ///< kg, > 0
+  double Jx = 0, Jy = 0, Jz = 0, Jxz = 0;  ///< kg m^2 about the CG (book's J with -Jxz off-diagonal)
+  double rho = 0;              ///< air density used by the aerodynamic model, kg/m^3
+  double S = 0;                ///< wing area, m^2
+  double b = 0;                ///< span, m
+  double c = 0;                ///< mean chord, m
+  double e = 0.9;              ///< Oswald efficiency of the drag polar
+  double M = 0;                ///< blending rate of the stall model
+  double alpha0 = 0;           ///< stall angle of the blending function, rad
+  /// Blend linear and flat-plate lift with sigma(alpha) (book eq. 4.10). false: linear lift
+  /// C_L_0 + C_L_alpha alpha only (sigma = 0), as ROSflight's simulator computes it.
+  bool stall_blend = true;
+  AeroCoefficients aero;
+  Propulsion prop;
+  double servo_tau = 0.0;      ///< first-order servo time constant, s (0: no lag)
+  double max_delta_a = 0.785398, max_delta_e = 0.785398, max_delta_r = 0.785398;  ///< rad
+  Gear gear;
+
+  double AR() const { return b * b / S; }  ///< aspect ratio
+};
+
+/// Loads an aircraft file (tern or ROSflight format, detected from its content).
+/// Throws std::runtime_error "<path>: <field>: <problem>".
+Aircraft load_aircraft(const std::string& path);
+
+/// Same, from an already parsed document; `source` names it in error messages.
+Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source);
+
+/// Checks ranges (positive mass, inertia, geometry, J_x J_z > J_xz^2, finite values, limits);
+/// throws std::runtime_error naming the field. Called by the loaders.
+void validate(const Aircraft& ac);
+
+/// Default gear when a file names none: a tricycle scaled by the span b (nose 0.15 b ahead,
+/// mains 0.03 b behind the CG at +-0.1 b, wheels 0.06 b below the CG).
+std::vector<ContactPoint> default_gear_points(double b);
+
+}  // namespace tern::sim

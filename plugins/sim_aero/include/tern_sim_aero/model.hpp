@@ -1,0 +1,104 @@
+// tern_sim_aero/model.hpp: the uavbook 6-DOF fixed-wing model (Beard & McLain, *Small Unmanned
+// Aircraft*): air data (sec. 2.3), forces and moments (ch. 4 and the propulsion supplement),
+// the 13-state equations of motion with a quaternion (ch. 3, appendix B), a ground-contact
+// model, and a fixed-step RK4 integrator.
+//
+// Frames: NED inertial (ground at p_d = 0), FRD body. Units SI. The state vector is
+//   x = [p_n p_e p_d  u v w  e0 e1 e2 e3  p q r]  (13 x 1)
+// with (u v w) the ground velocity in body axes and e = (e0 scalar) the body -> NED quaternion.
+// None of these functions allocate.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "tern_sim_aero/aircraft.hpp"
+
+namespace tern::sim {
+
+using StateVector = Eigen::Matrix<double, 13, 1>;
+
+/// Index of each state in StateVector.
+enum StateIndex : int { PN = 0, PE, PD, U, V, W, E0, E1, E2, E3, P, Q, R };
+
+/// Control inputs (book sec. 4.2 signs): surfaces in rad, throttle 0..1.
+struct Deltas {
+  double delta_e = 0, delta_a = 0, delta_r = 0, delta_t = 0;
+};
+
+/// Wind acting on the aircraft: steady part in NED plus gust part in body axes (book sec. 4.4).
+struct Wind {
+  Eigen::Vector3d steady_ned = Eigen::Vector3d::Zero();  ///< m/s
+  Eigen::Vector3d gust_body = Eigen::Vector3d::Zero();   ///< m/s
+};
+
+/// Airspeed, angle of attack and sideslip (book eq. 4.? / 2.8).
+struct AirData {
+  Eigen::Vector3d v_air = Eigen::Vector3d::Zero();  ///< (u_r v_r w_r), body, m/s
+  double Va = 0, alpha = 0, beta = 0;               ///< m/s, rad, rad (beta = 0 when Va = 0)
+};
+
+/// Propeller speed, thrust and torque (propulsion supplement).
+struct PropulsionOutput {
+  double Omega = 0;  ///< rad/s, >= 0 (0 when the motor cannot turn the propeller)
+  double T_p = 0;    ///< thrust along body x, N
+  double Q_p = 0;    ///< propeller torque, N m (enters the rolling moment with a minus sign)
+};
+
+/// Everything evaluated at one state: the pieces and the totals, body axes.
+struct ForcesMoments {
+  AirData air;
+  PropulsionOutput prop;
+  Eigen::Vector3d f_aero = Eigen::Vector3d::Zero();    ///< aerodynamic + thrust force, N
+  Eigen::Vector3d m_aero = Eigen::Vector3d::Zero();    ///< aerodynamic moment - Q_p, N m
+  Eigen::Vector3d f_gravity = Eigen::Vector3d::Zero(); ///< m g in body axes, N
+  Eigen::Vector3d f_ground = Eigen::Vector3d::Zero();  ///< ground reaction and friction, N
+  Eigen::Vector3d m_ground = Eigen::Vector3d::Zero();  ///< N m
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();     ///< total, N
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();    ///< total, N m
+  int wheels_on_ground = 0;
+  /// Specific force an accelerometer measures: (force - f_gravity) / m, m/s^2.
+  Eigen::Vector3d specific_force(double mass) const { return (force - f_gravity) / mass; }
+};
+
+/// Gravity used by the model, m/s^2 (the book's value).
+inline constexpr double kG = 9.81;
+
+/// Body -> NED rotation of the (normalised) quaternion part of x.
+Eigen::Quaterniond attitude(const StateVector& x);
+
+/// Air data from the body ground velocity and the wind (book sec. 4.4, eq. 4.? ).
+AirData air_data(const StateVector& x, const Wind& wind);
+
+/// Propeller speed, thrust and torque at airspeed Va and throttle delta_t (propulsion supplement).
+PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t);
+
+/// Lift and drag coefficients of the blended model at alpha (book eqs. 4.9, 4.11 with the polar).
+double lift_coefficient(const Aircraft& ac, double alpha);
+double drag_coefficient(const Aircraft& ac, double alpha);
+
+/// All forces and moments at state x (gravity, aerodynamics, propulsion, ground contact).
+ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w);
+
+/// The 13-state derivative (book eqs. 3.14-3.17 with the quaternion of appendix B).
+/// If fm is given, it receives the forces and moments used.
+StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
+                       ForcesMoments* fm = nullptr);
+
+/// One classical RK4 step of length dt (s) with inputs and wind held constant; the quaternion
+/// is renormalised at the end.
+StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
+                     double dt);
+
+/// Builds a state from position NED, body ground velocity, Euler angles (3-2-1) and body rates.
+StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi,
+                       double theta, double psi, const Eigen::Vector3d& pqr = Eigen::Vector3d::Zero());
+
+/// True if every element is finite.
+bool all_finite(const StateVector& x);
+
+/// Height of the CG above the ground (p_d = 0) when the aircraft rests level on its gear
+/// (wheels compressed by their static deflection), m.
+double rest_height(const Aircraft& ac);
+
+}  // namespace tern::sim

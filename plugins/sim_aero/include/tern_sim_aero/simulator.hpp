@@ -1,0 +1,77 @@
+// tern_sim_aero/simulator.hpp: the aircraft in its environment, advanced in fixed steps: servo
+// lag and limits, wind (steady + Dryden + 1-cosine gusts), the uavbook model integrated by RK4,
+// the ground, and crash detection. Plain C++ (no tern host types), used by the sim_aero plugin,
+// the tern-aero tool, the tests and the benchmark.
+#pragma once
+
+#include <cstdint>
+#include <random>
+#include <string>
+
+#include "tern_sim_aero/aircraft.hpp"
+#include "tern_sim_aero/model.hpp"
+#include "tern_sim_aero/wind.hpp"
+
+namespace tern::sim {
+
+class Simulator {
+ public:
+  /// `seed` drives the turbulence and random gusts.
+  Simulator(Aircraft ac, std::uint64_t seed);
+
+  const Aircraft& aircraft() const { return ac_; }
+
+  /// Sets the state (throws std::runtime_error "initial state: <field> is not finite" for NaN
+  /// or infinite elements) and the actual surface positions (the servos start there).
+  void set_state(const StateVector& x, const Deltas& surfaces = {});
+  const StateVector& state() const { return x_; }
+
+  /// Commanded inputs (clamped to the aircraft's limits and throttle to [0, 1]). Throws
+  /// std::runtime_error "actuators: <field> is not finite" for NaN or infinite values.
+  void set_command(const Deltas& cmd);
+  const Deltas& command() const { return cmd_; }
+  /// Surface positions after the servo lag (what the aerodynamics sees).
+  const Deltas& surfaces() const { return act_; }
+
+  /// Steady wind in NED (m/s), turbulence and gusts.
+  void set_steady_wind(const Eigen::Vector3d& w_ned) { steady_ = w_ned; }
+  void set_turbulence(const DrydenParams& p) { dryden_.set_params(p); }
+  GustField& gusts() { return gusts_; }
+  /// The wind acting now (steady + gusts in NED, turbulence in body).
+  const Wind& wind() const { return wind_; }
+  /// Total wind in NED (steady + gusts + turbulence rotated to NED), m/s.
+  Eigen::Vector3d wind_ned() const;
+
+  /// Advances by dt seconds (one RK4 step; the wind and surfaces are updated first and held over
+  /// the step). Throws std::runtime_error if the state becomes non-finite.
+  void step(double dt);
+  /// Flight time since set_state / reset, s.
+  double time() const { return t_; }
+
+  /// Forces and moments at the current state with the current surfaces and wind.
+  ForcesMoments evaluate() const;
+
+  /// The CG went below the ground: the aircraft stops there (state frozen) until set_state.
+  bool crashed() const { return crashed_; }
+
+  /// Restarts the wind random streams (same seed: same turbulence).
+  void reset_wind();
+
+ private:
+  Aircraft ac_;
+  std::uint64_t seed_;
+  std::mt19937_64 rng_;
+  StateVector x_ = StateVector::Zero();
+  Deltas cmd_, act_;
+  Eigen::Vector3d steady_ = Eigen::Vector3d::Zero();
+  Dryden dryden_;
+  GustField gusts_;
+  Wind wind_;
+  double t_ = 0;
+  bool crashed_ = false;
+};
+
+/// Names the first non-finite element of a state ("p_n", "e0", ...) or returns "".
+std::string first_non_finite(const StateVector& x);
+
+}  // namespace tern::sim

@@ -1,0 +1,205 @@
+// The uavbook model: air data, forces and moments, equations of motion, RK4 (see model.hpp).
+#include "tern_sim_aero/model.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tern::sim {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+double safe_exp(double x) { return std::exp(std::min(x, 700.0)); }
+}  // namespace
+
+Eigen::Quaterniond attitude(const StateVector& x) {
+  return Eigen::Quaterniond(x[E0], x[E1], x[E2], x[E3]).normalized();
+}
+
+AirData air_data(const StateVector& x, const Wind& wind) {
+  AirData a;
+  const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();  // body -> NED
+  const Eigen::Vector3d v(x[U], x[V], x[W]);
+  a.v_air = v - (Rot.transpose() * wind.steady_ned + wind.gust_body);
+  a.Va = a.v_air.norm();
+  a.alpha = std::atan2(a.v_air.z(), a.v_air.x());
+  a.beta = a.Va > 1e-9 ? std::asin(std::clamp(a.v_air.y() / a.Va, -1.0, 1.0)) : 0.0;
+  return a;
+}
+
+PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
+  const auto& p = ac.prop;
+  const double rho = ac.rho, D = p.D_prop;
+  const double D2 = D * D, D3 = D2 * D, D4 = D3 * D, D5 = D4 * D;
+  const double V_in = p.V_max * delta_t;
+  // Omega is the positive root of a Omega^2 + b Omega + c = 0 (torque balance motor/propeller).
+  const double a = rho * D5 * p.C_Q_0 / (4.0 * kPi * kPi);
+  const double b = rho * D4 * p.C_Q_1 * Va / (2.0 * kPi) + p.K_Q * p.K_Q / p.R_motor;
+  const double c = rho * D3 * p.C_Q_2 * Va * Va - p.K_Q * V_in / p.R_motor + p.K_Q * p.i0;
+  const double disc = b * b - 4.0 * a * c;
+  double Omega = disc > 0.0 ? (-b + std::sqrt(disc)) / (2.0 * a) : 0.0;
+  Omega = std::max(Omega, 0.0);  // the motor does not drive the propeller backwards
+  PropulsionOutput out;
+  out.Omega = Omega;
+  // T_p = rho (Omega/2pi)^2 D^4 C_T(J), J = 2 pi Va/(Omega D), written without dividing by Omega.
+  out.T_p = rho * D4 * p.C_T_0 * Omega * Omega / (4.0 * kPi * kPi) +
+            rho * D3 * p.C_T_1 * Va * Omega / (2.0 * kPi) + rho * D2 * p.C_T_2 * Va * Va;
+  out.Q_p = rho * D5 * p.C_Q_0 * Omega * Omega / (4.0 * kPi * kPi) +
+            rho * D4 * p.C_Q_1 * Va * Omega / (2.0 * kPi) + rho * D3 * p.C_Q_2 * Va * Va;
+  return out;
+}
+
+double lift_coefficient(const Aircraft& ac, double alpha) {
+  if (!ac.stall_blend) return ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha;
+  const double e1 = safe_exp(-ac.M * (alpha - ac.alpha0));
+  const double e2 = safe_exp(ac.M * (alpha + ac.alpha0));
+  const double sigma = (1.0 + e1 + e2) / ((1.0 + e1) * (1.0 + e2));
+  const double sa = std::sin(alpha), ca = std::cos(alpha);
+  const double sgn = alpha >= 0.0 ? 1.0 : -1.0;
+  return (1.0 - sigma) * (ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha) + sigma * (2.0 * sgn * sa * sa * ca);
+}
+
+double drag_coefficient(const Aircraft& ac, double alpha) {
+  const double cl = ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha;
+  return ac.aero.C_D_p + cl * cl / (kPi * ac.e * ac.AR());
+}
+
+namespace {
+// Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
+void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot,
+                    ForcesMoments& fm) {
+  const auto& g = ac.gear;
+  const double n = static_cast<double>(g.points.size());
+  const double k = ac.mass * kG / (n * g.static_deflection);
+  const double c = 2.0 * g.damping_ratio * std::sqrt(k * ac.mass / n);
+  const Eigen::Vector3d p(x[PN], x[PE], x[PD]);
+  const Eigen::Vector3d v(x[U], x[V], x[W]);
+  const Eigen::Vector3d w(x[P], x[Q], x[R]);
+  // Wheel rolling direction: body x projected on the ground plane.
+  Eigen::Vector2d xh(Rot(0, 0), Rot(1, 0));
+  const double xn = xh.norm();
+  xh = xn > 1e-6 ? Eigen::Vector2d(xh / xn) : Eigen::Vector2d(1.0, 0.0);
+  const Eigen::Vector2d yh(-xh.y(), xh.x());
+  for (const auto& r : g.points) {
+    const Eigen::Vector3d pi = p + Rot * r;
+    const double depth = pi.z();  // > 0: below the ground
+    if (depth <= 0.0) continue;
+    const Eigen::Vector3d vi = Rot * (v + w.cross(r));  // NED velocity of the wheel
+    const double N = std::max(0.0, k * depth + c * vi.z());
+    if (N <= 0.0) continue;
+    ++fm.wheels_on_ground;
+    const Eigen::Vector2d vh(vi.x(), vi.y());
+    const double v_long = vh.dot(xh), v_lat = vh.dot(yh);
+    const double f_long = -g.mu_roll * N * std::clamp(v_long / g.v_slip, -1.0, 1.0);
+    const double f_lat = -g.mu_lateral * N * std::clamp(v_lat / g.v_slip, -1.0, 1.0);
+    const Eigen::Vector2d fh = f_long * xh + f_lat * yh;
+    const Eigen::Vector3d f_body = Rot.transpose() * Eigen::Vector3d(fh.x(), fh.y(), -N);
+    fm.f_ground += f_body;
+    fm.m_ground += r.cross(f_body);
+  }
+}
+}  // namespace
+
+ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind) {
+  ForcesMoments fm;
+  const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
+  fm.air = air_data(x, wind);
+  const double Va = fm.air.Va, alpha = fm.air.alpha, beta = fm.air.beta;
+  const double p = x[P], q = x[Q], r = x[R];
+  const auto& A = ac.aero;
+  // qbar S, and qbar S times c/(2 Va) or b/(2 Va) written without dividing by Va (finite at Va = 0).
+  const double qS = 0.5 * ac.rho * Va * Va * ac.S;
+  const double qSc = 0.25 * ac.rho * Va * ac.S * ac.c;
+  const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
+  const double F_lift = qS * (lift_coefficient(ac, alpha) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
+  const double F_drag = qS * (drag_coefficient(ac, alpha) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
+  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  fm.prop = propulsion(ac, Va, d.delta_t);
+  const double fx = -ca * F_drag + sa * F_lift + fm.prop.T_p;
+  const double fz = -sa * F_drag - ca * F_lift;
+  const double fy = qS * (A.C_Y_0 + A.C_Y_beta * beta + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) +
+                    qSb * (A.C_Y_p * p + A.C_Y_r * r);
+  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta + A.C_ell_delta_a * d.delta_a +
+                                 A.C_ell_delta_r * d.delta_r) +
+                           qSb * (A.C_ell_p * p + A.C_ell_r * r)) -
+                   fm.prop.Q_p;
+  const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
+  const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a +
+                                  A.C_n_delta_r * d.delta_r) +
+                            qSb * (A.C_n_p * p + A.C_n_r * r));
+  fm.f_aero = Eigen::Vector3d(fx, fy, fz);
+  fm.m_aero = Eigen::Vector3d(l, m, nn);
+  fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kG);
+  ground_contact(ac, x, Rot, fm);
+  fm.force = fm.f_aero + fm.f_gravity + fm.f_ground;
+  fm.moment = fm.m_aero + fm.m_ground;
+  return fm;
+}
+
+StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
+                       ForcesMoments* out) {
+  const ForcesMoments fm = forces_moments(ac, x, d, w);
+  const Eigen::Quaterniond qt = attitude(x);
+  const Eigen::Vector3d v(x[U], x[V], x[W]);
+  const double p = x[P], q = x[Q], r = x[R];
+  StateVector dx;
+  dx.segment<3>(PN) = qt * v;
+  // Book eq. 3.15: body acceleration.
+  dx[U] = r * x[V] - q * x[W] + fm.force.x() / ac.mass;
+  dx[V] = p * x[W] - r * x[U] + fm.force.y() / ac.mass;
+  dx[W] = q * x[U] - p * x[V] + fm.force.z() / ac.mass;
+  // Appendix B: quaternion kinematics (e0 scalar).
+  const double e0 = x[E0], e1 = x[E1], e2 = x[E2], e3 = x[E3];
+  dx[E0] = 0.5 * (-p * e1 - q * e2 - r * e3);
+  dx[E1] = 0.5 * (p * e0 + r * e2 - q * e3);
+  dx[E2] = 0.5 * (q * e0 - r * e1 + p * e3);
+  dx[E3] = 0.5 * (r * e0 + q * e1 - p * e2);
+  // Book eq. 3.17 with the Gamma coefficients of eq. 3.13.
+  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
+  const double G1 = ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G;
+  const double G2 = (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G;
+  const double G3 = ac.Jz / G, G4 = ac.Jxz / G;
+  const double G5 = (ac.Jz - ac.Jx) / ac.Jy, G6 = ac.Jxz / ac.Jy;
+  const double G7 = ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G, G8 = ac.Jx / G;
+  const double l = fm.moment.x(), m = fm.moment.y(), n = fm.moment.z();
+  dx[P] = G1 * p * q - G2 * q * r + G3 * l + G4 * n;
+  dx[Q] = G5 * p * r - G6 * (p * p - r * r) + m / ac.Jy;
+  dx[R] = G7 * p * q - G1 * q * r + G4 * l + G8 * n;
+  if (out != nullptr) *out = fm;
+  return dx;
+}
+
+StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, double dt) {
+  const StateVector k1 = derivative(ac, x, d, w);
+  const StateVector k2 = derivative(ac, x + 0.5 * dt * k1, d, w);
+  const StateVector k3 = derivative(ac, x + 0.5 * dt * k2, d, w);
+  const StateVector k4 = derivative(ac, x + dt * k3, d, w);
+  StateVector xn = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  xn.segment<4>(E0).normalize();
+  return xn;
+}
+
+StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi,
+                       double theta, double psi, const Eigen::Vector3d& pqr) {
+  StateVector x;
+  x.segment<3>(PN) = p_ned;
+  x.segment<3>(U) = v_body;
+  const double c0 = std::cos(psi / 2), s0 = std::sin(psi / 2);
+  const double c1 = std::cos(theta / 2), s1 = std::sin(theta / 2);
+  const double c2 = std::cos(phi / 2), s2 = std::sin(phi / 2);
+  x[E0] = c0 * c1 * c2 + s0 * s1 * s2;
+  x[E1] = c0 * c1 * s2 - s0 * s1 * c2;
+  x[E2] = c0 * s1 * c2 + s0 * c1 * s2;
+  x[E3] = s0 * c1 * c2 - c0 * s1 * s2;
+  x.segment<3>(P) = pqr;
+  return x;
+}
+
+bool all_finite(const StateVector& x) { return x.allFinite(); }
+
+double rest_height(const Aircraft& ac) {
+  double z = 0.0;
+  for (const auto& r : ac.gear.points) z = std::max(z, r.z());
+  return z - ac.gear.static_deflection;
+}
+
+}  // namespace tern::sim
