@@ -1,0 +1,149 @@
+// control_common/autopilot.hpp: the complete fixed-wing autopilot around a pluggable
+// longitudinal law: lateral loops (course -> roll -> aileron, yaw damper) and pitch ->
+// elevator from loops.hpp, flight-phase behaviour (takeoff, climb, cruise), manual modes
+// (pass-through, angle mode), command overrides, and bumpless transfer.
+//
+// control_slc plugs in SlcLongitudinal (altitude -> pitch PI, airspeed -> throttle PI);
+// control_tecs plugs in its total-energy law. Plain C++: no tern host types.
+//
+// Phases (ROSplane 2.0's takeoff -> climb -> cruise):
+//   takeoff  wings level (phi_c = 0), throttle = takeoff_throttle, pitch command 0 until the
+//            airspeed reaches rotation_Va, then takeoff_pitch (latched for the phase).
+//   climb    course hold (or wings level if climb_course_hold is false); the longitudinal law
+//            climbs to h_c (its pitch limits bound the climb).
+//   cruise   (and landing, loiter) course, altitude and airspeed hold.
+// Manual modes: pass-through (surfaces from the sticks: delta_a = roll max_a, delta_e =
+// -pitch max_e, delta_r = -yaw max_r, delta_t = throttle) and angle mode (phi_c = roll *
+// angle_roll_max, theta_c = pitch * angle_pitch_max, throttle from the stick, rudder = yaw
+// damper - yaw max_r).
+// Bumpless transfer: after take_over(last), on every change of mode or override flag, and after
+// reset(), the integrators are set from the last command (back-solving the cascade) and any
+// remainder becomes an output offset that decays with time constant handover_tau. The first
+// command after a transfer equals `last` (within the actuator limits).
+#pragma once
+
+#include <cstdint>
+
+#include "control_common/loops.hpp"
+
+namespace tern::control {
+
+enum class Mode : std::uint8_t { takeoff, climb, cruise, manual_passthrough, manual_angle };
+
+/// What the path follower commands (ROSplane's ControllerCommands).
+struct Command {
+  double Va_c = 0.0;    ///< m/s
+  double h_c = 0.0;     ///< m
+  double chi_c = 0.0;   ///< rad
+  double phi_ff = 0.0;  ///< rad
+  double phi_c = 0.0;   ///< rad, used when override_phi
+  double theta_c = 0.0; ///< rad, used when override_theta
+  bool override_phi = false;
+  bool override_theta = false;
+  bool finite() const;
+};
+
+/// Pilot sticks, normalised: roll, pitch, yaw in -1..1 (right, nose up, nose right positive),
+/// throttle 0..1. Out-of-range values are clamped.
+struct Sticks {
+  double roll = 0.0, pitch = 0.0, yaw = 0.0, throttle = 0.0;
+};
+
+/// Longitudinal control law: pitch command and throttle from altitude and airspeed.
+class LongitudinalLaw {
+ public:
+  struct Output {
+    double theta_c = 0.0;    ///< rad
+    double delta_t = 0.0;    ///< 0..1, saturated
+    double delta_t_c = 0.0;  ///< before saturation
+  };
+  virtual ~LongitudinalLaw() = default;
+  /// One step; `climb` is true in the climb phase.
+  virtual Output update(const VehicleState& x, const Command& c, bool climb, double dt) = 0;
+  /// Bumpless transfer: set the integrators so that update() would give theta_c and delta_t.
+  virtual void initialise(const VehicleState& x, const Command& c, double theta_c, double delta_t) = 0;
+  virtual void reset() = 0;
+  /// Pitch-command limits of the law, rad.
+  virtual double theta_min() const = 0;
+  virtual double theta_max() const = 0;
+};
+
+/// Altitude -> pitch (one PI loop) and airspeed -> throttle (PI): uavbook sections 6.2.2, 6.2.3.
+class SlcLongitudinal final : public LongitudinalLaw {
+ public:
+  void set_gains(const AltitudeGains& a, const AirspeedGains& v) {
+    altitude_.set_gains(a);
+    airspeed_.set_gains(v);
+  }
+  Output update(const VehicleState& x, const Command& c, bool climb, double dt) override;
+  void initialise(const VehicleState& x, const Command& c, double theta_c, double delta_t) override;
+  void reset() override {
+    altitude_.reset();
+    airspeed_.reset();
+  }
+  double theta_min() const override { return altitude_.gains().theta_min; }
+  double theta_max() const override { return altitude_.gains().theta_max; }
+
+ private:
+  AltitudeLoop altitude_;
+  AirspeedThrottleLoop airspeed_;
+};
+
+struct AutopilotSettings {
+  double takeoff_throttle = 1.0;  ///< 0..1
+  double takeoff_pitch = 0.1745;  ///< rad
+  double rotation_Va = 12.0;      ///< m/s
+  bool climb_course_hold = true;  ///< false: wings level in climb
+  double handover_tau = 1.0;      ///< decay of the bumpless offset, s
+  double angle_roll_max = 0.785;  ///< angle mode: roll at full stick, rad
+  double angle_pitch_max = 0.35;  ///< angle mode: pitch at full stick, rad
+};
+
+struct AutopilotOutput {
+  Surfaces surfaces;
+  double phi_c = 0.0;      ///< roll command used, rad
+  double theta_c = 0.0;    ///< pitch command used, rad
+  double delta_t_c = 0.0;  ///< throttle before saturation
+  bool held = false;       ///< input was not finite: the previous command was held
+};
+
+class Autopilot {
+ public:
+  /// `law` must outlive the autopilot.
+  explicit Autopilot(LongitudinalLaw& law) : law_(law) {}
+  void set_lateral_gains(const LateralGains& g) { lateral_.set_gains(g); }
+  void set_pitch_gains(const PitchGains& g) { pitch_.set_gains(g); }
+  void set_settings(const AutopilotSettings& s) { s_ = s; }
+  const LateralGains& lateral_gains() const { return lateral_.gains(); }
+  const PitchGains& pitch_gains() const { return pitch_.gains(); }
+  const AutopilotSettings& settings() const { return s_; }
+
+  /// One control step, dt in s since the previous step. A non-finite state or command (NaN,
+  /// Inf) holds the previous output (held = true) and leaves every integrator untouched.
+  AutopilotOutput update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks,
+                         double dt);
+  /// The next update starts from `last` (bumpless transfer).
+  void take_over(const Surfaces& last);
+  /// Integrators and filters clean; the next update starts from trim.
+  void reset();
+  const Surfaces& last() const { return last_.surfaces; }
+
+ private:
+  Surfaces limit(const Surfaces& u) const;
+  Surfaces trim() const;
+
+  LongitudinalLaw& law_;
+  LateralLoops lateral_;
+  PitchLoop pitch_;
+  AutopilotSettings s_;
+  AutopilotOutput last_;
+  Surfaces offset_;
+  Surfaces handover_from_;
+  bool pending_handover_ = false;
+  bool have_last_ = false;
+  bool rotated_ = false;
+  Mode mode_ = Mode::cruise;
+  bool override_phi_ = false, override_theta_ = false;
+};
+
+}  // namespace tern::control

@@ -1,0 +1,166 @@
+// control_common/loops.hpp: the successive-loop-closure autopilot loops of Beard & McLain,
+// *Small Unmanned Aircraft*, ch. 6, as used by ROSplane 2.0 (controller_successive_loop):
+//
+//   course -> roll     phi_c   = sat(phi_ff + kp e_chi + ki int(e_chi) - kd r, +-roll_max)   (6.1.2)
+//   roll -> aileron    delta_a = sat(trim_a + kp e_phi + ki int(e_phi) - kd p, +-max_a)       (6.1.1)
+//   yaw damper         delta_r = sat(trim_r + kr s/(s + p_wo) r, +-max_r)                     (6.1.3)
+//   pitch -> elevator  delta_e = sat(trim_e - (kp e_theta + ki int(e_theta) - kd q), +-max_e) (6.2.1)
+//   altitude -> pitch  theta_c = sat(kp e_h + ki int(e_h) - kd h_dot, [theta_min, theta_max]) (6.2.2)
+//   airspeed -> thr.   delta_t = sat(trim_t + kp e_V + ki int(e_V) - kd Va_dot, [min_t, max_t]) (6.2.3)
+//
+// Units: angles rad, rates rad/s, altitude m (up), airspeed m/s, throttle 0..1. Signs of the
+// surfaces as the uavbook (positive delta_a rolls right, positive delta_e pitches nose down,
+// positive delta_r yaws nose left). All gains are magnitudes (>= 0); the pitch loop applies the
+// sign of C_m_delta_e < 0 itself, so pitch_kp = -k_p_theta of the book.
+// Course errors are wrapped to [-pi, pi). Every loop saturates and clamps its integrator.
+#pragma once
+
+#include "control_common/pid.hpp"
+
+namespace tern::control {
+
+/// What the loops read of the vehicle state.
+struct VehicleState {
+  double phi = 0.0, theta = 0.0, chi = 0.0;  ///< roll, pitch, course over ground, rad
+  double p = 0.0, q = 0.0, r = 0.0;          ///< body rates, rad/s
+  double h = 0.0;                            ///< altitude (up), m
+  double h_dot = 0.0;                        ///< climb rate, m/s
+  double Va = 0.0;                           ///< airspeed, m/s
+  bool finite() const;
+};
+
+/// Surface deflections (rad) and throttle (0..1).
+struct Surfaces {
+  double delta_a = 0.0, delta_e = 0.0, delta_r = 0.0, delta_t = 0.0;
+  bool finite() const;
+};
+
+/// Wraps an angle to [-pi, pi).
+double wrap_angle(double a);
+
+struct LateralGains {
+  double course_kp = 2.0;     ///< rad roll / rad course error
+  double course_ki = 0.0025;  ///< rad roll / (rad s)
+  double course_kd = 0.0;     ///< rad roll / (rad/s) yaw rate
+  double roll_max = 0.785;    ///< rad
+  double roll_kp = 0.55;      ///< rad aileron / rad roll error
+  double roll_ki = 0.0;       ///< rad aileron / (rad s)
+  double roll_kd = 0.2;       ///< rad aileron / (rad/s) roll rate
+  double trim_a = 0.0;        ///< rad
+  double max_a = 0.8;         ///< rad
+  double yaw_kr = 0.3;        ///< rad rudder / (rad/s) washed-out yaw rate
+  double yaw_p_wo = 0.5;      ///< washout pole, rad/s
+  double trim_r = 0.0;        ///< rad
+  double max_r = 0.523;       ///< rad
+};
+
+/// Course hold, roll hold and yaw damper.
+class LateralLoops {
+ public:
+  LateralLoops() { set_gains({}); }
+  void set_gains(const LateralGains& g);
+  const LateralGains& gains() const { return g_; }
+
+  /// Course hold: roll command, rad. chi_c, chi in rad (any wrap), r in rad/s, phi_ff in rad.
+  double course(double chi_c, double chi, double r, double phi_ff, double dt);
+  /// Roll hold: aileron, rad.
+  double roll(double phi_c, double phi, double p, double dt);
+  /// Yaw damper: rudder, rad.
+  double yaw_damper(double r, double dt);
+
+  /// The roll command for which the roll loop's proportional and derivative terms (no
+  /// integrator) give `delta_a`, limited to +-roll_max; used for bumpless transfer.
+  double roll_command_for(double delta_a, double phi, double p) const;
+  /// Bumpless transfer: sets the course integrator so that course() gives phi_c now.
+  void initialise_course(double phi_c, double chi_c, double chi, double r, double phi_ff);
+  /// Bumpless transfer: sets the roll integrator so that roll() gives delta_a now.
+  void initialise_roll(double delta_a, double phi_c, double phi, double p);
+  /// The course loop is not in use (wings level, roll override): its integrator is cleared.
+  void idle_course() { course_.reset(); }
+
+  void reset();
+
+ private:
+  LateralGains g_;
+  Pid course_, roll_;
+  Washout washout_;
+};
+
+struct PitchGains {
+  double kp = 4.25;      ///< rad elevator / rad pitch error (magnitude)
+  double ki = 0.0;       ///< rad elevator / (rad s)
+  double kd = 0.6;       ///< rad elevator / (rad/s) pitch rate
+  double trim_e = -0.075;  ///< elevator at trim, rad (uavbook sign: negative is nose up)
+  double max_e = 0.61;   ///< rad
+};
+
+/// Pitch hold (pitch attitude -> elevator).
+class PitchLoop {
+ public:
+  PitchLoop() { set_gains({}); }
+  void set_gains(const PitchGains& g);
+  const PitchGains& gains() const { return g_; }
+  /// Elevator, rad.
+  double update(double theta_c, double theta, double q, double dt);
+  /// Pitch command for which the P and D terms give delta_e (bumpless transfer), unlimited.
+  double pitch_command_for(double delta_e, double theta, double q) const;
+  void initialise(double delta_e, double theta_c, double theta, double q);
+  void reset() { pid_.reset(); }
+
+ private:
+  PitchGains g_;
+  Pid pid_;
+};
+
+struct AltitudeGains {
+  double kp = 0.015;       ///< rad pitch / m
+  double ki = 0.001;       ///< rad pitch / (m s)
+  double kd = 0.0;         ///< rad pitch / (m/s) climb rate
+  double theta_max = 0.35; ///< rad
+  double theta_min = -0.35;///< rad
+};
+
+/// Altitude hold: one PI(D) loop from altitude error to pitch command (no zones).
+class AltitudeLoop {
+ public:
+  AltitudeLoop() { set_gains({}); }
+  void set_gains(const AltitudeGains& g);
+  const AltitudeGains& gains() const { return g_; }
+  double update(double h_c, double h, double h_dot, double dt);
+  void initialise(double theta_c, double h_c, double h, double h_dot);
+  void reset() { pid_.reset(); }
+
+ private:
+  AltitudeGains g_;
+  Pid pid_;
+};
+
+struct AirspeedGains {
+  double kp = 0.1;     ///< throttle / (m/s)
+  double ki = 0.02;    ///< throttle / m
+  double kd = 0.0;     ///< throttle / (m/s^2)
+  double trim_t = 0.5;
+  double max_t = 1.0;
+  double min_t = 0.0;
+  double tau_d = 0.05; ///< dirty-derivative time constant for Va_dot, s
+};
+
+/// Airspeed hold with throttle.
+class AirspeedThrottleLoop {
+ public:
+  AirspeedThrottleLoop() { set_gains({}); }
+  void set_gains(const AirspeedGains& g);
+  const AirspeedGains& gains() const { return g_; }
+  double update(double Va_c, double Va, double dt);
+  void initialise(double delta_t, double Va_c, double Va);
+  /// Throttle before saturation of the last update.
+  double unsaturated() const { return pid_.last_unsaturated(); }
+  void reset();
+
+ private:
+  AirspeedGains g_;
+  Pid pid_;
+  DirtyDerivative Va_dot_;
+};
+
+}  // namespace tern::control

@@ -1,0 +1,181 @@
+#include "control_common/autopilot.hpp"
+
+#include <cmath>
+
+namespace tern::control {
+
+bool Command::finite() const {
+  return std::isfinite(Va_c) && std::isfinite(h_c) && std::isfinite(chi_c) && std::isfinite(phi_ff) &&
+         std::isfinite(phi_c) && std::isfinite(theta_c);
+}
+
+LongitudinalLaw::Output SlcLongitudinal::update(const VehicleState& x, const Command& c, bool /*climb*/,
+                                                double dt) {
+  Output o;
+  o.theta_c = altitude_.update(c.h_c, x.h, x.h_dot, dt);
+  o.delta_t = airspeed_.update(c.Va_c, x.Va, dt);
+  o.delta_t_c = airspeed_.unsaturated();
+  return o;
+}
+
+void SlcLongitudinal::initialise(const VehicleState& x, const Command& c, double theta_c, double delta_t) {
+  altitude_.initialise(theta_c, c.h_c, x.h, x.h_dot);
+  airspeed_.initialise(delta_t, c.Va_c, x.Va);
+}
+
+Surfaces Autopilot::limit(const Surfaces& u) const {
+  const auto& L = lateral_.gains();
+  const auto& P = pitch_.gains();
+  return {saturate(u.delta_a, -L.max_a, L.max_a), saturate(u.delta_e, -P.max_e, P.max_e),
+          saturate(u.delta_r, -L.max_r, L.max_r), saturate(u.delta_t, 0.0, 1.0)};
+}
+
+Surfaces Autopilot::trim() const {
+  return limit({lateral_.gains().trim_a, pitch_.gains().trim_e, lateral_.gains().trim_r, 0.0});
+}
+
+void Autopilot::take_over(const Surfaces& last) {
+  reset();
+  handover_from_ = last;
+  pending_handover_ = true;
+  last_ = AutopilotOutput{};
+  last_.surfaces = last;
+  have_last_ = true;
+}
+
+void Autopilot::reset() {
+  lateral_.reset();
+  pitch_.reset();
+  law_.reset();
+  offset_ = {};
+  pending_handover_ = false;
+  have_last_ = false;
+  rotated_ = false;
+  last_ = AutopilotOutput{};
+  last_.surfaces = trim();
+}
+
+AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks_in,
+                                  double dt) {
+  const bool manual = mode == Mode::manual_passthrough || mode == Mode::manual_angle;
+  const bool sticks_ok = std::isfinite(sticks_in.roll) && std::isfinite(sticks_in.pitch) &&
+                         std::isfinite(sticks_in.yaw) && std::isfinite(sticks_in.throttle);
+  if (!x.finite() || (!manual && !c.finite()) || (manual && !sticks_ok) || !std::isfinite(dt)) {
+    AutopilotOutput held = last_;
+    if (!have_last_) held.surfaces = trim();
+    held.held = true;
+    return held;
+  }
+  if (dt < 0.0) dt = 0.0;
+
+  const bool ovp = !manual && c.override_phi;
+  const bool ovt = !manual && c.override_theta;
+  if (mode != mode_ || ovp != override_phi_ || ovt != override_theta_) {
+    if (have_last_ && !pending_handover_) {
+      pending_handover_ = true;
+      handover_from_ = last_.surfaces;
+    }
+    if (mode != mode_) rotated_ = false;
+  }
+  mode_ = mode;
+  override_phi_ = ovp;
+  override_theta_ = ovt;
+
+  const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0),
+                  saturate(sticks_in.yaw, -1.0, 1.0), saturate(sticks_in.throttle, 0.0, 1.0)};
+  const auto& L = lateral_.gains();
+  const auto& P = pitch_.gains();
+  AutopilotOutput out;
+
+  if (mode == Mode::manual_passthrough) {
+    out.surfaces = limit({st.roll * L.max_a, -st.pitch * P.max_e, -st.yaw * L.max_r, st.throttle});
+    out.phi_c = x.phi;
+    out.theta_c = x.theta;
+    out.delta_t_c = st.throttle;
+    // The loops restart from the pilot's command when the autopilot takes over again.
+    lateral_.reset();
+    pitch_.reset();
+    law_.reset();
+    offset_ = {};
+    pending_handover_ = false;
+    last_ = out;
+    have_last_ = true;
+    return out;
+  }
+
+  const bool init = pending_handover_;
+  const double h = init ? 0.0 : dt;  // the initialising step integrates nothing
+
+  // ---- lateral: roll command, aileron, rudder
+  double phi_c = 0.0;
+  bool use_course = false;
+  if (mode == Mode::manual_angle) {
+    phi_c = st.roll * s_.angle_roll_max;
+  } else if (ovp) {
+    phi_c = c.phi_c;
+  } else if (mode == Mode::takeoff || (mode == Mode::climb && !s_.climb_course_hold)) {
+    phi_c = 0.0;
+  } else {
+    use_course = true;
+  }
+  if (use_course) {
+    if (init) {
+      const double phi_needed = lateral_.roll_command_for(handover_from_.delta_a, x.phi, x.p);
+      lateral_.initialise_course(phi_needed, c.chi_c, x.chi, x.r, c.phi_ff);
+    }
+    phi_c = lateral_.course(c.chi_c, x.chi, x.r, c.phi_ff, h);
+  } else {
+    lateral_.idle_course();
+  }
+  phi_c = saturate(phi_c, -L.roll_max, L.roll_max);
+  if (init) lateral_.initialise_roll(handover_from_.delta_a, phi_c, x.phi, x.p);
+  const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
+  double delta_r = lateral_.yaw_damper(x.r, h);
+  if (mode == Mode::manual_angle) delta_r -= st.yaw * L.max_r;
+
+  // ---- longitudinal: pitch command and throttle
+  double theta_c = 0.0, delta_t = 0.0, delta_t_c = 0.0;
+  if (mode == Mode::takeoff) {
+    if (x.Va >= s_.rotation_Va) rotated_ = true;
+    theta_c = rotated_ ? s_.takeoff_pitch : 0.0;
+    delta_t = delta_t_c = s_.takeoff_throttle;
+    law_.reset();
+  } else if (mode == Mode::manual_angle) {
+    theta_c = st.pitch * s_.angle_pitch_max;
+    delta_t = delta_t_c = st.throttle;
+    law_.reset();
+  } else {
+    if (init) {
+      const double theta_needed = saturate(pitch_.pitch_command_for(handover_from_.delta_e, x.theta, x.q),
+                                           law_.theta_min(), law_.theta_max());
+      law_.initialise(x, c, theta_needed, handover_from_.delta_t);
+    }
+    const auto lo = law_.update(x, c, mode == Mode::climb, h);
+    theta_c = ovt ? c.theta_c : lo.theta_c;
+    delta_t = lo.delta_t;
+    delta_t_c = lo.delta_t_c;
+  }
+  if (init) pitch_.initialise(handover_from_.delta_e, theta_c, x.theta, x.q);
+  const double delta_e = pitch_.update(theta_c, x.theta, x.q, h);
+
+  // ---- bumpless offset
+  const Surfaces raw{delta_a, delta_e, delta_r, delta_t};
+  if (init) {
+    offset_ = {handover_from_.delta_a - raw.delta_a, handover_from_.delta_e - raw.delta_e,
+               handover_from_.delta_r - raw.delta_r, handover_from_.delta_t - raw.delta_t};
+    pending_handover_ = false;
+  } else if (dt > 0.0) {
+    const double k = s_.handover_tau > 0.0 ? std::exp(-dt / s_.handover_tau) : 0.0;
+    offset_ = {offset_.delta_a * k, offset_.delta_e * k, offset_.delta_r * k, offset_.delta_t * k};
+  }
+  out.surfaces = limit({raw.delta_a + offset_.delta_a, raw.delta_e + offset_.delta_e,
+                        raw.delta_r + offset_.delta_r, raw.delta_t + offset_.delta_t});
+  out.phi_c = phi_c;
+  out.theta_c = theta_c;
+  out.delta_t_c = delta_t_c;
+  last_ = out;
+  have_last_ = true;
+  return out;
+}
+
+}  // namespace tern::control

@@ -1,0 +1,229 @@
+#!/usr/bin/env python3
+"""Successive-loop-closure gain design for tern's control_slc / control_tecs.
+
+Beard & McLain, *Small Unmanned Aircraft*, ch. 5 (trim, transfer functions) and ch. 6
+(successive loop closure). Reads a ROSflight-style aircraft dynamics file (the format of
+rosflight_sim's anaconda_dynamics.yaml / aerosonde_dynamics.yaml: every `ros__parameters`
+section is merged), trims for straight and level flight at the airspeed Va, prints the
+transfer-function coefficients a_phi1 a_phi2 a_theta1..3 a_V1..3 a_beta1 a_beta2 and the
+gains, and with --yaml writes a flat `param: value` file loadable with `param_file:`.
+
+Usage:  design_gains.py DYNAMICS.yaml --Va 15 --mass 4.5 --J 0.24855 0.3784 0.618 0.06 [--yaml out.yaml]
+
+Only the Python standard library and PyYAML are needed. The design knobs (bandwidths,
+damping ratios, bandwidth separations) are command-line options; their defaults are the
+values used for configs/gains/*.yaml.
+"""
+import argparse
+import math
+import sys
+
+import yaml
+
+G = 9.81
+
+
+def load(path):
+    with open(path) as f:
+        doc = yaml.safe_load(f)
+    p = {}
+    for node in doc.values():
+        if isinstance(node, dict) and isinstance(node.get("ros__parameters"), dict):
+            p.update(node["ros__parameters"])
+    for key, v in p.items():  # PyYAML reads YAML 1.1: "-.99" stays a string
+        if isinstance(v, str):
+            try:
+                p[key] = float(v)
+            except ValueError:
+                pass
+    return p
+
+
+class Aircraft:
+    def __init__(self, p, mass, J, e):
+        self.p = p
+        self.m = mass
+        self.Jx, self.Jy, self.Jz, self.Jxz = J
+        self.rho = p["rho"]
+        self.S, self.b, self.c = p["wing_s"], p["wing_b"], p["wing_c"]
+        self.AR = self.b ** 2 / self.S
+        self.e = e
+        Gam = self.Jx * self.Jz - self.Jxz ** 2
+        self.G3, self.G4 = self.Jz / Gam, self.Jxz / Gam
+
+    def CL(self, a):  # uavbook eq. 4.9 (blended lift); sigma ~ 0 at small alpha
+        p = self.p
+        M, a0 = p["wing_M"], p["wing_alpha0"]
+        e1, e2 = math.exp(-M * (a - a0)), math.exp(M * (a + a0))
+        sig = (1 + e1 + e2) / ((1 + e1) * (1 + e2))
+        lin = p["C_L_O"] + p["C_L_alpha"] * a
+        return (1 - sig) * lin + sig * 2 * math.copysign(1, a) * math.sin(a) ** 2 * math.cos(a)
+
+    def CD(self, a):  # drag polar
+        p = self.p
+        return p["C_D_p"] + (p["C_L_O"] + p["C_L_alpha"] * a) ** 2 / (math.pi * self.e * self.AR)
+
+    def thrust(self, Va, dt):  # propulsion supplement (motor + propeller)
+        p, rho = self.p, self.rho
+        D = p["D_prop"]
+        V_in = p["V_max"] * dt
+        a = rho * D ** 5 * p["CQ_0"] / (2 * math.pi) ** 2
+        b = rho * D ** 4 * p["CQ_1"] * Va / (2 * math.pi) + p["KQ"] ** 2 / p["R_motor"]
+        c = rho * D ** 3 * p["CQ_2"] * Va ** 2 - p["KQ"] * V_in / p["R_motor"] + p["KQ"] * p["I_0"]
+        Om = (-b + math.sqrt(max(b * b - 4 * a * c, 0.0))) / (2 * a)
+        J = 2 * math.pi * Va / (Om * D)
+        CT = p["CT_2"] * J ** 2 + p["CT_1"] * J + p["CT_0"]
+        return rho * (Om / (2 * math.pi)) ** 2 * D ** 4 * CT
+
+    def trim_level(self, Va):
+        """Straight and level trim: theta = alpha, C_m = 0, Z = 0, X = 0. Returns alpha, de, dt."""
+        p = self.p
+        qS = 0.5 * self.rho * Va ** 2 * self.S
+
+        def de_of(a):
+            return -(p["C_m_O"] + p["C_m_alpha"] * a) / p["C_m_delta_e"]
+
+        def z(a):  # body-z force with theta = alpha (level flight)
+            de = de_of(a)
+            L = qS * (self.CL(a) + p["C_L_delta_e"] * de)
+            D = qS * (self.CD(a) + p["C_D_delta_e"] * de)
+            return -math.sin(a) * D - math.cos(a) * L + self.m * G * math.cos(a)
+
+        # the first sign change of Z from alpha = -0.2 upward (the attached-flow branch)
+        lo = -0.2
+        while z(lo + 0.005) > 0 and lo < 0.5:
+            lo += 0.005
+        if lo >= 0.5:
+            raise SystemExit(f"no level-flight trim found at Va = {Va} m/s")
+        hi = lo + 0.005
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if (z(lo) > 0) == (z(mid) > 0):
+                lo = mid
+            else:
+                hi = mid
+        a = 0.5 * (lo + hi)
+        de = de_of(a)
+        L = qS * (self.CL(a) + p["C_L_delta_e"] * de)
+        D = qS * (self.CD(a) + p["C_D_delta_e"] * de)
+        T_req = self.m * G * math.sin(a) + math.cos(a) * D - math.sin(a) * L
+        lo, hi = 0.0, 1.0
+        for _ in range(200):
+            mid = 0.5 * (lo + hi)
+            if self.thrust(Va, mid) < T_req:
+                lo = mid
+            else:
+                hi = mid
+        return a, de, 0.5 * (lo + hi)
+
+    def coefficients(self, Va):
+        """Transfer-function coefficients, uavbook sections 5.4 (eqs. 5.23-5.29 and the
+        propulsion-model form of a_V1, a_V2)."""
+        p, rho, S, b, c = self.p, self.rho, self.S, self.b, self.c
+        a, de, dt = self.trim_level(Va)
+        Cpp = self.G3 * p["C_ell_p"] + self.G4 * p["C_n_p"]
+        Cpda = self.G3 * p["C_ell_delta_a"] + self.G4 * p["C_n_delta_a"]
+        k = {}
+        k["alpha_trim"], k["delta_e_trim"], k["delta_t_trim"] = a, de, dt
+        k["a_phi1"] = -0.25 * rho * Va * S * b ** 2 * Cpp
+        k["a_phi2"] = 0.5 * rho * Va ** 2 * S * b * Cpda
+        qc = rho * Va ** 2 * c * S / (2 * self.Jy)
+        k["a_theta1"] = -qc * p["C_m_q"] * c / (2 * Va)
+        k["a_theta2"] = -qc * p["C_m_alpha"]
+        k["a_theta3"] = qc * p["C_m_delta_e"]
+        h = 1e-4
+        dT_dVa = (self.thrust(Va + h, dt) - self.thrust(Va - h, dt)) / (2 * h)
+        dT_ddt = (self.thrust(Va, dt + h) - self.thrust(Va, dt - h)) / (2 * h)
+        k["a_V1"] = rho * Va * S / self.m * (self.CD(a) + p["C_D_delta_e"] * de) - dT_dVa / self.m
+        k["a_V2"] = dT_ddt / self.m
+        k["a_V3"] = G  # g cos(theta* - alpha*), level trim
+        k["a_beta1"] = -rho * Va * S / (2 * self.m) * p["C_Y_beta"]
+        k["a_beta2"] = rho * Va * S / (2 * self.m) * p["C_Y_delta_r"]
+        return k
+
+
+def design(k, Va, o):
+    """uavbook section 6.1 (lateral) and 6.2 (longitudinal) successive loop closure.
+    tern's pitch gains are magnitudes: delta_e = trim_e - (kp (theta_c - theta) - kd q), so
+    pitch_kp = -k_p_theta and pitch_kd = -k_d_theta of the book (a_theta3 < 0)."""
+    g = {}
+    # roll: phi/delta_a = a_phi2 / (s (s + a_phi1)); closed loop s^2 + (a_phi1 + a_phi2 kd) s + a_phi2 kp
+    wn_phi = o.wn_phi
+    g["roll_kp"] = wn_phi ** 2 / k["a_phi2"]
+    g["roll_kd"] = max(0.0, (2 * o.zeta_phi * wn_phi - k["a_phi1"]) / k["a_phi2"])
+    g["roll_ki"] = 0.0
+    # the slow pole of the roll loop (kd may be clamped at 0 when a_phi1 is large)
+    s1 = k["a_phi1"] + k["a_phi2"] * g["roll_kd"]
+    s0 = k["a_phi2"] * g["roll_kp"]
+    disc = s1 * s1 - 4 * s0
+    w_roll = (s1 - math.sqrt(disc)) / 2 if disc > 0 else math.sqrt(s0)
+    # course: chi/phi = (g/Vg)/s; PI with bandwidth separation W_chi (book eq. 6.12)
+    wn_chi = w_roll / o.W_chi
+    g["course_kp"] = 2 * o.zeta_chi * wn_chi * Va / G
+    g["course_ki"] = wn_chi ** 2 * Va / G
+    g["course_kd"] = 0.0
+    # pitch: theta/delta_e = a_theta3 / (s^2 + a_theta1 s + a_theta2)
+    # choose the closed-loop DC gain K_theta_DC: kp a3 / (a2 + kp a3) = K  ->  kp = K a2 / ((1 - K) a3)
+    kp_th = o.K_theta_DC * k["a_theta2"] / ((1 - o.K_theta_DC) * k["a_theta3"])
+    wn_th = math.sqrt(k["a_theta2"] + kp_th * k["a_theta3"])
+    kd_th = (2 * o.zeta_theta * wn_th - k["a_theta1"]) / k["a_theta3"]
+    K_dc = kp_th * k["a_theta3"] / (k["a_theta2"] + kp_th * k["a_theta3"])
+    g["pitch_kp"], g["pitch_kd"], g["pitch_ki"] = -kp_th, max(0.0, -kd_th), 0.0
+    # altitude: h/theta = Va/s through the pitch loop's DC gain K_theta_DC (eq. 6.24)
+    wn_h = wn_th / o.W_h
+    g["altitude_ki"] = wn_h ** 2 / (K_dc * Va)
+    g["altitude_kp"] = 2 * o.zeta_h * wn_h / (K_dc * Va)
+    g["altitude_kd"] = 0.0
+    # airspeed with throttle: Va/delta_t = a_V2 / (s + a_V1) (eq. 6.29)
+    wn_v = o.wn_V
+    g["airspeed_ki"] = wn_v ** 2 / k["a_V2"]
+    g["airspeed_kp"] = max(0.0, (2 * o.zeta_V * wn_v - k["a_V1"]) / k["a_V2"])
+    g["airspeed_kd"] = 0.0
+    # yaw damper (section 6.1.3, washout on r)
+    g["yaw_damper_kr"] = o.kr
+    g["yaw_damper_p_wo"] = o.p_wo
+    g["trim_e"] = k["delta_e_trim"]
+    g["trim_t"] = k["delta_t_trim"]
+    return g, K_dc, w_roll
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dynamics")
+    ap.add_argument("--Va", type=float, required=True, help="trim airspeed, m/s")
+    ap.add_argument("--mass", type=float, required=True)
+    ap.add_argument("--J", type=float, nargs=4, required=True, metavar=("Jx", "Jy", "Jz", "Jxz"))
+    ap.add_argument("--e", type=float, default=0.9, help="Oswald efficiency")
+    ap.add_argument("--wn-phi", dest="wn_phi", type=float, default=8.0, help="roll natural frequency, rad/s")
+    ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.9)
+    ap.add_argument("--W-chi", dest="W_chi", type=float, default=4.0, help="course/roll bandwidth separation")
+    ap.add_argument("--zeta-chi", dest="zeta_chi", type=float, default=1.0)
+    ap.add_argument("--K-theta-DC", dest="K_theta_DC", type=float, default=0.6, help="pitch loop DC gain (sets pitch_kp)")
+    ap.add_argument("--zeta-theta", dest="zeta_theta", type=float, default=0.8)
+    ap.add_argument("--W-h", dest="W_h", type=float, default=25.0, help="altitude/pitch bandwidth separation")
+    ap.add_argument("--zeta-h", dest="zeta_h", type=float, default=1.0)
+    ap.add_argument("--wn-V", dest="wn_V", type=float, default=1.0, help="airspeed natural frequency, rad/s")
+    ap.add_argument("--zeta-V", dest="zeta_V", type=float, default=1.0)
+    ap.add_argument("--kr", type=float, default=0.3, help="yaw damper gain, rad rudder per rad/s")
+    ap.add_argument("--p-wo", dest="p_wo", type=float, default=0.5, help="washout pole, rad/s")
+    ap.add_argument("--yaml", help="write the gains as a flat param file")
+    o = ap.parse_args(argv)
+    ac = Aircraft(load(o.dynamics), o.mass, o.J, o.e)
+    k = ac.coefficients(o.Va)
+    g, K_dc, w_roll = design(k, o.Va, o)
+    print(f"# trim at Va = {o.Va} m/s: alpha = {k['alpha_trim']:.4f} rad, delta_e = {k['delta_e_trim']:.4f} rad, "
+          f"delta_t = {k['delta_t_trim']:.4f}")
+    for name in ["a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"]:
+        print(f"#   {name} = {k[name]:.4f}")
+    print(f"#   roll loop slow pole {w_roll:.3f} rad/s, K_theta_DC = {K_dc:.4f}, "
+          f"pitch loop wn = {math.sqrt(k['a_theta2'] - g['pitch_kp'] * k['a_theta3']):.3f} rad/s")
+    lines = [f"{n}: {v:.6g}" for n, v in g.items()]
+    print("\n".join(lines))
+    if o.yaml:
+        with open(o.yaml, "w") as f:
+            f.write("\n".join(lines) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
