@@ -11,6 +11,11 @@
 #include <set>
 #include <sstream>
 #include <thread>
+#include <bit>
+#include <fstream>
+#if defined(__x86_64__)
+#include <x86intrin.h>
+#endif
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -32,6 +37,46 @@ extern "C" void tern_on_signal(int sig) { request_stop(sig); }
 
 std::int64_t wall_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// Step timing clock: the CPU's invariant TSC where there is one (a read costs about half of
+// clock_gettime's), else steady_clock. Calibrated once per process against steady_clock.
+struct CycleClock {
+  bool tsc = false;
+  double ns_per_cycle = 1.0;
+  CycleClock() {
+#if defined(__x86_64__)
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string line;
+    bool constant = false, nonstop = false;
+    while (std::getline(cpuinfo, line) && line.rfind("flags", 0) != 0) {}
+    constant = line.find(" constant_tsc") != std::string::npos;
+    nonstop = line.find(" nonstop_tsc") != std::string::npos;
+    if (constant && nonstop) {
+      const std::int64_t w0 = wall_ns();
+      const std::uint64_t c0 = __rdtsc();
+      while (wall_ns() - w0 < 2'000'000) {}
+      const std::int64_t w1 = wall_ns();
+      const std::uint64_t c1 = __rdtsc();
+      if (c1 > c0) {
+        tsc = true;
+        ns_per_cycle = static_cast<double>(w1 - w0) / static_cast<double>(c1 - c0);
+      }
+    }
+#endif
+  }
+  std::int64_t now() const {
+#if defined(__x86_64__)
+    if (tsc) return static_cast<std::int64_t>(__rdtsc());
+#endif
+    return wall_ns();
+  }
+  Nanos to_ns(std::int64_t cycles) const { return tsc ? static_cast<Nanos>(static_cast<double>(cycles) * ns_per_cycle) : cycles; }
+};
+
+const CycleClock& cycle_clock() {
+  static const CycleClock c;
+  return c;
 }
 
 std::uint64_t splitmix64(std::uint64_t x) {
@@ -95,8 +140,11 @@ void StepStats::add(Nanos dt) {
   total_ns += dt;
   max_ns = std::max(max_ns, dt);
   if (budget_ns > 0 && dt > budget_ns) ++overruns;
-  const double x = dt <= 1 ? 0.0 : 4.0 * std::log2(static_cast<double>(dt));
-  const std::size_t b = std::min<std::size_t>(histogram.size() - 1, static_cast<std::size_t>(x));
+  // bucket = 4 log2(dt), from the bit width and the next two bits: no floating point
+  const auto u = static_cast<std::uint64_t>(dt < 1 ? 1 : dt);
+  const int w = std::bit_width(u);
+  const std::size_t frac = w >= 3 ? static_cast<std::size_t>((u >> (w - 3)) & 3u) : 0;
+  const std::size_t b = std::min<std::size_t>(histogram.size() - 1, 4 * static_cast<std::size_t>(w - 1) + frac);
   ++histogram[b];
 }
 
@@ -106,7 +154,10 @@ Nanos StepStats::percentile(double p) const {
   double cum = 0;
   for (std::size_t b = 0; b < histogram.size(); ++b) {
     cum += histogram[b];
-    if (cum >= target) return static_cast<Nanos>(std::exp2((static_cast<double>(b) + 1) / 4.0));
+    if (cum >= target) {  // upper edge of the bucket
+      const std::size_t w = b / 4, frac = b % 4;
+      return static_cast<Nanos>((std::uint64_t{4} + frac + 1) << w) / 4;
+    }
   }
   return max_ns;
 }
@@ -174,6 +225,7 @@ struct Host::Topic {
 
 Host::Host(MissionConfig config, HostOptions options) : config_(std::move(config)), options_(std::move(options)) {
   created_ns_ = wall_ns();
+  (void)cycle_clock();  // calibrate before anything is timed
   seed_ = options_.seed.value_or(config_.seed);
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
   console->set_level(options_.quiet ? spdlog::level::warn : spdlog::level::info);
@@ -561,7 +613,9 @@ std::string Host::graph_dot() const {
 }
 
 bool Host::step_instance(Instance& inst, Nanos now, std::string& error) {
-  const std::int64_t t0 = wall_ns();
+  // One clock read per step: the end of a step is the start of the next one in the same tick
+  // (the few ns spent deciding that an instance is not due count towards the next step).
+  const CycleClock& clock = cycle_clock();
   try {
     inst.plugin->step(now);
   } catch (const std::exception& e) {
@@ -569,7 +623,9 @@ bool Host::step_instance(Instance& inst, Nanos now, std::string& error) {
   } catch (...) {
     error = "unknown exception";
   }
-  inst.stats.add(wall_ns() - t0);
+  const std::int64_t t1 = clock.now();
+  inst.stats.add(clock.to_ns(t1 - step_clock_));
+  step_clock_ = t1;
   for (auto* in : inst.plugin->inputs()) in->mark_seen();
   return error.empty();
 }
@@ -710,6 +766,7 @@ FlightResult Host::fly() {
       break;
     }
     bool failed = false;
+    step_clock_ = cycle_clock().now();
     for (auto idx : order_) {
       Instance& inst = *instances_[idx];
       if (inst.routed && (!active_ || *active_ != idx)) continue;

@@ -142,6 +142,7 @@ class Host {
   msg::Actuators last_good_{};
   std::vector<std::shared_ptr<spdlog::sinks::sink>> extra_sinks_;
   std::int64_t created_ns_ = 0;
+  std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   double start_to_first_tick_ms_ = 0;
   bool built_ = false;
 };
