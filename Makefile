@@ -1,0 +1,53 @@
+# tern: front end to CMake. `make fly` and `make test` do the whole set-up on a fresh Debian
+# machine (packages, configure, build). See README.md.
+BUILD ?= build
+JOBS ?= 2
+CONFIG ?= configs/missions/default.yaml
+CMAKE_ARGS ?=
+
+# Every Debian package tern needs to build, test, fly and plot.
+DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
+  libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
+  doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
+  python3 python3-matplotlib python3-numpy
+
+.PHONY: all deps configure build fly test bench clean
+
+all: build
+
+deps:
+	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed$$' || missing="$$missing $$p"; \
+	done; \
+	if [ -z "$$missing" ]; then echo "deps: all Debian packages present"; exit 0; fi; \
+	if [ "$$(id -u)" -ne 0 ]; then \
+	  echo "deps: missing Debian packages; run as root:"; \
+	  echo "  apt-get update && apt-get install -y --no-install-recommends$$missing"; exit 1; \
+	fi; \
+	echo "deps: installing$$missing"; \
+	export DEBIAN_FRONTEND=noninteractive; \
+	apt-get update -q && apt-get install -y -q --no-install-recommends $$missing
+
+$(BUILD)/build.ninja:
+	cmake -S . -B $(BUILD) -G Ninja $(CMAKE_ARGS)
+
+configure: deps $(BUILD)/build.ninja
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+fly: build
+	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs
+	@run=$$(ls -1dt runs/*/ | head -1); \
+	if [ -x $(BUILD)/bin/tern-plot ]; then $(BUILD)/bin/tern-plot $$run; fi; \
+	echo "flight log: $$run"; \
+	if [ -d $$run/plots ]; then echo "plots:      $$run""plots/"; fi
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	cmake --build $(BUILD) --target bench
+
+clean:
+	rm -rf $(BUILD)
