@@ -113,3 +113,219 @@ TEST_CASE("flight: straight, turns (30 and 60 deg bank), climb; accuracy after c
   CHECK(e.gyro_bias.rms() < 0.003);
   CHECK(e.Va.rms() < 0.3);
 }
+
+namespace {
+/// A converged estimator in the mixed flight (20 s after initialisation).
+struct Converged {
+  TruthSim sim{mixed_flight()};
+  Estimator est;
+  Converged() { fly(sim, est, 22.0); }
+  double pos_error() const {
+    return (est.filter().x().p - truth_position(sim.truth(), est, sim)).norm();
+  }
+};
+}  // namespace
+
+TEST_CASE("a 100 m GNSS jump is rejected by the gate and counted; the state does not move") {
+  Converged c;
+  const auto rejected0 = c.est.gnss_position_model().stats.rejected;
+  double worst = 0.0;
+  bool jumped = false;
+  Hooks h;
+  h.gnss = [&](msg::Gnss& g) {
+    if (!jumped && c.sim.now() >= from_seconds(30.0)) {
+      jumped = true;
+      g.lat += 100.0 / 111'000.0;  // about 100 m north
+    }
+    return true;
+  };
+  fly(c.sim, c.est, 10.0, h, [&](const Truth& t, const Estimator& e) {
+    worst = std::max(worst, (e.filter().x().p - truth_position(t, e, c.sim)).norm());
+  });
+  CHECK(jumped);
+  CHECK(c.est.gnss_position_model().stats.rejected == rejected0 + 1);
+  CHECK(worst < 1.0);
+  CHECK(c.est.gnss_resets() == 0);
+}
+
+TEST_CASE("GNSS outage of 10 s: dead reckoning stays bounded, recovery without a jump") {
+  Converged c;
+  Hooks h;
+  const Nanos t_out = c.sim.now() + from_seconds(5.0);
+  const Nanos t_back = t_out + from_seconds(10.0);
+  h.gnss = [&](msg::Gnss&) { return c.sim.now() < t_out || c.sim.now() >= t_back; };
+  double worst_outage = 0.0, jump = 0.0, worst_after = 0.0;
+  Vec3 p_prev = c.est.filter().x().p;
+  Vec3 v_prev = c.est.filter().x().v;
+  fly(c.sim, c.est, 25.0, h, [&](const Truth& t, const Estimator& e) {
+    const Vec3 p = e.filter().x().p;
+    const double err = (p - truth_position(t, e, c.sim)).norm();
+    if (c.sim.now() >= t_out && c.sim.now() < t_back) worst_outage = std::max(worst_outage, err);
+    // Jump: the change of position beyond what the velocity explains over one IMU period.
+    jump = std::max(jump, (p - p_prev - v_prev * 0.0025).norm());
+    if (c.sim.now() >= t_back + from_seconds(5.0)) worst_after = std::max(worst_after, err);
+    p_prev = p;
+    v_prev = e.filter().x().v;
+  });
+  std::printf("gnss outage 10 s: worst error %.2f m, largest step at recovery %.2f m, worst error 5 s after %.2f m\n",
+              worst_outage, jump, worst_after);
+  CHECK(c.est.counters(Sensor::gnss).timeouts == 1);
+  CHECK(worst_outage < 5.0);
+  CHECK(jump < 5.0);
+  CHECK(worst_after < 1.0);
+  CHECK(c.est.gnss_resets() == 0);
+}
+
+TEST_CASE("NaN, Inf and out-of-range samples are rejected, counted, never propagated") {
+  Converged c;
+  int k = 0;
+  Hooks h;
+  h.imu = [&](msg::Imu& m) {
+    if (++k % 97 == 0) m.gyro.y() = NAN;
+    if (k % 101 == 0) m.accel.x() = INFINITY;
+    if (k % 103 == 0) m.accel.z() = 1e4;
+    return true;
+  };
+  int n_gnss = 0;
+  h.gnss = [&](msg::Gnss& m) {
+    if (++n_gnss % 3 == 0) m.lat = NAN;
+    return true;
+  };
+  h.baro = [&](msg::Baro& m) {
+    if (k % 7 == 0) m.pressure = NAN;
+    return true;
+  };
+  h.pitot = [&](msg::DiffPressure& m) {
+    if (k % 9 == 0) m.pressure = -INFINITY;
+    return true;
+  };
+  h.mag = [&](msg::Mag& m) {
+    if (k % 11 == 0) m.field.z() = NAN;
+    return true;
+  };
+  Errors e, clean;
+  fly(c.sim, c.est, 20.0, h, [&](const Truth& t, const Estimator& x) { e.add(t, x, c.sim); });
+  {  // The same flight without the bad samples (same seed: same truth and sensor noise).
+    Converged ref;
+    fly(ref.sim, ref.est, 20.0, {}, [&](const Truth& t, const Estimator& x) { clean.add(t, x, ref.sim); });
+  }
+  for (Sensor s : {Sensor::imu, Sensor::gnss, Sensor::baro, Sensor::diff_pressure, Sensor::mag}) {
+    INFO(sensor_name(s));
+    CHECK(c.est.counters(s).invalid > 0);
+  }
+  CHECK(c.est.counters(Sensor::imu).invalid == 8000 / 97 + 8000 / 101 + 8000 / 103);
+  CHECK(c.est.counters(Sensor::gnss).invalid == 200 / 3);
+  CHECK(c.est.filter().healthy());
+  CHECK(c.est.filter_resets() == 0);
+  const msg::State s = c.est.state();
+  CHECK(std::isfinite(s.p_n + s.u + s.phi + s.Va + s.alpha + s.beta + s.w_n + s.b_x));
+  // Losing a third of the GNSS and a few percent of the other samples costs little accuracy.
+  CHECK(e.pos_h.max < clean.pos_h.max + 0.3);
+  CHECK(e.att.max < clean.att.max + 0.2 * kPi / 180);
+  CHECK(e.vel.rms() < clean.vel.rms() + 0.02);
+  bool first_invalid_logged = false;
+  for (const Event& ev : c.est.take_events())
+    first_invalid_logged = first_invalid_logged || ev.kind == EventKind::first_invalid;
+  CHECK(first_invalid_logged);
+}
+
+TEST_CASE("sensor time-outs are detected and recoveries reported") {
+  Converged c;
+  const Nanos t0 = c.sim.now() + from_seconds(2.0);
+  Hooks h;
+  h.baro = [&](msg::Baro&) { return c.sim.now() < t0 || c.sim.now() >= t0 + from_seconds(2.0); };
+  c.est.take_events();
+  fly(c.sim, c.est, 6.0, h);
+  CHECK(c.est.counters(Sensor::baro).timeouts == 1);
+  CHECK(c.est.counters(Sensor::mag).timeouts == 0);
+  int timeouts = 0, recoveries = 0;
+  for (const Event& ev : c.est.take_events()) {
+    if (ev.sensor != Sensor::baro) continue;
+    if (ev.kind == EventKind::sensor_timeout) ++timeouts;
+    if (ev.kind == EventKind::sensor_recovered) {
+      ++recoveries;
+      CHECK(ev.value == doctest::Approx(2.0).epsilon(0.01));
+    }
+  }
+  CHECK(timeouts == 1);
+  CHECK(recoveries == 1);
+}
+
+TEST_CASE("a GNSS that stays offset is trusted again after gnss_reset_time") {
+  Converged c;
+  Hooks h;
+  const Nanos t0 = c.sim.now() + from_seconds(1.0);
+  h.gnss = [&](msg::Gnss& g) {
+    if (c.sim.now() >= t0) g.lon += 60.0 / 85'000.0;  // about 60 m east, for good
+    return true;
+  };
+  fly(c.sim, c.est, 10.0, h);
+  CHECK(c.est.gnss_resets() == 1);
+  // Now following the shifted GNSS.
+  const Vec3 err = c.est.filter().x().p - truth_position(c.sim.truth(), c.est, c.sim);
+  CHECK(err.y() == doctest::Approx(60.0).epsilon(0.05));
+  CHECK(c.est.filter().healthy());
+}
+
+TEST_CASE("initialisation waits for a 3-D fix; the origin is that fix") {
+  SimOptions o = mixed_flight();
+  TruthSim sim(o);
+  Estimator est;
+  Hooks h;
+  int fixes = 0;
+  msg::Gnss first;
+  h.gnss = [&](msg::Gnss& g) {
+    if (sim.now() < from_seconds(1.0)) g.fix_type = msg::FixType::fix_2d;
+    else if (fixes++ == 0) first = g;
+    return true;
+  };
+  fly(sim, est, 0.95, h);
+  CHECK_FALSE(est.origin_valid());
+  CHECK_FALSE(est.initialized());
+  CHECK(est.counters(Sensor::gnss).received == 9);
+  fly(sim, est, 0.1, h);
+  REQUIRE(est.origin_valid());
+  CHECK(est.initialized());
+  const msg::State s = est.state();
+  CHECK(s.origin_valid);
+  CHECK(s.valid);
+  CHECK(s.origin_lat == first.lat);
+  CHECK(s.origin_lon == first.lon);
+  CHECK(s.origin_alt == first.alt);
+  CHECK(Vec3(s.p_n, s.p_e, s.p_d).norm() < 1.0);
+  // In flight (moving): gyro bias not taken from the average; converges in flight.
+  fly(sim, est, 60.0, h);
+  CHECK((est.filter().x().b_g - o.gyro_bias).norm() < 0.003);
+}
+
+TEST_CASE("barometer: ground calibration, then altitude bias tracked") {
+  SimOptions o;
+  o.static_mode = true;
+  o.wind.setZero();
+  TruthSim sim(o);
+  Estimator est;
+  fly(sim, est, 1.2);
+  bool calibrated = false;
+  for (const Event& ev : est.take_events()) calibrated = calibrated || ev.kind == EventKind::baro_calibrated;
+  CHECK(calibrated);
+  CHECK(est.baro_model().stats.accepted > 0);
+  fly(sim, est, 30.0);
+  // Baro-derived altitude agrees with the estimate within the baro noise.
+  CHECK(std::fabs(est.state().p_d - truth_position(sim.truth(), est, sim).z()) < 0.5);
+}
+
+TEST_CASE("determinism: same inputs, bit-identical estimates") {
+  auto run = [] {
+    TruthSim sim(mixed_flight());
+    Estimator est;
+    fly(sim, est, 15.0);
+    return est.state();
+  };
+  const msg::State a = run(), b = run();
+  CHECK(a.p_n == b.p_n);
+  CHECK(a.p_e == b.p_e);
+  CHECK(a.p_d == b.p_d);
+  CHECK(a.psi == b.psi);
+  CHECK(a.w_n == b.w_n);
+  CHECK(a.b_z == b.b_z);
+}
