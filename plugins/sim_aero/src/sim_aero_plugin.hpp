@@ -1,0 +1,487 @@
+// sim_aero_plugin.hpp: the tern plugin around the simulator (tern_sim_aero/*.hpp). It integrates the
+// aircraft from the previous step time to `now` in fixed sub-steps of 1/sim_rate, and publishes
+// each sensor when due on its own integer-nanosecond schedule (k * period), plus the true state
+// on `truth`. Input `actuators` is optional: without it the surfaces stay at zero (or at the
+// trim inputs when init_mode is "trim") and the throttle at 0 (or trim).
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+#include "tern/math.hpp"
+#include "tern/plugin.hpp"
+#include "tern_sim_aero/aircraft.hpp"
+#include "tern_sim_aero/sensors.hpp"
+#include "tern_sim_aero/simulator.hpp"
+#include "tern_sim_aero/trim.hpp"
+
+namespace tern::sim_aero {
+
+using tern::Nanos;
+using tern::ParamError;
+using tern::ParamSpec;
+namespace sim = tern::sim;
+namespace msg = tern::msg;
+
+struct SensorSlot {
+  tern::Param<double> rate;
+  tern::Param<bool> enabled;
+  tern::Param<std::vector<double>> dropout;
+  sim::SensorSchedule schedule;
+};
+
+/// The sim_aero plugin (registered in plugin.cpp; the tests construct it directly).
+class SimAero final : public tern::Plugin {
+ public:
+  void configure() override {
+    declare(actuators_in_, "actuators", "surface deflections (rad) and throttle (0..1)", tern::Need::optional);
+    declare(imu_out_, "imu", "accelerometer and gyro");
+    declare(gnss_out_, "gnss", "GNSS fix");
+    declare(baro_out_, "baro", "static pressure");
+    declare(diff_out_, "diff_pressure", "pitot differential pressure");
+    declare(mag_out_, "mag", "magnetometer");
+    declare(truth_out_, "truth", "true state of the simulated aircraft");
+    declare(rc_out_, "rc", "RC receiver (the simulated pilot's sticks: centred, no override)");
+    declare(status_out_, "fcu_status", "simulated flight-control unit status");
+
+    declare(aircraft_, "aircraft", "",
+            ParamSpec("", 0, 0, "aircraft file (tern or ROSflight format); empty: the mission's aircraft").as_path());
+    declare(sim_rate_, "sim_rate", 400.0, ParamSpec("Hz", 50, 20000, "integration rate (fixed RK4 sub-steps)"));
+    declare(init_mode_, "init_mode", "ground",
+            ParamSpec("", 0, 0, "initial state: on the ground at rest, in the air level, or at trim")
+                .one_of({"ground", "air", "trim"}));
+    declare(init_position_, "init_position", std::vector<double>{0.0, 0.0},
+            ParamSpec("m", -1e6, 1e6, "initial north, east position").of_size(2));
+    declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", 0, 10000, "initial height above the ground (air, trim)"));
+    declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 0, 100, "initial airspeed (air, trim)"));
+    declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7, 7, "initial heading psi"));
+    declare(wind_, "wind", std::vector<double>{0.0, 0.0, 0.0},
+            ParamSpec("m/s", -50, 50, "steady wind, NED (direction the air moves to)").of_size(3));
+    declare(turbulence_, "turbulence", "none",
+            ParamSpec("", 0, 0, "Dryden turbulence, MIL-F-8785C low altitude").one_of({"none", "light", "moderate"}));
+    declare(gusts_, "gusts", std::vector<double>{},
+            ParamSpec("", -1e6, 1e6, "scheduled 1-cosine gusts: groups of [start s, duration s, w_n, w_e, w_d m/s]"));
+    declare(gust_rate_, "gust_rate", 0.0, ParamSpec("1/s", 0, 10, "random 1-cosine gusts per second (0: none)"));
+    declare(gust_max_, "gust_max", 0.0, ParamSpec("m/s", 0, 30, "peak speed of random gusts, uniform in [0, max]"));
+    declare(gust_min_duration_, "gust_min_duration", 1.0, ParamSpec("s", 0.01, 100, "shortest random gust"));
+    declare(gust_max_duration_, "gust_max_duration", 3.0, ParamSpec("s", 0.01, 100, "longest random gust"));
+
+    const sim::SensorParams d;
+    declare_sensor(imu_, "imu", 400.0);
+    declare_sensor(mag_, "mag", 50.0);
+    declare_sensor(baro_, "baro", 100.0);
+    declare_sensor(diff_, "diff_pressure", 100.0);
+    declare_sensor(gnss_, "gnss", 10.0);
+    declare(accel_noise_, "accel_noise", d.accel_noise, ParamSpec("m/s^2", 0, 10, "accelerometer white noise, 1 sigma"));
+    declare(accel_bias_range_, "accel_bias_range", d.accel_bias_range, ParamSpec("m/s^2", 0, 5, "initial accelerometer bias, uniform in +-range"));
+    declare(accel_bias_walk_, "accel_bias_walk", d.accel_bias_walk, ParamSpec("m/s^2/sqrt(s)", 0, 1, "accelerometer bias random walk"));
+    declare(gyro_noise_, "gyro_noise", d.gyro_noise, ParamSpec("rad/s", 0, 1, "gyro white noise, 1 sigma"));
+    declare(gyro_bias_range_, "gyro_bias_range", d.gyro_bias_range, ParamSpec("rad/s", 0, 1, "initial gyro bias, uniform in +-range"));
+    declare(gyro_bias_walk_, "gyro_bias_walk", d.gyro_bias_walk, ParamSpec("rad/s/sqrt(s)", 0, 1, "gyro bias random walk"));
+    declare(mag_noise_, "mag_noise", d.mag_noise, ParamSpec("T", 0, 1e-3, "magnetometer white noise per axis"));
+    declare(mag_gm_sigma_, "mag_gm_sigma", d.mag_gm_sigma, ParamSpec("T", 0, 1e-3, "magnetometer Gauss-Markov error, steady sigma"));
+    declare(mag_gm_tau_, "mag_gm_tau", d.mag_gm_tau, ParamSpec("s", 0, 1e5, "magnetometer Gauss-Markov time constant"));
+    declare(mag_declination_, "mag_declination", d.mag_declination, ParamSpec("rad", -3.2, 3.2, "magnetic declination at the origin"));
+    declare(mag_inclination_, "mag_inclination", d.mag_inclination, ParamSpec("rad", -1.6, 1.6, "magnetic inclination at the origin"));
+    declare(mag_intensity_, "mag_intensity", d.mag_intensity, ParamSpec("T", 1e-6, 1e-3, "magnetic field strength at the origin"));
+    declare(baro_noise_, "baro_noise", d.baro_noise, ParamSpec("Pa", 0, 1000, "barometer white noise"));
+    declare(baro_bias_range_, "baro_bias_range", d.baro_bias_range, ParamSpec("Pa", 0, 5000, "initial barometer bias, uniform in +-range"));
+    declare(baro_bias_walk_, "baro_bias_walk", d.baro_bias_walk, ParamSpec("Pa/sqrt(s)", 0, 100, "barometer bias random walk"));
+    declare(diff_noise_, "diff_pressure_noise", d.diff_noise, ParamSpec("Pa", 0, 100, "differential pressure white noise"));
+    declare(diff_bias_range_, "diff_pressure_bias_range", d.diff_bias_range, ParamSpec("Pa", 0, 100, "initial differential pressure bias, uniform in +-range"));
+    declare(diff_bias_walk_, "diff_pressure_bias_walk", d.diff_bias_walk, ParamSpec("Pa/sqrt(s)", 0, 10, "differential pressure bias random walk"));
+    declare(gnss_h_noise_, "gnss_h_noise", d.gnss_h_noise, ParamSpec("m/sqrt(s)", 0, 100, "GNSS horizontal Gauss-Markov driving noise"));
+    declare(gnss_v_noise_, "gnss_v_noise", d.gnss_v_noise, ParamSpec("m/sqrt(s)", 0, 100, "GNSS vertical Gauss-Markov driving noise"));
+    declare(gnss_k_, "gnss_k", d.gnss_k, ParamSpec("1/s", 0, 10, "GNSS Gauss-Markov rate (book: 1/1100 s)"));
+    declare(gnss_vel_noise_, "gnss_vel_noise", d.gnss_vel_noise, ParamSpec("m/s", 0, 10, "GNSS velocity white noise per axis"));
+    declare(gnss_h_acc_, "gnss_h_acc", d.gnss_h_acc, ParamSpec("m", 0, 1000, "reported horizontal accuracy"));
+    declare(gnss_v_acc_, "gnss_v_acc", d.gnss_v_acc, ParamSpec("m", 0, 1000, "reported vertical accuracy"));
+    declare(gnss_s_acc_, "gnss_s_acc", d.gnss_s_acc, ParamSpec("m/s", 0, 100, "reported speed accuracy"));
+    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{12}, ParamSpec("", 0, 64, "reported satellites in use"));
+    declare(origin_lat_, "origin_lat", d.origin_lat, ParamSpec("deg", -90, 90, "latitude of the NED origin"));
+    declare(origin_lon_, "origin_lon", d.origin_lon, ParamSpec("deg", -180, 180, "longitude of the NED origin"));
+    declare(origin_alt_, "origin_alt", d.origin_alt, ParamSpec("m", -500, 9000, "altitude (MSL) of the NED origin = the ground"));
+    declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic"));
+    declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)"));
+    declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)"));
+    declare(armed_, "armed", true, ParamSpec("", 0, 0, "simulated FCU reports armed"));
+    declare(offboard_, "offboard", true, ParamSpec("", 0, 0, "simulated FCU follows tern's commands"));
+
+    // Check what can be checked without files.
+    for (SensorSlot* s : slots()) (void)period_of(s->rate, s->rate.name());
+    (void)period_of(sim_rate_, "sim_rate");
+    (void)period_of(truth_rate_, "truth_rate");
+    for (SensorSlot* s : slots()) (void)dropouts_of(*s);
+    check_gusts();
+    if (context().describing()) return;
+
+    std::string path = aircraft_();
+    if (path.empty()) path = context().aircraft_file().string();
+    if (path.empty()) {
+      throw ParamError("parameter '" + context().instance_name() +
+                       ".aircraft': no aircraft file (set it, or the mission config's aircraft: key)");
+    }
+    aircraft_data_ = sim::load_aircraft(path);
+    log().info("aircraft {} from {}", aircraft_data_->name, path);
+  }
+
+  void start() override { initialise(); }
+  void reset() override { initialise(); }
+
+  void step(Nanos now) override {
+    if (!sim_) initialise();
+    sim::Deltas cmd = default_cmd_;
+    if (actuators_in_.has_value()) {
+      const msg::Actuators& a = actuators_in_.get();
+      cmd.delta_a = a.delta_a;
+      cmd.delta_e = a.delta_e;
+      cmd.delta_r = a.delta_r;
+      cmd.delta_t = a.delta_t;
+    }
+    sim_->set_command(cmd);  // throws on NaN: an error, not a NaN flight
+    apply_live_params();
+    if (!stepped_) {
+      publish_due(t_);
+      stepped_ = true;
+    }
+    while (t_ < now) {
+      const Nanos dt = std::min(sim_dt_, now - t_);
+      sim_->step(static_cast<double>(dt) * 1e-9);
+      t_ += dt;
+      ++steps_;
+      publish_due(t_);
+    }
+  }
+
+  std::vector<std::pair<std::string, double>> summary() const override {
+    return {{"sim_steps", static_cast<double>(steps_)}, {"sim_crashed", sim_ && sim_->crashed() ? 1.0 : 0.0}};
+  }
+
+ private:
+  void declare_sensor(SensorSlot& s, const std::string& name, double rate) {
+    declare(s.rate, name + "_rate", rate, ParamSpec("Hz", 1, 20000, name + " sample rate"));
+    declare(s.enabled, name + "_enabled", true, ParamSpec("", 0, 0, name + " on (false: never published)"));
+    declare(s.dropout, name + "_dropout", std::vector<double>{},
+            ParamSpec("s", 0, 1e9, name + " drop-out windows: pairs [start, end) of flight time"));
+  }
+  std::vector<SensorSlot*> slots() { return {&imu_, &mag_, &baro_, &diff_, &gnss_}; }
+
+  Nanos period_of(double hz, const std::string& name) const {
+    try {
+      return tern::period_from_hz(hz);
+    } catch (const std::invalid_argument& e) {
+      throw ParamError("parameter '" + context().instance_name() + "." + name + "': " + e.what());
+    }
+  }
+  std::vector<std::pair<Nanos, Nanos>> dropouts_of(const SensorSlot& s) const {
+    const auto& v = s.dropout();
+    const std::string name = context().instance_name() + "." + s.dropout.name();
+    if (v.size() % 2 != 0) throw ParamError("parameter '" + name + "': needs pairs [start, end], got " + std::to_string(v.size()) + " values");
+    std::vector<std::pair<Nanos, Nanos>> out;
+    for (std::size_t i = 0; i < v.size(); i += 2) {
+      if (!(v[i + 1] > v[i])) throw ParamError("parameter '" + name + "': window " + std::to_string(i / 2) + " ends before it starts");
+      out.emplace_back(tern::from_seconds(v[i]), tern::from_seconds(v[i + 1]));
+    }
+    return out;
+  }
+  void check_gusts() const {
+    const auto& g = gusts_();
+    if (g.size() % 5 != 0) {
+      throw ParamError("parameter '" + context().instance_name() +
+                       ".gusts': needs groups of 5 [start, duration, w_n, w_e, w_d], got " + std::to_string(g.size()) + " values");
+    }
+    for (std::size_t i = 0; i < g.size(); i += 5) {
+      if (!(g[i + 1] > 0)) throw ParamError("parameter '" + context().instance_name() + ".gusts': gust " + std::to_string(i / 5) + " has duration <= 0");
+    }
+  }
+
+  sim::SensorParams sensor_params() const {
+    sim::SensorParams p;
+    p.accel_noise = accel_noise_();
+    p.accel_bias_range = accel_bias_range_();
+    p.accel_bias_walk = accel_bias_walk_();
+    p.gyro_noise = gyro_noise_();
+    p.gyro_bias_range = gyro_bias_range_();
+    p.gyro_bias_walk = gyro_bias_walk_();
+    p.mag_noise = mag_noise_();
+    p.mag_gm_sigma = mag_gm_sigma_();
+    p.mag_gm_tau = mag_gm_tau_();
+    p.mag_declination = mag_declination_();
+    p.mag_inclination = mag_inclination_();
+    p.mag_intensity = mag_intensity_();
+    p.baro_noise = baro_noise_();
+    p.baro_bias_range = baro_bias_range_();
+    p.baro_bias_walk = baro_bias_walk_();
+    p.diff_noise = diff_noise_();
+    p.diff_bias_range = diff_bias_range_();
+    p.diff_bias_walk = diff_bias_walk_();
+    p.gnss_h_noise = gnss_h_noise_();
+    p.gnss_v_noise = gnss_v_noise_();
+    p.gnss_k = gnss_k_();
+    p.gnss_vel_noise = gnss_vel_noise_();
+    p.gnss_h_acc = gnss_h_acc_();
+    p.gnss_v_acc = gnss_v_acc_();
+    p.gnss_s_acc = gnss_s_acc_();
+    p.gnss_num_sats = static_cast<int>(gnss_num_sats_());
+    p.origin_lat = origin_lat_();
+    p.origin_lon = origin_lon_();
+    p.origin_alt = origin_alt_();
+    return p;
+  }
+
+  void initialise() {
+    if (!aircraft_data_) throw std::runtime_error("sim_aero: no aircraft loaded (configure() ran in describing mode)");
+    const std::uint64_t seed = context().seed();
+    sim_ = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
+    sensors_ = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
+    sim_dt_ = period_of(sim_rate_(), "sim_rate");
+    for (SensorSlot* s : slots()) {
+      s->schedule = sim::SensorSchedule{};
+      s->schedule.period = period_of(s->rate(), s->rate.name());
+      s->schedule.enabled = s->enabled();
+      s->schedule.dropouts = dropouts_of(*s);
+    }
+    truth_sched_ = sim::SensorSchedule{};
+    truth_sched_.period = period_of(truth_rate_(), "truth_rate");
+    rc_sched_ = sim::SensorSchedule{};
+    rc_sched_.period = rc_rate_() > 0 ? period_of(rc_rate_(), "rc_rate") : 0;
+    status_sched_ = sim::SensorSchedule{};
+    status_sched_.period = status_rate_() > 0 ? period_of(status_rate_(), "status_rate") : 0;
+
+    // Wind.
+    sim_->set_turbulence(sim::dryden_preset(turbulence_()));
+    turbulence_applied_ = turbulence_();
+    const auto& g = gusts_();
+    for (std::size_t i = 0; i + 4 < g.size(); i += 5) {
+      sim::CosineGust c;
+      c.start = g[i];
+      c.duration = g[i + 1];
+      c.amplitude = Eigen::Vector3d(g[i + 2], g[i + 3], g[i + 4]);
+      sim_->gusts().add(c);
+    }
+    sim_->gusts().freeze_schedule();
+    sim_->gusts().set_random(gust_rate_(), gust_max_(), gust_min_duration_(), gust_max_duration_());
+    sim_->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
+
+    // Initial state.
+    const auto& ac = sim_->aircraft();
+    const Eigen::Vector2d ne(init_position_()[0], init_position_()[1]);
+    default_cmd_ = sim::Deltas{};
+    const std::string mode = init_mode_();
+    if (mode == "ground") {
+      sim_->set_state(sim::make_state({ne.x(), ne.y(), -sim::rest_height(ac)}, Eigen::Vector3d::Zero(), 0, 0,
+                                      init_heading_()));
+    } else if (mode == "air") {
+      sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0,
+                                      init_heading_()));
+    } else {
+      sim::TrimRequest req;
+      req.Va = init_airspeed_();
+      req.altitude = init_altitude_();
+      req.psi = init_heading_();
+      const sim::TrimResult tr = sim::compute_trim(ac, req);
+      sim::StateVector x = tr.x;
+      x[sim::PN] = ne.x();
+      x[sim::PE] = ne.y();
+      sim_->set_state(x, tr.delta);
+      default_cmd_ = tr.delta;
+      log().info("trim at {} m/s: alpha {:.4f} rad, delta_e {:.4f} rad, delta_t {:.3f}", req.Va, tr.alpha,
+                 tr.delta.delta_e, tr.delta.delta_t);
+    }
+    t_ = 0;
+    steps_ = 0;
+    stepped_ = false;
+  }
+
+  void apply_live_params() {
+    sim_->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
+    if (turbulence_() != turbulence_applied_) {
+      sim_->set_turbulence(sim::dryden_preset(turbulence_()));
+      turbulence_applied_ = turbulence_();
+    }
+  }
+
+  void publish_due(Nanos t) {
+    using Poll = sim::SensorSchedule::Poll;
+    std::optional<sim::Truth> truth;
+    auto get_truth = [&]() -> const sim::Truth& {
+      if (!truth) {
+        truth.emplace();
+        truth->x = sim_->state();
+        truth->fm = sim_->evaluate();
+        truth->mass = sim_->aircraft().mass;
+        truth->rho = sim_->aircraft().rho;
+      }
+      return *truth;
+    };
+    auto run = [&](SensorSlot& s, auto&& sample) {
+      const Poll p = s.schedule.poll(t);
+      if (p == Poll::idle) return;
+      sample(p == Poll::sample);
+    };
+    run(imu_, [&](bool ok) {
+      if (!ok) return;
+      const auto m = sensors_->imu(get_truth(), imu_.schedule.dt_since_last(t));
+      imu_.schedule.last_sample = t;
+      msg::Imu out;
+      out.stamp = t;
+      out.accel = m.accel;
+      out.gyro = m.gyro;
+      out.temperature = m.temperature;
+      imu_out_.publish(out);
+    });
+    run(mag_, [&](bool ok) {
+      if (!ok) return;
+      const auto m = sensors_->mag(get_truth(), mag_.schedule.dt_since_last(t));
+      mag_.schedule.last_sample = t;
+      msg::Mag out;
+      out.stamp = t;
+      out.field = m.field;
+      mag_out_.publish(out);
+    });
+    run(baro_, [&](bool ok) {
+      if (!ok) return;
+      const auto m = sensors_->baro(get_truth(), baro_.schedule.dt_since_last(t));
+      baro_.schedule.last_sample = t;
+      msg::Baro out;
+      out.stamp = t;
+      out.pressure = m.pressure;
+      out.temperature = m.temperature;
+      baro_out_.publish(out);
+    });
+    run(diff_, [&](bool ok) {
+      if (!ok) return;
+      const auto m = sensors_->diff_pressure(get_truth(), diff_.schedule.dt_since_last(t));
+      diff_.schedule.last_sample = t;
+      msg::DiffPressure out;
+      out.stamp = t;
+      out.pressure = m.pressure;
+      out.temperature = m.temperature;
+      diff_out_.publish(out);
+    });
+    run(gnss_, [&](bool ok) {
+      msg::Gnss out;
+      out.stamp = t;
+      if (ok) {
+        const auto m = sensors_->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
+        gnss_.schedule.last_sample = t;
+        out.fix_type = msg::FixType::fix_3d;
+        out.num_sats = static_cast<std::uint8_t>(m.num_sats);
+        out.lat = m.lat;
+        out.lon = m.lon;
+        out.alt = m.alt;
+        out.vel = m.vel_ned;
+        out.h_acc = m.h_acc;
+        out.v_acc = m.v_acc;
+        out.s_acc = m.s_acc;
+      } else if (!gnss_.schedule.enabled) {
+        return;  // switched off: silent
+      }
+      // In a drop-out window the receiver still reports, without a fix.
+      gnss_out_.publish(out);
+    });
+    if (truth_sched_.poll(t) == Poll::sample) publish_truth(t, get_truth());
+    if (rc_sched_.poll(t) == Poll::sample) {
+      msg::Rc rc;
+      rc.stamp = t;
+      rc_out_.publish(rc);
+    }
+    if (status_sched_.poll(t) == Poll::sample) {
+      msg::FcuStatus st;
+      st.stamp = t;
+      st.armed = armed_();
+      st.offboard = offboard_();
+      const auto& ac = sim_->aircraft();
+      const double V_in = ac.prop.V_max * sim_->surfaces().delta_t;
+      st.battery_voltage = ac.prop.V_max;
+      st.battery_current = std::max(0.0, (V_in - ac.prop.K_Q * get_truth().fm.prop.Omega) / ac.prop.R_motor);
+      status_out_.publish(st);
+    }
+  }
+
+  void publish_truth(Nanos t, const sim::Truth& tr) {
+    const sim::StateVector& x = tr.x;
+    msg::State s;
+    s.stamp = t;
+    s.p_n = x[sim::PN];
+    s.p_e = x[sim::PE];
+    s.p_d = x[sim::PD];
+    s.u = x[sim::U];
+    s.v = x[sim::V];
+    s.w = x[sim::W];
+    const Eigen::Quaterniond q = sim::attitude(x);
+    const Eigen::Vector3d v_ned = q * Eigen::Vector3d(x[sim::U], x[sim::V], x[sim::W]);
+    s.v_n = v_ned.x();
+    s.v_e = v_ned.y();
+    s.v_d = v_ned.z();
+    const Eigen::Vector3d eul = tern::euler_from_quaternion(q);
+    s.phi = eul.x();
+    s.theta = eul.y();
+    s.psi = eul.z();
+    s.quat = q;
+    s.p = x[sim::P];
+    s.q = x[sim::Q];
+    s.r = x[sim::R];
+    s.Va = tr.fm.air.Va;
+    s.alpha = tr.fm.air.alpha;
+    s.beta = tr.fm.air.beta;
+    s.Vg = v_ned.norm();
+    s.chi = tern::wrap_pi(std::atan2(v_ned.y(), v_ned.x()));
+    s.gamma = s.Vg > 1e-6 ? std::asin(std::clamp(-v_ned.z() / s.Vg, -1.0, 1.0)) : 0.0;
+    const Eigen::Vector3d w = sim_->wind_ned();
+    s.w_n = w.x();
+    s.w_e = w.y();
+    s.w_d = w.z();
+    s.b_x = sensors_->gyro_bias().x();
+    s.b_y = sensors_->gyro_bias().y();
+    s.b_z = sensors_->gyro_bias().z();
+    s.origin_lat = origin_lat_();
+    s.origin_lon = origin_lon_();
+    s.origin_alt = origin_alt_();
+    s.origin_valid = true;
+    s.valid = true;
+    truth_out_.publish(s);
+  }
+
+  tern::Input<msg::Actuators> actuators_in_;
+  tern::Output<msg::Imu> imu_out_;
+  tern::Output<msg::Gnss> gnss_out_;
+  tern::Output<msg::Baro> baro_out_;
+  tern::Output<msg::DiffPressure> diff_out_;
+  tern::Output<msg::Mag> mag_out_;
+  tern::Output<msg::State> truth_out_;
+  tern::Output<msg::Rc> rc_out_;
+  tern::Output<msg::FcuStatus> status_out_;
+
+  tern::Param<std::string> aircraft_, init_mode_, turbulence_;
+  tern::Param<double> sim_rate_, init_altitude_, init_airspeed_, init_heading_;
+  tern::Param<std::vector<double>> init_position_, wind_, gusts_;
+  tern::Param<double> gust_rate_, gust_max_, gust_min_duration_, gust_max_duration_;
+  SensorSlot imu_, mag_, baro_, diff_, gnss_;
+  tern::Param<double> accel_noise_, accel_bias_range_, accel_bias_walk_, gyro_noise_, gyro_bias_range_,
+      gyro_bias_walk_, mag_noise_, mag_gm_sigma_, mag_gm_tau_, mag_declination_, mag_inclination_,
+      mag_intensity_, baro_noise_, baro_bias_range_, baro_bias_walk_, diff_noise_, diff_bias_range_,
+      diff_bias_walk_, gnss_h_noise_, gnss_v_noise_, gnss_k_, gnss_vel_noise_, gnss_h_acc_, gnss_v_acc_,
+      gnss_s_acc_, origin_lat_, origin_lon_, origin_alt_, truth_rate_, rc_rate_, status_rate_;
+  tern::Param<std::int64_t> gnss_num_sats_;
+  tern::Param<bool> armed_, offboard_;
+
+  std::optional<sim::Aircraft> aircraft_data_;
+  std::unique_ptr<sim::Simulator> sim_;
+  std::unique_ptr<sim::Sensors> sensors_;
+  sim::SensorSchedule truth_sched_, rc_sched_, status_sched_;
+  sim::Deltas default_cmd_;
+  std::string turbulence_applied_;
+  Nanos sim_dt_ = 2'500'000;
+  Nanos t_ = 0;
+  std::uint64_t steps_ = 0;
+  bool stepped_ = false;
+};
+
+}  // namespace tern::sim_aero

@@ -1,0 +1,121 @@
+// Plugin-level tests of sim_aero through the SDK harness: rates, drop-outs, truth, determinism.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "sim_aero_plugin.hpp"
+#include "tern/testing/harness.hpp"
+
+using tern::from_seconds;
+using tern::Nanos;
+namespace msg = tern::msg;
+
+namespace {
+const std::string kAircraftDir = TERN_AIRCRAFT_DIR;
+
+tern::testing::Harness make(std::map<std::string, tern::ParamValue> params, std::uint64_t seed = 1) {
+  tern::testing::HarnessOptions o;
+  o.instance = "sim";
+  o.seed = seed;
+  o.aircraft_file = kAircraftDir + "/anaconda.yaml";
+  return tern::testing::Harness(std::make_unique<tern::sim_aero::SimAero>(), std::move(params), o);
+}
+
+void run(tern::testing::Harness& h, double seconds) {
+  const Nanos dt = 2'500'000;
+  for (Nanos t = 0; t <= from_seconds(seconds); t += dt) h.step(t);
+}
+}  // namespace
+
+TEST_CASE("plugin: sensors publish at their own rates; truth is filled") {
+  auto h = make({{"init_mode", std::string("trim")}});
+  run(h, 1.0);  // steps at 0, 2.5 ms, ..., 1 s
+  CHECK(h.published("imu") == 401);
+  CHECK(h.published("mag") == 51);
+  CHECK(h.published("baro") == 101);
+  CHECK(h.published("diff_pressure") == 101);
+  CHECK(h.published("gnss") == 11);
+  CHECK(h.published("truth") == 401);
+  CHECK(h.published("rc") == 51);
+  CHECK(h.published("fcu_status") == 11);
+  const auto& s = h.output<msg::State>("truth");
+  CHECK(s.stamp == from_seconds(1.0));
+  CHECK(s.Va == doctest::Approx(17.0).epsilon(0.01));  // no controller: trim inputs held
+  CHECK(s.Vg == doctest::Approx(17.0).epsilon(0.01));
+  CHECK(s.p_n == doctest::Approx(17.0).epsilon(0.02));
+  CHECK(s.altitude() == doctest::Approx(100.0).epsilon(0.01));
+  CHECK(std::fabs(s.chi) < 0.01);
+  CHECK(s.origin_lat == 40.2463724);
+  CHECK(s.valid);
+  CHECK(s.quat.norm() == doctest::Approx(1.0));
+  const auto& g = h.output<msg::Gnss>("gnss");
+  CHECK(g.fix_type == msg::FixType::fix_3d);
+  CHECK(g.alt == doctest::Approx(1387.0 + 100.0).epsilon(1e-3));
+  CHECK(h.output<msg::FcuStatus>("fcu_status").armed);
+  const auto& imu = h.output<msg::Imu>("imu");
+  CHECK(imu.accel.z() == doctest::Approx(-9.81).epsilon(0.1));  // lift = weight: -g in z
+}
+
+TEST_CASE("plugin: a sensor can be switched off or dropped out for a time window") {
+  auto h = make({{"imu_enabled", false},
+                 {"baro_dropout", std::vector<double>{0.2, 0.5}},
+                 {"gnss_dropout", std::vector<double>{0.3, 0.6}}});
+  int gnss_nofix = 0;
+  Nanos last_baro = -1;
+  for (Nanos t = 0; t <= from_seconds(1.0); t += 2'500'000) {
+    const auto before = h.published("gnss");
+    h.step(t);
+    if (h.published("gnss") != before && h.output<msg::Gnss>("gnss").fix_type == msg::FixType::none) ++gnss_nofix;
+    if (h.published("baro") > 0) {
+      last_baro = h.output<msg::Baro>("baro").stamp;
+      CHECK((last_baro < from_seconds(0.2) || last_baro >= from_seconds(0.5)));
+    }
+  }
+  CHECK(h.published("imu") == 0);
+  CHECK(h.published("baro") == 101 - 30);
+  CHECK(h.published("gnss") == 11);  // the receiver keeps reporting, without a fix
+  CHECK(gnss_nofix == 3);            // 0.3, 0.4, 0.5 s
+  CHECK(h.output<msg::Gnss>("gnss").fix_type == msg::FixType::fix_3d);
+}
+
+TEST_CASE("plugin: on the ground without a controller the aircraft waits; actuators fly it") {
+  auto h = make({});
+  run(h, 2.0);
+  CHECK(h.output<msg::State>("truth").Vg < 0.01);
+  msg::Actuators a;
+  a.delta_t = 1.0;
+  a.delta_e = 0.1;
+  h.set_input("actuators", a);
+  for (Nanos t = from_seconds(2.0); t <= from_seconds(5.0); t += 2'500'000) h.step(t);
+  CHECK(h.output<msg::State>("truth").altitude() > 3.0);
+  a.delta_a = std::nan("");
+  h.set_input("actuators", a);
+  CHECK_THROWS_WITH_AS(h.step(from_seconds(5.1)), "actuators: delta_a is not finite", std::runtime_error);
+}
+
+TEST_CASE("plugin: the same seed gives bit-identical sensor streams; another seed differs") {
+  auto fly = [](std::uint64_t seed) {
+    auto h = make({{"init_mode", std::string("trim")}, {"turbulence", std::string("light")}}, seed);
+    run(h, 2.0);
+    return std::make_tuple(h.output<msg::State>("truth"), h.output<msg::Imu>("imu"), h.output<msg::Gnss>("gnss"));
+  };
+  const auto a = fly(42), b = fly(42), c = fly(43);
+  CHECK(std::get<0>(a).p_n == std::get<0>(b).p_n);
+  CHECK(std::get<0>(a).psi == std::get<0>(b).psi);
+  CHECK(std::get<1>(a).accel == std::get<1>(b).accel);
+  CHECK(std::get<1>(a).gyro == std::get<1>(b).gyro);
+  CHECK(std::get<2>(a).lat == std::get<2>(b).lat);
+  CHECK(std::get<1>(a).accel != std::get<1>(c).accel);
+  CHECK(std::get<0>(a).p_n != std::get<0>(c).p_n);
+}
+
+TEST_CASE("plugin: bad parameters and files are refused with one line") {
+  CHECK_THROWS_WITH_AS(make({{"gnss_dropout", std::vector<double>{1.0}}}),
+                       "parameter 'sim.gnss_dropout': needs pairs [start, end], got 1 values", tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"imu_rate", 390.0}}),
+                       doctest::Contains("parameter 'sim.imu_rate': rate 390"), tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"aircraft", std::string("/nonexistent/plane.yaml")}}),
+                       "/nonexistent/plane.yaml: cannot open aircraft file", std::runtime_error);
+  CHECK_THROWS_AS(make({{"init_mode", std::string("orbit")}}), tern::ParamError);
+}
