@@ -1,0 +1,126 @@
+// The estimator_ekf plugin through the SDK test harness: ports, parameters, output, summary.
+#include <doctest/doctest.h>
+
+#include <memory>
+
+#include "estimator_ekf_plugin.hpp"
+#include "fly.hpp"
+#include "tern/testing/harness.hpp"
+
+using namespace tern;
+using namespace tern::ekf::test;
+using tern::ekf::plugin::EstimatorEkf;
+
+namespace {
+
+/// Feeds the harness from the truth generator for `seconds`; returns the number of steps.
+template <class OnStep>
+int feed(testing::Harness& h, TruthSim& sim, double seconds, OnStep on_step) {
+  const int steps = static_cast<int>(std::lround(seconds / 0.0025));
+  for (int i = 0; i < steps; ++i) {
+    sim.advance();
+    h.set_input("imu", sim.imu());
+    if (sim.gnss_due()) h.set_input("gnss", sim.gnss());
+    if (sim.baro_due()) h.set_input("baro", sim.baro());
+    if (sim.pitot_due()) h.set_input("diff_pressure", sim.pitot());
+    if (sim.mag_due()) h.set_input("mag", sim.mag());
+    h.step(sim.now());
+    on_step();
+  }
+  return steps;
+}
+
+SimOptions turning_flight() {
+  SimOptions o;
+  o.psi0 = -1.2;
+  o.phi_ramps = {{10.0, 2.0, 0.5}, {25.0, 2.0, -0.5}};
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
+  auto plugin = std::make_unique<EstimatorEkf>();
+  const EstimatorEkf* p = plugin.get();
+  testing::Harness h(std::move(plugin), {{"gyro_noise", 0.0023}, {"mag_gate", 16.0}});
+  REQUIRE(h.plugin().find_input("imu") != nullptr);
+  CHECK(h.plugin().find_input("imu")->need() == Need::required);
+  for (const char* n : {"gnss", "baro", "diff_pressure", "mag"}) {
+    INFO(n);
+    REQUIRE(h.plugin().find_input(n) != nullptr);
+    CHECK(h.plugin().find_input(n)->need() == Need::optional);
+  }
+  REQUIRE(h.plugin().find_output("state") != nullptr);
+
+  TruthSim sim(turning_flight());
+  // Bind every sensor before the first step so that the plugin expects a magnetometer.
+  h.set_input("mag", sim.mag());
+  h.set_input("baro", sim.baro());
+  h.set_input("diff_pressure", sim.pitot());
+  const int steps = feed(h, sim, 40.0, [] {});
+  CHECK(h.published("state") == static_cast<std::uint64_t>(steps));
+  const auto& s = h.output<msg::State>("state");
+  CHECK(s.valid);
+  CHECK(s.origin_valid);
+  CHECK(s.origin_lat == doctest::Approx(sim.options().lat0).epsilon(1e-6));
+  CHECK(s.stamp == sim.now());
+  const Truth& t = sim.truth();
+  CHECK(std::fabs(wrap_pi(s.phi - t.phi)) < 0.5 * kPi / 180);
+  CHECK(std::fabs(s.theta - t.theta) < 0.5 * kPi / 180);
+  CHECK(std::fabs(wrap_pi(s.psi - t.psi)) < 1.0 * kPi / 180);
+  const Eigen::Vector3d vb = t.R.transpose() * t.v;
+  CHECK(s.u == doctest::Approx(vb.x()).epsilon(0.01));
+  CHECK(std::fabs(s.v - vb.y()) < 0.1);
+  CHECK(std::fabs(s.Va - sim.air_velocity_body().norm()) < 0.3);
+  CHECK(std::fabs(s.alpha - sim.options().alpha) < 0.02);
+  CHECK(std::fabs(s.beta) < 0.02);
+  CHECK(std::fabs(s.w_n - sim.options().wind.x()) < 0.5);
+  CHECK(std::fabs(s.w_e - sim.options().wind.y()) < 0.5);
+  CHECK(s.w_d == 0.0);
+  CHECK(std::fabs(wrap_pi(s.chi - std::atan2(t.v.y(), t.v.x()))) < 0.5 * kPi / 180);
+  CHECK(s.Vg == doctest::Approx(t.v.norm()).epsilon(0.01));
+  // Rates have the bias removed: compare with the truth within the gyro noise.
+  CHECK((Eigen::Vector3d(s.p, s.q, s.r) - t.omega).norm() < 0.02);
+  CHECK((Eigen::Vector3d(s.b_x, s.b_y, s.b_z) - sim.options().gyro_bias).norm() < 0.004);
+  CHECK(p->estimator().initialized());
+
+  // No new IMU sample: no new output.
+  const auto n = h.published("state");
+  h.step(sim.now() + 1000);
+  CHECK(h.published("state") == n);
+
+  // summary() reports the counters.
+  bool found = false;
+  for (const auto& [name, value] : h.plugin().summary())
+    if (name == "gnss_pos_accepted") found = value > 300;
+  CHECK(found);
+}
+
+TEST_CASE("plugin: output decimation, parameter ranges, run-time changes, reset") {
+  testing::Harness h(std::make_unique<EstimatorEkf>(), {{"output_decimation", std::int64_t{4}}});
+  TruthSim sim(turning_flight());
+  feed(h, sim, 2.0, [] {});
+  CHECK(h.published("state") == 200);
+  CHECK_THROWS_AS(h.set_param("gyro_noise", -1.0), ParamError);
+  CHECK_THROWS_AS(h.set_param("min_gnss_fix_type", std::int64_t{5}), ParamError);
+  CHECK_THROWS_AS(testing::Harness(std::make_unique<EstimatorEkf>(), {{"baro_noise", 0.0}}), ParamError);
+  // A run-time change applies: with a tiny GNSS gate every position is rejected.
+  h.set_param("gnss_pos_gate", 1e-9);
+  const auto& est = dynamic_cast<EstimatorEkf&>(h.plugin()).estimator();
+  const auto rejected = est.gnss_position_model().stats.rejected;
+  feed(h, sim, 1.0, [] {});
+  CHECK(est.gnss_position_model().stats.rejected >= rejected + 9);
+  h.reset();
+  CHECK_FALSE(est.initialized());
+  CHECK_FALSE(est.origin_valid());
+}
+
+TEST_CASE("plugin: every parameter has a unit or is dimensionless, a range and a description") {
+  testing::Harness h(std::make_unique<EstimatorEkf>());
+  CHECK(h.plugin().params().size() > 40);
+  for (const ParamBase* prm : h.plugin().params()) {
+    INFO(prm->name());
+    CHECK_FALSE(prm->spec().description.empty());
+    CHECK(prm->spec().min <= prm->spec().max);
+  }
+}
