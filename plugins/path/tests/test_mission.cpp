@@ -1,0 +1,136 @@
+// Mission reading: ROSplane files, inline sections, tern files, LLA -> NED, bad input.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <GeographicLib/LocalCartesian.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "tern/path/mission.hpp"
+
+using namespace tern::path;
+using doctest::Approx;
+
+namespace {
+const std::filesystem::path kData = TERN_PATH_TEST_DATA;
+
+std::string error_of(const std::string& yaml, const std::filesystem::path& base = kData) {
+  try {
+    parse_mission_section(YAML::Load(yaml), base);
+  } catch (const MissionError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+bool contains(const std::string& s, const std::string& part) { return s.find(part) != std::string::npos; }
+}  // namespace
+
+TEST_CASE("mission: the ROSplane mission file yields its four waypoints in order") {
+  const Mission m = load_mission_file(kData / "fixedwing_mission.yaml");
+  REQUIRE(m.waypoints.size() == 4);
+  const double n[4] = {400, -400, -400, 400}, e[4] = {-250, -50, -250, -50};
+  for (int i = 0; i < 4; ++i) {
+    CAPTURE(i);
+    CHECK(m.waypoints[i].w.x() == n[i]);
+    CHECK(m.waypoints[i].w.y() == e[i]);
+    CHECK(m.waypoints[i].w.z() == -70.0);
+    CHECK(m.waypoints[i].chi_d == 1.1518);
+    CHECK_FALSE(m.waypoints[i].use_chi);
+    CHECK_FALSE(m.waypoints[i].lla);
+    CHECK(m.waypoints[i].Va_d == 17.0);
+  }
+  CHECK(m.loop);
+  // The same through the config section, with a path relative to the config directory.
+  const Mission s = parse_mission_section(YAML::Load("file: fixedwing_mission.yaml\nloop: false"), kData);
+  CHECK(s.waypoints.size() == 4);
+  CHECK_FALSE(s.loop);
+}
+
+TEST_CASE("mission: ROSplane format errors name the file, line and field") {
+  const std::string bad = "wp:\n  w: [1.0, 2.0, -70.0]\n  va_d: 17.0\nwp:\n  w: [1.0, abc, -70.0]\n";
+  try {
+    parse_mission_text(bad, "m.yaml");
+    FAIL("no error");
+  } catch (const MissionError& e) {
+    CHECK(std::string(e.what()) == "m.yaml: line 5: wp 2.w[1]: 'abc' is not a number");
+  }
+  CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\nfoo: 1\n", "m.yaml"),
+                       "m.yaml: line 3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)",
+                       MissionError);
+  CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
+                       "m.yaml: line 3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d)",
+                       MissionError);
+}
+
+TEST_CASE("mission: a mixed LLA/NED mission resolves to the NED that GeographicLib gives") {
+  const auto section = YAML::Load(R"(
+loop: false
+Va_d: 16
+waypoints:
+  - [100, 200, -50]
+  - {lla: [40.2466, -111.6470, 1480.5], Va_d: 18}
+  - {ned: [-100, 50, -60], chi_d: 0.5, use_chi: true}
+  - {w: [40.2440, -111.6500, 1470.0], lla: true}
+)");
+  const Mission m = parse_mission_section(section, kData);
+  REQUIRE(m.waypoints.size() == 4);
+  CHECK(m.has_lla());
+  CHECK_FALSE(m.loop);
+  CHECK(m.waypoints[0].Va_d == 16.0);
+  CHECK(m.waypoints[1].Va_d == 18.0);
+  CHECK(m.waypoints[2].use_chi);
+  CHECK(m.waypoints[3].lla);
+  const GeoOrigin o{40.2455, -111.6480, 1450.0};
+  const auto ned = resolve_to_ned(m.waypoints, o);
+  const GeographicLib::LocalCartesian lc(o.lat, o.lon, o.alt);
+  for (int i : {1, 3}) {
+    double x, y, z;
+    lc.Forward(m.waypoints[i].w.x(), m.waypoints[i].w.y(), m.waypoints[i].w.z(), x, y, z);
+    CHECK(ned[i].w.x() == Approx(y).epsilon(1e-12));
+    CHECK(ned[i].w.y() == Approx(x).epsilon(1e-12));
+    CHECK(ned[i].w.z() == Approx(-z).epsilon(1e-12));
+    CHECK_FALSE(ned[i].lla);
+  }
+  // Independent sanity check: 0.0011 deg of latitude is about 122 m north, 30.5 m up.
+  CHECK(ned[1].w.x() == Approx(122.1).epsilon(2e-3));
+  CHECK(ned[1].w.z() == Approx(-30.5).epsilon(1e-2));
+  CHECK(ned[0].w == m.waypoints[0].w);  // NED entries unchanged
+  CHECK(ned[2].w == m.waypoints[2].w);
+}
+
+TEST_CASE("mission: a tern waypoint file") {
+  const auto file = std::filesystem::temp_directory_path() / "tern_path_test_mission.yaml";
+  {
+    std::ofstream f(file);
+    f << "loop: true\nwaypoints:\n  - {ned: [0, 300, -60], Va_d: 15}\n  - [300, 300, -60]\n";
+  }
+  const Mission m = load_mission_file(file);
+  REQUIRE(m.waypoints.size() == 2);
+  CHECK(m.waypoints[1].w == Eigen::Vector3d(300, 300, -60));
+  CHECK(m.source == file.string());
+  std::filesystem::remove(file);
+  CHECK(parse_mission_section(YAML::Node(), kData).waypoints.empty());
+}
+
+TEST_CASE("mission: bad input gives one clear line naming the field and value") {
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2]}"), "waypoints[0].ned: expected a list of 3 numbers"));
+  CHECK(contains(error_of("waypoints:\n  - {lla: [95, 2, 3]}"), "waypoints[0]: latitude 95 deg is outside [-90, 90]"));
+  CHECK(contains(error_of("waypoints:\n  - {lla: [45, 200, 3]}"), "longitude 200 deg is outside [-180, 180]"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, .nan]}"), "waypoints[0].ned[2]: value .nan is not finite"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], Va_d: -3}"), "Va_d -3 m/s must be >= 0"));
+  CHECK(contains(error_of("waypoints:\n  - {chi_d: 1}"), "waypoints[0]: no position"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], w: [1, 2, 3]}"), "more than one position"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], use_chi: maybe}"),
+                 "waypoints[0].use_chi: 'maybe' is not true or false"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], speed: 3}"), "unknown key 'speed'"));
+  CHECK(contains(error_of("waypoint: []"), "line 1: unknown key 'waypoint'"));
+  CHECK(contains(error_of("file: nowhere.yaml"), "nowhere.yaml: cannot read the mission file"));
+  CHECK(contains(error_of("file: fixedwing_mission.yaml\nwaypoints: []"), "give either waypoints or file, not both"));
+  CHECK(contains(error_of("waypoints: 3"), "waypoints: expected a list"));
+  CHECK_THROWS_AS(parse_mission_text("waypoints: [ {ned: [1, 2, 3]", "broken.yaml"), MissionError);
+  CHECK_THROWS_AS(lla_to_ned(Eigen::Vector3d(91, 0, 0), GeoOrigin{}), MissionError);
+}
