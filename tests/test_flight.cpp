@@ -158,3 +158,20 @@ TEST_CASE("SIGINT ends the flight cleanly with a complete log") {
   for (const auto& row : rows) CHECK(std::count(row.begin(), row.end(), ',') == commas);
   CHECK(rows.size() == static_cast<std::size_t>(std::llround(flown * 400)) + 2);
 }
+
+TEST_CASE("parameter changes while flying are validated, applied at the next tick and logged") {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "paramchange";
+  Host h(load_config(write_file("pc.yaml", base_config())), o);
+  h.build();
+  CHECK_THROWS_WITH_AS(h.request_param("ctl.kq", 0.1, "cli"), "unknown parameter 'ctl.kq' (did you mean 'ctl.kp'?)", ConfigError);
+  CHECK_THROWS_AS(h.request_param("ctl.kp", 99.0, "cli"), tern::ParamError);
+  h.request_param("ctl.tag", 0.3, "cli");
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  const auto params = lines(read_file(r.run_dir / "params.csv"));
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl.tag,0.3,cli") != params.end());
+  const auto act = lines(read_file(r.run_dir / "topics" / "actuators.csv"));
+  CHECK(act[1].find(",0.3,") != std::string::npos);
+}

@@ -551,6 +551,22 @@ void Host::order_schedule() {
   for (auto& e : edges_) e.feedback = pos[e.from] > pos[e.to];
 }
 
+void Host::request_param(const std::string& qualified, const ParamValue& value, const std::string& source) {
+  const auto dot = qualified.find('.');
+  std::vector<std::string> all;
+  for (const auto& [name, p] : parameters()) all.push_back(name);
+  ParamBase* target = nullptr;
+  if (dot != std::string::npos) {
+    for (const auto& inst : instances_)
+      if (inst->cfg.name == qualified.substr(0, dot)) target = inst->plugin->find_param(qualified.substr(dot + 1));
+  }
+  if (target == nullptr) throw ConfigError("unknown parameter '" + qualified + "'" + did_you_mean(qualified, all));
+  const ParamValue checked = target->validate(value);  // throws ParamError
+  std::lock_guard lk(param_mu_);
+  param_requests_.push_back({target, qualified, checked, source});
+  param_pending_.store(true, std::memory_order_release);
+}
+
 std::vector<std::string> Host::schedule() const {
   std::vector<std::string> out;
   for (auto i : order_) out.push_back(instances_[i]->cfg.name);
@@ -764,6 +780,23 @@ FlightResult Host::fly() {
       r.end_reason = sig == SIGTERM ? "SIGTERM" : "SIGINT";
       now = tick > 0 ? (tick - 1) * base_period_ : 0;
       break;
+    }
+    if (param_pending_.load(std::memory_order_acquire)) {
+      std::vector<ParamRequest> reqs;
+      {
+        std::lock_guard lk(param_mu_);
+        reqs.swap(param_requests_);
+        param_pending_.store(false, std::memory_order_relaxed);
+      }
+      for (auto& rq : reqs) {
+        try {
+          rq.param->set(rq.value);
+          log.param(now, rq.name, param_text(rq.param->value()), rq.source);
+          logger_->info("t={:.3f} s: {} = {} ({})", to_seconds(now), rq.name, to_string(rq.param->value()), rq.source);
+        } catch (const std::exception& e) {
+          logger_->error("t={:.3f} s: {} not changed: {}", to_seconds(now), rq.name, e.what());
+        }
+      }
     }
     bool failed = false;
     step_clock_ = cycle_clock().now();

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <atomic>
+#include <mutex>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -99,6 +100,10 @@ class Host {
   std::vector<std::pair<std::string, const ParamBase*>> parameters() const;
   const std::vector<Handover>& handovers() const { return handovers_; }
   std::shared_ptr<spdlog::logger> logger() const { return logger_; }
+  /// Asks for a parameter change ("instance.param"), from any thread (command line, DDS). It is
+  /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value), applied
+  /// at the start of the next tick and recorded in params.csv with `source`.
+  void request_param(const std::string& qualified, const ParamValue& value, const std::string& source);
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
 
@@ -145,6 +150,15 @@ class Host {
   std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   double start_to_first_tick_ms_ = 0;
   bool built_ = false;
+  struct ParamRequest {
+    ParamBase* param;
+    std::string name;
+    ParamValue value;
+    std::string source;
+  };
+  std::mutex param_mu_;
+  std::vector<ParamRequest> param_requests_;
+  std::atomic<bool> param_pending_{false};
 };
 
 }  // namespace tern::core
