@@ -83,6 +83,7 @@ void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop
     return;
   }
   const bool extends = !raw_.empty() && same_prefix(list, loop);
+  if (extends && list.size() == raw_.size() && !need_adopt_) return;  // the same list again
   if (mode_ == Mode::route && !need_adopt_) {
     if (extends) {
       // Same mission, more waypoints: keep flying the current segment; the new ones come at

@@ -195,6 +195,16 @@ TEST_CASE("manager: a two-waypoint loop doubles back 180 degrees: fly over, turn
   CHECK(f.warnings.size() == 3);
   REQUIRE(f.manager.passed().size() >= 6);
   CHECK(in_cycle_order(f.manager.passed(), 2));
+
+  ManagerConfig cfg;
+  cfg.corner = ManagerConfig::Corner::line;
+  Flight g(cfg);
+  g.manager.set_waypoints(points({{0, 0, -70}, {500, 0, -70}}), true);
+  g.run(600.0);
+  CHECK(g.finite);
+  CHECK(g.count_warnings("doubles back") == 2);
+  REQUIRE(g.manager.passed().size() >= 6);
+  CHECK(in_cycle_order(g.manager.passed(), 2));
 }
 
 TEST_CASE("manager: a corner too sharp for the fillet radius is flown over") {
@@ -304,6 +314,11 @@ TEST_CASE("manager: edits take effect at the next waypoint decision; extensions 
   bool flew_new = false;
   for (int i : f.manager.passed()) flew_new = flew_new || i == 4;
   CHECK(flew_new);
+  // The same list again changes nothing.
+  const int target_now = f.manager.target();
+  f.manager.set_waypoints(longer, true);
+  f.run(0.01);
+  CHECK(f.manager.target() == target_now);
   // An empty list: orbit the origin at once.
   f.manager.set_waypoints({}, true);
   CHECK(f.manager.update(f.aircraft.p(), f.aircraft.chi).c == Vec3(0, 0, -50));
@@ -359,6 +374,14 @@ TEST_CASE("plugins: a bad mission section fails configure with one clear line") 
   CHECK_THROWS_WITH_AS(
       tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load("waypoints: [[1, 2]]"))),
       "mission config (mission:): line 1: waypoints[0]: expected a list of 3 numbers", MissionError);
+}
+
+TEST_CASE("plugins: a mission longer than a WaypointList holds is refused at configure") {
+  std::string yaml = "waypoints:\n";
+  for (int i = 0; i < 65; ++i) yaml += "  - [" + std::to_string(10 * i) + ", 0, -50]\n";
+  CHECK_THROWS_WITH_AS(
+      tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load(yaml))),
+      "mission config (mission:): 65 waypoints, more than the 64 a WaypointList holds", MissionError);
 }
 
 TEST_CASE("plugins: LLA waypoints wait for the origin, then publish the GeographicLib NED") {
