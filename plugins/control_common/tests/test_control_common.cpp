@@ -83,15 +83,16 @@ struct Loop {
   Autopilot ap{law};
   testmodel::LinearAircraft plant{testmodel::anaconda()};
   Loop() {
-    law.set_gains({0.1579, 0.0673, 0.0, 0.35, -0.35}, {0.0903, 0.0622, 0.0, 0.6024, 1.0, 0.0, 0.05});
-    ap.set_pitch_gains({4.15, 0.0, 0.267, 0.1602, 0.61});
+    // configs/gains/anaconda.yaml
+    law.set_gains({0.1579, 0.0636, 0.0, 0.35, -0.35}, {0.0963, 0.0651, 0.0, 0.5676, 1.0, 0.0, 0.05});
+    ap.set_pitch_gains({4.15, 0.0, 0.283, 0.1679, 0.61});
   }
 };
 }  // namespace
 
 TEST_CASE("autopilot: a NaN state holds the last command and keeps the integrators") {
   Loop L;
-  Command c{18.0, 100.0, 0.0, 0.0, 0.0, 0.0, false, false};
+  Command c{17.0, 100.0, 0.0, 0.0, 0.0, 0.0, false, false};
   AutopilotOutput o;
   for (int i = 0; i < 100; ++i) {
     o = L.ap.update(Mode::cruise, L.plant.state(), c, {}, 0.01);
@@ -109,7 +110,7 @@ TEST_CASE("autopilot: a NaN state holds the last command and keeps the integrato
 
 TEST_CASE("autopilot: take_over starts from the last command, and mode changes are bumpless") {
   Loop L;
-  Command c{18.0, 110.0, 0.5, 0.0, 0.0, 0.0, false, false};
+  Command c{17.0, 110.0, 0.5, 0.0, 0.0, 0.0, false, false};
   L.plant.phi = 0.2;
   L.plant.q = 0.05;
   const Surfaces last{0.12, -0.05, 0.03, 0.8};
@@ -145,7 +146,7 @@ TEST_CASE("autopilot: takeoff is wings level at takeoff throttle and rotates at 
   s.rotation_Va = 12.0;
   s.takeoff_pitch = 0.15;
   L.ap.set_settings(s);
-  Command c{18.0, 50.0, 1.0, 0.0, 0.0, 0.0, false, false};
+  Command c{17.0, 50.0, 1.0, 0.0, 0.0, 0.0, false, false};
   VehicleState x;
   x.Va = 5.0;
   auto o = L.ap.update(Mode::takeoff, x, c, {}, 0.01);
@@ -162,7 +163,7 @@ TEST_CASE("autopilot: takeoff is wings level at takeoff throttle and rotates at 
 
 TEST_CASE("autopilot: manual pass-through and angle mode") {
   Loop L;
-  Command c{18.0, 100.0, 0.0, 0.0, 0.0, 0.0, false, false};
+  Command c{17.0, 100.0, 0.0, 0.0, 0.0, 0.0, false, false};
   const Sticks st{0.5, 0.5, -1.0, 0.3};
   auto o = L.ap.update(Mode::manual_passthrough, L.plant.state(), c, st, 0.01);
   CHECK(o.surfaces.delta_a == doctest::Approx(0.5 * 0.8));

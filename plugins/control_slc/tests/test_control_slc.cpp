@@ -234,7 +234,7 @@ TEST_CASE("slc: manual modes from rc and fcu_status") {
   L.h.set_input("rc", rc);
   L.run(0.01);
   const auto& a = L.h.output<msg::Actuators>("actuators");
-  CHECK(a.delta_a == doctest::Approx(0.4));
+  CHECK(a.delta_a == doctest::Approx(0.5 * 0.6981));  // max_a of anaconda.yaml
   CHECK(a.delta_e == doctest::Approx(0.305));
   CHECK(a.delta_t == doctest::Approx(0.4));
   // receiver failsafe: the override switch is not trusted, the autopilot flies
@@ -252,7 +252,7 @@ TEST_CASE("slc: manual modes from rc and fcu_status") {
   L.h.set_input("rc", rc);
   L.h.set_input("fcu_status", f);
   L.run(0.01);
-  CHECK(L.h.output<msg::Actuators>("actuators").delta_a == doctest::Approx(0.4));
+  CHECK(L.h.output<msg::Actuators>("actuators").delta_a == doctest::Approx(0.5 * 0.6981));
   // angle mode selected by an aux channel: roll follows the stick's angle
   testing::Harness& h = L.h;
   h.set_param("angle_mode_aux", std::int64_t{2});

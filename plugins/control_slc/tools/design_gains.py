@@ -8,7 +8,12 @@ section is merged), trims for straight and level flight at the airspeed Va, prin
 transfer-function coefficients a_phi1 a_phi2 a_theta1..3 a_V1..3 a_beta1 a_beta2 and the
 gains, and with --yaml writes a flat `param: value` file loadable with `param_file:`.
 
-Usage:  design_gains.py DYNAMICS.yaml --Va 15 --mass 4.5 --J 0.24855 0.3784 0.618 0.06 [--yaml out.yaml]
+Reads tern's aircraft format (configs/aircraft/*.yaml, as sim_aero and `tern aero` do; mass,
+inertia and the stall_blend switch come from the file) or a ROSflight dynamics file (then give
+--mass and --J, and the lift is blended as in the book).
+
+Usage:  design_gains.py configs/aircraft/anaconda.yaml --Va 17 [--yaml out.yaml]
+        design_gains.py anaconda_dynamics.yaml --Va 17 --mass 4.5 --J 0.24855 0.3784 0.618 0.06
 
 Only the Python standard library and PyYAML are needed. The design knobs (bandwidths,
 damping ratios, bandwidth separations) are command-line options; their defaults are the
@@ -23,9 +28,34 @@ import yaml
 G = 9.81
 
 
+TERN_KEYS = {  # tern aircraft file section/key -> ROSflight name used below
+    ("environment", "rho"): "rho", ("wing", "S"): "wing_s", ("wing", "b"): "wing_b",
+    ("wing", "c"): "wing_c", ("wing", "M"): "wing_M", ("wing", "alpha0"): "wing_alpha0",
+    ("propulsion", "D_prop"): "D_prop", ("propulsion", "K_Q"): "KQ", ("propulsion", "V_max"): "V_max",
+    ("propulsion", "R_motor"): "R_motor", ("propulsion", "i0"): "I_0",
+}
+
+
 def load(path):
+    """Returns (parameters with ROSflight names, mass or None, (Jx, Jy, Jz, Jxz) or None,
+    Oswald e or None, stall_blend)."""
     with open(path) as f:
         doc = yaml.safe_load(f)
+    if "wing" in doc and "aero" in doc:  # tern aircraft format
+        p = {}
+        for (sec, key), name in TERN_KEYS.items():
+            if key in doc.get(sec, {}):
+                p[name] = float(doc[sec][key])
+        for key, v in doc["aero"].items():
+            p[key.replace("_0", "_O") if key.endswith("_0") else key] = float(v)
+        for i in range(3):
+            p[f"CT_{i}"] = float(doc["propulsion"][f"C_T_{i}"])
+            p[f"CQ_{i}"] = float(doc["propulsion"][f"C_Q_{i}"])
+        if "KQ" not in p:
+            p["KQ"] = 60.0 / (2 * math.pi * float(doc["propulsion"]["K_V"]))
+        J = doc["inertia"]
+        return (p, float(doc["mass"]), (J["Jx"], J["Jy"], J["Jz"], J["Jxz"]), float(doc["wing"]["e"]),
+                bool(doc["wing"].get("stall_blend", True)))
     p = {}
     for node in doc.values():
         if isinstance(node, dict) and isinstance(node.get("ros__parameters"), dict):
@@ -36,12 +66,13 @@ def load(path):
                 p[key] = float(v)
             except ValueError:
                 pass
-    return p
+    return p, None, None, None, True
 
 
 class Aircraft:
-    def __init__(self, p, mass, J, e):
+    def __init__(self, p, mass, J, e, stall_blend=True):
         self.p = p
+        self.stall_blend = stall_blend
         self.m = mass
         self.Jx, self.Jy, self.Jz, self.Jxz = J
         self.rho = p["rho"]
@@ -53,6 +84,8 @@ class Aircraft:
 
     def CL(self, a):  # uavbook eq. 4.9 (blended lift); sigma ~ 0 at small alpha
         p = self.p
+        if not self.stall_blend:
+            return p["C_L_O"] + p["C_L_alpha"] * a
         M, a0 = p["wing_M"], p["wing_alpha0"]
         e1, e2 = math.exp(-M * (a - a0)), math.exp(M * (a + a0))
         sig = (1 + e1 + e2) / ((1 + e1) * (1 + e2))
@@ -191,9 +224,9 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("dynamics")
     ap.add_argument("--Va", type=float, required=True, help="trim airspeed, m/s")
-    ap.add_argument("--mass", type=float, required=True)
-    ap.add_argument("--J", type=float, nargs=4, required=True, metavar=("Jx", "Jy", "Jz", "Jxz"))
-    ap.add_argument("--e", type=float, default=0.9, help="Oswald efficiency")
+    ap.add_argument("--mass", type=float, help="kg (ROSflight files only)")
+    ap.add_argument("--J", type=float, nargs=4, metavar=("Jx", "Jy", "Jz", "Jxz"), help="kg m^2 (ROSflight files only)")
+    ap.add_argument("--e", type=float, help="Oswald efficiency (default: the file's, else 0.9)")
     ap.add_argument("--wn-phi", dest="wn_phi", type=float, default=8.0, help="roll natural frequency, rad/s")
     ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.9)
     ap.add_argument("--W-chi", dest="W_chi", type=float, default=4.0, help="course/roll bandwidth separation")
@@ -208,7 +241,13 @@ def main(argv=None):
     ap.add_argument("--p-wo", dest="p_wo", type=float, default=0.5, help="washout pole, rad/s")
     ap.add_argument("--yaml", help="write the gains as a flat param file")
     o = ap.parse_args(argv)
-    ac = Aircraft(load(o.dynamics), o.mass, o.J, o.e)
+    p, mass, J, e, blend = load(o.dynamics)
+    mass = o.mass if o.mass is not None else mass
+    J = o.J if o.J is not None else J
+    e = o.e if o.e is not None else (e if e is not None else 0.9)
+    if mass is None or J is None:
+        ap.error("a ROSflight dynamics file needs --mass and --J")
+    ac = Aircraft(p, mass, J, e, blend)
     k = ac.coefficients(o.Va)
     g, K_dc, w_roll = design(k, o.Va, o)
     print(f"# trim at Va = {o.Va} m/s: alpha = {k['alpha_trim']:.4f} rad, delta_e = {k['delta_e_trim']:.4f} rad, "
