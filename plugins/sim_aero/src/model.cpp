@@ -15,15 +15,20 @@ Eigen::Quaterniond attitude(const StateVector& x) {
   return Eigen::Quaterniond(x[E0], x[E1], x[E2], x[E3]).normalized();
 }
 
-AirData air_data(const StateVector& x, const Wind& wind) {
+namespace {
+AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix3d& Rot) {
   AirData a;
-  const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();  // body -> NED
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   a.v_air = v - (Rot.transpose() * wind.steady_ned + wind.gust_body);
   a.Va = a.v_air.norm();
   a.alpha = std::atan2(a.v_air.z(), a.v_air.x());
   a.beta = a.Va > 1e-9 ? std::asin(std::clamp(a.v_air.y() / a.Va, -1.0, 1.0)) : 0.0;
   return a;
+}
+}  // namespace
+
+AirData air_data(const StateVector& x, const Wind& wind) {
+  return air_data_rot(x, wind, attitude(x).toRotationMatrix());
 }
 
 PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
@@ -99,10 +104,11 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
 }
 }  // namespace
 
-ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind) {
+namespace {
+ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind,
+                                 const Eigen::Matrix3d& Rot) {
   ForcesMoments fm;
-  const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
-  fm.air = air_data(x, wind);
+  fm.air = air_data_rot(x, wind, Rot);
   const double Va = fm.air.Va, alpha = fm.air.alpha, beta = fm.air.beta;
   const double p = x[P], q = x[Q], r = x[R];
   const auto& A = ac.aero;
@@ -134,15 +140,20 @@ ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Del
   fm.moment = fm.m_aero + fm.m_ground;
   return fm;
 }
+}  // namespace
+
+ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind) {
+  return forces_moments_rot(ac, x, d, wind, attitude(x).toRotationMatrix());
+}
 
 StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
                        ForcesMoments* out) {
-  const ForcesMoments fm = forces_moments(ac, x, d, w);
-  const Eigen::Quaterniond qt = attitude(x);
+  const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
+  const ForcesMoments fm = forces_moments_rot(ac, x, d, w, Rot);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   const double p = x[P], q = x[Q], r = x[R];
   StateVector dx;
-  dx.segment<3>(PN) = qt * v;
+  dx.segment<3>(PN) = Rot * v;
   // Book eq. 3.15: body acceleration.
   dx[U] = r * x[V] - q * x[W] + fm.force.x() / ac.mass;
   dx[V] = p * x[W] - r * x[U] + fm.force.y() / ac.mass;

@@ -157,6 +157,12 @@ class SimAero final : public tern::Plugin {
       ++steps_;
       publish_due(t_);
     }
+    if (sim_->crashed() && !crash_reported_) {
+      crash_reported_ = true;
+      const auto& x = sim_->state();
+      log().warn("the aircraft hit the ground at t = {:.3f} s (p_n {:.1f} m, p_e {:.1f} m); it stays there",
+                 tern::to_seconds(t_), x[sim::PN], x[sim::PE]);
+    }
   }
 
   std::vector<std::pair<std::string, double>> summary() const override {
@@ -297,6 +303,7 @@ class SimAero final : public tern::Plugin {
     t_ = 0;
     steps_ = 0;
     stepped_ = false;
+    crash_reported_ = false;
   }
 
   void apply_live_params() {
@@ -482,6 +489,7 @@ class SimAero final : public tern::Plugin {
   Nanos t_ = 0;
   std::uint64_t steps_ = 0;
   bool stepped_ = false;
+  bool crash_reported_ = false;
 };
 
 }  // namespace tern::sim_aero

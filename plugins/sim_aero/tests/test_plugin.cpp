@@ -119,3 +119,34 @@ TEST_CASE("plugin: bad parameters and files are refused with one line") {
                        "/nonexistent/plane.yaml: cannot open aircraft file", std::runtime_error);
   CHECK_THROWS_AS(make({{"init_mode", std::string("orbit")}}), tern::ParamError);
 }
+
+TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensors read the truth)") {
+  auto h = make({{"init_mode", std::string("trim")},
+                 {"accel_noise", 0.0}, {"accel_bias_range", 0.0}, {"accel_bias_walk", 0.0},
+                 {"gyro_noise", 0.0}, {"gyro_bias_range", 0.0}, {"gyro_bias_walk", 0.0},
+                 {"baro_noise", 0.0}, {"baro_bias_range", 0.0}, {"baro_bias_walk", 0.0},
+                 {"diff_pressure_noise", 0.0}, {"diff_pressure_bias_range", 0.0}, {"diff_pressure_bias_walk", 0.0},
+                 {"mag_noise", 0.0}, {"mag_gm_sigma", 0.0},
+                 {"gnss_h_noise", 0.0}, {"gnss_v_noise", 0.0}, {"gnss_vel_noise", 0.0},
+                 {"origin_alt", 100.0}, {"wind", std::vector<double>{2.0, -1.0, 0.0}}});
+  run(h, 1.0);
+  const auto& s = h.output<msg::State>("truth");
+  const auto& imu = h.output<msg::Imu>("imu");
+  CHECK(imu.stamp == s.stamp);
+  CHECK(imu.gyro.x() == s.p);
+  CHECK(imu.gyro.z() == s.r);
+  CHECK(s.b_x == 0.0);
+  CHECK(h.output<msg::Baro>("baro").pressure ==
+        doctest::Approx(tern::sim::standard_pressure(100.0 + s.altitude())).epsilon(1e-12));
+  CHECK(h.output<msg::DiffPressure>("diff_pressure").pressure ==
+        doctest::Approx(0.5 * 1.2682 * s.Va * s.Va).epsilon(0.01));
+  const auto& g = h.output<msg::Gnss>("gnss");
+  CHECK(g.vel.x() == doctest::Approx(s.v_n).epsilon(1e-6));
+  CHECK(g.alt == doctest::Approx(100.0 + s.altitude()).epsilon(1e-6));
+  CHECK(s.w_n == 2.0);
+  CHECK(s.w_e == -1.0);
+  // The wind blows the aircraft along: ground speed differs from airspeed.
+  CHECK(s.Vg != doctest::Approx(s.Va).epsilon(0.01));
+  const auto& m = h.output<msg::Mag>("mag");
+  CHECK(m.field.norm() == doctest::Approx(5.07163e-5).epsilon(1e-6));
+}
