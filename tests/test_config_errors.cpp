@@ -22,9 +22,9 @@ TEST_CASE("YAML syntax error names line and column") {
 }
 
 TEST_CASE("unknown keys suggest the closest valid one") {
-  CHECK(build_error(base_config("", "sead: 3\n")) == (test_dir() / "cfg.yaml").string() + ":4:1: unknown key 'sead' (did you mean 'seed'?)");
+  CHECK(build_error(base_config("", "sead: 3\n")) == (test_dir() / "cfg.yaml").string() + ":5:1: unknown key 'sead' (did you mean 'seed'?)");
   const std::string e = build_error(base_config("  - {name: x, plugin: test_controller, rat: 100}\n"));
-  CHECK(e.find(":8:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
+  CHECK(e.find(":9:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
 }
 
 TEST_CASE("plugin not found prints the search path") {
@@ -71,7 +71,7 @@ TEST_CASE("a rate the base rate cannot serve") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("rate: 100"), 9, "rate: 390");
   std::string e = build_error(cfg);
-  CHECK(e.find(":7:48: plugins[2].rate: 390 Hz cannot be served by the base rate 400 Hz") != std::string::npos);
+  CHECK(e.find(":8:48: plugins[2].rate: 390 Hz cannot be served by the base rate 400 Hz") != std::string::npos);
   cfg = base_config();
   cfg.replace(cfg.find("rate: 100"), 9, "rate: 800");
   CHECK(build_error(cfg).find("800 Hz cannot be served by the base rate 800 Hz") == std::string::npos);  // 800 becomes the base
@@ -82,7 +82,7 @@ TEST_CASE("a rate the base rate cannot serve") {
 
 TEST_CASE("parameters: out of range, wrong type, unknown") {
   std::string e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: 11}}\n"));
-  CHECK(e.find(":8:116: plugins[3].params.kp: parameter 'c2.kp': value 11 is outside the valid range [0, 10] 1/m") != std::string::npos);
+  CHECK(e.find(":9:116: plugins[3].params.kp: parameter 'c2.kp': value 11 is outside the valid range [0, 10] 1/m") != std::string::npos);
   e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: fast}}\n"));
   CHECK(e.find("plugins[3].params.kp: parameter 'c2.kp': value \"fast\" has the wrong type: expected a number, got a string") != std::string::npos);
   e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kq: 1}}\n"));

@@ -175,3 +175,15 @@ TEST_CASE("parameter changes while flying are validated, applied at the next tic
   const auto act = lines(read_file(r.run_dir / "topics" / "actuators.csv"));
   CHECK(act[1].find(",0.3,") != std::string::npos);
 }
+
+TEST_CASE("log.max_rate thins fast topics by flight time; log.rates overrides it per topic") {
+  std::string cfg = base_config();
+  cfg.replace(cfg.find("log: {max_rate: 0}"), 18, "log: {max_rate: 100, rates: {imu: 0, truth: 10}}");
+  const FlightResult r = fly(cfg, "decimate");
+  REQUIRE(r.ok);
+  CHECK(lines(read_file(r.run_dir / "topics" / "imu.csv")).size() == 802);    // every sample
+  CHECK(lines(read_file(r.run_dir / "topics" / "state.csv")).size() == 202);  // 400 Hz -> 100 Hz
+  const auto truth = lines(read_file(r.run_dir / "topics" / "truth.csv"));
+  REQUIRE(truth.size() == 22);                                               // 400 Hz -> 10 Hz
+  CHECK(truth[2].rfind("0.100000000,", 0) == 0);
+}

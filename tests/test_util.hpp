@@ -40,7 +40,7 @@ inline std::string read_file(const fs::path& p) {
 /// The standard three-instance test flight, with `extra` appended to the instance list or the
 /// document (give it correctly indented YAML).
 inline std::string base_config(const std::string& plugins_extra = "", const std::string& top_extra = "") {
-  return "name: hostcheck\nseed: 7\nduration: 2\n" + top_extra +
+  return "name: hostcheck\nseed: 7\nduration: 2\nlog: {max_rate: 0}\n" + top_extra +
          "plugins:\n"
          "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
          "  - {name: filter, plugin: test_filter, trigger: imu}\n"

@@ -169,7 +169,20 @@ MissionConfig load_config(const fs::path& file_in) {
   c.log.dir = fs::current_path() / "runs";
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
-    check_keys(log, f, "log", {"dir", "topics"});
+    check_keys(log, f, "log", {"dir", "topics", "max_rate", "rates"});
+    if (log["max_rate"]) {
+      c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");
+      if (c.log.max_rate < 0) throw ConfigError(where(f, log["max_rate"]) + "log.max_rate: must be >= 0 Hz (0: every message)");
+    }
+    if (const YAML::Node rates = log["rates"]) {
+      require_map(rates, f, "log.rates");
+      for (const auto& kv : rates) {
+        const std::string k = kv.first.as<std::string>();
+        const double r = as_number(kv.second, f, "log.rates." + k);
+        if (r < 0) throw ConfigError(where(f, kv.second) + "log.rates." + k + ": must be >= 0 Hz (0: every message)");
+        c.log.rates[k] = r;
+      }
+    }
     if (log["dir"]) c.log.dir = resolve(c.dir, as_string(log["dir"], f, "log.dir"));
     if (const YAML::Node t = log["topics"]) {
       if (t.IsScalar() && t.Scalar() == "all") {

@@ -44,6 +44,8 @@ struct LogConfig {
   fs::path dir;                      ///< parent of the run directories
   bool all_topics = true;
   std::vector<std::string> topics;   ///< when !all_topics
+  double max_rate = 100.0;           ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)
+  std::map<std::string, double> rates;  ///< per-topic max_rate overrides
 };
 
 struct MissionConfig {

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <csignal>
 #include <ctime>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
@@ -219,6 +220,8 @@ struct Host::Topic {
   std::size_t log_index = SIZE_MAX;
   const OutputBase* logged_src = nullptr;
   std::uint64_t logged_seq = 0;
+  Nanos log_interval = 0;   // minimum flight time between two logged messages
+  Nanos logged_t = 0;
 };
 
 // ---- host -------------------------------------------------------------------------------------
@@ -715,6 +718,10 @@ FlightResult Host::fly() {
     tp->log_index = log.add_topic(tp->name, tp->columns, tp->msg_size);
     tp->logged_src = nullptr;
     tp->logged_seq = 0;
+    auto rate_it = config_.log.rates.find(tp->name);
+    const double max_rate = rate_it != config_.log.rates.end() ? rate_it->second : config_.log.max_rate;
+    tp->log_interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
+    tp->logged_t = std::numeric_limits<Nanos>::min() / 2;
   }
   for (const auto& w : wanted) {
     bool found = false;
@@ -862,8 +869,10 @@ FlightResult Host::fly() {
       if (tp->log_index == SIZE_MAX || tp->current == nullptr) continue;
       const std::uint64_t seq = tp->current->sequence();
       if (seq == 0 || (tp->current == tp->logged_src && seq == tp->logged_seq)) continue;
+      if (now - tp->logged_t < tp->log_interval) continue;
       tp->logged_src = tp->current;
       tp->logged_seq = seq;
+      tp->logged_t = now;
       log.capture(tp->log_index, now, tp->current->data());
     }
     if (failed) {

@@ -17,8 +17,8 @@ using Nanos = std::int64_t;
 
 inline constexpr Nanos kNanosPerSecond = 1'000'000'000;
 
-/// Nanoseconds -> seconds (double). Exact for |t| < 2^53 ns (about 104 days).
-constexpr double to_seconds(Nanos t) { return static_cast<double>(t) * 1e-9; }
+/// Nanoseconds -> seconds (double), correctly rounded for |t| < 2^53 ns (about 104 days).
+constexpr double to_seconds(Nanos t) { return static_cast<double>(t) / 1e9; }
 
 /// Seconds -> nanoseconds, rounded to the nearest nanosecond.
 inline Nanos from_seconds(double s) { return static_cast<Nanos>(std::llround(s * 1e9)); }
