@@ -246,6 +246,16 @@ TEST_CASE("follower, orbit: course, altitude, direction and roll feed-forward (e
   CHECK(c.chi_c == Approx(kPi / 2));
   CHECK(c.h_c == Approx(60.0));
   CHECK(c.phi_ff == Approx(std::atan(17.0 * 17.0 / (9.81 * 50))));
+  // With wind: ground speed and crab angle enter (phi_ff = atan(Vg^2 / (g rho cos(chi - psi)))).
+  in.Vg = 20;
+  in.psi = kPi / 2 - 0.3;
+  CHECK(follow(orbit, in, g).phi_ff == Approx(std::atan(400.0 / (9.81 * 50 * std::cos(0.3)))));
+  in.psi = kPi / 2 - 1.4;  // an implausible crab angle is limited (cos >= 0.5)
+  CHECK(follow(orbit, in, g).phi_ff == Approx(std::atan(400.0 / (9.81 * 50 * 0.5))));
+  in.Vg = 0;  // ground speed unknown: airspeed
+  in.psi = kPi / 2;
+  CHECK(follow(orbit, in, g).phi_ff == Approx(std::atan(17.0 * 17.0 / (9.81 * 50))));
+  in.Vg = 17;
   orbit.lambda = -1;  // counter-clockwise: fly west, roll left
   in.chi = -kPi / 2;
   in.psi = -kPi / 2;
