@@ -1,7 +1,8 @@
 // A kinematic fixed-wing for the path tests: coordinated-turn unicycle (Beard & McLain,
 // section 9.2: chi_dot = g / Vg tan(phi)) with a first-order roll response to a proportional
 // course loop (ROSplane's c_kp = 2.0 rad/rad, roll limit 45 deg, as the Anaconda gains) and a
-// first-order altitude response. No wind: Vg = Va, chi = psi. Plain C++; not a flight model.
+// first-order altitude response. Optional steady wind (w_n, w_e): the heading psi turns at
+// g / Va tan(phi), the course chi is that of the ground velocity. Plain C++; not a flight model.
 #pragma once
 
 #include <algorithm>
@@ -13,7 +14,9 @@ namespace tern::path::testkit {
 
 struct KinematicAircraft {
   double n = 0.0, e = 0.0, h = 0.0;  ///< position: north, east (m), altitude (m)
-  double chi = 0.0;                  ///< course = heading, rad
+  double chi = 0.0;                  ///< course over ground, rad
+  double psi = 0.0;                  ///< heading, rad (= chi without wind)
+  double w_n = 0.0, w_e = 0.0;       ///< steady wind, m/s (direction the air moves to)
   double phi = 0.0;                  ///< roll, rad
   double Va = 17.0;                  ///< airspeed, m/s (follows Va_c with a time constant)
   double kp_chi = 2.0;               ///< course loop gain, rad roll per rad course error
@@ -23,6 +26,9 @@ struct KinematicAircraft {
   double climb_max = 5.0;            ///< m/s
 
   Eigen::Vector3d p() const { return {n, e, -h}; }
+  double Vg() const { return std::hypot(Va * std::cos(psi) + w_n, Va * std::sin(psi) + w_e); }
+  /// Starts with heading = course = chi0 (no wind correction).
+  void set_course(double chi0) { chi = psi = chi0; }
 
   /// Advances dt seconds towards the commanded course (chi_c, unwrapped or not), roll
   /// feed-forward phi_ff, altitude h_c and airspeed Va_c.
@@ -31,10 +37,11 @@ struct KinematicAircraft {
     double err = std::remainder(chi_c - chi, 2.0 * kPi);
     const double phi_c = std::clamp(kp_chi * err + phi_ff, -phi_max, phi_max);
     phi += (phi_c - phi) * (dt / tau_phi);
-    chi += 9.81 / Va * std::tan(phi) * dt;
-    chi = std::remainder(chi, 2.0 * kPi);
-    n += Va * std::cos(chi) * dt;
-    e += Va * std::sin(chi) * dt;
+    psi = std::remainder(psi + 9.81 / Va * std::tan(phi) * dt, 2.0 * kPi);
+    const double v_n = Va * std::cos(psi) + w_n, v_e = Va * std::sin(psi) + w_e;
+    chi = std::atan2(v_e, v_n);
+    n += v_n * dt;
+    e += v_e * dt;
     h += std::clamp((h_c - h) / tau_h, -climb_max, climb_max) * dt;
     if (Va_c > 0.0) Va += (Va_c - Va) * (dt / 5.0);
   }

@@ -289,7 +289,7 @@ TEST_CASE("follower: from 100 m cross-track the kinematic aircraft converges wit
       testkit::KinematicAircraft a;
       a.e = side;
       a.h = 70;
-      a.chi = heading;
+      a.set_course(heading);
       double worst_overshoot = 0.0, last = 0.0;
       const double dt = 0.01;
       FollowerCommand c;

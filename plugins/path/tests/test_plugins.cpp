@@ -61,8 +61,10 @@ struct Flight {
       if (k % 10 == 0) {
         FollowerInput in;
         in.p = aircraft.p();
-        in.chi = in.psi = aircraft.chi;
-        in.Va = in.Vg = aircraft.Va;
+        in.chi = aircraft.chi;
+        in.psi = aircraft.psi;
+        in.Va = aircraft.Va;
+        in.Vg = aircraft.Vg();
         c = follow(seg, in, FollowerGains{});
       }
       finite = finite && std::isfinite(c.chi_c) && std::isfinite(c.h_c) && std::isfinite(c.phi_ff) &&
@@ -139,6 +141,24 @@ TEST_CASE("manager: the hourglass with fillets is flyable and its fillets are wh
   CHECK(in_cycle_order(f.manager.passed(), 4));
   CHECK(f.worst_line_error < 10.0);
   CHECK(f.worst_orbit_error < 15.0);
+}
+
+TEST_CASE("manager: the hourglass (fillets and Dubins) stays flyable in a 5 m/s wind") {
+  for (bool use_chi : {false, true}) {
+    CAPTURE(use_chi);
+    Flight f;
+    f.aircraft.w_n = 3.0;
+    f.aircraft.w_e = -4.0;
+    f.settle_s = 30.0;
+    f.manager.set_waypoints(hourglass(use_chi), true);
+    f.run(500.0);
+    CHECK(f.finite);
+    CHECK(f.warnings.empty());
+    REQUIRE(f.manager.passed().size() >= 8);
+    CHECK(in_cycle_order(f.manager.passed(), 4));
+    CHECK(f.worst_line_error < 15.0);
+    CHECK(f.worst_orbit_error < 25.0);
+  }
 }
 
 TEST_CASE("manager: straight lines switch at the bisector half-plane (corner = line)") {
@@ -333,9 +353,9 @@ msg::State state_of(const testkit::KinematicAircraft& a, bool origin = true) {
   s.p_e = a.e;
   s.p_d = -a.h;
   s.chi = a.chi;
-  s.psi = a.chi;
+  s.psi = a.psi;
   s.Va = a.Va;
-  s.Vg = a.Va;
+  s.Vg = a.Vg();
   s.valid = true;
   s.origin_valid = origin;
   s.origin_lat = 40.2455;
