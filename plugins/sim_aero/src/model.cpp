@@ -53,20 +53,29 @@ PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
   return out;
 }
 
-double lift_coefficient(const Aircraft& ac, double alpha) {
-  if (!ac.stall_blend) return ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha;
-  const double e1 = safe_exp(-ac.M * (alpha - ac.alpha0));
-  const double e2 = safe_exp(ac.M * (alpha + ac.alpha0));
-  const double sigma = (1.0 + e1 + e2) / ((1.0 + e1) * (1.0 + e2));
+double blend_sigma(const Aircraft& ac, double alpha) {
+  const double a0 = ac.stall_blend ? ac.alpha0 : kLinearLiftLimit;
+  const double e1 = safe_exp(-ac.M * (alpha - a0));
+  const double e2 = safe_exp(ac.M * (alpha + a0));
+  return (1.0 + e1 + e2) / ((1.0 + e1) * (1.0 + e2));
+}
+
+namespace {
+double lift_c(const Aircraft& ac, double alpha, double sigma) {
   const double sa = std::sin(alpha), ca = std::cos(alpha);
   const double sgn = alpha >= 0.0 ? 1.0 : -1.0;
   return (1.0 - sigma) * (ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha) + sigma * (2.0 * sgn * sa * sa * ca);
 }
 
-double drag_coefficient(const Aircraft& ac, double alpha) {
+double drag_c(const Aircraft& ac, double alpha, double sigma) {
   const double cl = ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha;
-  return ac.aero.C_D_p + cl * cl / (kPi * ac.e * ac.AR());
+  const double sa = std::fabs(std::sin(alpha));
+  return ac.aero.C_D_p + (1.0 - sigma) * cl * cl / (kPi * ac.e * ac.AR()) + sigma * 2.0 * sa * sa * sa;
 }
+}  // namespace
+
+double lift_coefficient(const Aircraft& ac, double alpha) { return lift_c(ac, alpha, blend_sigma(ac, alpha)); }
+double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, alpha, blend_sigma(ac, alpha)); }
 
 namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
@@ -116,8 +125,9 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
   const double qS = 0.5 * ac.rho * Va * Va * ac.S;
   const double qSc = 0.25 * ac.rho * Va * ac.S * ac.c;
   const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
-  const double F_lift = qS * (lift_coefficient(ac, alpha) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
-  const double F_drag = qS * (drag_coefficient(ac, alpha) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
+  const double sigma = blend_sigma(ac, alpha);
+  const double F_lift = qS * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
+  const double F_drag = qS * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
   const double ca = std::cos(alpha), sa = std::sin(alpha);
   fm.prop = propulsion(ac, Va, d.delta_t);
   const double fx = -ca * F_drag + sa * F_lift + fm.prop.T_p;
@@ -128,7 +138,10 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
                                  A.C_ell_delta_r * d.delta_r) +
                            qSb * (A.C_ell_p * p + A.C_ell_r * r)) -
                    fm.prop.Q_p;
-  const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
+  // Beyond the blending angle the alpha term fades to C_m_alpha sin(alpha) (bounded for flow
+  // from behind); below it this is the book's C_m_alpha alpha.
+  const double alpha_m = (1.0 - sigma) * alpha + sigma * std::sin(alpha);
+  const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha_m + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
   const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a +
                                   A.C_n_delta_r * d.delta_r) +
                             qSb * (A.C_n_p * p + A.C_n_r * r));

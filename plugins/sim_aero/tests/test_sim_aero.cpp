@@ -390,6 +390,47 @@ TEST_CASE("ground: a landing touches down without bounce and rolls to a stop") {
   CHECK(!sim.crashed());
 }
 
+TEST_CASE("ground: parked with a tailwind and crosswind in turbulence it stays on its wheels") {
+  // The default mission's start: 5 m/s from the south-east, heading north (air from behind).
+  Simulator sim(anaconda(), 2);
+  sim.set_steady_wind({3.5355, -3.5355, 0.0});
+  sim.set_turbulence(dryden_preset("light"));
+  double max_tilt = 0;
+  for (int i = 0; i < 8000; ++i) {  // 20 s
+    sim.step(0.0025);
+    REQUIRE(all_finite(sim.state()));
+    const Eigen::Vector3d e = tern::sim::attitude(sim.state()).toRotationMatrix().col(2);  // body z in NED
+    max_tilt = std::max(max_tilt, std::acos(std::clamp(e.z(), -1.0, 1.0)));
+  }
+  CHECK(max_tilt < 0.15);
+  CHECK(sim.evaluate().wheels_on_ground == 3);
+  CHECK(!sim.crashed());
+  // Forces stay bounded with the air from behind: far below the weight at 5 m/s.
+  const ForcesMoments fm = sim.evaluate();
+  CHECK(fm.f_aero.norm() < 0.5 * 4.5 * kG);
+  // Full throttle: it still takes off (downwind).
+  Deltas d;
+  d.delta_t = 1.0;
+  d.delta_e = 0.1;
+  sim.set_command(d);
+  for (int i = 0; i < 1600; ++i) sim.step(0.0025);
+  CHECK(-sim.state()[PD] > 2.0);
+  CHECK(!sim.crashed());
+}
+
+TEST_CASE("model: the polar and linear lift hold below the blending angle, bounded beyond it") {
+  const Aircraft an = anaconda();  // no stall blend: linear lift up to kLinearLiftLimit
+  CHECK(lift_coefficient(an, 0.1) == doctest::Approx(0.506 + 5.61 * 0.1).epsilon(1e-5));
+  const double cl = 0.506 + 5.61 * 0.1;
+  CHECK(drag_coefficient(an, 0.1) == doctest::Approx(0.043 + cl * cl / (3.14159265358979 * 0.9 * an.AR())).epsilon(1e-5));
+  CHECK(std::fabs(lift_coefficient(an, 3.14159)) < 0.01);
+  CHECK(drag_coefficient(an, 3.14159) < 0.05);
+  CHECK(drag_coefficient(an, 1.5707) == doctest::Approx(2.043).epsilon(0.01));
+  const Aircraft ae = load_aircraft(kAircraft + "/aerosonde.yaml");  // the book's blend, alpha0 0.47
+  CHECK(lift_coefficient(ae, 0.2) == doctest::Approx(0.23 + 5.61 * 0.2).epsilon(1e-4));
+  CHECK(lift_coefficient(ae, 0.8) < 0.8);  // stalled
+}
+
 // ---------------------------------------------------------------- wind -----------------------
 
 TEST_CASE("wind: Dryden turbulence has the MIL-F-8785C intensities; seeded") {

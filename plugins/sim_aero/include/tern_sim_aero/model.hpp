@@ -73,8 +73,22 @@ AirData air_data(const StateVector& x, const Wind& wind);
 /// Propeller speed, thrust and torque at airspeed Va and throttle delta_t (propulsion supplement).
 PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t);
 
-/// Lift and drag coefficients of the blended model at alpha (book eqs. 4.9, 4.11 with the polar).
+/// Blending angle used when an aircraft has no stall blend (stall_blend false): its linear lift
+/// holds up to 0.35 rad (20 deg) of angle of attack, then fades to the flat plate.
+inline constexpr double kLinearLiftLimit = 0.35;
+
+/// The book's blending function sigma(alpha) (eq. 4.10) with M and alpha0 (or kLinearLiftLimit
+/// when stall_blend is false): ~0 in the linear range, ~1 beyond it.
+double blend_sigma(const Aircraft& ac, double alpha);
+
+/// Lift coefficient (book eq. 4.9): (1 - sigma)(C_L_0 + C_L_alpha alpha) + sigma 2 sign(a) sin^2 a cos a.
 double lift_coefficient(const Aircraft& ac, double alpha);
+/// Drag coefficient: the polar C_D_p + (C_L_0 + C_L_alpha alpha)^2/(pi e AR) of uavbook_model.md
+/// while sigma ~ 0; beyond the blending angle it fades, with the same sigma, to the flat plate
+/// C_D_p + 2 |sin a|^3 (the drag that goes with the book's flat-plate lift), so that flow from
+/// behind (tailwind on the ground, after a stall) gives bounded forces. The pitching moment's
+/// C_m_alpha alpha fades likewise to C_m_alpha sin(alpha). Within the usual flight envelope
+/// (|alpha| well below the blending angle) the book's model is unchanged.
 double drag_coefficient(const Aircraft& ac, double alpha);
 
 /// All forces and moments at state x (gravity, aerodynamics, propulsion, ground contact).
