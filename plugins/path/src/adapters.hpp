@@ -69,6 +69,10 @@ class ManagerPlugin final : public Plugin {
 
   std::unique_ptr<PathManager> manager_;
   std::optional<std::uint32_t> revision_;
+  // Tracking of the estimated position on lines after the first waypoint (summary): sum of
+  // squares, count, maximum of |cross-track error|, m.
+  double xt_sq_ = 0.0, xt_max_ = 0.0;
+  std::uint64_t xt_n_ = 0;
 };
 
 /// path_follower: current_path + state -> controller_command (Va_c, h_c, chi_c, phi_ff), see

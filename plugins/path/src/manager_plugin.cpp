@@ -1,4 +1,7 @@
 // path_manager adapter. See adapters.hpp and tern/path/manager.hpp.
+#include <algorithm>
+#include <cmath>
+
 #include <spdlog/spdlog.h>
 
 #include "adapters.hpp"
@@ -59,6 +62,8 @@ void ManagerPlugin::reset() {
       config(), [logger](const std::string& s) { logger->warn("{}", s); },
       [logger](const std::string& s) { logger->info("{}", s); });
   revision_.reset();
+  xt_sq_ = xt_max_ = 0.0;
+  xt_n_ = 0;
 }
 
 void ManagerPlugin::step(Nanos now) {
@@ -82,7 +87,14 @@ void ManagerPlugin::step(Nanos now) {
   }
   if (!state_.has_value()) return;
   const auto& s = *state_;
-  const PathSegment seg = manager_->update(Vec3(s.p_n, s.p_e, s.p_d), s.chi);
+  const Vec3 p(s.p_n, s.p_e, s.p_d);
+  const PathSegment seg = manager_->update(p, s.chi);
+  if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
+    const double e = std::fabs(cross_track_error(seg.r, seg.q, p));
+    xt_sq_ += e * e;
+    xt_max_ = std::max(xt_max_, e);
+    ++xt_n_;
+  }
   msg::CurrentPath out;
   out.stamp = now;
   out.path_type = seg.type == PathSegment::Type::line ? msg::CurrentPath::line : msg::CurrentPath::orbit;
@@ -98,7 +110,10 @@ void ManagerPlugin::step(Nanos now) {
 
 std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
   if (!manager_) return {};
-  return {{"waypoints_passed", static_cast<double>(manager_->passed().size())}};
+  const double rms = xt_n_ > 0 ? std::sqrt(xt_sq_ / static_cast<double>(xt_n_)) : 0.0;
+  return {{"waypoints_passed", static_cast<double>(manager_->passed().size())},
+          {"line_cross_track_rms_m", rms},
+          {"line_cross_track_max_m", xt_max_}};
 }
 
 }  // namespace tern::path

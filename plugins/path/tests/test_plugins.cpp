@@ -547,6 +547,13 @@ TEST_CASE("plugins: planner -> manager -> follower fly the ROSplane hourglass; a
   CHECK(index_after_edit == 0);
   CHECK(q_after_edit.x() > 0.99);
   CHECK(worst < 10.0);
-  CHECK(manager.plugin().summary().at(0).second >= 8);
+  const auto summary = manager.plugin().summary();
+  REQUIRE(summary.size() == 3);
+  CHECK(summary[0].first == "waypoints_passed");
+  CHECK(summary[0].second >= 8);
+  CHECK(summary[1].first == "line_cross_track_rms_m");
+  CHECK(summary[1].second > 0.0);
+  CHECK(summary[1].second <= summary[2].second);
+  CHECK(summary[2].second < 40.0);  // includes the turn onto the first leg after the edit
   CHECK(planner.output<msg::WaypointList>("waypoints").items[0].w == Vec3(400, -50, -70));
 }
