@@ -149,12 +149,25 @@ void ControllerPlugin::step(Nanos now) {
 
   const Mode mode = select_mode(s);
   if (mode == Mode::manual_passthrough || mode == Mode::manual_angle) ++manual_steps_;
-  const AutopilotOutput out = autopilot().update(mode, x, c, sticks, dt);
+  AutopilotOutput out;
+  if (!s.valid) {
+    // The estimator is not initialised (or lost its solution): hold the last command; before
+    // the first one that is trim with throttle 0. Manual pass-through still works.
+    if (mode == Mode::manual_passthrough) {
+      out = autopilot().update(mode, x, c, sticks, dt);
+    } else {
+      out.surfaces = autopilot().last();
+      out.held = true;
+    }
+  } else {
+    out = autopilot().update(mode, x, c, sticks, dt);
+  }
   if (out.held) {
     ++held_steps_;
     if (!holding_) {
-      log().warn("{}: non-finite state, command or sticks at t = {:.3f} s; holding the last actuator command",
-                 context().instance_name(), to_seconds(now));
+      log().warn("{}: {} at t = {:.3f} s; holding the last actuator command", context().instance_name(),
+                 s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)",
+                 to_seconds(now));
     }
   } else if (holding_) {
     log().info("{}: inputs finite again at t = {:.3f} s; control resumed", context().instance_name(), to_seconds(now));

@@ -21,7 +21,7 @@ class ControlSlc final : public ControllerPlugin {
   }
   void apply_law_params() override {
     law_.set_gains({altitude_kp_, altitude_ki_, altitude_kd_, theta_max_, theta_min_},
-                   {airspeed_kp_, airspeed_ki_, airspeed_kd_, trim_t_, max_t_, min_t_, derivative_tau_});
+                   {airspeed_kp_, airspeed_ki_, airspeed_kd_, trim_t_, max_t_, min_t(), derivative_tau_});
   }
   LongitudinalLaw& law() override { return law_; }
 

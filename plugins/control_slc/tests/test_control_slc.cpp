@@ -270,3 +270,26 @@ TEST_CASE("slc: manual modes from rc and fcu_status") {
   CHECK(std::fabs(L.last.delta_a - before.delta_a) < 0.05);
   CHECK(std::fabs(L.last.delta_e - before.delta_e) < 0.05);
 }
+
+TEST_CASE("slc: no throttle before the estimator is valid; control starts when it is") {
+  auto params = load_gains(kAircraft[0].gains);
+  ClosedLoop L(std::make_unique<ControlSlc>(), kAircraft[0].k, params);
+  msg::FlightPhase ph;
+  ph.phase = msg::Phase::takeoff;
+  L.h.set_input("flight_phase", ph);
+  auto s = to_state(L.plant, 0);
+  s.valid = false;
+  L.h.set_input("state", s);
+  L.h.set_input("controller_command", L.cmd);
+  L.h.step(0);
+  const auto& a = L.h.output<msg::Actuators>("actuators");
+  CHECK(a.delta_t == 0.0);  // not the takeoff throttle
+  CHECK(a.delta_e == doctest::Approx(std::get<double>(params["trim_e"])));
+  s.valid = true;
+  L.h.set_input("state", s);
+  L.h.step(from_seconds(0.01));
+  L.h.step(from_seconds(0.02));
+  CHECK(L.h.output<msg::Actuators>("actuators").delta_t > 0.0);  // the takeoff begins
+  L.run(2.0);
+  CHECK(L.h.output<msg::Actuators>("actuators").delta_t > 0.8);
+}

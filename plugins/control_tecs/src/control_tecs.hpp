@@ -47,7 +47,7 @@ class ControlTecs final : public ControllerPlugin {
     g.Va_dot_tau = Va_dot_tau_;
     g.theta_rate_max = theta_rate_max_;
     g.trim_t = trim_t_;
-    g.min_t = min_t_;
+    g.min_t = min_t();
     g.max_t = max_t_;
     g.theta_min = theta_min_;
     g.theta_max = theta_max_;

@@ -13,7 +13,8 @@
 //   in  fcu_status          msg::FcuStatus           optional (rc_override: manual modes)
 //   out actuators           msg::Actuators           rad, throttle 0..1, every step once a state arrived
 //   out controller_internals msg::ControllerInternals phi_c, theta_c, delta_t_c, alt_zone = phase
-// A state or command with NaN/Inf holds the previous actuator command (logged once per episode).
+// A state or command with NaN/Inf, or a state with valid == false, holds the previous actuator
+// command (before any: trim surfaces, throttle 0); logged once per episode.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +46,8 @@ class ControllerPlugin : public Plugin {
 
   /// Shared longitudinal limits (both laws use them).
   Param<double> theta_max_, theta_min_, trim_t_, max_t_, min_t_;
+  /// The lower throttle limit, never above max_t (a runtime change cannot invert the limits).
+  double min_t() const { return min_t_() < max_t_() ? min_t_() : max_t_(); }
 
  private:
   void apply_params();
