@@ -1,0 +1,307 @@
+#!/usr/bin/env python3
+"""Tests of tern-plot: run as `python3 core/plot/test_tern_plot.py` (plain unittest).
+
+Writes small synthetic run directories (the layout of core/src/flight_log.hpp) into a temp
+dir, runs tern-plot on them as a user would, and checks the figures, the printed list and
+the errors; also checks the pieces a wrong figure would come from (the YAML subset reader,
+ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segments).
+"""
+
+import importlib.machinery
+import importlib.util
+import math
+import os
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import unittest
+
+try:
+    import numpy as np  # noqa: F401  (the plotting module's functions are tested in-process)
+except ImportError:  # a pyenv/venv python3 first on PATH: Debian's has python3-numpy
+    if os.path.exists("/usr/bin/python3") and not os.environ.get("TERN_PLOT_TEST_REEXEC"):
+        os.environ["TERN_PLOT_TEST_REEXEC"] = "1"
+        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
+    raise
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+SCRIPT = os.path.join(HERE, "tern-plot")
+FIGURES = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png",
+           "estimation_errors.png"]
+PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
+
+
+def load_module():
+    loader = importlib.machinery.SourceFileLoader("tern_plot", SCRIPT)
+    spec = importlib.util.spec_from_loader("tern_plot", loader)
+    mod = importlib.util.module_from_spec(spec)
+    loader.exec_module(mod)
+    return mod
+
+
+TP = load_module()
+
+STATE_HEADER = ["t [s]", "stamp [ns]", "p_n [m]", "p_e [m]", "p_d [m]", "u [m/s]", "v [m/s]", "w [m/s]",
+                "phi [rad]", "theta [rad]", "psi [rad]", "Va [m/s]", "alpha [rad]", "chi [rad]",
+                "origin_lat [deg]", "origin_lon [deg]", "origin_alt [m]", "origin_valid [bool]", "valid [bool]"]
+
+ORIGIN = (40.2463724, -111.6474138, 1387.0)
+R_ORBIT = 100.0
+VA = 17.0
+
+
+def write_csv(path, header, rows):
+    with open(path, "w") as f:
+        f.write(",".join(header) + "\n")
+        for r in rows:
+            f.write(",".join(repr(float(x)) for x in r) + "\n")
+
+
+def write_run(run, topics=("state", "truth", "controller_command", "controller_internals", "current_path",
+                           "flight_phase", "waypoints"), config=True, duration=60.0, rate=50.0):
+    """A clockwise orbit of R_ORBIT about the origin, climbing to 50 m, course past +-180 deg."""
+    os.makedirs(os.path.join(run, "topics"))
+    n = int(duration * rate) + 1
+    omega = VA / R_ORBIT
+    state_rows, truth_rows = [], []
+    for k in range(n):
+        t = k / rate
+        ang = omega * t                        # clockwise seen from above: north -> east
+        p_n, p_e = R_ORBIT * math.cos(ang), R_ORBIT * math.sin(ang)
+        h = 50.0 * min(1.0, t / 20.0)
+        chi = math.atan2(math.sin(ang + math.pi / 2), math.cos(ang + math.pi / 2))
+        phi, theta = 0.4, 0.05 * math.sin(0.3 * t)
+        truth_rows.append([t, t * 1e9, p_n, p_e, -h, VA, 0, 0, phi, theta, chi, VA, 0.05, chi,
+                           ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, 1])
+        valid = 1 if t >= 1.0 else 0          # the estimator initialises after 1 s
+        e = 0.5 * math.sin(0.5 * t)
+        state_rows.append([t, t * 1e9, p_n + e, p_e - e, -h + e, VA, 0, 0, phi + 0.01, theta - 0.01,
+                           chi + 0.02, VA + e, 0.05, chi + 0.02, ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, valid])
+    tp = os.path.join(run, "topics")
+    if "state" in topics:
+        write_csv(os.path.join(tp, "state.csv"), STATE_HEADER, state_rows)
+    if "truth" in topics:
+        write_csv(os.path.join(tp, "truth.csv"), STATE_HEADER, truth_rows)
+    if "controller_command" in topics:
+        write_csv(os.path.join(tp, "controller_command.csv"),
+                  ["t [s]", "stamp [ns]", "Va_c [m/s]", "h_c [m]", "chi_c [rad]", "phi_ff [rad]"],
+                  [[r[0], r[1], VA, 50.0, r[13] + 0.1, 0.4] for r in truth_rows])
+    if "controller_internals" in topics:
+        write_csv(os.path.join(tp, "controller_internals.csv"),
+                  ["t [s]", "stamp [ns]", "phi_c [rad]", "theta_c [rad]", "delta_t_c []", "alt_zone [enum]"],
+                  [[r[0], r[1], 0.42, 0.0, 0.6, 2] for r in truth_rows])
+    if "current_path" in topics:
+        hdr = ["t [s]", "stamp [ns]", "path_type [enum]", "Va_d [m/s]", "r_n [m]", "r_e [m]", "r_d [m]",
+               "q_n []", "q_e []", "q_d []", "c_n [m]", "c_e [m]", "c_d [m]", "rho [m]", "lambda []",
+               "waypoint_index []"]
+        rows = []
+        for r in truth_rows:
+            if r[0] < 10.0:   # a line north from the origin, then the orbit
+                rows.append([r[0], r[1], 1, VA, 0, 0, -50, 1, 0, 0, 0, 0, 0, 0, 1, 0])
+            else:
+                rows.append([r[0], r[1], 0, VA, 0, 0, 0, 1, 0, 0, 0, 0, -50, R_ORBIT, 1, 1])
+        write_csv(os.path.join(tp, "current_path.csv"), hdr, rows)
+    if "flight_phase" in topics:
+        write_csv(os.path.join(tp, "flight_phase.csv"),
+                  ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
+                  [[0, 0, 0, 0, 0], [3, 3e9, 1, 0, 3e9], [20, 20e9, 2, 1, 20e9]])
+    if "waypoints" in topics:
+        write_csv(os.path.join(tp, "waypoints.csv"),
+                  ["t [s]", "stamp [ns]", "revision []", "count []", "loop [bool]"], [[0, 0, 1, 4, 1]])
+    if config:
+        with open(os.path.join(run, "config.yaml"), "w") as f:
+            f.write("# resolved from /nonexistent/configs/missions/synthetic.yaml\n"
+                    "name: synthetic\nseed: 1\nduration: 60\n"
+                    "plugins:\n  - name: sim\n    plugin: sim_aero\n    rate: 400\n"
+                    "    params:\n      wind: [3.5, -3.5, 0]\n      gusts: []\n      aircraft: \"\"\n"
+                    "  - name: planner\n    plugin: path_planner\n    rate: 10\n    params:\n"
+                    "      mission_file: \"\"\n"
+                    "phases: {takeoff: slc, climb: slc, cruise: slc}\n"
+                    "mission:\n  loop: true\n  waypoints:\n"
+                    "    - [100, 0, -50]\n"
+                    "    - {ned: [0, 100, -50], Va_d: 17}\n"
+                    "    - ned: [-100, 0, -50]   # block map entry\n"
+                    "      Va_d: 17\n"
+                    f"    - {{lla: [{ORIGIN[0]}, {ORIGIN[1] - 0.0011}, {ORIGIN[2] + 50}]}}\n")
+
+
+def run_plot(*args):
+    return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300)
+
+
+def png_size(path):
+    with open(path, "rb") as f:
+        head = f.read(24)
+    if head[:8] != PNG_SIGNATURE or head[12:16] != b"IHDR":
+        return None
+    return struct.unpack(">II", head[16:24])
+
+
+class TernPlotRuns(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="tern_plot_test_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def test_full_run_writes_every_figure_and_lists_them(self):
+        run = os.path.join(self.tmp, "20260101T000000Z-synthetic")
+        write_run(run)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        plots = os.path.join(run, "plots")
+        out = r.stdout.strip().splitlines()
+        for name in FIGURES:
+            path = os.path.join(plots, name)
+            self.assertTrue(os.path.isfile(path), name)
+            size = png_size(path)
+            self.assertIsNotNone(size, f"{name} is not a PNG")
+            self.assertGreater(size[0], 500, name)
+            self.assertGreater(size[1], 300, name)
+            self.assertGreater(os.path.getsize(path), 10000, name)
+            self.assertIn(path, out)
+        self.assertEqual(out[-1], f"plots: {plots}/")
+        self.assertNotIn("note:", r.stdout)   # every topic present, waypoints readable
+        self.assertEqual(r.stderr, "")
+
+    def test_missing_topics_are_skipped_with_a_note(self):
+        run = os.path.join(self.tmp, "run")
+        write_run(run, topics=("state", "controller_command"), config=False)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        plots = os.path.join(run, "plots")
+        for name in ("ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png"):
+            self.assertIsNotNone(png_size(os.path.join(plots, name)), name)
+        self.assertFalse(os.path.exists(os.path.join(plots, "estimation_errors.png")))
+        notes = [ln for ln in r.stdout.splitlines() if "note:" in ln]
+        for what in ("truth.csv", "controller_internals.csv", "current_path.csv", "flight_phase.csv",
+                     "config.yaml", "estimation_errors.png"):
+            self.assertEqual(sum(what in ln for ln in notes), 1, f"one note about {what}: {notes}")
+
+    def test_missing_run_dir_is_one_error_line_and_exit_1(self):
+        missing = os.path.join(self.tmp, "no_such_run")
+        r = run_plot(missing)
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(r.stdout, "")
+        lines = r.stderr.strip().splitlines()
+        self.assertEqual(len(lines), 1, r.stderr)
+        self.assertIn(missing, lines[0])
+        self.assertIn("error", lines[0])
+
+    def test_directory_without_a_log_is_refused(self):
+        empty = os.path.join(self.tmp, "empty")
+        os.makedirs(empty)
+        r = run_plot(empty)
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertIn("not a tern run directory", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(empty, "plots")))
+        r = run_plot()
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertIn("usage", r.stderr)
+
+
+class Pieces(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="tern_plot_test_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def test_yaml_subset(self):
+        doc = TP.yaml_load(
+            "# resolved from /x/y.yaml\nname: demo   # comment\nseed: 42\nlog: {dir: runs, topics: all}\n"
+            "plugins:\n  - name: sim\n    params:\n      wind: [3.5, -3.5e-1, 0]\n      gusts: []\n"
+            "      label: \"a # b\"\n  - {name: ekf, trigger: imu}\nlist:\n- 1\n- two\n"
+            "flag: False\nnothing:\nwps: [[1, 2, 3],\n      [4, 5, 6]]\n")
+        self.assertEqual(doc["name"], "demo")
+        self.assertEqual(doc["seed"], 42)
+        self.assertEqual(doc["log"], {"dir": "runs", "topics": "all"})
+        self.assertEqual(doc["plugins"][0]["params"], {"wind": [3.5, -0.35, 0], "gusts": [], "label": "a # b"})
+        self.assertEqual(doc["plugins"][1], {"name": "ekf", "trigger": "imu"})
+        self.assertEqual(doc["list"], [1, "two"])
+        self.assertIs(doc["flag"], False)
+        self.assertIsNone(doc["nothing"])
+        self.assertEqual(doc["wps"], [[1, 2, 3], [4, 5, 6]])
+        with self.assertRaises(TP.YamlError):
+            TP.yaml_load("a: [1, 2\n")
+
+    def test_rosplane_mission_keeps_every_repeated_wp(self):
+        text = "".join(f"wp:\n  w: [{n}, {e}, -70.0]\n  chi_d: 1.1518\n  lla: False\n  use_chi: False\n"
+                       f"  va_d: 17.0\n" for n, e in ((400, -250), (-400, -50), (-400, -250), (400, -50)))
+        wps, loop = TP.parse_mission_text(text)
+        self.assertTrue(loop)
+        self.assertEqual([w for w, _ in wps], [[400, -250, -70], [-400, -50, -70], [-400, -250, -70],
+                                               [400, -50, -70]])
+        self.assertFalse(any(is_lla for _, is_lla in wps))
+
+    def test_mission_file_is_relative_to_the_original_config(self):
+        cfg_dir = os.path.join(self.tmp, "configs", "missions")
+        os.makedirs(cfg_dir)
+        with open(os.path.join(cfg_dir, "hourglass.yaml"), "w") as f:
+            f.write("wp:\n  w: [400.0, -250.0, -70.0]\n  lla: False\nwp:\n  w: [-400.0, -50.0, -70.0]\n"
+                    "wp:\n  w: [40.2463724, -111.6474138, 1457.0]\n  lla: True\n")
+        run = os.path.join(self.tmp, "run")
+        os.makedirs(run)
+        with open(os.path.join(run, "config.yaml"), "w") as f:
+            f.write(f"# resolved from {cfg_dir}/mine.yaml\nname: x\nmission:\n  file: hourglass.yaml\n")
+        wps, loop = TP.mission_waypoints(run, None, None)  # no state: origin from nowhere
+        self.assertTrue(loop)
+        self.assertEqual(wps.tolist(), [[400, -250, -70], [-400, -50, -70]])  # the lla one needs an origin
+        state = TP.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
+                                   "origin_lon": np.array([0.0, ORIGIN[1]]),
+                                   "origin_alt": np.array([0.0, ORIGIN[2]]),
+                                   "origin_valid": np.array([0.0, 1.0])})
+        wps, _ = TP.mission_waypoints(run, state, None)
+        self.assertEqual(len(wps), 3)
+        np.testing.assert_allclose(wps[2], [0.0, 0.0, -70.0], atol=1e-6)
+
+    def test_lla_to_ned(self):
+        lat, lon, alt = ORIGIN
+        a, f = 6378137.0, 1 / 298.257223563
+        e2 = f * (2 - f)
+        s = math.sin(math.radians(lat))
+        m_radius = a * (1 - e2) / (1 - e2 * s * s) ** 1.5     # meridian radius of curvature
+        n_radius = a / math.sqrt(1 - e2 * s * s)              # prime vertical
+        n, e, d = TP.lla_to_ned((lat + 0.001, lon, alt), ORIGIN)
+        self.assertAlmostEqual(n, (m_radius + alt) * math.radians(0.001), delta=0.005)
+        self.assertAlmostEqual(e, 0.0, delta=1e-6)
+        n, e, d = TP.lla_to_ned((lat, lon - 0.001, alt + 10.0), ORIGIN)
+        self.assertAlmostEqual(e, -(n_radius + alt) * math.cos(math.radians(lat)) * math.radians(0.001),
+                               delta=0.005)
+        self.assertAlmostEqual(d, -10.0, delta=0.01)
+
+    def test_course_follows_the_reference_across_pi(self):
+        t = np.linspace(0.0, 10.0, 101)
+        ref = np.unwrap(TP.wrap_pi(3.0 + 0.1 * t))             # 3.0 .. 4.0 rad, past pi
+        cmd = TP.wrap_pi(3.0 + 0.1 * t + 0.05)                 # wrapped, jumps at pi
+        u = TP.unwrap_like(t, ref, t, cmd)
+        np.testing.assert_allclose(u, 3.0 + 0.1 * t + 0.05, atol=1e-12)
+
+    def test_commanded_segments_cover_the_stretch_flown(self):
+        t = np.arange(0.0, 20.0, 0.1)
+        path = TP.Topic("current_path", {
+            "t": t, "path_type": np.where(t < 10, 1.0, 0.0), "r_n": np.zeros_like(t), "r_e": np.zeros_like(t),
+            "q_n": np.ones_like(t), "q_e": np.zeros_like(t), "c_n": np.full_like(t, 200.0),
+            "c_e": np.zeros_like(t), "rho": np.where(t < 10, 0.0, 50.0), "lambda": np.ones_like(t)})
+        # along the line to n = 150 by t = 10, then a quarter of the orbit about (200, 0)
+        a = np.clip((t - 10) / 10, 0, 1) * (np.pi / 2)
+        pn = np.where(t < 10, 15.0 * t, 200.0 - 50.0 * np.cos(a))
+        pe = np.where(t < 10, 0.0, -50.0 * np.sin(a))
+        segs = TP.path_segments(path, (t, pn, pe))
+        self.assertEqual(len(segs), 2)
+        (le, ln), (oe, on) = segs
+        self.assertEqual(ln.tolist(), [0.0, 150.0])
+        self.assertEqual(le.tolist(), [0.0, 0.0])
+        np.testing.assert_allclose(np.hypot(on - 200.0, oe), 50.0)
+        self.assertAlmostEqual(float(on.min()), 150.0, delta=1e-6)
+        self.assertAlmostEqual(float(oe.min()), -50.0, delta=0.1)   # the quarter flown, not the whole circle
+        self.assertGreaterEqual(float(oe.max()), -1e-6)
+        self.assertLess(float(oe.max()), 1.0)
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)
