@@ -13,6 +13,7 @@
 #include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/simulator.hpp"
 #include "tern_sim_aero/trim.hpp"
+#include "tern_sim_aero/wind.hpp"
 
 using namespace tern;
 using namespace tern::control;
@@ -43,7 +44,11 @@ msg::State truth(const sim::Simulator& s) {
   m.p = x[sim::P];
   m.q = x[sim::Q];
   m.r = x[sim::R];
-  m.Va = v_body.norm();  // no wind in these flights
+  m.Va = (v_ned - s.wind_ned()).norm();
+  const Eigen::Vector3d w = s.wind_ned();
+  m.w_n = w.x();
+  m.w_e = w.y();
+  m.w_d = w.z();
   m.Vg = std::hypot(v_ned.x(), v_ned.y());
   m.chi = m.Vg > 0.5 ? std::atan2(v_ned.y(), v_ned.x()) : m.psi;
   m.valid = true;
@@ -178,5 +183,36 @@ TEST_CASE("sim_aero: takeoff from rest, climb and cruise (ROSplane's phase thres
     CHECK(std::fabs(s.altitude() - 50.0) < 2.0);
     CHECK(std::fabs(s.Va - c.Va) < 1.0);
     CHECK(std::fabs(s.chi) < 3 * kDeg);
+  }
+}
+
+TEST_CASE("sim_aero: cruise in 5 m/s wind from the south-east with light turbulence") {
+  for (const auto& c : kCases) {
+    CAPTURE(std::string(c.name));
+    Flight f(c.aircraft, controller(c), c.gains);
+    f.start_at_trim(c.Va, 100.0);
+    // wind from the south-east blows towards the north-west
+    f.sim.set_steady_wind(Eigen::Vector3d(5.0 / std::sqrt(2.0), -5.0 / std::sqrt(2.0), 0.0));
+    f.sim.set_turbulence(sim::dryden_preset("light"));
+    f.run(20.0);
+    double se_h = 0, se_V = 0, se_chi = 0;
+    int n = 0;
+    for (double chi_c : {0.0, 90.0, 180.0, -90.0}) {
+      f.cmd.chi_c = chi_c * kDeg;
+      f.run(15.0);  // turn
+      f.run(25.0, [&](double, const msg::State& s) {
+        se_h += (s.altitude() - 100.0) * (s.altitude() - 100.0);
+        se_V += (s.Va - c.Va) * (s.Va - c.Va);
+        se_chi += wrap_pi(s.chi - chi_c * kDeg) * wrap_pi(s.chi - chi_c * kDeg);
+        ++n;
+      });
+    }
+    const double rms_h = std::sqrt(se_h / n), rms_V = std::sqrt(se_V / n), rms_chi = std::sqrt(se_chi / n) / kDeg;
+    MESSAGE(std::string(c.name), ": RMS errors on straight legs: altitude ", rms_h, " m, airspeed ", rms_V,
+            " m/s, course ", rms_chi, " deg");
+    CHECK_FALSE(f.sim.crashed());
+    CHECK(rms_h < 1.5);
+    CHECK(rms_V < 1.0);
+    CHECK(rms_chi < 3.0);
   }
 }
