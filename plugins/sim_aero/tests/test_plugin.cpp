@@ -80,6 +80,12 @@ TEST_CASE("plugin: a sensor can be switched off or dropped out for a time window
 }
 
 TEST_CASE("plugin: on the ground without a controller the aircraft waits; actuators fly it") {
+  {
+    auto hw = make({{"wind", std::vector<double>{0.0, 3.0, 0.0}}});
+    hw.step(0);
+    CHECK(hw.output<msg::State>("truth").w_e == 3.0);  // wind acts from the first sample
+    CHECK(hw.output<msg::State>("truth").Va == doctest::Approx(3.0));
+  }
   auto h = make({});
   run(h, 2.0);
   CHECK(h.output<msg::State>("truth").Vg < 0.01);

@@ -34,7 +34,10 @@ class Simulator {
   const Deltas& surfaces() const { return act_; }
 
   /// Steady wind in NED (m/s), turbulence and gusts.
-  void set_steady_wind(const Eigen::Vector3d& w_ned) { steady_ = w_ned; }
+  void set_steady_wind(const Eigen::Vector3d& w_ned) {
+    wind_.steady_ned += w_ned - steady_;  // acts at once (gusts stay as they are)
+    steady_ = w_ned;
+  }
   void set_turbulence(const DrydenParams& p) { dryden_.set_params(p); }
   GustField& gusts() { return gusts_; }
   /// The wind acting now (steady + gusts in NED, turbulence in body).
