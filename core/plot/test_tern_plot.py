@@ -281,6 +281,23 @@ class Pieces(unittest.TestCase):
         u = TP.unwrap_like(t, ref, t, cmd)
         np.testing.assert_allclose(u, 3.0 + 0.1 * t + 0.05, atol=1e-12)
 
+    def test_decimation_keeps_the_envelope(self):
+        t = np.arange(100001) * 0.0025
+        v = np.sin(t)
+        v[54321] = 7.0          # one-sample spike
+        v[77777] = -3.0
+        v[20000:30000] = np.nan  # estimator not valid there
+        td, vd = TP.decimate(t, v)
+        self.assertLessEqual(len(td), TP.MAX_POINTS + 100)
+        self.assertTrue(np.all(np.diff(td) > 0))
+        self.assertEqual(np.nanmax(vd), 7.0)
+        self.assertEqual(np.nanmin(vd), -3.0)
+        gap = (td > 50.5) & (td < 74.5)
+        self.assertTrue(gap.any() and np.all(np.isnan(vd[gap])))
+        self.assertFalse(np.isnan(vd[~((td >= 50.0) & (td < 75.0))]).any())
+        short = np.arange(10.0)
+        self.assertIs(TP.decimate(short, short)[1], short)
+
     def test_commanded_segments_cover_the_stretch_flown(self):
         t = np.arange(0.0, 20.0, 0.1)
         path = TP.Topic("current_path", {
