@@ -187,3 +187,36 @@ TEST_CASE("log.max_rate thins fast topics by flight time; log.rates overrides it
   REQUIRE(truth.size() == 22);                                               // 400 Hz -> 10 Hz
   CHECK(truth[2].rfind("0.100000000,", 0) == 0);
 }
+
+TEST_CASE("mission edits from the host API reach the reader of mission_edit, one per tick, in order") {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "edits";
+  Host h(load_config(write_file("edits.yaml", base_config())), o);
+  h.build();
+  CHECK(h.graph_text().find("mission_edit [tern/MissionEdit]: host (tern mission edits) -> filter.mission_edit") != std::string::npos);
+  tern::msg::MissionEdit e;
+  e.op = tern::msg::MissionEdit::add;
+  e.id = 1;
+  h.edit_mission(e);
+  e.op = tern::msg::MissionEdit::clear;
+  e.id = 2;
+  h.edit_mission(e);
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["instances"]["filter"]["mission_edits"] == 2.0);
+  CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
+  const auto rows = lines(read_file(r.run_dir / "topics" / "mission_edit.csv"));
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[1].rfind("0.000000000,0,1,0,", 0) == 0);
+  CHECK(rows[2].rfind("0.002500000,2500000,2,1,", 0) == 0);
+}
+
+TEST_CASE("edit_mission without a mission_edit reader is an error") {
+  HostOptions o;
+  o.quiet = true;
+  Host h(load_config(write_file("noedits.yaml", "name: t\nplugins:\n  - {name: sensor, plugin: test_sensor, rate: 400}\n")), o);
+  h.build();
+  CHECK_THROWS_WITH_AS(h.edit_mission(tern::msg::MissionEdit{}), doctest::Contains("no plugin instance reads topic 'mission_edit'"), ConfigError);
+}

@@ -215,6 +215,7 @@ struct Host::Topic {
   std::vector<std::pair<std::size_t, OutputBase*>> writers;  // (instance, port)
   std::vector<std::pair<std::size_t, InputBase*>> readers;
   bool routed = false;
+  const OutputBase* host_writer = nullptr;  // written by the host itself (mission_edit)
   const OutputBase* current = nullptr;  // the writer readers are bound to
   // logging
   std::size_t log_index = SIZE_MAX;
@@ -499,6 +500,21 @@ void Host::bind_ports() {
       }
     }
   }
+  // the host publishes runtime mission edits when a plugin reads them and no plugin writes them
+  for (auto& tp : topics_) {
+    if (tp->name != "mission_edit" || !tp->writers.empty() || tp->readers.empty()) continue;
+    mission_edit_out_ = std::make_unique<Output<msg::MissionEdit>>();
+    mission_edit_out_->set_identity("mission_edit", "runtime mission edits (command line, DDS)");
+    for (auto& [i, in] : tp->readers)
+      if (in->type().fingerprint != mission_edit_out_->type().fingerprint)
+        throw ConfigError(fmt::format("{}: input '{}' on topic 'mission_edit' expects {}, the host publishes {}", f.string(),
+                                      port_id(*instances_[i], *in), in->type().name, mission_edit_out_->type().name));
+    tp->type_name = std::string(mission_edit_out_->type().name);
+    tp->fingerprint = mission_edit_out_->type().fingerprint;
+    tp->msg_size = mission_edit_out_->type().size;
+    tp->columns = mission_edit_out_->type().columns();
+    tp->host_writer = mission_edit_out_.get();
+  }
   // initial routing: the takeoff controller
   if (!config_.phases.empty()) {
     const std::string& first = config_.phases.at(msg::Phase::takeoff);
@@ -507,6 +523,11 @@ void Host::bind_ports() {
   }
   for (auto& tp : topics_) {
     Topic& t = *tp;
+    if (t.host_writer) {
+      t.current = t.host_writer;
+      for (auto& [i, in] : t.readers) in->bind(t.host_writer);
+      continue;
+    }
     if (t.writers.empty()) continue;
     const OutputBase* src = t.writers[0].second;
     if (t.routed) {
@@ -570,6 +591,13 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
   param_pending_.store(true, std::memory_order_release);
 }
 
+void Host::edit_mission(const msg::MissionEdit& edit) {
+  if (!mission_edit_out_) throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'mission_edit' (add a path_planner)");
+  std::lock_guard lk(param_mu_);
+  mission_edits_.push_back(edit);
+  param_pending_.store(true, std::memory_order_release);
+}
+
 std::vector<std::string> Host::schedule() const {
   std::vector<std::string> out;
   for (auto i : order_) out.push_back(instances_[i]->cfg.name);
@@ -606,11 +634,13 @@ std::string Host::graph_text() const {
     const Topic& t = *tp;
     std::vector<std::string> w, r;
     for (auto& [i, o] : t.writers) w.push_back(port_id(*instances_[i], *o));
+    if (t.host_writer) w.push_back("host (tern mission edits)");
     for (auto& [i, in] : t.readers) {
       bool fb = false;
       for (const auto& e : edges_)
         if (e.to == i && e.topic == t.name && e.feedback) fb = true;
-      r.push_back(port_id(*instances_[i], *in) + (fb ? " (feedback: previous tick)" : "") + (t.writers.empty() ? " (optional, unconnected)" : ""));
+      r.push_back(port_id(*instances_[i], *in) + (fb ? " (feedback: previous tick)" : "") +
+                  (t.writers.empty() && !t.host_writer ? " (optional, unconnected)" : ""));
     }
     s += fmt::format("  {} [{}]{}: {} -> {}\n", t.name, t.writers.empty() ? std::string(t.readers[0].second->type().name) : t.type_name,
                      t.routed ? " (routed)" : "", w.empty() ? "(none)" : fmt::format("{}", fmt::join(w, ", ")),
@@ -713,7 +743,7 @@ FlightResult Host::fly() {
   // topics to log
   std::set<std::string> wanted(config_.log.topics.begin(), config_.log.topics.end());
   for (auto& tp : topics_) {
-    if (tp->writers.empty()) continue;
+    if (tp->writers.empty() && !tp->host_writer) continue;
     if (!config_.log.all_topics && !wanted.count(tp->name)) continue;
     tp->log_index = log.add_topic(tp->name, tp->columns, tp->msg_size);
     tp->logged_src = nullptr;
@@ -790,10 +820,24 @@ FlightResult Host::fly() {
     }
     if (param_pending_.load(std::memory_order_acquire)) {
       std::vector<ParamRequest> reqs;
+      std::vector<msg::MissionEdit> edits;
       {
         std::lock_guard lk(param_mu_);
         reqs.swap(param_requests_);
+        edits.swap(mission_edits_);
         param_pending_.store(false, std::memory_order_relaxed);
+      }
+      // one edit per tick reaches the planner (a port holds the latest message): keep the rest queued
+      if (!edits.empty()) {
+        msg::MissionEdit e = edits.front();
+        e.stamp = now;
+        mission_edit_out_->publish(e);
+        logger_->info("t={:.3f} s: mission edit #{} (op {})", to_seconds(now), e.id, static_cast<int>(e.op));
+        if (edits.size() > 1) {
+          std::lock_guard lk(param_mu_);
+          mission_edits_.insert(mission_edits_.begin(), edits.begin() + 1, edits.end());
+          param_pending_.store(true, std::memory_order_relaxed);
+        }
       }
       for (auto& rq : reqs) {
         try {

@@ -104,6 +104,10 @@ class Host {
   /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value), applied
   /// at the start of the next tick and recorded in params.csv with `source`.
   void request_param(const std::string& qualified, const ParamValue& value, const std::string& source);
+  /// Queues a mission edit (from any thread: command line, DDS). It is published on topic
+  /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
+  /// ConfigError when no instance reads `mission_edit`.
+  void edit_mission(const msg::MissionEdit& edit);
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
 
@@ -159,6 +163,8 @@ class Host {
   std::mutex param_mu_;
   std::vector<ParamRequest> param_requests_;
   std::atomic<bool> param_pending_{false};
+  std::unique_ptr<Output<msg::MissionEdit>> mission_edit_out_;  // the host's own writer
+  std::vector<msg::MissionEdit> mission_edits_;                  // under param_mu_
 };
 
 }  // namespace tern::core

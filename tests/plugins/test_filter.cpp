@@ -9,9 +9,14 @@ class TestFilter final : public tern::Plugin {
     declare(imu_, "imu");
     declare(truth_, "truth", "", tern::Need::optional);
     declare(state_, "state");
+    declare(edits_, "mission_edit", "counts runtime mission edits", tern::Need::optional);
   }
   void step(tern::Nanos now) override {
     if (imu_->stamp != now) ++stale_;
+    if (edits_.updated()) {
+      ++edits_seen_;
+      last_edit_id_ = edits_->id;
+    }
     tern::msg::State s = truth_.get();
     s.stamp = now;
     s.p_n = imu_->accel.x();  // carries the seeded noise into the state log
@@ -19,14 +24,16 @@ class TestFilter final : public tern::Plugin {
     ++steps_;
   }
   std::vector<std::pair<std::string, double>> summary() const override {
-    return {{"stale_imu_steps", static_cast<double>(stale_)}, {"steps", static_cast<double>(steps_)}};
+    return {{"stale_imu_steps", static_cast<double>(stale_)}, {"steps", static_cast<double>(steps_)},
+            {"mission_edits", static_cast<double>(edits_seen_)}, {"last_edit_id", static_cast<double>(last_edit_id_)}};
   }
 
  private:
   tern::Input<tern::msg::Imu> imu_;
   tern::Input<tern::msg::State> truth_;
   tern::Output<tern::msg::State> state_;
-  long stale_ = 0, steps_ = 0;
+  tern::Input<tern::msg::MissionEdit> edits_;
+  long stale_ = 0, steps_ = 0, edits_seen_ = 0, last_edit_id_ = 0;
 };
 }  // namespace
 
