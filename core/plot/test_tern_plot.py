@@ -149,7 +149,7 @@ class TernPlotRuns(unittest.TestCase):
     def test_full_run_writes_every_figure_and_lists_them(self):
         run = os.path.join(self.tmp, "20260101T000000Z-synthetic")
         write_run(run)
-        r = run_plot(run)
+        r = run_plot("--strict", run)   # strict: any missing topic/field/waypoint would be exit 1
         self.assertEqual(r.returncode, 0, r.stderr)
         plots = os.path.join(run, "plots")
         out = r.stdout.strip().splitlines()
@@ -169,6 +169,11 @@ class TernPlotRuns(unittest.TestCase):
     def test_missing_topics_are_skipped_with_a_note(self):
         run = os.path.join(self.tmp, "run")
         write_run(run, topics=("state", "controller_command"), config=False)
+        cc = os.path.join(run, "topics", "controller_command.csv")
+        with open(cc) as f:
+            rows = [ln.rstrip("\n").split(",") for ln in f]
+        with open(cc, "w") as f:   # a log without chi_c
+            f.writelines(",".join(r[:4] + r[5:]) + "\n" for r in rows)
         r = run_plot(run)
         self.assertEqual(r.returncode, 0, r.stderr)
         plots = os.path.join(run, "plots")
@@ -177,8 +182,13 @@ class TernPlotRuns(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(plots, "estimation_errors.png")))
         notes = [ln for ln in r.stdout.splitlines() if "note:" in ln]
         for what in ("truth.csv", "controller_internals.csv", "current_path.csv", "flight_phase.csv",
-                     "config.yaml", "estimation_errors.png"):
+                     "config.yaml", "estimation_errors.png", "chi_c"):
             self.assertEqual(sum(what in ln for ln in notes), 1, f"one note about {what}: {notes}")
+        self.assertEqual(r.stderr, "")
+        r = run_plot(run, "--strict")
+        self.assertEqual(r.returncode, 1)
+        self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
+        self.assertIn("--strict", r.stderr)
 
     def test_missing_run_dir_is_one_error_line_and_exit_1(self):
         missing = os.path.join(self.tmp, "no_such_run")
