@@ -156,3 +156,21 @@ TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensor
   const auto& m = h.output<msg::Mag>("mag");
   CHECK(m.field.norm() == doctest::Approx(5.07163e-5).epsilon(1e-6));
 }
+
+TEST_CASE("plugin: scheduled 1-cosine gusts appear in the wind at their time; sub-steps of sim_rate") {
+  auto h = make({{"init_mode", std::string("trim")},
+                 {"sim_rate", 1000.0},  // 2.5 ms steps: sub-steps of 1, 1 and 0.5 ms
+                 {"gusts", std::vector<double>{0.5, 1.0, 0.0, 4.0, 0.0}}});
+  for (Nanos t = 0; t <= from_seconds(0.2); t += 2'500'000) h.step(t);
+  CHECK(h.output<msg::State>("truth").w_e == 0.0);
+  for (Nanos t = from_seconds(0.2) + 2'500'000; t <= from_seconds(1.0); t += 2'500'000) h.step(t);
+  CHECK(h.output<msg::State>("truth").w_e == doctest::Approx(4.0));  // the peak, mid-gust
+  for (Nanos t = from_seconds(1.0) + 2'500'000; t <= from_seconds(2.0); t += 2'500'000) h.step(t);
+  CHECK(h.output<msg::State>("truth").w_e == 0.0);
+  CHECK(h.published("imu") == 801);
+  CHECK(h.output<msg::State>("truth").stamp == from_seconds(2.0));
+  CHECK(h.output<msg::State>("truth").altitude() == doctest::Approx(100.0).epsilon(0.02));
+  const auto summary = h.plugin().summary();
+  CHECK(summary.at(0).first == "sim_steps");
+  CHECK(summary.at(0).second == 2400.0);  // 3 sub-steps per 2.5 ms step
+}
