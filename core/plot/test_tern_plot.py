@@ -45,7 +45,8 @@ TP = load_module()
 
 STATE_HEADER = ["t [s]", "stamp [ns]", "p_n [m]", "p_e [m]", "p_d [m]", "u [m/s]", "v [m/s]", "w [m/s]",
                 "phi [rad]", "theta [rad]", "psi [rad]", "Va [m/s]", "alpha [rad]", "chi [rad]",
-                "origin_lat [deg]", "origin_lon [deg]", "origin_alt [m]", "origin_valid [bool]", "valid [bool]"]
+                "origin_lat [deg]", "origin_lon [deg]", "origin_alt [m]", "origin_valid [bool]", "valid [bool]",
+                "w_n [m/s]", "w_e [m/s]"]
 
 ORIGIN = (40.2463724, -111.6474138, 1387.0)
 R_ORBIT = 100.0
@@ -74,11 +75,12 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
         chi = math.atan2(math.sin(ang + math.pi / 2), math.cos(ang + math.pi / 2))
         phi, theta = 0.4, 0.05 * math.sin(0.3 * t)
         truth_rows.append([t, t * 1e9, p_n, p_e, -h, VA, 0, 0, phi, theta, chi, VA, 0.05, chi,
-                           ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, 1])
+                           ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, 1, 3.5, -3.5])
         valid = 1 if t >= 1.0 else 0          # the estimator initialises after 1 s
         e = 0.5 * math.sin(0.5 * t)
         state_rows.append([t, t * 1e9, p_n + e, p_e - e, -h + e, VA, 0, 0, phi + 0.01, theta - 0.01,
-                           chi + 0.02, VA + e, 0.05, chi + 0.02, ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, valid])
+                           chi + 0.02, VA + e, 0.05, chi + 0.02, ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, valid,
+                           3.4, -3.4])
     tp = os.path.join(run, "topics")
     if "state" in topics:
         write_csv(os.path.join(tp, "state.csv"), STATE_HEADER, state_rows)
