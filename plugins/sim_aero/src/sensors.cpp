@@ -91,7 +91,7 @@ DiffPressureSample Sensors::diff_pressure(const Truth& t, double dt) {
 }
 
 GnssSample Sensors::gnss(const Truth& t, double dt) {
-  // Book eq. 7.26: nu[n+1] = exp(-k Ts) nu[n] + eta, with eta scaled to the sample interval.
+  // Book sec. 7.5: nu[n+1] = exp(-k Ts) nu[n] + eta, with eta scaled to the sample interval.
   const double phi = std::exp(-p_.gnss_k * dt);
   const double s = std::sqrt(std::max(dt, 0.0));
   const Eigen::Vector3d g = gauss3();

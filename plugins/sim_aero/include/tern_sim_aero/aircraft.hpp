@@ -84,7 +84,7 @@ struct Aircraft {
   double e = 0.9;              ///< Oswald efficiency of the drag polar
   double M = 0;                ///< blending rate of the stall model
   double alpha0 = 0;           ///< stall angle of the blending function, rad
-  /// Blend linear and flat-plate lift with sigma(alpha) (book eq. 4.10). false: linear lift
+  /// Blend linear and flat-plate lift with sigma(alpha) (book sec. 4.2). false: linear lift
   /// C_L_0 + C_L_alpha alpha only (sigma = 0), as ROSflight's simulator computes it.
   bool stall_blend = true;
   AeroCoefficients aero;

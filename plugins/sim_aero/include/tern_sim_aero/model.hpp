@@ -32,7 +32,7 @@ struct Wind {
   Eigen::Vector3d gust_body = Eigen::Vector3d::Zero();   ///< m/s
 };
 
-/// Airspeed, angle of attack and sideslip (book eq. 4.? / 2.8).
+/// Airspeed, angle of attack and sideslip (book sec. 2.3, eq. 2.8).
 struct AirData {
   Eigen::Vector3d v_air = Eigen::Vector3d::Zero();  ///< (u_r v_r w_r), body, m/s
   double Va = 0, alpha = 0, beta = 0;               ///< m/s, rad, rad (beta = 0 when Va = 0)
@@ -67,7 +67,7 @@ inline constexpr double kG = 9.81;
 /// Body -> NED rotation of the (normalised) quaternion part of x.
 Eigen::Quaterniond attitude(const StateVector& x);
 
-/// Air data from the body ground velocity and the wind (book sec. 4.4, eq. 4.? ).
+/// Air data from the body ground velocity and the wind (book sec. 4.4: v_air = v - wind in body axes).
 AirData air_data(const StateVector& x, const Wind& wind);
 
 /// Propeller speed, thrust and torque at airspeed Va and throttle delta_t (propulsion supplement).
@@ -77,11 +77,11 @@ PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t);
 /// holds up to 0.35 rad (20 deg) of angle of attack, then fades to the flat plate.
 inline constexpr double kLinearLiftLimit = 0.35;
 
-/// The book's blending function sigma(alpha) (eq. 4.10) with M and alpha0 (or kLinearLiftLimit
+/// The book's blending function sigma(alpha) (sec. 4.2) with M and alpha0 (or kLinearLiftLimit
 /// when stall_blend is false): ~0 in the linear range, ~1 beyond it.
 double blend_sigma(const Aircraft& ac, double alpha);
 
-/// Lift coefficient (book eq. 4.9): (1 - sigma)(C_L_0 + C_L_alpha alpha) + sigma 2 sign(a) sin^2 a cos a.
+/// Lift coefficient (book sec. 4.2): (1 - sigma)(C_L_0 + C_L_alpha alpha) + sigma 2 sign(a) sin^2 a cos a.
 double lift_coefficient(const Aircraft& ac, double alpha);
 /// Drag coefficient: the polar C_D_p + (C_L_0 + C_L_alpha alpha)^2/(pi e AR) of uavbook_model.md
 /// while sigma ~ 0; beyond the blending angle it fades, with the same sigma, to the flat plate

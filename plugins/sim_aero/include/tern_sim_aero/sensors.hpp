@@ -40,7 +40,7 @@ struct SensorParams {
   double diff_noise = 1.15;          ///< Pa
   double diff_bias_range = 0.15;     ///< Pa
   double diff_bias_walk = 0.01;      ///< Pa/sqrt(s)
-  // GNSS (book eq. 7.26: Gauss-Markov with 1/k = 1100 s; ROSflight: 10 Hz)
+  // GNSS (book sec. 7.5: Gauss-Markov with 1/k = 1100 s; ROSflight: 10 Hz)
   double gnss_h_noise = 0.21;        ///< horizontal GM driving noise, m/sqrt(s)
   double gnss_v_noise = 0.40;        ///< vertical GM driving noise, m/sqrt(s)
   double gnss_k = 1.0 / 1100.0;      ///< GM rate, 1/s

@@ -6,7 +6,8 @@
 // conditions as a square system by Newton's method (finite-difference Jacobian, backtracking):
 // unknowns alpha, phi, theta, delta_e, delta_a, delta_r, delta_t; conditions u', v', w', p', q',
 // r' = 0 and h' = Va sin(gamma); the turn is coordinated (beta = 0) with heading rate
-// psi' = Va cos(gamma) / R (book eq. 5.? ) and body rates from psi' (eq. 3.2).
+// psi' = Va cos(gamma) / R (book sec. 5.3) and body rates from psi' with phi' = theta' = 0
+// (book eq. 3.2).
 #pragma once
 
 #include <limits>
