@@ -227,3 +227,15 @@ double rest_height(const Aircraft& ac) {
 }
 
 }  // namespace tern::sim
+
+namespace tern::sim {
+StateVector rest_state(const Aircraft& ac, double p_n, double p_e, double psi) {
+  StateVector x = make_state({p_n, p_e, -rest_height(ac)}, Eigen::Vector3d::Zero(), 0, 0, psi);
+  for (int i = 0; i < 2000; ++i) x = rk4_step(ac, x, Deltas{}, Wind{}, 0.0025);  // 5 s
+  x[PN] = p_n;  // exactly where asked (the settling moves it by micrometres)
+  x[PE] = p_e;
+  x.segment<3>(U).setZero();
+  x.segment<3>(P).setZero();
+  return x;
+}
+}  // namespace tern::sim

@@ -281,8 +281,7 @@ class SimAero final : public tern::Plugin {
     default_cmd_ = sim::Deltas{};
     const std::string mode = init_mode_();
     if (mode == "ground") {
-      sim_->set_state(sim::make_state({ne.x(), ne.y(), -sim::rest_height(ac)}, Eigen::Vector3d::Zero(), 0, 0,
-                                      init_heading_()));
+      sim_->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
     } else if (mode == "air") {
       sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0,
                                       init_heading_()));

@@ -16,7 +16,7 @@ std::string first_non_finite(const StateVector& x) {
 }
 
 Simulator::Simulator(Aircraft ac, std::uint64_t seed) : ac_(std::move(ac)), seed_(seed), rng_(seed) {
-  x_ = make_state(Eigen::Vector3d(0, 0, -rest_height(ac_)), Eigen::Vector3d::Zero(), 0, 0, 0);
+  x_ = rest_state(ac_, 0, 0, 0);
 }
 
 void Simulator::set_state(const StateVector& x, const Deltas& surfaces) {

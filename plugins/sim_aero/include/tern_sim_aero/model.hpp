@@ -115,4 +115,9 @@ bool all_finite(const StateVector& x);
 /// (wheels compressed by their static deflection), m.
 double rest_height(const Aircraft& ac);
 
+/// The aircraft at rest on its gear at (p_n, p_e) with heading psi, engine off, no wind: the
+/// level state at rest_height() settled by integrating the ground model for a few seconds (so
+/// that a flight starting on the ground starts without a drop or a rocking transient).
+StateVector rest_state(const Aircraft& ac, double p_n, double p_e, double psi);
+
 }  // namespace tern::sim
