@@ -112,6 +112,16 @@ TEST_CASE("phase router: a controller that throws or writes NaN is replaced by t
   }
 }
 
+TEST_CASE("phase router: commands beyond the actuator limits hand over to the fallback") {
+  std::string cfg = kRouted;
+  cfg.replace(cfg.find("tag: 0.2"), 8, "tag: 0.9");  // 0.9 rad elevator > max_deflection 0.7
+  const FlightResult r = fly(cfg, "limits");
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["fallback_engaged"] == true);
+  CHECK(s["controller_handovers"].back()["reason"].get<std::string>().find("outside the actuator limits") != std::string::npos);
+}
+
 TEST_CASE("a plugin that throws ends the flight with an error and a complete log") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 1}}");

@@ -866,6 +866,12 @@ FlightResult Host::fly() {
         } else if (a && !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t))) {
           why = fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {})", inst.cfg.name,
                             a->delta_a, a->delta_e, a->delta_r, a->delta_t);
+        } else if (a && phase_machine_) {
+          const double lim = phase_machine_->max_deflection();
+          if (std::fabs(a->delta_a) > lim || std::fabs(a->delta_e) > lim || std::fabs(a->delta_r) > lim || a->delta_t < 0.0 ||
+              a->delta_t > 1.0)
+            why = fmt::format("{} commanded outside the actuator limits (delta_a {:.3f}, delta_e {:.3f}, delta_r {:.3f} rad: max {} rad; "
+                              "delta_t {:.3f}: 0..1)", inst.cfg.name, a->delta_a, a->delta_e, a->delta_r, lim, a->delta_t);
         }
         if (!why.empty()) {
           if (fallback_ && !fallback_engaged_ && *fallback_ != idx) {

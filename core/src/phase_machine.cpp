@@ -13,6 +13,7 @@ void PhaseMachine::configure() {
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0, ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
   declare(alt_hz_, "alt_hz", 20.0, ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
+  declare(max_deflection_, "max_deflection", 0.7, ParamSpec("rad", 0.01, 3.2, "a controller commanding a larger surface deflection is replaced by the fallback"));
   declare(min_phase_time_, "min_phase_time", 1.0, ParamSpec("s", 0.0, 60.0, "a transition back (loss of altitude) needs its condition this long"));
 }
 

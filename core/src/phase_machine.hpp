@@ -8,7 +8,9 @@
 //   climb   -> cruise  when |h_c - h| < alt_hz
 //   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
 //   climb/cruise -> takeoff when h < alt_toz for min_phase_time (lost altitude near the ground)
-// Every transition is recorded with its time and reason.
+// Every transition is recorded with its time and reason. The phase router also reads
+// max_deflection: a controller commanding more (or a throttle outside [0, 1]) is replaced by the
+// fallback.
 #pragma once
 
 #include <string>
@@ -33,6 +35,8 @@ class PhaseMachine final : public Plugin {
   void reset() override;
 
   msg::Phase phase() const { return phase_; }
+  /// Largest surface deflection a controller may command before the router replaces it, rad.
+  double max_deflection() const { return max_deflection_(); }
   const std::vector<PhaseTransition>& transitions() const { return transitions_; }
 
  private:
@@ -40,7 +44,7 @@ class PhaseMachine final : public Plugin {
   Input<msg::State> state_;
   Input<msg::ControllerCommand> command_;
   Output<msg::FlightPhase> phase_out_;
-  Param<double> alt_toz_, alt_hz_, min_phase_time_;
+  Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
   msg::Phase phase_ = msg::Phase::takeoff;
   Nanos since_ = 0;
   Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
