@@ -128,6 +128,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     lateral_.idle_course();
   }
   phi_c = saturate(phi_c, -L.roll_max, L.roll_max);
+  if (mode == Mode::takeoff && !rotated_ && x.Va < s_.rotation_Va && !init) lateral_.reset_roll_integrator();
   if (init) lateral_.initialise_roll(handover_from_.delta_a, phi_c, x.phi, x.p);
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
   double delta_r = lateral_.yaw_damper(x.r, h);
@@ -155,6 +156,9 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     delta_t = lo.delta_t;
     delta_t_c = lo.delta_t_c;
   }
+  // On the ground before rotation the gear holds the attitude: no pitch or roll integration.
+  const bool ground_roll = mode == Mode::takeoff && !rotated_;
+  if (ground_roll && !init) pitch_.reset();
   if (init) pitch_.initialise(handover_from_.delta_e, theta_c, x.theta, x.q);
   const double delta_e = pitch_.update(theta_c, x.theta, x.q, h);
 

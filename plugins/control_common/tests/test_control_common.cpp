@@ -83,7 +83,7 @@ struct Loop {
   Autopilot ap{law};
   testmodel::LinearAircraft plant{testmodel::anaconda()};
   Loop() {
-    // configs/gains/anaconda.yaml
+    // an earlier design for the Anaconda (configs/gains/README.md)
     law.set_gains({0.1579, 0.0636, 0.0, 0.35, -0.35}, {0.0963, 0.0651, 0.0, 0.5676, 1.0, 0.0, 0.05});
     ap.set_pitch_gains({4.15, 0.0, 0.283, 0.1679, 0.61});
   }

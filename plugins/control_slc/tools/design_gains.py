@@ -180,8 +180,10 @@ def design(k, Va, o):
     tern's pitch gains are magnitudes: delta_e = trim_e - (kp (theta_c - theta) - kd q), so
     pitch_kp = -k_p_theta and pitch_kd = -k_d_theta of the book (a_theta3 < 0)."""
     g = {}
-    # roll: phi/delta_a = a_phi2 / (s (s + a_phi1)); closed loop s^2 + (a_phi1 + a_phi2 kd) s + a_phi2 kp
-    wn_phi = o.wn_phi
+    # roll: phi/delta_a = a_phi2 / (s (s + a_phi1)); closed loop s^2 + (a_phi1 + a_phi2 kd) s + a_phi2 kp.
+    # Default natural frequency: a_phi1 / (2 zeta), the fastest loop with damping zeta that needs
+    # no rate feedback (kd = 0); a larger --wn-phi adds kd.
+    wn_phi = o.wn_phi if o.wn_phi is not None else k["a_phi1"] / (2 * o.zeta_phi)
     g["roll_kp"] = wn_phi ** 2 / k["a_phi2"]
     g["roll_kd"] = max(0.0, (2 * o.zeta_phi * wn_phi - k["a_phi1"]) / k["a_phi2"])
     g["roll_ki"] = 0.0
@@ -190,10 +192,13 @@ def design(k, Va, o):
     s0 = k["a_phi2"] * g["roll_kp"]
     disc = s1 * s1 - 4 * s0
     w_roll = (s1 - math.sqrt(disc)) / 2 if disc > 0 else math.sqrt(s0)
-    # course: chi/phi = (g/Vg)/s; PI with bandwidth separation W_chi (book eq. 6.12)
-    wn_chi = w_roll / o.W_chi
-    g["course_kp"] = 2 * o.zeta_chi * wn_chi * Va / G
-    g["course_ki"] = wn_chi ** 2 * Va / G
+    # course: chi/phi = (g/Vg)/s (section 6.1.2). P bandwidth wc = wn_phi / W_chi (course_kp = wc Vg/g)
+    # and an integrator with reset time T_chi (course_ki = course_kp / T_chi): the book's PI with a
+    # large damping ratio. A slow integrator trims steady roll biases; a fast one overshoots at
+    # the path follower's line -> orbit transitions (measured on the hourglass mission).
+    wc = math.sqrt(s0) / o.W_chi
+    g["course_kp"] = wc * Va / G
+    g["course_ki"] = g["course_kp"] / o.T_chi
     g["course_kd"] = 0.0
     # pitch: theta/delta_e = a_theta3 / (s^2 + a_theta1 s + a_theta2)
     # choose the closed-loop DC gain K_theta_DC: kp a3 / (a2 + kp a3) = K  ->  kp = K a2 / ((1 - K) a3)
@@ -201,7 +206,10 @@ def design(k, Va, o):
     wn_th = math.sqrt(k["a_theta2"] + kp_th * k["a_theta3"])
     kd_th = (2 * o.zeta_theta * wn_th - k["a_theta1"]) / k["a_theta3"]
     K_dc = kp_th * k["a_theta3"] / (k["a_theta2"] + kp_th * k["a_theta3"])
-    g["pitch_kp"], g["pitch_kd"], g["pitch_ki"] = -kp_th, max(0.0, -kd_th), 0.0
+    # a small integrator (zero a decade below wn_theta times --pitch-ki-ratio) removes the pitch
+    # loop's steady error (1 - K_theta_DC) without changing the altitude design
+    g["pitch_kp"], g["pitch_kd"] = -kp_th, max(0.0, -kd_th)
+    g["pitch_ki"] = o.pitch_ki_ratio * (-kp_th) * wn_th
     # altitude: h/theta = Va/s through the pitch loop's DC gain K_theta_DC (eq. 6.24)
     wn_h = wn_th / o.W_h
     g["altitude_ki"] = wn_h ** 2 / (K_dc * Va)
@@ -227,15 +235,17 @@ def main(argv=None):
     ap.add_argument("--mass", type=float, help="kg (ROSflight files only)")
     ap.add_argument("--J", type=float, nargs=4, metavar=("Jx", "Jy", "Jz", "Jxz"), help="kg m^2 (ROSflight files only)")
     ap.add_argument("--e", type=float, help="Oswald efficiency (default: the file's, else 0.9)")
-    ap.add_argument("--wn-phi", dest="wn_phi", type=float, default=8.0, help="roll natural frequency, rad/s")
-    ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.9)
-    ap.add_argument("--W-chi", dest="W_chi", type=float, default=4.0, help="course/roll bandwidth separation")
-    ap.add_argument("--zeta-chi", dest="zeta_chi", type=float, default=1.0)
-    ap.add_argument("--K-theta-DC", dest="K_theta_DC", type=float, default=0.6, help="pitch loop DC gain (sets pitch_kp)")
+    ap.add_argument("--wn-phi", dest="wn_phi", type=float, help="roll natural frequency, rad/s (default a_phi1/(2 zeta_phi))")
+    ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.8)
+    ap.add_argument("--W-chi", dest="W_chi", type=float, default=5.5, help="roll/course bandwidth separation")
+    ap.add_argument("--T-chi", dest="T_chi", type=float, default=25.0, help="course integrator reset time, s")
+    ap.add_argument("--K-theta-DC", dest="K_theta_DC", type=float, default=0.7, help="pitch loop DC gain (sets pitch_kp)")
+    ap.add_argument("--pitch-ki-ratio", dest="pitch_ki_ratio", type=float, default=0.1,
+                    help="pitch_ki = ratio * pitch_kp * wn_theta (0: no pitch integrator)")
     ap.add_argument("--zeta-theta", dest="zeta_theta", type=float, default=0.8)
     ap.add_argument("--W-h", dest="W_h", type=float, default=25.0, help="altitude/pitch bandwidth separation")
     ap.add_argument("--zeta-h", dest="zeta_h", type=float, default=1.0)
-    ap.add_argument("--wn-V", dest="wn_V", type=float, default=1.0, help="airspeed natural frequency, rad/s")
+    ap.add_argument("--wn-V", dest="wn_V", type=float, default=1.5, help="airspeed natural frequency, rad/s")
     ap.add_argument("--zeta-V", dest="zeta_V", type=float, default=1.0)
     ap.add_argument("--kr", type=float, default=0.3, help="yaw damper gain, rad rudder per rad/s")
     ap.add_argument("--p-wo", dest="p_wo", type=float, default=0.5, help="washout pole, rad/s")
@@ -254,7 +264,8 @@ def main(argv=None):
           f"delta_t = {k['delta_t_trim']:.4f}")
     for name in ["a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"]:
         print(f"#   {name} = {k[name]:.4f}")
-    print(f"#   roll loop slow pole {w_roll:.3f} rad/s, K_theta_DC = {K_dc:.4f}, "
+    print(f"#   roll loop wn {math.sqrt(k['a_phi2'] * g['roll_kp']):.3f} rad/s, slowest pole {w_roll:.3f} rad/s, "
+          f"course loop bandwidth {math.sqrt(k['a_phi2'] * g['roll_kp']) / o.W_chi:.3f} rad/s, K_theta_DC = {K_dc:.4f}, "
           f"pitch loop wn = {math.sqrt(k['a_theta2'] - g['pitch_kp'] * k['a_theta3']):.3f} rad/s")
     lines = [f"{n}: {v:.6g}" for n, v in g.items()]
     print("\n".join(lines))

@@ -8,7 +8,8 @@
 //
 // Phases (ROSplane 2.0's takeoff -> climb -> cruise):
 //   takeoff  wings level (phi_c = 0), throttle = takeoff_throttle, pitch command 0 until the
-//            airspeed reaches rotation_Va, then takeoff_pitch (latched for the phase).
+//            airspeed reaches rotation_Va, then takeoff_pitch (latched for the phase). Before
+//            rotation the pitch and roll integrators are held at zero (the gear holds the attitude).
 //   climb    course hold (or wings level if climb_course_hold is false); the longitudinal law
 //            climbs to h_c (its pitch limits bound the climb).
 //   cruise   (and landing, loiter) course, altitude and airspeed hold.

@@ -77,6 +77,8 @@ class LateralLoops {
   void initialise_roll(double delta_a, double phi_c, double phi, double p);
   /// The course loop is not in use (wings level, roll override): its integrator is cleared.
   void idle_course() { course_.reset(); }
+  /// Clears the roll integrator (on the ground, where the gear holds the wings level).
+  void reset_roll_integrator() { roll_.reset(); }
 
   void reset();
 
