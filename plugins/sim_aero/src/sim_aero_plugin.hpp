@@ -274,6 +274,7 @@ class SimAero final : public tern::Plugin {
     sim_->gusts().freeze_schedule();
     sim_->gusts().set_random(gust_rate_(), gust_max_(), gust_min_duration_(), gust_max_duration_());
     sim_->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
+    sim_->sync_wind();  // the samples at t = 0 see the wind
 
     // Initial state.
     const auto& ac = sim_->aircraft();

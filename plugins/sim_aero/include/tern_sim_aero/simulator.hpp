@@ -33,11 +33,12 @@ class Simulator {
   /// Surface positions after the servo lag (what the aerodynamics sees).
   const Deltas& surfaces() const { return act_; }
 
-  /// Steady wind in NED (m/s), turbulence and gusts.
-  void set_steady_wind(const Eigen::Vector3d& w_ned) {
-    wind_.steady_ned += w_ned - steady_;  // acts at once (gusts stay as they are)
-    steady_ = w_ned;
-  }
+  /// Steady wind in NED (m/s), turbulence and gusts. The steady wind takes effect at the next
+  /// step(); sync_wind() applies it at once.
+  void set_steady_wind(const Eigen::Vector3d& w_ned) { steady_ = w_ned; }
+  /// Makes the wind acting now (wind(), evaluate()) the steady wind, without advancing the
+  /// turbulence or the gusts (e.g. for the samples at t = 0).
+  void sync_wind() { wind_.steady_ned = steady_; }
   void set_turbulence(const DrydenParams& p) { dryden_.set_params(p); }
   GustField& gusts() { return gusts_; }
   /// The wind acting now (steady + gusts in NED, turbulence in body).
