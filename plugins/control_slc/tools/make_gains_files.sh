@@ -48,8 +48,8 @@ tecs energy_ff: 0.64
 tecs energy_kp: 0.3
 tecs energy_ki: 1.2
 tecs balance_ff: 1.0
-tecs balance_kp: 1.0
-tecs balance_ki: 3.0
+tecs balance_kp: 0.3
+tecs balance_ki: 1.0
 tecs h_kp: 0.5
 tecs climb_rate_max: 3.0
 tecs sink_rate_max: 3.0
@@ -78,8 +78,8 @@ tecs energy_ff: 1.2
 tecs energy_kp: 0.5
 tecs energy_ki: 1.5
 tecs balance_ff: 1.0
-tecs balance_kp: 1.0
-tecs balance_ki: 3.0
+tecs balance_kp: 0.3
+tecs balance_ki: 1.0
 tecs h_kp: 0.5
 tecs climb_rate_max: 4.0
 tecs sink_rate_max: 4.0
