@@ -165,12 +165,12 @@ void ControllerPlugin::step(Nanos now) {
   if (out.held) {
     ++held_steps_;
     if (!holding_) {
-      log().warn("{}: {} at t = {:.3f} s; holding the last actuator command", context().instance_name(),
+      log().warn("{} at t = {:.3f} s; holding the last actuator command",
                  s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)",
                  to_seconds(now));
     }
   } else if (holding_) {
-    log().info("{}: inputs finite again at t = {:.3f} s; control resumed", context().instance_name(), to_seconds(now));
+    log().info("inputs valid again at t = {:.3f} s; control resumed", to_seconds(now));
   }
   holding_ = out.held;
 
