@@ -16,7 +16,8 @@ std::string first_non_finite(const StateVector& x) {
 }
 
 Simulator::Simulator(Aircraft ac, std::uint64_t seed) : ac_(std::move(ac)), seed_(seed), rng_(seed) {
-  x_ = rest_state(ac_, 0, 0, 0);
+  // Level at rest height: cheap; rest_state() gives the settled attitude when it matters.
+  x_ = make_state(Eigen::Vector3d(0, 0, -rest_height(ac_)), Eigen::Vector3d::Zero(), 0, 0, 0);
 }
 
 void Simulator::set_state(const StateVector& x, const Deltas& surfaces) {

@@ -326,7 +326,8 @@ TEST_CASE("trim: both ROSflight reference files load and trim") {
 
 TEST_CASE("ground: at rest with throttle 0 the aircraft stays put, no bounce, no NaN") {
   Simulator sim(anaconda(), 1);
-  const StateVector x0 = sim.state();  // rest_state: already settled
+  sim.set_state(rest_state(sim.aircraft(), 0, 0, 0));
+  const StateVector x0 = sim.state();  // already settled
   CHECK(derivative(sim.aircraft(), x0, Deltas{}, Wind{}).norm() < 1e-3);
   for (int i = 0; i < 4000; ++i) sim.step(0.0025);  // 10 s
   CHECK((sim.state() - x0).norm() < 1e-4);

@@ -16,7 +16,8 @@ namespace tern::sim {
 
 class Simulator {
  public:
-  /// `seed` drives the turbulence and random gusts.
+  /// `seed` drives the turbulence and random gusts. The state starts level at rest height at the
+  /// origin (use set_state(rest_state(...)) for the settled attitude on the gear).
   Simulator(Aircraft ac, std::uint64_t seed);
 
   const Aircraft& aircraft() const { return ac_; }
