@@ -117,6 +117,8 @@ class SimAero final : public tern::Plugin {
     for (SensorSlot* s : slots()) (void)period_of(s->rate, s->rate.name());
     (void)period_of(sim_rate_, "sim_rate");
     (void)period_of(truth_rate_, "truth_rate");
+    if (rc_rate_() > 0) (void)period_of(rc_rate_, "rc_rate");
+    if (status_rate_() > 0) (void)period_of(status_rate_, "status_rate");
     for (SensorSlot* s : slots()) (void)dropouts_of(*s);
     check_gusts();
     if (context().describing()) return;
