@@ -123,6 +123,8 @@ std::string fmt_ns(double ns) {
 
 }  // namespace
 
+int stop_signal() { return g_stop_signal.load(); }
+
 void request_stop(int sig) { g_stop_signal.store(sig == 0 ? SIGINT : sig); }
 
 void install_signal_handlers() {
@@ -259,24 +261,145 @@ Host::~Host() {
   phase_machine_ = nullptr;
   for (auto& inst : instances_) inst->lib.reset();
   instances_.clear();
+  if (!swap_dir_.empty()) {
+    std::error_code ec;
+    fs::remove_all(swap_dir_, ec);
+  }
+}
+
+void Host::swap(const std::string& instance, const fs::path& so_in) {
+  if (flying_) throw ConfigError("swap refused: a flight is in progress; swap between flights");
+  std::size_t idx = SIZE_MAX;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    if (!instances_[i]->builtin) names.push_back(instances_[i]->cfg.name);
+    if (instances_[i]->cfg.name == instance && !instances_[i]->builtin) idx = i;
+  }
+  if (idx == SIZE_MAX) throw ConfigError("swap: no plugin instance named '" + instance + "'" + did_you_mean(instance, names));
+  fs::path so = so_in;
+  if (so.string().find('/') == std::string::npos && so.extension() != ".so") so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
+  so = fs::absolute(so).lexically_normal();
+  if (!fs::exists(so)) throw ConfigError("swap: '" + so.string() + "' not found");
+  // a private copy: a rebuild at the same path must not resolve to the library already mapped
+  if (swap_dir_.empty()) {
+    swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
+    fs::create_directories(swap_dir_);
+  }
+  const fs::path copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
+  fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
+  auto fresh = std::make_unique<Instance>();
+  fresh->cfg = instances_[idx]->cfg;
+  fresh->source = so;
+  try {
+    fresh->lib = open_plugin(copy);
+    fresh->info = fresh->lib->info();
+    fresh->plugin = fresh->lib->create();
+    configure_instance(*fresh);
+  } catch (const ConfigError& e) {
+    fresh->plugin.reset();
+    fresh->ctx.reset();
+    fresh->lib.reset();
+    fs::remove(copy);
+    throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name + "' keeps flying: " + e.what());
+  }
+  std::swap(instances_[idx], fresh);  // `fresh` is now the old instance
+  try {
+    rebuild_graph();
+  } catch (const ConfigError& e) {
+    std::swap(instances_[idx], fresh);
+    rebuild_graph();
+    fresh->plugin.reset();
+    fresh->ctx.reset();
+    fresh->lib.reset();
+    fs::remove(copy);
+    throw ConfigError("swap " + instance + " <- " + so.string() + " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
+  }
+  if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
+  const fs::path old_path = fresh->lib ? fresh->lib->info().path : fs::path();
+  const bool shared = fresh->lib && fresh->lib.use_count() > 1;
+  const std::string old_desc = fmt::format("{} ({})", fresh->info.name, fresh->source.string());
+  fresh->plugin.reset();
+  fresh->ctx.reset();
+  fresh->lib.reset();
+  if (!shared && !old_path.empty() && is_loaded(old_path))
+    logger_->warn("swap {}: the old library {} is still mapped after unloading it", instance, old_path.string());
+  if (!old_path.empty() && old_path.parent_path() == swap_dir_ && !shared) fs::remove(old_path);
+  logger_->info("swapped {}: {} -> {} ({})", instance, old_desc, instances_[idx]->info.name, so.string());
+}
+
+void Host::set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback) {
+  if (flying_) throw ConfigError("phases refused: a flight is in progress; change the table between flights");
+  if (!phase_machine_) throw ConfigError("phases: this mission has no 'phases:' table (and so no phase machine) to change");
+  for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise})
+    if (!phases.count(p)) throw ConfigError("phases: no controller for phase '" + std::string(msg::phase_name(p)) + "'");
+  std::vector<std::string> names;
+  for (const auto& inst : instances_)
+    if (!inst->builtin) names.push_back(inst->cfg.name);
+  auto check = [&](const std::string& n) {
+    if (std::find(names.begin(), names.end(), n) == names.end())
+      throw ConfigError("phases: no plugin instance named '" + n + "'" + did_you_mean(n, names));
+  };
+  for (const auto& [p, n] : phases) check(n);
+  if (fallback) check(*fallback);
+  const auto old_phases = config_.phases;
+  const auto old_fallback = config_.fallback;
+  config_.phases = phases;
+  if (fallback) config_.fallback = fallback;
+  try {
+    rebuild_graph();
+  } catch (const ConfigError& e) {
+    config_.phases = old_phases;
+    config_.fallback = old_fallback;
+    rebuild_graph();
+    throw ConfigError(std::string("phases refused, the old table stays: ") + e.what());
+  }
+  std::string table;
+  for (const auto& [p, n] : config_.phases) table += fmt::format("{}{}={}", table.empty() ? "" : ", ", msg::phase_name(p), n);
+  logger_->info("phase table: {}{}", table, config_.fallback ? ", fallback=" + *config_.fallback : "");
 }
 
 void Host::build() {
   load_instances();
+  rebuild_graph();
+  built_ = true;
+}
+
+void Host::update_routing_roles() {
+  std::set<std::string> routed;
+  for (const auto& [phase, name] : config_.phases) routed.insert(name);
+  if (config_.fallback) routed.insert(*config_.fallback);
+  for (auto& inst : instances_) inst->routed = !inst->builtin && routed.count(inst->cfg.name) > 0;
+  fallback_.reset();
+  active_.reset();
+  if (config_.phases.empty()) return;
+  for (std::size_t i = 0; i < instances_.size(); ++i)
+    if (config_.fallback && instances_[i]->cfg.name == *config_.fallback) fallback_ = i;
+  if (!fallback_) {
+    for (std::size_t i = 0; i < instances_.size(); ++i)
+      if (instances_[i]->routed && instances_[i]->info.name == "control_slc") {
+        fallback_ = i;
+        break;
+      }
+  }
+}
+
+void Host::rebuild_graph() {
+  for (auto& inst : instances_)
+    if (inst->plugin)
+      for (auto* in : inst->plugin->inputs()) in->bind(nullptr);
+  topics_.clear();
+  edges_.clear();
+  order_.clear();
+  update_routing_roles();
   resolve_rates();
   bind_ports();
   order_schedule();
-  built_ = true;
 }
 
 void Host::load_instances() {
   const auto search = plugin_search_path(config_.plugin_path);
   std::map<fs::path, std::shared_ptr<PluginLibrary>> libs;
   const fs::path& f = config_.file;
-  std::set<std::string> routed;
-  for (const auto& [phase, name] : config_.phases) routed.insert(name);
-  if (config_.fallback) routed.insert(*config_.fallback);
-
   for (const auto& ic : config_.plugins) {
     const std::string field = "plugins[" + std::to_string(ic.index) + "]";
     auto inst = std::make_unique<Instance>();
@@ -291,10 +414,10 @@ void Host::load_instances() {
       throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + e.what());
     }
     inst->info = inst->lib->info();
+    inst->source = path;
     if (ic.plugin.find('/') == std::string::npos && inst->info.name != ic.plugin)
       throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" +
                         inst->info.name + "', not '" + ic.plugin + "'");
-    inst->routed = routed.count(ic.name) > 0;
     inst->plugin = inst->lib->create();
     configure_instance(*inst);
     instances_.push_back(std::move(inst));
@@ -319,17 +442,6 @@ void Host::load_instances() {
     configure_instance(*inst);
     phase_machine_idx_ = instances_.size();
     instances_.push_back(std::move(inst));
-    for (const auto& [phase, name] : config_.phases) (void)phase;
-    for (std::size_t i = 0; i < instances_.size(); ++i) {
-      if (config_.fallback && instances_[i]->cfg.name == *config_.fallback) fallback_ = i;
-    }
-    if (!fallback_) {
-      for (std::size_t i = 0; i < instances_.size(); ++i)
-        if (instances_[i]->routed && instances_[i]->info.name == "control_slc") {
-          fallback_ = i;
-          break;
-        }
-    }
   }
 }
 
@@ -710,6 +822,26 @@ void Host::engage_fallback(Nanos now, const std::string& why) {
 
 FlightResult Host::fly() {
   if (!built_) build();
+  if (flying_.exchange(true)) throw ConfigError("a flight is already in progress");
+  struct FlyingGuard {
+    std::atomic<bool>& f;
+    ~FlyingGuard() { f.store(false); }
+  } flying_guard{flying_};
+  if (flights_ > 0) {
+    // a new flight from the mission's initial state: clean plugins, routing back to takeoff
+    rebuild_graph();
+    for (auto idx : order_) {
+      try {
+        instances_[idx]->plugin->reset();
+      } catch (const std::exception& e) {
+        logger_->error("{}.reset failed: {}", instances_[idx]->cfg.name, e.what());
+      }
+      const Nanos budget = instances_[idx]->stats.budget_ns;
+      instances_[idx]->stats = StepStats{};
+      instances_[idx]->stats.budget_ns = budget;
+    }
+  }
+  ++flights_;
   FlightResult r;
   g_stop_signal.store(0);
   // ---- log directory
@@ -759,7 +891,7 @@ FlightResult Host::fly() {
     if (!found) logger_->warn("{}: log.topics: no instance publishes topic '{}'", config_.file.string(), w);
   }
 
-  const double duration = options_.duration.value_or(config_.duration);
+  const double duration = duration_override_ ? *duration_override_ : options_.duration.value_or(config_.duration);
   const Nanos end = from_seconds(duration);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
@@ -977,7 +1109,7 @@ std::string Host::resolved_config_yaml() const {
   YAML::Node root = YAML::Clone(config_.root);
   root["name"] = config_.name;
   root["seed"] = seed_;
-  root["duration"] = options_.duration.value_or(config_.duration);
+  root["duration"] = duration_override_ ? *duration_override_ : options_.duration.value_or(config_.duration);
   for (const auto& inst : instances_) {
     if (inst->builtin) {
       YAML::Node pm;
@@ -1000,6 +1132,7 @@ std::string Host::resolved_config_yaml() const {
 std::string Host::summary_json(const FlightResult& r) const {
   nlohmann::ordered_json j;
   j["mission"] = config_.name;
+  j["flight"] = flights_;
   j["seed"] = seed_;
   j["duration_s"] = to_seconds(r.flown);
   j["end_reason"] = r.end_reason;
@@ -1019,6 +1152,14 @@ std::string Host::summary_json(const FlightResult& r) const {
   for (const auto& inst : instances_) {
     nlohmann::ordered_json x;
     x["plugin"] = inst->info.name;
+    if (!inst->builtin) {
+      x["library"] = inst->source.string();
+      std::ifstream lib(inst->info.path, std::ios::binary);
+      reflect::Fnv1a h;
+      std::string bytes((std::istreambuf_iterator<char>(lib)), std::istreambuf_iterator<char>());
+      h.bytes(bytes);
+      x["library_fnv1a"] = fmt::format("{:016x}", h.h);
+    }
     x["steps"] = inst->stats.steps;
     for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
     inst_j[inst->cfg.name] = x;

@@ -41,6 +41,7 @@ struct Instance {
   std::unique_ptr<InstanceContext> ctx;
   std::unique_ptr<Plugin> plugin;          // destroyed first
   PluginInfo info;
+  fs::path source;                         // the .so as named (swaps load a private copy)
   std::int64_t divisor = 0;                // rate instances: step when tick % divisor == 0
   InputBase* trigger = nullptr;            // trigger instances
   bool routed = false;                     // a controller behind the phase router
@@ -75,6 +76,8 @@ struct FlightResult {
 void request_stop(int signal_number);
 /// Installs SIGINT/SIGTERM handlers that call request_stop.
 void install_signal_handlers();
+/// The signal that asked for a stop (0: none since the last flight started).
+int stop_signal();
 
 class Host {
  public:
@@ -108,6 +111,21 @@ class Host {
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
   /// ConfigError when no instance reads `mission_edit`.
   void edit_mission(const msg::MissionEdit& edit);
+  /// Between flights: replaces instance `instance` by the plugin in the shared object `so` (another
+  /// plugin or a rebuild of the same one), configured with the instance's parameters. The new
+  /// library is loaded from a private copy, so a rebuild at the same path loads too; the old
+  /// library is unloaded for real. On any error (flying, unknown instance, handshake mismatch,
+  /// ports that do not bind) throws ConfigError and keeps the current plugin.
+  void swap(const std::string& instance, const fs::path& so);
+  /// Between flights: a new phase -> controller table (and fallback). Throws ConfigError (and
+  /// keeps the old table) if flying or invalid.
+  void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
+  /// Flight length of the next flights (nullopt: the option or the config's duration).
+  void set_duration(std::optional<double> seconds) { duration_override_ = seconds; }
+  /// A flight is running.
+  bool flying() const { return flying_.load(); }
+  /// Flights flown by this host.
+  int flights() const { return flights_; }
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
 
@@ -119,6 +137,8 @@ class Host {
     bool feedback = false;
   };
   void load_instances();
+  void update_routing_roles();
+  void rebuild_graph();
   void configure_instance(Instance& inst);
   void bind_ports();
   void order_schedule();
@@ -154,6 +174,11 @@ class Host {
   std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   double start_to_first_tick_ms_ = 0;
   bool built_ = false;
+  std::atomic<bool> flying_{false};
+  int flights_ = 0;
+  std::optional<double> duration_override_;
+  int swaps_ = 0;
+  fs::path swap_dir_;  // private copies of swapped-in libraries
   struct ParamRequest {
     ParamBase* param;
     std::string name;

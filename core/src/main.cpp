@@ -12,6 +12,7 @@
 #include "error.hpp"
 #include "host.hpp"
 #include "loader.hpp"
+#include "serve.hpp"
 
 #ifndef TERN_SOURCE_DIR
 #define TERN_SOURCE_DIR ""
@@ -109,7 +110,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -155,6 +156,27 @@ int main(int argc, char** argv) {
   auto* params = app.add_subcommand("params", "list every parameter of a mission: value, default, unit, range, description");
   params->add_option("config", config, "mission config (YAML)")->required();
 
+  std::string socket = default_socket().string();
+  std::string instance, so_path, fallback, remote_cmd;
+  std::vector<std::string> phase_args, remote_args;
+  auto* serve_cmd = app.add_subcommand("serve", "keep a host alive across flights; control it with swap, phases and remote");
+  serve_cmd->add_option("config", config, "mission config (YAML)")->required();
+  serve_cmd->add_option("--socket", socket, "control socket")->capture_default_str();
+  serve_cmd->add_option("--log-dir", log_dir, "directory for the run directories");
+  serve_cmd->add_flag("--realtime", realtime, "pace each flight to wall time");
+  auto* swap_cmd = app.add_subcommand("swap", "between flights of `tern serve`: replace an instance's plugin with another .so");
+  swap_cmd->add_option("instance", instance, "instance name in the mission config")->required();
+  swap_cmd->add_option("path", so_path, "the new plugin: a path to a .so, or a plugin name")->required();
+  swap_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
+  auto* phases_cmd = app.add_subcommand("phases", "between flights of `tern serve`: set the phase -> controller table");
+  phases_cmd->add_option("table", phase_args, "PHASE=INSTANCE ... (takeoff, climb, cruise required)")->required();
+  phases_cmd->add_option("--fallback", fallback, "controller used if the active one fails");
+  phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
+  auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS], status, quit");
+  remote->add_option("command", remote_cmd, "fly, status or quit")->required()->check(CLI::IsMember({"fly", "status", "quit"}));
+  remote->add_option("args", remote_args, "fly: flight length in seconds");
+  remote->add_option("--socket", socket, "control socket of the server")->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -163,8 +185,36 @@ int main(int argc, char** argv) {
 
   try {
     if (plugins->parsed()) return cmd_plugins(plugin_dirs);
+    auto client = [&](const std::string& line) {
+      const std::string reply = send_command(socket, line);
+      std::puts(reply.c_str());
+      return reply.rfind("ok", 0) == 0 ? 0 : 1;
+    };
+    if (swap_cmd->parsed()) {
+      std::string p = so_path;
+      if (p.find('/') != std::string::npos) p = fs::absolute(p).string();
+      return client("swap " + instance + " " + p);
+    }
+    if (phases_cmd->parsed()) {
+      std::string line = "phases";
+      for (const auto& a : phase_args) line += " " + a;
+      if (!fallback.empty()) line += " fallback=" + fallback;
+      return client(line);
+    }
+    if (remote->parsed()) {
+      std::string line = remote_cmd;
+      for (const auto& a : remote_args) line += " " + a;
+      return client(line);
+    }
 
     HostOptions opt;
+    if (serve_cmd->parsed()) {
+      if (log_dir) opt.log_dir = fs::path(*log_dir);
+      opt.realtime = realtime;
+      Host host(load_config(config), opt);
+      host.build();
+      return serve(host, socket);
+    }
     if (fly->parsed()) {
       if (config.empty()) config = default_config().string();
       opt.seed = seed;

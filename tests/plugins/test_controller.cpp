@@ -7,6 +7,10 @@
 #include "tern/math.hpp"
 #include "tern/plugin.hpp"
 
+#ifndef TERN_TEST_VERSION
+#define TERN_TEST_VERSION 1
+#endif
+
 namespace {
 class TestController final : public tern::Plugin {
  public:
@@ -42,7 +46,8 @@ class TestController final : public tern::Plugin {
     last_take_over_delta_t_ = last.delta_t;
   }
   std::vector<std::pair<std::string, double>> summary() const override {
-    return {{"take_overs", static_cast<double>(take_overs_)}, {"last_take_over_delta_t", last_take_over_delta_t_}};
+    return {{"take_overs", static_cast<double>(take_overs_)}, {"last_take_over_delta_t", last_take_over_delta_t_},
+            {"version", TERN_TEST_VERSION}};
   }
 
  private:

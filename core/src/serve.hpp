@@ -1,0 +1,26 @@
+// core/src/serve.hpp: `tern serve`: one host kept alive across flights, driven over a local
+// control channel (a Unix-domain socket, one text command per connection, reply lines back).
+//
+// Commands: `fly [SECONDS]`, `status`, `swap INSTANCE PATH`,
+// `phases PHASE=INSTANCE... [fallback=INSTANCE]`, `quit`. Replies start with "ok:" or "error:".
+// `swap` and `phases` are refused while a flight is in progress.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace tern::core {
+
+class Host;
+
+/// $TERN_SOCKET, else /tmp/tern-serve-<uid>.sock.
+std::filesystem::path default_socket();
+
+/// Serves `host` on `socket` until `quit` or SIGINT/SIGTERM. Returns the exit status.
+int serve(Host& host, const std::filesystem::path& socket);
+
+/// Sends one command line to a server and returns its reply. Throws ConfigError when no server
+/// answers at `socket`.
+std::string send_command(const std::filesystem::path& socket, const std::string& line);
+
+}  // namespace tern::core
