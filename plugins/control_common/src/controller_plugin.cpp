@@ -30,7 +30,7 @@ void ControllerPlugin::configure() {
   declare_gain(roll_ki_, "roll_ki", 0.0, ParamSpec("rad/(rad s)", 0.0, 10.0, "roll -> aileron integral gain (r_ki)"));
   declare_gain(roll_kd_, "roll_kd", 0.2, ParamSpec("rad/(rad/s)", 0.0, 5.0, "roll -> aileron gain on roll rate p (r_kd)"));
   declare_gain(trim_a_, "trim_a", 0.0, ParamSpec("rad", -0.5, 0.5, "aileron trim (trim_a)"));
-  declare_gain(max_a_, "max_a", 0.8, ParamSpec("rad", 0.01, 1.5, "aileron limit (max_a)"));
+  declare_gain(max_a_, "max_a", 0.6981, ParamSpec("rad", 0.01, 1.5, "aileron limit (ROSplane max_a 0.8; default: the Anaconda servo limit)"));
   declare_gain(yaw_kr_, "yaw_damper_kr", 0.3, ParamSpec("rad/(rad/s)", 0.0, 5.0, "yaw damper gain on washed-out yaw rate"));
   declare_gain(yaw_p_wo_, "yaw_damper_p_wo", 0.5, ParamSpec("rad/s", 0.0, 10.0, "yaw damper washout pole"));
   declare_gain(trim_r_, "trim_r", 0.0, ParamSpec("rad", -0.5, 0.5, "rudder trim (trim_r)"));

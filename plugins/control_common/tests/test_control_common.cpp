@@ -166,7 +166,7 @@ TEST_CASE("autopilot: manual pass-through and angle mode") {
   Command c{17.0, 100.0, 0.0, 0.0, 0.0, 0.0, false, false};
   const Sticks st{0.5, 0.5, -1.0, 0.3};
   auto o = L.ap.update(Mode::manual_passthrough, L.plant.state(), c, st, 0.01);
-  CHECK(o.surfaces.delta_a == doctest::Approx(0.5 * 0.8));
+  CHECK(o.surfaces.delta_a == doctest::Approx(0.5 * 0.6981));
   CHECK(o.surfaces.delta_e == doctest::Approx(-0.5 * 0.61));  // stick back: nose up: negative delta_e
   CHECK(o.surfaces.delta_r == doctest::Approx(0.523));        // stick left: nose left: positive delta_r
   CHECK(o.surfaces.delta_t == doctest::Approx(0.3));

@@ -47,7 +47,7 @@ struct LateralGains {
   double roll_ki = 0.0;       ///< rad aileron / (rad s)
   double roll_kd = 0.2;       ///< rad aileron / (rad/s) roll rate
   double trim_a = 0.0;        ///< rad
-  double max_a = 0.8;         ///< rad
+  double max_a = 0.6981;      ///< rad (the Anaconda's 40-degree servo limit; ROSplane: 0.8)
   double yaw_kr = 0.3;        ///< rad rudder / (rad/s) washed-out yaw rate
   double yaw_p_wo = 0.5;      ///< washout pole, rad/s
   double trim_r = 0.0;        ///< rad
