@@ -79,6 +79,11 @@ void Estimator::apply_models_config() {
   mag_.field_strength = cfg_.mag_field_strength;
   mag_.sigma = cfg_.mag_sigma;
   mag_.gate = cfg_.mag_gate;
+  mag_heading_.declination = cfg_.mag_declination;
+  mag_heading_.inclination = cfg_.mag_inclination;
+  mag_heading_.field_strength = cfg_.mag_field_strength;
+  mag_heading_.sigma = cfg_.mag_sigma;
+  mag_heading_.gate = cfg_.mag_heading_gate;
   baro_.sigma = cfg_.baro_sigma / (cfg_.rho * cfg_.gravity);
   baro_.gate = cfg_.baro_gate;
   pitot_.rho = cfg_.rho;
@@ -102,6 +107,8 @@ void Estimator::reset() {
   baro_cal_sum_ = baro_offset_ = 0.0;
   baro_calibrated_ = false;
   imu_stamp_ = -1;
+  last_diff_pressure_ = 0.0;
+  last_diff_stamp_ = -1;
   rate_.setZero();
   gnss_reject_since_ = -1;
   filter_ = Filter{};
@@ -222,7 +229,13 @@ bool Estimator::add_mag(const msg::Mag& m) {
     ++mag_samples_;
     return true;
   }
-  filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  if (cfg_.mag_heading_only) {
+    const Vec3 e = euler_from_quaternion(filter_.x().q);
+    filter_.update(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(
+                                     m.field, e.x(), e.y(), cfg_.mag_declination)));
+  } else {
+    filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  }
   return true;
 }
 
@@ -247,7 +260,11 @@ bool Estimator::add_baro(const msg::Baro& m) {
 bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
   const bool ok = std::isfinite(m.pressure) && m.pressure > -1000.0 && m.pressure < 20000.0;
   if (!accept(Sensor::diff_pressure, m.stamp, ok)) return false;
-  if (!initialized_) return true;
+  if (!initialized_) {
+    last_diff_pressure_ = m.pressure;
+    last_diff_stamp_ = m.stamp;
+    return true;
+  }
   filter_.update(pitot_, DiffPressure::Vec(m.pressure));
   if (cfg_.use_sideslip) filter_.update(sideslip_, ZeroSideslip::Vec(0.0));
   return true;
@@ -285,12 +302,16 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
       const double innovation = (p - x.p).norm();
       x.p = p;
       x.v = m.vel;
+      x.e_gnss.setZero();
       Cov& P = filter_.mutable_P();
       P.middleRows<6>(idx::p).setZero();
       P.middleCols<6>(idx::p).setZero();
+      P.middleRows<3>(idx::eg).setZero();
+      P.middleCols<3>(idx::eg).setZero();
       const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
       P.diagonal().segment<3>(idx::p) << sh * sh, sh * sh, sv * sv;
       P.diagonal().segment<3>(idx::v) << 1.0, 1.0, 1.0;
+      P.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
       gnss_pos_.stats.consecutive_rejected = 0;
       gnss_reject_since_ = -1;
       ++gnss_resets_;
@@ -339,8 +360,15 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   const double gb = at_rest ? cfg_.init_gyro_bias_sigma : std::max(cfg_.init_gyro_bias_sigma, 0.05);
   P0.diagonal().segment<3>(idx::bg).setConstant(gb * gb);
   P0.diagonal().segment<3>(idx::ba).setConstant(cfg_.init_accel_bias_sigma * cfg_.init_accel_bias_sigma);
-  P0.diagonal().segment<2>(idx::w).setConstant(cfg_.init_wind_sigma * cfg_.init_wind_sigma);
+  double wind_sigma = cfg_.init_wind_sigma;
+  const double Va = std::sqrt(2.0 * std::max(last_diff_pressure_, 0.0) / cfg_.rho);
+  if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {
+    x.wind = (m.vel - Va * (x.q * Vec3::UnitX())).head<2>();
+    wind_sigma = cfg_.init_wind_sigma_airdata;
+  }
+  P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
+  P0.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
   filter_.initialize(x, P0);
   initialized_ = true;
   gnss_reject_since_ = -1;

@@ -48,9 +48,20 @@ inline const RealParam kReal[] = {
      TERN_EKF_FIELD(process.baro_bias_walk)},
     {"pos_process_noise", "m/sqrt(s)", 0.0, 10.0, "extra position random walk (model error)",
      TERN_EKF_FIELD(process.position)},
-    {"gnss_pos_noise_h", "m", 1e-3, 100.0, "GNSS horizontal position noise, 1 sigma",
+    {"gnss_error_walk_h", "m/sqrt(s)", 0.0, 100.0,
+     "driving noise of the GNSS horizontal position error (Gauss-Markov state)",
+     TERN_EKF_FIELD(process.gnss_error_walk_h)},
+    {"gnss_error_walk_v", "m/sqrt(s)", 0.0, 100.0,
+     "driving noise of the GNSS vertical position error (Gauss-Markov state)",
+     TERN_EKF_FIELD(process.gnss_error_walk_v)},
+    {"gnss_error_rate", "1/s", 0.0, 10.0,
+     "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)",
+     TERN_EKF_FIELD(process.gnss_error_k)},
+    {"init_gnss_error_sigma", "m", 1e-3, 100.0, "initial GNSS position-error uncertainty, 1 sigma",
+     TERN_EKF_FIELD(init_gnss_error_sigma)},
+    {"gnss_pos_noise_h", "m", 1e-3, 100.0, "white part of the GNSS horizontal position noise, 1 sigma",
      TERN_EKF_FIELD(gnss_pos_sigma_h)},
-    {"gnss_pos_noise_v", "m", 1e-3, 100.0, "GNSS altitude noise, 1 sigma",
+    {"gnss_pos_noise_v", "m", 1e-3, 100.0, "white part of the GNSS altitude noise, 1 sigma",
      TERN_EKF_FIELD(gnss_pos_sigma_v)},
     {"gnss_vel_noise_h", "m/s", 1e-4, 10.0, "GNSS horizontal velocity noise, 1 sigma",
      TERN_EKF_FIELD(gnss_vel_sigma_h)},
@@ -70,8 +81,10 @@ inline const RealParam kReal[] = {
     {"mag_field_strength", "T", 1e-6, 1e-3, "total magnetic field intensity",
      TERN_EKF_FIELD(mag_field_strength)},
     {"mag_noise", "T", 1e-9, 1e-4, "magnetometer noise per axis, 1 sigma", TERN_EKF_FIELD(mag_sigma)},
-    {"mag_gate", "", 0.0, 1e6, "chi-square gate of the magnetometer (3 dof; 0: off)",
+    {"mag_gate", "", 0.0, 1e6, "chi-square gate of the 3-axis magnetometer update (3 dof; 0: off)",
      TERN_EKF_FIELD(mag_gate)},
+    {"mag_heading_gate", "", 0.0, 1e6, "chi-square gate of the magnetic heading update (1 dof; 0: off)",
+     TERN_EKF_FIELD(mag_heading_gate)},
     {"mag_init_wait", "s", 0.0, 60.0,
      "time to wait for a magnetometer sample after the origin is set before initialising without",
      TERN_EKF_FIELD(mag_init_wait)},
@@ -99,7 +112,10 @@ inline const RealParam kReal[] = {
      TERN_EKF_FIELD(init_gyro_bias_sigma)},
     {"init_accel_bias_sigma", "m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma",
      TERN_EKF_FIELD(init_accel_bias_sigma)},
-    {"init_wind_sigma", "m/s", 1e-3, 50.0, "initial wind uncertainty, 1 sigma",
+    {"init_wind_sigma_airdata", "m/s", 1e-3, 50.0,
+     "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed",
+     TERN_EKF_FIELD(init_wind_sigma_airdata)},
+    {"init_wind_sigma", "m/s", 1e-3, 50.0, "initial wind uncertainty without air data, 1 sigma",
      TERN_EKF_FIELD(init_wind_sigma)},
     {"init_baro_bias_sigma", "m", 1e-3, 1000.0, "initial barometer-bias uncertainty, 1 sigma",
      TERN_EKF_FIELD(init_baro_bias_sigma)},
@@ -147,6 +163,10 @@ class EstimatorEkf final : public tern::Plugin {
             tern::ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
     declare(decimation_, "output_decimation", std::int64_t{1},
             tern::ParamSpec("", 1, 1000, "publish state every n-th IMU sample"));
+    declare(mag_heading_only_, "mag_heading_only", def.mag_heading_only,
+            tern::ParamSpec("", 0, 1,
+                            "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
+    mag_heading_only_.on_change([this](const bool&) { dirty_ = true; });
     declare(use_sideslip_, "use_sideslip", def.use_sideslip,
             tern::ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement"));
     min_fix_type_.on_change([this](const std::int64_t&) { dirty_ = true; });
@@ -213,6 +233,7 @@ class EstimatorEkf final : public tern::Plugin {
     rej("gnss_pos", estimator_.gnss_position_model().stats);
     rej("gnss_vel", estimator_.gnss_velocity_model().stats);
     rej("mag", estimator_.mag_model().stats);
+    rej("mag_heading", estimator_.mag_heading_model().stats);
     rej("baro", estimator_.baro_model().stats);
     rej("diff_pressure", estimator_.diff_pressure_model().stats);
     rej("sideslip", estimator_.sideslip_model().stats);
@@ -232,6 +253,7 @@ class EstimatorEkf final : public tern::Plugin {
     c.baro_calibration_count = static_cast<int>(baro_cal_count_());
     c.init_min_imu_samples = static_cast<int>(init_min_imu_());
     c.use_sideslip = use_sideslip_();
+    c.mag_heading_only = mag_heading_only_();
     return c;
   }
 
@@ -243,7 +265,7 @@ class EstimatorEkf final : public tern::Plugin {
   tern::Output<tern::msg::State> state_;
   std::array<tern::Param<double>, kRealCount> reals_;
   tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_;
-  tern::Param<bool> use_sideslip_;
+  tern::Param<bool> use_sideslip_, mag_heading_only_;
   tern::ekf::Estimator estimator_;
   tern::msg::State out_;
   std::uint64_t ticks_ = 0;

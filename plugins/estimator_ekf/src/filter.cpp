@@ -1,6 +1,8 @@
 // Filter propagation and the error-state correction (equations in filter.hpp).
 #include "tern/estimator_ekf/filter.hpp"
 
+#include <cmath>
+
 namespace tern::ekf {
 
 NominalState boxplus(const NominalState& x, const ErrVec& dx) {
@@ -12,6 +14,7 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   r.b_a += dx.segment<3>(idx::ba);
   r.wind += dx.segment<2>(idx::w);
   r.b_baro += dx(idx::bb);
+  r.e_gnss += dx.segment<3>(idx::eg);
   return r;
 }
 
@@ -21,13 +24,14 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   const Vec3 w = gyro - x_.b_g;   // body rate
   const Mat3 R = x_.R();
 
-  x_ = propagate_nominal(x_, accel, gyro, dt, gravity);
+  x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise.gnss_error_k);
 
   // Covariance P <- F P F^T + Q, with F = I except the blocks
   //   F_p,v = dt I, F_v,theta = -dt R [a]x, F_v,ba = -dt R, F_theta,theta = Exp(-w dt),
   //   F_theta,bg = -dt I.
-  // Done as row then column block operations (F P, then (F P) F^T): about 1.3k multiply-adds
-  // instead of 2 x 18^3 for dense products.
+  //   F_eg,eg = exp(-k dt) I (Gauss-Markov GNSS error).
+  // Done as row then column block operations (F P, then (F P) F^T): about 1.5k multiply-adds
+  // instead of 2 x 21^3 for dense products.
   const Mat3 Fvth = -dt * R * skew3(a);
   const Mat3 Fvba = -dt * R;
   const Mat3 Fthth = quat_exp(-w * dt).toRotationMatrix();
@@ -36,28 +40,33 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   P.middleRows<3>(idx::p) += dt * P.middleRows<3>(idx::v);
   P.middleRows<3>(idx::v) += Fvth * P.middleRows<3>(idx::th) + Fvba * P.middleRows<3>(idx::ba);
   P.middleRows<3>(idx::th) = (Fthth * P.middleRows<3>(idx::th) - dt * P.middleRows<3>(idx::bg)).eval();
+  const double fe = std::exp(-noise.gnss_error_k * dt);
+  P.middleRows<3>(idx::eg) *= fe;
   // Columns.
   P.middleCols<3>(idx::p) += dt * P.middleCols<3>(idx::v);
   P.middleCols<3>(idx::v) +=
       P.middleCols<3>(idx::th) * Fvth.transpose() + P.middleCols<3>(idx::ba) * Fvba.transpose();
   P.middleCols<3>(idx::th) =
       (P.middleCols<3>(idx::th) * Fthth.transpose() - dt * P.middleCols<3>(idx::bg)).eval();
+  P.middleCols<3>(idx::eg) *= fe;
 
   P.diagonal() += process_noise_diagonal(noise, dt);
   P = 0.5 * (P + P.transpose()).eval();
 }
 
 NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,
-                                       double dt, double gravity) {
+                                       double dt, double gravity, double gnss_error_k) {
   NominalState r = x;
   const Vec3 a_n = x.R() * (accel - x.b_a) + Vec3(0.0, 0.0, gravity);
   r.p += x.v * dt + (0.5 * dt * dt) * a_n;
   r.v += a_n * dt;
   r.q = (x.q * quat_exp((gyro - x.b_g) * dt)).normalized();
+  r.e_gnss *= std::exp(-gnss_error_k * dt);  // expectation of the Gauss-Markov process
   return r;
 }
 
-Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt) {
+Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt,
+                       double gnss_error_k) {
   const Mat3 R = x.R();
   Cov F = Cov::Identity();
   F.block<3, 3>(idx::p, idx::v) = dt * Mat3::Identity();
@@ -65,6 +74,7 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   F.block<3, 3>(idx::v, idx::ba) = -dt * R;
   F.block<3, 3>(idx::th, idx::th) = quat_exp(-(gyro - x.b_g) * dt).toRotationMatrix();
   F.block<3, 3>(idx::th, idx::bg) = -dt * Mat3::Identity();
+  F.block<3, 3>(idx::eg, idx::eg) = std::exp(-gnss_error_k * dt) * Mat3::Identity();
   return F;
 }
 
@@ -78,6 +88,8 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt) {
   q.segment<3>(idx::ba).setConstant(noise.accel_bias_walk * noise.accel_bias_walk * dt);
   q.segment<2>(idx::w).setConstant(noise.wind_walk * noise.wind_walk * dt);
   q(idx::bb) = noise.baro_bias_walk * noise.baro_bias_walk * dt;
+  const double eh = noise.gnss_error_walk_h, ev = noise.gnss_error_walk_v;
+  q.segment<3>(idx::eg) << eh * eh * dt, eh * eh * dt, ev * ev * dt;
   return q;
 }
 

@@ -6,6 +6,7 @@ namespace tern::ekf {
 GnssPosition::Jac GnssPosition::jacobian(const NominalState& /*x*/) const {
   Jac H = Jac::Zero();
   H.block<3, 3>(0, idx::p).setIdentity();
+  H.block<3, 3>(0, idx::eg).setIdentity();
   return H;
 }
 
@@ -41,6 +42,40 @@ Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
 Magnetometer::Noise Magnetometer::noise() const {
   const double s = sigma / field_strength;
   return Noise::Identity() * (s * s);
+}
+
+double MagHeading::heading_from_field(const Vec3& m, double phi, double theta, double declination) {
+  // m_l = R_y(theta) R_x(phi) m_b (the field in the level, yaw-only frame).
+  const double cf = std::cos(phi), sf = std::sin(phi), ct = std::cos(theta), st = std::sin(theta);
+  const double my = cf * m.y() - sf * m.z();
+  const double mz1 = sf * m.y() + cf * m.z();
+  const double mx = ct * m.x() + st * mz1;
+  return declination - std::atan2(my, mx);
+}
+
+MagHeading::Vec MagHeading::h(const NominalState& x) const {
+  const Mat3 R = x.R();
+  return Vec(std::atan2(R(1, 0), R(0, 0)));
+}
+
+MagHeading::Vec MagHeading::residual(const NominalState& x, const Vec& z) const {
+  const double d = z(0) - h(x)(0);
+  return Vec(std::remainder(d, 2.0 * 3.14159265358979323846));
+}
+
+MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
+  // psi = atan2(R10, R00); dR = R [dtheta]x, so dR_i0 = R_i1 dtheta_z - R_i2 dtheta_y.
+  const Mat3 R = x.R();
+  const double den = R(0, 0) * R(0, 0) + R(1, 0) * R(1, 0);
+  Jac H = Jac::Zero();
+  H(0, idx::th + 1) = (R(1, 0) * R(0, 2) - R(0, 0) * R(1, 2)) / den;
+  H(0, idx::th + 2) = (R(0, 0) * R(1, 1) - R(1, 0) * R(0, 1)) / den;
+  return H;
+}
+
+MagHeading::Noise MagHeading::noise() const {
+  const double s = sigma / (field_strength * std::cos(inclination));
+  return Noise(s * s);
 }
 
 BaroAltitude::Jac BaroAltitude::jacobian(const NominalState& /*x*/) const {

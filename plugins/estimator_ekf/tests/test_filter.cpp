@@ -21,6 +21,7 @@ NominalState sample_state() {
   x.b_a = Vec3(0.1, 0.05, -0.2);
   x.wind = Eigen::Vector2d(3.0, -4.0);
   x.b_baro = 1.5;
+  x.e_gnss = Vec3(0.5, -1.0, 2.0);
   return x;
 }
 
@@ -35,6 +36,7 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   d.segment<3>(idx::ba) = x1.b_a - x0.b_a;
   d.segment<2>(idx::w) = x1.wind - x0.wind;
   d(idx::bb) = x1.b_baro - x0.b_baro;
+  d.segment<3>(idx::eg) = x1.e_gnss - x0.e_gnss;
   return d;
 }
 
@@ -70,6 +72,7 @@ TEST_CASE("measurement Jacobians match finite differences") {
   SUBCASE("gnss velocity") { check_jacobian(GnssVelocity{}, x); }
   SUBCASE("magnetometer") { check_jacobian(Magnetometer{}, x); }
   SUBCASE("barometer") { check_jacobian(BaroAltitude{}, x); }
+  SUBCASE("magnetic heading") { check_jacobian(MagHeading{}, x); }
   SUBCASE("differential pressure") { check_jacobian(DiffPressure{}, x); }
   SUBCASE("zero sideslip") { check_jacobian(ZeroSideslip{}, x); }
 }
@@ -77,15 +80,15 @@ TEST_CASE("measurement Jacobians match finite differences") {
 TEST_CASE("transition matrix matches finite differences of the nominal propagation") {
   const NominalState x = sample_state();
   const Vec3 accel(1.5, -0.8, -11.0), gyro(0.3, -0.2, 0.25);
-  const double dt = 0.0025, g = 9.81;
-  const Cov F = Filter::transition(x, accel, gyro, dt);
-  const NominalState x1 = Filter::propagate_nominal(x, accel, gyro, dt, g);
+  const double dt = 0.0025, g = 9.81, k = 0.01;
+  const Cov F = Filter::transition(x, accel, gyro, dt, k);
+  const NominalState x1 = Filter::propagate_nominal(x, accel, gyro, dt, g, k);
   const double eps = 1e-6;
   for (int i = 0; i < kErrDim; ++i) {
     ErrVec d = ErrVec::Zero();
     d(i) = eps;
-    const ErrVec num = (boxminus(Filter::propagate_nominal(boxplus(x, d), accel, gyro, dt, g), x1) -
-                        boxminus(Filter::propagate_nominal(boxplus(x, -d), accel, gyro, dt, g), x1)) /
+    const ErrVec num = (boxminus(Filter::propagate_nominal(boxplus(x, d), accel, gyro, dt, g, k), x1) -
+                        boxminus(Filter::propagate_nominal(boxplus(x, -d), accel, gyro, dt, g, k), x1)) /
                        (2 * eps);
     for (int r = 0; r < kErrDim; ++r) {
       INFO("row " << r << " column " << i);
@@ -105,12 +108,12 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   qn.position = 0.01;
   const double dt = 0.0025;
   f.propagate(accel, gyro, dt, qn, 9.81);
-  const Cov F = Filter::transition(x, accel, gyro, dt);
+  const Cov F = Filter::transition(x, accel, gyro, dt, qn.gnss_error_k);
   Cov expected = F * P0 * F.transpose();
   expected.diagonal() += Filter::process_noise_diagonal(qn, dt);
   CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
   CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
-  const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81);
+  const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn.gnss_error_k);
   CHECK((f.x().p - xn.p).norm() == 0.0);
 }
 
@@ -119,30 +122,30 @@ TEST_CASE("update: Joseph form, variance shrinks, gate rejects and counts outlie
   NominalState x = sample_state();
   Cov P = Cov::Identity();
   f.initialize(x, P);
-  GnssPosition m;
+  GnssVelocity m;
   m.sigma_h = 1.0;
   m.sigma_v = 1.0;
-  const Vec3 z = x.p + Vec3(0.5, -0.5, 0.2);
+  const Vec3 z = x.v + Vec3(0.5, -0.5, 0.2);
   CHECK(f.update(m, z) == UpdateResult::accepted);
   // Scalar case: posterior variance 1*1/(1+1) = 0.5, state moves half-way.
-  CHECK(f.P()(0, 0) == doctest::Approx(0.5));
-  CHECK(f.x().p.x() == doctest::Approx(x.p.x() + 0.25));
+  CHECK(f.P()(idx::v, idx::v) == doctest::Approx(0.5));
+  CHECK(f.x().v.x() == doctest::Approx(x.v.x() + 0.25));
   CHECK(Eigen::LLT<Cov>(f.P()).info() == Eigen::Success);
   CHECK((f.P() - f.P().transpose()).norm() == 0.0);
   // A 100 m outlier: NIS = 100^2 / 1.5 >> 16.3.
   const NominalState before = f.x();
-  CHECK(f.update(m, Vec3(f.x().p + Vec3(100.0, 0.0, 0.0))) == UpdateResult::rejected);
+  CHECK(f.update(m, Vec3(f.x().v + Vec3(100.0, 0.0, 0.0))) == UpdateResult::rejected);
   CHECK(m.stats.rejected == 1);
   CHECK(m.stats.accepted == 1);
   CHECK(m.stats.last_nis > 1000.0);
-  CHECK((f.x().p - before.p).norm() == 0.0);
+  CHECK((f.x().v - before.v).norm() == 0.0);
   // Non-finite measurement: refused before anything is computed.
   CHECK(f.update(m, Vec3(NAN, 0.0, 0.0)) == UpdateResult::invalid);
   CHECK(m.stats.invalid == 1);
   CHECK(f.x().all_finite());
   // Gate 0 disables gating.
   m.gate = 0.0;
-  CHECK(f.update(m, Vec3(f.x().p + Vec3(100.0, 0.0, 0.0))) == UpdateResult::accepted);
+  CHECK(f.update(m, Vec3(f.x().v + Vec3(100.0, 0.0, 0.0))) == UpdateResult::accepted);
 }
 
 TEST_CASE("pitot and sideslip apply only above the minimum airspeed") {

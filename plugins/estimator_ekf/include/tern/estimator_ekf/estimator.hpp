@@ -16,7 +16,9 @@
 //      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
 //      Roll and pitch come from the averaged specific force, yaw from the tilt-compensated
 //      magnetometer (or the GNSS course when moving without magnetometer, else 0 with a 1-rad
-//      sigma), the gyro bias from the averaged gyro when at rest.
+//      sigma), the gyro bias from the averaged gyro when at rest, and, in flight, the wind from
+//      the air triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot
+//      and sideslip updates do not have to pull yaw and wind apart from a zero wind.
 //   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
 // NaN/Inf or out-of-range samples are rejected and counted, never used. A sensor that was
 // heard from and falls silent longer than its time-out raises a sensor_timeout event (and
@@ -53,10 +55,10 @@ struct EstimatorConfig {
 
   // GNSS
   int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
-  double gnss_pos_sigma_h = 0.21;     ///< m
-  double gnss_pos_sigma_v = 0.4;      ///< m
-  double gnss_vel_sigma_h = 0.01;     ///< m/s
-  double gnss_vel_sigma_v = 0.01;     ///< m/s
+  double gnss_pos_sigma_h = 0.1;      ///< white part of the GNSS position noise, m
+  double gnss_pos_sigma_v = 0.2;      ///< m
+  double gnss_vel_sigma_h = 0.02;     ///< m/s (receiver: 0.01; doubled for timing and lever arm)
+  double gnss_vel_sigma_v = 0.02;     ///< m/s
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset
@@ -64,8 +66,11 @@ struct EstimatorConfig {
   double mag_declination = 0.1857972802;  ///< rad
   double mag_inclination = 1.139436457;   ///< rad
   double mag_field_strength = 5.07163e-5; ///< T
-  double mag_sigma = 3e-6;                ///< T per axis
-  double mag_gate = kChi2_999[3];
+  double mag_sigma = 1.5e-5;              ///< T per axis: white noise 3e-6 plus slowly varying
+                                          ///< disturbances (a Gauss-Markov 1e-6 T moves yaw ~3 deg)
+  double mag_gate = kChi2_999[3];         ///< 3-axis mode (3 dof)
+  double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
+  bool mag_heading_only = true;           ///< tilt-compensated heading (true) or 3-axis direction
   double mag_init_wait = 2.0;             ///< s to wait for a magnetometer at initialisation
   // barometer
   double baro_sigma = 4.0;                ///< Pa
@@ -85,8 +90,10 @@ struct EstimatorConfig {
   double init_yaw_sigma = 0.2;            ///< rad, with a magnetometer (1 rad without)
   double init_gyro_bias_sigma = 0.01;     ///< rad/s (ROSplane bias_initial_cov 1e-4)
   double init_accel_bias_sigma = 0.3;     ///< m/s^2
-  double init_wind_sigma = 5.0;           ///< m/s
+  double init_wind_sigma = 5.0;           ///< m/s, without air data at initialisation
+  double init_wind_sigma_airdata = 2.0;   ///< m/s, wind from GNSS velocity - pitot airspeed
   double init_baro_bias_sigma = 1.0;      ///< m
+  double init_gnss_error_sigma = 0.5;     ///< m, GNSS position error at initialisation
   // sensor checks
   double accel_max = 160.0;               ///< m/s^2 per axis (16 g)
   double gyro_max = 35.0;                 ///< rad/s per axis (2000 deg/s)
@@ -151,6 +158,7 @@ class Estimator {
   const GnssPosition& gnss_position_model() const { return gnss_pos_; }
   const GnssVelocity& gnss_velocity_model() const { return gnss_vel_; }
   const Magnetometer& mag_model() const { return mag_; }
+  const MagHeading& mag_heading_model() const { return mag_heading_; }
   const BaroAltitude& baro_model() const { return baro_; }
   const DiffPressure& diff_pressure_model() const { return pitot_; }
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
@@ -183,6 +191,7 @@ class Estimator {
   GnssPosition gnss_pos_;
   GnssVelocity gnss_vel_;
   Magnetometer mag_;
+  MagHeading mag_heading_;
   BaroAltitude baro_;
   DiffPressure pitot_;
   ZeroSideslip sideslip_;
@@ -202,6 +211,8 @@ class Estimator {
   double baro_offset_ = 0.0;
   bool baro_calibrated_ = false;
 
+  double last_diff_pressure_ = 0.0;  // last valid differential pressure before initialisation
+  Nanos last_diff_stamp_ = -1;
   Nanos imu_stamp_ = -1;
   Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro
   Nanos gnss_reject_since_ = -1;

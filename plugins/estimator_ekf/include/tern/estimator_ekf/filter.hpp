@@ -11,9 +11,10 @@
 //   b_a    accelerometer bias, body FRD, m/s^2 (accel = f + b_a + noise, f = specific force)
 //   wind   horizontal wind (w_n, w_e), m/s; the vertical wind is taken as 0
 //   b_baro barometric-altitude bias, m         (baro altitude = -p_d + b_baro + noise)
+//   e_gnss GNSS position error, NED, m          (GNSS position = p + e_gnss + noise)
 //
-// Error state dx (18 components, index constants in namespace idx):
-//   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1)
+// Error state dx (21 components, index constants in namespace idx):
+//   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1) de_gnss(3)
 // with the attitude error defined in the body frame: q_true = q (x) exp(dtheta / 2), i.e.
 // R_true = R (I + [dtheta]x) to first order ("multiplicative" EKF: Markley, "Attitude error
 // representations for Kalman filtering", JGCD 2003; Sola, "Quaternion kinematics for the
@@ -25,12 +26,15 @@
 //   v_dot = R (a_m - b_a - n_a) + g e3                       (a_m: measured specific force)
 //   q_dot = 1/2 q (x) (0, w_m - b_g - n_g)                    (w_m: measured body rate)
 //   b_g_dot = n_bg,  b_a_dot = n_ba,  wind_dot = n_w,  b_baro_dot = n_bb   (random walks)
+//   e_gnss_dot = -k e_gnss + n_e   (first-order Gauss-Markov: the slowly wandering GNSS position
+//                                   error of Beard & McLain eq. 7.26, 1/k = 1100 s)
 // Error dynamics (first order in dx), with a = a_m - b_a and w = w_m - b_g:
 //   dp_dot     = dv
 //   dv_dot     = -R [a]x dtheta - R db_a - R n_a
 //   dtheta_dot = -[w]x dtheta - db_g - n_g
 // Discrete transition over one IMU interval dt (Sola 2017, eq. 270 / 310):
-//   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - dt db_g.
+//   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - dt db_g,
+//   and the Gauss-Markov block, exp(-k dt) I.
 // Discrete process noise: Q_v = (sigma_a dt)^2 I, Q_theta = (sigma_g dt)^2 I, where sigma_a and
 // sigma_g are the per-sample standard deviations of the accelerometer and gyro (white noise of
 // one sample held over dt); random walks: Q = sigma^2 dt with sigma in unit/sqrt(s).
@@ -53,7 +57,7 @@
 
 namespace tern::ekf {
 
-inline constexpr int kErrDim = 18;  ///< error-state dimension
+inline constexpr int kErrDim = 21;  ///< error-state dimension
 
 /// Offsets of the error-state blocks.
 namespace idx {
@@ -64,6 +68,7 @@ inline constexpr int bg = 9;    ///< gyro bias, 3
 inline constexpr int ba = 12;   ///< accelerometer bias, 3
 inline constexpr int w = 15;    ///< wind north, east, 2
 inline constexpr int bb = 17;   ///< barometer bias, 1
+inline constexpr int eg = 18;   ///< GNSS position error, 3
 }  // namespace idx
 
 using Vec3 = Eigen::Vector3d;
@@ -80,6 +85,7 @@ struct NominalState {
   Vec3 b_a = Vec3::Zero();
   Eigen::Vector2d wind = Eigen::Vector2d::Zero();
   double b_baro = 0.0;
+  Vec3 e_gnss = Vec3::Zero();
 
   /// Rotation body FRD -> NED.
   Mat3 R() const { return q.toRotationMatrix(); }
@@ -89,7 +95,8 @@ struct NominalState {
   Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
   bool all_finite() const {
     return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() &&
-           b_a.allFinite() && wind.allFinite() && std::isfinite(b_baro);
+           b_a.allFinite() && wind.allFinite() && std::isfinite(b_baro) &&
+           e_gnss.allFinite();
   }
 };
 
@@ -117,11 +124,14 @@ inline Mat3 skew3(const Vec3& a) {
 struct ProcessNoise {
   double accel = 0.2;             ///< accelerometer white noise, 1 sigma per sample, m/s^2
   double gyro = 0.0023;           ///< gyro white noise, 1 sigma per sample, rad/s
-  double gyro_bias_walk = 1e-4;   ///< gyro-bias random walk, rad/s/sqrt(s)
+  double gyro_bias_walk = 2e-4;   ///< gyro-bias random walk, rad/s/sqrt(s)
   double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
-  double wind_walk = 0.1;         ///< horizontal-wind random walk, m/s/sqrt(s)
-  double baro_bias_walk = 0.02;   ///< barometer-bias random walk, m/sqrt(s)
+  double wind_walk = 0.05;        ///< horizontal-wind random walk, m/s/sqrt(s)
+  double baro_bias_walk = 0.05;   ///< barometer-bias random walk, m/sqrt(s)
   double position = 0.0;          ///< extra position random walk (model error), m/sqrt(s)
+  double gnss_error_walk_h = 0.21;  ///< GNSS horizontal error driving noise, m/sqrt(s)
+  double gnss_error_walk_v = 0.40;  ///< GNSS vertical error driving noise, m/sqrt(s)
+  double gnss_error_k = 1.0 / 1100.0;  ///< GNSS error Gauss-Markov rate k, 1/s
 };
 
 /// Outcome of one measurement update.
@@ -158,10 +168,11 @@ class Filter {
 
   /// The nominal-state part of propagate(): constant specific force and rate over dt.
   static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,
-                                        double dt, double gravity);
-  /// The dense error-state transition F of propagate() (for tests and documentation; propagate()
+                                        double dt, double gravity, double gnss_error_k);
+  /// The dense error-state transition F of propagate() with the Gauss-Markov rate k (for tests and documentation; propagate()
   /// applies it block-wise without forming it).
-  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt);
+  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt,
+                        double gnss_error_k);
   /// The discrete process noise Q of propagate() (diagonal).
   static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt);
 
@@ -224,7 +235,7 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
   x_ = boxplus(x_, K * y);
   // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, evaluated expanded (exact for any K):
   //   P - K (H P) - (K (H P))^T + K S K^T,   S = H P H^T + R,
-  // which costs O(18^2 M) instead of O(18^3): every term is a rank-M product.
+  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product.
   const Cov KHP = K * HP;
   P_ -= KHP + KHP.transpose();
   P_.noalias() += K * S * K.transpose();

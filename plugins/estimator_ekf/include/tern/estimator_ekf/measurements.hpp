@@ -42,11 +42,12 @@ struct Measurement {
 };
 
 /// GNSS position: z = NED position of the antenna relative to the origin, m (the geodetic fix
-/// converted by a local tangent plane at the origin). h(x) = p; H = [I 0 ...].
+/// converted by a local tangent plane at the origin). h(x) = p + e_gnss (e_gnss: the slowly
+/// wandering GNSS error, a state); H = [I (p) ... I (e_gnss)]. sigma_*: the white part.
 struct GnssPosition : Measurement<GnssPosition, 3> {
-  double sigma_h = 0.21;  ///< horizontal noise, 1 sigma, m
-  double sigma_v = 0.4;   ///< vertical noise, 1 sigma, m
-  Vec h(const NominalState& x) const { return x.p; }
+  double sigma_h = 0.1;  ///< horizontal white noise, 1 sigma, m
+  double sigma_v = 0.2;  ///< vertical white noise, 1 sigma, m
+  Vec h(const NominalState& x) const { return x.p + x.e_gnss; }
   Jac jacobian(const NominalState& x) const;
   Noise noise() const;
 };
@@ -71,6 +72,24 @@ struct Magnetometer : Measurement<Magnetometer, 3> {
   double field_strength = 5.07163e-5; ///< total intensity, T (scales sigma to the unit vector)
   Vec3 field_direction_ned() const;
   Vec h(const NominalState& x) const;
+  Jac jacobian(const NominalState& x) const;
+  Noise noise() const;
+};
+
+/// Magnetometer, tilt-compensated heading: z = psi_m, the yaw (rad) at which the measured field,
+/// levelled with the estimated roll and pitch, points at the declination:
+///   m_l = R_y(theta) R_x(phi) m_b,   psi_m = D - atan2(m_l,y, m_l,x)     (heading_from_field).
+/// h(x) = psi = atan2(R_10, R_00) (3-2-1 yaw). With R_true = R (I + [dtheta]x):
+///   H_theta = [0, R_20 R_02... ] (exact form in jacobian()), i.e. only the heading is corrected:
+/// a magnetic disturbance cannot tilt the estimate. Noise: sigma / (field_strength cos I) rad.
+struct MagHeading : Measurement<MagHeading, 1> {
+  double declination = 0.1857972802;  ///< rad
+  double inclination = 1.139436457;   ///< rad (only scales the noise)
+  double sigma = 3e-6;                ///< field noise per axis, 1 sigma, T
+  double field_strength = 5.07163e-5; ///< T
+  static double heading_from_field(const Vec3& m_body, double phi, double theta, double declination);
+  Vec h(const NominalState& x) const;
+  Vec residual(const NominalState& x, const Vec& z) const;
   Jac jacobian(const NominalState& x) const;
   Noise noise() const;
 };
