@@ -1,0 +1,222 @@
+// tern_fcu_serial/codec.hpp: MAVLink 1.0 framing for the ROSflight dialect (rosflight.xml).
+//
+// Frame: 0xFE, payload length, sequence, system id, component id, message id, payload,
+// checksum (X.25 over length..payload, then the message's CRC_EXTRA; little-endian). The message
+// structs, their wire order and CRC_EXTRA come from rosflight.xml (generated at build time by
+// mavlink/generate.py into tern_fcu_serial/messages.hpp).
+//
+// Parser: a byte-at-a-time state machine. It never throws and never allocates after
+// construction. A frame whose header names an unknown message id or a length that does not
+// match the definition, or whose checksum is wrong, is dropped and the bytes after its start
+// byte are scanned again (so a truncated frame does not swallow the valid frame after it). Each
+// kind of error is counted in ParserStats. Plain C++, no tern host types.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "tern_fcu_serial/messages.hpp"
+#include "tern_fcu_serial/wire.hpp"
+
+namespace tern::fcu::mavlink {
+
+inline constexpr std::uint8_t kStx = 0xFE;          ///< MAVLink 1.0 start byte
+inline constexpr std::size_t kHeaderLength = 6;     ///< STX len seq sys comp msgid
+inline constexpr std::size_t kMaxFrameLength = kHeaderLength + 255 + 2;
+
+/// Dialect entry of a message id, or nullptr if rosflight.xml does not define it.
+const MessageInfo* find_message(std::uint8_t id);
+
+/// One received frame (payload valid for `len` bytes).
+struct Frame {
+  std::uint8_t len = 0, seq = 0, sysid = 0, compid = 0, msgid = 0;
+  std::array<std::uint8_t, 255> payload{};
+};
+
+/// What the parser saw. Bytes that belong to no valid frame are counted once in `skipped`.
+struct ParserStats {
+  std::uint64_t bytes = 0;        ///< bytes fed
+  std::uint64_t frames = 0;       ///< valid frames delivered
+  std::uint64_t skipped = 0;      ///< bytes dropped while looking for a frame (garbage, bad frames)
+  std::uint64_t bad_crc = 0;      ///< frames with a wrong checksum
+  std::uint64_t unknown_id = 0;   ///< headers naming a message id outside the dialect
+  std::uint64_t bad_length = 0;   ///< headers whose length does not match the message definition
+  std::uint64_t seq_gaps = 0;     ///< frames lost according to the sequence numbers (per sender)
+};
+
+class Parser {
+ public:
+  /// Feeds n bytes; calls on_frame(const Frame&) for every valid frame, in order.
+  template <class F>
+  void feed(const std::uint8_t* data, std::size_t n, F&& on_frame) {
+    for (std::size_t i = 0; i < n; ++i) {
+      ++stats_.bytes;
+      consume(data[i], on_frame);
+      while (!replay_.empty()) {
+        const std::uint8_t b = replay_.front();
+        replay_.pop_front();
+        consume(b, on_frame);
+      }
+    }
+  }
+  const ParserStats& stats() const { return stats_; }
+  /// Drops a partial frame (e.g. after the link was reopened); the counters are kept.
+  void reset() {
+    state_ = State::idle;
+    n_ = 0;
+    replay_.clear();
+  }
+
+ private:
+  enum class State { idle, header, payload };
+  template <class F>
+  void consume(std::uint8_t b, F& on_frame) {
+    switch (state_) {
+      case State::idle:
+        if (b == kStx) {
+          buf_[0] = b;
+          n_ = 1;
+          state_ = State::header;
+        } else {
+          ++stats_.skipped;
+        }
+        return;
+      case State::header:
+        buf_[n_++] = b;
+        if (n_ == kHeaderLength) {
+          info_ = find_message(buf_[5]);
+          if (info_ == nullptr) {
+            ++stats_.unknown_id;
+            return fail();
+          }
+          if (info_->length != buf_[1]) {
+            ++stats_.bad_length;
+            return fail();
+          }
+          state_ = State::payload;
+        }
+        return;
+      case State::payload:
+        buf_[n_++] = b;
+        if (n_ == kHeaderLength + buf_[1] + 2) {
+          std::uint16_t crc = crc_calculate(buf_.data() + 1, n_ - 3);
+          crc = crc_accumulate(info_->crc_extra, crc);
+          const std::uint16_t got = static_cast<std::uint16_t>(buf_[n_ - 2] | (buf_[n_ - 1] << 8));
+          if (crc != got) {
+            ++stats_.bad_crc;
+            return fail();
+          }
+          deliver(on_frame);
+        }
+        return;
+    }
+  }
+  template <class F>
+  void deliver(F& on_frame) {
+    frame_.len = buf_[1];
+    frame_.seq = buf_[2];
+    frame_.sysid = buf_[3];
+    frame_.compid = buf_[4];
+    frame_.msgid = buf_[5];
+    for (std::size_t i = 0; i < frame_.len; ++i) frame_.payload[i] = buf_[kHeaderLength + i];
+    const std::size_t key = (static_cast<std::size_t>(frame_.sysid) << 8) | frame_.compid;
+    if (seen_[key]) stats_.seq_gaps += static_cast<std::uint8_t>(frame_.seq - last_seq_[key] - 1);
+    seen_[key] = true;
+    last_seq_[key] = frame_.seq;
+    ++stats_.frames;
+    state_ = State::idle;
+    n_ = 0;
+    on_frame(static_cast<const Frame&>(frame_));
+  }
+  /// The frame starting at buf_[0] is invalid: drop its start byte, scan the rest again.
+  void fail() {
+    ++stats_.skipped;
+    for (std::size_t i = n_; i-- > 1;) replay_.push_front(buf_[i]);
+    n_ = 0;
+    state_ = State::idle;
+  }
+
+  State state_ = State::idle;
+  std::array<std::uint8_t, kMaxFrameLength> buf_{};
+  std::size_t n_ = 0;
+  const MessageInfo* info_ = nullptr;
+  Frame frame_;
+  std::deque<std::uint8_t> replay_;
+  ParserStats stats_;
+  std::vector<bool> seen_ = std::vector<bool>(65536, false);
+  std::vector<std::uint8_t> last_seq_ = std::vector<std::uint8_t>(65536, 0);
+};
+
+/// The messages tern decodes and encodes (issue 9's list).
+using Message = std::variant<SmallImu, SmallMag, SmallBaro, DiffPressure, RosflightGnss, RcChannels,
+                             RosflightStatus, AttitudeQuaternion, RosflightOutputRaw, ParamValue,
+                             RosflightCmdAck, RosflightVersion, Statustext, Timesync, Heartbeat,
+                             OffboardControl, ParamRequestList, ParamRequestRead, ParamSet, RosflightCmd>;
+
+/// The typed message in a valid frame, or nullopt for a dialect message tern does not use.
+std::optional<Message> decode(const Frame& f);
+
+/// Writes one frame carrying msg to out (which must hold kHeaderLength + T::kLength + 2 bytes);
+/// returns the frame length.
+template <class T>
+std::size_t encode(const T& msg, std::uint8_t seq, std::uint8_t sysid, std::uint8_t compid, std::uint8_t* out) {
+  out[0] = kStx;
+  out[1] = T::kLength;
+  out[2] = seq;
+  out[3] = sysid;
+  out[4] = compid;
+  out[5] = T::kId;
+  msg.pack(out + kHeaderLength);
+  std::uint16_t crc = crc_calculate(out + 1, kHeaderLength - 1 + T::kLength);
+  crc = crc_accumulate(T::kCrcExtra, crc);
+  out[kHeaderLength + T::kLength] = static_cast<std::uint8_t>(crc & 0xFF);
+  out[kHeaderLength + T::kLength + 1] = static_cast<std::uint8_t>(crc >> 8);
+  return kHeaderLength + T::kLength + 2;
+}
+
+/// A sender: its system/component ids and its sequence counter.
+class Encoder {
+ public:
+  Encoder(std::uint8_t sysid, std::uint8_t compid) : sysid_(sysid), compid_(compid) {}
+  /// Appends one frame with msg to out.
+  template <class T>
+  void append(const T& msg, std::vector<std::uint8_t>& out) {
+    const std::size_t at = out.size();
+    out.resize(at + kHeaderLength + T::kLength + 2);
+    encode(msg, seq_++, sysid_, compid_, out.data() + at);
+  }
+  template <class T>
+  std::vector<std::uint8_t> frame(const T& msg) {
+    std::vector<std::uint8_t> out;
+    append(msg, out);
+    return out;
+  }
+
+ private:
+  std::uint8_t sysid_, compid_;
+  std::uint8_t seq_ = 0;
+};
+
+/// Copies a fixed-size MAVLink char array (not necessarily NUL-terminated) into a string.
+template <std::size_t N>
+std::string to_string(const std::array<char, N>& a) {
+  std::size_t n = 0;
+  while (n < N && a[n] != '\0') ++n;
+  return std::string(a.data(), n);
+}
+/// Fills a MAVLink char array from s (truncated to N; NUL-padded).
+template <std::size_t N>
+std::array<char, N> to_chars(std::string_view s) {
+  std::array<char, N> a{};
+  for (std::size_t i = 0; i < N && i < s.size(); ++i) a[i] = s[i];
+  return a;
+}
+
+}  // namespace tern::fcu::mavlink

@@ -1,0 +1,224 @@
+// tern-fcu: `tern fcu param list|get|set` - read and write a ROSflight FCU's firmware parameters
+// over its MAVLink link (serial port or UDP). Not while flying: the flight holds the port.
+//
+//   tern fcu --device /dev/ttyACM0 param list
+//   tern fcu param get RC_ATT_OVRD_CHN
+//   tern fcu param set MOTOR_IDLE_THR 0.15 --write      (--write: save to the FCU's flash)
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <map>
+#include <optional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "tern_fcu_serial/codec.hpp"
+#include "tern_fcu_serial/fcu_side.hpp"
+#include "tern_fcu_serial/link.hpp"
+
+namespace {
+
+namespace fcu = tern::fcu;
+namespace mav = tern::fcu::mavlink;
+
+struct Client {
+  fcu::Link link;
+  mav::Encoder enc{1, 50};
+  std::deque<fcu::Received> rx;
+  explicit Client(const fcu::LinkOptions& o) : link(o) { link.start(); }
+
+  template <class T>
+  void send(const T& m) { link.send(enc.frame(m)); }
+
+  /// Collects decoded messages until `done` returns true or `timeout_s` passes without progress.
+  template <class F>
+  bool collect(double timeout_s, F&& done) {
+    std::int64_t deadline = fcu::steady_ns() + static_cast<std::int64_t>(timeout_s * 1e9);
+    for (;;) {
+      link.drain(rx);
+      while (!rx.empty()) {
+        const auto m = mav::decode(rx.front().frame);
+        rx.pop_front();
+        if (m && done(*m, deadline)) return true;
+      }
+      const std::int64_t left = deadline - fcu::steady_ns();
+      if (left <= 0) return false;
+      link.wait(left);
+    }
+  }
+};
+
+std::string format_value(const mav::ParamValue& v) {
+  const double x = fcu::param_number(v.param_value, v.param_type);
+  char buf[64];
+  if (v.param_type == fcu::kParamReal32)
+    std::snprintf(buf, sizeof buf, "%.9g", static_cast<double>(v.param_value));
+  else
+    std::snprintf(buf, sizeof buf, "%.0f", x);
+  return buf;
+}
+const char* type_name(std::uint8_t t) {
+  switch (t) {
+    case 1: return "uint8"; case 2: return "int8"; case 3: return "uint16"; case 4: return "int16";
+    case 5: return "uint32"; case 6: return "int32"; case 9: return "float"; default: return "?";
+  }
+}
+
+std::optional<mav::ParamValue> read_param(Client& c, const std::string& name, double timeout) {
+  std::optional<mav::ParamValue> got;
+  for (int attempt = 0; attempt < 3 && !got; ++attempt) {
+    mav::ParamRequestRead r;
+    r.target_system = 1;
+    r.target_component = 1;
+    r.param_id = mav::to_chars<16>(name);
+    r.param_index = -1;
+    c.send(r);
+    c.collect(timeout, [&](const mav::Message& m, std::int64_t&) {
+      const auto* v = std::get_if<mav::ParamValue>(&m);
+      if (v && mav::to_string(v->param_id) == name) got = *v;
+      return got.has_value();
+    });
+  }
+  return got;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tern fcu: the firmware parameters of a ROSflight flight-control unit"};
+  app.require_subcommand(1);
+  fcu::LinkOptions o;
+  bool udp = false;
+  double timeout = 1.0;
+  app.add_option("--device", o.device, "serial device of the FCU")->capture_default_str();
+  app.add_option("--baud", o.baud, "baud rate")->capture_default_str();
+  app.add_flag("--udp", udp, "UDP (ROSflight SIL) instead of a serial port");
+  app.add_option("--udp-host", o.udp_host, "UDP address")->capture_default_str();
+  app.add_option("--udp-bind-port", o.udp_bind_port, "our UDP port")->capture_default_str();
+  app.add_option("--udp-remote-port", o.udp_remote_port, "the FCU's UDP port")->capture_default_str();
+  app.add_option("--timeout", timeout, "seconds to wait for each answer")->capture_default_str();
+  auto* param = app.add_subcommand("param", "list, get or set firmware parameters");
+  param->require_subcommand(1);
+  auto* list = param->add_subcommand("list", "print every parameter: name value type");
+  auto* get = param->add_subcommand("get", "print one parameter's value");
+  std::string name, value;
+  get->add_option("name", name, "parameter name (at most 16 characters)")->required();
+  auto* set = param->add_subcommand("set", "set a parameter (in RAM; --write saves it)");
+  set->add_option("name", name, "parameter name")->required();
+  set->add_option("value", value, "new value")->required();
+  bool write = false;
+  set->add_flag("--write", write, "save every parameter to the FCU's flash afterwards (ROSFLIGHT_CMD_WRITE_PARAMS)");
+  CLI11_PARSE(app, argc, argv);
+  if (udp) o.kind = fcu::LinkOptions::Kind::udp;
+
+  try {
+    Client c(o);
+    if (list->parsed()) {
+      std::map<std::uint16_t, mav::ParamValue> table;
+      std::optional<std::uint16_t> count;
+      mav::ParamRequestList r;
+      r.target_system = 1;
+      r.target_component = 1;
+      c.send(r);
+      auto take = [&](const mav::Message& m, std::int64_t& deadline) {
+        if (const auto* v = std::get_if<mav::ParamValue>(&m)) {
+          table[v->param_index] = *v;
+          count = v->param_count;
+          deadline = fcu::steady_ns() + static_cast<std::int64_t>(timeout * 1e9);  // progress: wait on
+        }
+        return count && table.size() >= *count;
+      };
+      c.collect(timeout, take);
+      for (int round = 0; round < 3 && count && table.size() < *count; ++round) {  // ask again for the missing ones
+        for (std::uint16_t i = 0; i < *count; ++i) {
+          if (table.count(i)) continue;
+          mav::ParamRequestRead rr;
+          rr.target_system = 1;
+          rr.target_component = 1;
+          rr.param_index = static_cast<std::int16_t>(i);
+          c.send(rr);
+        }
+        c.collect(timeout, take);
+      }
+      if (!count) {
+        std::cerr << "tern fcu: no parameters from the FCU on " << o.describe() << " within " << timeout << " s\n";
+        return 1;
+      }
+      for (const auto& [i, v] : table)
+        std::printf("%-16s %14s  %s\n", mav::to_string(v.param_id).c_str(), format_value(v).c_str(), type_name(v.param_type));
+      if (table.size() < *count) {
+        std::cerr << "tern fcu: got " << table.size() << " of " << *count << " parameters\n";
+        return 1;
+      }
+      return 0;
+    }
+    if (name.size() > 16) {
+      std::cerr << "tern fcu: parameter name '" << name << "' is longer than 16 characters\n";
+      return 2;
+    }
+    const auto cur = read_param(c, name, timeout);
+    if (!cur) {
+      std::cerr << "tern fcu: the FCU on " << o.describe() << " has no parameter " << name << " (or did not answer)\n";
+      return 1;
+    }
+    if (get->parsed()) {
+      std::printf("%s\n", format_value(*cur).c_str());
+      return 0;
+    }
+    double v = 0;
+    try {
+      std::size_t used = 0;
+      v = std::stod(value, &used);
+      if (used != value.size() || !std::isfinite(v)) throw std::invalid_argument(value);
+    } catch (const std::exception&) {
+      std::cerr << "tern fcu: value '" << value << "' for " << name << " is not a number\n";
+      return 2;
+    }
+    if (cur->param_type != fcu::kParamReal32 && v != std::floor(v)) {
+      std::cerr << "tern fcu: " << name << " is an integer parameter (" << type_name(cur->param_type) << "), got " << value << "\n";
+      return 2;
+    }
+    mav::ParamSet ps;
+    ps.target_system = 1;
+    ps.target_component = 1;
+    ps.param_id = mav::to_chars<16>(name);
+    ps.param_type = cur->param_type;
+    ps.param_value = fcu::param_wire(v, cur->param_type);
+    std::optional<mav::ParamValue> echo;
+    for (int attempt = 0; attempt < 3 && !echo; ++attempt) {
+      c.send(ps);
+      c.collect(timeout, [&](const mav::Message& m, std::int64_t&) {
+        const auto* pv = std::get_if<mav::ParamValue>(&m);
+        if (pv && mav::to_string(pv->param_id) == name) echo = *pv;
+        return echo.has_value();
+      });
+    }
+    if (!echo || echo->param_value != ps.param_value) {
+      std::cerr << "tern fcu: the FCU did not confirm " << name << " = " << value << "\n";
+      return 1;
+    }
+    std::printf("%s = %s\n", name.c_str(), format_value(*echo).c_str());
+    if (write) {
+      mav::RosflightCmd cmd;
+      cmd.command = static_cast<std::uint8_t>(fcu::RosflightCmd::write_params);
+      c.send(cmd);
+      std::optional<bool> ok;
+      c.collect(timeout * 3, [&](const mav::Message& m, std::int64_t&) {
+        const auto* a = std::get_if<mav::RosflightCmdAck>(&m);
+        if (a && a->command == cmd.command) ok = a->success != 0;
+        return ok.has_value();
+      });
+      if (!ok || !*ok) {
+        std::cerr << "tern fcu: the FCU did not confirm writing its parameters to flash\n";
+        return 1;
+      }
+      std::printf("written to flash\n");
+    }
+    return 0;
+  } catch (const std::exception& e) {
+    std::cerr << "tern fcu: " << e.what() << "\n";
+    return 1;
+  }
+}
