@@ -1,11 +1,11 @@
 #!/bin/sh
 # Regenerates configs/gains/{anaconda,aerosonde}{,_tecs}.yaml: the designed loop gains of
 # design_gains.py plus the hand-set limits, takeoff values and total-energy gains below.
-# Usage: plugins/control_slc/tools/make_gains_files.sh   (from anywhere)
+# Usage: plugins/control_slc/tools/make_gains_files.sh   (from anywhere; TERN_GAINS_OUT=dir to write elsewhere)
 set -eu
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(cd "$here/../../.." && pwd)
-out="$root/configs/gains"
+out="${TERN_GAINS_OUT:-$root/configs/gains}"  # TERN_GAINS_OUT: write elsewhere (the test does)
 
 # write NAME VA  (limits on stdin: the hand-set part)
 write() {
