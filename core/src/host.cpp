@@ -703,6 +703,19 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
   param_pending_.store(true, std::memory_order_release);
 }
 
+std::vector<Host::TopicInfo> Host::topics() const {
+  std::vector<TopicInfo> out;
+  for (const auto& t : topics_)
+    if (!t->writers.empty() || t->host_writer) out.push_back({t->name, t->type_name, t->fingerprint});
+  return out;
+}
+
+const OutputBase* Host::topic_source(const std::string& topic) const {
+  for (const auto& t : topics_)
+    if (t->name == topic) return t->current;
+  return nullptr;
+}
+
 void Host::edit_mission(const msg::MissionEdit& edit) {
   if (!mission_edit_out_) throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'mission_edit' (add a path_planner)");
   std::lock_guard lk(param_mu_);
@@ -1056,6 +1069,14 @@ FlightResult Host::fly() {
       tp->logged_seq = seq;
       tp->logged_t = now;
       log.capture(tp->log_index, now, tp->current->data());
+    }
+    if (tick_observer_) {
+      try {
+        tick_observer_(now);
+      } catch (const std::exception& e) {
+        logger_->error("t={:.3f} s: tick observer failed, removed: {}", to_seconds(now), e.what());
+        tick_observer_ = nullptr;
+      }
     }
     if (failed) {
       r.ok = false;

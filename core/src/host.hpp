@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <atomic>
 #include <mutex>
 #include <cstdint>
@@ -122,6 +123,18 @@ class Host {
   void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
   /// Flight length of the next flights (nullopt: the option or the config's duration).
   void set_duration(std::optional<double> seconds) { duration_override_ = seconds; }
+  /// Topics with a producer, for bridges (DDS): name, message type name, layout fingerprint.
+  struct TopicInfo {
+    std::string name, type_name;
+    std::uint64_t fingerprint;
+  };
+  std::vector<TopicInfo> topics() const;
+  /// The output that currently feeds `topic` (follows the phase router), or nullptr. Read it only
+  /// from the flight thread (e.g. in a tick observer): it changes between ticks.
+  const OutputBase* topic_source(const std::string& topic) const;
+  /// Called on the flight thread at the end of every tick, after logging (e.g. the DDS bridge).
+  /// Must be quick; exceptions are logged and the observer is removed. Set between flights.
+  void set_tick_observer(std::function<void(Nanos now)> observer) { tick_observer_ = std::move(observer); }
   /// A flight is running.
   bool flying() const { return flying_.load(); }
   /// Flights flown by this host.
@@ -177,6 +190,7 @@ class Host {
   std::atomic<bool> flying_{false};
   int flights_ = 0;
   std::optional<double> duration_override_;
+  std::function<void(Nanos)> tick_observer_;
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries
   struct ParamRequest {
