@@ -303,4 +303,53 @@ TEST_CASE("plugin: link loss, FCU reboot, RC override and corrupted bytes are re
   h.stop();
 }
 
+TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIMESYNC") {
+  std::unique_ptr<ChildProcess> emu;
+  {
+    std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft, "--udp", "--udp-port", "24625",
+                                  "--udp-remote-port", "24620", "--speed", "1", "--init-mode", "air"};
+    emu = std::make_unique<ChildProcess>(argv);
+    REQUIRE(emu->read_line(10'000'000'000) == "udp: 127.0.0.1:24625");
+  }
+  tern::testing::HarnessOptions ho;
+  ho.aircraft_file = kAircraft;
+  tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(),
+                           {{"transport", std::string("udp")},
+                            {"udp_bind_port", std::int64_t{24620}},
+                            {"udp_remote_port", std::int64_t{24625}},
+                            {"clock", std::string("wall")},
+                            {"timesync_rate", 50.0}},
+                           ho);
+  auto& plugin = static_cast<tern::fcu_serial::FcuSerial&>(h.plugin());
+  h.start();
+  tern::msg::Actuators a;
+  a.delta_a = 0.1;
+  a.delta_t = 0.7;
+  // step on the wall clock, as `tern fly --realtime` does
+  const auto wall0 = std::chrono::steady_clock::now();
+  tern::Nanos now = 0;
+  while (now < tern::from_seconds(1.5)) {
+    h.set_input("actuators", a);
+    h.step(now);
+    if (h.published("imu") > 0) {
+      const auto stamp = h.output<tern::msg::Imu>("imu").stamp;
+      CHECK(stamp <= now);
+    }
+    now += 2'500'000;
+    std::this_thread::sleep_until(wall0 + std::chrono::nanoseconds(now));
+  }
+  CHECK(plugin.timesync().synced());
+  CHECK(plugin.timesync().last_rtt() < 20'000'000);
+  CHECK(plugin.timesync().samples() >= 20);
+  // the samples are recent: stamped within a few ticks of the wall clock
+  const auto& imu = h.output<tern::msg::Imu>("imu");
+  CHECK(imu.stamp > now - 60'000'000);
+  CHECK(h.published("imu") > 400);
+  CHECK(h.published("baro") > 100);
+  REQUIRE(plugin.last_output_raw().has_value());
+  CHECK(plugin.last_output_raw()->values[0] == doctest::Approx(0.1 / 0.6981317).epsilon(0.02));
+  CHECK(plugin.last_output_raw()->values[3] == doctest::Approx(0.7).epsilon(0.01));
+  h.stop();
+}
+
 #endif
