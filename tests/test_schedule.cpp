@@ -26,7 +26,7 @@ TEST_CASE("I/O first, then producers before consumers, whatever the config order
       "  - {name: filter, plugin: test_filter, trigger: imu}\n"
       "  - {name: sensor, plugin: test_sensor, rate: 400}\n";
   auto h = built(cfg);
-  CHECK(h->schedule() == std::vector<std::string>{"sensor", "filter", "ctl"});
+  CHECK(h->schedule() == std::vector<std::string>{"sensor", "filter", "ctl", "metrics"});  // metrics: built in
   CHECK(h->base_period() == 2'500'000);
   // the sensor reads actuators from the controller scheduled after it: a feedback edge
   CHECK(h->graph_text().find("sensor.actuators (feedback: previous tick)") != std::string::npos);

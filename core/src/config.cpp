@@ -139,7 +139,7 @@ MissionConfig load_config(const fs::path& file_in) {
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
   check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
-                           "phases", "fallback", "phase_machine", "mission", "dds"});
+                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds"});
 
   c.name = root["name"] ? as_string(root["name"], f, "name") : c.file.stem().string();
   if (root["seed"]) {
@@ -283,6 +283,10 @@ MissionConfig load_config(const fs::path& file_in) {
     if (!root["phases"]) throw ConfigError(where(f, pm) + "phase_machine: needs a 'phases:' table");
     require_map(pm, f, "phase_machine");
     c.phase_params = params_from_map(pm, f, "phase_machine", true);
+  }
+  if (const YAML::Node mt = root["metrics"]) {
+    require_map(mt, f, "metrics");
+    c.metrics_params = params_from_map(mt, f, "metrics", true);
   }
   if (root["mission"]) c.mission = root["mission"];
   if (root["dds"]) c.dds = root["dds"];

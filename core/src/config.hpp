@@ -62,6 +62,7 @@ struct MissionConfig {
   std::map<msg::Phase, std::string> phases;  ///< phase -> controller instance
   std::optional<std::string> fallback;
   std::map<std::string, ParamSetting> phase_params;  ///< `phase_machine:` parameters
+  std::map<std::string, ParamSetting> metrics_params;  ///< `metrics:` parameters
   YAML::Node mission;          ///< free-form, for the path planner
   YAML::Node dds;              ///< free-form, for the DDS bridge
   YAML::Node root;             ///< the whole document as loaded

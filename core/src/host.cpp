@@ -259,6 +259,7 @@ Host::~Host() {
     inst->ctx.reset();
   }
   phase_machine_ = nullptr;
+  metrics_ = nullptr;
   for (auto& inst : instances_) inst->lib.reset();
   instances_.clear();
   if (!swap_dir_.empty()) {
@@ -443,6 +444,28 @@ void Host::load_instances() {
     phase_machine_idx_ = instances_.size();
     instances_.push_back(std::move(inst));
   }
+  bool has_state = false;
+  for (const auto& other : instances_)
+    for (const auto* o : other->plugin->outputs()) has_state = has_state || o->topic() == "state";
+  if (has_state) {
+    for (const auto& other : instances_)
+      if (other->cfg.name == "metrics")
+        throw ConfigError(where(f, other->cfg.node) + "instance name 'metrics' is reserved for the host's flight metrics");
+    auto inst = std::make_unique<Instance>();
+    inst->cfg.index = config_.plugins.size() + 1;
+    inst->cfg.name = "metrics";
+    inst->cfg.plugin = "metrics (built in)";
+    inst->cfg.trigger = "state";
+    inst->cfg.params = config_.metrics_params;
+    if (config_.root["metrics"]) inst->cfg.node = config_.root["metrics"];
+    inst->builtin = true;
+    inst->info = PluginInfo{"metrics", PluginKind::generic, "the host's flight metrics (estimation and tracking RMSE)", {}};
+    auto m = std::make_unique<FlightMetrics>();
+    metrics_ = m.get();
+    inst->plugin = std::move(m);
+    configure_instance(*inst);
+    instances_.push_back(std::move(inst));
+  }
 }
 
 void Host::configure_instance(Instance& inst) {
@@ -452,7 +475,7 @@ void Host::configure_instance(Instance& inst) {
   log->set_level(spdlog::level::info);
   inst.ctx = std::make_unique<InstanceContext>(*this, inst.cfg, iseed, log, options_.describing);
   inst.plugin->attach(inst.ctx.get());
-  const std::string field = inst.builtin ? "phase_machine" : "plugins[" + std::to_string(inst.cfg.index) + "]";
+  const std::string field = inst.builtin ? inst.cfg.name : "plugins[" + std::to_string(inst.cfg.index) + "]";
   try {
     inst.plugin->configure();
   } catch (const ParamError& e) {
@@ -1186,6 +1209,24 @@ std::string Host::summary_json(const FlightResult& r) const {
     inst_j[inst->cfg.name] = x;
   }
   j["instances"] = inst_j;
+  if (metrics_) {
+    nlohmann::ordered_json m;
+    m["loops"] = metrics_->loops();
+    m["window_start_s"] = metrics_->window_start() < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(to_seconds(metrics_->window_start()));
+    auto passages = nlohmann::ordered_json::array();
+    for (const auto& p : metrics_->passages()) passages.push_back({{"t_s", to_seconds(p.t)}, {"waypoint", p.index}});
+    m["waypoint_passages"] = passages;
+    auto rms = [](const FlightMetrics::Rms& r) { return r.n ? nlohmann::ordered_json(r.value()) : nlohmann::ordered_json(); };
+    if (metrics_->has_truth()) {
+      nlohmann::ordered_json e;
+      for (int i = 0; i < FlightMetrics::kEst; ++i) e[FlightMetrics::kEstNames[i]] = rms(metrics_->estimation()[i]);
+      m["estimation_rmse"] = e;
+    }
+    nlohmann::ordered_json t;
+    for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(metrics_->tracking()[i]);
+    m["tracking_rmse"] = t;
+    j["metrics"] = m;
+  }
   return j.dump(2) + "\n";
 }
 
@@ -1222,7 +1263,26 @@ void Host::print_summary(const FlightResult& r) const {
     const auto& st = inst->stats;
     s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", inst->cfg.name, st.steps, fmt_ns(st.percentile(0.5)),
                      fmt_ns(st.percentile(0.99)), fmt_ns(st.max_ns), st.overruns);
-    for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
+    if (inst->plugin.get() != metrics_)
+      for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
+  }
+  if (metrics_) {
+    auto v = [](const FlightMetrics::Rms& x) { return x.n ? fmt::format("{:.2f}", x.value()) : std::string("-"); };
+    const auto& t = metrics_->tracking();
+    s += fmt::format("\nRMS tracking error, command vs estimate ({} loops; window from {}):\n", metrics_->loops(),
+                     metrics_->window_start() < 0 ? std::string("never: no full loop") : fmt::format("{:.1f} s", to_seconds(metrics_->window_start())));
+    const std::string row7 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+    s += fmt::format(fmt::runtime(row7 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "course deg", "airspeed m/s");
+    s += fmt::format(fmt::runtime(row7 + "   tern\n"), v(t[0]), v(t[1]), v(t[2]), v(t[3]), v(t[4]), v(t[5]), v(t[6]));
+    s += fmt::format(fmt::runtime(row7 + "   ROSplane 2.0 flight test\n"), "3.05", "3.29", "1.19", "7.55", "3.04", "8.51", "0.58");
+    if (metrics_->has_truth()) {
+      const auto& e = metrics_->estimation();
+      s += "RMS estimation error, estimate vs truth:\n";
+      const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n";
+      s += fmt::format(fmt::runtime(row8), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
+      s += fmt::format(fmt::runtime(row8), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
+    }
+    s += fmt::format("waypoints reached: {}\n", metrics_->passages().size());
   }
   s += fmt::format("log: {}\n", r.run_dir.string());
   std::fputs(s.c_str(), stdout);

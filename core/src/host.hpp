@@ -16,6 +16,7 @@
 
 #include "config.hpp"
 #include "loader.hpp"
+#include "metrics.hpp"
 #include "phase_machine.hpp"
 #include "tern/plugin.hpp"
 
@@ -175,6 +176,7 @@ class Host {
   std::uint64_t seed_ = 1;
   // phase router
   PhaseMachine* phase_machine_ = nullptr;
+  FlightMetrics* metrics_ = nullptr;
   std::size_t phase_machine_idx_ = SIZE_MAX;
   std::uint64_t phase_seen_ = 0;
   std::optional<std::size_t> active_;      // active controller instance

@@ -10,15 +10,19 @@
 #     them in one go) and their ctest runs (unit tests + `tern check` of each mission snippet).
 #  3. The generated controller flies 20 s of simulated flight (sim_aero, truth as state): the
 #     run ends normally, the log is written, the aircraft stays airborne and near wings level.
-# WORK_DIR (default: a new temporary directory, removed on success) keeps everything for a look.
+# WORK_DIR (default: BUILD_DIR/sdk_install_test, emptied first, removed on success) keeps
+# everything for a look. The six projects build at -O1 (this checks that they build, test and
+# fly, not how fast) and through ccache with CCACHE_BASEDIR, so that a re-run is quick.
 set -euo pipefail
 
 build="$(cd "${1:?usage: test_sdk_install.sh BUILD_DIR [WORK_DIR]}" && pwd)"
 if [ -n "${2:-}" ]; then
-  work="$2"; rm -rf "$work"; mkdir -p "$work"; keep=1
+  work="$2"; keep=1
 else
-  work="$(mktemp -d /tmp/tern_sdk_install.XXXXXX)"; keep=0
+  work="$build/sdk_install_test"; keep=0
 fi
+rm -rf "$work"
+mkdir -p "$work"
 work="$(cd "$work" && pwd)"
 prefix="$work/prefix"
 fail() { echo "FAIL: $*" >&2; echo "(work directory kept: $work)" >&2; exit 1; }
@@ -78,9 +82,13 @@ step "build the six projects out of tree against the prefix"
 gen=()
 command -v ninja > /dev/null && gen=(-G Ninja)
 launcher=()
-command -v ccache > /dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+if command -v ccache > /dev/null; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+  export CCACHE_BASEDIR="$work" CCACHE_NOHASHDIR=1
+fi
 # Only the prefix: no path into the source or build tree of tern.
 cmake -S "$work/plugins" -B "$work/plugins/build" "${gen[@]}" "${launcher[@]}" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
   > "$work/configure.log" 2>&1 || { tail -30 "$work/configure.log"; fail "configure of the generated projects"; }
 if grep -rq -- "$build" "$work/plugins/build/CMakeCache.txt"; then fail "the generated projects see tern's build tree"; fi
 cmake --build "$work/plugins/build" -j 2 > "$work/build.log" 2>&1 || { grep -B2 -A10 -m3 'error' "$work/build.log"; fail "build of the generated projects"; }

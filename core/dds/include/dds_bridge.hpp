@@ -1,0 +1,152 @@
+// core/dds/include/dds_bridge.hpp: the DDS bridge (issue 8). Publishes tern topics over Fast DDS
+// and serves parameters, mission edits and status on ROS 2's wire conventions:
+//   topics    rt/<namespace>/<name>, types rosplane_msgs::msg::dds_::State_ ... (ROSplane's
+//             State, ControllerCommands, ControllerInternals, CurrentPath, Waypoint) and
+//             tern_msgs::msg::dds_::* for tern's own messages (sensors, actuators, flight phase,
+//             waypoint list, parameters);
+//   services  rq/<namespace>/<service>Request, rr/<namespace>/<service>Reply, replies matched to
+//             requests by sample identity (Fast DDS related_sample_identity, as rmw_fastrtps).
+// Fast DDS stays behind this header (pimpl): include it freely in core/src.
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tern/msg/path.hpp"
+#include "tern/param.hpp"
+
+namespace YAML {
+class Node;
+}
+
+namespace tern::core {
+
+class Host;
+
+/// Quality of service of a bridged topic.
+enum class DdsQos : std::uint8_t {
+  best_effort,      ///< telemetry: best-effort, keep-last 1, volatile
+  reliable,         ///< reliable, keep-last 10, volatile
+  transient_local,  ///< reliable, keep-last 1, transient-local (late joiners get the last sample)
+};
+
+struct DdsTopicOptions {
+  std::string topic;                ///< tern topic name (e.g. "state")
+  std::string name;                 ///< DDS name under the namespace (default: topic)
+  double rate = -1;                 ///< max publish rate, Hz (0: every message; <0: the bridge default)
+  std::optional<DdsQos> qos;        ///< default: transient_local for waypoints and flight_phase, else best_effort
+};
+
+struct DdsOptions {
+  bool enabled = false;             ///< `dds: {enabled: true}` or `tern fly --dds`
+  std::uint32_t domain = 0;         ///< DDS domain id, 0..232
+  std::string ns = "tern";          ///< vehicle namespace: topics rt/<ns>/<name> ("" : rt/<name>)
+  std::vector<std::string> interfaces{"127.0.0.1"};  ///< IPv4 addresses the participant may use
+  std::vector<std::string> peers{"127.0.0.1"};       ///< initial discovery peers (IPv4)
+  bool multicast = false;           ///< multicast discovery on the listed interfaces
+  double rate = 0;                  ///< default max publish rate per topic, Hz (0: every message)
+  std::vector<DdsTopicOptions> topics;  ///< bridged topics (default: kDefaultTopics)
+  static const std::vector<std::string> kDefaultTopics;
+  /// True when every interface is 127.0.0.1 and multicast is off.
+  bool loopback_only() const;
+};
+
+/// Reads the mission config's `dds:` section (missing or null: defaults). Keys: enabled, domain,
+/// namespace, interfaces, peers, multicast, rate, topics (a list of names or of maps
+/// {topic, name, rate, qos}). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
+/// (with a suggestion) and bad values.
+DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& config_file);
+
+/// A DDS error: no vehicle answered, a request was refused, a topic is unknown. what() is one line.
+class DdsError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The vehicle side: attach it to a built Host before host.fly(); destroy it after the last
+/// flight and before the Host. It registers the Host's tick observer (publishing the bridged
+/// topics whose sequence changed, rate-limited) and answers service requests on Fast DDS threads
+/// through the Host's thread-safe API. Throws ConfigError when a bridged topic is unknown or has
+/// no DDS type, DdsError when Fast DDS cannot create the participant.
+class DdsBridge {
+ public:
+  DdsBridge(Host& host, const DdsOptions& options);
+  ~DdsBridge();
+  DdsBridge(const DdsBridge&) = delete;
+  DdsBridge& operator=(const DdsBridge&) = delete;
+
+  struct Published {
+    std::string topic, dds_name, dds_type;
+  };
+  /// The bridged topics: tern topic, DDS topic name (rt/...), DDS type name.
+  std::vector<Published> published() const;
+  /// Samples written so far on a tern topic (0 for an unknown one).
+  std::uint64_t samples_written(const std::string& topic) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+/// One parameter as the vehicle reports it.
+struct DdsParam {
+  std::string name;  ///< "instance.param"
+  ParamValue value, default_value;
+  std::string unit, description;
+  double min = 0, max = 0;
+  std::vector<std::string> choices;
+  std::uint32_t size = 0;
+};
+
+struct DdsStatus {
+  std::string mission, config_file;
+  bool flying = false;
+  double flight_time = 0;  ///< s
+  std::string phase;
+  std::uint32_t flights = 0;
+  std::vector<std::pair<std::string, std::string>> topics;  ///< DDS topic name, DDS type name
+};
+
+/// The ground side (the `tern` command's topics/echo/param/mission subcommands): a participant
+/// on the same domain, namespace and interfaces as the vehicle. Each call waits until the
+/// vehicle's service has matched, then for the reply; throws DdsError "no vehicle answered on
+/// domain D, namespace N within T s" on timeout, and DdsError with the vehicle's message when a
+/// request is refused.
+class DdsClient {
+ public:
+  explicit DdsClient(const DdsOptions& options, std::chrono::milliseconds timeout = std::chrono::seconds(3));
+  ~DdsClient();
+  DdsClient(const DdsClient&) = delete;
+  DdsClient& operator=(const DdsClient&) = delete;
+
+  DdsStatus status();
+  std::vector<DdsParam> param_list(const std::string& prefix = "");
+  DdsParam param_get(const std::string& name);
+  /// Throws DdsError with the vehicle's reason when the value is refused (unknown, type, range).
+  void param_set(const std::string& name, const ParamValue& value);
+  /// Returns the path written on the vehicle.
+  std::string param_save(const std::string& filename);
+  /// ROSplane's AddWaypoint: w (NED m or lat/lon/alt), chi_d, use_chi, Va_d, lla; set_current
+  /// starts a new list with this waypoint; publish_now republishes the list immediately.
+  void mission_add(const msg::Waypoint& wp, bool set_current = false, bool publish_now = true);
+  void mission_clear();
+  void mission_load(const std::string& filename);
+  /// The vehicle's current waypoint list, one waypoint per line.
+  std::string mission_print();
+  /// Calls on_sample with each sample of a bridged topic rendered as "field: value" lines, until
+  /// on_sample returns false; throws DdsError when no sample arrives within the timeout.
+  void echo(const std::string& topic, const std::function<bool(const std::string&)>& on_sample);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace tern::core

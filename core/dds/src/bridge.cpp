@@ -1,0 +1,423 @@
+// core/dds/src/bridge.cpp: the vehicle side of the DDS bridge.
+#include <cmath>
+#include <condition_variable>
+#include <deque>
+#include <fstream>
+#include <future>
+#include <map>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <yaml-cpp/yaml.h>
+
+#include "dds_internal.hpp"
+#include "error.hpp"
+#include "host.hpp"
+#include "param_convert.hpp"
+#include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
+#include "std_srvs/srv/TriggerPubSubTypes.h"
+#include "tern/msg/all.hpp"
+#include "tern/reflect.hpp"
+#include "tern_msgs/srv/ServicesPubSubTypes.h"
+
+namespace tern::core {
+
+using namespace ddsi;
+
+namespace {
+
+struct Writer {
+  std::string topic, dds_name;
+  const TypeEntry* type = nullptr;
+  fdds::DataWriter* writer = nullptr;
+  std::shared_ptr<void> sample;
+  Nanos interval = 0;
+  const OutputBase* last_src = nullptr;
+  std::uint64_t last_seq = 0;
+  Nanos last_t = 0;
+  std::atomic<std::uint64_t> written{0};
+};
+
+/// One-line error text of a service failure.
+template <class Resp>
+Resp failure(const std::string& message) {
+  Resp r;
+  r.success(false);
+  r.message(message);
+  return r;
+}
+template <class Resp>
+Resp success(const std::string& message = "") {
+  Resp r;
+  r.success(true);
+  r.message(message);
+  return r;
+}
+
+}  // namespace
+
+struct DdsBridge::Impl {
+  Host& host;
+  DdsOptions options;
+  fdds::DomainParticipant* participant = nullptr;
+  fdds::Publisher* publisher = nullptr;
+  fdds::Subscriber* subscriber = nullptr;
+  std::vector<std::unique_ptr<Writer>> writers;
+  std::vector<std::shared_ptr<fdds::DataReaderListener>> servers;
+
+  // what the flight thread last saw (for status and mission print)
+  std::atomic<Nanos> flight_time{0};
+  std::atomic<int> phase{0};
+  std::mutex mu;
+  std::optional<msg::WaypointList> waypoints;
+  const OutputBase* waypoints_src = nullptr;
+  std::uint64_t waypoints_seq = 0;
+  // reads of parameter values, run on the flight thread while flying (values change there)
+  std::deque<std::shared_ptr<std::packaged_task<void()>>> tasks;
+  std::atomic<bool> tasks_pending{false};
+  std::atomic<std::uint32_t> edit_id{0};
+
+  Impl(Host& h, const DdsOptions& o) : host(h), options(o) {}
+  ~Impl() {
+    delete_participant(participant);  // stops the listener threads before the servers go
+  }
+
+  /// Runs fn where parameter values are stable: on the flight thread when flying, here otherwise.
+  void on_flight_thread(const std::function<void()>& fn) {
+    if (host.flying()) {
+      auto task = std::make_shared<std::packaged_task<void()>>(fn);
+      auto fut = task->get_future();
+      {
+        std::lock_guard lk(mu);
+        tasks.push_back(task);
+        tasks_pending.store(true, std::memory_order_release);
+      }
+      if (fut.wait_for(std::chrono::seconds(2)) == std::future_status::ready) return fut.get();
+      bool removed = false;
+      {
+        std::lock_guard lk(mu);
+        for (auto it = tasks.begin(); it != tasks.end(); ++it)
+          if (*it == task) {
+            tasks.erase(it);
+            removed = true;
+            break;
+          }
+      }
+      if (!removed) return fut.get();  // it is running now
+    }
+    fn();
+  }
+
+  void tick(Nanos now) {
+    flight_time.store(now, std::memory_order_relaxed);
+    for (auto& w : writers) {
+      const OutputBase* src = host.topic_source(w->topic);
+      if (src == nullptr) continue;
+      const std::uint64_t seq = src->sequence();
+      if (seq == 0 || (src == w->last_src && seq == w->last_seq)) continue;
+      if (w->last_src != nullptr && w->interval > 0 && now - w->last_t < w->interval) continue;
+      w->last_src = src;
+      w->last_seq = seq;
+      w->last_t = now;
+      w->type->convert(src->data(), w->sample.get());
+      w->writer->write(w->sample.get());
+      w->written.fetch_add(1, std::memory_order_relaxed);
+    }
+    if (const OutputBase* ph = host.topic_source("flight_phase");
+        ph != nullptr && ph->sequence() > 0 && ph->type().fingerprint == reflect::fingerprint<msg::FlightPhase>())
+      phase.store(static_cast<int>(static_cast<const msg::FlightPhase*>(ph->data())->phase), std::memory_order_relaxed);
+    if (const OutputBase* wp = host.topic_source("waypoints");
+        wp != nullptr && wp->sequence() > 0 && wp->type().fingerprint == reflect::fingerprint<msg::WaypointList>() &&
+        (wp != waypoints_src || wp->sequence() != waypoints_seq)) {
+      waypoints_src = wp;
+      waypoints_seq = wp->sequence();
+      std::lock_guard lk(mu);
+      waypoints = *static_cast<const msg::WaypointList*>(wp->data());
+    }
+    if (tasks_pending.load(std::memory_order_acquire)) {
+      std::deque<std::shared_ptr<std::packaged_task<void()>>> run;
+      {
+        std::lock_guard lk(mu);
+        run.swap(tasks);
+        tasks_pending.store(false, std::memory_order_relaxed);
+      }
+      for (auto& t : run) (*t)();
+    }
+  }
+
+  std::vector<tern_msgs::msg::ParamInfo> param_infos(const std::vector<std::string>& names, const std::string& prefix,
+                                                     std::string& unknown) {
+    std::vector<tern_msgs::msg::ParamInfo> out;
+    on_flight_thread([&] {
+      const auto all = host.parameters();
+      if (names.empty()) {
+        for (const auto& [name, p] : all)
+          if (name.compare(0, prefix.size(), prefix) == 0) out.push_back(to_info(name, *p));
+        return;
+      }
+      std::vector<std::string> known;
+      for (const auto& [name, p] : all) known.push_back(name);
+      for (const auto& n : names) {
+        bool found = false;
+        for (const auto& [name, p] : all)
+          if (name == n) {
+            out.push_back(to_info(name, *p));
+            found = true;
+          }
+        if (!found && unknown.empty()) unknown = "unknown parameter '" + n + "'" + did_you_mean(n, known);
+      }
+    });
+    return out;
+  }
+
+  std::string save_params(const std::string& filename) {
+    if (filename.empty()) throw DdsError("param_save: no file name");
+    fs::path path(filename);
+    if (path.is_relative()) path = host.config().dir / path;
+    std::string text;
+    on_flight_thread([&] {
+      YAML::Emitter y;
+      y << YAML::Comment(fmt::format("tern parameters of mission '{}' (saved over DDS)", host.config().name));
+      y << YAML::BeginMap;
+      std::string current;
+      for (const auto& [name, p] : host.parameters()) {
+        const std::string inst = name.substr(0, name.find('.'));
+        if (inst != current) {
+          if (!current.empty()) y << YAML::EndMap << YAML::EndMap;
+          current = inst;
+          y << YAML::Key << inst << YAML::Value << YAML::BeginMap << YAML::Key << "ros__parameters" << YAML::Value << YAML::BeginMap;
+        }
+        y << YAML::Key << p->name() << YAML::Value;
+        emit_value(y, p->value());
+      }
+      if (!current.empty()) y << YAML::EndMap << YAML::EndMap;
+      y << YAML::EndMap;
+      text = std::string(y.c_str()) + "\n";
+    });
+    std::ofstream out(path);
+    out << text;
+    out.close();
+    if (!out) throw DdsError("param_save: cannot write " + path.string());
+    return path.string();
+  }
+
+  static void emit_value(YAML::Emitter& y, const ParamValue& v) {
+    std::visit([&](const auto& x) {
+      using T = std::decay_t<decltype(x)>;
+      if constexpr (std::is_same_v<T, std::vector<double>>) {
+        y << YAML::Flow << YAML::BeginSeq;
+        for (double d : x) y << d;
+        y << YAML::EndSeq;
+      } else if constexpr (std::is_same_v<T, std::string>) {
+        y << YAML::DoubleQuoted << x;
+      } else if constexpr (std::is_same_v<T, double>) {
+        // a whole number keeps a decimal point so that it reads back as a real
+        y << (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 1e15 ? fmt::format("{:.1f}", x) : fmt::format("{}", x));
+      } else {
+        y << x;
+      }
+    }, v);
+  }
+
+  msg::MissionEdit new_edit(std::uint8_t op) {
+    msg::MissionEdit e;
+    e.op = op;
+    e.id = edit_id.fetch_add(1) + 1;
+    return e;
+  }
+
+  void start_services() {
+    using namespace tern_msgs::srv;
+    const std::string& ns = options.ns;
+    auto add = [&](auto server) { servers.push_back(std::move(server)); };
+    add(std::make_shared<ServiceServer<ParamList_RequestPubSubType, ParamList_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "param_list", [this](const ParamList_Request& rq) {
+          ParamList_Response r;
+          std::string unknown;
+          r.params(param_infos({}, rq.prefix(), unknown));
+          r.success(true);
+          return r;
+        }));
+    add(std::make_shared<ServiceServer<ParamGet_RequestPubSubType, ParamGet_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "param_get", [this](const ParamGet_Request& rq) {
+          ParamGet_Response r;
+          std::string unknown;
+          r.params(param_infos(rq.names(), "", unknown));
+          r.success(unknown.empty());
+          r.message(unknown);
+          return r;
+        }));
+    add(std::make_shared<ServiceServer<ParamSet_RequestPubSubType, ParamSet_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "param_set", [this](const ParamSet_Request& rq) {
+          try {
+            const ParamValue v = from_dds(rq.value());
+            host.request_param(rq.name(), v, "dds");
+            return success<ParamSet_Response>(fmt::format("{} = {} at the next tick", rq.name(), to_string(v)));
+          } catch (const std::exception& e) {
+            return failure<ParamSet_Response>(e.what());
+          }
+        }));
+    add(std::make_shared<ServiceServer<ParamSave_RequestPubSubType, ParamSave_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "param_save", [this](const ParamSave_Request& rq) {
+          try {
+            return success<ParamSave_Response>(save_params(rq.filename()));
+          } catch (const std::exception& e) {
+            return failure<ParamSave_Response>(e.what());
+          }
+        }));
+    add(std::make_shared<ServiceServer<rosplane_msgs::srv::AddWaypoint_RequestPubSubType,
+                                       rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "add_waypoint", [this](const rosplane_msgs::srv::AddWaypoint_Request& rq) {
+          using Resp = rosplane_msgs::srv::AddWaypoint_Response;
+          try {
+            msg::MissionEdit e = new_edit(msg::MissionEdit::add);
+            for (int i = 0; i < 3; ++i) e.waypoint.w[i] = rq.w()[i];
+            e.waypoint.lla = rq.lla();
+            e.waypoint.chi_d = rq.chi_d();
+            e.waypoint.use_chi = rq.use_chi();
+            e.waypoint.Va_d = rq.va_d();
+            e.set_current_wp = rq.set_current();
+            e.publish_now = rq.publish_now();
+            if (!e.waypoint.w.allFinite() || !std::isfinite(e.waypoint.chi_d) || !std::isfinite(e.waypoint.Va_d) ||
+                e.waypoint.Va_d <= 0)
+              return failure<Resp>("add_waypoint: w, chi_d must be finite and va_d > 0");
+            host.edit_mission(e);
+            return success<Resp>(fmt::format("waypoint added (edit #{})", e.id));
+          } catch (const std::exception& e) {
+            return failure<Resp>(e.what());
+          }
+        }));
+    using std_srvs::srv::Trigger_Request, std_srvs::srv::Trigger_Response;
+    using TriggerServer = ServiceServer<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>;
+    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "clear_waypoints", [this](const Trigger_Request&) {
+      try {
+        msg::MissionEdit e = new_edit(msg::MissionEdit::clear);
+        host.edit_mission(e);
+        return success<Trigger_Response>(fmt::format("waypoints cleared (edit #{})", e.id));
+      } catch (const std::exception& e) {
+        return failure<Trigger_Response>(e.what());
+      }
+    }));
+    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "print_waypoints", [this](const Trigger_Request&) {
+      std::lock_guard lk(mu);
+      if (!waypoints) return failure<Trigger_Response>("no waypoint list published yet (topic 'waypoints')");
+      std::string s = fmt::format("{} waypoints (revision {}{})\n", waypoints->count, waypoints->revision, waypoints->loop ? ", loop" : "");
+      for (std::uint32_t i = 0; i < waypoints->count && i < msg::WaypointList::kCapacity; ++i) {
+        const auto& w = waypoints->items[i];
+        s += fmt::format("{:3d}: w [{:.3f}, {:.3f}, {:.3f}]{} Va_d {:.2f} m/s chi_d {:.4f} rad{}\n", i, w.w.x(), w.w.y(), w.w.z(),
+                         w.lla ? " (lla)" : "", w.Va_d, w.chi_d, w.use_chi ? " (dubins)" : "");
+      }
+      return success<Trigger_Response>(s);
+    }));
+    add(std::make_shared<ServiceServer<MissionLoad_RequestPubSubType, MissionLoad_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "load_mission_from_file", [this](const MissionLoad_Request& rq) {
+          using Resp = MissionLoad_Response;
+          try {
+            if (rq.filename().empty()) return failure<Resp>("load_mission_from_file: no file name");
+            fs::path p(rq.filename());
+            if (p.is_relative()) p = host.config().dir / p;
+            p = p.lexically_normal();
+            if (!fs::is_regular_file(p)) return failure<Resp>("load_mission_from_file: no such file on the vehicle: " + p.string());
+            msg::MissionEdit e = new_edit(msg::MissionEdit::load_file);
+            if (p.string().size() >= e.file.size()) return failure<Resp>("load_mission_from_file: path too long: " + p.string());
+            std::copy(p.string().begin(), p.string().end(), e.file.begin());
+            host.edit_mission(e);
+            return success<Resp>(fmt::format("loading {} (edit #{})", p.string(), e.id));
+          } catch (const std::exception& e) {
+            return failure<Resp>(e.what());
+          }
+        }));
+    add(std::make_shared<ServiceServer<Status_RequestPubSubType, Status_ResponsePubSubType>>(
+        participant, publisher, subscriber, ns, "status", [this](const Status_Request&) {
+          Status_Response r;
+          r.mission(host.config().name);
+          r.config_file(host.config().file.string());
+          r.flying(host.flying());
+          const Nanos t = flight_time.load();
+          r.flight_time().sec(static_cast<std::int32_t>(t / 1000000000));
+          r.flight_time().nanosec(static_cast<std::uint32_t>(t % 1000000000));
+          r.phase(static_cast<std::uint8_t>(phase.load()));
+          r.phase_name(std::string(msg::phase_name(static_cast<msg::Phase>(phase.load()))));
+          r.flights(static_cast<std::uint32_t>(host.flights()));
+          for (const auto& w : writers) {
+            r.topics().push_back(topic_name(options.ns, w->dds_name));
+            r.types().push_back(w->type->dds_type);
+          }
+          return r;
+        }));
+  }
+};
+
+DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_unique<Impl>(host, options)) {
+  Impl& m = *impl_;
+  const auto topics = host.topics();
+  std::vector<std::string> names;
+  for (const auto& t : topics) names.push_back(t.name);
+  const fs::path& file = host.config().file;
+  // check every bridged topic before opening any socket
+  std::vector<std::pair<const DdsTopicOptions*, const TypeEntry*>> plan;
+  for (const auto& to : options.topics) {
+    const Host::TopicInfo* info = nullptr;
+    for (const auto& t : topics)
+      if (t.name == to.topic) info = &t;
+    if (info == nullptr) {
+      // the default set bridges what exists; a topic the config names must exist
+      if (options.topics.size() == DdsOptions::kDefaultTopics.size() &&
+          std::equal(options.topics.begin(), options.topics.end(), DdsOptions::kDefaultTopics.begin(),
+                     [](const DdsTopicOptions& a, const std::string& b) { return a.topic == b && a.name == b; }))
+        continue;
+      throw ConfigError(file.string() + ": dds.topics: no instance publishes topic '" + to.topic + "'" + did_you_mean(to.topic, names));
+    }
+    const TypeEntry* type = find_type(info->type_name);
+    if (type == nullptr || type->fingerprint != info->fingerprint)
+      throw ConfigError(file.string() + ": dds.topics: topic '" + to.topic + "' carries " + info->type_name +
+                        ", which has no DDS type");
+    plan.emplace_back(&to, type);
+  }
+  m.participant = make_participant(options, "tern/" + (options.ns.empty() ? host.config().name : options.ns));
+  m.publisher = m.participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  m.subscriber = m.participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (m.publisher == nullptr || m.subscriber == nullptr) throw DdsError("DDS: cannot create a publisher/subscriber");
+  for (const auto& [to, type] : plan) {
+    auto w = std::make_unique<Writer>();
+    w->topic = to->topic;
+    w->dds_name = to->name;
+    w->type = type;
+    fdds::TypeSupport ts(type->make_type());
+    if (m.participant->find_type(ts.get_type_name()).empty()) ts.register_type(m.participant);
+    fdds::Topic* t = m.participant->create_topic(topic_name(options.ns, to->name), ts.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    const DdsQos q = to->qos.value_or(to->topic == "waypoints" || to->topic == "flight_phase" ? DdsQos::transient_local
+                                                                                              : DdsQos::best_effort);
+    if (t != nullptr) w->writer = m.publisher->create_datawriter(t, writer_qos(q));
+    if (t == nullptr || w->writer == nullptr) throw DdsError("DDS: cannot create a writer for " + topic_name(options.ns, to->name));
+    w->sample = type->make_sample();
+    const double rate = to->rate >= 0 ? to->rate : options.rate;
+    w->interval = rate > 0 ? static_cast<Nanos>(std::llround(1e9 / rate)) : 0;
+    m.writers.push_back(std::move(w));
+  }
+  m.start_services();
+  host.set_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
+  std::string ifs;
+  for (const auto& i : options.interfaces) ifs += (ifs.empty() ? "" : ", ") + i;
+  host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain,
+                      options.ns, ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
+}
+
+DdsBridge::~DdsBridge() {
+  impl_->host.set_tick_observer(nullptr);
+}
+
+std::vector<DdsBridge::Published> DdsBridge::published() const {
+  std::vector<Published> out;
+  for (const auto& w : impl_->writers) out.push_back({w->topic, topic_name(impl_->options.ns, w->dds_name), w->type->dds_type});
+  return out;
+}
+
+std::uint64_t DdsBridge::samples_written(const std::string& topic) const {
+  for (const auto& w : impl_->writers)
+    if (w->topic == topic) return w->written.load();
+  return 0;
+}
+
+}  // namespace tern::core

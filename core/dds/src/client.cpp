@@ -1,0 +1,177 @@
+// core/dds/src/client.cpp: the ground side (command line) of the DDS bridge.
+#include <fmt/format.h>
+
+#include "dds_internal.hpp"
+#include "param_convert.hpp"
+#include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
+#include "std_srvs/srv/TriggerPubSubTypes.h"
+#include "tern_msgs/srv/ServicesPubSubTypes.h"
+
+namespace tern::core {
+
+using namespace ddsi;
+namespace ts = tern_msgs::srv;
+
+struct DdsClient::Impl {
+  DdsOptions options;
+  std::chrono::milliseconds timeout;
+  fdds::DomainParticipant* participant = nullptr;
+  fdds::Publisher* publisher = nullptr;
+  fdds::Subscriber* subscriber = nullptr;
+  std::map<std::string, std::shared_ptr<void>> clients;  // service -> ServiceClient<...>
+
+  ~Impl() { delete_participant(participant); }
+
+  template <class ReqPS, class RespPS>
+  typename RespPS::type call(const std::string& service, const typename ReqPS::type& req) {
+    auto& slot = clients[service];
+    if (!slot) slot = std::make_shared<ServiceClient<ReqPS, RespPS>>(participant, publisher, subscriber, options.ns, service);
+    auto* c = static_cast<ServiceClient<ReqPS, RespPS>*>(slot.get());
+    typename RespPS::type resp;
+    if (!c->call(req, resp, timeout))
+      throw DdsError(fmt::format("no vehicle answered '{}' on DDS domain {}, namespace '{}' within {:.1f} s", service, options.domain,
+                                 options.ns, static_cast<double>(timeout.count()) / 1000.0));
+    return resp;
+  }
+};
+
+DdsClient::DdsClient(const DdsOptions& options, std::chrono::milliseconds timeout) : impl_(std::make_unique<Impl>()) {
+  impl_->options = options;
+  impl_->timeout = timeout;
+  impl_->participant = make_participant(options, "tern/client");
+  impl_->publisher = impl_->participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  impl_->subscriber = impl_->participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  if (impl_->publisher == nullptr || impl_->subscriber == nullptr) throw DdsError("DDS: cannot create a publisher/subscriber");
+}
+
+DdsClient::~DdsClient() = default;
+
+DdsStatus DdsClient::status() {
+  ts::Status_Request rq;
+  const auto r = impl_->call<ts::Status_RequestPubSubType, ts::Status_ResponsePubSubType>("status", rq);
+  DdsStatus s;
+  s.mission = r.mission();
+  s.config_file = r.config_file();
+  s.flying = r.flying();
+  s.flight_time = r.flight_time().sec() + r.flight_time().nanosec() * 1e-9;
+  s.phase = r.phase_name();
+  s.flights = r.flights();
+  for (std::size_t i = 0; i < r.topics().size() && i < r.types().size(); ++i) s.topics.emplace_back(r.topics()[i], r.types()[i]);
+  return s;
+}
+
+std::vector<DdsParam> DdsClient::param_list(const std::string& prefix) {
+  ts::ParamList_Request rq;
+  rq.prefix(prefix);
+  const auto r = impl_->call<ts::ParamList_RequestPubSubType, ts::ParamList_ResponsePubSubType>("param_list", rq);
+  if (!r.success()) throw DdsError(r.message());
+  std::vector<DdsParam> out;
+  for (const auto& i : r.params()) out.push_back(from_info(i));
+  return out;
+}
+
+DdsParam DdsClient::param_get(const std::string& name) {
+  ts::ParamGet_Request rq;
+  rq.names({name});
+  const auto r = impl_->call<ts::ParamGet_RequestPubSubType, ts::ParamGet_ResponsePubSubType>("param_get", rq);
+  if (!r.success() || r.params().empty()) throw DdsError(r.message().empty() ? "unknown parameter '" + name + "'" : r.message());
+  return from_info(r.params().front());
+}
+
+void DdsClient::param_set(const std::string& name, const ParamValue& value) {
+  ts::ParamSet_Request rq;
+  rq.name(name);
+  rq.value(to_dds(value));
+  const auto r = impl_->call<ts::ParamSet_RequestPubSubType, ts::ParamSet_ResponsePubSubType>("param_set", rq);
+  if (!r.success()) throw DdsError(r.message());
+}
+
+std::string DdsClient::param_save(const std::string& filename) {
+  ts::ParamSave_Request rq;
+  rq.filename(filename);
+  const auto r = impl_->call<ts::ParamSave_RequestPubSubType, ts::ParamSave_ResponsePubSubType>("param_save", rq);
+  if (!r.success()) throw DdsError(r.message());
+  return r.message();
+}
+
+void DdsClient::mission_add(const msg::Waypoint& wp, bool set_current, bool publish_now) {
+  rosplane_msgs::srv::AddWaypoint_Request rq;
+  for (int i = 0; i < 3; ++i) rq.w()[i] = static_cast<float>(wp.w[i]);
+  rq.lla(wp.lla);
+  rq.chi_d(static_cast<float>(wp.chi_d));
+  rq.use_chi(wp.use_chi);
+  rq.va_d(static_cast<float>(wp.Va_d));
+  rq.set_current(set_current);
+  rq.publish_now(publish_now);
+  const auto r = impl_->call<rosplane_msgs::srv::AddWaypoint_RequestPubSubType, rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>(
+      "add_waypoint", rq);
+  if (!r.success()) throw DdsError(r.message());
+}
+
+void DdsClient::mission_clear() {
+  std_srvs::srv::Trigger_Request rq;
+  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("clear_waypoints", rq);
+  if (!r.success()) throw DdsError(r.message());
+}
+
+void DdsClient::mission_load(const std::string& filename) {
+  ts::MissionLoad_Request rq;
+  rq.filename(filename);
+  const auto r = impl_->call<ts::MissionLoad_RequestPubSubType, ts::MissionLoad_ResponsePubSubType>("load_mission_from_file", rq);
+  if (!r.success()) throw DdsError(r.message());
+}
+
+std::string DdsClient::mission_print() {
+  std_srvs::srv::Trigger_Request rq;
+  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("print_waypoints", rq);
+  if (!r.success()) throw DdsError(r.message());
+  return r.message();
+}
+
+void DdsClient::echo(const std::string& topic, const std::function<bool(const std::string&)>& on_sample) {
+  // the vehicle says which DDS type the topic has
+  const DdsStatus st = status();
+  const std::string name = topic.rfind("rt/", 0) == 0 ? topic : topic_name(impl_->options.ns, topic);
+  const TypeEntry* type = nullptr;
+  std::vector<std::string> names;
+  for (const auto& [n, t] : st.topics) {
+    names.push_back(n);
+    if (n == name) type = find_dds_type(t);
+  }
+  if (type == nullptr) {
+    std::string list;
+    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+    throw DdsError("the vehicle does not publish " + name + " (it publishes: " + list + ")");
+  }
+  fdds::TypeSupport tsup(type->make_type());
+  auto* p = impl_->participant;
+  if (p->find_type(tsup.get_type_name()).empty()) tsup.register_type(p);
+  fdds::Topic* t = p->create_topic(name, tsup.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  if (t == nullptr) throw DdsError("DDS: cannot create topic " + name);
+  // best-effort, volatile: matches every writer QoS (and gets the last mission from none: use print)
+  fdds::DataReader* r = impl_->subscriber->create_datareader(t, reader_qos(DdsQos::best_effort));
+  if (r == nullptr) throw DdsError("DDS: cannot create a reader for " + name);
+  struct Cleanup {
+    fdds::Subscriber* s;
+    fdds::DomainParticipant* p;
+    fdds::DataReader* r;
+    fdds::Topic* t;
+    ~Cleanup() {
+      s->delete_datareader(r);
+      p->delete_topic(t);
+    }
+  } cleanup{impl_->subscriber, p, r, t};
+  auto sample = type->make_sample();
+  for (;;) {
+    if (!r->wait_for_unread_message(fdds::Duration_t(static_cast<std::int32_t>(impl_->timeout.count() / 1000),
+                                                     static_cast<std::uint32_t>((impl_->timeout.count() % 1000) * 1000000))))
+      throw DdsError(fmt::format("no sample on {} within {:.1f} s", name, static_cast<double>(impl_->timeout.count()) / 1000.0));
+    fdds::SampleInfo info;
+    while (r->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      if (!on_sample(type->render(sample.get()))) return;
+    }
+  }
+}
+
+}  // namespace tern::core

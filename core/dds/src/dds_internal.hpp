@@ -1,0 +1,168 @@
+// core/dds/src/dds_internal.hpp: Fast DDS side of the bridge (private to core/dds).
+#pragma once
+
+#include <atomic>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <string>
+#include <string_view>
+#include <thread>
+
+#include <fastdds/dds/domain/DomainParticipant.hpp>
+#include <fastdds/dds/domain/DomainParticipantFactory.hpp>
+#include <fastdds/dds/publisher/DataWriter.hpp>
+#include <fastdds/dds/publisher/Publisher.hpp>
+#include <fastdds/dds/publisher/qos/DataWriterQos.hpp>
+#include <fastdds/dds/subscriber/DataReader.hpp>
+#include <fastdds/dds/subscriber/DataReaderListener.hpp>
+#include <fastdds/dds/subscriber/SampleInfo.hpp>
+#include <fastdds/dds/subscriber/Subscriber.hpp>
+#include <fastdds/dds/subscriber/qos/DataReaderQos.hpp>
+#include <fastdds/dds/topic/Topic.hpp>
+#include <fastdds/dds/topic/TypeSupport.hpp>
+#include <fastrtps/rtps/common/WriteParams.h>
+
+#include "dds_bridge.hpp"
+#include "tern/time.hpp"
+
+namespace tern::core::ddsi {
+
+namespace fdds = eprosima::fastdds::dds;
+
+/// A participant honouring the network options: built-in transports off, one UDPv4 transport
+/// restricted to options.interfaces, initial peers options.peers, no multicast unless
+/// options.multicast. Throws DdsError.
+fdds::DomainParticipant* make_participant(const DdsOptions& options, const std::string& name);
+/// Deletes every entity of the participant, then the participant.
+void delete_participant(fdds::DomainParticipant* p);
+
+fdds::DataWriterQos writer_qos(DdsQos q);
+fdds::DataReaderQos reader_qos(DdsQos q);
+fdds::DataWriterQos service_writer_qos();
+fdds::DataReaderQos service_reader_qos();
+
+/// "rt/<ns>/<name>" ("rt/<name>" for an empty namespace).
+std::string topic_name(const std::string& ns, const std::string& name);
+/// "rq/<ns>/<service>Request" and "rr/<ns>/<service>Reply".
+std::string request_topic(const std::string& ns, const std::string& service);
+std::string reply_topic(const std::string& ns, const std::string& service);
+
+/// A tern message type and its DDS counterpart.
+struct TypeEntry {
+  std::string_view tern_type;  ///< e.g. "tern/State"
+  std::uint64_t fingerprint;   ///< of the tern struct
+  std::function<fdds::TopicDataType*()> make_type;
+  std::function<std::shared_ptr<void>()> make_sample;
+  /// tern message -> DDS sample (header.stamp = the message's stamp, flight time)
+  std::function<void(const void* tern_msg, void* sample)> convert;
+  /// DDS sample -> "field: value" lines
+  std::function<std::string(const void* sample)> render;
+  std::string dds_type;  ///< e.g. "rosplane_msgs::msg::dds_::State_"
+};
+/// nullptr when the tern type has no DDS counterpart.
+const TypeEntry* find_type(std::string_view tern_type);
+const TypeEntry* find_dds_type(std::string_view dds_type);
+const std::vector<TypeEntry>& all_types();
+
+/// Polls `cond` every 2 ms until it holds or `timeout` passes.
+bool wait_until(const std::function<bool()>& cond, std::chrono::milliseconds timeout);
+
+/// Registers type T (a fastddsgen PubSubType) once on the participant; returns its topic.
+template <class PubSub>
+fdds::Topic* make_topic(fdds::DomainParticipant* p, const std::string& name) {
+  fdds::TypeSupport ts(new PubSub());
+  const std::string tname = ts.get_type_name();
+  if (p->find_type(tname).empty()) ts.register_type(p);
+  if (auto* d = p->find_topic(name, fdds::Duration_t(0, 0))) return d;
+  fdds::Topic* t = p->create_topic(name, tname, fdds::TOPIC_QOS_DEFAULT);
+  if (t == nullptr) throw DdsError("DDS: cannot create topic '" + name + "' of type " + tname);
+  return t;
+}
+
+/// Server side of one service: answers each request on a Fast DDS thread with `handler`, the
+/// reply carrying the request's sample identity as related_sample_identity.
+template <class ReqPS, class RespPS>
+class ServiceServer final : public fdds::DataReaderListener {
+ public:
+  using Req = typename ReqPS::type;
+  using Resp = typename RespPS::type;
+  ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
+                const std::string& service, std::function<Resp(const Req&)> handler)
+      : handler_(std::move(handler)) {
+    writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos());
+    reader_ = sub->create_datareader(make_topic<ReqPS>(p, request_topic(ns, service)), service_reader_qos(), this);
+    if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create service '" + service + "'");
+  }
+  void on_data_available(fdds::DataReader* reader) override {
+    Req req;
+    fdds::SampleInfo info;
+    while (reader->take_next_sample(&req, &info) == ReturnCode_t::RETCODE_OK) {
+      if (!info.valid_data) continue;
+      Resp resp = handler_(req);
+      // the client's reply reader is discovered at about the time its request writer is: give
+      // the reply writer a moment to match it (a volatile reply to an unmatched reader is lost)
+      wait_until([&] {
+        fdds::PublicationMatchedStatus st;
+        writer_->get_publication_matched_status(st);
+        return st.current_count > 0;
+      }, std::chrono::milliseconds(1000));
+      eprosima::fastrtps::rtps::WriteParams wp;
+      wp.related_sample_identity(info.sample_identity);
+      writer_->write(&resp, wp);
+    }
+  }
+  fdds::DataReader* reader() const { return reader_; }
+
+ private:
+  std::function<Resp(const Req&)> handler_;
+  fdds::DataWriter* writer_ = nullptr;
+  fdds::DataReader* reader_ = nullptr;
+};
+
+/// Client side of one service (not thread-safe: one call at a time).
+template <class ReqPS, class RespPS>
+class ServiceClient {
+ public:
+  using Req = typename ReqPS::type;
+  using Resp = typename RespPS::type;
+  ServiceClient(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
+                const std::string& service)
+      : service_(service) {
+    writer_ = pub->create_datawriter(make_topic<ReqPS>(p, request_topic(ns, service)), service_writer_qos());
+    reader_ = sub->create_datareader(make_topic<RespPS>(p, reply_topic(ns, service)), service_reader_qos());
+    if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create client of '" + service + "'");
+  }
+  /// Waits for the server, sends, waits for the matching reply. false on timeout.
+  bool call(const Req& req, Resp& resp, std::chrono::milliseconds timeout) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool matched = wait_until([&] {
+      fdds::PublicationMatchedStatus ps;
+      fdds::SubscriptionMatchedStatus ss;
+      writer_->get_publication_matched_status(ps);
+      reader_->get_subscription_matched_status(ss);
+      return ps.current_count > 0 && ss.current_count > 0;
+    }, timeout);
+    if (!matched) return false;
+    eprosima::fastrtps::rtps::WriteParams wp;
+    if (!writer_->write(const_cast<Req*>(&req), wp)) return false;
+    const auto sid = wp.sample_identity();
+    for (;;) {
+      const auto left = timeout - std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
+      if (left.count() <= 0) return false;
+      fdds::SampleInfo info;
+      if (reader_->take_next_sample(&resp, &info) == ReturnCode_t::RETCODE_OK) {
+        if (info.valid_data && info.related_sample_identity == sid) return true;
+        continue;
+      }
+      reader_->wait_for_unread_message(fdds::Duration_t(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));
+    }
+  }
+
+ private:
+  std::string service_;
+  fdds::DataWriter* writer_ = nullptr;
+  fdds::DataReader* reader_ = nullptr;
+};
+
+}  // namespace tern::core::ddsi

@@ -1,0 +1,164 @@
+// core/dds/src/options.cpp: the mission config's `dds:` section.
+#include <arpa/inet.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+#include "dds_bridge.hpp"
+#include "error.hpp"
+
+namespace tern::core {
+
+const std::vector<std::string> DdsOptions::kDefaultTopics = {
+    "state", "controller_command", "controller_internals", "current_path", "waypoints", "flight_phase", "actuators"};
+
+bool DdsOptions::loopback_only() const {
+  if (multicast) return false;
+  for (const auto& i : interfaces)
+    if (i != "127.0.0.1") return false;
+  return true;
+}
+
+namespace {
+
+std::string fmt_number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+std::string show(const YAML::Node& n) {
+  if (n.IsScalar()) return "'" + n.Scalar() + "'";
+  if (n.IsSequence()) return "a list";
+  if (n.IsMap()) return "a map";
+  return "nothing";
+}
+
+void check_keys(const YAML::Node& map, const fs::path& file, const std::string& field,
+                const std::vector<std::string>& allowed) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    bool ok = false;
+    for (const auto& a : allowed) ok = ok || a == key;
+    if (!ok)
+      throw ConfigError(where(file, kv.first) + field + ": unknown key '" + key + "'" + did_you_mean(key, allowed));
+  }
+}
+
+double number(const YAML::Node& n, const fs::path& file, const std::string& field, double lo, double hi) {
+  double v = 0;
+  try {
+    if (!n.IsScalar()) throw YAML::Exception(YAML::Mark(), "");
+    v = n.as<double>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(file, n) + field + ": expected a number, got " + show(n));
+  }
+  if (!std::isfinite(v) || v < lo || v > hi)
+    throw ConfigError(where(file, n) + field + ": " + n.Scalar() + " is outside [" + fmt_number(lo) + ", " +
+                      fmt_number(hi) + "]");
+  return v;
+}
+
+bool boolean(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  try {
+    if (n.IsScalar()) return n.as<bool>();
+  } catch (const YAML::Exception&) {
+  }
+  throw ConfigError(where(file, n) + field + ": expected true or false, got " + show(n));
+}
+
+std::string text(const YAML::Node& n, const fs::path& file, const std::string& field, bool allow_empty) {
+  if (!n.IsScalar() || (!allow_empty && n.Scalar().empty()))
+    throw ConfigError(where(file, n) + field + ": expected a " + (allow_empty ? "" : "non-empty ") + "string, got " + show(n));
+  return n.Scalar();
+}
+
+/// A DDS name part: letters, digits, '_' and '/' (ROS 2 names), not starting with a digit or '/'.
+std::string dds_name(const YAML::Node& n, const fs::path& file, const std::string& field, bool allow_empty) {
+  std::string s = text(n, file, field, allow_empty);
+  while (!s.empty() && s.back() == '/') s.pop_back();
+  while (!s.empty() && s.front() == '/') s.erase(s.begin());
+  for (char c : s)
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '/'))
+      throw ConfigError(where(file, n) + field + ": '" + n.Scalar() + "' is not a ROS 2 name (letters, digits, '_', '/')");
+  if (!s.empty() && std::isdigit(static_cast<unsigned char>(s.front())))
+    throw ConfigError(where(file, n) + field + ": '" + n.Scalar() + "' must not start with a digit");
+  return s;
+}
+
+std::vector<std::string> ipv4_list(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsSequence()) throw ConfigError(where(file, n) + field + ": expected a list of IPv4 addresses, got " + show(n));
+  std::vector<std::string> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    const std::string s = text(n[i], file, f, false);
+    in_addr a{};
+    if (inet_pton(AF_INET, s.c_str(), &a) != 1)
+      throw ConfigError(where(file, n[i]) + f + ": '" + s + "' is not an IPv4 address (e.g. 127.0.0.1)");
+    out.push_back(s);
+  }
+  if (out.empty()) throw ConfigError(where(file, n) + field + ": the list is empty");
+  return out;
+}
+
+DdsQos qos(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  const std::string s = text(n, file, field, false);
+  if (s == "best_effort") return DdsQos::best_effort;
+  if (s == "reliable") return DdsQos::reliable;
+  if (s == "transient_local") return DdsQos::transient_local;
+  throw ConfigError(where(file, n) + field + ": '" + s + "' is not one of best_effort, reliable, transient_local" +
+                    did_you_mean(s, {"best_effort", "reliable", "transient_local"}));
+}
+
+}  // namespace
+
+DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& file) {
+  DdsOptions o;
+  for (const auto& t : DdsOptions::kDefaultTopics) o.topics.push_back({t, t, -1, std::nullopt});
+  if (!dds || dds.IsNull()) return o;
+  if (!dds.IsMap()) throw ConfigError(where(file, dds) + "dds: expected a map of key: value, got " + show(dds));
+  check_keys(dds, file, "dds",
+             {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics"});
+  if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
+  if (dds["domain"]) {
+    const double d = number(dds["domain"], file, "dds.domain", 0, 232);
+    if (d != std::floor(d)) throw ConfigError(where(file, dds["domain"]) + "dds.domain: expected an integer, got " + show(dds["domain"]));
+    o.domain = static_cast<std::uint32_t>(d);
+  }
+  if (dds["namespace"]) o.ns = dds_name(dds["namespace"], file, "dds.namespace", true);
+  if (dds["interfaces"]) o.interfaces = ipv4_list(dds["interfaces"], file, "dds.interfaces");
+  if (dds["peers"]) o.peers = ipv4_list(dds["peers"], file, "dds.peers");
+  if (dds["multicast"]) o.multicast = boolean(dds["multicast"], file, "dds.multicast");
+  if (dds["rate"]) o.rate = number(dds["rate"], file, "dds.rate", 0, 1e6);
+  if (const auto t = dds["topics"]) {
+    if (!t.IsSequence()) throw ConfigError(where(file, t) + "dds.topics: expected a list of topics, got " + show(t));
+    o.topics.clear();
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      const std::string f = "dds.topics[" + std::to_string(i) + "]";
+      DdsTopicOptions to;
+      const YAML::Node e = t[i];
+      if (e.IsMap()) {
+        check_keys(e, file, f, {"topic", "name", "rate", "qos"});
+        if (!e["topic"]) throw ConfigError(where(file, e) + f + ": missing key 'topic'");
+        to.topic = text(e["topic"], file, f + ".topic", false);
+        to.name = e["name"] ? dds_name(e["name"], file, f + ".name", false) : to.topic;
+        if (e["rate"]) to.rate = number(e["rate"], file, f + ".rate", 0, 1e6);
+        if (e["qos"]) to.qos = qos(e["qos"], file, f + ".qos");
+      } else {
+        to.topic = text(e, file, f, false);
+        to.name = dds_name(e, file, f, false);
+      }
+      if (!names.insert(to.name).second)
+        throw ConfigError(where(file, e) + f + ": DDS name '" + to.name + "' is bridged twice");
+      o.topics.push_back(std::move(to));
+    }
+  }
+  return o;
+}
+
+}  // namespace tern::core
