@@ -309,7 +309,7 @@ class FcuSerial final : public tern::Plugin {
                                  "': tern-fcu-emulator not found next to the tern command nor on PATH (set " +
                                  qname("emulator_path") + ")");
     }
-    std::vector<std::string> argv{exe, "--seed", std::to_string(context().seed())};
+    std::vector<std::string> argv{exe, "--exit-with-parent", "--seed", std::to_string(context().seed())};
     const std::filesystem::path ac = context().aircraft_file();
     if (!ac.empty()) {
       argv.push_back("--aircraft");

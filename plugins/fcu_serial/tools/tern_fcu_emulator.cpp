@@ -36,6 +36,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <pty.h>
+#include <sys/prctl.h>
 #include <termios.h>
 #include <unistd.h>
 
@@ -182,6 +183,7 @@ struct Options {
   double reboot_at = -1;
   double corrupt = 0;
   double stall_timeout = 10;
+  bool exit_with_parent = false;
 };
 
 class Emulator {
@@ -502,11 +504,17 @@ int main(int argc, char** argv) {
   app.add_option("--rc-override", o.rc_override, "T0:T1 s: the pilot's override switch is on (RC flies)");
   app.add_option("--corrupt", o.corrupt, "probability that a frame gets one byte flipped")->check(CLI::Range(0.0, 1.0));
   app.add_option("--stall-timeout", o.stall_timeout, "lockstep: run on after this many wall seconds without a command");
+  app.add_flag("--exit-with-parent", o.exit_with_parent, "stop when the process that started it ends (the plugin passes it)");
   CLI11_PARSE(app, argc, argv);
 
   std::signal(SIGTERM, on_signal);
   std::signal(SIGINT, on_signal);
   std::signal(SIGPIPE, SIG_IGN);
+  if (o.exit_with_parent) {
+    const pid_t parent = getppid();
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) return 0;  // the parent ended before prctl took effect
+  }
   try {
     std::unique_ptr<Port> port;
     std::string where;
