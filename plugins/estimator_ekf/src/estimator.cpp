@@ -88,6 +88,7 @@ void Estimator::apply_models_config() {
   baro_.gate = cfg_.baro_gate;
   pitot_.rho = cfg_.rho;
   pitot_.sigma = cfg_.diff_pressure_sigma;
+  pitot_.gust_sigma = cfg_.airspeed_gust_sigma;
   pitot_.gate = cfg_.diff_pressure_gate;
   pitot_.min_airspeed = cfg_.min_airspeed;
   sideslip_.sigma = cfg_.sideslip_sigma;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include <spdlog/spdlog.h>
+#include <yaml-cpp/yaml.h>
 
 #include "tern/estimator_ekf/estimator.hpp"
 #include "tern/math.hpp"
@@ -93,6 +94,9 @@ inline const RealParam kReal[] = {
      TERN_EKF_FIELD(baro_gate)},
     {"diff_pressure_noise", "Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma",
      TERN_EKF_FIELD(diff_pressure_sigma)},
+    {"airspeed_gust_sigma", "m/s", 0.0, 20.0,
+     "turbulence along body x the wind state does not follow (adds rho u_r sigma to the pitot noise)",
+     TERN_EKF_FIELD(airspeed_gust_sigma)},
     {"diff_pressure_gate", "", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)",
      TERN_EKF_FIELD(diff_pressure_gate)},
     {"min_airspeed", "m/s", 0.0, 100.0,
@@ -150,6 +154,17 @@ class EstimatorEkf final : public tern::Plugin {
 
     const EstimatorConfig def;
     EstimatorConfig scratch = def;
+    // The default air density is the aircraft file's (environment: rho:), if it has one, so
+    // that the pitot model matches the simulator's; else ROSplane's 1.225 kg/m^3.
+    if (!context().describing() && !context().aircraft_file().empty()) {
+      const std::string path = context().aircraft_file().string();
+      try {
+        const YAML::Node ac = YAML::LoadFile(path);
+        if (ac["environment"] && ac["environment"]["rho"]) scratch.rho = ac["environment"]["rho"].as<double>();
+      } catch (const YAML::Exception& e) {
+        throw std::runtime_error(path + ": cannot read environment.rho: " + e.what());
+      }
+    }
     for (std::size_t i = 0; i < kRealCount; ++i) {
       const RealParam& d = kReal[i];
       declare(reals_[i], d.name, d.field(scratch), tern::ParamSpec(d.unit, d.min, d.max, d.description));

@@ -10,7 +10,7 @@ GnssPosition::Jac GnssPosition::jacobian(const NominalState& /*x*/) const {
   return H;
 }
 
-GnssPosition::Noise GnssPosition::noise() const {
+GnssPosition::Noise GnssPosition::noise(const NominalState& /*x*/) const {
   return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
 }
 
@@ -20,7 +20,7 @@ GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& /*x*/) const {
   return H;
 }
 
-GnssVelocity::Noise GnssVelocity::noise() const {
+GnssVelocity::Noise GnssVelocity::noise(const NominalState& /*x*/) const {
   return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
 }
 
@@ -39,7 +39,7 @@ Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
   return H;
 }
 
-Magnetometer::Noise Magnetometer::noise() const {
+Magnetometer::Noise Magnetometer::noise(const NominalState& /*x*/) const {
   const double s = sigma / field_strength;
   return Noise::Identity() * (s * s);
 }
@@ -73,7 +73,7 @@ MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
   return H;
 }
 
-MagHeading::Noise MagHeading::noise() const {
+MagHeading::Noise MagHeading::noise(const NominalState& /*x*/) const {
   const double s = sigma / (field_strength * std::cos(inclination));
   return Noise(s * s);
 }
@@ -106,6 +106,11 @@ DiffPressure::Vec DiffPressure::h(const NominalState& x) const {
 DiffPressure::Jac DiffPressure::jacobian(const NominalState& x) const {
   const double u_r = x.air_velocity_body().x();
   return rho * u_r * air_velocity_jacobian(x).row(0);
+}
+
+DiffPressure::Noise DiffPressure::noise(const NominalState& x) const {
+  const double g = rho * x.air_velocity_body().x() * gust_sigma;
+  return Noise(sigma * sigma + g * g);
 }
 
 bool ZeroSideslip::applicable(const NominalState& x, const Vec& /*z*/) const {

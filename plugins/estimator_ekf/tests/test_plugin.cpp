@@ -115,6 +115,17 @@ TEST_CASE("plugin: output decimation, parameter ranges, run-time changes, reset"
   CHECK_FALSE(est.origin_valid());
 }
 
+TEST_CASE("plugin: the default air density is the aircraft file's") {
+  testing::HarnessOptions opt;
+  opt.aircraft_file = std::string(TERN_EKF_AIRCRAFT_DIR) + "/anaconda.yaml";
+  testing::Harness h(std::make_unique<EstimatorEkf>(), {}, opt);
+  CHECK(std::get<double>(h.plugin().find_param("rho")->value()) == doctest::Approx(1.2682));
+  testing::Harness plain(std::make_unique<EstimatorEkf>());
+  CHECK(std::get<double>(plain.plugin().find_param("rho")->value()) == doctest::Approx(1.225));
+  opt.aircraft_file = "/nonexistent/aircraft.yaml";
+  CHECK_THROWS_AS(testing::Harness(std::make_unique<EstimatorEkf>(), {}, opt), std::runtime_error);
+}
+
 TEST_CASE("plugin: every parameter has a unit or is dimensionless, a range and a description") {
   testing::Harness h(std::make_unique<EstimatorEkf>());
   CHECK(h.plugin().params().size() > 40);

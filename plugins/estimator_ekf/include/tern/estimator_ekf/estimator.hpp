@@ -66,7 +66,7 @@ struct EstimatorConfig {
   double mag_declination = 0.1857972802;  ///< rad
   double mag_inclination = 1.139436457;   ///< rad
   double mag_field_strength = 5.07163e-5; ///< T
-  double mag_sigma = 1.5e-5;              ///< T per axis: white noise 3e-6 plus slowly varying
+  double mag_sigma = 6e-6;                ///< T per axis: white noise 3e-6 plus slowly varying
                                           ///< disturbances (a Gauss-Markov 1e-6 T moves yaw ~3 deg)
   double mag_gate = kChi2_999[3];         ///< 3-axis mode (3 dof)
   double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
@@ -78,10 +78,12 @@ struct EstimatorConfig {
   int baro_calibration_count = 100;       ///< samples averaged for the ground calibration
   // pitot and sideslip
   double diff_pressure_sigma = 1.15;      ///< Pa
+  double airspeed_gust_sigma = 1.0;       ///< m/s, gusts the wind state does not follow
   double diff_pressure_gate = kChi2_999[1];
   double min_airspeed = 8.0;              ///< m/s, below it neither pitot nor sideslip update
   bool use_sideslip = true;
-  double sideslip_sigma = 0.5;            ///< m/s
+  double sideslip_sigma = 2.0;            ///< m/s: turbulence makes v_r wander for seconds; a
+                                          ///< tighter figure at 100 Hz over-trusts it
   double sideslip_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;

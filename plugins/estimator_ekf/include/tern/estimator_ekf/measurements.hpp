@@ -4,7 +4,7 @@
 //   Vec   h(const NominalState& x) const       predicted measurement h(x)
 //   Jac   jacobian(const NominalState& x) const  H = dh/d(dx), M x 18, at x (error-state Jacobian:
 //                                              h(x [+] dx) = h(x) + H dx + O(|dx|^2))
-//   Noise noise() const                        measurement covariance R, M x M, positive definite
+//   Noise noise(const NominalState& x) const   measurement covariance R, M x M, positive definite
 // and may redefine
 //   bool  applicable(const NominalState& x, const Vec& z) const   default: always
 //   Vec   residual(const NominalState& x, const Vec& z) const     default: z - h(x)
@@ -49,7 +49,7 @@ struct GnssPosition : Measurement<GnssPosition, 3> {
   double sigma_v = 0.2;  ///< vertical white noise, 1 sigma, m
   Vec h(const NominalState& x) const { return x.p + x.e_gnss; }
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const;
+  Noise noise(const NominalState& x) const;
 };
 
 /// GNSS velocity: z = NED ground velocity, m/s. h(x) = v; H = [0 I 0 ...].
@@ -58,7 +58,7 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
   double sigma_v = 0.01;  ///< vertical noise, 1 sigma, m/s
   Vec h(const NominalState& x) const { return x.v; }
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const;
+  Noise noise(const NominalState& x) const;
 };
 
 /// Magnetometer, 3-axis, direction only: z = field / |field| (unit vector, body FRD).
@@ -73,7 +73,7 @@ struct Magnetometer : Measurement<Magnetometer, 3> {
   Vec3 field_direction_ned() const;
   Vec h(const NominalState& x) const;
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const;
+  Noise noise(const NominalState& x) const;
 };
 
 /// Magnetometer, tilt-compensated heading: z = psi_m, the yaw (rad) at which the measured field,
@@ -91,7 +91,7 @@ struct MagHeading : Measurement<MagHeading, 1> {
   Vec h(const NominalState& x) const;
   Vec residual(const NominalState& x, const Vec& z) const;
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const;
+  Noise noise(const NominalState& x) const;
 };
 
 /// Barometric altitude: z = altitude above the origin from static pressure (after the ground
@@ -100,33 +100,36 @@ struct BaroAltitude : Measurement<BaroAltitude, 1> {
   double sigma = 0.33;  ///< m (4 Pa / (rho g))
   Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro); }
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const { return Noise(sigma * sigma); }
+  Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
 
 /// Differential (pitot) pressure: z = p_diff, Pa. h(x) = 0.5 rho u_r^2 with
 /// (u_r, v_r, w_r) = R^T (v - w) (Beard & McLain eq. 7.3 with the airspeed along the pitot tube).
 /// Applicable when the measured airspeed sqrt(2 z / rho) >= min_airspeed.
 /// H = rho u_r e1^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
+/// Noise: the sensor's sigma plus turbulence the wind state does not follow (gusts of
+/// gust_sigma m/s along x move the pressure by rho u_r gust_sigma): R = sigma^2 + (rho u_r s_g)^2.
 struct DiffPressure : Measurement<DiffPressure, 1> {
   double rho = 1.225;         ///< air density, kg/m^3
   double sigma = 1.15;        ///< Pa
+  double gust_sigma = 1.0;    ///< m/s, unmodelled gusts along body x
   double min_airspeed = 8.0;  ///< m/s
   bool applicable(const NominalState& x, const Vec& z) const;
   Vec h(const NominalState& x) const;
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const { return Noise(sigma * sigma); }
+  Noise noise(const NominalState& x) const;
 };
 
 /// Zero-sideslip pseudo-measurement: z = 0 = v_r, the body-y air velocity (coordinated flight,
 /// Beard & McLain section 8.10.2). Applicable when the estimated airspeed >= min_airspeed.
 /// H = e2^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
 struct ZeroSideslip : Measurement<ZeroSideslip, 1> {
-  double sigma = 0.5;         ///< m/s: how far from coordinated the aircraft flies
+  double sigma = 2.0;         ///< m/s: how far from coordinated the aircraft flies (gusts)
   double min_airspeed = 8.0;  ///< m/s
   bool applicable(const NominalState& x, const Vec& z) const;
   Vec h(const NominalState& x) const { return Vec(x.air_velocity_body().y()); }
   Jac jacobian(const NominalState& x) const;
-  Noise noise() const { return Noise(sigma * sigma); }
+  Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
 
 /// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x 18).
