@@ -1,11 +1,17 @@
-# tern_add_plugin(NAME <name> SOURCES <files...> [LIBRARIES <targets...>])
+# tern_add_plugin(NAME <name> SOURCES <files...> [LIBRARIES <targets...>]
+#                 [OUTPUT_DIRECTORY <dir>] [NO_INSTALL])
 #
 # Builds libtern_<name>.so, a tern plugin: a MODULE library with hidden visibility, position
 # independent code and no GNU unique symbols (so that dlclose really unloads it, which hot-swap
 # relies on), linked against the tern SDK. The plugin's sources must register exactly one
 # class with TERN_PLUGIN(...) (tern/plugin.hpp), which emits the handshake the host checks.
+#
+# Output directory: OUTPUT_DIRECTORY, else TERN_PLUGIN_BUILD_DIR (tern's own tree: build/plugins),
+# else <your build dir>/plugins. Install rule (`cmake --install`): TERN_INSTALL_PLUGIN_DIR, else
+# <libdir>/tern/plugins, which the installed `tern` searches (<exe>/../lib/tern/plugins);
+# NO_INSTALL skips it (test fixtures).
 function(tern_add_plugin)
-  cmake_parse_arguments(TP "" "NAME;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
+  cmake_parse_arguments(TP "NO_INSTALL" "NAME;OUTPUT_DIRECTORY" "SOURCES;LIBRARIES" ${ARGN})
   if(NOT TP_NAME)
     message(FATAL_ERROR "tern_add_plugin: NAME is required")
   endif()
@@ -31,8 +37,16 @@ function(tern_add_plugin)
     set_target_properties(${_target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${TP_OUTPUT_DIRECTORY})
   elseif(DEFINED TERN_PLUGIN_BUILD_DIR)
     set_target_properties(${_target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${TERN_PLUGIN_BUILD_DIR})
+  else()
+    set_target_properties(${_target} PROPERTIES LIBRARY_OUTPUT_DIRECTORY ${CMAKE_BINARY_DIR}/plugins)
   endif()
-  if(DEFINED TERN_INSTALL_PLUGIN_DIR)
-    install(TARGETS ${_target} LIBRARY DESTINATION ${TERN_INSTALL_PLUGIN_DIR})
+  if(NOT TP_NO_INSTALL)
+    if(DEFINED TERN_INSTALL_PLUGIN_DIR)
+      install(TARGETS ${_target} LIBRARY DESTINATION ${TERN_INSTALL_PLUGIN_DIR})
+    elseif(DEFINED CMAKE_INSTALL_LIBDIR)
+      install(TARGETS ${_target} LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}/tern/plugins)
+    else()
+      install(TARGETS ${_target} LIBRARY DESTINATION lib/tern/plugins)
+    endif()
   endif()
 endfunction()

@@ -134,9 +134,9 @@ files = [f for f in glob.glob(os.path.join(run, "**", "*"), recursive=True)
          if os.path.basename(f).startswith("state") and f.endswith(".csv")]
 if not files:
     sys.exit("no state log in " + run + ": " + ", ".join(sorted(os.listdir(run))))
-rows = list(csv.DictReader(open(files[0])))
-t = [float(r.get("stamp", r.get("t", 0))) for r in rows]
-t = [x * 1e-9 if max(t) > 1e6 else x for x in t]
+# columns are "name [unit]"
+rows = [{k.split(" [")[0]: v for k, v in r.items()} for r in csv.DictReader(open(files[0]))]
+t = [float(r["t"]) for r in rows]
 if t[-1] < 19.0:
     sys.exit(f"the flight ended at {t[-1]:.1f} s")
 tail = [r for r, x in zip(rows, t) if x >= t[-1] - 5.0]
