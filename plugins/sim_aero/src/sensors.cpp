@@ -3,8 +3,6 @@
 
 #include <cmath>
 
-#include <GeographicLib/LocalCartesian.hpp>
-
 namespace tern::sim {
 
 double standard_temperature(double h) { return 288.15 - 0.0065 * h; }
@@ -13,22 +11,61 @@ double standard_pressure(double h) {
   return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588);
 }
 
+// WGS-84 geodetic <-> ECEF <-> local NED. Written here rather than taken from GeographicLib: that
+// library's GNU-unique symbols would keep the plugin loaded after dlclose (hot-swap needs it gone).
+namespace {
+constexpr double kWgs84A = 6378137.0;                 // semi-major axis, m
+constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
+constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
+constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
+
+Eigen::Vector3d geodetic_to_ecef(double lat_rad, double lon_rad, double h) {
+  const double s = std::sin(lat_rad), c = std::cos(lat_rad);
+  const double N = kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
+  return {(N + h) * c * std::cos(lon_rad), (N + h) * c * std::sin(lon_rad), (N * (1.0 - kWgs84E2) + h) * s};
+}
+
+// Fixed-point iteration on the latitude (converges to < 1e-14 rad near the Earth's surface in a
+// few steps); the height formula is valid at every latitude.
+void ecef_to_geodetic(const Eigen::Vector3d& r, double& lat_rad, double& lon_rad, double& h) {
+  lon_rad = std::atan2(r.y(), r.x());
+  const double p = std::hypot(r.x(), r.y());
+  double lat = std::atan2(r.z(), p * (1.0 - kWgs84E2));
+  for (int i = 0; i < 10; ++i) {
+    const double s = std::sin(lat);
+    const double N = kWgs84A / std::sqrt(1.0 - kWgs84E2 * s * s);
+    lat = std::atan2(r.z() + kWgs84E2 * N * s, p);
+  }
+  const double s = std::sin(lat), c = std::cos(lat);
+  h = p * c + r.z() * s - kWgs84A * std::sqrt(1.0 - kWgs84E2 * s * s);
+  lat_rad = lat;
+}
+}  // namespace
+
 struct GeoOrigin::Impl {
-  GeographicLib::LocalCartesian lc;
+  Eigen::Vector3d ecef0;
+  Eigen::Matrix3d R;  // ECEF -> NED at the origin
 };
 
-GeoOrigin::GeoOrigin(double lat, double lon, double alt)
-    : impl_(std::make_unique<Impl>(Impl{GeographicLib::LocalCartesian(lat, lon, alt)})) {}
+GeoOrigin::GeoOrigin(double lat, double lon, double alt) : impl_(std::make_unique<Impl>()) {
+  const double phi = lat * kDegToRad, lam = lon * kDegToRad;
+  impl_->ecef0 = geodetic_to_ecef(phi, lam, alt);
+  const double sp = std::sin(phi), cp = std::cos(phi), sl = std::sin(lam), cl = std::cos(lam);
+  impl_->R << -sp * cl, -sp * sl, cp,
+              -sl, cl, 0.0,
+              -cp * cl, -cp * sl, -sp;
+}
 GeoOrigin::~GeoOrigin() = default;
 
 void GeoOrigin::to_geodetic(const Eigen::Vector3d& ned, double& lat, double& lon, double& alt) const {
-  impl_->lc.Reverse(ned.y(), ned.x(), -ned.z(), lat, lon, alt);  // ENU
+  double phi = 0, lam = 0;
+  ecef_to_geodetic(impl_->ecef0 + impl_->R.transpose() * ned, phi, lam, alt);
+  lat = phi / kDegToRad;
+  lon = lam / kDegToRad;
 }
 
 Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
-  double e = 0, n = 0, u = 0;
-  impl_->lc.Forward(lat, lon, alt, e, n, u);
-  return {n, e, -u};
+  return impl_->R * (geodetic_to_ecef(lat * kDegToRad, lon * kDegToRad, alt) - impl_->ecef0);
 }
 
 Sensors::Sensors(const SensorParams& p, std::uint64_t seed)

@@ -1,6 +1,8 @@
 // Plugin-level tests of sim_aero through the SDK harness: rates, drop-outs, truth, determinism.
 #include <doctest/doctest.h>
 
+#include <dlfcn.h>
+
 #include <cmath>
 #include <memory>
 
@@ -173,4 +175,14 @@ TEST_CASE("plugin: scheduled 1-cosine gusts appear in the wind at their time; su
   const auto summary = h.plugin().summary();
   CHECK(summary.at(0).first == "sim_steps");
   CHECK(summary.at(0).second == 2400.0);  // 3 sub-steps per 2.5 ms step
+}
+
+TEST_CASE("plugin: the shared object really unloads after dlclose (hot-swap)") {
+  // The host has the SDK, spdlog, fmt and yaml-cpp loaded already, as this test does.
+  const char* path = TERN_SIM_AERO_PLUGIN;
+  void* h = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+  REQUIRE_MESSAGE(h != nullptr, dlerror());
+  CHECK(dlsym(h, "tern_plugin_handshake_v1") != nullptr);
+  dlclose(h);
+  CHECK(dlopen(path, RTLD_NOW | RTLD_NOLOAD) == nullptr);
 }

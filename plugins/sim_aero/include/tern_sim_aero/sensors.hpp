@@ -79,8 +79,9 @@ struct GnssSample {
 double standard_pressure(double h);
 double standard_temperature(double h);
 
-/// NED position about an origin -> WGS-84 latitude, longitude (deg) and altitude (m MSL), and
-/// back (GeographicLib LocalCartesian, exact on the ellipsoid).
+/// NED position about an origin -> WGS-84 latitude, longitude (deg) and altitude (m above the
+/// ellipsoid, reported as MSL: no geoid), and back; exact on the ellipsoid (local tangent plane
+/// at the origin, as GeographicLib's LocalCartesian).
 class GeoOrigin {
  public:
   GeoOrigin(double lat, double lon, double alt);
