@@ -1212,6 +1212,8 @@ std::string Host::summary_json(const FlightResult& r) const {
   if (metrics_) {
     nlohmann::ordered_json m;
     m["loops"] = metrics_->loops();
+    m["max_cross_track_m"] = metrics_->max_cross_track();
+    m["max_altitude_error_m"] = metrics_->max_altitude_error();
     m["window_start_s"] = metrics_->window_start() < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(to_seconds(metrics_->window_start()));
     auto passages = nlohmann::ordered_json::array();
     for (const auto& p : metrics_->passages()) passages.push_back({{"t_s", to_seconds(p.t)}, {"waypoint", p.index}});

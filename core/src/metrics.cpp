@@ -27,6 +27,7 @@ void FlightMetrics::reset() {
   trk_ = {};
   passages_.clear();
   loops_ = 0;
+  max_cross_ = max_alt_ = 0;
   first_index_ = last_index_ = -1;
   last_sample_ = -1;
   window_start_ = -1;
@@ -84,9 +85,11 @@ void FlightMetrics::step(Nanos now) {
     }
     trk_[t_north].add(p.x() - closest.x());
     trk_[t_east].add(p.y() - closest.y());
+    if (std::isfinite((p - closest).norm())) max_cross_ = std::max(max_cross_, (p - closest).norm());
   }
   if (command_.has_value()) {
     trk_[t_alt].add(command_->h_c - (-s.p_d));
+    if (std::isfinite(command_->h_c + s.p_d)) max_alt_ = std::max(max_alt_, std::fabs(command_->h_c + s.p_d));
     trk_[t_course].add(wrap_pi(command_->chi_c - s.chi) * kDeg);
     trk_[t_airspeed].add(command_->Va_c - s.Va);
   }
@@ -100,6 +103,8 @@ std::vector<std::pair<std::string, double>> FlightMetrics::summary() const {
   std::vector<std::pair<std::string, double>> out;
   out.emplace_back("loops", loops_);
   out.emplace_back("waypoints_reached", static_cast<double>(passages_.size()));
+  out.emplace_back("max_cross_track_m", max_cross_);
+  out.emplace_back("max_altitude_error_m", max_alt_);
   out.emplace_back("window_start_s", window_start_ < 0 ? std::nan("") : to_seconds(window_start_));
   if (truth_.connected())
     for (int i = 0; i < kEst; ++i) out.emplace_back(std::string("est_rmse_") + kEstNames[i], est_[i].value());

@@ -9,7 +9,7 @@
 //  - tracking RMSE, command vs estimate: north and east distance from the estimated position to
 //    the closest point of the commanded path segment (line or orbit, horizontal), altitude
 //    h_c - h, roll phi_c - phi, pitch theta_c - theta, course chi_c - chi (wrapped), airspeed
-//    Va_c - Va.
+//    Va_c - Va; and the largest cross-track and altitude errors.
 // It also records every waypoint passage (current_path.waypoint_index changes) and counts loops.
 #pragma once
 
@@ -54,6 +54,8 @@ class FlightMetrics final : public Plugin {
   const std::array<Rms, kTrk>& tracking() const { return trk_; }
   const std::vector<Passage>& passages() const { return passages_; }
   int loops() const { return loops_; }
+  double max_cross_track() const { return max_cross_; }   ///< m, horizontal, over the window
+  double max_altitude_error() const { return max_alt_; }  ///< m, |h_c - h| over the window
   bool has_truth() const { return truth_.connected(); }
   Nanos window_start() const { return window_start_; }
 
@@ -69,6 +71,7 @@ class FlightMetrics final : public Plugin {
   std::array<Rms, kTrk> trk_{};
   std::vector<Passage> passages_;
   int loops_ = 0;
+  double max_cross_ = 0, max_alt_ = 0;
   int first_index_ = -1;
   int last_index_ = -1;
   Nanos last_sample_ = -1;

@@ -163,7 +163,7 @@ void DdsClient::echo(const std::string& topic, const std::function<bool(const st
   } cleanup{impl_->subscriber, p, r, t};
   auto sample = type->make_sample();
   for (;;) {
-    if (!r->wait_for_unread_message(fdds::Duration_t(static_cast<std::int32_t>(impl_->timeout.count() / 1000),
+    if (!r->wait_for_unread_message(Duration(static_cast<std::int32_t>(impl_->timeout.count() / 1000),
                                                      static_cast<std::uint32_t>((impl_->timeout.count() % 1000) * 1000000))))
       throw DdsError(fmt::format("no sample on {} within {:.1f} s", name, static_cast<double>(impl_->timeout.count()) / 1000.0));
     fdds::SampleInfo info;

@@ -29,6 +29,7 @@
 namespace tern::core::ddsi {
 
 namespace fdds = eprosima::fastdds::dds;
+using Duration = eprosima::fastrtps::Duration_t;
 
 /// A participant honouring the network options: built-in transports off, one UDPv4 transport
 /// restricted to options.interfaces, initial peers options.peers, no multicast unless
@@ -74,7 +75,7 @@ fdds::Topic* make_topic(fdds::DomainParticipant* p, const std::string& name) {
   fdds::TypeSupport ts(new PubSub());
   const std::string tname = ts.get_type_name();
   if (p->find_type(tname).empty()) ts.register_type(p);
-  if (auto* d = p->find_topic(name, fdds::Duration_t(0, 0))) return d;
+  if (auto* d = p->find_topic(name, Duration(0, 0))) return d;
   fdds::Topic* t = p->create_topic(name, tname, fdds::TOPIC_QOS_DEFAULT);
   if (t == nullptr) throw DdsError("DDS: cannot create topic '" + name + "' of type " + tname);
   return t;
@@ -155,7 +156,7 @@ class ServiceClient {
         if (info.valid_data && info.related_sample_identity == sid) return true;
         continue;
       }
-      reader_->wait_for_unread_message(fdds::Duration_t(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));
+      reader_->wait_for_unread_message(Duration(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));
     }
   }
 

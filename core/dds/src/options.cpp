@@ -13,6 +13,8 @@
 
 namespace tern::core {
 
+namespace fs = std::filesystem;
+
 const std::vector<std::string> DdsOptions::kDefaultTopics = {
     "state", "controller_command", "controller_internals", "current_path", "waypoints", "flight_phase", "actuators"};
 

@@ -88,7 +88,7 @@ fdds::DataWriterQos writer_qos(DdsQos k) {
       break;
   }
   // the flight thread never blocks on a slow reader
-  q.reliability().max_blocking_time = fdds::Duration_t(0, 0);
+  q.reliability().max_blocking_time = Duration(0, 0);
   q.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;
   return q;
 }
@@ -105,7 +105,7 @@ fdds::DataReaderQos reader_qos(DdsQos k) {
 // ROS 2's service profile: reliable, volatile, keep-last 10
 fdds::DataWriterQos service_writer_qos() {
   fdds::DataWriterQos q = writer_qos(DdsQos::reliable);
-  q.reliability().max_blocking_time = fdds::Duration_t(0, 100000000);
+  q.reliability().max_blocking_time = Duration(0, 100000000);
   return q;
 }
 fdds::DataReaderQos service_reader_qos() { return reader_qos(DdsQos::reliable); }

@@ -1,0 +1,319 @@
+// DDS bridge tests: a Host flying the host's test plugins, bridged over Fast DDS between
+// loopback-only participants of this process (one DDS domain per test case).
+#define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
+#include <doctest/doctest.h>
+
+#include <dirent.h>
+
+#include <fstream>
+#include <regex>
+#include <set>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "dds_bridge.hpp"
+#include "dds_internal.hpp"
+#include "rosplane_msgs/msg/ControllerCommandsPubSubTypes.h"
+#include "rosplane_msgs/msg/ControllerInternalsPubSubTypes.h"
+#include "rosplane_msgs/msg/CurrentPathPubSubTypes.h"
+#include "rosplane_msgs/msg/StatePubSubTypes.h"
+#include "rosplane_msgs/msg/WaypointPubSubTypes.h"
+#include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
+#include "test_util.hpp"
+
+using namespace tern::core;
+namespace fdds = eprosima::fastdds::dds;
+
+namespace {
+
+std::vector<std::string> lines(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  for (std::string l; std::getline(ss, l);) out.push_back(l);
+  return out;
+}
+
+DdsOptions options_on(std::uint32_t domain) {
+  DdsOptions o = parse_dds_options(YAML::Node(), "none.yaml");
+  o.enabled = true;
+  o.domain = domain;
+  REQUIRE(o.loopback_only());
+  return o;
+}
+
+/// A host flying the standard test flight, paced to wall time so that requests arrive mid-flight.
+struct Flight {
+  explicit Flight(const std::string& name, double duration) {
+    HostOptions o;
+    o.quiet = true;
+    o.realtime = true;
+    o.log_dir = test_dir() / name;
+    std::string cfg = base_config();
+    cfg.replace(cfg.find("duration: 2"), 11, "duration: " + std::to_string(duration));
+    host = std::make_unique<Host>(load_config(write_file(name + ".yaml", cfg)), o);
+    host->build();
+  }
+  void start() {
+    thread = std::thread([this] { result = host->fly(); });
+    REQUIRE(ddsi::wait_until([&] { return host->flying(); }, std::chrono::seconds(5)));
+  }
+  FlightResult finish() {
+    thread.join();
+    return result;
+  }
+  std::unique_ptr<Host> host;
+  std::thread thread;
+  FlightResult result;
+};
+
+/// The sockets of this process and their local IPv4 addresses (hex, as in /proc/net/udp).
+std::vector<std::string> socket_addresses() {
+  std::set<std::string> inodes;
+  DIR* d = opendir("/proc/self/fd");
+  REQUIRE(d != nullptr);
+  while (dirent* e = readdir(d)) {
+    std::error_code ec;
+    const auto target = fs::read_symlink(fs::path("/proc/self/fd") / e->d_name, ec).string();
+    if (!ec && target.rfind("socket:[", 0) == 0) inodes.insert(target.substr(8, target.size() - 9));
+  }
+  closedir(d);
+  std::vector<std::string> out;
+  for (const char* table : {"/proc/net/udp", "/proc/net/tcp", "/proc/net/udp6", "/proc/net/tcp6"}) {
+    std::ifstream in(table);
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+      std::istringstream ss(line);
+      std::string sl, local, remote, st, txrx, trtm, retr, uid, timeout, inode;
+      ss >> sl >> local >> remote >> st >> txrx >> trtm >> retr >> uid >> timeout >> inode;
+      if (inodes.count(inode)) out.push_back(std::string(table) + " " + local);
+    }
+  }
+  return out;
+}
+
+/// Fields of a ROS .msg/.srv section: "type name" per line, constants and comments dropped.
+std::vector<std::pair<std::string, std::string>> msg_fields(const std::string& text) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (auto line : lines(text)) {
+    line = line.substr(0, line.find('#'));
+    std::istringstream ss(line);
+    std::string type, name;
+    if (!(ss >> type >> name) || name.find('=') != std::string::npos || line.find('=') != std::string::npos) continue;
+    out.emplace_back(type, name);
+  }
+  return out;
+}
+
+/// Members of `struct name { ... };` in an IDL file as ROS types ("float32[3] w" -> ("float32[3]", "w")).
+std::vector<std::pair<std::string, std::string>> idl_fields(const std::string& text, const std::string& name) {
+  static const std::map<std::string, std::string> ros = {
+      {"float", "float32"}, {"double", "float64"}, {"boolean", "bool"}, {"uint8", "uint8"}, {"int8", "int8"},
+      {"uint32", "uint32"}, {"int32", "int32"}, {"string", "string"}, {"std_msgs::msg::Header", "std_msgs/Header"},
+      {"geometry_msgs::msg::Quaternion", "geometry_msgs/Quaternion"}};
+  const auto at = text.find("struct " + name + " {");
+  REQUIRE_MESSAGE(at != std::string::npos, name);
+  const auto end = text.find("};", at);
+  std::vector<std::pair<std::string, std::string>> out;
+  const std::regex member(R"(^\s*([A-Za-z_:0-9]+)\s+([A-Za-z_0-9]+)(\[(\d+)\])?;)");
+  for (const auto& l : lines(text.substr(at, end - at))) {
+    std::smatch m;
+    if (!std::regex_search(l, m, member)) continue;
+    const auto it = ros.find(m[1]);
+    REQUIRE_MESSAGE(it != ros.end(), m[1]);
+    out.emplace_back(it->second + (m[3].matched ? "[" + m[4].str() + "]" : ""), m[2]);
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name file, line and field") {
+  const DdsOptions d = parse_dds_options(YAML::Node(), "m.yaml");
+  CHECK_FALSE(d.enabled);
+  CHECK(d.loopback_only());
+  CHECK(d.ns == "tern");
+  REQUIRE(d.topics.size() == 7);
+  CHECK(d.topics[0].topic == "state");
+  const fs::path f = write_file("dds_opts.yaml", "dds:\n  domian: 3\n");
+  auto err = [&](const std::string& yaml) {
+    const fs::path p = write_file("dds_opts.yaml", yaml);
+    try {
+      parse_dds_options(YAML::LoadFile(p.string())["dds"], p);
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(err("dds:\n  domian: 3\n") == f.string() + ":2:3: dds: unknown key 'domian' (did you mean 'domain'?)");
+  CHECK(err("dds:\n  domain: 300\n") == f.string() + ":2:11: dds.domain: 300 is outside [0, 232]");
+  CHECK(err("dds:\n  interfaces: [eth0]\n").find("dds.interfaces[0]: 'eth0' is not an IPv4 address") != std::string::npos);
+  CHECK(err("dds:\n  topics: [{topic: state, qos: fast}]\n").find("dds.topics[0].qos: 'fast' is not one of") != std::string::npos);
+  const fs::path ok = write_file("dds_ok.yaml",
+                                 "dds:\n  enabled: true\n  domain: 7\n  namespace: /uav1/\n  interfaces: [127.0.0.1, 192.168.1.10]\n"
+                                 "  topics: [state, {topic: truth, name: truth_state, rate: 10, qos: reliable}]\n");
+  const DdsOptions o = parse_dds_options(YAML::LoadFile(ok.string())["dds"], ok);
+  CHECK(o.enabled);
+  CHECK(o.domain == 7);
+  CHECK(o.ns == "uav1");
+  CHECK_FALSE(o.loopback_only());
+  REQUIRE(o.topics.size() == 2);
+  CHECK(o.topics[1].name == "truth_state");
+  CHECK(o.topics[1].rate == 10);
+  CHECK(*o.topics[1].qos == DdsQos::reliable);
+}
+
+TEST_CASE("dds: type names are ROS 2's and the fields follow ROSplane's .msg files in order") {
+  CHECK(std::string(rosplane_msgs::msg::StatePubSubType().getName()) == "rosplane_msgs::msg::dds_::State_");
+  CHECK(std::string(rosplane_msgs::msg::ControllerCommandsPubSubType().getName()) == "rosplane_msgs::msg::dds_::ControllerCommands_");
+  CHECK(std::string(rosplane_msgs::msg::ControllerInternalsPubSubType().getName()) == "rosplane_msgs::msg::dds_::ControllerInternals_");
+  CHECK(std::string(rosplane_msgs::msg::CurrentPathPubSubType().getName()) == "rosplane_msgs::msg::dds_::CurrentPath_");
+  CHECK(std::string(rosplane_msgs::msg::WaypointPubSubType().getName()) == "rosplane_msgs::msg::dds_::Waypoint_");
+  CHECK(std::string(rosplane_msgs::srv::AddWaypoint_RequestPubSubType().getName()) == "rosplane_msgs::srv::dds_::AddWaypoint_Request_");
+  CHECK(std::string(rosplane_msgs::srv::AddWaypoint_ResponsePubSubType().getName()) == "rosplane_msgs::srv::dds_::AddWaypoint_Response_");
+  const fs::path idl = TERN_DDS_IDL_DIR, ref = TERN_ROSPLANE_MSG_DIR;
+  for (const std::string m : {"State", "ControllerCommands", "ControllerInternals", "CurrentPath", "Waypoint"}) {
+    const auto want = msg_fields(read_file(ref / "rosplane_msgs/msg" / (m + ".msg")));
+    const auto got = idl_fields(read_file(idl / "rosplane_msgs/msg" / (m + ".idl")), m);
+    REQUIRE(want.size() > 3);
+    CHECK_MESSAGE(got == want, m);
+  }
+  const std::string srv = read_file(ref / "rosplane_msgs/srv/AddWaypoint.srv");
+  const auto sep = srv.find("---");
+  const std::string srv_idl = read_file(idl / "rosplane_msgs/srv/AddWaypoint.idl");
+  CHECK(idl_fields(srv_idl, "AddWaypoint_Request") == msg_fields(srv.substr(0, sep)));
+  CHECK(idl_fields(srv_idl, "AddWaypoint_Response") == msg_fields(srv.substr(sep + 3)));
+}
+
+TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on loopback") {
+  const DdsOptions opt = options_on(41);
+  Flight f("dds_state", 1.5);
+  DdsBridge bridge(*f.host, opt);
+  const auto pub = bridge.published();
+  REQUIRE(pub.size() == 3);  // of the default set, the test flight has state, controller_internals, actuators
+  CHECK(pub[0].dds_name == "rt/tern/state");
+  CHECK(pub[0].dds_type == "rosplane_msgs::msg::dds_::State_");
+
+  auto* p = ddsi::make_participant(opt, "test reader");
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  auto* topic = ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/state");
+  auto* reader = sub->create_datareader(topic, ddsi::reader_qos(DdsQos::best_effort));
+  REQUIRE(reader != nullptr);
+  REQUIRE(ddsi::wait_until([&] {
+    fdds::SubscriptionMatchedStatus s;
+    reader->get_subscription_matched_status(s);
+    return s.current_count > 0;
+  }, std::chrono::seconds(10)));
+  // DDS on with the default config: nothing listens or sends on a non-loopback address
+  for (const auto& s : socket_addresses()) CHECK_MESSAGE(s.find(" 0100007F:") != std::string::npos, s);
+
+  f.start();
+  REQUIRE(reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(5, 0)));
+  rosplane_msgs::msg::State st;
+  fdds::SampleInfo info;
+  REQUIRE(reader->take_next_sample(&st, &info) == ReturnCode_t::RETCODE_OK);
+  CHECK(info.valid_data);
+  CHECK(st.va() == 15.0f);            // test_sensor's truth, passed through by test_filter
+  CHECK(st.quat().w() == 1.0);        // identity attitude
+  CHECK(st.header().stamp().sec() >= 0);
+  const FlightResult r = f.finish();
+  CHECK(r.ok);
+  CHECK(bridge.samples_written("state") >= 100);  // 400 Hz over 1.5 s, every message by default
+  ddsi::delete_participant(p);
+}
+
+TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is logged; bad values are refused") {
+  const DdsOptions opt = options_on(42);
+  Flight f("dds_params", 2.0);
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(5));
+  // between flights: list and get answer directly
+  const auto all = client.param_list("ctl.");
+  REQUIRE(all.size() == 5);
+  const DdsParam kp = client.param_get("ctl.kp");
+  CHECK(std::get<double>(kp.value) == doctest::Approx(0.05));
+  CHECK(kp.unit == "1/m");
+  CHECK(kp.max == 10.0);
+  f.start();
+  client.param_set("ctl.tag", 0.25);
+  CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 50.0), doctest::Contains("ctl.kp"), DdsError);
+  CHECK_THROWS_WITH_AS(client.param_set("ctl.kq", 0.1), "unknown parameter 'ctl.kq' (did you mean 'ctl.kp'?)", DdsError);
+  CHECK_THROWS_AS(client.param_set("ctl.fail_mode", std::string("explode")), DdsError);
+  // while flying, reads are answered from the flight thread
+  REQUIRE(ddsi::wait_until([&] { return std::get<double>(client.param_get("ctl.tag").value) == 0.25; }, std::chrono::seconds(2)));
+  CHECK(std::get<double>(client.param_get("ctl.kp").value) == doctest::Approx(0.05));
+  const std::string saved = client.param_save("saved_params.yaml");
+  const FlightResult r = f.finish();
+  REQUIRE(r.ok);
+  // params.csv: the change, stamped with the tick that applied it, source "dds"; kp never changed
+  std::string row;
+  for (const auto& l : lines(read_file(r.run_dir / "params.csv")))
+    if (l.find(",ctl.tag,0.25,dds") != std::string::npos) row = l;
+  REQUIRE(!row.empty());
+  const double t_set = std::stod(row.substr(0, row.find(',')));
+  CHECK(t_set > 0.0);
+  for (const auto& l : lines(read_file(r.run_dir / "params.csv"))) CHECK(l.find("ctl.kp,50") == std::string::npos);
+  // the controller uses it from that tick on (delta_e = tag)
+  bool before = false, after = false;
+  for (const auto& l : lines(read_file(r.run_dir / "topics" / "actuators.csv"))) {
+    if (l.empty() || !std::isdigit(static_cast<unsigned char>(l[0]))) continue;
+    const double t = std::stod(l.substr(0, l.find(',')));
+    const bool tagged = l.find(",0.25,") != std::string::npos;
+    if (t < t_set) before = before || tagged;
+    if (t >= t_set + 0.0101) after = after || tagged;  // next 100 Hz step of ctl
+  }
+  CHECK_FALSE(before);
+  CHECK(after);
+  // the saved file is a ROS 2 style parameter file the host can load back
+  CHECK(saved == (test_dir() / "saved_params.yaml").string());
+  const auto params = load_param_file(saved, "ctl", "test_controller");
+  CHECK(params.at("tag").node.as<double>() == 0.25);
+  CHECK(params.at("kp").node.as<double>() == 0.05);
+}
+
+TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
+  const DdsOptions opt = options_on(43);
+  Flight f("dds_mission", 1.5);
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(5));
+  f.start();
+  tern::msg::Waypoint wp;
+  wp.w = Eigen::Vector3d(100.0, -50.0, -40.0);
+  wp.Va_d = 18.0;
+  wp.chi_d = 0.5;
+  wp.use_chi = true;
+  client.mission_add(wp, false, true);
+  client.mission_clear();
+  wp.Va_d = -1;
+  CHECK_THROWS_WITH_AS(client.mission_add(wp), doctest::Contains("va_d > 0"), DdsError);
+  CHECK_THROWS_WITH_AS(client.mission_load("no_such_mission.yaml"), doctest::Contains("no such file on the vehicle"), DdsError);
+  CHECK_THROWS_WITH_AS(client.mission_print(), doctest::Contains("no waypoint list published yet"), DdsError);
+  const DdsStatus st = client.status();
+  CHECK(st.mission == "hostcheck");
+  CHECK(st.flying);
+  REQUIRE(st.topics.size() == 3);
+  CHECK(st.topics[0] == std::pair<std::string, std::string>("rt/tern/state", "rosplane_msgs::msg::dds_::State_"));
+  std::string echoed;
+  client.echo("state", [&](const std::string& s) {
+    echoed = s;
+    return false;
+  });
+  CHECK(echoed.find("va: 15\n") != std::string::npos);
+  const FlightResult r = f.finish();
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["instances"]["filter"]["mission_edits"] == 2.0);
+  CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
+  const auto rows = lines(read_file(r.run_dir / "topics" / "mission_edit.csv"));
+  REQUIRE(rows.size() == 3);
+  CHECK(rows[1].find(",1,0,100,-50,-40,0,0.5,1,18,0,1,") != std::string::npos);  // id 1, add, w, lla, chi_d, use_chi, Va_d, set_current, publish_now
+  CHECK(rows[2].find(",2,1,") != std::string::npos);                              // id 2, clear
+}
+
+TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
+  DdsClient client(options_on(44), std::chrono::milliseconds(300));
+  CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
+                       "no vehicle answered 'param_set' on DDS domain 44, namespace 'tern' within 0.3 s", DdsError);
+}

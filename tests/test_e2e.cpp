@@ -1,0 +1,86 @@
+// End to end: the shipped missions with the real plugins (sim_aero, estimator_ekf, path,
+// control_slc, control_tecs), as `make fly` flies them.
+#include <doctest/doctest.h>
+
+#include <sys/wait.h>
+
+#include <nlohmann/json.hpp>
+
+#include "test_util.hpp"
+
+using namespace tern::core;
+
+namespace {
+const fs::path kMissions = fs::path(TERN_SOURCE_DIR) / "configs" / "missions";
+
+FlightResult fly_mission(const std::string& mission, const std::string& logdir, std::optional<double> duration = {}) {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / logdir;
+  o.duration = duration;
+  Host h(load_config(kMissions / mission), o);
+  h.build();
+  return h.fly();
+}
+
+nlohmann::json summary(const FlightResult& r) { return nlohmann::json::parse(read_file(r.run_dir / "summary.json")); }
+
+void check_no_nan(const fs::path& run) {
+  for (const auto& e : fs::directory_iterator(run / "topics")) {
+    const std::string text = read_file(e.path());
+    CHECK_MESSAGE(text.find("nan") == std::string::npos, e.path().string());
+    CHECK_MESSAGE(text.find("inf") == std::string::npos, e.path().string());
+  }
+}
+
+void check_mission(const FlightResult& r, const std::string& cruise_controller) {
+  REQUIRE(r.ok);
+  const auto s = summary(r);
+  CHECK(s["end_reason"] == "duration");
+  CHECK(s["fallback_engaged"] == false);
+  // takeoff -> climb -> cruise, in that order, and nothing after
+  REQUIRE(s["phases"].size() == 3);
+  CHECK(s["phases"][1]["phase"] == "climb");
+  CHECK(s["phases"][2]["phase"] == "cruise");
+  if (cruise_controller != "slc") CHECK(s["controller_handovers"].back()["to"] == cruise_controller);
+  const auto& m = s["metrics"];
+  CHECK(m["loops"].get<int>() >= 4);  // the first loop and four more
+  CHECK(m["max_cross_track_m"].get<double>() < 30.0);
+  CHECK(m["max_altitude_error_m"].get<double>() < 10.0);
+  MESSAGE("tracking RMSE: " << m["tracking_rmse"].dump());
+  MESSAGE("estimation RMSE: " << m["estimation_rmse"].dump());
+  check_no_nan(r.run_dir);
+}
+}  // namespace
+
+TEST_CASE("the default mission: takeoff, climb, the hourglass loops in wind, estimator in the loop") {
+  const FlightResult r = fly_mission("default.yaml", "e2e_default");
+  check_mission(r, "slc");
+  // every field the plots need is in the log
+  const std::string cmd = std::string(TERN_PYTHON3) + " " + TERN_BIN_DIR + "/tern-plot --strict " + r.run_dir.string() + " > " +
+                          (test_dir() / "plot.out").string() + " 2>&1";
+  const int rc = std::system(cmd.c_str());
+  CHECK_MESSAGE(WEXITSTATUS(rc) == 0, read_file(test_dir() / "plot.out"));
+  CHECK(fs::exists(r.run_dir / "plots" / "ground_track.png"));
+}
+
+TEST_CASE("the TECS mission: SLC takes off, TECS holds the cruise") {
+  check_mission(fly_mission("tecs.yaml", "e2e_tecs"), "tecs");
+}
+
+TEST_CASE("a mission of mixed lat/lon and NED waypoints") {
+  const FlightResult r = fly_mission("mixed_lla_ned.yaml", "e2e_mixed");
+  check_mission(r, "slc");
+}
+
+TEST_CASE("the same seed flies the same flight, byte for byte") {
+  const FlightResult a = fly_mission("default.yaml", "e2e_det_a", 90.0);
+  const FlightResult b = fly_mission("default.yaml", "e2e_det_b", 90.0);
+  REQUIRE(a.ok);
+  REQUIRE(b.ok);
+  for (const auto& e : fs::directory_iterator(a.run_dir / "topics")) {
+    const std::string name = e.path().filename().string();
+    CHECK_MESSAGE(read_file(e.path()) == read_file(b.run_dir / "topics" / name), name);
+  }
+  CHECK(read_file(a.run_dir / "summary.json") == read_file(b.run_dir / "summary.json"));
+}
