@@ -175,12 +175,13 @@ class FcuSerial final : public tern::Plugin {
     }
     pull();
     if (clock_() == "fcu") {
-      if (!link_lost_) {
+      if (!link_lost_ && !imu_stalled_) {
         wait_for(now);
       } else {
         // The FCU is silent: flight time follows the wall clock until it speaks again (so the
         // host neither races ahead nor floods the link with commands).
-        for (std::int64_t left; (left = lost_wall_ + (now - lost_now_) - fcu::steady_ns()) > 0 && pending_.empty();) {
+        for (std::int64_t left; (left = lost_wall_ + (now - lost_now_) - fcu::steady_ns()) > 0;) {
+          if (link_lost_ ? !pending_.empty() : !imu_stalled_) break;  // data again / an IMU sample again
           link_->wait(left);
           pull();
         }
@@ -352,6 +353,7 @@ class FcuSerial final : public tern::Plugin {
     anchored_ = false;
     wall_anchored_ = false;
     link_lost_ = false;
+    imu_stalled_ = false;
     owed_command_ = false;
     last_cmd_index_ = -1;
     last_rx_ns_ = fcu::steady_ns();
@@ -402,6 +404,7 @@ class FcuSerial final : public tern::Plugin {
     for (std::size_t i = before; i < pending_.size(); ++i) {
       last_rx_ns_ = std::max(last_rx_ns_, pending_[i].rx_ns);
       if (pending_[i].frame.msgid == mav::SmallImu::kId) {
+        imu_stalled_ = false;
         newest_imu_fcu_ = static_cast<std::int64_t>(mav::SmallImu::unpack(pending_[i].frame.payload.data()).time_boot_us) * 1000;
       }
     }
@@ -429,7 +432,17 @@ class FcuSerial final : public tern::Plugin {
         if (fcu_stamp(*newest_imu_fcu_) >= now) return;
       }
       const std::int64_t left = deadline - fcu::steady_ns();
-      if (left <= 0) return;
+      if (left <= 0) {
+        // No IMU sample: until one arrives, flight time follows the wall clock (each step
+        // waiting wait_timeout would crawl). A silent link is reported by check_link().
+        imu_stalled_ = true;
+        lost_wall_ = fcu::steady_ns();
+        lost_now_ = now;
+        if (fcu::steady_ns() - last_rx_ns_ < tern::from_seconds(link_timeout_()))
+          log().warn("t={:.3f} s: no IMU sample from the FCU for {:.2f} s while other data arrives; flight time follows the wall clock",
+                     tern::to_seconds(now), wait_timeout_());
+        return;
+      }
       link_->wait(left);
       pull();
     }
@@ -459,6 +472,7 @@ class FcuSerial final : public tern::Plugin {
           log().warn("FCU rebooted: its clock went back from {:.3f} s to {:.3f} s; time re-anchored", *last_imu_fcu_ * 1e-9, t * 1e-9);
           anchored_ = false;
           timesync_.clear();
+          last_imu_fcu_ = t;  // the new epoch: a sample kept for the next step is not a second reboot
         }
         if (!anchored_ && clock_() == "fcu") {
           anchored_ = true;
@@ -628,7 +642,7 @@ class FcuSerial final : public tern::Plugin {
   fcu::TimeSync timesync_;
   fcu::LinkStats final_stats_;
 
-  bool anchored_ = false, wall_anchored_ = false, link_lost_ = false, owed_command_ = false;
+  bool anchored_ = false, wall_anchored_ = false, link_lost_ = false, imu_stalled_ = false, owed_command_ = false;
   std::int64_t anchor_fcu_ = 0, wall_anchor_ = 0;
   Nanos anchor_now_ = 0, wall_anchor_now_ = 0, last_imu_stamp_ = 0, stream_stamp_ = 0, lost_now_ = 0;
   std::optional<std::int64_t> newest_imu_fcu_, last_imu_fcu_;

@@ -2,6 +2,7 @@
 #include "tern_fcu_serial/link.hpp"
 
 #include <chrono>
+#include <deque>
 #include <stdexcept>
 
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange without it
@@ -71,7 +72,7 @@ struct Link::Impl {
   }
 
   void close_port() {
-    error_code ec;
+    error_code ec;  // a pending write completes with operation_aborted and clears the queue
     if (serial.is_open()) serial.close(ec);
     if (udp.is_open()) udp.close(ec);
     open = false;
@@ -137,23 +138,54 @@ struct Link::Impl {
       udp.async_receive_from(asio::buffer(buf), sender, handler);
   }
 
-  void write(const std::vector<std::uint8_t>& bytes) {
+  // Writes go out one at a time, asynchronously, so that stop() never waits on a port that
+  // does not drain (an FCU that stopped reading). At most kMaxQueuedWrites wait; beyond that the
+  // oldest is dropped and counted as a write error.
+  static constexpr std::size_t kMaxQueuedWrites = 256;
+  std::deque<std::vector<std::uint8_t>> writes;
+  bool writing = false;
+
+  void write(std::vector<std::uint8_t> bytes) {
     if (!open) return;
-    error_code ec;
-    if (link.opt_.kind == LinkOptions::Kind::serial)
-      asio::write(serial, asio::buffer(bytes), ec);
-    else
-      udp.send_to(asio::buffer(bytes), remote, 0, ec);
-    std::lock_guard lk(link.mu_);
-    if (ec) {
+    if (writes.size() >= kMaxQueuedWrites) {
+      writes.erase(writes.begin() + (writing ? 1 : 0));  // never the one being written
+      std::lock_guard lk(link.mu_);
       ++link.stats_.write_errors;
-    } else {
-      link.stats_.bytes_sent += bytes.size();
     }
-    // UDP: the FCU not listening yet (connection refused) is not a link failure.
-    if (ec && link.opt_.kind == LinkOptions::Kind::serial) {
-      asio::post(io, [this, ec] { on_error("write failed", ec); });
+    writes.push_back(std::move(bytes));
+    if (!writing) write_next();
+  }
+
+  void write_next() {
+    if (writes.empty() || !open) {
+      writing = false;
+      return;
     }
+    writing = true;
+    auto done = [this](const error_code& ec, std::size_t n) {
+      writing = false;
+      if (ec == asio::error::operation_aborted) {
+        writes.clear();
+        return;
+      }
+      {
+        std::lock_guard lk(link.mu_);
+        if (ec) ++link.stats_.write_errors;
+        else link.stats_.bytes_sent += n;
+      }
+      if (!writes.empty()) writes.pop_front();
+      // UDP: the FCU not listening yet (connection refused) is not a link failure.
+      if (ec && link.opt_.kind == LinkOptions::Kind::serial) {
+        writes.clear();
+        on_error("write failed", ec);
+        return;
+      }
+      write_next();
+    };
+    if (link.opt_.kind == LinkOptions::Kind::serial)
+      asio::async_write(serial, asio::buffer(writes.front()), done);
+    else
+      udp.async_send_to(asio::buffer(writes.front()), remote, done);
   }
 };
 
@@ -181,7 +213,7 @@ void Link::stop() {
 
 void Link::send(std::vector<std::uint8_t> bytes) {
   if (!impl_) return;
-  asio::post(impl_->io, [this, b = std::move(bytes)] { impl_->write(b); });
+  asio::post(impl_->io, [this, b = std::move(bytes)]() mutable { impl_->write(std::move(b)); });
 }
 
 std::size_t Link::drain(std::deque<Received>& out) {

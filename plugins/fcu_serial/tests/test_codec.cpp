@@ -152,14 +152,17 @@ TEST_CASE("parser: bad CRC, unknown id, wrong length and garbage are counted, va
   Encoder enc(1, 1);
   Timesync ts; ts.tc1 = 1; ts.ts1 = 2;
   std::vector<std::uint8_t> stream;
-  stream.insert(stream.end(), {0x00, 0x11, 0x22});  // garbage
+  auto add = [&](const std::vector<std::uint8_t>& bytes) {
+    for (std::uint8_t b : bytes) stream.push_back(b);
+  };
+  add({0x00, 0x11, 0x22});  // garbage
   auto bad = enc.frame(ts);
   bad[10] ^= 0x40;  // payload bit flip -> CRC fails
-  stream.insert(stream.end(), bad.begin(), bad.end());
-  stream.insert(stream.end(), {0xFE, 3, 0, 1, 1, 77, 0, 0, 0, 0, 0});  // id 77 is not in the dialect
-  stream.insert(stream.end(), {0xFE, 5, 0, 1, 1, 111, 1, 2, 3, 4, 5, 0, 0});  // TIMESYNC with 5 bytes
+  add(bad);
+  add({0xFE, 3, 0, 1, 1, 77, 0, 0, 0, 0, 0});  // id 77 is not in the dialect
+  add({0xFE, 5, 0, 1, 1, 111, 1, 2, 3, 4, 5, 0, 0});  // TIMESYNC with 5 bytes
   const auto good = enc.frame(ts);
-  stream.insert(stream.end(), good.begin(), good.end());
+  add(good);
   Parser p;
   const auto frames = parse_all(p, stream);
   REQUIRE(frames.size() == 1);

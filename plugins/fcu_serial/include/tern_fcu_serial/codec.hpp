@@ -15,7 +15,6 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -59,9 +58,10 @@ class Parser {
     for (std::size_t i = 0; i < n; ++i) {
       ++stats_.bytes;
       consume(data[i], on_frame);
-      while (!replay_.empty()) {
-        const std::uint8_t b = replay_.front();
-        replay_.pop_front();
+      while (replay_size_ > 0) {
+        const std::uint8_t b = replay_[replay_head_];
+        replay_head_ = (replay_head_ + 1) % replay_.size();
+        --replay_size_;
         consume(b, on_frame);
       }
     }
@@ -71,7 +71,7 @@ class Parser {
   void reset() {
     state_ = State::idle;
     n_ = 0;
-    replay_.clear();
+    replay_size_ = 0;
   }
 
  private:
@@ -138,7 +138,13 @@ class Parser {
   /// The frame starting at buf_[0] is invalid: drop its start byte, scan the rest again.
   void fail() {
     ++stats_.skipped;
-    for (std::size_t i = n_; i-- > 1;) replay_.push_front(buf_[i]);
+    // Bytes waiting for replay all come from one candidate frame plus what remained of the
+    // previous replay, which was itself inside that frame: never more than one frame's length.
+    for (std::size_t i = n_; i-- > 1;) {
+      replay_head_ = (replay_head_ + replay_.size() - 1) % replay_.size();
+      replay_[replay_head_] = buf_[i];
+      ++replay_size_;
+    }
     n_ = 0;
     state_ = State::idle;
   }
@@ -148,7 +154,8 @@ class Parser {
   std::size_t n_ = 0;
   const MessageInfo* info_ = nullptr;
   Frame frame_;
-  std::deque<std::uint8_t> replay_;
+  std::array<std::uint8_t, 2 * kMaxFrameLength> replay_{};  ///< ring buffer of bytes to scan again
+  std::size_t replay_head_ = 0, replay_size_ = 0;
   ParserStats stats_;
   std::vector<bool> seen_ = std::vector<bool>(65536, false);
   std::vector<std::uint8_t> last_seq_ = std::vector<std::uint8_t>(65536, 0);
