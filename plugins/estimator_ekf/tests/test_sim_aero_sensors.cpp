@@ -47,8 +47,8 @@ TEST_CASE("with sim_aero's sensor models: loose accuracy bounds over 200 s, 3 se
                 static_cast<int>(seed), roll.rms(), pitch.rms(), yaw.rms(), vel.rms(), alt.rms(), pos.rms(),
                 wind.rms());
     INFO("seed " << seed);
-    CHECK(roll.rms() < 0.4);
-    CHECK(pitch.rms() < 0.4);
+    CHECK(roll.rms() < 0.6);
+    CHECK(pitch.rms() < 0.6);
     CHECK(yaw.rms() < 2.5);
     CHECK(vel.rms() < 0.1);
     CHECK(alt.rms() < 0.5);

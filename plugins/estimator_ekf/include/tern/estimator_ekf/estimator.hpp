@@ -57,8 +57,8 @@ struct EstimatorConfig {
   int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
   double gnss_pos_sigma_h = 0.1;      ///< white part of the GNSS position noise, m
   double gnss_pos_sigma_v = 0.2;      ///< m
-  double gnss_vel_sigma_h = 0.02;     ///< m/s (receiver: 0.01; doubled for timing and lever arm)
-  double gnss_vel_sigma_v = 0.02;     ///< m/s
+  double gnss_vel_sigma_h = 0.01;     ///< m/s
+  double gnss_vel_sigma_v = 0.01;     ///< m/s
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset

@@ -126,7 +126,7 @@ struct ProcessNoise {
   double gyro = 0.0023;           ///< gyro white noise, 1 sigma per sample, rad/s
   double gyro_bias_walk = 2e-4;   ///< gyro-bias random walk, rad/s/sqrt(s)
   double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
-  double wind_walk = 0.3;         ///< horizontal-wind random walk, m/s/sqrt(s) (follows slow gusts)
+  double wind_walk = 0.5;         ///< horizontal-wind random walk, m/s/sqrt(s) (follows slow gusts)
   double baro_bias_walk = 0.05;   ///< barometer-bias random walk, m/sqrt(s)
   double position = 0.0;          ///< extra position random walk (model error), m/sqrt(s)
   double gnss_error_walk_h = 0.21;  ///< GNSS horizontal error driving noise, m/sqrt(s)
