@@ -90,7 +90,14 @@ fi
 cmake -S "$work/plugins" -B "$work/plugins/build" "${gen[@]}" "${launcher[@]}" -DCMAKE_PREFIX_PATH="$prefix" \
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -DNDEBUG" \
   > "$work/configure.log" 2>&1 || { tail -30 "$work/configure.log"; fail "configure of the generated projects"; }
-if grep -rq -- "$build" "$work/plugins/build/CMakeCache.txt"; then fail "the generated projects see tern's build tree"; fi
+# tern comes from the prefix, and nothing points into tern's source or build tree (the work
+# directory itself may be inside the build tree)
+tern_dir="$(sed -n 's/^tern_DIR:PATH=//p' "$work/plugins/build/CMakeCache.txt")"
+[ "$tern_dir" = "$prefix/$libdir/cmake/tern" ] || fail "find_package(tern) found '$tern_dir', not the prefix"
+source_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+if grep -v -- "$work" "$work/plugins/build/CMakeCache.txt" | grep -q -e "$build" -e "$source_dir/"; then
+  fail "the generated projects see tern's source or build tree"
+fi
 cmake --build "$work/plugins/build" -j 2 > "$work/build.log" 2>&1 || { grep -B2 -A10 -m3 'error' "$work/build.log"; fail "build of the generated projects"; }
 if grep -q 'warning:' "$work/build.log"; then grep -m5 'warning:' "$work/build.log"; fail "the generated projects compile with warnings"; fi
 ctest --test-dir "$work/plugins/build" --output-on-failure -j 2 > "$work/ctest.log" 2>&1 || { cat "$work/ctest.log"; fail "ctest of the generated projects"; }
