@@ -7,7 +7,8 @@
 #     and the installed `tern` runs from the prefix (RPATH $ORIGIN/../lib).
 #  2. `tern new-plugin` (through the installed `tern`) writes one project of every kind; they are
 #     built out of tree against the prefix alone (one CMake project holding the six, to build
-#     them in one go) and their ctest runs (unit tests + `tern check` of each mission snippet).
+#     them in one go) and their ctest runs (unit tests, `tern check` and a 10 s `tern fly` of
+#     each mission snippet).
 #  3. The generated controller flies 20 s of simulated flight (sim_aero, truth as state): the
 #     run ends normally, the log is written, the aircraft stays airborne and near wings level.
 # WORK_DIR (default: BUILD_DIR/sdk_install_test, emptied first, removed on success) keeps
@@ -102,7 +103,7 @@ cmake --build "$work/plugins/build" -j 2 > "$work/build.log" 2>&1 || { grep -B2 
 if grep -q 'warning:' "$work/build.log"; then grep -m5 'warning:' "$work/build.log"; fail "the generated projects compile with warnings"; fi
 ctest --test-dir "$work/plugins/build" --output-on-failure -j 2 > "$work/ctest.log" 2>&1 || { cat "$work/ctest.log"; fail "ctest of the generated projects"; }
 n_tests="$(grep -c 'Test *#' "$work/ctest.log" || true)"
-[ "$n_tests" -eq 12 ] || { cat "$work/ctest.log"; fail "expected 12 tests of the generated projects, ran $n_tests"; }
+[ "$n_tests" -eq 18 ] || { cat "$work/ctest.log"; fail "expected 18 tests of the generated projects, ran $n_tests"; }
 for k in $kinds; do
   [ -f "$work/plugins/build/plugins/libtern_my_$k.so" ] || fail "libtern_my_$k.so not built in build/plugins"
 done
