@@ -479,7 +479,9 @@ class FcuSerial final : public tern::Plugin {
           anchor_fcu_ = t;
           anchor_now_ = last_imu_fcu_ ? std::max(now, last_imu_stamp_ + 1) : now;
         }
-        const Nanos stamp = stamp_of_fcu_time(t, r.rx_ns);
+        Nanos stamp = stamp_of_fcu_time(t, r.rx_ns);
+        // IMU stamps never go back (clock wall: the TIMESYNC estimate can move by a little)
+        if (last_imu_fcu_ && stamp <= last_imu_stamp_) stamp = last_imu_stamp_ + 1;
         if (stamp > now) break;  // a later sample: the next step publishes it
         msg::Imu out;
         out.stamp = stamp;

@@ -53,15 +53,6 @@ struct Pty {
   }
 };
 
-std::string run(const std::string& cmd, int& status) {
-  std::string out;
-  FILE* f = popen(cmd.c_str(), "r");
-  REQUIRE(f != nullptr);
-  char buf[512];
-  while (std::fgets(buf, sizeof buf, f)) out += buf;
-  status = pclose(f);
-  return out;
-}
 }  // namespace
 
 TEST_CASE("link: frames both ways over a pseudo-terminal; stop() joins") {
@@ -143,6 +134,16 @@ TEST_CASE("link: UDP both ways (ROSflight SIL ports)") {
 
 namespace {
 const std::string kAircraft = TERN_AIRCRAFT_DIR "/anaconda.yaml";
+
+std::string run(const std::string& cmd, int& status) {
+  std::string out;
+  FILE* f = popen(cmd.c_str(), "r");
+  REQUIRE(f != nullptr);
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, f)) out += buf;
+  status = pclose(f);
+  return out;
+}
 
 std::string start_emulator(std::unique_ptr<ChildProcess>& p, std::vector<std::string> args) {
   std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft};
