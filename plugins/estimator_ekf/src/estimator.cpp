@@ -112,6 +112,7 @@ void Estimator::reset() {
   last_diff_stamp_ = -1;
   rate_.setZero();
   gnss_reject_since_ = -1;
+  output_offset_.setZero();
   filter_ = Filter{};
   for (auto& c : counters_) {
     c.timed_out = false;
@@ -208,7 +209,13 @@ bool Estimator::add_imu(const msg::Imu& m) {
     push(m.stamp, EventKind::imu_gap, Sensor::imu, dt);
     dt = cfg_.imu_max_dt;
   }
-  if (dt > 0.0) filter_.propagate(m.accel, m.gyro, dt, cfg_.process, cfg_.gravity);
+  if (dt > 0.0) {
+    filter_.propagate(m.accel, m.gyro, dt, cfg_.process, cfg_.gravity);
+    if (!output_offset_.isZero()) {
+      output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
+      if (output_offset_.norm() < 1e-4) output_offset_.setZero();
+    }
+  }
   rate_ = m.gyro - filter_.x().b_g;
   if (!filter_.healthy()) {
     ++filter_resets_;
@@ -279,7 +286,9 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) &&
                   m.vel.allFinite() && std::fabs(m.lat) <= 90.0 && std::fabs(m.lon) <= 180.0 &&
                   m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
+  const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
+  const Vec3 p_before = filter_.x().p;
   if (!origin_) {
     origin_.emplace(m.lat, m.lon, m.alt);
     origin_lat_ = m.lat;
@@ -323,6 +332,8 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     gnss_reject_since_ = -1;
   }
   filter_.update(gnss_vel_, m.vel);
+  // First GNSS after a time-out: hide the position jump from the output, then let it decay.
+  if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
 }
 
@@ -391,9 +402,9 @@ void Estimator::fill_state(msg::State& s) const {
   s.origin_alt = origin_alt_;
   s.origin_valid = origin_.has_value();
   s.valid = initialized_;
-  s.p_n = x.p.x();
-  s.p_e = x.p.y();
-  s.p_d = x.p.z();
+  s.p_n = x.p.x() + output_offset_.x();
+  s.p_e = x.p.y() + output_offset_.y();
+  s.p_d = x.p.z() + output_offset_.z();
   s.v_n = x.v.x();
   s.v_e = x.v.y();
   s.v_d = x.v.z();

@@ -11,7 +11,8 @@ GnssPosition::Jac GnssPosition::jacobian(const NominalState& /*x*/) const {
 }
 
 GnssPosition::Noise GnssPosition::noise(const NominalState& /*x*/) const {
-  return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
+  const double sh = sigma_h, sv = sigma_v;
+  return Eigen::Vector3d(sh * sh, sh * sh, sv * sv).asDiagonal();
 }
 
 GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& /*x*/) const {

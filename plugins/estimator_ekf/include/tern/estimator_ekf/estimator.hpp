@@ -23,7 +23,11 @@
 // NaN/Inf or out-of-range samples are rejected and counted, never used. A sensor that was
 // heard from and falls silent longer than its time-out raises a sensor_timeout event (and
 // sensor_recovered when it comes back). GNSS positions rejected by the gate for longer than
-// gnss_reset_time reset position and velocity to the GNSS solution (a gnss_reset event).
+// gnss_reset_time reset position and velocity to the GNSS solution (a gnss_reset event). After
+// a GNSS time-out (dead reckoning on IMU, airspeed and wind) the filter takes the returning
+// GNSS at once, but the published position blends the correction in: the jump goes into an
+// output offset that decays with time constant gnss_recovery_time (the filter stays optimal,
+// the controllers see no step).
 #pragma once
 
 #include <array>
@@ -62,6 +66,8 @@ struct EstimatorConfig {
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset
+  double gnss_recovery_time = 2.0;    ///< s: after a GNSS time-out, the position correction
+                                      ///< reaches the output with this time constant
   // magnetometer
   double mag_declination = 0.1857972802;  ///< rad
   double mag_inclination = 1.139436457;   ///< rad
@@ -218,6 +224,7 @@ class Estimator {
   Nanos imu_stamp_ = -1;
   Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro
   Nanos gnss_reject_since_ = -1;
+  Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)
   std::uint64_t gnss_resets_ = 0, filter_resets_ = 0;
   std::array<SensorCounters, kSensorCount> counters_{};
   std::vector<Event> events_;
