@@ -613,10 +613,10 @@ class FcuSerial final : public tern::Plugin {
   void log_link_summary() {
     const fcu::LinkStats s = link_->stats();
     log().info("link: {} frames, {} bad CRC, {} unknown id, {} bad length, {} bytes skipped, {} queue drops, "
-               "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s rtt {:.3f} ms",
+               "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s rtt {:.3f} ms ({} answers, {} too slow)",
                s.parser.frames, s.parser.bad_crc, s.parser.unknown_id, s.parser.bad_length, s.parser.skipped,
                s.queue_dropped, commands_sent_, link_losses_, reboots_, timesync_.offset() * 1e-9,
-               timesync_.last_rtt() * 1e-6);
+               timesync_.last_rtt() * 1e-6, timesync_.samples(), timesync_.rejected());
   }
 
   tern::Input<msg::Actuators> actuators_in_;

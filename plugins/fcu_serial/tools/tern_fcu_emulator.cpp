@@ -288,7 +288,9 @@ class Emulator {
   }
 
  private:
-  std::int64_t fcu_time() const { return t_ - boot_; }
+  /// The FCU's clock (time since its boot): streaming starts 1 s after power-up, so it is never
+  /// 0 (a TIMESYNC answer with tc1 = 0 would read as a request).
+  std::int64_t fcu_time() const { return t_ - boot_ + 1'000'000'000; }
   bool silent(std::int64_t t) const { return silence_ && t >= silence_->first && t < silence_->second; }
   bool overridden(std::int64_t t) const { return override_ && t >= override_->first && t < override_->second; }
 
