@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <string>
 #include <thread>
 
@@ -128,6 +129,34 @@ TEST_CASE("link: UDP both ways (ROSflight SIL ports)") {
   }
   REQUIRE(rx.size() == 1);
   CHECK(rx[0].frame.msgid == mav::SmallMag::kId);
+}
+
+TEST_CASE("plugin: bad parameters and a missing port are one clear line each") {
+  using tern::fcu_serial::FcuSerial;
+  auto make = [](std::map<std::string, tern::ParamValue> p) {
+    return tern::testing::Harness(std::make_unique<FcuSerial>(), std::move(p));
+  };
+  CHECK_THROWS_WITH_AS(make({{"channels", std::vector<double>{0, 1, 1, 3}}}),
+                       doctest::Contains("rudder and elevator share channel 1"), tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"channels", std::vector<double>{0, 1.5, 2, 3}}}), doctest::Contains("not a whole number"),
+                       tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"signs", std::vector<double>{1, 0.5, 1, 1}}}), doctest::Contains("sign must be +1 or -1"),
+                       tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"rc_channels", std::vector<double>{0, 1, 3, 4}}}), doctest::Contains("mapped twice"),
+                       tern::ParamError);
+  CHECK_THROWS_AS(make({{"command_rate", 20.0}}), tern::ParamError);  // below the FCU's 50 Hz
+  CHECK_THROWS_AS(make({{"transport", std::string("can")}}), tern::ParamError);
+  auto h = make({{"device", std::string("/dev/tern-no-such-fcu")}});
+  CHECK_THROWS_WITH_AS(h.start(), doctest::Contains("cannot open serial /dev/tern-no-such-fcu @ 921600"), std::runtime_error);
+  auto quiet = make({{"max_deflection", std::vector<double>{0.5, 0.4, 0.3}}});
+  CHECK(static_cast<FcuSerial&>(quiet.plugin()).actuator_mapping().max_deflection[2] == 0.3);
+}
+
+TEST_CASE("plugin: start() fails in one line when the FCU does not stream") {
+  Pty pty;  // a port where nobody answers
+  tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(),
+                           {{"device", std::string(pty.name)}, {"connect_timeout", 0.3}});
+  CHECK_THROWS_WITH_AS(h.start(), doctest::Contains("no IMU data (SMALL_IMU) from the FCU on serial"), std::runtime_error);
 }
 
 #ifdef TERN_FCU_EMULATOR
