@@ -11,6 +11,10 @@ namespace tern::core::ddsi {
 using eprosima::fastrtps::rtps::IPLocator;
 using eprosima::fastrtps::rtps::Locator_t;
 
+namespace {
+constexpr std::uint32_t kInitialPeersRange = 32;
+}
+
 fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string& name) {
   fdds::DomainParticipantQos q = fdds::PARTICIPANT_QOS_DEFAULT;
   q.name(name);
@@ -18,6 +22,9 @@ fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string
   q.transport().use_builtin_transports = false;
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();
   for (const auto& i : o.interfaces) udp->interfaceWhiteList.push_back(i);
+  // discovery without multicast reaches a peer's participant ids 0..range-1 on each peer
+  // address: a process may hold several participants (bridge, command line, tests)
+  udp->maxInitialPeersRange = kInitialPeersRange;
   q.transport().user_transports.push_back(udp);
   auto& b = q.wire_protocol().builtin;
   b.initialPeersList.clear();

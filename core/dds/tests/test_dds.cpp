@@ -63,6 +63,9 @@ struct Flight {
     thread.join();
     return result;
   }
+  ~Flight() {
+    if (thread.joinable()) thread.join();  // a failed check mid-flight: let the flight end
+  }
   std::unique_ptr<Host> host;
   std::thread thread;
   FlightResult result;
@@ -237,6 +240,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
   CHECK(kp.unit == "1/m");
   CHECK(kp.max == 10.0);
   f.start();
+  REQUIRE(ddsi::wait_until([&] { return bridge.samples_written("state") > 10; }, std::chrono::seconds(5)));
   client.param_set("ctl.tag", 0.25);
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 50.0), doctest::Contains("ctl.kp"), DdsError);
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kq", 0.1), "unknown parameter 'ctl.kq' (did you mean 'ctl.kp'?)", DdsError);
@@ -284,8 +288,8 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   wp.Va_d = 18.0;
   wp.chi_d = 0.5;
   wp.use_chi = true;
-  client.mission_add(wp, false, true);
   client.mission_clear();
+  client.mission_add(wp, false, true);
   wp.Va_d = -1;
   CHECK_THROWS_WITH_AS(client.mission_add(wp), doctest::Contains("va_d > 0"), DdsError);
   CHECK_THROWS_WITH_AS(client.mission_load("no_such_mission.yaml"), doctest::Contains("no such file on the vehicle"), DdsError);
@@ -308,8 +312,18 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
   const auto rows = lines(read_file(r.run_dir / "topics" / "mission_edit.csv"));
   REQUIRE(rows.size() == 3);
-  CHECK(rows[1].find(",1,0,100,-50,-40,0,0.5,1,18,0,1,") != std::string::npos);  // id 1, add, w, lla, chi_d, use_chi, Va_d, set_current, publish_now
-  CHECK(rows[2].find(",2,1,") != std::string::npos);                              // id 2, clear
+  CHECK(rows[1].find(",1,1,0,1,") != std::string::npos);  // id 1: clear
+  CHECK(rows[2].find(",2,0,0,1,") != std::string::npos);  // id 2: add, set_current false, publish_now true
+  // the waypoint as the planner received it (the last edit on the topic)
+  const auto* src = f.host->topic_source("mission_edit");
+  REQUIRE(src != nullptr);
+  const auto& e = *static_cast<const tern::msg::MissionEdit*>(src->data());
+  CHECK(e.id == 2);
+  CHECK(e.waypoint.w == Eigen::Vector3d(100.0, -50.0, -40.0));
+  CHECK(e.waypoint.Va_d == 18.0);
+  CHECK(e.waypoint.chi_d == 0.5);
+  CHECK(e.waypoint.use_chi);
+  CHECK_FALSE(e.waypoint.lla);
 }
 
 TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
