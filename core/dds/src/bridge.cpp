@@ -116,7 +116,8 @@ struct DdsBridge::Impl {
       if (src == nullptr) continue;
       const std::uint64_t seq = src->sequence();
       if (seq == 0 || (src == w->last_src && seq == w->last_seq)) continue;
-      if (w->last_src != nullptr && w->interval > 0 && now - w->last_t < w->interval) continue;
+      // (a new flight restarts the clock: now < last_t publishes at once)
+      if (w->last_src != nullptr && w->interval > 0 && now >= w->last_t && now - w->last_t < w->interval) continue;
       w->last_src = src;
       w->last_seq = seq;
       w->last_t = now;
