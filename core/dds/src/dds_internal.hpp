@@ -108,8 +108,13 @@ class ServiceServer final : public fdds::DataReaderListener {
         writer_->get_publication_matched_status(st);
         return st.current_count > 0;
       }, std::chrono::milliseconds(1000));
+      // as rmw_fastrtps: a client that names its reply reader (related_sample_identity's
+      // writer GUID) gets the reply under that GUID, with its request's sequence number
+      eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;
+      if (info.related_sample_identity.writer_guid() != eprosima::fastrtps::rtps::GUID_t::unknown())
+        id.writer_guid(info.related_sample_identity.writer_guid());
       eprosima::fastrtps::rtps::WriteParams wp;
-      wp.related_sample_identity(info.sample_identity);
+      wp.related_sample_identity(id);
       writer_->write(&resp, wp);
     }
   }
@@ -145,15 +150,20 @@ class ServiceClient {
       return ps.current_count > 0 && ss.current_count > 0;
     }, timeout);
     if (!matched) return false;
+    // the request names this client's reply reader (rmw_fastrtps convention); the reply comes
+    // back with related_sample_identity = (reader GUID, request sequence number)
     eprosima::fastrtps::rtps::WriteParams wp;
+    wp.related_sample_identity().writer_guid(reader_->guid());
     if (!writer_->write(const_cast<Req*>(&req), wp)) return false;
-    const auto sid = wp.sample_identity();
+    const auto seq = wp.sample_identity().sequence_number();
     for (;;) {
       const auto left = timeout - std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
       if (left.count() <= 0) return false;
       fdds::SampleInfo info;
       if (reader_->take_next_sample(&resp, &info) == ReturnCode_t::RETCODE_OK) {
-        if (info.valid_data && info.related_sample_identity == sid) return true;
+        if (info.valid_data && info.related_sample_identity.sequence_number() == seq &&
+            info.related_sample_identity.writer_guid() == reader_->guid())
+          return true;
         continue;
       }
       reader_->wait_for_unread_message(Duration(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));

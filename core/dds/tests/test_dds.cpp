@@ -331,6 +331,21 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   CHECK_FALSE(e.waypoint.lla);
 }
 
+TEST_CASE("dds: replies reach the client that asked (sample identity), with two clients asking at once") {
+  const DdsOptions opt = options_on(45);
+  Flight f("dds_two_clients", 1.0);
+  DdsBridge bridge(*f.host, opt);
+  DdsClient a(opt, std::chrono::seconds(5)), b(opt, std::chrono::seconds(5));
+  std::vector<std::string> got_a, got_b;
+  std::thread ta([&] {
+    for (int i = 0; i < 20; ++i) got_a.push_back(a.param_get("ctl.kp").name);
+  });
+  for (int i = 0; i < 20; ++i) got_b.push_back(b.param_get("sensor.noise").name);
+  ta.join();
+  CHECK(got_a == std::vector<std::string>(20, "ctl.kp"));
+  CHECK(got_b == std::vector<std::string>(20, "sensor.noise"));
+}
+
 TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
   DdsClient client(options_on(44), std::chrono::milliseconds(300));
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
