@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "loader.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;
@@ -83,4 +84,21 @@ TEST_CASE("the same seed flies the same flight, byte for byte") {
     CHECK_MESSAGE(read_file(e.path()) == read_file(b.run_dir / "topics" / name), name);
   }
   CHECK(read_file(a.run_dir / "summary.json") == read_file(b.run_dir / "summary.json"));
+}
+
+TEST_CASE("every stock plugin of the default mission unloads for real when the host goes") {
+  std::vector<fs::path> libs;
+  {
+    HostOptions o;
+    o.quiet = true;
+    o.log_dir = test_dir() / "e2e_unload";
+    o.duration = 1.0;
+    Host h(load_config(kMissions / "default.yaml"), o);
+    h.build();
+    for (const auto& inst : h.instances())
+      if (inst->lib) libs.push_back(inst->info.path);
+    REQUIRE(h.fly().ok);
+  }
+  REQUIRE(libs.size() == 6);
+  for (const auto& p : libs) CHECK_MESSAGE(!is_loaded(p), p.string() << " is still mapped after the host unloaded it");
 }

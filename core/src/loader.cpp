@@ -70,9 +70,15 @@ std::vector<fs::path> plugin_search_path(const std::vector<fs::path>& config_dir
       start = colon + 1;
     }
   }
-  const std::string build_dir = TERN_BUILD_PLUGIN_DIR;
-  if (!build_dir.empty() && fs::is_directory(build_dir)) out.emplace_back(build_dir);
+  // The plugins that came with this tern binary: next to it in an install prefix
+  // (<prefix>/bin/tern -> <prefix>/lib/tern/plugins), or the build tree's when the binary is
+  // the build tree's.
   const fs::path exe_dir = self_dir();
+  const std::string build_dir = TERN_BUILD_PLUGIN_DIR;
+  std::error_code ec;
+  const bool in_build_tree = !build_dir.empty() && !exe_dir.empty() &&
+                             fs::equivalent(fs::path(build_dir).parent_path(), exe_dir.parent_path(), ec);
+  if (in_build_tree && fs::is_directory(build_dir)) out.emplace_back(build_dir);
   if (!exe_dir.empty()) {
     const fs::path rel = (exe_dir / ".." / "lib" / "tern" / "plugins").lexically_normal();
     if (fs::is_directory(rel)) out.push_back(rel);

@@ -34,7 +34,8 @@ fs::path exe_dir() {
 }
 
 fs::path default_config() {
-  for (const fs::path& base : {fs::path(TERN_SOURCE_DIR), exe_dir() / ".." / "share" / "tern", fs::path(TERN_INSTALL_DATA_DIR)}) {
+  // an installed tern: <prefix>/share/tern; a build tree's tern: the source tree
+  for (const fs::path& base : {exe_dir() / ".." / "share" / "tern", fs::path(TERN_SOURCE_DIR), fs::path(TERN_INSTALL_DATA_DIR)}) {
     if (base.empty()) continue;
     const fs::path p = (base / "configs" / "missions" / "default.yaml").lexically_normal();
     if (fs::exists(p)) return p;
@@ -129,7 +130,8 @@ int main(int argc, char** argv) {
                "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
-  app.footer("More commands, when built: tern aero (aircraft models, trim), tern plot (figures of a flight).");
+  app.footer("More commands: tern plot RUN_DIR (figures of a flight), tern aero (aircraft models, trim),\n"
+             "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
   std::string config;
   std::optional<std::uint64_t> seed;
