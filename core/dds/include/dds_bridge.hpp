@@ -112,6 +112,7 @@ struct DdsStatus {
   std::string phase;
   std::uint32_t flights = 0;
   std::vector<std::pair<std::string, std::string>> topics;  ///< DDS topic name, DDS type name
+  std::vector<DdsQos> qos;  ///< of each topic
 };
 
 /// The ground side (the `tern` command's topics/echo/param/mission subcommands): a participant

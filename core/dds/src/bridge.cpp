@@ -33,6 +33,7 @@ struct Writer {
   fdds::DataWriter* writer = nullptr;
   std::shared_ptr<void> sample;
   Nanos interval = 0;
+  DdsQos qos = DdsQos::best_effort;
   const OutputBase* last_src = nullptr;
   std::uint64_t last_seq = 0;
   Nanos last_t = 0;
@@ -344,6 +345,7 @@ struct DdsBridge::Impl {
           for (const auto& w : writers) {
             r.topics().push_back(topic_name(options.ns, w->dds_name));
             r.types().push_back(w->type->dds_type);
+            r.qos().push_back(static_cast<std::uint8_t>(w->qos));
           }
           return r;
         }));
@@ -390,6 +392,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
     fdds::Topic* t = m.participant->create_topic(topic_name(options.ns, to->name), ts.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
     const DdsQos q = to->qos.value_or(to->topic == "waypoints" || to->topic == "flight_phase" ? DdsQos::transient_local
                                                                                               : DdsQos::best_effort);
+    w->qos = q;
     if (t != nullptr) w->writer = m.publisher->create_datawriter(t, writer_qos(q));
     if (t == nullptr || w->writer == nullptr) throw DdsError("DDS: cannot create a writer for " + topic_name(options.ns, to->name));
     w->sample = type->make_sample();

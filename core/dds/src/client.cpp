@@ -56,7 +56,10 @@ DdsStatus DdsClient::status() {
   s.flight_time = r.flight_time().sec() + r.flight_time().nanosec() * 1e-9;
   s.phase = r.phase_name();
   s.flights = r.flights();
-  for (std::size_t i = 0; i < r.topics().size() && i < r.types().size(); ++i) s.topics.emplace_back(r.topics()[i], r.types()[i]);
+  for (std::size_t i = 0; i < r.topics().size() && i < r.types().size(); ++i) {
+    s.topics.emplace_back(r.topics()[i], r.types()[i]);
+    s.qos.push_back(i < r.qos().size() && r.qos()[i] <= 2 ? static_cast<DdsQos>(r.qos()[i]) : DdsQos::best_effort);
+  }
   return s;
 }
 
@@ -133,10 +136,14 @@ void DdsClient::echo(const std::string& topic, const std::function<bool(const st
   const DdsStatus st = status();
   const std::string name = topic.rfind("rt/", 0) == 0 ? topic : topic_name(impl_->options.ns, topic);
   const TypeEntry* type = nullptr;
+  DdsQos qos = DdsQos::best_effort;
   std::vector<std::string> names;
-  for (const auto& [n, t] : st.topics) {
-    names.push_back(n);
-    if (n == name) type = find_dds_type(t);
+  for (std::size_t i = 0; i < st.topics.size(); ++i) {
+    names.push_back(st.topics[i].first);
+    if (st.topics[i].first == name) {
+      type = find_dds_type(st.topics[i].second);
+      qos = st.qos[i];
+    }
   }
   if (type == nullptr) {
     std::string list;
@@ -148,8 +155,8 @@ void DdsClient::echo(const std::string& topic, const std::function<bool(const st
   if (p->find_type(tsup.get_type_name()).empty()) tsup.register_type(p);
   fdds::Topic* t = p->create_topic(name, tsup.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   if (t == nullptr) throw DdsError("DDS: cannot create topic " + name);
-  // best-effort, volatile: matches every writer QoS (and gets the last mission from none: use print)
-  fdds::DataReader* r = impl_->subscriber->create_datareader(t, reader_qos(DdsQos::best_effort));
+  // the writer's QoS: a transient-local topic (waypoints, flight_phase) gives its last sample at once
+  fdds::DataReader* r = impl_->subscriber->create_datareader(t, reader_qos(qos));
   if (r == nullptr) throw DdsError("DDS: cannot create a reader for " + name);
   struct Cleanup {
     fdds::Subscriber* s;

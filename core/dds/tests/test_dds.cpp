@@ -45,12 +45,12 @@ DdsOptions options_on(std::uint32_t domain) {
 
 /// A host flying the standard test flight, paced to wall time so that requests arrive mid-flight.
 struct Flight {
-  explicit Flight(const std::string& name, double duration) {
+  Flight(const std::string& name, double duration, const std::string& top_extra = "") {
     HostOptions o;
     o.quiet = true;
     o.realtime = true;
     o.log_dir = test_dir() / name;
-    std::string cfg = base_config();
+    std::string cfg = base_config("", top_extra);
     cfg.replace(cfg.find("duration: 2"), 11, "duration: " + std::to_string(duration));
     host = std::make_unique<Host>(load_config(write_file(name + ".yaml", cfg)), o);
     host->build();
@@ -283,8 +283,9 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
 }
 
 TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
-  const DdsOptions opt = options_on(43);
-  Flight f("dds_mission", 1.5);
+  DdsOptions opt = options_on(43);
+  opt.topics[0].rate = 20;  // state at 20 Hz (it is published at 400 Hz)
+  Flight f("dds_mission", 1.5, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\n");
   DdsBridge bridge(*f.host, opt);
   DdsClient client(opt, std::chrono::seconds(5));
   f.start();
@@ -302,7 +303,8 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   const DdsStatus st = client.status();
   CHECK(st.mission == "hostcheck");
   CHECK(st.flying);
-  REQUIRE(st.topics.size() == 3);
+  REQUIRE(st.topics.size() == 4);  // state, controller_internals, flight_phase, actuators
+  CHECK(st.qos[2] == DdsQos::transient_local);
   CHECK(st.topics[0] == std::pair<std::string, std::string>("rt/tern/state", "rosplane_msgs::msg::dds_::State_"));
   std::string echoed;
   client.echo("state", [&](const std::string& s) {
@@ -310,8 +312,18 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
     return false;
   });
   CHECK(echoed.find("va: 15\n") != std::string::npos);
+  // flight_phase is transient-local: echo gets the last phase at once, even if it does not change
+  std::string phase;
+  client.echo("flight_phase", [&](const std::string& s) {
+    phase = s;
+    return false;
+  });
+  CHECK(phase.find("phase_name: '") != std::string::npos);
   const FlightResult r = f.finish();
   REQUIRE(r.ok);
+  CHECK(bridge.samples_written("state") >= 29);  // 20 Hz over 1.5 s of flight time: 31
+  CHECK(bridge.samples_written("state") <= 31);
+  CHECK(bridge.samples_written("controller_internals") >= 150);  // no limit: every 100 Hz step
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
   CHECK(s["instances"]["filter"]["mission_edits"] == 2.0);
   CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
