@@ -9,14 +9,21 @@ CMAKE_ARGS ?=
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
+  libfastrtps-dev fastddsgen \
   python3 python3-matplotlib python3-numpy
+# Only for `make fuzz` (libFuzzer needs clang and its runtime).
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+FUZZ_SECONDS ?= 60
 
-.PHONY: all deps configure build fly test bench clean
+.PHONY: all deps install-packages configure build fly test bench fuzz clean
 
 all: build
 
 deps:
-	@missing=""; for p in $(DEBIAN_PACKAGES); do \
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEBIAN_PACKAGES)"
+
+install-packages:
+	@missing=""; for p in $(PACKAGES); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed$$' || missing="$$missing $$p"; \
 	done; \
 	if [ -z "$$missing" ]; then echo "deps: all Debian packages present"; exit 0; fi; \
@@ -49,5 +56,13 @@ test: build
 bench: build
 	cmake --build $(BUILD) --target bench
 
+# The MAVLink parser of fcu_serial under libFuzzer (clang), FUZZ_SECONDS long.
+fuzz: deps
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"
+	CXX=clang++ cmake -S . -B $(BUILD)-fuzz -G Ninja -DTERN_PLUGINS=fcu_serial
+	cmake --build $(BUILD)-fuzz -j $(JOBS) --target fuzz_mavlink
+	mkdir -p $(BUILD)-fuzz/corpus
+	$(BUILD)-fuzz/bin/fuzz_mavlink -max_total_time=$(FUZZ_SECONDS) $(BUILD)-fuzz/corpus
+
 clean:
-	rm -rf $(BUILD)
+	rm -rf $(BUILD) $(BUILD)-fuzz
