@@ -210,7 +210,9 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
     return s.current_count > 0;
   }, std::chrono::seconds(10)));
   // DDS on with the default config: nothing listens or sends on a non-loopback address
-  for (const auto& s : socket_addresses()) CHECK_MESSAGE(s.find(" 0100007F:") != std::string::npos, s);
+  const auto sockets = socket_addresses();
+  CHECK(sockets.size() >= 4);  // two participants, each with metatraffic and user unicast sockets
+  for (const auto& s : sockets) CHECK_MESSAGE(s.find(" 0100007F:") != std::string::npos, s);
 
   f.start();
   REQUIRE(reader->wait_for_unread_message(eprosima::fastrtps::Duration_t(5, 0)));
