@@ -13,6 +13,9 @@
 #include "host.hpp"
 #include "loader.hpp"
 #include "serve.hpp"
+#if defined(TERN_WITH_DDS)
+#include "dds_bridge.hpp"
+#endif
 
 #ifndef TERN_SOURCE_DIR
 #define TERN_SOURCE_DIR ""
@@ -137,7 +140,8 @@ int main(int argc, char** argv) {
   std::optional<std::uint64_t> seed;
   std::optional<double> duration;
   std::optional<std::string> log_dir;
-  bool realtime = false, quiet = false, dot = false;
+  bool realtime = false, quiet = false, dot = false, dds = false;
+  std::optional<std::uint32_t> dds_domain;
   std::vector<std::string> plugin_dirs;
 
   auto* fly = app.add_subcommand("fly", "fly a mission (default: configs/missions/default.yaml) and write its flight log");
@@ -147,6 +151,8 @@ int main(int argc, char** argv) {
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   fly->add_flag("-q,--quiet", quiet, "print only warnings, errors and where the log went");
+  fly->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
+  fly->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
 
   auto* check = app.add_subcommand("check", "validate a mission config without flying and print its port graph");
   check->add_option("config", config, "mission config (YAML)")->required();
@@ -166,6 +172,8 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--socket", socket, "control socket")->capture_default_str();
   serve_cmd->add_option("--log-dir", log_dir, "directory for the run directories");
   serve_cmd->add_flag("--realtime", realtime, "pace each flight to wall time");
+  serve_cmd->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS");
+  serve_cmd->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
   auto* swap_cmd = app.add_subcommand("swap", "between flights of `tern serve`: replace an instance's plugin with another .so");
   swap_cmd->add_option("instance", instance, "instance name in the mission config")->required();
   swap_cmd->add_option("path", so_path, "the new plugin: a path to a .so, or a plugin name")->required();
@@ -213,9 +221,25 @@ int main(int argc, char** argv) {
     if (serve_cmd->parsed()) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
       opt.realtime = realtime;
-      Host host(load_config(config), opt);
+      MissionConfig mc = load_config(config);
+#if defined(TERN_WITH_DDS)
+      DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);
+      if (dds) dds_opt.enabled = true;
+      if (dds_domain) dds_opt.domain = *dds_domain;
+#else
+      if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
+#endif
+      Host host(std::move(mc), opt);
       host.build();
+#if defined(TERN_WITH_DDS)
+      std::unique_ptr<DdsBridge> bridge;
+      if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
+      const int rc = serve(host, socket);
+      bridge.reset();
+      return rc;
+#else
       return serve(host, socket);
+#endif
     }
     if (fly->parsed()) {
       if (config.empty()) config = default_config().string();
@@ -229,7 +253,15 @@ int main(int argc, char** argv) {
       opt.describing = true;
       opt.quiet = true;
     }
-    Host host(load_config(config), opt);
+    MissionConfig mc = load_config(config);
+#if defined(TERN_WITH_DDS)
+    DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
+    if (dds) dds_opt.enabled = true;
+    if (dds_domain) dds_opt.domain = *dds_domain;
+#else
+    if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
+#endif
+    Host host(std::move(mc), opt);
     host.build();
     if (check->parsed()) {
       if (dot) {
@@ -248,7 +280,14 @@ int main(int argc, char** argv) {
       return 0;
     }
     install_signal_handlers();
+#if defined(TERN_WITH_DDS)
+    std::unique_ptr<DdsBridge> bridge;
+    if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
     const FlightResult r = host.fly();
+    bridge.reset();
+#else
+    const FlightResult r = host.fly();
+#endif
     if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
     if (!r.ok) return 1;
     if (r.end_reason == "SIGINT") return 130;
