@@ -7,13 +7,26 @@
 //       (steady NED and gust body parts). Missing keys are 0; unknown keys are errors.
 //   tern-aero trim --aircraft FILE --Va V [--gamma G] [--radius R] [--altitude H]
 //       Trim state and inputs (Beard & McLain, ch. 5); R in m (> 0 right turn; omit: straight).
-// Output: JSON on stdout. Errors: one line on stderr, exit status 1.
+//   tern-aero import (--vspaero FILE.stab [--polar FILE.polar] | --xflr5 FILE.txt)
+//                    (--mass KG --inertia Jx Jy Jz Jxz | --mass-file FILE) --out AIRCRAFT.yaml
+//       A tern aircraft file from VSPAERO or XFLR5 stability derivatives; prints every
+//       coefficient the tool did not give, with the value used and why.
+//   tern-aero linearize --aircraft FILE --Va V [--gamma G] [--radius R] [--json FILE]
+//       Beard & McLain ch. 5 linear models (A_lon, B_lon, A_lat, B_lat) and transfer-function
+//       coefficients about the trim.
+//   tern-aero gains --aircraft FILE --Va V [--out gains.yaml] [design options]
+//       Beard & McLain ch. 6 successive-loop-closure gains for control_slc.
+// Output: JSON on stdout (eval, trim, linearize), text for import and gains. Errors: one line on stderr, exit status 1.
 #include <cmath>
+#include <fstream>
+#include <iomanip>
 #include <iostream>
 #include <limits>
 #include <map>
 #include <set>
+#include <sstream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -21,6 +34,8 @@
 #include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/trim.hpp"
+
+#include "aero_pipeline.hpp"
 
 using json = nlohmann::ordered_json;
 namespace sim = tern::sim;
@@ -148,6 +163,147 @@ int trim(const std::string& file, double Va, double gamma, double R, double alti
   return 0;
 }
 
+json matrix(const Eigen::MatrixXd& m) {
+  json rows = json::array();
+  for (Eigen::Index i = 0; i < m.rows(); ++i) {
+    json r = json::array();
+    for (Eigen::Index j = 0; j < m.cols(); ++j) r.push_back(m(i, j));
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string file_stem(const std::string& path) {
+  std::string s = path.substr(path.find_last_of('/') == std::string::npos ? 0 : path.find_last_of('/') + 1);
+  const auto dot = s.find('.');
+  return dot == std::string::npos ? s : s.substr(0, dot);
+}
+
+struct ImportArgs {
+  std::string vspaero, polar, xflr5, mass_file, out, name, propulsion;
+  double mass = 0;
+  std::vector<double> inertia;
+  std::vector<std::string> controls{"ConGrp_1", "ConGrp_2", "ConGrp_3"};
+};
+
+int import_cmd(const ImportArgs& a) {
+  if (a.vspaero.empty() == a.xflr5.empty()) throw std::runtime_error("import: give exactly one of --vspaero or --xflr5");
+  if (!a.polar.empty() && a.vspaero.empty()) throw std::runtime_error("import: --polar goes with --vspaero");
+  tern::aero::MassProperties m;
+  if (!a.mass_file.empty()) {
+    if (a.mass > 0 || !a.inertia.empty()) throw std::runtime_error("import: give --mass-file or --mass/--inertia, not both");
+    m = tern::aero::load_mass_file(a.mass_file);
+  } else {
+    if (!(a.mass > 0) || a.inertia.size() != 4)
+      throw std::runtime_error("import: give --mass KG and --inertia Jx Jy Jz Jxz (kg m^2), or --mass-file FILE");
+    m = {a.mass, a.inertia[0], a.inertia[1], a.inertia[2], a.inertia[3]};
+  }
+  const tern::aero::ToolDerivatives t =
+      a.vspaero.empty() ? tern::aero::parse_xflr5(a.xflr5) : tern::aero::parse_vspaero_stab(a.vspaero, a.controls);
+  tern::aero::PolarFit pf;
+  if (!a.polar.empty()) pf = tern::aero::parse_vspaero_polar(a.polar, t.b * t.b / t.S);
+  const std::string name = a.name.empty() ? file_stem(a.out) : a.name;
+  const auto r = tern::aero::build_aircraft(t, m, a.polar.empty() ? nullptr : &pf, name, a.propulsion);
+  std::vector<std::string> header = {
+      name + ": tern aircraft file written by `tern aero import` from " + t.tool + " output " + t.source,
+      "(derivatives per radian, lateral ones rotated from stability to body axes at alpha_ref = " +
+          std::to_string(t.alpha_ref) + " rad).",
+      "Not given by " + t.tool + " (value used and why):"};
+  std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
+  std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref
+            << " rad\n";
+  if (!a.polar.empty())
+    std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";
+  std::cout << "  not provided by " << t.tool << " (value used, why):\n";
+  for (const auto& d : r.defaults) {
+    std::ostringstream line;
+    line << d.name << " = " << d.value << "  (" << d.why << ")";
+    std::cout << "    " << line.str() << "\n";
+    header.push_back("  " + line.str());
+  }
+  std::ofstream f(a.out);
+  if (!f) throw std::runtime_error(a.out + ": cannot write");
+  f << tern::aero::aircraft_yaml(r.aircraft, header);
+  if (!f) throw std::runtime_error(a.out + ": write failed");
+  f.close();
+  sim::load_aircraft(a.out);  // the file must load as sim_aero reads it
+  return 0;
+}
+
+int linearize_cmd(const std::string& file, double Va, double gamma, double R, const std::string& json_out) {
+  const sim::Aircraft ac = sim::load_aircraft(file);
+  sim::TrimRequest req;
+  req.Va = Va;
+  req.gamma = gamma;
+  req.R = R;
+  const tern::aero::LinearModel lm = tern::aero::linearize(ac, req);
+  json out;
+  out["aircraft"] = ac.name;
+  out["Va"] = Va;
+  out["gamma"] = gamma;
+  if (std::isinf(R)) out["R"] = nullptr;
+  else out["R"] = R;
+  out["trim"] = json{{"alpha", lm.trim.alpha}, {"theta", lm.trim.theta}, {"phi", lm.trim.phi},
+                     {"delta_e", lm.trim.delta.delta_e}, {"delta_a", lm.trim.delta.delta_a},
+                     {"delta_r", lm.trim.delta.delta_r}, {"delta_t", lm.trim.delta.delta_t}};
+  out["x_lon"] = {"u", "w", "q", "theta", "h"};
+  out["u_lon"] = {"delta_e", "delta_t"};
+  out["A_lon"] = matrix(lm.A_lon);
+  out["B_lon"] = matrix(lm.B_lon);
+  out["x_lat"] = {"v", "p", "r", "phi", "psi"};
+  out["u_lat"] = {"delta_a", "delta_r"};
+  out["A_lat"] = matrix(lm.A_lat);
+  out["B_lat"] = matrix(lm.B_lat);
+  json tf;
+  for (const char* k : {"a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"})
+    tf[k] = lm.tf.at(k);
+  out["transfer_functions"] = tf;
+  if (!json_out.empty()) {
+    std::ofstream f(json_out);
+    if (!f) throw std::runtime_error(json_out + ": cannot write");
+    f << out.dump(2) << "\n";
+  }
+  // human-readable on stdout, JSON after it
+  std::cout << std::fixed << std::setprecision(4);
+  std::cout << "# " << ac.name << " at Va = " << Va << " m/s: alpha = " << lm.trim.alpha << " rad, delta_e = "
+            << lm.trim.delta.delta_e << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
+  const Eigen::IOFormat fmt(4, 0, "  ", "\n", "#   [", "]");
+  std::cout << "# A_lon (x = u w q theta h)\n" << lm.A_lon.format(fmt) << "\n# B_lon (delta_e delta_t)\n"
+            << lm.B_lon.format(fmt) << "\n# A_lat (x = v p r phi psi)\n" << lm.A_lat.format(fmt)
+            << "\n# B_lat (delta_a delta_r)\n" << lm.B_lat.format(fmt) << "\n";
+  for (auto it = tf.begin(); it != tf.end(); ++it) std::cout << "#   " << it.key() << " = " << it.value().get<double>() << "\n";
+  std::cout.unsetf(std::ios::floatfield);
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOptions& o, const std::string& out_file) {
+  const sim::Aircraft ac = sim::load_aircraft(file);
+  sim::TrimRequest req;
+  req.Va = Va;
+  const tern::aero::LinearModel lm = tern::aero::linearize(ac, req);
+  const auto g = tern::aero::design_gains(lm, o);
+  std::ostringstream s;
+  s << "# control_slc gains for the " << ac.name << " at Va = " << Va << " m/s (flat 'param: value'; load with\n"
+    << "# param_file:). Written by `tern aero gains --aircraft " << file << " --Va " << Va << "`: uavbook ch. 6\n"
+    << "# successive loop closure from the ch. 5 transfer-function coefficients at the trim\n"
+    << std::fixed << std::setprecision(4) << "#   alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
+    << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
+  for (const auto& [k, v] : lm.tf) s << "#   " << k << " = " << v << "\n";
+  s << "# limits and takeoff values: control_slc's defaults (set them by hand for a new airframe)\n";
+  s.unsetf(std::ios::floatfield);
+  s << std::setprecision(6);
+  for (const auto& [k, v] : g) s << k << ": " << v << "\n";
+  std::cout << s.str();
+  if (!out_file.empty()) {
+    std::ofstream f(out_file);
+    if (!f) throw std::runtime_error(out_file + ": cannot write");
+    f << s.str();
+    if (!f) throw std::runtime_error(out_file + ": write failed");
+  }
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -169,6 +325,48 @@ int main(int argc, char** argv) {
   tr->add_option("--radius", R, "turn radius, m (> 0 right, < 0 left; default: straight)");
   tr->add_option("--altitude", altitude, "height of the trim state, m (default 100)");
 
+  auto* im = app.add_subcommand("import", "a tern aircraft file from VSPAERO (.stab, .polar) or XFLR5 output");
+  ImportArgs ia;
+  im->add_option("--vspaero", ia.vspaero, "VSPAERO stability file (.stab)");
+  im->add_option("--polar", ia.polar, "VSPAERO polar file (.polar): parasitic drag and Oswald factor");
+  im->add_option("--xflr5", ia.xflr5, "XFLR5 stability-analysis text output");
+  im->add_option("--mass", ia.mass, "mass, kg");
+  im->add_option("--inertia", ia.inertia, "Jx Jy Jz Jxz, kg m^2")->expected(4);
+  im->add_option("--mass-file", ia.mass_file, "YAML with mass: and inertia: {Jx, Jy, Jz, Jxz} (a tern aircraft file works)");
+  im->add_option("--propulsion", ia.propulsion, "tern aircraft file to copy propulsion, servos and stall data from");
+  im->add_option("--controls", ia.controls, "VSPAERO control groups: elevator aileron rudder (default ConGrp_1..3)")
+      ->expected(3);
+  im->add_option("--name", ia.name, "aircraft name (default: the output file's stem)");
+  im->add_option("--out", ia.out, "aircraft file to write")->required();
+
+  auto* li = app.add_subcommand("linearize", "uavbook ch. 5 linear models and transfer functions about a trim");
+  std::string json_out;
+  li->add_option("--aircraft", file, "aircraft file (tern or ROSflight format)")->required();
+  li->add_option("--Va", Va, "airspeed, m/s")->required();
+  li->add_option("--gamma", gamma, "flight-path angle, rad (default 0)");
+  li->add_option("--radius", R, "turn radius, m (> 0 right, < 0 left; default: straight)");
+  li->add_option("--json", json_out, "also write the JSON to this file");
+
+  auto* ga = app.add_subcommand("gains", "uavbook ch. 6 successive-loop-closure gains for control_slc");
+  tern::aero::DesignOptions o;
+  std::string gains_out;
+  ga->add_option("--aircraft", file, "aircraft file (tern or ROSflight format)")->required();
+  ga->add_option("--Va", Va, "design airspeed, m/s")->required();
+  ga->add_option("--out", gains_out, "gains file to write (flat param: value)");
+  ga->add_option("--wn-phi", o.wn_phi, "roll natural frequency, rad/s (default a_phi1/(2 zeta_phi))");
+  ga->add_option("--zeta-phi", o.zeta_phi, "roll damping ratio (0.8)");
+  ga->add_option("--W-chi", o.W_chi, "roll/course bandwidth separation (5.5)");
+  ga->add_option("--T-chi", o.T_chi, "course integrator reset time, s (25)");
+  ga->add_option("--K-theta-DC", o.K_theta_DC, "pitch loop DC gain (0.7)");
+  ga->add_option("--pitch-ki-ratio", o.pitch_ki_ratio, "pitch_ki = ratio pitch_kp wn_theta (0.1)");
+  ga->add_option("--zeta-theta", o.zeta_theta, "pitch damping ratio (0.8)");
+  ga->add_option("--W-h", o.W_h, "altitude/pitch bandwidth separation (25)");
+  ga->add_option("--zeta-h", o.zeta_h, "altitude damping ratio (1.0)");
+  ga->add_option("--wn-V", o.wn_V, "airspeed natural frequency, rad/s (1.5)");
+  ga->add_option("--zeta-V", o.zeta_V, "airspeed damping ratio (1.0)");
+  ga->add_option("--kr", o.kr, "yaw damper gain, rad per rad/s (0.3)");
+  ga->add_option("--p-wo", o.p_wo, "washout pole, rad/s (0.5)");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -176,6 +374,9 @@ int main(int argc, char** argv) {
   }
   try {
     if (ev->parsed()) return eval(file, state_s, delta_s, wind_s);
+    if (im->parsed()) return import_cmd(ia);
+    if (li->parsed()) return linearize_cmd(file, Va, gamma, R, json_out);
+    if (ga->parsed()) return gains_cmd(file, Va, o, gains_out);
     return trim(file, Va, gamma, R, altitude);
   } catch (const std::exception& e) {
     std::cerr << "tern aero: " << e.what() << "\n";
