@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -187,6 +187,56 @@ int main(int argc, char** argv) {
   remote->add_option("args", remote_args, "fly: flight length in seconds");
   remote->add_option("--socket", socket, "control socket of the server")->capture_default_str();
 
+#if defined(TERN_WITH_DDS)
+  // ---- against a running `tern fly --dds` (or serve --dds) ----
+  std::string client_config, client_ns = "tern", topic, param_name, param_value, file_arg, param_prefix;
+  std::uint32_t client_domain = 0;
+  double client_timeout = 3.0;
+  bool once = false, wp_lla = false, wp_use_chi = false, wp_set_current = false;
+  double wp_chi = 0, wp_Va = 0;
+  std::vector<double> wp_w;
+  std::vector<CLI::App*> client_cmds;
+  auto client_opts = [&](CLI::App* c) {
+    c->add_option("--domain", client_domain, "DDS domain id of the vehicle")->check(CLI::Range(0, 232));
+    c->add_option("--namespace", client_ns, "vehicle namespace")->capture_default_str();
+    c->add_option("--config", client_config, "take domain, namespace, interfaces and peers from this mission config's dds:");
+    c->add_option("--timeout", client_timeout, "seconds to wait for the vehicle")->capture_default_str();
+    client_cmds.push_back(c);
+    return c;
+  };
+  auto* topics_cmd = client_opts(app.add_subcommand("topics", "list the vehicle's DDS topics and their types"));
+  auto* echo_cmd = client_opts(app.add_subcommand("echo", "print a bridged topic's live values"));
+  echo_cmd->add_option("topic", topic, "tern topic name, e.g. state")->required();
+  echo_cmd->add_flag("--once", once, "print one sample and exit");
+  auto* param_cmd = client_opts(app.add_subcommand("param", "the vehicle's parameters over DDS: list, get, set, save"));
+  param_cmd->require_subcommand(1);
+  param_cmd->fallthrough();  // --domain etc. may follow `param set NAME VALUE`
+  auto* param_list = param_cmd->add_subcommand("list", "every parameter (or those starting with PREFIX)");
+  param_list->add_option("prefix", param_prefix, "e.g. slc.");
+  auto* param_get = param_cmd->add_subcommand("get", "one parameter");
+  param_get->add_option("name", param_name, "instance.param")->required();
+  auto* param_set = param_cmd->add_subcommand("set", "change a parameter (validated; applied at the next tick; logged)");
+  param_set->add_option("name", param_name, "instance.param")->required();
+  param_set->add_option("value", param_value, "a number, true/false, text, or [a, b, c]")->required();
+  auto* param_save = param_cmd->add_subcommand("save", "write every parameter to a YAML file on the vehicle");
+  param_save->add_option("file", file_arg, "file name on the vehicle")->required();
+  auto* mission_cmd = client_opts(app.add_subcommand("mission", "the vehicle's mission over DDS: add, clear, load, print"));
+  mission_cmd->require_subcommand(1);
+  mission_cmd->fallthrough();
+  auto* m_add = mission_cmd->add_subcommand("add", "add a waypoint (ROSplane's AddWaypoint)");
+  m_add->add_option("w", wp_w, "north east down (m), or lat lon alt with --lla")->required()->expected(3);
+  m_add->add_flag("--lla", wp_lla, "w is latitude (deg), longitude (deg), altitude (m MSL)");
+  m_add->add_option("--chi", wp_chi, "desired course at the waypoint, rad");
+  m_add->add_flag("--use-chi", wp_use_chi, "fly a Dubins path to arrive at --chi");
+  m_add->add_option("--Va", wp_Va, "desired airspeed, m/s")->required()->check(CLI::PositiveNumber);
+  m_add->add_flag("--set-current", wp_set_current, "start a new list with this waypoint, now");
+  auto* m_clear = mission_cmd->add_subcommand("clear", "remove every waypoint (the aircraft orbits the origin)");
+  auto* m_load = mission_cmd->add_subcommand("load", "replace the mission with a waypoint file on the vehicle");
+  m_load->add_option("file", file_arg, "tern or ROSplane waypoint file")->required();
+  auto* m_print = mission_cmd->add_subcommand("print", "the vehicle's current waypoints");
+  (void)m_clear;
+#endif
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -195,6 +245,71 @@ int main(int argc, char** argv) {
 
   try {
     if (plugins->parsed()) return cmd_plugins(plugin_dirs);
+#if defined(TERN_WITH_DDS)
+    for (auto* c : client_cmds) {
+      if (!c->parsed()) continue;
+      DdsOptions dopt;
+      if (!client_config.empty()) {
+        const MissionConfig mc = load_config(client_config);
+        dopt = parse_dds_options(mc.dds, mc.file);
+      }
+      if (c->count("--domain")) dopt.domain = client_domain;
+      if (c->count("--namespace") || client_config.empty()) dopt.ns = client_ns;
+      try {
+        DdsClient client(dopt, std::chrono::milliseconds(static_cast<long>(client_timeout * 1000)));
+        if (c == topics_cmd) {
+          const DdsStatus st = client.status();
+          fmt::print("vehicle: mission '{}' ({}), {}{}\n", st.mission, st.config_file, st.flying ? "flying" : "idle",
+                     st.flying ? fmt::format(" t={:.1f} s phase {}", st.flight_time, st.phase) : "");
+          for (const auto& [name, type] : st.topics) fmt::print("{:<40} {}\n", name, type);
+        } else if (c == echo_cmd) {
+          client.echo(topic, [&](const std::string& sample) {
+            fmt::print("{}---\n", sample);
+            std::fflush(stdout);
+            return !once && stop_signal() == 0;
+          });
+        } else if (c == param_cmd) {
+          auto show = [](const DdsParam& p) {
+            fmt::print("{:<34} {:<16} (default {}, {}{}) {}\n", p.name, to_string(p.value), to_string(p.default_value),
+                       p.unit.empty() ? "" : p.unit + ", ", fmt::format("[{}, {}]", p.min, p.max), p.description);
+          };
+          if (param_list->parsed()) {
+            for (const auto& p : client.param_list(param_prefix)) show(p);
+          } else if (param_get->parsed()) {
+            show(client.param_get(param_name));
+          } else if (param_set->parsed()) {
+            const ParamValue v = to_param_value(YAML::Load(param_value), "command line", param_name);
+            client.param_set(param_name, v);
+            fmt::print("{} = {} (applied at the vehicle's next tick)\n", param_name, to_string(v));
+          } else if (param_save->parsed()) {
+            fmt::print("saved: {}\n", client.param_save(file_arg));
+          }
+        } else if (c == mission_cmd) {
+          if (m_add->parsed()) {
+            msg::Waypoint wp;
+            wp.w = Eigen::Vector3d(wp_w[0], wp_w[1], wp_w[2]);
+            wp.lla = wp_lla;
+            wp.chi_d = wp_chi;
+            wp.use_chi = wp_use_chi;
+            wp.Va_d = wp_Va;
+            client.mission_add(wp, wp_set_current, true);
+            fmt::print("waypoint added\n");
+          } else if (m_load->parsed()) {
+            client.mission_load(file_arg);
+            fmt::print("mission loaded: {}\n", file_arg);
+          } else if (m_print->parsed()) {
+            fmt::print("{}\n", client.mission_print());
+          } else {
+            client.mission_clear();
+            fmt::print("mission cleared\n");
+          }
+        }
+      } catch (const DdsError& e) {
+        return fail(e.what());
+      }
+      return 0;
+    }
+#endif
     auto client = [&](const std::string& line) {
       const std::string reply = send_command(socket, line);
       std::puts(reply.c_str());

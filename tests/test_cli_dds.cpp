@@ -1,0 +1,80 @@
+// The DDS command line against a running `tern fly --dds`: two processes, loopback only, a
+// domain of their own.
+#include <doctest/doctest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <thread>
+
+#include "test_util.hpp"
+
+namespace {
+std::pair<int, std::string> run_tern(const std::string& args) {
+  const fs::path out = test_dir() / "cli_dds.out";
+  const int rc = std::system((std::string(TERN_BIN) + " " + args + " > " + out.string() + " 2>&1").c_str());
+  return {WEXITSTATUS(rc), read_file(out)};
+}
+}  // namespace
+
+TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
+  const fs::path logs = test_dir() / "cli_dds_runs";
+  const std::string mission = std::string(TERN_SOURCE_DIR) + "/configs/missions/default.yaml";
+  const pid_t pid = fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    freopen("/dev/null", "w", stdout);
+    freopen("/dev/null", "w", stderr);
+    execl(TERN_BIN, TERN_BIN, "fly", mission.c_str(), "--dds", "--dds-domain", "83", "--realtime", "--duration", "120", "--log-dir",
+          logs.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  const std::string d = " --domain 83 --timeout 10";
+  auto [rc0, topics] = run_tern("topics" + d);
+  REQUIRE_MESSAGE(rc0 == 0, topics);
+  CHECK(topics.find("rt/tern/state                            rosplane_msgs::msg::dds_::State_") != std::string::npos);
+  auto [rc1, echo] = run_tern("echo state --once" + d);
+  CHECK(rc1 == 0);
+  CHECK(echo.find("p_n: ") != std::string::npos);
+  CHECK(echo.find("header.stamp: ") != std::string::npos);
+  auto [rc2, set] = run_tern("param set slc.roll_kp 0.5" + d);
+  CHECK(rc2 == 0);
+  CHECK(set == "slc.roll_kp = 0.5 (applied at the vehicle's next tick)\n");
+  auto [rc3, refused] = run_tern("param set slc.roll_kp 99" + d);
+  CHECK(rc3 == 1);
+  CHECK(refused == "tern: error: parameter 'slc.roll_kp': value 99 is outside the valid range [0, 10] rad/rad\n");
+  auto [rc4, get] = run_tern("param get slc.roll_kp" + d);
+  CHECK(get.rfind("slc.roll_kp                        0.5 ", 0) == 0);
+  auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17" + d);
+  CHECK(rc5 == 0);
+  std::string print;
+  for (int i = 0; i < 50; ++i) {  // the planner applies the edit at its next step
+    print = run_tern("mission print" + d).second;
+    if (print.find("5 waypoints") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  CHECK_MESSAGE(print.find("5 waypoints") != std::string::npos, print);
+  CHECK(print.find("w [100.000, -100.000, -60.000]") != std::string::npos);
+  CHECK(run_tern("mission clear" + d).first == 0);
+  for (int i = 0; i < 50; ++i) {
+    print = run_tern("mission print" + d).second;
+    if (print.find("0 waypoints") != std::string::npos) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  CHECK_MESSAGE(print.find("0 waypoints") != std::string::npos, print);
+  auto [rc6, none] = run_tern("param get slc.roll_kp --domain 84 --timeout 0.5");
+  CHECK(rc6 == 1);
+  CHECK(none == "tern: error: no vehicle answered 'param_get' on DDS domain 84, namespace 'tern' within 0.5 s\n");
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  CHECK(WEXITSTATUS(status) == 130);
+  std::vector<fs::path> runs;
+  for (const auto& e : fs::directory_iterator(logs)) runs.push_back(e.path());
+  REQUIRE(runs.size() == 1);
+  const std::string params = read_file(runs[0] / "params.csv");
+  CHECK(params.find(",slc.roll_kp,0.5,dds\n") != std::string::npos);
+  CHECK(params.find(",slc.roll_kp,99,") == std::string::npos);
+}
