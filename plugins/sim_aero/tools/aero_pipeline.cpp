@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <iomanip>
 #include <set>
 #include <sstream>
@@ -126,6 +127,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const std::vector<st
   t.c = header["Cref_"];
   t.b = header["Bref_"];
   t.alpha_ref = header["AoA_"] * kDeg;
+  if (header.count("Rho_")) t.rho = header["Rho_"];
   auto col = [&](const std::string& name) -> int {
     for (std::size_t k = 0; k < cols.size(); ++k)
       if (cols[k] == name) return static_cast<int>(k);
@@ -209,7 +211,7 @@ ToolDerivatives parse_xflr5(const std::string& path) {
       {"CLde", "C_L_delta_e"}, {"CDde", "C_D_delta_e"}, {"Cmde", "C_m_delta_e"},
       {"CYda", "C_Y_delta_a"}, {"Clda", "C_ell_delta_a"}, {"Cnda", "C_n_delta_a"},
       {"CYdr", "C_Y_delta_r"}, {"Cldr", "C_ell_delta_r"}, {"Cndr", "C_n_delta_r"},
-      {"CL", "C_L"}, {"CD", "C_D"}, {"Cm", "C_m"}};
+      {"CL", "C_L"}, {"CD", "C_D"}, {"Cm", "C_m"}, {"Cxa", "C_X_alpha"}};
   bool have_alpha = false;
   for (const auto& l0 : lines) {
     const std::string& l = l0;
@@ -237,7 +239,9 @@ ToolDerivatives parse_xflr5(const std::string& path) {
     for (std::size_t k = 0; k + 2 < tk.size(); ++k) {
       if (tk[k + 1] != "=") continue;
       const std::string& key = tk[k];
-      if (key == "Alpha") {
+      if (key == "Density") {
+        t.rho = number(path, key, tk[k + 2]);
+      } else if (key == "Alpha") {
         t.alpha_ref = number(path, key, tk[k + 2]) * kDeg;
         have_alpha = true;
       } else if (auto it = kNames.find(key); it != kNames.end()) {
@@ -246,6 +250,8 @@ ToolDerivatives parse_xflr5(const std::string& path) {
     }
   }
   if (!t.d.count("C_L_alpha")) fail(path, "CLa", "missing (not an XFLR5 stability-analysis output?)");
+  // stability axes held fixed: C_X = -C_D + C_L dalpha, so C_D_alpha = C_L - C_X_alpha
+  if (t.d.count("C_X_alpha") && t.d.count("C_L")) t.d["C_D_alpha"] = t.d["C_L"] - t.d["C_X_alpha"];
   if (!have_alpha) fail(path, "Alpha", "missing (the operating point's angle of attack)");
   return t;
 }
@@ -302,8 +308,8 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
   const std::string by = "not given by " + t.tool;
 
   // environment, stall and propulsion: not aerodynamic-analysis outputs
-  ac.rho = 1.225;
-  D.push_back({"environment.rho", ac.rho, "not an aero-analysis output: ISA sea level"});
+  ac.rho = t.rho > 0 ? t.rho : 1.225;
+  if (!(t.rho > 0)) D.push_back({"environment.rho", ac.rho, by + ": ISA sea level"});
   if (!propulsion_from.empty()) {
     const sim::Aircraft p = sim::load_aircraft(propulsion_from);
     ac.prop = p.prop;
@@ -314,7 +320,9 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
     ac.M = p.M;
     ac.alpha0 = p.alpha0;
     ac.stall_blend = p.stall_blend;
-    D.push_back({"propulsion.*, servos.*, wing.M, wing.alpha0, wing.stall_blend", 0.0,
+    ac.gear = p.gear;
+    D.push_back({"propulsion.*, servos.*, gear.*, wing.M, wing.alpha0, wing.stall_blend",
+                 std::numeric_limits<double>::quiet_NaN(),
                  "copied from " + propulsion_from});
   } else {
     auto& p = ac.prop;  // the Anaconda's (ROSflight anaconda_dynamics.yaml): 15 in prop, 560 KV, 6S
@@ -335,12 +343,15 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
     ac.M = 50.0;
     ac.alpha0 = 0.4712;
     ac.stall_blend = false;
-    D.push_back({"propulsion.*", 0.0,
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    D.push_back({"propulsion.*", nan,
                  "typical: the Anaconda's motor and propeller (ROSflight; give --propulsion FILE for yours)"});
-    D.push_back({"servos.*", 0.6981317, "typical: 40-degree limits, tau 0.01 s (the Anaconda's)"});
+    D.push_back({"servos.*", nan, "typical: 40-degree limits, tau 0.01 s (the Anaconda's)"});
     D.push_back({"wing.M", ac.M, "typical: the book's blending rate"});
     D.push_back({"wing.alpha0", ac.alpha0, "typical: the book's stall angle (27 deg)"});
     D.push_back({"wing.stall_blend", 0.0, "false: linear lift (as ROSflight); the VLM gives no stall"});
+    ac.gear.points = sim::default_gear_points(ac.b);
+    D.push_back({"gear.*", std::numeric_limits<double>::quiet_NaN(), "sim_aero's default tricycle scaled by the span"});
   }
 
   // lateral: stability -> body axes

@@ -32,6 +32,7 @@ struct ToolDerivatives {
   std::string source;               ///< file name
   double S = 0, b = 0, c = 0;       ///< reference area m^2, span m, chord m (0: not in the file)
   double alpha_ref = 0;             ///< rad, angle of attack of the analysis
+  double rho = 0;                   ///< kg/m^3, density of the analysis (0: not in the file)
   bool rates_in_stability_axes = true;  ///< p, r derivatives w.r.t. stability-axis rates (XFLR5)
   std::map<std::string, double> d;  ///< tern name -> value
 };
@@ -66,7 +67,7 @@ MassProperties load_mass_file(const std::string& path);
 /// One coefficient the tool did not provide: the value used and why.
 struct Default {
   std::string name;
-  double value = 0;
+  double value = 0;  ///< NaN for a group of values (then `why` says where they come from)
   std::string why;
 };
 

@@ -217,7 +217,8 @@ int import_cmd(const ImportArgs& a) {
   std::cout << "  not provided by " << t.tool << " (value used, why):\n";
   for (const auto& d : r.defaults) {
     std::ostringstream line;
-    line << d.name << " = " << d.value << "  (" << d.why << ")";
+    if (std::isnan(d.value)) line << d.name << ": " << d.why;
+    else line << d.name << " = " << d.value << "  (" << d.why << ")";
     std::cout << "    " << line.str() << "\n";
     header.push_back("  " + line.str());
   }
