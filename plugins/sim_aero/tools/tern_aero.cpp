@@ -290,7 +290,8 @@ int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOption
     << "# successive loop closure from the ch. 5 transfer-function coefficients at the trim\n"
     << std::fixed << std::setprecision(4) << "#   alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
     << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
-  for (const auto& [k, v] : lm.tf) s << "#   " << k << " = " << v << "\n";
+  for (const char* k : {"a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"})
+    s << "#   " << k << " = " << lm.tf.at(k) << "\n";
   s << "# limits and takeoff values: control_slc's defaults (set them by hand for a new airframe)\n";
   s.unsetf(std::ios::floatfield);
   s << std::setprecision(6);
