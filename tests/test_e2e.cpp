@@ -63,6 +63,19 @@ TEST_CASE("the default mission: takeoff, climb, the hourglass loops in wind, est
   const int rc = std::system(cmd.c_str());
   CHECK_MESSAGE(WEXITSTATUS(rc) == 0, read_file(test_dir() / "plot.out"));
   CHECK(fs::exists(r.run_dir / "plots" / "ground_track.png"));
+  // the estimator publishes its covariance diagonal: positive, and small for position once converged
+  std::stringstream state(read_file(r.run_dir / "topics" / "state.csv"));
+  std::string header, row, last;
+  std::getline(state, header);
+  while (std::getline(state, row)) last = row;
+  std::vector<std::string> names, values;
+  for (std::stringstream h(header); std::getline(h, row, ',');) names.push_back(row);
+  for (std::stringstream v(last); std::getline(v, row, ',');) values.push_back(row);
+  const auto col = std::find(names.begin(), names.end(), "P_diag_0 []") - names.begin();
+  REQUIRE(static_cast<std::size_t>(col) < values.size());
+  const double var_north = std::stod(values[static_cast<std::size_t>(col)]);
+  CHECK(var_north > 0.0);
+  CHECK(var_north < 25.0);
 }
 
 TEST_CASE("the TECS mission: SLC takes off, TECS holds the cruise") {

@@ -224,6 +224,9 @@ class EstimatorEkf final : public tern::Plugin {
     }
     if (imu_new && (ticks_++ % decimation_()) == 0) {
       estimator_.fill_state(out_);
+      const auto& P = estimator_.filter().P();
+      static_assert(tern::ekf::kErrDim <= static_cast<int>(std::tuple_size_v<decltype(out_.P_diag)>));
+      for (int i = 0; i < tern::ekf::kErrDim; ++i) out_.P_diag[static_cast<std::size_t>(i)] = P(i, i);
       state_.publish(out_);
     }
   }

@@ -3,6 +3,7 @@
 // precision and SI units. NED position is relative to the origin (origin_lat/lon/alt).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string_view>
 
@@ -35,6 +36,11 @@ struct State {
   double origin_alt = 0.0;                  ///< origin altitude (MSL), m
   bool origin_valid = false;                ///< the origin is set (after the first 3-D GNSS fix)
   bool valid = false;                       ///< the estimate is initialised and usable
+  /// Diagonal of the estimator's error-state covariance (zeros when the publisher has none, e.g.
+  /// truth). Layout of estimator_ekf: position NED (3, m^2), velocity NED (3, (m/s)^2), attitude
+  /// error (3, rad^2), gyro bias (3, (rad/s)^2), accelerometer bias (3, (m/s^2)^2), wind north,
+  /// east (2, (m/s)^2), barometer bias (1, m^2), GNSS position error (3, m^2).
+  std::array<double, 21> P_diag{};
 
   double altitude() const { return -p_d; }  ///< height above the origin, m
 
@@ -73,6 +79,7 @@ struct State {
     x(&State::origin_alt, "origin_alt", "m");
     x(&State::origin_valid, "origin_valid", "bool");
     x(&State::valid, "valid", "bool");
+    x(&State::P_diag, "P_diag", "");
   }
 };
 
