@@ -115,3 +115,27 @@ TEST_CASE("every stock plugin of the default mission unloads for real when the h
   REQUIRE(libs.size() == 6);
   for (const auto& p : libs) CHECK_MESSAGE(!is_loaded(p), p.string() << " is still mapped after the host unloaded it");
 }
+
+TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduces its estimate exactly") {
+  const FlightResult flown = fly_mission("default.yaml", "e2e_replay_orig", 120.0);
+  REQUIRE(flown.ok);
+  MissionConfig mc = load_config(flown.run_dir / "config.yaml");  // the resolved config in the log
+  mc.phases.clear();
+  mc.fallback.reset();
+  mc.phase_params.clear();
+  mc.mission = YAML::Node();
+  HostOptions o;
+  o.quiet = true;
+  o.replay_dir = flown.run_dir;
+  o.log_dir = test_dir() / "e2e_replay";
+  Host h(std::move(mc), o);
+  h.build();
+  CHECK(h.schedule() == std::vector<std::string>{"replay", "ekf", "metrics"});
+  CHECK(h.replay_end() == 120'000'000'000);
+  h.set_duration(tern::to_seconds(h.replay_end()));
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  CHECK(read_file(r.run_dir / "topics" / "state.csv") == read_file(flown.run_dir / "topics" / "state.csv"));
+  const auto s = summary(r);
+  CHECK(s["metrics"]["estimation_rmse"]["north_m"].get<double>() < 2.0);
+}

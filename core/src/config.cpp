@@ -206,7 +206,8 @@ MissionConfig load_config(const fs::path& file_in) {
     const YAML::Node p = plugins[i];
     const std::string field = "plugins[" + std::to_string(i) + "]";
     require_map(p, f, field);
-    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us"});
+    // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
+    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library"});
     InstanceConfig ic;
     ic.index = i;
     ic.node = p;

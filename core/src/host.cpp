@@ -27,6 +27,7 @@
 
 #include "error.hpp"
 #include "flight_log.hpp"
+#include "replay.hpp"
 
 namespace tern::core {
 
@@ -260,6 +261,7 @@ Host::~Host() {
   }
   phase_machine_ = nullptr;
   metrics_ = nullptr;
+  replay_ = nullptr;
   for (auto& inst : instances_) inst->lib.reset();
   instances_.clear();
   if (!swap_dir_.empty()) {
@@ -401,6 +403,20 @@ void Host::load_instances() {
   const auto search = plugin_search_path(config_.plugin_path);
   std::map<fs::path, std::shared_ptr<PluginLibrary>> libs;
   const fs::path& f = config_.file;
+  if (options_.replay_dir) {
+    auto inst = std::make_unique<Instance>();
+    inst->cfg.index = config_.plugins.size() + 2;
+    inst->cfg.name = "replay";
+    inst->cfg.plugin = "replay (built in)";
+    inst->cfg.rate = config_.base_rate.value_or(400.0);
+    inst->builtin = true;
+    inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}};
+    auto rp = std::make_unique<ReplaySource>(*options_.replay_dir);
+    replay_ = rp.get();
+    inst->plugin = std::move(rp);
+    configure_instance(*inst);
+    instances_.push_back(std::move(inst));
+  }
   for (const auto& ic : config_.plugins) {
     const std::string field = "plugins[" + std::to_string(ic.index) + "]";
     auto inst = std::make_unique<Instance>();
@@ -419,6 +435,7 @@ void Host::load_instances() {
     if (ic.plugin.find('/') == std::string::npos && inst->info.name != ic.plugin)
       throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" +
                         inst->info.name + "', not '" + ic.plugin + "'");
+    if (options_.replay_dir && inst->info.kind != PluginKind::estimator) continue;  // replay: estimators only
     inst->plugin = inst->lib->create();
     configure_instance(*inst);
     instances_.push_back(std::move(inst));
@@ -726,6 +743,8 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
   param_pending_.store(true, std::memory_order_release);
 }
 
+Nanos Host::replay_end() const { return replay_ ? replay_->end_time() : 0; }
+
 std::vector<Host::TopicInfo> Host::topics() const {
   std::vector<TopicInfo> out;
   for (const auto& t : topics_)
@@ -916,8 +935,12 @@ FlightResult Host::fly() {
     tp->log_index = log.add_topic(tp->name, tp->columns, tp->msg_size);
     tp->logged_src = nullptr;
     tp->logged_seq = 0;
+    // raw sensor topics are logged in full by default, so that a flight can be replayed
+    static const std::set<std::string> kSensors = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status"};
     auto rate_it = config_.log.rates.find(tp->name);
-    const double max_rate = rate_it != config_.log.rates.end() ? rate_it->second : config_.log.max_rate;
+    const double max_rate = rate_it != config_.log.rates.end() ? rate_it->second
+                            : kSensors.count(tp->name)        ? 0.0
+                                                              : config_.log.max_rate;
     tp->log_interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
     tp->logged_t = std::numeric_limits<Nanos>::min() / 2;
   }
@@ -1151,6 +1174,18 @@ FlightResult Host::fly() {
 
 std::string Host::resolved_config_yaml() const {
   YAML::Node root = YAML::Clone(config_.root);
+  // paths made absolute: the resolved config lives in the run directory, not beside the original
+  if (!config_.aircraft.empty()) root["aircraft"] = config_.aircraft.string();
+  if (root["plugin_path"]) {
+    YAML::Node pp(YAML::NodeType::Sequence);
+    for (const auto& d : config_.plugin_path) pp.push_back(d.string());
+    root["plugin_path"] = pp;
+  }
+  if (root["log"] && root["log"]["dir"]) root["log"]["dir"] = config_.log.dir.string();
+  if (root["mission"] && root["mission"].IsMap() && root["mission"]["file"] && root["mission"]["file"].IsScalar()) {
+    const fs::path mf(root["mission"]["file"].Scalar());
+    if (mf.is_relative()) root["mission"]["file"] = (config_.dir / mf).lexically_normal().string();
+  }
   root["name"] = config_.name;
   root["seed"] = seed_;
   root["duration"] = duration_override_ ? *duration_override_ : options_.duration.value_or(config_.duration);
@@ -1271,12 +1306,16 @@ void Host::print_summary(const FlightResult& r) const {
   if (metrics_) {
     auto v = [](const FlightMetrics::Rms& x) { return x.n ? fmt::format("{:.2f}", x.value()) : std::string("-"); };
     const auto& t = metrics_->tracking();
+    bool tracked = false;
+    for (const auto& x : t) tracked = tracked || x.n > 0;
+    if (tracked) {
     s += fmt::format("\nRMS tracking error, command vs estimate ({} loops; window from {}):\n", metrics_->loops(),
                      metrics_->window_start() < 0 ? std::string("never: no full loop") : fmt::format("{:.1f} s", to_seconds(metrics_->window_start())));
     const std::string row7 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
     s += fmt::format(fmt::runtime(row7 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "course deg", "airspeed m/s");
     s += fmt::format(fmt::runtime(row7 + "   tern\n"), v(t[0]), v(t[1]), v(t[2]), v(t[3]), v(t[4]), v(t[5]), v(t[6]));
     s += fmt::format(fmt::runtime(row7 + "   ROSplane 2.0 flight test\n"), "3.05", "3.29", "1.19", "7.55", "3.04", "8.51", "0.58");
+    }
     if (metrics_->has_truth()) {
       const auto& e = metrics_->estimation();
       s += "RMS estimation error, estimate vs truth:\n";

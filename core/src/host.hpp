@@ -59,6 +59,9 @@ struct HostOptions {
   bool progress = false;                   ///< live status line on stdout
   bool describing = false;                 ///< configure only (check/params): open no files/devices
   bool quiet = false;                      ///< no console log below warnings
+  /// `tern replay`: play this flight log's sensor and truth topics instead of an I/O plugin, and
+  /// keep only the config's estimator instances.
+  std::optional<fs::path> replay_dir;
 };
 
 struct Handover {
@@ -140,6 +143,8 @@ class Host {
   bool flying() const { return flying_.load(); }
   /// Flights flown by this host.
   int flights() const { return flights_; }
+  /// Flight time of the last recorded IMU sample when replaying (0 otherwise).
+  Nanos replay_end() const;
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
 
@@ -177,6 +182,7 @@ class Host {
   // phase router
   PhaseMachine* phase_machine_ = nullptr;
   FlightMetrics* metrics_ = nullptr;
+  class ReplaySource* replay_ = nullptr;
   std::size_t phase_machine_idx_ = SIZE_MAX;
   std::uint64_t phase_seen_ = 0;
   std::optional<std::size_t> active_;      // active controller instance

@@ -114,7 +114,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -160,6 +160,13 @@ int main(int argc, char** argv) {
 
   auto* plugins = app.add_subcommand("plugins", "list the plugins in the search path, with their ports and parameters");
   plugins->add_option("--path", plugin_dirs, "extra plugin directories to search first");
+
+  std::string replay_dir;
+  auto* replay = app.add_subcommand("replay", "run the estimator over a flight log's recorded sensors and compare it with the recorded truth");
+  replay->add_option("run_dir", replay_dir, "a flight log directory (runs/<time>-<mission>)")->required()->check(CLI::ExistingDirectory);
+  replay->add_option("--config", config, "mission config naming the estimator(s) to run (default: the run's config.yaml)");
+  replay->add_option("--log-dir", log_dir, "directory for the replay's own run directory (default: ./runs)");
+  replay->add_flag("-q,--quiet", quiet, "print only the summary");
 
   auto* params = app.add_subcommand("params", "list every parameter of a mission: value, default, unit, range, description");
   params->add_option("config", config, "mission config (YAML)")->required();
@@ -333,6 +340,24 @@ int main(int argc, char** argv) {
     }
 
     HostOptions opt;
+    if (replay->parsed()) {
+      MissionConfig mc = load_config(config.empty() ? (fs::path(replay_dir) / "config.yaml").string() : config);
+      mc.phases.clear();  // an estimator alone: no controllers, no phases, no mission
+      mc.fallback.reset();
+      mc.phase_params.clear();
+      mc.mission = YAML::Node();
+      mc.name = mc.name + "-replay";
+      opt.replay_dir = fs::absolute(replay_dir);
+      opt.quiet = quiet;
+      if (log_dir) opt.log_dir = fs::path(*log_dir);
+      Host host(std::move(mc), opt);
+      host.build();
+      host.set_duration(to_seconds(host.replay_end()));
+      install_signal_handlers();
+      const FlightResult r = host.fly();
+      if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
+      return r.ok ? 0 : 1;
+    }
     if (serve_cmd->parsed()) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
       opt.realtime = realtime;
