@@ -876,6 +876,7 @@ void Host::engage_fallback(Nanos now, const std::string& why) {
 }
 
 FlightResult Host::fly() {
+  const std::int64_t fly_entry = wall_ns();
   if (!built_) build();
   if (flying_.exchange(true)) throw ConfigError("a flight is already in progress");
   struct FlyingGuard {
@@ -994,6 +995,7 @@ FlightResult Host::fly() {
 
   const std::int64_t wall0 = wall_ns();
   start_to_first_tick_ms_ = static_cast<double>(wall0 - created_ns_) * 1e-6;
+  flight_start_ms_ = static_cast<double>(wall0 - fly_entry) * 1e-6;
   std::int64_t last_flush = wall0, last_progress = wall0;
   std::int64_t tick = 0;
   Nanos now = 0;

@@ -147,6 +147,8 @@ class Host {
   Nanos replay_end() const;
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
+  /// Milliseconds from entering fly() to the first tick of the last flight (log, reset, start).
+  double flight_start_ms() const { return flight_start_ms_; }
 
  private:
   struct Topic;
@@ -194,6 +196,7 @@ class Host {
   std::int64_t created_ns_ = 0;
   std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   double start_to_first_tick_ms_ = 0;
+  double flight_start_ms_ = 0;
   bool built_ = false;
   std::atomic<bool> flying_{false};
   int flights_ = 0;
