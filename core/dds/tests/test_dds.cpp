@@ -349,13 +349,24 @@ TEST_CASE("dds: replies reach the client that asked (sample identity), with two 
   const DdsOptions opt = options_on(45);
   Flight f("dds_two_clients", 1.0);
   DdsBridge bridge(*f.host, opt);
-  DdsClient a(opt, std::chrono::seconds(5)), b(opt, std::chrono::seconds(5));
+  DdsClient a(opt, std::chrono::seconds(15)), b(opt, std::chrono::seconds(15));
   std::vector<std::string> got_a, got_b;
+  std::string err_a, err_b;
   std::thread ta([&] {
-    for (int i = 0; i < 20; ++i) got_a.push_back(a.param_get("ctl.kp").name);
+    try {
+      for (int i = 0; i < 20; ++i) got_a.push_back(a.param_get("ctl.kp").name);
+    } catch (const std::exception& e) {
+      err_a = e.what();
+    }
   });
-  for (int i = 0; i < 20; ++i) got_b.push_back(b.param_get("sensor.noise").name);
+  try {
+    for (int i = 0; i < 20; ++i) got_b.push_back(b.param_get("sensor.noise").name);
+  } catch (const std::exception& e) {
+    err_b = e.what();
+  }
   ta.join();
+  CHECK(err_a == "");
+  CHECK(err_b == "");
   CHECK(got_a == std::vector<std::string>(20, "ctl.kp"));
   CHECK(got_b == std::vector<std::string>(20, "sensor.noise"));
 }
