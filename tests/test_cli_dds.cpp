@@ -45,8 +45,13 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   auto [rc3, refused] = run_tern("param set slc.roll_kp 99" + d);
   CHECK(rc3 == 1);
   CHECK(refused == "tern: error: parameter 'slc.roll_kp': value 99 is outside the valid range [0, 10] rad/rad\n");
-  auto [rc4, get] = run_tern("param get slc.roll_kp" + d);
-  CHECK(get.rfind("slc.roll_kp                        0.5 ", 0) == 0);
+  std::string get;
+  for (int i = 0; i < 50; ++i) {  // applied at the vehicle's next tick
+    get = run_tern("param get slc.roll_kp" + d).second;
+    if (get.rfind("slc.roll_kp                        0.5 ", 0) == 0) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  CHECK_MESSAGE(get.rfind("slc.roll_kp                        0.5 ", 0) == 0, get);
   auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17" + d);
   CHECK(rc5 == 0);
   std::string print;
