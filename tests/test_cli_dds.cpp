@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <thread>
+#include <tuple>
 
 #include "test_util.hpp"
 
@@ -31,8 +32,20 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
           logs.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
+  struct Reaper {  // a failed REQUIRE must not leave the vehicle flying on the test's domain
+    pid_t pid;
+    bool done = false;
+    ~Reaper() {
+      if (done) return;
+      kill(pid, SIGKILL);
+      waitpid(pid, nullptr, 0);
+    }
+  } reaper{pid};
   const std::string d = " --domain 83 --timeout 10";
-  auto [rc0, topics] = run_tern("topics" + d);
+  // the vehicle process is starting (plugins, estimator, DDS participant): ask until it answers
+  int rc0 = 1;
+  std::string topics;
+  for (int i = 0; i < 6 && rc0 != 0; ++i) std::tie(rc0, topics) = run_tern("topics" + d);
   REQUIRE_MESSAGE(rc0 == 0, topics);
   CHECK(topics.find("rt/tern/state                            rosplane_msgs::msg::dds_::State_") != std::string::npos);
   auto [rc1, echo] = run_tern("echo state --once" + d);
@@ -75,6 +88,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
+  reaper.done = true;
   CHECK(WEXITSTATUS(status) == 130);
   std::vector<fs::path> runs;
   for (const auto& e : fs::directory_iterator(logs)) runs.push_back(e.path());
