@@ -114,7 +114,7 @@ class ServiceServer final : public fdds::DataReaderListener {
         fdds::PublicationMatchedStatus st;
         writer_->get_publication_matched_status(st);
         return st.current_count > 0;
-      }, std::chrono::milliseconds(2000));
+      }, std::chrono::milliseconds(8000));  // discovery of a new client is slow on a loaded machine
       // as rmw_fastrtps: a client that names its reply reader (related_sample_identity's
       // writer GUID) gets the reply under that GUID, with its request's sequence number
       eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;

@@ -233,7 +233,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
   const DdsOptions opt = options_on(42);
   Flight f("dds_params", 2.0);
   DdsBridge bridge(*f.host, opt);
-  DdsClient client(opt, std::chrono::seconds(5));
+  DdsClient client(opt, std::chrono::seconds(20));
   // between flights: list and get answer directly
   const auto all = client.param_list("ctl.");
   REQUIRE(all.size() == 5);
@@ -242,7 +242,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
   CHECK(kp.unit == "1/m");
   CHECK(kp.max == 10.0);
   f.start();
-  REQUIRE(ddsi::wait_until([&] { return bridge.samples_written("state") > 10; }, std::chrono::seconds(5)));
+  REQUIRE(ddsi::wait_until([&] { return bridge.samples_written("state") > 10; }, std::chrono::seconds(20)));
   client.param_set("ctl.tag", 0.25);
   try {
     client.param_set("ctl.kp", 50.0);
@@ -289,7 +289,7 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   opt.topics[0].rate = 20;  // state at 20 Hz (it is published at 400 Hz)
   Flight f("dds_mission", 1.5, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\n");
   DdsBridge bridge(*f.host, opt);
-  DdsClient client(opt, std::chrono::seconds(5));
+  DdsClient client(opt, std::chrono::seconds(20));
   f.start();
   tern::msg::Waypoint wp;
   wp.w = Eigen::Vector3d(100.0, -50.0, -40.0);
@@ -349,7 +349,7 @@ TEST_CASE("dds: replies reach the client that asked (sample identity), with two 
   const DdsOptions opt = options_on(45);
   Flight f("dds_two_clients", 1.0);
   DdsBridge bridge(*f.host, opt);
-  DdsClient a(opt, std::chrono::seconds(15)), b(opt, std::chrono::seconds(15));
+  DdsClient a(opt, std::chrono::seconds(20)), b(opt, std::chrono::seconds(20));
   std::vector<std::string> got_a, got_b;
   std::string err_a, err_b;
   std::thread ta([&] {
