@@ -16,7 +16,7 @@ constexpr std::uint32_t kInitialPeersRange = 32;
 }
 
 fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string& name) {
-  fdds::DomainParticipantQos q = fdds::PARTICIPANT_QOS_DEFAULT;
+  fdds::DomainParticipantQos q;  // then: no built-in transports, only the listed interfaces
   q.name(name);
   // no shared-memory and no any-interface UDP transport: only what the config names
   q.transport().use_builtin_transports = false;
