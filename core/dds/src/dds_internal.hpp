@@ -1,9 +1,6 @@
 // core/dds/src/dds_internal.hpp: Fast DDS side of the bridge (private to core/dds).
 #pragma once
 
-#include <algorithm>
-#include <mutex>
-
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -13,7 +10,6 @@
 #include <thread>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
-#include <fastdds/dds/publisher/DataWriterListener.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
 #include <fastdds/dds/publisher/DataWriter.hpp>
 #include <fastdds/dds/publisher/Publisher.hpp>
@@ -95,7 +91,7 @@ class ServiceServer final : public fdds::DataReaderListener {
   ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
                 const std::string& service, std::function<Resp(const Req&)> handler)
       : handler_(std::move(handler)) {
-    writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos(), &matched_);
+    writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos());
     reader_ = sub->create_datareader(make_topic<ReqPS>(p, request_topic(ns, service)), service_reader_qos(), this);
     if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create service '" + service + "'");
   }
@@ -106,15 +102,12 @@ class ServiceServer final : public fdds::DataReaderListener {
       if (!info.valid_data) continue;
       Resp resp = handler_(req);
       // the client's reply reader is discovered at about the time its request writer is: give
-      // the reply writer a moment to match that very reader (a volatile reply to an unmatched
-      // reader is lost; with several clients, "some reader matched" is not enough)
-      const auto reply_reader = info.related_sample_identity.writer_guid();
+      // the reply writer a moment to match it (a volatile reply to an unmatched reader is lost)
       wait_until([&] {
-        if (reply_reader != eprosima::fastrtps::rtps::GUID_t::unknown()) return matched_.has(reply_reader);
         fdds::PublicationMatchedStatus st;
         writer_->get_publication_matched_status(st);
         return st.current_count > 0;
-      }, std::chrono::milliseconds(8000));  // discovery of a new client is slow on a loaded machine
+      }, std::chrono::milliseconds(1000));
       // as rmw_fastrtps: a client that names its reply reader (related_sample_identity's
       // writer GUID) gets the reply under that GUID, with its request's sequence number
       eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;
@@ -128,29 +121,7 @@ class ServiceServer final : public fdds::DataReaderListener {
   fdds::DataReader* reader() const { return reader_; }
 
  private:
-  /// The reply readers the reply writer has matched, by GUID.
-  class MatchedReaders final : public fdds::DataWriterListener {
-   public:
-    void on_publication_matched(fdds::DataWriter*, const fdds::PublicationMatchedStatus& st) override {
-      const auto guid = eprosima::fastrtps::rtps::iHandle2GUID(st.last_subscription_handle);
-      std::lock_guard lk(mu_);
-      if (st.current_count_change > 0) {
-        guids_.push_back(guid);
-      } else if (st.current_count_change < 0) {
-        guids_.erase(std::remove(guids_.begin(), guids_.end(), guid), guids_.end());
-      }
-    }
-    bool has(const eprosima::fastrtps::rtps::GUID_t& g) const {
-      std::lock_guard lk(mu_);
-      return std::find(guids_.begin(), guids_.end(), g) != guids_.end();
-    }
-
-   private:
-    mutable std::mutex mu_;
-    std::vector<eprosima::fastrtps::rtps::GUID_t> guids_;
-  };
   std::function<Resp(const Req&)> handler_;
-  MatchedReaders matched_;
   fdds::DataWriter* writer_ = nullptr;
   fdds::DataReader* reader_ = nullptr;
 };
