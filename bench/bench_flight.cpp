@@ -20,8 +20,12 @@ namespace fs = std::filesystem;
 
 int main(int argc, char** argv) {
   const std::string mission = argc > 1 ? argv[1] : std::string(TERN_SOURCE_DIR) + "/configs/missions/default.yaml";
-  const fs::path logs = fs::temp_directory_path() / ("tern_bench_flight_" + std::to_string(getpid()));
-  fs::create_directories(logs);
+  std::string tmpl = (fs::temp_directory_path() / "tern_bench_flight_XXXXXX").string();
+  if (::mkdtemp(tmpl.data()) == nullptr) {
+    std::fprintf(stderr, "bench_flight: mkdtemp failed in %s\n", fs::temp_directory_path().c_str());
+    return 1;
+  }
+  const fs::path logs = tmpl;
   const pid_t pid = fork();
   if (pid == 0) {
     // one core, as the target says

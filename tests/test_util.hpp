@@ -3,7 +3,9 @@
 
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
+#include <stdexcept>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -14,13 +16,24 @@
 
 namespace fs = std::filesystem;
 
+// A fresh directory per test process (mkdtemp: a PID reused by a later run never sees stale
+// run directories), removed when the process exits unless TERN_KEEP_TEST_DIR is set.
 inline fs::path test_dir() {
-  static const fs::path d = [] {
-    fs::path p = fs::temp_directory_path() / ("tern_host_tests_" + std::to_string(::getpid()));
-    fs::create_directories(p);
-    return p;
-  }();
-  return d;
+  struct Dir {
+    fs::path path;
+    Dir() {
+      std::string tmpl = (fs::temp_directory_path() / "tern_host_tests_XXXXXX").string();
+      if (::mkdtemp(tmpl.data()) == nullptr) throw std::runtime_error("mkdtemp failed in " + fs::temp_directory_path().string());
+      path = tmpl;
+    }
+    ~Dir() {
+      if (std::getenv("TERN_KEEP_TEST_DIR") != nullptr) return;
+      std::error_code ec;
+      fs::remove_all(path, ec);
+    }
+  };
+  static const Dir d;
+  return d.path;
 }
 
 inline fs::path write_file(const std::string& name, const std::string& text) {
