@@ -467,6 +467,7 @@ TEST_CASE("sensors: noise statistics match the parameters") {
   SensorParams p;
   p.accel_bias_walk = p.gyro_bias_walk = p.baro_bias_walk = p.diff_bias_walk = 0.0;
   p.mag_gm_sigma = 0.0;
+  p.mag_noise = 3e-6;  // the white part (0 by default, as ROSflight's simulator)
   Sensors s(p, 11);
   Truth t;
   t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
@@ -500,6 +501,26 @@ TEST_CASE("sensors: noise statistics match the parameters") {
   CHECK(stddev(mx) == doctest::Approx(p.mag_noise).epsilon(0.03));
   CHECK(std::fabs(mean(vn) - 17.0) < k * p.gnss_vel_noise);
   CHECK(stddev(vn) == doctest::Approx(p.gnss_vel_noise).epsilon(0.03));
+}
+
+TEST_CASE("sensors: the default magnetometer error is ROSflight's Gauss-Markov process") {
+  const SensorParams p;  // mag_noise 0, mag_gm_sigma 0.12 uT, mag_gm_tau 1/7 s
+  CHECK(p.mag_noise == 0.0);
+  Sensors s(p, 12);
+  Truth t;
+  t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
+  const double mx_true = p.mag_intensity * std::cos(p.mag_inclination) * std::cos(p.mag_declination);
+  std::vector<double> e;
+  for (int i = 0; i < 50000; ++i) e.push_back(s.mag(t, 0.02).field.x() - mx_true);
+  // steady-state sigma, and the sample-to-sample correlation exp(-T_s / tau) = exp(-0.14)
+  CHECK(stddev(e) == doctest::Approx(p.mag_gm_sigma).epsilon(0.1));
+  double c = 0, v = 0;
+  const double m = mean(e);
+  for (std::size_t i = 1; i < e.size(); ++i) {
+    c += (e[i] - m) * (e[i - 1] - m);
+    v += (e[i] - m) * (e[i] - m);
+  }
+  CHECK(c / v == doctest::Approx(std::exp(-0.02 / p.mag_gm_tau)).epsilon(0.02));
 }
 
 TEST_CASE("sensors: GNSS reports lat/lon/alt about the origin; same seed, same draws") {

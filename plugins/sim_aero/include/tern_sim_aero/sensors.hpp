@@ -24,11 +24,15 @@ struct SensorParams {
   double accel_bias_walk = 2e-4;     ///< bias random walk, m/s^2/sqrt(s)
   double gyro_noise = 0.0023;        ///< rad/s per sample
   double gyro_bias_range = 0.01;     ///< rad/s
-  double gyro_bias_walk = 2e-4;      ///< rad/s/sqrt(s)
-  // magnetometer (ROSflight: 50 Hz; field of the default origin)
-  double mag_noise = 3e-6;           ///< T per axis per sample
-  double mag_gm_sigma = 1e-6;        ///< Gauss-Markov error, steady-state sigma, T
-  double mag_gm_tau = 60.0;          ///< Gauss-Markov time constant, s
+  /// rad/s/sqrt(s). ROSflight's simulator adds T_s * 1e-5 * N(0,1) per IMU sample (its
+  /// gyro_bias_walk_stdev, scaled by the sample time), i.e. 1e-5 * sqrt(T_s) = 5e-7 per sqrt(s) at 400 Hz.
+  double gyro_bias_walk = 5e-7;
+  // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
+  // Gauss-Markov process eta <- exp(-k_mag T_s) eta + T_s * mag_stdev * N(0,1) with mag_stdev 3 uT,
+  // k_mag 7 /s and T_s 0.02 s, and no white part: steady sigma 3e-6 * 0.02 / sqrt(1 - exp(-0.28)).
+  double mag_noise = 0.0;            ///< T per axis per sample (white part)
+  double mag_gm_sigma = 1.2145e-7;   ///< Gauss-Markov error, steady-state sigma, T
+  double mag_gm_tau = 1.0 / 7.0;     ///< Gauss-Markov time constant (1 / k_mag), s
   double mag_declination = 0.1857972802;  ///< rad (east of true north positive)
   double mag_inclination = 1.139436457;   ///< rad (down positive)
   double mag_intensity = 5.07163e-5;      ///< T
@@ -40,9 +44,11 @@ struct SensorParams {
   double diff_noise = 1.15;          ///< Pa
   double diff_bias_range = 0.15;     ///< Pa
   double diff_bias_walk = 0.01;      ///< Pa/sqrt(s)
-  // GNSS (book sec. 7.5: Gauss-Markov with 1/k = 1100 s; ROSflight: 10 Hz)
-  double gnss_h_noise = 0.21;        ///< horizontal GM driving noise, m/sqrt(s)
-  double gnss_v_noise = 0.40;        ///< vertical GM driving noise, m/sqrt(s)
+  // GNSS (book sec. 7.5: Gauss-Markov with 1/k = 1100 s; ROSflight: 10 Hz). ROSflight drives the
+  // error with T_s * stdev * N(0,1) per 10 Hz fix (horizontal 0.21, vertical 0.40), i.e.
+  // stdev * sqrt(T_s) per sqrt(s).
+  double gnss_h_noise = 0.21 * 0.316227766;  ///< horizontal GM driving noise, m/sqrt(s)
+  double gnss_v_noise = 0.40 * 0.316227766;  ///< vertical GM driving noise, m/sqrt(s)
   double gnss_k = 1.0 / 1100.0;      ///< GM rate, 1/s
   double gnss_vel_noise = 0.01;      ///< m/s per axis
   double gnss_h_acc = 0.21 * 3.0;    ///< reported horizontal accuracy, m

@@ -72,8 +72,9 @@ struct EstimatorConfig {
   double mag_declination = 0.1857972802;  ///< rad
   double mag_inclination = 1.139436457;   ///< rad
   double mag_field_strength = 5.07163e-5; ///< T
-  double mag_sigma = 6e-6;                ///< T per axis: white noise 3e-6 plus slowly varying
-                                          ///< disturbances (a Gauss-Markov 1e-6 T moves yaw ~3 deg)
+  double mag_sigma = 3e-6;                ///< T per axis (ROSflight's mag_stdev; its simulated error
+                                          ///< is a 0.12 uT Gauss-Markov with 1/7 s, so this leaves
+                                          ///< margin for motor and hard-iron disturbances)
   double mag_gate = kChi2_999[3];         ///< 3-axis mode (3 dof)
   double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
   bool mag_heading_only = true;           ///< tilt-compensated heading (true) or 3-axis direction

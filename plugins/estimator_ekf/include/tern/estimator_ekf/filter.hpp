@@ -124,13 +124,15 @@ inline Mat3 skew3(const Vec3& a) {
 struct ProcessNoise {
   double accel = 0.2;             ///< accelerometer white noise, 1 sigma per sample, m/s^2
   double gyro = 0.0023;           ///< gyro white noise, 1 sigma per sample, rad/s
-  double gyro_bias_walk = 2e-4;   ///< gyro-bias random walk, rad/s/sqrt(s)
+  double gyro_bias_walk = 5e-5;   ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
+                                  ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
   double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
   double wind_walk = 0.5;         ///< horizontal-wind random walk, m/s/sqrt(s) (follows slow gusts)
   double baro_bias_walk = 0.05;   ///< barometer-bias random walk, m/sqrt(s)
   double position = 0.0;          ///< extra position random walk (model error), m/sqrt(s)
-  double gnss_error_walk_h = 0.21;  ///< GNSS horizontal error driving noise, m/sqrt(s)
-  double gnss_error_walk_v = 0.40;  ///< GNSS vertical error driving noise, m/sqrt(s)
+  double gnss_error_walk_h = 0.066;  ///< GNSS horizontal error driving noise, m/sqrt(s) (ROSflight:
+                                     ///< 0.21 m times T_s per 10 Hz fix = 0.21 sqrt(0.1))
+  double gnss_error_walk_v = 0.126;  ///< GNSS vertical error driving noise, m/sqrt(s) (0.40 sqrt(0.1))
   double gnss_error_k = 1.0 / 1100.0;  ///< GNSS error Gauss-Markov rate k, 1/s
 };
 
