@@ -4,6 +4,9 @@
 
 #include <sys/wait.h>
 
+#include <cmath>
+#include <cstring>
+
 #include <nlohmann/json.hpp>
 
 #include "loader.hpp"
@@ -138,4 +141,39 @@ TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduce
   CHECK(read_file(r.run_dir / "topics" / "state.csv") == read_file(flown.run_dir / "topics" / "state.csv"));
   const auto s = summary(r);
   CHECK(s["metrics"]["estimation_rmse"]["north_m"].get<double>() < 2.0);
+}
+
+TEST_CASE("the EKF's side-force model follows the turbulent wind better than the zero-sideslip assumption") {
+  // the default mission with the estimator's side-force model on (its default: the Anaconda
+  // file has C_Y_beta) and off; wind RMSE over the loops after the first one (summary metrics)
+  std::string text = read_file(kMissions / "default.yaml");
+  for (const char* rel : {"../aircraft/", "../gains/"}) {
+    const auto at = text.find(rel);
+    REQUIRE(at != std::string::npos);
+    text.replace(at, std::strlen(rel), (kMissions / rel).lexically_normal().string());
+  }
+  const auto mission_file = text.find("file: fixedwing_mission.yaml");
+  REQUIRE(mission_file != std::string::npos);
+  text.replace(mission_file, 28, "file: " + (kMissions / "fixedwing_mission.yaml").string());
+  const auto trigger = text.find("    trigger: imu\n");
+  REQUIRE(trigger != std::string::npos);
+  double wind_rmse[2] = {0, 0};
+  for (int on = 0; on < 2; ++on) {
+    std::string cfg = text;
+    cfg.insert(trigger + 17, std::string("    params: {use_side_force: ") + (on ? "true" : "false") + "}\n");
+    HostOptions o;
+    o.quiet = true;
+    o.log_dir = test_dir() / "e2e_side_force";
+    o.duration = 260.0;
+    Host h(load_config(write_file(on ? "side_force_on.yaml" : "side_force_off.yaml", cfg)), o);
+    h.build();
+    const FlightResult r = h.fly();
+    REQUIRE(r.ok);
+    const auto m = summary(r)["instances"]["metrics"];
+    wind_rmse[on] = std::hypot(m["est_rmse_wind_north_mps"].get<double>(), m["est_rmse_wind_east_mps"].get<double>());
+    if (on) CHECK(summary(r)["instances"]["ekf"]["side_force_accepted"].get<double>() > 10000);
+  }
+  MESSAGE("wind RMSE: zero sideslip " << wind_rmse[0] << " m/s, side force " << wind_rmse[1] << " m/s");
+  CHECK(wind_rmse[1] < 0.75 * wind_rmse[0]);
+  CHECK(wind_rmse[1] < 0.5);
 }

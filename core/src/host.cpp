@@ -936,8 +936,9 @@ FlightResult Host::fly() {
     tp->log_index = log.add_topic(tp->name, tp->columns, tp->msg_size);
     tp->logged_src = nullptr;
     tp->logged_seq = 0;
-    // raw sensor topics are logged in full by default, so that a flight can be replayed
-    static const std::set<std::string> kSensors = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status"};
+    // raw sensor topics (and the actuators, an input of the estimator's side-force model) are
+    // logged in full by default, so that a flight can be replayed
+    static const std::set<std::string> kSensors = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
     auto rate_it = config_.log.rates.find(tp->name);
     const double max_rate = rate_it != config_.log.rates.end() ? rate_it->second
                             : kSensors.count(tp->name)        ? 0.0

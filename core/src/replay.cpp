@@ -108,11 +108,12 @@ ReplaySource::~ReplaySource() = default;
 void ReplaySource::configure() {
   if (!std::filesystem::is_directory(dir_ / "topics"))
     throw ConfigError("replay: '" + dir_.string() + "' is not a flight log directory (no topics/)");
-  auto add = [&](auto tag, const std::string& topic) {
+  auto add = [&](auto tag, const std::string& topic, bool feedback = false) {
     using T = decltype(tag);
     const auto csv = dir_ / "topics" / (topic + ".csv");
     if (!std::filesystem::exists(csv)) return;
     auto track = std::make_unique<Track<T>>(csv);
+    track->feedback = feedback;
     this->declare(track->output(), topic, "recorded " + topic);
     tracks_.push_back(std::move(track));
   };
@@ -121,6 +122,7 @@ void ReplaySource::configure() {
   add(msg::Baro{}, "baro");
   add(msg::DiffPressure{}, "diff_pressure");
   add(msg::Mag{}, "mag");
+  add(msg::Actuators{}, "actuators", true);
   add(msg::State{}, "truth");
   if (!std::filesystem::exists(dir_ / "topics" / "imu.csv"))
     throw ConfigError("replay: '" + dir_.string() + "' has no topics/imu.csv to replay");
@@ -132,7 +134,7 @@ void ReplaySource::start() {
 }
 
 void ReplaySource::step(Nanos now) {
-  for (auto& t : tracks_) t->publish_until(now);
+  for (auto& t : tracks_) t->publish_until(t->feedback ? now - 1 : now);
 }
 
 }  // namespace tern::core

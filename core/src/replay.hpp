@@ -2,7 +2,9 @@
 // `tern replay RUN_DIR` (run an estimator over a flight's data and compare it with the truth).
 //
 // A built-in I/O instance named `replay`. At configure it reads RUN_DIR/topics/<t>.csv for the
-// sensor topics imu, gnss, baro, diff_pressure, mag and the truth topic `truth` (those present),
+// sensor topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the
+// estimator's side-force model reads; played one tick late, as a feedback edge is seen in
+// flight) and the truth topic `truth` (those present),
 // mapping columns by name onto the message layout; at each tick it publishes every recorded
 // message whose log time is <= now, in order. The values are bit-exact: the log writes doubles
 // in shortest round-trip form.
@@ -32,6 +34,9 @@ class ReplaySource final : public Plugin {
     virtual void publish_until(Nanos now) = 0;
     virtual void rewind() = 0;
     virtual Nanos last_time() const = 0;
+    /// A topic the flight's controllers wrote after the estimator had run (actuators): it is
+    /// played back one tick late, as the estimator saw it in flight.
+    bool feedback = false;
   };
 
  private:

@@ -94,10 +94,20 @@ void Estimator::apply_models_config() {
   sideslip_.sigma = cfg_.sideslip_sigma;
   sideslip_.gate = cfg_.sideslip_gate;
   sideslip_.min_airspeed = cfg_.min_airspeed;
+  side_force_.k = cfg_.side_force_active() ? cfg_.rho * cfg_.wing_S / (2.0 * cfg_.mass) : 0.0;
+  side_force_.C_Y_0 = cfg_.C_Y_0;
+  side_force_.C_Y_beta = cfg_.C_Y_beta;
+  side_force_.C_Y_delta_a = cfg_.C_Y_delta_a;
+  side_force_.C_Y_delta_r = cfg_.C_Y_delta_r;
+  side_force_.sigma = cfg_.side_force_sigma;
+  side_force_.gate = cfg_.side_force_gate;
+  side_force_.min_airspeed = cfg_.min_airspeed;
 }
 
 void Estimator::reset() {
   initialized_ = false;
+  side_force_sum_ = 0.0;
+  side_force_n_ = 0;
   origin_.reset();
   origin_lat_ = origin_lon_ = origin_alt_ = 0.0;
   accel_avg_.setZero();
@@ -217,6 +227,8 @@ bool Estimator::add_imu(const msg::Imu& m) {
     }
   }
   rate_ = m.gyro - filter_.x().b_g;
+  side_force_sum_ += m.accel.y();
+  ++side_force_n_;
   if (!filter_.healthy()) {
     ++filter_resets_;
     push(m.stamp, EventKind::filter_reset, Sensor::imu);
@@ -274,7 +286,13 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     return true;
   }
   filter_.update(pitot_, DiffPressure::Vec(m.pressure));
-  if (cfg_.use_sideslip) filter_.update(sideslip_, ZeroSideslip::Vec(0.0));
+  if (side_force_.k != 0.0 && side_force_n_ > 0) {
+    filter_.update(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_));
+  } else if (cfg_.use_sideslip) {
+    filter_.update(sideslip_, ZeroSideslip::Vec(0.0));
+  }
+  side_force_sum_ = 0.0;
+  side_force_n_ = 0;
   return true;
 }
 

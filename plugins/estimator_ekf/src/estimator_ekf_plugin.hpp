@@ -109,6 +109,23 @@ inline const RealParam kReal[] = {
      TERN_EKF_FIELD(sideslip_sigma)},
     {"sideslip_gate", "", 0.0, 1e6, "chi-square gate of the zero-sideslip update (1 dof; 0: off)",
      TERN_EKF_FIELD(sideslip_gate)},
+    {"side_force_noise", "m/s^2", 1e-3, 100.0,
+     "side-force update noise: body-y accelerometer (averaged between pitot samples) against the aircraft's C_Y model",
+     TERN_EKF_FIELD(side_force_sigma)},
+    {"side_force_gate", "", 0.0, 1e6, "chi-square gate of the side-force update (1 dof; 0: off)",
+     TERN_EKF_FIELD(side_force_gate)},
+    {"wing_S", "m^2", 0.0, 100.0, "wing area for the side-force model (default: the aircraft file's; 0: side force off)",
+     TERN_EKF_FIELD(wing_S)},
+    {"mass", "kg", 0.0, 1000.0, "aircraft mass for the side-force model (default: the aircraft file's; 0: off)",
+     TERN_EKF_FIELD(mass)},
+    {"C_Y_0", "", -10.0, 10.0, "side-force coefficient at zero sideslip (default: the aircraft file's)",
+     TERN_EKF_FIELD(C_Y_0)},
+    {"C_Y_beta", "1/rad", -20.0, 20.0, "side-force derivative in sideslip (default: the aircraft file's; 0: off)",
+     TERN_EKF_FIELD(C_Y_beta)},
+    {"C_Y_delta_a", "1/rad", -10.0, 10.0, "side force per aileron deflection (default: the aircraft file's)",
+     TERN_EKF_FIELD(C_Y_delta_a)},
+    {"C_Y_delta_r", "1/rad", -10.0, 10.0, "side force per rudder deflection (default: the aircraft file's)",
+     TERN_EKF_FIELD(C_Y_delta_r)},
     {"init_average_time", "s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation",
      TERN_EKF_FIELD(init_average_time)},
     {"init_tilt_sigma", "rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma",
@@ -153,21 +170,16 @@ class EstimatorEkf final : public tern::Plugin {
     declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates",
             Need::optional);
     declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
+    declare(actuators_, "actuators", "surface deflections for the side-force model (delta_a, delta_r)",
+            Need::optional);
     declare(state_, "state", "the estimate (valid once initialised)");
 
     const EstimatorConfig def;
     EstimatorConfig scratch = def;
-    // The default air density is the aircraft file's (environment: rho:), if it has one, so
-    // that the pitot model matches the simulator's; else ROSplane's 1.225 kg/m^3.
-    if (!context().describing() && !context().aircraft_file().empty()) {
-      const std::string path = context().aircraft_file().string();
-      try {
-        const YAML::Node ac = YAML::LoadFile(path);
-        if (ac["environment"] && ac["environment"]["rho"]) scratch.rho = ac["environment"]["rho"].as<double>();
-      } catch (const YAML::Exception& e) {
-        throw std::runtime_error(path + ": cannot read environment.rho: " + e.what());
-      }
-    }
+    // Defaults from the mission's aircraft file when it has them: the air density
+    // (environment: rho:, so that the pitot model matches the simulator's; else ROSplane's
+    // 1.225 kg/m^3) and, for the side-force model, mass, wing area and the C_Y derivatives.
+    if (!context().describing() && !context().aircraft_file().empty()) read_aircraft(context().aircraft_file().string(), scratch);
     for (std::size_t i = 0; i < kRealCount; ++i) {
       const RealParam& d = kReal[i];
       declare(reals_[i], d.name, d.field(scratch), tern::ParamSpec(d.unit, d.min, d.max, d.description));
@@ -186,7 +198,12 @@ class EstimatorEkf final : public tern::Plugin {
                             "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     mag_heading_only_.on_change([this](const bool&) { dirty_ = true; });
     declare(use_sideslip_, "use_sideslip", def.use_sideslip,
-            tern::ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement"));
+            tern::ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
+    declare(use_side_force_, "use_side_force", def.use_side_force,
+            tern::ParamSpec("", 0, 1,
+                            "measure sideslip from the body-y accelerometer and the aircraft's C_Y model "
+                            "(needs wing_S, mass, C_Y_beta; else zero-sideslip)"));
+    use_side_force_.on_change([this](const bool&) { dirty_ = true; });
     min_fix_type_.on_change([this](const std::int64_t&) { dirty_ = true; });
     baro_cal_count_.on_change([this](const std::int64_t&) { dirty_ = true; });
     init_min_imu_.on_change([this](const std::int64_t&) { dirty_ = true; });
@@ -211,6 +228,7 @@ class EstimatorEkf final : public tern::Plugin {
     if (baro_.updated()) estimator_.add_baro(*baro_);
     if (diff_.updated()) estimator_.add_diff_pressure(*diff_);
     if (mag_.updated()) estimator_.add_mag(*mag_);
+    if (actuators_.updated()) estimator_.set_controls(actuators_->delta_a, actuators_->delta_r);
     estimator_.check_timeouts(imu_.has_value() ? imu_->stamp : now);
     if (estimator_.has_events()) {
       for (const auto& e : estimator_.take_events()) {
@@ -258,6 +276,7 @@ class EstimatorEkf final : public tern::Plugin {
     rej("baro", estimator_.baro_model().stats);
     rej("diff_pressure", estimator_.diff_pressure_model().stats);
     rej("sideslip", estimator_.sideslip_model().stats);
+    rej("side_force", estimator_.side_force_model().stats);
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     return s;
@@ -267,6 +286,42 @@ class EstimatorEkf final : public tern::Plugin {
   const tern::ekf::Estimator& estimator() const { return estimator_; }
 
  private:
+  /// Reads what the estimator can use from an aircraft file, in tern's format (mass, wing: S,
+  /// environment: rho, aero: C_Y_*) or ROSflight's (`<node>: ros__parameters:` with mass,
+  /// wing_s, rho, C_Y_*). Missing keys keep the defaults.
+  static void read_aircraft(const std::string& path, EstimatorConfig& c) {
+    try {
+      const YAML::Node ac = YAML::LoadFile(path);
+      const auto take = [&](const YAML::Node& n, double& dst) {
+        if (n && n.IsScalar()) dst = n.as<double>();
+      };
+      if (ac["environment"]) take(ac["environment"]["rho"], c.rho);
+      take(ac["mass"], c.mass);
+      if (ac["wing"]) take(ac["wing"]["S"], c.wing_S);
+      if (const YAML::Node aero = ac["aero"]) {
+        take(aero["C_Y_0"], c.C_Y_0);
+        take(aero["C_Y_beta"], c.C_Y_beta);
+        take(aero["C_Y_delta_a"], c.C_Y_delta_a);
+        take(aero["C_Y_delta_r"], c.C_Y_delta_r);
+      }
+      if (ac.IsMap())
+        for (const auto& node : ac) {
+          const YAML::Node rp = node.second.IsMap() ? node.second["ros__parameters"] : YAML::Node();
+          if (!rp || !rp.IsMap()) continue;
+          take(rp["rho"], c.rho);
+          take(rp["mass"], c.mass);
+          take(rp["wing_s"], c.wing_S);
+          take(rp["C_Y_0"], c.C_Y_0);
+          take(rp["C_Y_O"], c.C_Y_0);  // ROSflight spells it with a letter O
+          take(rp["C_Y_beta"], c.C_Y_beta);
+          take(rp["C_Y_delta_a"], c.C_Y_delta_a);
+          take(rp["C_Y_delta_r"], c.C_Y_delta_r);
+        }
+    } catch (const YAML::Exception& e) {
+      throw std::runtime_error(path + ": cannot read the aircraft's rho, mass, wing area or C_Y_*: " + e.what());
+    }
+  }
+
   EstimatorConfig make_config() {
     EstimatorConfig c;
     for (std::size_t i = 0; i < kRealCount; ++i) kReal[i].field(c) = reals_[i]();
@@ -274,6 +329,7 @@ class EstimatorEkf final : public tern::Plugin {
     c.baro_calibration_count = static_cast<int>(baro_cal_count_());
     c.init_min_imu_samples = static_cast<int>(init_min_imu_());
     c.use_sideslip = use_sideslip_();
+    c.use_side_force = use_side_force_();
     c.mag_heading_only = mag_heading_only_();
     return c;
   }
@@ -283,10 +339,11 @@ class EstimatorEkf final : public tern::Plugin {
   tern::Input<tern::msg::Baro> baro_;
   tern::Input<tern::msg::DiffPressure> diff_;
   tern::Input<tern::msg::Mag> mag_;
+  tern::Input<tern::msg::Actuators> actuators_;
   tern::Output<tern::msg::State> state_;
   std::array<tern::Param<double>, kRealCount> reals_;
   tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_;
-  tern::Param<bool> use_sideslip_, mag_heading_only_;
+  tern::Param<bool> use_sideslip_, use_side_force_, mag_heading_only_;
   tern::ekf::Estimator estimator_;
   tern::msg::State out_;
   std::uint64_t ticks_ = 0;

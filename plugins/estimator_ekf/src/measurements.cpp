@@ -122,4 +122,21 @@ ZeroSideslip::Jac ZeroSideslip::jacobian(const NominalState& x) const {
   return air_velocity_jacobian(x).row(1);
 }
 
+bool SideForce::applicable(const NominalState& x, const Vec& /*z*/) const {
+  return k != 0.0 && x.air_velocity_body().norm() >= min_airspeed;
+}
+
+SideForce::Vec SideForce::h(const NominalState& x) const {
+  const Vec3 a = x.air_velocity_body();
+  return Vec(k * (a.x() * a.x() * c0() + C_Y_beta * a.x() * a.y()) + x.b_a.y());
+}
+
+SideForce::Jac SideForce::jacobian(const NominalState& x) const {
+  const Vec3 a = x.air_velocity_body();
+  const Eigen::RowVector3d dh_da(k * (2.0 * a.x() * c0() + C_Y_beta * a.y()), k * C_Y_beta * a.x(), 0.0);
+  Jac H = dh_da * air_velocity_jacobian(x);
+  H(0, idx::ba + 1) += 1.0;
+  return H;
+}
+
 }  // namespace tern::ekf

@@ -75,6 +75,34 @@ TEST_CASE("measurement Jacobians match finite differences") {
   SUBCASE("magnetic heading") { check_jacobian(MagHeading{}, x); }
   SUBCASE("differential pressure") { check_jacobian(DiffPressure{}, x); }
   SUBCASE("zero sideslip") { check_jacobian(ZeroSideslip{}, x); }
+  SUBCASE("side force") {
+    SideForce m;  // the Anaconda's: rho S / (2 m) with rho 1.2682, S 0.52, m 4.5
+    m.k = 1.2682 * 0.52 / (2.0 * 4.5);
+    m.C_Y_0 = 0.01;
+    m.C_Y_beta = -0.98;
+    m.C_Y_delta_a = 0.075;
+    m.C_Y_delta_r = 0.19;
+    m.delta_a = 0.05;
+    m.delta_r = -0.08;
+    check_jacobian(m, x);
+  }
+}
+
+TEST_CASE("side force: h is the lateral aerodynamic force over the mass, plus the accelerometer bias") {
+  SideForce m;
+  m.k = 1.2682 * 0.52 / (2.0 * 4.5);
+  m.C_Y_beta = -0.98;
+  NominalState x;  // level, heading north, 17 m/s air-relative with 1 m/s from the right
+  x.v = Vec3(17.0, 0.0, 0.0);
+  x.wind = Eigen::Vector2d(0.0, -1.0);  // blowing to the west: the air comes at the aircraft from its right
+  // v_r = +1 m/s (air velocity relative to the body, body y): beta = asin(1 / Va) > 0
+  const double Va = std::hypot(17.0, 1.0), beta = std::asin(1.0 / Va);
+  const double exact = 0.5 * 1.2682 * Va * Va * 0.52 * -0.98 * beta / 4.5;
+  CHECK(m.h(x)(0) == doctest::Approx(exact).epsilon(0.01));
+  x.b_a = Vec3(0.0, 0.2, 0.0);
+  CHECK(m.h(x)(0) == doctest::Approx(exact + 0.2).epsilon(0.01));
+  m.k = 0.0;  // no aircraft model: never applicable
+  CHECK_FALSE(m.applicable(x, SideForce::Vec(0.0)));
 }
 
 TEST_CASE("transition matrix matches finite differences of the nominal propagation") {

@@ -126,6 +126,27 @@ TEST_CASE("plugin: the default air density is the aircraft file's") {
   CHECK_THROWS_AS(testing::Harness(std::make_unique<EstimatorEkf>(), {}, opt), std::runtime_error);
 }
 
+TEST_CASE("plugin: the side-force model takes mass, wing area and C_Y_* from the aircraft file") {
+  const auto real = [](testing::Harness& h, const char* name) { return std::get<double>(h.plugin().find_param(name)->value()); };
+  for (const char* file : {"/anaconda.yaml", "/../../plugins/sim_aero/tests/data/anaconda_dynamics.yaml"}) {
+    CAPTURE(file);  // tern's format and ROSflight's, unchanged
+    testing::HarnessOptions opt;
+    opt.aircraft_file = std::string(TERN_EKF_AIRCRAFT_DIR) + file;
+    testing::Harness h(std::make_unique<EstimatorEkf>(), {}, opt);
+    CHECK(real(h, "mass") == doctest::Approx(4.5));
+    CHECK(real(h, "wing_S") == doctest::Approx(0.52));
+    CHECK(real(h, "C_Y_beta") == doctest::Approx(-0.98));
+    CHECK(real(h, "C_Y_delta_a") == doctest::Approx(0.075));
+    CHECK(real(h, "C_Y_delta_r") == doctest::Approx(0.19));
+    const auto& est = dynamic_cast<const EstimatorEkf&>(h.plugin()).estimator();
+    CHECK(est.config().side_force_active());
+  }
+  // without an aircraft file the zero-sideslip pseudo-measurement stays in use
+  testing::Harness plain(std::make_unique<EstimatorEkf>());
+  CHECK(real(plain, "mass") == 0.0);
+  CHECK_FALSE(dynamic_cast<const EstimatorEkf&>(plain.plugin()).estimator().config().side_force_active());
+}
+
 TEST_CASE("plugin: every parameter has a unit or is dimensionless, a range and a description") {
   testing::Harness h(std::make_unique<EstimatorEkf>());
   CHECK(h.plugin().params().size() > 40);

@@ -92,6 +92,16 @@ struct EstimatorConfig {
   double sideslip_sigma = 2.0;            ///< m/s: turbulence makes v_r wander for seconds; a
                                           ///< tighter figure at 100 Hz over-trusts it
   double sideslip_gate = kChi2_999[1];
+  // side force (SideForce): replaces the zero-sideslip pseudo-measurement when use_side_force
+  // and the aircraft's wing area, mass and C_Y_beta are known (the plugin reads them from the
+  // mission's aircraft file)
+  bool use_side_force = true;
+  double wing_S = 0.0;                    ///< m^2 (0: unknown, side force off)
+  double mass = 0.0;                      ///< kg (0: unknown, side force off)
+  double C_Y_0 = 0.0, C_Y_beta = 0.0, C_Y_delta_a = 0.0, C_Y_delta_r = 0.0;  ///< per rad
+  bool side_force_active() const { return use_side_force && wing_S > 0.0 && mass > 0.0 && C_Y_beta != 0.0; }
+  double side_force_sigma = 0.3;          ///< m/s^2
+  double side_force_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;
   double init_average_time = 0.25;        ///< s, time constant of the pre-init averages
@@ -152,6 +162,11 @@ class Estimator {
   bool add_baro(const msg::Baro& m);
   bool add_diff_pressure(const msg::DiffPressure& m);
   bool add_mag(const msg::Mag& m);
+  /// The current aileron and rudder deflections (rad), for the side-force model.
+  void set_controls(double delta_a, double delta_r) {
+    side_force_.delta_a = delta_a;
+    side_force_.delta_r = delta_r;
+  }
   /// Raises time-out events for sensors silent for longer than their time-out at `now`.
   void check_timeouts(Nanos now);
 
@@ -171,6 +186,7 @@ class Estimator {
   const BaroAltitude& baro_model() const { return baro_; }
   const DiffPressure& diff_pressure_model() const { return pitot_; }
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
+  const SideForce& side_force_model() const { return side_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
 
@@ -204,6 +220,9 @@ class Estimator {
   BaroAltitude baro_;
   DiffPressure pitot_;
   ZeroSideslip sideslip_;
+  SideForce side_force_;
+  double side_force_sum_ = 0.0;  // body-y specific force summed since the last side-force update
+  int side_force_n_ = 0;
 
   bool initialized_ = false;
   bool expect_mag_ = true;

@@ -132,6 +132,35 @@ struct ZeroSideslip : Measurement<ZeroSideslip, 1> {
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
 
+/// Side force: z = a_y, the body-y specific force from the accelerometer (averaged over the
+/// samples since the previous update), m/s^2. The lateral aerodynamic force of Beard & McLain
+/// eq. 4.14 over the mass, with beta ~ v_r / Va and Va ~ u_r (|alpha|, |beta| small):
+///   h(x) = k (u_r^2 c_0 + C_Y_beta u_r v_r) + b_a,y,   k = rho S / (2 m),
+///   c_0 = C_Y_0 + C_Y_delta_a delta_a + C_Y_delta_r delta_r   (deflections from `actuators`),
+/// (u_r, v_r, w_r) = R^T (v - w). The rate terms C_Y_p, C_Y_r are left to the noise (zero for
+/// the Anaconda and small for most aircraft). Where the zero-sideslip pseudo-measurement assumes
+/// v_r = 0, this measures v_r (the aircraft's response to lateral gusts), so the wind state
+/// follows turbulence across the flight path too. Needs the aircraft's S, m and C_Y_*: the
+/// estimator_ekf plugin reads them from the mission's aircraft file.
+/// H = k [2 u_r c_0 + C_Y_beta v_r, C_Y_beta u_r, 0] J_air + e(b_a,y), J_air from
+/// air_velocity_jacobian(). Applicable when the estimated airspeed >= min_airspeed.
+struct SideForce : Measurement<SideForce, 1> {
+  double k = 0.0;             ///< rho S / (2 m), 1/m
+  double C_Y_0 = 0.0;
+  double C_Y_beta = 0.0;      ///< per rad
+  double C_Y_delta_a = 0.0;   ///< per rad
+  double C_Y_delta_r = 0.0;   ///< per rad
+  double delta_a = 0.0;       ///< current aileron deflection, rad (set before each update)
+  double delta_r = 0.0;       ///< current rudder deflection, rad
+  double sigma = 0.3;         ///< m/s^2: averaged accelerometer noise plus model error
+  double min_airspeed = 8.0;  ///< m/s
+  bool applicable(const NominalState& x, const Vec& z) const;
+  double c0() const { return C_Y_0 + C_Y_delta_a * delta_a + C_Y_delta_r * delta_r; }
+  Vec h(const NominalState& x) const;
+  Jac jacobian(const NominalState& x) const;
+  Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
+};
+
 /// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x 18).
 Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x);
 
