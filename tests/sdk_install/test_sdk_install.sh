@@ -9,8 +9,11 @@
 #     built out of tree against the prefix alone (one CMake project holding the six, to build
 #     them in one go) and their ctest runs (unit tests, `tern check` and a 10 s `tern fly` of
 #     each mission snippet).
-#  3. The generated controller flies 20 s of simulated flight (sim_aero, truth as state): the
-#     run ends normally, the log is written, the aircraft stays airborne and near wings level.
+#  3. The generated controller flies the default mission's first leg: the installed default
+#     mission (sim_aero, estimator_ekf in the loop, path planner, manager and follower; take-off
+#     and climb on the stock slc) with the generated controller in cruise, 70 s: it takes over at
+#     the start of cruise, waypoints 0 and 1 are passed in order, the fallback never engages and
+#     the largest cross-track on the lines stays under 25 m.
 # WORK_DIR (default: BUILD_DIR/sdk_install_test, emptied first, removed on success) keeps
 # everything for a look. The six projects build at -O1 (this checks that they build, test and
 # fly, not how fast) and through ccache with CCACHE_BASEDIR, so that a re-run is quick.
@@ -108,53 +111,65 @@ for k in $kinds; do
   [ -f "$work/plugins/build/plugins/libtern_my_$k.so" ] || fail "libtern_my_$k.so not built in build/plugins"
 done
 
-step "fly the generated controller for 20 s in sim_aero"
-cat > "$work/fly_controller.yaml" <<EOF
-name: sdk_controller
-seed: 3
-duration: 20
-aircraft: $prefix/share/tern/configs/aircraft/anaconda.yaml
-plugin_path: [plugins/build/plugins]
-plugins:
-  - name: sim
-    plugin: sim_aero
-    rate: 400
-    params: {init_mode: air, init_altitude: 100.0, init_airspeed: 15.0, init_heading: 0.5, turbulence: light}
-    remap: {truth: state}
-  - name: ctl
-    plugin: my_controller
-    rate: 100
-phases: {takeoff: ctl, climb: ctl, cruise: ctl}
-EOF
-"$prefix/bin/tern" fly "$work/fly_controller.yaml" --log-dir "$work/runs" -q > "$work/fly.log" 2>&1 || { cat "$work/fly.log"; fail "tern fly with the generated controller"; }
+step "fly the default mission's first leg with the generated controller in cruise"
+# The installed default mission, unchanged except for the generated controller: an instance
+# `ctl` appended to its plugins and named for the cruise phase (take-off and climb stay on the
+# stock slc, which is also the fallback). The copy sits next to links to the installed aircraft,
+# gains and mission files, so its relative paths resolve as they do where it is installed.
+cfg="$prefix/share/tern/configs"
+mkdir -p "$work/configs/missions"
+for d in "$cfg"/*; do [ "$(basename "$d")" = missions ] || ln -s "$d" "$work/configs/$(basename "$d")"; done
+for f in "$cfg"/missions/*; do ln -s "$f" "$work/configs/missions/$(basename "$f")"; done
+rm "$work/configs/missions/default.yaml"
+grep -q '^phases:.*slc' "$cfg/missions/default.yaml" || fail "the installed default mission has no 'phases:' line naming slc"
+awk '
+  function ctl() { print "  - name: ctl"; print "    plugin: my_controller"; print "    rate: 100"; done = 1 }
+  /^plugins:/ { inplugins = 1; print; next }
+  inplugins && /^[A-Za-z_]/ { ctl(); inplugins = 0 }
+  /^phases:/ { print "phases: {takeoff: slc, climb: slc, cruise: ctl}"; print "fallback: slc"; next }
+  { print }
+  END { if (inplugins) ctl(); if (!done) exit 1 }
+' "$cfg/missions/default.yaml" > "$work/configs/missions/first_leg.yaml" || fail "no 'plugins:' list in the installed default mission"
+# 70 s: the default mission (seed 1) passes waypoint 0 at ~22 s and waypoint 1 at ~64 s, and
+# ends before waypoint 2 (~72 s) and the next long line.
+TERN_PLUGIN_PATH="$work/plugins/build/plugins" "$prefix/bin/tern" fly "$work/configs/missions/first_leg.yaml" --duration 70 \
+  --log-dir "$work/runs" -q > "$work/fly.log" 2>&1 || { cat "$work/fly.log"; fail "tern fly of the first leg with the generated controller"; }
 run="$(ls -d "$work"/runs/*/ 2> /dev/null | head -1)"
 [ -n "$run" ] || { cat "$work/fly.log"; fail "no run directory written"; }
 [ -f "$run/summary.json" ] || fail "no summary.json in $run"
-python3 - "$run" <<'PY' || fail "the flight with the generated controller"
-import csv, glob, json, math, os, sys
-run = sys.argv[1]
-summary = json.load(open(os.path.join(run, "summary.json")))
-text = json.dumps(summary)
-if '"sim_crashed": true' in text or '"sim_crashed": 1' in text:
-    sys.exit("the aircraft crashed: " + text[:400])
-# the state topic (truth remapped): last 5 s near wings level, airborne, airspeed near 17 m/s
-files = [f for f in glob.glob(os.path.join(run, "**", "*"), recursive=True)
-         if os.path.basename(f).startswith("state") and f.endswith(".csv")]
-if not files:
-    sys.exit("no state log in " + run + ": " + ", ".join(sorted(os.listdir(run))))
-# columns are "name [unit]"
-rows = [{k.split(" [")[0]: v for k, v in r.items()} for r in csv.DictReader(open(files[0]))]
-t = [float(r["t"]) for r in rows]
-if t[-1] < 19.0:
-    sys.exit(f"the flight ended at {t[-1]:.1f} s")
-tail = [r for r, x in zip(rows, t) if x >= t[-1] - 5.0]
-phi = max(abs(float(r["phi"])) for r in tail)
-h = min(-float(r["p_d"]) for r in rows)
-Va = sum(float(r["Va"]) for r in tail) / len(tail)
-print(f"last 5 s: max |phi| {phi:.3f} rad, mean Va {Va:.2f} m/s; lowest altitude {h:.1f} m")
-if phi > 0.1 or h < 50.0 or abs(Va - 17.0) > 1.5:
-    sys.exit("not holding wings level and airspeed")
+python3 - "$run" <<'PY' || fail "the first leg with the generated controller"
+import json, os, sys
+s = json.load(open(os.path.join(sys.argv[1], "summary.json")))
+if s["end_reason"] != "duration":
+    sys.exit("the flight ended early: " + s["end_reason"])
+if s["instances"]["sim"].get("sim_crashed"):
+    sys.exit("the aircraft crashed")
+passages = s["metrics"]["waypoint_passages"]
+handovers = s["controller_handovers"]
+xt = s["instances"]["manager"]["line_cross_track_max_m"]
+print("handovers:", ", ".join(f"{h['from']} -> {h['to']} at {h['t_s']:.1f} s ({h['reason']})" for h in handovers))
+print("waypoints:", ", ".join(f"{p['waypoint']} at {p['t_s']:.1f} s" for p in passages))
+print(f"fallback engaged: {s['fallback_engaged']}; max cross-track on the lines: {xt:.1f} m")
+# the generated controller had the aircraft before waypoint 0 and kept it: handed over once, at
+# the start of cruise, and never handed back to the fallback
+to_ctl = [h for h in handovers if h["to"] == "ctl"]
+if len(handovers) != 1 or len(to_ctl) != 1 or to_ctl[0]["reason"] != "phase cruise":
+    sys.exit("expected one handover slc -> ctl at the start of cruise")
+if s["fallback_engaged"]:
+    sys.exit("the fallback controller took over")
+if [p["waypoint"] for p in passages[:2]] != [0, 1]:
+    sys.exit("waypoints 0 and 1 not passed in that order")
+if to_ctl[0]["t_s"] >= passages[0]["t_s"]:
+    sys.exit("the generated controller took over only after waypoint 0")
+# The bound: the stock control_slc in cruise flies the same 70 s (same mission and seed) at
+# 15.6 m of largest cross-track, all of it on the line 0 -> 1 just after the near-reversal at
+# waypoint 0 (12-19 m over seeds 1-8); the template controller at 6.5 m (5-8 m). 25 m is the
+# stock figure with 60 % to spare: a controller that holds the line about as well as the stock
+# one passes; a course loop that oscillates, diverges or has a sign wrong (hundreds of metres
+# on an 800 m line) does not.
+if not xt <= 25.0:
+    sys.exit(f"max cross-track {xt:.1f} m on the first leg exceeds 25 m")
 PY
 
-echo "PASS: SDK installed, 6 template kinds built and tested out of tree, generated controller flew 20 s"
+echo "PASS: SDK installed, 6 template kinds built and tested out of tree, generated controller flew the default mission's first leg"
 [ $keep -eq 1 ] || rm -rf "$work"

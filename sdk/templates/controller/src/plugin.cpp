@@ -2,4 +2,4 @@
 #include "plugin.hpp"
 
 TERN_PLUGIN(@CLASS@, "@NAME@", tern::PluginKind::controller,
-            "wings level, pitch and airspeed hold (uavbook ch. 6)")
+            "successive loop closure: course, altitude and airspeed hold (uavbook ch. 6)")
