@@ -183,7 +183,10 @@ struct ImportArgs {
   std::string vspaero, polar, xflr5, mass_file, out, name, propulsion;
   double mass = 0;
   std::vector<double> inertia;
-  std::vector<std::string> controls{"ConGrp_1", "ConGrp_2", "ConGrp_3"};
+  std::vector<std::string> controls;              // VSPAERO: elevator aileron rudder groups (empty: automatic)
+  double aoa = std::numeric_limits<double>::quiet_NaN();  // VSPAERO operating point, deg
+  std::string xflr5_control;                      // what the XFLR5 polar's control variable moves
+  std::vector<std::string> xflr5_controls_from;   // CONTROL=FILE: control derivatives from other logs
 };
 
 int import_cmd(const ImportArgs& a) {
@@ -198,22 +201,50 @@ int import_cmd(const ImportArgs& a) {
       throw std::runtime_error("import: give --mass KG and --inertia Jx Jy Jz Jxz (kg m^2), or --mass-file FILE");
     m = {a.mass, a.inertia[0], a.inertia[1], a.inertia[2], a.inertia[3]};
   }
-  const tern::aero::ToolDerivatives t =
-      a.vspaero.empty() ? tern::aero::parse_xflr5(a.xflr5) : tern::aero::parse_vspaero_stab(a.vspaero, a.controls);
+  if (a.vspaero.empty() && (!a.controls.empty() || !std::isnan(a.aoa)))
+    throw std::runtime_error("import: --controls and --aoa go with --vspaero");
+  if (a.xflr5.empty() && (!a.xflr5_control.empty() || !a.xflr5_controls_from.empty()))
+    throw std::runtime_error("import: --xflr5-control and --xflr5-controls-from go with --xflr5");
+  tern::aero::ToolDerivatives t;
+  if (!a.vspaero.empty()) {
+    tern::aero::VspaeroOptions o;
+    o.controls = a.controls;
+    o.aoa_deg = a.aoa;
+    t = tern::aero::parse_vspaero_stab(a.vspaero, o);
+  } else {
+    t = tern::aero::parse_xflr5(a.xflr5, a.xflr5_control);
+    for (const auto& cf : a.xflr5_controls_from) {  // CONTROL=FILE: one stability polar per control
+      const auto eq = cf.find('=');
+      if (eq == std::string::npos) throw std::runtime_error("import: --xflr5-controls-from: expected CONTROL=FILE, got '" + cf + "'");
+      const std::string control = cf.substr(0, eq), file = cf.substr(eq + 1);
+      if (control == "none" || control.empty()) throw std::runtime_error("import: --xflr5-controls-from: name the control in '" + cf + "'");
+      const auto c = tern::aero::parse_xflr5(file, control);
+      int n = 0;
+      for (const auto& [k, v] : c.d)
+        if (k.find("_delta_") != std::string::npos) t.d[k] = v, ++n;
+      t.notes.push_back(std::to_string(n) + " " + control + " derivatives from " + file + " (its trim alpha " +
+                        std::to_string(c.alpha_ref) + " rad)");
+    }
+  }
   tern::aero::PolarFit pf;
   if (!a.polar.empty()) pf = tern::aero::parse_vspaero_polar(a.polar, t.b * t.b / t.S);
   const std::string name = a.name.empty() ? file_stem(a.out) : a.name;
   const auto r = tern::aero::build_aircraft(t, m, a.polar.empty() ? nullptr : &pf, name, a.propulsion);
   std::vector<std::string> header = {
       name + ": tern aircraft file written by `tern aero import` from " + t.tool + " output " + t.source,
-      "(derivatives per radian, lateral ones rotated from stability to body axes at alpha_ref = " +
-          std::to_string(t.alpha_ref) + " rad).",
+      std::string("(derivatives per radian, ") +
+          (t.moments_in_stability_axes ? "lateral ones rotated from stability to body axes"
+                                       : "lateral moments in body axes as the tool writes them") +
+          ", alpha_ref = " + std::to_string(t.alpha_ref) + " rad).",
       "Not given by " + t.tool + " (value used and why):"};
   std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
   std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref
             << " rad\n";
-  if (!a.polar.empty())
+  for (const auto& n : t.notes) std::cout << "  " << n << "\n";
+  if (!a.polar.empty()) {
     std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";
+    for (const auto& n : pf.notes) std::cout << "  " << n << "\n";
+  }
   std::cout << "  not provided by " << t.tool << " (value used, why):\n";
   for (const auto& d : r.defaults) {
     std::ostringstream line;
@@ -336,8 +367,15 @@ int main(int argc, char** argv) {
   im->add_option("--inertia", ia.inertia, "Jx Jy Jz Jxz, kg m^2")->expected(4);
   im->add_option("--mass-file", ia.mass_file, "YAML with mass: and inertia: {Jx, Jy, Jz, Jxz} (a tern aircraft file works)");
   im->add_option("--propulsion", ia.propulsion, "tern aircraft file to copy propulsion, servos and stall data from");
-  im->add_option("--controls", ia.controls, "VSPAERO control groups: elevator aileron rudder (default ConGrp_1..3)")
+  im->add_option("--controls", ia.controls,
+                 "VSPAERO control groups for elevator aileron rudder: group names of the case list, ConGrp_<n>, "
+                 "'none'; a leading '-' flips the sign (default: found by name, elev*/ail*/rud*)")
       ->expected(3);
+  im->add_option("--aoa", ia.aoa, "VSPAERO operating point to read: AoA_ in deg (default: the first at Beta_ = 0)");
+  im->add_option("--xflr5-control", ia.xflr5_control,
+                 "what the XFLR5 polar's control variable moves: elevator, aileron, rudder or none");
+  im->add_option("--xflr5-controls-from", ia.xflr5_controls_from,
+                 "CONTROL=FILE: control derivatives from another XFLR5 log (one stability polar per control)");
   im->add_option("--name", ia.name, "aircraft name (default: the output file's stem)");
   im->add_option("--out", ia.out, "aircraft file to write")->required();
 
