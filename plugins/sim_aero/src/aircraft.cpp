@@ -150,7 +150,8 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
     read_section(g, "gear",
                  {{"static_deflection", &gr.static_deflection, false},
                   {"damping_ratio", &gr.damping_ratio, false}, {"mu_roll", &gr.mu_roll, false},
-                  {"mu_lateral", &gr.mu_lateral, false}, {"v_slip", &gr.v_slip, false}},
+                  {"mu_lateral", &gr.mu_lateral, false}, {"v_slip", &gr.v_slip, false},
+                  {"nose_steering", &gr.nose_steering, false}},
                  source, {"points"});
     if (const YAML::Node pts = g["points"]) {
       if (!pts.IsSequence() || pts.size() == 0) fail(source, "gear.points", "expected a list of [x, y, z]");
@@ -307,6 +308,7 @@ void validate(const Aircraft& ac) {
   nonneg(ac.gear.mu_roll, "gear.mu_roll", "");
   nonneg(ac.gear.mu_lateral, "gear.mu_lateral", "");
   positive(ac.gear.v_slip, "gear.v_slip", "m/s");
+  nonneg(ac.gear.nose_steering, "gear.nose_steering", "rad/rad");
 }
 
 Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source) {

@@ -79,7 +79,7 @@ double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, al
 
 namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
-void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot,
+void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, double delta_r,
                     ForcesMoments& fm) {
   const auto& g = ac.gear;
   const double n = static_cast<double>(g.points.size());
@@ -93,6 +93,10 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
   const double xn = xh.norm();
   xh = xn > 1e-6 ? Eigen::Vector2d(xh / xn) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d yh(-xh.y(), xh.x());
+  // a steered wheel rolls along body x turned by the steering angle (positive: to the right)
+  const double steer = -g.nose_steering * delta_r;
+  const Eigen::Vector2d xs = std::cos(steer) * xh + std::sin(steer) * yh;
+  const Eigen::Vector2d ys(-xs.y(), xs.x());
   for (const auto& r : g.points) {
     const Eigen::Vector3d pi = p + Rot * r;
     const double depth = pi.z();  // > 0: below the ground
@@ -102,10 +106,13 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
     if (N <= 0.0) continue;
     ++fm.wheels_on_ground;
     const Eigen::Vector2d vh(vi.x(), vi.y());
-    const double v_long = vh.dot(xh), v_lat = vh.dot(yh);
+    const bool steered = g.nose_steering != 0.0 && r.x() > 0.0;
+    const Eigen::Vector2d& ax = steered ? xs : xh;
+    const Eigen::Vector2d& ay = steered ? ys : yh;
+    const double v_long = vh.dot(ax), v_lat = vh.dot(ay);
     const double f_long = -g.mu_roll * N * std::clamp(v_long / g.v_slip, -1.0, 1.0);
     const double f_lat = -g.mu_lateral * N * std::clamp(v_lat / g.v_slip, -1.0, 1.0);
-    const Eigen::Vector2d fh = f_long * xh + f_lat * yh;
+    const Eigen::Vector2d fh = f_long * ax + f_lat * ay;
     const Eigen::Vector3d f_body = Rot.transpose() * Eigen::Vector3d(fh.x(), fh.y(), -N);
     fm.f_ground += f_body;
     fm.m_ground += r.cross(f_body);
@@ -148,7 +155,7 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
   fm.f_aero = Eigen::Vector3d(fx, fy, fz);
   fm.m_aero = Eigen::Vector3d(l, m, nn);
   fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kG);
-  ground_contact(ac, x, Rot, fm);
+  ground_contact(ac, x, Rot, d.delta_r, fm);
   fm.force = fm.f_aero + fm.f_gravity + fm.f_ground;
   fm.moment = fm.m_aero + fm.m_ground;
   return fm;

@@ -24,6 +24,12 @@ const std::string kAircraft = TERN_AIRCRAFT_DIR;
 
 Aircraft anaconda() { return load_aircraft(kAircraft + "/anaconda.yaml"); }
 
+/// 3-2-1 yaw of a state, rad.
+double yaw_of(const StateVector& x) {
+  const Eigen::Matrix3d R = attitude(x).toRotationMatrix();
+  return std::atan2(R(1, 0), R(0, 0));
+}
+
 // Error message of parse_aircraft on a modified tern document.
 std::string load_error(const YAML::Node& doc) {
   try {
@@ -419,6 +425,34 @@ TEST_CASE("ground: parked with a tailwind and crosswind in turbulence it stays o
   for (int i = 0; i < 1600; ++i) sim.step(0.0025);
   CHECK(-sim.state()[PD] > 2.0);
   CHECK(!sim.crashed());
+}
+
+TEST_CASE("ground: the nose wheel steers with the rudder") {
+  // (The wheels' side friction is viscous below v_slip, so a parked aircraft creeps round into
+  // a strong wind over seconds: there is no static friction state.)
+  const Aircraft ac = anaconda();
+  REQUIRE(ac.gear.nose_steering > 0.0);
+  // taxiing at low power, no wind: negative delta_r (nose right) turns right, positive turns
+  // left, and without steering the same rudder turns it far less
+  double psi[3];
+  const double steering[3] = {ac.gear.nose_steering, ac.gear.nose_steering, 0.0};
+  const double rudder[3] = {-0.3, 0.3, -0.3};
+  for (int k = 0; k < 3; ++k) {
+    Aircraft a = ac;
+    a.gear.nose_steering = steering[k];
+    Simulator sim(a, 3);
+    Deltas d;
+    d.delta_t = 0.35;
+    d.delta_r = rudder[k];
+    sim.set_command(d);
+    for (int i = 0; i < 1200; ++i) sim.step(0.0025);  // 3 s
+    REQUIRE(all_finite(sim.state()));
+    CHECK(sim.evaluate().wheels_on_ground == 3);
+    psi[k] = yaw_of(sim.state());
+  }
+  CHECK(psi[0] > 0.3);
+  CHECK(psi[1] < -0.3);
+  CHECK(std::fabs(psi[2]) < 0.5 * psi[0]);
 }
 
 TEST_CASE("model: the polar and linear lift hold below the blending angle, bounded beyond it") {

@@ -69,6 +69,10 @@ struct Gear {
   double mu_roll = 0.03;              ///< rolling friction coefficient along the wheel
   double mu_lateral = 0.5;            ///< side friction coefficient across the wheel
   double v_slip = 0.1;                ///< speed below which friction is viscous (no chatter at rest), m/s
+  /// Nose-wheel steering linked to the rudder: wheels ahead of the CG turn by
+  /// -nose_steering * delta_r (positive rudder yaws the nose left, so does the wheel), rad/rad.
+  /// 0: no steering (a castoring or fixed wheel).
+  double nose_steering = 0.0;
 };
 
 /// Everything the uavbook model needs to know about one aircraft. Units SI, frames FRD.
