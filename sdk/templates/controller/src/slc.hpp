@@ -12,8 +12,9 @@
 // the error pushes it. Signs follow tern's actuators (uavbook 4.2): positive delta_a rolls right,
 // positive delta_e pitches the nose down. The default gains are those tern designs for the
 // Anaconda at 17 m/s (share/tern/configs/gains/anaconda.yaml, control_slc's design: roll loop
-// natural frequency 16 rad/s, course loop 2.9 rad/s, pitch loop DC gain 0.7), trims from
-// `tern aero trim --Va 17` (delta_e 0.168 rad, delta_t 0.568).
+// natural frequency 16 rad/s, course loop 2.9 rad/s, pitch loop DC gain 0.7; roll_kd 0.05
+// instead of 0 takes the roll damping ratio from 0.8 to 1.0), trims from `tern aero trim --Va 17`
+// (delta_e 0.168 rad, delta_t 0.568).
 #pragma once
 
 namespace tern_@NAME@ {
