@@ -1,9 +1,10 @@
 // aero_pipeline.hpp: the aerodynamic modelling pipeline of `tern aero import|linearize|gains`
 // (issue 11). Plain C++ (Eigen), no host or plugin types.
 //
-//  * import: VSPAERO stability output (.stab, optional .polar) or XFLR5 stability-analysis text
-//    output -> tern's coefficient names (per radian, body axes, reference S/b/c) -> a tern
-//    aircraft file. Every coefficient the tool does not give is reported (Default list).
+//  * import: VSPAERO stability output (.stab, optional .polar) or XFLR5's analysis log of a
+//    stability polar, in the layouts the tools' writers produce (docs/aircraft-modelling.md) ->
+//    tern's coefficient names (per radian, body axes, reference S/b/c) -> a tern aircraft file.
+//    Every coefficient the tool does not give is reported (Default list).
 //  * linearize: Beard & McLain ch. 5 state-space models about a trim (central differences of
 //    sim_aero's nonlinear model) and the transfer-function coefficients of sec. 5.4.
 //  * design_gains: Beard & McLain ch. 6 successive loop closure (the design of

@@ -7,10 +7,12 @@
 //       (steady NED and gust body parts). Missing keys are 0; unknown keys are errors.
 //   tern-aero trim --aircraft FILE --Va V [--gamma G] [--radius R] [--altitude H]
 //       Trim state and inputs (Beard & McLain, ch. 5); R in m (> 0 right turn; omit: straight).
-//   tern-aero import (--vspaero FILE.stab [--polar FILE.polar] | --xflr5 FILE.txt)
+//   tern-aero import (--vspaero FILE.stab [--polar FILE.polar] [--aoa DEG] [--controls E A R]
+//                     | --xflr5 LOG [--xflr5-control C] [--xflr5-controls-from C=LOG ...])
 //                    (--mass KG --inertia Jx Jy Jz Jxz | --mass-file FILE) --out AIRCRAFT.yaml
-//       A tern aircraft file from VSPAERO or XFLR5 stability derivatives; prints every
-//       coefficient the tool did not give, with the value used and why.
+//       A tern aircraft file from VSPAERO (.stab/.polar) or XFLR5 (type 7 analysis log)
+//       stability derivatives; prints how the file was read and every coefficient the tool did
+//       not give, with the value used and why.
 //   tern-aero linearize --aircraft FILE --Va V [--gamma G] [--radius R] [--json FILE]
 //       Beard & McLain ch. 5 linear models (A_lon, B_lon, A_lat, B_lat) and transfer-function
 //       coefficients about the trim.
