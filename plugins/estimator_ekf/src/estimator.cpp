@@ -50,6 +50,10 @@ std::string describe(const Event& e) {
     case EventKind::filter_reset:
       std::snprintf(buf, sizeof buf, "filter diverged (non-finite state or covariance): re-initialising");
       break;
+    case EventKind::mag_reset:
+      std::snprintf(buf, sizeof buf,
+                    "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
+      break;
     case EventKind::first_invalid:
       std::snprintf(buf, sizeof buf, "%s: invalid sample rejected (NaN/Inf, out of range or stamp going back); further ones are only counted", s);
       break;
@@ -122,6 +126,9 @@ void Estimator::reset() {
   last_diff_stamp_ = -1;
   rate_.setZero();
   gnss_reject_since_ = -1;
+  mag_reject_since_ = -1;
+  last_Va_ = 0.0;
+  last_Va_stamp_ = -1;
   output_offset_.setZero();
   filter_ = Filter{};
   for (auto& c : counters_) {
@@ -249,14 +256,54 @@ bool Estimator::add_mag(const msg::Mag& m) {
     ++mag_samples_;
     return true;
   }
-  if (cfg_.mag_heading_only) {
-    const Vec3 e = euler_from_quaternion(filter_.x().q);
-    filter_.update(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(
-                                     m.field, e.x(), e.y(), cfg_.mag_declination)));
-  } else {
-    filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  const Vec3 e = euler_from_quaternion(filter_.x().q);
+  const double psi_mag = MagHeading::heading_from_field(m.field, e.x(), e.y(), cfg_.mag_declination);
+  const UpdateResult r = cfg_.mag_heading_only ? filter_.update(mag_heading_, MagHeading::Vec(psi_mag))
+                                               : filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
+  // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
+  // after mag_reset_time, trust the magnetometer again.
+  if (r == UpdateResult::rejected) {
+    if (mag_reject_since_ < 0) {
+      mag_reject_since_ = m.stamp;
+    } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time &&
+               to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
+      reset_yaw(m.stamp, psi_mag);
+    }
+  } else if (r == UpdateResult::accepted) {
+    mag_reject_since_ = -1;
   }
   return true;
+}
+
+void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
+  NominalState& x = filter_.mutable_x();
+  const Vec3 e = euler_from_quaternion(x.q);
+  const double innovation = wrap_pi(psi_mag - e.z());
+  x.q = quaternion_from_euler(e.x(), e.y(), psi_mag);
+  Cov& P = filter_.mutable_P();
+  // attitude: keep roll and pitch uncertainty, yaw back to the initial figure, no correlations
+  const Mat3 R = x.R();
+  const Mat3 P_th_ned = R * P.block<3, 3>(idx::th, idx::th) * R.transpose();
+  const double t2 = std::max(P_th_ned(0, 0), P_th_ned(1, 1));
+  const double y2 = cfg_.init_yaw_sigma * cfg_.init_yaw_sigma;
+  P.middleRows<3>(idx::th).setZero();
+  P.middleCols<3>(idx::th).setZero();
+  P.block<3, 3>(idx::th, idx::th) = R.transpose() * Vec3(t2, t2, y2).asDiagonal() * R;
+  // wind: from the air-data triangle with the new heading when the pitot is recent
+  double wind_sigma = cfg_.init_wind_sigma;
+  if (last_Va_stamp_ >= 0 && to_seconds(stamp - last_Va_stamp_) < 0.5) {
+    x.wind = (x.v - last_Va_ * (x.q * Vec3::UnitX())).head<2>();
+    wind_sigma = cfg_.init_wind_sigma_airdata;
+  }
+  P.middleRows<2>(idx::w).setZero();
+  P.middleCols<2>(idx::w).setZero();
+  P.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
+  mag_reject_since_ = -1;
+  mag_heading_.stats.consecutive_rejected = 0;
+  mag_.stats.consecutive_rejected = 0;
+  ++mag_resets_;
+  push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / 3.14159265358979323846);
 }
 
 bool Estimator::add_baro(const msg::Baro& m) {
@@ -286,6 +333,10 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     return true;
   }
   filter_.update(pitot_, DiffPressure::Vec(m.pressure));
+  if (m.pressure >= 0.5 * cfg_.rho * cfg_.min_airspeed * cfg_.min_airspeed) {
+    last_Va_ = std::sqrt(2.0 * m.pressure / cfg_.rho);
+    last_Va_stamp_ = m.stamp;
+  }
   if (side_force_.k != 0.0 && side_force_n_ > 0) {
     filter_.update(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_));
   } else if (cfg_.use_sideslip) {
@@ -384,7 +435,12 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   P0.diagonal().segment<3>(idx::v) << vh * vh, vh * vh, vv * vv;
   // Tilt and yaw uncertainty are about NED axes: P_theta(body) = R^T diag(t^2, t^2, y^2) R.
   const Mat3 R = x.R();
-  const double t2 = cfg_.init_tilt_sigma * cfg_.init_tilt_sigma;
+  // In flight the averaged specific force is not gravity (turns, pull-ups) and the levelled
+  // field carries that tilt error into yaw: start with wide attitude uncertainty and let GNSS
+  // velocity and the air data pull the attitude in.
+  const double tilt_sigma = at_rest ? cfg_.init_tilt_sigma : std::max(cfg_.init_tilt_sigma, 0.35);
+  if (!at_rest) yaw_sigma = std::max(yaw_sigma, 0.6);
+  const double t2 = tilt_sigma * tilt_sigma;
   const Mat3 Pg = Vec3(t2, t2, yaw_sigma * yaw_sigma).asDiagonal();
   P0.block<3, 3>(idx::th, idx::th) = R.transpose() * Pg * R;
   const double gb = at_rest ? cfg_.init_gyro_bias_sigma : std::max(cfg_.init_gyro_bias_sigma, 0.05);
@@ -394,13 +450,16 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   const double Va = std::sqrt(2.0 * std::max(last_diff_pressure_, 0.0) / cfg_.rho);
   if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {
     x.wind = (m.vel - Va * (x.q * Vec3::UnitX())).head<2>();
-    wind_sigma = cfg_.init_wind_sigma_airdata;
+    // the wind from the air-data triangle inherits the yaw uncertainty: Va * sigma_psi across
+    wind_sigma = std::hypot(cfg_.init_wind_sigma_airdata, at_rest ? 0.0 : Va * yaw_sigma);
   }
   P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
   P0.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
   filter_.initialize(x, P0);
   initialized_ = true;
+  init_stamp_ = m.stamp;
+  mag_reject_since_ = -1;
   gnss_reject_since_ = -1;
   rate_ = (imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero()) - x.b_g;
   push(m.stamp, EventKind::initialized, Sensor::gnss, have_mag ? 1.0 : 0.0);

@@ -92,6 +92,12 @@ inline const RealParam kReal[] = {
     {"mag_init_wait", "s", 0.0, 60.0,
      "time to wait for a magnetometer sample after the origin is set before initialising without",
      TERN_EKF_FIELD(mag_init_wait)},
+    {"mag_reset_time", "s", 0.1, 600.0,
+     "continuous magnetic-heading rejection after which yaw is reset to the magnetometer",
+     TERN_EKF_FIELD(mag_reset_time)},
+    {"mag_reset_window", "s", 0.0, 1e6,
+     "yaw resets to the magnetometer only within this long after initialisation (0: never)",
+     TERN_EKF_FIELD(mag_reset_window)},
     {"baro_noise", "Pa", 1e-3, 1000.0, "static-pressure noise, 1 sigma", TERN_EKF_FIELD(baro_sigma)},
     {"baro_gate", "", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)",
      TERN_EKF_FIELD(baro_gate)},
@@ -233,7 +239,7 @@ class EstimatorEkf final : public tern::Plugin {
     if (estimator_.has_events()) {
       for (const auto& e : estimator_.take_events()) {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
-            e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::first_invalid ||
+            e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset || e.kind == tern::ekf::EventKind::first_invalid ||
             e.kind == tern::ekf::EventKind::imu_gap)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else
@@ -278,6 +284,7 @@ class EstimatorEkf final : public tern::Plugin {
     rej("sideslip", estimator_.sideslip_model().stats);
     rej("side_force", estimator_.side_force_model().stats);
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
+    s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     return s;
   }

@@ -79,6 +79,12 @@ struct EstimatorConfig {
   double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
   bool mag_heading_only = true;           ///< tilt-compensated heading (true) or 3-axis direction
   double mag_init_wait = 2.0;             ///< s to wait for a magnetometer at initialisation
+  double mag_reset_time = 2.0;            ///< s of continuous heading rejection after which yaw is
+                                          ///< reset to the magnetometer (and the wind re-derived)...
+  double mag_reset_window = 30.0;         ///< ...if that happens within this long after initialising
+                                          ///< (a filter started while manoeuvring can lock onto a
+                                          ///< wrong yaw; later, a converged filter rejecting the
+                                          ///< magnetometer more likely sees a disturbed field)
   // barometer
   double baro_sigma = 4.0;                ///< Pa
   double baro_gate = kChi2_999[1];
@@ -131,7 +137,7 @@ struct SensorCounters {
 
 enum class EventKind : std::uint8_t {
   origin_set, initialized, baro_calibrated, sensor_timeout, sensor_recovered, gnss_reset,
-  imu_gap, filter_reset, first_invalid
+  imu_gap, filter_reset, first_invalid, mag_reset
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap, the innovation norm for gnss_reset.
@@ -188,6 +194,7 @@ class Estimator {
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
   const SideForce& side_force_model() const { return side_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
+  std::uint64_t mag_resets() const { return mag_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
 
   /// Events since the last call (the caller logs them).
@@ -245,7 +252,12 @@ class Estimator {
   Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro
   Nanos gnss_reject_since_ = -1;
   Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)
-  std::uint64_t gnss_resets_ = 0, filter_resets_ = 0;
+  std::uint64_t gnss_resets_ = 0, filter_resets_ = 0, mag_resets_ = 0;
+  Nanos mag_reject_since_ = -1;
+  Nanos init_stamp_ = -1;
+  double last_Va_ = 0.0;      // airspeed of the last applicable pitot sample, m/s (0: none)
+  Nanos last_Va_stamp_ = -1;
+  void reset_yaw(Nanos stamp, double psi_mag);
   std::array<SensorCounters, kSensorCount> counters_{};
   std::vector<Event> events_;
 };
