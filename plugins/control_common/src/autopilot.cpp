@@ -118,16 +118,29 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   } else {
     use_course = true;
   }
+  // Bumpless transfer of the roll channel: with a roll-command slew limit the shaped command
+  // restarts at the roll the last aileron implies and slews to the new command (the course
+  // integrator starts clean); without one the course integrator absorbs the difference.
+  const bool shaped_handover = init && L.roll_rate_max > 0.0;
   if (use_course) {
-    if (init) {
+    if (init && !shaped_handover) {
       const double phi_needed = lateral_.roll_command_for(handover_from_.delta_a, x.phi, x.p);
       lateral_.initialise_course(phi_needed, c.chi_c, x.chi, x.r, c.phi_ff);
     }
+    if (shaped_handover) lateral_.idle_course();
     phi_c = lateral_.course(c.chi_c, x.chi, x.r, c.phi_ff, h);
   } else {
     lateral_.idle_course();
   }
   phi_c = saturate(phi_c, -L.roll_max, L.roll_max);
+  if (shaped_handover) {
+    phi_c = lateral_.roll_command_for(handover_from_.delta_a, x.phi, x.p);
+    lateral_.initialise_shape(phi_c);
+  } else if (init) {
+    lateral_.initialise_shape(phi_c);
+  } else {
+    phi_c = lateral_.shape_roll(phi_c, h);
+  }
   if (mode == Mode::takeoff && !rotated_ && x.Va < s_.rotation_Va && !init) lateral_.reset_roll_integrator();
   if (init) lateral_.initialise_roll(handover_from_.delta_a, phi_c, x.phi, x.p);
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);

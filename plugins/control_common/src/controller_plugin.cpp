@@ -26,6 +26,8 @@ void ControllerPlugin::configure() {
   declare_gain(course_ki_, "course_ki", 0.0025, ParamSpec("rad/(rad s)", 0.0, 10.0, "course -> roll integral gain (c_ki)"));
   declare_gain(course_kd_, "course_kd", 0.0, ParamSpec("rad/(rad/s)", 0.0, 10.0, "course -> roll derivative gain, on yaw rate r (c_kd)"));
   declare_gain(roll_max_, "roll_max", 0.7854, ParamSpec("rad", 0.05, 1.4, "roll command limit (max_roll)"));
+  declare_gain(roll_rate_max_, "roll_rate_max", 0.0, ParamSpec("rad/s", 0.0, 20.0, "slew limit of the roll command; 0: none (ROSplane has none)"));
+  declare_gain(roll_ff_, "roll_ff", 0.0, ParamSpec("rad/(rad/s)", 0.0, 2.0, "aileron per commanded roll rate, feed-forward (design: a_phi1/a_phi2)"));
   declare_gain(roll_kp_, "roll_kp", 0.55, ParamSpec("rad/rad", 0.0, 10.0, "roll -> aileron proportional gain (r_kp)"));
   declare_gain(roll_ki_, "roll_ki", 0.0, ParamSpec("rad/(rad s)", 0.0, 10.0, "roll -> aileron integral gain (r_ki)"));
   declare_gain(roll_kd_, "roll_kd", 0.2, ParamSpec("rad/(rad/s)", 0.0, 5.0, "roll -> aileron gain on roll rate p (r_kd)"));
@@ -78,6 +80,8 @@ void ControllerPlugin::apply_params() {
   lg.course_ki = course_ki_;
   lg.course_kd = course_kd_;
   lg.roll_max = roll_max_;
+  lg.roll_rate_max = roll_rate_max_;
+  lg.roll_ff = roll_ff_;
   lg.roll_kp = roll_kp_;
   lg.roll_ki = roll_ki_;
   lg.roll_kd = roll_kd_;

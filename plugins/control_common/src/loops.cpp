@@ -39,8 +39,26 @@ double LateralLoops::course(double chi_c, double chi, double r, double phi_ff, d
   return course_.update(wrap_angle(chi_c - chi), r, dt, phi_ff);
 }
 
+double LateralLoops::shape_roll(double phi_c, double dt) {
+  if (shaped_ && g_.roll_rate_max > 0.0 && dt > 0.0) {
+    const double step = g_.roll_rate_max * dt;
+    phi_c = saturate(phi_c, phi_c_prev_ - step, phi_c_prev_ + step);
+  }
+  p_c_ = phi_c_dot_.update(phi_c, dt);
+  phi_c_prev_ = phi_c;
+  shaped_ = true;
+  return phi_c;
+}
+
+void LateralLoops::initialise_shape(double phi_c) {
+  phi_c_dot_.reset();
+  p_c_ = phi_c_dot_.update(phi_c, 0.0);
+  phi_c_prev_ = phi_c;
+  shaped_ = true;
+}
+
 double LateralLoops::roll(double phi_c, double phi, double p, double dt) {
-  return roll_.update(phi_c - phi, p, dt, g_.trim_a);
+  return roll_.update(phi_c - phi, p, dt, g_.trim_a + g_.roll_ff * p_c_);
 }
 
 double LateralLoops::yaw_damper(double r, double dt) {
@@ -58,13 +76,16 @@ void LateralLoops::initialise_course(double phi_c, double chi_c, double chi, dou
 }
 
 void LateralLoops::initialise_roll(double delta_a, double phi_c, double phi, double p) {
-  roll_.initialise(delta_a, phi_c - phi, p, g_.trim_a);
+  roll_.initialise(delta_a, phi_c - phi, p, g_.trim_a + g_.roll_ff * p_c_);
 }
 
 void LateralLoops::reset() {
   course_.reset();
   roll_.reset();
   washout_.reset();
+  phi_c_dot_.reset();
+  shaped_ = false;
+  p_c_ = 0.0;
 }
 
 // ---- pitch ------------------------------------------------------------------------------------

@@ -184,3 +184,86 @@ TEST_CASE("autopilot: manual pass-through and angle mode") {
   CHECK(L.plant.theta - L.plant.coefficients().alpha_trim > 0.03);
   CHECK(o.surfaces.delta_t == doctest::Approx(0.7).epsilon(0.01));  // handover offset decayed
 }
+
+TEST_CASE("roll command shaping: slew limit, rate feed-forward, a ramp followed without the type-0 lag") {
+  const auto k = testmodel::anaconda();
+  LateralGains g;
+  g.roll_kp = 1.86365;  // configs/gains/anaconda.yaml
+  g.roll_kd = 0.0;
+  g.roll_rate_max = 1.5;
+  LateralLoops lat;
+  lat.set_gains(g);
+  // a 0 -> 0.6 rad step is slewed at 1.5 rad/s: 0.015 rad per 10 ms step, reached after 0.4 s
+  CHECK(lat.shape_roll(0.0, 0.01) == 0.0);
+  CHECK(lat.shape_roll(0.6, 0.01) == doctest::Approx(0.015));
+  double phi_c = 0.0;
+  for (int i = 0; i < 39; ++i) phi_c = lat.shape_roll(0.6, 0.01);
+  CHECK(phi_c == doctest::Approx(0.6));
+  CHECK(lat.p_c() > 1.0);  // the rate of the ramp (band-limited)
+  for (int i = 0; i < 100; ++i) phi_c = lat.shape_roll(0.6, 0.01);
+  CHECK(std::fabs(lat.p_c()) < 1e-3);
+  // no limit when roll_rate_max = 0
+  g.roll_rate_max = 0.0;
+  lat.set_gains(g);
+  CHECK(lat.shape_roll(-0.6, 0.01) == doctest::Approx(-0.6));
+
+  // On the roll model phi/delta_a = a_phi2 / (s (s + a_phi1)) a 1.5 rad/s ramp lags by
+  // p_c a_phi1 / (a_phi2 kp) = 0.15 rad without the feed-forward; with roll_ff = a_phi1/a_phi2
+  // the lag is gone.
+  auto ramp_lag = [&](double roll_ff) {
+    LateralGains gg = g;
+    gg.roll_rate_max = 1.5;
+    gg.roll_ff = roll_ff;
+    LateralLoops l;
+    l.set_gains(gg);
+    l.shape_roll(0.0, 0.01);  // the first command after a reset passes unshaped
+    double phi = 0.0, p = 0.0, worst = 0.0;
+    for (int i = 0; i < 100; ++i) {  // 1 s: the shaped command ramps 0 -> 0.785 in 0.52 s
+      const double c = l.shape_roll(0.785, 0.01);
+      const double da = l.roll(c, phi, p, 0.01);
+      for (int j = 0; j < 10; ++j) {
+        p += 0.001 * (-k.a_phi1 * p + k.a_phi2 * da);
+        phi += 0.001 * p;
+      }
+      if (i > 20 && i < 50) worst = std::max(worst, std::fabs(l.shape_roll(c, 0.0) - phi));
+    }
+    return worst;
+  };
+  const double lag_without = ramp_lag(0.0), lag_with = ramp_lag(k.a_phi1 / k.a_phi2);
+  MESSAGE("roll error on a 1.5 rad/s ramp: " << lag_without / kDeg << " deg without, " << lag_with / kDeg
+                                             << " deg with the rate feed-forward");
+  CHECK(lag_without > 0.1);
+  CHECK(lag_with < 0.3 * lag_without);
+}
+
+TEST_CASE("autopilot: with a roll slew limit a transfer slews the roll command and leaves the course integrator clean") {
+  Loop L;
+  LateralGains g;
+  g.course_kp = 2.77857;  // configs/gains/anaconda.yaml
+  g.course_ki = 0.111143;
+  g.roll_kp = 1.86365;
+  g.roll_kd = 0.0;
+  g.roll_ff = 0.185969;
+  g.roll_rate_max = 1.5;
+  L.ap.set_lateral_gains(g);
+  // wings level, then a transfer with a 1-rad course error (as takeoff -> climb)
+  Command c{17.0, 100.0, 1.0, 0.0, 0.0, 0.0, false, false};
+  const Surfaces last{0.0, 0.1679, 0.0, 0.5676};
+  L.ap.take_over(last);
+  auto o = L.ap.update(Mode::climb, L.plant.state(), c, {}, 0.01);
+  CHECK(o.surfaces.delta_a == doctest::Approx(0.0).epsilon(1e-9));
+  CHECK(o.phi_c == doctest::Approx(0.0).epsilon(1e-9));
+  Surfaces prev = o.surfaces;
+  double prev_phi_c = o.phi_c;
+  for (int i = 0; i < 1000; ++i) {  // 10 s
+    L.plant.step(prev, 0.01);
+    o = L.ap.update(Mode::climb, L.plant.state(), c, {}, 0.01);
+    CHECK(std::fabs(o.phi_c - prev_phi_c) <= 1.5 * 0.01 + 1e-12);
+    // no jump: the aileron follows the slewed command (its rate fed forward), as in any roll-in
+    CHECK(std::fabs(o.surfaces.delta_a - prev.delta_a) < 0.1);
+    prev = o.surfaces;
+    prev_phi_c = o.phi_c;
+  }
+  // no wound-up course integrator holding the course off for tens of seconds
+  CHECK(std::fabs(wrap_angle(1.0 - L.plant.chi)) < 0.01);
+}

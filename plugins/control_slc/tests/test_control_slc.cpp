@@ -151,6 +151,7 @@ TEST_CASE("slc: a gain changed in flight takes effect at the next step") {
   auto Lp = make(kAircraft[0]);
     auto& L = *Lp;
   L.cmd.chi_c = 0.5;
+  L.h.set_param("roll_rate_max", 0.0);  // no slew limit: the course loop's output is the roll command
   L.h.set_param("course_kp", 0.0);
   L.h.set_param("course_ki", 0.0);
   L.run(0.01);

@@ -187,6 +187,14 @@ def design(k, Va, o):
     g["roll_kp"] = wn_phi ** 2 / k["a_phi2"]
     g["roll_kd"] = max(0.0, (2 * o.zeta_phi * wn_phi - k["a_phi1"]) / k["a_phi2"])
     g["roll_ki"] = 0.0
+    # roll command shaping (tern): the roll loop is type 0 in phi, so a roll command ramping at
+    # p_c is followed with a lag of p_c a_phi1 / (a_phi2 kp) (0.1 s on the Anaconda: 10 deg behind
+    # a 90 deg/s ramp) unless the aileron that sustains p_c, a_phi1 / a_phi2 p_c (the steady state
+    # of phi'' = -a_phi1 phi' + a_phi2 delta_a), is fed forward; the controller slew-limits the
+    # command to --roll-rate-max (about 40 % of the full-aileron roll rate a_phi2 max_a / a_phi1)
+    # so that the feed-forward keeps most of the aileron travel for the feedback.
+    g["roll_ff"] = k["a_phi1"] / k["a_phi2"]
+    g["roll_rate_max"] = o.roll_rate_max
     # the slow pole of the roll loop (kd may be clamped at 0 when a_phi1 is large)
     s1 = k["a_phi1"] + k["a_phi2"] * g["roll_kd"]
     s0 = k["a_phi2"] * g["roll_kp"]
@@ -196,6 +204,13 @@ def design(k, Va, o):
     # and an integrator with reset time T_chi (course_ki = course_kp / T_chi): the book's PI with a
     # large damping ratio. A slow integrator trims steady roll biases; a fast one overshoots at
     # the path follower's line -> orbit transitions (measured on the hourglass mission).
+    # The model chi/phi = (g/Vg)/s is the coordinated turn at Va; in flight the heading lags the
+    # roll (sideslip, the yaw damper before its washout, the estimator) and the loop gain grows in
+    # a turn (d(tan phi)/d phi = 1/cos^2 phi). With W_chi = 5.5 the Anaconda's course loop
+    # oscillates in the hourglass's downwind turns (+-3..6 deg course, roll command swinging
+    # 20-45 deg, period 1.4-1.7 s, which also stirs the pitch loop); the default and TECS
+    # missions fly W_chi = 10 (the book's upper end) through their slc/tecs params (see
+    # configs/gains/README.md). The default here stays 5.5, what `tern aero gains` designs.
     wc = math.sqrt(s0) / o.W_chi
     g["course_kp"] = wc * Va / G
     g["course_ki"] = g["course_kp"] / o.T_chi
@@ -238,6 +253,8 @@ def main(argv=None):
     ap.add_argument("--wn-phi", dest="wn_phi", type=float, help="roll natural frequency, rad/s (default a_phi1/(2 zeta_phi))")
     ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.8)
     ap.add_argument("--W-chi", dest="W_chi", type=float, default=5.5, help="roll/course bandwidth separation")
+    ap.add_argument("--roll-rate-max", dest="roll_rate_max", type=float, default=1.5,
+                    help="slew limit of the roll command, rad/s (about 0.4 a_phi2 max_a / a_phi1)")
     ap.add_argument("--T-chi", dest="T_chi", type=float, default=25.0, help="course integrator reset time, s")
     ap.add_argument("--K-theta-DC", dest="K_theta_DC", type=float, default=0.7, help="pitch loop DC gain (sets pitch_kp)")
     ap.add_argument("--pitch-ki-ratio", dest="pitch_ki_ratio", type=float, default=0.1,
@@ -264,6 +281,9 @@ def main(argv=None):
           f"delta_t = {k['delta_t_trim']:.4f}")
     for name in ["a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"]:
         print(f"#   {name} = {k[name]:.4f}")
+    print(f"#   full-aileron roll rate per rad of aileron a_phi2/a_phi1 = {k['a_phi2'] / k['a_phi1']:.3f} rad/s")
+    print(f"#   roll_ff = a_phi1/a_phi2 feeds the rate of the roll command forward to the aileron; roll_rate_max =")
+    print(f"#     {o.roll_rate_max:g} rad/s slew-limits that command (added for the tracking benchmark; design_gains.py).")
     print(f"#   roll loop wn {math.sqrt(k['a_phi2'] * g['roll_kp']):.3f} rad/s, slowest pole {w_roll:.3f} rad/s, "
           f"course loop bandwidth {math.sqrt(k['a_phi2'] * g['roll_kp']) / o.W_chi:.3f} rad/s, K_theta_DC = {K_dc:.4f}, "
           f"pitch loop wn = {math.sqrt(k['a_theta2'] - g['pitch_kp'] * k['a_theta3']):.3f} rad/s")

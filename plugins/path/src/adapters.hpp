@@ -63,12 +63,15 @@ class ManagerPlugin final : public Plugin {
   Input<msg::State> state_;
   Input<msg::WaypointList> waypoints_;
   Output<msg::CurrentPath> path_;
-  Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_;
+  Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_, turn_bank_, wind_tau_;
   Param<bool> orbit_last_;
   Param<std::string> corner_;
 
   std::unique_ptr<PathManager> manager_;
   std::optional<std::uint32_t> revision_;
+  // The state's wind estimate, low-passed with wind_tau (turn radii with turn_bank > 0).
+  Vec3 wind_ = Vec3::Zero();
+  std::optional<Nanos> wind_stamp_;
   // Tracking of the estimated position on lines after the first waypoint (summary): sum of
   // squares, count, maximum of |cross-track error|, m.
   double xt_sq_ = 0.0, xt_max_ = 0.0;

@@ -94,6 +94,28 @@ Fillet compute_fillet(const Vec3& w_prev, const Vec3& w, const Vec3& w_next, dou
   return f;
 }
 
+double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g) {
+  if (!(Va > 0.0) || !std::isfinite(Va) || !wind.head<2>().allFinite() || !std::isfinite(chi0) ||
+      !std::isfinite(sweep) || !(phi > 0.0) || !(phi < kPi / 2.0) || !(g > 0.0))
+    return 0.0;
+  const double span = std::min(std::fabs(sweep), 2.0 * kPi);
+  const int n = std::max(2, static_cast<int>(std::ceil(span / (kPi / 90.0))) + 1);  // every 2 deg or finer
+  const double dir = sweep >= 0.0 ? 1.0 : -1.0;
+  double R = 0.0;
+  for (int i = 0; i < n; ++i) {
+    const double chi = chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1);
+    const double c = std::cos(chi), s = std::sin(chi);
+    const double w_along = wind.x() * c + wind.y() * s;
+    const double w_cross = -wind.x() * s + wind.y() * c;
+    const double sin_crab = std::clamp(w_cross / Va, -0.99, 0.99);
+    const double cos_crab = std::sqrt(1.0 - sin_crab * sin_crab);
+    const double Vg = w_along + Va * cos_crab;
+    if (!(Vg > 0.0)) continue;
+    R = std::max(R, Vg * Vg / (g * std::tan(phi) * cos_crab));
+  }
+  return R;
+}
+
 std::string_view dubins_type_name(DubinsType t) {
   switch (t) {
     case DubinsType::RSR: return "RSR";

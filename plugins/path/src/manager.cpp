@@ -1,6 +1,7 @@
 // Path manager, Beard & McLain, ch. 11 (Alg. 5, 6, 8). See manager.hpp.
 #include "tern/path/manager.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
@@ -42,6 +43,8 @@ void PathManager::set_config(const ManagerConfig& c) {
   positive(c.min_separation, "min_separation");
   if (!std::isfinite(c.default_altitude))
     throw std::invalid_argument("path manager: default_altitude must be finite");
+  if (!(c.turn_bank >= 0.0 && c.turn_bank <= 1.4))
+    throw std::invalid_argument("path manager: turn_bank must be in [0, 1.4] rad, got " + fmt(c.turn_bank, 6));
   cfg_ = c;
   loop_ = raw_loop_ && !cfg_.orbit_last;
 }
@@ -52,6 +55,15 @@ void PathManager::warn_once(const std::string& key, const std::string& text) {
 
 double PathManager::airspeed(const MissionPoint& w) const {
   return (std::isfinite(w.Va_d) && w.Va_d > 0.0) ? w.Va_d : cfg_.default_airspeed;
+}
+
+void PathManager::set_wind(const Vec3& wind) {
+  if (wind.head<2>().allFinite()) wind_ = Vec3(wind.x(), wind.y(), 0.0);
+}
+
+double PathManager::planned_radius(double Va, double chi0, double sweep) const {
+  if (!(cfg_.turn_bank > 0.0)) return cfg_.R_min;
+  return std::max(cfg_.R_min, wind_turn_radius(Va, wind_, chi0, sweep, cfg_.turn_bank));
 }
 
 int PathManager::target() const {
@@ -207,7 +219,7 @@ std::optional<std::size_t> PathManager::next_of(std::size_t i) const {
 void PathManager::begin_segment(const Vec3& p, double chi) {
   const MissionPoint& wt = wps_[target_].wp;
   const int idx = wps_[target_].index;
-  const double R = cfg_.R_min;
+  double R = cfg_.R_min;
   seg_R_ = R;
   if (horizontal_distance(prev_, wt.w) < cfg_.min_separation) {  // already there
     advance(p, chi);
@@ -224,6 +236,8 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
       ps = Vec3(p.x(), p.y(), prev_.z());
       chi_s = std::isfinite(chi) ? chi : std::atan2(wt.w.y() - p.y(), wt.w.x() - p.x());
     }
+    R = planned_radius(airspeed(wt), 0.0, 2.0 * kPi);
+    seg_R_ = R;
     dubins_ = dubins_path(ps, chi_s, wt.w, wt.chi_d, R);
     if (dubins_.close)
       warn_once("dubins" + std::to_string(idx),
@@ -243,6 +257,25 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   if (!nx || wps_[*nx].wp.use_chi) return;  // last waypoint, or a Dubins path follows: pass over it
   const Vec3& w_next = wps_[*nx].wp.w;
   if (cfg_.corner == ManagerConfig::Corner::fillet) {
+    if (cfg_.turn_bank > 0.0 && horizontal_distance(wt.w, w_next) > 0.0) {
+      // The turn sweeps the courses from the incoming to the outgoing leg.
+      const Vec3 q_out = Vec3(w_next.x() - wt.w.x(), w_next.y() - wt.w.y(), 0.0).normalized();
+      const double cross = q_in.x() * q_out.y() - q_in.y() * q_out.x();
+      const double turn = std::acos(std::clamp(q_in.dot(q_out), -1.0, 1.0));
+      const double Va = std::max(airspeed(wt), airspeed(wps_[*nx].wp));
+      const double R_wind = planned_radius(Va, std::atan2(q_in.y(), q_in.x()), cross >= 0.0 ? turn : -turn);
+      // Tangent points within half of each leg: offset = R / tan(varrho / 2) = R tan(turn / 2).
+      const double half_leg = 0.5 * std::min(horizontal_distance(prev_, wt.w), horizontal_distance(wt.w, w_next));
+      const double tan_half_turn = std::tan(0.5 * turn);
+      const double R_fit = tan_half_turn > 1e-9 ? half_leg / tan_half_turn : R_wind;
+      R = std::max(cfg_.R_min, std::min(R_wind, R_fit));
+      if (R_wind > R + 1e-6)
+        warn_once("bank" + std::to_string(idx),
+                  "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) + " m for " +
+                      fmt(cfg_.turn_bank * 180.0 / kPi) + " deg of bank in the wind; its legs leave room for " +
+                      fmt(R) + " m");
+      seg_R_ = R;
+    }
     fillet_ = compute_fillet(prev_, wt.w, w_next, R);
     if (fillet_.kind == Fillet::Kind::fillet) {
       stage_ = Stage::fillet_line;
@@ -290,7 +323,7 @@ PathSegment PathManager::orbit_segment(const Vec3& c, int index, double Va) cons
   PathSegment s;
   s.type = PathSegment::Type::orbit;
   s.c = c;
-  s.rho = cfg_.R_min;
+  s.rho = planned_radius(Va, 0.0, 2.0 * kPi);
   s.lambda = 1;
   s.Va_d = Va;
   s.waypoint_index = index;

@@ -26,6 +26,12 @@ void ManagerPlugin::configure() {
               .one_of({"fillet", "line"}));
   declare(min_separation_, "min_separation", 1.0,
           ParamSpec("m", 0.01, 1000.0, "waypoints closer than this (horizontally) count as repeats"));
+  declare(turn_bank_, "turn_bank", 0.0,
+          ParamSpec("rad", 0.0, 1.4,
+                    "bank angle turns are planned for in the estimated wind (radius >= R_min); 0: every turn R_min"));
+  declare(wind_tau_, "wind_tau", 30.0,
+          ParamSpec("s", 0.0, 3600.0, "time constant of the low-pass on the state's wind used for turn_bank radii"));
+  turn_bank_.on_change([this](const double&) { rebuild(); });
   R_min_.on_change([this](const double&) { rebuild(); });
   orbit_last_.on_change([this](const bool&) { rebuild(); });
   default_altitude_.on_change([this](const double&) { rebuild(); });
@@ -47,6 +53,7 @@ ManagerConfig ManagerPlugin::config() const {
   c.default_airspeed = default_airspeed_();
   c.corner = corner_() == "line" ? ManagerConfig::Corner::line : ManagerConfig::Corner::fillet;
   c.min_separation = min_separation_();
+  c.turn_bank = turn_bank_();
   return c;
 }
 
@@ -62,6 +69,8 @@ void ManagerPlugin::reset() {
       config(), [logger](const std::string& s) { logger->warn("{}", s); },
       [logger](const std::string& s) { logger->info("{}", s); });
   revision_.reset();
+  wind_ = Vec3::Zero();
+  wind_stamp_.reset();
   xt_sq_ = xt_max_ = 0.0;
   xt_n_ = 0;
 }
@@ -88,6 +97,19 @@ void ManagerPlugin::step(Nanos now) {
   if (!state_.has_value()) return;
   const auto& s = *state_;
   const Vec3 p(s.p_n, s.p_e, s.p_d);
+  if (s.valid && std::isfinite(s.w_n) && std::isfinite(s.w_e)) {
+    const Vec3 w(s.w_n, s.w_e, 0.0);
+    if (!wind_stamp_) {
+      wind_ = w;
+    } else {
+      const double dt = to_seconds(now - *wind_stamp_);
+      const double tau = wind_tau_();
+      const double k = tau > 0.0 ? 1.0 - std::exp(-std::max(dt, 0.0) / tau) : 1.0;
+      wind_ += k * (w - wind_);
+    }
+    wind_stamp_ = now;
+    manager_->set_wind(wind_);
+  }
   const PathSegment seg = manager_->update(p, s.chi);
   if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
     const double e = std::fabs(cross_track_error(seg.r, seg.q, p));

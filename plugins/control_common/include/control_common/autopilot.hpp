@@ -19,8 +19,12 @@
 // damper - yaw max_r).
 // Bumpless transfer: after take_over(last), on every change of mode or override flag, and after
 // reset(), the integrators are set from the last command (back-solving the cascade) and any
-// remainder becomes an output offset that decays with time constant handover_tau. The first
-// command after a transfer equals `last` (within the actuator limits).
+// remainder becomes an output offset that decays with time constant handover_tau. With a roll
+// command slew limit (roll_rate_max > 0) the roll channel instead restarts its shaped roll
+// command at the roll the last aileron implies and slews it to the new command, the course
+// integrator clean (a course error at the transfer would otherwise wind it to its clamp, and
+// the slow integrator would take tens of seconds to unwind). The first command after a
+// transfer equals `last` (within the actuator limits).
 #pragma once
 
 #include <cstdint>

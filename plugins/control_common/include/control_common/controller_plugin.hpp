@@ -62,7 +62,7 @@ class ControllerPlugin : public Plugin {
   Output<msg::Actuators> actuators_;
   Output<msg::ControllerInternals> internals_;
 
-  Param<double> course_kp_, course_ki_, course_kd_, roll_max_;
+  Param<double> course_kp_, course_ki_, course_kd_, roll_max_, roll_rate_max_, roll_ff_;
   Param<double> roll_kp_, roll_ki_, roll_kd_, trim_a_, max_a_;
   Param<double> yaw_kr_, yaw_p_wo_, trim_r_, max_r_;
   Param<double> pitch_kp_, pitch_ki_, pitch_kd_, trim_e_, max_e_;

@@ -2,7 +2,10 @@
 // *Small Unmanned Aircraft*, ch. 6, as used by ROSplane 2.0 (controller_successive_loop):
 //
 //   course -> roll     phi_c   = sat(phi_ff + kp e_chi + ki int(e_chi) - kd r, +-roll_max)   (6.1.2)
-//   roll -> aileron    delta_a = sat(trim_a + kp e_phi + ki int(e_phi) - kd p, +-max_a)       (6.1.1)
+//   roll -> aileron    delta_a = sat(trim_a + k_ff p_c + kp e_phi + ki int(e_phi) - kd p, +-max_a) (6.1.1)
+//   with the roll command slew-limited to +-roll_rate_max and p_c its rate (command shaping:
+//   the roll loop is type 0, so a ramp in phi_c is followed with a lag unless its rate is fed
+//   forward; k_ff = a_phi1/a_phi2 is the aileron that sustains the roll rate p_c, uavbook eq. 5.26)
 //   yaw damper         delta_r = sat(trim_r + kr s/(s + p_wo) r, +-max_r)                     (6.1.3)
 //   pitch -> elevator  delta_e = sat(trim_e - (kp e_theta + ki int(e_theta) - kd q), +-max_e) (6.2.1)
 //   altitude -> pitch  theta_c = sat(kp e_h + ki int(e_h) - kd h_dot, [theta_min, theta_max]) (6.2.2)
@@ -43,6 +46,8 @@ struct LateralGains {
   double course_ki = 0.0025;  ///< rad roll / (rad s)
   double course_kd = 0.0;     ///< rad roll / (rad/s) yaw rate
   double roll_max = 0.785;    ///< rad
+  double roll_rate_max = 0.0; ///< slew limit of the roll command, rad/s; 0: none
+  double roll_ff = 0.0;       ///< rad aileron / (rad/s) of commanded roll rate p_c (a_phi1/a_phi2)
   double roll_kp = 0.55;      ///< rad aileron / rad roll error
   double roll_ki = 0.0;       ///< rad aileron / (rad s)
   double roll_kd = 0.2;       ///< rad aileron / (rad/s) roll rate
@@ -63,7 +68,15 @@ class LateralLoops {
 
   /// Course hold: roll command, rad. chi_c, chi in rad (any wrap), r in rad/s, phi_ff in rad.
   double course(double chi_c, double chi, double r, double phi_ff, double dt);
-  /// Roll hold: aileron, rad.
+  /// Roll command shaping: phi_c slew-limited to +-roll_rate_max from the previous shaped
+  /// command (none when roll_rate_max is 0, and on the first call after reset()); its rate p_c
+  /// (dirty derivative, tau 0.05 s) is fed forward by roll(). Returns the shaped command, rad.
+  double shape_roll(double phi_c, double dt);
+  /// Bumpless transfer: the shaped command restarts at phi_c, with p_c = 0.
+  void initialise_shape(double phi_c);
+  /// Rate of the shaped roll command, rad/s.
+  double p_c() const { return p_c_; }
+  /// Roll hold: aileron, rad (with the feed-forward roll_ff p_c of the shaped command).
   double roll(double phi_c, double phi, double p, double dt);
   /// Yaw damper: rudder, rad.
   double yaw_damper(double r, double dt);
@@ -86,6 +99,10 @@ class LateralLoops {
   LateralGains g_;
   Pid course_, roll_;
   Washout washout_;
+  DirtyDerivative phi_c_dot_{0.05};
+  double phi_c_prev_ = 0.0;
+  bool shaped_ = false;
+  double p_c_ = 0.0;
 };
 
 struct PitchGains {

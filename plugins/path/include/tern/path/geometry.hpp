@@ -68,6 +68,18 @@ inline constexpr double kStraightTurn = 1e-3;
 /// input is not finite.
 Fillet compute_fillet(const Vec3& w_prev, const Vec3& w, const Vec3& w_next, double R);
 
+/// Radius of a turn flown at airspeed Va (m/s) in the steady horizontal wind `wind` (NED m/s,
+/// the direction the air moves to; its d component is ignored) such that the ground track is a
+/// circle and the bank angle never exceeds phi (rad, in (0, pi/2)): the maximum over the swept
+/// courses chi of Vg(chi)^2 / (g tan(phi) cos(chi - psi)), the bank a circle of that radius
+/// asks for (Beard & McLain, section 10.3: phi_ff = atan(Vg^2 / (g R cos(chi - psi)))), with
+/// Vg(chi) and the crab angle chi - psi of the wind triangle (section 2.3). The turn starts at
+/// course chi0 (rad) and sweeps `sweep` rad (> 0 clockwise, < 0 counter-clockwise; |sweep| >=
+/// 2 pi: every course). The ground speed is highest downwind, so a turn through the downwind
+/// course needs (Va + |w|)^2 / (g tan(phi)). Courses the wind makes unflyable (cross wind >= Va)
+/// count with a crab angle of asin(0.99). Returns 0 for Va <= 0 or non-finite input.
+double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g = 9.81);
+
 /// The four Dubins path types of Beard & McLain, section 11.2.2 (R: right turn, S: straight,
 /// L: left turn).
 enum class DubinsType { RSR = 0, RSL = 1, LSR = 2, LSL = 3 };

@@ -63,6 +63,14 @@ struct ManagerConfig {
   double default_airspeed = 15.0;  ///< airspeed when a waypoint has none, m/s, > 0
   Corner corner = Corner::fillet;  ///< corners of non-Dubins waypoints
   double min_separation = 1.0;     ///< waypoints closer than this (horizontally) repeat, m, > 0
+  /// Bank angle the turns are planned for, rad, [0, 1.4]. 0 (ROSplane): every turn has radius
+  /// R_min. > 0: each turn gets the radius at which a ground circle needs at most this bank at
+  /// the highest ground speed of the turn in the wind given by set_wind() (wind_turn_radius()
+  /// over the courses it sweeps; a turn through the downwind course needs (Va + |w|)^2 /
+  /// (g tan(turn_bank))), never less than R_min. A fillet gets at most the radius whose
+  /// tangent points lie within half of each of its legs (warned once), so that consecutive
+  /// fillets never overlap; Dubins paths and orbits consider every course.
+  double turn_bank = 0.0;
 };
 
 class PathManager {
@@ -87,6 +95,13 @@ class PathManager {
 
   /// A new waypoint list (see "Edits" above). loop: the list's own loop flag.
   void set_waypoints(const std::vector<MissionPoint>& list, bool loop);
+
+  /// The wind (NED m/s, the direction the air moves to) the turn radii are planned for when
+  /// turn_bank > 0; it applies to segments that begin (and orbits) from now on. Non-finite
+  /// values are ignored.
+  void set_wind(const Vec3& wind);
+  /// Radius of the current turn (fillet, Dubins path or orbit), m.
+  double turn_radius() const { return seg_R_; }
 
   /// One step: p is the aircraft's NED position (m), chi its course (rad). Returns the segment
   /// to follow now. Non-finite input keeps the previous segment (warned once).
@@ -118,6 +133,8 @@ class PathManager {
   double airspeed(const MissionPoint& w) const;
   void warn_once(const std::string& key, const std::string& text);
   PathSegment orbit_segment(const Vec3& c, int index, double Va) const;
+  /// R_min, or with turn_bank > 0 the radius of a turn of `sweep` rad from course chi0 at Va.
+  double planned_radius(double Va, double chi0, double sweep) const;
   PathSegment current_segment() const;
   bool same_prefix(const std::vector<MissionPoint>& list, bool loop) const;
 
@@ -131,6 +148,7 @@ class PathManager {
   bool need_adopt_ = false;  ///< raw_ was replaced while not on a route: adopt at next update
   int adopt_first_ = 0;      ///< ... starting at this index of raw_
   double seg_R_ = 50.0;      ///< turn radius of the current segment, m
+  Vec3 wind_ = Vec3::Zero(); ///< wind for the turn radii, NED m/s
 
   std::vector<Entry> wps_;  ///< the list as flown (repeats skipped)
   bool loop_ = true;
