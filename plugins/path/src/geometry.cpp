@@ -102,8 +102,13 @@ double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, 
   const int n = std::max(2, static_cast<int>(std::ceil(span / (kPi / 90.0))) + 1);  // every 2 deg or finer
   const double dir = sweep >= 0.0 ? 1.0 : -1.0;
   double R = 0.0;
-  for (int i = 0; i < n; ++i) {
-    const double chi = chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1);
+  // the samples, and the downwind course when the turn sweeps it (where the radius peaks)
+  const bool windy = wind.head<2>().norm() > 0.0;
+  const double downwind = windy ? mod_2pi(dir * (std::atan2(wind.y(), wind.x()) - chi0)) : 0.0;
+  for (int i = 0; i <= n; ++i) {
+    if (i == n && !(windy && downwind <= span)) break;
+    const double chi = i < n ? chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1)
+                             : chi0 + dir * downwind;
     const double c = std::cos(chi), s = std::sin(chi);
     const double w_along = wind.x() * c + wind.y() * s;
     const double w_cross = -wind.x() * s + wind.y() * c;

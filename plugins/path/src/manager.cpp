@@ -273,7 +273,7 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
         warn_once("bank" + std::to_string(idx),
                   "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) + " m for " +
                       fmt(cfg_.turn_bank * 180.0 / kPi) + " deg of bank in the wind; its legs leave room for " +
-                      fmt(R) + " m");
+                      fmt(R_fit) + " m: flying " + fmt(R) + " m");
       seg_R_ = R;
     }
     fillet_ = compute_fillet(prev_, wt.w, w_next, R);

@@ -312,3 +312,37 @@ TEST_CASE("follower: from 100 m cross-track the kinematic aircraft converges wit
     }
   }
 }
+
+TEST_CASE("wind_turn_radius: the radius at which a ground circle needs at most the given bank") {
+  const double g = 9.81, phi = 30.0 * kPi / 180.0, Va = 17.0;
+  // no wind: Va^2 / (g tan phi) for any turn
+  const double R0 = Va * Va / (g * std::tan(phi));
+  CHECK(wind_turn_radius(Va, Vec3::Zero(), 0.3, 1.0, phi) == Approx(R0));
+  CHECK(wind_turn_radius(Va, Vec3::Zero(), 0.3, -2.0 * kPi, phi) == Approx(R0));
+  // 5 m/s blowing to the north-west (course -45 deg): a full circle is limited downwind, where
+  // the crab angle is 0 and Vg = Va + 5
+  const Vec3 w(3.5355339, -3.5355339, 0.0);
+  const double R_down = 22.0 * 22.0 / (g * std::tan(phi));
+  CHECK(wind_turn_radius(Va, w, 0.0, 2.0 * kPi, phi) == Approx(R_down).epsilon(1e-3));
+  // the hourglass's right turn from due west (-90 deg) to 14 deg sweeps through -45 deg ...
+  CHECK(wind_turn_radius(Va, w, -kPi / 2, 104.0 * kPi / 180.0, phi) == Approx(R_down).epsilon(1e-3));
+  // ... its left turn from due west to 166 deg (through south) does not: the largest ground
+  // speed is at the start, 5 cos 45 + sqrt(17^2 - (5 sin 45)^2), with that crab angle
+  const double Vg = 5.0 * std::cos(kPi / 4) + std::sqrt(Va * Va - 12.5);
+  const double cos_crab = std::sqrt(1.0 - 12.5 / (Va * Va));
+  CHECK(wind_turn_radius(Va, w, -kPi / 2, -104.0 * kPi / 180.0, phi) ==
+        Approx(Vg * Vg / (g * std::tan(phi) * cos_crab)).epsilon(1e-9));
+  // the bank a circle of that radius asks for is the follower's feed-forward: never above phi
+  const double R = wind_turn_radius(Va, w, 0.0, 2.0 * kPi, phi);
+  for (int i = 0; i < 360; ++i) {
+    const double chi = i * kPi / 180.0;
+    const double w_cross = -w.x() * std::sin(chi) + w.y() * std::cos(chi);
+    const double c = std::sqrt(1.0 - w_cross * w_cross / (Va * Va));
+    const double v = w.x() * std::cos(chi) + w.y() * std::sin(chi) + Va * c;
+    CHECK(std::atan(v * v / (g * R * c)) <= phi + 1e-9);
+  }
+  // bad input: 0 (the manager then keeps R_min)
+  CHECK(wind_turn_radius(0.0, w, 0.0, 1.0, phi) == 0.0);
+  CHECK(wind_turn_radius(Va, w, 0.0, 1.0, 0.0) == 0.0);
+  CHECK(wind_turn_radius(Va, Vec3(std::nan(""), 0, 0), 0.0, 1.0, phi) == 0.0);
+}

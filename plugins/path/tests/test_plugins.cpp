@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -159,6 +160,54 @@ TEST_CASE("manager: the hourglass (fillets and Dubins) stays flyable in a 5 m/s 
     CHECK(f.worst_line_error < 15.0);
     CHECK(f.worst_orbit_error < 25.0);
   }
+}
+
+TEST_CASE("manager: turn_bank plans each turn for the wind: the downwind fillets of the hourglass widen, the aircraft stays on them") {
+  const double w_n = 3.5355339, w_e = -3.5355339;  // 5 m/s to the north-west, as the default mission
+  double worst[2] = {0.0, 0.0};
+  for (int planned = 0; planned < 2; ++planned) {
+    CAPTURE(planned);
+    ManagerConfig cfg;
+    cfg.turn_bank = planned ? 30.0 * kPi / 180.0 : 0.0;
+    Flight f(cfg);
+    f.aircraft.w_n = w_n;
+    f.aircraft.w_e = w_e;
+    f.manager.set_wind(Vec3(w_n, w_e, 0.0));
+    f.settle_s = 60.0;
+    f.manager.set_waypoints(hourglass(), true);
+    std::map<int, double> radius;  // fillet radius per waypoint
+    for (int k = 0; k < 5000; ++k) {
+      f.run(0.1);
+      if (f.manager.stage() == PathManager::Stage::fillet_orbit) radius[f.manager.target()] = f.seg.rho;
+    }
+    CHECK(f.finite);
+    REQUIRE(f.manager.passed().size() >= 8);
+    CHECK(in_cycle_order(f.manager.passed(), 4));
+    REQUIRE(radius.size() == 4);
+    worst[planned] = f.worst_orbit_error;
+    if (!planned) {
+      for (const auto& [wp, R] : radius) CHECK(R == 50.0);
+      CHECK(f.warnings.empty());
+      continue;
+    }
+    // waypoints 2 and 3 turn through the downwind course: (17 + 5)^2 / (g tan 30 deg) = 85.5 m
+    // does not fit; the 200-m legs leave 100 m / tan(52 deg) = 78.1 m (warned once each)
+    // (tangent points offset R tan(turn / 2) from the waypoint, turn = pi - varrho = 104 deg)
+    const double varrho = std::acos(200.0 / std::sqrt(680000.0));
+    const double R_fit = 100.0 / std::tan(0.5 * (kPi - varrho));
+    CHECK(radius[2] == Approx(R_fit).epsilon(1e-6));
+    CHECK(radius[3] == Approx(R_fit).epsilon(1e-6));
+    CHECK(f.count_warnings("waypoint 2: the turn needs a radius of 85.5 m") == 1);
+    CHECK(f.count_warnings("waypoint 3: the turn needs a radius of 85.5 m") == 1);
+    // waypoints 0 and 1 turn upwind: smaller radii, still above R_min
+    CHECK(radius[0] > 60.0);
+    CHECK(radius[0] < radius[2]);
+    CHECK(radius[1] > 60.0);
+    CHECK(radius[1] < radius[2]);
+  }
+  MESSAGE("worst orbit error after the first minute: " << worst[0] << " m with R_min 50 m, " << worst[1]
+                                                     << " m with turn_bank 30 deg");
+  CHECK(worst[1] < 0.5 * worst[0]);
 }
 
 TEST_CASE("manager: straight lines switch at the bisector half-plane (corner = line)") {

@@ -77,7 +77,8 @@ Fillet compute_fillet(const Vec3& w_prev, const Vec3& w, const Vec3& w_next, dou
 /// course chi0 (rad) and sweeps `sweep` rad (> 0 clockwise, < 0 counter-clockwise; |sweep| >=
 /// 2 pi: every course). The ground speed is highest downwind, so a turn through the downwind
 /// course needs (Va + |w|)^2 / (g tan(phi)). Courses the wind makes unflyable (cross wind >= Va)
-/// count with a crab angle of asin(0.99). Returns 0 for Va <= 0 or non-finite input.
+/// count with a crab angle of asin(0.99). Evaluated every 2 degrees or finer and at the downwind
+/// course when the turn sweeps it. Returns 0 for Va <= 0 or non-finite input.
 double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g = 9.81);
 
 /// The four Dubins path types of Beard & McLain, section 11.2.2 (R: right turn, S: straight,
