@@ -127,6 +127,7 @@ void Estimator::reset() {
   rate_.setZero();
   gnss_reject_since_ = -1;
   mag_reject_since_ = -1;
+  init_stamp_ = -1;
   last_Va_ = 0.0;
   last_Va_stamp_ = -1;
   output_offset_.setZero();
