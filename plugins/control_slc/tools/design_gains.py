@@ -207,10 +207,9 @@ def design(k, Va, o):
     # The model chi/phi = (g/Vg)/s is the coordinated turn at Va; in flight the heading lags the
     # roll (sideslip, the yaw damper before its washout, the estimator) and the loop gain grows in
     # a turn (d(tan phi)/d phi = 1/cos^2 phi). With W_chi = 5.5 the Anaconda's course loop
-    # oscillates in the hourglass's downwind turns (+-3..6 deg course, roll command swinging
-    # 20-45 deg, period 1.4-1.7 s, which also stirs the pitch loop); the default and TECS
-    # missions fly W_chi = 10 (the book's upper end) through their slc/tecs params (see
-    # configs/gains/README.md). The default here stays 5.5, what `tern aero gains` designs.
+    # oscillated in the hourglass's downwind turns (+-3..6 deg course, roll command swinging
+    # 20-45 deg, period 1.4-1.7 s, which also stirred the pitch loop), so the default is
+    # W_chi = 10, the book's upper end (configs/gains/README.md); `tern aero gains` designs the same.
     wc = math.sqrt(s0) / o.W_chi
     g["course_kp"] = wc * Va / G
     g["course_ki"] = g["course_kp"] / o.T_chi
@@ -252,7 +251,7 @@ def main(argv=None):
     ap.add_argument("--e", type=float, help="Oswald efficiency (default: the file's, else 0.9)")
     ap.add_argument("--wn-phi", dest="wn_phi", type=float, help="roll natural frequency, rad/s (default a_phi1/(2 zeta_phi))")
     ap.add_argument("--zeta-phi", dest="zeta_phi", type=float, default=0.8)
-    ap.add_argument("--W-chi", dest="W_chi", type=float, default=5.5, help="roll/course bandwidth separation")
+    ap.add_argument("--W-chi", dest="W_chi", type=float, default=10.0, help="roll/course bandwidth separation")
     ap.add_argument("--roll-rate-max", dest="roll_rate_max", type=float, default=1.5,
                     help="slew limit of the roll command, rad/s (about 0.4 a_phi2 max_a / a_phi1)")
     ap.add_argument("--T-chi", dest="T_chi", type=float, default=25.0, help="course integrator reset time, s")

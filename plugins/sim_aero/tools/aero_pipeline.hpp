@@ -127,7 +127,7 @@ LinearModel linearize(const sim::Aircraft& ac, const sim::TrimRequest& req);
 /// Design knobs of the successive loop closure (defaults = configs/gains/*.yaml's design).
 struct DesignOptions {
   double wn_phi = std::numeric_limits<double>::quiet_NaN();  ///< NaN: a_phi1/(2 zeta_phi)
-  double zeta_phi = 0.8, W_chi = 5.5, T_chi = 25.0, K_theta_DC = 0.7, pitch_ki_ratio = 0.1;
+  double zeta_phi = 0.8, W_chi = 10.0, T_chi = 25.0, K_theta_DC = 0.7, pitch_ki_ratio = 0.1;
   double zeta_theta = 0.8, W_h = 25.0, zeta_h = 1.0, wn_V = 1.5, zeta_V = 1.0, kr = 0.3, p_wo = 0.5;
 };
 /// Ordered control_slc parameters (name, value) of uavbook sec. 6.1-6.2.

@@ -397,7 +397,7 @@ int main(int argc, char** argv) {
   ga->add_option("--out", gains_out, "gains file to write (flat param: value)");
   ga->add_option("--wn-phi", o.wn_phi, "roll natural frequency, rad/s (default a_phi1/(2 zeta_phi))");
   ga->add_option("--zeta-phi", o.zeta_phi, "roll damping ratio (0.8)");
-  ga->add_option("--W-chi", o.W_chi, "roll/course bandwidth separation (5.5)");
+  ga->add_option("--W-chi", o.W_chi, "roll/course bandwidth separation (10)");
   ga->add_option("--T-chi", o.T_chi, "course integrator reset time, s (25)");
   ga->add_option("--K-theta-DC", o.K_theta_DC, "pitch loop DC gain (0.7)");
   ga->add_option("--pitch-ki-ratio", o.pitch_ki_ratio, "pitch_ki = ratio pitch_kp wn_theta (0.1)");
