@@ -44,7 +44,7 @@ for f in bin/tern bin/tern-new-plugin bin/tern-plot include/tern/plugin.hpp incl
          "$libdir/tern/plugins/libtern_sim_aero.so" "$libdir/tern/plugins/libtern_control_slc.so" \
          "$libdir/tern/plugins/libtern_path_follower.so" \
          share/tern/configs/missions/default.yaml share/tern/configs/aircraft/anaconda.yaml \
-         share/tern/templates/controller/CMakeLists.txt; do
+         share/tern/templates/common/CMakeLists.txt share/tern/templates/controller/src/plugin.cpp; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 # every program the build puts next to tern (tern-aero, tern-plot, ...) is installed too
@@ -74,7 +74,7 @@ for k in $kinds; do
   for f in CMakeLists.txt README.md mission.yaml src/plugin.cpp src/plugin.hpp "tests/test_my_$k.cpp"; do
     [ -f "$work/plugins/$k/$f" ] || fail "tern new-plugin --kind $k did not write $f"
   done
-  if grep -rq '@NAME@\|@CLASS@\|@TERN_CONFIGS@' "$work/plugins/$k"; then fail "placeholders left in the $k project"; fi
+  if grep -rq '@NAME@\|@CLASS@\|@TERN_CONFIGS@\|@KIND@\|@ALGO_SOURCES@' "$work/plugins/$k"; then fail "placeholders left in the $k project"; fi
   echo "add_subdirectory($k)" >> "$work/plugins/CMakeLists.txt"
 done
 # refused: bad name, unknown kind, non-empty directory
