@@ -27,18 +27,21 @@ FlightResult fly_mission(const std::string& mission, const std::string& logdir, 
   return h.fly();
 }
 
-std::vector<std::string> lines(const std::string& text) {
-  std::vector<std::string> out;
-  std::stringstream ss(text);
-  for (std::string l; std::getline(ss, l);) out.push_back(l);
-  return out;
-}
-
-std::vector<std::string> cells(const std::string& row) {
-  std::vector<std::string> out;
-  std::stringstream ss(row);
-  for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
-  return out;
+/// configs/missions/default.yaml with its relative paths made absolute (so that it can be
+/// written anywhere) and each (from, to) replacement applied once; a missing `from` fails.
+std::string default_mission_with(const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = read_file(kMissions / "default.yaml");
+  std::vector<std::pair<std::string, std::string>> all = {
+      {"../aircraft/", (kMissions / "../aircraft/").lexically_normal().string()},
+      {"../gains/", (kMissions / "../gains/").lexically_normal().string()},
+      {"file: fixedwing_mission.yaml", "file: " + (kMissions / "fixedwing_mission.yaml").string()}};
+  all.insert(all.end(), edits.begin(), edits.end());
+  for (const auto& [from, to] : all) {
+    const auto at = text.find(from);
+    REQUIRE_MESSAGE(at != std::string::npos, "default.yaml has no '" << from << "'");
+    text.replace(at, from.size(), to);
+  }
+  return text;
 }
 
 nlohmann::json summary(const FlightResult& r) { return nlohmann::json::parse(read_file(r.run_dir / "summary.json")); }
@@ -160,21 +163,10 @@ TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduce
 TEST_CASE("the EKF's side-force model follows the turbulent wind better than the zero-sideslip assumption") {
   // the default mission with the estimator's side-force model on (its default: the Anaconda
   // file has C_Y_beta) and off; wind RMSE over the loops after the first one (summary metrics)
-  std::string text = read_file(kMissions / "default.yaml");
-  for (const char* rel : {"../aircraft/", "../gains/"}) {
-    const auto at = text.find(rel);
-    REQUIRE(at != std::string::npos);
-    text.replace(at, std::strlen(rel), (kMissions / rel).lexically_normal().string());
-  }
-  const auto mission_file = text.find("file: fixedwing_mission.yaml");
-  REQUIRE(mission_file != std::string::npos);
-  text.replace(mission_file, 28, "file: " + (kMissions / "fixedwing_mission.yaml").string());
-  const auto trigger = text.find("    trigger: imu\n");
-  REQUIRE(trigger != std::string::npos);
   double wind_rmse[2] = {0, 0};
   for (int on = 0; on < 2; ++on) {
-    std::string cfg = text;
-    cfg.insert(trigger + 17, std::string("    params: {use_side_force: ") + (on ? "true" : "false") + "}\n");
+    const std::string cfg = default_mission_with(
+        {{"    trigger: imu\n", std::string("    trigger: imu\n    params: {use_side_force: ") + (on ? "true" : "false") + "}\n"}});
     HostOptions o;
     o.quiet = true;
     o.log_dir = test_dir() / "e2e_side_force";
@@ -196,18 +188,7 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
   // Released level at 70 m, controls held until the estimate is valid, the aircraft rolls and
   // pitches while the EKF initialises; a yaw locked onto a wrong (yaw, wind) pair is reset to the
   // magnetometer, and the flight goes on to the first waypoint.
-  std::string text = read_file(kMissions / "default.yaml");
-  for (const char* rel : {"../aircraft/", "../gains/"}) {
-    const auto at = text.find(rel);
-    REQUIRE(at != std::string::npos);
-    text.replace(at, std::strlen(rel), (kMissions / rel).lexically_normal().string());
-  }
-  const auto mission_file = text.find("file: fixedwing_mission.yaml");
-  REQUIRE(mission_file != std::string::npos);
-  text.replace(mission_file, 28, "file: " + (kMissions / "fixedwing_mission.yaml").string());
-  const auto mode = text.find("init_mode: ground");
-  REQUIRE(mode != std::string::npos);
-  text.replace(mode, 17, "init_mode: air\n      init_altitude: 70");
+  const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"}});
   HostOptions o;
   o.quiet = true;
   o.log_dir = test_dir() / "e2e_air_start";

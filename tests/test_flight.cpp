@@ -25,13 +25,6 @@ FlightResult fly(const std::string& yaml, const std::string& logdir, std::option
   return h.fly();
 }
 
-std::vector<std::string> lines(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string l; std::getline(ss, l);) out.push_back(l);
-  return out;
-}
-
 const std::string kRouted = base_config(
     "  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
     "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nfallback: ctl\nphase_machine: {alt_toz: 2, alt_hz: 3}\n");

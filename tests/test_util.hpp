@@ -9,6 +9,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "config.hpp"
 #include "error.hpp"
@@ -41,6 +42,22 @@ inline fs::path write_file(const std::string& name, const std::string& text) {
   fs::create_directories(p.parent_path());
   std::ofstream(p) << text;
   return p;
+}
+
+/// The lines of a text (no line ends).
+inline std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  for (std::string l; std::getline(ss, l);) out.push_back(l);
+  return out;
+}
+
+/// The comma-separated cells of one CSV row.
+inline std::vector<std::string> cells(const std::string& row) {
+  std::vector<std::string> out;
+  std::stringstream ss(row);
+  for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+  return out;
 }
 
 inline std::string read_file(const fs::path& p) {

@@ -28,13 +28,6 @@ namespace fdds = eprosima::fastdds::dds;
 
 namespace {
 
-std::vector<std::string> lines(const std::string& s) {
-  std::vector<std::string> out;
-  std::stringstream ss(s);
-  for (std::string l; std::getline(ss, l);) out.push_back(l);
-  return out;
-}
-
 DdsOptions options_on(std::uint32_t domain) {
   DdsOptions o = parse_dds_options(YAML::Node(), "none.yaml");
   o.enabled = true;
