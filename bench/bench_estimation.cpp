@@ -22,16 +22,15 @@
 
 #include "config.hpp"
 #include "host.hpp"
+#include "tern/math.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/port.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kDeg = 180.0 / kPi;
-
-double wrap(double a) { return a - 2.0 * kPi * std::floor((a + kPi) / (2.0 * kPi)); }
+constexpr double kDeg = 180.0 / tern::kPi;
+using tern::wrap_pi;
 
 struct Rms {
   double sum = 0;
@@ -115,10 +114,10 @@ int main(int argc, char** argv) {
     est[U].add(x->u - t->u);
     est[V].add(x->v - t->v);
     est[W].add(x->w - t->w);
-    est[ROLL].add(wrap(x->phi - t->phi));
-    est[PITCH].add(wrap(x->theta - t->theta));
-    est[YAW].add(wrap(x->psi - t->psi));
-    est[COURSE].add(wrap(x->chi - t->chi));
+    est[ROLL].add(wrap_pi(x->phi - t->phi));
+    est[PITCH].add(wrap_pi(x->theta - t->theta));
+    est[YAW].add(wrap_pi(x->psi - t->psi));
+    est[COURSE].add(wrap_pi(x->chi - t->chi));
     est[VA].add(x->Va - t->Va);
     if (s >= t0_wind) {
       est[WIND_N].add(x->w_n - t->w_n);

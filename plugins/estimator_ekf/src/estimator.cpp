@@ -304,7 +304,7 @@ void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
   mag_heading_.stats.consecutive_rejected = 0;
   mag_.stats.consecutive_rejected = 0;
   ++mag_resets_;
-  push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / 3.14159265358979323846);
+  push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / tern::kPi);
 }
 
 bool Estimator::add_baro(const msg::Baro& m) {

@@ -32,7 +32,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   //   F_eg,eg = exp(-k dt) I (Gauss-Markov GNSS error).
   // Done as row then column block operations (F P, then (F P) F^T): about 1.5k multiply-adds
   // instead of 2 x 21^3 for dense products.
-  const Mat3 Fvth = -dt * R * skew3(a);
+  const Mat3 Fvth = -dt * R * tern::skew(a);
   const Mat3 Fvba = -dt * R;
   const Mat3 Fthth = quat_exp(-w * dt).toRotationMatrix();
   Cov& P = P_;
@@ -70,7 +70,7 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   const Mat3 R = x.R();
   Cov F = Cov::Identity();
   F.block<3, 3>(idx::p, idx::v) = dt * Mat3::Identity();
-  F.block<3, 3>(idx::v, idx::th) = -dt * R * skew3(accel - x.b_a);
+  F.block<3, 3>(idx::v, idx::th) = -dt * R * tern::skew(accel - x.b_a);
   F.block<3, 3>(idx::v, idx::ba) = -dt * R;
   F.block<3, 3>(idx::th, idx::th) = quat_exp(-(gyro - x.b_g) * dt).toRotationMatrix();
   F.block<3, 3>(idx::th, idx::bg) = -dt * Mat3::Identity();

@@ -36,7 +36,7 @@ Magnetometer::Vec Magnetometer::h(const NominalState& x) const {
 
 Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
   Jac H = Jac::Zero();
-  H.block<3, 3>(0, idx::th) = skew3(h(x));
+  H.block<3, 3>(0, idx::th) = tern::skew(h(x));
   return H;
 }
 
@@ -90,7 +90,7 @@ Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x) {
   Eigen::Matrix<double, 3, kErrDim> J = Eigen::Matrix<double, 3, kErrDim>::Zero();
   const Mat3 Rt = x.R().transpose();
   J.block<3, 3>(0, idx::v) = Rt;
-  J.block<3, 3>(0, idx::th) = skew3(x.air_velocity_body());
+  J.block<3, 3>(0, idx::th) = tern::skew(x.air_velocity_body());
   J.block<3, 2>(0, idx::w) = -Rt.leftCols<2>();
   return J;
 }

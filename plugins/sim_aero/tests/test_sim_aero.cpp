@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "tern/math.hpp"
 #include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/sensors.hpp"
@@ -25,10 +26,7 @@ const std::string kAircraft = TERN_AIRCRAFT_DIR;
 Aircraft anaconda() { return load_aircraft(kAircraft + "/anaconda.yaml"); }
 
 /// 3-2-1 yaw of a state, rad.
-double yaw_of(const StateVector& x) {
-  const Eigen::Matrix3d R = attitude(x).toRotationMatrix();
-  return std::atan2(R(1, 0), R(0, 0));
-}
+double yaw_of(const StateVector& x) { return tern::euler_from_quaternion(attitude(x)).z(); }
 
 // Error message of parse_aircraft on a modified tern document.
 std::string load_error(const YAML::Node& doc) {

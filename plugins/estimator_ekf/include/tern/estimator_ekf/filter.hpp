@@ -55,6 +55,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "tern/math.hpp"
+
 namespace tern::ekf {
 
 inline constexpr int kErrDim = 21;  ///< error-state dimension
@@ -113,12 +115,6 @@ inline Eigen::Quaterniond quat_exp(const Vec3& rotvec) {
 /// x [+] dx: applies an error-state correction to a nominal state (attitude multiplicatively).
 NominalState boxplus(const NominalState& x, const ErrVec& dx);
 
-/// Skew-symmetric matrix: skew(a) b = a x b.
-inline Mat3 skew3(const Vec3& a) {
-  Mat3 S;
-  S << 0.0, -a.z(), a.y(), a.z(), 0.0, -a.x(), -a.y(), a.x(), 0.0;
-  return S;
-}
 
 /// Process-noise figures (see the file comment for how they enter Q).
 struct ProcessNoise {
