@@ -2,11 +2,9 @@
 
 #include <cmath>
 
-namespace tern::control {
+#include "tern/math.hpp"
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-}
+namespace tern::control {
 
 bool VehicleState::finite() const {
   return std::isfinite(phi) && std::isfinite(theta) && std::isfinite(chi) && std::isfinite(p) &&
@@ -19,13 +17,6 @@ bool Surfaces::finite() const {
          std::isfinite(delta_t);
 }
 
-double wrap_angle(double a) {
-  if (!std::isfinite(a)) return a;
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0.0) a += 2.0 * kPi;
-  return a - kPi;
-}
-
 // ---- lateral ----------------------------------------------------------------------------------
 
 void LateralLoops::set_gains(const LateralGains& g) {
@@ -36,7 +27,7 @@ void LateralLoops::set_gains(const LateralGains& g) {
 }
 
 double LateralLoops::course(double chi_c, double chi, double r, double phi_ff, double dt) {
-  return course_.update(wrap_angle(chi_c - chi), r, dt, phi_ff);
+  return course_.update(tern::wrap_pi(chi_c - chi), r, dt, phi_ff);
 }
 
 double LateralLoops::shape_roll(double phi_c, double dt) {
@@ -72,7 +63,7 @@ double LateralLoops::roll_command_for(double delta_a, double phi, double p) cons
 }
 
 void LateralLoops::initialise_course(double phi_c, double chi_c, double chi, double r, double phi_ff) {
-  course_.initialise(phi_c, wrap_angle(chi_c - chi), r, phi_ff);
+  course_.initialise(phi_c, tern::wrap_pi(chi_c - chi), r, phi_ff);
 }
 
 void LateralLoops::initialise_roll(double delta_a, double phi_c, double phi, double p) {

@@ -38,9 +38,6 @@ struct Surfaces {
   bool finite() const;
 };
 
-/// Wraps an angle to [-pi, pi).
-double wrap_angle(double a);
-
 struct LateralGains {
   double course_kp = 2.0;     ///< rad roll / rad course error
   double course_ki = 0.0025;  ///< rad roll / (rad s)
