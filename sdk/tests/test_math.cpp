@@ -11,6 +11,7 @@ TEST_CASE("wrap_pi maps every angle to [-pi, pi)") {
   CHECK(wrap_pi(-3 * kPi / 2) == doctest::Approx(kPi / 2));
   CHECK(wrap_pi(7.0) == doctest::Approx(7.0 - 2 * kPi));
   CHECK(wrap_2pi(-0.5) == doctest::Approx(2 * kPi - 0.5));
+  CHECK(wrap_2pi(-1e-17) < 2 * kPi);  // rounds to 2 pi in the sum: must come back as 0
   CHECK(unwrap_near(3.0, -3.0) == doctest::Approx(3.0 - 2 * kPi));
 }
 

@@ -4,17 +4,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tern/math.hpp"
+
 namespace tern::path {
 
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-/// a shifted by a multiple of 2 pi so that |a - ref| <= pi.
-double unwrap_near(double a, double ref) {
-  double d = std::fmod(a - ref + kPi, 2.0 * kPi);
-  if (d < 0.0) d += 2.0 * kPi;
-  return ref + d - kPi;
-}
-}  // namespace
+using tern::kPi;
+using tern::unwrap_near;
 
 double cross_track_error(const Vec3& r, const Vec3& q, const Vec3& p) {
   const double chi_q = std::atan2(q.y(), q.x());

@@ -6,10 +6,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "tern/math.hpp"
+
 namespace tern::path {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 bool finite(const Vec3& v) { return v.allFinite(); }
@@ -26,7 +28,7 @@ double angle_of(const Vec3& v) { return std::atan2(v.y(), v.x()); }
 
 /// Turn angle for the Dubins arcs: mod 2 pi, with a full turn within roundoff counted as 0.
 double arc(double x) {
-  const double a = mod_2pi(x);
+  const double a = tern::wrap_2pi(x);
   return a > 2.0 * kPi - 1e-9 ? 0.0 : a;
 }
 
@@ -35,14 +37,6 @@ Vec3 on_circle(const Vec3& c, double R, double a) {
   return {c.x() + R * std::cos(a), c.y() + R * std::sin(a), c.z()};
 }
 }  // namespace
-
-double mod_2pi(double x) {
-  if (!std::isfinite(x)) return x;
-  double r = std::fmod(x, 2.0 * kPi);
-  if (r < 0.0) r += 2.0 * kPi;
-  if (r >= 2.0 * kPi) r = 0.0;
-  return r;
-}
 
 bool in_half_plane(const Vec3& p, const Vec3& z, const Vec3& n) {
   return (p.x() - z.x()) * n.x() + (p.y() - z.y()) * n.y() >= 0.0;
@@ -104,7 +98,7 @@ double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, 
   double R = 0.0;
   // the samples, and the downwind course when the turn sweeps it (where the radius peaks)
   const bool windy = wind.head<2>().norm() > 0.0;
-  const double downwind = windy ? mod_2pi(dir * (std::atan2(wind.y(), wind.x()) - chi0)) : 0.0;
+  const double downwind = windy ? tern::wrap_2pi(dir * (std::atan2(wind.y(), wind.x()) - chi0)) : 0.0;
   for (int i = 0; i <= n; ++i) {
     if (i == n && !(windy && downwind <= span)) break;
     const double chi = i < n ? chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1)

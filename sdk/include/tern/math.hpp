@@ -25,12 +25,12 @@ inline double wrap_pi(double a) {
   return a - kPi;
 }
 
-/// Wraps an angle to [0, 2 pi).
+/// Wraps an angle to [0, 2 pi) (the book's <x>, angle mod 2 pi, of Alg. 7). NaN stays NaN.
 inline double wrap_2pi(double a) {
   if (!std::isfinite(a)) return a;
   a = std::fmod(a, 2.0 * kPi);
   if (a < 0.0) a += 2.0 * kPi;
-  return a;
+  return a >= 2.0 * kPi ? 0.0 : a;  // a tiny negative input rounds up to 2 pi
 }
 
 /// Returns `a` shifted by a multiple of 2 pi so that |a - ref| <= pi: the form used for course

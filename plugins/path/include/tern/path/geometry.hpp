@@ -26,9 +26,6 @@ inline Vec3 course_vector(double chi) { return {std::cos(chi), std::sin(chi), 0.
 /// Horizontal distance between a and b, m.
 inline double horizontal_distance(const Vec3& a, const Vec3& b) { return (a - b).head<2>().norm(); }
 
-/// Angle in [0, 2 pi): the book's <x> (angle mod 2 pi) in Alg. 7.
-double mod_2pi(double x);
-
 /// True when p lies in the closed half-plane H(z, n) = {p : (p - z)^T n >= 0} (Beard & McLain,
 /// section 11.1), using the (n, e) components of p, z and n only.
 bool in_half_plane(const Vec3& p, const Vec3& z, const Vec3& n);
