@@ -95,6 +95,17 @@ class ClosedLoop {
   Surfaces last;
 };
 
+/// A controller (built from `gains`) on a plant whose trim differs from the gains file's
+/// (elevator +0.02 rad, throttle +0.03), flown 30 s so that the integrators found the trim.
+inline std::unique_ptr<ClosedLoop> settled_loop(std::unique_ptr<Plugin> controller, const Coefficients& k,
+                                                const std::string& gains) {
+  auto L = std::make_unique<ClosedLoop>(std::move(controller), k, load_gains(gains));
+  L->plant.delta_e_offset = 0.02;
+  L->plant.delta_t_offset = 0.03;
+  L->run(30.0);
+  return L;
+}
+
 /// Step-response figures of y towards `target` from a start value: overshoot past the target
 /// (in the direction of the step, >= 0) and the time after which |y - target| stays within band.
 struct StepResponse {

@@ -24,14 +24,7 @@ struct Aircraft {
 const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda.yaml", anaconda()},
                               {TERN_GAINS_DIR "/aerosonde.yaml", aerosonde()}};
 
-std::unique_ptr<ClosedLoop> make(const Aircraft& a) {
-  auto L = std::make_unique<ClosedLoop>(std::make_unique<ControlSlc>(), a.k, load_gains(a.gains));
-  // the plant's trim differs from the gains file's: the integrators must find it
-  L->plant.delta_e_offset = 0.02;
-  L->plant.delta_t_offset = 0.03;
-  L->run(30.0);  // settle at trim
-  return L;
-}
+std::unique_ptr<ClosedLoop> make(const Aircraft& a) { return settled_loop(std::make_unique<ControlSlc>(), a.k, a.gains); }
 }  // namespace
 
 TEST_CASE("slc: 10 m altitude step settles within 2 m in < 15 s with < 3 m overshoot") {

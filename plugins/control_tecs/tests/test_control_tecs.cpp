@@ -24,13 +24,7 @@ struct Aircraft {
 const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda_tecs.yaml", anaconda()},
                               {TERN_GAINS_DIR "/aerosonde_tecs.yaml", aerosonde()}};
 
-std::unique_ptr<ClosedLoop> make(const Aircraft& a) {
-  auto L = std::make_unique<ClosedLoop>(std::make_unique<ControlTecs>(), a.k, load_gains(a.gains));
-  L->plant.delta_e_offset = 0.02;
-  L->plant.delta_t_offset = 0.03;
-  L->run(30.0);
-  return L;
-}
+std::unique_ptr<ClosedLoop> make(const Aircraft& a) { return settled_loop(std::make_unique<ControlTecs>(), a.k, a.gains); }
 }  // namespace
 
 TEST_CASE("tecs law: a climb demand raises throttle and pitch; a speed demand raises throttle, lowers pitch") {
