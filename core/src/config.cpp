@@ -11,19 +11,6 @@ namespace {
 
 std::string str(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : std::string("<") + (n.IsMap() ? "map" : n.IsSequence() ? "list" : "null") + ">"; }
 
-void check_keys(const YAML::Node& map, const fs::path& file, const std::string& field,
-                const std::vector<std::string>& allowed) {
-  for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    bool ok = false;
-    for (const auto& a : allowed) ok = ok || a == key;
-    if (!ok) {
-      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "unknown key '" + key + "'" +
-                        did_you_mean(key, allowed));
-    }
-  }
-}
-
 void require_map(const YAML::Node& n, const fs::path& file, const std::string& field) {
   if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + str(n));
 }

@@ -54,4 +54,17 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
   return " (did you mean '" + best + "'?)";
 }
 
+void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
+                const std::vector<std::string>& allowed) {
+  for (const auto& kv : map) {
+    const std::string key = kv.first.as<std::string>();
+    bool ok = false;
+    for (const auto& a : allowed) ok = ok || a == key;
+    if (!ok) {
+      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "unknown key '" + key + "'" +
+                        did_you_mean(key, allowed));
+    }
+  }
+}
+
 }  // namespace tern::core

@@ -30,4 +30,9 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 /// " (did you mean 'x'?)" when a candidate is close enough, else "".
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
+/// Throws ConfigError "file:line:col: field: unknown key 'k' (did you mean ...)" for the first key
+/// of `map` not in `allowed` (`field` empty: no "field: " part).
+void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
+                const std::vector<std::string>& allowed);
+
 }  // namespace tern::core

@@ -40,17 +40,6 @@ std::string show(const YAML::Node& n) {
   return "nothing";
 }
 
-void check_keys(const YAML::Node& map, const fs::path& file, const std::string& field,
-                const std::vector<std::string>& allowed) {
-  for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    bool ok = false;
-    for (const auto& a : allowed) ok = ok || a == key;
-    if (!ok)
-      throw ConfigError(where(file, kv.first) + field + ": unknown key '" + key + "'" + did_you_mean(key, allowed));
-  }
-}
-
 double number(const YAML::Node& n, const fs::path& file, const std::string& field, double lo, double hi) {
   double v = 0;
   try {
