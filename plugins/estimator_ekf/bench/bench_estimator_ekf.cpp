@@ -39,15 +39,6 @@ struct Tick {
   msg::Mag mag;
 };
 
-SimOptions flight() {
-  SimOptions o;
-  o.psi0 = 0.7;
-  o.phi_ramps = {{30.0, 2.0, 30.0 * kPi / 180}, {50.0, 2.0, -30.0 * kPi / 180},
-                 {90.0, 3.0, 60.0 * kPi / 180}, {110.0, 3.0, -60.0 * kPi / 180}};
-  o.gamma_ramps = {{60.0, 2.0, 0.1}, {75.0, 2.0, -0.1}};
-  return o;
-}
-
 struct Stat {
   std::vector<double> ns;
   double median() {
@@ -79,7 +70,7 @@ double timed(F&& f) {
 
 int main() {
   // ---- cost -----------------------------------------------------------------------------------
-  TruthSim sim(flight());
+  TruthSim sim(mixed_flight());
   std::vector<Tick> ticks;
   const int n = 120 * 400;
   ticks.reserve(n);

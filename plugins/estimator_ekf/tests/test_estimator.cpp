@@ -11,16 +11,6 @@ using namespace tern::ekf::test;
 
 namespace {
 
-/// Straight and level, a 30-degree-bank turn, a climb, a 60-degree-bank turn.
-SimOptions mixed_flight() {
-  SimOptions o;
-  o.psi0 = 0.7;
-  o.phi_ramps = {{30.0, 2.0, 30.0 * kPi / 180}, {50.0, 2.0, -30.0 * kPi / 180},
-                 {90.0, 3.0, 60.0 * kPi / 180}, {110.0, 3.0, -60.0 * kPi / 180}};
-  o.gamma_ramps = {{60.0, 2.0, 0.1}, {75.0, 2.0, -0.1}};
-  return o;
-}
-
 bool covariance_ok(const Estimator& est) {
   const Cov& P = est.filter().P();
   return P.allFinite() && (P - P.transpose()).cwiseAbs().maxCoeff() == 0.0 &&

@@ -70,6 +70,17 @@ struct SimOptions {
   std::uint64_t seed = 7;
 };
 
+/// The flight the tests and the benchmark share: straight and level, a 30-degree-bank turn, a
+/// climb, a 60-degree-bank turn.
+inline SimOptions mixed_flight() {
+  constexpr double deg = tern::kPi / 180.0;
+  SimOptions o;
+  o.psi0 = 0.7;
+  o.phi_ramps = {{30.0, 2.0, 30.0 * deg}, {50.0, 2.0, -30.0 * deg}, {90.0, 3.0, 60.0 * deg}, {110.0, 3.0, -60.0 * deg}};
+  o.gamma_ramps = {{60.0, 2.0, 0.1}, {75.0, 2.0, -0.1}};
+  return o;
+}
+
 /// Steps the truth at 400 Hz and produces the sensor messages due at each step.
 class TruthSim {
  public:
