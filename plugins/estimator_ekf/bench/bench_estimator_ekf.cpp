@@ -114,7 +114,7 @@ int main() {
   Rms north, east, alt, u, v, w, roll, pitch, course, wind, att60;
   const char* sensors_used = "truth_sim.hpp";
   {
-    TruthSim s2(flight());
+    TruthSim s2(mixed_flight());
     EstimatorConfig cfg;
 #ifdef TERN_EKF_HAVE_SIM_AERO
     sensors_used = "sim_aero (tern::sim::Sensors defaults)";
@@ -148,7 +148,7 @@ int main() {
   }
   double outage_drift = 0.0;
   {
-    TruthSim s3(flight());
+    TruthSim s3(mixed_flight());
     Estimator e3;
     fly(s3, e3, 40.0);
     Hooks h;
