@@ -938,10 +938,10 @@ FlightResult Host::fly() {
     tp->logged_seq = 0;
     // raw sensor topics (and the actuators, an input of the estimator's side-force model) are
     // logged in full by default, so that a flight can be replayed
-    static const std::set<std::string> kSensors = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
+    static const std::set<std::string> kReplayInputs = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
     auto rate_it = config_.log.rates.find(tp->name);
     const double max_rate = rate_it != config_.log.rates.end() ? rate_it->second
-                            : kSensors.count(tp->name)        ? 0.0
+                            : kReplayInputs.count(tp->name)        ? 0.0
                                                               : config_.log.max_rate;
     tp->log_interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
     tp->logged_t = std::numeric_limits<Nanos>::min() / 2;
