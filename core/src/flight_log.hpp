@@ -66,7 +66,10 @@ class FlightLog {
   };
   void writer_loop();
   void hand_over(std::size_t topic, std::vector<char>& buf);
-  void format(const Topic& t, const std::vector<char>& bytes, std::string& out) const;
+  /// Formats the records in `bytes` as CSV rows into `out` (grown to `capacity` when needed);
+  /// returns the number of characters written.
+  std::size_t format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out,
+                     std::size_t& capacity) const;
 
   fs::path dir_;
   std::vector<std::unique_ptr<Topic>> topics_;
