@@ -1,6 +1,7 @@
 // tern_sim_aero/wind.hpp: wind model (Beard & McLain, sec. 4.4): steady wind in NED, Dryden
 // turbulence in body axes with the MIL-F-8785C parameter sets of the book's table 4.1, and
-// discrete 1-cosine gusts. Random draws come from the caller's std::mt19937_64 (seeded).
+// discrete 1-cosine gusts. Random draws come from the caller's std::mt19937_64 (seeded), normal
+// ones through Boost's ziggurat distribution (as the sensors).
 #pragma once
 
 #include <random>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <boost/random/normal_distribution.hpp>
 
 namespace tern::sim {
 
@@ -45,7 +47,7 @@ class Dryden {
   double u_ = 0;
   Eigen::Vector2d xv_ = Eigen::Vector2d::Zero(), xw_ = Eigen::Vector2d::Zero();
   Eigen::Vector3d out_ = Eigen::Vector3d::Zero();
-  std::normal_distribution<double> n_{0.0, 1.0};
+  boost::random::normal_distribution<double> n_{0.0, 1.0};
 };
 
 /// A discrete 1-cosine gust in NED: w(t) = amplitude/2 (1 - cos(2 pi (t - start)/duration))
