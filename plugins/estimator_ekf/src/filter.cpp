@@ -51,7 +51,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   P.middleCols<3>(idx::eg) *= fe;
 
   P.diagonal() += process_noise_diagonal(noise, dt);
-  P = 0.5 * (P + P.transpose()).eval();
+  symmetrize(P);
 }
 
 NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,

@@ -115,6 +115,17 @@ inline Eigen::Quaterniond quat_exp(const Vec3& rotvec) {
 /// x [+] dx: applies an error-state correction to a nominal state (attitude multiplicatively).
 NominalState boxplus(const NominalState& x, const ErrVec& dx);
 
+/// P <- (P + P^T) / 2 in place, one pass over the strict upper triangle.
+inline void symmetrize(Cov& P) {
+  for (int j = 1; j < kErrDim; ++j) {
+    for (int i = 0; i < j; ++i) {
+      const double m = 0.5 * (P(i, j) + P(j, i));
+      P(i, j) = m;
+      P(j, i) = m;
+    }
+  }
+}
+
 
 /// Process-noise figures (see the file comment for how they enter Q).
 struct ProcessNoise {
@@ -182,9 +193,11 @@ class Filter {
   /// Applies an error-state correction without touching P (used by resets).
   void inject(const ErrVec& dx) { x_ = boxplus(x_, dx); }
 
-  /// Covariance finite with a positive diagonal, state finite.
+  /// Covariance finite with a positive diagonal, state finite. (The sum of P is finite exactly
+  /// when every element is, barring an overflow that is unhealthy too; it vectorises, where an
+  /// element-wise check costs as much as the covariance propagation.)
   bool healthy() const {
-    return P_.allFinite() && (P_.diagonal().array() > 0.0).all() && x_.all_finite();
+    return std::isfinite(P_.sum()) && (P_.diagonal().array() > 0.0).all() && x_.all_finite();
   }
 
   const NominalState& x() const { return x_; }
@@ -233,11 +246,18 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
   x_ = boxplus(x_, K * y);
   // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, evaluated expanded (exact for any K):
   //   P - K (H P) - (K (H P))^T + K S K^T,   S = H P H^T + R,
-  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product.
-  const Cov KHP = K * HP;
-  P_ -= KHP + KHP.transpose();
-  P_.noalias() += K * S * K.transpose();
-  P_ = 0.5 * (P_ + P_.transpose()).eval();
+  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. The correction is
+  // symmetric by construction; it is formed on the upper triangle and mirrored, which also
+  // leaves P exactly symmetric (the (P + P^T) / 2 of the file comment, in the same pass).
+  const Eigen::Matrix<double, kErrDim, M> KS = K * S;
+  for (int j = 0; j < kErrDim; ++j) {
+    for (int i = 0; i <= j; ++i) {
+      const double d = KS.row(i).dot(K.row(j)) - K.row(i).dot(HP.col(j)) - K.row(j).dot(HP.col(i));
+      const double m = i == j ? P_(i, i) + d : 0.5 * (P_(i, j) + P_(j, i)) + d;
+      P_(i, j) = m;
+      P_(j, i) = m;
+    }
+  }
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
