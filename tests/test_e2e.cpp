@@ -185,42 +185,53 @@ TEST_CASE("the EKF's side-force model follows the turbulent wind better than the
 }
 
 TEST_CASE("an air start with the EKF in the loop: the estimator recovers from initialising while the aircraft manoeuvres") {
-  // Released level at 70 m, controls held until the estimate is valid, the aircraft rolls and
-  // pitches while the EKF initialises; a yaw locked onto a wrong (yaw, wind) pair is reset to the
-  // magnetometer, and the flight goes on to the first waypoint.
+  // Released at 70 m with the ground velocity along the runway heading, so the 5 m/s crosswind
+  // puts it in a sideslip and, with the throttle at zero until the estimate is valid, a
+  // deceleration: the specific force is far from gravity when the EKF initialises. Each seed
+  // must initialise within a few degrees (TRIAD on GNSS acceleration and the field), keep the
+  // aircraft flying and track the truth.
   const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"}});
-  HostOptions o;
-  o.quiet = true;
-  o.log_dir = test_dir() / "e2e_air_start";
-  o.duration = 60.0;
-  Host h(load_config(write_file("air_start.yaml", text)), o);
-  h.build();
-  const FlightResult r = h.fly();
-  REQUIRE(r.ok);
-  const auto s = summary(r);
-  CHECK(s["instances"]["sim"]["sim_crashed"].get<double>() == 0.0);
-  CHECK(s["instances"]["ekf"]["filter_resets"].get<double>() == 0.0);
-  // after 30 s the estimated attitude matches the truth
-  const auto state = lines(read_file(r.run_dir / "topics" / "state.csv"));
-  const auto truth = lines(read_file(r.run_dir / "topics" / "truth.csv"));
-  REQUIRE(state.size() == truth.size());
-  const auto column = [](const std::string& header, const std::string& name) {
-    std::stringstream ss(header);
-    int i = 0;
-    for (std::string c; std::getline(ss, c, ','); ++i)
-      if (c.rfind(name + " [", 0) == 0) return i;
-    return -1;
-  };
-  const int t_col = 0, psi = column(state[0], "psi"), phi = column(state[0], "phi");
-  REQUIRE(psi > 0);
-  double worst = 0;
-  for (std::size_t k = 1; k < state.size(); ++k) {
-    const auto a = cells(state[k]), b = cells(truth[k]);
-    if (std::stod(a[t_col]) < 30.0) continue;
-    const double dpsi = std::remainder(std::stod(a[psi]) - std::stod(b[psi]), 2.0 * M_PI);
-    worst = std::max({worst, std::fabs(dpsi), std::fabs(std::stod(a[phi]) - std::stod(b[phi]))});
+  for (std::uint64_t seed : {1, 2, 3, 4}) {
+    HostOptions o;
+    o.quiet = true;
+    o.log_dir = test_dir() / ("e2e_air_start_" + std::to_string(seed));
+    o.duration = 40.0;
+    o.seed = seed;
+    Host h(load_config(write_file("air_start.yaml", text)), o);
+    h.build();
+    const FlightResult r = h.fly();
+    REQUIRE(r.ok);
+    const auto s = summary(r);
+    INFO("seed " << seed);
+    CHECK(s["instances"]["sim"]["sim_crashed"].get<double>() == 0.0);
+    CHECK(s["instances"]["ekf"]["filter_resets"].get<double>() == 0.0);
+    const auto state = lines(read_file(r.run_dir / "topics" / "state.csv"));
+    const auto truth = lines(read_file(r.run_dir / "topics" / "truth.csv"));
+    REQUIRE(state.size() == truth.size());
+    const auto column = [](const std::string& header, const std::string& name) {
+      std::stringstream ss(header);
+      int i = 0;
+      for (std::string c; std::getline(ss, c, ','); ++i)
+        if (c.rfind(name + " [", 0) == 0) return i;
+      return -1;
+    };
+    const int t_col = 0, psi = column(state[0], "psi"), phi = column(state[0], "phi"),
+              theta = column(state[0], "theta"), valid = column(state[0], "valid");
+    REQUIRE(psi > 0);
+    double worst_early = 0, worst = 0;  // from the first valid estimate / after 2 s
+    for (std::size_t k = 1; k < state.size(); ++k) {
+      const auto a = cells(state[k]), b = cells(truth[k]);
+      if (a[valid] != "1") continue;
+      const double dpsi = std::remainder(std::stod(a[psi]) - std::stod(b[psi]), 2.0 * M_PI);
+      const double e = std::max({std::fabs(dpsi), std::fabs(std::stod(a[phi]) - std::stod(b[phi])),
+                                 std::fabs(std::stod(a[theta]) - std::stod(b[theta]))});
+      double& w = std::stod(a[t_col]) < 2.0 ? worst_early : worst;
+      w = std::max(w, e);
+    }
+    MESSAGE("air start, seed " << seed << ": largest roll/pitch/yaw error in the first 2 s " << worst_early * 180.0 / M_PI
+                               << " deg, after " << worst * 180.0 / M_PI << " deg, mag resets "
+                               << s["instances"]["ekf"]["mag_resets"].get<double>());
+    CHECK(worst_early < 10.0 * M_PI / 180.0);
+    CHECK(worst < 3.0 * M_PI / 180.0);
   }
-  MESSAGE("air start: largest yaw/roll error after 30 s " << worst * 180.0 / M_PI << " deg, mag resets "
-                                                          << s["instances"]["ekf"]["mag_resets"].get<double>());
-  CHECK(worst < 5.0 * M_PI / 180.0);
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
 
 #include "tern/math.hpp"
 
@@ -189,6 +190,23 @@ Eigen::Quaterniond Estimator::attitude_from_accel(const Vec3& f, double psi) {
   return quaternion_from_euler(phi, theta, psi);
 }
 
+Eigen::Quaterniond Estimator::attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body,
+                                             const Vec3& m_ned) {
+  const Vec3 c_b = f_body.cross(m_body), c_n = f_ned.cross(m_ned);
+  if (f_body.norm() < 1e-9 || f_ned.norm() < 1e-9 || c_b.norm() < 1e-9 * f_body.norm() * m_body.norm() ||
+      c_n.norm() < 1e-9 * f_ned.norm() * m_ned.norm()) {
+    throw std::invalid_argument("attitude_triad: a zero vector or parallel vector pairs");
+  }
+  Mat3 B, N;  // orthonormal triads in body and NED
+  B.col(0) = f_body.normalized();
+  B.col(1) = c_b.normalized();
+  B.col(2) = B.col(0).cross(B.col(1));
+  N.col(0) = f_ned.normalized();
+  N.col(1) = c_n.normalized();
+  N.col(2) = N.col(0).cross(N.col(1));
+  return Eigen::Quaterniond(Mat3(N * B.transpose())).normalized();  // R B = N
+}
+
 Eigen::Quaterniond Estimator::attitude_from_accel_mag(const Vec3& f, const Vec3& m,
                                                       double declination) {
   const double phi = std::atan2(-f.y(), -f.z());
@@ -219,6 +237,8 @@ bool Estimator::add_imu(const msg::Imu& m) {
     const double a = imu_samples_ == 0 ? 1.0 : std::clamp(dt / cfg_.init_average_time, 0.0, 1.0);
     accel_avg_ += a * (m.accel - accel_avg_);
     gyro_avg_ += a * (m.gyro - gyro_avg_);
+    fix_accel_sum_ += m.accel;
+    ++fix_accel_n_;
     ++imu_samples_;
     rate_ = m.gyro;
     return true;
@@ -370,6 +390,10 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   const Vec3 p = ned_from_geodetic(m.lat, m.lon, m.alt);
   if (!initialized_) {
     try_initialize(m, p);
+    prev_fix_vel_ = m.vel;
+    prev_fix_stamp_ = m.stamp;
+    fix_accel_sum_.setZero();
+    fix_accel_n_ = 0;
     return true;
   }
   const UpdateResult r = filter_.update(gnss_pos_, p);
@@ -412,9 +436,27 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   const bool have_mag = mag_samples_ > 0;
   if (!have_mag && expect_mag_ && to_seconds(m.stamp - origin_stamp_) < cfg_.mag_init_wait) return;
 
+  // Moving: the specific force is not gravity alone. With the fix before this one (at most
+  // 0.5 s old) the kinematic acceleration is the GNSS velocity difference, and the attitude
+  // comes from the specific force in both frames plus the field; without it, wait for the next fix.
+  const bool moving = m.vel.norm() >= 0.5;
+  const double dt_fix = prev_fix_stamp_ < 0 ? 0.0 : to_seconds(m.stamp - prev_fix_stamp_);
+  const bool have_accel = dt_fix > 0.0 && dt_fix <= 0.5 && fix_accel_n_ > 0;
+  if (moving && !have_accel) return;
+
   NominalState x;
   double yaw_sigma = cfg_.init_yaw_sigma;
-  if (have_mag) {
+  if (have_mag && moving) {
+    const Vec3 f_ned = (m.vel - prev_fix_vel_) / dt_fix - Vec3(0.0, 0.0, cfg_.gravity);
+    const double ci = std::cos(cfg_.mag_inclination);
+    const Vec3 m_ned(ci * std::cos(cfg_.mag_declination), ci * std::sin(cfg_.mag_declination),
+                     std::sin(cfg_.mag_inclination));
+    try {
+      x.q = attitude_triad(fix_accel_sum_ / static_cast<double>(fix_accel_n_), f_ned, mag_avg_, m_ned);
+    } catch (const std::invalid_argument&) {  // specific force along the field: no better than level
+      x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
+    }
+  } else if (have_mag) {
     x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
   } else if (m.vel.head<2>().norm() > 3.0) {
     x.q = attitude_from_accel(accel_avg_, std::atan2(m.vel.y(), m.vel.x()));

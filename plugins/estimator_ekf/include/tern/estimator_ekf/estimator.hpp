@@ -211,6 +211,15 @@ class Estimator {
                                                     double declination);
   /// The same without a magnetometer: roll and pitch from the specific force, yaw given.
   static Eigen::Quaterniond attitude_from_accel(const Vec3& f_body, double psi);
+  /// Rotation body -> NED from two vector pairs, TRIAD (Black 1964; Markley & Crassidis,
+  /// "Fundamentals of Spacecraft Attitude Determination and Control", sec. 5.2.1): the primary
+  /// pair (here the specific force: f_ned = a_ned - g e3, a_ned from GNSS velocity) is matched
+  /// exactly, the secondary (the magnetic field direction) fixes the rotation about it. In level
+  /// unaccelerated flight this is attitude_from_accel_mag(); in a turn, a push-over or a
+  /// deceleration it is not misled by the non-gravitational acceleration.
+  /// Throws std::invalid_argument if a vector is zero or the two pairs are parallel.
+  static Eigen::Quaterniond attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body,
+                                           const Vec3& m_ned);
 
  private:
   bool accept(Sensor s, Nanos stamp, bool ok);
@@ -239,6 +248,12 @@ class Estimator {
 
   // pre-initialisation averages
   Vec3 accel_avg_ = Vec3::Zero(), gyro_avg_ = Vec3::Zero(), mag_avg_ = Vec3::Zero();
+  // before initialisation: mean specific force since the last GNSS fix, and that fix's velocity
+  // (their difference is the kinematic acceleration of an in-flight initialisation)
+  Vec3 fix_accel_sum_ = Vec3::Zero();
+  std::int64_t fix_accel_n_ = 0;
+  Vec3 prev_fix_vel_ = Vec3::Zero();
+  Nanos prev_fix_stamp_ = -1;
   std::int64_t imu_samples_ = 0, mag_samples_ = 0;
   // barometer calibration: altitude offset = mean(isa_altitude(p) - altitude estimate)
   int baro_cal_count_ = 0;
