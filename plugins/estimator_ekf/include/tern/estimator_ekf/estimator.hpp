@@ -1,5 +1,5 @@
 // tern/estimator_ekf/estimator.hpp: the full estimator around the EKF core: sensor checks,
-// initialisation (GNSS origin, attitude from accelerometer and magnetometer, barometer
+// initialisation (GNSS origin, attitude from specific force and magnetometer, barometer
 // calibration), measurement routing, time-outs, GNSS reset, and the msg::State output.
 //
 // Plain C++: it reads the SDK's sensor message structs (tern/msg/sensors.hpp) and writes
@@ -14,9 +14,12 @@
 //      NED positions are those of GeographicLib::LocalCartesian at the origin.
 //   3. Initialisation needs the origin, init_min_imu_samples IMU samples and, if a magnetometer
 //      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
-//      Roll and pitch come from the averaged specific force, yaw from the tilt-compensated
-//      magnetometer (or the GNSS course when moving without magnetometer, else 0 with a 1-rad
-//      sigma), the gyro bias from the averaged gyro when at rest, and, in flight, the wind from
+//      At rest, roll and pitch come from the averaged specific force, yaw from the
+//      tilt-compensated magnetometer. Moving (GNSS speed >= 0.5 m/s), the specific force is not
+//      gravity: the attitude is the TRIAD solution of the mean specific force since the previous
+//      fix (body) against the GNSS velocity difference minus gravity (NED), with the field as
+//      the second vector; a moving aircraft therefore initialises at its second fix. Without a
+//      magnetometer, yaw is the GNSS course when moving, else 0 with a 1-rad sigma. The gyro bias from the averaged gyro when at rest, and, in flight, the wind from
 //      the air triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot
 //      and sideslip updates do not have to pull yaw and wind apart from a zero wind.
 //   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
