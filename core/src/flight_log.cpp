@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cstring>
+#include <ctime>
 
 #include <fmt/format.h>
 
@@ -184,7 +185,12 @@ void FlightLog::writer_loop() {
     {
       std::unique_lock lk(mu_);
       cv_.wait(lk, [&] { return stop_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stop_ and drained
+      if (queue_.empty()) {  // stop_ and drained
+        timespec ts{};
+        clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+        writer_cpu_s_ = static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
+        return;
+      }
       c = std::move(queue_.front());
       queue_.pop_front();
     }

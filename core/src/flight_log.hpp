@@ -13,6 +13,7 @@
 // Records are never dropped: when the writer falls behind, capture waits for it.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <cstdio>
 #include <deque>
@@ -51,6 +52,8 @@ class FlightLog {
   void write_file(const std::string& name, const std::string& text);
   /// Flushes everything and stops the writer thread. Idempotent.
   void close();
+  /// CPU time the writer thread used, s (complete after close()).
+  double writer_cpu_s() const { return writer_cpu_s_.load(); }
 
  private:
   struct Topic {
@@ -81,6 +84,7 @@ class FlightLog {
   std::size_t queued_bytes_ = 0;
   bool stop_ = false;
   bool closed_ = false;
+  std::atomic<double> writer_cpu_s_{0.0};
   std::thread writer_;
 };
 

@@ -37,6 +37,12 @@ std::atomic<int> g_stop_signal{0};
 
 extern "C" void tern_on_signal(int sig) { request_stop(sig); }
 
+std::int64_t thread_cpu_ns() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
 std::int64_t wall_ns() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -994,7 +1000,7 @@ FlightResult Host::fly() {
   };
   actuators_src = find_actuators();
 
-  const std::int64_t wall0 = wall_ns();
+  const std::int64_t wall0 = wall_ns(), cpu0 = thread_cpu_ns();
   start_to_first_tick_ms_ = static_cast<double>(wall0 - created_ns_) * 1e-6;
   flight_start_ms_ = static_cast<double>(wall0 - fly_entry) * 1e-6;
   std::int64_t last_flush = wall0, last_progress = wall0;
@@ -1159,6 +1165,7 @@ FlightResult Host::fly() {
   if (progress) std::fputs("\n", stdout);
   r.flown = now;
   r.wall_s = static_cast<double>(wall_ns() - wall0) * 1e-9;
+  r.flight_cpu_s = static_cast<double>(thread_cpu_ns() - cpu0) * 1e-9;
   for (auto it = order_.rbegin(); it != order_.rend(); ++it) {
     try {
       instances_[*it]->plugin->stop();
@@ -1169,8 +1176,9 @@ FlightResult Host::fly() {
   if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM")
     logger_->warn("flight ended by {} at t={:.3f} s; the log is complete", r.end_reason, to_seconds(now));
   log.write_file("summary.json", summary_json(r));
-  log.write_file("timing.json", timing_json(r));
   log.close();
+  r.log_cpu_s = log.writer_cpu_s();
+  log.write_file("timing.json", timing_json(r));
   if (!options_.quiet) print_summary(r);
   return r;
 }
@@ -1275,6 +1283,10 @@ std::string Host::timing_json(const FlightResult& r) const {
   j["wall_s"] = r.wall_s;
   j["real_time_factor"] = r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0;
   j["start_to_first_tick_ms"] = start_to_first_tick_ms_;
+  // where the time went: the flight thread (plugins and host loop) and the log writer thread
+  j["flight_thread_cpu_s"] = r.flight_cpu_s;
+  j["flight_thread_real_time_factor"] = r.flight_cpu_s > 0 ? to_seconds(r.flown) / r.flight_cpu_s : 0.0;
+  j["log_writer_cpu_s"] = r.log_cpu_s;
   auto inst_j = nlohmann::ordered_json::object();
   for (const auto& inst : instances_) {
     const auto& s = inst->stats;

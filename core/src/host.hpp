@@ -75,6 +75,8 @@ struct FlightResult {
   bool ok = true;
   Nanos flown = 0;
   double wall_s = 0;
+  double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
+  double log_cpu_s = 0;     ///< CPU time of the flight log's writer thread (CSV formatting, writes)
 };
 
 /// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
