@@ -19,9 +19,10 @@
 //      gravity: the attitude is the TRIAD solution of the mean specific force since the previous
 //      fix (body) against the GNSS velocity difference minus gravity (NED), with the field as
 //      the second vector; a moving aircraft therefore initialises at its second fix. Without a
-//      magnetometer, yaw is the GNSS course when moving, else 0 with a 1-rad sigma. The gyro bias from the averaged gyro when at rest, and, in flight, the wind from
-//      the air triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot
-//      and sideslip updates do not have to pull yaw and wind apart from a zero wind.
+//      magnetometer, yaw is the GNSS course when moving, else 0 with a 1-rad sigma. The gyro
+//      bias comes from the averaged gyro when at rest; in flight the wind comes from the air
+//      triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot and
+//      sideslip updates do not have to pull yaw and wind apart from a zero wind.
 //   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
 // NaN/Inf or out-of-range samples are rejected and counted, never used. A sensor that was
 // heard from and falls silent longer than its time-out raises a sensor_timeout event (and
