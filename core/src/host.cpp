@@ -446,48 +446,41 @@ void Host::load_instances() {
     configure_instance(*inst);
     instances_.push_back(std::move(inst));
   }
-  if (!config_.phases.empty()) {
-    // the built-in phase machine
-    auto inst = std::make_unique<Instance>();
-    inst->cfg.index = config_.plugins.size();
-    inst->cfg.name = "phase_machine";
-    inst->cfg.plugin = "phase_machine (built in)";
-    inst->cfg.trigger = "state";
-    inst->cfg.params = config_.phase_params;
-    if (config_.root["phase_machine"]) inst->cfg.node = config_.root["phase_machine"];
-    inst->builtin = true;
-    inst->info = PluginInfo{"phase_machine", PluginKind::generic, "the host's flight-phase machine", {}};
+  // The host's built-in instances (phase machine, flight metrics): reserved names, triggered by
+  // `state`, parameters from their own config section.
+  const auto add_builtin = [&](std::size_t index, const std::string& name, const std::string& description,
+                               const std::map<std::string, ParamSetting>& params, std::unique_ptr<Plugin> plugin) {
     for (const auto& other : instances_)
-      if (other->cfg.name == "phase_machine")
-        throw ConfigError(where(f, other->cfg.node) + "instance name 'phase_machine' is reserved for the host's phase machine");
+      if (other->cfg.name == name)
+        throw ConfigError(where(f, other->cfg.node) + "instance name '" + name + "' is reserved for " + description);
+    auto inst = std::make_unique<Instance>();
+    inst->cfg.index = index;
+    inst->cfg.name = name;
+    inst->cfg.plugin = name + " (built in)";
+    inst->cfg.trigger = "state";
+    inst->cfg.params = params;
+    if (config_.root[name]) inst->cfg.node = config_.root[name];
+    inst->builtin = true;
+    inst->info = PluginInfo{name, PluginKind::generic, description, {}};
+    inst->plugin = std::move(plugin);
+    configure_instance(*inst);
+    instances_.push_back(std::move(inst));
+  };
+  if (!config_.phases.empty()) {
     auto pm = std::make_unique<PhaseMachine>();
     phase_machine_ = pm.get();
-    inst->plugin = std::move(pm);
-    configure_instance(*inst);
     phase_machine_idx_ = instances_.size();
-    instances_.push_back(std::move(inst));
+    add_builtin(config_.plugins.size(), "phase_machine", "the host's flight-phase machine", config_.phase_params,
+                std::move(pm));
   }
   bool has_state = false;
   for (const auto& other : instances_)
     for (const auto* o : other->plugin->outputs()) has_state = has_state || o->topic() == "state";
   if (has_state) {
-    for (const auto& other : instances_)
-      if (other->cfg.name == "metrics")
-        throw ConfigError(where(f, other->cfg.node) + "instance name 'metrics' is reserved for the host's flight metrics");
-    auto inst = std::make_unique<Instance>();
-    inst->cfg.index = config_.plugins.size() + 1;
-    inst->cfg.name = "metrics";
-    inst->cfg.plugin = "metrics (built in)";
-    inst->cfg.trigger = "state";
-    inst->cfg.params = config_.metrics_params;
-    if (config_.root["metrics"]) inst->cfg.node = config_.root["metrics"];
-    inst->builtin = true;
-    inst->info = PluginInfo{"metrics", PluginKind::generic, "the host's flight metrics (estimation and tracking RMSE)", {}};
     auto m = std::make_unique<FlightMetrics>();
     metrics_ = m.get();
-    inst->plugin = std::move(m);
-    configure_instance(*inst);
-    instances_.push_back(std::move(inst));
+    add_builtin(config_.plugins.size() + 1, "metrics", "the host's flight metrics (estimation and tracking RMSE)",
+                config_.metrics_params, std::move(m));
   }
 }
 
