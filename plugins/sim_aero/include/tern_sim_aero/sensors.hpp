@@ -19,7 +19,11 @@
 
 namespace tern::sim {
 
-/// Every noise, bias and error figure of the sensors (1-sigma values unless said otherwise).
+/// Every noise, bias and error figure of the sensors (1-sigma values unless said otherwise). The
+/// defaults are ROSflight's standalone simulator (the `rosflight` profile); sensor_profile() in
+/// profiles.hpp gives the `realistic` (datasheet) and `ideal` (noise-free) sets. Per-seed errors
+/// (turn-on biases, scale factors, cross-axis terms, hard/soft iron) are drawn uniformly in
+/// +-range at reset(); fixed installation geometry (mounting rotation, lever arms) is given.
 struct SensorParams {
   // IMU (ROSflight: 400 Hz, accel 0.2 m/s^2, gyro noise as the 0.0023 rad/s)
   double accel_noise = 0.2;          ///< m/s^2 per sample
@@ -30,12 +34,27 @@ struct SensorParams {
   /// rad/s/sqrt(s). ROSflight's simulator adds T_s * 1e-5 * N(0,1) per IMU sample (its
   /// gyro_bias_walk_stdev, scaled by the sample time), i.e. 1e-5 * sqrt(T_s) = 5e-7 per sqrt(s) at 400 Hz.
   double gyro_bias_walk = 5e-7;
+  double accel_scale_range = 0.0;    ///< per-axis scale-factor error, fraction, uniform in +-range
+  double gyro_scale_range = 0.0;     ///< per-axis scale-factor error, fraction, uniform in +-range
+  double imu_cross_axis_range = 0.0; ///< each off-diagonal sensitivity, fraction, uniform in +-range
+  /// Mounting rotation of the IMU axes relative to body FRD: roll, pitch, yaw (3-2-1), rad. A
+  /// vector v in body axes reads R_mount^T v in IMU axes.
+  Eigen::Vector3d imu_misalignment = Eigen::Vector3d::Zero();
+  /// IMU position relative to the CG, body FRD, m: the accelerometer also sees the tangential
+  /// (omega_dot x r) and centripetal (omega x (omega x r)) accelerations.
+  Eigen::Vector3d imu_position = Eigen::Vector3d::Zero();
+  double accel_vibration = 0.0;      ///< motor vibration at full throttle, m/s^2 per axis, 1 sigma (scales with throttle)
+  double gyro_vibration = 0.0;       ///< motor vibration at full throttle, rad/s per axis, 1 sigma (scales with throttle)
   // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
   // Gauss-Markov process eta <- exp(-k_mag T_s) eta + T_s * mag_stdev * N(0,1) with mag_stdev 3 uT,
   // k_mag 7 /s and T_s 0.02 s, and no white part: steady sigma 3e-6 * 0.02 / sqrt(1 - exp(-0.28)).
   double mag_noise = 0.0;            ///< T per axis per sample (white part)
   double mag_gm_sigma = 1.2145e-7;   ///< Gauss-Markov error, steady-state sigma, T
   double mag_gm_tau = 1.0 / 7.0;     ///< Gauss-Markov time constant (1 / k_mag), s
+  double mag_hard_iron_range = 0.0;  ///< residual hard iron after calibration, T per axis, uniform in +-range
+  double mag_soft_iron_range = 0.0;  ///< residual soft iron, each element of (S - I), fraction, uniform in +-range
+  /// Field of the motor current at full throttle, body FRD, T (scales with throttle).
+  Eigen::Vector3d mag_motor_field = Eigen::Vector3d::Zero();
   double mag_declination = 0.1857972802;  ///< rad (east of true north positive)
   double mag_inclination = 1.139436457;   ///< rad (down positive)
   double mag_intensity = 5.07163e-5;      ///< T
@@ -43,17 +62,25 @@ struct SensorParams {
   double baro_noise = 4.0;           ///< Pa
   double baro_bias_range = 500.0;    ///< Pa
   double baro_bias_walk = 1.0;       ///< Pa/sqrt(s)
+  double baro_static_error = 0.0;    ///< static-port error, fraction of the dynamic pressure (p + c q)
   // differential pressure (ROSflight: 100 Hz, 1.15 Pa)
   double diff_noise = 1.15;          ///< Pa
   double diff_bias_range = 0.15;     ///< Pa
   double diff_bias_walk = 0.01;      ///< Pa/sqrt(s)
-  // GNSS (book sec. 7.5: Gauss-Markov with 1/k = 1100 s; ROSflight: 10 Hz). ROSflight drives the
-  // error with T_s * stdev * N(0,1) per 10 Hz fix (horizontal 0.21, vertical 0.40), i.e.
-  // stdev * sqrt(T_s) per sqrt(s).
-  double gnss_h_noise = 0.21 * 0.316227766;  ///< horizontal GM driving noise, m/sqrt(s)
-  double gnss_v_noise = 0.40 * 0.316227766;  ///< vertical GM driving noise, m/sqrt(s)
-  double gnss_k = 1.0 / 1100.0;      ///< GM rate, 1/s
-  double gnss_vel_noise = 0.01;      ///< m/s per axis
+  double diff_scale_range = 0.0;     ///< installation scale error, fraction, uniform in +-range
+  // GNSS position error: first-order Gauss-Markov (book sec. 7.5). ROSflight drives it with
+  // T_s * stdev * N(0,1) per 10 Hz fix (horizontal 0.21, vertical 0.40) with 1/k = 1100 s from
+  // zero: steady-state sigma = stdev sqrt(T_s) / sqrt(2 k) = 1.557 m and 2.966 m.
+  double gnss_h_sigma = 0.21 * 0.316227766 * 23.4520788;  ///< horizontal, per axis, steady state, m
+  double gnss_v_sigma = 0.40 * 0.316227766 * 23.4520788;  ///< vertical, steady state, m
+  double gnss_tau = 1100.0;          ///< correlation time of the position error, s
+  bool gnss_start_steady = false;    ///< initial error drawn from the steady state (false: zero)
+  double gnss_vel_noise = 0.01;      ///< velocity error per axis, steady sigma, m/s
+  double gnss_vel_tau = 0.0;         ///< velocity error correlation time, s (0: white)
+  /// Antenna position relative to the CG, body FRD, m (the fix is the antenna's position and
+  /// velocity: p + R r, v + R (omega x r)).
+  Eigen::Vector3d gnss_antenna_position = Eigen::Vector3d::Zero();
+  double gnss_latency = 0.0;         ///< the fix is valid at t and delivered at t + latency, s
   double gnss_h_acc = 0.21 * 3.0;    ///< reported horizontal accuracy, m
   double gnss_v_acc = 0.40 * 3.0;    ///< reported vertical accuracy, m
   double gnss_s_acc = 0.01;          ///< reported speed accuracy, m/s
@@ -70,6 +97,8 @@ struct Truth {
   ForcesMoments fm;   ///< at x with the current inputs and wind
   double mass = 1.0;  ///< kg (for the specific force)
   double rho = 1.2682;
+  Eigen::Vector3d omega_dot = Eigen::Vector3d::Zero();  ///< body angular acceleration, rad/s^2
+  double throttle = 0.0;  ///< actual motor setting 0..1 (vibration, motor-current field)
 };
 
 struct ImuSample { Eigen::Vector3d accel, gyro; double temperature = 288.15; };
@@ -123,6 +152,8 @@ class Sensors {
 
   const Eigen::Vector3d& gyro_bias() const { return gyro_bias_; }
   const Eigen::Vector3d& accel_bias() const { return accel_bias_; }
+  /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
+  const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
   const GeoOrigin& origin() const { return *origin_; }
 
  private:
