@@ -1212,6 +1212,22 @@ std::string Host::resolved_config_yaml() const {
   return std::string("# resolved from ") + config_.file.string() + "\n" + e.c_str() + "\n";
 }
 
+// The simulator's sensor profile (the first instance with a `sensor_profile` parameter; in a
+// replay, the recorded config.yaml's, which holds every effective value), "" if none.
+std::string Host::sensor_profile() const {
+  for (const auto& inst : instances_) {
+    if (const ParamBase* p = inst->plugin->find_param("sensor_profile"); p != nullptr) {
+      const ParamValue v = p->value();
+      if (const auto* name = std::get_if<std::string>(&v)) return *name;
+    }
+  }
+  for (const auto& inst : config_.plugins) {
+    const auto it = inst.params.find("sensor_profile");
+    if (it != inst.params.end() && it->second.node.IsScalar()) return it->second.node.as<std::string>();
+  }
+  return {};
+}
+
 std::string Host::summary_json(const FlightResult& r) const {
   nlohmann::ordered_json j;
   j["mission"] = config_.name;
@@ -1220,6 +1236,7 @@ std::string Host::summary_json(const FlightResult& r) const {
   j["duration_s"] = to_seconds(r.flown);
   j["end_reason"] = r.end_reason;
   j["base_rate_hz"] = 1e9 / static_cast<double>(base_period_);
+  if (const std::string profile = sensor_profile(); !profile.empty()) j["sensor_profile"] = profile;
   if (phase_machine_) {
     auto phases = nlohmann::ordered_json::array();
     phases.push_back({{"phase", "takeoff"}, {"start_s", 0.0}, {"reason", "start of flight"}});
@@ -1259,9 +1276,15 @@ std::string Host::summary_json(const FlightResult& r) const {
     m["waypoint_passages"] = passages;
     auto rms = [](const FlightMetrics::Rms& r) { return r.n ? nlohmann::ordered_json(r.value()) : nlohmann::ordered_json(); };
     if (metrics_->has_truth()) {
+      m["estimation_frame"] = "truth (the estimator's origin mapped to the simulator's)";
       nlohmann::ordered_json e;
       for (int i = 0; i < FlightMetrics::kEst; ++i) e[FlightMetrics::kEstNames[i]] = rms(metrics_->estimation()[i]);
       m["estimation_rmse"] = e;
+      if (metrics_->has_gnss()) {
+        nlohmann::ordered_json g;
+        for (int i = 0; i < FlightMetrics::kGnss; ++i) g[FlightMetrics::kEstNames[i]] = rms(metrics_->raw_gnss()[i]);
+        m["raw_gnss_rmse"] = g;
+      }
     }
     nlohmann::ordered_json t;
     for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(metrics_->tracking()[i]);
@@ -1326,10 +1349,18 @@ void Host::print_summary(const FlightResult& r) const {
     }
     if (metrics_->has_truth()) {
       const auto& e = metrics_->estimation();
-      s += "RMS estimation error, estimate vs truth:\n";
-      const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}\n";
-      s += fmt::format(fmt::runtime(row8), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
-      s += fmt::format(fmt::runtime(row8), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
+      const std::string profile = sensor_profile();
+      s += fmt::format("RMS estimation error, estimate vs truth in the simulator's frame (sensor profile: {}):\n",
+                       profile.empty() ? "not a tern simulator" : profile);
+      const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+      s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
+      s += fmt::format(fmt::runtime(row8 + "   tern\n"), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
+      if (metrics_->has_gnss()) {
+        const auto& g = metrics_->raw_gnss();
+        s += fmt::format(fmt::runtime(row8 + "   raw GNSS (latest fix vs truth)\n"), v(g[0]), v(g[1]), v(g[2]), "", "", "", "", "");
+      }
+      s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"),
+                       "0.325", "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
     }
     s += fmt::format("waypoints reached: {}\n", metrics_->passages().size());
   }

@@ -170,6 +170,7 @@ class Host {
   bool step_instance(Instance& inst, Nanos now, std::string& error);
   void engage_fallback(Nanos now, const std::string& why);
   std::string resolved_config_yaml() const;
+  std::string sensor_profile() const;
   std::string summary_json(const FlightResult& r) const;
   std::string timing_json(const FlightResult& r) const;
   void print_summary(const FlightResult& r) const;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "common_frame.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {
@@ -13,6 +14,7 @@ constexpr double kDeg = 180.0 / kPi;
 void FlightMetrics::configure() {
   declare(state_, "state", "estimated state");
   declare(truth_, "truth", "true state (simulation)", Need::optional);
+  declare(gnss_, "gnss", "GNSS fixes (the raw-GNSS baseline of the estimation figures)", Need::optional);
   declare(command_, "controller_command", "commanded altitude, course, airspeed", Need::optional);
   declare(internals_, "controller_internals", "commanded roll and pitch", Need::optional);
   declare(path_, "current_path", "commanded path segment", Need::optional);
@@ -24,6 +26,7 @@ void FlightMetrics::configure() {
 
 void FlightMetrics::reset() {
   est_ = {};
+  gnss_err_ = {};
   trk_ = {};
   passages_.clear();
   loops_ = 0;
@@ -54,19 +57,7 @@ void FlightMetrics::step(Nanos now) {
   const msg::State& s = state_.get();
   if (!s.valid) return;
   last_sample_ = now;
-  if (truth_.has_value()) {
-    const msg::State& t = truth_.get();
-    est_[e_north].add(s.p_n - t.p_n);
-    est_[e_east].add(s.p_e - t.p_e);
-    est_[e_alt].add(t.p_d - s.p_d);
-    est_[e_roll].add(wrap_pi(s.phi - t.phi) * kDeg);
-    est_[e_pitch].add(wrap_pi(s.theta - t.theta) * kDeg);
-    est_[e_heading].add(wrap_pi(s.psi - t.psi) * kDeg);
-    est_[e_course].add(wrap_pi(s.chi - t.chi) * kDeg);
-    est_[e_airspeed].add(s.Va - t.Va);
-    est_[e_wind_n].add(s.w_n - t.w_n);
-    est_[e_wind_e].add(s.w_e - t.w_e);
-  }
+  if (truth_.has_value()) add_estimation_errors(s, truth_.get());
   if (path_.has_value()) {
     const msg::CurrentPath& cp = path_.get();
     const Eigen::Vector2d p(s.p_n, s.p_e);
@@ -99,6 +90,28 @@ void FlightMetrics::step(Nanos now) {
   }
 }
 
+// Estimate vs truth in the truth's frame (common_frame.hpp), and beside it the latest GNSS fix
+// vs the same truth sample: the raw-GNSS baseline computed the same way.
+void FlightMetrics::add_estimation_errors(const msg::State& s, const msg::State& t) {
+  const Eigen::Vector3d p = estimate_in_truth_frame(s, t);
+  est_[e_north].add(p.x() - t.p_n);
+  est_[e_east].add(p.y() - t.p_e);
+  est_[e_alt].add(t.p_d - p.z());
+  est_[e_roll].add(wrap_pi(s.phi - t.phi) * kDeg);
+  est_[e_pitch].add(wrap_pi(s.theta - t.theta) * kDeg);
+  est_[e_heading].add(wrap_pi(s.psi - t.psi) * kDeg);
+  est_[e_course].add(wrap_pi(s.chi - t.chi) * kDeg);
+  est_[e_airspeed].add(s.Va - t.Va);
+  est_[e_wind_n].add(s.w_n - t.w_n);
+  est_[e_wind_e].add(s.w_e - t.w_e);
+  if (gnss_.has_value()) {
+    const Eigen::Vector3d g = fix_in_truth_frame(gnss_.get(), t);
+    gnss_err_[0].add(g.x() - t.p_n);
+    gnss_err_[1].add(g.y() - t.p_e);
+    gnss_err_[2].add(t.p_d - g.z());
+  }
+}
+
 std::vector<std::pair<std::string, double>> FlightMetrics::summary() const {
   std::vector<std::pair<std::string, double>> out;
   out.emplace_back("loops", loops_);
@@ -108,6 +121,8 @@ std::vector<std::pair<std::string, double>> FlightMetrics::summary() const {
   out.emplace_back("window_start_s", window_start_ < 0 ? std::nan("") : to_seconds(window_start_));
   if (truth_.connected())
     for (int i = 0; i < kEst; ++i) out.emplace_back(std::string("est_rmse_") + kEstNames[i], est_[i].value());
+  if (truth_.connected() && gnss_.connected())
+    for (int i = 0; i < kGnss; ++i) out.emplace_back(std::string("gnss_rmse_") + kEstNames[i], gnss_err_[i].value());
   for (int i = 0; i < kTrk; ++i) out.emplace_back(std::string("track_rmse_") + kTrkNames[i], trk_[i].value());
   return out;
 }

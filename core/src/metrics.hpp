@@ -5,7 +5,10 @@
 // the window that starts when the first loop of the mission is complete (or at `start_after` s
 // when the mission has no loops) and only while the flight phase is cruise:
 //  - estimation RMSE, estimate vs truth (needs `truth`): north, east, altitude (m), roll, pitch,
-//    heading (deg), course (deg), airspeed (m/s), wind north/east (m/s);
+//    heading (deg), course (deg), airspeed (m/s), wind north/east (m/s); positions compared in the
+//    truth's frame (common_frame.hpp: the estimator's origin mapped to the simulator's);
+//  - the raw-GNSS baseline (needs `truth` and `gnss`): the latest fix at each sample against
+//    the truth at that sample, north, east, altitude (m), in the same frame;
 //  - tracking RMSE, command vs estimate: north and east distance from the estimated position to
 //    the closest point of the commanded path segment (line or orbit, horizontal), altitude
 //    h_c - h, roll phi_c - phi, pitch theta_c - theta, course chi_c - chi (wrapped), airspeed
@@ -42,6 +45,7 @@ class FlightMetrics final : public Plugin {
   enum Trk { t_north, t_east, t_alt, t_roll, t_pitch, t_course, t_airspeed, kTrk };
   static constexpr std::array<const char*, kEst> kEstNames = {"north_m", "east_m", "altitude_m", "roll_deg", "pitch_deg",
                                                              "heading_deg", "course_deg", "airspeed_mps", "wind_north_mps", "wind_east_mps"};
+  static constexpr int kGnss = 3;  ///< north, east, altitude (the first three of kEstNames)
   static constexpr std::array<const char*, kTrk> kTrkNames = {"north_m", "east_m", "altitude_m", "roll_deg", "pitch_deg", "course_deg", "airspeed_mps"};
 
   void configure() override;
@@ -52,6 +56,8 @@ class FlightMetrics final : public Plugin {
 
   const std::array<Rms, kEst>& estimation() const { return est_; }
   const std::array<Rms, kTrk>& tracking() const { return trk_; }
+  const std::array<Rms, kGnss>& raw_gnss() const { return gnss_err_; }
+  bool has_gnss() const { return gnss_.connected(); }
   const std::vector<Passage>& passages() const { return passages_; }
   int loops() const { return loops_; }
   double max_cross_track() const { return max_cross_; }   ///< m, horizontal, over the window
@@ -60,7 +66,10 @@ class FlightMetrics final : public Plugin {
   Nanos window_start() const { return window_start_; }
 
  private:
+  void add_estimation_errors(const msg::State& estimate, const msg::State& truth);
+
   Input<msg::State> state_, truth_;
+  Input<msg::Gnss> gnss_;
   Input<msg::ControllerCommand> command_;
   Input<msg::ControllerInternals> internals_;
   Input<msg::CurrentPath> path_;
@@ -69,6 +78,7 @@ class FlightMetrics final : public Plugin {
   Param<bool> cruise_only_;
   std::array<Rms, kEst> est_{};
   std::array<Rms, kTrk> trk_{};
+  std::array<Rms, kGnss> gnss_err_{};
   std::vector<Passage> passages_;
   int loops_ = 0;
   double max_cross_ = 0, max_alt_ = 0;

@@ -21,11 +21,13 @@ namespace tern::core::ddsi {
 
 namespace {
 
-void stamp(std_msgs::msg::Header& h, Nanos t) {
+void to_time(builtin_interfaces::msg::Time& out, Nanos t) {
   const Nanos sec = t >= 0 ? t / 1000000000 : (t - 999999999) / 1000000000;
-  h.stamp().sec(static_cast<std::int32_t>(sec));
-  h.stamp().nanosec(static_cast<std::uint32_t>(t - sec * 1000000000));
+  out.sec(static_cast<std::int32_t>(sec));
+  out.nanosec(static_cast<std::uint32_t>(t - sec * 1000000000));
 }
+
+void stamp(std_msgs::msg::Header& h, Nanos t) { to_time(h.stamp(), t); }
 
 template <std::size_t N, class T, class V>
 void vec(std::array<T, N>& out, const V& in) {
@@ -223,10 +225,12 @@ std::vector<TypeEntry> build() {
         s.lat(m.lat); s.lon(m.lon); s.alt(m.alt);
         vec<3>(s.vel(), m.vel);
         s.h_acc(m.h_acc); s.v_acc(m.v_acc); s.s_acc(m.s_acc);
+        to_time(s.time_of_validity(), m.time_of_validity);
       },
       [](const tm::Gnss& s) {
         return Text().header(s.header())("fix_type", s.fix_type())("num_sats", s.num_sats())("lat", s.lat())("lon", s.lon())(
-                   "alt", s.alt())("vel", s.vel())("h_acc", s.h_acc())("v_acc", s.v_acc())("s_acc", s.s_acc()).str();
+                   "alt", s.alt())("vel", s.vel())("h_acc", s.h_acc())("v_acc", s.v_acc())("s_acc", s.s_acc())(
+                   "time_of_validity", fmt::format("{}.{:09d}", s.time_of_validity().sec(), s.time_of_validity().nanosec())).str();
       }));
   v.push_back(entry<msg::Baro, tm::BaroPubSubType>(
       [](const msg::Baro& m, tm::Baro& s) {

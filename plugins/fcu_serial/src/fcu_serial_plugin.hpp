@@ -544,6 +544,7 @@ class FcuSerial final : public tern::Plugin {
       out.h_acc = s->h_acc;
       out.v_acc = s->v_acc;
       out.s_acc = s->s_acc;
+      out.time_of_validity = out.stamp;  // the link carries no receiver epoch: latency unknown
       gnss = out;
     } else if (const auto* s = std::get_if<mav::RcChannels>(&m)) {
       const fcu::RcSticks k = fcu::from_rc(*s, rc_map_);

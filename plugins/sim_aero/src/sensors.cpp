@@ -1,7 +1,10 @@
 // Sensor models (see sensors.hpp).
 #include "tern_sim_aero/sensors.hpp"
 
+#include <algorithm>
 #include <cmath>
+
+#include <Eigen/Geometry>
 
 namespace tern::sim {
 
@@ -68,75 +71,167 @@ Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
   return impl_->R * (geodetic_to_ecef(lat * kDegToRad, lon * kDegToRad, alt) - impl_->ecef0);
 }
 
+// ---------------------------------------------------------------- error models -------------
+
+namespace {
+/// Rotation of a 3-2-1 (yaw, pitch, roll) Euler sequence: R = Rz(yaw) Ry(pitch) Rx(roll).
+Eigen::Matrix3d euler_321(const Eigen::Vector3d& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
+          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX())).toRotationMatrix();
+}
+
+/// Transition factor exp(-dt / tau) of a first-order Gauss-Markov process (0: white).
+double gm_phi(double dt, double tau) { return tau > 0 ? std::exp(-std::max(dt, 0.0) / tau) : 0.0; }
+
+/// Specific force at a point r (body) off the CG: f_cg + omega_dot x r + omega x (omega x r).
+Eigen::Vector3d specific_force_at(const Truth& t, const Eigen::Vector3d& r) {
+  const Eigen::Vector3d w = t.x.segment<3>(P);
+  return t.fm.specific_force(t.mass) + t.omega_dot.cross(r) + w.cross(w.cross(r));
+}
+
+/// The Earth's field in NED from declination, inclination and intensity, T.
+Eigen::Vector3d earth_field_ned(const SensorParams& p) {
+  const double I = p.mag_inclination, D = p.mag_declination;
+  return p.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D), std::cos(I) * std::sin(D), std::sin(I));
+}
+}  // namespace
+
 Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
-    : p_(p), seed_(seed), origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)) {
+    : p_(p), seed_(seed), origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)),
+      mount_T_(euler_321(p.imu_misalignment).transpose()) {
   reset();
 }
 Sensors::~Sensors() = default;
 
+Eigen::Vector3d Sensors::uniform3(double range) {
+  const double a = uniform(range), b = uniform(range), c = uniform(range);
+  return {a, b, c};
+}
+
+// I + diag(scale) + off-diagonal cross-axis terms; draws the 3 scales, then the 6 cross terms
+// row by row.
+Eigen::Matrix3d Sensors::draw_sensor_matrix(double scale_range, double cross_range) {
+  Eigen::Matrix3d M = Eigen::Matrix3d::Identity();
+  M.diagonal() += uniform3(scale_range);
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (i != j) M(i, j) = uniform(cross_range);
+    }
+  }
+  return M;
+}
+
+// I + E, each element of E uniform in +-range (row by row).
+Eigen::Matrix3d Sensors::draw_soft_iron(double range) {
+  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) S(i, j) += uniform(range);
+  }
+  return S;
+}
+
+// Per-axis N(0, sigma^2): the steady state of the GNSS errors (zero unless gnss_start_steady;
+// drawn either way so that the sequence of draws does not depend on the parameters).
+Eigen::Vector3d Sensors::draw_gnss_start(const Eigen::Vector3d& sigma) {
+  const Eigen::Vector3d e = sigma.cwiseProduct(gauss3());
+  return p_.gnss_start_steady ? e : Eigen::Vector3d::Zero();
+}
+
+// Draw order (fixed, whatever the parameters): the turn-on biases as before, then the IMU sensor
+// matrices, hard and soft iron, the pitot scale and the GNSS starting errors.
 void Sensors::reset() {
   rng_.seed(seed_);
   n_.reset();
-  accel_bias_ = Eigen::Vector3d(uniform(p_.accel_bias_range), uniform(p_.accel_bias_range),
-                                uniform(p_.accel_bias_range));
-  gyro_bias_ = Eigen::Vector3d(uniform(p_.gyro_bias_range), uniform(p_.gyro_bias_range),
-                               uniform(p_.gyro_bias_range));
+  accel_bias_ = uniform3(p_.accel_bias_range);
+  gyro_bias_ = uniform3(p_.gyro_bias_range);
   baro_bias_ = uniform(p_.baro_bias_range);
   diff_bias_ = uniform(p_.diff_bias_range);
+  accel_M_ = draw_sensor_matrix(p_.accel_scale_range, p_.imu_cross_axis_range);
+  gyro_M_ = draw_sensor_matrix(p_.gyro_scale_range, p_.imu_cross_axis_range);
+  mag_hard_ = uniform3(p_.mag_hard_iron_range);
+  mag_soft_ = draw_soft_iron(p_.mag_soft_iron_range);
+  diff_scale_ = 1.0 + uniform(p_.diff_scale_range);
+  gnss_gm_ = draw_gnss_start(gnss_sigma());
+  gnss_vel_gm_ = draw_gnss_start(Eigen::Vector3d::Constant(p_.gnss_vel_noise));
   mag_gm_.setZero();
-  gnss_gm_.setZero();
 }
 
+Eigen::Vector3d Sensors::gnss_sigma() const {
+  return {p_.gnss_h_sigma, p_.gnss_h_sigma, p_.gnss_v_sigma};
+}
+
+// White noise plus motor vibration (independent draws, the vibration scaled by the throttle).
+Eigen::Vector3d Sensors::white_and_vibration(double sigma, double vibration_full, double throttle) {
+  const Eigen::Vector3d white = sigma * gauss3();
+  return white + vibration_full * throttle * gauss3();
+}
+
+// Measured = M R_mount^T true + bias + noise, the specific force taken at the IMU's position.
 ImuSample Sensors::imu(const Truth& t, double dt) {
   const double s = std::sqrt(std::max(dt, 0.0));
   accel_bias_ += p_.accel_bias_walk * s * gauss3();
   gyro_bias_ += p_.gyro_bias_walk * s * gauss3();
+  const Eigen::Vector3d f = specific_force_at(t, p_.imu_position);
+  const Eigen::Vector3d w = t.x.segment<3>(P);
   ImuSample m;
-  m.accel = t.fm.specific_force(t.mass) + accel_bias_ + p_.accel_noise * gauss3();
-  m.gyro = t.x.segment<3>(P) + gyro_bias_ + p_.gyro_noise * gauss3();
+  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ +
+            white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
+  m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ +
+           white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
   return m;
 }
 
+// field = S (R^T m_ned) + hard + motor + Gauss-Markov + white.
 MagSample Sensors::mag(const Truth& t, double dt) {
-  const double phi = p_.mag_gm_tau > 0 ? std::exp(-dt / p_.mag_gm_tau) : 0.0;
+  const double phi = gm_phi(dt, p_.mag_gm_tau);
   mag_gm_ = phi * mag_gm_ + p_.mag_gm_sigma * std::sqrt(1.0 - phi * phi) * gauss3();
-  const double I = p_.mag_inclination, D = p_.mag_declination;
-  const Eigen::Vector3d m_ned = p_.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D),
-                                                                   std::cos(I) * std::sin(D), std::sin(I));
+  const Eigen::Vector3d b = attitude(t.x).conjugate() * earth_field_ned(p_);
   MagSample m;
-  m.field = attitude(t.x).conjugate() * m_ned + mag_gm_ + p_.mag_noise * gauss3();
+  m.field = mag_soft_ * b + mag_hard_ + t.throttle * p_.mag_motor_field + mag_gm_ + p_.mag_noise * gauss3();
   return m;
 }
 
+// Static pressure + bias + noise + static-port error c q (q = rho Va^2 / 2).
 BaroSample Sensors::baro(const Truth& t, double dt) {
   baro_bias_ += p_.baro_bias_walk * std::sqrt(std::max(dt, 0.0)) * gauss();
   const double h = p_.origin_alt - t.x[PD];
+  const double q = 0.5 * t.rho * t.fm.air.Va * t.fm.air.Va;
   BaroSample m;
-  m.pressure = standard_pressure(h) + baro_bias_ + p_.baro_noise * gauss();
+  m.pressure = standard_pressure(h) + p_.baro_static_error * q + baro_bias_ + p_.baro_noise * gauss();
   m.temperature = standard_temperature(h);
   return m;
 }
 
+// Installation scale times rho u_r^2 / 2, + bias + noise.
 DiffPressureSample Sensors::diff_pressure(const Truth& t, double dt) {
   diff_bias_ += p_.diff_bias_walk * std::sqrt(std::max(dt, 0.0)) * gauss();
   const double u_r = t.fm.air.v_air.x();
   DiffPressureSample m;
-  m.pressure = 0.5 * t.rho * u_r * u_r + diff_bias_ + p_.diff_noise * gauss();
+  m.pressure = diff_scale_ * 0.5 * t.rho * u_r * u_r + diff_bias_ + p_.diff_noise * gauss();
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
   return m;
 }
 
+// Exact discretisation of the first-order Gauss-Markov errors: e <- phi e + sigma sqrt(1 - phi^2) N(0, 1)
+// (the steady sigma holds for any dt; tau <= 0 gives white errors).
+void Sensors::step_gnss_errors(double dt) {
+  const double phi = gm_phi(dt, p_.gnss_tau);
+  gnss_gm_ = phi * gnss_gm_ + std::sqrt(1.0 - phi * phi) * gnss_sigma().cwiseProduct(gauss3());
+  const double phi_v = gm_phi(dt, p_.gnss_vel_tau);
+  gnss_vel_gm_ = phi_v * gnss_vel_gm_ + p_.gnss_vel_noise * std::sqrt(1.0 - phi_v * phi_v) * gauss3();
+}
+
+// The antenna's position p + R r + e and velocity R (v + omega x r) + e_v (R: body -> NED).
 GnssSample Sensors::gnss(const Truth& t, double dt) {
-  // Book sec. 7.5: nu[n+1] = exp(-k Ts) nu[n] + eta, with eta scaled to the sample interval.
-  const double phi = std::exp(-p_.gnss_k * dt);
-  const double s = std::sqrt(std::max(dt, 0.0));
-  const Eigen::Vector3d g = gauss3();
-  gnss_gm_ = phi * gnss_gm_ + s * Eigen::Vector3d(p_.gnss_h_noise * g.x(), p_.gnss_h_noise * g.y(),
-                                                   p_.gnss_v_noise * g.z());
+  step_gnss_errors(dt);
+  const Eigen::Matrix3d R = attitude(t.x).toRotationMatrix();
+  const Eigen::Vector3d r = p_.gnss_antenna_position;
+  const Eigen::Vector3d w = t.x.segment<3>(P), v = t.x.segment<3>(U);
   GnssSample m;
-  origin_->to_geodetic(t.x.segment<3>(PN) + gnss_gm_, m.lat, m.lon, m.alt);
-  m.vel_ned = attitude(t.x) * Eigen::Vector3d(t.x.segment<3>(U)) + p_.gnss_vel_noise * gauss3();
+  origin_->to_geodetic(t.x.segment<3>(PN) + R * r + gnss_gm_, m.lat, m.lon, m.alt);
+  m.vel_ned = R * (v + w.cross(r)) + gnss_vel_gm_;
   m.h_acc = p_.gnss_h_acc;
   m.v_acc = p_.gnss_v_acc;
   m.s_acc = p_.gnss_s_acc;

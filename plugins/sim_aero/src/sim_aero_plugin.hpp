@@ -6,6 +6,9 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
+#include <deque>
+#include <iterator>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -16,7 +19,9 @@
 
 #include "tern/math.hpp"
 #include "tern/plugin.hpp"
+#include "sensor_params.hpp"
 #include "tern_sim_aero/aircraft.hpp"
+#include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
 #include "tern_sim_aero/trim.hpp"
@@ -72,41 +77,16 @@ class SimAero final : public tern::Plugin {
     declare(gust_min_duration_, "gust_min_duration", 1.0, ParamSpec("s", 0.01, 100, "shortest random gust"));
     declare(gust_max_duration_, "gust_max_duration", 3.0, ParamSpec("s", 0.01, 100, "longest random gust"));
 
-    const sim::SensorParams d;
+    declare(sensor_profile_, "sensor_profile", sim::sensor_profile_names().front(),
+            ParamSpec("", 0, 0, "sensor and actuator defaults: rosflight (ROSflight's simulator), realistic "
+                                "(datasheets: u-blox M8N, ICM-20602, MS5611, MS4525DO), ideal (no errors)")
+                .one_of(sim::sensor_profile_names()));
     declare_sensor(imu_, "imu", 400.0);
     declare_sensor(mag_, "mag", 50.0);
     declare_sensor(baro_, "baro", 100.0);
     declare_sensor(diff_, "diff_pressure", 100.0);
     declare_sensor(gnss_, "gnss", 10.0);
-    declare(accel_noise_, "accel_noise", d.accel_noise, ParamSpec("m/s^2", 0, 10, "accelerometer white noise, 1 sigma"));
-    declare(accel_bias_range_, "accel_bias_range", d.accel_bias_range, ParamSpec("m/s^2", 0, 5, "initial accelerometer bias, uniform in +-range"));
-    declare(accel_bias_walk_, "accel_bias_walk", d.accel_bias_walk, ParamSpec("m/s^2/sqrt(s)", 0, 1, "accelerometer bias random walk"));
-    declare(gyro_noise_, "gyro_noise", d.gyro_noise, ParamSpec("rad/s", 0, 1, "gyro white noise, 1 sigma"));
-    declare(gyro_bias_range_, "gyro_bias_range", d.gyro_bias_range, ParamSpec("rad/s", 0, 1, "initial gyro bias, uniform in +-range"));
-    declare(gyro_bias_walk_, "gyro_bias_walk", d.gyro_bias_walk, ParamSpec("rad/s/sqrt(s)", 0, 1, "gyro bias random walk"));
-    declare(mag_noise_, "mag_noise", d.mag_noise, ParamSpec("T", 0, 1e-3, "magnetometer white noise per axis"));
-    declare(mag_gm_sigma_, "mag_gm_sigma", d.mag_gm_sigma, ParamSpec("T", 0, 1e-3, "magnetometer Gauss-Markov error, steady sigma"));
-    declare(mag_gm_tau_, "mag_gm_tau", d.mag_gm_tau, ParamSpec("s", 0, 1e5, "magnetometer Gauss-Markov time constant"));
-    declare(mag_declination_, "mag_declination", d.mag_declination, ParamSpec("rad", -3.2, 3.2, "magnetic declination at the origin"));
-    declare(mag_inclination_, "mag_inclination", d.mag_inclination, ParamSpec("rad", -1.6, 1.6, "magnetic inclination at the origin"));
-    declare(mag_intensity_, "mag_intensity", d.mag_intensity, ParamSpec("T", 1e-6, 1e-3, "magnetic field strength at the origin"));
-    declare(baro_noise_, "baro_noise", d.baro_noise, ParamSpec("Pa", 0, 1000, "barometer white noise"));
-    declare(baro_bias_range_, "baro_bias_range", d.baro_bias_range, ParamSpec("Pa", 0, 5000, "initial barometer bias, uniform in +-range"));
-    declare(baro_bias_walk_, "baro_bias_walk", d.baro_bias_walk, ParamSpec("Pa/sqrt(s)", 0, 100, "barometer bias random walk"));
-    declare(diff_noise_, "diff_pressure_noise", d.diff_noise, ParamSpec("Pa", 0, 100, "differential pressure white noise"));
-    declare(diff_bias_range_, "diff_pressure_bias_range", d.diff_bias_range, ParamSpec("Pa", 0, 100, "initial differential pressure bias, uniform in +-range"));
-    declare(diff_bias_walk_, "diff_pressure_bias_walk", d.diff_bias_walk, ParamSpec("Pa/sqrt(s)", 0, 10, "differential pressure bias random walk"));
-    declare(gnss_h_noise_, "gnss_h_noise", d.gnss_h_noise, ParamSpec("m/sqrt(s)", 0, 100, "GNSS horizontal Gauss-Markov driving noise"));
-    declare(gnss_v_noise_, "gnss_v_noise", d.gnss_v_noise, ParamSpec("m/sqrt(s)", 0, 100, "GNSS vertical Gauss-Markov driving noise"));
-    declare(gnss_k_, "gnss_k", d.gnss_k, ParamSpec("1/s", 0, 10, "GNSS Gauss-Markov rate (book: 1/1100 s)"));
-    declare(gnss_vel_noise_, "gnss_vel_noise", d.gnss_vel_noise, ParamSpec("m/s", 0, 10, "GNSS velocity white noise per axis"));
-    declare(gnss_h_acc_, "gnss_h_acc", d.gnss_h_acc, ParamSpec("m", 0, 1000, "reported horizontal accuracy"));
-    declare(gnss_v_acc_, "gnss_v_acc", d.gnss_v_acc, ParamSpec("m", 0, 1000, "reported vertical accuracy"));
-    declare(gnss_s_acc_, "gnss_s_acc", d.gnss_s_acc, ParamSpec("m/s", 0, 100, "reported speed accuracy"));
-    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{12}, ParamSpec("", 0, 64, "reported satellites in use"));
-    declare(origin_lat_, "origin_lat", d.origin_lat, ParamSpec("deg", -90, 90, "latitude of the NED origin"));
-    declare(origin_lon_, "origin_lon", d.origin_lon, ParamSpec("deg", -180, 180, "longitude of the NED origin"));
-    declare(origin_alt_, "origin_alt", d.origin_alt, ParamSpec("m", -500, 9000, "altitude (MSL) of the NED origin = the ground"));
+    declare_error_model();
     declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic"));
     declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)"));
     declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)"));
@@ -209,38 +189,50 @@ class SimAero final : public tern::Plugin {
     }
   }
 
+  // The profile's values are the defaults of every sensor and actuator parameter.
+  void declare_error_model() {
+    const sim::SensorParams d = sim::sensor_profile(sensor_profile_());
+    const sim::ActuatorParams da = sim::actuator_profile(sensor_profile_());
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
+      const SensorReal& r = kSensorReals[i];
+      declare(sensor_reals_[i], r.name, d.*r.field, ParamSpec(r.unit, r.min, r.max, r.description));
+    }
+    for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
+      const SensorVector& r = kSensorVectors[i];
+      const Eigen::Vector3d& v = d.*r.field;
+      declare(sensor_vectors_[i], r.name, std::vector<double>{v.x(), v.y(), v.z()},
+              ParamSpec(r.unit, r.min, r.max, r.description).of_size(3));
+    }
+    for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) {
+      const ActuatorReal& r = kActuatorReals[i];
+      declare(actuator_reals_[i], r.name, da.*r.field, ParamSpec(r.unit, r.min, r.max, r.description));
+    }
+    declare(gnss_start_steady_, "gnss_start_steady", d.gnss_start_steady,
+            ParamSpec("", 0, 0, "GNSS position error starts in its steady state (false: at zero)"));
+    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use"));
+  }
+
   sim::SensorParams sensor_params() const {
     sim::SensorParams p;
-    p.accel_noise = accel_noise_();
-    p.accel_bias_range = accel_bias_range_();
-    p.accel_bias_walk = accel_bias_walk_();
-    p.gyro_noise = gyro_noise_();
-    p.gyro_bias_range = gyro_bias_range_();
-    p.gyro_bias_walk = gyro_bias_walk_();
-    p.mag_noise = mag_noise_();
-    p.mag_gm_sigma = mag_gm_sigma_();
-    p.mag_gm_tau = mag_gm_tau_();
-    p.mag_declination = mag_declination_();
-    p.mag_inclination = mag_inclination_();
-    p.mag_intensity = mag_intensity_();
-    p.baro_noise = baro_noise_();
-    p.baro_bias_range = baro_bias_range_();
-    p.baro_bias_walk = baro_bias_walk_();
-    p.diff_noise = diff_noise_();
-    p.diff_bias_range = diff_bias_range_();
-    p.diff_bias_walk = diff_bias_walk_();
-    p.gnss_h_noise = gnss_h_noise_();
-    p.gnss_v_noise = gnss_v_noise_();
-    p.gnss_k = gnss_k_();
-    p.gnss_vel_noise = gnss_vel_noise_();
-    p.gnss_h_acc = gnss_h_acc_();
-    p.gnss_v_acc = gnss_v_acc_();
-    p.gnss_s_acc = gnss_s_acc_();
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) p.*kSensorReals[i].field = sensor_reals_[i]();
+    for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
+      const auto& v = sensor_vectors_[i]();
+      p.*kSensorVectors[i].field = Eigen::Vector3d(v[0], v[1], v[2]);
+    }
+    p.gnss_start_steady = gnss_start_steady_();
     p.gnss_num_sats = static_cast<int>(gnss_num_sats_());
-    p.origin_lat = origin_lat_();
-    p.origin_lon = origin_lon_();
-    p.origin_alt = origin_alt_();
     return p;
+  }
+  sim::ActuatorParams actuator_params() const {
+    sim::ActuatorParams a;
+    for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) a.*kActuatorReals[i].field = actuator_reals_[i]();
+    return a;
+  }
+  double param(const char* name) const {
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
+      if (std::string_view(kSensorReals[i].name) == name) return sensor_reals_[i]();
+    }
+    throw std::logic_error(std::string("sim_aero: no sensor parameter ") + name);
   }
 
   void initialise() {
@@ -248,6 +240,9 @@ class SimAero final : public tern::Plugin {
     const std::uint64_t seed = context().seed();
     sim_ = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
     sensors_ = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
+    sim_->set_actuators(actuator_params());
+    gnss_latency_ = tern::from_seconds(sensors_->params().gnss_latency);
+    gnss_pending_.clear();
     sim_dt_ = period_of(sim_rate_(), "sim_rate");
     for (SensorSlot* s : slots()) {
       s->schedule = sim::SensorSchedule{};
@@ -326,6 +321,11 @@ class SimAero final : public tern::Plugin {
         truth->fm = sim_->evaluate();
         truth->mass = sim_->aircraft().mass;
         truth->rho = sim_->aircraft().rho;
+        truth->throttle = sim_->surfaces().delta_t;
+        if (!sensors_->params().imu_position.isZero()) {
+          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind())
+                                 .segment<3>(sim::P);
+        }
       }
       return *truth;
     };
@@ -377,6 +377,7 @@ class SimAero final : public tern::Plugin {
     run(gnss_, [&](bool ok) {
       msg::Gnss out;
       out.stamp = t;
+      out.time_of_validity = t;
       if (ok) {
         const auto m = sensors_->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
         gnss_.schedule.last_sample = t;
@@ -392,9 +393,15 @@ class SimAero final : public tern::Plugin {
       } else if (!gnss_.schedule.enabled) {
         return;  // switched off: silent
       }
-      // In a drop-out window the receiver still reports, without a fix.
-      gnss_out_.publish(out);
+      // In a drop-out window the receiver still reports, without a fix. Every report leaves
+      // the receiver gnss_latency after its time of validity.
+      out.stamp = t + gnss_latency_;
+      gnss_pending_.push_back(out);
     });
+    while (!gnss_pending_.empty() && gnss_pending_.front().stamp <= t) {
+      gnss_out_.publish(gnss_pending_.front());
+      gnss_pending_.pop_front();
+    }
     if (truth_sched_.poll(t) == Poll::sample) publish_truth(t, get_truth());
     if (rc_sched_.poll(t) == Poll::sample) {
       msg::Rc rc;
@@ -450,9 +457,9 @@ class SimAero final : public tern::Plugin {
     s.b_x = sensors_->gyro_bias().x();
     s.b_y = sensors_->gyro_bias().y();
     s.b_z = sensors_->gyro_bias().z();
-    s.origin_lat = origin_lat_();
-    s.origin_lon = origin_lon_();
-    s.origin_alt = origin_alt_();
+    s.origin_lat = sensors_->params().origin_lat;
+    s.origin_lon = sensors_->params().origin_lon;
+    s.origin_alt = sensors_->params().origin_alt;
     s.origin_valid = true;
     s.valid = true;
     truth_out_.publish(s);
@@ -473,11 +480,12 @@ class SimAero final : public tern::Plugin {
   tern::Param<std::vector<double>> init_position_, wind_, gusts_;
   tern::Param<double> gust_rate_, gust_max_, gust_min_duration_, gust_max_duration_;
   SensorSlot imu_, mag_, baro_, diff_, gnss_;
-  tern::Param<double> accel_noise_, accel_bias_range_, accel_bias_walk_, gyro_noise_, gyro_bias_range_,
-      gyro_bias_walk_, mag_noise_, mag_gm_sigma_, mag_gm_tau_, mag_declination_, mag_inclination_,
-      mag_intensity_, baro_noise_, baro_bias_range_, baro_bias_walk_, diff_noise_, diff_bias_range_,
-      diff_bias_walk_, gnss_h_noise_, gnss_v_noise_, gnss_k_, gnss_vel_noise_, gnss_h_acc_, gnss_v_acc_,
-      gnss_s_acc_, origin_lat_, origin_lon_, origin_alt_, truth_rate_, rc_rate_, status_rate_;
+  tern::Param<std::string> sensor_profile_;
+  std::array<tern::Param<double>, std::size(kSensorReals)> sensor_reals_;
+  std::array<tern::Param<std::vector<double>>, std::size(kSensorVectors)> sensor_vectors_;
+  std::array<tern::Param<double>, std::size(kActuatorReals)> actuator_reals_;
+  tern::Param<double> truth_rate_, rc_rate_, status_rate_;
+  tern::Param<bool> gnss_start_steady_;
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;
 
@@ -485,6 +493,8 @@ class SimAero final : public tern::Plugin {
   std::unique_ptr<sim::Simulator> sim_;
   std::unique_ptr<sim::Sensors> sensors_;
   sim::SensorSchedule truth_sched_, rc_sched_, status_sched_;
+  std::deque<msg::Gnss> gnss_pending_;  ///< fixes taken, not yet delivered (latency)
+  Nanos gnss_latency_ = 0;
   sim::Deltas default_cmd_;
   std::string turbulence_applied_;
   Nanos sim_dt_ = 2'500'000;

@@ -15,6 +15,31 @@ std::string first_non_finite(const StateVector& x) {
   return {};
 }
 
+namespace {
+// One servo over dt: no motion while the command error is inside the deadband; otherwise the
+// fraction k of the error (first-order lag), at most rate_limit * dt.
+double servo_step(double pos, double cmd, double k, double dt, const ActuatorParams& a) {
+  const double err = cmd - pos;
+  if (std::fabs(err) <= 0.5 * a.servo_deadband) return pos;
+  double move = k * err;
+  if (a.servo_rate_limit > 0) move = std::clamp(move, -a.servo_rate_limit * dt, a.servo_rate_limit * dt);
+  return pos + move;
+}
+}  // namespace
+
+ActuatorParams actuator_profile(std::string_view name) {
+  if (name == "rosflight" || name == "ideal") return {};
+  if (name == "realistic") {
+    ActuatorParams a;
+    a.servo_rate_limit = (60.0 * 3.14159265358979323846 / 180.0) / 0.10;  // 0.10 s / 60 deg
+    a.servo_deadband = 0.003;  // 2 us of a +-500 us pulse over +-0.7 rad
+    a.motor_tau = 0.1;
+    return a;
+  }
+  throw std::invalid_argument("unknown sensor profile '" + std::string(name) +
+                              "' (valid: rosflight, realistic, ideal)");
+}
+
 Simulator::Simulator(Aircraft ac, std::uint64_t seed) : ac_(std::move(ac)), seed_(seed), rng_(seed) {
   // Level at rest height: cheap; rest_state() gives the settled attitude when it matters.
   x_ = make_state(Eigen::Vector3d(0, 0, -rest_height(ac_)), Eigen::Vector3d::Zero(), 0, 0, 0);
@@ -65,12 +90,13 @@ ForcesMoments Simulator::evaluate() const { return forces_moments(ac_, x_, act_,
 void Simulator::step(double dt) {
   if (!(dt > 0)) return;
   t_ += dt;
-  // Servo first-order lag, exact for a command held over the step.
+  // Servos: deadband, first-order lag (exact for a command held over the step), rate limit.
   const double k = ac_.servo_tau > 0 ? 1.0 - std::exp(-dt / ac_.servo_tau) : 1.0;
-  act_.delta_a += k * (cmd_.delta_a - act_.delta_a);
-  act_.delta_e += k * (cmd_.delta_e - act_.delta_e);
-  act_.delta_r += k * (cmd_.delta_r - act_.delta_r);
-  act_.delta_t = cmd_.delta_t;
+  act_.delta_a = servo_step(act_.delta_a, cmd_.delta_a, k, dt, actuators_);
+  act_.delta_e = servo_step(act_.delta_e, cmd_.delta_e, k, dt, actuators_);
+  act_.delta_r = servo_step(act_.delta_r, cmd_.delta_r, k, dt, actuators_);
+  const double km = actuators_.motor_tau > 0 ? 1.0 - std::exp(-dt / actuators_.motor_tau) : 1.0;
+  act_.delta_t += km * (cmd_.delta_t - act_.delta_t);
   // Wind: turbulence driven at the current airspeed, gusts at the new time.
   const double Va = air_data(x_, wind_).Va;
   wind_.gust_body = dryden_.step(dt, Va, rng_);

@@ -557,7 +557,7 @@ TEST_CASE("sensors: the default magnetometer error is ROSflight's Gauss-Markov p
 
 TEST_CASE("sensors: GNSS reports lat/lon/alt about the origin; same seed, same draws") {
   SensorParams p;
-  p.gnss_h_noise = p.gnss_v_noise = 0.0;
+  p.gnss_h_sigma = p.gnss_v_sigma = 0.0;
   Sensors s(p, 5);
   Truth t;
   t.x = make_state({1000, -500, -120}, {17, 0, 0}, 0, 0, 0);

@@ -160,13 +160,25 @@ class Sensors {
   double gauss() { return n_(rng_); }
   Eigen::Vector3d gauss3() { const double a = gauss(), b = gauss(), c = gauss(); return {a, b, c}; }
   double uniform(double range) { return range * (2.0 * u_(rng_) - 1.0); }
+  Eigen::Vector3d uniform3(double range);
+  Eigen::Matrix3d draw_sensor_matrix(double scale_range, double cross_range);
+  Eigen::Matrix3d draw_soft_iron(double range);
+  Eigen::Vector3d draw_gnss_start(const Eigen::Vector3d& sigma);
+  Eigen::Vector3d gnss_sigma() const;
+  Eigen::Vector3d white_and_vibration(double sigma, double vibration_full, double throttle);
+  void step_gnss_errors(double dt);
   SensorParams p_;
   std::uint64_t seed_;
   std::mt19937_64 rng_;
   boost::random::normal_distribution<double> n_{0.0, 1.0};
   std::uniform_real_distribution<double> u_{0.0, 1.0};
   std::unique_ptr<GeoOrigin> origin_;
-  Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_;
+  Eigen::Matrix3d mount_T_;            ///< R_mount^T: body -> IMU axes (fixed)
+  Eigen::Matrix3d accel_M_, gyro_M_;   ///< I + scale and cross-axis terms (per seed)
+  Eigen::Matrix3d mag_soft_;           ///< soft iron S = I + E (per seed)
+  Eigen::Vector3d mag_hard_;           ///< hard iron, T (per seed)
+  double diff_scale_ = 1.0;            ///< pitot installation scale (per seed)
+  Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_, gnss_vel_gm_;
   double baro_bias_ = 0, diff_bias_ = 0;
 };
 

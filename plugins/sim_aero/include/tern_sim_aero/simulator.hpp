@@ -7,12 +7,26 @@
 #include <cstdint>
 #include <random>
 #include <string>
+#include <string_view>
 
 #include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/wind.hpp"
 
 namespace tern::sim {
+
+/// Actuator imperfections beyond the aircraft file's servo lag (servo_tau). Zero: ideal.
+struct ActuatorParams {
+  double servo_rate_limit = 0.0;  ///< largest surface rate, rad/s (0: unlimited)
+  double servo_deadband = 0.0;    ///< a surface moves only for a command error above deadband / 2, rad
+  double motor_tau = 0.0;         ///< motor spin-up/down first-order time constant, s (0: at once)
+};
+
+/// Actuator set of a sensor profile (profiles.hpp): `realistic` = a hobby digital servo
+/// (0.10 s per 60 deg at 6 V, i.e. 10.5 rad/s; 2 us deadband of a +-500 us, +-0.7 rad throw,
+/// 0.003 rad) and an outrunner with a 2-bladed 10-12 in propeller (spin-up ~0.1 s); `rosflight`
+/// and `ideal` = none. Throws std::invalid_argument for an unknown name.
+ActuatorParams actuator_profile(std::string_view name);
 
 class Simulator {
  public:
@@ -31,6 +45,8 @@ class Simulator {
   /// std::runtime_error "actuators: <field> is not finite" for NaN or infinite values.
   void set_command(const Deltas& cmd);
   const Deltas& command() const { return cmd_; }
+  /// Rate limit, deadband and motor lag (from the next step on).
+  void set_actuators(const ActuatorParams& p) { actuators_ = p; }
   /// Surface positions after the servo lag (what the aerodynamics sees).
   const Deltas& surfaces() const { return act_; }
 
@@ -68,6 +84,7 @@ class Simulator {
   std::mt19937_64 rng_;
   StateVector x_ = StateVector::Zero();
   Deltas cmd_, act_;
+  ActuatorParams actuators_;
   Eigen::Vector3d steady_ = Eigen::Vector3d::Zero();
   Dryden dryden_;
   GustField gusts_;

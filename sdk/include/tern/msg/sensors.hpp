@@ -44,8 +44,12 @@ struct Gnss {
   double h_acc = 0.0;                                 ///< horizontal accuracy (1 sigma), m
   double v_acc = 0.0;                                 ///< vertical accuracy (1 sigma), m
   double s_acc = 0.0;                                 ///< speed accuracy (1 sigma), m/s
+  /// When the fix was valid (the receiver's measurement epoch), flight time ns. `stamp` is when
+  /// it was delivered; stamp - time_of_validity is the receiver's latency (0 when unknown).
+  Nanos time_of_validity = 0;
   template <class V> static constexpr void describe(V& v) {
     v(&Gnss::stamp, "stamp", "ns");
+    v(&Gnss::time_of_validity, "time_of_validity", "ns");
     v(&Gnss::fix_type, "fix_type", "enum");
     v(&Gnss::num_sats, "num_sats", "");
     v(&Gnss::lat, "lat", "deg");
