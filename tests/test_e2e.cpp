@@ -6,9 +6,11 @@
 
 #include <cmath>
 #include <cstring>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
+#include "common_frame.hpp"
 #include "loader.hpp"
 #include "test_util.hpp"
 
@@ -96,6 +98,96 @@ TEST_CASE("the default mission: takeoff, climb, the hourglass loops in wind, est
   const double var_north = std::stod(values[static_cast<std::size_t>(col)]);
   CHECK(var_north > 0.0);
   CHECK(var_north < 25.0);
+}
+
+TEST_CASE("the estimator's configuration does not depend on the simulator's sensor parameters") {
+  // The simulator is the world, the estimator the vehicle: nothing the world hides (its noise,
+  // biases, latency, lever arms) may reach the estimator's configuration.
+  auto ekf_params = [](const std::string& yaml_text, const std::string& name) {
+    Host h(load_config(write_file(name, yaml_text)), HostOptions{});
+    h.build();
+    std::map<std::string, std::string> out;
+    for (const auto& [qualified, p] : h.parameters()) {
+      if (qualified.rfind("ekf.", 0) == 0) out[qualified] = tern::to_string(p->value());
+    }
+    return out;
+  };
+  const auto base = ekf_params(default_mission_with({}), "indep_a.yaml");
+  const auto changed = ekf_params(
+      default_mission_with({{"turbulence: light", "turbulence: light\n      sensor_profile: realistic\n"
+                                                  "      accel_noise: 0.7\n      gyro_noise: 0.01\n      gnss_h_sigma: 4.0\n"
+                                                  "      gnss_vel_noise: 0.3\n      gnss_tau: 60\n      mag_noise: 1.0e-6\n"
+                                                  "      baro_noise: 9.0\n      diff_pressure_noise: 3.0\n      gnss_latency: 0.2\n"
+                                                  "      gnss_antenna_position: [0.3, 0.1, -0.2]\n      mag_declination: 0.3"}}),
+      "indep_b.yaml");
+  REQUIRE(base.size() > 20);
+  CHECK(base == changed);
+}
+
+TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first second; the summary's figures in one frame") {
+  const fs::path cfg = write_file("realistic.yaml", default_mission_with({{"turbulence: light", "turbulence: light\n      sensor_profile: realistic"},
+                                                                         {"duration: 700", "duration: 300"}}));
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "e2e_realistic";
+  Host h(load_config(cfg), o);
+  h.build();
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  const auto s = summary(r);
+  CHECK(s["sensor_profile"] == "realistic");
+  // every fix is delivered the profile's latency after its time of validity
+  const auto g = lines(read_file(r.run_dir / "topics" / "gnss.csv"));
+  REQUIRE(g.size() > 100);
+  const auto head = cells(g[0]);
+  const auto col = [&](const std::vector<std::string>& hdr, const std::string& name) {
+    const auto it = std::find_if(hdr.begin(), hdr.end(), [&](const std::string& c) { return c.rfind(name + " ", 0) == 0; });
+    REQUIRE_MESSAGE(it != hdr.end(), name);
+    return static_cast<std::size_t>(it - hdr.begin());
+  };
+  const auto first = cells(g[1]);
+  CHECK(std::stod(first[col(head, "t")]) == doctest::Approx(0.12));
+  CHECK(std::stoll(first[col(head, "time_of_validity")]) == 0);
+  // the first fix is already off (steady-state Gauss-Markov start), by a receiver's metres, not centimetres
+  const CommonFrame sim_frame({40.2463724, -111.6474138, 1387.0});
+  const Eigen::Vector3d p0 = sim_frame.ned({std::stod(first[col(head, "lat")]), std::stod(first[col(head, "lon")]),
+                                            std::stod(first[col(head, "alt")])});
+  const double rest_d = -p0.z();  // truth at t = 0: at rest on the ground at the origin
+  MESSAGE("first fix error: north " << p0.x() << " m, east " << p0.y() << " m, down offset " << rest_d << " m");
+  CHECK(std::hypot(p0.x(), p0.y()) > 0.05);
+  CHECK(std::hypot(p0.x(), p0.y()) < 8.0);
+  // the summary's north/east figures agree with a computation from the log in the truth's frame
+  const auto& m = s["metrics"];
+  REQUIRE(m["estimation_rmse"]["north_m"].is_number());
+  REQUIRE(m["raw_gnss_rmse"]["north_m"].is_number());
+  const double t0 = m["window_start_s"].get<double>();
+  const auto st = lines(read_file(r.run_dir / "topics" / "state.csv"));
+  const auto tr = lines(read_file(r.run_dir / "topics" / "truth.csv"));
+  const auto sh = cells(st[0]), th = cells(tr[0]);
+  std::map<std::string, std::vector<double>> truth_at;  // by the time column's text
+  for (std::size_t i = 1; i < tr.size(); ++i) {
+    const auto c = cells(tr[i]);
+    truth_at[c[col(th, "t")]] = {std::stod(c[col(th, "p_n")]), std::stod(c[col(th, "p_e")])};
+  }
+  double sum_n = 0, sum_e = 0;
+  int n = 0;
+  for (std::size_t i = 1; i < st.size(); ++i) {
+    const auto c = cells(st[i]);
+    if (std::stod(c[col(sh, "t")]) < t0 || c[col(sh, "valid")] != "1") continue;
+    const auto it = truth_at.find(c[col(sh, "t")]);
+    if (it == truth_at.end()) continue;
+    const Eigen::Vector3d p = sim_frame.ned({std::stod(c[col(sh, "origin_lat")]), std::stod(c[col(sh, "origin_lon")]),
+                                             std::stod(c[col(sh, "origin_alt")])},
+                                            {std::stod(c[col(sh, "p_n")]), std::stod(c[col(sh, "p_e")]), std::stod(c[col(sh, "p_d")])});
+    sum_n += std::pow(p.x() - it->second[0], 2);
+    sum_e += std::pow(p.y() - it->second[1], 2);
+    ++n;
+  }
+  REQUIRE(n > 1000);
+  const double north = std::sqrt(sum_n / n), east = std::sqrt(sum_e / n);
+  MESSAGE("log: north " << north << " m, east " << east << " m; summary: " << m["estimation_rmse"].dump() << "; raw GNSS " << m["raw_gnss_rmse"].dump());
+  CHECK(north == doctest::Approx(m["estimation_rmse"]["north_m"].get<double>()).epsilon(0.1));
+  CHECK(east == doctest::Approx(m["estimation_rmse"]["east_m"].get<double>()).epsilon(0.1));
 }
 
 TEST_CASE("the TECS mission: SLC takes off, TECS holds the cruise") {

@@ -4,7 +4,9 @@
 #include <dlfcn.h>
 
 #include <cmath>
+#include <map>
 #include <memory>
+#include <vector>
 
 #include "sim_aero_plugin.hpp"
 #include "tern/testing/harness.hpp"
@@ -135,7 +137,7 @@ TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensor
                  {"baro_noise", 0.0}, {"baro_bias_range", 0.0}, {"baro_bias_walk", 0.0},
                  {"diff_pressure_noise", 0.0}, {"diff_pressure_bias_range", 0.0}, {"diff_pressure_bias_walk", 0.0},
                  {"mag_noise", 0.0}, {"mag_gm_sigma", 0.0},
-                 {"gnss_h_noise", 0.0}, {"gnss_v_noise", 0.0}, {"gnss_vel_noise", 0.0},
+                 {"gnss_h_sigma", 0.0}, {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0},
                  {"origin_alt", 100.0}, {"wind", std::vector<double>{2.0, -1.0, 0.0}}});
   run(h, 1.0);
   const auto& s = h.output<msg::State>("truth");
@@ -157,6 +159,57 @@ TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensor
   CHECK(s.Vg != doctest::Approx(s.Va).epsilon(0.01));
   const auto& m = h.output<msg::Mag>("mag");
   CHECK(m.field.norm() == doctest::Approx(5.07163e-5).epsilon(1e-6));
+}
+
+TEST_CASE("plugin: sensor_profile sets every default; a single parameter still overrides it") {
+  auto ideal = make({{"sensor_profile", std::string("ideal")}, {"init_mode", std::string("trim")}});
+  auto real = make({{"sensor_profile", std::string("realistic")}, {"gnss_latency", 0.2}});
+  auto dflt = make({});
+  const tern::sim::SensorParams r = tern::sim::sensor_profile("realistic");
+  auto value = [](tern::testing::Harness& h, const char* name) { return std::get<double>(h.plugin().find_param(name)->value()); };
+  CHECK(std::get<std::string>(dflt.plugin().find_param("sensor_profile")->value()) == "rosflight");
+  CHECK(value(dflt, "gnss_h_sigma") == tern::sim::SensorParams{}.gnss_h_sigma);
+  CHECK(value(real, "gnss_h_sigma") == r.gnss_h_sigma);
+  CHECK(value(real, "accel_vibration") == r.accel_vibration);
+  CHECK(value(real, "servo_rate_limit") == tern::sim::actuator_profile("realistic").servo_rate_limit);
+  CHECK(value(real, "servo_rate_limit") > 0.0);
+  CHECK(value(real, "gnss_latency") == 0.2);  // the override wins over the profile's value
+  CHECK(value(ideal, "accel_noise") == 0.0);
+  CHECK_THROWS_AS(make({{"sensor_profile", std::string("perfect")}}), tern::ParamError);
+  // ideal: the sensors read the truth
+  run(ideal, 0.5);
+  const auto& s = ideal.output<msg::State>("truth");
+  CHECK(ideal.output<msg::Imu>("imu").gyro.y() == s.q);
+  CHECK(ideal.output<msg::Gnss>("gnss").vel.x() == doctest::Approx(s.v_n).epsilon(1e-9));
+}
+
+TEST_CASE("plugin: a GNSS fix is delivered gnss_latency after its time of validity, exact to the tick") {
+  auto h = make({{"init_mode", std::string("trim")}, {"gnss_latency", 0.12}, {"gnss_h_sigma", 0.0},
+                 {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0}});
+  const Nanos dt = 2'500'000;
+  std::uint64_t seen = 0;
+  std::vector<Nanos> delivered, valid;
+  std::vector<double> north_at_validity, north_reported;
+  const tern::sim::GeoOrigin origin(40.2463724, -111.6474138, 1387.0);
+  std::map<Nanos, double> truth_north;
+  for (Nanos t = 0; t <= from_seconds(1.0); t += dt) {
+    h.step(t);
+    truth_north[t] = h.output<msg::State>("truth").p_n;
+    if (h.published("gnss") == seen) continue;
+    seen = h.published("gnss");
+    const auto& g = h.output<msg::Gnss>("gnss");
+    delivered.push_back(g.stamp);
+    CHECK(g.stamp == t);
+    valid.push_back(g.time_of_validity);
+    north_reported.push_back(origin.to_ned(g.lat, g.lon, g.alt).x());
+    north_at_validity.push_back(truth_north.at(g.time_of_validity));
+  }
+  REQUIRE(delivered.size() == 9);  // valid at 0, 0.1, ..., 0.8 s; delivered at 0.12 ... 0.92 s
+  for (std::size_t i = 0; i < delivered.size(); ++i) {
+    CHECK(valid[i] == from_seconds(0.1 * static_cast<double>(i)));
+    CHECK(delivered[i] - valid[i] == from_seconds(0.12));
+    CHECK(north_reported[i] == doctest::Approx(north_at_validity[i]).epsilon(1e-9));  // where it was, not where it is
+  }
 }
 
 TEST_CASE("plugin: scheduled 1-cosine gusts appear in the wind at their time; sub-steps of sim_rate") {

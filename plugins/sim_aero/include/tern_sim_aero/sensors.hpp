@@ -141,7 +141,9 @@ class Sensors {
   Sensors(const SensorParams& p, std::uint64_t seed);
   ~Sensors();
   const SensorParams& params() const { return p_; }
-  /// Redraws the initial biases and clears the error states (same seed: same draws).
+  /// Redraws the per-seed errors (turn-on biases, scale and cross-axis terms, hard/soft iron,
+  /// pitot scale) and restarts the error states: at zero, or drawn from their steady state when
+  /// gnss_start_steady (same seed: same draws).
   void reset();
 
   ImuSample imu(const Truth& t, double dt);

@@ -1,0 +1,488 @@
+// Tests of the sensor error models and the named profiles: statistics (steady sigma and
+// correlation time), installation geometry (lever arms, mounting rotation), per-seed errors
+// (scale, cross-axis, hard/soft iron, pitot scale), determinism and the ideal profile.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "tern/math.hpp"
+#include "tern_sim_aero/model.hpp"
+#include "tern_sim_aero/profiles.hpp"
+#include "tern_sim_aero/sensors.hpp"
+
+using namespace tern::sim;
+
+namespace {
+constexpr double kDeg = tern::kPi / 180.0;
+
+double mean(const std::vector<double>& v) {
+  double s = 0;
+  for (double x : v) s += x;
+  return s / static_cast<double>(v.size());
+}
+double stddev(const std::vector<double>& v) {
+  const double m = mean(v);
+  double s = 0;
+  for (double x : v) s += (x - m) * (x - m);
+  return std::sqrt(s / static_cast<double>(v.size() - 1));
+}
+
+using Series = std::vector<std::vector<double>>;  // independent series of one zero-mean process
+
+/// RMS about the known zero mean over all series.
+double rms(const Series& ss) {
+  double s = 0, n = 0;
+  for (const auto& v : ss) {
+    for (double x : v) s += x * x;
+    n += static_cast<double>(v.size());
+  }
+  return std::sqrt(s / n);
+}
+
+/// Lag-k autocorrelation about the known zero mean, pooled over the series.
+double autocorr(const Series& ss, std::size_t k) {
+  double c = 0, v = 0;
+  for (const auto& e : ss) {
+    for (std::size_t i = 0; i + k < e.size(); ++i) {
+      c += e[i] * e[i + k];
+      v += 0.5 * (e[i] * e[i] + e[i + k] * e[i + k]);
+    }
+  }
+  return c / v;
+}
+
+/// Correlation time of a first-order Gauss-Markov process from its lag autocorrelation.
+double tau_from(const Series& ss, std::size_t k, double dt) {
+  return -static_cast<double>(k) * dt / std::log(autocorr(ss, k));
+}
+
+/// Level flight at 17 m/s, 100 m up: the accelerometer sees -g on z.
+Truth level_truth() {
+  Truth t;
+  t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
+  t.mass = 4.5;
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kG);
+  t.fm.air.v_air = Eigen::Vector3d(17, 0, 0);
+  t.fm.air.Va = 17.0;
+  return t;
+}
+
+/// A truth whose specific force (body) and body rates are given.
+Truth kinematic_truth(const Eigen::Vector3d& f, const Eigen::Vector3d& pqr) {
+  Truth t;
+  t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0, pqr);
+  t.mass = 1.0;
+  t.fm.force = f;  // gravity zero: specific force = force / 1 kg
+  return t;
+}
+
+SensorParams ideal_with(void (*set)(SensorParams&)) {
+  SensorParams p = sensor_profile("ideal");
+  set(p);
+  return p;
+}
+
+/// Columns: the accelerometer's reading of a unit specific force along each body axis.
+Eigen::Matrix3d accel_matrix(Sensors& s) {
+  Eigen::Matrix3d M;
+  for (int j = 0; j < 3; ++j) {
+    M.col(j) = s.imu(kinematic_truth(Eigen::Vector3d::Unit(j), Eigen::Vector3d::Zero()), 0.0025).accel;
+  }
+  return M;
+}
+/// Columns: the gyro's reading of a unit rate about each body axis.
+Eigen::Matrix3d gyro_matrix(Sensors& s) {
+  Eigen::Matrix3d M;
+  for (int j = 0; j < 3; ++j) {
+    M.col(j) = s.imu(kinematic_truth(Eigen::Vector3d::Zero(), Eigen::Vector3d::Unit(j)), 0.0025).gyro;
+  }
+  return M;
+}
+
+/// Earth's field in NED, as the parameters give it.
+Eigen::Vector3d earth_field(const SensorParams& p) {
+  const double I = p.mag_inclination, D = p.mag_declination;
+  return p.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D), std::cos(I) * std::sin(D), std::sin(I));
+}
+
+/// Every output of every sensor over n rounds, in one vector (for bit-for-bit comparisons).
+std::vector<double> sample_all(Sensors& s, int n) {
+  Truth t = level_truth();
+  t.x.segment<3>(P) = Eigen::Vector3d(0.1, -0.2, 0.3);
+  t.omega_dot = Eigen::Vector3d(0.5, 0.2, -0.1);
+  t.throttle = 0.6;
+  std::vector<double> out;
+  for (int i = 0; i < n; ++i) {
+    const ImuSample a = s.imu(t, 0.0025);
+    const MagSample m = s.mag(t, 0.02);
+    const GnssSample g = s.gnss(t, 0.1);
+    out.insert(out.end(), {a.accel.x(), a.accel.y(), a.accel.z(), a.gyro.x(), a.gyro.y(), a.gyro.z(),
+                           m.field.x(), m.field.y(), m.field.z(), s.baro(t, 0.01).pressure,
+                           s.diff_pressure(t, 0.01).pressure, g.lat, g.lon, g.alt, g.vel_ned.x(),
+                           g.vel_ned.y(), g.vel_ned.z()});
+  }
+  return out;
+}
+}  // namespace
+
+// ---------------------------------------------------------------- profiles -------------------
+
+TEST_CASE("sensors: profiles are rosflight (default, first), realistic and ideal; others throw") {
+  const auto& names = sensor_profile_names();
+  REQUIRE(names.size() == 3);
+  CHECK(names[0] == "rosflight");
+  CHECK(std::find(names.begin(), names.end(), "realistic") != names.end());
+  CHECK(std::find(names.begin(), names.end(), "ideal") != names.end());
+  // rosflight is SensorParams{}: the same outputs draw for draw
+  Sensors a(sensor_profile("rosflight"), 3), b(SensorParams{}, 3);
+  CHECK(sample_all(a, 50) == sample_all(b, 50));
+  CHECK_THROWS_AS(sensor_profile("nope"), std::invalid_argument);
+  std::string msg;
+  try {
+    sensor_profile("nope");
+  } catch (const std::invalid_argument& e) {
+    msg = e.what();
+  }
+  CHECK(msg.find("nope") != std::string::npos);
+  for (const std::string& n : names) CHECK(msg.find(n) != std::string::npos);
+  // realistic: the per-sample IMU noise is density * sqrt(157 Hz)
+  const SensorParams r = sensor_profile("realistic");
+  CHECK(r.gyro_noise == doctest::Approx(0.004 * kDeg * 12.53).epsilon(0.001));
+  CHECK(r.accel_noise == doctest::Approx(100e-6 * 9.80665 * 12.53).epsilon(0.001));
+  CHECK(r.gnss_latency == 0.12);
+}
+
+TEST_CASE("sensors: the ideal profile gives exactly the true values") {
+  const SensorParams p = sensor_profile("ideal");
+  Sensors s(p, 21);
+  Truth t;
+  t.x = make_state({120, -40, -75}, {18, 1, -0.5}, 0.2, 0.1, 2.0, {0.3, -0.2, 0.4});
+  t.mass = 4.5;
+  t.fm.force = Eigen::Vector3d(2, -1, -40);
+  t.fm.f_gravity = Eigen::Vector3d(1, 3, 42);
+  t.fm.air.v_air = Eigen::Vector3d(17, 0.5, 1);
+  t.fm.air.Va = t.fm.air.v_air.norm();
+  t.omega_dot = Eigen::Vector3d(1, -2, 0.5);
+  t.throttle = 0.8;
+  for (int i = 0; i < 3; ++i) {
+    const ImuSample a = s.imu(t, 0.0025);
+    CHECK(a.accel == t.fm.specific_force(t.mass));
+    CHECK(a.gyro == Eigen::Vector3d(t.x.segment<3>(P)));
+    CHECK(s.mag(t, 0.02).field == attitude(t.x).conjugate() * earth_field(p));
+    CHECK(s.baro(t, 0.01).pressure == standard_pressure(p.origin_alt + 75));
+    CHECK(s.diff_pressure(t, 0.01).pressure == 0.5 * t.rho * 17 * 17);
+    const GnssSample g = s.gnss(t, 0.1);
+    double lat = 0, lon = 0, alt = 0;
+    s.origin().to_geodetic(t.x.segment<3>(PN), lat, lon, alt);
+    CHECK(g.lat == lat);
+    CHECK(g.lon == lon);
+    CHECK(g.alt == alt);
+    CHECK(g.vel_ned == attitude(t.x).toRotationMatrix() * Eigen::Vector3d(t.x.segment<3>(U)));
+    CHECK(g.h_acc > 0);
+    CHECK(g.h_acc < 0.1);
+  }
+}
+
+// ---------------------------------------------------------------- GNSS -----------------------
+
+TEST_CASE("sensors: realistic GNSS position error has its steady sigma and correlation time") {
+  const SensorParams p = sensor_profile("realistic");
+  const double dt = 1.0;  // the discretisation is exact: any fix interval gives the same process
+  const int n = 3600, seeds = 60;
+  Series h, v;
+  const Truth t = level_truth();
+  for (int k = 0; k < seeds; ++k) {
+    Sensors s(p, 1000 + static_cast<std::uint64_t>(k));
+    std::vector<double> n_, e_, d_;
+    for (int i = 0; i < n; ++i) {
+      s.gnss(t, dt);
+      n_.push_back(s.gnss_error().x());
+      e_.push_back(s.gnss_error().y());
+      d_.push_back(s.gnss_error().z());
+    }
+    h.push_back(n_);
+    h.push_back(e_);
+    v.push_back(d_);
+  }
+  CHECK(rms(h) == doctest::Approx(p.gnss_h_sigma).epsilon(0.1));
+  CHECK(rms(v) == doctest::Approx(p.gnss_v_sigma).epsilon(0.1));
+  Series all = h;
+  all.insert(all.end(), v.begin(), v.end());
+  const std::size_t lag = 90;  // tau / 2
+  CHECK(tau_from(all, lag, dt) == doctest::Approx(p.gnss_tau).epsilon(0.1));
+  CHECK(tau_from(v, lag, dt) == doctest::Approx(p.gnss_tau).epsilon(0.15));
+}
+
+TEST_CASE("sensors: gnss_start_steady gives the first fix the steady error; rosflight starts at zero") {
+  const SensorParams p = sensor_profile("realistic");
+  const Truth t = level_truth();
+  Series h0(1), v0(1), vel0(1), h50(1);
+  for (std::uint64_t k = 0; k < 2000; ++k) {
+    Sensors s(p, 5000 + k);
+    const GnssSample g = s.gnss(t, 0.1);
+    h0[0].push_back(s.gnss_error().x());
+    h0[0].push_back(s.gnss_error().y());
+    v0[0].push_back(s.gnss_error().z());
+    for (int i = 0; i < 3; ++i) vel0[0].push_back(g.vel_ned[i] - (i == 0 ? 17.0 : 0.0));
+    for (int i = 0; i < 49; ++i) s.gnss(t, 0.1);
+    h50[0].push_back(s.gnss_error().x());
+  }
+  CHECK(rms(h0) == doctest::Approx(p.gnss_h_sigma).epsilon(0.1));
+  CHECK(rms(v0) == doctest::Approx(p.gnss_v_sigma).epsilon(0.1));
+  CHECK(rms(vel0) == doctest::Approx(p.gnss_vel_noise).epsilon(0.1));
+  CHECK(rms(h50) == doctest::Approx(p.gnss_h_sigma).epsilon(0.1));  // stays steady at 10 Hz
+  // rosflight: zero error at reset, then it grows from zero (first fix: sigma sqrt(1 - exp(-2 T_s / tau)),
+  // 2 cm horizontal and 4 cm vertical)
+  const SensorParams r;
+  double worst = 0;
+  for (std::uint64_t k = 0; k < 200; ++k) {
+    Sensors s(r, 5000 + k);
+    CHECK(s.gnss_error() == Eigen::Vector3d::Zero());
+    s.gnss(t, 0.1);
+    worst = std::max(worst, s.gnss_error().cwiseAbs().maxCoeff());
+  }
+  CHECK(worst > 0.0);
+  CHECK(worst < 0.2);
+}
+
+TEST_CASE("sensors: realistic GNSS velocity error has its sigma and correlation time") {
+  const SensorParams p = sensor_profile("realistic");
+  const Truth t = level_truth();
+  const double dt = 0.1;  // 10 Hz
+  Series e;
+  for (std::uint64_t k = 0; k < 4; ++k) {
+    Sensors s(p, 77 + k);
+    std::vector<double> x, y, z;
+    for (int i = 0; i < 10000; ++i) {
+      const Eigen::Vector3d v = s.gnss(t, dt).vel_ned;
+      x.push_back(v.x() - 17.0);
+      y.push_back(v.y());
+      z.push_back(v.z());
+    }
+    e.push_back(x);
+    e.push_back(y);
+    e.push_back(z);
+  }
+  CHECK(rms(e) == doctest::Approx(p.gnss_vel_noise).epsilon(0.1));
+  CHECK(tau_from(e, 10, dt) == doctest::Approx(p.gnss_vel_tau).epsilon(0.1));
+  // tau <= 0: white (no correlation from fix to fix)
+  SensorParams w = p;
+  w.gnss_vel_tau = 0.0;
+  Sensors s(w, 3);
+  Series ew(1);
+  for (int i = 0; i < 20000; ++i) ew[0].push_back(s.gnss(t, dt).vel_ned.y());
+  CHECK(rms(ew) == doctest::Approx(p.gnss_vel_noise).epsilon(0.05));
+  CHECK(std::fabs(autocorr(ew, 1)) < 0.03);
+}
+
+TEST_CASE("sensors: the GNSS fix is the antenna's position and velocity") {
+  SensorParams p = sensor_profile("ideal");
+  p.gnss_antenna_position = Eigen::Vector3d(1.0, 0.0, -0.5);  // 1 m ahead, 0.5 m above the CG
+  Sensors s(p, 1);
+  Truth t;
+  // heading east (yaw 90 deg), 20 m/s forward, yaw rate 0.5 rad/s
+  t.x = make_state({100, 50, -80}, {20, 0, 0}, 0, 0, 90 * kDeg, {0, 0, 0.5});
+  const GnssSample g = s.gnss(t, 0.1);
+  // body x points east: the antenna is 1 m east of the CG and 0.5 m above it
+  const Eigen::Vector3d pos = s.origin().to_ned(g.lat, g.lon, g.alt);
+  CHECK((pos - Eigen::Vector3d(100, 51, -80.5)).norm() < 1e-6);
+  // omega x r = (0, 0.5, 0) body (to the right = south): v_ned = (-0.5, 20, 0)
+  CHECK((g.vel_ned - Eigen::Vector3d(-0.5, 20, 0)).norm() < 1e-12);
+  // realistic: the reported position is CG + antenna + gnss_error()
+  const SensorParams r = sensor_profile("realistic");
+  Sensors sr(r, 2);
+  const GnssSample gr = sr.gnss(t, 0.1);
+  const Eigen::Vector3d expected = t.x.segment<3>(PN) + attitude(t.x) * r.gnss_antenna_position + sr.gnss_error();
+  CHECK((sr.origin().to_ned(gr.lat, gr.lon, gr.alt) - expected).norm() < 1e-6);
+  CHECK(sr.gnss_error().norm() > 0.01);
+  CHECK(gr.h_acc == 1.2);
+  CHECK(gr.v_acc == 2.5);
+  CHECK(gr.s_acc == 0.05);
+}
+
+// ---------------------------------------------------------------- IMU ------------------------
+
+TEST_CASE("sensors: IMU white noise plus vibration scaled by the throttle") {
+  SensorParams p = sensor_profile("realistic");
+  p.accel_bias_walk = p.gyro_bias_walk = 0.0;  // the noise alone
+  auto sigmas = [&](double throttle) {
+    Sensors s(p, 31);
+    Truth t = level_truth();
+    t.throttle = throttle;
+    std::vector<double> ax, ay, gz, gx;
+    for (int i = 0; i < 20000; ++i) {
+      const ImuSample m = s.imu(t, 0.0025);
+      ax.push_back(m.accel.x());
+      ay.push_back(m.accel.y());
+      gx.push_back(m.gyro.x());
+      gz.push_back(m.gyro.z());
+    }
+    return std::vector<double>{stddev(ax), stddev(ay), stddev(gx), stddev(gz)};
+  };
+  const std::vector<double> half = sigmas(0.5), idle = sigmas(0.0);
+  const double sa = std::hypot(p.accel_noise, 0.5 * p.accel_vibration);  // 0.750 m/s^2
+  const double sg = std::hypot(p.gyro_noise, 0.5 * p.gyro_vibration);    // 0.00508 rad/s
+  CHECK(half[0] == doctest::Approx(sa).epsilon(0.03));
+  CHECK(half[1] == doctest::Approx(sa).epsilon(0.03));
+  CHECK(half[2] == doctest::Approx(sg).epsilon(0.03));
+  CHECK(half[3] == doctest::Approx(sg).epsilon(0.03));
+  CHECK(idle[0] == doctest::Approx(p.accel_noise).epsilon(0.03));
+  CHECK(idle[3] == doctest::Approx(p.gyro_noise).epsilon(0.03));
+}
+
+TEST_CASE("sensors: the accelerometer off the CG sees centripetal and tangential accelerations") {
+  SensorParams p = sensor_profile("ideal");
+  p.imu_position = Eigen::Vector3d(0.3, 0, 0);  // 30 cm ahead of the CG
+  Sensors s(p, 1);
+  // pure yaw rate r = 2 rad/s: centripetal -r^2 x = -1.2 m/s^2 along x
+  Truth t = kinematic_truth(Eigen::Vector3d::Zero(), {0, 0, 2.0});
+  CHECK((s.imu(t, 0.0025).accel - Eigen::Vector3d(-1.2, 0, 0)).norm() < 1e-12);
+  // pitch acceleration q_dot = 3 rad/s^2 (nose up): the point ahead accelerates up, -0.9 on z
+  t = kinematic_truth(Eigen::Vector3d(0, 0, -kG), Eigen::Vector3d::Zero());
+  t.omega_dot = Eigen::Vector3d(0, 3.0, 0);
+  CHECK((s.imu(t, 0.0025).accel - Eigen::Vector3d(0, 0, -kG - 0.9)).norm() < 1e-12);
+  // and the gyro is unaffected by the lever arm
+  t = kinematic_truth(Eigen::Vector3d::Zero(), {0.1, 0.2, 0.3});
+  CHECK((s.imu(t, 0.0025).gyro - Eigen::Vector3d(0.1, 0.2, 0.3)).norm() < 1e-15);
+}
+
+TEST_CASE("sensors: IMU mounting rotation (3-2-1, body v reads R_mount^T v)") {
+  SensorParams p = sensor_profile("ideal");
+  p.imu_misalignment = Eigen::Vector3d(0, 0, 90 * kDeg);  // IMU yawed 90 deg
+  Sensors s(p, 1);
+  const ImuSample m = s.imu(kinematic_truth({1, 0, 0}, {0.1, 0, 0}), 0.0025);
+  CHECK((m.accel - Eigen::Vector3d(0, -1, 0)).norm() < 1e-15);  // body x reads -y
+  CHECK((m.gyro - Eigen::Vector3d(0, -0.1, 0)).norm() < 1e-15);
+  // a general mount against the Euler rotation of tern/math.hpp
+  const Eigen::Vector3d rpy(0.5 * kDeg, -0.5 * kDeg, 1.0 * kDeg);
+  p.imu_misalignment = rpy;
+  Sensors s2(p, 1);
+  const Eigen::Vector3d f(1, 2, -9), w(0.3, -0.1, 0.2);
+  const Eigen::Matrix3d Rt = tern::rotation_from_euler(rpy.x(), rpy.y(), rpy.z()).transpose();
+  const ImuSample m2 = s2.imu(kinematic_truth(f, w), 0.0025);
+  CHECK((m2.accel - Rt * f).norm() < 1e-12);
+  CHECK((m2.gyro - Rt * w).norm() < 1e-12);
+  CHECK((m2.accel - f).norm() > 0.1);  // the mount does change the reading
+}
+
+TEST_CASE("sensors: IMU scale factors and cross-axis terms are per-seed, within their ranges") {
+  // only the scale factors
+  const SensorParams ps = ideal_with([](SensorParams& p) { p.accel_scale_range = p.gyro_scale_range = 0.01; });
+  double lo = 1, hi = -1;
+  for (std::uint64_t k = 0; k < 200; ++k) {
+    Sensors s(ps, k);
+    const Eigen::Matrix3d A = accel_matrix(s), G = gyro_matrix(s);
+    for (const Eigen::Matrix3d& M : {A, G}) {
+      const Eigen::Vector3d d = M.diagonal() - Eigen::Vector3d::Ones();
+      CHECK(d.cwiseAbs().maxCoeff() <= 0.01);
+      CHECK(d.cwiseAbs().minCoeff() > 0.0);
+      CHECK((M - Eigen::Matrix3d(M.diagonal().asDiagonal())).norm() == 0.0);  // no cross terms
+      lo = std::min(lo, d.minCoeff());
+      hi = std::max(hi, d.maxCoeff());
+    }
+  }
+  CHECK(lo < -0.009);  // the draws span the range
+  CHECK(hi > 0.009);
+  Sensors a(ps, 1), b(ps, 2);
+  CHECK((accel_matrix(a) - accel_matrix(b)).norm() > 1e-4);
+  // only the cross-axis terms
+  const SensorParams pc = ideal_with([](SensorParams& p) { p.imu_cross_axis_range = 0.02; });
+  double worst = 0;
+  for (std::uint64_t k = 0; k < 200; ++k) {
+    Sensors s(pc, k);
+    const Eigen::Matrix3d A = accel_matrix(s);
+    CHECK(A.diagonal() == Eigen::Vector3d::Ones());
+    const Eigen::Matrix3d off = A - Eigen::Matrix3d::Identity();
+    CHECK(off.cwiseAbs().maxCoeff() <= 0.02);
+    CHECK(off.cwiseAbs().maxCoeff() > 0.0);
+    worst = std::max(worst, off.cwiseAbs().maxCoeff());
+  }
+  CHECK(worst > 0.019);
+}
+
+// ---------------------------------------------------------------- magnetometer ---------------
+
+TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
+  const Truth level = level_truth();
+  // hard iron: a constant per-seed offset within the range
+  const SensorParams ph = ideal_with([](SensorParams& p) { p.mag_hard_iron_range = 1e-6; });
+  Sensors h1(ph, 1), h2(ph, 2);
+  const Eigen::Vector3d b0 = earth_field(ph);
+  const Eigen::Vector3d o1 = h1.mag(level, 0.02).field - b0, o2 = h2.mag(level, 0.02).field - b0;
+  CHECK(o1.cwiseAbs().maxCoeff() <= 1e-6 + 1e-18);
+  CHECK(o1.cwiseAbs().minCoeff() > 0.0);
+  CHECK((o1 - o2).norm() > 1e-8);
+  CHECK((h1.mag(level, 0.02).field - b0 - o1).norm() < 1e-20);  // constant in time
+  // soft iron: S recovered from three attitudes, each element of S - I within +-2 %
+  const SensorParams ps = ideal_with([](SensorParams& p) { p.mag_soft_iron_range = 0.02; });
+  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0),
+                             make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * kDeg),
+                             make_state({0, 0, -100}, {17, 0, 0}, 90 * kDeg, 0, 0)};
+  double worst = 0;
+  for (std::uint64_t k = 0; k < 100; ++k) {
+    Sensors s(ps, k);
+    Eigen::Matrix3d B, F;
+    for (int j = 0; j < 3; ++j) {
+      Truth t = level;
+      t.x = xs[j];
+      B.col(j) = attitude(t.x).conjugate() * earth_field(ps);
+      F.col(j) = s.mag(t, 0.02).field;
+    }
+    const Eigen::Matrix3d E = F * B.inverse() - Eigen::Matrix3d::Identity();
+    CHECK(E.cwiseAbs().maxCoeff() <= 0.02 + 1e-9);
+    worst = std::max(worst, E.cwiseAbs().maxCoeff());
+  }
+  CHECK(worst > 0.018);
+  // motor field: proportional to the throttle
+  const SensorParams pm = ideal_with([](SensorParams& p) { p.mag_motor_field = Eigen::Vector3d(0, 0.5e-6, 1.5e-6); });
+  Sensors m(pm, 1);
+  Truth t = level;
+  CHECK(m.mag(t, 0.02).field == b0);
+  t.throttle = 0.6;
+  CHECK((m.mag(t, 0.02).field - b0 - Eigen::Vector3d(0, 0.3e-6, 0.9e-6)).norm() < 1e-18);
+}
+
+// ---------------------------------------------------------------- air data -------------------
+
+TEST_CASE("sensors: barometer static-port error and pitot installation scale") {
+  const SensorParams pb = ideal_with([](SensorParams& p) { p.baro_static_error = 0.05; });
+  Sensors b(pb, 1);
+  Truth t = level_truth();
+  t.rho = 1.2;
+  t.fm.air.Va = 20.0;
+  const double p_static = standard_pressure(pb.origin_alt + 100);
+  CHECK(b.baro(t, 0.01).pressure - p_static == doctest::Approx(0.05 * 0.5 * 1.2 * 400).epsilon(1e-6));
+  t.fm.air.Va = 0.0;
+  CHECK(b.baro(t, 0.01).pressure == p_static);
+  const SensorParams pd = ideal_with([](SensorParams& p) { p.diff_scale_range = 0.05; });
+  t.fm.air.v_air = Eigen::Vector3d(20, 0, 0);
+  double lo = 2, hi = 0;
+  for (std::uint64_t k = 0; k < 200; ++k) {
+    Sensors s(pd, k);
+    const double ratio = s.diff_pressure(t, 0.01).pressure / (0.5 * 1.2 * 400);
+    CHECK(std::fabs(ratio - 1.0) <= 0.05 + 1e-12);
+    CHECK(s.diff_pressure(t, 0.01).pressure / (0.5 * 1.2 * 400) == ratio);  // per seed, constant
+    lo = std::min(lo, ratio);
+    hi = std::max(hi, ratio);
+  }
+  CHECK(lo < 0.955);
+  CHECK(hi > 1.045);
+}
+
+// ---------------------------------------------------------------- determinism ----------------
+
+TEST_CASE("sensors: same seed, same samples bit for bit; reset() restarts the sequence") {
+  const SensorParams p = sensor_profile("realistic");
+  Sensors a(p, 42), b(p, 42), c(p, 43);
+  const std::vector<double> sa = sample_all(a, 200);
+  CHECK(sa == sample_all(b, 200));
+  CHECK(sa != sample_all(c, 200));
+  a.reset();
+  CHECK(sample_all(a, 200) == sa);
+  const std::vector<double> again = sample_all(a, 200);  // no reset: the sequence goes on
+  CHECK(again != sa);
+}
