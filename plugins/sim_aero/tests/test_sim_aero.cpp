@@ -592,3 +592,36 @@ TEST_CASE("determinism: the same seed gives bit-identical flights in turbulence"
   CHECK(a == b);
   CHECK(a != c);
 }
+
+TEST_CASE("actuators: servo rate limit, deadband and motor lag (the realistic profile's set)") {
+  Simulator sim(anaconda(), 1);
+  TrimRequest req;
+  const TrimResult tr = compute_trim(sim.aircraft(), req);
+  sim.set_state(tr.x, tr.delta);
+  ActuatorParams a;
+  a.servo_rate_limit = 2.0;  // rad/s
+  a.servo_deadband = 0.01;   // rad
+  a.motor_tau = 0.1;         // s
+  sim.set_actuators(a);
+  Deltas cmd = tr.delta;
+  // a command step inside the deadband does not move the servo
+  cmd.delta_a = tr.delta.delta_a + 0.004;
+  sim.set_command(cmd);
+  for (int i = 0; i < 40; ++i) sim.step(0.0025);
+  CHECK(sim.surfaces().delta_a == tr.delta.delta_a);
+  // a large step moves at the rate limit: 2 rad/s for 0.1 s = 0.2 rad (the servo lag alone would be faster)
+  cmd.delta_a = tr.delta.delta_a + 0.5;
+  sim.set_command(cmd);
+  for (int i = 0; i < 40; ++i) sim.step(0.0025);
+  CHECK(sim.surfaces().delta_a - tr.delta.delta_a == doctest::Approx(0.2).epsilon(1e-9));
+  // the motor follows a throttle step with its first-order lag: 1 - exp(-1) after one time constant
+  const double t0 = sim.surfaces().delta_t;
+  cmd.delta_t = 1.0;
+  sim.set_command(cmd);
+  for (int i = 0; i < 40; ++i) sim.step(0.0025);
+  CHECK((sim.surfaces().delta_t - t0) / (1.0 - t0) == doctest::Approx(1.0 - std::exp(-1.0)).epsilon(1e-9));
+  // ideal actuators (the default): the throttle acts at once
+  CHECK(actuator_profile("rosflight").motor_tau == 0.0);
+  CHECK(actuator_profile("realistic").servo_rate_limit > 0.0);
+  CHECK_THROWS_AS(actuator_profile("perfect"), std::invalid_argument);
+}
