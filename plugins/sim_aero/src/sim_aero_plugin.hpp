@@ -228,13 +228,6 @@ class SimAero final : public tern::Plugin {
     for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) a.*kActuatorReals[i].field = actuator_reals_[i]();
     return a;
   }
-  double param(const char* name) const {
-    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
-      if (std::string_view(kSensorReals[i].name) == name) return sensor_reals_[i]();
-    }
-    throw std::logic_error(std::string("sim_aero: no sensor parameter ") + name);
-  }
-
   void initialise() {
     if (!aircraft_data_) throw std::runtime_error("sim_aero: no aircraft loaded (configure() ran in describing mode)");
     const std::uint64_t seed = context().seed();
