@@ -10,10 +10,14 @@ namespace tern::core {
 
 struct CommonFrame::Impl {
   GeographicLib::LocalCartesian local;  // ENU about the reference
+  // ENU about the last other origin asked for (an estimator keeps one origin per flight)
+  std::optional<GeographicLib::LocalCartesian> about;
+  GeoPoint about_origin;
 };
 
 CommonFrame::CommonFrame(const GeoPoint& reference)
-    : reference_(reference), impl_(std::make_unique<Impl>(Impl{GeographicLib::LocalCartesian(reference.lat, reference.lon, reference.alt)})) {}
+    : reference_(reference),
+      impl_(std::make_unique<Impl>(Impl{GeographicLib::LocalCartesian(reference.lat, reference.lon, reference.alt), {}, {}})) {}
 CommonFrame::~CommonFrame() = default;
 CommonFrame::CommonFrame(CommonFrame&&) noexcept = default;
 CommonFrame& CommonFrame::operator=(CommonFrame&&) noexcept = default;
@@ -26,9 +30,12 @@ Eigen::Vector3d CommonFrame::ned(const GeoPoint& p) const {
 
 Eigen::Vector3d CommonFrame::ned(const GeoPoint& origin, const Eigen::Vector3d& x) const {
   if (origin == reference_) return x;
-  const GeographicLib::LocalCartesian about(origin.lat, origin.lon, origin.alt);
+  if (!impl_->about || !(impl_->about_origin == origin)) {
+    impl_->about.emplace(origin.lat, origin.lon, origin.alt);
+    impl_->about_origin = origin;
+  }
   GeoPoint p;
-  about.Reverse(x.y(), x.x(), -x.z(), p.lat, p.lon, p.alt);
+  impl_->about->Reverse(x.y(), x.x(), -x.z(), p.lat, p.lon, p.alt);
   return ned(p);
 }
 

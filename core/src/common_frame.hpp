@@ -32,7 +32,8 @@ class CommonFrame {
 
   /// A geodetic point in the reference frame, NED m.
   Eigen::Vector3d ned(const GeoPoint& p) const;
-  /// A NED position about `origin` in the reference frame, NED m.
+  /// A NED position about `origin` in the reference frame, NED m (the frame about `origin` is
+  /// kept for the next call: not thread-safe, one CommonFrame per thread).
   Eigen::Vector3d ned(const GeoPoint& origin, const Eigen::Vector3d& ned_about_origin) const;
 
  private:

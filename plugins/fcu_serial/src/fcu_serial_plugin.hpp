@@ -544,7 +544,11 @@ class FcuSerial final : public tern::Plugin {
       out.h_acc = s->h_acc;
       out.v_acc = s->v_acc;
       out.s_acc = s->s_acc;
-      out.time_of_validity = out.stamp;  // the link carries no receiver epoch: latency unknown
+      // rosflight_timestamp is the FCU's time the fix was read from the receiver (firmware
+      // src/mavlink_adapter.cpp, MavlinkAdapter::send_gnss, packs GnssStruct::header.timestamp,
+      // "time of data read complete" in include/interface/board.h): the best time of validity
+      // the link offers; the receiver's own solution-to-output latency is not reported.
+      out.time_of_validity = out.stamp;
       gnss = out;
     } else if (const auto* s = std::get_if<mav::RcChannels>(&m)) {
       const fcu::RcSticks k = fcu::from_rc(*s, rc_map_);

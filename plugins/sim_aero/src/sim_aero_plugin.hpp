@@ -311,14 +311,15 @@ class SimAero final : public tern::Plugin {
       if (!truth) {
         truth.emplace();
         truth->x = sim_->state();
-        truth->fm = sim_->evaluate();
+        if (sensors_->params().imu_position.isZero()) {
+          truth->fm = sim_->evaluate();
+        } else {  // the lever arm needs the angular acceleration: one evaluation gives both
+          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind(), &truth->fm)
+                                 .segment<3>(sim::P);
+        }
         truth->mass = sim_->aircraft().mass;
         truth->rho = sim_->aircraft().rho;
         truth->throttle = sim_->surfaces().delta_t;
-        if (!sensors_->params().imu_position.isZero()) {
-          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind())
-                                 .segment<3>(sim::P);
-        }
       }
       return *truth;
     };

@@ -9,27 +9,19 @@
 #include <string>
 #include <vector>
 
+#include "statistics.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 
 using namespace tern::sim;
+using tern::sim::test::mean;
+using tern::sim::test::stddev;
 
 namespace {
 constexpr double kDeg = tern::kPi / 180.0;
 
-double mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-double stddev(const std::vector<double>& v) {
-  const double m = mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / static_cast<double>(v.size() - 1));
-}
 
 using Series = std::vector<std::vector<double>>;  // independent series of one zero-mean process
 

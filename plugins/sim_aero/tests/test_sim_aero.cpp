@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "statistics.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
@@ -18,6 +19,8 @@
 #include "tern_sim_aero/wind.hpp"
 
 using namespace tern::sim;
+using tern::sim::test::mean;
+using tern::sim::test::stddev;
 
 namespace {
 const std::string kData = TERN_SIM_AERO_TEST_DATA;
@@ -38,17 +41,6 @@ std::string load_error(const YAML::Node& doc) {
   return "(no error)";
 }
 
-double mean(const std::vector<double>& v) {
-  double s = 0;
-  for (double x : v) s += x;
-  return s / static_cast<double>(v.size());
-}
-double stddev(const std::vector<double>& v) {
-  const double m = mean(v);
-  double s = 0;
-  for (double x : v) s += (x - m) * (x - m);
-  return std::sqrt(s / static_cast<double>(v.size() - 1));
-}
 
 // An aircraft with (practically) no air: no aerodynamic or propeller force.
 Aircraft vacuum() {
