@@ -55,6 +55,16 @@ std::string describe(const Event& e) {
       std::snprintf(buf, sizeof buf,
                     "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
       break;
+    case EventKind::inflated:
+      std::snprintf(buf, sizeof buf, "%s: rejected repeatedly, variance of the states it measures inflated x%.1f", s,
+                    e.value);
+      break;
+    case EventKind::imu_lost:
+      std::snprintf(buf, sizeof buf, "imu: silent for %.3f s, attitude lost: re-initialising in flight", e.value);
+      break;
+    case EventKind::too_old:
+      std::snprintf(buf, sizeof buf, "%s: sample valid %.3f s ago, older than the state history: dropped", s, e.value);
+      break;
     case EventKind::first_invalid:
       std::snprintf(buf, sizeof buf, "%s: invalid sample rejected (NaN/Inf, out of range or stamp going back); further ones are only counted", s);
       break;
@@ -73,6 +83,9 @@ void Estimator::set_config(const EstimatorConfig& config) {
 }
 
 void Estimator::apply_models_config() {
+  R_bi_ = rotation_from_euler(cfg_.imu_mount.x(), cfg_.imu_mount.y(), cfg_.imu_mount.z());
+  gnss_pos_.antenna = cfg_.gnss_antenna;
+  gnss_vel_.antenna = cfg_.gnss_antenna;
   gnss_pos_.sigma_h = cfg_.gnss_pos_sigma_h;
   gnss_pos_.sigma_v = cfg_.gnss_pos_sigma_v;
   gnss_pos_.gate = cfg_.gnss_pos_gate;
@@ -132,6 +145,10 @@ void Estimator::reset() {
   last_Va_ = 0.0;
   last_Va_stamp_ = -1;
   output_offset_.setZero();
+  gyro_body_.setZero();
+  omega_dot_.setZero();
+  history_.clear();
+  last_gnss_reset_ = -1;
   filter_ = Filter{};
   for (auto& c : counters_) {
     c.timed_out = false;
@@ -232,15 +249,21 @@ bool Estimator::add_imu(const msg::Imu& m) {
   if (!accept(Sensor::imu, m.stamp, ok)) return false;
   double dt = imu_stamp_ < 0 ? 0.0 : to_seconds(m.stamp - imu_stamp_);
   imu_stamp_ = m.stamp;
+  const Vec3 gyro = R_bi_ * m.gyro;
+  const Vec3 accel = imu_to_cg(R_bi_ * m.accel, gyro, dt);
   if (!initialized_) {
     // Low-pass averages for the initial attitude and gyro bias.
     const double a = imu_samples_ == 0 ? 1.0 : std::clamp(dt / cfg_.init_average_time, 0.0, 1.0);
-    accel_avg_ += a * (m.accel - accel_avg_);
-    gyro_avg_ += a * (m.gyro - gyro_avg_);
-    fix_accel_sum_ += m.accel;
+    accel_avg_ += a * (accel - accel_avg_);
+    gyro_avg_ += a * (gyro - gyro_avg_);
+    fix_accel_sum_ += accel;
     ++fix_accel_n_;
     ++imu_samples_;
-    rate_ = m.gyro;
+    rate_ = gyro;
+    return true;
+  }
+  if (dt > cfg_.imu_reinit_gap) {
+    lose_attitude(m.stamp, dt);
     return true;
   }
   if (dt > cfg_.imu_max_dt) {
@@ -248,14 +271,15 @@ bool Estimator::add_imu(const msg::Imu& m) {
     dt = cfg_.imu_max_dt;
   }
   if (dt > 0.0) {
-    filter_.propagate(m.accel, m.gyro, dt, cfg_.process, cfg_.gravity);
+    filter_.propagate(accel, gyro, dt, cfg_.process, cfg_.gravity);
     if (!output_offset_.isZero()) {
       output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
       if (output_offset_.norm() < 1e-4) output_offset_.setZero();
     }
   }
-  rate_ = m.gyro - filter_.x().b_g;
-  side_force_sum_ += m.accel.y();
+  rate_ = gyro - filter_.x().b_g;
+  gnss_vel_.gyro = gyro;
+  side_force_sum_ += accel.y();
   ++side_force_n_;
   if (!filter_.healthy()) {
     ++filter_resets_;
@@ -263,8 +287,75 @@ bool Estimator::add_imu(const msg::Imu& m) {
     initialized_ = false;
     imu_samples_ = 0;
     mag_samples_ = 0;
+    history_.clear();
+    return true;
   }
+  history_.push(m.stamp, filter_.x(), filter_.correction_sum());
   return true;
+}
+
+Vec3 Estimator::imu_to_cg(const Vec3& accel_body, const Vec3& gyro_body, double dt) {
+  // An accelerometer at r from the CG feels f_cg + omega_dot x r + omega x (omega x r). The
+  // angular acceleration is the gyro's difference, low-passed over 20 ms (its noise would
+  // otherwise reach the specific force as noise / dt * |r|).
+  if (dt > 0.0 && dt <= cfg_.imu_max_dt) {
+    const double a = dt / (0.02 + dt);
+    omega_dot_ += a * ((gyro_body - gyro_body_) / dt - omega_dot_);
+  }
+  gyro_body_ = gyro_body;
+  const Vec3& r = cfg_.imu_position;
+  if (r.isZero()) return accel_body;
+  const Vec3 w = gyro_body - filter_.x().b_g;
+  return accel_body - omega_dot_.cross(r) - w.cross(w.cross(r));
+}
+
+void Estimator::lose_attitude(Nanos stamp, double gap) {
+  // Without the gyro for this long the attitude is unknown (a turn rolls through tens of
+  // degrees): start again from the in-flight initialisation; the origin and the barometer
+  // calibration stay.
+  push(stamp, EventKind::imu_lost, Sensor::imu, gap);
+  initialized_ = false;
+  imu_samples_ = 0;
+  mag_samples_ = 0;
+  fix_accel_sum_.setZero();
+  fix_accel_n_ = 0;
+  prev_fix_stamp_ = -1;
+  history_.clear();
+}
+
+Nanos Estimator::valid_at(Sensor s, Nanos stamp) const {
+  return stamp - static_cast<Nanos>(std::llround(cfg_.delay[static_cast<int>(s)] * 1e9));
+}
+
+template <class Model>
+UpdateResult Estimator::fuse(Model& model, const typename Model::Vec& z, Nanos t_v) {
+  constexpr Nanos kHalfTick = 1'250'000;  // half of 400 Hz: nearer than this is "now"
+  if (t_v >= imu_stamp_ - kHalfTick) return filter_.update(model, z);
+  const StateHistory::Entry* e = history_.at(t_v);
+  if (e == nullptr) {
+    ++model.stats.invalid;
+    return UpdateResult::invalid;
+  }
+  NominalState x = e->x;
+  x.p += x.v * to_seconds(t_v - e->stamp);
+  const ErrVec since = filter_.correction_sum() - e->correction_sum;
+  return filter_.update(model, z, &x, &since);
+}
+
+template <class Model>
+UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first,
+                                    int n) {
+  const UpdateResult r = fuse(model, z, t_v);
+  if (r != UpdateResult::rejected || model.stats.consecutive_rejected < static_cast<std::uint64_t>(cfg_.inflate_after))
+    return r;
+  // The filter keeps disagreeing with the sensor: it is more likely overconfident than the
+  // sensor wrong for this long. Inflate the variances of the states the sensor measures so the
+  // innovation sits near the gate, and fuse again.
+  const double beta = std::min(model.stats.last_nis / model.gate, 1e4);
+  filter_.inflate(first, n, beta);
+  ++inflations_;
+  push(imu_stamp_, EventKind::inflated, s, beta);
+  return fuse(model, z, t_v);
 }
 
 bool Estimator::add_mag(const msg::Mag& m) {
@@ -279,8 +370,9 @@ bool Estimator::add_mag(const msg::Mag& m) {
   }
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   const double psi_mag = MagHeading::heading_from_field(m.field, e.x(), e.y(), cfg_.mag_declination);
-  const UpdateResult r = cfg_.mag_heading_only ? filter_.update(mag_heading_, MagHeading::Vec(psi_mag))
-                                               : filter_.update(mag_, Magnetometer::Vec(m.field / n));
+  const Nanos t_v = valid_at(Sensor::mag, m.stamp);
+  const UpdateResult r = cfg_.mag_heading_only ? fuse(mag_heading_, MagHeading::Vec(psi_mag), t_v)
+                                               : fuse(mag_, Magnetometer::Vec(m.field / n), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
   // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
   // after mag_reset_time, trust the magnetometer again.
@@ -341,7 +433,8 @@ bool Estimator::add_baro(const msg::Baro& m) {
     }
     return true;
   }
-  if (initialized_) filter_.update(baro_, BaroAltitude::Vec(h - baro_offset_));
+  if (initialized_)
+    fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
   return true;
 }
 
@@ -353,15 +446,16 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     last_diff_stamp_ = m.stamp;
     return true;
   }
-  filter_.update(pitot_, DiffPressure::Vec(m.pressure));
+  const Nanos t_v = valid_at(Sensor::diff_pressure, m.stamp);
+  fuse(pitot_, DiffPressure::Vec(m.pressure), t_v);
   if (m.pressure >= 0.5 * cfg_.rho * cfg_.min_airspeed * cfg_.min_airspeed) {
     last_Va_ = std::sqrt(2.0 * m.pressure / cfg_.rho);
     last_Va_stamp_ = m.stamp;
   }
   if (side_force_.k != 0.0 && side_force_n_ > 0) {
-    filter_.update(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_));
+    fuse(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_), t_v);
   } else if (cfg_.use_sideslip) {
-    filter_.update(sideslip_, ZeroSideslip::Vec(0.0));
+    fuse(sideslip_, ZeroSideslip::Vec(0.0), t_v);
   }
   side_force_sum_ = 0.0;
   side_force_n_ = 0;
@@ -378,6 +472,10 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
                   m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
   const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
+  // The receiver's epoch when the driver gives it (sim_aero does; over ROSflight's link it is
+  // the stamp), minus the configured delay.
+  const Nanos epoch = m.time_of_validity > 0 && m.time_of_validity <= m.stamp ? m.time_of_validity : m.stamp;
+  const Nanos t_v = valid_at(Sensor::gnss, epoch);
   const Vec3 p_before = filter_.x().p;
   if (!origin_) {
     origin_.emplace(m.lat, m.lon, m.alt);
@@ -389,49 +487,69 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   }
   const Vec3 p = ned_from_geodetic(m.lat, m.lon, m.alt);
   if (!initialized_) {
-    try_initialize(m, p);
+    try_initialize(m, p, t_v);
     prev_fix_vel_ = m.vel;
     prev_fix_stamp_ = m.stamp;
     fix_accel_sum_.setZero();
     fix_accel_n_ = 0;
     return true;
   }
-  const UpdateResult r = filter_.update(gnss_pos_, p);
+  const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, idx::p, 3);
+  if (r == UpdateResult::invalid && history_.full()) {
+    push(m.stamp, EventKind::too_old, Sensor::gnss, to_seconds(imu_stamp_ - t_v));
+  }
   if (r == UpdateResult::rejected) {
-    if (gnss_reject_since_ < 0) {
-      gnss_reject_since_ = m.stamp;
-    } else if (to_seconds(m.stamp - gnss_reject_since_) > cfg_.gnss_reset_time) {
-      // The GNSS has disagreed for too long: trust it again (reset position and velocity).
-      NominalState& x = filter_.mutable_x();
-      const double innovation = (p - x.p).norm();
-      x.p = p;
-      x.v = m.vel;
-      x.e_gnss.setZero();
-      Cov& P = filter_.mutable_P();
-      P.middleRows<6>(idx::p).setZero();
-      P.middleCols<6>(idx::p).setZero();
-      P.middleRows<3>(idx::eg).setZero();
-      P.middleCols<3>(idx::eg).setZero();
-      const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
-      P.diagonal().segment<3>(idx::p) << sh * sh, sh * sh, sv * sv;
-      P.diagonal().segment<3>(idx::v) << 1.0, 1.0, 1.0;
-      P.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
-      gnss_pos_.stats.consecutive_rejected = 0;
-      gnss_reject_since_ = -1;
-      ++gnss_resets_;
+    if (gnss_reject_since_ < 0) gnss_reject_since_ = m.stamp;
+    const double innovation = (p - gnss_pos_.h(filter_.x())).norm();
+    if (to_seconds(m.stamp - gnss_reject_since_) > cfg_.gnss_reset_time && gnss_reset_allowed(m.stamp, innovation)) {
+      reset_to_gnss(m.stamp, p, m.vel, t_v);
       push(m.stamp, EventKind::gnss_reset, Sensor::gnss, innovation);
       return true;
     }
   } else if (r == UpdateResult::accepted) {
     gnss_reject_since_ = -1;
   }
-  filter_.update(gnss_vel_, m.vel);
+  fuse_robust(Sensor::gnss, gnss_vel_, m.vel, t_v, idx::v, 3);
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
 }
 
-void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
+bool Estimator::gnss_reset_allowed(Nanos stamp, double innovation) const {
+  // At most one reset per reset_min_interval: a second one soon after means the filter and the
+  // receiver disagree for a reason a reset does not cure (latency, a lever arm, a multipath
+  // episode), and covariance inflation has to carry it. A position lost by more than
+  // gnss_fault_distance is reset at once.
+  return last_gnss_reset_ < 0 || to_seconds(stamp - last_gnss_reset_) >= cfg_.reset_min_interval ||
+         innovation > cfg_.gnss_fault_distance;
+}
+
+void Estimator::reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v) {
+  // The fix, valid at t_v, carried to now; applied as a correction so that the history's
+  // delayed updates see it (Filter::inject adds it to the correction sum).
+  const NominalState& x = filter_.x();
+  ErrVec dx = ErrVec::Zero();
+  dx.segment<3>(idx::p) = p - x.q * cfg_.gnss_antenna + vel * to_seconds(imu_stamp_ - t_v) - x.p;
+  dx.segment<3>(idx::v) = vel - x.v;
+  dx.segment<3>(idx::eg) = -x.e_gnss;
+  filter_.inject(dx);
+  Cov& P = filter_.mutable_P();
+  P.middleRows<6>(idx::p).setZero();
+  P.middleCols<6>(idx::p).setZero();
+  P.middleRows<3>(idx::eg).setZero();
+  P.middleCols<3>(idx::eg).setZero();
+  const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
+  const double e2 = cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma;
+  P.diagonal().segment<3>(idx::p) << sh * sh + e2, sh * sh + e2, sv * sv + e2;
+  P.diagonal().segment<3>(idx::v) << 1.0, 1.0, 1.0;
+  P.diagonal().segment<3>(idx::eg).setConstant(e2);
+  gnss_pos_.stats.consecutive_rejected = 0;
+  gnss_reject_since_ = -1;
+  last_gnss_reset_ = stamp;
+  ++gnss_resets_;
+}
+
+void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v) {
   if (imu_samples_ < cfg_.init_min_imu_samples) return;
   const bool have_mag = mag_samples_ > 0;
   if (!have_mag && expect_mag_ && to_seconds(m.stamp - origin_stamp_) < cfg_.mag_init_wait) return;
@@ -467,7 +585,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   }
   const bool at_rest = m.vel.norm() < 0.5 &&
                        std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && gyro_avg_.norm() < 0.5;
-  x.p = p_ned;
+  x.p = p_ned - x.q * cfg_.gnss_antenna + m.vel * to_seconds(std::max<Nanos>(imu_stamp_ - t_v, 0));
   x.v = m.vel;
   x.b_g = at_rest ? gyro_avg_ : Vec3::Zero();
 
@@ -500,6 +618,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned) {
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
   P0.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
   filter_.initialize(x, P0);
+  history_.clear();
   initialized_ = true;
   init_stamp_ = m.stamp;
   mag_reject_since_ = -1;
@@ -521,7 +640,8 @@ void Estimator::fill_state(msg::State& s) const {
   s.origin_lon = origin_lon_;
   s.origin_alt = origin_alt_;
   s.origin_valid = origin_.has_value();
-  s.valid = initialized_;
+  s.status = status(&s.degraded_sensors);
+  s.valid = s.status != msg::StateStatus::invalid;
   s.p_n = x.p.x() + output_offset_.x();
   s.p_e = x.p.y() + output_offset_.y();
   s.p_d = x.p.z() + output_offset_.z();

@@ -1,13 +1,18 @@
 // estimator_ekf plugin class (header so that tests can instantiate it): binds tern::ekf::Estimator to ports and parameters.
 //
-// Inputs: imu (required; the trigger: `trigger: imu`), gnss, baro, diff_pressure, mag (optional).
-// Output: state (msg::State), every output_decimation-th IMU sample.
+// Inputs: imu (required), gnss, baro, diff_pressure, mag, actuators (optional).
+// Outputs: state (msg::State), every output_decimation-th IMU sample, and on every step while the
+// IMU is silent (status invalid); innovations (msg::Innovations) every innovations_period.
+// Schedule it with `rate:` at the IMU's rate rather than `trigger: imu`: only a plugin stepped
+// by the clock notices that the IMU went silent.
 // Every figure of EstimatorConfig is a parameter (table below); changes apply from the next step.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
@@ -162,6 +167,27 @@ inline const RealParam kReal[] = {
     {"diff_pressure_timeout", "s", 1e-3, 60.0, "differential-pressure silence reported as a time-out",
      TERN_EKF_FIELD(timeout[3])},
     {"mag_timeout", "s", 1e-3, 60.0, "magnetometer silence reported as a time-out", TERN_EKF_FIELD(timeout[4])},
+    {"gnss_delay", "s", 0.0, 0.5,
+     "GNSS delay subtracted from each fix's time of validity (0 when the driver gives the receiver's epoch, as "
+     "sim_aero does; over ROSflight's link the receiver's output latency, ~0.1 s for a u-blox M8N at 10 Hz)",
+     TERN_EKF_FIELD(delay[1])},
+    {"baro_delay", "s", 0.0, 0.5, "barometer sample delay (its filter's group delay)", TERN_EKF_FIELD(delay[2])},
+    {"diff_pressure_delay", "s", 0.0, 0.5, "differential-pressure sample delay (tubing and filter)",
+     TERN_EKF_FIELD(delay[3])},
+    {"mag_delay", "s", 0.0, 0.5, "magnetometer sample delay", TERN_EKF_FIELD(delay[4])},
+    {"reset_min_interval", "s", 0.0, 3600.0,
+     "at most one GNSS reset per this long (covariance inflation carries the rest)",
+     TERN_EKF_FIELD(reset_min_interval)},
+    {"gnss_fault_distance", "m", 1.0, 1e6,
+     "a GNSS innovation beyond this resets the position regardless of reset_min_interval",
+     TERN_EKF_FIELD(gnss_fault_distance)},
+    {"imu_reinit_gap", "s", 0.05, 60.0,
+     "IMU silence after which the attitude counts as lost and the filter re-initialises in flight",
+     TERN_EKF_FIELD(imu_reinit_gap)},
+    {"max_position_sigma", "m", 1.0, 1e6, "horizontal position 1 sigma beyond which the state is invalid",
+     TERN_EKF_FIELD(max_position_sigma)},
+    {"max_tilt_sigma", "rad", 0.01, 3.2, "roll/pitch 1 sigma beyond which the state is invalid",
+     TERN_EKF_FIELD(max_tilt_sigma)},
 };
 #undef TERN_EKF_FIELD
 constexpr std::size_t kRealCount = sizeof(kReal) / sizeof(kReal[0]);
@@ -178,7 +204,9 @@ class EstimatorEkf final : public tern::Plugin {
     declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
     declare(actuators_, "actuators", "surface deflections for the side-force model (delta_a, delta_r)",
             Need::optional);
-    declare(state_, "state", "the estimate (valid once initialised)");
+    declare(state_, "state", "the estimate; status: ok, degraded (which sensor) or invalid");
+    declare(innovations_, "innovations",
+            "largest innovation test ratio (NIS / gate) of each measurement over innovations_period");
 
     const EstimatorConfig def;
     EstimatorConfig scratch = def;
@@ -199,6 +227,18 @@ class EstimatorEkf final : public tern::Plugin {
             tern::ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
     declare(decimation_, "output_decimation", std::int64_t{1},
             tern::ParamSpec("", 1, 1000, "publish state every n-th IMU sample"));
+    declare(inflate_after_, "inflate_after", std::int64_t{def.inflate_after},
+            tern::ParamSpec("", 1, 1000,
+                            "consecutive GNSS or baro rejections after which the covariance of the states "
+                            "they measure is inflated (instead of a reset)"));
+    declare(innovations_period_, "innovations_period", 0.1,
+            tern::ParamSpec("s", 0.0025, 10.0, "period of the innovations output"));
+    declare_vector(gnss_antenna_, "gnss_antenna_position", def.gnss_antenna, "m",
+                   "GNSS antenna position from the CG, body FRD (x forward, y right, z down), measured on the aircraft");
+    declare_vector(imu_position_, "imu_position", def.imu_position, "m",
+                   "IMU position from the CG, body FRD, measured on the aircraft");
+    declare_vector(imu_mount_, "imu_mount", def.imu_mount, "rad",
+                   "IMU axes relative to the body axes: roll, pitch, yaw (3-2-1); v_body = R(imu_mount) v_imu");
     declare(mag_heading_only_, "mag_heading_only", def.mag_heading_only,
             tern::ParamSpec("", 0, 1,
                             "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
@@ -213,8 +253,17 @@ class EstimatorEkf final : public tern::Plugin {
     min_fix_type_.on_change([this](const std::int64_t&) { dirty_ = true; });
     baro_cal_count_.on_change([this](const std::int64_t&) { dirty_ = true; });
     init_min_imu_.on_change([this](const std::int64_t&) { dirty_ = true; });
+    inflate_after_.on_change([this](const std::int64_t&) { dirty_ = true; });
     use_sideslip_.on_change([this](const bool&) { dirty_ = true; });
     estimator_.set_config(make_config());
+  }
+
+  /// Declares a 3-vector parameter with its default from the config.
+  void declare_vector(tern::Param<std::vector<double>>& p, const char* name, const tern::ekf::Vec3& def,
+                      const char* unit, const char* description) {
+    declare(p, name, std::vector<double>{def.x(), def.y(), def.z()},
+            tern::ParamSpec(unit, -10.0, 10.0, description).of_size(3));
+    p.on_change([this](const std::vector<double>&) { dirty_ = true; });
   }
 
   void start() override {
@@ -235,7 +284,8 @@ class EstimatorEkf final : public tern::Plugin {
     if (diff_.updated()) estimator_.add_diff_pressure(*diff_);
     if (mag_.updated()) estimator_.add_mag(*mag_);
     if (actuators_.updated()) estimator_.set_controls(actuators_->delta_a, actuators_->delta_r);
-    estimator_.check_timeouts(imu_.has_value() ? imu_->stamp : now);
+    // On the host's clock: with `rate:` scheduling a silent IMU times out here.
+    estimator_.check_timeouts(now);
     if (estimator_.has_events()) {
       for (const auto& e : estimator_.take_events()) {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
@@ -246,18 +296,26 @@ class EstimatorEkf final : public tern::Plugin {
           log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
       }
     }
-    if (imu_new && (ticks_++ % decimation_()) == 0) {
+    const bool imu_silent = estimator_.counters(tern::ekf::Sensor::imu).timed_out;
+    if ((imu_new || imu_silent) && (ticks_++ % decimation_()) == 0) {
       estimator_.fill_state(out_);
+      if (imu_silent) out_.stamp = now;  // the invalid state is news of now
       const auto& P = estimator_.filter().P();
       static_assert(tern::ekf::kErrDim <= static_cast<int>(std::tuple_size_v<decltype(out_.P_diag)>));
       for (int i = 0; i < tern::ekf::kErrDim; ++i) out_.P_diag[static_cast<std::size_t>(i)] = P(i, i);
       state_.publish(out_);
+    }
+    if (now - last_innovations_ >= tern::from_seconds(innovations_period_())) {
+      innovations_out_ = estimator_.take_innovations(now);
+      innovations_.publish(innovations_out_);
+      last_innovations_ = now;
     }
   }
 
   void reset() override {
     estimator_.reset();
     ticks_ = 0;
+    last_innovations_ = std::numeric_limits<tern::Nanos>::min() / 2;
   }
 
   std::vector<std::pair<std::string, double>> summary() const override {
@@ -274,6 +332,7 @@ class EstimatorEkf final : public tern::Plugin {
     const auto rej = [&](const char* name, const tern::ekf::UpdateStats& st) {
       s.emplace_back(std::string(name) + "_accepted", static_cast<double>(st.accepted));
       s.emplace_back(std::string(name) + "_rejected", static_cast<double>(st.rejected));
+      if (st.nis_count > 0) s.emplace_back(std::string(name) + "_mean_nis", st.mean_nis());
     };
     rej("gnss_pos", estimator_.gnss_position_model().stats);
     rej("gnss_vel", estimator_.gnss_velocity_model().stats);
@@ -286,6 +345,7 @@ class EstimatorEkf final : public tern::Plugin {
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
+    s.emplace_back("inflations", static_cast<double>(estimator_.inflations()));
     return s;
   }
 
@@ -338,6 +398,11 @@ class EstimatorEkf final : public tern::Plugin {
     c.use_sideslip = use_sideslip_();
     c.use_side_force = use_side_force_();
     c.mag_heading_only = mag_heading_only_();
+    c.inflate_after = static_cast<int>(inflate_after_());
+    const auto vec3 = [](const std::vector<double>& v) { return tern::ekf::Vec3(v[0], v[1], v[2]); };
+    c.gnss_antenna = vec3(gnss_antenna_());
+    c.imu_position = vec3(imu_position_());
+    c.imu_mount = vec3(imu_mount_());
     return c;
   }
 
@@ -348,11 +413,16 @@ class EstimatorEkf final : public tern::Plugin {
   tern::Input<tern::msg::Mag> mag_;
   tern::Input<tern::msg::Actuators> actuators_;
   tern::Output<tern::msg::State> state_;
+  tern::Output<tern::msg::Innovations> innovations_;
   std::array<tern::Param<double>, kRealCount> reals_;
-  tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_;
+  tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_, inflate_after_;
+  tern::Param<double> innovations_period_;
+  tern::Param<std::vector<double>> gnss_antenna_, imu_position_, imu_mount_;
   tern::Param<bool> use_sideslip_, use_side_force_, mag_heading_only_;
   tern::ekf::Estimator estimator_;
   tern::msg::State out_;
+  tern::msg::Innovations innovations_out_;
+  tern::Nanos last_innovations_ = std::numeric_limits<tern::Nanos>::min() / 2;
   std::uint64_t ticks_ = 0;
   bool dirty_ = false;
 };

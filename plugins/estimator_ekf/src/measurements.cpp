@@ -3,9 +3,10 @@
 
 namespace tern::ekf {
 
-GnssPosition::Jac GnssPosition::jacobian(const NominalState& /*x*/) const {
+GnssPosition::Jac GnssPosition::jacobian(const NominalState& x) const {
   Jac H = Jac::Zero();
   H.block<3, 3>(0, idx::p).setIdentity();
+  H.block<3, 3>(0, idx::th) = -x.R() * tern::skew(antenna);
   H.block<3, 3>(0, idx::eg).setIdentity();
   return H;
 }
@@ -15,9 +16,12 @@ GnssPosition::Noise GnssPosition::noise(const NominalState& /*x*/) const {
   return Eigen::Vector3d(sh * sh, sh * sh, sv * sv).asDiagonal();
 }
 
-GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& /*x*/) const {
+GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& x) const {
+  const Mat3 R = x.R();
   Jac H = Jac::Zero();
   H.block<3, 3>(0, idx::v).setIdentity();
+  H.block<3, 3>(0, idx::th) = -R * tern::skew((gyro - x.b_g).cross(antenna));
+  H.block<3, 3>(0, idx::bg) = R * tern::skew(antenna);
   return H;
 }
 

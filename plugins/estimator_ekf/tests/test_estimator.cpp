@@ -270,7 +270,7 @@ TEST_CASE("sensor time-outs are detected and recoveries reported") {
   CHECK(recoveries == 1);
 }
 
-TEST_CASE("a GNSS that stays offset is trusted again after gnss_reset_time") {
+TEST_CASE("a GNSS that jumps and stays is followed after covariance inflation, without a reset") {
   Converged c;
   Hooks h;
   const Nanos t0 = c.sim.now() + from_seconds(1.0);
@@ -279,11 +279,37 @@ TEST_CASE("a GNSS that stays offset is trusted again after gnss_reset_time") {
     return true;
   };
   fly(c.sim, c.est, 10.0, h);
-  CHECK(c.est.gnss_resets() == 1);
-  // Now following the shifted GNSS.
+  CHECK(c.est.gnss_resets() == 0);
+  CHECK(c.est.inflations() >= 1);
   const Vec3 err = c.est.filter().x().p - truth_position(c.sim.truth(), c.est, c.sim);
   CHECK(err.y() == doctest::Approx(60.0).epsilon(0.05));
   CHECK(c.est.filter().healthy());
+}
+
+TEST_CASE("without inflation, at most one GNSS reset per reset_min_interval") {
+  Converged c;
+  EstimatorConfig cfg = c.est.config();
+  cfg.inflate_after = 1'000'000;  // never inflate: only resets can follow the GNSS
+  c.est.set_config(cfg);
+  Hooks h;
+  const Nanos t0 = c.sim.now() + from_seconds(1.0);
+  double shift_m = 0.0;
+  h.gnss = [&](msg::Gnss& g) {
+    if (c.sim.now() >= t0) shift_m = c.sim.now() >= t0 + from_seconds(10.0) ? 120.0 : 60.0;
+    g.lon += shift_m / 85'000.0;
+    return true;
+  };
+  fly(c.sim, c.est, 10.0, h);
+  CHECK(c.est.gnss_resets() == 1);  // the first jump, after gnss_reset_time
+  const Vec3 err = c.est.filter().x().p - truth_position(c.sim.truth(), c.est, c.sim);
+  CHECK(err.y() == doctest::Approx(60.0).epsilon(0.05));
+  fly(c.sim, c.est, 15.0, h);  // the second jump (60 m more, below gnss_fault_distance): no reset
+  CHECK(c.est.gnss_resets() == 1);
+  // A position lost by more than gnss_fault_distance is reset at once.
+  cfg.gnss_fault_distance = 30.0;
+  c.est.set_config(cfg);
+  fly(c.sim, c.est, 6.0, h);
+  CHECK(c.est.gnss_resets() == 2);
 }
 
 TEST_CASE("initialisation waits for a 3-D fix; the origin is that fix") {

@@ -70,6 +70,17 @@ TEST_CASE("measurement Jacobians match finite differences") {
   const NominalState x = sample_state();
   SUBCASE("gnss position") { check_jacobian(GnssPosition{}, x); }
   SUBCASE("gnss velocity") { check_jacobian(GnssVelocity{}, x); }
+  SUBCASE("gnss position, antenna lever arm") {
+    GnssPosition m;
+    m.antenna = Vec3(-0.3, 0.1, -0.2);
+    check_jacobian(m, x);
+  }
+  SUBCASE("gnss velocity, antenna lever arm in a turn") {
+    GnssVelocity m;
+    m.antenna = Vec3(-0.3, 0.1, -0.2);
+    m.gyro = Vec3(0.4, -0.3, 0.9);
+    check_jacobian(m, x);
+  }
   SUBCASE("magnetometer") { check_jacobian(Magnetometer{}, x); }
   SUBCASE("barometer") { check_jacobian(BaroAltitude{}, x); }
   SUBCASE("magnetic heading") { check_jacobian(MagHeading{}, x); }
@@ -188,4 +199,60 @@ TEST_CASE("pitot and sideslip apply only above the minimum airspeed") {
   x.v = x.wind_ned() + Vec3(1.0, 1.0, 0.0);  // 1.4 m/s airspeed
   f.initialize(x, Cov::Identity() * 0.01);
   CHECK(f.update(beta, ZeroSideslip::Vec(0.0)) == UpdateResult::skipped);
+}
+
+TEST_CASE("a delayed update with the state of its time equals the update made then") {
+  // A GNSS position valid at t0 fused at t0 (then 25 ms of propagation and a barometer
+  // update), or fused at t1 = t0 + 25 ms with the state of t0 and the corrections since:
+  // the same estimate at t1. Taken as current instead, the fix pulls the position back by the
+  // 0.4 m flown in those 25 ms.
+  const ProcessNoise noise;
+  ErrVec var;  // a converged filter's variances: little correlation yet
+  var << 4, 4, 9, 0.04, 0.04, 0.04, 1e-4, 1e-4, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1, 1, 1, 2, 2, 4;
+  const NominalState x0 = sample_state();
+  const GnssPosition::Vec z = x0.p + x0.e_gnss + Vec3(3.0, -2.0, 1.0);
+  const Vec3 accel(0.3, -0.1, -9.7), gyro(0.02, 0.05, -0.1);
+  const auto propagate_and_baro = [&](Filter& f) {
+    for (int i = 0; i < 10; ++i) f.propagate(accel, gyro, 0.0025, noise, 9.81);
+    BaroAltitude baro;
+    baro.gate = 0.0;
+    baro.sigma = 2.0;
+    f.update(baro, BaroAltitude::Vec(-x0.p.z() + 0.5));
+  };
+  GnssPosition gnss;
+  gnss.gate = 0.0;
+
+  Filter at_t0;
+  at_t0.initialize(x0, Cov(var.asDiagonal()));
+  REQUIRE(at_t0.update(gnss, z) == UpdateResult::accepted);
+  propagate_and_baro(at_t0);
+
+  Filter delayed;
+  delayed.initialize(x0, Cov(var.asDiagonal()));
+  const NominalState x_then = delayed.x();
+  const ErrVec sum_then = delayed.correction_sum();
+  propagate_and_baro(delayed);
+  Filter naive = delayed;
+  const ErrVec since = delayed.correction_sum() - sum_then;
+  REQUIRE(delayed.update(gnss, z, &x_then, &since) == UpdateResult::accepted);
+  naive.update(gnss, z);
+
+  const double err_delayed = (delayed.x().p - at_t0.x().p).norm();
+  const double err_naive = (naive.x().p - at_t0.x().p).norm();
+  CHECK(err_delayed < 0.02);
+  CHECK(err_naive > 0.2);
+  CHECK((delayed.x().v - at_t0.x().v).norm() < 0.01);
+}
+
+TEST_CASE("covariance inflation scales variances and keeps correlations") {
+  Filter f;
+  f.initialize(sample_state(), random_spd(5));
+  const Cov P0 = f.P();
+  f.inflate(idx::p, 3, 4.0);
+  CHECK(f.P()(idx::p, idx::p) == doctest::Approx(4.0 * P0(idx::p, idx::p)));
+  CHECK(f.P()(idx::p + 1, idx::p) == doctest::Approx(4.0 * P0(idx::p + 1, idx::p)));
+  CHECK(f.P()(idx::p, idx::v) == doctest::Approx(2.0 * P0(idx::p, idx::v)));
+  CHECK(f.P()(idx::v, idx::v) == doctest::Approx(P0(idx::v, idx::v)));
+  const Eigen::LLT<Cov> llt(f.P());
+  CHECK(llt.info() == Eigen::Success);
 }

@@ -2,6 +2,7 @@
 #pragma once
 
 #include "tern/msg/control.hpp"
+#include "tern/msg/estimator.hpp"
 #include "tern/msg/mission.hpp"
 #include "tern/msg/path.hpp"
 #include "tern/msg/phase.hpp"
@@ -14,4 +15,5 @@
   X(::tern::msg::Mag) X(::tern::msg::Rc) X(::tern::msg::FcuStatus) X(::tern::msg::State)     \
   X(::tern::msg::ControllerCommand) X(::tern::msg::ControllerInternals)                      \
   X(::tern::msg::Actuators) X(::tern::msg::Waypoint) X(::tern::msg::WaypointList)            \
-  X(::tern::msg::CurrentPath) X(::tern::msg::FlightPhase) X(::tern::msg::MissionEdit)
+  X(::tern::msg::CurrentPath) X(::tern::msg::FlightPhase) X(::tern::msg::MissionEdit)  \
+  X(::tern::msg::Innovations)

@@ -14,6 +14,19 @@
 
 namespace tern::msg {
 
+/// How far the estimate can be trusted (estimator_ekf; the simulator's truth is always ok).
+enum class StateStatus : std::uint8_t {
+  invalid = 0,   ///< not initialised, or attitude/position lost (e.g. IMU silent): do not fly on it
+  ok = 1,        ///< every expected sensor is fused
+  degraded = 2   ///< usable, but a sensor is missing (degraded_sensors says which): e.g. dead
+                 ///< reckoning without GNSS, covariance growing
+};
+
+/// Bits of State::degraded_sensors.
+namespace sensor_bit {
+inline constexpr std::uint8_t imu = 1, gnss = 2, baro = 4, diff_pressure = 8, mag = 16;
+}
+
 struct State {
   static constexpr std::string_view type_name = "tern/State";
   Nanos stamp = 0;
@@ -36,6 +49,10 @@ struct State {
   double origin_alt = 0.0;                  ///< origin altitude (MSL), m
   bool origin_valid = false;                ///< the origin is set (after the first 3-D GNSS fix)
   bool valid = false;                       ///< the estimate is initialised and usable
+                                            ///< (status ok or degraded)
+  StateStatus status = StateStatus::invalid;
+  std::uint8_t degraded_sensors = 0;        ///< sensor_bit flags of the sensors timed out or
+                                            ///< persistently rejected (0 when status is ok)
   /// Diagonal of the estimator's error-state covariance (zeros when the publisher has none, e.g.
   /// truth). Layout of estimator_ekf: position NED (3, m^2), velocity NED (3, (m/s)^2), attitude
   /// error (3, rad^2), gyro bias (3, (rad/s)^2), accelerometer bias (3, (m/s^2)^2), wind north,
@@ -79,6 +96,8 @@ struct State {
     x(&State::origin_alt, "origin_alt", "m");
     x(&State::origin_valid, "origin_valid", "bool");
     x(&State::valid, "valid", "bool");
+    x(&State::status, "status", "enum");
+    x(&State::degraded_sensors, "degraded_sensors", "bits");
     x(&State::P_diag, "P_diag", "");
   }
 };

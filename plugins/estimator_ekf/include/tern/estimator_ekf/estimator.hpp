@@ -43,7 +43,9 @@
 #include <GeographicLib/LocalCartesian.hpp>
 
 #include "tern/estimator_ekf/filter.hpp"
+#include "tern/estimator_ekf/history.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
+#include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
 #include "tern/msg/state.hpp"
 
@@ -60,6 +62,13 @@ struct EstimatorConfig {
   double gravity = 9.81;  ///< m/s^2
   double rho = 1.225;     ///< air density for the pitot, kg/m^3
   ProcessNoise process;   ///< IMU noise and random walks (filter.hpp)
+
+  // geometry, measured on the aircraft (body FRD)
+  Vec3 gnss_antenna = Vec3::Zero();   ///< GNSS antenna position from the CG, m
+  Vec3 imu_position = Vec3::Zero();   ///< IMU position from the CG, m (accel compensated for
+                                      ///< omega_dot x r + omega x (omega x r))
+  Vec3 imu_mount = Vec3::Zero();      ///< IMU axes relative to the body axes: roll, pitch, yaw
+                                      ///< (3-2-1), rad; v_body = R(imu_mount) v_imu
 
   // GNSS
   int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
@@ -127,7 +136,19 @@ struct EstimatorConfig {
   double accel_max = 160.0;               ///< m/s^2 per axis (16 g)
   double gyro_max = 35.0;                 ///< rad/s per axis (2000 deg/s)
   double imu_max_dt = 0.05;               ///< s, longer IMU gaps are counted and clamped
-  std::array<double, kSensorCount> timeout{0.1, 1.0, 0.5, 0.5, 0.5};  ///< s, per Sensor
+  std::array<double, kSensorCount> timeout{0.02, 1.0, 0.5, 0.5, 0.5};  ///< s, per Sensor
+  /// s, per Sensor: how long before its stamp a sample was valid (IMU: unused). The GNSS's
+  /// time_of_validity, when the driver gives one, already says it: this is subtracted from it.
+  std::array<double, kSensorCount> delay{0.0, 0.0, 0.0, 0.0, 0.0};
+  // robust gating and health
+  int inflate_after = 3;              ///< consecutive gate rejections of GNSS or baro after which
+                                      ///< the covariance of the states they measure is inflated
+  double reset_min_interval = 60.0;   ///< s: at most one GNSS reset per this long...
+  double gnss_fault_distance = 100.0; ///< ...unless the innovation exceeds this, m (a lost position)
+  double imu_reinit_gap = 0.5;        ///< s: after an IMU silence this long the attitude is lost:
+                                      ///< re-initialise in flight (GNSS velocity and magnetometer)
+  double max_position_sigma = 100.0;  ///< m: horizontal 1 sigma beyond which the state is invalid
+  double max_tilt_sigma = 0.35;       ///< rad: roll/pitch 1 sigma beyond which the state is invalid
 };
 
 /// Counters of one sensor.
@@ -141,10 +162,11 @@ struct SensorCounters {
 
 enum class EventKind : std::uint8_t {
   origin_set, initialized, baro_calibrated, sensor_timeout, sensor_recovered, gnss_reset,
-  imu_gap, filter_reset, first_invalid, mag_reset
+  imu_gap, filter_reset, first_invalid, mag_reset, inflated, imu_lost, too_old
 };
 
-/// Something worth a log line. `value`: the gap for imu_gap, the innovation norm for gnss_reset.
+/// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
+/// for gnss_reset, the variance factor for inflated, the age (s) for too_old.
 struct Event {
   Nanos stamp = 0;
   EventKind kind = EventKind::initialized;
@@ -177,12 +199,20 @@ class Estimator {
     side_force_.delta_a = delta_a;
     side_force_.delta_r = delta_r;
   }
-  /// Raises time-out events for sensors silent for longer than their time-out at `now`.
+  /// Raises time-out events for sensors silent for longer than their time-out at `now`. Call it
+  /// on a clock, not on IMU samples: a silent IMU is noticed only this way.
   void check_timeouts(Nanos now);
+  /// Health of the estimate (health.cpp): invalid before initialisation, when the IMU timed out
+  /// or the covariance says the tilt or position is lost; degraded when an expected sensor timed
+  /// out or its measurements keep being rejected (bits: msg::sensor_bit).
+  msg::StateStatus status(std::uint8_t* degraded_sensors = nullptr) const;
+  /// The largest test ratio (NIS / gate) of each measurement since the last call.
+  msg::Innovations take_innovations(Nanos stamp);
 
   bool initialized() const { return initialized_; }
   bool origin_valid() const { return origin_.has_value(); }
-  /// The estimate as a message (valid = initialised). stamp: that of the last IMU sample.
+  /// The estimate as a message (valid = status() is ok or degraded). stamp: that of the last
+  /// IMU sample.
   msg::State state() const;
   /// The same into an existing message (allocation free).
   void fill_state(msg::State& s) const;
@@ -198,6 +228,7 @@ class Estimator {
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
   const SideForce& side_force_model() const { return side_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
+  std::uint64_t inflations() const { return inflations_; }
   std::uint64_t mag_resets() const { return mag_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
 
@@ -228,8 +259,22 @@ class Estimator {
  private:
   bool accept(Sensor s, Nanos stamp, bool ok);
   void push(Nanos stamp, EventKind kind, Sensor s, double value = 0.0);
-  void try_initialize(const msg::Gnss& m, const Vec3& p_ned);
+  void try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_valid);
   void apply_models_config();
+  void lose_attitude(Nanos stamp, double gap);
+  Vec3 imu_to_cg(const Vec3& accel_body, const Vec3& gyro_body, double dt);
+  /// Time of validity of a sample of sensor s stamped `stamp` (stamp - delay).
+  Nanos valid_at(Sensor s, Nanos stamp) const;
+  /// Filter::update at the time of validity t_v: with the history's state when t_v is more than
+  /// half an IMU interval in the past (invalid, counted as too old, beyond the history).
+  template <class Model>
+  UpdateResult fuse(Model& model, const typename Model::Vec& z, Nanos t_v);
+  /// fuse() that, after inflate_after consecutive rejections, inflates the covariance of the
+  /// states [first, first + n) by the NIS over the gate and fuses again.
+  template <class Model>
+  UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
+  bool gnss_reset_allowed(Nanos stamp, double innovation) const;
+  void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
 
   EstimatorConfig cfg_;
   Filter filter_;
@@ -268,7 +313,13 @@ class Estimator {
   double last_diff_pressure_ = 0.0;  // last valid differential pressure before initialisation
   Nanos last_diff_stamp_ = -1;
   Nanos imu_stamp_ = -1;
-  Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro
+  Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro, body
+  Vec3 gyro_body_ = Vec3::Zero();  // last measured gyro in body axes (bias not removed)
+  Vec3 omega_dot_ = Vec3::Zero();  // low-passed angular acceleration, body, rad/s^2
+  Mat3 R_bi_ = Mat3::Identity();   // IMU axes -> body axes (cfg_.imu_mount)
+  StateHistory history_;
+  std::uint64_t inflations_ = 0;
+  Nanos last_gnss_reset_ = -1;
   Nanos gnss_reject_since_ = -1;
   Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)
   std::uint64_t gnss_resets_ = 0, filter_resets_ = 0, mag_resets_ = 0;

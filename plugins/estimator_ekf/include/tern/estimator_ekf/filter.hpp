@@ -48,8 +48,10 @@
 // the process noise is > 0 (checked by healthy()).
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -159,6 +161,16 @@ struct UpdateStats {
   std::uint64_t invalid = 0;
   std::uint64_t consecutive_rejected = 0;  ///< rejections since the last accepted update
   double last_nis = 0.0;  ///< normalised innovation squared of the last gated update
+  double nis_sum = 0.0;   ///< sum of the NIS of every gated update (accepted or rejected)...
+  std::uint64_t nis_count = 0;  ///< ...and their number: mean NIS = nis_sum / nis_count
+  double max_ratio = -1.0;  ///< largest NIS / gate since take_max_ratio() (-1: none)
+  double mean_nis() const { return nis_count > 0 ? nis_sum / static_cast<double>(nis_count) : 0.0; }
+  /// The largest test ratio since the last call, NaN when there was no gated update.
+  double take_max_ratio() {
+    const double r = max_ratio < 0.0 ? std::numeric_limits<double>::quiet_NaN() : max_ratio;
+    max_ratio = -1.0;
+    return r;
+  }
 };
 
 /// The filter: nominal state, 18x18 covariance, propagation and the generic update.
@@ -187,11 +199,35 @@ class Filter {
 
   /// Generic measurement update with a model (measurements.hpp describes the interface):
   /// residual z - h(x), Jacobian H, noise R, chi-square gate model.gate (<= 0: no gate).
+  /// Delayed measurement (valid at an earlier time t_v): x_then is the state at t_v and
+  /// corrected_since the sum of the corrections applied since (correction_sum() then and now);
+  /// the residual is z - h(x_then) - H corrected_since, i.e. the innovation of x(t_v) as it
+  /// would be with today's knowledge, and the correction is applied to the current state with
+  /// the current covariance (the error state changes little over a fusion delay of a few tenths
+  /// of a second; Sola 2017 sec. 7 for the error-state view).
   template <class Model>
-  UpdateResult update(Model& model, const typename Model::Vec& z);
+  UpdateResult update(Model& model, const typename Model::Vec& z, const NominalState* x_then = nullptr,
+                      const ErrVec* corrected_since = nullptr);
 
-  /// Applies an error-state correction without touching P (used by resets).
-  void inject(const ErrVec& dx) { x_ = boxplus(x_, dx); }
+  /// Sum of every correction K y applied so far (error-state coordinates).
+  const ErrVec& correction_sum() const { return correction_sum_; }
+
+  /// Covariance inflation: multiplies the variances of the n error states from `first` by
+  /// beta >= 1 (rows and columns scaled by sqrt(beta), so correlations and positive
+  /// definiteness are kept). Used when a sensor keeps being rejected because the filter is
+  /// overconfident, instead of resetting the state.
+  void inflate(int first, int n, double beta) {
+    const double s = std::sqrt(beta);
+    P_.middleRows(first, n) *= s;
+    P_.middleCols(first, n) *= s;
+  }
+
+  /// Applies an error-state correction without touching P (used by resets); it counts in
+  /// correction_sum() like an update's.
+  void inject(const ErrVec& dx) {
+    x_ = boxplus(x_, dx);
+    correction_sum_ += dx;
+  }
 
   /// Covariance finite with a positive diagonal, state finite. (The sum of P is finite exactly
   /// when every element is, barring an overflow that is unhealthy too; it vectorises, where an
@@ -208,10 +244,12 @@ class Filter {
  private:
   NominalState x_;
   Cov P_ = Cov::Identity();
+  ErrVec correction_sum_ = ErrVec::Zero();
 };
 
 template <class Model>
-UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
+UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const NominalState* x_then,
+                            const ErrVec* corrected_since) {
   constexpr int M = Model::kDim;
   using VecM = Eigen::Matrix<double, M, 1>;
   using MatM = Eigen::Matrix<double, M, M>;
@@ -224,8 +262,9 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
     ++model.stats.skipped;
     return UpdateResult::skipped;
   }
-  const VecM y = model.residual(x_, z);
   const Jac H = model.jacobian(x_);
+  VecM y = model.residual(x_then != nullptr ? *x_then : x_, z);
+  if (corrected_since != nullptr) y -= H * *corrected_since;
   const MatM R = model.noise(x_);
   const Eigen::Matrix<double, M, kErrDim> HP = H * P_;
   const MatM S = HP * H.transpose() + R;
@@ -236,6 +275,9 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
   }
   const double nis = y.dot(llt.solve(y));
   model.stats.last_nis = nis;
+  model.stats.nis_sum += nis;
+  ++model.stats.nis_count;
+  if (model.gate > 0.0) model.stats.max_ratio = std::max(model.stats.max_ratio, nis / model.gate);
   if (model.gate > 0.0 && !(nis <= model.gate)) {
     ++model.stats.rejected;
     ++model.stats.consecutive_rejected;
@@ -243,7 +285,9 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z) {
   }
   // K = P H^T S^-1 = (S^-1 H P)^T (P and S symmetric).
   const Eigen::Matrix<double, kErrDim, M> K = llt.solve(HP).transpose();
-  x_ = boxplus(x_, K * y);
+  const ErrVec dx = K * y;
+  x_ = boxplus(x_, dx);
+  correction_sum_ += dx;
   // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, evaluated expanded (exact for any K):
   //   P - K (H P) - (K (H P))^T + K S K^T,   S = H P H^T + R,
   // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. The correction is

@@ -2,7 +2,7 @@
 //
 // A model of an M-dimensional measurement z derives from Measurement<Self, M> and provides
 //   Vec   h(const NominalState& x) const       predicted measurement h(x)
-//   Jac   jacobian(const NominalState& x) const  H = dh/d(dx), M x 18, at x (error-state Jacobian:
+//   Jac   jacobian(const NominalState& x) const  H = dh/d(dx), M x 21, at x (error-state Jacobian:
 //                                              h(x [+] dx) = h(x) + H dx + O(|dx|^2))
 //   Noise noise(const NominalState& x) const   measurement covariance R, M x M, positive definite
 // and may redefine
@@ -42,21 +42,28 @@ struct Measurement {
 };
 
 /// GNSS position: z = NED position of the antenna relative to the origin, m (the geodetic fix
-/// converted by a local tangent plane at the origin). h(x) = p + e_gnss (e_gnss: the slowly
-/// wandering GNSS error, a state); H = [I (p) ... I (e_gnss)]. sigma_*: the white part.
+/// converted by a local tangent plane at the origin). The antenna sits at r_a (body FRD, m) from
+/// the CG: h(x) = p + R r_a + e_gnss (e_gnss: the slowly wandering GNSS error, a state);
+/// H = [I (p), -R [r_a]x (dtheta), I (e_gnss)]. sigma_*: the white part.
 struct GnssPosition : Measurement<GnssPosition, 3> {
   double sigma_h = 0.1;  ///< horizontal white noise, 1 sigma, m
   double sigma_v = 0.2;  ///< vertical white noise, 1 sigma, m
-  Vec h(const NominalState& x) const { return x.p + x.e_gnss; }
+  Vec3 antenna = Vec3::Zero();  ///< r_a, antenna position from the CG, body FRD, m
+  Vec h(const NominalState& x) const { return x.p + x.q * antenna + x.e_gnss; }
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& x) const;
 };
 
-/// GNSS velocity: z = NED ground velocity, m/s. h(x) = v; H = [0 I 0 ...].
+/// GNSS velocity: z = NED ground velocity of the antenna, m/s. With the body rate
+/// omega = w_m - b_g (w_m: the measured gyro, set before each update) the antenna moves at
+/// h(x) = v + R (omega x r_a);  H = [I (v), -R [omega x r_a]x (dtheta), R [r_a]x (db_g)]
+/// (d(omega x r_a) = -db_g x r_a = r_a x db_g).
 struct GnssVelocity : Measurement<GnssVelocity, 3> {
   double sigma_h = 0.01;  ///< horizontal noise, 1 sigma, m/s
   double sigma_v = 0.01;  ///< vertical noise, 1 sigma, m/s
-  Vec h(const NominalState& x) const { return x.v; }
+  Vec3 antenna = Vec3::Zero();  ///< r_a, body FRD, m
+  Vec3 gyro = Vec3::Zero();     ///< w_m, measured body rate (bias not removed), FRD, rad/s
+  Vec h(const NominalState& x) const { return x.v + x.q * (gyro - x.b_g).cross(antenna); }
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& x) const;
 };
