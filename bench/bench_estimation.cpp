@@ -7,6 +7,7 @@
 // bench/results/bench_estimation.json.
 //
 // Usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b]
+//                         [--set INSTANCE.PARAM=VALUE ...]
 //
 // How each figure is made (the same for tern and for raw GNSS): every new estimate (state topic)
 // from t0 = 30 s on (after takeoff and climb) is compared with the truth of the same tick, both
@@ -16,6 +17,11 @@
 // A flight diverged when its horizontal position error exceeded 50 m or its attitude error
 // 30 deg at any compared tick after initialisation. ROSplane 2.0's row comes from a different
 // estimator and a hardware flight: a reference, not a comparison on the same data.
+// Consistency: the normalised estimation error squared, NEES = e^T P^-1 e, of position (NED, in
+// the common frame), velocity (NED) and attitude (the body-frame rotation error, the EKF's
+// error-state coordinates), each over its 3 dimensions, from the published covariance diagonal
+// (State.P_diag: correlations between the axes of a block are left out). A consistent filter
+// averages 1 per dimension; the target band is [0.5, 2].
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -71,13 +77,36 @@ const QInfo kInfo[kQ] = {
     {"yaw deg", kDeg, std::nan("")}, {"course deg", kDeg, 0.112}, {"wind (from 60 s) m/s", 1, std::nan("")},
 };
 
+// NEES blocks: position, velocity, attitude (3 dimensions each).
+enum Block { NEES_P, NEES_V, NEES_ATT, kBlocks };
+const char* const kBlockName[kBlocks] = {"position", "velocity", "attitude"};
+struct Mean {
+  double sum = 0;
+  std::size_t n = 0;
+  void add(double e) {
+    if (std::isfinite(e)) {
+      sum += e;
+      ++n;
+    }
+  }
+  double value() const { return n == 0 ? std::nan("") : sum / static_cast<double>(n); }
+};
+
 struct Flight {
   std::uint64_t seed = 0;
   Rms est[kQ], gnss[kGnssRows];
+  Mean nees[kBlocks];  // per dimension
   bool diverged = false, crashed = false, failed = false;
-  double filter_resets = 0, gnss_resets = 0, mag_resets = 0;
+  double filter_resets = 0, gnss_resets = 0, mag_resets = 0, inflations = 0;
   std::string end_reason;
 };
+
+// e^T diag(P)^-1 e / 3 for the block of P_diag starting at `first`.
+double nees_per_dim(const Eigen::Vector3d& e, const std::array<double, 21>& P_diag, std::size_t first) {
+  double s = 0;
+  for (std::size_t i = 0; i < 3; ++i) s += e[static_cast<int>(i)] * e[static_cast<int>(i)] / P_diag[first + i];
+  return s / 3.0;
+}
 
 template <class T>
 const T* latest(const tern::OutputBase* src) {
@@ -85,16 +114,30 @@ const T* latest(const tern::OutputBase* src) {
   return static_cast<const T*>(src->data());
 }
 
-// The config with every sim_aero instance's sensor_profile set.
-tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile) {
+struct Setting {
+  std::string instance, param, value;  // --set INSTANCE.PARAM=VALUE (VALUE in YAML)
+};
+
+// The config with every sim_aero instance's sensor_profile set, and the --set overrides.
+tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile,
+                                       const std::vector<Setting>& sets) {
   tern::core::MissionConfig mc = tern::core::load_config(mission);
   for (auto& inst : mc.plugins) {
-    if (inst.plugin != "sim_aero") continue;
-    tern::core::ParamSetting s;
-    s.node = YAML::Node(profile);
-    s.file = mission;
-    s.field = "bench_estimation --profiles";
-    inst.params["sensor_profile"] = s;
+    if (inst.plugin == "sim_aero") {
+      tern::core::ParamSetting s;
+      s.node = YAML::Node(profile);
+      s.file = mission;
+      s.field = "bench_estimation --profiles";
+      inst.params["sensor_profile"] = s;
+    }
+    for (const auto& set : sets) {
+      if (set.instance != inst.name) continue;
+      tern::core::ParamSetting s;
+      s.node = YAML::Load(set.value);
+      s.file = mission;
+      s.field = "bench_estimation --set";
+      inst.params[set.param] = s;
+    }
   }
   return mc;
 }
@@ -118,6 +161,12 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
   const double att = std::max({std::fabs(wrap_pi(x.phi - t.phi)), std::fabs(wrap_pi(x.theta - t.theta)),
                                std::fabs(wrap_pi(x.psi - t.psi))});
   if (!(std::hypot(dn, de) <= kDivergedPosition) || !(att <= kDivergedAttitude)) f.diverged = true;
+  if (x.P_diag[0] > 0.0) {
+    f.nees[NEES_P].add(nees_per_dim(p - Eigen::Vector3d(t.p_n, t.p_e, t.p_d), x.P_diag, 0));
+    f.nees[NEES_V].add(nees_per_dim(Eigen::Vector3d(x.v_n - t.v_n, x.v_e - t.v_e, x.v_d - t.v_d), x.P_diag, 3));
+    const Eigen::AngleAxisd d(x.quat.conjugate() * t.quat);  // q_true = q (x) exp(dtheta)
+    f.nees[NEES_ATT].add(nees_per_dim(d.angle() * d.axis(), x.P_diag, 6));
+  }
   if (g != nullptr) {
     const Eigen::Vector3d q = tern::core::fix_in_truth_frame(*g, t);
     f.gnss[N].add(q.x() - t.p_n);
@@ -133,13 +182,14 @@ double summary_number(const nlohmann::json& j, const char* instance, const char*
   return i[instance][key].get<double>();
 }
 
-Flight fly(const std::string& mission, const std::string& profile, std::uint64_t seed, double duration, const fs::path& logs) {
+Flight fly(const std::string& mission, const std::string& profile, const std::vector<Setting>& sets, std::uint64_t seed,
+           double duration, const fs::path& logs) {
   tern::core::HostOptions o;
   o.quiet = true;
   o.seed = seed;
   if (duration > 0) o.duration = duration;
   o.log_dir = logs;
-  tern::core::Host host(with_profile(mission, profile), o);
+  tern::core::Host host(with_profile(mission, profile, sets), o);
   host.build();
   Flight f;
   f.seed = seed;
@@ -169,6 +219,7 @@ Flight fly(const std::string& mission, const std::string& profile, std::uint64_t
     f.filter_resets = summary_number(j, "ekf", "filter_resets");
     f.gnss_resets = summary_number(j, "ekf", "gnss_resets");
     f.mag_resets = summary_number(j, "ekf", "mag_resets");
+    f.inflations = summary_number(j, "ekf", "inflations");
   }
   return f;
 }
@@ -188,8 +239,9 @@ std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) 
 
 nlohmann::ordered_json report(const std::string& mission, const std::string& profile, const std::vector<Flight>& flights) {
   int diverged = 0, crashed = 0, failed = 0;
-  double filter_resets = 0, gnss_resets = 0, mag_resets = 0;
+  double filter_resets = 0, gnss_resets = 0, mag_resets = 0, inflations = 0;
   for (const auto& f : flights) {
+    inflations += f.inflations;
     diverged += f.diverged;
     crashed += f.crashed;
     failed += f.failed;
@@ -222,14 +274,30 @@ nlohmann::ordered_json report(const std::string& mission, const std::string& pro
     }
     if (std::isfinite(kInfo[q].rosplane)) r["rosplane_2_0_paper"] = kInfo[q].rosplane;
   }
-  std::printf("  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f (all seeds)\n",
-              diverged, crashed, failed, filter_resets, gnss_resets, mag_resets);
+  for (int b = 0; b < kBlocks; ++b) {
+    std::vector<double> v;
+    for (const auto& f : flights) v.push_back(f.nees[b].value());
+    const Spread sp = spread(v);
+    double best = std::nan("");
+    for (double x : v)
+      if (std::isfinite(x) && !(x >= best)) best = x;
+    std::printf("  NEES per dim %-9s %10s %10s (best seed %s; target 0.5..2)\n", kBlockName[b], cell(sp.median).c_str(),
+                cell(sp.worst).c_str(), cell(best).c_str());
+    auto& r = j["nees_per_dimension"][kBlockName[b]];
+    r["median"] = sp.median;
+    r["highest"] = sp.worst;
+    r["lowest"] = best;
+  }
+  std::printf("  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f, "
+              "covariance inflations %.0f (all seeds)\n",
+              diverged, crashed, failed, filter_resets, gnss_resets, mag_resets, inflations);
   j["divergences"] = diverged;
   j["crashes"] = crashed;
   j["failed_flights"] = failed;
   j["filter_resets"] = filter_resets;
   j["gnss_resets"] = gnss_resets;
   j["mag_resets"] = mag_resets;
+  j["covariance_inflations"] = inflations;
   return j;
 }
 
@@ -248,12 +316,23 @@ int main(int argc, char** argv) {
   std::vector<std::string> missions, profiles = {"realistic", "rosflight"};
   int seeds = 10;
   double duration = 300.0;
-  const char* usage = "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b]";
+  std::vector<Setting> sets;
+  const char* usage =
+      "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...]";
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
     else if (a == "--duration" && i + 1 < argc) duration = std::atof(argv[++i]);
     else if (a == "--profiles" && i + 1 < argc) profiles = split(argv[++i]);
+    else if (a == "--set" && i + 1 < argc) {
+      const std::string v = argv[++i];
+      const auto dot = v.find('.'), eq = v.find('=');
+      if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
+        std::fprintf(stderr, "bench_estimation: --set wants INSTANCE.PARAM=VALUE, got '%s'\n", v.c_str());
+        return 2;
+      }
+      sets.push_back({v.substr(0, dot), v.substr(dot + 1, eq - dot - 1), v.substr(eq + 1)});
+    }
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "bench_estimation: unknown option '%s' (%s)\n", a.c_str(), usage);
       return 2;
@@ -276,11 +355,12 @@ int main(int argc, char** argv) {
   j["duration_s"] = duration;
   j["window_start_s"] = kT0;
   j["wind_window_start_s"] = kT0Wind;
+  for (const auto& set : sets) j["settings"].push_back(set.instance + "." + set.param + "=" + set.value);
   j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * kDeg);
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {
       std::vector<Flight> flights;
-      for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, static_cast<std::uint64_t>(s), duration, logs));
+      for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, logs));
       j["runs"].push_back(report(fs::path(mission).stem().string(), profile, flights));
     }
   }

@@ -83,6 +83,7 @@ void Estimator::set_config(const EstimatorConfig& config) {
 }
 
 void Estimator::apply_models_config() {
+  process_ = cfg_.process;
   R_bi_ = rotation_from_euler(cfg_.imu_mount.x(), cfg_.imu_mount.y(), cfg_.imu_mount.z());
   gnss_pos_.antenna = cfg_.gnss_antenna;
   gnss_vel_.antenna = cfg_.gnss_antenna;
@@ -271,7 +272,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
     dt = cfg_.imu_max_dt;
   }
   if (dt > 0.0) {
-    filter_.propagate(accel, gyro, dt, cfg_.process, cfg_.gravity);
+    filter_.propagate(accel, gyro, dt, process_, cfg_.gravity);
     if (!output_offset_.isZero()) {
       output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
       if (output_offset_.norm() < 1e-4) output_offset_.setZero();
@@ -486,6 +487,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     push(m.stamp, EventKind::origin_set, Sensor::gnss);
   }
   const Vec3 p = ned_from_geodetic(m.lat, m.lon, m.alt);
+  if (cfg_.use_gnss_accuracy) use_reported_accuracy(m);
   if (!initialized_) {
     try_initialize(m, p, t_v);
     prev_fix_vel_ = m.vel;
@@ -509,10 +511,37 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   } else if (r == UpdateResult::accepted) {
     gnss_reject_since_ = -1;
   }
-  fuse_robust(Sensor::gnss, gnss_vel_, m.vel, t_v, idx::v, 3);
+  // Velocity is not inflated: a rejected velocity usually means a manoeuvre the IMU model did
+  // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
+  // the attitude.
+  fuse(gnss_vel_, m.vel, t_v);
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
+}
+
+void Estimator::use_reported_accuracy(const msg::Gnss& m) {
+  // The GNSS error state is a Gauss-Markov process of rate k whose steady sigma is
+  // walk / sqrt(2 k): the reported accuracy sets the walk. The receiver's speed accuracy is the
+  // velocity noise. Never below the configured figures (receivers report optimistic values).
+  const double two_k = 2.0 * cfg_.process.gnss_error_k;
+  if (m.h_acc > 0.0 && std::isfinite(m.h_acc))
+    process_.gnss_error_walk_h = std::max(cfg_.process.gnss_error_walk_h, m.h_acc * std::sqrt(two_k));
+  if (m.v_acc > 0.0 && std::isfinite(m.v_acc))
+    process_.gnss_error_walk_v = std::max(cfg_.process.gnss_error_walk_v, m.v_acc * std::sqrt(two_k));
+  if (m.s_acc > 0.0 && std::isfinite(m.s_acc)) {
+    gnss_vel_.sigma_h = std::max(cfg_.gnss_vel_sigma_h, m.s_acc);
+    gnss_vel_.sigma_v = std::max(cfg_.gnss_vel_sigma_v, m.s_acc);
+  }
+}
+
+Vec3 Estimator::gnss_error_variance() const {
+  // The GNSS error's steady variance walk^2 / (2 k), at least init_gnss_error_sigma^2.
+  const double two_k = 2.0 * process_.gnss_error_k;
+  const double floor = cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma;
+  const auto steady = [&](double walk) { return two_k > 0.0 ? std::max(floor, walk * walk / two_k) : floor; };
+  const double h = steady(process_.gnss_error_walk_h);
+  return {h, h, steady(process_.gnss_error_walk_v)};
 }
 
 bool Estimator::gnss_reset_allowed(Nanos stamp, double innovation) const {
@@ -538,11 +567,14 @@ void Estimator::reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos
   P.middleCols<6>(idx::p).setZero();
   P.middleRows<3>(idx::eg).setZero();
   P.middleCols<3>(idx::eg).setZero();
+  // As at initialisation: p = z - e_gnss, e_gnss at its steady sigma.
   const double sh = cfg_.gnss_pos_sigma_h, sv = cfg_.gnss_pos_sigma_v;
-  const double e2 = cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma;
-  P.diagonal().segment<3>(idx::p) << sh * sh + e2, sh * sh + e2, sv * sv + e2;
+  const Vec3 e2 = gnss_error_variance();
+  P.diagonal().segment<3>(idx::p) = Vec3(sh * sh, sh * sh, sv * sv) + e2;
   P.diagonal().segment<3>(idx::v) << 1.0, 1.0, 1.0;
-  P.diagonal().segment<3>(idx::eg).setConstant(e2);
+  P.diagonal().segment<3>(idx::eg) = e2;
+  P.block<3, 3>(idx::p, idx::eg) = Mat3((-e2).asDiagonal());
+  P.block<3, 3>(idx::eg, idx::p) = Mat3((-e2).asDiagonal());
   gnss_pos_.stats.consecutive_rejected = 0;
   gnss_reject_since_ = -1;
   last_gnss_reset_ = stamp;
@@ -616,7 +648,13 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   }
   P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
-  P0.diagonal().segment<3>(idx::eg).setConstant(cfg_.init_gnss_error_sigma * cfg_.init_gnss_error_sigma);
+  // p = z - e_gnss: the absolute position is as uncertain as the GNSS error, and p + e_gnss
+  // (what the receiver measures) only as the white part.
+  const Vec3 e2 = gnss_error_variance();
+  P0.diagonal().segment<3>(idx::eg) = e2;
+  P0.diagonal().segment<3>(idx::p) += e2;
+  P0.block<3, 3>(idx::p, idx::eg) = Mat3((-e2).asDiagonal());
+  P0.block<3, 3>(idx::eg, idx::p) = Mat3((-e2).asDiagonal());
   filter_.initialize(x, P0);
   history_.clear();
   initialized_ = true;

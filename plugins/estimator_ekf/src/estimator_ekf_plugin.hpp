@@ -243,6 +243,11 @@ class EstimatorEkf final : public tern::Plugin {
             tern::ParamSpec("", 0, 1,
                             "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     mag_heading_only_.on_change([this](const bool&) { dirty_ = true; });
+    declare(use_gnss_accuracy_, "use_gnss_accuracy", def.use_gnss_accuracy,
+            tern::ParamSpec("", 0, 1,
+                            "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error) and s_acc "
+                            "(velocity noise) where larger than gnss_error_walk_*, gnss_vel_noise_*"));
+    use_gnss_accuracy_.on_change([this](const bool&) { dirty_ = true; });
     declare(use_sideslip_, "use_sideslip", def.use_sideslip,
             tern::ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
     declare(use_side_force_, "use_side_force", def.use_side_force,
@@ -399,6 +404,7 @@ class EstimatorEkf final : public tern::Plugin {
     c.use_side_force = use_side_force_();
     c.mag_heading_only = mag_heading_only_();
     c.inflate_after = static_cast<int>(inflate_after_());
+    c.use_gnss_accuracy = use_gnss_accuracy_();
     const auto vec3 = [](const std::vector<double>& v) { return tern::ekf::Vec3(v[0], v[1], v[2]); };
     c.gnss_antenna = vec3(gnss_antenna_());
     c.imu_position = vec3(imu_position_());
@@ -418,7 +424,7 @@ class EstimatorEkf final : public tern::Plugin {
   tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_, inflate_after_;
   tern::Param<double> innovations_period_;
   tern::Param<std::vector<double>> gnss_antenna_, imu_position_, imu_mount_;
-  tern::Param<bool> use_sideslip_, use_side_force_, mag_heading_only_;
+  tern::Param<bool> use_sideslip_, use_side_force_, mag_heading_only_, use_gnss_accuracy_;
   tern::ekf::Estimator estimator_;
   tern::msg::State out_;
   tern::msg::Innovations innovations_out_;

@@ -76,6 +76,9 @@ struct EstimatorConfig {
   double gnss_pos_sigma_v = 0.2;      ///< m
   double gnss_vel_sigma_h = 0.01;     ///< m/s
   double gnss_vel_sigma_v = 0.01;     ///< m/s
+  bool use_gnss_accuracy = true;      ///< the receiver's reported accuracies (h_acc, v_acc: steady
+                                      ///< sigma of the GNSS error state; s_acc: velocity noise)
+                                      ///< where larger than the figures here
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset
@@ -141,8 +144,9 @@ struct EstimatorConfig {
   /// time_of_validity, when the driver gives one, already says it: this is subtracted from it.
   std::array<double, kSensorCount> delay{0.0, 0.0, 0.0, 0.0, 0.0};
   // robust gating and health
-  int inflate_after = 3;              ///< consecutive gate rejections of GNSS or baro after which
-                                      ///< the covariance of the states they measure is inflated
+  int inflate_after = 5;              ///< consecutive gate rejections of the GNSS position (or the
+                                      ///< barometer) after which the variance of the position (the
+                                      ///< barometer bias) is inflated
   double reset_min_interval = 60.0;   ///< s: at most one GNSS reset per this long...
   double gnss_fault_distance = 100.0; ///< ...unless the innovation exceeds this, m (a lost position)
   double imu_reinit_gap = 0.5;        ///< s: after an IMU silence this long the attitude is lost:
@@ -274,6 +278,8 @@ class Estimator {
   template <class Model>
   UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
+  void use_reported_accuracy(const msg::Gnss& m);
+  Vec3 gnss_error_variance() const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
 
   EstimatorConfig cfg_;
@@ -318,6 +324,7 @@ class Estimator {
   Vec3 omega_dot_ = Vec3::Zero();  // low-passed angular acceleration, body, rad/s^2
   Mat3 R_bi_ = Mat3::Identity();   // IMU axes -> body axes (cfg_.imu_mount)
   StateHistory history_;
+  ProcessNoise process_;  // cfg_.process with the GNSS error walks from the reported accuracy
   std::uint64_t inflations_ = 0;
   Nanos last_gnss_reset_ = -1;
   Nanos gnss_reject_since_ = -1;
