@@ -2,6 +2,8 @@
 #include <doctest/doctest.h>
 
 #include <cstdio>
+#include <deque>
+#include <limits>
 
 #include "fly.hpp"
 
@@ -378,4 +380,109 @@ TEST_CASE("determinism: same inputs, bit-identical estimates") {
   CHECK(a.psi == b.psi);
   CHECK(a.w_n == b.w_n);
   CHECK(a.b_z == b.b_z);
+}
+
+namespace {
+/// Errors of a flight whose GNSS fixes reach the estimator `delay` s after their epoch, carrying
+/// time_of_validity = epoch (with_epoch) or only the late stamp (without).
+Errors fly_with_gnss_delay(double delay, bool with_epoch) {
+  TruthSim sim(mixed_flight());
+  Estimator est;
+  std::deque<msg::Gnss> late;
+  Hooks h;
+  h.gnss = [&](msg::Gnss& g) {
+    if (delay <= 0.0) return true;
+    g.time_of_validity = with_epoch ? g.stamp : 0;
+    g.stamp += from_seconds(delay);
+    late.push_back(g);
+    return false;
+  };
+  h.imu = [&](msg::Imu& m) {
+    while (!late.empty() && late.front().stamp <= m.stamp) {
+      msg::Gnss g = late.front();
+      late.pop_front();
+      g.stamp = m.stamp;
+      if (!with_epoch) g.time_of_validity = g.stamp;
+      est.add_gnss(g);
+    }
+    return true;
+  };
+  Errors e;
+  fly(sim, est, 80.0, h, [&](const Truth& t, const Estimator& x) {
+    if (sim.now() > from_seconds(20.0)) e.add(t, x, sim);
+  });
+  return e;
+}
+}  // namespace
+
+TEST_CASE("a GNSS fix fused at its time of validity: 120 ms late gives the estimate of an undelayed one") {
+  const Errors now = fly_with_gnss_delay(0.0, true);
+  const Errors late = fly_with_gnss_delay(0.12, true);
+  const Errors naive = fly_with_gnss_delay(0.12, false);
+  MESSAGE("horizontal RMSE: undelayed " << now.pos_h.rms() << " m, 120 ms late at its epoch " << late.pos_h.rms()
+                                        << " m, taken as current " << naive.pos_h.rms() << " m");
+  CHECK(late.pos_h.rms() < now.pos_h.rms() + 0.1);
+  CHECK(late.vel.rms() < now.vel.rms() + 0.02);
+  CHECK(late.att.rms() < now.att.rms() + 0.1 * kPi / 180);
+  CHECK(naive.pos_h.rms() > late.pos_h.rms() + 0.5);  // 120 ms at 20 m/s is 2.4 m along track
+}
+
+TEST_CASE("a silent IMU makes the state invalid within 50 ms; valid again within 2 s of its return") {
+  Converged c;
+  CHECK(c.est.status() == msg::StateStatus::ok);
+  const Nanos t0 = c.sim.now() + from_seconds(1.0), t1 = t0 + from_seconds(5.0);
+  Nanos invalid_at = -1, valid_again_at = -1;
+  Hooks h;
+  h.imu = [&](msg::Imu&) { return c.sim.now() < t0 || c.sim.now() >= t1; };
+  fly(c.sim, c.est, 10.0, h, [&](const Truth&, const Estimator& e) {
+    const msg::State s = e.state();
+    if (invalid_at < 0 && c.sim.now() >= t0 && !s.valid) {
+      invalid_at = c.sim.now();
+      CHECK(s.status == msg::StateStatus::invalid);
+      CHECK((s.degraded_sensors & msg::sensor_bit::imu) != 0);
+    }
+    if (invalid_at >= 0 && valid_again_at < 0 && c.sim.now() >= t1 && s.valid) valid_again_at = c.sim.now();
+  });
+  REQUIRE(invalid_at >= 0);
+  CHECK(to_seconds(invalid_at - t0) <= 0.05);
+  REQUIRE(valid_again_at >= 0);
+  CHECK(to_seconds(valid_again_at - t1) <= 2.0);
+  // ... and valid means right: the attitude after the re-initialisation is the truth's.
+  fly(c.sim, c.est, 5.0);
+  CHECK(attitude_error(c.est.filter().x().q, c.sim.truth().q()) < 2.0 * kPi / 180);
+}
+
+TEST_CASE("an IMU sending NaN is silent too: invalid within 50 ms") {
+  Converged c;
+  const Nanos t0 = c.sim.now();
+  Nanos invalid_at = -1;
+  Hooks h;
+  h.imu = [&](msg::Imu& m) {
+    m.gyro.x() = std::numeric_limits<double>::quiet_NaN();
+    return true;
+  };
+  fly(c.sim, c.est, 0.2, h, [&](const Truth&, const Estimator& e) {
+    if (invalid_at < 0 && !e.state().valid) invalid_at = c.sim.now();
+  });
+  REQUIRE(invalid_at >= 0);
+  CHECK(to_seconds(invalid_at - t0) <= 0.05);
+  CHECK(c.est.counters(Sensor::imu).invalid > 0);
+}
+
+TEST_CASE("GNSS loss: degraded (gnss), dead reckoning with a growing covariance, ok when it returns") {
+  Converged c;
+  const double P0 = c.est.filter().P()(idx::p, idx::p);
+  Hooks h;
+  bool gnss_on = false;
+  h.gnss = [&](msg::Gnss&) { return gnss_on; };
+  fly(c.sim, c.est, 20.0, h);
+  std::uint8_t bits = 0;
+  CHECK(c.est.status(&bits) == msg::StateStatus::degraded);
+  CHECK(bits == msg::sensor_bit::gnss);
+  CHECK(c.est.filter().P()(idx::p, idx::p) > 4.0 * P0);
+  CHECK(c.pos_error() < 30.0);
+  gnss_on = true;
+  fly(c.sim, c.est, 3.0, h);
+  CHECK(c.est.status() == msg::StateStatus::ok);
+  CHECK(c.est.gnss_resets() == 0);
 }

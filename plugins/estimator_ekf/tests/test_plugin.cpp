@@ -70,7 +70,7 @@ TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
   CHECK(std::fabs(wrap_pi(s.psi - t.psi)) < 1.0 * kPi / 180);
   const Eigen::Vector3d vb = t.R.transpose() * t.v;
   CHECK(s.u == doctest::Approx(vb.x()).epsilon(0.01));
-  CHECK(std::fabs(s.v - vb.y()) < 0.1);
+  CHECK(std::fabs(s.v - vb.y()) < 0.25);  // one instant: 0.5 deg of yaw at 25 m/s is 0.22 m/s
   CHECK(std::fabs(s.Va - sim.air_velocity_body().norm()) < 0.3);
   CHECK(std::fabs(s.alpha - sim.options().alpha) < 0.02);
   CHECK(std::fabs(s.beta) < 0.02);

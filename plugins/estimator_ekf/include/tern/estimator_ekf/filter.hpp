@@ -131,8 +131,15 @@ inline void symmetrize(Cov& P) {
 
 /// Process-noise figures (see the file comment for how they enter Q).
 struct ProcessNoise {
-  double accel = 0.2;             ///< accelerometer white noise, 1 sigma per sample, m/s^2
-  double gyro = 0.0023;           ///< gyro white noise, 1 sigma per sample, rad/s
+  /// Accelerometer white noise, 1 sigma per sample, m/s^2. In flight the propeller's vibration
+  /// dominates the sensor's own noise (ICM-20602: 100 ug/sqrt(Hz) over ~157 Hz = 0.012 m/s^2);
+  /// PX4 EKF2's default EKF2_ACC_NOISE, 0.35 m/s^2 per 100 Hz filter step, is 0.7 m/s^2 per 400 Hz
+  /// sample; 1.0 adds margin for the 1-2 % scale and cross-axis errors (datasheet) of a 2-g turn.
+  double accel = 1.0;
+  /// Gyro white noise, 1 sigma per sample, rad/s: PX4 EKF2's EKF2_GYR_NOISE, 0.015 rad/s
+  /// (vibration and the +-1 % scale error of the ICM-20602 at 1 rad/s dominate its own
+  /// 4 mdps/sqrt(Hz) = 8.7e-4 rad/s per sample).
+  double gyro = 0.015;
   double gyro_bias_walk = 5e-5;   ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
                                   ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
   double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
@@ -173,7 +180,7 @@ struct UpdateStats {
   }
 };
 
-/// The filter: nominal state, 18x18 covariance, propagation and the generic update.
+/// The filter: nominal state, 21x21 covariance, propagation and the generic update.
 class Filter {
  public:
   /// Sets the state and covariance (P0 must be symmetric positive definite).
