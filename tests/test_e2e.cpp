@@ -258,7 +258,8 @@ TEST_CASE("the EKF's side-force model follows the turbulent wind better than the
   double wind_rmse[2] = {0, 0};
   for (int on = 0; on < 2; ++on) {
     const std::string cfg = default_mission_with(
-        {{"    trigger: imu\n", std::string("    trigger: imu\n    params: {use_side_force: ") + (on ? "true" : "false") + "}\n"}});
+        {{"    rate: 400                            # on the clock (not trigger: imu): notices a silent IMU\n",
+          std::string("    rate: 400\n    params: {use_side_force: ") + (on ? "true" : "false") + "}\n"}});
     HostOptions o;
     o.quiet = true;
     o.log_dir = test_dir() / "e2e_side_force";

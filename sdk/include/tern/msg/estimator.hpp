@@ -2,11 +2,10 @@
 // Like PX4 EKF2's estimator_innovation_test_ratios: for each measurement, the normalised
 // innovation squared (NIS = y^T S^-1 y) of its last update divided by its chi-square gate, so
 // 1.0 is the edge of rejection and a ratio above 1 was rejected. A sensor not fused since the
-// last message reports NaN. The run's summary carries the mean NIS of each (summary.json).
+// last message reports -1 (`none`; flight logs stay free of NaN). The run's summary carries the mean NIS of each (summary.json).
 #pragma once
 
 #include <cstdint>
-#include <limits>
 #include <string_view>
 
 #include "tern/time.hpp"
@@ -15,7 +14,7 @@ namespace tern::msg {
 
 struct Innovations {
   static constexpr std::string_view type_name = "tern/Innovations";
-  static constexpr double none = std::numeric_limits<double>::quiet_NaN();
+  static constexpr double none = -1.0;
   Nanos stamp = 0;
   double gnss_pos = none;       ///< GNSS position, 3 dof
   double gnss_vel = none;       ///< GNSS velocity, 3 dof

@@ -24,14 +24,25 @@
 //      triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot and
 //      sideslip updates do not have to pull yaw and wind apart from a zero wind.
 //   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
-// NaN/Inf or out-of-range samples are rejected and counted, never used. A sensor that was
-// heard from and falls silent longer than its time-out raises a sensor_timeout event (and
-// sensor_recovered when it comes back). GNSS positions rejected by the gate for longer than
-// gnss_reset_time reset position and velocity to the GNSS solution (a gnss_reset event). After
-// a GNSS time-out (dead reckoning on IMU, airspeed and wind) the filter takes the returning
-// GNSS at once, but the published position blends the correction in: the jump goes into an
-// output offset that decays with time constant gnss_recovery_time (the filter stays optimal,
-// the controllers see no step).
+// NaN/Inf or out-of-range samples are rejected and counted, never used. Each sample is fused at
+// its time of validity (stamp - delay; GNSS: the receiver's epoch, time_of_validity) with the
+// state history (history.hpp), so a fix 120 ms late corrects the state of its instant.
+// Geometry: the GNSS models include the antenna lever arm; IMU samples are rotated by the mount
+// and moved to the CG (imu_position). A sensor that was heard from and falls silent longer than
+// its time-out raises a sensor_timeout event (sensor_recovered when it comes back); time-outs
+// run on the caller's clock (check_timeouts), so a silent IMU is noticed within imu timeout.
+// status(): invalid before initialisation, while the IMU is silent, or when the covariance says
+// the tilt or position is lost; degraded (with the sensors' bits) when a sensor timed out or the
+// GNSS position keeps being rejected. An IMU silent longer than imu_reinit_gap loses the attitude:
+// the filter re-initialises in flight (origin and barometer calibration kept).
+// Robust gating: after inflate_after consecutive rejections of the GNSS position (barometer) the
+// position (barometer-bias) variance is inflated by NIS / gate and the sample fused again; GNSS
+// positions still rejected for gnss_reset_time reset position and velocity, at most once per
+// reset_min_interval unless the innovation exceeds gnss_fault_distance. After a GNSS time-out
+// (dead reckoning on IMU, airspeed and wind) the filter takes the returning GNSS at once, but
+// the published position blends the correction in: the jump goes into an output offset that
+// decays with time constant gnss_recovery_time (the filter stays optimal, the controllers see
+// no step).
 #pragma once
 
 #include <array>
@@ -55,9 +66,11 @@ enum class Sensor : std::uint8_t { imu = 0, gnss, baro, diff_pressure, mag };
 inline constexpr int kSensorCount = 5;
 const char* sensor_name(Sensor s);
 
-/// Every figure of the estimator. Defaults: ROSplane 2.0's estimator.yaml where a figure maps,
-/// the ROSflight simulator's sensor models otherwise (sensor rates IMU 400 Hz, mag 50 Hz,
-/// baro 100 Hz, pitot 100 Hz, GNSS 10 Hz).
+/// Every figure of the estimator. Defaults: datasheets (ICM-20602, u-blox M8N, MS5611,
+/// MS4525DO) and PX4 EKF2's defaults for the IMU noise in flight (filter.hpp), ROSplane 2.0's
+/// estimator.yaml where a figure maps; the GNSS error's size comes from the receiver's reported
+/// accuracy (use_gnss_accuracy). Sensor rates IMU 400 Hz, mag 50 Hz, baro 100 Hz, pitot
+/// 100 Hz, GNSS 10 Hz.
 struct EstimatorConfig {
   double gravity = 9.81;  ///< m/s^2
   double rho = 1.225;     ///< air density for the pitot, kg/m^3

@@ -172,9 +172,9 @@ struct UpdateStats {
   std::uint64_t nis_count = 0;  ///< ...and their number: mean NIS = nis_sum / nis_count
   double max_ratio = -1.0;  ///< largest NIS / gate since take_max_ratio() (-1: none)
   double mean_nis() const { return nis_count > 0 ? nis_sum / static_cast<double>(nis_count) : 0.0; }
-  /// The largest test ratio since the last call, NaN when there was no gated update.
+  /// The largest test ratio since the last call, -1 when there was no gated update.
   double take_max_ratio() {
-    const double r = max_ratio < 0.0 ? std::numeric_limits<double>::quiet_NaN() : max_ratio;
+    const double r = max_ratio;
     max_ratio = -1.0;
     return r;
   }
