@@ -331,6 +331,12 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "bench_estimation: --set wants INSTANCE.PARAM=VALUE, got '%s'\n", v.c_str());
         return 2;
       }
+      try {
+        (void)YAML::Load(v.substr(eq + 1));  // one clear line now rather than a throw mid-campaign
+      } catch (const YAML::Exception& e) {
+        std::fprintf(stderr, "bench_estimation: --set %s: the value is not YAML: %s\n", v.c_str(), e.what());
+        return 2;
+      }
       sets.push_back({v.substr(0, dot), v.substr(dot + 1, eq - dot - 1), v.substr(eq + 1)});
     }
     else if (a.rfind("--", 0) == 0) {

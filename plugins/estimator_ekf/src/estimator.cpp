@@ -330,8 +330,7 @@ Nanos Estimator::valid_at(Sensor s, Nanos stamp) const {
 
 template <class Model>
 UpdateResult Estimator::fuse(Model& model, const typename Model::Vec& z, Nanos t_v) {
-  constexpr Nanos kHalfTick = 1'250'000;  // half of 400 Hz: nearer than this is "now"
-  if (t_v >= imu_stamp_ - kHalfTick) return filter_.update(model, z);
+  if (t_v >= imu_stamp_) return filter_.update(model, z);
   const StateHistory::Entry* e = history_.at(t_v);
   if (e == nullptr) {
     ++model.stats.invalid;

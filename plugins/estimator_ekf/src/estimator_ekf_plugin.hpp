@@ -233,11 +233,11 @@ class EstimatorEkf final : public tern::Plugin {
                             "they measure is inflated (instead of a reset)"));
     declare(innovations_period_, "innovations_period", 0.1,
             tern::ParamSpec("s", 0.0025, 10.0, "period of the innovations output"));
-    declare_vector(gnss_antenna_, "gnss_antenna_position", def.gnss_antenna, "m",
+    declare_vector(gnss_antenna_, "gnss_antenna_position", def.gnss_antenna, "m", 10.0,
                    "GNSS antenna position from the CG, body FRD (x forward, y right, z down), measured on the aircraft");
-    declare_vector(imu_position_, "imu_position", def.imu_position, "m",
+    declare_vector(imu_position_, "imu_position", def.imu_position, "m", 10.0,
                    "IMU position from the CG, body FRD, measured on the aircraft");
-    declare_vector(imu_mount_, "imu_mount", def.imu_mount, "rad",
+    declare_vector(imu_mount_, "imu_mount", def.imu_mount, "rad", tern::kPi,
                    "IMU axes relative to the body axes: roll, pitch, yaw (3-2-1); v_body = R(imu_mount) v_imu");
     declare(mag_heading_only_, "mag_heading_only", def.mag_heading_only,
             tern::ParamSpec("", 0, 1,
@@ -265,9 +265,9 @@ class EstimatorEkf final : public tern::Plugin {
 
   /// Declares a 3-vector parameter with its default from the config.
   void declare_vector(tern::Param<std::vector<double>>& p, const char* name, const tern::ekf::Vec3& def,
-                      const char* unit, const char* description) {
+                      const char* unit, double limit, const char* description) {
     declare(p, name, std::vector<double>{def.x(), def.y(), def.z()},
-            tern::ParamSpec(unit, -10.0, 10.0, description).of_size(3));
+            tern::ParamSpec(unit, -limit, limit, description).of_size(3));
     p.on_change([this](const std::vector<double>&) { dirty_ = true; });
   }
 

@@ -282,8 +282,8 @@ class Estimator {
   Vec3 imu_to_cg(const Vec3& accel_body, const Vec3& gyro_body, double dt);
   /// Time of validity of a sample of sensor s stamped `stamp` (stamp - delay).
   Nanos valid_at(Sensor s, Nanos stamp) const;
-  /// Filter::update at the time of validity t_v: with the history's state when t_v is more than
-  /// half an IMU interval in the past (invalid, counted as too old, beyond the history).
+  /// Filter::update at the time of validity t_v: with the history's state when t_v is before the
+  /// last IMU sample (invalid, counted, when older than the whole history).
   template <class Model>
   UpdateResult fuse(Model& model, const typename Model::Vec& z, Nanos t_v);
   /// fuse() that, after inflate_after consecutive rejections, inflates the covariance of the
