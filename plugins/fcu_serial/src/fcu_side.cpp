@@ -18,85 +18,136 @@ float param_wire(double v, std::uint8_t type) {
   return static_cast<float>(v);
 }
 
-FcuSide::FcuSide(std::vector<FcuParam> params, std::string version, std::uint8_t sysid, std::uint8_t compid)
-    : params_(std::move(params)), defaults_(params_), version_(std::move(version)), enc_(sysid, compid) {}
+FcuSide::FcuSide(firmware::Params params, std::string version)
+    : fw_(params), stored_(std::move(params)), version_(std::move(version)) {}
 
-std::vector<FcuParam> FcuSide::default_params() {
-  auto i = [](const char* n, int v) { return FcuParam{n, param_wire(v, kParamInt32), kParamInt32}; };
-  auto f = [](const char* n, double v) { return FcuParam{n, param_wire(v, kParamReal32), kParamReal32}; };
-  // fixedwing_firmware.yaml (rosflight_sim, BSD-3-Clause) and ROSflight's stream rates.
-  return {i("ARM_SPIN_MOTORS", 0), f("MOTOR_IDLE_THR", 0.1), i("RC_ARM_CHN", 4),     i("FIXED_WING", 1),
-          i("PRIMARY_MIXER", 10),  i("REV_ELEVATOR", 1),     i("REV_AILERON", 0),    i("REV_RUDDER", 0),
-          i("ARM_CAL_GYRO", 0),    i("RC_THR_OVRD_CHN", 5),  i("RC_ATT_OVRD_CHN", 5), i("RC_ATT_CTRL_CHN", 8),
-          i("TAKE_MIN_THR", 0),    f("RC_OVRD_DEV", 1.0),    i("RC_NUM_CHN", 8),     i("RC_F_AXIS", 0),
-          i("BAUD_RATE", 921600),  i("STRM_IMU", 400),       i("STRM_MAG", 50),      i("STRM_BARO", 100),
-          i("STRM_AIRSPEED", 100), i("STRM_GNSS", 10),       i("STRM_RC", 50),       i("STRM_STATUS", 10),
-          f("OFFBOARD_TIMEOUT", 100)};
+// MavlinkAdapter::send_param_value_int/float: component 0, the value's type, PARAMS_COUNT.
+void FcuSide::send_param(std::size_t i, std::vector<std::uint8_t>& out) {
+  const firmware::Param& p = fw_.params().at(i);
+  mavlink::ParamValue v;
+  v.param_id = mavlink::to_chars<16>(p.name);
+  v.param_type = static_cast<std::uint8_t>(p.type);
+  v.param_value = p.type == firmware::ParamType::int32 ? std::bit_cast<float>(p.i) : p.f;
+  v.param_count = static_cast<std::uint16_t>(fw_.params().size());
+  v.param_index = static_cast<std::uint16_t>(i);
+  enc_.append_as(v, out, sysid(), 0);
 }
 
-void FcuSide::send_param(std::size_t i, std::vector<std::uint8_t>& out) {
-  mavlink::ParamValue v;
-  v.param_id = mavlink::to_chars<16>(params_[i].name);
-  v.param_value = params_[i].value;
-  v.param_type = params_[i].type;
-  v.param_count = static_cast<std::uint16_t>(params_.size());
-  v.param_index = static_cast<std::uint16_t>(i);
-  enc_.append(v, out);
+// CommManager::param_set_int_callback / param_set_float_callback (via the adapter's type
+// switch): the parameter must exist and have the type the request says.
+void FcuSide::param_set(const mavlink::ParamSet& s) {
+  if (s.target_system != sysid()) return;
+  const std::string name = mavlink::to_string(s.param_id);
+  const auto i = fw_.params().find(name);
+  if (!i || static_cast<std::uint8_t>(fw_.params().at(*i).type) != s.param_type) return;
+  if (s.param_type == kParamInt32) fw_.params().set_int(*i, std::bit_cast<std::int32_t>(s.param_value));
+  else fw_.params().set_float(*i, s.param_value);
+}
+
+// CommManager::command_callback (refused while armed) and the adapter's unknown-command ack.
+void FcuSide::command(const mavlink::RosflightCmd& c, std::uint8_t from_sysid, std::vector<std::uint8_t>& out) {
+  mavlink::RosflightCmdAck ack;
+  ack.command = c.command;
+  if (c.command > static_cast<std::uint8_t>(RosflightCmd::send_version)) {
+    ack.success = 0;  // ROSFLIGHT_CMD_FAILED, sent under the sender's system id
+    enc_.append_as(ack, out, from_sysid, kFirmwareComponent);
+    return;
+  }
+  bool ok = !fw_.armed();
+  if (ok) {
+    switch (static_cast<RosflightCmd>(c.command)) {
+      case RosflightCmd::read_params: fw_.params() = stored_; break;
+      case RosflightCmd::write_params: stored_ = fw_.params(); ++writes_; break;
+      case RosflightCmd::set_param_defaults: fw_.params().set_defaults(); break;
+      case RosflightCmd::accel_calibration: ok = fw_.start_imu_calibration(); break;
+      case RosflightCmd::gyro_calibration: ok = fw_.start_gyro_calibration(); break;
+      case RosflightCmd::baro_calibration: ok = fw_.start_baro_calibration(); break;
+      case RosflightCmd::airspeed_calibration: ok = fw_.start_airspeed_calibration(); break;
+      case RosflightCmd::reboot:
+      case RosflightCmd::reboot_to_bootloader: reboot_ = true; break;
+      case RosflightCmd::send_version: {
+        mavlink::RosflightVersion v;
+        v.version = mavlink::to_chars<50>(version_);
+        send(v, out);
+        break;
+      }
+      default: break;  // RC_CALIBRATION: equilibrium torques of the attitude controller (not emulated)
+    }
+  }
+  ack.success = ok ? 1 : 0;
+  send(ack, out);
 }
 
 void FcuSide::handle(const mavlink::Frame& f, std::int64_t fcu_ns, std::vector<std::uint8_t>& out) {
   const auto m = mavlink::decode(f);
   if (!m) return;
   if (const auto* c = std::get_if<mavlink::OffboardControl>(&*m)) {
-    cmd_ = *c;
+    std::array<float, 10> u{};
+    for (std::size_t i = 0; i < 10; ++i) u[i] = c->u[i];
+    fw_.offboard(c->mode, u, c->ignore, fcu_ns);
     ++commands_;
-    last_cmd_ns_ = fcu_ns;
+  } else if (std::holds_alternative<mavlink::Heartbeat>(*m)) {
+    connected_ = true;  // CommManager::heartbeat_callback
   } else if (const auto* t = std::get_if<mavlink::Timesync>(&*m)) {
-    if (auto a = TimeSync::respond(*t, fcu_ns)) enc_.append(*a, out);
-  } else if (std::holds_alternative<mavlink::ParamRequestList>(*m)) {
-    for (std::size_t i = 0; i < params_.size(); ++i) send_param(i, out);
+    if (auto a = TimeSync::respond(*t, fcu_ns / 1000 * 1000)) send(*a, out);
+  } else if (const auto* l = std::get_if<mavlink::ParamRequestList>(&*m)) {
+    if (l->target_system == sysid()) list_next_ = 0;
   } else if (const auto* r = std::get_if<mavlink::ParamRequestRead>(&*m)) {
-    if (r->param_index >= 0 && static_cast<std::size_t>(r->param_index) < params_.size()) {
-      send_param(static_cast<std::size_t>(r->param_index), out);
-    } else {
-      const std::string name = mavlink::to_string(r->param_id);
-      for (std::size_t i = 0; i < params_.size(); ++i)
-        if (params_[i].name == name) send_param(i, out);
-    }
+    if (r->target_system != sysid()) return;
+    const auto i = r->param_index < 0 ? fw_.params().find(mavlink::to_string(r->param_id))
+                                      : std::optional<std::size_t>(static_cast<std::size_t>(r->param_index));
+    if (i && *i < fw_.params().size()) send_param(*i, out);
   } else if (const auto* s = std::get_if<mavlink::ParamSet>(&*m)) {
-    const std::string name = mavlink::to_string(s->param_id);
-    for (std::size_t i = 0; i < params_.size(); ++i) {
-      if (params_[i].name != name) continue;
-      // ROSflight keeps the parameter's own type; a value sent with another type is converted.
-      params_[i].value = param_wire(param_number(s->param_value, s->param_type), params_[i].type);
-      send_param(i, out);
-    }
+    param_set(*s);
   } else if (const auto* c = std::get_if<mavlink::RosflightCmd>(&*m)) {
-    mavlink::RosflightCmdAck ack;
-    ack.command = c->command;
-    ack.success = 1;
-    switch (static_cast<RosflightCmd>(c->command)) {
-      case RosflightCmd::send_version: {
-        mavlink::RosflightVersion v;
-        v.version = mavlink::to_chars<50>(version_);
-        enc_.append(v, out);
-        break;
-      }
-      case RosflightCmd::set_param_defaults: params_ = defaults_; break;
-      case RosflightCmd::write_params: ++writes_; break;
-      case RosflightCmd::reboot: reboot_ = true; break;
-      case RosflightCmd::read_params:
-      case RosflightCmd::rc_calibration:
-      case RosflightCmd::accel_calibration:
-      case RosflightCmd::gyro_calibration:
-      case RosflightCmd::baro_calibration:
-      case RosflightCmd::airspeed_calibration:
-      case RosflightCmd::reset_origin:
-      case RosflightCmd::send_all_config_infos: break;
-      default: ack.success = 0; break;
-    }
-    enc_.append(ack, out);
+    command(*c, f.sysid, out);
   }
+  stream_echoes(out);
+}
+
+void FcuSide::stream_echoes(std::vector<std::uint8_t>& out) {
+  for (std::size_t i : fw_.params().take_changes()) {
+    fw_.param_changed(fw_.params().at(i).name);
+    send_param(i, out);  // Params::set_param_*: CommManager::send_param_value on a change
+  }
+}
+
+void FcuSide::stream(std::vector<std::uint8_t>& out) {
+  stream_echoes(out);
+  if (fw_.take_status_request()) send(status(), out);
+  if (list_next_ < fw_.params().size()) send_param(list_next_++, out);
+  for (auto& line : fw_.take_log()) held_log_.push_back(std::move(line));
+  if (connected_ && !held_log_.empty()) {  // CommManager::send_buffered_log_messages: one a loop
+    mavlink::Statustext st;
+    st.severity = held_log_.front().severity;
+    st.text = mavlink::to_chars<50>(held_log_.front().text);
+    send(st, out);
+    held_log_.erase(held_log_.begin());
+  }
+}
+
+mavlink::RosflightStatus FcuSide::status() const {
+  mavlink::RosflightStatus s;
+  s.armed = fw_.armed() ? 1 : 0;
+  s.failsafe = fw_.failsafe() ? 1 : 0;
+  s.rc_override = fw_.rc_override();
+  s.offboard = fw_.offboard_active() ? 1 : 0;
+  s.error_code = static_cast<std::uint8_t>(fw_.error_codes());  // uint8_t in the message
+  s.control_mode = 0;  // FIXED_WING: MODE_PASS_THROUGH (CommManager::send_status)
+  s.num_errors = 0;
+  s.loop_time_us = static_cast<std::int16_t>(loop_time_us_);
+  return s;
+}
+
+mavlink::Heartbeat FcuSide::heartbeat() const {
+  mavlink::Heartbeat h;
+  h.type = fw_.params().get_int("FIXED_WING") ? 1 : 2;  // MAV_TYPE_FIXED_WING or MAV_TYPE_QUADROTOR
+  h.autopilot = 0;
+  h.base_mode = 0;
+  h.custom_mode = 0;
+  h.system_status = 0;
+  h.mavlink_version = 3;
+  return h;
 }
 
 }  // namespace tern::fcu

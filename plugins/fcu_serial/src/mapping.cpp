@@ -11,13 +11,19 @@ const char* kSurface[] = {"aileron", "elevator", "rudder", "throttle"};
 double finite_or_zero(double v) { return std::isfinite(v) ? v : 0.0; }
 }  // namespace
 
+int channel_index(const std::string& name) {
+  for (std::size_t i = 0; i < kChannelNames.size(); ++i)
+    if (name == kChannelNames[i]) return static_cast<int>(i);
+  throw std::invalid_argument("'" + name + "' is not one of the firmware's channels Fx Fy Fz Qx Qy Qz");
+}
+
 void ActuatorMap::validate() const {
   for (int i = 0; i < 4; ++i) {
-    if (channel[i] < 0 || channel[i] > 9)
-      throw std::invalid_argument(std::string(kSurface[i]) + " channel " + std::to_string(channel[i]) + " is outside 0..9");
+    if (channel[i] < 0 || channel[i] > 5)
+      throw std::invalid_argument(std::string(kSurface[i]) + " channel " + std::to_string(channel[i]) + " is outside 0..5 (Fx..Qz)");
     for (int j = 0; j < i; ++j)
       if (channel[i] == channel[j])
-        throw std::invalid_argument(std::string(kSurface[i]) + " and " + kSurface[j] + " share channel " + std::to_string(channel[i]));
+        throw std::invalid_argument(std::string(kSurface[i]) + " and " + kSurface[j] + " share channel " + kChannelNames[channel[i]]);
     if (sign[i] != 1.0 && sign[i] != -1.0)
       throw std::invalid_argument(std::string(kSurface[i]) + " sign must be +1 or -1, got " + std::to_string(sign[i]));
   }
@@ -31,31 +37,12 @@ mavlink::OffboardControl to_offboard(const Surfaces& s, const ActuatorMap& map) 
   mavlink::OffboardControl c;
   c.mode = kModePassThrough;
   const double d[3] = {s.delta_a, s.delta_e, s.delta_r};
-  std::uint16_t used = 0;
-  for (int i = 0; i < 3; ++i) {
-    const double u = std::clamp(finite_or_zero(d[i]) / map.max_deflection[i], -1.0, 1.0) * map.sign[i];
-    c.u[map.channel[i]] = static_cast<float>(u);
-    used |= static_cast<std::uint16_t>(1u << map.channel[i]);
-  }
+  for (int i = 0; i < 3; ++i)
+    c.u[map.channel[i]] = static_cast<float>(std::clamp(finite_or_zero(d[i]) / map.max_deflection[i], -1.0, 1.0) * map.sign[i]);
   const double t = std::clamp(finite_or_zero(s.delta_t), 0.0, 1.0);
   c.u[map.channel[3]] = static_cast<float>(map.sign[3] > 0 ? t : -t);
-  used |= static_cast<std::uint16_t>(1u << map.channel[3]);
-  c.ignore = static_cast<std::uint16_t>(~used & 0x3FF);
+  c.ignore = 0x3C0;  // u[6..9] (IGNORE_VALUE7..10); u[0..5] all active
   return c;
-}
-
-Surfaces from_offboard(const mavlink::OffboardControl& c, const ActuatorMap& map) {
-  auto u = [&](int i) -> double {
-    const int ch = map.channel[i];
-    if (c.ignore & (1u << ch)) return 0.0;
-    return finite_or_zero(c.u[ch]) * map.sign[i];
-  };
-  Surfaces s;
-  s.delta_a = std::clamp(u(0), -1.0, 1.0) * map.max_deflection[0];
-  s.delta_e = std::clamp(u(1), -1.0, 1.0) * map.max_deflection[1];
-  s.delta_r = std::clamp(u(2), -1.0, 1.0) * map.max_deflection[2];
-  s.delta_t = std::clamp(u(3), 0.0, 1.0);
-  return s;
 }
 
 void RcMap::validate() const {
@@ -78,7 +65,7 @@ std::uint16_t rc_pwm(const mavlink::RcChannels& rc, int i) {
                                          rc.chan6_raw,  rc.chan7_raw,  rc.chan8_raw,  rc.chan9_raw,  rc.chan10_raw,
                                          rc.chan11_raw, rc.chan12_raw, rc.chan13_raw, rc.chan14_raw, rc.chan15_raw,
                                          rc.chan16_raw, rc.chan17_raw, rc.chan18_raw};
-  if (i < 0 || i >= 18 || i >= rc.chancount || ch[i] == 0xFFFF) return 0;
+  if (i < 0 || i >= 18 || (i >= 8 && i >= rc.chancount) || ch[i] == 0xFFFF) return 0;
   return ch[i];
 }
 
@@ -95,30 +82,6 @@ RcSticks from_rc(const mavlink::RcChannels& rc, const RcMap& map) {
   s.throttle = t == 0 ? 0.0 : std::clamp((static_cast<double>(t) - 1000.0) / 1000.0, 0.0, 1.0);
   for (int i = 0; i < 4; ++i) s.aux[i] = centred(map.aux_channel[i]);
   return s;
-}
-
-mavlink::RcChannels to_rc(const RcSticks& s, const RcMap& map, std::uint32_t time_boot_ms) {
-  std::array<std::uint16_t, 18> pwm;
-  pwm.fill(0xFFFF);
-  for (int i = 0; i < 8; ++i) pwm[i] = 1500;
-  auto centred = [](double v) { return static_cast<std::uint16_t>(std::lround(1500.0 + 500.0 * std::clamp(v, -1.0, 1.0))); };
-  pwm[map.stick_channel[0]] = centred(s.roll * map.sign[0]);
-  pwm[map.stick_channel[1]] = centred(s.pitch * map.sign[1]);
-  pwm[map.stick_channel[2]] = centred(s.yaw * map.sign[2]);
-  pwm[map.stick_channel[3]] = static_cast<std::uint16_t>(std::lround(1000.0 + 1000.0 * std::clamp(s.throttle, 0.0, 1.0)));
-  for (int i = 0; i < 4; ++i) pwm[map.aux_channel[i]] = centred(s.aux[i]);
-  mavlink::RcChannels rc;
-  rc.time_boot_ms = time_boot_ms;
-  int top = 7;
-  for (int i = 0; i < 4; ++i) top = std::max({top, map.stick_channel[i], map.aux_channel[i]});
-  rc.chancount = static_cast<std::uint8_t>(top + 1);
-  rc.chan1_raw = pwm[0]; rc.chan2_raw = pwm[1]; rc.chan3_raw = pwm[2]; rc.chan4_raw = pwm[3];
-  rc.chan5_raw = pwm[4]; rc.chan6_raw = pwm[5]; rc.chan7_raw = pwm[6]; rc.chan8_raw = pwm[7];
-  rc.chan9_raw = pwm[8]; rc.chan10_raw = pwm[9]; rc.chan11_raw = pwm[10]; rc.chan12_raw = pwm[11];
-  rc.chan13_raw = pwm[12]; rc.chan14_raw = pwm[13]; rc.chan15_raw = pwm[14]; rc.chan16_raw = pwm[15];
-  rc.chan17_raw = pwm[16]; rc.chan18_raw = pwm[17];
-  rc.rssi = 255;
-  return rc;
 }
 
 }  // namespace tern::fcu

@@ -47,7 +47,11 @@ struct ParserStats {
   std::uint64_t bad_crc = 0;      ///< frames with a wrong checksum
   std::uint64_t unknown_id = 0;   ///< headers naming a message id outside the dialect
   std::uint64_t bad_length = 0;   ///< headers whose length does not match the message definition
-  std::uint64_t seq_gaps = 0;     ///< frames lost according to the sequence numbers (per sender)
+  /// Frames lost according to the sequence numbers, counted per system id: a MAVLink sender
+  /// numbers every frame of its link on one counter whatever the component id (ROSflight sends
+  /// PARAM_VALUE as component 0 and the rest as 250 on one counter: mavlink_adapter.cpp
+  /// send_param_value_*, mavlink_helpers.h mavlink_finalize_message_chan).
+  std::uint64_t seq_gaps = 0;
 };
 
 class Parser {
@@ -126,7 +130,7 @@ class Parser {
     frame_.compid = buf_[4];
     frame_.msgid = buf_[5];
     for (std::size_t i = 0; i < frame_.len; ++i) frame_.payload[i] = buf_[kHeaderLength + i];
-    const std::size_t key = (static_cast<std::size_t>(frame_.sysid) << 8) | frame_.compid;
+    const std::size_t key = frame_.sysid;
     if (seen_[key]) stats_.seq_gaps += static_cast<std::uint8_t>(frame_.seq - last_seq_[key] - 1);
     seen_[key] = true;
     last_seq_[key] = frame_.seq;
@@ -157,8 +161,8 @@ class Parser {
   std::array<std::uint8_t, 2 * kMaxFrameLength> replay_{};  ///< ring buffer of bytes to scan again
   std::size_t replay_head_ = 0, replay_size_ = 0;
   ParserStats stats_;
-  std::vector<bool> seen_ = std::vector<bool>(65536, false);
-  std::vector<std::uint8_t> last_seq_ = std::vector<std::uint8_t>(65536, 0);
+  std::array<bool, 256> seen_{};              ///< per system id
+  std::array<std::uint8_t, 256> last_seq_{};
 };
 
 /// The messages tern decodes and encodes (issue 9's list).
@@ -195,9 +199,15 @@ class Encoder {
   /// Appends one frame with msg to out.
   template <class T>
   void append(const T& msg, std::vector<std::uint8_t>& out) {
+    append_as(msg, out, sysid_, compid_);
+  }
+  /// Appends one frame sent under other ids, on the same sequence counter (as the MAVLink C
+  /// library does: one tx sequence per channel, mavlink_helpers.h mavlink_finalize_message_chan).
+  template <class T>
+  void append_as(const T& msg, std::vector<std::uint8_t>& out, std::uint8_t sysid, std::uint8_t compid) {
     const std::size_t at = out.size();
     out.resize(at + kHeaderLength + T::kLength + 2);
-    encode(msg, seq_++, sysid_, compid_, out.data() + at);
+    encode(msg, seq_++, sysid, compid, out.data() + at);
   }
   template <class T>
   std::vector<std::uint8_t> frame(const T& msg) {

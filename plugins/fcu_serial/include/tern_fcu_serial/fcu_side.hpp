@@ -1,16 +1,28 @@
-// tern_fcu_serial/fcu_side.hpp: the FCU's side of ROSflight's companion protocol, as the FCU
-// emulator (tools/tern_fcu_emulator.cpp) and the tests play it: parameters (PARAM_REQUEST_LIST,
-// PARAM_REQUEST_READ, PARAM_SET -> PARAM_VALUE), commands (ROSFLIGHT_CMD -> ROSFLIGHT_CMD_ACK,
-// ROSFLIGHT_VERSION for SEND_VERSION), TIMESYNC answers, and the latest OFFBOARD_CONTROL.
-// Plain C++, no tern host types, no I/O: handle() takes a received frame and appends the
-// answer frames to a byte buffer.
+// tern_fcu_serial/fcu_side.hpp: the FCU's side of ROSflight's companion protocol, as
+// tern-fcu-emulator and the tests play it, in front of the emulated firmware (firmware.hpp).
+// Plain C++, no tern host types, no I/O: handle() takes a received frame, stream() the
+// frames the firmware sends on its own; both append frames to a byte buffer.
+//
+// Follows (rosflight_firmware, the commit rosflight_ros_pkgs pins):
+//   src/mavlink_adapter.cpp  MavlinkAdapter: component id 250 (MAV_COMP_ID_ROSFLIGHT_FIRMWARE)
+//                            except PARAM_VALUE (component 0), one sequence counter; PARAM_SET
+//                            of a type other than INT32/REAL32 dropped; an unknown ROSFLIGHT_CMD
+//                            acknowledged as failed under the sender's system id.
+//   src/comm_manager.cpp     CommManager: requests whose target_system is not SYS_ID ignored;
+//                            PARAM_SET applied only to a parameter of the same type; PARAM_VALUE
+//                            echoed only when a value changes; PARAM_REQUEST_LIST answered one
+//                            parameter per loop (send_next_param); every ROSFLIGHT_CMD refused
+//                            while armed (command_callback); TIMESYNC answered with
+//                            clock_micros() * 1000; STATUSTEXT held until a HEARTBEAT arrived.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "tern_fcu_serial/codec.hpp"
+#include "tern_fcu_serial/firmware.hpp"
 
 namespace tern::fcu {
 
@@ -24,12 +36,8 @@ enum class RosflightCmd : std::uint8_t {
 /// MAV_PARAM_TYPE values used by ROSflight.
 inline constexpr std::uint8_t kParamInt32 = 6;
 inline constexpr std::uint8_t kParamReal32 = 9;
-
-struct FcuParam {
-  std::string name;  ///< at most 16 characters
-  float value = 0;   ///< MAVLink carries every value as a float; an int32 is stored bit for bit
-  std::uint8_t type = kParamReal32;
-};
+/// MAV_COMP_ID_ROSFLIGHT_FIRMWARE (rosflight.xml): the FCU's component id.
+inline constexpr std::uint8_t kFirmwareComponent = 250;
 
 /// A PARAM_VALUE/PARAM_SET float read as the number it stands for (int32 types bit for bit).
 double param_number(float wire, std::uint8_t type);
@@ -38,34 +46,46 @@ float param_wire(double v, std::uint8_t type);
 
 class FcuSide {
  public:
-  /// `params`: the FCU's parameter table (e.g. ROSflight's fixed-wing defaults).
-  FcuSide(std::vector<FcuParam> params, std::string version, std::uint8_t sysid = 1, std::uint8_t compid = 1);
-
-  /// ROSflight's fixed-wing parameters of fixedwing_firmware.yaml plus the few the emulator uses.
-  static std::vector<FcuParam> default_params();
+  FcuSide(firmware::Params params, std::string version);
 
   /// Handles one frame from the companion at FCU time fcu_ns; answers go to `out`.
   void handle(const mavlink::Frame& f, std::int64_t fcu_ns, std::vector<std::uint8_t>& out);
+  /// The end of one firmware loop (CommManager::stream): parameter echoes, a status the
+  /// firmware asked for, the next parameter of a list request, one held log line.
+  void stream(std::vector<std::uint8_t>& out);
+  /// Appends a frame the firmware sends as itself (system SYS_ID, component 250).
+  template <class T>
+  void send(const T& m, std::vector<std::uint8_t>& out) {
+    enc_.append_as(m, out, sysid(), kFirmwareComponent);
+  }
+  mavlink::RosflightStatus status() const;  ///< CommManager::send_status
+  /// The duration of the last control loop, reported in the status (ROSflight::get_loop_time_us).
+  void set_loop_time_us(std::uint16_t us) { loop_time_us_ = us; }
+  mavlink::Heartbeat heartbeat() const;                               ///< MavlinkAdapter::send_heartbeat
 
-  mavlink::Encoder& encoder() { return enc_; }
-  const std::vector<FcuParam>& params() const { return params_; }
-  /// Latest OFFBOARD_CONTROL and how many have arrived.
-  const mavlink::OffboardControl& command() const { return cmd_; }
-  std::uint64_t commands() const { return commands_; }
-  std::int64_t last_command_ns() const { return last_cmd_ns_; }
+  firmware::Firmware& fw() { return fw_; }
+  const firmware::Firmware& fw() const { return fw_; }
+  std::uint8_t sysid() const { return static_cast<std::uint8_t>(fw_.params().get_int("SYS_ID")); }
+  std::uint64_t commands() const { return commands_; }  ///< OFFBOARD_CONTROL frames received
   bool reboot_requested() const { return reboot_; }
   void clear_reboot() { reboot_ = false; }
-  std::uint64_t writes() const { return writes_; }  ///< WRITE_PARAMS commands
+  std::uint64_t writes() const { return writes_; }  ///< WRITE_PARAMS commands carried out
+  const firmware::Params& stored() const { return stored_; }  ///< what WRITE_PARAMS saved
 
  private:
   void send_param(std::size_t i, std::vector<std::uint8_t>& out);
-  std::vector<FcuParam> params_, defaults_;
+  void stream_echoes(std::vector<std::uint8_t>& out);
+  void param_set(const mavlink::ParamSet& s);
+  void command(const mavlink::RosflightCmd& c, std::uint8_t from_sysid, std::vector<std::uint8_t>& out);
+  firmware::Firmware fw_;
+  firmware::Params stored_;
   std::string version_;
-  mavlink::Encoder enc_;
-  mavlink::OffboardControl cmd_;
+  mavlink::Encoder enc_{1, kFirmwareComponent};
+  std::size_t list_next_ = SIZE_MAX;
+  std::vector<firmware::LogLine> held_log_;
+  std::uint16_t loop_time_us_ = 0;
+  bool connected_ = false, reboot_ = false;
   std::uint64_t commands_ = 0, writes_ = 0;
-  std::int64_t last_cmd_ns_ = -1;
-  bool reboot_ = false;
 };
 
 }  // namespace tern::fcu
