@@ -869,6 +869,18 @@ void Host::route_to(std::size_t idx, Nanos now, const std::string& reason, bool 
   }
 }
 
+void Host::route_none(Nanos now, const std::string& reason) {
+  if (!active_) return;
+  logger_->info("t={:.3f} s: controller {} -> (none): {}", to_seconds(now), instances_[*active_]->cfg.name, reason);
+  handovers_.push_back({now, instances_[*active_]->cfg.name, "(none)", reason});
+  active_.reset();
+  for (auto& tp : topics_) {
+    if (!tp->routed) continue;
+    tp->current = nullptr;
+    for (auto& [i, in] : tp->readers) in->bind(nullptr);
+  }
+}
+
 void Host::engage_fallback(Nanos now, const std::string& why) {
   fallback_engaged_ = true;
   route_to(*fallback_, now, "fallback for the rest of the flight: " + why, true);
@@ -1100,8 +1112,10 @@ FlightResult Host::fly() {
             const msg::Phase p = phase_machine_->phase();
             auto it = config_.phases.find(p);
             if (it == config_.phases.end()) it = config_.phases.find(msg::Phase::cruise);
-            for (std::size_t i = 0; i < instances_.size(); ++i)
-              if (instances_[i]->cfg.name == it->second) route_to(i, now, fmt::format("phase {}", msg::phase_name(p)), false);
+            if (phase_machine_->disarmed()) route_none(now, "disarmed: waiting for the FCU to be armed and error-free");
+            else
+              for (std::size_t i = 0; i < instances_.size(); ++i)
+                if (instances_[i]->cfg.name == it->second) route_to(i, now, fmt::format("phase {}", msg::phase_name(p)), false);
             actuators_src = find_actuators();
           }
         }

@@ -167,6 +167,8 @@ class Host {
   void order_schedule();
   void resolve_rates();
   void route_to(std::size_t idx, Nanos now, const std::string& reason, bool from_failure);
+  /// No controller runs (the flight waits disarmed); routed topics lose their writer.
+  void route_none(Nanos now, const std::string& reason);
   bool step_instance(Instance& inst, Nanos now, std::string& error);
   void engage_fallback(Nanos now, const std::string& why);
   std::string resolved_config_yaml() const;

@@ -10,6 +10,8 @@ namespace tern::core {
 void PhaseMachine::configure() {
   declare(state_, "state", "vehicle state (altitude)");
   declare(command_, "controller_command", "commanded altitude h_c", Need::optional);
+  declare(fcu_, "fcu_status", "flight-control unit status: the flight waits disarmed until it is armed and error-free",
+          Need::optional);
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0, ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
   declare(alt_hz_, "alt_hz", 20.0, ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
@@ -21,6 +23,7 @@ void PhaseMachine::start() { reset(); }
 
 void PhaseMachine::reset() {
   phase_ = msg::Phase::takeoff;
+  disarmed_ = false;
   since_ = 0;
   condition_since_ = -1;
   transitions_.clear();
@@ -43,7 +46,24 @@ void PhaseMachine::enter(Nanos now, msg::Phase to, std::string reason) {
   phase_out_.publish(m);
 }
 
+bool PhaseMachine::wait_for_arming(Nanos now) {
+  if (!fcu_.has_value()) return disarmed_;
+  const msg::FcuStatus& f = *fcu_;
+  if (!disarmed_ && !f.armed) {
+    disarmed_ = true;
+    log().warn("t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
+               "error-free (error code 0x{:02x}; the FCU link says what is missing)", to_seconds(now), f.error_code);
+    transitions_.push_back({now, phase_, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
+    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, phase_, now});
+  } else if (disarmed_ && f.armed && f.error_code == 0) {
+    disarmed_ = false;
+    enter(now, msg::Phase::takeoff, "FCU armed and error-free: takeoff");
+  }
+  return disarmed_;
+}
+
 void PhaseMachine::step(Nanos now) {
+  if (wait_for_arming(now)) return;
   const msg::State& s = state_.get();
   if (!state_.has_value() || !std::isfinite(s.p_d)) return;
   const double h = -s.p_d;

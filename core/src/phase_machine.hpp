@@ -8,6 +8,11 @@
 //   climb   -> cruise  when |h_c - h| < alt_hz
 //   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
 //   climb/cruise -> takeoff when h < alt_toz for min_phase_time (lost altitude near the ground)
+//   any     -> disarmed when the optional `fcu_status` says the FCU is not armed: the host then
+//              steps no controller (no takeoff, no integrators running) until
+//   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
+// Without `fcu_status` (or with sim_aero's, armed) the flight never waits. The published phase
+// stays `takeoff` while disarmed (FlightPhase has no disarmed value); disarmed() tells the host.
 // Every transition is recorded with its time and reason. The phase router also reads
 // max_deflection: a controller commanding more (or a throttle outside [0, 1]) is replaced by the
 // fallback.
@@ -35,17 +40,23 @@ class PhaseMachine final : public Plugin {
   void reset() override;
 
   msg::Phase phase() const { return phase_; }
+  /// The flight waits for the FCU to be armed and error-free: no controller runs.
+  bool disarmed() const { return disarmed_; }
   /// Largest surface deflection a controller may command before the router replaces it, rad.
   double max_deflection() const { return max_deflection_(); }
   const std::vector<PhaseTransition>& transitions() const { return transitions_; }
 
  private:
   void enter(Nanos now, msg::Phase to, std::string reason);
+  /// Enters or leaves the disarmed wait from `fcu_status`; true while waiting.
+  bool wait_for_arming(Nanos now);
   Input<msg::State> state_;
   Input<msg::ControllerCommand> command_;
+  Input<msg::FcuStatus> fcu_;
   Output<msg::FlightPhase> phase_out_;
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
   msg::Phase phase_ = msg::Phase::takeoff;
+  bool disarmed_ = false;
   Nanos since_ = 0;
   Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
   std::vector<PhaseTransition> transitions_;

@@ -32,6 +32,7 @@
 #include "tern_fcu_serial/link.hpp"
 #include "tern_fcu_serial/mapping.hpp"
 #include "tern_fcu_serial/process.hpp"
+#include "tern_fcu_serial/status.hpp"
 #include "tern_fcu_serial/timesync.hpp"
 
 namespace tern::fcu_serial {
@@ -77,8 +78,9 @@ class FcuSerial final : public tern::Plugin {
     declare(timesync_rate_, "timesync_rate", 10.0, ParamSpec("Hz", 0.1, 100, "rate of TIMESYNC requests"));
     declare(max_deflection_, "max_deflection", std::vector<double>{},
             ParamSpec("rad", 0.01, 3.2, "aileron, elevator, rudder deflection at full pass-through command; empty: the aircraft file's servos limits (else 45 deg)"));
-    declare(channels_, "channels", std::vector<double>{0, 1, 2, 3},
-            ParamSpec("", 0, 9, "OFFBOARD_CONTROL channel of aileron, elevator, rudder, throttle").of_size(4));
+    declare(channels_, "channels", "Qx Qy Qz Fx",
+            ParamSpec("", 0, 0, "the firmware's channel (Fx Fy Fz Qx Qy Qz) of aileron, elevator, rudder, throttle: "
+                                "its fixed-wing mixer routes Qx Qy Qz to the aileron, elevator, rudder servos and Fx to the motor"));
     declare(signs_, "signs", std::vector<double>{1, 1, 1, 1},
             ParamSpec("", -1, 1, "+1 or -1 per aileron, elevator, rudder, throttle").of_size(4));
     declare(rc_channels_, "rc_channels", std::vector<double>{0, 1, 3, 2},
@@ -94,6 +96,10 @@ class FcuSerial final : public tern::Plugin {
             ParamSpec("", 0, 0, "start tern-fcu-emulator (sim_aero's aircraft behind a pseudo-terminal) and fly through it"));
     declare(emulator_args_, "emulator_args", "",
             ParamSpec("", 0, 0, "extra arguments of tern-fcu-emulator, e.g. \"--wind 3.5,-3.5,0 --turbulence light\""));
+    declare(emulator_params_, "emulator_params", "",
+            ParamSpec("", 0, 0, "the emulated FCU's stored parameters (YAML NAME: value, relative to the mission file); empty: firmware defaults"));
+    declare(emulator_rc_, "emulator_rc", "0 throttle=0 aux1=-1; 2 aux1=1",
+            ParamSpec("", 0, 0, "the emulated pilot's transmitter over time (tern-fcu-emulator --rc), or none"));
     declare(emulator_path_, "emulator_path", "",
             ParamSpec("", 0, 0, "tern-fcu-emulator executable; empty: next to the tern command, then PATH"));
 
@@ -188,6 +194,12 @@ class FcuSerial final : public tern::Plugin {
       }
     }
     process(now);
+    if (!first_step_now_) first_step_now_ = now;
+    if (!rc_seen_ && !rc_warned_ && now - *first_step_now_ >= tern::from_seconds(1.0)) {
+      rc_warned_ = true;
+      log().warn("no RC_CHANNELS from the FCU in the first second: without a receiver the firmware never mixes "
+                 "(command_manager.cpp mixes on a new RC frame), so the outputs will not move");
+    }
     last_step_now_ = now;
     check_link(fcu::steady_ns());
     if (!lockstep_()) {
@@ -216,6 +228,7 @@ class FcuSerial final : public tern::Plugin {
             {"fcu_link_losses", static_cast<double>(link_losses_)},
             {"fcu_reboots", static_cast<double>(reboots_)},
             {"fcu_imu_superseded", static_cast<double>(imu_superseded_)},
+            {"fcu_lockstep_resends", static_cast<double>(lockstep_resends_)},
             {"fcu_timesync_rtt_ms", static_cast<double>(timesync_.last_rtt()) * 1e-6}};
   }
 
@@ -262,8 +275,17 @@ class FcuSerial final : public tern::Plugin {
   }
   fcu::ActuatorMap actuator_map(std::array<double, 3> maxd) const {
     fcu::ActuatorMap m;
+    std::stringstream words(channels_());
+    std::vector<std::string> names;
+    for (std::string w; words >> w;) names.push_back(w);
+    if (names.size() != 4)
+      throw ParamError("parameter '" + qname("channels") + "': needs 4 names (aileron elevator rudder throttle), got '" + channels_() + "'");
     for (int i = 0; i < 4; ++i) {
-      m.channel[i] = as_index(channels_()[i], qname("channels"));
+      try {
+        m.channel[i] = fcu::channel_index(names[static_cast<std::size_t>(i)]);
+      } catch (const std::invalid_argument& e) {
+        throw ParamError("parameter '" + qname("channels") + "': " + e.what());
+      }
       m.sign[i] = signs_()[i];
     }
     m.max_deflection = maxd;
@@ -317,6 +339,12 @@ class FcuSerial final : public tern::Plugin {
       argv.push_back(ac.string());
     }
     if (lockstep_()) argv.push_back("--lockstep");
+    if (!emulator_params_().empty()) {
+      std::filesystem::path p = emulator_params_();
+      if (p.is_relative() && !context().config_dir().empty()) p = context().config_dir() / p;
+      argv.insert(argv.end(), {"--params", p.string()});
+    }
+    argv.insert(argv.end(), {"--rc", emulator_rc_()});
     std::stringstream ss(emulator_args_());
     for (std::string a; ss >> a;) argv.push_back(a);
     emulator_proc_ = std::make_unique<fcu::ChildProcess>(argv);
@@ -363,6 +391,9 @@ class FcuSerial final : public tern::Plugin {
     last_imu_stamp_ = 0;
     stream_stamp_ = 0;
     status_.reset();
+    raw_status_.reset();
+    rc_seen_ = rc_warned_ = false;
+    first_step_now_.reset();
     timesync_ = fcu::TimeSync();
   }
 
@@ -424,14 +455,27 @@ class FcuSerial final : public tern::Plugin {
 
   /// Clock "fcu": waits until the IMU sample of time `now` has arrived (or wait_timeout passes).
   void wait_for(Nanos now) {
-    const std::int64_t deadline = fcu::steady_ns() + tern::from_seconds(wait_timeout_());
+    std::int64_t deadline = fcu::steady_ns() + tern::from_seconds(wait_timeout_());
     for (;;) {
       if (newest_imu_fcu_) {
         if (!anchored_) return;  // the first sample anchors the clock at `now`
         if (last_imu_fcu_ && *newest_imu_fcu_ < *last_imu_fcu_) return;  // reboot: handled in process()
         if (fcu_stamp(*newest_imu_fcu_) >= now) return;
       }
-      const std::int64_t left = deadline - fcu::steady_ns();
+      std::int64_t left = deadline - fcu::steady_ns();
+      if (left <= 0 && lockstep_()) {
+        // Lockstep: the FCU waits for one command per IMU sample it delivered. Send the last one
+        // again (our command may have been lost); with nothing at all for link_timeout the
+        // link is gone: end the flight in one line rather than fly commands on a frozen state.
+        if (fcu::steady_ns() - last_rx_ns_ > tern::from_seconds(link_timeout_()))
+          throw std::runtime_error(fmt::format("lockstep: nothing from the FCU for {:.2f} s at t={:.3f} s (link_timeout): "
+                                               "the emulator stopped, or is not running with --lockstep",
+                                               tern::to_seconds(fcu::steady_ns() - last_rx_ns_), tern::to_seconds(now)));
+        send_command();
+        ++lockstep_resends_;
+        deadline = fcu::steady_ns() + tern::from_seconds(wait_timeout_());
+        left = deadline - fcu::steady_ns();
+      }
       if (left <= 0) {
         // No IMU sample: until one arrives, flight time follows the wall clock (each step
         // waiting wait_timeout would crawl). A silent link is reported by check_link().
@@ -473,6 +517,11 @@ class FcuSerial final : public tern::Plugin {
           anchored_ = false;
           timesync_.clear();
           last_imu_fcu_ = t;  // the new epoch: a sample kept for the next step is not a second reboot
+        }
+        if (last_imu_fcu_ && t - *last_imu_fcu_ > tern::from_seconds(link_timeout_())) {
+          ++link_losses_;
+          log().warn("t={:.3f} s: no IMU sample for {:.2f} s of FCU time (link silent or frames lost); resumed",
+                     tern::to_seconds(now), (t - *last_imu_fcu_) * 1e-9);
         }
         if (!anchored_ && clock_() == "fcu") {
           anchored_ = true;
@@ -535,7 +584,7 @@ class FcuSerial final : public tern::Plugin {
       msg::Gnss out;
       const std::int64_t t = static_cast<std::int64_t>(s->rosflight_timestamp) * 1000;
       out.stamp = (anchored_ || clock_() == "wall") && t > 0 ? std::min(stamp_of_fcu_time(t, r.rx_ns), stream) : stream;
-      out.fix_type = static_cast<msg::FixType>(std::min<std::uint8_t>(s->fix_type, 3));
+      out.fix_type = static_cast<msg::FixType>(fcu::fix_type(s->fix_type));
       out.num_sats = s->num_sat;
       out.lat = s->lat;
       out.lon = s->lon;
@@ -551,6 +600,7 @@ class FcuSerial final : public tern::Plugin {
       out.time_of_validity = out.stamp;
       gnss = out;
     } else if (const auto* s = std::get_if<mav::RcChannels>(&m)) {
+      rc_seen_ = true;
       const fcu::RcSticks k = fcu::from_rc(*s, rc_map_);
       msg::Rc out;
       out.stamp = stream;
@@ -563,21 +613,7 @@ class FcuSerial final : public tern::Plugin {
       out.failsafe = status_ && status_->failsafe;
       rc = out;
     } else if (const auto* s = std::get_if<mav::RosflightStatus>(&m)) {
-      msg::FcuStatus st = status_.value_or(msg::FcuStatus{});
-      const bool was_override = status_ && status_->rc_override, was_failsafe = status_ && status_->failsafe,
-                 was_armed = status_ && status_->armed;
-      st.stamp = stream;
-      st.armed = s->armed != 0;
-      st.failsafe = s->failsafe != 0;
-      st.rc_override = s->rc_override != 0;
-      st.offboard = s->offboard != 0;
-      st.error_code = s->error_code;
-      if (status_) {
-        if (st.rc_override != was_override) log().warn("t={:.3f} s: RC override {}", tern::to_seconds(stream), st.rc_override ? "ON: the pilot flies" : "off: tern flies");
-        if (st.failsafe != was_failsafe) log().warn("t={:.3f} s: FCU failsafe {}", tern::to_seconds(stream), st.failsafe ? "ON" : "off");
-        if (st.armed != was_armed) log().info("t={:.3f} s: FCU {}", tern::to_seconds(stream), st.armed ? "armed" : "disarmed");
-      }
-      status_ = st;
+      on_status(*s, stream);
       status_new = true;
     } else if (const auto* s = std::get_if<mav::Timesync>(&m)) {
       timesync_.on_answer(*s, r.rx_ns);
@@ -592,10 +628,43 @@ class FcuSerial final : public tern::Plugin {
     } else if (const auto* s = std::get_if<mav::RosflightCmdAck>(&m)) {
       if (!s->success) log().warn("FCU refused command {}", static_cast<int>(s->command));
     } else if (const auto* s = std::get_if<mav::RosflightOutputRaw>(&m)) {
-      output_raw_ = *s;
+      output_raw_ = *s;  // stamp: the FCU's clock_millis (CommManager::send_output_raw)
     } else if (const auto* s = std::get_if<mav::AttitudeQuaternion>(&m)) {
       attitude_ = *s;
     }
+  }
+
+  /// ROSFLIGHT_STATUS: published; every change of arming, errors, failsafe or override is one
+  /// log line saying what it means and what is missing.
+  void on_status(const mav::RosflightStatus& s, Nanos stream) {
+    msg::FcuStatus st = status_.value_or(msg::FcuStatus{});
+    const std::optional<mav::RosflightStatus> was = raw_status_;
+    st.stamp = stream;
+    st.armed = s.armed != 0;
+    st.failsafe = s.failsafe != 0;
+    st.rc_override = (s.rc_override & fcu::kPilotOverride) != 0;  // the pilot flies (not: tern's command missing)
+    st.offboard = s.offboard != 0;
+    st.error_code = s.error_code;
+    const double t = tern::to_seconds(stream);
+    if (!was || was->armed != s.armed || was->error_code != s.error_code) {
+      const std::string why = fcu::arming_problems(st.armed, s.error_code);
+      if (why.empty()) log().info("t={:.3f} s: FCU armed, no errors", t);
+      else log().warn("t={:.3f} s: {}", t, why);
+    }
+    if (!was || was->failsafe != s.failsafe) {
+      if (st.failsafe) log().warn("t={:.3f} s: FCU failsafe ON (RC lost: throttle 0, surfaces neutral)", t);
+      else if (was) log().warn("t={:.3f} s: FCU failsafe off", t);
+    }
+    if (!was || was->rc_override != s.rc_override) {
+      const std::string why = fcu::describe_override(s.rc_override);
+      if (why.empty()) {
+        if (was) log().info("t={:.3f} s: RC override off: tern flies", t);
+      } else {
+        log().warn("t={:.3f} s: RC override 0x{:03x}: {}", t, s.rc_override, why);
+      }
+    }
+    raw_status_ = s;
+    status_ = st;
   }
 
   void check_link(std::int64_t wall) {
@@ -633,11 +702,12 @@ class FcuSerial final : public tern::Plugin {
   tern::Output<msg::Rc> rc_out_;
   tern::Output<msg::FcuStatus> status_out_;
 
-  tern::Param<std::string> transport_, device_, udp_host_, clock_, emulator_args_, emulator_path_;
+  tern::Param<std::string> transport_, device_, udp_host_, clock_, emulator_args_, emulator_path_, channels_, emulator_params_,
+      emulator_rc_;
   tern::Param<std::int64_t> baud_, udp_bind_port_, udp_remote_port_, system_id_, component_id_;
   tern::Param<bool> lockstep_, emulator_;
   tern::Param<double> connect_timeout_, wait_timeout_, link_timeout_, command_rate_, heartbeat_rate_, timesync_rate_, mag_scale_;
-  tern::Param<std::vector<double>> max_deflection_, channels_, signs_, rc_channels_, rc_aux_channels_, rc_signs_;
+  tern::Param<std::vector<double>> max_deflection_, signs_, rc_channels_, rc_aux_channels_, rc_signs_;
 
   fcu::ActuatorMap map_;
   fcu::RcMap rc_map_;
@@ -654,8 +724,11 @@ class FcuSerial final : public tern::Plugin {
   Nanos anchor_now_ = 0, wall_anchor_now_ = 0, last_imu_stamp_ = 0, stream_stamp_ = 0, lost_now_ = 0;
   std::optional<std::int64_t> newest_imu_fcu_, last_imu_fcu_;
   std::int64_t last_cmd_index_ = -1, last_rx_ns_ = 0, lost_at_ = 0, lost_wall_ = 0, last_step_now_ = 0, last_heartbeat_ = 0, last_timesync_ = 0;
-  std::uint64_t link_losses_ = 0, reboots_ = 0, commands_sent_ = 0, imu_superseded_ = 0;
+  std::uint64_t link_losses_ = 0, reboots_ = 0, commands_sent_ = 0, imu_superseded_ = 0, lockstep_resends_ = 0;
+  bool rc_seen_ = false, rc_warned_ = false;
+  std::optional<Nanos> first_step_now_;
   std::optional<msg::FcuStatus> status_;
+  std::optional<mav::RosflightStatus> raw_status_;
   std::optional<mav::RosflightOutputRaw> output_raw_;
   std::optional<mav::AttitudeQuaternion> attitude_;
   std::string version_;

@@ -1,9 +1,16 @@
-// tern-fcu: `tern fcu param list|get|set` - read and write a ROSflight FCU's firmware parameters
-// over its MAVLink link (serial port or UDP). Not while flying: the flight holds the port.
+// tern-fcu: `tern fcu param list|get|set`, `tern fcu calibrate imu|gyro|baro|airspeed` - a
+// ROSflight FCU's firmware parameters and calibrations over its MAVLink link (serial port or
+// UDP). Not while flying: the flight holds the port.
 //
 //   tern fcu --device /dev/ttyACM0 param list
 //   tern fcu param get RC_ATT_OVRD_CHN
 //   tern fcu param set MOTOR_IDLE_THR 0.15 --write      (--write: save to the FCU's flash)
+//   tern fcu calibrate imu                              (level and still; then param write)
+//
+// Requests go to the system id of the FCU's own frames (comm_manager.cpp ignores any other
+// target_system). A set is confirmed by reading the value back: the firmware echoes PARAM_VALUE
+// only when a value changes and ignores a PARAM_SET of the other type (comm_manager.cpp
+// param_set_*_callback, param.cpp set_param_*). Commands are refused while armed.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +34,38 @@ struct Client {
   fcu::Link link;
   mav::Encoder enc{1, 50};
   std::deque<fcu::Received> rx;
-  explicit Client(const fcu::LinkOptions& o) : link(o) { link.start(); }
+  std::uint8_t target = 0;  ///< the FCU's system id, from its frames
+  explicit Client(const fcu::LinkOptions& o) : link(o) {
+    link.start();
+    mav::Heartbeat h;  // the firmware holds its STATUSTEXT until a companion's HEARTBEAT
+    h.type = 18;
+    h.autopilot = 8;
+    h.mavlink_version = 3;
+    send(h);
+  }
+  /// Waits for the FCU's first frame (HEARTBEAT at 1 Hz, sensors faster) for its system id.
+  bool find_target(double timeout_s) {
+    return collect_frames(timeout_s, [&](const fcu::Received& r) {
+      if (r.frame.compid != fcu::kFirmwareComponent) return false;
+      target = r.frame.sysid;
+      return true;
+    });
+  }
+  template <class F>
+  bool collect_frames(double timeout_s, F&& done) {
+    const std::int64_t deadline = fcu::steady_ns() + static_cast<std::int64_t>(timeout_s * 1e9);
+    for (;;) {
+      link.drain(rx);
+      while (!rx.empty()) {
+        const fcu::Received r = rx.front();
+        rx.pop_front();
+        if (done(r)) return true;
+      }
+      const std::int64_t left = deadline - fcu::steady_ns();
+      if (left <= 0) return false;
+      link.wait(left);
+    }
+  }
 
   template <class T>
   void send(const T& m) { link.send(enc.frame(m)); }
@@ -70,7 +108,7 @@ std::optional<mav::ParamValue> read_param(Client& c, const std::string& name, do
   std::optional<mav::ParamValue> got;
   for (int attempt = 0; attempt < 3 && !got; ++attempt) {
     mav::ParamRequestRead r;
-    r.target_system = 1;
+    r.target_system = c.target;
     r.target_component = 1;
     r.param_id = mav::to_chars<16>(name);
     r.param_index = -1;
@@ -82,6 +120,58 @@ std::optional<mav::ParamValue> read_param(Client& c, const std::string& name, do
     });
   }
   return got;
+}
+
+/// Sends ROSFLIGHT_CMD c and waits for its acknowledgement; prints the outcome.
+bool command(Client& c, fcu::RosflightCmd which, double timeout) {
+  mav::RosflightCmd cmd;
+  cmd.command = static_cast<std::uint8_t>(which);
+  c.send(cmd);
+  std::optional<bool> ok;
+  c.collect(timeout * 3, [&](const mav::Message& m, std::int64_t&) {
+    const auto* a = std::get_if<mav::RosflightCmdAck>(&m);
+    if (a && a->command == cmd.command) ok = a->success != 0;
+    return ok.has_value();
+  });
+  if (!ok) std::cerr << "tern fcu: no acknowledgement of command " << int(cmd.command) << "\n";
+  else if (!*ok) std::cerr << "tern fcu: the FCU refused command " << int(cmd.command) << " (armed?)\n";
+  else if (which == fcu::RosflightCmd::write_params) std::printf("written to flash\n");
+  return ok.value_or(false);
+}
+
+/// ROSFLIGHT_CMD *_CALIBRATION, then the firmware's STATUSTEXT verdict (sensors.cpp
+/// calibrate_accel: about 2.5 s at 400 Hz; calibrate_baro / calibrate_diff_pressure: 255
+/// cycles of > 20 ms, about 8 s).
+int run_calibration(Client& c, const std::string& what, double timeout) {
+  const std::map<std::string, std::pair<fcu::RosflightCmd, std::string>> kinds = {
+      {"imu", {fcu::RosflightCmd::accel_calibration, "IMU offsets captured"}},
+      {"gyro", {fcu::RosflightCmd::gyro_calibration, ""}},
+      {"baro", {fcu::RosflightCmd::baro_calibration, "Baro ground pressure cal successful!"}},
+      {"airspeed", {fcu::RosflightCmd::airspeed_calibration, "Airspeed Cal Successful!"}}};
+  const auto& [cmd, success] = kinds.at(what);
+  if (!command(c, cmd, timeout)) return 1;
+  if (success.empty()) {
+    std::printf("gyro calibration started (about 2.5 s, keep still)\n");
+    return 0;
+  }
+  std::optional<std::string> verdict;
+  c.collect(std::max(timeout, 15.0), [&](const mav::Message& m, std::int64_t&) {
+    const auto* t = std::get_if<mav::Statustext>(&m);
+    if (!t) return false;
+    const std::string text = mav::to_string(t->text);
+    if (text == success || t->severity <= 3) verdict = text;
+    return verdict.has_value();
+  });
+  if (!verdict) {
+    std::cerr << "tern fcu: no verdict on the " << what << " calibration from the FCU\n";
+    return 1;
+  }
+  if (*verdict != success) {
+    std::cerr << "tern fcu: " << what << " calibration failed: " << *verdict << "\n";
+    return 1;
+  }
+  std::printf("%s: %s (save it with `tern fcu param write`)\n", what.c_str(), verdict->c_str());
+  return 0;
 }
 
 }  // namespace
@@ -110,16 +200,28 @@ int main(int argc, char** argv) {
   set->add_option("value", value, "new value")->required();
   bool write = false;
   set->add_flag("--write", write, "save every parameter to the FCU's flash afterwards (ROSFLIGHT_CMD_WRITE_PARAMS)");
+  auto* write_cmd = param->add_subcommand("write", "save every parameter to the FCU's flash");
+  auto* calibrate = app.add_subcommand("calibrate", "run a calibration on the FCU (disarmed; save it with `param write`)");
+  std::string what;
+  calibrate->add_option("what", what, "imu (accelerometer and gyro: level and still), gyro, baro, airspeed (pitot covered)")
+      ->required()
+      ->check(CLI::IsMember({"imu", "gyro", "baro", "airspeed"}));
   CLI11_PARSE(app, argc, argv);
   if (udp) o.kind = fcu::LinkOptions::Kind::udp;
 
   try {
     Client c(o);
+    if (!c.find_target(std::max(timeout, 2.0))) {
+      std::cerr << "tern fcu: nothing from an FCU on " << o.describe() << " within " << std::max(timeout, 2.0) << " s\n";
+      return 1;
+    }
+    if (calibrate->parsed()) return run_calibration(c, what, timeout);
+    if (write_cmd->parsed()) return command(c, fcu::RosflightCmd::write_params, timeout) ? 0 : 1;
     if (list->parsed()) {
       std::map<std::uint16_t, mav::ParamValue> table;
       std::optional<std::uint16_t> count;
       mav::ParamRequestList r;
-      r.target_system = 1;
+      r.target_system = c.target;
       r.target_component = 1;
       c.send(r);
       auto take = [&](const mav::Message& m, std::int64_t& deadline) {
@@ -135,7 +237,7 @@ int main(int argc, char** argv) {
         for (std::uint16_t i = 0; i < *count; ++i) {
           if (table.count(i)) continue;
           mav::ParamRequestRead rr;
-          rr.target_system = 1;
+          rr.target_system = c.target;
           rr.target_component = 1;
           rr.param_index = static_cast<std::int16_t>(i);
           c.send(rr);
@@ -181,41 +283,22 @@ int main(int argc, char** argv) {
       return 2;
     }
     mav::ParamSet ps;
-    ps.target_system = 1;
+    ps.target_system = c.target;
     ps.target_component = 1;
     ps.param_id = mav::to_chars<16>(name);
     ps.param_type = cur->param_type;
     ps.param_value = fcu::param_wire(v, cur->param_type);
-    std::optional<mav::ParamValue> echo;
-    for (int attempt = 0; attempt < 3 && !echo; ++attempt) {
-      c.send(ps);
-      c.collect(timeout, [&](const mav::Message& m, std::int64_t&) {
-        const auto* pv = std::get_if<mav::ParamValue>(&m);
-        if (pv && mav::to_string(pv->param_id) == name) echo = *pv;
-        return echo.has_value();
-      });
-    }
-    if (!echo || echo->param_value != ps.param_value) {
-      std::cerr << "tern fcu: the FCU did not confirm " << name << " = " << value << "\n";
+    // The firmware echoes only a change and ignores the other type: read the value back.
+    c.send(ps);
+    const auto back = read_param(c, name, timeout);
+    if (!back || back->param_value != ps.param_value || back->param_type != ps.param_type) {
+      std::cerr << "tern fcu: the FCU did not take " << name << " = " << value << " (reads "
+                << (back ? format_value(*back) : std::string("nothing")) << ")\n";
       return 1;
     }
+    const auto& echo = back;
     std::printf("%s = %s\n", name.c_str(), format_value(*echo).c_str());
-    if (write) {
-      mav::RosflightCmd cmd;
-      cmd.command = static_cast<std::uint8_t>(fcu::RosflightCmd::write_params);
-      c.send(cmd);
-      std::optional<bool> ok;
-      c.collect(timeout * 3, [&](const mav::Message& m, std::int64_t&) {
-        const auto* a = std::get_if<mav::RosflightCmdAck>(&m);
-        if (a && a->command == cmd.command) ok = a->success != 0;
-        return ok.has_value();
-      });
-      if (!ok || !*ok) {
-        std::cerr << "tern fcu: the FCU did not confirm writing its parameters to flash\n";
-        return 1;
-      }
-      std::printf("written to flash\n");
-    }
+    if (write && !command(c, fcu::RosflightCmd::write_params, timeout)) return 1;
     return 0;
   } catch (const std::exception& e) {
     std::cerr << "tern fcu: " << e.what() << "\n";
