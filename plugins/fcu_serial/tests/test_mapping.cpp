@@ -12,56 +12,39 @@
 using namespace tern::fcu;
 namespace mav = tern::fcu::mavlink;
 
-TEST_CASE("actuators -> pass-through: scaled by the maximum deflections, clamped, ignore flags") {
+TEST_CASE("actuators -> pass-through: the firmware's layout Qx Qy Qz Fx, scaled, clamped, u[0..5] active") {
+  // comm_manager.cpp offboard_control_callback reads u[] as Fx Fy Fz Qx Qy Qz; include/mixer.h
+  // fixedwing_mixing routes Qx aileron, Qy elevator, Qz rudder, Fx motor.
   ActuatorMap map;
   map.max_deflection = {0.5, 0.4, 0.25};
   Surfaces s{0.25, -0.1, 0.5, 0.6};
   const auto c = to_offboard(s, map);
   CHECK(c.mode == 0);
-  CHECK(c.u[0] == doctest::Approx(0.5));
-  CHECK(c.u[1] == doctest::Approx(-0.25));
-  CHECK(c.u[2] == doctest::Approx(1.0));  // 0.5 rad beyond the 0.25 rad limit: clamped
-  CHECK(c.u[3] == doctest::Approx(0.6));
-  CHECK(c.ignore == 0x3F0);  // channels 4..9 ignored
-  // throttle outside 0..1 and NaN
+  CHECK(c.u[3] == doctest::Approx(0.5));   // Qx: aileron
+  CHECK(c.u[4] == doctest::Approx(-0.25)); // Qy: elevator
+  CHECK(c.u[5] == doctest::Approx(1.0));   // Qz: rudder, 0.5 rad beyond the 0.25 rad limit: clamped
+  CHECK(c.u[0] == doctest::Approx(0.6));   // Fx: throttle
+  CHECK(c.u[1] == 0.0f);
+  CHECK(c.u[2] == 0.0f);
+  CHECK(c.ignore == 0x3C0);  // u[6..9] ignored; an ignored u[0..5] would go to the pilot
   s.delta_t = 1.7;
-  CHECK(to_offboard(s, map).u[3] == doctest::Approx(1.0));
+  CHECK(to_offboard(s, map).u[0] == doctest::Approx(1.0));
   s.delta_t = -0.2;
-  CHECK(to_offboard(s, map).u[3] == doctest::Approx(0.0));
+  CHECK(to_offboard(s, map).u[0] == doctest::Approx(0.0));
   s.delta_a = std::numeric_limits<double>::quiet_NaN();
-  CHECK(to_offboard(s, map).u[0] == 0.0f);
+  CHECK(to_offboard(s, map).u[3] == 0.0f);
 }
 
-TEST_CASE("actuators -> pass-through: remapped channels and reversed signs, and back") {
+TEST_CASE("channel names and map validation name the problem") {
+  CHECK(channel_index("Qx") == 3);
+  CHECK(channel_index("Fx") == 0);
+  CHECK_THROWS_WITH_AS(channel_index("u3"), "'u3' is not one of the firmware's channels Fx Fy Fz Qx Qy Qz", std::invalid_argument);
   ActuatorMap map;
-  map.channel = {3, 2, 1, 0};
-  map.sign = {1, -1, 1, 1};
-  map.max_deflection = {0.6981317, 0.6981317, 0.6981317};
-  map.validate();
-  const Surfaces s{0.1, 0.2, -0.3, 0.8};
-  const auto c = to_offboard(s, map);
-  CHECK(c.u[3] == doctest::Approx(0.1 / 0.6981317));
-  CHECK(c.u[2] == doctest::Approx(-0.2 / 0.6981317));
-  CHECK(c.u[1] == doctest::Approx(-0.3 / 0.6981317));
-  CHECK(c.u[0] == doctest::Approx(0.8));
-  const Surfaces back = from_offboard(c, map);
-  CHECK(back.delta_a == doctest::Approx(0.1).epsilon(1e-6));
-  CHECK(back.delta_e == doctest::Approx(0.2).epsilon(1e-6));
-  CHECK(back.delta_r == doctest::Approx(-0.3).epsilon(1e-6));
-  CHECK(back.delta_t == doctest::Approx(0.8).epsilon(1e-6));
-  // an ignored channel reads 0 at the FCU
-  auto c2 = c;
-  c2.ignore |= 1u << 3;
-  CHECK(from_offboard(c2, map).delta_a == 0.0);
-}
-
-TEST_CASE("actuator map validation names the problem") {
-  ActuatorMap map;
-  map.channel = {0, 1, 1, 3};
-  CHECK_THROWS_WITH_AS(map.validate(), "rudder and elevator share channel 1", std::invalid_argument);
-  map.channel = {0, 1, 2, 10};
-  CHECK_THROWS_WITH_AS(map.validate(), "throttle channel 10 is outside 0..9", std::invalid_argument);
-  map.channel = {0, 1, 2, 3};
+  map.channel = {3, 4, 4, 0};
+  CHECK_THROWS_WITH_AS(map.validate(), "rudder and elevator share channel Qy", std::invalid_argument);
+  map.channel = {3, 4, 5, 6};
+  CHECK_THROWS_WITH_AS(map.validate(), "throttle channel 6 is outside 0..5 (Fx..Qz)", std::invalid_argument);
+  map.channel = {3, 4, 5, 0};
   map.max_deflection[1] = 0;
   CHECK_THROWS_AS(map.validate(), std::invalid_argument);
 }
@@ -87,16 +70,6 @@ TEST_CASE("RC_CHANNELS -> sticks: AETR mapping, PWM scaling, missing channels") 
   CHECK(s.aux[1] == doctest::Approx(1.0));
   CHECK(s.aux[2] == 0.0);
   CHECK(s.aux[3] == doctest::Approx(0.2));
-  rc.chancount = 4;  // channels beyond chancount read 0
-  CHECK(from_rc(rc, map).aux[0] == 0.0);
-  // and the emulator's inverse
-  RcSticks in{0.2, -0.4, 0.6, 0.7, {0.5, -0.5, 0, 1}};
-  const RcSticks out = from_rc(to_rc(in, map, 10), map);
-  CHECK(out.roll == doctest::Approx(0.2));
-  CHECK(out.pitch == doctest::Approx(-0.4));
-  CHECK(out.yaw == doctest::Approx(0.6));
-  CHECK(out.throttle == doctest::Approx(0.7));
-  CHECK(out.aux[3] == doctest::Approx(1.0));
 }
 
 TEST_CASE("time sync: offset from request/answer pairs, RTT filter, reboot reset") {
@@ -138,65 +111,3 @@ TEST_CASE("time sync: offset from request/answer pairs, RTT filter, reboot reset
   CHECK(ts.offset() == 2'000'000'000 - now);
 }
 
-TEST_CASE("FCU side: parameter list, read, set (typed), commands, time sync") {
-  FcuSide fcu(FcuSide::default_params(), "v2.0.0-test");
-  mav::Encoder companion(1, 50);
-  mav::Parser parser;
-  std::vector<std::uint8_t> out;
-  auto send = [&](const auto& m) {
-    out.clear();
-    const auto bytes = companion.frame(m);
-    mav::Parser p;
-    p.feed(bytes.data(), bytes.size(), [&](const mav::Frame& f) { fcu.handle(f, 1'000'000, out); });
-    std::vector<mav::Message> answers;
-    parser.feed(out.data(), out.size(), [&](const mav::Frame& f) { answers.push_back(*mav::decode(f)); });
-    return answers;
-  };
-  const auto all = send(mav::ParamRequestList{});
-  CHECK(all.size() == fcu.params().size());
-  const auto& first = std::get<mav::ParamValue>(all.front());
-  CHECK(mav::to_string(first.param_id) == "ARM_SPIN_MOTORS");
-  CHECK(first.param_count == fcu.params().size());
-
-  mav::ParamRequestRead rd;
-  rd.param_id = mav::to_chars<16>("RC_ATT_OVRD_CHN");
-  rd.param_index = -1;
-  auto a = send(rd);
-  REQUIRE(a.size() == 1);
-  const auto& pv = std::get<mav::ParamValue>(a[0]);
-  CHECK(pv.param_type == kParamInt32);
-  CHECK(param_number(pv.param_value, pv.param_type) == 5.0);
-
-  mav::ParamSet set;
-  set.param_id = mav::to_chars<16>("RC_ATT_OVRD_CHN");
-  set.param_value = 6.0f;  // sent as a float: stored as the parameter's int32
-  set.param_type = kParamReal32;
-  a = send(set);
-  REQUIRE(a.size() == 1);
-  CHECK(param_number(std::get<mav::ParamValue>(a[0]).param_value, kParamInt32) == 6.0);
-  set.param_id = mav::to_chars<16>("MOTOR_IDLE_THR");
-  set.param_value = 0.15f;
-  a = send(set);
-  CHECK(std::get<mav::ParamValue>(a[0]).param_value == 0.15f);
-
-  mav::RosflightCmd cmd;
-  cmd.command = static_cast<std::uint8_t>(RosflightCmd::send_version);
-  a = send(cmd);
-  REQUIRE(a.size() == 2);
-  CHECK(mav::to_string(std::get<mav::RosflightVersion>(a[0]).version) == "v2.0.0-test");
-  CHECK(std::get<mav::RosflightCmdAck>(a[1]).success == 1);
-  cmd.command = static_cast<std::uint8_t>(RosflightCmd::write_params);
-  send(cmd);
-  CHECK(fcu.writes() == 1);
-
-  a = send(TimeSync::request(777));
-  REQUIRE(a.size() == 1);
-  CHECK(std::get<mav::Timesync>(a[0]).tc1 == 1'000'000);
-  CHECK(std::get<mav::Timesync>(a[0]).ts1 == 777);
-
-  mav::OffboardControl oc;
-  oc.u[0] = 0.5f;
-  send(oc);
-  CHECK(fcu.commands() == 1);
-  CHECK(fcu.command().u[0] == 0.5f);
-}
