@@ -7,7 +7,7 @@
 // bench/results/bench_estimation.json.
 //
 // Usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b]
-//                         [--set INSTANCE.PARAM=VALUE ...]
+//                         [--set INSTANCE.PARAM=VALUE ...] [--per-seed]  (one line per seed after each table)
 //
 // How each figure is made (the same for tern and for raw GNSS): every new estimate (state topic)
 // from t0 = 30 s on (after takeoff and climb) is compared with the truth of the same tick, both
@@ -97,6 +97,7 @@ struct Flight {
   Rms est[kQ], gnss[kGnssRows];
   Mean nees[kBlocks];  // per dimension
   bool diverged = false, crashed = false, failed = false;
+  double diverged_at = std::nan("");  // s: first tick beyond the divergence limits
   double filter_resets = 0, gnss_resets = 0, mag_resets = 0, inflations = 0;
   std::string end_reason;
 };
@@ -160,7 +161,10 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
   if (s >= kT0Wind) f.est[WIND].add(std::hypot(x.w_n - t.w_n, x.w_e - t.w_e));
   const double att = std::max({std::fabs(wrap_pi(x.phi - t.phi)), std::fabs(wrap_pi(x.theta - t.theta)),
                                std::fabs(wrap_pi(x.psi - t.psi))});
-  if (!(std::hypot(dn, de) <= kDivergedPosition) || !(att <= kDivergedAttitude)) f.diverged = true;
+  if ((!(std::hypot(dn, de) <= kDivergedPosition) || !(att <= kDivergedAttitude)) && !f.diverged) {
+    f.diverged = true;
+    f.diverged_at = s;
+  }
   if (x.P_diag[0] > 0.0) {
     f.nees[NEES_P].add(nees_per_dim(p - Eigen::Vector3d(t.p_n, t.p_e, t.p_d), x.P_diag, 0));
     f.nees[NEES_V].add(nees_per_dim(Eigen::Vector3d(x.v_n - t.v_n, x.v_e - t.v_e, x.v_d - t.v_d), x.P_diag, 3));
@@ -236,6 +240,19 @@ Spread spread(std::vector<double> v) {
 }
 
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("-"); }
+
+// One line per seed: where the median hides a bad flight.
+void print_seeds(const std::vector<Flight>& flights) {
+  std::printf("  %4s %9s %8s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "roll deg", "yaw deg", "NEES att",
+              "resets", "inflat", "diverge", "end");
+  for (const auto& f : flights) {
+    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.1f %7.0f %7.0f %7s %s%s\n", static_cast<unsigned long long>(f.seed),
+                f.est[HORIZ].value(), f.est[ALT].value(), f.est[ROLL].value() * kDeg, f.est[YAW].value() * kDeg,
+                f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets, f.inflations,
+                f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
+                f.crashed ? " (crashed)" : "");
+  }
+}
 
 nlohmann::ordered_json report(const std::string& mission, const std::string& profile, const std::vector<Flight>& flights) {
   int diverged = 0, crashed = 0, failed = 0;
@@ -318,12 +335,15 @@ int main(int argc, char** argv) {
   double duration = 300.0;
   std::vector<Setting> sets;
   const char* usage =
-      "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...]";
+      "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...] "
+      "[--per-seed]";
+  bool per_seed = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
     else if (a == "--duration" && i + 1 < argc) duration = std::atof(argv[++i]);
     else if (a == "--profiles" && i + 1 < argc) profiles = split(argv[++i]);
+    else if (a == "--per-seed") per_seed = true;
     else if (a == "--set" && i + 1 < argc) {
       const std::string v = argv[++i];
       const auto dot = v.find('.'), eq = v.find('=');
@@ -368,6 +388,7 @@ int main(int argc, char** argv) {
       std::vector<Flight> flights;
       for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, logs));
       j["runs"].push_back(report(fs::path(mission).stem().string(), profile, flights));
+      if (per_seed) print_seeds(flights);
     }
   }
   std::error_code ec;

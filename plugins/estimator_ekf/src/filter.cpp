@@ -50,7 +50,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
       (P.middleCols<3>(idx::th) * Fthth.transpose() - dt * P.middleCols<3>(idx::bg)).eval();
   P.middleCols<3>(idx::eg) *= fe;
 
-  P.diagonal() += process_noise_diagonal(noise, dt);
+  P.diagonal() += process_noise_diagonal(noise, dt, w.norm());
   symmetrize(P);
 }
 
@@ -78,12 +78,13 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   return F;
 }
 
-ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt) {
+ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, double rate) {
   // R sigma^2 I R^T = sigma^2 I for the isotropic accelerometer noise.
   ErrVec q;
   q.segment<3>(idx::p).setConstant(noise.position * noise.position * dt);
   q.segment<3>(idx::v).setConstant(noise.accel * noise.accel * dt * dt);
-  q.segment<3>(idx::th).setConstant(noise.gyro * noise.gyro * dt * dt);
+  const double scale = noise.gyro_scale * rate;  // rad/s: scale and cross-axis error at this rate
+  q.segment<3>(idx::th).setConstant(noise.gyro * noise.gyro * dt * dt + scale * scale * noise.maneuver_time * dt);
   q.segment<3>(idx::bg).setConstant(noise.gyro_bias_walk * noise.gyro_bias_walk * dt);
   q.segment<3>(idx::ba).setConstant(noise.accel_bias_walk * noise.accel_bias_walk * dt);
   q.segment<2>(idx::w).setConstant(noise.wind_walk * noise.wind_walk * dt);

@@ -137,6 +137,19 @@ TEST_CASE("transition matrix matches finite differences of the nominal propagati
   }
 }
 
+TEST_CASE("the gyro scale error adds attitude noise in proportion to the rate") {
+  ProcessNoise qn;
+  qn.gyro_scale = 0.02;
+  qn.maneuver_time = 1.0;
+  const double dt = 0.0025;
+  const double still = Filter::process_noise_diagonal(qn, dt, 0.0)(idx::th);
+  const double rolling = Filter::process_noise_diagonal(qn, dt, 1.0)(idx::th);
+  CHECK(still == doctest::Approx(qn.gyro * qn.gyro * dt * dt));
+  // 1 rad/s held for 1 s with a 2 % scale error: 0.02 rad of attitude uncertainty after 1 s.
+  CHECK((rolling - still) / dt == doctest::Approx(0.02 * 0.02));
+  CHECK(Filter::process_noise_diagonal(qn, dt, 1.0)(idx::v) == Filter::process_noise_diagonal(qn, dt, 0.0)(idx::v));
+}
+
 TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   Filter f;
   const NominalState x = sample_state();
@@ -149,7 +162,7 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   f.propagate(accel, gyro, dt, qn, 9.81);
   const Cov F = Filter::transition(x, accel, gyro, dt, qn.gnss_error_k);
   Cov expected = F * P0 * F.transpose();
-  expected.diagonal() += Filter::process_noise_diagonal(qn, dt);
+  expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (gyro - x.b_g).norm());
   CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
   CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
   const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn.gnss_error_k);
