@@ -136,9 +136,9 @@ TEST_CASE("plugin: bad parameters and a missing port are one clear line each") {
   auto make = [](std::map<std::string, tern::ParamValue> p) {
     return tern::testing::Harness(std::make_unique<FcuSerial>(), std::move(p));
   };
-  CHECK_THROWS_WITH_AS(make({{"channels", std::vector<double>{0, 1, 1, 3}}}),
-                       doctest::Contains("rudder and elevator share channel 1"), tern::ParamError);
-  CHECK_THROWS_WITH_AS(make({{"channels", std::vector<double>{0, 1.5, 2, 3}}}), doctest::Contains("not a whole number"),
+  CHECK_THROWS_WITH_AS(make({{"channels", std::string("Qx Qy Qy Fx")}}),
+                       doctest::Contains("rudder and elevator share channel Qy"), tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"channels", std::string("Qx Qy u5 Fx")}}), doctest::Contains("'u5' is not one of the firmware's channels"),
                        tern::ParamError);
   CHECK_THROWS_WITH_AS(make({{"signs", std::vector<double>{1, 0.5, 1, 1}}}), doctest::Contains("sign must be +1 or -1"),
                        tern::ParamError);
@@ -191,7 +191,7 @@ TEST_CASE("tern fcu param list/get/set against the emulator") {
   int st = -1;
   std::string out = run(tool + "param get RC_ATT_OVRD_CHN", st);
   CHECK(st == 0);
-  CHECK(out == "5\n");
+  CHECK(out == "4\n");  // the firmware's default (param.cpp)
   out = run(tool + "param set MOTOR_IDLE_THR 0.15 --write", st);
   CHECK(st == 0);
   CHECK(out == "MOTOR_IDLE_THR = 0.150000006\nwritten to flash\n");
@@ -199,8 +199,10 @@ TEST_CASE("tern fcu param list/get/set against the emulator") {
   CHECK(out == "0.150000006\n");
   out = run(tool + "param list", st);
   CHECK(st == 0);
-  CHECK(std::count(out.begin(), out.end(), '\n') == static_cast<long>(FcuSide::default_params().size()));
-  CHECK(out.find("PRIMARY_MIXER                10  int32") != std::string::npos);
+  CHECK(std::count(out.begin(), out.end(), '\n') == static_cast<long>(tern::fcu::firmware::Params::defaults().size()));
+  CHECK(out.find("PRIMARY_MIXER               255  int32") != std::string::npos);
+  out = run(tool + "param set MOTOR_IDLE_THR 0.15", st);  // the current value: confirmed by reading back
+  CHECK(st == 0);
   out = run(tool + "param set RC_ATT_OVRD_CHN 2.5 2>&1", st);
   CHECK(st != 0);
   CHECK(out.find("integer parameter") != std::string::npos);
@@ -296,7 +298,9 @@ TEST_CASE("plugin: link loss, FCU reboot, RC override and corrupted bytes are re
        {"link_timeout", 0.3},
        {"wait_timeout", 0.1},
        {"emulator_args",
-        std::string("--init-mode air --speed 1 --silence 0.5:1.2 --reboot-at 1.6 --rc-override 2.0:2.4 --corrupt 0.01")}},
+        std::string("--init-mode air --speed 1 --silence 0.5:1.2 --reboot-at 1.6 --corrupt 0.01 --params " +
+                   std::string(TERN_FCU_PARAMS))},
+       {"emulator_rc", std::string("0 throttle=0 aux1=-1 aux2=-1; 0.1 aux2=1; 0.15 aux1=1; 0.2 aux2=-1; 2.0 aux2=1; 2.4 aux2=-1")}},
       ho);
   auto& plugin = static_cast<tern::fcu_serial::FcuSerial&>(h.plugin());
   h.start();
