@@ -218,6 +218,8 @@ TEST_CASE("plugin: flies the emulator's aircraft in lockstep over a pseudo-termi
                            {{"emulator", true},
                             {"emulator_path", std::string(TERN_FCU_EMULATOR)},
                             {"lockstep", true},
+                            {"emulator_params", std::string(TERN_FCU_PARAMS)},
+                            {"emulator_rc", std::string("0 throttle=0 aux1=-1 aux2=-1; 0.02 aux2=1; 0.04 aux1=1; 0.06 aux2=-1")},
                             {"emulator_args", std::string("--init-mode air --init-altitude 100 --init-airspeed 17")}},
                            ho);
   auto& plugin = static_cast<tern::fcu_serial::FcuSerial&>(h.plugin());
@@ -277,8 +279,8 @@ TEST_CASE("plugin: flies the emulator's aircraft in lockstep over a pseudo-termi
   CHECK(h.output<tern::msg::FcuStatus>("fcu_status").armed);
   // The commands reached the FCU: its servo outputs (ROSFLIGHT_OUTPUT_RAW) are the commands.
   REQUIRE(plugin.last_output_raw().has_value());
-  CHECK(plugin.last_output_raw()->values[1] == doctest::Approx(-0.05 / 0.6981317).epsilon(0.01));
-  CHECK(plugin.last_output_raw()->values[3] == doctest::Approx(0.5).epsilon(0.01));
+  CHECK(plugin.last_output_raw()->values[1] == doctest::Approx(0.5 - 0.5 * 0.05 / 0.6981317).epsilon(0.01));
+  CHECK(plugin.last_output_raw()->values[4] == doctest::Approx(0.5).epsilon(0.01));
   CHECK(plugin.commands_sent() == 1200);
   CHECK(plugin.timesync().synced());
   CHECK(plugin.fcu_version().find("tern-fcu-emulator") == 0);
@@ -381,8 +383,8 @@ TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIME
   CHECK(h.published("imu") > 400);
   CHECK(h.published("baro") > 100);
   REQUIRE(plugin.last_output_raw().has_value());
-  CHECK(plugin.last_output_raw()->values[0] == doctest::Approx(0.1 / 0.6981317).epsilon(0.02));
-  CHECK(plugin.last_output_raw()->values[3] == doctest::Approx(0.7).epsilon(0.01));
+  CHECK(plugin.last_output_raw()->values[0] == doctest::Approx(0.5 + 0.5 * 0.1 / 0.6981317).epsilon(0.02));
+  CHECK(plugin.last_output_raw()->values[4] == doctest::Approx(0.7).epsilon(0.01));
   h.stop();
 }
 
