@@ -342,8 +342,12 @@ TEST_CASE("plugin: link loss, FCU reboot, RC override and corrupted bytes are re
 TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIMESYNC") {
   std::unique_ptr<ChildProcess> emu;
   {
+    // a configured FCU (mixer, arm switch) that the emulated pilot arms within 0.06 s: the
+    // firmware boots disarmed and its motor output stays 0 until then (state_manager.cpp)
     std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft, "--udp", "--udp-port", "24625",
-                                  "--udp-remote-port", "24620", "--speed", "1", "--init-mode", "air"};
+                                  "--udp-remote-port", "24620", "--speed", "1", "--init-mode", "air",
+                                  "--params", TERN_FCU_PARAMS,
+                                  "--rc", "0 throttle=0 aux1=-1 aux2=-1; 0.02 aux2=1; 0.04 aux1=1; 0.06 aux2=-1"};
     emu = std::make_unique<ChildProcess>(argv);
     REQUIRE(emu->read_line(10'000'000'000) == "udp: 127.0.0.1:24625");
   }
@@ -385,6 +389,7 @@ TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIME
   REQUIRE(plugin.last_output_raw().has_value());
   CHECK(plugin.last_output_raw()->values[0] == doctest::Approx(0.5 + 0.5 * 0.1 / 0.6981317).epsilon(0.02));
   CHECK(plugin.last_output_raw()->values[4] == doctest::Approx(0.7).epsilon(0.01));
+  CHECK(h.output<tern::msg::FcuStatus>("fcu_status").armed);
   h.stop();
 }
 
