@@ -282,3 +282,24 @@ TEST_CASE("11. stick past RC_OVRD_DEV hands the axis to the pilot until RC_OVRD_
   loop(f, t);
   CHECK(f.raw_outputs()[0] == doctest::Approx(0.6));  // tern's again
 }
+
+TEST_CASE("11b. the override lag is renewed only once per RC_OVRD_LAG_T: tern flies again 0..1 s after the stick is centred") {
+  // CommandManager::stick_deviated returns true inside the lag without renewing
+  // last_override_time; only the first deviated frame after the lag renews it. A stick held from
+  // T0 to T0 + 2 s renews it at T0 and T0 + 1 s, so tern flies again at T0 + 2 s whether the
+  // stick is centred at T0 + 2 s (no lag seen) or at T0 + 1.5 s (0.5 s of lag).
+  for (const std::int64_t centred_ms : {2'000, 1'500}) {
+    fw::Firmware f(configured());
+    std::int64_t t = 2'000 * kMs;
+    arm(f, t);
+    const std::int64_t t0 = t + 20 * kMs;
+    std::int64_t back = -1;
+    for (t = t0; t <= t0 + 3'000 * kMs; t += 20 * kMs) {
+      command(f, {0.2, 0, 0, 0.5}, t);
+      f.rc(tx(t - t0 < centred_ms * kMs ? 0.5f : 0.0f, 0, true, false), t);
+      if (back < 0 && t > t0 && (f.rc_override() & kOverrideX) == 0) back = t - t0;
+    }
+    CAPTURE(centred_ms);
+    CHECK(back == 2'000 * kMs);
+  }
+}

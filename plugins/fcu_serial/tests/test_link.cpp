@@ -18,6 +18,7 @@
 
 #include "fcu_serial_plugin.hpp"
 #include "tern/testing/harness.hpp"
+#include "tern_fcu_serial/firmware.hpp"
 #include "tern_fcu_serial/link.hpp"
 #include "tern_fcu_serial/process.hpp"
 
@@ -53,6 +54,10 @@ struct Pty {
     return out;
   }
 };
+
+/// A UDP port pair of this test process (two test runs at once, e.g. two build trees, would
+/// otherwise share fixed ports: the sockets reuse addresses, and frames go to either).
+unsigned udp_port(unsigned offset) { return 20000u + static_cast<unsigned>(getpid()) % 20000u * 2u + offset; }
 
 }  // namespace
 
@@ -113,10 +118,10 @@ TEST_CASE("link: a port that cannot be opened is one clear error") {
 TEST_CASE("link: UDP both ways (ROSflight SIL ports)") {
   LinkOptions a, b;
   a.kind = b.kind = LinkOptions::Kind::udp;
-  a.udp_bind_port = 24520;
-  a.udp_remote_port = 24525;
-  b.udp_bind_port = 24525;
-  b.udp_remote_port = 24520;
+  a.udp_bind_port = udp_port(0);
+  a.udp_remote_port = udp_port(1);
+  b.udp_bind_port = udp_port(1);
+  b.udp_remote_port = udp_port(0);
   Link companion(a), fcu_end(b);
   companion.start();
   fcu_end.start();
@@ -344,19 +349,19 @@ TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIME
   {
     // a configured FCU (mixer, arm switch) that the emulated pilot arms within 0.06 s: the
     // firmware boots disarmed and its motor output stays 0 until then (state_manager.cpp)
-    std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft, "--udp", "--udp-port", "24625",
-                                  "--udp-remote-port", "24620", "--speed", "1", "--init-mode", "air",
+    std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft, "--udp", "--udp-port", std::to_string(udp_port(1)),
+                                  "--udp-remote-port", std::to_string(udp_port(0)), "--speed", "1", "--init-mode", "air",
                                   "--params", TERN_FCU_PARAMS,
                                   "--rc", "0 throttle=0 aux1=-1 aux2=-1; 0.02 aux2=1; 0.04 aux1=1; 0.06 aux2=-1"};
     emu = std::make_unique<ChildProcess>(argv);
-    REQUIRE(emu->read_line(10'000'000'000) == "udp: 127.0.0.1:24625");
+    REQUIRE(emu->read_line(10'000'000'000) == "udp: 127.0.0.1:" + std::to_string(udp_port(1)));
   }
   tern::testing::HarnessOptions ho;
   ho.aircraft_file = kAircraft;
   tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(),
                            {{"transport", std::string("udp")},
-                            {"udp_bind_port", std::int64_t{24620}},
-                            {"udp_remote_port", std::int64_t{24625}},
+                            {"udp_bind_port", std::int64_t{udp_port(0)}},
+                            {"udp_remote_port", std::int64_t{udp_port(1)}},
                             {"clock", std::string("wall")},
                             {"timesync_rate", 50.0}},
                            ho);
