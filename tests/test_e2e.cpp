@@ -61,10 +61,13 @@ void check_mission(const FlightResult& r, const std::string& cruise_controller) 
   const auto s = summary(r);
   CHECK(s["end_reason"] == "duration");
   CHECK(s["fallback_engaged"] == false);
-  // takeoff -> climb -> cruise, in that order, and nothing after
-  REQUIRE(s["phases"].size() == 3);
-  CHECK(s["phases"][1]["phase"] == "climb");
-  CHECK(s["phases"][2]["phase"] == "cruise");
+  // preflight -> takeoff -> climb -> cruise, in that order, and nothing after
+  REQUIRE(s["phases"].size() == 4);
+  CHECK(s["phases"][0]["phase"] == "preflight");
+  CHECK(s["phases"][1]["phase"] == "takeoff");
+  CHECK(s["phases"][2]["phase"] == "climb");
+  CHECK(s["phases"][3]["phase"] == "cruise");
+  CHECK(s["preflight_s"].get<double>() < 10.0);  // aligned and armed within seconds
   if (cruise_controller != "slc") CHECK(s["controller_handovers"].back()["to"] == cruise_controller);
   const auto& m = s["metrics"];
   CHECK(m["loops"].get<int>() >= 4);  // the first loop and four more
@@ -283,7 +286,10 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
   // deceleration: the specific force is far from gravity when the EKF initialises. Each seed
   // must initialise within a few degrees (TRIAD on GNSS acceleration and the field), keep the
   // aircraft flying and track the truth.
-  const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"}});
+  // An aircraft released in the air has no preflight (the arming checks want it at rest).
+  const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"},
+                                                 {"phases: {takeoff: slc, climb: slc, cruise: slc}",
+                                                  "phases: {takeoff: slc, climb: slc, cruise: slc}\nphase_machine: {preflight: false}"}});
   for (std::uint64_t seed : {1, 2, 3, 4}) {
     HostOptions o;
     o.quiet = true;

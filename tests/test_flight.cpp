@@ -27,7 +27,7 @@ FlightResult fly(const std::string& yaml, const std::string& logdir, std::option
 
 const std::string kRouted = base_config(
     "  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
-    "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nfallback: ctl\nphase_machine: {alt_toz: 2, alt_hz: 3}\n");
+    "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nfallback: ctl\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n");
 }  // namespace
 
 TEST_CASE("the same seed gives byte-identical logs; another seed does not") {

@@ -124,7 +124,7 @@ TEST_CASE("100 swaps: no growth of mapped libraries, file descriptors or residen
 
 TEST_CASE("the phase table changes between flights") {
   auto h = host_for(base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2}}\n",
-                                "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: ctl2\nphase_machine: {alt_toz: 2, alt_hz: 3}\n"),
+                                "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: ctl2\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n"),
                     "phases");
   CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}}, std::nullopt),
                        "phases: no controller for phase 'cruise'", ConfigError);

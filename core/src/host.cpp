@@ -984,6 +984,8 @@ FlightResult Host::fly() {
     }
   }
   if (phase_machine_) phase_seen_ = phase_machine_->outputs().front()->sequence();
+  if (phase_machine_ && phase_machine_->phase() == msg::Phase::preflight)
+    route_none(0, "preflight: on the ground until the arming checks pass");
 
   // status line sources
   const msg::State* st = nullptr;
@@ -1104,6 +1106,11 @@ FlightResult Host::fly() {
         failed = true;
         break;
       }
+      if (idx == phase_machine_idx_ && !phase_machine_->failure().empty()) {
+        r.end_reason = phase_machine_->failure();
+        failed = true;
+        break;
+      }
       if (idx == phase_machine_idx_) {
         const OutputBase* po = phase_machine_->outputs().front();
         if (po->sequence() != phase_seen_) {
@@ -1113,6 +1120,7 @@ FlightResult Host::fly() {
             auto it = config_.phases.find(p);
             if (it == config_.phases.end()) it = config_.phases.find(msg::Phase::cruise);
             if (phase_machine_->disarmed()) route_none(now, "disarmed: waiting for the FCU to be armed and error-free");
+            else if (p == msg::Phase::preflight) route_none(now, "preflight: on the ground until the arming checks pass");
             else
               for (std::size_t i = 0; i < instances_.size(); ++i)
                 if (instances_[i]->cfg.name == it->second) route_to(i, now, fmt::format("phase {}", msg::phase_name(p)), false);
@@ -1253,9 +1261,12 @@ std::string Host::summary_json(const FlightResult& r) const {
   if (const std::string profile = sensor_profile(); !profile.empty()) j["sensor_profile"] = profile;
   if (phase_machine_) {
     auto phases = nlohmann::ordered_json::array();
-    phases.push_back({{"phase", "takeoff"}, {"start_s", 0.0}, {"reason", "start of flight"}});
-    for (const auto& t : phase_machine_->transitions())
+    phases.push_back({{"phase", std::string(msg::phase_name(phase_machine_->first_phase()))}, {"start_s", 0.0}, {"reason", "start of flight"}});
+    for (const auto& t : phase_machine_->transitions()) {
       phases.push_back({{"phase", std::string(msg::phase_name(t.to))}, {"start_s", to_seconds(t.t)}, {"reason", t.reason}});
+      if (t.from == msg::Phase::preflight && t.to == msg::Phase::takeoff && !j.contains("preflight_s"))
+        j["preflight_s"] = to_seconds(t.t);  // how long the alignment and arming checks took
+    }
     j["phases"] = phases;
     auto h = nlohmann::ordered_json::array();
     for (const auto& x : handovers_) h.push_back({{"t_s", to_seconds(x.t)}, {"from", x.from}, {"to", x.to}, {"reason", x.reason}});
@@ -1336,7 +1347,7 @@ void Host::print_summary(const FlightResult& r) const {
   std::string s = fmt::format("\nflight '{}' ended ({}) at t = {:.2f} s after {:.2f} s wall ({:.0f}x real time)\n", config_.name,
                               r.end_reason, to_seconds(r.flown), r.wall_s, r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0);
   if (phase_machine_) {
-    s += "phases: takeoff @ 0.00 s";
+    s += fmt::format("phases: {} @ 0.00 s", msg::phase_name(phase_machine_->first_phase()));
     for (const auto& t : phase_machine_->transitions()) s += fmt::format(", {} @ {:.2f} s", msg::phase_name(t.to), to_seconds(t.t));
     s += "\n";
   }

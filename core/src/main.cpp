@@ -140,7 +140,7 @@ int main(int argc, char** argv) {
   std::optional<std::uint64_t> seed;
   std::optional<double> duration;
   std::optional<std::string> log_dir;
-  bool realtime = false, quiet = false, dot = false, dds = false;
+  bool realtime = false, quiet = false, dot = false, dds = false, skip_preflight = false;
   std::optional<std::uint32_t> dds_domain;
   std::vector<std::string> plugin_dirs;
 
@@ -149,6 +149,7 @@ int main(int argc, char** argv) {
   fly->add_option("--seed", seed, "random seed (overrides the config's seed)");
   fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(CLI::PositiveNumber);
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
+  fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   fly->add_flag("-q,--quiet", quiet, "print only warnings, errors and where the log went");
   fly->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
@@ -362,6 +363,7 @@ int main(int argc, char** argv) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
       opt.realtime = realtime;
       MissionConfig mc = load_config(config);
+    if (skip_preflight) mc.phase_params["preflight"] = ParamSetting{YAML::Node(false), mc.file, "--skip-preflight"};
 #if defined(TERN_WITH_DDS)
       DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);
       if (dds) dds_opt.enabled = true;

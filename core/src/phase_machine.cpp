@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 namespace tern::core {
@@ -12,18 +13,53 @@ void PhaseMachine::configure() {
   declare(command_, "controller_command", "commanded altitude h_c", Need::optional);
   declare(fcu_, "fcu_status", "flight-control unit status: the flight waits disarmed until it is armed and error-free",
           Need::optional);
+  declare(innovations_, "innovations", "estimator innovation test ratios (preflight check)", Need::optional);
+  declare(gnss_, "gnss", "GNSS fix quality (preflight check)", Need::optional);
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0, ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
   declare(alt_hz_, "alt_hz", 20.0, ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
   declare(max_deflection_, "max_deflection", 0.7, ParamSpec("rad", 0.01, 3.2, "a controller commanding a larger surface deflection is replaced by the fallback"));
+  declare_preflight();
   declare(min_phase_time_, "min_phase_time", 1.0, ParamSpec("s", 0.0, 60.0, "a transition back (loss of altitude) needs its condition this long"));
 }
 
-void PhaseMachine::start() { reset(); }
+void PhaseMachine::declare_preflight() {
+  const PreflightLimits d;
+  declare(preflight_, "preflight", true, ParamSpec("", 0, 0, "hold on the ground (motor off) until the arming checks pass"));
+  declare(preflight_time_, "preflight_time", 2.0, ParamSpec("s", 0.0, 600.0, "the arming checks must all pass this long"));
+  declare(preflight_timeout_, "preflight_timeout", 120.0, ParamSpec("s", 1.0, 3600.0, "end the flight (preflight_failed) if not armed by then"));
+  declare(report_interval_, "preflight_report_interval", 5.0, ParamSpec("s", 0.1, 600.0, "how often the failing checks are logged"));
+  declare(max_tilt_sigma_, "preflight_max_tilt_sigma", d.max_tilt_sigma, ParamSpec("rad", 1e-4, 1.0, "estimator roll/pitch 1-sigma limit"));
+  declare(max_yaw_sigma_, "preflight_max_yaw_sigma", d.max_yaw_sigma, ParamSpec("rad", 1e-4, 3.2, "estimator yaw 1-sigma limit"));
+  declare(max_position_sigma_, "preflight_max_position_sigma", d.max_position_sigma, ParamSpec("m", 0.01, 1000.0, "estimator horizontal position 1-sigma limit"));
+  declare(max_h_acc_, "preflight_max_h_acc", d.max_h_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported horizontal accuracy limit"));
+  declare(max_v_acc_, "preflight_max_v_acc", d.max_v_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported vertical accuracy limit"));
+  declare(min_sats_, "preflight_min_sats", std::int64_t{d.min_sats}, ParamSpec("", 0, 64, "GNSS satellites in use, at least"));
+  declare(max_ground_speed_, "preflight_max_ground_speed", d.max_ground_speed, ParamSpec("m/s", 0.0, 100.0, "the aircraft counts as at rest below this"));
+}
+
+PreflightLimits PhaseMachine::limits() const {
+  PreflightLimits l;
+  l.max_tilt_sigma = max_tilt_sigma_();
+  l.max_yaw_sigma = max_yaw_sigma_();
+  l.max_position_sigma = max_position_sigma_();
+  l.max_h_acc = max_h_acc_();
+  l.max_v_acc = max_v_acc_();
+  l.min_sats = static_cast<int>(min_sats_());
+  l.max_ground_speed = max_ground_speed_();
+  return l;
+}
+
+void PhaseMachine::start() {
+  reset();
+  if (!preflight_()) log().warn("preflight skipped: the takeoff begins at t = 0 on whatever the estimator has");
+}
 
 void PhaseMachine::reset() {
-  phase_ = msg::Phase::takeoff;
+  phase_ = first_phase();
   disarmed_ = false;
+  checks_passed_since_ = last_report_ = -1;
+  failure_.clear();
   since_ = 0;
   condition_since_ = -1;
   transitions_.clear();
@@ -53,17 +89,44 @@ bool PhaseMachine::wait_for_arming(Nanos now) {
     disarmed_ = true;
     log().warn("t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
                "error-free (error code 0x{:02x}; the FCU link says what is missing)", to_seconds(now), f.error_code);
-    transitions_.push_back({now, phase_, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
-    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, phase_, now});
+    const msg::Phase wait = phase_ == msg::Phase::preflight ? msg::Phase::preflight : msg::Phase::takeoff;
+    transitions_.push_back({now, phase_, wait, "disarmed: the FCU is not armed"});
+    phase_out_.publish(msg::FlightPhase{now, wait, phase_, now});
   } else if (disarmed_ && f.armed && f.error_code == 0) {
     disarmed_ = false;
-    enter(now, msg::Phase::takeoff, "FCU armed and error-free: takeoff");
+    const msg::Phase next = phase_ == msg::Phase::preflight ? msg::Phase::preflight : msg::Phase::takeoff;
+    enter(now, next, "FCU armed and error-free: " + std::string(msg::phase_name(next)));
   }
   return disarmed_;
 }
 
+void PhaseMachine::run_preflight(Nanos now) {
+  const std::vector<std::string> failing =
+      preflight_failures(state_.has_value() ? &state_.get() : nullptr, innovations_.has_value() ? &innovations_.get() : nullptr,
+                         gnss_.has_value() ? &gnss_.get() : nullptr, limits());
+  if (failing.empty()) {
+    if (checks_passed_since_ < 0) checks_passed_since_ = now;
+    if (now - checks_passed_since_ >= from_seconds(preflight_time_()))
+      enter(now, msg::Phase::takeoff, fmt::format("arming checks passed for {:.1f} s (aligned at t={:.3f} s)", preflight_time_(),
+                                                  to_seconds(checks_passed_since_)));
+    return;
+  }
+  checks_passed_since_ = -1;
+  if (now >= from_seconds(preflight_timeout_())) {
+    failure_ = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
+    return;
+  }
+  if (last_report_ >= 0 && now - last_report_ < from_seconds(report_interval_())) return;
+  last_report_ = now;
+  for (const std::string& f : failing) log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
+}
+
 void PhaseMachine::step(Nanos now) {
   if (wait_for_arming(now)) return;
+  if (phase_ == msg::Phase::preflight) {
+    run_preflight(now);
+    return;
+  }
   const msg::State& s = state_.get();
   if (!state_.has_value() || !std::isfinite(s.p_d)) return;
   const double h = -s.p_d;
@@ -78,6 +141,8 @@ void PhaseMachine::step(Nanos now) {
     return now - condition_since_ >= dwell;
   };
   switch (phase_) {
+    case msg::Phase::preflight:
+      break;  // run_preflight()
     case msg::Phase::takeoff:
       if (h >= alt_toz_()) enter(now, msg::Phase::climb, fmt::format("altitude {:.1f} m reached alt_toz {:.1f} m", h, alt_toz_()));
       break;

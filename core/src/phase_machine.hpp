@@ -4,6 +4,11 @@
 // A built-in plugin instance named `phase_machine`, present when the config has `phases:`.
 // It steps whenever `state` updates and publishes `flight_phase`. Altitude h = -p_d (above the
 // origin, m); commanded altitude h_c from `controller_command` (h_c = h when none).
+//   preflight -> takeoff when the arming checks (preflight.hpp: estimator aligned and consistent,
+//              GNSS fix, aircraft at rest) have all passed for preflight_time; no controller runs
+//              before (motor off). One line per failing check every report_interval; after
+//              preflight_timeout the flight ends (failure(): "preflight_failed: ..."). With
+//              `preflight: false` (tern fly --skip-preflight) the flight starts in takeoff.
 //   takeoff -> climb   when h >= alt_toz
 //   climb   -> cruise  when |h_c - h| < alt_hz
 //   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
@@ -21,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "preflight.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::core {
@@ -45,21 +51,38 @@ class PhaseMachine final : public Plugin {
   /// Largest surface deflection a controller may command before the router replaces it, rad.
   double max_deflection() const { return max_deflection_(); }
   const std::vector<PhaseTransition>& transitions() const { return transitions_; }
+  /// The phase a flight starts in: preflight, or takeoff when it is skipped.
+  msg::Phase first_phase() const { return preflight_() ? msg::Phase::preflight : msg::Phase::takeoff; }
+  /// Why the flight must end ("preflight_failed: ..."), empty while it may go on.
+  const std::string& failure() const { return failure_; }
 
  private:
   void enter(Nanos now, msg::Phase to, std::string reason);
   /// Enters or leaves the disarmed wait from `fcu_status`; true while waiting.
   bool wait_for_arming(Nanos now);
+  /// Runs the arming checks in preflight; enters takeoff once they held for preflight_time.
+  void run_preflight(Nanos now);
+  PreflightLimits limits() const;
+  void declare_preflight();
   Input<msg::State> state_;
   Input<msg::ControllerCommand> command_;
   Input<msg::FcuStatus> fcu_;
+  Input<msg::Innovations> innovations_;
+  Input<msg::Gnss> gnss_;
   Output<msg::FlightPhase> phase_out_;
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
+  Param<bool> preflight_;
+  Param<double> preflight_time_, preflight_timeout_, report_interval_;
+  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_, max_ground_speed_;
+  Param<std::int64_t> min_sats_;
   msg::Phase phase_ = msg::Phase::takeoff;
   bool disarmed_ = false;
   Nanos since_ = 0;
   Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
   std::vector<PhaseTransition> transitions_;
+  Nanos checks_passed_since_ = -1;  ///< preflight: when every check last began to pass (-1: failing)
+  Nanos last_report_ = -1;          ///< preflight: when the failing checks were last logged
+  std::string failure_;
 };
 
 }  // namespace tern::core

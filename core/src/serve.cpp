@@ -113,7 +113,7 @@ struct Server {
             continue;
           }
           const auto p = msg::phase_from_name(k);
-          if (!p) return "error: phases: unknown phase '" + k + "' (takeoff, climb, cruise, landing, loiter, fallback)";
+          if (!p || *p == msg::Phase::preflight) return "error: phases: unknown phase '" + k + "' (takeoff, climb, cruise, landing, loiter, fallback)";
           table[*p] = v;
         }
         host.set_phases(table, fallback);

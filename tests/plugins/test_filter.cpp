@@ -10,6 +10,7 @@ class TestFilter final : public tern::Plugin {
     declare(truth_, "truth", "", tern::Need::optional);
     declare(state_, "state");
     declare(edits_, "mission_edit", "counts runtime mission edits", tern::Need::optional);
+    declare(valid_, "valid", false, tern::ParamSpec("", 0, 0, "publish the state as valid, status ok (an aligned estimator)"));
   }
   void step(tern::Nanos now) override {
     if (imu_->stamp != now) ++stale_;
@@ -20,6 +21,10 @@ class TestFilter final : public tern::Plugin {
     tern::msg::State s = truth_.get();
     s.stamp = now;
     s.p_n = imu_->accel.x();  // carries the seeded noise into the state log
+    if (valid_()) {
+      s.valid = true;
+      s.status = tern::msg::StateStatus::ok;
+    }
     state_.publish(s);
     ++steps_;
   }
@@ -33,6 +38,7 @@ class TestFilter final : public tern::Plugin {
   tern::Input<tern::msg::State> truth_;
   tern::Output<tern::msg::State> state_;
   tern::Input<tern::msg::MissionEdit> edits_;
+  tern::Param<bool> valid_;
   long stale_ = 0, steps_ = 0, edits_seen_ = 0, last_edit_id_ = 0;
 };
 }  // namespace

@@ -81,6 +81,7 @@ TypeEntry entry(std::function<void(const M&, typename PS::type&)> convert,
 std::uint8_t rosplane_zone(std::uint8_t tern_phase) {
   // ROSplane: 0 take-off, 1 climb, 2 descend, 3 altitude hold
   switch (static_cast<msg::Phase>(tern_phase)) {
+    case msg::Phase::preflight:  // on the ground before the takeoff: ROSplane has no such zone
     case msg::Phase::takeoff: return 0;
     case msg::Phase::climb: return 1;
     case msg::Phase::landing: return 2;

@@ -343,8 +343,8 @@ UpdateResult Estimator::fuse(Model& model, const typename Model::Vec& z, Nanos t
 }
 
 template <class Model>
-UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, ErrBlock a,
-                                    ErrBlock b) {
+UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first,
+                                    int n) {
   const UpdateResult r = fuse(model, z, t_v);
   if (r != UpdateResult::rejected || model.stats.consecutive_rejected < static_cast<std::uint64_t>(cfg_.inflate_after))
     return r;
@@ -352,8 +352,7 @@ UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model
   // sensor wrong for this long. Inflate the variances of the states the sensor measures so the
   // innovation sits near the gate, and fuse again.
   const double beta = std::min(model.stats.last_nis / model.gate, 1e4);
-  filter_.inflate(a.first, a.n, beta);
-  if (b.n > 0) filter_.inflate(b.first, b.n, beta);
+  filter_.inflate(first, n, beta);
   ++inflations_;
   push(imu_stamp_, EventKind::inflated, s, beta);
   return fuse(model, z, t_v);
@@ -435,7 +434,7 @@ bool Estimator::add_baro(const msg::Baro& m) {
     return true;
   }
   if (initialized_)
-    fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), {idx::bb, 1});
+    fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
   return true;
 }
 
@@ -496,7 +495,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     fix_accel_n_ = 0;
     return true;
   }
-  const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, {idx::p, 3}, {idx::eg, 3});
+  const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, idx::p, 3);
   if (r == UpdateResult::invalid && history_.full()) {
     push(m.stamp, EventKind::too_old, Sensor::gnss, to_seconds(imu_stamp_ - t_v));
   }

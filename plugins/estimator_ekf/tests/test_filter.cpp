@@ -257,15 +257,33 @@ TEST_CASE("a delayed update with the state of its time equals the update made th
   CHECK((delayed.x().v - at_t0.x().v).norm() < 0.01);
 }
 
-TEST_CASE("covariance inflation scales variances and keeps correlations") {
+TEST_CASE("covariance inflation adds independent variance: fusing p + e afterwards does not teach e") {
   Filter f;
   f.initialize(sample_state(), random_spd(5));
   const Cov P0 = f.P();
   f.inflate(idx::p, 3, 4.0);
   CHECK(f.P()(idx::p, idx::p) == doctest::Approx(4.0 * P0(idx::p, idx::p)));
-  CHECK(f.P()(idx::p + 1, idx::p) == doctest::Approx(4.0 * P0(idx::p + 1, idx::p)));
-  CHECK(f.P()(idx::p, idx::v) == doctest::Approx(2.0 * P0(idx::p, idx::v)));
-  CHECK(f.P()(idx::v, idx::v) == doctest::Approx(P0(idx::v, idx::v)));
-  const Eigen::LLT<Cov> llt(f.P());
-  CHECK(llt.info() == Eigen::Success);
+  CHECK(f.P()(idx::p + 1, idx::p) == P0(idx::p + 1, idx::p));
+  CHECK(f.P()(idx::p, idx::v) == P0(idx::p, idx::v));
+  CHECK(f.P()(idx::v, idx::v) == P0(idx::v, idx::v));
+  CHECK(Eigen::LLT<Cov>(f.P()).info() == Eigen::Success);
+  // GNSS-like structure: p = z0 - e, var(e) = 1, corr(p, e) = -0.999. Inflate p x25, then fuse
+  // z = p + e (sigma 0.1): var(e) must stay near 1 (nothing measures e alone).
+  Cov P = Cov::Identity() * 1e-2;
+  P.block<3, 3>(idx::p, idx::p) = Mat3::Identity();
+  P.block<3, 3>(idx::eg, idx::eg) = Mat3::Identity();
+  P.block<3, 3>(idx::p, idx::eg) = P.block<3, 3>(idx::eg, idx::p) = -0.999 * Mat3::Identity();
+  Filter g;
+  g.initialize(sample_state(), P);
+  g.inflate(idx::p, 3, 25.0);
+  const Eigen::Matrix<double, 3, kErrDim> H = [] {
+    Eigen::Matrix<double, 3, kErrDim> h = Eigen::Matrix<double, 3, kErrDim>::Zero();
+    h.block<3, 3>(0, idx::p) = Mat3::Identity();
+    h.block<3, 3>(0, idx::eg) = Mat3::Identity();
+    return h;
+  }();
+  const Cov& Pi = g.P();
+  const Eigen::Matrix3d S = H * Pi * H.transpose() + 0.01 * Mat3::Identity();
+  const Cov post = Pi - Pi * H.transpose() * S.inverse() * H * Pi;
+  CHECK(post(idx::eg, idx::eg) > 0.9);
 }

@@ -10,7 +10,9 @@
 
 namespace tern::msg {
 
-enum class Phase : std::uint8_t { takeoff = 0, climb = 1, cruise = 2, landing = 3, loiter = 4 };
+/// preflight: on the ground, motor off, no controller running, until the arming checks pass
+/// (estimator aligned, GNSS good, aircraft at rest); then takeoff.
+enum class Phase : std::uint8_t { takeoff = 0, climb = 1, cruise = 2, landing = 3, loiter = 4, preflight = 5 };
 
 inline constexpr std::string_view phase_name(Phase p) {
   switch (p) {
@@ -19,12 +21,13 @@ inline constexpr std::string_view phase_name(Phase p) {
     case Phase::cruise: return "cruise";
     case Phase::landing: return "landing";
     case Phase::loiter: return "loiter";
+    case Phase::preflight: return "preflight";
   }
   return "unknown";
 }
 
 inline constexpr std::optional<Phase> phase_from_name(std::string_view s) {
-  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter})
+  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight})
     if (phase_name(p) == s) return p;
   return std::nullopt;
 }

@@ -286,18 +286,10 @@ class Estimator {
   /// last IMU sample (invalid, counted, when older than the whole history).
   template <class Model>
   UpdateResult fuse(Model& model, const typename Model::Vec& z, Nanos t_v);
-  /// A block of the error state: components [first, first + n).
-  struct ErrBlock {
-    int first;
-    int n;
-  };
-  /// fuse() that, after inflate_after consecutive rejections, inflates the covariance of the
-  /// states of blocks a and b by the NIS over the gate and fuses again. Both blocks of a sensor
-  /// that measures a sum (GNSS: p + e_gnss) are inflated alike: inflating one alone and fusing
-  /// the sum would tell the filter it had learnt the other.
+  /// fuse() that, after inflate_after consecutive rejections, inflates the variances of the
+  /// states [first, first + n) by the NIS over the gate (Filter::inflate) and fuses again.
   template <class Model>
-  UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, ErrBlock a,
-                           ErrBlock b = {0, 0});
+  UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;

@@ -225,14 +225,15 @@ class Filter {
   /// Sum of every correction K y applied so far (error-state coordinates).
   const ErrVec& correction_sum() const { return correction_sum_; }
 
-  /// Covariance inflation: multiplies the variances of the n error states from `first` by
-  /// beta >= 1 (rows and columns scaled by sqrt(beta), so correlations and positive
-  /// definiteness are kept). Used when a sensor keeps being rejected because the filter is
-  /// overconfident, instead of resetting the state.
+  /// Covariance inflation: adds (beta - 1) times their variance, as independent noise, to the
+  /// n error states from `first` (beta >= 1; cross-covariances untouched, so P stays positive
+  /// definite). Used when a sensor keeps being rejected because the filter is overconfident,
+  /// instead of resetting the state: "this state drifted more than the model says". Scaling the
+  /// rows and columns instead would also scale the correlations with the other states: for the
+  /// GNSS position (z = p + e_gnss, p and e_gnss strongly anti-correlated) the next fix would
+  /// then tell the filter it had learnt e_gnss (measured: position NEES 165).
   void inflate(int first, int n, double beta) {
-    const double s = std::sqrt(beta);
-    P_.middleRows(first, n) *= s;
-    P_.middleCols(first, n) *= s;
+    for (int i = first; i < first + n; ++i) P_(i, i) += (beta - 1.0) * P_(i, i);
   }
 
   /// Applies an error-state correction without touching P (used by resets); it counts in

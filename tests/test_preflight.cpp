@@ -1,0 +1,109 @@
+// Preflight: each arming check refuses with its own line; the flight holds (no controller) until
+// the checks pass, then takes off; a time-out ends it with preflight_failed.
+#include <doctest/doctest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "preflight.hpp"
+#include "test_util.hpp"
+
+using namespace tern::core;
+using tern::msg::Gnss;
+using tern::msg::Innovations;
+using tern::msg::State;
+
+namespace {
+State aligned() {
+  State s;
+  s.valid = true;
+  s.status = tern::msg::StateStatus::ok;
+  s.P_diag.fill(1e-4);  // 0.6 deg tilt/yaw sigma, 1 cm position
+  return s;
+}
+
+Gnss good_fix() {
+  Gnss g;
+  g.fix_type = tern::msg::FixType::fix_3d;
+  g.num_sats = 12;
+  g.h_acc = 1.2;
+  g.v_acc = 2.5;
+  return g;
+}
+
+std::string only_failure(const State* s, const Innovations* i, const Gnss* g) {
+  const auto f = preflight_failures(s, i, g, PreflightLimits{});
+  REQUIRE(f.size() == 1);
+  return f[0];
+}
+
+FlightResult fly(const std::string& yaml, const std::string& logdir) {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / logdir;
+  Host h(load_config(write_file("preflight.yaml", yaml)), o);
+  h.build();
+  return h.fly();
+}
+}  // namespace
+
+TEST_CASE("preflight: an aligned estimator, a good fix and an aircraft at rest pass") {
+  const State s = aligned();
+  const Gnss g = good_fix();
+  const Innovations i;  // nothing fused yet: no ratio
+  CHECK(preflight_failures(&s, &i, &g, PreflightLimits{}).empty());
+}
+
+TEST_CASE("preflight: each check refuses with its own line") {
+  const Gnss g = good_fix();
+  CHECK(only_failure(nullptr, nullptr, nullptr) == "no state yet (estimator silent)");
+  State s = aligned();
+  s.valid = false;
+  s.status = tern::msg::StateStatus::invalid;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not ready (status invalid)");
+  s = aligned();
+  s.P_diag[7] = 0.05 * 0.05;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not aligned: tilt sigma 2.86 deg > 2.01 deg");
+  s = aligned();
+  s.P_diag[8] = 0.3 * 0.3;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not aligned: yaw sigma 17.2 deg > 9.7 deg");
+  s = aligned();
+  s.v_e = 3.0;
+  CHECK(only_failure(&s, nullptr, &g) == "aircraft moving: ground speed 3.00 m/s > 2.00 m/s");
+  s = aligned();
+  Innovations i;
+  i.gnss_vel = 1.7;
+  CHECK(only_failure(&s, &i, &g).rfind("gnss velocity innovation test ratio 1.70 >= 1", 0) == 0);
+  Gnss bad = good_fix();
+  bad.h_acc = 4.2;
+  CHECK(only_failure(&s, nullptr, &bad) == "GNSS h_acc 4.2 m > 2.5 m");
+  bad = good_fix();
+  bad.num_sats = 4;
+  CHECK(only_failure(&s, nullptr, &bad) == "GNSS 4 satellites < 6");
+  bad.fix_type = tern::msg::FixType::fix_2d;
+  CHECK(only_failure(&s, nullptr, &bad) == "GNSS fix type 2 (3-D fix required)");
+}
+
+TEST_CASE("preflight: the flight holds with no controller until the checks pass, then takes off") {
+  std::string cfg = base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5}\n");
+  const std::string filter = "plugin: test_filter, trigger: imu}";
+  cfg.replace(cfg.find(filter), filter.size(), "plugin: test_filter, trigger: imu, params: {valid: true}}");
+  const FlightResult r = fly(cfg, "preflight_pass");
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  REQUIRE(s["phases"].size() >= 2);
+  CHECK(s["phases"][0]["phase"] == "preflight");
+  CHECK(s["phases"][1]["phase"] == "takeoff");
+  CHECK(s["preflight_s"].get<double>() == doctest::Approx(0.5).epsilon(0.05));
+  CHECK(s["controller_handovers"][0]["to"] == "(none)");
+  CHECK(s["controller_handovers"][1]["to"] == "ctl");
+}
+
+TEST_CASE("preflight: an estimator that never aligns ends the flight with preflight_failed") {
+  const FlightResult r = fly(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"),
+                             "preflight_fail");
+  CHECK_FALSE(r.ok);
+  CHECK(r.end_reason == "preflight_failed: estimator not ready (status degraded)");
+  CHECK(tern::to_seconds(r.flown) == doctest::Approx(1.0).epsilon(0.01));
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["end_reason"] == r.end_reason);
+}
