@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   app.add_option("--silence", o.silence, "T0:T1 s: send nothing in this window (link loss)");
   app.add_option("--reboot-at", o.reboot_at, "s: the FCU reboots (its clock restarts at 0)");
   app.add_option("--corrupt", o.corrupt, "probability that a frame gets one byte flipped")->check(CLI::Range(0.0, 1.0));
+  app.add_option("--pitot-cover", o.pitot_cover, "s: the pitot is covered until then (for the FCU's boot calibration in wind)");
   app.add_option("--stall-timeout", o.stall_timeout, "lockstep: run on after this many wall seconds without a command");
   app.add_flag("--exit-with-parent", o.exit_with_parent, "stop when the process that started it ends (the plugin passes it)");
   CLI11_PARSE(app, argc, argv);

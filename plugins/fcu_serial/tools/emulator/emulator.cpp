@@ -5,6 +5,7 @@
 #include <cmath>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -31,6 +32,10 @@ std::vector<double> numbers(const std::string& s, std::size_t n, const std::stri
   if (v.size() != n) throw std::runtime_error(what + ": needs " + std::to_string(n) + " numbers, got '" + s + "'");
   return v;
 }
+
+// ROSFLIGHT_VERSION's text (at most 50 characters: rosflight.xml): this program and the
+// firmware commit it plays
+constexpr const char* kVersion = "tern-fcu-emulator 0.2 (rosflight_firmware e8cf6a0)";
 
 sim::SensorSchedule every(double hz) {
   sim::SensorSchedule s;
@@ -74,7 +79,7 @@ Emulator::Emulator(const Options& o, Port& port)
       boot_params_(load_params(o.params)),
       rc_script_(o.rc),
       rng_(o.seed ^ 0xC0FFEEull) {
-  fcu_.emplace(boot_params_, "tern-fcu-emulator 0.2 (rosflight_firmware e8cf6a0f)");
+  fcu_.emplace(boot_params_, kVersion);
   throw_ = {ac_.max_delta_a, ac_.max_delta_e, ac_.max_delta_r};
   if (!o.max_deflection.empty()) {
     const auto m = numbers(o.max_deflection, 3, "--max-deflection");
@@ -103,6 +108,7 @@ Emulator::Emulator(const Options& o, Port& port)
 
 /// Frames are written at the end of each loop; a silent link or a full port loses them.
 bool Emulator::flush() {
+  corrupt_frames();
   bool ok = true;
   if (!out_.empty() && !silent(t_)) ok = port_.write(out_.data(), out_.size());
   else if (!out_.empty()) ok = false;
@@ -111,12 +117,17 @@ bool Emulator::flush() {
   return ok;
 }
 
-/// --corrupt: flips one byte of the frame starting at out_[at] with that probability.
-bool Emulator::corrupt_from(std::size_t at) {
-  if (o_.corrupt <= 0 || std::uniform_real_distribution<double>(0, 1)(rng_) >= o_.corrupt) return false;
-  const std::size_t i = at + std::uniform_int_distribution<std::size_t>(0, out_.size() - at - 1)(rng_);
-  out_[i] ^= static_cast<std::uint8_t>(1 + std::uniform_int_distribution<int>(0, 254)(rng_));
-  return true;
+void Emulator::corrupt_frames() {
+  const std::optional<std::size_t> imu = std::exchange(imu_at_, std::nullopt);
+  if (o_.corrupt <= 0) return;
+  // out_ holds whole MAVLink 1 frames: header, payload of length out_[at + 1], checksum
+  for (std::size_t at = 0, n; at < out_.size(); at += n) {
+    n = mavlink::kHeaderLength + out_[at + 1] + 2;
+    if (std::uniform_real_distribution<double>(0, 1)(rng_) >= o_.corrupt) continue;
+    const std::size_t i = at + std::uniform_int_distribution<std::size_t>(0, n - 1)(rng_);
+    out_[i] ^= static_cast<std::uint8_t>(1 + std::uniform_int_distribution<int>(0, 254)(rng_));
+    if (imu && *imu == at) imu_delivered_ = false;
+  }
 }
 
 /// Reads what the companion sent (waiting at most timeout_ns) and answers it.
@@ -134,7 +145,7 @@ void Emulator::service(std::int64_t timeout_ns) {
 /// parameters (disarmed, its calibrations redone) and its clock restarts.
 void Emulator::reboot() {
   firmware::Params stored = fcu_->stored();
-  fcu_.emplace(stored, "tern-fcu-emulator 0.2 (rosflight_firmware e8cf6a0f)");
+  fcu_.emplace(stored, kVersion);
   boot_ = t_;
   std::cerr << "tern-fcu-emulator: reboot at t = " << static_cast<double>(t_) * 1e-9 << " s\n";
 }

@@ -53,6 +53,9 @@ struct Options {
   std::string silence;
   double reboot_at = -1;
   double corrupt = 0;
+  /// The pitot is covered (no dynamic pressure reaches the sensor) until this time, s: what a
+  /// pilot does at power-up in wind, so that the boot calibration zeroes the sensor, not the wind.
+  double pitot_cover = 0;
   double stall_timeout = 10;
   bool exit_with_parent = false;
 };
@@ -72,14 +75,16 @@ class Emulator {
   void reboot();
   void service(std::int64_t timeout_ns);
   bool flush();
-  /// Appends one frame; returns false when --corrupt damaged it (it cannot reach the companion).
+  /// Appends one frame the firmware sends as itself; returns where it starts in out_.
   template <class T>
-  bool send(const T& m) {
+  std::size_t send(const T& m) {
     const std::size_t at = out_.size();
     fcu_->send(m, out_);
-    return !corrupt_from(at);
+    return at;
   }
-  bool corrupt_from(std::size_t at);
+  /// --corrupt: every frame about to be written (streams, answers, echoes alike) has one byte
+  /// flipped with that probability; a damaged IMU sample is not delivered.
+  void corrupt_frames();
   void step_sensors(std::int64_t t);
   void step_imu(const sim::Truth& truth, std::int64_t t);
   void step_rc(std::int64_t t);
@@ -104,6 +109,7 @@ class Emulator {
   std::optional<std::pair<std::int64_t, std::int64_t>> silence_;
   std::int64_t t_ = 0, dt_ = 2'500'000, boot_ = 0;
   std::uint64_t imu_count_ = 0, dropped_ = 0;
+  std::optional<std::size_t> imu_at_;  ///< where this loop's SMALL_IMU starts in out_
   bool rebooted_ = false, imu_delivered_ = false;
 };
 

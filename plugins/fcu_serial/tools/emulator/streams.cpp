@@ -36,8 +36,12 @@ void Emulator::step_sensors(std::int64_t t) {
     send(s);
   }
   if (diff_.poll(t) == Poll::sample) {
-    const auto m = sensors_.diff_pressure(truth(), diff_.dt_since_last(t));
+    auto m = sensors_.diff_pressure(truth(), diff_.dt_since_last(t));
     diff_.last_sample = t;
+    if (t < static_cast<std::int64_t>(o_.pitot_cover * 1e9)) {  // covered: the sensor's offset and noise only
+      const double u = truth().fm.air.v_air.x();
+      m.pressure -= 0.5 * truth().rho * u * u;
+    }
     const float p = fcu_->fw().diff_pressure(static_cast<float>(m.pressure), ft);
     mavlink::DiffPressure s;  // CommManager::send_diff_pressure after correct_diff_pressure
     s.diff_pressure = p;
@@ -89,7 +93,8 @@ void Emulator::step_imu(const sim::Truth& truth, std::int64_t t) {
   s.ygyro = g[1];
   s.zgyro = g[2];
   s.temperature = static_cast<float>(m.temperature);
-  imu_delivered_ = send(s);
+  imu_at_ = send(s);
+  imu_delivered_ = true;  // unless corrupt_frames() damages it
   const Eigen::Quaterniond q = sim::attitude(sim_.state());  // the true attitude (a real FCU: its estimate)
   mavlink::AttitudeQuaternion att;
   att.time_boot_ms = static_cast<std::uint32_t>(ft / 1'000'000);
