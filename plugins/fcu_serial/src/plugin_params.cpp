@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "fcu_serial_plugin.hpp"
+#include "tern_fcu_serial/firmware.hpp"
 
 namespace tern::fcu_serial {
 
@@ -78,7 +79,7 @@ void FcuSerial::declare_link_params() {
           ParamSpec("", 0, 0, "extra arguments of tern-fcu-emulator, e.g. \"--wind 3.5,-3.5,0 --turbulence light\""));
   declare(emulator_params_, "emulator_params", "",
           ParamSpec("", 0, 0, "the emulated FCU's stored parameters (YAML NAME: value, relative to the mission file); empty: firmware defaults"));
-  declare(emulator_rc_, "emulator_rc", "0 throttle=0 aux1=-1 aux2=-1; 2 aux2=1; 2.1 aux1=1; 2.5 aux2=-1",
+  declare(emulator_rc_, "emulator_rc", fcu::firmware::kDefaultRcScript,
           ParamSpec("", 0, 0, "the emulated pilot's transmitter over time (tern-fcu-emulator --rc), or none"));
   declare(emulator_path_, "emulator_path", "",
           ParamSpec("", 0, 0, "tern-fcu-emulator executable; empty: next to the tern command, then PATH"));

@@ -295,6 +295,29 @@ TEST_CASE("plugin: flies the emulator's aircraft in lockstep over a pseudo-termi
   h.stop();
 }
 
+TEST_CASE("plugin: in lockstep an FCU that falls silent ends the flight in one line (no commands on a frozen state)") {
+  std::unique_ptr<ChildProcess> emu;  // the FCU stops after 0.5 s of its time (power lost, cable pulled)
+  const std::string pty = start_emulator(emu, {"--lockstep", "--duration", "0.5", "--init-mode", "air", "--params", TERN_FCU_PARAMS});
+  tern::testing::HarnessOptions ho;
+  ho.aircraft_file = kAircraft;
+  tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(),
+                           {{"device", pty}, {"lockstep", true}, {"wait_timeout", 0.1}, {"link_timeout", 0.3}}, ho);
+  h.start();
+  std::string error;
+  tern::Nanos t = 0;
+  const auto wall0 = std::chrono::steady_clock::now();
+  try {
+    for (; t <= tern::from_seconds(10.0); t += 2'500'000) h.step(t);
+  } catch (const std::runtime_error& e) {
+    error = e.what();
+  }
+  CHECK(error.find("lockstep: nothing from the FCU for") == 0);
+  CHECK(t > tern::from_seconds(0.49));  // the last sample it sent
+  CHECK(t < tern::from_seconds(0.6));
+  CHECK(std::chrono::steady_clock::now() - wall0 < std::chrono::seconds(3));
+  h.stop();
+}
+
 TEST_CASE("plugin: link loss, FCU reboot, RC override and corrupted bytes are reported and survived") {
   tern::testing::HarnessOptions ho;
   ho.aircraft_file = kAircraft;

@@ -11,7 +11,8 @@
 // each IMU sample that reached the companion it waits for one OFFBOARD_CONTROL before it
 // integrates the next IMU period. Faults for tests: --silence T0:T1 (sends nothing),
 // --reboot-at T (boots again), --corrupt P (each frame has one byte flipped with probability
-// P); the pilot: --rc (emulator/rc_script.hpp).
+// P), --pitot-cover T (the pitot covered until T, for the boot calibration in wind); the pilot:
+// --rc (emulator/rc_script.hpp).
 #include <csignal>
 #include <iostream>
 #include <memory>

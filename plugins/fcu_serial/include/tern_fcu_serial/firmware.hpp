@@ -31,6 +31,12 @@
 
 namespace tern::fcu::firmware {
 
+/// The emulated pilot's default transmitter script (tern-fcu-emulator --rc, the plugin's
+/// emulator_rc): arms a configured fixed wing (RC_ARM_CHN 4, RC_THR_OVRD_CHN 5, TAKE_MIN_THR 0)
+/// at 2 s: throttle low, override switch on (required to arm without TAKE_MIN_THR:
+/// state_manager.cpp StateManager::set_event), arm switch on, override switch off.
+inline constexpr const char* kDefaultRcScript = "0 throttle=0 aux1=-1 aux2=-1; 2 aux2=1; 2.1 aux1=1; 2.5 aux2=-1";
+
 /// MAV_PARAM_TYPE of a firmware parameter (param.cpp: PARAM_TYPE_INT32 / PARAM_TYPE_FLOAT).
 enum class ParamType : std::uint8_t { int32 = 6, real32 = 9 };
 

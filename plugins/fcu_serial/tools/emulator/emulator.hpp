@@ -46,10 +46,7 @@ struct Options {
   double init_altitude = 100, init_airspeed = 17, init_heading = 0;
   std::string max_deflection;  ///< empty: the aircraft's limits
   std::string params;          ///< the FCU's stored parameters (YAML NAME: value); empty: defaults
-  /// --rc script (rc_script.hpp). The default arms a configured fixed wing (RC_ARM_CHN 4,
-  /// RC_THR_OVRD_CHN 5, TAKE_MIN_THR 0) at 2 s: throttle low, override switch on (required to arm
-  /// without TAKE_MIN_THR: state_manager.cpp set_event), arm switch on, override switch off.
-  std::string rc = "0 throttle=0 aux1=-1 aux2=-1; 2 aux2=1; 2.1 aux1=1; 2.5 aux2=-1";
+  std::string rc = firmware::kDefaultRcScript;  ///< --rc script (rc_script.hpp)
   std::string silence;
   double reboot_at = -1;
   double corrupt = 0;
