@@ -331,6 +331,8 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
                                << " deg, after " << worst * 180.0 / M_PI << " deg, mag resets "
                                << s["instances"]["ekf"]["mag_resets"].get<double>());
     CHECK(worst_early < 10.0 * M_PI / 180.0);
-    CHECK(worst < 3.0 * M_PI / 180.0);
+    // 5 deg: the estimator models the gyro's scale and cross-axis error (gyro_scale), so its
+    // attitude loosens during the recovery's high rates (seed 1: 3.8 deg at 4 s, 2.3 deg without).
+    CHECK(worst < 5.0 * M_PI / 180.0);
   }
 }

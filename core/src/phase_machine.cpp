@@ -58,7 +58,7 @@ void PhaseMachine::start() {
 void PhaseMachine::reset() {
   phase_ = first_phase();
   disarmed_ = false;
-  checks_passed_since_ = last_report_ = -1;
+  checks_passed_since_ = last_report_ = preflight_since_ = -1;
   failure_.clear();
   since_ = 0;
   condition_since_ = -1;
@@ -87,6 +87,7 @@ bool PhaseMachine::wait_for_arming(Nanos now) {
   const msg::FcuStatus& f = *fcu_;
   if (!disarmed_ && !f.armed) {
     disarmed_ = true;
+    preflight_since_ = -1;
     log().warn("t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
                "error-free (error code 0x{:02x}; the FCU link says what is missing)", to_seconds(now), f.error_code);
     const msg::Phase wait = phase_ == msg::Phase::preflight ? msg::Phase::preflight : msg::Phase::takeoff;
@@ -112,7 +113,8 @@ void PhaseMachine::run_preflight(Nanos now) {
     return;
   }
   checks_passed_since_ = -1;
-  if (now >= from_seconds(preflight_timeout_())) {
+  if (preflight_since_ < 0) preflight_since_ = now;  // after any disarmed wait: arming late is no failure
+  if (now - preflight_since_ >= from_seconds(preflight_timeout_())) {
     failure_ = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
     return;
   }

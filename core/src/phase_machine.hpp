@@ -7,7 +7,7 @@
 //   preflight -> takeoff when the arming checks (preflight.hpp: estimator aligned and consistent,
 //              GNSS fix, aircraft at rest) have all passed for preflight_time; no controller runs
 //              before (motor off). One line per failing check every report_interval; after
-//              preflight_timeout the flight ends (failure(): "preflight_failed: ..."). With
+//              preflight_timeout (counted once armed) the flight ends (failure(): "preflight_failed: ..."). With
 //              `preflight: false` (tern fly --skip-preflight) the flight starts in takeoff.
 //   takeoff -> climb   when h >= alt_toz
 //   climb   -> cruise  when |h_c - h| < alt_hz
@@ -82,6 +82,7 @@ class PhaseMachine final : public Plugin {
   std::vector<PhaseTransition> transitions_;
   Nanos checks_passed_since_ = -1;  ///< preflight: when every check last began to pass (-1: failing)
   Nanos last_report_ = -1;          ///< preflight: when the failing checks were last logged
+  Nanos preflight_since_ = -1;      ///< preflight: first check after the last disarmed wait (timeout base)
   std::string failure_;
 };
 

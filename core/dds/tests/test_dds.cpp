@@ -280,7 +280,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
 TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   DdsOptions opt = options_on(43);
   opt.topics[0].rate = 20;  // state at 20 Hz (it is published at 400 Hz)
-  Flight f("dds_mission", 1.5, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\n");
+  Flight f("dds_mission", 1.5, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
   DdsBridge bridge(*f.host, opt);
   DdsClient client(opt, std::chrono::seconds(20));
   f.start();

@@ -140,12 +140,14 @@ struct ProcessNoise {
   /// (vibration and the +-1 % scale error of the ICM-20602 at 1 rad/s dominate its own
   /// 4 mdps/sqrt(Hz) = 8.7e-4 rad/s per sample).
   double gyro = 0.015;
-  /// Gyro scale-factor and cross-axis error as a fraction of the rate: the ICM-20602's +-1 %
-  /// sensitivity and +-2 % cross-axis tolerances (DS-000176, table 1), root-sum-square 0.022.
-  /// Constant over a manoeuvre, so it enters as attitude random walk of density
-  /// gyro_scale |w| sqrt(maneuver_time) (a 1-rad/s roll for 1 s then costs 1.3 deg of tilt sigma).
-  double gyro_scale = 0.022;
-  double maneuver_time = 1.0;     ///< s: how long a rate is held (correlation time of the scale error)
+  /// Gyro scale-factor and cross-axis error as a fraction of the rate, 1 sigma: the ICM-20602's
+  /// +-1 % sensitivity and +-2 % cross-axis tolerances (DS-000176, table 1) taken as uniform
+  /// within them (sigma = tolerance / sqrt(3)), root-sum-square 0.013. Constant over a
+  /// manoeuvre, so it enters as attitude random walk of density
+  /// gyro_scale |w| sqrt(maneuver_time) (a 1-rad/s roll held 1 s costs 0.4 deg of tilt sigma).
+  double gyro_scale = 0.013;
+  double maneuver_time = 0.3;     ///< s: how long a rate is held (correlation time of the scale error;
+                                  ///< 0.3 s: no divergence over 10 + 10 realistic bench flights, 1 s: 1-3)
   double gyro_bias_walk = 5e-5;   ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
                                   ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
   double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
