@@ -58,12 +58,17 @@ firmware::Params load_params(const std::string& file) {
     const std::string name = kv.first.as<std::string>();
     const auto i = p.find(name);
     if (!i) throw std::runtime_error("--params " + file + ": " + name + " is not a parameter the emulator knows");
+    const bool is_int = p.at(*i).type == firmware::ParamType::int32;
+    const auto bad = [&](const std::string& value) {
+      return std::runtime_error("--params " + file + ": " + name + ": " + value + " is not " + (is_int ? "an int32" : "a finite number"));
+    };
+    if (!kv.second.IsScalar()) throw bad(kv.second.IsNull() ? "an empty value" : "a list or map");
     try {
-      if (p.at(*i).type == firmware::ParamType::int32) p.set_int(*i, kv.second.as<std::int32_t>());
-      else p.set_float(*i, kv.second.as<float>());
+      if (is_int) p.set_int(*i, kv.second.as<std::int32_t>());
+      else if (const float v = kv.second.as<float>(); std::isfinite(v)) p.set_float(*i, v);
+      else throw bad("'" + kv.second.Scalar() + "'");
     } catch (const YAML::Exception&) {
-      throw std::runtime_error("--params " + file + ": " + name + ": '" + kv.second.as<std::string>() + "' is not " +
-                               (p.at(*i).type == firmware::ParamType::int32 ? "an int32" : "a number"));
+      throw bad("'" + kv.second.Scalar() + "'");
     }
   }
   p.take_changes();
