@@ -55,8 +55,9 @@ void Firmware::arm_disarm_signal(std::int64_t now) {
   const bool pose = armed_ ? low && stick_[kStickZ] < -(1.0f - th) : low && stick_[kStickZ] > 1.0f - th;
   arm_sticks_since_ = pose ? arm_sticks_since_ + dt : 0;
   if (arm_sticks_since_ > 1000 * kMs) {
-    set_event(armed_ ? Event::request_disarm : Event::request_arm, now);
-    if (armed_) arm_sticks_since_ = 0;
+    const bool disarm = armed_;
+    set_event(disarm ? Event::request_disarm : Event::request_arm, now);
+    if (disarm) arm_sticks_since_ = 0;  // only after a disarm request, as rc.cpp does
   }
 }
 

@@ -36,8 +36,6 @@ bool calibration_step(auto& cal, double x, std::int64_t now) {
 }
 }  // namespace
 
-bool Firmware::set_param_float(std::string_view name, float v) { return params_.set_float(name, v); }
-
 // Sensors::init_imu: every stored accelerometer and gyro bias 0 -> ERROR_UNCALIBRATED_IMU.
 void Firmware::check_imu_calibrated() {
   bool zero = true;
@@ -49,7 +47,7 @@ bool Firmware::start_gyro_calibration() {
   gyro_cal_ = true;
   gyro_cal_count_ = 0;
   gyro_sum_ = {};
-  for (const char* n : kGyro) set_param_float(n, 0.0f);
+  for (const char* n : kGyro) params_.set_float(n, 0.0f);
   return true;
 }
 
@@ -60,21 +58,21 @@ bool Firmware::start_imu_calibration() {
   acc_sum_ = {};
   acc_max_.fill(-1000.0);
   acc_min_.fill(1000.0);
-  for (const char* n : kAcc) set_param_float(n, 0.0f);
+  for (const char* n : kAcc) params_.set_float(n, 0.0f);
   return true;
 }
 
 bool Firmware::start_baro_calibration() {
   baro_cal_ = Cal{};
   baro_calibrated_ = false;
-  set_param_float("BARO_BIAS", 0.0f);
+  params_.set_float("BARO_BIAS", 0.0f);
   return true;
 }
 
 bool Firmware::start_airspeed_calibration() {
   diff_cal_ = Cal{};
   diff_calibrated_ = false;
-  set_param_float("DIFF_PRESS_BIAS", 0.0f);
+  params_.set_float("DIFF_PRESS_BIAS", 0.0f);
   return true;
 }
 
@@ -89,7 +87,7 @@ void Firmware::calibrate_imu(const std::array<float, 3>& a, const std::array<flo
       for (std::size_t i = 0; i < 3; ++i) b[i] = gyro_sum_[i] / gyro_cal_count_;
       const bool ok = std::hypot(b[0], b[1], b[2]) < 1.0;
       if (ok)
-        for (std::size_t i = 0; i < 3; ++i) set_param_float(kGyro[i], static_cast<float>(b[i]));
+        for (std::size_t i = 0; i < 3; ++i) params_.set_float(kGyro[i], static_cast<float>(b[i]));
       else
         log(3, "Too much movement for gyro cal");
       if (fsm_ == Fsm::calibrating) set_event(ok ? Event::cal_done : Event::cal_failed, 0);
@@ -110,7 +108,7 @@ void Firmware::calibrate_imu(const std::array<float, 3>& a, const std::array<flo
   if (std::hypot(acc_max_[0] - acc_min_[0], acc_max_[1] - acc_min_[1], acc_max_[2] - acc_min_[2]) > 1.0) {
     log(3, "Too much movement for IMU cal");
   } else if (std::hypot(b[0], b[1], b[2]) < 3.0) {
-    for (std::size_t i = 0; i < 3; ++i) set_param_float(kAcc[i], static_cast<float>(b[i]));
+    for (std::size_t i = 0; i < 3; ++i) params_.set_float(kAcc[i], static_cast<float>(b[i]));
     log(6, "IMU offsets captured");
     clear_error(kErrorUncalibratedImu);
   } else {
@@ -136,8 +134,8 @@ void Firmware::imu(std::array<float, 3>& a, std::array<float, 3>& g, std::int64_
 void Firmware::baro(float pressure, std::int64_t now) {
   if (baro_calibrated_ || !calibration_step(baro_cal_, pressure, now)) return;
   if (baro_cal_.var < kBaroMaxVar) {
-    set_param_float("BARO_BIAS", static_cast<float>(baro_cal_.mean));
-    set_param_float("GROUND_LEVEL", static_cast<float>(44330.77 * (1.0 - std::pow(baro_cal_.mean / 101325.0, 0.190263))));
+    params_.set_float("BARO_BIAS", static_cast<float>(baro_cal_.mean));
+    params_.set_float("GROUND_LEVEL", static_cast<float>(44330.77 * (1.0 - std::pow(baro_cal_.mean / 101325.0, 0.190263))));
     baro_calibrated_ = true;
     log(6, "Baro ground pressure cal successful!");
   } else {
@@ -151,7 +149,7 @@ void Firmware::baro(float pressure, std::int64_t now) {
 float Firmware::diff_pressure(float pressure, std::int64_t now) {
   if (!diff_calibrated_ && calibration_step(diff_cal_, pressure, now)) {
     if (diff_cal_.var < kDiffMaxVar) {
-      set_param_float("DIFF_PRESS_BIAS", static_cast<float>(diff_cal_.mean));
+      params_.set_float("DIFF_PRESS_BIAS", static_cast<float>(diff_cal_.mean));
       diff_calibrated_ = true;
       log(6, "Airspeed Cal Successful!");
     } else {

@@ -41,7 +41,7 @@ mavlink::OffboardControl to_offboard(const Surfaces& s, const ActuatorMap& map) 
     c.u[map.channel[i]] = static_cast<float>(std::clamp(finite_or_zero(d[i]) / map.max_deflection[i], -1.0, 1.0) * map.sign[i]);
   const double t = std::clamp(finite_or_zero(s.delta_t), 0.0, 1.0);
   c.u[map.channel[3]] = static_cast<float>(map.sign[3] > 0 ? t : -t);
-  c.ignore = 0x3C0;  // u[6..9] (IGNORE_VALUE7..10); u[0..5] all active
+  c.ignore = 0x3C0;  // u[6..9] (rosflight.xml IGNORE_VALUE6..9); u[0..5] all active
   return c;
 }
 

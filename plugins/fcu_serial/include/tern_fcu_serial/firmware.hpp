@@ -121,7 +121,9 @@ class Firmware {
 
   // ---- inputs (the main loop of src/rosflight.cpp ROSflight::run) ----
   /// OFFBOARD_CONTROL (mavlink_adapter.cpp handle_msg_offboard_control; comm_manager.cpp
-  /// offboard_control_callback): a mode other than 0..2 is dropped; ignore bits clear `active`.
+  /// offboard_control_callback): a mode other than 0..2 is dropped; ignore bits (IGNORE_VALUE0..9)
+  /// clear `active`. u[0..9] = Fx Fy Fz Qx Qy Qz + 4 pass-through, as sent (pass-through: servo
+  /// -1..1, motor 0..1; clamped only by the mixer); stamped in whole ms of `now`.
   void offboard(std::uint8_t mode, const std::array<float, 10>& u, std::uint16_t ignore, std::int64_t now);
   /// A receiver frame: RC::run, then CommandManager::run (muxing happens only here).
   void rc(const RcFrame& f, std::int64_t now);
@@ -179,7 +181,6 @@ class Firmware {
   void check_imu_calibrated();
   void calibrate_imu(const std::array<float, 3>& accel, const std::array<float, 3>& gyro);
   void log(std::uint8_t severity, std::string text);
-  bool set_param_float(std::string_view name, float v);
 
   Params params_;
   Fsm fsm_ = Fsm::init;
