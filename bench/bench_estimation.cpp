@@ -166,10 +166,10 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
     f.diverged_at = s;
   }
   if (x.P_diag[0] > 0.0) {
-    f.nees[NEES_P].add(nees_per_dim(p - Eigen::Vector3d(t.p_n, t.p_e, t.p_d), x.P_diag, 0));
-    f.nees[NEES_V].add(nees_per_dim(Eigen::Vector3d(x.v_n - t.v_n, x.v_e - t.v_e, x.v_d - t.v_d), x.P_diag, 3));
+    f.nees[NEES_P].add(nees_per_dim(p - Eigen::Vector3d(t.p_n, t.p_e, t.p_d), x.P_diag, tern::msg::State::P_position));
+    f.nees[NEES_V].add(nees_per_dim(Eigen::Vector3d(x.v_n - t.v_n, x.v_e - t.v_e, x.v_d - t.v_d), x.P_diag, tern::msg::State::P_velocity));
     const Eigen::AngleAxisd d(x.quat.conjugate() * t.quat);  // q_true = q (x) exp(dtheta)
-    f.nees[NEES_ATT].add(nees_per_dim(d.angle() * d.axis(), x.P_diag, 6));
+    f.nees[NEES_ATT].add(nees_per_dim(d.angle() * d.axis(), x.P_diag, tern::msg::State::P_attitude));
   }
   if (g != nullptr) {
     const Eigen::Vector3d q = tern::core::fix_in_truth_frame(*g, t);

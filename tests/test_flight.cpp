@@ -15,15 +15,6 @@
 using namespace tern::core;
 
 namespace {
-FlightResult fly(const std::string& yaml, const std::string& logdir, std::optional<std::uint64_t> seed = {}) {
-  HostOptions o;
-  o.quiet = true;
-  o.seed = seed;
-  o.log_dir = test_dir() / logdir;
-  Host h(load_config(write_file("flight.yaml", yaml)), o);
-  h.build();
-  return h.fly();
-}
 
 const std::string kRouted = base_config(
     "  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
@@ -31,9 +22,9 @@ const std::string kRouted = base_config(
 }  // namespace
 
 TEST_CASE("the same seed gives byte-identical logs; another seed does not") {
-  const FlightResult a = fly(kRouted, "det_a", 11);
-  const FlightResult b = fly(kRouted, "det_b", 11);
-  const FlightResult c = fly(kRouted, "det_c", 12);
+  const FlightResult a = fly_yaml(kRouted, "det_a", 11);
+  const FlightResult b = fly_yaml(kRouted, "det_b", 11);
+  const FlightResult c = fly_yaml(kRouted, "det_c", 12);
   REQUIRE(a.ok);
   REQUIRE(b.ok);
   int files = 0;
@@ -49,7 +40,7 @@ TEST_CASE("the same seed gives byte-identical logs; another seed does not") {
 }
 
 TEST_CASE("the flight log: header with units, one row per message, resolved config, parameters") {
-  const FlightResult r = fly(base_config(), "log");
+  const FlightResult r = fly_yaml(base_config(), "log");
   REQUIRE(r.ok);
   const auto imu = lines(read_file(r.run_dir / "topics" / "imu.csv"));
   REQUIRE(imu.size() == 802);  // header + 801 samples over 2 s at 400 Hz
@@ -68,7 +59,7 @@ TEST_CASE("the flight log: header with units, one row per message, resolved conf
 }
 
 TEST_CASE("phase router: takeoff -> climb -> cruise hands actuators to the cruise controller") {
-  const FlightResult r = fly(kRouted, "router");
+  const FlightResult r = fly_yaml(kRouted, "router");
   REQUIRE(r.ok);
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
   REQUIRE(s["phases"].size() == 3);
@@ -89,7 +80,7 @@ TEST_CASE("phase router: a controller that throws or writes NaN is replaced by t
   for (const std::string mode : {"throw", "nan"}) {
     std::string cfg = kRouted;
     cfg.replace(cfg.find("tag: 0.2"), 8, "tag: 0.2, fail_mode: " + mode + ", fail_at: 1.5");
-    const FlightResult r = fly(cfg, "fallback_" + mode);
+    const FlightResult r = fly_yaml(cfg, "fallback_" + mode);
     CHECK_MESSAGE(r.ok, mode);
     CHECK(r.end_reason == "duration");
     const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
@@ -108,7 +99,7 @@ TEST_CASE("phase router: a controller that throws or writes NaN is replaced by t
 TEST_CASE("phase router: commands beyond the actuator limits hand over to the fallback") {
   std::string cfg = kRouted;
   cfg.replace(cfg.find("tag: 0.2"), 8, "tag: 0.9");  // 0.9 rad elevator > max_deflection 0.7
-  const FlightResult r = fly(cfg, "limits");
+  const FlightResult r = fly_yaml(cfg, "limits");
   REQUIRE(r.ok);
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
   CHECK(s["fallback_engaged"] == true);
@@ -118,7 +109,7 @@ TEST_CASE("phase router: commands beyond the actuator limits hand over to the fa
 TEST_CASE("a plugin that throws ends the flight with an error and a complete log") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 1}}");
-  const FlightResult r = fly(cfg, "throw");
+  const FlightResult r = fly_yaml(cfg, "throw");
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "error: ctl.step threw at t=1.000 s: deliberate failure");
   CHECK(fs::exists(r.run_dir / "summary.json"));
@@ -182,7 +173,7 @@ TEST_CASE("parameter changes while flying are validated, applied at the next tic
 TEST_CASE("log.max_rate thins fast topics by flight time; log.rates overrides it per topic") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("log: {max_rate: 0}"), 18, "log: {max_rate: 100, rates: {imu: 0, truth: 10}}");
-  const FlightResult r = fly(cfg, "decimate");
+  const FlightResult r = fly_yaml(cfg, "decimate");
   REQUIRE(r.ok);
   CHECK(lines(read_file(r.run_dir / "topics" / "imu.csv")).size() == 802);    // every sample
   CHECK(lines(read_file(r.run_dir / "topics" / "state.csv")).size() == 202);  // 400 Hz -> 100 Hz

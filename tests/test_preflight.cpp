@@ -36,14 +36,6 @@ std::string only_failure(const State* s, const Innovations* i, const Gnss* g) {
   return f[0];
 }
 
-FlightResult fly(const std::string& yaml, const std::string& logdir) {
-  HostOptions o;
-  o.quiet = true;
-  o.log_dir = test_dir() / logdir;
-  Host h(load_config(write_file("preflight.yaml", yaml)), o);
-  h.build();
-  return h.fly();
-}
 }  // namespace
 
 TEST_CASE("preflight: an aligned estimator, a good fix and an aircraft at rest pass") {
@@ -87,7 +79,7 @@ TEST_CASE("preflight: the flight holds with no controller until the checks pass,
   std::string cfg = base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5}\n");
   const std::string filter = "plugin: test_filter, trigger: imu}";
   cfg.replace(cfg.find(filter), filter.size(), "plugin: test_filter, trigger: imu, params: {valid: true}}");
-  const FlightResult r = fly(cfg, "preflight_pass");
+  const FlightResult r = fly_yaml(cfg, "preflight_pass");
   REQUIRE(r.ok);
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
   REQUIRE(s["phases"].size() >= 2);
@@ -99,7 +91,7 @@ TEST_CASE("preflight: the flight holds with no controller until the checks pass,
 }
 
 TEST_CASE("preflight: an estimator that never aligns ends the flight with preflight_failed") {
-  const FlightResult r = fly(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"),
+  const FlightResult r = fly_yaml(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"),
                              "preflight_fail");
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "preflight_failed: estimator not ready (status degraded)");

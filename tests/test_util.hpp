@@ -5,6 +5,7 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 #include <fstream>
 #include <sstream>
@@ -76,6 +77,18 @@ inline std::string base_config(const std::string& plugins_extra = "", const std:
          "  - {name: filter, plugin: test_filter, trigger: imu}\n"
          "  - {name: ctl, plugin: test_controller, rate: 100}\n" +
          plugins_extra;
+}
+
+/// Builds and flies `yaml` (quiet), its run directory under test_dir()/logdir.
+inline tern::core::FlightResult fly_yaml(const std::string& yaml, const std::string& logdir,
+                                         std::optional<std::uint64_t> seed = {}) {
+  tern::core::HostOptions o;
+  o.quiet = true;
+  o.seed = seed;
+  o.log_dir = test_dir() / logdir;
+  tern::core::Host h(tern::core::load_config(write_file("flight.yaml", yaml)), o);
+  h.build();
+  return h.fly();
 }
 
 /// The one-line error that loading and building `yaml` gives ("" if none).

@@ -17,8 +17,9 @@ void check_estimator(const msg::State& s, const PreflightLimits& l, std::vector<
   }
   const auto& P = s.P_diag;
   if (std::all_of(P.begin(), P.end(), [](double v) { return v == 0.0; })) return;  // no covariance given
-  const double tilt = std::sqrt(std::max(P[6], P[7])), yaw = std::sqrt(P[8]);
-  const double pos = std::sqrt(std::max(P[0], P[1]));
+  constexpr std::size_t att = msg::State::P_attitude, pos_n = msg::State::P_position;
+  const double tilt = std::sqrt(std::max(P[att], P[att + 1])), yaw = std::sqrt(P[att + 2]);
+  const double pos = std::sqrt(std::max(P[pos_n], P[pos_n + 1]));
   if (!(tilt <= l.max_tilt_sigma))
     out.push_back(fmt::format("estimator not aligned: tilt sigma {:.2f} deg > {:.2f} deg", tilt * kDeg, l.max_tilt_sigma * kDeg));
   if (!(yaw <= l.max_yaw_sigma))

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <string_view>
 
@@ -58,6 +59,8 @@ struct State {
   /// error (3, rad^2), gyro bias (3, (rad/s)^2), accelerometer bias (3, (m/s^2)^2), wind north,
   /// east (2, (m/s)^2), barometer bias (1, m^2), GNSS position error (3, m^2).
   std::array<double, 21> P_diag{};
+  /// First index of each 3-vector block of P_diag (estimator_ekf's layout above).
+  static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6;
 
   double altitude() const { return -p_d; }  ///< height above the origin, m
 
