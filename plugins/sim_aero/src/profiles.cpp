@@ -39,10 +39,13 @@ void realistic_imu(SensorParams& p) {
   const double sqrt_enbw = std::sqrt(1.57 * 100.0);
   p.gyro_noise = 0.004 * kDeg * sqrt_enbw;       // 4 mdps/sqrt(Hz) -> 0.050 dps = 8.7e-4 rad/s
   p.accel_noise = 100e-6 * kG0 * sqrt_enbw;      // 100 ug/sqrt(Hz) -> 1.25 mg = 0.0123 m/s^2
-  // Turn-on biases left after the FCU's boot gyro calibration and ground accel calibration (the raw
-  // +-1 dps ZRO and +-25 mg offset tolerances are what those calibrations remove).
-  p.gyro_bias_range = 0.002;                     // rad/s residual
-  p.accel_bias_range = 0.05;                     // m/s^2 residual
+  // Raw turn-on gyro bias: the +-1 dps initial ZRO tolerance; the FCU's boot calibration
+  // (calibrate_at_boot, boot_calibration.hpp) removes it while the aircraft sits still. The
+  // accelerometer's +-25 mg offset is removed by the ground calibration stored in the FCU's
+  // parameters (`tern fcu calibrate imu`); what is left is its temperature drift since then.
+  p.calibrate_at_boot = true;
+  p.gyro_bias_range = 1.0 * kDeg;                // rad/s: +-1 dps = 0.0175 rad/s
+  p.accel_bias_range = 0.05;                     // m/s^2 residual of the stored calibration
   p.gyro_bias_walk = 3e-5;                       // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)
   p.accel_bias_walk = 1e-3;                      // m/s^2/sqrt(s): temperature drift in flight
   p.gyro_scale_range = 0.01;                     // sensitivity error +-1 % (datasheet)
@@ -77,7 +80,7 @@ void realistic_baro(SensorParams& p) {
 // counts = 1.05 Pa per count).
 void realistic_pitot(SensorParams& p) {
   p.diff_noise = 1.5;          // Pa: ~1.4 counts RMS
-  p.diff_bias_range = 2.0;     // Pa: residual offset after the boot zero
+  p.diff_bias_range = 2.0;     // Pa: offset since the last zero (the boot calibration removes it)
   p.diff_bias_walk = 0.05;     // Pa/sqrt(s): thermal drift of the offset
   p.diff_scale_range = 0.05;   // +-5 %: installation (probe position, pitot/static tubes)
 }

@@ -155,6 +155,7 @@ void Sensors::reset() {
   gnss_gm_ = draw_gnss_start(gnss_sigma());
   gnss_vel_gm_ = draw_gnss_start(Eigen::Vector3d::Constant(p_.gnss_vel_noise));
   mag_gm_.setZero();
+  boot_ = BootCalibration{};
 }
 
 Eigen::Vector3d Sensors::gnss_sigma() const {
@@ -167,7 +168,8 @@ Eigen::Vector3d Sensors::white_and_vibration(double sigma, double vibration_full
   return white + vibration_full * throttle * gauss3();
 }
 
-// Measured = M R_mount^T true + bias + noise, the specific force taken at the IMU's position.
+// Measured = M R_mount^T true + bias + noise, the specific force taken at the IMU's position;
+// the gyro minus the FCU's boot calibration when calibrate_at_boot.
 ImuSample Sensors::imu(const Truth& t, double dt) {
   const double s = std::sqrt(std::max(dt, 0.0));
   accel_bias_ += p_.accel_bias_walk * s * gauss3();
@@ -179,6 +181,7 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
             white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
   m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ +
            white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
+  if (p_.calibrate_at_boot) m.gyro = boot_.gyro(m.gyro);
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
   return m;
 }
@@ -200,6 +203,7 @@ BaroSample Sensors::baro(const Truth& t, double dt) {
   const double q = 0.5 * t.rho * t.fm.air.Va * t.fm.air.Va;
   BaroSample m;
   m.pressure = standard_pressure(h) + p_.baro_static_error * q + baro_bias_ + p_.baro_noise * gauss();
+  if (p_.calibrate_at_boot) m.pressure = boot_.baro(m.pressure, dt);
   m.temperature = standard_temperature(h);
   return m;
 }
@@ -210,6 +214,7 @@ DiffPressureSample Sensors::diff_pressure(const Truth& t, double dt) {
   const double u_r = t.fm.air.v_air.x();
   DiffPressureSample m;
   m.pressure = diff_scale_ * 0.5 * t.rho * u_r * u_r + diff_bias_ + p_.diff_noise * gauss();
+  if (p_.calibrate_at_boot) m.pressure = boot_.diff_pressure(m.pressure, dt);
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
   return m;
 }

@@ -209,6 +209,8 @@ class SimAero final : public tern::Plugin {
     }
     declare(gnss_start_steady_, "gnss_start_steady", d.gnss_start_steady,
             ParamSpec("", 0, 0, "GNSS position error starts in its steady state (false: at zero)"));
+    declare(calibrate_at_boot_, "calibrate_at_boot", d.calibrate_at_boot,
+            ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)"));
     declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use"));
   }
 
@@ -220,6 +222,7 @@ class SimAero final : public tern::Plugin {
       p.*kSensorVectors[i].field = Eigen::Vector3d(v[0], v[1], v[2]);
     }
     p.gnss_start_steady = gnss_start_steady_();
+    p.calibrate_at_boot = calibrate_at_boot_();
     p.gnss_num_sats = static_cast<int>(gnss_num_sats_());
     return p;
   }
@@ -294,6 +297,7 @@ class SimAero final : public tern::Plugin {
     steps_ = 0;
     stepped_ = false;
     crash_reported_ = false;
+    boot_reported_ = false;
   }
 
   void apply_live_params() {
@@ -405,7 +409,7 @@ class SimAero final : public tern::Plugin {
     if (status_sched_.poll(t) == Poll::sample) {
       msg::FcuStatus st;
       st.stamp = t;
-      st.armed = armed_();
+      st.armed = armed_() && boot_calibrated(t);
       st.offboard = offboard_();
       const auto& ac = sim_->aircraft();
       const double V_in = ac.prop.V_max * sim_->surfaces().delta_t;
@@ -413,6 +417,23 @@ class SimAero final : public tern::Plugin {
       st.battery_current = std::max(0.0, (V_in - ac.prop.K_Q * get_truth().fm.prop.Omega) / ac.prop.R_motor);
       status_out_.publish(st);
     }
+  }
+
+  // The simulated FCU arms only after its power-up calibrations (state_manager.cpp: no arming
+  // while calibrating); says once what they found.
+  bool boot_calibrated(Nanos t) {
+    const sim::BootCalibration* cal = sensors_->boot_calibration();
+    if (cal == nullptr) return true;
+    if (!cal->done()) return false;
+    if (!boot_reported_) {
+      boot_reported_ = true;
+      const Eigen::Vector3d b = cal->gyro_bias();
+      log().info("t={:.3f} s: FCU boot calibration done: gyro bias [{:.5f}, {:.5f}, {:.5f}] rad/s, pitot zero {:.2f} Pa, "
+                 "ground pressure {:.1f} Pa ({} restarts for movement)", tern::to_seconds(t), b.x(), b.y(), b.z(),
+                 cal->diff().offset, cal->baro_ground().offset,
+                 cal->gyro_restarts() + cal->diff().restarts + cal->baro_ground().restarts);
+    }
+    return true;
   }
 
   void publish_truth(Nanos t, const sim::Truth& tr) {
@@ -480,6 +501,7 @@ class SimAero final : public tern::Plugin {
   std::array<tern::Param<double>, std::size(kActuatorReals)> actuator_reals_;
   tern::Param<double> truth_rate_, rc_rate_, status_rate_;
   tern::Param<bool> gnss_start_steady_;
+  tern::Param<bool> calibrate_at_boot_;
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;
 
@@ -496,6 +518,7 @@ class SimAero final : public tern::Plugin {
   std::uint64_t steps_ = 0;
   bool stepped_ = false;
   bool crash_reported_ = false;
+  bool boot_reported_ = false;
 };
 
 }  // namespace tern::sim_aero

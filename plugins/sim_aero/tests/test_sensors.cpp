@@ -478,3 +478,82 @@ TEST_CASE("sensors: same seed, same samples bit for bit; reset() restarts the se
   const std::vector<double> again = sample_all(a, 200);  // no reset: the sequence goes on
   CHECK(again != sa);
 }
+
+// ---------------------------------------------------------------- boot calibration ------------
+
+namespace {
+/// On the ground, at rest, with `wind` m/s blowing into the pitot (motor off).
+Truth at_rest(double wind) {
+  Truth t;
+  t.x = make_state({0, 0, 0}, {0, 0, 0}, 0, 0, 0);
+  t.mass = 4.5;
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kG);
+  t.fm.force = -t.fm.f_gravity;  // the ground carries the weight
+  t.fm.air.v_air = Eigen::Vector3d(wind, 0, 0);
+  t.fm.air.Va = wind;
+  return t;
+}
+}  // namespace
+
+TEST_CASE("sensors: boot calibration (ROSflight sensors.cpp): raw gyro until 1001 samples, then their mean removed") {
+  SensorParams p = sensor_profile("realistic");
+  REQUIRE(p.calibrate_at_boot);
+  Sensors s(p, 11);
+  const BootCalibration* cal = s.boot_calibration();
+  REQUIRE(cal != nullptr);
+  const Truth t = at_rest(0.0);
+  const Eigen::Vector3d turn_on = s.gyro_bias();
+  CHECK(turn_on.cwiseAbs().maxCoeff() > 0.002);  // a real turn-on bias, uniform in +-1 dps
+  Eigen::Vector3d before = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 1000; ++i) before += s.imu(t, 0.0025).gyro / 1000.0;
+  CHECK_FALSE(cal->gyro_done());
+  const double sigma_mean = p.gyro_noise / std::sqrt(1000.0);
+  CHECK((before - turn_on).cwiseAbs().maxCoeff() < 5.0 * sigma_mean);  // raw: the bias is there
+  s.imu(t, 0.0025);
+  REQUIRE(cal->gyro_done());
+  CHECK((cal->gyro_bias() - turn_on).cwiseAbs().maxCoeff() < 5.0 * sigma_mean);
+  Eigen::Vector3d after = Eigen::Vector3d::Zero();
+  for (int i = 0; i < 4000; ++i) after += s.imu(t, 0.0025).gyro / 4000.0;
+  CHECK(after.cwiseAbs().maxCoeff() < 5.0 * sigma_mean + 5.0 * p.gyro_bias_walk * std::sqrt(12.5));
+  CHECK_FALSE(cal->done());  // the pressure calibrations take longer
+}
+
+TEST_CASE("sensors: boot calibration: a moving aircraft restarts the gyro window") {
+  Sensors s(sensor_profile("realistic"), 3);
+  const Truth spinning = kinematic_truth(Eigen::Vector3d(0, 0, -kG), Eigen::Vector3d(0, 0, 1.2));
+  for (int i = 0; i < 2002; ++i) s.imu(spinning, 0.0025);
+  CHECK_FALSE(s.boot_calibration()->gyro_done());
+  CHECK(s.boot_calibration()->gyro_restarts() == 2);
+}
+
+TEST_CASE("sensors: boot calibration: pitot zeroed after 128 + 127 cycles of > 20 ms, wind and all; baro unchanged") {
+  SensorParams p = sensor_profile("realistic");
+  Sensors s(p, 5);
+  const Truth t = at_rest(3.0);  // 3 m/s of wind into the pitot while it calibrates
+  const double q_wind = 0.5 * t.rho * 9.0;
+  const BootCalibration& cal = *s.boot_calibration();
+  double time = 0.0;
+  int n = 0;
+  while (!cal.diff().done && n < 2000) {
+    s.diff_pressure(t, 0.01);
+    time = 0.01 * n++;
+  }
+  // At 100 Hz a cycle every 30 ms (the first at 30 ms): 128 + 127 + 1 cycles end at 7.68 s.
+  CHECK(time == doctest::Approx(7.68).epsilon(1e-9));
+  CHECK(cal.diff().restarts == 0);
+  const double noise_mean = p.diff_noise / std::sqrt(127.0);
+  // the zero holds the wind's dynamic pressure (times the installation scale) and the offset
+  CHECK(cal.diff().offset == doctest::Approx(q_wind).epsilon(0.07 + (p.diff_bias_range + 5 * noise_mean) / q_wind));
+  double mean_after = 0;
+  for (int i = 0; i < 1000; ++i) mean_after += s.diff_pressure(t, 0.01).pressure / 1000.0;
+  CHECK(std::fabs(mean_after) < 5.0 * noise_mean + 5.0 * p.diff_bias_walk * std::sqrt(10.0));
+
+  SensorParams off = p;
+  off.calibrate_at_boot = false;
+  Sensors raw(off, 5), calibrated(p, 5);
+  double max_diff = 0;
+  for (int i = 0; i < 1000; ++i)
+    max_diff = std::max(max_diff, std::fabs(calibrated.baro(t, 0.01).pressure - raw.baro(t, 0.01).pressure));
+  CHECK(max_diff == 0.0);  // the firmware sends the baro pressure as measured
+  CHECK(calibrated.boot_calibration()->baro_ground().done);
+}

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <boost/random/normal_distribution.hpp>
 
+#include "tern_sim_aero/boot_calibration.hpp"
 #include "tern_sim_aero/model.hpp"
 
 namespace tern::sim {
@@ -43,6 +44,9 @@ struct SensorParams {
   /// IMU position relative to the CG, body FRD, m: the accelerometer also sees the tangential
   /// (omega_dot x r) and centripetal (omega x (omega x r)) accelerations.
   Eigen::Vector3d imu_position = Eigen::Vector3d::Zero();
+  /// The FCU's power-up calibrations (boot_calibration.hpp): the gyro mean over its first 1001
+  /// samples and the pitot zero are subtracted from then on; the FCU arms once they are done.
+  bool calibrate_at_boot = false;
   double accel_vibration = 0.0;      ///< motor vibration at full throttle, m/s^2 per axis, 1 sigma (scales with throttle)
   double gyro_vibration = 0.0;       ///< motor vibration at full throttle, rad/s per axis, 1 sigma (scales with throttle)
   // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
@@ -152,7 +156,10 @@ class Sensors {
   DiffPressureSample diff_pressure(const Truth& t, double dt);
   GnssSample gnss(const Truth& t, double dt);
 
+  /// The true turn-on gyro bias (before any calibration), rad/s.
   const Eigen::Vector3d& gyro_bias() const { return gyro_bias_; }
+  /// The FCU's power-up calibrations; null when calibrate_at_boot is off.
+  const BootCalibration* boot_calibration() const { return p_.calibrate_at_boot ? &boot_ : nullptr; }
   const Eigen::Vector3d& accel_bias() const { return accel_bias_; }
   /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
   const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
@@ -182,6 +189,7 @@ class Sensors {
   double diff_scale_ = 1.0;            ///< pitot installation scale (per seed)
   Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_, gnss_vel_gm_;
   double baro_bias_ = 0, diff_bias_ = 0;
+  BootCalibration boot_;
 };
 
 /// When a sensor publishes: every `period` ns from 0, unless disabled or inside a drop-out
