@@ -18,6 +18,7 @@ State aligned() {
   s.valid = true;
   s.status = tern::msg::StateStatus::ok;
   s.P_diag.fill(1e-4);  // 0.6 deg tilt/yaw sigma, 1 cm position
+  for (std::size_t i = 0; i < 3; ++i) s.P_diag[State::P_gyro_bias + i] = 1e-6;  // 0.06 deg/s
   return s;
 }
 
@@ -30,11 +31,21 @@ Gnss good_fix() {
   return g;
 }
 
-std::string only_failure(const State* s, const Innovations* i, const Gnss* g) {
-  const auto f = preflight_failures(s, i, g, PreflightLimits{});
+PreflightInputs inputs(const State* s, const Innovations* i, const Gnss* g) {
+  PreflightInputs in;
+  in.state = s;
+  in.innovations = i;
+  in.gnss = g;
+  return in;
+}
+
+std::string only_failure(const PreflightInputs& in, const PreflightLimits& limits = {}) {
+  const auto f = preflight_failures(in, limits);
   REQUIRE(f.size() == 1);
   return f[0];
 }
+
+std::string only_failure(const State* s, const Innovations* i, const Gnss* g) { return only_failure(inputs(s, i, g)); }
 
 }  // namespace
 
@@ -42,7 +53,7 @@ TEST_CASE("preflight: an aligned estimator, a good fix and an aircraft at rest p
   const State s = aligned();
   const Gnss g = good_fix();
   const Innovations i;  // nothing fused yet: no ratio
-  CHECK(preflight_failures(&s, &i, &g, PreflightLimits{}).empty());
+  CHECK(preflight_failures(inputs(&s, &i, &g), PreflightLimits{}).empty());
 }
 
 TEST_CASE("preflight: each check refuses with its own line") {
@@ -73,6 +84,41 @@ TEST_CASE("preflight: each check refuses with its own line") {
   CHECK(only_failure(&s, nullptr, &bad) == "GNSS 4 satellites < 6");
   bad.fix_type = tern::msg::FixType::fix_2d;
   CHECK(only_failure(&s, nullptr, &bad) == "GNSS fix type 2 (3-D fix required)");
+  s.P_diag[State::P_gyro_bias + 2] = 0.01 * 0.01;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator gyro bias not converged: sigma 0.57 deg/s > 0.29 deg/s");
+}
+
+TEST_CASE("preflight: a silent or non-finite sensor shows as the estimator's degraded or invalid status, named") {
+  const Gnss g = good_fix();
+  State s = aligned();
+  s.status = tern::msg::StateStatus::degraded;
+  s.degraded_sensors = tern::msg::sensor_bit::baro;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not ready (status degraded: no usable baro (silent, non-finite or rejected))");
+  s.valid = false;
+  s.status = tern::msg::StateStatus::invalid;
+  s.degraded_sensors = tern::msg::sensor_bit::imu | tern::msg::sensor_bit::mag;
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not ready (status invalid: no usable imu, mag (silent, non-finite or rejected))");
+}
+
+TEST_CASE("preflight: the FCU must be armed and error-free; RC must be heard when required") {
+  const State s = aligned();
+  const Gnss g = good_fix();
+  PreflightInputs in = inputs(&s, nullptr, &g);
+  tern::msg::FcuStatus fcu;
+  in.fcu = &fcu;
+  CHECK(only_failure(in) == "FCU disarmed (error code 0x00; the FCU link says what is missing)");
+  fcu.armed = true;
+  fcu.error_code = 0x20;
+  CHECK(only_failure(in) == "FCU error code 0x20 (the FCU link says which)");
+  fcu.error_code = 0;
+  CHECK(preflight_failures(in, PreflightLimits{}).empty());
+  PreflightLimits rc;
+  rc.require_rc = true;
+  CHECK(only_failure(in, rc) == "no RC frame yet (the config requires the transmitter: preflight_require_rc)");
+  in.rc_age = 0.8;
+  CHECK(only_failure(in, rc) == "RC silent for 0.8 s > 0.5 s (the config requires the transmitter)");
+  in.rc_age = 0.02;
+  CHECK(preflight_failures(in, rc).empty());
 }
 
 TEST_CASE("preflight: the flight holds with no controller until the checks pass, then takes off") {

@@ -15,6 +15,7 @@ void PhaseMachine::configure() {
           Need::optional);
   declare(innovations_, "innovations", "estimator innovation test ratios (preflight check)", Need::optional);
   declare(gnss_, "gnss", "GNSS fix quality (preflight check)", Need::optional);
+  declare(rc_, "rc", "RC receiver (preflight check when preflight_require_rc)", Need::optional);
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0, ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
   declare(alt_hz_, "alt_hz", 20.0, ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
@@ -31,22 +32,29 @@ void PhaseMachine::declare_preflight() {
   declare(report_interval_, "preflight_report_interval", 5.0, ParamSpec("s", 0.1, 600.0, "how often the failing checks are logged"));
   declare(max_tilt_sigma_, "preflight_max_tilt_sigma", d.max_tilt_sigma, ParamSpec("rad", 1e-4, 1.0, "estimator roll/pitch 1-sigma limit"));
   declare(max_yaw_sigma_, "preflight_max_yaw_sigma", d.max_yaw_sigma, ParamSpec("rad", 1e-4, 3.2, "estimator yaw 1-sigma limit"));
+  declare(max_gyro_bias_sigma_, "preflight_max_gyro_bias_sigma", d.max_gyro_bias_sigma,
+          ParamSpec("rad/s", 1e-5, 1.0, "estimator gyro-bias 1-sigma limit, per axis"));
   declare(max_position_sigma_, "preflight_max_position_sigma", d.max_position_sigma, ParamSpec("m", 0.01, 1000.0, "estimator horizontal position 1-sigma limit"));
   declare(max_h_acc_, "preflight_max_h_acc", d.max_h_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported horizontal accuracy limit"));
   declare(max_v_acc_, "preflight_max_v_acc", d.max_v_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported vertical accuracy limit"));
   declare(min_sats_, "preflight_min_sats", std::int64_t{d.min_sats}, ParamSpec("", 0, 64, "GNSS satellites in use, at least"));
   declare(max_ground_speed_, "preflight_max_ground_speed", d.max_ground_speed, ParamSpec("m/s", 0.0, 100.0, "the aircraft counts as at rest below this"));
+  declare(require_rc_, "preflight_require_rc", d.require_rc, ParamSpec("", 0, 0, "the pilot's transmitter must be heard before takeoff"));
+  declare(max_rc_age_, "preflight_max_rc_age", d.max_rc_age, ParamSpec("s", 0.01, 60.0, "the newest RC frame at most this old"));
 }
 
 PreflightLimits PhaseMachine::limits() const {
   PreflightLimits l;
   l.max_tilt_sigma = max_tilt_sigma_();
   l.max_yaw_sigma = max_yaw_sigma_();
+  l.max_gyro_bias_sigma = max_gyro_bias_sigma_();
   l.max_position_sigma = max_position_sigma_();
   l.max_h_acc = max_h_acc_();
   l.max_v_acc = max_v_acc_();
   l.min_sats = static_cast<int>(min_sats_());
   l.max_ground_speed = max_ground_speed_();
+  l.require_rc = require_rc_();
+  l.max_rc_age = max_rc_age_();
   return l;
 }
 
@@ -82,29 +90,36 @@ void PhaseMachine::enter(Nanos now, msg::Phase to, std::string reason) {
   phase_out_.publish(m);
 }
 
+// After preflight (whose checks include the FCU's): a disarm waits, with no controller running.
 bool PhaseMachine::wait_for_arming(Nanos now) {
-  if (!fcu_.has_value()) return disarmed_;
-  const msg::FcuStatus& f = *fcu_;
-  if (!disarmed_ && !f.armed) {
+  if (!fcu_.has_value() || phase_ == msg::Phase::preflight) return false;
+  const std::optional<std::string> not_ready = fcu_not_ready(*fcu_);
+  if (!disarmed_ && !fcu_->armed) {
     disarmed_ = true;
-    preflight_since_ = -1;
     log().warn("t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
-               "error-free (error code 0x{:02x}; the FCU link says what is missing)", to_seconds(now), f.error_code);
-    const msg::Phase wait = phase_ == msg::Phase::preflight ? msg::Phase::preflight : msg::Phase::takeoff;
-    transitions_.push_back({now, phase_, wait, "disarmed: the FCU is not armed"});
-    phase_out_.publish(msg::FlightPhase{now, wait, phase_, now});
-  } else if (disarmed_ && f.armed && f.error_code == 0) {
+               "error-free: {}", to_seconds(now), *not_ready);
+    transitions_.push_back({now, phase_, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
+    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, phase_, now});
+  } else if (disarmed_ && !not_ready) {
     disarmed_ = false;
-    const msg::Phase next = phase_ == msg::Phase::preflight ? msg::Phase::preflight : msg::Phase::takeoff;
-    enter(now, next, "FCU armed and error-free: " + std::string(msg::phase_name(next)));
+    enter(now, msg::Phase::takeoff, "FCU armed and error-free: takeoff");
   }
   return disarmed_;
 }
 
+PreflightInputs PhaseMachine::preflight_inputs(Nanos now) const {
+  PreflightInputs in;
+  if (state_.has_value()) in.state = &state_.get();
+  if (innovations_.has_value()) in.innovations = &innovations_.get();
+  if (gnss_.has_value()) in.gnss = &gnss_.get();
+  if (fcu_.has_value()) in.fcu = &fcu_.get();
+  if (rc_.has_value()) in.rc_age = to_seconds(now - rc_->stamp);
+  return in;
+}
+
 void PhaseMachine::run_preflight(Nanos now) {
-  const std::vector<std::string> failing =
-      preflight_failures(state_.has_value() ? &state_.get() : nullptr, innovations_.has_value() ? &innovations_.get() : nullptr,
-                         gnss_.has_value() ? &gnss_.get() : nullptr, limits());
+  const PreflightInputs in = preflight_inputs(now);
+  const std::vector<std::string> failing = preflight_failures(in, limits());
   if (failing.empty()) {
     if (checks_passed_since_ < 0) checks_passed_since_ = now;
     if (now - checks_passed_since_ >= from_seconds(preflight_time_()))
@@ -113,8 +128,10 @@ void PhaseMachine::run_preflight(Nanos now) {
     return;
   }
   checks_passed_since_ = -1;
-  if (preflight_since_ < 0) preflight_since_ = now;  // after any disarmed wait: arming late is no failure
-  if (now - preflight_since_ >= from_seconds(preflight_timeout_())) {
+  const bool armed = in.fcu == nullptr || in.fcu->armed;
+  if (!armed) preflight_since_ = -1;  // the time-out counts once the FCU is armed: arming late is no failure
+  if (armed && preflight_since_ < 0) preflight_since_ = now;
+  if (armed && now - preflight_since_ >= from_seconds(preflight_timeout_())) {
     failure_ = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
     return;
   }

@@ -4,16 +4,18 @@
 // A built-in plugin instance named `phase_machine`, present when the config has `phases:`.
 // It steps whenever `state` updates and publishes `flight_phase`. Altitude h = -p_d (above the
 // origin, m); commanded altitude h_c from `controller_command` (h_c = h when none).
-//   preflight -> takeoff when the arming checks (preflight.hpp: estimator aligned and consistent,
-//              GNSS fix, aircraft at rest) have all passed for preflight_time; no controller runs
-//              before (motor off). One line per failing check every report_interval; after
-//              preflight_timeout (counted once armed) the flight ends (failure(): "preflight_failed: ..."). With
-//              `preflight: false` (tern fly --skip-preflight) the flight starts in takeoff.
+//   preflight -> takeoff when the arming checks (preflight.hpp: FCU armed and error-free,
+//              estimator aligned and consistent with every sensor alive, GNSS fix, aircraft at
+//              rest, RC heard when required) have all passed for preflight_time; no controller
+//              runs before (motor off). One line per failing check every report_interval; after
+//              preflight_timeout (counted once the FCU is armed) the flight ends (failure():
+//              "preflight_failed: ..."). With `preflight: false` (tern fly --skip-preflight) the
+//              flight starts in takeoff.
 //   takeoff -> climb   when h >= alt_toz
 //   climb   -> cruise  when |h_c - h| < alt_hz
 //   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
 //   climb/cruise -> takeoff when h < alt_toz for min_phase_time (lost altitude near the ground)
-//   any     -> disarmed when the optional `fcu_status` says the FCU is not armed: the host then
+//   after preflight: disarmed when the optional `fcu_status` says the FCU is not armed: the host then
 //              steps no controller (no takeoff, no integrators running) until
 //   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
 // Without `fcu_status` (or with sim_aero's, armed) the flight never waits. The published phase
@@ -62,6 +64,7 @@ class PhaseMachine final : public Plugin {
   bool wait_for_arming(Nanos now);
   /// Runs the arming checks in preflight; enters takeoff once they held for preflight_time.
   void run_preflight(Nanos now);
+  PreflightInputs preflight_inputs(Nanos now) const;
   PreflightLimits limits() const;
   void declare_preflight();
   Input<msg::State> state_;
@@ -69,11 +72,13 @@ class PhaseMachine final : public Plugin {
   Input<msg::FcuStatus> fcu_;
   Input<msg::Innovations> innovations_;
   Input<msg::Gnss> gnss_;
+  Input<msg::Rc> rc_;
   Output<msg::FlightPhase> phase_out_;
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
-  Param<bool> preflight_;
+  Param<bool> preflight_, require_rc_;
   Param<double> preflight_time_, preflight_timeout_, report_interval_;
-  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_, max_ground_speed_;
+  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_,
+      max_ground_speed_, max_rc_age_;
   Param<std::int64_t> min_sats_;
   msg::Phase phase_ = msg::Phase::takeoff;
   bool disarmed_ = false;

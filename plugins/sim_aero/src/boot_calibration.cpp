@@ -57,6 +57,13 @@ Eigen::Vector3d BootCalibration::gyro(const Eigen::Vector3d& raw) {
   return raw - gyro_bias_;
 }
 
+void BootCalibration::set_done(const Eigen::Vector3d& gyro_bias, double diff_offset, double ground_pressure) {
+  gyro_bias_ = gyro_bias;
+  gyro_done_ = diff_.done = baro_.done = true;
+  diff_.offset = diff_offset;
+  baro_.offset = ground_pressure;
+}
+
 // Sensors::correct_diff_pressure: the offset (DIFF_PRESS_BIAS) is subtracted once known.
 double BootCalibration::diff_pressure(double raw, double dt) {
   diff_.add(raw, millis(advance(diff_clock_, dt)));

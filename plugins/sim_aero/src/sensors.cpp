@@ -158,6 +158,13 @@ void Sensors::reset() {
   boot_ = BootCalibration{};
 }
 
+void Sensors::calibrated_before_start() {
+  if (!p_.calibrate_at_boot) return;
+  const Eigen::Vector3d gyro = gyro_bias_ + p_.gyro_noise / std::sqrt(double{BootCalibration::kGyroSamples}) * gauss3();
+  const double diff = diff_bias_ + p_.diff_noise / std::sqrt(double{BootCalibration::kCycles}) * gauss();
+  boot_.set_done(gyro, diff, standard_pressure(p_.origin_alt) + baro_bias_);
+}
+
 Eigen::Vector3d Sensors::gnss_sigma() const {
   return {p_.gnss_h_sigma, p_.gnss_h_sigma, p_.gnss_v_sigma};
 }

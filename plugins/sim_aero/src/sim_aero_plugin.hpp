@@ -277,9 +277,11 @@ class SimAero final : public tern::Plugin {
     if (mode == "ground") {
       sim_->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
     } else if (mode == "air") {
+      sensors_->calibrated_before_start();
       sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0,
                                       init_heading_()));
     } else {
+      sensors_->calibrated_before_start();
       sim::TrimRequest req;
       req.Va = init_airspeed_();
       req.altitude = init_altitude_();
@@ -421,6 +423,8 @@ class SimAero final : public tern::Plugin {
 
   // The simulated FCU arms only after its power-up calibrations (state_manager.cpp: no arming
   // while calibrating); says once what they found.
+  // rad/s: 1 deg/s, the ICM-20602 turn-on tolerance: a calibration worse than none
+  static constexpr double kMovedDuringCalibration = 0.0175;
   bool boot_calibrated(Nanos t) {
     const sim::BootCalibration* cal = sensors_->boot_calibration();
     if (cal == nullptr) return true;
@@ -432,6 +436,11 @@ class SimAero final : public tern::Plugin {
                  "ground pressure {:.1f} Pa ({} restarts for movement)", tern::to_seconds(t), b.x(), b.y(), b.z(),
                  cal->diff().offset, cal->baro_ground().offset,
                  cal->gyro_restarts() + cal->diff().restarts + cal->baro_ground().restarts);
+      // The world knows what the FCU cannot: whether the aircraft sat still while it averaged.
+      const double off = (b - sensors_->gyro_bias()).norm();
+      if (off > kMovedDuringCalibration)
+        log().warn("the aircraft moved during the FCU's gyro calibration: the bias it removes is {:.2f} deg/s off "
+                   "(weathervaning in the wind? point it into the wind, as for a takeoff)", off * 180.0 / tern::kPi);
     }
     return true;
   }

@@ -59,6 +59,10 @@ class BootCalibration {
   /// The barometer pressure, unchanged (see the file comment); feeds the ground calibration.
   double baro(double raw, double dt);
 
+  /// Calibrations done before the simulation starts (an air start: the FCU calibrated on the
+  /// ground before the launch) with these results.
+  void set_done(const Eigen::Vector3d& gyro_bias, double diff_offset, double ground_pressure);
+
   bool done() const { return gyro_done_ && diff_.done && baro_.done; }
   bool gyro_done() const { return gyro_done_; }
   const Eigen::Vector3d& gyro_bias() const { return gyro_bias_; }

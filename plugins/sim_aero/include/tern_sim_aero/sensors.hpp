@@ -150,6 +150,11 @@ class Sensors {
   /// gnss_start_steady (same seed: same draws).
   void reset();
 
+  /// With calibrate_at_boot: the FCU calibrated before the start, on the ground at rest (an air
+  /// start): its gyro bias and pitot zero are the true ones plus the noise of their windows'
+  /// means. Call once after construction or reset().
+  void calibrated_before_start();
+
   ImuSample imu(const Truth& t, double dt);
   MagSample mag(const Truth& t, double dt);
   BaroSample baro(const Truth& t, double dt);

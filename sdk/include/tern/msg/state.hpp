@@ -60,7 +60,7 @@ struct State {
   /// east (2, (m/s)^2), barometer bias (1, m^2), GNSS position error (3, m^2).
   std::array<double, 21> P_diag{};
   /// First index of each 3-vector block of P_diag (estimator_ekf's layout above).
-  static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6;
+  static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6, P_gyro_bias = 9;
 
   double altitude() const { return -p_d; }  ///< height above the origin, m
 
