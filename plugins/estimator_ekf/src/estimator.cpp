@@ -257,8 +257,8 @@ bool Estimator::add_imu(const msg::Imu& m) {
     const double a = imu_samples_ == 0 ? 1.0 : std::clamp(dt / cfg_.init_average_time, 0.0, 1.0);
     accel_avg_ += a * (accel - accel_avg_);
     gyro_avg_ += a * (gyro - gyro_avg_);
-    fix_accel_sum_ += accel;
-    ++fix_accel_n_;
+    pre_init_imu_.push_back({m.stamp, accel});
+    while (m.stamp - pre_init_imu_.front().stamp > kNanosPerSecond) pre_init_imu_.pop_front();
     ++imu_samples_;
     rate_ = gyro;
     return true;
@@ -318,9 +318,8 @@ void Estimator::lose_attitude(Nanos stamp, double gap) {
   initialized_ = false;
   imu_samples_ = 0;
   mag_samples_ = 0;
-  fix_accel_sum_.setZero();
-  fix_accel_n_ = 0;
-  prev_fix_stamp_ = -1;
+  pre_init_imu_.clear();
+  prev_fix_tv_ = -1;
   history_.clear();
 }
 
@@ -490,9 +489,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   if (!initialized_) {
     try_initialize(m, p, t_v);
     prev_fix_vel_ = m.vel;
-    prev_fix_stamp_ = m.stamp;
-    fix_accel_sum_.setZero();
-    fix_accel_n_ = 0;
+    prev_fix_tv_ = t_v;
     return true;
   }
   const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, idx::p, 3);
@@ -580,6 +577,19 @@ void Estimator::reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos
   ++gnss_resets_;
 }
 
+std::optional<Vec3> Estimator::mean_specific_force(Nanos t0, Nanos t1) const {
+  Vec3 sum = Vec3::Zero();
+  int n = 0;
+  for (const ImuRecord& r : pre_init_imu_) {
+    if (r.stamp > t0 && r.stamp <= t1) {
+      sum += r.accel;
+      ++n;
+    }
+  }
+  if (n == 0) return std::nullopt;
+  return sum / n;
+}
+
 void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v) {
   if (imu_samples_ < cfg_.init_min_imu_samples) return;
   const bool have_mag = mag_samples_ > 0;
@@ -589,9 +599,9 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   // 0.5 s old) the kinematic acceleration is the GNSS velocity difference, and the attitude
   // comes from the specific force in both frames plus the field; without it, wait for the next fix.
   const bool moving = m.vel.norm() >= 0.5;
-  const double dt_fix = prev_fix_stamp_ < 0 ? 0.0 : to_seconds(m.stamp - prev_fix_stamp_);
-  const bool have_accel = dt_fix > 0.0 && dt_fix <= 0.5 && fix_accel_n_ > 0;
-  if (moving && !have_accel) return;
+  const double dt_fix = prev_fix_tv_ < 0 ? 0.0 : to_seconds(t_v - prev_fix_tv_);
+  const std::optional<Vec3> f_body = dt_fix > 0.0 && dt_fix <= 0.5 ? mean_specific_force(prev_fix_tv_, t_v) : std::nullopt;
+  if (moving && !f_body) return;
 
   NominalState x;
   double yaw_sigma = cfg_.init_yaw_sigma;
@@ -601,7 +611,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
     const Vec3 m_ned(ci * std::cos(cfg_.mag_declination), ci * std::sin(cfg_.mag_declination),
                      std::sin(cfg_.mag_inclination));
     try {
-      x.q = attitude_triad(fix_accel_sum_ / static_cast<double>(fix_accel_n_), f_ned, mag_avg_, m_ned);
+      x.q = attitude_triad(*f_body, f_ned, mag_avg_, m_ned);
     } catch (const std::invalid_argument&) {  // specific force along the field: no better than level
       x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
     }

@@ -47,6 +47,7 @@
 
 #include <array>
 #include <cstdint>
+#include <deque>
 #include <optional>
 #include <string>
 #include <vector>
@@ -316,12 +317,19 @@ class Estimator {
 
   // pre-initialisation averages
   Vec3 accel_avg_ = Vec3::Zero(), gyro_avg_ = Vec3::Zero(), mag_avg_ = Vec3::Zero();
-  // before initialisation: mean specific force since the last GNSS fix, and that fix's velocity
-  // (their difference is the kinematic acceleration of an in-flight initialisation)
-  Vec3 fix_accel_sum_ = Vec3::Zero();
-  std::int64_t fix_accel_n_ = 0;
+  // before initialisation: the specific force of the last second, by IMU stamp, and the previous
+  // fix's velocity and time of validity. The mean specific force between two fixes' times of
+  // validity against their velocity difference gives an in-flight initialisation's attitude
+  // (by time of validity: a fix arrives its latency late, after IMU samples of later motion).
+  struct ImuRecord {
+    Nanos stamp;
+    Vec3 accel;  ///< specific force at the CG, body axes
+  };
+  std::deque<ImuRecord> pre_init_imu_;
   Vec3 prev_fix_vel_ = Vec3::Zero();
-  Nanos prev_fix_stamp_ = -1;
+  Nanos prev_fix_tv_ = -1;
+  /// Mean specific force of pre_init_imu_ over (t0, t1]; nullopt when no sample lies there.
+  std::optional<Vec3> mean_specific_force(Nanos t0, Nanos t1) const;
   std::int64_t imu_samples_ = 0, mag_samples_ = 0;
   // barometer calibration: altitude offset = mean(isa_altitude(p) - altitude estimate)
   int baro_cal_count_ = 0;
