@@ -46,6 +46,11 @@ std::string default_mission_with(const std::vector<std::pair<std::string, std::s
   return text;
 }
 
+// default.yaml's estimator installation (the realistic profile's lever arms), and the rosflight
+// profile's (IMU and antenna at the CG): a test that flies the rosflight profile swaps them.
+const std::string kLeverArms = "      gnss_antenna_position: [-0.1, 0.0, -0.08]\n      imu_position: [0.05, 0.0, 0.02]\n";
+const std::string kNoLeverArms = "      gnss_antenna_position: [0.0, 0.0, 0.0]\n      imu_position: [0.0, 0.0, 0.0]\n";
+
 nlohmann::json summary(const FlightResult& r) { return nlohmann::json::parse(read_file(r.run_dir / "summary.json")); }
 
 void check_no_nan(const fs::path& run) {
@@ -67,7 +72,7 @@ void check_mission(const FlightResult& r, const std::string& cruise_controller) 
   CHECK(s["phases"][1]["phase"] == "takeoff");
   CHECK(s["phases"][2]["phase"] == "climb");
   CHECK(s["phases"][3]["phase"] == "cruise");
-  CHECK(s["preflight_s"].get<double>() < 10.0);  // aligned and armed within seconds
+  CHECK(s["preflight_s"].get<double>() < 15.0);  // the FCU calibrates for 7.7 s, then the checks hold for 2 s
   if (cruise_controller != "slc") CHECK(s["controller_handovers"].back()["to"] == cruise_controller);
   const auto& m = s["metrics"];
   CHECK(m["loops"].get<int>() >= 4);  // the first loop and four more
@@ -128,8 +133,7 @@ TEST_CASE("the estimator's configuration does not depend on the simulator's sens
 }
 
 TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first second; the summary's figures in one frame") {
-  const fs::path cfg = write_file("realistic.yaml", default_mission_with({{"turbulence: light", "turbulence: light\n      sensor_profile: realistic"},
-                                                                         {"duration: 700", "duration: 300"}}));
+  const fs::path cfg = write_file("realistic.yaml", default_mission_with({{"duration: 700", "duration: 300"}}));  // realistic
   HostOptions o;
   o.quiet = true;
   o.log_dir = test_dir() / "e2e_realistic";
@@ -257,12 +261,14 @@ TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduce
 
 TEST_CASE("the EKF's side-force model follows the turbulent wind better than the zero-sideslip assumption") {
   // the default mission with the estimator's side-force model on (its default: the Anaconda
-  // file has C_Y_beta) and off; wind RMSE over the loops after the first one (summary metrics)
+  // file has C_Y_beta) and off; wind RMSE over the loops after the first one (summary metrics).
+  // With the rosflight profile's sensors: under the realistic profile's vibration and IMU
+  // errors the side force is no better than zero sideslip (the closing note of issue 16).
   double wind_rmse[2] = {0, 0};
   for (int on = 0; on < 2; ++on) {
     const std::string cfg = default_mission_with(
-        {{"    rate: 400                            # on the clock (not trigger: imu): notices a silent IMU\n",
-          std::string("    rate: 400\n    params: {use_side_force: ") + (on ? "true" : "false") + "}\n"}});
+        {{"sensor_profile: realistic", "sensor_profile: rosflight"},
+         {kLeverArms, kNoLeverArms + "      use_side_force: " + (on ? "true" : "false") + "\n"}});
     HostOptions o;
     o.quiet = true;
     o.log_dir = test_dir() / "e2e_side_force";
@@ -287,7 +293,13 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
   // must initialise within a few degrees (TRIAD on GNSS acceleration and the field), keep the
   // aircraft flying and track the truth.
   // An aircraft released in the air has no preflight (the arming checks want it at rest).
+  // With the rosflight profile's sensors: under the realistic profile (120 ms of GNSS latency,
+  // vibration, IMU errors) this initialisation is still off by 10-40 deg and the mag resets it
+  // (issue 16's closing note), which this test will pin once it holds there.
   const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"},
+                                                 {"init_heading: 2.3562", "init_heading: 0.0"},
+                                                 {"sensor_profile: realistic", "sensor_profile: rosflight"},
+                                                 {kLeverArms, kNoLeverArms},
                                                  {"phases: {takeoff: slc, climb: slc, cruise: slc}",
                                                   "phases: {takeoff: slc, climb: slc, cruise: slc}\nphase_machine: {preflight: false}"}});
   for (std::uint64_t seed : {1, 2, 3, 4}) {

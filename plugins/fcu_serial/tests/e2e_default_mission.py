@@ -77,6 +77,32 @@ def phase_starts(summary):
     return {p["phase"]: p["start_s"] for p in summary["phases"]}
 
 
+def absolute_paths(cfg, missions):
+    """The config's relative file names made absolute (so that it can be written anywhere)."""
+    cfg["aircraft"] = os.path.normpath(os.path.join(missions, cfg["aircraft"]))
+    cfg["mission"]["file"] = os.path.normpath(os.path.join(missions, cfg["mission"]["file"]))
+    for p in cfg["plugins"]:
+        if "param_file" in p:
+            p["param_file"] = os.path.normpath(os.path.join(missions, p["param_file"]))
+
+
+def direct_config(missions, work):
+    """default.yaml in the emulator's world: ROSflight's simulator sensors (the emulator's), no
+    lever arms, taking off to the north as default_fcu.yaml's emulator_args say; written to WORK_DIR."""
+    missions = os.path.abspath(missions)
+    cfg = yaml.safe_load(open(os.path.join(missions, "default.yaml")))
+    absolute_paths(cfg, missions)
+    for p in cfg["plugins"]:
+        if p["plugin"] == "sim_aero":
+            p["params"].update({"sensor_profile": "rosflight", "init_heading": 0.0})
+        if p["plugin"] == "estimator_ekf":
+            p["params"].update({"gnss_antenna_position": [0.0, 0.0, 0.0], "imu_position": [0.0, 0.0, 0.0]})
+    out = os.path.join(work, "default_direct.yaml")
+    with open(out, "w") as f:
+        yaml.safe_dump(cfg, f, sort_keys=False)
+    return out
+
+
 def fault_config(missions, work, name, extra_args, stick=False):
     """default_fcu.yaml with extra emulator arguments, written to WORK_DIR (paths made absolute);
     without the pilot's stick input (the script's steps from STICK_S on) unless `stick`."""
@@ -84,11 +110,8 @@ def fault_config(missions, work, name, extra_args, stick=False):
     src = os.path.join(missions, "default_fcu.yaml")
     cfg = yaml.safe_load(open(src))
     cfg["name"] = name
-    cfg["aircraft"] = os.path.normpath(os.path.join(missions, cfg["aircraft"]))
-    cfg["mission"]["file"] = os.path.normpath(os.path.join(missions, cfg["mission"]["file"]))
+    absolute_paths(cfg, missions)
     for p in cfg["plugins"]:
-        if "param_file" in p:
-            p["param_file"] = os.path.normpath(os.path.join(missions, p["param_file"]))
         if p["plugin"] == "fcu_serial":
             prm = p["params"]
             prm["emulator_params"] = os.path.normpath(os.path.join(missions, prm["emulator_params"]))
@@ -221,7 +244,7 @@ def main():
         shutil.rmtree(os.path.join(work, sub), ignore_errors=True)
     os.makedirs(work, exist_ok=True)
     c = Checks()
-    direct, _ = fly(tern, os.path.join(missions, "default.yaml"), os.path.join(work, "direct"), duration)
+    direct, _ = fly(tern, direct_config(missions, work), os.path.join(work, "direct"), duration)
     fcu_duration = duration + ARM_SWITCH_S + PREFLIGHT_TIME_S - phase_starts(direct)["takeoff"]
     clean, clean_run = fly(tern, fault_config(missions, work, "default_fcu_clean", ""), os.path.join(work, "clean"), fcu_duration)
     for s, name in ((direct, "direct"), (clean, "through the FCU")):
