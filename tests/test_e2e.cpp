@@ -12,46 +12,11 @@
 
 #include "common_frame.hpp"
 #include "loader.hpp"
-#include "test_util.hpp"
+#include "e2e_util.hpp"
 
 using namespace tern::core;
 
 namespace {
-const fs::path kMissions = fs::path(TERN_SOURCE_DIR) / "configs" / "missions";
-
-FlightResult fly_mission(const std::string& mission, const std::string& logdir, std::optional<double> duration = {}) {
-  HostOptions o;
-  o.quiet = true;
-  o.log_dir = test_dir() / logdir;
-  o.duration = duration;
-  Host h(load_config(kMissions / mission), o);
-  h.build();
-  return h.fly();
-}
-
-/// configs/missions/default.yaml with its relative paths made absolute (so that it can be
-/// written anywhere) and each (from, to) replacement applied once; a missing `from` fails.
-std::string default_mission_with(const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::string text = read_file(kMissions / "default.yaml");
-  std::vector<std::pair<std::string, std::string>> all = {
-      {"../aircraft/", (kMissions / "../aircraft/").lexically_normal().string()},
-      {"../gains/", (kMissions / "../gains/").lexically_normal().string()},
-      {"file: fixedwing_mission.yaml", "file: " + (kMissions / "fixedwing_mission.yaml").string()}};
-  all.insert(all.end(), edits.begin(), edits.end());
-  for (const auto& [from, to] : all) {
-    const auto at = text.find(from);
-    REQUIRE_MESSAGE(at != std::string::npos, "default.yaml has no '" << from << "'");
-    text.replace(at, from.size(), to);
-  }
-  return text;
-}
-
-// default.yaml's estimator installation (the realistic profile's lever arms), and the rosflight
-// profile's (IMU and antenna at the CG): a test that flies the rosflight profile swaps them.
-const std::string kLeverArms = "      gnss_antenna_position: [-0.1, 0.0, -0.08]\n      imu_position: [0.05, 0.0, 0.02]\n";
-const std::string kNoLeverArms = "      gnss_antenna_position: [0.0, 0.0, 0.0]\n      imu_position: [0.0, 0.0, 0.0]\n";
-
-nlohmann::json summary(const FlightResult& r) { return nlohmann::json::parse(read_file(r.run_dir / "summary.json")); }
 
 void check_no_nan(const fs::path& run) {
   for (const auto& e : fs::directory_iterator(run / "topics")) {

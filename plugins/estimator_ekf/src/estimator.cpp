@@ -155,6 +155,7 @@ void Estimator::reset() {
     c.timed_out = false;
     c.last_stamp = -1;
   }
+  first_check_ = -1;
 }
 
 void Estimator::push(Nanos stamp, EventKind kind, Sensor s, double value) {
@@ -177,17 +178,19 @@ bool Estimator::accept(Sensor s, Nanos stamp, bool ok) {
   }
   if (c.timed_out) {
     c.timed_out = false;
-    push(stamp, EventKind::sensor_recovered, s, to_seconds(stamp - c.last_stamp));
+    push(stamp, EventKind::sensor_recovered, s, to_seconds(stamp - (c.last_stamp >= 0 ? c.last_stamp : first_check_)));
   }
   c.last_stamp = stamp;
   return true;
 }
 
 void Estimator::check_timeouts(Nanos now) {
+  if (first_check_ < 0) first_check_ = now;
   for (int i = 0; i < kSensorCount; ++i) {
     SensorCounters& c = counters_[i];
-    if (c.last_stamp < 0 || c.timed_out) continue;
-    const double silent = to_seconds(now - c.last_stamp);
+    const Nanos since = c.last_stamp >= 0 ? c.last_stamp : expected_[i] ? first_check_ : -1;
+    if (since < 0 || c.timed_out) continue;
+    const double silent = to_seconds(now - since);
     if (silent > cfg_.timeout[i]) {
       c.timed_out = true;
       ++c.timeouts;

@@ -278,6 +278,10 @@ class EstimatorEkf final : public tern::Plugin {
   void start() override {
     estimator_.set_config(make_config());
     estimator_.expect_mag(mag_.connected());
+    estimator_.expect(Sensor::gnss, gnss_.connected());
+    estimator_.expect(Sensor::baro, baro_.connected());
+    estimator_.expect(Sensor::diff_pressure, diff_.connected());
+    estimator_.expect(Sensor::mag, mag_.connected());
     ticks_ = 0;
   }
 

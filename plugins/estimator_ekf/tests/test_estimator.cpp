@@ -272,6 +272,24 @@ TEST_CASE("sensor time-outs are detected and recoveries reported") {
   CHECK(recoveries == 1);
 }
 
+TEST_CASE("a wired sensor that never delivers times out from the start; an unwired one does not") {
+  for (const bool wired : {true, false}) {
+    TruthSim sim{mixed_flight()};
+    Estimator est;
+    est.expect(Sensor::baro, wired);
+    Hooks h;
+    h.baro = [](msg::Baro&) { return false; };                 // silent from power-up
+    h.pitot = [](msg::DiffPressure& m) { m.pressure = std::nan(""); return true; };  // never valid
+    fly(sim, est, 3.0, h);
+    INFO("baro wired: " << wired);
+    CHECK(est.counters(Sensor::baro).timeouts == (wired ? 1u : 0u));
+    CHECK(est.counters(Sensor::diff_pressure).timeouts == 1);
+    std::uint8_t bits = 0;
+    CHECK(est.status(&bits) == msg::StateStatus::degraded);
+    CHECK(bits == (wired ? msg::sensor_bit::baro : 0) + msg::sensor_bit::diff_pressure);
+  }
+}
+
 TEST_CASE("a GNSS that jumps and stays is followed after covariance inflation, without a reset") {
   Converged c;
   Hooks h;

@@ -11,6 +11,7 @@
 #include <iterator>
 #include <cmath>
 #include <memory>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,7 +39,14 @@ struct SensorSlot {
   tern::Param<double> rate;
   tern::Param<bool> enabled;
   tern::Param<std::vector<double>> dropout;
+  tern::Param<std::vector<double>> nan;  ///< windows of non-finite samples (a failing sensor or driver)
   sim::SensorSchedule schedule;
+  std::vector<std::pair<Nanos, Nanos>> nan_windows;
+  bool non_finite(Nanos t) const {
+    for (const auto& [a, b] : nan_windows)
+      if (t >= a && t < b) return true;
+    return false;
+  }
 };
 
 /// The sim_aero plugin (registered in plugin.cpp; the tests construct it directly).
@@ -99,7 +107,10 @@ class SimAero final : public tern::Plugin {
     (void)period_of(truth_rate_, "truth_rate");
     if (rc_rate_() > 0) (void)period_of(rc_rate_, "rc_rate");
     if (status_rate_() > 0) (void)period_of(status_rate_, "status_rate");
-    for (SensorSlot* s : slots()) (void)dropouts_of(*s);
+    for (SensorSlot* s : slots()) {
+      (void)dropouts_of(*s);
+      (void)windows_of(s->nan);
+    }
     check_gusts();
     if (context().describing()) return;
 
@@ -157,6 +168,8 @@ class SimAero final : public tern::Plugin {
     declare(s.enabled, name + "_enabled", true, ParamSpec("", 0, 0, name + " on (false: never published)"));
     declare(s.dropout, name + "_dropout", std::vector<double>{},
             ParamSpec("s", 0, 1e9, name + " drop-out windows: pairs [start, end) of flight time"));
+    declare(s.nan, name + "_nan", std::vector<double>{},
+            ParamSpec("s", 0, 1e9, name + " windows of NaN samples (a failing sensor): pairs [start, end) of flight time"));
   }
   std::vector<SensorSlot*> slots() { return {&imu_, &mag_, &baro_, &diff_, &gnss_}; }
 
@@ -167,9 +180,10 @@ class SimAero final : public tern::Plugin {
       throw ParamError("parameter '" + context().instance_name() + "." + name + "': " + e.what());
     }
   }
-  std::vector<std::pair<Nanos, Nanos>> dropouts_of(const SensorSlot& s) const {
-    const auto& v = s.dropout();
-    const std::string name = context().instance_name() + "." + s.dropout.name();
+  std::vector<std::pair<Nanos, Nanos>> dropouts_of(const SensorSlot& s) const { return windows_of(s.dropout); }
+  std::vector<std::pair<Nanos, Nanos>> windows_of(const tern::Param<std::vector<double>>& param) const {
+    const auto& v = param();
+    const std::string name = context().instance_name() + "." + param.name();
     if (v.size() % 2 != 0) throw ParamError("parameter '" + name + "': needs pairs [start, end], got " + std::to_string(v.size()) + " values");
     std::vector<std::pair<Nanos, Nanos>> out;
     for (std::size_t i = 0; i < v.size(); i += 2) {
@@ -245,6 +259,7 @@ class SimAero final : public tern::Plugin {
       s->schedule.period = period_of(s->rate(), s->rate.name());
       s->schedule.enabled = s->enabled();
       s->schedule.dropouts = dropouts_of(*s);
+      s->nan_windows = windows_of(s->nan);
     }
     truth_sched_ = sim::SensorSchedule{};
     truth_sched_.period = period_of(truth_rate_(), "truth_rate");
@@ -343,6 +358,7 @@ class SimAero final : public tern::Plugin {
       out.accel = m.accel;
       out.gyro = m.gyro;
       out.temperature = m.temperature;
+      if (imu_.non_finite(t)) out.accel = out.gyro = Eigen::Vector3d::Constant(kNaN);
       imu_out_.publish(out);
     });
     run(mag_, [&](bool ok) {
@@ -351,7 +367,7 @@ class SimAero final : public tern::Plugin {
       mag_.schedule.last_sample = t;
       msg::Mag out;
       out.stamp = t;
-      out.field = m.field;
+      out.field = mag_.non_finite(t) ? Eigen::Vector3d::Constant(kNaN) : m.field;
       mag_out_.publish(out);
     });
     run(baro_, [&](bool ok) {
@@ -360,7 +376,7 @@ class SimAero final : public tern::Plugin {
       baro_.schedule.last_sample = t;
       msg::Baro out;
       out.stamp = t;
-      out.pressure = m.pressure;
+      out.pressure = baro_.non_finite(t) ? kNaN : m.pressure;
       out.temperature = m.temperature;
       baro_out_.publish(out);
     });
@@ -370,7 +386,7 @@ class SimAero final : public tern::Plugin {
       diff_.schedule.last_sample = t;
       msg::DiffPressure out;
       out.stamp = t;
-      out.pressure = m.pressure;
+      out.pressure = diff_.non_finite(t) ? kNaN : m.pressure;
       out.temperature = m.temperature;
       diff_out_.publish(out);
     });
@@ -390,6 +406,7 @@ class SimAero final : public tern::Plugin {
         out.h_acc = m.h_acc;
         out.v_acc = m.v_acc;
         out.s_acc = m.s_acc;
+        if (gnss_.non_finite(t)) out.lat = out.lon = out.alt = kNaN;
       } else if (!gnss_.schedule.enabled) {
         return;  // switched off: silent
       }
@@ -421,14 +438,16 @@ class SimAero final : public tern::Plugin {
     }
   }
 
-  // The simulated FCU arms only after its power-up calibrations (state_manager.cpp: no arming
-  // while calibrating); says once what they found.
+  // The simulated FCU arms only after its power-up calibrations (boot_calibration.hpp); says
+  // once what they found.
   // rad/s: 1 deg/s, the ICM-20602 turn-on tolerance: a calibration worse than none
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   static constexpr double kMovedDuringCalibration = 0.0175;
   bool boot_calibrated(Nanos t) {
     const sim::BootCalibration* cal = sensors_->boot_calibration();
     if (cal == nullptr) return true;
-    if (!cal->done()) return false;
+    if (!cal->gyro_done() || (diff_.enabled() && !cal->diff().done) || (baro_.enabled() && !cal->baro_ground().done))
+      return false;
     if (!boot_reported_) {
       boot_reported_ = true;
       const Eigen::Vector3d b = cal->gyro_bias();

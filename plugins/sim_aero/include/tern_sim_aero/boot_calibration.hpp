@@ -13,8 +13,10 @@
 // - Barometer (Sensors::calibrate_baro): same cycles, variance below 25 Pa^2; the firmware only
 //   records the ground pressure (BARO_BIAS, GROUND_LEVEL) and leaves the pressure it sends
 //   unchanged, so does this model: the estimator takes its own ground reference.
-// The FCU arms only after all three are done (the simulator's fcu_status reports disarmed
-// until then).
+// The simulator's fcu_status reports disarmed until they are done: the firmware refuses to arm
+// while it calibrates the gyro (state_manager.cpp, FSM_STATE_CALIBRATING), and the simulated pilot
+// arms after the pressure calibrations' "successful" messages, as default_fcu.yaml's RC script
+// does (a switched-off sensor has none to wait for).
 //
 // Time: the caller passes the time since its previous sample (s); the 20-ms cycle rule uses the
 // firmware's millisecond clock (floor of the accumulated time).

@@ -203,6 +203,10 @@ class Estimator {
   const EstimatorConfig& config() const { return cfg_; }
   /// Whether to wait (up to mag_init_wait) for a magnetometer before initialising.
   void expect_mag(bool expected) { expect_mag_ = expected; }
+  /// Whether a sensor is wired (default: every one): an expected sensor that never delivers a
+  /// valid sample times out counted from the first check_timeouts() (the start), as one that
+  /// stops does from its last sample.
+  void expect(Sensor s, bool expected) { expected_[static_cast<int>(s)] = expected; }
   /// Back to the uninitialised state: no origin, no calibration, counters kept.
   void reset();
 
@@ -311,6 +315,8 @@ class Estimator {
 
   bool initialized_ = false;
   bool expect_mag_ = true;
+  std::array<bool, kSensorCount> expected_{true, true, true, true, true};
+  Nanos first_check_ = -1;  ///< the first check_timeouts() call: when the silence of a never-heard sensor starts
   std::optional<GeographicLib::LocalCartesian> origin_;
   double origin_lat_ = 0.0, origin_lon_ = 0.0, origin_alt_ = 0.0;
   Nanos origin_stamp_ = 0;
