@@ -264,6 +264,7 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
   const std::string text = default_mission_with({{"init_mode: ground", "init_mode: air\n      init_altitude: 70"},
                                                  {"init_heading: 2.3562", "init_heading: 0.0"},
                                                  {"sensor_profile: realistic", "sensor_profile: rosflight"},
+                                                 {"pitot_cover: 8.5", "pitot_cover: 0"},  // nobody covers it in the air
                                                  {kLeverArms, kNoLeverArms},
                                                  {"phases: {takeoff: slc, climb: slc, cruise: slc}",
                                                   "phases: {takeoff: slc, climb: slc, cruise: slc}\nphase_machine: {preflight: false}"}});

@@ -95,6 +95,9 @@ class SimAero final : public tern::Plugin {
     declare_sensor(diff_, "diff_pressure", 100.0);
     declare_sensor(gnss_, "gnss", 10.0);
     declare_error_model();
+    declare(pitot_cover_, "pitot_cover", 0.0,
+            ParamSpec("s", 0, 600, "the pilot keeps the pitot covered until this flight time (the boot calibration then "
+                                   "zeroes the sensor, not the wind)"));
     declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic"));
     declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)"));
     declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)"));
@@ -382,7 +385,9 @@ class SimAero final : public tern::Plugin {
     });
     run(diff_, [&](bool ok) {
       if (!ok) return;
-      const auto m = sensors_->diff_pressure(get_truth(), diff_.schedule.dt_since_last(t));
+      const double dt = diff_.schedule.dt_since_last(t);
+      const auto m = t < tern::from_seconds(pitot_cover_()) ? sensors_->diff_pressure(covered_pitot(get_truth()), dt)
+                                                      : sensors_->diff_pressure(get_truth(), dt);
       diff_.schedule.last_sample = t;
       msg::DiffPressure out;
       out.stamp = t;
@@ -464,6 +469,13 @@ class SimAero final : public tern::Plugin {
     return true;
   }
 
+  /// The truth a covered pitot sees: still air.
+  static sim::Truth covered_pitot(sim::Truth t) {
+    t.fm.air.v_air.setZero();
+    t.fm.air.Va = 0.0;
+    return t;
+  }
+
   void publish_truth(Nanos t, const sim::Truth& tr) {
     const sim::StateVector& x = tr.x;
     msg::State s;
@@ -530,6 +542,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<double> truth_rate_, rc_rate_, status_rate_;
   tern::Param<bool> gnss_start_steady_;
   tern::Param<bool> calibrate_at_boot_;
+  tern::Param<double> pitot_cover_;
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;
 
