@@ -1,55 +1,47 @@
-// core/src/host.hpp: the host: builds the port graph from a mission config, runs flights on a
-// deterministic single-threaded schedule, routes the controller per flight phase, and writes
-// the flight log.
+// core/src/host.hpp: the host: loads a mission's plugin instances, builds their port graph,
+// flies flights on one deterministic schedule, and changes things between flights (hot-swap,
+// phase table).
+//
+// A flight (fly()) is a loop of ticks; each tick, at flight time t:
+//   1. remote edits queued from other threads are applied     remote_queue.hpp
+//   2. every instance due steps, in the port graph's order    scheduler.hpp, port_graph.hpp
+//      (a routed controller only when active; after the phase machine, the router follows
+//      the phase; after a controller, the router may engage the fallback)  phase_router.hpp
+//   3. what was published is captured in the flight log      flight_recorder.hpp
+//   4. the tick observer (DDS bridge) is called; then, on the wall clock: log flushes, the
+//      status line (status_line.hpp) and, with --realtime, pacing.
+// The instances themselves (loading, configuring, built-ins) are in instances.hpp, the flight
+// log's documents (summary.json, timing.json, config.yaml, console summary) in
+// flight_report.hpp.
 #pragma once
 
-#include <array>
-#include <functional>
 #include <atomic>
-#include <mutex>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
+#include <spdlog/sinks/dist_sink.h>
+
 #include "config.hpp"
-#include "loader.hpp"
+#include "flight_report.hpp"
+#include "instances.hpp"
 #include "metrics.hpp"
 #include "phase_machine.hpp"
+#include "phase_router.hpp"
+#include "port_graph.hpp"
+#include "remote_queue.hpp"
+#include "scheduler.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::core {
 
-class FlightLog;
-class InstanceContext;
-
-/// Step-time statistics of one instance (wall clock; not part of the deterministic log).
-struct StepStats {
-  std::uint64_t steps = 0;
-  std::uint64_t overruns = 0;  ///< steps longer than budget_ns
-  Nanos budget_ns = 0;
-  Nanos max_ns = 0;
-  Nanos total_ns = 0;
-  std::array<std::uint32_t, 96> histogram{};  ///< log-spaced buckets (ratio 2^(1/4)) from 1 ns
-  void add(Nanos dt);
-  Nanos percentile(double p) const;  ///< approximate (bucket upper bound), 0 when no steps
-};
-
-struct Instance {
-  InstanceConfig cfg;
-  std::shared_ptr<PluginLibrary> lib;      // outlives `plugin`
-  std::unique_ptr<InstanceContext> ctx;
-  std::unique_ptr<Plugin> plugin;          // destroyed first
-  PluginInfo info;
-  fs::path source;                         // the .so as named (swaps load a private copy)
-  std::int64_t divisor = 0;                // rate instances: step when tick % divisor == 0
-  InputBase* trigger = nullptr;            // trigger instances
-  bool routed = false;                     // a controller behind the phase router
-  bool builtin = false;
-  StepStats stats;
-};
+class FlightRecorder;
 
 struct HostOptions {
   std::optional<std::uint64_t> seed;
@@ -62,21 +54,6 @@ struct HostOptions {
   /// `tern replay`: play this flight log's sensor and truth topics instead of an I/O plugin, and
   /// keep only the config's estimator instances.
   std::optional<fs::path> replay_dir;
-};
-
-struct Handover {
-  Nanos t;
-  std::string from, to, reason;
-};
-
-struct FlightResult {
-  fs::path run_dir;
-  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "error: ..."
-  bool ok = true;
-  Nanos flown = 0;
-  double wall_s = 0;
-  double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
-  double log_cpu_s = 0;     ///< CPU time of the flight log's writer thread (CSV formatting, writes)
 };
 
 /// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
@@ -108,7 +85,7 @@ class Host {
   std::string graph_dot() const;
   /// Every parameter: "instance.name" -> ParamBase.
   std::vector<std::pair<std::string, const ParamBase*>> parameters() const;
-  const std::vector<Handover>& handovers() const { return handovers_; }
+  const std::vector<Handover>& handovers() const { return router_.handovers(); }
   std::shared_ptr<spdlog::logger> logger() const { return logger_; }
   /// Asks for a parameter change ("instance.param"), from any thread (command line, DDS). It is
   /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value), applied
@@ -153,53 +130,32 @@ class Host {
   double flight_start_ms() const { return flight_start_ms_; }
 
  private:
-  struct Topic;
-  struct Edge {
-    std::size_t from, to;
-    std::string topic;
-    bool feedback = false;
-  };
-  void load_instances();
-  void update_routing_roles();
   void rebuild_graph();
-  void configure_instance(Instance& inst);
-  void bind_ports();
-  void order_schedule();
-  void resolve_rates();
-  void route_to(std::size_t idx, Nanos now, const std::string& reason, bool from_failure);
-  /// No controller runs (the flight waits disarmed); routed topics lose their writer.
-  void route_none(Nanos now, const std::string& reason);
-  bool step_instance(Instance& inst, Nanos now, std::string& error);
-  void engage_fallback(Nanos now, const std::string& why);
-  std::string resolved_config_yaml() const;
-  std::string sensor_profile() const;
-  std::string summary_json(const FlightResult& r) const;
-  std::string timing_json(const FlightResult& r) const;
-  void print_summary(const FlightResult& r) const;
+  InstanceSetup setup() const { return {config_, seed_, sinks_, options_.describing, *logger_}; }
+  FlightFacts facts(double duration_s) const;
+  double flight_duration() const;
+  // fly(), in order
+  void reset_for_next_flight();
+  bool start_instances(FlightResult& r);
+  std::string run_tick(Scheduler& clock);
+  void notify_observer(Nanos now);
+  void finish_flight(FlightRecorder& recorder, FlightResult& r, double duration_s);
 
   MissionConfig config_;
   HostOptions options_;
+  std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks_;  // the console, and tern.log while flying
   std::shared_ptr<spdlog::logger> logger_;
   std::vector<std::unique_ptr<Instance>> instances_;
-  std::vector<std::size_t> order_;
-  std::vector<Edge> edges_;
-  std::vector<std::unique_ptr<Topic>> topics_;
+  PortGraph graph_;  // over instances_ (node i = instance i)
+  PhaseRouter router_{instances_, graph_, logger_};
+  RemoteQueue remote_;
   Nanos base_period_ = 0;
   std::uint64_t seed_ = 1;
-  // phase router
-  PhaseMachine* phase_machine_ = nullptr;
+  PhaseMachine* phase_machine_ = nullptr;  // built-ins, owned by instances_
   FlightMetrics* metrics_ = nullptr;
-  class ReplaySource* replay_ = nullptr;
+  ReplaySource* replay_ = nullptr;
   std::size_t phase_machine_idx_ = SIZE_MAX;
-  std::uint64_t phase_seen_ = 0;
-  std::optional<std::size_t> active_;      // active controller instance
-  std::optional<std::size_t> fallback_;
-  bool fallback_engaged_ = false;
-  std::vector<Handover> handovers_;
-  msg::Actuators last_good_{};
-  std::vector<std::shared_ptr<spdlog::sinks::sink>> extra_sinks_;
   std::int64_t created_ns_ = 0;
-  std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   double start_to_first_tick_ms_ = 0;
   double flight_start_ms_ = 0;
   bool built_ = false;
@@ -209,17 +165,6 @@ class Host {
   std::function<void(Nanos)> tick_observer_;
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries
-  struct ParamRequest {
-    ParamBase* param;
-    std::string name;
-    ParamValue value;
-    std::string source;
-  };
-  std::mutex param_mu_;
-  std::vector<ParamRequest> param_requests_;
-  std::atomic<bool> param_pending_{false};
-  std::unique_ptr<Output<msg::MissionEdit>> mission_edit_out_;  // the host's own writer
-  std::vector<msg::MissionEdit> mission_edits_;                  // under param_mu_
 };
 
 }  // namespace tern::core

@@ -1,0 +1,113 @@
+#include "flight_recorder.hpp"
+
+#include <cmath>
+#include <ctime>
+#include <limits>
+#include <set>
+
+#include <fmt/format.h>
+#include <spdlog/sinks/basic_file_sink.h>
+#include <spdlog/spdlog.h>
+
+#include "scheduler.hpp"
+
+namespace tern::core {
+
+namespace {
+
+fs::path new_run_dir(const fs::path& parent, const std::string& mission) {
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char stamp[32];
+  std::strftime(stamp, sizeof stamp, "%Y%m%dT%H%M%SZ", &tm);
+  fs::path dir = parent / (std::string(stamp) + "-" + mission);
+  for (int k = 2; fs::exists(dir); ++k) dir = parent / fmt::format("{}-{}-{}", stamp, mission, k);
+  return dir;
+}
+
+std::string param_text(const ParamValue& v) {
+  if (std::holds_alternative<std::string>(v)) return std::get<std::string>(v);
+  return to_string(v);
+}
+
+}  // namespace
+
+FlightRecorder::FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks)
+    : log_(new_run_dir(parent, mission)), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
+  auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>((log_.dir() / "tern.log").string(), true);
+  file->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %n: %v");
+  file_sink_ = file;
+  sinks_->add_sink(file_sink_);
+}
+
+FlightRecorder::~FlightRecorder() {
+  sinks_->remove_sink(file_sink_);
+  file_sink_->flush();
+}
+
+void FlightRecorder::start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params) {
+  log_.write_file("config.yaml", config_yaml);
+  for (const auto& [name, p] : params) {
+    const bool set = !(p->value() == p->default_value());
+    log_.param(0, name, param_text(p->value()), set ? "config" : "default");
+  }
+}
+
+void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
+  // raw sensor topics (and the actuators, an input of the estimator's side-force model) are
+  // logged in full by default, so that a flight can be replayed
+  static const std::set<std::string> kReplayInputs = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
+  const std::set<std::string> wanted(log.topics.begin(), log.topics.end());
+  logged_.assign(graph.topics().size(), Logged{});
+  for (std::size_t k = 0; k < graph.topics().size(); ++k) {
+    const GraphTopic& t = graph.topics()[k];
+    if (!t.written() || (!log.all_topics && !wanted.count(t.name))) continue;
+    Logged& l = logged_[k];
+    l.index = log_.add_topic(t.name, t.columns, t.msg_size);
+    const auto rate_it = log.rates.find(t.name);
+    const double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
+    l.interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
+    l.t = std::numeric_limits<Nanos>::min() / 2;
+  }
+  for (const auto& w : wanted) {
+    const GraphTopic* t = graph.find(w);
+    if (t == nullptr || t->writers.empty()) warn.warn("{}: log.topics: no instance publishes topic '{}'", config_file.string(), w);
+  }
+}
+
+void FlightRecorder::param(Nanos t, const std::string& qualified_name, const ParamBase& p, const std::string& source) {
+  log_.param(t, qualified_name, param_text(p.value()), source);
+}
+
+void FlightRecorder::capture(const PortGraph& graph, Nanos now) {
+  for (std::size_t k = 0; k < logged_.size(); ++k) {
+    Logged& l = logged_[k];
+    const OutputBase* src = graph.topics()[k].current;
+    if (l.index == SIZE_MAX || src == nullptr) continue;
+    const std::uint64_t seq = src->sequence();
+    if (seq == 0 || (src == l.source && seq == l.seq)) continue;
+    if (now - l.t < l.interval) continue;
+    l.source = src;
+    l.seq = seq;
+    l.t = now;
+    log_.capture(l.index, now, src->data());
+  }
+}
+
+void FlightRecorder::flush_if_due(spdlog::logger& text_log) {
+  const std::int64_t w = wall_ns();
+  if (w - last_flush_ <= 1'000'000'000) return;
+  log_.flush();
+  text_log.flush();
+  last_flush_ = w;
+}
+
+void FlightRecorder::finish(const FlightFacts& facts, FlightResult& r) {
+  log_.write_file("summary.json", summary_json(facts, r));
+  log_.close();
+  r.log_cpu_s = log_.writer_cpu_s();
+  log_.write_file("timing.json", timing_json(facts, r));
+}
+
+}  // namespace tern::core

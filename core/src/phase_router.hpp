@@ -1,0 +1,105 @@
+// core/src/phase_router.hpp: the phase router: which controller flies, and when the fallback
+// takes over.
+//
+// The config's `phases:` table names a controller instance per flight phase (a phase it does
+// not name is flown by cruise's). Those controllers are "routed": only the active one steps,
+// and the topics they write (`actuators`, `controller_internals`) are bound to its outputs
+// alone. The router follows the phase machine (phase_machine.hpp):
+//   preflight, or the FCU disarmed   no controller runs (routed topics unbound)
+//   a new phase                      its controller takes over (take_over() gets the last good
+//                                    actuator command, so there is no jump)
+// The fallback (`fallback:`, default: the routed control_slc instance) takes over for the rest of the
+// flight, in the same tick, when the active controller
+//   - throws from step() or take_over(),
+//   - commands a non-finite actuator value,
+//   - commands a surface beyond phase_machine.max_deflection (rad) or a throttle outside [0, 1].
+// fallback_reason() is the one place that decides this. If the fallback itself is the one
+// failing, or it is engaged already, the flight ends with an error. Every handover is recorded
+// (time, from, to, reason) for summary.json and logged.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <spdlog/fwd.h>
+
+#include "config.hpp"
+#include "instances.hpp"
+#include "port_graph.hpp"
+#include "tern/msg/control.hpp"
+
+namespace tern::core {
+
+class PhaseMachine;
+
+struct Handover {
+  Nanos t;
+  std::string from, to, reason;
+};
+
+class PhaseRouter {
+ public:
+  /// Steps a controller now; returns what it threw ("" if nothing).
+  using StepFn = std::function<std::string(Instance&)>;
+
+  /// Routes among `instances` (indices name them) by rebinding the routed topics of `graph`.
+  /// Both are the host's and outlive the router.
+  PhaseRouter(const std::vector<std::unique_ptr<Instance>>& instances, PortGraph& graph, std::shared_ptr<spdlog::logger> log);
+
+  // ---- the table (when the graph is built, between flights)
+  /// Reads `config.phases` and `config.fallback`: marks the controllers they name as routed
+  /// (Instance::routed: set before the port graph is built), picks the fallback and makes
+  /// takeoff's controller the active one.
+  void assign(const MissionConfig& config, PhaseMachine* phase_machine);
+  std::optional<std::size_t> active() const { return active_; }
+  std::optional<std::size_t> fallback() const { return fallback_; }
+  /// Whether instance `idx` may step: it is not routed, or it is the active controller.
+  bool may_step(std::size_t idx) const;
+
+  // ---- a flight
+  /// Before the plugins start: no handovers yet, no last command, fallback not engaged.
+  void prepare_flight();
+  /// After the plugins started: in preflight no controller runs.
+  void start_flight();
+  /// After the active controller `idx` stepped (`step_error`: what it threw, "" if nothing):
+  /// keeps its command as the last good one, or engages the fallback and steps it with `step`
+  /// in this same tick. Returns "" or the error that ends the flight.
+  std::string after_controller_step(Nanos now, std::size_t idx, const std::string& step_error, const StepFn& step);
+  /// After the phase machine stepped: on a new phase, routes to its controller (not once the
+  /// fallback is engaged).
+  void follow_phase(Nanos now);
+
+  bool fallback_engaged() const { return fallback_engaged_; }
+  const std::vector<Handover>& handovers() const { return handovers_; }
+
+ private:
+  /// Why controller `c` must give way to the fallback after its step, "" when it may go on.
+  std::string fallback_reason(const Instance& c, const std::string& step_error) const;
+  void route_to(std::size_t idx, Nanos now, const std::string& reason, bool from_failure);
+  /// No controller runs (the flight waits on the ground); routed topics lose their writer.
+  void route_none(Nanos now, const std::string& reason);
+  void engage_fallback(Nanos now, const std::string& why);
+  /// The active controller's `actuators` output, or nullptr.
+  const OutputBase* find_actuators() const;
+  std::optional<std::size_t> index_of(const std::string& instance) const;
+
+  const std::vector<std::unique_ptr<Instance>>& instances_;
+  PortGraph& graph_;
+  std::shared_ptr<spdlog::logger> log_;
+  PhaseMachine* phase_machine_ = nullptr;
+  std::map<msg::Phase, std::string> table_;  // phase -> controller instance
+  std::optional<std::size_t> active_;
+  std::optional<std::size_t> fallback_;
+  const OutputBase* actuators_ = nullptr;  // the active controller's actuators (checked after each step)
+  std::uint64_t phase_seen_ = 0;           // sequence of the last flight_phase message routed on
+  bool fallback_engaged_ = false;
+  std::vector<Handover> handovers_;
+  msg::Actuators last_good_{};
+};
+
+}  // namespace tern::core

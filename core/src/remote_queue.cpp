@@ -1,0 +1,64 @@
+#include "remote_queue.hpp"
+
+#include <spdlog/spdlog.h>
+
+namespace tern::core {
+
+void RemoteQueue::request_param(ParamBase& param, std::string qualified_name, ParamValue value, std::string source) {
+  std::lock_guard lk(mu_);
+  params_.push_back({&param, std::move(qualified_name), std::move(value), std::move(source)});
+  pending_.store(true, std::memory_order_release);
+}
+
+void RemoteQueue::edit_mission(const msg::MissionEdit& edit) {
+  std::lock_guard lk(mu_);
+  edits_.push_back(edit);
+  pending_.store(true, std::memory_order_release);
+}
+
+const OutputBase* RemoteQueue::renew_mission_edit_output() {
+  mission_edit_out_ = std::make_unique<Output<msg::MissionEdit>>();
+  mission_edit_out_->set_identity("mission_edit", "runtime mission edits (command line, DDS)");
+  return mission_edit_out_.get();
+}
+
+void RemoteQueue::keep_mission_edit_output(bool taken) {
+  if (!taken) mission_edit_out_.reset();
+}
+
+void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& log) {
+  if (!pending_.load(std::memory_order_acquire)) return;
+  std::vector<ParamRequest> params;
+  std::vector<msg::MissionEdit> edits;
+  {
+    std::lock_guard lk(mu_);
+    params.swap(params_);
+    edits.swap(edits_);
+    pending_.store(false, std::memory_order_relaxed);
+  }
+  // one edit per tick reaches the planner (a port holds the latest message): keep the rest queued
+  if (!edits.empty() && !mission_edit_out_) {
+    log.warn("t={:.3f} s: {} mission edit(s) dropped: no plugin instance reads topic 'mission_edit' any more", to_seconds(now), edits.size());
+  } else if (!edits.empty()) {
+    msg::MissionEdit e = edits.front();
+    e.stamp = now;
+    mission_edit_out_->publish(e);
+    log.info("t={:.3f} s: mission edit #{} (op {})", to_seconds(now), e.id, static_cast<int>(e.op));
+    if (edits.size() > 1) {
+      std::lock_guard lk(mu_);
+      edits_.insert(edits_.begin(), edits.begin() + 1, edits.end());
+      pending_.store(true, std::memory_order_relaxed);
+    }
+  }
+  for (auto& rq : params) {
+    try {
+      rq.param->set(rq.value);
+      record(now, rq.name, *rq.param, rq.source);
+      log.info("t={:.3f} s: {} = {} ({})", to_seconds(now), rq.name, to_string(rq.param->value()), rq.source);
+    } catch (const std::exception& e) {
+      log.error("t={:.3f} s: {} not changed: {}", to_seconds(now), rq.name, e.what());
+    }
+  }
+}
+
+}  // namespace tern::core
