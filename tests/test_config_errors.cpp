@@ -1,6 +1,10 @@
 // Every bad input of the host gets one clear line naming file, field and value.
 #include <doctest/doctest.h>
 
+#include <sys/wait.h>
+
+#include <cstdlib>
+
 #include "test_util.hpp"
 
 using doctest::Contains;
@@ -125,4 +129,25 @@ TEST_CASE("other structural errors") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("trigger: imu"), 12, "trigger: imu_data");
   CHECK(build_error(cfg).find("plugins[1].trigger: plugin 'test_filter' has no input port 'imu_data' (did you mean 'imu'?)") != std::string::npos);
+}
+
+TEST_CASE("issue 18: the fallback and every phase must name a controller instance") {
+  const std::string file = (test_dir() / "cfg.yaml").string();
+  // the sensor is an I/O plugin: before, this flew an empty flight with exit status 0
+  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: sensor\n")) ==
+        file + ":6:11: fallback: 'sensor' is not a controller: it runs plugin 'test_sensor' (io); name one of: ctl");
+  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: filter, cruise: ctl}\n")) ==
+        file + ":5:31: phases.climb: 'filter' is not a controller: it runs plugin 'test_filter' (estimator); name one of: ctl");
+  CHECK(build_error(base_config("  - {name: idle, plugin: test_null, rate: 100}\n",
+                                "phases: {takeoff: ctl, climb: ctl, cruise: idle}\n")) ==
+        file + ":5:44: phases.cruise: 'idle' is not a controller: it runs plugin 'test_null' (generic); name one of: ctl");
+}
+
+TEST_CASE("issue 18: tern check refuses a fallback that is not a controller, in one line naming file, field and value") {
+  const fs::path cfg = write_file("check_fallback.yaml", base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: sensor\n"));
+  const fs::path out = test_dir() / "check_fallback.out";
+  const int rc = std::system((std::string(TERN_BIN) + " check " + cfg.string() + " > " + out.string() + " 2>&1").c_str());
+  CHECK(WEXITSTATUS(rc) == 1);
+  CHECK(read_file(out) == "tern: error: " + cfg.string() + ":6:11: fallback: 'sensor' is not a controller: it runs plugin 'test_sensor' (io); "
+                          "name one of: ctl\n");
 }

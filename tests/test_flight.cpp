@@ -106,6 +106,30 @@ TEST_CASE("phase router: commands beyond the actuator limits hand over to the fa
   CHECK(s["controller_handovers"].back()["reason"].get<std::string>().find("outside the actuator limits") != std::string::npos);
 }
 
+TEST_CASE("issue 18: without `fallback:` the cruise controller is the fallback") {
+  // ctl flies takeoff and climb and throws at 0.1 s, in takeoff: ctl2, named for cruise, takes over
+  std::string cfg = base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
+                                "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n");
+  cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 0.1}}");
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "default_fallback";
+  Host h(load_config(write_file("default_fallback.yaml", cfg)), o);
+  h.build();
+  CHECK(h.graph_text().find("ctl2 (test_controller, controller) 100 Hz  [phase router: cruise, fallback]") != std::string::npos);
+  const FlightResult r = h.fly();
+  CHECK(r.ok);
+  CHECK(r.end_reason == "duration");
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["fallback_engaged"] == true);
+  REQUIRE(s["controller_handovers"].size() == 1);
+  CHECK(s["controller_handovers"][0]["from"] == "ctl");
+  CHECK(s["controller_handovers"][0]["to"] == "ctl2");
+  CHECK(s["controller_handovers"][0]["t_s"].get<double>() == doctest::Approx(0.1));
+  CHECK(s["controller_handovers"][0]["reason"] == "fallback for the rest of the flight: ctl.step threw: deliberate failure");
+  CHECK(s["phases"].size() >= 2);  // the phases go on; the fallback keeps flying them
+}
+
 TEST_CASE("a plugin that throws ends the flight with an error and a complete log") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 1}}");

@@ -131,6 +131,14 @@ TEST_CASE("the phase table changes between flights") {
   CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl3"}},
                                      std::nullopt),
                        "phases: no plugin instance named 'ctl3' (did you mean 'ctl'?)", ConfigError);
+  CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "sensor"}},
+                                     std::nullopt),
+                       "phases refused, the old table stays: phases.cruise: 'sensor' is not a controller: it runs plugin "
+                       "'test_sensor' (io); name one of: ctl, ctl2", ConfigError);
+  CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl"}},
+                                     std::string("filter")),
+                       "phases refused, the old table stays: fallback: 'filter' is not a controller: it runs plugin "
+                       "'test_filter' (estimator); name one of: ctl, ctl2", ConfigError);
   h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl2"}}, std::nullopt);
   const FlightResult r = h->fly();
   REQUIRE(r.ok);

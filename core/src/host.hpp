@@ -102,7 +102,7 @@ class Host {
   /// ports that do not bind) throws ConfigError and keeps the current plugin.
   void swap(const std::string& instance, const fs::path& so);
   /// Between flights: a new phase -> controller table (and fallback). Throws ConfigError (and
-  /// keeps the old table) if flying or invalid.
+  /// keeps the old table) if flying or invalid (a phase or the fallback not a controller).
   void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
   /// Flight length of the next flights (nullopt: the option or the config's duration).
   void set_duration(std::optional<double> seconds) { duration_override_ = seconds; }

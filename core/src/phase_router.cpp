@@ -24,7 +24,31 @@ std::optional<std::size_t> PhaseRouter::index_of(const std::string& instance) co
   return std::nullopt;
 }
 
+// `node`: where the config names `instance` (located only if it still says so: a table set
+// between flights has no place in the file).
+void PhaseRouter::require_controller(const MissionConfig& config, const std::string& instance, const std::string& field,
+                                     const YAML::Node& node) const {
+  const auto idx = index_of(instance);
+  if (!idx) return;  // not loaded: a replay keeps the estimators only
+  const Instance& inst = *instances_[*idx];
+  if (inst.info.kind == PluginKind::controller) return;
+  std::vector<std::string> controllers;
+  for (const auto& other : instances_)
+    if (other->info.kind == PluginKind::controller) controllers.push_back(other->cfg.name);
+  const std::string at = node && node.IsScalar() && node.Scalar() == instance ? where(config.file, node) : "";
+  throw ConfigError(fmt::format("{}{}: '{}' is not a controller: it runs plugin '{}' ({}); {}", at, field, instance, inst.info.name,
+                                kind_name(inst.info.kind),
+                                controllers.empty() ? std::string("this mission has no controller instance")
+                                                    : fmt::format("name one of: {}", fmt::join(controllers, ", "))));
+}
+
 void PhaseRouter::assign(const MissionConfig& config, PhaseMachine* phase_machine) {
+  const YAML::Node phases_node = config.root["phases"];
+  for (const auto& [phase, name] : config.phases) {
+    const std::string key(msg::phase_name(phase));
+    require_controller(config, name, "phases." + key, phases_node && phases_node.IsMap() ? phases_node[key] : YAML::Node());
+  }
+  if (config.fallback) require_controller(config, *config.fallback, "fallback", config.root["fallback"]);
   phase_machine_ = phase_machine;
   table_ = config.phases;
   std::set<std::string> routed;
@@ -34,10 +58,9 @@ void PhaseRouter::assign(const MissionConfig& config, PhaseMachine* phase_machin
   fallback_.reset();
   active_.reset();
   if (table_.empty()) return;
+  const auto cruise = table_.find(msg::Phase::cruise);
   if (config.fallback) fallback_ = index_of(*config.fallback);
-  if (!fallback_)
-    for (std::size_t i = 0; i < instances_.size() && !fallback_; ++i)
-      if (instances_[i]->routed && instances_[i]->info.name == "control_slc") fallback_ = i;
+  else if (cruise != table_.end()) fallback_ = index_of(cruise->second);
   if (const auto takeoff = table_.find(msg::Phase::takeoff); takeoff != table_.end()) active_ = index_of(takeoff->second);
 }
 

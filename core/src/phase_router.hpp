@@ -8,7 +8,7 @@
 //   preflight, or the FCU disarmed   no controller runs (routed topics unbound)
 //   a new phase                      its controller takes over (take_over() gets the last good
 //                                    actuator command, so there is no jump)
-// The fallback (`fallback:`, default: the routed control_slc instance) takes over for the rest of the
+// The fallback (`fallback:`, default: cruise's controller) takes over for the rest of the
 // flight, in the same tick, when the active controller
 //   - throws from step() or take_over(),
 //   - commands a non-finite actuator value,
@@ -16,6 +16,8 @@
 // fallback_reason() is the one place that decides this. If the fallback itself is the one
 // failing, or it is engaged already, the flight ends with an error. Every handover is recorded
 // (time, from, to, reason) for summary.json and logged.
+// When the graph is built, every controller the table or `fallback:` names must be a plugin of
+// kind controller: ConfigError naming file, field and value otherwise.
 #pragma once
 
 #include <cstddef>
@@ -54,7 +56,8 @@ class PhaseRouter {
   // ---- the table (when the graph is built, between flights)
   /// Reads `config.phases` and `config.fallback`: marks the controllers they name as routed
   /// (Instance::routed: set before the port graph is built), picks the fallback and makes
-  /// takeoff's controller the active one.
+  /// takeoff's controller the active one. Throws ConfigError when one of them is not a
+  /// controller.
   void assign(const MissionConfig& config, PhaseMachine* phase_machine);
   std::optional<std::size_t> active() const { return active_; }
   std::optional<std::size_t> fallback() const { return fallback_; }
@@ -87,6 +90,8 @@ class PhaseRouter {
   /// The active controller's `actuators` output, or nullptr.
   const OutputBase* find_actuators() const;
   std::optional<std::size_t> index_of(const std::string& instance) const;
+  void require_controller(const MissionConfig& config, const std::string& instance, const std::string& field,
+                          const YAML::Node& node) const;
 
   const std::vector<std::unique_ptr<Instance>>& instances_;
   PortGraph& graph_;
