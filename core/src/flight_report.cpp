@@ -93,31 +93,28 @@ std::string sensor_profile(const FlightFacts& f) {
 
 }  // namespace
 
-std::string summary_json(const FlightFacts& f, const FlightResult& r) {
-  nlohmann::ordered_json j;
-  j["mission"] = f.config.name;
-  j["flight"] = f.flight;
-  j["seed"] = f.seed;
-  j["duration_s"] = to_seconds(r.flown);
-  j["end_reason"] = r.end_reason;
-  j["base_rate_hz"] = 1e9 / static_cast<double>(f.base_period);
-  if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
-  if (f.phase_machine) {
-    auto phases = nlohmann::ordered_json::array();
-    phases.push_back({{"phase", std::string(msg::phase_name(f.phase_machine->first_phase()))}, {"start_s", 0.0}, {"reason", "start of flight"}});
-    for (const auto& t : f.phase_machine->transitions()) {
-      phases.push_back({{"phase", std::string(msg::phase_name(t.to))}, {"start_s", to_seconds(t.t)}, {"reason", t.reason}});
-      if (t.from == msg::Phase::preflight && t.to == msg::Phase::takeoff && !j.contains("preflight_s"))
-        j["preflight_s"] = to_seconds(t.t);  // how long the alignment and arming checks took
-    }
-    j["phases"] = phases;
-    auto h = nlohmann::ordered_json::array();
-    for (const auto& x : f.router.handovers()) h.push_back({{"t_s", to_seconds(x.t)}, {"from", x.from}, {"to", x.to}, {"reason", x.reason}});
-    j["controller_handovers"] = h;
-    j["fallback_engaged"] = f.router.fallback_engaged();
+namespace {
+
+// Phases with their start times and reasons, the controller handovers; preflight_s into `j`.
+void phases_json(const PhaseMachine& pm, const PhaseRouter& router, nlohmann::ordered_json& j) {
+  auto phases = nlohmann::ordered_json::array();
+  phases.push_back({{"phase", std::string(msg::phase_name(pm.first_phase()))}, {"start_s", 0.0}, {"reason", "start of flight"}});
+  for (const auto& t : pm.transitions()) {
+    phases.push_back({{"phase", std::string(msg::phase_name(t.to))}, {"start_s", to_seconds(t.t)}, {"reason", t.reason}});
+    if (t.from == msg::Phase::preflight && t.to == msg::Phase::takeoff && !j.contains("preflight_s"))
+      j["preflight_s"] = to_seconds(t.t);  // how long the alignment and arming checks took
   }
-  auto inst_j = nlohmann::ordered_json::object();
-  for (const auto& inst : f.instances) {
+  j["phases"] = phases;
+  auto h = nlohmann::ordered_json::array();
+  for (const auto& x : router.handovers()) h.push_back({{"t_s", to_seconds(x.t)}, {"from", x.from}, {"to", x.to}, {"reason", x.reason}});
+  j["controller_handovers"] = h;
+  j["fallback_engaged"] = router.fallback_engaged();
+}
+
+// Per instance: plugin, library (path and FNV-1a of its bytes), steps, its summary() figures.
+nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance>>& instances) {
+  auto out = nlohmann::ordered_json::object();
+  for (const auto& inst : instances) {
     nlohmann::ordered_json x;
     x["plugin"] = inst->info.name;
     if (!inst->builtin) {
@@ -130,35 +127,52 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
     }
     x["steps"] = inst->stats.steps;
     for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
-    inst_j[inst->cfg.name] = x;
+    out[inst->cfg.name] = x;
   }
-  j["instances"] = inst_j;
-  if (f.metrics) {
-    nlohmann::ordered_json m;
-    m["loops"] = f.metrics->loops();
-    m["max_cross_track_m"] = f.metrics->max_cross_track();
-    m["max_altitude_error_m"] = f.metrics->max_altitude_error();
-    m["window_start_s"] = f.metrics->window_start() < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(to_seconds(f.metrics->window_start()));
-    auto passages = nlohmann::ordered_json::array();
-    for (const auto& p : f.metrics->passages()) passages.push_back({{"t_s", to_seconds(p.t)}, {"waypoint", p.index}});
-    m["waypoint_passages"] = passages;
-    auto rms = [](const FlightMetrics::Rms& r) { return r.n ? nlohmann::ordered_json(r.value()) : nlohmann::ordered_json(); };
-    if (f.metrics->has_truth()) {
-      m["estimation_frame"] = "truth (the estimator's origin mapped to the simulator's)";
-      nlohmann::ordered_json e;
-      for (int i = 0; i < FlightMetrics::kEst; ++i) e[FlightMetrics::kEstNames[i]] = rms(f.metrics->estimation()[i]);
-      m["estimation_rmse"] = e;
-      if (f.metrics->has_gnss()) {
-        nlohmann::ordered_json g;
-        for (int i = 0; i < FlightMetrics::kGnss; ++i) g[FlightMetrics::kEstNames[i]] = rms(f.metrics->raw_gnss()[i]);
-        m["raw_gnss_rmse"] = g;
-      }
+  return out;
+}
+
+nlohmann::ordered_json metrics_json(const FlightMetrics& fm) {
+  nlohmann::ordered_json m;
+  m["loops"] = fm.loops();
+  m["max_cross_track_m"] = fm.max_cross_track();
+  m["max_altitude_error_m"] = fm.max_altitude_error();
+  m["window_start_s"] = fm.window_start() < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(to_seconds(fm.window_start()));
+  auto passages = nlohmann::ordered_json::array();
+  for (const auto& p : fm.passages()) passages.push_back({{"t_s", to_seconds(p.t)}, {"waypoint", p.index}});
+  m["waypoint_passages"] = passages;
+  auto rms = [](const FlightMetrics::Rms& r) { return r.n ? nlohmann::ordered_json(r.value()) : nlohmann::ordered_json(); };
+  if (fm.has_truth()) {
+    m["estimation_frame"] = "truth (the estimator's origin mapped to the simulator's)";
+    nlohmann::ordered_json e;
+    for (int i = 0; i < FlightMetrics::kEst; ++i) e[FlightMetrics::kEstNames[i]] = rms(fm.estimation()[i]);
+    m["estimation_rmse"] = e;
+    if (fm.has_gnss()) {
+      nlohmann::ordered_json g;
+      for (int i = 0; i < FlightMetrics::kGnss; ++i) g[FlightMetrics::kEstNames[i]] = rms(fm.raw_gnss()[i]);
+      m["raw_gnss_rmse"] = g;
     }
-    nlohmann::ordered_json t;
-    for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(f.metrics->tracking()[i]);
-    m["tracking_rmse"] = t;
-    j["metrics"] = m;
   }
+  nlohmann::ordered_json t;
+  for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(fm.tracking()[i]);
+  m["tracking_rmse"] = t;
+  return m;
+}
+
+}  // namespace
+
+std::string summary_json(const FlightFacts& f, const FlightResult& r) {
+  nlohmann::ordered_json j;
+  j["mission"] = f.config.name;
+  j["flight"] = f.flight;
+  j["seed"] = f.seed;
+  j["duration_s"] = to_seconds(r.flown);
+  j["end_reason"] = r.end_reason;
+  j["base_rate_hz"] = 1e9 / static_cast<double>(f.base_period);
+  if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
+  if (f.phase_machine) phases_json(*f.phase_machine, f.router, j);
+  j["instances"] = instances_json(f.instances);
+  if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
   return j.dump(2) + "\n";
 }
 
@@ -186,6 +200,44 @@ std::string timing_json(const FlightFacts& f, const FlightResult& r) {
   return j.dump(2) + "\n";
 }
 
+namespace {
+
+// The ROSplane 2.0 paper's two tables (tracking: command vs estimate; estimation: estimate vs
+// truth) beside tern's figures, and the waypoints reached.
+std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
+  auto v = [](const FlightMetrics::Rms& x) { return x.n ? fmt::format("{:.2f}", x.value()) : std::string("-"); };
+  std::string s;
+  const auto& t = fm.tracking();
+  bool tracked = false;
+  for (const auto& x : t) tracked = tracked || x.n > 0;
+  if (tracked) {
+    s += fmt::format("\nRMS tracking error, command vs estimate ({} loops; window from {}):\n", fm.loops(),
+                     fm.window_start() < 0 ? std::string("never: no full loop") : fmt::format("{:.1f} s", to_seconds(fm.window_start())));
+    const std::string row7 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+    s += fmt::format(fmt::runtime(row7 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "course deg", "airspeed m/s");
+    s += fmt::format(fmt::runtime(row7 + "   tern\n"), v(t[0]), v(t[1]), v(t[2]), v(t[3]), v(t[4]), v(t[5]), v(t[6]));
+    s += fmt::format(fmt::runtime(row7 + "   ROSplane 2.0 flight test\n"), "3.05", "3.29", "1.19", "7.55", "3.04", "8.51", "0.58");
+  }
+  if (fm.has_truth()) {
+    const auto& e = fm.estimation();
+    s += fmt::format("RMS estimation error, estimate vs truth in the simulator's frame (sensor profile: {}):\n",
+                     profile.empty() ? "not a tern simulator" : profile);
+    const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+    s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
+    s += fmt::format(fmt::runtime(row8 + "   tern\n"), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
+    if (fm.has_gnss()) {
+      const auto& g = fm.raw_gnss();
+      s += fmt::format(fmt::runtime(row8 + "   raw GNSS (latest fix vs truth)\n"), v(g[0]), v(g[1]), v(g[2]), "", "", "", "", "");
+    }
+    s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"),
+                     "0.325", "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
+  }
+  s += fmt::format("waypoints reached: {}\n", fm.passages().size());
+  return s;
+}
+
+}  // namespace
+
 std::string summary_text(const FlightFacts& f, const FlightResult& r) {
   std::string s = fmt::format("\nflight '{}' ended ({}) at t = {:.2f} s after {:.2f} s wall ({:.0f}x real time)\n", f.config.name,
                               r.end_reason, to_seconds(r.flown), r.wall_s, r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0);
@@ -202,36 +254,7 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
     if (inst->plugin.get() != f.metrics)
       for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
   }
-  if (f.metrics) {
-    auto v = [](const FlightMetrics::Rms& x) { return x.n ? fmt::format("{:.2f}", x.value()) : std::string("-"); };
-    const auto& t = f.metrics->tracking();
-    bool tracked = false;
-    for (const auto& x : t) tracked = tracked || x.n > 0;
-    if (tracked) {
-    s += fmt::format("\nRMS tracking error, command vs estimate ({} loops; window from {}):\n", f.metrics->loops(),
-                     f.metrics->window_start() < 0 ? std::string("never: no full loop") : fmt::format("{:.1f} s", to_seconds(f.metrics->window_start())));
-    const std::string row7 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
-    s += fmt::format(fmt::runtime(row7 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "course deg", "airspeed m/s");
-    s += fmt::format(fmt::runtime(row7 + "   tern\n"), v(t[0]), v(t[1]), v(t[2]), v(t[3]), v(t[4]), v(t[5]), v(t[6]));
-    s += fmt::format(fmt::runtime(row7 + "   ROSplane 2.0 flight test\n"), "3.05", "3.29", "1.19", "7.55", "3.04", "8.51", "0.58");
-    }
-    if (f.metrics->has_truth()) {
-      const auto& e = f.metrics->estimation();
-      const std::string profile = sensor_profile(f);
-      s += fmt::format("RMS estimation error, estimate vs truth in the simulator's frame (sensor profile: {}):\n",
-                       profile.empty() ? "not a tern simulator" : profile);
-      const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
-      s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
-      s += fmt::format(fmt::runtime(row8 + "   tern\n"), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
-      if (f.metrics->has_gnss()) {
-        const auto& g = f.metrics->raw_gnss();
-        s += fmt::format(fmt::runtime(row8 + "   raw GNSS (latest fix vs truth)\n"), v(g[0]), v(g[1]), v(g[2]), "", "", "", "", "");
-      }
-      s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"),
-                       "0.325", "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
-    }
-    s += fmt::format("waypoints reached: {}\n", f.metrics->passages().size());
-  }
+  if (f.metrics) s += metrics_text(*f.metrics, sensor_profile(f));
   s += fmt::format("log: {}\n", r.run_dir.string());
   return s;
 }
