@@ -20,7 +20,6 @@
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/sinks/dist_sink.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -141,6 +140,8 @@ void install_signal_handlers() {
   sa.sa_flags = 0;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);  // the terminal went away (an SSH drop): end the flight cleanly
+  std::signal(SIGXFSZ, SIG_IGN);    // a file-size limit fails the log's writes (EFBIG), not the flight
 }
 
 // ---- step statistics ------------------------------------------------------------------------
@@ -923,9 +924,8 @@ FlightResult Host::fly() {
     for (int k = 2; fs::exists(dir); ++k) dir = parent / fmt::format("{}-{}-{}", stamp, config_.name, k);
     r.run_dir = dir;
   }
-  FlightLog log(r.run_dir);
-  auto file_sink = std::make_shared<spdlog::sinks::basic_file_sink_mt>((r.run_dir / "tern.log").string(), true);
-  file_sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %n: %v");
+  FlightLog log(r.run_dir, [this](const std::string& line) { logger_->error("{}", line); });
+  auto file_sink = log.text_sink("tern.log");
   auto* dist = static_cast<spdlog::sinks::dist_sink_mt*>(extra_sinks_.front().get());
   dist->add_sink(file_sink);
   struct SinkGuard {
@@ -980,6 +980,7 @@ FlightResult Host::fly() {
       r.end_reason = fmt::format("error: {}.start failed: {}", instances_[idx]->cfg.name, e.what());
       logger_->error("{}", r.end_reason);
       log.close();
+      r.log_error = log.error();
       return r;
     }
   }
@@ -1021,7 +1022,7 @@ FlightResult Host::fly() {
       break;
     }
     if (const int sig = g_stop_signal.load(std::memory_order_relaxed)) {
-      r.end_reason = sig == SIGTERM ? "SIGTERM" : "SIGINT";
+      r.end_reason = sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "SIGINT";
       now = tick > 0 ? (tick - 1) * base_period_ : 0;
       break;
     }
@@ -1155,7 +1156,7 @@ FlightResult Host::fly() {
     }
     if ((tick & 63) == 0 || options_.realtime) {
       const std::int64_t w = wall_ns();
-      if (w - last_flush > 1'000'000'000) {
+      if (w - last_flush > FlightLog::kFlushPeriodNs) {
         log.flush();
         logger_->flush();
         last_flush = w;
@@ -1188,12 +1189,13 @@ FlightResult Host::fly() {
       logger_->error("{}.stop failed: {}", instances_[*it]->cfg.name, e.what());
     }
   }
-  if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM")
+  if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM" || r.end_reason == "SIGHUP")
     logger_->warn("flight ended by {} at t={:.3f} s; the log is complete", r.end_reason, to_seconds(now));
   log.write_file("summary.json", summary_json(r));
   log.close();
   r.log_cpu_s = log.writer_cpu_s();
   log.write_file("timing.json", timing_json(r));
+  r.log_error = log.error();
   if (!options_.quiet) print_summary(r);
   return r;
 }

@@ -71,8 +71,9 @@ struct Handover {
 
 struct FlightResult {
   fs::path run_dir;
-  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "error: ..."
+  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "SIGHUP", "error: ..."
   bool ok = true;
+  std::string log_error;   ///< the flight log's first write error: some of the log is missing ("" if none)
   Nanos flown = 0;
   double wall_s = 0;
   double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
@@ -81,7 +82,8 @@ struct FlightResult {
 
 /// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
 void request_stop(int signal_number);
-/// Installs SIGINT/SIGTERM handlers that call request_stop.
+/// Installs SIGINT/SIGTERM/SIGHUP handlers that call request_stop; ignores SIGXFSZ (a file-size
+/// limit then fails the log's writes, which the flight log reports, instead of killing the flight).
 void install_signal_handlers();
 /// The signal that asked for a stop (0: none since the last flight started).
 int stop_signal();
