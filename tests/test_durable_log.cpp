@@ -136,3 +136,21 @@ TEST_CASE("an unwritable log directory: the flight flies, one error line, exit s
   }
   fs::permissions(ro, fs::perms::owner_all);
 }
+
+TEST_CASE("tern replay accepts a log whose last line is partial: dropped with one warning") {
+  const tern::core::FlightResult flown = fly_yaml(base_config(), "partial_orig");
+  REQUIRE(flown.ok);
+  const fs::path imu = flown.run_dir / "topics" / "imu.csv";
+  const std::size_t rows = lines(read_file(imu)).size();  // header + 801 samples (0 .. 2 s at 400 Hz)
+  std::ofstream(imu, std::ios::app) << "2.002500000,2002500000,0.01";  // killed mid-row
+  const fs::path out = test_dir() / "partial.out";
+  const int rc = run_tern({"replay", flown.run_dir.string(), "-q", "--log-dir", (test_dir() / "partial_replay").string()}, out);
+  const std::string console = read_file(out);
+  INFO(console);
+  CHECK(rc == 0);
+  CHECK(count_lines_with(console, "the last line is partial") == 1);
+  CHECK(console.find(imu.string() + ":" + std::to_string(rows + 1) + ": the last line is partial (27 characters, no line end") !=
+        std::string::npos);
+  const fs::path replayed = the_run(test_dir() / "partial_replay");
+  CHECK(last_row_time(read_file(replayed / "topics" / "state.csv")) == 2.0);
+}

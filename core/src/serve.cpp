@@ -87,8 +87,8 @@ struct Server {
         }
         host.set_duration(duration);
         const FlightResult r = host.fly();
-        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
-                           to_seconds(r.flown), r.run_dir.string());
+        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}{}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
+                           to_seconds(r.flown), r.run_dir.string(), r.log_error.empty() ? "" : " (incomplete: " + r.log_error + ")");
       }
       if (cmd == "swap") {
         if (w.size() != 3) return "error: usage: swap INSTANCE PATH";
