@@ -24,6 +24,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "elf_check.hpp"
 #include "error.hpp"
 #include "flight_log.hpp"
 #include "replay.hpp"
@@ -290,26 +291,33 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
   if (so.string().find('/') == std::string::npos && so.extension() != ".so") so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
   so = fs::absolute(so).lexically_normal();
   if (!fs::exists(so)) throw ConfigError("swap: '" + so.string() + "' not found");
-  // a private copy: a rebuild at the same path must not resolve to the library already mapped
-  if (swap_dir_.empty()) {
-    swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
-    fs::create_directories(swap_dir_);
-  }
-  const fs::path copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
-  fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
+  fs::path copy;
+  const auto discard_copy = [&] {  // a refused swap leaves no file behind
+    std::error_code ec;
+    if (!copy.empty()) fs::remove(copy, ec);
+    if (!swap_dir_.empty() && fs::remove(swap_dir_, ec)) swap_dir_.clear();  // only when empty
+  };
   auto fresh = std::make_unique<Instance>();
   fresh->cfg = instances_[idx]->cfg;
   fresh->source = so;
   try {
+    check_elf(so);  // before the copy: the error names the file as given
+    // a private copy: a rebuild at the same path must not resolve to the library already mapped
+    if (swap_dir_.empty()) {
+      swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
+      fs::create_directories(swap_dir_);
+    }
+    copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
+    fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
     fresh->lib = open_plugin(copy);
     fresh->info = fresh->lib->info();
     fresh->plugin = fresh->lib->create();
     configure_instance(*fresh);
-  } catch (const ConfigError& e) {
+  } catch (const std::exception& e) {  // ConfigError, or a filesystem error of the copy
     fresh->plugin.reset();
     fresh->ctx.reset();
     fresh->lib.reset();
-    fs::remove(copy);
+    discard_copy();
     throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name + "' keeps flying: " + e.what());
   }
   std::swap(instances_[idx], fresh);  // `fresh` is now the old instance
@@ -321,7 +329,7 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
     fresh->plugin.reset();
     fresh->ctx.reset();
     fresh->lib.reset();
-    fs::remove(copy);
+    discard_copy();
     throw ConfigError("swap " + instance + " <- " + so.string() + " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
   }
   if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
