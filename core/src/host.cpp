@@ -379,6 +379,11 @@ void Host::set_phases(const std::map<msg::Phase, std::string>& phases, const std
 void Host::build() {
   load_instances();
   rebuild_graph();
+  if (!options_.replay_dir) {  // a replay flies a subset of the flight's instances
+    std::vector<std::string> published;
+    for (const auto& t : topics()) published.push_back(t.name);
+    check_log_topics(config_, published);
+  }
   built_ = true;
 }
 

@@ -61,6 +61,22 @@ int fail(const std::string& msg) {
   return 1;
 }
 
+/// --seed and --duration mean what the config's seed: and duration: mean (config.hpp).
+const CLI::Validator kSeedCheck(
+    [](std::string& s) { return parse_seed(s) ? std::string() : "'" + s + "' is not a seed: an integer 0 .. 2^64-1"; }, "SEED", "seed");
+const CLI::Validator kDurationCheck(
+    [](std::string& s) {
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(s, &used);
+      } catch (const std::exception&) {
+      }
+      if (used == 0 || used != s.size()) return "'" + s + "' is not a number of seconds";
+      return duration_problem(v);
+    },
+    "SECONDS", "flight length");
+
 /// Context for listing a plugin's ports and parameters without a mission.
 class DescribeContext final : public Context {
  public:
@@ -143,6 +159,7 @@ int main(int argc, char** argv) {
                "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
+  app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern: error: {} (see --help)\n", e.what()); });
   app.footer("More commands: tern plot RUN_DIR (figures of a flight), tern aero (aircraft models, trim),\n"
              "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
@@ -156,8 +173,8 @@ int main(int argc, char** argv) {
 
   auto* fly = app.add_subcommand("fly", "fly a mission (default: configs/missions/default.yaml) and write its flight log");
   fly->add_option("config", config, "mission config (YAML)");
-  fly->add_option("--seed", seed, "random seed (overrides the config's seed)");
-  fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(CLI::PositiveNumber);
+  fly->add_option("--seed", seed, "random seed (overrides the config's seed)")->check(kSeedCheck);
+  fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
   fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");

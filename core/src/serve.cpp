@@ -83,7 +83,7 @@ struct Server {
           } catch (const std::exception&) {
             return "error: fly: duration '" + w[1] + "' is not a number of seconds";
           }
-          if (!(*duration > 0)) return "error: fly: duration must be > 0 s";
+          if (const std::string p = duration_problem(*duration); !p.empty()) return "error: fly: duration " + p;
         }
         host.set_duration(duration);
         const FlightResult r = host.fly();
