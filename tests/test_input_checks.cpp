@@ -81,3 +81,31 @@ TEST_CASE("log settings name topics that exist") {
         cfg_path() + ":4:21: log.topics[1]: no instance publishes topic 'stat' (did you mean 'state'?)");
   CHECK(build_error(edited("log: {max_rate: 0}", "log: {topics: [imu, state], rates: {imu: 10}}")) == "");
 }
+
+TEST_CASE("a start-only parameter is refused in flight ('takes effect next flight') and set before the next start") {
+  tern::core::HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "start_only";
+  tern::core::Host h(tern::core::load_config(write_file("start_only.yaml", base_config())), o);
+  h.build();
+  std::string refused;
+  h.set_tick_observer([&](tern::Nanos now) {
+    if (now != 1'000'000'000) return;
+    h.request_param("ctl.kp", 0.06, "dds");  // a live one is taken in flight
+    try {
+      h.request_param("sensor.h0", 5.0, "dds");
+    } catch (const tern::ParamError& e) {
+      refused = e.what();
+    }
+  });
+  const auto first = h.fly();
+  CHECK(refused == "parameter 'sensor.h0' is read when a flight starts: refused in flight, it takes effect next flight (set it between flights)");
+  const std::string params1 = read_file(first.run_dir / "params.csv");
+  CHECK(params1.find("\n1.002500000,ctl.kp,0.06,dds\n") != std::string::npos);
+  CHECK(params1.find("sensor.h0,5") == std::string::npos);
+  h.set_tick_observer(nullptr);
+  h.request_param("sensor.h0", 7.0, "dds");  // between flights: the sensor starts from it
+  const auto second = h.fly();
+  CHECK(read_file(second.run_dir / "params.csv").find("\n0.000000000,sensor.h0,7,dds\n") != std::string::npos);
+  CHECK(cells(lines(read_file(second.run_dir / "topics" / "truth.csv"))[1])[4] == "-7");
+}

@@ -751,9 +751,28 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
   }
   if (target == nullptr) throw ConfigError("unknown parameter '" + qualified + "'" + did_you_mean(qualified, all));
   const ParamValue checked = target->validate(value);  // throws ParamError
+  if (!target->spec().live && flying_)
+    throw ParamError("parameter '" + qualified + "' is read when a flight starts: refused in flight, it takes effect next flight " +
+                     "(set it between flights)");
   std::lock_guard lk(param_mu_);
   param_requests_.push_back({target, qualified, checked, source});
   param_pending_.store(true, std::memory_order_release);
+}
+
+void Host::apply_start_only_requests(FlightLog& log) {
+  std::lock_guard lk(param_mu_);
+  const auto first = std::stable_partition(param_requests_.begin(), param_requests_.end(),
+                                           [](const ParamRequest& rq) { return rq.param->spec().live; });
+  for (auto rq = first; rq != param_requests_.end(); ++rq) {
+    try {
+      rq->param->set(rq->value);
+      log.param(0, rq->name, param_text(rq->param->value()), rq->source);
+      logger_->info("{} = {} ({}, before the start)", rq->name, to_string(rq->param->value()), rq->source);
+    } catch (const std::exception& e) {
+      logger_->error("{} not changed: {}", rq->name, e.what());
+    }
+  }
+  param_requests_.erase(first, param_requests_.end());
 }
 
 Nanos Host::replay_end() const { return replay_ ? replay_->end_time() : 0; }
@@ -981,6 +1000,7 @@ FlightResult Host::fly() {
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
 
+  apply_start_only_requests(log);  // asked for between flights: before the plugins read them
   // ---- start
   handovers_.clear();
   fallback_engaged_ = false;

@@ -113,8 +113,10 @@ class Host {
   const std::vector<Handover>& handovers() const { return handovers_; }
   std::shared_ptr<spdlog::logger> logger() const { return logger_; }
   /// Asks for a parameter change ("instance.param"), from any thread (command line, DDS). It is
-  /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value), applied
-  /// at the start of the next tick and recorded in params.csv with `source`.
+  /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value, or a
+  /// start-only parameter in flight: "takes effect next flight"), applied at the start of the
+  /// next tick (a start-only one: before the next flight's start()) and recorded in params.csv
+  /// with `source`.
   void request_param(const std::string& qualified, const ParamValue& value, const std::string& source);
   /// Queues a mission edit (from any thread: command line, DDS). It is published on topic
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
@@ -173,6 +175,7 @@ class Host {
   void route_none(Nanos now, const std::string& reason);
   bool step_instance(Instance& inst, Nanos now, std::string& error);
   void engage_fallback(Nanos now, const std::string& why);
+  void apply_start_only_requests(FlightLog& log);
   std::string resolved_config_yaml() const;
   std::string sensor_profile() const;
   std::string summary_json(const FlightResult& r) const;

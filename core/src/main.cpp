@@ -94,6 +94,9 @@ class DescribeContext final : public Context {
   YAML::Node mission_;
 };
 
+/// A parameter's description, marked when it is read only when a flight starts.
+std::string description_text(const ParamBase& p) { return p.spec().description + (p.spec().live ? "" : " [start-only]"); }
+
 std::string range_text(const ParamBase& p) {
   const auto& s = p.spec();
   if (p.kind() == ParamKind::text) return s.choices.empty() ? (s.is_path ? "path" : "") : fmt::format("{}", fmt::join(s.choices, "|"));
@@ -125,7 +128,7 @@ int cmd_plugins(const std::vector<std::string>& extra_dirs) {
       for (auto* out : p->outputs()) fmt::print("  out {:<22} {:<26} {}\n", out->name(), out->type().name, out->description());
       for (auto* prm : p->params())
         fmt::print("  param {:<20} = {:<14} {:<8} {:<18} {}\n", prm->name(), to_string(prm->value()), prm->spec().unit, range_text(*prm),
-                   prm->spec().description);
+                   description_text(*prm));
       p.reset();  // before the library goes
     } catch (const ConfigError& e) {
       fmt::print("\n{}: {}\n", path.string(), e.what());
@@ -445,7 +448,7 @@ int main(int argc, char** argv) {
       fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", "parameter", "value", "default", "unit", "range", "description");
       for (const auto& [name, p] : host.parameters())
         fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", name, to_string(p->value()), to_string(p->default_value()), p->spec().unit,
-                   range_text(*p), p->spec().description);
+                   range_text(*p), description_text(*p));
       return 0;
     }
     install_signal_handlers();
