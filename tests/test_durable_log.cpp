@@ -47,6 +47,16 @@ double last_row_time(const std::string& csv) {
   return std::stod(csv.substr(begin + 1, end - begin - 1));
 }
 
+/// Starts a long realtime flight logging under test_dir()/<name>_runs; returns its pid once the
+/// flight has started (its tern.log has the flight line), and the log directory.
+std::pair<pid_t, fs::path> start_realtime_flight(const std::string& name) {
+  const fs::path cfg = write_file(name + ".yaml", long_flight());
+  const fs::path logdir = test_dir() / (name + "_runs");
+  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string()}, test_dir() / (name + ".out"));
+  REQUIRE(wait_until([&] { return !the_run(logdir).empty() && flight_line_time(the_run(logdir)); }, 20));
+  return {pid, logdir};
+}
+
 std::size_t count_lines_with(const std::string& text, const std::string& what) {
   std::size_t n = 0;
   for (const auto& l : lines(text)) n += l.find(what) != std::string::npos;
@@ -56,10 +66,7 @@ std::size_t count_lines_with(const std::string& text, const std::string& what) {
 }  // namespace
 
 TEST_CASE("SIGKILL of a realtime flight loses at most 100 ms of wall time of log") {
-  const fs::path cfg = write_file("kill.yaml", long_flight());
-  const fs::path logdir = test_dir() / "kill_runs";
-  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string()}, test_dir() / "kill.out");
-  REQUIRE(wait_until([&] { return !the_run(logdir).empty() && flight_line_time(the_run(logdir)); }, 20));
+  const auto [pid, logdir] = start_realtime_flight("kill");
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   const auto killed_at = std::chrono::system_clock::now();
   kill(pid, SIGKILL);
@@ -75,10 +82,7 @@ TEST_CASE("SIGKILL of a realtime flight loses at most 100 ms of wall time of log
 }
 
 TEST_CASE("SIGHUP ends the flight like SIGTERM: complete log, exit status 129") {
-  const fs::path cfg = write_file("hup.yaml", long_flight());
-  const fs::path logdir = test_dir() / "hup_runs";
-  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string()}, test_dir() / "hup.out");
-  REQUIRE(wait_until([&] { return !the_run(logdir).empty() && flight_line_time(the_run(logdir)); }, 20));
+  const auto [pid, logdir] = start_realtime_flight("hup");
   std::this_thread::sleep_for(std::chrono::milliseconds(300));
   kill(pid, SIGHUP);
   const int status = wait_for(pid);
