@@ -192,6 +192,27 @@ class TernPlotRuns(unittest.TestCase):
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
         self.assertIn("--strict", r.stderr)
 
+    def test_a_partial_last_line_is_dropped_with_one_note(self):
+        # a flight killed while writing: the last row lacks its line end, and its last value
+        # ("-3.5" cut to "-3.") still has every column, so only the missing line end tells
+        run = os.path.join(self.tmp, "killed")
+        write_run(run)
+        state = os.path.join(run, "topics", "state.csv")
+        with open(state) as f:
+            rows = f.read().splitlines()
+        with open(state, "a") as f:
+            f.write(rows[-1][:-1])
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        notes = [ln for ln in r.stdout.splitlines() if "note:" in ln]
+        self.assertEqual(notes, ["tern plot: note: topics/state.csv: the last line is partial "
+                                 "(no line end: the flight was cut off while writing it): dropped"])
+        self.assertIsNotNone(png_size(os.path.join(run, "plots", "ground_track.png")))
+        TP.NOTES.clear()
+        topic = TP.read_topic(run, "state", ["w_e"])
+        self.assertEqual(len(topic), len(rows) - 1)
+        self.assertEqual(topic.get("w_e")[-1], float(rows[-1].split(",")[-1]))
+
     def test_missing_run_dir_is_one_error_line_and_exit_1(self):
         missing = os.path.join(self.tmp, "no_such_run")
         r = run_plot(missing)

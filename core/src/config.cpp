@@ -1,7 +1,12 @@
 #include "config.hpp"
 
+#include <algorithm>
+#include <cctype>
+#include <charconv>
 #include <cmath>
 #include <set>
+
+#include <fmt/format.h>
 
 #include "error.hpp"
 
@@ -58,7 +63,62 @@ YAML::Node load_yaml(const fs::path& file, const char* what) {
   }
 }
 
+/// A rate (Hz) the scheduler can run: > 0 and <= kMaxRateHz.
+double as_rate(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  const double r = as_number(n, file, field);
+  if (!(r > 0)) throw ConfigError(where(file, n) + field + ": must be > 0 Hz, got " + str(n));
+  if (r > kMaxRateHz)
+    throw ConfigError(where(file, n) + field + fmt::format(": {} Hz is above the scheduler's limit of {} Hz", str(n), kMaxRateHz));
+  return r;
+}
+
+/// A mission name: it names the run directory, so a file-name word ([A-Za-z0-9_][A-Za-z0-9_.-]*).
+std::string mission_name(const YAML::Node& n, const fs::path& file) {
+  const std::string v = as_string(n, file, "name");
+  const bool ok = std::isalnum(static_cast<unsigned char>(v[0])) || v[0] == '_';
+  if (!ok || v.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.-") != std::string::npos)
+    throw ConfigError(where(file, n) + "name: '" + v +
+                      "' must be letters, digits, '_', '-' and '.' (not first): it names the run directory");
+  return v;
+}
+
 }  // namespace
+
+std::string duration_problem(double s) {
+  if (!std::isfinite(s)) return fmt::format("must be a finite number of seconds, got {}", s);
+  if (!(s > 0)) return fmt::format("must be > 0 s, got {}", s);
+  if (s > kMaxDurationS) return fmt::format("must be at most {} s ({:.1f} days), got {}", kMaxDurationS, kMaxDurationS / 86400, s);
+  return "";
+}
+
+std::optional<std::uint64_t> parse_seed(const std::string& text) {
+  std::uint64_t v = 0;
+  const char* end = text.data() + text.size();
+  if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
+  const auto [p, ec] = std::from_chars(text.data(), end, v);
+  if (ec != std::errc() || p != end) return std::nullopt;  // out of range
+  return v;
+}
+
+std::string identifier_problem(const std::string& name) {
+  const bool ok = !name.empty() && (std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_') &&
+                  name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") == std::string::npos;
+  return ok ? "" : "'" + name + "' is not an identifier (letters, digits and '_', not starting with a digit)";
+}
+
+void check_log_topics(const MissionConfig& c, const std::vector<std::string>& published) {
+  const YAML::Node log = c.root["log"];
+  if (!log) return;
+  auto check = [&](const YAML::Node& node, const std::string& field) {
+    const std::string t = node.Scalar();
+    if (std::find(published.begin(), published.end(), t) == published.end())
+      throw ConfigError(where(c.file, node) + field + ": no instance publishes topic '" + t + "'" + did_you_mean(t, published));
+  };
+  if (const YAML::Node t = log["topics"]; t && t.IsSequence())
+    for (std::size_t i = 0; i < t.size(); ++i) check(t[i], "log.topics[" + std::to_string(i) + "]");
+  if (const YAML::Node r = log["rates"])
+    for (const auto& kv : r) check(kv.first, "log.rates." + kv.first.Scalar());
+}
 
 ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const std::string& field) {
   if (node.IsSequence()) {
@@ -128,19 +188,17 @@ MissionConfig load_config(const fs::path& file_in) {
   check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
                            "phases", "fallback", "phase_machine", "metrics", "mission", "dds"});
 
-  c.name = root["name"] ? as_string(root["name"], f, "name") : c.file.stem().string();
+  c.name = root["name"] ? mission_name(root["name"], f) : c.file.stem().string();
   if (root["seed"]) {
-    try {
-      c.seed = root["seed"].as<std::uint64_t>();
-    } catch (const YAML::Exception&) {
-      throw ConfigError(where(f, root["seed"]) + "seed: expected a non-negative integer, got '" + str(root["seed"]) + "'");
-    }
+    const auto seed = root["seed"].IsScalar() ? parse_seed(root["seed"].Scalar()) : std::nullopt;
+    if (!seed) throw ConfigError(where(f, root["seed"]) + "seed: expected an integer 0 .. 2^64-1, got '" + str(root["seed"]) + "'");
+    c.seed = *seed;
   }
   if (root["duration"]) {
     c.duration = as_number(root["duration"], f, "duration");
-    if (!(c.duration > 0)) throw ConfigError(where(f, root["duration"]) + "duration: must be > 0 s, got " + str(root["duration"]));
+    if (const std::string p = duration_problem(c.duration); !p.empty()) throw ConfigError(where(f, root["duration"]) + "duration: " + p);
   }
-  if (root["base_rate"]) c.base_rate = as_number(root["base_rate"], f, "base_rate");
+  if (root["base_rate"]) c.base_rate = as_rate(root["base_rate"], f, "base_rate");
   if (root["aircraft"]) c.aircraft = resolve(c.dir, as_string(root["aircraft"], f, "aircraft"));
   if (const YAML::Node pp = root["plugin_path"]) {
     if (pp.IsScalar()) {
@@ -201,20 +259,21 @@ MissionConfig load_config(const fs::path& file_in) {
     if (!p["plugin"]) throw ConfigError(where(f, p) + field + ": missing key 'plugin' (the plugin to load, e.g. sim_aero)");
     ic.plugin = as_string(p["plugin"], f, field + ".plugin");
     ic.name = p["name"] ? as_string(p["name"], f, field + ".name") : ic.plugin;
-    if (ic.name.find_first_of(". /") != std::string::npos)
-      throw ConfigError(where(f, p["name"]) + field + ".name: '" + ic.name + "' must not contain '.', '/' or spaces");
+    if (const std::string bad = identifier_problem(ic.name); !bad.empty())
+      throw ConfigError(where(f, p["name"] ? p["name"] : p["plugin"]) + field + ".name: " + bad +
+                        (p["name"] ? "" : " (the instance is named after its plugin: give it a name:)"));
     if (!names.insert(ic.name).second)
       throw ConfigError(where(f, p["name"] ? p["name"] : p) + field + ".name: instance name '" + ic.name + "' is used twice");
-    if (p["rate"]) {
-      ic.rate = as_number(p["rate"], f, field + ".rate");
-      if (!(*ic.rate > 0)) throw ConfigError(where(f, p["rate"]) + field + ".rate: must be > 0 Hz, got " + str(p["rate"]));
-    }
+    if (p["rate"]) ic.rate = as_rate(p["rate"], f, field + ".rate");
     if (p["trigger"]) ic.trigger = as_string(p["trigger"], f, field + ".trigger");
     if (ic.rate && ic.trigger)
       throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
     if (!ic.rate && !ic.trigger)
       throw ConfigError(where(f, p) + field + " (" + ic.name + "): missing 'rate' (Hz) or 'trigger' (an input port name)");
-    if (p["budget_us"]) ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
+    if (p["budget_us"]) {
+      ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
+      if (!(*ic.budget_us > 0)) throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
+    }
     if (const YAML::Node pf = p["param_file"]) {
       const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));
       try {

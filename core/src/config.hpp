@@ -71,6 +71,24 @@ struct MissionConfig {
 /// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what).
 MissionConfig load_config(const fs::path& file);
 
+// ---- meaning checks, shared by the config, the command line and `tern serve` ----------------
+
+/// The fastest rate the scheduler runs, Hz (an instance rate or the base rate; a tick then has
+/// 100 us for every instance due in it).
+constexpr double kMaxRateHz = 10'000.0;
+/// The longest flight, s (11.6 days: longer is a typo; flight time is int64 nanoseconds).
+constexpr double kMaxDurationS = 1e6;
+/// What is wrong with `seconds` as a flight length ("" if nothing): finite, > 0, <= kMaxDurationS.
+std::string duration_problem(double seconds);
+/// A random seed as written: a decimal integer 0 .. 2^64-1 (no sign, no exponent); nullopt else.
+std::optional<std::uint64_t> parse_seed(const std::string& text);
+/// What is wrong with `name` as an instance name ("" if nothing): an identifier, [A-Za-z_][A-Za-z0-9_]*,
+/// since it names parameters (name.param), log columns and files.
+std::string identifier_problem(const std::string& name);
+/// Throws ConfigError (file:line:col) for a topic named in `log.topics` or `log.rates` that no
+/// instance publishes (`published`: the topics that have a writer).
+void check_log_topics(const MissionConfig& config, const std::vector<std::string>& published);
+
 /// A YAML scalar or sequence as a parameter value: true/false -> bool, integer literal ->
 /// integer, number -> real, sequence of numbers -> vector, anything else (or quoted) -> text.
 /// Throws ConfigError for maps and mixed sequences.

@@ -1,12 +1,12 @@
 #include "flight_log.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cstring>
 #include <ctime>
 
 #include <fmt/format.h>
-
-#include "error.hpp"
+#include <spdlog/sinks/base_sink.h>
 
 namespace tern::core {
 
@@ -14,11 +14,22 @@ namespace {
 constexpr std::size_t kChunkBytes = 256 * 1024;
 constexpr std::size_t kMaxQueuedBytes = 64 * 1024 * 1024;
 
-std::FILE* open_or_throw(const fs::path& p) {
-  std::FILE* f = std::fopen(p.c_str(), "wb");
-  if (f == nullptr) throw ConfigError(fmt::format("cannot write '{}': {}", p.string(), std::strerror(errno)));
-  return f;
-}
+/// The host's text log: one write(2) per line, so that a killed process keeps every line.
+class TextSink final : public spdlog::sinks::base_sink<std::mutex> {
+ public:
+  TextSink(fs::path path, LogHealth& health) : file_(std::move(path), health) {}
+
+ protected:
+  void sink_it_(const spdlog::details::log_msg& msg) override {
+    spdlog::memory_buf_t line;
+    formatter_->format(msg, line);
+    file_.append(std::string_view(line.data(), line.size()));
+  }
+  void flush_() override {}
+
+ private:
+  LogFile file_;
+};
 
 // Row formatting writes into a pre-sized char buffer with std::to_chars (shortest round-trip
 // for floating point, so a logged double reads back bit-exact): about twice as fast as
@@ -53,14 +64,14 @@ T load(const char* p) {
 }
 }  // namespace
 
-FlightLog::FlightLog(fs::path run_dir) : dir_(std::move(run_dir)) {
+FlightLog::FlightLog(fs::path run_dir, ErrorHandler on_error) : dir_(std::move(run_dir)), on_error_(std::move(on_error)) {
   std::error_code ec;
   fs::create_directories(dir_ / "topics", ec);
-  if (ec) throw ConfigError(fmt::format("cannot create log directory '{}': {}", dir_.string(), ec.message()));
-  params_file_ = open_or_throw(dir_ / "params.csv");
-  std::fputs("t [s],parameter,value,source\n", params_file_);
-  std::fflush(params_file_);
+  if (ec) health_.fail(fmt::format("cannot create the run directory '{}': {}", dir_.string(), ec.message()));
+  params_file_ = std::make_unique<LogFile>(dir_ / "params.csv", health_);
+  params_file_->append("t [s],parameter,value,source\n");
   writer_ = std::thread([this] { writer_loop(); });
+  report();
 }
 
 FlightLog::~FlightLog() { close(); }
@@ -70,18 +81,18 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
   t->name = topic;
   t->columns = std::move(columns);
   t->msg_size = msg_size;
-  t->file = open_or_throw(dir_ / "topics" / (topic + ".csv"));
+  t->file = std::make_unique<LogFile>(dir_ / "topics" / (topic + ".csv"), health_);
   std::string header = "t [s]";
   for (const auto& c : t->columns) header += "," + c.name + " [" + c.unit + "]";
   header += "\n";
-  std::fputs(header.c_str(), t->file);
-  std::fflush(t->file);
-  t->pending.reserve(kChunkBytes + 4096);
+  t->file->append(header);
   topics_.push_back(std::move(t));
+  report();
   return topics_.size() - 1;
 }
 
 void FlightLog::capture(std::size_t index, Nanos t, const void* data) {
+  if (health_.failed()) return;  // nothing more is written: no need to keep it
   Topic& tp = *topics_[index];
   const std::size_t n = tp.pending.size();
   tp.pending.resize(n + sizeof(Nanos) + tp.msg_size);
@@ -91,6 +102,7 @@ void FlightLog::capture(std::size_t index, Nanos t, const void* data) {
 }
 
 void FlightLog::param(Nanos t, const std::string& name, const std::string& value, const std::string& source) {
+  if (health_.failed()) return;
   std::string row;
   append_time(row, t);
   auto put_cell = [&row](const std::string& s) {  // CSV quoting (RFC 4180) when needed
@@ -120,24 +132,35 @@ void FlightLog::hand_over(std::size_t topic, std::vector<char>& buf) {
   queued_bytes_ += buf.size();
   Chunk c{topic, {}};
   c.bytes.swap(buf);
+  // frequent flushes hand over small buffers: the next one gets room for a little more
+  buf.reserve(std::min(c.bytes.size() * 2, kChunkBytes) + 4096);
   queue_.push_back(std::move(c));
-  buf.reserve(topic == SIZE_MAX ? 4096 : kChunkBytes + 4096);
   lk.unlock();
   cv_.notify_one();
 }
 
 void FlightLog::flush() {
+  report();
+  if (health_.failed()) return;
   for (std::size_t i = 0; i < topics_.size(); ++i) hand_over(i, topics_[i]->pending);
   hand_over(SIZE_MAX, params_pending_);
 }
 
 void FlightLog::write_file(const std::string& name, const std::string& text) {
-  const fs::path p = dir_ / name;
-  const fs::path tmp = dir_ / (name + ".tmp");
-  std::FILE* f = open_or_throw(tmp);
-  std::fwrite(text.data(), 1, text.size(), f);
-  std::fclose(f);
-  fs::rename(tmp, p);  // a killed process leaves the old file or the new one, never half
+  write_file_atomically(dir_ / name, text, health_);
+  report();
+}
+
+std::shared_ptr<spdlog::sinks::sink> FlightLog::text_sink(const std::string& name) {
+  auto sink = std::make_shared<TextSink>(dir_ / name, health_);
+  sink->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %n: %v");
+  report();
+  return sink;
+}
+
+void FlightLog::report() {
+  if (!on_error_) return;
+  if (auto e = health_.take_unreported()) on_error_(fmt::format("flight log: {}; logging stopped, the flight goes on", *e));
 }
 
 std::size_t FlightLog::format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out,
@@ -194,21 +217,23 @@ void FlightLog::writer_loop() {
       c = std::move(queue_.front());
       queue_.pop_front();
     }
-    if (c.topic == SIZE_MAX) {
-      std::fwrite(c.bytes.data(), 1, c.bytes.size(), params_file_);
-      std::fflush(params_file_);
-    } else {
-      Topic& t = *topics_[c.topic];
-      const std::size_t n = format(t, c.bytes, text, capacity);
-      std::fwrite(text.get(), 1, n, t.file);
-      std::fflush(t.file);
-    }
+    if (!health_.failed()) write_chunk(c, text, capacity);
     {
       std::lock_guard lk(mu_);
       queued_bytes_ -= c.bytes.size();
     }
     cv_space_.notify_all();
   }
+}
+
+void FlightLog::write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::size_t& capacity) {
+  if (c.topic == SIZE_MAX) {
+    params_file_->append(std::string_view(c.bytes.data(), c.bytes.size()));
+    return;
+  }
+  Topic& t = *topics_[c.topic];
+  const std::size_t n = format(t, c.bytes, text, capacity);
+  t.file->append(std::string_view(text.get(), n));
 }
 
 void FlightLog::close() {
@@ -221,12 +246,9 @@ void FlightLog::close() {
   }
   cv_.notify_one();
   if (writer_.joinable()) writer_.join();
-  for (auto& t : topics_) {
-    if (t->file) std::fclose(t->file);
-    t->file = nullptr;
-  }
-  if (params_file_) std::fclose(params_file_);
-  params_file_ = nullptr;
+  for (auto& t : topics_) t->file.reset();
+  params_file_.reset();
+  report();
 }
 
 }  // namespace tern::core

@@ -6,7 +6,6 @@
 #include <set>
 
 #include <fmt/format.h>
-#include <spdlog/sinks/basic_file_sink.h>
 #include <spdlog/spdlog.h>
 
 #include "scheduler.hpp"
@@ -33,11 +32,10 @@ std::string param_text(const ParamValue& v) {
 
 }  // namespace
 
-FlightRecorder::FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks)
-    : log_(new_run_dir(parent, mission)), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
-  auto file = std::make_shared<spdlog::sinks::basic_file_sink_mt>((log_.dir() / "tern.log").string(), true);
-  file->set_pattern("[%Y-%m-%d %H:%M:%S.%e] [%l] %n: %v");
-  file_sink_ = file;
+FlightRecorder::FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
+                               FlightLog::ErrorHandler on_error)
+    : log_(new_run_dir(parent, mission), std::move(on_error)), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
+  file_sink_ = log_.text_sink("tern.log");
   sinks_->add_sink(file_sink_);
 }
 
@@ -97,7 +95,7 @@ void FlightRecorder::capture(const PortGraph& graph, Nanos now) {
 
 void FlightRecorder::flush_if_due(spdlog::logger& text_log) {
   const std::int64_t w = wall_ns();
-  if (w - last_flush_ <= 1'000'000'000) return;
+  if (w - last_flush_ <= FlightLog::kFlushPeriodNs) return;
   log_.flush();
   text_log.flush();
   last_flush_ = w;
@@ -108,6 +106,7 @@ void FlightRecorder::finish(const FlightFacts& facts, FlightResult& r) {
   log_.close();
   r.log_cpu_s = log_.writer_cpu_s();
   log_.write_file("timing.json", timing_json(facts, r));
+  r.log_error = log_.error();
 }
 
 }  // namespace tern::core

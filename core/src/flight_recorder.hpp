@@ -31,8 +31,9 @@ class FlightRecorder {
  public:
   /// Creates the run directory under `parent` for mission `mission` and adds its tern.log to
   /// `sinks` (where the host's logger and the instances' write). Throws ConfigError if the
-  /// directory cannot be created.
-  FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks);
+  /// directory cannot be created. `on_error` hears the log's first write error (once).
+  FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
+                 FlightLog::ErrorHandler on_error);
   ~FlightRecorder();  ///< removes tern.log from the sinks (flushed), closes the log
   FlightRecorder(const FlightRecorder&) = delete;
   FlightRecorder& operator=(const FlightRecorder&) = delete;
@@ -49,13 +50,17 @@ class FlightRecorder {
   void param(Nanos t, const std::string& qualified_name, const ParamBase& p, const std::string& source);
   /// At the end of a tick at flight time `now`: captures what was published on each logged topic.
   void capture(const PortGraph& graph, Nanos now);
-  /// Hands buffered rows to the writer and flushes `text_log`, at most once a second of wall time.
+  /// Hands buffered rows to the writer and flushes `text_log`, once per FlightLog::kFlushPeriodNs
+  /// of wall time.
   void flush_if_due(spdlog::logger& text_log);
   /// Writes summary.json, closes the topic files, then writes timing.json (with the log
-  /// writer's CPU time, stored into r.log_cpu_s).
+  /// writer's CPU time, stored into r.log_cpu_s); r.log_error: the log's first write error.
   void finish(const FlightFacts& facts, FlightResult& r);
   /// Closes the log without a summary (a flight that never started).
-  void close() { log_.close(); }
+  void close(FlightResult& r) {
+    log_.close();
+    r.log_error = log_.error();
+  }
 
  private:
   struct Logged {  // per topic of the graph

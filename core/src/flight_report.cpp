@@ -58,7 +58,7 @@ std::string resolved_config_yaml(const FlightFacts& f) {
     if (inst->builtin) {
       YAML::Node pm;
       for (const auto* p : inst->plugin->params()) pm[p->name()] = to_yaml(p->value());
-      root["phase_machine"] = pm;
+      if (pm.size() > 0) root[inst->cfg.name] = pm;  // phase_machine:, metrics: (replay has none)
       continue;
     }
     YAML::Node entry = root["plugins"][inst->cfg.index];

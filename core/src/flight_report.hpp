@@ -27,8 +27,9 @@ class FlightMetrics;
 
 struct FlightResult {
   fs::path run_dir;
-  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "error: ..."
+  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "SIGHUP", "error: ..."
   bool ok = true;
+  std::string log_error;   ///< the flight log's first write error: some of the log is missing ("" if none)
   Nanos flown = 0;
   double wall_s = 0;
   double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)

@@ -11,6 +11,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "elf_check.hpp"
 #include "error.hpp"
 #include "flight_recorder.hpp"
 #include "replay.hpp"
@@ -53,6 +54,8 @@ void install_signal_handlers() {
   sa.sa_flags = 0;
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);  // the terminal went away (an SSH drop): end the flight cleanly
+  std::signal(SIGXFSZ, SIG_IGN);    // a file-size limit fails the log's writes (EFBIG), not the flight
 }
 
 // ---- life of a host ---------------------------------------------------------------------------
@@ -94,6 +97,11 @@ void Host::build() {
   metrics_ = loaded.metrics;
   replay_ = loaded.replay;
   rebuild_graph();
+  if (!options_.replay_dir) {  // a replay flies a subset of the flight's instances
+    std::vector<std::string> published;
+    for (const auto& t : topics()) published.push_back(t.name);
+    check_log_topics(config_, published);
+  }
   built_ = true;
 }
 
@@ -134,25 +142,32 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
   if (so.string().find('/') == std::string::npos && so.extension() != ".so") so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
   so = fs::absolute(so).lexically_normal();
   if (!fs::exists(so)) throw ConfigError("swap: '" + so.string() + "' not found");
-  // a private copy: a rebuild at the same path must not resolve to the library already mapped
-  if (swap_dir_.empty()) {
-    swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
-    fs::create_directories(swap_dir_);
-  }
-  const fs::path copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
-  fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
+  fs::path copy;
+  const auto discard_copy = [&] {  // a refused swap leaves no file behind
+    std::error_code ec;
+    if (!copy.empty()) fs::remove(copy, ec);
+    if (!swap_dir_.empty() && fs::remove(swap_dir_, ec)) swap_dir_.clear();  // only when empty
+  };
   auto fresh = std::make_unique<Instance>();
   fresh->cfg = instances_[idx]->cfg;
   fresh->source = so;
   try {
+    check_elf(so);  // before the copy: the error names the file as given
+    // a private copy: a rebuild at the same path must not resolve to the library already mapped
+    if (swap_dir_.empty()) {
+      swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
+      fs::create_directories(swap_dir_);
+    }
+    copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
+    fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
     fresh->lib = open_plugin(copy);
     fresh->info = fresh->lib->info();
     fresh->plugin = fresh->lib->create();
     configure_instance(*fresh, setup());
-  } catch (const ConfigError& e) {
+  } catch (const std::exception& e) {  // ConfigError, or a filesystem error of the copy
     fresh->drop_plugin();
     fresh->lib.reset();
-    fs::remove(copy);
+    discard_copy();
     throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name + "' keeps flying: " + e.what());
   }
   std::swap(instances_[idx], fresh);  // `fresh` is now the old instance
@@ -163,7 +178,7 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
     rebuild_graph();
     fresh->drop_plugin();
     fresh->lib.reset();
-    fs::remove(copy);
+    discard_copy();
     throw ConfigError("swap " + instance + " <- " + so.string() + " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
   }
   if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
@@ -221,7 +236,11 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
       if (inst->cfg.name == qualified.substr(0, dot)) target = inst->plugin->find_param(qualified.substr(dot + 1));
   }
   if (target == nullptr) throw ConfigError("unknown parameter '" + qualified + "'" + did_you_mean(qualified, all));
-  remote_.request_param(*target, qualified, target->validate(value), source);  // validate throws ParamError
+  const ParamValue checked = target->validate(value);  // throws ParamError
+  if (!target->spec().live && flying_)
+    throw ParamError("parameter '" + qualified + "' is read when a flight starts: refused in flight, it takes effect next flight " +
+                     "(set it between flights)");
+  remote_.request_param(*target, qualified, checked, source);
 }
 
 void Host::edit_mission(const msg::MissionEdit& edit) {
@@ -313,16 +332,21 @@ FlightResult Host::fly() {
   ++flights_;
   g_stop_signal.store(0);
   const double duration = flight_duration();
-  FlightRecorder recorder(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_);
+  FlightRecorder recorder(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
+                          [this](const std::string& line) { logger_->error("{}", line); });
   FlightResult r;
   r.run_dir = recorder.dir();
   recorder.start(resolved_config_yaml(facts(duration)), parameters());
   recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
+  const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
+    recorder.param(t, name, p, source);
+  };
+  remote_.apply_start_only(record_param, *logger_);  // asked for between flights: before the plugins read them
   router_.prepare_flight();
   if (!start_instances(r)) {
-    recorder.close();
+    recorder.close(r);
     return r;
   }
   router_.start_flight();
@@ -330,9 +354,6 @@ FlightResult Host::fly() {
   Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
   start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
   flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
-  const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
-    recorder.param(t, name, p, source);
-  };
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
     const std::string failure = run_tick(clock);
@@ -427,7 +448,7 @@ void Host::finish_flight(FlightRecorder& recorder, FlightResult& r, double durat
       logger_->error("{}.stop failed: {}", instances_[*it]->cfg.name, e.what());
     }
   }
-  if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM")
+  if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM" || r.end_reason == "SIGHUP")
     logger_->warn("flight ended by {} at t={:.3f} s; the log is complete", r.end_reason, to_seconds(r.flown));
   recorder.finish(facts(duration_s), r);
   if (!options_.quiet) {

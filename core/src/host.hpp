@@ -58,7 +58,8 @@ struct HostOptions {
 
 /// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
 void request_stop(int signal_number);
-/// Installs SIGINT/SIGTERM handlers that call request_stop.
+/// Installs SIGINT/SIGTERM/SIGHUP handlers that call request_stop; ignores SIGXFSZ (a file-size
+/// limit then fails the log's writes, which the flight log reports, instead of killing the flight).
 void install_signal_handlers();
 /// The signal that asked for a stop (0: none since the last flight started).
 int stop_signal();
@@ -88,8 +89,10 @@ class Host {
   const std::vector<Handover>& handovers() const { return router_.handovers(); }
   std::shared_ptr<spdlog::logger> logger() const { return logger_; }
   /// Asks for a parameter change ("instance.param"), from any thread (command line, DDS). It is
-  /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value), applied
-  /// at the start of the next tick and recorded in params.csv with `source`.
+  /// validated now (throws ConfigError: unknown parameter, tern::ParamError: bad value, or a
+  /// start-only parameter in flight: "takes effect next flight"), applied at the start of the
+  /// next tick (a start-only one: before the next flight's start()) and recorded in params.csv
+  /// with `source`.
   void request_param(const std::string& qualified, const ParamValue& value, const std::string& source);
   /// Queues a mission edit (from any thread: command line, DDS). It is published on topic
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws

@@ -9,6 +9,7 @@
 #include <boost/dll/shared_library.hpp>
 #include <fmt/format.h>
 
+#include "elf_check.hpp"
 #include "error.hpp"
 
 #ifndef TERN_BUILD_PLUGIN_DIR
@@ -133,6 +134,7 @@ std::vector<fs::path> discover_plugins(const std::vector<fs::path>& search_path)
 }
 
 std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
+  check_elf(path);  // a truncated file would raise SIGBUS inside dlopen
   auto lib = std::make_unique<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
   lib->load(path.string(), ec, boost::dll::load_mode::rtld_local | boost::dll::load_mode::rtld_now);

@@ -52,8 +52,9 @@ std::vector<fs::path> plugin_search_path(const std::vector<fs::path>& config_dir
 /// Finds a plugin by name (or a path to a .so). Throws ConfigError naming the search path.
 fs::path find_plugin(const std::string& name_or_path, const std::vector<fs::path>& search_path);
 
-/// Opens a library and checks its handshake. Throws ConfigError on any mismatch, naming the
-/// plugin and what differs; the library is closed again before the throw.
+/// Checks the file (check_elf: complete, 64-bit, this machine, a shared object), opens it and
+/// checks its handshake. Throws ConfigError on any problem, naming the file or the plugin and
+/// what is wrong; the library is closed again before the throw.
 std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path);
 
 /// Every libtern_*.so in the search path (first found wins for each name).

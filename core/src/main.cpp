@@ -46,10 +46,36 @@ fs::path default_config() {
   return fs::path("configs/missions/default.yaml");
 }
 
+/// Exit status of `tern fly` and `tern replay` (README, "Exit status").
+int fly_exit_status(const FlightResult& r) {
+  if (!r.ok) return 1;
+  if (!r.log_error.empty()) return 3;  // flown, but the log is incomplete
+  if (r.end_reason == "SIGINT") return 130;
+  if (r.end_reason == "SIGTERM") return 143;
+  if (r.end_reason == "SIGHUP") return 129;
+  return 0;
+}
+
 int fail(const std::string& msg) {
   std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
   return 1;
 }
+
+/// --seed and --duration mean what the config's seed: and duration: mean (config.hpp).
+const CLI::Validator kSeedCheck(
+    [](std::string& s) { return parse_seed(s) ? std::string() : "'" + s + "' is not a seed: an integer 0 .. 2^64-1"; }, "SEED", "seed");
+const CLI::Validator kDurationCheck(
+    [](std::string& s) {
+      std::size_t used = 0;
+      double v = 0;
+      try {
+        v = std::stod(s, &used);
+      } catch (const std::exception&) {
+      }
+      if (used == 0 || used != s.size()) return "'" + s + "' is not a number of seconds";
+      return duration_problem(v);
+    },
+    "SECONDS", "flight length");
 
 /// Context for listing a plugin's ports and parameters without a mission.
 class DescribeContext final : public Context {
@@ -67,6 +93,9 @@ class DescribeContext final : public Context {
   std::string name_ = "describe";
   YAML::Node mission_;
 };
+
+/// A parameter's description, marked when it is read only when a flight starts.
+std::string description_text(const ParamBase& p) { return p.spec().description + (p.spec().live ? "" : " [start-only]"); }
 
 std::string range_text(const ParamBase& p) {
   const auto& s = p.spec();
@@ -99,7 +128,7 @@ int cmd_plugins(const std::vector<std::string>& extra_dirs) {
       for (auto* out : p->outputs()) fmt::print("  out {:<22} {:<26} {}\n", out->name(), out->type().name, out->description());
       for (auto* prm : p->params())
         fmt::print("  param {:<20} = {:<14} {:<8} {:<18} {}\n", prm->name(), to_string(prm->value()), prm->spec().unit, range_text(*prm),
-                   prm->spec().description);
+                   description_text(*prm));
       p.reset();  // before the library goes
     } catch (const ConfigError& e) {
       fmt::print("\n{}: {}\n", path.string(), e.what());
@@ -133,6 +162,7 @@ int main(int argc, char** argv) {
                "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
+  app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern: error: {} (see --help)\n", e.what()); });
   app.footer("More commands: tern plot RUN_DIR (figures of a flight), tern aero (aircraft models, trim),\n"
              "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
@@ -146,8 +176,8 @@ int main(int argc, char** argv) {
 
   auto* fly = app.add_subcommand("fly", "fly a mission (default: configs/missions/default.yaml) and write its flight log");
   fly->add_option("config", config, "mission config (YAML)");
-  fly->add_option("--seed", seed, "random seed (overrides the config's seed)");
-  fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(CLI::PositiveNumber);
+  fly->add_option("--seed", seed, "random seed (overrides the config's seed)")->check(kSeedCheck);
+  fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
   fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
@@ -357,7 +387,7 @@ int main(int argc, char** argv) {
       install_signal_handlers();
       const FlightResult r = host.fly();
       if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
-      return r.ok ? 0 : 1;
+      return fly_exit_status(r);
     }
     if (serve_cmd->parsed()) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
@@ -418,7 +448,7 @@ int main(int argc, char** argv) {
       fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", "parameter", "value", "default", "unit", "range", "description");
       for (const auto& [name, p] : host.parameters())
         fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", name, to_string(p->value()), to_string(p->default_value()), p->spec().unit,
-                   range_text(*p), p->spec().description);
+                   range_text(*p), description_text(*p));
       return 0;
     }
     install_signal_handlers();
@@ -431,10 +461,7 @@ int main(int argc, char** argv) {
     const FlightResult r = host.fly();
 #endif
     if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
-    if (!r.ok) return 1;
-    if (r.end_reason == "SIGINT") return 130;
-    if (r.end_reason == "SIGTERM") return 143;
-    return 0;
+    return fly_exit_status(r);
   } catch (const ConfigError& e) {
     return fail(e.what());
   } catch (const std::exception& e) {

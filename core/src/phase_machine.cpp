@@ -26,7 +26,7 @@ void PhaseMachine::configure() {
 
 void PhaseMachine::declare_preflight() {
   const PreflightLimits d;
-  declare(preflight_, "preflight", true, ParamSpec("", 0, 0, "hold on the ground (motor off) until the arming checks pass"));
+  declare(preflight_, "preflight", true, ParamSpec("", 0, 0, "hold on the ground (motor off) until the arming checks pass").start_only());
   declare(preflight_time_, "preflight_time", 2.0, ParamSpec("s", 0.0, 600.0, "the arming checks must all pass this long"));
   declare(preflight_timeout_, "preflight_timeout", 120.0, ParamSpec("s", 1.0, 3600.0, "end the flight (preflight_failed) if not armed by then"));
   declare(report_interval_, "preflight_report_interval", 5.0, ParamSpec("s", 0.1, 600.0, "how often the failing checks are logged"));

@@ -1,5 +1,7 @@
 #include "remote_queue.hpp"
 
+#include <algorithm>
+
 #include <spdlog/spdlog.h>
 
 namespace tern::core {
@@ -24,6 +26,21 @@ const OutputBase* RemoteQueue::renew_mission_edit_output() {
 
 void RemoteQueue::keep_mission_edit_output(bool taken) {
   if (!taken) mission_edit_out_.reset();
+}
+
+void RemoteQueue::apply_start_only(const ParamRecorder& record, spdlog::logger& log) {
+  std::lock_guard lk(mu_);
+  const auto first = std::stable_partition(params_.begin(), params_.end(), [](const ParamRequest& rq) { return rq.param->spec().live; });
+  for (auto rq = first; rq != params_.end(); ++rq) {
+    try {
+      rq->param->set(rq->value);
+      record(0, rq->name, *rq->param, rq->source);
+      log.info("{} = {} ({}, before the start)", rq->name, to_string(rq->param->value()), rq->source);
+    } catch (const std::exception& e) {
+      log.error("{} not changed: {}", rq->name, e.what());
+    }
+  }
+  params_.erase(first, params_.end());
 }
 
 void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& log) {

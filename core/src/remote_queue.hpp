@@ -48,6 +48,9 @@ class RemoteQueue {
   /// queued mission edit and applies every queued parameter change, recording each with
   /// `record`. A value the parameter refuses now is logged as an error and not applied.
   void apply(Nanos now, const ParamRecorder& record, spdlog::logger& log);
+  /// Before a flight's start(): applies the queued changes of start-only parameters (asked for
+  /// between flights), recorded at t = 0; the live ones stay queued for the first tick.
+  void apply_start_only(const ParamRecorder& record, spdlog::logger& log);
 
  private:
   struct ParamRequest {

@@ -6,6 +6,9 @@
 #include <map>
 #include <sstream>
 
+#include <fmt/format.h>
+#include <spdlog/logger.h>
+
 #include "error.hpp"
 
 namespace tern::core {
@@ -57,6 +60,11 @@ class Track final : public ReplaySource::TrackBase {
     while (std::getline(in, line)) {
       ++lineno;
       if (line.empty()) continue;
+      if (in.eof()) {  // no line end: the flight was cut off while writing this row
+        partial_ = fmt::format("{}:{}: the last line is partial ({} characters, no line end: the flight was cut off "
+                               "while writing it): dropped", csv.string(), lineno, line.size());
+        break;
+      }
       T msg{};
       Nanos t = 0;
       std::size_t i = 0;
@@ -92,12 +100,14 @@ class Track final : public ReplaySource::TrackBase {
   }
   void rewind() override { next_ = 0; }
   Nanos last_time() const override { return rows_.empty() ? 0 : rows_.back().first; }
+  const std::string& partial_last_line() const override { return partial_; }
   Output<T>& output() { return *out_; }
 
  private:
   std::unique_ptr<Output<T>> out_;
   std::vector<std::pair<Nanos, T>> rows_;
   std::size_t next_ = 0;
+  std::string partial_;
 };
 
 }  // namespace
@@ -113,6 +123,7 @@ void ReplaySource::configure() {
     const auto csv = dir_ / "topics" / (topic + ".csv");
     if (!std::filesystem::exists(csv)) return;
     auto track = std::make_unique<Track<T>>(csv);
+    if (!track->partial_last_line().empty()) log().warn("replay: {}", track->partial_last_line());
     track->feedback = feedback;
     this->declare(track->output(), topic, "recorded " + topic);
     tracks_.push_back(std::move(track));

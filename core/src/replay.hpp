@@ -7,11 +7,13 @@
 // flight) and the truth topic `truth` (those present),
 // mapping columns by name onto the message layout; at each tick it publishes every recorded
 // message whose log time is <= now, in order. The values are bit-exact: the log writes doubles
-// in shortest round-trip form.
+// in shortest round-trip form. A last line without a line end (a flight killed while writing
+// it) is dropped with one warning; any other short row is an error naming file and line.
 #pragma once
 
 #include <filesystem>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tern/plugin.hpp"
@@ -34,6 +36,8 @@ class ReplaySource final : public Plugin {
     virtual void publish_until(Nanos now) = 0;
     virtual void rewind() = 0;
     virtual Nanos last_time() const = 0;
+    /// Why the CSV's last line was dropped ("" if it was complete).
+    virtual const std::string& partial_last_line() const = 0;
     /// A topic the flight's controllers wrote after the estimator had run (actuators): it is
     /// played back one tick late, as the estimator saw it in flight.
     bool feedback = false;

@@ -161,7 +161,7 @@ bool Scheduler::next(int stop_signal) {
     return false;
   }
   if (stop_signal != 0) {
-    end_reason_ = stop_signal == SIGTERM ? "SIGTERM" : "SIGINT";
+    end_reason_ = stop_signal == SIGTERM ? "SIGTERM" : stop_signal == SIGHUP ? "SIGHUP" : "SIGINT";
     now_ = tick_ > 0 ? (tick_ - 1) * period_ : 0;
     return false;
   }

@@ -66,7 +66,7 @@ class Scheduler {
   Scheduler(Nanos base_period, Nanos end, bool realtime);
 
   /// Starts the next tick. False when the flight is over: past its end (end_reason()
-  /// "duration") or stopped by a signal (`stop_signal`, 0 for none: "SIGINT" or "SIGTERM");
+  /// "duration") or stopped by a signal (`stop_signal`, 0 for none: "SIGINT", "SIGTERM" or "SIGHUP");
   /// now() is then the last tick flown.
   bool next(int stop_signal);
   std::int64_t tick() const { return tick_; }

@@ -83,12 +83,12 @@ struct Server {
           } catch (const std::exception&) {
             return "error: fly: duration '" + w[1] + "' is not a number of seconds";
           }
-          if (!(*duration > 0)) return "error: fly: duration must be > 0 s";
+          if (const std::string p = duration_problem(*duration); !p.empty()) return "error: fly: duration " + p;
         }
         host.set_duration(duration);
         const FlightResult r = host.fly();
-        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
-                           to_seconds(r.flown), r.run_dir.string());
+        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}{}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
+                           to_seconds(r.flown), r.run_dir.string(), r.log_error.empty() ? "" : " (incomplete: " + r.log_error + ")");
       }
       if (cmd == "swap") {
         if (w.size() != 3) return "error: usage: swap INSTANCE PATH";

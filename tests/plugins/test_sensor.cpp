@@ -15,7 +15,7 @@ class TestSensor final : public tern::Plugin {
     declare(truth_, "truth", "altitude state");
     declare(climb_gain_, "climb_gain", 10.0, tern::ParamSpec("m/s", 0.0, 100.0, "climb rate per unit of throttle above 0.5"));
     declare(noise_, "noise", 0.1, tern::ParamSpec("m/s^2", 0.0, 10.0, "accelerometer noise (uniform half-width)"));
-    declare(h0_, "h0", 0.0, tern::ParamSpec("m", -100.0, 10000.0, "initial altitude"));
+    declare(h0_, "h0", 0.0, tern::ParamSpec("m", -100.0, 10000.0, "initial altitude").start_only());
   }
   void start() override {
     rng_.seed(context().seed());

@@ -94,6 +94,9 @@ class FcuSerial final : public tern::Plugin {
   // plugin_params.cpp
   void declare_ports();
   void declare_link_params();
+  /// The settings derived from start-only parameters (clock policy, actuator and RC maps):
+  /// checked in configure(), taken up again by every start().
+  void take_start_params();
   void declare_mapping_params();
   std::array<double, 3> default_max_deflection() const;
   std::array<double, 3> aircraft_max_deflection() const;
@@ -149,7 +152,7 @@ class FcuSerial final : public tern::Plugin {
   tern::Param<double> connect_timeout_, wait_timeout_, link_timeout_, command_rate_, heartbeat_rate_, timesync_rate_, mag_scale_;
   tern::Param<std::vector<double>> max_deflection_, signs_, rc_channels_, rc_aux_channels_, rc_signs_;
 
-  fcu::ClockPolicy policy_ = fcu::ClockPolicy::fcu;  ///< `clock`, parsed once in configure()
+  fcu::ClockPolicy policy_ = fcu::ClockPolicy::fcu;  ///< `clock`, parsed in configure() and at every start()
   fcu::ActuatorMap map_;
   fcu::RcMap rc_map_;
   std::unique_ptr<fcu::ChildProcess> emulator_proc_;

@@ -32,6 +32,7 @@ fcu::LinkOptions FcuSerial::link_options() const {
 
 void FcuSerial::start() {
   shutdown();
+  take_start_params();
   fcu::LinkOptions o = link_options();
   if (emulator_()) {
     start_emulator();

@@ -30,6 +30,8 @@ class PlannerPlugin final : public Plugin {
  private:
   void apply_edit(const msg::MissionEdit& e);
   void replace(Mission m, const std::string& why);
+  /// Reads the configured mission (mission_file, else the config's mission: section).
+  void load_configured();
 
   Input<msg::State> state_;
   Input<msg::MissionEdit> edit_;
@@ -37,6 +39,7 @@ class PlannerPlugin final : public Plugin {
   Param<std::string> mission_file_;
 
   Mission configured_;               ///< the mission as configured (reset() returns to it)
+  std::string configured_from_;      ///< mission_file when configured_ was read
   std::vector<MissionWaypoint> wps_; ///< the mission now (lla entries unconverted)
   bool loop_ = true;
   bool dirty_ = true;                ///< the list changed since the last publish

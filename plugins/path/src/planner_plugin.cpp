@@ -35,13 +35,19 @@ void PlannerPlugin::configure() {
           ParamSpec("", 0, 0,
                     "waypoint file (tern or ROSplane format) used instead of the config's mission: section; "
                     "empty: the section")
-              .as_path());
+              .as_path()
+              .start_only());
   if (context().describing()) return;
+  load_configured();
+}
+
+void PlannerPlugin::load_configured() {
   if (!mission_file_().empty())
     configured_ = load_mission_file(mission_file_());
   else
     configured_ = parse_mission_section(context().mission(), context().config_dir());
   check_capacity(configured_);
+  configured_from_ = mission_file_();
   replace(configured_, "configured");
 }
 
@@ -55,7 +61,10 @@ void PlannerPlugin::replace(Mission m, const std::string& why) {
              m.has_lla() ? ", some in lat/lon" : "");
 }
 
-void PlannerPlugin::start() { dirty_ = true; }
+void PlannerPlugin::start() {
+  if (mission_file_() != configured_from_) load_configured();  // changed between flights
+  dirty_ = true;
+}
 
 void PlannerPlugin::reset() {
   replace(configured_, "reset to the configured one");

@@ -18,21 +18,67 @@ constexpr double kDeg = 3.14159265358979323846 / 180.0;
   throw std::runtime_error(source + ": " + field + ": " + what);
 }
 
+/// Same, "<file>:<line>: ..." when the node comes from a file. Built documents have no line
+/// (mark -1) and cloned ones line 0 everywhere, so a value on a file's first line goes unnamed.
+[[noreturn]] void fail_at(const YAML::Node& n, const std::string& source, const std::string& field, const std::string& what) {
+  if (n.Mark().line <= 0) fail(source, field, what);
+  fail(source + ":" + std::to_string(n.Mark().line + 1), field, what);
+}
+
 std::string num(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
 }
 
-double read_double(const YAML::Node& n, const std::string& source, const std::string& field) {
-  if (!n.IsScalar()) fail(source, field, "expected a number");
+// What a value of a small unmanned aircraft can plausibly be: a guard against typos and unit
+// slips (a value outside makes the model meaningless or its integration blow up), not a design
+// check. The largest of the aircraft in configs/aircraft and ROSflight's are well inside.
+struct Limits {
+  double lo, hi;
+  bool lo_open;  ///< lo itself is not allowed (> lo)
+  const char* unit;
+};
+constexpr Limits kMass{0, 1e3, true, "kg"};
+constexpr Limits kInertia{0, 1e4, true, "kg m^2"};
+constexpr Limits kCrossInertia{-1e4, 1e4, false, "kg m^2"};
+constexpr Limits kDensity{0.01, 2.0, false, "kg/m^3"};  // 1.225 at sea level, 0.41 at 10 km
+constexpr Limits kArea{0, 100, true, "m^2"};
+constexpr Limits kLength{0, 100, true, "m"};
+constexpr Limits kPosition{-100, 100, false, "m"};       // gear contact points about the CG
+constexpr Limits kDeflection{0, 0.5, true, "m"};          // gear static deflection
+constexpr Limits kEfficiency{0, 1.5, true, ""};           // Oswald factor, wing epsilon
+constexpr Limits kBlendRate{0, 1e4, true, ""};            // stall blending rate M
+constexpr Limits kAngle{0, 1.6, true, "rad"};             // stall angle, surface limits (< 90 deg)
+constexpr Limits kAngleDeg{0, 90, true, "deg"};           // ROSflight's surface limits
+constexpr Limits kCoefficient{-100, 100, false, ""};      // aero derivatives (|C_m_q| ~ 40 at most)
+constexpr Limits kPropCoefficient{-10, 10, false, ""};    // C_T(J), C_Q(J) polynomial coefficients
+constexpr Limits kSpeedConstant{0, 1e5, true, "RPM/V"};
+constexpr Limits kTorqueConstant{0, 10, true, "N m/A"};
+constexpr Limits kResistance{0, 100, true, "ohm"};
+constexpr Limits kCurrent{0, 1e3, false, "A"};
+constexpr Limits kVoltage{0, 1e3, true, "V"};
+constexpr Limits kTimeConstant{0, 10, false, "s"};
+constexpr Limits kRate{0, 1e4, true, "Hz"};
+constexpr Limits kRatio{0, 100, true, ""};                // gear damping ratio
+constexpr Limits kFriction{0, 10, false, ""};             // friction coefficients, nose steering
+constexpr Limits kSpeed{0, 10, true, "m/s"};              // gear slip speed
+constexpr Limits kChannel{0, 32, false, ""};              // ROSflight's output channels
+
+double read_double(const YAML::Node& n, const std::string& source, const std::string& field, const Limits& lim) {
+  if (!n.IsScalar()) fail_at(n, source, field, "expected a number");
   double v = 0;
   try {
     v = n.as<double>();
   } catch (const YAML::Exception&) {
-    fail(source, field, "expected a number, got '" + n.Scalar() + "'");
+    fail_at(n, source, field, "expected a number, got '" + n.Scalar() + "'");
   }
-  if (!std::isfinite(v)) fail(source, field, "value " + n.Scalar() + " is not finite");
+  if (!std::isfinite(v)) fail_at(n, source, field, "value " + n.Scalar() + " is not finite");
+  const std::string unit = *lim.unit ? std::string(" ") + lim.unit : "";
+  if (lim.lo_open && lim.lo == 0 && !(v > 0)) fail_at(n, source, field, "value " + num(v) + " must be > 0" + unit);
+  if ((lim.lo_open ? !(v > lim.lo) : v < lim.lo) || v > lim.hi)
+    fail_at(n, source, field, "value " + num(v) + " is outside the plausible range " + (lim.lo_open ? "(" : "[") + num(lim.lo) +
+                                  ", " + num(lim.hi) + "]" + unit);
   return v;
 }
 
@@ -40,6 +86,7 @@ struct Field {
   const char* key;
   double* dst;
   bool required;
+  const Limits& lim;
 };
 
 // Reads the fields of one map section; unknown keys and missing required keys are errors.
@@ -54,7 +101,7 @@ void read_section(const YAML::Node& sec, const std::string& prefix, const std::v
     bool found = false;
     for (const auto& f : fields) {
       if (key == f.key) {
-        *f.dst = read_double(kv.second, source, path);
+        *f.dst = read_double(kv.second, source, path, f.lim);
         seen.insert(key);
         found = true;
         break;
@@ -86,12 +133,13 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   };
   if (doc["name"]) ac.name = doc["name"].as<std::string>();
   if (!doc["mass"]) fail(source, "mass", "missing required field");
-  ac.mass = read_double(doc["mass"], source, "mass");
+  ac.mass = read_double(doc["mass"], source, "mass", kMass);
 
   read_section(section("inertia", true), "inertia",
-               {{"Jx", &ac.Jx, true}, {"Jy", &ac.Jy, true}, {"Jz", &ac.Jz, true}, {"Jxz", &ac.Jxz, true}},
+               {{"Jx", &ac.Jx, true, kInertia}, {"Jy", &ac.Jy, true, kInertia}, {"Jz", &ac.Jz, true, kInertia},
+                {"Jxz", &ac.Jxz, true, kCrossInertia}},
                source);
-  read_section(section("environment", true), "environment", {{"rho", &ac.rho, true}}, source);
+  read_section(section("environment", true), "environment", {{"rho", &ac.rho, true, kDensity}}, source);
   const YAML::Node wing = section("wing", true);
   double blend = 1.0;
   if (wing.IsMap() && wing["stall_blend"]) {
@@ -103,35 +151,37 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   }
   ac.stall_blend = blend != 0.0;
   read_section(wing, "wing",
-               {{"S", &ac.S, true}, {"b", &ac.b, true}, {"c", &ac.c, true}, {"e", &ac.e, true},
-                {"M", &ac.M, true}, {"alpha0", &ac.alpha0, true}},
+               {{"S", &ac.S, true, kArea}, {"b", &ac.b, true, kLength}, {"c", &ac.c, true, kLength},
+                {"e", &ac.e, true, kEfficiency}, {"M", &ac.M, true, kBlendRate}, {"alpha0", &ac.alpha0, true, kAngle}},
                source, {"stall_blend"});
   auto& a = ac.aero;
   read_section(section("aero", true), "aero",
-               {{"C_L_0", &a.C_L_0, true}, {"C_L_alpha", &a.C_L_alpha, true},
-                {"C_L_q", &a.C_L_q, true}, {"C_L_delta_e", &a.C_L_delta_e, true},
-                {"C_D_0", &a.C_D_0, false}, {"C_D_alpha", &a.C_D_alpha, false},
-                {"C_D_p", &a.C_D_p, true}, {"C_D_q", &a.C_D_q, true},
-                {"C_D_delta_e", &a.C_D_delta_e, true},
-                {"C_m_0", &a.C_m_0, true}, {"C_m_alpha", &a.C_m_alpha, true},
-                {"C_m_q", &a.C_m_q, true}, {"C_m_delta_e", &a.C_m_delta_e, true},
-                {"C_Y_0", &a.C_Y_0, true}, {"C_Y_beta", &a.C_Y_beta, true},
-                {"C_Y_p", &a.C_Y_p, true}, {"C_Y_r", &a.C_Y_r, true},
-                {"C_Y_delta_a", &a.C_Y_delta_a, true}, {"C_Y_delta_r", &a.C_Y_delta_r, true},
-                {"C_ell_0", &a.C_ell_0, true}, {"C_ell_beta", &a.C_ell_beta, true},
-                {"C_ell_p", &a.C_ell_p, true}, {"C_ell_r", &a.C_ell_r, true},
-                {"C_ell_delta_a", &a.C_ell_delta_a, true}, {"C_ell_delta_r", &a.C_ell_delta_r, true},
-                {"C_n_0", &a.C_n_0, true}, {"C_n_beta", &a.C_n_beta, true},
-                {"C_n_p", &a.C_n_p, true}, {"C_n_r", &a.C_n_r, true},
-                {"C_n_delta_a", &a.C_n_delta_a, true}, {"C_n_delta_r", &a.C_n_delta_r, true}},
+               {{"C_L_0", &a.C_L_0, true, kCoefficient}, {"C_L_alpha", &a.C_L_alpha, true, kCoefficient},
+                {"C_L_q", &a.C_L_q, true, kCoefficient}, {"C_L_delta_e", &a.C_L_delta_e, true, kCoefficient},
+                {"C_D_0", &a.C_D_0, false, kCoefficient}, {"C_D_alpha", &a.C_D_alpha, false, kCoefficient},
+                {"C_D_p", &a.C_D_p, true, kCoefficient}, {"C_D_q", &a.C_D_q, true, kCoefficient},
+                {"C_D_delta_e", &a.C_D_delta_e, true, kCoefficient},
+                {"C_m_0", &a.C_m_0, true, kCoefficient}, {"C_m_alpha", &a.C_m_alpha, true, kCoefficient},
+                {"C_m_q", &a.C_m_q, true, kCoefficient}, {"C_m_delta_e", &a.C_m_delta_e, true, kCoefficient},
+                {"C_Y_0", &a.C_Y_0, true, kCoefficient}, {"C_Y_beta", &a.C_Y_beta, true, kCoefficient},
+                {"C_Y_p", &a.C_Y_p, true, kCoefficient}, {"C_Y_r", &a.C_Y_r, true, kCoefficient},
+                {"C_Y_delta_a", &a.C_Y_delta_a, true, kCoefficient}, {"C_Y_delta_r", &a.C_Y_delta_r, true, kCoefficient},
+                {"C_ell_0", &a.C_ell_0, true, kCoefficient}, {"C_ell_beta", &a.C_ell_beta, true, kCoefficient},
+                {"C_ell_p", &a.C_ell_p, true, kCoefficient}, {"C_ell_r", &a.C_ell_r, true, kCoefficient},
+                {"C_ell_delta_a", &a.C_ell_delta_a, true, kCoefficient}, {"C_ell_delta_r", &a.C_ell_delta_r, true, kCoefficient},
+                {"C_n_0", &a.C_n_0, true, kCoefficient}, {"C_n_beta", &a.C_n_beta, true, kCoefficient},
+                {"C_n_p", &a.C_n_p, true, kCoefficient}, {"C_n_r", &a.C_n_r, true, kCoefficient},
+                {"C_n_delta_a", &a.C_n_delta_a, true, kCoefficient}, {"C_n_delta_r", &a.C_n_delta_r, true, kCoefficient}},
                source);
   auto& p = ac.prop;
   const YAML::Node prop = section("propulsion", true);
   read_section(prop, "propulsion",
-               {{"D_prop", &p.D_prop, true}, {"C_T_0", &p.C_T_0, true}, {"C_T_1", &p.C_T_1, true},
-                {"C_T_2", &p.C_T_2, true}, {"C_Q_0", &p.C_Q_0, true}, {"C_Q_1", &p.C_Q_1, true},
-                {"C_Q_2", &p.C_Q_2, true}, {"K_V", &p.K_V, false}, {"K_Q", &p.K_Q, false},
-                {"R_motor", &p.R_motor, true}, {"i0", &p.i0, true}, {"V_max", &p.V_max, true}},
+               {{"D_prop", &p.D_prop, true, kLength}, {"C_T_0", &p.C_T_0, true, kPropCoefficient},
+                {"C_T_1", &p.C_T_1, true, kPropCoefficient}, {"C_T_2", &p.C_T_2, true, kPropCoefficient},
+                {"C_Q_0", &p.C_Q_0, true, kPropCoefficient}, {"C_Q_1", &p.C_Q_1, true, kPropCoefficient},
+                {"C_Q_2", &p.C_Q_2, true, kPropCoefficient}, {"K_V", &p.K_V, false, kSpeedConstant},
+                {"K_Q", &p.K_Q, false, kTorqueConstant}, {"R_motor", &p.R_motor, true, kResistance},
+                {"i0", &p.i0, true, kCurrent}, {"V_max", &p.V_max, true, kVoltage}},
                source);
   if (!prop["K_Q"]) {
     if (!prop["K_V"]) fail(source, "propulsion.K_Q", "missing required field (or give K_V in RPM/V)");
@@ -140,18 +190,18 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   }
   if (const YAML::Node s = doc["servos"]) {
     read_section(s, "servos",
-                 {{"tau", &ac.servo_tau, false}, {"max_delta_a", &ac.max_delta_a, false},
-                  {"max_delta_e", &ac.max_delta_e, false}, {"max_delta_r", &ac.max_delta_r, false}},
+                 {{"tau", &ac.servo_tau, false, kTimeConstant}, {"max_delta_a", &ac.max_delta_a, false, kAngle},
+                  {"max_delta_e", &ac.max_delta_e, false, kAngle}, {"max_delta_r", &ac.max_delta_r, false, kAngle}},
                  source);
   }
   ac.gear.points = default_gear_points(ac.b);
   if (const YAML::Node g = doc["gear"]) {
     auto& gr = ac.gear;
     read_section(g, "gear",
-                 {{"static_deflection", &gr.static_deflection, false},
-                  {"damping_ratio", &gr.damping_ratio, false}, {"mu_roll", &gr.mu_roll, false},
-                  {"mu_lateral", &gr.mu_lateral, false}, {"v_slip", &gr.v_slip, false},
-                  {"nose_steering", &gr.nose_steering, false}},
+                 {{"static_deflection", &gr.static_deflection, false, kDeflection},
+                  {"damping_ratio", &gr.damping_ratio, false, kRatio}, {"mu_roll", &gr.mu_roll, false, kFriction},
+                  {"mu_lateral", &gr.mu_lateral, false, kFriction}, {"v_slip", &gr.v_slip, false, kSpeed},
+                  {"nose_steering", &gr.nose_steering, false, kFriction}},
                  source, {"points"});
     if (const YAML::Node pts = g["points"]) {
       if (!pts.IsSequence() || pts.size() == 0) fail(source, "gear.points", "expected a list of [x, y, z]");
@@ -159,12 +209,56 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
       for (std::size_t i = 0; i < pts.size(); ++i) {
         const std::string f = "gear.points[" + std::to_string(i) + "]";
         if (!pts[i].IsSequence() || pts[i].size() != 3) fail(source, f, "expected [x, y, z] in m");
-        gr.points.emplace_back(read_double(pts[i][0], source, f), read_double(pts[i][1], source, f),
-                               read_double(pts[i][2], source, f));
+        gr.points.emplace_back(read_double(pts[i][0], source, f, kPosition), read_double(pts[i][1], source, f, kPosition),
+                               read_double(pts[i][2], source, f, kPosition));
       }
     }
   }
   return ac;
+}
+
+// ROSflight values tern reads but does not use, or converts after reading.
+struct RosflightExtras {
+  double epsilon = 0, refresh = 0, channel = 0, Jxy = 0, Jyz = 0;
+  double max_a = 0, max_e = 0, max_r = 0;  ///< surface limits, deg
+};
+struct Slot {
+  double* dst;
+  const Limits& lim;
+};
+
+/// ROSflight's names for the uavbook quantities: where each value goes, and its limits.
+std::map<std::string, Slot> rosflight_keys(Aircraft& ac, RosflightExtras& x) {
+  auto& a = ac.aero;
+  auto& p = ac.prop;
+  std::map<std::string, Slot> known = {
+      {"rho", {&ac.rho, kDensity}}, {"mass", {&ac.mass, kMass}},
+      {"wing_s", {&ac.S, kArea}}, {"wing_b", {&ac.b, kLength}}, {"wing_c", {&ac.c, kLength}}, {"wing_M", {&ac.M, kBlendRate}},
+      {"wing_epsilon", {&x.epsilon, kEfficiency}}, {"wing_alpha0", {&ac.alpha0, kAngle}},
+      {"D_prop", {&p.D_prop, kLength}}, {"CT_0", {&p.C_T_0, kPropCoefficient}}, {"CT_1", {&p.C_T_1, kPropCoefficient}},
+      {"CT_2", {&p.C_T_2, kPropCoefficient}}, {"CQ_0", {&p.C_Q_0, kPropCoefficient}}, {"CQ_1", {&p.C_Q_1, kPropCoefficient}},
+      {"CQ_2", {&p.C_Q_2, kPropCoefficient}}, {"KV", {&p.K_V, kSpeedConstant}}, {"KQ", {&p.K_Q, kTorqueConstant}},
+      {"V_max", {&p.V_max, kVoltage}}, {"R_motor", {&p.R_motor, kResistance}}, {"I_0", {&p.i0, kCurrent}},
+      {"servo_tau", {&ac.servo_tau, kTimeConstant}}, {"servo_refresh_rate", {&x.refresh, kRate}},
+      {"max_aileron_deflection_angle", {&x.max_a, kAngleDeg}}, {"max_elevator_deflection_angle", {&x.max_e, kAngleDeg}},
+      {"max_rudder_deflection_angle", {&x.max_r, kAngleDeg}},
+      {"aileron_channel", {&x.channel, kChannel}}, {"elevator_channel", {&x.channel, kChannel}},
+      {"throttle_channel", {&x.channel, kChannel}}, {"rudder_channel", {&x.channel, kChannel}},
+      {"Jxx", {&ac.Jx, kInertia}}, {"Jyy", {&ac.Jy, kInertia}}, {"Jzz", {&ac.Jz, kInertia}}, {"Jxz", {&ac.Jxz, kCrossInertia}},
+      {"Jxy", {&x.Jxy, kCrossInertia}}, {"Jyz", {&x.Jyz, kCrossInertia}}};
+  // the aerodynamic coefficients, by ROSflight name
+  for (const auto& [name, dst] : std::initializer_list<std::pair<const char*, double*>>{
+           {"C_L_O", &a.C_L_0}, {"C_L_alpha", &a.C_L_alpha}, {"C_L_q", &a.C_L_q}, {"C_L_delta_e", &a.C_L_delta_e},
+           {"C_D_O", &a.C_D_0}, {"C_D_alpha", &a.C_D_alpha}, {"C_D_p", &a.C_D_p}, {"C_D_q", &a.C_D_q}, {"C_D_delta_e", &a.C_D_delta_e},
+           {"C_ell_O", &a.C_ell_0}, {"C_ell_beta", &a.C_ell_beta}, {"C_ell_p", &a.C_ell_p}, {"C_ell_r", &a.C_ell_r},
+           {"C_ell_delta_a", &a.C_ell_delta_a}, {"C_ell_delta_r", &a.C_ell_delta_r},
+           {"C_m_O", &a.C_m_0}, {"C_m_alpha", &a.C_m_alpha}, {"C_m_q", &a.C_m_q}, {"C_m_delta_e", &a.C_m_delta_e},
+           {"C_n_O", &a.C_n_0}, {"C_n_beta", &a.C_n_beta}, {"C_n_p", &a.C_n_p}, {"C_n_r", &a.C_n_r},
+           {"C_n_delta_a", &a.C_n_delta_a}, {"C_n_delta_r", &a.C_n_delta_r},
+           {"C_Y_O", &a.C_Y_0}, {"C_Y_beta", &a.C_Y_beta}, {"C_Y_p", &a.C_Y_p}, {"C_Y_r", &a.C_Y_r},
+           {"C_Y_delta_a", &a.C_Y_delta_a}, {"C_Y_delta_r", &a.C_Y_delta_r}})
+    known.emplace(name, Slot{dst, kCoefficient});
+  return known;
 }
 
 // ROSflight's names for the uavbook coefficients, and the ones its model declares but the
@@ -172,36 +266,12 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
 Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   Aircraft ac;
   ac.source = source;
-  auto& a = ac.aero;
   auto& p = ac.prop;
-  double epsilon = 0, refresh = 0, channel = 0, Jxy = 0, Jyz = 0;
-  double max_a = ac.max_delta_a / kDeg, max_e = ac.max_delta_e / kDeg, max_r = ac.max_delta_r / kDeg;
-  std::map<std::string, double*> known = {
-      {"rho", &ac.rho}, {"mass", &ac.mass},
-      {"wing_s", &ac.S}, {"wing_b", &ac.b}, {"wing_c", &ac.c}, {"wing_M", &ac.M},
-      {"wing_epsilon", &epsilon}, {"wing_alpha0", &ac.alpha0},
-      {"D_prop", &p.D_prop}, {"CT_0", &p.C_T_0}, {"CT_1", &p.C_T_1}, {"CT_2", &p.C_T_2},
-      {"CQ_0", &p.C_Q_0}, {"CQ_1", &p.C_Q_1}, {"CQ_2", &p.C_Q_2}, {"KV", &p.K_V}, {"KQ", &p.K_Q},
-      {"V_max", &p.V_max}, {"R_motor", &p.R_motor}, {"I_0", &p.i0},
-      {"servo_tau", &ac.servo_tau}, {"servo_refresh_rate", &refresh},
-      {"max_aileron_deflection_angle", &max_a}, {"max_elevator_deflection_angle", &max_e},
-      {"max_rudder_deflection_angle", &max_r},
-      {"aileron_channel", &channel}, {"elevator_channel", &channel},
-      {"throttle_channel", &channel}, {"rudder_channel", &channel},
-      {"C_L_O", &a.C_L_0}, {"C_L_alpha", &a.C_L_alpha}, {"C_L_q", &a.C_L_q},
-      {"C_L_delta_e", &a.C_L_delta_e},
-      {"C_D_O", &a.C_D_0}, {"C_D_alpha", &a.C_D_alpha}, {"C_D_p", &a.C_D_p}, {"C_D_q", &a.C_D_q},
-      {"C_D_delta_e", &a.C_D_delta_e},
-      {"C_ell_O", &a.C_ell_0}, {"C_ell_beta", &a.C_ell_beta}, {"C_ell_p", &a.C_ell_p},
-      {"C_ell_r", &a.C_ell_r}, {"C_ell_delta_a", &a.C_ell_delta_a}, {"C_ell_delta_r", &a.C_ell_delta_r},
-      {"C_m_O", &a.C_m_0}, {"C_m_alpha", &a.C_m_alpha}, {"C_m_q", &a.C_m_q},
-      {"C_m_delta_e", &a.C_m_delta_e},
-      {"C_n_O", &a.C_n_0}, {"C_n_beta", &a.C_n_beta}, {"C_n_p", &a.C_n_p}, {"C_n_r", &a.C_n_r},
-      {"C_n_delta_a", &a.C_n_delta_a}, {"C_n_delta_r", &a.C_n_delta_r},
-      {"C_Y_O", &a.C_Y_0}, {"C_Y_beta", &a.C_Y_beta}, {"C_Y_p", &a.C_Y_p}, {"C_Y_r", &a.C_Y_r},
-      {"C_Y_delta_a", &a.C_Y_delta_a}, {"C_Y_delta_r", &a.C_Y_delta_r},
-      {"Jxx", &ac.Jx}, {"Jyy", &ac.Jy}, {"Jzz", &ac.Jz}, {"Jxz", &ac.Jxz},
-      {"Jxy", &Jxy}, {"Jyz", &Jyz}};
+  RosflightExtras x;
+  x.max_a = ac.max_delta_a / kDeg;
+  x.max_e = ac.max_delta_e / kDeg;
+  x.max_r = ac.max_delta_r / kDeg;
+  std::map<std::string, Slot> known = rosflight_keys(ac, x);
   static const std::set<std::string> kZeroOnly = {
       "C_L_beta", "C_L_p", "C_L_r", "C_L_delta_a", "C_L_delta_r", "C_D_beta", "C_D_r",
       "C_D_delta_a", "C_D_delta_r", "C_ell_alpha", "C_ell_q", "C_ell_delta_e", "C_m_beta",
@@ -226,13 +296,13 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
       const std::string key = kv.first.as<std::string>();
       const std::string field = node + ".ros__parameters." + key;
       if (kZeroOnly.count(key)) {
-        const double v = read_double(kv.second, source, field);
+        const double v = read_double(kv.second, source, field, kCoefficient);
         if (v != 0.0) fail(source, field, "value " + num(v) + ": this coefficient is not part of the uavbook model tern implements (only 0 is accepted)");
         continue;
       }
       auto it = known.find(key);
       if (it == known.end()) fail(source, field, "unknown key");
-      *it->second = read_double(kv.second, source, field);
+      *it->second.dst = read_double(kv.second, source, field, it->second.lim);
       seen.insert(key);
     }
   }
@@ -251,13 +321,13 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
     if (!(p.K_V > 0)) fail(source, "KV", "value " + num(p.K_V) + " must be > 0 RPM/V");
     p.K_Q = 60.0 / (2.0 * 3.14159265358979323846 * p.K_V);
   }
-  if (Jxy != 0.0) fail(source, "Jxy", "value " + num(Jxy) + ": the uavbook model needs a symmetric aircraft (Jxy = 0)");
-  if (Jyz != 0.0) fail(source, "Jyz", "value " + num(Jyz) + ": the uavbook model needs a symmetric aircraft (Jyz = 0)");
+  if (x.Jxy != 0.0) fail(source, "Jxy", "value " + num(x.Jxy) + ": the uavbook model needs a symmetric aircraft (Jxy = 0)");
+  if (x.Jyz != 0.0) fail(source, "Jyz", "value " + num(x.Jyz) + ": the uavbook model needs a symmetric aircraft (Jyz = 0)");
   ac.stall_blend = false;  // ROSflight's simulator sets sigma(alpha) = 0
   ac.e = 0.9;  // ROSflight's drag polar uses a fixed Oswald factor of 0.9 (wing_epsilon is unused)
-  ac.max_delta_a = max_a * kDeg;
-  ac.max_delta_e = max_e * kDeg;
-  ac.max_delta_r = max_r * kDeg;
+  ac.max_delta_a = x.max_a * kDeg;
+  ac.max_delta_e = x.max_e * kDeg;
+  ac.max_delta_r = x.max_r * kDeg;
   ac.gear.points = default_gear_points(ac.b);
   const auto slash = source.find_last_of('/');
   ac.name = source.substr(slash == std::string::npos ? 0 : slash + 1);

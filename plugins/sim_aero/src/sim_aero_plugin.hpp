@@ -64,31 +64,33 @@ class SimAero final : public tern::Plugin {
     declare(status_out_, "fcu_status", "simulated flight-control unit status");
 
     declare(aircraft_, "aircraft", "",
-            ParamSpec("", 0, 0, "aircraft file (tern or ROSflight format); empty: the mission's aircraft").as_path());
-    declare(sim_rate_, "sim_rate", 400.0, ParamSpec("Hz", 50, 20000, "integration rate (fixed RK4 sub-steps)"));
+            ParamSpec("", 0, 0, "aircraft file (tern or ROSflight format); empty: the mission's aircraft").as_path().start_only());
+    declare(sim_rate_, "sim_rate", 400.0, ParamSpec("Hz", 50, 20000, "integration rate (fixed RK4 sub-steps)").start_only());
     declare(init_mode_, "init_mode", "ground",
             ParamSpec("", 0, 0, "initial state: on the ground at rest, in the air level, or at trim")
-                .one_of({"ground", "air", "trim"}));
+                .one_of({"ground", "air", "trim"})
+                .start_only());
     declare(init_position_, "init_position", std::vector<double>{0.0, 0.0},
-            ParamSpec("m", -1e6, 1e6, "initial north, east position").of_size(2));
-    declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", 0, 10000, "initial height above the ground (air, trim)"));
-    declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 0, 100, "initial airspeed (air, trim)"));
-    declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7, 7, "initial heading psi"));
+            ParamSpec("m", -1e6, 1e6, "initial north, east position").of_size(2).start_only());
+    declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", 0, 10000, "initial height above the ground (air, trim)").start_only());
+    declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 0, 100, "initial airspeed (air, trim)").start_only());
+    declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7, 7, "initial heading psi").start_only());
     declare(wind_, "wind", std::vector<double>{0.0, 0.0, 0.0},
             ParamSpec("m/s", -50, 50, "steady wind, NED (direction the air moves to)").of_size(3));
     declare(turbulence_, "turbulence", "none",
             ParamSpec("", 0, 0, "Dryden turbulence, MIL-F-8785C low altitude").one_of({"none", "light", "moderate"}));
     declare(gusts_, "gusts", std::vector<double>{},
-            ParamSpec("", -1e6, 1e6, "scheduled 1-cosine gusts: groups of [start s, duration s, w_n, w_e, w_d m/s]"));
-    declare(gust_rate_, "gust_rate", 0.0, ParamSpec("1/s", 0, 10, "random 1-cosine gusts per second (0: none)"));
-    declare(gust_max_, "gust_max", 0.0, ParamSpec("m/s", 0, 30, "peak speed of random gusts, uniform in [0, max]"));
-    declare(gust_min_duration_, "gust_min_duration", 1.0, ParamSpec("s", 0.01, 100, "shortest random gust"));
-    declare(gust_max_duration_, "gust_max_duration", 3.0, ParamSpec("s", 0.01, 100, "longest random gust"));
+            ParamSpec("", -1e6, 1e6, "scheduled 1-cosine gusts: groups of [start s, duration s, w_n, w_e, w_d m/s]").start_only());
+    declare(gust_rate_, "gust_rate", 0.0, ParamSpec("1/s", 0, 10, "random 1-cosine gusts per second (0: none)").start_only());
+    declare(gust_max_, "gust_max", 0.0, ParamSpec("m/s", 0, 30, "peak speed of random gusts, uniform in [0, max]").start_only());
+    declare(gust_min_duration_, "gust_min_duration", 1.0, ParamSpec("s", 0.01, 100, "shortest random gust").start_only());
+    declare(gust_max_duration_, "gust_max_duration", 3.0, ParamSpec("s", 0.01, 100, "longest random gust").start_only());
 
     declare(sensor_profile_, "sensor_profile", sim::sensor_profile_names().front(),
             ParamSpec("", 0, 0, "sensor and actuator defaults: rosflight (ROSflight's simulator), realistic "
                                 "(datasheets: u-blox M8N, ICM-20602, MS5611, MS4525DO), ideal (no errors)")
-                .one_of(sim::sensor_profile_names()));
+                .one_of(sim::sensor_profile_names())
+                .start_only());
     declare_sensor(imu_, "imu", 400.0);
     declare_sensor(mag_, "mag", 50.0);
     declare_sensor(baro_, "baro", 100.0);
@@ -98,9 +100,9 @@ class SimAero final : public tern::Plugin {
     declare(pitot_cover_, "pitot_cover", 0.0,
             ParamSpec("s", 0, 600, "the pilot keeps the pitot covered until this flight time (the boot calibration then "
                                    "zeroes the sensor, not the wind)"));
-    declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic"));
-    declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)"));
-    declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)"));
+    declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic").start_only());
+    declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)").start_only());
+    declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)").start_only());
     declare(armed_, "armed", true, ParamSpec("", 0, 0, "simulated FCU reports armed"));
     declare(offboard_, "offboard", true, ParamSpec("", 0, 0, "simulated FCU follows tern's commands"));
 
@@ -117,14 +119,7 @@ class SimAero final : public tern::Plugin {
     check_gusts();
     if (context().describing()) return;
 
-    std::string path = aircraft_();
-    if (path.empty()) path = context().aircraft_file().string();
-    if (path.empty()) {
-      throw ParamError("parameter '" + context().instance_name() +
-                       ".aircraft': no aircraft file (set it, or the mission config's aircraft: key)");
-    }
-    aircraft_data_ = sim::load_aircraft(path);
-    log().info("aircraft {} from {}", aircraft_data_->name, path);
+    load_aircraft();
   }
 
   void start() override { initialise(); }
@@ -167,12 +162,12 @@ class SimAero final : public tern::Plugin {
 
  private:
   void declare_sensor(SensorSlot& s, const std::string& name, double rate) {
-    declare(s.rate, name + "_rate", rate, ParamSpec("Hz", 1, 20000, name + " sample rate"));
-    declare(s.enabled, name + "_enabled", true, ParamSpec("", 0, 0, name + " on (false: never published)"));
+    declare(s.rate, name + "_rate", rate, ParamSpec("Hz", 1, 20000, name + " sample rate").start_only());
+    declare(s.enabled, name + "_enabled", true, ParamSpec("", 0, 0, name + " on (false: never published)").start_only());
     declare(s.dropout, name + "_dropout", std::vector<double>{},
-            ParamSpec("s", 0, 1e9, name + " drop-out windows: pairs [start, end) of flight time"));
+            ParamSpec("s", 0, 1e9, name + " drop-out windows: pairs [start, end) of flight time").start_only());
     declare(s.nan, name + "_nan", std::vector<double>{},
-            ParamSpec("s", 0, 1e9, name + " windows of NaN samples (a failing sensor): pairs [start, end) of flight time"));
+            ParamSpec("s", 0, 1e9, name + " windows of NaN samples (a failing sensor): pairs [start, end) of flight time").start_only());
   }
   std::vector<SensorSlot*> slots() { return {&imu_, &mag_, &baro_, &diff_, &gnss_}; }
 
@@ -212,23 +207,24 @@ class SimAero final : public tern::Plugin {
     const sim::ActuatorParams da = sim::actuator_profile(sensor_profile_());
     for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
       const SensorReal& r = kSensorReals[i];
-      declare(sensor_reals_[i], r.name, d.*r.field, ParamSpec(r.unit, r.min, r.max, r.description));
+      declare(sensor_reals_[i], r.name, d.*r.field, ParamSpec(r.unit, r.min, r.max, r.description).start_only());
     }
     for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
       const SensorVector& r = kSensorVectors[i];
       const Eigen::Vector3d& v = d.*r.field;
       declare(sensor_vectors_[i], r.name, std::vector<double>{v.x(), v.y(), v.z()},
-              ParamSpec(r.unit, r.min, r.max, r.description).of_size(3));
+              ParamSpec(r.unit, r.min, r.max, r.description).of_size(3).start_only());
     }
     for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) {
       const ActuatorReal& r = kActuatorReals[i];
-      declare(actuator_reals_[i], r.name, da.*r.field, ParamSpec(r.unit, r.min, r.max, r.description));
+      declare(actuator_reals_[i], r.name, da.*r.field, ParamSpec(r.unit, r.min, r.max, r.description).start_only());
     }
     declare(gnss_start_steady_, "gnss_start_steady", d.gnss_start_steady,
-            ParamSpec("", 0, 0, "GNSS position error starts in its steady state (false: at zero)"));
+            ParamSpec("", 0, 0, "GNSS position error starts in its steady state (false: at zero)").start_only());
     declare(calibrate_at_boot_, "calibrate_at_boot", d.calibrate_at_boot,
-            ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)"));
-    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use"));
+            ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)")
+                .start_only());
+    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use").start_only());
   }
 
   sim::SensorParams sensor_params() const {
@@ -248,8 +244,23 @@ class SimAero final : public tern::Plugin {
     for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) a.*kActuatorReals[i].field = actuator_reals_[i]();
     return a;
   }
+  /// Loads the aircraft file (again, when `aircraft` changed between flights).
+  void load_aircraft() {
+    std::string path = aircraft_();
+    if (path.empty()) path = context().aircraft_file().string();
+    if (path.empty()) {
+      throw ParamError("parameter '" + context().instance_name() +
+                       ".aircraft': no aircraft file (set it, or the mission config's aircraft: key)");
+    }
+    if (aircraft_data_ && path == aircraft_path_) return;
+    aircraft_data_ = sim::load_aircraft(path);
+    aircraft_path_ = path;
+    log().info("aircraft {} from {}", aircraft_data_->name, path);
+  }
+
   void initialise() {
-    if (!aircraft_data_) throw std::runtime_error("sim_aero: no aircraft loaded (configure() ran in describing mode)");
+    if (context().describing()) throw std::runtime_error("sim_aero: no aircraft loaded (configure() ran in describing mode)");
+    load_aircraft();
     const std::uint64_t seed = context().seed();
     sim_ = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
     sensors_ = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
@@ -547,6 +558,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<bool> armed_, offboard_;
 
   std::optional<sim::Aircraft> aircraft_data_;
+  std::string aircraft_path_;  ///< the file aircraft_data_ came from
   std::unique_ptr<sim::Simulator> sim_;
   std::unique_ptr<sim::Sensors> sensors_;
   sim::SensorSchedule truth_sched_, rc_sched_, status_sched_;

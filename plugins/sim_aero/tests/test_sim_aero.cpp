@@ -2,9 +2,14 @@
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <limits>
+#include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -30,6 +35,13 @@ Aircraft anaconda() { return load_aircraft(kAircraft + "/anaconda.yaml"); }
 
 /// 3-2-1 yaw of a state, rad.
 double yaw_of(const StateVector& x) { return tern::euler_from_quaternion(attitude(x)).z(); }
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
 
 // Error message of parse_aircraft on a modified tern document.
 std::string load_error(const YAML::Node& doc) {
@@ -168,10 +180,41 @@ TEST_CASE("aircraft: bad files give one line naming the field") {
   {
     YAML::Node d = YAML::Clone(ros);
     d["/standalone_dynamics"]["ros__parameters"]["Jzz"] = -0.6;
-    CHECK(load_error(d) == "test.yaml: inertia.Jz: value -0.6 must be > 0 kg m^2");
+    CHECK(load_error(d) == "test.yaml: /standalone_dynamics.ros__parameters.Jzz: value -0.6 must be > 0 kg m^2");
   }
   CHECK_THROWS_WITH_AS(load_aircraft("/nonexistent/x.yaml"), "/nonexistent/x.yaml: cannot open aircraft file",
                        std::runtime_error);
+}
+
+TEST_CASE("aircraft: an implausible value is one line naming file, line, field and value (issue 19)") {
+  // finite, but no small aircraft has it: the error names the file, not a diverging trim
+  const std::string text = read_text(kAircraft + "/anaconda.yaml");
+  const auto cut = [&](const std::string& key, const std::string& value) {
+    const std::size_t at = text.find("\n  " + key + ":") + 1;
+    const std::size_t eol = text.find('\n', at);
+    const std::string edited = text.substr(0, at) + "  " + key + ": " + value + text.substr(eol);
+    const std::size_t line = static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<long>(at), '\n')) + 1;
+    const std::string path = (std::filesystem::temp_directory_path() / "tern_implausible.yaml").string();
+    std::ofstream(path) << edited;
+    std::string e = "(no error)";
+    try {
+      load_aircraft(path);
+    } catch (const std::runtime_error& x) {
+      e = x.what();
+    }
+    std::filesystem::remove(path);
+    return std::make_pair(path + ":" + std::to_string(line) + ": ", e);
+  };
+  auto [at, e] = cut("C_m_alpha", "2.7e300");
+  CHECK(e == at + "aero.C_m_alpha: value 2.7e+300 is outside the plausible range [-100, 100]");
+  std::tie(at, e) = cut("Jx", "0");
+  CHECK(e == at + "inertia.Jx: value 0 must be > 0 kg m^2");
+  std::tie(at, e) = cut("rho", "1225");  // g/m^3 for kg/m^3
+  CHECK(e == at + "environment.rho: value 1225 is outside the plausible range [0.01, 2] kg/m^3");
+  std::tie(at, e) = cut("C_T_0", "-.inf");
+  CHECK(e == at + "propulsion.C_T_0: value -.inf is not finite");
+  std::tie(at, e) = cut("C_m_alpha", "-0.5");
+  CHECK(e == "(no error)");
 }
 
 TEST_CASE("bad input: a NaN state or input is an error, not a NaN flight") {

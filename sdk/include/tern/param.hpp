@@ -5,6 +5,9 @@
 // parameter file, may change while flying (command line, DDS), and are always validated against
 // the declared range: a bad value throws tern::ParamError naming the parameter, the value and
 // the range, and leaves the old value in place. on_change callbacks run after a valid change.
+// A parameter the plugin reads only when a flight starts (in start() or reset(): a file, a rate,
+// an initial condition) is declared start_only(): the host refuses to change it in flight
+// ("takes effect next flight") and applies a change asked for between flights before start().
 #pragma once
 
 #include <cstdint>
@@ -39,6 +42,7 @@ class TERN_API ParamError : public std::runtime_error {
 ///   ParamSpec("", 0, 0, "aircraft file").as_path()
 ///   ParamSpec("", 0, 0, "turbulence").one_of({"none", "light", "moderate"})
 ///   ParamSpec("m/s", -50, 50, "steady wind NED").of_size(3)
+///   ParamSpec("m", 0, 1000, "initial altitude").start_only()
 struct ParamSpec {
   ParamSpec() = default;
   ParamSpec(std::string unit_, double min_, double max_, std::string description_)
@@ -46,6 +50,7 @@ struct ParamSpec {
   ParamSpec& as_path() { is_path = true; return *this; }
   ParamSpec& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
   ParamSpec& of_size(std::size_t n) { size = n; return *this; }
+  ParamSpec& start_only() { live = false; return *this; }
 
   std::string unit;          ///< SI unit, "" if dimensionless
   double min = -std::numeric_limits<double>::infinity();  ///< inclusive (numbers, vector elements)
@@ -54,6 +59,7 @@ struct ParamSpec {
   bool is_path = false;      ///< text value is a file path, resolved relative to the file that sets it
   std::vector<std::string> choices;  ///< allowed text values (empty: any)
   std::size_t size = 0;      ///< required vector length (0: any)
+  bool live = true;          ///< a change in flight takes effect at once (false: start_only())
 };
 
 class TERN_API ParamBase {

@@ -44,8 +44,8 @@ class Node;
 namespace tern {
 
 /// Version of the plugin API (this header, ports, parameters, messages). The host refuses a
-/// plugin built against another version.
-inline constexpr std::uint32_t kSdkApiVersion = 1;
+/// plugin built against another version. 2: ParamSpec::live (start-only parameters).
+inline constexpr std::uint32_t kSdkApiVersion = 2;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 enum class PluginKind : std::uint8_t {

@@ -15,8 +15,10 @@
 //    cruise); wing_epsilon, servo_refresh_rate and the *_channel keys are read and not used.
 //
 // Errors: every problem (file missing, malformed YAML, unknown key, missing required field,
-// non-finite or out-of-range value such as a negative mass or inertia) throws
-// std::runtime_error with one line "<file>: <field>: <what is wrong>".
+// non-finite or out-of-range value such as a negative mass or inertia, a value no small aircraft
+// has, such as a coefficient of 2.7e300 or an air density in g/m^3: the plausible ranges are
+// in aircraft.cpp) throws std::runtime_error with one line "<file>:<line>: <field>: <what is
+// wrong>" (no line for a document built in code, or for a problem of several fields).
 #pragma once
 
 #include <array>

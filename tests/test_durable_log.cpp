@@ -1,0 +1,160 @@
+// The flight log survives what ends or starves a flight (issue 19, item 3): SIGKILL loses at
+// most 100 ms of wall time of log, SIGHUP ends the flight cleanly, and a write error (file-size
+// limit, unwritable directory) is one line while the flight flies on, with exit status 3.
+#include <doctest/doctest.h>
+#include <sys/resource.h>
+
+#include <csignal>
+#include <ctime>
+#include <iomanip>
+
+#include <nlohmann/json.hpp>
+
+#include "test_process.hpp"
+#include "test_util.hpp"
+
+namespace {
+
+std::string long_flight() { return base_config().replace(base_config().find("duration: 2"), 11, "duration: 600"); }
+
+/// The one run directory under `logdir` (empty path if there is none yet).
+fs::path the_run(const fs::path& logdir) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(logdir, ec)) return e.path();
+  return {};
+}
+
+/// Wall time of tern.log's "flight '...'" line, logged just before the plugins start (and so
+/// before the first tick): [YYYY-mm-dd HH:MM:SS.mmm], local time.
+std::optional<std::chrono::system_clock::time_point> flight_line_time(const fs::path& run) {
+  for (const auto& l : lines(read_file(run / "tern.log"))) {
+    if (l.find("] tern: flight '") == std::string::npos) continue;
+    std::tm tm{};
+    std::istringstream in(l.substr(1, 19));
+    in >> std::get_time(&tm, "%Y-%m-%d %H:%M:%S");
+    tm.tm_isdst = -1;
+    const auto t = std::chrono::system_clock::from_time_t(std::mktime(&tm));
+    return t + std::chrono::milliseconds(std::stoi(l.substr(21, 3)));
+  }
+  return std::nullopt;
+}
+
+/// Flight time of the last complete row of a CSV (a partial last line does not count).
+double last_row_time(const std::string& csv) {
+  const auto end = csv.rfind('\n');
+  REQUIRE(end != std::string::npos);
+  const auto begin = csv.rfind('\n', end - 1);
+  return std::stod(csv.substr(begin + 1, end - begin - 1));
+}
+
+/// Starts a long realtime flight logging under test_dir()/<name>_runs; returns its pid once the
+/// flight has started (its tern.log has the flight line), and the log directory.
+std::pair<pid_t, fs::path> start_realtime_flight(const std::string& name) {
+  const fs::path cfg = write_file(name + ".yaml", long_flight());
+  const fs::path logdir = test_dir() / (name + "_runs");
+  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string()}, test_dir() / (name + ".out"));
+  REQUIRE(wait_until([&] { return !the_run(logdir).empty() && flight_line_time(the_run(logdir)); }, 20));
+  return {pid, logdir};
+}
+
+std::size_t count_lines_with(const std::string& text, const std::string& what) {
+  std::size_t n = 0;
+  for (const auto& l : lines(text)) n += l.find(what) != std::string::npos;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("SIGKILL of a realtime flight loses at most 100 ms of wall time of log") {
+  const auto [pid, logdir] = start_realtime_flight("kill");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const auto killed_at = std::chrono::system_clock::now();
+  kill(pid, SIGKILL);
+  wait_for(pid);
+  const fs::path run = the_run(logdir);
+  // paced to wall time, the flight had flown at most this long when it was killed (the first
+  // tick comes after the logged line; its millisecond stamp is truncated: + 1 ms)
+  const double flown_max = std::chrono::duration<double>(killed_at - *flight_line_time(run)).count() + 0.001;
+  const double logged = last_row_time(read_file(run / "topics" / "imu.csv"));
+  INFO("flown at most " << flown_max << " s, logged up to " << logged << " s");
+  CHECK(logged > 1.0);
+  CHECK(flown_max - logged <= 0.100);
+}
+
+TEST_CASE("SIGHUP ends the flight like SIGTERM: complete log, exit status 129") {
+  const auto [pid, logdir] = start_realtime_flight("hup");
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  kill(pid, SIGHUP);
+  const int status = wait_for(pid);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 129);
+  const auto s = nlohmann::json::parse(read_file(the_run(logdir) / "summary.json"));
+  CHECK(s["end_reason"] == "SIGHUP");
+  CHECK(read_file(the_run(logdir) / "tern.log").find("flight ended by SIGHUP") != std::string::npos);
+}
+
+TEST_CASE("a file-size limit mid-flight: the flight completes, one error line, whole rows, exit status 3") {
+  const fs::path cfg = write_file("fsize.yaml", base_config().replace(base_config().find("duration: 2"), 11, "duration: 30"));
+  const fs::path logdir = test_dir() / "fsize_runs";
+  const fs::path out = test_dir() / "fsize.out";
+  // SIGXFSZ keeps its default action (end the process): tern must ignore it itself
+  const int rc = run_tern({"fly", cfg.string(), "-q", "--log-dir", logdir.string()}, out, [] {
+    const rlimit lim{64 * 1024, 64 * 1024};
+    setrlimit(RLIMIT_FSIZE, &lim);
+  });
+  const std::string console = read_file(out);
+  INFO(console);
+  CHECK(rc == 3);
+  CHECK(count_lines_with(console, "error") == 1);
+  CHECK(count_lines_with(console, "flight log: cannot write '" + logdir.string()) == 1);
+  CHECK(console.find("File too large; logging stopped, the flight goes on") != std::string::npos);
+  const fs::path run = the_run(logdir);
+  const auto s = nlohmann::json::parse(read_file(run / "summary.json"));  // degraded to the summary
+  CHECK(s["end_reason"] == "duration");
+  CHECK(s["duration_s"].get<double>() == 30.0);
+  for (const auto& e : fs::directory_iterator(run / "topics")) {
+    const std::string csv = read_file(e.path());
+    INFO(e.path().string());
+    CHECK((csv.empty() || csv.back() == '\n'));
+  }
+  CHECK_FALSE(fs::exists(run / "summary.json.tmp"));
+}
+
+TEST_CASE("an unwritable log directory: the flight flies, one error line, exit status 3") {
+  const fs::path cfg = write_file("rodir.yaml", base_config());
+  const fs::path not_a_dir = write_file("plain_file", "x");
+  std::vector<std::pair<fs::path, std::string>> cases = {{not_a_dir / "runs", "Not a directory"}};
+  const fs::path ro = test_dir() / "read_only";
+  fs::create_directories(ro);
+  fs::permissions(ro, fs::perms::owner_read | fs::perms::owner_exec);
+  if (geteuid() != 0) cases.emplace_back(ro, "Permission denied");  // root writes anyway
+  for (const auto& [dir, reason] : cases) {
+    const fs::path out = test_dir() / "rodir.out";
+    const int rc = run_tern({"fly", cfg.string(), "-q", "--log-dir", dir.string()}, out);
+    const std::string console = read_file(out);
+    INFO(console);
+    CHECK(rc == 3);
+    CHECK(count_lines_with(console, "error") == 1);
+    CHECK(console.find("flight log: cannot create the run directory '" + dir.string()) != std::string::npos);
+    CHECK(console.find(reason + "; logging stopped, the flight goes on") != std::string::npos);
+  }
+  fs::permissions(ro, fs::perms::owner_all);
+}
+
+TEST_CASE("tern replay accepts a log whose last line is partial: dropped with one warning") {
+  const tern::core::FlightResult flown = fly_yaml(base_config(), "partial_orig");
+  REQUIRE(flown.ok);
+  const fs::path imu = flown.run_dir / "topics" / "imu.csv";
+  const std::size_t rows = lines(read_file(imu)).size();  // header + 801 samples (0 .. 2 s at 400 Hz)
+  std::ofstream(imu, std::ios::app) << "2.002500000,2002500000,0.01";  // killed mid-row
+  const fs::path out = test_dir() / "partial.out";
+  const int rc = run_tern({"replay", flown.run_dir.string(), "-q", "--log-dir", (test_dir() / "partial_replay").string()}, out);
+  const std::string console = read_file(out);
+  INFO(console);
+  CHECK(rc == 0);
+  CHECK(count_lines_with(console, "the last line is partial") == 1);
+  CHECK(console.find(imu.string() + ":" + std::to_string(rows + 1) + ": the last line is partial (27 characters, no line end") !=
+        std::string::npos);
+  const fs::path replayed = the_run(test_dir() / "partial_replay");
+  CHECK(last_row_time(read_file(replayed / "topics" / "state.csv")) == 2.0);
+}
