@@ -168,6 +168,7 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   j["seed"] = f.seed;
   j["duration_s"] = to_seconds(r.flown);
   j["end_reason"] = r.end_reason;
+  if (!r.end_detail.empty()) j["end_detail"] = r.end_detail;
   j["base_rate_hz"] = 1e9 / static_cast<double>(f.base_period);
   if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
   if (f.phase_machine) phases_json(*f.phase_machine, f.router, j);
@@ -256,6 +257,7 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
   }
   if (f.metrics) s += metrics_text(*f.metrics, sensor_profile(f));
   s += fmt::format("log: {}\n", r.run_dir.string());
+  if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);
   return s;
 }
 

@@ -27,7 +27,8 @@ class FlightMetrics;
 
 struct FlightResult {
   fs::path run_dir;
-  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "SIGHUP", "error: ..."
+  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's end_flight reason ("crash")
+  std::string end_detail;  ///< with a plugin's end_flight: "instance at t=...: what it said"; else empty
   bool ok = true;
   std::string log_error;   ///< the flight log's first write error: some of the log is missing ("" if none)
   Nanos flown = 0;

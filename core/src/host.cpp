@@ -345,6 +345,7 @@ FlightResult Host::fly() {
   };
   remote_.apply_start_only(record_param, *logger_);  // asked for between flights: before the plugins read them
   router_.prepare_flight();
+  for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
   if (!start_instances(r)) {
     recorder.close(r);
     return r;
@@ -356,13 +357,14 @@ FlightResult Host::fly() {
   flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
-    const std::string failure = run_tick(clock);
+    const EndRequest end = run_tick(clock);
     recorder.capture(graph_, clock.now());
     notify_observer(clock.now());
-    if (!failure.empty()) {
+    if (!end.reason.empty()) {
       r.ok = false;
-      r.end_reason = failure;
-      logger_->error("{}", failure);
+      r.end_reason = end.reason;
+      r.end_detail = end.detail;
+      logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
       break;
     }
     if (clock.wall_check_due()) {
@@ -409,8 +411,9 @@ bool Host::start_instances(FlightResult& r) {
   return true;
 }
 
-// Steps every instance due in this tick, in the graph's order. Returns "" or why the flight ends.
-std::string Host::run_tick(Scheduler& clock) {
+// Steps every instance due in this tick, in the graph's order. Returns why the flight ends
+// (reason "" while it goes on): an error, the phase machine's failure or a plugin's end_flight.
+EndRequest Host::run_tick(Scheduler& clock) {
   const Nanos now = clock.now();
   const auto step = [&clock](Instance& inst) { return clock.step(*inst.plugin, inst.stats); };
   clock.start_steps();
@@ -419,15 +422,17 @@ std::string Host::run_tick(Scheduler& clock) {
     if (!router_.may_step(idx) || !clock.due(inst.divisor, inst.trigger)) continue;
     const std::string error = step(inst);
     if (inst.routed) {
-      if (std::string failure = router_.after_controller_step(now, idx, error, step); !failure.empty()) return failure;
+      if (std::string failure = router_.after_controller_step(now, idx, error, step); !failure.empty()) return {failure, ""};
     } else if (!error.empty()) {
-      return fmt::format("error: {}.step threw at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), error);
+      return {fmt::format("error: {}.step threw at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), error), ""};
     } else if (idx == phase_machine_idx_) {
-      if (!phase_machine_->failure().empty()) return phase_machine_->failure();
+      if (!phase_machine_->failure().empty()) return {phase_machine_->failure(), ""};
       router_.follow_phase(now);
     }
+    if (auto end = inst.take_end_request())
+      return {end->reason, fmt::format("{} at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), end->detail)};
   }
-  return "";
+  return {};
 }
 
 void Host::notify_observer(Nanos now) {

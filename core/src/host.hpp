@@ -140,7 +140,7 @@ class Host {
   // fly(), in order
   void reset_for_next_flight();
   bool start_instances(FlightResult& r);
-  std::string run_tick(Scheduler& clock);
+  EndRequest run_tick(Scheduler& clock);
   void notify_observer(Nanos now);
   void finish_flight(FlightRecorder& recorder, FlightResult& r, double duration_s);
 

@@ -2,6 +2,7 @@
 
 #include <map>
 #include <set>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
@@ -56,7 +57,11 @@ class InstanceContext final : public Context {
   const YAML::Node& mission() const override { return config_.mission; }
   std::filesystem::path aircraft_file() const override { return config_.aircraft; }
   bool describing() const override { return describing_; }
+  void end_flight(const std::string& reason, const std::string& detail) override {
+    if (!end_) end_ = EndRequest{reason, detail};
+  }
 
+  std::optional<EndRequest> take_end_request() { return std::exchange(end_, std::nullopt); }
   const std::string& last_param() const { return last_param_; }
   const std::set<std::string>& used() const { return used_; }
 
@@ -68,10 +73,13 @@ class InstanceContext final : public Context {
   bool describing_;
   mutable std::string last_param_;
   mutable std::set<std::string> used_;
+  std::optional<EndRequest> end_;
 };
 
 Instance::Instance() = default;
 Instance::~Instance() = default;
+
+std::optional<EndRequest> Instance::take_end_request() { return ctx ? ctx->take_end_request() : std::nullopt; }
 
 void Instance::drop_plugin() {
   plugin.reset();

@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <spdlog/fwd.h>
@@ -31,11 +32,18 @@ class PhaseMachine;
 class FlightMetrics;
 class ReplaySource;
 
+/// A plugin's request to end the flight (Context::end_flight).
+struct EndRequest {
+  std::string reason, detail;
+};
+
 struct Instance {
   Instance();
   ~Instance();  ///< plugin, then context (code in the .so), then the library
   /// Destroys the plugin object, then its context; the library stays loaded (unload it after).
   void drop_plugin();
+  /// The plugin's first end_flight() since the last call, if any (and forgets it).
+  std::optional<EndRequest> take_end_request();
   InstanceConfig cfg;
   std::shared_ptr<PluginLibrary> lib;      // outlives `plugin`
   std::unique_ptr<InstanceContext> ctx;

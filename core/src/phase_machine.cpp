@@ -21,6 +21,8 @@ void PhaseMachine::configure() {
   declare(alt_hz_, "alt_hz", 20.0, ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
   declare(max_deflection_, "max_deflection", 0.7, ParamSpec("rad", 0.01, 3.2, "a controller commanding a larger surface deflection is replaced by the fallback"));
   declare_preflight();
+  declare_safety();
+  declare_recovery();
   declare(min_phase_time_, "min_phase_time", 1.0, ParamSpec("s", 0.0, 60.0, "a transition back (loss of altitude) needs its condition this long"));
 }
 
@@ -41,6 +43,75 @@ void PhaseMachine::declare_preflight() {
   declare(max_ground_speed_, "preflight_max_ground_speed", d.max_ground_speed, ParamSpec("m/s", 0.0, 100.0, "the aircraft counts as at rest below this"));
   declare(require_rc_, "preflight_require_rc", d.require_rc, ParamSpec("", 0, 0, "the pilot's transmitter must be heard before takeoff"));
   declare(max_rc_age_, "preflight_max_rc_age", d.max_rc_age, ParamSpec("s", 0.01, 60.0, "the newest RC frame at most this old"));
+}
+
+// The phase router's safety monitor (safety_monitor.hpp; each default's reason is there).
+void PhaseMachine::declare_safety() {
+  const SafetyLimits d;
+  declare(safety_, "safety", d.enabled, ParamSpec("", 0, 0, "the safety monitor may engage the fallback (silent controller, envelope, saturation)"));
+  declare(safety_hand_back_, "safety_hand_back", false,
+          ParamSpec("", 0, 0, "after a safety engagement the next phase change hands back to the phase's controller"));
+  declare(safety_silent_periods_, "safety_silent_periods", d.silent_periods,
+          ParamSpec("", 1, 1000, "steps in a row without an actuators message before the fallback takes over"));
+  declare(safety_hold_, "safety_hold", d.hold, ParamSpec("s", 0.0, 10.0, "an envelope limit must be exceeded this long (hysteresis)"));
+  declare(safety_roll_max_, "safety_roll_max", d.roll_max, ParamSpec("rad", 0.1, 3.2, "envelope: |roll| above this"));
+  declare(safety_pitch_max_, "safety_pitch_max", d.pitch_max, ParamSpec("rad", 0.0, 1.6, "envelope: pitch above this"));
+  declare(safety_pitch_min_, "safety_pitch_min", d.pitch_min, ParamSpec("rad", -1.6, 0.0, "envelope: pitch below this"));
+  declare(safety_floor_, "safety_floor", d.floor, ParamSpec("m", -1000.0, 10000.0, "envelope (climb, cruise): altitude above the origin below this"));
+  declare(safety_airspeed_min_, "safety_airspeed_min", d.airspeed_min, ParamSpec("m/s", 0.0, 200.0, "envelope (climb, cruise): airspeed below this (stall margin)"));
+  declare(safety_airspeed_max_, "safety_airspeed_max", d.airspeed_max, ParamSpec("m/s", 1.0, 400.0, "envelope (climb, cruise): airspeed above this (Vne)"));
+  declare(safety_sink_max_, "safety_sink_max", d.sink_max, ParamSpec("m/s", 0.1, 200.0, "envelope (climb, cruise): sink rate v_d above this"));
+  declare(safety_saturation_, "safety_saturation", d.saturation, ParamSpec("", 0.5, 1.0, "a surface beyond this fraction of max_deflection is at its stop"));
+  declare(safety_error_growth_, "safety_error_growth", d.error_growth,
+          ParamSpec("m", 0.1, 1000.0, "delta_e (or delta_t at 0) at its stop while the altitude error grows by this much"));
+}
+
+// The phase router's state-loss recovery (state_loss_recovery.hpp; each default's reason is there).
+void PhaseMachine::declare_recovery() {
+  const RecoveryGains d;
+  declare(recovery_, "recovery", true, ParamSpec("", 0, 0, "the built-in state-loss recovery flies while the estimate is invalid (climb, cruise)"));
+  declare(recovery_trim_tau_, "recovery_trim_tau", d.trim_tau, ParamSpec("s", 0.01, 600.0, "time constant of the trim: the average good command"));
+  declare(recovery_throttle_up_, "recovery_throttle_up", d.throttle_up, ParamSpec("", 0.0, 1.0, "throttle added to the trim (a gentle climb)"));
+  declare(recovery_roll_kp_, "recovery_roll_kp", d.roll_kp, ParamSpec("rad/rad", 0.0, 10.0, "aileron per rad of roll (integrated gyro)"));
+  declare(recovery_roll_kd_, "recovery_roll_kd", d.roll_kd, ParamSpec("rad/(rad/s)", 0.0, 10.0, "aileron per rad/s of roll rate (gyro)"));
+}
+
+RecoveryGains PhaseMachine::recovery_gains() const {
+  RecoveryGains g;
+  g.trim_tau = recovery_trim_tau_();
+  g.throttle_up = recovery_throttle_up_();
+  g.roll_kp = recovery_roll_kp_();
+  g.roll_kd = recovery_roll_kd_();
+  g.max_deflection = max_deflection_();
+  return g;
+}
+
+SafetyLimits PhaseMachine::safety_limits() const {
+  SafetyLimits l;
+  l.enabled = safety_();
+  l.silent_periods = safety_silent_periods_();
+  l.hold = safety_hold_();
+  l.roll_max = safety_roll_max_();
+  l.pitch_max = safety_pitch_max_();
+  l.pitch_min = safety_pitch_min_();
+  l.floor = safety_floor_();
+  l.airspeed_min = safety_airspeed_min_();
+  l.airspeed_max = safety_airspeed_max_();
+  l.sink_max = safety_sink_max_();
+  l.max_deflection = max_deflection_();
+  l.saturation = safety_saturation_();
+  l.error_growth = safety_error_growth_();
+  return l;
+}
+
+std::optional<double> PhaseMachine::commanded_altitude() const {
+  if (!command_.has_value() || !std::isfinite(command_->h_c)) return std::nullopt;
+  return command_->h_c;
+}
+
+std::optional<double> PhaseMachine::commanded_airspeed() const {
+  if (!command_.has_value() || !std::isfinite(command_->Va_c)) return std::nullopt;
+  return command_->Va_c;
 }
 
 PreflightLimits PhaseMachine::limits() const {

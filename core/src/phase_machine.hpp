@@ -25,10 +25,13 @@
 // fallback.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "preflight.hpp"
+#include "safety_monitor.hpp"
+#include "state_loss_recovery.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::core {
@@ -55,6 +58,19 @@ class PhaseMachine final : public Plugin {
   const std::vector<PhaseTransition>& transitions() const { return transitions_; }
   /// The phase a flight starts in: preflight, or takeoff when it is skipped.
   msg::Phase first_phase() const { return preflight_() ? msg::Phase::preflight : msg::Phase::takeoff; }
+  /// The phase router's safety monitor's limits (safety_* parameters; safety_monitor.hpp).
+  SafetyLimits safety_limits() const;
+  /// The safety monitor may hand control back to the phase's controller on the next phase change.
+  bool safety_hand_back() const { return safety_hand_back_(); }
+  /// Whether the router's state-loss recovery flies while the estimate is invalid, and its gains.
+  bool state_loss_recovery() const { return recovery_(); }
+  RecoveryGains recovery_gains() const;
+  /// The estimate the machine steps on (nullptr before the first one).
+  const msg::State* estimate() const { return state_.has_value() ? &state_.get() : nullptr; }
+  /// The commanded altitude h_c, m (none before the first controller_command).
+  std::optional<double> commanded_altitude() const;
+  /// The commanded airspeed Va_c, m/s (none before the first controller_command).
+  std::optional<double> commanded_airspeed() const;
   /// Why the flight must end ("preflight_failed: ..."), empty while it may go on.
   const std::string& failure() const { return failure_; }
 
@@ -67,6 +83,8 @@ class PhaseMachine final : public Plugin {
   PreflightInputs preflight_inputs(Nanos now) const;
   PreflightLimits limits() const;
   void declare_preflight();
+  void declare_safety();
+  void declare_recovery();
   Input<msg::State> state_;
   Input<msg::ControllerCommand> command_;
   Input<msg::FcuStatus> fcu_;
@@ -80,6 +98,11 @@ class PhaseMachine final : public Plugin {
   Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_,
       max_ground_speed_, max_rc_age_;
   Param<std::int64_t> min_sats_;
+  Param<bool> safety_, safety_hand_back_, recovery_;
+  Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;
+  Param<std::int64_t> safety_silent_periods_;
+  Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
+      safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;
   msg::Phase phase_ = msg::Phase::takeoff;
   bool disarmed_ = false;
   Nanos since_ = 0;

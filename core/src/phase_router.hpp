@@ -14,8 +14,18 @@
 //   - commands a non-finite actuator value,
 //   - commands a surface beyond phase_machine.max_deflection (rad) or a throttle outside [0, 1].
 // fallback_reason() is the one place that decides this. If the fallback itself is the one
-// failing, or it is engaged already, the flight ends with an error. Every handover is recorded
-// (time, from, to, reason) for summary.json and logged.
+// failing, or it is engaged already, the flight ends with an error.
+// The safety monitor (safety_monitor.hpp, limits from the phase machine's safety_* parameters)
+// also engages the fallback, when a controller whose commands are all finite and within the
+// limits is silent, flies the aircraft out of the envelope, or holds a surface at its stop while
+// its error grows. It watches the phase's controller, not the fallback: with no other controller
+// to hand over to, the cause is logged (once) and the flight goes on. With safety_hand_back, the
+// next phase change after a safety engagement hands back to the phase's controller.
+// While the estimate is invalid in climb or cruise, the built-in state-loss recovery
+// (state_loss_recovery.hpp) flies instead of any controller: `actuators` is bound to the
+// router's own output until the estimate is valid again, then the active controller takes over
+// from the recovery's last command. Every handover (the recovery's too, as controller
+// "state_loss_recovery") is recorded (time, from, to, reason) for summary.json and logged.
 // When the graph is built, every controller the table or `fallback:` names must be a plugin of
 // kind controller: ConfigError naming file, field and value otherwise.
 #pragma once
@@ -33,6 +43,8 @@
 #include "config.hpp"
 #include "instances.hpp"
 #include "port_graph.hpp"
+#include "safety_monitor.hpp"
+#include "state_loss_recovery.hpp"
 #include "tern/msg/control.hpp"
 
 namespace tern::core {
@@ -81,12 +93,26 @@ class PhaseRouter {
   const std::vector<Handover>& handovers() const { return handovers_; }
 
  private:
-  /// Why controller `c` must give way to the fallback after its step, "" when it may go on.
-  std::string fallback_reason(const Instance& c, const std::string& step_error) const;
+  /// Why controller `c` must give way to the fallback after its step, "" when it may go on:
+  /// a hard failure (thrown, non-finite, beyond the limits), else the safety monitor's cause.
+  struct Cause {
+    std::string why;      // "" : none
+    bool safety = false;  // the safety monitor's (the commands themselves were fine)
+  };
+  Cause fallback_reason(const Instance& c, const std::string& step_error, Nanos now);
+  /// The safety monitor's verdict on the step that just ended, "" when none.
+  std::string safety_cause(Nanos now);
+  /// Starts or ends the state-loss recovery as the estimate turns invalid or valid again, and
+  /// publishes its command while it flies.
+  void update_recovery(Nanos now);
+  /// Points the routed topics at the active controller, or `actuators` at the recovery.
+  void rebind();
+  /// A safety cause with no other controller to hand over to: logged once per cause kind.
+  void log_unanswered(Nanos now, const std::string& why);
   void route_to(std::size_t idx, Nanos now, const std::string& reason, bool from_failure);
   /// No controller runs (the flight waits on the ground); routed topics lose their writer.
   void route_none(Nanos now, const std::string& reason);
-  void engage_fallback(Nanos now, const std::string& why);
+  void engage_fallback(Nanos now, const std::string& why, bool may_hand_back = false);
   /// The active controller's `actuators` output, or nullptr.
   const OutputBase* find_actuators() const;
   std::optional<std::size_t> index_of(const std::string& instance) const;
@@ -103,6 +129,14 @@ class PhaseRouter {
   const OutputBase* actuators_ = nullptr;  // the active controller's actuators (checked after each step)
   std::uint64_t phase_seen_ = 0;           // sequence of the last flight_phase message routed on
   bool fallback_engaged_ = false;
+  bool hand_back_ = false;                 // the fallback may hand back on the next phase change
+  SafetyMonitor monitor_;
+  StateLossRecovery recovery_;
+  Output<msg::Actuators> recovery_out_;    // the recovery's command (a host output, bound while it flies)
+  const OutputBase* imu_ = nullptr;        // the raw `imu` topic's writer (nullptr: none)
+  std::uint64_t imu_seen_ = 0;
+  std::uint64_t actuators_seen_ = 0;       // sequence of the active controller's actuators after its last step
+  std::string safety_logged_;              // a safety cause with nobody to hand over to, logged once
   std::vector<Handover> handovers_;
   msg::Actuators last_good_{};
 };

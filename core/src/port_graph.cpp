@@ -196,4 +196,13 @@ void PortGraph::route(std::optional<std::size_t> active) {
     if (t.routed) bind_readers(t, routed_writer(t, active));
 }
 
+bool PortGraph::route_topic(const std::string& topic, const OutputBase* src) {
+  for (auto& t : topics_)
+    if (t.name == topic && t.routed) {
+      bind_readers(t, src);
+      return true;
+    }
+  return false;
+}
+
 }  // namespace tern::core

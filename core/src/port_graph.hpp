@@ -90,6 +90,9 @@ class PortGraph {
   void bind(std::optional<std::size_t> active);
   /// Rebinds the routed topics only, to node `active`'s outputs (nullopt: unbound).
   void route(std::optional<std::size_t> active);
+  /// Rebinds the routed topic `topic` alone to `src`, an output of the host's of the topic's
+  /// type (the state-loss recovery's actuators); route() undoes it. False if `topic` is not routed.
+  bool route_topic(const std::string& topic, const OutputBase* src);
 
  private:
   void collect(const std::vector<PortNode>& nodes);

@@ -9,6 +9,10 @@ OutputBase::~OutputBase() = default;
 InputBase::~InputBase() = default;
 Context::~Context() = default;
 
+void Context::end_flight(const std::string& reason, const std::string& detail) {
+  if (auto l = logger()) l->warn("{}: end of flight ({}) asked outside a flight, ignored: {}", instance_name(), reason, detail);
+}
+
 Plugin::Plugin() = default;
 Plugin::~Plugin() = default;
 

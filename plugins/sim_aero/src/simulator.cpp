@@ -59,6 +59,7 @@ void Simulator::set_state(const StateVector& x, const Deltas& surfaces) {
   cmd_ = act_;
   t_ = 0;
   crashed_ = false;
+  impact_ = Impact{};
 }
 
 void Simulator::set_command(const Deltas& c) {
@@ -111,6 +112,7 @@ void Simulator::step(double dt) {
   x_ = xn;
   if (x_[PD] > 0.0) {  // CG below the ground: a crash, not a flight
     crashed_ = true;
+    impact_ = Impact{t_, x_, air_data(x_, wind_).Va};
     x_[PD] = 0.0;
     x_.segment<3>(U).setZero();
     x_.segment<3>(P).setZero();

@@ -95,6 +95,12 @@ class TERN_API Context {
   /// True when the host only wants the plugin's ports and parameters (`tern plugins`,
   /// `tern params`): configure() should declare everything and open no file or device.
   virtual bool describing() const { return false; }
+  /// Ends the flight after this step, for a reason only the plugin can see (a simulator's
+  /// aircraft hit the ground). `reason` becomes summary.json's `end_reason` (one word: "crash"),
+  /// `detail` says what happened (time, place, speeds). The flight ends with ok = false, so
+  /// `tern fly` exits 1. The first request of a flight counts. A context that flies nothing
+  /// logs it as a warning; the test harness records it (Harness::end_request()).
+  virtual void end_flight(const std::string& reason, const std::string& detail);
 };
 
 class TERN_API Plugin {

@@ -74,6 +74,14 @@ class Simulator {
 
   /// The CG went below the ground: the aircraft stops there (state frozen) until set_state.
   bool crashed() const { return crashed_; }
+  /// Where and how the aircraft hit the ground (valid once crashed()): the state of the RK4
+  /// step that took the CG below the ground, before it was frozen.
+  struct Impact {
+    double t = 0;                        ///< s since set_state
+    StateVector x = StateVector::Zero();  ///< the state (p_d > 0: below the ground)
+    double Va = 0;                       ///< airspeed, m/s
+  };
+  const Impact& impact() const { return impact_; }
 
   /// Restarts the wind random streams (same seed: same turbulence).
   void reset_wind();
@@ -91,6 +99,7 @@ class Simulator {
   Wind wind_;
   double t_ = 0;
   bool crashed_ = false;
+  Impact impact_;
 };
 
 /// Names the first non-finite element of a state ("p_n", "e0", ...) or returns "".

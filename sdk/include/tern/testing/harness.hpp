@@ -86,6 +86,12 @@ class TERN_API Harness final : public Context {
   std::filesystem::path config_dir() const override { return options_.config_dir; }
   const YAML::Node& mission() const override { return options_.mission; }
   std::filesystem::path aircraft_file() const override { return options_.aircraft_file; }
+  /// Records the first request (reason, detail); the harness steps on regardless.
+  void end_flight(const std::string& reason, const std::string& detail) override {
+    if (!end_request_) end_request_.emplace(reason, detail);
+  }
+  /// What the plugin's first end_flight() asked (reason, detail), if it did.
+  const std::optional<std::pair<std::string, std::string>>& end_request() const { return end_request_; }
 
  private:
   static void check_type(const PortBase& port, const MsgType& want);
@@ -95,6 +101,7 @@ class TERN_API Harness final : public Context {
   std::map<std::string, std::unique_ptr<OutputBase>> feeders_;
   std::unique_ptr<Plugin> plugin_;  // destroyed before the feeders it reads
   bool started_ = false;
+  std::optional<std::pair<std::string, std::string>> end_request_;
 };
 
 }  // namespace tern::testing
