@@ -155,7 +155,7 @@ class SimAero final : public tern::Plugin {
     std::vector<std::pair<std::string, double>> s = {{"sim_steps", static_cast<double>(steps_)},
                                                      {"sim_crashed", sim_ && sim_->crashed() ? 1.0 : 0.0}};
     if (sim_ && sim_->crashed()) {
-      const Impact m = impact();
+      const ImpactFacts m = impact();
       s.insert(s.end(), {{"impact_t_s", m.t}, {"impact_p_n_m", m.p_ned.x()}, {"impact_p_e_m", m.p_ned.y()},
                          {"impact_ground_speed_mps", m.v_ned.head<2>().norm()}, {"impact_sink_rate_mps", m.v_ned.z()},
                          {"impact_airspeed_mps", m.Va}, {"impact_roll_deg", m.phi * 180.0 / tern::kPi},
@@ -338,21 +338,20 @@ class SimAero final : public tern::Plugin {
   // ---- ground impact
   // The simulator's crash: the CG went below the ground (it freezes the aircraft there). A crash
   // ends the flight (end_reason "crash"): nothing after it is a flight worth logging.
-  struct Impact {
-    double t;                      // s, flight time
+  struct ImpactFacts {
+    double t;                      // s, flight time (the simulator's clock starts with the flight)
     Eigen::Vector3d p_ned, v_ned;  // m, m/s (v_d > 0: sinking)
     double Va, phi, theta;         // m/s, rad, rad
   };
-  Impact impact() const {
+  ImpactFacts impact() const {
     const auto& m = sim_->impact();
     const Eigen::Quaterniond q = sim::attitude(m.x);
     const Eigen::Vector3d eul = tern::euler_from_quaternion(q);
-    // the simulator's clock starts with the flight (set_state at start)
     return {m.t, m.x.segment<3>(sim::PN), q * m.x.segment<3>(sim::U), m.Va, eul.x(), eul.y()};
   }
   void report_crash() {
     crash_reported_ = true;
-    const Impact m = impact();
+    const ImpactFacts m = impact();
     const std::string detail = fmt::format(
         "the aircraft hit the ground at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
         "airspeed {:.1f} m/s, roll {:.0f} deg, pitch {:.0f} deg",
