@@ -229,7 +229,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
   DdsClient client(opt, std::chrono::seconds(20));
   // between flights: list and get answer directly
   const auto all = client.param_list("ctl.");
-  REQUIRE(all.size() == 5);
+  REQUIRE(all.size() == 6);  // test_controller: h_target, kp, tag, aileron, fail_mode, fail_at
   const DdsParam kp = client.param_get("ctl.kp");
   CHECK(std::get<double>(kp.value) == doctest::Approx(0.05));
   CHECK(kp.unit == "1/m");
