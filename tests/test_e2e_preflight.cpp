@@ -11,23 +11,12 @@ using namespace tern::core;
 
 namespace {
 const std::string kPhases = "phases: {takeoff: slc, climb: slc, cruise: slc}";
-
-FlightResult fly_text(const std::string& text, const std::string& name, double duration, std::uint64_t seed = 1) {
-  HostOptions o;
-  o.quiet = true;
-  o.log_dir = test_dir() / name;
-  o.duration = duration;
-  o.seed = seed;
-  Host h(load_config(write_file(name + ".yaml", text)), o);
-  h.build();
-  return h.fly();
-}
 }  // namespace
 
 TEST_CASE("preflight, realistic profile: 5 seeds wait for the FCU's calibration and the alignment, then fly") {
   const std::string text = default_mission_with({});
   for (std::uint64_t seed = 1; seed <= 5; ++seed) {
-    const FlightResult r = fly_text(text, "e2e_preflight_" + std::to_string(seed), 150.0, seed);
+    const FlightResult r = fly_yaml(text, "e2e_preflight_" + std::to_string(seed), seed, 150.0);
     INFO("seed " << seed);
     REQUIRE(r.ok);
     const auto s = summary(r);
@@ -64,7 +53,7 @@ TEST_CASE("preflight, realistic profile: each arming check refuses with its line
     std::vector<std::pair<std::string, std::string>> edits{c.edit};
     if (c.edit.first == sim) edits.emplace_back(kPhases, kPhases + "\nphase_machine: {preflight_timeout: 10}");
     else edits.emplace_back("phase_machine: {", "phase_machine: {preflight_timeout: 10, ");
-    const FlightResult r = fly_text(default_mission_with(edits), "e2e_preflight_check_" + std::to_string(k++), 40.0);
+    const FlightResult r = fly_yaml(default_mission_with(edits), "e2e_preflight_check_" + std::to_string(k++), 1, 40.0);
     INFO(c.edit.second);
     if (c.line.empty()) {
       CHECK(r.ok);

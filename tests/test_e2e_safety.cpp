@@ -18,16 +18,6 @@ namespace {
 
 const std::string kTestController = (fs::path(TERN_TEST_PLUGIN_DIR) / "libtern_test_controller.so").string();
 
-FlightResult fly_text(const std::string& yaml, const std::string& logdir, std::uint64_t seed, double duration) {
-  HostOptions o;
-  o.quiet = true;
-  o.log_dir = test_dir() / logdir;
-  o.seed = seed;
-  o.duration = duration;
-  Host h(load_config(write_file(logdir + ".yaml", yaml)), o);
-  h.build();
-  return h.fly();
-}
 
 // The default mission with `ctl` (a test_controller with `params`) flying cruise, slc the rest
 // and the fallback; `machine`: the phase_machine section, if any.
@@ -79,7 +69,7 @@ TEST_CASE("issue 18: a dive into the ground ends the flight: end_reason crash, w
   const std::string yaml = "name: dive\nseed: 3\nduration: 60\naircraft: " + (kMissions / "../aircraft/anaconda.yaml").lexically_normal().string() +
                            "\nplugins:\n  - {name: sim, plugin: sim_aero, rate: 400, params: {init_mode: air, init_altitude: 40, init_airspeed: 17}}\n"
                            "  - {name: ctl, plugin: " + kTestController + ", rate: 100, remap: {state: truth}, params: {tag: 0.69, kp: 0}}\n";
-  const FlightResult r = fly_text(yaml, "crash_dive", 3, 60.0);
+  const FlightResult r = fly_yaml(yaml, "crash_dive", 3, 60.0);
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "crash");
   CHECK(tern::to_seconds(r.flown) < 30.0);
@@ -105,7 +95,7 @@ TEST_CASE("issue 18: a dive into the ground ends the flight: end_reason crash, w
 TEST_CASE("issue 18: a hard-over within the limits in cruise (delta_e 0.69 of 0.7 rad, throttle 0) is caught within 2 s") {
   // throttle 0: h_target far below (kp pulls it to 0). Without the monitor the aircraft dives to
   // -84 deg of pitch and 19 m/s of sink before the phase machine's switch to climb.
-  const FlightResult r = fly_text(cruise_flown_by("tag: 0.69, h_target: -100, kp: 10"), "hardover", 3, 150.0);
+  const FlightResult r = fly_yaml(cruise_flown_by("tag: 0.69, h_target: -100, kp: 10"), "hardover", 3, 150.0);
   check_saved(r, "safety monitor:");
   const auto s = summary(r);
   const auto& h = s["controller_handovers"];
@@ -117,18 +107,18 @@ TEST_CASE("issue 18: a hard-over within the limits in cruise (delta_e 0.69 of 0.
 }
 
 TEST_CASE("issue 18: a cruise controller that stops publishing is replaced after safety_silent_periods") {
-  const FlightResult r = fly_text(cruise_flown_by("fail_mode: silent, fail_at: 0"), "silent", 3, 150.0);
+  const FlightResult r = fly_yaml(cruise_flown_by("fail_mode: silent, fail_at: 0"), "silent", 3, 150.0);
   check_saved(r, "silent: stepped 5 times in a row without publishing actuators");
 }
 
 TEST_CASE("issue 18: a cruise controller that rolls the aircraft out of the envelope is replaced") {
-  const FlightResult r = fly_text(cruise_flown_by("tag: 0.168, h_target: 70, kp: 0.05, aileron: 0.15"), "envelope", 3, 150.0);
+  const FlightResult r = fly_yaml(cruise_flown_by("tag: 0.168, h_target: 70, kp: 0.05, aileron: 0.15"), "envelope", 3, 150.0);
   check_saved(r, "envelope: roll");
 }
 
 TEST_CASE("issue 18: an IMU drop-out of 5 s in cruise: the state-loss recovery flies until the estimate is back") {
   const std::string yaml = default_mission_with({{"      pitot_cover: 8.5", "      pitot_cover: 8.5\n      imu_dropout: [200, 205]"}});
-  const FlightResult r = fly_text(yaml, "imu_dropout", 3, 260.0);
+  const FlightResult r = fly_yaml(yaml, "imu_dropout", 3, 260.0);
   CHECK(r.ok);
   const auto s = summary(r);
   CHECK(instance_figure(s, "sim", "sim_crashed") == 0.0);
