@@ -18,7 +18,8 @@
 //   after preflight: disarmed when the optional `fcu_status` says the FCU is not armed: the host then
 //              steps no controller (no takeoff, no integrators running) until
 //   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
-// Without `fcu_status` (or with sim_aero's, armed) the flight never waits. The published phase
+// Without `fcu_status` the flight never waits (sim_aero's reports disarmed only during its boot
+// calibration, a failing preflight check). The published phase
 // stays `takeoff` while disarmed (FlightPhase has no disarmed value); disarmed() tells the host.
 // Every transition is recorded with its time and reason. The phase router also reads
 // max_deflection: a controller commanding more (or a throttle outside [0, 1]) is replaced by the
