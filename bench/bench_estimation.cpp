@@ -8,12 +8,19 @@
 //
 // Usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b]
 //                         [--set INSTANCE.PARAM=VALUE ...] [--per-seed]  (one line per seed after each table)
+//                         [--gnss-outage START,END]  (no GNSS fix from START to END s: dead reckoning)
 //
 // How each figure is made (the same for tern and for raw GNSS): every new estimate (state topic)
 // from t0 = 30 s on (after takeoff and climb) is compared with the truth of the same tick, both
 // in the simulator's frame (common_frame.hpp: the estimator's origin, its first GNSS fix, mapped
 // to the simulator's origin); the raw-GNSS row compares the latest fix at that tick with the
 // same truth (so a late fix counts as late). Wind from 60 s. Angles wrapped to [-pi, pi).
+// Altitude is the estimate's height in the common frame (so it carries the estimator's origin,
+// its first fix, off by the receiver's vertical error); "height above home" compares the change
+// of height since the first valid estimate on the ground (estimate, truth and raw fix alike):
+// the height a mission's altitudes are flown by.
+// With --gnss-outage the outage's errors count in the RMSE too; its own rows give the drift at
+// its end and the largest error 5 to 20 s after the fixes return.
 // A flight diverged when its horizontal position error exceeded 50 m or its attitude error
 // 30 deg at any compared tick after initialisation. ROSplane 2.0's row comes from a different
 // estimator and a hardware flight: a reference, not a comparison on the same data.
@@ -63,8 +70,8 @@ struct Rms {
 };
 
 // The quantities of the table; the first kGnssRows also have a raw-GNSS figure.
-enum Q { N, E, HORIZ, ALT, U, V, W, ROLL, PITCH, YAW, COURSE, WIND, kQ };
-constexpr int kGnssRows = 4;
+enum Q { N, E, HORIZ, ALT, HOME, U, V, W, ROLL, PITCH, YAW, COURSE, WIND, kQ };
+constexpr int kGnssRows = 5;
 struct QInfo {
   const char* name;
   double scale;     // to the printed unit
@@ -72,7 +79,7 @@ struct QInfo {
 };
 const QInfo kInfo[kQ] = {
     {"north m", 1, 0.325},        {"east m", 1, 0.258},         {"horizontal m", 1, std::nan("")},
-    {"altitude m", 1, 0.894},     {"u m/s", 1, 0.045},          {"v m/s", 1, 0.089},
+    {"altitude m", 1, 0.894}, {"height above home m", 1, std::nan("")}, {"u m/s", 1, 0.045},          {"v m/s", 1, 0.089},
     {"w m/s", 1, 0.105},          {"roll deg", kDeg, 0.189},    {"pitch deg", kDeg, 0.074},
     {"yaw deg", kDeg, std::nan("")}, {"course deg", kDeg, 0.112}, {"wind (from 60 s) m/s", 1, std::nan("")},
 };
@@ -92,8 +99,28 @@ struct Mean {
   double value() const { return n == 0 ? std::nan("") : sum / static_cast<double>(n); }
 };
 
+// Where the aircraft stood at the first valid estimate (on the ground, before takeoff): the
+// truth's and the estimate's down position, and the raw GNSS fix's, for the height above home.
+struct Home {
+  bool set = false;
+  double truth_d = 0, estimate_d = 0, fix_d = std::nan("");
+};
+
+// A GNSS outage flown on purpose (--gnss-outage A,B: the simulator's gnss_nan window): the
+// horizontal error (common frame) at the last estimate before the first fix after it (the
+// drift), and the largest error from 5 to 20 s after it (has the estimate come back and stayed?).
+struct Outage {
+  double start = std::nan(""), end = std::nan("");
+  bool on() const { return std::isfinite(start); }
+};
+struct OutageResult {
+  double drift = std::nan(""), after_max = 0.0;
+};
+
 struct Flight {
   std::uint64_t seed = 0;
+  Home home;
+  OutageResult outage;
   Rms est[kQ], gnss[kGnssRows];
   Mean nees[kBlocks];  // per dimension
   bool diverged = false, crashed = false, failed = false;
@@ -121,7 +148,7 @@ struct Setting {
 
 // The config with every sim_aero instance's sensor_profile set, and the --set overrides.
 tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile,
-                                       const std::vector<Setting>& sets) {
+                                       const std::vector<Setting>& sets, const Outage& outage) {
   tern::core::MissionConfig mc = tern::core::load_config(mission);
   for (auto& inst : mc.plugins) {
     if (inst.plugin == "sim_aero") {
@@ -130,6 +157,13 @@ tern::core::MissionConfig with_profile(const std::string& mission, const std::st
       s.file = mission;
       s.field = "bench_estimation --profiles";
       inst.params["sensor_profile"] = s;
+      if (outage.on()) {  // a new setting: YAML nodes are references, s.node is now in params
+        tern::core::ParamSetting o;
+        o.node = YAML::Load(fmt::format("[{}, {}]", outage.start, outage.end));
+        o.file = mission;
+        o.field = "bench_estimation --gnss-outage";
+        inst.params["gnss_nan"] = o;
+      }
     }
     for (const auto& set : sets) {
       if (set.instance != inst.name) continue;
@@ -143,14 +177,24 @@ tern::core::MissionConfig with_profile(const std::string& mission, const std::st
   return mc;
 }
 
+// The outage figures of one tick at flight time s with horizontal error e.
+void add_outage_tick(OutageResult& r, const Outage& o, double s, double e) {
+  if (!o.on() || s < o.start) return;
+  if (s < o.end) r.drift = e;
+  else if (s >= o.end + 5.0 && s < o.end + 20.0) r.after_max = std::max(r.after_max, e);
+}
+
 // Estimate and raw-GNSS errors of one tick (both against the truth of the tick, in its frame).
-void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, double s) {
+void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, double s,
+              const Outage& outage) {
   const Eigen::Vector3d p = tern::core::estimate_in_truth_frame(x, t);
   const double dn = p.x() - t.p_n, de = p.y() - t.p_e;
+  add_outage_tick(f.outage, outage, s, std::hypot(dn, de));
   f.est[N].add(dn);
   f.est[E].add(de);
   f.est[HORIZ].add(std::hypot(dn, de));
   f.est[ALT].add(t.p_d - p.z());
+  f.est[HOME].add((t.p_d - f.home.truth_d) - (x.p_d - f.home.estimate_d));
   f.est[U].add(x.u - t.u);
   f.est[V].add(x.v - t.v);
   f.est[W].add(x.w - t.w);
@@ -177,6 +221,7 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
     f.gnss[E].add(q.y() - t.p_e);
     f.gnss[HORIZ].add(std::hypot(q.x() - t.p_n, q.y() - t.p_e));
     f.gnss[ALT].add(t.p_d - q.z());
+    f.gnss[HOME].add((t.p_d - f.home.truth_d) - (q.z() - f.home.fix_d));
   }
 }
 
@@ -187,13 +232,13 @@ double summary_number(const nlohmann::json& j, const char* instance, const char*
 }
 
 Flight fly(const std::string& mission, const std::string& profile, const std::vector<Setting>& sets, std::uint64_t seed,
-           double duration, const fs::path& logs) {
+           double duration, const Outage& outage, const fs::path& logs) {
   tern::core::HostOptions o;
   o.quiet = true;
   o.seed = seed;
   if (duration > 0) o.duration = duration;
   o.log_dir = logs;
-  tern::core::Host host(with_profile(mission, profile, sets), o);
+  tern::core::Host host(with_profile(mission, profile, sets, outage), o);
   host.build();
   Flight f;
   f.seed = seed;
@@ -208,9 +253,14 @@ Flight fly(const std::string& mission, const std::string& profile, const std::ve
     const auto* x = latest<tern::msg::State>(state_src);
     const auto* t = latest<tern::msg::State>(truth_src);
     const double s = tern::to_seconds(now);
-    if (x == nullptr || t == nullptr || s < kT0 || !x->valid || state_src->sequence() == last_seq) return;
+    if (x == nullptr || t == nullptr || !x->valid) return;
+    if (!f.home.set) {
+      const auto* g = latest<tern::msg::Gnss>(gnss_src);
+      f.home = {true, t->p_d, x->p_d, g ? tern::core::fix_in_truth_frame(*g, *t).z() : std::nan("")};
+    }
+    if (s < kT0 || state_src->sequence() == last_seq) return;
     last_seq = state_src->sequence();
-    add_tick(f, *x, *t, latest<tern::msg::Gnss>(gnss_src), s);
+    add_tick(f, *x, *t, latest<tern::msg::Gnss>(gnss_src), s, outage);
   });
   const auto r = host.fly();
   host.set_tick_observer({});
@@ -243,18 +293,39 @@ std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) 
 
 // One line per seed: where the median hides a bad flight.
 void print_seeds(const std::vector<Flight>& flights) {
-  std::printf("  %4s %9s %8s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "roll deg", "yaw deg", "NEES att",
+  std::printf("  %4s %9s %8s %8s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "home m", "roll deg", "yaw deg", "NEES att",
               "resets", "inflat", "diverge", "end");
   for (const auto& f : flights) {
-    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.1f %7.0f %7.0f %7s %s%s\n", static_cast<unsigned long long>(f.seed),
-                f.est[HORIZ].value(), f.est[ALT].value(), f.est[ROLL].value() * kDeg, f.est[YAW].value() * kDeg,
+    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f %7.0f %7s %s%s\n", static_cast<unsigned long long>(f.seed),
+                f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(), f.est[ROLL].value() * kDeg, f.est[YAW].value() * kDeg,
                 f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets, f.inflations,
                 f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
                 f.crashed ? " (crashed)" : "");
   }
 }
 
-nlohmann::ordered_json report(const std::string& mission, const std::string& profile, const std::vector<Flight>& flights) {
+// The outage rows: drift at the end of the outage and the largest error 5-20 s after it.
+void report_outage(nlohmann::ordered_json& j, const Outage& outage, const std::vector<Flight>& flights) {
+  std::vector<double> drift, after;
+  for (const auto& f : flights) {
+    drift.push_back(f.outage.drift);
+    after.push_back(f.outage.after_max);
+  }
+  const Spread d = spread(drift), a = spread(after);
+  std::printf("  GNSS outage %.0f-%.0f s: drift at its end %s m median, %s m worst; largest error 5-20 s after: "
+              "%s m median, %s m worst\n",
+              outage.start, outage.end, cell(d.median).c_str(), cell(d.worst).c_str(), cell(a.median).c_str(),
+              cell(a.worst).c_str());
+  auto& r = j["gnss_outage"];
+  r["window_s"] = {outage.start, outage.end};
+  r["drift_median_m"] = d.median;
+  r["drift_worst_m"] = d.worst;
+  r["after_max_median_m"] = a.median;
+  r["after_max_worst_m"] = a.worst;
+}
+
+nlohmann::ordered_json report(const std::string& mission, const std::string& profile, const std::vector<Flight>& flights,
+                              const Outage& outage) {
   int diverged = 0, crashed = 0, failed = 0;
   double filter_resets = 0, gnss_resets = 0, mag_resets = 0, inflations = 0;
   for (const auto& f : flights) {
@@ -305,6 +376,7 @@ nlohmann::ordered_json report(const std::string& mission, const std::string& pro
     r["highest"] = sp.worst;
     r["lowest"] = best;
   }
+  if (outage.on()) report_outage(j, outage, flights);
   std::printf("  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f, "
               "covariance inflations %.0f (all seeds)\n",
               diverged, crashed, failed, filter_resets, gnss_resets, mag_resets, inflations);
@@ -336,14 +408,24 @@ int main(int argc, char** argv) {
   std::vector<Setting> sets;
   const char* usage =
       "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...] "
-      "[--per-seed]";
+      "[--per-seed] [--gnss-outage START,END]";
   bool per_seed = false;
+  Outage outage;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
     else if (a == "--duration" && i + 1 < argc) duration = std::atof(argv[++i]);
     else if (a == "--profiles" && i + 1 < argc) profiles = split(argv[++i]);
     else if (a == "--per-seed") per_seed = true;
+    else if (a == "--gnss-outage" && i + 1 < argc) {
+      const auto w = split(argv[++i]);
+      if (w.size() == 2) outage = {std::atof(w[0].c_str()), std::atof(w[1].c_str())};
+      if (w.size() != 2 || !(outage.start >= kT0) || !(outage.end > outage.start)) {
+        std::fprintf(stderr, "bench_estimation: --gnss-outage wants START,END in s with %.0f <= START < END, got '%s'\n", kT0,
+                     argv[i]);
+        return 2;
+      }
+    }
     else if (a == "--set" && i + 1 < argc) {
       const std::string v = argv[++i];
       const auto dot = v.find('.'), eq = v.find('=');
@@ -386,8 +468,8 @@ int main(int argc, char** argv) {
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {
       std::vector<Flight> flights;
-      for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, logs));
-      j["runs"].push_back(report(fs::path(mission).stem().string(), profile, flights));
+      for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, outage, logs));
+      j["runs"].push_back(report(fs::path(mission).stem().string(), profile, flights, outage));
       if (per_seed) print_seeds(flights);
     }
   }
