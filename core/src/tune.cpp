@@ -6,6 +6,7 @@
 #include <fstream>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "error.hpp"
 #include "host.hpp"
@@ -119,13 +120,15 @@ std::function<void(Nanos)> recorder(const Host& host, const TuneLoop& l, std::ve
   };
 }
 
-/// Edges: samples where the command jumps by more than 3/4 of the amplitude (the engagement
-/// itself is half a step and is not one). Each step runs to the next edge; a step shorter than
-/// 90 % of a half period (cut by the end of the flight) is not measured.
-std::vector<TuneStep> measure(const std::vector<Sample>& x, double amplitude, double period) {
+/// Edges: samples after the engagement where the command jumps by more than 3/4 of the
+/// amplitude (the engagement itself is half a step and is not one; before it the follower's
+/// own jumps, a new path segment, are not the signal's). Each step runs to the next edge; a step
+/// shorter than 90 % of a half period (cut by the end of the flight) is not measured.
+std::vector<TuneStep> measure(const std::vector<Sample>& x, double amplitude, double period, std::optional<double> engaged_s) {
   std::vector<std::size_t> edges;
+  if (!engaged_s) return {};
   for (std::size_t i = 1; i < x.size(); ++i)
-    if (std::abs(x[i].command - x[i - 1].command) > 0.75 * std::abs(amplitude)) edges.push_back(i);
+    if (x[i - 1].t >= *engaged_s && std::abs(x[i].command - x[i - 1].command) > 0.75 * std::abs(amplitude)) edges.push_back(i);
   std::vector<TuneStep> steps;
   for (std::size_t k = 0; k < edges.size(); ++k) {
     const std::size_t a = edges[k], b = k + 1 < edges.size() ? edges[k + 1] : x.size();
@@ -157,6 +160,17 @@ std::optional<double> engagement(const Host& host) {
       for (const auto& [k, v] : inst->plugin->summary())
         if (k == "engaged_s" && v >= 0.0) return v;
   return std::nullopt;
+}
+
+/// Queues each "instance.param=value" (throws ConfigError or ParamError, one line).
+void apply_sets(Host& host, const std::vector<std::string>& sets) {
+  for (const auto& kv : sets) {
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw ConfigError(fmt::format("--set '{}': give instance.param=value, e.g. slc.roll_kp=0.5", kv));
+    const std::string name = kv.substr(0, eq);
+    host.request_param(name, to_param_value(YAML::Load(kv.substr(eq + 1)), "command line", "--set " + name), "tern tune --set");
+  }
 }
 
 }  // namespace
@@ -194,11 +208,13 @@ TuneResult run_tune(const TuneOptions& o) {
   r.seed = o.seed.value_or(mc.seed);
   Host host(std::move(mc), opt);
   host.build();
+  apply_sets(host, o.sets);
+  r.sets = o.sets;
   std::vector<Sample> x;
   host.set_tick_observer(recorder(host, *r.loop, x));
   r.flight = host.fly();
   r.engaged_s = engagement(host);
-  r.steps = measure(x, r.amplitude, r.period);
+  r.steps = measure(x, r.amplitude, r.period, r.engaged_s);
   if (!r.flight.run_dir.empty()) write_csvs(r.flight.run_dir, *r.loop, x, r.steps, r.engaged_s);
   return r;
 }
@@ -211,6 +227,7 @@ std::string tune_report(const TuneResult& r, const std::string& config_name) {
   const TuneLoop& l = *r.loop;
   std::string s = fmt::format("tern tune {}: square wave on {}, {} {} peak to peak, period {} s; {}, seed {}, {} s\n", l.name, l.symbol,
                               r.amplitude, l.unit, r.period, config_name, r.seed, r.duration);
+  if (!r.sets.empty()) s += fmt::format("with {}\n", fmt::join(r.sets, ", "));
   s += r.engaged_s ? fmt::format("signal engaged at t = {:.2f} s; response: the estimated {}\n", *r.engaged_s, l.state)
                    : "signal never engaged (no cruise phase?)\n";
   s += fmt::format("{:>9} {:>10} {:>10} {:>9} {:>13} {:>13} {:>14}\n", "t [s]", "from", "to", "rise [s]", "overshoot [%]",

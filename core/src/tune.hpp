@@ -47,6 +47,9 @@ struct TuneOptions {
   std::optional<std::uint64_t> seed;
   std::optional<std::filesystem::path> log_dir;
   double start_time = 20.0;         ///< s after the first cruise phase
+  /// Parameter changes "instance.param=value" applied before the flight (as `tern param set`;
+  /// recorded in params.csv): the gains under test.
+  std::vector<std::string> sets;
 };
 
 struct TuneStep {
@@ -60,6 +63,7 @@ struct TuneResult {
   const TuneLoop* loop = nullptr;
   double amplitude = 0.0, period = 0.0, duration = 0.0;
   std::uint64_t seed = 0;
+  std::vector<std::string> sets;    ///< as given
   std::optional<double> engaged_s;  ///< flight time the signal engaged (nullopt: never)
   std::vector<TuneStep> steps;
   FlightResult flight;

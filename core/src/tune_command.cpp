@@ -44,7 +44,8 @@ void add_tune_command(CLI::App& app, TuneCommand& tc) {
   tc.app->add_option("--duration", o.duration, "flight length, s (default: 60 + 2.5 periods)");
   tc.app->add_option("--log-dir", o.log_dir, "directory for the run directory (default: the config's, ./runs)");
   tc.app->add_option("--start-time", o.start_time, "s after the first cruise phase when the signal engages")->capture_default_str();
-  tc.app->add_flag("!--no-plot", tc.plot, "do not draw the figures (tern plot)");
+  tc.app->add_option("--set", o.sets, "INSTANCE.PARAM=VALUE: a parameter (a gain under test) for this flight; repeatable");
+  tc.app->add_flag("--no-plot", tc.no_plot, "do not draw the figures (tern plot)");
 }
 
 int run_tune_command(TuneCommand& tc, const fs::path& default_config, const fs::path& plot_program) {
@@ -67,7 +68,7 @@ int run_tune_command(TuneCommand& tc, const fs::path& default_config, const fs::
     throw ConfigError(fmt::format("no complete step to measure in {} s (engaged at {}): try a longer --duration",
                                   r.duration, r.engaged_s ? fmt::format("t = {:.1f} s", *r.engaged_s) : "no time: no cruise phase"));
   fmt::print("log: {}\n", r.flight.run_dir.string());
-  if (tc.plot) {
+  if (!tc.no_plot) {
     if (draw(plot_program, r.flight.run_dir)) fmt::print("plot: {}\n", (r.flight.run_dir / "plots" / "tune.png").string());
     else std::fprintf(stderr, "tern: warning: %s %s failed: no plot\n", plot_program.c_str(), r.flight.run_dir.c_str());
   }

@@ -13,7 +13,7 @@ struct TuneCommand {
   CLI::App* app = nullptr;
   TuneOptions options;
   std::string seed_text;
-  bool plot = true;
+  bool no_plot = false;
 };
 
 /// Adds `tune` to the command line; `tc` receives the options when it is parsed.
