@@ -74,7 +74,7 @@ TEST_CASE("second order: overshoot exp(-zeta pi / sqrt(1 - zeta^2)), settling in
   }
 }
 
-TEST_CASE("a response that never reaches 90 % or never settles says so with NaN") {
+TEST_CASE("a response outside the band at its last sample has no settling time (NaN)") {
   Series s;
   for (int i = 0; i <= 100; ++i) s.t.push_back(i * 0.01), s.y.push_back(i <= 90 ? 0.0 : 1.0);  // a jump at the end
   s.y.back() = 0.5;  // leaves the band at the last sample

@@ -1,7 +1,7 @@
 // core/src/step_response.hpp: the classic step-response figures of one recorded step (rise
 // time, overshoot, settling time, steady-state error), for `tern tune`. Plain C++.
 //
-// Definitions (as MATLAB's stepinfo, Ogata "Modern Control Engineering" 5.3), with y0 the
+// Definitions (as MATLAB's stepinfo; Ogata, "Modern Control Engineering", ch. 5), with y0 the
 // response at the step, r the command after it and y_f the final value:
 //   y_f         the mean response over the last `final_fraction` of the window (the record
 //               ends at the next step; averaging keeps sensor noise and turbulence out of it)

@@ -70,13 +70,16 @@ ParamSetting setting(const MissionConfig& mc, YAML::Node value, const std::strin
 /// Remaps the follower's command to follower_command and adds the generator after it, in the
 /// structs and in the YAML the flight log records (so that the run's config.yaml re-flies it).
 void insert_generator(MissionConfig& mc, const TuneLoop& l, double amplitude, double period, double start_time) {
+  const std::string name = "signal";
+  for (const auto& p : mc.plugins)
+    if (p.name == name) throw ConfigError(fmt::format("{}: an instance is already named '{}'", mc.file.string(), name));
   const InstanceConfig& follower = command_producer(mc);
   mc.plugins.at(follower.index).remap[std::string(kCommandTopic)] = std::string(kFollowerTopic);
   mc.root["plugins"][follower.index]["remap"][std::string(kCommandTopic)] = std::string(kFollowerTopic);
 
   InstanceConfig gen;
   gen.index = mc.plugins.size();
-  gen.name = "signal";
+  gen.name = name;
   gen.plugin = "signal_generator";
   gen.rate = follower.rate.value_or(100.0);
   YAML::Node params;
@@ -96,8 +99,6 @@ void insert_generator(MissionConfig& mc, const TuneLoop& l, double amplitude, do
   entry["params"] = params;
   gen.node = entry;
   mc.root["plugins"].push_back(entry);
-  for (const auto& p : mc.plugins)
-    if (p.name == gen.name) throw ConfigError(fmt::format("{}: an instance is already named '{}'", mc.file.string(), gen.name));
   mc.plugins.push_back(std::move(gen));
 }
 
