@@ -168,6 +168,27 @@ class TernPlotRuns(unittest.TestCase):
         self.assertNotIn("note:", r.stdout)   # every topic present, waypoints readable
         self.assertEqual(r.stderr, "")
 
+    def test_a_tune_run_gets_tune_png_and_a_plain_run_none(self):
+        plain = os.path.join(self.tmp, "plain")
+        write_run(plain)
+        r = run_plot("--strict", plain)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(plain, "plots", "tune.png")))
+        run = os.path.join(self.tmp, "tune")
+        write_run(run)
+        t = [40.0 + 0.01 * k for k in range(600)]
+        cmd = [0.1 if x >= 43.0 else -0.1 for x in t]
+        write_csv(os.path.join(run, "tune.csv"), ["t [s]", "phi_c [rad]", "phi [rad]"],
+                  [(x, c, c * (1.0 - math.exp(-(x - 43.0) / 0.2)) if x >= 43.0 else c) for x, c in zip(t, cmd)])
+        write_csv(os.path.join(run, "tune_steps.csv"),
+                  ["t [s]", "from", "to", "rise_time [s]", "overshoot [%]", "settling_time [s]", "steady_state_error",
+                   "y0", "y_final"], [(43.0, -0.1, 0.1, 0.44, 0.0, 0.78, 0.0, -0.1, 0.1)])
+        r = run_plot("--strict", run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        path = os.path.join(run, "plots", "tune.png")
+        self.assertIn(path, r.stdout.splitlines())
+        self.assertIsNotNone(png_size(path))
+
     def test_missing_topics_are_skipped_with_a_note(self):
         run = os.path.join(self.tmp, "run")
         write_run(run, topics=("state", "controller_command"), config=False)

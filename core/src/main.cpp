@@ -13,6 +13,7 @@
 #include "host.hpp"
 #include "loader.hpp"
 #include "serve.hpp"
+#include "tune_command.hpp"
 #if defined(TERN_WITH_DDS)
 #include "dds_bridge.hpp"
 #endif
@@ -143,7 +144,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "tune", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -199,6 +200,8 @@ int main(int argc, char** argv) {
   replay->add_option("--log-dir", log_dir, "directory for the replay's own run directory (default: ./runs)");
   replay->add_flag("-q,--quiet", quiet, "print only the summary");
 
+  TuneCommand tune;
+  add_tune_command(app, tune);
   auto* params = app.add_subcommand("params", "list every parameter of a mission: value, default, unit, range, description");
   params->add_option("config", config, "mission config (YAML)")->required();
 
@@ -283,6 +286,7 @@ int main(int argc, char** argv) {
 
   try {
     if (plugins->parsed()) return cmd_plugins(plugin_dirs);
+    if (tune.app->parsed()) return run_tune_command(tune, default_config(), exe_dir() / "tern-plot");
 #if defined(TERN_WITH_DDS)
     for (auto* c : client_cmds) {
       if (!c->parsed()) continue;
