@@ -723,6 +723,11 @@ void Estimator::fill_state(msg::State& s) const {
   s.b_x = x.b_g.x();
   s.b_y = x.b_g.y();
   s.b_z = x.b_g.z();
+  const Cov& P = filter_.P();
+  static_assert(kErrDim <= static_cast<int>(std::tuple_size_v<decltype(s.P_diag)>));
+  for (int i = 0; i < kErrDim; ++i) s.P_diag[static_cast<std::size_t>(i)] = P(i, i);
+  for (int i = 0; i < 3; ++i)  // the body attitude = the IMU's, off by the mounting error
+    s.P_diag[static_cast<std::size_t>(idx::th + i)] += cfg_.imu_mount_sigma[i] * cfg_.imu_mount_sigma[i];
 }
 
 }  // namespace tern::ekf

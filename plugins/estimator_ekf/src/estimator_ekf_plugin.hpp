@@ -243,6 +243,8 @@ class EstimatorEkf final : public tern::Plugin {
                    "IMU position from the CG, body FRD, measured on the aircraft");
     declare_vector(imu_mount_, "imu_mount", def.imu_mount, "rad", tern::kPi,
                    "IMU axes relative to the body axes: roll, pitch, yaw (3-2-1); v_body = R(imu_mount) v_imu");
+    declare_vector(imu_mount_sigma_, "imu_mount_sigma", def.imu_mount_sigma, "rad", 1.0,
+                   "uncertainty of imu_mount per body axis, 1 sigma: added to the published attitude covariance");
     declare(mag_heading_only_, "mag_heading_only", def.mag_heading_only,
             tern::ParamSpec("", 0, 1,
                             "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
@@ -313,9 +315,6 @@ class EstimatorEkf final : public tern::Plugin {
     if ((imu_new || imu_silent) && (ticks_++ % decimation_()) == 0) {
       estimator_.fill_state(out_);
       if (imu_silent) out_.stamp = now;  // the invalid state is news of now
-      const auto& P = estimator_.filter().P();
-      static_assert(tern::ekf::kErrDim <= static_cast<int>(std::tuple_size_v<decltype(out_.P_diag)>));
-      for (int i = 0; i < tern::ekf::kErrDim; ++i) out_.P_diag[static_cast<std::size_t>(i)] = P(i, i);
       state_.publish(out_);
     }
     if (now - last_innovations_ >= tern::from_seconds(innovations_period_())) {
@@ -417,6 +416,7 @@ class EstimatorEkf final : public tern::Plugin {
     c.gnss_antenna = vec3(gnss_antenna_());
     c.imu_position = vec3(imu_position_());
     c.imu_mount = vec3(imu_mount_());
+    c.imu_mount_sigma = vec3(imu_mount_sigma_());
     return c;
   }
 
@@ -431,7 +431,7 @@ class EstimatorEkf final : public tern::Plugin {
   std::array<tern::Param<double>, kRealCount> reals_;
   tern::Param<std::int64_t> min_fix_type_, baro_cal_count_, init_min_imu_, decimation_, inflate_after_;
   tern::Param<double> innovations_period_;
-  tern::Param<std::vector<double>> gnss_antenna_, imu_position_, imu_mount_;
+  tern::Param<std::vector<double>> gnss_antenna_, imu_position_, imu_mount_, imu_mount_sigma_;
   tern::Param<bool> use_sideslip_, use_side_force_, mag_heading_only_, use_gnss_accuracy_;
   tern::ekf::Estimator estimator_;
   tern::msg::State out_;

@@ -102,6 +102,25 @@ TEST_CASE("static start at an arbitrary heading: initialises and converges") {
   }
 }
 
+TEST_CASE("the published covariance: the filter's diagonal, attitude widened by the mounting uncertainty") {
+  SimOptions o;
+  o.static_mode = true;
+  TruthSim sim(o);
+  EstimatorConfig c;
+  c.imu_mount_sigma = Vec3(0.01, 0.02, 0.03);
+  Estimator est(c);
+  fly(sim, est, 3.0);
+  REQUIRE(est.initialized());
+  const msg::State s = est.state();
+  const Cov& P = est.filter().P();
+  for (int i = 0; i < kErrDim; ++i) {
+    const int k = i - idx::th;
+    const double mount = k >= 0 && k < 3 ? c.imu_mount_sigma[k] * c.imu_mount_sigma[k] : 0.0;
+    INFO("state " << i);
+    CHECK(s.P_diag[static_cast<std::size_t>(i)] == doctest::Approx(P(i, i) + mount).epsilon(1e-12));
+  }
+}
+
 TEST_CASE("flight: straight, turns (30 and 60 deg bank), climb; accuracy after convergence") {
   TruthSim sim(mixed_flight());
   Estimator est;

@@ -83,6 +83,11 @@ struct EstimatorConfig {
                                       ///< omega_dot x r + omega x (omega x r))
   Vec3 imu_mount = Vec3::Zero();      ///< IMU axes relative to the body axes: roll, pitch, yaw
                                       ///< (3-2-1), rad; v_body = R(imu_mount) v_imu
+  /// How well imu_mount is known, 1 sigma per body axis, rad. No measurement in flight reveals
+  /// it (the filter estimates the IMU's attitude), so it is added to the published attitude
+  /// covariance (State.P_diag), not to the filter's: a board mounted by hand against a square
+  /// sits within about 1 deg on each axis. 0 for an installation measured better.
+  Vec3 imu_mount_sigma = Vec3::Constant(0.0175);
 
   // GNSS
   int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
