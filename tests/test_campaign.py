@@ -1,6 +1,7 @@
 #!/usr/bin/python3
 """tern campaign, end to end (issue 21), on tests/campaign/short.yaml (6 flights of 20 s):
 
+  - log levels: summary writes no topic tables, decimated caps the topics' rates
   - bad campaign input is one clear error line naming the file, the field and the value
   - flight k is the same whatever the worker count (1 vs 2): the same results.csv
   - an interrupted campaign resumes: finished flights are not re-flown, the table is the same
@@ -22,7 +23,7 @@ import sys
 import tempfile
 import time
 
-BIN, SRC = sys.argv[1], sys.argv[2]
+BIN, SRC = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
 TERN = os.path.join(BIN, "tern")
 CAMPAIGN = os.path.join(SRC, "tests", "campaign", "short.yaml")
 failures = []
@@ -42,6 +43,15 @@ def table(out):
     """results.csv with the output directory written as OUT (the commands name it)."""
     with open(os.path.join(out, "results.csv")) as f:
         return f.read().replace(out, "OUT")
+
+
+def throughput(out, what):
+    """Prints the run's throughput.json (information, not a check: the machine's load varies)."""
+    import json
+    with open(os.path.join(out, "throughput.json")) as f:
+        t = json.load(f)
+    print(f"info {what}: {t['flights_flown']} flights in {t['wall_s']:.1f} s on {t['workers']} worker(s), "
+          f"{t['mean_flight_real_time_factor']:.0f}x real time per flight, overhead {100 * t['overhead_fraction']:.0f} %")
 
 
 def summaries(out):
@@ -107,6 +117,22 @@ def slurm(tmp, out):
           "--slurm writes a valid job-array script over the table's commands")
 
 
+def log_levels(tmp):
+    """tern fly --log-level: summary writes no topic tables; decimated logs the 400-Hz IMU at 10 Hz."""
+    mission = os.path.join(SRC, "configs", "missions", "default.yaml")
+    runs = {}
+    for level in ("summary", "decimated"):
+        d = os.path.join(tmp, "level-" + level)
+        subprocess.run([TERN, "fly", mission, "--duration", "12", "--log-level", level, "--log-dir", d, "-q"], check=True, capture_output=True)
+        runs[level] = glob.glob(os.path.join(d, "*"))[0]
+    s = runs["summary"]
+    check(os.path.exists(os.path.join(s, "summary.json")) and not glob.glob(os.path.join(s, "topics", "*.csv")),
+          "log level summary: summary.json and no topic tables")
+    with open(os.path.join(runs["decimated"], "topics", "imu.csv")) as f:
+        rows = sum(1 for _ in f) - 1
+    check(115 <= rows <= 125, f"log level decimated: 12 s of the 400-Hz IMU at 10 Hz is ~120 rows, got {rows}")
+
+
 def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
@@ -133,6 +159,7 @@ def dask(tmp, reference):
         r = campaign(out, "--dask", f"tcp://127.0.0.1:{port}", timeout=300)
         check(r.returncode == 0, f"campaign on Dask completes: {r.stderr.strip()[-300:]!r}")
         check(os.path.exists(os.path.join(out, "results.csv")) and table(out) == reference, "Dask table equals the local one")
+        throughput(out, "Dask")
     finally:
         for p in reversed(procs):
             p.terminate()
@@ -144,6 +171,7 @@ def main():
     tmp = tempfile.mkdtemp(prefix="tern-campaign-test-")
     try:
         bad_input(tmp)
+        log_levels(tmp)
         one, two = os.path.join(tmp, "one"), os.path.join(tmp, "two")
         r1 = campaign(one, "--workers", "1")
         check(r1.returncode == 0 and len(summaries(one)) == 6, f"6 flights with 1 worker: {r1.stderr.strip()[-300:]!r}")
@@ -151,6 +179,7 @@ def main():
         check(reference.count("\n") == 7 and ",error," not in reference, "results.csv: a header and 6 rows, every flight with a summary")
         r2 = campaign(two, "--workers", "2")
         check(r2.returncode == 0 and table(two) == reference, "2 workers give the same table as 1")
+        throughput(two, "local")
         resume(tmp, reference)
         refly(tmp, one)
         slurm(tmp, one)

@@ -18,6 +18,7 @@
 #include <thread>
 
 #include <CLI/CLI.hpp>
+#include <boost/dll/runtime_symbol_info.hpp>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
@@ -42,11 +43,8 @@ using namespace tern::campaign;
 
 namespace {
 
-fs::path exe_dir() {
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? fs::path() : exe.parent_path();
-}
+/// Where tern-campaign is: tern, tern-campaign-dask and tern-campaign-plot sit beside it.
+fs::path exe_dir() { return fs::path(boost::dll::program_location().parent_path().string()); }
 
 double wall_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
