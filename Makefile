@@ -10,12 +10,12 @@ DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
   libfastrtps-dev fastddsgen \
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy python3-distributed
 # Only for `make fuzz` (libFuzzer needs clang and its runtime).
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps install-packages configure build fly test bench fuzz clean
+.PHONY: all deps install-packages configure build fly campaign test bench fuzz clean
 
 all: build
 
@@ -49,6 +49,12 @@ fly: build
 	if [ -x $(BUILD)/bin/tern-plot ]; then $(BUILD)/bin/tern-plot $$run; fi; \
 	echo "flight log: $$run"; \
 	if [ -d $$run/plots ]; then echo "plots:      $$run""plots/"; fi
+
+# The shipped Monte Carlo campaign (200 flights of the default mission over wind, turbulence,
+# mass and aero coefficients) on every core: table, summary and plots in campaigns/<name>/.
+CAMPAIGN ?= configs/campaigns/hourglass_dispersion.yaml
+campaign: build
+	$(BUILD)/bin/tern campaign $(CAMPAIGN)
 
 test: build
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)

@@ -84,6 +84,21 @@ std::string mission_name(const YAML::Node& n, const fs::path& file) {
 
 }  // namespace
 
+const char* log_level_name(LogLevel level) {
+  switch (level) {
+    case LogLevel::summary: return "summary";
+    case LogLevel::decimated: return "decimated";
+    case LogLevel::full: return "full";
+  }
+  return "full";
+}
+
+std::optional<LogLevel> log_level_from_name(const std::string& name) {
+  for (LogLevel l : {LogLevel::summary, LogLevel::decimated, LogLevel::full})
+    if (name == log_level_name(l)) return l;
+  return std::nullopt;
+}
+
 std::string duration_problem(double s) {
   if (!std::isfinite(s)) return fmt::format("must be a finite number of seconds, got {}", s);
   if (!(s > 0)) return fmt::format("must be > 0 s, got {}", s);
@@ -212,9 +227,23 @@ MissionConfig load_config(const fs::path& file_in) {
   }
 
   c.log.dir = fs::current_path() / "runs";
+  if (root["log"] && root["log"].IsScalar()) {  // `log: summary` is short for `log: {level: summary}`
+    YAML::Node m(YAML::NodeType::Map);
+    m["level"] = root["log"];
+    c.root["log"] = m;
+  }
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
-    check_keys(log, f, "log", {"dir", "topics", "max_rate", "rates"});
+    check_keys(log, f, "log", {"dir", "level", "decimated_rate", "topics", "max_rate", "rates"});
+    if (const YAML::Node lv = log["level"]) {
+      const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
+      if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");
+      c.log.level = *level;
+    }
+    if (log["decimated_rate"]) {
+      c.log.decimated_rate = as_number(log["decimated_rate"], f, "log.decimated_rate");
+      if (!(c.log.decimated_rate > 0)) throw ConfigError(where(f, log["decimated_rate"]) + "log.decimated_rate: must be > 0 Hz");
+    }
     if (log["max_rate"]) {
       c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");
       if (c.log.max_rate < 0) throw ConfigError(where(f, log["max_rate"]) + "log.max_rate: must be >= 0 Hz (0: every message)");

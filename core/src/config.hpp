@@ -40,8 +40,19 @@ struct InstanceConfig {
   YAML::Node node;             ///< the entry, for error locations
 };
 
+/// How much of a flight the log keeps. summary: config.yaml, params.csv, tern.log, summary.json
+/// and timing.json, no topic tables (a campaign flight); decimated: every logged topic, the
+/// sensors too, at most `decimated_rate` Hz; full: the topics as `topics`/`max_rate`/`rates` say.
+enum class LogLevel { summary, decimated, full };
+/// "summary", "decimated", "full".
+const char* log_level_name(LogLevel level);
+/// The level named `name`, nullopt if none.
+std::optional<LogLevel> log_level_from_name(const std::string& name);
+
 struct LogConfig {
   fs::path dir;                      ///< parent of the run directories
+  LogLevel level = LogLevel::full;
+  double decimated_rate = 10.0;      ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
   std::vector<std::string> topics;   ///< when !all_topics
   double max_rate = 100.0;           ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)

@@ -1,5 +1,6 @@
 #include "flight_recorder.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <ctime>
 #include <limits>
@@ -58,13 +59,15 @@ void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log,
   static const std::set<std::string> kReplayInputs = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
   const std::set<std::string> wanted(log.topics.begin(), log.topics.end());
   logged_.assign(graph.topics().size(), Logged{});
+  if (log.level == LogLevel::summary) return;  // no topic tables (log.topics was checked by the config)
   for (std::size_t k = 0; k < graph.topics().size(); ++k) {
     const GraphTopic& t = graph.topics()[k];
     if (!t.written() || (!log.all_topics && !wanted.count(t.name))) continue;
     Logged& l = logged_[k];
     l.index = log_.add_topic(t.name, t.columns, t.msg_size);
     const auto rate_it = log.rates.find(t.name);
-    const double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
+    double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
+    if (log.level == LogLevel::decimated) max_rate = max_rate > 0 ? std::min(max_rate, log.decimated_rate) : log.decimated_rate;
     l.interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
     l.t = std::numeric_limits<Nanos>::min() / 2;
   }

@@ -7,7 +7,9 @@
 // at the end of the tick it was published in (flight time of the tick), at most one per
 // 1 / max_rate s of flight time: `log.rates.<topic>`, else `log.max_rate` (Hz, 0: every message),
 // except the sensor topics and `actuators`, logged in full by default so that a flight can be
-// replayed (tern replay). Thinning by flight time keeps the log deterministic.
+// replayed (tern replay). Thinning by flight time keeps the log deterministic. `log.level`
+// (config.hpp) summary logs no topic; decimated caps every topic, the sensors too, at
+// `log.decimated_rate` Hz (such a log cannot be replayed).
 #pragma once
 
 #include <cstddef>

@@ -165,6 +165,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "help for every command");
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern: error: {} (see --help)\n", e.what()); });
   app.footer("More commands: tern plot RUN_DIR (figures of a flight), tern aero (aircraft models, trim),\n"
+             "tern campaign FILE (Monte Carlo flights: a table, a summary and plots),\n"
              "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
   std::string config;
@@ -182,6 +183,9 @@ int main(int argc, char** argv) {
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
   fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
+  std::optional<std::string> log_level;
+  fly->add_option("--log-level", log_level, "summary (no topic tables), decimated or full (overrides the config's log.level)")
+      ->check(CLI::IsMember({"summary", "decimated", "full"}));
   fly->add_flag("-q,--quiet", quiet, "print only warnings, errors and where the log went");
   fly->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
   fly->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
@@ -430,6 +434,11 @@ int main(int argc, char** argv) {
       opt.quiet = true;
     }
     MissionConfig mc = load_config(config);
+    if (log_level) {
+      mc.log.level = *log_level_from_name(*log_level);
+      if (!mc.root["log"]) mc.root["log"] = YAML::Node(YAML::NodeType::Map);
+      mc.root["log"]["level"] = *log_level;  // config.yaml records the level flown
+    }
 #if defined(TERN_WITH_DDS)
     DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
     if (dds) dds_opt.enabled = true;
