@@ -54,6 +54,15 @@ std::pair<double, double> distance_range(const Csv& csv, double n, double e, dou
   return {lo, hi};
 }
 
+// The estimated track circles (n, e) at kRadius (within 20 m) between t0 and t1 (s).
+constexpr double kRadius = 80.0;  // m: every failsafe and item orbit of these tests
+void check_circling(const Csv& state, double n, double e, double t0, double t1, const std::string& what) {
+  const auto [lo, hi] = distance_range(state, n, e, t0, t1);
+  MESSAGE(what << ": distance to the orbit centre " << lo << ".." << hi << " m (radius " << kRadius << ")");
+  CHECK(lo > kRadius - 20.0);
+  CHECK(hi < kRadius + 20.0);
+}
+
 const nlohmann::json& event(const nlohmann::json& s, const std::string& cause) {
   for (const auto& e : s["failsafes"])
     if (e["cause"] == cause) return e;
@@ -72,6 +81,23 @@ std::string with_failsafes(const std::string& failsafes, const std::vector<std::
   auto edits = more;
   edits.emplace_back("mission:\n", "failsafes:\n" + failsafes + "mission:\n");
   return default_mission_with(edits);
+}
+
+// Flies `yaml` with a ground station heard every second until `heard_until` (s): the requests as
+// the DDS bridge reports them (Host::ground_link_heard()), from the tick observer.
+FlightResult fly_with_ground_station(const std::string& yaml, const std::string& logdir, double duration, double heard_until) {
+  HostOptions o;
+  o.quiet = true;
+  o.seed = kSeed;
+  o.duration = duration;
+  o.log_dir = test_dir() / logdir;
+  Host h(load_config(write_file("flight.yaml", yaml)), o);
+  h.build();
+  const tern::Nanos last = tern::from_seconds(heard_until);
+  h.set_tick_observer([&h, last](tern::Nanos now) {
+    if (now % 1'000'000'000 == 0 && now <= last) h.ground_link_heard();
+  });
+  return h.fly();
 }
 
 }  // namespace
@@ -96,10 +122,7 @@ TEST_CASE("issue 18: GNSS lost in cruise -> the aircraft loiters around the dead
   CHECK(std::hypot(cn - state["p_n [m]"][j], ce - state["p_e [m]"][j]) < 1.0);
   // from 40 s after the engagement to the end of the outage (70 s: after about 85 s of dead
   // reckoning this estimator declares itself invalid), the estimate circles at 80 m
-  const auto [lo, hi] = distance_range(state, cn, ce, t_loss + 40.0, 170.0);
-  MESSAGE("GNSS loss: loiter at n " << cn << " e " << ce << ", estimated distance " << lo << ".." << hi << " m (radius 80)");
-  CHECK(lo > 60.0);
-  CHECK(hi < 100.0);
+  check_circling(state, cn, ce, t_loss + 40.0, 170.0, "GNSS loss");
   const Csv truth(r.run_dir / "topics" / "truth.csv");
   const auto [tlo, thi] = distance_range(truth, cn, ce, t_loss + 40.0, 170.0);
   MESSAGE("GNSS loss: true distance " << tlo << ".." << thi << " m (the dead-reckoned estimate drifts from the truth)");
@@ -124,37 +147,19 @@ TEST_CASE("issue 18: a geofence smaller than the mission -> the aircraft returns
   const auto [out_lo, out_hi] = distance_range(state, 0.0, 0.0, t_breach, t_inside + 1.0);
   MESSAGE("geofence: farthest from home " << out_hi << " m (fence 250 m)");
   CHECK(out_hi < 320.0);
-  const auto [lo, hi] = distance_range(state, 0.0, 0.0, t_inside + 60.0, 200.0);
-  MESSAGE("geofence: loiter at home, distance " << lo << ".." << hi << " m (radius 80)");
-  CHECK(lo > 60.0);
-  CHECK(hi < 100.0);
+  check_circling(state, 0.0, 0.0, t_inside + 60.0, 200.0, "geofence");
   CHECK(s["failsafes"].size() == 2);  // never out again
 }
 
 TEST_CASE("issue 18: a ground station heard, then silent -> return home and loiter there") {
-  const std::string yaml = with_failsafes("  link_loss: {timeout: 5, altitude: 80, radius: 80}\n");
-  HostOptions o;
-  o.quiet = true;
-  o.seed = kSeed;
-  o.duration = 220.0;
-  o.log_dir = test_dir() / "fs_link";
-  Host h(load_config(write_file("flight.yaml", yaml)), o);
-  h.build();
-  // the ground station's requests, as the DDS bridge reports them: every second until t = 90 s
-  h.set_tick_observer([&h](tern::Nanos now) {
-    if (now % 1'000'000'000 == 0 && now <= 90'000'000'000) h.ground_link_heard();
-  });
-  const FlightResult r = h.fly();
+  const FlightResult r = fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, altitude: 80, radius: 80}\n"), "fs_link", 220.0, 90.0);
   check_flying(r);
   const auto s = summary(r);
   const auto& loss = event(s, "link_loss");
   CHECK(loss["action"] == "return_home");
   CHECK(loss["t_s"].get<double>() == doctest::Approx(95.0).epsilon(0.01));
   const Csv state(r.run_dir / "topics" / "state.csv");
-  const auto [lo, hi] = distance_range(state, 0.0, 0.0, 160.0, 220.0);
-  MESSAGE("link loss: loiter at home, distance " << lo << ".." << hi << " m (radius 80)");
-  CHECK(lo > 60.0);
-  CHECK(hi < 100.0);
+  check_circling(state, 0.0, 0.0, 160.0, 220.0, "link loss");
   const std::size_t k = state.at(215.0);
   CHECK(-state["p_d [m]"][k] == doctest::Approx(80.0).epsilon(0.1));
 }
@@ -181,8 +186,26 @@ TEST_CASE("issue 18: a mission file with loiter and return_home items is flown: 
   CHECK(path["c_d [m]"][last] == -60.0);
   CHECK(path["lambda []"][last] == 1.0);
   const Csv state(r.run_dir / "topics" / "state.csv");
-  const auto [lo, hi] = distance_range(state, 0.0, 0.0, 300.0, 330.0);
-  MESSAGE("mission items: loiter at home, distance " << lo << ".." << hi << " m (radius 80)");
-  CHECK(lo > 60.0);
-  CHECK(hi < 100.0);
+  check_circling(state, 0.0, 0.0, 300.0, 330.0, "mission items");
+}
+
+TEST_CASE("issue 18: the link still lost terminate.after s after the return home -> flight termination (glide): motor off, surfaces neutral") {
+  const FlightResult r =
+      fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, terminate: {after: 10, action: glide}}\n"), "fs_terminate", 200.0, 60.0);
+  const auto s = summary(r);
+  const double t_term = event(s, "terminate")["t_s"].get<double>();
+  CHECK(t_term - event(s, "link_loss")["t_s"].get<double>() == doctest::Approx(10.0).epsilon(0.001));
+  const Csv act(r.run_dir / "topics" / "actuators.csv");
+  const std::size_t k0 = act.at(t_term + 0.1);
+  REQUIRE(k0 + 1 < act["t [s]"].size());
+  bool held = true;
+  for (std::size_t k = k0; k < act["t [s]"].size(); ++k)
+    held = held && act["delta_t []"][k] == 0.0 && act["delta_e [rad]"][k] == 0.0 && act["delta_a [rad]"][k] == 0.0;
+  CHECK(held);
+  // the unpowered glide ends on the ground (seed 3: a landing soft enough for sim_aero not to call it
+  // a crash, 25 s after the termination from 70 m)
+  const Csv truth(r.run_dir / "topics" / "truth.csv");
+  const double h_after = -truth["p_d [m]"][truth.at(t_term + 60.0)];
+  MESSAGE("termination at " << t_term << " s; true altitude 60 s later " << h_after << " m; end_reason " << r.end_reason);
+  CHECK(h_after < 1.0);
 }
