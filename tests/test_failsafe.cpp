@@ -59,14 +59,14 @@ std::string error_of(const std::string& yaml) {
 TEST_CASE("failsafe: GNSS silent beyond its timeout -> loiter at the estimate of that moment, once; back -> said, no new action") {
   Watch m;
   const msg::State s = at(120.0, -40.0, 70.0);
-  auto ev = m.run(0.0, 10.0, s, 5.0);  // last fix at 5 s, timeout 5 s
+  auto ev = m.run(0.0, 10.5, s, 5.0);  // last fix at 5 s, timeout 5 s
   REQUIRE(ev.size() == 1);
   CHECK(ev[0].cause == "gnss_loss");
   CHECK(ev[0].action == "loiter");
   CHECK(to_seconds(ev[0].t) == doctest::Approx(10.01).epsilon(0.002));  // silent > 5 s
   CHECK(ev[0].centre == Eigen::Vector3d(120.0, -40.0, -70.0));
   CHECK(ev[0].detail.find("no valid GNSS fix for 5.0 s") != std::string::npos);
-  ev = m.run(10.01, 30.0, s, 5.0);
+  ev = m.run(10.51, 30.0, s, 5.0);
   CHECK(ev.empty());  // engaged once
   ev = m.run(30.01, 31.0, s, 31.0);
   REQUIRE(ev.size() == 1);
