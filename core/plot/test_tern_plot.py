@@ -313,6 +313,25 @@ class Pieces(unittest.TestCase):
         self.assertEqual(len(wps), 3)
         np.testing.assert_allclose(wps[2], [0.0, 0.0, -70.0], atol=1e-6)
 
+    def test_loiter_and_return_home_items_are_read(self):
+        wps, loop = TP.parse_mission_text("loop: false\nwaypoints:\n  - [100, 0, -70]\n"
+                                          "  - {type: loiter, ned: [100, 100, -70], radius: 60, turns: 2}\n"
+                                          "  - {type: return_home, altitude: 80}\n")
+        self.assertFalse(loop)
+        self.assertEqual([w for w, _ in wps], [[100, 0, -70], [100, 100, -70], [0, 0, -80]])
+
+    def test_failsafe_and_fallback_engagements_are_markers(self):
+        with open(os.path.join(self.tmp, "summary.json"), "w") as f:
+            f.write('{"failsafes": [{"t_s": 103.0, "cause": "gnss_loss", "action": "loiter", "detail": "x"},'
+                    ' {"t_s": 200.5, "cause": "gnss_back", "action": "none", "detail": "y"}],'
+                    ' "controller_handovers": [{"t_s": 9.7, "from": "(none)", "to": "slc", "reason": "phase takeoff"},'
+                    ' {"t_s": 50.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: z"}]}')
+        ev = TP.flight_events(self.tmp)
+        self.assertEqual([(t, label) for t, label, _ in ev],
+                         [(103.0, "failsafe gnss_loss"), (200.5, "failsafe gnss_back"), (50.0, "safety: slc")])
+        self.assertNotEqual(ev[0][2], ev[1][2])  # engaged and cleared differ in colour
+        self.assertEqual(TP.flight_events(os.path.join(self.tmp, "nowhere")), [])
+
     def test_lla_to_ned(self):
         lat, lon, alt = ORIGIN
         a, f = 6378137.0, 1 / 298.257223563

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "error.hpp"
+#include "failsafe_config.hpp"
 
 namespace tern::core {
 
@@ -201,7 +202,7 @@ MissionConfig load_config(const fs::path& file_in) {
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
   check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
-                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds"});
+                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes"});
 
   c.name = root["name"] ? mission_name(root["name"], f) : c.file.stem().string();
   if (root["seed"]) {
@@ -366,6 +367,7 @@ MissionConfig load_config(const fs::path& file_in) {
   }
   if (root["mission"]) c.mission = root["mission"];
   if (root["dds"]) c.dds = root["dds"];
+  c.failsafes = parse_failsafes(root["failsafes"], f);
   return c;
 }
 

@@ -13,6 +13,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "failsafe.hpp"
 #include "tern/msg/phase.hpp"
 #include "tern/param.hpp"
 
@@ -76,6 +77,7 @@ struct MissionConfig {
   std::map<std::string, ParamSetting> metrics_params;  ///< `metrics:` parameters
   YAML::Node mission;          ///< free-form, for the path planner
   YAML::Node dds;              ///< free-form, for the DDS bridge
+  FailsafeConfig failsafes;    ///< `failsafes:` (failsafe_config.hpp), the defaults without it
   YAML::Node root;             ///< the whole document as loaded
 };
 

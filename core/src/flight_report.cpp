@@ -172,6 +172,9 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   j["base_rate_hz"] = 1e9 / static_cast<double>(f.base_period);
   if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
   if (f.phase_machine) phases_json(*f.phase_machine, f.router, j);
+  auto fs = nlohmann::ordered_json::array();
+  for (const auto& e : f.failsafes) fs.push_back({{"t_s", to_seconds(e.t)}, {"cause", e.cause}, {"action", e.action}, {"detail", e.detail}});
+  j["failsafes"] = fs;
   j["instances"] = instances_json(f.instances);
   if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
   return j.dump(2) + "\n";

@@ -49,6 +49,7 @@ struct FlightFacts {
   const PhaseRouter& router;
   const FlightMetrics* metrics;       ///< nullptr when nothing publishes `state`
   double start_to_first_tick_ms;
+  const std::vector<FailsafeEvent>& failsafes;  ///< engagements and cleared causes, in time order
 };
 
 std::string resolved_config_yaml(const FlightFacts& f);

@@ -313,7 +313,8 @@ std::string Host::graph_dot() const {
 }
 
 FlightFacts Host::facts(double duration_s) const {
-  return {config_, seed_, duration_s, flights_, base_period_, instances_, phase_machine_, router_, metrics_, start_to_first_tick_ms_};
+  return {config_, seed_, duration_s, flights_, base_period_, instances_, phase_machine_, router_, metrics_, start_to_first_tick_ms_,
+          failsafes_.events()};
 }
 
 double Host::flight_duration() const { return duration_override_ ? *duration_override_ : options_.duration.value_or(config_.duration); }
@@ -351,6 +352,7 @@ FlightResult Host::fly() {
     return r;
   }
   router_.start_flight();
+  failsafes_.start_flight(config_.failsafes, graph_);
   StatusLine status(graph_, options_.progress);
   Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
   start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
@@ -358,6 +360,7 @@ FlightResult Host::fly() {
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
     const EndRequest end = run_tick(clock);
+    failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);
     recorder.capture(graph_, clock.now());
     notify_observer(clock.now());
     if (!end.reason.empty()) {

@@ -7,6 +7,7 @@
 //   2. every instance due steps, in the port graph's order    scheduler.hpp, port_graph.hpp
 //      (a routed controller only when active; after the phase machine, the router follows
 //      the phase; after a controller, the router may engage the fallback)  phase_router.hpp
+//      then the failsafes look at the tick (failsafe_station.hpp: mission edits, termination)
 //   3. what was published is captured in the flight log      flight_recorder.hpp
 //   4. the tick observer (DDS bridge) is called; then, on the wall clock: log flushes, the
 //      status line (status_line.hpp) and, with --realtime, pacing.
@@ -29,6 +30,7 @@
 #include <spdlog/sinks/dist_sink.h>
 
 #include "config.hpp"
+#include "failsafe_station.hpp"
 #include "flight_report.hpp"
 #include "instances.hpp"
 #include "metrics.hpp"
@@ -98,6 +100,10 @@ class Host {
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
   /// ConfigError when no instance reads `mission_edit`.
   void edit_mission(const msg::MissionEdit& edit);
+  /// The ground station was heard (any thread): the DDS bridge calls this on every request and
+  /// heartbeat. The link-loss failsafe (failsafe.hpp) acts only once this has been called in a
+  /// flight.
+  void ground_link_heard() { failsafes_.ground_link_heard(); }
   /// Between flights: replaces instance `instance` by the plugin in the shared object `so` (another
   /// plugin or a rebuild of the same one), configured with the instance's parameters. The new
   /// library is loaded from a private copy, so a rebuild at the same path loads too; the old
@@ -152,6 +158,7 @@ class Host {
   PortGraph graph_;  // over instances_ (node i = instance i)
   PhaseRouter router_{instances_, graph_, logger_};
   RemoteQueue remote_;
+  FailsafeStation failsafes_{logger_};
   Nanos base_period_ = 0;
   std::uint64_t seed_ = 1;
   PhaseMachine* phase_machine_ = nullptr;  // built-ins, owned by instances_

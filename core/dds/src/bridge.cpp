@@ -232,9 +232,11 @@ struct DdsBridge::Impl {
   void start_services() {
     using namespace tern_msgs::srv;
     const std::string& ns = options.ns;
+    // every request is the ground station speaking: the link-loss failsafe's "heard"
+    const std::function<void()> heard = [this] { host.ground_link_heard(); };
     auto add = [&](auto server) { servers.push_back(std::move(server)); };
     add(std::make_shared<ServiceServer<ParamList_RequestPubSubType, ParamList_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_list", [this](const ParamList_Request& rq) {
+        participant, publisher, subscriber, ns, "param_list", heard, [this](const ParamList_Request& rq) {
           ParamList_Response r;
           std::string unknown;
           r.params(param_infos({}, rq.prefix(), unknown));
@@ -242,7 +244,7 @@ struct DdsBridge::Impl {
           return r;
         }));
     add(std::make_shared<ServiceServer<ParamGet_RequestPubSubType, ParamGet_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_get", [this](const ParamGet_Request& rq) {
+        participant, publisher, subscriber, ns, "param_get", heard, [this](const ParamGet_Request& rq) {
           ParamGet_Response r;
           std::string unknown;
           r.params(param_infos(rq.names(), "", unknown));
@@ -251,7 +253,7 @@ struct DdsBridge::Impl {
           return r;
         }));
     add(std::make_shared<ServiceServer<ParamSet_RequestPubSubType, ParamSet_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_set", [this](const ParamSet_Request& rq) {
+        participant, publisher, subscriber, ns, "param_set", heard, [this](const ParamSet_Request& rq) {
           try {
             const ParamValue v = from_dds(rq.value());
             host.request_param(rq.name(), v, "dds");
@@ -261,7 +263,7 @@ struct DdsBridge::Impl {
           }
         }));
     add(std::make_shared<ServiceServer<ParamSave_RequestPubSubType, ParamSave_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_save", [this](const ParamSave_Request& rq) {
+        participant, publisher, subscriber, ns, "param_save", heard, [this](const ParamSave_Request& rq) {
           try {
             return success<ParamSave_Response>(save_params(rq.filename()));
           } catch (const std::exception& e) {
@@ -270,7 +272,7 @@ struct DdsBridge::Impl {
         }));
     add(std::make_shared<ServiceServer<rosplane_msgs::srv::AddWaypoint_RequestPubSubType,
                                        rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "add_waypoint", [this](const rosplane_msgs::srv::AddWaypoint_Request& rq) {
+        participant, publisher, subscriber, ns, "add_waypoint", heard, [this](const rosplane_msgs::srv::AddWaypoint_Request& rq) {
           using Resp = rosplane_msgs::srv::AddWaypoint_Response;
           try {
             msg::MissionEdit e = new_edit(msg::MissionEdit::add);
@@ -292,7 +294,7 @@ struct DdsBridge::Impl {
         }));
     using std_srvs::srv::Trigger_Request, std_srvs::srv::Trigger_Response;
     using TriggerServer = ServiceServer<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>;
-    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "clear_waypoints", [this](const Trigger_Request&) {
+    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "clear_waypoints", heard, [this](const Trigger_Request&) {
       try {
         msg::MissionEdit e = new_edit(msg::MissionEdit::clear);
         host.edit_mission(e);
@@ -301,7 +303,7 @@ struct DdsBridge::Impl {
         return failure<Trigger_Response>(e.what());
       }
     }));
-    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "print_waypoints", [this](const Trigger_Request&) {
+    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "print_waypoints", heard, [this](const Trigger_Request&) {
       std::lock_guard lk(mu);
       if (!waypoints) return failure<Trigger_Response>("no waypoint list published yet (topic 'waypoints')");
       std::string s = fmt::format("{} waypoints (revision {}{})\n", waypoints->count, waypoints->revision, waypoints->loop ? ", loop" : "");
@@ -313,7 +315,7 @@ struct DdsBridge::Impl {
       return success<Trigger_Response>(s);
     }));
     add(std::make_shared<ServiceServer<MissionLoad_RequestPubSubType, MissionLoad_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "load_mission_from_file", [this](const MissionLoad_Request& rq) {
+        participant, publisher, subscriber, ns, "load_mission_from_file", heard, [this](const MissionLoad_Request& rq) {
           using Resp = MissionLoad_Response;
           try {
             if (rq.filename().empty()) return failure<Resp>("load_mission_from_file: no file name");
@@ -331,7 +333,7 @@ struct DdsBridge::Impl {
           }
         }));
     add(std::make_shared<ServiceServer<Status_RequestPubSubType, Status_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "status", [this](const Status_Request&) {
+        participant, publisher, subscriber, ns, "status", heard, [this](const Status_Request&) {
           Status_Response r;
           r.mission(host.config().name);
           r.config_file(host.config().file.string());

@@ -82,15 +82,16 @@ fdds::Topic* make_topic(fdds::DomainParticipant* p, const std::string& name) {
 }
 
 /// Server side of one service: answers each request on a Fast DDS thread with `handler`, the
-/// reply carrying the request's sample identity as related_sample_identity.
+/// reply carrying the request's sample identity as related_sample_identity. `on_request` (may be
+/// empty) is called first, for every request (the host's ground_link_heard()).
 template <class ReqPS, class RespPS>
 class ServiceServer final : public fdds::DataReaderListener {
  public:
   using Req = typename ReqPS::type;
   using Resp = typename RespPS::type;
   ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
-                const std::string& service, std::function<Resp(const Req&)> handler)
-      : handler_(std::move(handler)) {
+                const std::string& service, std::function<void()> on_request, std::function<Resp(const Req&)> handler)
+      : on_request_(std::move(on_request)), handler_(std::move(handler)) {
     writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos());
     reader_ = sub->create_datareader(make_topic<ReqPS>(p, request_topic(ns, service)), service_reader_qos(), this);
     if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create service '" + service + "'");
@@ -100,6 +101,7 @@ class ServiceServer final : public fdds::DataReaderListener {
     fdds::SampleInfo info;
     while (reader->take_next_sample(&req, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
+      if (on_request_) on_request_();
       Resp resp = handler_(req);
       // the client's reply reader is discovered at about the time its request writer is: give
       // the reply writer a moment to match it (a volatile reply to an unmatched reader is lost)
@@ -121,6 +123,7 @@ class ServiceServer final : public fdds::DataReaderListener {
   fdds::DataReader* reader() const { return reader_; }
 
  private:
+  std::function<void()> on_request_;
   std::function<Resp(const Req&)> handler_;
   fdds::DataWriter* writer_ = nullptr;
   fdds::DataReader* reader_ = nullptr;

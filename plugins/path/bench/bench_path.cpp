@@ -63,7 +63,7 @@ std::vector<std::pair<Vec3, double>> flight(bool use_chi, int steps) {
   for (int k = 0; k < steps; ++k) {
     const Vec3 p(n, e, -70);
     out.emplace_back(p, chi);
-    const PathSegment s = m.update(p, chi);
+    const PathSegment s = m.update(p, chi, k * dt);
     if (k % 10 == 0) c = follow(s, FollowerInput{p, chi, chi, Va, Va}, FollowerGains{});
     const double err = std::remainder(c.chi_c - chi, 2 * 3.14159265358979323846);
     const double phi_c = std::clamp(2.0 * err + c.phi_ff, -0.785, 0.785);
@@ -89,7 +89,7 @@ int main() {
                                m.set_waypoints(hourglass(use_chi), true);
                              }
                              const auto& [p, chi] = track[static_cast<std::size_t>(i)];
-                             g_sink = g_sink + m.update(p, chi).rho;
+                             g_sink = g_sink + m.update(p, chi, static_cast<double>(i) * 0.01).rho;
                            }));
   }
   std::mt19937_64 rng(1);

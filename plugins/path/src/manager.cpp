@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <stdexcept>
 
+#include "tern/math.hpp"
+
 namespace tern::path {
 
 namespace {
@@ -18,8 +20,12 @@ std::string fmt(double v, int decimals = 1) {
 }
 
 bool same(const MissionPoint& a, const MissionPoint& b) {
-  return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d;
+  return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d && a.type == b.type &&
+         a.loiter.radius == b.loiter.radius && a.loiter.direction == b.loiter.direction && a.loiter.time == b.loiter.time &&
+         a.loiter.turns == b.loiter.turns;
 }
+
+bool orbits(const MissionPoint& w) { return w.type != ItemType::waypoint; }
 
 Vec3 unit3(const Vec3& from, const Vec3& to, const Vec3& fallback) {
   const Vec3 d = to - from;
@@ -78,7 +84,16 @@ bool PathManager::same_prefix(const std::vector<MissionPoint>& list, bool loop) 
   return true;
 }
 
-void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop) {
+void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate) {
+  if (immediate && !list.empty()) {
+    pending_.reset();
+    raw_ = list;
+    raw_loop_ = loop;
+    need_adopt_ = true;
+    adopt_first_ = 0;
+    if (info_) info_("new mission of " + std::to_string(list.size()) + " item(s): flown now");
+    return;
+  }
   if (list.empty()) {
     raw_.clear();
     raw_loop_ = loop;
@@ -130,6 +145,7 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
   std::vector<Entry> out;
   for (std::size_t i = 0; i < list.size(); ++i) {
     Entry e{list[i], static_cast<int>(i)};
+    if (e.wp.type == ItemType::return_home) e.wp.w.head<2>().setZero();  // home
     if (!e.wp.w.allFinite()) {
       warn_once("nan" + std::to_string(i), "waypoint " + std::to_string(i) + " has a non-finite position: skipped");
       continue;
@@ -138,7 +154,7 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
       warn_once("chi" + std::to_string(i), "waypoint " + std::to_string(i) + " has a non-finite chi_d: flown without it");
       e.wp.use_chi = false;
     }
-    if (!out.empty()) {
+    if (!out.empty() && !orbits(e.wp) && !orbits(out.back().wp)) {
       const double d = horizontal_distance(out.back().wp.w, e.wp.w);
       if (d < cfg_.min_separation) {
         warn_once("rep" + std::to_string(i), "waypoint " + std::to_string(i) + " repeats waypoint " +
@@ -149,7 +165,7 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
     }
     out.push_back(e);
   }
-  if (loop_ && out.size() > 1) {
+  if (loop_ && out.size() > 1 && !orbits(out.back().wp) && !orbits(out.front().wp)) {
     const double d = horizontal_distance(out.back().wp.w, out.front().wp.w);
     if (d < cfg_.min_separation) {
       warn_once("rep" + std::to_string(out.back().index),
@@ -172,6 +188,10 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
     warn_once("none", "no usable waypoint in a list of " + std::to_string(list.size()) + ": orbiting the origin");
     mode_ = Mode::origin_orbit;
     stage_ = Stage::orbit;
+    return;
+  }
+  if (wps_.size() == 1 && orbits(wps_[0].wp)) {
+    start_route(0, p, chi);
     return;
   }
   if (wps_.size() == 1) {
@@ -221,6 +241,14 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   const int idx = wps_[target_].index;
   double R = cfg_.R_min;
   seg_R_ = R;
+  if (orbits(wt)) {
+    stage_ = Stage::loiter;
+    loiter_on_ = false;
+    loiter_swept_ = 0.0;
+    seg_R_ = loiter_segment(wps_[target_]).rho;
+    if (info_) info_(std::string(item_type_name(wt.type)) + " item " + std::to_string(idx) + ": orbit of radius " + fmt(seg_R_) + " m");
+    return;
+  }
   if (horizontal_distance(prev_, wt.w) < cfg_.min_separation) {  // already there
     advance(p, chi);
     return;
@@ -254,7 +282,7 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   switch_z_ = wt.w;
   switch_n_ = q_in;
   stage_ = Stage::line;
-  if (!nx || wps_[*nx].wp.use_chi) return;  // last waypoint, or a Dubins path follows: pass over it
+  if (!nx || wps_[*nx].wp.use_chi || orbits(wps_[*nx].wp)) return;  // last, or a Dubins path or orbit follows: pass over it
   const Vec3& w_next = wps_[*nx].wp.w;
   if (cfg_.corner == ManagerConfig::Corner::fillet) {
     if (cfg_.turn_bank > 0.0 && horizontal_distance(wt.w, w_next) > 0.0) {
@@ -330,12 +358,42 @@ PathSegment PathManager::orbit_segment(const Vec3& c, int index, double Va) cons
   return s;
 }
 
+PathSegment PathManager::loiter_segment(const Entry& e) const {
+  PathSegment s = orbit_segment(e.wp.w, e.index, airspeed(e.wp));
+  if (e.wp.loiter.radius > 0.0) s.rho = e.wp.loiter.radius;
+  s.lambda = e.wp.loiter.direction >= 0 ? 1 : -1;
+  return s;
+}
+
+double PathManager::loiter_turns_flown() const { return loiter_swept_ / (2.0 * kPi); }
+
+bool PathManager::loiter_done(const Vec3& p, double t) {
+  const Entry& e = wps_[target_];
+  const double R = loiter_segment(e).rho;
+  const Vec3 d = p - e.wp.w;
+  const double bearing = std::atan2(d.y(), d.x());
+  if (!loiter_on_) {
+    if (std::fabs(d.head<2>().norm() - R) > kOnOrbit * R) return false;
+    loiter_on_ = true;
+    loiter_since_ = t;
+    loiter_swept_ = 0.0;
+    loiter_angle_ = bearing;
+    if (info_) info_(std::string(item_type_name(e.wp.type)) + " item " + std::to_string(e.index) + ": on the orbit");
+  }
+  loiter_swept_ += wrap_pi(bearing - loiter_angle_) * (e.wp.loiter.direction >= 0 ? 1.0 : -1.0);
+  loiter_angle_ = bearing;
+  const LoiterSpec& l = e.wp.loiter;
+  if (e.wp.type != ItemType::loiter) return false;  // return_home: until the mission changes
+  return (l.time > 0.0 && t - loiter_since_ >= l.time) || (l.turns > 0.0 && loiter_swept_ >= 2.0 * kPi * l.turns);
+}
+
 PathSegment PathManager::current_segment() const {
   if (mode_ == Mode::origin_orbit)
     return orbit_segment(Vec3(0.0, 0.0, -cfg_.default_altitude), -1, cfg_.default_airspeed);
   const MissionPoint& wt = wps_[target_].wp;
   const int idx = wps_[target_].index;
-  if (mode_ == Mode::waypoint_orbit) return orbit_segment(wt.w, idx, airspeed(wt));
+  if (mode_ == Mode::waypoint_orbit || stage_ == Stage::loiter)
+    return orbits(wt) ? loiter_segment(wps_[target_]) : orbit_segment(wt.w, idx, airspeed(wt));
   PathSegment s;
   s.Va_d = airspeed(wt);
   s.waypoint_index = idx;
@@ -362,12 +420,13 @@ PathSegment PathManager::current_segment() const {
       break;
     case Stage::dubins_4:
     case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;
-    case Stage::orbit: return orbit_segment(wt.w, idx, airspeed(wt));
+    case Stage::orbit:
+    case Stage::loiter: return orbit_segment(wt.w, idx, airspeed(wt));
   }
   return s;
 }
 
-PathSegment PathManager::update(const Vec3& p, double chi) {
+PathSegment PathManager::update(const Vec3& p, double chi, double t) {
   if (!p.allFinite()) {
     warn_once("state", "aircraft position is not finite: keeping the current segment");
     return have_last_ ? last_ : current_segment();
@@ -402,6 +461,9 @@ PathSegment PathManager::update(const Vec3& p, double chi) {
         break;
       case Stage::dubins_5:
         if (in_half_plane(p, dubins_.z3, dubins_.q3)) advance(p, chi);
+        break;
+      case Stage::loiter:
+        if (loiter_done(p, t)) advance(p, chi);
         break;
       case Stage::orbit: break;
     }

@@ -8,6 +8,16 @@
 
 namespace tern::path {
 
+namespace {
+ItemType item_type_of(const msg::Waypoint& w) {
+  switch (w.type) {
+    case msg::Waypoint::loiter: return ItemType::loiter;
+    case msg::Waypoint::return_home: return ItemType::return_home;
+    default: return ItemType::waypoint;
+  }
+}
+}  // namespace
+
 void ManagerPlugin::configure() {
   declare(state_, "state", "vehicle state (position, course)");
   declare(waypoints_, "waypoints", "the mission from the path planner, NED");
@@ -91,8 +101,10 @@ void ManagerPlugin::step(Nanos now) {
       wps[i].chi_d = w.chi_d;
       wps[i].use_chi = w.use_chi;
       wps[i].Va_d = w.Va_d;
+      wps[i].type = item_type_of(w);
+      wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns};
     }
-    manager_->set_waypoints(wps, list.loop);
+    manager_->set_waypoints(wps, list.loop, list.immediate);
   }
   if (!state_.has_value()) return;
   const auto& s = *state_;
@@ -110,7 +122,7 @@ void ManagerPlugin::step(Nanos now) {
     wind_stamp_ = now;
     manager_->set_wind(wind_);
   }
-  const PathSegment seg = manager_->update(p, s.chi);
+  const PathSegment seg = manager_->update(p, s.chi, to_seconds(now));
   if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
     const double e = std::fabs(cross_track_error(seg.r, seg.q, p));
     xt_sq_ += e * e;

@@ -61,6 +61,55 @@ Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& fi
   return v;
 }
 
+ItemType as_item_type(const YAML::Node& n, const Ctx& c, const std::string& field) {
+  const std::string t = n.IsScalar() ? n.Scalar() : "";
+  if (t == "waypoint") return ItemType::waypoint;
+  if (t == "loiter") return ItemType::loiter;
+  if (t == "return_home") return ItemType::return_home;
+  throw MissionError(c.prefix(n) + field + ": '" + t + "' is not a mission item type (expected waypoint, loiter or return_home)");
+}
+
+int as_direction(const YAML::Node& n, const Ctx& c, const std::string& field) {
+  const std::string d = n.IsScalar() ? n.Scalar() : "";
+  if (d == "cw" || d == "1") return 1;
+  if (d == "ccw" || d == "-1") return -1;
+  throw MissionError(c.prefix(n) + field + ": '" + d + "' is not an orbit direction (expected cw or ccw)");
+}
+
+double as_non_negative(const YAML::Node& n, const Ctx& c, const std::string& field, const char* unit) {
+  const double v = as_double(n, c, field);
+  if (v < 0.0) throw MissionError(c.prefix(n) + field + ": " + num(v) + unit + " is negative");
+  return v;
+}
+
+/// The entry's keys that only loiter and return_home items take; checked once the type is known.
+struct ItemKeys {
+  bool radius = false, direction = false, time = false, turns = false, chi = false;  // given
+  YAML::Node altitude;  // (null when not given)
+};
+
+// Type-specific checks and the return_home position (altitude: NaN when not given, filled in
+// by fill_return_home_altitudes()).
+void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YAML::Node& n, const Ctx& c, const std::string& name) {
+  const bool orbit = wp.type != ItemType::waypoint;
+  const char* type = item_type_name(wp.type);
+  if (!orbit && (k.radius || k.direction || k.time || k.turns))
+    throw MissionError(c.prefix(n) + name + ": radius, direction, time and turns are for loiter and return_home items (type: loiter)");
+  if (orbit && k.chi) throw MissionError(c.prefix(n) + name + ": a " + type + " item takes no chi_d or use_chi");
+  if (wp.type == ItemType::return_home && (k.time || k.turns))
+    throw MissionError(c.prefix(n) + name + ": return_home loiters until the mission changes: no time or turns");
+  if (wp.type != ItemType::return_home && k.altitude.IsDefined() && !k.altitude.IsNull())
+    throw MissionError(c.prefix(n) + name + ": altitude is for return_home items (others give a position)");
+  if (wp.type == ItemType::return_home) {
+    if (positions > 0) throw MissionError(c.prefix(n) + name + ": return_home takes no position (home is the origin): give altitude");
+    const double alt = k.altitude.IsDefined() && !k.altitude.IsNull() ? as_double(k.altitude, c, name + ".altitude") : std::nan("");
+    wp.w = Eigen::Vector3d(0.0, 0.0, -alt);
+    return;
+  }
+  if (positions == 0) throw MissionError(c.prefix(n) + name + ": no position (ned, w or lla: [lat, lon, alt])");
+  if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
+}
+
 MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string& name, double default_Va) {
   MissionWaypoint wp;
   wp.Va_d = default_Va;
@@ -73,6 +122,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
     throw MissionError(c.prefix(n) + name + ": expected [n, e, d] or a map with ned, w or lla");
   int positions = 0;
   bool lla_flag = false;
+  ItemKeys k;
   for (const auto& kv : n) {
     const std::string key = kv.first.as<std::string>();
     const YAML::Node& v = kv.second;
@@ -90,23 +140,53 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
       }
     } else if (key == "chi_d") {
       wp.chi_d = as_double(v, c, field);
+      k.chi = true;
     } else if (key == "use_chi") {
       wp.use_chi = as_bool(v, c, field);
+      k.chi = true;
     } else if (key == "Va_d" || key == "va_d") {
       wp.Va_d = as_double(v, c, field);
+    } else if (key == "type") {
+      wp.type = as_item_type(v, c, field);
+    } else if (key == "radius") {
+      wp.loiter.radius = as_non_negative(v, c, field, " m");
+      k.radius = true;
+    } else if (key == "direction") {
+      wp.loiter.direction = as_direction(v, c, field);
+      k.direction = true;
+    } else if (key == "time") {
+      wp.loiter.time = as_non_negative(v, c, field, " s");
+      k.time = true;
+    } else if (key == "turns") {
+      wp.loiter.turns = as_non_negative(v, c, field, " turns");
+      k.turns = true;
+    } else if (key == "altitude") {
+      k.altitude = v;
     } else {
       throw MissionError(c.prefix(kv.first) + name + ": unknown key '" + key +
-                         "' (expected ned, w, lla, chi_d, use_chi, Va_d)");
+                         "' (expected ned, w, lla, chi_d, use_chi, Va_d, type, radius, direction, time, turns, altitude)");
     }
   }
-  if (positions == 0) throw MissionError(c.prefix(n) + name + ": no position (ned, w or lla: [lat, lon, alt])");
-  if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
+  finish_item(wp, positions, k, n, c, name);
   if (lla_flag) {
     if (wp.lla) throw MissionError(c.prefix(n) + name + ": lla: true given with an lla position");
+    if (wp.type == ItemType::return_home) throw MissionError(c.prefix(n) + name + ": return_home takes no lla (home is the origin)");
     wp.lla = true;
   }
-  validate_waypoint(wp, c.prefix(n) + name);
+  if (wp.type != ItemType::return_home || std::isfinite(wp.w.z())) validate_waypoint(wp, c.prefix(n) + name);
   return wp;
+}
+
+// A return_home without `altitude` keeps the altitude of the item before it.
+void fill_return_home_altitudes(Mission& m) {
+  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
+    MissionWaypoint& wp = m.waypoints[i];
+    if (wp.type != ItemType::return_home || std::isfinite(wp.w.z())) continue;
+    const std::string name = m.source + ": item " + std::to_string(i + 1) + " (return_home)";
+    if (i == 0) throw MissionError(name + ": no altitude, and no item before it to keep the altitude of: give altitude");
+    if (m.waypoints[i - 1].lla) throw MissionError(name + ": no altitude, and the item before it is lat/lon (MSL): give altitude");
+    wp.w.z() = m.waypoints[i - 1].w.z();
+  }
 }
 
 /// The keys shared by the config section and a tern waypoint file.
@@ -133,6 +213,7 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
       if (!list.IsSequence()) throw MissionError(c.prefix(list) + "waypoints: expected a list");
       for (std::size_t i = 0; i < list.size(); ++i)
         m.waypoints.push_back(parse_entry(list[i], c, "waypoints[" + std::to_string(i) + "]", default_Va));
+      fill_return_home_altitudes(m);
     } else if (key == "file" && allow_file) {
       have_file = true;
     } else {
@@ -200,6 +281,7 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     }
     m.waypoints.push_back(parse_entry(doc["wp"], c, "wp " + std::to_string(k + 1), 0.0));
   }
+  fill_return_home_altitudes(m);
   return m;
 }
 
@@ -216,6 +298,13 @@ void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
   if (!std::isfinite(wp.chi_d)) throw MissionError(where + ": chi_d is not finite");
   if (!std::isfinite(wp.Va_d) || wp.Va_d < 0.0)
     throw MissionError(where + ": Va_d " + num(wp.Va_d) + " m/s must be >= 0 (0: default airspeed)");
+  if (!std::isfinite(wp.loiter.radius) || wp.loiter.radius < 0.0)
+    throw MissionError(where + ": loiter radius " + num(wp.loiter.radius) + " m must be >= 0 (0: the path manager's turn radius)");
+  if (wp.loiter.direction != 1 && wp.loiter.direction != -1)
+    throw MissionError(where + ": loiter direction " + std::to_string(wp.loiter.direction) + " must be 1 (cw) or -1 (ccw)");
+  if (!std::isfinite(wp.loiter.time) || wp.loiter.time < 0.0 || !std::isfinite(wp.loiter.turns) || wp.loiter.turns < 0.0)
+    throw MissionError(where + ": loiter time " + num(wp.loiter.time) + " s and turns " + num(wp.loiter.turns) + " must be >= 0");
+  if (wp.type == ItemType::return_home && wp.lla) throw MissionError(where + ": return_home takes no lat/lon (home is the origin)");
   if (wp.lla) {
     if (std::fabs(wp.w.x()) > 90.0)
       throw MissionError(where + ": latitude " + num(wp.w.x()) + " deg is outside [-90, 90]");

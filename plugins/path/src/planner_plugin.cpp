@@ -17,7 +17,26 @@ MissionWaypoint from_msg(const msg::Waypoint& w) {
   m.chi_d = w.chi_d;
   m.use_chi = w.use_chi;
   m.Va_d = w.Va_d;
+  m.type = w.type == msg::Waypoint::loiter        ? ItemType::loiter
+           : w.type == msg::Waypoint::return_home ? ItemType::return_home
+                                                  : ItemType::waypoint;
+  m.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns};
   return m;
+}
+
+msg::Waypoint to_msg(const MissionWaypoint& m) {
+  msg::Waypoint w;
+  w.w = m.w;
+  w.lla = m.lla;
+  w.chi_d = m.chi_d;
+  w.use_chi = m.use_chi;
+  w.Va_d = m.Va_d;
+  w.type = m.type == ItemType::loiter ? msg::Waypoint::loiter : m.type == ItemType::return_home ? msg::Waypoint::return_home : msg::Waypoint::waypoint;
+  w.loiter_radius = m.loiter.radius;
+  w.loiter_direction = static_cast<std::int8_t>(m.loiter.direction >= 0 ? 1 : -1);
+  w.loiter_time = m.loiter.time;
+  w.loiter_turns = m.loiter.turns;
+  return w;
 }
 
 void check_capacity(const Mission& m) {
@@ -85,6 +104,7 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
       }
       if (e.set_current_wp) {
         wps_.assign(1, wp);
+        immediate_ = true;
       } else if (wps_.size() >= msg::WaypointList::kCapacity) {
         log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag,
                     wps_.size());
@@ -169,16 +189,11 @@ void PlannerPlugin::step(Nanos now) {
   out.revision = ++revision_;
   out.loop = loop_;
   out.count = static_cast<std::uint32_t>(ned.size());
-  for (std::size_t i = 0; i < ned.size(); ++i) {
-    auto& w = out.items[i];
-    w.w = ned[i].w;
-    w.lla = false;
-    w.chi_d = ned[i].chi_d;
-    w.use_chi = ned[i].use_chi;
-    w.Va_d = ned[i].Va_d;
-  }
+  out.immediate = immediate_;
+  for (std::size_t i = 0; i < ned.size(); ++i) out.items[i] = to_msg(ned[i]);
   waypoints_.publish(out);
   dirty_ = false;
+  immediate_ = false;
 }
 
 std::vector<std::pair<std::string, double>> PlannerPlugin::summary() const {

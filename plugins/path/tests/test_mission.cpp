@@ -62,7 +62,7 @@ TEST_CASE("mission: ROSplane format errors name the file, line and field") {
                        "m.yaml: line 3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)",
                        MissionError);
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
-                       "m.yaml: line 3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d)",
+                       "m.yaml: line 3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, type, radius, direction, time, turns, altitude)",
                        MissionError);
 }
 
@@ -133,4 +133,47 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("waypoints: 3"), "waypoints: expected a list"));
   CHECK_THROWS_AS(parse_mission_text("waypoints: [ {ned: [1, 2, 3]", "broken.yaml"), MissionError);
   CHECK_THROWS_AS(lla_to_ned(Eigen::Vector3d(91, 0, 0), GeoOrigin{}), MissionError);
+}
+
+TEST_CASE("mission: loiter and return_home items (issue 18), in a section and in a ROSplane file") {
+  const Mission m = parse_mission_section(YAML::Load(R"(
+waypoints:
+  - [300, 0, -70]
+  - {type: loiter, ned: [300, 300, -80], radius: 60, direction: ccw, turns: 2, time: 90}
+  - {type: return_home}
+  - {type: return_home, altitude: 100, radius: 90}
+)"), kData);
+  REQUIRE(m.waypoints.size() == 4);
+  CHECK(m.waypoints[0].type == ItemType::waypoint);
+  const auto& l = m.waypoints[1];
+  CHECK(l.type == ItemType::loiter);
+  CHECK(l.w == Eigen::Vector3d(300, 300, -80));
+  CHECK(l.loiter.radius == 60.0);
+  CHECK(l.loiter.direction == -1);
+  CHECK(l.loiter.turns == 2.0);
+  CHECK(l.loiter.time == 90.0);
+  CHECK(m.waypoints[2].type == ItemType::return_home);
+  CHECK(m.waypoints[2].w == Eigen::Vector3d(0, 0, -80));  // the altitude of the item before it
+  CHECK(m.waypoints[3].w == Eigen::Vector3d(0, 0, -100));
+  CHECK(m.waypoints[3].loiter.radius == 90.0);
+  CHECK(m.waypoints[3].loiter.direction == 1);
+  const Mission r = parse_mission_text("wp:\n  w: [100, 0, -50]\nwp:\n  w: [100, 100, -50]\n  type: loiter\n  time: 30\nwp:\n  type: return_home\n",
+                                       "ros.yaml");
+  REQUIRE(r.waypoints.size() == 3);
+  CHECK(r.waypoints[1].type == ItemType::loiter);
+  CHECK(r.waypoints[1].loiter.time == 30.0);
+  CHECK(r.waypoints[2].w == Eigen::Vector3d(0, 0, -50));
+}
+
+TEST_CASE("mission: bad loiter and return_home items give one line naming the item and value") {
+  CHECK(contains(error_of("waypoints: [{type: orbit, ned: [0, 0, -50]}]"), "waypoints[0].type: 'orbit' is not a mission item type"));
+  CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], radius: -5}]"), "waypoints[0].radius: -5 m is negative"));
+  CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], direction: left}]"),
+                 "waypoints[0].direction: 'left' is not an orbit direction (expected cw or ccw)"));
+  CHECK(contains(error_of("waypoints: [{ned: [0, 0, -50], radius: 60}]"), "are for loiter and return_home items"));
+  CHECK(contains(error_of("waypoints: [{type: return_home}]"), "no altitude, and no item before it"));
+  CHECK(contains(error_of("waypoints: [{type: return_home, ned: [5, 5, -50]}]"), "return_home takes no position"));
+  CHECK(contains(error_of("waypoints: [[0, 0, -50], {type: return_home, turns: 2}]"), "return_home loiters until the mission changes"));
+  CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], use_chi: true}]"), "takes no chi_d or use_chi"));
+  CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], altitude: 60}]"), "altitude is for return_home items"));
 }

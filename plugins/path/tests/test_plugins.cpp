@@ -27,7 +27,7 @@ const std::filesystem::path kData = TERN_PATH_TEST_DATA;
 
 std::vector<MissionPoint> points(const std::vector<Vec3>& ws, bool use_chi = false, double chi_d = 0.0) {
   std::vector<MissionPoint> out;
-  for (const auto& w : ws) out.push_back({w, chi_d, use_chi, 17.0});
+  for (const auto& w : ws) out.push_back({w, chi_d, use_chi, 17.0, ItemType::waypoint, {}});
   return out;
 }
 
@@ -57,7 +57,7 @@ struct Flight {
     FollowerCommand c;
     const int steps = static_cast<int>(std::lround(seconds / dt));
     for (int k = 0; k < steps; ++k, t += dt) {
-      seg = manager.update(aircraft.p(), aircraft.chi);
+      seg = manager.update(aircraft.p(), aircraft.chi, t);
       if (targets.empty() || targets.back() != manager.target()) targets.push_back(manager.target());
       if (k % 10 == 0) {
         FollowerInput in;
@@ -98,7 +98,7 @@ bool in_cycle_order(const std::vector<int>& passed, int n) {
 
 TEST_CASE("manager: no waypoints -> orbit the origin at the default altitude and airspeed") {
   PathManager m;
-  const PathSegment s = m.update(Vec3(10, 10, -20), 0.0);
+  const PathSegment s = m.update(Vec3(10, 10, -20), 0.0, 0.0);
   CHECK(s.type == PathSegment::Type::orbit);
   CHECK(s.c == Vec3(0, 0, -50));
   CHECK(s.rho == 50.0);
@@ -349,7 +349,7 @@ TEST_CASE("manager: non-finite input is refused without NaN output") {
   CHECK(f.finite);
   CHECK(f.count_warnings("waypoint 2 has a non-finite position") == 1);
   CHECK(f.count_warnings("waypoint 1 has a non-finite chi_d") == 1);
-  const PathSegment s = f.manager.update(Vec3(NAN, 0, 0), 0.0);
+  const PathSegment s = f.manager.update(Vec3(NAN, 0, 0), 0.0, 0.0);
   CHECK(s.r.allFinite());
   CHECK(f.count_warnings("not finite") == 1);
   CHECK(f.manager.active_count() == 3);
@@ -373,7 +373,7 @@ TEST_CASE("manager: edits take effect at the next waypoint decision; extensions 
   CHECK(f.seg.q.x() > 0.99);  // heading north from (-400, -50) to (400, -50)
   // An extension keeps the current segment and target.
   auto longer = rotated;
-  longer.push_back({Vec3(0, 300, -70), 0.0, false, 17.0});
+  longer.push_back({Vec3(0, 300, -70), 0.0, false, 17.0, ItemType::waypoint, {}});
   f.manager.set_waypoints(longer, true);
   f.run(0.1);
   CHECK(f.manager.target() == 0);
@@ -390,7 +390,7 @@ TEST_CASE("manager: edits take effect at the next waypoint decision; extensions 
   CHECK(f.manager.target() == target_now);
   // An empty list: orbit the origin at once.
   f.manager.set_waypoints({}, true);
-  CHECK(f.manager.update(f.aircraft.p(), f.aircraft.chi).c == Vec3(0, 0, -50));
+  CHECK(f.manager.update(f.aircraft.p(), f.aircraft.chi, f.t).c == Vec3(0, 0, -50));
 }
 
 // ---- the plugins through the SDK harness -------------------------------------------------------
@@ -421,6 +421,93 @@ tern::testing::HarnessOptions options(const std::string& name, YAML::Node missio
   return o;
 }
 }  // namespace
+
+namespace {
+MissionPoint loiter_at(const Vec3& c, double radius, int direction, double time, double turns) {
+  MissionPoint p{c, 0.0, false, 17.0, ItemType::loiter, {}};
+  p.loiter = {radius, direction, time, turns};
+  return p;
+}
+
+// The flight time at which the manager's target first became `index` (-1: never).
+double time_target_became(Flight& f, int index, double seconds) {
+  const double dt = 0.05;
+  for (double t = 0.0; t < seconds; t += dt) {
+    f.run(dt);
+    if (f.manager.target() == index) return f.t;
+  }
+  return -1.0;
+}
+}  // namespace
+
+TEST_CASE("manager: a loiter item is orbited (its radius and direction) for its turns, then the mission goes on") {
+  Flight f;
+  std::vector<MissionPoint> list = points({{300, 0, -70}});
+  list.push_back(loiter_at({300, 400, -70}, 80.0, -1, 0.0, 2.0));
+  list.push_back({{0, 400, -70}, 0.0, false, 17.0, ItemType::waypoint, {}});
+  f.manager.set_waypoints(list, false);
+  REQUIRE(time_target_became(f, 1, 200.0) > 0.0);
+  CHECK(f.manager.stage() == PathManager::Stage::loiter);
+  f.run(1.0);
+  CHECK(f.seg.type == PathSegment::Type::orbit);
+  CHECK(f.seg.c == Vec3(300, 400, -70));
+  CHECK(f.seg.rho == 80.0);
+  CHECK(f.seg.lambda == -1);
+  f.settle_s = f.t + 60.0;  // onto the orbit
+  f.worst_orbit_error = 0.0;
+  double turns_at_exit = 0.0;
+  for (int k = 0; k < 4000 && f.manager.target() == 1; ++k) {
+    turns_at_exit = f.manager.loiter_turns_flown();
+    f.run(0.05);
+  }
+  CHECK(f.manager.target() == 2);
+  CHECK(turns_at_exit == Approx(2.0).epsilon(0.02));
+  CHECK(f.worst_orbit_error < 5.0);
+  CHECK(f.finite);
+  CHECK(f.warnings.empty());
+}
+
+TEST_CASE("manager: a loiter with a time leaves after that long on the orbit; a bare loiter stays") {
+  Flight f;
+  f.manager.set_waypoints({loiter_at({0, 200, -70}, 0.0, 1, 40.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
+  f.run(0.01);
+  REQUIRE(f.manager.target() == 0);
+  CHECK(f.seg.rho == 50.0);  // radius 0: R_min
+  double on_orbit_at = -1.0;
+  for (int k = 0; k < 6000 && f.manager.target() == 0; ++k) {
+    f.run(0.05);
+    if (on_orbit_at < 0.0 && f.manager.on_loiter_orbit()) on_orbit_at = f.t;
+  }
+  REQUIRE(on_orbit_at > 0.0);
+  CHECK(f.manager.target() == 1);
+  CHECK(f.t - on_orbit_at == Approx(40.0).epsilon(0.01));
+  Flight stay;
+  stay.manager.set_waypoints({loiter_at({0, 200, -70}, 60.0, 1, 0.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
+  stay.run(600.0);
+  CHECK(stay.manager.target() == 0);
+  CHECK(stay.manager.loiter_turns_flown() > 5.0);
+}
+
+TEST_CASE("manager: an immediate return_home replaces the route at once and orbits home at its altitude for good") {
+  Flight f;
+  f.manager.set_waypoints(hourglass(), true);
+  f.run(30.0);
+  REQUIRE(f.manager.mode() == PathManager::Mode::route);
+  MissionPoint home{{500, -500, -90}, 0.0, false, 17.0, ItemType::return_home, {}};  // return_home: n and e are ignored
+  home.loiter.radius = 70.0;
+  f.manager.set_waypoints({home}, false, true);
+  f.run(0.01);
+  CHECK(f.seg.type == PathSegment::Type::orbit);
+  CHECK(f.seg.c == Vec3(0, 0, -90));
+  CHECK(f.seg.rho == 70.0);
+  f.settle_s = f.t + 90.0;
+  f.worst_orbit_error = 0.0;
+  f.run(400.0);
+  CHECK(f.manager.target() == 0);
+  CHECK(f.manager.loiter_turns_flown() > 3.0);
+  CHECK(f.worst_orbit_error < 5.0);
+  CHECK(f.count_warnings("one-waypoint") == 0);
+}
 
 TEST_CASE("plugins: defaults are ROSplane's Anaconda values") {
   tern::testing::Harness m(std::make_unique<ManagerPlugin>(), {}, options("manager"));

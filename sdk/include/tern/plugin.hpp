@@ -45,7 +45,8 @@ namespace tern {
 
 /// Version of the plugin API (this header, ports, parameters, messages). The host refuses a
 /// plugin built against another version. 2: ParamSpec::live (start-only parameters).
-inline constexpr std::uint32_t kSdkApiVersion = 2;
+/// 3: msg::Waypoint's type and loiter fields, msg::WaypointList::immediate (issue 18).
+inline constexpr std::uint32_t kSdkApiVersion = 3;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 enum class PluginKind : std::uint8_t {

@@ -12,20 +12,38 @@
 
 namespace tern::msg {
 
-/// One mission waypoint (ROSplane's Waypoint).
+/// One mission item (ROSplane's Waypoint, plus a type: tern's loiter and return_home items).
+///   waypoint      fly to w (ROSplane's meaning of every entry)
+///   loiter        orbit w: radius loiter_radius, direction loiter_direction; leave after
+///                 loiter_time s or loiter_turns turns on the orbit, whichever comes first
+///                 (both 0: loiter until the mission changes)
+///   return_home   orbit home (the origin, n = e = 0) at altitude -w.z(), radius and direction
+///                 as a loiter, until the mission changes; w's n and e are ignored
+/// ROSplane's message has no type: the DDS bridge sends every item as a plain waypoint.
 struct Waypoint {
   static constexpr std::string_view type_name = "tern/Waypoint";
+  enum Type : std::uint8_t { waypoint = 0, loiter = 1, return_home = 2 };
   Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< NED position (m) relative to the origin, or (lat deg, lon deg, alt m MSL) when lla
   bool lla = false;                             ///< w is latitude, longitude, altitude
   double chi_d = 0.0;                           ///< desired course at the waypoint, rad (used when use_chi)
   bool use_chi = false;                         ///< fly a Dubins path honouring chi_d, else a fillet
   double Va_d = 0.0;                            ///< desired airspeed, m/s
+  std::uint8_t type = waypoint;                 ///< Type: waypoint (0), loiter (1), return_home (2)
+  double loiter_radius = 0.0;                   ///< orbit radius, m, >= 0 (0: the path manager's turn radius)
+  std::int8_t loiter_direction = 1;             ///< 1 clockwise, -1 counter-clockwise (seen from above)
+  double loiter_time = 0.0;                     ///< loiter: s on the orbit before going on, >= 0 (0: no limit)
+  double loiter_turns = 0.0;                    ///< loiter: turns on the orbit before going on, >= 0 (0: no limit)
   template <class V> static constexpr void describe(V& v) {
     v(&Waypoint::w, "w", "m|deg", "0,1,2");
     v(&Waypoint::lla, "lla", "bool");
     v(&Waypoint::chi_d, "chi_d", "rad");
     v(&Waypoint::use_chi, "use_chi", "bool");
     v(&Waypoint::Va_d, "Va_d", "m/s");
+    v(&Waypoint::type, "type", "enum");
+    v(&Waypoint::loiter_radius, "loiter_radius", "m");
+    v(&Waypoint::loiter_direction, "loiter_direction", "");
+    v(&Waypoint::loiter_time, "loiter_time", "s");
+    v(&Waypoint::loiter_turns, "loiter_turns", "");
   }
 };
 
@@ -38,12 +56,16 @@ struct WaypointList {
   std::uint32_t revision = 0;  ///< increases on every edit of the mission
   std::uint32_t count = 0;     ///< valid entries in items, <= kCapacity
   bool loop = true;            ///< after the last waypoint, start again at the first
+  /// The path manager flies this list from now on (a failsafe, or a mission edit with
+  /// set_current), instead of at its next waypoint decision.
+  bool immediate = false;
   std::array<Waypoint, kCapacity> items{};
   template <class V> static constexpr void describe(V& v) {
     v(&WaypointList::stamp, "stamp", "ns");
     v(&WaypointList::revision, "revision", "");
     v(&WaypointList::count, "count", "");
     v(&WaypointList::loop, "loop", "bool");
+    v(&WaypointList::immediate, "immediate", "bool");
     v(&WaypointList::items, "items", "");
   }
 };

@@ -29,11 +29,22 @@
 //   * one-waypoint missions: orbit the waypoint; two-waypoint loops: fly back and forth,
 //     turning around beyond each waypoint (or Dubins turns when use_chi).
 //
+// Mission items (item.hpp): a `loiter` item is flown as an orbit (its radius, else the turn
+// radius of an orbit; its direction) from the moment it becomes the target; the follower's orbit
+// law brings the aircraft onto the circle. Once the aircraft is on the orbit (its distance to the
+// centre within kOnOrbit of the radius) its time and turns count; when either is flown the
+// manager goes on to the next item (leg from the loiter centre). With neither, the aircraft
+// loiters until the list changes. A `return_home` item is a loiter at home (n = e = 0, the item's
+// altitude) that never ends. The waypoint before a loiter item is passed over (no fillet into
+// the orbit). A list of one loiter or return_home item is flown without the one-waypoint warning.
+//
 // Edits: a list that extends the current one (same first entries, same loop flag) is taken
 // over at once without changing the segment being flown. Any other list takes effect at the
 // next waypoint decision (when the current segment's waypoint is reached), and is then flown
 // from waypoint 0; if the manager is orbiting (no list, or mission complete) it takes effect
-// at once. An empty list takes effect at once: orbit the origin.
+// at once. An empty list takes effect at once: orbit the origin. A list marked `immediate` (a
+// failsafe, or a mission edit with set_current) takes effect at the next update, from its
+// first item, whatever is being flown.
 #pragma once
 
 #include <functional>
@@ -44,6 +55,7 @@
 
 #include "tern/path/follower.hpp"
 #include "tern/path/geometry.hpp"
+#include "tern/path/item.hpp"
 
 namespace tern::path {
 
@@ -53,7 +65,12 @@ struct MissionPoint {
   double chi_d = 0.0;     ///< desired course at the waypoint, rad (used when use_chi)
   bool use_chi = false;   ///< arrive with course chi_d (Dubins path), else fillet/line
   double Va_d = 0.0;      ///< desired airspeed, m/s; <= 0: the manager's default_airspeed
+  ItemType type = ItemType::waypoint;
+  LoiterSpec loiter;      ///< loiter and return_home items (return_home: n and e ignored)
 };
+
+/// A loiter's time and turns count once |distance to the centre - radius| <= kOnOrbit * radius.
+inline constexpr double kOnOrbit = 0.25;
 
 struct ManagerConfig {
   enum class Corner { fillet, line };
@@ -83,6 +100,7 @@ class PathManager {
     fillet_orbit,  ///< fillet, state 2: orbit until z2
     dubins_1, dubins_2, dubins_3, dubins_4, dubins_5,  ///< Alg. 8 states 1..5
     orbit,         ///< orbiting (origin, single waypoint, mission complete)
+    loiter,        ///< orbiting a loiter or return_home item (time and turns count on the orbit)
   };
 
   /// warn: one line per degenerate case (once per list); info: mission progress.
@@ -93,8 +111,9 @@ class PathManager {
   void set_config(const ManagerConfig& config);
   const ManagerConfig& config() const { return cfg_; }
 
-  /// A new waypoint list (see "Edits" above). loop: the list's own loop flag.
-  void set_waypoints(const std::vector<MissionPoint>& list, bool loop);
+  /// A new waypoint list (see "Edits" above). loop: the list's own loop flag; immediate: fly it
+  /// from the next update on, from its first item.
+  void set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate = false);
 
   /// The wind (NED m/s, the direction the air moves to) the turn radii are planned for when
   /// turn_bank > 0; it applies to segments that begin (and orbits) from now on. Non-finite
@@ -103,9 +122,10 @@ class PathManager {
   /// Radius of the current turn (fillet, Dubins path or orbit), m.
   double turn_radius() const { return seg_R_; }
 
-  /// One step: p is the aircraft's NED position (m), chi its course (rad). Returns the segment
-  /// to follow now. Non-finite input keeps the previous segment (warned once).
-  PathSegment update(const Vec3& p, double chi);
+  /// One step: p is the aircraft's NED position (m), chi its course (rad), t the flight time (s,
+  /// non-decreasing: a loiter item's time). Returns the segment to follow now. A non-finite
+  /// position keeps the previous segment (warned once).
+  PathSegment update(const Vec3& p, double chi, double t);
 
   Mode mode() const { return mode_; }
   Stage stage() const { return stage_; }
@@ -116,6 +136,9 @@ class PathManager {
   /// Geometry of the current segment, valid in the fillet / Dubins stages.
   const Fillet& fillet() const { return fillet_; }
   const DubinsPath& dubins() const { return dubins_; }
+  /// On a loiter item: the aircraft has reached the orbit; its turns flown since then.
+  bool on_loiter_orbit() const { return loiter_on_; }
+  double loiter_turns_flown() const;
   /// Number of the waypoints as they are flown (after repeats were skipped).
   std::size_t active_count() const { return wps_.size(); }
 
@@ -133,6 +156,10 @@ class PathManager {
   double airspeed(const MissionPoint& w) const;
   void warn_once(const std::string& key, const std::string& text);
   PathSegment orbit_segment(const Vec3& c, int index, double Va) const;
+  /// The orbit of loiter or return_home entry `e`.
+  PathSegment loiter_segment(const Entry& e) const;
+  /// Counts the loiter's time and turns (aircraft at p, time t s); true when it is flown.
+  bool loiter_done(const Vec3& p, double t);
   /// R_min, or with turn_bank > 0 the radius of a turn of `sweep` rad from course chi0 at Va.
   double planned_radius(double Va, double chi0, double sweep) const;
   PathSegment current_segment() const;
@@ -164,6 +191,10 @@ class PathManager {
   std::vector<int> passed_;
   PathSegment last_{};
   bool have_last_ = false;
+  // the loiter being flown: on its orbit since loiter_since_ (s), angle swept in its direction
+  // (rad), the aircraft's last bearing from the centre (rad)
+  bool loiter_on_ = false;
+  double loiter_since_ = 0.0, loiter_swept_ = 0.0, loiter_angle_ = 0.0;
 };
 
 }  // namespace tern::path

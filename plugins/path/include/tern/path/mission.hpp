@@ -26,7 +26,18 @@
 //    every waypoint is read, in file order, on any yaml-cpp version.
 //
 // Entry keys: ned | w (3 numbers), lla (3 numbers, or a bool flag saying that w is lat/lon/alt),
-// chi_d (rad, finite), use_chi (bool), Va_d | va_d (m/s, >= 0; 0: the path manager's default).
+// chi_d (rad, finite), use_chi (bool), Va_d | va_d (m/s, >= 0; 0: the path manager's default),
+// and tern's mission items (item.hpp; ROSplane files may use them too):
+//   type: waypoint | loiter | return_home      (default waypoint)
+//   radius: m >= 0 (0: the path manager's turn radius), direction: cw | ccw (default cw),
+//   time: s >= 0, turns: >= 0                  (loiter only; both 0 or absent: loiter until the
+//                                              mission changes)
+//   altitude: m above home                     (return_home only, instead of a position; absent:
+//                                              the altitude of the item before it)
+// e.g.  - {type: loiter, ned: [0, 300, -70], radius: 80, direction: ccw, turns: 2}
+//       - {type: return_home, altitude: 70}
+// loiter and return_home take no chi_d/use_chi; return_home takes no position (home is the
+// origin); items after a return_home are never reached.
 // Latitude must be in [-90, 90] deg, longitude in [-180, 180] deg. Unknown keys are errors.
 //
 // Errors: every function throws MissionError (a std::runtime_error) with one line naming the
@@ -39,6 +50,8 @@
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "tern/path/item.hpp"
 
 namespace YAML {
 class Node;
@@ -58,6 +71,8 @@ struct MissionWaypoint {
   double chi_d = 0.0;    ///< desired course at the waypoint, rad
   bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
+  ItemType type = ItemType::waypoint;
+  LoiterSpec loiter;     ///< loiter and return_home items
 };
 
 struct Mission {
