@@ -126,6 +126,7 @@ nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance
       x["library_fnv1a"] = fmt::format("{:016x}", h.h);
     }
     x["steps"] = inst->stats.steps;
+    if (inst->stats.slow > 0) x["watchdog_slow_steps"] = inst->stats.slow;  // wall time: only when it happened
     for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
     out[inst->cfg.name] = x;
   }
@@ -259,6 +260,15 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
   s += fmt::format("log: {}\n", r.run_dir.string());
   if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);
   return s;
+}
+
+int exit_status(const FlightResult& r) {
+  if (!r.ok) return 1;
+  if (!r.log_error.empty()) return 3;  // flown, but the log is incomplete
+  if (r.end_reason == "SIGINT") return 130;
+  if (r.end_reason == "SIGTERM") return 143;
+  if (r.end_reason == "SIGHUP") return 129;
+  return 0;
 }
 
 }  // namespace tern::core
