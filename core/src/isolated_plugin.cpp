@@ -94,7 +94,6 @@ IsolatedPlugin::~IsolatedPlugin() {
   end_child();
   if (map_ != nullptr) ::munmap(map_, size_);
   if (fd_ >= 0) ::close(fd_);
-  for (auto* p : params()) watch_param(*p, [] {});  // the callbacks point at this object
 }
 
 // ---- the child's life -------------------------------------------------------------------------
