@@ -76,14 +76,13 @@ IsolatedPlugin::IsolatedPlugin(std::unique_ptr<Plugin> shadow, Context& ctx, Iso
   if (inputs().size() + outputs().size() > isolation::kMaxPorts)
     throw ConfigError(fmt::format("isolate {}: {} ports, at most {} can cross to a child process", spec_.instance,
                                   inputs().size() + outputs().size(), isolation::kMaxPorts));
-  for (const PortBase* p : inputs())
+  const auto check = [this](const PortBase* p) {
     if (!isolation::message_is_bitwise(p->type().fingerprint))
       throw ConfigError(fmt::format("isolate {}: port '{}' carries '{}', not a standard message of plain bytes: it cannot cross to a child process",
                                     spec_.instance, p->name(), p->type().name));
-  for (const PortBase* p : outputs())
-    if (!isolation::message_is_bitwise(p->type().fingerprint))
-      throw ConfigError(fmt::format("isolate {}: port '{}' carries '{}', not a standard message of plain bytes: it cannot cross to a child process",
-                                    spec_.instance, p->name(), p->type().name));
+  };
+  for (const PortBase* p : inputs()) check(p);
+  for (const PortBase* p : outputs()) check(p);
   dirty_.assign(params().size(), 0);
   for (std::size_t i = 0; i < params().size(); ++i) watch_param(*params()[i], [this, i] { dirty_[i] = 1; });
   map_segment();
@@ -166,7 +165,7 @@ void IsolatedPlugin::spawn() {
     end_child();
     throw ConfigError(fmt::format("isolate {}: {}", spec_.instance, why));
   }
-  deliver_reply();
+  h_->log_used = h_->log_dropped = h_->end_requested = 0;  // the shadow's configure() logged the same lines
   send_params(true);
 }
 
