@@ -50,7 +50,7 @@ struct LogConfig {
 };
 
 /// `watchdog:`: wall-time budgets of one plugin call (a step; for isolated instances every call).
-/// Past `soft` a step is reported (one warning per instance, the count in summary.json); past
+/// Past `soft` a step is reported (one warning per instance, the count in timing.json); past
 /// `hard` the flight ends cleanly (in-process: watchdog.hpp) or the isolated child is killed.
 /// The defaults are far above any stock plugin's step (the slowest, sim_aero, takes about
 /// 0.1 ms) so that a loaded 2-core machine never trips them.

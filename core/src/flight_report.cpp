@@ -126,7 +126,6 @@ nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance
       x["library_fnv1a"] = fmt::format("{:016x}", h.h);
     }
     x["steps"] = inst->stats.steps;
-    if (inst->stats.slow > 0) x["watchdog_slow_steps"] = inst->stats.slow;  // wall time: only when it happened
     for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
     out[inst->cfg.name] = x;
   }
@@ -196,7 +195,8 @@ std::string timing_json(const FlightFacts& f, const FlightResult& r) {
                               {"p99_ns", s.percentile(0.99)},
                               {"max_ns", s.max_ns},
                               {"budget_ns", s.budget_ns},
-                              {"overruns", s.overruns}};
+                              {"overruns", s.overruns},
+                              {"watchdog_slow_steps", s.slow}};
   }
   j["instances"] = inst_j;
   return j.dump(2) + "\n";
@@ -253,6 +253,7 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
     const auto& st = inst->stats;
     s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", inst->cfg.name, st.steps, fmt_ns(st.percentile(0.5)),
                      fmt_ns(st.percentile(0.99)), fmt_ns(st.max_ns), st.overruns);
+    if (st.slow > 0) s += fmt::format("      {} steps over the watchdog's soft budget\n", st.slow);
     if (inst->plugin.get() != f.metrics)
       for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
   }

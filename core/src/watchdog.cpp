@@ -55,7 +55,7 @@ void Watchdog::leave(StepStats& stats, Nanos dt, spdlog::logger& log) {
   if (dt <= static_cast<Nanos>(budgets_.soft_ms * 1e6)) return;
   if (stats.slow++ == 0)
     log.warn("t={:.3f} s: {}: a step took {:.1f} ms of wall time, over the watchdog's soft budget of {} ms (watchdog.soft_ms); "
-             "later ones are counted in summary.json (watchdog_slow_steps)",
+             "all are counted in timing.json (watchdog_slow_steps) and the console summary",
              to_seconds(step_now_), *name_, static_cast<double>(dt) * 1e-6, budgets_.soft_ms);
 }
 

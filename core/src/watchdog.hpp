@@ -3,8 +3,9 @@
 //
 // The flight thread brackets every step with enter()/leave(). Budgets (`watchdog:` in the
 // mission config, WatchdogConfig in config.hpp: soft 50 ms, hard 2000 ms by default):
-//   soft   a step longer than soft_ms is counted (StepStats::slow, summary.json's instance
-//          `watchdog_slow_steps`) and reported with one warning per instance and flight;
+//   soft   a step longer than soft_ms is counted (StepStats::slow: timing.json's instance
+//          `watchdog_slow_steps` and the console summary; not summary.json, which stays a
+//          function of config and seed) and reported with one warning per instance and flight;
 //          decided on the flight thread when the step returns.
 //   hard   a step of an in-process instance still running after hard_ms: the flight ends.
 //          Decided by the watchdog's own thread (it wakes every kTickMs ms), since the flight
