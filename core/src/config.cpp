@@ -202,7 +202,16 @@ MissionConfig load_config(const fs::path& file_in) {
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
   check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
-                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes"});
+                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes", "watchdog"});
+  if (const YAML::Node wd = root["watchdog"]) {
+    require_map(wd, f, "watchdog");
+    check_keys(wd, f, "watchdog", {"soft_ms", "hard_ms"});
+    if (wd["soft_ms"]) c.watchdog.soft_ms = as_number(wd["soft_ms"], f, "watchdog.soft_ms");
+    if (wd["hard_ms"]) c.watchdog.hard_ms = as_number(wd["hard_ms"], f, "watchdog.hard_ms");
+    if (!(c.watchdog.soft_ms > 0 && c.watchdog.soft_ms <= c.watchdog.hard_ms && c.watchdog.hard_ms <= 3.6e6))
+      throw ConfigError(where(f, wd) + fmt::format("watchdog: need 0 < soft_ms <= hard_ms <= 3600000, got soft_ms {}, hard_ms {}",
+                                                   c.watchdog.soft_ms, c.watchdog.hard_ms));
+  }
 
   c.name = root["name"] ? mission_name(root["name"], f) : c.file.stem().string();
   if (root["seed"]) {
@@ -282,7 +291,7 @@ MissionConfig load_config(const fs::path& file_in) {
     const std::string field = "plugins[" + std::to_string(i) + "]";
     require_map(p, f, field);
     // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
-    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library"});
+    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"});
     InstanceConfig ic;
     ic.index = i;
     ic.node = p;
@@ -303,6 +312,11 @@ MissionConfig load_config(const fs::path& file_in) {
     if (p["budget_us"]) {
       ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
       if (!(*ic.budget_us > 0)) throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
+    }
+    if (const YAML::Node iso = p["isolate"]) {
+      if (!iso.IsScalar() || (iso.Scalar() != "true" && iso.Scalar() != "false"))
+        throw ConfigError(where(f, iso) + field + ".isolate: expected true or false, got '" + str(iso) + "'");
+      ic.isolate = iso.Scalar() == "true";
     }
     if (const YAML::Node pf = p["param_file"]) {
       const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));

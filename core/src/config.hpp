@@ -36,6 +36,7 @@ struct InstanceConfig {
   std::optional<double> rate;  ///< Hz
   std::optional<std::string> trigger;  ///< input port name
   std::optional<double> budget_us;     ///< per-step time budget (default: the period)
+  bool isolate = false;        ///< run in a child process (isolated_plugin.hpp)
   std::map<std::string, ParamSetting> params;
   std::map<std::string, std::string> remap;  ///< port -> topic
   YAML::Node node;             ///< the entry, for error locations
@@ -60,6 +61,16 @@ struct LogConfig {
   std::map<std::string, double> rates;  ///< per-topic max_rate overrides
 };
 
+/// `watchdog:`: wall-time budgets of one plugin call (a step; for isolated instances every call).
+/// Past `soft` a step is reported (one warning per instance, the count in timing.json); past
+/// `hard` the flight ends cleanly (in-process: watchdog.hpp) or the isolated child is killed.
+/// The defaults are far above any stock plugin's step (the slowest, sim_aero, takes about
+/// 0.1 ms) so that a loaded 2-core machine never trips them.
+struct WatchdogConfig {
+  double soft_ms = 50.0;    ///< ms
+  double hard_ms = 2000.0;  ///< ms
+};
+
 struct MissionConfig {
   fs::path file;               ///< absolute path of the config
   fs::path dir;                ///< its directory
@@ -70,6 +81,7 @@ struct MissionConfig {
   fs::path aircraft;           ///< resolved, empty if none
   std::vector<fs::path> plugin_path;
   LogConfig log;
+  WatchdogConfig watchdog;
   std::vector<InstanceConfig> plugins;
   std::map<msg::Phase, std::string> phases;  ///< phase -> controller instance
   std::optional<std::string> fallback;

@@ -198,7 +198,8 @@ std::string timing_json(const FlightFacts& f, const FlightResult& r) {
                               {"p99_ns", s.percentile(0.99)},
                               {"max_ns", s.max_ns},
                               {"budget_ns", s.budget_ns},
-                              {"overruns", s.overruns}};
+                              {"overruns", s.overruns},
+                              {"watchdog_slow_steps", s.slow}};
   }
   j["instances"] = inst_j;
   return j.dump(2) + "\n";
@@ -255,6 +256,7 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
     const auto& st = inst->stats;
     s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", inst->cfg.name, st.steps, fmt_ns(st.percentile(0.5)),
                      fmt_ns(st.percentile(0.99)), fmt_ns(st.max_ns), st.overruns);
+    if (st.slow > 0) s += fmt::format("      {} steps over the watchdog's soft budget\n", st.slow);
     if (inst->plugin.get() != f.metrics)
       for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
   }
@@ -262,6 +264,15 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
   s += fmt::format("log: {}\n", r.run_dir.string());
   if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);
   return s;
+}
+
+int exit_status(const FlightResult& r) {
+  if (!r.ok) return 1;
+  if (!r.log_error.empty()) return 3;  // flown, but the log is incomplete
+  if (r.end_reason == "SIGINT") return 130;
+  if (r.end_reason == "SIGTERM") return 143;
+  if (r.end_reason == "SIGHUP") return 129;
+  return 0;
 }
 
 }  // namespace tern::core

@@ -37,6 +37,10 @@ struct FlightResult {
   double log_cpu_s = 0;     ///< CPU time of the flight log's writer thread (CSV formatting, writes)
 };
 
+/// Exit status of `tern fly` and `tern replay` (README, "Exit status"): 1 when !ok, 3 when the
+/// log is incomplete, 130/143/129 after SIGINT/SIGTERM/SIGHUP, else 0.
+int exit_status(const FlightResult& r);
+
 /// The host's state a report reads (all owned by the host).
 struct FlightFacts {
   const MissionConfig& config;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -164,6 +165,7 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
     fresh->info = fresh->lib->info();
     fresh->plugin = fresh->lib->create();
     configure_instance(*fresh, setup());
+    if (fresh->cfg.isolate && !options_.describing) isolate_instance(*fresh, setup());
   } catch (const std::exception& e) {  // ConfigError, or a filesystem error of the copy
     fresh->drop_plugin();
     fresh->lib.reset();
@@ -357,6 +359,14 @@ FlightResult Host::fly() {
   Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
   start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
   flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
+  watchdog_.arm(config_.watchdog, [] { return g_stop_signal.load(); }, [&](const std::string& reason, const std::string& detail) {
+    r.ok = reason != "watchdog";
+    r.end_reason = reason;
+    r.end_detail = detail;
+    r.flown = clock.now();
+    r.wall_s = clock.wall_s();
+    emergency_end(recorder, r, duration);
+  });
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
     const EndRequest end = run_tick(clock);
@@ -376,6 +386,7 @@ FlightResult Host::fly() {
       clock.pace();
     }
   }
+  watchdog_.disarm();
   status.finish();
   if (r.ok) r.end_reason = clock.end_reason();
   r.flown = clock.now();
@@ -418,7 +429,13 @@ bool Host::start_instances(FlightResult& r) {
 // (reason "" while it goes on): an error, the phase machine's failure or a plugin's end_flight.
 EndRequest Host::run_tick(Scheduler& clock) {
   const Nanos now = clock.now();
-  const auto step = [&clock](Instance& inst) { return clock.step(*inst.plugin, inst.stats); };
+  const auto step = [&clock, this](Instance& inst) {
+    const Nanos before = inst.stats.total_ns;
+    watchdog_.enter(inst.cfg.name, clock.now(), inst.isolated == nullptr);
+    std::string error = clock.step(*inst.plugin, inst.stats);
+    watchdog_.leave(inst.stats, inst.failure().empty() ? inst.stats.total_ns - before : 0, *logger_);  // a failed child: its own line
+    return error;
+  };
   clock.start_steps();
   for (const std::size_t idx : graph_.order()) {
     Instance& inst = *instances_[idx];
@@ -426,6 +443,8 @@ EndRequest Host::run_tick(Scheduler& clock) {
     const std::string error = step(inst);
     if (inst.routed) {
       if (std::string failure = router_.after_controller_step(now, idx, error, step); !failure.empty()) return {failure, ""};
+    } else if (const std::string failed = inst.failure(); !failed.empty()) {
+      return {"plugin_failed", fmt::format("{} at t={:.3f} s", failed, to_seconds(now))};
     } else if (!error.empty()) {
       return {fmt::format("error: {}.step threw at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), error), ""};
     } else if (idx == phase_machine_idx_) {
@@ -464,6 +483,21 @@ void Host::finish_flight(FlightRecorder& recorder, FlightResult& r, double durat
     std::fputs(text.c_str(), stdout);
     std::fflush(stdout);
   }
+}
+
+void Host::emergency_end(FlightRecorder& recorder, FlightResult& r, double duration_s) {
+  logger_->error("{}: {}", r.end_reason, r.end_detail);
+  recorder.finish(facts(duration_s), r);  // summary.json (atomic), the topic files closed, timing.json
+  sinks_->flush();
+  if (options_.quiet) {
+    std::printf("log: %s\n", r.run_dir.c_str());
+  } else {
+    const std::string text = summary_text(facts(duration_s), r);
+    std::fputs(text.c_str(), stdout);
+  }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::_Exit(exit_status(r));
 }
 
 }  // namespace tern::core

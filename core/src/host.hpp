@@ -11,6 +11,11 @@
 //   3. what was published is captured in the flight log      flight_recorder.hpp
 //   4. the tick observer (DDS bridge) is called; then, on the wall clock: log flushes, the
 //      status line (status_line.hpp) and, with --realtime, pacing.
+// Every step runs under the watchdog (watchdog.hpp): slow steps are reported, a step stuck past
+// the hard budget, or stuck when a stop signal comes, ends the flight and the process (_exit,
+// after the log is complete). An isolated instance (`isolate: true`) runs in a child process
+// (isolated_plugin.hpp); when the child fails, a routed controller gives way to the fallback and
+// any other instance ends the flight (end_reason "plugin_failed").
 // The instances themselves (loading, configuring, built-ins) are in instances.hpp, the flight
 // log's documents (summary.json, timing.json, config.yaml, console summary) in
 // flight_report.hpp.
@@ -40,6 +45,7 @@
 #include "remote_queue.hpp"
 #include "scheduler.hpp"
 #include "tern/plugin.hpp"
+#include "watchdog.hpp"
 
 namespace tern::core {
 
@@ -149,6 +155,8 @@ class Host {
   EndRequest run_tick(Scheduler& clock);
   void notify_observer(Nanos now);
   void finish_flight(FlightRecorder& recorder, FlightResult& r, double duration_s);
+  /// The watchdog's way out (watchdog.hpp), on its thread: the log's end, then _exit.
+  [[noreturn]] void emergency_end(FlightRecorder& recorder, FlightResult& r, double duration_s);
 
   MissionConfig config_;
   HostOptions options_;
@@ -173,6 +181,7 @@ class Host {
   int flights_ = 0;
   std::optional<double> duration_override_;
   std::function<void(Nanos)> tick_observer_;
+  Watchdog watchdog_;
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries
 };

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "error.hpp"
+#include "isolated_plugin.hpp"
 #include "metrics.hpp"
 #include "phase_machine.hpp"
 #include "replay.hpp"
@@ -79,9 +80,12 @@ class InstanceContext final : public Context {
 Instance::Instance() = default;
 Instance::~Instance() = default;
 
+std::string Instance::failure() const { return isolated ? isolated->failure() : std::string(); }
+
 std::optional<EndRequest> Instance::take_end_request() { return ctx ? ctx->take_end_request() : std::nullopt; }
 
 void Instance::drop_plugin() {
+  isolated = nullptr;
   plugin.reset();
   ctx.reset();
 }
@@ -156,6 +160,18 @@ void configure_instance(Instance& inst, const InstanceSetup& setup) {
   apply_remaps_and_trigger(inst, setup.config.file, field);
 }
 
+void isolate_instance(Instance& inst, const InstanceSetup& setup) {
+  const IsolationSpec spec{setup.config.file, inst.cfg.name, inst.lib->info().path, setup.seed,
+                           static_cast<Nanos>(setup.config.watchdog.hard_ms * 1e6)};
+  try {
+    auto proxy = std::make_unique<IsolatedPlugin>(std::move(inst.plugin), *inst.ctx, spec);
+    inst.isolated = proxy.get();
+    inst.plugin = std::move(proxy);
+  } catch (const ConfigError& e) {
+    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + "plugins[" + std::to_string(inst.cfg.index) + "].isolate: " + e.what());
+  }
+}
+
 // ---- load -----------------------------------------------------------------------------------
 
 namespace {
@@ -201,6 +217,7 @@ std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const Inst
   if (replaying && inst->info.kind != PluginKind::estimator) return nullptr;
   inst->plugin = inst->lib->create();
   configure_instance(*inst, setup);
+  if (ic.isolate && !setup.describing) isolate_instance(*inst, setup);
   return inst;
 }
 

@@ -8,7 +8,8 @@
 // Configuring an instance gives it a Context (its parameter values, its seed, a logger, the
 // config's paths), runs its configure(), refuses parameters it does not declare (a warning for
 // shared ROS 2 parameter files), applies its `remap:` and finds its `trigger:` input.
-// Errors are ConfigError, one line naming file, field and value.
+// With `isolate: true` (and not describing) the configured plugin is moved into an IsolatedPlugin,
+// which runs it in a child process. Errors are ConfigError, one line naming file, field and value.
 #pragma once
 
 #include <cstddef>
@@ -31,6 +32,7 @@ class InstanceContext;
 class PhaseMachine;
 class FlightMetrics;
 class ReplaySource;
+class IsolatedPlugin;
 
 /// A plugin's request to end the flight (Context::end_flight).
 struct EndRequest {
@@ -54,7 +56,10 @@ struct Instance {
   InputBase* trigger = nullptr;            // trigger instances
   bool routed = false;                     // a controller behind the phase router
   bool builtin = false;
+  IsolatedPlugin* isolated = nullptr;      // `plugin` when it runs in a child process
   StepStats stats;
+  /// Why an isolated instance failed this flight ("" while it works, and for in-process ones).
+  std::string failure() const;
 };
 
 /// What configuring an instance takes from the host.
@@ -68,6 +73,10 @@ struct InstanceSetup {
 
 /// Attaches a context to `inst.plugin` and configures it (see above). Throws ConfigError.
 void configure_instance(Instance& inst, const InstanceSetup& setup);
+
+/// `isolate: true`: moves the configured `inst.plugin` (the shadow) into an IsolatedPlugin that
+/// runs the plugin in a child process (isolated_plugin.hpp). Throws ConfigError.
+void isolate_instance(Instance& inst, const InstanceSetup& setup);
 
 /// The instances of a mission, and the built-ins among them.
 struct LoadedInstances {

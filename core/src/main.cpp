@@ -47,15 +47,6 @@ fs::path default_config() {
   return fs::path("configs/missions/default.yaml");
 }
 
-/// Exit status of `tern fly` and `tern replay` (README, "Exit status").
-int fly_exit_status(const FlightResult& r) {
-  if (!r.ok) return 1;
-  if (!r.log_error.empty()) return 3;  // flown, but the log is incomplete
-  if (r.end_reason == "SIGINT") return 130;
-  if (r.end_reason == "SIGTERM") return 143;
-  if (r.end_reason == "SIGHUP") return 129;
-  return 0;
-}
 
 int fail(const std::string& msg) {
   std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
@@ -395,7 +386,7 @@ int main(int argc, char** argv) {
       install_signal_handlers();
       const FlightResult r = host.fly();
       if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
-      return fly_exit_status(r);
+      return exit_status(r);
     }
     if (serve_cmd->parsed()) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
@@ -474,7 +465,7 @@ int main(int argc, char** argv) {
     const FlightResult r = host.fly();
 #endif
     if (quiet) std::printf("log: %s\n", r.run_dir.c_str());
-    return fly_exit_status(r);
+    return exit_status(r);
   } catch (const ConfigError& e) {
     return fail(e.what());
   } catch (const std::exception& e) {

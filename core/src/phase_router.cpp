@@ -91,6 +91,7 @@ void PhaseRouter::start_flight() {
 }
 
 PhaseRouter::Cause PhaseRouter::fallback_reason(const Instance& c, const std::string& step_error, Nanos now) {
+  if (std::string failed = c.failure(); !failed.empty()) return {failed};  // an isolated child died or hung
   if (!step_error.empty()) return {fmt::format("{}.step threw: {}", c.cfg.name, step_error)};
   const auto* a = actuators_ ? static_cast<const msg::Actuators*>(actuators_->data()) : nullptr;
   if (a != nullptr && !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t)))

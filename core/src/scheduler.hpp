@@ -36,6 +36,7 @@ void calibrate_step_clock();
 struct StepStats {
   std::uint64_t steps = 0;
   std::uint64_t overruns = 0;  ///< steps longer than budget_ns
+  std::uint64_t slow = 0;      ///< steps longer than the watchdog's soft budget (watchdog.hpp)
   Nanos budget_ns = 0;
   Nanos max_ns = 0;
   Nanos total_ns = 0;

@@ -1,11 +1,13 @@
 // test_controller: a controller test plugin. Throttle = 0.5 + kp (h_target - h), saturated;
 // delta_e = the `tag` parameter so tests can see which controller is flying, delta_a = `aileron`.
-// Can be told to fail (throw, write NaN, or stop publishing: silent) from a given time, to
-// exercise the phase router's fallback and its safety monitor.
+// Can be told to fail (throw, write NaN, or stop publishing: silent; or segv, hang, exit, see
+// misbehave.hpp) from a given time, to exercise the phase router's fallback, its safety monitor,
+// isolation and the watchdog.
 #include <cmath>
 #include <stdexcept>
 
 #include "tern/math.hpp"
+#include "misbehave.hpp"
 #include "tern/plugin.hpp"
 
 #ifndef TERN_TEST_VERSION
@@ -24,13 +26,14 @@ class TestController final : public tern::Plugin {
     declare(kp_, "kp", 0.05, tern::ParamSpec("1/m", 0.0, 10.0, "throttle per metre of altitude error"));
     declare(tag_, "tag", 0.0, tern::ParamSpec("rad", -1.0, 1.0, "constant elevator command identifying this controller"));
     declare(aileron_, "aileron", 0.0, tern::ParamSpec("rad", -1.0, 1.0, "constant aileron command"));
-    declare(fail_mode_, "fail_mode", "none", tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "throw", "nan", "silent"}));
+    declare(fail_mode_, "fail_mode", "none", tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "throw", "nan", "silent", "segv", "hang", "exit"}));
     declare(fail_at_, "fail_at", 0.0, tern::ParamSpec("s", 0.0, 1e6, "flight time from which to fail"));
   }
   void step(tern::Nanos now) override {
     if (fail_mode_() != "none" && tern::to_seconds(now) >= fail_at_()) {
       if (fail_mode_() == "throw") throw std::runtime_error("deliberate failure");
       if (fail_mode_() == "silent") return;
+      tern_test::misbehave(fail_mode_());
     }
     tern::msg::Actuators a;
     a.stamp = now;

@@ -1,6 +1,10 @@
 // test_filter: an estimator test plugin. Steps on `imu`; publishes `state` = truth, and counts
-// steps in which the imu it reads was not published in the same tick (ordering check).
+// steps in which the imu it reads was not published in the same tick (ordering check). Can be
+// told to fail from a given time (fail_mode: segv, hang, exit; misbehave.hpp) and to log a line
+// per second of flight (log_every_s), for the isolation and watchdog tests.
+#include "misbehave.hpp"
 #include "tern/plugin.hpp"
+#include <spdlog/spdlog.h>
 
 namespace {
 class TestFilter final : public tern::Plugin {
@@ -11,8 +15,13 @@ class TestFilter final : public tern::Plugin {
     declare(state_, "state");
     declare(edits_, "mission_edit", "counts runtime mission edits", tern::Need::optional);
     declare(valid_, "valid", false, tern::ParamSpec("", 0, 0, "publish the state as valid, status ok (an aligned estimator)"));
+    declare(fail_mode_, "fail_mode", "none", tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "segv", "hang", "exit"}));
+    declare(fail_at_, "fail_at", 0.0, tern::ParamSpec("s", 0.0, 1e6, "flight time from which to fail"));
+    declare(log_every_, "log_every_s", 0.0, tern::ParamSpec("s", 0.0, 1e6, "log one info line this often (0: never)"));
   }
   void step(tern::Nanos now) override {
+    if (tern::to_seconds(now) >= fail_at_()) tern_test::misbehave(fail_mode_());
+    if (log_every_() > 0 && now % tern::from_seconds(log_every_()) == 0) log().info("step at t={} ns", now);
     if (imu_->stamp != now) ++stale_;
     if (edits_.updated()) {
       ++edits_seen_;
@@ -39,6 +48,8 @@ class TestFilter final : public tern::Plugin {
   tern::Output<tern::msg::State> state_;
   tern::Input<tern::msg::MissionEdit> edits_;
   tern::Param<bool> valid_;
+  tern::Param<std::string> fail_mode_;
+  tern::Param<double> fail_at_, log_every_;
   long stale_ = 0, steps_ = 0, edits_seen_ = 0, last_edit_id_ = 0;
 };
 }  // namespace

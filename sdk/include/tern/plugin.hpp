@@ -138,6 +138,13 @@ class TERN_API Plugin {
  protected:
   Context& context() const;
   spdlog::logger& log() const;
+  /// Host side: a proxy (core's isolated instance) presents the ports and parameters of
+  /// `other`, which it keeps alive, as its own.
+  void present_ports_of(const Plugin& other) {
+    inputs_ = other.inputs_;
+    outputs_ = other.outputs_;
+    params_ = other.params_;
+  }
 
   template <class T>
   void declare(Input<T>& port, std::string name, std::string description = {},

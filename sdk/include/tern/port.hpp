@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cstdint>
+#include <cstring>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -65,6 +66,13 @@ class TERN_API OutputBase : public PortBase {
   std::uint64_t sequence() const { return seq_; }
   /// The latest message (a T); valid as long as the output exists.
   const void* data() const { return data_; }
+  /// Host side (an isolated instance's proxy outputs): the type().size bytes at `bytes`, a
+  /// message copied from the child process (reflect::bitwise_copyable types only), become the
+  /// latest message, with sequence number `seq`.
+  void publish_copy(const void* bytes, std::uint64_t seq) {
+    std::memcpy(const_cast<void*>(data_), bytes, type().size);
+    seq_ = seq;
+  }
 
  protected:
   OutputBase(const MsgType& type, const void* data) : PortBase(type), data_(data) {}

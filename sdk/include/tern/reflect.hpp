@@ -143,6 +143,46 @@ constexpr std::uint64_t fingerprint() {
   return f.h;
 }
 
+// ---- bitwise copy -----------------------------------------------------------------------------
+
+template <class M>
+constexpr bool bitwise_copyable();
+
+/// Whether a field type is plain bytes: a scalar, an Eigen fixed-size double vector or
+/// quaternion (their storage is the doubles), a described struct that is bitwise_copyable, or a
+/// std::array of those.
+template <class F>
+constexpr bool plain_field() {
+  if constexpr (is_described<F>::value) return bitwise_copyable<F>();
+  else if constexpr (is_std_array<F>::value) return plain_field<typename F::value_type>();
+  else if constexpr (is_eigen_vec<F>::value || std::is_same_v<F, Eigen::Quaterniond>) return true;
+  else return std::is_arithmetic_v<F> || std::is_enum_v<F>;
+}
+
+struct PlainVisitor {
+  bool ok = true;
+  template <class M, class F>
+  constexpr void operator()(F M::*, std::string_view, std::string_view, std::string_view = {}) {
+    ok = ok && plain_field<F>();
+  }
+};
+
+/// Whether a described message may cross a process boundary by memcpy (an isolated instance's
+/// ports, core/src/isolation_channel.hpp): every described field is plain bytes (above), and the
+/// struct owns nothing (trivially destructible: no string, vector or pointer owner hides in an
+/// undescribed member) and has no virtual table. Eigen's vectors are not
+/// std::is_trivially_copyable (user-declared copy constructors), hence this check.
+template <class M>
+constexpr bool bitwise_copyable() {
+  if constexpr (!std::is_trivially_destructible_v<M> || std::is_polymorphic_v<M>) {
+    return false;
+  } else {
+    PlainVisitor v;
+    M::describe(v);
+    return v.ok;
+  }
+}
+
 // ---- flat column layout -----------------------------------------------------------------------
 
 struct Column {

@@ -1,0 +1,23 @@
+// tests/plugins/misbehave.hpp: deliberate failures of a test plugin's step, for the isolation
+// and watchdog tests (issue 19): `segv` writes through a null pointer (SIGSEGV), `hang` loops
+// for ever, `exit` ends the process with status 3. Other modes do nothing here.
+#pragma once
+
+#include <cstdlib>
+#include <string>
+
+namespace tern_test {
+
+inline void misbehave(const std::string& mode) {
+  if (mode == "segv") {
+    volatile int* volatile nowhere = nullptr;
+    *nowhere = 1;
+  } else if (mode == "hang") {
+    for (volatile bool forever = true; forever;) {
+    }
+  } else if (mode == "exit") {
+    std::_Exit(3);
+  }
+}
+
+}  // namespace tern_test
