@@ -82,6 +82,11 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   CHECK_MESSAGE(get.rfind("slc.roll_kp                        0.5 ", 0) == 0, get);
+  auto [rc4d, desc] = run_tern("param describe slc.roll_kp" + d);  // through rcl_interfaces describe_parameters
+  CHECK_MESSAGE(rc4d == 0, desc);
+  CHECK(desc.rfind("slc.roll_kp (double, rad/rad)\n", 0) == 0);
+  CHECK(desc.find("\n  range: [0, 10]\n") != std::string::npos);
+  CHECK(desc.find("\n  changes in flight at the next tick\n") != std::string::npos);
   auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17" + d);
   CHECK_MESSAGE(rc5 == 0, add);
   std::string print;

@@ -44,7 +44,7 @@ class TopicRate {
 };
 
 /// `tern hz TOPIC`: prints the rate report on stdout once a second (checked as samples arrive)
-/// until `duration` seconds have passed (nullopt: until interrupted). Returns 0; DdsError when no
+/// until `duration` seconds have passed since the first sample (nullopt: until interrupted). Returns 0; DdsError when no
 /// sample arrives within the client's time-out.
 int topic_hz(DdsClient& client, const std::string& topic, std::optional<double> duration);
 

@@ -62,10 +62,13 @@ std::string describe_param(const DdsParam& p) {
 int topic_hz(DdsClient& client, const std::string& topic, std::optional<double> duration) {
   using Clock = TopicRate::Clock;
   TopicRate rate;
-  const auto t0 = Clock::now();
-  auto next_report = t0 + std::chrono::seconds(1);
+  Clock::time_point t0, next_report;  // from the first sample (finding the vehicle takes a while)
   client.echo(topic, [&](const std::string&) {
     const auto now = Clock::now();
+    if (rate.samples() == 0) {
+      t0 = now;
+      next_report = now + std::chrono::seconds(1);
+    }
     rate.arrived(now);
     const bool over = duration && std::chrono::duration<double>(now - t0).count() >= *duration;
     if (now >= next_report || over) {
