@@ -106,7 +106,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   CHECK_MESSAGE(print.find("0 waypoints") != std::string::npos, print);
   auto [rc6, none] = run_tern("param get slc.roll_kp --domain 184 --timeout 0.5");
   CHECK(rc6 == 1);
-  CHECK(none == "tern: error: no vehicle answered 'get_parameters' on DDS domain 184, namespace 'tern' within 0.5 s\n");
+  CHECK(none == "tern: error: no vehicle announced its nodes (ros_discovery_info) on DDS domain 184, namespace 'tern' within 0.5 s\n");
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);

@@ -171,6 +171,8 @@ class DdsClient {
 
  private:
   std::string param_ns(const std::string& node) const;
+  /// {instance, param} of "instance.param"; DdsError when the vehicle has no such instance.
+  std::pair<std::string, std::string> known_node(const std::string& qualified);
   std::vector<DdsParam> describe(const std::string& node, const std::vector<std::string>& names);
   struct Impl;
   std::unique_ptr<Impl> impl_;

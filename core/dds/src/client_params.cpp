@@ -26,6 +26,15 @@ std::pair<std::string, std::string> split(const std::string& qualified) {
 
 }  // namespace
 
+std::pair<std::string, std::string> DdsClient::known_node(const std::string& qualified) {
+  auto parts = split(qualified);
+  const auto all = nodes();
+  if (std::find(all.begin(), all.end(), parts.first) == all.end())
+    throw DdsError("unknown parameter '" + qualified + "': the vehicle has no instance '" + parts.first + "'" +
+                   did_you_mean(parts.first, all));
+  return parts;
+}
+
 std::vector<std::string> DdsClient::nodes() {
   auto* p = impl_->participant;
   fdds::Topic* t = make_topic<rmw_dds_common::msg::ParticipantEntitiesInfoPubSubType>(p, "ros_discovery_info");
@@ -92,7 +101,7 @@ std::vector<DdsParam> DdsClient::describe(const std::string& node, const std::ve
 }
 
 DdsParam DdsClient::param_get(const std::string& name) {
-  const auto [node, param] = split(name);
+  const auto [node, param] = known_node(name);
   auto found = describe(node, {param});
   if (!found.empty()) return found.front();
   std::vector<std::string> known;
@@ -101,7 +110,7 @@ DdsParam DdsClient::param_get(const std::string& name) {
 }
 
 void DdsClient::param_set(const std::string& name, const ParamValue& value) {
-  const auto [node, param] = split(name);
+  const auto [node, param] = known_node(name);
   rs::SetParameters_Request rq;
   rm::Parameter p;
   p.name(param);

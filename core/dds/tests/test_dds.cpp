@@ -22,6 +22,7 @@
 #include "rosplane_msgs/msg/WaypointPubSubTypes.h"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "rcl_convert.hpp"
+#include "ros_graph.hpp"
 #include "rcl_interfaces/msg/ParameterEventPubSubTypes.h"
 #include "rcl_interfaces/srv/ParametersPubSubTypes.h"
 #include "test_util.hpp"
@@ -256,6 +257,8 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
     CHECK(std::string(e.what()) == "parameter 'ctl.kp': value 50 is outside the valid range [0, 10] 1/m");
   }
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kq", 0.1), "unknown parameter 'ctl.kq' (did you mean 'ctl.kp'?)", DdsError);
+  CHECK_THROWS_WITH_AS(client.param_get("ctrl.kp"), "unknown parameter 'ctrl.kp': the vehicle has no instance 'ctrl' (did you mean 'ctl'?)",
+                       DdsError);
   CHECK_THROWS_AS(client.param_set("ctl.fail_mode", std::string("explode")), DdsError);
   // while flying, reads are answered from the flight thread
   REQUIRE(ddsi::wait_until([&] { return std::get<double>(client.param_get("ctl.tag").value) == 0.25; }, std::chrono::seconds(2)));
@@ -380,7 +383,8 @@ TEST_CASE("dds: replies reach the client that asked (sample identity), with two 
 TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
   DdsClient client(options_on(44), std::chrono::milliseconds(300));
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
-                       "no vehicle answered 'set_parameters' on DDS domain 44, namespace 'tern' within 0.3 s", DdsError);
+                       "no vehicle announced its nodes (ros_discovery_info) on DDS domain 44, namespace 'tern' within 0.3 s",
+                       DdsError);
 }
 
 TEST_CASE("dds: file requests from the network stay inside the allowed directories (issue 20)") {
@@ -447,6 +451,8 @@ TEST_CASE("dds: a request sent but not answered says it may have been applied, h
   auto* rr = sub->create_datareader(
       ddsi::make_topic<SetParameters_RequestPubSubType>(p, ddsi::request_topic("tern/ctl", "set_parameters")), ddsi::service_reader_qos());
   REQUIRE((rw != nullptr && rr != nullptr));
+  ddsi::RosGraph graph(p, pub);
+  graph.announce({{"/tern", "ctl", {rr->guid()}, {rw->guid()}}});
   {
     DdsClient client(opt, std::chrono::milliseconds(1500));
     client.set_request_id(77);
