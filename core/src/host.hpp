@@ -85,6 +85,7 @@ class Host {
   FlightResult fly();
 
   const MissionConfig& config() const { return config_; }
+  const HostOptions& options() const { return options_; }
   const std::vector<std::unique_ptr<Instance>>& instances() const { return instances_; }
   /// Instance names in schedule order.
   std::vector<std::string> schedule() const;

@@ -16,6 +16,7 @@
 #include "tune_command.hpp"
 #if defined(TERN_WITH_DDS)
 #include "dds_bridge.hpp"
+#include "topic_tools.hpp"
 #endif
 
 #ifndef TERN_SOURCE_DIR
@@ -135,7 +136,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "tune", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "hz", "param", "mission", "replay", "tune", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -228,6 +229,10 @@ int main(int argc, char** argv) {
   std::string client_config, client_ns = "tern", topic, param_name, param_value, file_arg, param_prefix;
   std::uint32_t client_domain = 0;
   double client_timeout = 3.0;
+  std::string field;
+  std::optional<std::uint64_t> request_id;
+  std::optional<double> hz_duration;
+  bool overwrite = false;
   bool once = false, wp_lla = false, wp_use_chi = false, wp_set_current = false;
   double wp_chi = 0, wp_Va = 0;
   std::vector<double> wp_w;
@@ -237,6 +242,7 @@ int main(int argc, char** argv) {
     c->add_option("--namespace", client_ns, "vehicle namespace")->capture_default_str();
     c->add_option("--config", client_config, "take domain, namespace, interfaces and peers from this mission config's dds:");
     c->add_option("--timeout", client_timeout, "seconds to wait for the vehicle")->capture_default_str();
+    c->add_option("--request-id", request_id, "repeat a request that timed out with the id its error gave (applied once)");
     client_cmds.push_back(c);
     return c;
   };
@@ -244,6 +250,10 @@ int main(int argc, char** argv) {
   auto* echo_cmd = client_opts(app.add_subcommand("echo", "print a bridged topic's live values"));
   echo_cmd->add_option("topic", topic, "tern topic name, e.g. state")->required();
   echo_cmd->add_flag("--once", once, "print one sample and exit");
+  echo_cmd->add_option("--field", field, "print only this field (e.g. p_n, quat, header.stamp)");
+  auto* hz_cmd = client_opts(app.add_subcommand("hz", "the receive rate of a topic, every second (as ros2 topic hz)"));
+  hz_cmd->add_option("topic", topic, "tern topic name, e.g. state")->required();
+  hz_cmd->add_option("--duration", hz_duration, "stop after this many seconds")->check(CLI::PositiveNumber);
   auto* param_cmd = client_opts(app.add_subcommand("param", "the vehicle's parameters over DDS: list, get, set, save"));
   param_cmd->require_subcommand(1);
   param_cmd->fallthrough();  // --domain etc. may follow `param set NAME VALUE`
@@ -251,11 +261,14 @@ int main(int argc, char** argv) {
   param_list->add_option("prefix", param_prefix, "e.g. slc.");
   auto* param_get = param_cmd->add_subcommand("get", "one parameter");
   param_get->add_option("name", param_name, "instance.param")->required();
+  auto* param_describe = param_cmd->add_subcommand("describe", "one parameter's descriptor (rcl_interfaces describe_parameters)");
+  param_describe->add_option("name", param_name, "instance.param")->required();
   auto* param_set = param_cmd->add_subcommand("set", "change a parameter (validated; applied at the next tick; logged)");
   param_set->add_option("name", param_name, "instance.param")->required();
   param_set->add_option("value", param_value, "a number, true/false, text, or [a, b, c]")->required();
   auto* param_save = param_cmd->add_subcommand("save", "write every parameter to a YAML file on the vehicle");
-  param_save->add_option("file", file_arg, "file name on the vehicle")->required();
+  param_save->add_option("file", file_arg, "file name on the vehicle (inside its log directory or dds.param_dirs)")->required();
+  param_save->add_flag("--overwrite", overwrite, "replace an existing file");
   auto* mission_cmd = client_opts(app.add_subcommand("mission", "the vehicle's mission over DDS: add, clear, load, print"));
   mission_cmd->require_subcommand(1);
   mission_cmd->fallthrough();
@@ -294,6 +307,8 @@ int main(int argc, char** argv) {
       if (c->count("--namespace") || client_config.empty()) dopt.ns = client_ns;
       try {
         DdsClient client(dopt, std::chrono::milliseconds(static_cast<long>(client_timeout * 1000)));
+        if (request_id) client.set_request_id(*request_id);
+        if (c == hz_cmd) return topic_hz(client, topic, hz_duration);
         if (c == topics_cmd) {
           const DdsStatus st = client.status();
           fmt::print("vehicle: mission '{}' ({}), {}{}\n", st.mission, st.config_file, st.flying ? "flying" : "idle",
@@ -301,7 +316,9 @@ int main(int argc, char** argv) {
           for (const auto& [name, type] : st.topics) fmt::print("{:<40} {}\n", name, type);
         } else if (c == echo_cmd) {
           client.echo(topic, [&](const std::string& sample) {
-            fmt::print("{}---\n", sample);
+            const auto f = field.empty() ? std::optional<std::string>(sample) : sample_field(sample, field);
+            if (!f) throw DdsError("topic '" + topic + "' has no field '" + field + "'");
+            fmt::print("{}---\n", *f);
             std::fflush(stdout);
             return !once && stop_signal() == 0;
           });
@@ -314,12 +331,14 @@ int main(int argc, char** argv) {
             for (const auto& p : client.param_list(param_prefix)) show(p);
           } else if (param_get->parsed()) {
             show(client.param_get(param_name));
+          } else if (param_describe->parsed()) {
+            fmt::print("{}", describe_param(client.param_get(param_name)));
           } else if (param_set->parsed()) {
             const ParamValue v = to_param_value(YAML::Load(param_value), "command line", param_name);
             client.param_set(param_name, v);
             fmt::print("{} = {} (applied at the vehicle's next tick)\n", param_name, to_string(v));
           } else if (param_save->parsed()) {
-            fmt::print("saved: {}\n", client.param_save(file_arg));
+            fmt::print("saved: {}\n", client.param_save(file_arg, overwrite));
           }
         } else if (c == mission_cmd) {
           if (m_add->parsed()) {

@@ -53,6 +53,12 @@ struct DdsOptions {
   bool multicast = false;           ///< multicast discovery on the listed interfaces
   double rate = 0;                  ///< default max publish rate per topic, Hz (0: every message)
   std::vector<DdsTopicOptions> topics;  ///< bridged topics (default: kDefaultTopics)
+  /// Serve telemetry only: no parameter, mission or file service (status stays, for `tern topics`).
+  bool read_only = false;
+  /// Directories where load_mission_from_file may read, besides the mission config's directory.
+  std::vector<std::filesystem::path> mission_dirs;
+  /// Directories where param_save may write, besides the run directories' parent (log.dir).
+  std::vector<std::filesystem::path> param_dirs;
   static const std::vector<std::string> kDefaultTopics;
   /// True when every interface is 127.0.0.1 and multicast is off.
   bool loopback_only() const;
@@ -60,7 +66,8 @@ struct DdsOptions {
 
 /// Reads the mission config's `dds:` section (missing or null: defaults). Keys: enabled, domain,
 /// namespace, interfaces, peers, multicast, rate, topics (a list of names or of maps
-/// {topic, name, rate, qos}). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
+/// {topic, name, rate, qos}), read_only, mission_dirs, param_dirs (lists of directories, relative
+/// to the config file). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
 /// (with a suggestion) and bad values.
 DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& config_file);
 
@@ -103,6 +110,7 @@ struct DdsParam {
   double min = 0, max = 0;
   std::vector<std::string> choices;
   std::uint32_t size = 0;
+  bool read_only = false;  ///< start-only: changes between flights only
 };
 
 struct DdsStatus {
@@ -118,8 +126,9 @@ struct DdsStatus {
 /// The ground side (the `tern` command's topics/echo/param/mission subcommands): a participant
 /// on the same domain, namespace and interfaces as the vehicle. Each call waits until the
 /// vehicle's service has matched, then for the reply; throws DdsError "no vehicle answered on
-/// domain D, namespace N within T s" on timeout, and DdsError with the vehicle's message when a
-/// request is refused.
+/// domain D, namespace N within T s" on timeout (for a change that was sent: it may have been
+/// applied, how to check, and the request id to repeat it with), and DdsError with the vehicle's
+/// message when a request is refused.
 class DdsClient {
  public:
   explicit DdsClient(const DdsOptions& options, std::chrono::milliseconds timeout = std::chrono::seconds(3));
@@ -127,13 +136,23 @@ class DdsClient {
   DdsClient(const DdsClient&) = delete;
   DdsClient& operator=(const DdsClient&) = delete;
 
+  /// The id of the next request (default: a fresh random one per request). A vehicle answers a
+  /// repeated id with its first answer and does not apply it again: repeat a request that timed
+  /// out with the id its error message gives.
+  void set_request_id(std::uint64_t id);
+
   DdsStatus status();
+  /// The vehicle's ROS 2 nodes with parameters (its instances), from ros_discovery_info.
+  std::vector<std::string> nodes();
+  /// Parameters through rcl_interfaces (list_parameters, get_parameters, describe_parameters,
+  /// set_parameters of node /<namespace>/<instance>), as `ros2 param` does.
   std::vector<DdsParam> param_list(const std::string& prefix = "");
   DdsParam param_get(const std::string& name);
   /// Throws DdsError with the vehicle's reason when the value is refused (unknown, type, range).
   void param_set(const std::string& name, const ParamValue& value);
-  /// Returns the path written on the vehicle.
-  std::string param_save(const std::string& filename);
+  /// Returns the path written on the vehicle: `filename` relative to the first directory the
+  /// vehicle allows (or absolute inside one); an existing file only with `overwrite`.
+  std::string param_save(const std::string& filename, bool overwrite = false);
   /// ROSplane's AddWaypoint: w (NED m or lat/lon/alt), chi_d, use_chi, Va_d, lla; set_current
   /// starts a new list with this waypoint; publish_now republishes the list immediately.
   void mission_add(const msg::Waypoint& wp, bool set_current = false, bool publish_now = true);
@@ -141,11 +160,20 @@ class DdsClient {
   void mission_load(const std::string& filename);
   /// The vehicle's current waypoint list, one waypoint per line.
   std::string mission_print();
-  /// Calls on_sample with each sample of a bridged topic rendered as "field: value" lines, until
+  /// Asks the vehicle to publish tern topic `topic` (e.g. truth, imu) from now on, at most
+  /// `rate` Hz (0: every message). Returns "rt/<ns>/<topic> <DDS type>"; DdsError when the
+  /// vehicle has no such topic or no DDS type for it.
+  std::string bridge_topic(const std::string& topic, double rate = 0);
+  /// Calls on_sample with each sample of a bridged topic (a tern topic the vehicle does not
+  /// publish yet is asked for with bridge_topic) rendered as "field: value" lines, until
   /// on_sample returns false; throws DdsError when no sample arrives within the timeout.
   void echo(const std::string& topic, const std::function<bool(const std::string&)>& on_sample);
 
  private:
+  std::string param_ns(const std::string& node) const;
+  /// {instance, param} of "instance.param"; DdsError when the vehicle has no such instance.
+  std::pair<std::string, std::string> known_node(const std::string& qualified);
+  std::vector<DdsParam> describe(const std::string& node, const std::vector<std::string>& names);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

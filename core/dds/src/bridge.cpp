@@ -13,8 +13,9 @@
 
 #include "dds_internal.hpp"
 #include "error.hpp"
+#include "file_access.hpp"
 #include "host.hpp"
-#include "param_convert.hpp"
+#include "ros_parameters.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
 #include "tern/msg/all.hpp"
@@ -60,12 +61,18 @@ Resp success(const std::string& message = "") {
 
 struct DdsBridge::Impl {
   Host& host;
+  /// every request is the ground station speaking: the link-loss failsafe's "heard"
+  const std::function<void()> heard = [this] { host.ground_link_heard(); };
   DdsOptions options;
   fdds::DomainParticipant* participant = nullptr;
   fdds::Publisher* publisher = nullptr;
   fdds::Subscriber* subscriber = nullptr;
-  std::vector<std::unique_ptr<Writer>> writers;
+  std::vector<std::unique_ptr<Writer>> writers;  // grows at run time (bridge_topic): under writers_mu
+  mutable std::mutex writers_mu;
   std::vector<std::shared_ptr<fdds::DataReaderListener>> servers;
+  RosNode bridge_node;                       // "/<ns>/bridge": entities of the bridge itself
+  std::unique_ptr<RosParameters> ros_params;  // a ROS 2 node per instance (rcl_interfaces)
+  std::unique_ptr<RosGraph> graph;            // ros_discovery_info
 
   // what the flight thread last saw (for status and mission print)
   std::atomic<Nanos> flight_time{0};
@@ -78,8 +85,16 @@ struct DdsBridge::Impl {
   std::deque<std::shared_ptr<std::packaged_task<void()>>> tasks;
   std::atomic<bool> tasks_pending{false};
   std::atomic<std::uint32_t> edit_id{0};
+  // where network requests may read missions and write parameter files
+  FileAccess mission_files, param_files;
 
-  Impl(Host& h, const DdsOptions& o) : host(h), options(o) {}
+  Impl(Host& h, const DdsOptions& o)
+      : host(h), options(o), mission_files(with_first(h.config().dir, o.mission_dirs)),
+        param_files(with_first(h.options().log_dir.value_or(h.config().log.dir), o.param_dirs)) {}
+  static std::vector<fs::path> with_first(const fs::path& first, std::vector<fs::path> more) {
+    more.insert(more.begin(), first);
+    return more;
+  }
   ~Impl() {
     delete_participant(participant);  // stops the listener threads before the servers go
   }
@@ -112,6 +127,13 @@ struct DdsBridge::Impl {
 
   void tick(Nanos now) {
     flight_time.store(now, std::memory_order_relaxed);
+    publish(now);
+    remember_phase_and_waypoints();
+    run_tasks();
+  }
+
+  void publish(Nanos now) {
+    std::lock_guard lk(writers_mu);
     for (auto& w : writers) {
       const OutputBase* src = host.topic_source(w->topic);
       if (src == nullptr) continue;
@@ -126,6 +148,9 @@ struct DdsBridge::Impl {
       w->writer->write(w->sample.get());
       w->written.fetch_add(1, std::memory_order_relaxed);
     }
+  }
+
+  void remember_phase_and_waypoints() {
     if (const OutputBase* ph = host.topic_source("flight_phase");
         ph != nullptr && ph->sequence() > 0 && ph->type().fingerprint == reflect::fingerprint<msg::FlightPhase>())
       phase.store(static_cast<int>(static_cast<const msg::FlightPhase*>(ph->data())->phase), std::memory_order_relaxed);
@@ -137,6 +162,9 @@ struct DdsBridge::Impl {
       std::lock_guard lk(mu);
       waypoints = *static_cast<const msg::WaypointList*>(wp->data());
     }
+  }
+
+  void run_tasks() {
     if (tasks_pending.load(std::memory_order_acquire)) {
       std::deque<std::shared_ptr<std::packaged_task<void()>>> run;
       {
@@ -148,35 +176,8 @@ struct DdsBridge::Impl {
     }
   }
 
-  std::vector<tern_msgs::msg::ParamInfo> param_infos(const std::vector<std::string>& names, const std::string& prefix,
-                                                     std::string& unknown) {
-    std::vector<tern_msgs::msg::ParamInfo> out;
-    on_flight_thread([&] {
-      const auto all = host.parameters();
-      if (names.empty()) {
-        for (const auto& [name, p] : all)
-          if (name.compare(0, prefix.size(), prefix) == 0) out.push_back(to_info(name, *p));
-        return;
-      }
-      std::vector<std::string> known;
-      for (const auto& [name, p] : all) known.push_back(name);
-      for (const auto& n : names) {
-        bool found = false;
-        for (const auto& [name, p] : all)
-          if (name == n) {
-            out.push_back(to_info(name, *p));
-            found = true;
-          }
-        if (!found && unknown.empty()) unknown = "unknown parameter '" + n + "'" + did_you_mean(n, known);
-      }
-    });
-    return out;
-  }
-
-  std::string save_params(const std::string& filename) {
-    if (filename.empty()) throw DdsError("param_save: no file name");
-    fs::path path(filename);
-    if (path.is_relative()) path = host.config().dir / path;
+  std::string save_params(const std::string& filename, bool overwrite) {
+    const fs::path path = param_files.for_writing("param_save", filename, overwrite);
     std::string text;
     on_flight_thread([&] {
       YAML::Emitter y;
@@ -229,47 +230,102 @@ struct DdsBridge::Impl {
     return e;
   }
 
+  /// A DDS writer for tern topic `to.topic` of type `type` (checked by the caller).
+  void add_writer(const DdsTopicOptions& to, const TypeEntry* type) {
+    auto w = std::make_unique<Writer>();
+    w->topic = to.topic;
+    w->dds_name = to.name;
+    w->type = type;
+    fdds::TypeSupport ts(type->make_type());
+    if (participant->find_type(ts.get_type_name()).empty()) ts.register_type(participant);
+    fdds::Topic* t = participant->create_topic(topic_name(options.ns, to.name), ts.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+    const DdsQos q = to.qos.value_or(to.topic == "waypoints" || to.topic == "flight_phase" ? DdsQos::transient_local
+                                                                                           : DdsQos::best_effort);
+    w->qos = q;
+    if (t != nullptr) w->writer = publisher->create_datawriter(t, writer_qos(q));
+    if (t == nullptr || w->writer == nullptr) throw DdsError("DDS: cannot create a writer for " + topic_name(options.ns, to.name));
+    w->sample = type->make_sample();
+    const double rate = to.rate >= 0 ? to.rate : options.rate;
+    w->interval = rate > 0 ? static_cast<Nanos>(std::llround(1e9 / rate)) : 0;
+    std::lock_guard lk(writers_mu);
+    writers.push_back(std::move(w));
+  }
+
+  /// bridge_topic: one more topic at run time (telemetry the defaults leave out: truth, imu).
+  std::string bridge_topic(const std::string& topic, double rate) {
+    if (!std::isfinite(rate) || rate < 0 || rate > 1e6) throw DdsError(fmt::format("bridge_topic: rate {} is outside [0, 1e6] Hz", rate));
+    std::vector<std::string> names;
+    const Host::TopicInfo* info = nullptr;
+    const auto topics = host.topics();
+    for (const auto& t : topics) {
+      names.push_back(t.name);
+      if (t.name == topic) info = &t;
+    }
+    if (info == nullptr) throw DdsError("bridge_topic: no instance publishes topic '" + topic + "'" + did_you_mean(topic, names));
+    const TypeEntry* type = find_type(info->type_name);
+    if (type == nullptr || type->fingerprint != info->fingerprint)
+      throw DdsError("bridge_topic: topic '" + topic + "' carries " + info->type_name + ", which has no DDS type");
+    {
+      std::lock_guard lk(writers_mu);
+      for (const auto& w : writers)
+        if (w->topic == topic || w->dds_name == topic) return topic_name(options.ns, w->dds_name) + " is already published";
+    }
+    add_writer({topic, topic, rate, std::nullopt}, type);
+    announce();
+    host.logger()->info("DDS bridge: now publishing {} ({}) on request", topic_name(options.ns, topic), type->dds_type);
+    return topic_name(options.ns, topic) + " " + type->dds_type;
+  }
+
+  /// Every service, or only status when the config says read_only (telemetry only).
   void start_services() {
+    start_status_service();
+    start_bridge_topic_service();
+    if (options.read_only) return;
+    start_param_services();
+    start_mission_services();
+  }
+
+  /// A tern service (its entities belong to the bridge's ROS node).
+  template <class Server>
+  void add_server(std::shared_ptr<Server> server) {
+    bridge_node.readers.push_back(server->reader()->guid());
+    bridge_node.writers.push_back(server->writer()->guid());
+    servers.push_back(std::move(server));
+  }
+
+  /// ros_discovery_info: the bridge's node (topics, tern's services, parameter events) and one
+  /// node per instance (its parameter services).
+  void announce() {
+    std::vector<RosNode> nodes = ros_params->nodes();
+    RosNode b = bridge_node;
+    b.writers.push_back(ros_params->events_writer());
+    {
+      std::lock_guard lk(writers_mu);
+      for (const auto& w : writers) b.writers.push_back(w->writer->guid());
+    }
+    nodes.push_back(std::move(b));
+    graph->announce(nodes);
+  }
+
+  void start_param_services() {
     using namespace tern_msgs::srv;
     const std::string& ns = options.ns;
-    // every request is the ground station speaking: the link-loss failsafe's "heard"
-    const std::function<void()> heard = [this] { host.ground_link_heard(); };
-    auto add = [&](auto server) { servers.push_back(std::move(server)); };
-    add(std::make_shared<ServiceServer<ParamList_RequestPubSubType, ParamList_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_list", heard, [this](const ParamList_Request& rq) {
-          ParamList_Response r;
-          std::string unknown;
-          r.params(param_infos({}, rq.prefix(), unknown));
-          r.success(true);
-          return r;
-        }));
-    add(std::make_shared<ServiceServer<ParamGet_RequestPubSubType, ParamGet_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_get", heard, [this](const ParamGet_Request& rq) {
-          ParamGet_Response r;
-          std::string unknown;
-          r.params(param_infos(rq.names(), "", unknown));
-          r.success(unknown.empty());
-          r.message(unknown);
-          return r;
-        }));
-    add(std::make_shared<ServiceServer<ParamSet_RequestPubSubType, ParamSet_ResponsePubSubType>>(
-        participant, publisher, subscriber, ns, "param_set", heard, [this](const ParamSet_Request& rq) {
-          try {
-            const ParamValue v = from_dds(rq.value());
-            host.request_param(rq.name(), v, "dds");
-            return success<ParamSet_Response>(fmt::format("{} = {} at the next tick", rq.name(), to_string(v)));
-          } catch (const std::exception& e) {
-            return failure<ParamSet_Response>(e.what());
-          }
-        }));
+    auto add = [&](auto server) { add_server(std::move(server)); };
     add(std::make_shared<ServiceServer<ParamSave_RequestPubSubType, ParamSave_ResponsePubSubType>>(
         participant, publisher, subscriber, ns, "param_save", heard, [this](const ParamSave_Request& rq) {
           try {
-            return success<ParamSave_Response>(save_params(rq.filename()));
+            return success<ParamSave_Response>(save_params(rq.filename(), rq.overwrite()));
           } catch (const std::exception& e) {
+            host.logger()->warn("DDS: {}", e.what());
             return failure<ParamSave_Response>(e.what());
           }
         }));
+  }
+
+  void start_mission_services() {
+    using namespace tern_msgs::srv;
+    const std::string& ns = options.ns;
+    auto add = [&](auto server) { add_server(std::move(server)); };
     add(std::make_shared<ServiceServer<rosplane_msgs::srv::AddWaypoint_RequestPubSubType,
                                        rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>>(
         participant, publisher, subscriber, ns, "add_waypoint", heard, [this](const rosplane_msgs::srv::AddWaypoint_Request& rq) {
@@ -318,20 +374,35 @@ struct DdsBridge::Impl {
         participant, publisher, subscriber, ns, "load_mission_from_file", heard, [this](const MissionLoad_Request& rq) {
           using Resp = MissionLoad_Response;
           try {
-            if (rq.filename().empty()) return failure<Resp>("load_mission_from_file: no file name");
-            fs::path p(rq.filename());
-            if (p.is_relative()) p = host.config().dir / p;
-            p = p.lexically_normal();
-            if (!fs::is_regular_file(p)) return failure<Resp>("load_mission_from_file: no such file on the vehicle: " + p.string());
+            const fs::path p = mission_files.for_reading("load_mission_from_file", rq.filename());
             msg::MissionEdit e = new_edit(msg::MissionEdit::load_file);
             if (p.string().size() >= e.file.size()) return failure<Resp>("load_mission_from_file: path too long: " + p.string());
             std::copy(p.string().begin(), p.string().end(), e.file.begin());
             host.edit_mission(e);
             return success<Resp>(fmt::format("loading {} (edit #{})", p.string(), e.id));
           } catch (const std::exception& e) {
+            host.logger()->warn("DDS: {}", e.what());
             return failure<Resp>(e.what());
           }
         }));
+  }
+
+  void start_bridge_topic_service() {
+    using namespace tern_msgs::srv;
+    add_server(std::make_shared<ServiceServer<BridgeTopic_RequestPubSubType, BridgeTopic_ResponsePubSubType>>(
+        participant, publisher, subscriber, options.ns, "bridge_topic", heard, [this](const BridgeTopic_Request& rq) {
+          try {
+            return success<BridgeTopic_Response>(bridge_topic(rq.topic(), rq.rate()));
+          } catch (const std::exception& e) {
+            return failure<BridgeTopic_Response>(e.what());
+          }
+        }));
+  }
+
+  void start_status_service() {
+    using namespace tern_msgs::srv;
+    const std::string& ns = options.ns;
+    auto add = [&](auto server) { add_server(std::move(server)); };
     add(std::make_shared<ServiceServer<Status_RequestPubSubType, Status_ResponsePubSubType>>(
         participant, publisher, subscriber, ns, "status", heard, [this](const Status_Request&) {
           Status_Response r;
@@ -344,6 +415,7 @@ struct DdsBridge::Impl {
           r.phase(static_cast<std::uint8_t>(phase.load()));
           r.phase_name(std::string(msg::phase_name(static_cast<msg::Phase>(phase.load()))));
           r.flights(static_cast<std::uint32_t>(host.flights()));
+          std::lock_guard lk(writers_mu);
           for (const auto& w : writers) {
             r.topics().push_back(topic_name(options.ns, w->dds_name));
             r.types().push_back(w->type->dds_type);
@@ -384,30 +456,20 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   m.publisher = m.participant->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   m.subscriber = m.participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (m.publisher == nullptr || m.subscriber == nullptr) throw DdsError("DDS: cannot create a publisher/subscriber");
-  for (const auto& [to, type] : plan) {
-    auto w = std::make_unique<Writer>();
-    w->topic = to->topic;
-    w->dds_name = to->name;
-    w->type = type;
-    fdds::TypeSupport ts(type->make_type());
-    if (m.participant->find_type(ts.get_type_name()).empty()) ts.register_type(m.participant);
-    fdds::Topic* t = m.participant->create_topic(topic_name(options.ns, to->name), ts.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-    const DdsQos q = to->qos.value_or(to->topic == "waypoints" || to->topic == "flight_phase" ? DdsQos::transient_local
-                                                                                              : DdsQos::best_effort);
-    w->qos = q;
-    if (t != nullptr) w->writer = m.publisher->create_datawriter(t, writer_qos(q));
-    if (t == nullptr || w->writer == nullptr) throw DdsError("DDS: cannot create a writer for " + topic_name(options.ns, to->name));
-    w->sample = type->make_sample();
-    const double rate = to->rate >= 0 ? to->rate : options.rate;
-    w->interval = rate > 0 ? static_cast<Nanos>(std::llround(1e9 / rate)) : 0;
-    m.writers.push_back(std::move(w));
-  }
+  for (const auto& [to, type] : plan) m.add_writer(*to, type);
   m.start_services();
+  m.bridge_node.ns = "/" + options.ns;
+  m.bridge_node.name = "bridge";
+  m.ros_params = std::make_unique<RosParameters>(host, options, m.participant, m.publisher, m.subscriber,
+                                                 [impl = &m](const std::function<void()>& fn) { impl->on_flight_thread(fn); });
+  m.graph = std::make_unique<RosGraph>(m.participant, m.publisher);
+  m.announce();
   host.set_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
   std::string ifs;
   for (const auto& i : options.interfaces) ifs += (ifs.empty() ? "" : ", ") + i;
   host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain,
                       options.ns, ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
+  if (options.read_only) host.logger()->info("DDS bridge: read_only: telemetry and status only");
 }
 
 DdsBridge::~DdsBridge() {
@@ -415,12 +477,14 @@ DdsBridge::~DdsBridge() {
 }
 
 std::vector<DdsBridge::Published> DdsBridge::published() const {
+  std::lock_guard lk(impl_->writers_mu);
   std::vector<Published> out;
   for (const auto& w : impl_->writers) out.push_back({w->topic, topic_name(impl_->options.ns, w->dds_name), w->type->dds_type});
   return out;
 }
 
 std::uint64_t DdsBridge::samples_written(const std::string& topic) const {
+  std::lock_guard lk(impl_->writers_mu);
   for (const auto& w : impl_->writers)
     if (w->topic == topic) return w->written.load();
   return 0;

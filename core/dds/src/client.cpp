@@ -1,8 +1,7 @@
 // core/dds/src/client.cpp: the ground side (command line) of the DDS bridge.
 #include <fmt/format.h>
 
-#include "dds_internal.hpp"
-#include "param_convert.hpp"
+#include "client_impl.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
 #include "tern_msgs/srv/ServicesPubSubTypes.h"
@@ -11,29 +10,6 @@ namespace tern::core {
 
 using namespace ddsi;
 namespace ts = tern_msgs::srv;
-
-struct DdsClient::Impl {
-  DdsOptions options;
-  std::chrono::milliseconds timeout;
-  fdds::DomainParticipant* participant = nullptr;
-  fdds::Publisher* publisher = nullptr;
-  fdds::Subscriber* subscriber = nullptr;
-  std::map<std::string, std::shared_ptr<void>> clients;  // service -> ServiceClient<...>
-
-  ~Impl() { delete_participant(participant); }
-
-  template <class ReqPS, class RespPS>
-  typename RespPS::type call(const std::string& service, const typename ReqPS::type& req) {
-    auto& slot = clients[service];
-    if (!slot) slot = std::make_shared<ServiceClient<ReqPS, RespPS>>(participant, publisher, subscriber, options.ns, service);
-    auto* c = static_cast<ServiceClient<ReqPS, RespPS>*>(slot.get());
-    typename RespPS::type resp;
-    if (!c->call(req, resp, timeout))
-      throw DdsError(fmt::format("no vehicle answered '{}' on DDS domain {}, namespace '{}' within {:.1f} s", service, options.domain,
-                                 options.ns, static_cast<double>(timeout.count()) / 1000.0));
-    return resp;
-  }
-};
 
 DdsClient::DdsClient(const DdsOptions& options, std::chrono::milliseconds timeout) : impl_(std::make_unique<Impl>()) {
   impl_->options = options;
@@ -45,6 +21,8 @@ DdsClient::DdsClient(const DdsOptions& options, std::chrono::milliseconds timeou
 }
 
 DdsClient::~DdsClient() = default;
+
+void DdsClient::set_request_id(std::uint64_t id) { impl_->next_id = id; }
 
 DdsStatus DdsClient::status() {
   ts::Status_Request rq;
@@ -63,36 +41,11 @@ DdsStatus DdsClient::status() {
   return s;
 }
 
-std::vector<DdsParam> DdsClient::param_list(const std::string& prefix) {
-  ts::ParamList_Request rq;
-  rq.prefix(prefix);
-  const auto r = impl_->call<ts::ParamList_RequestPubSubType, ts::ParamList_ResponsePubSubType>("param_list", rq);
-  if (!r.success()) throw DdsError(r.message());
-  std::vector<DdsParam> out;
-  for (const auto& i : r.params()) out.push_back(from_info(i));
-  return out;
-}
-
-DdsParam DdsClient::param_get(const std::string& name) {
-  ts::ParamGet_Request rq;
-  rq.names({name});
-  const auto r = impl_->call<ts::ParamGet_RequestPubSubType, ts::ParamGet_ResponsePubSubType>("param_get", rq);
-  if (!r.success() || r.params().empty()) throw DdsError(r.message().empty() ? "unknown parameter '" + name + "'" : r.message());
-  return from_info(r.params().front());
-}
-
-void DdsClient::param_set(const std::string& name, const ParamValue& value) {
-  ts::ParamSet_Request rq;
-  rq.name(name);
-  rq.value(to_dds(value));
-  const auto r = impl_->call<ts::ParamSet_RequestPubSubType, ts::ParamSet_ResponsePubSubType>("param_set", rq);
-  if (!r.success()) throw DdsError(r.message());
-}
-
-std::string DdsClient::param_save(const std::string& filename) {
+std::string DdsClient::param_save(const std::string& filename, bool overwrite) {
   ts::ParamSave_Request rq;
   rq.filename(filename);
-  const auto r = impl_->call<ts::ParamSave_RequestPubSubType, ts::ParamSave_ResponsePubSubType>("param_save", rq);
+  rq.overwrite(overwrite);
+  const auto r = impl_->call<ts::ParamSave_RequestPubSubType, ts::ParamSave_ResponsePubSubType>("param_save", rq, "ls on the vehicle");
   if (!r.success()) throw DdsError(r.message());
   return r.message();
 }
@@ -107,20 +60,20 @@ void DdsClient::mission_add(const msg::Waypoint& wp, bool set_current, bool publ
   rq.set_current(set_current);
   rq.publish_now(publish_now);
   const auto r = impl_->call<rosplane_msgs::srv::AddWaypoint_RequestPubSubType, rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>(
-      "add_waypoint", rq);
+      "add_waypoint", rq, "tern mission print");
   if (!r.success()) throw DdsError(r.message());
 }
 
 void DdsClient::mission_clear() {
   std_srvs::srv::Trigger_Request rq;
-  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("clear_waypoints", rq);
+  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("clear_waypoints", rq, "tern mission print");
   if (!r.success()) throw DdsError(r.message());
 }
 
 void DdsClient::mission_load(const std::string& filename) {
   ts::MissionLoad_Request rq;
   rq.filename(filename);
-  const auto r = impl_->call<ts::MissionLoad_RequestPubSubType, ts::MissionLoad_ResponsePubSubType>("load_mission_from_file", rq);
+  const auto r = impl_->call<ts::MissionLoad_RequestPubSubType, ts::MissionLoad_ResponsePubSubType>("load_mission_from_file", rq, "tern mission print");
   if (!r.success()) throw DdsError(r.message());
 }
 
@@ -131,25 +84,38 @@ std::string DdsClient::mission_print() {
   return r.message();
 }
 
-void DdsClient::echo(const std::string& topic, const std::function<bool(const std::string&)>& on_sample) {
-  // the vehicle says which DDS type the topic has
-  const DdsStatus st = status();
-  const std::string name = topic.rfind("rt/", 0) == 0 ? topic : topic_name(impl_->options.ns, topic);
-  const TypeEntry* type = nullptr;
-  DdsQos qos = DdsQos::best_effort;
-  std::vector<std::string> names;
-  for (std::size_t i = 0; i < st.topics.size(); ++i) {
-    names.push_back(st.topics[i].first);
+std::string DdsClient::bridge_topic(const std::string& topic, double rate) {
+  ts::BridgeTopic_Request rq;
+  rq.topic(topic);
+  rq.rate(rate);
+  const auto r = impl_->call<ts::BridgeTopic_RequestPubSubType, ts::BridgeTopic_ResponsePubSubType>("bridge_topic", rq);
+  if (!r.success()) throw DdsError(r.message());
+  return r.message();
+}
+
+namespace {
+/// The DDS type and QoS of `name` in the vehicle's status, or nullptr.
+const TypeEntry* published_type(const DdsStatus& st, const std::string& name, DdsQos& qos) {
+  for (std::size_t i = 0; i < st.topics.size(); ++i)
     if (st.topics[i].first == name) {
-      type = find_dds_type(st.topics[i].second);
       qos = st.qos[i];
+      return find_dds_type(st.topics[i].second);
     }
+  return nullptr;
+}
+}  // namespace
+
+void DdsClient::echo(const std::string& topic, const std::function<bool(const std::string&)>& on_sample) {
+  // the vehicle says which DDS type the topic has; a tern topic it does not bridge yet (truth,
+  // imu) is asked for
+  const std::string name = topic.rfind("rt/", 0) == 0 ? topic : topic_name(impl_->options.ns, topic);
+  DdsQos qos = DdsQos::best_effort;
+  const TypeEntry* type = published_type(status(), name, qos);
+  if (type == nullptr && topic.rfind("rt/", 0) != 0) {
+    bridge_topic(topic, 0);
+    type = published_type(status(), name, qos);
   }
-  if (type == nullptr) {
-    std::string list;
-    for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw DdsError("the vehicle does not publish " + name + " (it publishes: " + list + ")");
-  }
+  if (type == nullptr) throw DdsError("the vehicle does not publish " + name + " (see `tern topics`)");
   fdds::TypeSupport tsup(type->make_type());
   auto* p = impl_->participant;
   if (p->find_type(tsup.get_type_name()).empty()) tsup.register_type(p);

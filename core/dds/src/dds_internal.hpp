@@ -5,6 +5,8 @@
 #include <chrono>
 #include <functional>
 #include <memory>
+#include <mutex>
+#include <random>
 #include <string>
 #include <string_view>
 #include <thread>
@@ -23,7 +25,9 @@
 #include <fastdds/dds/topic/TypeSupport.hpp>
 #include <fastrtps/rtps/common/WriteParams.h>
 
+#include "answered_requests.hpp"
 #include "dds_bridge.hpp"
+#include "matched_readers.hpp"
 #include "tern/time.hpp"
 
 namespace tern::core::ddsi {
@@ -92,42 +96,67 @@ class ServiceServer final : public fdds::DataReaderListener {
   ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
                 const std::string& service, std::function<void()> on_request, std::function<Resp(const Req&)> handler)
       : on_request_(std::move(on_request)), handler_(std::move(handler)) {
-    writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos());
+    writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos(), &matched_,
+                                     fdds::StatusMask::publication_matched());
     reader_ = sub->create_datareader(make_topic<ReqPS>(p, request_topic(ns, service)), service_reader_qos(), this);
     if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create service '" + service + "'");
   }
   void on_data_available(fdds::DataReader* reader) override {
+    std::lock_guard lk(mu_);  // a repeated id arriving while its first copy is handled waits for it
     Req req;
     fdds::SampleInfo info;
     while (reader->take_next_sample(&req, &info) == ReturnCode_t::RETCODE_OK) {
       if (!info.valid_data) continue;
       if (on_request_) on_request_();
-      Resp resp = handler_(req);
-      // the client's reply reader is discovered at about the time its request writer is: give
-      // the reply writer a moment to match it (a volatile reply to an unmatched reader is lost)
-      wait_until([&] {
-        fdds::PublicationMatchedStatus st;
-        writer_->get_publication_matched_status(st);
-        return st.current_count > 0;
-      }, std::chrono::milliseconds(1000));
-      // as rmw_fastrtps: a client that names its reply reader (related_sample_identity's
-      // writer GUID) gets the reply under that GUID, with its request's sequence number
-      eprosima::fastrtps::rtps::SampleIdentity id = info.sample_identity;
-      if (info.related_sample_identity.writer_guid() != eprosima::fastrtps::rtps::GUID_t::unknown())
-        id.writer_guid(info.related_sample_identity.writer_guid());
-      eprosima::fastrtps::rtps::WriteParams wp;
-      wp.related_sample_identity(id);
-      writer_->write(&resp, wp);
+      const std::optional<std::uint64_t> id = request_id(info.related_sample_identity);
+      const Resp* first = id ? answered_.find(*id) : nullptr;
+      const Resp resp = first != nullptr ? *first : handler_(req);
+      if (id && first == nullptr) answered_.remember(*id, resp);
+      reply(info, resp);
     }
   }
+  /// The number of request ids remembered.
+  std::size_t remembered() const { return answered_.size(); }
   fdds::DataReader* reader() const { return reader_; }
+  fdds::DataWriter* writer() const { return writer_; }
 
  private:
+  void reply(const fdds::SampleInfo& info, const Resp& resp) {
+    // the client's reply reader is discovered at about the time its request writer is: give
+    // the reply writer time to match it (a volatile reply to an unmatched reader is lost)
+    matched_.wait_for(info.related_sample_identity.writer_guid(), std::chrono::seconds(5));
+    // as rmw_fastrtps (rmw_send_response): a client that names its reply reader
+    // (related_sample_identity's writer GUID) gets the reply under that GUID, with its request's
+    // sequence number
+    eprosima::fastrtps::rtps::SampleIdentity sid = info.sample_identity;
+    if (info.related_sample_identity.writer_guid() != eprosima::fastrtps::rtps::GUID_t::unknown())
+      sid.writer_guid(info.related_sample_identity.writer_guid());
+    eprosima::fastrtps::rtps::WriteParams wp;
+    wp.related_sample_identity(sid);
+    writer_->write(const_cast<Resp*>(&resp), wp);
+  }
+
   std::function<void()> on_request_;
   std::function<Resp(const Req&)> handler_;
   fdds::DataWriter* writer_ = nullptr;
   fdds::DataReader* reader_ = nullptr;
+  std::mutex mu_;
+  AnsweredRequests<Resp> answered_;
+  MatchedReaders matched_;
 };
+
+/// How a service call ended.
+enum class CallResult {
+  answered,
+  no_server,  ///< no vehicle's service matched within the time-out: nothing was sent
+  no_reply,   ///< sent, but no reply within the time-out: the vehicle may have applied it
+};
+
+/// A fresh request id (1 .. 2^62-1), random so that ids from different client processes differ.
+inline std::uint64_t new_request_id() {
+  static thread_local std::mt19937_64 rng{std::random_device{}()};
+  return (rng() >> 2) | 1;
+}
 
 /// Client side of one service (not thread-safe: one call at a time).
 template <class ReqPS, class RespPS>
@@ -142,8 +171,9 @@ class ServiceClient {
     reader_ = sub->create_datareader(make_topic<RespPS>(p, reply_topic(ns, service)), service_reader_qos());
     if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create client of '" + service + "'");
   }
-  /// Waits for the server, sends, waits for the matching reply. false on timeout.
-  bool call(const Req& req, Resp& resp, std::chrono::milliseconds timeout) {
+  /// Waits for the server, sends with request id `id` (answered_requests.hpp), waits for the
+  /// matching reply.
+  CallResult call(const Req& req, Resp& resp, std::chrono::milliseconds timeout, std::uint64_t id) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool matched = wait_until([&] {
       fdds::PublicationMatchedStatus ps;
@@ -152,21 +182,23 @@ class ServiceClient {
       reader_->get_subscription_matched_status(ss);
       return ps.current_count > 0 && ss.current_count > 0;
     }, timeout);
-    if (!matched) return false;
-    // the request names this client's reply reader (rmw_fastrtps convention); the reply comes
-    // back with related_sample_identity = (reader GUID, request sequence number)
+    if (!matched) return CallResult::no_server;
+    // the request names this client's reply reader (rmw_fastrtps convention) and carries the
+    // request id; the reply comes back with related_sample_identity = (reader GUID, request
+    // sequence number)
     eprosima::fastrtps::rtps::WriteParams wp;
     wp.related_sample_identity().writer_guid(reader_->guid());
-    if (!writer_->write(const_cast<Req*>(&req), wp)) return false;
+    wp.related_sample_identity().sequence_number(eprosima::fastrtps::rtps::SequenceNumber_t(id));
+    if (!writer_->write(const_cast<Req*>(&req), wp)) return CallResult::no_server;
     const auto seq = wp.sample_identity().sequence_number();
     for (;;) {
       const auto left = timeout - std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
-      if (left.count() <= 0) return false;
+      if (left.count() <= 0) return CallResult::no_reply;
       fdds::SampleInfo info;
       if (reader_->take_next_sample(&resp, &info) == ReturnCode_t::RETCODE_OK) {
         if (info.valid_data && info.related_sample_identity.sequence_number() == seq &&
             info.related_sample_identity.writer_guid() == reader_->guid())
-          return true;
+          return CallResult::answered;
         continue;
       }
       reader_->wait_for_unread_message(Duration(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));

@@ -96,6 +96,17 @@ std::vector<std::string> ipv4_list(const YAML::Node& n, const fs::path& file, co
   return out;
 }
 
+std::vector<fs::path> dir_list(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsSequence()) throw ConfigError(where(file, n) + field + ": expected a list of directories, got " + show(n));
+  std::vector<fs::path> out;
+  for (std::size_t i = 0; i < n.size(); ++i) {
+    const std::string f = field + "[" + std::to_string(i) + "]";
+    const fs::path p(text(n[i], file, f, false));
+    out.push_back((p.is_absolute() ? p : file.parent_path() / p).lexically_normal());
+  }
+  return out;
+}
+
 DdsQos qos(const YAML::Node& n, const fs::path& file, const std::string& field) {
   const std::string s = text(n, file, field, false);
   if (s == "best_effort") return DdsQos::best_effort;
@@ -113,7 +124,8 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (!dds || dds.IsNull()) return o;
   if (!dds.IsMap()) throw ConfigError(where(file, dds) + "dds: expected a map of key: value, got " + show(dds));
   check_keys(dds, file, "dds",
-             {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics"});
+             {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only",
+              "mission_dirs", "param_dirs"});
   if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
   if (dds["domain"]) {
     const double d = number(dds["domain"], file, "dds.domain", 0, 232);
@@ -124,6 +136,9 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (dds["interfaces"]) o.interfaces = ipv4_list(dds["interfaces"], file, "dds.interfaces");
   if (dds["peers"]) o.peers = ipv4_list(dds["peers"], file, "dds.peers");
   if (dds["multicast"]) o.multicast = boolean(dds["multicast"], file, "dds.multicast");
+  if (dds["read_only"]) o.read_only = boolean(dds["read_only"], file, "dds.read_only");
+  if (dds["mission_dirs"]) o.mission_dirs = dir_list(dds["mission_dirs"], file, "dds.mission_dirs");
+  if (dds["param_dirs"]) o.param_dirs = dir_list(dds["param_dirs"], file, "dds.param_dirs");
   if (dds["rate"]) o.rate = number(dds["rate"], file, "dds.rate", 0, 1e6);
   if (const auto t = dds["topics"]) {
     if (!t.IsSequence()) throw ConfigError(where(file, t) + "dds.topics: expected a list of topics, got " + show(t));

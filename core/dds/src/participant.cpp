@@ -18,6 +18,10 @@ constexpr std::uint32_t kInitialPeersRange = 32;
 fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string& name) {
   fdds::DomainParticipantQos q;  // then: no built-in transports, only the listed interfaces
   q.name(name);
+  // as rmw_fastrtps (participant.cpp): "enclave=<enclave>;" in the participant's user data;
+  // ROS 2's graph (custom_participant_info.hpp) ignores a participant without it
+  const std::string enclave = "enclave=/;";
+  q.user_data().setValue(std::vector<eprosima::fastrtps::rtps::octet>(enclave.begin(), enclave.end()));
   // no shared-memory and no any-interface UDP transport: only what the config names
   q.transport().use_builtin_transports = false;
   auto udp = std::make_shared<eprosima::fastdds::rtps::UDPv4TransportDescriptor>();

@@ -21,6 +21,10 @@
 #include "rosplane_msgs/msg/StatePubSubTypes.h"
 #include "rosplane_msgs/msg/WaypointPubSubTypes.h"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
+#include "rcl_convert.hpp"
+#include "ros_graph.hpp"
+#include "rcl_interfaces/msg/ParameterEventPubSubTypes.h"
+#include "rcl_interfaces/srv/ParametersPubSubTypes.h"
 #include "test_util.hpp"
 
 using namespace tern::core;
@@ -159,6 +163,15 @@ TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name fi
   CHECK(o.topics[1].name == "truth_state");
   CHECK(o.topics[1].rate == 10);
   CHECK(*o.topics[1].qos == DdsQos::reliable);
+  CHECK_FALSE(o.read_only);
+  // issue 20: telemetry only, and the directories file requests may use (relative to the config)
+  const fs::path files = write_file("dds_files.yaml", "dds:\n  read_only: true\n  mission_dirs: [wp, /srv/missions]\n  param_dirs: [gains]\n");
+  const DdsOptions fo = parse_dds_options(YAML::LoadFile(files.string())["dds"], files);
+  CHECK(fo.read_only);
+  CHECK(fo.mission_dirs == std::vector<fs::path>{test_dir() / "wp", "/srv/missions"});
+  CHECK(fo.param_dirs == std::vector<fs::path>{test_dir() / "gains"});
+  CHECK(err("dds:\n  mission_dirs: wp\n").find("dds.mission_dirs: expected a list of directories, got 'wp'") != std::string::npos);
+  CHECK(err("dds:\n  read_only: maybe\n").find("dds.read_only: expected true or false, got 'maybe'") != std::string::npos);
 }
 
 TEST_CASE("dds: type names are ROS 2's and the fields follow ROSplane's .msg files in order") {
@@ -244,6 +257,8 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
     CHECK(std::string(e.what()) == "parameter 'ctl.kp': value 50 is outside the valid range [0, 10] 1/m");
   }
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kq", 0.1), "unknown parameter 'ctl.kq' (did you mean 'ctl.kp'?)", DdsError);
+  CHECK_THROWS_WITH_AS(client.param_get("ctrl.kp"), "unknown parameter 'ctrl.kp': the vehicle has no instance 'ctrl' (did you mean 'ctl'?)",
+                       DdsError);
   CHECK_THROWS_AS(client.param_set("ctl.fail_mode", std::string("explode")), DdsError);
   // while flying, reads are answered from the flight thread
   REQUIRE(ddsi::wait_until([&] { return std::get<double>(client.param_get("ctl.tag").value) == 0.25; }, std::chrono::seconds(2)));
@@ -271,7 +286,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
   CHECK_FALSE(before);
   CHECK(after);
   // the saved file is a ROS 2 style parameter file the host can load back
-  CHECK(saved == (test_dir() / "saved_params.yaml").string());
+  CHECK(saved == (test_dir() / "dds_params" / "saved_params.yaml").string());  // the log directory
   const auto params = load_param_file(saved, "ctl", "test_controller");
   CHECK(params.at("tag").node.as<double>() == 0.25);
   CHECK(params.at("kp").node.as<double>() == 0.05);
@@ -280,7 +295,8 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
 TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   DdsOptions opt = options_on(43);
   opt.topics[0].rate = 20;  // state at 20 Hz (it is published at 400 Hz)
-  Flight f("dds_mission", 1.5, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
+  // 4 s: long enough for the client to discover the vehicle's services (a node per instance) in flight
+  Flight f("dds_mission", 4.0, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
   DdsBridge bridge(*f.host, opt);
   DdsClient client(opt, std::chrono::seconds(20));
   f.start();
@@ -316,9 +332,9 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   CHECK(phase.find("phase_name: '") != std::string::npos);
   const FlightResult r = f.finish();
   REQUIRE(r.ok);
-  CHECK(bridge.samples_written("state") >= 29);  // 20 Hz over 1.5 s of flight time: 31
-  CHECK(bridge.samples_written("state") <= 31);
-  CHECK(bridge.samples_written("controller_internals") >= 150);  // no limit: every 100 Hz step
+  CHECK(bridge.samples_written("state") >= 79);  // 20 Hz over 4 s of flight time: 81
+  CHECK(bridge.samples_written("state") <= 81);
+  CHECK(bridge.samples_written("controller_internals") >= 400);  // no limit: every 100 Hz step
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
   CHECK(s["instances"]["filter"]["mission_edits"] == 2.0);
   CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
@@ -367,5 +383,204 @@ TEST_CASE("dds: replies reach the client that asked (sample identity), with two 
 TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
   DdsClient client(options_on(44), std::chrono::milliseconds(300));
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
-                       "no vehicle answered 'param_set' on DDS domain 44, namespace 'tern' within 0.3 s", DdsError);
+                       "no vehicle announced its nodes (ros_discovery_info) on DDS domain 44, namespace 'tern' within 0.3 s",
+                       DdsError);
+}
+
+TEST_CASE("dds: file requests from the network stay inside the allowed directories (issue 20)") {
+  const DdsOptions opt = options_on(46);
+  Flight f("dds_files", 1.0);
+  fs::create_directories(test_dir() / "dds_files");  // the log directory: param_save's default
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(20));
+  CHECK_THROWS_WITH_AS(client.mission_load("../../../../etc/shadow"),
+                       doctest::Contains("load_mission_from_file: refused '../../../../etc/shadow': '..' is not allowed"), DdsError);
+  CHECK_THROWS_WITH_AS(client.mission_load("/etc/shadow"), "load_mission_from_file: refused '/etc/shadow': only .yaml or .yml files",
+                       DdsError);
+  CHECK_THROWS_WITH_AS(client.param_save("/tmp/tern_params.yaml"),
+                       doctest::Contains("param_save: refused '/tmp/tern_params.yaml': outside the allowed directories"), DdsError);
+  const std::string path = client.param_save("p.yaml");
+  CHECK(path == (test_dir() / "dds_files" / "p.yaml").string());
+  CHECK_THROWS_WITH_AS(client.param_save("p.yaml"), ("param_save: refused: " + path + " exists (ask to overwrite it: --overwrite)").c_str(),
+                       DdsError);
+  CHECK(client.param_save("p.yaml", true) == path);
+}
+
+TEST_CASE("dds: read_only serves telemetry and status, and no parameter, mission or file service") {
+  DdsOptions opt = options_on(47);
+  opt.read_only = true;
+  Flight f("dds_read_only", 1.0);
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(20));
+  CHECK(client.status().mission == "hostcheck");
+  DdsClient quick(opt, std::chrono::milliseconds(1500));
+  CHECK_THROWS_WITH_AS(quick.param_set("ctl.kp", 0.1), doctest::Contains("no vehicle answered 'set_parameters'"), DdsError);
+  CHECK_THROWS_WITH_AS(quick.mission_load("m.yaml"), doctest::Contains("no vehicle answered 'load_mission_from_file'"), DdsError);
+}
+
+TEST_CASE("dds: a repeated request id gets the first answer and is applied once (issue 20: a retried add added twice)") {
+  DdsOptions opt = options_on(48);
+  Flight f("dds_request_ids", 4.0, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(20)), retry(opt, std::chrono::seconds(20));
+  f.start();
+  tern::msg::Waypoint wp;
+  wp.w = Eigen::Vector3d(100.0, -50.0, -40.0);
+  wp.Va_d = 18.0;
+  client.set_request_id(1234);
+  client.mission_add(wp);
+  retry.set_request_id(1234);  // another process repeating the request after a time-out
+  retry.mission_add(wp);
+  client.mission_add(wp);      // a new request (a fresh id): applied
+  const FlightResult r = f.finish();
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["instances"]["filter"]["mission_edits"] == 2.0);
+  CHECK(s["instances"]["filter"]["last_edit_id"] == 2.0);
+}
+
+TEST_CASE("dds: a request sent but not answered says it may have been applied, how to check and the id to repeat it with") {
+  const DdsOptions opt = options_on(49);
+  // a vehicle that takes requests and never answers
+  auto* p = ddsi::make_participant(opt, "mute");
+  auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  using namespace rcl_interfaces::srv;
+  auto* rw = pub->create_datawriter(
+      ddsi::make_topic<SetParameters_ResponsePubSubType>(p, ddsi::reply_topic("tern/ctl", "set_parameters")), ddsi::service_writer_qos());
+  auto* rr = sub->create_datareader(
+      ddsi::make_topic<SetParameters_RequestPubSubType>(p, ddsi::request_topic("tern/ctl", "set_parameters")), ddsi::service_reader_qos());
+  REQUIRE((rw != nullptr && rr != nullptr));
+  ddsi::RosGraph graph(p, pub);
+  graph.announce({{"/tern", "ctl", {rr->guid()}, {rw->guid()}}});
+  {
+    DdsClient client(opt, std::chrono::milliseconds(1500));
+    client.set_request_id(77);
+    CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
+                         "no vehicle answered 'set_parameters' on DDS domain 49, namespace 'tern' within 1.5 s: the request was sent and "
+                         "may have been applied; check with `tern param get ctl.kp`, or repeat it with --request-id 77 (the vehicle "
+                         "applies one id once)",
+                         DdsError);
+  }
+  ddsi::delete_participant(p);
+}
+
+TEST_CASE("dds: a topic not bridged by default (imu) is published when a client asks for it") {
+  const DdsOptions opt = options_on(50);
+  Flight f("dds_bridge_topic", 1.0);
+  DdsBridge bridge(*f.host, opt);
+  DdsClient client(opt, std::chrono::seconds(20));
+  CHECK_THROWS_WITH_AS(client.bridge_topic("imux"), "bridge_topic: no instance publishes topic 'imux' (did you mean 'imu'?)", DdsError);
+  f.start();
+  std::string sample;
+  client.echo("imu", [&](const std::string& s) {  // asks for it: not in the default set
+    sample = s;
+    return false;
+  });
+  CHECK(sample.find("header.stamp: ") != std::string::npos);
+  CHECK(client.bridge_topic("imu") == "rt/tern/imu is already published");
+  bool listed = false;
+  for (const auto& pbl : bridge.published()) listed = listed || pbl.dds_name == "rt/tern/imu";
+  CHECK(listed);
+  REQUIRE(f.finish().ok);
+}
+
+namespace {
+/// A ServiceClient of an instance's rcl_interfaces service, as `ros2 param` reaches it.
+template <class ReqPS, class RespPS>
+typename RespPS::type ros_call(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& node,
+                               const std::string& service, const typename ReqPS::type& rq) {
+  ddsi::ServiceClient<ReqPS, RespPS> c(p, pub, sub, "tern/" + node, service);
+  typename RespPS::type r;
+  REQUIRE(c.call(rq, r, std::chrono::seconds(20), ddsi::new_request_id()) == ddsi::CallResult::answered);
+  return r;
+}
+}  // namespace
+
+TEST_CASE("dds: each instance is a ROS 2 node serving rcl_interfaces' parameter services; changes go to /parameter_events") {
+  const DdsOptions opt = options_on(51);
+  Flight f("dds_rcl", 1.0);
+  DdsBridge bridge(*f.host, opt);
+  auto* p = ddsi::make_participant(opt, "ros2_tool");
+  auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  using namespace rcl_interfaces::srv;
+  // names and types as rmw_fastrtps maps them
+  CHECK(fdds::TypeSupport(new GetParameters_RequestPubSubType()).get_type_name() == "rcl_interfaces::srv::dds_::GetParameters_Request_");
+  CHECK(ddsi::request_topic("tern/ctl", "get_parameters") == "rq/tern/ctl/get_parametersRequest");
+  CHECK(ddsi::reply_topic("tern/ctl", "get_parameters") == "rr/tern/ctl/get_parametersReply");
+  fdds::DataReaderQos eq = ddsi::reader_qos(DdsQos::reliable);
+  auto* events = sub->create_datareader(ddsi::make_topic<rcl_interfaces::msg::ParameterEventPubSubType>(p, "rt/parameter_events"), eq);
+  REQUIRE(events != nullptr);
+
+  ListParameters_Request lq;
+  const auto names = ros_call<ListParameters_RequestPubSubType, ListParameters_ResponsePubSubType>(p, pub, sub, "ctl", "list_parameters", lq);
+  CHECK(names.result().names() == std::vector<std::string>{"aileron", "fail_at", "fail_mode", "h_target", "kp", "tag"});
+  DescribeParameters_Request dq;
+  dq.names({"kp", "nope"});
+  const auto d = ros_call<DescribeParameters_RequestPubSubType, DescribeParameters_ResponsePubSubType>(p, pub, sub, "ctl",
+                                                                                                      "describe_parameters", dq);
+  REQUIRE(d.descriptors().size() == 2);
+  const auto& kp = d.descriptors()[0];
+  CHECK(kp.name() == "kp");
+  CHECK(kp.type() == ddsi::kDouble);
+  CHECK(kp.description() == "throttle per metre of altitude error");
+  CHECK(kp.additional_constraints() == "unit: 1/m; default: 0.05");
+  CHECK_FALSE(kp.read_only());
+  REQUIRE(kp.floating_point_range().size() == 1);
+  CHECK(kp.floating_point_range()[0].from_value() == 0.0);
+  CHECK(kp.floating_point_range()[0].to_value() == 10.0);
+  CHECK(d.descriptors()[1].type() == ddsi::kNotSet);
+  dq.names({"h0"});
+  const auto h0 = ros_call<DescribeParameters_RequestPubSubType, DescribeParameters_ResponsePubSubType>(p, pub, sub, "sensor",
+                                                                                                       "describe_parameters", dq);
+  CHECK(h0.descriptors().at(0).read_only());  // start-only
+
+  // set: one good, one out of range; atomically: nothing when one is bad
+  SetParameters_Request sq;
+  rcl_interfaces::msg::Parameter good, bad;
+  good.name("tag");
+  good.value(ddsi::to_rcl(0.5));
+  bad.name("kp");
+  bad.value(ddsi::to_rcl(50.0));
+  sq.parameters({good, bad});
+  const auto sr = ros_call<SetParameters_RequestPubSubType, SetParameters_ResponsePubSubType>(p, pub, sub, "ctl", "set_parameters", sq);
+  REQUIRE(sr.results().size() == 2);
+  CHECK(sr.results()[0].successful());
+  CHECK_FALSE(sr.results()[1].successful());
+  CHECK(sr.results()[1].reason() == "parameter 'ctl.kp': value 50 is outside the valid range [0, 10] 1/m");
+  SetParametersAtomically_Request aq;
+  good.value(ddsi::to_rcl(0.75));
+  aq.parameters({good, bad});
+  const auto ar = ros_call<SetParametersAtomically_RequestPubSubType, SetParametersAtomically_ResponsePubSubType>(
+      p, pub, sub, "ctl", "set_parameters_atomically", aq);
+  CHECK_FALSE(ar.result().successful());
+  GetParameters_Request gq;
+  gq.names({"tag", "nope"});
+  const auto gr = ros_call<GetParameters_RequestPubSubType, GetParameters_ResponsePubSubType>(p, pub, sub, "ctl", "get_parameters", gq);
+  REQUIRE(gr.values().size() == 2);
+  CHECK(gr.values()[0].type() == ddsi::kDouble);
+  CHECK(gr.values()[0].double_value() == 0.0);  // between flights a change waits for the next flight's first tick
+  CHECK(gr.values()[1].type() == ddsi::kNotSet);  // as rclcpp answers an unknown name
+  // the accepted change, and only it, on /parameter_events
+  rcl_interfaces::msg::ParameterEvent e;
+  fdds::SampleInfo si;
+  REQUIRE(ddsi::wait_until([&] { return events->take_next_sample(&e, &si) == ReturnCode_t::RETCODE_OK && si.valid_data; },
+                           std::chrono::seconds(5)));
+  CHECK(e.node() == "/tern/ctl");
+  REQUIRE(e.changed_parameters().size() == 1);
+  CHECK(e.changed_parameters()[0].name() == "tag");
+  CHECK(e.changed_parameters()[0].value().double_value() == 0.5);
+  CHECK(events->take_next_sample(&e, &si) != ReturnCode_t::RETCODE_OK);
+
+  // `ros2 node list`: the nodes announced on ros_discovery_info
+  DdsClient client(opt, std::chrono::seconds(20));
+  const auto nodes = client.nodes();
+  INFO(fmt::format("{}", fmt::join(nodes, " ")));
+  CHECK(nodes == std::vector<std::string>{"sensor", "filter", "ctl", "metrics"});  // schedule order, then the host's own
+  const DdsParam described = client.param_get("ctl.kp");
+  CHECK(described.unit == "1/m");
+  CHECK(std::get<double>(described.default_value) == 0.05);
+  CHECK(client.param_get("sensor.h0").read_only);
+  ddsi::delete_participant(p);
 }
