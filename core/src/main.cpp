@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "console/console.hpp"
 #include "error.hpp"
 #include "host.hpp"
 #include "loader.hpp"
@@ -60,6 +61,18 @@ int fly_exit_status(const FlightResult& r) {
 int fail(const std::string& msg) {
   std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
   return 1;
+}
+
+/// The console for `host` when --console was given (after anything else that sets the tick
+/// observer): prints its URL. Throws ConfigError when it cannot be served.
+std::unique_ptr<Console> open_console(Host& host, bool wanted, bool realtime, bool dds, std::uint16_t port) {
+  if (!wanted) return nullptr;
+  if (!realtime) throw ConfigError("--console needs --realtime (a page cannot follow a flight in fast time)");
+  if (dds) throw ConfigError("--console and --dds cannot be used together yet (both watch every tick); use one");
+  auto c = std::make_unique<Console>(host, console_asset_dir(), port);
+  std::printf("console: %s\n", c->url().c_str());
+  std::fflush(stdout);
+  return c;
 }
 
 /// --seed and --duration mean what the config's seed: and duration: mean (config.hpp).
@@ -174,12 +187,19 @@ int main(int argc, char** argv) {
   bool realtime = false, quiet = false, dot = false, dds = false, skip_preflight = false;
   std::optional<std::uint32_t> dds_domain;
   std::vector<std::string> plugin_dirs;
+  bool console = false;
+  std::uint16_t console_port = 0;
+  const auto console_opts = [&](CLI::App* c) {
+    c->add_flag("--console", console, "serve the flight console (a web page on 127.0.0.1; the URL with its token is printed)");
+    c->add_option("--console-port", console_port, "console port (default: a free one)");
+  };
 
   auto* fly = app.add_subcommand("fly", "fly a mission (default: configs/missions/default.yaml) and write its flight log");
   fly->add_option("config", config, "mission config (YAML)");
   fly->add_option("--seed", seed, "random seed (overrides the config's seed)")->check(kSeedCheck);
   fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
+  console_opts(fly);
   fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   fly->add_flag("-q,--quiet", quiet, "print only warnings, errors and where the log went");
@@ -213,6 +233,7 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--socket", socket, "control socket")->capture_default_str();
   serve_cmd->add_option("--log-dir", log_dir, "directory for the run directories");
   serve_cmd->add_flag("--realtime", realtime, "pace each flight to wall time");
+  console_opts(serve_cmd);
   serve_cmd->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS");
   serve_cmd->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
   auto* swap_cmd = app.add_subcommand("swap", "between flights of `tern serve`: replace an instance's plugin with another .so");
@@ -401,12 +422,14 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
       DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);
       if (dds) dds_opt.enabled = true;
+      dds = dds_opt.enabled;  // the config's dds: counts for --console too
       if (dds_domain) dds_opt.domain = *dds_domain;
 #else
       if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
 #endif
       Host host(std::move(mc), opt);
       host.build();
+      const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
       std::unique_ptr<DdsBridge> bridge;
       if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
@@ -433,6 +456,7 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
     DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
     if (dds) dds_opt.enabled = true;
+    dds = dds_opt.enabled;  // the config's dds: counts for --console too
     if (dds_domain) dds_opt.domain = *dds_domain;
 #else
     if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
@@ -456,6 +480,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     install_signal_handlers();
+    const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
     std::unique_ptr<DdsBridge> bridge;
     if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
