@@ -43,7 +43,7 @@ function makeChart(key, title, series) {
   $("charts").appendChild(div);
   const width = Math.max(300, $("charts").clientWidth - 20);
   const opts = { title, width, height: 130, legend: { live: false }, scales: { x: { time: false } },
-                 axes: [{ size: 24 }, { size: 46 }], series: [{ label: "t (s)" }, ...series] };
+                 axes: [{ size: 24 }, { size: 60 }], series: [{ label: "t (s)" }, ...series] };
   const data = [[]].concat(series.map(() => []));
   charts[key] = { plot: new uPlot(opts, data, div), data, dirty: false };
 }

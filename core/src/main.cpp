@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "tune", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "param", "mission", "replay", "tune", "console", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -244,6 +244,8 @@ int main(int argc, char** argv) {
   phases_cmd->add_option("table", phase_args, "PHASE=INSTANCE ... (takeoff, climb, cruise required)")->required();
   phases_cmd->add_option("--fallback", fallback, "controller used if the active one fails");
   phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
+  auto* console_cmd = app.add_subcommand("console", "the URL of the console of a `tern serve --realtime --console` (open it in a browser)");
+  console_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS], status, quit");
   remote->add_option("command", remote_cmd, "fly, status or quit")->required()->check(CLI::IsMember({"fly", "status", "quit"}));
   remote->add_option("args", remote_args, "fly: flight length in seconds");
@@ -389,6 +391,12 @@ int main(int argc, char** argv) {
       if (!fallback.empty()) line += " fallback=" + fallback;
       return client(line);
     }
+    if (console_cmd->parsed()) {
+      const std::string reply = send_command(socket, "console");
+      if (reply.rfind("ok: ", 0) != 0) return fail(reply);
+      std::printf("console: %s\n", reply.substr(4).c_str());
+      return 0;
+    }
     if (remote->parsed()) {
       std::string line = remote_cmd;
       for (const auto& a : remote_args) line += " " + a;
@@ -433,11 +441,11 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
       std::unique_ptr<DdsBridge> bridge;
       if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
-      const int rc = serve(host, socket);
+      const int rc = serve(host, socket, page ? page->url() : "");
       bridge.reset();
       return rc;
 #else
-      return serve(host, socket);
+      return serve(host, socket, page ? page->url() : "");
 #endif
     }
     if (fly->parsed()) {

@@ -26,7 +26,7 @@ void RemoteQueue::set_pilot(const msg::Rc& rc) {
 
 const OutputBase* RemoteQueue::renew_pilot_output() {
   pilot_out_ = std::make_unique<Output<msg::Rc>>();
-  pilot_out_->set_identity("pilot", "pilot sticks and switches (console)");
+  pilot_out_->set_identity("pilot", "pilot sticks and switches from the console");
   return pilot_out_.get();
 }
 
@@ -36,7 +36,7 @@ void RemoteQueue::keep_pilot_output(bool taken) {
 
 const OutputBase* RemoteQueue::renew_mission_edit_output() {
   mission_edit_out_ = std::make_unique<Output<msg::MissionEdit>>();
-  mission_edit_out_->set_identity("mission_edit", "runtime mission edits (command line, DDS)");
+  mission_edit_out_->set_identity("mission_edit", "mission edits from the command line and DDS");
   return mission_edit_out_.get();
 }
 

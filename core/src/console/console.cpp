@@ -58,7 +58,14 @@ std::optional<std::string> Console::poll(std::uint64_t& cursor) {
   return to_json(s, true).dump();
 }
 
-std::string Console::on_message(const std::string& text) { return handle_request(host_, text); }
+std::string Console::on_message(const std::string& text) {
+  std::string reply = handle_request(host_, text);
+  // a page opened later shows the value this one set
+  if (const auto r = nlohmann::json::parse(reply, nullptr, false); r.is_object() && r.value("type", "") == "param_ok")
+    for (auto& p : hello_["params"])
+      if (p["name"] == r["name"]) p["value"] = r["value"];
+  return reply;
+}
 
 void Console::on_close() {
   if (--pages_ > 0 || !host_.takes_pilot()) return;

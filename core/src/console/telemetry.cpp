@@ -47,6 +47,11 @@ void TelemetryTap::take(const Host& host, Nanos now) {
   const auto& h = host.handovers();
   s.handovers = h.size();
   s.active = h.empty() ? "" : h.back().to;
+  if (h.empty() && s.has_phase) {  // no handover yet: the phase table's controller
+    const auto& table = host.config().phases;
+    const auto it = table.find(s.phase.phase);
+    s.active = it == table.end() ? "" : it->second;
+  }
   s.handover_reason = h.empty() ? "" : h.back().reason;
   std::lock_guard lk(mu_);
   s.seq = latest_.seq + 1;

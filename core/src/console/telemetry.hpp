@@ -40,7 +40,7 @@ struct Snapshot {
   msg::CurrentPath path;
   msg::Rc rc;
   std::size_t handovers = 0;           ///< controller changes this flight
-  std::string active, handover_reason;  ///< controller flying now; why the last change happened
+  std::string active, handover_reason;  ///< controller flying now ("": none); why the last change happened
 };
 
 /// The snapshot as the page reads it: {"type":"telemetry", "t": s, "state": {...}, ...}, angles
