@@ -2,7 +2,10 @@
 #include "joystick_plugin.hpp"
 
 #include <SDL.h>
+#include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <array>
 #include <stdexcept>
 #include <string>
 
