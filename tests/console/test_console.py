@@ -12,7 +12,8 @@ Flies MISSION with `tern fly --realtime --console`, then checks, against the liv
   * 5 s of manual flight by keyboard (M: manual; arrows: right, left, right, pull, push): the surfaces
     follow the sticks (aileron positive while rolling right, elevator negative while pulling), the
     aircraft rolls, and the receiver reports the override.
-Optionally saves a screenshot of the page. Exit status 77 (ctest: skipped) with a message only
+And `tern console` hands out the URL of a `tern serve --realtime --console`, which answers with
+the token and refuses without it. Optionally saves a screenshot of the page. Exit status 77 (ctest: skipped) with a message only
 when Chromium, chromedriver or Python's selenium is missing here.
 """
 import csv
@@ -179,7 +180,7 @@ def fly_manual(driver):
 
 
 def check_params_csv(log_dir, name, value):
-    runs = glob.glob(os.path.join(log_dir, "*", "params.csv"))
+    runs = glob.glob(os.path.join(log_dir, "*", "params.csv"))  # the serve check flies none
     assert len(runs) == 1, runs
     with open(runs[0]) as f:
         rows = [r for r in csv.DictReader(f) if r["parameter"] == name and r["source"] == "console"]
@@ -188,11 +189,33 @@ def check_params_csv(log_dir, name, value):
     print(f"params.csv: {name} = {rows[-1]['value']} at t = {rows[-1]['t [s]']} s (console)")
 
 
+def check_serve_console(tern, mission, log_dir):
+    sock = os.path.join(log_dir, "serve.sock")
+    serve = subprocess.Popen([tern, "serve", mission, "--realtime", "--console", "--socket", sock, "--log-dir", log_dir],
+                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    try:
+        for _ in range(100):
+            if os.path.exists(sock):
+                break
+            time.sleep(0.1)
+        out = subprocess.run([tern, "console", "--socket", sock], capture_output=True, text=True, timeout=10)
+        assert out.returncode == 0 and out.stdout.startswith("console: http://127.0.0.1:"), out
+        url = out.stdout.split(" ", 1)[1].strip()
+        assert status(url) == 200 and status(url.split("?")[0]) == 403, url
+        subprocess.run([tern, "remote", "quit", "--socket", sock], capture_output=True, timeout=10)
+        serve.wait(timeout=10)
+    finally:
+        if serve.poll() is None:
+            serve.kill()
+    print("tern console: the server's URL, 200 with its token, 403 without")
+
+
 def main():
     tern, mission = sys.argv[1], sys.argv[2]
     shot = sys.argv[3] if len(sys.argv) > 3 else None
     log_dir = tempfile.mkdtemp(prefix="tern_console_")
     started = time.time()
+    check_serve_console(tern, mission, log_dir)
     proc, url = start_flight(tern, mission, log_dir)
     driver = None
     try:
