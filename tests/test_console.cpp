@@ -1,7 +1,8 @@
 // The console's server (core/src/console/console_server.hpp) and requests
-// (console_commands.hpp) without a flight: who gets in, what is served, what a page may ask.
+// (console_commands.hpp): who gets in, what is served, what a page may ask of a host.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <fstream>
@@ -187,4 +188,37 @@ TEST_CASE("console telemetry: non-finite values go to the page as null, altitude
   CHECK(j["state"]["phi"].is_null());
   CHECK_FALSE(j.contains("actuators"));
   CHECK(j.dump().find("nan") == std::string::npos);
+}
+
+TEST_CASE("console requests on a host: parameters go the way of `tern param set` into params.csv; bad ones are answered, not thrown") {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "console_requests";
+  Host h(load_config(write_file("console.yaml", base_config())), o);
+  h.build();
+  const auto answer = [&h](const std::string& rq) { return nlohmann::json::parse(handle_request(h, rq)); };
+  CHECK(answer("{not json")["type"] == "error");
+  CHECK(answer("[1, 2]")["type"] == "error");
+  CHECK(answer(R"({"type":"launch"})")["message"] == "unknown request type 'launch' (param, pilot)");
+  CHECK(answer(R"({"type":"param","name":"ctl.kq","value":0.1})")["message"].get<std::string>().find("unknown parameter 'ctl.kq'") == 0);
+  CHECK(answer(R"({"type":"param","name":"ctl.kp","value":99})")["type"] == "error");  // out of range
+  CHECK(answer(R"({"type":"param","name":"ctl.kp","value":{"a":1}})")["type"] == "error");
+  CHECK(answer(R"({"type":"pilot","roll":0,"pitch":0,"yaw":0,"throttle":0})")["message"].get<std::string>().find("no plugin instance reads topic 'pilot'") !=
+        std::string::npos);
+  const auto ok = answer(R"({"type":"param","name":"ctl.tag","value":0.3})");
+  CHECK(ok["type"] == "param_ok");
+  CHECK(ok["value"] == 0.3);
+
+  const auto cat = param_catalogue(h);
+  const auto kp = std::find_if(cat.begin(), cat.end(), [](const auto& p) { return p["name"] == "ctl.kp"; });
+  REQUIRE(kp != cat.end());
+  CHECK((*kp)["instance"] == "ctl");
+  CHECK((*kp)["kind"] == "number");
+  CHECK((*kp)["live"] == true);
+  CHECK((*kp)["max"].is_number());
+
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  const auto params = lines(read_file(r.run_dir / "params.csv"));
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl.tag,0.3,console") != params.end());
 }
