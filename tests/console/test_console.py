@@ -11,7 +11,8 @@ Flies MISSION with `tern fly --realtime --console`, then checks, against the liv
     source "console";
   * 5 s of manual flight by keyboard (M: manual; arrows: right, left, right, pull, push): the surfaces
     follow the sticks (aileron positive while rolling right, elevator negative while pulling), the
-    aircraft rolls, and the receiver reports the override.
+    aircraft rolls, and the receiver reports the override; then a (virtual) gamepad through the
+    browser's Gamepad API moves them too.
 And `tern console` hands out the URL of a `tern serve --realtime --console`, which answers with
 the token and refuses without it. Optionally saves a screenshot of the page. Exit status 77 (ctest: skipped) with a message only
 when Chromium, chromedriver or Python's selenium is missing here.
@@ -157,6 +158,18 @@ def hold(driver, key, seconds, probe):
     return v
 
 
+def fly_gamepad(driver, probe):
+    """The Gamepad API as the stick source, with a virtual pad (headless Chromium has no real one):
+    right stick half left and half back (mode 2: roll -0.5, pitch +0.5, nose up)."""
+    driver.execute_script("""
+        navigator.getGamepads = () => [{id: 'virtual pad', axes: [0, 0, -0.5, 0.5], buttons: []}];
+        document.getElementById('source').value = 'gamepad';""")
+    time.sleep(0.6)
+    v = driver.execute_script("return " + probe)
+    driver.execute_script("document.getElementById('source').value = 'keyboard';")
+    return v
+
+
 def fly_manual(driver):
     body = driver.find_element(By.TAG_NAME, "body")
     ActionChains(driver).move_to_element(body).perform()
@@ -170,13 +183,16 @@ def fly_manual(driver):
     pull = hold(driver, Keys.ARROW_DOWN, 1.3, probe)
     push = hold(driver, Keys.ARROW_UP, 1.3, probe)
     mode = driver.find_element(By.ID, "mode").text
+    pad = fly_gamepad(driver, probe)
     ActionChains(driver).send_keys("m").perform()
     wait_for(driver, "return window.ternConsole.last.rc && !window.ternConsole.last.rc.override", "the override off")
     assert mode == "MANUAL", mode
     assert right[0] > 0.1 and left[0] < -0.1, f"aileron {right[0]} / {left[0]} rad with the roll stick full right / left"
     assert 0.15 < right[2] < 3.0, f"roll {right[2]} rad after 0.6 s of right stick"
     assert pull[1] < -0.1 and push[1] > 0.1, f"elevator {pull[1]} / {push[1]} rad with the stick pulled / pushed"
-    print(f"manual: aileron {right[0]:.3f} / {left[0]:.3f} rad, roll {right[2]:.2f} rad, elevator {pull[1]:.3f} / {push[1]:.3f} rad; back to auto")
+    assert pad[0] < -0.1 and pad[1] < -0.1, f"aileron, elevator {pad[0]}, {pad[1]} rad with the gamepad's right stick left and back"
+    print(f"manual: aileron {right[0]:.3f} / {left[0]:.3f} rad, roll {right[2]:.2f} rad, elevator {pull[1]:.3f} / {push[1]:.3f} rad; "
+          f"gamepad: aileron {pad[0]:.3f}, elevator {pad[1]:.3f} rad; back to auto")
 
 
 def check_params_csv(log_dir, name, value):
