@@ -5,12 +5,15 @@ JOBS ?= 2
 CONFIG ?= configs/missions/default.yaml
 CMAKE_ARGS ?=
 
-# Every Debian package tern needs to build, test, fly and plot.
+# Every Debian package tern needs to build, test, fly and plot (chromium, its driver and selenium:
+# the console's browser test; SDL2: the joystick plugin). npm (Debian's, unless one is
+# installed) fetches the console's uPlot.
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl \
-  python3 python3-matplotlib python3-numpy python3-distributed
+  python3 python3-matplotlib python3-numpy python3-distributed \
+  chromium chromium-driver python3-selenium libsdl2-dev
 # Only for `make fuzz` (libFuzzer needs clang and its runtime).
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 FUZZ_SECONDS ?= 60
@@ -21,6 +24,8 @@ all: build
 
 deps:
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEBIAN_PACKAGES)"
+	@command -v npm >/dev/null || $(MAKE) --no-print-directory install-packages PACKAGES="npm"
+	cd core/console && npm ci --no-audit --no-fund   # uPlot for the console (package-lock.json)
 
 install-packages:
 	@missing=""; for p in $(PACKAGES); do \

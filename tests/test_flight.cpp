@@ -212,7 +212,7 @@ TEST_CASE("mission edits from the host API reach the reader of mission_edit, one
   o.log_dir = test_dir() / "edits";
   Host h(load_config(write_file("edits.yaml", base_config())), o);
   h.build();
-  CHECK(h.graph_text().find("mission_edit [tern/MissionEdit]: host (tern mission edits) -> filter.mission_edit") != std::string::npos);
+  CHECK(h.graph_text().find("mission_edit [tern/MissionEdit]: host: mission edits from the command line and DDS -> filter.mission_edit") != std::string::npos);
   tern::msg::MissionEdit e;
   e.op = tern::msg::MissionEdit::add;
   e.id = 1;

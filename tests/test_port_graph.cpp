@@ -170,7 +170,7 @@ TEST_CASE("port graph: the host's own output feeds a topic that is read and not 
   CHECK(g.offers(&edits));
   g.bind(std::nullopt);
   CHECK(in.source() == &edits);
-  CHECK(g.describe_topics() == "  mission_edit [tern/MissionEdit]: host (tern mission edits) -> planner.mission_edit\n");
+  CHECK(g.describe_topics() == "  mission_edit [tern/MissionEdit]: host -> planner.mission_edit\n");
   // nobody reads it: not offered
   const PortGraph unread({other.node("other")}, {&edits}, kFile);
   CHECK_FALSE(unread.offers(&edits));

@@ -125,8 +125,10 @@ void Host::rebuild_graph() {
     nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
   }
   const OutputBase* edits = remote_.renew_mission_edit_output();
-  graph_ = PortGraph(nodes, {edits}, config_.file);
+  const OutputBase* pilot = remote_.renew_pilot_output();
+  graph_ = PortGraph(nodes, {edits, pilot}, config_.file);
   remote_.keep_mission_edit_output(graph_.offers(edits));
+  remote_.keep_pilot_output(graph_.offers(pilot));
   graph_.bind(router_.active());
 }
 
@@ -249,6 +251,12 @@ void Host::edit_mission(const msg::MissionEdit& edit) {
   if (!remote_.takes_mission_edits())
     throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'mission_edit' (add a path_planner)");
   remote_.edit_mission(edit);
+}
+
+void Host::set_pilot(const msg::Rc& rc) {
+  if (!remote_.takes_pilot())
+    throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'pilot' (fly the simulator, sim_aero)");
+  remote_.set_pilot(rc);
 }
 
 // ---- what the host holds ------------------------------------------------------------------------

@@ -111,6 +111,11 @@ class Host {
   /// heartbeat. The link-loss failsafe (failsafe.hpp) acts only once this has been called in a
   /// flight.
   void ground_link_heard() { failsafes_.ground_link_heard(); }
+  /// Hands a pilot's sticks and switches (the console's keyboard or gamepad) to topic `pilot` at
+  /// the start of the next tick, the latest one winning; sim_aero reports them on `rc`. Any
+  /// thread. Throws ConfigError when no instance reads `pilot`.
+  void set_pilot(const msg::Rc& rc);
+  bool takes_pilot() const { return remote_.takes_pilot(); }
   /// Between flights: replaces instance `instance` by the plugin in the shared object `so` (another
   /// plugin or a rebuild of the same one), configured with the instance's parameters. The new
   /// library is loaded from a private copy, so a rebuild at the same path loads too; the old

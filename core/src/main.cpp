@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "console/console.hpp"
 #include "error.hpp"
 #include "host.hpp"
 #include "loader.hpp"
@@ -52,6 +53,18 @@ fs::path default_config() {
 int fail(const std::string& msg) {
   std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
   return 1;
+}
+
+/// The console for `host` when --console was given (after anything else that sets the tick
+/// observer): prints its URL. Throws ConfigError when it cannot be served.
+std::unique_ptr<Console> open_console(Host& host, bool wanted, bool realtime, bool dds, std::uint16_t port) {
+  if (!wanted) return nullptr;
+  if (!realtime) throw ConfigError("--console needs --realtime (a page cannot follow a flight in fast time)");
+  if (dds) throw ConfigError("--console and --dds cannot be used together yet (both watch every tick); use one");
+  auto c = std::make_unique<Console>(host, console_asset_dir(), port);
+  std::printf("console: %s\n", c->url().c_str());
+  std::fflush(stdout);
+  return c;
 }
 
 /// --seed and --duration mean what the config's seed: and duration: mean (config.hpp).
@@ -136,7 +149,7 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "hz", "param", "mission", "replay", "tune", "help"};
+    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "hz", "param", "mission", "replay", "tune", "console", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -167,12 +180,19 @@ int main(int argc, char** argv) {
   bool realtime = false, quiet = false, dot = false, dds = false, skip_preflight = false;
   std::optional<std::uint32_t> dds_domain;
   std::vector<std::string> plugin_dirs;
+  bool console = false;
+  std::uint16_t console_port = 0;
+  const auto console_opts = [&](CLI::App* c) {
+    c->add_flag("--console", console, "serve the flight console (a web page on 127.0.0.1; the URL with its token is printed)");
+    c->add_option("--console-port", console_port, "console port (default: a free one)");
+  };
 
   auto* fly = app.add_subcommand("fly", "fly a mission (default: configs/missions/default.yaml) and write its flight log");
   fly->add_option("config", config, "mission config (YAML)");
   fly->add_option("--seed", seed, "random seed (overrides the config's seed)")->check(kSeedCheck);
   fly->add_option("--duration", duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   fly->add_flag("--realtime", realtime, "pace the simulated clock to wall time");
+  console_opts(fly);
   fly->add_flag("--skip-preflight", skip_preflight, "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
   fly->add_option("--log-dir", log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   std::optional<std::string> log_level;
@@ -209,6 +229,7 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--socket", socket, "control socket")->capture_default_str();
   serve_cmd->add_option("--log-dir", log_dir, "directory for the run directories");
   serve_cmd->add_flag("--realtime", realtime, "pace each flight to wall time");
+  console_opts(serve_cmd);
   serve_cmd->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS");
   serve_cmd->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
   auto* swap_cmd = app.add_subcommand("swap", "between flights of `tern serve`: replace an instance's plugin with another .so");
@@ -219,6 +240,8 @@ int main(int argc, char** argv) {
   phases_cmd->add_option("table", phase_args, "PHASE=INSTANCE ... (takeoff, climb, cruise required)")->required();
   phases_cmd->add_option("--fallback", fallback, "controller used if the active one fails");
   phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
+  auto* console_cmd = app.add_subcommand("console", "the URL of the console of a `tern serve --realtime --console` (open it in a browser)");
+  console_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS], status, quit");
   remote->add_option("command", remote_cmd, "fly, status or quit")->required()->check(CLI::IsMember({"fly", "status", "quit"}));
   remote->add_option("args", remote_args, "fly: flight length in seconds");
@@ -382,6 +405,12 @@ int main(int argc, char** argv) {
       if (!fallback.empty()) line += " fallback=" + fallback;
       return client(line);
     }
+    if (console_cmd->parsed()) {
+      const std::string reply = send_command(socket, "console");
+      if (reply.rfind("ok: ", 0) != 0) return fail(reply);
+      std::printf("console: %s\n", reply.substr(4).c_str());
+      return 0;
+    }
     if (remote->parsed()) {
       std::string line = remote_cmd;
       for (const auto& a : remote_args) line += " " + a;
@@ -415,20 +444,22 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
       DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);
       if (dds) dds_opt.enabled = true;
+      dds = dds_opt.enabled;  // the config's dds: counts for --console too
       if (dds_domain) dds_opt.domain = *dds_domain;
 #else
       if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
 #endif
       Host host(std::move(mc), opt);
       host.build();
+      const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
       std::unique_ptr<DdsBridge> bridge;
       if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);
-      const int rc = serve(host, socket);
+      const int rc = serve(host, socket, page ? page->url() : "");
       bridge.reset();
       return rc;
 #else
-      return serve(host, socket);
+      return serve(host, socket, page ? page->url() : "");
 #endif
     }
     if (fly->parsed()) {
@@ -452,6 +483,7 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
     DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
     if (dds) dds_opt.enabled = true;
+    dds = dds_opt.enabled;  // the config's dds: counts for --console too
     if (dds_domain) dds_opt.domain = *dds_domain;
 #else
     if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
@@ -475,6 +507,7 @@ int main(int argc, char** argv) {
       return 0;
     }
     install_signal_handlers();
+    const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
     std::unique_ptr<DdsBridge> bridge;
     if (dds_opt.enabled) bridge = std::make_unique<DdsBridge>(host, dds_opt);

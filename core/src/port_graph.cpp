@@ -160,7 +160,7 @@ std::string PortGraph::describe_topics() const {
   for (const auto& t : topics_) {
     std::vector<std::string> w, r;
     for (auto& [i, o] : t.writers) w.push_back(port_id(i, *o));
-    if (t.host_writer) w.push_back("host (tern mission edits)");
+    if (t.host_writer) w.push_back(t.host_writer->description().empty() ? "host" : "host: " + t.host_writer->description());
     for (auto& [i, in] : t.readers)
       r.push_back(port_id(i, *in) + (feedback(i, t.name) ? " (feedback: previous tick)" : "") +
                   (t.written() ? "" : " (optional, unconnected)"));

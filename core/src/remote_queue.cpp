@@ -18,9 +18,25 @@ void RemoteQueue::edit_mission(const msg::MissionEdit& edit) {
   pending_.store(true, std::memory_order_release);
 }
 
+void RemoteQueue::set_pilot(const msg::Rc& rc) {
+  std::lock_guard lk(mu_);
+  pilot_ = rc;
+  pending_.store(true, std::memory_order_release);
+}
+
+const OutputBase* RemoteQueue::renew_pilot_output() {
+  pilot_out_ = std::make_unique<Output<msg::Rc>>();
+  pilot_out_->set_identity("pilot", "pilot sticks and switches from the console");
+  return pilot_out_.get();
+}
+
+void RemoteQueue::keep_pilot_output(bool taken) {
+  if (!taken) pilot_out_.reset();
+}
+
 const OutputBase* RemoteQueue::renew_mission_edit_output() {
   mission_edit_out_ = std::make_unique<Output<msg::MissionEdit>>();
-  mission_edit_out_->set_identity("mission_edit", "runtime mission edits (command line, DDS)");
+  mission_edit_out_->set_identity("mission_edit", "mission edits from the command line and DDS");
   return mission_edit_out_.get();
 }
 
@@ -47,11 +63,17 @@ void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& 
   if (!pending_.load(std::memory_order_acquire)) return;
   std::vector<ParamRequest> params;
   std::vector<msg::MissionEdit> edits;
+  std::optional<msg::Rc> pilot;
   {
     std::lock_guard lk(mu_);
     params.swap(params_);
     edits.swap(edits_);
+    pilot.swap(pilot_);
     pending_.store(false, std::memory_order_relaxed);
+  }
+  if (pilot && pilot_out_) {
+    pilot->stamp = now;
+    pilot_out_->publish(*pilot);
   }
   // one edit per tick reaches the planner (a port holds the latest message): keep the rest queued
   if (!edits.empty() && !mission_edit_out_) {

@@ -2,6 +2,7 @@
 
 #include <poll.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 #include <sys/un.h>
 #include <unistd.h>
 
@@ -56,17 +57,22 @@ std::vector<std::string> words(const std::string& s) {
 
 struct Server {
   Host& host;
+  std::string console_url;
   std::mutex flight_mu;  // one flight at a time
   std::atomic<bool> quit{false};
 
   std::string handle(const std::string& line) {
     const auto w = words(line);
-    if (w.empty()) return "error: empty command (fly, status, swap, phases, quit)";
+    if (w.empty()) return "error: empty command (fly, status, swap, phases, console, quit)";
     const std::string& cmd = w[0];
     try {
       if (cmd == "status") {
         return host.flying() ? fmt::format("ok: flying (flight {})", host.flights())
                              : fmt::format("ok: idle, {} flight(s) flown", host.flights());
+      }
+      if (cmd == "console") {
+        if (console_url.empty()) return "error: this server has no console (start it with --realtime --console)";
+        return "ok: " + console_url;
       }
       if (cmd == "quit") {
         quit = true;
@@ -119,7 +125,7 @@ struct Server {
         host.set_phases(table, fallback);
         return "ok: phase table changed";
       }
-      return "error: unknown command '" + cmd + "' (fly, status, swap, phases, quit)";
+      return "error: unknown command '" + cmd + "' (fly, status, swap, phases, console, quit)";
     } catch (const std::exception& e) {
       return std::string("error: ") + e.what();
     }
@@ -133,7 +139,7 @@ std::filesystem::path default_socket() {
   return fmt::format("/tmp/tern-serve-{}.sock", ::getuid());
 }
 
-int serve(Host& host, const std::filesystem::path& socket_path) {
+int serve(Host& host, const std::filesystem::path& socket_path, const std::string& console_url) {
   const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
   if (fd < 0) throw ConfigError(std::string("serve: cannot create a socket: ") + std::strerror(errno));
   const sockaddr_un a = address(socket_path);
@@ -155,10 +161,11 @@ int serve(Host& host, const std::filesystem::path& socket_path) {
     ::close(fd);
     throw ConfigError("serve: cannot listen on " + socket_path.string() + ": " + err);
   }
+  if (!console_url.empty()) ::chmod(socket_path.c_str(), 0600);  // the console's token is handed out here: this user only
   install_signal_handlers();
   host.logger()->info("serving '{}' on {} (commands: fly [s], status, swap INSTANCE PATH, phases ..., quit)", host.config().name,
                       socket_path.string());
-  Server server{host, {}, {}};
+  Server server{host, console_url, {}, {}};
   std::vector<std::thread> clients;
   while (!server.quit && stop_signal() == 0) {
     pollfd p{fd, POLLIN, 0};

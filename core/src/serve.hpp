@@ -2,7 +2,8 @@
 // control channel (a Unix-domain socket, one text command per connection, reply lines back).
 //
 // Commands: `fly [SECONDS]`, `status`, `swap INSTANCE PATH`,
-// `phases PHASE=INSTANCE... [fallback=INSTANCE]`, `quit`. Replies start with "ok:" or "error:".
+// `phases PHASE=INSTANCE... [fallback=INSTANCE]`, `console` (the console's URL, `tern console`),
+// `quit`. Replies start with "ok:" or "error:".
 // `swap` and `phases` are refused while a flight is in progress.
 #pragma once
 
@@ -17,7 +18,9 @@ class Host;
 std::filesystem::path default_socket();
 
 /// Serves `host` on `socket` until `quit` or SIGINT/SIGTERM. Returns the exit status.
-int serve(Host& host, const std::filesystem::path& socket);
+/// `console_url`: the URL (with its token) of the console serving `host`, "" if none; the
+/// `console` command hands it to a client of the socket (only this user can open it).
+int serve(Host& host, const std::filesystem::path& socket, const std::string& console_url = "");
 
 /// Sends one command line to a server and returns its reply. Throws ConfigError when no server
 /// answers at `socket`.

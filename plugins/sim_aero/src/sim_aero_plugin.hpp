@@ -2,7 +2,10 @@
 // aircraft from the previous step time to `now` in fixed sub-steps of 1/sim_rate, and publishes
 // each sensor when due on its own integer-nanosecond schedule (k * period), plus the true state
 // on `truth`. Input `actuators` is optional: without it the surfaces stay at zero (or at the
-// trim inputs when init_mode is "trim") and the throttle at 0 (or trim).
+// trim inputs when init_mode is "trim") and the throttle at 0 (or trim). Input `pilot` is
+// optional too: the sticks and switches of a pilot flying the simulation by hand (the console's
+// keyboard or gamepad, a joystick plugin), which the receiver reports on `rc` as a real one
+// would; without it the simulated pilot holds the sticks centred, override off.
 #pragma once
 
 #include <algorithm>
@@ -60,7 +63,8 @@ class SimAero final : public tern::Plugin {
     declare(diff_out_, "diff_pressure", "pitot differential pressure");
     declare(mag_out_, "mag", "magnetometer");
     declare(truth_out_, "truth", "true state of the simulated aircraft");
-    declare(rc_out_, "rc", "RC receiver (the simulated pilot's sticks: centred, no override)");
+    declare(pilot_in_, "pilot", "a pilot's sticks and switches (console, joystick), reported on rc", tern::Need::optional);
+    declare(rc_out_, "rc", "RC receiver: the pilot input's sticks and switches, else centred, no override");
     declare(status_out_, "fcu_status", "simulated flight-control unit status");
 
     declare(aircraft_, "aircraft", "",
@@ -466,7 +470,7 @@ class SimAero final : public tern::Plugin {
     }
     if (truth_sched_.poll(t) == Poll::sample) publish_truth(t, get_truth());
     if (rc_sched_.poll(t) == Poll::sample) {
-      msg::Rc rc;
+      msg::Rc rc = pilot_in_.has_value() ? *pilot_in_ : msg::Rc{};
       rc.stamp = t;
       rc_out_.publish(rc);
     }
@@ -567,6 +571,7 @@ class SimAero final : public tern::Plugin {
   tern::Output<msg::DiffPressure> diff_out_;
   tern::Output<msg::Mag> mag_out_;
   tern::Output<msg::State> truth_out_;
+  tern::Input<msg::Rc> pilot_in_;
   tern::Output<msg::Rc> rc_out_;
   tern::Output<msg::FcuStatus> status_out_;
 

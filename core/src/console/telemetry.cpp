@@ -1,0 +1,99 @@
+#include "console/telemetry.hpp"
+
+#include <cmath>
+
+#include "host.hpp"
+
+namespace tern::core {
+namespace {
+
+/// The latest message on `topic`, if someone writes it with type T.
+template <class T>
+bool read(const Host& host, const char* topic, T& out) {
+  const OutputBase* o = host.topic_source(topic);
+  if (o == nullptr || o->sequence() == 0 || o->type().name != T::type_name) return false;
+  out = *static_cast<const T*>(o->data());
+  return true;
+}
+
+/// JSON has no NaN or infinity: a non-finite value is sent as null (the chart shows a gap).
+nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+nlohmann::json ned(const Eigen::Vector3d& v) { return {num(v.x()), num(v.y()), num(v.z())}; }
+
+}  // namespace
+
+std::function<void(Nanos)> TelemetryTap::observer(const Host& host) {
+  next_ = 0;
+  return [this, &host](Nanos now) {
+    if (now == 0) next_ = 0;  // a new flight
+    if (now < next_) return;
+    next_ = now + period_;
+    take(host, now);
+  };
+}
+
+void TelemetryTap::take(const Host& host, Nanos now) {
+  Snapshot& s = staging_;
+  s.t = now;
+  s.has_state = read(host, "state", s.state);
+  s.has_command = read(host, "controller_command", s.command);
+  s.has_internals = read(host, "controller_internals", s.internals);
+  s.has_actuators = read(host, "actuators", s.actuators);
+  s.has_phase = read(host, "flight_phase", s.phase);
+  s.has_waypoints = read(host, "waypoints", s.waypoints);
+  s.has_path = read(host, "current_path", s.path);
+  s.has_rc = read(host, "rc", s.rc);
+  const auto& h = host.handovers();
+  s.handovers = h.size();
+  s.active = h.empty() ? "" : h.back().to;
+  if (h.empty() && s.has_phase) {  // no handover yet: the phase table's controller
+    const auto& table = host.config().phases;
+    const auto it = table.find(s.phase.phase);
+    s.active = it == table.end() ? "" : it->second;
+  }
+  s.handover_reason = h.empty() ? "" : h.back().reason;
+  std::lock_guard lk(mu_);
+  s.seq = latest_.seq + 1;
+  latest_ = s;
+}
+
+Snapshot TelemetryTap::latest() const {
+  std::lock_guard lk(mu_);
+  return latest_;
+}
+
+nlohmann::json to_json(const Snapshot& s, bool with_waypoints) {
+  nlohmann::json j = {{"type", "telemetry"}, {"t", to_seconds(s.t)}};
+  if (s.has_state) {
+    const auto& x = s.state;
+    j["state"] = {{"p_n", num(x.p_n)}, {"p_e", num(x.p_e)}, {"h", num(-x.p_d)}, {"phi", num(x.phi)}, {"theta", num(x.theta)},
+                  {"psi", num(x.psi)}, {"chi", num(x.chi)}, {"Va", num(x.Va)}, {"Vg", num(x.Vg)}, {"valid", x.valid}};
+  }
+  if (s.has_command) j["command"] = {{"Va_c", num(s.command.Va_c)}, {"h_c", num(s.command.h_c)}, {"chi_c", num(s.command.chi_c)}};
+  if (s.has_internals) j["internals"] = {{"phi_c", num(s.internals.phi_c)}, {"theta_c", num(s.internals.theta_c)}};
+  if (s.has_actuators) {
+    const auto& a = s.actuators;
+    j["actuators"] = {{"delta_a", num(a.delta_a)}, {"delta_e", num(a.delta_e)}, {"delta_r", num(a.delta_r)}, {"delta_t", num(a.delta_t)}};
+  }
+  if (s.has_phase) j["phase"] = std::string(msg::phase_name(s.phase.phase));
+  if (s.has_path) {
+    const auto& p = s.path;
+    j["path"] = {{"type", p.path_type == msg::CurrentPath::orbit ? "orbit" : "line"}, {"r", ned(p.r)}, {"q", ned(p.q)}, {"c", ned(p.c)},
+                 {"rho", num(p.rho)}, {"lambda", p.lambda}, {"waypoint", p.waypoint_index}};
+  }
+  if (s.has_rc) j["rc"] = {{"override", s.rc.rc_override}, {"failsafe", s.rc.failsafe}};
+  j["safety"] = {{"handovers", s.handovers}, {"active", s.active}, {"reason", s.handover_reason}};
+  if (s.has_waypoints) {
+    j["waypoints_revision"] = s.waypoints.revision;
+    if (with_waypoints) {
+      nlohmann::json w = nlohmann::json::array();
+      for (std::uint32_t i = 0; i < s.waypoints.count && i < msg::WaypointList::kCapacity; ++i)
+        if (!s.waypoints.items[i].lla) w.push_back(ned(s.waypoints.items[i].w));
+      j["waypoints"] = {{"loop", s.waypoints.loop}, {"items", w}};
+    }
+  }
+  return j;
+}
+
+}  // namespace tern::core
