@@ -155,12 +155,13 @@ TEST_CASE("failsafe config: defaults, and one line naming the field and value fo
   const FailsafeConfig d = parse_failsafes(YAML::Node(), "cfg.yaml");
   CHECK(d.gnss_loss.enabled);
   CHECK(d.gnss_loss.timeout == 5.0);
-  CHECK(d.link_loss.enabled);
+  CHECK_FALSE(d.link_loss.enabled);  // off unless the config gives the section
   CHECK(d.link_loss.timeout == 10.0);
   CHECK_FALSE(d.link_loss.terminate_after);
   CHECK_FALSE(d.geofence.enabled);
   const FailsafeConfig c = parse("gnss_loss: {enabled: false}\nlink_loss: {timeout: 3, terminate: {after: 120, action: spin}}");
   CHECK_FALSE(c.gnss_loss.enabled);
+  CHECK(c.link_loss.enabled);  // the section given
   CHECK(c.link_loss.timeout == 3.0);
   CHECK(*c.link_loss.terminate_after == 120.0);
   CHECK(c.link_loss.terminate_action == TerminateAction::spin);

@@ -65,7 +65,7 @@ TEST_CASE("preflight: each check refuses with its own line") {
   CHECK(only_failure(&s, nullptr, &g) == "estimator not ready (status invalid)");
   s = aligned();
   s.P_diag[7] = 0.05 * 0.05;
-  CHECK(only_failure(&s, nullptr, &g) == "estimator not aligned: tilt sigma 2.86 deg > 2.01 deg");
+  CHECK(only_failure(&s, nullptr, &g) == "estimator not aligned: tilt sigma 2.86 deg > 2.29 deg");
   s = aligned();
   s.P_diag[8] = 0.3 * 0.3;
   CHECK(only_failure(&s, nullptr, &g) == "estimator not aligned: yaw sigma 17.2 deg > 9.7 deg");

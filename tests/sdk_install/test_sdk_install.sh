@@ -130,10 +130,10 @@ awk '
   { print }
   END { if (inplugins) ctl(); if (!done) exit 1 }
 ' "$cfg/missions/default.yaml" > "$work/configs/missions/first_leg.yaml" || fail "no 'plugins:' list in the installed default mission"
-# 81 s: the default mission (seed 1, 9.7 s of preflight: the FCU's 7.7-s boot calibration and
-# 2 s of passing checks) passes waypoint 0 at ~36 s and waypoint 1 at ~77 s, and ends before
-# waypoint 2 (~85 s) and the next long line.
-TERN_PLUGIN_PATH="$work/plugins/build/plugins" "$prefix/bin/tern" fly "$work/configs/missions/first_leg.yaml" --duration 81 \
+# 84 s: the default mission (seed 1, 12.2 s of preflight: the FCU's 7.7-s boot calibration, the
+# estimator's gyro bias converging by 10.2 s and 2 s of passing checks) passes waypoint 0 at ~39 s
+# and waypoint 1 at ~80 s, and ends before waypoint 2 (~88 s) and the next long line.
+TERN_PLUGIN_PATH="$work/plugins/build/plugins" "$prefix/bin/tern" fly "$work/configs/missions/first_leg.yaml" --duration 84 \
   --log-dir "$work/runs" -q > "$work/fly.log" 2>&1 || { cat "$work/fly.log"; fail "tern fly of the first leg with the generated controller"; }
 run="$(ls -d "$work"/runs/*/ 2> /dev/null | head -1)"
 [ -n "$run" ] || { cat "$work/fly.log"; fail "no run directory written"; }
