@@ -73,7 +73,7 @@ bool is_enclave_name(const std::string& name) {
 void create_keystore(const fs::path& dir_in) {
   const fs::path dir = fs::absolute(dir_in).lexically_normal();
   if (fs::exists(dir / "public/ca.cert.pem")) throw DdsError(dir.string() + " already holds a keystore (public/ca.cert.pem)");
-  if (find_openssl().empty()) run_openssl({"version"}, dir);  // throws "openssl not found"
+  require_openssl();  // before any directory is made
   for (const char* d : {"public", "private", "enclaves"}) fs::create_directories(dir / d);
   fs::permissions(dir / "private", fs::perms::owner_all);
   make_key(dir / "private/ca.key.pem", dir);
@@ -97,6 +97,7 @@ void add_keystore_node(const fs::path& dir_in, const std::string& name) {
   for (const char* f : {"public/identity_ca.cert.pem", "private/identity_ca.key.pem", "enclaves/governance.p7s"})
     if (!fs::exists(dir / f))
       throw DdsError(dir.string() + " is not a keystore (no " + f + "): make one with `tern dds keystore create " + dir_in.string() + "`");
+  require_openssl();
   const fs::path e = dir / "enclaves" / name;
   if (fs::exists(e / "cert.pem")) throw DdsError("enclave '" + name + "' exists already: " + (e / "cert.pem").string());
   fs::create_directories(e);

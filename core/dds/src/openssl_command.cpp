@@ -37,9 +37,13 @@ std::string last_line(const fs::path& file) {
 }
 }  // namespace
 
+void require_openssl() {
+  if (find_openssl().empty()) throw DdsError("openssl not found: install Debian's openssl package (apt-get install openssl)");
+}
+
 void run_openssl(const std::vector<std::string>& args, const fs::path& cwd) {
+  require_openssl();
   const fs::path prog = find_openssl();
-  if (prog.empty()) throw DdsError("openssl not found: install Debian's openssl package (apt-get install openssl)");
   const fs::path err = cwd / ".openssl.err";
   const pid_t pid = fork();
   if (pid < 0) throw DdsError("cannot run openssl: fork failed");
