@@ -17,6 +17,7 @@
 #include "tune_command.hpp"
 #if defined(TERN_WITH_DDS)
 #include "dds_bridge.hpp"
+#include "dds_command.hpp"
 #include "topic_tools.hpp"
 #endif
 
@@ -254,6 +255,7 @@ int main(int argc, char** argv) {
   double client_timeout = 3.0;
   std::string field;
   std::optional<std::uint64_t> request_id;
+  std::optional<std::string> client_keystore, client_enclave;
   std::optional<double> hz_duration;
   bool overwrite = false;
   bool once = false, wp_lla = false, wp_use_chi = false, wp_set_current = false;
@@ -266,6 +268,8 @@ int main(int argc, char** argv) {
     c->add_option("--config", client_config, "take domain, namespace, interfaces and peers from this mission config's dds:");
     c->add_option("--timeout", client_timeout, "seconds to wait for the vehicle")->capture_default_str();
     c->add_option("--request-id", request_id, "repeat a request that timed out with the id its error gave (applied once)");
+    c->add_option("--keystore", client_keystore, "DDS Security keystore (tern dds keystore create; default: $TERN_DDS_KEYSTORE)");
+    c->add_option("--enclave", client_enclave, "enclave of the keystore to use (default: $TERN_DDS_ENCLAVE, else ground)");
     client_cmds.push_back(c);
     return c;
   };
@@ -307,6 +311,8 @@ int main(int argc, char** argv) {
   m_load->add_option("file", file_arg, "tern or ROSplane waypoint file")->required();
   auto* m_print = mission_cmd->add_subcommand("print", "the vehicle's current waypoints");
   (void)m_clear;
+  DdsCommand dds_cmd;
+  add_dds_command(app, dds_cmd);
 #endif
 
   try {
@@ -319,6 +325,7 @@ int main(int argc, char** argv) {
     if (plugins->parsed()) return cmd_plugins(plugin_dirs);
     if (tune.app->parsed()) return run_tune_command(tune, default_config(), exe_dir() / "tern-plot");
 #if defined(TERN_WITH_DDS)
+    if (dds_cmd.app->parsed()) return run_dds_command(dds_cmd);
     for (auto* c : client_cmds) {
       if (!c->parsed()) continue;
       DdsOptions dopt;
@@ -329,6 +336,7 @@ int main(int argc, char** argv) {
       if (c->count("--domain")) dopt.domain = client_domain;
       if (c->count("--namespace") || client_config.empty()) dopt.ns = client_ns;
       try {
+        apply_client_security(dopt, client_keystore, client_enclave);
         DdsClient client(dopt, std::chrono::milliseconds(static_cast<long>(client_timeout * 1000)));
         if (request_id) client.set_request_id(*request_id);
         if (c == hz_cmd) return topic_hz(client, topic, hz_duration);

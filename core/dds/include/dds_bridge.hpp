@@ -44,6 +44,14 @@ struct DdsTopicOptions {
   std::optional<DdsQos> qos;        ///< default: transient_local for waypoints and flight_phase, else best_effort
 };
 
+/// DDS Security (src/security.hpp): the OMG DDS Security 1.1 builtin plugins (PKI-DH
+/// authentication, signed governance and permissions, AES-GCM-GMAC encryption) with the files of
+/// enclave `enclave` of an SROS2-style keystore (`tern dds keystore create|add-node`).
+struct DdsSecurity {
+  std::filesystem::path keystore;  ///< the keystore directory (public/, private/, enclaves/)
+  std::string enclave;             ///< enclaves/<enclave>/ holds this participant's files
+};
+
 struct DdsOptions {
   bool enabled = false;             ///< `dds: {enabled: true}` or `tern fly --dds`
   std::uint32_t domain = 0;         ///< DDS domain id, 0..232
@@ -59,6 +67,8 @@ struct DdsOptions {
   std::vector<std::filesystem::path> mission_dirs;
   /// Directories where param_save may write, besides the run directories' parent (log.dir).
   std::vector<std::filesystem::path> param_dirs;
+  /// `dds.security: {keystore: DIR, enclave: NAME}`: secure participants only (default: off).
+  std::optional<DdsSecurity> security;
   static const std::vector<std::string> kDefaultTopics;
   /// True when every interface is 127.0.0.1 and multicast is off.
   bool loopback_only() const;
@@ -67,7 +77,8 @@ struct DdsOptions {
 /// Reads the mission config's `dds:` section (missing or null: defaults). Keys: enabled, domain,
 /// namespace, interfaces, peers, multicast, rate, topics (a list of names or of maps
 /// {topic, name, rate, qos}), read_only, mission_dirs, param_dirs (lists of directories, relative
-/// to the config file). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
+/// to the config file), security ({keystore: DIR relative to the config file, enclave: NAME,
+/// default "vehicle"}). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
 /// (with a suggestion) and bad values.
 DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& config_file);
 

@@ -470,6 +470,9 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain,
                       options.ns, ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
   if (options.read_only) host.logger()->info("DDS bridge: read_only: telemetry and status only");
+  if (options.security)
+    host.logger()->info("DDS bridge: DDS Security on: enclave '{}' of keystore {} (authenticated, access-controlled, encrypted)",
+                        options.security->enclave, options.security->keystore.string());
 }
 
 DdsBridge::~DdsBridge() {

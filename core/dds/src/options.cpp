@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "dds_bridge.hpp"
+#include "dds_keystore.hpp"
 #include "error.hpp"
 
 namespace tern::core {
@@ -116,6 +117,20 @@ DdsQos qos(const YAML::Node& n, const fs::path& file, const std::string& field) 
                     did_you_mean(s, {"best_effort", "reliable", "transient_local"}));
 }
 
+/// `dds.security: {keystore: DIR, enclave: NAME}` (DIR relative to the config file).
+DdsSecurity security(const YAML::Node& n, const fs::path& file) {
+  if (!n.IsMap()) throw ConfigError(where(file, n) + "dds.security: expected a map {keystore: DIR, enclave: NAME}, got " + show(n));
+  check_keys(n, file, "dds.security", {"keystore", "enclave"});
+  if (!n["keystore"]) throw ConfigError(where(file, n) + "dds.security: missing key 'keystore' (a directory made by `tern dds keystore create`)");
+  DdsSecurity s;
+  const fs::path k(text(n["keystore"], file, "dds.security.keystore", false));
+  s.keystore = (k.is_absolute() ? k : file.parent_path() / k).lexically_normal();
+  s.enclave = n["enclave"] ? text(n["enclave"], file, "dds.security.enclave", false) : std::string(kVehicleEnclave);
+  if (!is_enclave_name(s.enclave))
+    throw ConfigError(where(file, n["enclave"]) + "dds.security.enclave: '" + s.enclave + "' is not an enclave name (letters, digits, '_', '/')");
+  return s;
+}
+
 }  // namespace
 
 DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& file) {
@@ -125,7 +140,7 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (!dds.IsMap()) throw ConfigError(where(file, dds) + "dds: expected a map of key: value, got " + show(dds));
   check_keys(dds, file, "dds",
              {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only",
-              "mission_dirs", "param_dirs"});
+              "mission_dirs", "param_dirs", "security"});
   if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
   if (dds["domain"]) {
     const double d = number(dds["domain"], file, "dds.domain", 0, 232);
@@ -139,6 +154,7 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (dds["read_only"]) o.read_only = boolean(dds["read_only"], file, "dds.read_only");
   if (dds["mission_dirs"]) o.mission_dirs = dir_list(dds["mission_dirs"], file, "dds.mission_dirs");
   if (dds["param_dirs"]) o.param_dirs = dir_list(dds["param_dirs"], file, "dds.param_dirs");
+  if (dds["security"]) o.security = security(dds["security"], file);
   if (dds["rate"]) o.rate = number(dds["rate"], file, "dds.rate", 0, 1e6);
   if (const auto t = dds["topics"]) {
     if (!t.IsSequence()) throw ConfigError(where(file, t) + "dds.topics: expected a list of topics, got " + show(t));

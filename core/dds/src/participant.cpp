@@ -5,6 +5,7 @@
 #include <fastrtps/utils/IPLocator.h>
 
 #include "dds_internal.hpp"
+#include "security.hpp"
 
 namespace tern::core::ddsi {
 
@@ -20,7 +21,8 @@ fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string
   q.name(name);
   // as rmw_fastrtps (participant.cpp): "enclave=<enclave>;" in the participant's user data;
   // ROS 2's graph (custom_participant_info.hpp) ignores a participant without it
-  const std::string enclave = "enclave=/;";
+  const std::string enclave = enclave_user_data(o);
+  if (o.security) apply_security(q, *o.security);  // DDS Security (security.hpp)
   q.user_data().setValue(std::vector<eprosima::fastrtps::rtps::octet>(enclave.begin(), enclave.end()));
   // no shared-memory and no any-interface UDP transport: only what the config names
   q.transport().use_builtin_transports = false;
@@ -66,7 +68,7 @@ fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string
                      std::string s;
                      for (const auto& i : o.interfaces) s += (s.empty() ? "" : ", ") + i;
                      return s;
-                   }() + ")");
+                   }() + ")" + (o.security ? " with the DDS Security files of enclave '" + o.security->enclave + "'" : ""));
   return p;
 }
 
