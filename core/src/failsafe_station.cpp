@@ -9,11 +9,6 @@
 namespace tern::core {
 
 namespace {
-const OutputBase* writer_of(const PortGraph& graph, const std::string& topic, std::uint64_t fingerprint) {
-  const GraphTopic* t = graph.find(topic);
-  return t && t->fingerprint == fingerprint ? t->current : nullptr;
-}
-
 bool valid_fix(const msg::Gnss& g) { return g.fix_type >= msg::FixType::fix_3d && std::isfinite(g.lat) && std::isfinite(g.lon); }
 }  // namespace
 
@@ -24,8 +19,8 @@ FailsafeStation::FailsafeStation(std::shared_ptr<spdlog::logger> log) : log_(std
 void FailsafeStation::start_flight(const FailsafeConfig& config, const PortGraph& graph) {
   monitor_.set_config(config);
   monitor_.restart();
-  state_ = writer_of(graph, "state", reflect::fingerprint<msg::State>());
-  gnss_ = writer_of(graph, "gnss", reflect::fingerprint<msg::Gnss>());
+  state_ = graph.writer_of<msg::State>("state");
+  gnss_ = graph.writer_of<msg::Gnss>("gnss");
   gnss_seen_ = gnss_ ? gnss_->sequence() : 0;
   last_fix_.reset();
   link_heard_.reset();

@@ -79,8 +79,7 @@ void PhaseRouter::prepare_flight() {
 }
 
 void PhaseRouter::start_flight() {
-  const GraphTopic* imu = graph_.find("imu");
-  imu_ = imu && imu->fingerprint == reflect::fingerprint<msg::Imu>() ? imu->current : nullptr;
+  imu_ = graph_.writer_of<msg::Imu>("imu");
   imu_seen_ = imu_ ? imu_->sequence() : 0;
   recovery_.restart();
   if (phase_machine_) phase_seen_ = phase_machine_->outputs().front()->sequence();

@@ -76,6 +76,13 @@ class PortGraph {
   const std::vector<std::size_t>& order() const { return order_; }
   /// The topic named `name`, or nullptr.
   const GraphTopic* find(const std::string& name) const;
+  /// The output `topic`'s readers are bound to, if its writers publish a T; nullptr when the
+  /// topic is missing, carries another type or has no bound writer.
+  template <class T>
+  const OutputBase* writer_of(const std::string& topic) const {
+    const GraphTopic* t = find(topic);
+    return t != nullptr && t->fingerprint == reflect::fingerprint<T>() ? t->current : nullptr;
+  }
   /// Whether `host_output` (one of the constructor's) feeds a topic.
   bool offers(const OutputBase* host_output) const;
   /// Whether node `reader` reads `topic` over a feedback edge.

@@ -153,6 +153,8 @@ Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate
 Scheduler::Scheduler(Nanos base_period, Nanos end, bool realtime)
     : period_(base_period), end_(end), realtime_(realtime), wall0_(wall_ns()), cpu0_(thread_cpu_ns()) {}
 
+const char* signal_end_reason(int sig) { return sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "SIGINT"; }
+
 bool Scheduler::next(int stop_signal) {
   ++tick_;
   if (tick_ * period_ > end_) {
@@ -161,7 +163,7 @@ bool Scheduler::next(int stop_signal) {
     return false;
   }
   if (stop_signal != 0) {
-    end_reason_ = stop_signal == SIGTERM ? "SIGTERM" : stop_signal == SIGHUP ? "SIGHUP" : "SIGINT";
+    end_reason_ = signal_end_reason(stop_signal);
     now_ = tick_ > 0 ? (tick_ - 1) * period_ : 0;
     return false;
   }

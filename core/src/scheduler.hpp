@@ -29,6 +29,8 @@ namespace tern::core {
 
 /// Steady clock, ns since an arbitrary epoch: wall-clock measurements only, never flight time.
 std::int64_t wall_ns();
+/// The end reason of a flight stopped by signal `sig`: "SIGTERM", "SIGHUP", else "SIGINT".
+const char* signal_end_reason(int sig);
 /// Calibrates the step-timing clock (once per process, about 2 ms); call before timing anything.
 void calibrate_step_clock();
 

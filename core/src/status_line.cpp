@@ -16,9 +16,8 @@ namespace {
 // The latest message on `topic` if its writer publishes a T, else nullptr.
 template <class T>
 const T* source(const PortGraph& graph, const char* topic) {
-  const GraphTopic* t = graph.find(topic);
-  if (t == nullptr || t->current == nullptr || t->fingerprint != reflect::fingerprint<T>()) return nullptr;
-  return static_cast<const T*>(t->current->data());
+  const OutputBase* w = graph.writer_of<T>(topic);
+  return w != nullptr ? static_cast<const T*>(w->data()) : nullptr;
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <unistd.h>
 
 #include <chrono>
-#include <csignal>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -11,10 +10,6 @@
 #include "scheduler.hpp"
 
 namespace tern::core {
-
-namespace {
-const char* signal_reason(int sig) { return sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "SIGINT"; }
-}  // namespace
 
 void Watchdog::arm(const WatchdogConfig& budgets, StopSignal stop, Emergency emergency) {
   disarm();
@@ -72,7 +67,7 @@ std::string Watchdog::verdict(std::int64_t started, std::string& reason) {
   if (sig == 0) return "";
   if (stop_seen_ == 0) stop_seen_ = now;
   if ((now - stop_seen_) * 1e-6 < kStopGraceMs || ran_ms < kStopGraceMs) return "";
-  reason = signal_reason(sig);
+  reason = signal_end_reason(sig);
   return fmt::format("{} at t={:.3f} s: stuck in a step for {:.0f} ms when {} came; the process ends without stopping the plugins",
                      *name_, to_seconds(step_now_), ran_ms, reason);
 }

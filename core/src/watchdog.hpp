@@ -30,7 +30,6 @@
 #include <mutex>
 #include <string>
 #include <thread>
-#include <vector>
 
 #include <spdlog/fwd.h>
 

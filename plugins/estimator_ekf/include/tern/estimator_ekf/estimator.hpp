@@ -116,7 +116,8 @@ struct EstimatorConfig {
   /// (1-2 uT, correlated over minutes). As a heading, sigma / (B cos I) = 7 uT / 21 uT = 0.33 rad
   /// at ROSflight's field: PX4 EKF2's EKF2_HEAD_NOISE (0.3 rad); its 3-axis EKF2_MAG_NOISE is
   /// 5 uT. With 3 uT (ROSflight's mag_stdev) the filter held the yaw to the magnetometer's
-  /// error: 1.7 deg RMS median, 2.6 worst, against 1.2 and 1.6 (bench_estimation, realistic).
+  /// error: 1.7 deg RMS median, 2.6 worst, against 1.2 and 1.6 with 7 uT (bench_estimation,
+  /// realistic profile, 10 seeds, with the GNSS velocity noise then at 0.01 m/s).
   double mag_sigma = 7e-6;
   double mag_gate = kChi2_999[3];         ///< 3-axis mode (3 dof)
   double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
