@@ -1,7 +1,6 @@
 // core/src/dds_command.cpp: `tern dds keystore ...` and the clients' DDS Security options.
 #include "dds_command.hpp"
 
-#include <cstdio>
 #include <cstdlib>
 
 #include <fmt/format.h>
@@ -23,24 +22,16 @@ void add_dds_command(CLI::App& app, DdsCommand& c) {
 }
 
 int run_dds_command(const DdsCommand& c) {
-  try {
-    if (c.create->parsed()) {
-      create_keystore(c.dir);
-      fmt::print("keystore created: {} (CA public/ca.cert.pem, governance enclaves/governance.p7s)\n"
-                 "next: tern dds keystore add-node {} {}; tern dds keystore add-node {} {}\n",
-                 c.dir, c.dir, kVehicleEnclave, c.dir, kGroundEnclave);
-    } else {
-      add_keystore_node(c.dir, c.name);
-      fmt::print("enclave '{}' added: {}/enclaves/{} (cert.pem CN={}, permissions.p7s)\n", c.name, c.dir, c.name, c.name);
-    }
-    return 0;
-  } catch (const DdsError& e) {
-    std::fprintf(stderr, "tern: error: %s\n", e.what());
-    return 1;
-  } catch (const std::filesystem::filesystem_error& e) {
-    std::fprintf(stderr, "tern: error: %s\n", e.what());
-    return 1;
+  if (c.create->parsed()) {
+    create_keystore(c.dir);
+    fmt::print("keystore created: {} (CA public/ca.cert.pem, governance enclaves/governance.p7s)\n"
+               "next: tern dds keystore add-node {} {}; tern dds keystore add-node {} {}\n",
+               c.dir, c.dir, kVehicleEnclave, c.dir, kGroundEnclave);
+  } else {
+    add_keystore_node(c.dir, c.name);
+    fmt::print("enclave '{}' added: {}/enclaves/{} (cert.pem CN={}, permissions.p7s)\n", c.name, c.dir, c.name, c.name);
   }
+  return 0;
 }
 
 void apply_client_security(DdsOptions& o, const std::optional<std::string>& keystore, const std::optional<std::string>& enclave) {

@@ -21,7 +21,8 @@ struct DdsCommand {
 
 /// Adds `dds keystore create|add-node` to the command line.
 void add_dds_command(CLI::App& app, DdsCommand& c);
-/// Runs the parsed subcommand: 0, or 1 with one error line on stderr.
+/// Runs the parsed subcommand: 0. Throws DdsError or std::filesystem::filesystem_error with one
+/// line (main prints it as "tern: error: ..." and exits 1).
 int run_dds_command(const DdsCommand& c);
 
 /// A client's security: the keystore from `keystore` (--keystore), else $TERN_DDS_KEYSTORE, else

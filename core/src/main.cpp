@@ -266,8 +266,10 @@ int main(int argc, char** argv) {
     c->add_option("--domain", client_domain, "DDS domain id of the vehicle")->check(CLI::Range(0, 232));
     c->add_option("--namespace", client_ns, "vehicle namespace")->capture_default_str();
     c->add_option("--config", client_config, "take domain, namespace, interfaces and peers from this mission config's dds:");
-    c->add_option("--timeout", client_timeout, "seconds to wait for the vehicle")->capture_default_str();
-    c->add_option("--request-id", request_id, "repeat a request that timed out with the id its error gave (applied once)");
+    c->add_option("--timeout", client_timeout, "seconds to wait for the vehicle")->capture_default_str()->check(CLI::Range(0.001, 86400.0));
+    // 1 .. 2^63-1: the ids a vehicle remembers (answered_requests.hpp); another would be applied again
+    c->add_option("--request-id", request_id, "repeat a request that timed out with the id its error gave (applied once)")
+        ->check(CLI::Range(std::uint64_t{1}, (std::uint64_t{1} << 63) - 1));
     c->add_option("--keystore", client_keystore, "DDS Security keystore (tern dds keystore create; default: $TERN_DDS_KEYSTORE)");
     c->add_option("--enclave", client_enclave, "enclave of the keystore to use (default: $TERN_DDS_ENCLAVE, else ground)");
     client_cmds.push_back(c);

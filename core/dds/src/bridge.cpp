@@ -457,12 +457,13 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   m.subscriber = m.participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (m.publisher == nullptr || m.subscriber == nullptr) throw DdsError("DDS: cannot create a publisher/subscriber");
   for (const auto& [to, type] : plan) m.add_writer(*to, type);
-  m.start_services();
   m.bridge_node.ns = "/" + options.ns;
   m.bridge_node.name = "bridge";
   m.ros_params = std::make_unique<RosParameters>(host, options, m.participant, m.publisher, m.subscriber,
                                                  [impl = &m](const std::function<void()>& fn) { impl->on_flight_thread(fn); });
   m.graph = std::make_unique<RosGraph>(m.participant, m.publisher);
+  // after ros_params and graph: a bridge_topic request may arrive at once, and announce() uses both
+  m.start_services();
   m.announce();
   host.set_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
   std::string ifs;
