@@ -9,12 +9,30 @@
 #include <string>
 #include <vector>
 
+#include "tern/msg/path.hpp"
 #include "tern/path/follower.hpp"
 #include "tern/path/manager.hpp"
 #include "tern/path/mission.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::path {
+
+/// msg::Waypoint::type as an ItemType (an unknown value: a plain waypoint), and back.
+inline ItemType item_type_of(std::uint8_t t) {
+  switch (t) {
+    case msg::Waypoint::loiter: return ItemType::loiter;
+    case msg::Waypoint::return_home: return ItemType::return_home;
+    default: return ItemType::waypoint;
+  }
+}
+inline std::uint8_t msg_item_type(ItemType t) {
+  switch (t) {
+    case ItemType::loiter: return msg::Waypoint::loiter;
+    case ItemType::return_home: return msg::Waypoint::return_home;
+    case ItemType::waypoint: break;
+  }
+  return msg::Waypoint::waypoint;
+}
 
 /// path_planner: the mission (config section, waypoint file or ROSplane file) as a NED
 /// WaypointList on `waypoints`, with runtime edits from `mission_edit` and LLA waypoints held

@@ -8,16 +8,6 @@
 
 namespace tern::path {
 
-namespace {
-ItemType item_type_of(const msg::Waypoint& w) {
-  switch (w.type) {
-    case msg::Waypoint::loiter: return ItemType::loiter;
-    case msg::Waypoint::return_home: return ItemType::return_home;
-    default: return ItemType::waypoint;
-  }
-}
-}  // namespace
-
 void ManagerPlugin::configure() {
   declare(state_, "state", "vehicle state (position, course)");
   declare(waypoints_, "waypoints", "the mission from the path planner, NED");
@@ -101,7 +91,7 @@ void ManagerPlugin::step(Nanos now) {
       wps[i].chi_d = w.chi_d;
       wps[i].use_chi = w.use_chi;
       wps[i].Va_d = w.Va_d;
-      wps[i].type = item_type_of(w);
+      wps[i].type = item_type_of(w.type);
       wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns};
     }
     manager_->set_waypoints(wps, list.loop, list.immediate);

@@ -17,9 +17,7 @@ MissionWaypoint from_msg(const msg::Waypoint& w) {
   m.chi_d = w.chi_d;
   m.use_chi = w.use_chi;
   m.Va_d = w.Va_d;
-  m.type = w.type == msg::Waypoint::loiter        ? ItemType::loiter
-           : w.type == msg::Waypoint::return_home ? ItemType::return_home
-                                                  : ItemType::waypoint;
+  m.type = item_type_of(w.type);
   m.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns};
   return m;
 }
@@ -31,7 +29,7 @@ msg::Waypoint to_msg(const MissionWaypoint& m) {
   w.chi_d = m.chi_d;
   w.use_chi = m.use_chi;
   w.Va_d = m.Va_d;
-  w.type = m.type == ItemType::loiter ? msg::Waypoint::loiter : m.type == ItemType::return_home ? msg::Waypoint::return_home : msg::Waypoint::waypoint;
+  w.type = msg_item_type(m.type);
   w.loiter_radius = m.loiter.radius;
   w.loiter_direction = static_cast<std::int8_t>(m.loiter.direction >= 0 ? 1 : -1);
   w.loiter_time = m.loiter.time;
