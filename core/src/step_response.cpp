@@ -1,6 +1,7 @@
 // Step-response figures; definitions in step_response.hpp.
 #include "step_response.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>

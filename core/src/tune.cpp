@@ -108,9 +108,10 @@ struct Sample {
 
 /// One sample per tick once the generator publishes and the state is valid.
 std::function<void(Nanos)> recorder(const Host& host, const TuneLoop& l, std::vector<Sample>& out) {
-  return [&host, &l, &out](Nanos now) {
-    const OutputBase* c = host.topic_source(std::string(kCommandTopic));
-    const OutputBase* s = host.topic_source("state");
+  // the topic names built once, not a heap string per tick
+  return [&host, &l, &out, command_topic = std::string(kCommandTopic), state_topic = std::string("state")](Nanos now) {
+    const OutputBase* c = host.topic_source(command_topic);
+    const OutputBase* s = host.topic_source(state_topic);
     if (c == nullptr || s == nullptr || c->sequence() == 0 || s->sequence() == 0) return;
     if (c->type().name != msg::ControllerCommand::type_name || s->type().name != msg::State::type_name) return;
     const auto& cmd = *static_cast<const msg::ControllerCommand*>(c->data());

@@ -2,13 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "error.hpp"
+#include "log_file.hpp"
 
 namespace tern::campaign {
 
@@ -23,14 +23,10 @@ std::string csv(const std::string& s) {
   return q + "\"";
 }
 
+/// Replaced at once (log_file.hpp's temp file + rename); a failure is one ConfigError line.
 void write_file(const fs::path& p, const std::string& text) {
-  const fs::path tmp = p.string() + ".tmp";
-  {
-    std::ofstream o(tmp);
-    o << text;
-    if (!o.flush()) throw core::ConfigError("cannot write '" + tmp.string() + "'");
-  }
-  fs::rename(tmp, p);
+  core::LogHealth health;
+  if (!core::write_file_atomically(p, text, health)) throw core::ConfigError(health.error());
 }
 
 std::string results_csv(const std::vector<FlightRow>& rows) {

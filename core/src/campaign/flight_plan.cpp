@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "error.hpp"
+#include "log_file.hpp"
 
 namespace tern::campaign {
 
@@ -34,10 +35,10 @@ YAML::Node to_yaml(const ParamValue& v) {
   return YAML::Node(std::get<std::string>(v));
 }
 
+/// Replaced at once (log_file.hpp's temp file + rename); a failure is one ConfigError line.
 void write_text(const fs::path& p, const std::string& text) {
-  std::ofstream o(p);
-  o << text;
-  if (!o.flush()) throw ConfigError("cannot write '" + p.string() + "'");
+  core::LogHealth health;
+  if (!core::write_file_atomically(p, text, health)) throw ConfigError(health.error());
 }
 
 std::string emit(const YAML::Node& n) {

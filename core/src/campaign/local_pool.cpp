@@ -23,6 +23,10 @@ volatile std::sig_atomic_t g_signal = 0;
 void on_signal(int s) { g_signal = s; }
 
 pid_t spawn(const Job& job) {
+  // built before fork: the child may only make async-signal-safe calls, and malloc is not one
+  std::vector<char*> args;
+  for (const auto& a : job.argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
   const pid_t parent = getpid();
   const pid_t pid = fork();
   if (pid < 0) throw core::ConfigError(std::string("cannot start a flight: fork: ") + std::strerror(errno));
@@ -40,9 +44,6 @@ pid_t spawn(const Job& job) {
     dup2(fd, STDERR_FILENO);
     close(fd);
   }
-  std::vector<char*> args;
-  for (const auto& a : job.argv) args.push_back(const_cast<char*>(a.c_str()));
-  args.push_back(nullptr);
   execv(args[0], args.data());
   _exit(127);
 }
