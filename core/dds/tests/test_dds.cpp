@@ -413,7 +413,8 @@ TEST_CASE("dds: read_only serves telemetry and status, and no parameter, mission
   DdsBridge bridge(*f.host, opt);
   DdsClient client(opt, std::chrono::seconds(20));
   CHECK(client.status().mission == "hostcheck");
-  DdsClient quick(opt, std::chrono::milliseconds(1500));
+  // long enough to find the vehicle's nodes under load (else the error is about discovery)
+  DdsClient quick(opt, std::chrono::seconds(5));
   CHECK_THROWS_WITH_AS(quick.param_set("ctl.kp", 0.1), doctest::Contains("no vehicle answered 'set_parameters'"), DdsError);
   CHECK_THROWS_WITH_AS(quick.mission_load("m.yaml"), doctest::Contains("no vehicle answered 'load_mission_from_file'"), DdsError);
 }

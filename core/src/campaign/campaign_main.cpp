@@ -202,7 +202,8 @@ int run(const Options& o) {
     return 130;
   }
   if (!o.no_plots) {
-    const std::string plot = fmt::format("{} {} {}", TERN_PYTHON3, (exe_dir() / "tern-campaign-plot").string(), out.string());
+    const std::string plot = fmt::format("{} {} {}", shell_quote(TERN_PYTHON3), shell_quote((exe_dir() / "tern-campaign-plot").string()),
+                                         shell_quote(out.string()));
     if (std::system(plot.c_str()) != 0) std::fprintf(stderr, "campaign: the plots failed (%s)\n", plot.c_str());
   }
   return 0;

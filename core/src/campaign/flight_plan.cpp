@@ -13,14 +13,14 @@ namespace tern::campaign {
 
 using core::ConfigError;
 
-namespace {
-
 std::string shell_quote(const std::string& s) {
   if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:+") == std::string::npos) return s;
   std::string q = "'";
   for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
   return q + "'";
 }
+
+namespace {
 
 YAML::Node to_yaml(const ParamValue& v) {
   if (const auto* x = std::get_if<std::vector<double>>(&v)) {

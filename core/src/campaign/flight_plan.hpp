@@ -43,5 +43,7 @@ void write_flight(const CampaignFile& c, const core::MissionConfig& base, const 
 /// The summary.json of the flight's log, empty if there is none that is complete (written by a
 /// flight that ended by its duration or by itself, not by a signal).
 fs::path finished_summary(const FlightFiles& files);
+/// `s` as one POSIX shell word (single-quoted unless it is plain), for recorded commands.
+std::string shell_quote(const std::string& s);
 
 }  // namespace tern::campaign

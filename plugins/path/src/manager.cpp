@@ -420,8 +420,8 @@ PathSegment PathManager::current_segment() const {
       break;
     case Stage::dubins_4:
     case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;
-    case Stage::orbit:
-    case Stage::loiter: return orbit_segment(wt.w, idx, airspeed(wt));
+    case Stage::orbit: return orbit_segment(wt.w, idx, airspeed(wt));
+    case Stage::loiter: return loiter_segment(wps_[target_]);  // (returned above already)
   }
   return s;
 }
