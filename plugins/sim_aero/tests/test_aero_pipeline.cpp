@@ -449,7 +449,7 @@ TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yam
   req.Va = 17.0;
   const auto g = aero::design_gains(aero::linearize(ac, req), aero::DesignOptions{});
   const YAML::Node file = YAML::LoadFile(kAircraft + "/../gains/anaconda.yaml");
-  REQUIRE(g.size() == 19);
+  REQUIRE(g.size() == 21);
   for (const auto& [name, value] : g) {
     CAPTURE(name);
     REQUIRE(file[name]);
@@ -460,6 +460,7 @@ TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yam
   fast.wn_phi = 25.0;
   const auto g2 = aero::design_gains(aero::linearize(ac, req), fast);
   CHECK(g2[1].first == "roll_kd");
+  CHECK(g2[4].first == "roll_rate_max");
   CHECK(g2[1].second > 0.05);
 }
 

@@ -401,10 +401,11 @@ int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOption
   s << "# control_slc gains for the " << ac.name << " at Va = " << Va << " m/s (flat 'param: value'; load with\n"
     << "# param_file:). Written by `tern aero gains --aircraft " << file << " --Va " << Va << "`: uavbook ch. 6\n"
     << "# successive loop closure from the ch. 5 transfer-function coefficients at the trim\n"
-    << std::fixed << std::setprecision(4) << "#   alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
+    << std::fixed << std::setprecision(4) << "#   trim: alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
     << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
   for (const char* k : {"a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"})
     s << "#   " << k << " = " << lm.tf.at(k) << "\n";
+  for (const auto& line : tern::aero::design_summary(lm, o, g)) s << "#   " << line << "\n";
   s << "# limits and takeoff values: control_slc's defaults (set them by hand for a new airframe)\n";
   s.unsetf(std::ios::floatfield);
   s << std::setprecision(6);
@@ -490,6 +491,8 @@ int main(int argc, char** argv) {
   ga->add_option("--zeta-V", o.zeta_V, "airspeed damping ratio (1.0)");
   ga->add_option("--kr", o.kr, "yaw damper gain, rad per rad/s (0.3)");
   ga->add_option("--p-wo", o.p_wo, "washout pole, rad/s (0.5)");
+  ga->add_option("--roll-rate-max", o.roll_rate_max,
+                 "slew limit of the roll command, rad/s (1.5; about 0.4 a_phi2 max_a / a_phi1)");
 
   try {
     app.parse(argc, argv);
