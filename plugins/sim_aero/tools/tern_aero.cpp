@@ -287,7 +287,7 @@ int import_cmd(const ImportArgs& a) {
       "Not given by " + t.tool + " (value used and why):"};
   std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
   std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref
-            << " rad\n";
+            << " rad (" << t.alpha_ref * kRad2Deg << " deg)\n";
   for (const auto& n : t.notes) std::cout << "  " << n << "\n";
   if (!a.polar.empty()) {
     std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";
