@@ -44,7 +44,9 @@ for f in bin/tern bin/tern-new-plugin bin/tern-plot include/tern/plugin.hpp incl
          "$libdir/tern/plugins/libtern_sim_aero.so" "$libdir/tern/plugins/libtern_control_slc.so" \
          "$libdir/tern/plugins/libtern_path_follower.so" \
          share/tern/configs/missions/default.yaml share/tern/configs/aircraft/anaconda.yaml \
-         share/tern/templates/common/CMakeLists.txt share/tern/templates/controller/src/plugin.cpp; do
+         share/tern/templates/common/CMakeLists.txt share/tern/templates/controller/src/plugin.cpp \
+         share/doc/tern/aircraft-modelling.md share/doc/tern/aero-samples/sample_vspaero.stab \
+         share/doc/tern/aero-samples/sample_xflr5.txt share/doc/tern/aero-samples/sample_mass.yaml; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 # every program the build puts next to tern (tern-aero, tern-plot, ...) is installed too
