@@ -29,7 +29,7 @@ except ImportError:  # a pyenv/venv python3 first on PATH: Debian's has python3-
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "tern-plot")
 FIGURES = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png",
-           "estimation_errors.png"]
+           "actuators.png", "estimation_errors.png"]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -61,7 +61,7 @@ def write_csv(path, header, rows):
 
 
 def write_run(run, topics=("state", "truth", "controller_command", "controller_internals", "current_path",
-                           "flight_phase", "waypoints"), config=True, duration=60.0, rate=50.0):
+                           "flight_phase", "waypoints", "actuators"), config=True, duration=60.0, rate=50.0):
     """A clockwise orbit of R_ORBIT about the origin, climbing to 50 m, course past +-180 deg."""
     os.makedirs(os.path.join(run, "topics"))
     n = int(duration * rate) + 1
@@ -109,6 +109,18 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
         write_csv(os.path.join(tp, "flight_phase.csv"),
                   ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
                   [[0, 0, 0, 0, 0], [3, 3e9, 1, 0, 3e9], [20, 20e9, 2, 1, 20e9]])
+    if "actuators" in topics:   # the aileron at slc's max_a from 30 s to 40 s
+        write_csv(os.path.join(tp, "actuators.csv"),
+                  ["t [s]", "stamp [ns]", "delta_a [rad]", "delta_e [rad]", "delta_r [rad]", "delta_t []"],
+                  [[r[0], r[1], 0.5 if 30.0 <= r[0] < 40.0 else 0.1, -0.1, 0.0, 0.6] for r in truth_rows])
+        write_csv(os.path.join(run, "params.csv"), ["t [s]", "parameter", "value", "source"], [])
+        with open(os.path.join(run, "params.csv"), "a") as f:
+            f.write("0,slc.max_a,0.5,config\n0,slc.max_e,0.61,default\n0,slc.max_r,0.523,default\n"
+                    "0,slc.min_t,0,default\n0,slc.max_t,1,default\n0,phase_machine.max_deflection,0.7,default\n")
+        with open(os.path.join(run, "summary.json"), "w") as f:
+            f.write('{"phases": [{"phase": "takeoff", "start_s": 0.0, "reason": "r"}], "controller_handovers": '
+                    '[{"t_s": 0.0, "from": "(none)", "to": "slc", "reason": "phase takeoff"}], "failsafes": [], '
+                    '"metrics": {"window_start_s": null}}')
     if "waypoints" in topics:
         write_csv(os.path.join(tp, "waypoints.csv"),
                   ["t [s]", "stamp [ns]", "revision []", "count []", "loop [bool]"], [[0, 0, 1, 4, 1]])
