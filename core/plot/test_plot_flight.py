@@ -239,7 +239,7 @@ class Flights(unittest.TestCase):
     def test_overlay_of_two_runs(self):
         self.assertEqual(self.plots_ab, os.path.join(self.a, "plots", "vs-" + os.path.basename(self.b)))
         figs = figures(self.plots_ab)
-        names = (os.path.basename(self.a), os.path.basename(self.b))
+        names = ("plot_a", "plot_b")  # the directory names without their time stamps
         for name in ("ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png",
                      "actuators.png", "estimation_errors.png"):
             self.assertIn(name, figs)
@@ -247,7 +247,10 @@ class Flights(unittest.TestCase):
             for n in names:
                 self.assertIn(n + ": ", legend, name)
         self.assertEqual(sorted(figs["estimation_errors.png"]["rmse"]), sorted(f"{n}: ekf" for n in names))
-        self.assertIn(f"{names[1]}: fallback: ctl -> slc", figs["altitude.png"]["markers"])
+        markers = figs["altitude.png"]["markers"]
+        self.assertIn(f"{names[1]}: fallback: ctl -> slc", markers)
+        self.assertEqual(len(markers), len(set(markers)), "a marker both runs share is drawn once")
+        self.assertIn(f"{names[0]}: failsafe gnss_loss", markers)
 
     def test_index_html_in_headless_chromium(self):
         try:
