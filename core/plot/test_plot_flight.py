@@ -13,10 +13,7 @@ instances (one colour each) and a replay against the recorded estimate; the over
 index.html in headless Chromium (every image loaded, summary values shown).
 """
 import csv
-import importlib.machinery
-import importlib.util
 import json
-import math
 import os
 import shutil
 import subprocess
@@ -24,30 +21,11 @@ import sys
 import tempfile
 import unittest
 
-try:
-    import numpy as np
-except ImportError:  # a pyenv/venv python3 first on PATH: Debian's has python3-numpy
-    if os.path.exists("/usr/bin/python3") and not os.environ.get("TERN_PLOT_TEST_REEXEC"):
-        os.environ["TERN_PLOT_TEST_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
-    raise
+from test_tern_plot import SCRIPT, TP, np  # (re-executes with Debian's python3 when numpy is missing)
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-REPO = os.path.dirname(os.path.dirname(HERE))
-SCRIPT = os.path.join(HERE, "tern-plot")
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TERN = None
 TIME_FIGURES = ["altitude.png", "airspeed.png", "course.png", "roll_pitch.png", "actuators.png", "estimation_errors.png"]
-
-
-def load_module():
-    loader = importlib.machinery.SourceFileLoader("tern_plot", SCRIPT)
-    spec = importlib.util.spec_from_loader("tern_plot", loader)
-    mod = importlib.util.module_from_spec(spec)
-    loader.exec_module(mod)
-    return mod
-
-
-TP = load_module()
 
 MISSION = f"""seed: 3
 aircraft: {REPO}/configs/aircraft/anaconda.yaml

@@ -23,7 +23,8 @@ try:
 except ImportError:  # a pyenv/venv python3 first on PATH: Debian's has python3-numpy
     if os.path.exists("/usr/bin/python3") and not os.environ.get("TERN_PLOT_TEST_REEXEC"):
         os.environ["TERN_PLOT_TEST_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
+        # the script run (test_plot_flight.py imports this module), not necessarily this file
+        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(sys.argv[0])] + sys.argv[1:])
     raise
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -343,6 +344,58 @@ class Pieces(unittest.TestCase):
                          [(103.0, "failsafe gnss_loss"), (200.5, "failsafe gnss_back"), (50.0, "safety: slc")])
         self.assertNotEqual(ev[0][2], ev[1][2])  # engaged and cleared differ in colour
         self.assertEqual(TP.flight_events(os.path.join(self.tmp, "nowhere")), [])
+
+    def test_markers_of_phases_handovers_fallback_and_failsafes(self):
+        s = {"phases": [{"phase": "preflight", "start_s": 0.0}, {"phase": "takeoff", "start_s": 12.2},
+                        {"phase": "cruise", "start_s": 30.0}],
+             "controller_handovers": [{"t_s": 0.0, "from": "slc", "to": "(none)", "reason": "preflight: on the ground"},
+                                      {"t_s": 12.2, "from": "(none)", "to": "slc", "reason": "phase takeoff"},
+                                      {"t_s": 30.0, "from": "slc", "to": "ctl", "reason": "phase cruise"},
+                                      {"t_s": 41.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: x"}],
+             "failsafes": [{"t_s": 50.0, "cause": "gnss_loss", "action": "loiter"},
+                           {"t_s": 58.0, "cause": "gnss_back", "action": "none"}]}
+        self.assertEqual(TP.flight_markers(s), [
+            (12.2, "takeoff; (none) -> slc", "handover"), (30.0, "cruise; slc -> ctl", "handover"),
+            (41.0, "fallback: ctl -> slc", "fallback"), (50.0, "failsafe gnss_loss", "failsafe"),
+            (58.0, "failsafe gnss_back", "cleared")])
+
+    def test_limits_follow_the_controller_and_saturation_spans(self):
+        s = {"controller_handovers": [{"t_s": 1.0, "from": "(none)", "to": "slc"}, {"t_s": 3.0, "from": "slc", "to": "ctl"}]}
+        params = {"slc.max_a": [(0.0, "0.7")], "ctl.max_a": [(0.0, "0.2"), (4.0, "0.3")]}
+        t = np.arange(0.0, 6.0, 0.5)
+        lo, hi, sources = TP.actuator_limits(s, params, t)["delta_a"]
+        np.testing.assert_array_equal(hi, [np.nan, np.nan, 0.7, 0.7, 0.7, 0.7, 0.2, 0.2, 0.3, 0.3, 0.3, 0.3])
+        np.testing.assert_array_equal(lo, -hi)
+        self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
+        v = np.array([0.9, 0.0, 0.7, 0.1, 0.1, -0.7, 0.2, 0.2, 0.2, 0.3, 0.1, -0.3])
+        self.assertEqual(TP.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
+
+    def test_waypoints_added_in_flight(self):
+        first = (0.0, 1, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0]]), np.array([0, 0]), np.zeros(2))
+        edit = (20.0, 2, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0], [50.0, 50.0, -60.0]]), np.zeros(3, int),
+                np.zeros(3))
+        loiter = (35.0, 3, np.array([[50.0, 50.0, -60.0], [7.0, 8.0, -40.0]]), np.array([0, 1]), np.zeros(2))
+        self.assertEqual(TP.added_waypoints([first]), [])
+        self.assertEqual(TP.added_waypoints([first, edit, loiter]), [(0, 20.0), (1, 35.0)])
+
+    def test_euler_sigmas_level_and_banked(self):
+        P = np.array([[1e-4, 4e-4, 9e-4]])
+        s = TP.euler_sigmas(P, np.array([0.0]), np.array([0.0]))
+        np.testing.assert_allclose([x[0] for x in s], [0.01, 0.02, 0.03])
+        s = TP.euler_sigmas(P, np.array([math.pi / 2]), np.array([0.0]))  # banked 90 deg: pitch from body z
+        np.testing.assert_allclose([x[0] for x in s], [0.01, 0.03, 0.02], atol=1e-12)
+
+    def test_rmse_window_of_the_summary(self):
+        phase = TP.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
+        run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase}
+        mask, label = TP.rmse_window(run)
+        t = np.array([5.0, 12.0, 16.0, 25.0, 31.0])
+        self.assertEqual(mask(t).tolist(), [False, False, True, False, True])
+        self.assertEqual(label, "cruise 15-40 s, as summary.json")
+        run["summary"]["metrics"]["window_start_s"] = None
+        mask, label = TP.rmse_window(run)
+        self.assertTrue(mask(t).all())
+        self.assertIn("no RMSE window", label)
 
     def test_lla_to_ned(self):
         lat, lon, alt = ORIGIN
