@@ -199,6 +199,15 @@ class Flights(unittest.TestCase):
             self.assertAlmostEqual(mine[key], want, delta=0.01 * want + 1e-3, msg=field)
         window = f"cruise {m['window_start_s']:.4g}-{self.sa['duration_s']:.4g} s, as summary.json"
         self.assertIn(f"ekf: RMSE {mine['n']:.3g} m ({window})", fig["legend"])
+        figs = figures(self.plots_a)
+        label = os.path.basename(self.a)
+        for name, keys in (("altitude.png", ["altitude_m"]), ("airspeed.png", ["airspeed_mps"]),
+                           ("course.png", ["course_deg"]), ("roll_pitch.png", ["roll_deg", "pitch_deg"])):
+            for key in keys:
+                want = m["tracking_rmse"][key]
+                self.assertAlmostEqual(figs[name]["tracking_rmse"][label][key], want, delta=0.01 * want + 1e-3, msg=key)
+        h = figs["altitude.png"]["tracking_rmse"][label]["altitude_m"]
+        self.assertIn(f"commanded h_c: tracking RMSE {h:.3g} m ({window})", figs["altitude.png"]["legend"])
 
     def test_replay_instances_one_colour_each(self):
         fig = figures(self.plots_r2)["estimation_errors.png"]
