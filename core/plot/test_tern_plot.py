@@ -333,18 +333,6 @@ class Pieces(unittest.TestCase):
         self.assertFalse(loop)
         self.assertEqual([w for w, _ in wps], [[100, 0, -70], [100, 100, -70], [0, 0, -80]])
 
-    def test_failsafe_and_fallback_engagements_are_markers(self):
-        with open(os.path.join(self.tmp, "summary.json"), "w") as f:
-            f.write('{"failsafes": [{"t_s": 103.0, "cause": "gnss_loss", "action": "loiter", "detail": "x"},'
-                    ' {"t_s": 200.5, "cause": "gnss_back", "action": "none", "detail": "y"}],'
-                    ' "controller_handovers": [{"t_s": 9.7, "from": "(none)", "to": "slc", "reason": "phase takeoff"},'
-                    ' {"t_s": 50.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: z"}]}')
-        ev = TP.flight_events(self.tmp)
-        self.assertEqual([(t, label) for t, label, _ in ev],
-                         [(103.0, "failsafe gnss_loss"), (200.5, "failsafe gnss_back"), (50.0, "safety: slc")])
-        self.assertNotEqual(ev[0][2], ev[1][2])  # engaged and cleared differ in colour
-        self.assertEqual(TP.flight_events(os.path.join(self.tmp, "nowhere")), [])
-
     def test_markers_of_phases_handovers_fallback_and_failsafes(self):
         s = {"phases": [{"phase": "preflight", "start_s": 0.0}, {"phase": "takeoff", "start_s": 12.2},
                         {"phase": "cruise", "start_s": 30.0}],
