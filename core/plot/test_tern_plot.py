@@ -366,6 +366,23 @@ class Pieces(unittest.TestCase):
         self.assertEqual(TP.added_waypoints([first]), [])
         self.assertEqual(TP.added_waypoints([first, edit, loiter]), [(0, 20.0), (1, 35.0)])
 
+    def test_waypoint_lists_from_the_log_a_cleared_one_included(self):
+        tp = os.path.join(self.tmp, "topics")
+        os.makedirs(tp)
+        write_csv(os.path.join(tp, "waypoints.csv"), ["t [s]", "stamp [ns]", "revision []", "count []", "loop [bool]"],
+                  [[0, 0, 1, 2, 1], [10, 1e10, 2, 3, 1], [20, 2e10, 3, 0, 1]])
+        items = [[0, 0, 1, k, 100.0 * k, 0, -50, 0, 0, 0, 17, 0, 0, 1, 0, 0] for k in range(2)]
+        items += [[10, 1e10, 2, k, 100.0 * k, 0, -50, 0, 0, 0, 17, 0, 0, 1, 0, 0] for k in range(3)]
+        write_csv(os.path.join(tp, "waypoints_items.csv"),
+                  ["t [s]", "stamp [ns]", "revision []", "index []", "w_0 [m|deg]", "w_1 [m|deg]", "w_2 [m|deg]",
+                   "lla [bool]", "chi_d [rad]", "use_chi [bool]", "Va_d [m/s]", "type [enum]", "loiter_radius [m]",
+                   "loiter_direction []", "loiter_time [s]", "loiter_turns []"], items)
+        lists = TP.flown_waypoints(self.tmp)
+        self.assertEqual([(t, rev, len(pos)) for t, rev, pos, _, _ in lists], [(0.0, 1, 2), (10.0, 2, 3), (20.0, 3, 0)])
+        self.assertEqual(TP.added_waypoints(lists[:2]), [(2, 10.0)])
+        self.assertEqual(TP.added_waypoints(lists), [])
+        self.assertIsNone(TP.flown_waypoints(os.path.join(self.tmp, "nowhere")))
+
     def test_euler_sigmas_level_and_banked(self):
         P = np.array([[1e-4, 4e-4, 9e-4]])
         s = TP.euler_sigmas(P, np.array([0.0]), np.array([0.0]))
