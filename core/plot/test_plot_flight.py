@@ -214,8 +214,7 @@ class Flights(unittest.TestCase):
         self.assertEqual(sorted(fig["rmse"]), ["ekf", "ekf_b"])
         self.assertIn("ekf_b estimated", figures(self.plots_r2)["altitude.png"]["legend"])
         TP.NOTES.clear()
-        cfg, source = TP.read_config(self.r2)
-        inst = TP.load_estimators(self.r2, cfg, source)
+        inst = TP.load_run(self.r2, False)["estimators"]
         self.assertEqual([e["name"] for e in inst], ["ekf", "ekf_b"])
         self.assertNotEqual(inst[0]["colour"], inst[1]["colour"])
         cfg, source = TP.read_config(self.r1)

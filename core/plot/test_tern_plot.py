@@ -42,7 +42,10 @@ def load_module():
     return mod
 
 
-TP = load_module()
+TP = load_module()  # it puts its modules (tern_plot_*.py, beside it) on sys.path
+import tern_plot_log as TL  # noqa: E402
+import tern_plot_mission as TM  # noqa: E402
+import tern_plot_yaml as TY  # noqa: E402
 
 STATE_HEADER = ["t [s]", "stamp [ns]", "p_n [m]", "p_e [m]", "p_d [m]", "u [m/s]", "v [m/s]", "w [m/s]",
                 "phi [rad]", "theta [rad]", "psi [rad]", "Va [m/s]", "alpha [rad]", "chi [rad]",
@@ -279,7 +282,7 @@ class Pieces(unittest.TestCase):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
     def test_yaml_subset(self):
-        doc = TP.yaml_load(
+        doc = TY.yaml_load(
             "# resolved from /x/y.yaml\nname: demo   # comment\nseed: 42\nlog: {dir: runs, topics: all}\n"
             "plugins:\n  - name: sim\n    params:\n      wind: [3.5, -3.5e-1, 0]\n      gusts: []\n"
             "      label: \"a # b\"\n  - {name: ekf, trigger: imu}\nlist:\n- 1\n- two\n"
@@ -293,13 +296,13 @@ class Pieces(unittest.TestCase):
         self.assertIs(doc["flag"], False)
         self.assertIsNone(doc["nothing"])
         self.assertEqual(doc["wps"], [[1, 2, 3], [4, 5, 6]])
-        with self.assertRaises(TP.YamlError):
-            TP.yaml_load("a: [1, 2\n")
+        with self.assertRaises(TY.YamlError):
+            TY.yaml_load("a: [1, 2\n")
 
     def test_rosplane_mission_keeps_every_repeated_wp(self):
         text = "".join(f"wp:\n  w: [{n}, {e}, -70.0]\n  chi_d: 1.1518\n  lla: False\n  use_chi: False\n"
                        f"  va_d: 17.0\n" for n, e in ((400, -250), (-400, -50), (-400, -250), (400, -50)))
-        wps, loop = TP.parse_mission_text(text)
+        wps, loop = TM.parse_mission_text(text)
         self.assertTrue(loop)
         self.assertEqual([w for w, _ in wps], [[400, -250, -70], [-400, -50, -70], [-400, -250, -70],
                                                [400, -50, -70]])
@@ -318,7 +321,7 @@ class Pieces(unittest.TestCase):
         wps, loop = TP.mission_waypoints(run, None, None)  # no state: origin from nowhere
         self.assertTrue(loop)
         self.assertEqual(wps.tolist(), [[400, -250, -70], [-400, -50, -70]])  # the lla one needs an origin
-        state = TP.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
+        state = TL.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
                                    "origin_lon": np.array([0.0, ORIGIN[1]]),
                                    "origin_alt": np.array([0.0, ORIGIN[2]]),
                                    "origin_valid": np.array([0.0, 1.0])})
@@ -327,7 +330,7 @@ class Pieces(unittest.TestCase):
         np.testing.assert_allclose(wps[2], [0.0, 0.0, -70.0], atol=1e-6)
 
     def test_loiter_and_return_home_items_are_read(self):
-        wps, loop = TP.parse_mission_text("loop: false\nwaypoints:\n  - [100, 0, -70]\n"
+        wps, loop = TM.parse_mission_text("loop: false\nwaypoints:\n  - [100, 0, -70]\n"
                                           "  - {type: loiter, ned: [100, 100, -70], radius: 60, turns: 2}\n"
                                           "  - {type: return_home, altitude: 80}\n")
         self.assertFalse(loop)
@@ -391,7 +394,7 @@ class Pieces(unittest.TestCase):
         np.testing.assert_allclose([x[0] for x in s], [0.01, 0.03, 0.02], atol=1e-12)
 
     def test_rmse_window_of_the_summary(self):
-        phase = TP.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
+        phase = TL.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
         run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase}
         mask, label = TP.rmse_window(run)
         t = np.array([5.0, 12.0, 16.0, 25.0, 31.0])
@@ -443,7 +446,7 @@ class Pieces(unittest.TestCase):
 
     def test_commanded_segments_cover_the_stretch_flown(self):
         t = np.arange(0.0, 20.0, 0.1)
-        path = TP.Topic("current_path", {
+        path = TL.Topic("current_path", {
             "t": t, "path_type": np.where(t < 10, 1.0, 0.0), "r_n": np.zeros_like(t), "r_e": np.zeros_like(t),
             "q_n": np.ones_like(t), "q_e": np.zeros_like(t), "c_n": np.full_like(t, 200.0),
             "c_e": np.zeros_like(t), "rho": np.where(t < 10, 0.0, 50.0), "lambda": np.ones_like(t)})
