@@ -176,5 +176,11 @@ if not xt <= 25.0:
     sys.exit(f"max cross-track {xt:.1f} m on the first leg exceeds 25 m")
 PY
 
+step "the installed tern plot (its modules in share/tern/plot) draws the flight"
+"$prefix/bin/tern" plot "$run" > "$work/plot.log" 2>&1 || { cat "$work/plot.log"; fail "tern plot of the first leg"; }
+for f in actuators.png estimation_errors.png index.html; do
+  [ -s "$run/plots/$f" ] || { cat "$work/plot.log"; fail "tern plot wrote no plots/$f"; }
+done
+
 echo "PASS: SDK installed, 6 template kinds built and tested out of tree, generated controller flew the default mission's first leg"
 [ $keep -eq 1 ] || rm -rf "$work"
