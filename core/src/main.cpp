@@ -170,7 +170,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern: error: {} (see --help)\n", e.what()); });
-  app.footer("More commands: tern plot RUN_DIR (figures of a flight), tern aero (aircraft models, trim),\n"
+  app.footer("More commands: tern plot RUN_DIR [RUN_B ...] (figures of a flight, index.html; several runs: overlaid), tern aero (aircraft models, trim),\n"
              "tern campaign FILE (Monte Carlo flights: a table, a summary and plots),\n"
              "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
