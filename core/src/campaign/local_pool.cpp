@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <csignal>
 #include <cstring>
+#include <ctime>
 #include <map>
 #include <string>
 #include <vector>
@@ -54,7 +55,7 @@ void install_interrupt_handlers() {
   struct sigaction sa {};
   sa.sa_handler = on_signal;
   sigemptyset(&sa.sa_mask);
-  sa.sa_flags = 0;  // no SA_RESTART: waitpid returns EINTR
+  sa.sa_flags = 0;  // no SA_RESTART: the nap in run_local returns EINTR
   for (int s : {SIGINT, SIGTERM, SIGHUP}) sigaction(s, &sa, nullptr);
 }
 
@@ -75,8 +76,15 @@ bool run_local(const std::vector<Job>& jobs, int workers, const std::function<vo
       for (const auto& [pid, idx] : running) kill(pid, SIGTERM);
     }
     if (running.empty()) break;
+    // Poll rather than block: a signal landing between the g_signal test above and a blocking
+    // waitpid would otherwise wait for a flight to end; here it waits at most one nap.
     int status = 0;
-    const pid_t pid = waitpid(-1, &status, 0);
+    const pid_t pid = waitpid(-1, &status, WNOHANG);
+    if (pid == 0) {
+      const timespec nap{0, 50'000'000};
+      nanosleep(&nap, nullptr);  // EINTR on a signal: the loop sees it at once
+      continue;
+    }
     if (pid < 0) {
       if (errno == EINTR) continue;
       break;
