@@ -10,7 +10,7 @@
 //   airspeed      velocity = sign(dp) sqrt(|dp| / (0.5 * 1.225)), as the firmware's
 //                 Sensors::correct_diff_pressure (src/sensors.cpp), m/s; dp Pa; temperature K.
 //   gnss          lat/lon deg, alt m above MSL, vel NED m/s, header.stamp = time of validity.
-//   command       ROSplane's ControllerROS::actuators_publish_timer_callback with its default
+//   command       ROSplane's ControllerROS::actuator_controls_publish with its default
 //                 pwm_rad_{a,e,r} = 1: mode pass-through, u[0] = delta_t, u[3] = delta_a,
 //                 u[4] = delta_e, u[5] = delta_r (rad).
 #include <bit>
