@@ -246,6 +246,23 @@ std::vector<TypeEntry> build() {
 
 }  // namespace
 
+std::string ros_type_name(const std::string& dds_type) {
+  std::string out;
+  for (std::size_t i = 0; i < dds_type.size();) {
+    if (dds_type.compare(i, 8, "::dds_::") == 0) {
+      out += '/';
+      i += 8;
+    } else if (dds_type.compare(i, 2, "::") == 0) {
+      out += '/';
+      i += 2;
+    } else {
+      out += dds_type[i++];
+    }
+  }
+  if (!out.empty() && out.back() == '_') out.pop_back();
+  return out;
+}
+
 const std::vector<TypeEntry>& all_types() {
   static const std::vector<TypeEntry> types = build();
   return types;

@@ -14,15 +14,8 @@
 
 namespace tern::core::ddsi {
 
-/// "pkg::msg::dds_::Name_" -> "pkg/msg/Name".
-inline std::string ros_type_name(std::string dds) {
-  const std::string mark = "::dds_::";
-  const auto at = dds.find(mark);
-  if (at != std::string::npos) dds.erase(at, mark.size() - 2);
-  if (!dds.empty() && dds.back() == '_') dds.pop_back();
-  for (std::size_t i; (i = dds.find("::")) != std::string::npos;) dds.replace(i, 2, "/");
-  return dds;
-}
+/// "pkg::msg::dds_::Name_" -> "pkg/msg/Name" (convert.cpp).
+std::string ros_type_name(const std::string& dds_type);
 
 inline void to_time(builtin_interfaces::msg::Time& out, Nanos t) {
   const Nanos sec = t >= 0 ? t / 1000000000 : (t - 999999999) / 1000000000;
