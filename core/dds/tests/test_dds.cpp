@@ -71,6 +71,21 @@ struct Flight {
   FlightResult result;
 };
 
+bool reader_matched(fdds::DataReader* r) {
+  fdds::SubscriptionMatchedStatus s;
+  r->get_subscription_matched_status(s);
+  return s.current_count > 0;
+}
+
+/// A reader of rt/tern/estimated_state as ROSplane's nodes subscribe (rclcpp's
+/// create_subscription(topic, 10): reliable, volatile, keep-last 10).
+fdds::DataReader* rosplane_state_reader(fdds::DomainParticipant* p, fdds::Subscriber* sub) {
+  auto* r = sub->create_datareader(ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/estimated_state"),
+                                   ddsi::reader_qos(DdsQos::reliable));
+  REQUIRE(r != nullptr);
+  return r;
+}
+
 /// The sockets of this process and their local IPv4 addresses (hex, as in /proc/net/udp).
 std::vector<std::string> socket_addresses() {
   std::set<std::string> inodes;
@@ -289,20 +304,12 @@ TEST_CASE("dds: ROSplane profile: readers with ROSplane's QoS match; stamps are 
   DdsBridge bridge(*f.host, opt);
   auto* p = ddsi::make_participant(opt, "ros node");
   auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  // rclcpp's create_subscription(topic, 10): reliable, volatile, keep-last 10 (ROSplane's controller)
-  auto* state = sub->create_datareader(ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/estimated_state"),
-                                       ddsi::reader_qos(DdsQos::reliable));
+  auto* state = rosplane_state_reader(p, sub);
   // rclcpp's ClockQoS: best-effort, keep-last 1
   auto* clock = sub->create_datareader(ddsi::make_topic<rosgraph_msgs::msg::ClockPubSubType>(p, "rt/clock"),
                                        ddsi::reader_qos(DdsQos::best_effort));
-  REQUIRE(state != nullptr);
   REQUIRE(clock != nullptr);
-  auto matched = [](fdds::DataReader* r) {
-    fdds::SubscriptionMatchedStatus s;
-    r->get_subscription_matched_status(s);
-    return s.current_count > 0;
-  };
-  REQUIRE(ddsi::wait_until([&] { return matched(state) && matched(clock); }, std::chrono::seconds(10)));
+  REQUIRE(ddsi::wait_until([&] { return reader_matched(state) && reader_matched(clock); }, std::chrono::seconds(10)));
   fdds::RequestedIncompatibleQosStatus incompatible;
   state->get_requested_incompatible_qos_status(incompatible);
   CHECK(incompatible.total_count == 0);
@@ -345,13 +352,8 @@ TEST_CASE("dds: with wall time (a real FCU) stamps are UNIX time and there is no
   DdsBridge bridge(*f.host, opt);
   auto* p = ddsi::make_participant(opt, "ros node");
   auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
-  auto* state = sub->create_datareader(ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/estimated_state"),
-                                       ddsi::reader_qos(DdsQos::reliable));
-  REQUIRE(ddsi::wait_until([&] {
-    fdds::SubscriptionMatchedStatus s;
-    state->get_subscription_matched_status(s);
-    return s.current_count > 0;
-  }, std::chrono::seconds(10)));
+  auto* state = rosplane_state_reader(p, sub);
+  REQUIRE(ddsi::wait_until([&] { return reader_matched(state); }, std::chrono::seconds(10)));
   const double t0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   f.start();
   REQUIRE(state->wait_for_unread_message(eprosima::fastrtps::Duration_t(5, 0)));
