@@ -42,6 +42,7 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "cli_overrides.hpp"
 #include "common_frame.hpp"
 #include "config.hpp"
 #include "host.hpp"
@@ -142,13 +143,9 @@ const T* latest(const tern::OutputBase* src) {
   return static_cast<const T*>(src->data());
 }
 
-struct Setting {
-  std::string instance, param, value;  // --set INSTANCE.PARAM=VALUE (VALUE in YAML)
-};
-
 // The config with every sim_aero instance's sensor_profile set, and the --set overrides.
 tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile,
-                                       const std::vector<Setting>& sets, const Outage& outage) {
+                                       const tern::core::CliOverrides& sets, const Outage& outage) {
   tern::core::MissionConfig mc = tern::core::load_config(mission);
   for (auto& inst : mc.plugins) {
     if (inst.plugin == "sim_aero") {
@@ -165,15 +162,8 @@ tern::core::MissionConfig with_profile(const std::string& mission, const std::st
         inst.params["gnss_nan"] = o;
       }
     }
-    for (const auto& set : sets) {
-      if (set.instance != inst.name) continue;
-      tern::core::ParamSetting s;
-      s.node = YAML::Load(set.value);
-      s.file = mission;
-      s.field = "bench_estimation --set";
-      inst.params[set.param] = s;
-    }
   }
+  tern::core::apply_overrides(mc, sets);  // as `tern fly --set`
   return mc;
 }
 
@@ -231,7 +221,7 @@ double summary_number(const nlohmann::json& j, const char* instance, const char*
   return i[instance][key].get<double>();
 }
 
-Flight fly(const std::string& mission, const std::string& profile, const std::vector<Setting>& sets, std::uint64_t seed,
+Flight fly(const std::string& mission, const std::string& profile, const tern::core::CliOverrides& sets, std::uint64_t seed,
            double duration, const Outage& outage, const fs::path& logs) {
   tern::core::HostOptions o;
   o.quiet = true;
@@ -405,7 +395,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> missions, profiles = {"realistic", "rosflight"};
   int seeds = 10;
   double duration = 300.0;
-  std::vector<Setting> sets;
+  tern::core::CliOverrides sets;
   const char* usage =
       "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...] "
       "[--per-seed] [--gnss-outage START,END]";
@@ -427,19 +417,13 @@ int main(int argc, char** argv) {
       }
     }
     else if (a == "--set" && i + 1 < argc) {
-      const std::string v = argv[++i];
-      const auto dot = v.find('.'), eq = v.find('=');
-      if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
-        std::fprintf(stderr, "bench_estimation: --set wants INSTANCE.PARAM=VALUE, got '%s'\n", v.c_str());
-        return 2;
-      }
+      sets.sets.push_back(argv[++i]);
       try {
-        (void)YAML::Load(v.substr(eq + 1));  // one clear line now rather than a throw mid-campaign
-      } catch (const YAML::Exception& e) {
-        std::fprintf(stderr, "bench_estimation: --set %s: the value is not YAML: %s\n", v.c_str(), e.what());
+        (void)tern::core::parse_param_override(sets.sets.back());  // one clear line now rather than a throw mid-campaign
+      } catch (const tern::core::ConfigError& e) {
+        std::fprintf(stderr, "bench_estimation: %s\n", e.what());
         return 2;
       }
-      sets.push_back({v.substr(0, dot), v.substr(dot + 1, eq - dot - 1), v.substr(eq + 1)});
     }
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "bench_estimation: unknown option '%s' (%s)\n", a.c_str(), usage);
@@ -463,7 +447,7 @@ int main(int argc, char** argv) {
   j["duration_s"] = duration;
   j["window_start_s"] = kT0;
   j["wind_window_start_s"] = kT0Wind;
-  for (const auto& set : sets) j["settings"].push_back(set.instance + "." + set.param + "=" + set.value);
+  for (const auto& set : sets.sets) j["settings"].push_back(set);
   j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * kDeg);
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {

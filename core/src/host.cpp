@@ -122,7 +122,8 @@ void Host::rebuild_graph() {
     Instance& inst = *instances_[i];
     inst.divisor = rates.divisors[i];
     inst.stats.budget_ns = rates.budgets[i];
-    nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
+    if (inst.idle) nodes.push_back({inst.cfg.name, false, false, {}, {}});  // writes and reads nothing
+    else nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
   }
   const OutputBase* edits = remote_.renew_mission_edit_output();
   const OutputBase* pilot = remote_.renew_pilot_output();
@@ -304,6 +305,8 @@ std::string Host::graph_text() const {
         if (name == inst.cfg.name) phases.emplace_back(msg::phase_name(p));
       if (router_.fallback() == idx) phases.emplace_back("fallback");
       route = fmt::format("  [phase router: {}]", fmt::join(phases, ", "));
+    } else if (inst.idle) {
+      route = "  (not routed: idle, never steps, writes nothing)";
     }
     s += fmt::format("  {}. {} ({}, {}) {}{}\n", k + 1, inst.cfg.name, inst.info.name, kind_name(inst.info.kind), when, route);
   }
@@ -313,8 +316,9 @@ std::string Host::graph_text() const {
 std::string Host::graph_dot() const {
   std::string s = "digraph tern {\n  rankdir=LR;\n  node [shape=box];\n";
   for (std::size_t i = 0; i < instances_.size(); ++i)
-    s += fmt::format("  \"{}\" [label=\"{}\\n{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
-                     instances_[i]->info.kind == PluginKind::io ? ", style=bold" : "");
+    s += fmt::format("  \"{}\" [label=\"{}\\n{}{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
+                     instances_[i]->idle ? "\\n(not routed: idle)" : "",
+                     instances_[i]->info.kind == PluginKind::io ? ", style=bold" : instances_[i]->idle ? ", style=dashed" : "");
   for (const auto& e : graph_.edges())
     s += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\"{}];\n", instances_[e.from]->cfg.name, instances_[e.to]->cfg.name, e.topic,
                      e.feedback ? ", style=dashed" : "");
