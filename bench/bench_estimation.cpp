@@ -45,6 +45,7 @@
 #include "cli_overrides.hpp"
 #include "common_frame.hpp"
 #include "config.hpp"
+#include "error.hpp"
 #include "host.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/all.hpp"
@@ -416,15 +417,7 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
-    else if (a == "--set" && i + 1 < argc) {
-      sets.sets.push_back(argv[++i]);
-      try {
-        (void)tern::core::parse_param_override(sets.sets.back());  // one clear line now rather than a throw mid-campaign
-      } catch (const tern::core::ConfigError& e) {
-        std::fprintf(stderr, "bench_estimation: %s\n", e.what());
-        return 2;
-      }
-    }
+    else if (a == "--set" && i + 1 < argc) sets.sets.push_back(argv[++i]);
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "bench_estimation: unknown option '%s' (%s)\n", a.c_str(), usage);
       return 2;
@@ -433,6 +426,18 @@ int main(int argc, char** argv) {
   if (missions.empty()) missions = {dir + "default.yaml", dir + "aggressive.yaml"};
   if (seeds < 1 || !(duration > kT0Wind) || profiles.empty()) {
     std::fprintf(stderr, "bench_estimation: need --seeds >= 1, --duration > %.0f s and a profile (%s)\n", kT0Wind, usage);
+    return 2;
+  }
+  try {  // each mission with the settings configured once: one clear line now rather than a throw mid-campaign
+    for (const auto& mission : missions) {
+      tern::core::HostOptions describe;
+      describe.describing = true;
+      describe.quiet = true;
+      tern::core::Host host(with_profile(mission, profiles.front(), sets, outage), describe);
+      host.build();
+    }
+  } catch (const tern::core::ConfigError& e) {
+    std::fprintf(stderr, "bench_estimation: %s\n", e.what());
     return 2;
   }
   std::string tmpl = (fs::temp_directory_path() / "tern_bench_estimation_XXXXXX").string();

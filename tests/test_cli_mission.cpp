@@ -18,7 +18,7 @@ struct Run {
   bool has(const std::string& s) const { return out.find(s) != std::string::npos; }
 };
 
-Run tern(const std::vector<std::string>& args) {
+Run run(const std::vector<std::string>& args) {
   const fs::path out = test_dir() / "tern.out";
   const int rc = run_tern(args, out);
   return {rc, read_file(out)};
@@ -28,7 +28,7 @@ Run tern(const std::vector<std::string>& args) {
 Run check_file(const std::string& name, const std::string& text, std::vector<std::string> extra = {}) {
   std::vector<std::string> args = {"check", kDefault, "--set", "planner.mission_file=" + write_file(name, text).string()};
   args.insert(args.end(), extra.begin(), extra.end());
-  return tern(args);
+  return run(args);
 }
 
 /// The default mission with its `mission:` section replaced by `mission` (and `top` added).
@@ -66,7 +66,7 @@ TEST_CASE("below the ground, and the lla flag forgotten (a warning besides), aga
   const std::string file = write_file("lla_forgotten.yaml", "wp:\n  w: [400.0, -250.0, -70.0]\n  va_d: 17.0\n"
                                                             "wp:\n  w: [40.2499718, -111.6503560, 1457.0]\n  lla: False\n  va_d: 17.0\n")
                                .string();
-  Run r = tern({"check", kDefault, "--set", "planner.mission_file=" + file});
+  Run r = run({"check", kDefault, "--set", "planner.mission_file=" + file});
   CHECK(r.rc == 1);
   CHECK(r.has("tern: warning: " + file + ":4: wp 2: [40.2499718, -111.650356, 1457] is NED (m) but looks like latitude, longitude, "
               "altitude: lla: true forgotten?\n"));
@@ -76,7 +76,7 @@ TEST_CASE("below the ground, and the lla flag forgotten (a warning besides), aga
   CHECK(r.rc == 1);
   CHECK(r.has(":3: waypoints[1]: altitude 1300 m MSL is 87.0 m below home (1387 m MSL): below the ground\n"));
   // tern fly refuses it before flying: no run directory
-  r = tern({"fly", kDefault, "--set", "planner.mission_file=" + file, "-q", "--duration", "1", "--log-dir",
+  r = run({"fly", kDefault, "--set", "planner.mission_file=" + file, "-q", "--duration", "1", "--log-dir",
             (test_dir() / "refused").string()});
   CHECK(r.rc == 1);
   CHECK(r.has("tern: error: " + file + ":4: wp 2: down = 1457 m"));
@@ -89,7 +89,7 @@ TEST_CASE("too far from home: 5 km by default, check.max_waypoint_distance in th
   CHECK(r.has(":3: waypoints[1]: 21997.5 m from home, further than check.max_waypoint_distance = 5000 m\n"));
   const fs::path cfg = inline_config("near.yaml", "mission:\n  waypoints:\n    - [400, -250, -70]\n    - [-400, -50, -70]\n",
                                      "check: {max_waypoint_distance: 300}\n");
-  r = tern({"check", cfg.string()});
+  r = run({"check", cfg.string()});
   CHECK(r.rc == 1);
   // inline waypoints: the config file's own lines
   const auto n = lines(read_file(cfg)).size();
@@ -118,7 +118,7 @@ TEST_CASE("legal but suspicious: warnings, exit 0") {
 }
 
 TEST_CASE("the shipped missions with the stock controller back in cruise: TECS idle, no second writer") {
-  const Run r = tern({"check", std::string(TERN_SOURCE_DIR) + "/configs/missions/tecs.yaml", "--phases", "takeoff=slc,climb=slc,cruise=slc"});
+  const Run r = run({"check", std::string(TERN_SOURCE_DIR) + "/configs/missions/tecs.yaml", "--phases", "takeoff=slc,climb=slc,cruise=slc"});
   CHECK(r.rc == 0);
   CHECK(r.has("(not routed: idle, never steps, writes nothing)"));
   CHECK(r.has("config OK"));
