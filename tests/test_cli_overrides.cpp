@@ -156,6 +156,13 @@ TEST_CASE("tern fly --set --phases --fallback: the run's config.yaml holds the v
   CHECK(flown.find("phases: {takeoff: ctl2, climb: ctl2, cruise: ctl2}") != std::string::npos);
   CHECK(flown.find("fallback: ctl") != std::string::npos);
   CHECK(flown.find("tag: 0.29999999999999999") != std::string::npos);  // ctl2 flew 0.3 (as the emitter writes it)
+  const auto params = lines(read_file(run / "params.csv"));
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl2.tag,0.3,--set ctl2.tag=0.3") != params.end());
+  // tern params shows the value the option sets
+  CHECK(run_tern({"params", cfg.string(), "--set", "ctl.kp=0.25"}, out) == 0);
+  bool listed = false;
+  for (const auto& l : lines(read_file(out))) listed = listed || (l.rfind("ctl.kp ", 0) == 0 && l.find(" 0.25 ") != std::string::npos);
+  CHECK(listed);
   // and one error line for a bad value, naming the option
   CHECK(run_tern({"check", cfg.string(), "--set", "ctl.kp=11"}, out) == 1);
   CHECK(read_file(out) == "tern: error: --set ctl.kp=11: parameter 'ctl.kp': value 11 is outside the valid range [0, 10] 1/m\n");

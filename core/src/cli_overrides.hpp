@@ -12,6 +12,7 @@
 // records the effective values and names the options (config.hpp: MissionConfig::overrides).
 #pragma once
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,5 +41,9 @@ ParamOverride parse_param_override(const std::string& item);
 /// naming the option and value: unknown instance or phase (with a suggestion), a value that is
 /// not YAML, a table without takeoff, climb or cruise, --fallback without a table.
 void apply_overrides(MissionConfig& config, const CliOverrides& o);
+
+/// The parameters a command-line option set: "instance.param" -> the option ("--set ...",
+/// "--skip-preflight"), for the flight log's params.csv.
+std::map<std::string, std::string> param_options(const MissionConfig& config);
 
 }  // namespace tern::core

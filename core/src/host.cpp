@@ -12,6 +12,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "cli_overrides.hpp"
 #include "elf_check.hpp"
 #include "error.hpp"
 #include "flight_recorder.hpp"
@@ -351,7 +352,7 @@ FlightResult Host::fly() {
                           [this](const std::string& line) { logger_->error("{}", line); });
   FlightResult r;
   r.run_dir = recorder.dir();
-  recorder.start(resolved_config_yaml(facts(duration)), parameters());
+  recorder.start(resolved_config_yaml(facts(duration)), parameters(), param_options(config_));
   recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
