@@ -156,6 +156,8 @@ TEST_CASE("tern fly --set --phases --fallback: the run's config.yaml holds the v
   CHECK(flown.find("phases: {takeoff: ctl2, climb: ctl2, cruise: ctl2}") != std::string::npos);
   CHECK(flown.find("fallback: ctl") != std::string::npos);
   CHECK(flown.find("tag: 0.29999999999999999") != std::string::npos);  // ctl2 flew 0.3 (as the emitter writes it)
+  CHECK(read_file(run / "tern.log").find("command line: --phases takeoff=ctl2,climb=ctl2,cruise=ctl2 --fallback ctl --set ctl2.tag=0.3") !=
+        std::string::npos);
   const auto params = lines(read_file(run / "params.csv"));
   CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl2.tag,0.3,--set ctl2.tag=0.3") != params.end());
   // tern params shows the value the option sets

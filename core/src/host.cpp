@@ -356,6 +356,7 @@ FlightResult Host::fly() {
   recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
+  if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
   const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
     recorder.param(t, name, p, source);
   };

@@ -476,6 +476,7 @@ int main(int argc, char** argv) {
 #endif
       Host host(std::move(mc), opt);
       host.build();
+      if (!report_missions(check_missions(host))) return 1;  // as tern fly: refused before any flight
       const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
       std::unique_ptr<DdsBridge> bridge;

@@ -1,6 +1,6 @@
 // core/src/mission_check.hpp: the missions a config will fly, checked before it flies (`tern
-// check`, and `tern fly` before it takes off). For every path_planner instance: the file its
-// `mission_file` parameter names, else the config's `mission:` section, read with the planner's
+// check`; `tern fly` and `tern serve` before any flight). For every path_planner instance: the
+// file its `mission_file` parameter names, else the config's `mission:` section, read with the planner's
 // own parser (tern/path/mission.hpp: keys, types, latitude/longitude ranges) and checked by
 // tern/path/mission_check.hpp (below home, too far from home, legs shorter than the turn radius;
 // warnings for what looks wrong) against:
