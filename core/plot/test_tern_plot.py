@@ -23,13 +23,14 @@ try:
 except ImportError:  # a pyenv/venv python3 first on PATH: Debian's has python3-numpy
     if os.path.exists("/usr/bin/python3") and not os.environ.get("TERN_PLOT_TEST_REEXEC"):
         os.environ["TERN_PLOT_TEST_REEXEC"] = "1"
-        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(__file__)] + sys.argv[1:])
+        # the script run (test_plot_flight.py imports this module), not necessarily this file
+        os.execv("/usr/bin/python3", ["/usr/bin/python3", os.path.abspath(sys.argv[0])] + sys.argv[1:])
     raise
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "tern-plot")
 FIGURES = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png",
-           "estimation_errors.png"]
+           "actuators.png", "estimation_errors.png"]
 PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 
@@ -41,7 +42,10 @@ def load_module():
     return mod
 
 
-TP = load_module()
+TP = load_module()  # it puts its modules (tern_plot_*.py, beside it) on sys.path
+import tern_plot_log as TL  # noqa: E402
+import tern_plot_mission as TM  # noqa: E402
+import tern_plot_yaml as TY  # noqa: E402
 
 STATE_HEADER = ["t [s]", "stamp [ns]", "p_n [m]", "p_e [m]", "p_d [m]", "u [m/s]", "v [m/s]", "w [m/s]",
                 "phi [rad]", "theta [rad]", "psi [rad]", "Va [m/s]", "alpha [rad]", "chi [rad]",
@@ -61,7 +65,7 @@ def write_csv(path, header, rows):
 
 
 def write_run(run, topics=("state", "truth", "controller_command", "controller_internals", "current_path",
-                           "flight_phase", "waypoints"), config=True, duration=60.0, rate=50.0):
+                           "flight_phase", "waypoints", "actuators"), config=True, duration=60.0, rate=50.0):
     """A clockwise orbit of R_ORBIT about the origin, climbing to 50 m, course past +-180 deg."""
     os.makedirs(os.path.join(run, "topics"))
     n = int(duration * rate) + 1
@@ -109,6 +113,18 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
         write_csv(os.path.join(tp, "flight_phase.csv"),
                   ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
                   [[0, 0, 0, 0, 0], [3, 3e9, 1, 0, 3e9], [20, 20e9, 2, 1, 20e9]])
+    if "actuators" in topics:   # the aileron at slc's max_a from 30 s to 40 s
+        write_csv(os.path.join(tp, "actuators.csv"),
+                  ["t [s]", "stamp [ns]", "delta_a [rad]", "delta_e [rad]", "delta_r [rad]", "delta_t []"],
+                  [[r[0], r[1], 0.5 if 30.0 <= r[0] < 40.0 else 0.1, -0.1, 0.0, 0.6] for r in truth_rows])
+        write_csv(os.path.join(run, "params.csv"), ["t [s]", "parameter", "value", "source"], [])
+        with open(os.path.join(run, "params.csv"), "a") as f:
+            f.write("0,slc.max_a,0.5,config\n0,slc.max_e,0.61,default\n0,slc.max_r,0.523,default\n"
+                    "0,slc.min_t,0,default\n0,slc.max_t,1,default\n0,phase_machine.max_deflection,0.7,default\n")
+        with open(os.path.join(run, "summary.json"), "w") as f:
+            f.write('{"phases": [{"phase": "takeoff", "start_s": 0.0, "reason": "r"}], "controller_handovers": '
+                    '[{"t_s": 0.0, "from": "(none)", "to": "slc", "reason": "phase takeoff"}], "failsafes": [], '
+                    '"metrics": {"window_start_s": null}}')
     if "waypoints" in topics:
         write_csv(os.path.join(tp, "waypoints.csv"),
                   ["t [s]", "stamp [ns]", "revision []", "count []", "loop [bool]"], [[0, 0, 1, 4, 1]])
@@ -266,7 +282,7 @@ class Pieces(unittest.TestCase):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
     def test_yaml_subset(self):
-        doc = TP.yaml_load(
+        doc = TY.yaml_load(
             "# resolved from /x/y.yaml\nname: demo   # comment\nseed: 42\nlog: {dir: runs, topics: all}\n"
             "plugins:\n  - name: sim\n    params:\n      wind: [3.5, -3.5e-1, 0]\n      gusts: []\n"
             "      label: \"a # b\"\n  - {name: ekf, trigger: imu}\nlist:\n- 1\n- two\n"
@@ -280,13 +296,13 @@ class Pieces(unittest.TestCase):
         self.assertIs(doc["flag"], False)
         self.assertIsNone(doc["nothing"])
         self.assertEqual(doc["wps"], [[1, 2, 3], [4, 5, 6]])
-        with self.assertRaises(TP.YamlError):
-            TP.yaml_load("a: [1, 2\n")
+        with self.assertRaises(TY.YamlError):
+            TY.yaml_load("a: [1, 2\n")
 
     def test_rosplane_mission_keeps_every_repeated_wp(self):
         text = "".join(f"wp:\n  w: [{n}, {e}, -70.0]\n  chi_d: 1.1518\n  lla: False\n  use_chi: False\n"
                        f"  va_d: 17.0\n" for n, e in ((400, -250), (-400, -50), (-400, -250), (400, -50)))
-        wps, loop = TP.parse_mission_text(text)
+        wps, loop = TM.parse_mission_text(text)
         self.assertTrue(loop)
         self.assertEqual([w for w, _ in wps], [[400, -250, -70], [-400, -50, -70], [-400, -250, -70],
                                                [400, -50, -70]])
@@ -305,7 +321,7 @@ class Pieces(unittest.TestCase):
         wps, loop = TP.mission_waypoints(run, None, None)  # no state: origin from nowhere
         self.assertTrue(loop)
         self.assertEqual(wps.tolist(), [[400, -250, -70], [-400, -50, -70]])  # the lla one needs an origin
-        state = TP.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
+        state = TL.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
                                    "origin_lon": np.array([0.0, ORIGIN[1]]),
                                    "origin_alt": np.array([0.0, ORIGIN[2]]),
                                    "origin_valid": np.array([0.0, 1.0])})
@@ -314,23 +330,80 @@ class Pieces(unittest.TestCase):
         np.testing.assert_allclose(wps[2], [0.0, 0.0, -70.0], atol=1e-6)
 
     def test_loiter_and_return_home_items_are_read(self):
-        wps, loop = TP.parse_mission_text("loop: false\nwaypoints:\n  - [100, 0, -70]\n"
+        wps, loop = TM.parse_mission_text("loop: false\nwaypoints:\n  - [100, 0, -70]\n"
                                           "  - {type: loiter, ned: [100, 100, -70], radius: 60, turns: 2}\n"
                                           "  - {type: return_home, altitude: 80}\n")
         self.assertFalse(loop)
         self.assertEqual([w for w, _ in wps], [[100, 0, -70], [100, 100, -70], [0, 0, -80]])
 
-    def test_failsafe_and_fallback_engagements_are_markers(self):
-        with open(os.path.join(self.tmp, "summary.json"), "w") as f:
-            f.write('{"failsafes": [{"t_s": 103.0, "cause": "gnss_loss", "action": "loiter", "detail": "x"},'
-                    ' {"t_s": 200.5, "cause": "gnss_back", "action": "none", "detail": "y"}],'
-                    ' "controller_handovers": [{"t_s": 9.7, "from": "(none)", "to": "slc", "reason": "phase takeoff"},'
-                    ' {"t_s": 50.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: z"}]}')
-        ev = TP.flight_events(self.tmp)
-        self.assertEqual([(t, label) for t, label, _ in ev],
-                         [(103.0, "failsafe gnss_loss"), (200.5, "failsafe gnss_back"), (50.0, "safety: slc")])
-        self.assertNotEqual(ev[0][2], ev[1][2])  # engaged and cleared differ in colour
-        self.assertEqual(TP.flight_events(os.path.join(self.tmp, "nowhere")), [])
+    def test_markers_of_phases_handovers_fallback_and_failsafes(self):
+        s = {"phases": [{"phase": "preflight", "start_s": 0.0}, {"phase": "takeoff", "start_s": 12.2},
+                        {"phase": "cruise", "start_s": 30.0}],
+             "controller_handovers": [{"t_s": 0.0, "from": "slc", "to": "(none)", "reason": "preflight: on the ground"},
+                                      {"t_s": 12.2, "from": "(none)", "to": "slc", "reason": "phase takeoff"},
+                                      {"t_s": 30.0, "from": "slc", "to": "ctl", "reason": "phase cruise"},
+                                      {"t_s": 41.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: x"}],
+             "failsafes": [{"t_s": 50.0, "cause": "gnss_loss", "action": "loiter"},
+                           {"t_s": 58.0, "cause": "gnss_back", "action": "none"}]}
+        self.assertEqual(TP.flight_markers(s), [
+            (12.2, "takeoff; (none) -> slc", "handover"), (30.0, "cruise; slc -> ctl", "handover"),
+            (41.0, "fallback: ctl -> slc", "fallback"), (50.0, "failsafe gnss_loss", "failsafe"),
+            (58.0, "failsafe gnss_back", "cleared")])
+
+    def test_limits_follow_the_controller_and_saturation_spans(self):
+        s = {"controller_handovers": [{"t_s": 1.0, "from": "(none)", "to": "slc"}, {"t_s": 3.0, "from": "slc", "to": "ctl"}]}
+        params = {"slc.max_a": [(0.0, "0.7")], "ctl.max_a": [(0.0, "0.2"), (4.0, "0.3")]}
+        t = np.arange(0.0, 6.0, 0.5)
+        lo, hi, sources = TP.actuator_limits(s, params, t)["delta_a"]
+        np.testing.assert_array_equal(hi, [np.nan, np.nan, 0.7, 0.7, 0.7, 0.7, 0.2, 0.2, 0.3, 0.3, 0.3, 0.3])
+        np.testing.assert_array_equal(lo, -hi)
+        self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
+        v = np.array([0.9, 0.0, 0.7, 0.1, 0.1, -0.7, 0.2, 0.2, 0.2, 0.3, 0.1, -0.3])
+        self.assertEqual(TP.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
+
+    def test_waypoints_added_in_flight(self):
+        first = (0.0, 1, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0]]), np.array([0, 0]), np.zeros(2))
+        edit = (20.0, 2, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0], [50.0, 50.0, -60.0]]), np.zeros(3, int),
+                np.zeros(3))
+        loiter = (35.0, 3, np.array([[50.0, 50.0, -60.0], [7.0, 8.0, -40.0]]), np.array([0, 1]), np.zeros(2))
+        self.assertEqual(TP.added_waypoints([first]), [])
+        self.assertEqual(TP.added_waypoints([first, edit, loiter]), [(0, 20.0), (1, 35.0)])
+
+    def test_waypoint_lists_from_the_log_a_cleared_one_included(self):
+        tp = os.path.join(self.tmp, "topics")
+        os.makedirs(tp)
+        write_csv(os.path.join(tp, "waypoints.csv"), ["t [s]", "stamp [ns]", "revision []", "count []", "loop [bool]"],
+                  [[0, 0, 1, 2, 1], [10, 1e10, 2, 3, 1], [20, 2e10, 3, 0, 1]])
+        items = [[0, 0, 1, k, 100.0 * k, 0, -50, 0, 0, 0, 17, 0, 0, 1, 0, 0] for k in range(2)]
+        items += [[10, 1e10, 2, k, 100.0 * k, 0, -50, 0, 0, 0, 17, 0, 0, 1, 0, 0] for k in range(3)]
+        write_csv(os.path.join(tp, "waypoints_items.csv"),
+                  ["t [s]", "stamp [ns]", "revision []", "index []", "w_0 [m|deg]", "w_1 [m|deg]", "w_2 [m|deg]",
+                   "lla [bool]", "chi_d [rad]", "use_chi [bool]", "Va_d [m/s]", "type [enum]", "loiter_radius [m]",
+                   "loiter_direction []", "loiter_time [s]", "loiter_turns []"], items)
+        lists = TP.flown_waypoints(self.tmp)
+        self.assertEqual([(t, rev, len(pos)) for t, rev, pos, _, _ in lists], [(0.0, 1, 2), (10.0, 2, 3), (20.0, 3, 0)])
+        self.assertEqual(TP.added_waypoints(lists[:2]), [(2, 10.0)])
+        self.assertEqual(TP.added_waypoints(lists), [])
+        self.assertIsNone(TP.flown_waypoints(os.path.join(self.tmp, "nowhere")))
+
+    def test_euler_sigmas_level_and_banked(self):
+        P = np.array([[1e-4, 4e-4, 9e-4]])
+        s = TP.euler_sigmas(P, np.array([0.0]), np.array([0.0]))
+        np.testing.assert_allclose([x[0] for x in s], [0.01, 0.02, 0.03])
+        s = TP.euler_sigmas(P, np.array([math.pi / 2]), np.array([0.0]))  # banked 90 deg: pitch from body z
+        np.testing.assert_allclose([x[0] for x in s], [0.01, 0.03, 0.02], atol=1e-12)
+
+    def test_rmse_window_of_the_summary(self):
+        phase = TL.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
+        run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase}
+        mask, label = TP.rmse_window(run)
+        t = np.array([5.0, 12.0, 16.0, 25.0, 31.0])
+        self.assertEqual(mask(t).tolist(), [False, False, True, False, True])
+        self.assertEqual(label, "cruise 15-40 s, as summary.json")
+        run["summary"]["metrics"]["window_start_s"] = None
+        mask, label = TP.rmse_window(run)
+        self.assertTrue(mask(t).all())
+        self.assertIn("no RMSE window", label)
 
     def test_lla_to_ned(self):
         lat, lon, alt = ORIGIN
@@ -373,7 +446,7 @@ class Pieces(unittest.TestCase):
 
     def test_commanded_segments_cover_the_stretch_flown(self):
         t = np.arange(0.0, 20.0, 0.1)
-        path = TP.Topic("current_path", {
+        path = TL.Topic("current_path", {
             "t": t, "path_type": np.where(t < 10, 1.0, 0.0), "r_n": np.zeros_like(t), "r_e": np.zeros_like(t),
             "q_n": np.ones_like(t), "q_e": np.zeros_like(t), "c_n": np.full_like(t, 200.0),
             "c_e": np.zeros_like(t), "rho": np.where(t < 10, 0.0, 50.0), "lambda": np.ones_like(t)})

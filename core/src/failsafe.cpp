@@ -110,16 +110,26 @@ void FailsafeMonitor::link(const FailsafeInputs& in, std::vector<FailsafeEvent>&
                  Eigen::Vector3d(0.0, 0.0, -h), c.radius});
 }
 
-std::string FailsafeMonitor::fence_breach(const msg::State& s) {
+FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s) const {
   const GeofenceConfig& c = config_.geofence;
   const double h = s.altitude();
-  const double d = std::hypot(s.p_n, s.p_e);
-  if (c.max_distance && d > *c.max_distance) return fmt::format("{:.1f} m from home, beyond max_distance {} m", d, *c.max_distance);
-  if (c.max_altitude && h > *c.max_altitude) return fmt::format("altitude {:.1f} m above max_altitude {} m", h, *c.max_altitude);
-  if (c.min_altitude && floor_armed_ && h < *c.min_altitude)
-    return fmt::format("altitude {:.1f} m below min_altitude {} m", h, *c.min_altitude);
-  if (!c.polygon.empty() && !inside_polygon(c.polygon, {s.p_n, s.p_e}))
-    return fmt::format("n {:.1f} e {:.1f} m outside the polygon", s.p_n, s.p_e);
+  if (c.max_distance && std::hypot(s.p_n, s.p_e) > *c.max_distance) return Breach::max_distance;
+  if (c.max_altitude && h > *c.max_altitude) return Breach::max_altitude;
+  if (c.min_altitude && floor_armed_ && h < *c.min_altitude) return Breach::min_altitude;
+  if (!c.polygon.empty() && !inside_polygon(c.polygon, {s.p_n, s.p_e})) return Breach::polygon;
+  return Breach::none;
+}
+
+std::string FailsafeMonitor::describe(Breach b, const msg::State& s) const {
+  const GeofenceConfig& c = config_.geofence;
+  switch (b) {
+    case Breach::max_distance:
+      return fmt::format("{:.1f} m from home, beyond max_distance {} m", std::hypot(s.p_n, s.p_e), *c.max_distance);
+    case Breach::max_altitude: return fmt::format("altitude {:.1f} m above max_altitude {} m", s.altitude(), *c.max_altitude);
+    case Breach::min_altitude: return fmt::format("altitude {:.1f} m below min_altitude {} m", s.altitude(), *c.min_altitude);
+    case Breach::polygon: return fmt::format("n {:.1f} e {:.1f} m outside the polygon", s.p_n, s.p_e);
+    case Breach::none: break;
+  }
   return "";
 }
 
@@ -127,21 +137,21 @@ void FailsafeMonitor::geofence(const FailsafeInputs& in, std::vector<FailsafeEve
   const GeofenceConfig& c = config_.geofence;
   if (!usable(in.state)) return;
   floor_armed_ = floor_armed_ || (in.airborne && (!c.min_altitude || in.state->altitude() > *c.min_altitude));
-  const std::string breach = fence_breach(*in.state);
-  if (fence_breached_at_ && breach.empty()) {
+  const Breach breach = fence_breach(*in.state);
+  if (fence_breached_at_ && breach == Breach::none) {
     out.push_back({in.now, "geofence_inside", "none",
                    fmt::format("inside the geofence again after {:.1f} s; the aircraft keeps loitering at home",
                                to_seconds(in.now - *fence_breached_at_))});
     fence_breached_at_.reset();
     return;
   }
-  if (fence_breached_at_ || breach.empty() || !in.airborne) return;
+  if (fence_breached_at_ || breach == Breach::none || !in.airborne) return;
   fence_breached_at_ = in.now;
   const double lo = c.min_altitude ? *c.min_altitude + c.altitude_margin : -1e9;
   const double hi = c.max_altitude ? *c.max_altitude - c.altitude_margin : 1e9;
   const double h = std::clamp(in.state->altitude(), lo, std::max(lo, hi));
   out.push_back({in.now, "geofence", "return_home",
-                 fmt::format("geofence breached: {}: return inside, loiter at home at altitude {:.1f} m", breach, h),
+                 fmt::format("geofence breached: {}: return inside, loiter at home at altitude {:.1f} m", describe(breach, *in.state), h),
                  Eigen::Vector3d(0.0, 0.0, -h), c.radius});
 }
 

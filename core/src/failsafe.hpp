@@ -121,8 +121,11 @@ class FailsafeMonitor {
   void gnss(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
   void link(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
   void geofence(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
-  /// The first fence limit the estimate is beyond, "" when inside.
-  std::string fence_breach(const msg::State& s);
+  enum class Breach { none, max_distance, max_altitude, min_altitude, polygon };
+  /// The first fence limit the estimate is beyond (checked every tick: no formatting).
+  Breach fence_breach(const msg::State& s) const;
+  /// `b` in words with the estimate's figures, for the event.
+  std::string describe(Breach b, const msg::State& s) const;
 
   FailsafeConfig config_;
   std::optional<Eigen::Vector3d> last_position_;  // the last valid estimate, NED m

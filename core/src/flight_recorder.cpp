@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "scheduler.hpp"
+#include "tern/msg/path.hpp"
 
 namespace tern::core {
 
@@ -24,6 +25,30 @@ fs::path new_run_dir(const fs::path& parent, const std::string& mission) {
   fs::path dir = parent / (std::string(stamp) + "-" + mission);
   for (int k = 2; fs::exists(dir); ++k) dir = parent / fmt::format("{}-{}-{}", stamp, mission, k);
   return dir;
+}
+
+// One row of <topic>_items.csv: a waypoint of a logged waypoint list.
+struct WaypointItem {
+  static constexpr std::string_view type_name = "tern/WaypointItem";
+  Nanos stamp = 0;             // the list's stamp
+  std::uint32_t revision = 0;  // the list's revision
+  std::uint32_t index = 0;     // position in the list
+  msg::Waypoint waypoint{};
+  template <class V> static constexpr void describe(V& v) {
+    v(&WaypointItem::stamp, "stamp", "ns");
+    v(&WaypointItem::revision, "revision", "");
+    v(&WaypointItem::index, "index", "");
+  }
+};
+
+// WaypointItem's columns, the waypoint's own (reflect::layout skips nested structs) appended.
+std::vector<reflect::Column> waypoint_item_columns() {
+  std::vector<reflect::Column> cols = reflect::layout<WaypointItem>();
+  for (reflect::Column c : reflect::layout<msg::Waypoint>()) {
+    c.offset += offsetof(WaypointItem, waypoint);
+    cols.push_back(std::move(c));
+  }
+  return cols;
 }
 
 std::string param_text(const ParamValue& v) {
@@ -67,6 +92,8 @@ void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log,
     if (!t.written() || (!log.all_topics && !wanted.count(t.name))) continue;
     Logged& l = logged_[k];
     l.index = log_.add_topic(t.name, t.columns, t.msg_size);
+    if (t.fingerprint == reflect::fingerprint<msg::WaypointList>())
+      l.items = log_.add_topic(t.name + "_items", waypoint_item_columns(), sizeof(WaypointItem));
     const auto rate_it = log.rates.find(t.name);
     double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
     if (log.level == LogLevel::decimated) max_rate = max_rate > 0 ? std::min(max_rate, log.decimated_rate) : log.decimated_rate;
@@ -95,6 +122,13 @@ void FlightRecorder::capture(const PortGraph& graph, Nanos now) {
     l.seq = seq;
     l.t = now;
     log_.capture(l.index, now, src->data());
+    if (l.items != SIZE_MAX) {
+      const auto& list = *static_cast<const msg::WaypointList*>(src->data());
+      for (std::uint32_t i = 0; i < std::min<std::uint32_t>(list.count, msg::WaypointList::kCapacity); ++i) {
+        const WaypointItem row{list.stamp, list.revision, i, list.items[i]};
+        log_.capture(l.items, now, &row);
+      }
+    }
   }
 }
 

@@ -10,6 +10,9 @@
 // replayed (tern replay). Thinning by flight time keeps the log deterministic. `log.level`
 // (config.hpp) summary logs no topic; decimated caps every topic, the sensors too, at
 // `log.decimated_rate` Hz (such a log cannot be replayed).
+// A logged waypoint list (msg::WaypointList, topic `waypoints`) also writes its items, one row
+// per waypoint of each list captured, to topics/<topic>_items.csv (revision, index and the
+// Waypoint's columns): the mission as flown, edits in flight included (tern plot draws it).
 #pragma once
 
 #include <cstddef>
@@ -70,6 +73,7 @@ class FlightRecorder {
  private:
   struct Logged {  // per topic of the graph
     std::size_t index = SIZE_MAX;       // FlightLog topic index (SIZE_MAX: not logged)
+    std::size_t items = SIZE_MAX;       // FlightLog index of a waypoint list's items table
     const OutputBase* source = nullptr;  // writer of the message last captured
     std::uint64_t seq = 0;              // its sequence number
     Nanos interval = 0;                 // minimum flight time between two captures

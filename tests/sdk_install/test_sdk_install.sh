@@ -44,7 +44,9 @@ for f in bin/tern bin/tern-new-plugin bin/tern-plot include/tern/plugin.hpp incl
          "$libdir/tern/plugins/libtern_sim_aero.so" "$libdir/tern/plugins/libtern_control_slc.so" \
          "$libdir/tern/plugins/libtern_path_follower.so" \
          share/tern/configs/missions/default.yaml share/tern/configs/aircraft/anaconda.yaml \
-         share/tern/templates/common/CMakeLists.txt share/tern/templates/controller/src/plugin.cpp; do
+         share/tern/templates/common/CMakeLists.txt share/tern/templates/controller/src/plugin.cpp \
+         share/doc/tern/aircraft-modelling.md share/doc/tern/aero-samples/sample_vspaero.stab \
+         share/doc/tern/aero-samples/sample_xflr5.txt share/doc/tern/aero-samples/sample_mass.yaml; do
   [ -e "$prefix/$f" ] || fail "not installed: $f"
 done
 # every program the build puts next to tern (tern-aero, tern-plot, ...) is installed too
@@ -173,6 +175,12 @@ if to_ctl[0]["t_s"] >= passages[0]["t_s"]:
 if not xt <= 25.0:
     sys.exit(f"max cross-track {xt:.1f} m on the first leg exceeds 25 m")
 PY
+
+step "the installed tern plot (its modules in share/tern/plot) draws the flight"
+"$prefix/bin/tern" plot "$run" > "$work/plot.log" 2>&1 || { cat "$work/plot.log"; fail "tern plot of the first leg"; }
+for f in actuators.png estimation_errors.png index.html; do
+  [ -s "$run/plots/$f" ] || { cat "$work/plot.log"; fail "tern plot wrote no plots/$f"; }
+done
 
 echo "PASS: SDK installed, 6 template kinds built and tested out of tree, generated controller flew the default mission's first leg"
 [ $keep -eq 1 ] || rm -rf "$work"

@@ -2,7 +2,6 @@
 #include <cmath>
 #include <condition_variable>
 #include <deque>
-#include <fstream>
 #include <future>
 #include <map>
 #include <mutex>
@@ -198,10 +197,7 @@ struct DdsBridge::Impl {
       y << YAML::EndMap;
       text = std::string(y.c_str()) + "\n";
     });
-    std::ofstream out(path);
-    out << text;
-    out.close();
-    if (!out) throw DdsError("param_save: cannot write " + path.string());
+    FileAccess::write_file("param_save", path, text, overwrite);
     return path.string();
   }
 

@@ -2,6 +2,11 @@
 #include "file_access.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstring>
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include "dds_bridge.hpp"
 
@@ -74,6 +79,29 @@ fs::path FileAccess::for_writing(const std::string& request, const std::string& 
   if (fs::exists(p) && !fs::is_regular_file(p)) throw DdsError(request + ": refused: " + p.string() + " is not a regular file");
   if (!fs::is_directory(p.parent_path())) throw DdsError(request + ": no such directory on the vehicle: " + p.parent_path().string());
   return p;
+}
+
+void FileAccess::write_file(const std::string& request, const fs::path& path, const std::string& text, bool overwrite) {
+  const int flags = O_WRONLY | O_CREAT | O_NOFOLLOW | O_CLOEXEC | (overwrite ? O_TRUNC : O_EXCL);
+  const int fd = ::open(path.c_str(), flags, 0644);
+  if (fd < 0) {
+    const int e = errno;
+    if (e == EEXIST) throw DdsError(request + ": refused: " + path.string() + " exists (ask to overwrite it: --overwrite)");
+    if (e == ELOOP) throw DdsError(request + ": refused: " + path.string() + " is a symbolic link");
+    throw DdsError(request + ": cannot write " + path.string() + ": " + std::strerror(e));
+  }
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const int e = errno;
+      ::close(fd);
+      throw DdsError(request + ": cannot write " + path.string() + ": " + std::strerror(e));
+    }
+    done += static_cast<size_t>(n);
+  }
+  if (::close(fd) != 0) throw DdsError(request + ": cannot write " + path.string() + ": " + std::strerror(errno));
 }
 
 }  // namespace tern::core::ddsi

@@ -6,7 +6,9 @@
 //     .yaml/.yml are refused;
 //   - symbolic links are followed before the check (weakly_canonical), so a link in an allowed
 //     directory cannot lead outside it;
-//   - writing refuses an existing file unless the request asks to overwrite it.
+//   - writing refuses an existing file unless the request asks to overwrite it; write_file opens
+//     with O_NOFOLLOW and, without overwrite, O_EXCL, so a link or file put there between the
+//     check and the write is refused too (no check-then-use race).
 // Every refusal is one line naming the request and the name as sent (never a file's contents).
 #pragma once
 
@@ -27,6 +29,11 @@ class FileAccess {
   std::filesystem::path for_reading(const std::string& request, const std::string& name) const;
   /// The file to write. Throws DdsError: refused name, outside, or it exists and !overwrite.
   std::filesystem::path for_writing(const std::string& request, const std::string& name, bool overwrite) const;
+
+  /// Writes `text` to `path` (from for_writing): O_NOFOLLOW always (a symbolic link planted at
+  /// `path` is refused), O_EXCL unless `overwrite`, mode 0644. Throws DdsError naming `request`
+  /// and the path (exists, link, or the system's error, e.g. disk full).
+  static void write_file(const std::string& request, const std::filesystem::path& path, const std::string& text, bool overwrite);
 
   const std::vector<std::filesystem::path>& dirs() const { return dirs_; }
 

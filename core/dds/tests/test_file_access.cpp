@@ -72,3 +72,22 @@ TEST_CASE("file access: writing refuses an existing file unless asked to overwri
   CHECK(refusal([&] { fa.for_writing("param_save", "nodir/p.yaml", false); }) ==
         "param_save: no such directory on the vehicle: " + (root / "nodir").string());
 }
+
+TEST_CASE("file access: the write itself refuses a file or link that appeared after the check") {
+  const fs::path root = test_dir() / "fa_race";
+  fs::remove_all(root);
+  fs::create_directories(root / "outside");
+  const FileAccess fa({root});
+  const fs::path p = fa.for_writing("param_save", "p.yaml", false);
+  std::ofstream(p) << "x: 1\n";  // appeared between the check and the write
+  CHECK(refusal([&] { FileAccess::write_file("param_save", p, "y: 2\n", false); }) ==
+        "param_save: refused: " + p.string() + " exists (ask to overwrite it: --overwrite)");
+  FileAccess::write_file("param_save", p, "y: 2\n", true);
+  std::ifstream in(p);
+  CHECK(std::string(std::istreambuf_iterator<char>(in), {}) == "y: 2\n");
+  const fs::path q = root / "q.yaml";
+  fs::create_symlink(root / "outside" / "target.yaml", q);  // a link planted after the check
+  CHECK(refusal([&] { FileAccess::write_file("param_save", q, "z: 3\n", true); }) ==
+        "param_save: refused: " + q.string() + " is a symbolic link");
+  CHECK(!fs::exists(root / "outside" / "target.yaml"));
+}

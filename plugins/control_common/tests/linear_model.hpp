@@ -6,8 +6,9 @@
 //   altitude  h_dot = Va sin(theta - alpha*)                           (flight-path angle gamma = theta - alpha*)
 //   airspeed  Va_dot = -a_V1 (Va - Va*) + a_V2 (delta_t - delta_t*) - a_V3 sin(theta - alpha*)
 //   yaw rate  r = g/Va tan(phi) cos(theta)                             (coordinated)
-// The coefficients are what plugins/control_slc/tools/design_gains.py prints for the
-// aircraft files configs/aircraft/*.yaml (see configs/gains/README.md).
+// The coefficients are what `tern aero gains` / `tern aero linearize` print for the aircraft
+// files configs/aircraft/*.yaml (see configs/gains/README.md), to 4 decimals; the Aerosonde's
+// a_V2 8.1372 is the removed design_gains.py's (tern aero's trim gives 8.1375).
 #pragma once
 
 #include <cmath>
@@ -21,12 +22,12 @@ struct Coefficients {
   double Va_trim, alpha_trim, delta_e_trim, delta_t_trim;
 };
 
-/// RMRC Anaconda at Va = 17 m/s (design_gains.py, configs/aircraft/anaconda.yaml).
+/// RMRC Anaconda at Va = 17 m/s (tern aero gains, configs/aircraft/anaconda.yaml).
 inline Coefficients anaconda() {
   return {25.6544, 137.9495, 15.6294, 162.1535, -58.5883, 0.5214, 15.3522, 9.81,
           17.0, -0.0114, 0.1679, 0.5676};
 }
-/// Aerosonde at Va = 25 m/s (design_gains.py, configs/aircraft/aerosonde.yaml).
+/// Aerosonde at Va = 25 m/s (tern aero gains, configs/aircraft/aerosonde.yaml).
 inline Coefficients aerosonde() {
   return {22.6289, 130.8837, 5.2947, 99.9474, -36.1124, 0.2207, 8.1372, 9.81,
           25.0, 0.0501, -0.1250, 0.6768};

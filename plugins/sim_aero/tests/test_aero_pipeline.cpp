@@ -105,7 +105,7 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   CHECK(t.S == Approx(0.52));
   CHECK(t.b == Approx(2.08));
   CHECK(t.c == Approx(0.235));
-  CHECK(t.alpha_ref == Approx(2.0 * kPi / 180.0));  // the first of the two points (AoA_ 2 and 4)
+  CHECK(t.alpha_ref == Approx(2.0 * kPi / 180.0));  // the one nearest zero of the two (AoA_ 2 and 4)
   CHECK(t.rho == Approx(1.225));
   CHECK_FALSE(t.moments_in_stability_axes);
   CHECK_FALSE(t.rates_in_stability_axes);
@@ -120,7 +120,8 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   CHECK(t.d.at("C_n_delta_r") == Approx(-0.0693));
   CHECK(t.d.at("C_ell_p") == Approx(-0.465));  // the 4-degree point has -0.5115
   REQUIRE(t.notes.size() >= 2);
-  CHECK(t.notes[0].find("2 operating points") != std::string::npos);
+  CHECK(t.notes[0].find("operating point: AoA_ 2 deg") != std::string::npos);
+  CHECK(t.notes[0].find("nearest zero angle of attack of the 2 in the file") != std::string::npos);
 
   aero::VspaeroOptions at4;
   at4.aoa_deg = 4.0;
@@ -185,6 +186,29 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   CHECK(back.aero.C_L_delta_e == Approx(a.C_L_delta_e));
   CHECK(back.mass == 4.5);
   std::filesystem::remove(path);
+}
+
+TEST_CASE("VSPAERO sweep in alpha: the point nearest zero angle of attack by default, another with --aoa") {
+  // an alpha sweep as VSPAERO writes it, from AoA -10 deg: one block per point, C_ell_p tells them apart
+  std::string text;
+  for (double aoa : {-10.0, -5.0, 1.0, -1.0, 5.0})
+    text += vspaero_stab(aoa, {}, "rad", {{"CL", {0.3 + 0.09 * aoa, 5.0}}, {"CMl", {0, 0, -0.05, -0.4 - 0.01 * aoa}}});
+  const auto stab = temp_file("sweep.stab");
+  write_file(stab, text);
+  const auto t = aero::parse_vspaero_stab(stab.string());
+  CHECK(t.alpha_ref == Approx(1.0 * kPi / 180.0));  // |1| = |-1|: the first of equals
+  CHECK(t.d.at("C_ell_p") == Approx(-0.41));
+  REQUIRE_FALSE(t.notes.empty());
+  CHECK(t.notes[0].find("operating point: AoA_ 1 deg, Beta_ 0") != std::string::npos);
+  CHECK(t.notes[0].find("nearest zero angle of attack of the 5 in the file (AoA_ -10 Beta_ 0, AoA_ -5") !=
+        std::string::npos);
+  aero::VspaeroOptions o;
+  o.aoa_deg = -10.0;
+  const auto t10 = aero::parse_vspaero_stab(stab.string(), o);
+  CHECK(t10.alpha_ref == Approx(-10.0 * kPi / 180.0));
+  CHECK(t10.d.at("C_ell_p") == Approx(-0.3));
+  CHECK(t10.notes[0].find("as --aoa asked") != std::string::npos);
+  std::filesystem::remove(stab);
 }
 
 TEST_CASE("VSPAERO 2 layout ('# Coef Alpha ..', no CMl/CMn rows) reads as the VSPAERO 6/7 layout") {
@@ -425,7 +449,7 @@ TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yam
   req.Va = 17.0;
   const auto g = aero::design_gains(aero::linearize(ac, req), aero::DesignOptions{});
   const YAML::Node file = YAML::LoadFile(kAircraft + "/../gains/anaconda.yaml");
-  REQUIRE(g.size() == 19);
+  REQUIRE(g.size() == 21);
   for (const auto& [name, value] : g) {
     CAPTURE(name);
     REQUIRE(file[name]);
@@ -436,5 +460,113 @@ TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yam
   fast.wn_phi = 25.0;
   const auto g2 = aero::design_gains(aero::linearize(ac, req), fast);
   CHECK(g2[1].first == "roll_kd");
+  CHECK(g2[4].first == "roll_rate_max");
   CHECK(g2[1].second > 0.05);
+}
+
+TEST_CASE("modes of the Aerosonde at 25 m/s: eigenvalues against the textbook approximations") {
+  const sim::Aircraft ac = sim::load_aircraft(kAircraft + "/aerosonde.yaml");
+  sim::TrimRequest req;
+  req.Va = 25.0;
+  const aero::LinearModel lm = aero::linearize(ac, req);
+  const aero::Modes m = aero::dynamic_modes(lm);
+  const aero::ModeApproximations ap = aero::approximate_modes(ac, lm);
+  CAPTURE(aero::modes_table(m, ap));
+  CHECK(m.notes.empty());  // the modes separate in frequency as the eigenvectors say
+  const aero::Mode* sp = aero::find_mode(m, "short period");
+  const aero::Mode* ph = aero::find_mode(m, "phugoid");
+  const aero::Mode* roll = aero::find_mode(m, "roll");
+  const aero::Mode* spiral = aero::find_mode(m, "spiral");
+  const aero::Mode* dr = aero::find_mode(m, "dutch roll");
+  REQUIRE(sp);
+  REQUIRE(ph);
+  REQUIRE(roll);
+  REQUIRE(spiral);
+  REQUIRE(dr);
+  CHECK(sp->oscillatory);
+  CHECK(ph->oscillatory);
+  CHECK(dr->oscillatory);
+  CHECK_FALSE(roll->oscillatory);
+  CHECK_FALSE(spiral->oscillatory);
+  // Tolerances: what each approximation neglects (measured differences in brackets). Short period
+  // (alpha, q only: the speed change) [1.0 %, 1.2 %]; phugoid (Lanchester: alpha and pitch
+  // dynamics, the variation of thrust with speed) [11 %, 5.5 %]; roll (roll alone: sideslip and
+  // yaw coupling) [0.8 %]; spiral (quasi-steady roll and yaw) [9 %]; dutch roll (beta, r only:
+  // the roll coupling) [5.5 %, 7.5 %].
+  CHECK(sp->wn == Approx(ap.short_period_wn).epsilon(0.03));
+  CHECK(sp->zeta == Approx(ap.short_period_zeta).epsilon(0.05));
+  CHECK(ph->wn == Approx(ap.phugoid_wn).epsilon(0.15));
+  CHECK(ph->zeta == Approx(ap.phugoid_zeta).epsilon(0.10));
+  CHECK(roll->lambda.real() == Approx(ap.roll_lambda).epsilon(0.02));
+  CHECK(spiral->lambda.real() == Approx(ap.spiral_lambda).epsilon(0.15));
+  CHECK(dr->wn == Approx(ap.dutch_roll_wn).epsilon(0.10));
+  CHECK(dr->zeta == Approx(ap.dutch_roll_zeta).epsilon(0.12));
+  // the book's Aerosonde: a divergent spiral doubling in about 8 s, the other modes stable
+  CHECK_FALSE(spiral->stable);
+  CHECK(spiral->t_double == Approx(7.75).epsilon(0.01));
+  for (const aero::Mode* x : {sp, ph, roll, dr}) CHECK(x->stable);
+  // the figures of a mode follow from its eigenvalue
+  CHECK(sp->zeta == Approx(-sp->lambda.real() / std::abs(sp->lambda)));
+  CHECK(sp->period == Approx(2 * kPi / sp->lambda.imag()));
+  CHECK(roll->tau == Approx(-1.0 / roll->lambda.real()));
+  // the eigenvalues are those of the whole 5x5 blocks (plus the h and psi integrators at zero)
+  Eigen::EigenSolver<Eigen::Matrix<double, 5, 5>> es(lm.A_lat);
+  int matched = 0;
+  for (const auto& ev : es.eigenvalues())
+    for (const aero::Mode* x : {roll, spiral, dr})
+      if (std::abs(ev - x->lambda) < 1e-6 || std::abs(ev - std::conj(x->lambda)) < 1e-6) ++matched;
+  CHECK(matched == 4);
+}
+
+TEST_CASE("modes are told apart by eigenvector content, not only by frequency; figures of unstable roots") {
+  aero::LinearModel lm;
+  lm.Va = 20.0;
+  lm.A_lon.setZero();
+  lm.A_lat.setZero();
+  // longitudinal [u w q theta]: an (alpha, q) oscillation at 0.5 rad/s and a (u, theta) one at 3 rad/s:
+  // the first is the short period by content although it is the slower
+  lm.A_lon.block<2, 2>(1, 1) << -0.2, 20.0, -0.0125, 0.0;       // w, q: lambda^2 + 0.2 lambda + 0.25
+  lm.A_lon(0, 0) = -1.0;                                        // u, theta: lambda^2 + lambda + 9
+  lm.A_lon(0, 3) = -9.0;
+  lm.A_lon(3, 0) = 1.0;
+  // lateral [v p r phi]: a (v, r) oscillation, p' = -8 p, phi' = p + 0.05 phi (a divergent spiral)
+  lm.A_lat(0, 0) = -0.5;
+  lm.A_lat(0, 2) = -20.0;
+  lm.A_lat(2, 0) = 0.5;
+  lm.A_lat(2, 2) = -0.3;
+  lm.A_lat(1, 1) = -8.0;
+  lm.A_lat(3, 1) = 1.0;
+  lm.A_lat(3, 3) = 0.05;
+  const aero::Modes m = aero::dynamic_modes(lm);
+  const aero::Mode* sp = aero::find_mode(m, "short period");
+  const aero::Mode* ph = aero::find_mode(m, "phugoid");
+  REQUIRE(sp);
+  REQUIRE(ph);
+  CHECK(sp->wn == Approx(0.5));
+  CHECK(sp->zeta == Approx(0.2));
+  CHECK(ph->wn == Approx(3.0));
+  REQUIRE(m.notes.size() == 1);
+  CHECK(m.notes[0].find("overlap in frequency") != std::string::npos);
+  const aero::Mode* roll = aero::find_mode(m, "roll");
+  const aero::Mode* spiral = aero::find_mode(m, "spiral");
+  const aero::Mode* dr = aero::find_mode(m, "dutch roll");
+  REQUIRE(roll);
+  REQUIRE(spiral);
+  REQUIRE(dr);
+  CHECK(roll->lambda.real() == Approx(-8.0));
+  CHECK(roll->tau == Approx(0.125));
+  CHECK(roll->stable);
+  CHECK(spiral->lambda.real() == Approx(0.05));
+  CHECK_FALSE(spiral->stable);
+  CHECK(spiral->t_double == Approx(std::log(2.0) / 0.05));
+  CHECK(spiral->tau == 0.0);
+  CHECK(dr->wn == Approx(std::sqrt(0.15 + 10.0)));  // lambda^2 + 0.8 lambda + (0.15 + 10)
+  const std::string table = aero::modes_table(m, aero::ModeApproximations{});
+  CHECK(table.find("spiral") != std::string::npos);
+  CHECK(table.find("NO") != std::string::npos);
+  // an overdamped short period: two real roots, both named
+  lm.A_lon.block<2, 2>(1, 1) << -5.0, 20.0, 0.0, -4.0;
+  const aero::Modes m2 = aero::dynamic_modes(lm);
+  CHECK(aero::find_mode(m2, "short period (real, fast)"));
+  CHECK(aero::find_mode(m2, "short period (real, slow)"));
 }

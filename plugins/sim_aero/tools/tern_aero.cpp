@@ -5,20 +5,23 @@
 //       state: {"p_n","p_e","p_d","u","v","w", "phi","theta","psi" | "e0","e1","e2","e3", "p","q","r"}
 //       delta: {"delta_e","delta_a","delta_r","delta_t"}; wind: {"w_n","w_e","w_d","u_g","v_g","w_g"}
 //       (steady NED and gust body parts). Missing keys are 0; unknown keys are errors.
-//   tern-aero trim --aircraft FILE --Va V [--gamma G] [--radius R] [--altitude H]
+//   tern-aero trim --aircraft FILE --Va V [--gamma G] [--radius R] [--altitude H] [--json FILE]
 //       Trim state and inputs (Beard & McLain, ch. 5); R in m (> 0 right turn; omit: straight).
+//       A table (degrees, percent throttle) then the JSON (radians, throttle 0..1).
 //   tern-aero import (--vspaero FILE.stab [--polar FILE.polar] [--aoa DEG] [--controls E A R]
 //                     | --xflr5 LOG [--xflr5-control C] [--xflr5-controls-from C=LOG ...])
 //                    (--mass KG --inertia Jx Jy Jz Jxz | --mass-file FILE) --out AIRCRAFT.yaml
 //       A tern aircraft file from VSPAERO (.stab/.polar) or XFLR5 (type 7 analysis log)
-//       stability derivatives; prints how the file was read and every coefficient the tool did
-//       not give, with the value used and why.
+//       stability derivatives; prints how the file was read (the VSPAERO operating point: the one
+//       nearest zero angle of attack unless --aoa) and every coefficient the tool did not give,
+//       with the value used and why.
 //   tern-aero linearize --aircraft FILE --Va V [--gamma G] [--radius R] [--json FILE]
-//       Beard & McLain ch. 5 linear models (A_lon, B_lon, A_lat, B_lat) and transfer-function
-//       coefficients about the trim.
+//       Beard & McLain ch. 5 linear models (A_lon, B_lon, A_lat, B_lat), transfer-function
+//       coefficients about the trim, and the dynamic modes (short period, phugoid, roll, spiral,
+//       dutch roll; modes.hpp) with their textbook approximations.
 //   tern-aero gains --aircraft FILE --Va V [--out gains.yaml] [design options]
 //       Beard & McLain ch. 6 successive-loop-closure gains for control_slc.
-// Output: JSON on stdout (eval, trim, linearize), text for import and gains. Errors: one line on stderr, exit status 1.
+// Output: JSON on stdout (eval; trim and linearize after '#' table lines), text for import and gains. Errors: one line on stderr, exit status 1.
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -38,6 +41,7 @@
 #include "tern_sim_aero/trim.hpp"
 
 #include "aero_pipeline.hpp"
+#include "tern/math.hpp"
 
 using json = nlohmann::ordered_json;
 namespace sim = tern::sim;
@@ -68,6 +72,28 @@ std::map<std::string, double> parse_object(const std::string& text, const std::s
 double get(const std::map<std::string, double>& m, const char* k, double def = 0.0) {
   const auto it = m.find(k);
   return it == m.end() ? def : it->second;
+}
+
+std::string fixed(double v, int digits) {
+  std::ostringstream o;
+  o << std::fixed << std::setprecision(digits) << v;
+  return o.str();
+}
+
+// s padded with spaces to `width` (right-aligned if `right`).
+std::string pad(const std::string& s, std::size_t width, bool right = false) {
+  if (s.size() >= width) return s;
+  const std::string fill(width - s.size(), ' ');
+  return right ? fill + s : s + fill;
+}
+
+// Writes j to `path` (nothing if empty).
+void write_json(const std::string& path, const json& j) {
+  if (path.empty()) return;
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error(path + ": cannot write");
+  f << j.dump(2) << "\n";
+  if (!f) throw std::runtime_error(path + ": write failed");
 }
 
 json vec(const Eigen::Vector3d& v, const char* a, const char* b, const char* c) {
@@ -138,7 +164,25 @@ int eval(const std::string& file, const std::string& state_s, const std::string&
   return 0;
 }
 
-int trim(const std::string& file, double Va, double gamma, double R, double altitude) {
+constexpr double kRad2Deg = 180.0 / tern::kPi;
+
+// The trim as a readable table ('#' lines, degrees and percent throttle).
+void print_trim_table(std::ostream& os, const std::string& name, double Va, double gamma, double R,
+                      const sim::TrimResult& t) {
+  os << "# trim of the " << name << " (Beard & McLain ch. 5)\n";
+  os << "#   " << pad("Va", 9) << pad(fixed(Va, 3), 10, true) << " m/s\n";
+  os << "#   " << pad("gamma", 9) << pad(fixed(gamma * kRad2Deg, 3), 10, true) << " deg\n";
+  os << "#   " << pad("R", 9) << pad(std::isinf(R) ? std::string("straight") : fixed(R, 1), 10, true)
+     << (std::isinf(R) ? "" : R > 0 ? " m (right turn)" : " m (left turn)") << "\n";
+  const std::pair<const char*, double> deg[] = {
+      {"alpha", t.alpha},         {"beta", t.beta},           {"phi", t.phi},        {"theta", t.theta},
+      {"delta_e", t.delta.delta_e}, {"delta_a", t.delta.delta_a}, {"delta_r", t.delta.delta_r}};
+  for (const auto& [k, v] : deg) os << "#   " << pad(k, 9) << pad(fixed(v * kRad2Deg, 3), 10, true) << " deg\n";
+  os << "#   " << pad("delta_t", 9) << pad(fixed(100.0 * t.delta.delta_t, 2), 10, true) << " %\n";
+  os << "#   (residual " << t.residual << " after " << t.iterations << " Newton iterations; JSON below in rad)\n";
+}
+
+int trim(const std::string& file, double Va, double gamma, double R, double altitude, const std::string& json_out) {
   const sim::Aircraft ac = sim::load_aircraft(file);
   sim::TrimRequest req;
   req.Va = Va;
@@ -161,6 +205,8 @@ int trim(const std::string& file, double Va, double gamma, double R, double alti
   out["state"] = state_json(t.x);
   out["residual"] = t.residual;
   out["iterations"] = t.iterations;
+  write_json(json_out, out);
+  print_trim_table(std::cout, ac.name, Va, gamma, R, t);
   std::cout << out.dump(2) << "\n";
   return 0;
 }
@@ -241,7 +287,7 @@ int import_cmd(const ImportArgs& a) {
       "Not given by " + t.tool + " (value used and why):"};
   std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
   std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref
-            << " rad\n";
+            << " rad (" << t.alpha_ref * kRad2Deg << " deg)\n";
   for (const auto& n : t.notes) std::cout << "  " << n << "\n";
   if (!a.polar.empty()) {
     std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";
@@ -262,6 +308,39 @@ int import_cmd(const ImportArgs& a) {
   f.close();
   sim::load_aircraft(a.out);  // the file must load as sim_aero reads it
   return 0;
+}
+
+json or_null(double v, bool has) { return has ? json(v) : json(nullptr); }
+
+// The modes as JSON: name, eigenvalue, and the figures that apply (null otherwise).
+json modes_json(const tern::aero::Modes& modes) {
+  json out = json::object();
+  const std::pair<const char*, const std::vector<tern::aero::Mode>*> groups[] = {{"longitudinal", &modes.lon},
+                                                                                  {"lateral", &modes.lat}};
+  for (const auto& [group, list] : groups) {
+    json arr = json::array();
+    for (const auto& m : *list)
+      arr.push_back(json{{"name", m.name},
+                         {"eigenvalue", json{{"re", m.lambda.real()}, {"im", m.lambda.imag()}}},
+                         {"oscillatory", m.oscillatory},
+                         {"stable", m.stable},
+                         {"wn", m.wn},
+                         {"zeta", or_null(m.zeta, m.oscillatory)},
+                         {"period", or_null(m.period, m.oscillatory)},
+                         {"time_constant", or_null(m.tau, m.tau > 0)},
+                         {"time_to_double", or_null(m.t_double, m.t_double > 0)}});
+    out[group] = arr;
+  }
+  out["notes"] = modes.notes;
+  return out;
+}
+
+json approx_json(const tern::aero::ModeApproximations& a) {
+  return json{{"short_period", json{{"wn", a.short_period_wn}, {"zeta", a.short_period_zeta}}},
+              {"phugoid", json{{"wn", a.phugoid_wn}, {"zeta", a.phugoid_zeta}}},
+              {"roll", json{{"eigenvalue", a.roll_lambda}}},
+              {"spiral", json{{"eigenvalue", a.spiral_lambda}}},
+              {"dutch_roll", json{{"wn", a.dutch_roll_wn}, {"zeta", a.dutch_roll_zeta}}}};
 }
 
 int linearize_cmd(const std::string& file, double Va, double gamma, double R, const std::string& json_out) {
@@ -292,11 +371,11 @@ int linearize_cmd(const std::string& file, double Va, double gamma, double R, co
   for (const char* k : {"a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"})
     tf[k] = lm.tf.at(k);
   out["transfer_functions"] = tf;
-  if (!json_out.empty()) {
-    std::ofstream f(json_out);
-    if (!f) throw std::runtime_error(json_out + ": cannot write");
-    f << out.dump(2) << "\n";
-  }
+  const tern::aero::Modes modes = tern::aero::dynamic_modes(lm);
+  const tern::aero::ModeApproximations approx = tern::aero::approximate_modes(ac, lm);
+  out["modes"] = modes_json(modes);
+  out["mode_approximations"] = approx_json(approx);
+  write_json(json_out, out);
   // human-readable on stdout, JSON after it
   std::cout << std::fixed << std::setprecision(4);
   std::cout << "# " << ac.name << " at Va = " << Va << " m/s: alpha = " << lm.trim.alpha << " rad, delta_e = "
@@ -307,6 +386,7 @@ int linearize_cmd(const std::string& file, double Va, double gamma, double R, co
             << "\n# B_lat (delta_a delta_r)\n" << lm.B_lat.format(fmt) << "\n";
   for (auto it = tf.begin(); it != tf.end(); ++it) std::cout << "#   " << it.key() << " = " << it.value().get<double>() << "\n";
   std::cout.unsetf(std::ios::floatfield);
+  std::cout << tern::aero::modes_table(modes, approx);
   std::cout << out.dump(2) << "\n";
   return 0;
 }
@@ -321,10 +401,11 @@ int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOption
   s << "# control_slc gains for the " << ac.name << " at Va = " << Va << " m/s (flat 'param: value'; load with\n"
     << "# param_file:). Written by `tern aero gains --aircraft " << file << " --Va " << Va << "`: uavbook ch. 6\n"
     << "# successive loop closure from the ch. 5 transfer-function coefficients at the trim\n"
-    << std::fixed << std::setprecision(4) << "#   alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
+    << std::fixed << std::setprecision(4) << "#   trim: alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
     << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
   for (const char* k : {"a_phi1", "a_phi2", "a_theta1", "a_theta2", "a_theta3", "a_V1", "a_V2", "a_V3", "a_beta1", "a_beta2"})
     s << "#   " << k << " = " << lm.tf.at(k) << "\n";
+  for (const auto& line : tern::aero::design_summary(lm, o, g)) s << "#   " << line << "\n";
   s << "# limits and takeoff values: control_slc's defaults (set them by hand for a new airframe)\n";
   s.unsetf(std::ios::floatfield);
   s << std::setprecision(6);
@@ -359,6 +440,8 @@ int main(int argc, char** argv) {
   tr->add_option("--gamma", gamma, "flight-path angle, rad (default 0)");
   tr->add_option("--radius", R, "turn radius, m (> 0 right, < 0 left; default: straight)");
   tr->add_option("--altitude", altitude, "height of the trim state, m (default 100)");
+  std::string trim_json;
+  tr->add_option("--json", trim_json, "also write the JSON to this file");
 
   auto* im = app.add_subcommand("import", "a tern aircraft file from VSPAERO (.stab, .polar) or XFLR5 output");
   ImportArgs ia;
@@ -373,7 +456,7 @@ int main(int argc, char** argv) {
                  "VSPAERO control groups for elevator aileron rudder: group names of the case list, ConGrp_<n>, "
                  "'none'; a leading '-' flips the sign (default: found by name, elev*/ail*/rud*)")
       ->expected(3);
-  im->add_option("--aoa", ia.aoa, "VSPAERO operating point to read: AoA_ in deg (default: the first at Beta_ = 0)");
+  im->add_option("--aoa", ia.aoa, "VSPAERO operating point to read: AoA_ in deg (default: the one nearest zero angle of attack at Beta_ = 0)");
   im->add_option("--xflr5-control", ia.xflr5_control,
                  "what the XFLR5 polar's control variable moves: elevator, aileron, rudder or none");
   im->add_option("--xflr5-controls-from", ia.xflr5_controls_from,
@@ -408,6 +491,8 @@ int main(int argc, char** argv) {
   ga->add_option("--zeta-V", o.zeta_V, "airspeed damping ratio (1.0)");
   ga->add_option("--kr", o.kr, "yaw damper gain, rad per rad/s (0.3)");
   ga->add_option("--p-wo", o.p_wo, "washout pole, rad/s (0.5)");
+  ga->add_option("--roll-rate-max", o.roll_rate_max,
+                 "slew limit of the roll command, rad/s (1.5; about 0.4 a_phi2 max_a / a_phi1)");
 
   try {
     app.parse(argc, argv);
@@ -419,7 +504,7 @@ int main(int argc, char** argv) {
     if (im->parsed()) return import_cmd(ia);
     if (li->parsed()) return linearize_cmd(file, Va, gamma, R, json_out);
     if (ga->parsed()) return gains_cmd(file, Va, o, gains_out);
-    return trim(file, Va, gamma, R, altitude);
+    return trim(file, Va, gamma, R, altitude, trim_json);
   } catch (const std::exception& e) {
     std::cerr << "tern aero: " << e.what() << "\n";
     return 1;

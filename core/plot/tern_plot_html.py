@@ -1,0 +1,116 @@
+"""tern plot: index.html, every figure and summary.json's tables; relative image paths, so the
+page opens from disk without a server."""
+
+import html
+import json
+import math
+import os
+
+from tern_plot_log import rmse_window
+
+# ----------------------------------------------------------------------------------------------
+# index.html: every figure and summary.json's tables, relative image paths (no server needed)
+# ----------------------------------------------------------------------------------------------
+
+def fmt_value(v):
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, int):
+        return str(v)
+    if isinstance(v, float):
+        if not math.isfinite(v):
+            return "-"
+        if v == int(v) and abs(v) < 1e12:  # counts and whole seconds
+            return str(int(v))
+        return f"{v:.3f}" if abs(v) < 1e5 else f"{v:.6g}"
+    if v is None:
+        return "-"
+    return str(v)
+
+
+def html_table(caption, header, rows, table_id):
+    esc = html.escape
+    head = "".join(f"<th>{esc(h)}</th>" for h in header)
+    body = "".join("<tr>" + "".join(f"<td>{esc(fmt_value(c))}</td>" for c in row) + "</tr>\n" for row in rows)
+    return (f'<table id="{esc(table_id)}"><caption>{esc(caption)}</caption>\n<thead><tr>{head}</tr></thead>\n'
+            f"<tbody>\n{body}</tbody></table>\n")
+
+
+RMSE_GROUPS = [("estimation_rmse", "estimation (estimate - truth)"), ("raw_gnss_rmse", "raw GNSS (fix - truth)"),
+               ("tracking_rmse", "tracking (command - estimate)")]
+
+
+def summary_tables(runs):
+    """The summary.json tables: flight facts, RMSE by quantity (one column per group and run),
+    phases, handovers, failsafes, waypoint passages, instances."""
+    one = len(runs) == 1
+    col = (lambda r, h: h) if one else (lambda r, h: f"{r['label']}: {h}")
+    facts = ["mission", "seed", "duration_s", "end_reason", "sensor_profile", "preflight_s", "fallback_engaged"]
+    metric_facts = ["window_start_s", "loops", "max_cross_track_m", "max_altitude_error_m"]
+    rows = [[k] + [r["summary"].get(k) for r in runs] for k in facts]
+    rows += [[f"metrics.{k}"] + [r["summary"].get("metrics", {}).get(k) for r in runs] for k in metric_facts]
+    out = [html_table("flight (summary.json)", ["field"] + [r["label"] for r in runs], rows, "flight")]
+    keys = []
+    for r in runs:
+        for g, _ in RMSE_GROUPS:
+            for k in r["summary"].get("metrics", {}).get(g, {}) or {}:
+                if k not in keys:
+                    keys.append(k)
+    header = ["quantity"] + [col(r, title) for r in runs for _, title in RMSE_GROUPS]
+    rows = [[k] + [(r["summary"].get("metrics", {}).get(g) or {}).get(k) for r in runs for g, _ in RMSE_GROUPS]
+            for k in keys]
+    windows = "; ".join(f"{r['label']}: {rmse_window(r)[1]}" for r in runs)
+    out.append(html_table(f"RMSE over the metrics window ({windows})", header, rows, "rmse"))
+    for r in runs:
+        s, pre = r["summary"], "" if one else f"{r['label']}: "
+        sid = "" if one else f"-{runs.index(r)}"
+        out.append(html_table(pre + "phases", ["phase", "start [s]", "reason"],
+                              [[p.get("phase"), p.get("start_s"), p.get("reason")] for p in s.get("phases", [])], "phases" + sid))
+        out.append(html_table(pre + "controller handovers", ["t [s]", "from", "to", "reason"],
+                              [[h.get("t_s"), h.get("from"), h.get("to"), h.get("reason")]
+                               for h in s.get("controller_handovers", [])], "handovers" + sid))
+        out.append(html_table(pre + "failsafes", ["t [s]", "cause", "action", "detail"],
+                              [[f.get("t_s"), f.get("cause"), f.get("action"), f.get("detail")]
+                               for f in s.get("failsafes", [])], "failsafes" + sid))
+        out.append(html_table(pre + "waypoint passages", ["t [s]", "waypoint"],
+                              [[p.get("t_s"), p.get("waypoint")] for p in s.get("metrics", {}).get("waypoint_passages", [])],
+                              "passages" + sid))
+        inst_rows = [[name, d.get("plugin"), ", ".join(f"{k} {fmt_value(v)}" for k, v in d.items()
+                                                       if k not in ("plugin", "library", "library_fnv1a"))]
+                     for name, d in (s.get("instances") or {}).items() if isinstance(d, dict) and name != "metrics"]
+        out.append(html_table(pre + "instances", ["instance", "plugin", "figures"], inst_rows, "instances" + sid))
+    return out
+
+
+def write_index(runs, out):
+    esc = html.escape
+    title = " vs ".join(r["label"] for r in runs)
+    runs_list = "".join(f"<li>{esc(r['label'])}: {esc(r['run_dir'])}</li>" for r in runs)
+    figs = "".join(f'<figure id="{esc(f["file"])}"><img src="{esc(f["file"])}" alt="{esc(f["file"])}">'
+                   f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in out["figures"])
+    text = f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>tern plot: {esc(title)}</title>
+<style>
+body {{ font-family: sans-serif; margin: 1.5em; color: #222; }}
+table {{ border-collapse: collapse; margin: 0 0 1.5em 0; font-size: 0.9em; }}
+caption {{ text-align: left; font-weight: bold; padding: 0.3em 0; }}
+th, td {{ border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; vertical-align: top; }}
+img {{ max-width: 100%; border: 1px solid #ddd; }}
+figure {{ margin: 0 0 2em 0; }}
+figcaption {{ font-size: 0.9em; color: #444; }}
+</style></head>
+<body>
+<h1>tern plot: {esc(title)}</h1>
+<ul>{runs_list}</ul>
+<h2>Summary</h2>
+{"".join(summary_tables(runs))}
+<h2>Figures</h2>
+{figs}
+</body></html>
+"""
+    path = os.path.join(out["dir"], "index.html")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    with open(os.path.join(out["dir"], "figures.json"), "w", encoding="utf-8") as f:
+        json.dump(out["figures"], f, indent=1)
+    out["written"].append(path)
