@@ -42,8 +42,10 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "cli_overrides.hpp"
 #include "common_frame.hpp"
 #include "config.hpp"
+#include "error.hpp"
 #include "host.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/all.hpp"
@@ -142,13 +144,9 @@ const T* latest(const tern::OutputBase* src) {
   return static_cast<const T*>(src->data());
 }
 
-struct Setting {
-  std::string instance, param, value;  // --set INSTANCE.PARAM=VALUE (VALUE in YAML)
-};
-
 // The config with every sim_aero instance's sensor_profile set, and the --set overrides.
 tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile,
-                                       const std::vector<Setting>& sets, const Outage& outage) {
+                                       const tern::core::CliOverrides& sets, const Outage& outage) {
   tern::core::MissionConfig mc = tern::core::load_config(mission);
   for (auto& inst : mc.plugins) {
     if (inst.plugin == "sim_aero") {
@@ -165,15 +163,8 @@ tern::core::MissionConfig with_profile(const std::string& mission, const std::st
         inst.params["gnss_nan"] = o;
       }
     }
-    for (const auto& set : sets) {
-      if (set.instance != inst.name) continue;
-      tern::core::ParamSetting s;
-      s.node = YAML::Load(set.value);
-      s.file = mission;
-      s.field = "bench_estimation --set";
-      inst.params[set.param] = s;
-    }
   }
+  tern::core::apply_overrides(mc, sets);  // as `tern fly --set`
   return mc;
 }
 
@@ -231,7 +222,7 @@ double summary_number(const nlohmann::json& j, const char* instance, const char*
   return i[instance][key].get<double>();
 }
 
-Flight fly(const std::string& mission, const std::string& profile, const std::vector<Setting>& sets, std::uint64_t seed,
+Flight fly(const std::string& mission, const std::string& profile, const tern::core::CliOverrides& sets, std::uint64_t seed,
            double duration, const Outage& outage, const fs::path& logs) {
   tern::core::HostOptions o;
   o.quiet = true;
@@ -405,7 +396,7 @@ int main(int argc, char** argv) {
   std::vector<std::string> missions, profiles = {"realistic", "rosflight"};
   int seeds = 10;
   double duration = 300.0;
-  std::vector<Setting> sets;
+  tern::core::CliOverrides sets;
   const char* usage =
       "usage: bench_estimation [MISSION.yaml ...] [--seeds N] [--duration S] [--profiles a,b] [--set INSTANCE.PARAM=VALUE ...] "
       "[--per-seed] [--gnss-outage START,END]";
@@ -426,21 +417,7 @@ int main(int argc, char** argv) {
         return 2;
       }
     }
-    else if (a == "--set" && i + 1 < argc) {
-      const std::string v = argv[++i];
-      const auto dot = v.find('.'), eq = v.find('=');
-      if (dot == std::string::npos || eq == std::string::npos || eq < dot) {
-        std::fprintf(stderr, "bench_estimation: --set wants INSTANCE.PARAM=VALUE, got '%s'\n", v.c_str());
-        return 2;
-      }
-      try {
-        (void)YAML::Load(v.substr(eq + 1));  // one clear line now rather than a throw mid-campaign
-      } catch (const YAML::Exception& e) {
-        std::fprintf(stderr, "bench_estimation: --set %s: the value is not YAML: %s\n", v.c_str(), e.what());
-        return 2;
-      }
-      sets.push_back({v.substr(0, dot), v.substr(dot + 1, eq - dot - 1), v.substr(eq + 1)});
-    }
+    else if (a == "--set" && i + 1 < argc) sets.sets.push_back(argv[++i]);
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "bench_estimation: unknown option '%s' (%s)\n", a.c_str(), usage);
       return 2;
@@ -449,6 +426,18 @@ int main(int argc, char** argv) {
   if (missions.empty()) missions = {dir + "default.yaml", dir + "aggressive.yaml"};
   if (seeds < 1 || !(duration > kT0Wind) || profiles.empty()) {
     std::fprintf(stderr, "bench_estimation: need --seeds >= 1, --duration > %.0f s and a profile (%s)\n", kT0Wind, usage);
+    return 2;
+  }
+  try {  // each mission with the settings configured once: one clear line now rather than a throw mid-campaign
+    for (const auto& mission : missions) {
+      tern::core::HostOptions describe;
+      describe.describing = true;
+      describe.quiet = true;
+      tern::core::Host host(with_profile(mission, profiles.front(), sets, outage), describe);
+      host.build();
+    }
+  } catch (const tern::core::ConfigError& e) {
+    std::fprintf(stderr, "bench_estimation: %s\n", e.what());
     return 2;
   }
   std::string tmpl = (fs::temp_directory_path() / "tern_bench_estimation_XXXXXX").string();
@@ -463,7 +452,7 @@ int main(int argc, char** argv) {
   j["duration_s"] = duration;
   j["window_start_s"] = kT0;
   j["wind_window_start_s"] = kT0Wind;
-  for (const auto& set : sets) j["settings"].push_back(set.instance + "." + set.param + "=" + set.value);
+  for (const auto& set : sets.sets) j["settings"].push_back(set);
   j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * kDeg);
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {

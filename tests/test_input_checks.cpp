@@ -109,3 +109,11 @@ TEST_CASE("a start-only parameter is refused in flight ('takes effect next fligh
   CHECK(read_file(second.run_dir / "params.csv").find("\n0.000000000,sensor.h0,7,dds\n") != std::string::npos);
   CHECK(cells(lines(read_file(second.run_dir / "topics" / "truth.csv"))[1])[4] == "-7");
 }
+
+TEST_CASE("check: the mission check's distance limit is a positive number of metres; its keys are checked") {
+  CHECK(build_error(base_config("", "check: {max_waypoint_distance: 2000}\n")) == "");
+  CHECK(build_error(base_config("", "check: {max_waypoint_distance: -1}\n")) ==
+        cfg_path() + ":5:32: check.max_waypoint_distance: must be > 0 m, got -1");
+  CHECK(build_error(base_config("", "check: {max_waypoint_distanse: 1}\n")) ==
+        cfg_path() + ":5:9: check: unknown key 'max_waypoint_distanse' (did you mean 'max_waypoint_distance'?)");
+}

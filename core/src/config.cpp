@@ -136,6 +136,8 @@ void check_log_topics(const MissionConfig& c, const std::vector<std::string>& pu
     for (const auto& kv : r) check(kv.first, "log.rates." + kv.first.Scalar());
 }
 
+std::string ParamSetting::location() const { return option.empty() ? where(file, node) + field : option; }
+
 ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const std::string& field) {
   if (node.IsSequence()) {
     std::vector<double> v;
@@ -202,7 +204,7 @@ MissionConfig load_config(const fs::path& file_in) {
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
   check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
-                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes", "watchdog"});
+                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
   if (const YAML::Node wd = root["watchdog"]) {
     require_map(wd, f, "watchdog");
     check_keys(wd, f, "watchdog", {"soft_ms", "hard_ms"});
@@ -211,6 +213,16 @@ MissionConfig load_config(const fs::path& file_in) {
     if (!(c.watchdog.soft_ms > 0 && c.watchdog.soft_ms <= c.watchdog.hard_ms && c.watchdog.hard_ms <= 3.6e6))
       throw ConfigError(where(f, wd) + fmt::format("watchdog: need 0 < soft_ms <= hard_ms <= 3600000, got soft_ms {}, hard_ms {}",
                                                    c.watchdog.soft_ms, c.watchdog.hard_ms));
+  }
+
+  if (const YAML::Node ck = root["check"]) {
+    require_map(ck, f, "check");
+    check_keys(ck, f, "check", {"max_waypoint_distance"});
+    if (const YAML::Node d = ck["max_waypoint_distance"]) {
+      c.check.max_waypoint_distance = as_number(d, f, "check.max_waypoint_distance");
+      if (!(c.check.max_waypoint_distance > 0))
+        throw ConfigError(where(f, d) + "check.max_waypoint_distance: must be > 0 m, got " + str(d));
+    }
   }
 
   c.name = root["name"] ? mission_name(root["name"], f) : c.file.stem().string();

@@ -27,6 +27,10 @@ struct ParamSetting {
   fs::path file;     ///< file that set it (relative paths resolve against its directory)
   std::string field; ///< e.g. "plugins[2].params.roll_kp"
   bool strict = true;  ///< unknown names are errors (false for shared ROS 2 parameter files)
+  /// The command-line option that set it ("--set slc.roll_kp=0.5"), "" when a file did.
+  std::string option{};
+  /// Where an error about the value starts: "file:line:col: field" or the option.
+  std::string location() const;
 };
 
 struct InstanceConfig {
@@ -71,6 +75,14 @@ struct WatchdogConfig {
   double hard_ms = 2000.0;  ///< ms
 };
 
+/// `check:`: limits of `tern check` (and of `tern fly`'s check before it flies) on the mission.
+struct MissionCheckConfig {
+  /// m: a waypoint further than this from home (3-D) is an error; 5 km is well beyond a
+  /// small UAV's visual-line-of-sight area, and far inside the 20+ km that a latitude/longitude
+  /// read as metres (the `lla` flag forgotten) or a missing minus sign gives.
+  double max_waypoint_distance = 5000.0;
+};
+
 struct MissionConfig {
   fs::path file;               ///< absolute path of the config
   fs::path dir;                ///< its directory
@@ -90,7 +102,13 @@ struct MissionConfig {
   YAML::Node mission;          ///< free-form, for the path planner
   YAML::Node dds;              ///< free-form, for the DDS bridge
   FailsafeConfig failsafes;    ///< `failsafes:` (failsafe_config.hpp), the defaults without it
+  MissionCheckConfig check;    ///< `check:`
   YAML::Node root;             ///< the whole document as loaded
+  /// Command-line options that changed it after loading (cli_overrides.hpp), as given; the
+  /// flight log's config.yaml names them.
+  std::vector<std::string> overrides;
+  std::string phases_option;    ///< the --phases option that set `phases` ("" : the file)
+  std::string fallback_option;  ///< the --fallback option that set `fallback` ("" : the file)
 };
 
 /// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what).

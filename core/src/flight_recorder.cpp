@@ -70,11 +70,13 @@ FlightRecorder::~FlightRecorder() {
   file_sink_->flush();
 }
 
-void FlightRecorder::start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params) {
+void FlightRecorder::start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params,
+                           const std::map<std::string, std::string>& options) {
   log_.write_file("config.yaml", config_yaml);
   for (const auto& [name, p] : params) {
+    const auto option = options.find(name);
     const bool set = !(p->value() == p->default_value());
-    log_.param(0, name, param_text(p->value()), set ? "config" : "default");
+    log_.param(0, name, param_text(p->value()), option != options.end() ? option->second : set ? "config" : "default");
   }
 }
 

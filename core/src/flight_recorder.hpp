@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -45,9 +46,11 @@ class FlightRecorder {
 
   const fs::path& dir() const { return log_.dir(); }
 
-  /// Writes config.yaml and every parameter's starting value (source "config" when it differs
-  /// from its default, else "default").
-  void start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params);
+  /// Writes config.yaml and every parameter's starting value (source: the command-line option
+  /// that set it, from `options` (name -> option: param_options()), else "config" when it
+  /// differs from its default, else "default").
+  void start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params,
+             const std::map<std::string, std::string>& options);
   /// Chooses the topics of `graph` to log (see above); warns (naming `config_file`) of topics
   /// `log.topics` names that nobody publishes. The graph must not change until the flight ends.
   void choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn);

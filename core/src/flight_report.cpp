@@ -4,6 +4,7 @@
 #include <iterator>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -52,6 +53,13 @@ std::string resolved_config_yaml(const FlightFacts& f) {
     if (mf.is_relative()) root["mission"]["file"] = (f.config.dir / mf).lexically_normal().string();
   }
   root["name"] = f.config.name;
+  if (!f.config.phases.empty()) {  // the table flown (--phases, `tern phases` between flights)
+    YAML::Node ph;
+    for (const auto& [phase, instance] : f.config.phases) ph[std::string(msg::phase_name(phase))] = instance;
+    ph.SetStyle(YAML::EmitterStyle::Flow);
+    root["phases"] = ph;
+  }
+  if (f.config.fallback) root["fallback"] = *f.config.fallback;
   root["seed"] = f.seed;
   root["duration"] = f.duration_s;
   for (const auto& inst : f.instances) {
@@ -70,7 +78,9 @@ std::string resolved_config_yaml(const FlightFacts& f) {
   }
   YAML::Emitter e;
   e << root;
-  return std::string("# resolved from ") + f.config.file.string() + "\n" + e.c_str() + "\n";
+  std::string head = "# resolved from " + f.config.file.string() + "\n";
+  if (!f.config.overrides.empty()) head += fmt::format("# with {}\n", fmt::join(f.config.overrides, " "));
+  return head + e.c_str() + "\n";
 }
 
 namespace {

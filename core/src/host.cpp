@@ -12,6 +12,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include "cli_overrides.hpp"
 #include "elf_check.hpp"
 #include "error.hpp"
 #include "flight_recorder.hpp"
@@ -122,7 +123,8 @@ void Host::rebuild_graph() {
     Instance& inst = *instances_[i];
     inst.divisor = rates.divisors[i];
     inst.stats.budget_ns = rates.budgets[i];
-    nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
+    if (inst.idle) nodes.push_back({inst.cfg.name, false, false, {}, {}});  // writes and reads nothing
+    else nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
   }
   const OutputBase* edits = remote_.renew_mission_edit_output();
   const OutputBase* pilot = remote_.renew_pilot_output();
@@ -304,6 +306,8 @@ std::string Host::graph_text() const {
         if (name == inst.cfg.name) phases.emplace_back(msg::phase_name(p));
       if (router_.fallback() == idx) phases.emplace_back("fallback");
       route = fmt::format("  [phase router: {}]", fmt::join(phases, ", "));
+    } else if (inst.idle) {
+      route = "  (not routed: idle, never steps, writes nothing)";
     }
     s += fmt::format("  {}. {} ({}, {}) {}{}\n", k + 1, inst.cfg.name, inst.info.name, kind_name(inst.info.kind), when, route);
   }
@@ -313,8 +317,9 @@ std::string Host::graph_text() const {
 std::string Host::graph_dot() const {
   std::string s = "digraph tern {\n  rankdir=LR;\n  node [shape=box];\n";
   for (std::size_t i = 0; i < instances_.size(); ++i)
-    s += fmt::format("  \"{}\" [label=\"{}\\n{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
-                     instances_[i]->info.kind == PluginKind::io ? ", style=bold" : "");
+    s += fmt::format("  \"{}\" [label=\"{}\\n{}{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
+                     instances_[i]->idle ? "\\n(not routed: idle)" : "",
+                     instances_[i]->info.kind == PluginKind::io ? ", style=bold" : instances_[i]->idle ? ", style=dashed" : "");
   for (const auto& e : graph_.edges())
     s += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\"{}];\n", instances_[e.from]->cfg.name, instances_[e.to]->cfg.name, e.topic,
                      e.feedback ? ", style=dashed" : "");
@@ -347,10 +352,11 @@ FlightResult Host::fly() {
                           [this](const std::string& line) { logger_->error("{}", line); });
   FlightResult r;
   r.run_dir = recorder.dir();
-  recorder.start(resolved_config_yaml(facts(duration)), parameters());
+  recorder.start(resolved_config_yaml(facts(duration)), parameters(), param_options(config_));
   recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
+  if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
   const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
     recorder.param(t, name, p, source);
   };

@@ -101,7 +101,7 @@ void run_configure(Instance& inst, const fs::path& f, const std::string& field) 
     const std::string& p = inst.ctx->last_param();
     auto it = inst.cfg.params.find(p);
     if (it != inst.cfg.params.end())
-      throw ConfigError(where(it->second.file, it->second.node) + it->second.field + ": " + e.what());
+      throw ConfigError(it->second.location() + ": " + e.what());
     throw ConfigError(where(f, inst.cfg.node) + field + " (" + inst.cfg.name + "): " + e.what());
   } catch (const ConfigError&) {
     throw;
@@ -117,8 +117,8 @@ void check_unknown_params(const Instance& inst, spdlog::logger& log) {
   for (const auto& [name, setting] : inst.cfg.params) {
     if (inst.ctx->used().count(name)) continue;
     const std::string msg = "unknown parameter '" + name + "' of plugin '" + inst.info.name + "'" + did_you_mean(name, declared);
-    if (setting.strict) throw ConfigError(where(setting.file, setting.node) + setting.field + ": " + msg);
-    log.warn("{}{}: {} (ignored: shared ROS 2 parameter file)", where(setting.file, setting.node), setting.field, msg);
+    if (setting.strict) throw ConfigError(setting.location() + ": " + msg);
+    log.warn("{}: {} (ignored: shared ROS 2 parameter file)", setting.location(), msg);
   }
 }
 

@@ -55,6 +55,7 @@ struct Instance {
   std::int64_t divisor = 0;                // rate instances: step when tick % divisor == 0
   InputBase* trigger = nullptr;            // trigger instances
   bool routed = false;                     // a controller behind the phase router
+  bool idle = false;                       // a controller the phase table does not name: never steps, no ports in the graph
   bool builtin = false;
   IsolatedPlugin* isolated = nullptr;      // `plugin` when it runs in a child process
   StepStats stats;

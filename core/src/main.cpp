@@ -13,6 +13,8 @@
 #include "error.hpp"
 #include "host.hpp"
 #include "loader.hpp"
+#include "mission_check.hpp"
+#include "override_options.hpp"
 #include "serve.hpp"
 #include "tune_command.hpp"
 #if defined(TERN_WITH_DDS)
@@ -111,6 +113,13 @@ std::string range_text(const ParamBase& p) {
   return fmt::format("[{}, {}]{}", s.min, s.max, s.size ? fmt::format(" x{}", s.size) : "");
 }
 
+/// Prints the warnings and errors of `r` on stderr; true when there are no errors.
+bool report_missions(const MissionReport& r) {
+  for (const auto& w : r.warnings) std::fprintf(stderr, "tern: warning: %s\n", w.c_str());
+  for (const auto& e : r.errors) std::fprintf(stderr, "tern: error: %s\n", e.c_str());
+  return r.errors.empty();
+}
+
 int cmd_plugins(const std::vector<std::string>& extra_dirs) {
   std::vector<fs::path> dirs(extra_dirs.begin(), extra_dirs.end());
   const auto search = plugin_search_path(dirs);
@@ -203,9 +212,13 @@ int main(int argc, char** argv) {
   fly->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
   fly->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
 
-  auto* check = app.add_subcommand("check", "validate a mission config without flying and print its port graph");
+  CliOverrides overrides;
+  add_override_options(fly, overrides);
+
+  auto* check = app.add_subcommand("check", "validate a mission config and its waypoints without flying and print its port graph");
   check->add_option("config", config, "mission config (YAML)")->required();
   check->add_flag("--dot", dot, "print the port graph as Graphviz instead of text");
+  add_override_options(check, overrides);
 
   auto* plugins = app.add_subcommand("plugins", "list the plugins in the search path, with their ports and parameters");
   plugins->add_option("--path", plugin_dirs, "extra plugin directories to search first");
@@ -221,6 +234,7 @@ int main(int argc, char** argv) {
   add_tune_command(app, tune);
   auto* params = app.add_subcommand("params", "list every parameter of a mission: value, default, unit, range, description");
   params->add_option("config", config, "mission config (YAML)")->required();
+  add_override_options(params, overrides);
 
   std::string socket = default_socket().string();
   std::string instance, so_path, fallback, remote_cmd;
@@ -233,6 +247,7 @@ int main(int argc, char** argv) {
   console_opts(serve_cmd);
   serve_cmd->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS");
   serve_cmd->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
+  add_override_options(serve_cmd, overrides);
   auto* swap_cmd = app.add_subcommand("swap", "between flights of `tern serve`: replace an instance's plugin with another .so");
   swap_cmd->add_option("instance", instance, "instance name in the mission config")->required();
   swap_cmd->add_option("path", so_path, "the new plugin: a path to a .so, or a plugin name")->required();
@@ -450,7 +465,7 @@ int main(int argc, char** argv) {
       if (log_dir) opt.log_dir = fs::path(*log_dir);
       opt.realtime = realtime;
       MissionConfig mc = load_config(config);
-    if (skip_preflight) mc.phase_params["preflight"] = ParamSetting{YAML::Node(false), mc.file, "--skip-preflight"};
+      apply_overrides(mc, overrides);
 #if defined(TERN_WITH_DDS)
       DdsOptions dds_opt = parse_dds_options(mc.dds, mc.file);
       if (dds) dds_opt.enabled = true;
@@ -461,6 +476,7 @@ int main(int argc, char** argv) {
 #endif
       Host host(std::move(mc), opt);
       host.build();
+      if (!report_missions(check_missions(host))) return 1;  // as tern fly: refused before any flight
       const auto page = open_console(host, console, realtime, dds, console_port);
 #if defined(TERN_WITH_DDS)
       std::unique_ptr<DdsBridge> bridge;
@@ -485,6 +501,11 @@ int main(int argc, char** argv) {
       opt.quiet = true;
     }
     MissionConfig mc = load_config(config);
+    apply_overrides(mc, overrides);
+    if (skip_preflight) {
+      mc.phase_params["preflight"] = ParamSetting{YAML::Node(false), mc.file, "--skip-preflight", true, "--skip-preflight"};
+      mc.overrides.push_back("--skip-preflight");
+    }
     if (log_level) {
       mc.log.level = *log_level_from_name(*log_level);
       if (!mc.root["log"]) mc.root["log"] = YAML::Node(YAML::NodeType::Map);
@@ -498,16 +519,15 @@ int main(int argc, char** argv) {
 #else
     if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
 #endif
+    if (fly->parsed() && !report_missions(check_missions(mc))) return 1;  // refused before anything flies
     Host host(std::move(mc), opt);
     host.build();
     if (check->parsed()) {
-      if (dot) {
-        std::fputs(host.graph_dot().c_str(), stdout);
-      } else {
-        std::fputs(host.graph_text().c_str(), stdout);
-        std::printf("config OK: %s\n", host.config().file.c_str());
-      }
-      return 0;
+      std::fputs((dot ? host.graph_dot() : host.graph_text()).c_str(), stdout);
+      std::fflush(stdout);
+      const bool ok = report_missions(check_missions(host));
+      if (ok && !dot) std::printf("config OK: %s\n", host.config().file.c_str());
+      return ok ? 0 : 1;
     }
     if (params->parsed()) {
       fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", "parameter", "value", "default", "unit", "range", "description");

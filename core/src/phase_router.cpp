@@ -26,10 +26,8 @@ std::optional<std::size_t> PhaseRouter::index_of(const std::string& instance) co
   return std::nullopt;
 }
 
-// `node`: where the config names `instance` (located only if it still says so: a table set
-// between flights has no place in the file).
-void PhaseRouter::require_controller(const MissionConfig& config, const std::string& instance, const std::string& field,
-                                     const YAML::Node& node) const {
+// `at`: where the table names `instance` ("file:line:col: phases.cruise", or the option that set it).
+void PhaseRouter::require_controller(const std::string& instance, const std::string& at) const {
   const auto idx = index_of(instance);
   if (!idx) return;  // not loaded: a replay keeps the estimators only
   const Instance& inst = *instances_[*idx];
@@ -37,26 +35,41 @@ void PhaseRouter::require_controller(const MissionConfig& config, const std::str
   std::vector<std::string> controllers;
   for (const auto& other : instances_)
     if (other->info.kind == PluginKind::controller) controllers.push_back(other->cfg.name);
-  const std::string at = node && node.IsScalar() && node.Scalar() == instance ? where(config.file, node) : "";
-  throw ConfigError(fmt::format("{}{}: '{}' is not a controller: it runs plugin '{}' ({}); {}", at, field, instance, inst.info.name,
+  throw ConfigError(fmt::format("{}: '{}' is not a controller: it runs plugin '{}' ({}); {}", at, instance, inst.info.name,
                                 kind_name(inst.info.kind),
                                 controllers.empty() ? std::string("this mission has no controller instance")
                                                     : fmt::format("name one of: {}", fmt::join(controllers, ", "))));
 }
 
+namespace {
+// Where the config names `instance` under `field` (located only if it still says so: a table set
+// between flights or on the command line has no place in the file).
+std::string location(const MissionConfig& config, const std::string& option, const std::string& field, const YAML::Node& node,
+                     const std::string& instance) {
+  if (!option.empty()) return option + ": " + field;
+  const bool in_file = node && node.IsScalar() && node.Scalar() == instance;
+  return (in_file ? where(config.file, node) : "") + field;
+}
+}  // namespace
+
 void PhaseRouter::assign(const MissionConfig& config, PhaseMachine* phase_machine) {
   const YAML::Node phases_node = config.root["phases"];
   for (const auto& [phase, name] : config.phases) {
     const std::string key(msg::phase_name(phase));
-    require_controller(config, name, "phases." + key, phases_node && phases_node.IsMap() ? phases_node[key] : YAML::Node());
+    require_controller(name, location(config, config.phases_option, "phases." + key,
+                                      phases_node && phases_node.IsMap() ? phases_node[key] : YAML::Node(), name));
   }
-  if (config.fallback) require_controller(config, *config.fallback, "fallback", config.root["fallback"]);
+  if (config.fallback)
+    require_controller(*config.fallback, location(config, config.fallback_option, "fallback", config.root["fallback"], *config.fallback));
   phase_machine_ = phase_machine;
   table_ = config.phases;
   std::set<std::string> routed;
   for (const auto& [phase, name] : table_) routed.insert(name);
   if (config.fallback) routed.insert(*config.fallback);
-  for (const auto& inst : instances_) inst->routed = !inst->builtin && routed.count(inst->cfg.name) > 0;
+  for (const auto& inst : instances_) {
+    inst->routed = !inst->builtin && routed.count(inst->cfg.name) > 0;
+    inst->idle = !inst->builtin && !inst->routed && !table_.empty() && inst->info.kind == PluginKind::controller;
+  }
   fallback_.reset();
   active_.reset();
   if (table_.empty()) return;
@@ -66,7 +79,10 @@ void PhaseRouter::assign(const MissionConfig& config, PhaseMachine* phase_machin
   if (const auto takeoff = table_.find(msg::Phase::takeoff); takeoff != table_.end()) active_ = index_of(takeoff->second);
 }
 
-bool PhaseRouter::may_step(std::size_t idx) const { return !instances_[idx]->routed || (active_ && *active_ == idx); }
+bool PhaseRouter::may_step(std::size_t idx) const {
+  const Instance& inst = *instances_[idx];
+  return !inst.idle && (!inst.routed || (active_ && *active_ == idx));
+}
 
 // ---- a flight ---------------------------------------------------------------------------------
 

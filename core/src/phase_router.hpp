@@ -4,7 +4,9 @@
 // The config's `phases:` table names a controller instance per flight phase (a phase it does
 // not name is flown by cruise's). Those controllers are "routed": only the active one steps,
 // and the topics they write (`actuators`, `controller_internals`) are bound to its outputs
-// alone. The router follows the phase machine (phase_machine.hpp):
+// alone. A controller instance that the table and the fallback do not name is "idle"
+// (Instance::idle): it is configured, but never steps and its ports stay out of the port graph,
+// so it writes nothing (a research controller kept in the file while the stock one flies). The router follows the phase machine (phase_machine.hpp):
 //   preflight, or the FCU disarmed   no controller runs (routed topics unbound)
 //   a new phase                      its controller takes over (take_over() gets the last good
 //                                    actuator command, so there is no jump)
@@ -67,13 +69,14 @@ class PhaseRouter {
 
   // ---- the table (when the graph is built, between flights)
   /// Reads `config.phases` and `config.fallback`: marks the controllers they name as routed
-  /// (Instance::routed: set before the port graph is built), picks the fallback and makes
+  /// and the other controllers idle, when there is a table (Instance::routed, Instance::idle:
+  /// set before the port graph is built), picks the fallback and makes
   /// takeoff's controller the active one. Throws ConfigError when one of them is not a
   /// controller.
   void assign(const MissionConfig& config, PhaseMachine* phase_machine);
   std::optional<std::size_t> active() const { return active_; }
   std::optional<std::size_t> fallback() const { return fallback_; }
-  /// Whether instance `idx` may step: it is not routed, or it is the active controller.
+  /// Whether instance `idx` may step: it is not idle, and not routed or the active controller.
   bool may_step(std::size_t idx) const;
 
   // ---- a flight
@@ -116,8 +119,7 @@ class PhaseRouter {
   /// The active controller's `actuators` output, or nullptr.
   const OutputBase* find_actuators() const;
   std::optional<std::size_t> index_of(const std::string& instance) const;
-  void require_controller(const MissionConfig& config, const std::string& instance, const std::string& field,
-                          const YAML::Node& node) const;
+  void require_controller(const std::string& instance, const std::string& at) const;
 
   const std::vector<std::unique_ptr<Instance>>& instances_;
   PortGraph& graph_;

@@ -55,7 +55,7 @@ const InstanceConfig& command_producer(const MissionConfig& mc) {
   Host host(mc, describe);
   host.build();
   for (const auto& inst : host.instances()) {
-    if (inst->builtin || inst->routed) continue;
+    if (inst->builtin || inst->routed || inst->idle) continue;
     for (const auto* out : inst->plugin->outputs())
       if (out->topic() == kCommandTopic) return mc.plugins.at(inst->cfg.index);
   }
@@ -164,17 +164,6 @@ std::optional<double> engagement(const Host& host) {
   return std::nullopt;
 }
 
-/// Queues each "instance.param=value" (throws ConfigError or ParamError, one line).
-void apply_sets(Host& host, const std::vector<std::string>& sets) {
-  for (const auto& kv : sets) {
-    const auto eq = kv.find('=');
-    if (eq == std::string::npos || eq == 0)
-      throw ConfigError(fmt::format("--set '{}': give instance.param=value, e.g. slc.roll_kp=0.5", kv));
-    const std::string name = kv.substr(0, eq);
-    host.request_param(name, to_param_value(YAML::Load(kv.substr(eq + 1)), "command line", "--set " + name), "tern tune --set");
-  }
-}
-
 }  // namespace
 
 const TuneLoop* find_tune_loop(std::string_view name) {
@@ -200,6 +189,7 @@ TuneResult run_tune(const TuneOptions& o) {
   if (!(r.period >= 0.2 && r.period <= 3600.0)) throw ConfigError(fmt::format("--period {}: 0.2 .. 3600 s", r.period));
   r.duration = o.duration.value_or(60.0 + 2.5 * r.period);
   MissionConfig mc = load_config(o.config);
+  apply_overrides(mc, o.overrides);
   insert_generator(mc, *r.loop, r.amplitude, r.period, o.start_time);
   mc.name += "-tune-" + std::string(r.loop->name);
   HostOptions opt;
@@ -210,8 +200,7 @@ TuneResult run_tune(const TuneOptions& o) {
   r.seed = o.seed.value_or(mc.seed);
   Host host(std::move(mc), opt);
   host.build();
-  apply_sets(host, o.sets);
-  r.sets = o.sets;
+  r.overrides = host.config().overrides;
   std::vector<Sample> x;
   host.set_tick_observer(recorder(host, *r.loop, x));
   r.flight = host.fly();
@@ -229,7 +218,7 @@ std::string tune_report(const TuneResult& r, const std::string& config_name) {
   const TuneLoop& l = *r.loop;
   std::string s = fmt::format("tern tune {}: square wave on {}, {} {} peak to peak, period {} s; {}, seed {}, {} s\n", l.name, l.symbol,
                               r.amplitude, l.unit, r.period, config_name, r.seed, r.duration);
-  if (!r.sets.empty()) s += fmt::format("with {}\n", fmt::join(r.sets, ", "));
+  if (!r.overrides.empty()) s += fmt::format("with {}\n", fmt::join(r.overrides, " "));
   s += r.engaged_s ? fmt::format("signal engaged at t = {:.2f} s; response: the estimated {}\n", *r.engaged_s, l.state)
                    : "signal never engaged (no cruise phase?)\n";
   s += fmt::format("{:>9} {:>10} {:>10} {:>9} {:>13} {:>13} {:>14}\n", "t [s]", "from", "to", "rise [s]", "overshoot [%]",

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "cli_overrides.hpp"
 #include "flight_report.hpp"
 #include "step_response.hpp"
 
@@ -47,9 +48,9 @@ struct TuneOptions {
   std::optional<std::uint64_t> seed;
   std::optional<std::filesystem::path> log_dir;
   double start_time = 20.0;         ///< s after the first cruise phase
-  /// Parameter changes "instance.param=value" applied before the flight (as `tern param set`;
-  /// recorded in params.csv): the gains under test.
-  std::vector<std::string> sets;
+  /// --set (the gains under test), --phases, --fallback: applied to the config before the
+  /// flight (cli_overrides.hpp), recorded in the run's config.yaml.
+  CliOverrides overrides;
 };
 
 struct TuneStep {
@@ -63,7 +64,7 @@ struct TuneResult {
   const TuneLoop* loop = nullptr;
   double amplitude = 0.0, period = 0.0, duration = 0.0;
   std::uint64_t seed = 0;
-  std::vector<std::string> sets;    ///< as given
+  std::vector<std::string> overrides;  ///< the options as given (--set ..., --phases ...)
   std::optional<double> engaged_s;  ///< flight time the signal engaged (nullopt: never)
   std::vector<TuneStep> steps;
   FlightResult flight;

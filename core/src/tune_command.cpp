@@ -11,6 +11,7 @@
 
 #include "config.hpp"
 #include "error.hpp"
+#include "override_options.hpp"
 
 namespace tern::core {
 
@@ -44,7 +45,7 @@ void add_tune_command(CLI::App& app, TuneCommand& tc) {
   tc.app->add_option("--duration", o.duration, "flight length, s (default: 60 + 2.5 periods)");
   tc.app->add_option("--log-dir", o.log_dir, "directory for the run directory (default: the config's, ./runs)");
   tc.app->add_option("--start-time", o.start_time, "s after the first cruise phase when the signal engages")->capture_default_str();
-  tc.app->add_option("--set", o.sets, "INSTANCE.PARAM=VALUE: a parameter (a gain under test) for this flight; repeatable");
+  add_override_options(tc.app, o.overrides);  // --set: the gains under test
   tc.app->add_flag("--no-plot", tc.no_plot, "do not draw the figures (tern plot)");
 }
 

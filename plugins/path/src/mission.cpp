@@ -9,20 +9,18 @@
 #include <GeographicLib/LocalCartesian.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "number_text.hpp"
+
 namespace tern::path {
 
 namespace {
 
-std::string num(double v) {
-  char b[64];
-  std::snprintf(b, sizeof b, "%.10g", v);
-  return b;
-}
+std::string num(double v) { return number_text(v); }
 
 /// "<source>: line N: " (line N omitted when unknown).
 std::string at(const std::string& source, const YAML::Node& n, int line_offset = 0) {
   const auto m = n.Mark();
-  if (m.line >= 0) return source + ": line " + std::to_string(m.line + 1 + line_offset) + ": ";
+  if (m.line >= 0) return source + ":" + std::to_string(m.line + 1 + line_offset) + ": ";
   return source + ": ";
 }
 
@@ -110,9 +108,14 @@ void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YA
   if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
 }
 
+const std::vector<std::string> kEntryKeys = {"ned", "w", "lla", "chi_d", "use_chi", "Va_d", "va_d", "type",
+                                             "radius", "direction", "time", "turns", "altitude"};
+
 MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string& name, double default_Va) {
   MissionWaypoint wp;
   wp.Va_d = default_Va;
+  wp.field = name;
+  if (n.Mark().line >= 0) wp.line = n.Mark().line + 1 + c.line_offset;
   if (n.IsSequence()) {
     wp.w = as_vec3(n, c, name);
     validate_waypoint(wp, c.prefix(n) + name);
@@ -163,8 +166,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
     } else if (key == "altitude") {
       k.altitude = v;
     } else {
-      throw MissionError(c.prefix(kv.first) + name + ": unknown key '" + key +
-                         "' (expected ned, w, lla, chi_d, use_chi, Va_d, type, radius, direction, time, turns, altitude)");
+      throw MissionError(c.prefix(kv.first) + name + ": ", key, kEntryKeys);
     }
   }
   finish_item(wp, positions, k, n, c, name);
@@ -217,8 +219,9 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
     } else if (key == "file" && allow_file) {
       have_file = true;
     } else {
-      throw MissionError(c.prefix(kv.first) + "unknown key '" + key + "' (expected " +
-                         (allow_file ? "waypoints or file" : "waypoints") + ", loop, Va_d)");
+      throw MissionError(c.prefix(kv.first), key,
+                         allow_file ? std::vector<std::string>{"waypoints", "file", "loop", "Va_d"}
+                                    : std::vector<std::string>{"waypoints", "loop", "Va_d"});
     }
   }
   if (have_file) {
@@ -264,7 +267,7 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     if (is_top_level_wp(line)) {
       chunks.emplace_back(number, line + "\n");
     } else if (!line.empty() && line[0] != ' ' && line[0] != '\t' && !blank_or_comment(line) && line != "---") {
-      throw MissionError(source + ": line " + std::to_string(number) + ": unexpected top-level entry '" + line +
+      throw MissionError(source + ":" + std::to_string(number) + ": unexpected top-level entry '" + line +
                          "' in a ROSplane mission file (only wp: entries)");
     } else if (!chunks.empty()) {
       chunks.back().second += line + "\n";
@@ -276,16 +279,31 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     try {
       doc = YAML::Load(chunks[k].second);
     } catch (const YAML::Exception& e) {
-      throw MissionError(source + ": line " + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) +
+      throw MissionError(source + ":" + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) +
                          ": " + e.msg);
     }
     m.waypoints.push_back(parse_entry(doc["wp"], c, "wp " + std::to_string(k + 1), 0.0));
+    m.waypoints.back().line = chunks[k].first;  // the entry's `wp:` line
   }
   fill_return_home_altitudes(m);
   return m;
 }
 
 }  // namespace
+
+namespace {
+std::string key_list(const std::vector<std::string>& keys) {
+  std::string s;
+  for (const auto& k : keys) s += (s.empty() ? "" : ", ") + k;
+  return s;
+}
+}  // namespace
+
+MissionError::MissionError(const std::string& where, const std::string& key, const std::vector<std::string>& expected)
+    : std::runtime_error(where + "unknown key '" + key + "' (expected " + key_list(expected) + ")"),
+      where_(where),
+      key_(key),
+      expected_(expected) {}
 
 bool Mission::has_lla() const {
   for (const auto& wp : waypoints)
@@ -313,8 +331,8 @@ void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
   }
 }
 
-Mission parse_mission_section(const YAML::Node& section, const std::filesystem::path& base_dir) {
-  return parse_map(section, Ctx{"mission config (mission:)", 0}, true, base_dir);
+Mission parse_mission_section(const YAML::Node& section, const std::filesystem::path& base_dir, const std::string& source) {
+  return parse_map(section, Ctx{source, 0}, true, base_dir);
 }
 
 Mission parse_mission_text(const std::string& text, const std::string& source) {
@@ -326,7 +344,7 @@ Mission parse_mission_text(const std::string& text, const std::string& source) {
   try {
     root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
-    throw MissionError(source + ": line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
+    throw MissionError(source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   Mission m = parse_map(root, Ctx{source, 0}, false, {});
   m.source = source;

@@ -56,13 +56,13 @@ TEST_CASE("mission: ROSplane format errors name the file, line and field") {
     parse_mission_text(bad, "m.yaml");
     FAIL("no error");
   } catch (const MissionError& e) {
-    CHECK(std::string(e.what()) == "m.yaml: line 5: wp 2.w[1]: 'abc' is not a number");
+    CHECK(std::string(e.what()) == "m.yaml:5: wp 2.w[1]: 'abc' is not a number");
   }
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\nfoo: 1\n", "m.yaml"),
-                       "m.yaml: line 3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)",
+                       "m.yaml:3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)",
                        MissionError);
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
-                       "m.yaml: line 3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, type, radius, direction, time, turns, altitude)",
+                       "m.yaml:3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, va_d, type, radius, direction, time, turns, altitude)",
                        MissionError);
 }
 
@@ -127,7 +127,7 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], use_chi: maybe}"),
                  "waypoints[0].use_chi: 'maybe' is not true or false"));
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], speed: 3}"), "unknown key 'speed'"));
-  CHECK(contains(error_of("waypoint: []"), "line 1: unknown key 'waypoint'"));
+  CHECK(contains(error_of("waypoint: []"), ":1: unknown key 'waypoint'"));
   CHECK(contains(error_of("file: nowhere.yaml"), "nowhere.yaml: cannot read the mission file"));
   CHECK(contains(error_of("file: fixedwing_mission.yaml\nwaypoints: []"), "give either waypoints or file, not both"));
   CHECK(contains(error_of("waypoints: 3"), "waypoints: expected a list"));

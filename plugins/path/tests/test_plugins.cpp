@@ -529,7 +529,7 @@ TEST_CASE("plugins: defaults are ROSplane's Anaconda values") {
 TEST_CASE("plugins: a bad mission section fails configure with one clear line") {
   CHECK_THROWS_WITH_AS(
       tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load("waypoints: [[1, 2]]"))),
-      "mission config (mission:): line 1: waypoints[0]: expected a list of 3 numbers", MissionError);
+      "mission config (mission:):1: waypoints[0]: expected a list of 3 numbers", MissionError);
 }
 
 TEST_CASE("plugins: a mission longer than a WaypointList holds is refused at configure") {

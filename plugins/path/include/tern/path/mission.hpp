@@ -41,7 +41,8 @@
 // Latitude must be in [-90, 90] deg, longitude in [-180, 180] deg. Unknown keys are errors.
 //
 // Errors: every function throws MissionError (a std::runtime_error) with one line naming the
-// file (or "mission config"), the waypoint number and field, and the bad value.
+// file (or "mission config") and line ("file:line: "), the waypoint number and field, and the
+// bad value. mission_check.hpp checks where the waypoints are (home, turn radius, fence).
 #pragma once
 
 #include <filesystem>
@@ -62,6 +63,16 @@ namespace tern::path {
 class MissionError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
+  /// An unknown key: what() is "<where>unknown key 'key' (expected a, b, ...)"; the parts stay
+  /// readable so that a caller can suggest the closest key instead.
+  MissionError(const std::string& where, const std::string& key, const std::vector<std::string>& expected);
+  const std::string& where() const { return where_; }                        ///< "file:line: field: " ("" if not an unknown key)
+  const std::string& unknown_key() const { return key_; }                    ///< "" if not an unknown key
+  const std::vector<std::string>& expected_keys() const { return expected_; }
+
+ private:
+  std::string where_, key_;
+  std::vector<std::string> expected_;
 };
 
 /// One waypoint as the mission gives it.
@@ -73,6 +84,8 @@ struct MissionWaypoint {
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
   ItemType type = ItemType::waypoint;
   LoiterSpec loiter;     ///< loiter and return_home items
+  int line = 0;          ///< 1-based line of the entry in its source (0: not read from text)
+  std::string field;     ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
 };
 
 struct Mission {
@@ -83,9 +96,11 @@ struct Mission {
   bool has_lla() const;
 };
 
-/// Reads the mission config's `mission:` section. base_dir resolves a relative `file:`. A null
-/// or empty section gives an empty mission. Throws MissionError.
-Mission parse_mission_section(const YAML::Node& section, const std::filesystem::path& base_dir);
+/// Reads the mission config's `mission:` section. base_dir resolves a relative `file:`; `source`
+/// names the section in errors (the config file's path, whose line numbers the nodes carry).
+/// A null or empty section gives an empty mission. Throws MissionError.
+Mission parse_mission_section(const YAML::Node& section, const std::filesystem::path& base_dir,
+                              const std::string& source = "mission config (mission:)");
 
 /// Reads a tern waypoint file or a ROSplane mission file. Throws MissionError (also when the
 /// file cannot be read).
