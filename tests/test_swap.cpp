@@ -81,6 +81,61 @@ TEST_CASE("swap v1 -> v2 between flights: the next flight runs the new code, the
   CHECK(first.substr(0, 400) == read_file(b.run_dir / "topics" / "truth.csv").substr(0, 400));
 }
 
+TEST_CASE("swap reports both libraries' SHA-256 and says when they are the same") {
+  auto h = host_for(base_config(), "swap_sha");
+  const std::string sha1 = file_sha256(kV1), sha2 = file_sha256(kV2);
+  CHECK(sha1.size() == 64);
+  CHECK(sha1 != sha2);
+  // an independent digest: sha256sum's answer for the same bytes
+  const fs::path out = test_dir() / "sha256sum.out";
+  REQUIRE(std::system(("sha256sum " + kV1.string() + " > " + out.string()).c_str()) == 0);
+  CHECK(read_file(out).substr(0, 64) == sha1);
+  const SwapReport a = h->swap("ctl", kV2);
+  CHECK(a.old_sha256 == sha1);
+  CHECK(a.new_sha256 == sha2);
+  CHECK_FALSE(a.same());
+  // a "rebuild" that left the file as it was (the build failed): same bytes, swapped with a warning
+  const fs::path copy = test_dir() / "same" / "libtern_test_controller.so";
+  fs::create_directories(copy.parent_path());
+  fs::copy_file(kV2, copy, fs::copy_options::overwrite_existing);
+  const SwapReport b = h->swap("ctl", copy);
+  CHECK(b.same());
+  CHECK(b.new_sha256 == sha2);
+  // the hash is of the bytes loaded, not of the file now at that path
+  fs::copy_file(kV1, copy, fs::copy_options::overwrite_existing);
+  CHECK(h->swap("ctl", copy).old_sha256 == sha2);
+}
+
+TEST_CASE("abort_flight ends the flight like its duration with a complete log; the host flies again") {
+  std::string cfg = base_config();
+  cfg.replace(cfg.find("duration: 2"), 11, "duration: 600");
+  HostOptions o;
+  o.quiet = true;
+  o.realtime = true;  // the flight lasts until aborted
+  o.log_dir = test_dir() / "abort";
+  auto h = std::make_unique<Host>(load_config(write_file("abort.yaml", cfg)), o);
+  h->build();
+  CHECK_FALSE(h->abort_flight());  // nothing flying
+  FlightResult r;
+  std::thread flight([&] { r = h->fly(); });
+  while (!h->flying()) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  CHECK(h->abort_flight());
+  flight.join();
+  CHECK(r.ok);
+  CHECK(r.end_reason == "aborted");
+  CHECK(r.flown < tern::from_seconds(600));
+  CHECK(r.flown > 0);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["end_reason"] == "aborted");
+  CHECK(r.summary.find("ended (aborted)") != std::string::npos);
+  CHECK(exit_status(r) == 0);
+  h->set_duration(0.5);
+  const FlightResult next = h->fly();  // an abort asked between flights does not carry over
+  CHECK(next.ok);
+  CHECK(next.end_reason == "duration");
+}
+
 TEST_CASE("swap is refused while flying, and a mismatched .so is refused with the current plugin kept") {
   std::string cfg = base_config();
   cfg.replace(cfg.find("duration: 2"), 11, "duration: 30");
@@ -147,12 +202,13 @@ TEST_CASE("the phase table changes between flights") {
   CHECK(s["controller_handovers"][0]["to"] == "ctl2");
 }
 
-TEST_CASE("tern serve: fly, swap, fly, status, quit from the command line") {
+TEST_CASE("tern serve: fly (with its summary), swap (with hashes), fly, abort, status, quit from the command line") {
   const fs::path cfg = write_file("serve.yaml", base_config());
   const fs::path sock = test_dir() / "serve.sock";
   const fs::path logs = test_dir() / "serve_runs";
   const std::string bin = TERN_BIN;
-  const std::string serve_cmd = bin + " serve " + cfg.string() + " --socket " + sock.string() + " --log-dir " + logs.string() +
+  // real time: the 600 s flight below lasts until aborted
+  const std::string serve_cmd = bin + " serve " + cfg.string() + " --realtime --socket " + sock.string() + " --log-dir " + logs.string() +
                                 " > " + (test_dir() / "serve.out").string() + " 2>&1 &";
   REQUIRE(std::system(serve_cmd.c_str()) == 0);
   for (int i = 0; i < 500 && !fs::exists(sock); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
@@ -164,20 +220,60 @@ TEST_CASE("tern serve: fly, swap, fly, status, quit from the command line") {
   };
   auto [rc1, out1] = run("remote fly 0.5");
   CHECK(rc1 == 0);
-  CHECK(out1.find("ok: flight 1 ended (duration) at t=0.500 s; log: ") != std::string::npos);
+  CHECK(out1.find("ok: flight 1 ended (duration) at t=0.500 s; log: ") == 0);
+  // the summary tables `tern fly` prints, after the first line
+  CHECK(out1.find("flight 'hostcheck' ended (duration) at t = 0.50 s") != std::string::npos);
+  CHECK(out1.find("instance") != std::string::npos);
+  CHECK(out1.find("  ctl ") != std::string::npos);
   auto [rc2, out2] = run("swap ctl " + kV2.string());
   CHECK(rc2 == 0);
-  CHECK(out2 == "ok: ctl now runs " + kV2.string() + "\n");
+  CHECK(out2 == "ok: ctl now runs " + kV2.string() + " (sha256 " + file_sha256(kV1).substr(0, 12) + " -> " +
+                    file_sha256(kV2).substr(0, 12) + ")\n");
   auto [rc3, out3] = run("remote fly 0.5");
   CHECK(rc3 == 0);
-  const auto log_dir = out3.substr(out3.find("log: ") + 5, out3.size() - out3.find("log: ") - 6);
+  const auto log_start = out3.find("log: ") + 5;
+  const auto log_dir = out3.substr(log_start, out3.find('\n', log_start) - log_start);
   const auto s = nlohmann::json::parse(read_file(fs::path(log_dir) / "summary.json"));
   CHECK(s["instances"]["ctl"]["version"] == 2.0);
+  // the same library again (a failed rebuild): swapped, with a warning
+  auto [rc2b, out2b] = run("swap ctl " + kV2.string());
+  CHECK(rc2b == 0);
+  CHECK(out2b == "ok: ctl now runs " + kV2.string() + "\nwarning: same library (sha256 " + file_sha256(kV2) + "): did the build fail?\n");
+  const std::string server_out = read_file(test_dir() / "serve.out");
+  CHECK(server_out.find("sha256 " + file_sha256(kV1) + " -> test_controller (" + kV2.string() + ") sha256 " + file_sha256(kV2)) !=
+        std::string::npos);
+  CHECK(server_out.find("same library (sha256 " + file_sha256(kV2) + ") as the one running: did the build fail?") != std::string::npos);
+  // abort: the long flight ends, its log is complete, the server stays for the next one
+  auto [rca0, outa0] = run("remote abort");
+  CHECK(rca0 == 1);
+  CHECK(outa0 == "error: abort: no flight in progress\n");
+  std::pair<int, std::string> long_fly;
+  std::thread flying([&] {
+    const std::string out = (test_dir() / "long_fly.out").string();
+    const int rc = std::system((bin + " remote fly 600 --socket " + sock.string() + " > " + out + " 2>&1").c_str());
+    long_fly = {WEXITSTATUS(rc), read_file(out)};
+  });
+  std::string status;
+  for (int i = 0; i < 500 && status.find("flying") == std::string::npos; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    status = run("remote status").second;
+  }
+  CHECK(status.find("ok: flying (flight 3)") == 0);
+  auto [rca, outa] = run("remote abort");
+  flying.join();
+  CHECK(rca == 0);
+  CHECK(outa.find("ok: flight 3 aborting") == 0);
+  CHECK(long_fly.first == 0);
+  CHECK(long_fly.second.find("ok: flight 3 ended (aborted) at t=") == 0);
+  const auto abort_log_start = long_fly.second.find("log: ") + 5;
+  const fs::path abort_dir = long_fly.second.substr(abort_log_start, long_fly.second.find('\n', abort_log_start) - abort_log_start);
+  CHECK(nlohmann::json::parse(read_file(abort_dir / "summary.json"))["end_reason"] == "aborted");
+  CHECK(fs::exists(abort_dir / "timing.json"));
   auto [rc4, out4] = run("phases takeoff=ctl climb=ctl cruise=nope");
   CHECK(rc4 == 1);
   CHECK(out4 == "error: phases: this mission has no 'phases:' table (and so no phase machine) to change\n");
   auto [rc5, out5] = run("remote status");
-  CHECK(out5 == "ok: idle, 2 flight(s) flown\n");
+  CHECK(out5 == "ok: idle, 3 flight(s) flown\n");
   auto [rc6, out6] = run("remote quit");
   CHECK(rc6 == 0);
   for (int i = 0; i < 500 && fs::exists(sock); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));

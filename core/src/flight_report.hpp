@@ -27,7 +27,7 @@ class FlightMetrics;
 
 struct FlightResult {
   fs::path run_dir;
-  std::string end_reason;  ///< "duration", "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's end_flight reason ("crash")
+  std::string end_reason;  ///< "duration", "aborted" (Host::abort_flight), "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's end_flight reason ("crash")
   std::string end_detail;  ///< with a plugin's end_flight: "instance at t=...: what it said"; else empty
   bool ok = true;
   std::string log_error;   ///< the flight log's first write error: some of the log is missing ("" if none)
@@ -35,6 +35,7 @@ struct FlightResult {
   double wall_s = 0;
   double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
   double log_cpu_s = 0;     ///< CPU time of the flight log's writer thread (CSV formatting, writes)
+  std::string summary;      ///< the console's end-of-flight tables (summary_text), for `tern remote fly`
 };
 
 /// Exit status of `tern fly` and `tern replay` (README, "Exit status"): 1 when !ok, 3 when the

@@ -134,7 +134,7 @@ void Host::rebuild_graph() {
   graph_.bind(router_.active());
 }
 
-void Host::swap(const std::string& instance, const fs::path& so_in) {
+SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
   if (flying_) throw ConfigError("swap refused: a flight is in progress; swap between flights");
   std::size_t idx = SIZE_MAX;
   std::vector<std::string> names;
@@ -191,12 +191,23 @@ void Host::swap(const std::string& instance, const fs::path& so_in) {
   const fs::path old_path = fresh->lib ? fresh->lib->info().path : fs::path();
   const bool shared = fresh->lib && fresh->lib.use_count() > 1;
   const std::string old_desc = fmt::format("{} ({})", fresh->info.name, fresh->source.string());
+  const SwapReport report{fresh->info.sha256, instances_[idx]->info.sha256};
   fresh->drop_plugin();
   fresh->lib.reset();
   if (!shared && !old_path.empty() && is_loaded(old_path))
     logger_->warn("swap {}: the old library {} is still mapped after unloading it", instance, old_path.string());
   if (!old_path.empty() && old_path.parent_path() == swap_dir_ && !shared) fs::remove(old_path);
-  logger_->info("swapped {}: {} -> {} ({})", instance, old_desc, instances_[idx]->info.name, so.string());
+  logger_->info("swapped {}: {} sha256 {} -> {} ({}) sha256 {}", instance, old_desc, report.old_sha256, instances_[idx]->info.name,
+                so.string(), report.new_sha256);
+  if (report.same())
+    logger_->warn("swap {}: same library (sha256 {}) as the one running: did the build fail?", instance, report.new_sha256);
+  return report;
+}
+
+bool Host::abort_flight() {
+  if (!flying_.load()) return false;
+  abort_.store(true);
+  return true;
 }
 
 void Host::set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback) {
@@ -347,6 +358,7 @@ FlightResult Host::fly() {
   if (flights_ > 0) reset_for_next_flight();
   ++flights_;
   g_stop_signal.store(0);
+  abort_.store(false);
   const double duration = flight_duration();
   FlightRecorder recorder(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
                           [this](const std::string& line) { logger_->error("{}", line); });
@@ -381,6 +393,7 @@ FlightResult Host::fly() {
     r.wall_s = clock.wall_s();
     emergency_end(recorder, r, duration);
   });
+  bool aborted = false;
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
     const EndRequest end = run_tick(clock);
@@ -399,10 +412,14 @@ FlightResult Host::fly() {
       status.draw(clock.now());
       clock.pace();
     }
+    if (abort_.load(std::memory_order_relaxed)) {  // after a complete tick: the log ends with it
+      aborted = true;
+      break;
+    }
   }
   watchdog_.disarm();
   status.finish();
-  if (r.ok) r.end_reason = clock.end_reason();
+  if (r.ok) r.end_reason = aborted ? "aborted" : clock.end_reason();
   r.flown = clock.now();
   r.wall_s = clock.wall_s();
   r.flight_cpu_s = clock.cpu_s();
@@ -491,10 +508,11 @@ void Host::finish_flight(FlightRecorder& recorder, FlightResult& r, double durat
   }
   if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM" || r.end_reason == "SIGHUP")
     logger_->warn("flight ended by {} at t={:.3f} s; the log is complete", r.end_reason, to_seconds(r.flown));
+  if (r.end_reason == "aborted") logger_->info("flight aborted at t={:.3f} s; the log is complete", to_seconds(r.flown));
   recorder.finish(facts(duration_s), r);
+  r.summary = summary_text(facts(duration_s), r);
   if (!options_.quiet) {
-    const std::string text = summary_text(facts(duration_s), r);
-    std::fputs(text.c_str(), stdout);
+    std::fputs(r.summary.c_str(), stdout);
     std::fflush(stdout);
   }
 }

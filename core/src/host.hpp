@@ -51,6 +51,12 @@ namespace tern::core {
 
 class FlightRecorder;
 
+/// What a swap replaced: the SHA-256 (hex) of the library that ran and of the new one.
+struct SwapReport {
+  std::string old_sha256, new_sha256;
+  bool same() const { return old_sha256 == new_sha256; }
+};
+
 struct HostOptions {
   std::optional<std::uint64_t> seed;
   std::optional<double> duration;          ///< s
@@ -120,8 +126,10 @@ class Host {
   /// plugin or a rebuild of the same one), configured with the instance's parameters. The new
   /// library is loaded from a private copy, so a rebuild at the same path loads too; the old
   /// library is unloaded for real. On any error (flying, unknown instance, handshake mismatch,
-  /// ports that do not bind) throws ConfigError and keeps the current plugin.
-  void swap(const std::string& instance, const fs::path& so);
+  /// ports that do not bind) throws ConfigError and keeps the current plugin. The log line names
+  /// both libraries' SHA-256; when they are equal (a rebuild that failed and left the old file)
+  /// the swap happens and a warning says so.
+  SwapReport swap(const std::string& instance, const fs::path& so);
   /// Between flights: a new phase -> controller table (and fallback). Throws ConfigError (and
   /// keeps the old table) if flying or invalid (a phase or the fallback not a controller).
   void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
@@ -141,6 +149,10 @@ class Host {
   void set_tick_observer(std::function<void(Nanos now)> observer) { tick_observer_ = std::move(observer); }
   /// A flight is running.
   bool flying() const { return flying_.load(); }
+  /// Ends the running flight after its current tick as if its duration had ended (end_reason
+  /// "aborted", ok, the log complete); the host stays ready for the next flight. Any thread.
+  /// Returns false (and does nothing) when no flight is running.
+  bool abort_flight();
   /// Flights flown by this host.
   int flights() const { return flights_; }
   /// Flight time of the last recorded IMU sample when replaying (0 otherwise).
@@ -184,6 +196,7 @@ class Host {
   double flight_start_ms_ = 0;
   bool built_ = false;
   std::atomic<bool> flying_{false};
+  std::atomic<bool> abort_{false};  // abort_flight() asked; cleared when a flight starts
   int flights_ = 0;
   std::optional<double> duration_override_;
   std::function<void(Nanos)> tick_observer_;

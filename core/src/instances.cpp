@@ -184,7 +184,7 @@ std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::
   inst->cfg.plugin = "replay (built in)";
   inst->cfg.rate = config.base_rate.value_or(400.0);
   inst->builtin = true;
-  inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}};
+  inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}, {}};
   auto rp = std::make_unique<ReplaySource>(replay_dir);
   replay = rp.get();
   inst->plugin = std::move(rp);
@@ -236,7 +236,7 @@ void add_builtin(const InstanceSetup& setup, std::vector<std::unique_ptr<Instanc
   inst->cfg.params = params;
   if (setup.config.root[name]) inst->cfg.node = setup.config.root[name];
   inst->builtin = true;
-  inst->info = PluginInfo{name, PluginKind::generic, description, {}};
+  inst->info = PluginInfo{name, PluginKind::generic, description, {}, {}};
   inst->plugin = std::move(plugin);
   configure_instance(*inst, setup);
   list.push_back(std::move(inst));

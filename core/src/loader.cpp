@@ -6,8 +6,11 @@
 #include <map>
 #include <set>
 
+#include <fstream>
+
 #include <boost/dll/shared_library.hpp>
 #include <fmt/format.h>
+#include <openssl/evp.h>
 
 #include "elf_check.hpp"
 #include "error.hpp"
@@ -133,8 +136,28 @@ std::vector<fs::path> discover_plugins(const std::vector<fs::path>& search_path)
   return out;
 }
 
+std::string file_sha256(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError("cannot read '" + path.string() + "' to hash it");
+  std::unique_ptr<EVP_MD_CTX, decltype(&EVP_MD_CTX_free)> ctx(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+  if (!ctx || EVP_DigestInit_ex(ctx.get(), EVP_sha256(), nullptr) != 1) throw ConfigError("sha256: OpenSSL cannot start a digest");
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) {
+    EVP_DigestUpdate(ctx.get(), buf, static_cast<std::size_t>(in.gcount()));
+    if (in.eof()) break;
+  }
+  if (in.bad()) throw ConfigError("cannot read '" + path.string() + "' to hash it");
+  unsigned char md[EVP_MAX_MD_SIZE];
+  unsigned int n = 0;
+  EVP_DigestFinal_ex(ctx.get(), md, &n);
+  std::string hex;
+  for (unsigned int i = 0; i < n; ++i) hex += fmt::format("{:02x}", md[i]);
+  return hex;
+}
+
 std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
   check_elf(path);  // a truncated file would raise SIGBUS inside dlopen
+  std::string sha256 = file_sha256(path);  // the bytes about to be loaded
   auto lib = std::make_unique<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
   lib->load(path.string(), ec, boost::dll::load_mode::rtld_local | boost::dll::load_mode::rtld_now);
@@ -171,7 +194,7 @@ std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
   if (!kind) throw ConfigError(fmt::format("{}: unknown plugin kind '{}'", who, hs.kind ? hs.kind : ""));
   if (!lib->has(TERN_STR(TERN_FACTORY_ALIAS)))
     throw ConfigError(fmt::format("{}: no factory symbol {}", who, TERN_STR(TERN_FACTORY_ALIAS)));
-  PluginInfo info{hs.plugin_name, *kind, hs.description ? hs.description : "", path};
+  PluginInfo info{hs.plugin_name, *kind, hs.description ? hs.description : "", path, std::move(sha256)};
   return std::make_shared<PluginLibrary>(std::move(lib), std::move(info));
 }
 

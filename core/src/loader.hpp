@@ -28,7 +28,12 @@ struct PluginInfo {
   PluginKind kind = PluginKind::generic;
   std::string description;
   fs::path path;
+  std::string sha256;  ///< of the library's bytes when it was opened (hex; `tern swap` compares them)
 };
+
+/// SHA-256 of a file's bytes, 64 lowercase hex digits (OpenSSL). Throws ConfigError when the file
+/// cannot be read.
+std::string file_sha256(const fs::path& path);
 
 /// An open plugin library. Destroy every Plugin it created before destroying it.
 class PluginLibrary {

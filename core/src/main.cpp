@@ -258,8 +258,8 @@ int main(int argc, char** argv) {
   phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* console_cmd = app.add_subcommand("console", "the URL of the console of a `tern serve --realtime --console` (open it in a browser)");
   console_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
-  auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS], status, quit");
-  remote->add_option("command", remote_cmd, "fly, status or quit")->required()->check(CLI::IsMember({"fly", "status", "quit"}));
+  auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS] (prints the summary tables), abort (ends the flight, keeps the server), status, quit");
+  remote->add_option("command", remote_cmd, "fly, abort, status or quit")->required()->check(CLI::IsMember({"fly", "abort", "status", "quit"}));
   remote->add_option("args", remote_args, "fly: flight length in seconds");
   remote->add_option("--socket", socket, "control socket of the server")->capture_default_str();
 

@@ -63,7 +63,7 @@ struct Server {
 
   std::string handle(const std::string& line) {
     const auto w = words(line);
-    if (w.empty()) return "error: empty command (fly, status, swap, phases, console, quit)";
+    if (w.empty()) return "error: empty command (fly, abort, status, swap, phases, console, quit)";
     const std::string& cmd = w[0];
     try {
       if (cmd == "status") {
@@ -93,16 +93,23 @@ struct Server {
         }
         host.set_duration(duration);
         const FlightResult r = host.fly();
-        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}{}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
-                           to_seconds(r.flown), r.run_dir.string(), r.log_error.empty() ? "" : " (incomplete: " + r.log_error + ")");
+        // first line: the outcome; then the summary tables `tern fly` prints
+        return fmt::format("{}: flight {} ended ({}) at t={:.3f} s; log: {}{}\n{}", r.ok ? "ok" : "error", host.flights(), r.end_reason,
+                           to_seconds(r.flown), r.run_dir.string(), r.log_error.empty() ? "" : " (incomplete: " + r.log_error + ")",
+                           r.summary);
+      }
+      if (cmd == "abort") {
+        if (!host.abort_flight()) return "error: abort: no flight in progress";
+        return fmt::format("ok: flight {} aborting (its log ends with the current tick; the server stays)", host.flights());
       }
       if (cmd == "swap") {
         if (w.size() != 3) return "error: usage: swap INSTANCE PATH";
         if (host.flying()) return "error: swap refused: a flight is in progress; swap between flights";
         std::unique_lock lk(flight_mu, std::try_to_lock);
         if (!lk.owns_lock()) return "error: swap refused: a flight is in progress; swap between flights";
-        host.swap(w[1], w[2]);
-        return fmt::format("ok: {} now runs {}", w[1], w[2]);
+        const SwapReport rep = host.swap(w[1], w[2]);
+        if (rep.same()) return fmt::format("ok: {} now runs {}\nwarning: same library (sha256 {}): did the build fail?", w[1], w[2], rep.new_sha256);
+        return fmt::format("ok: {} now runs {} (sha256 {} -> {})", w[1], w[2], rep.old_sha256.substr(0, 12), rep.new_sha256.substr(0, 12));
       }
       if (cmd == "phases") {
         if (host.flying()) return "error: phases refused: a flight is in progress; change the table between flights";
@@ -125,7 +132,7 @@ struct Server {
         host.set_phases(table, fallback);
         return "ok: phase table changed";
       }
-      return "error: unknown command '" + cmd + "' (fly, status, swap, phases, console, quit)";
+      return "error: unknown command '" + cmd + "' (fly, abort, status, swap, phases, console, quit)";
     } catch (const std::exception& e) {
       return std::string("error: ") + e.what();
     }
@@ -163,7 +170,7 @@ int serve(Host& host, const std::filesystem::path& socket_path, const std::strin
   }
   if (!console_url.empty()) ::chmod(socket_path.c_str(), 0600);  // the console's token is handed out here: this user only
   install_signal_handlers();
-  host.logger()->info("serving '{}' on {} (commands: fly [s], status, swap INSTANCE PATH, phases ..., quit)", host.config().name,
+  host.logger()->info("serving '{}' on {} (commands: fly [s], abort, status, swap INSTANCE PATH, phases ..., quit)", host.config().name,
                       socket_path.string());
   Server server{host, console_url, {}, {}};
   std::vector<std::thread> clients;

@@ -6,11 +6,6 @@
 
 namespace tern::control {
 
-void ControllerPlugin::declare_gain(Param<double>& p, std::string name, double default_value, ParamSpec spec) {
-  declare(p, std::move(name), default_value, std::move(spec));
-  p.on_change([this](const double&) { dirty_ = true; });
-}
-
 void ControllerPlugin::configure() {
   declare(state_, "state", "estimated vehicle state");
   declare(command_, "controller_command", "airspeed, altitude and course commands of the path follower");
@@ -20,52 +15,18 @@ void ControllerPlugin::configure() {
   declare(actuators_, "actuators", "surface deflections, rad, and throttle 0..1");
   declare(internals_, "controller_internals", "roll and pitch commands, throttle before saturation");
 
-  // Defaults: ROSplane 2.0's Anaconda values where a ROSplane parameter maps (see
-  // plugins/control_slc/README.md for the table).
-  declare_gain(course_kp_, "course_kp", 2.0, ParamSpec("rad/rad", 0.0, 20.0, "course -> roll proportional gain (ROSplane c_kp)"));
-  declare_gain(course_ki_, "course_ki", 0.0025, ParamSpec("rad/(rad s)", 0.0, 10.0, "course -> roll integral gain (c_ki)"));
-  declare_gain(course_kd_, "course_kd", 0.0, ParamSpec("rad/(rad/s)", 0.0, 10.0, "course -> roll derivative gain, on yaw rate r (c_kd)"));
-  declare_gain(roll_max_, "roll_max", 0.7854, ParamSpec("rad", 0.05, 1.4, "roll command limit (max_roll)"));
-  declare_gain(roll_rate_max_, "roll_rate_max", 0.0, ParamSpec("rad/s", 0.0, 20.0, "slew limit of the roll command; 0: none (ROSplane has none)"));
-  declare_gain(roll_ff_, "roll_ff", 0.0, ParamSpec("rad/(rad/s)", 0.0, 2.0, "aileron per commanded roll rate, feed-forward (design: a_phi1/a_phi2)"));
-  declare_gain(roll_kp_, "roll_kp", 0.55, ParamSpec("rad/rad", 0.0, 10.0, "roll -> aileron proportional gain (r_kp)"));
-  declare_gain(roll_ki_, "roll_ki", 0.0, ParamSpec("rad/(rad s)", 0.0, 10.0, "roll -> aileron integral gain (r_ki)"));
-  declare_gain(roll_kd_, "roll_kd", 0.2, ParamSpec("rad/(rad/s)", 0.0, 5.0, "roll -> aileron gain on roll rate p (r_kd)"));
-  declare_gain(trim_a_, "trim_a", 0.0, ParamSpec("rad", -0.5, 0.5, "aileron trim (trim_a)"));
-  declare_gain(max_a_, "max_a", 0.6981, ParamSpec("rad", 0.01, 1.5, "aileron limit (ROSplane max_a 0.8; default: the Anaconda servo limit)"));
-  declare_gain(yaw_kr_, "yaw_damper_kr", 0.3, ParamSpec("rad/(rad/s)", 0.0, 5.0, "yaw damper gain on washed-out yaw rate"));
-  declare_gain(yaw_p_wo_, "yaw_damper_p_wo", 0.5, ParamSpec("rad/s", 0.0, 10.0, "yaw damper washout pole"));
-  declare_gain(trim_r_, "trim_r", 0.0, ParamSpec("rad", -0.5, 0.5, "rudder trim (trim_r)"));
-  declare_gain(max_r_, "max_r", 0.523, ParamSpec("rad", 0.01, 1.5, "rudder limit (max_r)"));
-  declare_gain(pitch_kp_, "pitch_kp", 4.25, ParamSpec("rad/rad", 0.0, 50.0, "pitch -> elevator proportional gain, magnitude (p_kp)"));
-  declare_gain(pitch_ki_, "pitch_ki", 0.0, ParamSpec("rad/(rad s)", 0.0, 50.0, "pitch -> elevator integral gain (p_ki)"));
-  declare_gain(pitch_kd_, "pitch_kd", 0.6, ParamSpec("rad/(rad/s)", 0.0, 10.0, "pitch -> elevator gain on pitch rate q (p_kd)"));
-  declare_gain(trim_e_, "trim_e", -0.075, ParamSpec("rad", -0.6, 0.6, "elevator trim, uavbook sign: negative is nose up (-trim_e of ROSplane)"));
-  declare_gain(max_e_, "max_e", 0.61, ParamSpec("rad", 0.01, 1.5, "elevator limit (max_e)"));
-  declare_gain(theta_max_, "theta_max", 0.35, ParamSpec("rad", 0.0, 1.2, "pitch command upper limit"));
-  declare_gain(theta_min_, "theta_min", -0.35, ParamSpec("rad", -1.2, 0.0, "pitch command lower limit"));
-  declare_gain(trim_t_, "trim_t", 0.5, ParamSpec("", 0.0, 1.0, "throttle at trim (trim_t)"));
-  declare_gain(max_t_, "max_t", 1.0, ParamSpec("", 0.0, 1.0, "throttle upper limit (max_t)"));
-  declare_gain(min_t_, "min_t", 0.0, ParamSpec("", 0.0, 1.0, "throttle lower limit"));
-  declare_gain(takeoff_throttle_, "takeoff_throttle", 1.0, ParamSpec("", 0.0, 1.0, "throttle during takeoff (max_takeoff_throttle)"));
-  declare_gain(takeoff_pitch_, "takeoff_pitch", 0.1745, ParamSpec("rad", 0.0, 0.6, "pitch command after rotation in takeoff"));
-  declare_gain(rotation_Va_, "rotation_Va", 12.0, ParamSpec("m/s", 0.0, 100.0, "airspeed at which takeoff rotates to takeoff_pitch"));
-  declare_gain(handover_tau_, "handover_tau", 1.0, ParamSpec("s", 0.0, 60.0, "decay time of the bumpless-transfer offset"));
-  declare(climb_course_hold_, "climb_course_hold", true,
-          ParamSpec("", 0, 0, "climb phase: hold the commanded course (false: wings level)"));
-  climb_course_hold_.on_change([this](const bool&) { dirty_ = true; });
-  declare(manual_mode_, "manual_mode", "passthrough",
-          ParamSpec("", 0, 0, "when the pilot overrides: surfaces from the sticks, or roll and pitch angles from the sticks")
-              .one_of({"passthrough", "angle"}));
-  declare(angle_mode_aux_, "angle_mode_aux", std::int64_t{-1},
-          ParamSpec("", -1, 3, "rc aux channel (0..3) whose value > 0.5 selects angle mode in override; -1: none"));
-  declare_gain(angle_roll_max_, "angle_roll_max", 0.7854, ParamSpec("rad", 0.0, 1.4, "angle mode: roll command at full stick"));
-  declare_gain(angle_pitch_max_, "angle_pitch_max", 0.35, ParamSpec("rad", 0.0, 1.0, "angle mode: pitch command at full stick"));
+  // The gains, limits and settings: one name, default and spec each, in their structs'
+  // describe() (control_common/loops.hpp, autopilot.hpp).
+  declare_gains(lateral_);
+  declare_gains(pitch_);
+  declare_gains(limits_);
+  declare_gains(settings_);
+  declare_struct(manual_);
   declare_law_params();
 
-  if (min_t_() > max_t_()) {
-    throw ParamError("parameter '" + context().instance_name() + ".min_t': value " + std::to_string(min_t_()) +
-                     " exceeds max_t " + std::to_string(max_t_()));
+  if (limits_.min_t > limits_.max_t) {
+    throw ParamError("parameter '" + context().instance_name() + ".min_t': value " + std::to_string(limits_.min_t) +
+                     " exceeds max_t " + std::to_string(limits_.max_t));
   }
   autopilot_.emplace(law());
   apply_params();
@@ -75,33 +36,9 @@ void ControllerPlugin::configure() {
 Autopilot& ControllerPlugin::autopilot() { return *autopilot_; }
 
 void ControllerPlugin::apply_params() {
-  LateralGains lg;
-  lg.course_kp = course_kp_;
-  lg.course_ki = course_ki_;
-  lg.course_kd = course_kd_;
-  lg.roll_max = roll_max_;
-  lg.roll_rate_max = roll_rate_max_;
-  lg.roll_ff = roll_ff_;
-  lg.roll_kp = roll_kp_;
-  lg.roll_ki = roll_ki_;
-  lg.roll_kd = roll_kd_;
-  lg.trim_a = trim_a_;
-  lg.max_a = max_a_;
-  lg.yaw_kr = yaw_kr_;
-  lg.yaw_p_wo = yaw_p_wo_;
-  lg.trim_r = trim_r_;
-  lg.max_r = max_r_;
-  autopilot_->set_lateral_gains(lg);
-  autopilot_->set_pitch_gains({pitch_kp_, pitch_ki_, pitch_kd_, trim_e_, max_e_});
-  AutopilotSettings s;
-  s.takeoff_throttle = takeoff_throttle_;
-  s.takeoff_pitch = takeoff_pitch_;
-  s.rotation_Va = rotation_Va_;
-  s.climb_course_hold = climb_course_hold_;
-  s.handover_tau = handover_tau_;
-  s.angle_roll_max = angle_roll_max_;
-  s.angle_pitch_max = angle_pitch_max_;
-  autopilot_->set_settings(s);
+  autopilot_->set_lateral_gains(lateral_);
+  autopilot_->set_pitch_gains(pitch_);
+  autopilot_->set_settings(settings_);
   apply_law_params();
   dirty_ = false;
 }
@@ -110,8 +47,8 @@ Mode ControllerPlugin::select_mode(const msg::State&) {
   const bool rc_ok = rc_.has_value() && !rc_->failsafe;
   const bool overridden = (rc_ok && rc_->rc_override) || (fcu_.has_value() && fcu_->rc_override);
   if (overridden) {
-    const std::int64_t aux = angle_mode_aux_();
-    const bool angle = manual_mode_() == "angle" || (aux >= 0 && rc_ok && rc_->aux[static_cast<std::size_t>(aux)] > 0.5);
+    const std::int64_t aux = manual_.angle_aux;
+    const bool angle = manual_.mode == "angle" || (aux >= 0 && rc_ok && rc_->aux[static_cast<std::size_t>(aux)] > 0.5);
     return angle ? Mode::manual_angle : Mode::manual_passthrough;
   }
   if (!phase_.has_value()) return Mode::cruise;

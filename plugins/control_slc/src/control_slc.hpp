@@ -11,24 +11,25 @@ namespace tern::control {
 class ControlSlc final : public ControllerPlugin {
  protected:
   void declare_law_params() override {
-    declare_gain(altitude_kp_, "altitude_kp", 0.015, ParamSpec("rad/m", 0.0, 5.0, "altitude -> pitch proportional gain (ROSplane a_kp)"));
-    declare_gain(altitude_ki_, "altitude_ki", 0.001, ParamSpec("rad/(m s)", 0.0, 5.0, "altitude -> pitch integral gain (a_ki)"));
-    declare_gain(altitude_kd_, "altitude_kd", 0.0, ParamSpec("rad/(m/s)", 0.0, 5.0, "altitude -> pitch gain on climb rate (a_kd)"));
-    declare_gain(airspeed_kp_, "airspeed_kp", 0.1, ParamSpec("1/(m/s)", 0.0, 5.0, "airspeed -> throttle proportional gain (a_t_kp)"));
-    declare_gain(airspeed_ki_, "airspeed_ki", 0.02, ParamSpec("1/m", 0.0, 5.0, "airspeed -> throttle integral gain (a_t_ki)"));
-    declare_gain(airspeed_kd_, "airspeed_kd", 0.0, ParamSpec("1/(m/s^2)", 0.0, 5.0, "airspeed -> throttle gain on dVa/dt (a_t_kd)"));
-    declare_gain(derivative_tau_, "derivative_tau", 0.05, ParamSpec("s", 0.001, 10.0, "dirty-derivative time constant for dVa/dt"));
+    declare_gains(altitude_);
+    declare_gains(airspeed_);
   }
   void apply_law_params() override {
-    law_.set_gains({altitude_kp_, altitude_ki_, altitude_kd_, theta_max_, theta_min_},
-                   {airspeed_kp_, airspeed_ki_, airspeed_kd_, trim_t_, max_t_, min_t(), derivative_tau_});
+    AltitudeGains a = altitude_;
+    a.theta_max = limits_.theta_max;
+    a.theta_min = limits_.theta_min;
+    AirspeedGains v = airspeed_;
+    v.trim_t = limits_.trim_t;
+    v.max_t = limits_.max_t;
+    v.min_t = min_t();
+    law_.set_gains(a, v);
   }
   LongitudinalLaw& law() override { return law_; }
 
  private:
   SlcLongitudinal law_;
-  Param<double> altitude_kp_, altitude_ki_, altitude_kd_;
-  Param<double> airspeed_kp_, airspeed_ki_, airspeed_kd_, derivative_tau_;
+  AltitudeGains altitude_;  ///< altitude_kp, altitude_ki, altitude_kd (AltitudeGains::describe)
+  AirspeedGains airspeed_;  ///< airspeed_kp, airspeed_ki, airspeed_kd, derivative_tau
 };
 
 }  // namespace tern::control

@@ -5,8 +5,9 @@
 //   TERN_PLUGIN(MyController, "my_controller", tern::PluginKind::controller, "one line");
 //
 // and built with tern_add_plugin() into libtern_my_controller.so. Its life, driven by the host:
-//   configure()  declare ports (declare(input_, "state")) and parameters (declare(kp_, "kp", ...));
-//                read parameter values, open files. Nothing runs yet.
+//   configure()  declare ports (declare(input_, "state")) and parameters (declare(kp_, "kp", ...),
+//                or a whole config struct at once: declare_struct(config_)); read parameter
+//                values, open files. Nothing runs yet.
 //   start()      once, before the first step of a flight.
 //   step(now)    at the configured rate, or when the trigger input has new data.
 //   reset()      between flights: integrators and filters start clean.
@@ -16,10 +17,12 @@
 // A plugin never sleeps, never keeps a thread running after stop(), and never keeps a pointer
 // into another plugin. Exceptions thrown from these functions end the flight with an error line
 // naming the instance; the flight log is kept.
+// log() is the instance's spdlog logger: log().info("Va = {:.1f} m/s", Va) needs no other include.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -29,12 +32,13 @@
 
 #include <boost/config.hpp>
 #include <boost/dll/alias.hpp>
-#include <spdlog/fwd.h>
+#include <spdlog/logger.h>  // log() returns a usable logger without another include
 
 #include "tern/export.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/param.hpp"
 #include "tern/port.hpp"
+#include "tern/param_struct.hpp"
 #include "tern/time.hpp"
 
 namespace YAML {
@@ -46,7 +50,9 @@ namespace tern {
 /// Version of the plugin API (this header, ports, parameters, messages). The host refuses a
 /// plugin built against another version. 2: ParamSpec::live (start-only parameters).
 /// 3: msg::Waypoint's type and loiter fields, msg::WaypointList::immediate (issue 18).
-inline constexpr std::uint32_t kSdkApiVersion = 3;
+/// 4: Plugin::declare_struct (parameters from a described config struct, tern/param_struct.hpp);
+///    log() usable with this header alone (issue 22). SDK package version 0.2.
+inline constexpr std::uint32_t kSdkApiVersion = 4;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 enum class PluginKind : std::uint8_t {
@@ -168,6 +174,23 @@ class TERN_API Plugin {
                ParamSpec spec = {}) {
     declare(param, std::move(name), std::string(default_value), std::move(spec));
   }
+  /// Declares every field that `S::describe()` names (tern/param_struct.hpp) as a parameter:
+  /// its name and spec from describe(), its default the value the field holds now (normally the
+  /// struct's member initialiser). The field then takes the configured value, and every valid
+  /// change (command line, DDS, between flights) is written into `config` before `on_change`
+  /// runs. `config` must outlive the plugin's parameters (make it a member of the plugin).
+  /// Throws ParamError as declare() does.
+  template <class S>
+  void declare_struct(S& config, std::function<void()> on_change = {}) {
+    param_struct::Binder<S> b{config, [this](std::unique_ptr<ParamBase> p, std::string name,
+                                             ParamValue def, ParamSpec spec) -> ParamBase& {
+      ParamBase& ref = *p;
+      owned_params_.push_back(std::move(p));
+      add_param(ref, std::move(name), std::move(def), std::move(spec));
+      return ref;
+    }, std::make_shared<std::function<void()>>(std::move(on_change))};
+    S::describe(b);
+  }
 
  private:
   void add_input(InputBase& port, std::string name, std::string description);
@@ -178,6 +201,7 @@ class TERN_API Plugin {
   std::vector<InputBase*> inputs_;
   std::vector<OutputBase*> outputs_;
   std::vector<ParamBase*> params_;
+  std::vector<std::unique_ptr<ParamBase>> owned_params_;  ///< made by declare_struct()
 };
 
 }  // namespace tern

@@ -100,8 +100,20 @@ struct AutopilotSettings {
   double rotation_Va = 12.0;      ///< m/s
   bool climb_course_hold = true;  ///< false: wings level in climb
   double handover_tau = 1.0;      ///< decay of the bumpless offset, s
-  double angle_roll_max = 0.785;  ///< angle mode: roll at full stick, rad
+  double angle_roll_max = 0.7854; ///< angle mode: roll at full stick, rad
   double angle_pitch_max = 0.35;  ///< angle mode: pitch at full stick, rad
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    using S = AutopilotSettings;
+    v(&S::takeoff_throttle, "takeoff_throttle", ParamSpec("", 0.0, 1.0, "throttle during takeoff (max_takeoff_throttle)"));
+    v(&S::takeoff_pitch, "takeoff_pitch", ParamSpec("rad", 0.0, 0.6, "pitch command after rotation in takeoff"));
+    v(&S::rotation_Va, "rotation_Va", ParamSpec("m/s", 0.0, 100.0, "airspeed at which takeoff rotates to takeoff_pitch"));
+    v(&S::handover_tau, "handover_tau", ParamSpec("s", 0.0, 60.0, "decay time of the bumpless-transfer offset"));
+    v(&S::climb_course_hold, "climb_course_hold", ParamSpec("", 0, 0, "climb phase: hold the commanded course (false: wings level)"));
+    v(&S::angle_roll_max, "angle_roll_max", ParamSpec("rad", 0.0, 1.4, "angle mode: roll command at full stick"));
+    v(&S::angle_pitch_max, "angle_pitch_max", ParamSpec("rad", 0.0, 1.0, "angle mode: pitch command at full stick"));
+  }
 };
 
 struct AutopilotOutput {

@@ -35,19 +35,23 @@ class ControllerPlugin : public Plugin {
   std::vector<std::pair<std::string, double>> summary() const override;
 
  protected:
-  /// Declares the law's parameters (use declare_gain so that changes take effect).
+  /// Declares the law's parameters (with declare_gains, so that changes take effect).
   virtual void declare_law_params() = 0;
   /// Copies the law's parameter values into the law; may throw ParamError on inconsistent values.
   virtual void apply_law_params() = 0;
   virtual LongitudinalLaw& law() = 0;
 
-  /// Declares a real parameter whose changes are applied before the next step.
-  void declare_gain(Param<double>& p, std::string name, double default_value, ParamSpec spec);
+  /// Declares the fields of a described gain struct (S::describe) as parameters; a change is
+  /// applied before the next step.
+  template <class S>
+  void declare_gains(S& gains) {
+    declare_struct(gains, [this] { dirty_ = true; });
+  }
 
-  /// Shared longitudinal limits (both laws use them).
-  Param<double> theta_max_, theta_min_, trim_t_, max_t_, min_t_;
+  /// Shared longitudinal limits and trim (both laws use them).
+  LongitudinalLimits limits_;
   /// The lower throttle limit, never above max_t (a runtime change cannot invert the limits).
-  double min_t() const { return min_t_() < max_t_() ? min_t_() : max_t_(); }
+  double min_t() const { return limits_.min_t < limits_.max_t ? limits_.min_t : limits_.max_t; }
 
  private:
   void apply_params();
@@ -62,15 +66,23 @@ class ControllerPlugin : public Plugin {
   Output<msg::Actuators> actuators_;
   Output<msg::ControllerInternals> internals_;
 
-  Param<double> course_kp_, course_ki_, course_kd_, roll_max_, roll_rate_max_, roll_ff_;
-  Param<double> roll_kp_, roll_ki_, roll_kd_, trim_a_, max_a_;
-  Param<double> yaw_kr_, yaw_p_wo_, trim_r_, max_r_;
-  Param<double> pitch_kp_, pitch_ki_, pitch_kd_, trim_e_, max_e_;
-  Param<double> takeoff_throttle_, takeoff_pitch_, rotation_Va_, handover_tau_;
-  Param<bool> climb_course_hold_;
-  Param<std::string> manual_mode_;
-  Param<std::int64_t> angle_mode_aux_;
-  Param<double> angle_roll_max_, angle_pitch_max_;
+  /// Pilot override: which manual mode, and the aux switch that selects angle mode.
+  struct ManualMode {
+    std::string mode = "passthrough";
+    std::int64_t angle_aux = -1;
+    template <class V> static void describe(V& v) {
+      v(&ManualMode::mode, "manual_mode",
+        ParamSpec("", 0, 0, "when the pilot overrides: surfaces from the sticks, or roll and pitch angles from the sticks")
+            .one_of({"passthrough", "angle"}));
+      v(&ManualMode::angle_aux, "angle_mode_aux",
+        ParamSpec("", -1, 3, "rc aux channel (0..3) whose value > 0.5 selects angle mode in override; -1: none"));
+    }
+  };
+
+  LateralGains lateral_;
+  PitchGains pitch_;
+  AutopilotSettings settings_;
+  ManualMode manual_;
 
   std::optional<Autopilot> autopilot_;
   bool dirty_ = true;

@@ -16,9 +16,14 @@
 // positive delta_r yaws nose left). All gains are magnitudes (>= 0); the pitch loop applies the
 // sign of C_m_delta_e < 0 itself, so pitch_kp = -k_p_theta of the book.
 // Course errors are wrapped to [-pi, pi). Every loop saturates and clamps its integrator.
+//
+// Each gain struct names its fields as plugin parameters in describe() (tern/param_struct.hpp):
+// the member initialiser is the parameter's one default, the name there is the one the mission
+// config uses (ROSplane's name in parentheses in the description).
 #pragma once
 
 #include "control_common/pid.hpp"
+#include "tern/param.hpp"
 
 namespace tern::control {
 
@@ -39,10 +44,12 @@ struct Surfaces {
 };
 
 struct LateralGains {
+  // Defaults: ROSplane 2.0's Anaconda values where a ROSplane parameter maps (see
+  // plugins/control_slc/README.md for the table).
   double course_kp = 2.0;     ///< rad roll / rad course error
   double course_ki = 0.0025;  ///< rad roll / (rad s)
   double course_kd = 0.0;     ///< rad roll / (rad/s) yaw rate
-  double roll_max = 0.785;    ///< rad
+  double roll_max = 0.7854;   ///< rad
   double roll_rate_max = 0.0; ///< slew limit of the roll command, rad/s; 0: none
   double roll_ff = 0.0;       ///< rad aileron / (rad/s) of commanded roll rate p_c (a_phi1/a_phi2)
   double roll_kp = 0.55;      ///< rad aileron / rad roll error
@@ -54,6 +61,26 @@ struct LateralGains {
   double yaw_p_wo = 0.5;      ///< washout pole, rad/s
   double trim_r = 0.0;        ///< rad
   double max_r = 0.523;       ///< rad
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    using G = LateralGains;
+    v(&G::course_kp, "course_kp", ParamSpec("rad/rad", 0.0, 20.0, "course -> roll proportional gain (ROSplane c_kp)"));
+    v(&G::course_ki, "course_ki", ParamSpec("rad/(rad s)", 0.0, 10.0, "course -> roll integral gain (c_ki)"));
+    v(&G::course_kd, "course_kd", ParamSpec("rad/(rad/s)", 0.0, 10.0, "course -> roll derivative gain, on yaw rate r (c_kd)"));
+    v(&G::roll_max, "roll_max", ParamSpec("rad", 0.05, 1.4, "roll command limit (max_roll)"));
+    v(&G::roll_rate_max, "roll_rate_max", ParamSpec("rad/s", 0.0, 20.0, "slew limit of the roll command; 0: none (ROSplane has none)"));
+    v(&G::roll_ff, "roll_ff", ParamSpec("rad/(rad/s)", 0.0, 2.0, "aileron per commanded roll rate, feed-forward (design: a_phi1/a_phi2)"));
+    v(&G::roll_kp, "roll_kp", ParamSpec("rad/rad", 0.0, 10.0, "roll -> aileron proportional gain (r_kp)"));
+    v(&G::roll_ki, "roll_ki", ParamSpec("rad/(rad s)", 0.0, 10.0, "roll -> aileron integral gain (r_ki)"));
+    v(&G::roll_kd, "roll_kd", ParamSpec("rad/(rad/s)", 0.0, 5.0, "roll -> aileron gain on roll rate p (r_kd)"));
+    v(&G::trim_a, "trim_a", ParamSpec("rad", -0.5, 0.5, "aileron trim (trim_a)"));
+    v(&G::max_a, "max_a", ParamSpec("rad", 0.01, 1.5, "aileron limit (ROSplane max_a 0.8; default: the Anaconda servo limit)"));
+    v(&G::yaw_kr, "yaw_damper_kr", ParamSpec("rad/(rad/s)", 0.0, 5.0, "yaw damper gain on washed-out yaw rate"));
+    v(&G::yaw_p_wo, "yaw_damper_p_wo", ParamSpec("rad/s", 0.0, 10.0, "yaw damper washout pole"));
+    v(&G::trim_r, "trim_r", ParamSpec("rad", -0.5, 0.5, "rudder trim (trim_r)"));
+    v(&G::max_r, "max_r", ParamSpec("rad", 0.01, 1.5, "rudder limit (max_r)"));
+  }
 };
 
 /// Course hold, roll hold and yaw damper.
@@ -108,6 +135,34 @@ struct PitchGains {
   double kd = 0.6;       ///< rad elevator / (rad/s) pitch rate
   double trim_e = -0.075;  ///< elevator at trim, rad (uavbook sign: negative is nose up)
   double max_e = 0.61;   ///< rad
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    v(&PitchGains::kp, "pitch_kp", ParamSpec("rad/rad", 0.0, 50.0, "pitch -> elevator proportional gain, magnitude (p_kp)"));
+    v(&PitchGains::ki, "pitch_ki", ParamSpec("rad/(rad s)", 0.0, 50.0, "pitch -> elevator integral gain (p_ki)"));
+    v(&PitchGains::kd, "pitch_kd", ParamSpec("rad/(rad/s)", 0.0, 10.0, "pitch -> elevator gain on pitch rate q (p_kd)"));
+    v(&PitchGains::trim_e, "trim_e", ParamSpec("rad", -0.6, 0.6, "elevator trim, uavbook sign: negative is nose up (-trim_e of ROSplane)"));
+    v(&PitchGains::max_e, "max_e", ParamSpec("rad", 0.01, 1.5, "elevator limit (max_e)"));
+  }
+};
+
+/// Limits and trim both longitudinal laws use (SLC and TECS): one set of parameters.
+struct LongitudinalLimits {
+  double theta_max = 0.35;  ///< pitch command upper limit, rad
+  double theta_min = -0.35; ///< pitch command lower limit, rad
+  double trim_t = 0.5;      ///< throttle at trim, 0..1
+  double max_t = 1.0;       ///< throttle upper limit
+  double min_t = 0.0;       ///< throttle lower limit
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    using L = LongitudinalLimits;
+    v(&L::theta_max, "theta_max", ParamSpec("rad", 0.0, 1.2, "pitch command upper limit"));
+    v(&L::theta_min, "theta_min", ParamSpec("rad", -1.2, 0.0, "pitch command lower limit"));
+    v(&L::trim_t, "trim_t", ParamSpec("", 0.0, 1.0, "throttle at trim (trim_t)"));
+    v(&L::max_t, "max_t", ParamSpec("", 0.0, 1.0, "throttle upper limit (max_t)"));
+    v(&L::min_t, "min_t", ParamSpec("", 0.0, 1.0, "throttle lower limit"));
+  }
 };
 
 /// Pitch hold (pitch attitude -> elevator).
@@ -132,8 +187,16 @@ struct AltitudeGains {
   double kp = 0.015;       ///< rad pitch / m
   double ki = 0.001;       ///< rad pitch / (m s)
   double kd = 0.0;         ///< rad pitch / (m/s) climb rate
-  double theta_max = 0.35; ///< rad
-  double theta_min = -0.35;///< rad
+  double theta_max = LongitudinalLimits{}.theta_max; ///< rad (parameter of LongitudinalLimits)
+  double theta_min = LongitudinalLimits{}.theta_min; ///< rad
+
+  /// The gains only; the limits are LongitudinalLimits' parameters.
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    v(&AltitudeGains::kp, "altitude_kp", ParamSpec("rad/m", 0.0, 5.0, "altitude -> pitch proportional gain (ROSplane a_kp)"));
+    v(&AltitudeGains::ki, "altitude_ki", ParamSpec("rad/(m s)", 0.0, 5.0, "altitude -> pitch integral gain (a_ki)"));
+    v(&AltitudeGains::kd, "altitude_kd", ParamSpec("rad/(m/s)", 0.0, 5.0, "altitude -> pitch gain on climb rate (a_kd)"));
+  }
 };
 
 /// Altitude hold: one PI(D) loop from altitude error to pitch command (no zones).
@@ -155,10 +218,19 @@ struct AirspeedGains {
   double kp = 0.1;     ///< throttle / (m/s)
   double ki = 0.02;    ///< throttle / m
   double kd = 0.0;     ///< throttle / (m/s^2)
-  double trim_t = 0.5;
-  double max_t = 1.0;
-  double min_t = 0.0;
+  double trim_t = LongitudinalLimits{}.trim_t;  ///< (parameters of LongitudinalLimits)
+  double max_t = LongitudinalLimits{}.max_t;
+  double min_t = LongitudinalLimits{}.min_t;
   double tau_d = 0.05; ///< dirty-derivative time constant for Va_dot, s
+
+  /// The gains only; trim and limits are LongitudinalLimits' parameters.
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    v(&AirspeedGains::kp, "airspeed_kp", ParamSpec("1/(m/s)", 0.0, 5.0, "airspeed -> throttle proportional gain (a_t_kp)"));
+    v(&AirspeedGains::ki, "airspeed_ki", ParamSpec("1/m", 0.0, 5.0, "airspeed -> throttle integral gain (a_t_ki)"));
+    v(&AirspeedGains::kd, "airspeed_kd", ParamSpec("1/(m/s^2)", 0.0, 5.0, "airspeed -> throttle gain on dVa/dt (a_t_kd)"));
+    v(&AirspeedGains::tau_d, "derivative_tau", ParamSpec("s", 0.001, 10.0, "dirty-derivative time constant for dVa/dt"));
+  }
 };
 
 /// Airspeed hold with throttle.

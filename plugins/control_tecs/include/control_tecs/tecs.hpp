@@ -45,8 +45,31 @@ struct TecsGains {
   double underspeed_hysteresis = 1.0;  ///< m/s
   double Va_dot_tau = 0.2;   ///< dirty-derivative time constant for Va_dot, s
   double theta_rate_max = 0.5;  ///< slew-rate limit of the pitch command, rad/s
-  double trim_t = 0.5, min_t = 0.0, max_t = 1.0;
-  double theta_min = -0.35, theta_max = 0.35;  ///< rad
+  // Trim and limits: the parameters of control_common's LongitudinalLimits.
+  double trim_t = LongitudinalLimits{}.trim_t, min_t = LongitudinalLimits{}.min_t, max_t = LongitudinalLimits{}.max_t;
+  double theta_min = LongitudinalLimits{}.theta_min, theta_max = LongitudinalLimits{}.theta_max;  ///< rad
+
+  /// The law's own gains as plugin parameters (trim and limits are LongitudinalLimits').
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    using G = TecsGains;
+    v(&G::energy_kp, "energy_kp", ParamSpec("", 0.0, 10.0, "throttle per unit specific total-energy-rate error (gamma + Va_dot/g)"));
+    v(&G::energy_ki, "energy_ki", ParamSpec("1/s", 0.0, 20.0, "integral gain of the total-energy-rate error"));
+    v(&G::energy_ff, "energy_ff", ParamSpec("", 0.0, 10.0, "throttle feed-forward per unit energy-rate demand (about g / a_V2)"));
+    v(&G::balance_kp, "balance_kp", ParamSpec("rad", 0.0, 10.0, "pitch per unit energy-balance-rate error (gamma - Va_dot/g)"));
+    v(&G::balance_ki, "balance_ki", ParamSpec("rad/s", 0.0, 20.0, "integral gain of the energy-balance-rate error"));
+    v(&G::balance_ff, "balance_ff", ParamSpec("rad", 0.0, 5.0, "pitch feed-forward per unit balance-rate demand"));
+    v(&G::h_kp, "h_kp", ParamSpec("1/s", 0.0, 5.0, "climb-rate demand per metre of altitude error"));
+    v(&G::climb_rate_max, "climb_rate_max", ParamSpec("m/s", 0.1, 30.0, "largest climb-rate demand"));
+    v(&G::sink_rate_max, "sink_rate_max", ParamSpec("m/s", 0.1, 30.0, "largest sink-rate demand"));
+    v(&G::Va_kp, "Va_kp", ParamSpec("1/s", 0.0, 5.0, "acceleration demand per m/s of airspeed error"));
+    v(&G::Va_dot_max, "Va_dot_max", ParamSpec("m/s^2", 0.1, 20.0, "largest acceleration demand"));
+    v(&G::Va_min, "Va_min", ParamSpec("m/s", 0.0, 100.0, "underspeed threshold and lowest airspeed demand"));
+    v(&G::Va_max, "Va_max", ParamSpec("m/s", 1.0, 200.0, "highest airspeed demand"));
+    v(&G::underspeed_hysteresis, "underspeed_hysteresis", ParamSpec("m/s", 0.0, 20.0, "underspeed ends above Va_min plus this"));
+    v(&G::Va_dot_tau, "Va_dot_tau", ParamSpec("s", 0.001, 10.0, "dirty-derivative time constant for Va_dot"));
+    v(&G::theta_rate_max, "theta_rate_max", ParamSpec("rad/s", 0.01, 10.0, "slew-rate limit of the pitch command"));
+  }
 };
 
 class Tecs final : public LongitudinalLaw {

@@ -1,4 +1,4 @@
-// slc.hpp: a successive-loop-closure autopilot (plain C++, no tern types) after Beard & McLain,
+// slc.hpp: a successive-loop-closure autopilot (plain C++, no tern host types) after Beard & McLain,
 // *Small Unmanned Aircraft*, ch. 6. Outer loops make attitude commands, inner loops surfaces:
 //   course -> roll      phi_c   = phi_ff + kp_chi e_chi + ki_chi int(e_chi)   e_chi = wrap(chi_c - chi)
 //                       |phi_c| <= roll_max                                    (sec. 6.1.1.2)
@@ -17,8 +17,14 @@
 // (delta_e 0.168 rad, delta_t 0.568).
 #pragma once
 
+#include "tern/param.hpp"  // ParamSpec only: the parameters' names, units and ranges sit with the defaults
+
 namespace tern_@NAME@ {
 
+/// The gains, trims and limits. Each is a plugin parameter, declared once: describe() gives its
+/// name (what the mission config and `tern fly --set` write), unit, range and description; the
+/// member initialiser is its default. The plugin declares them all with declare_struct(gains_)
+/// and the struct always holds the parameters' values (also after a change in flight).
 struct Gains {
   double course_kp = 5.05;      ///< roll command per course error, rad/rad
   double course_ki = 0.202;     ///< roll command per integrated course error, rad/(rad s)
@@ -37,6 +43,27 @@ struct Gains {
   double airspeed_kp = 0.161;   ///< throttle per airspeed error, 1/(m/s)
   double airspeed_ki = 0.147;   ///< throttle per integrated airspeed error, 1/m
   double trim_t = 0.568;        ///< throttle at trim, 0..1
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    v(&Gains::course_kp, "course_kp", ParamSpec("rad/rad", 0.0, 20.0, "roll command per course error"));
+    v(&Gains::course_ki, "course_ki", ParamSpec("rad/(rad s)", 0.0, 5.0, "roll command per integrated course error"));
+    v(&Gains::roll_max, "roll_max", ParamSpec("rad", 0.05, 1.2, "roll command limit"));
+    v(&Gains::roll_kp, "roll_kp", ParamSpec("rad/rad", 0.0, 10.0, "aileron per roll error"));
+    v(&Gains::roll_kd, "roll_kd", ParamSpec("rad/(rad/s)", 0.0, 2.0, "aileron per roll rate p"));
+    v(&Gains::trim_a, "trim_a", ParamSpec("rad", -0.3, 0.3, "aileron at trim"));
+    v(&Gains::max_a, "max_a", ParamSpec("rad", 0.01, 0.7, "aileron limit (the host's max_deflection is 0.7)"));
+    v(&Gains::altitude_kp, "altitude_kp", ParamSpec("rad/m", 0.0, 1.0, "pitch command per altitude error"));
+    v(&Gains::altitude_ki, "altitude_ki", ParamSpec("rad/(m s)", 0.0, 1.0, "pitch command per integrated altitude error"));
+    v(&Gains::theta_max, "theta_max", ParamSpec("rad", 0.05, 0.8, "pitch command limit (both signs)"));
+    v(&Gains::pitch_kp, "pitch_kp", ParamSpec("rad/rad", 0.0, 20.0, "elevator per pitch error"));
+    v(&Gains::pitch_kd, "pitch_kd", ParamSpec("rad/(rad/s)", 0.0, 2.0, "elevator per pitch rate q"));
+    v(&Gains::trim_e, "trim_e", ParamSpec("rad", -0.5, 0.5, "elevator at trim (positive: nose down)"));
+    v(&Gains::max_e, "max_e", ParamSpec("rad", 0.01, 0.7, "elevator limit"));
+    v(&Gains::airspeed_kp, "airspeed_kp", ParamSpec("1/(m/s)", 0.0, 2.0, "throttle per airspeed error"));
+    v(&Gains::airspeed_ki, "airspeed_ki", ParamSpec("1/m", 0.0, 2.0, "throttle per integrated airspeed error"));
+    v(&Gains::trim_t, "trim_t", ParamSpec("", 0.0, 1.0, "throttle at trim"));
+  }
 };
 
 /// What the path follower asks for: course chi_c (rad), altitude h_c (m above the origin),

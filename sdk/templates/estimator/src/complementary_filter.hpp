@@ -1,4 +1,4 @@
-// complementary_filter.hpp: a small attitude and position estimator (plain C++, no tern types).
+// complementary_filter.hpp: a small attitude and position estimator (plain C++, no tern host types).
 //
 // Attitude (Beard & McLain, ch. 8; Mahony-style complementary filter on Euler angles):
 //   propagate   phi' = p + (q sin(phi) + r cos(phi)) tan(theta),  theta' = q cos(phi) - r sin(phi),
@@ -20,14 +20,28 @@
 
 #include <Eigen/Core>
 
+#include "tern/param.hpp"  // ParamSpec only: FilterParams::describe names the plugin's parameters
+
 namespace tern_@NAME@ {
 
+/// The filter's constants; each is a plugin parameter (describe(): name, unit, range; the member
+/// initialiser is the default), declared with declare_struct() in plugin.hpp.
 struct FilterParams {
   double tau_att = 2.0;         ///< s, roll/pitch correction time constant (> 0)
   double tau_psi = 3.0;         ///< s, heading correction time constant (> 0)
   double gnss_blend = 0.5;      ///< weight of a GNSS position fix, (0, 1]
   double min_gnss_speed = 5.0;  ///< m/s, below it the GNSS course does not correct the heading
   double rho_default = 1.225;   ///< kg/m^3, air density without a barometer
+
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    v(&FilterParams::tau_att, "tau_att", ParamSpec("s", 0.05, 100.0, "roll/pitch correction time constant"));
+    v(&FilterParams::tau_psi, "tau_psi", ParamSpec("s", 0.1, 100.0, "heading correction time constant"));
+    v(&FilterParams::gnss_blend, "gnss_blend", ParamSpec("", 0.01, 1.0, "weight of a GNSS position fix"));
+    v(&FilterParams::min_gnss_speed, "min_gnss_speed",
+      ParamSpec("m/s", 0.5, 50.0, "ground speed above which the GNSS course corrects the heading"));
+    v(&FilterParams::rho_default, "rho_default", ParamSpec("kg/m^3", 0.3, 1.5, "air density without a barometer"));
+  }
 };
 
 struct Estimate {

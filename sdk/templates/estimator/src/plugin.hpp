@@ -28,12 +28,7 @@ class @CLASS@ final : public tern::Plugin {
     declare(diff_pressure_, "diff_pressure", "pitot differential pressure", tern::Need::optional);
     declare(baro_, "baro", "static pressure and temperature (air density)", tern::Need::optional);
     declare(state_, "state", "estimated state");
-    const tern_@NAME@::FilterParams d;
-    declare(tau_att_, "tau_att", d.tau_att, ParamSpec("s", 0.05, 100.0, "roll/pitch correction time constant"));
-    declare(tau_psi_, "tau_psi", d.tau_psi, ParamSpec("s", 0.1, 100.0, "heading correction time constant"));
-    declare(gnss_blend_, "gnss_blend", d.gnss_blend, ParamSpec("", 0.01, 1.0, "weight of a GNSS position fix"));
-    declare(min_gnss_speed_, "min_gnss_speed", d.min_gnss_speed, ParamSpec("m/s", 0.5, 50.0, "ground speed above which the GNSS course corrects the heading"));
-    declare(rho_default_, "rho_default", d.rho_default, ParamSpec("kg/m^3", 0.3, 1.5, "air density without a barometer"));
+    declare_struct(params_);  // FilterParams::describe (complementary_filter.hpp)
     declare(origin_mode_, "origin_mode", "first_fix", ParamSpec("", 0, 0, "NED origin").one_of({"first_fix", "fixed"}));
     declare(origin_lat_, "origin_lat", 40.2463724, ParamSpec("deg", -90.0, 90.0, "origin latitude (origin_mode fixed)"));
     declare(origin_lon_, "origin_lon", -111.6474138, ParamSpec("deg", -180.0, 180.0, "origin longitude (origin_mode fixed)"));
@@ -47,7 +42,7 @@ class @CLASS@ final : public tern::Plugin {
   }
 
   void step(tern::Nanos now) override {
-    filter_.set_params({tau_att_(), tau_psi_(), gnss_blend_(), min_gnss_speed_(), rho_default_()});
+    filter_.set_params(params_);
     if (diff_pressure_.updated()) {
       const double rho = baro_.has_value() ? baro_->pressure / (287.05 * baro_->temperature) : 0.0;
       filter_.airspeed(diff_pressure_->pressure, rho);
@@ -105,7 +100,7 @@ class @CLASS@ final : public tern::Plugin {
   tern::Input<tern::msg::DiffPressure> diff_pressure_;
   tern::Input<tern::msg::Baro> baro_;
   tern::Output<tern::msg::State> state_;
-  tern::Param<double> tau_att_, tau_psi_, gnss_blend_, min_gnss_speed_, rho_default_;
+  tern_@NAME@::FilterParams params_;  ///< the filter's parameters' values
   tern::Param<std::string> origin_mode_;
   tern::Param<double> origin_lat_, origin_lon_, origin_alt_;
   tern_@NAME@::ComplementaryFilter filter_;

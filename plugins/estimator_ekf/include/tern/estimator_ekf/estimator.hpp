@@ -181,6 +181,106 @@ struct EstimatorConfig {
                                       ///< re-initialise in flight (GNSS velocity and magnetometer)
   double max_position_sigma = 100.0;  ///< m: horizontal 1 sigma beyond which the state is invalid
   double max_tilt_sigma = 0.35;       ///< rad: roll/pitch 1 sigma beyond which the state is invalid
+
+  /// Every figure above that a mission may set, as the plugin's parameters (declare_struct,
+  /// tern/param_struct.hpp): name, unit, range, description; the member initialisers are the
+  /// defaults (the plugin first takes rho, mass, wing_S and C_Y_* from the aircraft file).
+  template <class V> static void describe(V& v) {
+    describe_reals(v);
+    describe_others(v);
+  }
+  template <class V> static void describe_reals(V& v) {
+    using tern::ParamSpec;
+    using C = EstimatorConfig;
+    v(&C::gravity, "gravity", ParamSpec("m/s^2", 9.0, 10.5, "gravitational acceleration"));
+    v(&C::rho, "rho", ParamSpec("kg/m^3", 0.3, 1.5, "air density for the differential pressure"));
+    v(&C::process);  // ProcessNoise::describe (filter.hpp)
+    v(&C::init_gnss_error_sigma, "init_gnss_error_sigma", ParamSpec("m", 1e-3, 100.0, "initial GNSS position-error uncertainty, 1 sigma"));
+    v(&C::gnss_pos_sigma_h, "gnss_pos_noise_h", ParamSpec("m", 1e-3, 100.0, "white part of the GNSS horizontal position noise, 1 sigma"));
+    v(&C::gnss_pos_sigma_v, "gnss_pos_noise_v", ParamSpec("m", 1e-3, 100.0, "white part of the GNSS altitude noise, 1 sigma"));
+    v(&C::gnss_vel_sigma_h, "gnss_vel_noise_h", ParamSpec("m/s", 1e-4, 10.0, "GNSS horizontal velocity noise, 1 sigma"));
+    v(&C::gnss_vel_sigma_v, "gnss_vel_noise_v", ParamSpec("m/s", 1e-4, 10.0, "GNSS vertical velocity noise, 1 sigma"));
+    v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
+    v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)"));
+    v(&C::gnss_reset_time, "gnss_reset_time", ParamSpec("s", 0.5, 600.0, "continuous GNSS position rejection after which the state is reset to GNSS"));
+    v(&C::gnss_recovery_time, "gnss_recovery_time", ParamSpec("s", 0.0, 60.0, "after a GNSS time-out, the published position takes the correction with this time constant (0: at once)"));
+    v(&C::mag_declination, "mag_declination", ParamSpec("rad", -tern::kPi, tern::kPi, "magnetic declination, east of true north"));
+    v(&C::mag_inclination, "mag_inclination", ParamSpec("rad", -tern::kPi / 2, tern::kPi / 2, "magnetic inclination, down from horizontal"));
+    v(&C::mag_field_strength, "mag_field_strength", ParamSpec("T", 1e-6, 1e-3, "total magnetic field intensity"));
+    v(&C::mag_sigma, "mag_noise", ParamSpec("T", 1e-9, 1e-4, "magnetometer noise per axis, 1 sigma"));
+    v(&C::mag_gate, "mag_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the 3-axis magnetometer update (3 dof; 0: off)"));
+    v(&C::mag_heading_gate, "mag_heading_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the magnetic heading update (1 dof; 0: off)"));
+    v(&C::mag_init_wait, "mag_init_wait", ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
+    v(&C::mag_reset_time, "mag_reset_time", ParamSpec("s", 0.1, 600.0, "continuous magnetic-heading rejection after which yaw is reset to the magnetometer"));
+    v(&C::mag_reset_window, "mag_reset_window", ParamSpec("s", 0.0, 1e6, "yaw resets to the magnetometer only within this long after initialisation (0: never)"));
+    v(&C::baro_sigma, "baro_noise", ParamSpec("Pa", 1e-3, 1000.0, "static-pressure noise, 1 sigma"));
+    v(&C::baro_gate, "baro_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)"));
+    v(&C::diff_pressure_sigma, "diff_pressure_noise", ParamSpec("Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma"));
+    v(&C::airspeed_gust_sigma, "airspeed_gust_sigma", ParamSpec("m/s", 0.0, 20.0, "turbulence along body x the wind state does not follow (adds rho u_r sigma to the pitot noise)"));
+    v(&C::diff_pressure_gate, "diff_pressure_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)"));
+    v(&C::min_airspeed, "min_airspeed", ParamSpec("m/s", 0.0, 100.0, "airspeed below which the pitot and zero-sideslip updates are skipped"));
+    v(&C::sideslip_sigma, "sideslip_noise", ParamSpec("m/s", 1e-3, 100.0, "zero-sideslip pseudo-measurement noise (body-y air velocity)"));
+    v(&C::sideslip_gate, "sideslip_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the zero-sideslip update (1 dof; 0: off)"));
+    v(&C::side_force_sigma, "side_force_noise", ParamSpec("m/s^2", 1e-3, 100.0, "side-force update noise: body-y accelerometer (averaged between pitot samples) against the aircraft's C_Y model"));
+    v(&C::side_force_gate, "side_force_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the side-force update (1 dof; 0: off)"));
+    v(&C::wing_S, "wing_S", ParamSpec("m^2", 0.0, 100.0, "wing area for the side-force model (default: the aircraft file's; 0: side force off)"));
+    v(&C::mass, "mass", ParamSpec("kg", 0.0, 1000.0, "aircraft mass for the side-force model (default: the aircraft file's; 0: off)"));
+    v(&C::C_Y_0, "C_Y_0", ParamSpec("", -10.0, 10.0, "side-force coefficient at zero sideslip (default: the aircraft file's)"));
+    v(&C::C_Y_beta, "C_Y_beta", ParamSpec("1/rad", -20.0, 20.0, "side-force derivative in sideslip (default: the aircraft file's; 0: off)"));
+    v(&C::C_Y_delta_a, "C_Y_delta_a", ParamSpec("1/rad", -10.0, 10.0, "side force per aileron deflection (default: the aircraft file's)"));
+    v(&C::C_Y_delta_r, "C_Y_delta_r", ParamSpec("1/rad", -10.0, 10.0, "side force per rudder deflection (default: the aircraft file's)"));
+    v(&C::init_average_time, "init_average_time", ParamSpec("s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation"));
+    v(&C::init_tilt_sigma, "init_tilt_sigma", ParamSpec("rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma"));
+    v(&C::init_yaw_sigma, "init_yaw_sigma", ParamSpec("rad", 1e-4, 3.2, "initial yaw uncertainty with a magnetometer, 1 sigma"));
+    v(&C::init_gyro_bias_sigma, "init_gyro_bias_sigma", ParamSpec("rad/s", 1e-6, 1.0, "initial gyro-bias uncertainty, 1 sigma"));
+    v(&C::init_accel_bias_sigma, "init_accel_bias_sigma", ParamSpec("m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma"));
+    v(&C::init_wind_sigma_airdata, "init_wind_sigma_airdata", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed"));
+    v(&C::init_wind_sigma, "init_wind_sigma", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty without air data, 1 sigma"));
+    v(&C::init_baro_bias_sigma, "init_baro_bias_sigma", ParamSpec("m", 1e-3, 1000.0, "initial barometer-bias uncertainty, 1 sigma"));
+    v(&C::accel_max, "accel_max", ParamSpec("m/s^2", 1.0, 2000.0, "accelerometer samples beyond this (any axis) are rejected"));
+    v(&C::gyro_max, "gyro_max", ParamSpec("rad/s", 0.1, 100.0, "gyro samples beyond this (any axis) are rejected"));
+    v(&C::imu_max_dt, "imu_max_dt", ParamSpec("s", 1e-4, 1.0, "longest IMU interval propagated in one step (longer gaps are clamped)"));
+    v([](C& c) -> double& { return c.timeout[0]; }, "imu_timeout", ParamSpec("s", 1e-3, 60.0, "IMU silence reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[1]; }, "gnss_timeout", ParamSpec("s", 1e-3, 60.0, "GNSS silence (or no fix) reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[2]; }, "baro_timeout", ParamSpec("s", 1e-3, 60.0, "barometer silence reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[3]; }, "diff_pressure_timeout", ParamSpec("s", 1e-3, 60.0, "differential-pressure silence reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[4]; }, "mag_timeout", ParamSpec("s", 1e-3, 60.0, "magnetometer silence reported as a time-out"));
+    v([](C& c) -> double& { return c.delay[1]; }, "gnss_delay", ParamSpec("s", 0.0, 0.5, "GNSS delay subtracted from each fix's time of validity (0 when the driver gives the receiver's epoch, as " "sim_aero does; over ROSflight's link the receiver's output latency, ~0.1 s for a u-blox M8N at 10 Hz)"));
+    v([](C& c) -> double& { return c.delay[2]; }, "baro_delay", ParamSpec("s", 0.0, 0.5, "barometer sample delay (its filter's group delay)"));
+    v([](C& c) -> double& { return c.delay[3]; }, "diff_pressure_delay", ParamSpec("s", 0.0, 0.5, "differential-pressure sample delay (tubing and filter)"));
+    v([](C& c) -> double& { return c.delay[4]; }, "mag_delay", ParamSpec("s", 0.0, 0.5, "magnetometer sample delay"));
+    v(&C::reset_min_interval, "reset_min_interval", ParamSpec("s", 0.0, 3600.0, "at most one GNSS reset per this long (covariance inflation carries the rest)"));
+    v(&C::gnss_fault_distance, "gnss_fault_distance", ParamSpec("m", 1.0, 1e6, "a GNSS innovation beyond this resets the position regardless of reset_min_interval"));
+    v(&C::imu_reinit_gap, "imu_reinit_gap", ParamSpec("s", 0.05, 60.0, "IMU silence after which the attitude counts as lost and the filter re-initialises in flight"));
+    v(&C::max_position_sigma, "max_position_sigma", ParamSpec("m", 1.0, 1e6, "horizontal position 1 sigma beyond which the state is invalid"));
+    v(&C::max_tilt_sigma, "max_tilt_sigma", ParamSpec("rad", 0.01, 3.2, "roll/pitch 1 sigma beyond which the state is invalid"));
+  }
+  template <class V> static void describe_others(V& v) {
+    using tern::ParamSpec;
+    using C = EstimatorConfig;
+    v(&C::min_fix_type, "min_gnss_fix_type", ParamSpec("", 2, 3, "minimum GNSS fix type used (2: 2-D, 3: 3-D)"));
+    v(&C::baro_calibration_count, "baro_calibration_count", ParamSpec("", 1, 100000, "barometer samples averaged for the ground calibration"));
+    v(&C::init_min_imu_samples, "init_min_imu_samples", ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
+    v(&C::inflate_after, "inflate_after",
+      ParamSpec("", 1, 1000, "consecutive GNSS or baro rejections after which the covariance of the states "
+                             "they measure is inflated (instead of a reset)"));
+    v(&C::gnss_antenna, "gnss_antenna_position",
+      ParamSpec("m", -10.0, 10.0, "GNSS antenna position from the CG, body FRD (x forward, y right, z down), measured on the aircraft"));
+    v(&C::imu_position, "imu_position", ParamSpec("m", -10.0, 10.0, "IMU position from the CG, body FRD, measured on the aircraft"));
+    v(&C::imu_mount, "imu_mount",
+      ParamSpec("rad", -tern::kPi, tern::kPi, "IMU axes relative to the body axes: roll, pitch, yaw (3-2-1); v_body = R(imu_mount) v_imu"));
+    v(&C::imu_mount_sigma, "imu_mount_sigma",
+      ParamSpec("rad", -1.0, 1.0, "uncertainty of imu_mount per body axis, 1 sigma: added to the published attitude covariance"));
+    v(&C::mag_heading_only, "mag_heading_only",
+      ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
+    v(&C::use_gnss_accuracy, "use_gnss_accuracy",
+      ParamSpec("", 0, 1, "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error) and s_acc "
+                          "(velocity noise) where larger than gnss_error_walk_*, gnss_vel_noise_*"));
+    v(&C::use_sideslip, "use_sideslip", ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
+    v(&C::use_side_force, "use_side_force",
+      ParamSpec("", 0, 1, "measure sideslip from the body-y accelerometer and the aircraft's C_Y model "
+                          "(needs wing_S, mass, C_Y_beta; else zero-sideslip)"));
+  }
 };
 
 /// Counters of one sensor.

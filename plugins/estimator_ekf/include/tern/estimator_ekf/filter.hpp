@@ -58,6 +58,7 @@
 #include <Eigen/Geometry>
 
 #include "tern/math.hpp"
+#include "tern/param.hpp"
 
 namespace tern::ekf {
 
@@ -158,6 +159,25 @@ struct ProcessNoise {
                                      ///< 0.21 m times T_s per 10 Hz fix = 0.21 sqrt(0.1))
   double gnss_error_walk_v = 0.126;  ///< GNSS vertical error driving noise, m/sqrt(s) (0.40 sqrt(0.1))
   double gnss_error_k = 1.0 / 1100.0;  ///< GNSS error Gauss-Markov rate k, 1/s
+
+  /// The plugin's parameter names and ranges (declare_struct, tern/param_struct.hpp); the member
+  /// initialisers above are their defaults.
+  template <class V> static void describe(V& v) {
+    using tern::ParamSpec;
+    using P = ProcessNoise;
+    v(&P::accel, "accel_noise", ParamSpec("m/s^2", 1e-4, 10.0, "accelerometer white noise, 1 sigma per IMU sample"));
+    v(&P::gyro, "gyro_noise", ParamSpec("rad/s", 1e-6, 1.0, "gyro white noise, 1 sigma per IMU sample"));
+    v(&P::gyro_scale, "gyro_scale", ParamSpec("", 0.0, 0.5, "gyro scale-factor and cross-axis error, fraction of the rate"));
+    v(&P::maneuver_time, "maneuver_time", ParamSpec("s", 0.0, 60.0, "how long a rate is held: correlation time of the gyro scale error"));
+    v(&P::gyro_bias_walk, "gyro_bias_walk", ParamSpec("rad/s/sqrt(s)", 0.0, 1.0, "gyro-bias random walk"));
+    v(&P::accel_bias_walk, "accel_bias_walk", ParamSpec("m/s^2/sqrt(s)", 0.0, 10.0, "accelerometer-bias random walk"));
+    v(&P::wind_walk, "wind_walk", ParamSpec("m/s/sqrt(s)", 0.0, 10.0, "horizontal-wind random walk"));
+    v(&P::baro_bias_walk, "baro_bias_walk", ParamSpec("m/sqrt(s)", 0.0, 10.0, "barometer-bias random walk"));
+    v(&P::position, "pos_process_noise", ParamSpec("m/sqrt(s)", 0.0, 10.0, "extra position random walk (model error)"));
+    v(&P::gnss_error_walk_h, "gnss_error_walk_h", ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS horizontal position error (Gauss-Markov state)"));
+    v(&P::gnss_error_walk_v, "gnss_error_walk_v", ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS vertical position error (Gauss-Markov state)"));
+    v(&P::gnss_error_k, "gnss_error_rate", ParamSpec("1/s", 0.0, 10.0, "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)"));
+  }
 };
 
 /// Outcome of one measurement update.
