@@ -21,6 +21,9 @@
 #include "rosplane_msgs/msg/StatePubSubTypes.h"
 #include "rosplane_msgs/msg/WaypointPubSubTypes.h"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
+#include "rosflight_msgs/msg/CommandPubSubTypes.h"
+#include "rosgraph_msgs/msg/ClockPubSubTypes.h"
+#include "sensor_msgs/msg/ImuPubSubTypes.h"
 #include "rcl_convert.hpp"
 #include "ros_graph.hpp"
 #include "rcl_interfaces/msg/ParameterEventPubSubTypes.h"
@@ -111,8 +114,10 @@ std::vector<std::pair<std::string, std::string>> msg_fields(const std::string& t
 std::vector<std::pair<std::string, std::string>> idl_fields(const std::string& text, const std::string& name) {
   static const std::map<std::string, std::string> ros = {
       {"float", "float32"}, {"double", "float64"}, {"boolean", "bool"}, {"uint8", "uint8"}, {"int8", "int8"},
-      {"uint32", "uint32"}, {"int32", "int32"}, {"string", "string"}, {"std_msgs::msg::Header", "std_msgs/Header"},
-      {"geometry_msgs::msg::Quaternion", "geometry_msgs/Quaternion"}};
+      {"uint16", "uint16"}, {"int16", "int16"}, {"uint32", "uint32"}, {"int32", "int32"}, {"int64", "int64"},
+      {"string", "string"}, {"std_msgs::msg::Header", "std_msgs/Header"},
+      {"geometry_msgs::msg::Quaternion", "geometry_msgs/Quaternion"}, {"geometry_msgs::msg::Vector3", "geometry_msgs/Vector3"},
+      {"builtin_interfaces::msg::Time", "builtin_interfaces/Time"}};
   const auto at = text.find("struct " + name + " {");
   REQUIRE_MESSAGE(at != std::string::npos, name);
   const auto end = text.find("};", at);
@@ -194,6 +199,25 @@ TEST_CASE("dds: type names are ROS 2's and the fields follow ROSplane's .msg fil
   const std::string srv_idl = read_file(idl / "rosplane_msgs/srv/AddWaypoint.idl");
   CHECK(idl_fields(srv_idl, "AddWaypoint_Request") == msg_fields(srv.substr(0, sep)));
   CHECK(idl_fields(srv_idl, "AddWaypoint_Response") == msg_fields(srv.substr(sep + 3)));
+}
+
+TEST_CASE("dds: rosflight_io's, sensor_msgs' and /clock's IDL follow their .msg files in order") {
+  CHECK(std::string(rosflight_msgs::msg::CommandPubSubType().getName()) == "rosflight_msgs::msg::dds_::Command_");
+  CHECK(std::string(sensor_msgs::msg::ImuPubSubType().getName()) == "sensor_msgs::msg::dds_::Imu_");
+  CHECK(std::string(rosgraph_msgs::msg::ClockPubSubType().getName()) == "rosgraph_msgs::msg::dds_::Clock_");
+  const fs::path idl = TERN_DDS_IDL_DIR, ref = TERN_ROSPLANE_MSG_DIR;
+  const std::pair<const char*, const char*> msgs[] = {
+      {"rosflight_msgs/msg", "Command"}, {"rosflight_msgs/msg", "Barometer"}, {"rosflight_msgs/msg", "Airspeed"},
+      {"rosflight_msgs/msg", "Status"}, {"rosflight_msgs/msg", "GNSS"}, {"sensor_msgs/msg", "Imu"},
+      {"sensor_msgs/msg", "MagneticField"}, {"geometry_msgs/msg", "Vector3"}, {"rosgraph_msgs/msg", "Clock"}};
+  for (const auto& [dir, m] : msgs) {
+    const std::string folder = dir;
+    const fs::path msg_dir = folder.rfind("rosflight", 0) == 0 ? ref / dir : ref / "ros2_msgs" / dir;
+    const auto want = msg_fields(read_file(msg_dir / (std::string(m) + ".msg")));
+    const auto got = idl_fields(read_file(idl / dir / (std::string(m) + ".idl")), m);
+    REQUIRE(!want.empty());
+    CHECK_MESSAGE(got == want, m);
+  }
 }
 
 TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on loopback") {
