@@ -8,7 +8,7 @@
 # logs are bit-identical (cmp). Prints the figures.
 set -u
 tern=$1 standin=$2 domain=$3 dir=$4 src=$5
-seed=1 duration=150
+seed=1 duration=180
 rm -rf "$dir" && mkdir -p "$dir" || exit 1
 cat > "$dir/cyclone.xml" <<XML
 <CycloneDDS><Domain Id="any"><General><Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
