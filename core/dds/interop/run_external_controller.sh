@@ -5,7 +5,8 @@
 # DDS domain DOMAIN), twice; then control_slc flies configs/missions/default.yaml on the same seed.
 # Passes when both external flights reach every waypoint of the mission with the external module in
 # control (no fallback), their line cross-track RMS is within twice control_slc's, and their state
-# logs are bit-identical (cmp). Prints the figures.
+# logs are bit-identical (cmp); and when, with no node running, the silent module is replaced by
+# the fallback (slc) through the safety monitor. Prints the figures.
 set -u
 tern=$1 standin=$2 domain=$3 dir=$4 src=$5
 seed=1 duration=180
@@ -32,6 +33,10 @@ fly_external a
 fly_external b
 "$tern" fly "$src/configs/missions/default.yaml" --seed $seed --duration $duration --log-dir "$dir/slc" --quiet > "$dir/tern_slc.log" 2>&1 ||
   { tail -20 "$dir/tern_slc.log"; exit 1; }
+# no node on the topics: the module is silent from the first cruise tick, the safety monitor hands
+# over to the fallback (slc) and the flight goes on
+"$tern" fly "$src/configs/missions/external_controller.yaml" --dds-domain "$domain" --seed $seed --duration 30 \
+  --log-dir "$dir/silent" --quiet > "$dir/tern_silent.log" 2>&1 || { tail -20 "$dir/tern_silent.log"; exit 1; }
 run() { ls -d "$dir/$1"/*/ | head -1; }
 a=$(run a) b=$(run b) slc=$(run slc)
 status=0
@@ -41,6 +46,16 @@ if cmp "$a/topics/state.csv" "$b/topics/state.csv" && cmp "$a/topics/truth.csv" 
 else
   echo "FAILED: the two external flights differ"; status=1
 fi
+python3 - "$(run silent)/summary.json" <<'PY' || status=1
+import json, sys
+j = json.load(open(sys.argv[1]))
+back = [h for h in j["controller_handovers"] if h["from"] == "ext" and h["to"] == "slc"]
+print(f"silent module: handed back to slc at {[h['t_s'] for h in back]} s ({back[0]['reason'] if back else 'never'}), "
+      f"{j['instances']['ext']['timeouts']:.0f} timeouts, end {j['end_reason']}")
+ok = j["fallback_engaged"] and back and "silent" in back[0]["reason"] and j["end_reason"] == "duration"
+print("PASSED" if ok else "FAILED")
+sys.exit(0 if ok else 1)
+PY
 python3 - "$a/summary.json" "$slc/summary.json" "$src/configs/missions/fixedwing_mission.yaml" <<'PY' || status=1
 import json, sys
 ext, slc = (json.load(open(f)) for f in sys.argv[1:3])
