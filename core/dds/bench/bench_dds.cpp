@@ -113,8 +113,7 @@ int main() {
   auto sample = type->make_sample();
   auto send = [&](tern::msg::State& m) {
     m.stamp = now_ns();
-    type->convert(&m, sample.get());
-    writer->write(sample.get());
+    type->convert(&m, sample.get(), 0, [&] { writer->write(sample.get()); });
   };
   tern::msg::State m;
   m.Va = 15;

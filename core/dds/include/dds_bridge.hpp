@@ -30,18 +30,31 @@ namespace tern::core {
 
 class Host;
 
-/// Quality of service of a bridged topic.
+/// Quality of service of a bridged topic (the history depth is DdsTopicOptions::depth).
 enum class DdsQos : std::uint8_t {
-  best_effort,      ///< telemetry: best-effort, keep-last 1, volatile
-  reliable,         ///< reliable, keep-last 10, volatile
-  transient_local,  ///< reliable, keep-last 1, transient-local (late joiners get the last sample)
+  best_effort,      ///< telemetry: best-effort, keep-last (default 1), volatile
+  reliable,         ///< reliable, keep-last (default 10), volatile: rclcpp's default QoS
+  transient_local,  ///< reliable, keep-last (default 1), transient-local (late joiners get the last samples)
 };
+
+/// Keep-last depth of a QoS when a topic gives none: best_effort 1, reliable 10, transient_local 1.
+int default_depth(DdsQos q);
 
 struct DdsTopicOptions {
   std::string topic;                ///< tern topic name (e.g. "state")
   std::string name;                 ///< DDS name under the namespace (default: topic)
   double rate = -1;                 ///< max publish rate, Hz (0: every message; <0: the bridge default)
   std::optional<DdsQos> qos;        ///< default: transient_local for waypoints and flight_phase, else best_effort
+  std::optional<int> depth;         ///< keep-last depth, 1..1000 (default: default_depth(qos))
+  /// ROS 2 type ("sensor_msgs/msg/Imu"); empty: the tern type's first DDS type (src/convert.cpp).
+  std::string type;
+};
+
+/// Which clock header stamps and /clock follow (docs/ros2.md).
+enum class DdsTime : std::uint8_t {
+  automatic,  ///< wall with a real FCU (an instance of plugin fcu_serial), sim otherwise
+  sim,        ///< stamp = flight time (sim time from 0), published on rt/clock
+  wall,       ///< stamp = the wall clock (UNIX time) of the flight's first tick + flight time; no /clock
 };
 
 /// DDS Security (src/security.hpp): the OMG DDS Security 1.1 builtin plugins (PKI-DH
@@ -60,7 +73,13 @@ struct DdsOptions {
   std::vector<std::string> peers{"127.0.0.1"};       ///< initial discovery peers (IPv4)
   bool multicast = false;           ///< multicast discovery on the listed interfaces
   double rate = 0;                  ///< default max publish rate per topic, Hz (0: every message)
-  std::vector<DdsTopicOptions> topics;  ///< bridged topics (default: kDefaultTopics)
+  std::vector<DdsTopicOptions> topics;  ///< bridged topics (default: rosplane_profile(aliases))
+  /// With the default topics, also publish tern's own names that ROSplane's profile renames
+  /// (state, waypoints, actuators in tern's types and QoS), for tern's tools and older scripts.
+  bool aliases = true;
+  bool topics_from_config = false;  ///< `dds.topics` was given (each named topic must exist)
+  DdsTime time = DdsTime::automatic;
+  double clock_rate = 100;          ///< Hz of rt/clock in sim time (0: no /clock)
   /// Serve telemetry only: no parameter, mission or file service (status stays, for `tern topics`).
   bool read_only = false;
   /// Directories where load_mission_from_file may read, besides the mission config's directory.
@@ -69,14 +88,16 @@ struct DdsOptions {
   std::vector<std::filesystem::path> param_dirs;
   /// `dds.security: {keystore: DIR, enclave: NAME}`: secure participants only (default: off).
   std::optional<DdsSecurity> security;
-  static const std::vector<std::string> kDefaultTopics;
+  /// The default topics: ROSplane 2.0's and rosflight_io's names, types and QoS (core/dds/README.md
+  /// lists each with the source file it was read from), then, with `aliases`, tern's own names.
+  static std::vector<DdsTopicOptions> rosplane_profile(bool aliases);
   /// True when every interface is 127.0.0.1 and multicast is off.
   bool loopback_only() const;
 };
 
 /// Reads the mission config's `dds:` section (missing or null: defaults). Keys: enabled, domain,
 /// namespace, interfaces, peers, multicast, rate, topics (a list of names or of maps
-/// {topic, name, rate, qos}), read_only, mission_dirs, param_dirs (lists of directories, relative
+/// {topic, name, rate, qos, depth, type}), aliases, time (auto | sim | wall), clock_rate, read_only, mission_dirs, param_dirs (lists of directories, relative
 /// to the config file), security ({keystore: DIR relative to the config file, enclave: NAME,
 /// default "vehicle"}). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
 /// (with a suggestion) and bad values.
@@ -102,8 +123,10 @@ class DdsBridge {
 
   struct Published {
     std::string topic, dds_name, dds_type;
+    DdsQos qos = DdsQos::best_effort;
+    int depth = 1;
   };
-  /// The bridged topics: tern topic, DDS topic name (rt/...), DDS type name.
+  /// The bridged topics: tern topic, DDS topic name (rt/...), DDS type name, QoS and depth.
   std::vector<Published> published() const;
   /// Samples written so far on a tern topic (0 for an unknown one).
   std::uint64_t samples_written(const std::string& topic) const;

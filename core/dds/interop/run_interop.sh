@@ -17,17 +17,5 @@ plugins:
   - {name: filter, plugin: test_filter, trigger: imu}
   - {name: ctl, plugin: test_controller, rate: 100}
 YAML
-# Cyclone: 127.0.0.1 only, no multicast; unicast discovery to the participant indices tern uses
-cat > "$dir/cyclone.xml" <<XML
-<CycloneDDS><Domain Id="any"><General><Interfaces><NetworkInterface address="127.0.0.1"/></Interfaces>
-<AllowMulticast>false</AllowMulticast></General><Discovery><ParticipantIndex>auto</ParticipantIndex>
-<MaxAutoParticipantIndex>31</MaxAutoParticipantIndex><Peers><Peer address="127.0.0.1"/></Peers></Discovery></Domain></CycloneDDS>
-XML
-"$tern" fly "$dir/interop.yaml" --dds --dds-domain "$domain" --realtime --duration 60 --log-dir "$dir/runs" > "$dir/vehicle.log" 2>&1 &
-vehicle=$!
-CYCLONEDDS_URI="file://$dir/cyclone.xml" "$client" "$domain"
-rc=$?
-kill "$vehicle" 2>/dev/null
-wait "$vehicle" 2>/dev/null
-[ $rc -eq 0 ] || { echo "--- vehicle log"; tail -20 "$dir/vehicle.log"; }
-exit $rc
+. "$(dirname "$0")/vehicle_and_client.sh"
+fly_with_client "$tern" "$dir/interop.yaml" "$domain" "$dir" "$client" "$domain"

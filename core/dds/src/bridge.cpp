@@ -16,6 +16,7 @@
 #include "file_access.hpp"
 #include "host.hpp"
 #include "ros_parameters.hpp"
+#include "stamp_clock.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
 #include "tern/msg/all.hpp"
@@ -35,6 +36,7 @@ struct Writer {
   std::shared_ptr<void> sample;
   Nanos interval = 0;
   DdsQos qos = DdsQos::best_effort;
+  int depth = 1;
   const OutputBase* last_src = nullptr;
   std::uint64_t last_seq = 0;
   Nanos last_t = 0;
@@ -74,6 +76,8 @@ struct DdsBridge::Impl {
   std::unique_ptr<RosParameters> ros_params;  // a ROS 2 node per instance (rcl_interfaces)
   std::unique_ptr<RosGraph> graph;            // ros_discovery_info
 
+  // ROS time (stamp_clock.hpp): the flight's epoch and rt/clock in sim time
+  StampClock stamps;
   // what the flight thread last saw (for status and mission print)
   std::atomic<Nanos> flight_time{0};
   std::atomic<int> phase{0};
@@ -89,7 +93,7 @@ struct DdsBridge::Impl {
   FileAccess mission_files, param_files;
 
   Impl(Host& h, const DdsOptions& o)
-      : host(h), options(o), mission_files(with_first(h.config().dir, o.mission_dirs)),
+      : host(h), options(o), stamps(resolve_time(h.config(), o.time), o.clock_rate), mission_files(with_first(h.config().dir, o.mission_dirs)),
         param_files(with_first(h.options().log_dir.value_or(h.config().log.dir), o.param_dirs)) {}
   static std::vector<fs::path> with_first(const fs::path& first, std::vector<fs::path> more) {
     more.insert(more.begin(), first);
@@ -127,6 +131,7 @@ struct DdsBridge::Impl {
 
   void tick(Nanos now) {
     flight_time.store(now, std::memory_order_relaxed);
+    stamps.tick(now);
     publish(now);
     remember_phase_and_waypoints();
     run_tasks();
@@ -144,9 +149,11 @@ struct DdsBridge::Impl {
       w->last_src = src;
       w->last_seq = seq;
       w->last_t = now;
-      w->type->convert(src->data(), w->sample.get());
-      w->writer->write(w->sample.get());
-      w->written.fetch_add(1, std::memory_order_relaxed);
+      Writer& wr = *w;
+      w->type->convert(src->data(), w->sample.get(), stamps.epoch(), [&wr] {
+        wr.writer->write(wr.sample.get());
+        wr.written.fetch_add(1, std::memory_order_relaxed);
+      });
     }
   }
 
@@ -242,7 +249,8 @@ struct DdsBridge::Impl {
     const DdsQos q = to.qos.value_or(to.topic == "waypoints" || to.topic == "flight_phase" ? DdsQos::transient_local
                                                                                            : DdsQos::best_effort);
     w->qos = q;
-    if (t != nullptr) w->writer = publisher->create_datawriter(t, writer_qos(q));
+    w->depth = to.depth.value_or(default_depth(q));
+    if (t != nullptr) w->writer = publisher->create_datawriter(t, writer_qos(q, w->depth));
     if (t == nullptr || w->writer == nullptr) throw DdsError("DDS: cannot create a writer for " + topic_name(options.ns, to.name));
     w->sample = type->make_sample();
     const double rate = to.rate >= 0 ? to.rate : options.rate;
@@ -268,9 +276,9 @@ struct DdsBridge::Impl {
     {
       std::lock_guard lk(writers_mu);
       for (const auto& w : writers)
-        if (w->topic == topic || w->dds_name == topic) return topic_name(options.ns, w->dds_name) + " is already published";
+        if (w->dds_name == topic) return topic_name(options.ns, w->dds_name) + " is already published";
     }
-    add_writer({topic, topic, rate, std::nullopt}, type);
+    add_writer({topic, topic, rate, std::nullopt, std::nullopt, ""}, type);
     announce();
     host.logger()->info("DDS bridge: now publishing {} ({}) on request", topic_name(options.ns, topic), type->dds_type);
     return topic_name(options.ns, topic) + " " + type->dds_type;
@@ -303,6 +311,7 @@ struct DdsBridge::Impl {
       std::lock_guard lk(writers_mu);
       for (const auto& w : writers) b.writers.push_back(w->writer->guid());
     }
+    if (const auto* c = stamps.writer()) b.writers.push_back(c->guid());
     nodes.push_back(std::move(b));
     graph->announce(nodes);
   }
@@ -440,16 +449,13 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
       if (t.name == to.topic) info = &t;
     if (info == nullptr) {
       // the default set bridges what exists; a topic the config names must exist
-      if (options.topics.size() == DdsOptions::kDefaultTopics.size() &&
-          std::equal(options.topics.begin(), options.topics.end(), DdsOptions::kDefaultTopics.begin(),
-                     [](const DdsTopicOptions& a, const std::string& b) { return a.topic == b && a.name == b; }))
-        continue;
+      if (!options.topics_from_config) continue;
       throw ConfigError(file.string() + ": dds.topics: no instance publishes topic '" + to.topic + "'" + did_you_mean(to.topic, names));
     }
-    const TypeEntry* type = find_type(info->type_name);
+    const TypeEntry* type = find_type(info->type_name, to.type);
     if (type == nullptr || type->fingerprint != info->fingerprint)
-      throw ConfigError(file.string() + ": dds.topics: topic '" + to.topic + "' carries " + info->type_name +
-                        ", which has no DDS type");
+      throw ConfigError(file.string() + ": dds.topics: topic '" + to.topic + "' carries " + info->type_name + ", which has no DDS type" +
+                        (to.type.empty() ? std::string() : " " + to.type));
     plan.emplace_back(&to, type);
   }
   m.participant = make_participant(options, "tern/" + (options.ns.empty() ? host.config().name : options.ns));
@@ -457,6 +463,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   m.subscriber = m.participant->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   if (m.publisher == nullptr || m.subscriber == nullptr) throw DdsError("DDS: cannot create a publisher/subscriber");
   for (const auto& [to, type] : plan) m.add_writer(*to, type);
+  m.stamps.start(m.participant, m.publisher);
   m.bridge_node.ns = "/" + options.ns;
   m.bridge_node.name = "bridge";
   m.ros_params = std::make_unique<RosParameters>(host, options, m.participant, m.publisher, m.subscriber,
@@ -470,6 +477,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   for (const auto& i : options.interfaces) ifs += (ifs.empty() ? "" : ", ") + i;
   host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain,
                       options.ns, ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
+  host.logger()->info("DDS bridge: header stamps in {}", m.stamps.describe());
   if (options.read_only) host.logger()->info("DDS bridge: read_only: telemetry and status only");
   if (options.security)
     host.logger()->info("DDS bridge: DDS Security on: enclave '{}' of keystore {} (authenticated, access-controlled, encrypted)",
@@ -483,7 +491,8 @@ DdsBridge::~DdsBridge() {
 std::vector<DdsBridge::Published> DdsBridge::published() const {
   std::lock_guard lk(impl_->writers_mu);
   std::vector<Published> out;
-  for (const auto& w : impl_->writers) out.push_back({w->topic, topic_name(impl_->options.ns, w->dds_name), w->type->dds_type});
+  for (const auto& w : impl_->writers)
+    out.push_back({w->topic, topic_name(impl_->options.ns, w->dds_name), w->type->dds_type, w->qos, w->depth});
   return out;
 }
 

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "dds_internal.hpp"
+#include "convert_util.hpp"
 #include "rosplane_msgs/msg/ControllerCommandsPubSubTypes.h"
 #include "rosplane_msgs/msg/ControllerInternalsPubSubTypes.h"
 #include "rosplane_msgs/msg/CurrentPathPubSubTypes.h"
@@ -20,63 +20,6 @@
 namespace tern::core::ddsi {
 
 namespace {
-
-void to_time(builtin_interfaces::msg::Time& out, Nanos t) {
-  const Nanos sec = t >= 0 ? t / 1000000000 : (t - 999999999) / 1000000000;
-  out.sec(static_cast<std::int32_t>(sec));
-  out.nanosec(static_cast<std::uint32_t>(t - sec * 1000000000));
-}
-
-void stamp(std_msgs::msg::Header& h, Nanos t) { to_time(h.stamp(), t); }
-
-template <std::size_t N, class T, class V>
-void vec(std::array<T, N>& out, const V& in) {
-  for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<T>(in[i]);
-}
-
-/// "name: value" lines.
-class Text {
- public:
-  template <class T>
-  Text& operator()(std::string_view name, const T& v) {
-    if constexpr (std::is_same_v<T, bool>) {
-      s_ += fmt::format("{}: {}\n", name, v ? "true" : "false");
-    } else if constexpr (std::is_integral_v<T>) {
-      s_ += fmt::format("{}: {}\n", name, static_cast<long long>(v));
-    } else if constexpr (std::is_floating_point_v<T>) {
-      s_ += fmt::format("{}: {}\n", name, v);
-    } else if constexpr (std::is_same_v<T, std::string>) {
-      s_ += fmt::format("{}: '{}'\n", name, v);
-    } else {
-      std::string items;
-      for (const auto& x : v) items += (items.empty() ? "" : ", ") + fmt::format("{}", x);
-      s_ += fmt::format("{}: [{}]\n", name, items);
-    }
-    return *this;
-  }
-  Text& header(const std_msgs::msg::Header& h) {
-    s_ += fmt::format("header.stamp: {}.{:09d}\nheader.frame_id: '{}'\n", h.stamp().sec(), h.stamp().nanosec(), h.frame_id());
-    return *this;
-  }
-  std::string str() const { return s_; }
-
- private:
-  std::string s_;
-};
-
-template <class M, class PS>
-TypeEntry entry(std::function<void(const M&, typename PS::type&)> convert,
-                std::function<std::string(const typename PS::type&)> render) {
-  TypeEntry e;
-  e.tern_type = M::type_name;
-  e.fingerprint = reflect::fingerprint<M>();
-  e.make_type = [] { return new PS(); };
-  e.make_sample = [] { return std::shared_ptr<void>(new typename PS::type(), [](void* p) { delete static_cast<typename PS::type*>(p); }); };
-  e.convert = [convert](const void* m, void* s) { convert(*static_cast<const M*>(m), *static_cast<typename PS::type*>(s)); };
-  e.render = [render](const void* s) { return render(*static_cast<const typename PS::type*>(s)); };
-  e.dds_type = PS().getName();
-  return e;
-}
 
 std::uint8_t rosplane_zone(std::uint8_t tern_phase) {
   // ROSplane: 0 take-off, 1 climb, 2 descend, 3 altitude hold
@@ -106,13 +49,34 @@ std::string render_waypoint(const rosplane_msgs::msg::Waypoint& s) {
                    "set_current", s.set_current())("clear_wp_list", s.clear_wp_list()).str();
 }
 
+/// A waypoint list as ROSplane's path planner publishes it on waypoint_path
+/// (path_planner_waypoints.cpp: clear_path, waypoint_publish): one Waypoint with clear_wp_list,
+/// then one Waypoint per item, each stamped with the list's stamp.
+TypeEntry waypoint_path_entry() {
+  using rosplane_msgs::msg::Waypoint, rosplane_msgs::msg::WaypointPubSubType;
+  TypeEntry e = entry<msg::WaypointList, WaypointPubSubType>([](const msg::WaypointList&, Waypoint&, Nanos) {}, render_waypoint);
+  e.convert = [](const void* m, void* sample, Nanos epoch, const std::function<void()>& write) {
+    const auto& list = *static_cast<const msg::WaypointList*>(m);
+    auto& s = *static_cast<Waypoint*>(sample);
+    s = Waypoint();
+    stamp(s.header(), list.stamp + epoch);
+    s.clear_wp_list(true);
+    write();
+    for (std::uint32_t i = 0; i < list.count && i < msg::WaypointList::kCapacity; ++i) {
+      to_waypoint(list.items[i], s);
+      write();
+    }
+  };
+  return e;
+}
+
 std::vector<TypeEntry> build() {
   std::vector<TypeEntry> v;
   using namespace rosplane_msgs::msg;
   namespace tm = tern_msgs::msg;
   v.push_back(entry<msg::State, StatePubSubType>(
-      [](const msg::State& m, State& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::State& m, State& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.p_n(static_cast<float>(m.p_n)); s.p_e(static_cast<float>(m.p_e)); s.p_d(static_cast<float>(m.p_d));
         s.v_x(static_cast<float>(m.u)); s.v_y(static_cast<float>(m.v)); s.v_z(static_cast<float>(m.w));
         s.p(static_cast<float>(m.p)); s.q(static_cast<float>(m.q)); s.r(static_cast<float>(m.r));
@@ -133,8 +97,8 @@ std::vector<TypeEntry> build() {
                    "beta", s.beta())("chi", s.chi()).str();
       }));
   v.push_back(entry<msg::ControllerCommand, ControllerCommandsPubSubType>(
-      [](const msg::ControllerCommand& m, ControllerCommands& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::ControllerCommand& m, ControllerCommands& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.va_c(static_cast<float>(m.Va_c)); s.h_c(static_cast<float>(m.h_c)); s.chi_c(static_cast<float>(m.chi_c));
         s.phi_ff(static_cast<float>(m.phi_ff));
         vec<4>(s.aux(), m.aux);
@@ -146,8 +110,8 @@ std::vector<TypeEntry> build() {
                    "aux", s.aux())("aux_valid", s.aux_valid())("theta_c", s.theta_c())("phi_c", s.phi_c()).str();
       }));
   v.push_back(entry<msg::ControllerInternals, ControllerInternalsPubSubType>(
-      [](const msg::ControllerInternals& m, ControllerInternals& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::ControllerInternals& m, ControllerInternals& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.theta_c(static_cast<float>(m.theta_c)); s.phi_c(static_cast<float>(m.phi_c));
         s.alt_zone(rosplane_zone(m.alt_zone));
       },
@@ -155,8 +119,8 @@ std::vector<TypeEntry> build() {
         return Text().header(s.header())("theta_c", s.theta_c())("phi_c", s.phi_c())("alt_zone", s.alt_zone()).str();
       }));
   v.push_back(entry<msg::CurrentPath, CurrentPathPubSubType>(
-      [](const msg::CurrentPath& m, CurrentPath& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::CurrentPath& m, CurrentPath& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.path_type(m.path_type); s.va_d(static_cast<float>(m.Va_d));
         vec<3>(s.r(), m.r); vec<3>(s.q(), m.q); vec<3>(s.c(), m.c);
         s.rho(static_cast<float>(m.rho)); s.lamda(m.lambda);
@@ -165,11 +129,11 @@ std::vector<TypeEntry> build() {
         return Text().header(s.header())("path_type", s.path_type())("va_d", s.va_d())("r", s.r())("q", s.q())("c", s.c())(
                    "rho", s.rho())("lamda", s.lamda()).str();
       }));
-  v.push_back(entry<msg::Waypoint, WaypointPubSubType>([](const msg::Waypoint& m, Waypoint& s) { to_waypoint(m, s); },
+  v.push_back(entry<msg::Waypoint, WaypointPubSubType>([](const msg::Waypoint& m, Waypoint& s, Nanos) { to_waypoint(m, s); },
                                                        render_waypoint));
   v.push_back(entry<msg::WaypointList, tm::WaypointListPubSubType>(
-      [](const msg::WaypointList& m, tm::WaypointList& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::WaypointList& m, tm::WaypointList& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.revision(m.revision);
         s.loop(m.loop);
         s.waypoints().resize(std::min<std::size_t>(m.count, msg::WaypointList::kCapacity));
@@ -187,9 +151,10 @@ std::vector<TypeEntry> build() {
         }
         return out;
       }));
+  v.push_back(waypoint_path_entry());
   v.push_back(entry<msg::Actuators, tm::ActuatorsPubSubType>(
-      [](const msg::Actuators& m, tm::Actuators& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Actuators& m, tm::Actuators& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.delta_a(m.delta_a); s.delta_e(m.delta_e); s.delta_r(m.delta_r); s.delta_t(m.delta_t);
       },
       [](const tm::Actuators& s) {
@@ -197,12 +162,12 @@ std::vector<TypeEntry> build() {
                    "delta_t", s.delta_t()).str();
       }));
   v.push_back(entry<msg::FlightPhase, tm::FlightPhasePubSubType>(
-      [](const msg::FlightPhase& m, tm::FlightPhase& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::FlightPhase& m, tm::FlightPhase& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.phase(static_cast<std::uint8_t>(m.phase));
         s.previous(static_cast<std::uint8_t>(m.previous));
         std_msgs::msg::Header h;
-        stamp(h, m.since);
+        stamp(h, m.since + epoch);
         s.since(h.stamp());
         s.phase_name(std::string(msg::phase_name(m.phase)));
       },
@@ -211,8 +176,8 @@ std::vector<TypeEntry> build() {
                    "since", fmt::format("{}.{:09d}", s.since().sec(), s.since().nanosec()))("phase_name", s.phase_name()).str();
       }));
   v.push_back(entry<msg::Imu, tm::ImuPubSubType>(
-      [](const msg::Imu& m, tm::Imu& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Imu& m, tm::Imu& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         vec<3>(s.accel(), m.accel); vec<3>(s.gyro(), m.gyro);
         s.temperature(m.temperature);
       },
@@ -220,13 +185,13 @@ std::vector<TypeEntry> build() {
         return Text().header(s.header())("accel", s.accel())("gyro", s.gyro())("temperature", s.temperature()).str();
       }));
   v.push_back(entry<msg::Gnss, tm::GnssPubSubType>(
-      [](const msg::Gnss& m, tm::Gnss& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Gnss& m, tm::Gnss& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.fix_type(static_cast<std::uint8_t>(m.fix_type)); s.num_sats(m.num_sats);
         s.lat(m.lat); s.lon(m.lon); s.alt(m.alt);
         vec<3>(s.vel(), m.vel);
         s.h_acc(m.h_acc); s.v_acc(m.v_acc); s.s_acc(m.s_acc);
-        to_time(s.time_of_validity(), m.time_of_validity);
+        to_time(s.time_of_validity(), m.time_of_validity + epoch);
       },
       [](const tm::Gnss& s) {
         return Text().header(s.header())("fix_type", s.fix_type())("num_sats", s.num_sats())("lat", s.lat())("lon", s.lon())(
@@ -234,28 +199,28 @@ std::vector<TypeEntry> build() {
                    "time_of_validity", fmt::format("{}.{:09d}", s.time_of_validity().sec(), s.time_of_validity().nanosec())).str();
       }));
   v.push_back(entry<msg::Baro, tm::BaroPubSubType>(
-      [](const msg::Baro& m, tm::Baro& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Baro& m, tm::Baro& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.pressure(m.pressure); s.temperature(m.temperature);
       },
       [](const tm::Baro& s) { return Text().header(s.header())("pressure", s.pressure())("temperature", s.temperature()).str(); }));
   v.push_back(entry<msg::DiffPressure, tm::DiffPressurePubSubType>(
-      [](const msg::DiffPressure& m, tm::DiffPressure& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::DiffPressure& m, tm::DiffPressure& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.pressure(m.pressure); s.temperature(m.temperature);
       },
       [](const tm::DiffPressure& s) {
         return Text().header(s.header())("pressure", s.pressure())("temperature", s.temperature()).str();
       }));
   v.push_back(entry<msg::Mag, tm::MagPubSubType>(
-      [](const msg::Mag& m, tm::Mag& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Mag& m, tm::Mag& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         vec<3>(s.field(), m.field);
       },
       [](const tm::Mag& s) { return Text().header(s.header())("field", s.field()).str(); }));
   v.push_back(entry<msg::Rc, tm::RcPubSubType>(
-      [](const msg::Rc& m, tm::Rc& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::Rc& m, tm::Rc& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.roll(m.roll); s.pitch(m.pitch); s.yaw(m.yaw); s.throttle(m.throttle);
         vec<4>(s.aux(), m.aux);
         s.rc_override(m.rc_override); s.failsafe(m.failsafe);
@@ -265,8 +230,8 @@ std::vector<TypeEntry> build() {
                    "aux", s.aux())("rc_override", s.rc_override())("failsafe", s.failsafe()).str();
       }));
   v.push_back(entry<msg::FcuStatus, tm::FcuStatusPubSubType>(
-      [](const msg::FcuStatus& m, tm::FcuStatus& s) {
-        stamp(s.header(), m.stamp);
+      [](const msg::FcuStatus& m, tm::FcuStatus& s, Nanos epoch) {
+        stamp(s.header(), m.stamp + epoch);
         s.armed(m.armed); s.failsafe(m.failsafe); s.rc_override(m.rc_override); s.offboard(m.offboard);
         s.error_code(m.error_code); s.battery_voltage(m.battery_voltage); s.battery_current(m.battery_current);
       },
@@ -275,19 +240,37 @@ std::vector<TypeEntry> build() {
                    "offboard", s.offboard())("error_code", s.error_code())("battery_voltage", s.battery_voltage())(
                    "battery_current", s.battery_current()).str();
       }));
+  add_ros_types(v);
   return v;
 }
 
 }  // namespace
+
+std::string ros_type_name(const std::string& dds_type) {
+  std::string out;
+  for (std::size_t i = 0; i < dds_type.size();) {
+    if (dds_type.compare(i, 8, "::dds_::") == 0) {
+      out += '/';
+      i += 8;
+    } else if (dds_type.compare(i, 2, "::") == 0) {
+      out += '/';
+      i += 2;
+    } else {
+      out += dds_type[i++];
+    }
+  }
+  if (!out.empty() && out.back() == '_') out.pop_back();
+  return out;
+}
 
 const std::vector<TypeEntry>& all_types() {
   static const std::vector<TypeEntry> types = build();
   return types;
 }
 
-const TypeEntry* find_type(std::string_view tern_type) {
+const TypeEntry* find_type(std::string_view tern_type, std::string_view ros_type) {
   for (const auto& e : all_types())
-    if (e.tern_type == tern_type) return &e;
+    if (e.tern_type == tern_type && (ros_type.empty() || e.ros_type == ros_type)) return &e;
   return nullptr;
 }
 

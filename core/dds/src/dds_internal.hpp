@@ -42,7 +42,8 @@ fdds::DomainParticipant* make_participant(const DdsOptions& options, const std::
 /// Deletes every entity of the participant, then the participant.
 void delete_participant(fdds::DomainParticipant* p);
 
-fdds::DataWriterQos writer_qos(DdsQos q);
+/// `depth` <= 0: default_depth(q).
+fdds::DataWriterQos writer_qos(DdsQos q, int depth = 0);
 fdds::DataReaderQos reader_qos(DdsQos q);
 fdds::DataWriterQos service_writer_qos();
 fdds::DataReaderQos service_reader_qos();
@@ -59,14 +60,18 @@ struct TypeEntry {
   std::uint64_t fingerprint;   ///< of the tern struct
   std::function<fdds::TopicDataType*()> make_type;
   std::function<std::shared_ptr<void>()> make_sample;
-  /// tern message -> DDS sample (header.stamp = the message's stamp, flight time)
-  std::function<void(const void* tern_msg, void* sample)> convert;
+  /// tern message -> DDS sample(s): fills `sample` and calls `write` once per sample (a waypoint
+  /// list as ROSplane's waypoint_path: a clear, then one sample per waypoint). header.stamp =
+  /// the message's stamp (flight time, ns) + `epoch` (ROS time of flight time 0: 0 in sim time).
+  std::function<void(const void* tern_msg, void* sample, Nanos epoch, const std::function<void()>& write)> convert;
   /// DDS sample -> "field: value" lines
   std::function<std::string(const void* sample)> render;
   std::string dds_type;  ///< e.g. "rosplane_msgs::msg::dds_::State_"
+  std::string ros_type;  ///< e.g. "rosplane_msgs/msg/State"
 };
-/// nullptr when the tern type has no DDS counterpart.
-const TypeEntry* find_type(std::string_view tern_type);
+/// nullptr when the tern type has no DDS counterpart; `ros_type` ("sensor_msgs/msg/Imu") picks one
+/// of several (empty: the first, tern's own where tern has one).
+const TypeEntry* find_type(std::string_view tern_type, std::string_view ros_type = "");
 const TypeEntry* find_dds_type(std::string_view dds_type);
 const std::vector<TypeEntry>& all_types();
 

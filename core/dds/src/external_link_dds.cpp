@@ -124,9 +124,11 @@ class DdsExternalLink final : public ExternalLink {
 
   void publish(std::size_t i, const void* tern_msg, Nanos stamp) override {
     Writer& w = writers_.at(i);
-    w.type->convert(tern_msg, w.sample.get());
-    set_stamp(w.ros_type, w.sample.get(), stamp);
-    w.writer->write(w.sample.get());
+    // epoch 0: sim time; then the tick's time as the stamp, whatever the message's own
+    w.type->convert(tern_msg, w.sample.get(), 0, [&] {
+      set_stamp(w.ros_type, w.sample.get(), stamp);
+      w.writer->write(w.sample.get());
+    });
   }
 
   bool take(std::size_t o, Nanos stamp, void* tern_msg, std::chrono::microseconds timeout) override {
@@ -157,7 +159,7 @@ class DdsExternalLink final : public ExternalLink {
  private:
   void add_writer(const std::string& name, const ExternalBinding* b) {
     Writer w;
-    w.type = find_type(b->tern_type);
+    w.type = find_type(b->tern_type, b->ros_type);
     if (w.type == nullptr) throw DdsError("DDS: no conversion for " + std::string(b->tern_type));
     fdds::TypeSupport ts(w.type->make_type());
     if (participant_->find_type(ts.get_type_name()).empty()) ts.register_type(participant_);

@@ -16,8 +16,7 @@ namespace tern::core {
 
 namespace fs = std::filesystem;
 
-const std::vector<std::string> DdsOptions::kDefaultTopics = {
-    "state", "controller_command", "controller_internals", "current_path", "waypoints", "flight_phase", "actuators"};
+int default_depth(DdsQos q) { return q == DdsQos::reliable ? 10 : 1; }
 
 bool DdsOptions::loopback_only() const {
   if (multicast) return false;
@@ -117,6 +116,45 @@ DdsQos qos(const YAML::Node& n, const fs::path& file, const std::string& field) 
                     did_you_mean(s, {"best_effort", "reliable", "transient_local"}));
 }
 
+DdsTime time_source(const YAML::Node& n, const fs::path& file) {
+  const std::string s = text(n, file, "dds.time", false);
+  if (s == "auto") return DdsTime::automatic;
+  if (s == "sim") return DdsTime::sim;
+  if (s == "wall") return DdsTime::wall;
+  throw ConfigError(where(file, n) + "dds.time: '" + s + "' is not one of auto, sim, wall" + did_you_mean(s, {"auto", "sim", "wall"}));
+}
+
+/// A ROS 2 message type name "package/msg/Name".
+std::string ros_type(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  const std::string s = text(n, file, field, false);
+  const auto a = s.find('/'), b = s.rfind('/');
+  if (a == std::string::npos || a == 0 || b == a || s.compare(a, b - a + 1, "/msg/") != 0 || b + 1 == s.size())
+    throw ConfigError(where(file, n) + field + ": '" + s + "' is not a ROS 2 message type (package/msg/Name, e.g. sensor_msgs/msg/Imu)");
+  return s;
+}
+
+DdsTopicOptions topic_entry(const YAML::Node& e, const fs::path& file, const std::string& f) {
+  DdsTopicOptions to;
+  if (!e.IsMap()) {
+    to.topic = text(e, file, f, false);
+    to.name = dds_name(e, file, f, false);
+    return to;
+  }
+  check_keys(e, file, f, {"topic", "name", "rate", "qos", "depth", "type"});
+  if (!e["topic"]) throw ConfigError(where(file, e) + f + ": missing key 'topic'");
+  to.topic = text(e["topic"], file, f + ".topic", false);
+  to.name = e["name"] ? dds_name(e["name"], file, f + ".name", false) : to.topic;
+  if (e["rate"]) to.rate = number(e["rate"], file, f + ".rate", 0, 1e6);
+  if (e["qos"]) to.qos = qos(e["qos"], file, f + ".qos");
+  if (e["depth"]) {
+    const double d = number(e["depth"], file, f + ".depth", 1, 1000);
+    if (d != std::floor(d)) throw ConfigError(where(file, e["depth"]) + f + ".depth: expected an integer, got " + show(e["depth"]));
+    to.depth = static_cast<int>(d);
+  }
+  if (e["type"]) to.type = ros_type(e["type"], file, f + ".type");
+  return to;
+}
+
 /// `dds.security: {keystore: DIR, enclave: NAME}` (DIR relative to the config file).
 DdsSecurity security(const YAML::Node& n, const fs::path& file) {
   if (!n.IsMap()) throw ConfigError(where(file, n) + "dds.security: expected a map {keystore: DIR, enclave: NAME}, got " + show(n));
@@ -135,12 +173,12 @@ DdsSecurity security(const YAML::Node& n, const fs::path& file) {
 
 DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& file) {
   DdsOptions o;
-  for (const auto& t : DdsOptions::kDefaultTopics) o.topics.push_back({t, t, -1, std::nullopt});
+  o.topics = DdsOptions::rosplane_profile(o.aliases);
   if (!dds || dds.IsNull()) return o;
   if (!dds.IsMap()) throw ConfigError(where(file, dds) + "dds: expected a map of key: value, got " + show(dds));
   check_keys(dds, file, "dds",
              {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only",
-              "mission_dirs", "param_dirs", "security"});
+              "mission_dirs", "param_dirs", "security", "aliases", "time", "clock_rate"});
   if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
   if (dds["domain"]) {
     const double d = number(dds["domain"], file, "dds.domain", 0, 232);
@@ -156,25 +194,19 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (dds["param_dirs"]) o.param_dirs = dir_list(dds["param_dirs"], file, "dds.param_dirs");
   if (dds["security"]) o.security = security(dds["security"], file);
   if (dds["rate"]) o.rate = number(dds["rate"], file, "dds.rate", 0, 1e6);
+  if (dds["aliases"]) o.aliases = boolean(dds["aliases"], file, "dds.aliases");
+  o.topics = DdsOptions::rosplane_profile(o.aliases);
+  if (dds["time"]) o.time = time_source(dds["time"], file);
+  if (dds["clock_rate"]) o.clock_rate = number(dds["clock_rate"], file, "dds.clock_rate", 0, 10000);
   if (const auto t = dds["topics"]) {
     if (!t.IsSequence()) throw ConfigError(where(file, t) + "dds.topics: expected a list of topics, got " + show(t));
     o.topics.clear();
+    o.topics_from_config = true;
     std::set<std::string> names;
     for (std::size_t i = 0; i < t.size(); ++i) {
       const std::string f = "dds.topics[" + std::to_string(i) + "]";
-      DdsTopicOptions to;
       const YAML::Node e = t[i];
-      if (e.IsMap()) {
-        check_keys(e, file, f, {"topic", "name", "rate", "qos"});
-        if (!e["topic"]) throw ConfigError(where(file, e) + f + ": missing key 'topic'");
-        to.topic = text(e["topic"], file, f + ".topic", false);
-        to.name = e["name"] ? dds_name(e["name"], file, f + ".name", false) : to.topic;
-        if (e["rate"]) to.rate = number(e["rate"], file, f + ".rate", 0, 1e6);
-        if (e["qos"]) to.qos = qos(e["qos"], file, f + ".qos");
-      } else {
-        to.topic = text(e, file, f, false);
-        to.name = dds_name(e, file, f, false);
-      }
+      DdsTopicOptions to = topic_entry(e, file, f);
       if (!names.insert(to.name).second)
         throw ConfigError(where(file, e) + f + ": DDS name '" + to.name + "' is bridged twice");
       o.topics.push_back(std::move(to));

@@ -78,7 +78,7 @@ void delete_participant(fdds::DomainParticipant* p) {
   fdds::DomainParticipantFactory::get_instance()->delete_participant(p);
 }
 
-fdds::DataWriterQos writer_qos(DdsQos k) {
+fdds::DataWriterQos writer_qos(DdsQos k, int depth) {
   fdds::DataWriterQos q = fdds::DATAWRITER_QOS_DEFAULT;
   switch (k) {
     case DdsQos::best_effort:
@@ -100,6 +100,7 @@ fdds::DataWriterQos writer_qos(DdsQos k) {
       q.history().depth = 1;
       break;
   }
+  if (depth > 0) q.history().depth = depth;
   // the flight thread never blocks on a slow reader
   q.reliability().max_blocking_time = Duration(0, 0);
   q.publish_mode().kind = fdds::SYNCHRONOUS_PUBLISH_MODE;

@@ -71,6 +71,21 @@ struct Flight {
   FlightResult result;
 };
 
+bool reader_matched(fdds::DataReader* r) {
+  fdds::SubscriptionMatchedStatus s;
+  r->get_subscription_matched_status(s);
+  return s.current_count > 0;
+}
+
+/// A reader of rt/tern/estimated_state as ROSplane's nodes subscribe (rclcpp's
+/// create_subscription(topic, 10): reliable, volatile, keep-last 10).
+fdds::DataReader* rosplane_state_reader(fdds::DomainParticipant* p, fdds::Subscriber* sub) {
+  auto* r = sub->create_datareader(ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/estimated_state"),
+                                   ddsi::reader_qos(DdsQos::reliable));
+  REQUIRE(r != nullptr);
+  return r;
+}
+
 /// The sockets of this process and their local IPv4 addresses (hex, as in /proc/net/udp).
 std::vector<std::string> socket_addresses() {
   std::set<std::string> inodes;
@@ -140,8 +155,17 @@ TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name fi
   CHECK_FALSE(d.enabled);
   CHECK(d.loopback_only());
   CHECK(d.ns == "tern");
-  REQUIRE(d.topics.size() == 7);
+  // ROSplane's profile (13 topics), then tern's own names state, waypoints, actuators
+  REQUIRE(d.topics.size() == 16);
   CHECK(d.topics[0].topic == "state");
+  CHECK(d.topics[0].name == "estimated_state");
+  CHECK(*d.topics[0].qos == DdsQos::reliable);
+  CHECK(*d.topics[0].depth == 10);
+  CHECK(d.topics[0].type == "rosplane_msgs/msg/State");
+  CHECK(d.topics[13].name == "state");
+  CHECK(d.time == DdsTime::automatic);
+  CHECK(d.clock_rate == 100);
+  CHECK_FALSE(d.topics_from_config);
   const fs::path f = write_file("dds_opts.yaml", "dds:\n  domian: 3\n");
   auto err = [&](const std::string& yaml) {
     const fs::path p = write_file("dds_opts.yaml", yaml);
@@ -156,6 +180,15 @@ TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name fi
   CHECK(err("dds:\n  domain: 300\n") == f.string() + ":2:11: dds.domain: 300 is outside [0, 232]");
   CHECK(err("dds:\n  interfaces: [eth0]\n").find("dds.interfaces[0]: 'eth0' is not an IPv4 address") != std::string::npos);
   CHECK(err("dds:\n  topics: [{topic: state, qos: fast}]\n").find("dds.topics[0].qos: 'fast' is not one of") != std::string::npos);
+  CHECK(err("dds:\n  topics: [{topic: imu, depth: 0}]\n").find("dds.topics[0].depth: 0 is outside [1, 1000]") != std::string::npos);
+  CHECK(err("dds:\n  topics: [{topic: imu, type: Imu}]\n").find("dds.topics[0].type: 'Imu' is not a ROS 2 message type") != std::string::npos);
+  CHECK(err("dds:\n  time: gps\n").find("dds.time: 'gps' is not one of auto, sim, wall") != std::string::npos);
+  CHECK(err("dds:\n  clock_rate: -1\n").find("dds.clock_rate: -1 is outside [0, 10000]") != std::string::npos);
+  const fs::path lean = write_file("dds_lean.yaml", "dds:\n  aliases: false\n  time: wall\n  clock_rate: 50\n");
+  const DdsOptions lo = parse_dds_options(YAML::LoadFile(lean.string())["dds"], lean);
+  CHECK(lo.topics.size() == 13);
+  CHECK(lo.time == DdsTime::wall);
+  CHECK(lo.clock_rate == 50);
   const fs::path ok = write_file("dds_ok.yaml",
                                  "dds:\n  enabled: true\n  domain: 7\n  namespace: /uav1/\n  interfaces: [127.0.0.1, 192.168.1.10]\n"
                                  "  topics: [state, {topic: truth, name: truth_state, rate: 10, qos: reliable}]\n");
@@ -224,10 +257,16 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   const DdsOptions opt = options_on(41);
   Flight f("dds_state", 1.5);
   DdsBridge bridge(*f.host, opt);
-  const auto pub = bridge.published();
-  REQUIRE(pub.size() == 3);  // of the default set, the test flight has state, controller_internals, actuators
-  CHECK(pub[0].dds_name == "rt/tern/state");
-  CHECK(pub[0].dds_type == "rosplane_msgs::msg::dds_::State_");
+  // of the default set, the test flight has state, controller_internals, actuators and imu: in
+  // ROSplane's names and, as aliases, tern's state and actuators
+  std::vector<std::string> names;
+  for (const auto& pb : bridge.published()) names.push_back(pb.dds_name + " " + pb.dds_type);
+  CHECK(names == std::vector<std::string>{"rt/tern/estimated_state rosplane_msgs::msg::dds_::State_",
+                                          "rt/tern/controller_internals rosplane_msgs::msg::dds_::ControllerInternals_",
+                                          "rt/tern/command rosflight_msgs::msg::dds_::Command_",
+                                          "rt/tern/imu/data sensor_msgs::msg::dds_::Imu_",
+                                          "rt/tern/state rosplane_msgs::msg::dds_::State_",
+                                          "rt/tern/actuators tern_msgs::msg::dds_::Actuators_"});
 
   auto* p = ddsi::make_participant(opt, "test reader");
   auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
@@ -256,6 +295,77 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   const FlightResult r = f.finish();
   CHECK(r.ok);
   CHECK(bridge.samples_written("state") >= 100);  // 400 Hz over 1.5 s, every message by default
+  ddsi::delete_participant(p);
+}
+
+TEST_CASE("dds: ROSplane profile: readers with ROSplane's QoS match; stamps are sim time; /clock advances with it") {
+  const DdsOptions opt = options_on(211);
+  Flight f("dds_profile", 2.0);
+  DdsBridge bridge(*f.host, opt);
+  auto* p = ddsi::make_participant(opt, "ros node");
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  auto* state = rosplane_state_reader(p, sub);
+  // rclcpp's ClockQoS: best-effort, keep-last 1
+  auto* clock = sub->create_datareader(ddsi::make_topic<rosgraph_msgs::msg::ClockPubSubType>(p, "rt/clock"),
+                                       ddsi::reader_qos(DdsQos::best_effort));
+  REQUIRE(clock != nullptr);
+  REQUIRE(ddsi::wait_until([&] { return reader_matched(state) && reader_matched(clock); }, std::chrono::seconds(10)));
+  fdds::RequestedIncompatibleQosStatus incompatible;
+  state->get_requested_incompatible_qos_status(incompatible);
+  CHECK(incompatible.total_count == 0);
+  f.start();
+  std::vector<double> clocks;
+  rosplane_msgs::msg::State st;
+  rosgraph_msgs::msg::Clock c;
+  fdds::SampleInfo info;
+  double last_state_stamp = -1;
+  int states = 0;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(4);
+  while (std::chrono::steady_clock::now() < end && f.host->flying()) {
+    while (clock->take_next_sample(&c, &info) == ReturnCode_t::RETCODE_OK)
+      if (info.valid_data) clocks.push_back(c.clock().sec() + c.clock().nanosec() * 1e-9);
+    while (state->take_next_sample(&st, &info) == ReturnCode_t::RETCODE_OK)
+      if (info.valid_data) {
+        const double t = st.header().stamp().sec() + st.header().stamp().nanosec() * 1e-9;
+        CHECK(t >= last_state_stamp);
+        last_state_stamp = t;
+        ++states;
+      }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  REQUIRE(f.finish().ok);
+  // 2 s of flight at 100 Hz: /clock from 0, 10 ms apart, in the same time as the stamps
+  REQUIRE(clocks.size() >= 150);
+  CHECK(clocks.front() < 0.5);
+  CHECK(clocks.back() > 1.9);
+  CHECK(clocks.back() <= 2.0 + 1e-9);
+  for (std::size_t i = 1; i < clocks.size(); ++i) CHECK(clocks[i] > clocks[i - 1]);
+  CHECK(states > 100);
+  CHECK(last_state_stamp == doctest::Approx(clocks.back()).epsilon(0.05));
+  ddsi::delete_participant(p);
+}
+
+TEST_CASE("dds: with wall time (a real FCU) stamps are UNIX time and there is no /clock") {
+  DdsOptions opt = options_on(212);
+  opt.time = DdsTime::wall;
+  Flight f("dds_wall", 0.5);
+  DdsBridge bridge(*f.host, opt);
+  auto* p = ddsi::make_participant(opt, "ros node");
+  auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
+  auto* state = rosplane_state_reader(p, sub);
+  REQUIRE(ddsi::wait_until([&] { return reader_matched(state); }, std::chrono::seconds(10)));
+  const double t0 = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  f.start();
+  REQUIRE(state->wait_for_unread_message(eprosima::fastrtps::Duration_t(5, 0)));
+  rosplane_msgs::msg::State st;
+  fdds::SampleInfo info;
+  REQUIRE(state->take_next_sample(&st, &info) == ReturnCode_t::RETCODE_OK);
+  const double stamp = st.header().stamp().sec() + st.header().stamp().nanosec() * 1e-9;
+  CHECK(stamp > t0 - 1.0);
+  CHECK(stamp < t0 + 5.0);
+  REQUIRE(f.finish().ok);
+  for (const auto& pb : bridge.published()) CHECK(pb.dds_name != "rt/clock");
+  CHECK(p->find_topic("rt/clock", eprosima::fastrtps::Duration_t(0, 0)) == nullptr);
   ddsi::delete_participant(p);
 }
 
@@ -318,7 +428,7 @@ TEST_CASE("dds: parameters: set mid-flight takes effect at the next tick and is 
 
 TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   DdsOptions opt = options_on(43);
-  opt.topics[0].rate = 20;  // state at 20 Hz (it is published at 400 Hz)
+  opt.topics[0].rate = 20;  // estimated_state at 20 Hz (it is published at 400 Hz)
   // 4 s: long enough for the client to discover the vehicle's services (a node per instance) in flight
   Flight f("dds_mission", 4.0, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
   DdsBridge bridge(*f.host, opt);
@@ -338,9 +448,13 @@ TEST_CASE("dds: mission add and clear over DDS reach the mission_edit topic") {
   const DdsStatus st = client.status();
   CHECK(st.mission == "hostcheck");
   CHECK(st.flying);
-  REQUIRE(st.topics.size() == 4);  // state, controller_internals, flight_phase, actuators
-  CHECK(st.qos[2] == DdsQos::transient_local);
-  CHECK(st.topics[0] == std::pair<std::string, std::string>("rt/tern/state", "rosplane_msgs::msg::dds_::State_"));
+  // estimated_state, controller_internals, command, imu/data, flight_phase, and tern's state, actuators
+  REQUIRE(st.topics.size() == 7);
+  CHECK(st.topics[4].first == "rt/tern/flight_phase");
+  CHECK(st.qos[4] == DdsQos::transient_local);
+  CHECK(st.qos[0] == DdsQos::reliable);
+  CHECK(st.topics[0] == std::pair<std::string, std::string>("rt/tern/estimated_state", "rosplane_msgs::msg::dds_::State_"));
+  CHECK(st.topics[5] == std::pair<std::string, std::string>("rt/tern/state", "rosplane_msgs::msg::dds_::State_"));
   std::string echoed;
   client.echo("state", [&](const std::string& s) {
     echoed = s;
@@ -490,7 +604,7 @@ TEST_CASE("dds: a request sent but not answered says it may have been applied, h
   ddsi::delete_participant(p);
 }
 
-TEST_CASE("dds: a topic not bridged by default (imu) is published when a client asks for it") {
+TEST_CASE("dds: a topic not bridged by default (imu in tern's type) is published when a client asks for it") {
   const DdsOptions opt = options_on(50);
   Flight f("dds_bridge_topic", 1.0);
   DdsBridge bridge(*f.host, opt);
