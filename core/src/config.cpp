@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "error.hpp"
+#include "external_spec.hpp"
 #include "failsafe_config.hpp"
 
 namespace tern::core {
@@ -303,7 +304,11 @@ MissionConfig load_config(const fs::path& file_in) {
     const std::string field = "plugins[" + std::to_string(i) + "]";
     require_map(p, f, field);
     // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
-    check_keys(p, f, field, {"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"});
+    std::vector<std::string> keys{"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"};
+    // an external module's ports are DDS topics (external_spec.hpp)
+    const bool external = p["plugin"] && p["plugin"].IsScalar() && p["plugin"].Scalar() == "external";
+    if (external) keys.insert(keys.end(), external_keys().begin(), external_keys().end());
+    check_keys(p, f, field, keys);
     InstanceConfig ic;
     ic.index = i;
     ic.node = p;

@@ -321,6 +321,10 @@ std::string Host::graph_text() const {
       route = "  (not routed: idle, never steps, writes nothing)";
     }
     s += fmt::format("  {}. {} ({}, {}) {}{}\n", k + 1, inst.cfg.name, inst.info.name, kind_name(inst.info.kind), when, route);
+    if (inst.info.name == "external")  // ports on DDS topics (external_plugin.hpp): which ones
+      for (const std::vector<PortBase*>& ports : {std::vector<PortBase*>(inst.plugin->inputs().begin(), inst.plugin->inputs().end()),
+                                                   std::vector<PortBase*>(inst.plugin->outputs().begin(), inst.plugin->outputs().end())})
+        for (const PortBase* p : ports) s += fmt::format("       {} [{}]: {}\n", p->topic(), p->type().name, p->description());
   }
   return s + "topics:\n" + graph_.describe_topics();
 }

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "error.hpp"
+#include "external_plugin.hpp"
 #include "isolated_plugin.hpp"
 #include "metrics.hpp"
 #include "phase_machine.hpp"
@@ -192,12 +193,39 @@ std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::
   return inst;
 }
 
+// `plugin: external`: ports that are DDS topics (external_plugin.hpp), no library.
+std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const InstanceConfig& ic) {
+  const fs::path& f = setup.config.file;
+  const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  ExternalSpec spec = parse_external_spec(ic, f);
+  if (!external_link_factory())
+    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: 'external' needs tern built with DDS (libfastrtps-dev and "
+                      "fastddsgen: make deps), and this tern was built without");
+  if (ic.isolate) throw ConfigError(where(f, ic.node["isolate"]) + field + ".isolate: an external module runs in its own process already");
+  auto inst = std::make_unique<Instance>();
+  inst->cfg = ic;
+  inst->source = "external";
+  inst->info = PluginInfo{"external", spec.kind, "a module in another process, ports on DDS topics", {}};
+  std::unique_ptr<ExternalLink> link;
+  if (!setup.describing) {
+    try {
+      link = external_link_factory()(spec, setup.config);
+    } catch (const std::exception& e) {
+      throw ConfigError(where(f, ic.node["plugin"]) + field + " (" + ic.name + "): external module: " + e.what());
+    }
+  }
+  inst->plugin = std::make_unique<ExternalPlugin>(std::move(spec), std::move(link));
+  configure_instance(*inst, setup);
+  return inst;
+}
+
 // The instances of `plugins:`; nullptr for those a replay leaves out (not estimators).
 std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const InstanceConfig& ic, bool replaying,
                                           const std::vector<fs::path>& search,
                                           std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
   const fs::path& f = setup.config.file;
   const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  if (is_external(ic)) return replaying ? nullptr : external_instance(setup, ic);
   auto inst = std::make_unique<Instance>();
   inst->cfg = ic;
   fs::path path;

@@ -20,6 +20,7 @@
 #if defined(TERN_WITH_DDS)
 #include "dds_bridge.hpp"
 #include "dds_command.hpp"
+#include "external_link_dds.hpp"
 #include "topic_tools.hpp"
 #endif
 
@@ -174,6 +175,9 @@ int main(int argc, char** argv) {
     }
   }
 
+#if defined(TERN_WITH_DDS)
+  register_dds_external_links();  // `plugin: external` instances (external_plugin.hpp)
+#endif
   CLI::App app{"tern: a fixed-wing autopilot framework for research.\n"
                "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
   app.require_subcommand(1);
@@ -516,6 +520,10 @@ int main(int argc, char** argv) {
     if (dds) dds_opt.enabled = true;
     dds = dds_opt.enabled;  // the config's dds: counts for --console too
     if (dds_domain) dds_opt.domain = *dds_domain;
+    if (dds_domain) {  // external instances (external_plugin.hpp) read the domain from dds: too
+      if (!mc.dds || !mc.dds.IsMap()) mc.dds = YAML::Node(YAML::NodeType::Map);
+      mc.dds["domain"] = *dds_domain;
+    }
 #else
     if (dds) return fail("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
 #endif
