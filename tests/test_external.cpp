@@ -21,6 +21,7 @@ struct FakeModule {
   std::vector<Nanos> published, taken;
   std::vector<Nanos> silent;
   int timeouts = 0;
+  int latest_left = 1 << 30;  // --realtime: how many take_latest calls find a new output
 };
 
 class FakeLink final : public ExternalLink {
@@ -41,6 +42,11 @@ class FakeLink final : public ExternalLink {
     a->delta_t = 0.25;
     m_->taken.push_back(stamp);
     return true;
+  }
+  bool take_latest(std::size_t o, Nanos stamp, void* tern_msg) override {
+    if (m_->latest_left <= 0) return false;
+    --m_->latest_left;
+    return take(o, stamp, tern_msg, {});
   }
 
  private:
@@ -102,4 +108,33 @@ TEST_CASE("external: lockstep: inputs stamped with the tick, outputs taken for t
   for (std::size_t k = 1; k < m->published.size(); ++k) CHECK(m->published[k] - m->published[k - 1] == 20'000'000);  // 50 Hz
   const std::string act = read_file(r.run_dir / "topics" / "ext_actuators.csv");
   CHECK(lines(act).size() == m->taken.size() + 1);  // a header, a row per answered tick
+}
+
+TEST_CASE("external: --realtime: no lockstep; the newest output is held up to timeout_ms, then the module is silent") {
+  auto m = std::make_shared<FakeModule>();
+  m->latest_left = 10;  // the module answers 10 times, then stops
+  bool lockstep = true;
+  set_external_link_factory([&](const ExternalSpec& spec, const MissionConfig&) -> std::unique_ptr<ExternalLink> {
+    lockstep = spec.lockstep;
+    return std::make_unique<FakeLink>(m);
+  });
+  HostOptions o;
+  o.quiet = true;
+  o.duration = 1.0;
+  o.realtime = true;
+  o.log_dir = test_dir() / "external_realtime";
+  // timeout 200 ms at 50 Hz: after the 10th answer, about 10 more steps publish the held output
+  std::string cfg = base_config(kExternal);
+  cfg.replace(cfg.find("    rate: 50\n"), 13, "    rate: 50\n    timeout_ms: 200\n");
+  Host h(load_config(write_file("flight.yaml", cfg)), o);
+  h.build();
+  const FlightResult r = h.fly();
+  set_external_link_factory({});
+  CHECK(r.ok);
+  CHECK_FALSE(lockstep);
+  CHECK(m->taken.size() == 10);
+  const std::size_t rows = lines(read_file(r.run_dir / "topics" / "ext_actuators.csv")).size() - 1;
+  CHECK(rows >= 15);  // 10 taken + the held ones (about 10 steps in 200 ms of wall time)
+  CHECK(rows <= 25);
+  CHECK(rows < m->published.size());  // then silent: nothing published for the rest of the second
 }

@@ -31,6 +31,9 @@ class ExternalLink {
   /// came in time. Throws std::runtime_error for a sample that cannot be converted (e.g. a
   /// rosflight Command in a mode other than pass-through).
   virtual bool take(std::size_t o, Nanos stamp, void* tern_msg, std::chrono::microseconds timeout) = 0;
+  /// Without waiting: the newest sample of output `o` that came since the last take (any stamp;
+  /// older ones are dropped) into `tern_msg`, stamped `stamp`. False when none came. Throws as take().
+  virtual bool take_latest(std::size_t o, Nanos stamp, void* tern_msg) = 0;
 };
 
 using ExternalLinkFactory = std::function<std::unique_ptr<ExternalLink>(const ExternalSpec&, const MissionConfig&)>;

@@ -53,6 +53,7 @@ void ExternalPlugin::configure() {
 
 void ExternalPlugin::start() {
   silent_ = false;
+  last_output_.assign(out_.size(), std::nullopt);
   exchanges_ = timeouts_ = 0;
   wait_us_total_ = wait_us_max_ = 0;
   if (!link_) return;
@@ -71,11 +72,28 @@ void ExternalPlugin::step(Nanos now) {
   exchange_outputs(now);
 }
 
+// --realtime: the newest output of each, held while younger than timeout_ms of wall time.
+bool ExternalPlugin::take_latest_outputs(Nanos now) {
+  const auto wall = std::chrono::steady_clock::now();
+  const auto hold = std::chrono::microseconds(static_cast<std::int64_t>(spec_.timeout_ms * 1000.0));
+  bool all = true;
+  for (std::size_t o = 0; o < out_.size(); ++o) {
+    if (link_->take_latest(o, now, buf_[o].data())) last_output_[o] = wall;
+    else if (!last_output_[o] || wall - *last_output_[o] > hold) {
+      all = false;
+      continue;
+    }
+    out_[o]->publish_copy(buf_[o].data(), out_[o]->sequence() + 1);  // a held one keeps the stamp of its step
+  }
+  return all;
+}
+
 void ExternalPlugin::exchange_outputs(Nanos now) {
   const auto t0 = std::chrono::steady_clock::now();
   const auto timeout = std::chrono::microseconds(static_cast<std::int64_t>(spec_.timeout_ms * 1000.0));
   bool all = true;
-  for (std::size_t o = 0; o < out_.size(); ++o) {
+  if (!spec_.lockstep) all = take_latest_outputs(now);
+  for (std::size_t o = 0; spec_.lockstep && o < out_.size(); ++o) {
     const auto left = std::max(std::chrono::microseconds(0),
                                timeout - std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t0));
     if (link_->take(o, now, buf_[o].data(), left)) out_[o]->publish_copy(buf_[o].data(), out_[o]->sequence() + 1);
@@ -87,7 +105,8 @@ void ExternalPlugin::exchange_outputs(Nanos now) {
   wait_us_max_ = std::max(wait_us_max_, waited);
   if (!all) {
     if (timeouts_ == 0)
-      log().warn("t={:.3f} s: external module silent: no output stamped for this tick within {} ms", to_seconds(now), spec_.timeout_ms);
+      log().warn("t={:.3f} s: external module silent: {} within {} ms", to_seconds(now),
+                 spec_.lockstep ? "no output stamped for this tick" : "no output (--realtime: any stamp)", spec_.timeout_ms);
     ++timeouts_;
   } else if (silent_) {
     log().info("t={:.3f} s: external module answers again", to_seconds(now));

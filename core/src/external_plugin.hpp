@@ -13,12 +13,17 @@
 // a dead module costs that many timeouts of wall time, then the fallback flies and the module is
 // no longer stepped). The misses are counted in summary.json (`<name>.timeouts`) and the first is
 // logged.
+// With --realtime (spec.lockstep false) there is no lockstep: the tick is paced to wall time, the
+// module runs on /clock (published by the DDS bridge: fly with --dds), and each step publishes
+// the inputs, then the newest output that came (any stamp), held while younger than timeout_ms
+// of wall time; an older one makes the step silent, as above.
 // start() waits up to 10 s for the DDS endpoints to match (discovery); unmatched ones are logged.
 #pragma once
 
 #include <chrono>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -46,6 +51,7 @@ class ExternalPlugin final : public Plugin {
 
  private:
   void exchange_outputs(Nanos now);
+  bool take_latest_outputs(Nanos now);
 
   ExternalSpec spec_;
   std::unique_ptr<ExternalLink> link_;
@@ -53,6 +59,7 @@ class ExternalPlugin final : public Plugin {
   std::vector<std::unique_ptr<OutputBase>> out_;
   std::vector<std::vector<unsigned char>> buf_;  // per output: the tern message taken
   bool silent_ = false;                           // the last exchange missed an output
+  std::vector<std::optional<std::chrono::steady_clock::time_point>> last_output_;  // --realtime: when each came
   std::uint64_t exchanges_ = 0, timeouts_ = 0;
   double wait_us_total_ = 0, wait_us_max_ = 0;    // wall time spent waiting for the module
 };

@@ -55,6 +55,10 @@ struct ExternalSpec {
   std::vector<ExternalTopic> inputs;    ///< published by tern each step
   std::vector<ExternalTopic> outputs;   ///< taken by tern each step (stamped for the step's tick)
   double timeout_ms = 500.0;            ///< ms a step waits for each output, > 0
+  /// true (fast time): each step waits for the outputs stamped for its tick. false (--realtime):
+  /// each step takes the newest output that came, whatever its stamp, and holds it up to
+  /// timeout_ms of wall time; older than that, the module is silent.
+  bool lockstep = true;
   PluginKind kind = PluginKind::generic;  ///< controller for role controller or an `actuators` output
   /// "rt/<ns>/<topic>" (DDS topic name of a ROS 2 topic).
   std::string dds_name(const ExternalTopic& t) const;

@@ -164,7 +164,7 @@ class Host {
 
  private:
   void rebuild_graph();
-  InstanceSetup setup() const { return {config_, seed_, sinks_, options_.describing, *logger_}; }
+  InstanceSetup setup() const { return {config_, seed_, sinks_, options_.describing, *logger_, options_.realtime}; }
   FlightFacts facts(double duration_s) const;
   double flight_duration() const;
   // fly(), in order

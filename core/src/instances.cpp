@@ -198,6 +198,7 @@ std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const In
   const fs::path& f = setup.config.file;
   const std::string field = "plugins[" + std::to_string(ic.index) + "]";
   ExternalSpec spec = parse_external_spec(ic, f);
+  spec.lockstep = !setup.realtime;
   if (!external_link_factory())
     throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: 'external' needs tern built with DDS (libfastrtps-dev and "
                       "fastddsgen: make deps), and this tern was built without");

@@ -70,6 +70,7 @@ struct InstanceSetup {
   std::shared_ptr<spdlog::sinks::sink> sink;  ///< where the instances' loggers write
   bool describing;     ///< check/params: configure only, open no files or devices
   spdlog::logger& log;  ///< the host's logger (warnings)
+  bool realtime = false;  ///< --realtime: external instances take the latest output, no lockstep
 };
 
 /// Attaches a context to `inst.plugin` and configures it (see above). Throws ConfigError.

@@ -156,6 +156,24 @@ class DdsExternalLink final : public ExternalLink {
     }
   }
 
+  bool take_latest(std::size_t o, Nanos stamp, void* tern_msg) override {
+    CommandReader& r = *readers_.at(o);
+    rosflight_msgs::msg::Command c;
+    fdds::SampleInfo info;
+    bool any = false;
+    while (r.reader->take_next_sample(&c, &info) == ReturnCode_t::RETCODE_OK)
+      if (info.valid_data) {
+        r.pending.clear();  // newer than anything held back
+        r.pending.push_back(c);
+        any = true;
+      }
+    if (!any && r.pending.empty()) return false;
+    r.last = to_actuators(r.pending.back(), r.last, stamp);
+    r.pending.clear();
+    *static_cast<msg::Actuators*>(tern_msg) = r.last;
+    return true;
+  }
+
  private:
   void add_writer(const std::string& name, const ExternalBinding* b) {
     Writer w;
