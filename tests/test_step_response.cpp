@@ -9,11 +9,12 @@
 #include <vector>
 
 #include "step_response.hpp"
+#include "tern/math.hpp"
 
 using tern::core::step_metrics;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 struct Series {
   std::vector<double> t, y;

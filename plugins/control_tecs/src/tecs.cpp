@@ -1,11 +1,11 @@
 #include "control_tecs/tecs.hpp"
 
 #include <algorithm>
+#include "tern/math.hpp"
 
 namespace tern::control {
 
 namespace {
-constexpr double kG = 9.81;
 }
 
 void Tecs::set_gains(const TecsGains& g) {
@@ -25,10 +25,10 @@ Tecs::Errors Tecs::errors(const VehicleState& x, const Command& c, double Va_dot
   const double w_gamma = underspeed_ ? 0.0 : 1.0;
   const double w_V = underspeed_ ? 2.0 : 1.0;
   Errors e;
-  e.e_E = (gamma_c - gamma) + (Va_dot_c - Va_dot) / kG;
-  e.e_B = w_gamma * (gamma_c - gamma) - w_V * (Va_dot_c - Va_dot) / kG;
-  e.ff_t = g_.trim_t + g_.energy_ff * (gamma_c + Va_dot_c / kG);
-  e.ff_theta = g_.balance_ff * (w_gamma * gamma_c - w_V * Va_dot_c / kG);
+  e.e_E = (gamma_c - gamma) + (Va_dot_c - Va_dot) / kGravity;
+  e.e_B = w_gamma * (gamma_c - gamma) - w_V * (Va_dot_c - Va_dot) / kGravity;
+  e.ff_t = g_.trim_t + g_.energy_ff * (gamma_c + Va_dot_c / kGravity);
+  e.ff_theta = g_.balance_ff * (w_gamma * gamma_c - w_V * Va_dot_c / kGravity);
   return e;
 }
 

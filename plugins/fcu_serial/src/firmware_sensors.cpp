@@ -14,7 +14,7 @@ constexpr int kCalCycles = 127;       // Sensors::SENSOR_CAL_CYCLES
 constexpr double kBaroMaxVar = 25.0;  // Sensors::BARO_MAX_CALIBRATION_VARIANCE, Pa^2
 constexpr double kDiffMaxVar = 100.0; // Sensors::DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE, Pa^2
 constexpr int kImuCalSamples = 1000;  // calibrate_gyro / calibrate_accel: done after more than this
-constexpr double kGravity = 9.80665;  // sensors.h gravity_
+constexpr double kFirmwareGravity = 9.80665;  // the firmware's own (sensors.h gravity_), not the SDK's kGravity: emulated as it is
 const char* kAcc[] = {"ACC_X_BIAS", "ACC_Y_BIAS", "ACC_Z_BIAS"};
 const char* kGyro[] = {"GYRO_X_BIAS", "GYRO_Y_BIAS", "GYRO_Z_BIAS"};
 
@@ -95,7 +95,7 @@ void Firmware::calibrate_imu(const std::array<float, 3>& a, const std::array<flo
     }
   }
   if (!acc_cal_) return;
-  const double grav[3] = {0.0, 0.0, kGravity};
+  const double grav[3] = {0.0, 0.0, kFirmwareGravity};
   for (std::size_t i = 0; i < 3; ++i) {
     acc_sum_[i] += a[i] + grav[i];
     acc_max_[i] = std::max<double>(acc_max_[i], a[i]);

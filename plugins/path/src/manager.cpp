@@ -11,7 +11,7 @@
 namespace tern::path {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 std::string fmt(double v, int decimals = 1) {
   char b[64];

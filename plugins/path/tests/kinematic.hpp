@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include <Eigen/Core>
+#include "tern/math.hpp"
 
 namespace tern::path::testkit {
 
@@ -33,7 +34,7 @@ struct KinematicAircraft {
   /// Advances dt seconds towards the commanded course (chi_c, unwrapped or not), roll
   /// feed-forward phi_ff, altitude h_c and airspeed Va_c.
   void step(double chi_c, double phi_ff, double h_c, double Va_c, double dt) {
-    constexpr double kPi = 3.14159265358979323846;
+    using tern::kPi;
     double err = std::remainder(chi_c - chi, 2.0 * kPi);
     const double phi_c = std::clamp(kp_chi * err + phi_ff, -phi_max, phi_max);
     phi += (phi_c - phi) * (dt / tau_phi);

@@ -7,12 +7,13 @@
 #include "kinematic.hpp"
 #include "tern/path/follower.hpp"
 #include "tern/path/geometry.hpp"
+#include "tern/math.hpp"
 
 using namespace tern::path;
 using doctest::Approx;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 void check_vec(const Vec3& a, const Vec3& b, double eps = 1e-9) {
   CHECK(a.x() == Approx(b.x()).epsilon(eps).scale(1.0));

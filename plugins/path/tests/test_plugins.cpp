@@ -16,13 +16,14 @@
 #include "tern/path/manager.hpp"
 #include "tern/path/mission.hpp"
 #include "tern/testing/harness.hpp"
+#include "tern/math.hpp"
 
 using namespace tern;
 using namespace tern::path;
 using doctest::Approx;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 const std::filesystem::path kData = TERN_PATH_TEST_DATA;
 
 std::vector<MissionPoint> points(const std::vector<Vec3>& ws, bool use_chi = false, double chi_d = 0.0) {

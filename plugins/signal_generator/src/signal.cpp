@@ -6,11 +6,12 @@
 #include <array>
 #include <cmath>
 #include <utility>
+#include "tern/math.hpp"
 
 namespace tern::signal {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 /// Fraction of the current period elapsed, in [0, 1).
 double phase(double t, double period) { return t / period - std::floor(t / period); }

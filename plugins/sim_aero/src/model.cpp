@@ -3,10 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include "tern/math.hpp"
 
 namespace tern::sim {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 double safe_exp(double x) { return std::exp(std::min(x, 700.0)); }
 }  // namespace
@@ -83,7 +84,7 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
                     ForcesMoments& fm) {
   const auto& g = ac.gear;
   const double n = static_cast<double>(g.points.size());
-  const double k = ac.mass * kG / (n * g.static_deflection);
+  const double k = ac.mass * kGravity / (n * g.static_deflection);
   const double c = 2.0 * g.damping_ratio * std::sqrt(k * ac.mass / n);
   const Eigen::Vector3d p(x[PN], x[PE], x[PD]);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
@@ -154,7 +155,7 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
                             qSb * (A.C_n_p * p + A.C_n_r * r));
   fm.f_aero = Eigen::Vector3d(fx, fy, fz);
   fm.m_aero = Eigen::Vector3d(l, m, nn);
-  fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kG);
+  fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kGravity);
   ground_contact(ac, x, Rot, d.delta_r, fm);
   fm.force = fm.f_aero + fm.f_gravity + fm.f_ground;
   fm.moment = fm.m_aero + fm.m_ground;

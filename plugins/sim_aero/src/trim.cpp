@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include <Eigen/Dense>
+#include "tern/math.hpp"
 
 namespace tern::sim {
 namespace {
@@ -59,8 +60,8 @@ TrimResult compute_trim(const Aircraft& ac, const TrimRequest& req) {
 
   // Initial guess: lift = weight, pitch-moment balance, coordinated bank.
   const double qS = 0.5 * ac.rho * req.Va * req.Va * ac.S;
-  const double phi0 = std::atan(pb.psi_dot * req.Va / kG);
-  const double CL = ac.mass * kG * std::cos(req.gamma) / (qS * std::cos(phi0));
+  const double phi0 = std::atan(pb.psi_dot * req.Va / kGravity);
+  const double CL = ac.mass * kGravity * std::cos(req.gamma) / (qS * std::cos(phi0));
   double alpha0 = (CL - ac.aero.C_L_0) / ac.aero.C_L_alpha;
   if (!std::isfinite(alpha0)) alpha0 = 0.05;
   alpha0 = std::clamp(alpha0, -0.2, 0.3);

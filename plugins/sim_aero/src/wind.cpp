@@ -3,10 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include "tern/math.hpp"
 
 namespace tern::sim {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 }
 
 DrydenParams dryden_preset(const std::string& level) {

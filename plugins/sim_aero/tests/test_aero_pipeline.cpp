@@ -17,6 +17,7 @@
 
 #include "aero_pipeline.hpp"
 #include "tern_sim_aero/aircraft.hpp"
+#include "tern/math.hpp"
 
 namespace sim = tern::sim;
 namespace aero = tern::aero;
@@ -26,7 +27,7 @@ namespace {
 
 const std::string kData = TERN_SIM_AERO_TEST_DATA;
 const std::string kAircraft = TERN_AIRCRAFT_DIR;
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 
 bool listed(const aero::ImportResult& r, const std::string& name) {
   for (const auto& d : r.defaults)

@@ -15,6 +15,8 @@
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 
+using tern::kGravity;
+
 using namespace tern::sim;
 using tern::sim::test::mean;
 using tern::sim::test::stddev;
@@ -57,7 +59,7 @@ Truth level_truth() {
   Truth t;
   t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
   t.mass = 4.5;
-  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kG);
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kGravity);
   t.fm.air.v_air = Eigen::Vector3d(17, 0, 0);
   t.fm.air.Va = 17.0;
   return t;
@@ -334,9 +336,9 @@ TEST_CASE("sensors: the accelerometer off the CG sees centripetal and tangential
   Truth t = kinematic_truth(Eigen::Vector3d::Zero(), {0, 0, 2.0});
   CHECK((s.imu(t, 0.0025).accel - Eigen::Vector3d(-1.2, 0, 0)).norm() < 1e-12);
   // pitch acceleration q_dot = 3 rad/s^2 (nose up): the point ahead accelerates up, -0.9 on z
-  t = kinematic_truth(Eigen::Vector3d(0, 0, -kG), Eigen::Vector3d::Zero());
+  t = kinematic_truth(Eigen::Vector3d(0, 0, -kGravity), Eigen::Vector3d::Zero());
   t.omega_dot = Eigen::Vector3d(0, 3.0, 0);
-  CHECK((s.imu(t, 0.0025).accel - Eigen::Vector3d(0, 0, -kG - 0.9)).norm() < 1e-12);
+  CHECK((s.imu(t, 0.0025).accel - Eigen::Vector3d(0, 0, -kGravity - 0.9)).norm() < 1e-12);
   // and the gyro is unaffected by the lever arm
   t = kinematic_truth(Eigen::Vector3d::Zero(), {0.1, 0.2, 0.3});
   CHECK((s.imu(t, 0.0025).gyro - Eigen::Vector3d(0.1, 0.2, 0.3)).norm() < 1e-15);
@@ -487,7 +489,7 @@ Truth at_rest(double wind) {
   Truth t;
   t.x = make_state({0, 0, 0}, {0, 0, 0}, 0, 0, 0);
   t.mass = 4.5;
-  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kG);
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kGravity);
   t.fm.force = -t.fm.f_gravity;  // the ground carries the weight
   t.fm.air.v_air = Eigen::Vector3d(wind, 0, 0);
   t.fm.air.Va = wind;
@@ -520,7 +522,7 @@ TEST_CASE("sensors: boot calibration (ROSflight sensors.cpp): raw gyro until 100
 
 TEST_CASE("sensors: boot calibration: a moving aircraft restarts the gyro window") {
   Sensors s(sensor_profile("realistic"), 3);
-  const Truth spinning = kinematic_truth(Eigen::Vector3d(0, 0, -kG), Eigen::Vector3d(0, 0, 1.2));
+  const Truth spinning = kinematic_truth(Eigen::Vector3d(0, 0, -kGravity), Eigen::Vector3d(0, 0, 1.2));
   for (int i = 0; i < 2002; ++i) s.imu(spinning, 0.0025);
   CHECK_FALSE(s.boot_calibration()->gyro_done());
   CHECK(s.boot_calibration()->gyro_restarts() == 2);

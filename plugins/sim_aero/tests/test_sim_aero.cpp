@@ -23,6 +23,8 @@
 #include "tern_sim_aero/trim.hpp"
 #include "tern_sim_aero/wind.hpp"
 
+using tern::kGravity;
+
 using namespace tern::sim;
 using tern::sim::test::mean;
 using tern::sim::test::stddev;
@@ -241,9 +243,9 @@ TEST_CASE("physics: free fall without aerodynamics follows p_d = p_d0 + g t^2 / 
   const double dt = 0.0025;
   for (int i = 0; i < 1200; ++i) x = rk4_step(ac, x, Deltas{}, Wind{}, dt);  // 3 s
   const double t = 3.0;
-  CHECK(x[PD] == doctest::Approx(-1000 + 0.5 * kG * t * t).epsilon(1e-9));
+  CHECK(x[PD] == doctest::Approx(-1000 + 0.5 * kGravity * t * t).epsilon(1e-9));
   CHECK(x[PN] == doctest::Approx(15.0).epsilon(1e-9));
-  CHECK(x[W] == doctest::Approx(kG * t).epsilon(1e-9));
+  CHECK(x[W] == doctest::Approx(kGravity * t).epsilon(1e-9));
 }
 
 TEST_CASE("physics: torque-free rotation conserves angular momentum and kinetic energy") {
@@ -376,7 +378,7 @@ TEST_CASE("ground: at rest with throttle 0 the aircraft stays put, no bounce, no
   CHECK(x.segment<3>(U).norm() < 1e-3);
   CHECK(sim.evaluate().wheels_on_ground == 3);
   // The wheels carry the weight.
-  CHECK(-sim.evaluate().f_ground.z() == doctest::Approx(4.5 * kG).epsilon(0.01));
+  CHECK(-sim.evaluate().f_ground.z() == doctest::Approx(4.5 * kGravity).epsilon(0.01));
   CHECK(!sim.crashed());
 }
 
@@ -449,7 +451,7 @@ TEST_CASE("ground: parked with a tailwind and crosswind in turbulence it stays o
   CHECK(!sim.crashed());
   // Forces stay bounded with the air from behind: far below the weight at 5 m/s.
   const ForcesMoments fm = sim.evaluate();
-  CHECK(fm.f_aero.norm() < 0.5 * 4.5 * kG);
+  CHECK(fm.f_aero.norm() < 0.5 * 4.5 * kGravity);
   // Full throttle: it still takes off (downwind).
   Deltas d;
   d.delta_t = 1.0;
@@ -540,7 +542,7 @@ TEST_CASE("sensors: noise statistics match the parameters") {
   t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
   t.mass = 4.5;
   t.rho = 1.2682;
-  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kG);
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, 4.5 * kGravity);
   t.fm.force = Eigen::Vector3d(0, 0, 0);  // level unaccelerated flight: lift balances weight
   t.fm.air.v_air = Eigen::Vector3d(17, 0, 0);
   const int n = 20000;
@@ -554,7 +556,7 @@ TEST_CASE("sensors: noise statistics match the parameters") {
     vn.push_back(s.gnss(t, 0.1).vel_ned.x());
   }
   const double k = 4.0 / std::sqrt(static_cast<double>(n));  // 4-sigma tolerance of a mean
-  CHECK(std::fabs(mean(ax) - (-kG + s.accel_bias().z())) < k * p.accel_noise);
+  CHECK(std::fabs(mean(ax) - (-kGravity + s.accel_bias().z())) < k * p.accel_noise);
   CHECK(stddev(ax) == doctest::Approx(p.accel_noise).epsilon(0.03));
   CHECK(std::fabs(mean(gz) - s.gyro_bias().z()) < k * p.gyro_noise);
   CHECK(stddev(gz) == doctest::Approx(p.gyro_noise).epsilon(0.03));

@@ -7,12 +7,13 @@
 #include <stdexcept>
 
 #include "tern_sim_aero/model.hpp"
+#include "tern/math.hpp"
 
 namespace tern::aero {
 
 std::vector<std::pair<std::string, double>> design_gains(const LinearModel& lm, const DesignOptions& o) {
   const auto& k = lm.tf;
-  const double Va = lm.Va, g = sim::kG;
+  const double Va = lm.Va, g = tern::kGravity;
   std::vector<std::pair<std::string, double>> out;
   // roll (sec. 6.1.1): closed loop s^2 + (a_phi1 + a_phi2 kd) s + a_phi2 kp
   const double wn_phi = std::isnan(o.wn_phi) ? k.at("a_phi1") / (2 * o.zeta_phi) : o.wn_phi;

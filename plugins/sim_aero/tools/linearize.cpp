@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "tern_sim_aero/model.hpp"
+#include "tern/math.hpp"
 
 namespace tern::aero {
 
@@ -84,7 +85,7 @@ LinearModel linearize(const sim::Aircraft& ac, const sim::TrimRequest& req) {
   const double dT_ddt = (sim::propulsion(ac, Va, dt + hv).T_p - sim::propulsion(ac, Va, dt - hv).T_p) / (2 * hv);
   k["a_V1"] = rho * Va * S / m * (sim::drag_coefficient(ac, tr.alpha) + a.C_D_delta_e * tr.delta.delta_e) - dT_dVa / m;
   k["a_V2"] = dT_ddt / m;
-  k["a_V3"] = sim::kG * std::cos(tr.theta - tr.alpha);
+  k["a_V3"] = tern::kGravity * std::cos(tr.theta - tr.alpha);
   k["a_beta1"] = -rho * Va * S / (2 * m) * a.C_Y_beta;
   k["a_beta2"] = rho * Va * S / (2 * m) * a.C_Y_delta_r;
   return lm;

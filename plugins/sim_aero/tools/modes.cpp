@@ -142,7 +142,7 @@ Modes dynamic_modes(const LinearModel& lm) {
 ModeApproximations approximate_modes(const sim::Aircraft& ac, const LinearModel& lm) {
   const auto& a = ac.aero;
   const auto& k = lm.tf;
-  const double Va = lm.Va, m = ac.mass, S = ac.S, b = ac.b, g = sim::kG;
+  const double Va = lm.Va, m = ac.mass, S = ac.S, b = ac.b, g = tern::kGravity;
   const double qS = 0.5 * ac.rho * Va * Va * S;
   const double alpha = lm.trim.alpha;
   ModeApproximations o;

@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include "tern_sim_aero/aircraft.hpp"
+#include "tern/math.hpp"
 
 namespace tern::sim {
 
@@ -60,9 +61,6 @@ struct ForcesMoments {
   /// Specific force an accelerometer measures: (force - f_gravity) / m, m/s^2.
   Eigen::Vector3d specific_force(double mass) const { return (force - f_gravity) / mass; }
 };
-
-/// Gravity used by the model, m/s^2 (the book's value).
-inline constexpr double kG = 9.81;
 
 /// Body -> NED rotation of the (normalised) quaternion part of x.
 Eigen::Quaterniond attitude(const StateVector& x);

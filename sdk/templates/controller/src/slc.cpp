@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include "tern/math.hpp"
 
 namespace tern_@NAME@ {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 /// a in [-pi, pi): a course error of 350 deg is one of -10 deg
 double wrap_pi(double a) { return a - 2.0 * kPi * std::floor((a + kPi) / (2.0 * kPi)); }
 }  // namespace

@@ -4,10 +4,11 @@
 #include <cmath>
 
 #include <Eigen/Geometry>  // cross product
+#include "tern/math.hpp"
 
 namespace tern_@NAME@ {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
+using tern::kPi;
 double wrap_pi(double a) {
   a = std::fmod(a + kPi, 2.0 * kPi);
   if (a < 0.0) a += 2.0 * kPi;

@@ -2,11 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include "tern/math.hpp"
 
 namespace tern_@NAME@ {
 namespace {
-constexpr double kGravity = 9.81;
-constexpr double kPi = 3.14159265358979323846;
+using tern::kGravity;
+using tern::kPi;
 double wrap_pi(double a) {
   a = std::fmod(a + kPi, 2.0 * kPi);
   if (a < 0.0) a += 2.0 * kPi;

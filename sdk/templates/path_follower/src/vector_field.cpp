@@ -2,11 +2,12 @@
 
 #include <cmath>
 #include <limits>
+#include "tern/math.hpp"
 
 namespace tern_@NAME@ {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
-constexpr double kGravity = 9.81;
+using tern::kPi;
+using tern::kGravity;
 // angle a shifted by a multiple of 2 pi to within pi of ref (sec. 10.2)
 double unwrap_near(double a, double ref) {
   double d = std::fmod(a - ref + kPi, 2.0 * kPi);
