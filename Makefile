@@ -5,7 +5,8 @@ JOBS ?= 2
 CONFIG ?= configs/missions/default.yaml
 CMAKE_ARGS ?=
 
-# Every Debian package tern needs to build, test, fly and plot (chromium, its driver and selenium:
+# Every Debian package tern needs to build, test, fly and plot (clang-format and git: the format
+# test; chromium, its driver and selenium:
 # the console's browser test; SDL2: the joystick plugin). npm (Debian's, unless one is
 # installed) fetches the console's uPlot.
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
@@ -13,7 +14,7 @@ DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl libssl-dev \
   python3 python3-matplotlib python3-numpy python3-distributed \
-  chromium chromium-driver python3-selenium libsdl2-dev
+  chromium chromium-driver python3-selenium libsdl2-dev clang-format git
 # Only for `make fuzz` (libFuzzer needs clang and its runtime).
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 FUZZ_SECONDS ?= 60

@@ -80,10 +80,19 @@ struct QInfo {
   double rosplane;  // ROSplane 2.0 paper (NaN: not given)
 };
 const QInfo kInfo[kQ] = {
-    {"north m", 1, 0.325},        {"east m", 1, 0.258},         {"horizontal m", 1, std::nan("")},
-    {"altitude m", 1, 0.894}, {"height above home m", 1, std::nan("")}, {"u m/s", 1, 0.045},          {"v m/s", 1, 0.089},
-    {"w m/s", 1, 0.105},          {"roll deg", kDeg, 0.189},    {"pitch deg", kDeg, 0.074},
-    {"yaw deg", kDeg, std::nan("")}, {"course deg", kDeg, 0.112}, {"wind (from 60 s) m/s", 1, std::nan("")},
+    {"north m", 1, 0.325},
+    {"east m", 1, 0.258},
+    {"horizontal m", 1, std::nan("")},
+    {"altitude m", 1, 0.894},
+    {"height above home m", 1, std::nan("")},
+    {"u m/s", 1, 0.045},
+    {"v m/s", 1, 0.089},
+    {"w m/s", 1, 0.105},
+    {"roll deg", kDeg, 0.189},
+    {"pitch deg", kDeg, 0.074},
+    {"yaw deg", kDeg, std::nan("")},
+    {"course deg", kDeg, 0.112},
+    {"wind (from 60 s) m/s", 1, std::nan("")},
 };
 
 // NEES blocks: position, velocity, attitude (3 dimensions each).
@@ -145,8 +154,8 @@ const T* latest(const tern::OutputBase* src) {
 }
 
 // The config with every sim_aero instance's sensor_profile set, and the --set overrides.
-tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile,
-                                       const tern::core::CliOverrides& sets, const Outage& outage) {
+tern::core::MissionConfig with_profile(const std::string& mission, const std::string& profile, const tern::core::CliOverrides& sets,
+                                       const Outage& outage) {
   tern::core::MissionConfig mc = tern::core::load_config(mission);
   for (auto& inst : mc.plugins) {
     if (inst.plugin == "sim_aero") {
@@ -171,13 +180,14 @@ tern::core::MissionConfig with_profile(const std::string& mission, const std::st
 // The outage figures of one tick at flight time s with horizontal error e.
 void add_outage_tick(OutageResult& r, const Outage& o, double s, double e) {
   if (!o.on() || s < o.start) return;
-  if (s < o.end) r.drift = e;
-  else if (s >= o.end + 5.0 && s < o.end + 20.0) r.after_max = std::max(r.after_max, e);
+  if (s < o.end)
+    r.drift = e;
+  else if (s >= o.end + 5.0 && s < o.end + 20.0)
+    r.after_max = std::max(r.after_max, e);
 }
 
 // Estimate and raw-GNSS errors of one tick (both against the truth of the tick, in its frame).
-void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, double s,
-              const Outage& outage) {
+void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, double s, const Outage& outage) {
   const Eigen::Vector3d p = tern::core::estimate_in_truth_frame(x, t);
   const double dn = p.x() - t.p_n, de = p.y() - t.p_e;
   add_outage_tick(f.outage, outage, s, std::hypot(dn, de));
@@ -194,8 +204,8 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
   f.est[YAW].add(wrap_pi(x.psi - t.psi));
   f.est[COURSE].add(wrap_pi(x.chi - t.chi));
   if (s >= kT0Wind) f.est[WIND].add(std::hypot(x.w_n - t.w_n, x.w_e - t.w_e));
-  const double att = std::max({std::fabs(wrap_pi(x.phi - t.phi)), std::fabs(wrap_pi(x.theta - t.theta)),
-                               std::fabs(wrap_pi(x.psi - t.psi))});
+  const double att =
+      std::max({std::fabs(wrap_pi(x.phi - t.phi)), std::fabs(wrap_pi(x.theta - t.theta)), std::fabs(wrap_pi(x.psi - t.psi))});
   if ((!(std::hypot(dn, de) <= kDivergedPosition) || !(att <= kDivergedAttitude)) && !f.diverged) {
     f.diverged = true;
     f.diverged_at = s;
@@ -290,8 +300,7 @@ void print_seeds(const std::vector<Flight>& flights) {
     std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.3f %8.1f %7.0f %7.0f %7s %s%s\n", static_cast<unsigned long long>(f.seed),
                 f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(), f.est[ROLL].value() * kDeg, f.est[YAW].value() * kDeg,
                 f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets, f.inflations,
-                f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
-                f.crashed ? " (crashed)" : "");
+                f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(), f.crashed ? " (crashed)" : "");
   }
 }
 
@@ -303,10 +312,10 @@ void report_outage(nlohmann::ordered_json& j, const Outage& outage, const std::v
     after.push_back(f.outage.after_max);
   }
   const Spread d = spread(drift), a = spread(after);
-  std::printf("  GNSS outage %.0f-%.0f s: drift at its end %s m median, %s m worst; largest error 5-20 s after: "
-              "%s m median, %s m worst\n",
-              outage.start, outage.end, cell(d.median).c_str(), cell(d.worst).c_str(), cell(a.median).c_str(),
-              cell(a.worst).c_str());
+  std::printf(
+      "  GNSS outage %.0f-%.0f s: drift at its end %s m median, %s m worst; largest error 5-20 s after: "
+      "%s m median, %s m worst\n",
+      outage.start, outage.end, cell(d.median).c_str(), cell(d.worst).c_str(), cell(a.median).c_str(), cell(a.worst).c_str());
   auto& r = j["gnss_outage"];
   r["window_s"] = {outage.start, outage.end};
   r["drift_median_m"] = d.median;
@@ -342,8 +351,8 @@ nlohmann::ordered_json report(const std::string& mission, const std::string& pro
       if (q < kGnssRows) gv.push_back(f.gnss[q].value() * kInfo[q].scale);
     }
     const Spread t = spread(tv), g = spread(gv);
-    std::printf("  %-22s %10s %10s %11s %11s %10s\n", kInfo[q].name, cell(t.median).c_str(), cell(t.worst).c_str(),
-                cell(g.median).c_str(), cell(g.worst).c_str(), cell(kInfo[q].rosplane).c_str());
+    std::printf("  %-22s %10s %10s %11s %11s %10s\n", kInfo[q].name, cell(t.median).c_str(), cell(t.worst).c_str(), cell(g.median).c_str(),
+                cell(g.worst).c_str(), cell(kInfo[q].rosplane).c_str());
     auto& r = j["rmse"][kInfo[q].name];
     r["tern_median"] = t.median;
     r["tern_worst"] = t.worst;
@@ -368,9 +377,10 @@ nlohmann::ordered_json report(const std::string& mission, const std::string& pro
     r["lowest"] = best;
   }
   if (outage.on()) report_outage(j, outage, flights);
-  std::printf("  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f, "
-              "covariance inflations %.0f (all seeds)\n",
-              diverged, crashed, failed, filter_resets, gnss_resets, mag_resets, inflations);
+  std::printf(
+      "  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f, "
+      "covariance inflations %.0f (all seeds)\n",
+      diverged, crashed, failed, filter_resets, gnss_resets, mag_resets, inflations);
   j["divergences"] = diverged;
   j["crashes"] = crashed;
   j["failed_flights"] = failed;
@@ -404,24 +414,28 @@ int main(int argc, char** argv) {
   Outage outage;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--seeds" && i + 1 < argc) seeds = std::atoi(argv[++i]);
-    else if (a == "--duration" && i + 1 < argc) duration = std::atof(argv[++i]);
-    else if (a == "--profiles" && i + 1 < argc) profiles = split(argv[++i]);
-    else if (a == "--per-seed") per_seed = true;
+    if (a == "--seeds" && i + 1 < argc)
+      seeds = std::atoi(argv[++i]);
+    else if (a == "--duration" && i + 1 < argc)
+      duration = std::atof(argv[++i]);
+    else if (a == "--profiles" && i + 1 < argc)
+      profiles = split(argv[++i]);
+    else if (a == "--per-seed")
+      per_seed = true;
     else if (a == "--gnss-outage" && i + 1 < argc) {
       const auto w = split(argv[++i]);
       if (w.size() == 2) outage = {std::atof(w[0].c_str()), std::atof(w[1].c_str())};
       if (w.size() != 2 || !(outage.start >= kT0) || !(outage.end > outage.start)) {
-        std::fprintf(stderr, "bench_estimation: --gnss-outage wants START,END in s with %.0f <= START < END, got '%s'\n", kT0,
-                     argv[i]);
+        std::fprintf(stderr, "bench_estimation: --gnss-outage wants START,END in s with %.0f <= START < END, got '%s'\n", kT0, argv[i]);
         return 2;
       }
-    }
-    else if (a == "--set" && i + 1 < argc) sets.sets.push_back(argv[++i]);
+    } else if (a == "--set" && i + 1 < argc)
+      sets.sets.push_back(argv[++i]);
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "bench_estimation: unknown option '%s' (%s)\n", a.c_str(), usage);
       return 2;
-    } else missions.push_back(a);
+    } else
+      missions.push_back(a);
   }
   if (missions.empty()) missions = {dir + "default.yaml", dir + "aggressive.yaml"};
   if (seeds < 1 || !(duration > kT0Wind) || profiles.empty()) {
@@ -457,7 +471,8 @@ int main(int argc, char** argv) {
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {
       std::vector<Flight> flights;
-      for (int s = 1; s <= seeds; ++s) flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, outage, logs));
+      for (int s = 1; s <= seeds; ++s)
+        flights.push_back(fly(mission, profile, sets, static_cast<std::uint64_t>(s), duration, outage, logs));
       j["runs"].push_back(report(fs::path(mission).stem().string(), profile, flights, outage));
       if (per_seed) print_seeds(flights);
     }

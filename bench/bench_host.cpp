@@ -82,10 +82,11 @@ int main() {
   }
 
   // 3. start to first tick, seven plugins (sensor, filter, controller, four others), logging on
-  std::string cfg7 = "name: bench_start\nduration: 0.01\nplugins:\n"
-                     "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
-                     "  - {name: filter, plugin: test_filter, trigger: imu}\n"
-                     "  - {name: ctl, plugin: test_controller, rate: 100}\n";
+  std::string cfg7 =
+      "name: bench_start\nduration: 0.01\nplugins:\n"
+      "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
+      "  - {name: filter, plugin: test_filter, trigger: imu}\n"
+      "  - {name: ctl, plugin: test_controller, rate: 100}\n";
   for (int i = 0; i < 4; ++i) cfg7 += fmt::format("  - {{name: n{}, plugin: test_null, rate: 100}}\n", i);
   const fs::path cfg7_path = write(dir / "start.yaml", cfg7);
   std::vector<double> starts;
@@ -145,7 +146,10 @@ int main() {
   j["start_to_first_tick_ms"] = start_ms;
   j["swap_ms"] = swap_ms;
   j["next_flight_start_ms"] = next_start_ms;
-  j["targets"] = {{"port_publish_to_read_ns_per_subscriber", 50}, {"scheduler_overhead_ns_per_step", 100}, {"start_to_first_tick_ms", 100}, {"swap_ms", 50}};
+  j["targets"] = {{"port_publish_to_read_ns_per_subscriber", 50},
+                  {"scheduler_overhead_ns_per_step", 100},
+                  {"start_to_first_tick_ms", 100},
+                  {"swap_ms", 50}};
   write(fs::path(TERN_SOURCE_DIR) / "bench" / "results" / "bench_host.json", j.dump(2) + "\n");
   return 0;
 }

@@ -95,9 +95,12 @@ int run() {
   row("test_filter step, isolated (the whole hop)", iso.filter_median, iso.filter_p99);
   row("test_null step, in-process", in.null_median, in.null_p99);
   row("test_null step, isolated (bare round trip)", iso.null_median, iso.null_p99);
-  if (have_dds) row("Fast DDS UDP loopback at 400 Hz (bench_dds)", dds["dds_hop_400hz"]["median_ns"], dds["dds_hop_400hz"]["p99_ns"]);
-  else fmt::print("(no bench/results/bench_dds.json: run bench_dds for the Fast DDS hop)\n");
-  fmt::print("isolation costs {:.2f} us per hop (median, filter isolated minus in-process)\n", (iso.filter_median - in.filter_median) * 1e-3);
+  if (have_dds)
+    row("Fast DDS UDP loopback at 400 Hz (bench_dds)", dds["dds_hop_400hz"]["median_ns"], dds["dds_hop_400hz"]["p99_ns"]);
+  else
+    fmt::print("(no bench/results/bench_dds.json: run bench_dds for the Fast DDS hop)\n");
+  fmt::print("isolation costs {:.2f} us per hop (median, filter isolated minus in-process)\n",
+             (iso.filter_median - in.filter_median) * 1e-3);
   fs::create_directories(results);
   std::ofstream(results / "bench_isolation.json") << out.dump(2) << "\n";
   return 0;

@@ -65,11 +65,16 @@ TEST_CASE("summary.json flattens to dotted figures; lists become counts; library
 
 TEST_CASE("criteria: numbers, booleans and text; a failed or missing figure says why") {
   FlightRow row;
-  row.figures = flatten_summary(nlohmann::ordered_json::parse(R"({"end_reason": "crash", "fallback_engaged": false, "metrics": {"max_cross_track_m": 17.25}})"));
+  row.figures = flatten_summary(
+      nlohmann::ordered_json::parse(R"({"end_reason": "crash", "fallback_engaged": false, "metrics": {"max_cross_track_m": 17.25}})"));
   judge({{"fallback_engaged", "==", "false", ""}, {"metrics.max_cross_track_m", "<", "20", ""}}, row);
   CHECK(row.outcome == Outcome::pass);
   CHECK(row.why.empty());
-  judge({{"metrics.max_cross_track_m", "<", "15", ""}, {"end_reason", "==", "duration", ""}, {"metrics.nope", "<", "1", "metrics.nope < 1"}}, row);
+  judge(
+      {{"metrics.max_cross_track_m", "<", "15", ""}, {"end_reason", "==", "duration", ""}, {"metrics.nope", "<", "1", "metrics.nope < 1"}},
+      row);
   CHECK(row.outcome == Outcome::fail);
-  CHECK(row.why == "metrics.max_cross_track_m = 17.25 (needs < 15); end_reason = crash (needs == duration); metrics.nope < 1: no such figure in summary.json");
+  CHECK(row.why ==
+        "metrics.max_cross_track_m = 17.25 (needs < 15); end_reason = crash (needs == duration); metrics.nope < 1: no such figure in "
+        "summary.json");
 }

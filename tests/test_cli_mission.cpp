@@ -63,12 +63,14 @@ TEST_CASE("types and latitude/longitude ranges") {
 }
 
 TEST_CASE("below the ground, and the lla flag forgotten (a warning besides), against the simulator's origin") {
-  const std::string file = write_file("lla_forgotten.yaml", "wp:\n  w: [400.0, -250.0, -70.0]\n  va_d: 17.0\n"
-                                                            "wp:\n  w: [40.2499718, -111.6503560, 1457.0]\n  lla: False\n  va_d: 17.0\n")
+  const std::string file = write_file("lla_forgotten.yaml",
+                                      "wp:\n  w: [400.0, -250.0, -70.0]\n  va_d: 17.0\n"
+                                      "wp:\n  w: [40.2499718, -111.6503560, 1457.0]\n  lla: False\n  va_d: 17.0\n")
                                .string();
   Run r = run({"check", kDefault, "--set", "planner.mission_file=" + file});
   CHECK(r.rc == 1);
-  CHECK(r.has("tern: warning: " + file + ":4: wp 2: [40.2499718, -111.650356, 1457] is NED (m) but looks like latitude, longitude, "
+  CHECK(r.has("tern: warning: " + file +
+              ":4: wp 2: [40.2499718, -111.650356, 1457] is NED (m) but looks like latitude, longitude, "
               "altitude: lla: true forgotten?\n"));
   CHECK(r.has("tern: error: " + file + ":4: wp 2: down = 1457 m: 1457.0 m below home, below the ground"));
   // an LLA altitude below the simulator's ground (origin_alt 1387 m)
@@ -76,8 +78,8 @@ TEST_CASE("below the ground, and the lla flag forgotten (a warning besides), aga
   CHECK(r.rc == 1);
   CHECK(r.has(":3: waypoints[1]: altitude 1300 m MSL is 87.0 m below home (1387 m MSL): below the ground\n"));
   // tern fly refuses it before flying: no run directory
-  r = run({"fly", kDefault, "--set", "planner.mission_file=" + file, "-q", "--duration", "1", "--log-dir",
-            (test_dir() / "refused").string()});
+  r = run(
+      {"fly", kDefault, "--set", "planner.mission_file=" + file, "-q", "--duration", "1", "--log-dir", (test_dir() / "refused").string()});
   CHECK(r.rc == 1);
   CHECK(r.has("tern: error: " + file + ":4: wp 2: down = 1457 m"));
   CHECK_FALSE(fs::exists(test_dir() / "refused"));
@@ -93,7 +95,8 @@ TEST_CASE("too far from home: 5 km by default, check.max_waypoint_distance in th
   CHECK(r.rc == 1);
   // inline waypoints: the config file's own lines
   const auto n = lines(read_file(cfg)).size();
-  CHECK(r.has(cfg.string() + ":" + std::to_string(n - 1) + ": waypoints[0]: 476.9 m from home, further than check.max_waypoint_distance = 300 m\n"));
+  CHECK(r.has(cfg.string() + ":" + std::to_string(n - 1) +
+              ": waypoints[0]: 476.9 m from home, further than check.max_waypoint_distance = 300 m\n"));
   CHECK(r.has(cfg.string() + ":" + std::to_string(n) + ": waypoints[1]: 409.1 m from home"));
 }
 
@@ -101,16 +104,18 @@ TEST_CASE("legs shorter than the path manager's R_min, the radius as configured"
   const std::string mission = "waypoints:\n  - [400, -250, -70]\n  - [-400, -50, -70]\n  - [-400, -80, -70]\n  - [400, -50, -70]\n";
   Run r = check_file("short.yaml", mission);
   CHECK(r.rc == 1);
-  CHECK(r.has(":4: waypoints[2]: the leg from waypoints[1] is 30.0 m, shorter than the minimum turn radius manager.R_min = 50 m: "
-              "no room to turn\n"));
+  CHECK(
+      r.has(":4: waypoints[2]: the leg from waypoints[1] is 30.0 m, shorter than the minimum turn radius manager.R_min = 50 m: "
+            "no room to turn\n"));
   r = check_file("short.yaml", mission, {"--set", "manager.R_min=25"});
   CHECK(r.rc == 0);
   CHECK(r.has("config OK"));
 }
 
 TEST_CASE("legal but suspicious: warnings, exit 0") {
-  const Run r = check_file("lla_like.yaml", "waypoints:\n  - [400, -250, -70]\n  - {w: [40.2499718, -111.6503560, -70], lla: false}\n"
-                                            "  - [-400, -250, -70]\n");
+  const Run r = check_file("lla_like.yaml",
+                           "waypoints:\n  - [400, -250, -70]\n  - {w: [40.2499718, -111.6503560, -70], lla: false}\n"
+                           "  - [-400, -250, -70]\n");
   CHECK(r.rc == 0);
   CHECK(r.has("tern: warning: "));
   CHECK(r.has(":3: waypoints[1]: [40.2499718, -111.650356, -70] is NED (m) but looks like latitude"));
@@ -118,7 +123,8 @@ TEST_CASE("legal but suspicious: warnings, exit 0") {
 }
 
 TEST_CASE("the shipped missions with the stock controller back in cruise: TECS idle, no second writer") {
-  const Run r = run({"check", std::string(TERN_SOURCE_DIR) + "/configs/missions/tecs.yaml", "--phases", "takeoff=slc,climb=slc,cruise=slc"});
+  const Run r =
+      run({"check", std::string(TERN_SOURCE_DIR) + "/configs/missions/tecs.yaml", "--phases", "takeoff=slc,climb=slc,cruise=slc"});
   CHECK(r.rc == 0);
   CHECK(r.has("(not routed: idle, never steps, writes nothing)"));
   CHECK(r.has("config OK"));

@@ -80,8 +80,10 @@ TEST_CASE("--set: a good value reaches the plugin, a bad one is refused as in th
     if (name == "ctl2.tag") CHECK(std::get<double>(p->value()) == -0.5);
     if (name == "phase_machine.alt_hz") CHECK(std::get<double>(p->value()) == 4.0);
   }
-  CHECK(override_error(sets({"clt.kp=1"})).rfind("--set clt.kp=1: no plugin instance named 'clt' (did you mean 'ctl'?) (the config's: "
-                                                 "sensor, filter, ctl, ctl2)", 0) == 0);
+  CHECK(override_error(sets({"clt.kp=1"}))
+            .rfind("--set clt.kp=1: no plugin instance named 'clt' (did you mean 'ctl'?) (the config's: "
+                   "sensor, filter, ctl, ctl2)",
+                   0) == 0);
   CHECK(override_error(sets({"ctl.kq=1"})) == "--set ctl.kq=1: unknown parameter 'kq' of plugin 'test_controller' (did you mean 'kp'?)");
   CHECK(override_error(sets({"ctl.kp=fast"})) ==
         "--set ctl.kp=fast: parameter 'ctl.kp': value \"fast\" has the wrong type: expected a number, got a string");
@@ -98,8 +100,8 @@ TEST_CASE("--phases replaces the table, --fallback the fallback; unknown phases 
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,crusie=ctl2"})) ==
         "--phases takeoff=ctl,climb=ctl,crusie=ctl2: unknown phase 'crusie' (did you mean 'cruise'?) (one of takeoff, climb, cruise, "
         "landing, loiter)");
-  CHECK(override_error(phases({"takeoff=ctl,climb=ctl,cruise=ctl3"})).rfind(
-            "--phases takeoff=ctl,climb=ctl,cruise=ctl3: cruise: no plugin instance named 'ctl3' (did you mean 'ctl'?)", 0) == 0);
+  CHECK(override_error(phases({"takeoff=ctl,climb=ctl,cruise=ctl3"}))
+            .rfind("--phases takeoff=ctl,climb=ctl,cruise=ctl3: cruise: no plugin instance named 'ctl3' (did you mean 'ctl'?)", 0) == 0);
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl"})) ==
         "--phases takeoff=ctl,climb=ctl: no controller for phase 'cruise' (the table is replaced: takeoff, climb and cruise are required)");
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,takeoff=ctl2,cruise=ctl"})) ==

@@ -26,14 +26,16 @@ TEST_CASE("YAML syntax error names line and column") {
 }
 
 TEST_CASE("unknown keys suggest the closest valid one") {
-  CHECK(build_error(base_config("", "sead: 3\n")) == (test_dir() / "cfg.yaml").string() + ":5:1: unknown key 'sead' (did you mean 'seed'?)");
+  CHECK(build_error(base_config("", "sead: 3\n")) ==
+        (test_dir() / "cfg.yaml").string() + ":5:1: unknown key 'sead' (did you mean 'seed'?)");
   const std::string e = build_error(base_config("  - {name: x, plugin: test_controller, rat: 100}\n"));
   CHECK(e.find(":9:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
 }
 
 TEST_CASE("plugin not found prints the search path") {
   const std::string e = build_error(base_config("  - {name: x, plugin: test_sensr, rate: 400}\n"));
-  CHECK(e.find("plugins[3].plugin: plugin 'test_sensr' not found: no libtern_test_sensr.so in the plugin search path [") != std::string::npos);
+  CHECK(e.find("plugins[3].plugin: plugin 'test_sensr' not found: no libtern_test_sensr.so in the plugin search path [") !=
+        std::string::npos);
   CHECK(e.find(TERN_TEST_PLUGIN_DIR) != std::string::npos);
   CHECK(e.find("(did you mean 'test_sensor'?)") != std::string::npos);
 }
@@ -58,7 +60,8 @@ TEST_CASE("handshake mismatches are refused before any plugin code runs") {
 
 TEST_CASE("two writers on one topic") {
   const std::string e = build_error(base_config("  - {name: ctl2, plugin: test_controller, rate: 100}\n"));
-  CHECK(e.find("topic 'actuators' has 2 writers: ctl.actuators, ctl2.actuators (only controllers behind the phase router") != std::string::npos);
+  CHECK(e.find("topic 'actuators' has 2 writers: ctl.actuators, ctl2.actuators (only controllers behind the phase router") !=
+        std::string::npos);
   // the same two behind the phase router are fine
   CHECK(build_error(base_config("  - {name: ctl2, plugin: test_controller, rate: 100}\n",
                                 "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\n")) == "");
@@ -67,8 +70,10 @@ TEST_CASE("two writers on one topic") {
 TEST_CASE("an input with no producer is named") {
   const std::string e = build_error("name: t\nplugins:\n  - {name: filter, plugin: test_filter, rate: 100}\n");
   CHECK(e.find("input 'filter.imu' (topic 'imu', tern/Imu) has no producer") != std::string::npos);
-  const std::string r = build_error(base_config("", "").replace(base_config().find("trigger: imu"), 12, "trigger: imu, remap: {imu: imu2}"));
-  CHECK(r.find("input 'filter.imu' (topic 'imu2', tern/Imu) has no producer: no instance publishes 'imu2' (did you mean 'imu'?)") != std::string::npos);
+  const std::string r =
+      build_error(base_config("", "").replace(base_config().find("trigger: imu"), 12, "trigger: imu, remap: {imu: imu2}"));
+  CHECK(r.find("input 'filter.imu' (topic 'imu2', tern/Imu) has no producer: no instance publishes 'imu2' (did you mean 'imu'?)") !=
+        std::string::npos);
 }
 
 TEST_CASE("a rate the base rate cannot serve") {
@@ -85,13 +90,19 @@ TEST_CASE("a rate the base rate cannot serve") {
 }
 
 TEST_CASE("parameters: out of range, wrong type, unknown") {
-  std::string e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: 11}}\n"));
+  std::string e = build_error(base_config(
+      "  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: 11}}\n"));
   CHECK(e.find(":9:116: plugins[3].params.kp: parameter 'c2.kp': value 11 is outside the valid range [0, 10] 1/m") != std::string::npos);
-  e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: fast}}\n"));
-  CHECK(e.find("plugins[3].params.kp: parameter 'c2.kp': value \"fast\" has the wrong type: expected a number, got a string") != std::string::npos);
-  e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kq: 1}}\n"));
+  e = build_error(base_config(
+      "  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kp: fast}}\n"));
+  CHECK(e.find("plugins[3].params.kp: parameter 'c2.kp': value \"fast\" has the wrong type: expected a number, got a string") !=
+        std::string::npos);
+  e = build_error(base_config(
+      "  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {kq: 1}}\n"));
   CHECK(e.find("plugins[3].params.kq: unknown parameter 'kq' of plugin 'test_controller' (did you mean 'kp'?)") != std::string::npos);
-  e = build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, params: {fail_mode: loud}}\n"));
+  e =
+      build_error(base_config("  - {name: c2, plugin: test_controller, rate: 100, remap: {actuators: a2, controller_internals: ci2}, "
+                              "params: {fail_mode: loud}}\n"));
   CHECK(e.find("parameter 'c2.fail_mode': value \"loud\" is not one of none, throw, nan") != std::string::npos);
 }
 
@@ -120,15 +131,19 @@ TEST_CASE("parameter files: flat and ROS 2 style") {
 
 TEST_CASE("other structural errors") {
   CHECK(build_error("name: t\n").find("plugins: missing") != std::string::npos);
-  CHECK(build_error("name: t\nplugins:\n  - {name: s, plugin: test_sensor}\n").find("plugins[0] (s): missing 'rate' (Hz) or 'trigger'") != std::string::npos);
-  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: ctl}\n")).find("phases: no controller for phase 'cruise'") != std::string::npos);
-  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: clt}\n")).find("phases.cruise: no plugin instance named 'clt' (did you mean 'ctl'?)") != std::string::npos);
+  CHECK(build_error("name: t\nplugins:\n  - {name: s, plugin: test_sensor}\n").find("plugins[0] (s): missing 'rate' (Hz) or 'trigger'") !=
+        std::string::npos);
+  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: ctl}\n")).find("phases: no controller for phase 'cruise'") !=
+        std::string::npos);
+  CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: clt}\n"))
+            .find("phases.cruise: no plugin instance named 'clt' (did you mean 'ctl'?)") != std::string::npos);
   std::string neg = base_config();
   neg.replace(neg.find("duration: 2"), 11, "duration: -1");
   CHECK(build_error(neg).find(":3:11: duration: must be > 0 s, got -1") != std::string::npos);
   std::string cfg = base_config();
   cfg.replace(cfg.find("trigger: imu"), 12, "trigger: imu_data");
-  CHECK(build_error(cfg).find("plugins[1].trigger: plugin 'test_filter' has no input port 'imu_data' (did you mean 'imu'?)") != std::string::npos);
+  CHECK(build_error(cfg).find("plugins[1].trigger: plugin 'test_filter' has no input port 'imu_data' (did you mean 'imu'?)") !=
+        std::string::npos);
 }
 
 TEST_CASE("issue 18: the fallback and every phase must name a controller instance") {
@@ -138,16 +153,18 @@ TEST_CASE("issue 18: the fallback and every phase must name a controller instanc
         file + ":6:11: fallback: 'sensor' is not a controller: it runs plugin 'test_sensor' (io); name one of: ctl");
   CHECK(build_error(base_config("", "phases: {takeoff: ctl, climb: filter, cruise: ctl}\n")) ==
         file + ":5:31: phases.climb: 'filter' is not a controller: it runs plugin 'test_filter' (estimator); name one of: ctl");
-  CHECK(build_error(base_config("  - {name: idle, plugin: test_null, rate: 100}\n",
-                                "phases: {takeoff: ctl, climb: ctl, cruise: idle}\n")) ==
-        file + ":5:44: phases.cruise: 'idle' is not a controller: it runs plugin 'test_null' (generic); name one of: ctl");
+  CHECK(
+      build_error(base_config("  - {name: idle, plugin: test_null, rate: 100}\n", "phases: {takeoff: ctl, climb: ctl, cruise: idle}\n")) ==
+      file + ":5:44: phases.cruise: 'idle' is not a controller: it runs plugin 'test_null' (generic); name one of: ctl");
 }
 
 TEST_CASE("issue 18: tern check refuses a fallback that is not a controller, in one line naming file, field and value") {
-  const fs::path cfg = write_file("check_fallback.yaml", base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: sensor\n"));
+  const fs::path cfg =
+      write_file("check_fallback.yaml", base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: sensor\n"));
   const fs::path out = test_dir() / "check_fallback.out";
   const int rc = std::system((std::string(TERN_BIN) + " check " + cfg.string() + " > " + out.string() + " 2>&1").c_str());
   CHECK(WEXITSTATUS(rc) == 1);
-  CHECK(read_file(out) == "tern: error: " + cfg.string() + ":6:11: fallback: 'sensor' is not a controller: it runs plugin 'test_sensor' (io); "
-                          "name one of: ctl\n");
+  CHECK(read_file(out) == "tern: error: " + cfg.string() +
+                              ":6:11: fallback: 'sensor' is not a controller: it runs plugin 'test_sensor' (io); "
+                              "name one of: ctl\n");
 }

@@ -203,8 +203,8 @@ TEST_CASE("console requests on a host: parameters go the way of `tern param set`
   CHECK(answer(R"({"type":"param","name":"ctl.kq","value":0.1})")["message"].get<std::string>().find("unknown parameter 'ctl.kq'") == 0);
   CHECK(answer(R"({"type":"param","name":"ctl.kp","value":99})")["type"] == "error");  // out of range
   CHECK(answer(R"({"type":"param","name":"ctl.kp","value":{"a":1}})")["type"] == "error");
-  CHECK(answer(R"({"type":"pilot","roll":0,"pitch":0,"yaw":0,"throttle":0})")["message"].get<std::string>().find("no plugin instance reads topic 'pilot'") !=
-        std::string::npos);
+  CHECK(answer(R"({"type":"pilot","roll":0,"pitch":0,"yaw":0,"throttle":0})")["message"].get<std::string>().find(
+            "no plugin instance reads topic 'pilot'") != std::string::npos);
   const auto ok = answer(R"({"type":"param","name":"ctl.tag","value":0.3})");
   CHECK(ok["type"] == "param_ok");
   CHECK(ok["value"] == 0.3);

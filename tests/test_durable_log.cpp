@@ -145,7 +145,7 @@ TEST_CASE("tern replay accepts a log whose last line is partial: dropped with on
   const tern::core::FlightResult flown = fly_yaml(base_config(), "partial_orig");
   REQUIRE(flown.ok);
   const fs::path imu = flown.run_dir / "topics" / "imu.csv";
-  const std::size_t rows = lines(read_file(imu)).size();  // header + 801 samples (0 .. 2 s at 400 Hz)
+  const std::size_t rows = lines(read_file(imu)).size();               // header + 801 samples (0 .. 2 s at 400 Hz)
   std::ofstream(imu, std::ios::app) << "2.002500000,2002500000,0.01";  // killed mid-row
   const fs::path out = test_dir() / "partial.out";
   const int rc = run_tern({"replay", flown.run_dir.string(), "-q", "--log-dir", (test_dir() / "partial_replay").string()}, out);

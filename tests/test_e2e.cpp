@@ -86,13 +86,13 @@ TEST_CASE("the estimator's configuration does not depend on the simulator's sens
     return out;
   };
   const auto base = ekf_params(default_mission_with({}), "indep_a.yaml");
-  const auto changed = ekf_params(
-      default_mission_with({{"turbulence: light", "turbulence: light\n      sensor_profile: realistic\n"
-                                                  "      accel_noise: 0.7\n      gyro_noise: 0.01\n      gnss_h_sigma: 4.0\n"
-                                                  "      gnss_vel_noise: 0.3\n      gnss_tau: 60\n      mag_noise: 1.0e-6\n"
-                                                  "      baro_noise: 9.0\n      diff_pressure_noise: 3.0\n      gnss_latency: 0.2\n"
-                                                  "      gnss_antenna_position: [0.3, 0.1, -0.2]\n      mag_declination: 0.3"}}),
-      "indep_b.yaml");
+  const auto changed = ekf_params(default_mission_with({{"turbulence: light",
+                                                         "turbulence: light\n      sensor_profile: realistic\n"
+                                                         "      accel_noise: 0.7\n      gyro_noise: 0.01\n      gnss_h_sigma: 4.0\n"
+                                                         "      gnss_vel_noise: 0.3\n      gnss_tau: 60\n      mag_noise: 1.0e-6\n"
+                                                         "      baro_noise: 9.0\n      diff_pressure_noise: 3.0\n      gnss_latency: 0.2\n"
+                                                         "      gnss_antenna_position: [0.3, 0.1, -0.2]\n      mag_declination: 0.3"}}),
+                                  "indep_b.yaml");
   REQUIRE(base.size() > 20);
   CHECK(base == changed);
 }
@@ -122,8 +122,8 @@ TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first se
   CHECK(std::stoll(first[col(head, "time_of_validity")]) == 0);
   // the first fix is already off (steady-state Gauss-Markov start), by a receiver's metres, not centimetres
   const CommonFrame sim_frame({40.2463724, -111.6474138, 1387.0});
-  const Eigen::Vector3d p0 = sim_frame.ned({std::stod(first[col(head, "lat")]), std::stod(first[col(head, "lon")]),
-                                            std::stod(first[col(head, "alt")])});
+  const Eigen::Vector3d p0 =
+      sim_frame.ned({std::stod(first[col(head, "lat")]), std::stod(first[col(head, "lon")]), std::stod(first[col(head, "alt")])});
   const double rest_d = -p0.z();  // truth at t = 0: at rest on the ground at the origin
   MESSAGE("first fix error: north " << p0.x() << " m, east " << p0.y() << " m, down offset " << rest_d << " m");
   CHECK(std::hypot(p0.x(), p0.y()) > 0.05);
@@ -148,23 +148,22 @@ TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first se
     if (std::stod(c[col(sh, "t")]) < t0 || c[col(sh, "valid")] != "1") continue;
     const auto it = truth_at.find(c[col(sh, "t")]);
     if (it == truth_at.end()) continue;
-    const Eigen::Vector3d p = sim_frame.ned({std::stod(c[col(sh, "origin_lat")]), std::stod(c[col(sh, "origin_lon")]),
-                                             std::stod(c[col(sh, "origin_alt")])},
-                                            {std::stod(c[col(sh, "p_n")]), std::stod(c[col(sh, "p_e")]), std::stod(c[col(sh, "p_d")])});
+    const Eigen::Vector3d p =
+        sim_frame.ned({std::stod(c[col(sh, "origin_lat")]), std::stod(c[col(sh, "origin_lon")]), std::stod(c[col(sh, "origin_alt")])},
+                      {std::stod(c[col(sh, "p_n")]), std::stod(c[col(sh, "p_e")]), std::stod(c[col(sh, "p_d")])});
     sum_n += std::pow(p.x() - it->second[0], 2);
     sum_e += std::pow(p.y() - it->second[1], 2);
     ++n;
   }
   REQUIRE(n > 1000);
   const double north = std::sqrt(sum_n / n), east = std::sqrt(sum_e / n);
-  MESSAGE("log: north " << north << " m, east " << east << " m; summary: " << m["estimation_rmse"].dump() << "; raw GNSS " << m["raw_gnss_rmse"].dump());
+  MESSAGE("log: north " << north << " m, east " << east << " m; summary: " << m["estimation_rmse"].dump() << "; raw GNSS "
+                        << m["raw_gnss_rmse"].dump());
   CHECK(north == doctest::Approx(m["estimation_rmse"]["north_m"].get<double>()).epsilon(0.1));
   CHECK(east == doctest::Approx(m["estimation_rmse"]["east_m"].get<double>()).epsilon(0.1));
 }
 
-TEST_CASE("the TECS mission: SLC takes off, TECS holds the cruise") {
-  check_mission(fly_mission("tecs.yaml", "e2e_tecs"), "tecs");
-}
+TEST_CASE("the TECS mission: SLC takes off, TECS holds the cruise") { check_mission(fly_mission("tecs.yaml", "e2e_tecs"), "tecs"); }
 
 TEST_CASE("a mission of mixed lat/lon and NED waypoints") {
   const FlightResult r = fly_mission("mixed_lla_ned.yaml", "e2e_mixed");
@@ -231,9 +230,8 @@ TEST_CASE("the EKF's side-force model follows the turbulent wind better than the
   // errors the side force is no better than zero sideslip (the closing note of issue 16).
   double wind_rmse[2] = {0, 0};
   for (int on = 0; on < 2; ++on) {
-    const std::string cfg = default_mission_with(
-        {{"sensor_profile: realistic", "sensor_profile: rosflight"},
-         {kLeverArms, kNoLeverArms + "      use_side_force: " + (on ? "true" : "false") + "\n"}});
+    const std::string cfg = default_mission_with({{"sensor_profile: realistic", "sensor_profile: rosflight"},
+                                                  {kLeverArms, kNoLeverArms + "      use_side_force: " + (on ? "true" : "false") + "\n"}});
     HostOptions o;
     o.quiet = true;
     o.log_dir = test_dir() / "e2e_side_force";
@@ -292,22 +290,21 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
         if (c.rfind(name + " [", 0) == 0) return i;
       return -1;
     };
-    const int t_col = 0, psi = column(state[0], "psi"), phi = column(state[0], "phi"),
-              theta = column(state[0], "theta"), valid = column(state[0], "valid");
+    const int t_col = 0, psi = column(state[0], "psi"), phi = column(state[0], "phi"), theta = column(state[0], "theta"),
+              valid = column(state[0], "valid");
     REQUIRE(psi > 0);
     double worst_early = 0, worst = 0;  // from the first valid estimate / after 2 s
     for (std::size_t k = 1; k < state.size(); ++k) {
       const auto a = cells(state[k]), b = cells(truth[k]);
       if (a[valid] != "1") continue;
       const double dpsi = std::remainder(std::stod(a[psi]) - std::stod(b[psi]), 2.0 * M_PI);
-      const double e = std::max({std::fabs(dpsi), std::fabs(std::stod(a[phi]) - std::stod(b[phi])),
-                                 std::fabs(std::stod(a[theta]) - std::stod(b[theta]))});
+      const double e = std::max(
+          {std::fabs(dpsi), std::fabs(std::stod(a[phi]) - std::stod(b[phi])), std::fabs(std::stod(a[theta]) - std::stod(b[theta]))});
       double& w = std::stod(a[t_col]) < 2.0 ? worst_early : worst;
       w = std::max(w, e);
     }
-    MESSAGE("air start, seed " << seed << ": largest roll/pitch/yaw error in the first 2 s " << worst_early * 180.0 / M_PI
-                               << " deg, after " << worst * 180.0 / M_PI << " deg, mag resets "
-                               << s["instances"]["ekf"]["mag_resets"].get<double>());
+    MESSAGE("air start, seed " << seed << ": largest roll/pitch/yaw error in the first 2 s " << worst_early * 180.0 / M_PI << " deg, after "
+                               << worst * 180.0 / M_PI << " deg, mag resets " << s["instances"]["ekf"]["mag_resets"].get<double>());
     CHECK(worst_early < 10.0 * M_PI / 180.0);
     // 5 deg: the estimator models the gyro's scale and cross-axis error (gyro_scale), so its
     // attitude loosens during the recovery's high rates (seed 1: 3.8 deg at 4 s, 2.3 deg without).

@@ -103,8 +103,8 @@ FlightResult fly_with_ground_station(const std::string& yaml, const std::string&
 }  // namespace
 
 TEST_CASE("issue 18: GNSS lost in cruise -> the aircraft loiters around the dead-reckoned point; GNSS back is said") {
-  const std::string yaml =
-      with_failsafes("  gnss_loss: {timeout: 3, radius: 80}\n", {{"      pitot_cover: 8.5", "      pitot_cover: 8.5\n      gnss_dropout: [100, 170]"}});
+  const std::string yaml = with_failsafes("  gnss_loss: {timeout: 3, radius: 80}\n",
+                                          {{"      pitot_cover: 8.5", "      pitot_cover: 8.5\n      gnss_dropout: [100, 170]"}});
   const FlightResult r = fly_yaml(yaml, "fs_gnss", kSeed, 240.0);
   check_flying(r);
   const auto s = summary(r);
@@ -152,7 +152,8 @@ TEST_CASE("issue 18: a geofence smaller than the mission -> the aircraft returns
 }
 
 TEST_CASE("issue 18: a ground station heard, then silent -> return home and loiter there") {
-  const FlightResult r = fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, altitude: 80, radius: 80}\n"), "fs_link", 220.0, 90.0);
+  const FlightResult r =
+      fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, altitude: 80, radius: 80}\n"), "fs_link", 220.0, 90.0);
   check_flying(r);
   const auto s = summary(r);
   const auto& loss = event(s, "link_loss");
@@ -189,9 +190,10 @@ TEST_CASE("issue 18: a mission file with loiter and return_home items is flown: 
   check_circling(state, 0.0, 0.0, 300.0, 330.0, "mission items");
 }
 
-TEST_CASE("issue 18: the link still lost terminate.after s after the return home -> flight termination (glide): motor off, surfaces neutral") {
-  const FlightResult r =
-      fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, terminate: {after: 10, action: glide}}\n"), "fs_terminate", 200.0, 60.0);
+TEST_CASE(
+    "issue 18: the link still lost terminate.after s after the return home -> flight termination (glide): motor off, surfaces neutral") {
+  const FlightResult r = fly_with_ground_station(with_failsafes("  link_loss: {timeout: 5, terminate: {after: 10, action: glide}}\n"),
+                                                 "fs_terminate", 200.0, 60.0);
   const auto s = summary(r);
   const double t_term = event(s, "terminate")["t_s"].get<double>();
   CHECK(t_term - event(s, "link_loss")["t_s"].get<double>() == doctest::Approx(10.0).epsilon(0.001));

@@ -59,11 +59,11 @@ TEST_CASE("issue 19: the default mission with every plugin isolated logs byte-id
 TEST_CASE("issue 19: an isolated cruise controller that segfaults: the fallback takes over in that tick, the flight goes on") {
   // ctl flies cruise (from about 22 s with seed 3, elevator held at slc's cruise trim) and segfaults at 24 s, or at its first step
   // if cruise comes later
-  const std::string yaml = default_mission_with(
-      {{"phases: {takeoff: slc, climb: slc, cruise: slc}",
-        "  - {name: ctl, plugin: " + kTestController +
-            ", rate: 100, isolate: true, params: {tag: 0.17, h_target: 70, kp: 0.05, fail_mode: segv, fail_at: 24}}\n"
-            "phases: {takeoff: slc, climb: slc, cruise: ctl}\nfallback: slc\n"}});
+  const std::string yaml =
+      default_mission_with({{"phases: {takeoff: slc, climb: slc, cruise: slc}",
+                             "  - {name: ctl, plugin: " + kTestController +
+                                 ", rate: 100, isolate: true, params: {tag: 0.17, h_target: 70, kp: 0.05, fail_mode: segv, fail_at: 24}}\n"
+                                 "phases: {takeoff: slc, climb: slc, cruise: ctl}\nfallback: slc\n"}});
   const FlightResult r = fly_yaml(yaml, "iso_e2e_segv", 3, 120.0);
   CHECK(r.ok);
   const auto s = summary(r);

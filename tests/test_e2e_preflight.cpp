@@ -51,8 +51,10 @@ TEST_CASE("preflight, realistic profile: each arming check refuses with its line
   int k = 0;
   for (const Case& c : cases) {
     std::vector<std::pair<std::string, std::string>> edits{c.edit};
-    if (c.edit.first == sim) edits.emplace_back(kPhases, kPhases + "\nphase_machine: {preflight_timeout: 10}");
-    else edits.emplace_back("phase_machine: {", "phase_machine: {preflight_timeout: 10, ");
+    if (c.edit.first == sim)
+      edits.emplace_back(kPhases, kPhases + "\nphase_machine: {preflight_timeout: 10}");
+    else
+      edits.emplace_back("phase_machine: {", "phase_machine: {preflight_timeout: 10, ");
     const FlightResult r = fly_yaml(default_mission_with(edits), "e2e_preflight_check_" + std::to_string(k++), 1, 40.0);
     INFO(c.edit.second);
     if (c.line.empty()) {

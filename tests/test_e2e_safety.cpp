@@ -18,7 +18,6 @@ namespace {
 
 const std::string kTestController = (fs::path(TERN_TEST_PLUGIN_DIR) / "libtern_test_controller.so").string();
 
-
 // The default mission with `ctl` (a test_controller with `params`) flying cruise, slc the rest
 // and the fallback; `machine`: the phase_machine section, if any.
 std::string cruise_flown_by(const std::string& params, const std::string& machine = "") {
@@ -66,9 +65,11 @@ void check_saved(const FlightResult& r, const std::string& cause) {
 
 TEST_CASE("issue 18: a dive into the ground ends the flight: end_reason crash, where and how fast, tern fly exits 1") {
   // an air start at 40 m, the elevator held at 0.69 rad (the test controller on the true state)
-  const std::string yaml = "name: dive\nseed: 3\nduration: 60\naircraft: " + (kMissions / "../aircraft/anaconda.yaml").lexically_normal().string() +
-                           "\nplugins:\n  - {name: sim, plugin: sim_aero, rate: 400, params: {init_mode: air, init_altitude: 40, init_airspeed: 17}}\n"
-                           "  - {name: ctl, plugin: " + kTestController + ", rate: 100, remap: {state: truth}, params: {tag: 0.69, kp: 0}}\n";
+  const std::string yaml =
+      "name: dive\nseed: 3\nduration: 60\naircraft: " + (kMissions / "../aircraft/anaconda.yaml").lexically_normal().string() +
+      "\nplugins:\n  - {name: sim, plugin: sim_aero, rate: 400, params: {init_mode: air, init_altitude: 40, init_airspeed: 17}}\n"
+      "  - {name: ctl, plugin: " +
+      kTestController + ", rate: 100, remap: {state: truth}, params: {tag: 0.69, kp: 0}}\n";
   const FlightResult r = fly_yaml(yaml, "crash_dive", 3, 60.0);
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "crash");
@@ -85,7 +86,8 @@ TEST_CASE("issue 18: a dive into the ground ends the flight: end_reason crash, w
   const fs::path cfg = write_file("dive_cli.yaml", yaml);
   const fs::path out = test_dir() / "dive_cli.out";
   const int rc = std::system((std::string(TERN_BIN) + " fly " + cfg.string() + " --log-dir " + (test_dir() / "dive_cli").string() + " > " +
-                              out.string() + " 2>/dev/null").c_str());
+                              out.string() + " 2>/dev/null")
+                                 .c_str());
   CHECK(WEXITSTATUS(rc) == 1);
   const auto text = lines(read_file(out));
   REQUIRE(!text.empty());

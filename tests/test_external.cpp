@@ -70,12 +70,15 @@ TEST_CASE("external: config errors name the field and value") {
   set_external_link_factory([](const ExternalSpec&, const MissionConfig&) { return std::unique_ptr<ExternalLink>(); });
   std::string e = build_error(base_config("  - {name: ext, plugin: external, rate: 100, role: controler}\n"));
   CHECK(e.find("plugins[3].role: unknown role 'controler' (roles: controller) (did you mean 'controller'?)") != std::string::npos);
-  e = build_error(base_config("  - {name: ext, plugin: external, rate: 100, inputs: [{port: state, topic: estimated_state, "
+  e =
+      build_error(base_config("  - {name: ext, plugin: external, rate: 100, inputs: [{port: state, topic: estimated_state, "
                               "type: rosplane_msgs/msg/Stat}], outputs: [{port: a, topic: command, type: rosflight_msgs/msg/Command}]}\n"));
   CHECK(e.find("plugins[3].inputs[0].type: 'rosplane_msgs/msg/Stat' cannot be an external module's input (it may be: "
-               "rosplane_msgs/msg/State, rosplane_msgs/msg/ControllerCommands) (did you mean 'rosplane_msgs/msg/State'?)") != std::string::npos);
-  e = build_error(base_config("  - {name: ext, plugin: external, rate: 100, inputs: [{port: actuators, topic: command, "
-                              "type: rosflight_msgs/msg/Command}], outputs: [{port: a, topic: command, type: rosflight_msgs/msg/Command}]}\n"));
+               "rosplane_msgs/msg/State, rosplane_msgs/msg/ControllerCommands) (did you mean 'rosplane_msgs/msg/State'?)") !=
+        std::string::npos);
+  e = build_error(
+      base_config("  - {name: ext, plugin: external, rate: 100, inputs: [{port: actuators, topic: command, "
+                  "type: rosflight_msgs/msg/Command}], outputs: [{port: a, topic: command, type: rosflight_msgs/msg/Command}]}\n"));
   CHECK(e.find("plugins[3].inputs[0].type: 'rosflight_msgs/msg/Command' cannot be an external module's input") != std::string::npos);
   e = build_error(base_config("  - {name: ext, plugin: external, rate: 100, role: controller, timeout_ms: -3}\n"));
   CHECK(e.find("plugins[3].timeout_ms: expected a number of ms > 0, got '-3'") != std::string::npos);
@@ -84,7 +87,8 @@ TEST_CASE("external: config errors name the field and value") {
   e = build_error(base_config("  - {name: x, plugin: test_controller, rate: 100, role: controller}\n"));
   CHECK(e.find("plugins[3]: unknown key 'role'") != std::string::npos);
   // a tern port of another type than the binding's: the port graph's type check
-  e = build_error(base_config("  - name: ext\n    plugin: external\n    rate: 50\n"
+  e =
+      build_error(base_config("  - name: ext\n    plugin: external\n    rate: 50\n"
                               "    inputs: [{port: imu, topic: estimated_state, type: rosplane_msgs/msg/State}]\n"
                               "    outputs: [{port: ext_actuators, topic: command, type: rosflight_msgs/msg/Command}]\n"));
   CHECK(e.find("input 'ext.imu' expects tern/State") != std::string::npos);

@@ -167,10 +167,11 @@ TEST_CASE("failsafe config: defaults, and one line naming the field and value fo
   CHECK(c.link_loss.terminate_action == TerminateAction::spin);
   CHECK(error_of("gnss_loss: {timeout: -1}").find("failsafes.gnss_loss.timeout: -1 s is below 0") != std::string::npos);
   CHECK(error_of("gnss_loss: {timeout: soon}").find("failsafes.gnss_loss.timeout: expected a number (s), got 'soon'") != std::string::npos);
-  CHECK(error_of("link_loss: {terminate: {after: 60, action: explode}}").find("failsafes.link_loss.terminate.action: 'explode' is not glide or spin") !=
-        std::string::npos);
+  CHECK(error_of("link_loss: {terminate: {after: 60, action: explode}}")
+            .find("failsafes.link_loss.terminate.action: 'explode' is not glide or spin") != std::string::npos);
   CHECK(error_of("link_loss: {terminate: {action: glide}}").find("give after") != std::string::npos);
-  CHECK(error_of("geofence: {polygon: [[100, 100], [200, 100], [200, 200]]}").find("home (n 0, e 0) is outside the polygon") != std::string::npos);
+  CHECK(error_of("geofence: {polygon: [[100, 100], [200, 100], [200, 200]]}").find("home (n 0, e 0) is outside the polygon") !=
+        std::string::npos);
   CHECK(error_of("geofence: {polygon: [[1, 2]]}").find("at least 3") != std::string::npos);
   CHECK(error_of("geofence: {min_altitude: 50, max_altitude: 60}").find("less than 2 x altitude_margin") != std::string::npos);
   CHECK(error_of("geofence: {}").find("no limit") != std::string::npos);

@@ -44,7 +44,8 @@ TEST_CASE("the flight log: header with units, one row per message, resolved conf
   REQUIRE(r.ok);
   const auto imu = lines(read_file(r.run_dir / "topics" / "imu.csv"));
   REQUIRE(imu.size() == 802);  // header + 801 samples over 2 s at 400 Hz
-  CHECK(imu[0] == "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]");
+  CHECK(imu[0] ==
+        "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]");
   CHECK(imu[2].rfind("0.002500000,2500000,", 0) == 0);
   const auto act = lines(read_file(r.run_dir / "topics" / "actuators.csv"));
   CHECK(act.size() == 202);
@@ -89,7 +90,8 @@ TEST_CASE("phase router: a controller that throws or writes NaN is replaced by t
     REQUIRE(h.size() == 2);
     CHECK(h[1]["to"] == "ctl");
     CHECK(h[1]["t_s"].get<double>() == doctest::Approx(1.5));
-    CHECK(h[1]["reason"].get<std::string>().find(mode == "throw" ? "ctl2.step threw: deliberate failure" : "non-finite") != std::string::npos);
+    CHECK(h[1]["reason"].get<std::string>().find(mode == "throw" ? "ctl2.step threw: deliberate failure" : "non-finite") !=
+          std::string::npos);
     // no NaN ever reached the actuators topic
     const std::string act = read_file(r.run_dir / "topics" / "actuators.csv");
     CHECK(act.find("nan") == std::string::npos);
@@ -108,8 +110,9 @@ TEST_CASE("phase router: commands beyond the actuator limits hand over to the fa
 
 TEST_CASE("issue 18: without `fallback:` the cruise controller is the fallback") {
   // ctl flies takeoff and climb and throws at 0.1 s, in takeoff: ctl2, named for cruise, takes over
-  std::string cfg = base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
-                                "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n");
+  std::string cfg =
+      base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2, h_target: 30}}\n",
+                  "phases: {takeoff: ctl, climb: ctl, cruise: ctl2}\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n");
   cfg.replace(cfg.find("rate: 100}"), 10, "rate: 100, params: {fail_mode: throw, fail_at: 0.1}}");
   HostOptions o;
   o.quiet = true;
@@ -202,7 +205,7 @@ TEST_CASE("log.max_rate thins fast topics by flight time; log.rates overrides it
   CHECK(lines(read_file(r.run_dir / "topics" / "imu.csv")).size() == 802);    // every sample
   CHECK(lines(read_file(r.run_dir / "topics" / "state.csv")).size() == 202);  // 400 Hz -> 100 Hz
   const auto truth = lines(read_file(r.run_dir / "topics" / "truth.csv"));
-  REQUIRE(truth.size() == 22);                                               // 400 Hz -> 10 Hz
+  REQUIRE(truth.size() == 22);  // 400 Hz -> 10 Hz
   CHECK(truth[2].rfind("0.100000000,", 0) == 0);
 }
 
@@ -212,7 +215,8 @@ TEST_CASE("mission edits from the host API reach the reader of mission_edit, one
   o.log_dir = test_dir() / "edits";
   Host h(load_config(write_file("edits.yaml", base_config())), o);
   h.build();
-  CHECK(h.graph_text().find("mission_edit [tern/MissionEdit]: host: mission edits from the command line and DDS -> filter.mission_edit") != std::string::npos);
+  CHECK(h.graph_text().find("mission_edit [tern/MissionEdit]: host: mission edits from the command line and DDS -> filter.mission_edit") !=
+        std::string::npos);
   tern::msg::MissionEdit e;
   e.op = tern::msg::MissionEdit::add;
   e.id = 1;
@@ -236,5 +240,6 @@ TEST_CASE("edit_mission without a mission_edit reader is an error") {
   o.quiet = true;
   Host h(load_config(write_file("noedits.yaml", "name: t\nplugins:\n  - {name: sensor, plugin: test_sensor, rate: 400}\n")), o);
   h.build();
-  CHECK_THROWS_WITH_AS(h.edit_mission(tern::msg::MissionEdit{}), doctest::Contains("no plugin instance reads topic 'mission_edit'"), ConfigError);
+  CHECK_THROWS_WITH_AS(h.edit_mission(tern::msg::MissionEdit{}), doctest::Contains("no plugin instance reads topic 'mission_edit'"),
+                       ConfigError);
 }

@@ -19,7 +19,8 @@ std::string cfg_path() { return (test_dir() / "cfg.yaml").string(); }
 
 /// `tern fly` with a bad option: its exit code and console output.
 std::pair<int, std::string> fly_cli(const std::vector<std::string>& extra) {
-  std::vector<std::string> args = {"fly", write_file("cli.yaml", base_config()).string(), "-q", "--log-dir", (test_dir() / "cli_runs").string()};
+  std::vector<std::string> args = {"fly", write_file("cli.yaml", base_config()).string(), "-q", "--log-dir",
+                                   (test_dir() / "cli_runs").string()};
   args.insert(args.end(), extra.begin(), extra.end());
   const fs::path out = test_dir() / "cli.out";
   const int rc = run_tern(args, out);
@@ -32,20 +33,22 @@ TEST_CASE("rates the scheduler cannot run") {
   CHECK(build_error(edited("rate: 400", "rate: 1e9")) ==
         cfg_path() + ":6:47: plugins[0].rate: 1e9 Hz is above the scheduler's limit of 10000 Hz");
   CHECK(build_error(edited("rate: 400", "rate: 0")) == cfg_path() + ":6:47: plugins[0].rate: must be > 0 Hz, got 0");
-  CHECK(build_error(base_config("", "base_rate: 20000\n")) == cfg_path() + ":5:12: base_rate: 20000 Hz is above the scheduler's limit of 10000 Hz");
+  CHECK(build_error(base_config("", "base_rate: 20000\n")) ==
+        cfg_path() + ":5:12: base_rate: 20000 Hz is above the scheduler's limit of 10000 Hz");
   CHECK(build_error(edited("rate: 100}", "rate: 100, budget_us: 0}")) == cfg_path() + ":8:64: plugins[2].budget_us: must be > 0 us, got 0");
   CHECK(build_error(edited("rate: 400", "rate: 10000")).find("100 Hz cannot be served") == std::string::npos);  // the limit itself is fine
 }
 
 TEST_CASE("durations: finite, > 0 and at most kMaxDurationS, in the config and on the command line") {
-  CHECK(build_error(edited("duration: 2", "duration: 1e10")) == cfg_path() + ":3:11: duration: must be at most 1000000 s (11.6 days), got 10000000000");
+  CHECK(build_error(edited("duration: 2", "duration: 1e10")) ==
+        cfg_path() + ":3:11: duration: must be at most 1000000 s (11.6 days), got 10000000000");
   CHECK(build_error(edited("duration: 2", "duration: .nan")) == cfg_path() + ":3:11: duration: expected a number, got '.nan'");
-  for (const auto& [value, what] : std::vector<std::pair<std::string, std::string>>{
-           {"1e10", "must be at most 1000000 s (11.6 days), got 10000000000"},
-           {"nan", "must be a finite number of seconds, got nan"},
-           {"inf", "must be a finite number of seconds, got inf"},
-           {"0", "must be > 0 s, got 0"},
-           {"2s", "'2s' is not a number of seconds"}}) {
+  for (const auto& [value, what] :
+       std::vector<std::pair<std::string, std::string>>{{"1e10", "must be at most 1000000 s (11.6 days), got 10000000000"},
+                                                        {"nan", "must be a finite number of seconds, got nan"},
+                                                        {"inf", "must be a finite number of seconds, got inf"},
+                                                        {"0", "must be > 0 s, got 0"},
+                                                        {"2s", "'2s' is not a number of seconds"}}) {
     const auto [rc, out] = fly_cli({"--duration", value});
     CHECK(rc != 0);
     CHECK(out == "tern: error: --duration: " + what + " (see --help)\n");
@@ -99,7 +102,8 @@ TEST_CASE("a start-only parameter is refused in flight ('takes effect next fligh
     }
   });
   const auto first = h.fly();
-  CHECK(refused == "parameter 'sensor.h0' is read when a flight starts: refused in flight, it takes effect next flight (set it between flights)");
+  CHECK(refused ==
+        "parameter 'sensor.h0' is read when a flight starts: refused in flight, it takes effect next flight (set it between flights)");
   const std::string params1 = read_file(first.run_dir / "params.csv");
   CHECK(params1.find("\n1.002500000,ctl.kp,0.06,dds\n") != std::string::npos);
   CHECK(params1.find("sensor.h0,5") == std::string::npos);

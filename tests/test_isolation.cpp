@@ -99,8 +99,8 @@ TEST_CASE("an isolated estimator that segfaults ends the flight cleanly: plugin_
 }
 
 TEST_CASE("an isolated estimator that hangs is killed past watchdog.hard_ms: clean end naming it") {
-  const std::string yaml = with_instance(isolated(base_config("", "watchdog: {hard_ms: 300}\n"), "filter"), "filter",
-                                         "params: {fail_mode: hang, fail_at: 0.5}");
+  const std::string yaml =
+      with_instance(isolated(base_config("", "watchdog: {hard_ms: 300}\n"), "filter"), "filter", "params: {fail_mode: hang, fail_at: 0.5}");
   const auto t0 = std::chrono::steady_clock::now();
   const FlightResult r = fly_yaml(yaml, "iso_hang");
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -164,8 +164,8 @@ TEST_CASE("a step over the watchdog's soft budget is reported once per instance 
 }
 
 TEST_CASE("an in-process step stuck in an endless loop ends `tern fly` within the hard budget; the log is complete") {
-  const fs::path cfg = write_file("loop.yaml", with_instance(base_config("", "watchdog: {hard_ms: 400}\n"), "filter",
-                                                             "params: {fail_mode: hang, fail_at: 0.5}"));
+  const fs::path cfg = write_file(
+      "loop.yaml", with_instance(base_config("", "watchdog: {hard_ms: 400}\n"), "filter", "params: {fail_mode: hang, fail_at: 0.5}"));
   const fs::path logdir = test_dir() / "loop_runs";
   const auto t0 = std::chrono::steady_clock::now();
   const int rc = run_tern({"fly", cfg.string(), "-q", "--log-dir", logdir.string()}, test_dir() / "loop.out");
@@ -189,8 +189,8 @@ TEST_CASE("an in-process step stuck in an endless loop ends `tern fly` within th
 }
 
 TEST_CASE("SIGINT ends a `tern fly` stuck in a plugin's endless loop: exit 130, summary.json written") {
-  const fs::path cfg = write_file("stuck.yaml", with_instance(base_config("", "watchdog: {hard_ms: 600000}\n"), "ctl",
-                                                              "params: {fail_mode: hang, fail_at: 0.2}"));
+  const fs::path cfg = write_file(
+      "stuck.yaml", with_instance(base_config("", "watchdog: {hard_ms: 600000}\n"), "ctl", "params: {fail_mode: hang, fail_at: 0.2}"));
   const fs::path logdir = test_dir() / "stuck_runs";
   const pid_t pid = spawn_tern({"fly", cfg.string(), "-q", "--log-dir", logdir.string()}, test_dir() / "stuck.out");
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));

@@ -98,8 +98,8 @@ TEST_CASE("a bad swap is refused, the old plugin flies on, and no temporary file
   };
   CHECK(swap_error(half).find("swap ctl <- " + half.string() + " refused, 'test_controller' keeps flying: cannot load '" + half.string() +
                               "': truncated: ") == 0);
-  const fs::path arm = broken("libtern_swap_arm.so", kController, fs::file_size(kController), offsetof(Elf64_Ehdr, e_machine),
-                                foreign_machine());
+  const fs::path arm =
+      broken("libtern_swap_arm.so", kController, fs::file_size(kController), offsetof(Elf64_Ehdr, e_machine), foreign_machine());
   CHECK(swap_error(arm).find("keeps flying: cannot load '" + arm.string() + "': built for ") != std::string::npos);
   CHECK(swap_dirs() == dirs_before);
   CHECK(h.fly().ok);

@@ -67,7 +67,7 @@ TEST_CASE("port graph: I/O first, then producers before consumers; a consumer sc
   const PortGraph g({ctl.node("ctl"), filter.node("filter"), sensor.node("sensor", true)}, {}, kFile);
   CHECK(g.order() == std::vector<std::size_t>{2, 1, 0});
   REQUIRE(g.edges().size() == 3);
-  CHECK(g.feedback(2, "actuators"));      // the sensor runs before the controller: previous tick
+  CHECK(g.feedback(2, "actuators"));  // the sensor runs before the controller: previous tick
   CHECK_FALSE(g.feedback(1, "imu"));
   CHECK_FALSE(g.feedback(0, "state"));
   // topics in order of first appearance, node by node, outputs first
@@ -136,7 +136,8 @@ TEST_CASE("port graph: writers and readers of a topic must carry one message typ
   c1.out<msg::Actuators>("actuators");
   c2.out<msg::State>("actuators");
   CHECK(graph_error({c1.node("c1", false, true), c2.node("c2", false, true)})
-            .find("/missions/m.yaml: topic 'actuators': writers disagree on the message type: c1.actuators publishes tern/Actuators (") == 0);
+            .find("/missions/m.yaml: topic 'actuators': writers disagree on the message type: c1.actuators publishes tern/Actuators (") ==
+        0);
   Ports w;
   w.out<msg::State>("state");
   r.in<msg::Imu>("state");

@@ -17,7 +17,7 @@ State aligned() {
   State s;
   s.valid = true;
   s.status = tern::msg::StateStatus::ok;
-  s.P_diag.fill(1e-4);  // 0.6 deg tilt/yaw sigma, 1 cm position
+  s.P_diag.fill(1e-4);                                                          // 0.6 deg tilt/yaw sigma, 1 cm position
   for (std::size_t i = 0; i < 3; ++i) s.P_diag[State::P_gyro_bias + i] = 1e-6;  // 0.06 deg/s
   return s;
 }
@@ -137,8 +137,8 @@ TEST_CASE("preflight: the flight holds with no controller until the checks pass,
 }
 
 TEST_CASE("preflight: an estimator that never aligns ends the flight with preflight_failed") {
-  const FlightResult r = fly_yaml(base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"),
-                             "preflight_fail");
+  const FlightResult r = fly_yaml(
+      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"), "preflight_fail");
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "preflight_failed: estimator not ready (status degraded)");
   CHECK(tern::to_seconds(r.flown) == doctest::Approx(1.0).epsilon(0.01));

@@ -38,8 +38,7 @@ inline int wait_for(pid_t pid) {
 }
 
 /// Runs tern to the end; returns its exit code (-signal if a signal ended it).
-inline int run_tern(const std::vector<std::string>& args, const std::filesystem::path& out,
-                    const std::function<void()>& in_child = {}) {
+inline int run_tern(const std::vector<std::string>& args, const std::filesystem::path& out, const std::function<void()>& in_child = {}) {
   const int status = wait_for(spawn_tern(args, out, in_child));
   return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
 }

@@ -70,7 +70,7 @@ TEST_CASE("safety monitor: the floor counts once the aircraft has been above it 
   msg::State s = cruising();
   msg::Actuators a;
   a.delta_t = 0.5;  // (throttle off while sinking would be a cause of its own)
-  s.p_d = -6.0;  // the climb starts at 5 m: below the 8-m floor, not armed yet
+  s.p_d = -6.0;     // the climb starts at 5 m: below the 8-m floor, not armed yet
   CHECK(m.check(step(0, s, a)).empty());
   CHECK(m.check(step(30 * kPeriod, s, a)).empty());
   s.p_d = -9.0;

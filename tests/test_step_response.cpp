@@ -31,7 +31,7 @@ TEST_CASE("first order: rise 2.197 tau, settling 3.912 tau, no overshoot, no ste
   const double tau = 0.5;
   const auto s = sample([&](double t) { return 1.0 - std::exp(-t / tau); }, 20 * tau, 1e-3, 42.0);
   const auto m = step_metrics(s.t, s.y, 1.0);
-  CHECK(m.rise_time == doctest::Approx(std::log(9.0) * tau).epsilon(1e-3));  // ln 9 = 2.197
+  CHECK(m.rise_time == doctest::Approx(std::log(9.0) * tau).epsilon(1e-3));        // ln 9 = 2.197
   CHECK(m.settling_time == doctest::Approx(-std::log(0.02) * tau).epsilon(1e-3));  // 3.912
   CHECK(m.overshoot_pct < 1e-3);
   CHECK(std::abs(m.steady_state_error) < 1e-6);
@@ -78,7 +78,7 @@ TEST_CASE("second order: overshoot exp(-zeta pi / sqrt(1 - zeta^2)), settling in
 TEST_CASE("a response outside the band at its last sample has no settling time (NaN)") {
   Series s;
   for (int i = 0; i <= 100; ++i) s.t.push_back(i * 0.01), s.y.push_back(i <= 90 ? 0.0 : 1.0);  // a jump at the end
-  s.y.back() = 0.5;  // leaves the band at the last sample
+  s.y.back() = 0.5;                                                                            // leaves the band at the last sample
   const auto m = step_metrics(s.t, s.y, 1.0);
   CHECK(std::isnan(m.settling_time));
 }

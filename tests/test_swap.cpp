@@ -178,22 +178,29 @@ TEST_CASE("100 swaps: no growth of mapped libraries, file descriptors or residen
 }
 
 TEST_CASE("the phase table changes between flights") {
-  auto h = host_for(base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2}}\n",
-                                "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: ctl2\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n"),
-                    "phases");
+  auto h = host_for(
+      base_config(
+          "  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2}}\n",
+          "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nfallback: ctl2\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n"),
+      "phases");
   CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}}, std::nullopt),
                        "phases: no controller for phase 'cruise'", ConfigError);
-  CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl3"}},
-                                     std::nullopt),
-                       "phases: no plugin instance named 'ctl3' (did you mean 'ctl'?)", ConfigError);
-  CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "sensor"}},
-                                     std::nullopt),
-                       "phases refused, the old table stays: phases.cruise: 'sensor' is not a controller: it runs plugin "
-                       "'test_sensor' (io); name one of: ctl, ctl2", ConfigError);
-  CHECK_THROWS_WITH_AS(h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl"}},
-                                     std::string("filter")),
-                       "phases refused, the old table stays: fallback: 'filter' is not a controller: it runs plugin "
-                       "'test_filter' (estimator); name one of: ctl, ctl2", ConfigError);
+  CHECK_THROWS_WITH_AS(
+      h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl3"}},
+                    std::nullopt),
+      "phases: no plugin instance named 'ctl3' (did you mean 'ctl'?)", ConfigError);
+  CHECK_THROWS_WITH_AS(
+      h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "sensor"}},
+                    std::nullopt),
+      "phases refused, the old table stays: phases.cruise: 'sensor' is not a controller: it runs plugin "
+      "'test_sensor' (io); name one of: ctl, ctl2",
+      ConfigError);
+  CHECK_THROWS_WITH_AS(
+      h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl"}},
+                    std::string("filter")),
+      "phases refused, the old table stays: fallback: 'filter' is not a controller: it runs plugin "
+      "'test_filter' (estimator); name one of: ctl, ctl2",
+      ConfigError);
   h->set_phases({{tern::msg::Phase::takeoff, "ctl"}, {tern::msg::Phase::climb, "ctl"}, {tern::msg::Phase::cruise, "ctl2"}}, std::nullopt);
   const FlightResult r = h->fly();
   REQUIRE(r.ok);

@@ -80,8 +80,8 @@ inline std::string base_config(const std::string& plugins_extra = "", const std:
 }
 
 /// Builds and flies `yaml` (quiet), its run directory under test_dir()/logdir.
-inline tern::core::FlightResult fly_yaml(const std::string& yaml, const std::string& logdir,
-                                         std::optional<std::uint64_t> seed = {}, std::optional<double> duration = {}) {
+inline tern::core::FlightResult fly_yaml(const std::string& yaml, const std::string& logdir, std::optional<std::uint64_t> seed = {},
+                                         std::optional<double> duration = {}) {
   tern::core::HostOptions o;
   o.quiet = true;
   o.seed = seed;

@@ -73,8 +73,7 @@ void apply_set(MissionConfig& c, const ParamOverride& po) {
   // a file in the working directory: a relative path value resolves against it, as in a shell
   ParamSetting s{po.value, fs::current_path() / "command-line", po.option, true, po.option};
   if (po.instance == "phase_machine") {
-    if (c.phases.empty())
-      throw ConfigError(po.option + ": this mission has no phase machine (no phases: table; --phases gives one)");
+    if (c.phases.empty()) throw ConfigError(po.option + ": this mission has no phase machine (no phases: table; --phases gives one)");
     c.phase_params[po.param] = s;
   } else if (po.instance == "metrics") {
     c.metrics_params[po.param] = s;
@@ -122,8 +121,7 @@ void apply_overrides(MissionConfig& c, const CliOverrides& o) {
   }
   if (o.fallback) {
     c.fallback_option = "--fallback " + *o.fallback;
-    if (c.phases.empty())
-      throw ConfigError(c.fallback_option + ": needs a phase table (the config's phases: or --phases)");
+    if (c.phases.empty()) throw ConfigError(c.fallback_option + ": needs a phase table (the config's phases: or --phases)");
     if (!has_instance(c, *o.fallback)) throw ConfigError(c.fallback_option + ": " + no_instance(c, *o.fallback));
     c.fallback = *o.fallback;
     c.overrides.push_back(c.fallback_option);

@@ -16,7 +16,9 @@ namespace tern::core {
 
 namespace {
 
-std::string str(const YAML::Node& n) { return n.IsScalar() ? n.Scalar() : std::string("<") + (n.IsMap() ? "map" : n.IsSequence() ? "list" : "null") + ">"; }
+std::string str(const YAML::Node& n) {
+  return n.IsScalar() ? n.Scalar() : std::string("<") + (n.IsMap() ? "map" : n.IsSequence() ? "list" : "null") + ">";
+}
 
 void require_map(const YAML::Node& n, const fs::path& file, const std::string& field) {
   if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + str(n));
@@ -44,8 +46,7 @@ fs::path resolve(const fs::path& base_dir, const std::string& p) {
   return path.lexically_normal();
 }
 
-std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const fs::path& file,
-                                                    const std::string& field, bool strict) {
+std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const fs::path& file, const std::string& field, bool strict) {
   std::map<std::string, ParamSetting> out;
   for (const auto& kv : map) {
     const std::string key = kv.first.as<std::string>();
@@ -173,8 +174,7 @@ ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const st
   return s;
 }
 
-std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance,
-                                                    const std::string& plugin) {
+std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance, const std::string& plugin) {
   const YAML::Node root = load_yaml(file, "parameter file");
   if (root.IsNull()) return {};
   require_map(root, file, "parameter file");
@@ -204,8 +204,9 @@ MissionConfig load_config(const fs::path& file_in) {
   const fs::path& f = c.file;
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
-  check_keys(root, f, "", {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins",
-                           "phases", "fallback", "phase_machine", "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
+  check_keys(root, f, "",
+             {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins", "phases", "fallback", "phase_machine",
+              "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
   if (const YAML::Node wd = root["watchdog"]) {
     require_map(wd, f, "watchdog");
     check_keys(wd, f, "watchdog", {"soft_ms", "hard_ms"});
@@ -286,8 +287,7 @@ MissionConfig load_config(const fs::path& file_in) {
         c.log.all_topics = true;
       } else if (t.IsSequence()) {
         c.log.all_topics = false;
-        for (std::size_t i = 0; i < t.size(); ++i)
-          c.log.topics.push_back(as_string(t[i], f, "log.topics[" + std::to_string(i) + "]"));
+        for (std::size_t i = 0; i < t.size(); ++i) c.log.topics.push_back(as_string(t[i], f, "log.topics[" + std::to_string(i) + "]"));
       } else {
         throw ConfigError(where(f, t) + "log.topics: expected 'all' or a list of topic names");
       }
@@ -322,13 +322,13 @@ MissionConfig load_config(const fs::path& file_in) {
       throw ConfigError(where(f, p["name"] ? p["name"] : p) + field + ".name: instance name '" + ic.name + "' is used twice");
     if (p["rate"]) ic.rate = as_rate(p["rate"], f, field + ".rate");
     if (p["trigger"]) ic.trigger = as_string(p["trigger"], f, field + ".trigger");
-    if (ic.rate && ic.trigger)
-      throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
+    if (ic.rate && ic.trigger) throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
     if (!ic.rate && !ic.trigger)
       throw ConfigError(where(f, p) + field + " (" + ic.name + "): missing 'rate' (Hz) or 'trigger' (an input port name)");
     if (p["budget_us"]) {
       ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
-      if (!(*ic.budget_us > 0)) throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
+      if (!(*ic.budget_us > 0))
+        throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
     }
     if (const YAML::Node iso = p["isolate"]) {
       if (!iso.IsScalar() || (iso.Scalar() != "true" && iso.Scalar() != "false"))
@@ -340,8 +340,7 @@ MissionConfig load_config(const fs::path& file_in) {
       try {
         ic.params = load_param_file(pfile, ic.name, ic.plugin);
       } catch (const ConfigError& e) {
-        if (!fs::exists(pfile))
-          throw ConfigError(where(f, pf) + field + ".param_file: '" + pfile.string() + "' not found");
+        if (!fs::exists(pfile)) throw ConfigError(where(f, pf) + field + ".param_file: '" + pfile.string() + "' not found");
         throw;
       }
     }

@@ -23,9 +23,9 @@ namespace fs = std::filesystem;
 
 /// One parameter value from the config or a parameter file, with where it came from.
 struct ParamSetting {
-  YAML::Node node;   ///< the value
-  fs::path file;     ///< file that set it (relative paths resolve against its directory)
-  std::string field; ///< e.g. "plugins[2].params.roll_kp"
+  YAML::Node node;     ///< the value
+  fs::path file;       ///< file that set it (relative paths resolve against its directory)
+  std::string field;   ///< e.g. "plugins[2].params.roll_kp"
   bool strict = true;  ///< unknown names are errors (false for shared ROS 2 parameter files)
   /// The command-line option that set it ("--set slc.roll_kp=0.5"), "" when a file did.
   std::string option{};
@@ -34,16 +34,16 @@ struct ParamSetting {
 };
 
 struct InstanceConfig {
-  std::size_t index = 0;       ///< position in `plugins:`
-  std::string name;            ///< instance name
-  std::string plugin;          ///< plugin name or a path to a .so
-  std::optional<double> rate;  ///< Hz
+  std::size_t index = 0;               ///< position in `plugins:`
+  std::string name;                    ///< instance name
+  std::string plugin;                  ///< plugin name or a path to a .so
+  std::optional<double> rate;          ///< Hz
   std::optional<std::string> trigger;  ///< input port name
   std::optional<double> budget_us;     ///< per-step time budget (default: the period)
-  bool isolate = false;        ///< run in a child process (isolated_plugin.hpp)
+  bool isolate = false;                ///< run in a child process (isolated_plugin.hpp)
   std::map<std::string, ParamSetting> params;
   std::map<std::string, std::string> remap;  ///< port -> topic
-  YAML::Node node;             ///< the entry, for error locations
+  YAML::Node node;                           ///< the entry, for error locations
 };
 
 /// How much of a flight the log keeps. summary: config.yaml, params.csv, tern.log, summary.json
@@ -56,12 +56,12 @@ const char* log_level_name(LogLevel level);
 std::optional<LogLevel> log_level_from_name(const std::string& name);
 
 struct LogConfig {
-  fs::path dir;                      ///< parent of the run directories
+  fs::path dir;  ///< parent of the run directories
   LogLevel level = LogLevel::full;
-  double decimated_rate = 10.0;      ///< Hz, every topic's limit at level decimated (> 0)
+  double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
-  std::vector<std::string> topics;   ///< when !all_topics
-  double max_rate = 100.0;           ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)
+  std::vector<std::string> topics;      ///< when !all_topics
+  double max_rate = 100.0;              ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)
   std::map<std::string, double> rates;  ///< per-topic max_rate overrides
 };
 
@@ -84,26 +84,26 @@ struct MissionCheckConfig {
 };
 
 struct MissionConfig {
-  fs::path file;               ///< absolute path of the config
-  fs::path dir;                ///< its directory
+  fs::path file;  ///< absolute path of the config
+  fs::path dir;   ///< its directory
   std::string name;
   std::uint64_t seed = 1;
-  double duration = 60.0;      ///< s
+  double duration = 60.0;           ///< s
   std::optional<double> base_rate;  ///< Hz
-  fs::path aircraft;           ///< resolved, empty if none
+  fs::path aircraft;                ///< resolved, empty if none
   std::vector<fs::path> plugin_path;
   LogConfig log;
   WatchdogConfig watchdog;
   std::vector<InstanceConfig> plugins;
   std::map<msg::Phase, std::string> phases;  ///< phase -> controller instance
   std::optional<std::string> fallback;
-  std::map<std::string, ParamSetting> phase_params;  ///< `phase_machine:` parameters
+  std::map<std::string, ParamSetting> phase_params;    ///< `phase_machine:` parameters
   std::map<std::string, ParamSetting> metrics_params;  ///< `metrics:` parameters
-  YAML::Node mission;          ///< free-form, for the path planner
-  YAML::Node dds;              ///< free-form, for the DDS bridge
-  FailsafeConfig failsafes;    ///< `failsafes:` (failsafe_config.hpp), the defaults without it
-  MissionCheckConfig check;    ///< `check:`
-  YAML::Node root;             ///< the whole document as loaded
+  YAML::Node mission;                                  ///< free-form, for the path planner
+  YAML::Node dds;                                      ///< free-form, for the DDS bridge
+  FailsafeConfig failsafes;                            ///< `failsafes:` (failsafe_config.hpp), the defaults without it
+  MissionCheckConfig check;                            ///< `check:`
+  YAML::Node root;                                     ///< the whole document as loaded
   /// Command-line options that changed it after loading (cli_overrides.hpp), as given; the
   /// flight log's config.yaml names them.
   std::vector<std::string> overrides;
@@ -140,7 +140,6 @@ ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const st
 /// Reads a parameter file: a flat map `name: value`, or ROS 2 style
 /// `<node>: {ros__parameters: {...}}` where the blocks named `/**`, `instance` or `plugin`
 /// apply (in that order, later wins). Throws ConfigError.
-std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance,
-                                                    const std::string& plugin);
+std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const std::string& instance, const std::string& plugin);
 
 }  // namespace tern::core

@@ -120,7 +120,8 @@ void check_elf(const fs::path& path) {
   Elf64_Ehdr e{};
   const std::size_t head = std::min<std::uint64_t>(size, sizeof e);
   if (!read_at(f.fd, &e, head, 0)) fail(std::strerror(errno));
-  if (head < sizeof e && (head < SELFMAG || std::memcmp(e.e_ident, ELFMAG, SELFMAG) != 0)) fail(fmt::format("not an ELF file ({} bytes)", size));
+  if (head < sizeof e && (head < SELFMAG || std::memcmp(e.e_ident, ELFMAG, SELFMAG) != 0))
+    fail(fmt::format("not an ELF file ({} bytes)", size));
   if (head < sizeof e) fail(fmt::format("truncated: {} bytes, less than an ELF header ({} bytes)", size, sizeof e));
   if (const std::string p = header_problem(e); !p.empty()) fail(p);
   if (const std::string p = extent_problem(f.fd, e, size); !p.empty()) fail(p);

@@ -78,7 +78,8 @@ bool ExternalPlugin::take_latest_outputs(Nanos now) {
   const auto hold = std::chrono::microseconds(static_cast<std::int64_t>(spec_.timeout_ms * 1000.0));
   bool all = true;
   for (std::size_t o = 0; o < out_.size(); ++o) {
-    if (link_->take_latest(o, now, buf_[o].data())) last_output_[o] = wall;
+    if (link_->take_latest(o, now, buf_[o].data()))
+      last_output_[o] = wall;
     else if (!last_output_[o] || wall - *last_output_[o] > hold) {
       all = false;
       continue;
@@ -96,8 +97,10 @@ void ExternalPlugin::exchange_outputs(Nanos now) {
   for (std::size_t o = 0; spec_.lockstep && o < out_.size(); ++o) {
     const auto left = std::max(std::chrono::microseconds(0),
                                timeout - std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t0));
-    if (link_->take(o, now, buf_[o].data(), left)) out_[o]->publish_copy(buf_[o].data(), out_[o]->sequence() + 1);
-    else all = false;
+    if (link_->take(o, now, buf_[o].data(), left))
+      out_[o]->publish_copy(buf_[o].data(), out_[o]->sequence() + 1);
+    else
+      all = false;
   }
   const double waited = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
   ++exchanges_;

@@ -57,11 +57,11 @@ class ExternalPlugin final : public Plugin {
   std::unique_ptr<ExternalLink> link_;
   std::vector<std::unique_ptr<InputBase>> in_;
   std::vector<std::unique_ptr<OutputBase>> out_;
-  std::vector<std::vector<unsigned char>> buf_;  // per output: the tern message taken
-  bool silent_ = false;                           // the last exchange missed an output
+  std::vector<std::vector<unsigned char>> buf_;                                    // per output: the tern message taken
+  bool silent_ = false;                                                            // the last exchange missed an output
   std::vector<std::optional<std::chrono::steady_clock::time_point>> last_output_;  // --realtime: when each came
   std::uint64_t exchanges_ = 0, timeouts_ = 0;
-  double wait_us_total_ = 0, wait_us_max_ = 0;    // wall time spent waiting for the module
+  double wait_us_total_ = 0, wait_us_max_ = 0;  // wall time spent waiting for the module
 };
 
 }  // namespace tern::core

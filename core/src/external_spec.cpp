@@ -49,7 +49,8 @@ ExternalTopic parse_topic(const YAML::Node& n, const fs::path& file, const std::
 }
 
 std::vector<ExternalTopic> parse_topics(const YAML::Node& list, const fs::path& file, const std::string& field, bool input) {
-  if (!list.IsSequence() || list.size() == 0) throw ConfigError(where(file, list) + field + ": expected a non-empty list of {port, topic, type}");
+  if (!list.IsSequence() || list.size() == 0)
+    throw ConfigError(where(file, list) + field + ": expected a non-empty list of {port, topic, type}");
   std::vector<ExternalTopic> out;
   for (std::size_t i = 0; i < list.size(); ++i) out.push_back(parse_topic(list[i], file, field + "[" + std::to_string(i) + "]", input));
   return out;
@@ -98,8 +99,7 @@ ExternalSpec parse_external_spec(const InstanceConfig& ic, const fs::path& file)
     if (s.role != "controller")
       throw ConfigError(where(file, n["role"]) + field + ".role: unknown role '" + s.role + "' (roles: controller)" +
                         did_you_mean(s.role, {"controller"}));
-    if (n["inputs"] || n["outputs"])
-      throw ConfigError(where(file, n["role"]) + field + ": give either role or inputs/outputs, not both");
+    if (n["inputs"] || n["outputs"]) throw ConfigError(where(file, n["role"]) + field + ": give either role or inputs/outputs, not both");
     fill_controller(s);
   } else {
     if (!n["inputs"] || !n["outputs"])
@@ -115,7 +115,8 @@ ExternalSpec parse_external_spec(const InstanceConfig& ic, const fs::path& file)
     } catch (const YAML::Exception&) {
     }
     if (!(v > 0) || !std::isfinite(v))
-      throw ConfigError(where(file, t) + field + ".timeout_ms: expected a number of ms > 0, got '" + (t.IsScalar() ? t.Scalar() : "<not a number>") + "'");
+      throw ConfigError(where(file, t) + field + ".timeout_ms: expected a number of ms > 0, got '" +
+                        (t.IsScalar() ? t.Scalar() : "<not a number>") + "'");
     s.timeout_ms = v;
   }
   if (n["namespace"]) {

@@ -50,11 +50,11 @@ struct ExternalTopic {
 
 struct ExternalSpec {
   std::string instance;
-  std::string role;                     ///< "" or "controller"
-  std::string ns;                       ///< ROS namespace without slashes at the ends ("" : none)
-  std::vector<ExternalTopic> inputs;    ///< published by tern each step
-  std::vector<ExternalTopic> outputs;   ///< taken by tern each step (stamped for the step's tick)
-  double timeout_ms = 500.0;            ///< ms a step waits for each output, > 0
+  std::string role;                    ///< "" or "controller"
+  std::string ns;                      ///< ROS namespace without slashes at the ends ("" : none)
+  std::vector<ExternalTopic> inputs;   ///< published by tern each step
+  std::vector<ExternalTopic> outputs;  ///< taken by tern each step (stamped for the step's tick)
+  double timeout_ms = 500.0;           ///< ms a step waits for each output, > 0
   /// true (fast time): each step waits for the outputs stamped for its tick. false (--realtime):
   /// each step takes the newest output that came, whatever its stamp, and holds it up to
   /// timeout_ms of wall time; older than that, the module is silent.

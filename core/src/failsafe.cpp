@@ -8,7 +8,9 @@
 namespace tern::core {
 
 namespace {
-bool usable(const msg::State* s) { return s != nullptr && s->valid && std::isfinite(s->p_n) && std::isfinite(s->p_e) && std::isfinite(s->p_d); }
+bool usable(const msg::State* s) {
+  return s != nullptr && s->valid && std::isfinite(s->p_n) && std::isfinite(s->p_e) && std::isfinite(s->p_d);
+}
 }  // namespace
 
 msg::Actuators termination_command(TerminateAction action, double max_deflection) {
@@ -54,16 +56,19 @@ std::vector<FailsafeEvent> FailsafeMonitor::check(const FailsafeInputs& in) {
 void FailsafeMonitor::gnss(const FailsafeInputs& in, std::vector<FailsafeEvent>& out) {
   const GnssLossConfig& c = config_.gnss_loss;
   const bool degraded = in.state != nullptr && (in.state->degraded_sensors & msg::sensor_bit::gnss) != 0;
-  if (!degraded) degraded_since_.reset();
-  else if (!degraded_since_) degraded_since_ = in.now;
+  if (!degraded)
+    degraded_since_.reset();
+  else if (!degraded_since_)
+    degraded_since_ = in.now;
   if (!in.last_fix) return;  // no fix yet: nothing lost
   const double silent = to_seconds(in.now - *in.last_fix);
   const double flagged = degraded_since_ ? to_seconds(in.now - *degraded_since_) : 0.0;
   const bool lost = silent > c.timeout || flagged > c.timeout;
   if (gnss_lost_at_ && !lost && !degraded) {
-    out.push_back({in.now, "gnss_back", "none",
-                   fmt::format("GNSS fix back after {:.1f} s without; the aircraft keeps loitering (resume the mission with a mission edit)",
-                               to_seconds(in.now - *gnss_lost_at_))});
+    out.push_back(
+        {in.now, "gnss_back", "none",
+         fmt::format("GNSS fix back after {:.1f} s without; the aircraft keeps loitering (resume the mission with a mission edit)",
+                     to_seconds(in.now - *gnss_lost_at_))});
     gnss_lost_at_.reset();
     return;
   }
@@ -91,11 +96,11 @@ void FailsafeMonitor::link(const FailsafeInputs& in, std::vector<FailsafeEvent>&
   if (link_lost_at_) {
     if (c.terminate_after && !terminated_ && to_seconds(in.now - *link_lost_at_) >= *c.terminate_after) {
       terminated_ = true;
-      FailsafeEvent e{in.now, "terminate", "terminate",
-                      fmt::format("ground link still lost {} s after the return home: flight termination ({}: motor off{})",
-                                  *c.terminate_after, c.terminate_action == TerminateAction::spin ? "spin" : "glide",
-                                  c.terminate_action == TerminateAction::spin ? ", full up elevator, full aileron and rudder"
-                                                                               : ", surfaces neutral")};
+      FailsafeEvent e{
+          in.now, "terminate", "terminate",
+          fmt::format("ground link still lost {} s after the return home: flight termination ({}: motor off{})", *c.terminate_after,
+                      c.terminate_action == TerminateAction::spin ? "spin" : "glide",
+                      c.terminate_action == TerminateAction::spin ? ", full up elevator, full aileron and rudder" : ", surfaces neutral")};
       e.terminate = c.terminate_action;
       out.push_back(e);
     }
@@ -104,10 +109,10 @@ void FailsafeMonitor::link(const FailsafeInputs& in, std::vector<FailsafeEvent>&
   if (silent <= c.timeout || !in.airborne || !last_position_) return;
   link_lost_at_ = in.now;
   const double h = c.altitude.value_or(-last_position_->z());
-  out.push_back({in.now, "link_loss", "return_home",
-                 fmt::format("ground station silent for {:.1f} s (timeout {} s): return home, loiter at altitude {:.1f} m", silent,
-                             c.timeout, h),
-                 Eigen::Vector3d(0.0, 0.0, -h), c.radius});
+  out.push_back(
+      {in.now, "link_loss", "return_home",
+       fmt::format("ground station silent for {:.1f} s (timeout {} s): return home, loiter at altitude {:.1f} m", silent, c.timeout, h),
+       Eigen::Vector3d(0.0, 0.0, -h), c.radius});
 }
 
 FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s) const {

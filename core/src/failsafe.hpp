@@ -60,20 +60,20 @@ struct LinkLossConfig {
   /// off: a `tern param get` followed by silence must not send the aircraft home); then only
   /// once a ground station has been heard
   bool enabled = false;
-  double timeout = 10.0;  ///< s: PX4's COM_DL_LOSS_T default
-  std::optional<double> altitude;  ///< m above home of the loiter at home (none: the altitude at the loss)
-  double radius = 0.0;  ///< m of the loiter, >= 0 (0: the path manager's turn radius)
+  double timeout = 10.0;                  ///< s: PX4's COM_DL_LOSS_T default
+  std::optional<double> altitude;         ///< m above home of the loiter at home (none: the altitude at the loss)
+  double radius = 0.0;                    ///< m of the loiter, >= 0 (0: the path manager's turn radius)
   std::optional<double> terminate_after;  ///< s after the engagement, link still lost (none: never)
   TerminateAction terminate_action = TerminateAction::glide;
 };
 
 struct GeofenceConfig {
-  bool enabled = false;  ///< on when the config gives the section
-  std::optional<double> max_distance;  ///< m from home, horizontal
+  bool enabled = false;                              ///< on when the config gives the section
+  std::optional<double> max_distance;                ///< m from home, horizontal
   std::optional<double> min_altitude, max_altitude;  ///< m above home
-  std::vector<Eigen::Vector2d> polygon;  ///< (n, e) m vertices, in order; empty: none (>= 3 otherwise)
-  double altitude_margin = 10.0;  ///< m inside the altitude limits for the loiter at home
-  double radius = 0.0;  ///< m of the loiter, >= 0 (0: the path manager's turn radius)
+  std::vector<Eigen::Vector2d> polygon;              ///< (n, e) m vertices, in order; empty: none (>= 3 otherwise)
+  double altitude_margin = 10.0;                     ///< m inside the altitude limits for the loiter at home
+  double radius = 0.0;                               ///< m of the loiter, >= 0 (0: the path manager's turn radius)
 };
 
 struct FailsafeConfig {
@@ -94,11 +94,11 @@ struct FailsafeInputs {
 /// An engagement (action loiter, return_home or terminate) or the end of a cause (action none).
 struct FailsafeEvent {
   Nanos t = 0;
-  std::string cause;   ///< gnss_loss, gnss_back, link_loss, link_back, geofence, geofence_inside, terminate
-  std::string action;  ///< loiter, return_home, terminate, none
-  std::string detail;  ///< one line for the log and summary.json
+  std::string cause;                                 ///< gnss_loss, gnss_back, link_loss, link_back, geofence, geofence_inside, terminate
+  std::string action;                                ///< loiter, return_home, terminate, none
+  std::string detail;                                ///< one line for the log and summary.json
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< loiter/return_home: orbit centre NED, m
-  double radius = 0.0;  ///< m (0: the path manager's turn radius)
+  double radius = 0.0;                               ///< m (0: the path manager's turn radius)
   TerminateAction terminate = TerminateAction::glide;
 };
 

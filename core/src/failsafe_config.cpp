@@ -14,7 +14,9 @@ namespace {
 struct Reader {
   const std::filesystem::path& file;
 
-  std::string value_of(const YAML::Node& n) const { return n.IsScalar() ? n.Scalar() : n.IsMap() ? "<map>" : n.IsSequence() ? "<list>" : "<null>"; }
+  std::string value_of(const YAML::Node& n) const {
+    return n.IsScalar() ? n.Scalar() : n.IsMap() ? "<map>" : n.IsSequence() ? "<list>" : "<null>";
+  }
   void map(const YAML::Node& n, const std::string& field, const std::vector<std::string>& keys) const {
     if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + value_of(n));
     check_keys(n, file, field, keys);
@@ -59,9 +61,12 @@ void read_link(const Reader& r, const YAML::Node& n, LinkLossConfig& c) {
     c.terminate_after = r.number(t["after"], "failsafes.link_loss.terminate.after", 0.0, "s");
     if (const YAML::Node a = t["action"]) {
       const std::string v = r.value_of(a);
-      if (v == "glide") c.terminate_action = TerminateAction::glide;
-      else if (v == "spin") c.terminate_action = TerminateAction::spin;
-      else throw ConfigError(where(r.file, a) + "failsafes.link_loss.terminate.action: '" + v + "' is not glide or spin");
+      if (v == "glide")
+        c.terminate_action = TerminateAction::glide;
+      else if (v == "spin")
+        c.terminate_action = TerminateAction::spin;
+      else
+        throw ConfigError(where(r.file, a) + "failsafes.link_loss.terminate.action: '" + v + "' is not glide or spin");
     }
   }
 }
@@ -72,7 +77,8 @@ void read_polygon(const Reader& r, const YAML::Node& n, GeofenceConfig& c) {
     throw ConfigError(where(r.file, n) + field + ": expected a list of at least 3 [n, e] vertices (m from home), got " + r.value_of(n));
   for (std::size_t i = 0; i < n.size(); ++i) {
     const std::string at = fmt::format("{}[{}]", field, i);
-    if (!n[i].IsSequence() || n[i].size() != 2) throw ConfigError(where(r.file, n[i]) + at + ": expected [n, e] (m), got " + r.value_of(n[i]));
+    if (!n[i].IsSequence() || n[i].size() != 2)
+      throw ConfigError(where(r.file, n[i]) + at + ": expected [n, e] (m), got " + r.value_of(n[i]));
     c.polygon.emplace_back(r.number(n[i][0], at + "[0]", -1e7, "m"), r.number(n[i][1], at + "[1]", -1e7, "m"));
   }
   if (!inside_polygon(c.polygon, Eigen::Vector2d::Zero()))
@@ -89,9 +95,10 @@ void read_geofence(const Reader& r, const YAML::Node& n, GeofenceConfig& c) {
   if (n["radius"]) c.radius = r.number(n["radius"], "failsafes.geofence.radius", 0.0, "m");
   if (n["polygon"]) read_polygon(r, n["polygon"], c);
   if (c.min_altitude && c.max_altitude && *c.max_altitude - *c.min_altitude < 2.0 * c.altitude_margin)
-    throw ConfigError(where(r.file, n["max_altitude"]) +
-                      fmt::format("failsafes.geofence.max_altitude: {} m leaves less than 2 x altitude_margin ({} m) above min_altitude {} m",
-                                  *c.max_altitude, c.altitude_margin, *c.min_altitude));
+    throw ConfigError(
+        where(r.file, n["max_altitude"]) +
+        fmt::format("failsafes.geofence.max_altitude: {} m leaves less than 2 x altitude_margin ({} m) above min_altitude {} m",
+                    *c.max_altitude, c.altitude_margin, *c.min_altitude));
   if (c.enabled && !c.max_distance && !c.min_altitude && !c.max_altitude && c.polygon.empty())
     throw ConfigError(where(r.file, n) + "failsafes.geofence: no limit (give max_distance, min_altitude, max_altitude or polygon)");
 }

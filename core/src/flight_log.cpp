@@ -163,8 +163,7 @@ void FlightLog::report() {
   if (auto e = health_.take_unreported()) on_error_(fmt::format("flight log: {}; logging stopped, the flight goes on", *e));
 }
 
-std::size_t FlightLog::format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out,
-                              std::size_t& capacity) const {
+std::size_t FlightLog::format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out, std::size_t& capacity) const {
   const std::size_t rec = sizeof(Nanos) + t.msg_size;
   const std::size_t rows = bytes.size() / rec;
   const std::size_t row_max = (t.columns.size() + 1) * (kMaxCellChars + 1) + 1;

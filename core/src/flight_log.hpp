@@ -98,8 +98,7 @@ class FlightLog {
   void hand_over(std::size_t topic, std::vector<char>& buf);
   /// Formats the records in `bytes` as CSV rows into `out` (grown to `capacity` when needed);
   /// returns the number of characters written.
-  std::size_t format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out,
-                     std::size_t& capacity) const;
+  std::size_t format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out, std::size_t& capacity) const;
 
   fs::path dir_;
   ErrorHandler on_error_;

@@ -34,7 +34,8 @@ struct WaypointItem {
   std::uint32_t revision = 0;  // the list's revision
   std::uint32_t index = 0;     // position in the list
   msg::Waypoint waypoint{};
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&WaypointItem::stamp, "stamp", "ns");
     v(&WaypointItem::revision, "revision", "");
     v(&WaypointItem::index, "index", "");

@@ -71,13 +71,13 @@ class FlightRecorder {
   }
 
  private:
-  struct Logged {  // per topic of the graph
-    std::size_t index = SIZE_MAX;       // FlightLog topic index (SIZE_MAX: not logged)
-    std::size_t items = SIZE_MAX;       // FlightLog index of a waypoint list's items table
+  struct Logged {                        // per topic of the graph
+    std::size_t index = SIZE_MAX;        // FlightLog topic index (SIZE_MAX: not logged)
+    std::size_t items = SIZE_MAX;        // FlightLog index of a waypoint list's items table
     const OutputBase* source = nullptr;  // writer of the message last captured
-    std::uint64_t seq = 0;              // its sequence number
-    Nanos interval = 0;                 // minimum flight time between two captures
-    Nanos t = 0;                        // flight time of the last capture
+    std::uint64_t seq = 0;               // its sequence number
+    Nanos interval = 0;                  // minimum flight time between two captures
+    Nanos t = 0;                         // flight time of the last capture
   };
   FlightLog log_;
   std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks_;

@@ -17,16 +17,18 @@ namespace {
 
 YAML::Node to_yaml(const ParamValue& v) {
   YAML::Node n;
-  std::visit([&](const auto& x) {
-    using T = std::decay_t<decltype(x)>;
-    if constexpr (std::is_same_v<T, std::vector<double>>) {
-      n = YAML::Node(YAML::NodeType::Sequence);
-      for (double d : x) n.push_back(d);
-      n.SetStyle(YAML::EmitterStyle::Flow);
-    } else {
-      n = x;
-    }
-  }, v);
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          n = YAML::Node(YAML::NodeType::Sequence);
+          for (double d : x) n.push_back(d);
+          n.SetStyle(YAML::EmitterStyle::Flow);
+        } else {
+          n = x;
+        }
+      },
+      v);
   return n;
 }
 
@@ -183,7 +185,8 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
   if (f.phase_machine) phases_json(*f.phase_machine, f.router, j);
   auto fs = nlohmann::ordered_json::array();
-  for (const auto& e : f.failsafes) fs.push_back({{"t_s", to_seconds(e.t)}, {"cause", e.cause}, {"action", e.action}, {"detail", e.detail}});
+  for (const auto& e : f.failsafes)
+    fs.push_back({{"t_s", to_seconds(e.t)}, {"cause", e.cause}, {"action", e.action}, {"detail", e.detail}});
   j["failsafes"] = fs;
   j["instances"] = instances_json(f.instances);
   if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
@@ -238,14 +241,15 @@ std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
     s += fmt::format("RMS estimation error, estimate vs truth in the simulator's frame (sensor profile: {}):\n",
                      profile.empty() ? "not a tern simulator" : profile);
     const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
-    s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg", "airspeed m/s");
+    s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg",
+                     "airspeed m/s");
     s += fmt::format(fmt::runtime(row8 + "   tern\n"), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
     if (fm.has_gnss()) {
       const auto& g = fm.raw_gnss();
       s += fmt::format(fmt::runtime(row8 + "   raw GNSS (latest fix vs truth)\n"), v(g[0]), v(g[1]), v(g[2]), "", "", "", "", "");
     }
-    s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"),
-                     "0.325", "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
+    s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"), "0.325",
+                     "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
   }
   s += fmt::format("waypoints reached: {}\n", fm.passages().size());
   return s;

@@ -27,10 +27,11 @@ class FlightMetrics;
 
 struct FlightResult {
   fs::path run_dir;
-  std::string end_reason;  ///< "duration", "aborted" (Host::abort_flight), "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's end_flight reason ("crash")
+  std::string end_reason;  ///< "duration", "aborted" (Host::abort_flight), "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's
+                           ///< end_flight reason ("crash")
   std::string end_detail;  ///< with a plugin's end_flight: "instance at t=...: what it said"; else empty
   bool ok = true;
-  std::string log_error;   ///< the flight log's first write error: some of the log is missing ("" if none)
+  std::string log_error;  ///< the flight log's first write error: some of the log is missing ("" if none)
   Nanos flown = 0;
   double wall_s = 0;
   double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
@@ -52,7 +53,7 @@ struct FlightFacts {
   const std::vector<std::unique_ptr<Instance>>& instances;
   const PhaseMachine* phase_machine;  ///< nullptr without `phases:`
   const PhaseRouter& router;
-  const FlightMetrics* metrics;       ///< nullptr when nothing publishes `state`
+  const FlightMetrics* metrics;  ///< nullptr when nothing publishes `state`
   double start_to_first_tick_ms;
   const std::vector<FailsafeEvent>& failsafes;  ///< engagements and cleared causes, in time order
 };

@@ -123,8 +123,10 @@ void Host::rebuild_graph() {
     Instance& inst = *instances_[i];
     inst.divisor = rates.divisors[i];
     inst.stats.budget_ns = rates.budgets[i];
-    if (inst.idle) nodes.push_back({inst.cfg.name, false, false, {}, {}});  // writes and reads nothing
-    else nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
+    if (inst.idle)
+      nodes.push_back({inst.cfg.name, false, false, {}, {}});  // writes and reads nothing
+    else
+      nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
   }
   const OutputBase* edits = remote_.renew_mission_edit_output();
   const OutputBase* pilot = remote_.renew_pilot_output();
@@ -144,7 +146,8 @@ SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
   }
   if (idx == SIZE_MAX) throw ConfigError("swap: no plugin instance named '" + instance + "'" + did_you_mean(instance, names));
   fs::path so = so_in;
-  if (so.string().find('/') == std::string::npos && so.extension() != ".so") so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
+  if (so.string().find('/') == std::string::npos && so.extension() != ".so")
+    so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
   so = fs::absolute(so).lexically_normal();
   if (!fs::exists(so)) throw ConfigError("swap: '" + so.string() + "' not found");
   fs::path copy;
@@ -174,7 +177,8 @@ SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
     fresh->drop_plugin();
     fresh->lib.reset();
     discard_copy();
-    throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name + "' keeps flying: " + e.what());
+    throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name +
+                      "' keeps flying: " + e.what());
   }
   std::swap(instances_[idx], fresh);  // `fresh` is now the old instance
   try {
@@ -185,7 +189,8 @@ SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
     fresh->drop_plugin();
     fresh->lib.reset();
     discard_copy();
-    throw ConfigError("swap " + instance + " <- " + so.string() + " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
+    throw ConfigError("swap " + instance + " <- " + so.string() +
+                      " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
   }
   if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
   const fs::path old_path = fresh->lib ? fresh->lib->info().path : fs::path();
@@ -308,8 +313,8 @@ std::string Host::graph_text() const {
   for (std::size_t k = 0; k < graph_.order().size(); ++k) {
     const std::size_t idx = graph_.order()[k];
     const auto& inst = *instances_[idx];
-    std::string when = inst.trigger ? "on " + inst.trigger->name()
-                                    : fmt::format("{} Hz", 1e9 / static_cast<double>(base_period_ * inst.divisor));
+    std::string when =
+        inst.trigger ? "on " + inst.trigger->name() : fmt::format("{} Hz", 1e9 / static_cast<double>(base_period_ * inst.divisor));
     std::string route;
     if (inst.routed) {
       std::vector<std::string> phases;
@@ -323,7 +328,7 @@ std::string Host::graph_text() const {
     s += fmt::format("  {}. {} ({}, {}) {}{}\n", k + 1, inst.cfg.name, inst.info.name, kind_name(inst.info.kind), when, route);
     if (inst.info.name == "external")  // ports on DDS topics (external_plugin.hpp): which ones
       for (const std::vector<PortBase*>& ports : {std::vector<PortBase*>(inst.plugin->inputs().begin(), inst.plugin->inputs().end()),
-                                                   std::vector<PortBase*>(inst.plugin->outputs().begin(), inst.plugin->outputs().end())})
+                                                  std::vector<PortBase*>(inst.plugin->outputs().begin(), inst.plugin->outputs().end())})
         for (const PortBase* p : ports) s += fmt::format("       {} [{}]: {}\n", p->topic(), p->type().name, p->description());
   }
   return s + "topics:\n" + graph_.describe_topics();
@@ -334,7 +339,9 @@ std::string Host::graph_dot() const {
   for (std::size_t i = 0; i < instances_.size(); ++i)
     s += fmt::format("  \"{}\" [label=\"{}\\n{}{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
                      instances_[i]->idle ? "\\n(not routed: idle)" : "",
-                     instances_[i]->info.kind == PluginKind::io ? ", style=bold" : instances_[i]->idle ? ", style=dashed" : "");
+                     instances_[i]->info.kind == PluginKind::io ? ", style=bold"
+                     : instances_[i]->idle                      ? ", style=dashed"
+                                                                : "");
   for (const auto& e : graph_.edges())
     s += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\"{}];\n", instances_[e.from]->cfg.name, instances_[e.to]->cfg.name, e.topic,
                      e.feedback ? ", style=dashed" : "");
@@ -343,7 +350,16 @@ std::string Host::graph_dot() const {
 }
 
 FlightFacts Host::facts(double duration_s) const {
-  return {config_, seed_, duration_s, flights_, base_period_, instances_, phase_machine_, router_, metrics_, start_to_first_tick_ms_,
+  return {config_,
+          seed_,
+          duration_s,
+          flights_,
+          base_period_,
+          instances_,
+          phase_machine_,
+          router_,
+          metrics_,
+          start_to_first_tick_ms_,
           failsafes_.events()};
 }
 
@@ -389,14 +405,16 @@ FlightResult Host::fly() {
   Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
   start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
   flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
-  watchdog_.arm(config_.watchdog, [] { return g_stop_signal.load(); }, [&](const std::string& reason, const std::string& detail) {
-    r.ok = reason != "watchdog";
-    r.end_reason = reason;
-    r.end_detail = detail;
-    r.flown = clock.now();
-    r.wall_s = clock.wall_s();
-    emergency_end(recorder, r, duration);
-  });
+  watchdog_.arm(
+      config_.watchdog, [] { return g_stop_signal.load(); },
+      [&](const std::string& reason, const std::string& detail) {
+        r.ok = reason != "watchdog";
+        r.end_reason = reason;
+        r.end_detail = detail;
+        r.flown = clock.now();
+        r.wall_s = clock.wall_s();
+        emergency_end(recorder, r, duration);
+      });
   bool aborted = false;
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);

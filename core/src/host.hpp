@@ -59,12 +59,12 @@ struct SwapReport {
 
 struct HostOptions {
   std::optional<std::uint64_t> seed;
-  std::optional<double> duration;          ///< s
-  std::optional<fs::path> log_dir;         ///< parent of run directories
+  std::optional<double> duration;   ///< s
+  std::optional<fs::path> log_dir;  ///< parent of run directories
   bool realtime = false;
-  bool progress = false;                   ///< live status line on stdout
-  bool describing = false;                 ///< configure only (check/params): open no files/devices
-  bool quiet = false;                      ///< no console log below warnings
+  bool progress = false;    ///< live status line on stdout
+  bool describing = false;  ///< configure only (check/params): open no files/devices
+  bool quiet = false;       ///< no console log below warnings
   /// `tern replay`: play this flight log's sensor and truth topics instead of an I/O plugin, and
   /// keep only the config's estimator instances.
   std::optional<fs::path> replay_dir;

@@ -101,8 +101,7 @@ void run_configure(Instance& inst, const fs::path& f, const std::string& field) 
   } catch (const ParamError& e) {
     const std::string& p = inst.ctx->last_param();
     auto it = inst.cfg.params.find(p);
-    if (it != inst.cfg.params.end())
-      throw ConfigError(it->second.location() + ": " + e.what());
+    if (it != inst.cfg.params.end()) throw ConfigError(it->second.location() + ": " + e.what());
     throw ConfigError(where(f, inst.cfg.node) + field + " (" + inst.cfg.name + "): " + e.what());
   } catch (const ConfigError&) {
     throw;
@@ -131,8 +130,8 @@ void apply_remaps_and_trigger(Instance& inst, const fs::path& f, const std::stri
       std::vector<std::string> ports;
       for (auto* i : inst.plugin->inputs()) ports.push_back(i->name());
       for (auto* o : inst.plugin->outputs()) ports.push_back(o->name());
-      throw ConfigError(where(f, inst.cfg.node["remap"]) + field + ".remap: plugin '" + inst.info.name + "' has no port '" +
-                        port + "'" + did_you_mean(port, ports));
+      throw ConfigError(where(f, inst.cfg.node["remap"]) + field + ".remap: plugin '" + inst.info.name + "' has no port '" + port + "'" +
+                        did_you_mean(port, ports));
     }
     p->set_topic(topic);
   }
@@ -141,8 +140,8 @@ void apply_remaps_and_trigger(Instance& inst, const fs::path& f, const std::stri
     if (inst.trigger == nullptr) {
       std::vector<std::string> ports;
       for (auto* i : inst.plugin->inputs()) ports.push_back(i->name());
-      throw ConfigError(where(f, inst.builtin ? inst.cfg.node : inst.cfg.node["trigger"]) + field + ".trigger: plugin '" +
-                        inst.info.name + "' has no input port '" + *inst.cfg.trigger + "'" + did_you_mean(*inst.cfg.trigger, ports));
+      throw ConfigError(where(f, inst.builtin ? inst.cfg.node : inst.cfg.node["trigger"]) + field + ".trigger: plugin '" + inst.info.name +
+                        "' has no input port '" + *inst.cfg.trigger + "'" + did_you_mean(*inst.cfg.trigger, ports));
     }
   }
 }
@@ -169,7 +168,8 @@ void isolate_instance(Instance& inst, const InstanceSetup& setup) {
     inst.isolated = proxy.get();
     inst.plugin = std::move(proxy);
   } catch (const ConfigError& e) {
-    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + "plugins[" + std::to_string(inst.cfg.index) + "].isolate: " + e.what());
+    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + "plugins[" + std::to_string(inst.cfg.index) +
+                      "].isolate: " + e.what());
   }
 }
 
@@ -200,7 +200,8 @@ std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const In
   ExternalSpec spec = parse_external_spec(ic, f);
   spec.lockstep = !setup.realtime;
   if (!external_link_factory())
-    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: 'external' needs tern built with DDS (libfastrtps-dev and "
+    throw ConfigError(where(f, ic.node["plugin"]) + field +
+                      ".plugin: 'external' needs tern built with DDS (libfastrtps-dev and "
                       "fastddsgen: make deps), and this tern was built without");
   if (ic.isolate) throw ConfigError(where(f, ic.node["isolate"]) + field + ".isolate: an external module runs in its own process already");
   auto inst = std::make_unique<Instance>();
@@ -222,8 +223,7 @@ std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const In
 
 // The instances of `plugins:`; nullptr for those a replay leaves out (not estimators).
 std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const InstanceConfig& ic, bool replaying,
-                                          const std::vector<fs::path>& search,
-                                          std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
+                                          const std::vector<fs::path>& search, std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
   const fs::path& f = setup.config.file;
   const std::string field = "plugins[" + std::to_string(ic.index) + "]";
   if (is_external(ic)) return replaying ? nullptr : external_instance(setup, ic);
@@ -241,8 +241,8 @@ std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const Inst
   inst->info = inst->lib->info();
   inst->source = path;
   if (ic.plugin.find('/') == std::string::npos && inst->info.name != ic.plugin)
-    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" +
-                      inst->info.name + "', not '" + ic.plugin + "'");
+    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" + inst->info.name +
+                      "', not '" + ic.plugin + "'");
   if (replaying && inst->info.kind != PluginKind::estimator) return nullptr;
   inst->plugin = inst->lib->create();
   configure_instance(*inst, setup);
@@ -251,9 +251,8 @@ std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const Inst
 }
 
 // A built-in instance: reserved name, triggered by `state`, parameters from its own config section.
-void add_builtin(const InstanceSetup& setup, std::vector<std::unique_ptr<Instance>>& list, std::size_t index,
-                 const std::string& name, const std::string& description, const std::map<std::string, ParamSetting>& params,
-                 std::unique_ptr<Plugin> plugin) {
+void add_builtin(const InstanceSetup& setup, std::vector<std::unique_ptr<Instance>>& list, std::size_t index, const std::string& name,
+                 const std::string& description, const std::map<std::string, ParamSetting>& params, std::unique_ptr<Plugin> plugin) {
   for (const auto& other : list)
     if (other->cfg.name == name)
       throw ConfigError(where(setup.config.file, other->cfg.node) + "instance name '" + name + "' is reserved for " + description);

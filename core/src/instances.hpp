@@ -47,17 +47,17 @@ struct Instance {
   /// The plugin's first end_flight() since the last call, if any (and forgets it).
   std::optional<EndRequest> take_end_request();
   InstanceConfig cfg;
-  std::shared_ptr<PluginLibrary> lib;      // outlives `plugin`
+  std::shared_ptr<PluginLibrary> lib;  // outlives `plugin`
   std::unique_ptr<InstanceContext> ctx;
-  std::unique_ptr<Plugin> plugin;          // destroyed first
+  std::unique_ptr<Plugin> plugin;  // destroyed first
   PluginInfo info;
-  fs::path source;                         // the .so as named (swaps load a private copy)
-  std::int64_t divisor = 0;                // rate instances: step when tick % divisor == 0
-  InputBase* trigger = nullptr;            // trigger instances
-  bool routed = false;                     // a controller behind the phase router
-  bool idle = false;                       // a controller the phase table does not name: never steps, no ports in the graph
+  fs::path source;               // the .so as named (swaps load a private copy)
+  std::int64_t divisor = 0;      // rate instances: step when tick % divisor == 0
+  InputBase* trigger = nullptr;  // trigger instances
+  bool routed = false;           // a controller behind the phase router
+  bool idle = false;             // a controller the phase table does not name: never steps, no ports in the graph
   bool builtin = false;
-  IsolatedPlugin* isolated = nullptr;      // `plugin` when it runs in a child process
+  IsolatedPlugin* isolated = nullptr;  // `plugin` when it runs in a child process
   StepStats stats;
   /// Why an isolated instance failed this flight ("" while it works, and for in-process ones).
   std::string failure() const;
@@ -66,11 +66,11 @@ struct Instance {
 /// What configuring an instance takes from the host.
 struct InstanceSetup {
   const MissionConfig& config;
-  std::uint64_t seed;  ///< the flight's; instance i gets splitmix64(seed ^ fnv1a(name))
+  std::uint64_t seed;                         ///< the flight's; instance i gets splitmix64(seed ^ fnv1a(name))
   std::shared_ptr<spdlog::sinks::sink> sink;  ///< where the instances' loggers write
-  bool describing;     ///< check/params: configure only, open no files or devices
-  spdlog::logger& log;  ///< the host's logger (warnings)
-  bool realtime = false;  ///< --realtime: external instances take the latest output, no lockstep
+  bool describing;                            ///< check/params: configure only, open no files or devices
+  spdlog::logger& log;                        ///< the host's logger (warnings)
+  bool realtime = false;                      ///< --realtime: external instances take the latest output, no lockstep
 };
 
 /// Attaches a context to `inst.plugin` and configures it (see above). Throws ConfigError.

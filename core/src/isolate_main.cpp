@@ -126,8 +126,10 @@ void Child::inputs_in() {
     src->set_sequence(s.seq);
     if ((ins[k]->source() != nullptr) != (s.bound != 0)) ins[k]->bind(s.bound ? src : nullptr);
     if (ins[k]->updated() == (s.updated != 0)) continue;
-    if (s.updated) ins[k]->bind(src);  // seen 0: updated, since seq > 0
-    else ins[k]->mark_seen();
+    if (s.updated)
+      ins[k]->bind(src);  // seen 0: updated, since seq > 0
+    else
+      ins[k]->mark_seen();
   }
 }
 
@@ -170,7 +172,10 @@ void Child::run(Command c) {
       break;
     case Command::reset: p.reset(); break;
     case Command::take_over: p.take_over(h_.take_over); break;
-    case Command::stop: p.stop(); write_summary(); break;
+    case Command::stop:
+      p.stop();
+      write_summary();
+      break;
     case Command::set_params: set_params(); break;
     default: throw std::runtime_error(fmt::format("unknown command {}", static_cast<unsigned>(c)));
   }

@@ -25,10 +25,10 @@ namespace {
 
 using isolation::Command;
 
-constexpr int kChildFd = 3;            // the segment's descriptor in the child
+constexpr int kChildFd = 3;                     // the segment's descriptor in the child
 constexpr Nanos kSpawnBudget = 30'000'000'000;  // loading the library and configure(): 30 s
 constexpr Nanos kQuitBudget = 1'000'000'000;    // a child that does not quit in 1 s is killed
-constexpr long kPollMs = 5;            // a dead child is noticed within this
+constexpr long kPollMs = 5;                     // a dead child is noticed within this
 
 std::string signal_name(int sig) {
   switch (sig) {
@@ -49,11 +49,10 @@ std::string signal_name(int sig) {
 fs::path isolate_binary() {
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  for (const fs::path& p : {ec ? fs::path() : self.parent_path() / "tern-isolate", fs::path(TERN_ISOLATE_BUILD_PATH),
-                            fs::path(TERN_ISOLATE_INSTALL_PATH)})
+  for (const fs::path& p :
+       {ec ? fs::path() : self.parent_path() / "tern-isolate", fs::path(TERN_ISOLATE_BUILD_PATH), fs::path(TERN_ISOLATE_INSTALL_PATH)})
     if (!p.empty() && ::access(p.c_str(), X_OK) == 0) return p;
-  throw ConfigError("isolate: the helper 'tern-isolate' was not found beside " + self.string() + " nor at " +
-                    TERN_ISOLATE_BUILD_PATH);
+  throw ConfigError("isolate: the helper 'tern-isolate' was not found beside " + self.string() + " nor at " + TERN_ISOLATE_BUILD_PATH);
 }
 
 // The shadow's parameter `p` calls `mark` when it changes (the shadow never runs its own callbacks).
@@ -78,8 +77,9 @@ IsolatedPlugin::IsolatedPlugin(std::unique_ptr<Plugin> shadow, Context& ctx, Iso
                                   inputs().size() + outputs().size(), isolation::kMaxPorts));
   const auto check = [this](const PortBase* p) {
     if (!isolation::message_is_bitwise(p->type().fingerprint))
-      throw ConfigError(fmt::format("isolate {}: port '{}' carries '{}', not a standard message of plain bytes: it cannot cross to a child process",
-                                    spec_.instance, p->name(), p->type().name));
+      throw ConfigError(
+          fmt::format("isolate {}: port '{}' carries '{}', not a standard message of plain bytes: it cannot cross to a child process",
+                      spec_.instance, p->name(), p->type().name));
   };
   for (const PortBase* p : inputs()) check(p);
   for (const PortBase* p : outputs()) check(p);
@@ -127,14 +127,16 @@ void IsolatedPlugin::map_segment() {
 
 void IsolatedPlugin::spawn() {
   const fs::path exe = isolate_binary();
-  const std::vector<std::string> args = {exe.string(), std::to_string(kChildFd), spec_.config_file.string(), spec_.instance,
-                                         spec_.library.string(), std::to_string(spec_.seed)};
+  const std::vector<std::string> args = {exe.string(),   std::to_string(kChildFd), spec_.config_file.string(),
+                                         spec_.instance, spec_.library.string(),   std::to_string(spec_.seed)};
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
   // a fresh child: no command pending, no reply
-  while (h_->go.try_wait()) {}
-  while (h_->done.try_wait()) {}
+  while (h_->go.try_wait()) {
+  }
+  while (h_->done.try_wait()) {
+  }
   h_->failed = h_->end_requested = h_->text_used = h_->log_used = h_->log_dropped = 0;
   for (std::size_t k = 0; k < inputs().size(); ++k) h_->ports[k].seq = 0;
   copied_src_.assign(inputs().size(), nullptr);
@@ -152,14 +154,17 @@ void IsolatedPlugin::spawn() {
     ::sigaction(SIGINT, &ign, nullptr);
     ::sigaction(SIGTERM, &ign, nullptr);
     ::sigaction(SIGHUP, &ign, nullptr);
-    if (fd_ == kChildFd) ::fcntl(fd_, F_SETFD, 0);
-    else ::dup2(fd_, kChildFd);
+    if (fd_ == kChildFd)
+      ::fcntl(fd_, F_SETFD, 0);
+    else
+      ::dup2(fd_, kChildFd);
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
   pid_ = pid;
   failure_.clear();
-  if (!wait_done(kSpawnBudget)) throw ConfigError(fmt::format("isolate {}: the child process failed while loading: {}", spec_.instance, failure_));
+  if (!wait_done(kSpawnBudget))
+    throw ConfigError(fmt::format("isolate {}: the child process failed while loading: {}", spec_.instance, failure_));
   if (h_->failed) {
     const std::string why(h_->text, h_->text_used);
     end_child();
@@ -206,8 +211,8 @@ bool IsolatedPlugin::wait_done(Nanos budget) {
       ::kill(pid_, SIGKILL);
       ::waitpid(pid_, &status, 0);
       pid_ = -1;
-      failure_ = fmt::format("isolated instance {} hung: no reply within {:.3f} s, killed with SIGKILL", spec_.instance,
-                             to_seconds(budget));
+      failure_ =
+          fmt::format("isolated instance {} hung: no reply within {:.3f} s, killed with SIGKILL", spec_.instance, to_seconds(budget));
       return false;
     }
   }
@@ -257,7 +262,8 @@ void IsolatedPlugin::send_params(bool all) {
 }
 
 void IsolatedPlugin::call(Command c) {
-  if (pid_ <= 0) throw IsolatedFailure(failure_.empty() ? fmt::format("isolated instance {} has no child process", spec_.instance) : failure_);
+  if (pid_ <= 0)
+    throw IsolatedFailure(failure_.empty() ? fmt::format("isolated instance {} has no child process", spec_.instance) : failure_);
   if (c != Command::set_params && std::find(dirty_.begin(), dirty_.end(), 1) != dirty_.end()) send_params(false);
   copy_inputs();
   h_->command = c;

@@ -32,7 +32,9 @@ class Writer {
     used_ += n;
   }
   template <class T>
-  void put(const T& v) { bytes(&v, sizeof v); }
+  void put(const T& v) {
+    bytes(&v, sizeof v);
+  }
   std::uint32_t used() const { return static_cast<std::uint32_t>(used_); }
 
  private:
@@ -80,8 +82,7 @@ std::size_t segment_size(const std::vector<std::size_t>& port_sizes) {
 }
 
 bool message_is_bitwise(std::uint64_t fingerprint) {
-  return std::any_of(std::begin(kStandard), std::end(kStandard),
-                     [&](const Known& k) { return k.fingerprint == fingerprint && k.bitwise; });
+  return std::any_of(std::begin(kStandard), std::end(kStandard), [&](const Known& k) { return k.fingerprint == fingerprint && k.bitwise; });
 }
 
 void put_text(char* dst, std::size_t cap, const std::string& text) {

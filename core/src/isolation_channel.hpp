@@ -32,14 +32,14 @@ namespace tern::core::isolation {
 
 /// What the host asks the child to do.
 enum class Command : std::uint32_t {
-  ready = 0,   ///< (the child's first reply: configured, ports checked)
+  ready = 0,  ///< (the child's first reply: configured, ports checked)
   start = 1,
-  step = 2,    ///< at Header::now
+  step = 2,  ///< at Header::now
   reset = 3,
-  take_over = 4,  ///< from Header::take_over
-  stop = 5,    ///< replies with summary() in Header::text: records name, '\t', 8 bytes of double
+  take_over = 4,   ///< from Header::take_over
+  stop = 5,        ///< replies with summary() in Header::text: records name, '\t', 8 bytes of double
   set_params = 6,  ///< Header::text holds encode_params()'s records
-  quit = 7,    ///< the child exits 0
+  quit = 7,        ///< the child exits 0
 };
 
 inline constexpr std::uint32_t kMagic = 0x4F534954u;  // "TISO"
@@ -67,16 +67,16 @@ struct Header {
   msg::Actuators take_over{};
   std::uint32_t n_inputs = 0, n_outputs = 0;
   // the reply
-  std::uint32_t failed = 0;      ///< the command threw: `text` says what
+  std::uint32_t failed = 0;         ///< the command threw: `text` says what
   std::uint32_t end_requested = 0;  ///< the plugin called end_flight(): end_reason, end_detail
   char end_reason[kNameBytes];
   char end_detail[1024];
   std::uint32_t text_used = 0;
   char text[kTextBytes];
-  std::uint32_t log_used = 0;    ///< bytes of `log`: records [level u8][length u16][text]
-  std::uint32_t log_dropped = 0; ///< lines that did not fit
+  std::uint32_t log_used = 0;     ///< bytes of `log`: records [level u8][length u16][text]
+  std::uint32_t log_dropped = 0;  ///< lines that did not fit
   char log[kLogBytes];
-  PortSlot ports[kMaxPorts];     ///< n_inputs inputs, then n_outputs outputs
+  PortSlot ports[kMaxPorts];  ///< n_inputs inputs, then n_outputs outputs
 };
 
 /// Bytes of a segment for ports of these message sizes (inputs then outputs).

@@ -80,8 +80,8 @@ std::vector<fs::path> plugin_search_path(const std::vector<fs::path>& config_dir
   const fs::path exe_dir = self_dir();
   const std::string build_dir = TERN_BUILD_PLUGIN_DIR;
   std::error_code ec;
-  const bool in_build_tree = !build_dir.empty() && !exe_dir.empty() &&
-                             fs::equivalent(fs::path(build_dir).parent_path(), exe_dir.parent_path(), ec);
+  const bool in_build_tree =
+      !build_dir.empty() && !exe_dir.empty() && fs::equivalent(fs::path(build_dir).parent_path(), exe_dir.parent_path(), ec);
   if (in_build_tree && fs::is_directory(build_dir)) out.emplace_back(build_dir);
   if (!exe_dir.empty()) {
     const fs::path rel = (exe_dir / ".." / "lib" / "tern" / "plugins").lexically_normal();
@@ -114,8 +114,8 @@ fs::path find_plugin(const std::string& name, const std::vector<fs::path>& searc
     std::string stem = p.filename().string();
     known.push_back(stem.substr(8, stem.size() - 11));
   }
-  throw ConfigError(fmt::format("plugin '{}' not found: no {} in the plugin search path [{}]{}", name, file,
-                                fmt::join(dirs, ", "), did_you_mean(name, known)));
+  throw ConfigError(fmt::format("plugin '{}' not found: no {} in the plugin search path [{}]{}", name, file, fmt::join(dirs, ", "),
+                                did_you_mean(name, known)));
 }
 
 std::vector<fs::path> discover_plugins(const std::vector<fs::path>& search_path) {
@@ -156,7 +156,7 @@ std::string file_sha256(const fs::path& path) {
 }
 
 std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
-  check_elf(path);  // a truncated file would raise SIGBUS inside dlopen
+  check_elf(path);                         // a truncated file would raise SIGBUS inside dlopen
   std::string sha256 = file_sha256(path);  // the bytes about to be loaded
   auto lib = std::make_unique<boost::dll::shared_library>();
   boost::dll::fs::error_code ec;
@@ -171,15 +171,18 @@ std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
                                   path.string(), sym));
   }
   const auto& hs = lib->get<const tern_plugin_handshake>(sym);
-  const std::string who = fmt::format("plugin '{}' ({})", hs.magic == TERN_HANDSHAKE_MAGIC && hs.plugin_name ? hs.plugin_name : "?", path.string());
+  const std::string who =
+      fmt::format("plugin '{}' ({})", hs.magic == TERN_HANDSHAKE_MAGIC && hs.plugin_name ? hs.plugin_name : "?", path.string());
   if (hs.magic != TERN_HANDSHAKE_MAGIC)
     throw ConfigError(fmt::format("'{}' is not a tern plugin: bad handshake magic {:#x}", path.string(), hs.magic));
   if (hs.sdk_api_version != kSdkApiVersion)
-    throw ConfigError(fmt::format("{}: SDK API version mismatch: plugin built for API {}, this host speaks API {}; rebuild the plugin against this tern",
-                                  who, hs.sdk_api_version, kSdkApiVersion));
+    throw ConfigError(
+        fmt::format("{}: SDK API version mismatch: plugin built for API {}, this host speaks API {}; rebuild the plugin against this tern",
+                    who, hs.sdk_api_version, kSdkApiVersion));
   if (hs.abi_tag == nullptr || std::string(hs.abi_tag) != TERN_ABI_TAG)
-    throw ConfigError(fmt::format("{}: ABI mismatch: plugin built with '{}', host with '{}'; rebuild the plugin with the host's compiler settings",
-                                  who, hs.abi_tag ? hs.abi_tag : "", TERN_ABI_TAG));
+    throw ConfigError(
+        fmt::format("{}: ABI mismatch: plugin built with '{}', host with '{}'; rebuild the plugin with the host's compiler settings", who,
+                    hs.abi_tag ? hs.abi_tag : "", TERN_ABI_TAG));
   const auto& host_fps = host_fingerprints();
   for (std::uint32_t i = 0; i < hs.message_count; ++i) {
     const auto& m = hs.messages[i];
@@ -187,8 +190,9 @@ std::shared_ptr<PluginLibrary> open_plugin(const fs::path& path) {
     auto it = host_fps.find(tname);
     if (it == host_fps.end()) continue;  // a message this host does not know: checked per port
     if (it->second != m.fingerprint)
-      throw ConfigError(fmt::format("{}: message fingerprint mismatch: {} is {:016x} in the plugin, {:016x} in the host; rebuild the plugin against this tern's SDK",
-                                    who, tname, m.fingerprint, it->second));
+      throw ConfigError(fmt::format(
+          "{}: message fingerprint mismatch: {} is {:016x} in the plugin, {:016x} in the host; rebuild the plugin against this tern's SDK",
+          who, tname, m.fingerprint, it->second));
   }
   const auto kind = plugin_kind_from_name(hs.kind ? hs.kind : "");
   if (!kind) throw ConfigError(fmt::format("{}: unknown plugin kind '{}'", who, hs.kind ? hs.kind : ""));

@@ -53,7 +53,6 @@ fs::path default_config() {
   return fs::path("configs/missions/default.yaml");
 }
 
-
 int fail(const std::string& msg) {
   std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
   return 1;
@@ -141,7 +140,8 @@ int cmd_plugins(const std::vector<std::string>& extra_dirs) {
         fmt::print("  (configure failed: {})\n", e.what());
       }
       for (auto* in : p->inputs())
-        fmt::print("  in  {:<22} {:<26} {}{}\n", in->name(), in->type().name, in->description(), in->need() == Need::optional ? " (optional)" : "");
+        fmt::print("  in  {:<22} {:<26} {}{}\n", in->name(), in->type().name, in->description(),
+                   in->need() == Need::optional ? " (optional)" : "");
       for (auto* out : p->outputs()) fmt::print("  out {:<22} {:<26} {}\n", out->name(), out->type().name, out->description());
       for (auto* prm : p->params())
         fmt::print("  param {:<20} = {:<14} {:<8} {:<18} {}\n", prm->name(), to_string(prm->value()), prm->spec().unit, range_text(*prm),
@@ -160,7 +160,8 @@ int main(int argc, char** argv) {
   // git-style extension commands: `tern aero ...` runs `tern-aero ...` from the same directory.
   if (argc >= 2 && argv[1][0] != '-') {
     const std::string sub = argv[1];
-    static const std::set<std::string> builtin = {"fly", "check", "plugins", "params", "serve", "swap", "phases", "remote", "topics", "echo", "hz", "param", "mission", "replay", "tune", "console", "help"};
+    static const std::set<std::string> builtin = {"fly",  "check", "plugins", "params",  "serve",  "swap", "phases",  "remote", "topics",
+                                                  "echo", "hz",    "param",   "mission", "replay", "tune", "console", "help"};
     if (!builtin.count(sub)) {
       const fs::path ext = exe_dir() / ("tern-" + sub);
       if (fs::exists(ext)) {
@@ -178,14 +179,17 @@ int main(int argc, char** argv) {
 #if defined(TERN_WITH_DDS)
   register_dds_external_links();  // `plugin: external` instances (external_plugin.hpp)
 #endif
-  CLI::App app{"tern: a fixed-wing autopilot framework for research.\n"
-               "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
+  CLI::App app{
+      "tern: a fixed-wing autopilot framework for research.\n"
+      "Flies plugins named in a YAML mission config, in the simulator or on an aircraft."};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "help for every command");
   app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern: error: {} (see --help)\n", e.what()); });
-  app.footer("More commands: tern plot RUN_DIR [RUN_B ...] (figures of a flight, index.html; several runs: overlaid), tern aero (aircraft models, trim),\n"
-             "tern campaign FILE (Monte Carlo flights: a table, a summary and plots),\n"
-             "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
+  app.footer(
+      "More commands: tern plot RUN_DIR [RUN_B ...] (figures of a flight, index.html; several runs: overlaid), tern aero (aircraft models, "
+      "trim),\n"
+      "tern campaign FILE (Monte Carlo flights: a table, a summary and plots),\n"
+      "tern new-plugin NAME --kind KIND (a plugin project from a template), tern fcu (FCU parameters).");
 
   std::string config;
   std::optional<std::uint64_t> seed;
@@ -213,7 +217,8 @@ int main(int argc, char** argv) {
   fly->add_option("--log-level", log_level, "summary (no topic tables), decimated or full (overrides the config's log.level)")
       ->check(CLI::IsMember({"summary", "decimated", "full"}));
   fly->add_flag("-q,--quiet", quiet, "print only warnings, errors and where the log went");
-  fly->add_flag("--dds", dds, "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
+  fly->add_flag("--dds", dds,
+                "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
   fly->add_option("--dds-domain", dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
 
   CliOverrides overrides;
@@ -228,7 +233,8 @@ int main(int argc, char** argv) {
   plugins->add_option("--path", plugin_dirs, "extra plugin directories to search first");
 
   std::string replay_dir;
-  auto* replay = app.add_subcommand("replay", "run the estimator over a flight log's recorded sensors and compare it with the recorded truth");
+  auto* replay =
+      app.add_subcommand("replay", "run the estimator over a flight log's recorded sensors and compare it with the recorded truth");
   replay->add_option("run_dir", replay_dir, "a flight log directory (runs/<time>-<mission>)")->required()->check(CLI::ExistingDirectory);
   replay->add_option("--config", config, "mission config naming the estimator(s) to run (default: the run's config.yaml)");
   replay->add_option("--log-dir", log_dir, "directory for the replay's own run directory (default: ./runs)");
@@ -262,8 +268,12 @@ int main(int argc, char** argv) {
   phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* console_cmd = app.add_subcommand("console", "the URL of the console of a `tern serve --realtime --console` (open it in a browser)");
   console_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
-  auto* remote = app.add_subcommand("remote", "send a command to `tern serve`: fly [SECONDS] (prints the summary tables), abort (ends the flight, keeps the server), status, quit");
-  remote->add_option("command", remote_cmd, "fly, abort, status or quit")->required()->check(CLI::IsMember({"fly", "abort", "status", "quit"}));
+  auto* remote = app.add_subcommand(
+      "remote",
+      "send a command to `tern serve`: fly [SECONDS] (prints the summary tables), abort (ends the flight, keeps the server), status, quit");
+  remote->add_option("command", remote_cmd, "fly, abort, status or quit")
+      ->required()
+      ->check(CLI::IsMember({"fly", "abort", "status", "quit"}));
   remote->add_option("args", remote_args, "fly: flight length in seconds");
   remote->add_option("--socket", socket, "control socket of the server")->capture_default_str();
 

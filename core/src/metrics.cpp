@@ -20,7 +20,8 @@ void FlightMetrics::configure() {
   declare(path_, "current_path", "commanded path segment", Need::optional);
   declare(phase_, "flight_phase", "flight phase (only cruise counts)", Need::optional);
   declare(period_, "period", 0.01, ParamSpec("s", 0.0, 10.0, "sample the errors at most this often"));
-  declare(start_after_, "start_after", 60.0, ParamSpec("s", 0.0, 1e9, "when the mission never completes a loop, the window starts at this flight time"));
+  declare(start_after_, "start_after", 60.0,
+          ParamSpec("s", 0.0, 1e9, "when the mission never completes a loop, the window starts at this flight time"));
   declare(cruise_only_, "cruise_only", true, ParamSpec("", 0, 0, "count only samples in the cruise phase"));
 }
 

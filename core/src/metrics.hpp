@@ -43,10 +43,12 @@ class FlightMetrics final : public Plugin {
   };
   enum Est { e_north, e_east, e_alt, e_roll, e_pitch, e_heading, e_course, e_airspeed, e_wind_n, e_wind_e, kEst };
   enum Trk { t_north, t_east, t_alt, t_roll, t_pitch, t_course, t_airspeed, kTrk };
-  static constexpr std::array<const char*, kEst> kEstNames = {"north_m", "east_m", "altitude_m", "roll_deg", "pitch_deg",
-                                                             "heading_deg", "course_deg", "airspeed_mps", "wind_north_mps", "wind_east_mps"};
+  static constexpr std::array<const char*, kEst> kEstNames = {"north_m",        "east_m",       "altitude_m", "roll_deg",
+                                                              "pitch_deg",      "heading_deg",  "course_deg", "airspeed_mps",
+                                                              "wind_north_mps", "wind_east_mps"};
   static constexpr int kGnss = 3;  ///< north, east, altitude (the first three of kEstNames)
-  static constexpr std::array<const char*, kTrk> kTrkNames = {"north_m", "east_m", "altitude_m", "roll_deg", "pitch_deg", "course_deg", "airspeed_mps"};
+  static constexpr std::array<const char*, kTrk> kTrkNames = {"north_m",   "east_m",     "altitude_m",  "roll_deg",
+                                                              "pitch_deg", "course_deg", "airspeed_mps"};
 
   void configure() override;
   void start() override { reset(); }

@@ -86,8 +86,10 @@ MissionReport check_missions(const Host& host) {
     const std::string file = text(*inst, "mission_file");
     if (!seen.insert(file).second) continue;
     try {
-      if (!file.empty()) check_one(path::load_mission_file(file), limits, r);
-      else if (c.mission && !c.mission.IsNull()) check_one(path::parse_mission_section(c.mission, c.dir, c.file.string()), limits, r);
+      if (!file.empty())
+        check_one(path::load_mission_file(file), limits, r);
+      else if (c.mission && !c.mission.IsNull())
+        check_one(path::parse_mission_section(c.mission, c.dir, c.file.string()), limits, r);
     } catch (const path::MissionError& e) {
       r.errors.push_back(read_error(e));
     }

@@ -96,8 +96,8 @@ class PhaseMachine final : public Plugin {
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
   Param<bool> preflight_, require_rc_;
   Param<double> preflight_time_, preflight_timeout_, report_interval_;
-  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_,
-      max_ground_speed_, max_rc_age_;
+  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_, max_ground_speed_,
+      max_rc_age_;
   Param<std::int64_t> min_sats_;
   Param<bool> safety_, safety_hand_back_, recovery_;
   Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;

@@ -12,8 +12,7 @@
 
 namespace tern::core {
 
-PhaseRouter::PhaseRouter(const std::vector<std::unique_ptr<Instance>>& instances, PortGraph& graph,
-                         std::shared_ptr<spdlog::logger> log)
+PhaseRouter::PhaseRouter(const std::vector<std::unique_ptr<Instance>>& instances, PortGraph& graph, std::shared_ptr<spdlog::logger> log)
     : instances_(instances), graph_(graph), log_(std::move(log)) {
   recovery_out_.set_identity("actuators", "the state-loss recovery's command");
 }
@@ -74,8 +73,10 @@ void PhaseRouter::assign(const MissionConfig& config, PhaseMachine* phase_machin
   active_.reset();
   if (table_.empty()) return;
   const auto cruise = table_.find(msg::Phase::cruise);
-  if (config.fallback) fallback_ = index_of(*config.fallback);
-  else if (cruise != table_.end()) fallback_ = index_of(cruise->second);
+  if (config.fallback)
+    fallback_ = index_of(*config.fallback);
+  else if (cruise != table_.end())
+    fallback_ = index_of(cruise->second);
   if (const auto takeoff = table_.find(msg::Phase::takeoff); takeoff != table_.end()) active_ = index_of(takeoff->second);
 }
 
@@ -110,13 +111,15 @@ PhaseRouter::Cause PhaseRouter::fallback_reason(const Instance& c, const std::st
   if (!step_error.empty()) return {fmt::format("{}.step threw: {}", c.cfg.name, step_error)};
   const auto* a = actuators_ ? static_cast<const msg::Actuators*>(actuators_->data()) : nullptr;
   if (a != nullptr && !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t)))
-    return {fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {})", c.cfg.name,
-                        a->delta_a, a->delta_e, a->delta_r, a->delta_t)};
+    return {fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {})", c.cfg.name, a->delta_a,
+                        a->delta_e, a->delta_r, a->delta_t)};
   if (a != nullptr && phase_machine_) {
     const double lim = phase_machine_->max_deflection();
     if (std::fabs(a->delta_a) > lim || std::fabs(a->delta_e) > lim || std::fabs(a->delta_r) > lim || a->delta_t < 0.0 || a->delta_t > 1.0)
-      return {fmt::format("{} commanded outside the actuator limits (delta_a {:.3f}, delta_e {:.3f}, delta_r {:.3f} rad: max {} rad; "
-                          "delta_t {:.3f}: 0..1)", c.cfg.name, a->delta_a, a->delta_e, a->delta_r, lim, a->delta_t)};
+      return {
+          fmt::format("{} commanded outside the actuator limits (delta_a {:.3f}, delta_e {:.3f}, delta_r {:.3f} rad: max {} rad; "
+                      "delta_t {:.3f}: 0..1)",
+                      c.cfg.name, a->delta_a, a->delta_e, a->delta_r, lim, a->delta_t)};
   }
   if (recovery_.active()) return {};  // the estimate is invalid: nothing to judge the controller by
   if (std::string why = safety_cause(now); !why.empty()) return {fmt::format("{}: safety monitor: {}", c.cfg.name, why), true};
@@ -170,8 +173,8 @@ void PhaseRouter::update_recovery(Nanos now) {
   if (!phase_machine_) return;
   const msg::State* s = phase_machine_->estimate();
   const msg::Phase p = phase_machine_->phase();
-  const bool lost = phase_machine_->state_loss_recovery() && s != nullptr && !s->valid &&
-                    (p == msg::Phase::climb || p == msg::Phase::cruise);
+  const bool lost =
+      phase_machine_->state_loss_recovery() && s != nullptr && !s->valid && (p == msg::Phase::climb || p == msg::Phase::cruise);
   const std::string active = active_ ? instances_[*active_]->cfg.name : "(none)";
   const bool starting = lost && !recovery_.active();
   if (starting) {
@@ -216,8 +219,10 @@ void PhaseRouter::follow_phase(Nanos now) {
     fallback_engaged_ = hand_back_ = false;
     log_->info("t={:.3f} s: safety_hand_back: phase {}, the phase's controller flies again", to_seconds(now), msg::phase_name(p));
   }
-  if (phase_machine_->disarmed()) route_none(now, "disarmed: waiting for the FCU to be armed and error-free");
-  else if (p == msg::Phase::preflight) route_none(now, "preflight: on the ground until the arming checks pass");
+  if (phase_machine_->disarmed())
+    route_none(now, "disarmed: waiting for the FCU to be armed and error-free");
+  else if (p == msg::Phase::preflight)
+    route_none(now, "preflight: on the ground until the arming checks pass");
   else if (it != table_.end())
     if (const auto idx = index_of(it->second)) route_to(*idx, now, fmt::format("phase {}", msg::phase_name(p)), false);
 }
@@ -239,8 +244,10 @@ void PhaseRouter::route_to(std::size_t idx, Nanos now, const std::string& reason
   try {
     target.plugin->take_over(last_good_);
   } catch (const std::exception& e) {
-    if (!from_failure && fallback_ && idx != *fallback_) engage_fallback(now, fmt::format("{}.take_over threw: {}", target.cfg.name, e.what()));
-    else log_->error("{}.take_over threw: {}", target.cfg.name, e.what());
+    if (!from_failure && fallback_ && idx != *fallback_)
+      engage_fallback(now, fmt::format("{}.take_over threw: {}", target.cfg.name, e.what()));
+    else
+      log_->error("{}.take_over threw: {}", target.cfg.name, e.what());
   }
 }
 

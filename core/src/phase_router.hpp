@@ -6,7 +6,8 @@
 // and the topics they write (`actuators`, `controller_internals`) are bound to its outputs
 // alone. A controller instance that the table and the fallback do not name is "idle"
 // (Instance::idle): it is configured, but never steps and its ports stay out of the port graph,
-// so it writes nothing (a research controller kept in the file while the stock one flies). The router follows the phase machine (phase_machine.hpp):
+// so it writes nothing (a research controller kept in the file while the stock one flies). The router follows the phase machine
+// (phase_machine.hpp):
 //   preflight, or the FCU disarmed   no controller runs (routed topics unbound)
 //   a new phase                      its controller takes over (take_over() gets the last good
 //                                    actuator command, so there is no jump)
@@ -131,14 +132,14 @@ class PhaseRouter {
   const OutputBase* actuators_ = nullptr;  // the active controller's actuators (checked after each step)
   std::uint64_t phase_seen_ = 0;           // sequence of the last flight_phase message routed on
   bool fallback_engaged_ = false;
-  bool hand_back_ = false;                 // the fallback may hand back on the next phase change
+  bool hand_back_ = false;  // the fallback may hand back on the next phase change
   SafetyMonitor monitor_;
   StateLossRecovery recovery_;
-  Output<msg::Actuators> recovery_out_;    // the recovery's command (a host output, bound while it flies)
-  const OutputBase* imu_ = nullptr;        // the raw `imu` topic's writer (nullptr: none)
+  Output<msg::Actuators> recovery_out_;  // the recovery's command (a host output, bound while it flies)
+  const OutputBase* imu_ = nullptr;      // the raw `imu` topic's writer (nullptr: none)
   std::uint64_t imu_seen_ = 0;
-  std::uint64_t actuators_seen_ = 0;       // sequence of the active controller's actuators after its last step
-  std::string safety_logged_;              // a safety cause with nobody to hand over to, logged once
+  std::uint64_t actuators_seen_ = 0;  // sequence of the active controller's actuators after its last step
+  std::string safety_logged_;         // a safety cause with nobody to hand over to, logged once
   std::vector<Handover> handovers_;
   msg::Actuators last_good_{};
 };

@@ -50,9 +50,10 @@ void PortGraph::check_writers(GraphTopic& t, const std::vector<PortNode>& nodes,
   if (t.writers.size() > 1 && !all_routed) {
     std::vector<std::string> ids;
     for (auto& [i, o] : t.writers) ids.push_back(port_id(i, *o));
-    throw ConfigError(fmt::format("{}: topic '{}' has {} writers: {} (only controllers behind the phase router, "
-                                  "named in 'phases:', may share a topic; remap one of them)",
-                                  file.string(), t.name, ids.size(), fmt::join(ids, ", ")));
+    throw ConfigError(
+        fmt::format("{}: topic '{}' has {} writers: {} (only controllers behind the phase router, "
+                    "named in 'phases:', may share a topic; remap one of them)",
+                    file.string(), t.name, ids.size(), fmt::join(ids, ", ")));
   }
   t.routed = all_routed;
   const auto& [i0, w0] = t.writers.front();
@@ -62,9 +63,9 @@ void PortGraph::check_writers(GraphTopic& t, const std::vector<PortNode>& nodes,
   t.columns = w0->type().columns();
   for (auto& [i, o] : t.writers) {
     if (o->type().fingerprint != t.fingerprint)
-      throw ConfigError(fmt::format("{}: topic '{}': writers disagree on the message type: {} publishes {} ({:016x}), {} publishes {} ({:016x})",
-                                    file.string(), t.name, port_id(i0, *w0), t.type_name, t.fingerprint, port_id(i, *o),
-                                    o->type().name, o->type().fingerprint));
+      throw ConfigError(fmt::format(
+          "{}: topic '{}': writers disagree on the message type: {} publishes {} ({:016x}), {} publishes {} ({:016x})", file.string(),
+          t.name, port_id(i0, *w0), t.type_name, t.fingerprint, port_id(i, *o), o->type().name, o->type().fingerprint));
   }
 }
 
@@ -74,14 +75,15 @@ void PortGraph::check_readers(const GraphTopic& t, const std::vector<std::string
     const std::string who = port_id(i, *in);
     if (t.writers.empty()) {
       if (in->need() == Need::optional) continue;
-      throw ConfigError(fmt::format("{}: input '{}' (topic '{}', {}) has no producer: no instance publishes '{}'{}; "
-                                    "add a plugin that does or remap the input",
-                                    file.string(), who, t.name, in->type().name, t.name, did_you_mean(t.name, written)));
+      throw ConfigError(
+          fmt::format("{}: input '{}' (topic '{}', {}) has no producer: no instance publishes '{}'{}; "
+                      "add a plugin that does or remap the input",
+                      file.string(), who, t.name, in->type().name, t.name, did_you_mean(t.name, written)));
     }
     if (in->type().fingerprint != t.fingerprint) {
       const bool same_name = in->type().name == t.type_name;
-      throw ConfigError(fmt::format("{}: input '{}' expects {} ({:016x}) but topic '{}' carries {} ({:016x}) from '{}'{}",
-                                    file.string(), who, in->type().name, in->type().fingerprint, t.name, t.type_name, t.fingerprint,
+      throw ConfigError(fmt::format("{}: input '{}' expects {} ({:016x}) but topic '{}' carries {} ({:016x}) from '{}'{}", file.string(),
+                                    who, in->type().name, in->type().fingerprint, t.name, t.type_name, t.fingerprint,
                                     port_id(t.writers[0].first, *t.writers[0].second),
                                     same_name ? ": same type name, different layout; rebuild both against the same SDK" : ""));
     }
@@ -185,9 +187,12 @@ const OutputBase* PortGraph::routed_writer(const GraphTopic& t, std::optional<st
 
 void PortGraph::bind(std::optional<std::size_t> active) {
   for (auto& t : topics_) {
-    if (t.host_writer) bind_readers(t, t.host_writer);
-    else if (t.routed) bind_readers(t, routed_writer(t, active));
-    else if (!t.writers.empty()) bind_readers(t, t.writers.front().second);
+    if (t.host_writer)
+      bind_readers(t, t.host_writer);
+    else if (t.routed)
+      bind_readers(t, routed_writer(t, active));
+    else if (!t.writers.empty())
+      bind_readers(t, t.writers.front().second);
   }
 }
 

@@ -33,8 +33,8 @@ namespace tern::core {
 
 /// One instance as the graph sees it: its name and declared ports.
 struct PortNode {
-  std::string name;  ///< instance name ("ekf"), for messages
-  bool io = false;   ///< an I/O plugin (simulator, FCU link): runs first in every tick
+  std::string name;     ///< instance name ("ekf"), for messages
+  bool io = false;      ///< an I/O plugin (simulator, FCU link): runs first in every tick
   bool routed = false;  ///< a controller behind the phase router
   std::vector<OutputBase*> outputs;
   std::vector<InputBase*> inputs;
@@ -42,15 +42,15 @@ struct PortNode {
 
 struct GraphTopic {
   std::string name;
-  std::string type_name;        ///< the writers' message type ("" when nobody writes)
+  std::string type_name;  ///< the writers' message type ("" when nobody writes)
   std::uint64_t fingerprint = 0;
-  std::size_t msg_size = 0;     ///< bytes
-  std::vector<reflect::Column> columns;  ///< log columns of the message type
+  std::size_t msg_size = 0;                                  ///< bytes
+  std::vector<reflect::Column> columns;                      ///< log columns of the message type
   std::vector<std::pair<std::size_t, OutputBase*>> writers;  ///< (node, port)
   std::vector<std::pair<std::size_t, InputBase*>> readers;   ///< (node, port)
-  bool routed = false;                      ///< written by routed controllers only
-  const OutputBase* host_writer = nullptr;  ///< written by the host itself
-  const OutputBase* current = nullptr;      ///< the writer the readers are bound to (nullptr: none)
+  bool routed = false;                                       ///< written by routed controllers only
+  const OutputBase* host_writer = nullptr;                   ///< written by the host itself
+  const OutputBase* current = nullptr;                       ///< the writer the readers are bound to (nullptr: none)
   bool written() const { return !writers.empty() || host_writer != nullptr; }
 };
 
@@ -67,8 +67,7 @@ class PortGraph {
   /// Collects the topics of `nodes` (indices into `nodes` name the nodes everywhere below),
   /// checks them, offers `host_outputs` and orders the schedule. Binds nothing. Throws
   /// ConfigError ("<file>: topic 'actuators' has 2 writers: ...").
-  PortGraph(const std::vector<PortNode>& nodes, const std::vector<const OutputBase*>& host_outputs,
-            const std::filesystem::path& file);
+  PortGraph(const std::vector<PortNode>& nodes, const std::vector<const OutputBase*>& host_outputs, const std::filesystem::path& file);
 
   const std::vector<GraphTopic>& topics() const { return topics_; }
   const std::vector<GraphEdge>& edges() const { return edges_; }

@@ -32,10 +32,9 @@ void check_covariance(const msg::State& s, const PreflightLimits& l, std::vector
   if (!(yaw <= l.max_yaw_sigma))
     out.push_back(fmt::format("estimator not aligned: yaw sigma {:.1f} deg > {:.1f} deg", yaw * kDeg, l.max_yaw_sigma * kDeg));
   if (!(bias <= l.max_gyro_bias_sigma))
-    out.push_back(fmt::format("estimator gyro bias not converged: sigma {:.2f} deg/s > {:.2f} deg/s", bias * kDeg,
-                              l.max_gyro_bias_sigma * kDeg));
-  if (!(pos <= l.max_position_sigma))
-    out.push_back(fmt::format("estimator position sigma {:.1f} m > {:.1f} m", pos, l.max_position_sigma));
+    out.push_back(
+        fmt::format("estimator gyro bias not converged: sigma {:.2f} deg/s > {:.2f} deg/s", bias * kDeg, l.max_gyro_bias_sigma * kDeg));
+  if (!(pos <= l.max_position_sigma)) out.push_back(fmt::format("estimator position sigma {:.1f} m > {:.1f} m", pos, l.max_position_sigma));
 }
 
 void check_estimator(const msg::State& s, const PreflightLimits& l, std::vector<std::string>& out) {
@@ -49,9 +48,9 @@ void check_estimator(const msg::State& s, const PreflightLimits& l, std::vector<
 }
 
 void check_innovations(const msg::Innovations& i, std::vector<std::string>& out) {
-  const std::pair<const char*, double> ratios[] = {{"gnss position", i.gnss_pos}, {"gnss velocity", i.gnss_vel},
-                                                   {"baro", i.baro},               {"pitot", i.diff_pressure},
-                                                   {"mag", i.mag},                 {"sideslip", i.sideslip}};
+  const std::pair<const char*, double> ratios[] = {
+      {"gnss position", i.gnss_pos}, {"gnss velocity", i.gnss_vel}, {"baro", i.baro}, {"pitot", i.diff_pressure}, {"mag", i.mag},
+      {"sideslip", i.sideslip}};
   for (const auto& [name, r] : ratios)
     if (!(r < 1.0) && r != msg::Innovations::none)
       out.push_back(fmt::format("{} innovation test ratio {:.2f} >= 1 (the estimator disagrees with the sensor)", name, r));
@@ -79,9 +78,9 @@ std::vector<std::string> preflight_failures(const PreflightInputs& in, const Pre
   if (in.fcu != nullptr)
     if (auto f = fcu_not_ready(*in.fcu)) out.push_back(*f);
   if (limits.require_rc && !(in.rc_age && *in.rc_age <= limits.max_rc_age))
-    out.push_back(in.rc_age ? fmt::format("RC silent for {:.1f} s > {:.1f} s (the config requires the transmitter)", *in.rc_age,
-                                          limits.max_rc_age)
-                            : "no RC frame yet (the config requires the transmitter: preflight_require_rc)");
+    out.push_back(
+        in.rc_age ? fmt::format("RC silent for {:.1f} s > {:.1f} s (the config requires the transmitter)", *in.rc_age, limits.max_rc_age)
+                  : "no RC frame yet (the config requires the transmitter: preflight_require_rc)");
   if (in.state == nullptr) {
     out.emplace_back("no state yet (estimator silent)");
   } else {

@@ -24,7 +24,7 @@ struct PreflightLimits {
   /// rad: roll/pitch 1-sigma from State.P_diag (2.3 deg): 2 deg of alignment, root-sum-square with
   /// the 1-deg mounting uncertainty an estimator publishes on top (estimator_ekf's imu_mount_sigma)
   double max_tilt_sigma = 0.04;
-  double max_yaw_sigma = 0.17;      ///< rad: yaw 1-sigma (10 deg)
+  double max_yaw_sigma = 0.17;  ///< rad: yaw 1-sigma (10 deg)
   /// rad/s: gyro-bias 1-sigma per axis (0.29 deg/s: 10 s of takeoff at this error turn the
   /// attitude by 3 deg; the FCU's boot calibration and a few seconds at rest get below it)
   double max_gyro_bias_sigma = 0.005;

@@ -77,7 +77,8 @@ void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& 
   }
   // one edit per tick reaches the planner (a port holds the latest message): keep the rest queued
   if (!edits.empty() && !mission_edit_out_) {
-    log.warn("t={:.3f} s: {} mission edit(s) dropped: no plugin instance reads topic 'mission_edit' any more", to_seconds(now), edits.size());
+    log.warn("t={:.3f} s: {} mission edit(s) dropped: no plugin instance reads topic 'mission_edit' any more", to_seconds(now),
+             edits.size());
   } else if (!edits.empty()) {
     msg::MissionEdit e = edits.front();
     e.stamp = now;

@@ -72,10 +72,10 @@ class RemoteQueue {
     std::string source;
   };
   std::mutex mu_;
-  std::vector<ParamRequest> params_;          // under mu_
-  std::vector<msg::MissionEdit> edits_;       // under mu_
-  std::optional<msg::Rc> pilot_;              // under mu_
-  std::atomic<bool> pending_{false};          // something is queued
+  std::vector<ParamRequest> params_;     // under mu_
+  std::vector<msg::MissionEdit> edits_;  // under mu_
+  std::optional<msg::Rc> pilot_;         // under mu_
+  std::atomic<bool> pending_{false};     // something is queued
   std::unique_ptr<Output<msg::MissionEdit>> mission_edit_out_;
   std::unique_ptr<Output<msg::Rc>> pilot_out_;
 };

@@ -61,8 +61,10 @@ class Track final : public ReplaySource::TrackBase {
       ++lineno;
       if (line.empty()) continue;
       if (in.eof()) {  // no line end: the flight was cut off while writing this row
-        partial_ = fmt::format("{}:{}: the last line is partial ({} characters, no line end: the flight was cut off "
-                               "while writing it): dropped", csv.string(), lineno, line.size());
+        partial_ = fmt::format(
+            "{}:{}: the last line is partial ({} characters, no line end: the flight was cut off "
+            "while writing it): dropped",
+            csv.string(), lineno, line.size());
         break;
       }
       T msg{};

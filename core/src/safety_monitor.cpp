@@ -56,7 +56,8 @@ std::string SafetyMonitor::envelope(const msg::State& s, msg::Phase phase) {
   if (s.theta > l.pitch_max || s.theta < l.pitch_min)
     return fmt::format("envelope: pitch {:.0f} deg outside {:.0f}..{:.0f} deg", s.theta * kDeg, l.pitch_min * kDeg, l.pitch_max * kDeg);
   floor_armed_ = floor_armed_ || (airborne(phase) && s.altitude() > l.floor);
-  if (floor_armed_ && s.altitude() < l.floor) return fmt::format("envelope: altitude {:.1f} m below the floor {:.1f} m", s.altitude(), l.floor);
+  if (floor_armed_ && s.altitude() < l.floor)
+    return fmt::format("envelope: altitude {:.1f} m below the floor {:.1f} m", s.altitude(), l.floor);
   if (!airborne(phase)) return "";
   if (s.Va < l.airspeed_min) return fmt::format("envelope: airspeed {:.1f} m/s below {:.1f} m/s", s.Va, l.airspeed_min);
   if (s.Va > l.airspeed_max) return fmt::format("envelope: airspeed {:.1f} m/s above {:.1f} m/s", s.Va, l.airspeed_max);

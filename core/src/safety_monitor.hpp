@@ -47,13 +47,13 @@ struct SafetyLimits {
   /// s: a hard-over from cruise passes the pitch limit in under a second; 0.2 s lets a one-sample
   /// spike of the estimate (a GNSS correction) pass.
   double hold = 0.2;
-  double roll_max = 1.31;    ///< rad (75 deg): aggressive.yaml's 66 deg plus a margin for gusts
-  double pitch_max = 0.61;   ///< rad (35 deg): the 25-deg takeoff rotations plus 10 deg
-  double pitch_min = -0.61;  ///< rad (-35 deg): aggressive.yaml's -24-deg dives plus 11 deg
-  double floor = 8.0;        ///< m: above the takeoff zone (alt_toz 5 m), below every leg (70 m)
-  double airspeed_min = 10.0;  ///< m/s: the anaconda rotates (lifts off) at 13 m/s; 3 m/s of stall margin below it
-  double airspeed_max = 30.0;  ///< m/s: 7 m/s above the fastest stock dive (23.4); the anaconda has no published Vne
-  double sink_max = 15.0;      ///< m/s: 4 m/s beyond aggressive.yaml's steepest descent (11.1)
+  double roll_max = 1.31;       ///< rad (75 deg): aggressive.yaml's 66 deg plus a margin for gusts
+  double pitch_max = 0.61;      ///< rad (35 deg): the 25-deg takeoff rotations plus 10 deg
+  double pitch_min = -0.61;     ///< rad (-35 deg): aggressive.yaml's -24-deg dives plus 11 deg
+  double floor = 8.0;           ///< m: above the takeoff zone (alt_toz 5 m), below every leg (70 m)
+  double airspeed_min = 10.0;   ///< m/s: the anaconda rotates (lifts off) at 13 m/s; 3 m/s of stall margin below it
+  double airspeed_max = 30.0;   ///< m/s: 7 m/s above the fastest stock dive (23.4); the anaconda has no published Vne
+  double sink_max = 15.0;       ///< m/s: 4 m/s beyond aggressive.yaml's steepest descent (11.1)
   double max_deflection = 0.7;  ///< rad: the phase machine's max_deflection
   /// a surface beyond 95% of max_deflection is at its stop: slc's own elevator limit (max_e
   /// 0.61 rad) stays below it, a hard-over (0.69 of 0.7) does not
@@ -68,11 +68,11 @@ struct SafetyLimits {
 struct SafetyInputs {
   Nanos now = 0;
   msg::Phase phase = msg::Phase::takeoff;
-  bool published = false;                      ///< the step published `actuators`
-  const msg::Actuators* actuators = nullptr;   ///< the controller's latest command (nullptr: none yet)
-  const msg::State* state = nullptr;           ///< the estimate (nullptr: none yet)
-  std::optional<double> h_c;                   ///< commanded altitude, m (none: no command yet)
-  std::optional<double> Va_c;                  ///< commanded airspeed, m/s (none: no command yet)
+  bool published = false;                     ///< the step published `actuators`
+  const msg::Actuators* actuators = nullptr;  ///< the controller's latest command (nullptr: none yet)
+  const msg::State* state = nullptr;          ///< the estimate (nullptr: none yet)
+  std::optional<double> h_c;                  ///< commanded altitude, m (none: no command yet)
+  std::optional<double> Va_c;                 ///< commanded airspeed, m/s (none: no command yet)
 };
 
 class SafetyMonitor {

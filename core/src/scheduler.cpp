@@ -36,13 +36,15 @@ struct CycleClock {
     std::ifstream cpuinfo("/proc/cpuinfo");
     std::string line;
     bool constant = false, nonstop = false;
-    while (std::getline(cpuinfo, line) && line.rfind("flags", 0) != 0) {}
+    while (std::getline(cpuinfo, line) && line.rfind("flags", 0) != 0) {
+    }
     constant = line.find(" constant_tsc") != std::string::npos;
     nonstop = line.find(" nonstop_tsc") != std::string::npos;
     if (constant && nonstop) {
       const std::int64_t w0 = wall_ns();
       const std::uint64_t c0 = __rdtsc();
-      while (wall_ns() - w0 < 2'000'000) {}
+      while (wall_ns() - w0 < 2'000'000) {
+      }
       const std::int64_t w1 = wall_ns();
       const std::uint64_t c1 = __rdtsc();
       if (c1 > c0) {
@@ -105,8 +107,8 @@ Nanos StepStats::percentile(double p) const {
 
 // ---- rates ------------------------------------------------------------------------------------
 
-Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate_node,
-                    const std::vector<const InstanceConfig*>& instances, const fs::path& file) {
+Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate_node, const std::vector<const InstanceConfig*>& instances,
+                    const fs::path& file) {
   double base = 0;
   if (base_rate) {
     base = *base_rate;
@@ -135,10 +137,12 @@ Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate
       }
       if (r > base || rounded < 1 || std::fabs(ratio - rounded) > 1e-9 * rounded || period == 0 ||
           period != out.base_period * static_cast<Nanos>(rounded)) {
-        throw ConfigError(where(file, ic->node["rate"]) + "plugins[" + std::to_string(ic->index) + "].rate: " +
-                          fmt::format("{} Hz cannot be served by the base rate {} Hz", r, base) +
-                          fmt::format(" (the base rate must be a whole multiple of every rate: {} / {} = {:.4g}); use a rate that divides {} Hz or `trigger:`",
-                                      base, r, ratio, base));
+        throw ConfigError(
+            where(file, ic->node["rate"]) + "plugins[" + std::to_string(ic->index) +
+            "].rate: " + fmt::format("{} Hz cannot be served by the base rate {} Hz", r, base) +
+            fmt::format(
+                " (the base rate must be a whole multiple of every rate: {} / {} = {:.4g}); use a rate that divides {} Hz or `trigger:`",
+                base, r, ratio, base));
       }
       out.divisors.back() = static_cast<std::int64_t>(rounded);
       out.budgets.back() = period;

@@ -58,8 +58,8 @@ struct Rates {
 /// (`base_rate_node`: where it is written, for errors) and the instances' `rate:`, `budget_us`.
 /// Throws ConfigError naming the field when a rate does not divide the base rate, or when no
 /// rate is given anywhere.
-Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate_node,
-                    const std::vector<const InstanceConfig*>& instances, const fs::path& file);
+Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate_node, const std::vector<const InstanceConfig*>& instances,
+                    const fs::path& file);
 
 /// The clock of one flight.
 class Scheduler {
@@ -78,9 +78,7 @@ class Scheduler {
 
   /// Whether an instance steps in this tick: its `trigger` input has news, or (without one) the
   /// tick is a multiple of its `divisor`.
-  bool due(std::int64_t divisor, const InputBase* trigger) const {
-    return trigger ? trigger->updated() : tick_ % divisor == 0;
-  }
+  bool due(std::int64_t divisor, const InputBase* trigger) const { return trigger ? trigger->updated() : tick_ % divisor == 0; }
   /// Marks the start of this tick's steps (for the first step's time).
   void start_steps();
   /// Steps `plugin` at now(), adds its duration to `stats` and marks its inputs seen. Returns
@@ -94,8 +92,8 @@ class Scheduler {
   void pace() const;
 
   std::int64_t wall_start() const { return wall0_; }  ///< wall_ns() at construction
-  double wall_s() const;  ///< wall time since construction, s
-  double cpu_s() const;   ///< CPU time of this thread since construction, s
+  double wall_s() const;                              ///< wall time since construction, s
+  double cpu_s() const;                               ///< CPU time of this thread since construction, s
 
  private:
   Nanos period_, end_;

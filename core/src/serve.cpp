@@ -108,7 +108,8 @@ struct Server {
         std::unique_lock lk(flight_mu, std::try_to_lock);
         if (!lk.owns_lock()) return "error: swap refused: a flight is in progress; swap between flights";
         const SwapReport rep = host.swap(w[1], w[2]);
-        if (rep.same()) return fmt::format("ok: {} now runs {}\nwarning: same library (sha256 {}): did the build fail?", w[1], w[2], rep.new_sha256);
+        if (rep.same())
+          return fmt::format("ok: {} now runs {}\nwarning: same library (sha256 {}): did the build fail?", w[1], w[2], rep.new_sha256);
         return fmt::format("ok: {} now runs {} (sha256 {} -> {})", w[1], w[2], rep.old_sha256.substr(0, 12), rep.new_sha256.substr(0, 12));
       }
       if (cmd == "phases") {
@@ -126,7 +127,8 @@ struct Server {
             continue;
           }
           const auto p = msg::phase_from_name(k);
-          if (!p || *p == msg::Phase::preflight) return "error: phases: unknown phase '" + k + "' (takeoff, climb, cruise, landing, loiter, fallback)";
+          if (!p || *p == msg::Phase::preflight)
+            return "error: phases: unknown phase '" + k + "' (takeoff, climb, cruise, landing, loiter, fallback)";
           table[*p] = v;
         }
         host.set_phases(table, fallback);

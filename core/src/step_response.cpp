@@ -37,8 +37,7 @@ double settling(const std::vector<double>& t, const std::vector<double>& y, doub
 }
 }  // namespace
 
-StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& y, double r, double band,
-                         double final_fraction) {
+StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& y, double r, double band, double final_fraction) {
   if (t.size() != y.size() || t.size() < 4) throw std::invalid_argument("step_metrics: t and y need the same size, at least 4");
   for (std::size_t i = 1; i < t.size(); ++i)
     if (!(t[i] > t[i - 1])) throw std::invalid_argument("step_metrics: t must increase");

@@ -18,18 +18,18 @@
 namespace tern::core {
 
 struct StepMetrics {
-  double y0 = 0.0;                 ///< response at the step
-  double y_final = 0.0;            ///< final value y_f
-  double rise_time = 0.0;          ///< s; NaN if y never reached 90 % of the way
-  double overshoot_pct = 0.0;      ///< %
-  double settling_time = 0.0;      ///< s; NaN if the response never stayed in the band
-  double steady_state_error = 0.0; ///< r - y_f
+  double y0 = 0.0;                  ///< response at the step
+  double y_final = 0.0;             ///< final value y_f
+  double rise_time = 0.0;           ///< s; NaN if y never reached 90 % of the way
+  double overshoot_pct = 0.0;       ///< %
+  double settling_time = 0.0;       ///< s; NaN if the response never stayed in the band
+  double steady_state_error = 0.0;  ///< r - y_f
 };
 
 /// Figures of one step. `t` (s, increasing, t[0] = the step) and `y` have the same size >= 4;
 /// `r` is the command after the step. Throws std::invalid_argument on sizes, a non-increasing
 /// t, or y_f == y0 (no step to measure).
-StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& y, double r,
-                         double band = 0.02, double final_fraction = 0.1);
+StepMetrics step_metrics(const std::vector<double>& t, const std::vector<double>& y, double r, double band = 0.02,
+                         double final_fraction = 0.1);
 
 }  // namespace tern::core

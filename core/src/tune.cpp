@@ -221,8 +221,8 @@ std::string tune_report(const TuneResult& r, const std::string& config_name) {
   if (!r.overrides.empty()) s += fmt::format("with {}\n", fmt::join(r.overrides, " "));
   s += r.engaged_s ? fmt::format("signal engaged at t = {:.2f} s; response: the estimated {}\n", *r.engaged_s, l.state)
                    : "signal never engaged (no cruise phase?)\n";
-  s += fmt::format("{:>9} {:>10} {:>10} {:>9} {:>13} {:>13} {:>14}\n", "t [s]", "from", "to", "rise [s]", "overshoot [%]",
-                   "settling [s]", fmt::format("ss error [{}]", l.unit));
+  s += fmt::format("{:>9} {:>10} {:>10} {:>9} {:>13} {:>13} {:>14}\n", "t [s]", "from", "to", "rise [s]", "overshoot [%]", "settling [s]",
+                   fmt::format("ss error [{}]", l.unit));
   for (const auto& st : r.steps)
     s += fmt::format("{:>9.2f} {:>10.4f} {:>10.4f} {:>9} {:>13} {:>13} {:>14}\n", st.t, st.from, st.to, num(st.m.rise_time, "{:.3f}"),
                      num(st.m.overshoot_pct, "{:.1f}"), num(st.m.settling_time, "{:.2f}"), num(st.m.steady_state_error, "{:+.4f}"));

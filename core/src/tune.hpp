@@ -47,7 +47,7 @@ struct TuneOptions {
   std::optional<double> duration;   ///< flight length, s (default: 60 + 2.5 periods)
   std::optional<std::uint64_t> seed;
   std::optional<std::filesystem::path> log_dir;
-  double start_time = 20.0;         ///< s after the first cruise phase
+  double start_time = 20.0;  ///< s after the first cruise phase
   /// --set (the gains under test), --phases, --fallback: applied to the config before the
   /// flight (cli_overrides.hpp), recorded in the run's config.yaml.
   CliOverrides overrides;
@@ -65,7 +65,7 @@ struct TuneResult {
   double amplitude = 0.0, period = 0.0, duration = 0.0;
   std::uint64_t seed = 0;
   std::vector<std::string> overrides;  ///< the options as given (--set ..., --phases ...)
-  std::optional<double> engaged_s;  ///< flight time the signal engaged (nullopt: never)
+  std::optional<double> engaged_s;     ///< flight time the signal engaged (nullopt: never)
   std::vector<TuneStep> steps;
   FlightResult flight;
 };

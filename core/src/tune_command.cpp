@@ -35,8 +35,9 @@ bool draw(const fs::path& program, const fs::path& run_dir) {
 
 void add_tune_command(CLI::App& app, TuneCommand& tc) {
   auto& o = tc.options;
-  tc.app = app.add_subcommand("tune", "step-response test of one control loop in fast time: rise time, overshoot, settling time, "
-                                      "steady-state error per step, and a plot (docs/tuning.md)");
+  tc.app = app.add_subcommand("tune",
+                              "step-response test of one control loop in fast time: rise time, overshoot, settling time, "
+                              "steady-state error per step, and a plot (docs/tuning.md)");
   tc.app->add_option("loop", o.loop, "the loop: " + tune_loop_names())->required();
   tc.app->add_option("--config", o.config, "mission config (default: configs/missions/default.yaml)");
   tc.app->add_option("--amplitude", o.amplitude, "peak-to-peak step in the loop's unit (rad, m, m/s; default per loop)");
@@ -62,16 +63,18 @@ int run_tune_command(TuneCommand& tc, const fs::path& default_config, const fs::
   }
   const TuneResult r = run_tune(o);
   std::fputs(tune_report(r, o.config.filename().string()).c_str(), stdout);
-  if (!r.flight.ok) throw ConfigError(fmt::format("the flight failed ({}{}): see {}", r.flight.end_reason,
-                                                  r.flight.end_detail.empty() ? "" : ": " + r.flight.end_detail,
-                                                  (r.flight.run_dir / "tern.log").string()));
+  if (!r.flight.ok)
+    throw ConfigError(fmt::format("the flight failed ({}{}): see {}", r.flight.end_reason,
+                                  r.flight.end_detail.empty() ? "" : ": " + r.flight.end_detail, (r.flight.run_dir / "tern.log").string()));
   if (r.steps.empty())
-    throw ConfigError(fmt::format("no complete step to measure in {} s (engaged at {}): try a longer --duration",
-                                  r.duration, r.engaged_s ? fmt::format("t = {:.1f} s", *r.engaged_s) : "no time: no cruise phase"));
+    throw ConfigError(fmt::format("no complete step to measure in {} s (engaged at {}): try a longer --duration", r.duration,
+                                  r.engaged_s ? fmt::format("t = {:.1f} s", *r.engaged_s) : "no time: no cruise phase"));
   fmt::print("log: {}\n", r.flight.run_dir.string());
   if (!tc.no_plot) {
-    if (draw(plot_program, r.flight.run_dir)) fmt::print("plot: {}\n", (r.flight.run_dir / "plots" / "tune.png").string());
-    else std::fprintf(stderr, "tern: warning: %s %s failed: no plot\n", plot_program.c_str(), r.flight.run_dir.c_str());
+    if (draw(plot_program, r.flight.run_dir))
+      fmt::print("plot: {}\n", (r.flight.run_dir / "plots" / "tune.png").string());
+    else
+      std::fprintf(stderr, "tern: warning: %s %s failed: no plot\n", plot_program.c_str(), r.flight.run_dir.c_str());
   }
   return 0;
 }

@@ -49,9 +49,10 @@ void Watchdog::leave(StepStats& stats, Nanos dt, spdlog::logger& log) {
   }
   if (dt <= static_cast<Nanos>(budgets_.soft_ms * 1e6)) return;
   if (stats.slow++ == 0)
-    log.warn("t={:.3f} s: {}: a step took {:.1f} ms of wall time, over the watchdog's soft budget of {} ms (watchdog.soft_ms); "
-             "all are counted in timing.json (watchdog_slow_steps) and the console summary",
-             to_seconds(step_now_), *name_, static_cast<double>(dt) * 1e-6, budgets_.soft_ms);
+    log.warn(
+        "t={:.3f} s: {}: a step took {:.1f} ms of wall time, over the watchdog's soft budget of {} ms (watchdog.soft_ms); "
+        "all are counted in timing.json (watchdog_slow_steps) and the console summary",
+        to_seconds(step_now_), *name_, static_cast<double>(dt) * 1e-6, budgets_.soft_ms);
 }
 
 std::string Watchdog::verdict(std::int64_t started, std::string& reason) {
@@ -59,17 +60,18 @@ std::string Watchdog::verdict(std::int64_t started, std::string& reason) {
   const double ran_ms = static_cast<double>(now - started) * 1e-6;
   if (policed_.load(std::memory_order_relaxed) && ran_ms > budgets_.hard_ms) {
     reason = "watchdog";
-    return fmt::format("{} at t={:.3f} s: a step still running after {:.0f} ms of wall time, past the watchdog's hard budget of {} ms "
-                       "(watchdog.hard_ms); the process ends without stopping the plugins",
-                       *name_, to_seconds(step_now_), ran_ms, budgets_.hard_ms);
+    return fmt::format(
+        "{} at t={:.3f} s: a step still running after {:.0f} ms of wall time, past the watchdog's hard budget of {} ms "
+        "(watchdog.hard_ms); the process ends without stopping the plugins",
+        *name_, to_seconds(step_now_), ran_ms, budgets_.hard_ms);
   }
   const int sig = stop_ ? stop_() : 0;
   if (sig == 0) return "";
   if (stop_seen_ == 0) stop_seen_ = now;
   if ((now - stop_seen_) * 1e-6 < kStopGraceMs || ran_ms < kStopGraceMs) return "";
   reason = signal_end_reason(sig);
-  return fmt::format("{} at t={:.3f} s: stuck in a step for {:.0f} ms when {} came; the process ends without stopping the plugins",
-                     *name_, to_seconds(step_now_), ran_ms, reason);
+  return fmt::format("{} at t={:.3f} s: stuck in a step for {:.0f} ms when {} came; the process ends without stopping the plugins", *name_,
+                     to_seconds(step_now_), ran_ms, reason);
 }
 
 void Watchdog::run() {

@@ -77,9 +77,9 @@ class Watchdog {
   Emergency emergency_;
   std::atomic<std::int64_t> started_{0};  // wall_ns() at the running step's start; 0: none; -1: claimed
   std::atomic<bool> policed_{false};
-  const std::string* name_ = nullptr;     // written before started_ (release), read after it (acquire)
+  const std::string* name_ = nullptr;  // written before started_ (release), read after it (acquire)
   Nanos step_now_ = 0;
-  std::int64_t stop_seen_ = 0;            // wall_ns() when the watchdog first saw a stop signal
+  std::int64_t stop_seen_ = 0;  // wall_ns() when the watchdog first saw a stop signal
   std::thread thread_;
   std::mutex mu_;
   std::condition_variable cv_;

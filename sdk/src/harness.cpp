@@ -12,8 +12,7 @@ Harness::Harness(std::unique_ptr<Plugin> plugin, std::map<std::string, ParamValu
   plugin_->attach(this);
   plugin_->configure();
   for (const auto& [name, value] : params_) {
-    if (plugin_->find_param(name) == nullptr)
-      throw ParamError("harness: plugin has no parameter '" + name + "'");
+    if (plugin_->find_param(name) == nullptr) throw ParamError("harness: plugin has no parameter '" + name + "'");
   }
 }
 
@@ -65,8 +64,8 @@ void Harness::set_param(const std::string& name, const ParamValue& value) {
 
 void Harness::check_type(const PortBase& port, const MsgType& want) {
   if (port.type().fingerprint != want.fingerprint || port.type().name != want.name) {
-    throw std::logic_error("harness: port '" + port.name() + "' carries " + std::string(port.type().name) +
-                           ", not " + std::string(want.name));
+    throw std::logic_error("harness: port '" + port.name() + "' carries " + std::string(port.type().name) + ", not " +
+                           std::string(want.name));
   }
 }
 

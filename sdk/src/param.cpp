@@ -58,20 +58,17 @@ ParamValue ParamBase::validate(const ParamValue& v_in) const {
   if (got != kind_) {
     if (kind_ == ParamKind::real && got == ParamKind::integer) {
       v = static_cast<double>(std::get<std::int64_t>(v));
-    } else if (kind_ == ParamKind::integer && got == ParamKind::real &&
-               std::get<double>(v) == std::floor(std::get<double>(v)) &&
+    } else if (kind_ == ParamKind::integer && got == ParamKind::real && std::get<double>(v) == std::floor(std::get<double>(v)) &&
                std::fabs(std::get<double>(v)) < 9.0e15) {
       v = static_cast<std::int64_t>(std::get<double>(v));
     } else if (kind_ == ParamKind::vector && (got == ParamKind::real || got == ParamKind::integer)) {
       throw fail(fmt::format("is a single number; expected a {}", param_kind_name(kind_)));
     } else {
-      throw fail(fmt::format("has the wrong type: expected a {}, got a {}", param_kind_name(kind_),
-                             param_kind_name(got)));
+      throw fail(fmt::format("has the wrong type: expected a {}, got a {}", param_kind_name(kind_), param_kind_name(got)));
     }
   }
   auto range = [&]() {
-    return fmt::format("outside the valid range [{}, {}]{}", num(spec_.min), num(spec_.max),
-                       spec_.unit.empty() ? "" : " " + spec_.unit);
+    return fmt::format("outside the valid range [{}, {}]{}", num(spec_.min), num(spec_.max), spec_.unit.empty() ? "" : " " + spec_.unit);
   };
   auto check = [&](double x) {
     if (std::isnan(x)) throw fail("is not a number");
@@ -82,8 +79,7 @@ ParamValue ParamBase::validate(const ParamValue& v_in) const {
     case ParamKind::real: check(std::get<double>(v)); break;
     case ParamKind::vector: {
       const auto& vec = std::get<std::vector<double>>(v);
-      if (spec_.size != 0 && vec.size() != spec_.size)
-        throw fail(fmt::format("has {} elements; expected {}", vec.size(), spec_.size));
+      if (spec_.size != 0 && vec.size() != spec_.size) throw fail(fmt::format("has {} elements; expected {}", vec.size(), spec_.size));
       for (double x : vec) check(x);
       break;
     }

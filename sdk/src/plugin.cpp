@@ -42,15 +42,13 @@ OutputBase* Plugin::find_output(std::string_view name) const { return find_by_na
 ParamBase* Plugin::find_param(std::string_view name) const { return find_by_name(params_, name); }
 
 void Plugin::add_input(InputBase& port, std::string name, std::string description) {
-  if (find_input(name) != nullptr || find_output(name) != nullptr)
-    throw std::logic_error("plugin declares port '" + name + "' twice");
+  if (find_input(name) != nullptr || find_output(name) != nullptr) throw std::logic_error("plugin declares port '" + name + "' twice");
   port.set_identity(std::move(name), std::move(description));
   inputs_.push_back(&port);
 }
 
 void Plugin::add_output(OutputBase& port, std::string name, std::string description) {
-  if (find_input(name) != nullptr || find_output(name) != nullptr)
-    throw std::logic_error("plugin declares port '" + name + "' twice");
+  if (find_input(name) != nullptr || find_output(name) != nullptr) throw std::logic_error("plugin declares port '" + name + "' twice");
   port.set_identity(std::move(name), std::move(description));
   outputs_.push_back(&port);
 }

@@ -13,7 +13,8 @@ namespace {
 
 struct Limits {
   double theta_max = 0.35;
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     v(&Limits::theta_max, "theta_max", ParamSpec("rad", 0.0, 1.2, "pitch command upper limit"));
   }
 };
@@ -28,7 +29,8 @@ struct Gains {
   Limits limits;
   double not_a_parameter = 7.0;
   std::array<double, 2> timeout{0.5, 1.0};
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     v(&Gains::kp, "roll_kp", ParamSpec("rad/rad", 0.0, 10.0, "roll -> aileron gain"));
     v(&Gains::aux, "aux", ParamSpec("", -1, 3, "aux channel"));
     v(&Gains::count, "count", ParamSpec("", 1, 10, "a count"));
@@ -106,6 +108,5 @@ TEST_CASE("declare_struct applies configured values and keeps the struct updated
 }
 
 TEST_CASE("declare_struct refuses an invalid configured value with the parameter's name") {
-  CHECK_THROWS_WITH_AS(testing::Harness(std::make_unique<StructPlugin>(), {{"roll_kp", 20.0}}),
-                       doctest::Contains("roll_kp"), ParamError);
+  CHECK_THROWS_WITH_AS(testing::Harness(std::make_unique<StructPlugin>(), {{"roll_kp", 20.0}}), doctest::Contains("roll_kp"), ParamError);
 }

@@ -10,18 +10,18 @@ TEST_CASE("parameters validate type and range and keep the old value on error") 
   kp.set_identity("roll_kp", "slc.roll_kp", ParamSpec("", 0.0, 5.0, "roll proportional gain"), 0.5);
   int calls = 0;
   double seen = 0;
-  kp.on_change([&](const double& v) { ++calls; seen = v; });
+  kp.on_change([&](const double& v) {
+    ++calls;
+    seen = v;
+  });
   kp.set(std::int64_t{2});  // integers are accepted for real parameters
   CHECK(kp() == 2.0);
   CHECK(calls == 1);
   CHECK(seen == 2.0);
-  CHECK_THROWS_WITH_AS(kp.set(7.5),
-                       "parameter 'slc.roll_kp': value 7.5 is outside the valid range [0, 5]",
-                       ParamError);
+  CHECK_THROWS_WITH_AS(kp.set(7.5), "parameter 'slc.roll_kp': value 7.5 is outside the valid range [0, 5]", ParamError);
   CHECK(kp() == 2.0);
   CHECK_THROWS_WITH_AS(kp.set(std::string("fast")),
-                       "parameter 'slc.roll_kp': value \"fast\" has the wrong type: expected a number, got a string",
-                       ParamError);
+                       "parameter 'slc.roll_kp': value \"fast\" has the wrong type: expected a number, got a string", ParamError);
   CHECK(calls == 1);
 
   Param<std::int64_t> n;

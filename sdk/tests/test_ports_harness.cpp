@@ -54,8 +54,7 @@ TEST_CASE("harness: inputs, steps, outputs, parameters") {
 
 TEST_CASE("harness: a configured value outside the range is refused at configure") {
   CHECK_THROWS_WITH_AS(testing::Harness(std::make_unique<PTest>(), {{"kp", -1.0}}),
-                       "parameter 'test.kp': value -1 is outside the valid range [0, 10] rad/rad",
-                       ParamError);
+                       "parameter 'test.kp': value -1 is outside the valid range [0, 10] rad/rad", ParamError);
   CHECK_THROWS_AS(testing::Harness(std::make_unique<PTest>(), {{"kq", 1.0}}), ParamError);
 }
 

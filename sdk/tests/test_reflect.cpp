@@ -11,7 +11,8 @@ struct Sample {
   Nanos stamp = 0;
   double a = 0;
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Sample::stamp, "stamp", "ns");
     v(&Sample::a, "a", "m");
     v(&Sample::b, "b", "m/s", "n,e,d");
@@ -24,7 +25,8 @@ struct Sample {
   Nanos stamp = 0;
   double a2 = 0;
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Sample::stamp, "stamp", "ns");
     v(&Sample::a2, "a2", "m");
     v(&Sample::b, "b", "m/s", "n,e,d");
@@ -37,7 +39,8 @@ struct Sample {
   Nanos stamp = 0;
   float a = 0;
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Sample::stamp, "stamp", "ns");
     v(&Sample::a, "a", "m");
     v(&Sample::b, "b", "m/s", "n,e,d");

@@ -26,7 +26,8 @@ class TestController final : public tern::Plugin {
     declare(kp_, "kp", 0.05, tern::ParamSpec("1/m", 0.0, 10.0, "throttle per metre of altitude error"));
     declare(tag_, "tag", 0.0, tern::ParamSpec("rad", -1.0, 1.0, "constant elevator command identifying this controller"));
     declare(aileron_, "aileron", 0.0, tern::ParamSpec("rad", -1.0, 1.0, "constant aileron command"));
-    declare(fail_mode_, "fail_mode", "none", tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "throw", "nan", "silent", "segv", "hang", "exit"}));
+    declare(fail_mode_, "fail_mode", "none",
+            tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "throw", "nan", "silent", "segv", "hang", "exit"}));
     declare(fail_at_, "fail_at", 0.0, tern::ParamSpec("s", 0.0, 1e6, "flight time from which to fail"));
   }
   void step(tern::Nanos now) override {
@@ -53,7 +54,8 @@ class TestController final : public tern::Plugin {
     last_take_over_delta_t_ = last.delta_t;
   }
   std::vector<std::pair<std::string, double>> summary() const override {
-    return {{"take_overs", static_cast<double>(take_overs_)}, {"last_take_over_delta_t", last_take_over_delta_t_},
+    return {{"take_overs", static_cast<double>(take_overs_)},
+            {"last_take_over_delta_t", last_take_over_delta_t_},
             {"version", TERN_TEST_VERSION}};
   }
 

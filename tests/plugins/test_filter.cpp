@@ -38,8 +38,10 @@ class TestFilter final : public tern::Plugin {
     ++steps_;
   }
   std::vector<std::pair<std::string, double>> summary() const override {
-    return {{"stale_imu_steps", static_cast<double>(stale_)}, {"steps", static_cast<double>(steps_)},
-            {"mission_edits", static_cast<double>(edits_seen_)}, {"last_edit_id", static_cast<double>(last_edit_id_)}};
+    return {{"stale_imu_steps", static_cast<double>(stale_)},
+            {"steps", static_cast<double>(steps_)},
+            {"mission_edits", static_cast<double>(edits_seen_)},
+            {"last_edit_id", static_cast<double>(last_edit_id_)}};
   }
 
  private:

@@ -103,11 +103,13 @@ int main() {
     std::fprintf(stderr, "bench_dds: cannot create the DDS entities\n");
     return 1;
   }
-  ddsi::wait_until([&] {
-    fdds::PublicationMatchedStatus s;
-    writer->get_publication_matched_status(s);
-    return s.current_count > 0;
-  }, std::chrono::seconds(10));
+  ddsi::wait_until(
+      [&] {
+        fdds::PublicationMatchedStatus s;
+        writer->get_publication_matched_status(s);
+        return s.current_count > 0;
+      },
+      std::chrono::seconds(10));
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   const auto* type = ddsi::find_type("tern/State");
   auto sample = type->make_sample();
@@ -136,8 +138,10 @@ int main() {
     lat = rx.latencies;
     rx.recording = false;
   }
-  out["dds_hop_400hz"] = {{"median_ns", percentile(lat, 0.5)}, {"p99_ns", percentile(lat, 0.99)},
-                          {"write_median_ns", percentile(write_ns, 0.5)}, {"sent", n400},
+  out["dds_hop_400hz"] = {{"median_ns", percentile(lat, 0.5)},
+                          {"p99_ns", percentile(lat, 0.99)},
+                          {"write_median_ns", percentile(write_ns, 0.5)},
+                          {"sent", n400},
                           {"received", static_cast<long>(lat.size())}};
   // 3. throughput
   const long before = rx.received.load();

@@ -41,11 +41,11 @@ enum class DdsQos : std::uint8_t {
 int default_depth(DdsQos q);
 
 struct DdsTopicOptions {
-  std::string topic;                ///< tern topic name (e.g. "state")
-  std::string name;                 ///< DDS name under the namespace (default: topic)
-  double rate = -1;                 ///< max publish rate, Hz (0: every message; <0: the bridge default)
-  std::optional<DdsQos> qos;        ///< default: transient_local for waypoints and flight_phase, else best_effort
-  std::optional<int> depth;         ///< keep-last depth, 1..1000 (default: default_depth(qos))
+  std::string topic;          ///< tern topic name (e.g. "state")
+  std::string name;           ///< DDS name under the namespace (default: topic)
+  double rate = -1;           ///< max publish rate, Hz (0: every message; <0: the bridge default)
+  std::optional<DdsQos> qos;  ///< default: transient_local for waypoints and flight_phase, else best_effort
+  std::optional<int> depth;   ///< keep-last depth, 1..1000 (default: default_depth(qos))
   /// ROS 2 type ("sensor_msgs/msg/Imu"); empty: the tern type's first DDS type (src/convert.cpp).
   std::string type;
 };
@@ -66,20 +66,20 @@ struct DdsSecurity {
 };
 
 struct DdsOptions {
-  bool enabled = false;             ///< `dds: {enabled: true}` or `tern fly --dds`
-  std::uint32_t domain = 0;         ///< DDS domain id, 0..232
-  std::string ns = "tern";          ///< vehicle namespace: topics rt/<ns>/<name> ("" : rt/<name>)
+  bool enabled = false;                              ///< `dds: {enabled: true}` or `tern fly --dds`
+  std::uint32_t domain = 0;                          ///< DDS domain id, 0..232
+  std::string ns = "tern";                           ///< vehicle namespace: topics rt/<ns>/<name> ("" : rt/<name>)
   std::vector<std::string> interfaces{"127.0.0.1"};  ///< IPv4 addresses the participant may use
   std::vector<std::string> peers{"127.0.0.1"};       ///< initial discovery peers (IPv4)
-  bool multicast = false;           ///< multicast discovery on the listed interfaces
-  double rate = 0;                  ///< default max publish rate per topic, Hz (0: every message)
-  std::vector<DdsTopicOptions> topics;  ///< bridged topics (default: rosplane_profile(aliases))
+  bool multicast = false;                            ///< multicast discovery on the listed interfaces
+  double rate = 0;                                   ///< default max publish rate per topic, Hz (0: every message)
+  std::vector<DdsTopicOptions> topics;               ///< bridged topics (default: rosplane_profile(aliases))
   /// With the default topics, also publish tern's own names that ROSplane's profile renames
   /// (state, waypoints, actuators in tern's types and QoS), for tern's tools and older scripts.
   bool aliases = true;
   bool topics_from_config = false;  ///< `dds.topics` was given (each named topic must exist)
   DdsTime time = DdsTime::automatic;
-  double clock_rate = 100;          ///< Hz of rt/clock in sim time (0: no /clock)
+  double clock_rate = 100;  ///< Hz of rt/clock in sim time (0: no /clock)
   /// Serve telemetry only: no parameter, mission or file service (status stays, for `tern topics`).
   bool read_only = false;
   /// Directories where load_mission_from_file may read, besides the mission config's directory.
@@ -97,10 +97,9 @@ struct DdsOptions {
 
 /// Reads the mission config's `dds:` section (missing or null: defaults). Keys: enabled, domain,
 /// namespace, interfaces, peers, multicast, rate, topics (a list of names or of maps
-/// {topic, name, rate, qos, depth, type}), aliases, time (auto | sim | wall), clock_rate, read_only, mission_dirs, param_dirs (lists of directories, relative
-/// to the config file), security ({keystore: DIR relative to the config file, enclave: NAME,
-/// default "vehicle"}). Throws ConfigError "file:line:col: dds.key: ..." for unknown keys
-/// (with a suggestion) and bad values.
+/// {topic, name, rate, qos, depth, type}), aliases, time (auto | sim | wall), clock_rate, read_only, mission_dirs, param_dirs (lists of
+/// directories, relative to the config file), security ({keystore: DIR relative to the config file, enclave: NAME, default "vehicle"}).
+/// Throws ConfigError "file:line:col: dds.key: ..." for unknown keys (with a suggestion) and bad values.
 DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path& config_file);
 
 /// A DDS error: no vehicle answered, a request was refused, a topic is unknown. what() is one line.
@@ -154,7 +153,7 @@ struct DdsStatus {
   std::string phase;
   std::uint32_t flights = 0;
   std::vector<std::pair<std::string, std::string>> topics;  ///< DDS topic name, DDS type name
-  std::vector<DdsQos> qos;  ///< of each topic
+  std::vector<DdsQos> qos;                                  ///< of each topic
 };
 
 /// The ground side (the `tern` command's topics/echo/param/mission subcommands): a participant

@@ -106,13 +106,12 @@ static int discover(dds_entity_t pp) {
 }
 
 static int read_state(dds_entity_t pp) {
-  dds_entity_t r = reader(pp, &rosplane_msgs_msg_dds__State__desc, "rt/tern/state",
-                          qos(DDS_RELIABILITY_BEST_EFFORT, DDS_DURABILITY_VOLATILE, 1));
+  dds_entity_t r =
+      reader(pp, &rosplane_msgs_msg_dds__State__desc, "rt/tern/state", qos(DDS_RELIABILITY_BEST_EFFORT, DDS_DURABILITY_VOLATILE, 1));
   rosplane_msgs_msg_dds__State_ s;
   memset(&s, 0, sizeof s);
   if (take_one(r, &s) != 0) return -1;
-  printf("rt/tern/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va,
-         s.quat.w);
+  printf("rt/tern/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va, s.quat.w);
   return s.va > 0 ? 0 : -1;
 }
 
@@ -130,10 +129,10 @@ static int set_parameter(dds_entity_t pp) {
   memset(&rs, 0, sizeof rs);
   dds_sleepfor(DDS_MSECS(500)); /* the event reader matches the vehicle's writer */
   if (call(pp, "tern/ctl/set_parameters", &rcl_interfaces_srv_dds__SetParameters_Request__desc, &rq,
-           &rcl_interfaces_srv_dds__SetParameters_Response__desc, &rs) != 0 || rs.results._length != 1)
+           &rcl_interfaces_srv_dds__SetParameters_Response__desc, &rs) != 0 ||
+      rs.results._length != 1)
     return -1;
-  printf("set_parameters /tern/ctl kp 0.125: successful %d reason '%s'\n", rs.results._buffer[0].successful,
-         rs.results._buffer[0].reason);
+  printf("set_parameters /tern/ctl kp 0.125: successful %d reason '%s'\n", rs.results._buffer[0].successful, rs.results._buffer[0].reason);
   if (!rs.results._buffer[0].successful) return -1;
   rcl_interfaces_msg_dds__ParameterEvent_ e;
   memset(&e, 0, sizeof e);
@@ -149,7 +148,8 @@ static int describe_parameter(dds_entity_t pp) {
   rcl_interfaces_srv_dds__DescribeParameters_Response_ rs;
   memset(&rs, 0, sizeof rs);
   if (call(pp, "tern/ctl/describe_parameters", &rcl_interfaces_srv_dds__DescribeParameters_Request__desc, &rq,
-           &rcl_interfaces_srv_dds__DescribeParameters_Response__desc, &rs) != 0 || rs.descriptors._length != 1)
+           &rcl_interfaces_srv_dds__DescribeParameters_Response__desc, &rs) != 0 ||
+      rs.descriptors._length != 1)
     return -1;
   const rcl_interfaces_msg_dds__ParameterDescriptor_* d = &rs.descriptors._buffer[0];
   printf("describe_parameters /tern/ctl kp: type %u description '%s' constraints '%s' read_only %d", d->type, d->description,
@@ -179,11 +179,16 @@ int main(int argc, char** argv) {
   const dds_entity_t pp = dds_create_participant((dds_domainid_t)atoi(argv[1]), NULL, NULL);
   if (pp < 0) return fail("create a Cyclone DDS participant");
   int rc = 0;
-  if (discover(pp) != 0) rc = fail("discover node /tern/ctl on ros_discovery_info");
-  else if (read_state(pp) != 0) rc = fail("read rt/tern/state as rosplane_msgs/msg/State");
-  else if (describe_parameter(pp) != 0) rc = fail("describe /tern/ctl kp (rcl_interfaces describe_parameters)");
-  else if (set_parameter(pp) != 0) rc = fail("set /tern/ctl kp and see it on rt/parameter_events");
-  else if (add_waypoint(pp) != 0) rc = fail("add a waypoint (rosplane_msgs/srv/AddWaypoint)");
+  if (discover(pp) != 0)
+    rc = fail("discover node /tern/ctl on ros_discovery_info");
+  else if (read_state(pp) != 0)
+    rc = fail("read rt/tern/state as rosplane_msgs/msg/State");
+  else if (describe_parameter(pp) != 0)
+    rc = fail("describe /tern/ctl kp (rcl_interfaces describe_parameters)");
+  else if (set_parameter(pp) != 0)
+    rc = fail("set /tern/ctl kp and see it on rt/parameter_events");
+  else if (add_waypoint(pp) != 0)
+    rc = fail("add a waypoint (rosplane_msgs/srv/AddWaypoint)");
   dds_delete(pp);
   if (rc == 0) printf("OK: Cyclone DDS %s client drove tern\n", DDS_VERSION);
   return rc;

@@ -24,16 +24,16 @@
 #define MATCH_TIMEOUT DDS_SECS(30)
 #define RUN_TIMEOUT DDS_SECS(60)
 
-typedef const char* (*check_fn)(const void* sample);  /* NULL when the sample is sensible, else why not */
+typedef const char* (*check_fn)(const void* sample); /* NULL when the sample is sensible, else why not */
 typedef const builtin_interfaces_msg_dds__Time_* (*stamp_fn)(const void* sample);
 
 typedef struct {
-  const char* name;  /* DDS topic name */
+  const char* name; /* DDS topic name */
   const dds_topic_descriptor_t* desc;
   dds_reliability_kind_t reliability;
   dds_durability_kind_t durability;
   int32_t depth;
-  const char* source;  /* the ROSplane file whose subscription this is */
+  const char* source; /* the ROSplane file whose subscription this is */
   check_fn check;
   stamp_fn stamp;
   int min_samples;
@@ -41,7 +41,7 @@ typedef struct {
   dds_entity_t reader;
   void* sample;
   int samples;
-  int stamps_back;  /* stamps that went backwards */
+  int stamps_back; /* stamps that went backwards */
   double first_stamp, last_stamp, min_stamp, max_stamp;
   const char* bad; /* first failed check */
 } topic_t;
@@ -82,7 +82,9 @@ static const char* check_imu(const void* p) {
   if (!(fabs(g->x) < 20 && fabs(g->y) < 20 && fabs(g->z) < 20)) return "angular_velocity beyond 20 rad/s";
   return NULL;
 }
-static const builtin_interfaces_msg_dds__Time_* gnss_stamp(const void* s) { return &((const rosflight_msgs_msg_dds__GNSS_*)s)->header.stamp; }
+static const builtin_interfaces_msg_dds__Time_* gnss_stamp(const void* s) {
+  return &((const rosflight_msgs_msg_dds__GNSS_*)s)->header.stamp;
+}
 static const char* check_gnss(const void* p) {
   const rosflight_msgs_msg_dds__GNSS_* m = p;
   if (m->fix_type > 5) return "fix_type > 5";
@@ -132,9 +134,11 @@ static const builtin_interfaces_msg_dds__Time_* clock_stamp(const void* s) { ret
 #define VOL DDS_DURABILITY_VOLATILE
 #define TL DDS_DURABILITY_TRANSIENT_LOCAL
 /* designated initializers: the results start zeroed */
-#define TOPIC(n, d, rel, dur, dep, src, chk, st, min)                                                                       \
-  {.name = n, .desc = d, .reliability = rel, .durability = dur, .depth = dep, .source = src, .check = chk, .stamp = st, \
-   .min_samples = min}
+#define TOPIC(n, d, rel, dur, dep, src, chk, st, min)                                                                    \
+  {                                                                                                                      \
+    .name = n, .desc = d, .reliability = rel, .durability = dur, .depth = dep, .source = src, .check = chk, .stamp = st, \
+    .min_samples = min                                                                                                   \
+  }
 static topic_t topics[] = {
     TOPIC("rt/tern/estimated_state", &rosplane_msgs_msg_dds__State__desc, REL, VOL, 10, "rosplane_gcs rviz_waypoint_publisher.cpp",
           check_state, state_stamp, 20),
@@ -147,8 +151,8 @@ static topic_t topics[] = {
           airspeed_stamp, 10),
     TOPIC("rt/tern/magnetometer", &sensor_msgs_msg_dds__MagneticField__desc, REL, VOL, 10, "rosplane estimator_ros.cpp", check_mag,
           mag_stamp, 5),
-    TOPIC("rt/tern/status", &rosflight_msgs_msg_dds__Status__desc, REL, VOL, 10, "rosplane estimator_ros.cpp", check_status,
-          status_stamp, 3),
+    TOPIC("rt/tern/status", &rosflight_msgs_msg_dds__Status__desc, REL, VOL, 10, "rosplane estimator_ros.cpp", check_status, status_stamp,
+          3),
     TOPIC("rt/clock", &rosgraph_msgs_msg_dds__Clock__desc, BE, VOL, 1, "rclcpp TimeSource (ClockQoS)", NULL, clock_stamp, 100),
 };
 #define N_TOPICS (sizeof topics / sizeof topics[0])
@@ -183,15 +187,17 @@ static void drain(topic_t* t) {
       const double s = seconds(t->stamp(t->sample));
       const char* why = t->check != NULL ? t->check(t->sample) : NULL;
       if (why != NULL && t->bad == NULL) t->bad = why;
-      if (t->samples == 0) t->first_stamp = t->min_stamp = t->max_stamp = s;
-      else if (s < t->last_stamp) ++t->stamps_back;
+      if (t->samples == 0)
+        t->first_stamp = t->min_stamp = t->max_stamp = s;
+      else if (s < t->last_stamp)
+        ++t->stamps_back;
       t->min_stamp = s < t->min_stamp ? s : t->min_stamp;
       t->max_stamp = s > t->max_stamp ? s : t->max_stamp;
       t->last_stamp = s;
       ++t->samples;
     }
     dds_sample_free(t->sample, t->desc, DDS_FREE_CONTENTS);
-    memset(t->sample, 0, t->desc->m_size);  /* the next take must not free the same strings again */
+    memset(t->sample, 0, t->desc->m_size); /* the next take must not free the same strings again */
   }
 }
 
@@ -206,15 +212,21 @@ static int verdict(const topic_t* t, const topic_t* clock) {
   dds_requested_incompatible_qos_status_t inc;
   dds_get_requested_incompatible_qos_status(t->reader, &inc);
   const char* why = NULL;
-  if (inc.total_count > 0) why = "incompatible QoS";
-  else if (t->samples < t->min_samples) why = "too few samples";
-  else if (t->bad != NULL) why = t->bad;
-  else if (t->stamps_back > 0) why = "stamps went backwards";
-  else if (t != clock && t->min_samples > 2 && !(t->last_stamp > t->first_stamp)) why = "stamps do not advance";
-  else if (t->min_stamp < 0 || t->max_stamp > clock->last_stamp + 0.5) why = "stamps not in sim time (outside /clock's range)";
-  printf("%-26s %-5s %-15s depth %-2d %5d samples, stamps %8.3f..%8.3f s  %s  [%s]\n", t->name,
-         t->reliability == REL ? "rel" : "be", t->durability == TL ? "transient_local" : "volatile", t->depth, t->samples,
-         t->min_stamp, t->max_stamp, why == NULL ? "OK" : why, t->source);
+  if (inc.total_count > 0)
+    why = "incompatible QoS";
+  else if (t->samples < t->min_samples)
+    why = "too few samples";
+  else if (t->bad != NULL)
+    why = t->bad;
+  else if (t->stamps_back > 0)
+    why = "stamps went backwards";
+  else if (t != clock && t->min_samples > 2 && !(t->last_stamp > t->first_stamp))
+    why = "stamps do not advance";
+  else if (t->min_stamp < 0 || t->max_stamp > clock->last_stamp + 0.5)
+    why = "stamps not in sim time (outside /clock's range)";
+  printf("%-26s %-5s %-15s depth %-2d %5d samples, stamps %8.3f..%8.3f s  %s  [%s]\n", t->name, t->reliability == REL ? "rel" : "be",
+         t->durability == TL ? "transient_local" : "volatile", t->depth, t->samples, t->min_stamp, t->max_stamp, why == NULL ? "OK" : why,
+         t->source);
   return why == NULL ? 0 : 1;
 }
 

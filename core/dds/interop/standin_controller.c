@@ -40,7 +40,10 @@ typedef struct {
 } gains_t;
 
 static volatile sig_atomic_t stop_requested = 0;
-static void on_signal(int s) { (void)s; stop_requested = 1; }
+static void on_signal(int s) {
+  (void)s;
+  stop_requested = 1;
+}
 
 static double sat(double x, double lo, double hi) { return x < lo ? lo : (x > hi ? hi : x); }
 static double wrap_pi(double a) {
@@ -66,27 +69,57 @@ static double pid_update(loop_t* c, double e, double ydot, double dt, double ff)
 }
 
 static int read_gains(const char* file, gains_t* g) {
-  struct { const char* name; double* v; } keys[] = {
-    {"course_kp", &g->course_kp}, {"course_ki", &g->course_ki}, {"roll_kp", &g->roll_kp}, {"roll_kd", &g->roll_kd},
-    {"roll_ki", &g->roll_ki}, {"roll_ff", &g->roll_ff}, {"roll_rate_max", &g->roll_rate_max}, {"roll_max", &g->roll_max},
-    {"max_a", &g->max_a}, {"yaw_damper_kr", &g->yaw_damper_kr}, {"yaw_damper_p_wo", &g->yaw_damper_p_wo}, {"max_r", &g->max_r},
-    {"altitude_kp", &g->altitude_kp}, {"altitude_ki", &g->altitude_ki}, {"theta_max", &g->theta_max},
-    {"theta_min", &g->theta_min}, {"pitch_kp", &g->pitch_kp}, {"pitch_ki", &g->pitch_ki}, {"pitch_kd", &g->pitch_kd},
-    {"trim_e", &g->trim_e}, {"max_e", &g->max_e}, {"airspeed_kp", &g->airspeed_kp}, {"airspeed_ki", &g->airspeed_ki},
-    {"trim_t", &g->trim_t}, {"max_t", &g->max_t}, {"min_t", &g->min_t}};
+  struct {
+    const char* name;
+    double* v;
+  } keys[] = {{"course_kp", &g->course_kp},
+              {"course_ki", &g->course_ki},
+              {"roll_kp", &g->roll_kp},
+              {"roll_kd", &g->roll_kd},
+              {"roll_ki", &g->roll_ki},
+              {"roll_ff", &g->roll_ff},
+              {"roll_rate_max", &g->roll_rate_max},
+              {"roll_max", &g->roll_max},
+              {"max_a", &g->max_a},
+              {"yaw_damper_kr", &g->yaw_damper_kr},
+              {"yaw_damper_p_wo", &g->yaw_damper_p_wo},
+              {"max_r", &g->max_r},
+              {"altitude_kp", &g->altitude_kp},
+              {"altitude_ki", &g->altitude_ki},
+              {"theta_max", &g->theta_max},
+              {"theta_min", &g->theta_min},
+              {"pitch_kp", &g->pitch_kp},
+              {"pitch_ki", &g->pitch_ki},
+              {"pitch_kd", &g->pitch_kd},
+              {"trim_e", &g->trim_e},
+              {"max_e", &g->max_e},
+              {"airspeed_kp", &g->airspeed_kp},
+              {"airspeed_ki", &g->airspeed_ki},
+              {"trim_t", &g->trim_t},
+              {"max_t", &g->max_t},
+              {"min_t", &g->min_t}};
   const size_t n = sizeof keys / sizeof keys[0];
   int found[64] = {0};
   FILE* f = fopen(file, "r");
-  if (!f) { fprintf(stderr, "standin_controller: cannot open %s\n", file); return -1; }
+  if (!f) {
+    fprintf(stderr, "standin_controller: cannot open %s\n", file);
+    return -1;
+  }
   char line[512], name[128];
   double v;
   while (fgets(line, sizeof line, f))
     if (line[0] != '#' && sscanf(line, " %127[A-Za-z0-9_]: %lf", name, &v) == 2)
       for (size_t i = 0; i < n; ++i)
-        if (strcmp(name, keys[i].name) == 0) { *keys[i].v = v; found[i] = 1; }
+        if (strcmp(name, keys[i].name) == 0) {
+          *keys[i].v = v;
+          found[i] = 1;
+        }
   fclose(f);
   for (size_t i = 0; i < n; ++i)
-    if (!found[i]) { fprintf(stderr, "standin_controller: %s: no gain '%s'\n", file, keys[i].name); return -1; }
+    if (!found[i]) {
+      fprintf(stderr, "standin_controller: %s: no gain '%s'\n", file, keys[i].name);
+      return -1;
+    }
   return 0;
 }
 
@@ -149,7 +182,10 @@ static dds_qos_t* rclcpp_default_qos(void) { /* reliable, volatile, keep last 10
 static int64_t stamp_ns(const builtin_interfaces_msg_dds__Time_* t) { return (int64_t)t->sec * 1000000000 + t->nanosec; }
 
 int main(int argc, char** argv) {
-  if (argc < 3) { fprintf(stderr, "usage: standin_controller DOMAIN GAINS_FILE [IDLE_S]\n"); return 1; }
+  if (argc < 3) {
+    fprintf(stderr, "usage: standin_controller DOMAIN GAINS_FILE [IDLE_S]\n");
+    return 1;
+  }
   autopilot_t ap;
   memset(&ap, 0, sizeof ap);
   if (read_gains(argv[2], &ap.g) != 0) return 1;
@@ -159,7 +195,10 @@ int main(int argc, char** argv) {
   signal(SIGINT, on_signal);
 
   const dds_entity_t pp = dds_create_participant((dds_domainid_t)atoi(argv[1]), NULL, NULL);
-  if (pp < 0) { fprintf(stderr, "standin_controller: no participant: %s\n", dds_strretcode(-pp)); return 1; }
+  if (pp < 0) {
+    fprintf(stderr, "standin_controller: no participant: %s\n", dds_strretcode(-pp));
+    return 1;
+  }
   dds_qos_t* q = rclcpp_default_qos();
   const dds_entity_t ts = dds_create_topic(pp, &rosplane_msgs_msg_dds__State__desc, "rt/estimated_state", NULL, NULL);
   const dds_entity_t tc = dds_create_topic(pp, &rosplane_msgs_msg_dds__ControllerCommands__desc, "rt/controller_command", NULL, NULL);
@@ -167,7 +206,10 @@ int main(int argc, char** argv) {
   const dds_entity_t rs = dds_create_reader(pp, ts, q, NULL), rc = dds_create_reader(pp, tc, q, NULL);
   const dds_entity_t w = dds_create_writer(pp, to, q, NULL);
   dds_delete_qos(q);
-  if (rs < 0 || rc < 0 || w < 0) { fprintf(stderr, "standin_controller: cannot create readers/writer\n"); return 1; }
+  if (rs < 0 || rc < 0 || w < 0) {
+    fprintf(stderr, "standin_controller: cannot create readers/writer\n");
+    return 1;
+  }
   const dds_entity_t ws = dds_create_waitset(pp);
   dds_set_status_mask(rs, DDS_DATA_AVAILABLE_STATUS);
   dds_set_status_mask(rc, DDS_DATA_AVAILABLE_STATUS);
@@ -190,11 +232,19 @@ int main(int argc, char** argv) {
     p[0] = &s_in;
     memset(&s_in, 0, sizeof s_in);
     while (dds_take(rs, p, &info, 1, 1) == 1)
-      if (info.valid_data) { state = s_in; state_t = stamp_ns(&s_in.header.stamp); last_input = dds_time(); }
+      if (info.valid_data) {
+        state = s_in;
+        state_t = stamp_ns(&s_in.header.stamp);
+        last_input = dds_time();
+      }
     p[0] = &c_in;
     memset(&c_in, 0, sizeof c_in);
     while (dds_take(rc, p, &info, 1, 1) == 1)
-      if (info.valid_data) { cmd = c_in; cmd_t = stamp_ns(&c_in.header.stamp); last_input = dds_time(); }
+      if (info.valid_data) {
+        cmd = c_in;
+        cmd_t = stamp_ns(&c_in.header.stamp);
+        last_input = dds_time();
+      }
     if (state_t >= 0 && state_t == cmd_t && state_t > done_t) {
       const double dt = done_t < 0 ? 0.0 : (double)(state_t - done_t) * 1e-9;
       rosflight_msgs_msg_dds__Command_ out;
@@ -204,7 +254,10 @@ int main(int argc, char** argv) {
       out.mode = rosflight_msgs_msg_Command_Constants_MODE_PASS_THROUGH;
       out.ignore = 0;
       autopilot_step(&ap, &state, &cmd, dt, out.u);
-      if (dds_write(w, &out) != DDS_RETCODE_OK) { fprintf(stderr, "standin_controller: write failed\n"); return 1; }
+      if (dds_write(w, &out) != DDS_RETCODE_OK) {
+        fprintf(stderr, "standin_controller: write failed\n");
+        return 1;
+      }
       done_t = state_t;
       ++answered;
     }

@@ -71,7 +71,7 @@ struct DdsBridge::Impl {
   std::vector<std::unique_ptr<Writer>> writers;  // grows at run time (bridge_topic): under writers_mu
   mutable std::mutex writers_mu;
   std::vector<std::shared_ptr<fdds::DataReaderListener>> servers;
-  RosNode bridge_node;                       // "/<ns>/bridge": entities of the bridge itself
+  RosNode bridge_node;                        // "/<ns>/bridge": entities of the bridge itself
   std::unique_ptr<RosParameters> ros_params;  // a ROS 2 node per instance (rcl_interfaces)
   std::unique_ptr<RosGraph> graph;            // ros_discovery_info
 
@@ -92,7 +92,10 @@ struct DdsBridge::Impl {
   FileAccess mission_files, param_files;
 
   Impl(Host& h, const DdsOptions& o)
-      : host(h), options(o), stamps(resolve_time(h.config(), o.time), o.clock_rate), mission_files(with_first(h.config().dir, o.mission_dirs)),
+      : host(h),
+        options(o),
+        stamps(resolve_time(h.config(), o.time), o.clock_rate),
+        mission_files(with_first(h.config().dir, o.mission_dirs)),
         param_files(with_first(h.options().log_dir.value_or(h.config().log.dir), o.param_dirs)) {}
   static std::vector<fs::path> with_first(const fs::path& first, std::vector<fs::path> more) {
     more.insert(more.begin(), first);
@@ -160,9 +163,9 @@ struct DdsBridge::Impl {
     if (const OutputBase* ph = host.topic_source("flight_phase");
         ph != nullptr && ph->sequence() > 0 && ph->type().fingerprint == reflect::fingerprint<msg::FlightPhase>())
       phase.store(static_cast<int>(static_cast<const msg::FlightPhase*>(ph->data())->phase), std::memory_order_relaxed);
-    if (const OutputBase* wp = host.topic_source("waypoints");
-        wp != nullptr && wp->sequence() > 0 && wp->type().fingerprint == reflect::fingerprint<msg::WaypointList>() &&
-        (wp != waypoints_src || wp->sequence() != waypoints_seq)) {
+    if (const OutputBase* wp = host.topic_source("waypoints"); wp != nullptr && wp->sequence() > 0 &&
+                                                               wp->type().fingerprint == reflect::fingerprint<msg::WaypointList>() &&
+                                                               (wp != waypoints_src || wp->sequence() != waypoints_seq)) {
       waypoints_src = wp;
       waypoints_seq = wp->sequence();
       std::lock_guard lk(mu);
@@ -209,21 +212,23 @@ struct DdsBridge::Impl {
   }
 
   static void emit_value(YAML::Emitter& y, const ParamValue& v) {
-    std::visit([&](const auto& x) {
-      using T = std::decay_t<decltype(x)>;
-      if constexpr (std::is_same_v<T, std::vector<double>>) {
-        y << YAML::Flow << YAML::BeginSeq;
-        for (double d : x) y << d;
-        y << YAML::EndSeq;
-      } else if constexpr (std::is_same_v<T, std::string>) {
-        y << YAML::DoubleQuoted << x;
-      } else if constexpr (std::is_same_v<T, double>) {
-        // a whole number keeps a decimal point so that it reads back as a real
-        y << (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 1e15 ? fmt::format("{:.1f}", x) : fmt::format("{}", x));
-      } else {
-        y << x;
-      }
-    }, v);
+    std::visit(
+        [&](const auto& x) {
+          using T = std::decay_t<decltype(x)>;
+          if constexpr (std::is_same_v<T, std::vector<double>>) {
+            y << YAML::Flow << YAML::BeginSeq;
+            for (double d : x) y << d;
+            y << YAML::EndSeq;
+          } else if constexpr (std::is_same_v<T, std::string>) {
+            y << YAML::DoubleQuoted << x;
+          } else if constexpr (std::is_same_v<T, double>) {
+            // a whole number keeps a decimal point so that it reads back as a real
+            y << (std::isfinite(x) && x == std::floor(x) && std::fabs(x) < 1e15 ? fmt::format("{:.1f}", x) : fmt::format("{}", x));
+          } else {
+            y << x;
+          }
+        },
+        v);
   }
 
   msg::MissionEdit new_edit(std::uint8_t op) {
@@ -242,8 +247,7 @@ struct DdsBridge::Impl {
     fdds::TypeSupport ts(type->make_type());
     if (participant->find_type(ts.get_type_name()).empty()) ts.register_type(participant);
     fdds::Topic* t = participant->create_topic(topic_name(options.ns, to.name), ts.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
-    const DdsQos q = to.qos.value_or(to.topic == "waypoints" || to.topic == "flight_phase" ? DdsQos::transient_local
-                                                                                           : DdsQos::best_effort);
+    const DdsQos q = to.qos.value_or(to.topic == "waypoints" || to.topic == "flight_phase" ? DdsQos::transient_local : DdsQos::best_effort);
     w->qos = q;
     w->depth = to.depth.value_or(default_depth(q));
     if (t != nullptr) w->writer = publisher->create_datawriter(t, writer_qos(q, w->depth));
@@ -331,8 +335,8 @@ struct DdsBridge::Impl {
     using namespace tern_msgs::srv;
     const std::string& ns = options.ns;
     auto add = [&](auto server) { add_server(std::move(server)); };
-    add(std::make_shared<ServiceServer<rosplane_msgs::srv::AddWaypoint_RequestPubSubType,
-                                       rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>>(
+    add(std::make_shared<
+        ServiceServer<rosplane_msgs::srv::AddWaypoint_RequestPubSubType, rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>>(
         participant, publisher, subscriber, ns, "add_waypoint", heard, [this](const rosplane_msgs::srv::AddWaypoint_Request& rq) {
           using Resp = rosplane_msgs::srv::AddWaypoint_Response;
           try {
@@ -344,8 +348,7 @@ struct DdsBridge::Impl {
             e.waypoint.Va_d = rq.va_d();
             e.set_current_wp = rq.set_current();
             e.publish_now = rq.publish_now();
-            if (!e.waypoint.w.allFinite() || !std::isfinite(e.waypoint.chi_d) || !std::isfinite(e.waypoint.Va_d) ||
-                e.waypoint.Va_d <= 0)
+            if (!e.waypoint.w.allFinite() || !std::isfinite(e.waypoint.chi_d) || !std::isfinite(e.waypoint.Va_d) || e.waypoint.Va_d <= 0)
               return failure<Resp>("add_waypoint: w, chi_d must be finite and va_d > 0");
             host.edit_mission(e);
             return success<Resp>(fmt::format("waypoint added (edit #{})", e.id));
@@ -471,8 +474,8 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   host.set_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
   std::string ifs;
   for (const auto& i : options.interfaces) ifs += (ifs.empty() ? "" : ", ") + i;
-  host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain,
-                      options.ns, ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
+  host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain, options.ns,
+                      ifs, options.multicast ? " (multicast)" : "", m.writers.size(), options.ns);
   host.logger()->info("DDS bridge: header stamps in {}", m.stamps.describe());
   if (options.read_only) host.logger()->info("DDS bridge: read_only: telemetry and status only");
   if (options.security)
@@ -480,9 +483,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
                         options.security->enclave, options.security->keystore.string());
 }
 
-DdsBridge::~DdsBridge() {
-  impl_->host.set_tick_observer(nullptr);
-}
+DdsBridge::~DdsBridge() { impl_->host.set_tick_observer(nullptr); }
 
 std::vector<DdsBridge::Published> DdsBridge::published() const {
   std::lock_guard lk(impl_->writers_mu);

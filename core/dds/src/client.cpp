@@ -66,14 +66,16 @@ void DdsClient::mission_add(const msg::Waypoint& wp, bool set_current, bool publ
 
 void DdsClient::mission_clear() {
   std_srvs::srv::Trigger_Request rq;
-  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("clear_waypoints", rq, "tern mission print");
+  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("clear_waypoints", rq,
+                                                                                                                  "tern mission print");
   if (!r.success()) throw DdsError(r.message());
 }
 
 void DdsClient::mission_load(const std::string& filename) {
   ts::MissionLoad_Request rq;
   rq.filename(filename);
-  const auto r = impl_->call<ts::MissionLoad_RequestPubSubType, ts::MissionLoad_ResponsePubSubType>("load_mission_from_file", rq, "tern mission print");
+  const auto r = impl_->call<ts::MissionLoad_RequestPubSubType, ts::MissionLoad_ResponsePubSubType>("load_mission_from_file", rq,
+                                                                                                    "tern mission print");
   if (!r.success()) throw DdsError(r.message());
 }
 
@@ -137,7 +139,7 @@ void DdsClient::echo(const std::string& topic, const std::function<bool(const st
   auto sample = type->make_sample();
   for (;;) {
     if (!r->wait_for_unread_message(Duration(static_cast<std::int32_t>(impl_->timeout.count() / 1000),
-                                                     static_cast<std::uint32_t>((impl_->timeout.count() % 1000) * 1000000))))
+                                             static_cast<std::uint32_t>((impl_->timeout.count() % 1000) * 1000000))))
       throw DdsError(fmt::format("no sample on {} within {:.1f} s", name, static_cast<double>(impl_->timeout.count()) / 1000.0));
     fdds::SampleInfo info;
     while (r->take_next_sample(sample.get(), &info) == ReturnCode_t::RETCODE_OK) {

@@ -44,8 +44,10 @@ struct DdsClient::Impl {
     std::string msg = fmt::format("no vehicle answered '{}' on DDS domain {}, namespace '{}' within {:.1f} s", service, options.domain,
                                   options.ns, static_cast<double>(timeout.count()) / 1000.0);
     if (r == CallResult::no_reply && !check.empty())
-      msg += fmt::format(": the request was sent and may have been applied; check with `{}`, or repeat it with --request-id {} "
-                         "(the vehicle applies one id once)", check, id);
+      msg += fmt::format(
+          ": the request was sent and may have been applied; check with `{}`, or repeat it with --request-id {} "
+          "(the vehicle applies one id once)",
+          check, id);
     throw DdsError(msg);
   }
 };

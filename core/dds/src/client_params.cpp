@@ -71,17 +71,17 @@ std::vector<DdsParam> DdsClient::param_list(const std::string& prefix) {
     if (!prefix.empty() && prefix.compare(0, std::min(prefix.size(), node.size() + 1), (node + ".").substr(0, prefix.size())) != 0)
       continue;  // the prefix names another instance
     rs::ListParameters_Request lq;
-    const auto names = impl_->call_in<rs::ListParameters_RequestPubSubType, rs::ListParameters_ResponsePubSubType>(
-                                 param_ns(node), "list_parameters", lq).result().names();
+    const auto names =
+        impl_->call_in<rs::ListParameters_RequestPubSubType, rs::ListParameters_ResponsePubSubType>(param_ns(node), "list_parameters", lq)
+            .result()
+            .names();
     for (const auto& d : describe(node, names))
       if (d.name.compare(0, prefix.size(), prefix) == 0) out.push_back(d);
   }
   return out;
 }
 
-std::string DdsClient::param_ns(const std::string& node) const {
-  return impl_->options.ns.empty() ? node : impl_->options.ns + "/" + node;
-}
+std::string DdsClient::param_ns(const std::string& node) const { return impl_->options.ns.empty() ? node : impl_->options.ns + "/" + node; }
 
 std::vector<DdsParam> DdsClient::describe(const std::string& node, const std::vector<std::string>& names) {
   rs::GetParameters_Request gq;
@@ -116,8 +116,8 @@ void DdsClient::param_set(const std::string& name, const ParamValue& value) {
   p.name(param);
   p.value(ddsi::to_rcl(value));
   rq.parameters({p});
-  const auto r = impl_->call_in<rs::SetParameters_RequestPubSubType, rs::SetParameters_ResponsePubSubType>(
-      param_ns(node), "set_parameters", rq, "tern param get " + name);
+  const auto r = impl_->call_in<rs::SetParameters_RequestPubSubType, rs::SetParameters_ResponsePubSubType>(param_ns(node), "set_parameters",
+                                                                                                           rq, "tern param get " + name);
   if (r.results().empty()) throw DdsError("set_parameters: the vehicle answered without a result");
   if (!r.results()[0].successful()) throw DdsError(r.results()[0].reason());
 }

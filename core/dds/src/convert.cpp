@@ -45,8 +45,10 @@ void to_waypoint(const msg::Waypoint& w, rosplane_msgs::msg::Waypoint& o) {
 }
 
 std::string render_waypoint(const rosplane_msgs::msg::Waypoint& s) {
-  return Text().header(s.header())("w", s.w())("lla", s.lla())("chi_d", s.chi_d())("use_chi", s.use_chi())("va_d", s.va_d())(
-                   "set_current", s.set_current())("clear_wp_list", s.clear_wp_list()).str();
+  return Text()
+      .header(s.header())("w", s.w())("lla", s.lla())("chi_d", s.chi_d())("use_chi", s.use_chi())("va_d", s.va_d())(
+          "set_current", s.set_current())("clear_wp_list", s.clear_wp_list())
+      .str();
 }
 
 /// A waypoint list as ROSplane's path planner publishes it on waypoint_path
@@ -77,42 +79,67 @@ std::vector<TypeEntry> build() {
   v.push_back(entry<msg::State, StatePubSubType>(
       [](const msg::State& m, State& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.p_n(static_cast<float>(m.p_n)); s.p_e(static_cast<float>(m.p_e)); s.p_d(static_cast<float>(m.p_d));
-        s.v_x(static_cast<float>(m.u)); s.v_y(static_cast<float>(m.v)); s.v_z(static_cast<float>(m.w));
-        s.p(static_cast<float>(m.p)); s.q(static_cast<float>(m.q)); s.r(static_cast<float>(m.r));
-        s.phi(static_cast<float>(m.phi)); s.theta(static_cast<float>(m.theta)); s.psi(static_cast<float>(m.psi));
-        s.b_x(static_cast<float>(m.b_x)); s.b_y(static_cast<float>(m.b_y)); s.b_z(static_cast<float>(m.b_z));
-        s.quat().w(m.quat.w()); s.quat().x(m.quat.x()); s.quat().y(m.quat.y()); s.quat().z(m.quat.z());
-        s.initial_lat(m.origin_lat); s.initial_lon(m.origin_lon); s.initial_alt(m.origin_alt);
-        s.w_n(static_cast<float>(m.w_n)); s.w_e(static_cast<float>(m.w_e));
-        s.va(static_cast<float>(m.Va)); s.alpha(static_cast<float>(m.alpha)); s.beta(static_cast<float>(m.beta));
+        s.p_n(static_cast<float>(m.p_n));
+        s.p_e(static_cast<float>(m.p_e));
+        s.p_d(static_cast<float>(m.p_d));
+        s.v_x(static_cast<float>(m.u));
+        s.v_y(static_cast<float>(m.v));
+        s.v_z(static_cast<float>(m.w));
+        s.p(static_cast<float>(m.p));
+        s.q(static_cast<float>(m.q));
+        s.r(static_cast<float>(m.r));
+        s.phi(static_cast<float>(m.phi));
+        s.theta(static_cast<float>(m.theta));
+        s.psi(static_cast<float>(m.psi));
+        s.b_x(static_cast<float>(m.b_x));
+        s.b_y(static_cast<float>(m.b_y));
+        s.b_z(static_cast<float>(m.b_z));
+        s.quat().w(m.quat.w());
+        s.quat().x(m.quat.x());
+        s.quat().y(m.quat.y());
+        s.quat().z(m.quat.z());
+        s.initial_lat(m.origin_lat);
+        s.initial_lon(m.origin_lon);
+        s.initial_alt(m.origin_alt);
+        s.w_n(static_cast<float>(m.w_n));
+        s.w_e(static_cast<float>(m.w_e));
+        s.va(static_cast<float>(m.Va));
+        s.alpha(static_cast<float>(m.alpha));
+        s.beta(static_cast<float>(m.beta));
         s.chi(static_cast<float>(m.chi));
       },
       [](const State& s) {
-        return Text().header(s.header())("p_n", s.p_n())("p_e", s.p_e())("p_d", s.p_d())("v_x", s.v_x())("v_y", s.v_y())(
-                   "v_z", s.v_z())("p", s.p())("q", s.q())("r", s.r())("phi", s.phi())("theta", s.theta())("psi", s.psi())(
-                   "b_x", s.b_x())("b_y", s.b_y())("b_z", s.b_z())("quat.x", s.quat().x())("quat.y", s.quat().y())(
-                   "quat.z", s.quat().z())("quat.w", s.quat().w())("initial_lat", s.initial_lat())("initial_lon", s.initial_lon())(
-                   "initial_alt", s.initial_alt())("w_n", s.w_n())("w_e", s.w_e())("va", s.va())("alpha", s.alpha())(
-                   "beta", s.beta())("chi", s.chi()).str();
+        return Text()
+            .header(s.header())("p_n", s.p_n())("p_e", s.p_e())("p_d", s.p_d())("v_x", s.v_x())("v_y", s.v_y())("v_z", s.v_z())("p", s.p())(
+                "q", s.q())("r", s.r())("phi", s.phi())("theta", s.theta())("psi", s.psi())("b_x", s.b_x())("b_y", s.b_y())("b_z", s.b_z())(
+                "quat.x", s.quat().x())("quat.y", s.quat().y())("quat.z", s.quat().z())("quat.w", s.quat().w())(
+                "initial_lat", s.initial_lat())("initial_lon", s.initial_lon())("initial_alt", s.initial_alt())("w_n", s.w_n())(
+                "w_e", s.w_e())("va", s.va())("alpha", s.alpha())("beta", s.beta())("chi", s.chi())
+            .str();
       }));
   v.push_back(entry<msg::ControllerCommand, ControllerCommandsPubSubType>(
       [](const msg::ControllerCommand& m, ControllerCommands& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.va_c(static_cast<float>(m.Va_c)); s.h_c(static_cast<float>(m.h_c)); s.chi_c(static_cast<float>(m.chi_c));
+        s.va_c(static_cast<float>(m.Va_c));
+        s.h_c(static_cast<float>(m.h_c));
+        s.chi_c(static_cast<float>(m.chi_c));
         s.phi_ff(static_cast<float>(m.phi_ff));
         vec<4>(s.aux(), m.aux);
         s.aux_valid(m.aux_valid);
-        s.theta_c(static_cast<float>(m.theta_c)); s.phi_c(static_cast<float>(m.phi_c));
+        s.theta_c(static_cast<float>(m.theta_c));
+        s.phi_c(static_cast<float>(m.phi_c));
       },
       [](const ControllerCommands& s) {
-        return Text().header(s.header())("va_c", s.va_c())("h_c", s.h_c())("chi_c", s.chi_c())("phi_ff", s.phi_ff())(
-                   "aux", s.aux())("aux_valid", s.aux_valid())("theta_c", s.theta_c())("phi_c", s.phi_c()).str();
+        return Text()
+            .header(s.header())("va_c", s.va_c())("h_c", s.h_c())("chi_c", s.chi_c())("phi_ff", s.phi_ff())("aux", s.aux())(
+                "aux_valid", s.aux_valid())("theta_c", s.theta_c())("phi_c", s.phi_c())
+            .str();
       }));
   v.push_back(entry<msg::ControllerInternals, ControllerInternalsPubSubType>(
       [](const msg::ControllerInternals& m, ControllerInternals& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.theta_c(static_cast<float>(m.theta_c)); s.phi_c(static_cast<float>(m.phi_c));
+        s.theta_c(static_cast<float>(m.theta_c));
+        s.phi_c(static_cast<float>(m.phi_c));
         s.alt_zone(rosplane_zone(m.alt_zone));
       },
       [](const ControllerInternals& s) {
@@ -121,16 +148,22 @@ std::vector<TypeEntry> build() {
   v.push_back(entry<msg::CurrentPath, CurrentPathPubSubType>(
       [](const msg::CurrentPath& m, CurrentPath& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.path_type(m.path_type); s.va_d(static_cast<float>(m.Va_d));
-        vec<3>(s.r(), m.r); vec<3>(s.q(), m.q); vec<3>(s.c(), m.c);
-        s.rho(static_cast<float>(m.rho)); s.lamda(m.lambda);
+        s.path_type(m.path_type);
+        s.va_d(static_cast<float>(m.Va_d));
+        vec<3>(s.r(), m.r);
+        vec<3>(s.q(), m.q);
+        vec<3>(s.c(), m.c);
+        s.rho(static_cast<float>(m.rho));
+        s.lamda(m.lambda);
       },
       [](const CurrentPath& s) {
-        return Text().header(s.header())("path_type", s.path_type())("va_d", s.va_d())("r", s.r())("q", s.q())("c", s.c())(
-                   "rho", s.rho())("lamda", s.lamda()).str();
+        return Text()
+            .header(s.header())("path_type", s.path_type())("va_d", s.va_d())("r", s.r())("q", s.q())("c", s.c())("rho", s.rho())("lamda",
+                                                                                                                                  s.lamda())
+            .str();
       }));
-  v.push_back(entry<msg::Waypoint, WaypointPubSubType>([](const msg::Waypoint& m, Waypoint& s, Nanos) { to_waypoint(m, s); },
-                                                       render_waypoint));
+  v.push_back(
+      entry<msg::Waypoint, WaypointPubSubType>([](const msg::Waypoint& m, Waypoint& s, Nanos) { to_waypoint(m, s); }, render_waypoint));
   v.push_back(entry<msg::WaypointList, tm::WaypointListPubSubType>(
       [](const msg::WaypointList& m, tm::WaypointList& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
@@ -146,8 +179,8 @@ std::vector<TypeEntry> build() {
         std::string out = Text().header(s.header())("revision", s.revision())("loop", s.loop())("count", s.waypoints().size()).str();
         for (std::size_t i = 0; i < s.waypoints().size(); ++i) {
           const auto& w = s.waypoints()[i];
-          out += fmt::format("waypoint[{}]: w [{}, {}, {}] lla {} chi_d {} use_chi {} va_d {}\n", i, w.w()[0], w.w()[1], w.w()[2],
-                             w.lla(), w.chi_d(), w.use_chi(), w.va_d());
+          out += fmt::format("waypoint[{}]: w [{}, {}, {}] lla {} chi_d {} use_chi {} va_d {}\n", i, w.w()[0], w.w()[1], w.w()[2], w.lla(),
+                             w.chi_d(), w.use_chi(), w.va_d());
         }
         return out;
       }));
@@ -155,11 +188,15 @@ std::vector<TypeEntry> build() {
   v.push_back(entry<msg::Actuators, tm::ActuatorsPubSubType>(
       [](const msg::Actuators& m, tm::Actuators& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.delta_a(m.delta_a); s.delta_e(m.delta_e); s.delta_r(m.delta_r); s.delta_t(m.delta_t);
+        s.delta_a(m.delta_a);
+        s.delta_e(m.delta_e);
+        s.delta_r(m.delta_r);
+        s.delta_t(m.delta_t);
       },
       [](const tm::Actuators& s) {
-        return Text().header(s.header())("delta_a", s.delta_a())("delta_e", s.delta_e())("delta_r", s.delta_r())(
-                   "delta_t", s.delta_t()).str();
+        return Text()
+            .header(s.header())("delta_a", s.delta_a())("delta_e", s.delta_e())("delta_r", s.delta_r())("delta_t", s.delta_t())
+            .str();
       }));
   v.push_back(entry<msg::FlightPhase, tm::FlightPhasePubSubType>(
       [](const msg::FlightPhase& m, tm::FlightPhase& s, Nanos epoch) {
@@ -172,13 +209,16 @@ std::vector<TypeEntry> build() {
         s.phase_name(std::string(msg::phase_name(m.phase)));
       },
       [](const tm::FlightPhase& s) {
-        return Text().header(s.header())("phase", s.phase())("previous", s.previous())(
-                   "since", fmt::format("{}.{:09d}", s.since().sec(), s.since().nanosec()))("phase_name", s.phase_name()).str();
+        return Text()
+            .header(s.header())("phase", s.phase())("previous", s.previous())(
+                "since", fmt::format("{}.{:09d}", s.since().sec(), s.since().nanosec()))("phase_name", s.phase_name())
+            .str();
       }));
   v.push_back(entry<msg::Imu, tm::ImuPubSubType>(
       [](const msg::Imu& m, tm::Imu& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        vec<3>(s.accel(), m.accel); vec<3>(s.gyro(), m.gyro);
+        vec<3>(s.accel(), m.accel);
+        vec<3>(s.gyro(), m.gyro);
         s.temperature(m.temperature);
       },
       [](const tm::Imu& s) {
@@ -187,31 +227,38 @@ std::vector<TypeEntry> build() {
   v.push_back(entry<msg::Gnss, tm::GnssPubSubType>(
       [](const msg::Gnss& m, tm::Gnss& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.fix_type(static_cast<std::uint8_t>(m.fix_type)); s.num_sats(m.num_sats);
-        s.lat(m.lat); s.lon(m.lon); s.alt(m.alt);
+        s.fix_type(static_cast<std::uint8_t>(m.fix_type));
+        s.num_sats(m.num_sats);
+        s.lat(m.lat);
+        s.lon(m.lon);
+        s.alt(m.alt);
         vec<3>(s.vel(), m.vel);
-        s.h_acc(m.h_acc); s.v_acc(m.v_acc); s.s_acc(m.s_acc);
+        s.h_acc(m.h_acc);
+        s.v_acc(m.v_acc);
+        s.s_acc(m.s_acc);
         to_time(s.time_of_validity(), m.time_of_validity + epoch);
       },
       [](const tm::Gnss& s) {
-        return Text().header(s.header())("fix_type", s.fix_type())("num_sats", s.num_sats())("lat", s.lat())("lon", s.lon())(
-                   "alt", s.alt())("vel", s.vel())("h_acc", s.h_acc())("v_acc", s.v_acc())("s_acc", s.s_acc())(
-                   "time_of_validity", fmt::format("{}.{:09d}", s.time_of_validity().sec(), s.time_of_validity().nanosec())).str();
+        return Text()
+            .header(s.header())("fix_type", s.fix_type())("num_sats", s.num_sats())("lat", s.lat())("lon", s.lon())("alt", s.alt())(
+                "vel", s.vel())("h_acc", s.h_acc())("v_acc", s.v_acc())("s_acc", s.s_acc())(
+                "time_of_validity", fmt::format("{}.{:09d}", s.time_of_validity().sec(), s.time_of_validity().nanosec()))
+            .str();
       }));
   v.push_back(entry<msg::Baro, tm::BaroPubSubType>(
       [](const msg::Baro& m, tm::Baro& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.pressure(m.pressure); s.temperature(m.temperature);
+        s.pressure(m.pressure);
+        s.temperature(m.temperature);
       },
       [](const tm::Baro& s) { return Text().header(s.header())("pressure", s.pressure())("temperature", s.temperature()).str(); }));
   v.push_back(entry<msg::DiffPressure, tm::DiffPressurePubSubType>(
       [](const msg::DiffPressure& m, tm::DiffPressure& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.pressure(m.pressure); s.temperature(m.temperature);
+        s.pressure(m.pressure);
+        s.temperature(m.temperature);
       },
-      [](const tm::DiffPressure& s) {
-        return Text().header(s.header())("pressure", s.pressure())("temperature", s.temperature()).str();
-      }));
+      [](const tm::DiffPressure& s) { return Text().header(s.header())("pressure", s.pressure())("temperature", s.temperature()).str(); }));
   v.push_back(entry<msg::Mag, tm::MagPubSubType>(
       [](const msg::Mag& m, tm::Mag& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
@@ -221,24 +268,36 @@ std::vector<TypeEntry> build() {
   v.push_back(entry<msg::Rc, tm::RcPubSubType>(
       [](const msg::Rc& m, tm::Rc& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.roll(m.roll); s.pitch(m.pitch); s.yaw(m.yaw); s.throttle(m.throttle);
+        s.roll(m.roll);
+        s.pitch(m.pitch);
+        s.yaw(m.yaw);
+        s.throttle(m.throttle);
         vec<4>(s.aux(), m.aux);
-        s.rc_override(m.rc_override); s.failsafe(m.failsafe);
+        s.rc_override(m.rc_override);
+        s.failsafe(m.failsafe);
       },
       [](const tm::Rc& s) {
-        return Text().header(s.header())("roll", s.roll())("pitch", s.pitch())("yaw", s.yaw())("throttle", s.throttle())(
-                   "aux", s.aux())("rc_override", s.rc_override())("failsafe", s.failsafe()).str();
+        return Text()
+            .header(s.header())("roll", s.roll())("pitch", s.pitch())("yaw", s.yaw())("throttle", s.throttle())("aux", s.aux())(
+                "rc_override", s.rc_override())("failsafe", s.failsafe())
+            .str();
       }));
   v.push_back(entry<msg::FcuStatus, tm::FcuStatusPubSubType>(
       [](const msg::FcuStatus& m, tm::FcuStatus& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.armed(m.armed); s.failsafe(m.failsafe); s.rc_override(m.rc_override); s.offboard(m.offboard);
-        s.error_code(m.error_code); s.battery_voltage(m.battery_voltage); s.battery_current(m.battery_current);
+        s.armed(m.armed);
+        s.failsafe(m.failsafe);
+        s.rc_override(m.rc_override);
+        s.offboard(m.offboard);
+        s.error_code(m.error_code);
+        s.battery_voltage(m.battery_voltage);
+        s.battery_current(m.battery_current);
       },
       [](const tm::FcuStatus& s) {
-        return Text().header(s.header())("armed", s.armed())("failsafe", s.failsafe())("rc_override", s.rc_override())(
-                   "offboard", s.offboard())("error_code", s.error_code())("battery_voltage", s.battery_voltage())(
-                   "battery_current", s.battery_current()).str();
+        return Text()
+            .header(s.header())("armed", s.armed())("failsafe", s.failsafe())("rc_override", s.rc_override())("offboard", s.offboard())(
+                "error_code", s.error_code())("battery_voltage", s.battery_voltage())("battery_current", s.battery_current())
+            .str();
       }));
   add_ros_types(v);
   return v;

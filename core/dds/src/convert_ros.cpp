@@ -93,8 +93,10 @@ void add_sensor_types(std::vector<TypeEntry>& v) {
         s.temperature(static_cast<float>(m.temperature));
       },
       [](const rf::Airspeed& s) {
-        return Text().header(s.header())("velocity", s.velocity())("differential_pressure", s.differential_pressure())(
-                   "temperature", s.temperature()).str();
+        return Text()
+            .header(s.header())("velocity", s.velocity())("differential_pressure", s.differential_pressure())("temperature",
+                                                                                                              s.temperature())
+            .str();
       }));
   v.push_back(entry<msg::Gnss, rf::GNSSPubSubType>(
       [](const msg::Gnss& m, rf::GNSS& s, Nanos epoch) {
@@ -119,10 +121,12 @@ void add_sensor_types(std::vector<TypeEntry>& v) {
         s.gnss_unix_nanos(static_cast<std::int32_t>(valid - sec * 1000000000));
       },
       [](const rf::GNSS& s) {
-        return Text().header(s.header())("fix_type", s.fix_type())("num_sat", s.num_sat())("lat", s.lat())("lon", s.lon())(
-                   "alt", s.alt())("horizontal_accuracy", s.horizontal_accuracy())("vertical_accuracy", s.vertical_accuracy())(
-                   "vel_n", s.vel_n())("vel_e", s.vel_e())("vel_d", s.vel_d())("speed_accuracy", s.speed_accuracy())(
-                   "gnss_unix_seconds", s.gnss_unix_seconds())("gnss_unix_nanos", s.gnss_unix_nanos()).str();
+        return Text()
+            .header(s.header())("fix_type", s.fix_type())("num_sat", s.num_sat())("lat", s.lat())("lon", s.lon())("alt", s.alt())(
+                "horizontal_accuracy", s.horizontal_accuracy())("vertical_accuracy", s.vertical_accuracy())("vel_n", s.vel_n())(
+                "vel_e", s.vel_e())("vel_d", s.vel_d())("speed_accuracy", s.speed_accuracy())("gnss_unix_seconds", s.gnss_unix_seconds())(
+                "gnss_unix_nanos", s.gnss_unix_nanos())
+            .str();
       }));
 }
 
@@ -142,9 +146,11 @@ void add_status_and_command(std::vector<TypeEntry>& v) {
         s.loop_time_us(0);  // not reported by tern's FcuStatus
       },
       [](const rf::Status& s) {
-        return Text().header(s.header())("armed", s.armed())("failsafe", s.failsafe())("rc_override", s.rc_override())(
-                   "offboard", s.offboard())("control_mode", s.control_mode())("error_code", s.error_code())(
-                   "num_errors", s.num_errors())("loop_time_us", s.loop_time_us()).str();
+        return Text()
+            .header(s.header())("armed", s.armed())("failsafe", s.failsafe())("rc_override", s.rc_override())("offboard", s.offboard())(
+                "control_mode", s.control_mode())("error_code", s.error_code())("num_errors", s.num_errors())("loop_time_us",
+                                                                                                              s.loop_time_us())
+            .str();
       }));
   v.push_back(entry<msg::Actuators, rf::CommandPubSubType>(
       [](const msg::Actuators& m, rf::Command& s, Nanos epoch) {

@@ -98,8 +98,8 @@ class ServiceServer final : public fdds::DataReaderListener {
  public:
   using Req = typename ReqPS::type;
   using Resp = typename RespPS::type;
-  ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
-                const std::string& service, std::function<void()> on_request, std::function<Resp(const Req&)> handler)
+  ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns, const std::string& service,
+                std::function<void()> on_request, std::function<Resp(const Req&)> handler)
       : on_request_(std::move(on_request)), handler_(std::move(handler)) {
     writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos(), &matched_,
                                      fdds::StatusMask::publication_matched());
@@ -169,8 +169,7 @@ class ServiceClient {
  public:
   using Req = typename ReqPS::type;
   using Resp = typename RespPS::type;
-  ServiceClient(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns,
-                const std::string& service)
+  ServiceClient(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns, const std::string& service)
       : service_(service) {
     writer_ = pub->create_datawriter(make_topic<ReqPS>(p, request_topic(ns, service)), service_writer_qos());
     reader_ = sub->create_datareader(make_topic<RespPS>(p, reply_topic(ns, service)), service_reader_qos());
@@ -180,13 +179,15 @@ class ServiceClient {
   /// matching reply.
   CallResult call(const Req& req, Resp& resp, std::chrono::milliseconds timeout, std::uint64_t id) {
     const auto t0 = std::chrono::steady_clock::now();
-    const bool matched = wait_until([&] {
-      fdds::PublicationMatchedStatus ps;
-      fdds::SubscriptionMatchedStatus ss;
-      writer_->get_publication_matched_status(ps);
-      reader_->get_subscription_matched_status(ss);
-      return ps.current_count > 0 && ss.current_count > 0;
-    }, timeout);
+    const bool matched = wait_until(
+        [&] {
+          fdds::PublicationMatchedStatus ps;
+          fdds::SubscriptionMatchedStatus ss;
+          writer_->get_publication_matched_status(ps);
+          reader_->get_subscription_matched_status(ss);
+          return ps.current_count > 0 && ss.current_count > 0;
+        },
+        timeout);
     if (!matched) return CallResult::no_server;
     // the request names this client's reply reader (rmw_fastrtps convention) and carries the
     // request id; the reply comes back with related_sample_identity = (reader GUID, request

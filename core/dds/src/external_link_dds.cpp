@@ -44,10 +44,12 @@ builtin_interfaces::msg::Time ros_time(Nanos t) {
 Nanos to_nanos(const builtin_interfaces::msg::Time& t) { return static_cast<Nanos>(t.sec()) * 1'000'000'000 + t.nanosec(); }
 
 void set_stamp(std::string_view ros_type, void* sample, Nanos t) {
-  if (ros_type == "rosplane_msgs/msg/State") static_cast<rosplane_msgs::msg::State*>(sample)->header().stamp(ros_time(t));
+  if (ros_type == "rosplane_msgs/msg/State")
+    static_cast<rosplane_msgs::msg::State*>(sample)->header().stamp(ros_time(t));
   else if (ros_type == "rosplane_msgs/msg/ControllerCommands")
     static_cast<rosplane_msgs::msg::ControllerCommands*>(sample)->header().stamp(ros_time(t));
-  else throw std::logic_error("external module: no stamp for " + std::string(ros_type));
+  else
+    throw std::logic_error("external module: no stamp for " + std::string(ros_type));
 }
 
 // rosflight Command (pass-through) -> tern actuators, on top of the previous command (see above).
@@ -105,20 +107,22 @@ class DdsExternalLink final : public ExternalLink {
 
   std::vector<std::string> wait_matched(std::chrono::milliseconds timeout) override {
     std::vector<std::string> missing;
-    wait_until([&] {
-      missing.clear();
-      for (const auto& w : writers_) {
-        fdds::PublicationMatchedStatus s;
-        w.writer->get_publication_matched_status(s);
-        if (s.current_count == 0) missing.push_back(w.writer->get_topic()->get_name());
-      }
-      for (const auto& r : readers_) {
-        fdds::SubscriptionMatchedStatus s;
-        r->reader->get_subscription_matched_status(s);
-        if (s.current_count == 0) missing.push_back(r->reader->get_topicdescription()->get_name());
-      }
-      return missing.empty();
-    }, timeout);
+    wait_until(
+        [&] {
+          missing.clear();
+          for (const auto& w : writers_) {
+            fdds::PublicationMatchedStatus s;
+            w.writer->get_publication_matched_status(s);
+            if (s.current_count == 0) missing.push_back(w.writer->get_topic()->get_name());
+          }
+          for (const auto& r : readers_) {
+            fdds::SubscriptionMatchedStatus s;
+            r->reader->get_subscription_matched_status(s);
+            if (s.current_count == 0) missing.push_back(r->reader->get_topicdescription()->get_name());
+          }
+          return missing.empty();
+        },
+        timeout);
     return missing;
   }
 

@@ -105,8 +105,8 @@ void add_keystore_node(const fs::path& dir_in, const std::string& name) {
   run_openssl({"req", "-new", "-sha256", "-key", "key.pem", "-subj", subject(name), "-out", "cert.csr"}, e);
   write_text(e / "cert.ext", "basicConstraints=critical,CA:FALSE\n");
   run_openssl({"x509", "-req", "-sha256", "-days", std::to_string(kValidDays), "-in", "cert.csr", "-CA",
-               (dir / "public/identity_ca.cert.pem").string(), "-CAkey", (dir / "private/identity_ca.key.pem").string(),
-               "-set_serial", random_serial(), "-extfile", "cert.ext", "-out", "cert.pem"},
+               (dir / "public/identity_ca.cert.pem").string(), "-CAkey", (dir / "private/identity_ca.key.pem").string(), "-set_serial",
+               random_serial(), "-extfile", "cert.ext", "-out", "cert.pem"},
               e);
   fs::remove(e / "cert.csr");
   fs::remove(e / "cert.ext");

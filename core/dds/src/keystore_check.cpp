@@ -15,8 +15,8 @@ namespace fs = std::filesystem;
 
 EnclaveFiles enclave_files(const DdsSecurity& s) {
   const fs::path e = s.keystore / "enclaves" / s.enclave;
-  return {e / "identity_ca.cert.pem", e / "cert.pem", e / "key.pem", e / "permissions_ca.cert.pem", e / "governance.p7s",
-          e / "permissions.p7s"};
+  return {e / "identity_ca.cert.pem",    e / "cert.pem",       e / "key.pem",
+          e / "permissions_ca.cert.pem", e / "governance.p7s", e / "permissions.p7s"};
 }
 
 namespace {

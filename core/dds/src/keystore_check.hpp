@@ -10,7 +10,7 @@
 namespace tern::core::ddsi {
 
 struct EnclaveFiles {
-  std::filesystem::path identity_ca, certificate, private_key;  // DDS:Auth:PKI-DH
+  std::filesystem::path identity_ca, certificate, private_key;    // DDS:Auth:PKI-DH
   std::filesystem::path permissions_ca, governance, permissions;  // DDS:Access:Permissions
 };
 

@@ -19,8 +19,7 @@ namespace tern::core::ddsi {
 class MatchedReaders final : public eprosima::fastdds::dds::DataWriterListener {
  public:
   using GUID = eprosima::fastrtps::rtps::GUID_t;
-  void on_publication_matched(eprosima::fastdds::dds::DataWriter*,
-                              const eprosima::fastdds::dds::PublicationMatchedStatus& st) override {
+  void on_publication_matched(eprosima::fastdds::dds::DataWriter*, const eprosima::fastdds::dds::PublicationMatchedStatus& st) override {
     const GUID g = eprosima::fastrtps::rtps::iHandle2GUID(st.last_subscription_handle);
     std::lock_guard lk(mu_);
     if (st.current_count_change > 0) guids_.insert(g);

@@ -49,8 +49,7 @@ double number(const YAML::Node& n, const fs::path& file, const std::string& fiel
     throw ConfigError(where(file, n) + field + ": expected a number, got " + show(n));
   }
   if (!std::isfinite(v) || v < lo || v > hi)
-    throw ConfigError(where(file, n) + field + ": " + n.Scalar() + " is outside [" + fmt_number(lo) + ", " +
-                      fmt_number(hi) + "]");
+    throw ConfigError(where(file, n) + field + ": " + n.Scalar() + " is outside [" + fmt_number(lo) + ", " + fmt_number(hi) + "]");
   return v;
 }
 
@@ -159,13 +158,15 @@ DdsTopicOptions topic_entry(const YAML::Node& e, const fs::path& file, const std
 DdsSecurity security(const YAML::Node& n, const fs::path& file) {
   if (!n.IsMap()) throw ConfigError(where(file, n) + "dds.security: expected a map {keystore: DIR, enclave: NAME}, got " + show(n));
   check_keys(n, file, "dds.security", {"keystore", "enclave"});
-  if (!n["keystore"]) throw ConfigError(where(file, n) + "dds.security: missing key 'keystore' (a directory made by `tern dds keystore create`)");
+  if (!n["keystore"])
+    throw ConfigError(where(file, n) + "dds.security: missing key 'keystore' (a directory made by `tern dds keystore create`)");
   DdsSecurity s;
   const fs::path k(text(n["keystore"], file, "dds.security.keystore", false));
   s.keystore = (k.is_absolute() ? k : file.parent_path() / k).lexically_normal();
   s.enclave = n["enclave"] ? text(n["enclave"], file, "dds.security.enclave", false) : std::string(kVehicleEnclave);
   if (!is_enclave_name(s.enclave))
-    throw ConfigError(where(file, n["enclave"]) + "dds.security.enclave: '" + s.enclave + "' is not an enclave name (letters, digits, '_', '/')");
+    throw ConfigError(where(file, n["enclave"]) + "dds.security.enclave: '" + s.enclave +
+                      "' is not an enclave name (letters, digits, '_', '/')");
   return s;
 }
 
@@ -177,8 +178,8 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (!dds || dds.IsNull()) return o;
   if (!dds.IsMap()) throw ConfigError(where(file, dds) + "dds: expected a map of key: value, got " + show(dds));
   check_keys(dds, file, "dds",
-             {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only",
-              "mission_dirs", "param_dirs", "security", "aliases", "time", "clock_rate"});
+             {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only", "mission_dirs",
+              "param_dirs", "security", "aliases", "time", "clock_rate"});
   if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
   if (dds["domain"]) {
     const double d = number(dds["domain"], file, "dds.domain", 0, 232);
@@ -207,8 +208,7 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
       const std::string f = "dds.topics[" + std::to_string(i) + "]";
       const YAML::Node e = t[i];
       DdsTopicOptions to = topic_entry(e, file, f);
-      if (!names.insert(to.name).second)
-        throw ConfigError(where(file, e) + f + ": DDS name '" + to.name + "' is bridged twice");
+      if (!names.insert(to.name).second) throw ConfigError(where(file, e) + f + ": DDS name '" + to.name + "' is bridged twice");
       o.topics.push_back(std::move(to));
     }
   }

@@ -63,12 +63,11 @@ fdds::DomainParticipant* make_participant(const DdsOptions& o, const std::string
   auto* f = fdds::DomainParticipantFactory::get_instance();
   fdds::DomainParticipant* p = f->create_participant(static_cast<fdds::DomainId_t>(o.domain), q);
   if (p == nullptr)
-    throw DdsError("DDS: cannot create a participant on domain " + std::to_string(o.domain) + " (interfaces " +
-                   [&] {
-                     std::string s;
-                     for (const auto& i : o.interfaces) s += (s.empty() ? "" : ", ") + i;
-                     return s;
-                   }() + ")" + (o.security ? " with the DDS Security files of enclave '" + o.security->enclave + "'" : ""));
+    throw DdsError("DDS: cannot create a participant on domain " + std::to_string(o.domain) + " (interfaces " + [&] {
+      std::string s;
+      for (const auto& i : o.interfaces) s += (s.empty() ? "" : ", ") + i;
+      return s;
+    }() + ")" + (o.security ? " with the DDS Security files of enclave '" + o.security->enclave + "'" : ""));
   return p;
 }
 

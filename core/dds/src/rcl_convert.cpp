@@ -14,14 +14,21 @@ namespace tern::core::ddsi {
 rcl_interfaces::msg::ParameterValue to_rcl(const ParamValue& v) {
   rcl_interfaces::msg::ParameterValue o;
   o.type(rcl_type(v));
-  std::visit([&](const auto& x) {
-    using T = std::decay_t<decltype(x)>;
-    if constexpr (std::is_same_v<T, bool>) o.bool_value(x);
-    else if constexpr (std::is_same_v<T, std::int64_t>) o.integer_value(x);
-    else if constexpr (std::is_same_v<T, double>) o.double_value(x);
-    else if constexpr (std::is_same_v<T, std::string>) o.string_value(x);
-    else o.double_array_value(x);
-  }, v);
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, bool>)
+          o.bool_value(x);
+        else if constexpr (std::is_same_v<T, std::int64_t>)
+          o.integer_value(x);
+        else if constexpr (std::is_same_v<T, double>)
+          o.double_value(x);
+        else if constexpr (std::is_same_v<T, std::string>)
+          o.string_value(x);
+        else
+          o.double_array_value(x);
+      },
+      v);
   return o;
 }
 

@@ -20,8 +20,16 @@ namespace tern::core::ddsi {
 
 /// rcl_interfaces/msg/ParameterType.msg
 enum RclType : std::uint8_t {
-  kNotSet = 0, kBool = 1, kInteger = 2, kDouble = 3, kString = 4, kByteArray = 5,
-  kBoolArray = 6, kIntegerArray = 7, kDoubleArray = 8, kStringArray = 9,
+  kNotSet = 0,
+  kBool = 1,
+  kInteger = 2,
+  kDouble = 3,
+  kString = 4,
+  kByteArray = 5,
+  kBoolArray = 6,
+  kIntegerArray = 7,
+  kDoubleArray = 8,
+  kStringArray = 9,
 };
 
 rcl_interfaces::msg::ParameterValue to_rcl(const ParamValue& v);

@@ -38,8 +38,8 @@ struct RosParameters::Impl {
   template <class Srv>
   void serve(RosNode& node, const std::string& service, std::function<typename Srv::Resp(const typename Srv::Req&)> fn) {
     const std::string ns = (options.ns.empty() ? "" : options.ns + "/") + node.name;
-    auto s = std::make_shared<ServiceServer<typename Srv::ReqPS, typename Srv::RespPS>>(participant, publisher, subscriber, ns, service,
-                                                                                        [this] { host.ground_link_heard(); }, std::move(fn));
+    auto s = std::make_shared<ServiceServer<typename Srv::ReqPS, typename Srv::RespPS>>(
+        participant, publisher, subscriber, ns, service, [this] { host.ground_link_heard(); }, std::move(fn));
     node.readers.push_back(s->reader()->guid());
     node.writers.push_back(s->writer()->guid());
     servers.push_back(std::move(s));
@@ -80,10 +80,10 @@ struct Srv {
 };
 using ListSrv = Srv<rs::ListParameters_Request, rs::ListParameters_Response, rs::ListParameters_RequestPubSubType,
                     rs::ListParameters_ResponsePubSubType>;
-using GetSrv = Srv<rs::GetParameters_Request, rs::GetParameters_Response, rs::GetParameters_RequestPubSubType,
-                   rs::GetParameters_ResponsePubSubType>;
-using SetSrv = Srv<rs::SetParameters_Request, rs::SetParameters_Response, rs::SetParameters_RequestPubSubType,
-                   rs::SetParameters_ResponsePubSubType>;
+using GetSrv =
+    Srv<rs::GetParameters_Request, rs::GetParameters_Response, rs::GetParameters_RequestPubSubType, rs::GetParameters_ResponsePubSubType>;
+using SetSrv =
+    Srv<rs::SetParameters_Request, rs::SetParameters_Response, rs::SetParameters_RequestPubSubType, rs::SetParameters_ResponsePubSubType>;
 using AtomicSrv = Srv<rs::SetParametersAtomically_Request, rs::SetParametersAtomically_Response,
                       rs::SetParametersAtomically_RequestPubSubType, rs::SetParametersAtomically_ResponsePubSubType>;
 using DescribeSrv = Srv<rs::DescribeParameters_Request, rs::DescribeParameters_Response, rs::DescribeParameters_RequestPubSubType,
@@ -179,8 +179,8 @@ void RosParameters::Impl::add_node(const std::string& instance) {
   nodes.push_back(std::move(node));
 }
 
-RosParameters::RosParameters(Host& host, const DdsOptions& options, fdds::DomainParticipant* p, fdds::Publisher* pub,
-                             fdds::Subscriber* sub, std::function<void(const std::function<void()>&)> on_flight_thread)
+RosParameters::RosParameters(Host& host, const DdsOptions& options, fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub,
+                             std::function<void(const std::function<void()>&)> on_flight_thread)
     : impl_(new Impl{host, options, p, pub, sub, std::move(on_flight_thread)}) {
   fdds::DataWriterQos q = pub->get_default_datawriter_qos();
   q.reliability().kind = fdds::RELIABLE_RELIABILITY_QOS;

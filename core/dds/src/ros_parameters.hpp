@@ -30,9 +30,8 @@ namespace tern::core::ddsi {
 class RosParameters {
  public:
   /// `on_flight_thread` runs a read where parameter values are stable (the bridge's).
-  RosParameters(Host& host, const DdsOptions& options, eprosima::fastdds::dds::DomainParticipant* p,
-                eprosima::fastdds::dds::Publisher* pub, eprosima::fastdds::dds::Subscriber* sub,
-                std::function<void(const std::function<void()>&)> on_flight_thread);
+  RosParameters(Host& host, const DdsOptions& options, eprosima::fastdds::dds::DomainParticipant* p, eprosima::fastdds::dds::Publisher* pub,
+                eprosima::fastdds::dds::Subscriber* sub, std::function<void(const std::function<void()>&)> on_flight_thread);
   ~RosParameters();
   /// One node per instance, with its services' readers and writers.
   std::vector<RosNode> nodes() const;

@@ -11,19 +11,19 @@ std::vector<DdsTopicOptions> DdsOptions::rosplane_profile(bool aliases) {
   const auto rel = DdsQos::reliable;
   std::vector<DdsTopicOptions> t = {
       // ROSplane's nodes (rosplane/src/...)
-      {"state", "estimated_state", -1, rel, 10, "rosplane_msgs/msg/State"},                         // ekf/estimator_ros.cpp
-      {"waypoints", "waypoint_path", -1, DdsQos::transient_local, 10, "rosplane_msgs/msg/Waypoint"},  // path_planner_waypoints.cpp
-      {"current_path", "current_path", -1, rel, 10, "rosplane_msgs/msg/CurrentPath"},               // path_manager_ros.cpp
-      {"controller_command", "controller_command", -1, rel, 1, "rosplane_msgs/msg/ControllerCommands"},  // path_follower_ros.cpp
+      {"state", "estimated_state", -1, rel, 10, "rosplane_msgs/msg/State"},                                    // ekf/estimator_ros.cpp
+      {"waypoints", "waypoint_path", -1, DdsQos::transient_local, 10, "rosplane_msgs/msg/Waypoint"},           // path_planner_waypoints.cpp
+      {"current_path", "current_path", -1, rel, 10, "rosplane_msgs/msg/CurrentPath"},                          // path_manager_ros.cpp
+      {"controller_command", "controller_command", -1, rel, 1, "rosplane_msgs/msg/ControllerCommands"},        // path_follower_ros.cpp
       {"controller_internals", "controller_internals", -1, rel, 10, "rosplane_msgs/msg/ControllerInternals"},  // controller_ros.cpp
-      {"actuators", "command", -1, rel, 10, "rosflight_msgs/msg/Command"},                           // controller_ros.cpp
+      {"actuators", "command", -1, rel, 10, "rosflight_msgs/msg/Command"},                                     // controller_ros.cpp
       // rosflight_io (rosflight_io/src/rosflight_io.cpp): the FCU's sensors and status
-      {"imu", "imu/data", -1, rel, 1, "sensor_msgs/msg/Imu"},                 // handle_small_imu_msg
-      {"gnss", "gnss", -1, rel, 1, "rosflight_msgs/msg/GNSS"},                // handle_rosflight_gnss_msg
-      {"baro", "baro", -1, rel, 1, "rosflight_msgs/msg/Barometer"},           // handle_small_baro_msg
+      {"imu", "imu/data", -1, rel, 1, "sensor_msgs/msg/Imu"},                    // handle_small_imu_msg
+      {"gnss", "gnss", -1, rel, 1, "rosflight_msgs/msg/GNSS"},                   // handle_rosflight_gnss_msg
+      {"baro", "baro", -1, rel, 1, "rosflight_msgs/msg/Barometer"},              // handle_small_baro_msg
       {"diff_pressure", "airspeed", -1, rel, 1, "rosflight_msgs/msg/Airspeed"},  // handle_diff_pressure_msg
-      {"mag", "magnetometer", -1, rel, 1, "sensor_msgs/msg/MagneticField"},    // handle_small_mag_msg
-      {"fcu_status", "status", -1, rel, 1, "rosflight_msgs/msg/Status"},       // handle_status_msg
+      {"mag", "magnetometer", -1, rel, 1, "sensor_msgs/msg/MagneticField"},      // handle_small_mag_msg
+      {"fcu_status", "status", -1, rel, 1, "rosflight_msgs/msg/Status"},         // handle_status_msg
       // tern's own (no ROSplane counterpart)
       {"flight_phase", "flight_phase", -1, DdsQos::transient_local, std::nullopt, ""},
   };

@@ -45,8 +45,8 @@ std::string TopicRate::report() const {
   double var = 0;
   for (double p : periods_) var += (p - mean) * (p - mean);
   const auto [lo, hi] = std::minmax_element(periods_.begin(), periods_.end());
-  return fmt::format("average rate: {:.3f}\n\tmin: {:.3f}s max: {:.3f}s std dev: {:.5f}s window: {}", mean > 0 ? 1.0 / mean : 0.0,
-                     *lo, *hi, std::sqrt(var / n), periods_.size() + 1);
+  return fmt::format("average rate: {:.3f}\n\tmin: {:.3f}s max: {:.3f}s std dev: {:.5f}s window: {}", mean > 0 ? 1.0 / mean : 0.0, *lo, *hi,
+                     std::sqrt(var / n), periods_.size() + 1);
 }
 
 std::string describe_param(const DdsParam& p) {

@@ -127,12 +127,21 @@ std::vector<std::pair<std::string, std::string>> msg_fields(const std::string& t
 
 /// Members of `struct name { ... };` in an IDL file as ROS types ("float32[3] w" -> ("float32[3]", "w")).
 std::vector<std::pair<std::string, std::string>> idl_fields(const std::string& text, const std::string& name) {
-  static const std::map<std::string, std::string> ros = {
-      {"float", "float32"}, {"double", "float64"}, {"boolean", "bool"}, {"uint8", "uint8"}, {"int8", "int8"},
-      {"uint16", "uint16"}, {"int16", "int16"}, {"uint32", "uint32"}, {"int32", "int32"}, {"int64", "int64"},
-      {"string", "string"}, {"std_msgs::msg::Header", "std_msgs/Header"},
-      {"geometry_msgs::msg::Quaternion", "geometry_msgs/Quaternion"}, {"geometry_msgs::msg::Vector3", "geometry_msgs/Vector3"},
-      {"builtin_interfaces::msg::Time", "builtin_interfaces/Time"}};
+  static const std::map<std::string, std::string> ros = {{"float", "float32"},
+                                                         {"double", "float64"},
+                                                         {"boolean", "bool"},
+                                                         {"uint8", "uint8"},
+                                                         {"int8", "int8"},
+                                                         {"uint16", "uint16"},
+                                                         {"int16", "int16"},
+                                                         {"uint32", "uint32"},
+                                                         {"int32", "int32"},
+                                                         {"int64", "int64"},
+                                                         {"string", "string"},
+                                                         {"std_msgs::msg::Header", "std_msgs/Header"},
+                                                         {"geometry_msgs::msg::Quaternion", "geometry_msgs/Quaternion"},
+                                                         {"geometry_msgs::msg::Vector3", "geometry_msgs/Vector3"},
+                                                         {"builtin_interfaces::msg::Time", "builtin_interfaces/Time"}};
   const auto at = text.find("struct " + name + " {");
   REQUIRE_MESSAGE(at != std::string::npos, name);
   const auto end = text.find("};", at);
@@ -181,7 +190,8 @@ TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name fi
   CHECK(err("dds:\n  interfaces: [eth0]\n").find("dds.interfaces[0]: 'eth0' is not an IPv4 address") != std::string::npos);
   CHECK(err("dds:\n  topics: [{topic: state, qos: fast}]\n").find("dds.topics[0].qos: 'fast' is not one of") != std::string::npos);
   CHECK(err("dds:\n  topics: [{topic: imu, depth: 0}]\n").find("dds.topics[0].depth: 0 is outside [1, 1000]") != std::string::npos);
-  CHECK(err("dds:\n  topics: [{topic: imu, type: Imu}]\n").find("dds.topics[0].type: 'Imu' is not a ROS 2 message type") != std::string::npos);
+  CHECK(err("dds:\n  topics: [{topic: imu, type: Imu}]\n").find("dds.topics[0].type: 'Imu' is not a ROS 2 message type") !=
+        std::string::npos);
   CHECK(err("dds:\n  time: gps\n").find("dds.time: 'gps' is not one of auto, sim, wall") != std::string::npos);
   CHECK(err("dds:\n  clock_rate: -1\n").find("dds.clock_rate: -1 is outside [0, 10000]") != std::string::npos);
   const fs::path lean = write_file("dds_lean.yaml", "dds:\n  aliases: false\n  time: wall\n  clock_rate: 50\n");
@@ -203,7 +213,8 @@ TEST_CASE("dds: options: defaults are loopback-only; bad keys and values name fi
   CHECK(*o.topics[1].qos == DdsQos::reliable);
   CHECK_FALSE(o.read_only);
   // issue 20: telemetry only, and the directories file requests may use (relative to the config)
-  const fs::path files = write_file("dds_files.yaml", "dds:\n  read_only: true\n  mission_dirs: [wp, /srv/missions]\n  param_dirs: [gains]\n");
+  const fs::path files =
+      write_file("dds_files.yaml", "dds:\n  read_only: true\n  mission_dirs: [wp, /srv/missions]\n  param_dirs: [gains]\n");
   const DdsOptions fo = parse_dds_options(YAML::LoadFile(files.string())["dds"], files);
   CHECK(fo.read_only);
   CHECK(fo.mission_dirs == std::vector<fs::path>{test_dir() / "wp", "/srv/missions"});
@@ -240,9 +251,9 @@ TEST_CASE("dds: rosflight_io's, sensor_msgs' and /clock's IDL follow their .msg 
   CHECK(std::string(rosgraph_msgs::msg::ClockPubSubType().getName()) == "rosgraph_msgs::msg::dds_::Clock_");
   const fs::path idl = TERN_DDS_IDL_DIR, ref = TERN_ROSPLANE_MSG_DIR;
   const std::pair<const char*, const char*> msgs[] = {
-      {"rosflight_msgs/msg", "Command"}, {"rosflight_msgs/msg", "Barometer"}, {"rosflight_msgs/msg", "Airspeed"},
-      {"rosflight_msgs/msg", "Status"}, {"rosflight_msgs/msg", "GNSS"}, {"sensor_msgs/msg", "Imu"},
-      {"sensor_msgs/msg", "MagneticField"}, {"geometry_msgs/msg", "Vector3"}, {"rosgraph_msgs/msg", "Clock"}};
+      {"rosflight_msgs/msg", "Command"},    {"rosflight_msgs/msg", "Barometer"}, {"rosflight_msgs/msg", "Airspeed"},
+      {"rosflight_msgs/msg", "Status"},     {"rosflight_msgs/msg", "GNSS"},      {"sensor_msgs/msg", "Imu"},
+      {"sensor_msgs/msg", "MagneticField"}, {"geometry_msgs/msg", "Vector3"},    {"rosgraph_msgs/msg", "Clock"}};
   for (const auto& [dir, m] : msgs) {
     const std::string folder = dir;
     const fs::path msg_dir = folder.rfind("rosflight", 0) == 0 ? ref / dir : ref / "ros2_msgs" / dir;
@@ -264,8 +275,7 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   CHECK(names == std::vector<std::string>{"rt/tern/estimated_state rosplane_msgs::msg::dds_::State_",
                                           "rt/tern/controller_internals rosplane_msgs::msg::dds_::ControllerInternals_",
                                           "rt/tern/command rosflight_msgs::msg::dds_::Command_",
-                                          "rt/tern/imu/data sensor_msgs::msg::dds_::Imu_",
-                                          "rt/tern/state rosplane_msgs::msg::dds_::State_",
+                                          "rt/tern/imu/data sensor_msgs::msg::dds_::Imu_", "rt/tern/state rosplane_msgs::msg::dds_::State_",
                                           "rt/tern/actuators tern_msgs::msg::dds_::Actuators_"});
 
   auto* p = ddsi::make_participant(opt, "test reader");
@@ -273,11 +283,13 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   auto* topic = ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/state");
   auto* reader = sub->create_datareader(topic, ddsi::reader_qos(DdsQos::best_effort));
   REQUIRE(reader != nullptr);
-  REQUIRE(ddsi::wait_until([&] {
-    fdds::SubscriptionMatchedStatus s;
-    reader->get_subscription_matched_status(s);
-    return s.current_count > 0;
-  }, std::chrono::seconds(10)));
+  REQUIRE(ddsi::wait_until(
+      [&] {
+        fdds::SubscriptionMatchedStatus s;
+        reader->get_subscription_matched_status(s);
+        return s.current_count > 0;
+      },
+      std::chrono::seconds(10)));
   // DDS on with the default config: nothing listens or sends on a non-loopback address
   const auto sockets = socket_addresses();
   CHECK(sockets.size() >= 4);  // two participants, each with metatraffic and user unicast sockets
@@ -289,8 +301,8 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   fdds::SampleInfo info;
   REQUIRE(reader->take_next_sample(&st, &info) == ReturnCode_t::RETCODE_OK);
   CHECK(info.valid_data);
-  CHECK(st.va() == 15.0f);            // test_sensor's truth, passed through by test_filter
-  CHECK(st.quat().w() == 1.0);        // identity attitude
+  CHECK(st.va() == 15.0f);      // test_sensor's truth, passed through by test_filter
+  CHECK(st.quat().w() == 1.0);  // identity attitude
   CHECK(st.header().stamp().sec() >= 0);
   const FlightResult r = f.finish();
   CHECK(r.ok);
@@ -306,8 +318,8 @@ TEST_CASE("dds: ROSplane profile: readers with ROSplane's QoS match; stamps are 
   auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   auto* state = rosplane_state_reader(p, sub);
   // rclcpp's ClockQoS: best-effort, keep-last 1
-  auto* clock = sub->create_datareader(ddsi::make_topic<rosgraph_msgs::msg::ClockPubSubType>(p, "rt/clock"),
-                                       ddsi::reader_qos(DdsQos::best_effort));
+  auto* clock =
+      sub->create_datareader(ddsi::make_topic<rosgraph_msgs::msg::ClockPubSubType>(p, "rt/clock"), ddsi::reader_qos(DdsQos::best_effort));
   REQUIRE(clock != nullptr);
   REQUIRE(ddsi::wait_until([&] { return reader_matched(state) && reader_matched(clock); }, std::chrono::seconds(10)));
   fdds::RequestedIncompatibleQosStatus incompatible;
@@ -521,8 +533,7 @@ TEST_CASE("dds: replies reach the client that asked (sample identity), with two 
 TEST_CASE("dds: a client with no vehicle on its domain gets a clear timeout error") {
   DdsClient client(options_on(44), std::chrono::milliseconds(300));
   CHECK_THROWS_WITH_AS(client.param_set("ctl.kp", 0.1),
-                       "no vehicle announced its nodes (ros_discovery_info) on DDS domain 44, namespace 'tern' within 0.3 s",
-                       DdsError);
+                       "no vehicle announced its nodes (ros_discovery_info) on DDS domain 44, namespace 'tern' within 0.3 s", DdsError);
 }
 
 TEST_CASE("dds: file requests from the network stay inside the allowed directories (issue 20)") {
@@ -570,7 +581,7 @@ TEST_CASE("dds: a repeated request id gets the first answer and is applied once 
   client.mission_add(wp);
   retry.set_request_id(1234);  // another process repeating the request after a time-out
   retry.mission_add(wp);
-  client.mission_add(wp);      // a new request (a fresh id): applied
+  client.mission_add(wp);  // a new request (a fresh id): applied
   const FlightResult r = f.finish();
   REQUIRE(r.ok);
   const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
@@ -585,10 +596,10 @@ TEST_CASE("dds: a request sent but not answered says it may have been applied, h
   auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
   auto* sub = p->create_subscriber(fdds::SUBSCRIBER_QOS_DEFAULT);
   using namespace rcl_interfaces::srv;
-  auto* rw = pub->create_datawriter(
-      ddsi::make_topic<SetParameters_ResponsePubSubType>(p, ddsi::reply_topic("tern/ctl", "set_parameters")), ddsi::service_writer_qos());
-  auto* rr = sub->create_datareader(
-      ddsi::make_topic<SetParameters_RequestPubSubType>(p, ddsi::request_topic("tern/ctl", "set_parameters")), ddsi::service_reader_qos());
+  auto* rw = pub->create_datawriter(ddsi::make_topic<SetParameters_ResponsePubSubType>(p, ddsi::reply_topic("tern/ctl", "set_parameters")),
+                                    ddsi::service_writer_qos());
+  auto* rr = sub->create_datareader(ddsi::make_topic<SetParameters_RequestPubSubType>(p, ddsi::request_topic("tern/ctl", "set_parameters")),
+                                    ddsi::service_reader_qos());
   REQUIRE((rw != nullptr && rr != nullptr));
   ddsi::RosGraph graph(p, pub);
   graph.announce({{"/tern", "ctl", {rr->guid()}, {rw->guid()}}});
@@ -653,12 +664,13 @@ TEST_CASE("dds: each instance is a ROS 2 node serving rcl_interfaces' parameter 
   REQUIRE(events != nullptr);
 
   ListParameters_Request lq;
-  const auto names = ros_call<ListParameters_RequestPubSubType, ListParameters_ResponsePubSubType>(p, pub, sub, "ctl", "list_parameters", lq);
+  const auto names =
+      ros_call<ListParameters_RequestPubSubType, ListParameters_ResponsePubSubType>(p, pub, sub, "ctl", "list_parameters", lq);
   CHECK(names.result().names() == std::vector<std::string>{"aileron", "fail_at", "fail_mode", "h_target", "kp", "tag"});
   DescribeParameters_Request dq;
   dq.names({"kp", "nope"});
-  const auto d = ros_call<DescribeParameters_RequestPubSubType, DescribeParameters_ResponsePubSubType>(p, pub, sub, "ctl",
-                                                                                                      "describe_parameters", dq);
+  const auto d =
+      ros_call<DescribeParameters_RequestPubSubType, DescribeParameters_ResponsePubSubType>(p, pub, sub, "ctl", "describe_parameters", dq);
   REQUIRE(d.descriptors().size() == 2);
   const auto& kp = d.descriptors()[0];
   CHECK(kp.name() == "kp");
@@ -672,7 +684,7 @@ TEST_CASE("dds: each instance is a ROS 2 node serving rcl_interfaces' parameter 
   CHECK(d.descriptors()[1].type() == ddsi::kNotSet);
   dq.names({"h0"});
   const auto h0 = ros_call<DescribeParameters_RequestPubSubType, DescribeParameters_ResponsePubSubType>(p, pub, sub, "sensor",
-                                                                                                       "describe_parameters", dq);
+                                                                                                        "describe_parameters", dq);
   CHECK(h0.descriptors().at(0).read_only());  // start-only
 
   // set: one good, one out of range; atomically: nothing when one is bad
@@ -699,7 +711,7 @@ TEST_CASE("dds: each instance is a ROS 2 node serving rcl_interfaces' parameter 
   const auto gr = ros_call<GetParameters_RequestPubSubType, GetParameters_ResponsePubSubType>(p, pub, sub, "ctl", "get_parameters", gq);
   REQUIRE(gr.values().size() == 2);
   CHECK(gr.values()[0].type() == ddsi::kDouble);
-  CHECK(gr.values()[0].double_value() == 0.0);  // between flights a change waits for the next flight's first tick
+  CHECK(gr.values()[0].double_value() == 0.0);    // between flights a change waits for the next flight's first tick
   CHECK(gr.values()[1].type() == ddsi::kNotSet);  // as rclcpp answers an unknown name
   // the accepted change, and only it, on /parameter_events
   rcl_interfaces::msg::ParameterEvent e;

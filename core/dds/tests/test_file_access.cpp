@@ -45,8 +45,8 @@ TEST_CASE("file access: names inside the allowed directories resolve; everything
   CHECK(read("sub/../m.yaml").find("'..' is not allowed") != std::string::npos);
   CHECK(read("/etc/shadow") == "load_mission_from_file: refused '/etc/shadow': only .yaml or .yml files");
   CHECK(read((root / "outside" / "secret.yaml").string()) ==
-        "load_mission_from_file: refused '" + (root / "outside" / "secret.yaml").string() +
-            "': outside the allowed directories (" + (root / "missions").string() + ", " + (root / "extra").string() + ")");
+        "load_mission_from_file: refused '" + (root / "outside" / "secret.yaml").string() + "': outside the allowed directories (" +
+            (root / "missions").string() + ", " + (root / "extra").string() + ")");
   // a symbolic link inside leads outside: refused, and nothing of the file is in the message
   const std::string link = read("link.yaml");
   CHECK(link.find("outside the allowed directories") != std::string::npos);

@@ -109,8 +109,8 @@ TEST_CASE("dds security: with the keystore State and status; without it nothing"
     return false;
   });
   CHECK(state.find("va: 15") != std::string::npos);
-  MESSAGE("with the keystore: status and a State sample in ",
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), " s; state: ", state.substr(0, state.find('\n')));
+  MESSAGE("with the keystore: status and a State sample in ", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(),
+          " s; state: ", state.substr(0, state.find('\n')));
 
   DdsClient outsider(options_on(std::nullopt), std::chrono::seconds(3));
   CHECK_THROWS_WITH_AS(outsider.status(), "no vehicle answered 'status' on DDS domain 161, namespace 'tern' within 3.0 s", DdsError);
@@ -123,7 +123,8 @@ TEST_CASE("dds security: a missing or bad file is one error line naming it") {
   REQUIRE(fs::exists(ks / "enclaves/ground/cert.pem"));
   CHECK_THROWS_WITH_AS(ddsi::make_participant(options_on(DdsSecurity{ks, "nobody"}), "x"),
                        ("dds.security: missing " + (ks / "enclaves/nobody/identity_ca.cert.pem").string() +
-                        " (make enclave 'nobody' with `tern dds keystore add-node " + ks.string() + " nobody`)").c_str(),
+                        " (make enclave 'nobody' with `tern dds keystore add-node " + ks.string() + " nobody`)")
+                           .c_str(),
                        DdsError);
   fs::copy(ks / "enclaves/ground", ks / "enclaves/broken");
   std::ofstream(ks / "enclaves/broken/key.pem") << "not a key\n";
@@ -131,10 +132,11 @@ TEST_CASE("dds security: a missing or bad file is one error line naming it") {
                        ("dds.security: " + (ks / "enclaves/broken/key.pem").string() + ": not an unencrypted PEM private key").c_str(),
                        DdsError);
   fs::copy_file(ks / "enclaves/vehicle/key.pem", ks / "enclaves/broken/key.pem", fs::copy_options::overwrite_existing);
-  CHECK_THROWS_WITH_AS(ddsi::make_participant(options_on(DdsSecurity{ks, "broken"}), "x"),
-                       ("dds.security: " + (ks / "enclaves/broken/key.pem").string() + ": not the key of " +
-                        (ks / "enclaves/broken/cert.pem").string()).c_str(),
-                       DdsError);
+  CHECK_THROWS_WITH_AS(
+      ddsi::make_participant(options_on(DdsSecurity{ks, "broken"}), "x"),
+      ("dds.security: " + (ks / "enclaves/broken/key.pem").string() + ": not the key of " + (ks / "enclaves/broken/cert.pem").string())
+          .c_str(),
+      DdsError);
   fs::copy_file(ks / "enclaves/ground/key.pem", ks / "enclaves/broken/key.pem", fs::copy_options::overwrite_existing);
   {  // permissions edited after signing: everything allowed
     const fs::path p7s = ks / "enclaves/broken/permissions.p7s";
@@ -147,7 +149,8 @@ TEST_CASE("dds security: a missing or bad file is one error line naming it") {
   }
   CHECK_THROWS_WITH_AS(ddsi::make_participant(options_on(DdsSecurity{ks, "broken"}), "x"),
                        ("dds.security: " + (ks / "enclaves/broken/permissions.p7s").string() + ": its signature does not verify with " +
-                        (ks / "enclaves/broken/permissions_ca.cert.pem").string()).c_str(),
+                        (ks / "enclaves/broken/permissions_ca.cert.pem").string())
+                           .c_str(),
                        DdsError);
   const auto [rc, out] = run_tern("dds keystore add-node " + ks.string() + " ground");
   CHECK(rc == 1);

@@ -46,8 +46,10 @@ std::pair<double, double> interval(const YAML::Node& n, const fs::path& f, const
   return {v[0], v[1]};
 }
 
-void same_size(const std::vector<double>& a, const std::vector<double>& b, const YAML::Node& n, const fs::path& f, const std::string& field) {
-  if (a.size() != b.size() && a.size() != 1 && b.size() != 1) throw ConfigError(where(f, n) + field + fmt::format(": bounds of different sizes ({} and {})", a.size(), b.size()));
+void same_size(const std::vector<double>& a, const std::vector<double>& b, const YAML::Node& n, const fs::path& f,
+               const std::string& field) {
+  if (a.size() != b.size() && a.size() != 1 && b.size() != 1)
+    throw ConfigError(where(f, n) + field + fmt::format(": bounds of different sizes ({} and {})", a.size(), b.size()));
 }
 
 Dispersion dispersion(const std::string& target, const YAML::Node& n, const fs::path& f) {
@@ -83,8 +85,9 @@ Dispersion dispersion(const std::string& target, const YAML::Node& n, const fs::
       if (s < 0) throw ConfigError(where(f, n["sd"]) + field + fmt::format(".sd: must be >= 0, got {}", s));
     if (n["clip"]) d.clip = interval(n["clip"], f, field + ".clip");
   } else if (dist == "choice" || dist == "grid") {
-    core::check_keys(n, f, field, dist == "choice" ? std::vector<std::string>{"dist", "values", "weights", "relative"}
-                                                   : std::vector<std::string>{"dist", "values", "relative"});
+    core::check_keys(n, f, field,
+                     dist == "choice" ? std::vector<std::string>{"dist", "values", "weights", "relative"}
+                                      : std::vector<std::string>{"dist", "values", "relative"});
     d.dist = dist == "choice" ? Dist::choice : Dist::grid;
     const YAML::Node v = n["values"];
     if (!v || !v.IsSequence() || v.size() == 0) throw ConfigError(where(f, v ? v : n) + field + ".values: expected a non-empty list");
@@ -115,7 +118,8 @@ Criterion criterion(const YAML::Node& n, const fs::path& f, std::size_t i) {
   std::smatch m;
   const std::string s = n.IsScalar() ? n.Scalar() : "";
   if (!std::regex_match(s, m, re))
-    throw ConfigError(where(f, n) + field + ": '" + text_of(n) + "' is not 'FIGURE OP VALUE' (OP: < <= > >= == !=), e.g. metrics.max_cross_track_m < 15");
+    throw ConfigError(where(f, n) + field + ": '" + text_of(n) +
+                      "' is not 'FIGURE OP VALUE' (OP: < <= > >= == !=), e.g. metrics.max_cross_track_m < 15");
   Criterion c{m[1], m[2], m[3], s};
   const bool numeric_op = c.op != "==" && c.op != "!=";
   if (numeric_op) {
@@ -156,7 +160,8 @@ CampaignFile load_campaign(const fs::path& file_in) {
   }
   if (root["duration"]) {
     c.duration = number(root["duration"], f, "duration");
-    if (const std::string p = core::duration_problem(*c.duration); !p.empty()) throw ConfigError(where(f, root["duration"]) + "duration: " + p);
+    if (const std::string p = core::duration_problem(*c.duration); !p.empty())
+      throw ConfigError(where(f, root["duration"]) + "duration: " + p);
   }
   if (root["log"]) {
     c.log_level = text_of(root["log"]);
@@ -172,7 +177,8 @@ CampaignFile load_campaign(const fs::path& file_in) {
   c.flights = c.grid_points;
   if (const YAML::Node n = root["flights"]) {
     const double v = number(n, f, "flights");
-    if (!(v >= 1 && v <= 1e9 && v == std::floor(v))) throw ConfigError(where(f, n) + "flights: expected a whole number >= 1, got '" + n.Scalar() + "'");
+    if (!(v >= 1 && v <= 1e9 && v == std::floor(v)))
+      throw ConfigError(where(f, n) + "flights: expected a whole number >= 1, got '" + n.Scalar() + "'");
     c.flights = static_cast<std::size_t>(v);
   }
   if (const YAML::Node cr = root["criteria"]) {

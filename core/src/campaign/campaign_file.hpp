@@ -47,38 +47,38 @@ namespace fs = std::filesystem;
 enum class Dist { uniform, normal, choice, grid, polar };
 
 struct Dispersion {
-  std::string target;        ///< "sim.wind", "aircraft.mass", "aircraft.aero.*"
+  std::string target;  ///< "sim.wind", "aircraft.mass", "aircraft.aero.*"
   Dist dist = Dist::uniform;
-  std::vector<double> low, high;   ///< uniform (size 1, or the vector's size)
-  std::vector<double> mean, sd;    ///< normal
-  std::optional<std::pair<double, double>> clip;  ///< normal
-  std::vector<YAML::Node> values;  ///< choice, grid
-  std::vector<double> weights;     ///< choice (empty: equal)
+  std::vector<double> low, high;                            ///< uniform (size 1, or the vector's size)
+  std::vector<double> mean, sd;                             ///< normal
+  std::optional<std::pair<double, double>> clip;            ///< normal
+  std::vector<YAML::Node> values;                           ///< choice, grid
+  std::vector<double> weights;                              ///< choice (empty: equal)
   std::pair<double, double> speed{0, 0}, from_deg{0, 360};  ///< polar: m/s (the parameter's unit), deg
-  std::optional<std::string> into_wind;  ///< polar: heading parameter set to the direction
-  bool relative = false;     ///< drawn value v: parameter = nominal x (1 + v)
-  YAML::Node node;           ///< for error locations
+  std::optional<std::string> into_wind;                     ///< polar: heading parameter set to the direction
+  bool relative = false;                                    ///< drawn value v: parameter = nominal x (1 + v)
+  YAML::Node node;                                          ///< for error locations
   bool aircraft() const { return target.rfind("aircraft.", 0) == 0; }
 };
 
 struct Criterion {
-  std::string figure;   ///< flattened summary.json key, e.g. "metrics.max_cross_track_m"
-  std::string op;       ///< < <= > >= == !=
-  std::string value;    ///< as written (a number, true/false, or text)
-  std::string text;     ///< the whole criterion as written
+  std::string figure;  ///< flattened summary.json key, e.g. "metrics.max_cross_track_m"
+  std::string op;      ///< < <= > >= == !=
+  std::string value;   ///< as written (a number, true/false, or text)
+  std::string text;    ///< the whole criterion as written
 };
 
 struct CampaignFile {
-  fs::path file;        ///< absolute
+  fs::path file;  ///< absolute
   std::string name;
-  fs::path base;        ///< absolute path of the base mission
+  fs::path base;  ///< absolute path of the base mission
   std::uint64_t seed = 1;
   std::size_t flights = 1;
   std::optional<double> duration;  ///< s
   std::string log_level = "summary";
   std::vector<Dispersion> dispersions;
   std::vector<Criterion> criteria;
-  std::string worst_by;  ///< "" when no numeric criterion and none given
+  std::string worst_by;         ///< "" when no numeric criterion and none given
   std::size_t grid_points = 1;  ///< product of the grid dispersions' sizes
 };
 

@@ -59,8 +59,9 @@ void claim_output(const CampaignFile& c, const fs::path& out) {
   const fs::path copy = out / "campaign.yaml";
   const std::string text = read_text(c.file);
   if (fs::exists(copy) && read_text(copy) != text)
-    throw core::ConfigError(fmt::format("{}: holds the results of a different campaign file (its campaign.yaml differs from {}): give another --out",
-                                        out.string(), c.file.string()));
+    throw core::ConfigError(
+        fmt::format("{}: holds the results of a different campaign file (its campaign.yaml differs from {}): give another --out",
+                    out.string(), c.file.string()));
   std::ofstream(copy) << text;
 }
 
@@ -116,9 +117,11 @@ void write_throughput(const fs::path& out, const std::string& engine, int worker
   const double capacity = wall * workers;
   j["overhead_fraction"] = capacity > 0 ? std::max(0.0, 1.0 - t.flight_wall_s / capacity) : 0.0;
   std::ofstream(out / "throughput.json") << j.dump(2) << "\n";
-  fmt::print("throughput: {} flights in {:.1f} s on {} {} worker(s): {:.1f} flights/min, {:.0f}x real time in all, {:.0f}x per flight, overhead {:.1f} %\n",
-             t.flown, wall, workers, engine, j["flights_per_minute"].get<double>(), j["aggregate_real_time_factor"].get<double>(),
-             j["mean_flight_real_time_factor"].get<double>(), 100 * j["overhead_fraction"].get<double>());
+  fmt::print(
+      "throughput: {} flights in {:.1f} s on {} {} worker(s): {:.1f} flights/min, {:.0f}x real time in all, {:.0f}x per flight, overhead "
+      "{:.1f} %\n",
+      t.flown, wall, workers, engine, j["flights_per_minute"].get<double>(), j["aggregate_real_time_factor"].get<double>(),
+      j["mean_flight_real_time_factor"].get<double>(), 100 * j["overhead_fraction"].get<double>());
 }
 
 struct Options {
@@ -158,8 +161,8 @@ int run(const Options& o) {
   const std::string resume = fmt::format("{} campaign {} --out {}", tern_bin.string(), c.file.string(), out.string());
   if (o.slurm) {
     const fs::path script = write_slurm(commands, out, c.name, resume);
-    fmt::print("slurm: wrote {} ({} flights, {} without a summary yet)\n  submit: sbatch --array=0-{} {}\n  then collect: {}\n", script.string(),
-               c.flights, pending.size(), c.flights - 1, script.string(), resume);
+    fmt::print("slurm: wrote {} ({} flights, {} without a summary yet)\n  submit: sbatch --array=0-{} {}\n  then collect: {}\n",
+               script.string(), c.flights, pending.size(), c.flights - 1, script.string(), resume);
     return 0;
   }
 
@@ -174,9 +177,9 @@ int run(const Options& o) {
   };
   install_interrupt_handlers();
   const double t0 = wall_s();
-  const bool complete = o.dask.empty() ? run_local(pending, workers, on_done)
-                                       : run_dask(pending, o.dask, TERN_PYTHON3, exe_dir() / "tern-campaign-dask", out / "dask_jobs.json", on_done,
-                                                  workers);
+  const bool complete =
+      o.dask.empty() ? run_local(pending, workers, on_done)
+                     : run_dask(pending, o.dask, TERN_PYTHON3, exe_dir() / "tern-campaign-dask", out / "dask_jobs.json", on_done, workers);
   const double wall = wall_s() - t0;
   progress.finish();
 
@@ -221,7 +224,8 @@ int main(int argc, char** argv) {
   app.add_option("--dask", o.dask, "fly on this Dask distributed scheduler (e.g. tcp://127.0.0.1:8786; needs python3-distributed)");
   app.add_flag("--slurm", o.slurm, "write a Slurm job-array script (slurm.sh) for the flights instead of flying them");
   app.add_flag("--no-plots", o.no_plots, "skip the plots");
-  app.failure_message([](const CLI::App*, const CLI::Error& e) { return fmt::format("tern campaign: error: {} (see --help)\n", e.what()); });
+  app.failure_message(
+      [](const CLI::App*, const CLI::Error& e) { return fmt::format("tern campaign: error: {} (see --help)\n", e.what()); });
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

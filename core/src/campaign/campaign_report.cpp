@@ -74,8 +74,13 @@ nlohmann::ordered_json figure_stats(const std::vector<FlightRow>& rows) {
     std::sort(v.begin(), v.end());
     double sum = 0;
     for (double x : v) sum += x;
-    out[n] = {{"n", v.size()}, {"min", v.front()}, {"p5", percentile(v, 0.05)}, {"p50", percentile(v, 0.5)},
-              {"p95", percentile(v, 0.95)}, {"max", v.back()}, {"mean", sum / static_cast<double>(v.size())}};
+    out[n] = {{"n", v.size()},
+              {"min", v.front()},
+              {"p5", percentile(v, 0.05)},
+              {"p50", percentile(v, 0.5)},
+              {"p95", percentile(v, 0.95)},
+              {"max", v.back()},
+              {"mean", sum / static_cast<double>(v.size())}};
   }
   return out;
 }
@@ -143,25 +148,34 @@ void write_report(const CampaignFile& c, const std::vector<FlightRow>& rows, con
   for (std::size_t i = 0; i < std::min(kWorstShown, worst.size()); ++i) {
     const FlightRow& r = *worst[i];
     const Figure* f = c.worst_by.empty() ? nullptr : r.find(c.worst_by);
-    w.push_back({{"index", r.index}, {"seed", r.seed}, {"outcome", outcome_name(r.outcome)}, {"why", r.why},
-                 {c.worst_by.empty() ? "worst_by" : c.worst_by, f ? f->text : ""}, {"command", r.command}});
+    w.push_back({{"index", r.index},
+                 {"seed", r.seed},
+                 {"outcome", outcome_name(r.outcome)},
+                 {"why", r.why},
+                 {c.worst_by.empty() ? "worst_by" : c.worst_by, f ? f->text : ""},
+                 {"command", r.command}});
   }
   j["worst"] = w;
   j["figures"] = figure_stats(rows);
   write_file(out / "summary.json", j.dump(2) + "\n");
 
-  std::string md = fmt::format("# Campaign {}\n\n{} flights of {} (seed {}, base {}): **{} passed ({:.1f} %, 95 % CI {:.1f}-{:.1f} %)**, {} failed, {} errors.\n\n",
-                               c.name, rows.size(), c.file.filename().string(), c.seed, c.base.filename().string(), passed,
-                               100.0 * j["pass_rate"].get<double>(), 100 * lo, 100 * hi, failed, errors);
-  md += "Criteria: " + (c.criteria.empty() ? std::string("none") : fmt::format("`{}`", fmt::join(j["criteria"].get<std::vector<std::string>>(), "`, `"))) + "\n\n";
-  md += "## Worst flights\n\n| flight | outcome | " + (c.worst_by.empty() ? std::string("-") : c.worst_by) + " | why | re-fly |\n|---|---|---|---|---|\n";
+  std::string md = fmt::format(
+      "# Campaign {}\n\n{} flights of {} (seed {}, base {}): **{} passed ({:.1f} %, 95 % CI {:.1f}-{:.1f} %)**, {} failed, {} errors.\n\n",
+      c.name, rows.size(), c.file.filename().string(), c.seed, c.base.filename().string(), passed, 100.0 * j["pass_rate"].get<double>(),
+      100 * lo, 100 * hi, failed, errors);
+  md += "Criteria: " +
+        (c.criteria.empty() ? std::string("none") : fmt::format("`{}`", fmt::join(j["criteria"].get<std::vector<std::string>>(), "`, `"))) +
+        "\n\n";
+  md += "## Worst flights\n\n| flight | outcome | " + (c.worst_by.empty() ? std::string("-") : c.worst_by) +
+        " | why | re-fly |\n|---|---|---|---|---|\n";
   for (const auto& x : w)
     md += fmt::format("| {} | {} | {} | {} | `{}` |\n", x["index"].get<std::size_t>(), x["outcome"].get<std::string>(),
-                      c.worst_by.empty() ? "" : x[c.worst_by].get<std::string>(), x["why"].get<std::string>(), x["command"].get<std::string>());
+                      c.worst_by.empty() ? "" : x[c.worst_by].get<std::string>(), x["why"].get<std::string>(),
+                      x["command"].get<std::string>());
   md += "\n## Figures (over the flights that have them)\n\n| figure | n | p5 | p50 | p95 | max |\n|---|---|---|---|---|---|\n";
   for (const auto& [name, s] : j["figures"].items())
-    md += fmt::format("| {} | {} | {:.4g} | {:.4g} | {:.4g} | {:.4g} |\n", name, s["n"].get<std::size_t>(), s["p5"].get<double>(), s["p50"].get<double>(),
-                      s["p95"].get<double>(), s["max"].get<double>());
+    md += fmt::format("| {} | {} | {:.4g} | {:.4g} | {:.4g} | {:.4g} |\n", name, s["n"].get<std::size_t>(), s["p5"].get<double>(),
+                      s["p50"].get<double>(), s["p95"].get<double>(), s["max"].get<double>());
   write_file(out / "summary.md", md);
 }
 

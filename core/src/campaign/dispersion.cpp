@@ -82,7 +82,9 @@ void check_instance(const CampaignFile& c, const Resolved& r) {
     for (std::size_t i = 0; i < d.values.size(); ++i) check(c, p, listed_value(c, r, i), d.values[i], fmt::format("{}.values[{}]", f, i));
     return;
   }
-  if (!numeric(p)) throw ConfigError(where(c.file, d.node) + f + ": " + p.qualified_name() + " is a " + param_kind_name(p.kind()) + " parameter: use choice or grid");
+  if (!numeric(p))
+    throw ConfigError(where(c.file, d.node) + f + ": " + p.qualified_name() + " is a " + param_kind_name(p.kind()) +
+                      " parameter: use choice or grid");
   const std::size_t n = components(p);
   if (d.dist == Dist::uniform) {
     check(c, p, to_value(p, fit(c, r, d.low, n, "low"), d.relative), d.node["low"], f + ".low");
@@ -96,7 +98,8 @@ void check_instance(const CampaignFile& c, const Resolved& r) {
     }
   } else if (d.dist == Dist::polar) {
     if (p.kind() != ParamKind::vector || (n != 2 && n != 3))
-      throw ConfigError(where(c.file, d.node) + f + ": polar needs a vector parameter of 2 or 3 components; " + p.qualified_name() + " is not");
+      throw ConfigError(where(c.file, d.node) + f + ": polar needs a vector parameter of 2 or 3 components; " + p.qualified_name() +
+                        " is not");
     const double s = d.speed.second;
     const std::vector<std::vector<double>> extremes = {{s, 0, 0}, {-s, 0, 0}, {0, s, 0}, {0, -s, 0}};
     for (const auto& v : extremes)
@@ -126,9 +129,7 @@ std::vector<std::string> split(const std::string& s) {
   return out;
 }
 
-std::string join(const std::vector<std::string>& parts) {
-  return fmt::format("{}", fmt::join(parts, "."));
-}
+std::string join(const std::vector<std::string>& parts) { return fmt::format("{}", fmt::join(parts, ".")); }
 
 bool is_number(const YAML::Node& n) {
   if (!n.IsScalar()) return false;
@@ -146,13 +147,15 @@ void check_aircraft(const CampaignFile& c, const Dispersion& d) {
   if (d.dist == Dist::normal) lows = {d.clip ? d.clip->first : -1.0};
   if (d.dist == Dist::choice || d.dist == Dist::grid)
     for (std::size_t i = 0; i < d.values.size(); ++i) {
-      if (!is_number(d.values[i])) throw ConfigError(where(c.file, d.values[i]) + field_of(d) + fmt::format(".values[{}]: expected a number (a fraction)", i));
+      if (!is_number(d.values[i]))
+        throw ConfigError(where(c.file, d.values[i]) + field_of(d) + fmt::format(".values[{}]: expected a number (a fraction)", i));
       lows.push_back(d.values[i].as<double>());
     }
   for (double v : lows)
     if (!(v > -1.0))
-      throw ConfigError(where(c.file, d.node) + field_of(d) + fmt::format(": relative value {} would make the number <= 0 x nominal (must be > -1{})", v,
-                                                                          d.dist == Dist::normal ? "; give a clip" : ""));
+      throw ConfigError(where(c.file, d.node) + field_of(d) +
+                        fmt::format(": relative value {} would make the number <= 0 x nominal (must be > -1{})", v,
+                                    d.dist == Dist::normal ? "; give a clip" : ""));
 }
 
 void resolve_aircraft(const CampaignFile& c, const Dispersion& d, const YAML::Node& aircraft, std::vector<Resolved>& out) {
@@ -164,7 +167,8 @@ void resolve_aircraft(const CampaignFile& c, const Dispersion& d, const YAML::No
   if (all) path.pop_back();
   YAML::Node n = YAML::Clone(aircraft);
   for (const auto& k : path) {
-    if (!n.IsMap() || !n[k]) throw ConfigError(where(c.file, d.node) + f + ": the aircraft file has no '" + join(path) + "' (at '" + k + "')");
+    if (!n.IsMap() || !n[k])
+      throw ConfigError(where(c.file, d.node) + f + ": the aircraft file has no '" + join(path) + "' (at '" + k + "')");
     n = n[k];
   }
   auto add = [&](const std::vector<std::string>& p, const YAML::Node& v) {
@@ -260,7 +264,8 @@ void add_numeric(FlightDraw& f, const Resolved& r, const std::vector<double>& x)
 
 void draw_polar(const CampaignFile& c, const Resolved& r, std::size_t k, FlightDraw& f) {
   const double speed = r.d.speed.first + (r.d.speed.second - r.d.speed.first) * draw_uniform(c.seed, k, stream_id(r.d.target + ".speed"));
-  const double from = r.d.from_deg.first + (r.d.from_deg.second - r.d.from_deg.first) * draw_uniform(c.seed, k, stream_id(r.d.target + ".from_deg"));
+  const double from =
+      r.d.from_deg.first + (r.d.from_deg.second - r.d.from_deg.first) * draw_uniform(c.seed, k, stream_id(r.d.target + ".from_deg"));
   const double chi = from * M_PI / 180.0;
   std::vector<double> v = {-speed * std::cos(chi), -speed * std::sin(chi), 0.0};  // blowing to the opposite of `from`
   v.resize(components(*r.param));
@@ -294,8 +299,8 @@ FlightDraw draw_flight(const CampaignFile& c, const std::vector<Resolved>& dispe
       if (r.param) {
         f.params[r.d.target] = listed_value(c, r, j);
         const bool num = is_number(n);
-        f.columns.push_back({r.d.target, r.d.relative ? "rel" : r.param->spec().unit, n.IsScalar() ? n.Scalar() : to_string(core::to_param_value(n, c.file, "")),
-                             num ? n.as<double>() : NAN});
+        f.columns.push_back({r.d.target, r.d.relative ? "rel" : r.param->spec().unit,
+                             n.IsScalar() ? n.Scalar() : to_string(core::to_param_value(n, c.file, "")), num ? n.as<double>() : NAN});
       } else {
         const double x = n.as<double>();
         f.aircraft[join(r.aircraft_path)] = r.aircraft_nominal * (1.0 + x);

@@ -26,10 +26,10 @@ using ParamCatalogue = std::map<std::string, const ParamBase*>;
 /// A dispersion with a concrete target (`aircraft.aero.*` expanded to one per coefficient).
 struct Resolved {
   Dispersion d;
-  const ParamBase* param = nullptr;  ///< instance parameter (nullptr: aircraft)
+  const ParamBase* param = nullptr;        ///< instance parameter (nullptr: aircraft)
   std::vector<std::string> aircraft_path;  ///< aircraft number: keys from the file's root
   double aircraft_nominal = 0;
-  const ParamBase* into_wind = nullptr;    ///< polar's heading parameter
+  const ParamBase* into_wind = nullptr;  ///< polar's heading parameter
 };
 
 /// One value a flight drew: a column of its table row.
@@ -42,10 +42,10 @@ struct Drawn {
 
 struct FlightDraw {
   std::size_t index = 0;
-  std::uint64_t seed = 0;                      ///< the flight's mission seed
+  std::uint64_t seed = 0;  ///< the flight's mission seed
   std::vector<Drawn> columns;
-  std::map<std::string, ParamValue> params;    ///< "instance.param" -> value to fly
-  std::map<std::string, double> aircraft;      ///< "aero.C_L_0" -> perturbed number
+  std::map<std::string, ParamValue> params;  ///< "instance.param" -> value to fly
+  std::map<std::string, double> aircraft;    ///< "aero.C_L_0" -> perturbed number
 };
 
 /// Checks every dispersion against the parameters and the aircraft document (the base

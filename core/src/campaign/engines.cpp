@@ -30,12 +30,13 @@ void write_text(const std::filesystem::path& p, const std::string& text) {
 }  // namespace
 
 bool run_dask(const std::vector<Job>& jobs, const std::string& address, const std::filesystem::path& python,
-              const std::filesystem::path& driver, const std::filesystem::path& jobs_file, const std::function<void(std::size_t, int)>& on_done,
-              int& workers) {
+              const std::filesystem::path& driver, const std::filesystem::path& jobs_file,
+              const std::function<void(std::size_t, int)>& on_done, int& workers) {
   nlohmann::json j = nlohmann::json::array();
   for (const auto& job : jobs) j.push_back({{"index", job.index}, {"argv", job.argv}, {"console", job.console.string()}});
   write_text(jobs_file, j.dump(1) + "\n");
-  const std::string cmd = fmt::format("{} {} {} {} 2>&1", quote(python.string()), quote(driver.string()), quote(address), quote(jobs_file.string()));
+  const std::string cmd =
+      fmt::format("{} {} {} {} 2>&1", quote(python.string()), quote(driver.string()), quote(address), quote(jobs_file.string()));
   FILE* p = popen(cmd.c_str(), "r");
   if (p == nullptr) throw core::ConfigError("cannot start the Dask driver: " + cmd);
   char buf[4096];
@@ -86,10 +87,11 @@ rm -rf "$dir/run"
 cmd=$(sed -n "$((k + 1))p" {commands})
 eval "$cmd" > "$dir/fly.log" 2>&1
 )",
-                                 fmt::arg("name", name), fmt::arg("out", quote(out.string())), fmt::arg("out_raw", out.string()), fmt::arg("last", commands.size() - 1),
-                                 fmt::arg("script", quote(script.string())), fmt::arg("resume", resume_command),
-                                 fmt::arg("commands", quote((out / "commands.txt").string()))));
-  std::filesystem::permissions(script, std::filesystem::perms::owner_exec | std::filesystem::perms::group_exec, std::filesystem::perm_options::add);
+                                 fmt::arg("name", name), fmt::arg("out", quote(out.string())), fmt::arg("out_raw", out.string()),
+                                 fmt::arg("last", commands.size() - 1), fmt::arg("script", quote(script.string())),
+                                 fmt::arg("resume", resume_command), fmt::arg("commands", quote((out / "commands.txt").string()))));
+  std::filesystem::permissions(script, std::filesystem::perms::owner_exec | std::filesystem::perms::group_exec,
+                               std::filesystem::perm_options::add);
   return script;
 }
 

@@ -18,8 +18,8 @@ namespace tern::campaign {
 /// when the driver cannot start or fails (its last line says why). `workers`: the scheduler's
 /// worker count when the flights were sent. Returns false if interrupted.
 bool run_dask(const std::vector<Job>& jobs, const std::string& address, const std::filesystem::path& python,
-              const std::filesystem::path& driver, const std::filesystem::path& jobs_file, const std::function<void(std::size_t, int)>& on_done,
-              int& workers);
+              const std::filesystem::path& driver, const std::filesystem::path& jobs_file,
+              const std::function<void(std::size_t, int)>& on_done, int& workers);
 
 /// Writes `<out>/commands.txt` (line k+1: flight k's command) and `<out>/slurm.sh`, a job array
 /// (`sbatch --array=0-<n-1>`) whose task k runs line k+1 when flight k has no complete summary.

@@ -14,7 +14,8 @@ namespace tern::campaign {
 using core::ConfigError;
 
 std::string shell_quote(const std::string& s) {
-  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:+") == std::string::npos) return s;
+  if (!s.empty() && s.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-./=:+") == std::string::npos)
+    return s;
   std::string q = "'";
   for (char ch : s) q += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
   return q + "'";
@@ -64,7 +65,8 @@ YAML::Node base_params(const core::InstanceConfig& ic, const ParamCatalogue& par
 std::string aircraft_param(const ParamCatalogue& params) {
   for (const auto& [name, p] : params)
     if (p->name() == "aircraft" && p->spec().is_path) return name;
-  throw ConfigError("the campaign perturbs the aircraft, but no instance of the base mission has an 'aircraft' file parameter (sim_aero's)");
+  throw ConfigError(
+      "the campaign perturbs the aircraft, but no instance of the base mission has an 'aircraft' file parameter (sim_aero's)");
 }
 
 YAML::Node perturbed_aircraft(const YAML::Node& aircraft, const FlightDraw& draw) {
@@ -137,8 +139,9 @@ void write_flight(const CampaignFile& c, const core::MissionConfig& base, const 
     }
   }
   for (const auto& ic : base.plugins) root["plugins"][ic.index]["params"] = instance_params[ic.name];
-  write_text(files.config, fmt::format("# campaign {} ({}), flight {}: re-fly with\n#   {}\n", c.name, c.file.string(), draw.index, files.command) +
-                               emit(root));
+  write_text(
+      files.config,
+      fmt::format("# campaign {} ({}), flight {}: re-fly with\n#   {}\n", c.name, c.file.string(), draw.index, files.command) + emit(root));
 }
 
 fs::path finished_summary(const FlightFiles& files) {

@@ -22,7 +22,8 @@ std::string clock_text(double s) {
 
 }  // namespace
 
-Progress::Progress(std::size_t total, std::size_t already) : total_(total), already_(already), start_ns_(now_ns()), tty_(isatty(STDERR_FILENO) != 0) {
+Progress::Progress(std::size_t total, std::size_t already)
+    : total_(total), already_(already), start_ns_(now_ns()), tty_(isatty(STDERR_FILENO) != 0) {
   if (already_ > 0) std::fprintf(stderr, "campaign: %zu flights already flown (resumed), %zu to fly\n", already_, total_);
   if (tty_) draw();
 }

@@ -46,7 +46,7 @@ class Console final : public ConsoleApp {
   Host& host_;
   TelemetryTap tap_;
   nlohmann::json hello_;  // built before serving; then the server thread only
-  int pages_ = 0;  // server thread only
+  int pages_ = 0;         // server thread only
   std::unique_ptr<ConsoleServer> server_;
 };
 

@@ -32,9 +32,9 @@ using Response = http::response<http::string_body>;
 
 namespace {
 
-constexpr std::size_t kMaxRequest = 8 * 1024;       // bytes, header and body
-constexpr std::size_t kMaxWsMessage = 64 * 1024;    // bytes
-constexpr std::size_t kMaxQueued = 64;              // replies waiting for a slow page
+constexpr std::size_t kMaxRequest = 8 * 1024;     // bytes, header and body
+constexpr std::size_t kMaxWsMessage = 64 * 1024;  // bytes
+constexpr std::size_t kMaxQueued = 64;            // replies waiting for a slow page
 constexpr auto kPollPeriod = std::chrono::milliseconds(40);
 constexpr char kCookie[] = "tern_console";
 
@@ -136,7 +136,9 @@ Response ConsoleServer::Impl::respond(const Request& rq) const {
   res.set(http::field::content_type, f->second.type);
   res.set(http::field::cache_control, "no-store");
   res.set("X-Content-Type-Options", "nosniff");
-  res.set("Content-Security-Policy", "default-src 'self'; style-src 'self' 'unsafe-inline'; connect-src 'self' ws://127.0.0.1:* ws://localhost:*; img-src 'self' data:");
+  res.set(
+      "Content-Security-Policy",
+      "default-src 'self'; style-src 'self' 'unsafe-inline'; connect-src 'self' ws://127.0.0.1:* ws://localhost:*; img-src 'self' data:");
   if (path == "/") res.set(http::field::set_cookie, fmt::format("{}={}; HttpOnly; SameSite=Strict; Path=/", kCookie, token));
   res.keep_alive(rq.keep_alive());
   res.body() = f->second.body;

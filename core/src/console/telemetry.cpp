@@ -68,7 +68,7 @@ nlohmann::json to_json(const Snapshot& s, bool with_waypoints) {
   if (s.has_state) {
     const auto& x = s.state;
     j["state"] = {{"p_n", num(x.p_n)}, {"p_e", num(x.p_e)}, {"h", num(-x.p_d)}, {"phi", num(x.phi)}, {"theta", num(x.theta)},
-                  {"psi", num(x.psi)}, {"chi", num(x.chi)}, {"Va", num(x.Va)}, {"Vg", num(x.Vg)}, {"valid", x.valid}};
+                  {"psi", num(x.psi)}, {"chi", num(x.chi)}, {"Va", num(x.Va)},  {"Vg", num(x.Vg)},   {"valid", x.valid}};
   }
   if (s.has_command) j["command"] = {{"Va_c", num(s.command.Va_c)}, {"h_c", num(s.command.h_c)}, {"chi_c", num(s.command.chi_c)}};
   if (s.has_internals) j["internals"] = {{"phi_c", num(s.internals.phi_c)}, {"theta_c", num(s.internals.theta_c)}};
@@ -79,8 +79,13 @@ nlohmann::json to_json(const Snapshot& s, bool with_waypoints) {
   if (s.has_phase) j["phase"] = std::string(msg::phase_name(s.phase.phase));
   if (s.has_path) {
     const auto& p = s.path;
-    j["path"] = {{"type", p.path_type == msg::CurrentPath::orbit ? "orbit" : "line"}, {"r", ned(p.r)}, {"q", ned(p.q)}, {"c", ned(p.c)},
-                 {"rho", num(p.rho)}, {"lambda", p.lambda}, {"waypoint", p.waypoint_index}};
+    j["path"] = {{"type", p.path_type == msg::CurrentPath::orbit ? "orbit" : "line"},
+                 {"r", ned(p.r)},
+                 {"q", ned(p.q)},
+                 {"c", ned(p.c)},
+                 {"rho", num(p.rho)},
+                 {"lambda", p.lambda},
+                 {"waypoint", p.waypoint_index}};
   }
   if (s.has_rc) j["rc"] = {{"override", s.rc.rc_override}, {"failsafe", s.rc.failsafe}};
   j["safety"] = {{"handovers", s.handovers}, {"active", s.active}, {"reason", s.handover_reason}};

@@ -39,7 +39,7 @@ struct Snapshot {
   msg::WaypointList waypoints;
   msg::CurrentPath path;
   msg::Rc rc;
-  std::size_t handovers = 0;           ///< controller changes this flight
+  std::size_t handovers = 0;            ///< controller changes this flight
   std::string active, handover_reason;  ///< controller flying now ("": none); why the last change happened
 };
 
@@ -60,10 +60,10 @@ class TelemetryTap {
   void take(const Host& host, Nanos now);
 
   Nanos period_;
-  Nanos next_ = 0;     // flight thread only
-  Snapshot staging_;   // flight thread only
+  Nanos next_ = 0;    // flight thread only
+  Snapshot staging_;  // flight thread only
   mutable std::mutex mu_;
-  Snapshot latest_;    // under mu_
+  Snapshot latest_;  // under mu_
 };
 
 }  // namespace tern::core

@@ -78,14 +78,12 @@ int main() {
 
   SlcLongitudinal slc;
   Autopilot ap_slc(slc);
-  rows.push_back(measure("SLC autopilot update (algorithm)", N, [&](long i) {
-    g_sink = g_sink + ap_slc.update(Mode::cruise, xs[i % xs.size()], c, {}, 0.01).surfaces.delta_e;
-  }));
+  rows.push_back(measure("SLC autopilot update (algorithm)", N,
+                         [&](long i) { g_sink = g_sink + ap_slc.update(Mode::cruise, xs[i % xs.size()], c, {}, 0.01).surfaces.delta_e; }));
   Tecs tecs;
   Autopilot ap_tecs(tecs);
-  rows.push_back(measure("TECS autopilot update (algorithm)", N, [&](long i) {
-    g_sink = g_sink + ap_tecs.update(Mode::cruise, xs[i % xs.size()], c, {}, 0.01).surfaces.delta_e;
-  }));
+  rows.push_back(measure("TECS autopilot update (algorithm)", N,
+                         [&](long i) { g_sink = g_sink + ap_tecs.update(Mode::cruise, xs[i % xs.size()], c, {}, 0.01).surfaces.delta_e; }));
 
   std::vector<msg::State> ms;
   for (const auto& x : xs) ms.push_back(to_msg(x));

@@ -30,13 +30,13 @@ struct Quantity {
   const char* name;  ///< row label
   const char* key;   ///< summary.json: instances.metrics.<key>
   const char* unit;
-  double hardware;   ///< ROSplane 2.0 on hardware (the paper's table)
+  double hardware;  ///< ROSplane 2.0 on hardware (the paper's table)
 };
 
 constexpr Quantity kQuantities[] = {
-    {"north", "track_rmse_north_m", "m", 3.05},      {"east", "track_rmse_east_m", "m", 3.29},
-    {"altitude", "track_rmse_altitude_m", "m", 1.19}, {"roll", "track_rmse_roll_deg", "deg", 7.55},
-    {"pitch", "track_rmse_pitch_deg", "deg", 3.04},  {"course", "track_rmse_course_deg", "deg", 8.51},
+    {"north", "track_rmse_north_m", "m", 3.05},           {"east", "track_rmse_east_m", "m", 3.29},
+    {"altitude", "track_rmse_altitude_m", "m", 1.19},     {"roll", "track_rmse_roll_deg", "deg", 7.55},
+    {"pitch", "track_rmse_pitch_deg", "deg", 3.04},       {"course", "track_rmse_course_deg", "deg", 8.51},
     {"airspeed", "track_rmse_airspeed_mps", "m/s", 0.58},
 };
 
@@ -80,8 +80,7 @@ double metric(const nlohmann::json& summary, const char* key) {
 
 int main(int argc, char** argv) {
   const std::string missions = std::string(TERN_SOURCE_DIR) + "/configs/missions/";
-  const std::string configs[2] = {argc > 2 ? argv[1] : missions + "default.yaml",
-                                  argc > 2 ? argv[2] : missions + "tecs.yaml"};
+  const std::string configs[2] = {argc > 2 ? argv[1] : missions + "default.yaml", argc > 2 ? argv[2] : missions + "tecs.yaml"};
   const char* labels[2] = {"SLC", "TECS"};
 
   std::string tmpl = (fs::temp_directory_path() / "tern_bench_tracking_XXXXXX").string();
@@ -117,8 +116,7 @@ int main(int argc, char** argv) {
   }
   std::printf("RMS tracking errors, cruise after the first loop (%s, %g loops; %s, %g loops)\n\n", labels[0],
               j["flights"]["SLC"]["loops"].get<double>(), labels[1], j["flights"]["TECS"]["loops"].get<double>());
-  std::printf("%-14s %22s %14s %10s %10s %6s\n", "quantity", "ROSplane 2.0 hardware", "target (half)", "SLC", "TECS",
-              "met");
+  std::printf("%-14s %22s %14s %10s %10s %6s\n", "quantity", "ROSplane 2.0 hardware", "target (half)", "SLC", "TECS", "met");
   bool all_met = true;
   for (const auto& q : kQuantities) {
     const double target = q.hardware / 2.0;
@@ -126,11 +124,15 @@ int main(int argc, char** argv) {
     const bool met = v[0] <= target && v[1] <= target;  // false for NaN
     all_met = all_met && met;
     const std::string label = std::string(q.name) + " [" + q.unit + "]";
-    std::printf("%-14s %22.2f %11s%.3f %10.3f %10.3f %6s\n", label.c_str(), q.hardware, "<= ", target, v[0], v[1],
-                met ? "yes" : "NO");
-    j["quantities"][q.name] = {{"unit", q.unit},      {"hardware", q.hardware}, {"target", target},
-                               {"SLC", v[0]},         {"TECS", v[1]},           {"met", met},
-                               {"SLC_margin", target - v[0]}, {"TECS_margin", target - v[1]}};
+    std::printf("%-14s %22.2f %11s%.3f %10.3f %10.3f %6s\n", label.c_str(), q.hardware, "<= ", target, v[0], v[1], met ? "yes" : "NO");
+    j["quantities"][q.name] = {{"unit", q.unit},
+                               {"hardware", q.hardware},
+                               {"target", target},
+                               {"SLC", v[0]},
+                               {"TECS", v[1]},
+                               {"met", met},
+                               {"SLC_margin", target - v[0]},
+                               {"TECS_margin", target - v[1]}};
   }
   j["all_met"] = all_met;
   std::printf("\nall targets met: %s\n", all_met ? "yes" : "NO");

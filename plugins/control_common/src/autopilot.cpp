@@ -5,12 +5,11 @@
 namespace tern::control {
 
 bool Command::finite() const {
-  return std::isfinite(Va_c) && std::isfinite(h_c) && std::isfinite(chi_c) && std::isfinite(phi_ff) &&
-         std::isfinite(phi_c) && std::isfinite(theta_c);
+  return std::isfinite(Va_c) && std::isfinite(h_c) && std::isfinite(chi_c) && std::isfinite(phi_ff) && std::isfinite(phi_c) &&
+         std::isfinite(theta_c);
 }
 
-LongitudinalLaw::Output SlcLongitudinal::update(const VehicleState& x, const Command& c, bool /*climb*/,
-                                                double dt) {
+LongitudinalLaw::Output SlcLongitudinal::update(const VehicleState& x, const Command& c, bool /*climb*/, double dt) {
   Output o;
   o.theta_c = altitude_.update(c.h_c, x.h, x.h_dot, dt);
   o.delta_t = airspeed_.update(c.Va_c, x.Va, dt);
@@ -26,13 +25,11 @@ void SlcLongitudinal::initialise(const VehicleState& x, const Command& c, double
 Surfaces Autopilot::limit(const Surfaces& u) const {
   const auto& L = lateral_.gains();
   const auto& P = pitch_.gains();
-  return {saturate(u.delta_a, -L.max_a, L.max_a), saturate(u.delta_e, -P.max_e, P.max_e),
-          saturate(u.delta_r, -L.max_r, L.max_r), saturate(u.delta_t, 0.0, 1.0)};
+  return {saturate(u.delta_a, -L.max_a, L.max_a), saturate(u.delta_e, -P.max_e, P.max_e), saturate(u.delta_r, -L.max_r, L.max_r),
+          saturate(u.delta_t, 0.0, 1.0)};
 }
 
-Surfaces Autopilot::trim() const {
-  return limit({lateral_.gains().trim_a, pitch_.gains().trim_e, lateral_.gains().trim_r, 0.0});
-}
+Surfaces Autopilot::trim() const { return limit({lateral_.gains().trim_a, pitch_.gains().trim_e, lateral_.gains().trim_r, 0.0}); }
 
 void Autopilot::take_over(const Surfaces& last) {
   reset();
@@ -55,11 +52,10 @@ void Autopilot::reset() {
   last_.surfaces = trim();
 }
 
-AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks_in,
-                                  double dt) {
+AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks_in, double dt) {
   const bool manual = mode == Mode::manual_passthrough || mode == Mode::manual_angle;
-  const bool sticks_ok = std::isfinite(sticks_in.roll) && std::isfinite(sticks_in.pitch) &&
-                         std::isfinite(sticks_in.yaw) && std::isfinite(sticks_in.throttle);
+  const bool sticks_ok =
+      std::isfinite(sticks_in.roll) && std::isfinite(sticks_in.pitch) && std::isfinite(sticks_in.yaw) && std::isfinite(sticks_in.throttle);
   if (!x.finite() || (!manual && !c.finite()) || (manual && !sticks_ok) || !std::isfinite(dt)) {
     AutopilotOutput held = last_;
     if (!have_last_) held.surfaces = trim();
@@ -81,8 +77,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   override_phi_ = ovp;
   override_theta_ = ovt;
 
-  const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0),
-                  saturate(sticks_in.yaw, -1.0, 1.0), saturate(sticks_in.throttle, 0.0, 1.0)};
+  const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0), saturate(sticks_in.yaw, -1.0, 1.0),
+                  saturate(sticks_in.throttle, 0.0, 1.0)};
   const auto& L = lateral_.gains();
   const auto& P = pitch_.gains();
   AutopilotOutput out;
@@ -160,8 +156,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     law_.reset();
   } else {
     if (init) {
-      const double theta_needed = saturate(pitch_.pitch_command_for(handover_from_.delta_e, x.theta, x.q),
-                                           law_.theta_min(), law_.theta_max());
+      const double theta_needed =
+          saturate(pitch_.pitch_command_for(handover_from_.delta_e, x.theta, x.q), law_.theta_min(), law_.theta_max());
       law_.initialise(x, c, theta_needed, handover_from_.delta_t);
     }
     const auto lo = law_.update(x, c, mode == Mode::climb, h);
@@ -178,15 +174,15 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   // ---- bumpless offset
   const Surfaces raw{delta_a, delta_e, delta_r, delta_t};
   if (init) {
-    offset_ = {handover_from_.delta_a - raw.delta_a, handover_from_.delta_e - raw.delta_e,
-               handover_from_.delta_r - raw.delta_r, handover_from_.delta_t - raw.delta_t};
+    offset_ = {handover_from_.delta_a - raw.delta_a, handover_from_.delta_e - raw.delta_e, handover_from_.delta_r - raw.delta_r,
+               handover_from_.delta_t - raw.delta_t};
     pending_handover_ = false;
   } else if (dt > 0.0) {
     const double k = s_.handover_tau > 0.0 ? std::exp(-dt / s_.handover_tau) : 0.0;
     offset_ = {offset_.delta_a * k, offset_.delta_e * k, offset_.delta_r * k, offset_.delta_t * k};
   }
-  out.surfaces = limit({raw.delta_a + offset_.delta_a, raw.delta_e + offset_.delta_e,
-                        raw.delta_r + offset_.delta_r, raw.delta_t + offset_.delta_t});
+  out.surfaces =
+      limit({raw.delta_a + offset_.delta_a, raw.delta_e + offset_.delta_e, raw.delta_r + offset_.delta_r, raw.delta_t + offset_.delta_t});
   out.phi_c = phi_c;
   out.theta_c = theta_c;
   out.delta_t_c = delta_t_c;

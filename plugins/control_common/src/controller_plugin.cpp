@@ -25,8 +25,8 @@ void ControllerPlugin::configure() {
   declare_law_params();
 
   if (limits_.min_t > limits_.max_t) {
-    throw ParamError("parameter '" + context().instance_name() + ".min_t': value " + std::to_string(limits_.min_t) +
-                     " exceeds max_t " + std::to_string(limits_.max_t));
+    throw ParamError("parameter '" + context().instance_name() + ".min_t': value " + std::to_string(limits_.min_t) + " exceeds max_t " +
+                     std::to_string(limits_.max_t));
   }
   autopilot_.emplace(law());
   apply_params();
@@ -107,8 +107,7 @@ void ControllerPlugin::step(Nanos now) {
     ++held_steps_;
     if (!holding_) {
       log().warn("{} at t = {:.3f} s; holding the last actuator command",
-                 s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)",
-                 to_seconds(now));
+                 s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)", to_seconds(now));
     }
   } else if (holding_) {
     log().info("inputs valid again at t = {:.3f} s; control resumed", to_seconds(now));

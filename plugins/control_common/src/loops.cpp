@@ -7,14 +7,12 @@
 namespace tern::control {
 
 bool VehicleState::finite() const {
-  return std::isfinite(phi) && std::isfinite(theta) && std::isfinite(chi) && std::isfinite(p) &&
-         std::isfinite(q) && std::isfinite(r) && std::isfinite(h) && std::isfinite(h_dot) &&
-         std::isfinite(Va);
+  return std::isfinite(phi) && std::isfinite(theta) && std::isfinite(chi) && std::isfinite(p) && std::isfinite(q) && std::isfinite(r) &&
+         std::isfinite(h) && std::isfinite(h_dot) && std::isfinite(Va);
 }
 
 bool Surfaces::finite() const {
-  return std::isfinite(delta_a) && std::isfinite(delta_e) && std::isfinite(delta_r) &&
-         std::isfinite(delta_t);
+  return std::isfinite(delta_a) && std::isfinite(delta_e) && std::isfinite(delta_r) && std::isfinite(delta_t);
 }
 
 // ---- lateral ----------------------------------------------------------------------------------
@@ -87,9 +85,7 @@ void PitchLoop::set_gains(const PitchGains& g) {
   pid_.set_gains({g.kp, g.ki, g.kd, -g.max_e, g.max_e});
 }
 
-double PitchLoop::update(double theta_c, double theta, double q, double dt) {
-  return -pid_.update(theta_c - theta, q, dt, -g_.trim_e);
-}
+double PitchLoop::update(double theta_c, double theta, double q, double dt) { return -pid_.update(theta_c - theta, q, dt, -g_.trim_e); }
 
 double PitchLoop::pitch_command_for(double delta_e, double theta, double q) const {
   if (g_.kp <= 0.0) return theta;
@@ -107,13 +103,9 @@ void AltitudeLoop::set_gains(const AltitudeGains& g) {
   pid_.set_gains({g.kp, g.ki, g.kd, g.theta_min, g.theta_max});
 }
 
-double AltitudeLoop::update(double h_c, double h, double h_dot, double dt) {
-  return pid_.update(h_c - h, h_dot, dt);
-}
+double AltitudeLoop::update(double h_c, double h, double h_dot, double dt) { return pid_.update(h_c - h, h_dot, dt); }
 
-void AltitudeLoop::initialise(double theta_c, double h_c, double h, double h_dot) {
-  pid_.initialise(theta_c, h_c - h, h_dot);
-}
+void AltitudeLoop::initialise(double theta_c, double h_c, double h, double h_dot) { pid_.initialise(theta_c, h_c - h, h_dot); }
 
 // ---- airspeed ---------------------------------------------------------------------------------
 

@@ -97,8 +97,7 @@ class ClosedLoop {
 
 /// A controller (built from `gains`) on a plant whose trim differs from the gains file's
 /// (elevator +0.02 rad, throttle +0.03), flown 30 s so that the integrators found the trim.
-inline std::unique_ptr<ClosedLoop> settled_loop(std::unique_ptr<Plugin> controller, const Coefficients& k,
-                                                const std::string& gains) {
+inline std::unique_ptr<ClosedLoop> settled_loop(std::unique_ptr<Plugin> controller, const Coefficients& k, const std::string& gains) {
   auto L = std::make_unique<ClosedLoop>(std::move(controller), k, load_gains(gains));
   L->plant.delta_e_offset = 0.02;
   L->plant.delta_t_offset = 0.03;

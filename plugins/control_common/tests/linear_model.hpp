@@ -24,13 +24,11 @@ struct Coefficients {
 
 /// RMRC Anaconda at Va = 17 m/s (tern aero gains, configs/aircraft/anaconda.yaml).
 inline Coefficients anaconda() {
-  return {25.6544, 137.9495, 15.6294, 162.1535, -58.5883, 0.5214, 15.3522, 9.81,
-          17.0, -0.0114, 0.1679, 0.5676};
+  return {25.6544, 137.9495, 15.6294, 162.1535, -58.5883, 0.5214, 15.3522, 9.81, 17.0, -0.0114, 0.1679, 0.5676};
 }
 /// Aerosonde at Va = 25 m/s (tern aero gains, configs/aircraft/aerosonde.yaml).
 inline Coefficients aerosonde() {
-  return {22.6289, 130.8837, 5.2947, 99.9474, -36.1124, 0.2207, 8.1372, 9.81,
-          25.0, 0.0501, -0.1250, 0.6768};
+  return {22.6289, 130.8837, 5.2947, 99.9474, -36.1124, 0.2207, 8.1372, 9.81, 25.0, 0.0501, -0.1250, 0.6768};
 }
 
 class LinearAircraft {
@@ -50,10 +48,10 @@ class LinearAircraft {
     for (int i = 0; i < n; ++i) {
       const double gamma = theta - k_.alpha_trim;
       const double p_dot = -k_.a_phi1 * p + k_.a_phi2 * u.delta_a;
-      const double q_dot = -k_.a_theta1 * q - k_.a_theta2 * (theta - k_.alpha_trim) +
-                           k_.a_theta3 * (u.delta_e - (k_.delta_e_trim + delta_e_offset));
-      const double Va_dot = -k_.a_V1 * (Va - k_.Va_trim) +
-                            k_.a_V2 * (u.delta_t - (k_.delta_t_trim + delta_t_offset)) - k_.a_V3 * std::sin(gamma);
+      const double q_dot =
+          -k_.a_theta1 * q - k_.a_theta2 * (theta - k_.alpha_trim) + k_.a_theta3 * (u.delta_e - (k_.delta_e_trim + delta_e_offset));
+      const double Va_dot =
+          -k_.a_V1 * (Va - k_.Va_trim) + k_.a_V2 * (u.delta_t - (k_.delta_t_trim + delta_t_offset)) - k_.a_V3 * std::sin(gamma);
       chi += h_s * g / Va * std::tan(phi);
       h += h_s * Va * std::sin(gamma);
       phi += h_s * p;

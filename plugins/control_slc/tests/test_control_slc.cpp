@@ -21,8 +21,7 @@ struct Aircraft {
   const char* gains;
   Coefficients k;
 };
-const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda.yaml", anaconda()},
-                              {TERN_GAINS_DIR "/aerosonde.yaml", aerosonde()}};
+const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda.yaml", anaconda()}, {TERN_GAINS_DIR "/aerosonde.yaml", aerosonde()}};
 
 std::unique_ptr<ClosedLoop> make(const Aircraft& a) { return settled_loop(std::make_unique<ControlSlc>(), a.k, a.gains); }
 }  // namespace
@@ -56,16 +55,14 @@ TEST_CASE("slc: 90-degree course step overshoots < 10 degrees, either way and ac
     CAPTURE(a.gains);
     for (double chi_c : {90.0, -90.0, 170.0}) {
       auto Lp = make(a);
-    auto& L = *Lp;
+      auto& L = *Lp;
       const double start = chi_c == 170.0 ? -100.0 : 0.0;  // -100 -> 170: 90 deg left across 180
       L.cmd.chi_c = start * kDeg;
       L.run(30.0);
       L.cmd.chi_c = chi_c * kDeg;
       const double dir = chi_c == 170.0 ? -1.0 : (chi_c > 0 ? 1.0 : -1.0);
       double overshoot = 0.0;
-      L.run(40.0, [&](double, const LinearAircraft& p) {
-        overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kDeg) / kDeg);
-      });
+      L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kDeg) / kDeg); });
       MESSAGE(std::string(a.gains), ": course step to ", chi_c, " deg overshoots ", overshoot, " deg");
       CHECK(overshoot < 10.0);
       CHECK(std::fabs(wrap_pi(L.plant.chi - chi_c * kDeg)) < 1.0 * kDeg);
@@ -79,7 +76,7 @@ TEST_CASE("slc: 3 m/s airspeed step settles in < 10 s") {
     CAPTURE(a.gains);
     for (double step : {3.0, -3.0}) {
       auto Lp = make(a);
-    auto& L = *Lp;
+      auto& L = *Lp;
       const double V0 = L.plant.Va;
       L.cmd.Va_c = V0 + step;
       StepResponse r{V0, V0 + step, 0.3};  // settled: within 10 % of the step
@@ -90,8 +87,8 @@ TEST_CASE("slc: 3 m/s airspeed step settles in < 10 s") {
         r.add(t - t0, p.Va);
         h_dev = std::max(h_dev, std::fabs(p.h - h0));
       });
-      MESSAGE(std::string(a.gains), ": airspeed step ", step, " m/s settles (0.3 m/s) at ", r.settle_time, " s, altitude deviation ",
-              h_dev, " m");
+      MESSAGE(std::string(a.gains), ": airspeed step ", step, " m/s settles (0.3 m/s) at ", r.settle_time, " s, altitude deviation ", h_dev,
+              " m");
       CHECK(r.settle_time < 10.0);
       CHECK(h_dev < 5.0);
     }
@@ -100,12 +97,12 @@ TEST_CASE("slc: 3 m/s airspeed step settles in < 10 s") {
 
 TEST_CASE("slc: take_over is bumpless (first command within 0.05 rad of the last)") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   L.cmd.h_c += 20.0;
   L.cmd.chi_c = 60 * kDeg;
   L.run(2.0);
   msg::Actuators last;
-  last.delta_a = L.last.delta_a + 0.2;  // another controller commanded something else
+  last.delta_a = L.last.delta_a + 0.2;                                                  // another controller commanded something else
   last.delta_e = L.last.delta_e > 0.0 ? L.last.delta_e - 0.15 : L.last.delta_e + 0.15;  // within max_e
   last.delta_r = 0.1;
   last.delta_t = 0.3;
@@ -142,7 +139,7 @@ TEST_CASE("slc: out-of-range gains are rejected") {
 
 TEST_CASE("slc: a gain changed in flight takes effect at the next step") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   L.cmd.chi_c = 0.5;
   L.h.set_param("roll_rate_max", 0.0);  // no slew limit: the course loop's output is the roll command
   L.h.set_param("course_kp", 0.0);
@@ -156,7 +153,7 @@ TEST_CASE("slc: a gain changed in flight takes effect at the next step") {
 
 TEST_CASE("slc: a NaN state holds the last command, no NaN reaches the actuators") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   const Surfaces before = L.last;
   auto s = to_state(L.plant, L.t);
   s.theta = std::numeric_limits<double>::quiet_NaN();
@@ -184,7 +181,7 @@ TEST_CASE("slc: a NaN state holds the last command, no NaN reaches the actuators
 
 TEST_CASE("slc: roll and pitch overrides of the controller command are honoured") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   L.cmd.override_phi = true;
   L.cmd.phi_c = 0.3;
   L.cmd.override_theta = true;
@@ -197,7 +194,7 @@ TEST_CASE("slc: roll and pitch overrides of the controller command are honoured"
 
 TEST_CASE("slc: flight phases: takeoff throttle and wings level, climb and cruise") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   msg::FlightPhase ph;
   ph.phase = msg::Phase::takeoff;
   L.h.set_input("flight_phase", ph);
@@ -218,7 +215,7 @@ TEST_CASE("slc: flight phases: takeoff throttle and wings level, climb and cruis
 
 TEST_CASE("slc: manual modes from rc and fcu_status") {
   auto Lp = make(kAircraft[0]);
-    auto& L = *Lp;
+  auto& L = *Lp;
   msg::Rc rc;
   rc.roll = 0.5;
   rc.pitch = -0.5;

@@ -175,8 +175,8 @@ TEST_CASE("sim_aero: takeoff from rest, climb and cruise (ROSplane's phase thres
       }
     });
     const msg::State s = truth(f.sim);
-    MESSAGE(std::string(c.name), ": climb at ", t_climb, " s, cruise at ", t_cruise, " s; after 90 s h = ", s.altitude(), " m, Va = ",
-            s.Va, " m/s, chi = ", s.chi / kDeg, " deg");
+    MESSAGE(std::string(c.name), ": climb at ", t_climb, " s, cruise at ", t_cruise, " s; after 90 s h = ", s.altitude(), " m, Va = ", s.Va,
+            " m/s, chi = ", s.chi / kDeg, " deg");
     CHECK(t_climb > 0);
     CHECK(t_cruise > t_climb);
     CHECK_FALSE(f.sim.crashed());
@@ -208,8 +208,8 @@ TEST_CASE("sim_aero: cruise in 5 m/s wind from the south-east with light turbule
       });
     }
     const double rms_h = std::sqrt(se_h / n), rms_V = std::sqrt(se_V / n), rms_chi = std::sqrt(se_chi / n) / kDeg;
-    MESSAGE(std::string(c.name), ": RMS errors on straight legs: altitude ", rms_h, " m, airspeed ", rms_V,
-            " m/s, course ", rms_chi, " deg");
+    MESSAGE(std::string(c.name), ": RMS errors on straight legs: altitude ", rms_h, " m, airspeed ", rms_V, " m/s, course ", rms_chi,
+            " deg");
     CHECK_FALSE(f.sim.crashed());
     CHECK(rms_h < 1.5);
     CHECK(rms_V < 1.0);

@@ -5,8 +5,7 @@
 
 namespace tern::control {
 
-namespace {
-}
+namespace {}
 
 void Tecs::set_gains(const TecsGains& g) {
   g_ = g;
@@ -36,8 +35,10 @@ LongitudinalLaw::Output Tecs::update(const VehicleState& x, const Command& c, bo
   const double Va_dot = Va_dot_.update(x.Va, dt);
   // underspeed protection with hysteresis
   const bool was_under = underspeed_;
-  if (x.Va < g_.Va_min) underspeed_ = true;
-  else if (x.Va > g_.Va_min + g_.underspeed_hysteresis) underspeed_ = false;
+  if (x.Va < g_.Va_min)
+    underspeed_ = true;
+  else if (x.Va > g_.Va_min + g_.underspeed_hysteresis)
+    underspeed_ = false;
   const Errors e = errors(x, c, Va_dot);
   if (was_under != underspeed_) {
     // the balance weights changed: restart the pitch integrator from the current command

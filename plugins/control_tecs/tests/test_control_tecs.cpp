@@ -21,8 +21,7 @@ struct Aircraft {
   const char* gains;
   Coefficients k;
 };
-const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda_tecs.yaml", anaconda()},
-                              {TERN_GAINS_DIR "/aerosonde_tecs.yaml", aerosonde()}};
+const Aircraft kAircraft[] = {{TERN_GAINS_DIR "/anaconda_tecs.yaml", anaconda()}, {TERN_GAINS_DIR "/aerosonde_tecs.yaml", aerosonde()}};
 
 std::unique_ptr<ClosedLoop> make(const Aircraft& a) { return settled_loop(std::make_unique<ControlTecs>(), a.k, a.gains); }
 }  // namespace
@@ -65,7 +64,7 @@ TEST_CASE("tecs law: underspeed protection gives full throttle and trades height
   CHECK(t.underspeed());
   CHECK(o.delta_t == doctest::Approx(0.9));
   CHECK(o.theta_c < 0.0);  // nose down to gain speed despite the climb demand
-  x.Va = 15.5;  // inside the hysteresis band: still protecting
+  x.Va = 15.5;             // inside the hysteresis band: still protecting
   t.update(x, c, false, 0.01);
   CHECK(t.underspeed());
   x.Va = 16.5;
@@ -100,8 +99,8 @@ TEST_CASE("tecs: 10 m altitude step settles within 2 m in < 15 s with < 3 m over
         r.add(t - t0, p.h);
         V_dev = std::max(V_dev, std::fabs(p.Va - a.k.Va_trim));
       });
-      MESSAGE(std::string(a.gains), ": altitude step ", step, " m: overshoot ", r.overshoot, " m, settles at ",
-              r.settle_time, " s, airspeed deviation ", V_dev, " m/s");
+      MESSAGE(std::string(a.gains), ": altitude step ", step, " m: overshoot ", r.overshoot, " m, settles at ", r.settle_time,
+              " s, airspeed deviation ", V_dev, " m/s");
       CHECK(r.overshoot < 3.0);
       CHECK(r.settle_time < 15.0);
       CHECK(std::fabs(L.plant.h - (h0 + step)) < 0.5);
@@ -126,8 +125,7 @@ TEST_CASE("tecs: 3 m/s airspeed step settles in < 10 s and holds altitude") {
         r.add(t - t0, p.Va);
         h_dev = std::max(h_dev, std::fabs(p.h - h0));
       });
-      MESSAGE(std::string(a.gains), ": airspeed step ", step, " m/s settles at ", r.settle_time,
-              " s, altitude deviation ", h_dev, " m");
+      MESSAGE(std::string(a.gains), ": airspeed step ", step, " m/s settles at ", r.settle_time, " s, altitude deviation ", h_dev, " m");
       CHECK(r.settle_time < 10.0);
       CHECK(h_dev < 3.0);
     }

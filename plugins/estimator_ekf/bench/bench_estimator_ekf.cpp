@@ -120,9 +120,7 @@ int main() {
     sensors_used = "sim_aero (tern::sim::Sensors defaults)";
     cfg.rho = 1.2682;
     SimAeroFeed feed(s2, 1, cfg.rho);
-    const auto run = [&](Estimator& e, double seconds, auto on_step) {
-      fly_sim_aero(s2, feed, e, seconds, {}, on_step);
-    };
+    const auto run = [&](Estimator& e, double seconds, auto on_step) { fly_sim_aero(s2, feed, e, seconds, {}, on_step); };
 #else
     const auto run = [&](Estimator& e, double seconds, auto on_step) { fly(s2, e, seconds, {}, on_step); };
 #endif
@@ -159,9 +157,7 @@ int main() {
 
   std::printf("bench_estimator_ekf (kinematic truth flight, 120 s, %zu IMU ticks timed)\n", tick.ns.size());
   std::printf("%-40s %10s %10s %10s\n", "cost", "median ns", "p99 ns", "mean ns");
-  const auto row = [](const char* name, Stat& s) {
-    std::printf("%-40s %10.0f %10.0f %10.0f\n", name, s.median(), s.p99(), s.mean());
-  };
+  const auto row = [](const char* name, Stat& s) { std::printf("%-40s %10.0f %10.0f %10.0f\n", name, s.median(), s.p99(), s.mean()); };
   row("imu sample (propagation)", imu);
   row("gnss (position + velocity update)", gnss);
   row("baro (altitude update)", baro);
@@ -169,14 +165,11 @@ int main() {
   row("mag (heading update)", mag);
   row("imu tick (all of one step)  target 5000", tick);
   std::printf("\n%-40s %10s   (sensors: %s)\n", "accuracy (after 20 s)", "RMSE", sensors_used);
-  std::printf("%-40s %10.3f\n%-40s %10.3f\n%-40s %10.3f\n", "north m", north.rms(), "east m", east.rms(),
-              "altitude m", alt.rms());
-  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.4f\n", "u m/s", u.rms(), "v m/s", v.rms(), "w m/s",
-              w.rms());
-  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.4f\n", "roll deg", roll.rms(), "pitch deg",
-              pitch.rms(), "course deg", course.rms());
-  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.3f\n", "wind m/s", wind.rms(),
-              "attitude in 60-deg bank deg", att60.rms(), "drift after 30 s GNSS outage m", outage_drift);
+  std::printf("%-40s %10.3f\n%-40s %10.3f\n%-40s %10.3f\n", "north m", north.rms(), "east m", east.rms(), "altitude m", alt.rms());
+  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.4f\n", "u m/s", u.rms(), "v m/s", v.rms(), "w m/s", w.rms());
+  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.4f\n", "roll deg", roll.rms(), "pitch deg", pitch.rms(), "course deg", course.rms());
+  std::printf("%-40s %10.4f\n%-40s %10.4f\n%-40s %10.3f\n", "wind m/s", wind.rms(), "attitude in 60-deg bank deg", att60.rms(),
+              "drift after 30 s GNSS outage m", outage_drift);
 
   std::string j = "{\n";
   const auto add = [&j](const std::string& k, double v, bool last = false) {

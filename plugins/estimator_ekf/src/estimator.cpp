@@ -25,39 +25,26 @@ std::string describe(const Event& e) {
   char buf[200];
   const char* s = sensor_name(e.sensor);
   switch (e.kind) {
-    case EventKind::origin_set:
-      std::snprintf(buf, sizeof buf, "origin set from the first 3-D GNSS fix");
-      break;
+    case EventKind::origin_set: std::snprintf(buf, sizeof buf, "origin set from the first 3-D GNSS fix"); break;
     case EventKind::initialized:
-      std::snprintf(buf, sizeof buf, "initialised (%s)", e.value > 0.5 ? "yaw from magnetometer"
-                                                                        : "no magnetometer: yaw from GNSS course or 0");
+      std::snprintf(buf, sizeof buf, "initialised (%s)",
+                    e.value > 0.5 ? "yaw from magnetometer" : "no magnetometer: yaw from GNSS course or 0");
       break;
-    case EventKind::baro_calibrated:
-      std::snprintf(buf, sizeof buf, "barometer calibrated: altitude offset %.2f m", e.value);
-      break;
-    case EventKind::sensor_timeout:
-      std::snprintf(buf, sizeof buf, "%s: time-out, no valid message for %.3f s", s, e.value);
-      break;
-    case EventKind::sensor_recovered:
-      std::snprintf(buf, sizeof buf, "%s: valid messages again after %.3f s", s, e.value);
-      break;
+    case EventKind::baro_calibrated: std::snprintf(buf, sizeof buf, "barometer calibrated: altitude offset %.2f m", e.value); break;
+    case EventKind::sensor_timeout: std::snprintf(buf, sizeof buf, "%s: time-out, no valid message for %.3f s", s, e.value); break;
+    case EventKind::sensor_recovered: std::snprintf(buf, sizeof buf, "%s: valid messages again after %.3f s", s, e.value); break;
     case EventKind::gnss_reset:
-      std::snprintf(buf, sizeof buf,
-                    "gnss: position rejected for too long, reset to GNSS (innovation %.1f m)", e.value);
+      std::snprintf(buf, sizeof buf, "gnss: position rejected for too long, reset to GNSS (innovation %.1f m)", e.value);
       break;
-    case EventKind::imu_gap:
-      std::snprintf(buf, sizeof buf, "imu: gap of %.3f s between samples (propagation clamped)", e.value);
-      break;
+    case EventKind::imu_gap: std::snprintf(buf, sizeof buf, "imu: gap of %.3f s between samples (propagation clamped)", e.value); break;
     case EventKind::filter_reset:
       std::snprintf(buf, sizeof buf, "filter diverged (non-finite state or covariance): re-initialising");
       break;
     case EventKind::mag_reset:
-      std::snprintf(buf, sizeof buf,
-                    "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
+      std::snprintf(buf, sizeof buf, "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
       break;
     case EventKind::inflated:
-      std::snprintf(buf, sizeof buf, "%s: rejected repeatedly, variance of the states it measures inflated x%.1f", s,
-                    e.value);
+      std::snprintf(buf, sizeof buf, "%s: rejected repeatedly, variance of the states it measures inflated x%.1f", s, e.value);
       break;
     case EventKind::imu_lost:
       std::snprintf(buf, sizeof buf, "imu: silent for %.3f s, attitude lost: re-initialising in flight", e.value);
@@ -66,7 +53,8 @@ std::string describe(const Event& e) {
       std::snprintf(buf, sizeof buf, "%s: sample valid %.3f s ago, older than the state history: dropped", s, e.value);
       break;
     case EventKind::first_invalid:
-      std::snprintf(buf, sizeof buf, "%s: invalid sample rejected (NaN/Inf, out of range or stamp going back); further ones are only counted", s);
+      std::snprintf(buf, sizeof buf,
+                    "%s: invalid sample rejected (NaN/Inf, out of range or stamp going back); further ones are only counted", s);
       break;
   }
   return buf;
@@ -158,9 +146,7 @@ void Estimator::reset() {
   first_check_ = -1;
 }
 
-void Estimator::push(Nanos stamp, EventKind kind, Sensor s, double value) {
-  events_.push_back(Event{stamp, kind, s, value});
-}
+void Estimator::push(Nanos stamp, EventKind kind, Sensor s, double value) { events_.push_back(Event{stamp, kind, s, value}); }
 
 std::vector<Event> Estimator::take_events() {
   std::vector<Event> out;
@@ -211,8 +197,7 @@ Eigen::Quaterniond Estimator::attitude_from_accel(const Vec3& f, double psi) {
   return quaternion_from_euler(phi, theta, psi);
 }
 
-Eigen::Quaterniond Estimator::attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body,
-                                             const Vec3& m_ned) {
+Eigen::Quaterniond Estimator::attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body, const Vec3& m_ned) {
   const Vec3 c_b = f_body.cross(m_body), c_n = f_ned.cross(m_ned);
   if (f_body.norm() < 1e-9 || f_ned.norm() < 1e-9 || c_b.norm() < 1e-9 * f_body.norm() * m_body.norm() ||
       c_n.norm() < 1e-9 * f_ned.norm() * m_ned.norm()) {
@@ -228,8 +213,7 @@ Eigen::Quaterniond Estimator::attitude_triad(const Vec3& f_body, const Vec3& f_n
   return Eigen::Quaterniond(Mat3(N * B.transpose())).normalized();  // R B = N
 }
 
-Eigen::Quaterniond Estimator::attitude_from_accel_mag(const Vec3& f, const Vec3& m,
-                                                      double declination) {
+Eigen::Quaterniond Estimator::attitude_from_accel_mag(const Vec3& f, const Vec3& m, double declination) {
   const double phi = std::atan2(-f.y(), -f.z());
   const double theta = std::atan2(f.x(), std::hypot(f.y(), f.z()));
   // Field in the level (yaw-only) frame: m_l = R_y(theta) R_x(phi) m_b = Rz(psi)^T m_n, whose
@@ -246,10 +230,8 @@ Vec3 Estimator::ned_from_geodetic(double lat, double lon, double alt) const {
 }
 
 bool Estimator::add_imu(const msg::Imu& m) {
-  const bool ok = m.accel.allFinite() && m.gyro.allFinite() &&
-                  m.accel.cwiseAbs().maxCoeff() <= cfg_.accel_max &&
-                  m.gyro.cwiseAbs().maxCoeff() <= cfg_.gyro_max &&
-                  (imu_stamp_ < 0 || m.stamp > imu_stamp_);
+  const bool ok = m.accel.allFinite() && m.gyro.allFinite() && m.accel.cwiseAbs().maxCoeff() <= cfg_.accel_max &&
+                  m.gyro.cwiseAbs().maxCoeff() <= cfg_.gyro_max && (imu_stamp_ < 0 || m.stamp > imu_stamp_);
   if (!accept(Sensor::imu, m.stamp, ok)) return false;
   double dt = imu_stamp_ < 0 ? 0.0 : to_seconds(m.stamp - imu_stamp_);
   imu_stamp_ = m.stamp;
@@ -345,11 +327,9 @@ UpdateResult Estimator::fuse(Model& model, const typename Model::Vec& z, Nanos t
 }
 
 template <class Model>
-UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first,
-                                    int n) {
+UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n) {
   const UpdateResult r = fuse(model, z, t_v);
-  if (r != UpdateResult::rejected || model.stats.consecutive_rejected < static_cast<std::uint64_t>(cfg_.inflate_after))
-    return r;
+  if (r != UpdateResult::rejected || model.stats.consecutive_rejected < static_cast<std::uint64_t>(cfg_.inflate_after)) return r;
   // The filter keeps disagreeing with the sensor: it is more likely overconfident than the
   // sensor wrong for this long. Inflate the variances of the states the sensor measures so the
   // innovation sits near the gate, and fuse again.
@@ -373,16 +353,15 @@ bool Estimator::add_mag(const msg::Mag& m) {
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   const double psi_mag = MagHeading::heading_from_field(m.field, e.x(), e.y(), cfg_.mag_declination);
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
-  const UpdateResult r = cfg_.mag_heading_only ? fuse(mag_heading_, MagHeading::Vec(psi_mag), t_v)
-                                               : fuse(mag_, Magnetometer::Vec(m.field / n), t_v);
+  const UpdateResult r =
+      cfg_.mag_heading_only ? fuse(mag_heading_, MagHeading::Vec(psi_mag), t_v) : fuse(mag_, Magnetometer::Vec(m.field / n), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
   // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
   // after mag_reset_time, trust the magnetometer again.
   if (r == UpdateResult::rejected) {
     if (mag_reject_since_ < 0) {
       mag_reject_since_ = m.stamp;
-    } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time &&
-               to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
+    } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time && to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
       reset_yaw(m.stamp, psi_mag);
     }
   } else if (r == UpdateResult::accepted) {
@@ -435,8 +414,7 @@ bool Estimator::add_baro(const msg::Baro& m) {
     }
     return true;
   }
-  if (initialized_)
-    fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
+  if (initialized_) fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
   return true;
 }
 
@@ -469,9 +447,8 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
     return false;
   }
-  const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) &&
-                  m.vel.allFinite() && std::fabs(m.lat) <= 90.0 && std::fabs(m.lon) <= 180.0 &&
-                  m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
+  const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) && m.vel.allFinite() && std::fabs(m.lat) <= 90.0 &&
+                  std::fabs(m.lon) <= 180.0 && m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
   const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
   // The receiver's epoch when the driver gives it (sim_aero does; over ROSflight's link it is
@@ -548,8 +525,7 @@ bool Estimator::gnss_reset_allowed(Nanos stamp, double innovation) const {
   // receiver disagree for a reason a reset does not cure (latency, a lever arm, a multipath
   // episode), and covariance inflation has to carry it. A position lost by more than
   // gnss_fault_distance is reset at once.
-  return last_gnss_reset_ < 0 || to_seconds(stamp - last_gnss_reset_) >= cfg_.reset_min_interval ||
-         innovation > cfg_.gnss_fault_distance;
+  return last_gnss_reset_ < 0 || to_seconds(stamp - last_gnss_reset_) >= cfg_.reset_min_interval || innovation > cfg_.gnss_fault_distance;
 }
 
 void Estimator::reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v) {
@@ -611,8 +587,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   if (have_mag && moving) {
     const Vec3 f_ned = (m.vel - prev_fix_vel_) / dt_fix - Vec3(0.0, 0.0, cfg_.gravity);
     const double ci = std::cos(cfg_.mag_inclination);
-    const Vec3 m_ned(ci * std::cos(cfg_.mag_declination), ci * std::sin(cfg_.mag_declination),
-                     std::sin(cfg_.mag_inclination));
+    const Vec3 m_ned(ci * std::cos(cfg_.mag_declination), ci * std::sin(cfg_.mag_declination), std::sin(cfg_.mag_inclination));
     try {
       x.q = attitude_triad(*f_body, f_ned, mag_avg_, m_ned);
     } catch (const std::invalid_argument&) {  // specific force along the field: no better than level
@@ -627,8 +602,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
     x.q = attitude_from_accel(accel_avg_, 0.0);
     yaw_sigma = 1.0;
   }
-  const bool at_rest = m.vel.norm() < 0.5 &&
-                       std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && gyro_avg_.norm() < 0.5;
+  const bool at_rest = m.vel.norm() < 0.5 && std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && gyro_avg_.norm() < 0.5;
   x.p = p_ned - x.q * cfg_.gnss_antenna + m.vel * to_seconds(std::max<Nanos>(imu_stamp_ - t_v, 0));
   x.v = m.vel;
   x.b_g = at_rest ? gyro_avg_ : Vec3::Zero();

@@ -28,10 +28,11 @@ using tern::ekf::EstimatorConfig;
 
 /// What the plugin adds to the filter's parameters: how often it publishes.
 struct OutputConfig {
-  std::int64_t decimation = 1;       ///< publish state every n-th IMU sample
-  double innovations_period = 0.1;   ///< s
+  std::int64_t decimation = 1;      ///< publish state every n-th IMU sample
+  double innovations_period = 0.1;  ///< s
 
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     v(&OutputConfig::decimation, "output_decimation", ParamSpec("", 1, 1000, "publish state every n-th IMU sample"));
     v(&OutputConfig::innovations_period, "innovations_period", ParamSpec("s", 0.0025, 10.0, "period of the innovations output"));
@@ -45,14 +46,11 @@ class EstimatorEkf final : public tern::Plugin {
     declare(imu_, "imu", "IMU samples; each one propagates the filter (use trigger: imu)");
     declare(gnss_, "gnss", "GNSS solutions: origin, position and velocity updates", Need::optional);
     declare(baro_, "baro", "static pressure: altitude updates after the ground calibration", Need::optional);
-    declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates",
-            Need::optional);
+    declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates", Need::optional);
     declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
-    declare(actuators_, "actuators", "surface deflections for the side-force model (delta_a, delta_r)",
-            Need::optional);
+    declare(actuators_, "actuators", "surface deflections for the side-force model (delta_a, delta_r)", Need::optional);
     declare(state_, "state", "the estimate; status: ok, degraded (which sensor) or invalid");
-    declare(innovations_, "innovations",
-            "largest innovation test ratio (NIS / gate) of each measurement over innovations_period");
+    declare(innovations_, "innovations", "largest innovation test ratio (NIS / gate) of each measurement over innovations_period");
 
     // Defaults from the mission's aircraft file when it has them: the air density
     // (environment: rho:, so that the pitot model matches the simulator's; else ROSplane's
@@ -91,8 +89,8 @@ class EstimatorEkf final : public tern::Plugin {
     if (estimator_.has_events()) {
       for (const auto& e : estimator_.take_events()) {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
-            e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset || e.kind == tern::ekf::EventKind::first_invalid ||
-            e.kind == tern::ekf::EventKind::imu_gap)
+            e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset ||
+            e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else
           log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));

@@ -18,8 +18,7 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   return r;
 }
 
-void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise,
-                       double gravity) {
+void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity) {
   const Vec3 a = accel - x_.b_a;  // specific force, body
   const Vec3 w = gyro - x_.b_g;   // body rate
   const Mat3 R = x_.R();
@@ -44,18 +43,16 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   P.middleRows<3>(idx::eg) *= fe;
   // Columns.
   P.middleCols<3>(idx::p) += dt * P.middleCols<3>(idx::v);
-  P.middleCols<3>(idx::v) +=
-      P.middleCols<3>(idx::th) * Fvth.transpose() + P.middleCols<3>(idx::ba) * Fvba.transpose();
-  P.middleCols<3>(idx::th) =
-      (P.middleCols<3>(idx::th) * Fthth.transpose() - dt * P.middleCols<3>(idx::bg)).eval();
+  P.middleCols<3>(idx::v) += P.middleCols<3>(idx::th) * Fvth.transpose() + P.middleCols<3>(idx::ba) * Fvba.transpose();
+  P.middleCols<3>(idx::th) = (P.middleCols<3>(idx::th) * Fthth.transpose() - dt * P.middleCols<3>(idx::bg)).eval();
   P.middleCols<3>(idx::eg) *= fe;
 
   P.diagonal() += process_noise_diagonal(noise, dt, w.norm());
   symmetrize(P);
 }
 
-NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,
-                                       double dt, double gravity, double gnss_error_k) {
+NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
+                                       double gnss_error_k) {
   NominalState r = x;
   const Vec3 a_n = x.R() * (accel - x.b_a) + Vec3(0.0, 0.0, gravity);
   r.p += x.v * dt + (0.5 * dt * dt) * a_n;
@@ -65,8 +62,7 @@ NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel,
   return r;
 }
 
-Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt,
-                       double gnss_error_k) {
+Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k) {
   const Mat3 R = x.R();
   Cov F = Cov::Identity();
   F.block<3, 3>(idx::p, idx::v) = dt * Mat3::Identity();

@@ -11,8 +11,7 @@ msg::StateStatus Estimator::status(std::uint8_t* degraded_sensors) const {
   std::uint8_t bits = 0;
   for (int i = 0; i < kSensorCount; ++i)
     if (counters_[i].timed_out) bits |= static_cast<std::uint8_t>(1u << i);
-  if (gnss_pos_.stats.consecutive_rejected >= static_cast<std::uint64_t>(cfg_.inflate_after))
-    bits |= msg::sensor_bit::gnss;
+  if (gnss_pos_.stats.consecutive_rejected >= static_cast<std::uint64_t>(cfg_.inflate_after)) bits |= msg::sensor_bit::gnss;
   if (degraded_sensors != nullptr) *degraded_sensors = bits;
   if (!initialized_ || (bits & msg::sensor_bit::imu) != 0) return msg::StateStatus::invalid;
   // The covariance says whether the attitude and position are still known: roll and pitch are
@@ -22,8 +21,7 @@ msg::StateStatus Estimator::status(std::uint8_t* degraded_sensors) const {
   const Mat3 P_tilt = R * P.block<3, 3>(idx::th, idx::th) * R.transpose();
   const double tilt_var = std::max(P_tilt(0, 0), P_tilt(1, 1));
   const double pos_var = std::max(P(idx::p, idx::p), P(idx::p + 1, idx::p + 1));
-  if (!(tilt_var <= cfg_.max_tilt_sigma * cfg_.max_tilt_sigma) ||
-      !(pos_var <= cfg_.max_position_sigma * cfg_.max_position_sigma))
+  if (!(tilt_var <= cfg_.max_tilt_sigma * cfg_.max_tilt_sigma) || !(pos_var <= cfg_.max_position_sigma * cfg_.max_position_sigma))
     return msg::StateStatus::invalid;
   return bits != 0 ? msg::StateStatus::degraded : msg::StateStatus::ok;
 }

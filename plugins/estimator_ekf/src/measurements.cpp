@@ -30,13 +30,10 @@ GnssVelocity::Noise GnssVelocity::noise(const NominalState& /*x*/) const {
 }
 
 Vec3 Magnetometer::field_direction_ned() const {
-  return {std::cos(inclination) * std::cos(declination),
-          std::cos(inclination) * std::sin(declination), std::sin(inclination)};
+  return {std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination)};
 }
 
-Magnetometer::Vec Magnetometer::h(const NominalState& x) const {
-  return x.q.conjugate() * field_direction_ned();
-}
+Magnetometer::Vec Magnetometer::h(const NominalState& x) const { return x.q.conjugate() * field_direction_ned(); }
 
 Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
   Jac H = Jac::Zero();
@@ -99,9 +96,7 @@ Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x) {
   return J;
 }
 
-bool DiffPressure::applicable(const NominalState& /*x*/, const Vec& z) const {
-  return z(0) >= 0.5 * rho * min_airspeed * min_airspeed;
-}
+bool DiffPressure::applicable(const NominalState& /*x*/, const Vec& z) const { return z(0) >= 0.5 * rho * min_airspeed * min_airspeed; }
 
 DiffPressure::Vec DiffPressure::h(const NominalState& x) const {
   const double u_r = x.air_velocity_body().x();
@@ -118,13 +113,9 @@ DiffPressure::Noise DiffPressure::noise(const NominalState& x) const {
   return Noise(sigma * sigma + g * g);
 }
 
-bool ZeroSideslip::applicable(const NominalState& x, const Vec& /*z*/) const {
-  return x.air_velocity_body().norm() >= min_airspeed;
-}
+bool ZeroSideslip::applicable(const NominalState& x, const Vec& /*z*/) const { return x.air_velocity_body().norm() >= min_airspeed; }
 
-ZeroSideslip::Jac ZeroSideslip::jacobian(const NominalState& x) const {
-  return air_velocity_jacobian(x).row(1);
-}
+ZeroSideslip::Jac ZeroSideslip::jacobian(const NominalState& x) const { return air_velocity_jacobian(x).row(1); }
 
 bool SideForce::applicable(const NominalState& x, const Vec& /*z*/) const {
   return k != 0.0 && x.air_velocity_body().norm() >= min_airspeed;

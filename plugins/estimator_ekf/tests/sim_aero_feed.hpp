@@ -10,8 +10,7 @@ namespace tern::ekf::test {
 
 class SimAeroFeed {
  public:
-  SimAeroFeed(TruthSim& sim, std::uint64_t seed, double rho, sim::SensorParams p = {})
-      : sim_(sim), sensors_(p, seed), rho_(rho) {}
+  SimAeroFeed(TruthSim& sim, std::uint64_t seed, double rho, sim::SensorParams p = {}) : sim_(sim), sensors_(p, seed), rho_(rho) {}
 
   sim::Truth truth() const {
     const Truth& t = sim_.truth();
@@ -74,8 +73,7 @@ class SimAeroFeed {
 
 /// fly() with sim_aero's sensors.
 template <class OnStep>
-void fly_sim_aero(TruthSim& sim, SimAeroFeed& feed, Estimator& est, double seconds, const Hooks& hooks,
-                  OnStep on_step) {
+void fly_sim_aero(TruthSim& sim, SimAeroFeed& feed, Estimator& est, double seconds, const Hooks& hooks, OnStep on_step) {
   const std::int64_t steps = std::llround(seconds / to_seconds(TruthSim::kImuPeriod));
   for (std::int64_t i = 0; i < steps; ++i) {
     sim.advance();

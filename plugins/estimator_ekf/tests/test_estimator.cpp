@@ -15,16 +15,15 @@ namespace {
 
 bool covariance_ok(const Estimator& est) {
   const Cov& P = est.filter().P();
-  return P.allFinite() && (P - P.transpose()).cwiseAbs().maxCoeff() == 0.0 &&
-         Eigen::LLT<Cov>(P).info() == Eigen::Success;
+  return P.allFinite() && (P - P.transpose()).cwiseAbs().maxCoeff() == 0.0 && Eigen::LLT<Cov>(P).info() == Eigen::Success;
 }
 
 void print(const char* name, const Errors& e) {
   std::printf(
       "%-28s pos_h %.3f m  pos_v %.3f m  vel %.3f m/s  att %.3f deg  yaw %.3f deg  wind %.3f m/s  "
       "bg %.4f rad/s  Va %.3f m/s\n",
-      name, e.pos_h.rms(), e.pos_v.rms(), e.vel.rms(), e.att.rms() * 180 / kPi,
-      e.yaw.rms() * 180 / kPi, e.wind.rms(), e.gyro_bias.rms(), e.Va.rms());
+      name, e.pos_h.rms(), e.pos_v.rms(), e.vel.rms(), e.att.rms() * 180 / kPi, e.yaw.rms() * 180 / kPi, e.wind.rms(), e.gyro_bias.rms(),
+      e.Va.rms());
 }
 
 }  // namespace
@@ -56,15 +55,12 @@ TEST_CASE("initial attitude in accelerated flight: TRIAD on the specific force a
       const Vec3 f_body = R.transpose() * f_ned;
       const Vec3 m_body = R.transpose() * mag.field_direction_ned() * 5e-5;
       INFO("a " << a_ned.transpose() << " psi " << psi_deg);
-      CHECK(attitude_error(Estimator::attitude_triad(f_body, f_ned, m_body, mag.field_direction_ned()),
-                           Eigen::Quaterniond(R)) < 1e-9);
+      CHECK(attitude_error(Estimator::attitude_triad(f_body, f_ned, m_body, mag.field_direction_ned()), Eigen::Quaterniond(R)) < 1e-9);
       // what the gravity-only initialisation makes of the same data: off by degrees
-      CHECK(attitude_error(Estimator::attitude_from_accel_mag(f_body, m_body, mag.declination),
-                           Eigen::Quaterniond(R)) > 0.05);
+      CHECK(attitude_error(Estimator::attitude_from_accel_mag(f_body, m_body, mag.declination), Eigen::Quaterniond(R)) > 0.05);
     }
   }
-  CHECK_THROWS_AS(Estimator::attitude_triad(Vec3(0, 0, -9.81), Vec3(0, 0, -9.81), Vec3(0, 0, 1), Vec3(0, 0, 1)),
-                  std::invalid_argument);
+  CHECK_THROWS_AS(Estimator::attitude_triad(Vec3(0, 0, -9.81), Vec3(0, 0, -9.81), Vec3(0, 0, 1), Vec3(0, 0, 1)), std::invalid_argument);
 }
 
 TEST_CASE("static start at an arbitrary heading: initialises and converges") {
@@ -157,9 +153,7 @@ struct Converged {
   TruthSim sim{mixed_flight()};
   Estimator est;
   Converged() { fly(sim, est, 22.0); }
-  double pos_error() const {
-    return (est.filter().x().p - truth_position(sim.truth(), est, sim)).norm();
-  }
+  double pos_error() const { return (est.filter().x().p - truth_position(sim.truth(), est, sim)).norm(); }
 };
 }  // namespace
 
@@ -176,9 +170,8 @@ TEST_CASE("a 100 m GNSS jump is rejected by the gate and counted; the state does
     }
     return true;
   };
-  fly(c.sim, c.est, 10.0, h, [&](const Truth& t, const Estimator& e) {
-    worst = std::max(worst, (e.filter().x().p - truth_position(t, e, c.sim)).norm());
-  });
+  fly(c.sim, c.est, 10.0, h,
+      [&](const Truth& t, const Estimator& e) { worst = std::max(worst, (e.filter().x().p - truth_position(t, e, c.sim)).norm()); });
   CHECK(jumped);
   CHECK(c.est.gnss_position_model().stats.rejected == rejected0 + 1);
   CHECK(worst < 1.0);
@@ -205,8 +198,8 @@ TEST_CASE("GNSS outage of 10 s: dead reckoning stays bounded, recovery without a
     p_prev = p;
     v_prev = Vec3(s.v_n, s.v_e, s.v_d);
   });
-  std::printf("gnss outage 10 s: worst error %.2f m, largest step at recovery %.2f m, worst error 5 s after %.2f m\n",
-              worst_outage, jump, worst_after);
+  std::printf("gnss outage 10 s: worst error %.2f m, largest step at recovery %.2f m, worst error 5 s after %.2f m\n", worst_outage, jump,
+              worst_after);
   CHECK(c.est.counters(Sensor::gnss).timeouts == 1);
   CHECK(worst_outage < 5.0);
   // The correction is blended in (gnss_recovery_time): no step of the size of the drift.
@@ -264,8 +257,7 @@ TEST_CASE("NaN, Inf and out-of-range samples are rejected, counted, never propag
   CHECK(e.att.max < clean.att.max + 0.2 * kPi / 180);
   CHECK(e.vel.rms() < clean.vel.rms() + 0.02);
   bool first_invalid_logged = false;
-  for (const Event& ev : c.est.take_events())
-    first_invalid_logged = first_invalid_logged || ev.kind == EventKind::first_invalid;
+  for (const Event& ev : c.est.take_events()) first_invalid_logged = first_invalid_logged || ev.kind == EventKind::first_invalid;
   CHECK(first_invalid_logged);
 }
 
@@ -297,8 +289,11 @@ TEST_CASE("a wired sensor that never delivers times out from the start; an unwir
     Estimator est;
     est.expect(Sensor::baro, wired);
     Hooks h;
-    h.baro = [](msg::Baro&) { return false; };                 // silent from power-up
-    h.pitot = [](msg::DiffPressure& m) { m.pressure = std::nan(""); return true; };  // never valid
+    h.baro = [](msg::Baro&) { return false; };  // silent from power-up
+    h.pitot = [](msg::DiffPressure& m) {
+      m.pressure = std::nan("");
+      return true;
+    };  // never valid
     fly(sim, est, 3.0, h);
     INFO("baro wired: " << wired);
     CHECK(est.counters(Sensor::baro).timeouts == (wired ? 1u : 0u));
@@ -359,8 +354,10 @@ TEST_CASE("initialisation waits for a 3-D fix; the origin is that fix") {
   int fixes = 0;
   msg::Gnss first;
   h.gnss = [&](msg::Gnss& g) {
-    if (sim.now() < from_seconds(1.0)) g.fix_type = msg::FixType::fix_2d;
-    else if (fixes++ == 0) first = g;
+    if (sim.now() < from_seconds(1.0))
+      g.fix_type = msg::FixType::fix_2d;
+    else if (fixes++ == 0)
+      first = g;
     return true;
   };
   fly(sim, est, 0.95, h);
@@ -456,8 +453,8 @@ TEST_CASE("a GNSS fix fused at its time of validity: 120 ms late gives the estim
   const Errors now = fly_with_gnss_delay(0.0, true);
   const Errors late = fly_with_gnss_delay(0.12, true);
   const Errors naive = fly_with_gnss_delay(0.12, false);
-  MESSAGE("horizontal RMSE: undelayed " << now.pos_h.rms() << " m, 120 ms late at its epoch " << late.pos_h.rms()
-                                        << " m, taken as current " << naive.pos_h.rms() << " m");
+  MESSAGE("horizontal RMSE: undelayed " << now.pos_h.rms() << " m, 120 ms late at its epoch " << late.pos_h.rms() << " m, taken as current "
+                                        << naive.pos_h.rms() << " m");
   CHECK(late.pos_h.rms() < now.pos_h.rms() + 0.1);
   CHECK(late.vel.rms() < now.vel.rms() + 0.02);
   CHECK(late.att.rms() < now.att.rms() + 0.1 * kPi / 180);

@@ -17,9 +17,8 @@ using namespace tern::ekf::test;
 TEST_CASE("with sim_aero's sensor models: loose accuracy bounds over 200 s, 3 seeds") {
   SimOptions o;
   o.psi0 = 0.7;
-  o.phi_ramps = {{30.0, 2.0, 30.0 * kPi / 180}, {50.0, 2.0, -30.0 * kPi / 180},
-                 {90.0, 3.0, 60.0 * kPi / 180}, {110.0, 3.0, -60.0 * kPi / 180},
-                 {150.0, 3.0, -30.0 * kPi / 180}, {170.0, 3.0, 30.0 * kPi / 180}};
+  o.phi_ramps = {{30.0, 2.0, 30.0 * kPi / 180},   {50.0, 2.0, -30.0 * kPi / 180},  {90.0, 3.0, 60.0 * kPi / 180},
+                 {110.0, 3.0, -60.0 * kPi / 180}, {150.0, 3.0, -30.0 * kPi / 180}, {170.0, 3.0, 30.0 * kPi / 180}};
   o.gamma_ramps = {{60.0, 2.0, 0.1}, {75.0, 2.0, -0.1}};
   o.wind = Eigen::Vector2d(5.0, 0.0);
   for (std::uint64_t seed : {1u, 3u, 4u}) {
@@ -45,10 +44,10 @@ TEST_CASE("with sim_aero's sensor models: loose accuracy bounds over 200 s, 3 se
       pos.add((x.filter().x().p - p).head<2>().norm());
       wind.add((x.filter().x().wind - o.wind).norm());
     });
-    std::printf("sim_aero sensors, seed %d: roll %.3f pitch %.3f yaw %.3f deg, vel %.3f m/s, alt %.3f m, "
-                "horizontal %.3f m, wind %.3f m/s (RMSE)\n",
-                static_cast<int>(seed), roll.rms(), pitch.rms(), yaw.rms(), vel.rms(), alt.rms(), pos.rms(),
-                wind.rms());
+    std::printf(
+        "sim_aero sensors, seed %d: roll %.3f pitch %.3f yaw %.3f deg, vel %.3f m/s, alt %.3f m, "
+        "horizontal %.3f m, wind %.3f m/s (RMSE)\n",
+        static_cast<int>(seed), roll.rms(), pitch.rms(), yaw.rms(), vel.rms(), alt.rms(), pos.rms(), wind.rms());
     INFO("seed " << seed);
     CHECK(roll.rms() < 0.6);
     CHECK(pitch.rms() < 0.6);

@@ -61,8 +61,8 @@ struct SimOptions {
   Eigen::Vector3d gyro_bias = Eigen::Vector3d(0.01, -0.015, 0.008);
   Eigen::Vector3d accel_bias = Eigen::Vector3d(0.1, -0.08, 0.12);
   double baro_bias = 25.0;  ///< Pa
-  double accel_noise = 0.2, gyro_noise = 0.0023, baro_noise = 4.0, pitot_noise = 1.15,
-         mag_noise = 3e-6, gnss_h = 0.21, gnss_v = 0.4, gnss_vel_noise = 0.01;
+  double accel_noise = 0.2, gyro_noise = 0.0023, baro_noise = 4.0, pitot_noise = 1.15, mag_noise = 3e-6, gnss_h = 0.21, gnss_v = 0.4,
+         gnss_vel_noise = 0.01;
   double gnss_k = 1.0 / 1100.0;
   double declination = 0.1857972802, inclination = 1.139436457, field = 5.07163e-5;
   double lat0 = 40.2463724, lon0 = -111.6474138, alt0 = 1387.0;
@@ -134,8 +134,7 @@ class TruthSim {
     const double dt = 0.1;
     const double a = std::exp(-o_.gnss_k * dt), s = std::sqrt(1 - a * a);
     std::normal_distribution<double> n(0.0, 1.0);
-    gnss_err_ = a * gnss_err_ +
-                s * Eigen::Vector3d(o_.gnss_h * n(rng_), o_.gnss_h * n(rng_), o_.gnss_v * n(rng_));
+    gnss_err_ = a * gnss_err_ + s * Eigen::Vector3d(o_.gnss_h * n(rng_), o_.gnss_h * n(rng_), o_.gnss_v * n(rng_));
     const Eigen::Vector3d p = truth_.p + gnss_err_;
     msg::Gnss m;
     m.stamp = now();
@@ -152,8 +151,7 @@ class TruthSim {
     msg::Baro m;
     m.stamp = now();
     const double h = o_.alt0 - truth_.p.z();
-    m.pressure = 101325.0 * std::pow(1.0 - h / 44330.769, 1.0 / 0.190263) + o_.baro_bias +
-                 o_.baro_noise * normal();
+    m.pressure = 101325.0 * std::pow(1.0 - h / 44330.769, 1.0 / 0.190263) + o_.baro_bias + o_.baro_noise * normal();
     return m;
   }
   msg::DiffPressure pitot() {
@@ -166,8 +164,7 @@ class TruthSim {
   msg::Mag mag() {
     msg::Mag m;
     m.stamp = now();
-    const Eigen::Vector3d mn(std::cos(o_.inclination) * std::cos(o_.declination),
-                             std::cos(o_.inclination) * std::sin(o_.declination),
+    const Eigen::Vector3d mn(std::cos(o_.inclination) * std::cos(o_.declination), std::cos(o_.inclination) * std::sin(o_.declination),
                              std::sin(o_.inclination));
     m.field = truth_.R.transpose() * mn * o_.field + noise3(o_.mag_noise);
     return m;
@@ -193,9 +190,7 @@ class TruthSim {
     return a;
   }
   double theta_at(double t) const { return o_.static_mode ? o_.gamma0 : gamma_at(t) + o_.alpha; }
-  Eigen::Vector3d v_r_body() const {
-    return o_.Va * Eigen::Vector3d(std::cos(o_.alpha), 0.0, std::sin(o_.alpha));
-  }
+  Eigen::Vector3d v_r_body() const { return o_.Va * Eigen::Vector3d(std::cos(o_.alpha), 0.0, std::sin(o_.alpha)); }
   Eigen::Vector3d velocity(double t, double psi) const {
     return rotation_from_euler(phi_at(t), theta_at(t), psi) * v_r_body() + wind_ned();
   }
@@ -217,8 +212,7 @@ class TruthSim {
     const double psid = o_.g * std::tan(truth_.phi) / o_.Va;
     const double sf = std::sin(truth_.phi), cf = std::cos(truth_.phi);
     const double st = std::sin(truth_.theta), ct = std::cos(truth_.theta);
-    truth_.omega = Eigen::Vector3d(phid - psid * st, thetad * cf + psid * sf * ct,
-                                   -thetad * sf + psid * cf * ct);
+    truth_.omega = Eigen::Vector3d(phid - psid * st, thetad * cf + psid * sf * ct, -thetad * sf + psid * cf * ct);
     truth_.v = truth_.R * v_r_body() + wind_ned();
     const Eigen::Vector3d a_ned = truth_.R * truth_.omega.cross(v_r_body());
     truth_.f = truth_.R.transpose() * (a_ned - g_ned);

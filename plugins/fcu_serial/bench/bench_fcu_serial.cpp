@@ -29,9 +29,19 @@ std::vector<std::uint8_t> stream(int seconds) {
       imu.time_boot_us = static_cast<std::uint64_t>(s) * 1000000 + static_cast<std::uint64_t>(k) * 2500;
       imu.zacc = -9.81f;
       enc.append(imu, out);
-      if (k % 4 == 0) { enc.append(SmallBaro{}, out); enc.append(DiffPressure{}, out); }
-      if (k % 8 == 0) { enc.append(SmallMag{}, out); enc.append(RcChannels{}, out); enc.append(AttitudeQuaternion{}, out); }
-      if (k % 40 == 0) { enc.append(RosflightGnss{}, out); enc.append(RosflightStatus{}, out); }
+      if (k % 4 == 0) {
+        enc.append(SmallBaro{}, out);
+        enc.append(DiffPressure{}, out);
+      }
+      if (k % 8 == 0) {
+        enc.append(SmallMag{}, out);
+        enc.append(RcChannels{}, out);
+        enc.append(AttitudeQuaternion{}, out);
+      }
+      if (k % 40 == 0) {
+        enc.append(RosflightGnss{}, out);
+        enc.append(RosflightStatus{}, out);
+      }
     }
   return out;
 }

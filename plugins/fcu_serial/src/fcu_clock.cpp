@@ -67,7 +67,7 @@ FlightTime FcuClock::timed(FcuTime t, HostTime rx, FlightTime stream) const {
 }
 
 bool FcuClock::reached(FcuTime newest, FlightTime now) const {
-  if (!anchored_) return true;                             // the first sample anchors at `now`
+  if (!anchored_) return true;                              // the first sample anchors at `now`
   if (last_imu_ && newest.ns < last_imu_->ns) return true;  // a reboot: imu() re-anchors
   return anchor_flight_.ns + (newest.ns - anchor_fcu_.ns) >= now.ns;
 }

@@ -145,8 +145,8 @@ class FcuSerial final : public tern::Plugin {
   tern::Output<msg::Rc> rc_out_;
   tern::Output<msg::FcuStatus> status_out_;
 
-  tern::Param<std::string> transport_, device_, udp_host_, clock_name_, emulator_args_, emulator_path_, channels_,
-      emulator_params_, emulator_rc_;
+  tern::Param<std::string> transport_, device_, udp_host_, clock_name_, emulator_args_, emulator_path_, channels_, emulator_params_,
+      emulator_rc_;
   tern::Param<std::int64_t> baud_, udp_bind_port_, udp_remote_port_, system_id_, component_id_;
   tern::Param<bool> lockstep_, emulator_;
   tern::Param<double> connect_timeout_, wait_timeout_, link_timeout_, command_rate_, heartbeat_rate_, timesync_rate_, mag_scale_;

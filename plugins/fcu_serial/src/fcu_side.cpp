@@ -18,8 +18,7 @@ float param_wire(double v, std::uint8_t type) {
   return static_cast<float>(v);
 }
 
-FcuSide::FcuSide(firmware::Params params, std::string version)
-    : fw_(params), stored_(std::move(params)), version_(std::move(version)) {}
+FcuSide::FcuSide(firmware::Params params, std::string version) : fw_(params), stored_(std::move(params)), version_(std::move(version)) {}
 
 // MavlinkAdapter::send_param_value_int/float: component 0, the value's type, PARAMS_COUNT.
 void FcuSide::send_param(std::size_t i, std::vector<std::uint8_t>& out) {
@@ -40,8 +39,10 @@ void FcuSide::param_set(const mavlink::ParamSet& s) {
   const std::string name = mavlink::to_string(s.param_id);
   const auto i = fw_.params().find(name);
   if (!i || static_cast<std::uint8_t>(fw_.params().at(*i).type) != s.param_type) return;
-  if (s.param_type == kParamInt32) fw_.params().set_int(*i, std::bit_cast<std::int32_t>(s.param_value));
-  else fw_.params().set_float(*i, s.param_value);
+  if (s.param_type == kParamInt32)
+    fw_.params().set_int(*i, std::bit_cast<std::int32_t>(s.param_value));
+  else
+    fw_.params().set_float(*i, s.param_value);
 }
 
 // CommManager::command_callback (refused while armed) and the adapter's unknown-command ack.
@@ -57,7 +58,10 @@ void FcuSide::command(const mavlink::RosflightCmd& c, std::uint8_t from_sysid, s
   if (ok) {
     switch (static_cast<RosflightCmd>(c.command)) {
       case RosflightCmd::read_params: fw_.params() = stored_; break;
-      case RosflightCmd::write_params: stored_ = fw_.params(); ++writes_; break;
+      case RosflightCmd::write_params:
+        stored_ = fw_.params();
+        ++writes_;
+        break;
       case RosflightCmd::set_param_defaults: fw_.params().set_defaults(); break;
       case RosflightCmd::accel_calibration: ok = fw_.start_imu_calibration(); break;
       case RosflightCmd::gyro_calibration: ok = fw_.start_gyro_calibration(); break;
@@ -133,7 +137,7 @@ mavlink::RosflightStatus FcuSide::status() const {
   s.rc_override = fw_.rc_override();
   s.offboard = fw_.offboard_active() ? 1 : 0;
   s.error_code = static_cast<std::uint8_t>(fw_.error_codes());  // uint8_t in the message
-  s.control_mode = 0;  // FIXED_WING: MODE_PASS_THROUGH (CommManager::send_status)
+  s.control_mode = 0;                                           // FIXED_WING: MODE_PASS_THROUGH (CommManager::send_status)
   s.num_errors = 0;
   s.loop_time_us = static_cast<std::int16_t>(loop_time_us_);
   return s;

@@ -9,7 +9,7 @@ namespace tern::fcu::firmware {
 
 namespace {
 constexpr int kStickX = 0, kStickY = 1, kStickZ = 2, kStickF = 3;  // rc.h RC::Stick
-constexpr int kMuxQx = 3;                                           // command_manager.h MuxChannel
+constexpr int kMuxQx = 3;                                          // command_manager.h MuxChannel
 constexpr std::int64_t kMs = 1'000'000;
 // CommandManager::X/Y/Z/T_OVERRIDDEN: the reasons that hand a channel to the pilot.
 constexpr std::uint16_t kX = kOverrideAttSwitch | kOverrideX | kOverrideOffboardXInactive;

@@ -71,9 +71,12 @@ void Firmware::mix_output() {
       raw_[o] = 0.0f;
     } else {
       const float idle = params_.get_float("MOTOR_IDLE_THR");
-      if (v > 1.0f) v = 1.0f;
-      else if (v < idle && params_.get_int("ARM_SPIN_MOTORS")) v = idle;
-      else if (v < 0.0f) v = 0.0f;
+      if (v > 1.0f)
+        v = 1.0f;
+      else if (v < idle && params_.get_int("ARM_SPIN_MOTORS"))
+        v = idle;
+      else if (v < 0.0f)
+        v = 0.0f;
       raw_[o] = v;
     }
   }

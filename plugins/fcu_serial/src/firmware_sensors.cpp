@@ -9,11 +9,11 @@
 namespace tern::fcu::firmware {
 
 namespace {
-constexpr int kCalDelayCycles = 128;  // Sensors::SENSOR_CAL_DELAY_CYCLES
-constexpr int kCalCycles = 127;       // Sensors::SENSOR_CAL_CYCLES
-constexpr double kBaroMaxVar = 25.0;  // Sensors::BARO_MAX_CALIBRATION_VARIANCE, Pa^2
-constexpr double kDiffMaxVar = 100.0; // Sensors::DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE, Pa^2
-constexpr int kImuCalSamples = 1000;  // calibrate_gyro / calibrate_accel: done after more than this
+constexpr int kCalDelayCycles = 128;          // Sensors::SENSOR_CAL_DELAY_CYCLES
+constexpr int kCalCycles = 127;               // Sensors::SENSOR_CAL_CYCLES
+constexpr double kBaroMaxVar = 25.0;          // Sensors::BARO_MAX_CALIBRATION_VARIANCE, Pa^2
+constexpr double kDiffMaxVar = 100.0;         // Sensors::DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE, Pa^2
+constexpr int kImuCalSamples = 1000;          // calibrate_gyro / calibrate_accel: done after more than this
 constexpr double kFirmwareGravity = 9.80665;  // the firmware's own (sensors.h gravity_), not the SDK's kGravity: emulated as it is
 const char* kAcc[] = {"ACC_X_BIAS", "ACC_Y_BIAS", "ACC_Z_BIAS"};
 const char* kGyro[] = {"GYRO_X_BIAS", "GYRO_Y_BIAS", "GYRO_Z_BIAS"};

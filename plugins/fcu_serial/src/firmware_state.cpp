@@ -11,7 +11,7 @@ Firmware::Firmware(Params params) : params_(std::move(params)) {
   set_event(Event::initialized, 0);
   init_mixing();
   check_imu_calibrated();
-  params_.take_changes();                        // boot-time writes are not echoed to anyone
+  params_.take_changes();  // boot-time writes are not echoed to anyone
 }
 
 void Firmware::log(std::uint8_t severity, std::string text) { log_.push_back({severity, std::move(text)}); }
@@ -46,11 +46,13 @@ void Firmware::process_errors(std::int64_t now) { set_event(errors_ ? Event::err
 // StateManager::set_event, FSM_STATE_ERROR / EVENT_REQUEST_ARM: the reasons, at most once a second.
 void Firmware::refuse_arm(std::int64_t now) {
   if (now < next_arm_error_msg_) return;
-  const std::pair<std::uint16_t, const char*> why[] = {
-      {kErrorInvalidMixer, "Unable to arm: Invalid mixer"},       {kErrorImuNotResponding, "Unable to arm: IMU not responding"},
-      {kErrorRcLost, "Unable to arm: RC signal lost"},            {kErrorUnhealthyEstimator, "Unable to arm: Unhealthy estimator"},
-      {kErrorTimeGoingBackwards, "Unable to arm: Time going backwards"},
-      {kErrorUncalibratedImu, "Unable to arm: IMU not calibrated"}, {kErrorInvalidFailsafe, "Unable to arm: Invalid failsafe setting"}};
+  const std::pair<std::uint16_t, const char*> why[] = {{kErrorInvalidMixer, "Unable to arm: Invalid mixer"},
+                                                       {kErrorImuNotResponding, "Unable to arm: IMU not responding"},
+                                                       {kErrorRcLost, "Unable to arm: RC signal lost"},
+                                                       {kErrorUnhealthyEstimator, "Unable to arm: Unhealthy estimator"},
+                                                       {kErrorTimeGoingBackwards, "Unable to arm: Time going backwards"},
+                                                       {kErrorUncalibratedImu, "Unable to arm: IMU not calibrated"},
+                                                       {kErrorInvalidFailsafe, "Unable to arm: Invalid failsafe setting"}};
   for (const auto& [bit, text] : why)
     if (errors_ & bit) log(3, text);
   next_arm_error_msg_ = now + 1'000'000'000;

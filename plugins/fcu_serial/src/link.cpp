@@ -170,8 +170,10 @@ struct Link::Impl {
       }
       {
         std::lock_guard lk(link.mu_);
-        if (ec) ++link.stats_.write_errors;
-        else link.stats_.bytes_sent += n;
+        if (ec)
+          ++link.stats_.write_errors;
+        else
+          link.stats_.bytes_sent += n;
       }
       if (!writes.empty()) writes.pop_front();
       // UDP: the FCU not listening yet (connection refused) is not a link failure.

@@ -61,10 +61,9 @@ void RcMap::validate() const {
 }
 
 std::uint16_t rc_pwm(const mavlink::RcChannels& rc, int i) {
-  const std::array<std::uint16_t, 18> ch{rc.chan1_raw,  rc.chan2_raw,  rc.chan3_raw,  rc.chan4_raw,  rc.chan5_raw,
-                                         rc.chan6_raw,  rc.chan7_raw,  rc.chan8_raw,  rc.chan9_raw,  rc.chan10_raw,
-                                         rc.chan11_raw, rc.chan12_raw, rc.chan13_raw, rc.chan14_raw, rc.chan15_raw,
-                                         rc.chan16_raw, rc.chan17_raw, rc.chan18_raw};
+  const std::array<std::uint16_t, 18> ch{rc.chan1_raw,  rc.chan2_raw,  rc.chan3_raw,  rc.chan4_raw,  rc.chan5_raw,  rc.chan6_raw,
+                                         rc.chan7_raw,  rc.chan8_raw,  rc.chan9_raw,  rc.chan10_raw, rc.chan11_raw, rc.chan12_raw,
+                                         rc.chan13_raw, rc.chan14_raw, rc.chan15_raw, rc.chan16_raw, rc.chan17_raw, rc.chan18_raw};
   if (i < 0 || i >= 18 || (i >= 8 && i >= rc.chancount) || ch[i] == 0xFFFF) return 0;
   return ch[i];
 }

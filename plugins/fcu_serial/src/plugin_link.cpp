@@ -62,8 +62,8 @@ void FcuSerial::wait_first_imu(const fcu::LinkOptions& o) {
     if (left <= 0) {
       const std::string what = o.describe();
       shutdown();
-      throw std::runtime_error("no IMU data (SMALL_IMU) from the FCU on " + what + " within " +
-                               std::to_string(connect_timeout_()) + " s: is it powered, on this port and streaming?");
+      throw std::runtime_error("no IMU data (SMALL_IMU) from the FCU on " + what + " within " + std::to_string(connect_timeout_()) +
+                               " s: is it powered, on this port and streaming?");
     }
     link_->wait(left);
     pull();
@@ -204,10 +204,11 @@ void FcuSerial::check_link(fcu::HostTime host) {
 void FcuSerial::log_link_summary() {
   const fcu::LinkStats s = link_->stats();
   const fcu::TimeSync& ts = clock_.timesync();
-  log().info("link: {} frames, {} bad CRC, {} unknown id, {} bad length, {} bytes skipped, {} queue drops, "
-             "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s rtt {:.3f} ms ({} answers, {} too slow)",
-             s.parser.frames, s.parser.bad_crc, s.parser.unknown_id, s.parser.bad_length, s.parser.skipped, s.queue_dropped,
-             s_.commands_sent, s_.link_losses, s_.reboots, ts.offset() * 1e-9, ts.last_rtt() * 1e-6, ts.samples(), ts.rejected());
+  log().info(
+      "link: {} frames, {} bad CRC, {} unknown id, {} bad length, {} bytes skipped, {} queue drops, "
+      "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s rtt {:.3f} ms ({} answers, {} too slow)",
+      s.parser.frames, s.parser.bad_crc, s.parser.unknown_id, s.parser.bad_length, s.parser.skipped, s.queue_dropped, s_.commands_sent,
+      s_.link_losses, s_.reboots, ts.offset() * 1e-9, ts.last_rtt() * 1e-6, ts.samples(), ts.rejected());
 }
 
 std::vector<std::pair<std::string, double>> FcuSerial::summary() const {

@@ -96,17 +96,23 @@ void FcuSerial::on_status(const mav::RosflightStatus& s, fcu::FlightTime stream)
   const double t = tern::to_seconds(stream.ns);
   if (!was || was->armed != s.armed || was->error_code != s.error_code) {
     const std::string why = fcu::arming_problems(st.armed, s.error_code);
-    if (why.empty()) log().info("t={:.3f} s: FCU armed, no errors", t);
-    else log().warn("t={:.3f} s: {}", t, why);
+    if (why.empty())
+      log().info("t={:.3f} s: FCU armed, no errors", t);
+    else
+      log().warn("t={:.3f} s: {}", t, why);
   }
   if (!was || was->failsafe != s.failsafe) {
-    if (st.failsafe) log().warn("t={:.3f} s: FCU failsafe ON (RC lost: throttle 0, surfaces neutral)", t);
-    else if (was) log().warn("t={:.3f} s: FCU failsafe off", t);
+    if (st.failsafe)
+      log().warn("t={:.3f} s: FCU failsafe ON (RC lost: throttle 0, surfaces neutral)", t);
+    else if (was)
+      log().warn("t={:.3f} s: FCU failsafe off", t);
   }
   if (!was || was->rc_override != s.rc_override) {
     const std::string why = fcu::describe_override(s.rc_override);
-    if (!why.empty()) log().warn("t={:.3f} s: RC override 0x{:03x}: {}", t, s.rc_override, why);
-    else if (was) log().info("t={:.3f} s: RC override off: tern flies", t);
+    if (!why.empty())
+      log().warn("t={:.3f} s: RC override 0x{:03x}: {}", t, s.rc_override, why);
+    else if (was)
+      log().info("t={:.3f} s: RC override off: tern flies", t);
   }
   s_.raw_status = s;
   s_.status = st;
@@ -115,9 +121,12 @@ void FcuSerial::on_status(const mav::RosflightStatus& s, fcu::FlightTime stream)
 /// STATUSTEXT by MAV_SEVERITY: 0-3 error, 4 warning, else info.
 void FcuSerial::log_text(const mav::Statustext& s) {
   const std::string text = mav::to_string(s.text);
-  if (s.severity <= 3) log().error("FCU: {}", text);
-  else if (s.severity <= 4) log().warn("FCU: {}", text);
-  else log().info("FCU: {}", text);
+  if (s.severity <= 3)
+    log().error("FCU: {}", text);
+  else if (s.severity <= 4)
+    log().warn("FCU: {}", text);
+  else
+    log().info("FCU: {}", text);
 }
 
 }  // namespace tern::fcu_serial

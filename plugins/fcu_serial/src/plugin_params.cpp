@@ -26,8 +26,8 @@ void FcuSerial::configure() {
   (void)tern::period_from_hz(command_rate_());
   take_start_params();
   if (!context().describing() && max_deflection_().empty())
-    log().info("pass-through scaling: max deflection a {:.4f}, e {:.4f}, r {:.4f} rad", map_.max_deflection[0],
-               map_.max_deflection[1], map_.max_deflection[2]);
+    log().info("pass-through scaling: max deflection a {:.4f}, e {:.4f}, r {:.4f} rad", map_.max_deflection[0], map_.max_deflection[1],
+               map_.max_deflection[2]);
 }
 
 void FcuSerial::take_start_params() {
@@ -59,28 +59,37 @@ void FcuSerial::declare_link_params() {
   declare(baud_, "baud", std::int64_t{921600}, ParamSpec("baud", 9600, 4000000, "serial baud rate").start_only());
   declare(udp_host_, "udp_host", "127.0.0.1", ParamSpec("", 0, 0, "IP address of both UDP ends").start_only());
   declare(udp_bind_port_, "udp_bind_port", std::int64_t{14520}, ParamSpec("", 1, 65535, "our UDP port (rosflight_io: 14520)").start_only());
-  declare(udp_remote_port_, "udp_remote_port", std::int64_t{14525}, ParamSpec("", 1, 65535, "the FCU's UDP port (ROSflight SIL: 14525)").start_only());
+  declare(udp_remote_port_, "udp_remote_port", std::int64_t{14525},
+          ParamSpec("", 1, 65535, "the FCU's UDP port (ROSflight SIL: 14525)").start_only());
   declare(clock_name_, "clock", "fcu",
-          ParamSpec("", 0, 0, "time source: the FCU's IMU stamps pace the flight, or the wall clock (TIMESYNC)").one_of({"fcu", "wall"}).start_only());
-  declare(lockstep_, "lockstep", false,
-          ParamSpec("", 0, 0, "one OFFBOARD_CONTROL per IMU sample, before waiting for the next (tern-fcu-emulator --lockstep)").start_only());
-  declare(connect_timeout_, "connect_timeout", 5.0, ParamSpec("s", 0.1, 120, "start() fails without an IMU sample within this time").start_only());
+          ParamSpec("", 0, 0, "time source: the FCU's IMU stamps pace the flight, or the wall clock (TIMESYNC)")
+              .one_of({"fcu", "wall"})
+              .start_only());
+  declare(
+      lockstep_, "lockstep", false,
+      ParamSpec("", 0, 0, "one OFFBOARD_CONTROL per IMU sample, before waiting for the next (tern-fcu-emulator --lockstep)").start_only());
+  declare(connect_timeout_, "connect_timeout", 5.0,
+          ParamSpec("s", 0.1, 120, "start() fails without an IMU sample within this time").start_only());
   declare(wait_timeout_, "wait_timeout", 0.25, ParamSpec("s", 0, 10, "clock fcu: longest wait of one step for the FCU's sample"));
   declare(link_timeout_, "link_timeout", 0.5, ParamSpec("s", 0.01, 60, "no frame for this long: link lost (reported)"));
   // OFFBOARD_TIMEOUT (param.cpp, int32 ms, default 100): CommandManager::run hands every channel
   // back to RC when the last OFFBOARD_CONTROL is older
   declare(command_rate_, "command_rate", 100.0,
-          ParamSpec("Hz", 50, 1000, "least rate of OFFBOARD_CONTROL (the firmware's OFFBOARD_TIMEOUT, 100 ms by default, hands the FCU to RC)"));
+          ParamSpec("Hz", 50, 1000,
+                    "least rate of OFFBOARD_CONTROL (the firmware's OFFBOARD_TIMEOUT, 100 ms by default, hands the FCU to RC)"));
   declare(heartbeat_rate_, "heartbeat_rate", 1.0, ParamSpec("Hz", 0.1, 50, "rate of our HEARTBEAT"));
   declare(timesync_rate_, "timesync_rate", 10.0, ParamSpec("Hz", 0.1, 100, "rate of TIMESYNC requests"));
   declare(system_id_, "system_id", std::int64_t{1}, ParamSpec("", 1, 255, "our MAVLink system id").start_only());
-  declare(component_id_, "component_id", std::int64_t{50}, ParamSpec("", 0, 255, "our MAVLink component id (rosflight_io: 50)").start_only());
+  declare(component_id_, "component_id", std::int64_t{50},
+          ParamSpec("", 0, 255, "our MAVLink component id (rosflight_io: 50)").start_only());
   declare(emulator_, "emulator", false,
           ParamSpec("", 0, 0, "start tern-fcu-emulator (sim_aero's aircraft behind a pseudo-terminal) and fly through it").start_only());
   declare(emulator_args_, "emulator_args", "",
           ParamSpec("", 0, 0, "extra arguments of tern-fcu-emulator, e.g. \"--wind 3.5,-3.5,0 --turbulence light\"").start_only());
-  declare(emulator_params_, "emulator_params", "",
-          ParamSpec("", 0, 0, "the emulated FCU's stored parameters (YAML NAME: value, relative to the mission file); empty: firmware defaults").start_only());
+  declare(
+      emulator_params_, "emulator_params", "",
+      ParamSpec("", 0, 0, "the emulated FCU's stored parameters (YAML NAME: value, relative to the mission file); empty: firmware defaults")
+          .start_only());
   declare(emulator_rc_, "emulator_rc", fcu::firmware::kDefaultRcScript,
           ParamSpec("", 0, 0, "the emulated pilot's transmitter over time (tern-fcu-emulator --rc), or none").start_only());
   declare(emulator_path_, "emulator_path", "",
@@ -88,16 +97,24 @@ void FcuSerial::declare_link_params() {
 }
 
 void FcuSerial::declare_mapping_params() {
-  declare(max_deflection_, "max_deflection", std::vector<double>{},
-          ParamSpec("rad", 0.01, 3.2, "aileron, elevator, rudder deflection at full pass-through command; empty: the aircraft file's servos limits (else 45 deg)").start_only());
+  declare(
+      max_deflection_, "max_deflection", std::vector<double>{},
+      ParamSpec("rad", 0.01, 3.2,
+                "aileron, elevator, rudder deflection at full pass-through command; empty: the aircraft file's servos limits (else 45 deg)")
+          .start_only());
   declare(channels_, "channels", "Qx Qy Qz Fx",
-          ParamSpec("", 0, 0, "the firmware's channel (Fx Fy Fz Qx Qy Qz) of aileron, elevator, rudder, throttle: "
-                              "its fixed-wing mixer routes Qx Qy Qz to the aileron, elevator, rudder servos and Fx to the motor").start_only());
-  declare(signs_, "signs", std::vector<double>{1, 1, 1, 1}, ParamSpec("", -1, 1, "+1 or -1 per aileron, elevator, rudder, throttle").of_size(4).start_only());
+          ParamSpec("", 0, 0,
+                    "the firmware's channel (Fx Fy Fz Qx Qy Qz) of aileron, elevator, rudder, throttle: "
+                    "its fixed-wing mixer routes Qx Qy Qz to the aileron, elevator, rudder servos and Fx to the motor")
+              .start_only());
+  declare(signs_, "signs", std::vector<double>{1, 1, 1, 1},
+          ParamSpec("", -1, 1, "+1 or -1 per aileron, elevator, rudder, throttle").of_size(4).start_only());
   declare(rc_channels_, "rc_channels", std::vector<double>{0, 1, 3, 2},
           ParamSpec("", 0, 17, "RC channel (0-based) of roll, pitch, yaw, throttle (ROSflight AETR)").of_size(4).start_only());
-  declare(rc_aux_channels_, "rc_aux_channels", std::vector<double>{4, 5, 6, 7}, ParamSpec("", 0, 17, "RC channels of aux[0..3]").of_size(4).start_only());
-  declare(rc_signs_, "rc_signs", std::vector<double>{1, 1, 1}, ParamSpec("", -1, 1, "+1 or -1 per roll, pitch, yaw stick").of_size(3).start_only());
+  declare(rc_aux_channels_, "rc_aux_channels", std::vector<double>{4, 5, 6, 7},
+          ParamSpec("", 0, 17, "RC channels of aux[0..3]").of_size(4).start_only());
+  declare(rc_signs_, "rc_signs", std::vector<double>{1, 1, 1},
+          ParamSpec("", -1, 1, "+1 or -1 per roll, pitch, yaw stick").of_size(3).start_only());
   declare(mag_scale_, "mag_scale", 1.0, ParamSpec("T", 1e-12, 1, "tesla per unit of SMALL_MAG (1: the FCU reports T)"));
 }
 
@@ -154,8 +171,7 @@ fcu::ActuatorMap FcuSerial::actuator_map(std::array<double, 3> max_deflection) c
 
 fcu::RcMap FcuSerial::rc_map() const {
   auto index = [this](double v, const char* name) {
-    if (v != std::floor(v))
-      throw ParamError("parameter '" + qname(name) + "': channel " + std::to_string(v) + " is not a whole number");
+    if (v != std::floor(v)) throw ParamError("parameter '" + qname(name) + "': channel " + std::to_string(v) + " is not a whole number");
     return static_cast<int>(v);
   };
   fcu::RcMap m;

@@ -25,8 +25,10 @@ void FcuSerial::step(tern::Nanos now) {
   }
   pull();
   if (policy_ == fcu::ClockPolicy::fcu) {
-    if (s_.link_lost || s_.imu_stalled) follow_host(now);
-    else wait_for(now);
+    if (s_.link_lost || s_.imu_stalled)
+      follow_host(now);
+    else
+      wait_for(now);
   }
   process(now);
   warn_without_rc(now);
@@ -80,9 +82,10 @@ void FcuSerial::wait_for(tern::Nanos now) {
 bool FcuSerial::lockstep_resend(tern::Nanos now) {
   const std::int64_t silent = fcu::steady_ns() - s_.last_rx.ns;
   if (silent > tern::from_seconds(link_timeout_()))
-    throw std::runtime_error(fmt::format("lockstep: nothing from the FCU for {:.2f} s at t={:.3f} s (link_timeout): "
-                                         "the emulator stopped, or is not running with --lockstep",
-                                         tern::to_seconds(silent), tern::to_seconds(now)));
+    throw std::runtime_error(
+        fmt::format("lockstep: nothing from the FCU for {:.2f} s at t={:.3f} s (link_timeout): "
+                    "the emulator stopped, or is not running with --lockstep",
+                    tern::to_seconds(silent), tern::to_seconds(now)));
   send_command();
   ++s_.lockstep_resends;
   return true;
@@ -157,8 +160,9 @@ void FcuSerial::warn_without_rc(tern::Nanos now) {
   if (!s_.first_step_now) s_.first_step_now = now;
   if (s_.rc_seen || s_.rc_warned || now - *s_.first_step_now < kRcCheckAfter) return;
   s_.rc_warned = true;
-  log().warn("no RC_CHANNELS from the FCU in the first second: without a receiver the firmware never mixes "
-             "(command_manager.cpp CommandManager::run mixes on a new RC frame), so the outputs will not move");
+  log().warn(
+      "no RC_CHANNELS from the FCU in the first second: without a receiver the firmware never mixes "
+      "(command_manager.cpp CommandManager::run mixes on a new RC frame), so the outputs will not move");
 }
 
 }  // namespace tern::fcu_serial

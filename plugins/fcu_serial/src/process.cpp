@@ -78,8 +78,7 @@ int ChildProcess::stop() {
     kill(pid_, SIGTERM);
     const std::int64_t deadline = mono_ns() + 2'000'000'000;
     pid_t r = 0;
-    while ((r = waitpid(pid_, &status, WNOHANG)) == 0 && mono_ns() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    while ((r = waitpid(pid_, &status, WNOHANG)) == 0 && mono_ns() < deadline) std::this_thread::sleep_for(std::chrono::milliseconds(5));
     if (r == 0) {
       kill(pid_, SIGKILL);
       waitpid(pid_, &status, 0);

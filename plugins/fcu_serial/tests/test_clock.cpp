@@ -29,7 +29,7 @@ TEST_CASE("clock policy: parsed once, anything but fcu or wall is one line namin
 TEST_CASE("clock fcu: the first IMU sample is the flight time of its step, later ones follow the FCU's clock") {
   FcuClock c(ClockPolicy::fcu, kGap);
   CHECK(c.reached(FcuTime{1'000 * kMs}, FlightTime{0}));  // not anchored: any sample will do
-  CHECK(take(c, 1'000 * kMs, 0).ns == 0);                  // the FCU streams from 1 s after boot
+  CHECK(take(c, 1'000 * kMs, 0).ns == 0);                 // the FCU streams from 1 s after boot
   CHECK(c.reached(FcuTime{1'010 * kMs}, FlightTime{10 * kMs}));
   CHECK_FALSE(c.reached(FcuTime{1'005 * kMs}, FlightTime{10 * kMs}));
   CHECK(take(c, 1'010 * kMs, 10 * kMs).ns == 10 * kMs);
@@ -63,7 +63,7 @@ TEST_CASE("clock fcu: a reboot (the FCU's clock going back) re-anchors without g
   CHECK(i.rebooted);
   CHECK(i.before.ns == 61'000 * kMs);
   CHECK(i.stamp.ns == 60'010 * kMs);
-  CHECK_FALSE(c.accept_imu(FcuTime{1'000 * kMs}, i.stamp).has_value());  // a new epoch, not a gap
+  CHECK_FALSE(c.accept_imu(FcuTime{1'000 * kMs}, i.stamp).has_value());                      // a new epoch, not a gap
   CHECK_FALSE(c.imu(FcuTime{1'000 * kMs}, HostTime{0}, FlightTime{60'010 * kMs}).rebooted);  // once
   CHECK(take(c, 1'010 * kMs, 60'020 * kMs).ns == 60'020 * kMs);
 }

@@ -110,8 +110,7 @@ TEST_CASE("link: a port that cannot be opened is one clear error") {
   LinkOptions o;
   o.device = "/dev/tern-no-such-device";
   Link link(o);
-  CHECK_THROWS_WITH_AS(link.start(), doctest::Contains("cannot open serial /dev/tern-no-such-device @ 921600"),
-                       std::runtime_error);
+  CHECK_THROWS_WITH_AS(link.start(), doctest::Contains("cannot open serial /dev/tern-no-such-device @ 921600"), std::runtime_error);
   CHECK_FALSE(link.running());
 }
 
@@ -138,17 +137,13 @@ TEST_CASE("link: UDP both ways (ROSflight SIL ports)") {
 
 TEST_CASE("plugin: bad parameters and a missing port are one clear line each") {
   using tern::fcu_serial::FcuSerial;
-  auto make = [](std::map<std::string, tern::ParamValue> p) {
-    return tern::testing::Harness(std::make_unique<FcuSerial>(), std::move(p));
-  };
-  CHECK_THROWS_WITH_AS(make({{"channels", std::string("Qx Qy Qy Fx")}}),
-                       doctest::Contains("rudder and elevator share channel Qy"), tern::ParamError);
+  auto make = [](std::map<std::string, tern::ParamValue> p) { return tern::testing::Harness(std::make_unique<FcuSerial>(), std::move(p)); };
+  CHECK_THROWS_WITH_AS(make({{"channels", std::string("Qx Qy Qy Fx")}}), doctest::Contains("rudder and elevator share channel Qy"),
+                       tern::ParamError);
   CHECK_THROWS_WITH_AS(make({{"channels", std::string("Qx Qy u5 Fx")}}), doctest::Contains("'u5' is not one of the firmware's channels"),
                        tern::ParamError);
-  CHECK_THROWS_WITH_AS(make({{"signs", std::vector<double>{1, 0.5, 1, 1}}}), doctest::Contains("sign must be +1 or -1"),
-                       tern::ParamError);
-  CHECK_THROWS_WITH_AS(make({{"rc_channels", std::vector<double>{0, 1, 3, 4}}}), doctest::Contains("mapped twice"),
-                       tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"signs", std::vector<double>{1, 0.5, 1, 1}}}), doctest::Contains("sign must be +1 or -1"), tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"rc_channels", std::vector<double>{0, 1, 3, 4}}}), doctest::Contains("mapped twice"), tern::ParamError);
   CHECK_THROWS_AS(make({{"command_rate", 20.0}}), tern::ParamError);  // below the FCU's 50 Hz
   CHECK_THROWS_AS(make({{"transport", std::string("can")}}), tern::ParamError);
   auto h = make({{"device", std::string("/dev/tern-no-such-fcu")}});
@@ -159,8 +154,7 @@ TEST_CASE("plugin: bad parameters and a missing port are one clear line each") {
 
 TEST_CASE("plugin: start() fails in one line when the FCU does not stream") {
   Pty pty;  // a port where nobody answers
-  tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(),
-                           {{"device", std::string(pty.name)}, {"connect_timeout", 0.3}});
+  tern::testing::Harness h(std::make_unique<tern::fcu_serial::FcuSerial>(), {{"device", std::string(pty.name)}, {"connect_timeout", 0.3}});
   CHECK_THROWS_WITH_AS(h.start(), doctest::Contains("no IMU data (SMALL_IMU) from the FCU on serial"), std::runtime_error);
 }
 
@@ -328,8 +322,7 @@ TEST_CASE("plugin: link loss, FCU reboot, RC override and corrupted bytes are re
        {"link_timeout", 0.3},
        {"wait_timeout", 0.1},
        {"emulator_args",
-        std::string("--init-mode air --speed 1 --silence 0.5:1.2 --reboot-at 1.6 --corrupt 0.01 --params " +
-                   std::string(TERN_FCU_PARAMS))},
+        std::string("--init-mode air --speed 1 --silence 0.5:1.2 --reboot-at 1.6 --corrupt 0.01 --params " + std::string(TERN_FCU_PARAMS))},
        {"emulator_rc", std::string("0 throttle=0 aux1=-1 aux2=-1; 0.1 aux2=1; 0.15 aux1=1; 0.2 aux2=-1; 2.0 aux2=1; 2.4 aux2=-1")}},
       ho);
   auto& plugin = static_cast<tern::fcu_serial::FcuSerial&>(h.plugin());
@@ -372,10 +365,22 @@ TEST_CASE("plugin: UDP (ROSflight SIL ports) and the wall clock mapped with TIME
   {
     // a configured FCU (mixer, arm switch) that the emulated pilot arms within 0.06 s: the
     // firmware boots disarmed and its motor output stays 0 until then (state_manager.cpp)
-    std::vector<std::string> argv{TERN_FCU_EMULATOR, "--aircraft", kAircraft, "--udp", "--udp-port", std::to_string(udp_port(1)),
-                                  "--udp-remote-port", std::to_string(udp_port(0)), "--speed", "1", "--init-mode", "air",
-                                  "--params", TERN_FCU_PARAMS,
-                                  "--rc", "0 throttle=0 aux1=-1 aux2=-1; 0.02 aux2=1; 0.04 aux1=1; 0.06 aux2=-1"};
+    std::vector<std::string> argv{TERN_FCU_EMULATOR,
+                                  "--aircraft",
+                                  kAircraft,
+                                  "--udp",
+                                  "--udp-port",
+                                  std::to_string(udp_port(1)),
+                                  "--udp-remote-port",
+                                  std::to_string(udp_port(0)),
+                                  "--speed",
+                                  "1",
+                                  "--init-mode",
+                                  "air",
+                                  "--params",
+                                  TERN_FCU_PARAMS,
+                                  "--rc",
+                                  "0 throttle=0 aux1=-1 aux2=-1; 0.02 aux2=1; 0.04 aux1=1; 0.06 aux2=-1"};
     emu = std::make_unique<ChildProcess>(argv);
     REQUIRE(emu->read_line(10'000'000'000) == "udp: 127.0.0.1:" + std::to_string(udp_port(1)));
   }

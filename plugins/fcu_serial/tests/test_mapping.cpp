@@ -20,10 +20,10 @@ TEST_CASE("actuators -> pass-through: the firmware's layout Qx Qy Qz Fx, scaled,
   Surfaces s{0.25, -0.1, 0.5, 0.6};
   const auto c = to_offboard(s, map);
   CHECK(c.mode == 0);
-  CHECK(c.u[3] == doctest::Approx(0.5));   // Qx: aileron
-  CHECK(c.u[4] == doctest::Approx(-0.25)); // Qy: elevator
-  CHECK(c.u[5] == doctest::Approx(1.0));   // Qz: rudder, 0.5 rad beyond the 0.25 rad limit: clamped
-  CHECK(c.u[0] == doctest::Approx(0.6));   // Fx: throttle
+  CHECK(c.u[3] == doctest::Approx(0.5));    // Qx: aileron
+  CHECK(c.u[4] == doctest::Approx(-0.25));  // Qy: elevator
+  CHECK(c.u[5] == doctest::Approx(1.0));    // Qz: rudder, 0.5 rad beyond the 0.25 rad limit: clamped
+  CHECK(c.u[0] == doctest::Approx(0.6));    // Fx: throttle
   CHECK(c.u[1] == 0.0f);
   CHECK(c.u[2] == 0.0f);
   CHECK(c.ignore == 0x3C0);  // u[6..9] ignored; an ignored u[0..5] would go to the pilot
@@ -110,4 +110,3 @@ TEST_CASE("time sync: offset from request/answer pairs, RTT filter, reboot reset
   CHECK(ts.resets() == 1);
   CHECK(ts.offset() == 2'000'000'000 - now);
 }
-

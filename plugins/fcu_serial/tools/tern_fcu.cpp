@@ -68,7 +68,9 @@ struct Client {
   }
 
   template <class T>
-  void send(const T& m) { link.send(enc.frame(m)); }
+  void send(const T& m) {
+    link.send(enc.frame(m));
+  }
 
   /// Collects decoded messages until `done` returns true or `timeout_s` passes without progress.
   template <class F>
@@ -99,8 +101,14 @@ std::string format_value(const mav::ParamValue& v) {
 }
 const char* type_name(std::uint8_t t) {
   switch (t) {
-    case 1: return "uint8"; case 2: return "int8"; case 3: return "uint16"; case 4: return "int16";
-    case 5: return "uint32"; case 6: return "int32"; case 9: return "float"; default: return "?";
+    case 1: return "uint8";
+    case 2: return "int8";
+    case 3: return "uint16";
+    case 4: return "int16";
+    case 5: return "uint32";
+    case 6: return "int32";
+    case 9: return "float";
+    default: return "?";
   }
 }
 
@@ -133,9 +141,12 @@ bool command(Client& c, fcu::RosflightCmd which, double timeout) {
     if (a && a->command == cmd.command) ok = a->success != 0;
     return ok.has_value();
   });
-  if (!ok) std::cerr << "tern fcu: no acknowledgement of command " << int(cmd.command) << "\n";
-  else if (!*ok) std::cerr << "tern fcu: the FCU refused command " << int(cmd.command) << " (armed?)\n";
-  else if (which == fcu::RosflightCmd::write_params) std::printf("written to flash\n");
+  if (!ok)
+    std::cerr << "tern fcu: no acknowledgement of command " << int(cmd.command) << "\n";
+  else if (!*ok)
+    std::cerr << "tern fcu: the FCU refused command " << int(cmd.command) << " (armed?)\n";
+  else if (which == fcu::RosflightCmd::write_params)
+    std::printf("written to flash\n");
   return ok.value_or(false);
 }
 

@@ -18,7 +18,8 @@ std::string what_sdl_sees() {
   std::string s = "SDL sees " + std::to_string(n) + ":";
   for (int i = 0; i < n; ++i) {
     const char* name = SDL_JoystickNameForIndex(i);
-    s += " [" + std::to_string(i) + "] " + (name ? name : "?") + (SDL_IsGameController(i) ? "" : " (no game-controller mapping: set SDL_GAMECONTROLLERCONFIG)");
+    s += " [" + std::to_string(i) + "] " + (name ? name : "?") +
+         (SDL_IsGameController(i) ? "" : " (no game-controller mapping: set SDL_GAMECONTROLLERCONFIG)");
   }
   return s;
 }
@@ -31,7 +32,10 @@ void JoystickPlugin::configure() {
   declare(pilot_, "pilot", "the pilot's sticks and switches from the game controller");
   declare(device_, "device", std::int64_t{0}, ParamSpec("", 0, 15, "game controller number (SDL's joystick index)").start_only());
   const ParamSpec axis("", 0, 5, "SDL game-controller axis: 0 left x, 1 left y, 2 right x, 3 right y, 4 left trigger, 5 right trigger");
-  auto with = [](ParamSpec s, const std::string& d) { s.description = d + " (" + s.description + ")"; return s; };
+  auto with = [](ParamSpec s, const std::string& d) {
+    s.description = d + " (" + s.description + ")";
+    return s;
+  };
   declare(roll_axis_, "roll_axis", std::int64_t{2}, with(axis, "axis of the roll stick"));
   declare(pitch_axis_, "pitch_axis", std::int64_t{3}, with(axis, "axis of the pitch stick"));
   declare(yaw_axis_, "yaw_axis", std::int64_t{0}, with(axis, "axis of the rudder stick"));

@@ -39,7 +39,7 @@ class JoystickPlugin final : public Plugin {
   Param<double> deadband_, expo_;
   _SDL_GameController* pad_ = nullptr;
   bool sdl_up_ = false;
-  bool manual_ = false, angle_ = false;                // the toggles' state
+  bool manual_ = false, angle_ = false;  // the toggles' state
   bool manual_was_down_ = false, angle_was_down_ = false;
 };
 

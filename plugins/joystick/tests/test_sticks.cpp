@@ -8,9 +8,9 @@ using namespace tern::joystick;
 TEST_CASE("deadband: centre travel reads 0, the rest is stretched back to full") {
   CHECK(shape(0.04, 0.05, 0.0) == 0.0);
   CHECK(shape(-0.05, 0.05, 0.0) == 0.0);
-  CHECK(shape(0.525, 0.05, 0.0) == doctest::Approx(0.5));   // (0.525 - 0.05) / 0.95
+  CHECK(shape(0.525, 0.05, 0.0) == doctest::Approx(0.5));  // (0.525 - 0.05) / 0.95
   CHECK(shape(-1.0, 0.05, 0.0) == doctest::Approx(-1.0));
-  CHECK(shape(1.7, 0.05, 0.0) == doctest::Approx(1.0));     // clamped
+  CHECK(shape(1.7, 0.05, 0.0) == doctest::Approx(1.0));  // clamped
 }
 
 TEST_CASE("expo: (1 - e) x + e x^3: softer near centre, full at full") {

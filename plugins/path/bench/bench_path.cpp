@@ -82,8 +82,8 @@ int main() {
   for (bool use_chi : {false, true}) {
     const auto track = flight(use_chi, steps);
     rows.push_back(measure(use_chi ? "manager_update_dubins_ns" : "manager_update_fillets_ns",
-                           use_chi ? "manager update (hourglass, Dubins)" : "manager update (hourglass, fillets)",
-                           steps, [&, m = PathManager()](long i) mutable {
+                           use_chi ? "manager update (hourglass, Dubins)" : "manager update (hourglass, fillets)", steps,
+                           [&, m = PathManager()](long i) mutable {
                              if (i == 0) {  // replay the flight from the start with a fresh manager
                                m = PathManager();
                                m.set_waypoints(hourglass(use_chi), true);
@@ -127,7 +127,7 @@ int main() {
   // a Dubins path (computed once per waypoint) cheap enough for replanning every step.
   const std::vector<std::pair<std::string, double>> targets = {
       {"manager_update_fillets_ns", 1000}, {"manager_update_dubins_ns", 1000}, {"follower_line_ns", 1000},
-      {"follower_orbit_ns", 1000},         {"dubins_path_ns", 5000},          {"fillet_ns", 1000}};
+      {"follower_orbit_ns", 1000},         {"dubins_path_ns", 5000},           {"fillet_ns", 1000}};
   std::printf("%-40s %12s %12s %12s %10s\n", "bench_path", "median ns", "min ns", "target ns", "calls");
   for (const auto& r : rows) {
     double target = 0;
@@ -143,8 +143,7 @@ int main() {
   for (const auto& r : rows) js << "  \"" << r.key << "\": " << r.median_ns << ",\n";
   for (const auto& r : rows) js << "  \"" << r.key.substr(0, r.key.size() - 3) << "_min_ns\": " << r.min_ns << ",\n";
   js << "  \"targets\": {";
-  for (std::size_t i = 0; i < targets.size(); ++i)
-    js << (i ? ", " : "") << "\"" << targets[i].first << "\": " << targets[i].second;
+  for (std::size_t i = 0; i < targets.size(); ++i) js << (i ? ", " : "") << "\"" << targets[i].first << "\": " << targets[i].second;
   js << "}\n}\n";
   std::printf("wrote %s\n", (dir / "bench_path.json").string().c_str());
   bool ok = true;

@@ -56,11 +56,11 @@ class PlannerPlugin final : public Plugin {
   Output<msg::WaypointList> waypoints_;
   Param<std::string> mission_file_;
 
-  Mission configured_;               ///< the mission as configured (reset() returns to it)
-  std::string configured_from_;      ///< mission_file when configured_ was read
-  std::vector<MissionWaypoint> wps_; ///< the mission now (lla entries unconverted)
+  Mission configured_;                ///< the mission as configured (reset() returns to it)
+  std::string configured_from_;       ///< mission_file when configured_ was read
+  std::vector<MissionWaypoint> wps_;  ///< the mission now (lla entries unconverted)
   bool loop_ = true;
-  bool dirty_ = true;                ///< the list changed since the last publish
+  bool dirty_ = true;  ///< the list changed since the last publish
   bool waiting_logged_ = false;
   bool held_ = false;                ///< edits made with publish_now = false wait to be published
   bool immediate_ = false;           ///< the next list published is flown at once (set_current)

@@ -12,12 +12,9 @@ void FollowerPlugin::configure() {
   declare(path_, "current_path", "the segment to follow, from the path manager");
   declare(command_, "controller_command", "Va_c, h_c, chi_c and the orbit roll feed-forward phi_ff");
   // Defaults: ROSplane's Anaconda parameters (rosplane/params/anaconda_autopilot_params.yaml).
-  declare(chi_infty_, "chi_infty", 1.2,
-          ParamSpec("rad", 0.01, 1.5707963267948966, "approach course to a line from far away (chi^inf)"));
-  declare(k_path_, "k_path", 0.0175,
-          ParamSpec("1/m", 1e-5, 10.0, "line vector-field gain: how sharply the field turns near the line"));
-  declare(k_orbit_, "k_orbit", 0.5,
-          ParamSpec("", 0.01, 100.0, "orbit vector-field gain: how sharply the field turns near the orbit"));
+  declare(chi_infty_, "chi_infty", 1.2, ParamSpec("rad", 0.01, 1.5707963267948966, "approach course to a line from far away (chi^inf)"));
+  declare(k_path_, "k_path", 0.0175, ParamSpec("1/m", 1e-5, 10.0, "line vector-field gain: how sharply the field turns near the line"));
+  declare(k_orbit_, "k_orbit", 0.5, ParamSpec("", 0.01, 100.0, "orbit vector-field gain: how sharply the field turns near the orbit"));
 }
 
 void FollowerPlugin::step(Nanos now) {
@@ -38,9 +35,8 @@ void FollowerPlugin::step(Nanos now) {
   seg.c = p.c;
   seg.rho = p.rho;
   seg.lambda = p.lambda;
-  const bool ok = in.p.allFinite() && std::isfinite(s.chi) && std::isfinite(p.Va_d) && p.r.allFinite() &&
-                  p.q.allFinite() && p.c.allFinite() && std::isfinite(p.rho) &&
-                  (seg.type == PathSegment::Type::line || p.rho > 0.0);
+  const bool ok = in.p.allFinite() && std::isfinite(s.chi) && std::isfinite(p.Va_d) && p.r.allFinite() && p.q.allFinite() &&
+                  p.c.allFinite() && std::isfinite(p.rho) && (seg.type == PathSegment::Type::line || p.rho > 0.0);
   if (!ok) {
     if (!warned_nan_) log().warn("state or current_path is not finite (or orbit radius <= 0): no command this step");
     warned_nan_ = true;

@@ -33,14 +33,10 @@ double arc(double x) {
 }
 
 /// Point at distance R from centre c in direction of course angle a (d of c).
-Vec3 on_circle(const Vec3& c, double R, double a) {
-  return {c.x() + R * std::cos(a), c.y() + R * std::sin(a), c.z()};
-}
+Vec3 on_circle(const Vec3& c, double R, double a) { return {c.x() + R * std::cos(a), c.y() + R * std::sin(a), c.z()}; }
 }  // namespace
 
-bool in_half_plane(const Vec3& p, const Vec3& z, const Vec3& n) {
-  return (p.x() - z.x()) * n.x() + (p.y() - z.y()) * n.y() >= 0.0;
-}
+bool in_half_plane(const Vec3& p, const Vec3& z, const Vec3& n) { return (p.x() - z.x()) * n.x() + (p.y() - z.y()) * n.y() >= 0.0; }
 
 Vec3 line_switch_normal(const Vec3& q_in, const Vec3& q_out) {
   Vec3 s(q_in.x() + q_out.x(), q_in.y() + q_out.y(), 0.0);
@@ -89,8 +85,8 @@ Fillet compute_fillet(const Vec3& w_prev, const Vec3& w, const Vec3& w_next, dou
 }
 
 double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g) {
-  if (!(Va > 0.0) || !std::isfinite(Va) || !wind.head<2>().allFinite() || !std::isfinite(chi0) ||
-      !std::isfinite(sweep) || !(phi > 0.0) || !(phi < kPi / 2.0) || !(g > 0.0))
+  if (!(Va > 0.0) || !std::isfinite(Va) || !wind.head<2>().allFinite() || !std::isfinite(chi0) || !std::isfinite(sweep) || !(phi > 0.0) ||
+      !(phi < kPi / 2.0) || !(g > 0.0))
     return 0.0;
   const double span = std::min(std::fabs(sweep), 2.0 * kPi);
   const int n = std::max(2, static_cast<int>(std::ceil(span / (kPi / 90.0))) + 1);  // every 2 deg or finer
@@ -101,8 +97,7 @@ double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, 
   const double downwind = windy ? tern::wrap_2pi(dir * (std::atan2(wind.y(), wind.x()) - chi0)) : 0.0;
   for (int i = 0; i <= n; ++i) {
     if (i == n && !(windy && downwind <= span)) break;
-    const double chi = i < n ? chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1)
-                             : chi0 + dir * downwind;
+    const double chi = i < n ? chi0 + dir * span * static_cast<double>(i) / static_cast<double>(n - 1) : chi0 + dir * downwind;
     const double c = std::cos(chi), s = std::sin(chi);
     const double w_along = wind.x() * c + wind.y() * s;
     const double w_cross = -wind.x() * s + wind.y() * c;

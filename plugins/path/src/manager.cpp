@@ -34,8 +34,7 @@ Vec3 unit3(const Vec3& from, const Vec3& to, const Vec3& fallback) {
 }
 }  // namespace
 
-PathManager::PathManager(ManagerConfig config, Message warn, Message info)
-    : warn_(std::move(warn)), info_(std::move(info)) {
+PathManager::PathManager(ManagerConfig config, Message warn, Message info) : warn_(std::move(warn)), info_(std::move(info)) {
   set_config(config);
 }
 
@@ -47,8 +46,7 @@ void PathManager::set_config(const ManagerConfig& c) {
   positive(c.R_min, "R_min");
   positive(c.default_airspeed, "default_airspeed");
   positive(c.min_separation, "min_separation");
-  if (!std::isfinite(c.default_altitude))
-    throw std::invalid_argument("path manager: default_altitude must be finite");
+  if (!std::isfinite(c.default_altitude)) throw std::invalid_argument("path manager: default_altitude must be finite");
   if (!(c.turn_bank >= 0.0 && c.turn_bank <= 1.4))
     throw std::invalid_argument("path manager: turn_bank must be in [0, 1.4] rad, got " + fmt(c.turn_bank, 6));
   cfg_ = c;
@@ -157,9 +155,8 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
     if (!out.empty() && !orbits(e.wp) && !orbits(out.back().wp)) {
       const double d = horizontal_distance(out.back().wp.w, e.wp.w);
       if (d < cfg_.min_separation) {
-        warn_once("rep" + std::to_string(i), "waypoint " + std::to_string(i) + " repeats waypoint " +
-                                                 std::to_string(out.back().index) + " (" + fmt(d, 2) +
-                                                 " m apart): skipped");
+        warn_once("rep" + std::to_string(i), "waypoint " + std::to_string(i) + " repeats waypoint " + std::to_string(out.back().index) +
+                                                 " (" + fmt(d, 2) + " m apart): skipped");
         continue;
       }
     }
@@ -168,9 +165,8 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
   if (loop_ && out.size() > 1 && !orbits(out.back().wp) && !orbits(out.front().wp)) {
     const double d = horizontal_distance(out.back().wp.w, out.front().wp.w);
     if (d < cfg_.min_separation) {
-      warn_once("rep" + std::to_string(out.back().index),
-                "waypoint " + std::to_string(out.back().index) + " repeats waypoint " +
-                    std::to_string(out.front().index) + " where the loop closes: skipped");
+      warn_once("rep" + std::to_string(out.back().index), "waypoint " + std::to_string(out.back().index) + " repeats waypoint " +
+                                                              std::to_string(out.front().index) + " where the loop closes: skipped");
       out.pop_back();
     }
   }
@@ -195,8 +191,7 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
     return;
   }
   if (wps_.size() == 1) {
-    warn_once("one", "one-waypoint mission: orbiting waypoint " + std::to_string(wps_[0].index) + " (radius " +
-                         fmt(cfg_.R_min) + " m)");
+    warn_once("one", "one-waypoint mission: orbiting waypoint " + std::to_string(wps_[0].index) + " (radius " + fmt(cfg_.R_min) + " m)");
     mode_ = Mode::waypoint_orbit;
     stage_ = Stage::orbit;
     target_ = 0;
@@ -268,10 +263,10 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
     seg_R_ = R;
     dubins_ = dubins_path(ps, chi_s, wt.w, wt.chi_d, R);
     if (dubins_.close)
-      warn_once("dubins" + std::to_string(idx),
-                "waypoint " + std::to_string(idx) + ": Dubins path starts " + fmt(horizontal_distance(ps, wt.w)) +
-                    " m away, closer than 2 R_min = " + fmt(2 * R) + " m: flying the shortest possible type (" +
-                    std::string(dubins_type_name(dubins_.type)) + ", " + fmt(dubins_.length) + " m)");
+      warn_once("dubins" + std::to_string(idx), "waypoint " + std::to_string(idx) + ": Dubins path starts " +
+                                                    fmt(horizontal_distance(ps, wt.w)) + " m away, closer than 2 R_min = " + fmt(2 * R) +
+                                                    " m: flying the shortest possible type (" +
+                                                    std::string(dubins_type_name(dubins_.type)) + ", " + fmt(dubins_.length) + " m)");
     // Alg. 8 state 1 waits until the aircraft is behind z1; when the start arc is shorter than
     // half a circle the aircraft (at ps) already is, and waiting could cost a full circle when
     // the arc is ~0 and the aircraft has just passed z1.
@@ -298,10 +293,10 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
       const double R_fit = tan_half_turn > 1e-9 ? half_leg / tan_half_turn : R_wind;
       R = std::max(cfg_.R_min, std::min(R_wind, R_fit));
       if (R_wind > R + 1e-6)
-        warn_once("bank" + std::to_string(idx),
-                  "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) + " m for " +
-                      fmt(cfg_.turn_bank * 180.0 / kPi) + " deg of bank in the wind; its legs leave room for " +
-                      fmt(R_fit) + " m: flying " + fmt(R) + " m");
+        warn_once("bank" + std::to_string(idx), "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) +
+                                                    " m for " + fmt(cfg_.turn_bank * 180.0 / kPi) +
+                                                    " deg of bank in the wind; its legs leave room for " + fmt(R_fit) + " m: flying " +
+                                                    fmt(R) + " m");
       seg_R_ = R;
     }
     fillet_ = compute_fillet(prev_, wt.w, w_next, R);
@@ -319,8 +314,8 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   const Vec3 q_out = Vec3(w_next.x() - wt.w.x(), w_next.y() - wt.w.y(), 0.0).normalized();
   switch_n_ = line_switch_normal(q_in, q_out);
   if ((q_in + q_out).norm() < 1e-6)
-    warn_once("back" + std::to_string(idx), "waypoint " + std::to_string(idx) +
-                                                ": the path doubles back (180 deg): switching when the aircraft passes it");
+    warn_once("back" + std::to_string(idx),
+              "waypoint " + std::to_string(idx) + ": the path doubles back (180 deg): switching when the aircraft passes it");
 }
 
 void PathManager::advance(const Vec3& p, double chi) {
@@ -388,8 +383,7 @@ bool PathManager::loiter_done(const Vec3& p, double t) {
 }
 
 PathSegment PathManager::current_segment() const {
-  if (mode_ == Mode::origin_orbit)
-    return orbit_segment(Vec3(0.0, 0.0, -cfg_.default_altitude), -1, cfg_.default_airspeed);
+  if (mode_ == Mode::origin_orbit) return orbit_segment(Vec3(0.0, 0.0, -cfg_.default_altitude), -1, cfg_.default_airspeed);
   const MissionPoint& wt = wps_[target_].wp;
   const int idx = wps_[target_].index;
   if (mode_ == Mode::waypoint_orbit || stage_ == Stage::loiter)
@@ -453,8 +447,7 @@ PathSegment PathManager::update(const Vec3& p, double chi, double t) {
         if (in_half_plane(p, dubins_.z1, dubins_.q1)) stage_ = Stage::dubins_3;
         break;
       case Stage::dubins_3:
-        if (in_half_plane(p, dubins_.z2, dubins_.q1))
-          stage_ = dubins_.arc_e < kPi ? Stage::dubins_5 : Stage::dubins_4;
+        if (in_half_plane(p, dubins_.z2, dubins_.q1)) stage_ = dubins_.arc_e < kPi ? Stage::dubins_5 : Stage::dubins_4;
         break;
       case Stage::dubins_4:
         if (in_half_plane(p, dubins_.z3, -dubins_.q3)) stage_ = Stage::dubins_5;

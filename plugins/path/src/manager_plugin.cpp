@@ -13,22 +13,18 @@ void ManagerPlugin::configure() {
   declare(waypoints_, "waypoints", "the mission from the path planner, NED");
   declare(path_, "current_path", "the segment to follow now (line or orbit)");
   // Defaults: ROSplane's Anaconda parameters (rosplane/params/anaconda_autopilot_params.yaml).
-  declare(R_min_, "R_min", 50.0,
-          ParamSpec("m", 1.0, 10000.0, "minimum turn radius: fillets, Dubins paths and orbits"));
-  declare(orbit_last_, "orbit_last", false,
-          ParamSpec("", 0, 0, "orbit the last waypoint instead of looping the mission"));
+  declare(R_min_, "R_min", 50.0, ParamSpec("m", 1.0, 10000.0, "minimum turn radius: fillets, Dubins paths and orbits"));
+  declare(orbit_last_, "orbit_last", false, ParamSpec("", 0, 0, "orbit the last waypoint instead of looping the mission"));
   declare(default_altitude_, "default_altitude", 50.0,
           ParamSpec("m", -1000.0, 20000.0, "altitude above the origin of the origin orbit (no waypoints)"));
   declare(default_airspeed_, "default_airspeed", 15.0,
           ParamSpec("m/s", 1.0, 200.0, "airspeed of waypoints with Va_d = 0 and of the origin orbit"));
   declare(corner_, "corner", "fillet",
-          ParamSpec("", 0, 0, "corners of waypoints without use_chi: fillet (Alg. 6) or line (Alg. 5)")
-              .one_of({"fillet", "line"}));
+          ParamSpec("", 0, 0, "corners of waypoints without use_chi: fillet (Alg. 6) or line (Alg. 5)").one_of({"fillet", "line"}));
   declare(min_separation_, "min_separation", 1.0,
           ParamSpec("m", 0.01, 1000.0, "waypoints closer than this (horizontally) count as repeats"));
   declare(turn_bank_, "turn_bank", 0.0,
-          ParamSpec("rad", 0.0, 1.4,
-                    "bank angle turns are planned for in the estimated wind (radius >= R_min); 0: every turn R_min"));
+          ParamSpec("rad", 0.0, 1.4, "bank angle turns are planned for in the estimated wind (radius >= R_min); 0: every turn R_min"));
   declare(wind_tau_, "wind_tau", 30.0,
           ParamSpec("s", 0.0, 3600.0, "time constant of the low-pass on the state's wind used for turn_bank radii"));
   turn_bank_.on_change([this](const double&) { rebuild(); });
@@ -41,8 +37,7 @@ void ManagerPlugin::configure() {
   if (context().describing()) return;
   auto logger = context().logger();
   manager_ = std::make_unique<PathManager>(
-      config(), [logger](const std::string& s) { logger->warn("{}", s); },
-      [logger](const std::string& s) { logger->info("{}", s); });
+      config(), [logger](const std::string& s) { logger->warn("{}", s); }, [logger](const std::string& s) { logger->info("{}", s); });
 }
 
 ManagerConfig ManagerPlugin::config() const {
@@ -66,8 +61,7 @@ void ManagerPlugin::start() { revision_.reset(); }
 void ManagerPlugin::reset() {
   auto logger = context().logger();
   manager_ = std::make_unique<PathManager>(
-      config(), [logger](const std::string& s) { logger->warn("{}", s); },
-      [logger](const std::string& s) { logger->info("{}", s); });
+      config(), [logger](const std::string& s) { logger->warn("{}", s); }, [logger](const std::string& s) { logger->info("{}", s); });
   revision_.reset();
   wind_ = Vec3::Zero();
   wind_stamp_.reset();
@@ -81,8 +75,8 @@ void ManagerPlugin::step(Nanos now) {
     revision_ = list.revision;
     const std::size_t n = std::min<std::size_t>(list.count, msg::WaypointList::kCapacity);
     if (list.count > msg::WaypointList::kCapacity)
-      log().warn("waypoints revision {}: count {} exceeds the capacity {}: the rest is ignored", list.revision,
-                 list.count, msg::WaypointList::kCapacity);
+      log().warn("waypoints revision {}: count {} exceeds the capacity {}: the rest is ignored", list.revision, list.count,
+                 msg::WaypointList::kCapacity);
     std::vector<MissionPoint> wps(n);
     for (std::size_t i = 0; i < n; ++i) {
       const auto& w = list.items[i];

@@ -52,8 +52,7 @@ bool as_bool(const YAML::Node& n, const Ctx& c, const std::string& field) {
 }
 
 Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& field) {
-  if (!n.IsSequence() || n.size() != 3)
-    throw MissionError(c.prefix(n) + field + ": expected a list of 3 numbers");
+  if (!n.IsSequence() || n.size() != 3) throw MissionError(c.prefix(n) + field + ": expected a list of 3 numbers");
   Eigen::Vector3d v;
   for (std::size_t i = 0; i < 3; ++i) v[static_cast<Eigen::Index>(i)] = as_double(n[i], c, field + "[" + std::to_string(i) + "]");
   return v;
@@ -83,7 +82,7 @@ double as_non_negative(const YAML::Node& n, const Ctx& c, const std::string& fie
 /// The entry's keys that only loiter and return_home items take; checked once the type is known.
 struct ItemKeys {
   bool radius = false, direction = false, time = false, turns = false, chi = false;  // given
-  YAML::Node altitude;  // (null when not given)
+  YAML::Node altitude;                                                               // (null when not given)
 };
 
 // Type-specific checks and the return_home position (altitude: NaN when not given, filled in
@@ -108,8 +107,8 @@ void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YA
   if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
 }
 
-const std::vector<std::string> kEntryKeys = {"ned", "w", "lla", "chi_d", "use_chi", "Va_d", "va_d", "type",
-                                             "radius", "direction", "time", "turns", "altitude"};
+const std::vector<std::string> kEntryKeys = {"ned",  "w",      "lla",       "chi_d", "use_chi", "Va_d",    "va_d",
+                                             "type", "radius", "direction", "time",  "turns",   "altitude"};
 
 MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string& name, double default_Va) {
   MissionWaypoint wp;
@@ -121,8 +120,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
     validate_waypoint(wp, c.prefix(n) + name);
     return wp;
   }
-  if (!n.IsMap())
-    throw MissionError(c.prefix(n) + name + ": expected [n, e, d] or a map with ned, w or lla");
+  if (!n.IsMap()) throw MissionError(c.prefix(n) + name + ": expected [n, e, d] or a map with ned, w or lla");
   int positions = 0;
   bool lla_flag = false;
   ItemKeys k;
@@ -279,8 +277,7 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     try {
       doc = YAML::Load(chunks[k].second);
     } catch (const YAML::Exception& e) {
-      throw MissionError(source + ":" + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) +
-                         ": " + e.msg);
+      throw MissionError(source + ":" + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) + ": " + e.msg);
     }
     m.waypoints.push_back(parse_entry(doc["wp"], c, "wp " + std::to_string(k + 1), 0.0));
     m.waypoints.back().line = chunks[k].first;  // the entry's `wp:` line
@@ -324,10 +321,8 @@ void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
     throw MissionError(where + ": loiter time " + num(wp.loiter.time) + " s and turns " + num(wp.loiter.turns) + " must be >= 0");
   if (wp.type == ItemType::return_home && wp.lla) throw MissionError(where + ": return_home takes no lat/lon (home is the origin)");
   if (wp.lla) {
-    if (std::fabs(wp.w.x()) > 90.0)
-      throw MissionError(where + ": latitude " + num(wp.w.x()) + " deg is outside [-90, 90]");
-    if (std::fabs(wp.w.y()) > 180.0)
-      throw MissionError(where + ": longitude " + num(wp.w.y()) + " deg is outside [-180, 180]");
+    if (std::fabs(wp.w.x()) > 90.0) throw MissionError(where + ": latitude " + num(wp.w.x()) + " deg is outside [-90, 90]");
+    if (std::fabs(wp.w.y()) > 180.0) throw MissionError(where + ": longitude " + num(wp.w.y()) + " deg is outside [-180, 180]");
   }
 }
 

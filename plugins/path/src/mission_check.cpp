@@ -68,8 +68,8 @@ void check_fence(const std::string& where, const Eigen::Vector3d& p, const Missi
 }
 
 /// The leg from `a` to `b` (both plain waypoints).
-void check_leg(const Mission& m, const MissionWaypoint& a, const Eigen::Vector3d& pa, const MissionWaypoint& b,
-               const Eigen::Vector3d& pb, const MissionLimits& l, std::vector<MissionProblem>& out) {
+void check_leg(const Mission& m, const MissionWaypoint& a, const Eigen::Vector3d& pa, const MissionWaypoint& b, const Eigen::Vector3d& pb,
+               const MissionLimits& l, std::vector<MissionProblem>& out) {
   const double d = std::hypot(pb.x() - pa.x(), pb.y() - pa.y());
   const std::string from = a.field.empty() ? "the previous waypoint" : a.field;
   if (d < l.min_separation)

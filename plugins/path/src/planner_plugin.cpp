@@ -104,15 +104,16 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
         wps_.assign(1, wp);
         immediate_ = true;
       } else if (wps_.size() >= msg::WaypointList::kCapacity) {
-        log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag,
-                    wps_.size());
+        log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag, wps_.size());
         return;
       } else {
         wps_.push_back(wp);
       }
       log().info("{}: waypoint added ({} now){}", tag, wps_.size(), e.set_current_wp ? ", starting a new list" : "");
-      if (e.publish_now || e.set_current_wp) dirty_ = true;
-      else held_ = true;
+      if (e.publish_now || e.set_current_wp)
+        dirty_ = true;
+      else
+        held_ = true;
       return;
     }
     case msg::MissionEdit::clear:
@@ -147,8 +148,7 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
       }
       return;
     }
-    default:
-      log().error("{}: unknown operation {} ignored", tag, static_cast<int>(e.op));
+    default: log().error("{}: unknown operation {} ignored", tag, static_cast<int>(e.op));
   }
 }
 
@@ -163,8 +163,8 @@ void PlannerPlugin::step(Nanos now) {
   if (state_.has_value() && state_->origin_valid) {
     const GeoOrigin o{state_->origin_lat, state_->origin_lon, state_->origin_alt};
     const bool changed = !origin_ || origin_->lat != o.lat || origin_->lon != o.lon || origin_->alt != o.alt;
-    if (changed && std::isfinite(o.lat) && std::isfinite(o.lon) && std::isfinite(o.alt) &&
-        std::fabs(o.lat) <= 90.0 && std::fabs(o.lon) <= 180.0) {
+    if (changed && std::isfinite(o.lat) && std::isfinite(o.lon) && std::isfinite(o.alt) && std::fabs(o.lat) <= 90.0 &&
+        std::fabs(o.lon) <= 180.0) {
       const bool had = origin_.has_value();
       origin_ = o;
       const bool any_lla = std::any_of(wps_.begin(), wps_.end(), [](const auto& w) { return w.lla; });

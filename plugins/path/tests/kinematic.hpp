@@ -22,9 +22,9 @@ struct KinematicAircraft {
   double Va = 17.0;                  ///< airspeed, m/s (follows Va_c with a time constant)
   double kp_chi = 2.0;               ///< course loop gain, rad roll per rad course error
   double phi_max = 45.0 * 3.14159265358979323846 / 180.0;
-  double tau_phi = 0.3;              ///< roll time constant, s
-  double tau_h = 3.0;                ///< altitude time constant, s
-  double climb_max = 5.0;            ///< m/s
+  double tau_phi = 0.3;    ///< roll time constant, s
+  double tau_h = 3.0;      ///< altitude time constant, s
+  double climb_max = 5.0;  ///< m/s
 
   Eigen::Vector3d p() const { return {n, e, -h}; }
   double Vg() const { return std::hypot(Va * std::cos(psi) + w_n, Va * std::sin(psi) + w_e); }

@@ -34,9 +34,9 @@ TEST_CASE("line switching: half-plane at the bisector of the corner (Alg. 5)") {
   const Vec3 n = line_switch_normal(q_in, q_out);
   check_vec(n, Vec3(std::sqrt(0.5), std::sqrt(0.5), 0));
   const Vec3 w(100, 0, -50);
-  CHECK(in_half_plane(Vec3(90, 10, -50), w, n));        // on the boundary: switches
+  CHECK(in_half_plane(Vec3(90, 10, -50), w, n));  // on the boundary: switches
   CHECK_FALSE(in_half_plane(Vec3(90, 9.9, -50), w, n));
-  CHECK(in_half_plane(Vec3(100, 0, 0), w, n));          // altitude does not matter
+  CHECK(in_half_plane(Vec3(100, 0, 0), w, n));  // altitude does not matter
   // Doubling back: the normal is the incoming direction (switch when passing w).
   check_vec(line_switch_normal(q_in, -q_in), q_in);
 }
@@ -97,8 +97,7 @@ TEST_CASE("Dubins: type, length and tangent points, hand-worked (Alg. 7)") {
     CHECK(P.length == Approx(300.0 + R * kPi));
     CHECK(P.lengths[3] == Approx(500.0 + 3 * R * kPi));  // LSL: three-quarter circles each end
     CHECK(P.lengths[1] == Approx(P.lengths[2]));         // RSL and LSR mirror each other here
-    CHECK(P.lengths[1] == Approx(R * (kPi / 2 + std::asin(0.25)) + std::sqrt(150000.0) +
-                                 R * (2 * kPi - (kPi / 2 - std::asin(0.25)))));
+    CHECK(P.lengths[1] == Approx(R * (kPi / 2 + std::asin(0.25)) + std::sqrt(150000.0) + R * (2 * kPi - (kPi / 2 - std::asin(0.25)))));
     check_vec(P.cs, Vec3(0, 50, -50));
     check_vec(P.ce, Vec3(0, 350, -50));
     check_vec(P.z1, Vec3(50, 50, -50));
@@ -124,8 +123,8 @@ TEST_CASE("Dubins: type, length and tangent points, hand-worked (Alg. 7)") {
     const double psi = kPi / 2 + std::asin(1.0 / 3.0);
     CHECK(P.length == Approx(2 * R * psi + std::sqrt(80000.0)));
     CHECK(P.length == Approx(473.907).epsilon(1e-5));
-    CHECK(P.lengths[0] == Approx(400.0 + 2 * R * kPi));  // RSR
-    CHECK(P.lengths[3] == Approx(400.0 + 2 * R * kPi));  // LSL
+    CHECK(P.lengths[0] == Approx(400.0 + 2 * R * kPi));                                                   // RSR
+    CHECK(P.lengths[3] == Approx(400.0 + 2 * R * kPi));                                                   // LSL
     CHECK(P.lengths[2] == Approx(2 * R * (2 * kPi - (kPi / 2 - std::asin(0.2))) + std::sqrt(240000.0)));  // LSR
     check_vec(P.z1, Vec3(50 * std::sqrt(8.0 / 9.0), 50 + 50.0 / 3.0, 0), 1e-9);
     check_vec(P.ce, Vec3(0, 350, 0));
@@ -331,8 +330,7 @@ TEST_CASE("wind_turn_radius: the radius at which a ground circle needs at most t
   // speed is at the start, 5 cos 45 + sqrt(17^2 - (5 sin 45)^2), with that crab angle
   const double Vg = 5.0 * std::cos(kPi / 4) + std::sqrt(Va * Va - 12.5);
   const double cos_crab = std::sqrt(1.0 - 12.5 / (Va * Va));
-  CHECK(wind_turn_radius(Va, w, -kPi / 2, -104.0 * kPi / 180.0, phi) ==
-        Approx(Vg * Vg / (g * std::tan(phi) * cos_crab)).epsilon(1e-9));
+  CHECK(wind_turn_radius(Va, w, -kPi / 2, -104.0 * kPi / 180.0, phi) == Approx(Vg * Vg / (g * std::tan(phi) * cos_crab)).epsilon(1e-9));
   // the bank a circle of that radius asks for is the follower's feed-forward: never above phi
   const double R = wind_turn_radius(Va, w, 0.0, 2.0 * kPi, phi);
   for (int i = 0; i < 360; ++i) {

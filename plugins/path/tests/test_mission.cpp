@@ -59,10 +59,10 @@ TEST_CASE("mission: ROSplane format errors name the file, line and field") {
     CHECK(std::string(e.what()) == "m.yaml:5: wp 2.w[1]: 'abc' is not a number");
   }
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\nfoo: 1\n", "m.yaml"),
-                       "m.yaml:3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)",
-                       MissionError);
+                       "m.yaml:3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)", MissionError);
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
-                       "m.yaml:3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, va_d, type, radius, direction, time, turns, altitude)",
+                       "m.yaml:3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, va_d, type, radius, direction, "
+                       "time, turns, altitude)",
                        MissionError);
 }
 
@@ -124,8 +124,7 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], Va_d: -3}"), "Va_d -3 m/s must be >= 0"));
   CHECK(contains(error_of("waypoints:\n  - {chi_d: 1}"), "waypoints[0]: no position"));
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], w: [1, 2, 3]}"), "more than one position"));
-  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], use_chi: maybe}"),
-                 "waypoints[0].use_chi: 'maybe' is not true or false"));
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], use_chi: maybe}"), "waypoints[0].use_chi: 'maybe' is not true or false"));
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], speed: 3}"), "unknown key 'speed'"));
   CHECK(contains(error_of("waypoint: []"), ":1: unknown key 'waypoint'"));
   CHECK(contains(error_of("file: nowhere.yaml"), "nowhere.yaml: cannot read the mission file"));
@@ -142,7 +141,8 @@ waypoints:
   - {type: loiter, ned: [300, 300, -80], radius: 60, direction: ccw, turns: 2, time: 90}
   - {type: return_home}
   - {type: return_home, altitude: 100, radius: 90}
-)"), kData);
+)"),
+                                          kData);
   REQUIRE(m.waypoints.size() == 4);
   CHECK(m.waypoints[0].type == ItemType::waypoint);
   const auto& l = m.waypoints[1];
@@ -157,8 +157,8 @@ waypoints:
   CHECK(m.waypoints[3].w == Eigen::Vector3d(0, 0, -100));
   CHECK(m.waypoints[3].loiter.radius == 90.0);
   CHECK(m.waypoints[3].loiter.direction == 1);
-  const Mission r = parse_mission_text("wp:\n  w: [100, 0, -50]\nwp:\n  w: [100, 100, -50]\n  type: loiter\n  time: 30\nwp:\n  type: return_home\n",
-                                       "ros.yaml");
+  const Mission r = parse_mission_text(
+      "wp:\n  w: [100, 0, -50]\nwp:\n  w: [100, 100, -50]\n  type: loiter\n  time: 30\nwp:\n  type: return_home\n", "ros.yaml");
   REQUIRE(r.waypoints.size() == 3);
   CHECK(r.waypoints[1].type == ItemType::loiter);
   CHECK(r.waypoints[1].loiter.time == 30.0);

@@ -35,8 +35,7 @@ MissionLimits with_turns(double R_min) {
 }  // namespace
 
 TEST_CASE("mission check: the hourglass, in NED and in LLA about the simulator's origin, has no problem") {
-  const std::string hourglass =
-      "waypoints:\n  - [400, -250, -70]\n  - [-400, -50, -70]\n  - [-400, -250, -70]\n  - [400, -50, -70]\n";
+  const std::string hourglass = "waypoints:\n  - [400, -250, -70]\n  - [-400, -50, -70]\n  - [-400, -250, -70]\n  - [400, -50, -70]\n";
   MissionLimits l = with_turns(50.0);
   CHECK(problems(hourglass, l).empty());
   l.origin = kOrigin;
@@ -58,14 +57,16 @@ TEST_CASE("mission check: below the ground, in NED and in LLA, names file:line a
 
 TEST_CASE("mission check: the lla flag forgotten: below the ground, and the coordinates draw a warning") {
   // a ROSplane file whose author meant latitude/longitude/altitude but left lla: False
-  const auto ps = problems("wp:\n  w: [400.0, -250.0, -70.0]\n  va_d: 17.0\n"
-                           "wp:\n  w: [40.2499718, -111.6503560, 1457.0]\n  lla: False\n  va_d: 17.0\n");
+  const auto ps = problems(
+      "wp:\n  w: [400.0, -250.0, -70.0]\n  va_d: 17.0\n"
+      "wp:\n  w: [40.2499718, -111.6503560, 1457.0]\n  lla: False\n  va_d: 17.0\n");
   const auto errors = texts(ps, true), warnings = texts(ps, false);
   REQUIRE(errors.size() == 1);
   CHECK(errors[0].find("m.yaml:4: wp 2: down = 1457 m: 1457.0 m below home, below the ground") == 0);
   REQUIRE(warnings.size() == 1);
-  CHECK(warnings[0] == "m.yaml:4: wp 2: [40.2499718, -111.650356, 1457] is NED (m) but looks like latitude, longitude, altitude: "
-                       "lla: true forgotten?");
+  CHECK(warnings[0] ==
+        "m.yaml:4: wp 2: [40.2499718, -111.650356, 1457] is NED (m) but looks like latitude, longitude, altitude: "
+        "lla: true forgotten?");
   // metres with a decimal or three are not coordinates
   CHECK(problems("waypoints:\n  - [40.5, -111.25, -70]\n").empty());
 }
@@ -90,8 +91,9 @@ TEST_CASE("mission check: legs shorter than the turn radius, the closing leg of 
   l.R_min_name = "manager.R_min";
   auto errors = texts(problems("waypoints:\n  - [0, 0, -70]\n  - [300, 0, -70]\n  - [300, 30, -70]\n", l), true);
   REQUIRE(errors.size() == 1);
-  CHECK(errors[0] == "m.yaml:4: waypoints[2]: the leg from waypoints[1] is 30.0 m, shorter than the minimum turn radius manager.R_min = 50 m: "
-                     "no room to turn");
+  CHECK(errors[0] ==
+        "m.yaml:4: waypoints[2]: the leg from waypoints[1] is 30.0 m, shorter than the minimum turn radius manager.R_min = 50 m: "
+        "no room to turn");
   // the loop's closing leg (last -> first)
   errors = texts(problems("waypoints:\n  - [0, 0, -70]\n  - [300, 0, -70]\n  - [10, 10, -70]\n", l), true);
   REQUIRE(errors.size() == 1);
@@ -116,7 +118,8 @@ TEST_CASE("mission check: warnings for waypoints outside the geofence, and for L
   CHECK(texts(ps, true).empty());
   const auto w = texts(ps, false);
   REQUIRE(w.size() == 3);
-  CHECK(w[0] == "m.yaml:2: waypoints[0]: 600.0 m from home, beyond the geofence's max_distance 500 m: the geofence failsafe would take over");
+  CHECK(w[0] ==
+        "m.yaml:2: waypoints[0]: 600.0 m from home, beyond the geofence's max_distance 500 m: the geofence failsafe would take over");
   CHECK(w[1] == "m.yaml:3: waypoints[1]: altitude 150.0 m, above the geofence's max_altitude 120 m: the geofence failsafe would take over");
   CHECK(w[2] == "m.yaml:4: waypoints[2]: altitude 10.0 m, below the geofence's min_altitude 20 m: the geofence failsafe would take over");
   const auto no_origin = problems("waypoints:\n  - {lla: [40.2499718, -111.6503560, 1457.0]}\n  - [0, 300, -70]\n");

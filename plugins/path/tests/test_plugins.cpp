@@ -38,16 +38,13 @@ std::vector<MissionPoint> hourglass(bool use_chi = false) {
 
 /// The manager (100 Hz) and the follower (10 Hz, as ROSplane) flying the kinematic aircraft.
 struct Flight {
-  explicit Flight(ManagerConfig cfg = {})
-      : manager(cfg, [this](const std::string& s) { warnings.push_back(s); }) {
-    aircraft.h = 70;
-  }
+  explicit Flight(ManagerConfig cfg = {}) : manager(cfg, [this](const std::string& s) { warnings.push_back(s); }) { aircraft.h = 70; }
   PathManager manager;
   testkit::KinematicAircraft aircraft;
   std::vector<std::string> warnings;
   bool finite = true;
   double t = 0.0;
-  double worst_line_error = 0.0;  ///< |cross-track| on lines, from the second segment on
+  double worst_line_error = 0.0;   ///< |cross-track| on lines, from the second segment on
   double worst_orbit_error = 0.0;  ///< ||p - c| - rho| on orbits after settle_s
   double settle_s = 0.0;
   PathSegment seg;
@@ -69,16 +66,14 @@ struct Flight {
         in.Vg = aircraft.Vg();
         c = follow(seg, in, FollowerGains{});
       }
-      finite = finite && std::isfinite(c.chi_c) && std::isfinite(c.h_c) && std::isfinite(c.phi_ff) &&
-               std::isfinite(c.Va_c) && seg.r.allFinite() && seg.q.allFinite() && seg.c.allFinite() &&
-               std::isfinite(seg.rho);
+      finite = finite && std::isfinite(c.chi_c) && std::isfinite(c.h_c) && std::isfinite(c.phi_ff) && std::isfinite(c.Va_c) &&
+               seg.r.allFinite() && seg.q.allFinite() && seg.c.allFinite() && std::isfinite(seg.rho);
       aircraft.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, dt);
       if (t > settle_s) {
         if (seg.type == PathSegment::Type::line && manager.passed().size() >= 1)
           worst_line_error = std::max(worst_line_error, std::fabs(cross_track_error(seg.r, seg.q, aircraft.p())));
         if (seg.type == PathSegment::Type::orbit)
-          worst_orbit_error =
-              std::max(worst_orbit_error, std::fabs((aircraft.p() - seg.c).head<2>().norm() - seg.rho));
+          worst_orbit_error = std::max(worst_orbit_error, std::fabs((aircraft.p() - seg.c).head<2>().norm() - seg.rho));
       }
     }
   }
@@ -206,8 +201,7 @@ TEST_CASE("manager: turn_bank plans each turn for the wind: the downwind fillets
     CHECK(radius[1] > 60.0);
     CHECK(radius[1] < radius[2]);
   }
-  MESSAGE("worst orbit error after the first minute: " << worst[0] << " m with R_min 50 m, " << worst[1]
-                                                     << " m with turn_bank 30 deg");
+  MESSAGE("worst orbit error after the first minute: " << worst[0] << " m with R_min 50 m, " << worst[1] << " m with turn_bank 30 deg");
   CHECK(worst[1] < 0.5 * worst[0]);
 }
 
@@ -243,9 +237,7 @@ TEST_CASE("manager: straight lines switch at the bisector half-plane (corner = l
 
 TEST_CASE("manager: repeated waypoints are skipped with one warning each") {
   Flight f;
-  f.manager.set_waypoints(points({{0, 400, -70}, {0, 400, -70}, {400, 400, -70}, {400, 0, -70}, {400, 0.5, -70},
-                                  {0, 400.2, -70}}),
-                          true);
+  f.manager.set_waypoints(points({{0, 400, -70}, {0, 400, -70}, {400, 400, -70}, {400, 0, -70}, {400, 0.5, -70}, {0, 400.2, -70}}), true);
   f.run(600.0);
   CHECK(f.finite);
   CHECK(f.count_warnings("repeats") == 3);
@@ -470,7 +462,8 @@ TEST_CASE("manager: a loiter item is orbited (its radius and direction) for its 
 
 TEST_CASE("manager: a loiter with a time leaves after that long on the orbit; a bare loiter stays") {
   Flight f;
-  f.manager.set_waypoints({loiter_at({0, 200, -70}, 0.0, 1, 40.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
+  f.manager.set_waypoints(
+      {loiter_at({0, 200, -70}, 0.0, 1, 40.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
   f.run(0.01);
   REQUIRE(f.manager.target() == 0);
   CHECK(f.seg.rho == 50.0);  // radius 0: R_min
@@ -483,7 +476,8 @@ TEST_CASE("manager: a loiter with a time leaves after that long on the orbit; a 
   CHECK(f.manager.target() == 1);
   CHECK(f.t - on_orbit_at == Approx(40.0).epsilon(0.01));
   Flight stay;
-  stay.manager.set_waypoints({loiter_at({0, 200, -70}, 60.0, 1, 0.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
+  stay.manager.set_waypoints(
+      {loiter_at({0, 200, -70}, 60.0, 1, 0.0, 0.0), MissionPoint{{-300, 200, -70}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
   stay.run(600.0);
   CHECK(stay.manager.target() == 0);
   CHECK(stay.manager.loiter_turns_flown() > 5.0);
@@ -520,30 +514,26 @@ TEST_CASE("plugins: defaults are ROSplane's Anaconda values") {
   CHECK(std::get<double>(f.plugin().find_param("chi_infty")->value()) == 1.2);
   CHECK(std::get<double>(f.plugin().find_param("k_path")->value()) == 0.0175);
   CHECK(std::get<double>(f.plugin().find_param("k_orbit")->value()) == 0.5);
-  CHECK_THROWS_AS(tern::testing::Harness(std::make_unique<ManagerPlugin>(), {{"R_min", 0.0}}, options("manager")),
-                  ParamError);
-  CHECK_THROWS_AS(tern::testing::Harness(std::make_unique<ManagerPlugin>(), {{"corner", std::string("round")}},
-                                   options("manager")),
+  CHECK_THROWS_AS(tern::testing::Harness(std::make_unique<ManagerPlugin>(), {{"R_min", 0.0}}, options("manager")), ParamError);
+  CHECK_THROWS_AS(tern::testing::Harness(std::make_unique<ManagerPlugin>(), {{"corner", std::string("round")}}, options("manager")),
                   ParamError);
 }
 
 TEST_CASE("plugins: a bad mission section fails configure with one clear line") {
-  CHECK_THROWS_WITH_AS(
-      tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load("waypoints: [[1, 2]]"))),
-      "mission config (mission:):1: waypoints[0]: expected a list of 3 numbers", MissionError);
+  CHECK_THROWS_WITH_AS(tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load("waypoints: [[1, 2]]"))),
+                       "mission config (mission:):1: waypoints[0]: expected a list of 3 numbers", MissionError);
 }
 
 TEST_CASE("plugins: a mission longer than a WaypointList holds is refused at configure") {
   std::string yaml = "waypoints:\n";
   for (int i = 0; i < 65; ++i) yaml += "  - [" + std::to_string(10 * i) + ", 0, -50]\n";
-  CHECK_THROWS_WITH_AS(
-      tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load(yaml))),
-      "mission config (mission:): 65 waypoints, more than the 64 a WaypointList holds", MissionError);
+  CHECK_THROWS_WITH_AS(tern::testing::Harness(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load(yaml))),
+                       "mission config (mission:): 65 waypoints, more than the 64 a WaypointList holds", MissionError);
 }
 
 TEST_CASE("plugins: LLA waypoints wait for the origin, then publish the GeographicLib NED") {
   tern::testing::Harness p(std::make_unique<PlannerPlugin>(), {},
-                     options("planner", YAML::Load("waypoints:\n  - [100, 0, -60]\n  - {lla: [40.2466, -111.6470, 1480.5]}")));
+                           options("planner", YAML::Load("waypoints:\n  - [100, 0, -60]\n  - {lla: [40.2466, -111.6470, 1480.5]}")));
   testkit::KinematicAircraft a;
   p.set_input("state", state_of(a, false));
   p.step(0);
@@ -564,7 +554,7 @@ TEST_CASE("plugins: LLA waypoints wait for the origin, then publish the Geograph
 
 TEST_CASE("plugins: planner edits (add, publish_now, set_current, clear, load_file)") {
   tern::testing::Harness p(std::make_unique<PlannerPlugin>(), {{"mission_file", std::string("fixedwing_mission.yaml")}},
-                     options("planner"));
+                           options("planner"));
   Nanos t = 0;
   p.step(t += 10'000'000);
   REQUIRE(p.published("waypoints") == 1);
@@ -621,8 +611,7 @@ TEST_CASE("plugins: planner edits (add, publish_now, set_current, clear, load_fi
 }
 
 TEST_CASE("plugins: planner -> manager -> follower fly the ROSplane hourglass; a set_current edit waits for the next decision") {
-  tern::testing::Harness planner(std::make_unique<PlannerPlugin>(), {},
-                           options("planner", YAML::Load("file: fixedwing_mission.yaml")));
+  tern::testing::Harness planner(std::make_unique<PlannerPlugin>(), {}, options("planner", YAML::Load("file: fixedwing_mission.yaml")));
   tern::testing::Harness manager(std::make_unique<ManagerPlugin>(), {}, options("manager"));
   tern::testing::Harness follower(std::make_unique<FollowerPlugin>(), {}, options("follower"));
   testkit::KinematicAircraft a;

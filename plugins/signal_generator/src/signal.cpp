@@ -29,11 +29,8 @@ constexpr std::array<std::pair<std::string_view, Waveform>, 6> kWaveforms{{{"ste
                                                                            {"triangle", Waveform::triangle},
                                                                            {"sawtooth", Waveform::sawtooth},
                                                                            {"doublet", Waveform::doublet}}};
-constexpr std::array<std::pair<std::string_view, Loop>, 5> kLoops{{{"roll", Loop::roll},
-                                                                   {"pitch", Loop::pitch},
-                                                                   {"course", Loop::course},
-                                                                   {"altitude", Loop::altitude},
-                                                                   {"airspeed", Loop::airspeed}}};
+constexpr std::array<std::pair<std::string_view, Loop>, 5> kLoops{
+    {{"roll", Loop::roll}, {"pitch", Loop::pitch}, {"course", Loop::course}, {"altitude", Loop::altitude}, {"airspeed", Loop::airspeed}}};
 }  // namespace
 
 double waveform(Waveform w, double t, double period) {

@@ -47,9 +47,9 @@ TEST_CASE("altitude square wave: passes through, engages after cruise + start_ti
 }
 
 TEST_CASE("roll: phi_c from the controller's inner command plus the signal, with override_phi") {
-  Harness h(std::make_unique<signal::SignalGeneratorPlugin>(),
-            {{"loop", std::string("roll")}, {"amplitude", 0.2}, {"period", 4.0}, {"start_time", 1.0},
-             {"start_phase", std::string("flight")}});
+  Harness h(
+      std::make_unique<signal::SignalGeneratorPlugin>(),
+      {{"loop", std::string("roll")}, {"amplitude", 0.2}, {"period", 4.0}, {"start_time", 1.0}, {"start_phase", std::string("flight")}});
   h.start();
   h.set_input("follower_command", follower());
   msg::ControllerInternals in;
@@ -66,8 +66,10 @@ TEST_CASE("roll: phi_c from the controller's inner command plus the signal, with
 }
 
 TEST_CASE("reset: the next flight waits for its own cruise") {
-  Harness h(std::make_unique<signal::SignalGeneratorPlugin>(), {{"loop", std::string("airspeed")}, {"start_time", 0.0},
-                                                                {"amplitude", 2.0}, {"reference", std::string("absolute")},
+  Harness h(std::make_unique<signal::SignalGeneratorPlugin>(), {{"loop", std::string("airspeed")},
+                                                                {"start_time", 0.0},
+                                                                {"amplitude", 2.0},
+                                                                {"reference", std::string("absolute")},
                                                                 {"offset", 15.0}});
   h.start();
   h.set_input("follower_command", follower());

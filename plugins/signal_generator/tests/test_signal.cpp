@@ -40,8 +40,7 @@ TEST_CASE("a doublet is one pulse up, one down, then nothing") {
 }
 
 TEST_CASE("names round-trip; unknown names are refused") {
-  for (auto l : {Loop::roll, Loop::pitch, Loop::course, Loop::altitude, Loop::airspeed})
-    CHECK(loop_from_name(loop_name(l)) == l);
+  for (auto l : {Loop::roll, Loop::pitch, Loop::course, Loop::altitude, Loop::airspeed}) CHECK(loop_from_name(loop_name(l)) == l);
   CHECK(!loop_from_name("yaw_rate"));
   CHECK(!waveform_from_name("chirp"));
   CHECK(command_symbol(Loop::altitude) == "h_c");

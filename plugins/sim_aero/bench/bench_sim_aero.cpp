@@ -99,8 +99,8 @@ int main() {
   std::ofstream f(out);
   f << "{\n  \"benchmark\": \"bench_sim_aero\",\n  \"aircraft\": \"anaconda\",\n  \"results\": [\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    f << "    {\"name\": \"" << rows[i].name << "\", \"ns_per_op\": " << rows[i].ns << ", \"ops\": " << rows[i].n
-      << "}" << (i + 1 < rows.size() ? "," : "") << "\n";
+    f << "    {\"name\": \"" << rows[i].name << "\", \"ns_per_op\": " << rows[i].ns << ", \"ops\": " << rows[i].n << "}"
+      << (i + 1 < rows.size() ? "," : "") << "\n";
   }
   f << "  ],\n  \"ns_per_sim_step\": " << plugin.ns << ",\n  \"real_time_factor\": " << rtf << "\n}\n";
   std::printf("wrote %s\n", out.string().c_str());

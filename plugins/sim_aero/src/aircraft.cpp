@@ -45,14 +45,14 @@ constexpr Limits kCrossInertia{-1e4, 1e4, false, "kg m^2"};
 constexpr Limits kDensity{0.01, 2.0, false, "kg/m^3"};  // 1.225 at sea level, 0.41 at 10 km
 constexpr Limits kArea{0, 100, true, "m^2"};
 constexpr Limits kLength{0, 100, true, "m"};
-constexpr Limits kPosition{-100, 100, false, "m"};       // gear contact points about the CG
-constexpr Limits kDeflection{0, 0.5, true, "m"};          // gear static deflection
-constexpr Limits kEfficiency{0, 1.5, true, ""};           // Oswald factor, wing epsilon
-constexpr Limits kBlendRate{0, 1e4, true, ""};            // stall blending rate M
-constexpr Limits kAngle{0, 1.6, true, "rad"};             // stall angle, surface limits (< 90 deg)
-constexpr Limits kAngleDeg{0, 90, true, "deg"};           // ROSflight's surface limits
-constexpr Limits kCoefficient{-100, 100, false, ""};      // aero derivatives (|C_m_q| ~ 40 at most)
-constexpr Limits kPropCoefficient{-10, 10, false, ""};    // C_T(J), C_Q(J) polynomial coefficients
+constexpr Limits kPosition{-100, 100, false, "m"};      // gear contact points about the CG
+constexpr Limits kDeflection{0, 0.5, true, "m"};        // gear static deflection
+constexpr Limits kEfficiency{0, 1.5, true, ""};         // Oswald factor, wing epsilon
+constexpr Limits kBlendRate{0, 1e4, true, ""};          // stall blending rate M
+constexpr Limits kAngle{0, 1.6, true, "rad"};           // stall angle, surface limits (< 90 deg)
+constexpr Limits kAngleDeg{0, 90, true, "deg"};         // ROSflight's surface limits
+constexpr Limits kCoefficient{-100, 100, false, ""};    // aero derivatives (|C_m_q| ~ 40 at most)
+constexpr Limits kPropCoefficient{-10, 10, false, ""};  // C_T(J), C_Q(J) polynomial coefficients
 constexpr Limits kSpeedConstant{0, 1e5, true, "RPM/V"};
 constexpr Limits kTorqueConstant{0, 10, true, "N m/A"};
 constexpr Limits kResistance{0, 100, true, "ohm"};
@@ -60,10 +60,10 @@ constexpr Limits kCurrent{0, 1e3, false, "A"};
 constexpr Limits kVoltage{0, 1e3, true, "V"};
 constexpr Limits kTimeConstant{0, 10, false, "s"};
 constexpr Limits kRate{0, 1e4, true, "Hz"};
-constexpr Limits kRatio{0, 100, true, ""};                // gear damping ratio
-constexpr Limits kFriction{0, 10, false, ""};             // friction coefficients, nose steering
-constexpr Limits kSpeed{0, 10, true, "m/s"};              // gear slip speed
-constexpr Limits kChannel{0, 32, false, ""};              // ROSflight's output channels
+constexpr Limits kRatio{0, 100, true, ""};     // gear damping ratio
+constexpr Limits kFriction{0, 10, false, ""};  // friction coefficients, nose steering
+constexpr Limits kSpeed{0, 10, true, "m/s"};   // gear slip speed
+constexpr Limits kChannel{0, 32, false, ""};   // ROSflight's output channels
 
 double read_double(const YAML::Node& n, const std::string& source, const std::string& field, const Limits& lim) {
   if (!n.IsScalar()) fail_at(n, source, field, "expected a number");
@@ -77,8 +77,9 @@ double read_double(const YAML::Node& n, const std::string& source, const std::st
   const std::string unit = *lim.unit ? std::string(" ") + lim.unit : "";
   if (lim.lo_open && lim.lo == 0 && !(v > 0)) fail_at(n, source, field, "value " + num(v) + " must be > 0" + unit);
   if ((lim.lo_open ? !(v > lim.lo) : v < lim.lo) || v > lim.hi)
-    fail_at(n, source, field, "value " + num(v) + " is outside the plausible range " + (lim.lo_open ? "(" : "[") + num(lim.lo) +
-                                  ", " + num(lim.hi) + "]" + unit);
+    fail_at(
+        n, source, field,
+        "value " + num(v) + " is outside the plausible range " + (lim.lo_open ? "(" : "[") + num(lim.lo) + ", " + num(lim.hi) + "]" + unit);
   return v;
 }
 
@@ -90,8 +91,8 @@ struct Field {
 };
 
 // Reads the fields of one map section; unknown keys and missing required keys are errors.
-void read_section(const YAML::Node& sec, const std::string& prefix, const std::vector<Field>& fields,
-                  const std::string& source, const std::set<std::string>& extra_keys = {}) {
+void read_section(const YAML::Node& sec, const std::string& prefix, const std::vector<Field>& fields, const std::string& source,
+                  const std::set<std::string>& extra_keys = {}) {
   if (!sec.IsMap()) fail(source, prefix, "expected a map");
   std::set<std::string> seen;
   for (const auto& kv : sec) {
@@ -119,9 +120,8 @@ void read_section(const YAML::Node& sec, const std::string& prefix, const std::v
 Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   Aircraft ac;
   ac.source = source;
-  static const std::set<std::string> kTop = {"name", "description", "source", "mass", "inertia",
-                                             "environment", "wing", "aero", "propulsion",
-                                             "servos", "gear"};
+  static const std::set<std::string> kTop = {"name", "description", "source",     "mass",   "inertia", "environment",
+                                             "wing", "aero",        "propulsion", "servos", "gear"};
   for (const auto& kv : doc) {
     const std::string key = kv.first.as<std::string>();
     if (!kTop.count(key)) fail(source, key, "unknown key");
@@ -136,7 +136,9 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   ac.mass = read_double(doc["mass"], source, "mass", kMass);
 
   read_section(section("inertia", true), "inertia",
-               {{"Jx", &ac.Jx, true, kInertia}, {"Jy", &ac.Jy, true, kInertia}, {"Jz", &ac.Jz, true, kInertia},
+               {{"Jx", &ac.Jx, true, kInertia},
+                {"Jy", &ac.Jy, true, kInertia},
+                {"Jz", &ac.Jz, true, kInertia},
                 {"Jxz", &ac.Jxz, true, kCrossInertia}},
                source);
   read_section(section("environment", true), "environment", {{"rho", &ac.rho, true, kDensity}}, source);
@@ -151,37 +153,62 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   }
   ac.stall_blend = blend != 0.0;
   read_section(wing, "wing",
-               {{"S", &ac.S, true, kArea}, {"b", &ac.b, true, kLength}, {"c", &ac.c, true, kLength},
-                {"e", &ac.e, true, kEfficiency}, {"M", &ac.M, true, kBlendRate}, {"alpha0", &ac.alpha0, true, kAngle}},
+               {{"S", &ac.S, true, kArea},
+                {"b", &ac.b, true, kLength},
+                {"c", &ac.c, true, kLength},
+                {"e", &ac.e, true, kEfficiency},
+                {"M", &ac.M, true, kBlendRate},
+                {"alpha0", &ac.alpha0, true, kAngle}},
                source, {"stall_blend"});
   auto& a = ac.aero;
   read_section(section("aero", true), "aero",
-               {{"C_L_0", &a.C_L_0, true, kCoefficient}, {"C_L_alpha", &a.C_L_alpha, true, kCoefficient},
-                {"C_L_q", &a.C_L_q, true, kCoefficient}, {"C_L_delta_e", &a.C_L_delta_e, true, kCoefficient},
-                {"C_D_0", &a.C_D_0, false, kCoefficient}, {"C_D_alpha", &a.C_D_alpha, false, kCoefficient},
-                {"C_D_p", &a.C_D_p, true, kCoefficient}, {"C_D_q", &a.C_D_q, true, kCoefficient},
+               {{"C_L_0", &a.C_L_0, true, kCoefficient},
+                {"C_L_alpha", &a.C_L_alpha, true, kCoefficient},
+                {"C_L_q", &a.C_L_q, true, kCoefficient},
+                {"C_L_delta_e", &a.C_L_delta_e, true, kCoefficient},
+                {"C_D_0", &a.C_D_0, false, kCoefficient},
+                {"C_D_alpha", &a.C_D_alpha, false, kCoefficient},
+                {"C_D_p", &a.C_D_p, true, kCoefficient},
+                {"C_D_q", &a.C_D_q, true, kCoefficient},
                 {"C_D_delta_e", &a.C_D_delta_e, true, kCoefficient},
-                {"C_m_0", &a.C_m_0, true, kCoefficient}, {"C_m_alpha", &a.C_m_alpha, true, kCoefficient},
-                {"C_m_q", &a.C_m_q, true, kCoefficient}, {"C_m_delta_e", &a.C_m_delta_e, true, kCoefficient},
-                {"C_Y_0", &a.C_Y_0, true, kCoefficient}, {"C_Y_beta", &a.C_Y_beta, true, kCoefficient},
-                {"C_Y_p", &a.C_Y_p, true, kCoefficient}, {"C_Y_r", &a.C_Y_r, true, kCoefficient},
-                {"C_Y_delta_a", &a.C_Y_delta_a, true, kCoefficient}, {"C_Y_delta_r", &a.C_Y_delta_r, true, kCoefficient},
-                {"C_ell_0", &a.C_ell_0, true, kCoefficient}, {"C_ell_beta", &a.C_ell_beta, true, kCoefficient},
-                {"C_ell_p", &a.C_ell_p, true, kCoefficient}, {"C_ell_r", &a.C_ell_r, true, kCoefficient},
-                {"C_ell_delta_a", &a.C_ell_delta_a, true, kCoefficient}, {"C_ell_delta_r", &a.C_ell_delta_r, true, kCoefficient},
-                {"C_n_0", &a.C_n_0, true, kCoefficient}, {"C_n_beta", &a.C_n_beta, true, kCoefficient},
-                {"C_n_p", &a.C_n_p, true, kCoefficient}, {"C_n_r", &a.C_n_r, true, kCoefficient},
-                {"C_n_delta_a", &a.C_n_delta_a, true, kCoefficient}, {"C_n_delta_r", &a.C_n_delta_r, true, kCoefficient}},
+                {"C_m_0", &a.C_m_0, true, kCoefficient},
+                {"C_m_alpha", &a.C_m_alpha, true, kCoefficient},
+                {"C_m_q", &a.C_m_q, true, kCoefficient},
+                {"C_m_delta_e", &a.C_m_delta_e, true, kCoefficient},
+                {"C_Y_0", &a.C_Y_0, true, kCoefficient},
+                {"C_Y_beta", &a.C_Y_beta, true, kCoefficient},
+                {"C_Y_p", &a.C_Y_p, true, kCoefficient},
+                {"C_Y_r", &a.C_Y_r, true, kCoefficient},
+                {"C_Y_delta_a", &a.C_Y_delta_a, true, kCoefficient},
+                {"C_Y_delta_r", &a.C_Y_delta_r, true, kCoefficient},
+                {"C_ell_0", &a.C_ell_0, true, kCoefficient},
+                {"C_ell_beta", &a.C_ell_beta, true, kCoefficient},
+                {"C_ell_p", &a.C_ell_p, true, kCoefficient},
+                {"C_ell_r", &a.C_ell_r, true, kCoefficient},
+                {"C_ell_delta_a", &a.C_ell_delta_a, true, kCoefficient},
+                {"C_ell_delta_r", &a.C_ell_delta_r, true, kCoefficient},
+                {"C_n_0", &a.C_n_0, true, kCoefficient},
+                {"C_n_beta", &a.C_n_beta, true, kCoefficient},
+                {"C_n_p", &a.C_n_p, true, kCoefficient},
+                {"C_n_r", &a.C_n_r, true, kCoefficient},
+                {"C_n_delta_a", &a.C_n_delta_a, true, kCoefficient},
+                {"C_n_delta_r", &a.C_n_delta_r, true, kCoefficient}},
                source);
   auto& p = ac.prop;
   const YAML::Node prop = section("propulsion", true);
   read_section(prop, "propulsion",
-               {{"D_prop", &p.D_prop, true, kLength}, {"C_T_0", &p.C_T_0, true, kPropCoefficient},
-                {"C_T_1", &p.C_T_1, true, kPropCoefficient}, {"C_T_2", &p.C_T_2, true, kPropCoefficient},
-                {"C_Q_0", &p.C_Q_0, true, kPropCoefficient}, {"C_Q_1", &p.C_Q_1, true, kPropCoefficient},
-                {"C_Q_2", &p.C_Q_2, true, kPropCoefficient}, {"K_V", &p.K_V, false, kSpeedConstant},
-                {"K_Q", &p.K_Q, false, kTorqueConstant}, {"R_motor", &p.R_motor, true, kResistance},
-                {"i0", &p.i0, true, kCurrent}, {"V_max", &p.V_max, true, kVoltage}},
+               {{"D_prop", &p.D_prop, true, kLength},
+                {"C_T_0", &p.C_T_0, true, kPropCoefficient},
+                {"C_T_1", &p.C_T_1, true, kPropCoefficient},
+                {"C_T_2", &p.C_T_2, true, kPropCoefficient},
+                {"C_Q_0", &p.C_Q_0, true, kPropCoefficient},
+                {"C_Q_1", &p.C_Q_1, true, kPropCoefficient},
+                {"C_Q_2", &p.C_Q_2, true, kPropCoefficient},
+                {"K_V", &p.K_V, false, kSpeedConstant},
+                {"K_Q", &p.K_Q, false, kTorqueConstant},
+                {"R_motor", &p.R_motor, true, kResistance},
+                {"i0", &p.i0, true, kCurrent},
+                {"V_max", &p.V_max, true, kVoltage}},
                source);
   if (!prop["K_Q"]) {
     if (!prop["K_V"]) fail(source, "propulsion.K_Q", "missing required field (or give K_V in RPM/V)");
@@ -190,8 +217,10 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   }
   if (const YAML::Node s = doc["servos"]) {
     read_section(s, "servos",
-                 {{"tau", &ac.servo_tau, false, kTimeConstant}, {"max_delta_a", &ac.max_delta_a, false, kAngle},
-                  {"max_delta_e", &ac.max_delta_e, false, kAngle}, {"max_delta_r", &ac.max_delta_r, false, kAngle}},
+                 {{"tau", &ac.servo_tau, false, kTimeConstant},
+                  {"max_delta_a", &ac.max_delta_a, false, kAngle},
+                  {"max_delta_e", &ac.max_delta_e, false, kAngle},
+                  {"max_delta_r", &ac.max_delta_r, false, kAngle}},
                  source);
   }
   ac.gear.points = default_gear_points(ac.b);
@@ -199,8 +228,10 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
     auto& gr = ac.gear;
     read_section(g, "gear",
                  {{"static_deflection", &gr.static_deflection, false, kDeflection},
-                  {"damping_ratio", &gr.damping_ratio, false, kRatio}, {"mu_roll", &gr.mu_roll, false, kFriction},
-                  {"mu_lateral", &gr.mu_lateral, false, kFriction}, {"v_slip", &gr.v_slip, false, kSpeed},
+                  {"damping_ratio", &gr.damping_ratio, false, kRatio},
+                  {"mu_roll", &gr.mu_roll, false, kFriction},
+                  {"mu_lateral", &gr.mu_lateral, false, kFriction},
+                  {"v_slip", &gr.v_slip, false, kSpeed},
                   {"nose_steering", &gr.nose_steering, false, kFriction}},
                  source, {"points"});
     if (const YAML::Node pts = g["points"]) {
@@ -231,32 +262,73 @@ struct Slot {
 std::map<std::string, Slot> rosflight_keys(Aircraft& ac, RosflightExtras& x) {
   auto& a = ac.aero;
   auto& p = ac.prop;
-  std::map<std::string, Slot> known = {
-      {"rho", {&ac.rho, kDensity}}, {"mass", {&ac.mass, kMass}},
-      {"wing_s", {&ac.S, kArea}}, {"wing_b", {&ac.b, kLength}}, {"wing_c", {&ac.c, kLength}}, {"wing_M", {&ac.M, kBlendRate}},
-      {"wing_epsilon", {&x.epsilon, kEfficiency}}, {"wing_alpha0", {&ac.alpha0, kAngle}},
-      {"D_prop", {&p.D_prop, kLength}}, {"CT_0", {&p.C_T_0, kPropCoefficient}}, {"CT_1", {&p.C_T_1, kPropCoefficient}},
-      {"CT_2", {&p.C_T_2, kPropCoefficient}}, {"CQ_0", {&p.C_Q_0, kPropCoefficient}}, {"CQ_1", {&p.C_Q_1, kPropCoefficient}},
-      {"CQ_2", {&p.C_Q_2, kPropCoefficient}}, {"KV", {&p.K_V, kSpeedConstant}}, {"KQ", {&p.K_Q, kTorqueConstant}},
-      {"V_max", {&p.V_max, kVoltage}}, {"R_motor", {&p.R_motor, kResistance}}, {"I_0", {&p.i0, kCurrent}},
-      {"servo_tau", {&ac.servo_tau, kTimeConstant}}, {"servo_refresh_rate", {&x.refresh, kRate}},
-      {"max_aileron_deflection_angle", {&x.max_a, kAngleDeg}}, {"max_elevator_deflection_angle", {&x.max_e, kAngleDeg}},
-      {"max_rudder_deflection_angle", {&x.max_r, kAngleDeg}},
-      {"aileron_channel", {&x.channel, kChannel}}, {"elevator_channel", {&x.channel, kChannel}},
-      {"throttle_channel", {&x.channel, kChannel}}, {"rudder_channel", {&x.channel, kChannel}},
-      {"Jxx", {&ac.Jx, kInertia}}, {"Jyy", {&ac.Jy, kInertia}}, {"Jzz", {&ac.Jz, kInertia}}, {"Jxz", {&ac.Jxz, kCrossInertia}},
-      {"Jxy", {&x.Jxy, kCrossInertia}}, {"Jyz", {&x.Jyz, kCrossInertia}}};
+  std::map<std::string, Slot> known = {{"rho", {&ac.rho, kDensity}},
+                                       {"mass", {&ac.mass, kMass}},
+                                       {"wing_s", {&ac.S, kArea}},
+                                       {"wing_b", {&ac.b, kLength}},
+                                       {"wing_c", {&ac.c, kLength}},
+                                       {"wing_M", {&ac.M, kBlendRate}},
+                                       {"wing_epsilon", {&x.epsilon, kEfficiency}},
+                                       {"wing_alpha0", {&ac.alpha0, kAngle}},
+                                       {"D_prop", {&p.D_prop, kLength}},
+                                       {"CT_0", {&p.C_T_0, kPropCoefficient}},
+                                       {"CT_1", {&p.C_T_1, kPropCoefficient}},
+                                       {"CT_2", {&p.C_T_2, kPropCoefficient}},
+                                       {"CQ_0", {&p.C_Q_0, kPropCoefficient}},
+                                       {"CQ_1", {&p.C_Q_1, kPropCoefficient}},
+                                       {"CQ_2", {&p.C_Q_2, kPropCoefficient}},
+                                       {"KV", {&p.K_V, kSpeedConstant}},
+                                       {"KQ", {&p.K_Q, kTorqueConstant}},
+                                       {"V_max", {&p.V_max, kVoltage}},
+                                       {"R_motor", {&p.R_motor, kResistance}},
+                                       {"I_0", {&p.i0, kCurrent}},
+                                       {"servo_tau", {&ac.servo_tau, kTimeConstant}},
+                                       {"servo_refresh_rate", {&x.refresh, kRate}},
+                                       {"max_aileron_deflection_angle", {&x.max_a, kAngleDeg}},
+                                       {"max_elevator_deflection_angle", {&x.max_e, kAngleDeg}},
+                                       {"max_rudder_deflection_angle", {&x.max_r, kAngleDeg}},
+                                       {"aileron_channel", {&x.channel, kChannel}},
+                                       {"elevator_channel", {&x.channel, kChannel}},
+                                       {"throttle_channel", {&x.channel, kChannel}},
+                                       {"rudder_channel", {&x.channel, kChannel}},
+                                       {"Jxx", {&ac.Jx, kInertia}},
+                                       {"Jyy", {&ac.Jy, kInertia}},
+                                       {"Jzz", {&ac.Jz, kInertia}},
+                                       {"Jxz", {&ac.Jxz, kCrossInertia}},
+                                       {"Jxy", {&x.Jxy, kCrossInertia}},
+                                       {"Jyz", {&x.Jyz, kCrossInertia}}};
   // the aerodynamic coefficients, by ROSflight name
-  for (const auto& [name, dst] : std::initializer_list<std::pair<const char*, double*>>{
-           {"C_L_O", &a.C_L_0}, {"C_L_alpha", &a.C_L_alpha}, {"C_L_q", &a.C_L_q}, {"C_L_delta_e", &a.C_L_delta_e},
-           {"C_D_O", &a.C_D_0}, {"C_D_alpha", &a.C_D_alpha}, {"C_D_p", &a.C_D_p}, {"C_D_q", &a.C_D_q}, {"C_D_delta_e", &a.C_D_delta_e},
-           {"C_ell_O", &a.C_ell_0}, {"C_ell_beta", &a.C_ell_beta}, {"C_ell_p", &a.C_ell_p}, {"C_ell_r", &a.C_ell_r},
-           {"C_ell_delta_a", &a.C_ell_delta_a}, {"C_ell_delta_r", &a.C_ell_delta_r},
-           {"C_m_O", &a.C_m_0}, {"C_m_alpha", &a.C_m_alpha}, {"C_m_q", &a.C_m_q}, {"C_m_delta_e", &a.C_m_delta_e},
-           {"C_n_O", &a.C_n_0}, {"C_n_beta", &a.C_n_beta}, {"C_n_p", &a.C_n_p}, {"C_n_r", &a.C_n_r},
-           {"C_n_delta_a", &a.C_n_delta_a}, {"C_n_delta_r", &a.C_n_delta_r},
-           {"C_Y_O", &a.C_Y_0}, {"C_Y_beta", &a.C_Y_beta}, {"C_Y_p", &a.C_Y_p}, {"C_Y_r", &a.C_Y_r},
-           {"C_Y_delta_a", &a.C_Y_delta_a}, {"C_Y_delta_r", &a.C_Y_delta_r}})
+  for (const auto& [name, dst] : std::initializer_list<std::pair<const char*, double*>>{{"C_L_O", &a.C_L_0},
+                                                                                        {"C_L_alpha", &a.C_L_alpha},
+                                                                                        {"C_L_q", &a.C_L_q},
+                                                                                        {"C_L_delta_e", &a.C_L_delta_e},
+                                                                                        {"C_D_O", &a.C_D_0},
+                                                                                        {"C_D_alpha", &a.C_D_alpha},
+                                                                                        {"C_D_p", &a.C_D_p},
+                                                                                        {"C_D_q", &a.C_D_q},
+                                                                                        {"C_D_delta_e", &a.C_D_delta_e},
+                                                                                        {"C_ell_O", &a.C_ell_0},
+                                                                                        {"C_ell_beta", &a.C_ell_beta},
+                                                                                        {"C_ell_p", &a.C_ell_p},
+                                                                                        {"C_ell_r", &a.C_ell_r},
+                                                                                        {"C_ell_delta_a", &a.C_ell_delta_a},
+                                                                                        {"C_ell_delta_r", &a.C_ell_delta_r},
+                                                                                        {"C_m_O", &a.C_m_0},
+                                                                                        {"C_m_alpha", &a.C_m_alpha},
+                                                                                        {"C_m_q", &a.C_m_q},
+                                                                                        {"C_m_delta_e", &a.C_m_delta_e},
+                                                                                        {"C_n_O", &a.C_n_0},
+                                                                                        {"C_n_beta", &a.C_n_beta},
+                                                                                        {"C_n_p", &a.C_n_p},
+                                                                                        {"C_n_r", &a.C_n_r},
+                                                                                        {"C_n_delta_a", &a.C_n_delta_a},
+                                                                                        {"C_n_delta_r", &a.C_n_delta_r},
+                                                                                        {"C_Y_O", &a.C_Y_0},
+                                                                                        {"C_Y_beta", &a.C_Y_beta},
+                                                                                        {"C_Y_p", &a.C_Y_p},
+                                                                                        {"C_Y_r", &a.C_Y_r},
+                                                                                        {"C_Y_delta_a", &a.C_Y_delta_a},
+                                                                                        {"C_Y_delta_r", &a.C_Y_delta_r}})
     known.emplace(name, Slot{dst, kCoefficient});
   return known;
 }
@@ -272,13 +344,11 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   x.max_e = ac.max_delta_e / kDeg;
   x.max_r = ac.max_delta_r / kDeg;
   std::map<std::string, Slot> known = rosflight_keys(ac, x);
-  static const std::set<std::string> kZeroOnly = {
-      "C_L_beta", "C_L_p", "C_L_r", "C_L_delta_a", "C_L_delta_r", "C_D_beta", "C_D_r",
-      "C_D_delta_a", "C_D_delta_r", "C_ell_alpha", "C_ell_q", "C_ell_delta_e", "C_m_beta",
-      "C_m_p", "C_m_r", "C_m_delta_a", "C_m_delta_r", "C_n_alpha", "C_n_q", "C_n_delta_e",
-      "C_Y_alpha", "C_Y_q", "C_Y_delta_e"};
-  static const std::set<std::string> kNodes = {"/**", "/fixedwing_forces_and_moments",
-                                               "fixedwing_forces_and_moments",
+  static const std::set<std::string> kZeroOnly = {"C_L_beta", "C_L_p",       "C_L_r",       "C_L_delta_a", "C_L_delta_r", "C_D_beta",
+                                                  "C_D_r",    "C_D_delta_a", "C_D_delta_r", "C_ell_alpha", "C_ell_q",     "C_ell_delta_e",
+                                                  "C_m_beta", "C_m_p",       "C_m_r",       "C_m_delta_a", "C_m_delta_r", "C_n_alpha",
+                                                  "C_n_q",    "C_n_delta_e", "C_Y_alpha",   "C_Y_q",       "C_Y_delta_e"};
+  static const std::set<std::string> kNodes = {"/**", "/fixedwing_forces_and_moments", "fixedwing_forces_and_moments",
                                                "/standalone_dynamics", "standalone_dynamics"};
   std::set<std::string> seen;
   // Wildcard node first, so that node-specific values override it (ROS 2 semantics).
@@ -286,8 +356,10 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   for (const auto& kv : doc) {
     const std::string node = kv.first.as<std::string>();
     if (!kNodes.count(node)) fail(source, node, "unknown node (tern reads /**, /fixedwing_forces_and_moments, /standalone_dynamics)");
-    if (node == "/**") nodes.insert(nodes.begin(), {node, kv.second});
-    else nodes.emplace_back(node, kv.second);
+    if (node == "/**")
+      nodes.insert(nodes.begin(), {node, kv.second});
+    else
+      nodes.emplace_back(node, kv.second);
   }
   for (const auto& [node, body] : nodes) {
     const YAML::Node params = body["ros__parameters"];
@@ -297,7 +369,9 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
       const std::string field = node + ".ros__parameters." + key;
       if (kZeroOnly.count(key)) {
         const double v = read_double(kv.second, source, field, kCoefficient);
-        if (v != 0.0) fail(source, field, "value " + num(v) + ": this coefficient is not part of the uavbook model tern implements (only 0 is accepted)");
+        if (v != 0.0)
+          fail(source, field,
+               "value " + num(v) + ": this coefficient is not part of the uavbook model tern implements (only 0 is accepted)");
         continue;
       }
       auto it = known.find(key);
@@ -307,12 +381,13 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
     }
   }
   static const char* kRequired[] = {
-      "rho", "mass", "wing_s", "wing_b", "wing_c", "wing_M", "wing_alpha0", "D_prop", "CT_0",
-      "CT_1", "CT_2", "CQ_0", "CQ_1", "CQ_2", "V_max", "R_motor", "I_0", "C_L_O", "C_L_alpha",
-      "C_L_q", "C_L_delta_e", "C_D_p", "C_D_q", "C_D_delta_e", "C_ell_O", "C_ell_beta", "C_ell_p",
-      "C_ell_r", "C_ell_delta_a", "C_ell_delta_r", "C_m_O", "C_m_alpha", "C_m_q", "C_m_delta_e",
-      "C_n_O", "C_n_beta", "C_n_p", "C_n_r", "C_n_delta_a", "C_n_delta_r", "C_Y_O", "C_Y_beta",
-      "C_Y_p", "C_Y_r", "C_Y_delta_a", "C_Y_delta_r", "Jxx", "Jyy", "Jzz", "Jxz"};
+      "rho",     "mass",        "wing_s",    "wing_b",   "wing_c",        "wing_M",        "wing_alpha0", "D_prop",
+      "CT_0",    "CT_1",        "CT_2",      "CQ_0",     "CQ_1",          "CQ_2",          "V_max",       "R_motor",
+      "I_0",     "C_L_O",       "C_L_alpha", "C_L_q",    "C_L_delta_e",   "C_D_p",         "C_D_q",       "C_D_delta_e",
+      "C_ell_O", "C_ell_beta",  "C_ell_p",   "C_ell_r",  "C_ell_delta_a", "C_ell_delta_r", "C_m_O",       "C_m_alpha",
+      "C_m_q",   "C_m_delta_e", "C_n_O",     "C_n_beta", "C_n_p",         "C_n_r",         "C_n_delta_a", "C_n_delta_r",
+      "C_Y_O",   "C_Y_beta",    "C_Y_p",     "C_Y_r",    "C_Y_delta_a",   "C_Y_delta_r",   "Jxx",         "Jyy",
+      "Jzz",     "Jxz"};
   for (const char* k : kRequired) {
     if (!seen.count(k)) fail(source, k, "missing required field");
   }
@@ -324,7 +399,7 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   if (x.Jxy != 0.0) fail(source, "Jxy", "value " + num(x.Jxy) + ": the uavbook model needs a symmetric aircraft (Jxy = 0)");
   if (x.Jyz != 0.0) fail(source, "Jyz", "value " + num(x.Jyz) + ": the uavbook model needs a symmetric aircraft (Jyz = 0)");
   ac.stall_blend = false;  // ROSflight's simulator sets sigma(alpha) = 0
-  ac.e = 0.9;  // ROSflight's drag polar uses a fixed Oswald factor of 0.9 (wing_epsilon is unused)
+  ac.e = 0.9;              // ROSflight's drag polar uses a fixed Oswald factor of 0.9 (wing_epsilon is unused)
   ac.max_delta_a = x.max_a * kDeg;
   ac.max_delta_e = x.max_e * kDeg;
   ac.max_delta_r = x.max_r * kDeg;
@@ -337,8 +412,7 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
 }  // namespace
 
 std::vector<ContactPoint> default_gear_points(double b) {
-  return {ContactPoint(0.15 * b, 0.0, 0.06 * b), ContactPoint(-0.03 * b, 0.1 * b, 0.06 * b),
-          ContactPoint(-0.03 * b, -0.1 * b, 0.06 * b)};
+  return {ContactPoint(0.15 * b, 0.0, 0.06 * b), ContactPoint(-0.03 * b, 0.1 * b, 0.06 * b), ContactPoint(-0.03 * b, -0.1 * b, 0.06 * b)};
 }
 
 void validate(const Aircraft& ac) {
@@ -400,8 +474,7 @@ Aircraft load_aircraft(const std::string& path) {
   } catch (const YAML::BadFile&) {
     throw std::runtime_error(path + ": cannot open aircraft file");
   } catch (const YAML::Exception& e) {
-    throw std::runtime_error(path + ": malformed YAML at line " + std::to_string(e.mark.line + 1) +
-                             ": " + e.msg);
+    throw std::runtime_error(path + ": malformed YAML at line " + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
   return parse_aircraft(doc, path);
 }

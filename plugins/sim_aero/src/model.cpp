@@ -12,9 +12,7 @@ using tern::kPi;
 double safe_exp(double x) { return std::exp(std::min(x, 700.0)); }
 }  // namespace
 
-Eigen::Quaterniond attitude(const StateVector& x) {
-  return Eigen::Quaterniond(x[E0], x[E1], x[E2], x[E3]).normalized();
-}
+Eigen::Quaterniond attitude(const StateVector& x) { return Eigen::Quaterniond(x[E0], x[E1], x[E2], x[E3]).normalized(); }
 
 namespace {
 AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix3d& Rot) {
@@ -28,9 +26,7 @@ AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix
 }
 }  // namespace
 
-AirData air_data(const StateVector& x, const Wind& wind) {
-  return air_data_rot(x, wind, attitude(x).toRotationMatrix());
-}
+AirData air_data(const StateVector& x, const Wind& wind) { return air_data_rot(x, wind, attitude(x).toRotationMatrix()); }
 
 PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
   const auto& p = ac.prop;
@@ -47,10 +43,10 @@ PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
   PropulsionOutput out;
   out.Omega = Omega;
   // T_p = rho (Omega/2pi)^2 D^4 C_T(J), J = 2 pi Va/(Omega D), written without dividing by Omega.
-  out.T_p = rho * D4 * p.C_T_0 * Omega * Omega / (4.0 * kPi * kPi) +
-            rho * D3 * p.C_T_1 * Va * Omega / (2.0 * kPi) + rho * D2 * p.C_T_2 * Va * Va;
-  out.Q_p = rho * D5 * p.C_Q_0 * Omega * Omega / (4.0 * kPi * kPi) +
-            rho * D4 * p.C_Q_1 * Va * Omega / (2.0 * kPi) + rho * D3 * p.C_Q_2 * Va * Va;
+  out.T_p =
+      rho * D4 * p.C_T_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D3 * p.C_T_1 * Va * Omega / (2.0 * kPi) + rho * D2 * p.C_T_2 * Va * Va;
+  out.Q_p =
+      rho * D5 * p.C_Q_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D4 * p.C_Q_1 * Va * Omega / (2.0 * kPi) + rho * D3 * p.C_Q_2 * Va * Va;
   return out;
 }
 
@@ -80,8 +76,7 @@ double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, al
 
 namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
-void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, double delta_r,
-                    ForcesMoments& fm) {
+void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, double delta_r, ForcesMoments& fm) {
   const auto& g = ac.gear;
   const double n = static_cast<double>(g.points.size());
   const double k = ac.mass * kGravity / (n * g.static_deflection);
@@ -122,8 +117,7 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
 }  // namespace
 
 namespace {
-ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind,
-                                 const Eigen::Matrix3d& Rot) {
+ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind, const Eigen::Matrix3d& Rot) {
   ForcesMoments fm;
   fm.air = air_data_rot(x, wind, Rot);
   const double Va = fm.air.Va, alpha = fm.air.alpha, beta = fm.air.beta;
@@ -140,18 +134,16 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
   fm.prop = propulsion(ac, Va, d.delta_t);
   const double fx = -ca * F_drag + sa * F_lift + fm.prop.T_p;
   const double fz = -sa * F_drag - ca * F_lift;
-  const double fy = qS * (A.C_Y_0 + A.C_Y_beta * beta + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) +
-                    qSb * (A.C_Y_p * p + A.C_Y_r * r);
-  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta + A.C_ell_delta_a * d.delta_a +
-                                 A.C_ell_delta_r * d.delta_r) +
+  const double fy =
+      qS * (A.C_Y_0 + A.C_Y_beta * beta + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
+  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
                            qSb * (A.C_ell_p * p + A.C_ell_r * r)) -
                    fm.prop.Q_p;
   // Beyond the blending angle the alpha term fades to C_m_alpha sin(alpha) (bounded for flow
   // from behind); below it this is the book's C_m_alpha alpha.
   const double alpha_m = (1.0 - sigma) * alpha + sigma * std::sin(alpha);
   const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha_m + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
-  const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a +
-                                  A.C_n_delta_r * d.delta_r) +
+  const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r) +
                             qSb * (A.C_n_p * p + A.C_n_r * r));
   fm.f_aero = Eigen::Vector3d(fx, fy, fz);
   fm.m_aero = Eigen::Vector3d(l, m, nn);
@@ -167,8 +159,7 @@ ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Del
   return forces_moments_rot(ac, x, d, wind, attitude(x).toRotationMatrix());
 }
 
-StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
-                       ForcesMoments* out) {
+StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
   const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
   const ForcesMoments fm = forces_moments_rot(ac, x, d, w, Rot);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
@@ -210,8 +201,8 @@ StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, 
   return xn;
 }
 
-StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi,
-                       double theta, double psi, const Eigen::Vector3d& pqr) {
+StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi, double theta, double psi,
+                       const Eigen::Vector3d& pqr) {
   StateVector x;
   x.segment<3>(PN) = p_ned;
   x.segment<3>(U) = v_body;

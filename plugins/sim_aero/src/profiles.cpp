@@ -37,34 +37,34 @@ SensorParams ideal() {
 // ~100 Hz DLPF bandwidth = 157 Hz (first-order filter: pi/2 f_3dB), sqrt(157) = 12.53.
 void realistic_imu(SensorParams& p) {
   const double sqrt_enbw = std::sqrt(1.57 * 100.0);
-  p.gyro_noise = 0.004 * kDeg * sqrt_enbw;       // 4 mdps/sqrt(Hz) -> 0.050 dps = 8.7e-4 rad/s
-  p.accel_noise = 100e-6 * kG0 * sqrt_enbw;      // 100 ug/sqrt(Hz) -> 1.25 mg = 0.0123 m/s^2
+  p.gyro_noise = 0.004 * kDeg * sqrt_enbw;   // 4 mdps/sqrt(Hz) -> 0.050 dps = 8.7e-4 rad/s
+  p.accel_noise = 100e-6 * kG0 * sqrt_enbw;  // 100 ug/sqrt(Hz) -> 1.25 mg = 0.0123 m/s^2
   // Raw turn-on gyro bias: the +-1 dps initial ZRO tolerance; the FCU's boot calibration
   // (calibrate_at_boot, boot_calibration.hpp) removes it while the aircraft sits still. The
   // accelerometer's +-25 mg offset is removed by the ground calibration stored in the FCU's
   // parameters (`tern fcu calibrate imu`); what is left is its temperature drift since then.
   p.calibrate_at_boot = true;
-  p.gyro_bias_range = 1.0 * kDeg;                // rad/s: +-1 dps = 0.0175 rad/s
-  p.accel_bias_range = 0.05;                     // m/s^2 residual of the stored calibration
-  p.gyro_bias_walk = 3e-5;                       // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)
-  p.accel_bias_walk = 1e-3;                      // m/s^2/sqrt(s): temperature drift in flight
-  p.gyro_scale_range = 0.01;                     // sensitivity error +-1 % (datasheet)
-  p.accel_scale_range = 0.01;                    // sensitivity error +-1 %
-  p.imu_cross_axis_range = 0.02;                 // cross-axis sensitivity +-2 % (datasheet)
+  p.gyro_bias_range = 1.0 * kDeg;                               // rad/s: +-1 dps = 0.0175 rad/s
+  p.accel_bias_range = 0.05;                                    // m/s^2 residual of the stored calibration
+  p.gyro_bias_walk = 3e-5;                                      // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)
+  p.accel_bias_walk = 1e-3;                                     // m/s^2/sqrt(s): temperature drift in flight
+  p.gyro_scale_range = 0.01;                                    // sensitivity error +-1 % (datasheet)
+  p.accel_scale_range = 0.01;                                   // sensitivity error +-1 %
+  p.imu_cross_axis_range = 0.02;                                // cross-axis sensitivity +-2 % (datasheet)
   p.imu_misalignment = Eigen::Vector3d(0.5, -0.5, 1.0) * kDeg;  // a hand-mounted flight controller
-  p.imu_position = Eigen::Vector3d(0.05, 0.0, 0.02);           // m from the CG, body FRD
+  p.imu_position = Eigen::Vector3d(0.05, 0.0, 0.02);            // m from the CG, body FRD
   // Full-throttle vibration of a soft-mounted FCU on an electric aircraft (PX4's vibration guidance).
-  p.accel_vibration = 1.5;                       // m/s^2
-  p.gyro_vibration = 0.01;                       // rad/s
+  p.accel_vibration = 1.5;  // m/s^2
+  p.gyro_vibration = 0.01;  // rad/s
 }
 
 // HMC5883L / IST8310 class (the ROSflight boards); residuals after a compass calibration.
 void realistic_mag(SensorParams& p) {
-  p.mag_noise = 0.3e-6;                          // T white = 3 mG (HMC5883L noise floor 2 mG, plus margin)
-  p.mag_gm_sigma = 0.3e-6;                       // T: slow local disturbances ...
-  p.mag_gm_tau = 30.0;                           // ... with a 30 s correlation time
-  p.mag_hard_iron_range = 1e-6;                  // T per axis residual hard iron
-  p.mag_soft_iron_range = 0.02;                  // +-2 % residual soft iron
+  p.mag_noise = 0.3e-6;                                      // T white = 3 mG (HMC5883L noise floor 2 mG, plus margin)
+  p.mag_gm_sigma = 0.3e-6;                                   // T: slow local disturbances ...
+  p.mag_gm_tau = 30.0;                                       // ... with a 30 s correlation time
+  p.mag_hard_iron_range = 1e-6;                              // T per axis residual hard iron
+  p.mag_soft_iron_range = 0.02;                              // +-2 % residual soft iron
   p.mag_motor_field = Eigen::Vector3d(0.0, 0.5e-6, 1.5e-6);  // T at full throttle (motor current)
 }
 
@@ -79,25 +79,25 @@ void realistic_baro(SensorParams& p) {
 // TE MS4525DO-DS5AI001DP (001PD: +-1 psi, 14 bit over 10..90 % of the counts: 13790 Pa / 13107
 // counts = 1.05 Pa per count).
 void realistic_pitot(SensorParams& p) {
-  p.diff_noise = 1.5;          // Pa: ~1.4 counts RMS
-  p.diff_bias_range = 2.0;     // Pa: offset since the last zero (the boot calibration removes it)
-  p.diff_bias_walk = 0.05;     // Pa/sqrt(s): thermal drift of the offset
-  p.diff_scale_range = 0.05;   // +-5 %: installation (probe position, pitot/static tubes)
+  p.diff_noise = 1.5;         // Pa: ~1.4 counts RMS
+  p.diff_bias_range = 2.0;    // Pa: offset since the last zero (the boot calibration removes it)
+  p.diff_bias_walk = 0.05;    // Pa/sqrt(s): thermal drift of the offset
+  p.diff_scale_range = 0.05;  // +-5 %: installation (probe position, pitot/static tubes)
 }
 
 // u-blox NEO-M8N. Datasheet: 2.5 m CEP horizontal (24 h static, open sky; per-axis sigma
 // CEP / 1.18 = 2.1 m) and 0.05 m/s velocity; the team's 1.2 m per axis is the hAcc a receiver
 // reports in flight with 12 satellites, and the reported accuracies equal the true sigmas.
 void realistic_gnss(SensorParams& p) {
-  p.gnss_h_sigma = 1.2;                // m per axis, steady state
-  p.gnss_v_sigma = 2.5;                // m: vertical ~2 x horizontal (geometry)
-  p.gnss_tau = 180.0;                  // s: slow drift of the position error (atmosphere, multipath)
-  p.gnss_start_steady = true;          // the first fix already carries the steady error
-  p.gnss_vel_noise = 0.05;             // m/s: velocity accuracy 0.05 m/s (datasheet)
-  p.gnss_vel_tau = 2.0;                // s: the receiver's velocity filter
-  p.gnss_latency = 0.12;               // s: navigation solution to UART output
+  p.gnss_h_sigma = 1.2;                                         // m per axis, steady state
+  p.gnss_v_sigma = 2.5;                                         // m: vertical ~2 x horizontal (geometry)
+  p.gnss_tau = 180.0;                                           // s: slow drift of the position error (atmosphere, multipath)
+  p.gnss_start_steady = true;                                   // the first fix already carries the steady error
+  p.gnss_vel_noise = 0.05;                                      // m/s: velocity accuracy 0.05 m/s (datasheet)
+  p.gnss_vel_tau = 2.0;                                         // s: the receiver's velocity filter
+  p.gnss_latency = 0.12;                                        // s: navigation solution to UART output
   p.gnss_antenna_position = Eigen::Vector3d(-0.1, 0.0, -0.08);  // m, body FRD: behind and above the CG
-  p.gnss_h_acc = 1.2;                  // reported = true statistics
+  p.gnss_h_acc = 1.2;                                           // reported = true statistics
   p.gnss_v_acc = 2.5;
   p.gnss_s_acc = 0.05;
   p.gnss_num_sats = 12;

@@ -10,15 +10,13 @@ namespace tern::sim {
 
 double standard_temperature(double h) { return 288.15 - 0.0065 * h; }
 
-double standard_pressure(double h) {
-  return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588);
-}
+double standard_pressure(double h) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588); }
 
 // WGS-84 geodetic <-> ECEF <-> local NED. Written here rather than taken from GeographicLib: that
 // library's GNU-unique symbols would keep the plugin loaded after dlclose (hot-swap needs it gone).
 namespace {
-constexpr double kWgs84A = 6378137.0;                 // semi-major axis, m
-constexpr double kWgs84F = 1.0 / 298.257223563;       // flattening
+constexpr double kWgs84A = 6378137.0;                   // semi-major axis, m
+constexpr double kWgs84F = 1.0 / 298.257223563;         // flattening
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
 constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
@@ -54,9 +52,7 @@ GeoOrigin::GeoOrigin(double lat, double lon, double alt) : impl_(std::make_uniqu
   const double phi = lat * kDegToRad, lam = lon * kDegToRad;
   impl_->ecef0 = geodetic_to_ecef(phi, lam, alt);
   const double sp = std::sin(phi), cp = std::cos(phi), sl = std::sin(lam), cl = std::cos(lam);
-  impl_->R << -sp * cl, -sp * sl, cp,
-              -sl, cl, 0.0,
-              -cp * cl, -cp * sl, -sp;
+  impl_->R << -sp * cl, -sp * sl, cp, -sl, cl, 0.0, -cp * cl, -cp * sl, -sp;
 }
 GeoOrigin::~GeoOrigin() = default;
 
@@ -76,9 +72,9 @@ Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
 namespace {
 /// Rotation of a 3-2-1 (yaw, pitch, roll) Euler sequence: R = Rz(yaw) Ry(pitch) Rx(roll).
 Eigen::Matrix3d euler_321(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) *
-          Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX())).toRotationMatrix();
+  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
 }
 
 /// Transition factor exp(-dt / tau) of a first-order Gauss-Markov process (0: white).
@@ -98,7 +94,9 @@ Eigen::Vector3d earth_field_ned(const SensorParams& p) {
 }  // namespace
 
 Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
-    : p_(p), seed_(seed), origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)),
+    : p_(p),
+      seed_(seed),
+      origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)),
       mount_T_(euler_321(p.imu_misalignment).transpose()) {
   reset();
 }
@@ -165,9 +163,7 @@ void Sensors::calibrated_before_start() {
   boot_.set_done(gyro, diff, standard_pressure(p_.origin_alt) + baro_bias_);
 }
 
-Eigen::Vector3d Sensors::gnss_sigma() const {
-  return {p_.gnss_h_sigma, p_.gnss_h_sigma, p_.gnss_v_sigma};
-}
+Eigen::Vector3d Sensors::gnss_sigma() const { return {p_.gnss_h_sigma, p_.gnss_h_sigma, p_.gnss_v_sigma}; }
 
 // White noise plus motor vibration (independent draws, the vibration scaled by the throttle).
 Eigen::Vector3d Sensors::white_and_vibration(double sigma, double vibration_full, double throttle) {
@@ -184,10 +180,8 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
   const Eigen::Vector3d f = specific_force_at(t, p_.imu_position);
   const Eigen::Vector3d w = t.x.segment<3>(P);
   ImuSample m;
-  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ +
-            white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
-  m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ +
-           white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
+  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
+  m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ + white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
   if (p_.calibrate_at_boot) m.gyro = boot_.gyro(m.gyro);
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
   return m;

@@ -91,8 +91,9 @@ class SimAero final : public tern::Plugin {
     declare(gust_max_duration_, "gust_max_duration", 3.0, ParamSpec("s", 0.01, 100, "longest random gust").start_only());
 
     declare(sensor_profile_, "sensor_profile", sim::sensor_profile_names().front(),
-            ParamSpec("", 0, 0, "sensor and actuator defaults: rosflight (ROSflight's simulator), realistic "
-                                "(datasheets: u-blox M8N, ICM-20602, MS5611, MS4525DO), ideal (no errors)")
+            ParamSpec("", 0, 0,
+                      "sensor and actuator defaults: rosflight (ROSflight's simulator), realistic "
+                      "(datasheets: u-blox M8N, ICM-20602, MS5611, MS4525DO), ideal (no errors)")
                 .one_of(sim::sensor_profile_names())
                 .start_only());
     declare_sensor(imu_, "imu", 400.0);
@@ -102,8 +103,9 @@ class SimAero final : public tern::Plugin {
     declare_sensor(gnss_, "gnss", 10.0);
     declare_error_model();
     declare(pitot_cover_, "pitot_cover", 0.0,
-            ParamSpec("s", 0, 600, "the pilot keeps the pitot covered until this flight time (the boot calibration then "
-                                   "zeroes the sensor, not the wind)"));
+            ParamSpec("s", 0, 600,
+                      "the pilot keeps the pitot covered until this flight time (the boot calibration then "
+                      "zeroes the sensor, not the wind)"));
     declare(truth_rate_, "truth_rate", 400.0, ParamSpec("Hz", 1, 20000, "rate of the truth topic").start_only());
     declare(rc_rate_, "rc_rate", 50.0, ParamSpec("Hz", 0, 1000, "rate of the rc topic (0: off)").start_only());
     declare(status_rate_, "status_rate", 10.0, ParamSpec("Hz", 0, 1000, "rate of the fcu_status topic (0: off)").start_only());
@@ -160,9 +162,13 @@ class SimAero final : public tern::Plugin {
                                                      {"sim_crashed", sim_ && sim_->crashed() ? 1.0 : 0.0}};
     if (sim_ && sim_->crashed()) {
       const ImpactFacts m = impact();
-      s.insert(s.end(), {{"impact_t_s", m.t}, {"impact_p_n_m", m.p_ned.x()}, {"impact_p_e_m", m.p_ned.y()},
-                         {"impact_ground_speed_mps", m.v_ned.head<2>().norm()}, {"impact_sink_rate_mps", m.v_ned.z()},
-                         {"impact_airspeed_mps", m.Va}, {"impact_roll_deg", m.phi * 180.0 / tern::kPi},
+      s.insert(s.end(), {{"impact_t_s", m.t},
+                         {"impact_p_n_m", m.p_ned.x()},
+                         {"impact_p_e_m", m.p_ned.y()},
+                         {"impact_ground_speed_mps", m.v_ned.head<2>().norm()},
+                         {"impact_sink_rate_mps", m.v_ned.z()},
+                         {"impact_airspeed_mps", m.Va},
+                         {"impact_roll_deg", m.phi * 180.0 / tern::kPi},
                          {"impact_pitch_deg", m.theta * 180.0 / tern::kPi}});
     }
     return s;
@@ -190,7 +196,8 @@ class SimAero final : public tern::Plugin {
   std::vector<std::pair<Nanos, Nanos>> windows_of(const tern::Param<std::vector<double>>& param) const {
     const auto& v = param();
     const std::string name = context().instance_name() + "." + param.name();
-    if (v.size() % 2 != 0) throw ParamError("parameter '" + name + "': needs pairs [start, end], got " + std::to_string(v.size()) + " values");
+    if (v.size() % 2 != 0)
+      throw ParamError("parameter '" + name + "': needs pairs [start, end], got " + std::to_string(v.size()) + " values");
     std::vector<std::pair<Nanos, Nanos>> out;
     for (std::size_t i = 0; i < v.size(); i += 2) {
       if (!(v[i + 1] > v[i])) throw ParamError("parameter '" + name + "': window " + std::to_string(i / 2) + " ends before it starts");
@@ -201,11 +208,12 @@ class SimAero final : public tern::Plugin {
   void check_gusts() const {
     const auto& g = gusts_();
     if (g.size() % 5 != 0) {
-      throw ParamError("parameter '" + context().instance_name() +
-                       ".gusts': needs groups of 5 [start, duration, w_n, w_e, w_d], got " + std::to_string(g.size()) + " values");
+      throw ParamError("parameter '" + context().instance_name() + ".gusts': needs groups of 5 [start, duration, w_n, w_e, w_d], got " +
+                       std::to_string(g.size()) + " values");
     }
     for (std::size_t i = 0; i < g.size(); i += 5) {
-      if (!(g[i + 1] > 0)) throw ParamError("parameter '" + context().instance_name() + ".gusts': gust " + std::to_string(i / 5) + " has duration <= 0");
+      if (!(g[i + 1] > 0))
+        throw ParamError("parameter '" + context().instance_name() + ".gusts': gust " + std::to_string(i / 5) + " has duration <= 0");
     }
   }
 
@@ -232,7 +240,8 @@ class SimAero final : public tern::Plugin {
     declare(calibrate_at_boot_, "calibrate_at_boot", d.calibrate_at_boot,
             ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)")
                 .start_only());
-    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use").start_only());
+    declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats},
+            ParamSpec("", 0, 64, "reported satellites in use").start_only());
   }
 
   sim::SensorParams sensor_params() const {
@@ -315,8 +324,7 @@ class SimAero final : public tern::Plugin {
       sim_->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
     } else if (mode == "air") {
       sensors_->calibrated_before_start();
-      sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0,
-                                      init_heading_()));
+      sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0, init_heading_()));
     } else {
       sensors_->calibrated_before_start();
       sim::TrimRequest req;
@@ -329,8 +337,8 @@ class SimAero final : public tern::Plugin {
       x[sim::PE] = ne.y();
       sim_->set_state(x, tr.delta);
       default_cmd_ = tr.delta;
-      log().info("trim at {} m/s: alpha {:.4f} rad, delta_e {:.4f} rad, delta_t {:.3f}", req.Va, tr.alpha,
-                 tr.delta.delta_e, tr.delta.delta_t);
+      log().info("trim at {} m/s: alpha {:.4f} rad, delta_e {:.4f} rad, delta_t {:.3f}", req.Va, tr.alpha, tr.delta.delta_e,
+                 tr.delta.delta_t);
     }
     t_ = 0;
     steps_ = 0;
@@ -382,8 +390,7 @@ class SimAero final : public tern::Plugin {
         if (sensors_->params().imu_position.isZero()) {
           truth->fm = sim_->evaluate();
         } else {  // the lever arm needs the angular acceleration: one evaluation gives both
-          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind(), &truth->fm)
-                                 .segment<3>(sim::P);
+          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind(), &truth->fm).segment<3>(sim::P);
         }
         truth->mass = sim_->aircraft().mass;
         truth->rho = sim_->aircraft().rho;
@@ -431,7 +438,7 @@ class SimAero final : public tern::Plugin {
       if (!ok) return;
       const double dt = diff_.schedule.dt_since_last(t);
       const auto m = t < tern::from_seconds(pitot_cover_()) ? sensors_->diff_pressure(covered_pitot(get_truth()), dt)
-                                                      : sensors_->diff_pressure(get_truth(), dt);
+                                                            : sensors_->diff_pressure(get_truth(), dt);
       diff_.schedule.last_sample = t;
       msg::DiffPressure out;
       out.stamp = t;
@@ -495,20 +502,22 @@ class SimAero final : public tern::Plugin {
   bool boot_calibrated(Nanos t) {
     const sim::BootCalibration* cal = sensors_->boot_calibration();
     if (cal == nullptr) return true;
-    if (!cal->gyro_done() || (diff_.enabled() && !cal->diff().done) || (baro_.enabled() && !cal->baro_ground().done))
-      return false;
+    if (!cal->gyro_done() || (diff_.enabled() && !cal->diff().done) || (baro_.enabled() && !cal->baro_ground().done)) return false;
     if (!boot_reported_) {
       boot_reported_ = true;
       const Eigen::Vector3d b = cal->gyro_bias();
-      log().info("t={:.3f} s: FCU boot calibration done: gyro bias [{:.5f}, {:.5f}, {:.5f}] rad/s, pitot zero {:.2f} Pa, "
-                 "ground pressure {:.1f} Pa ({} restarts for movement)", tern::to_seconds(t), b.x(), b.y(), b.z(),
-                 cal->diff().offset, cal->baro_ground().offset,
-                 cal->gyro_restarts() + cal->diff().restarts + cal->baro_ground().restarts);
+      log().info(
+          "t={:.3f} s: FCU boot calibration done: gyro bias [{:.5f}, {:.5f}, {:.5f}] rad/s, pitot zero {:.2f} Pa, "
+          "ground pressure {:.1f} Pa ({} restarts for movement)",
+          tern::to_seconds(t), b.x(), b.y(), b.z(), cal->diff().offset, cal->baro_ground().offset,
+          cal->gyro_restarts() + cal->diff().restarts + cal->baro_ground().restarts);
       // The world knows what the FCU cannot: whether the aircraft sat still while it averaged.
       const double off = (b - sensors_->gyro_bias()).norm();
       if (off > kMovedDuringCalibration)
-        log().warn("the aircraft moved during the FCU's gyro calibration: the bias it removes is {:.2f} deg/s off "
-                   "(weathervaning in the wind? point it into the wind, as for a takeoff)", off * 180.0 / tern::kPi);
+        log().warn(
+            "the aircraft moved during the FCU's gyro calibration: the bias it removes is {:.2f} deg/s off "
+            "(weathervaning in the wind? point it into the wind, as for a takeoff)",
+            off * 180.0 / tern::kPi);
     }
     return true;
   }

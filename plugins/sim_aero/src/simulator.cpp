@@ -32,12 +32,11 @@ ActuatorParams actuator_profile(std::string_view name) {
   if (name == "realistic") {
     ActuatorParams a;
     a.servo_rate_limit = (60.0 * 3.14159265358979323846 / 180.0) / 0.10;  // 0.10 s / 60 deg
-    a.servo_deadband = 0.003;  // 2 us of a +-500 us pulse over +-0.7 rad
+    a.servo_deadband = 0.003;                                             // 2 us of a +-500 us pulse over +-0.7 rad
     a.motor_tau = 0.1;
     return a;
   }
-  throw std::invalid_argument("unknown sensor profile '" + std::string(name) +
-                              "' (valid: rosflight, realistic, ideal)");
+  throw std::invalid_argument("unknown sensor profile '" + std::string(name) + "' (valid: rosflight, realistic, ideal)");
 }
 
 Simulator::Simulator(Aircraft ac, std::uint64_t seed) : ac_(std::move(ac)), seed_(seed), rng_(seed) {
@@ -75,9 +74,7 @@ void Simulator::set_command(const Deltas& c) {
   cmd_.delta_t = std::clamp(c.delta_t, 0.0, 1.0);
 }
 
-Eigen::Vector3d Simulator::wind_ned() const {
-  return wind_.steady_ned + attitude(x_) * wind_.gust_body;
-}
+Eigen::Vector3d Simulator::wind_ned() const { return wind_.steady_ned + attitude(x_) * wind_.gust_body; }
 
 void Simulator::reset_wind() {
   rng_.seed(seed_);
@@ -106,8 +103,7 @@ void Simulator::step(double dt) {
   const StateVector xn = rk4_step(ac_, x_, act_, wind_, dt);
   const std::string bad = first_non_finite(xn);
   if (!bad.empty()) {
-    throw std::runtime_error("simulation diverged at t = " + std::to_string(t_) + " s: state " + bad +
-                             " is not finite");
+    throw std::runtime_error("simulation diverged at t = " + std::to_string(t_) + " s: state " + bad + " is not finite");
   }
   x_ = xn;
   if (x_[PD] > 0.0) {  // CG below the ground: a crash, not a flight

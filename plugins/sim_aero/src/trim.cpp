@@ -67,8 +67,7 @@ TrimResult compute_trim(const Aircraft& ac, const TrimRequest& req) {
   alpha0 = std::clamp(alpha0, -0.2, 0.3);
   Vec7 z;
   z << alpha0, phi0, alpha0 + req.gamma,
-      ac.aero.C_m_delta_e != 0 ? -(ac.aero.C_m_0 + ac.aero.C_m_alpha * alpha0) / ac.aero.C_m_delta_e : 0.0,
-      0.0, 0.0, 0.5;
+      ac.aero.C_m_delta_e != 0 ? -(ac.aero.C_m_0 + ac.aero.C_m_alpha * alpha0) / ac.aero.C_m_delta_e : 0.0, 0.0, 0.0, 0.5;
   Vec7 r = pb.residual(z);
   int it = 0;
   for (; it < 100 && r.norm() > 1e-11; ++it) {

@@ -44,17 +44,17 @@ std::filesystem::path temp_file(const std::string& name) {
 // the control groups, `group_unit`), and the rows CFx .. CMn (values per column: Total Alpha Beta p
 // q r Mach U and one per group; rows not given are zeros).
 std::string vspaero_stab(double aoa_deg, const std::vector<std::string>& groups, const std::string& group_unit,
-                         const std::map<std::string, std::vector<double>>& rows, double S = 0.52, double c = 0.235,
-                         double b = 2.08, double rho = 1.225) {
+                         const std::map<std::string, std::vector<double>>& rows, double S = 0.52, double c = 0.235, double b = 2.08,
+                         double rho = 1.225) {
   std::ostringstream o;
   o << std::setprecision(12);
   o << std::string(185, '*') << " \n\n# Name                   Value      Units\n"
     << "Sref_ " << S << " Lunit^2\nCref_ " << c << " Lunit\nBref_ " << b << " Lunit\nXcg_ 0.1 Lunit\n"
     << "Mach_ 0.05 no_unit\nAoA_ " << aoa_deg << " deg\nBeta_ 0 deg\nRho_ " << rho << " Munit/Lunit^3\n"
     << "Vinf_ 17 Lunit/Tunit\n\n#\nCase Delta Units CFx CFy CFz CMx CMy CMz CL CD CS CMl CMm CMn\n#\n";
-  std::vector<std::string> cases = {"Base_Aero +0.000 n/a", "Alpha +0.010 deg", "Beta +0.010 deg",
-                                    "Roll__Rate +0.010 rad/Tunit", "Pitch_Rate +0.010 rad/Tunit",
-                                    "Yaw___Rate +0.010 rad/Tunit", "Mach +0.100 no_unit"};
+  std::vector<std::string> cases = {
+      "Base_Aero +0.000 n/a",        "Alpha +0.010 deg",   "Beta +0.010 deg", "Roll__Rate +0.010 rad/Tunit", "Pitch_Rate +0.010 rad/Tunit",
+      "Yaw___Rate +0.010 rad/Tunit", "Mach +0.100 no_unit"};
   for (const auto& g : groups) cases.push_back(g + " +0.100 deg");
   for (const auto& cs : cases) o << cs << " 0 0 0 0 0 0 0 0 0 0 0 0\n";
   o << "#\n#\n#             Base    Derivative:\n#             Aero wrt\nCoef Total Alpha Beta p q r Mach U";
@@ -67,8 +67,7 @@ std::string vspaero_stab(double aoa_deg, const std::vector<std::string>& groups,
   for (const char* r : {"CFx", "CFy", "CFz", "CMx", "CMy", "CMz", "CL", "CD", "CS", "CMl", "CMm", "CMn"}) {
     o << r;
     auto it = rows.find(r);
-    for (std::size_t k = 0; k < 8 + groups.size(); ++k)
-      o << " " << (it != rows.end() && k < it->second.size() ? it->second[k] : 0.0);
+    for (std::size_t k = 0; k < 8 + groups.size(); ++k) o << " " << (it != rows.end() && k < it->second.size() ? it->second[k] : 0.0);
     o << "\n";
   }
   o << "#\n#\n#\n# Result Value Units\nSM 0.1 no_unit\nX_np 0.12 Lunit\n#\n";
@@ -131,8 +130,8 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   CHECK(t4.d.at("C_L") == Approx(0.602 + 5.2741 * 2.0 * kPi / 180.0));
   CHECK(t4.d.at("C_ell_p") == Approx(-0.465 * 1.1));
   at4.aoa_deg = 3.0;
-  CHECK_THROWS_WITH_AS(aero::parse_vspaero_stab(stab, at4),
-                       doctest::Contains("operating point: none at AoA_ = 3 deg and Beta_ = 0"), std::runtime_error);
+  CHECK_THROWS_WITH_AS(aero::parse_vspaero_stab(stab, at4), doctest::Contains("operating point: none at AoA_ = 3 deg and Beta_ = 0"),
+                       std::runtime_error);
 
   // groups named by the user: case-list names (any case), ConGrp_<n>, "none", a '-' flips the sign
   aero::VspaeroOptions named;
@@ -143,8 +142,7 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   CHECK_FALSE(tn.d.count("C_n_delta_r"));
   named.controls = {"Flaps", "", ""};
   CHECK_THROWS_WITH_AS(aero::parse_vspaero_stab(stab, named),
-                       doctest::Contains("elevator control group 'Flaps': not in the case list (ConGrp_1 = Ailerons"),
-                       std::runtime_error);
+                       doctest::Contains("elevator control group 'Flaps': not in the case list (ConGrp_1 = Ailerons"), std::runtime_error);
 
   const aero::PolarFit pf = aero::parse_vspaero_polar(kData + "/sample_vspaero.polar", 2.08 * 2.08 / 0.52);
   CHECK(pf.rows == 6);  // the two rows at Beta = 5 are not used
@@ -201,8 +199,7 @@ TEST_CASE("VSPAERO sweep in alpha: the point nearest zero angle of attack by def
   CHECK(t.d.at("C_ell_p") == Approx(-0.41));
   REQUIRE_FALSE(t.notes.empty());
   CHECK(t.notes[0].find("operating point: AoA_ 1 deg, Beta_ 0") != std::string::npos);
-  CHECK(t.notes[0].find("nearest zero angle of attack of the 5 in the file (AoA_ -10 Beta_ 0, AoA_ -5") !=
-        std::string::npos);
+  CHECK(t.notes[0].find("nearest zero angle of attack of the 5 in the file (AoA_ -10 Beta_ 0, AoA_ -5") != std::string::npos);
   aero::VspaeroOptions o;
   o.aoa_deg = -10.0;
   const auto t10 = aero::parse_vspaero_stab(stab.string(), o);
@@ -246,8 +243,7 @@ TEST_CASE("VSPAERO unit rows: control groups per deg are converted, per rad kept
   CHECK(per_deg == Approx(v * 180.0 / kPi));
   write_file(p, vspaero_stab(2.0, g, "foo", rows));
   CHECK_THROWS_WITH_AS(aero::parse_vspaero_stab(p.string()),
-                       doctest::Contains("unit of column ConGrp_1: 'per foo' (expected 'per rad' or 'per deg')"),
-                       std::runtime_error);
+                       doctest::Contains("unit of column ConGrp_1: 'per foo' (expected 'per rad' or 'per deg')"), std::runtime_error);
   std::filesystem::remove(p);
 }
 
@@ -262,9 +258,9 @@ TEST_CASE("XFLR5 v6 analysis log: derived C_L and density, stability -> body axe
   CHECK(t.rho == Approx(1.225).epsilon(1e-4));
   CHECK(t.d.at("C_m") == 0.0);
   CHECK(t.d.at("C_D") == Approx(0.029189 / 2).epsilon(1e-4));  // -Cxu/2, inviscid
-  CHECK(t.d.at("C_L_delta_e") == Approx(0.1301));               // -CZde
-  CHECK(t.d.at("C_D_delta_e") == Approx(0.0132));               // -CXde
-  CHECK(t.d.at("C_m_delta_e") == Approx(-0.9912));              // CMde
+  CHECK(t.d.at("C_L_delta_e") == Approx(0.1301));              // -CZde
+  CHECK(t.d.at("C_D_delta_e") == Approx(0.0132));              // -CXde
+  CHECK(t.d.at("C_m_delta_e") == Approx(-0.9912));             // CMde
   CHECK_FALSE(t.d.count("C_ell_delta_a"));
   // CLde of the aileron polar is the rolling moment, not lift
   const auto ta = aero::parse_xflr5(kData + "/sample_xflr5_aileron.txt", "aileron");
@@ -349,14 +345,33 @@ TEST_CASE("round trip: the Anaconda -> VSPAERO-layout .stab (per-degree control 
   const aero::PolarFit pf = aero::parse_vspaero_polar(polar.string(), ac.AR());
   const auto r = aero::build_aircraft(t, {ac.mass, ac.Jx, ac.Jy, ac.Jz, ac.Jxz}, &pf, "rt");
   const auto& b = r.aircraft.aero;
-  const std::pair<double, double> pairs[] = {
-      {b.C_L_0, a.C_L_0}, {b.C_L_alpha, a.C_L_alpha}, {b.C_L_q, a.C_L_q}, {b.C_L_delta_e, a.C_L_delta_e},
-      {b.C_D_p, a.C_D_p}, {b.C_D_0, a.C_D_0}, {b.C_D_alpha, a.C_D_alpha}, {b.C_D_delta_e, a.C_D_delta_e},
-      {b.C_m_0, a.C_m_0}, {b.C_m_alpha, a.C_m_alpha}, {b.C_m_q, a.C_m_q}, {b.C_m_delta_e, a.C_m_delta_e},
-      {b.C_Y_beta, a.C_Y_beta}, {b.C_Y_p, a.C_Y_p}, {b.C_Y_r, a.C_Y_r}, {b.C_Y_delta_a, a.C_Y_delta_a},
-      {b.C_Y_delta_r, a.C_Y_delta_r}, {b.C_ell_beta, a.C_ell_beta}, {b.C_ell_p, a.C_ell_p}, {b.C_ell_r, a.C_ell_r},
-      {b.C_ell_delta_a, a.C_ell_delta_a}, {b.C_ell_delta_r, a.C_ell_delta_r}, {b.C_n_beta, a.C_n_beta},
-      {b.C_n_p, a.C_n_p}, {b.C_n_r, a.C_n_r}, {b.C_n_delta_a, a.C_n_delta_a}, {b.C_n_delta_r, a.C_n_delta_r}};
+  const std::pair<double, double> pairs[] = {{b.C_L_0, a.C_L_0},
+                                             {b.C_L_alpha, a.C_L_alpha},
+                                             {b.C_L_q, a.C_L_q},
+                                             {b.C_L_delta_e, a.C_L_delta_e},
+                                             {b.C_D_p, a.C_D_p},
+                                             {b.C_D_0, a.C_D_0},
+                                             {b.C_D_alpha, a.C_D_alpha},
+                                             {b.C_D_delta_e, a.C_D_delta_e},
+                                             {b.C_m_0, a.C_m_0},
+                                             {b.C_m_alpha, a.C_m_alpha},
+                                             {b.C_m_q, a.C_m_q},
+                                             {b.C_m_delta_e, a.C_m_delta_e},
+                                             {b.C_Y_beta, a.C_Y_beta},
+                                             {b.C_Y_p, a.C_Y_p},
+                                             {b.C_Y_r, a.C_Y_r},
+                                             {b.C_Y_delta_a, a.C_Y_delta_a},
+                                             {b.C_Y_delta_r, a.C_Y_delta_r},
+                                             {b.C_ell_beta, a.C_ell_beta},
+                                             {b.C_ell_p, a.C_ell_p},
+                                             {b.C_ell_r, a.C_ell_r},
+                                             {b.C_ell_delta_a, a.C_ell_delta_a},
+                                             {b.C_ell_delta_r, a.C_ell_delta_r},
+                                             {b.C_n_beta, a.C_n_beta},
+                                             {b.C_n_p, a.C_n_p},
+                                             {b.C_n_r, a.C_n_r},
+                                             {b.C_n_delta_a, a.C_n_delta_a},
+                                             {b.C_n_delta_r, a.C_n_delta_r}};
   int i = 0;
   for (const auto& [got, want] : pairs) {
     CAPTURE(i);
@@ -377,8 +392,8 @@ TEST_CASE("malformed input: one line naming the file and field") {
     const std::string msg = error_of([&] { aero::parse_vspaero_stab(p.string()); });
     CAPTURE(msg);
     CHECK(msg.find(expect) != std::string::npos);
-    CHECK(msg.rfind(p.string(), 0) == 0);          // starts with the file name
-    CHECK(msg.find('\n') == std::string::npos);    // one line
+    CHECK(msg.rfind(p.string(), 0) == 0);        // starts with the file name
+    CHECK(msg.find('\n') == std::string::npos);  // one line
   };
   auto edited = [&](const std::string& from, const std::string& to) {
     std::string s = sample;
@@ -396,8 +411,7 @@ TEST_CASE("malformed input: one line naming the file and field") {
                  ": case list line 31: expected 'name delta units' and 12 coefficients");
   check_one_line("Sref_ 0.5 Lunit^2\nCref_ 0.2 Lunit\n",
                  ": derivative table: no 'Coef Total Alpha Beta p q r Mach U ...' column names found");
-  CHECK_THROWS_WITH_AS(aero::parse_xflr5(kData + "/sample_vspaero.stab"), doctest::Contains(": CLa: missing"),
-                       std::runtime_error);
+  CHECK_THROWS_WITH_AS(aero::parse_xflr5(kData + "/sample_vspaero.stab"), doctest::Contains(": CLa: missing"), std::runtime_error);
   std::string polar = read_file(kData + "/sample_vspaero_v6.polar");
   polar += "0.0 0.05 9.0 0.27\n";
   write_file(p, polar);
@@ -526,8 +540,8 @@ TEST_CASE("modes are told apart by eigenvector content, not only by frequency; f
   lm.A_lat.setZero();
   // longitudinal [u w q theta]: an (alpha, q) oscillation at 0.5 rad/s and a (u, theta) one at 3 rad/s:
   // the first is the short period by content although it is the slower
-  lm.A_lon.block<2, 2>(1, 1) << -0.2, 20.0, -0.0125, 0.0;       // w, q: lambda^2 + 0.2 lambda + 0.25
-  lm.A_lon(0, 0) = -1.0;                                        // u, theta: lambda^2 + lambda + 9
+  lm.A_lon.block<2, 2>(1, 1) << -0.2, 20.0, -0.0125, 0.0;  // w, q: lambda^2 + 0.2 lambda + 0.25
+  lm.A_lon(0, 0) = -1.0;                                   // u, theta: lambda^2 + lambda + 9
   lm.A_lon(0, 3) = -9.0;
   lm.A_lon(3, 0) = 1.0;
   // lateral [v p r phi]: a (v, r) oscillation, p' = -8 p, phi' = p + 0.05 phi (a divergent spiral)

@@ -62,9 +62,7 @@ TEST_CASE("plugin: sensors publish at their own rates; truth is filled") {
 }
 
 TEST_CASE("plugin: a sensor can be switched off or dropped out for a time window") {
-  auto h = make({{"imu_enabled", false},
-                 {"baro_dropout", std::vector<double>{0.2, 0.5}},
-                 {"gnss_dropout", std::vector<double>{0.3, 0.6}}});
+  auto h = make({{"imu_enabled", false}, {"baro_dropout", std::vector<double>{0.2, 0.5}}, {"gnss_dropout", std::vector<double>{0.3, 0.6}}});
   int gnss_nofix = 0;
   Nanos last_baro = -1;
   for (Nanos t = 0; t <= from_seconds(1.0); t += 2'500'000) {
@@ -123,22 +121,33 @@ TEST_CASE("plugin: the same seed gives bit-identical sensor streams; another see
 TEST_CASE("plugin: bad parameters and files are refused with one line") {
   CHECK_THROWS_WITH_AS(make({{"gnss_dropout", std::vector<double>{1.0}}}),
                        "parameter 'sim.gnss_dropout': needs pairs [start, end], got 1 values", tern::ParamError);
-  CHECK_THROWS_WITH_AS(make({{"imu_rate", 390.0}}),
-                       doctest::Contains("parameter 'sim.imu_rate': rate 390"), tern::ParamError);
-  CHECK_THROWS_WITH_AS(make({{"aircraft", std::string("/nonexistent/plane.yaml")}}),
-                       "/nonexistent/plane.yaml: cannot open aircraft file", std::runtime_error);
+  CHECK_THROWS_WITH_AS(make({{"imu_rate", 390.0}}), doctest::Contains("parameter 'sim.imu_rate': rate 390"), tern::ParamError);
+  CHECK_THROWS_WITH_AS(make({{"aircraft", std::string("/nonexistent/plane.yaml")}}), "/nonexistent/plane.yaml: cannot open aircraft file",
+                       std::runtime_error);
   CHECK_THROWS_AS(make({{"init_mode", std::string("orbit")}}), tern::ParamError);
 }
 
 TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensors read the truth)") {
   auto h = make({{"init_mode", std::string("trim")},
-                 {"accel_noise", 0.0}, {"accel_bias_range", 0.0}, {"accel_bias_walk", 0.0},
-                 {"gyro_noise", 0.0}, {"gyro_bias_range", 0.0}, {"gyro_bias_walk", 0.0},
-                 {"baro_noise", 0.0}, {"baro_bias_range", 0.0}, {"baro_bias_walk", 0.0},
-                 {"diff_pressure_noise", 0.0}, {"diff_pressure_bias_range", 0.0}, {"diff_pressure_bias_walk", 0.0},
-                 {"mag_noise", 0.0}, {"mag_gm_sigma", 0.0},
-                 {"gnss_h_sigma", 0.0}, {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0},
-                 {"origin_alt", 100.0}, {"wind", std::vector<double>{2.0, -1.0, 0.0}}});
+                 {"accel_noise", 0.0},
+                 {"accel_bias_range", 0.0},
+                 {"accel_bias_walk", 0.0},
+                 {"gyro_noise", 0.0},
+                 {"gyro_bias_range", 0.0},
+                 {"gyro_bias_walk", 0.0},
+                 {"baro_noise", 0.0},
+                 {"baro_bias_range", 0.0},
+                 {"baro_bias_walk", 0.0},
+                 {"diff_pressure_noise", 0.0},
+                 {"diff_pressure_bias_range", 0.0},
+                 {"diff_pressure_bias_walk", 0.0},
+                 {"mag_noise", 0.0},
+                 {"mag_gm_sigma", 0.0},
+                 {"gnss_h_sigma", 0.0},
+                 {"gnss_v_sigma", 0.0},
+                 {"gnss_vel_noise", 0.0},
+                 {"origin_alt", 100.0},
+                 {"wind", std::vector<double>{2.0, -1.0, 0.0}}});
   run(h, 1.0);
   const auto& s = h.output<msg::State>("truth");
   const auto& imu = h.output<msg::Imu>("imu");
@@ -146,10 +155,8 @@ TEST_CASE("plugin: noise and bias parameters reach the sensors (all zero: sensor
   CHECK(imu.gyro.x() == s.p);
   CHECK(imu.gyro.z() == s.r);
   CHECK(s.b_x == 0.0);
-  CHECK(h.output<msg::Baro>("baro").pressure ==
-        doctest::Approx(tern::sim::standard_pressure(100.0 + s.altitude())).epsilon(1e-12));
-  CHECK(h.output<msg::DiffPressure>("diff_pressure").pressure ==
-        doctest::Approx(0.5 * 1.2682 * s.Va * s.Va).epsilon(0.01));
+  CHECK(h.output<msg::Baro>("baro").pressure == doctest::Approx(tern::sim::standard_pressure(100.0 + s.altitude())).epsilon(1e-12));
+  CHECK(h.output<msg::DiffPressure>("diff_pressure").pressure == doctest::Approx(0.5 * 1.2682 * s.Va * s.Va).epsilon(0.01));
   const auto& g = h.output<msg::Gnss>("gnss");
   CHECK(g.vel.x() == doctest::Approx(s.v_n).epsilon(1e-6));
   CHECK(g.alt == doctest::Approx(100.0 + s.altitude()).epsilon(1e-6));
@@ -184,8 +191,8 @@ TEST_CASE("plugin: sensor_profile sets every default; a single parameter still o
 }
 
 TEST_CASE("plugin: a GNSS fix is delivered gnss_latency after its time of validity, exact to the tick") {
-  auto h = make({{"init_mode", std::string("trim")}, {"gnss_latency", 0.12}, {"gnss_h_sigma", 0.0},
-                 {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0}});
+  auto h = make(
+      {{"init_mode", std::string("trim")}, {"gnss_latency", 0.12}, {"gnss_h_sigma", 0.0}, {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0}});
   const Nanos dt = 2'500'000;
   std::uint64_t seen = 0;
   std::vector<Nanos> delivered, valid;

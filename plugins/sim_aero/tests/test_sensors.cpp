@@ -24,7 +24,6 @@ using tern::sim::test::stddev;
 namespace {
 constexpr double kDeg = tern::kPi / 180.0;
 
-
 using Series = std::vector<std::vector<double>>;  // independent series of one zero-mean process
 
 /// RMS about the known zero mean over all series.
@@ -50,9 +49,7 @@ double autocorr(const Series& ss, std::size_t k) {
 }
 
 /// Correlation time of a first-order Gauss-Markov process from its lag autocorrelation.
-double tau_from(const Series& ss, std::size_t k, double dt) {
-  return -static_cast<double>(k) * dt / std::log(autocorr(ss, k));
-}
+double tau_from(const Series& ss, std::size_t k, double dt) { return -static_cast<double>(k) * dt / std::log(autocorr(ss, k)); }
 
 /// Level flight at 17 m/s, 100 m up: the accelerometer sees -g on z.
 Truth level_truth() {
@@ -114,10 +111,9 @@ std::vector<double> sample_all(Sensors& s, int n) {
     const ImuSample a = s.imu(t, 0.0025);
     const MagSample m = s.mag(t, 0.02);
     const GnssSample g = s.gnss(t, 0.1);
-    out.insert(out.end(), {a.accel.x(), a.accel.y(), a.accel.z(), a.gyro.x(), a.gyro.y(), a.gyro.z(),
-                           m.field.x(), m.field.y(), m.field.z(), s.baro(t, 0.01).pressure,
-                           s.diff_pressure(t, 0.01).pressure, g.lat, g.lon, g.alt, g.vel_ned.x(),
-                           g.vel_ned.y(), g.vel_ned.z()});
+    out.insert(out.end(), {a.accel.x(), a.accel.y(), a.accel.z(), a.gyro.x(), a.gyro.y(), a.gyro.z(), m.field.x(), m.field.y(), m.field.z(),
+                           s.baro(t, 0.01).pressure, s.diff_pressure(t, 0.01).pressure, g.lat, g.lon, g.alt, g.vel_ned.x(), g.vel_ned.y(),
+                           g.vel_ned.z()});
   }
   return out;
 }
@@ -413,8 +409,7 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
   CHECK((h1.mag(level, 0.02).field - b0 - o1).norm() < 1e-20);  // constant in time
   // soft iron: S recovered from three attitudes, each element of S - I within +-2 %
   const SensorParams ps = ideal_with([](SensorParams& p) { p.mag_soft_iron_range = 0.02; });
-  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0),
-                             make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * kDeg),
+  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0), make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * kDeg),
                              make_state({0, 0, -100}, {17, 0, 0}, 90 * kDeg, 0, 0)};
   double worst = 0;
   for (std::uint64_t k = 0; k < 100; ++k) {
@@ -554,8 +549,7 @@ TEST_CASE("sensors: boot calibration: pitot zeroed after 128 + 127 cycles of > 2
   off.calibrate_at_boot = false;
   Sensors raw(off, 5), calibrated(p, 5);
   double max_diff = 0;
-  for (int i = 0; i < 1000; ++i)
-    max_diff = std::max(max_diff, std::fabs(calibrated.baro(t, 0.01).pressure - raw.baro(t, 0.01).pressure));
+  for (int i = 0; i < 1000; ++i) max_diff = std::max(max_diff, std::fabs(calibrated.baro(t, 0.01).pressure - raw.baro(t, 0.01).pressure));
   CHECK(max_diff == 0.0);  // the firmware sends the baro pressure as measured
   CHECK(calibrated.boot_calibration()->baro_ground().done);
 }

@@ -55,7 +55,6 @@ std::string load_error(const YAML::Node& doc) {
   return "(no error)";
 }
 
-
 // An aircraft with (practically) no air: no aerodynamic or propeller force.
 Aircraft vacuum() {
   Aircraft ac = anaconda();
@@ -84,16 +83,16 @@ TEST_CASE("aircraft: tern's anaconda.yaml is the ROSflight Anaconda file, value 
   CHECK(t.stall_blend == r.stall_blend);
   const auto& a = t.aero;
   const auto& b = r.aero;
-  const double ta[] = {a.C_L_0, a.C_L_alpha, a.C_L_q, a.C_L_delta_e, a.C_D_0, a.C_D_alpha, a.C_D_p,
-                       a.C_D_q, a.C_D_delta_e, a.C_m_0, a.C_m_alpha, a.C_m_q, a.C_m_delta_e,
-                       a.C_Y_0, a.C_Y_beta, a.C_Y_p, a.C_Y_r, a.C_Y_delta_a, a.C_Y_delta_r,
-                       a.C_ell_0, a.C_ell_beta, a.C_ell_p, a.C_ell_r, a.C_ell_delta_a, a.C_ell_delta_r,
-                       a.C_n_0, a.C_n_beta, a.C_n_p, a.C_n_r, a.C_n_delta_a, a.C_n_delta_r};
-  const double ra[] = {b.C_L_0, b.C_L_alpha, b.C_L_q, b.C_L_delta_e, b.C_D_0, b.C_D_alpha, b.C_D_p,
-                       b.C_D_q, b.C_D_delta_e, b.C_m_0, b.C_m_alpha, b.C_m_q, b.C_m_delta_e,
-                       b.C_Y_0, b.C_Y_beta, b.C_Y_p, b.C_Y_r, b.C_Y_delta_a, b.C_Y_delta_r,
-                       b.C_ell_0, b.C_ell_beta, b.C_ell_p, b.C_ell_r, b.C_ell_delta_a, b.C_ell_delta_r,
-                       b.C_n_0, b.C_n_beta, b.C_n_p, b.C_n_r, b.C_n_delta_a, b.C_n_delta_r};
+  const double ta[] = {a.C_L_0,    a.C_L_alpha,   a.C_L_q,         a.C_L_delta_e,   a.C_D_0,       a.C_D_alpha,   a.C_D_p,
+                       a.C_D_q,    a.C_D_delta_e, a.C_m_0,         a.C_m_alpha,     a.C_m_q,       a.C_m_delta_e, a.C_Y_0,
+                       a.C_Y_beta, a.C_Y_p,       a.C_Y_r,         a.C_Y_delta_a,   a.C_Y_delta_r, a.C_ell_0,     a.C_ell_beta,
+                       a.C_ell_p,  a.C_ell_r,     a.C_ell_delta_a, a.C_ell_delta_r, a.C_n_0,       a.C_n_beta,    a.C_n_p,
+                       a.C_n_r,    a.C_n_delta_a, a.C_n_delta_r};
+  const double ra[] = {b.C_L_0,    b.C_L_alpha,   b.C_L_q,         b.C_L_delta_e,   b.C_D_0,       b.C_D_alpha,   b.C_D_p,
+                       b.C_D_q,    b.C_D_delta_e, b.C_m_0,         b.C_m_alpha,     b.C_m_q,       b.C_m_delta_e, b.C_Y_0,
+                       b.C_Y_beta, b.C_Y_p,       b.C_Y_r,         b.C_Y_delta_a,   b.C_Y_delta_r, b.C_ell_0,     b.C_ell_beta,
+                       b.C_ell_p,  b.C_ell_r,     b.C_ell_delta_a, b.C_ell_delta_r, b.C_n_0,       b.C_n_beta,    b.C_n_p,
+                       b.C_n_r,    b.C_n_delta_a, b.C_n_delta_r};
   for (std::size_t i = 0; i < std::size(ta); ++i) {
     CAPTURE(i);
     CHECK(ta[i] == ra[i]);
@@ -176,16 +175,14 @@ TEST_CASE("aircraft: bad files give one line naming the field") {
   {
     YAML::Node d = YAML::Clone(ros);
     d["/fixedwing_forces_and_moments"]["ros__parameters"]["C_L_beta"] = 0.3;
-    CHECK(load_error(d).find("C_L_beta: value 0.3: this coefficient is not part of the uavbook model") !=
-          std::string::npos);
+    CHECK(load_error(d).find("C_L_beta: value 0.3: this coefficient is not part of the uavbook model") != std::string::npos);
   }
   {
     YAML::Node d = YAML::Clone(ros);
     d["/standalone_dynamics"]["ros__parameters"]["Jzz"] = -0.6;
     CHECK(load_error(d) == "test.yaml: /standalone_dynamics.ros__parameters.Jzz: value -0.6 must be > 0 kg m^2");
   }
-  CHECK_THROWS_WITH_AS(load_aircraft("/nonexistent/x.yaml"), "/nonexistent/x.yaml: cannot open aircraft file",
-                       std::runtime_error);
+  CHECK_THROWS_WITH_AS(load_aircraft("/nonexistent/x.yaml"), "/nonexistent/x.yaml: cannot open aircraft file", std::runtime_error);
 }
 
 TEST_CASE("aircraft: an implausible value is one line naming file, line, field and value (issue 19)") {
@@ -253,9 +250,7 @@ TEST_CASE("physics: torque-free rotation conserves angular momentum and kinetic 
   StateVector x = make_state({0, 0, -1000}, {0, 0, 0}, 0.3, -0.2, 1.0, {1.0, 2.0, 0.5});
   Eigen::Matrix3d J;
   J << ac.Jx, 0, -ac.Jxz, 0, ac.Jy, 0, -ac.Jxz, 0, ac.Jz;
-  auto momentum = [&](const StateVector& s) {
-    return Eigen::Vector3d(attitude(s) * (J * Eigen::Vector3d(s.segment<3>(P))));
-  };
+  auto momentum = [&](const StateVector& s) { return Eigen::Vector3d(attitude(s) * (J * Eigen::Vector3d(s.segment<3>(P)))); };
   auto energy = [&](const StateVector& s) {
     const Eigen::Vector3d w = s.segment<3>(P);
     return 0.5 * w.dot(J * w);
@@ -405,7 +400,7 @@ TEST_CASE("ground: takeoff roll from rest with full throttle lifts off") {
   CHECK(liftoff_distance > 5.0);
   CHECK(liftoff_distance < 60.0);
   CHECK(-sim.state()[PD] > 3.0);  // climbing away
-  CHECK(max_depth < 0.05);         // wheels compress a few cm, never sink in
+  CHECK(max_depth < 0.05);        // wheels compress a few cm, never sink in
   CHECK(!sim.crashed());
 }
 
@@ -428,8 +423,8 @@ TEST_CASE("ground: a landing touches down without bounce and rolls to a stop") {
     }
   }
   CHECK(first_contact > 0);
-  CHECK(max_rise < 0.05);   // no bounce back into the air
-  CHECK(max_depth < 0.08);  // no penetration beyond gear compression
+  CHECK(max_rise < 0.05);                         // no bounce back into the air
+  CHECK(max_depth < 0.08);                        // no penetration beyond gear compression
   CHECK(sim.state().segment<3>(U).norm() < 0.2);  // friction and drag stopped it
   CHECK(!sim.crashed());
 }
@@ -601,8 +596,8 @@ TEST_CASE("sensors: GNSS reports lat/lon/alt about the origin; same seed, same d
   const GnssSample g = s.gnss(t, 0.1);
   CHECK(g.fix);
   CHECK(std::fabs(g.alt - (1387.0 + 120.0 + 0.1)) < 0.01);  // + Earth's curvature over 1.1 km
-  CHECK(g.lat > 40.2463724);   // north
-  CHECK(g.lon < -111.6474138); // west
+  CHECK(g.lat > 40.2463724);                                // north
+  CHECK(g.lon < -111.6474138);                              // west
   const Eigen::Vector3d back = s.origin().to_ned(g.lat, g.lon, g.alt);
   CHECK((back - Eigen::Vector3d(1000, -500, -120)).norm() < 1e-6);
   Sensors a(SensorParams{}, 9), b(SensorParams{}, 9), c(SensorParams{}, 10);

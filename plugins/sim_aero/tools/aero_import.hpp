@@ -23,15 +23,15 @@ namespace tern::aero {
 /// rate derivatives w.r.t. stability-axis (XFLR5) or body-axis (VSPAERO) rates. Totals at the
 /// reference point: "C_L", "C_D", "C_m".
 struct ToolDerivatives {
-  std::string tool;                 ///< "VSPAERO" or "XFLR5"
-  std::string source;               ///< file name
-  double S = 0, b = 0, c = 0;       ///< reference area m^2, span m, chord m (0: not in the file)
-  double alpha_ref = 0;             ///< rad, angle of attack of the analysis
-  double rho = 0;                   ///< kg/m^3, density of the analysis (0: not in the file)
+  std::string tool;                       ///< "VSPAERO" or "XFLR5"
+  std::string source;                     ///< file name
+  double S = 0, b = 0, c = 0;             ///< reference area m^2, span m, chord m (0: not in the file)
+  double alpha_ref = 0;                   ///< rad, angle of attack of the analysis
+  double rho = 0;                         ///< kg/m^3, density of the analysis (0: not in the file)
   bool rates_in_stability_axes = true;    ///< p, r derivatives w.r.t. stability-axis rates (XFLR5)
   bool moments_in_stability_axes = true;  ///< C_ell, C_n about the stability axes (XFLR5)
-  std::map<std::string, double> d;  ///< tern name -> value
-  std::vector<std::string> notes;   ///< how the file was read (operating point, control groups, ...)
+  std::map<std::string, double> d;        ///< tern name -> value
+  std::vector<std::string> notes;         ///< how the file was read (operating point, control groups, ...)
 };
 
 /// Which operating point and control groups of a VSPAERO .stab file to read.
@@ -100,8 +100,8 @@ struct ImportResult {
 /// C_L_alpha alpha_ref, C_m_0 likewise, drag from the polar or C_D - C_L^2/(pi e AR). Propulsion,
 /// servos and stall data come from `propulsion_from` when given (a tern aircraft file), else the
 /// Anaconda's (ROSflight); each is listed in defaults.
-ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar,
-                            const std::string& name, const std::string& propulsion_from = "");
+ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar, const std::string& name,
+                            const std::string& propulsion_from = "");
 
 /// tern aircraft file text (loadable by sim::load_aircraft). `header` lines become comments.
 std::string aircraft_yaml(const sim::Aircraft& ac, const std::vector<std::string>& header);

@@ -55,9 +55,8 @@ MassProperties load_mass_file(const std::string& path) {
   return m;
 }
 
-
-ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar,
-                            const std::string& name, const std::string& propulsion_from) {
+ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar, const std::string& name,
+                            const std::string& propulsion_from) {
   ImportResult r;
   sim::Aircraft& ac = r.aircraft;
   ac.name = name;
@@ -90,8 +89,7 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
     ac.alpha0 = p.alpha0;
     ac.stall_blend = p.stall_blend;
     ac.gear = p.gear;
-    D.push_back({"propulsion.*, servos.*, gear.*, wing.M, wing.alpha0, wing.stall_blend",
-                 std::numeric_limits<double>::quiet_NaN(),
+    D.push_back({"propulsion.*, servos.*, gear.*, wing.M, wing.alpha0, wing.stall_blend", std::numeric_limits<double>::quiet_NaN(),
                  "copied from " + propulsion_from});
   } else {
     auto& p = ac.prop;  // the Anaconda's (ROSflight anaconda_dynamics.yaml): 15 in prop, 560 KV, 6S
@@ -113,8 +111,7 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
     ac.alpha0 = 0.4712;
     ac.stall_blend = false;
     const double nan = std::numeric_limits<double>::quiet_NaN();
-    D.push_back({"propulsion.*", nan,
-                 "typical: the Anaconda's motor and propeller (ROSflight; give --propulsion FILE for yours)"});
+    D.push_back({"propulsion.*", nan, "typical: the Anaconda's motor and propeller (ROSflight; give --propulsion FILE for yours)"});
     D.push_back({"servos.*", nan, "typical: 40-degree limits, tau 0.01 s (the Anaconda's)"});
     D.push_back({"wing.M", ac.M, "typical: the book's blending rate"});
     D.push_back({"wing.alpha0", ac.alpha0, "typical: the book's stall angle (27 deg)"});
@@ -188,10 +185,14 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
   val("C_D_q", a.C_D_q, "zero (negligible; the book's value)");
   val("C_D_delta_e", a.C_D_delta_e, "zero");
   double CL = 0, Cm = 0, CD = 0;
-  if (val("C_L", CL, "zero lift at alpha_ref")) a.C_L_0 = CL - a.C_L_alpha * t.alpha_ref;
-  else a.C_L_0 = -a.C_L_alpha * t.alpha_ref;
-  if (val("C_m", Cm, "zero pitching moment at alpha_ref")) a.C_m_0 = Cm - a.C_m_alpha * t.alpha_ref;
-  else a.C_m_0 = -a.C_m_alpha * t.alpha_ref;
+  if (val("C_L", CL, "zero lift at alpha_ref"))
+    a.C_L_0 = CL - a.C_L_alpha * t.alpha_ref;
+  else
+    a.C_L_0 = -a.C_L_alpha * t.alpha_ref;
+  if (val("C_m", Cm, "zero pitching moment at alpha_ref"))
+    a.C_m_0 = Cm - a.C_m_alpha * t.alpha_ref;
+  else
+    a.C_m_0 = -a.C_m_alpha * t.alpha_ref;
   const bool have_CD = val("C_D", CD, "zero drag at alpha_ref");
   val("C_D_alpha", a.C_D_alpha, "zero");
   a.C_D_0 = CD - a.C_D_alpha * t.alpha_ref;
@@ -220,26 +221,46 @@ std::string aircraft_yaml(const sim::Aircraft& ac, const std::vector<std::string
   for (const auto& h : header) o << "# " << h << "\n";
   const auto& a = ac.aero;
   const auto& p = ac.prop;
-  o << "name: " << ac.name << "\nmass: " << ac.mass << "\ninertia:\n  Jx: " << ac.Jx << "\n  Jy: " << ac.Jy
-    << "\n  Jz: " << ac.Jz << "\n  Jxz: " << ac.Jxz << "\nenvironment:\n  rho: " << ac.rho << "\nwing:\n  S: " << ac.S
-    << "\n  b: " << ac.b << "\n  c: " << ac.c << "\n  e: " << ac.e << "\n  M: " << ac.M << "\n  alpha0: " << ac.alpha0
-    << "\n  stall_blend: " << (ac.stall_blend ? "true" : "false") << "\naero:\n";
-  const std::pair<const char*, double> co[] = {
-      {"C_L_0", a.C_L_0}, {"C_L_alpha", a.C_L_alpha}, {"C_L_q", a.C_L_q}, {"C_L_delta_e", a.C_L_delta_e},
-      {"C_D_p", a.C_D_p}, {"C_D_q", a.C_D_q}, {"C_D_delta_e", a.C_D_delta_e}, {"C_D_0", a.C_D_0},
-      {"C_D_alpha", a.C_D_alpha}, {"C_m_0", a.C_m_0}, {"C_m_alpha", a.C_m_alpha}, {"C_m_q", a.C_m_q},
-      {"C_m_delta_e", a.C_m_delta_e}, {"C_Y_0", a.C_Y_0}, {"C_Y_beta", a.C_Y_beta}, {"C_Y_p", a.C_Y_p},
-      {"C_Y_r", a.C_Y_r}, {"C_Y_delta_a", a.C_Y_delta_a}, {"C_Y_delta_r", a.C_Y_delta_r},
-      {"C_ell_0", a.C_ell_0}, {"C_ell_beta", a.C_ell_beta}, {"C_ell_p", a.C_ell_p}, {"C_ell_r", a.C_ell_r},
-      {"C_ell_delta_a", a.C_ell_delta_a}, {"C_ell_delta_r", a.C_ell_delta_r}, {"C_n_0", a.C_n_0},
-      {"C_n_beta", a.C_n_beta}, {"C_n_p", a.C_n_p}, {"C_n_r", a.C_n_r}, {"C_n_delta_a", a.C_n_delta_a},
-      {"C_n_delta_r", a.C_n_delta_r}};
+  o << "name: " << ac.name << "\nmass: " << ac.mass << "\ninertia:\n  Jx: " << ac.Jx << "\n  Jy: " << ac.Jy << "\n  Jz: " << ac.Jz
+    << "\n  Jxz: " << ac.Jxz << "\nenvironment:\n  rho: " << ac.rho << "\nwing:\n  S: " << ac.S << "\n  b: " << ac.b << "\n  c: " << ac.c
+    << "\n  e: " << ac.e << "\n  M: " << ac.M << "\n  alpha0: " << ac.alpha0 << "\n  stall_blend: " << (ac.stall_blend ? "true" : "false")
+    << "\naero:\n";
+  const std::pair<const char*, double> co[] = {{"C_L_0", a.C_L_0},
+                                               {"C_L_alpha", a.C_L_alpha},
+                                               {"C_L_q", a.C_L_q},
+                                               {"C_L_delta_e", a.C_L_delta_e},
+                                               {"C_D_p", a.C_D_p},
+                                               {"C_D_q", a.C_D_q},
+                                               {"C_D_delta_e", a.C_D_delta_e},
+                                               {"C_D_0", a.C_D_0},
+                                               {"C_D_alpha", a.C_D_alpha},
+                                               {"C_m_0", a.C_m_0},
+                                               {"C_m_alpha", a.C_m_alpha},
+                                               {"C_m_q", a.C_m_q},
+                                               {"C_m_delta_e", a.C_m_delta_e},
+                                               {"C_Y_0", a.C_Y_0},
+                                               {"C_Y_beta", a.C_Y_beta},
+                                               {"C_Y_p", a.C_Y_p},
+                                               {"C_Y_r", a.C_Y_r},
+                                               {"C_Y_delta_a", a.C_Y_delta_a},
+                                               {"C_Y_delta_r", a.C_Y_delta_r},
+                                               {"C_ell_0", a.C_ell_0},
+                                               {"C_ell_beta", a.C_ell_beta},
+                                               {"C_ell_p", a.C_ell_p},
+                                               {"C_ell_r", a.C_ell_r},
+                                               {"C_ell_delta_a", a.C_ell_delta_a},
+                                               {"C_ell_delta_r", a.C_ell_delta_r},
+                                               {"C_n_0", a.C_n_0},
+                                               {"C_n_beta", a.C_n_beta},
+                                               {"C_n_p", a.C_n_p},
+                                               {"C_n_r", a.C_n_r},
+                                               {"C_n_delta_a", a.C_n_delta_a},
+                                               {"C_n_delta_r", a.C_n_delta_r}};
   for (const auto& [k, v] : co) o << "  " << k << ": " << v << "\n";
-  o << "propulsion:\n  D_prop: " << p.D_prop << "\n  C_T_0: " << p.C_T_0 << "\n  C_T_1: " << p.C_T_1
-    << "\n  C_T_2: " << p.C_T_2 << "\n  C_Q_0: " << p.C_Q_0 << "\n  C_Q_1: " << p.C_Q_1 << "\n  C_Q_2: " << p.C_Q_2
-    << "\n  K_Q: " << p.K_Q << "\n  R_motor: " << p.R_motor << "\n  i0: " << p.i0 << "\n  V_max: " << p.V_max
-    << "\nservos:\n  tau: " << ac.servo_tau << "\n  max_delta_a: " << ac.max_delta_a
-    << "\n  max_delta_e: " << ac.max_delta_e << "\n  max_delta_r: " << ac.max_delta_r << "\n";
+  o << "propulsion:\n  D_prop: " << p.D_prop << "\n  C_T_0: " << p.C_T_0 << "\n  C_T_1: " << p.C_T_1 << "\n  C_T_2: " << p.C_T_2
+    << "\n  C_Q_0: " << p.C_Q_0 << "\n  C_Q_1: " << p.C_Q_1 << "\n  C_Q_2: " << p.C_Q_2 << "\n  K_Q: " << p.K_Q
+    << "\n  R_motor: " << p.R_motor << "\n  i0: " << p.i0 << "\n  V_max: " << p.V_max << "\nservos:\n  tau: " << ac.servo_tau
+    << "\n  max_delta_a: " << ac.max_delta_a << "\n  max_delta_e: " << ac.max_delta_e << "\n  max_delta_r: " << ac.max_delta_r << "\n";
   return o.str();
 }
 

@@ -76,8 +76,7 @@ std::vector<std::string> design_summary(const LinearModel& lm, const DesignOptio
                 k.at("a_phi2") / k.at("a_phi1"));
   std::snprintf(buf[1], sizeof buf[1], "roll_ff = a_phi1/a_phi2 feeds the rate of the roll command forward to the aileron;");
   std::snprintf(buf[2], sizeof buf[2], "roll_rate_max = %g rad/s slew-limits that command", o.roll_rate_max);
-  std::snprintf(buf[3], sizeof buf[3],
-                "roll loop wn %.3f rad/s, slowest pole %.3f rad/s, course loop bandwidth %.3f rad/s", std::sqrt(s0),
+  std::snprintf(buf[3], sizeof buf[3], "roll loop wn %.3f rad/s, slowest pole %.3f rad/s, course loop bandwidth %.3f rad/s", std::sqrt(s0),
                 w_roll, std::sqrt(s0) / o.W_chi);
   std::snprintf(buf[4], sizeof buf[4], "K_theta_DC = %.4f, pitch loop wn = %.3f rad/s", kp_th * a3 / (a2 + kp_th * a3),
                 std::sqrt(a2 + kp_th * a3));

@@ -36,28 +36,29 @@ namespace {
 bool all_stars(const std::string& l) {
   std::size_t n = 0;
   for (char ch : l) {
-    if (ch == '*') ++n;
-    else if (ch != ' ' && ch != '\t') return false;
+    if (ch == '*')
+      ++n;
+    else if (ch != ' ' && ch != '\t')
+      return false;
   }
   return n >= 10;
 }
 
-
 struct StabPoint {
-  std::size_t line = 0;                              // 1-based line of the column names
-  std::map<std::string, double> header;              // Sref_, AoA_, ...
-  std::vector<std::string> groups;                   // control-group names of the case list
-  std::vector<std::string> cols;                     // Total Alpha Beta p q r Mach U ConGrp_1 ..
-  std::vector<std::string> units;                    // per column: "per rad", "per deg", "-", ...
-  std::map<std::string, std::vector<double>> rows;   // CFx .. CMn: values per column
-  bool aoa_known = true;                             // false for VSPAERO 2's later tables
+  std::size_t line = 0;                             // 1-based line of the column names
+  std::map<std::string, double> header;             // Sref_, AoA_, ...
+  std::vector<std::string> groups;                  // control-group names of the case list
+  std::vector<std::string> cols;                    // Total Alpha Beta p q r Mach U ConGrp_1 ..
+  std::vector<std::string> units;                   // per column: "per rad", "per deg", "-", ...
+  std::map<std::string, std::vector<double>> rows;  // CFx .. CMn: values per column
+  bool aoa_known = true;                            // false for VSPAERO 2's later tables
 };
 
 // Units of the columns from the comment rows under the column names: two rows ("per per ..",
 // "rad rad .. M u ..") or one row of pairs ("per rad per deg .."); VSPAERO 2 has no unit for
 // the base-value column.
-std::vector<std::string> column_units(const std::string& path, std::size_t line,
-                                      const std::vector<std::vector<std::string>>& unit_rows, std::size_t ncols) {
+std::vector<std::string> column_units(const std::string& path, std::size_t line, const std::vector<std::vector<std::string>>& unit_rows,
+                                      std::size_t ncols) {
   std::vector<std::string> u;
   const std::string where = "unit rows under the column names (line " + std::to_string(line) + ")";
   if (unit_rows.empty()) fail(path, where, "missing (expected '# - per per ...' and '# - rad rad ...')");
@@ -81,14 +82,12 @@ std::vector<std::string> column_units(const std::string& path, std::size_t line,
     fail(path, where, "the two unit rows have different lengths");
   }
   if (u.size() + 1 == ncols) u.insert(u.begin(), "-");  // VSPAERO 2: no unit for the base value
-  if (u.size() != ncols)
-    fail(path, where, "give " + std::to_string(u.size()) + " units for " + std::to_string(ncols) + " columns");
+  if (u.size() != ncols) fail(path, where, "give " + std::to_string(u.size()) + " units for " + std::to_string(ncols) + " columns");
   return u;
 }
 
 std::vector<StabPoint> read_stab(const std::string& path) {
-  static const std::set<std::string> kRows = {"CFx", "CFy", "CFz", "CMx", "CMy", "CMz",
-                                              "CL",  "CD",  "CS",  "CMl", "CMm", "CMn"};
+  static const std::set<std::string> kRows = {"CFx", "CFy", "CFz", "CMx", "CMy", "CMz", "CL", "CD", "CS", "CMl", "CMm", "CMn"};
   const auto lines = read_lines(path);
   std::vector<StabPoint> pts;
   StabPoint cur;
@@ -125,11 +124,9 @@ std::vector<StabPoint> read_stab(const std::string& path) {
       const std::size_t n = tk.size() - 14;
       double v = 0;
       for (std::size_t k = n; k < tk.size(); ++k)
-        if (k != n + 1 && !to_double(tk[k], v))
-          fail(path, "case list " + where, "'" + tk[k] + "' is not a number");
+        if (k != n + 1 && !to_double(tk[k], v)) fail(path, "case list " + where, "'" + tk[k] + "' is not a number");
       const std::string name = join(std::vector<std::string>(tk.begin(), tk.begin() + static_cast<long>(n)), " ");
-      static const std::set<std::string> kStab = {"Base_Aero",  "Alpha",      "Beta", "Roll__Rate",
-                                                  "Pitch_Rate", "Yaw___Rate", "Mach"};
+      static const std::set<std::string> kStab = {"Base_Aero", "Alpha", "Beta", "Roll__Rate", "Pitch_Rate", "Yaw___Rate", "Mach"};
       if (!kStab.count(name)) cur.groups.push_back(name);
       continue;
     }
@@ -175,8 +172,8 @@ std::vector<StabPoint> read_stab(const std::string& path) {
     // "Sref_  0.52  Lunit^2" (VSPAERO >= 6), "Sref_:  0.52" (VSPAERO 2), "SM 0.12 no_unit"
     std::string name = tk[0];
     if (!name.empty() && name.back() == ':') name.pop_back();
-    if (tk.size() >= 2 && name.size() > 1 && (name.back() == '_' || name.find("__") != std::string::npos ||
-                                              name == "Pitch_Rate" || name == "SM" || name == "X_np")) {
+    if (tk.size() >= 2 && name.size() > 1 &&
+        (name.back() == '_' || name.find("__") != std::string::npos || name == "Pitch_Rate" || name == "SM" || name == "X_np")) {
       double v = 0;
       if (!to_double(tk[1], v)) fail(path, name + " (" + where + ")", "'" + tk[1] + "' is not a number");
       cur.header[name] = v;
@@ -184,16 +181,14 @@ std::vector<StabPoint> read_stab(const std::string& path) {
   }
   flush();
   if (pts.empty())
-    fail(path, "derivative table",
-         "no 'Coef Total Alpha Beta p q r Mach U ...' column names found (not a VSPAERO .stab file?)");
+    fail(path, "derivative table", "no 'Coef Total Alpha Beta p q r Mach U ...' column names found (not a VSPAERO .stab file?)");
   return pts;
 }
 
 // The operating point to read (Beta_ = 0): the one at AoA_ = aoa_deg, or with aoa_deg NaN the one
 // nearest zero angle of attack (the first of equals; VSPAERO 2's later tables, whose AoA_ is not
 // written, only if no table has one). Says which in `notes`.
-const StabPoint& choose_point(const std::string& path, const std::vector<StabPoint>& pts, double aoa_deg,
-                              std::vector<std::string>& notes) {
+const StabPoint& choose_point(const std::string& path, const std::vector<StabPoint>& pts, double aoa_deg, std::vector<std::string>& notes) {
   auto aoa_of = [](const StabPoint& p) {
     auto it = p.header.find("AoA_");
     return p.aoa_known && it != p.header.end() ? it->second : std::numeric_limits<double>::quiet_NaN();
@@ -210,24 +205,22 @@ const StabPoint& choose_point(const std::string& path, const std::vector<StabPoi
     if (std::abs(beta) > 1e-9) continue;
     if (!std::isnan(aoa_deg)) {
       if (!pt && !std::isnan(aoa) && std::abs(aoa - aoa_deg) < 1e-6) pt = &p;
-    } else if (!pt || (std::isnan(aoa_of(*pt)) && !std::isnan(aoa)) ||
-               (!std::isnan(aoa) && std::abs(aoa) < std::abs(aoa_of(*pt)))) {
+    } else if (!pt || (std::isnan(aoa_of(*pt)) && !std::isnan(aoa)) || (!std::isnan(aoa) && std::abs(aoa) < std::abs(aoa_of(*pt)))) {
       pt = &p;
     }
   }
   if (!pt) {
-    const std::string want = std::isnan(aoa_deg) ? std::string("Beta_ = 0")
-                                                 : "AoA_ = " + fmt(aoa_deg) + " deg and Beta_ = 0";
+    const std::string want = std::isnan(aoa_deg) ? std::string("Beta_ = 0") : "AoA_ = " + fmt(aoa_deg) + " deg and Beta_ = 0";
     fail(path, "operating point", "none at " + want + " (the file has: " + join(seen, ", ") + ")");
   }
   const double aoa = aoa_of(*pt);
-  const std::string which = "AoA_ " + (std::isnan(aoa) ? std::string("?") : fmt(aoa)) + " deg, Beta_ 0 (line " +
-                            std::to_string(pt->line) + ")";
+  const std::string which =
+      "AoA_ " + (std::isnan(aoa) ? std::string("?") : fmt(aoa)) + " deg, Beta_ 0 (line " + std::to_string(pt->line) + ")";
   if (!std::isnan(aoa_deg))
     notes.push_back("operating point: " + which + ", as --aoa asked");
   else if (pts.size() > 1)
-    notes.push_back("operating point: " + which + ", the one nearest zero angle of attack of the " +
-                    std::to_string(pts.size()) + " in the file (" + join(seen, ", ") + "; choose another with --aoa DEG)");
+    notes.push_back("operating point: " + which + ", the one nearest zero angle of attack of the " + std::to_string(pts.size()) +
+                    " in the file (" + join(seen, ", ") + "; choose another with --aoa DEG)");
   else
     notes.push_back("operating point: " + which);
   return *pt;
@@ -256,8 +249,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
     if (rho >= 0.3 && rho <= 1.6) {
       t.rho = rho;
     } else {
-      t.notes.push_back("Rho_ = " + fmt(rho) +
-                        " is not a plausible kg/m^3 (VSPAERO's default 0.002377 is slug/ft^3): not used");
+      t.notes.push_back("Rho_ = " + fmt(rho) + " is not a plausible kg/m^3 (VSPAERO's default 0.002377 is slug/ft^3): not used");
     }
   }
 
@@ -271,7 +263,8 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
   for (std::size_t k = 0; k < p.cols.size(); ++k) {
     const std::string& c = p.cols[k];
     if (!(c == "Alpha" || c == "Beta" || c == "p" || c == "q" || c == "r" || c.rfind("ConGrp_", 0) == 0)) continue;
-    if (p.units[k] == "per deg") scale[k] = 1.0 / kDeg;
+    if (p.units[k] == "per deg")
+      scale[k] = 1.0 / kDeg;
     else if (p.units[k] != "per rad")
       fail(path, "unit of column " + c, "'" + p.units[k] + "' (expected 'per rad' or 'per deg')");
   }
@@ -284,8 +277,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
   std::string ctl_col[3];
   double ctl_sign[3] = {1, 1, 1};
   std::vector<std::string> groups_desc;
-  for (std::size_t g = 0; g < p.groups.size(); ++g)
-    groups_desc.push_back("ConGrp_" + std::to_string(g + 1) + " = " + p.groups[g]);
+  for (std::size_t g = 0; g < p.groups.size(); ++g) groups_desc.push_back("ConGrp_" + std::to_string(g + 1) + " = " + p.groups[g]);
   const std::string groups_list = groups_desc.empty() ? std::string("no named groups") : join(groups_desc, ", ");
   std::vector<std::string> mapped;
   for (int r = 0; r < 3; ++r) {
@@ -315,20 +307,16 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
         fail(path, std::string(kRole[r]) + " control group '" + spec + "'", "not in the case list (" + groups_list + ")");
     }
     if (col(ctl_col[r]) < 0)
-      fail(path, std::string(kRole[r]) + " control group " + ctl_col[r],
-           "no such column (columns: " + join(p.cols, " ") + ")");
+      fail(path, std::string(kRole[r]) + " control group " + ctl_col[r], "no such column (columns: " + join(p.cols, " ") + ")");
     for (int q = 0; q < r; ++q)
-      if (ctl_col[q] == ctl_col[r])
-        fail(path, "controls", ctl_col[r] + " is both the " + kRole[q] + " and the " + kRole[r]);
+      if (ctl_col[q] == ctl_col[r]) fail(path, "controls", ctl_col[r] + " is both the " + kRole[q] + " and the " + kRole[r]);
     const int k = col(ctl_col[r]);
     std::string name = ctl_col[r];
     const std::size_t gi = static_cast<std::size_t>(std::stoi(ctl_col[r].substr(7)) - 1);
     if (gi < p.groups.size()) name += " (" + p.groups[gi] + ")";
-    mapped.push_back(std::string(kRole[r]) + " = " + (ctl_sign[r] < 0 ? "-" : "") + name + ", " +
-                     p.units[static_cast<std::size_t>(k)]);
+    mapped.push_back(std::string(kRole[r]) + " = " + (ctl_sign[r] < 0 ? "-" : "") + name + ", " + p.units[static_cast<std::size_t>(k)]);
   }
-  t.notes.push_back("control groups: " + (mapped.empty() ? std::string("none read") : join(mapped, "; ")) +
-                    " [file: " + groups_list + "]");
+  t.notes.push_back("control groups: " + (mapped.empty() ? std::string("none read") : join(mapped, "; ")) + " [file: " + groups_list + "]");
 
   auto get = [&](const char* row, const std::string& c, const std::string& tern, double sign = 1.0) {
     const int k = c.empty() ? -1 : col(c);
@@ -350,8 +338,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
   }
   // lateral: body-axis side force CFy, rolling and yawing moments CMl, CMn (VSPAERO 2: -CMx, -CMz)
   const bool has_lmn = p.rows.count("CMl") && p.rows.count("CMn");
-  const std::pair<const char*, const char*> lat[] = {
-      {"CFy", "C_Y"}, {has_lmn ? "CMl" : "CMx", "C_ell"}, {has_lmn ? "CMn" : "CMz", "C_n"}};
+  const std::pair<const char*, const char*> lat[] = {{"CFy", "C_Y"}, {has_lmn ? "CMl" : "CMx", "C_ell"}, {has_lmn ? "CMn" : "CMz", "C_n"}};
   for (const auto& [row, base] : lat) {
     const std::string b = base;
     const double s = (!has_lmn && b != "C_Y") ? -1.0 : 1.0;
@@ -388,8 +375,7 @@ PolarFit parse_vspaero_polar(const std::string& path, double AR) {
   const bool has = std::find(cols.begin(), cols.end(), "CLtot") != cols.end();
   const std::string lift = has ? "CLtot" : "CL";
   for (const std::string& k : {lift, std::string("CDo"), std::string("CDi"), std::string("Mach")})
-    if (std::find(cols.begin(), cols.end(), k) == cols.end())
-      fail(path, k, "column missing (columns: " + join(cols, " ") + ")");
+    if (std::find(cols.begin(), cols.end(), k) == cols.end()) fail(path, k, "column missing (columns: " + join(cols, " ") + ")");
   PolarFit f;
   double sum_cdo = 0, s_xy = 0, s_xx = 0;
   const bool has_re = std::find(cols.begin(), cols.end(), "Re/1e6") != cols.end();
@@ -417,13 +403,11 @@ PolarFit parse_vspaero_polar(const std::string& path, double AR) {
   if (f.rows == 0) fail(path, "rows", "no data row at Beta = 0");
   if (skipped > 0)
     f.notes.push_back("used the " + std::to_string(f.rows) + " rows at Beta = 0, Mach " + fmt(mach0) +
-                      (has_re ? ", Re/1e6 " + fmt(re0) : std::string()) + "; " + std::to_string(skipped) +
-                      " other rows not used");
+                      (has_re ? ", Re/1e6 " + fmt(re0) : std::string()) + "; " + std::to_string(skipped) + " other rows not used");
   f.C_D_p = sum_cdo / f.rows;
   if (!(s_xx > 0) || !(s_xy > 0)) fail(path, "CDi", "cannot fit an Oswald factor (" + lift + " all zero or CDi <= 0)");
   f.e = s_xx / s_xy;  // CDi = CL^2/(pi e AR): least squares of 1/e
   return f;
 }
-
 
 }  // namespace tern::aero

@@ -38,8 +38,10 @@ namespace {
 std::vector<std::pair<std::string, std::string>> pairs(const std::string& line) {
   std::string spaced;
   for (char ch : line) {
-    if (ch == '=') spaced += " = ";
-    else spaced += ch;
+    if (ch == '=')
+      spaced += " = ";
+    else
+      spaced += ch;
   }
   const auto tk = tokens(spaced);
   std::vector<std::pair<std::string, std::string>> out;
@@ -61,13 +63,16 @@ std::vector<std::pair<std::string, std::string>> pairs(const std::string& line) 
 double length_unit(const std::string& path, const std::string& field, std::string u, bool area) {
   static const std::string kSq = "\xC2\xB2";  // '²'
   if (area) {
-    if (u.size() > kSq.size() && u.compare(u.size() - kSq.size(), kSq.size(), kSq) == 0) u.resize(u.size() - kSq.size());
-    else if (u.size() > 2 && u.compare(u.size() - 2, 2, "^2") == 0) u.resize(u.size() - 2);
-    else if (u.size() > 1 && u.back() == '2') u.pop_back();
-    else fail(path, field, "unit '" + u + "' is not an area");
+    if (u.size() > kSq.size() && u.compare(u.size() - kSq.size(), kSq.size(), kSq) == 0)
+      u.resize(u.size() - kSq.size());
+    else if (u.size() > 2 && u.compare(u.size() - 2, 2, "^2") == 0)
+      u.resize(u.size() - 2);
+    else if (u.size() > 1 && u.back() == '2')
+      u.pop_back();
+    else
+      fail(path, field, "unit '" + u + "' is not an area");
   }
-  static const std::map<std::string, double> kLen = {{"mm", 1e-3}, {"cm", 1e-2}, {"dm", 0.1},
-                                                     {"m", 1.0},   {"in", 0.0254}, {"ft", 0.3048}};
+  static const std::map<std::string, double> kLen = {{"mm", 1e-3}, {"cm", 1e-2}, {"dm", 0.1}, {"m", 1.0}, {"in", 0.0254}, {"ft", 0.3048}};
   auto it = kLen.find(u);
   if (it == kLen.end()) fail(path, field, "unit '" + u + "' is not one of XFLR5's (mm cm dm m in ft)");
   return area ? it->second * it->second : it->second;
@@ -102,15 +107,20 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
       double* out = nullptr;
       bool area = false;
       std::string field;
-      if (key.find("area") != std::string::npos) out = &t.S, area = true, field = "Ref. area";
-      else if (key.find("span") != std::string::npos) out = &t.b, field = "Ref. span";
-      else if (key.find("chord") != std::string::npos) out = &t.c, field = "Ref. chord";
+      if (key.find("area") != std::string::npos)
+        out = &t.S, area = true, field = "Ref. area";
+      else if (key.find("span") != std::string::npos)
+        out = &t.b, field = "Ref. span";
+      else if (key.find("chord") != std::string::npos)
+        out = &t.c, field = "Ref. chord";
       if (out) {
         const auto tk = tokens(l.substr(eq + 1));
         if (tk.empty()) fail(path, field, "no value");
         *out = number(path, field, tk[0]);
-        if (tk.size() > 1) *out *= length_unit(path, field, tk[1], area);
-        else t.notes.push_back(field + " has no unit: taken as metres");
+        if (tk.size() > 1)
+          *out *= length_unit(path, field, tk[1], area);
+        else
+          t.notes.push_back(field + " has no unit: taken as metres");
         continue;
       }
     }
@@ -118,8 +128,7 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
   }
   std::size_t bi = 0;
   while (bi < blocks.size() && !blocks[bi].count("CLa") && !blocks[bi].count("CZa")) ++bi;
-  if (bi == blocks.size())
-    fail(path, "CLa", "missing (no 'Longitudinal derivatives' of a type 7 stability analysis in the file)");
+  if (bi == blocks.size()) fail(path, "CLa", "missing (no 'Longitudinal derivatives' of a type 7 stability analysis in the file)");
   std::size_t nblocks = 0;
   for (const auto& b : blocks) nblocks += (b.count("CLa") || b.count("CZa")) ? 1 : 0;
   if (nblocks > 1)
@@ -132,9 +141,9 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
   if (!has("Alpha")) fail(path, "Alpha", "missing (the trim angle of attack, 'Alpha=...°')");
   t.alpha_ref = val("Alpha") * kDeg;
   static const std::pair<const char*, const char*> kNames[] = {
-      {"CLa", "C_L_alpha"}, {"CLq", "C_L_q"},   {"Cma", "C_m_alpha"}, {"Cmq", "C_m_q"},   {"Cxa", "C_X_alpha"},
-      {"CYb", "C_Y_beta"},  {"CYp", "C_Y_p"},   {"CYr", "C_Y_r"},     {"Clb", "C_ell_beta"}, {"Clp", "C_ell_p"},
-      {"Clr", "C_ell_r"},   {"Cnb", "C_n_beta"}, {"Cnp", "C_n_p"},    {"Cnr", "C_n_r"}};
+      {"CLa", "C_L_alpha"}, {"CLq", "C_L_q"},    {"Cma", "C_m_alpha"}, {"Cmq", "C_m_q"},      {"Cxa", "C_X_alpha"},
+      {"CYb", "C_Y_beta"},  {"CYp", "C_Y_p"},    {"CYr", "C_Y_r"},     {"Clb", "C_ell_beta"}, {"Clp", "C_ell_p"},
+      {"Clr", "C_ell_r"},   {"Cnb", "C_n_beta"}, {"Cnp", "C_n_p"},     {"Cnr", "C_n_r"}};
   for (const auto& [x, tern] : kNames)
     if (has(x)) t.d[tern] = val(x);
   if (!has("CLa")) {  // newer XFLR5/flow5 logs print CZa, CZq
@@ -182,8 +191,9 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
   if (!control.empty() && control != "none" && !has_ctl)
     fail(path, "Control derivatives", "missing (the polar has no active control; control '" + control + "' asked)");
   if (has_ctl && (control.empty() || control == "none"))
-    t.notes.push_back("control derivatives (CXde .. CNde) not read: name the polar's control variable "
-                      "(--xflr5-control elevator|aileron|rudder)");
+    t.notes.push_back(
+        "control derivatives (CXde .. CNde) not read: name the polar's control variable "
+        "(--xflr5-control elevator|aileron|rudder)");
   else if (has_ctl)
     t.notes.push_back("control derivatives CXde .. CNde read as the " + control + "'s (per radian)");
   return t;

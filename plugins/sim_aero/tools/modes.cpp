@@ -183,13 +183,11 @@ std::string format(const char* f, double a, double b = 0) {
 
 std::string table_row(const Mode& m) {
   char buf[200];
-  const std::string ev = m.oscillatory ? format("%+.4f +- %.4fj", m.lambda.real(), m.lambda.imag())
-                                       : format("%+.4f", m.lambda.real());
+  const std::string ev = m.oscillatory ? format("%+.4f +- %.4fj", m.lambda.real(), m.lambda.imag()) : format("%+.4f", m.lambda.real());
   const std::string dash = "-";
   std::snprintf(buf, sizeof buf, "#   %-24s %-24s %9.4f %7s %9s %9s %9s  %s\n", m.name.c_str(), ev.c_str(), m.wn,
                 m.oscillatory ? format("%.3f", m.zeta).c_str() : dash.c_str(),
-                m.oscillatory ? format("%.3f", m.period).c_str() : dash.c_str(),
-                m.tau > 0 ? format("%.3f", m.tau).c_str() : dash.c_str(),
+                m.oscillatory ? format("%.3f", m.period).c_str() : dash.c_str(), m.tau > 0 ? format("%.3f", m.tau).c_str() : dash.c_str(),
                 m.t_double > 0 ? format("%.3f", m.t_double).c_str() : dash.c_str(),
                 m.stable ? "yes" : (m.lambda.real() == 0.0 ? "neutral" : "NO"));
   return buf;
@@ -199,19 +197,20 @@ std::string table_row(const Mode& m) {
 
 std::string modes_table(const Modes& modes, const ModeApproximations& a) {
   char head[200];
-  std::snprintf(head, sizeof head, "#   %-24s %-24s %9s %7s %9s %9s %9s  %s\n", "mode", "eigenvalue 1/s", "wn rad/s",
-                "zeta", "period s", "tau s", "T2 s", "stable");
-  std::string s = "# dynamic modes: eigenvalues of A_lon's [u w q theta] and A_lat's [v p r phi] (h and psi are\n"
-                  "# integrators); tau = -1/Re (time constant), T2 = ln 2/Re (time to double, unstable)\n";
+  std::snprintf(head, sizeof head, "#   %-24s %-24s %9s %7s %9s %9s %9s  %s\n", "mode", "eigenvalue 1/s", "wn rad/s", "zeta", "period s",
+                "tau s", "T2 s", "stable");
+  std::string s =
+      "# dynamic modes: eigenvalues of A_lon's [u w q theta] and A_lat's [v p r phi] (h and psi are\n"
+      "# integrators); tau = -1/Re (time constant), T2 = ln 2/Re (time to double, unstable)\n";
   s += head;
   for (const auto* v : {&modes.lon, &modes.lat})
     for (const auto& m : *v) s += table_row(m);
   for (const auto& n : modes.notes) s += "#   note: " + n + "\n";
   s += "# textbook approximations from the coefficients (modes.hpp), to compare:\n#   short period wn " +
        format("%.3f rad/s zeta %.3f", a.short_period_wn, a.short_period_zeta) + ", phugoid wn " +
-       format("%.3f rad/s zeta %.3f", a.phugoid_wn, a.phugoid_zeta) + ",\n#   roll " +
-       format("%+.4f 1/s", a.roll_lambda) + ", spiral " + format("%+.4f 1/s", a.spiral_lambda) + ", dutch roll wn " +
-       format("%.3f rad/s zeta %.3f", a.dutch_roll_wn, a.dutch_roll_zeta) + "\n";
+       format("%.3f rad/s zeta %.3f", a.phugoid_wn, a.phugoid_zeta) + ",\n#   roll " + format("%+.4f 1/s", a.roll_lambda) + ", spiral " +
+       format("%+.4f 1/s", a.spiral_lambda) + ", dutch roll wn " + format("%.3f rad/s zeta %.3f", a.dutch_roll_wn, a.dutch_roll_zeta) +
+       "\n";
   return s;
 }
 

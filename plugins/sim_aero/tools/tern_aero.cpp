@@ -21,7 +21,8 @@
 //       dutch roll; modes.hpp) with their textbook approximations.
 //   tern-aero gains --aircraft FILE --Va V [--out gains.yaml] [design options]
 //       Beard & McLain ch. 6 successive-loop-closure gains for control_slc.
-// Output: JSON on stdout (eval; trim and linearize after '#' table lines), text for import and gains. Errors: one line on stderr, exit status 1.
+// Output: JSON on stdout (eval; trim and linearize after '#' table lines), text for import and gains. Errors: one line on stderr, exit
+// status 1.
 #include <cmath>
 #include <fstream>
 #include <iomanip>
@@ -49,8 +50,7 @@ namespace sim = tern::sim;
 namespace {
 
 // Parses a JSON object of numbers with the allowed keys; "what" names it in errors.
-std::map<std::string, double> parse_object(const std::string& text, const std::string& what,
-                                           const std::set<std::string>& allowed) {
+std::map<std::string, double> parse_object(const std::string& text, const std::string& what, const std::set<std::string>& allowed) {
   json j;
   try {
     j = json::parse(text);
@@ -113,15 +113,13 @@ json state_json(const sim::StateVector& x) {
 
 int eval(const std::string& file, const std::string& state_s, const std::string& delta_s, const std::string& wind_s) {
   const sim::Aircraft ac = sim::load_aircraft(file);
-  const auto st = parse_object(state_s, "state",
-                               {"p_n", "p_e", "p_d", "u", "v", "w", "phi", "theta", "psi", "e0", "e1", "e2",
-                                "e3", "p", "q", "r"});
+  const auto st =
+      parse_object(state_s, "state", {"p_n", "p_e", "p_d", "u", "v", "w", "phi", "theta", "psi", "e0", "e1", "e2", "e3", "p", "q", "r"});
   const bool euler = st.count("phi") || st.count("theta") || st.count("psi");
   const bool quat = st.count("e0") || st.count("e1") || st.count("e2") || st.count("e3");
   if (euler && quat) throw std::runtime_error("--state: give either phi/theta/psi or e0..e3, not both");
-  sim::StateVector x = sim::make_state({get(st, "p_n"), get(st, "p_e"), get(st, "p_d")},
-                                       {get(st, "u"), get(st, "v"), get(st, "w")}, get(st, "phi"),
-                                       get(st, "theta"), get(st, "psi"), {get(st, "p"), get(st, "q"), get(st, "r")});
+  sim::StateVector x = sim::make_state({get(st, "p_n"), get(st, "p_e"), get(st, "p_d")}, {get(st, "u"), get(st, "v"), get(st, "w")},
+                                       get(st, "phi"), get(st, "theta"), get(st, "psi"), {get(st, "p"), get(st, "q"), get(st, "r")});
   if (quat) {
     Eigen::Vector4d e(get(st, "e0"), get(st, "e1"), get(st, "e2"), get(st, "e3"));
     if (e.norm() < 1e-9) throw std::runtime_error("--state: quaternion e0..e3 is zero");
@@ -157,7 +155,7 @@ int eval(const std::string& file, const std::string& state_s, const std::string&
   out["state"] = state_json(x);
   json dj;
   static const char* kDot[13] = {"p_n_dot", "p_e_dot", "p_d_dot", "u_dot", "v_dot", "w_dot", "e0_dot",
-                                 "e1_dot", "e2_dot", "e3_dot", "p_dot", "q_dot", "r_dot"};
+                                 "e1_dot",  "e2_dot",  "e3_dot",  "p_dot", "q_dot", "r_dot"};
   for (int i = 0; i < 13; ++i) dj[kDot[i]] = dx[i];
   out["derivative"] = dj;
   std::cout << out.dump(2) << "\n";
@@ -167,16 +165,22 @@ int eval(const std::string& file, const std::string& state_s, const std::string&
 constexpr double kRad2Deg = 180.0 / tern::kPi;
 
 // The trim as a readable table ('#' lines, degrees and percent throttle).
-void print_trim_table(std::ostream& os, const std::string& name, double Va, double gamma, double R,
-                      const sim::TrimResult& t) {
+void print_trim_table(std::ostream& os, const std::string& name, double Va, double gamma, double R, const sim::TrimResult& t) {
   os << "# trim of the " << name << " (Beard & McLain ch. 5)\n";
   os << "#   " << pad("Va", 9) << pad(fixed(Va, 3), 10, true) << " m/s\n";
   os << "#   " << pad("gamma", 9) << pad(fixed(gamma * kRad2Deg, 3), 10, true) << " deg\n";
   os << "#   " << pad("R", 9) << pad(std::isinf(R) ? std::string("straight") : fixed(R, 1), 10, true)
-     << (std::isinf(R) ? "" : R > 0 ? " m (right turn)" : " m (left turn)") << "\n";
-  const std::pair<const char*, double> deg[] = {
-      {"alpha", t.alpha},         {"beta", t.beta},           {"phi", t.phi},        {"theta", t.theta},
-      {"delta_e", t.delta.delta_e}, {"delta_a", t.delta.delta_a}, {"delta_r", t.delta.delta_r}};
+     << (std::isinf(R) ? ""
+         : R > 0       ? " m (right turn)"
+                       : " m (left turn)")
+     << "\n";
+  const std::pair<const char*, double> deg[] = {{"alpha", t.alpha},
+                                                {"beta", t.beta},
+                                                {"phi", t.phi},
+                                                {"theta", t.theta},
+                                                {"delta_e", t.delta.delta_e},
+                                                {"delta_a", t.delta.delta_a},
+                                                {"delta_r", t.delta.delta_r}};
   for (const auto& [k, v] : deg) os << "#   " << pad(k, 9) << pad(fixed(v * kRad2Deg, 3), 10, true) << " deg\n";
   os << "#   " << pad("delta_t", 9) << pad(fixed(100.0 * t.delta.delta_t, 2), 10, true) << " %\n";
   os << "#   (residual " << t.residual << " after " << t.iterations << " Newton iterations; JSON below in rad)\n";
@@ -194,14 +198,16 @@ int trim(const std::string& file, double Va, double gamma, double R, double alti
   out["aircraft"] = ac.name;
   out["Va"] = Va;
   out["gamma"] = gamma;
-  if (std::isinf(R)) out["R"] = nullptr;
-  else out["R"] = R;
+  if (std::isinf(R))
+    out["R"] = nullptr;
+  else
+    out["R"] = R;
   out["alpha"] = t.alpha;
   out["beta"] = t.beta;
   out["phi"] = t.phi;
   out["theta"] = t.theta;
-  out["delta"] = json{{"delta_e", t.delta.delta_e}, {"delta_a", t.delta.delta_a},
-                      {"delta_r", t.delta.delta_r}, {"delta_t", t.delta.delta_t}};
+  out["delta"] =
+      json{{"delta_e", t.delta.delta_e}, {"delta_a", t.delta.delta_a}, {"delta_r", t.delta.delta_r}, {"delta_t", t.delta.delta_t}};
   out["state"] = state_json(t.x);
   out["residual"] = t.residual;
   out["iterations"] = t.iterations;
@@ -231,10 +237,10 @@ struct ImportArgs {
   std::string vspaero, polar, xflr5, mass_file, out, name, propulsion;
   double mass = 0;
   std::vector<double> inertia;
-  std::vector<std::string> controls;              // VSPAERO: elevator aileron rudder groups (empty: automatic)
+  std::vector<std::string> controls;                      // VSPAERO: elevator aileron rudder groups (empty: automatic)
   double aoa = std::numeric_limits<double>::quiet_NaN();  // VSPAERO operating point, deg
-  std::string xflr5_control;                      // what the XFLR5 polar's control variable moves
-  std::vector<std::string> xflr5_controls_from;   // CONTROL=FILE: control derivatives from other logs
+  std::string xflr5_control;                              // what the XFLR5 polar's control variable moves
+  std::vector<std::string> xflr5_controls_from;           // CONTROL=FILE: control derivatives from other logs
 };
 
 int import_cmd(const ImportArgs& a) {
@@ -278,16 +284,15 @@ int import_cmd(const ImportArgs& a) {
   if (!a.polar.empty()) pf = tern::aero::parse_vspaero_polar(a.polar, t.b * t.b / t.S);
   const std::string name = a.name.empty() ? file_stem(a.out) : a.name;
   const auto r = tern::aero::build_aircraft(t, m, a.polar.empty() ? nullptr : &pf, name, a.propulsion);
-  std::vector<std::string> header = {
-      name + ": tern aircraft file written by `tern aero import` from " + t.tool + " output " + t.source,
-      std::string("(derivatives per radian, ") +
-          (t.moments_in_stability_axes ? "lateral ones rotated from stability to body axes"
-                                       : "lateral moments in body axes as the tool writes them") +
-          ", alpha_ref = " + std::to_string(t.alpha_ref) + " rad).",
-      "Not given by " + t.tool + " (value used and why):"};
+  std::vector<std::string> header = {name + ": tern aircraft file written by `tern aero import` from " + t.tool + " output " + t.source,
+                                     std::string("(derivatives per radian, ") +
+                                         (t.moments_in_stability_axes ? "lateral ones rotated from stability to body axes"
+                                                                      : "lateral moments in body axes as the tool writes them") +
+                                         ", alpha_ref = " + std::to_string(t.alpha_ref) + " rad).",
+                                     "Not given by " + t.tool + " (value used and why):"};
   std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
-  std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref
-            << " rad (" << t.alpha_ref * kRad2Deg << " deg)\n";
+  std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref << " rad ("
+            << t.alpha_ref * kRad2Deg << " deg)\n";
   for (const auto& n : t.notes) std::cout << "  " << n << "\n";
   if (!a.polar.empty()) {
     std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";
@@ -296,8 +301,10 @@ int import_cmd(const ImportArgs& a) {
   std::cout << "  not provided by " << t.tool << " (value used, why):\n";
   for (const auto& d : r.defaults) {
     std::ostringstream line;
-    if (std::isnan(d.value)) line << d.name << ": " << d.why;
-    else line << d.name << " = " << d.value << "  (" << d.why << ")";
+    if (std::isnan(d.value))
+      line << d.name << ": " << d.why;
+    else
+      line << d.name << " = " << d.value << "  (" << d.why << ")";
     std::cout << "    " << line.str() << "\n";
     header.push_back("  " + line.str());
   }
@@ -315,8 +322,7 @@ json or_null(double v, bool has) { return has ? json(v) : json(nullptr); }
 // The modes as JSON: name, eigenvalue, and the figures that apply (null otherwise).
 json modes_json(const tern::aero::Modes& modes) {
   json out = json::object();
-  const std::pair<const char*, const std::vector<tern::aero::Mode>*> groups[] = {{"longitudinal", &modes.lon},
-                                                                                  {"lateral", &modes.lat}};
+  const std::pair<const char*, const std::vector<tern::aero::Mode>*> groups[] = {{"longitudinal", &modes.lon}, {"lateral", &modes.lat}};
   for (const auto& [group, list] : groups) {
     json arr = json::array();
     for (const auto& m : *list)
@@ -354,11 +360,13 @@ int linearize_cmd(const std::string& file, double Va, double gamma, double R, co
   out["aircraft"] = ac.name;
   out["Va"] = Va;
   out["gamma"] = gamma;
-  if (std::isinf(R)) out["R"] = nullptr;
-  else out["R"] = R;
-  out["trim"] = json{{"alpha", lm.trim.alpha}, {"theta", lm.trim.theta}, {"phi", lm.trim.phi},
-                     {"delta_e", lm.trim.delta.delta_e}, {"delta_a", lm.trim.delta.delta_a},
-                     {"delta_r", lm.trim.delta.delta_r}, {"delta_t", lm.trim.delta.delta_t}};
+  if (std::isinf(R))
+    out["R"] = nullptr;
+  else
+    out["R"] = R;
+  out["trim"] = json{{"alpha", lm.trim.alpha},           {"theta", lm.trim.theta},           {"phi", lm.trim.phi},
+                     {"delta_e", lm.trim.delta.delta_e}, {"delta_a", lm.trim.delta.delta_a}, {"delta_r", lm.trim.delta.delta_r},
+                     {"delta_t", lm.trim.delta.delta_t}};
   out["x_lon"] = {"u", "w", "q", "theta", "h"};
   out["u_lon"] = {"delta_e", "delta_t"};
   out["A_lon"] = matrix(lm.A_lon);
@@ -378,12 +386,14 @@ int linearize_cmd(const std::string& file, double Va, double gamma, double R, co
   write_json(json_out, out);
   // human-readable on stdout, JSON after it
   std::cout << std::fixed << std::setprecision(4);
-  std::cout << "# " << ac.name << " at Va = " << Va << " m/s: alpha = " << lm.trim.alpha << " rad, delta_e = "
-            << lm.trim.delta.delta_e << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
+  std::cout << "# " << ac.name << " at Va = " << Va << " m/s: alpha = " << lm.trim.alpha << " rad, delta_e = " << lm.trim.delta.delta_e
+            << " rad, delta_t = " << lm.trim.delta.delta_t << "\n";
   const Eigen::IOFormat fmt(4, 0, "  ", "\n", "#   [", "]");
-  std::cout << "# A_lon (x = u w q theta h)\n" << lm.A_lon.format(fmt) << "\n# B_lon (delta_e delta_t)\n"
-            << lm.B_lon.format(fmt) << "\n# A_lat (x = v p r phi psi)\n" << lm.A_lat.format(fmt)
-            << "\n# B_lat (delta_a delta_r)\n" << lm.B_lat.format(fmt) << "\n";
+  std::cout << "# A_lon (x = u w q theta h)\n"
+            << lm.A_lon.format(fmt) << "\n# B_lon (delta_e delta_t)\n"
+            << lm.B_lon.format(fmt) << "\n# A_lat (x = v p r phi psi)\n"
+            << lm.A_lat.format(fmt) << "\n# B_lat (delta_a delta_r)\n"
+            << lm.B_lat.format(fmt) << "\n";
   for (auto it = tf.begin(); it != tf.end(); ++it) std::cout << "#   " << it.key() << " = " << it.value().get<double>() << "\n";
   std::cout.unsetf(std::ios::floatfield);
   std::cout << tern::aero::modes_table(modes, approx);
@@ -456,9 +466,9 @@ int main(int argc, char** argv) {
                  "VSPAERO control groups for elevator aileron rudder: group names of the case list, ConGrp_<n>, "
                  "'none'; a leading '-' flips the sign (default: found by name, elev*/ail*/rud*)")
       ->expected(3);
-  im->add_option("--aoa", ia.aoa, "VSPAERO operating point to read: AoA_ in deg (default: the one nearest zero angle of attack at Beta_ = 0)");
-  im->add_option("--xflr5-control", ia.xflr5_control,
-                 "what the XFLR5 polar's control variable moves: elevator, aileron, rudder or none");
+  im->add_option("--aoa", ia.aoa,
+                 "VSPAERO operating point to read: AoA_ in deg (default: the one nearest zero angle of attack at Beta_ = 0)");
+  im->add_option("--xflr5-control", ia.xflr5_control, "what the XFLR5 polar's control variable moves: elevator, aileron, rudder or none");
   im->add_option("--xflr5-controls-from", ia.xflr5_controls_from,
                  "CONTROL=FILE: control derivatives from another XFLR5 log (one stability polar per control)");
   im->add_option("--name", ia.name, "aircraft name (default: the output file's stem)");
@@ -491,8 +501,7 @@ int main(int argc, char** argv) {
   ga->add_option("--zeta-V", o.zeta_V, "airspeed damping ratio (1.0)");
   ga->add_option("--kr", o.kr, "yaw damper gain, rad per rad/s (0.3)");
   ga->add_option("--p-wo", o.p_wo, "washout pole, rad/s (0.5)");
-  ga->add_option("--roll-rate-max", o.roll_rate_max,
-                 "slew limit of the roll command, rad/s (1.5; about 0.4 a_phi2 max_a / a_phi1)");
+  ga->add_option("--roll-rate-max", o.roll_rate_max, "slew limit of the roll command, rad/s (1.5; about 0.4 a_phi2 max_a / a_phi1)");
 
   try {
     app.parse(argc, argv);

@@ -43,9 +43,8 @@ inline Eigen::Matrix3d rotation_from_euler(double phi, double theta, double psi)
   const double ct = std::cos(theta), st = std::sin(theta);
   const double cp = std::cos(psi), sp = std::sin(psi);
   Eigen::Matrix3d R;
-  R << ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp,
-       ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp,
-       -st, sf * ct, cf * ct;
+  R << ct * cp, sf * st * cp - cf * sp, cf * st * cp + sf * sp, ct * sp, sf * st * sp + cf * cp, cf * st * sp - sf * cp, -st, sf * ct,
+      cf * ct;
   return R;
 }
 
@@ -54,8 +53,8 @@ inline Eigen::Quaterniond quaternion_from_euler(double phi, double theta, double
   const double c0 = std::cos(psi / 2), s0 = std::sin(psi / 2);
   const double c1 = std::cos(theta / 2), s1 = std::sin(theta / 2);
   const double c2 = std::cos(phi / 2), s2 = std::sin(phi / 2);
-  return Eigen::Quaterniond(c0 * c1 * c2 + s0 * s1 * s2, c0 * c1 * s2 - s0 * s1 * c2,
-                            c0 * s1 * c2 + s0 * c1 * s2, s0 * c1 * c2 - c0 * s1 * s2);
+  return Eigen::Quaterniond(c0 * c1 * c2 + s0 * s1 * s2, c0 * c1 * s2 - s0 * s1 * c2, c0 * s1 * c2 + s0 * c1 * s2,
+                            s0 * c1 * c2 - c0 * s1 * s2);
 }
 
 /// Euler angles (phi, theta, psi) in rad of a body -> NED quaternion (Beard & McLain, eq. B.1).

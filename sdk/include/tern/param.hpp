@@ -47,19 +47,31 @@ struct ParamSpec {
   ParamSpec() = default;
   ParamSpec(std::string unit_, double min_, double max_, std::string description_)
       : unit(std::move(unit_)), min(min_), max(max_), description(std::move(description_)) {}
-  ParamSpec& as_path() { is_path = true; return *this; }
-  ParamSpec& one_of(std::vector<std::string> c) { choices = std::move(c); return *this; }
-  ParamSpec& of_size(std::size_t n) { size = n; return *this; }
-  ParamSpec& start_only() { live = false; return *this; }
+  ParamSpec& as_path() {
+    is_path = true;
+    return *this;
+  }
+  ParamSpec& one_of(std::vector<std::string> c) {
+    choices = std::move(c);
+    return *this;
+  }
+  ParamSpec& of_size(std::size_t n) {
+    size = n;
+    return *this;
+  }
+  ParamSpec& start_only() {
+    live = false;
+    return *this;
+  }
 
-  std::string unit;          ///< SI unit, "" if dimensionless
+  std::string unit;                                       ///< SI unit, "" if dimensionless
   double min = -std::numeric_limits<double>::infinity();  ///< inclusive (numbers, vector elements)
   double max = std::numeric_limits<double>::infinity();   ///< inclusive
-  std::string description;   ///< one line
-  bool is_path = false;      ///< text value is a file path, resolved relative to the file that sets it
-  std::vector<std::string> choices;  ///< allowed text values (empty: any)
-  std::size_t size = 0;      ///< required vector length (0: any)
-  bool live = true;          ///< a change in flight takes effect at once (false: start_only())
+  std::string description;                                ///< one line
+  bool is_path = false;                                   ///< text value is a file path, resolved relative to the file that sets it
+  std::vector<std::string> choices;                       ///< allowed text values (empty: any)
+  std::size_t size = 0;                                   ///< required vector length (0: any)
+  bool live = true;                                       ///< a change in flight takes effect at once (false: start_only())
 };
 
 class TERN_API ParamBase {
@@ -68,7 +80,7 @@ class TERN_API ParamBase {
   ParamBase(const ParamBase&) = delete;
   ParamBase& operator=(const ParamBase&) = delete;
 
-  const std::string& name() const { return name_; }            ///< e.g. "roll_kp"
+  const std::string& name() const { return name_; }                 ///< e.g. "roll_kp"
   const std::string& qualified_name() const { return qualified_; }  ///< e.g. "slc.roll_kp"
   const ParamSpec& spec() const { return spec_; }
   ParamKind kind() const { return kind_; }
@@ -95,12 +107,28 @@ class TERN_API ParamBase {
   ParamSpec spec_;
 };
 
-template <class T> struct param_kind;
-template <> struct param_kind<bool> { static constexpr ParamKind value = ParamKind::boolean; };
-template <> struct param_kind<std::int64_t> { static constexpr ParamKind value = ParamKind::integer; };
-template <> struct param_kind<double> { static constexpr ParamKind value = ParamKind::real; };
-template <> struct param_kind<std::string> { static constexpr ParamKind value = ParamKind::text; };
-template <> struct param_kind<std::vector<double>> { static constexpr ParamKind value = ParamKind::vector; };
+template <class T>
+struct param_kind;
+template <>
+struct param_kind<bool> {
+  static constexpr ParamKind value = ParamKind::boolean;
+};
+template <>
+struct param_kind<std::int64_t> {
+  static constexpr ParamKind value = ParamKind::integer;
+};
+template <>
+struct param_kind<double> {
+  static constexpr ParamKind value = ParamKind::real;
+};
+template <>
+struct param_kind<std::string> {
+  static constexpr ParamKind value = ParamKind::text;
+};
+template <>
+struct param_kind<std::vector<double>> {
+  static constexpr ParamKind value = ParamKind::vector;
+};
 
 template <class T>
 class Param final : public ParamBase {

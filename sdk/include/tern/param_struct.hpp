@@ -144,7 +144,9 @@ template <class S>
 struct NameLister {
   std::vector<std::string>* names;
   template <class Field>
-  void operator()(Field, std::string name, const ParamSpec&) { names->push_back(std::move(name)); }
+  void operator()(Field, std::string name, const ParamSpec&) {
+    names->push_back(std::move(name));
+  }
   template <class Inner>
   void operator()(Inner S::*) {
     NameLister<Inner> inner{names};

@@ -55,9 +55,7 @@ namespace tern {
 inline constexpr std::uint32_t kSdkApiVersion = 4;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
-enum class PluginKind : std::uint8_t {
-  io, estimator, controller, path_planner, path_manager, path_follower, generic
-};
+enum class PluginKind : std::uint8_t { io, estimator, controller, path_planner, path_manager, path_follower, generic };
 constexpr const char* kind_name(PluginKind k) {
   switch (k) {
     case PluginKind::io: return "io";
@@ -71,9 +69,8 @@ constexpr const char* kind_name(PluginKind k) {
   return "generic";
 }
 inline std::optional<PluginKind> plugin_kind_from_name(std::string_view s) {
-  for (auto k : {PluginKind::io, PluginKind::estimator, PluginKind::controller,
-                 PluginKind::path_planner, PluginKind::path_manager, PluginKind::path_follower,
-                 PluginKind::generic})
+  for (auto k : {PluginKind::io, PluginKind::estimator, PluginKind::controller, PluginKind::path_planner, PluginKind::path_manager,
+                 PluginKind::path_follower, PluginKind::generic})
     if (s == kind_name(k)) return k;
   return std::nullopt;
 }
@@ -86,8 +83,7 @@ class TERN_API Context {
   virtual const std::string& instance_name() const = 0;
   /// Value the mission config (or its parameter file) sets for this instance's parameter, if any,
   /// already resolved relative to the file that set it when the parameter is a path.
-  virtual std::optional<ParamValue> configured_value(const std::string& param,
-                                                     const ParamSpec& spec) const = 0;
+  virtual std::optional<ParamValue> configured_value(const std::string& param, const ParamSpec& spec) const = 0;
   /// Random seed for this instance: derived from the mission seed and the instance name, so that
   /// instances draw independent streams and a flight is repeatable.
   virtual std::uint64_t seed() const = 0;
@@ -153,8 +149,7 @@ class TERN_API Plugin {
   }
 
   template <class T>
-  void declare(Input<T>& port, std::string name, std::string description = {},
-               Need need = Need::required) {
+  void declare(Input<T>& port, std::string name, std::string description = {}, Need need = Need::required) {
     port.set_need(need);
     add_input(port, std::move(name), std::move(description));
   }
@@ -170,8 +165,7 @@ class TERN_API Plugin {
     add_param(param, std::move(name), ParamValue(std::move(default_value)), std::move(spec));
   }
   /// String literals declare text parameters.
-  void declare(Param<std::string>& param, std::string name, const char* default_value,
-               ParamSpec spec = {}) {
+  void declare(Param<std::string>& param, std::string name, const char* default_value, ParamSpec spec = {}) {
     declare(param, std::move(name), std::string(default_value), std::move(spec));
   }
   /// Declares every field that `S::describe()` names (tern/param_struct.hpp) as a parameter:
@@ -182,13 +176,14 @@ class TERN_API Plugin {
   /// Throws ParamError as declare() does.
   template <class S>
   void declare_struct(S& config, std::function<void()> on_change = {}) {
-    param_struct::Binder<S> b{config, [this](std::unique_ptr<ParamBase> p, std::string name,
-                                             ParamValue def, ParamSpec spec) -> ParamBase& {
-      ParamBase& ref = *p;
-      owned_params_.push_back(std::move(p));
-      add_param(ref, std::move(name), std::move(def), std::move(spec));
-      return ref;
-    }, std::make_shared<std::function<void()>>(std::move(on_change))};
+    param_struct::Binder<S> b{config,
+                              [this](std::unique_ptr<ParamBase> p, std::string name, ParamValue def, ParamSpec spec) -> ParamBase& {
+                                ParamBase& ref = *p;
+                                owned_params_.push_back(std::move(p));
+                                add_param(ref, std::move(name), std::move(def), std::move(spec));
+                                return ref;
+                              },
+                              std::make_shared<std::function<void()>>(std::move(on_change))};
     S::describe(b);
   }
 
@@ -218,7 +213,7 @@ struct tern_plugin_handshake {
   std::uint32_t sdk_api_version;  ///< tern::kSdkApiVersion the plugin was built with
   const char* abi_tag;            ///< TERN_ABI_TAG the plugin was built with
   const char* plugin_name;
-  const char* kind;               ///< tern::kind_name(PluginKind)
+  const char* kind;  ///< tern::kind_name(PluginKind)
   const char* description;
   std::uint32_t message_count;
   const tern_message_fingerprint* messages;  ///< the standard messages as the plugin sees them
@@ -238,27 +233,26 @@ struct tern_plugin_handshake {
 #endif
 /// What must match between host and plugin besides the API version: the C++ standard library
 /// and its string ABI, and Eigen's version and static alignment (which -march can change).
-#define TERN_ABI_TAG                                                                          \
-  TERN_STDLIB_TAG_ ";eigen=" TERN_STR(EIGEN_WORLD_VERSION) "." TERN_STR(EIGEN_MAJOR_VERSION) "." \
-      TERN_STR(EIGEN_MINOR_VERSION) ";eigen_align=" TERN_STR(EIGEN_MAX_STATIC_ALIGN_BYTES)
+#define TERN_ABI_TAG                                                                                       \
+  TERN_STDLIB_TAG_ ";eigen=" TERN_STR(EIGEN_WORLD_VERSION) "." TERN_STR(EIGEN_MAJOR_VERSION) "." TERN_STR( \
+      EIGEN_MINOR_VERSION) ";eigen_align=" TERN_STR(EIGEN_MAX_STATIC_ALIGN_BYTES)
 
 #define TERN_FINGERPRINT_ENTRY_(T) {T::type_name.data(), ::tern::reflect::fingerprint<T>()},
 
 /// Registers `Class` as this shared object's plugin. Use once, in one .cpp file of the plugin.
-#define TERN_PLUGIN(Class, name, kind, description)                                          \
-  namespace {                                                                                \
-  ::tern::Plugin* tern_plugin_factory_() { return new Class(); }                             \
-  constexpr tern_message_fingerprint tern_plugin_fingerprints_[] = {                         \
-      TERN_STANDARD_MESSAGES(TERN_FINGERPRINT_ENTRY_)};                                      \
-  }                                                                                          \
-  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL;          \
-  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL = {       \
-      TERN_HANDSHAKE_MAGIC,                                                                  \
-      ::tern::kSdkApiVersion,                                                                \
-      TERN_ABI_TAG,                                                                          \
-      name,                                                                                  \
-      ::tern::kind_name(kind),                              \
-      description,                                                                           \
-      sizeof(tern_plugin_fingerprints_) / sizeof(tern_plugin_fingerprints_[0]),              \
-      tern_plugin_fingerprints_};                                                            \
+#define TERN_PLUGIN(Class, name, kind, description)                                                                   \
+  namespace {                                                                                                         \
+  ::tern::Plugin* tern_plugin_factory_() { return new Class(); }                                                      \
+  constexpr tern_message_fingerprint tern_plugin_fingerprints_[] = {TERN_STANDARD_MESSAGES(TERN_FINGERPRINT_ENTRY_)}; \
+  }                                                                                                                   \
+  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL;                                   \
+  extern "C" BOOST_SYMBOL_EXPORT const tern_plugin_handshake TERN_HANDSHAKE_SYMBOL = {                                \
+      TERN_HANDSHAKE_MAGIC,                                                                                           \
+      ::tern::kSdkApiVersion,                                                                                         \
+      TERN_ABI_TAG,                                                                                                   \
+      name,                                                                                                           \
+      ::tern::kind_name(kind),                                                                                        \
+      description,                                                                                                    \
+      sizeof(tern_plugin_fingerprints_) / sizeof(tern_plugin_fingerprints_[0]),                                       \
+      tern_plugin_fingerprints_};                                                                                     \
   BOOST_DLL_ALIAS(tern_plugin_factory_, TERN_FACTORY_ALIAS)

@@ -29,8 +29,7 @@ struct MsgType {
 };
 
 template <class T>
-inline constexpr MsgType msg_type_v{T::type_name, reflect::fingerprint<T>(), sizeof(T),
-                                    &reflect::layout<T>};
+inline constexpr MsgType msg_type_v{T::type_name, reflect::fingerprint<T>(), sizeof(T), &reflect::layout<T>};
 
 class TERN_API PortBase {
  public:
@@ -38,8 +37,8 @@ class TERN_API PortBase {
   PortBase(const PortBase&) = delete;
   PortBase& operator=(const PortBase&) = delete;
 
-  const std::string& name() const { return name_; }        ///< port name as the plugin declared it
-  const std::string& topic() const { return topic_; }      ///< topic it is bound to (name unless remapped)
+  const std::string& name() const { return name_; }    ///< port name as the plugin declared it
+  const std::string& topic() const { return topic_; }  ///< topic it is bound to (name unless remapped)
   const std::string& description() const { return description_; }
   const MsgType& type() const { return *type_; }
 
@@ -135,9 +134,7 @@ class Input final : public InputBase {
  public:
   Input() : InputBase(msg_type_v<T>) {}
   /// The latest message on the topic, or a default-constructed T if there is none yet.
-  const T& get() const {
-    return has_value() ? *static_cast<const T*>(src_->data()) : fallback_;
-  }
+  const T& get() const { return has_value() ? *static_cast<const T*>(src_->data()) : fallback_; }
   const T& operator*() const { return get(); }
   const T* operator->() const { return &get(); }
 

@@ -40,9 +40,14 @@ enum class Scalar : std::uint8_t { f64, f32, i64, i32, i16, i8, u64, u32, u16, u
 
 constexpr std::size_t scalar_size(Scalar s) {
   switch (s) {
-    case Scalar::f64: case Scalar::i64: case Scalar::u64: return 8;
-    case Scalar::f32: case Scalar::i32: case Scalar::u32: return 4;
-    case Scalar::i16: case Scalar::u16: return 2;
+    case Scalar::f64:
+    case Scalar::i64:
+    case Scalar::u64: return 8;
+    case Scalar::f32:
+    case Scalar::i32:
+    case Scalar::u32: return 4;
+    case Scalar::i16:
+    case Scalar::u16: return 2;
     default: return 1;
   }
 }
@@ -71,11 +76,15 @@ struct is_described : std::false_type {};
 template <class T>
 struct is_described<T, std::void_t<decltype(T::type_name)>> : std::true_type {};
 
-template <class T> struct is_std_array : std::false_type {};
-template <class T, std::size_t N> struct is_std_array<std::array<T, N>> : std::true_type {};
+template <class T>
+struct is_std_array : std::false_type {};
+template <class T, std::size_t N>
+struct is_std_array<std::array<T, N>> : std::true_type {};
 
-template <class T> struct is_eigen_vec : std::false_type {};
-template <int N> struct is_eigen_vec<Eigen::Matrix<double, N, 1>> : std::true_type {};
+template <class T>
+struct is_eigen_vec : std::false_type {};
+template <int N>
+struct is_eigen_vec<Eigen::Matrix<double, N, 1>> : std::true_type {};
 
 // ---- fingerprint ------------------------------------------------------------------------------
 
@@ -103,8 +112,7 @@ constexpr std::uint64_t fingerprint();
 struct FingerprintVisitor {
   Fnv1a* f;
   template <class M, class F>
-  constexpr void operator()(F M::*, std::string_view name, std::string_view unit,
-                            std::string_view components = {}) {
+  constexpr void operator()(F M::*, std::string_view name, std::string_view unit, std::string_view components = {}) {
     f->bytes(name);
     f->bytes(unit);
     f->bytes(components);
@@ -153,10 +161,14 @@ constexpr bool bitwise_copyable();
 /// std::array of those.
 template <class F>
 constexpr bool plain_field() {
-  if constexpr (is_described<F>::value) return bitwise_copyable<F>();
-  else if constexpr (is_std_array<F>::value) return plain_field<typename F::value_type>();
-  else if constexpr (is_eigen_vec<F>::value || std::is_same_v<F, Eigen::Quaterniond>) return true;
-  else return std::is_arithmetic_v<F> || std::is_enum_v<F>;
+  if constexpr (is_described<F>::value)
+    return bitwise_copyable<F>();
+  else if constexpr (is_std_array<F>::value)
+    return plain_field<typename F::value_type>();
+  else if constexpr (is_eigen_vec<F>::value || std::is_same_v<F, Eigen::Quaterniond>)
+    return true;
+  else
+    return std::is_arithmetic_v<F> || std::is_enum_v<F>;
 }
 
 struct PlainVisitor {
@@ -215,8 +227,7 @@ struct LayoutVisitor {
   const M* obj;
   std::vector<Column>* cols;
   template <class F>
-  void operator()(F M::*member, std::string_view name, std::string_view unit,
-                  std::string_view components = {}) {
+  void operator()(F M::*member, std::string_view name, std::string_view unit, std::string_view components = {}) {
     const auto* base = reinterpret_cast<const char*>(obj);
     const auto* field = reinterpret_cast<const char*>(&(obj->*member));
     const std::size_t off = static_cast<std::size_t>(field - base);
@@ -233,14 +244,11 @@ struct LayoutVisitor {
     } else if constexpr (is_eigen_vec<F>::value) {
       const auto names = detail::split_components(components, F::RowsAtCompileTime);
       for (int i = 0; i < F::RowsAtCompileTime; ++i)
-        cols->push_back({n + "_" + names[static_cast<std::size_t>(i)], u, Scalar::f64,
-                         off + static_cast<std::size_t>(i) * sizeof(double)});
+        cols->push_back({n + "_" + names[static_cast<std::size_t>(i)], u, Scalar::f64, off + static_cast<std::size_t>(i) * sizeof(double)});
     } else if constexpr (std::is_same_v<F, Eigen::Quaterniond>) {
       // Eigen stores x, y, z, w.
       const auto& q = obj->*member;
-      auto at = [&](const double* p) {
-        return static_cast<std::size_t>(reinterpret_cast<const char*>(p) - base);
-      };
+      auto at = [&](const double* p) { return static_cast<std::size_t>(reinterpret_cast<const char*>(p) - base); };
       cols->push_back({n + "_w", u, Scalar::f64, at(&q.w())});
       cols->push_back({n + "_x", u, Scalar::f64, at(&q.x())});
       cols->push_back({n + "_y", u, Scalar::f64, at(&q.y())});

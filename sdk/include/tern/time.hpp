@@ -33,9 +33,8 @@ inline Nanos period_from_hz(double hz) {
   const double p = 1e9 / hz;
   const double r = std::round(p);
   if (r < 1.0 || std::fabs(p - r) > 1e-3) {
-    throw std::invalid_argument("rate " + std::to_string(hz) +
-                                " Hz has no whole-nanosecond period (1e9/rate = " +
-                                std::to_string(p) + " ns)");
+    throw std::invalid_argument("rate " + std::to_string(hz) + " Hz has no whole-nanosecond period (1e9/rate = " + std::to_string(p) +
+                                " ns)");
   }
   return static_cast<Nanos>(r);
 }

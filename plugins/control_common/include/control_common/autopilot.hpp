@@ -37,12 +37,12 @@ enum class Mode : std::uint8_t { takeoff, climb, cruise, manual_passthrough, man
 
 /// What the path follower commands (ROSplane's ControllerCommands).
 struct Command {
-  double Va_c = 0.0;    ///< m/s
-  double h_c = 0.0;     ///< m
-  double chi_c = 0.0;   ///< rad
-  double phi_ff = 0.0;  ///< rad
-  double phi_c = 0.0;   ///< rad, used when override_phi
-  double theta_c = 0.0; ///< rad, used when override_theta
+  double Va_c = 0.0;     ///< m/s
+  double h_c = 0.0;      ///< m
+  double chi_c = 0.0;    ///< rad
+  double phi_ff = 0.0;   ///< rad
+  double phi_c = 0.0;    ///< rad, used when override_phi
+  double theta_c = 0.0;  ///< rad, used when override_theta
   bool override_phi = false;
   bool override_theta = false;
   bool finite() const;
@@ -95,15 +95,16 @@ class SlcLongitudinal final : public LongitudinalLaw {
 };
 
 struct AutopilotSettings {
-  double takeoff_throttle = 1.0;  ///< 0..1
-  double takeoff_pitch = 0.1745;  ///< rad
-  double rotation_Va = 12.0;      ///< m/s
-  bool climb_course_hold = true;  ///< false: wings level in climb
-  double handover_tau = 1.0;      ///< decay of the bumpless offset, s
-  double angle_roll_max = 0.7854; ///< angle mode: roll at full stick, rad
-  double angle_pitch_max = 0.35;  ///< angle mode: pitch at full stick, rad
+  double takeoff_throttle = 1.0;   ///< 0..1
+  double takeoff_pitch = 0.1745;   ///< rad
+  double rotation_Va = 12.0;       ///< m/s
+  bool climb_course_hold = true;   ///< false: wings level in climb
+  double handover_tau = 1.0;       ///< decay of the bumpless offset, s
+  double angle_roll_max = 0.7854;  ///< angle mode: roll at full stick, rad
+  double angle_pitch_max = 0.35;   ///< angle mode: pitch at full stick, rad
 
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     using S = AutopilotSettings;
     v(&S::takeoff_throttle, "takeoff_throttle", ParamSpec("", 0.0, 1.0, "throttle during takeoff (max_takeoff_throttle)"));
@@ -137,8 +138,7 @@ class Autopilot {
 
   /// One control step, dt in s since the previous step. A non-finite state or command (NaN,
   /// Inf) holds the previous output (held = true) and leaves every integrator untouched.
-  AutopilotOutput update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks,
-                         double dt);
+  AutopilotOutput update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks, double dt);
   /// The next update starts from `last` (bumpless transfer).
   void take_over(const Surfaces& last);
   /// Integrators and filters clean; the next update starts from trim.

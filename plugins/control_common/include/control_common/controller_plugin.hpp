@@ -70,7 +70,8 @@ class ControllerPlugin : public Plugin {
   struct ManualMode {
     std::string mode = "passthrough";
     std::int64_t angle_aux = -1;
-    template <class V> static void describe(V& v) {
+    template <class V>
+    static void describe(V& v) {
       v(&ManualMode::mode, "manual_mode",
         ParamSpec("", 0, 0, "when the pilot overrides: surfaces from the sticks, or roll and pitch angles from the sticks")
             .one_of({"passthrough", "angle"}));

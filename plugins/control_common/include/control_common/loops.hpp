@@ -46,23 +46,24 @@ struct Surfaces {
 struct LateralGains {
   // Defaults: ROSplane 2.0's Anaconda values where a ROSplane parameter maps (see
   // plugins/control_slc/README.md for the table).
-  double course_kp = 2.0;     ///< rad roll / rad course error
-  double course_ki = 0.0025;  ///< rad roll / (rad s)
-  double course_kd = 0.0;     ///< rad roll / (rad/s) yaw rate
-  double roll_max = 0.7854;   ///< rad
-  double roll_rate_max = 0.0; ///< slew limit of the roll command, rad/s; 0: none
-  double roll_ff = 0.0;       ///< rad aileron / (rad/s) of commanded roll rate p_c (a_phi1/a_phi2)
-  double roll_kp = 0.55;      ///< rad aileron / rad roll error
-  double roll_ki = 0.0;       ///< rad aileron / (rad s)
-  double roll_kd = 0.2;       ///< rad aileron / (rad/s) roll rate
-  double trim_a = 0.0;        ///< rad
-  double max_a = 0.6981;      ///< rad (the Anaconda's 40-degree servo limit; ROSplane: 0.8)
-  double yaw_kr = 0.3;        ///< rad rudder / (rad/s) washed-out yaw rate
-  double yaw_p_wo = 0.5;      ///< washout pole, rad/s
-  double trim_r = 0.0;        ///< rad
-  double max_r = 0.523;       ///< rad
+  double course_kp = 2.0;      ///< rad roll / rad course error
+  double course_ki = 0.0025;   ///< rad roll / (rad s)
+  double course_kd = 0.0;      ///< rad roll / (rad/s) yaw rate
+  double roll_max = 0.7854;    ///< rad
+  double roll_rate_max = 0.0;  ///< slew limit of the roll command, rad/s; 0: none
+  double roll_ff = 0.0;        ///< rad aileron / (rad/s) of commanded roll rate p_c (a_phi1/a_phi2)
+  double roll_kp = 0.55;       ///< rad aileron / rad roll error
+  double roll_ki = 0.0;        ///< rad aileron / (rad s)
+  double roll_kd = 0.2;        ///< rad aileron / (rad/s) roll rate
+  double trim_a = 0.0;         ///< rad
+  double max_a = 0.6981;       ///< rad (the Anaconda's 40-degree servo limit; ROSplane: 0.8)
+  double yaw_kr = 0.3;         ///< rad rudder / (rad/s) washed-out yaw rate
+  double yaw_p_wo = 0.5;       ///< washout pole, rad/s
+  double trim_r = 0.0;         ///< rad
+  double max_r = 0.523;        ///< rad
 
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     using G = LateralGains;
     v(&G::course_kp, "course_kp", ParamSpec("rad/rad", 0.0, 20.0, "course -> roll proportional gain (ROSplane c_kp)"));
@@ -130,13 +131,14 @@ class LateralLoops {
 };
 
 struct PitchGains {
-  double kp = 4.25;      ///< rad elevator / rad pitch error (magnitude)
-  double ki = 0.0;       ///< rad elevator / (rad s)
-  double kd = 0.6;       ///< rad elevator / (rad/s) pitch rate
+  double kp = 4.25;        ///< rad elevator / rad pitch error (magnitude)
+  double ki = 0.0;         ///< rad elevator / (rad s)
+  double kd = 0.6;         ///< rad elevator / (rad/s) pitch rate
   double trim_e = -0.075;  ///< elevator at trim, rad (uavbook sign: negative is nose up)
-  double max_e = 0.61;   ///< rad
+  double max_e = 0.61;     ///< rad
 
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     v(&PitchGains::kp, "pitch_kp", ParamSpec("rad/rad", 0.0, 50.0, "pitch -> elevator proportional gain, magnitude (p_kp)"));
     v(&PitchGains::ki, "pitch_ki", ParamSpec("rad/(rad s)", 0.0, 50.0, "pitch -> elevator integral gain (p_ki)"));
@@ -148,13 +150,14 @@ struct PitchGains {
 
 /// Limits and trim both longitudinal laws use (SLC and TECS): one set of parameters.
 struct LongitudinalLimits {
-  double theta_max = 0.35;  ///< pitch command upper limit, rad
-  double theta_min = -0.35; ///< pitch command lower limit, rad
-  double trim_t = 0.5;      ///< throttle at trim, 0..1
-  double max_t = 1.0;       ///< throttle upper limit
-  double min_t = 0.0;       ///< throttle lower limit
+  double theta_max = 0.35;   ///< pitch command upper limit, rad
+  double theta_min = -0.35;  ///< pitch command lower limit, rad
+  double trim_t = 0.5;       ///< throttle at trim, 0..1
+  double max_t = 1.0;        ///< throttle upper limit
+  double min_t = 0.0;        ///< throttle lower limit
 
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     using L = LongitudinalLimits;
     v(&L::theta_max, "theta_max", ParamSpec("rad", 0.0, 1.2, "pitch command upper limit"));
@@ -184,14 +187,15 @@ class PitchLoop {
 };
 
 struct AltitudeGains {
-  double kp = 0.015;       ///< rad pitch / m
-  double ki = 0.001;       ///< rad pitch / (m s)
-  double kd = 0.0;         ///< rad pitch / (m/s) climb rate
-  double theta_max = LongitudinalLimits{}.theta_max; ///< rad (parameter of LongitudinalLimits)
-  double theta_min = LongitudinalLimits{}.theta_min; ///< rad
+  double kp = 0.015;                                  ///< rad pitch / m
+  double ki = 0.001;                                  ///< rad pitch / (m s)
+  double kd = 0.0;                                    ///< rad pitch / (m/s) climb rate
+  double theta_max = LongitudinalLimits{}.theta_max;  ///< rad (parameter of LongitudinalLimits)
+  double theta_min = LongitudinalLimits{}.theta_min;  ///< rad
 
   /// The gains only; the limits are LongitudinalLimits' parameters.
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     v(&AltitudeGains::kp, "altitude_kp", ParamSpec("rad/m", 0.0, 5.0, "altitude -> pitch proportional gain (ROSplane a_kp)"));
     v(&AltitudeGains::ki, "altitude_ki", ParamSpec("rad/(m s)", 0.0, 5.0, "altitude -> pitch integral gain (a_ki)"));
@@ -215,16 +219,17 @@ class AltitudeLoop {
 };
 
 struct AirspeedGains {
-  double kp = 0.1;     ///< throttle / (m/s)
-  double ki = 0.02;    ///< throttle / m
-  double kd = 0.0;     ///< throttle / (m/s^2)
+  double kp = 0.1;                              ///< throttle / (m/s)
+  double ki = 0.02;                             ///< throttle / m
+  double kd = 0.0;                              ///< throttle / (m/s^2)
   double trim_t = LongitudinalLimits{}.trim_t;  ///< (parameters of LongitudinalLimits)
   double max_t = LongitudinalLimits{}.max_t;
   double min_t = LongitudinalLimits{}.min_t;
-  double tau_d = 0.05; ///< dirty-derivative time constant for Va_dot, s
+  double tau_d = 0.05;  ///< dirty-derivative time constant for Va_dot, s
 
   /// The gains only; trim and limits are LongitudinalLimits' parameters.
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     v(&AirspeedGains::kp, "airspeed_kp", ParamSpec("1/(m/s)", 0.0, 5.0, "airspeed -> throttle proportional gain (a_t_kp)"));
     v(&AirspeedGains::ki, "airspeed_ki", ParamSpec("1/m", 0.0, 5.0, "airspeed -> throttle integral gain (a_t_ki)"));

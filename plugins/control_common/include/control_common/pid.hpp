@@ -21,7 +21,10 @@ class DirtyDerivative {
   /// Feeds y (any unit) measured dt seconds after the previous sample; returns dy/dt (unit/s).
   double update(double y, double dt);
   double value() const { return ydot_; }
-  void reset() { primed_ = false; ydot_ = 0.0; }
+  void reset() {
+    primed_ = false;
+    ydot_ = 0.0;
+  }
 
  private:
   double tau_;
@@ -38,7 +41,10 @@ class Washout {
   /// p_wo: washout pole, rad/s (>= 0).
   void set_pole(double p_wo) { p_wo_ = p_wo; }
   double update(double x, double dt);
-  void reset() { primed_ = false; y_ = 0.0; }
+  void reset() {
+    primed_ = false;
+    y_ = 0.0;
+  }
 
  private:
   double p_wo_;
@@ -85,9 +91,7 @@ class Pid {
 
  private:
   double clamp_integrator(double I) const;
-  double output(double e, double ydot, double ff, double I) const {
-    return ff + g_.kp * e + g_.ki * I - g_.kd * ydot;
-  }
+  double output(double e, double ydot, double ff, double I) const { return ff + g_.kp * e + g_.ki * I - g_.kd * ydot; }
   PidGains g_;
   double integrator_ = 0.0;
   double e_prev_ = 0.0;

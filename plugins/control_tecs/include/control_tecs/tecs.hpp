@@ -29,28 +29,29 @@
 namespace tern::control {
 
 struct TecsGains {
-  double energy_kp = 0.3;    ///< throttle per unit normalised energy-rate error
-  double energy_ki = 1.2;    ///< throttle per unit error per s
-  double energy_ff = 0.64;    ///< throttle per unit normalised energy-rate demand (g / a_V2)
-  double balance_kp = 0.3;   ///< rad pitch per unit balance-rate error
-  double balance_ki = 1.0;   ///< rad pitch per unit error per s
-  double balance_ff = 1.0;   ///< rad pitch per unit balance-rate demand
-  double h_kp = 0.5;         ///< 1/s
-  double climb_rate_max = 3.0;  ///< m/s
-  double sink_rate_max = 3.0;   ///< m/s
-  double Va_kp = 0.5;        ///< 1/s
-  double Va_dot_max = 2.0;   ///< m/s^2
-  double Va_min = 13.0;      ///< m/s, underspeed threshold and lowest airspeed demand
-  double Va_max = 35.0;      ///< m/s, highest airspeed demand
+  double energy_kp = 0.3;              ///< throttle per unit normalised energy-rate error
+  double energy_ki = 1.2;              ///< throttle per unit error per s
+  double energy_ff = 0.64;             ///< throttle per unit normalised energy-rate demand (g / a_V2)
+  double balance_kp = 0.3;             ///< rad pitch per unit balance-rate error
+  double balance_ki = 1.0;             ///< rad pitch per unit error per s
+  double balance_ff = 1.0;             ///< rad pitch per unit balance-rate demand
+  double h_kp = 0.5;                   ///< 1/s
+  double climb_rate_max = 3.0;         ///< m/s
+  double sink_rate_max = 3.0;          ///< m/s
+  double Va_kp = 0.5;                  ///< 1/s
+  double Va_dot_max = 2.0;             ///< m/s^2
+  double Va_min = 13.0;                ///< m/s, underspeed threshold and lowest airspeed demand
+  double Va_max = 35.0;                ///< m/s, highest airspeed demand
   double underspeed_hysteresis = 1.0;  ///< m/s
-  double Va_dot_tau = 0.2;   ///< dirty-derivative time constant for Va_dot, s
-  double theta_rate_max = 0.5;  ///< slew-rate limit of the pitch command, rad/s
+  double Va_dot_tau = 0.2;             ///< dirty-derivative time constant for Va_dot, s
+  double theta_rate_max = 0.5;         ///< slew-rate limit of the pitch command, rad/s
   // Trim and limits: the parameters of control_common's LongitudinalLimits.
   double trim_t = LongitudinalLimits{}.trim_t, min_t = LongitudinalLimits{}.min_t, max_t = LongitudinalLimits{}.max_t;
   double theta_min = LongitudinalLimits{}.theta_min, theta_max = LongitudinalLimits{}.theta_max;  ///< rad
 
   /// The law's own gains as plugin parameters (trim and limits are LongitudinalLimits').
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     using G = TecsGains;
     v(&G::energy_kp, "energy_kp", ParamSpec("", 0.0, 10.0, "throttle per unit specific total-energy-rate error (gamma + Va_dot/g)"));

@@ -26,8 +26,8 @@
 
 namespace tern::fcu::mavlink {
 
-inline constexpr std::uint8_t kStx = 0xFE;          ///< MAVLink 1.0 start byte
-inline constexpr std::size_t kHeaderLength = 6;     ///< STX len seq sys comp msgid
+inline constexpr std::uint8_t kStx = 0xFE;       ///< MAVLink 1.0 start byte
+inline constexpr std::size_t kHeaderLength = 6;  ///< STX len seq sys comp msgid
 inline constexpr std::size_t kMaxFrameLength = kHeaderLength + 255 + 2;
 
 /// Dialect entry of a message id, or nullptr if rosflight.xml does not define it.
@@ -41,12 +41,12 @@ struct Frame {
 
 /// What the parser saw. Bytes that belong to no valid frame are counted once in `skipped`.
 struct ParserStats {
-  std::uint64_t bytes = 0;        ///< bytes fed
-  std::uint64_t frames = 0;       ///< valid frames delivered
-  std::uint64_t skipped = 0;      ///< bytes dropped while looking for a frame (garbage, bad frames)
-  std::uint64_t bad_crc = 0;      ///< frames with a wrong checksum
-  std::uint64_t unknown_id = 0;   ///< headers naming a message id outside the dialect
-  std::uint64_t bad_length = 0;   ///< headers whose length does not match the message definition
+  std::uint64_t bytes = 0;       ///< bytes fed
+  std::uint64_t frames = 0;      ///< valid frames delivered
+  std::uint64_t skipped = 0;     ///< bytes dropped while looking for a frame (garbage, bad frames)
+  std::uint64_t bad_crc = 0;     ///< frames with a wrong checksum
+  std::uint64_t unknown_id = 0;  ///< headers naming a message id outside the dialect
+  std::uint64_t bad_length = 0;  ///< headers whose length does not match the message definition
   /// Frames lost according to the sequence numbers, counted per system id: a MAVLink sender
   /// numbers every frame of its link on one counter whatever the component id (ROSflight sends
   /// PARAM_VALUE as component 0 and the rest as 250 on one counter: mavlink_adapter.cpp
@@ -161,14 +161,13 @@ class Parser {
   std::array<std::uint8_t, 2 * kMaxFrameLength> replay_{};  ///< ring buffer of bytes to scan again
   std::size_t replay_head_ = 0, replay_size_ = 0;
   ParserStats stats_;
-  std::array<bool, 256> seen_{};              ///< per system id
+  std::array<bool, 256> seen_{};  ///< per system id
   std::array<std::uint8_t, 256> last_seq_{};
 };
 
 /// The messages tern decodes and encodes (issue 9's list).
-using Message = std::variant<SmallImu, SmallMag, SmallBaro, DiffPressure, RosflightGnss, RcChannels,
-                             RosflightStatus, AttitudeQuaternion, RosflightOutputRaw, ParamValue,
-                             RosflightCmdAck, RosflightVersion, Statustext, Timesync, Heartbeat,
+using Message = std::variant<SmallImu, SmallMag, SmallBaro, DiffPressure, RosflightGnss, RcChannels, RosflightStatus, AttitudeQuaternion,
+                             RosflightOutputRaw, ParamValue, RosflightCmdAck, RosflightVersion, Statustext, Timesync, Heartbeat,
                              OffboardControl, ParamRequestList, ParamRequestRead, ParamSet, RosflightCmd>;
 
 /// The typed message in a valid frame, or nullopt for a dialect message tern does not use.

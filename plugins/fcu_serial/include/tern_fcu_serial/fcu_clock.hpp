@@ -49,9 +49,9 @@ class FcuClock {
 
   /// What one IMU sample means (imu()).
   struct Imu {
-    FlightTime stamp;      ///< its flight time (never before the last accepted sample)
-    bool rebooted = false; ///< the FCU's clock went back: a new epoch, re-anchored
-    FcuTime before;        ///< the last accepted sample's FCU time (when rebooted)
+    FlightTime stamp;       ///< its flight time (never before the last accepted sample)
+    bool rebooted = false;  ///< the FCU's clock went back: a new epoch, re-anchored
+    FcuTime before;         ///< the last accepted sample's FCU time (when rebooted)
   };
 
   FcuClock(ClockPolicy policy, std::int64_t gap_ns) : policy_(policy), gap_(gap_ns) {}

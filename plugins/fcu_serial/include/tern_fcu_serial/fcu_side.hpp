@@ -28,9 +28,19 @@ namespace tern::fcu {
 
 /// ROSFLIGHT_CMD values (rosflight.xml enum ROSFLIGHT_CMD).
 enum class RosflightCmd : std::uint8_t {
-  rc_calibration = 0, accel_calibration = 1, gyro_calibration = 2, baro_calibration = 3,
-  airspeed_calibration = 4, read_params = 5, write_params = 6, set_param_defaults = 7, reboot = 8,
-  reboot_to_bootloader = 9, send_version = 10, reset_origin = 11, send_all_config_infos = 12
+  rc_calibration = 0,
+  accel_calibration = 1,
+  gyro_calibration = 2,
+  baro_calibration = 3,
+  airspeed_calibration = 4,
+  read_params = 5,
+  write_params = 6,
+  set_param_defaults = 7,
+  reboot = 8,
+  reboot_to_bootloader = 9,
+  send_version = 10,
+  reset_origin = 11,
+  send_all_config_infos = 12
 };
 
 /// MAV_PARAM_TYPE values used by ROSflight.
@@ -61,7 +71,7 @@ class FcuSide {
   mavlink::RosflightStatus status() const;  ///< CommManager::send_status
   /// The duration of the last control loop, reported in the status (ROSflight::get_loop_time_us).
   void set_loop_time_us(std::uint16_t us) { loop_time_us_ = us; }
-  mavlink::Heartbeat heartbeat() const;                               ///< MavlinkAdapter::send_heartbeat
+  mavlink::Heartbeat heartbeat() const;  ///< MavlinkAdapter::send_heartbeat
 
   firmware::Firmware& fw() { return fw_; }
   const firmware::Firmware& fw() const { return fw_; }
@@ -69,7 +79,7 @@ class FcuSide {
   std::uint64_t commands() const { return commands_; }  ///< OFFBOARD_CONTROL frames received
   bool reboot_requested() const { return reboot_; }
   void clear_reboot() { reboot_ = false; }
-  std::uint64_t writes() const { return writes_; }  ///< WRITE_PARAMS commands carried out
+  std::uint64_t writes() const { return writes_; }            ///< WRITE_PARAMS commands carried out
   const firmware::Params& stored() const { return stored_; }  ///< what WRITE_PARAMS saved
 
  private:

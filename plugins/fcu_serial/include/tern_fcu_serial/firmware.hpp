@@ -79,16 +79,28 @@ class Params {
 
 /// StateManager::ErrorCode bits (include/state_manager.h).
 enum Error : std::uint16_t {
-  kErrorInvalidMixer = 0x0001, kErrorImuNotResponding = 0x0002, kErrorRcLost = 0x0004,
-  kErrorUnhealthyEstimator = 0x0008, kErrorTimeGoingBackwards = 0x0010, kErrorUncalibratedImu = 0x0020,
-  kErrorBufferOverrun = 0x0040, kErrorInvalidFailsafe = 0x0080
+  kErrorInvalidMixer = 0x0001,
+  kErrorImuNotResponding = 0x0002,
+  kErrorRcLost = 0x0004,
+  kErrorUnhealthyEstimator = 0x0008,
+  kErrorTimeGoingBackwards = 0x0010,
+  kErrorUncalibratedImu = 0x0020,
+  kErrorBufferOverrun = 0x0040,
+  kErrorInvalidFailsafe = 0x0080
 };
 
 /// CommandManager::RCOverrideReason bits (include/command_manager.h).
 enum Override : std::uint16_t {
-  kOverrideAttSwitch = 0x1, kOverrideThrSwitch = 0x2, kOverrideX = 0x4, kOverrideY = 0x8, kOverrideZ = 0x10,
-  kOverrideT = 0x20, kOverrideOffboardXInactive = 0x40, kOverrideOffboardYInactive = 0x80,
-  kOverrideOffboardZInactive = 0x100, kOverrideOffboardTInactive = 0x200
+  kOverrideAttSwitch = 0x1,
+  kOverrideThrSwitch = 0x2,
+  kOverrideX = 0x4,
+  kOverrideY = 0x8,
+  kOverrideZ = 0x10,
+  kOverrideT = 0x20,
+  kOverrideOffboardXInactive = 0x40,
+  kOverrideOffboardYInactive = 0x80,
+  kOverrideOffboardZInactive = 0x100,
+  kOverrideOffboardTInactive = 0x200
 };
 
 /// One receiver frame as the board hands it over (Board::rc_read into RcStruct).

@@ -27,12 +27,12 @@ namespace tern::fcu {
 struct LinkOptions {
   enum class Kind { serial, udp };
   Kind kind = Kind::serial;
-  std::string device = "/dev/ttyACM0";  ///< serial device (or pseudo-terminal)
-  unsigned baud = 921600;               ///< serial baud rate
-  std::string udp_host = "127.0.0.1";   ///< where both ends live (ROSflight SIL: localhost)
-  unsigned udp_bind_port = 14520;       ///< our port (rosflight_io's default)
-  unsigned udp_remote_port = 14525;     ///< the FCU's port (ROSflight SIL firmware's default)
-  std::size_t queue_capacity = 8192;    ///< frames
+  std::string device = "/dev/ttyACM0";         ///< serial device (or pseudo-terminal)
+  unsigned baud = 921600;                      ///< serial baud rate
+  std::string udp_host = "127.0.0.1";          ///< where both ends live (ROSflight SIL: localhost)
+  unsigned udp_bind_port = 14520;              ///< our port (rosflight_io's default)
+  unsigned udp_remote_port = 14525;            ///< the FCU's port (ROSflight SIL firmware's default)
+  std::size_t queue_capacity = 8192;           ///< frames
   std::int64_t reopen_interval = 500'000'000;  ///< ns
   /// One line naming the port, for messages: "serial /dev/ttyACM0 @ 921600" or "udp 127.0.0.1:14520".
   std::string describe() const;

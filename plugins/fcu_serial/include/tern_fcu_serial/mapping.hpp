@@ -56,7 +56,7 @@ mavlink::OffboardControl to_offboard(const Surfaces& s, const ActuatorMap& map);
 struct RcMap {
   std::array<int, 4> stick_channel{0, 1, 3, 2};  ///< roll, pitch, yaw, throttle (0..17, distinct)
   std::array<int, 4> aux_channel{4, 5, 6, 7};
-  std::array<double, 3> sign{1, 1, 1};           ///< roll, pitch, yaw stick signs
+  std::array<double, 3> sign{1, 1, 1};  ///< roll, pitch, yaw stick signs
   void validate() const;
 };
 

@@ -11,18 +11,25 @@
 
 namespace tern::fcu::mavlink {
 
-static_assert(std::endian::native == std::endian::little,
-              "the MAVLink packing helpers assume a little-endian host");
+static_assert(std::endian::native == std::endian::little, "the MAVLink packing helpers assume a little-endian host");
 
 namespace detail {
 template <class T>
-inline void put(std::uint8_t* p, const T& v) { std::memcpy(p, &v, sizeof(T)); }
+inline void put(std::uint8_t* p, const T& v) {
+  std::memcpy(p, &v, sizeof(T));
+}
 template <class T>
-inline void get(const std::uint8_t* p, T& v) { std::memcpy(&v, p, sizeof(T)); }
+inline void get(const std::uint8_t* p, T& v) {
+  std::memcpy(&v, p, sizeof(T));
+}
 template <class T, std::size_t N>
-inline void put_array(std::uint8_t* p, const std::array<T, N>& a) { std::memcpy(p, a.data(), sizeof(T) * N); }
+inline void put_array(std::uint8_t* p, const std::array<T, N>& a) {
+  std::memcpy(p, a.data(), sizeof(T) * N);
+}
 template <class T, std::size_t N>
-inline void get_array(const std::uint8_t* p, std::array<T, N>& a) { std::memcpy(a.data(), p, sizeof(T) * N); }
+inline void get_array(const std::uint8_t* p, std::array<T, N>& a) {
+  std::memcpy(a.data(), p, sizeof(T) * N);
+}
 }  // namespace detail
 
 /// X.25 CRC accumulation of one byte (MAVLink's crc_accumulate).

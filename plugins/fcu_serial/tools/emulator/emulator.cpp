@@ -64,9 +64,12 @@ firmware::Params load_params(const std::string& file) {
     };
     if (!kv.second.IsScalar()) throw bad(kv.second.IsNull() ? "an empty value" : "a list or map");
     try {
-      if (is_int) p.set_int(*i, kv.second.as<std::int32_t>());
-      else if (const float v = kv.second.as<float>(); std::isfinite(v)) p.set_float(*i, v);
-      else throw bad("'" + kv.second.Scalar() + "'");
+      if (is_int)
+        p.set_int(*i, kv.second.as<std::int32_t>());
+      else if (const float v = kv.second.as<float>(); std::isfinite(v))
+        p.set_float(*i, v);
+      else
+        throw bad("'" + kv.second.Scalar() + "'");
     } catch (const YAML::Exception&) {
       throw bad("'" + kv.second.Scalar() + "'");
     }
@@ -93,9 +96,12 @@ Emulator::Emulator(const Options& o, Port& port)
   const auto w = numbers(o.wind, 3, "--wind");
   sim_.set_turbulence(sim::dryden_preset(o.turbulence));
   sim_.set_steady_wind(Eigen::Vector3d(w[0], w[1], w[2]));
-  if (o.init_mode == "ground") sim_.set_state(sim::rest_state(ac_, 0, 0, o.init_heading));
-  else if (o.init_mode == "air") sim_.set_state(sim::make_state({0, 0, -o.init_altitude}, {o.init_airspeed, 0, 0}, 0, 0, o.init_heading));
-  else throw std::runtime_error("--init-mode: '" + o.init_mode + "' is not ground or air");
+  if (o.init_mode == "ground")
+    sim_.set_state(sim::rest_state(ac_, 0, 0, o.init_heading));
+  else if (o.init_mode == "air")
+    sim_.set_state(sim::make_state({0, 0, -o.init_altitude}, {o.init_airspeed, 0, 0}, 0, 0, o.init_heading));
+  else
+    throw std::runtime_error("--init-mode: '" + o.init_mode + "' is not ground or air");
   if (!o.silence.empty()) {
     const auto s = numbers(o.silence, 2, "--silence");
     silence_ = {ns(s[0]), ns(s[1])};
@@ -115,8 +121,10 @@ Emulator::Emulator(const Options& o, Port& port)
 bool Emulator::flush() {
   corrupt_frames();
   bool ok = true;
-  if (!out_.empty() && !silent(t_)) ok = port_.write(out_.data(), out_.size());
-  else if (!out_.empty()) ok = false;
+  if (!out_.empty() && !silent(t_))
+    ok = port_.write(out_.data(), out_.size());
+  else if (!out_.empty())
+    ok = false;
   if (!ok && !out_.empty()) ++dropped_;
   out_.clear();
   return ok;
@@ -206,8 +214,8 @@ int Emulator::run() {
     sim_.step(static_cast<double>(dt_) * 1e-9);
     t_ += dt_;
   }
-  std::cerr << "tern-fcu-emulator: stopped at t = " << static_cast<double>(t_) * 1e-9 << " s after " << fcu_->commands()
-            << " commands (" << dropped_ << " writes lost)\n";
+  std::cerr << "tern-fcu-emulator: stopped at t = " << static_cast<double>(t_) * 1e-9 << " s after " << fcu_->commands() << " commands ("
+            << dropped_ << " writes lost)\n";
   return 0;
 }
 

@@ -44,8 +44,8 @@ struct Options {
   std::string turbulence = "none";
   std::string init_mode = "ground";
   double init_altitude = 100, init_airspeed = 17, init_heading = 0;
-  std::string max_deflection;  ///< empty: the aircraft's limits
-  std::string params;          ///< the FCU's stored parameters (YAML NAME: value); empty: defaults
+  std::string max_deflection;                   ///< empty: the aircraft's limits
+  std::string params;                           ///< the FCU's stored parameters (YAML NAME: value); empty: defaults
   std::string rc = firmware::kDefaultRcScript;  ///< --rc script (rc_script.hpp)
   std::string silence;
   double reboot_at = -1;

@@ -26,7 +26,7 @@ class Port {
   virtual ~Port() = default;
   virtual int fd() const = 0;
   virtual std::size_t read(std::uint8_t* buf, std::size_t n) = 0;  ///< 0 if nothing
-  virtual bool write(const std::uint8_t* p, std::size_t n) = 0;   ///< false if dropped
+  virtual bool write(const std::uint8_t* p, std::size_t n) = 0;    ///< false if dropped
 };
 
 class PtyPort final : public Port {

@@ -9,8 +9,8 @@
 namespace tern::fcu::emulator {
 
 namespace {
-const std::map<std::string, int> kKeys = {{"roll", 0},  {"pitch", 1}, {"throttle", 2}, {"yaw", 3}, {"aux1", 4},
-                                          {"aux2", 5},  {"aux3", 6},  {"aux4", 7},     {"lost", -1}};
+const std::map<std::string, int> kKeys = {{"roll", 0}, {"pitch", 1}, {"throttle", 2}, {"yaw", 3},  {"aux1", 4},
+                                          {"aux2", 5}, {"aux3", 6},  {"aux4", 7},     {"lost", -1}};
 
 double number(const std::string& s, const std::string& where) {
   std::size_t used = 0;
@@ -57,8 +57,10 @@ Transmitter RcScript::at(std::int64_t t) const {
   for (const Step& s : steps_) {
     if (s.t > t) break;
     for (const auto& [ch, v] : s.set) {
-      if (ch < 0) x.lost = v != 0.0;
-      else x.value[static_cast<std::size_t>(ch)] = v;
+      if (ch < 0)
+        x.lost = v != 0.0;
+      else
+        x.value[static_cast<std::size_t>(ch)] = v;
     }
   }
   return x;

@@ -94,7 +94,7 @@ void Emulator::step_imu(const sim::Truth& truth, std::int64_t t) {
   s.zgyro = g[2];
   s.temperature = static_cast<float>(m.temperature);
   imu_at_ = send(s);
-  imu_delivered_ = true;  // unless corrupt_frames() damages it
+  imu_delivered_ = true;                                     // unless corrupt_frames() damages it
   const Eigen::Quaterniond q = sim::attitude(sim_.state());  // the true attitude (a real FCU: its estimate)
   mavlink::AttitudeQuaternion att;
   att.time_boot_ms = static_cast<std::uint32_t>(ft / 1'000'000);

@@ -50,14 +50,14 @@ struct AeroCoefficients {
 
 /// Motor and propeller (uavbook propulsion supplement to ch. 4).
 struct Propulsion {
-  double D_prop = 0;             ///< propeller diameter, m
+  double D_prop = 0;                       ///< propeller diameter, m
   double C_T_0 = 0, C_T_1 = 0, C_T_2 = 0;  ///< thrust coefficient C_T(J) = C_T_2 J^2 + C_T_1 J + C_T_0
   double C_Q_0 = 0, C_Q_1 = 0, C_Q_2 = 0;  ///< torque coefficient C_Q(J), same form
-  double K_V = 0;                ///< motor speed constant, RPM/V (informative)
-  double K_Q = 0;                ///< torque constant, N m/A; also the back-EMF constant in V s/rad
-  double R_motor = 0;            ///< winding resistance, ohm
-  double i0 = 0;                 ///< no-load current, A
-  double V_max = 0;              ///< battery voltage at full throttle, V
+  double K_V = 0;                          ///< motor speed constant, RPM/V (informative)
+  double K_Q = 0;                          ///< torque constant, N m/A; also the back-EMF constant in V s/rad
+  double R_motor = 0;                      ///< winding resistance, ohm
+  double i0 = 0;                           ///< no-load current, A
+  double V_max = 0;                        ///< battery voltage at full throttle, V
 };
 
 /// One landing-gear contact point (wheel bottom) in the body frame FRD about the CG, m.
@@ -65,12 +65,12 @@ using ContactPoint = Eigen::Vector3d;
 
 /// Ground contact: spring-damper wheels with rolling and lateral friction.
 struct Gear {
-  std::vector<ContactPoint> points;   ///< body FRD, m (z > 0: below the CG)
-  double static_deflection = 0.02;    ///< wheel compression at rest with the weight shared evenly, m
-  double damping_ratio = 1.0;         ///< per wheel, of the heave mode (>= 1: no bounce)
-  double mu_roll = 0.03;              ///< rolling friction coefficient along the wheel
-  double mu_lateral = 0.5;            ///< side friction coefficient across the wheel
-  double v_slip = 0.1;                ///< speed below which friction is viscous (no chatter at rest), m/s
+  std::vector<ContactPoint> points;  ///< body FRD, m (z > 0: below the CG)
+  double static_deflection = 0.02;   ///< wheel compression at rest with the weight shared evenly, m
+  double damping_ratio = 1.0;        ///< per wheel, of the heave mode (>= 1: no bounce)
+  double mu_roll = 0.03;             ///< rolling friction coefficient along the wheel
+  double mu_lateral = 0.5;           ///< side friction coefficient across the wheel
+  double v_slip = 0.1;               ///< speed below which friction is viscous (no chatter at rest), m/s
   /// Nose-wheel steering linked to the rudder: wheels ahead of the CG turn by
   /// -nose_steering * delta_r (positive rudder yaws the nose left, so does the wheel), rad/rad.
   /// 0: no steering (a castoring or fixed wheel).
@@ -80,22 +80,22 @@ struct Gear {
 /// Everything the uavbook model needs to know about one aircraft. Units SI, frames FRD.
 struct Aircraft {
   std::string name;
-  std::string source;          ///< file it was loaded from (for messages)
-  double mass = 0;             ///< kg, > 0
+  std::string source;                      ///< file it was loaded from (for messages)
+  double mass = 0;                         ///< kg, > 0
   double Jx = 0, Jy = 0, Jz = 0, Jxz = 0;  ///< kg m^2 about the CG (book's J with -Jxz off-diagonal)
-  double rho = 0;              ///< air density used by the aerodynamic model, kg/m^3
-  double S = 0;                ///< wing area, m^2
-  double b = 0;                ///< span, m
-  double c = 0;                ///< mean chord, m
-  double e = 0.9;              ///< Oswald efficiency of the drag polar
-  double M = 0;                ///< blending rate of the stall model
-  double alpha0 = 0;           ///< stall angle of the blending function, rad
+  double rho = 0;                          ///< air density used by the aerodynamic model, kg/m^3
+  double S = 0;                            ///< wing area, m^2
+  double b = 0;                            ///< span, m
+  double c = 0;                            ///< mean chord, m
+  double e = 0.9;                          ///< Oswald efficiency of the drag polar
+  double M = 0;                            ///< blending rate of the stall model
+  double alpha0 = 0;                       ///< stall angle of the blending function, rad
   /// Blend linear and flat-plate lift with sigma(alpha) (book sec. 4.2). false: linear lift
   /// C_L_0 + C_L_alpha alpha only (sigma = 0), as ROSflight's simulator computes it.
   bool stall_blend = true;
   AeroCoefficients aero;
   Propulsion prop;
-  double servo_tau = 0.0;      ///< first-order servo time constant, s (0: no lag)
+  double servo_tau = 0.0;                                                         ///< first-order servo time constant, s (0: no lag)
   double max_delta_a = 0.785398, max_delta_e = 0.785398, max_delta_r = 0.785398;  ///< rad
   Gear gear;
 

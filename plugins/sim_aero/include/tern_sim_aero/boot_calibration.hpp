@@ -32,10 +32,10 @@ namespace tern::sim {
 /// the cycles after the ignored ones.
 struct PressureCalibration {
   explicit PressureCalibration(double max_variance_pa2) : max_variance(max_variance_pa2) {}
-  double max_variance;       ///< Pa^2: larger restarts the calibration
+  double max_variance;  ///< Pa^2: larger restarts the calibration
   bool done = false;
-  double offset = 0;         ///< Pa: the mean once done
-  int restarts = 0;          ///< windows refused for movement
+  double offset = 0;  ///< Pa: the mean once done
+  int restarts = 0;   ///< windows refused for movement
   /// Feeds one sample at the firmware clock `ms`; true when this sample completed it.
   bool add(double pressure, std::int64_t ms);
 
@@ -47,12 +47,12 @@ struct PressureCalibration {
 
 class BootCalibration {
  public:
-  static constexpr int kGyroSamples = 1001;         ///< calibrate_gyro: done when count > 1000
-  static constexpr double kGyroMaxBias = 1.0;       ///< rad/s: larger is "too much movement"
-  static constexpr int kDelayCycles = 128;          ///< SENSOR_CAL_DELAY_CYCLES
-  static constexpr int kCycles = 127;               ///< SENSOR_CAL_CYCLES
-  static constexpr double kBaroMaxVariance = 25.0;  ///< Pa^2, BARO_MAX_CALIBRATION_VARIANCE
-  static constexpr double kDiffMaxVariance = 100.0; ///< Pa^2, DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE
+  static constexpr int kGyroSamples = 1001;          ///< calibrate_gyro: done when count > 1000
+  static constexpr double kGyroMaxBias = 1.0;        ///< rad/s: larger is "too much movement"
+  static constexpr int kDelayCycles = 128;           ///< SENSOR_CAL_DELAY_CYCLES
+  static constexpr int kCycles = 127;                ///< SENSOR_CAL_CYCLES
+  static constexpr double kBaroMaxVariance = 25.0;   ///< Pa^2, BARO_MAX_CALIBRATION_VARIANCE
+  static constexpr double kDiffMaxVariance = 100.0;  ///< Pa^2, DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE
 
   /// The calibrated gyro rate: raw minus the bias (raw until the calibration is done).
   Eigen::Vector3d gyro(const Eigen::Vector3d& raw);

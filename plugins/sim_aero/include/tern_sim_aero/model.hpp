@@ -50,13 +50,13 @@ struct PropulsionOutput {
 struct ForcesMoments {
   AirData air;
   PropulsionOutput prop;
-  Eigen::Vector3d f_aero = Eigen::Vector3d::Zero();    ///< aerodynamic + thrust force, N
-  Eigen::Vector3d m_aero = Eigen::Vector3d::Zero();    ///< aerodynamic moment - Q_p, N m
-  Eigen::Vector3d f_gravity = Eigen::Vector3d::Zero(); ///< m g in body axes, N
-  Eigen::Vector3d f_ground = Eigen::Vector3d::Zero();  ///< ground reaction and friction, N
-  Eigen::Vector3d m_ground = Eigen::Vector3d::Zero();  ///< N m
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();     ///< total, N
-  Eigen::Vector3d moment = Eigen::Vector3d::Zero();    ///< total, N m
+  Eigen::Vector3d f_aero = Eigen::Vector3d::Zero();     ///< aerodynamic + thrust force, N
+  Eigen::Vector3d m_aero = Eigen::Vector3d::Zero();     ///< aerodynamic moment - Q_p, N m
+  Eigen::Vector3d f_gravity = Eigen::Vector3d::Zero();  ///< m g in body axes, N
+  Eigen::Vector3d f_ground = Eigen::Vector3d::Zero();   ///< ground reaction and friction, N
+  Eigen::Vector3d m_ground = Eigen::Vector3d::Zero();   ///< N m
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();      ///< total, N
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();     ///< total, N m
   int wheels_on_ground = 0;
   /// Specific force an accelerometer measures: (force - f_gravity) / m, m/s^2.
   Eigen::Vector3d specific_force(double mass) const { return (force - f_gravity) / mass; }
@@ -94,17 +94,15 @@ ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Del
 
 /// The 13-state derivative (book eqs. 3.14-3.17 with the quaternion of appendix B).
 /// If fm is given, it receives the forces and moments used.
-StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
-                       ForcesMoments* fm = nullptr);
+StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* fm = nullptr);
 
 /// One classical RK4 step of length dt (s) with inputs and wind held constant; the quaternion
 /// is renormalised at the end.
-StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w,
-                     double dt);
+StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, double dt);
 
 /// Builds a state from position NED, body ground velocity, Euler angles (3-2-1) and body rates.
-StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi,
-                       double theta, double psi, const Eigen::Vector3d& pqr = Eigen::Vector3d::Zero());
+StateVector make_state(const Eigen::Vector3d& p_ned, const Eigen::Vector3d& v_body, double phi, double theta, double psi,
+                       const Eigen::Vector3d& pqr = Eigen::Vector3d::Zero());
 
 /// True if every element is finite.
 bool all_finite(const StateVector& x);

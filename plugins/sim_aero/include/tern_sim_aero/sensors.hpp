@@ -27,17 +27,17 @@ namespace tern::sim {
 /// +-range at reset(); fixed installation geometry (mounting rotation, lever arms) is given.
 struct SensorParams {
   // IMU (ROSflight: 400 Hz, accel 0.2 m/s^2, gyro noise as the 0.0023 rad/s)
-  double accel_noise = 0.2;          ///< m/s^2 per sample
-  double accel_bias_range = 0.05;    ///< initial bias uniform in +-range, m/s^2
-  double accel_bias_walk = 2e-4;     ///< bias random walk, m/s^2/sqrt(s)
-  double gyro_noise = 0.0023;        ///< rad/s per sample
-  double gyro_bias_range = 0.01;     ///< rad/s
+  double accel_noise = 0.2;        ///< m/s^2 per sample
+  double accel_bias_range = 0.05;  ///< initial bias uniform in +-range, m/s^2
+  double accel_bias_walk = 2e-4;   ///< bias random walk, m/s^2/sqrt(s)
+  double gyro_noise = 0.0023;      ///< rad/s per sample
+  double gyro_bias_range = 0.01;   ///< rad/s
   /// rad/s/sqrt(s). ROSflight's simulator adds T_s * 1e-5 * N(0,1) per IMU sample (its
   /// gyro_bias_walk_stdev, scaled by the sample time), i.e. 1e-5 * sqrt(T_s) = 5e-7 per sqrt(s) at 400 Hz.
   double gyro_bias_walk = 5e-7;
-  double accel_scale_range = 0.0;    ///< per-axis scale-factor error, fraction, uniform in +-range
-  double gyro_scale_range = 0.0;     ///< per-axis scale-factor error, fraction, uniform in +-range
-  double imu_cross_axis_range = 0.0; ///< each off-diagonal sensitivity, fraction, uniform in +-range
+  double accel_scale_range = 0.0;     ///< per-axis scale-factor error, fraction, uniform in +-range
+  double gyro_scale_range = 0.0;      ///< per-axis scale-factor error, fraction, uniform in +-range
+  double imu_cross_axis_range = 0.0;  ///< each off-diagonal sensitivity, fraction, uniform in +-range
   /// Mounting rotation of the IMU axes relative to body FRD: roll, pitch, yaw (3-2-1), rad. A
   /// vector v in body axes reads R_mount^T v in IMU axes.
   Eigen::Vector3d imu_misalignment = Eigen::Vector3d::Zero();
@@ -47,8 +47,8 @@ struct SensorParams {
   /// The FCU's power-up calibrations (boot_calibration.hpp): the gyro mean over its first 1001
   /// samples and the pitot zero are subtracted from then on; the FCU arms once they are done.
   bool calibrate_at_boot = false;
-  double accel_vibration = 0.0;      ///< motor vibration at full throttle, m/s^2 per axis, 1 sigma (scales with throttle)
-  double gyro_vibration = 0.0;       ///< motor vibration at full throttle, rad/s per axis, 1 sigma (scales with throttle)
+  double accel_vibration = 0.0;  ///< motor vibration at full throttle, m/s^2 per axis, 1 sigma (scales with throttle)
+  double gyro_vibration = 0.0;   ///< motor vibration at full throttle, rad/s per axis, 1 sigma (scales with throttle)
   // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
   // Gauss-Markov process eta <- exp(-k_mag T_s) eta + T_s * mag_stdev * N(0,1) with mag_stdev 3 uT,
   // k_mag 7 /s and T_s 0.02 s, and no white part: steady sigma 3e-6 * 0.02 / sqrt(1 - exp(-0.28)).
@@ -63,31 +63,31 @@ struct SensorParams {
   double mag_inclination = 1.139436457;   ///< rad (down positive)
   double mag_intensity = 5.07163e-5;      ///< T
   // barometer (ROSflight: 100 Hz, 4 Pa)
-  double baro_noise = 4.0;           ///< Pa
-  double baro_bias_range = 500.0;    ///< Pa
-  double baro_bias_walk = 1.0;       ///< Pa/sqrt(s)
-  double baro_static_error = 0.0;    ///< static-port error, fraction of the dynamic pressure (p + c q)
+  double baro_noise = 4.0;         ///< Pa
+  double baro_bias_range = 500.0;  ///< Pa
+  double baro_bias_walk = 1.0;     ///< Pa/sqrt(s)
+  double baro_static_error = 0.0;  ///< static-port error, fraction of the dynamic pressure (p + c q)
   // differential pressure (ROSflight: 100 Hz, 1.15 Pa)
-  double diff_noise = 1.15;          ///< Pa
-  double diff_bias_range = 0.15;     ///< Pa
-  double diff_bias_walk = 0.01;      ///< Pa/sqrt(s)
-  double diff_scale_range = 0.0;     ///< installation scale error, fraction, uniform in +-range
+  double diff_noise = 1.15;       ///< Pa
+  double diff_bias_range = 0.15;  ///< Pa
+  double diff_bias_walk = 0.01;   ///< Pa/sqrt(s)
+  double diff_scale_range = 0.0;  ///< installation scale error, fraction, uniform in +-range
   // GNSS position error: first-order Gauss-Markov (book sec. 7.5). ROSflight drives it with
   // T_s * stdev * N(0,1) per 10 Hz fix (horizontal 0.21, vertical 0.40) with 1/k = 1100 s from
   // zero: steady-state sigma = stdev sqrt(T_s) / sqrt(2 k) = 1.557 m and 2.966 m.
   double gnss_h_sigma = 0.21 * 0.316227766 * 23.4520788;  ///< horizontal, per axis, steady state, m
   double gnss_v_sigma = 0.40 * 0.316227766 * 23.4520788;  ///< vertical, steady state, m
-  double gnss_tau = 1100.0;          ///< correlation time of the position error, s
-  bool gnss_start_steady = false;    ///< initial error drawn from the steady state (false: zero)
-  double gnss_vel_noise = 0.01;      ///< velocity error per axis, steady sigma, m/s
-  double gnss_vel_tau = 0.0;         ///< velocity error correlation time, s (0: white)
+  double gnss_tau = 1100.0;                               ///< correlation time of the position error, s
+  bool gnss_start_steady = false;                         ///< initial error drawn from the steady state (false: zero)
+  double gnss_vel_noise = 0.01;                           ///< velocity error per axis, steady sigma, m/s
+  double gnss_vel_tau = 0.0;                              ///< velocity error correlation time, s (0: white)
   /// Antenna position relative to the CG, body FRD, m (the fix is the antenna's position and
   /// velocity: p + R r, v + R (omega x r)).
   Eigen::Vector3d gnss_antenna_position = Eigen::Vector3d::Zero();
-  double gnss_latency = 0.0;         ///< the fix is valid at t and delivered at t + latency, s
-  double gnss_h_acc = 0.21 * 3.0;    ///< reported horizontal accuracy, m
-  double gnss_v_acc = 0.40 * 3.0;    ///< reported vertical accuracy, m
-  double gnss_s_acc = 0.01;          ///< reported speed accuracy, m/s
+  double gnss_latency = 0.0;       ///< the fix is valid at t and delivered at t + latency, s
+  double gnss_h_acc = 0.21 * 3.0;  ///< reported horizontal accuracy, m
+  double gnss_v_acc = 0.40 * 3.0;  ///< reported vertical accuracy, m
+  double gnss_s_acc = 0.01;        ///< reported speed accuracy, m/s
   int gnss_num_sats = 12;
   // origin of the NED frame (ROSflight's default, Provo UT)
   double origin_lat = 40.2463724;    ///< deg
@@ -102,16 +102,25 @@ struct Truth {
   double mass = 1.0;  ///< kg (for the specific force)
   double rho = 1.2682;
   Eigen::Vector3d omega_dot = Eigen::Vector3d::Zero();  ///< body angular acceleration, rad/s^2
-  double throttle = 0.0;  ///< actual motor setting 0..1 (vibration, motor-current field)
+  double throttle = 0.0;                                ///< actual motor setting 0..1 (vibration, motor-current field)
 };
 
-struct ImuSample { Eigen::Vector3d accel, gyro; double temperature = 288.15; };
-struct MagSample { Eigen::Vector3d field; };
-struct BaroSample { double pressure = 0, temperature = 288.15; };
-struct DiffPressureSample { double pressure = 0, temperature = 288.15; };
+struct ImuSample {
+  Eigen::Vector3d accel, gyro;
+  double temperature = 288.15;
+};
+struct MagSample {
+  Eigen::Vector3d field;
+};
+struct BaroSample {
+  double pressure = 0, temperature = 288.15;
+};
+struct DiffPressureSample {
+  double pressure = 0, temperature = 288.15;
+};
 struct GnssSample {
   bool fix = true;
-  double lat = 0, lon = 0, alt = 0;               ///< deg, deg, m MSL
+  double lat = 0, lon = 0, alt = 0;  ///< deg, deg, m MSL
   Eigen::Vector3d vel_ned = Eigen::Vector3d::Zero();
   double h_acc = 0, v_acc = 0, s_acc = 0;
   int num_sats = 0;
@@ -172,7 +181,10 @@ class Sensors {
 
  private:
   double gauss() { return n_(rng_); }
-  Eigen::Vector3d gauss3() { const double a = gauss(), b = gauss(), c = gauss(); return {a, b, c}; }
+  Eigen::Vector3d gauss3() {
+    const double a = gauss(), b = gauss(), c = gauss();
+    return {a, b, c};
+  }
   double uniform(double range) { return range * (2.0 * u_(rng_) - 1.0); }
   Eigen::Vector3d uniform3(double range);
   Eigen::Matrix3d draw_sensor_matrix(double scale_range, double cross_range);
@@ -187,11 +199,11 @@ class Sensors {
   boost::random::normal_distribution<double> n_{0.0, 1.0};
   std::uniform_real_distribution<double> u_{0.0, 1.0};
   std::unique_ptr<GeoOrigin> origin_;
-  Eigen::Matrix3d mount_T_;            ///< R_mount^T: body -> IMU axes (fixed)
-  Eigen::Matrix3d accel_M_, gyro_M_;   ///< I + scale and cross-axis terms (per seed)
-  Eigen::Matrix3d mag_soft_;           ///< soft iron S = I + E (per seed)
-  Eigen::Vector3d mag_hard_;           ///< hard iron, T (per seed)
-  double diff_scale_ = 1.0;            ///< pitot installation scale (per seed)
+  Eigen::Matrix3d mount_T_;           ///< R_mount^T: body -> IMU axes (fixed)
+  Eigen::Matrix3d accel_M_, gyro_M_;  ///< I + scale and cross-axis terms (per seed)
+  Eigen::Matrix3d mag_soft_;          ///< soft iron S = I + E (per seed)
+  Eigen::Vector3d mag_hard_;          ///< hard iron, T (per seed)
+  double diff_scale_ = 1.0;           ///< pitot installation scale (per seed)
   Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_, gnss_vel_gm_;
   double baro_bias_ = 0, diff_bias_ = 0;
   BootCalibration boot_;
@@ -212,7 +224,10 @@ struct SensorSchedule {
   /// Seconds since the previous sample (one period for the first).
   double dt_since_last(std::int64_t t) const;
   bool dropped(std::int64_t t) const;
-  void reset() { next_due = 0; last_sample = -1; }
+  void reset() {
+    next_due = 0;
+    last_sample = -1;
+  }
 };
 
 }  // namespace tern::sim

@@ -77,9 +77,9 @@ class Simulator {
   /// Where and how the aircraft hit the ground (valid once crashed()): the state of the RK4
   /// step that took the CG below the ground, before it was frozen.
   struct Impact {
-    double t = 0;                        ///< s since set_state
+    double t = 0;                         ///< s since set_state
     StateVector x = StateVector::Zero();  ///< the state (p_d > 0: below the ground)
-    double Va = 0;                       ///< airspeed, m/s
+    double Va = 0;                        ///< airspeed, m/s
   };
   const Impact& impact() const { return impact_; }
 

@@ -19,18 +19,18 @@
 namespace tern::sim {
 
 struct TrimRequest {
-  double Va = 17.0;        ///< airspeed, m/s, > 0
-  double gamma = 0.0;      ///< flight-path angle, rad (climb positive)
+  double Va = 17.0;                                    ///< airspeed, m/s, > 0
+  double gamma = 0.0;                                  ///< flight-path angle, rad (climb positive)
   double R = std::numeric_limits<double>::infinity();  ///< turn radius, m (> 0 right turn, < 0 left; inf: straight)
-  double altitude = 100.0; ///< height of the trim state above the ground, m (clear of the gear)
-  double psi = 0.0;        ///< heading of the trim state, rad
+  double altitude = 100.0;                             ///< height of the trim state above the ground, m (clear of the gear)
+  double psi = 0.0;                                    ///< heading of the trim state, rad
 };
 
 struct TrimResult {
-  StateVector x = StateVector::Zero();  ///< trim state (position (0, 0, -altitude))
-  Deltas delta;                         ///< trim inputs
+  StateVector x = StateVector::Zero();             ///< trim state (position (0, 0, -altitude))
+  Deltas delta;                                    ///< trim inputs
   double alpha = 0, beta = 0, phi = 0, theta = 0;  ///< rad
-  double residual = 0;                  ///< norm of the trim conditions at the solution
+  double residual = 0;                             ///< norm of the trim conditions at the solution
   int iterations = 0;
 };
 

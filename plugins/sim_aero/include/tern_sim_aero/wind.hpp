@@ -36,7 +36,12 @@ class Dryden {
   explicit Dryden(const DrydenParams& p) : p_(p) {}
   void set_params(const DrydenParams& p) { p_ = p; }
   const DrydenParams& params() const { return p_; }
-  void reset() { u_ = 0; xv_.setZero(); xw_.setZero(); out_.setZero(); }
+  void reset() {
+    u_ = 0;
+    xv_.setZero();
+    xw_.setZero();
+    out_.setZero();
+  }
   /// Advances by dt seconds at airspeed Va (floored at 1 m/s) and returns the gust.
   const Eigen::Vector3d& step(double dt, double Va, std::mt19937_64& rng);
   const Eigen::Vector3d& gust() const { return out_; }
@@ -53,8 +58,8 @@ class Dryden {
 /// A discrete 1-cosine gust in NED: w(t) = amplitude/2 (1 - cos(2 pi (t - start)/duration))
 /// for start <= t <= start + duration, 0 otherwise.
 struct CosineGust {
-  double start = 0;      ///< s
-  double duration = 1;   ///< s, > 0
+  double start = 0;                                     ///< s
+  double duration = 1;                                  ///< s, > 0
   Eigen::Vector3d amplitude = Eigen::Vector3d::Zero();  ///< peak NED wind, m/s
   Eigen::Vector3d at(double t) const;
 };
@@ -68,7 +73,10 @@ class GustField {
   void set_random(double rate, double max_amplitude, double min_duration, double max_duration);
   /// Advances to time t (s, non-decreasing), drawing new random gusts, and returns the sum.
   Eigen::Vector3d step(double t, std::mt19937_64& rng);
-  void reset() { gusts_.resize(scheduled_); next_random_ = -1; }
+  void reset() {
+    gusts_.resize(scheduled_);
+    next_random_ = -1;
+  }
   void freeze_schedule() { scheduled_ = gusts_.size(); }
 
  private:

@@ -10,6 +10,7 @@
 #include "tern/msg/state.hpp"
 
 /// X-macro over the standard message types: X(type).
+// clang-format off
 #define TERN_STANDARD_MESSAGES(X)                                                       \
   X(::tern::msg::Imu) X(::tern::msg::Gnss) X(::tern::msg::Baro) X(::tern::msg::DiffPressure) \
   X(::tern::msg::Mag) X(::tern::msg::Rc) X(::tern::msg::FcuStatus) X(::tern::msg::State)     \
@@ -17,3 +18,4 @@
   X(::tern::msg::Actuators) X(::tern::msg::Waypoint) X(::tern::msg::WaypointList)            \
   X(::tern::msg::CurrentPath) X(::tern::msg::FlightPhase) X(::tern::msg::MissionEdit)  \
   X(::tern::msg::Innovations)
+// clang-format on

@@ -15,17 +15,18 @@ namespace tern::msg {
 struct ControllerCommand {
   static constexpr std::string_view type_name = "tern/ControllerCommand";
   Nanos stamp = 0;
-  double Va_c = 0.0;    ///< commanded airspeed, m/s
-  double h_c = 0.0;     ///< commanded altitude above the origin, m
-  double chi_c = 0.0;   ///< commanded course, rad
-  double phi_ff = 0.0;  ///< roll feed-forward for orbits, rad (Beard & McLain, section 10.3)
-  double phi_c = 0.0;   ///< roll command used instead of the course loop when override_phi, rad
-  double theta_c = 0.0; ///< pitch command used instead of the altitude loop when override_theta, rad
+  double Va_c = 0.0;     ///< commanded airspeed, m/s
+  double h_c = 0.0;      ///< commanded altitude above the origin, m
+  double chi_c = 0.0;    ///< commanded course, rad
+  double phi_ff = 0.0;   ///< roll feed-forward for orbits, rad (Beard & McLain, section 10.3)
+  double phi_c = 0.0;    ///< roll command used instead of the course loop when override_phi, rad
+  double theta_c = 0.0;  ///< pitch command used instead of the altitude loop when override_theta, rad
   bool override_phi = false;
   bool override_theta = false;
   std::array<double, 4> aux{};  ///< auxiliary commands (ROSplane's aux)
   bool aux_valid = false;
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&ControllerCommand::stamp, "stamp", "ns");
     v(&ControllerCommand::Va_c, "Va_c", "m/s");
     v(&ControllerCommand::h_c, "h_c", "m");
@@ -48,7 +49,8 @@ struct ControllerInternals {
   double theta_c = 0.0;       ///< pitch command from the altitude (or energy) loop, rad
   double delta_t_c = 0.0;     ///< throttle command before saturation, 0..1
   std::uint8_t alt_zone = 0;  ///< flight phase in which the command was made (FlightPhase::Phase)
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&ControllerInternals::stamp, "stamp", "ns");
     v(&ControllerInternals::phi_c, "phi_c", "rad");
     v(&ControllerInternals::theta_c, "theta_c", "rad");
@@ -68,7 +70,8 @@ struct Actuators {
   double delta_e = 0.0;  ///< elevator, rad
   double delta_r = 0.0;  ///< rudder, rad
   double delta_t = 0.0;  ///< throttle, 0..1
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Actuators::stamp, "stamp", "ns");
     v(&Actuators::delta_a, "delta_a", "rad");
     v(&Actuators::delta_e, "delta_e", "rad");

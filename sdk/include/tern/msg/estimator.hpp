@@ -22,7 +22,8 @@ struct Innovations {
   double diff_pressure = none;  ///< pitot differential pressure, 1 dof
   double mag = none;            ///< magnetometer (heading, 1 dof, or direction, 3 dof)
   double sideslip = none;       ///< side force or zero-sideslip pseudo-measurement, 1 dof
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Innovations::stamp, "stamp", "ns");
     v(&Innovations::gnss_pos, "gnss_pos", "");
     v(&Innovations::gnss_vel, "gnss_vel", "");

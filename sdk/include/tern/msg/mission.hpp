@@ -25,11 +25,12 @@ struct MissionEdit {
   std::uint32_t id = 0;  ///< increasing edit number, echoed in logs
   std::uint8_t op = add;
   Waypoint waypoint{};
-  bool set_current_wp = false;  ///< ROSplane's set_current: this waypoint starts a new list, now
-  bool publish_now = true;      ///< ROSplane's publish_now: republish the list immediately
-  std::uint32_t index = 0;      ///< for set_current
+  bool set_current_wp = false;   ///< ROSplane's set_current: this waypoint starts a new list, now
+  bool publish_now = true;       ///< ROSplane's publish_now: republish the list immediately
+  std::uint32_t index = 0;       ///< for set_current
   std::array<char, 256> file{};  ///< for load_file: NUL-terminated absolute path
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&MissionEdit::stamp, "stamp", "ns");
     v(&MissionEdit::id, "id", "");
     v(&MissionEdit::op, "op", "enum");

@@ -33,7 +33,8 @@ struct Waypoint {
   std::int8_t loiter_direction = 1;             ///< 1 clockwise, -1 counter-clockwise (seen from above)
   double loiter_time = 0.0;                     ///< loiter: s on the orbit before going on, >= 0 (0: no limit)
   double loiter_turns = 0.0;                    ///< loiter: turns on the orbit before going on, >= 0 (0: no limit)
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Waypoint::w, "w", "m|deg", "0,1,2");
     v(&Waypoint::lla, "lla", "bool");
     v(&Waypoint::chi_d, "chi_d", "rad");
@@ -60,7 +61,8 @@ struct WaypointList {
   /// set_current), instead of at its next waypoint decision.
   bool immediate = false;
   std::array<Waypoint, kCapacity> items{};
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&WaypointList::stamp, "stamp", "ns");
     v(&WaypointList::revision, "revision", "");
     v(&WaypointList::count, "count", "");
@@ -83,7 +85,8 @@ struct CurrentPath {
   double rho = 0.0;                              ///< orbit radius, m
   std::int8_t lambda = 1;                        ///< orbit direction: 1 clockwise, -1 counter-clockwise
   std::int32_t waypoint_index = -1;              ///< index of the waypoint being flown to, -1 if none
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&CurrentPath::stamp, "stamp", "ns");
     v(&CurrentPath::path_type, "path_type", "enum");
     v(&CurrentPath::Va_d, "Va_d", "m/s");

@@ -38,7 +38,8 @@ struct FlightPhase {
   Phase phase = Phase::takeoff;
   Phase previous = Phase::takeoff;
   Nanos since = 0;  ///< flight time at which the current phase began, ns
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&FlightPhase::stamp, "stamp", "ns");
     v(&FlightPhase::phase, "phase", "enum");
     v(&FlightPhase::previous, "previous", "enum");

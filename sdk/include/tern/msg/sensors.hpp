@@ -20,7 +20,8 @@ struct Imu {
   Eigen::Vector3d accel = Eigen::Vector3d::Zero();  ///< specific force, body FRD, m/s^2 (level at rest: (0, 0, -g))
   Eigen::Vector3d gyro = Eigen::Vector3d::Zero();   ///< angular rate p, q, r, body FRD, rad/s
   double temperature = 288.15;                      ///< sensor temperature, K
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Imu::stamp, "stamp", "ns");
     v(&Imu::accel, "accel", "m/s^2", "x,y,z");
     v(&Imu::gyro, "gyro", "rad/s", "x,y,z");
@@ -37,17 +38,18 @@ struct Gnss {
   Nanos stamp = 0;
   FixType fix_type = FixType::none;
   std::uint8_t num_sats = 0;
-  double lat = 0.0;                                   ///< WGS-84 latitude, deg
-  double lon = 0.0;                                   ///< WGS-84 longitude, deg
-  double alt = 0.0;                                   ///< altitude above mean sea level, m
-  Eigen::Vector3d vel = Eigen::Vector3d::Zero();      ///< ground velocity in NED, m/s
-  double h_acc = 0.0;                                 ///< horizontal accuracy (1 sigma), m
-  double v_acc = 0.0;                                 ///< vertical accuracy (1 sigma), m
-  double s_acc = 0.0;                                 ///< speed accuracy (1 sigma), m/s
+  double lat = 0.0;                               ///< WGS-84 latitude, deg
+  double lon = 0.0;                               ///< WGS-84 longitude, deg
+  double alt = 0.0;                               ///< altitude above mean sea level, m
+  Eigen::Vector3d vel = Eigen::Vector3d::Zero();  ///< ground velocity in NED, m/s
+  double h_acc = 0.0;                             ///< horizontal accuracy (1 sigma), m
+  double v_acc = 0.0;                             ///< vertical accuracy (1 sigma), m
+  double s_acc = 0.0;                             ///< speed accuracy (1 sigma), m/s
   /// When the fix was valid (the receiver's measurement epoch), flight time ns. `stamp` is when
   /// it was delivered; stamp - time_of_validity is the receiver's latency (0 when unknown).
   Nanos time_of_validity = 0;
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Gnss::stamp, "stamp", "ns");
     v(&Gnss::time_of_validity, "time_of_validity", "ns");
     v(&Gnss::fix_type, "fix_type", "enum");
@@ -68,7 +70,8 @@ struct Baro {
   Nanos stamp = 0;
   double pressure = 101325.0;   ///< absolute static pressure, Pa
   double temperature = 288.15;  ///< K
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Baro::stamp, "stamp", "ns");
     v(&Baro::pressure, "pressure", "Pa");
     v(&Baro::temperature, "temperature", "K");
@@ -82,7 +85,8 @@ struct DiffPressure {
   Nanos stamp = 0;
   double pressure = 0.0;        ///< Pa
   double temperature = 288.15;  ///< K
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&DiffPressure::stamp, "stamp", "ns");
     v(&DiffPressure::pressure, "pressure", "Pa");
     v(&DiffPressure::temperature, "temperature", "K");
@@ -94,7 +98,8 @@ struct Mag {
   static constexpr std::string_view type_name = "tern/Mag";
   Nanos stamp = 0;
   Eigen::Vector3d field = Eigen::Vector3d::Zero();  ///< magnetic flux density, body FRD, T
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Mag::stamp, "stamp", "ns");
     v(&Mag::field, "field", "T", "x,y,z");
   }
@@ -104,14 +109,15 @@ struct Mag {
 struct Rc {
   static constexpr std::string_view type_name = "tern/Rc";
   Nanos stamp = 0;
-  double roll = 0.0;      ///< aileron stick, -1..1 (right positive)
-  double pitch = 0.0;     ///< elevator stick, -1..1 (nose up positive)
-  double yaw = 0.0;       ///< rudder stick, -1..1 (nose right positive)
-  double throttle = 0.0;  ///< 0..1
+  double roll = 0.0;            ///< aileron stick, -1..1 (right positive)
+  double pitch = 0.0;           ///< elevator stick, -1..1 (nose up positive)
+  double yaw = 0.0;             ///< rudder stick, -1..1 (nose right positive)
+  double throttle = 0.0;        ///< 0..1
   std::array<double, 4> aux{};  ///< auxiliary channels, -1..1
   bool rc_override = false;     ///< the pilot's override switch is on (FCU flies RC, not tern)
   bool failsafe = false;        ///< receiver lost the transmitter
-  template <class V> static constexpr void describe(V& v) {
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&Rc::stamp, "stamp", "ns");
     v(&Rc::roll, "roll", "");
     v(&Rc::pitch, "pitch", "");
@@ -130,11 +136,12 @@ struct FcuStatus {
   bool armed = false;
   bool failsafe = false;
   bool rc_override = false;
-  bool offboard = false;          ///< the FCU follows tern's commands
-  std::uint32_t error_code = 0;   ///< FCU error bit field
-  double battery_voltage = 0.0;   ///< V (0 when not measured)
-  double battery_current = 0.0;   ///< A (0 when not measured)
-  template <class V> static constexpr void describe(V& v) {
+  bool offboard = false;         ///< the FCU follows tern's commands
+  std::uint32_t error_code = 0;  ///< FCU error bit field
+  double battery_voltage = 0.0;  ///< V (0 when not measured)
+  double battery_current = 0.0;  ///< A (0 when not measured)
+  template <class V>
+  static constexpr void describe(V& v) {
     v(&FcuStatus::stamp, "stamp", "ns");
     v(&FcuStatus::armed, "armed", "bool");
     v(&FcuStatus::failsafe, "failsafe", "bool");

@@ -17,10 +17,10 @@ namespace tern::msg {
 
 /// How far the estimate can be trusted (estimator_ekf; the simulator's truth is always ok).
 enum class StateStatus : std::uint8_t {
-  invalid = 0,   ///< not initialised, or attitude/position lost (e.g. IMU silent): do not fly on it
-  ok = 1,        ///< every expected sensor is fused
-  degraded = 2   ///< usable, but a sensor is missing (degraded_sensors says which): e.g. dead
-                 ///< reckoning without GNSS, covariance growing
+  invalid = 0,  ///< not initialised, or attitude/position lost (e.g. IMU silent): do not fly on it
+  ok = 1,       ///< every expected sensor is fused
+  degraded = 2  ///< usable, but a sensor is missing (degraded_sensors says which): e.g. dead
+                ///< reckoning without GNSS, covariance growing
 };
 
 /// Bits of State::degraded_sensors.
@@ -31,29 +31,29 @@ inline constexpr std::uint8_t imu = 1, gnss = 2, baro = 4, diff_pressure = 8, ma
 struct State {
   static constexpr std::string_view type_name = "tern/State";
   Nanos stamp = 0;
-  double p_n = 0.0, p_e = 0.0, p_d = 0.0;   ///< position NED relative to the origin, m
-  double u = 0.0, v = 0.0, w = 0.0;         ///< ground velocity in body FRD, m/s
-  double v_n = 0.0, v_e = 0.0, v_d = 0.0;   ///< ground velocity in NED, m/s
-  double phi = 0.0, theta = 0.0, psi = 0.0; ///< roll, pitch, yaw (3-2-1 Euler), rad
+  double p_n = 0.0, p_e = 0.0, p_d = 0.0;                    ///< position NED relative to the origin, m
+  double u = 0.0, v = 0.0, w = 0.0;                          ///< ground velocity in body FRD, m/s
+  double v_n = 0.0, v_e = 0.0, v_d = 0.0;                    ///< ground velocity in NED, m/s
+  double phi = 0.0, theta = 0.0, psi = 0.0;                  ///< roll, pitch, yaw (3-2-1 Euler), rad
   Eigen::Quaterniond quat = Eigen::Quaterniond::Identity();  ///< body -> NED attitude
-  double p = 0.0, q = 0.0, r = 0.0;         ///< body rates, FRD, rad/s (bias removed)
-  double Va = 0.0;                          ///< airspeed, m/s
-  double alpha = 0.0;                       ///< angle of attack, rad
-  double beta = 0.0;                        ///< sideslip, rad
-  double chi = 0.0;                         ///< course over ground, rad, [-pi, pi)
-  double Vg = 0.0;                          ///< ground speed, m/s
-  double gamma = 0.0;                       ///< flight-path angle, rad
-  double w_n = 0.0, w_e = 0.0, w_d = 0.0;   ///< wind in NED, m/s
-  double b_x = 0.0, b_y = 0.0, b_z = 0.0;   ///< gyro bias, rad/s
-  double origin_lat = 0.0;                  ///< origin latitude, deg
-  double origin_lon = 0.0;                  ///< origin longitude, deg
-  double origin_alt = 0.0;                  ///< origin altitude (MSL), m
-  bool origin_valid = false;                ///< the origin is set (after the first 3-D GNSS fix)
-  bool valid = false;                       ///< the estimate is initialised and usable
-                                            ///< (status ok or degraded)
+  double p = 0.0, q = 0.0, r = 0.0;                          ///< body rates, FRD, rad/s (bias removed)
+  double Va = 0.0;                                           ///< airspeed, m/s
+  double alpha = 0.0;                                        ///< angle of attack, rad
+  double beta = 0.0;                                         ///< sideslip, rad
+  double chi = 0.0;                                          ///< course over ground, rad, [-pi, pi)
+  double Vg = 0.0;                                           ///< ground speed, m/s
+  double gamma = 0.0;                                        ///< flight-path angle, rad
+  double w_n = 0.0, w_e = 0.0, w_d = 0.0;                    ///< wind in NED, m/s
+  double b_x = 0.0, b_y = 0.0, b_z = 0.0;                    ///< gyro bias, rad/s
+  double origin_lat = 0.0;                                   ///< origin latitude, deg
+  double origin_lon = 0.0;                                   ///< origin longitude, deg
+  double origin_alt = 0.0;                                   ///< origin altitude (MSL), m
+  bool origin_valid = false;                                 ///< the origin is set (after the first 3-D GNSS fix)
+  bool valid = false;                                        ///< the estimate is initialised and usable
+                                                             ///< (status ok or degraded)
   StateStatus status = StateStatus::invalid;
-  std::uint8_t degraded_sensors = 0;        ///< sensor_bit flags of the sensors timed out or
-                                            ///< persistently rejected (0 when status is ok)
+  std::uint8_t degraded_sensors = 0;  ///< sensor_bit flags of the sensors timed out or
+                                      ///< persistently rejected (0 when status is ok)
   /// Diagonal of the estimator's error-state covariance (zeros when the publisher has none, e.g.
   /// truth). Layout of estimator_ekf: position NED (3, m^2), velocity NED (3, (m/s)^2), attitude
   /// error (3, rad^2), gyro bias (3, (rad/s)^2), accelerometer bias (3, (m/s^2)^2), wind north,
@@ -64,7 +64,8 @@ struct State {
 
   double altitude() const { return -p_d; }  ///< height above the origin, m
 
-  template <class V> static constexpr void describe(V& x) {
+  template <class V>
+  static constexpr void describe(V& x) {
     x(&State::stamp, "stamp", "ns");
     x(&State::p_n, "p_n", "m");
     x(&State::p_e, "p_e", "m");

@@ -35,8 +35,7 @@ class TERN_API Harness final : public Context {
   using Options = HarnessOptions;
 
   /// Attaches and configures the plugin (throws what configure() throws).
-  explicit Harness(std::unique_ptr<Plugin> plugin, std::map<std::string, ParamValue> params = {},
-                   Options options = {});
+  explicit Harness(std::unique_ptr<Plugin> plugin, std::map<std::string, ParamValue> params = {}, Options options = {});
   ~Harness() override;
 
   Plugin& plugin() { return *plugin_; }
@@ -79,8 +78,7 @@ class TERN_API Harness final : public Context {
 
   // Context
   const std::string& instance_name() const override { return options_.instance; }
-  std::optional<ParamValue> configured_value(const std::string& param,
-                                             const ParamSpec& spec) const override;
+  std::optional<ParamValue> configured_value(const std::string& param, const ParamSpec& spec) const override;
   std::uint64_t seed() const override { return options_.seed; }
   std::shared_ptr<spdlog::logger> logger() const override { return logger_; }
   std::filesystem::path config_dir() const override { return options_.config_dir; }

@@ -78,11 +78,11 @@ struct EstimatorConfig {
   ProcessNoise process;   ///< IMU noise and random walks (filter.hpp)
 
   // geometry, measured on the aircraft (body FRD)
-  Vec3 gnss_antenna = Vec3::Zero();   ///< GNSS antenna position from the CG, m
-  Vec3 imu_position = Vec3::Zero();   ///< IMU position from the CG, m (accel compensated for
-                                      ///< omega_dot x r + omega x (omega x r))
-  Vec3 imu_mount = Vec3::Zero();      ///< IMU axes relative to the body axes: roll, pitch, yaw
-                                      ///< (3-2-1), rad; v_body = R(imu_mount) v_imu
+  Vec3 gnss_antenna = Vec3::Zero();  ///< GNSS antenna position from the CG, m
+  Vec3 imu_position = Vec3::Zero();  ///< IMU position from the CG, m (accel compensated for
+                                     ///< omega_dot x r + omega x (omega x r))
+  Vec3 imu_mount = Vec3::Zero();     ///< IMU axes relative to the body axes: roll, pitch, yaw
+                                     ///< (3-2-1), rad; v_body = R(imu_mount) v_imu
   /// How well imu_mount is known, 1 sigma per body axis, rad. No measurement in flight reveals
   /// it (the filter estimates the IMU's attitude), so it is added to the published attitude
   /// covariance (State.P_diag), not to the filter's: a board mounted by hand against a square
@@ -90,27 +90,27 @@ struct EstimatorConfig {
   Vec3 imu_mount_sigma = Vec3::Constant(0.0175);
 
   // GNSS
-  int min_fix_type = 3;               ///< minimum fix type used (3: 3-D fix)
-  double gnss_pos_sigma_h = 0.1;      ///< white part of the GNSS position noise, m
-  double gnss_pos_sigma_v = 0.2;      ///< m
+  int min_fix_type = 3;           ///< minimum fix type used (3: 3-D fix)
+  double gnss_pos_sigma_h = 0.1;  ///< white part of the GNSS position noise, m
+  double gnss_pos_sigma_v = 0.2;  ///< m
   /// GNSS velocity noise per fix, m/s. Not the datasheet's 0.05 m/s: a receiver's velocity comes
   /// out of its own navigation filter, so its errors are correlated over seconds, and ten fixes a
   /// second fused as independent made the filter 2x overconfident (velocity NEES 3.7 per
   /// dimension). 0.3 m/s is PX4 EKF2's EKF2_GPS_V_NOISE and ArduPilot EKF3's EK3_VELNE_M_NSE.
   double gnss_vel_sigma_h = 0.3;
-  double gnss_vel_sigma_v = 0.3;      ///< m/s, as gnss_vel_sigma_h
-  bool use_gnss_accuracy = true;      ///< the receiver's reported accuracies (h_acc, v_acc: steady
-                                      ///< sigma of the GNSS error state; s_acc: velocity noise)
-                                      ///< where larger than the figures here
+  double gnss_vel_sigma_v = 0.3;  ///< m/s, as gnss_vel_sigma_h
+  bool use_gnss_accuracy = true;  ///< the receiver's reported accuracies (h_acc, v_acc: steady
+                                  ///< sigma of the GNSS error state; s_acc: velocity noise)
+                                  ///< where larger than the figures here
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
-  double gnss_reset_time = 5.0;       ///< s of continuous position rejection before a reset
-  double gnss_recovery_time = 2.0;    ///< s: after a GNSS time-out, the position correction
-                                      ///< reaches the output with this time constant
+  double gnss_reset_time = 5.0;     ///< s of continuous position rejection before a reset
+  double gnss_recovery_time = 2.0;  ///< s: after a GNSS time-out, the position correction
+                                    ///< reaches the output with this time constant
   // magnetometer
-  double mag_declination = 0.1857972802;  ///< rad
-  double mag_inclination = 1.139436457;   ///< rad
-  double mag_field_strength = 5.07163e-5; ///< T
+  double mag_declination = 0.1857972802;   ///< rad
+  double mag_inclination = 1.139436457;    ///< rad
+  double mag_field_strength = 5.07163e-5;  ///< T
   /// T per axis. Not the sensor's white noise (HMC5883L: 0.2 uT) but what a 50-Hz stream cannot
   /// average out: the residual hard iron after a compass calibration and the motor's field
   /// (1-2 uT, correlated over minutes). As a heading, sigma / (B cos I) = 7 uT / 21 uT = 0.33 rad
@@ -119,77 +119,79 @@ struct EstimatorConfig {
   /// error: 1.7 deg RMS median, 2.6 worst, against 1.2 and 1.6 with 7 uT (bench_estimation,
   /// realistic profile, 10 seeds, with the GNSS velocity noise then at 0.01 m/s).
   double mag_sigma = 7e-6;
-  double mag_gate = kChi2_999[3];         ///< 3-axis mode (3 dof)
-  double mag_heading_gate = kChi2_999[1]; ///< heading mode (1 dof)
-  bool mag_heading_only = true;           ///< tilt-compensated heading (true) or 3-axis direction
-  double mag_init_wait = 2.0;             ///< s to wait for a magnetometer at initialisation
-  double mag_reset_time = 2.0;            ///< s of continuous heading rejection after which yaw is
-                                          ///< reset to the magnetometer (and the wind re-derived)...
-  double mag_reset_window = 30.0;         ///< ...if that happens within this long after initialising
-                                          ///< (a filter started while manoeuvring can lock onto a
-                                          ///< wrong yaw; later, a converged filter rejecting the
-                                          ///< magnetometer more likely sees a disturbed field)
+  double mag_gate = kChi2_999[3];          ///< 3-axis mode (3 dof)
+  double mag_heading_gate = kChi2_999[1];  ///< heading mode (1 dof)
+  bool mag_heading_only = true;            ///< tilt-compensated heading (true) or 3-axis direction
+  double mag_init_wait = 2.0;              ///< s to wait for a magnetometer at initialisation
+  double mag_reset_time = 2.0;             ///< s of continuous heading rejection after which yaw is
+                                           ///< reset to the magnetometer (and the wind re-derived)...
+  double mag_reset_window = 30.0;          ///< ...if that happens within this long after initialising
+                                           ///< (a filter started while manoeuvring can lock onto a
+                                           ///< wrong yaw; later, a converged filter rejecting the
+                                           ///< magnetometer more likely sees a disturbed field)
   // barometer
-  double baro_sigma = 4.0;                ///< Pa
+  double baro_sigma = 4.0;  ///< Pa
   double baro_gate = kChi2_999[1];
-  int baro_calibration_count = 100;       ///< samples averaged for the ground calibration
+  int baro_calibration_count = 100;  ///< samples averaged for the ground calibration
   // pitot and sideslip
-  double diff_pressure_sigma = 1.15;      ///< Pa
-  double airspeed_gust_sigma = 1.0;       ///< m/s, gusts the wind state does not follow
+  double diff_pressure_sigma = 1.15;  ///< Pa
+  double airspeed_gust_sigma = 1.0;   ///< m/s, gusts the wind state does not follow
   double diff_pressure_gate = kChi2_999[1];
-  double min_airspeed = 8.0;              ///< m/s, below it neither pitot nor sideslip update
+  double min_airspeed = 8.0;  ///< m/s, below it neither pitot nor sideslip update
   bool use_sideslip = true;
-  double sideslip_sigma = 2.0;            ///< m/s: turbulence makes v_r wander for seconds; a
-                                          ///< tighter figure at 100 Hz over-trusts it
+  double sideslip_sigma = 2.0;  ///< m/s: turbulence makes v_r wander for seconds; a
+                                ///< tighter figure at 100 Hz over-trusts it
   double sideslip_gate = kChi2_999[1];
   // side force (SideForce): replaces the zero-sideslip pseudo-measurement when use_side_force
   // and the aircraft's wing area, mass and C_Y_beta are known (the plugin reads them from the
   // mission's aircraft file)
   bool use_side_force = true;
-  double wing_S = 0.0;                    ///< m^2 (0: unknown, side force off)
-  double mass = 0.0;                      ///< kg (0: unknown, side force off)
+  double wing_S = 0.0;                                                       ///< m^2 (0: unknown, side force off)
+  double mass = 0.0;                                                         ///< kg (0: unknown, side force off)
   double C_Y_0 = 0.0, C_Y_beta = 0.0, C_Y_delta_a = 0.0, C_Y_delta_r = 0.0;  ///< per rad
   bool side_force_active() const { return use_side_force && wing_S > 0.0 && mass > 0.0 && C_Y_beta != 0.0; }
-  double side_force_sigma = 0.3;          ///< m/s^2
+  double side_force_sigma = 0.3;  ///< m/s^2
   double side_force_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;
-  double init_average_time = 0.25;        ///< s, time constant of the pre-init averages
-  double init_tilt_sigma = 0.0707;        ///< rad (ROSplane phi/theta_initial_cov 0.005)
-  double init_yaw_sigma = 0.2;            ///< rad, with a magnetometer (1 rad without)
-  double init_gyro_bias_sigma = 0.01;     ///< rad/s (ROSplane bias_initial_cov 1e-4)
-  double init_accel_bias_sigma = 0.3;     ///< m/s^2
-  double init_wind_sigma = 5.0;           ///< m/s, without air data at initialisation
-  double init_wind_sigma_airdata = 2.0;   ///< m/s, wind from GNSS velocity - pitot airspeed
-  double init_baro_bias_sigma = 1.0;      ///< m
-  double init_gnss_error_sigma = 0.5;     ///< m, GNSS position error at initialisation
+  double init_average_time = 0.25;       ///< s, time constant of the pre-init averages
+  double init_tilt_sigma = 0.0707;       ///< rad (ROSplane phi/theta_initial_cov 0.005)
+  double init_yaw_sigma = 0.2;           ///< rad, with a magnetometer (1 rad without)
+  double init_gyro_bias_sigma = 0.01;    ///< rad/s (ROSplane bias_initial_cov 1e-4)
+  double init_accel_bias_sigma = 0.3;    ///< m/s^2
+  double init_wind_sigma = 5.0;          ///< m/s, without air data at initialisation
+  double init_wind_sigma_airdata = 2.0;  ///< m/s, wind from GNSS velocity - pitot airspeed
+  double init_baro_bias_sigma = 1.0;     ///< m
+  double init_gnss_error_sigma = 0.5;    ///< m, GNSS position error at initialisation
   // sensor checks
-  double accel_max = 160.0;               ///< m/s^2 per axis (16 g)
-  double gyro_max = 35.0;                 ///< rad/s per axis (2000 deg/s)
-  double imu_max_dt = 0.05;               ///< s, longer IMU gaps are counted and clamped
+  double accel_max = 160.0;                                            ///< m/s^2 per axis (16 g)
+  double gyro_max = 35.0;                                              ///< rad/s per axis (2000 deg/s)
+  double imu_max_dt = 0.05;                                            ///< s, longer IMU gaps are counted and clamped
   std::array<double, kSensorCount> timeout{0.02, 1.0, 0.5, 0.5, 0.5};  ///< s, per Sensor
   /// s, per Sensor: how long before its stamp a sample was valid (IMU: unused). The GNSS's
   /// time_of_validity, when the driver gives one, already says it: this is subtracted from it.
   std::array<double, kSensorCount> delay{0.0, 0.0, 0.0, 0.0, 0.0};
   // robust gating and health
-  int inflate_after = 5;              ///< consecutive gate rejections of the GNSS position (or the
-                                      ///< barometer) after which the variance of the position (the
-                                      ///< barometer bias) is inflated
-  double reset_min_interval = 60.0;   ///< s: at most one GNSS reset per this long...
-  double gnss_fault_distance = 100.0; ///< ...unless the innovation exceeds this, m (a lost position)
-  double imu_reinit_gap = 0.5;        ///< s: after an IMU silence this long the attitude is lost:
-                                      ///< re-initialise in flight (GNSS velocity and magnetometer)
-  double max_position_sigma = 100.0;  ///< m: horizontal 1 sigma beyond which the state is invalid
-  double max_tilt_sigma = 0.35;       ///< rad: roll/pitch 1 sigma beyond which the state is invalid
+  int inflate_after = 5;               ///< consecutive gate rejections of the GNSS position (or the
+                                       ///< barometer) after which the variance of the position (the
+                                       ///< barometer bias) is inflated
+  double reset_min_interval = 60.0;    ///< s: at most one GNSS reset per this long...
+  double gnss_fault_distance = 100.0;  ///< ...unless the innovation exceeds this, m (a lost position)
+  double imu_reinit_gap = 0.5;         ///< s: after an IMU silence this long the attitude is lost:
+                                       ///< re-initialise in flight (GNSS velocity and magnetometer)
+  double max_position_sigma = 100.0;   ///< m: horizontal 1 sigma beyond which the state is invalid
+  double max_tilt_sigma = 0.35;        ///< rad: roll/pitch 1 sigma beyond which the state is invalid
 
   /// Every figure above that a mission may set, as the plugin's parameters (declare_struct,
   /// tern/param_struct.hpp): name, unit, range, description; the member initialisers are the
   /// defaults (the plugin first takes rho, mass, wing_S and C_Y_* from the aircraft file).
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     describe_reals(v);
     describe_others(v);
   }
-  template <class V> static void describe_reals(V& v) {
+  template <class V>
+  static void describe_reals(V& v) {
     using tern::ParamSpec;
     using C = EstimatorConfig;
     v(&C::gravity, "gravity", ParamSpec("m/s^2", 9.0, 10.5, "gravitational acceleration"));
@@ -202,68 +204,99 @@ struct EstimatorConfig {
     v(&C::gnss_vel_sigma_v, "gnss_vel_noise_v", ParamSpec("m/s", 1e-4, 10.0, "GNSS vertical velocity noise, 1 sigma"));
     v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
     v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)"));
-    v(&C::gnss_reset_time, "gnss_reset_time", ParamSpec("s", 0.5, 600.0, "continuous GNSS position rejection after which the state is reset to GNSS"));
-    v(&C::gnss_recovery_time, "gnss_recovery_time", ParamSpec("s", 0.0, 60.0, "after a GNSS time-out, the published position takes the correction with this time constant (0: at once)"));
+    v(&C::gnss_reset_time, "gnss_reset_time",
+      ParamSpec("s", 0.5, 600.0, "continuous GNSS position rejection after which the state is reset to GNSS"));
+    v(&C::gnss_recovery_time, "gnss_recovery_time",
+      ParamSpec("s", 0.0, 60.0, "after a GNSS time-out, the published position takes the correction with this time constant (0: at once)"));
     v(&C::mag_declination, "mag_declination", ParamSpec("rad", -tern::kPi, tern::kPi, "magnetic declination, east of true north"));
-    v(&C::mag_inclination, "mag_inclination", ParamSpec("rad", -tern::kPi / 2, tern::kPi / 2, "magnetic inclination, down from horizontal"));
+    v(&C::mag_inclination, "mag_inclination",
+      ParamSpec("rad", -tern::kPi / 2, tern::kPi / 2, "magnetic inclination, down from horizontal"));
     v(&C::mag_field_strength, "mag_field_strength", ParamSpec("T", 1e-6, 1e-3, "total magnetic field intensity"));
     v(&C::mag_sigma, "mag_noise", ParamSpec("T", 1e-9, 1e-4, "magnetometer noise per axis, 1 sigma"));
     v(&C::mag_gate, "mag_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the 3-axis magnetometer update (3 dof; 0: off)"));
     v(&C::mag_heading_gate, "mag_heading_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the magnetic heading update (1 dof; 0: off)"));
-    v(&C::mag_init_wait, "mag_init_wait", ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
-    v(&C::mag_reset_time, "mag_reset_time", ParamSpec("s", 0.1, 600.0, "continuous magnetic-heading rejection after which yaw is reset to the magnetometer"));
-    v(&C::mag_reset_window, "mag_reset_window", ParamSpec("s", 0.0, 1e6, "yaw resets to the magnetometer only within this long after initialisation (0: never)"));
+    v(&C::mag_init_wait, "mag_init_wait",
+      ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
+    v(&C::mag_reset_time, "mag_reset_time",
+      ParamSpec("s", 0.1, 600.0, "continuous magnetic-heading rejection after which yaw is reset to the magnetometer"));
+    v(&C::mag_reset_window, "mag_reset_window",
+      ParamSpec("s", 0.0, 1e6, "yaw resets to the magnetometer only within this long after initialisation (0: never)"));
     v(&C::baro_sigma, "baro_noise", ParamSpec("Pa", 1e-3, 1000.0, "static-pressure noise, 1 sigma"));
     v(&C::baro_gate, "baro_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)"));
     v(&C::diff_pressure_sigma, "diff_pressure_noise", ParamSpec("Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma"));
-    v(&C::airspeed_gust_sigma, "airspeed_gust_sigma", ParamSpec("m/s", 0.0, 20.0, "turbulence along body x the wind state does not follow (adds rho u_r sigma to the pitot noise)"));
-    v(&C::diff_pressure_gate, "diff_pressure_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)"));
-    v(&C::min_airspeed, "min_airspeed", ParamSpec("m/s", 0.0, 100.0, "airspeed below which the pitot and zero-sideslip updates are skipped"));
+    v(&C::airspeed_gust_sigma, "airspeed_gust_sigma",
+      ParamSpec("m/s", 0.0, 20.0, "turbulence along body x the wind state does not follow (adds rho u_r sigma to the pitot noise)"));
+    v(&C::diff_pressure_gate, "diff_pressure_gate",
+      ParamSpec("", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)"));
+    v(&C::min_airspeed, "min_airspeed",
+      ParamSpec("m/s", 0.0, 100.0, "airspeed below which the pitot and zero-sideslip updates are skipped"));
     v(&C::sideslip_sigma, "sideslip_noise", ParamSpec("m/s", 1e-3, 100.0, "zero-sideslip pseudo-measurement noise (body-y air velocity)"));
     v(&C::sideslip_gate, "sideslip_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the zero-sideslip update (1 dof; 0: off)"));
-    v(&C::side_force_sigma, "side_force_noise", ParamSpec("m/s^2", 1e-3, 100.0, "side-force update noise: body-y accelerometer (averaged between pitot samples) against the aircraft's C_Y model"));
+    v(&C::side_force_sigma, "side_force_noise",
+      ParamSpec("m/s^2", 1e-3, 100.0,
+                "side-force update noise: body-y accelerometer (averaged between pitot samples) against the aircraft's C_Y model"));
     v(&C::side_force_gate, "side_force_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the side-force update (1 dof; 0: off)"));
-    v(&C::wing_S, "wing_S", ParamSpec("m^2", 0.0, 100.0, "wing area for the side-force model (default: the aircraft file's; 0: side force off)"));
+    v(&C::wing_S, "wing_S",
+      ParamSpec("m^2", 0.0, 100.0, "wing area for the side-force model (default: the aircraft file's; 0: side force off)"));
     v(&C::mass, "mass", ParamSpec("kg", 0.0, 1000.0, "aircraft mass for the side-force model (default: the aircraft file's; 0: off)"));
     v(&C::C_Y_0, "C_Y_0", ParamSpec("", -10.0, 10.0, "side-force coefficient at zero sideslip (default: the aircraft file's)"));
-    v(&C::C_Y_beta, "C_Y_beta", ParamSpec("1/rad", -20.0, 20.0, "side-force derivative in sideslip (default: the aircraft file's; 0: off)"));
+    v(&C::C_Y_beta, "C_Y_beta",
+      ParamSpec("1/rad", -20.0, 20.0, "side-force derivative in sideslip (default: the aircraft file's; 0: off)"));
     v(&C::C_Y_delta_a, "C_Y_delta_a", ParamSpec("1/rad", -10.0, 10.0, "side force per aileron deflection (default: the aircraft file's)"));
     v(&C::C_Y_delta_r, "C_Y_delta_r", ParamSpec("1/rad", -10.0, 10.0, "side force per rudder deflection (default: the aircraft file's)"));
-    v(&C::init_average_time, "init_average_time", ParamSpec("s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation"));
+    v(&C::init_average_time, "init_average_time",
+      ParamSpec("s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation"));
     v(&C::init_tilt_sigma, "init_tilt_sigma", ParamSpec("rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma"));
     v(&C::init_yaw_sigma, "init_yaw_sigma", ParamSpec("rad", 1e-4, 3.2, "initial yaw uncertainty with a magnetometer, 1 sigma"));
     v(&C::init_gyro_bias_sigma, "init_gyro_bias_sigma", ParamSpec("rad/s", 1e-6, 1.0, "initial gyro-bias uncertainty, 1 sigma"));
-    v(&C::init_accel_bias_sigma, "init_accel_bias_sigma", ParamSpec("m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma"));
-    v(&C::init_wind_sigma_airdata, "init_wind_sigma_airdata", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed"));
+    v(&C::init_accel_bias_sigma, "init_accel_bias_sigma",
+      ParamSpec("m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma"));
+    v(&C::init_wind_sigma_airdata, "init_wind_sigma_airdata",
+      ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed"));
     v(&C::init_wind_sigma, "init_wind_sigma", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty without air data, 1 sigma"));
     v(&C::init_baro_bias_sigma, "init_baro_bias_sigma", ParamSpec("m", 1e-3, 1000.0, "initial barometer-bias uncertainty, 1 sigma"));
     v(&C::accel_max, "accel_max", ParamSpec("m/s^2", 1.0, 2000.0, "accelerometer samples beyond this (any axis) are rejected"));
     v(&C::gyro_max, "gyro_max", ParamSpec("rad/s", 0.1, 100.0, "gyro samples beyond this (any axis) are rejected"));
     v(&C::imu_max_dt, "imu_max_dt", ParamSpec("s", 1e-4, 1.0, "longest IMU interval propagated in one step (longer gaps are clamped)"));
     v([](C& c) -> double& { return c.timeout[0]; }, "imu_timeout", ParamSpec("s", 1e-3, 60.0, "IMU silence reported as a time-out"));
-    v([](C& c) -> double& { return c.timeout[1]; }, "gnss_timeout", ParamSpec("s", 1e-3, 60.0, "GNSS silence (or no fix) reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[1]; }, "gnss_timeout",
+      ParamSpec("s", 1e-3, 60.0, "GNSS silence (or no fix) reported as a time-out"));
     v([](C& c) -> double& { return c.timeout[2]; }, "baro_timeout", ParamSpec("s", 1e-3, 60.0, "barometer silence reported as a time-out"));
-    v([](C& c) -> double& { return c.timeout[3]; }, "diff_pressure_timeout", ParamSpec("s", 1e-3, 60.0, "differential-pressure silence reported as a time-out"));
-    v([](C& c) -> double& { return c.timeout[4]; }, "mag_timeout", ParamSpec("s", 1e-3, 60.0, "magnetometer silence reported as a time-out"));
-    v([](C& c) -> double& { return c.delay[1]; }, "gnss_delay", ParamSpec("s", 0.0, 0.5, "GNSS delay subtracted from each fix's time of validity (0 when the driver gives the receiver's epoch, as " "sim_aero does; over ROSflight's link the receiver's output latency, ~0.1 s for a u-blox M8N at 10 Hz)"));
-    v([](C& c) -> double& { return c.delay[2]; }, "baro_delay", ParamSpec("s", 0.0, 0.5, "barometer sample delay (its filter's group delay)"));
-    v([](C& c) -> double& { return c.delay[3]; }, "diff_pressure_delay", ParamSpec("s", 0.0, 0.5, "differential-pressure sample delay (tubing and filter)"));
+    v([](C& c) -> double& { return c.timeout[3]; }, "diff_pressure_timeout",
+      ParamSpec("s", 1e-3, 60.0, "differential-pressure silence reported as a time-out"));
+    v([](C& c) -> double& { return c.timeout[4]; }, "mag_timeout",
+      ParamSpec("s", 1e-3, 60.0, "magnetometer silence reported as a time-out"));
+    v([](C& c) -> double& { return c.delay[1]; }, "gnss_delay",
+      ParamSpec("s", 0.0, 0.5,
+                "GNSS delay subtracted from each fix's time of validity (0 when the driver gives the receiver's epoch, as "
+                "sim_aero does; over ROSflight's link the receiver's output latency, ~0.1 s for a u-blox M8N at 10 Hz)"));
+    v([](C& c) -> double& { return c.delay[2]; }, "baro_delay",
+      ParamSpec("s", 0.0, 0.5, "barometer sample delay (its filter's group delay)"));
+    v([](C& c) -> double& { return c.delay[3]; }, "diff_pressure_delay",
+      ParamSpec("s", 0.0, 0.5, "differential-pressure sample delay (tubing and filter)"));
     v([](C& c) -> double& { return c.delay[4]; }, "mag_delay", ParamSpec("s", 0.0, 0.5, "magnetometer sample delay"));
-    v(&C::reset_min_interval, "reset_min_interval", ParamSpec("s", 0.0, 3600.0, "at most one GNSS reset per this long (covariance inflation carries the rest)"));
-    v(&C::gnss_fault_distance, "gnss_fault_distance", ParamSpec("m", 1.0, 1e6, "a GNSS innovation beyond this resets the position regardless of reset_min_interval"));
-    v(&C::imu_reinit_gap, "imu_reinit_gap", ParamSpec("s", 0.05, 60.0, "IMU silence after which the attitude counts as lost and the filter re-initialises in flight"));
-    v(&C::max_position_sigma, "max_position_sigma", ParamSpec("m", 1.0, 1e6, "horizontal position 1 sigma beyond which the state is invalid"));
+    v(&C::reset_min_interval, "reset_min_interval",
+      ParamSpec("s", 0.0, 3600.0, "at most one GNSS reset per this long (covariance inflation carries the rest)"));
+    v(&C::gnss_fault_distance, "gnss_fault_distance",
+      ParamSpec("m", 1.0, 1e6, "a GNSS innovation beyond this resets the position regardless of reset_min_interval"));
+    v(&C::imu_reinit_gap, "imu_reinit_gap",
+      ParamSpec("s", 0.05, 60.0, "IMU silence after which the attitude counts as lost and the filter re-initialises in flight"));
+    v(&C::max_position_sigma, "max_position_sigma",
+      ParamSpec("m", 1.0, 1e6, "horizontal position 1 sigma beyond which the state is invalid"));
     v(&C::max_tilt_sigma, "max_tilt_sigma", ParamSpec("rad", 0.01, 3.2, "roll/pitch 1 sigma beyond which the state is invalid"));
   }
-  template <class V> static void describe_others(V& v) {
+  template <class V>
+  static void describe_others(V& v) {
     using tern::ParamSpec;
     using C = EstimatorConfig;
     v(&C::min_fix_type, "min_gnss_fix_type", ParamSpec("", 2, 3, "minimum GNSS fix type used (2: 2-D, 3: 3-D)"));
-    v(&C::baro_calibration_count, "baro_calibration_count", ParamSpec("", 1, 100000, "barometer samples averaged for the ground calibration"));
+    v(&C::baro_calibration_count, "baro_calibration_count",
+      ParamSpec("", 1, 100000, "barometer samples averaged for the ground calibration"));
     v(&C::init_min_imu_samples, "init_min_imu_samples", ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
     v(&C::inflate_after, "inflate_after",
-      ParamSpec("", 1, 1000, "consecutive GNSS or baro rejections after which the covariance of the states "
-                             "they measure is inflated (instead of a reset)"));
+      ParamSpec("", 1, 1000,
+                "consecutive GNSS or baro rejections after which the covariance of the states "
+                "they measure is inflated (instead of a reset)"));
     v(&C::gnss_antenna, "gnss_antenna_position",
       ParamSpec("m", -10.0, 10.0, "GNSS antenna position from the CG, body FRD (x forward, y right, z down), measured on the aircraft"));
     v(&C::imu_position, "imu_position", ParamSpec("m", -10.0, 10.0, "IMU position from the CG, body FRD, measured on the aircraft"));
@@ -274,12 +307,15 @@ struct EstimatorConfig {
     v(&C::mag_heading_only, "mag_heading_only",
       ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
-      ParamSpec("", 0, 1, "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error) and s_acc "
-                          "(velocity noise) where larger than gnss_error_walk_*, gnss_vel_noise_*"));
-    v(&C::use_sideslip, "use_sideslip", ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
+      ParamSpec("", 0, 1,
+                "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error) and s_acc "
+                "(velocity noise) where larger than gnss_error_walk_*, gnss_vel_noise_*"));
+    v(&C::use_sideslip, "use_sideslip",
+      ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
     v(&C::use_side_force, "use_side_force",
-      ParamSpec("", 0, 1, "measure sideslip from the body-y accelerometer and the aircraft's C_Y model "
-                          "(needs wing_S, mass, C_Y_beta; else zero-sideslip)"));
+      ParamSpec("", 0, 1,
+                "measure sideslip from the body-y accelerometer and the aircraft's C_Y model "
+                "(needs wing_S, mass, C_Y_beta; else zero-sideslip)"));
   }
 };
 
@@ -289,12 +325,23 @@ struct SensorCounters {
   std::uint64_t invalid = 0;   ///< NaN/Inf, out of range or stamp going backwards
   std::uint64_t timeouts = 0;  ///< times it fell silent longer than its time-out
   bool timed_out = false;
-  Nanos last_stamp = -1;       ///< stamp of the last valid message (-1: none yet)
+  Nanos last_stamp = -1;  ///< stamp of the last valid message (-1: none yet)
 };
 
 enum class EventKind : std::uint8_t {
-  origin_set, initialized, baro_calibrated, sensor_timeout, sensor_recovered, gnss_reset,
-  imu_gap, filter_reset, first_invalid, mag_reset, inflated, imu_lost, too_old
+  origin_set,
+  initialized,
+  baro_calibrated,
+  sensor_timeout,
+  sensor_recovered,
+  gnss_reset,
+  imu_gap,
+  filter_reset,
+  first_invalid,
+  mag_reset,
+  inflated,
+  imu_lost,
+  too_old
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
@@ -378,8 +425,7 @@ class Estimator {
   static double isa_altitude(double pressure);
   /// Rotation body -> NED from a specific force (body, at rest: -R^T g e3) and a magnetic field
   /// (body) given the field's declination (rad); yaw from the tilt-compensated field.
-  static Eigen::Quaterniond attitude_from_accel_mag(const Vec3& f_body, const Vec3& m_body,
-                                                    double declination);
+  static Eigen::Quaterniond attitude_from_accel_mag(const Vec3& f_body, const Vec3& m_body, double declination);
   /// The same without a magnetometer: roll and pitch from the specific force, yaw given.
   static Eigen::Quaterniond attitude_from_accel(const Vec3& f_body, double psi);
   /// Rotation body -> NED from two vector pairs, TRIAD (Black 1964; Markley & Crassidis,
@@ -389,8 +435,7 @@ class Estimator {
   /// unaccelerated flight this is attitude_from_accel_mag(); in a turn, a push-over or a
   /// deceleration it is not misled by the non-gravitational acceleration.
   /// Throws std::invalid_argument if a vector is zero or the two pairs are parallel.
-  static Eigen::Quaterniond attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body,
-                                           const Vec3& m_ned);
+  static Eigen::Quaterniond attitude_triad(const Vec3& f_body, const Vec3& f_ned, const Vec3& m_body, const Vec3& m_ned);
 
  private:
   bool accept(Sensor s, Nanos stamp, bool ok);
@@ -460,7 +505,7 @@ class Estimator {
   double last_diff_pressure_ = 0.0;  // last valid differential pressure before initialisation
   Nanos last_diff_stamp_ = -1;
   Nanos imu_stamp_ = -1;
-  Vec3 rate_ = Vec3::Zero();  // last bias-removed gyro, body
+  Vec3 rate_ = Vec3::Zero();       // last bias-removed gyro, body
   Vec3 gyro_body_ = Vec3::Zero();  // last measured gyro in body axes (bias not removed)
   Vec3 omega_dot_ = Vec3::Zero();  // low-passed angular acceleration, body, rad/s^2
   Mat3 R_bi_ = Mat3::Identity();   // IMU axes -> body axes (cfg_.imu_mount)
@@ -473,7 +518,7 @@ class Estimator {
   std::uint64_t gnss_resets_ = 0, filter_resets_ = 0, mag_resets_ = 0;
   Nanos mag_reject_since_ = -1;
   Nanos init_stamp_ = -1;
-  double last_Va_ = 0.0;      // airspeed of the last applicable pitot sample, m/s (0: none)
+  double last_Va_ = 0.0;  // airspeed of the last applicable pitot sample, m/s (0: none)
   Nanos last_Va_stamp_ = -1;
   void reset_yaw(Nanos stamp, double psi_mag);
   std::array<SensorCounters, kSensorCount> counters_{};

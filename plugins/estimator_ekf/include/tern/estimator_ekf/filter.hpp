@@ -66,14 +66,14 @@ inline constexpr int kErrDim = 21;  ///< error-state dimension
 
 /// Offsets of the error-state blocks.
 namespace idx {
-inline constexpr int p = 0;     ///< position, 3
-inline constexpr int v = 3;     ///< velocity, 3
-inline constexpr int th = 6;    ///< attitude error (body frame), 3
-inline constexpr int bg = 9;    ///< gyro bias, 3
-inline constexpr int ba = 12;   ///< accelerometer bias, 3
-inline constexpr int w = 15;    ///< wind north, east, 2
-inline constexpr int bb = 17;   ///< barometer bias, 1
-inline constexpr int eg = 18;   ///< GNSS position error, 3
+inline constexpr int p = 0;    ///< position, 3
+inline constexpr int v = 3;    ///< velocity, 3
+inline constexpr int th = 6;   ///< attitude error (body frame), 3
+inline constexpr int bg = 9;   ///< gyro bias, 3
+inline constexpr int ba = 12;  ///< accelerometer bias, 3
+inline constexpr int w = 15;   ///< wind north, east, 2
+inline constexpr int bb = 17;  ///< barometer bias, 1
+inline constexpr int eg = 18;  ///< GNSS position error, 3
 }  // namespace idx
 
 using Vec3 = Eigen::Vector3d;
@@ -99,9 +99,8 @@ struct NominalState {
   /// Air-relative velocity in body FRD, (u_r, v_r, w_r) = R^T (v - w), m/s (Beard & McLain eq. 2.7).
   Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
   bool all_finite() const {
-    return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() &&
-           b_a.allFinite() && wind.allFinite() && std::isfinite(b_baro) &&
-           e_gnss.allFinite();
+    return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() && b_a.allFinite() && wind.allFinite() &&
+           std::isfinite(b_baro) && e_gnss.allFinite();
   }
 };
 
@@ -129,7 +128,6 @@ inline void symmetrize(Cov& P) {
   }
 }
 
-
 /// Process-noise figures (see the file comment for how they enter Q).
 struct ProcessNoise {
   /// Accelerometer white noise, 1 sigma per sample, m/s^2. In flight the propeller's vibration
@@ -147,22 +145,23 @@ struct ProcessNoise {
   /// manoeuvre, so it enters as attitude random walk of density
   /// gyro_scale |w| sqrt(maneuver_time) (a 1-rad/s roll held 1 s costs 0.4 deg of tilt sigma).
   double gyro_scale = 0.013;
-  double maneuver_time = 0.3;     ///< s: how long a rate is held (correlation time of the scale error;
-                                  ///< 0.3 s: no divergence over 10 + 10 realistic bench flights, 1 s: 1-3)
-  double gyro_bias_walk = 5e-5;   ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
-                                  ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
-  double accel_bias_walk = 1e-3;  ///< accelerometer-bias random walk, m/s^2/sqrt(s)
-  double wind_walk = 0.5;         ///< horizontal-wind random walk, m/s/sqrt(s) (follows slow gusts)
-  double baro_bias_walk = 0.05;   ///< barometer-bias random walk, m/sqrt(s)
-  double position = 0.0;          ///< extra position random walk (model error), m/sqrt(s)
-  double gnss_error_walk_h = 0.066;  ///< GNSS horizontal error driving noise, m/sqrt(s) (ROSflight:
-                                     ///< 0.21 m times T_s per 10 Hz fix = 0.21 sqrt(0.1))
-  double gnss_error_walk_v = 0.126;  ///< GNSS vertical error driving noise, m/sqrt(s) (0.40 sqrt(0.1))
+  double maneuver_time = 0.3;          ///< s: how long a rate is held (correlation time of the scale error;
+                                       ///< 0.3 s: no divergence over 10 + 10 realistic bench flights, 1 s: 1-3)
+  double gyro_bias_walk = 5e-5;        ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
+                                       ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
+  double accel_bias_walk = 1e-3;       ///< accelerometer-bias random walk, m/s^2/sqrt(s)
+  double wind_walk = 0.5;              ///< horizontal-wind random walk, m/s/sqrt(s) (follows slow gusts)
+  double baro_bias_walk = 0.05;        ///< barometer-bias random walk, m/sqrt(s)
+  double position = 0.0;               ///< extra position random walk (model error), m/sqrt(s)
+  double gnss_error_walk_h = 0.066;    ///< GNSS horizontal error driving noise, m/sqrt(s) (ROSflight:
+                                       ///< 0.21 m times T_s per 10 Hz fix = 0.21 sqrt(0.1))
+  double gnss_error_walk_v = 0.126;    ///< GNSS vertical error driving noise, m/sqrt(s) (0.40 sqrt(0.1))
   double gnss_error_k = 1.0 / 1100.0;  ///< GNSS error Gauss-Markov rate k, 1/s
 
   /// The plugin's parameter names and ranges (declare_struct, tern/param_struct.hpp); the member
   /// initialisers above are their defaults.
-  template <class V> static void describe(V& v) {
+  template <class V>
+  static void describe(V& v) {
     using tern::ParamSpec;
     using P = ProcessNoise;
     v(&P::accel, "accel_noise", ParamSpec("m/s^2", 1e-4, 10.0, "accelerometer white noise, 1 sigma per IMU sample"));
@@ -174,18 +173,21 @@ struct ProcessNoise {
     v(&P::wind_walk, "wind_walk", ParamSpec("m/s/sqrt(s)", 0.0, 10.0, "horizontal-wind random walk"));
     v(&P::baro_bias_walk, "baro_bias_walk", ParamSpec("m/sqrt(s)", 0.0, 10.0, "barometer-bias random walk"));
     v(&P::position, "pos_process_noise", ParamSpec("m/sqrt(s)", 0.0, 10.0, "extra position random walk (model error)"));
-    v(&P::gnss_error_walk_h, "gnss_error_walk_h", ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS horizontal position error (Gauss-Markov state)"));
-    v(&P::gnss_error_walk_v, "gnss_error_walk_v", ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS vertical position error (Gauss-Markov state)"));
-    v(&P::gnss_error_k, "gnss_error_rate", ParamSpec("1/s", 0.0, 10.0, "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)"));
+    v(&P::gnss_error_walk_h, "gnss_error_walk_h",
+      ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS horizontal position error (Gauss-Markov state)"));
+    v(&P::gnss_error_walk_v, "gnss_error_walk_v",
+      ParamSpec("m/sqrt(s)", 0.0, 100.0, "driving noise of the GNSS vertical position error (Gauss-Markov state)"));
+    v(&P::gnss_error_k, "gnss_error_rate",
+      ParamSpec("1/s", 0.0, 10.0, "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)"));
   }
 };
 
 /// Outcome of one measurement update.
 enum class UpdateResult : std::uint8_t {
-  accepted,    ///< applied to the state
-  rejected,    ///< failed the chi-square gate
-  skipped,     ///< the model is not applicable now (e.g. airspeed below its minimum)
-  invalid      ///< non-finite measurement, or innovation covariance not positive definite
+  accepted,  ///< applied to the state
+  rejected,  ///< failed the chi-square gate
+  skipped,   ///< the model is not applicable now (e.g. airspeed below its minimum)
+  invalid    ///< non-finite measurement, or innovation covariance not positive definite
 };
 
 /// Counters every measurement model keeps.
@@ -195,10 +197,10 @@ struct UpdateStats {
   std::uint64_t skipped = 0;
   std::uint64_t invalid = 0;
   std::uint64_t consecutive_rejected = 0;  ///< rejections since the last accepted update
-  double last_nis = 0.0;  ///< normalised innovation squared of the last gated update
-  double nis_sum = 0.0;   ///< sum of the NIS of every gated update (accepted or rejected)...
-  std::uint64_t nis_count = 0;  ///< ...and their number: mean NIS = nis_sum / nis_count
-  double max_ratio = -1.0;  ///< largest NIS / gate since take_max_ratio() (-1: none)
+  double last_nis = 0.0;                   ///< normalised innovation squared of the last gated update
+  double nis_sum = 0.0;                    ///< sum of the NIS of every gated update (accepted or rejected)...
+  std::uint64_t nis_count = 0;             ///< ...and their number: mean NIS = nis_sum / nis_count
+  double max_ratio = -1.0;                 ///< largest NIS / gate since take_max_ratio() (-1: none)
   double mean_nis() const { return nis_count > 0 ? nis_sum / static_cast<double>(nis_count) : 0.0; }
   /// The largest test ratio since the last call, -1 when there was no gated update.
   double take_max_ratio() {
@@ -219,16 +221,14 @@ class Filter {
 
   /// Propagates over dt seconds (> 0) with one IMU sample: accel = measured specific force
   /// (body FRD, m/s^2), gyro = measured rate (body FRD, rad/s). Allocation free.
-  void propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise,
-                 double gravity);
+  void propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity);
 
   /// The nominal-state part of propagate(): constant specific force and rate over dt.
-  static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro,
-                                        double dt, double gravity, double gnss_error_k);
+  static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
+                                        double gnss_error_k);
   /// The dense error-state transition F of propagate() with the Gauss-Markov rate k (for tests and documentation; propagate()
   /// applies it block-wise without forming it).
-  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt,
-                        double gnss_error_k);
+  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k);
   /// The discrete process noise Q of propagate() (diagonal) at the body rate |w| = rate, rad/s.
   static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double rate);
 
@@ -268,9 +268,7 @@ class Filter {
   /// Covariance finite with a positive diagonal, state finite. (The sum of P is finite exactly
   /// when every element is, barring an overflow that is unhealthy too; it vectorises, where an
   /// element-wise check costs as much as the covariance propagation.)
-  bool healthy() const {
-    return std::isfinite(P_.sum()) && (P_.diagonal().array() > 0.0).all() && x_.all_finite();
-  }
+  bool healthy() const { return std::isfinite(P_.sum()) && (P_.diagonal().array() > 0.0).all() && x_.all_finite(); }
 
   const NominalState& x() const { return x_; }
   const Cov& P() const { return P_; }
@@ -284,8 +282,7 @@ class Filter {
 };
 
 template <class Model>
-UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const NominalState* x_then,
-                            const ErrVec* corrected_since) {
+UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const NominalState* x_then, const ErrVec* corrected_since) {
   constexpr int M = Model::kDim;
   using VecM = Eigen::Matrix<double, M, 1>;
   using MatM = Eigen::Matrix<double, M, M>;

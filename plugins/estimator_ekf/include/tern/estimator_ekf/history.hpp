@@ -52,8 +52,10 @@ class StateHistory {
     std::size_t lo = 0, hi = size_ - 1;  // entry(hi).stamp <= t holds
     while (lo < hi) {
       const std::size_t mid = (lo + hi) / 2;
-      if (entry(mid).stamp <= t) hi = mid;
-      else lo = mid + 1;
+      if (entry(mid).stamp <= t)
+        hi = mid;
+      else
+        lo = mid + 1;
     }
     return &entry(lo);
   }

@@ -36,9 +36,7 @@ struct Measurement {
   UpdateStats stats;
 
   bool applicable(const NominalState& /*x*/, const Vec& /*z*/) const { return true; }
-  Vec residual(const NominalState& x, const Vec& z) const {
-    return z - static_cast<const Derived&>(*this).h(x);
-  }
+  Vec residual(const NominalState& x, const Vec& z) const { return z - static_cast<const Derived&>(*this).h(x); }
 };
 
 /// GNSS position: z = NED position of the antenna relative to the origin, m (the geodetic fix
@@ -46,8 +44,8 @@ struct Measurement {
 /// the CG: h(x) = p + R r_a + e_gnss (e_gnss: the slowly wandering GNSS error, a state);
 /// H = [I (p), -R [r_a]x (dtheta), I (e_gnss)]. sigma_*: the white part.
 struct GnssPosition : Measurement<GnssPosition, 3> {
-  double sigma_h = 0.1;  ///< horizontal white noise, 1 sigma, m
-  double sigma_v = 0.2;  ///< vertical white noise, 1 sigma, m
+  double sigma_h = 0.1;         ///< horizontal white noise, 1 sigma, m
+  double sigma_v = 0.2;         ///< vertical white noise, 1 sigma, m
   Vec3 antenna = Vec3::Zero();  ///< r_a, antenna position from the CG, body FRD, m
   Vec h(const NominalState& x) const { return x.p + x.q * antenna + x.e_gnss; }
   Jac jacobian(const NominalState& x) const;
@@ -59,8 +57,8 @@ struct GnssPosition : Measurement<GnssPosition, 3> {
 /// h(x) = v + R (omega x r_a);  H = [I (v), -R [omega x r_a]x (dtheta), R [r_a]x (db_g)]
 /// (d(omega x r_a) = -db_g x r_a = r_a x db_g).
 struct GnssVelocity : Measurement<GnssVelocity, 3> {
-  double sigma_h = 0.01;  ///< horizontal noise, 1 sigma, m/s
-  double sigma_v = 0.01;  ///< vertical noise, 1 sigma, m/s
+  double sigma_h = 0.01;        ///< horizontal noise, 1 sigma, m/s
+  double sigma_v = 0.01;        ///< vertical noise, 1 sigma, m/s
   Vec3 antenna = Vec3::Zero();  ///< r_a, body FRD, m
   Vec3 gyro = Vec3::Zero();     ///< w_m, measured body rate (bias not removed), FRD, rad/s
   Vec h(const NominalState& x) const { return x.v + x.q * (gyro - x.b_g).cross(antenna); }
@@ -73,10 +71,10 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
 /// inclination I (down from horizontal): m_n = (cos I cos D, cos I sin D, sin I).
 /// H_theta = [R^T m_n]x. Noise: sigma / field_strength on each axis (sigma in tesla).
 struct Magnetometer : Measurement<Magnetometer, 3> {
-  double declination = 0.1857972802;  ///< rad (ROSflight simulator default, Provo UT)
-  double inclination = 1.139436457;   ///< rad
-  double sigma = 3e-6;                ///< noise of each axis, 1 sigma, T
-  double field_strength = 5.07163e-5; ///< total intensity, T (scales sigma to the unit vector)
+  double declination = 0.1857972802;   ///< rad (ROSflight simulator default, Provo UT)
+  double inclination = 1.139436457;    ///< rad
+  double sigma = 3e-6;                 ///< noise of each axis, 1 sigma, T
+  double field_strength = 5.07163e-5;  ///< total intensity, T (scales sigma to the unit vector)
   Vec3 field_direction_ned() const;
   Vec h(const NominalState& x) const;
   Jac jacobian(const NominalState& x) const;
@@ -90,10 +88,10 @@ struct Magnetometer : Measurement<Magnetometer, 3> {
 ///   H_theta = [0, R_20 R_02... ] (exact form in jacobian()), i.e. only the heading is corrected:
 /// a magnetic disturbance cannot tilt the estimate. Noise: sigma / (field_strength cos I) rad.
 struct MagHeading : Measurement<MagHeading, 1> {
-  double declination = 0.1857972802;  ///< rad
-  double inclination = 1.139436457;   ///< rad (only scales the noise)
-  double sigma = 3e-6;                ///< field noise per axis, 1 sigma, T
-  double field_strength = 5.07163e-5; ///< T
+  double declination = 0.1857972802;   ///< rad
+  double inclination = 1.139436457;    ///< rad (only scales the noise)
+  double sigma = 3e-6;                 ///< field noise per axis, 1 sigma, T
+  double field_strength = 5.07163e-5;  ///< T
   static double heading_from_field(const Vec3& m_body, double phi, double theta, double declination);
   Vec h(const NominalState& x) const;
   Vec residual(const NominalState& x, const Vec& z) const;
@@ -152,7 +150,7 @@ struct ZeroSideslip : Measurement<ZeroSideslip, 1> {
 /// H = k [2 u_r c_0 + C_Y_beta v_r, C_Y_beta u_r, 0] J_air + e(b_a,y), J_air from
 /// air_velocity_jacobian(). Applicable when the estimated airspeed >= min_airspeed.
 struct SideForce : Measurement<SideForce, 1> {
-  double k = 0.0;             ///< rho S / (2 m), 1/m
+  double k = 0.0;  ///< rho S / (2 m), 1/m
   double C_Y_0 = 0.0;
   double C_Y_beta = 0.0;      ///< per rad
   double C_Y_delta_a = 0.0;   ///< per rad

@@ -13,13 +13,13 @@ namespace tern::path {
 struct PathSegment {
   enum class Type { orbit = 0, line = 1 };
   Type type = Type::orbit;
-  double Va_d = 0.0;          ///< desired airspeed, m/s
-  Vec3 r = Vec3::Zero();      ///< line: a point on the line, m NED
-  Vec3 q = Vec3::UnitX();     ///< line: unit direction (its d component sets the climb), NED
-  Vec3 c = Vec3::Zero();      ///< orbit: centre (its d sets the altitude), m NED
-  double rho = 0.0;           ///< orbit: radius, m (> 0)
-  int lambda = 1;             ///< orbit: 1 clockwise, -1 counter-clockwise (seen from above)
-  int waypoint_index = -1;    ///< waypoint being flown to (index in the waypoint list), -1: none
+  double Va_d = 0.0;        ///< desired airspeed, m/s
+  Vec3 r = Vec3::Zero();    ///< line: a point on the line, m NED
+  Vec3 q = Vec3::UnitX();   ///< line: unit direction (its d component sets the climb), NED
+  Vec3 c = Vec3::Zero();    ///< orbit: centre (its d sets the altitude), m NED
+  double rho = 0.0;         ///< orbit: radius, m (> 0)
+  int lambda = 1;           ///< orbit: 1 clockwise, -1 counter-clockwise (seen from above)
+  int waypoint_index = -1;  ///< waypoint being flown to (index in the waypoint list), -1: none
 };
 
 /// Gains of the vector fields. Defaults: ROSplane's Anaconda values

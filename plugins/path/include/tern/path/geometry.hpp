@@ -88,24 +88,24 @@ std::string_view dubins_type_name(DubinsType t);
 /// orbit (ce, lambda_e) from z2 to z3 = pe, where the course is q3.
 struct DubinsPath {
   DubinsType type = DubinsType::RSR;
-  double R = 0.0;               ///< turn radius, m
-  double length = 0.0;          ///< horizontal length of the path, m
+  double R = 0.0;                   ///< turn radius, m
+  double length = 0.0;              ///< horizontal length of the path, m
   std::array<double, 4> lengths{};  ///< length of each type (RSR, RSL, LSR, LSL); +inf if impossible
   Vec3 ps = Vec3::Zero(), pe = Vec3::Zero();
   double chi_s = 0.0, chi_e = 0.0;
-  Vec3 cs = Vec3::Zero();  ///< start circle centre (d of ps)
-  int lambda_s = 1;        ///< start circle direction
-  Vec3 ce = Vec3::Zero();  ///< end circle centre (d of pe)
-  int lambda_e = 1;        ///< end circle direction
-  Vec3 z1 = Vec3::Zero();  ///< leaves the start circle (d of ps)
-  Vec3 q1 = Vec3::UnitX(); ///< horizontal unit direction of the straight segment
-  Vec3 z2 = Vec3::Zero();  ///< joins the end circle (d of pe)
-  Vec3 z3 = Vec3::Zero();  ///< = pe
-  Vec3 q3 = Vec3::UnitX(); ///< course vector at pe
-  double arc_s = 0.0;      ///< angle turned on the start circle (ps -> z1), rad, [0, 2 pi)
-  double arc_e = 0.0;      ///< angle turned on the end circle (z2 -> pe), rad, [0, 2 pi)
-  bool close = false;      ///< |ps - pe| < 2 R (horizontal): the book asks for >= 3 R; RSL and
-                           ///< LSR may be impossible, RSR and LSL always exist
+  Vec3 cs = Vec3::Zero();   ///< start circle centre (d of ps)
+  int lambda_s = 1;         ///< start circle direction
+  Vec3 ce = Vec3::Zero();   ///< end circle centre (d of pe)
+  int lambda_e = 1;         ///< end circle direction
+  Vec3 z1 = Vec3::Zero();   ///< leaves the start circle (d of ps)
+  Vec3 q1 = Vec3::UnitX();  ///< horizontal unit direction of the straight segment
+  Vec3 z2 = Vec3::Zero();   ///< joins the end circle (d of pe)
+  Vec3 z3 = Vec3::Zero();   ///< = pe
+  Vec3 q3 = Vec3::UnitX();  ///< course vector at pe
+  double arc_s = 0.0;       ///< angle turned on the start circle (ps -> z1), rad, [0, 2 pi)
+  double arc_e = 0.0;       ///< angle turned on the end circle (z2 -> pe), rad, [0, 2 pi)
+  bool close = false;       ///< |ps - pe| < 2 R (horizontal): the book asks for >= 3 R; RSL and
+                            ///< LSR may be impossible, RSR and LSL always exist
 };
 
 /// Angles within 1e-9 rad of a full turn count as no turn: roundoff must not add a circle.

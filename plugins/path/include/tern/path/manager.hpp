@@ -66,7 +66,7 @@ struct MissionPoint {
   bool use_chi = false;   ///< arrive with course chi_d (Dubins path), else fillet/line
   double Va_d = 0.0;      ///< desired airspeed, m/s; <= 0: the manager's default_airspeed
   ItemType type = ItemType::waypoint;
-  LoiterSpec loiter;      ///< loiter and return_home items (return_home: n and e ignored)
+  LoiterSpec loiter;  ///< loiter and return_home items (return_home: n and e ignored)
 };
 
 /// A loiter's time and turns count once |distance to the centre - radius| <= kOnOrbit * radius.
@@ -98,9 +98,13 @@ class PathManager {
     line,          ///< straight line to the waypoint, half-plane switching (Alg. 5)
     fillet_line,   ///< fillet, state 1 (Alg. 6): line until z1
     fillet_orbit,  ///< fillet, state 2: orbit until z2
-    dubins_1, dubins_2, dubins_3, dubins_4, dubins_5,  ///< Alg. 8 states 1..5
-    orbit,         ///< orbiting (origin, single waypoint, mission complete)
-    loiter,        ///< orbiting a loiter or return_home item (time and turns count on the orbit)
+    dubins_1,
+    dubins_2,
+    dubins_3,
+    dubins_4,
+    dubins_5,  ///< Alg. 8 states 1..5
+    orbit,     ///< orbiting (origin, single waypoint, mission complete)
+    loiter,    ///< orbiting a loiter or return_home item (time and turns count on the orbit)
   };
 
   /// warn: one line per degenerate case (once per list); info: mission progress.
@@ -172,10 +176,10 @@ class PathManager {
   std::vector<MissionPoint> raw_;  ///< the list as given
   bool raw_loop_ = true;
   std::optional<std::pair<std::vector<MissionPoint>, bool>> pending_;
-  bool need_adopt_ = false;  ///< raw_ was replaced while not on a route: adopt at next update
-  int adopt_first_ = 0;      ///< ... starting at this index of raw_
-  double seg_R_ = 50.0;      ///< turn radius of the current segment, m
-  Vec3 wind_ = Vec3::Zero(); ///< wind for the turn radii, NED m/s
+  bool need_adopt_ = false;   ///< raw_ was replaced while not on a route: adopt at next update
+  int adopt_first_ = 0;       ///< ... starting at this index of raw_
+  double seg_R_ = 50.0;       ///< turn radius of the current segment, m
+  Vec3 wind_ = Vec3::Zero();  ///< wind for the turn radii, NED m/s
 
   std::vector<Entry> wps_;  ///< the list as flown (repeats skipped)
   bool loop_ = true;

@@ -66,8 +66,8 @@ class MissionError : public std::runtime_error {
   /// An unknown key: what() is "<where>unknown key 'key' (expected a, b, ...)"; the parts stay
   /// readable so that a caller can suggest the closest key instead.
   MissionError(const std::string& where, const std::string& key, const std::vector<std::string>& expected);
-  const std::string& where() const { return where_; }                        ///< "file:line: field: " ("" if not an unknown key)
-  const std::string& unknown_key() const { return key_; }                    ///< "" if not an unknown key
+  const std::string& where() const { return where_; }      ///< "file:line: field: " ("" if not an unknown key)
+  const std::string& unknown_key() const { return key_; }  ///< "" if not an unknown key
   const std::vector<std::string>& expected_keys() const { return expected_; }
 
  private:
@@ -83,9 +83,9 @@ struct MissionWaypoint {
   bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
   ItemType type = ItemType::waypoint;
-  LoiterSpec loiter;     ///< loiter and return_home items
-  int line = 0;          ///< 1-based line of the entry in its source (0: not read from text)
-  std::string field;     ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
+  LoiterSpec loiter;  ///< loiter and return_home items
+  int line = 0;       ///< 1-based line of the entry in its source (0: not read from text)
+  std::string field;  ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
 };
 
 struct Mission {

@@ -30,13 +30,13 @@
 namespace tern::path {
 
 struct MissionLimits {
-  double max_distance = 5000.0;  ///< m from home, 3-D (> 0)
+  double max_distance = 5000.0;                    ///< m from home, 3-D (> 0)
   std::string max_distance_name = "max_distance";  ///< the setting's name, for messages
-  std::optional<double> R_min;   ///< m, the minimum turn radius; none: legs are not checked
+  std::optional<double> R_min;                     ///< m, the minimum turn radius; none: legs are not checked
   std::string R_min_name = "R_min";
-  double min_separation = 1.0;   ///< m: closer consecutive waypoints are repeats (horizontal)
-  std::optional<GeoOrigin> origin;  ///< home as latitude/longitude/altitude; none: LLA not placed
-  std::optional<double> fence_max_distance;  ///< m, horizontal from home
+  double min_separation = 1.0;                                   ///< m: closer consecutive waypoints are repeats (horizontal)
+  std::optional<GeoOrigin> origin;                               ///< home as latitude/longitude/altitude; none: LLA not placed
+  std::optional<double> fence_max_distance;                      ///< m, horizontal from home
   std::optional<double> fence_min_altitude, fence_max_altitude;  ///< m above home
 };
 
