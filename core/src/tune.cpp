@@ -3,13 +3,16 @@
 
 #include <array>
 #include <cmath>
-#include <fstream>
+#include <cstdio>
+#include <limits>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "error.hpp"
 #include "host.hpp"
+#include "log_file.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {
@@ -122,6 +125,18 @@ std::function<void(Nanos)> recorder(const Host& host, const TuneLoop& l, std::ve
   };
 }
 
+/// The step's figures; a response that did not move (y_f == y0: a loop that does not answer, or
+/// a saturated one) has no rise, overshoot or settling (NaN, printed '-') instead of ending the
+/// report.
+StepMetrics metrics_or_flat(const std::vector<double>& t, const std::vector<double>& y, double r) {
+  try {
+    return step_metrics(t, y, r);
+  } catch (const std::invalid_argument&) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    return {y.front(), y.back(), nan, nan, nan, r - y.back()};
+  }
+}
+
 /// Edges: samples after the engagement where the command jumps by more than 3/4 of the
 /// amplitude (the engagement itself is half a step and is not one; before it the follower's
 /// own jumps, a new path segment, are not the signal's). Each step runs to the next edge; a step
@@ -137,22 +152,23 @@ std::vector<TuneStep> measure(const std::vector<Sample>& x, double amplitude, do
     if (x[b - 1].t - x[a].t < 0.45 * period) continue;
     std::vector<double> t, y;
     for (std::size_t i = a; i < b; ++i) t.push_back(x[i].t), y.push_back(x[i].response);
-    steps.push_back({x[a].t, x[a - 1].command, x[a].command, step_metrics(t, y, x[a].command)});
+    steps.push_back({x[a].t, x[a - 1].command, x[a].command, metrics_or_flat(t, y, x[a].command)});
   }
   return steps;
 }
 
 void write_csvs(const fs::path& dir, const TuneLoop& l, const std::vector<Sample>& x, const std::vector<TuneStep>& steps,
                 std::optional<double> engaged_s) {
-  std::ofstream f(dir / "tune.csv");
-  f << "t [s]," << l.symbol << " [" << l.unit << "]," << l.state << " [" << l.unit << "]\n";
+  std::string f = fmt::format("t [s],{} [{}],{} [{}]\n", l.symbol, l.unit, l.state, l.unit);
   for (const auto& s : x)
-    if (engaged_s && s.t >= *engaged_s) f << fmt::format("{:.4f},{:.17g},{:.17g}\n", s.t, s.command, s.response);
-  std::ofstream g(dir / "tune_steps.csv");
-  g << "t [s],from,to,rise_time [s],overshoot [%],settling_time [s],steady_state_error,y0,y_final\n";
+    if (engaged_s && s.t >= *engaged_s) f += fmt::format("{:.4f},{:.17g},{:.17g}\n", s.t, s.command, s.response);
+  std::string g = "t [s],from,to,rise_time [s],overshoot [%],settling_time [s],steady_state_error,y0,y_final\n";
   for (const auto& s : steps)
-    g << fmt::format("{:.4f},{:.17g},{:.17g},{:.6g},{:.6g},{:.6g},{:.6g},{:.17g},{:.17g}\n", s.t, s.from, s.to, s.m.rise_time,
+    g += fmt::format("{:.4f},{:.17g},{:.17g},{:.6g},{:.6g},{:.6g},{:.6g},{:.17g},{:.17g}\n", s.t, s.from, s.to, s.m.rise_time,
                      s.m.overshoot_pct, s.m.settling_time, s.m.steady_state_error, s.m.y0, s.m.y_final);
+  LogHealth health;
+  if (!write_file_atomically(dir / "tune.csv", f, health) || !write_file_atomically(dir / "tune_steps.csv", g, health))
+    std::fprintf(stderr, "tern: error: tune: %s (the table below is complete)\n", health.error().c_str());
 }
 
 /// Flight time the generator engaged (its summary's engaged_s), if it did.
