@@ -9,12 +9,14 @@
 namespace tern::fcu::firmware {
 
 namespace {
-constexpr int kCalDelayCycles = 128;          // Sensors::SENSOR_CAL_DELAY_CYCLES
-constexpr int kCalCycles = 127;               // Sensors::SENSOR_CAL_CYCLES
-constexpr double kBaroMaxVar = 25.0;          // Sensors::BARO_MAX_CALIBRATION_VARIANCE, Pa^2
-constexpr double kDiffMaxVar = 100.0;         // Sensors::DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE, Pa^2
-constexpr int kImuCalSamples = 1000;          // calibrate_gyro / calibrate_accel: done after more than this
-constexpr double kFirmwareGravity = 9.80665;  // the firmware's own (sensors.h gravity_), not the SDK's kGravity: emulated as it is
+constexpr int kCalDelayCycles = 128;   // Sensors::SENSOR_CAL_DELAY_CYCLES
+constexpr int kCalCycles = 127;        // Sensors::SENSOR_CAL_CYCLES
+constexpr double kBaroMaxVar = 25.0;   // Sensors::BARO_MAX_CALIBRATION_VARIANCE, Pa^2
+constexpr double kDiffMaxVar = 100.0;  // Sensors::DIFF_PRESSURE_MAX_CALIBRATION_VARIANCE, Pa^2
+constexpr int kImuCalSamples = 1000;   // calibrate_gyro / calibrate_accel: done after more than this
+// The firmware's own gravity (include/sensors.h, Sensors::gravity_; added to the accelerometer sum in
+// src/sensors.cpp, Sensors::calibrate_accel), not the SDK's kGravity: emulated as it is.
+constexpr double kFirmwareGravity = 9.80665;
 const char* kAcc[] = {"ACC_X_BIAS", "ACC_Y_BIAS", "ACC_Z_BIAS"};
 const char* kGyro[] = {"GYRO_X_BIAS", "GYRO_Y_BIAS", "GYRO_Z_BIAS"};
 
