@@ -306,8 +306,9 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
     MESSAGE("air start, seed " << seed << ": largest roll/pitch/yaw error in the first 2 s " << worst_early * 180.0 / M_PI << " deg, after "
                                << worst * 180.0 / M_PI << " deg, mag resets " << s["instances"]["ekf"]["mag_resets"].get<double>());
     CHECK(worst_early < 10.0 * M_PI / 180.0);
-    // 5 deg: the estimator models the gyro's scale and cross-axis error (gyro_scale), so its
-    // attitude loosens during the recovery's high rates (seed 1: 3.8 deg at 4 s, 2.3 deg without).
-    CHECK(worst < 5.0 * M_PI / 180.0);
+    // 6 deg: the estimator models the gyro's and the accelerometer's scale and cross-axis errors
+    // (gyro_scale, accel_scale), so its attitude loosens during the recovery's high rates and
+    // loads (seed 1: 5.2 deg at 4.7 s; 4.9 without accel_scale, 2.3 without either).
+    CHECK(worst < 6.0 * M_PI / 180.0);
   }
 }

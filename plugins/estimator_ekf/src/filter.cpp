@@ -47,7 +47,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   P.middleCols<3>(idx::th) = (P.middleCols<3>(idx::th) * Fthth.transpose() - dt * P.middleCols<3>(idx::bg)).eval();
   P.middleCols<3>(idx::eg) *= fe;
 
-  P.diagonal() += process_noise_diagonal(noise, dt, w.norm());
+  P.diagonal() += process_noise_diagonal(noise, dt, w.norm(), (a - Vec3(0.0, 0.0, -gravity)).norm());
   symmetrize(P);
 }
 
@@ -74,11 +74,12 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   return F;
 }
 
-ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, double rate) {
+ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, double rate, double load) {
   // R sigma^2 I R^T = sigma^2 I for the isotropic accelerometer noise.
   ErrVec q;
   q.segment<3>(idx::p).setConstant(noise.position * noise.position * dt);
-  q.segment<3>(idx::v).setConstant(noise.accel * noise.accel * dt * dt);
+  const double accel_scale = noise.accel_scale * load;  // m/s^2: scale, cross-axis, mount error at this load
+  q.segment<3>(idx::v).setConstant(noise.accel * noise.accel * dt * dt + accel_scale * accel_scale * noise.maneuver_time * dt);
   const double scale = noise.gyro_scale * rate;  // rad/s: scale and cross-axis error at this rate
   q.segment<3>(idx::th).setConstant(noise.gyro * noise.gyro * dt * dt + scale * scale * noise.maneuver_time * dt);
   q.segment<3>(idx::bg).setConstant(noise.gyro_bias_walk * noise.gyro_bias_walk * dt);

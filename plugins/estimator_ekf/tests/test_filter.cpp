@@ -142,12 +142,33 @@ TEST_CASE("the gyro scale error adds attitude noise in proportion to the rate") 
   qn.gyro_scale = 0.02;
   qn.maneuver_time = 1.0;
   const double dt = 0.0025;
-  const double still = Filter::process_noise_diagonal(qn, dt, 0.0)(idx::th);
-  const double rolling = Filter::process_noise_diagonal(qn, dt, 1.0)(idx::th);
+  const double still = Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::th);
+  const double rolling = Filter::process_noise_diagonal(qn, dt, 1.0, 0.0)(idx::th);
   CHECK(still == doctest::Approx(qn.gyro * qn.gyro * dt * dt));
   // 1 rad/s held for 1 s with a 2 % scale error: 0.02 rad of attitude uncertainty after 1 s.
   CHECK((rolling - still) / dt == doctest::Approx(0.02 * 0.02));
-  CHECK(Filter::process_noise_diagonal(qn, dt, 1.0)(idx::v) == Filter::process_noise_diagonal(qn, dt, 0.0)(idx::v));
+  CHECK(Filter::process_noise_diagonal(qn, dt, 1.0, 0.0)(idx::v) == Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::v));
+}
+
+TEST_CASE("the accelerometer scale error adds velocity noise in proportion to the load beyond level 1 g") {
+  ProcessNoise qn;
+  qn.accel_scale = 0.02;
+  qn.maneuver_time = 1.0;
+  const double dt = 0.0025;
+  const double level = Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::v);
+  const double two_g = Filter::process_noise_diagonal(qn, dt, 0.0, 9.81)(idx::v);
+  CHECK(level == doctest::Approx(qn.accel * qn.accel * dt * dt));
+  // one extra g held 1 s with a 2 % error: 0.196 m/s of velocity uncertainty after 1 s.
+  CHECK((two_g - level) / dt == doctest::Approx(0.02 * 0.02 * 9.81 * 9.81));
+  CHECK(Filter::process_noise_diagonal(qn, dt, 0.0, 9.81)(idx::th) == Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::th));
+  // propagate() measures the load from the bias-corrected specific force (down velocity: no
+  // attitude coupling for a force along z, the bias block adds dt^2 P_ba)
+  Filter f;
+  NominalState x;
+  x.b_a = Vec3(0.0, 0.0, 0.5);
+  f.initialize(x, Cov::Identity() * 1e-4);
+  f.propagate(Vec3(0.0, 0.0, -2 * 9.81 + 0.5), Vec3::Zero(), dt, qn, 9.81);
+  CHECK(f.P()(idx::v + 2, idx::v + 2) == doctest::Approx(1e-4 + dt * dt * 1e-4 + two_g).epsilon(1e-12));
 }
 
 TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
@@ -162,7 +183,7 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   f.propagate(accel, gyro, dt, qn, 9.81);
   const Cov F = Filter::transition(x, accel, gyro, dt, qn.gnss_error_k);
   Cov expected = F * P0 * F.transpose();
-  expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (gyro - x.b_g).norm());
+  expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (gyro - x.b_g).norm(), (accel - x.b_a - Vec3(0, 0, -9.81)).norm());
   CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
   CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
   const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn.gnss_error_k);

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tern/math.hpp"
+
 namespace tern::sim {
 
 namespace {
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
-constexpr double kG0 = 9.80665;  // standard gravity: datasheet g to m/s^2
+constexpr double kG0 = tern::kStandardGravity;  // datasheet g to m/s^2
 
 // Every error zero; the field model, the origin and the GNSS satellite count stay.
 SensorParams ideal() {
@@ -42,8 +44,11 @@ void realistic_imu(SensorParams& p) {
   // Raw turn-on gyro bias: the +-1 dps initial ZRO tolerance; the FCU's boot calibration
   // (calibrate_at_boot, boot_calibration.hpp) removes it while the aircraft sits still. The
   // accelerometer's +-25 mg offset is removed by the ground calibration stored in the FCU's
-  // parameters (`tern fcu calibrate imu`); what is left is its temperature drift since then.
+  // parameters (`tern fcu calibrate imu`, ROSflight's calibrate_accel), done with the aircraft on
+  // a floor checked with a spirit level (+-0.3 deg); what is left is its temperature drift since.
   p.calibrate_at_boot = true;
+  p.accel_calibrated_level = true;
+  p.accel_calibration_tilt_range = 0.3 * kDeg;
   p.gyro_bias_range = 1.0 * kDeg;                               // rad/s: +-1 dps = 0.0175 rad/s
   p.accel_bias_range = 0.05;                                    // m/s^2 residual of the stored calibration
   p.gyro_bias_walk = 3e-5;                                      // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)

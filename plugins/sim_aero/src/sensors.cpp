@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "tern/math.hpp"
+
 namespace tern::sim {
 
 double standard_temperature(double h) { return 288.15 - 0.0065 * h; }
@@ -137,7 +139,8 @@ Eigen::Vector3d Sensors::draw_gnss_start(const Eigen::Vector3d& sigma) {
 }
 
 // Draw order (fixed, whatever the parameters): the turn-on biases as before, then the IMU sensor
-// matrices, hard and soft iron, the pitot scale and the GNSS starting errors.
+// matrices, hard and soft iron, the pitot scale and the GNSS starting errors (the accelerometer
+// calibration has a stream of its own).
 void Sensors::reset() {
   rng_.seed(seed_);
   n_.reset();
@@ -154,6 +157,25 @@ void Sensors::reset() {
   gnss_vel_gm_ = draw_gnss_start(Eigen::Vector3d::Constant(p_.gnss_vel_noise));
   mag_gm_.setZero();
   boot_ = BootCalibration{};
+  accel_cal_ = draw_accel_calibration();
+}
+
+// ROSflight's Sensors::calibrate_accel on a surface tilted by (roll, pitch): the mean of 1000
+// samples at rest (noise sigma / sqrt(1000)) plus the firmware's gravity, refused when |.| >= 3.
+// Drawn from a stream of its own (seeded from the seed), so that the other draws are the same with
+// or without it.
+Eigen::Vector3d Sensors::draw_accel_calibration() {
+  constexpr int kSamples = 1000;  // src/sensors.cpp: accel_calibration_count_ > 1000
+  if (!p_.accel_calibrated_level) return Eigen::Vector3d::Zero();
+  std::mt19937_64 rng(seed_ ^ 0xacce1ca1u);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  boost::random::normal_distribution<double> n(0.0, 1.0);
+  const double roll = p_.accel_calibration_tilt_range * u(rng), pitch = p_.accel_calibration_tilt_range * u(rng);
+  const double n0 = n(rng), n1 = n(rng), n2 = n(rng);
+  const Eigen::Vector3d noise = p_.accel_noise / std::sqrt(double{kSamples}) * Eigen::Vector3d(n0, n1, n2);
+  const Eigen::Vector3d f_rest = euler_321({roll, pitch, 0.0}).transpose() * Eigen::Vector3d(0.0, 0.0, -kGravity);
+  const Eigen::Vector3d offset = accel_M_ * (mount_T_ * f_rest) + noise + Eigen::Vector3d(0.0, 0.0, tern::kStandardGravity);
+  return offset.norm() < 3.0 ? offset : Eigen::Vector3d::Zero();
 }
 
 void Sensors::calibrated_before_start() {
@@ -171,8 +193,9 @@ Eigen::Vector3d Sensors::white_and_vibration(double sigma, double vibration_full
   return white + vibration_full * throttle * gauss3();
 }
 
-// Measured = M R_mount^T true + bias + noise, the specific force taken at the IMU's position;
-// the gyro minus the FCU's boot calibration when calibrate_at_boot.
+// Measured = M R_mount^T true + bias + noise, the specific force taken at the IMU's position; the
+// accelerometer minus its stored calibration, the gyro minus the FCU's boot calibration when
+// calibrate_at_boot.
 ImuSample Sensors::imu(const Truth& t, double dt) {
   const double s = std::sqrt(std::max(dt, 0.0));
   accel_bias_ += p_.accel_bias_walk * s * gauss3();
@@ -180,7 +203,7 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
   const Eigen::Vector3d f = specific_force_at(t, p_.imu_position);
   const Eigen::Vector3d w = t.x.segment<3>(P);
   ImuSample m;
-  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
+  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle) - accel_cal_;
   m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ + white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
   if (p_.calibrate_at_boot) m.gyro = boot_.gyro(m.gyro);
   m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);

@@ -240,6 +240,10 @@ class SimAero final : public tern::Plugin {
     declare(calibrate_at_boot_, "calibrate_at_boot", d.calibrate_at_boot,
             ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)")
                 .start_only());
+    declare(
+        accel_calibrated_level_, "accel_calibrated_level", d.accel_calibrated_level,
+        ParamSpec("", 0, 0, "the FCU's stored accelerometer offset was taken with the aircraft taken as level (ROSflight calibrate_accel)")
+            .start_only());
     declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats},
             ParamSpec("", 0, 64, "reported satellites in use").start_only());
   }
@@ -253,6 +257,7 @@ class SimAero final : public tern::Plugin {
     }
     p.gnss_start_steady = gnss_start_steady_();
     p.calibrate_at_boot = calibrate_at_boot_();
+    p.accel_calibrated_level = accel_calibrated_level_();
     p.gnss_num_sats = static_cast<int>(gnss_num_sats_());
     return p;
   }
@@ -596,6 +601,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<double> truth_rate_, rc_rate_, status_rate_;
   tern::Param<bool> gnss_start_steady_;
   tern::Param<bool> calibrate_at_boot_;
+  tern::Param<bool> accel_calibrated_level_;
   tern::Param<double> pitot_cover_;
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;

@@ -359,6 +359,44 @@ TEST_CASE("sensors: IMU mounting rotation (3-2-1, body v reads R_mount^T v)") {
   CHECK((m2.accel - f).norm() > 0.1);  // the mount does change the reading
 }
 
+TEST_CASE("sensors: the stored accelerometer calibration (ROSflight calibrate_accel) makes level read -g0 z") {
+  // A misaligned, cross-coupled, scaled IMU calibrated on a level floor: at rest level it reads
+  // the firmware's (0, 0, -9.80665) exactly; in a 2-g pull-up the errors of the second g remain.
+  SensorParams p = ideal_with([](SensorParams& q) {
+    q.accel_scale_range = 0.01;
+    q.imu_cross_axis_range = 0.02;
+    q.accel_calibrated_level = true;
+  });
+  p.imu_misalignment = Eigen::Vector3d(0.5, -0.5, 1.0) * kDeg;
+  Sensors s(p, 3);
+  const Eigen::Vector3d level(0, 0, -kGravity), pull_up(0, 0, -2 * kGravity);
+  const Eigen::Vector3d g0(0, 0, -tern::kStandardGravity);
+  CHECK((s.imu(kinematic_truth(level, Eigen::Vector3d::Zero()), 0.0025).accel - g0).norm() < 1e-12);
+  // The offset is a constant: at 2 g the reading is the uncalibrated one (same seed, same draws)
+  // minus it, and the errors of the second g are left.
+  SensorParams uncalibrated = p;
+  uncalibrated.accel_calibrated_level = false;
+  Sensors raw(uncalibrated, 3);
+  const Eigen::Vector3d cal = s.accel_calibration();
+  CHECK(cal.norm() > 0.05);  // mount and cross-axis terms seen at 1 g
+  const Eigen::Vector3d f2 = s.imu(kinematic_truth(pull_up, Eigen::Vector3d::Zero()), 0.0025).accel;
+  CHECK((f2 - (raw.imu(kinematic_truth(pull_up, Eigen::Vector3d::Zero()), 0.0025).accel - cal)).norm() < 1e-12);
+  CHECK((f2 - (g0 + (pull_up - level))).norm() > 0.05);
+  // A tilted floor is taken as level: the tilt goes into the offset (about g sin(tilt) on x/y).
+  p.accel_calibration_tilt_range = 0.3 * kDeg;
+  Sensors tilted(p, 3);
+  const double tilt_err = (tilted.accel_calibration() - cal).head<2>().norm();
+  CHECK(tilt_err > 0.0);
+  CHECK(tilt_err < kGravity * std::sin(0.3 * kDeg) * std::sqrt(2.0) * 1.05);
+  // The firmware refuses an offset of 3 m/s^2 or more ("large accel bias"): nothing is stored.
+  p.imu_misalignment = Eigen::Vector3d(0, 30 * kDeg, 0);
+  Sensors refused(p, 3);
+  CHECK(refused.accel_calibration().norm() == 0.0);
+  // Without the calibration nothing is subtracted.
+  p.accel_calibrated_level = false;
+  CHECK(Sensors(p, 3).accel_calibration().norm() == 0.0);
+}
+
 TEST_CASE("sensors: IMU scale factors and cross-axis terms are per-seed, within their ranges") {
   // only the scale factors
   const SensorParams ps = ideal_with([](SensorParams& p) { p.accel_scale_range = p.gyro_scale_range = 0.01; });

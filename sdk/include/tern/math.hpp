@@ -16,6 +16,9 @@ namespace tern {
 
 inline constexpr double kPi = 3.14159265358979323846;
 inline constexpr double kGravity = 9.81;  ///< m/s^2, the book's g
+/// m/s^2, standard gravity g0 (3rd CGPM, 1901): a datasheet's "g", and the ROSflight firmware's
+/// gravity (include/sensors.h, Sensors::gravity_, used by Sensors::calibrate_accel).
+inline constexpr double kStandardGravity = 9.80665;
 
 /// Wraps an angle to [-pi, pi). NaN stays NaN.
 inline double wrap_pi(double a) {

@@ -47,6 +47,17 @@ struct SensorParams {
   /// The FCU's power-up calibrations (boot_calibration.hpp): the gyro mean over its first 1001
   /// samples and the pitot zero are subtracted from then on; the FCU arms once they are done.
   bool calibrate_at_boot = false;
+  /// The FCU's stored accelerometer calibration (ROSflight src/sensors.cpp, Sensors::calibrate_accel,
+  /// run on the ground before the flight): the mean of 1000 samples plus the firmware's gravity_
+  /// (0, 0, 9.80665) (include/sensors.h) becomes PARAM_ACC_{X,Y,Z}_BIAS, subtracted from every sample
+  /// (Sensors::correct_imu). The firmware takes the aircraft to be level, so the stored offset also
+  /// absorbs at 1 g what the mounting rotation, the cross-axis and the scale errors do to gravity;
+  /// accel_bias_range is then the drift since. A mean with |offset| >= 3 m/s^2 is refused ("large
+  /// accel bias") and nothing is stored.
+  bool accel_calibrated_level = false;
+  /// Roll and pitch of the surface the aircraft stood on during that calibration, each uniform in
+  /// +-range, rad: what was taken as level.
+  double accel_calibration_tilt_range = 0.0;
   double accel_vibration = 0.0;  ///< motor vibration at full throttle, m/s^2 per axis, 1 sigma (scales with throttle)
   double gyro_vibration = 0.0;   ///< motor vibration at full throttle, rad/s per axis, 1 sigma (scales with throttle)
   // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
@@ -175,6 +186,9 @@ class Sensors {
   /// The FCU's power-up calibrations; null when calibrate_at_boot is off.
   const BootCalibration* boot_calibration() const { return p_.calibrate_at_boot ? &boot_ : nullptr; }
   const Eigen::Vector3d& accel_bias() const { return accel_bias_; }
+  /// The stored accelerometer offset subtracted from every sample (accel_calibrated_level), m/s^2;
+  /// zero without it or when the firmware refused it.
+  const Eigen::Vector3d& accel_calibration() const { return accel_cal_; }
   /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
   const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
   const GeoOrigin& origin() const { return *origin_; }
@@ -191,6 +205,7 @@ class Sensors {
   Eigen::Matrix3d draw_soft_iron(double range);
   Eigen::Vector3d draw_gnss_start(const Eigen::Vector3d& sigma);
   Eigen::Vector3d gnss_sigma() const;
+  Eigen::Vector3d draw_accel_calibration();
   Eigen::Vector3d white_and_vibration(double sigma, double vibration_full, double throttle);
   void step_gnss_errors(double dt);
   SensorParams p_;
@@ -205,6 +220,7 @@ class Sensors {
   Eigen::Vector3d mag_hard_;          ///< hard iron, T (per seed)
   double diff_scale_ = 1.0;           ///< pitot installation scale (per seed)
   Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_, gnss_vel_gm_;
+  Eigen::Vector3d accel_cal_ = Eigen::Vector3d::Zero();  ///< stored accelerometer offset (per seed)
   double baro_bias_ = 0, diff_bias_ = 0;
   BootCalibration boot_;
 };

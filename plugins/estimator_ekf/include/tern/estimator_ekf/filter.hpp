@@ -145,6 +145,14 @@ struct ProcessNoise {
   /// manoeuvre, so it enters as attitude random walk of density
   /// gyro_scale |w| sqrt(maneuver_time) (a 1-rad/s roll held 1 s costs 0.4 deg of tilt sigma).
   double gyro_scale = 0.013;
+  /// Accelerometer scale-factor, cross-axis and mounting error as a fraction of the specific
+  /// force's departure from the level 1 g: the FCU's stored calibration (ROSflight
+  /// Sensors::calibrate_accel) is taken level at rest and absorbs these errors there, what is left
+  /// grows with the load (a 2-g turn: (M - I) g). ICM-20602 +-1 % sensitivity and +-2 % cross-axis
+  /// (DS-000176) uniform within them, root-sum-square with the default imu_mount_sigma (1 deg):
+  /// sqrt(0.013^2 + 0.0175^2) = 0.022. Enters as velocity random walk of density
+  /// accel_scale load sqrt(maneuver_time).
+  double accel_scale = 0.022;
   double maneuver_time = 0.3;          ///< s: how long a rate is held (correlation time of the scale error;
                                        ///< 0.3 s: no divergence over 10 + 10 realistic bench flights, 1 s: 1-3)
   double gyro_bias_walk = 5e-5;        ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
@@ -167,6 +175,8 @@ struct ProcessNoise {
     v(&P::accel, "accel_noise", ParamSpec("m/s^2", 1e-4, 10.0, "accelerometer white noise, 1 sigma per IMU sample"));
     v(&P::gyro, "gyro_noise", ParamSpec("rad/s", 1e-6, 1.0, "gyro white noise, 1 sigma per IMU sample"));
     v(&P::gyro_scale, "gyro_scale", ParamSpec("", 0.0, 0.5, "gyro scale-factor and cross-axis error, fraction of the rate"));
+    v(&P::accel_scale, "accel_scale",
+      ParamSpec("", 0.0, 0.5, "accelerometer scale, cross-axis and mounting error, fraction of the load beyond level 1 g"));
     v(&P::maneuver_time, "maneuver_time", ParamSpec("s", 0.0, 60.0, "how long a rate is held: correlation time of the gyro scale error"));
     v(&P::gyro_bias_walk, "gyro_bias_walk", ParamSpec("rad/s/sqrt(s)", 0.0, 1.0, "gyro-bias random walk"));
     v(&P::accel_bias_walk, "accel_bias_walk", ParamSpec("m/s^2/sqrt(s)", 0.0, 10.0, "accelerometer-bias random walk"));
@@ -229,8 +239,10 @@ class Filter {
   /// The dense error-state transition F of propagate() with the Gauss-Markov rate k (for tests and documentation; propagate()
   /// applies it block-wise without forming it).
   static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k);
-  /// The discrete process noise Q of propagate() (diagonal) at the body rate |w| = rate, rad/s.
-  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double rate);
+  /// The discrete process noise Q of propagate() (diagonal) at the body rate |w| = rate, rad/s, and
+  /// the specific force's departure |a - (0, 0, -g)| = load, m/s^2, from the level 1 g at which the
+  /// accelerometer was calibrated.
+  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double rate, double load);
 
   /// Generic measurement update with a model (measurements.hpp describes the interface):
   /// residual z - h(x), Jacobian H, noise R, chi-square gate model.gate (<= 0: no gate).
