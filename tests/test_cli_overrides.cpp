@@ -107,7 +107,7 @@ TEST_CASE("--phases replaces the table, --fallback the fallback; unknown phases 
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,takeoff=ctl2,cruise=ctl"})) ==
         "--phases takeoff=ctl,climb=ctl,takeoff=ctl2,cruise=ctl: phase 'takeoff' is given twice");
   CHECK(override_error(phases({"takeoff:ctl"})) ==
-        "--phases takeoff:ctl: 'takeoff:ctl' is not PHASE=INSTANCE (e.g. --phases takeoff=slc,climb=slc,cruise=tecs)");
+        "--phases takeoff:ctl: 'takeoff:ctl' is not PHASE=INSTANCE (e.g. takeoff=slc,climb=slc,cruise=tecs)");
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,cruise=filter"})) ==
         "--phases takeoff=ctl,climb=ctl,cruise=filter: phases.cruise: 'filter' is not a controller: it runs plugin 'test_filter' "
         "(estimator); name one of: ctl, ctl2");

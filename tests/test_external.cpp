@@ -5,6 +5,8 @@
 #include <memory>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "external_link.hpp"
 #include "test_util.hpp"
 #include "tern/msg/control.hpp"
@@ -22,6 +24,7 @@ struct FakeModule {
   std::vector<Nanos> silent;
   int timeouts = 0;
   int latest_left = 1 << 30;  // --realtime: how many take_latest calls find a new output
+  int latest_delay = 0;       // --realtime: how many take_latest calls find nothing before the first output
 };
 
 class FakeLink final : public ExternalLink {
@@ -44,6 +47,7 @@ class FakeLink final : public ExternalLink {
     return true;
   }
   bool take_latest(std::size_t o, Nanos stamp, void* tern_msg) override {
+    if (m_->latest_delay > 0) return --m_->latest_delay, false;
     if (m_->latest_left <= 0) return false;
     --m_->latest_left;
     return take(o, stamp, tern_msg, {});
@@ -114,26 +118,40 @@ TEST_CASE("external: lockstep: inputs stamped with the tick, outputs taken for t
   CHECK(lines(act).size() == m->taken.size() + 1);  // a header, a row per answered tick
 }
 
-TEST_CASE("external: --realtime: no lockstep; the newest output is held up to timeout_ms, then the module is silent") {
-  auto m = std::make_shared<FakeModule>();
-  m->latest_left = 10;  // the module answers 10 times, then stops
-  bool lockstep = true;
-  set_external_link_factory([&](const ExternalSpec& spec, const MissionConfig&) -> std::unique_ptr<ExternalLink> {
-    lockstep = spec.lockstep;
+namespace {
+
+// Flies kExternal for 1 s in real time (timeout_ms 200, 50 Hz) with the fake module `m`.
+FlightResult fly_realtime(const std::shared_ptr<FakeModule>& m, const std::string& name, bool* lockstep = nullptr) {
+  set_external_link_factory([=](const ExternalSpec& spec, const MissionConfig&) -> std::unique_ptr<ExternalLink> {
+    if (lockstep) *lockstep = spec.lockstep;
     return std::make_unique<FakeLink>(m);
   });
   HostOptions o;
   o.quiet = true;
   o.duration = 1.0;
   o.realtime = true;
-  o.log_dir = test_dir() / "external_realtime";
-  // timeout 200 ms at 50 Hz: after the 10th answer, about 10 more steps publish the held output
+  o.log_dir = test_dir() / name;
   std::string cfg = base_config(kExternal);
   cfg.replace(cfg.find("    rate: 50\n"), 13, "    rate: 50\n    timeout_ms: 200\n");
   Host h(load_config(write_file("flight.yaml", cfg)), o);
   h.build();
   const FlightResult r = h.fly();
   set_external_link_factory({});
+  return r;
+}
+
+double ext_timeouts(const FlightResult& r) {
+  return nlohmann::json::parse(read_file(r.run_dir / "summary.json"))["instances"]["ext"]["timeouts"].get<double>();
+}
+
+}  // namespace
+
+TEST_CASE("external: --realtime: no lockstep; the newest output is held up to timeout_ms, then the module is silent") {
+  auto m = std::make_shared<FakeModule>();
+  m->latest_left = 10;  // the module answers 10 times, then stops
+  bool lockstep = true;
+  // timeout 200 ms at 50 Hz: after the 10th answer, about 10 more steps publish the held output
+  const FlightResult r = fly_realtime(m, "external_realtime", &lockstep);
   CHECK(r.ok);
   CHECK_FALSE(lockstep);
   CHECK(m->taken.size() == 10);
@@ -141,4 +159,22 @@ TEST_CASE("external: --realtime: no lockstep; the newest output is held up to ti
   CHECK(rows >= 15);  // 10 taken + the held ones (about 10 steps in 200 ms of wall time)
   CHECK(rows <= 25);
   CHECK(rows < m->published.size());  // then silent: nothing published for the rest of the second
+}
+
+// A bug fixed: the steps before the module's first output counted as timeouts (none can exist
+// before it has seen an input).
+TEST_CASE("external: --realtime: the steps before the first output are no timeouts; a module that never answers times out") {
+  auto healthy = std::make_shared<FakeModule>();
+  healthy->latest_delay = 3;  // its first answer comes at the 4th step
+  const FlightResult r = fly_realtime(healthy, "external_realtime_first");
+  CHECK(r.ok);
+  CHECK(healthy->taken.size() + 3 == healthy->published.size());
+  CHECK(ext_timeouts(r) == 0);
+  auto dead = std::make_shared<FakeModule>();
+  dead->latest_left = 0;
+  const FlightResult d = fly_realtime(dead, "external_realtime_dead");
+  CHECK(d.ok);
+  // silent once 200 ms have passed since the first input: most of the second's 50 steps, not the first
+  CHECK(ext_timeouts(d) > 0);
+  CHECK(ext_timeouts(d) < static_cast<double>(dead->published.size()));
 }

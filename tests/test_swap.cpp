@@ -51,6 +51,26 @@ long rss_kb() {
     if (l.rfind("VmRSS:", 0) == 0) return std::stol(l.substr(6));
   return 0;
 }
+
+// A `tern serve` process on config `yaml` (its output in NAME.out), and clients of it.
+struct Served {
+  fs::path sock, out;
+  Served(const std::string& yaml, const std::string& name, const std::string& options)
+      : sock(test_dir() / (name + ".sock")), out(test_dir() / (name + ".out")) {
+    const fs::path cfg = write_file(name + ".yaml", yaml);
+    const std::string cmd = std::string(TERN_BIN) + " serve " + cfg.string() + " " + options + " --socket " + sock.string() +
+                            " --log-dir " + (test_dir() / (name + "_runs")).string() + " > " + out.string() + " 2>&1 &";
+    REQUIRE(std::system(cmd.c_str()) == 0);
+    for (int i = 0; i < 500 && !fs::exists(sock); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    REQUIRE(fs::exists(sock));
+  }
+  /// `tern ARGS --socket SOCK`: its exit status and output.
+  std::pair<int, std::string> run(const std::string& args) const {
+    const std::string client_out = (test_dir() / "client.out").string();
+    const int rc = std::system((std::string(TERN_BIN) + " " + args + " --socket " + sock.string() + " > " + client_out + " 2>&1").c_str());
+    return {WEXITSTATUS(rc), read_file(client_out)};
+  }
+};
 }  // namespace
 
 TEST_CASE("swap v1 -> v2 between flights: the next flight runs the new code, the old library is gone") {
@@ -210,21 +230,11 @@ TEST_CASE("the phase table changes between flights") {
 }
 
 TEST_CASE("tern serve: fly (with its summary), swap (with hashes), fly, abort, status, quit from the command line") {
-  const fs::path cfg = write_file("serve.yaml", base_config());
-  const fs::path sock = test_dir() / "serve.sock";
-  const fs::path logs = test_dir() / "serve_runs";
-  const std::string bin = TERN_BIN;
   // real time: the 600 s flight below lasts until aborted
-  const std::string serve_cmd = bin + " serve " + cfg.string() + " --realtime --socket " + sock.string() + " --log-dir " + logs.string() +
-                                " > " + (test_dir() / "serve.out").string() + " 2>&1 &";
-  REQUIRE(std::system(serve_cmd.c_str()) == 0);
-  for (int i = 0; i < 500 && !fs::exists(sock); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(10));
-  REQUIRE(fs::exists(sock));
-  auto run = [&](const std::string& args) {
-    const std::string out = (test_dir() / "client.out").string();
-    const int rc = std::system((bin + " " + args + " --socket " + sock.string() + " > " + out + " 2>&1").c_str());
-    return std::make_pair(WEXITSTATUS(rc), read_file(out));
-  };
+  const Served server(base_config(), "serve", "--realtime");
+  const fs::path& sock = server.sock;
+  const std::string bin = TERN_BIN;
+  auto run = [&server](const std::string& args) { return server.run(args); };
   auto [rc1, out1] = run("remote fly 0.5");
   CHECK(rc1 == 0);
   CHECK(out1.find("ok: flight 1 ended (duration) at t=0.500 s; log: ") == 0);
@@ -246,7 +256,7 @@ TEST_CASE("tern serve: fly (with its summary), swap (with hashes), fly, abort, s
   auto [rc2b, out2b] = run("swap ctl " + kV2.string());
   CHECK(rc2b == 0);
   CHECK(out2b == "ok: ctl now runs " + kV2.string() + "\nwarning: same library (sha256 " + file_sha256(kV2) + "): did the build fail?\n");
-  const std::string server_out = read_file(test_dir() / "serve.out");
+  const std::string server_out = read_file(server.out);
   CHECK(server_out.find("sha256 " + file_sha256(kV1) + " -> test_controller (" + kV2.string() + ") sha256 " + file_sha256(kV2)) !=
         std::string::npos);
   CHECK(server_out.find("same library (sha256 " + file_sha256(kV2) + ") as the one running: did the build fail?") != std::string::npos);
@@ -276,7 +286,7 @@ TEST_CASE("tern serve: fly (with its summary), swap (with hashes), fly, abort, s
   const fs::path abort_dir = long_fly.second.substr(abort_log_start, long_fly.second.find('\n', abort_log_start) - abort_log_start);
   CHECK(nlohmann::json::parse(read_file(abort_dir / "summary.json"))["end_reason"] == "aborted");
   CHECK(fs::exists(abort_dir / "timing.json"));
-  auto [rc4, out4] = run("phases takeoff=ctl climb=ctl cruise=nope");
+  auto [rc4, out4] = run("phases cruise=ctl");
   CHECK(rc4 == 1);
   CHECK(out4 == "error: phases: this mission has no 'phases:' table (and so no phase machine) to change\n");
   auto [rc5, out5] = run("remote status");
@@ -288,4 +298,32 @@ TEST_CASE("tern serve: fly (with its summary), swap (with hashes), fly, abort, s
   auto [rc7, out7] = run("remote status");
   CHECK(rc7 == 1);
   CHECK(out7.find("no tern serve answers at") != std::string::npos);
+}
+
+TEST_CASE("tern phases: a partial table changes the phases it names; a misspelt instance gets a suggestion") {
+  const Served server(
+      base_config("  - {name: ctl2, plugin: test_controller, rate: 100, params: {tag: 0.2}}\n",
+                  "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {alt_toz: 2, alt_hz: 3, preflight: false}\n"),
+      "serve_phases", "");
+  auto [rc1, out1] = server.run("phases cruise=ctrl2");
+  CHECK(rc1 == 1);
+  CHECK(out1.rfind("error: phases: cruise: no plugin instance named 'ctrl2' (did you mean 'ctl2'?)", 0) == 0);
+  auto [rc2, out2] = server.run("phases crusie=ctl2");
+  CHECK(rc2 == 1);
+  CHECK(out2.rfind("error: phases: unknown phase 'crusie' (did you mean 'cruise'?)", 0) == 0);
+  // cruise alone: takeoff and climb keep ctl
+  auto [rc3, out3] = server.run("phases cruise=ctl2 --fallback ctl");
+  CHECK(rc3 == 0);
+  CHECK(out3 == "ok: phase table changed\n");
+  auto [rc4, out4] = server.run("remote fly");
+  REQUIRE(rc4 == 0);
+  const auto log_start = out4.find("log: ") + 5;
+  const fs::path run_dir = out4.substr(log_start, out4.find('\n', log_start) - log_start);
+  const std::string flown = read_file(run_dir / "config.yaml");
+  CHECK(flown.find("phases: {takeoff: ctl, climb: ctl, cruise: ctl2}") != std::string::npos);
+  CHECK(flown.find("fallback: ctl\n") != std::string::npos);
+  const auto s = nlohmann::json::parse(read_file(run_dir / "summary.json"));
+  REQUIRE(s["controller_handovers"].size() == 1);
+  CHECK(s["controller_handovers"][0]["to"] == "ctl2");
+  CHECK(server.run("remote quit").first == 0);
 }

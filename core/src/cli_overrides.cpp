@@ -39,29 +39,7 @@ std::string trim(const std::string& s) {
 
 std::map<msg::Phase, std::string> parse_phase_table(const MissionConfig& c, const std::vector<std::string>& items,
                                                     const std::string& option) {
-  std::vector<std::string> phase_names;
-  for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise, msg::Phase::landing, msg::Phase::loiter})
-    phase_names.emplace_back(msg::phase_name(p));
-  std::map<msg::Phase, std::string> table;
-  for (const auto& item : items) {
-    std::size_t start = 0;
-    while (start <= item.size()) {
-      const std::size_t comma = std::min(item.find(',', start), item.size());
-      const std::string word = trim(item.substr(start, comma - start));
-      start = comma + 1;
-      if (word.empty()) continue;
-      const auto eq = word.find('=');
-      if (eq == std::string::npos)
-        throw ConfigError(fmt::format("{}: '{}' is not PHASE=INSTANCE (e.g. --phases takeoff=slc,climb=slc,cruise=tecs)", option, word));
-      const std::string phase = trim(word.substr(0, eq)), name = trim(word.substr(eq + 1));
-      const auto p = msg::phase_from_name(phase);
-      if (!p || *p == msg::Phase::preflight)
-        throw ConfigError(fmt::format("{}: unknown phase '{}'{} (one of {})", option, phase, did_you_mean(phase, phase_names),
-                                      fmt::join(phase_names, ", ")));
-      if (!has_instance(c, name)) throw ConfigError(fmt::format("{}: {}: {}", option, phase, no_instance(c, name)));
-      if (!table.emplace(*p, name).second) throw ConfigError(fmt::format("{}: phase '{}' is given twice", option, phase));
-    }
-  }
+  const auto table = parse_phase_entries(c, items, option);
   for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise})
     if (!table.count(p))
       throw ConfigError(fmt::format("{}: no controller for phase '{}' (the table is replaced: takeoff, climb and cruise are required)",
@@ -89,6 +67,34 @@ void apply_set(MissionConfig& c, const ParamOverride& po) {
 }
 
 }  // namespace
+
+std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& c, const std::vector<std::string>& items,
+                                                      const std::string& option) {
+  std::vector<std::string> phase_names;
+  for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise, msg::Phase::landing, msg::Phase::loiter})
+    phase_names.emplace_back(msg::phase_name(p));
+  std::map<msg::Phase, std::string> table;
+  for (const auto& item : items) {
+    std::size_t start = 0;
+    while (start <= item.size()) {
+      const std::size_t comma = std::min(item.find(',', start), item.size());
+      const std::string word = trim(item.substr(start, comma - start));
+      start = comma + 1;
+      if (word.empty()) continue;
+      const auto eq = word.find('=');
+      if (eq == std::string::npos)
+        throw ConfigError(fmt::format("{}: '{}' is not PHASE=INSTANCE (e.g. takeoff=slc,climb=slc,cruise=tecs)", option, word));
+      const std::string phase = trim(word.substr(0, eq)), name = trim(word.substr(eq + 1));
+      const auto p = msg::phase_from_name(phase);
+      if (!p || *p == msg::Phase::preflight)
+        throw ConfigError(fmt::format("{}: unknown phase '{}'{} (one of {})", option, phase, did_you_mean(phase, phase_names),
+                                      fmt::join(phase_names, ", ")));
+      if (!has_instance(c, name)) throw ConfigError(fmt::format("{}: {}: {}", option, phase, no_instance(c, name)));
+      if (!table.emplace(*p, name).second) throw ConfigError(fmt::format("{}: phase '{}' is given twice", option, phase));
+    }
+  }
+  return table;
+}
 
 ParamOverride parse_param_override(const std::string& item) {
   const auto eq = item.find('=');

@@ -37,6 +37,15 @@ struct ParamOverride {
 };
 ParamOverride parse_param_override(const std::string& item);
 
+/// PHASE=INSTANCE items (each possibly a comma-separated list) read against `config`; the same
+/// reader for --phases and `tern phases`. Throws ConfigError "OPTION: ...", one line: an item that
+/// is not PHASE=INSTANCE, an unknown phase or instance (with a suggestion), a phase given twice.
+/// No phase is required here (--phases then requires takeoff, climb and cruise; `tern phases`
+/// merges the entries into the current table); whether an instance is a controller is the router's
+/// check.
+std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& config, const std::vector<std::string>& items,
+                                                      const std::string& option);
+
 /// Applies `o` to `config` (and records it in config.overrides). Throws ConfigError, one line
 /// naming the option and value: unknown instance or phase (with a suggestion), a value that is
 /// not YAML, a table without takeoff, climb or cruise, --fallback without a table.

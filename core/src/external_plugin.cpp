@@ -54,6 +54,7 @@ void ExternalPlugin::configure() {
 void ExternalPlugin::start() {
   silent_ = false;
   last_output_.assign(out_.size(), std::nullopt);
+  first_sent_.reset();
   exchanges_ = timeouts_ = 0;
   wait_us_total_ = wait_us_max_ = 0;
   if (!link_) return;
@@ -67,20 +68,30 @@ void ExternalPlugin::start() {
 
 void ExternalPlugin::step(Nanos now) {
   if (!link_) return;
+  bool sent = in_.empty();
   for (std::size_t i = 0; i < in_.size(); ++i)
-    if (in_[i]->has_value()) link_->publish(i, in_[i]->source()->data(), now);
+    if (in_[i]->has_value()) {
+      link_->publish(i, in_[i]->source()->data(), now);
+      sent = true;
+    }
+  if (sent && !first_sent_) first_sent_ = std::chrono::steady_clock::now();
   exchange_outputs(now);
 }
 
-// --realtime: the newest output of each, held while younger than timeout_ms of wall time.
+// --realtime: the newest output of each, held while younger than timeout_ms of wall time. Before
+// its first output the module has timeout_ms from the first input sent: until then a step
+// publishes nothing and is no miss (no output can exist before the module has seen an input).
 bool ExternalPlugin::take_latest_outputs(Nanos now) {
   const auto wall = std::chrono::steady_clock::now();
   const auto hold = std::chrono::microseconds(static_cast<std::int64_t>(spec_.timeout_ms * 1000.0));
   bool all = true;
   for (std::size_t o = 0; o < out_.size(); ++o) {
-    if (link_->take_latest(o, now, buf_[o].data()))
+    if (link_->take_latest(o, now, buf_[o].data())) {
       last_output_[o] = wall;
-    else if (!last_output_[o] || wall - *last_output_[o] > hold) {
+    } else if (!last_output_[o]) {
+      if (first_sent_ && wall - *first_sent_ > hold) all = false;
+      continue;
+    } else if (wall - *last_output_[o] > hold) {
       all = false;
       continue;
     }

@@ -16,7 +16,10 @@
 // With --realtime (spec.lockstep false) there is no lockstep: the tick is paced to wall time, the
 // module runs on /clock (published by the DDS bridge: fly with --dds), and each step publishes
 // the inputs, then the newest output that came (any stamp), held while younger than timeout_ms
-// of wall time; an older one makes the step silent, as above.
+// of wall time; an older one makes the step silent, as above. Before the module's first output
+// a step publishes nothing and counts no timeout until timeout_ms of wall time have passed since
+// the first input went out (a module needs an input to answer; one that never answers is silent
+// from then on).
 // start() waits up to 10 s for the DDS endpoints to match (discovery); unmatched ones are logged.
 #pragma once
 
@@ -60,6 +63,7 @@ class ExternalPlugin final : public Plugin {
   std::vector<std::vector<unsigned char>> buf_;                                    // per output: the tern message taken
   bool silent_ = false;                                                            // the last exchange missed an output
   std::vector<std::optional<std::chrono::steady_clock::time_point>> last_output_;  // --realtime: when each came
+  std::optional<std::chrono::steady_clock::time_point> first_sent_;                // when the first input went out
   std::uint64_t exchanges_ = 0, timeouts_ = 0;
   double wait_us_total_ = 0, wait_us_max_ = 0;  // wall time spent waiting for the module
 };

@@ -263,7 +263,7 @@ int main(int argc, char** argv) {
   swap_cmd->add_option("path", so_path, "the new plugin: a path to a .so, or a plugin name")->required();
   swap_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* phases_cmd = app.add_subcommand("phases", "between flights of `tern serve`: set the phase -> controller table");
-  phases_cmd->add_option("table", phase_args, "PHASE=INSTANCE ... (takeoff, climb, cruise required)")->required();
+  phases_cmd->add_option("table", phase_args, "PHASE=INSTANCE ... (the phases named change; the others keep their controller)")->required();
   phases_cmd->add_option("--fallback", fallback, "controller used if the active one fails");
   phases_cmd->add_option("--socket", socket, "control socket of the server")->capture_default_str();
   auto* console_cmd = app.add_subcommand("console", "the URL of the console of a `tern serve --realtime --console` (open it in a browser)");

@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "cli_overrides.hpp"
 #include "error.hpp"
 #include "host.hpp"
 
@@ -116,21 +117,17 @@ struct Server {
         if (host.flying()) return "error: phases refused: a flight is in progress; change the table between flights";
         std::unique_lock lk(flight_mu, std::try_to_lock);
         if (!lk.owns_lock()) return "error: phases refused: a flight is in progress; change the table between flights";
-        std::map<msg::Phase, std::string> table;
+        std::vector<std::string> items;
         std::optional<std::string> fallback;
         for (std::size_t i = 1; i < w.size(); ++i) {
-          const auto eq = w[i].find('=');
-          if (eq == std::string::npos) return "error: phases: expected PHASE=INSTANCE, got '" + w[i] + "'";
-          const std::string k = w[i].substr(0, eq), v = w[i].substr(eq + 1);
-          if (k == "fallback") {
-            fallback = v;
-            continue;
-          }
-          const auto p = msg::phase_from_name(k);
-          if (!p || *p == msg::Phase::preflight)
-            return "error: phases: unknown phase '" + k + "' (takeoff, climb, cruise, landing, loiter, fallback)";
-          table[*p] = v;
+          if (w[i].rfind("fallback=", 0) == 0)
+            fallback = w[i].substr(std::string("fallback=").size());
+          else
+            items.push_back(w[i]);
         }
+        // a partial table: the phases named change, the others keep their controller
+        std::map<msg::Phase, std::string> table = host.config().phases;
+        for (const auto& [phase, instance] : parse_phase_entries(host.config(), items, "phases")) table[phase] = instance;
         host.set_phases(table, fallback);
         return "ok: phase table changed";
       }

@@ -4,7 +4,8 @@
 // Commands: `fly [SECONDS]`, `status`, `swap INSTANCE PATH`,
 // `phases PHASE=INSTANCE... [fallback=INSTANCE]`, `console` (the console's URL, `tern console`),
 // `quit`. Replies start with "ok:" or "error:".
-// `swap` and `phases` are refused while a flight is in progress.
+// `phases` changes the phases it names (read as --phases reads them, cli_overrides.hpp); the
+// others keep their controller. `swap` and `phases` are refused while a flight is in progress.
 #pragma once
 
 #include <filesystem>
