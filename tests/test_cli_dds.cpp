@@ -29,13 +29,20 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   if (pid == 0) {
     freopen("/dev/null", "w", stdout);
     freopen("/dev/null", "w", stderr);
-    execl(TERN_BIN, TERN_BIN, "fly", mission.c_str(), "--dds", "--dds-domain", "183", "--realtime", "--duration", "120", "--log-dir",
+    execl(TERN_BIN, TERN_BIN, "fly", mission.c_str(), "--dds", "--dds-domain", "183", "--realtime", "--duration", "900", "--log-dir",
           logs.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
   struct Reaper {  // a failed REQUIRE must not leave the vehicle flying on the test's domain
     pid_t pid;
     bool done = false;
+    int status = 0;
+    // false once the vehicle has exited (reaped here): the polls below stop instead of waiting
+    // out each command's time-out against nobody (the flight is ended by SIGINT at the end).
+    bool alive() {
+      if (!done && waitpid(pid, &status, WNOHANG) == pid) done = true;
+      return !done;
+    }
     ~Reaper() {
       if (done) return;
       kill(pid, SIGKILL);
@@ -76,7 +83,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   CHECK(rc3 == 1);
   CHECK(refused == "tern: error: parameter 'slc.roll_kp': value 99 is outside the valid range [0, 10] rad/rad\n");
   std::string get;
-  for (int i = 0; i < 50; ++i) {  // applied at the vehicle's next tick
+  for (int i = 0; i < 50 && reaper.alive(); ++i) {  // applied at the vehicle's next tick
     get = run_tern("param get slc.roll_kp" + d).second;
     if (get.rfind("slc.roll_kp                        0.5 ", 0) == 0) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -90,7 +97,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17" + d);
   CHECK_MESSAGE(rc5 == 0, add);
   std::string print;
-  for (int i = 0; i < 50; ++i) {  // the planner applies the edit at its next step
+  for (int i = 0; i < 50 && reaper.alive(); ++i) {  // the planner applies the edit at its next step
     print = run_tern("mission print" + d).second;
     if (print.find("5 waypoints") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -98,7 +105,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   CHECK_MESSAGE(print.find("5 waypoints") != std::string::npos, print);
   CHECK(print.find("w [100.000, -100.000, -60.000]") != std::string::npos);
   CHECK(run_tern("mission clear" + d).first == 0);
-  for (int i = 0; i < 50; ++i) {
+  for (int i = 0; i < 50 && reaper.alive(); ++i) {
     print = run_tern("mission print" + d).second;
     if (print.find("0 waypoints") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -107,6 +114,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   auto [rc6, none] = run_tern("param get slc.roll_kp --domain 184 --timeout 0.5");
   CHECK(rc6 == 1);
   CHECK(none == "tern: error: no vehicle announced its nodes (ros_discovery_info) on DDS domain 184, namespace 'tern' within 0.5 s\n");
+  REQUIRE_MESSAGE(reaper.alive(), "the vehicle exited before the test ended it (status " << reaper.status << ")");
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
