@@ -72,13 +72,6 @@ Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
 // ---------------------------------------------------------------- error models -------------
 
 namespace {
-/// Rotation of a 3-2-1 (yaw, pitch, roll) Euler sequence: R = Rz(yaw) Ry(pitch) Rx(roll).
-Eigen::Matrix3d euler_321(const Eigen::Vector3d& rpy) {
-  return (Eigen::AngleAxisd(rpy.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Eigen::Vector3d::UnitY()) *
-          Eigen::AngleAxisd(rpy.x(), Eigen::Vector3d::UnitX()))
-      .toRotationMatrix();
-}
-
 /// Transition factor exp(-dt / tau) of a first-order Gauss-Markov process (0: white).
 double gm_phi(double dt, double tau) { return tau > 0 ? std::exp(-std::max(dt, 0.0) / tau) : 0.0; }
 
@@ -99,7 +92,7 @@ Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
     : p_(p),
       seed_(seed),
       origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)),
-      mount_T_(euler_321(p.imu_misalignment).transpose()) {
+      mount_T_(tern::rotation_from_euler(p.imu_misalignment.x(), p.imu_misalignment.y(), p.imu_misalignment.z()).transpose()) {
   reset();
 }
 Sensors::~Sensors() = default;
@@ -173,7 +166,7 @@ Eigen::Vector3d Sensors::draw_accel_calibration() {
   const double roll = p_.accel_calibration_tilt_range * u(rng), pitch = p_.accel_calibration_tilt_range * u(rng);
   const double n0 = n(rng), n1 = n(rng), n2 = n(rng);
   const Eigen::Vector3d noise = p_.accel_noise / std::sqrt(double{kSamples}) * Eigen::Vector3d(n0, n1, n2);
-  const Eigen::Vector3d f_rest = euler_321({roll, pitch, 0.0}).transpose() * Eigen::Vector3d(0.0, 0.0, -kGravity);
+  const Eigen::Vector3d f_rest = tern::rotation_from_euler(roll, pitch, 0.0).transpose() * Eigen::Vector3d(0.0, 0.0, -kGravity);
   const Eigen::Vector3d offset = accel_M_ * (mount_T_ * f_rest) + noise + Eigen::Vector3d(0.0, 0.0, tern::kStandardGravity);
   return offset.norm() < 3.0 ? offset : Eigen::Vector3d::Zero();
 }
