@@ -19,6 +19,10 @@
 // its first fix, off by the receiver's vertical error); "height above home" compares the change
 // of height since the first valid estimate on the ground (estimate, truth and raw fix alike):
 // the height a mission's altitudes are flown by.
+// u, v, w compare the estimate's body velocity (its velocity in its own attitude) with the
+// truth's, so they carry the attitude error too (Va 25 m/s x 1 deg of yaw = 0.44 m/s of v);
+// "vel. error body x/y/z" is the velocity error alone, the estimate's NED velocity minus the
+// truth's, in the true body axes.
 // With --gnss-outage the outage's errors count in the RMSE too; its own rows give the drift at
 // its end and the largest error 5 to 20 s after the fixes return.
 // A flight diverged when its horizontal position error exceeded 50 m or its attitude error
@@ -72,7 +76,7 @@ struct Rms {
 };
 
 // The quantities of the table; the first kGnssRows also have a raw-GNSS figure.
-enum Q { N, E, HORIZ, ALT, HOME, U, V, W, ROLL, PITCH, YAW, COURSE, WIND, kQ };
+enum Q { N, E, HORIZ, ALT, HOME, U, V, W, ROLL, PITCH, YAW, COURSE, WIND, VEL_X, VEL_Y, VEL_Z, kQ };
 constexpr int kGnssRows = 5;
 struct QInfo {
   const char* name;
@@ -93,6 +97,9 @@ const QInfo kInfo[kQ] = {
     {"yaw deg", kDeg, std::nan("")},
     {"course deg", kDeg, 0.112},
     {"wind (from 60 s) m/s", 1, std::nan("")},
+    {"vel. error body x m/s", 1, std::nan("")},
+    {"vel. error body y m/s", 1, std::nan("")},
+    {"vel. error body z m/s", 1, std::nan("")},
 };
 
 // NEES blocks: position, velocity, attitude (3 dimensions each).
@@ -204,6 +211,10 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
   f.est[YAW].add(wrap_pi(x.psi - t.psi));
   f.est[COURSE].add(wrap_pi(x.chi - t.chi));
   if (s >= kT0Wind) f.est[WIND].add(std::hypot(x.w_n - t.w_n, x.w_e - t.w_e));
+  const Eigen::Vector3d dv_body = t.quat.conjugate() * Eigen::Vector3d(x.v_n - t.v_n, x.v_e - t.v_e, x.v_d - t.v_d);
+  f.est[VEL_X].add(dv_body.x());
+  f.est[VEL_Y].add(dv_body.y());
+  f.est[VEL_Z].add(dv_body.z());
   const double att =
       std::max({std::fabs(wrap_pi(x.phi - t.phi)), std::fabs(wrap_pi(x.theta - t.theta)), std::fabs(wrap_pi(x.psi - t.psi))});
   if ((!(std::hypot(dn, de) <= kDivergedPosition) || !(att <= kDivergedAttitude)) && !f.diverged) {
