@@ -123,7 +123,7 @@ void Estimator::reset() {
   imu_samples_ = mag_samples_ = 0;
   baro_cal_count_ = 0;
   baro_cal_sum_ = baro_offset_ = 0.0;
-  baro_calibrated_ = baro_datum_pending_ = false;
+  baro_calibrated_ = false;
   baro_datum_var_ = 0.0;
   imu_stamp_ = -1;
   last_diff_pressure_ = 0.0;
@@ -411,8 +411,8 @@ bool Estimator::add_baro(const msg::Baro& m) {
     if (++baro_cal_count_ >= cfg_.baro_calibration_count) {
       baro_offset_ = baro_cal_sum_ / baro_cal_count_;
       baro_calibrated_ = true;
-      baro_datum_pending_ = !initialized_;
-      if (initialized_) baro_datum_var_ = filter_.P()(idx::p + 2, idx::p + 2);
+      // the datum: the estimate's altitude, or before initialisation the origin (a GNSS fix)
+      baro_datum_var_ = initialized_ ? filter_.P()(idx::p + 2, idx::p + 2) : gnss_error_variance().z();
       push(m.stamp, EventKind::baro_calibrated, Sensor::baro, baro_offset_);
     }
     return true;
@@ -645,8 +645,6 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   P0.block<3, 3>(idx::p, idx::eg) = Mat3((-e2).asDiagonal());
   P0.block<3, 3>(idx::eg, idx::p) = Mat3((-e2).asDiagonal());
   filter_.initialize(x, P0);
-  if (baro_datum_pending_) baro_datum_var_ = e2.z();  // the origin: the first fix, off by its error
-  baro_datum_pending_ = false;
   history_.clear();
   initialized_ = true;
   init_stamp_ = m.stamp;

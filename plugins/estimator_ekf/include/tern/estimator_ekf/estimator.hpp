@@ -501,7 +501,6 @@ class Estimator {
   double baro_cal_sum_ = 0.0;
   double baro_offset_ = 0.0;
   bool baro_calibrated_ = false;
-  bool baro_datum_pending_ = false;  ///< calibrated against the origin before initialisation
   /// Variance of the altitude the barometer was calibrated against (the origin's: a GNSS fix's),
   /// m^2. The filter's altitude is the height above that datum; in the frame it adds this.
   double baro_datum_var_ = 0.0;
