@@ -264,7 +264,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
       if (output_offset_.norm() < 1e-4) output_offset_.setZero();
     }
   }
-  rate_ = gyro - filter_.x().b_g;
+  rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
   side_force_sum_ += accel.y();
   ++side_force_n_;
@@ -292,7 +292,7 @@ Vec3 Estimator::imu_to_cg(const Vec3& accel_body, const Vec3& gyro_body, double 
   gyro_body_ = gyro_body;
   const Vec3& r = cfg_.imu_position;
   if (r.isZero()) return accel_body;
-  const Vec3 w = gyro_body - filter_.x().b_g;
+  const Vec3 w = filter_.x().rate(gyro_body);
   return accel_body - omega_dot_.cross(r) - w.cross(w.cross(r));
 }
 
@@ -523,6 +523,17 @@ Vec3 Estimator::gnss_error_variance() const {
   return {h, h, steady(process_.gnss_error_walk_v)};
 }
 
+Eigen::Matrix<double, 9, 9> Estimator::sensitivity_covariance(double scale_sigma, double cross_axis_sigma) const {
+  // Scale errors on the diagonal of S, cross-axis sensitivity off it, independent. The board's
+  // mounting rotation is left out: it turns the gyro and the accelerometer together, and a
+  // rotation of the whole IMU frame (S_g's antisymmetric part, the attitude and the accelerometer
+  // bias together) is what no measurement sees; a prior along it let the aggressive mission's
+  // filter wander 6 deg in roll (imu_mount_sigma widens the published attitude instead).
+  Eigen::Matrix<double, 9, 1> d;
+  for (int k = 0; k < 9; ++k) d(k) = k % 4 == 0 ? scale_sigma * scale_sigma : cross_axis_sigma * cross_axis_sigma;
+  return d.asDiagonal();
+}
+
 bool Estimator::gnss_reset_allowed(Nanos stamp, double innovation) const {
   // At most one reset per reset_min_interval: a second one soon after means the filter and the
   // receiver disagree for a reason a reset does not cure (latency, a lever arm, a multipath
@@ -628,6 +639,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   const double gb = at_rest ? cfg_.init_gyro_bias_sigma : std::max(cfg_.init_gyro_bias_sigma, 0.05);
   P0.diagonal().segment<3>(idx::bg).setConstant(gb * gb);
   P0.diagonal().segment<3>(idx::ba).setConstant(cfg_.init_accel_bias_sigma * cfg_.init_accel_bias_sigma);
+  P0.block<9, 9>(idx::sg, idx::sg) = sensitivity_covariance(cfg_.init_gyro_scale_sigma, cfg_.init_gyro_cross_axis_sigma);
   double wind_sigma = cfg_.init_wind_sigma;
   const double Va = std::sqrt(2.0 * std::max(last_diff_pressure_, 0.0) / cfg_.rho);
   if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {
@@ -650,7 +662,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   init_stamp_ = m.stamp;
   mag_reject_since_ = -1;
   gnss_reject_since_ = -1;
-  rate_ = (imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero()) - x.b_g;
+  rate_ = x.rate(imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero());
   push(m.stamp, EventKind::initialized, Sensor::gnss, have_mag ? 1.0 : 0.0);
 }
 
@@ -701,8 +713,8 @@ void Estimator::fill_state(msg::State& s) const {
   s.b_y = x.b_g.y();
   s.b_z = x.b_g.z();
   const Cov& P = filter_.P();
-  static_assert(kErrDim <= static_cast<int>(std::tuple_size_v<decltype(s.P_diag)>));
-  for (int i = 0; i < kErrDim; ++i) s.P_diag[static_cast<std::size_t>(i)] = P(i, i);
+  static_assert(static_cast<int>(std::tuple_size_v<decltype(s.P_diag)>) == idx::sg);  // the navigation states
+  for (std::size_t i = 0; i < s.P_diag.size(); ++i) s.P_diag[i] = P(static_cast<int>(i), static_cast<int>(i));
   for (int i = 0; i < 3; ++i)  // the body attitude = the IMU's, off by the mounting error
     s.P_diag[static_cast<std::size_t>(idx::th + i)] += cfg_.imu_mount_sigma[i] * cfg_.imu_mount_sigma[i];
   // The barometer measures the height above its calibration datum, known to decimetres; the

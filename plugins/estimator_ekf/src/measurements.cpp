@@ -20,8 +20,10 @@ GnssVelocity::Jac GnssVelocity::jacobian(const NominalState& x) const {
   const Mat3 R = x.R();
   Jac H = Jac::Zero();
   H.block<3, 3>(0, idx::v).setIdentity();
-  H.block<3, 3>(0, idx::th) = -R * tern::skew((gyro - x.b_g).cross(antenna));
-  H.block<3, 3>(0, idx::bg) = R * tern::skew(antenna);
+  H.block<3, 3>(0, idx::th) = -R * tern::skew(x.rate(gyro).cross(antenna));
+  const Mat3 Rr = R * tern::skew(antenna);
+  H.block<3, 3>(0, idx::bg) = Rr * (Mat3::Identity() - x.S_g);
+  H.block<3, 9>(0, idx::sg) = Rr * sensitivity_jacobian(gyro - x.b_g);
   return H;
 }
 

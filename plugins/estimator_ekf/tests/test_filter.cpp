@@ -22,6 +22,7 @@ NominalState sample_state() {
   x.wind = Eigen::Vector2d(3.0, -4.0);
   x.b_baro = 1.5;
   x.e_gnss = Vec3(0.5, -1.0, 2.0);
+  x.S_g << 0.01, -0.02, 0.015, 0.012, -0.008, 0.02, -0.017, 0.009, 0.005;
   return x;
 }
 
@@ -37,6 +38,7 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   d.segment<2>(idx::w) = x1.wind - x0.wind;
   d(idx::bb) = x1.b_baro - x0.b_baro;
   d.segment<3>(idx::eg) = x1.e_gnss - x0.e_gnss;
+  for (int i = 0; i < 3; ++i) d.segment<3>(idx::sg + 3 * i) = (x1.S_g - x0.S_g).row(i).transpose();
   return d;
 }
 
@@ -137,17 +139,29 @@ TEST_CASE("transition matrix matches finite differences of the nominal propagati
   }
 }
 
-TEST_CASE("the gyro scale error adds attitude noise in proportion to the rate") {
+TEST_CASE("the gyro sensitivity error: the body rate it gives and the attitude uncertainty it adds in proportion to the rate") {
+  NominalState x;
+  x.b_g = Vec3(0.01, 0.0, 0.0);
+  x.S_g(1, 2) = 0.02;  // 2 % of the z rate read on y
+  CHECK((x.rate(Vec3(0.01, 0.02, 1.0)) - Vec3(0.0, 0.0, 1.0)).norm() == doctest::Approx(0.0));
+  // A yaw rate of 1 rad/s held 1 s with S_g(1, 2) 0.02 rad uncertain: 0.02 rad of pitch sigma.
+  Filter f;
+  Cov P0 = Cov::Identity() * 1e-12;
+  P0(idx::sg + 5, idx::sg + 5) = 0.02 * 0.02;
+  f.initialize(NominalState{}, P0);
   ProcessNoise qn;
-  qn.gyro_scale = 0.02;
-  qn.maneuver_time = 1.0;
-  const double dt = 0.0025;
-  const double still = Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::th);
-  const double rolling = Filter::process_noise_diagonal(qn, dt, 1.0, 0.0)(idx::th);
-  CHECK(still == doctest::Approx(qn.gyro * qn.gyro * dt * dt));
-  // 1 rad/s held for 1 s with a 2 % scale error: 0.02 rad of attitude uncertainty after 1 s.
-  CHECK((rolling - still) / dt == doctest::Approx(0.02 * 0.02));
-  CHECK(Filter::process_noise_diagonal(qn, dt, 1.0, 0.0)(idx::v) == Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::v));
+  qn.gyro = 0.0;
+  qn.gyro_bias_walk = qn.gyro_scale_walk = 0.0;
+  for (int k = 0; k < 400; ++k) f.propagate(Vec3(0.0, 0.0, -9.81), Vec3(0.0, 0.0, 1.0), 0.0025, qn, 9.81);
+  // The attitude error rotates with the body (Exp(-w dt)): its variance moves between x and y.
+  const double tilt = std::sqrt(f.P()(idx::th, idx::th) + f.P()(idx::th + 1, idx::th + 1));
+  CHECK(tilt == doctest::Approx(0.02).epsilon(0.01));
+  CHECK(f.P()(idx::th + 2, idx::th + 2) < 1e-10);
+  // still: nothing grows
+  Filter g;
+  g.initialize(NominalState{}, P0);
+  for (int k = 0; k < 400; ++k) g.propagate(Vec3(0.0, 0.0, -9.81), Vec3::Zero(), 0.0025, qn, 9.81);
+  CHECK(g.P()(idx::th + 1, idx::th + 1) < 1e-10);
 }
 
 TEST_CASE("the accelerometer scale error adds velocity noise in proportion to the load beyond level 1 g") {
@@ -155,12 +169,12 @@ TEST_CASE("the accelerometer scale error adds velocity noise in proportion to th
   qn.accel_scale = 0.02;
   qn.maneuver_time = 1.0;
   const double dt = 0.0025;
-  const double level = Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::v);
-  const double two_g = Filter::process_noise_diagonal(qn, dt, 0.0, 9.81)(idx::v);
+  const double level = Filter::process_noise_diagonal(qn, dt, 0.0)(idx::v);
+  const double two_g = Filter::process_noise_diagonal(qn, dt, 9.81)(idx::v);
   CHECK(level == doctest::Approx(qn.accel * qn.accel * dt * dt));
   // one extra g held 1 s with a 2 % error: 0.196 m/s of velocity uncertainty after 1 s.
   CHECK((two_g - level) / dt == doctest::Approx(0.02 * 0.02 * 9.81 * 9.81));
-  CHECK(Filter::process_noise_diagonal(qn, dt, 0.0, 9.81)(idx::th) == Filter::process_noise_diagonal(qn, dt, 0.0, 0.0)(idx::th));
+  CHECK(Filter::process_noise_diagonal(qn, dt, 9.81)(idx::th) == Filter::process_noise_diagonal(qn, dt, 0.0)(idx::th));
   // propagate() measures the load from the bias-corrected specific force (down velocity: no
   // attitude coupling for a force along z, the bias block adds dt^2 P_ba)
   Filter f;
@@ -183,7 +197,7 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   f.propagate(accel, gyro, dt, qn, 9.81);
   const Cov F = Filter::transition(x, accel, gyro, dt, qn.gnss_error_k);
   Cov expected = F * P0 * F.transpose();
-  expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (gyro - x.b_g).norm(), (accel - x.b_a - Vec3(0, 0, -9.81)).norm());
+  expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (accel - x.b_a - Vec3(0, 0, -9.81)).norm());
   CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
   CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
   const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn.gnss_error_k);
@@ -241,8 +255,9 @@ TEST_CASE("a delayed update with the state of its time equals the update made th
   // the same estimate at t1. Taken as current instead, the fix pulls the position back by the
   // 0.4 m flown in those 25 ms.
   const ProcessNoise noise;
-  ErrVec var;  // a converged filter's variances: little correlation yet
-  var << 4, 4, 9, 0.04, 0.04, 0.04, 1e-4, 1e-4, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1, 1, 1, 2, 2, 4;
+  ErrVec var;             // a converged filter's variances: little correlation yet
+  var.setConstant(1e-4);  // the sensitivities
+  var.head<21>() << 4, 4, 9, 0.04, 0.04, 0.04, 1e-4, 1e-4, 1e-3, 1e-6, 1e-6, 1e-6, 1e-3, 1e-3, 1e-3, 1, 1, 1, 2, 2, 4;
   const NominalState x0 = sample_state();
   const GnssPosition::Vec z = x0.p + x0.e_gnss + Vec3(3.0, -2.0, 1.0);
   const Vec3 accel(0.3, -0.1, -9.7), gyro(0.02, 0.05, -0.1);

@@ -67,10 +67,10 @@ TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
   const Truth& t = sim.truth();
   CHECK(std::fabs(wrap_pi(s.phi - t.phi)) < 0.5 * kPi / 180);
   CHECK(std::fabs(s.theta - t.theta) < 0.5 * kPi / 180);
-  CHECK(std::fabs(wrap_pi(s.psi - t.psi)) < 1.0 * kPi / 180);
+  CHECK(std::fabs(wrap_pi(s.psi - t.psi)) < 1.5 * kPi / 180);  // 40 s: still learning the gyro's sensitivity (S_g)
   const Eigen::Vector3d vb = t.R.transpose() * t.v;
   CHECK(s.u == doctest::Approx(vb.x()).epsilon(0.01));
-  CHECK(std::fabs(s.v - vb.y()) < 0.25);  // one instant: 0.5 deg of yaw at 25 m/s is 0.22 m/s
+  CHECK(std::fabs(s.v - vb.y()) < 0.45);  // one instant: 1 deg of yaw at 25 m/s is 0.44 m/s
   CHECK(std::fabs(s.Va - sim.air_velocity_body().norm()) < 0.3);
   CHECK(std::fabs(s.alpha - sim.options().alpha) < 0.02);
   CHECK(std::fabs(s.beta) < 0.02);

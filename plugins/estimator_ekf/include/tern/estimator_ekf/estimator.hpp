@@ -154,11 +154,20 @@ struct EstimatorConfig {
   double side_force_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;
-  double init_average_time = 0.25;       ///< s, time constant of the pre-init averages
-  double init_tilt_sigma = 0.0707;       ///< rad (ROSplane phi/theta_initial_cov 0.005)
-  double init_yaw_sigma = 0.2;           ///< rad, with a magnetometer (1 rad without)
-  double init_gyro_bias_sigma = 0.01;    ///< rad/s (ROSplane bias_initial_cov 1e-4)
-  double init_accel_bias_sigma = 0.3;    ///< m/s^2
+  double init_average_time = 0.25;     ///< s, time constant of the pre-init averages
+  double init_tilt_sigma = 0.0707;     ///< rad (ROSplane phi/theta_initial_cov 0.005)
+  double init_yaw_sigma = 0.2;         ///< rad, with a magnetometer (1 rad without)
+  double init_gyro_bias_sigma = 0.01;  ///< rad/s (ROSplane bias_initial_cov 1e-4)
+  /// m/s^2: what the FCU's level calibration (ROSflight calibrate_accel) leaves: the floor's
+  /// level (a spirit level, 0.3 deg: 0.05 m/s^2) and the offset's temperature drift since (ICM-20602
+  /// 0.5 mg/K on x and y over 10 K: 0.05 m/s^2), root-sum-square. 0.3 (the uncalibrated +-25 mg)
+  /// let the side-force model's errors move the y bias, which in level flight is roll (1 deg per
+  /// 0.17 m/s^2): bench_estimation's worst roll 1.2 deg.
+  double init_accel_bias_sigma = 0.07;
+  /// Gyro sensitivity error S_g at initialisation, 1 sigma: the ICM-20602's +-1 % sensitivity and
+  /// +-2 % cross-axis tolerances (DS-000176, table 1) taken as uniform (tolerance / sqrt(3)).
+  double init_gyro_scale_sigma = 0.0058;
+  double init_gyro_cross_axis_sigma = 0.0115;
   double init_wind_sigma = 5.0;          ///< m/s, without air data at initialisation
   double init_wind_sigma_airdata = 2.0;  ///< m/s, wind from GNSS velocity - pitot airspeed
   double init_baro_bias_sigma = 1.0;     ///< m
@@ -251,6 +260,10 @@ struct EstimatorConfig {
     v(&C::init_gyro_bias_sigma, "init_gyro_bias_sigma", ParamSpec("rad/s", 1e-6, 1.0, "initial gyro-bias uncertainty, 1 sigma"));
     v(&C::init_accel_bias_sigma, "init_accel_bias_sigma",
       ParamSpec("m/s^2", 1e-6, 10.0, "initial accelerometer-bias uncertainty, 1 sigma"));
+    v(&C::init_gyro_scale_sigma, "init_gyro_scale_sigma",
+      ParamSpec("", 1e-6, 0.5, "initial gyro scale-factor uncertainty (sensitivity error), 1 sigma"));
+    v(&C::init_gyro_cross_axis_sigma, "init_gyro_cross_axis_sigma",
+      ParamSpec("", 1e-6, 0.5, "initial gyro cross-axis sensitivity uncertainty, 1 sigma"));
     v(&C::init_wind_sigma_airdata, "init_wind_sigma_airdata",
       ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed"));
     v(&C::init_wind_sigma, "init_wind_sigma", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty without air data, 1 sigma"));
@@ -457,6 +470,7 @@ class Estimator {
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;
+  Eigen::Matrix<double, 9, 9> sensitivity_covariance(double scale_sigma, double cross_axis_sigma) const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
 
   EstimatorConfig cfg_;

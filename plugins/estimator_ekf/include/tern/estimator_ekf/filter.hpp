@@ -12,9 +12,13 @@
 //   wind   horizontal wind (w_n, w_e), m/s; the vertical wind is taken as 0
 //   b_baro barometric-altitude bias, m         (baro altitude = -p_d + b_baro + noise)
 //   e_gnss GNSS position error, NED, m          (GNSS position = p + e_gnss + noise)
+//   S_g    gyro sensitivity error, 3x3         (omega = (I - S_g) (w_m - b_g): the scale-factor
+//          errors on the diagonal, cross-axis sensitivity and the board's mounting rotation off
+//          it; what the FCU's boot calibration cannot see, since it calibrates at rest)
 //
-// Error state dx (21 components, index constants in namespace idx):
-//   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1) de_gnss(3)
+// Error state dx (30 components, index constants in namespace idx):
+//   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1) de_gnss(3) dS_g(9, row by row)
+// The first 21 are the navigation states State.P_diag publishes.
 // with the attitude error defined in the body frame: q_true = q (x) exp(dtheta / 2), i.e.
 // R_true = R (I + [dtheta]x) to first order ("multiplicative" EKF: Markley, "Attitude error
 // representations for Kalman filtering", JGCD 2003; Sola, "Quaternion kinematics for the
@@ -24,16 +28,21 @@
 // section 8.11 for the same full-state structure):
 //   p_dot = v
 //   v_dot = R (a_m - b_a - n_a) + g e3                       (a_m: measured specific force)
-//   q_dot = 1/2 q (x) (0, w_m - b_g - n_g)                    (w_m: measured body rate)
-//   b_g_dot = n_bg,  b_a_dot = n_ba,  wind_dot = n_w,  b_baro_dot = n_bb   (random walks)
+//   q_dot = 1/2 q (x) (0, w - n_g),  w = (I - S_g) (w_m - b_g)  (w_m: measured body rate)
+//   b_g_dot = n_bg,  b_a_dot = n_ba,  wind_dot = n_w,  b_baro_dot = n_bb,  S_g_dot = n_S   (random walks)
 //   e_gnss_dot = -k e_gnss + n_e   (first-order Gauss-Markov: the slowly wandering GNSS position
 //                                   error of Beard & McLain eq. 7.26, 1/k = 1100 s)
-// Error dynamics (first order in dx), with a = a_m - b_a and w = w_m - b_g:
+// Error dynamics (first order in dx), with a = a_m - b_a, u = w_m - b_g and w = (I - S_g) u:
 //   dp_dot     = dv
 //   dv_dot     = -R [a]x dtheta - R db_a - R n_a
-//   dtheta_dot = -[w]x dtheta - db_g - n_g
+//   dtheta_dot = -[w]x dtheta - (I - S_g) db_g - U dS_g - n_g,   U = diag(u^T, u^T, u^T) (3x9)
+// (the gyro scale-factor and cross-coupling states of an aided INS; observable only while the
+// aircraft rotates: its turns and rolls show the filter what each axis's rate leaks into the
+// others). The accelerometer's scale and cross-axis errors stay process noise (accel_scale): as states
+// (S_a, 9 more) they improved the hourglass but let the aggressive mission's worst roll grow
+// 1.4 -> 2.7 deg (bench_estimation, realistic, 10 seeds).
 // Discrete transition over one IMU interval dt (Sola 2017, eq. 270 / 310):
-//   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - dt db_g,
+//   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - ...,
 //   and the Gauss-Markov block, exp(-k dt) I.
 // Discrete process noise: Q_v = (sigma_a dt)^2 I, Q_theta = (sigma_g dt)^2 I, where sigma_a and
 // sigma_g are the per-sample standard deviations of the accelerometer and gyro (white noise of
@@ -62,7 +71,7 @@
 
 namespace tern::ekf {
 
-inline constexpr int kErrDim = 21;  ///< error-state dimension
+inline constexpr int kErrDim = 30;  ///< error-state dimension
 
 /// Offsets of the error-state blocks.
 namespace idx {
@@ -74,12 +83,21 @@ inline constexpr int ba = 12;  ///< accelerometer bias, 3
 inline constexpr int w = 15;   ///< wind north, east, 2
 inline constexpr int bb = 17;  ///< barometer bias, 1
 inline constexpr int eg = 18;  ///< GNSS position error, 3
+inline constexpr int sg = 21;  ///< gyro sensitivity error S_g, 9, row by row (S_g(i, j) at sg + 3 i + j)
 }  // namespace idx
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 using ErrVec = Eigen::Matrix<double, kErrDim, 1>;
 using Cov = Eigen::Matrix<double, kErrDim, kErrDim>;
+using Mat39 = Eigen::Matrix<double, 3, 9>;
+
+/// U = diag(u^T, u^T, u^T): d((I - S_g) u) = -U dS_g for the row-by-row error dS_g (3x9).
+inline Mat39 sensitivity_jacobian(const Vec3& u) {
+  Mat39 U = Mat39::Zero();
+  for (int i = 0; i < 3; ++i) U.block<1, 3>(i, 3 * i) = u.transpose();
+  return U;
+}
 
 /// The estimated (nominal) state. Units and frames as in the file comment.
 struct NominalState {
@@ -91,7 +109,10 @@ struct NominalState {
   Eigen::Vector2d wind = Eigen::Vector2d::Zero();
   double b_baro = 0.0;
   Vec3 e_gnss = Vec3::Zero();
+  Mat3 S_g = Mat3::Zero();
 
+  /// The body rate (I - S_g) (gyro - b_g) from a gyro sample (body FRD, rad/s).
+  Vec3 rate(const Vec3& gyro) const { return gyro - b_g - S_g * (gyro - b_g); }
   /// Rotation body FRD -> NED.
   Mat3 R() const { return q.toRotationMatrix(); }
   /// Wind vector in NED (w_d = 0), m/s.
@@ -100,7 +121,7 @@ struct NominalState {
   Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
   bool all_finite() const {
     return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() && b_a.allFinite() && wind.allFinite() &&
-           std::isfinite(b_baro) && e_gnss.allFinite();
+           std::isfinite(b_baro) && e_gnss.allFinite() && S_g.allFinite();
   }
 };
 
@@ -136,15 +157,12 @@ struct ProcessNoise {
   /// sample; 1.0 adds margin for the 1-2 % scale and cross-axis errors (datasheet) of a 2-g turn.
   double accel = 1.0;
   /// Gyro white noise, 1 sigma per sample, rad/s: PX4 EKF2's EKF2_GYR_NOISE, 0.015 rad/s
-  /// (vibration and the +-1 % scale error of the ICM-20602 at 1 rad/s dominate its own
-  /// 4 mdps/sqrt(Hz) = 8.7e-4 rad/s per sample).
+  /// (vibration dominates the ICM-20602's own 4 mdps/sqrt(Hz) = 8.7e-4 rad/s per sample; the
+  /// scale and cross-axis errors are states, S_g).
   double gyro = 0.015;
-  /// Gyro scale-factor and cross-axis error as a fraction of the rate, 1 sigma: the ICM-20602's
-  /// +-1 % sensitivity and +-2 % cross-axis tolerances (DS-000176, table 1) taken as uniform
-  /// within them (sigma = tolerance / sqrt(3)), root-sum-square 0.013. Constant over a
-  /// manoeuvre, so it enters as attitude random walk of density
-  /// gyro_scale |w| sqrt(maneuver_time) (a 1-rad/s roll held 1 s costs 0.4 deg of tilt sigma).
-  double gyro_scale = 0.013;
+  /// Random walk of the gyro sensitivity error S_g, 1/sqrt(s): the sensitivity drifts slowly
+  /// with temperature; 2e-5 lets it move 0.07 % in 20 minutes.
+  double gyro_scale_walk = 2e-5;
   /// Accelerometer scale-factor, cross-axis and mounting error as a fraction of the specific
   /// force's departure from the level 1 g: the FCU's stored calibration (ROSflight
   /// Sensors::calibrate_accel) is taken level at rest and absorbs these errors there, what is left
@@ -153,8 +171,9 @@ struct ProcessNoise {
   /// sqrt(0.013^2 + 0.0175^2) = 0.022. Enters as velocity random walk of density
   /// accel_scale load sqrt(maneuver_time).
   double accel_scale = 0.022;
-  double maneuver_time = 0.3;          ///< s: how long a rate is held (correlation time of the scale error;
-                                       ///< 0.3 s: no divergence over 10 + 10 realistic bench flights, 1 s: 1-3)
+  double maneuver_time = 0.3;          ///< s: how long a load is held (correlation time of the accelerometer
+                                       ///< scale error's effect; 0.3 s: no divergence over 10 + 10 realistic
+                                       ///< bench flights, 1 s: 1-3)
   double gyro_bias_walk = 5e-5;        ///< gyro-bias random walk, rad/s/sqrt(s) (a MEMS bias instability
                                        ///< of a few deg/h with margin; ROSflight's simulator: 5e-7)
   double accel_bias_walk = 1e-3;       ///< accelerometer-bias random walk, m/s^2/sqrt(s)
@@ -174,10 +193,12 @@ struct ProcessNoise {
     using P = ProcessNoise;
     v(&P::accel, "accel_noise", ParamSpec("m/s^2", 1e-4, 10.0, "accelerometer white noise, 1 sigma per IMU sample"));
     v(&P::gyro, "gyro_noise", ParamSpec("rad/s", 1e-6, 1.0, "gyro white noise, 1 sigma per IMU sample"));
-    v(&P::gyro_scale, "gyro_scale", ParamSpec("", 0.0, 0.5, "gyro scale-factor and cross-axis error, fraction of the rate"));
+    v(&P::gyro_scale_walk, "gyro_scale_walk",
+      ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the gyro sensitivity error (scale, cross-axis)"));
     v(&P::accel_scale, "accel_scale",
       ParamSpec("", 0.0, 0.5, "accelerometer scale, cross-axis and mounting error, fraction of the load beyond level 1 g"));
-    v(&P::maneuver_time, "maneuver_time", ParamSpec("s", 0.0, 60.0, "how long a rate is held: correlation time of the gyro scale error"));
+    v(&P::maneuver_time, "maneuver_time",
+      ParamSpec("s", 0.0, 60.0, "how long a load is held: correlation time of the accelerometer scale error"));
     v(&P::gyro_bias_walk, "gyro_bias_walk", ParamSpec("rad/s/sqrt(s)", 0.0, 1.0, "gyro-bias random walk"));
     v(&P::accel_bias_walk, "accel_bias_walk", ParamSpec("m/s^2/sqrt(s)", 0.0, 10.0, "accelerometer-bias random walk"));
     v(&P::wind_walk, "wind_walk", ParamSpec("m/s/sqrt(s)", 0.0, 10.0, "horizontal-wind random walk"));
@@ -220,7 +241,7 @@ struct UpdateStats {
   }
 };
 
-/// The filter: nominal state, 21x21 covariance, propagation and the generic update.
+/// The filter: nominal state, 30x30 covariance, propagation and the generic update.
 class Filter {
  public:
   /// Sets the state and covariance (P0 must be symmetric positive definite).
@@ -239,10 +260,9 @@ class Filter {
   /// The dense error-state transition F of propagate() with the Gauss-Markov rate k (for tests and documentation; propagate()
   /// applies it block-wise without forming it).
   static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k);
-  /// The discrete process noise Q of propagate() (diagonal) at the body rate |w| = rate, rad/s, and
-  /// the specific force's departure |a - (0, 0, -g)| = load, m/s^2, from the level 1 g at which the
-  /// accelerometer was calibrated.
-  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double rate, double load);
+  /// The discrete process noise Q of propagate() (diagonal) at the specific force's departure
+  /// |a - (0, 0, -g)| = load, m/s^2, from the level 1 g at which the accelerometer was calibrated.
+  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double load);
 
   /// Generic measurement update with a model (measurements.hpp describes the interface):
   /// residual z - h(x), Jacobian H, noise R, chi-square gate model.gate (<= 0: no gate).

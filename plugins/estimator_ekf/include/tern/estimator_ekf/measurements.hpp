@@ -53,15 +53,16 @@ struct GnssPosition : Measurement<GnssPosition, 3> {
 };
 
 /// GNSS velocity: z = NED ground velocity of the antenna, m/s. With the body rate
-/// omega = w_m - b_g (w_m: the measured gyro, set before each update) the antenna moves at
-/// h(x) = v + R (omega x r_a);  H = [I (v), -R [omega x r_a]x (dtheta), R [r_a]x (db_g)]
-/// (d(omega x r_a) = -db_g x r_a = r_a x db_g).
+/// omega = (I - S_g) (w_m - b_g) (w_m: the measured gyro, set before each update) the antenna
+/// moves at h(x) = v + R (omega x r_a);
+/// H = [I (v), -R [omega x r_a]x (dtheta), R [r_a]x (I - S_g) (db_g), R [r_a]x U (dS_g)]
+/// (d(omega x r_a) = -[r_a]x d omega, d omega = -(I - S_g) db_g - U dS_g; U: sensitivity_jacobian).
 struct GnssVelocity : Measurement<GnssVelocity, 3> {
   double sigma_h = 0.01;        ///< horizontal noise, 1 sigma, m/s
   double sigma_v = 0.01;        ///< vertical noise, 1 sigma, m/s
   Vec3 antenna = Vec3::Zero();  ///< r_a, body FRD, m
   Vec3 gyro = Vec3::Zero();     ///< w_m, measured body rate (bias not removed), FRD, rad/s
-  Vec h(const NominalState& x) const { return x.v + x.q * (gyro - x.b_g).cross(antenna); }
+  Vec h(const NominalState& x) const { return x.v + x.q * x.rate(gyro).cross(antenna); }
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& x) const;
 };
