@@ -10,6 +10,20 @@
 
 namespace tern::ekf {
 
+namespace {
+/// Prior covariance of a sensor's sensitivity error S (9 states, row by row).
+Eigen::Matrix<double, 9, 9> sensitivity_covariance(double scale_sigma, double cross_axis_sigma) {
+  // Scale errors on the diagonal of S, cross-axis sensitivity off it, independent. The board's
+  // mounting rotation is left out: it turns the gyro and the accelerometer together, and a
+  // rotation of the whole IMU frame (S_g's antisymmetric part, the attitude and the accelerometer
+  // bias together) is what no measurement sees; a prior along it let the aggressive mission's
+  // filter wander 6 deg in roll (imu_mount_sigma widens the published attitude instead).
+  Eigen::Matrix<double, 9, 1> d;
+  for (int k = 0; k < 9; ++k) d(k) = k % 4 == 0 ? scale_sigma * scale_sigma : cross_axis_sigma * cross_axis_sigma;
+  return d.asDiagonal();
+}
+}  // namespace
+
 const char* sensor_name(Sensor s) {
   switch (s) {
     case Sensor::imu: return "imu";
@@ -521,17 +535,6 @@ Vec3 Estimator::gnss_error_variance() const {
   const auto steady = [&](double walk) { return two_k > 0.0 ? std::max(floor, walk * walk / two_k) : floor; };
   const double h = steady(process_.gnss_error_walk_h);
   return {h, h, steady(process_.gnss_error_walk_v)};
-}
-
-Eigen::Matrix<double, 9, 9> Estimator::sensitivity_covariance(double scale_sigma, double cross_axis_sigma) const {
-  // Scale errors on the diagonal of S, cross-axis sensitivity off it, independent. The board's
-  // mounting rotation is left out: it turns the gyro and the accelerometer together, and a
-  // rotation of the whole IMU frame (S_g's antisymmetric part, the attitude and the accelerometer
-  // bias together) is what no measurement sees; a prior along it let the aggressive mission's
-  // filter wander 6 deg in roll (imu_mount_sigma widens the published attitude instead).
-  Eigen::Matrix<double, 9, 1> d;
-  for (int k = 0; k < 9; ++k) d(k) = k % 4 == 0 ? scale_sigma * scale_sigma : cross_axis_sigma * cross_axis_sigma;
-  return d.asDiagonal();
 }
 
 bool Estimator::gnss_reset_allowed(Nanos stamp, double innovation) const {

@@ -470,7 +470,6 @@ class Estimator {
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;
-  Eigen::Matrix<double, 9, 9> sensitivity_covariance(double scale_sigma, double cross_axis_sigma) const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
 
   EstimatorConfig cfg_;
