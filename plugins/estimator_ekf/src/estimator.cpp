@@ -366,10 +366,12 @@ bool Estimator::add_mag(const msg::Mag& m) {
     return true;
   }
   const Vec3 e = euler_from_quaternion(filter_.x().q);
-  const double psi_mag = MagHeading::heading_from_field(m.field, e.x(), e.y(), cfg_.mag_declination);
+  const Vec3 z = m.field / cfg_.mag_field_strength;  // in units of the Earth's field, like b_m
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   const UpdateResult r =
-      cfg_.mag_heading_only ? fuse(mag_heading_, MagHeading::Vec(psi_mag), t_v) : fuse(mag_, Magnetometer::Vec(m.field / n), t_v);
+      cfg_.mag_heading_only
+          ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
+          : fuse(mag_, Magnetometer::Vec(z), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
   // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
   // after mag_reset_time, trust the magnetometer again.
@@ -377,7 +379,7 @@ bool Estimator::add_mag(const msg::Mag& m) {
     if (mag_reject_since_ < 0) {
       mag_reject_since_ = m.stamp;
     } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time && to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
-      reset_yaw(m.stamp, psi_mag);
+      reset_yaw(m.stamp, MagHeading::heading_from_field(z - filter_.x().b_m, e.x(), e.y(), cfg_.mag_declination));
     }
   } else if (r == UpdateResult::accepted) {
     mag_reject_since_ = -1;
@@ -643,6 +645,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   P0.diagonal().segment<3>(idx::bg).setConstant(gb * gb);
   P0.diagonal().segment<3>(idx::ba).setConstant(cfg_.init_accel_bias_sigma * cfg_.init_accel_bias_sigma);
   P0.block<9, 9>(idx::sg, idx::sg) = sensitivity_covariance(cfg_.init_gyro_scale_sigma, cfg_.init_gyro_cross_axis_sigma);
+  P0.diagonal().segment<3>(idx::bm).setConstant(cfg_.init_mag_bias_sigma * cfg_.init_mag_bias_sigma);
   double wind_sigma = cfg_.init_wind_sigma;
   const double Va = std::sqrt(2.0 * std::max(last_diff_pressure_, 0.0) / cfg_.rho);
   if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {

@@ -16,6 +16,7 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   r.b_baro += dx(idx::bb);
   r.e_gnss += dx.segment<3>(idx::eg);
   r.S_g += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(dx.data() + idx::sg);
+  r.b_m += dx.segment<3>(idx::bm);
   return r;
 }
 
@@ -34,7 +35,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   //   F_theta,bg = -dt (I - S_g), F_theta,S = -dt U,
   //   F_eg,eg = exp(-k dt) I (Gauss-Markov GNSS error).
   // Done as row then column block operations (F P, then (F P) F^T): a few thousand multiply-adds
-  // instead of 2 x 30^3 for dense products.
+  // instead of 2 x 33^3 for dense products.
   const Mat3 Fvth = -dt * R * tern::skew(a);
   const Mat3 Fthth = quat_exp(-w * dt).toRotationMatrix();
   Cov& P = P_;
@@ -95,6 +96,7 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, doub
   const double eh = noise.gnss_error_walk_h, ev = noise.gnss_error_walk_v;
   q.segment<3>(idx::eg) << eh * eh * dt, eh * eh * dt, ev * ev * dt;
   q.segment<9>(idx::sg).setConstant(noise.gyro_scale_walk * noise.gyro_scale_walk * dt);
+  q.segment<3>(idx::bm).setConstant(noise.mag_bias_walk * noise.mag_bias_walk * dt);
   return q;
 }
 

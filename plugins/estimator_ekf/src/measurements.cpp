@@ -35,11 +35,12 @@ Vec3 Magnetometer::field_direction_ned() const {
   return {std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination)};
 }
 
-Magnetometer::Vec Magnetometer::h(const NominalState& x) const { return x.q.conjugate() * field_direction_ned(); }
+Magnetometer::Vec Magnetometer::h(const NominalState& x) const { return x.q.conjugate() * field_direction_ned() + x.b_m; }
 
 Magnetometer::Jac Magnetometer::jacobian(const NominalState& x) const {
   Jac H = Jac::Zero();
-  H.block<3, 3>(0, idx::th) = tern::skew(h(x));
+  H.block<3, 3>(0, idx::th) = tern::skew(x.q.conjugate() * field_direction_ned());
+  H.block<3, 3>(0, idx::bm).setIdentity();
   return H;
 }
 
@@ -48,18 +49,27 @@ Magnetometer::Noise Magnetometer::noise(const NominalState& /*x*/) const {
   return Noise::Identity() * (s * s);
 }
 
-double MagHeading::heading_from_field(const Vec3& m, double phi, double theta, double declination) {
-  // m_l = R_y(theta) R_x(phi) m_b (the field in the level, yaw-only frame).
+namespace {
+
+/// L(phi, theta) = R_y(theta) R_x(phi): body FRD -> the level, yaw-only frame (heading_from_field).
+Mat3 levelling(double phi, double theta) {
   const double cf = std::cos(phi), sf = std::sin(phi), ct = std::cos(theta), st = std::sin(theta);
-  const double my = cf * m.y() - sf * m.z();
-  const double mz1 = sf * m.y() + cf * m.z();
-  const double mx = ct * m.x() + st * mz1;
-  return declination - std::atan2(my, mx);
+  Mat3 L;
+  L << ct, st * sf, st * cf, 0.0, cf, -sf, -st, ct * sf, ct * cf;
+  return L;
+}
+
+}  // namespace
+
+double MagHeading::heading_from_field(const Vec3& m, double phi, double theta, double declination) {
+  const Vec3 l = levelling(phi, theta) * m;
+  return declination - std::atan2(l.y(), l.x());
 }
 
 MagHeading::Vec MagHeading::h(const NominalState& x) const {
-  const Mat3 R = x.R();
-  return Vec(std::atan2(R(1, 0), R(0, 0)));
+  const Vec3 e = tern::euler_from_quaternion(x.q);
+  const Vec3 n(std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination));
+  return Vec(heading_from_field(x.q.conjugate() * n + x.b_m, e.x(), e.y(), declination));
 }
 
 MagHeading::Vec MagHeading::residual(const NominalState& x, const Vec& z) const {
@@ -68,12 +78,25 @@ MagHeading::Vec MagHeading::residual(const NominalState& x, const Vec& z) const 
 }
 
 MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
-  // psi = atan2(R10, R00); dR = R [dtheta]x, so dR_i0 = R_i1 dtheta_z - R_i2 dtheta_y.
-  const Mat3 R = x.R();
-  const double den = R(0, 0) * R(0, 0) + R(1, 0) * R(1, 0);
+  const Vec3 e = tern::euler_from_quaternion(x.q);
+  const double cf = std::cos(e.x()), sf = std::sin(e.x()), ct = std::cos(e.y()), st = std::sin(e.y());
+  const Vec3 n(std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination));
+  const Mat3 L = levelling(e.x(), e.y());
+  const Vec3 a = L * (x.q.conjugate() * n);  // R_z(psi)^T m_n
+  const Vec3& b = x.b_m;
+  const Vec3 l = a + L * b;
+  // h = D - atan2(l_y, l_x): dh = g . dl with g = (l_y, -l_x, 0) / (l_x^2 + l_y^2).
+  const Vec3 g = Vec3(l.y(), -l.x(), 0.0) / (l.x() * l.x() + l.y() * l.y());
+  const Vec3 dl_dpsi(a.y(), -a.x(), 0.0);  // d(R_z(psi)^T m_n)/dpsi = -e3 x a
+  const Vec3 dl_dphi(st * (cf * b.y() - sf * b.z()), -sf * b.y() - cf * b.z(), ct * (cf * b.y() - sf * b.z()));
+  const Vec3 dl_dtheta(-st * b.x() + ct * (sf * b.y() + cf * b.z()), 0.0, -ct * b.x() - st * (sf * b.y() + cf * b.z()));
+  // Euler-angle change of a body-frame rotation dtheta (Beard & McLain eq. 3.3):
+  //   dphi = dtheta_x + sin(phi) tan(theta) dtheta_y + cos(phi) tan(theta) dtheta_z,
+  //   dtheta_pitch = cos(phi) dtheta_y - sin(phi) dtheta_z,  dpsi = (sin(phi) dtheta_y + cos(phi) dtheta_z) / cos(theta).
+  const Vec3 W_phi(1.0, sf * st / ct, cf * st / ct), W_theta(0.0, cf, -sf), W_psi(0.0, sf / ct, cf / ct);
   Jac H = Jac::Zero();
-  H(0, idx::th + 1) = (R(1, 0) * R(0, 2) - R(0, 0) * R(1, 2)) / den;
-  H(0, idx::th + 2) = (R(0, 0) * R(1, 1) - R(1, 0) * R(0, 1)) / den;
+  H.block<1, 3>(0, idx::th) = (g.dot(dl_dphi) * W_phi + g.dot(dl_dtheta) * W_theta + g.dot(dl_dpsi) * W_psi).transpose();
+  H.block<1, 3>(0, idx::bm) = g.transpose() * L;
   return H;
 }
 

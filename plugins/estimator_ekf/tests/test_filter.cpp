@@ -23,6 +23,7 @@ NominalState sample_state() {
   x.b_baro = 1.5;
   x.e_gnss = Vec3(0.5, -1.0, 2.0);
   x.S_g << 0.01, -0.02, 0.015, 0.012, -0.008, 0.02, -0.017, 0.009, 0.005;
+  x.b_m = Vec3(0.03, -0.05, 0.04);
   return x;
 }
 
@@ -39,6 +40,7 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   d(idx::bb) = x1.b_baro - x0.b_baro;
   d.segment<3>(idx::eg) = x1.e_gnss - x0.e_gnss;
   for (int i = 0; i < 3; ++i) d.segment<3>(idx::sg + 3 * i) = (x1.S_g - x0.S_g).row(i).transpose();
+  d.segment<3>(idx::bm) = x1.b_m - x0.b_m;
   return d;
 }
 

@@ -67,30 +67,36 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
   Noise noise(const NominalState& x) const;
 };
 
-/// Magnetometer, 3-axis, direction only: z = field / |field| (unit vector, body FRD).
-/// h(x) = R^T m_n with the unit field direction in NED from declination D (east of north) and
-/// inclination I (down from horizontal): m_n = (cos I cos D, cos I sin D, sin I).
-/// H_theta = [R^T m_n]x. Noise: sigma / field_strength on each axis (sigma in tesla).
+/// Magnetometer, 3-axis: z = field / field_strength (body FRD, in units of the Earth's field).
+/// h(x) = R^T m_n + b_m with the unit field direction in NED from declination D (east of north)
+/// and inclination I (down from horizontal): m_n = (cos I cos D, cos I sin D, sin I), and the
+/// offset b_m (a state: hard iron, motor current).
+/// H_theta = [R^T m_n]x, H_bm = I. Noise: sigma / field_strength on each axis (sigma in tesla).
 struct Magnetometer : Measurement<Magnetometer, 3> {
   double declination = 0.1857972802;   ///< rad (ROSflight simulator default, Provo UT)
   double inclination = 1.139436457;    ///< rad
   double sigma = 3e-6;                 ///< noise of each axis, 1 sigma, T
-  double field_strength = 5.07163e-5;  ///< total intensity, T (scales sigma to the unit vector)
+  double field_strength = 5.07163e-5;  ///< total intensity, T (the unit of z and b_m)
   Vec3 field_direction_ned() const;
   Vec h(const NominalState& x) const;
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& x) const;
 };
 
-/// Magnetometer, tilt-compensated heading: z = psi_m, the yaw (rad) at which the measured field,
-/// levelled with the estimated roll and pitch, points at the declination:
-///   m_l = R_y(theta) R_x(phi) m_b,   psi_m = D - atan2(m_l,y, m_l,x)     (heading_from_field).
-/// h(x) = psi = atan2(R_10, R_00) (3-2-1 yaw). With R_true = R (I + [dtheta]x):
-///   H_theta = [0, R_20 R_02... ] (exact form in jacobian()), i.e. only the heading is corrected:
-/// a magnetic disturbance cannot tilt the estimate. Noise: sigma / (field_strength cos I) rad.
+/// Magnetometer, tilt-compensated heading: z = psi_m, the yaw (rad) at which the measured field
+/// m_b, levelled with the estimated roll and pitch, points at the declination:
+///   m_l = L(phi, theta) m_b = R_y(theta) R_x(phi) m_b,   psi_m = D - atan2(m_l,y, m_l,x)
+/// (heading_from_field). The model is the same function of the field the state predicts,
+/// m_b = R^T m_n + b_m (Magnetometer):
+///   h(x) = D - atan2(l_y, l_x),   l = L m_b = R_z(psi)^T m_n + L b_m,
+/// which is psi itself when b_m = 0. H through the Euler angles (phi, theta, psi) of x: the
+/// offset's levelling L b_m depends on roll and pitch, so a large offset estimate lets the heading
+/// touch them slightly (exactly zero at b_m = 0: a magnetic disturbance cannot tilt the estimate);
+/// H_bm = -(l_x L_1 - l_y L_0) / (l_x^2 + l_y^2) (L_i: rows of L).
+/// Noise: sigma / (field_strength cos I) rad.
 struct MagHeading : Measurement<MagHeading, 1> {
   double declination = 0.1857972802;   ///< rad
-  double inclination = 1.139436457;    ///< rad (only scales the noise)
+  double inclination = 1.139436457;    ///< rad
   double sigma = 3e-6;                 ///< field noise per axis, 1 sigma, T
   double field_strength = 5.07163e-5;  ///< T
   static double heading_from_field(const Vec3& m_body, double phi, double theta, double declination);
