@@ -345,8 +345,10 @@ def saturation_spans(t, v, lo, hi, rel=1e-4):
         return []
     edges = np.diff(np.concatenate([[0], at.astype(np.int8), [0]]))
     starts, ends = np.nonzero(edges == 1)[0], np.nonzero(edges == -1)[0]
+    # A span ends where the next sample starts (the last one: a median step after it), so that
+    # t0 <= t < t1 holds exactly the samples at the limit (t[e - 1] + dt can round past t[e]).
     dt = float(np.median(np.diff(t))) if len(t) > 1 else 0.0
-    return [(float(t[s]), float(t[e - 1]) + dt) for s, e in zip(starts, ends)]
+    return [(float(t[s]), float(t[e]) if e < len(t) else float(t[e - 1]) + dt) for s, e in zip(starts, ends)]
 
 
 # ----------------------------------------------------------------------------------------------
