@@ -644,6 +644,11 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   const double gb = at_rest ? cfg_.init_gyro_bias_sigma : std::max(cfg_.init_gyro_bias_sigma, 0.05);
   P0.diagonal().segment<3>(idx::bg).setConstant(gb * gb);
   P0.diagonal().segment<3>(idx::ba).setConstant(cfg_.init_accel_bias_sigma * cfg_.init_accel_bias_sigma);
+  if (cfg_.accel_level_calibrated) {  // the board's tilt in the offset: b_x = -g mu_pitch, b_y = g mu_roll
+    const Vec3 gm = cfg_.gravity * cfg_.imu_mount_sigma;
+    P0(idx::ba, idx::ba) += gm.y() * gm.y();
+    P0(idx::ba + 1, idx::ba + 1) += gm.x() * gm.x();
+  }
   P0.block<9, 9>(idx::sg, idx::sg) = sensitivity_covariance(cfg_.init_gyro_scale_sigma, cfg_.init_gyro_cross_axis_sigma);
   P0.diagonal().segment<3>(idx::bm).setConstant(cfg_.init_mag_bias_sigma * cfg_.init_mag_bias_sigma);
   double wind_sigma = cfg_.init_wind_sigma;
@@ -678,6 +683,36 @@ msg::State Estimator::state() const {
   return s;
 }
 
+namespace {
+/// G with mu = G b_a: the board's tilt (roll, pitch) that a level calibration put into the
+/// accelerometer offset, b_a = [mu]x (0, 0, -g) (EstimatorConfig::accel_level_calibrated).
+Mat3 level_tilt_from_offset(double g) {
+  Mat3 G = Mat3::Zero();
+  G(0, 1) = 1.0 / g;
+  G(1, 0) = -1.0 / g;
+  return G;
+}
+}  // namespace
+
+Eigen::Quaterniond Estimator::body_attitude() const {
+  const NominalState& x = filter_.x();
+  if (!cfg_.accel_level_calibrated) return x.q;
+  return (x.q * quat_exp(-level_tilt_from_offset(cfg_.gravity) * x.b_a)).normalized();
+}
+
+Vec3 Estimator::body_attitude_variance() const {
+  const Cov& P = filter_.P();
+  const Vec3 mount2 = cfg_.imu_mount_sigma.cwiseProduct(cfg_.imu_mount_sigma);
+  if (!cfg_.accel_level_calibrated) return P.block<3, 3>(idx::th, idx::th).diagonal() + mount2;
+  // dtheta_body = dtheta - G db_a (mu is a few tenths of a degree: its rotation of dtheta is
+  // second order); roll and pitch as level as the calibration's floor, yaw as the mount.
+  const Mat3 G = level_tilt_from_offset(cfg_.gravity);
+  const Mat3 Ptb = P.block<3, 3>(idx::th, idx::ba) * G.transpose();
+  const Mat3 Pb = P.block<3, 3>(idx::th, idx::th) - Ptb - Ptb.transpose() + G * P.block<3, 3>(idx::ba, idx::ba) * G.transpose();
+  const double l2 = cfg_.level_sigma * cfg_.level_sigma;
+  return Pb.diagonal() + Vec3(l2, l2, mount2.z());
+}
+
 void Estimator::fill_state(msg::State& s) const {
   const NominalState& x = filter_.x();
   s.stamp = std::max<Nanos>(imu_stamp_, 0);
@@ -693,19 +728,20 @@ void Estimator::fill_state(msg::State& s) const {
   s.v_n = x.v.x();
   s.v_e = x.v.y();
   s.v_d = x.v.z();
-  const Vec3 vb = x.q.conjugate() * x.v;
+  const Eigen::Quaterniond q = body_attitude();
+  const Vec3 vb = q.conjugate() * x.v;
   s.u = vb.x();
   s.v = vb.y();
   s.w = vb.z();
-  const Vec3 e = euler_from_quaternion(x.q);
+  const Vec3 e = euler_from_quaternion(q);
   s.phi = e.x();
   s.theta = e.y();
   s.psi = e.z();
-  s.quat = x.q;
+  s.quat = q;
   s.p = rate_.x();
   s.q = rate_.y();
   s.r = rate_.z();
-  const Vec3 vr = x.air_velocity_body();
+  const Vec3 vr = q.conjugate() * (x.v - x.wind_ned());
   s.Va = vr.norm();
   s.alpha = std::atan2(vr.z(), vr.x());
   s.beta = s.Va > 1e-3 ? std::asin(std::clamp(vr.y() / s.Va, -1.0, 1.0)) : 0.0;
@@ -721,8 +757,8 @@ void Estimator::fill_state(msg::State& s) const {
   const Cov& P = filter_.P();
   static_assert(static_cast<int>(std::tuple_size_v<decltype(s.P_diag)>) == idx::sg);  // the navigation states
   for (std::size_t i = 0; i < s.P_diag.size(); ++i) s.P_diag[i] = P(static_cast<int>(i), static_cast<int>(i));
-  for (int i = 0; i < 3; ++i)  // the body attitude = the IMU's, off by the mounting error
-    s.P_diag[static_cast<std::size_t>(idx::th + i)] += cfg_.imu_mount_sigma[i] * cfg_.imu_mount_sigma[i];
+  const Vec3 att = body_attitude_variance();
+  for (int i = 0; i < 3; ++i) s.P_diag[static_cast<std::size_t>(idx::th + i)] = att[i];
   // The barometer measures the height above its calibration datum, known to decimetres; the
   // altitude in the frame is as uncertain as that datum (the origin, a GNSS fix, off by metres).
   // Without it the published altitude claimed the baro's accuracy: position NEES 9-11 per

@@ -10,6 +10,14 @@
 
 namespace tern::ekf::test {
 
+/// The estimator's configuration for TruthSim: its accelerometer has a raw offset (accel_bias),
+/// not the board's tilt a level calibration stores (EstimatorConfig::accel_level_calibrated).
+inline EstimatorConfig truth_sim_config() {
+  EstimatorConfig c;
+  c.accel_level_calibrated = false;
+  return c;
+}
+
 /// Hooks: return false to drop the message; may modify it.
 struct Hooks {
   std::function<bool(msg::Imu&)> imu;

@@ -72,7 +72,7 @@ TEST_CASE("static start at an arbitrary heading: initialises and converges") {
     o.gamma0 = 0.08;  // nose-up on its gear
     o.wind.setZero();
     TruthSim sim(o);
-    Estimator est;
+    Estimator est(truth_sim_config());
     fly(sim, est, 0.05);
     CHECK_FALSE(est.initialized());  // no GNSS fix yet
     CHECK_FALSE(est.state().valid);
@@ -98,34 +98,90 @@ TEST_CASE("static start at an arbitrary heading: initialises and converges") {
   }
 }
 
+namespace {
+/// A static start, 3 s: the published State and the estimator.
+struct StaticStart {
+  EstimatorConfig c;
+  TruthSim sim;
+  Estimator est;
+  explicit StaticStart(const EstimatorConfig& cfg)
+      : c(cfg),
+        sim([] {
+          SimOptions o;
+          o.static_mode = true;
+          return o;
+        }()),
+        est(cfg) {
+    fly(sim, est, 3.0);
+  }
+  double datum_variance() const {
+    const double e_v = c.process.gnss_error_walk_v / std::sqrt(2.0 * c.process.gnss_error_k);
+    return e_v * e_v;
+  }
+};
+}  // namespace
+
 TEST_CASE("the published covariance: the filter's diagonal, attitude widened by the mounting uncertainty, altitude by the baro's datum") {
   // The barometer, calibrated against the origin (the first fix, off by the receiver's vertical
   // error), pins the height above that datum; the altitude in the frame is as uncertain as the
   // datum: the fixes' error model.
-  SimOptions o;
-  o.static_mode = true;
-  TruthSim sim(o);
-  EstimatorConfig c;
-  c.imu_mount_sigma = Vec3(0.01, 0.02, 0.03);
-  Estimator est(c);
-  fly(sim, est, 3.0);
-  REQUIRE(est.initialized());
-  const msg::State s = est.state();
-  const Cov& P = est.filter().P();
-  const double e_v = c.process.gnss_error_walk_v / std::sqrt(2.0 * c.process.gnss_error_k);
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.imu_mount_sigma = Vec3(0.01, 0.02, 0.03);
+  StaticStart t(cfg);
+  REQUIRE(t.est.initialized());
+  const msg::State s = t.est.state();
+  const Cov& P = t.est.filter().P();
   for (int i = 0; i < static_cast<int>(s.P_diag.size()); ++i) {  // the navigation states
     const int k = i - idx::th;
-    const double mount = k >= 0 && k < 3 ? c.imu_mount_sigma[k] * c.imu_mount_sigma[k] : 0.0;
-    const double datum = i == idx::p + 2 ? e_v * e_v : 0.0;  // (the reported v_acc may raise it by 0.1 %)
+    const double mount = k >= 0 && k < 3 ? cfg.imu_mount_sigma[k] * cfg.imu_mount_sigma[k] : 0.0;
+    const double datum = i == idx::p + 2 ? t.datum_variance() : 0.0;  // (the reported v_acc may raise it by 0.1 %)
     INFO("state " << i);
     CHECK(s.P_diag[static_cast<std::size_t>(i)] == doctest::Approx(P(i, i) + mount + datum).epsilon(datum > 0.0 ? 1e-3 : 1e-12));
   }
   CHECK(std::sqrt(P(idx::p + 2, idx::p + 2)) < 1.1);  // the filter's own: the height above the datum
 }
 
+TEST_CASE("level-calibrated accelerometer: the body's attitude is the filter's turned back by the tilt in the offset") {
+  EstimatorConfig cfg;
+  cfg.imu_mount_sigma = Vec3(0.01, 0.02, 0.03);
+  REQUIRE(cfg.accel_level_calibrated);
+  StaticStart t(cfg);
+  REQUIRE(t.est.initialized());
+  // The prior of the offset holds the board's tilt: b_x = -g mu_pitch, b_y = g mu_roll.
+  const double g = cfg.gravity, b0 = cfg.init_accel_bias_sigma;
+  // (3 s of data have shrunk it a little; the prior is at least the mount's)
+  CHECK(t.est.filter().P()(idx::ba + 1, idx::ba + 1) > (g * 0.01) * (g * 0.01));
+  CHECK(t.est.filter().P()(idx::ba, idx::ba) > (g * 0.02) * (g * 0.02));
+  CHECK(t.est.filter().P()(idx::ba + 2, idx::ba + 2) <= b0 * b0);
+  // The published attitude is the filter's turned by -mu, with mu the tilt whose level
+  // calibration leaves the offset b_a = mu x (0, 0, -g) on x and y.
+  const Eigen::Quaterniond q_f = t.est.filter().x().q, q_b = t.est.body_attitude();
+  const Eigen::AngleAxisd d(q_f.conjugate() * q_b);
+  const Vec3 mu = -d.angle() * d.axis();
+  const Vec3 b_a = t.est.filter().x().b_a;
+  INFO("b_a " << b_a.transpose() << ", mu " << mu.transpose());
+  CHECK(std::fabs(mu.z()) < 1e-12);
+  CHECK(mu.cross(Vec3(0, 0, -g)).head<2>().isApprox(b_a.head<2>(), 1e-9));
+  const msg::State s = t.est.state();
+  CHECK(s.phi == doctest::Approx(euler_from_quaternion(q_b).x()).epsilon(1e-12));
+  CHECK(s.quat.isApprox(q_b, 1e-12));
+  // Variance: the filter's attitude less the tilt from the offset (dtheta - G db_a), roll and
+  // pitch plus the floor's level, yaw plus the mount's.
+  const Cov& P = t.est.filter().P();
+  Eigen::Matrix<double, 3, kErrDim> J = Eigen::Matrix<double, 3, kErrDim>::Zero();
+  J.block<3, 3>(0, idx::th).setIdentity();
+  J(0, idx::ba + 1) = -1.0 / g;
+  J(1, idx::ba) = 1.0 / g;
+  const Mat3 Pb = J * P * J.transpose();
+  const double l2 = cfg.level_sigma * cfg.level_sigma;
+  CHECK(s.P_diag[idx::th] == doctest::Approx(Pb(0, 0) + l2).epsilon(1e-9));
+  CHECK(s.P_diag[idx::th + 1] == doctest::Approx(Pb(1, 1) + l2).epsilon(1e-9));
+  CHECK(s.P_diag[idx::th + 2] == doctest::Approx(Pb(2, 2) + 0.03 * 0.03).epsilon(1e-9));
+}
+
 TEST_CASE("flight: straight, turns (30 and 60 deg bank), climb; accuracy after convergence") {
   TruthSim sim(mixed_flight());
-  Estimator est;
+  Estimator est(truth_sim_config());
   fly(sim, est, 2.0);
   REQUIRE(est.initialized());
   // Convergence (wind, biases). In the straight first 30 s yaw and wind are told apart by the
@@ -157,7 +213,7 @@ TEST_CASE("flight: straight, turns (30 and 60 deg bank), climb; accuracy after c
 
 TEST_CASE("a magnetometer offset (hard iron, 2 uT) is learnt in the turns; the heading does not keep it") {
   TruthSim sim(mixed_flight());
-  Estimator est;
+  Estimator est(truth_sim_config());
   const Vec3 offset(2.0e-6, -1.5e-6, 1.0e-6);  // T, body FRD: 4 % of the field on x
   Hooks h;
   h.mag = [&](msg::Mag& m) {
@@ -182,7 +238,7 @@ namespace {
 /// A converged estimator in the mixed flight (20 s after initialisation).
 struct Converged {
   TruthSim sim{mixed_flight()};
-  Estimator est;
+  Estimator est{truth_sim_config()};
   Converged() { fly(sim, est, 22.0); }
   double pos_error() const { return (est.filter().x().p - truth_position(sim.truth(), est, sim)).norm(); }
 };
@@ -320,7 +376,7 @@ TEST_CASE("sensor time-outs are detected and recoveries reported") {
 TEST_CASE("a wired sensor that never delivers times out from the start; an unwired one does not") {
   for (const bool wired : {true, false}) {
     TruthSim sim{mixed_flight()};
-    Estimator est;
+    Estimator est(truth_sim_config());
     est.expect(Sensor::baro, wired);
     Hooks h;
     h.baro = [](msg::Baro&) { return false; };  // silent from power-up
@@ -383,7 +439,7 @@ TEST_CASE("without inflation, at most one GNSS reset per reset_min_interval") {
 TEST_CASE("initialisation waits for a 3-D fix; the origin is that fix") {
   SimOptions o = mixed_flight();
   TruthSim sim(o);
-  Estimator est;
+  Estimator est(truth_sim_config());
   Hooks h;
   int fixes = 0;
   msg::Gnss first;
@@ -423,7 +479,7 @@ TEST_CASE("barometer: ground calibration, then altitude bias tracked") {
   o.static_mode = true;
   o.wind.setZero();
   TruthSim sim(o);
-  Estimator est;
+  Estimator est(truth_sim_config());
   fly(sim, est, 1.2);
   bool calibrated = false;
   for (const Event& ev : est.take_events()) calibrated = calibrated || ev.kind == EventKind::baro_calibrated;
@@ -437,7 +493,7 @@ TEST_CASE("barometer: ground calibration, then altitude bias tracked") {
 TEST_CASE("determinism: same inputs, bit-identical estimates") {
   auto run = [] {
     TruthSim sim(mixed_flight());
-    Estimator est;
+    Estimator est(truth_sim_config());
     fly(sim, est, 15.0);
     return est.state();
   };
@@ -455,7 +511,7 @@ namespace {
 /// time_of_validity = epoch (with_epoch) or only the late stamp (without).
 Errors fly_with_gnss_delay(double delay, bool with_epoch) {
   TruthSim sim(mixed_flight());
-  Estimator est;
+  Estimator est(truth_sim_config());
   std::deque<msg::Gnss> late;
   Hooks h;
   h.gnss = [&](msg::Gnss& g) {

@@ -42,7 +42,7 @@ SimOptions turning_flight() {
 TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
   auto plugin = std::make_unique<EstimatorEkf>();
   const EstimatorEkf* p = plugin.get();
-  testing::Harness h(std::move(plugin), {{"gyro_noise", 0.0023}, {"mag_gate", 16.0}});
+  testing::Harness h(std::move(plugin), {{"gyro_noise", 0.0023}, {"mag_gate", 16.0}, {"accel_level_calibrated", false}});
   REQUIRE(h.plugin().find_input("imu") != nullptr);
   CHECK(h.plugin().find_input("imu")->need() == Need::required);
   for (const char* n : {"gnss", "baro", "diff_pressure", "mag"}) {

@@ -29,6 +29,7 @@ TEST_CASE("with sim_aero's sensor models: loose accuracy bounds over 200 s, 3 se
     // sim_aero's default (rosflight) receiver: an error-free velocity, unlike a real
     // receiver's correlated errors the 0.3-m/s default is for; configured as a user would
     c.gnss_vel_sigma_h = c.gnss_vel_sigma_v = 0.01;
+    c.accel_level_calibrated = false;  // sim_aero's default accelerometer: a raw offset, no level calibration
     Estimator est(c);
     Rms roll, pitch, yaw, vel, alt, pos, wind, gnss_pos;
     int k = 0;

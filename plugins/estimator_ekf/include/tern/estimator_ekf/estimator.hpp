@@ -83,11 +83,24 @@ struct EstimatorConfig {
                                      ///< omega_dot x r + omega x (omega x r))
   Vec3 imu_mount = Vec3::Zero();     ///< IMU axes relative to the body axes: roll, pitch, yaw
                                      ///< (3-2-1), rad; v_body = R(imu_mount) v_imu
-  /// How well imu_mount is known, 1 sigma per body axis, rad. No measurement in flight reveals
-  /// it (the filter estimates the IMU's attitude), so it is added to the published attitude
-  /// covariance (State.P_diag), not to the filter's: a board mounted by hand against a square
-  /// sits within about 1 deg on each axis. 0 for an installation measured better.
+  /// How well imu_mount is known, 1 sigma per body axis, rad: a board mounted by hand against a
+  /// square sits within about 1 deg on each axis; 0 for an installation measured better. No
+  /// measurement in flight reveals it (the filter estimates the IMU's attitude), so it is added
+  /// to the published attitude covariance (State.P_diag), not to the filter's; with
+  /// accel_level_calibrated, roll and pitch go into the accelerometer offset's prior instead.
   Vec3 imu_mount_sigma = Vec3::Constant(0.0175);
+  /// The FCU's accelerometer was calibrated level (ROSflight's calibrate_accel, sensors.cpp, as
+  /// `tern fcu calibrate imu` asks: the aircraft level and still): the stored offset makes that
+  /// reading (0, 0, -g), so the board's mounting tilt mu went into the offset. In flight the
+  /// accelerometer then reads like a level-mounted one with an offset [mu]x (0, 0, -g) on x and y;
+  /// only loads other than 1 g (turns, pull-ups) show it in the filter's b_a. The body's attitude
+  /// is the filter's (the board's) turned back by that tilt: q (x) Exp(-mu),
+  /// mu = (b_a,y / g, -b_a,x / g, 0) (body_attitude()), as uncertain as the filter's
+  /// (dtheta - dmu) plus the floor's level (level_sigma). false: b_a is the sensor's own offset
+  /// (an FCU calibrated on a tilted floor or not at all), the mount widens the attitude.
+  bool accel_level_calibrated = true;
+  /// How level the floor was for that calibration, 1 sigma, rad (a spirit level: 0.3 deg).
+  double level_sigma = 0.0052;
 
   // GNSS
   int min_fix_type = 3;           ///< minimum fix type used (3: 3-D fix)
@@ -323,6 +336,10 @@ struct EstimatorConfig {
       ParamSpec("rad", -tern::kPi, tern::kPi, "IMU axes relative to the body axes: roll, pitch, yaw (3-2-1); v_body = R(imu_mount) v_imu"));
     v(&C::imu_mount_sigma, "imu_mount_sigma",
       ParamSpec("rad", -1.0, 1.0, "uncertainty of imu_mount per body axis, 1 sigma: added to the published attitude covariance"));
+    v(&C::accel_level_calibrated, "accel_level_calibrated",
+      ParamSpec("", 0, 1,
+                "the FCU's accelerometer was calibrated level: its offset holds the board's tilt, the body's attitude is corrected by it"));
+    v(&C::level_sigma, "level_sigma", ParamSpec("rad", 0.0, 0.2, "how level the floor was for the accelerometer's calibration, 1 sigma"));
     v(&C::mag_heading_only, "mag_heading_only",
       ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
@@ -418,6 +435,12 @@ class Estimator {
   msg::State state() const;
   /// The same into an existing message (allocation free).
   void fill_state(msg::State& s) const;
+  /// The body's attitude: the filter's, turned back by the board's tilt the level calibration
+  /// put into the accelerometer offset (accel_level_calibrated; otherwise the filter's).
+  Eigen::Quaterniond body_attitude() const;
+  /// Variance of the published attitude error (body frame, rad^2): the filter's, with the tilt
+  /// correction's and the level's or the mount's uncertainty.
+  Vec3 body_attitude_variance() const;
 
   const Filter& filter() const { return filter_; }
   const SensorCounters& counters(Sensor s) const { return counters_[static_cast<int>(s)]; }
