@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <utility>
 
 #include "tern/math.hpp"
 
@@ -121,12 +122,14 @@ void Estimator::apply_models_config() {
   side_force_.C_Y_delta_a = cfg_.C_Y_delta_a;
   side_force_.C_Y_delta_r = cfg_.C_Y_delta_r;
   side_force_.sigma = cfg_.side_force_sigma;
+  side_force_.gust_sigma = cfg_.airspeed_gust_sigma;
   side_force_.gate = cfg_.side_force_gate;
   side_force_.min_airspeed = cfg_.min_airspeed;
 }
 
 void Estimator::reset() {
   initialized_ = false;
+  keep_calibration_ = false;
   side_force_sum_ = 0.0;
   side_force_n_ = 0;
   origin_.reset();
@@ -273,6 +276,10 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   if (dt > 0.0) {
     filter_.propagate(accel, gyro, dt, process_, cfg_.gravity);
+    // The wind is never less known than without any air data (on the ground, below the pitot's
+    // minimum airspeed, the random walk would grow it to 8 m/s in a minute: at takeoff the
+    // pitot's u_r^2 and the side force then let the filter settle on a wind 25 m/s off).
+    filter_.limit_variance(idx::w, 2, cfg_.init_wind_sigma * cfg_.init_wind_sigma);
     if (!output_offset_.isZero()) {
       output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
       if (output_offset_.norm() < 1e-4) output_offset_.setZero();
@@ -286,6 +293,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
     ++filter_resets_;
     push(m.stamp, EventKind::filter_reset, Sensor::imu);
     initialized_ = false;
+    keep_calibration_ = false;  // the state is not finite: nothing to keep
     imu_samples_ = 0;
     mag_samples_ = 0;
     history_.clear();
@@ -316,6 +324,7 @@ void Estimator::lose_attitude(Nanos stamp, double gap) {
   // calibration stay.
   push(stamp, EventKind::imu_lost, Sensor::imu, gap);
   initialized_ = false;
+  keep_calibration_ = true;  // the sensors' biases and sensitivities did not change meanwhile
   imu_samples_ = 0;
   mag_samples_ = 0;
   pre_init_imu_.clear();
@@ -329,6 +338,18 @@ Nanos Estimator::valid_at(Sensor s, Nanos stamp) const {
 
 template <class Model>
 UpdateResult Estimator::fuse(Model& model, const typename Model::Vec& z, Nanos t_v) {
+  // Dead reckoning (GNSS timed out): the air data and the magnetometer still correct the
+  // position through its correlations with velocity, wind and heading, by up to a metre per
+  // update; the published position takes those corrections in smoothly, like GNSS's return.
+  const bool dead_reckoning = counters_[static_cast<int>(Sensor::gnss)].timed_out && cfg_.gnss_recovery_time > 0.0;
+  const Vec3 p_before = filter_.x().p;
+  const UpdateResult r = fuse_now_or_then(model, z, t_v);
+  if (dead_reckoning && r == UpdateResult::accepted) output_offset_ -= filter_.x().p - p_before;
+  return r;
+}
+
+template <class Model>
+UpdateResult Estimator::fuse_now_or_then(Model& model, const typename Model::Vec& z, Nanos t_v) {
   if (t_v >= imu_stamp_) return filter_.update(model, z);
   const StateHistory::Entry* e = history_.at(t_v);
   if (e == nullptr) {
@@ -368,6 +389,7 @@ bool Estimator::add_mag(const msg::Mag& m) {
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   const Vec3 z = m.field / cfg_.mag_field_strength;  // in units of the Earth's field, like b_m
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
+  mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
   const UpdateResult r =
       cfg_.mag_heading_only
           ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
@@ -446,15 +468,25 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     return true;
   }
   const Nanos t_v = valid_at(Sensor::diff_pressure, m.stamp);
-  fuse(pitot_, DiffPressure::Vec(m.pressure), t_v);
-  if (m.pressure >= 0.5 * cfg_.rho * cfg_.min_airspeed * cfg_.min_airspeed) {
-    last_Va_ = std::sqrt(2.0 * m.pressure / cfg_.rho);
+  const double Va = pitot_.airspeed(m.pressure);
+  fuse(pitot_, PitotAirspeed::Vec(Va), t_v);
+  // The lateral models hold in the air only: below the minimum airspeed (measured, not the
+  // estimate, which a wrong wind can lift above it) the wheels' side forces would pass for
+  // aerodynamic ones. And they take the attitude as known: right after an initialisation in
+  // flight (roll and pitch to 20 deg) the side force alone rolled the estimate 5 deg in 0.2 s.
+  const Cov& P = filter_.P();
+  const bool attitude_known =
+      std::max(P(idx::th, idx::th), P(idx::th + 1, idx::th + 1)) <= cfg_.lateral_max_tilt_sigma * cfg_.lateral_max_tilt_sigma;
+  if (Va >= cfg_.min_airspeed) {
+    last_Va_ = Va;
     last_Va_stamp_ = m.stamp;
   }
-  if (side_force_.k != 0.0 && side_force_n_ > 0) {
-    fuse(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_), t_v);
-  } else if (cfg_.use_sideslip) {
-    fuse(sideslip_, ZeroSideslip::Vec(0.0), t_v);
+  if (Va >= cfg_.min_airspeed && attitude_known) {
+    if (side_force_.k != 0.0 && side_force_n_ > 0) {
+      fuse(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_), t_v);
+    } else if (cfg_.use_sideslip) {
+      fuse(sideslip_, ZeroSideslip::Vec(0.0), t_v);
+    }
   }
   side_force_sum_ = 0.0;
   side_force_n_ = 0;
@@ -667,6 +699,8 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   P0.diagonal().segment<3>(idx::p) += e2;
   P0.block<3, 3>(idx::p, idx::eg) = Mat3((-e2).asDiagonal());
   P0.block<3, 3>(idx::eg, idx::p) = Mat3((-e2).asDiagonal());
+  if (keep_calibration_) keep_calibration(x, P0);
+  keep_calibration_ = false;
   filter_.initialize(x, P0);
   history_.clear();
   initialized_ = true;
@@ -675,6 +709,23 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   gnss_reject_since_ = -1;
   rate_ = x.rate(imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero());
   push(m.stamp, EventKind::initialized, Sensor::gnss, have_mag ? 1.0 : 0.0);
+}
+
+void Estimator::keep_calibration(NominalState& x, Cov& P0) const {
+  // The sensor states and their covariance among themselves, from the filter before the
+  // re-initialisation; their correlations with the (new) navigation states start at zero.
+  const NominalState& old = filter_.x();
+  x.b_g = old.b_g;
+  x.b_a = old.b_a;
+  x.S_g = old.S_g;
+  x.b_m = old.b_m;
+  static constexpr std::array<std::pair<int, int>, 4> kBlocks{{{idx::bg, 3}, {idx::ba, 3}, {idx::sg, 9}, {idx::bm, 3}}};
+  for (const auto& [i0, ni] : kBlocks) {
+    P0.middleRows(i0, ni).setZero();
+    P0.middleCols(i0, ni).setZero();
+  }
+  for (const auto& [i0, ni] : kBlocks)
+    for (const auto& [j0, nj] : kBlocks) P0.block(i0, j0, ni, nj) = filter_.P().block(i0, j0, ni, nj);
 }
 
 msg::State Estimator::state() const {

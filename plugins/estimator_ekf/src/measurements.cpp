@@ -1,6 +1,8 @@
 // Measurement models: Jacobians and noise (equations in measurements.hpp).
 #include "tern/estimator_ekf/measurements.hpp"
 
+#include <algorithm>
+
 namespace tern::ekf {
 
 GnssPosition::Jac GnssPosition::jacobian(const NominalState& x) const {
@@ -102,7 +104,17 @@ MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
 
 MagHeading::Noise MagHeading::noise(const NominalState& /*x*/) const {
   const double s = sigma / (field_strength * std::cos(inclination));
-  return Noise(s * s);
+  return Noise(s * s + tilt_variance);
+}
+
+double MagHeading::tilt_variance_of(const Vec3& m, double phi, double theta, const Mat3& P_theta) {
+  constexpr double h = 1e-6;  // rad: the heading is smooth in the levelling angles
+  const double dphi = (heading_from_field(m, phi + h, theta, 0.0) - heading_from_field(m, phi - h, theta, 0.0)) / (2.0 * h);
+  const double dtheta = (heading_from_field(m, phi, theta + h, 0.0) - heading_from_field(m, phi, theta - h, 0.0)) / (2.0 * h);
+  const double cf = std::cos(phi), sf = std::sin(phi), tt = std::tan(theta);
+  // d psi_m / d dtheta (body) = dphi W_phi + dtheta W_theta
+  const Eigen::RowVector3d J = dphi * Eigen::RowVector3d(1.0, sf * tt, cf * tt) + dtheta * Eigen::RowVector3d(0.0, cf, -sf);
+  return J * P_theta * J.transpose();
 }
 
 BaroAltitude::Jac BaroAltitude::jacobian(const NominalState& /*x*/) const {
@@ -121,21 +133,11 @@ Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x) {
   return J;
 }
 
-bool DiffPressure::applicable(const NominalState& /*x*/, const Vec& z) const { return z(0) >= 0.5 * rho * min_airspeed * min_airspeed; }
+PitotAirspeed::Jac PitotAirspeed::jacobian(const NominalState& x) const { return air_velocity_jacobian(x).row(0); }
 
-DiffPressure::Vec DiffPressure::h(const NominalState& x) const {
-  const double u_r = x.air_velocity_body().x();
-  return Vec(0.5 * rho * u_r * u_r);
-}
-
-DiffPressure::Jac DiffPressure::jacobian(const NominalState& x) const {
-  const double u_r = x.air_velocity_body().x();
-  return rho * u_r * air_velocity_jacobian(x).row(0);
-}
-
-DiffPressure::Noise DiffPressure::noise(const NominalState& x) const {
-  const double g = rho * x.air_velocity_body().x() * gust_sigma;
-  return Noise(sigma * sigma + g * g);
+PitotAirspeed::Noise PitotAirspeed::noise(const NominalState& x) const {
+  const double s = sigma / (rho * std::max(x.air_velocity_body().x(), min_airspeed));
+  return Noise(s * s + gust_sigma * gust_sigma);
 }
 
 bool ZeroSideslip::applicable(const NominalState& x, const Vec& /*z*/) const { return x.air_velocity_body().norm() >= min_airspeed; }
@@ -157,6 +159,11 @@ SideForce::Jac SideForce::jacobian(const NominalState& x) const {
   Jac H = dh_da * air_velocity_jacobian(x);
   H(0, idx::ba + 1) += 1.0;
   return H;
+}
+
+SideForce::Noise SideForce::noise(const NominalState& x) const {
+  const double g = k * C_Y_beta * x.air_velocity_body().x() * gust_sigma;  // m/s^2 of a gust_sigma sideslip gust
+  return Noise(sigma * sigma + g * g);
 }
 
 }  // namespace tern::ekf

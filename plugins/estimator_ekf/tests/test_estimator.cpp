@@ -571,9 +571,12 @@ TEST_CASE("a silent IMU makes the state invalid within 50 ms; valid again within
   CHECK(to_seconds(invalid_at - t0) <= 0.05);
   REQUIRE(valid_again_at >= 0);
   CHECK(to_seconds(valid_again_at - t1) <= 2.0);
-  // ... and valid means right: the attitude after the re-initialisation is the truth's.
+  // ... and valid means right: the attitude after the re-initialisation is the truth's. (The
+  // sensor states learnt before the loss are kept: with the gyro bias, 0.86 deg/s here, learnt
+  // again from zero the yaw swung to 3 deg in these 5 s.)
+  CHECK(c.est.filter().x().b_g.isApprox(c.sim.options().gyro_bias, 0.1));
   fly(c.sim, c.est, 5.0);
-  CHECK(attitude_error(c.est.filter().x().q, c.sim.truth().q()) < 2.0 * kPi / 180);
+  CHECK(attitude_error(c.est.filter().x().q, c.sim.truth().q()) < 1.0 * kPi / 180);
 }
 
 TEST_CASE("an IMU sending NaN is silent too: invalid within 50 ms") {

@@ -88,7 +88,7 @@ TEST_CASE("measurement Jacobians match finite differences") {
   SUBCASE("magnetometer") { check_jacobian(Magnetometer{}, x); }
   SUBCASE("barometer") { check_jacobian(BaroAltitude{}, x); }
   SUBCASE("magnetic heading") { check_jacobian(MagHeading{}, x); }
-  SUBCASE("differential pressure") { check_jacobian(DiffPressure{}, x); }
+  SUBCASE("pitot airspeed") { check_jacobian(PitotAirspeed{}, x); }
   SUBCASE("zero sideslip") { check_jacobian(ZeroSideslip{}, x); }
   SUBCASE("side force") {
     SideForce m;  // the Anaconda's: rho S / (2 m) with rho 1.2682, S 0.52, m 4.5
@@ -237,13 +237,68 @@ TEST_CASE("update: Joseph form, variance shrinks, gate rejects and counts outlie
   CHECK(f.update(m, Vec3(f.x().v + Vec3(100.0, 0.0, 0.0))) == UpdateResult::accepted);
 }
 
+TEST_CASE("magnetic heading: the levelling's tilt error is heading noise, tan(I) times the roll error towards magnetic north") {
+  MagHeading m;
+  const double D = m.declination, I = m.inclination;
+  // level, pointing at magnetic north: the field in body axes is (cos I, 0, sin I)
+  const Vec3 field(std::cos(I), 0.0, std::sin(I));
+  CHECK(MagHeading::heading_from_field(field, 0.0, 0.0, D) == doctest::Approx(D));
+  const Mat3 P = Vec3(0.01 * 0.01, 0.01 * 0.01, 0.05 * 0.05).asDiagonal();  // yaw's own does not count
+  CHECK(MagHeading::tilt_variance_of(field, 0.0, 0.0, P) == doctest::Approx(std::pow(std::tan(I) * 0.01, 2)).epsilon(1e-4));
+  CHECK(MagHeading::tilt_variance_of(field, 0.0, 0.0, Mat3::Zero()) == 0.0);
+  const NominalState x;
+  m.tilt_variance = 0.0;
+  const double r0 = m.noise(x)(0, 0);
+  m.tilt_variance = 0.02;
+  CHECK(m.noise(x)(0, 0) == doctest::Approx(r0 + 0.02));
+}
+
+TEST_CASE("limit_variance caps a variance, keeps the correlations and the positive definiteness") {
+  Filter f;
+  f.initialize(sample_state(), random_spd(11) * 30.0);
+  const Cov P0 = f.P();
+  const int i = idx::w;
+  const double cap = 0.5 * P0(i, i);
+  f.limit_variance(idx::w, 2, cap);
+  const Cov& P = f.P();
+  CHECK(P(i, i) == doctest::Approx(cap));
+  CHECK(std::min(P(i + 1, i + 1), P0(i + 1, i + 1)) <= cap + 1e-12);
+  const auto corr = [](const Cov& C, int a, int b) { return C(a, b) / std::sqrt(C(a, a) * C(b, b)); };
+  CHECK(corr(P, i, idx::v) == doctest::Approx(corr(P0, i, idx::v)).epsilon(1e-12));
+  CHECK(P(idx::v, idx::v) == P0(idx::v, idx::v));
+  CHECK(Eigen::LLT<Cov>(P).info() == Eigen::Success);
+  f.limit_variance(idx::w, 2, 1e9);  // below the cap: untouched
+  CHECK(f.P() == P);
+}
+
+TEST_CASE("pitot airspeed: from a wind estimate far off, one update moves u_r towards the measurement, never past it") {
+  // The pressure form 0.5 rho u_r^2 linearised at u_r = 3 m/s overshoots a 9-m/s measurement;
+  // in airspeed the model is linear in u_r and a confident update lands on it.
+  for (double u0 : {3.0, -9.0}) {
+    NominalState x;
+    x.q = Eigen::Quaterniond::Identity();
+    x.v = Vec3(u0, 0.0, 0.0);  // no wind estimate: u_r = u0 (negative: the tailwind mirror)
+    Cov P = Cov::Identity() * 1e-6;
+    P.block<2, 2>(idx::w, idx::w) = Eigen::Matrix2d::Identity() * 100.0;
+    Filter f;
+    f.initialize(x, P);
+    PitotAirspeed pitot;
+    pitot.gate = 0.0;
+    REQUIRE(f.update(pitot, PitotAirspeed::Vec(9.0)) == UpdateResult::accepted);
+    const double u_r = f.x().air_velocity_body().x();
+    INFO("u0 " << u0 << " -> u_r " << u_r);
+    CHECK(u_r > 8.5);
+    CHECK(u_r <= 9.0 + 1e-9);
+  }
+}
+
 TEST_CASE("pitot and sideslip apply only above the minimum airspeed") {
   Filter f;
   NominalState x = sample_state();
   f.initialize(x, Cov::Identity() * 0.01);
-  DiffPressure pitot;
+  PitotAirspeed pitot;
   pitot.min_airspeed = 8.0;
-  CHECK(f.update(pitot, DiffPressure::Vec(0.5 * 1.225 * 5.0 * 5.0)) == UpdateResult::skipped);
+  CHECK(f.update(pitot, PitotAirspeed::Vec(pitot.airspeed(0.5 * 1.225 * 5.0 * 5.0))) == UpdateResult::skipped);
   CHECK(pitot.stats.skipped == 1);
   ZeroSideslip beta;
   x.v = x.wind_ned() + Vec3(1.0, 1.0, 0.0);  // 1.4 m/s airspeed

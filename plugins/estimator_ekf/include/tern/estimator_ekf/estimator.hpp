@@ -148,7 +148,8 @@ struct EstimatorConfig {
   int baro_calibration_count = 100;  ///< samples averaged for the ground calibration
   // pitot and sideslip
   double diff_pressure_sigma = 1.15;  ///< Pa
-  double airspeed_gust_sigma = 1.0;   ///< m/s, gusts the wind state does not follow
+  double airspeed_gust_sigma = 1.0;   ///< m/s, gusts the wind state does not follow (pitot: along
+                                      ///< body x; side force: across, its C_Y_beta sideslip)
   double diff_pressure_gate = kChi2_999[1];
   double min_airspeed = 8.0;  ///< m/s, below it neither pitot nor sideslip update
   bool use_sideslip = true;
@@ -164,6 +165,10 @@ struct EstimatorConfig {
   double C_Y_0 = 0.0, C_Y_beta = 0.0, C_Y_delta_a = 0.0, C_Y_delta_r = 0.0;  ///< per rad
   bool side_force_active() const { return use_side_force && wing_S > 0.0 && mass > 0.0 && C_Y_beta != 0.0; }
   double side_force_sigma = 0.3;  ///< m/s^2
+  /// rad: the side force and zero-sideslip models wait until roll and pitch are known to this, 1
+  /// sigma (an initialisation in flight starts at 0.35; the GNSS velocity brings them under
+  /// 0.1 within a second).
+  double lateral_max_tilt_sigma = 0.1;
   double side_force_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;
@@ -251,7 +256,7 @@ struct EstimatorConfig {
     v(&C::baro_gate, "baro_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)"));
     v(&C::diff_pressure_sigma, "diff_pressure_noise", ParamSpec("Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma"));
     v(&C::airspeed_gust_sigma, "airspeed_gust_sigma",
-      ParamSpec("m/s", 0.0, 20.0, "turbulence along body x the wind state does not follow (adds rho u_r sigma to the pitot noise)"));
+      ParamSpec("m/s", 0.0, 20.0, "turbulence the wind state does not follow: pitot airspeed noise, and the side force's sideslip"));
     v(&C::diff_pressure_gate, "diff_pressure_gate",
       ParamSpec("", 0.0, 1e6, "chi-square gate of the differential pressure (1 dof; 0: off)"));
     v(&C::min_airspeed, "min_airspeed",
@@ -340,6 +345,8 @@ struct EstimatorConfig {
       ParamSpec("", 0, 1,
                 "the FCU's accelerometer was calibrated level: its offset holds the board's tilt, the body's attitude is corrected by it"));
     v(&C::level_sigma, "level_sigma", ParamSpec("rad", 0.0, 0.2, "how level the floor was for the accelerometer's calibration, 1 sigma"));
+    v(&C::lateral_max_tilt_sigma, "lateral_max_tilt_sigma",
+      ParamSpec("rad", 1e-3, 3.2, "the side force and zero-sideslip models wait until roll and pitch are known to this, 1 sigma"));
     v(&C::mag_heading_only, "mag_heading_only",
       ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
@@ -449,7 +456,7 @@ class Estimator {
   const Magnetometer& mag_model() const { return mag_; }
   const MagHeading& mag_heading_model() const { return mag_heading_; }
   const BaroAltitude& baro_model() const { return baro_; }
-  const DiffPressure& diff_pressure_model() const { return pitot_; }
+  const PitotAirspeed& diff_pressure_model() const { return pitot_; }
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
   const SideForce& side_force_model() const { return side_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
@@ -492,6 +499,9 @@ class Estimator {
   /// last IMU sample (invalid, counted, when older than the whole history).
   template <class Model>
   UpdateResult fuse(Model& model, const typename Model::Vec& z, Nanos t_v);
+  /// fuse() without the dead-reckoning smoothing of the published position.
+  template <class Model>
+  UpdateResult fuse_now_or_then(Model& model, const typename Model::Vec& z, Nanos t_v);
   /// fuse() that, after inflate_after consecutive rejections, inflates the variances of the
   /// states [first, first + n) by the NIS over the gate (Filter::inflate) and fuses again.
   template <class Model>
@@ -500,6 +510,9 @@ class Estimator {
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
+  /// Sets the sensor states of a re-initialisation (x, P0) to the filter's before it: gyro and
+  /// accelerometer biases, S_g, b_m with their covariance among themselves.
+  void keep_calibration(NominalState& x, Cov& P0) const;
 
   EstimatorConfig cfg_;
   Filter filter_;
@@ -508,13 +521,14 @@ class Estimator {
   Magnetometer mag_;
   MagHeading mag_heading_;
   BaroAltitude baro_;
-  DiffPressure pitot_;
+  PitotAirspeed pitot_;
   ZeroSideslip sideslip_;
   SideForce side_force_;
   double side_force_sum_ = 0.0;  // body-y specific force summed since the last side-force update
   int side_force_n_ = 0;
 
   bool initialized_ = false;
+  bool keep_calibration_ = false;  ///< the next initialisation keeps the sensor states (after an IMU loss)
   bool expect_mag_ = true;
   std::array<bool, kSensorCount> expected_{true, true, true, true, true};
   Nanos first_check_ = -1;  ///< the first check_timeouts() call: when the silence of a never-heard sensor starts
