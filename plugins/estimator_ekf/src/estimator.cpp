@@ -276,9 +276,9 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   if (dt > 0.0) {
     filter_.propagate(accel, gyro, dt, process_, cfg_.gravity);
-    // The wind is never less known than without any air data (on the ground, below the pitot's
-    // minimum airspeed, the random walk would grow it to 8 m/s in a minute: at takeoff the
-    // pitot's u_r^2 and the side force then let the filter settle on a wind 25 m/s off).
+    // The wind is never less known than without any air data: where none reaches it (on the
+    // ground, below the pitot's minimum airspeed) the random walk would grow it past 8 m/s in a
+    // minute of taxiing.
     filter_.limit_variance(idx::w, 2, cfg_.init_wind_sigma * cfg_.init_wind_sigma);
     if (!output_offset_.isZero()) {
       output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
@@ -637,8 +637,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   double yaw_sigma = cfg_.init_yaw_sigma;
   if (have_mag && moving) {
     const Vec3 f_ned = (m.vel - prev_fix_vel_) / dt_fix - Vec3(0.0, 0.0, cfg_.gravity);
-    const double ci = std::cos(cfg_.mag_inclination);
-    const Vec3 m_ned(ci * std::cos(cfg_.mag_declination), ci * std::sin(cfg_.mag_declination), std::sin(cfg_.mag_inclination));
+    const Vec3 m_ned = field_direction_ned(cfg_.mag_declination, cfg_.mag_inclination);
     try {
       x.q = attitude_triad(*f_body, f_ned, mag_avg_, m_ned);
     } catch (const std::invalid_argument&) {  // specific force along the field: no better than level

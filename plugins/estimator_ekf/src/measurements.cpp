@@ -33,9 +33,11 @@ GnssVelocity::Noise GnssVelocity::noise(const NominalState& /*x*/) const {
   return Eigen::Vector3d(sigma_h * sigma_h, sigma_h * sigma_h, sigma_v * sigma_v).asDiagonal();
 }
 
-Vec3 Magnetometer::field_direction_ned() const {
+Vec3 field_direction_ned(double declination, double inclination) {
   return {std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination)};
 }
+
+Vec3 Magnetometer::field_direction_ned() const { return ekf::field_direction_ned(declination, inclination); }
 
 Magnetometer::Vec Magnetometer::h(const NominalState& x) const { return x.q.conjugate() * field_direction_ned() + x.b_m; }
 
@@ -70,7 +72,7 @@ double MagHeading::heading_from_field(const Vec3& m, double phi, double theta, d
 
 MagHeading::Vec MagHeading::h(const NominalState& x) const {
   const Vec3 e = tern::euler_from_quaternion(x.q);
-  const Vec3 n(std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination));
+  const Vec3 n = field_direction_ned(declination, inclination);
   return Vec(heading_from_field(x.q.conjugate() * n + x.b_m, e.x(), e.y(), declination));
 }
 
@@ -82,7 +84,7 @@ MagHeading::Vec MagHeading::residual(const NominalState& x, const Vec& z) const 
 MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
   const Vec3 e = tern::euler_from_quaternion(x.q);
   const double cf = std::cos(e.x()), sf = std::sin(e.x()), ct = std::cos(e.y()), st = std::sin(e.y());
-  const Vec3 n(std::cos(inclination) * std::cos(declination), std::cos(inclination) * std::sin(declination), std::sin(inclination));
+  const Vec3 n = field_direction_ned(declination, inclination);
   const Mat3 L = levelling(e.x(), e.y());
   const Vec3 a = L * (x.q.conjugate() * n);  // R_z(psi)^T m_n
   const Vec3& b = x.b_m;

@@ -58,8 +58,11 @@ struct State {
   /// truth). Layout of estimator_ekf: position NED (3, m^2), velocity NED (3, (m/s)^2), attitude
   /// error (3, rad^2), gyro bias (3, (rad/s)^2), accelerometer bias (3, (m/s^2)^2), wind north,
   /// east (2, (m/s)^2), barometer bias (1, m^2), GNSS position error (3, m^2). The published
-  /// figures are about the frame: attitude widened by the IMU mounting uncertainty, down position
-  /// by the uncertainty of the barometer's calibration datum (the origin, a GNSS fix).
+  /// figures are about the body and the frame: the body's attitude (with a level-calibrated
+  /// accelerometer: the filter's less the board tilt in its offset, roll and pitch widened by the
+  /// calibration floor's level, yaw by the mounting uncertainty; otherwise all three by the
+  /// mounting uncertainty), down position by the uncertainty of the barometer's calibration
+  /// datum (the origin, a GNSS fix).
   std::array<double, 21> P_diag{};
   /// First index of each 3-vector block of P_diag (estimator_ekf's layout above).
   static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6, P_gyro_bias = 9;

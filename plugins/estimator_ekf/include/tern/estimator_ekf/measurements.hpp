@@ -67,6 +67,10 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
   Noise noise(const NominalState& x) const;
 };
 
+/// The unit field direction in NED from declination D (east of north) and inclination I (down
+/// from horizontal), rad: (cos I cos D, cos I sin D, sin I).
+Vec3 field_direction_ned(double declination, double inclination);
+
 /// Magnetometer, 3-axis: z = field / field_strength (body FRD, in units of the Earth's field).
 /// h(x) = R^T m_n + b_m with the unit field direction in NED from declination D (east of north)
 /// and inclination I (down from horizontal): m_n = (cos I cos D, cos I sin D, sin I), and the
@@ -95,7 +99,7 @@ struct Magnetometer : Measurement<Magnetometer, 3> {
 /// H_bm = -(l_x L_1 - l_y L_0) / (l_x^2 + l_y^2) (L_i: rows of L).
 /// Noise: sigma / (field_strength cos I) rad, plus tilt_variance: z is levelled with the
 /// estimate's roll and pitch, whose error turns into heading error (about tan I times it: 2x at
-/// ROSflight's field), set before each update from the filter's covariance (tilt_variance()).
+/// ROSflight's field), set before each update from the filter's covariance (tilt_variance_of()).
 struct MagHeading : Measurement<MagHeading, 1> {
   double declination = 0.1857972802;   ///< rad
   double inclination = 1.139436457;    ///< rad
