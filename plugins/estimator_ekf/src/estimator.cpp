@@ -683,7 +683,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   P0.block<9, 9>(idx::sg, idx::sg) = sensitivity_covariance(cfg_.init_gyro_scale_sigma, cfg_.init_gyro_cross_axis_sigma);
   P0.diagonal().segment<3>(idx::bm).setConstant(cfg_.init_mag_bias_sigma * cfg_.init_mag_bias_sigma);
   double wind_sigma = cfg_.init_wind_sigma;
-  const double Va = std::sqrt(2.0 * std::max(last_diff_pressure_, 0.0) / cfg_.rho);
+  const double Va = pitot_.airspeed(last_diff_pressure_);
   if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {
     x.wind = (m.vel - Va * (x.q * Vec3::UnitX())).head<2>();
     // the wind from the air-data triangle inherits the yaw uncertainty: Va * sigma_psi across

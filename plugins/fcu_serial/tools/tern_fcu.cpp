@@ -99,7 +99,8 @@ std::string format_value(const mav::ParamValue& v) {
     std::snprintf(buf, sizeof buf, "%.0f", x);
   return buf;
 }
-// MAV_PARAM_TYPE of the dialect (mavlink/rosflight.xml), the types of ROSflight's PARAM_VALUE.
+// MAV_PARAM_TYPE of the dialect (rosflight_firmware comms/mavlink/rosflight.xml, enum MAV_PARAM_TYPE),
+// the types of ROSflight's PARAM_VALUE.
 const char* type_name(std::uint8_t t) {
   switch (t) {
     case 1: return "uint8";
