@@ -107,6 +107,7 @@ void Estimator::apply_models_config() {
   mag_heading_.sigma = cfg_.mag_sigma;
   mag_heading_.gate = cfg_.mag_heading_gate;
   baro_.sigma = cfg_.baro_sigma / (cfg_.rho * cfg_.gravity);
+  baro_.rho_g = cfg_.rho * cfg_.gravity;
   baro_.gate = cfg_.baro_gate;
   pitot_.rho = cfg_.rho;
   pitot_.sigma = cfg_.diff_pressure_sigma;
@@ -139,7 +140,7 @@ void Estimator::reset() {
   mag_avg_.setZero();
   imu_samples_ = mag_samples_ = 0;
   baro_cal_count_ = 0;
-  baro_cal_sum_ = baro_offset_ = 0.0;
+  baro_cal_sum_ = baro_cal_q_sum_ = baro_offset_ = baro_.q_datum = 0.0;
   baro_calibrated_ = false;
   baro_datum_var_ = 0.0;
   imu_stamp_ = -1;
@@ -446,8 +447,10 @@ bool Estimator::add_baro(const msg::Baro& m) {
   if (!baro_calibrated_) {
     // Ground calibration: before initialisation the aircraft is at the origin (altitude 0).
     baro_cal_sum_ += h - (initialized_ ? -filter_.x().p.z() : 0.0);
+    baro_cal_q_sum_ += dynamic_pressure();
     if (++baro_cal_count_ >= cfg_.baro_calibration_count) {
       baro_offset_ = baro_cal_sum_ / baro_cal_count_;
+      baro_.q_datum = baro_cal_q_sum_ / baro_cal_count_;
       baro_calibrated_ = true;
       // the datum: the estimate's altitude, or before initialisation the origin (a GNSS fix)
       baro_datum_var_ = initialized_ ? filter_.P()(idx::p + 2, idx::p + 2) : gnss_error_variance().z();
@@ -455,18 +458,26 @@ bool Estimator::add_baro(const msg::Baro& m) {
     }
     return true;
   }
-  if (initialized_) fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
+  if (!initialized_) return true;
+  baro_.dynamic_pressure = dynamic_pressure();
+  fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
   return true;
+}
+
+double Estimator::dynamic_pressure() const {
+  // the pitot's while it reports, else from the estimated airspeed along the body x axis
+  if (last_diff_stamp_ >= 0 && !counters_[static_cast<int>(Sensor::diff_pressure)].timed_out) return std::max(last_diff_pressure_, 0.0);
+  if (!initialized_) return 0.0;
+  const double u_r = filter_.x().air_velocity_body().x();
+  return 0.5 * cfg_.rho * u_r * u_r;
 }
 
 bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
   const bool ok = std::isfinite(m.pressure) && m.pressure > -1000.0 && m.pressure < 20000.0;
   if (!accept(Sensor::diff_pressure, m.stamp, ok)) return false;
-  if (!initialized_) {
-    last_diff_pressure_ = m.pressure;
-    last_diff_stamp_ = m.stamp;
-    return true;
-  }
+  last_diff_pressure_ = m.pressure;
+  last_diff_stamp_ = m.stamp;
+  if (!initialized_) return true;
   const Nanos t_v = valid_at(Sensor::diff_pressure, m.stamp);
   const double Va = pitot_.airspeed(m.pressure);
   fuse(pitot_, PitotAirspeed::Vec(Va), t_v);
@@ -691,6 +702,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   }
   P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
+  P0(idx::sp, idx::sp) = cfg_.init_static_error_sigma * cfg_.init_static_error_sigma;
   // p = z - e_gnss: the absolute position is as uncertain as the GNSS error, and p + e_gnss
   // (what the receiver measures) only as the white part.
   const Vec3 e2 = gnss_error_variance();
@@ -718,7 +730,8 @@ void Estimator::keep_calibration(NominalState& x, Cov& P0) const {
   x.b_a = old.b_a;
   x.S_g = old.S_g;
   x.b_m = old.b_m;
-  static constexpr std::array<std::pair<int, int>, 4> kBlocks{{{idx::bg, 3}, {idx::ba, 3}, {idx::sg, 9}, {idx::bm, 3}}};
+  x.k_sp = old.k_sp;
+  static constexpr std::array<std::pair<int, int>, 5> kBlocks{{{idx::bg, 3}, {idx::ba, 3}, {idx::sg, 9}, {idx::bm, 3}, {idx::sp, 1}}};
   for (const auto& [i0, ni] : kBlocks) {
     P0.middleRows(i0, ni).setZero();
     P0.middleCols(i0, ni).setZero();

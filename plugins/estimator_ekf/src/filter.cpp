@@ -17,6 +17,7 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   r.e_gnss += dx.segment<3>(idx::eg);
   r.S_g += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(dx.data() + idx::sg);
   r.b_m += dx.segment<3>(idx::bm);
+  r.k_sp += dx(idx::sp);
   return r;
 }
 
@@ -97,6 +98,7 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, doub
   q.segment<3>(idx::eg) << eh * eh * dt, eh * eh * dt, ev * ev * dt;
   q.segment<9>(idx::sg).setConstant(noise.gyro_scale_walk * noise.gyro_scale_walk * dt);
   q.segment<3>(idx::bm).setConstant(noise.mag_bias_walk * noise.mag_bias_walk * dt);
+  q(idx::sp) = noise.static_error_walk * noise.static_error_walk * dt;
   return q;
 }
 

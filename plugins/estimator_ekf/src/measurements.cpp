@@ -123,6 +123,7 @@ BaroAltitude::Jac BaroAltitude::jacobian(const NominalState& /*x*/) const {
   Jac H = Jac::Zero();
   H(0, idx::p + 2) = -1.0;
   H(0, idx::bb) = 1.0;
+  H(0, idx::sp) = -(dynamic_pressure - q_datum) / rho_g;
   return H;
 }
 

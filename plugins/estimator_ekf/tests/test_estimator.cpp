@@ -234,6 +234,37 @@ TEST_CASE("a magnetometer offset (hard iron, 2 uT) is learnt in the turns; the h
   CHECK(e.yaw.rms() < 1.0 * kPi / 180);
 }
 
+TEST_CASE("a static-port error (5 % of the dynamic pressure) is learnt from the changes of airspeed") {
+  SimOptions o = mixed_flight();
+  o.baro_static_error = 0.05;
+  o.Va_ramps = {{130.0, 4.0, 6.0}, {170.0, 4.0, -10.0}, {210.0, 4.0, 4.0}};  // 18 -> 24 -> 14 -> 18 m/s
+  // the altitude error's step between 24 m/s (150-170 s) and 14 m/s (185-205 s)
+  const auto fly_step = [&](double init_static_error_sigma, double& k_sp) {
+    TruthSim sim(o);
+    EstimatorConfig c = truth_sim_config();
+    c.init_static_error_sigma = init_static_error_sigma;
+    Estimator est(c);
+    double fast = 0.0, slow = 0.0;
+    int n_fast = 0, n_slow = 0;
+    fly(sim, est, 210.0, {}, [&](const Truth& t, const Estimator& x) {
+      const double e = x.state().p_d - truth_position(t, x, sim).z();
+      if (t.t >= 150.0 && t.t < 170.0) fast += e, ++n_fast;
+      if (t.t >= 185.0) slow += e, ++n_slow;
+    });
+    k_sp = est.filter().x().k_sp;
+    return slow / n_slow - fast / n_fast;
+  };
+  double k_sp = 0.0, k_off = 0.0;
+  const double step = fly_step(EstimatorConfig{}.init_static_error_sigma, k_sp);
+  const double step_without = fly_step(1e-6, k_off);  // the state held at 0
+  std::printf("static-port error: learnt k_sp %.4f of 0.05; altitude error step 24 -> 14 m/s %.2f m (%.2f m without the state)\n", k_sp,
+              step, step_without);
+  // 0.05 x (24^2 - 14^2) rho / 2 is 1.0 m of altitude
+  CHECK(k_sp == doctest::Approx(0.05).epsilon(0.3));
+  CHECK(std::fabs(step) < 0.3);
+  CHECK(std::fabs(step_without) > 0.5);
+}
+
 namespace {
 /// A converged estimator in the mixed flight (20 s after initialisation).
 struct Converged {

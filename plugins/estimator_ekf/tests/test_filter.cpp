@@ -24,6 +24,7 @@ NominalState sample_state() {
   x.e_gnss = Vec3(0.5, -1.0, 2.0);
   x.S_g << 0.01, -0.02, 0.015, 0.012, -0.008, 0.02, -0.017, 0.009, 0.005;
   x.b_m = Vec3(0.03, -0.05, 0.04);
+  x.k_sp = 0.04;
   return x;
 }
 
@@ -41,6 +42,7 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   d.segment<3>(idx::eg) = x1.e_gnss - x0.e_gnss;
   for (int i = 0; i < 3; ++i) d.segment<3>(idx::sg + 3 * i) = (x1.S_g - x0.S_g).row(i).transpose();
   d.segment<3>(idx::bm) = x1.b_m - x0.b_m;
+  d(idx::sp) = x1.k_sp - x0.k_sp;
   return d;
 }
 
@@ -86,7 +88,12 @@ TEST_CASE("measurement Jacobians match finite differences") {
     check_jacobian(m, x);
   }
   SUBCASE("magnetometer") { check_jacobian(Magnetometer{}, x); }
-  SUBCASE("barometer") { check_jacobian(BaroAltitude{}, x); }
+  SUBCASE("barometer") {
+    BaroAltitude baro;
+    baro.dynamic_pressure = 180.0;
+    baro.q_datum = 20.0;
+    check_jacobian(baro, x);
+  }
   SUBCASE("magnetic heading") { check_jacobian(MagHeading{}, x); }
   SUBCASE("pitot airspeed") { check_jacobian(PitotAirspeed{}, x); }
   SUBCASE("zero sideslip") { check_jacobian(ZeroSideslip{}, x); }

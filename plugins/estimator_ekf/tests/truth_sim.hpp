@@ -35,7 +35,8 @@ inline double smooth_step(double x) {
   return x * x * x * (10.0 + x * (-15.0 + 6.0 * x));
 }
 
-/// A change of an angle by `delta` rad starting at `t0` s, lasting `duration` s.
+/// A change of an angle by `delta` rad (or of the airspeed by `delta` m/s) starting at `t0` s,
+/// lasting `duration` s.
 struct Ramp {
   double t0, duration, delta;
   double at(double t) const { return delta * smooth_step((t - t0) / duration); }
@@ -55,12 +56,13 @@ struct SimOptions {
   bool static_mode = false;  ///< at rest (v = 0) at attitude (phi0, theta0, psi0)
   double Va = 18.0, alpha = 0.05;
   double phi0 = 0.0, gamma0 = 0.0, psi0 = 0.0;
-  std::vector<Ramp> phi_ramps, gamma_ramps;
+  std::vector<Ramp> phi_ramps, gamma_ramps, Va_ramps;
   Eigen::Vector2d wind = Eigen::Vector2d(3.0, -4.0);
   // sensor errors
   Eigen::Vector3d gyro_bias = Eigen::Vector3d(0.01, -0.015, 0.008);
   Eigen::Vector3d accel_bias = Eigen::Vector3d(0.1, -0.08, 0.12);
-  double baro_bias = 25.0;  ///< Pa
+  double baro_bias = 25.0;         ///< Pa
+  double baro_static_error = 0.0;  ///< the static port reads p + this x the dynamic pressure
   double accel_noise = 0.2, gyro_noise = 0.0023, baro_noise = 4.0, pitot_noise = 1.15, mag_noise = 3e-6, gnss_h = 0.21, gnss_v = 0.4,
          gnss_vel_noise = 0.01;
   double gnss_k = 1.0 / 1100.0;
@@ -103,7 +105,7 @@ class TruthSim {
     const double dt = to_seconds(kImuPeriod);
     if (!o_.static_mode) {
       // psi: RK4 of psi_dot = g tan(phi) / Va; p: Simpson on the exact velocity.
-      const auto psid = [&](double t) { return o_.g * std::tan(phi_at(t)) / o_.Va; };
+      const auto psid = [&](double t) { return o_.g * std::tan(phi_at(t)) / Va_at(t); };
       const double psi0 = truth_.psi;
       const double k1 = psid(t0), k2 = psid(t0 + dt / 2), k4 = psid(t0 + dt);
       const double psi_mid = psi0 + dt / 2 * (k1 + k2) / 2;  // trapezoid to the midpoint
@@ -151,7 +153,9 @@ class TruthSim {
     msg::Baro m;
     m.stamp = now();
     const double h = o_.alt0 - truth_.p.z();
-    m.pressure = 101325.0 * std::pow(1.0 - h / 44330.769, 1.0 / 0.190263) + o_.baro_bias + o_.baro_noise * normal();
+    const double u_r = air_velocity_body().x();
+    m.pressure = 101325.0 * std::pow(1.0 - h / 44330.769, 1.0 / 0.190263) + o_.baro_static_error * 0.5 * o_.rho * u_r * u_r + o_.baro_bias +
+                 o_.baro_noise * normal();
     return m;
   }
   msg::DiffPressure pitot() {
@@ -190,9 +194,14 @@ class TruthSim {
     return a;
   }
   double theta_at(double t) const { return o_.static_mode ? o_.gamma0 : gamma_at(t) + o_.alpha; }
-  Eigen::Vector3d v_r_body() const { return o_.Va * Eigen::Vector3d(std::cos(o_.alpha), 0.0, std::sin(o_.alpha)); }
+  double Va_at(double t) const {
+    double a = o_.Va;
+    for (const auto& r : o_.Va_ramps) a += r.at(t);
+    return a;
+  }
+  Eigen::Vector3d v_r_body(double t) const { return Va_at(t) * Eigen::Vector3d(std::cos(o_.alpha), 0.0, std::sin(o_.alpha)); }
   Eigen::Vector3d velocity(double t, double psi) const {
-    return rotation_from_euler(phi_at(t), theta_at(t), psi) * v_r_body() + wind_ned();
+    return rotation_from_euler(phi_at(t), theta_at(t), psi) * v_r_body(t) + wind_ned();
   }
   void evaluate(double t) {
     truth_.t = t;
@@ -209,12 +218,14 @@ class TruthSim {
     const double h = 1e-5;
     const double phid = (phi_at(t + h) - phi_at(t - h)) / (2 * h);
     const double thetad = (theta_at(t + h) - theta_at(t - h)) / (2 * h);
-    const double psid = o_.g * std::tan(truth_.phi) / o_.Va;
+    const double psid = o_.g * std::tan(truth_.phi) / Va_at(t);
     const double sf = std::sin(truth_.phi), cf = std::cos(truth_.phi);
     const double st = std::sin(truth_.theta), ct = std::cos(truth_.theta);
     truth_.omega = Eigen::Vector3d(phid - psid * st, thetad * cf + psid * sf * ct, -thetad * sf + psid * cf * ct);
-    truth_.v = truth_.R * v_r_body() + wind_ned();
-    const Eigen::Vector3d a_ned = truth_.R * truth_.omega.cross(v_r_body());
+    const Eigen::Vector3d v_r = v_r_body(t);
+    const Eigen::Vector3d v_r_dot = (v_r_body(t + h) - v_r_body(t - h)) / (2 * h);  // along body x and z
+    truth_.v = truth_.R * v_r + wind_ned();
+    const Eigen::Vector3d a_ned = truth_.R * (truth_.omega.cross(v_r) + v_r_dot);
     truth_.f = truth_.R.transpose() * (a_ned - g_ned);
   }
   double normal() { return std::normal_distribution<double>(0.0, 1.0)(rng_); }

@@ -190,6 +190,10 @@ struct EstimatorConfig {
   /// what a compass calibration leaves (1-2 uT of hard iron) and the motor current's field, 2 uT
   /// of ROSflight's 50.7 uT.
   double init_mag_bias_sigma = 0.04;
+  /// Static-pressure error coefficient k_sp at initialisation, 1 sigma (fraction of the dynamic
+  /// pressure): fuselage and pitot-static ports err by a few percent of it (Gracey, NASA RP-1046,
+  /// 1980, ch. 11); 0.05 is 0.7 m of altitude at 17 m/s.
+  double init_static_error_sigma = 0.05;
   double init_wind_sigma = 5.0;          ///< m/s, without air data at initialisation
   double init_wind_sigma_airdata = 2.0;  ///< m/s, wind from GNSS velocity - pitot airspeed
   double init_baro_bias_sigma = 1.0;     ///< m
@@ -288,6 +292,8 @@ struct EstimatorConfig {
       ParamSpec("", 1e-6, 0.5, "initial gyro cross-axis sensitivity uncertainty, 1 sigma"));
     v(&C::init_mag_bias_sigma, "init_mag_bias_sigma",
       ParamSpec("", 1e-6, 1.0, "initial magnetometer-offset uncertainty per axis, fraction of the field intensity, 1 sigma"));
+    v(&C::init_static_error_sigma, "init_static_error_sigma",
+      ParamSpec("", 1e-6, 1.0, "initial static-pressure error coefficient uncertainty, fraction of the dynamic pressure, 1 sigma"));
     v(&C::init_wind_sigma_airdata, "init_wind_sigma_airdata",
       ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty when initialised in flight from GNSS velocity and pitot airspeed"));
     v(&C::init_wind_sigma, "init_wind_sigma", ParamSpec("m/s", 1e-3, 50.0, "initial wind uncertainty without air data, 1 sigma"));
@@ -511,8 +517,11 @@ class Estimator {
   Vec3 gnss_error_variance() const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
   /// Sets the sensor states of a re-initialisation (x, P0) to the filter's before it: gyro and
-  /// accelerometer biases, S_g, b_m with their covariance among themselves.
+  /// accelerometer biases, S_g, b_m, k_sp with their covariance among themselves.
   void keep_calibration(NominalState& x, Cov& P0) const;
+  /// The dynamic pressure q_bar the static port sees (BaroAltitude), Pa: the pitot's last sample,
+  /// or 0.5 rho u_r^2 from the estimate while the pitot is silent.
+  double dynamic_pressure() const;
 
   EstimatorConfig cfg_;
   Filter filter_;
@@ -555,13 +564,14 @@ class Estimator {
   // barometer calibration: altitude offset = mean(isa_altitude(p) - altitude estimate)
   int baro_cal_count_ = 0;
   double baro_cal_sum_ = 0.0;
+  double baro_cal_q_sum_ = 0.0;  // dynamic pressure over the calibration, Pa (BaroAltitude::q_datum)
   double baro_offset_ = 0.0;
   bool baro_calibrated_ = false;
   /// Variance of the altitude the barometer was calibrated against (the origin's: a GNSS fix's),
   /// m^2. The filter's altitude is the height above that datum; in the frame it adds this.
   double baro_datum_var_ = 0.0;
 
-  double last_diff_pressure_ = 0.0;  // last valid differential pressure before initialisation
+  double last_diff_pressure_ = 0.0;  // last valid differential pressure, Pa
   Nanos last_diff_stamp_ = -1;
   Nanos imu_stamp_ = -1;
   Vec3 rate_ = Vec3::Zero();       // last bias-removed gyro, body

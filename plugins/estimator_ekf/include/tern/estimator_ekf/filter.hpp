@@ -17,9 +17,12 @@
 //          it; what the FCU's boot calibration cannot see, since it calibrates at rest)
 //   b_m    magnetometer offset, body FRD, fraction of the Earth's field intensity (field =
 //          field_strength (R^T m_n + b_m) + noise): residual hard iron, the motor current's field
+//   k_sp   static-pressure error coefficient: the static port reads p + k_sp q_bar (q_bar the
+//          dynamic pressure), the installation's position error (PX4 EKF2's EKF2_PCOEF_*)
 //
-// Error state dx (33 components, index constants in namespace idx):
+// Error state dx (34 components, index constants in namespace idx):
 //   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1) de_gnss(3) dS_g(9, row by row) db_m(3)
+//   dk_sp(1)
 // The first 21 are the navigation states State.P_diag publishes.
 // with the attitude error defined in the body frame: q_true = q (x) exp(dtheta / 2), i.e.
 // R_true = R (I + [dtheta]x) to first order ("multiplicative" EKF: Markley, "Attitude error
@@ -32,7 +35,8 @@
 //   v_dot = R (a_m - b_a - n_a) + g e3                       (a_m: measured specific force)
 //   q_dot = 1/2 q (x) (0, w - n_g),  w = (I - S_g) (w_m - b_g)  (w_m: measured body rate)
 //   b_g_dot = n_bg,  b_a_dot = n_ba,  wind_dot = n_w,  b_baro_dot = n_bb,  S_g_dot = n_S,
-//   b_m_dot = n_bm   (random walks; b_m: the magnetometer's offset, measurements.hpp)
+//   b_m_dot = n_bm,  k_sp_dot = n_sp   (random walks; b_m: the magnetometer's offset, k_sp: the
+//   static port's error, measurements.hpp)
 //   e_gnss_dot = -k e_gnss + n_e   (first-order Gauss-Markov: the slowly wandering GNSS position
 //                                   error of Beard & McLain eq. 7.26, 1/k = 1100 s)
 // Error dynamics (first order in dx), with a = a_m - b_a, u = w_m - b_g and w = (I - S_g) u:
@@ -74,7 +78,7 @@
 
 namespace tern::ekf {
 
-inline constexpr int kErrDim = 33;  ///< error-state dimension
+inline constexpr int kErrDim = 34;  ///< error-state dimension
 
 /// Offsets of the error-state blocks.
 namespace idx {
@@ -88,6 +92,7 @@ inline constexpr int bb = 17;  ///< barometer bias, 1
 inline constexpr int eg = 18;  ///< GNSS position error, 3
 inline constexpr int sg = 21;  ///< gyro sensitivity error S_g, 9, row by row (S_g(i, j) at sg + 3 i + j)
 inline constexpr int bm = 30;  ///< magnetometer offset b_m, 3
+inline constexpr int sp = 33;  ///< static-pressure error coefficient k_sp, 1
 }  // namespace idx
 
 using Vec3 = Eigen::Vector3d;
@@ -117,6 +122,9 @@ struct NominalState {
   /// Magnetometer offset (hard iron, the motor current's field, the calibration's residual) in
   /// body FRD, as a fraction of the Earth's field intensity (x field_strength = tesla).
   Vec3 b_m = Vec3::Zero();
+  /// Static-pressure error coefficient (dimensionless): the static port reads the ambient
+  /// pressure plus k_sp times the dynamic pressure (BaroAltitude).
+  double k_sp = 0.0;
 
   /// The body rate (I - S_g) (gyro - b_g) from a gyro sample (body FRD, rad/s).
   Vec3 rate(const Vec3& gyro) const { return gyro - b_g - S_g * (gyro - b_g); }
@@ -128,7 +136,7 @@ struct NominalState {
   Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
   bool all_finite() const {
     return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() && b_a.allFinite() && wind.allFinite() &&
-           std::isfinite(b_baro) && e_gnss.allFinite() && S_g.allFinite() && b_m.allFinite();
+           std::isfinite(b_baro) && e_gnss.allFinite() && S_g.allFinite() && b_m.allFinite() && std::isfinite(k_sp);
   }
 };
 
@@ -201,6 +209,9 @@ struct ProcessNoise {
   /// the field (0.25 uT) in 100 s. 2e-3 let the heading follow the wind's errors in turbulence
   /// (bench_estimation, aggressive, realistic, 10 seeds: worst yaw 2.18 against 1.82 deg).
   double mag_bias_walk = 5e-4;
+  /// Random walk of the static-pressure error coefficient k_sp, 1/sqrt(s): the port's error
+  /// changes with the angle of attack and sideslip the coefficient averages over.
+  double static_error_walk = 1e-4;
 
   /// The plugin's parameter names and ranges (declare_struct, tern/param_struct.hpp); the member
   /// initialisers above are their defaults.
@@ -229,6 +240,8 @@ struct ProcessNoise {
       ParamSpec("1/s", 0.0, 10.0, "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)"));
     v(&P::mag_bias_walk, "mag_bias_walk",
       ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the magnetometer offset, fraction of the field intensity"));
+    v(&P::static_error_walk, "static_error_walk",
+      ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the static-pressure error coefficient (fraction of the dynamic pressure)"));
   }
 };
 

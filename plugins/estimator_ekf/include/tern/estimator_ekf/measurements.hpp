@@ -118,10 +118,22 @@ struct MagHeading : Measurement<MagHeading, 1> {
 };
 
 /// Barometric altitude: z = altitude above the origin from static pressure (after the ground
-/// calibration), m. h(x) = -p_d + b_baro; H_pd = -1, H_bb = 1.
+/// calibration), m. The static port reads the ambient pressure plus k_sp times the dynamic
+/// pressure q_bar (its position error: the flow around the fuselage; PX4 EKF2's EKF2_PCOEF_*,
+/// calibrated there by flight test, estimated here). The calibration took the error at its own
+/// q_0 into the datum, so the altitude is lowered by k_sp (q_bar - q_0) / (rho g):
+///   h(x) = -p_d + b_baro - k_sp (q_bar - q_0) / (rho g);
+///   H_pd = -1, H_bb = 1, H_ksp = -(q_bar - q_0) / (rho g).
+/// q_bar is the pitot's measured differential pressure, set before each update (dynamic_pressure);
+/// it varies with the airspeed where b_baro does not, which separates the two: the takeoff run
+/// (q_bar from 0 to ~100 Pa at a constant height) and every change of airspeed. At a constant
+/// airspeed k_sp stays its prior and out of the altitude.
 struct BaroAltitude : Measurement<BaroAltitude, 1> {
-  double sigma = 0.33;  ///< m (4 Pa / (rho g))
-  Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro); }
+  double sigma = 0.33;             ///< m (4 Pa / (rho g))
+  double rho_g = 1.225 * 9.80665;  ///< Pa per metre of height (air density times gravity)
+  double dynamic_pressure = 0.0;   ///< q_bar, Pa (>= 0)
+  double q_datum = 0.0;            ///< q_0, the mean dynamic pressure of the calibration, Pa
+  Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro - x.k_sp * (dynamic_pressure - q_datum) / rho_g); }
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
