@@ -560,13 +560,12 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
 
 void Estimator::use_reported_accuracy(const msg::Gnss& m) {
   // The GNSS error state is a Gauss-Markov process of rate k whose steady sigma is
-  // walk / sqrt(2 k): the reported accuracy sets the walk. The receiver's speed accuracy is the
-  // velocity noise. Never below the configured figures (receivers report optimistic values).
-  const double two_k = 2.0 * cfg_.process.gnss_error_k;
-  if (m.h_acc > 0.0 && std::isfinite(m.h_acc))
-    process_.gnss_error_walk_h = std::max(cfg_.process.gnss_error_walk_h, m.h_acc * std::sqrt(two_k));
-  if (m.v_acc > 0.0 && std::isfinite(m.v_acc))
-    process_.gnss_error_walk_v = std::max(cfg_.process.gnss_error_walk_v, m.v_acc * std::sqrt(two_k));
+  // walk / sqrt(2 k): the reported accuracy (at least the floor) sets the walk. The receiver's
+  // speed accuracy is the velocity noise where larger than the configured one (its velocity
+  // errors are correlated, EstimatorConfig::gnss_vel_sigma_h).
+  const double sqrt_two_k = std::sqrt(2.0 * cfg_.process.gnss_error_k);
+  if (m.h_acc > 0.0 && std::isfinite(m.h_acc)) process_.gnss_error_walk_h = std::max(cfg_.gnss_accuracy_floor, m.h_acc) * sqrt_two_k;
+  if (m.v_acc > 0.0 && std::isfinite(m.v_acc)) process_.gnss_error_walk_v = std::max(cfg_.gnss_accuracy_floor, m.v_acc) * sqrt_two_k;
   if (m.s_acc > 0.0 && std::isfinite(m.s_acc)) {
     gnss_vel_.sigma_h = std::max(cfg_.gnss_vel_sigma_h, m.s_acc);
     gnss_vel_.sigma_v = std::max(cfg_.gnss_vel_sigma_v, m.s_acc);

@@ -112,9 +112,13 @@ struct EstimatorConfig {
   /// dimension). 0.3 m/s is PX4 EKF2's EKF2_GPS_V_NOISE and ArduPilot EKF3's EK3_VELNE_M_NSE.
   double gnss_vel_sigma_h = 0.3;
   double gnss_vel_sigma_v = 0.3;  ///< m/s, as gnss_vel_sigma_h
-  bool use_gnss_accuracy = true;  ///< the receiver's reported accuracies (h_acc, v_acc: steady
-                                  ///< sigma of the GNSS error state; s_acc: velocity noise)
-                                  ///< where larger than the figures here
+  /// The receiver's reported accuracies: h_acc and v_acc set the steady sigma of the GNSS error
+  /// state (not below gnss_accuracy_floor; without them gnss_error_walk_* hold), s_acc the
+  /// velocity noise where larger than gnss_vel_sigma_*.
+  bool use_gnss_accuracy = true;
+  /// The least steady GNSS error (m, 1 sigma) a reported accuracy is taken for: PX4 EKF2's
+  /// EKF2_GPS_P_NOISE, 0.5 m, the lower limit it puts on a receiver's reported accuracy.
+  double gnss_accuracy_floor = 0.5;
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;     ///< s of continuous position rejection before a reset
@@ -357,8 +361,10 @@ struct EstimatorConfig {
       ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
       ParamSpec("", 0, 1,
-                "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error) and s_acc "
-                "(velocity noise) where larger than gnss_error_walk_*, gnss_vel_noise_*"));
+                "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error, at least gnss_accuracy_floor) "
+                "and s_acc (velocity noise, where larger than gnss_vel_noise_*)"));
+    v(&C::gnss_accuracy_floor, "gnss_accuracy_floor",
+      ParamSpec("m", 0.01, 100.0, "the least steady GNSS position error a reported accuracy is taken for, 1 sigma"));
     v(&C::use_sideslip, "use_sideslip",
       ParamSpec("", 0, 1, "apply the zero-sideslip pseudo-measurement (when the side-force model is off)"));
     v(&C::use_side_force, "use_side_force",
@@ -462,6 +468,8 @@ class Estimator {
   const Magnetometer& mag_model() const { return mag_; }
   const MagHeading& mag_heading_model() const { return mag_heading_; }
   const BaroAltitude& baro_model() const { return baro_; }
+  /// Variance of the barometer's calibration datum (the altitude it was calibrated against), m^2.
+  double baro_datum_variance() const { return baro_datum_var_; }
   const PitotAirspeed& diff_pressure_model() const { return pitot_; }
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
   const SideForce& side_force_model() const { return side_force_; }
