@@ -308,16 +308,18 @@ Spread spread(std::vector<double> v) {
 
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("-"); }
 
-// One line per seed: where the median hides a bad flight.
+// One line per seed: where the median hides a bad flight ("outage m": the drift at the end of the
+// GNSS outage, with --gnss-outage).
 void print_seeds(const std::vector<Flight>& flights) {
-  std::printf("  %4s %9s %8s %8s %8s %8s %8s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "home m", "roll deg", "pitch deg",
-              "yaw deg", "course deg", "wind m/s", "NEES att", "resets", "inflat", "diverge", "end");
+  std::printf("  %4s %9s %8s %8s %8s %9s %8s %10s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "home m", "roll deg",
+              "pitch deg", "yaw deg", "course deg", "wind m/s", "outage m", "NEES att", "resets", "inflat", "diverge", "end");
   for (const auto& f : flights) {
-    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8.1f %7.0f %7.0f %7s %s%s\n",
+    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8s %8.1f %7.0f %7.0f %7s %s%s\n",
                 static_cast<unsigned long long>(f.seed), f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(),
                 f.est[ROLL].value() * kDeg, f.est[PITCH].value() * kDeg, f.est[YAW].value() * kDeg, f.est[COURSE].value() * kDeg,
-                f.est[WIND].value(), f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets, f.inflations,
-                f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(), f.crashed ? " (crashed)" : "");
+                f.est[WIND].value(), cell(f.outage.drift).c_str(), f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets,
+                f.inflations, f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
+                f.crashed ? " (crashed)" : "");
   }
 }
 
