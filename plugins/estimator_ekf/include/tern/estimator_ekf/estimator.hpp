@@ -195,8 +195,8 @@ struct EstimatorConfig {
   /// of ROSflight's 50.7 uT.
   double init_mag_bias_sigma = 0.04;
   /// Static-pressure error coefficient k_sp at initialisation, 1 sigma (fraction of the dynamic
-  /// pressure): fuselage and pitot-static ports err by a few percent of it (Gracey, NASA RP-1046,
-  /// 1980, ch. 11); 0.05 is 0.7 m of altitude at 17 m/s.
+  /// pressure): fuselage and pitot-static ports err by a few percent of it (Gracey, "Measurement
+  /// of aircraft speed and altitude", NASA RP-1046, 1980); 0.05 is 0.7 m of altitude at 17 m/s.
   double init_static_error_sigma = 0.05;
   double init_wind_sigma = 5.0;          ///< m/s, without air data at initialisation
   double init_wind_sigma_airdata = 2.0;  ///< m/s, wind from GNSS velocity - pitot airspeed
