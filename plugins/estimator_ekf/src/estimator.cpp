@@ -702,6 +702,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
   P0(idx::sp, idx::sp) = cfg_.init_static_error_sigma * cfg_.init_static_error_sigma;
+  P0(idx::wd, idx::wd) = cfg_.process.vertical_wind_sigma * cfg_.process.vertical_wind_sigma;
   // p = z - e_gnss: the absolute position is as uncertain as the GNSS error, and p + e_gnss
   // (what the receiver measures) only as the white part.
   const Vec3 e2 = gnss_error_variance();
@@ -812,7 +813,7 @@ void Estimator::fill_state(msg::State& s) const {
   s.gamma = s.Vg > 1e-3 ? std::asin(std::clamp(-x.v.z() / s.Vg, -1.0, 1.0)) : 0.0;
   s.w_n = x.wind.x();
   s.w_e = x.wind.y();
-  s.w_d = 0.0;
+  s.w_d = x.wind_d;
   s.b_x = x.b_g.x();
   s.b_y = x.b_g.y();
   s.b_z = x.b_g.z();

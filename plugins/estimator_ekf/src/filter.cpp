@@ -18,6 +18,7 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   r.S_g += Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(dx.data() + idx::sg);
   r.b_m += dx.segment<3>(idx::bm);
   r.k_sp += dx(idx::sp);
+  r.wind_d += dx(idx::wd);
   return r;
 }
 
@@ -29,7 +30,7 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   const Mat39 Fthsg = -dt * sensitivity_jacobian(gyro - x_.b_g);
   const Mat3 Fvba = -dt * R;
 
-  x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise.gnss_error_k);
+  x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise);
 
   // Covariance P <- F P F^T + Q, with F = I except the blocks
   //   F_p,v = dt I, F_v,theta = -dt R [a]x, F_v,ba = -dt R, F_theta,theta = Exp(-w dt),
@@ -45,8 +46,9 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   P.middleRows<3>(idx::v) += Fvth * P.middleRows<3>(idx::th) + Fvba * P.middleRows<3>(idx::ba);
   P.middleRows<3>(idx::th) =
       (Fthth * P.middleRows<3>(idx::th) + Fthbg * P.middleRows<3>(idx::bg) + Fthsg * P.middleRows<9>(idx::sg)).eval();
-  const double fe = std::exp(-noise.gnss_error_k * dt);
+  const double fe = std::exp(-noise.gnss_error_k * dt), fw = std::exp(-noise.vertical_wind_rate() * dt);
   P.middleRows<3>(idx::eg) *= fe;
+  P.row(idx::wd) *= fw;
   // Columns.
   P.middleCols<3>(idx::p) += dt * P.middleCols<3>(idx::v);
   P.middleCols<3>(idx::v) += P.middleCols<3>(idx::th) * Fvth.transpose() + P.middleCols<3>(idx::ba) * Fvba.transpose();
@@ -54,23 +56,25 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
                               P.middleCols<9>(idx::sg) * Fthsg.transpose())
                                  .eval();
   P.middleCols<3>(idx::eg) *= fe;
+  P.col(idx::wd) *= fw;
 
   P.diagonal() += process_noise_diagonal(noise, dt, (a - Vec3(0.0, 0.0, -gravity)).norm());
   symmetrize(P);
 }
 
 NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
-                                       double gnss_error_k) {
+                                       const ProcessNoise& noise) {
   NominalState r = x;
   const Vec3 a_n = x.R() * (accel - x.b_a) + Vec3(0.0, 0.0, gravity);
   r.p += x.v * dt + (0.5 * dt * dt) * a_n;
   r.v += a_n * dt;
   r.q = (x.q * quat_exp(x.rate(gyro) * dt)).normalized();
-  r.e_gnss *= std::exp(-gnss_error_k * dt);  // expectation of the Gauss-Markov process
+  r.e_gnss *= std::exp(-noise.gnss_error_k * dt);  // expectations of the Gauss-Markov processes
+  r.wind_d *= std::exp(-noise.vertical_wind_rate() * dt);
   return r;
 }
 
-Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k) {
+Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise) {
   const Mat3 R = x.R();
   Cov F = Cov::Identity();
   F.block<3, 3>(idx::p, idx::v) = dt * Mat3::Identity();
@@ -79,7 +83,8 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   F.block<3, 3>(idx::th, idx::th) = quat_exp(-x.rate(gyro) * dt).toRotationMatrix();
   F.block<3, 3>(idx::th, idx::bg) = -dt * (Mat3::Identity() - x.S_g);
   F.block<3, 9>(idx::th, idx::sg) = -dt * sensitivity_jacobian(gyro - x.b_g);
-  F.block<3, 3>(idx::eg, idx::eg) = std::exp(-gnss_error_k * dt) * Mat3::Identity();
+  F.block<3, 3>(idx::eg, idx::eg) = std::exp(-noise.gnss_error_k * dt) * Mat3::Identity();
+  F(idx::wd, idx::wd) = std::exp(-noise.vertical_wind_rate() * dt);
   return F;
 }
 
@@ -99,6 +104,8 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, doub
   q.segment<9>(idx::sg).setConstant(noise.gyro_scale_walk * noise.gyro_scale_walk * dt);
   q.segment<3>(idx::bm).setConstant(noise.mag_bias_walk * noise.mag_bias_walk * dt);
   q(idx::sp) = noise.static_error_walk * noise.static_error_walk * dt;
+  const double kw = noise.vertical_wind_rate(), sw = noise.vertical_wind_sigma;
+  q(idx::wd) = kw > 0.0 ? sw * sw * (1.0 - std::exp(-2.0 * kw * dt)) : sw * sw * dt;
   return q;
 }
 

@@ -133,6 +133,7 @@ Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x) {
   J.block<3, 3>(0, idx::v) = Rt;
   J.block<3, 3>(0, idx::th) = tern::skew(x.air_velocity_body());
   J.block<3, 2>(0, idx::w) = -Rt.leftCols<2>();
+  J.col(idx::wd) = -Rt.col(2);
   return J;
 }
 

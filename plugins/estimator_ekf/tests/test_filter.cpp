@@ -25,6 +25,7 @@ NominalState sample_state() {
   x.S_g << 0.01, -0.02, 0.015, 0.012, -0.008, 0.02, -0.017, 0.009, 0.005;
   x.b_m = Vec3(0.03, -0.05, 0.04);
   x.k_sp = 0.04;
+  x.wind_d = 0.7;
   return x;
 }
 
@@ -43,6 +44,7 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   for (int i = 0; i < 3; ++i) d.segment<3>(idx::sg + 3 * i) = (x1.S_g - x0.S_g).row(i).transpose();
   d.segment<3>(idx::bm) = x1.b_m - x0.b_m;
   d(idx::sp) = x1.k_sp - x0.k_sp;
+  d(idx::wd) = x1.wind_d - x0.wind_d;
   return d;
 }
 
@@ -130,7 +132,9 @@ TEST_CASE("side force: h is the lateral aerodynamic force over the mass, plus th
 TEST_CASE("transition matrix matches finite differences of the nominal propagation") {
   const NominalState x = sample_state();
   const Vec3 accel(1.5, -0.8, -11.0), gyro(0.3, -0.2, 0.25);
-  const double dt = 0.0025, g = 9.81, k = 0.01;
+  const double dt = 0.0025, g = 9.81;
+  ProcessNoise k;
+  k.gnss_error_k = 0.01;
   const Cov F = Filter::transition(x, accel, gyro, dt, k);
   const NominalState x1 = Filter::propagate_nominal(x, accel, gyro, dt, g, k);
   const double eps = 1e-6;
@@ -204,12 +208,12 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   qn.position = 0.01;
   const double dt = 0.0025;
   f.propagate(accel, gyro, dt, qn, 9.81);
-  const Cov F = Filter::transition(x, accel, gyro, dt, qn.gnss_error_k);
+  const Cov F = Filter::transition(x, accel, gyro, dt, qn);
   Cov expected = F * P0 * F.transpose();
   expected.diagonal() += Filter::process_noise_diagonal(qn, dt, (accel - x.b_a - Vec3(0, 0, -9.81)).norm());
   CHECK((f.P() - expected).cwiseAbs().maxCoeff() < 1e-12 * expected.cwiseAbs().maxCoeff());
   CHECK((f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
-  const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn.gnss_error_k);
+  const NominalState xn = Filter::propagate_nominal(x, accel, gyro, dt, 9.81, qn);
   CHECK((f.x().p - xn.p).norm() == 0.0);
 }
 

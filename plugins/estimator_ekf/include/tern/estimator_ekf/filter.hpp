@@ -19,10 +19,11 @@
 //          field_strength (R^T m_n + b_m) + noise): residual hard iron, the motor current's field
 //   k_sp   static-pressure error coefficient: the static port reads p + k_sp q_bar (q_bar the
 //          dynamic pressure), the installation's position error (PX4 EKF2's EKF2_PCOEF_*)
+//   w_d    vertical wind (down), m/s: the vertical gust, seen through the lift (NormalForce)
 //
-// Error state dx (34 components, index constants in namespace idx):
+// Error state dx (35 components, index constants in namespace idx):
 //   dp(3) dv(3) dtheta(3) db_g(3) db_a(3) dw(2) db_baro(1) de_gnss(3) dS_g(9, row by row) db_m(3)
-//   dk_sp(1)
+//   dk_sp(1) dw_d(1)
 // The first 21 are the navigation states State.P_diag publishes.
 // with the attitude error defined in the body frame: q_true = q (x) exp(dtheta / 2), i.e.
 // R_true = R (I + [dtheta]x) to first order ("multiplicative" EKF: Markley, "Attitude error
@@ -39,6 +40,7 @@
 //   static port's error, measurements.hpp)
 //   e_gnss_dot = -k e_gnss + n_e   (first-order Gauss-Markov: the slowly wandering GNSS position
 //                                   error of Beard & McLain eq. 7.26, 1/k = 1100 s)
+//   w_d_dot = -w_d / tau_w + n_wd  (first-order Gauss-Markov: the vertical gust)
 // Error dynamics (first order in dx), with a = a_m - b_a, u = w_m - b_g and w = (I - S_g) u:
 //   dp_dot     = dv
 //   dv_dot     = -R [a]x dtheta - R db_a - R n_a
@@ -78,7 +80,7 @@
 
 namespace tern::ekf {
 
-inline constexpr int kErrDim = 34;  ///< error-state dimension
+inline constexpr int kErrDim = 35;  ///< error-state dimension
 
 /// Offsets of the error-state blocks.
 namespace idx {
@@ -93,6 +95,7 @@ inline constexpr int eg = 18;  ///< GNSS position error, 3
 inline constexpr int sg = 21;  ///< gyro sensitivity error S_g, 9, row by row (S_g(i, j) at sg + 3 i + j)
 inline constexpr int bm = 30;  ///< magnetometer offset b_m, 3
 inline constexpr int sp = 33;  ///< static-pressure error coefficient k_sp, 1
+inline constexpr int wd = 34;  ///< vertical wind w_d, 1
 }  // namespace idx
 
 using Vec3 = Eigen::Vector3d;
@@ -125,18 +128,21 @@ struct NominalState {
   /// Static-pressure error coefficient (dimensionless): the static port reads the ambient
   /// pressure plus k_sp times the dynamic pressure (BaroAltitude).
   double k_sp = 0.0;
+  /// Vertical wind (positive down), m/s.
+  double wind_d = 0.0;
 
   /// The body rate (I - S_g) (gyro - b_g) from a gyro sample (body FRD, rad/s).
   Vec3 rate(const Vec3& gyro) const { return gyro - b_g - S_g * (gyro - b_g); }
   /// Rotation body FRD -> NED.
   Mat3 R() const { return q.toRotationMatrix(); }
-  /// Wind vector in NED (w_d = 0), m/s.
-  Vec3 wind_ned() const { return {wind.x(), wind.y(), 0.0}; }
+  /// Wind vector in NED, m/s.
+  Vec3 wind_ned() const { return {wind.x(), wind.y(), wind_d}; }
   /// Air-relative velocity in body FRD, (u_r, v_r, w_r) = R^T (v - w), m/s (Beard & McLain eq. 2.7).
   Vec3 air_velocity_body() const { return q.conjugate() * (v - wind_ned()); }
   bool all_finite() const {
     return p.allFinite() && v.allFinite() && q.coeffs().allFinite() && b_g.allFinite() && b_a.allFinite() && wind.allFinite() &&
-           std::isfinite(b_baro) && e_gnss.allFinite() && S_g.allFinite() && b_m.allFinite() && std::isfinite(k_sp);
+           std::isfinite(b_baro) && e_gnss.allFinite() && S_g.allFinite() && b_m.allFinite() && std::isfinite(k_sp) &&
+           std::isfinite(wind_d);
   }
 };
 
@@ -215,6 +221,12 @@ struct ProcessNoise {
   /// Random walk of the static-pressure error coefficient k_sp, 1/sqrt(s): the port's error
   /// changes with the angle of attack and sideslip the coefficient averages over.
   double static_error_walk = 1e-4;
+  /// Vertical wind as a first-order Gauss-Markov process: steady sigma (m/s) and correlation
+  /// time (s). MIL-F-8785C at low altitude: sigma_w = 0.1 W20, 0.77 m/s light and 1.5 m/s
+  /// moderate turbulence; L_w = h (50 m in Beard & McLain's table 4.1), so L_w / Va = 3 s at 17 m/s.
+  double vertical_wind_sigma = 1.5;
+  double vertical_wind_time = 3.0;
+  double vertical_wind_rate() const { return vertical_wind_time > 0.0 ? 1.0 / vertical_wind_time : 0.0; }
 
   /// The plugin's parameter names and ranges (declare_struct, tern/param_struct.hpp); the member
   /// initialisers above are their defaults.
@@ -243,6 +255,8 @@ struct ProcessNoise {
       ParamSpec("1/s", 0.0, 10.0, "Gauss-Markov rate k of the GNSS position error (ROSflight k_gnss 1/1100)"));
     v(&P::mag_bias_walk, "mag_bias_walk",
       ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the magnetometer offset, fraction of the field intensity"));
+    v(&P::vertical_wind_sigma, "vertical_wind_sigma", ParamSpec("m/s", 0.0, 20.0, "vertical gust, steady sigma (Gauss-Markov state)"));
+    v(&P::vertical_wind_time, "vertical_wind_time", ParamSpec("s", 0.0, 600.0, "vertical gust correlation time (0: a random walk)"));
     v(&P::static_error_walk, "static_error_walk",
       ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the static-pressure error coefficient (fraction of the dynamic pressure)"));
   }
@@ -291,10 +305,10 @@ class Filter {
 
   /// The nominal-state part of propagate(): constant specific force and rate over dt.
   static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
-                                        double gnss_error_k);
-  /// The dense error-state transition F of propagate() with the Gauss-Markov rate k (for tests and documentation; propagate()
-  /// applies it block-wise without forming it).
-  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gnss_error_k);
+                                        const ProcessNoise& noise);
+  /// The dense error-state transition F of propagate() with the Gauss-Markov rates of `noise` (for tests and documentation;
+  /// propagate() applies it block-wise without forming it).
+  static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise);
   /// The discrete process noise Q of propagate() (diagonal) at the specific force's departure
   /// |a - (0, 0, -g)| = load, m/s^2, from the level 1 g at which the accelerometer was calibrated.
   static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double load);
