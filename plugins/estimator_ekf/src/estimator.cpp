@@ -126,12 +126,20 @@ void Estimator::apply_models_config() {
   side_force_.gust_sigma = cfg_.airspeed_gust_sigma;
   side_force_.gate = cfg_.side_force_gate;
   side_force_.min_airspeed = cfg_.min_airspeed;
+  normal_force_.k = cfg_.normal_force_active() ? cfg_.rho * cfg_.wing_S / (2.0 * cfg_.mass) : 0.0;
+  normal_force_.C_L_0 = cfg_.C_L_0;
+  normal_force_.C_L_alpha = cfg_.C_L_alpha;
+  normal_force_.C_L_q = cfg_.C_L_q;
+  normal_force_.C_L_delta_e = cfg_.C_L_delta_e;
+  normal_force_.chord = cfg_.wing_c;
+  normal_force_.sigma = cfg_.normal_force_sigma;
+  normal_force_.min_airspeed = cfg_.min_airspeed;
 }
 
 void Estimator::reset() {
   initialized_ = false;
   keep_calibration_ = false;
-  side_force_sum_ = 0.0;
+  side_force_sum_ = normal_force_sum_ = 0.0;
   side_force_n_ = 0;
   origin_.reset();
   origin_lat_ = origin_lon_ = origin_alt_ = 0.0;
@@ -289,6 +297,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
   rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
   side_force_sum_ += accel.y();
+  normal_force_sum_ += accel.z();
   ++side_force_n_;
   if (!filter_.healthy()) {
     ++filter_resets_;
@@ -498,8 +507,12 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     } else if (cfg_.use_sideslip) {
       fuse(sideslip_, ZeroSideslip::Vec(0.0), t_v);
     }
+    if (normal_force_.k != 0.0 && side_force_n_ > 0) {
+      normal_force_.q = rate_.y();
+      fuse(normal_force_, NormalForce::Vec(normal_force_sum_ / side_force_n_), t_v);
+    }
   }
-  side_force_sum_ = 0.0;
+  side_force_sum_ = normal_force_sum_ = 0.0;
   side_force_n_ = 0;
   return true;
 }

@@ -48,7 +48,8 @@ class EstimatorEkf final : public tern::Plugin {
     declare(baro_, "baro", "static pressure: altitude updates after the ground calibration", Need::optional);
     declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates", Need::optional);
     declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
-    declare(actuators_, "actuators", "surface deflections for the side-force model (delta_a, delta_r)", Need::optional);
+    declare(actuators_, "actuators", "surface deflections for the side- and normal-force models (delta_a, delta_e, delta_r)",
+            Need::optional);
     declare(state_, "state", "the estimate; status: ok, degraded (which sensor) or invalid");
     declare(innovations_, "innovations", "largest innovation test ratio (NIS / gate) of each measurement over innovations_period");
 
@@ -83,7 +84,7 @@ class EstimatorEkf final : public tern::Plugin {
     if (baro_.updated()) estimator_.add_baro(*baro_);
     if (diff_.updated()) estimator_.add_diff_pressure(*diff_);
     if (mag_.updated()) estimator_.add_mag(*mag_);
-    if (actuators_.updated()) estimator_.set_controls(actuators_->delta_a, actuators_->delta_r);
+    if (actuators_.updated()) estimator_.set_controls(actuators_->delta_a, actuators_->delta_e, actuators_->delta_r);
     // On the host's clock: with `rate:` scheduling a silent IMU times out here.
     estimator_.check_timeouts(now);
     if (estimator_.has_events()) {
@@ -139,6 +140,7 @@ class EstimatorEkf final : public tern::Plugin {
     rej("diff_pressure", estimator_.diff_pressure_model().stats);
     rej("sideslip", estimator_.sideslip_model().stats);
     rej("side_force", estimator_.side_force_model().stats);
+    rej("normal_force", estimator_.normal_force_model().stats);
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
@@ -150,9 +152,9 @@ class EstimatorEkf final : public tern::Plugin {
   const tern::ekf::Estimator& estimator() const { return estimator_; }
 
  private:
-  /// Reads what the estimator can use from an aircraft file, in tern's format (mass, wing: S,
-  /// environment: rho, aero: C_Y_*) or ROSflight's (`<node>: ros__parameters:` with mass,
-  /// wing_s, rho, C_Y_*). Missing keys keep the defaults.
+  /// Reads what the estimator can use from an aircraft file, in tern's format (mass, wing: S and c,
+  /// environment: rho, aero: C_Y_*, C_L_*) or ROSflight's (`<node>: ros__parameters:` with mass,
+  /// wing_s, wing_c, rho, C_Y_*, C_L_*). Missing keys keep the defaults.
   static void read_aircraft(const std::string& path, EstimatorConfig& c) {
     try {
       const YAML::Node ac = YAML::LoadFile(path);
@@ -161,12 +163,19 @@ class EstimatorEkf final : public tern::Plugin {
       };
       if (ac["environment"]) take(ac["environment"]["rho"], c.rho);
       take(ac["mass"], c.mass);
-      if (ac["wing"]) take(ac["wing"]["S"], c.wing_S);
+      if (ac["wing"]) {
+        take(ac["wing"]["S"], c.wing_S);
+        take(ac["wing"]["c"], c.wing_c);
+      }
       if (const YAML::Node aero = ac["aero"]) {
         take(aero["C_Y_0"], c.C_Y_0);
         take(aero["C_Y_beta"], c.C_Y_beta);
         take(aero["C_Y_delta_a"], c.C_Y_delta_a);
         take(aero["C_Y_delta_r"], c.C_Y_delta_r);
+        take(aero["C_L_0"], c.C_L_0);
+        take(aero["C_L_alpha"], c.C_L_alpha);
+        take(aero["C_L_q"], c.C_L_q);
+        take(aero["C_L_delta_e"], c.C_L_delta_e);
       }
       if (ac.IsMap())
         for (const auto& node : ac) {
@@ -180,9 +189,15 @@ class EstimatorEkf final : public tern::Plugin {
           take(rp["C_Y_beta"], c.C_Y_beta);
           take(rp["C_Y_delta_a"], c.C_Y_delta_a);
           take(rp["C_Y_delta_r"], c.C_Y_delta_r);
+          take(rp["wing_c"], c.wing_c);
+          take(rp["C_L_0"], c.C_L_0);
+          take(rp["C_L_O"], c.C_L_0);
+          take(rp["C_L_alpha"], c.C_L_alpha);
+          take(rp["C_L_q"], c.C_L_q);
+          take(rp["C_L_delta_e"], c.C_L_delta_e);
         }
     } catch (const YAML::Exception& e) {
-      throw std::runtime_error(path + ": cannot read the aircraft's rho, mass, wing area or C_Y_*: " + e.what());
+      throw std::runtime_error(path + ": cannot read the aircraft's rho, mass, wing area and chord, C_Y_* or C_L_*: " + e.what());
     }
   }
 

@@ -170,4 +170,21 @@ SideForce::Noise SideForce::noise(const NominalState& x) const {
   return Noise(sigma * sigma + g * g);
 }
 
+bool NormalForce::applicable(const NominalState& x, const Vec& /*z*/) const {
+  return k != 0.0 && C_L_alpha != 0.0 && x.air_velocity_body().x() >= min_airspeed;
+}
+
+NormalForce::Vec NormalForce::h(const NominalState& x) const {
+  const Vec3 a = x.air_velocity_body();
+  return Vec(-k * (c0() * a.x() * a.x() + C_L_alpha * a.x() * a.z() + C_L_q * 0.5 * chord * q * a.x()) + x.b_a.z());
+}
+
+NormalForce::Jac NormalForce::jacobian(const NominalState& x) const {
+  const Vec3 a = x.air_velocity_body();
+  const Eigen::RowVector3d dh_da(-k * (2.0 * c0() * a.x() + C_L_alpha * a.z() + C_L_q * 0.5 * chord * q), 0.0, -k * C_L_alpha * a.x());
+  Jac H = dh_da * air_velocity_jacobian(x);
+  H(0, idx::ba + 2) += 1.0;
+  return H;
+}
+
 }  // namespace tern::ekf

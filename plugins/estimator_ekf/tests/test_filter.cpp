@@ -48,6 +48,21 @@ ErrVec boxminus(const NominalState& x1, const NominalState& x0) {
   return d;
 }
 
+/// The Anaconda's lift model (configs/aircraft/anaconda.yaml): rho S / (2 m) with rho 1.2682,
+/// S 0.52, m 4.5; c 0.235; C_L_0 0.506, C_L_alpha 5.61, C_L_q 7.95, C_L_delta_e 0.13.
+NormalForce anaconda_normal_force() {
+  NormalForce m;
+  m.k = 1.2682 * 0.52 / (2.0 * 4.5);
+  m.C_L_0 = 0.506;
+  m.C_L_alpha = 5.61;
+  m.C_L_q = 7.95;
+  m.C_L_delta_e = 0.13;
+  m.chord = 0.235;
+  m.delta_e = -0.04;
+  m.q = 0.12;
+  return m;
+}
+
 template <class Model>
 void check_jacobian(const Model& m, const NominalState& x) {
   const auto H = m.jacobian(x);
@@ -110,6 +125,27 @@ TEST_CASE("measurement Jacobians match finite differences") {
     m.delta_r = -0.08;
     check_jacobian(m, x);
   }
+  SUBCASE("normal force") { check_jacobian(anaconda_normal_force(), x); }
+}
+
+TEST_CASE("normal force: h is the lift over the mass along -z, plus the accelerometer bias") {
+  NormalForce m = anaconda_normal_force();
+  m.delta_e = m.q = 0.0;
+  NominalState x;  // level, heading north, 17 m/s, the air coming 1 m/s from below (an updraft)
+  x.v = Vec3(17.0, 0.0, 0.0);
+  x.wind_d = -1.0;
+  // w_r = +1 m/s: alpha = atan(1 / 17)
+  const double Va = std::hypot(17.0, 1.0), alpha = std::atan2(1.0, 17.0);
+  const double lift = 0.5 * 1.2682 * Va * Va * 0.52 * (0.506 + 5.61 * alpha) / 4.5;
+  CHECK(m.h(x)(0) == doctest::Approx(-lift).epsilon(0.01));
+  x.b_a = Vec3(0.0, 0.0, 0.3);
+  CHECK(m.h(x)(0) == doctest::Approx(-lift + 0.3).epsilon(0.01));
+  CHECK(m.applicable(x, NormalForce::Vec(0.0)));
+  x.v = Vec3(5.0, 0.0, 0.0);  // below the minimum airspeed: the wheels may carry the weight
+  CHECK_FALSE(m.applicable(x, NormalForce::Vec(0.0)));
+  m.k = 0.0;  // no aircraft model: never applicable
+  x.v = Vec3(17.0, 0.0, 0.0);
+  CHECK_FALSE(m.applicable(x, NormalForce::Vec(0.0)));
 }
 
 TEST_CASE("side force: h is the lateral aerodynamic force over the mass, plus the accelerometer bias") {

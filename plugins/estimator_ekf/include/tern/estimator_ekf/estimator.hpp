@@ -169,6 +169,16 @@ struct EstimatorConfig {
   double C_Y_0 = 0.0, C_Y_beta = 0.0, C_Y_delta_a = 0.0, C_Y_delta_r = 0.0;  ///< per rad
   bool side_force_active() const { return use_side_force && wing_S > 0.0 && mass > 0.0 && C_Y_beta != 0.0; }
   double side_force_sigma = 0.3;  ///< m/s^2
+  // normal force (NormalForce): the lift model measures the air's velocity along body z, when
+  // use_normal_force and the aircraft's chord and C_L_alpha are known (from its file)
+  bool use_normal_force = true;
+  double wing_c = 0.0;                                                  ///< m, mean chord
+  double C_L_0 = 0.0, C_L_alpha = 0.0, C_L_q = 0.0, C_L_delta_e = 0.0;  ///< per rad
+  bool normal_force_active() const { return use_normal_force && wing_S > 0.0 && mass > 0.0 && C_L_alpha != 0.0; }
+  /// m/s^2: the body-z accelerometer averaged between pitot samples (4 at 400/100 Hz) with the
+  /// propeller's vibration (about 1.5 m/s^2 per sample at full throttle), plus the lift model's
+  /// error (the drag's share, the stall's curvature)
+  double normal_force_sigma = 1.0;
   /// rad: the side force and zero-sideslip models wait until roll and pitch are known to this, 1
   /// sigma (an initialisation in flight starts at 0.35; the GNSS velocity brings them under
   /// 0.1 within a second).
@@ -283,6 +293,16 @@ struct EstimatorConfig {
       ParamSpec("1/rad", -20.0, 20.0, "side-force derivative in sideslip (default: the aircraft file's; 0: off)"));
     v(&C::C_Y_delta_a, "C_Y_delta_a", ParamSpec("1/rad", -10.0, 10.0, "side force per aileron deflection (default: the aircraft file's)"));
     v(&C::C_Y_delta_r, "C_Y_delta_r", ParamSpec("1/rad", -10.0, 10.0, "side force per rudder deflection (default: the aircraft file's)"));
+    v(&C::use_normal_force, "use_normal_force",
+      ParamSpec("", 0, 1, "apply the normal-force (lift) model: the body-z accelerometer against the aircraft's C_L"));
+    v(&C::normal_force_sigma, "normal_force_noise",
+      ParamSpec("m/s^2", 1e-3, 100.0,
+                "normal-force update noise: body-z accelerometer (averaged between pitot samples) against the C_L model"));
+    v(&C::wing_c, "wing_c", ParamSpec("m", 0.0, 100.0, "mean chord for the normal-force model (default: the aircraft file's)"));
+    v(&C::C_L_0, "C_L_0", ParamSpec("", -10.0, 10.0, "lift coefficient at zero angle of attack (default: the aircraft file's)"));
+    v(&C::C_L_alpha, "C_L_alpha", ParamSpec("1/rad", -50.0, 50.0, "lift-curve slope (default: the aircraft file's; 0: normal force off)"));
+    v(&C::C_L_q, "C_L_q", ParamSpec("1/rad", -100.0, 100.0, "lift per normalised pitch rate (default: the aircraft file's)"));
+    v(&C::C_L_delta_e, "C_L_delta_e", ParamSpec("1/rad", -10.0, 10.0, "lift per elevator deflection (default: the aircraft file's)"));
     v(&C::init_average_time, "init_average_time",
       ParamSpec("s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation"));
     v(&C::init_tilt_sigma, "init_tilt_sigma", ParamSpec("rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma"));
@@ -432,10 +452,11 @@ class Estimator {
   bool add_baro(const msg::Baro& m);
   bool add_diff_pressure(const msg::DiffPressure& m);
   bool add_mag(const msg::Mag& m);
-  /// The current aileron and rudder deflections (rad), for the side-force model.
-  void set_controls(double delta_a, double delta_r) {
+  /// The current aileron, elevator and rudder deflections (rad), for the side- and normal-force models.
+  void set_controls(double delta_a, double delta_e, double delta_r) {
     side_force_.delta_a = delta_a;
     side_force_.delta_r = delta_r;
+    normal_force_.delta_e = delta_e;
   }
   /// Raises time-out events for sensors silent for longer than their time-out at `now`. Call it
   /// on a clock, not on IMU samples: a silent IMU is noticed only this way.
@@ -473,6 +494,7 @@ class Estimator {
   const PitotAirspeed& diff_pressure_model() const { return pitot_; }
   const ZeroSideslip& sideslip_model() const { return sideslip_; }
   const SideForce& side_force_model() const { return side_force_; }
+  const NormalForce& normal_force_model() const { return normal_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
   std::uint64_t inflations() const { return inflations_; }
   std::uint64_t mag_resets() const { return mag_resets_; }
@@ -541,8 +563,10 @@ class Estimator {
   PitotAirspeed pitot_;
   ZeroSideslip sideslip_;
   SideForce side_force_;
+  NormalForce normal_force_;
   double side_force_sum_ = 0.0;  // body-y specific force summed since the last side-force update
   int side_force_n_ = 0;
+  double normal_force_sum_ = 0.0;  // body-z specific force summed over the same samples
 
   bool initialized_ = false;
   bool keep_calibration_ = false;  ///< the next initialisation keeps the sensor states (after an IMU loss)

@@ -205,6 +205,38 @@ struct SideForce : Measurement<SideForce, 1> {
   Noise noise(const NominalState& x) const;
 };
 
+/// Normal force: z = a_z, the body-z specific force from the accelerometer (averaged over the
+/// samples since the previous update), m/s^2. The aerodynamic force along body z over the mass,
+/// Beard & McLain eq. 4.19 with C_Z ~ -C_L (|alpha| small: the drag's share C_D sin(alpha) is a
+/// few thousandths of C_L) and alpha ~ w_r / u_r:
+///   h(x) = -k (c_0 u_r^2 + C_L_alpha u_r w_r + C_L_q (c / 2) q u_r) + b_a,z,   k = rho S / (2 m),
+///   c_0 = C_L_0 + C_L_delta_e delta_e   (delta_e and the pitch rate q set before each update),
+/// (u_r, v_r, w_r) = R^T (v - w). It measures w_r, the air's velocity along body z, that no other
+/// sensor sees: with the vertical wind state, the vertical gust and in a bank the horizontal
+/// wind's share of body z (the lift-model wind estimation of Johansen et al., "On estimation of
+/// wind velocity, angle-of-attack and sideslip angle of small UAVs using standard sensors",
+/// ICUAS 2015). Needs the aircraft's S, m, chord and C_L_* (the plugin reads the aircraft file).
+/// On the ground the wheels carry the weight: applicable from min_airspeed (estimated), and the
+/// gate rejects the takeoff run's remaining ground reaction.
+/// H = -k [2 u_r c_0 + C_L_alpha w_r + C_L_q (c / 2) q, 0, C_L_alpha u_r] J_air + e(b_a,z).
+struct NormalForce : Measurement<NormalForce, 1> {
+  double k = 0.0;  ///< rho S / (2 m), 1/m
+  double C_L_0 = 0.0;
+  double C_L_alpha = 0.0;     ///< per rad
+  double C_L_q = 0.0;         ///< per rad (with the rate normalised by c / (2 Va))
+  double C_L_delta_e = 0.0;   ///< per rad
+  double chord = 0.0;         ///< m, mean aerodynamic chord
+  double delta_e = 0.0;       ///< current elevator deflection, rad (set before each update)
+  double q = 0.0;             ///< current pitch rate, rad/s (set before each update)
+  double sigma = 1.0;         ///< m/s^2: averaged accelerometer noise (vibration) plus model error
+  double min_airspeed = 8.0;  ///< m/s
+  bool applicable(const NominalState& x, const Vec& z) const;
+  double c0() const { return C_L_0 + C_L_delta_e * delta_e; }
+  Vec h(const NominalState& x) const;
+  Jac jacobian(const NominalState& x) const;
+  Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
+};
+
 /// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x 18).
 Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x);
 
