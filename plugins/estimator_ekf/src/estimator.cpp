@@ -85,6 +85,17 @@ void Estimator::set_config(const EstimatorConfig& config) {
   apply_models_config();
 }
 
+namespace {
+/// G with mu = G b_a: the board's tilt (roll, pitch) that a level calibration put into the
+/// accelerometer offset, b_a = [mu]x (0, 0, -g) (EstimatorConfig::accel_level_calibrated).
+Mat3 level_tilt_from_offset(double g) {
+  Mat3 G = Mat3::Zero();
+  G(0, 1) = 1.0 / g;
+  G(1, 0) = -1.0 / g;
+  return G;
+}
+}  // namespace
+
 void Estimator::apply_models_config() {
   process_ = cfg_.process;
   R_bi_ = rotation_from_euler(cfg_.imu_mount.x(), cfg_.imu_mount.y(), cfg_.imu_mount.z());
@@ -134,6 +145,7 @@ void Estimator::apply_models_config() {
   normal_force_.chord = cfg_.wing_c;
   normal_force_.sigma = cfg_.normal_force_sigma;
   normal_force_.min_airspeed = cfg_.min_airspeed;
+  normal_force_.level_G = cfg_.accel_level_calibrated ? level_tilt_from_offset(cfg_.gravity) : Mat3::Zero();
 }
 
 void Estimator::reset() {
@@ -758,17 +770,6 @@ msg::State Estimator::state() const {
   fill_state(s);
   return s;
 }
-
-namespace {
-/// G with mu = G b_a: the board's tilt (roll, pitch) that a level calibration put into the
-/// accelerometer offset, b_a = [mu]x (0, 0, -g) (EstimatorConfig::accel_level_calibrated).
-Mat3 level_tilt_from_offset(double g) {
-  Mat3 G = Mat3::Zero();
-  G(0, 1) = 1.0 / g;
-  G(1, 0) = -1.0 / g;
-  return G;
-}
-}  // namespace
 
 Eigen::Quaterniond Estimator::body_attitude() const {
   const NominalState& x = filter_.x();

@@ -174,15 +174,22 @@ bool NormalForce::applicable(const NominalState& x, const Vec& /*z*/) const {
   return k != 0.0 && C_L_alpha != 0.0 && x.air_velocity_body().x() >= min_airspeed;
 }
 
+Vec3 NormalForce::airframe_air_velocity(const NominalState& x) const {
+  const Vec3 v_r = x.air_velocity_body();
+  return v_r + (level_G * x.b_a).cross(v_r);
+}
+
 NormalForce::Vec NormalForce::h(const NominalState& x) const {
-  const Vec3 a = x.air_velocity_body();
+  const Vec3 a = airframe_air_velocity(x);
   return Vec(-k * (c0() * a.x() * a.x() + C_L_alpha * a.x() * a.z() + C_L_q * 0.5 * chord * q * a.x()) + x.b_a.z());
 }
 
 NormalForce::Jac NormalForce::jacobian(const NominalState& x) const {
-  const Vec3 a = x.air_velocity_body();
+  const Vec3 a = airframe_air_velocity(x);
+  const Vec3 v_r = x.air_velocity_body();
   const Eigen::RowVector3d dh_da(-k * (2.0 * c0() * a.x() + C_L_alpha * a.z() + C_L_q * 0.5 * chord * q), 0.0, -k * C_L_alpha * a.x());
-  Jac H = dh_da * air_velocity_jacobian(x);
+  Jac H = dh_da * (Mat3::Identity() + tern::skew(level_G * x.b_a)) * air_velocity_jacobian(x);
+  H.block<1, 3>(0, idx::ba) -= dh_da * tern::skew(v_r) * level_G;
   H(0, idx::ba + 2) += 1.0;
   return H;
 }

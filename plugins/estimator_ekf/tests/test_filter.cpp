@@ -126,6 +126,12 @@ TEST_CASE("measurement Jacobians match finite differences") {
     check_jacobian(m, x);
   }
   SUBCASE("normal force") { check_jacobian(anaconda_normal_force(), x); }
+  SUBCASE("normal force, level-calibrated accelerometer") {
+    NormalForce m = anaconda_normal_force();
+    m.level_G(0, 1) = 1.0 / 9.81;
+    m.level_G(1, 0) = -1.0 / 9.81;
+    check_jacobian(m, x);
+  }
 }
 
 TEST_CASE("normal force: h is the lift over the mass along -z, plus the accelerometer bias") {

@@ -218,20 +218,29 @@ struct SideForce : Measurement<SideForce, 1> {
 /// ICUAS 2015). Needs the aircraft's S, m, chord and C_L_* (the plugin reads the aircraft file).
 /// On the ground the wheels carry the weight: applicable from min_airspeed (estimated), and the
 /// gate rejects the takeoff run's remaining ground reaction.
-/// H = -k [2 u_r c_0 + C_L_alpha w_r + C_L_q (c / 2) q, 0, C_L_alpha u_r] J_air + e(b_a,z).
+/// The lift acts on the airframe, whose attitude differs from the board's (the filter's) by the
+/// tilt a level calibration put into the accelerometer offset, mu = level_G b_a
+/// (Estimator::body_attitude): the air velocity is taken in the airframe, a = v_r + mu x v_r
+/// (first order). So the angle of attack ties the airframe's pitch to the flight path and the
+/// offset's x component (the board's pitch) becomes observable.
+/// H = dh/da [(I + [mu]x) J_air - [v_r]x level_G (db_a)] + e(b_a,z),
+/// dh/da = -k [2 u_r c_0 + C_L_alpha w_r + C_L_q (c / 2) q, 0, C_L_alpha u_r].
 struct NormalForce : Measurement<NormalForce, 1> {
   double k = 0.0;  ///< rho S / (2 m), 1/m
   double C_L_0 = 0.0;
-  double C_L_alpha = 0.0;     ///< per rad
-  double C_L_q = 0.0;         ///< per rad (with the rate normalised by c / (2 Va))
-  double C_L_delta_e = 0.0;   ///< per rad
-  double chord = 0.0;         ///< m, mean aerodynamic chord
-  double delta_e = 0.0;       ///< current elevator deflection, rad (set before each update)
-  double q = 0.0;             ///< current pitch rate, rad/s (set before each update)
-  double sigma = 1.0;         ///< m/s^2: averaged accelerometer noise (vibration) plus model error
-  double min_airspeed = 8.0;  ///< m/s
+  double C_L_alpha = 0.0;       ///< per rad
+  double C_L_q = 0.0;           ///< per rad (with the rate normalised by c / (2 Va))
+  double C_L_delta_e = 0.0;     ///< per rad
+  double chord = 0.0;           ///< m, mean aerodynamic chord
+  double delta_e = 0.0;         ///< current elevator deflection, rad (set before each update)
+  double q = 0.0;               ///< current pitch rate, rad/s (set before each update)
+  double sigma = 1.0;           ///< m/s^2: averaged accelerometer noise (vibration) plus model error
+  double min_airspeed = 8.0;    ///< m/s
+  Mat3 level_G = Mat3::Zero();  ///< mu = level_G b_a, the board's tilt in the offset (zero: none)
   bool applicable(const NominalState& x, const Vec& z) const;
   double c0() const { return C_L_0 + C_L_delta_e * delta_e; }
+  /// The air velocity in the airframe's axes, m/s.
+  Vec3 airframe_air_velocity(const NominalState& x) const;
   Vec h(const NominalState& x) const;
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
