@@ -99,8 +99,9 @@ struct EstimatorConfig {
   /// (dtheta - dmu) plus the floor's level (level_sigma). false: b_a is the sensor's own offset
   /// (an FCU calibrated on a tilted floor or not at all), the mount widens the attitude.
   bool accel_level_calibrated = true;
-  /// How level the floor was for that calibration, 1 sigma, rad (a spirit level: 0.3 deg).
-  double level_sigma = 0.0052;
+  /// How level the floor was for that calibration, 1 sigma, rad: a spirit level's +-0.3 deg taken
+  /// as uniform (tolerance / sqrt(3) = 0.17 deg, as the IMU's tolerances in init_gyro_scale_sigma).
+  double level_sigma = 0.0030;
 
   // GNSS
   int min_fix_type = 3;           ///< minimum fix type used (3: 3-D fix)
