@@ -23,7 +23,10 @@
 //      bias comes from the averaged gyro when at rest; in flight the wind comes from the air
 //      triangle w = v_gnss - Va_pitot R e1 (alpha = beta = 0), so that the first pitot and
 //      sideslip updates do not have to pull yaw and wind apart from a zero wind.
-//   4. Then each IMU sample propagates the filter; each other sensor sample is an update.
+//   4. Then each IMU sample propagates the filter; each other sensor sample is an update. Each
+//      pitot sample also brings the aircraft-model updates (measurements.hpp): the side force
+//      (body y) and the normal force (body z, the lift) from the accelerometer averaged since
+//      the previous one, which measure the air velocity across the airframe.
 // NaN/Inf or out-of-range samples are rejected and counted, never used. Each sample is fused at
 // its time of validity (stamp - delay; GNSS: the receiver's epoch, time_of_validity) with the
 // state history (history.hpp), so a fix 120 ms late corrects the state of its instant.
