@@ -156,6 +156,21 @@ class EstimatorEkf final : public tern::Plugin {
   /// environment: rho, aero: C_Y_*, C_L_*) or ROSflight's (`<node>: ros__parameters:` with mass,
   /// wing_s, wing_c, rho, C_Y_*, C_L_*). Missing keys keep the defaults.
   static void read_aircraft(const std::string& path, EstimatorConfig& c) {
+    // The aerodynamic coefficients: tern's `aero:` key, ROSflight's parameter (and its spelling
+    // with a letter O for zero).
+    struct Coefficient {
+      const char* key;
+      const char* rosflight_alias;
+      double EstimatorConfig::*dst;
+    };
+    static constexpr Coefficient kCoefficients[] = {{"C_Y_0", "C_Y_O", &EstimatorConfig::C_Y_0},
+                                                    {"C_Y_beta", nullptr, &EstimatorConfig::C_Y_beta},
+                                                    {"C_Y_delta_a", nullptr, &EstimatorConfig::C_Y_delta_a},
+                                                    {"C_Y_delta_r", nullptr, &EstimatorConfig::C_Y_delta_r},
+                                                    {"C_L_0", "C_L_O", &EstimatorConfig::C_L_0},
+                                                    {"C_L_alpha", nullptr, &EstimatorConfig::C_L_alpha},
+                                                    {"C_L_q", nullptr, &EstimatorConfig::C_L_q},
+                                                    {"C_L_delta_e", nullptr, &EstimatorConfig::C_L_delta_e}};
     try {
       const YAML::Node ac = YAML::LoadFile(path);
       const auto take = [&](const YAML::Node& n, double& dst) {
@@ -167,16 +182,8 @@ class EstimatorEkf final : public tern::Plugin {
         take(ac["wing"]["S"], c.wing_S);
         take(ac["wing"]["c"], c.wing_c);
       }
-      if (const YAML::Node aero = ac["aero"]) {
-        take(aero["C_Y_0"], c.C_Y_0);
-        take(aero["C_Y_beta"], c.C_Y_beta);
-        take(aero["C_Y_delta_a"], c.C_Y_delta_a);
-        take(aero["C_Y_delta_r"], c.C_Y_delta_r);
-        take(aero["C_L_0"], c.C_L_0);
-        take(aero["C_L_alpha"], c.C_L_alpha);
-        take(aero["C_L_q"], c.C_L_q);
-        take(aero["C_L_delta_e"], c.C_L_delta_e);
-      }
+      if (const YAML::Node aero = ac["aero"])
+        for (const auto& k : kCoefficients) take(aero[k.key], c.*k.dst);
       if (ac.IsMap())
         for (const auto& node : ac) {
           const YAML::Node rp = node.second.IsMap() ? node.second["ros__parameters"] : YAML::Node();
@@ -184,17 +191,11 @@ class EstimatorEkf final : public tern::Plugin {
           take(rp["rho"], c.rho);
           take(rp["mass"], c.mass);
           take(rp["wing_s"], c.wing_S);
-          take(rp["C_Y_0"], c.C_Y_0);
-          take(rp["C_Y_O"], c.C_Y_0);  // ROSflight spells it with a letter O
-          take(rp["C_Y_beta"], c.C_Y_beta);
-          take(rp["C_Y_delta_a"], c.C_Y_delta_a);
-          take(rp["C_Y_delta_r"], c.C_Y_delta_r);
           take(rp["wing_c"], c.wing_c);
-          take(rp["C_L_0"], c.C_L_0);
-          take(rp["C_L_O"], c.C_L_0);
-          take(rp["C_L_alpha"], c.C_L_alpha);
-          take(rp["C_L_q"], c.C_L_q);
-          take(rp["C_L_delta_e"], c.C_L_delta_e);
+          for (const auto& k : kCoefficients) {
+            take(rp[k.key], c.*k.dst);
+            if (k.rosflight_alias != nullptr) take(rp[k.rosflight_alias], c.*k.dst);
+          }
         }
     } catch (const YAML::Exception& e) {
       throw std::runtime_error(path + ": cannot read the aircraft's rho, mass, wing area and chord, C_Y_* or C_L_*: " + e.what());
