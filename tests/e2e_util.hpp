@@ -23,21 +23,29 @@ inline FlightResult fly_mission(const std::string& mission, const std::string& l
   return h.fly();
 }
 
-/// configs/missions/default.yaml with its relative paths made absolute (so that it can be
-/// written anywhere) and each (from, to) replacement applied once; a missing `from` fails.
-inline std::string default_mission_with(const std::vector<std::pair<std::string, std::string>>& edits) {
-  std::string text = read_file(kMissions / "default.yaml");
-  std::vector<std::pair<std::string, std::string>> all = {
+/// configs/missions/<name> with its relative paths made absolute (so that it can be written
+/// anywhere) and each (from, to) replacement applied once; a missing `from` fails.
+inline std::string mission_with(const std::string& name, const std::vector<std::pair<std::string, std::string>>& edits) {
+  std::string text = read_file(kMissions / name);
+  const std::vector<std::pair<std::string, std::string>> paths = {
       {"../aircraft/", (kMissions / "../aircraft/").lexically_normal().string()},
       {"../gains/", (kMissions / "../gains/").lexically_normal().string()},
       {"file: fixedwing_mission.yaml", "file: " + (kMissions / "fixedwing_mission.yaml").string()}};
-  all.insert(all.end(), edits.begin(), edits.end());
-  for (const auto& [from, to] : all) {
+  for (const auto& [from, to] : paths) {
     const auto at = text.find(from);
-    REQUIRE_MESSAGE(at != std::string::npos, "default.yaml has no '" << from << "'");
+    if (at != std::string::npos) text.replace(at, from.size(), to);
+  }
+  for (const auto& [from, to] : edits) {
+    const auto at = text.find(from);
+    REQUIRE_MESSAGE(at != std::string::npos, name << " has no '" << from << "'");
     text.replace(at, from.size(), to);
   }
   return text;
+}
+
+/// configs/missions/default.yaml as mission_with gives it.
+inline std::string default_mission_with(const std::vector<std::pair<std::string, std::string>>& edits) {
+  return mission_with("default.yaml", edits);
 }
 
 // default.yaml's estimator installation (the realistic profile's lever arms), and the rosflight
