@@ -222,7 +222,8 @@ struct SideForce : Measurement<SideForce, 1> {
 /// tilt a level calibration put into the accelerometer offset, mu = level_G b_a
 /// (Estimator::body_attitude): the air velocity is taken in the airframe, a = v_r + mu x v_r
 /// (first order). So the angle of attack ties the airframe's pitch to the flight path and the
-/// offset's x component (the board's pitch) becomes observable.
+/// offset's x component (the board's pitch) becomes observable, weakly: a constant offset of the
+/// angle of attack also fits a mean vertical wind, which turbulence leaves uncertain.
 /// H = dh/da [(I + [mu]x) J_air - [v_r]x level_G (db_a)] + e(b_a,z),
 /// dh/da = -k [2 u_r c_0 + C_L_alpha w_r + C_L_q (c / 2) q, 0, C_L_alpha u_r].
 struct NormalForce : Measurement<NormalForce, 1> {
@@ -246,7 +247,7 @@ struct NormalForce : Measurement<NormalForce, 1> {
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
 
-/// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x 18).
+/// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x kErrDim).
 Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x);
 
 }  // namespace tern::ekf
