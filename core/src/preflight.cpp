@@ -49,8 +49,8 @@ void check_estimator(const msg::State& s, const PreflightLimits& l, std::vector<
 
 void check_innovations(const msg::Innovations& i, std::vector<std::string>& out) {
   const std::pair<const char*, double> ratios[] = {
-      {"gnss position", i.gnss_pos}, {"gnss velocity", i.gnss_vel}, {"baro", i.baro}, {"pitot", i.diff_pressure}, {"mag", i.mag},
-      {"sideslip", i.sideslip}};
+      {"gnss position", i.gnss_pos}, {"gnss velocity", i.gnss_vel},   {"baro", i.baro}, {"pitot", i.diff_pressure}, {"mag", i.mag},
+      {"sideslip", i.sideslip},      {"normal force", i.normal_force}};
   for (const auto& [name, r] : ratios)
     if (!(r < 1.0) && r != msg::Innovations::none)
       out.push_back(fmt::format("{} innovation test ratio {:.2f} >= 1 (the estimator disagrees with the sensor)", name, r));

@@ -37,6 +37,7 @@ msg::Innovations Estimator::take_innovations(Nanos stamp) {
   m.mag = cfg_.mag_heading_only ? heading : direction;
   const double side_force = side_force_.stats.take_max_ratio(), sideslip = sideslip_.stats.take_max_ratio();
   m.sideslip = side_force_.k != 0.0 ? side_force : sideslip;
+  m.normal_force = normal_force_.stats.take_max_ratio();
   return m;
 }
 

@@ -22,6 +22,7 @@ struct Innovations {
   double diff_pressure = none;  ///< pitot differential pressure, 1 dof
   double mag = none;            ///< magnetometer (heading, 1 dof, or direction, 3 dof)
   double sideslip = none;       ///< side force or zero-sideslip pseudo-measurement, 1 dof
+  double normal_force = none;   ///< normal force (the lift model), 1 dof
   template <class V>
   static constexpr void describe(V& v) {
     v(&Innovations::stamp, "stamp", "ns");
@@ -31,6 +32,7 @@ struct Innovations {
     v(&Innovations::diff_pressure, "diff_pressure", "");
     v(&Innovations::mag, "mag", "");
     v(&Innovations::sideslip, "sideslip", "");
+    v(&Innovations::normal_force, "normal_force", "");
   }
 };
 
