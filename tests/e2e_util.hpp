@@ -1,6 +1,7 @@
 // tests/e2e_util.hpp: the shipped missions as the end-to-end tests fly and edit them.
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 #include <utility>
@@ -54,5 +55,23 @@ inline const std::string kLeverArms = "      gnss_antenna_position: [-0.1, 0.0, 
 inline const std::string kNoLeverArms = "      gnss_antenna_position: [0.0, 0.0, 0.0]\n      imu_position: [0.0, 0.0, 0.0]\n";
 
 inline nlohmann::json summary(const FlightResult& r) { return nlohmann::json::parse(read_file(r.run_dir / "summary.json")); }
+
+/// Writes `text` as the mission file `file` and flies it for `duration` s (quiet; logs under
+/// test_dir() / logdir).
+inline FlightResult fly_text(const std::string& text, const std::string& file, const std::string& logdir, double duration) {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / logdir;
+  o.duration = duration;
+  Host h(load_config(write_file(file, text)), o);
+  h.build();
+  return h.fly();
+}
+
+/// The horizontal wind estimate's RMSE of a flight, m/s (summary.json's metrics).
+inline double estimated_wind_rmse(const FlightResult& r) {
+  const auto m = summary(r)["instances"]["metrics"];
+  return std::hypot(m["est_rmse_wind_north_mps"].get<double>(), m["est_rmse_wind_east_mps"].get<double>());
+}
 
 }  // namespace tern::core

@@ -232,16 +232,9 @@ TEST_CASE("the EKF's side-force model follows the turbulent wind better than the
   for (int on = 0; on < 2; ++on) {
     const std::string cfg = default_mission_with({{"sensor_profile: realistic", "sensor_profile: rosflight"},
                                                   {kLeverArms, kNoLeverArms + "      use_side_force: " + (on ? "true" : "false") + "\n"}});
-    HostOptions o;
-    o.quiet = true;
-    o.log_dir = test_dir() / "e2e_side_force";
-    o.duration = 260.0;
-    Host h(load_config(write_file(on ? "side_force_on.yaml" : "side_force_off.yaml", cfg)), o);
-    h.build();
-    const FlightResult r = h.fly();
+    const FlightResult r = fly_text(cfg, on ? "side_force_on.yaml" : "side_force_off.yaml", "e2e_side_force", 260.0);
     REQUIRE(r.ok);
-    const auto m = summary(r)["instances"]["metrics"];
-    wind_rmse[on] = std::hypot(m["est_rmse_wind_north_mps"].get<double>(), m["est_rmse_wind_east_mps"].get<double>());
+    wind_rmse[on] = estimated_wind_rmse(r);
     if (on) CHECK(summary(r)["instances"]["ekf"]["side_force_accepted"].get<double>() > 10000);
   }
   MESSAGE("wind RMSE: zero sideslip " << wind_rmse[0] << " m/s, side force " << wind_rmse[1] << " m/s");
@@ -261,16 +254,9 @@ TEST_CASE("the EKF's normal-force (lift) model follows the vertical gusts: the w
         mission_with("aggressive.yaml",
                      {{"      imu_position: [0.05, 0.0, 0.02]\n",
                        std::string("      imu_position: [0.05, 0.0, 0.02]\n      use_normal_force: ") + (on ? "true" : "false") + "\n"}});
-    HostOptions o;
-    o.quiet = true;
-    o.log_dir = test_dir() / "e2e_normal_force";
-    o.duration = 200.0;
-    Host h(load_config(write_file(on ? "normal_force_on.yaml" : "normal_force_off.yaml", cfg)), o);
-    h.build();
-    const FlightResult r = h.fly();
+    const FlightResult r = fly_text(cfg, on ? "normal_force_on.yaml" : "normal_force_off.yaml", "e2e_normal_force", 200.0);
     REQUIRE(r.ok);
-    const auto m = summary(r)["instances"]["metrics"];
-    wind_rmse[on] = std::hypot(m["est_rmse_wind_north_mps"].get<double>(), m["est_rmse_wind_east_mps"].get<double>());
+    wind_rmse[on] = estimated_wind_rmse(r);
     if (on) {
       const auto ekf = summary(r)["instances"]["ekf"];
       CHECK(ekf["normal_force_accepted"].get<double>() > 10000);

@@ -151,8 +151,8 @@ void Estimator::apply_models_config() {
 void Estimator::reset() {
   initialized_ = false;
   keep_calibration_ = false;
-  side_force_sum_ = normal_force_sum_ = 0.0;
-  side_force_n_ = 0;
+  accel_sum_.setZero();
+  accel_n_ = 0;
   origin_.reset();
   origin_lat_ = origin_lon_ = origin_alt_ = 0.0;
   accel_avg_.setZero();
@@ -308,9 +308,8 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
-  side_force_sum_ += accel.y();
-  normal_force_sum_ += accel.z();
-  ++side_force_n_;
+  accel_sum_ += accel;
+  ++accel_n_;
   if (!filter_.healthy()) {
     ++filter_resets_;
     push(m.stamp, EventKind::filter_reset, Sensor::imu);
@@ -502,9 +501,9 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
   const Nanos t_v = valid_at(Sensor::diff_pressure, m.stamp);
   const double Va = pitot_.airspeed(m.pressure);
   fuse(pitot_, PitotAirspeed::Vec(Va), t_v);
-  // The lateral models hold in the air only: below the minimum airspeed (measured, not the
-  // estimate, which a wrong wind can lift above it) the wheels' side forces would pass for
-  // aerodynamic ones. And they take the attitude as known: right after an initialisation in
+  // The aircraft models (side force or zero sideslip, normal force) hold in the air only: below
+  // the minimum airspeed (measured, not the estimate, which a wrong wind can lift above it) the
+  // wheels' forces would pass for aerodynamic ones. And they take the attitude as known: right after an initialisation in
   // flight (roll and pitch to 20 deg) the side force alone rolled the estimate 5 deg in 0.2 s.
   const Cov& P = filter_.P();
   const bool attitude_known =
@@ -514,18 +513,19 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
     last_Va_stamp_ = m.stamp;
   }
   if (Va >= cfg_.min_airspeed && attitude_known) {
-    if (side_force_.k != 0.0 && side_force_n_ > 0) {
-      fuse(side_force_, SideForce::Vec(side_force_sum_ / side_force_n_), t_v);
+    const Vec3 accel = accel_n_ > 0 ? Vec3(accel_sum_ / accel_n_) : Vec3::Zero();
+    if (side_force_.k != 0.0 && accel_n_ > 0) {
+      fuse(side_force_, SideForce::Vec(accel.y()), t_v);
     } else if (cfg_.use_sideslip) {
       fuse(sideslip_, ZeroSideslip::Vec(0.0), t_v);
     }
-    if (normal_force_.k != 0.0 && side_force_n_ > 0) {
+    if (normal_force_.k != 0.0 && accel_n_ > 0) {
       normal_force_.q = rate_.y();
-      fuse(normal_force_, NormalForce::Vec(normal_force_sum_ / side_force_n_), t_v);
+      fuse(normal_force_, NormalForce::Vec(accel.z()), t_v);
     }
   }
-  side_force_sum_ = normal_force_sum_ = 0.0;
-  side_force_n_ = 0;
+  accel_sum_.setZero();
+  accel_n_ = 0;
   return true;
 }
 

@@ -154,7 +154,8 @@ class EstimatorEkf final : public tern::Plugin {
  private:
   /// Reads what the estimator can use from an aircraft file, in tern's format (mass, wing: S and c,
   /// environment: rho, aero: C_Y_*, C_L_*) or ROSflight's (`<node>: ros__parameters:` with mass,
-  /// wing_s, wing_c, rho, C_Y_*, C_L_*). Missing keys keep the defaults.
+  /// wing_s, wing_c, rho, C_Y_*, C_L_*). Missing keys keep the defaults. Throws
+  /// std::runtime_error (the file, the key and the value) on a value that is not a finite number.
   static void read_aircraft(const std::string& path, EstimatorConfig& c) {
     // The aerodynamic coefficients: tern's `aero:` key, ROSflight's parameter (and its spelling
     // with a letter O for zero).
@@ -173,28 +174,33 @@ class EstimatorEkf final : public tern::Plugin {
                                                     {"C_L_delta_e", nullptr, &EstimatorConfig::C_L_delta_e}};
     try {
       const YAML::Node ac = YAML::LoadFile(path);
-      const auto take = [&](const YAML::Node& n, double& dst) {
-        if (n && n.IsScalar()) dst = n.as<double>();
+      // A number where the key is present; NaN or infinity (YAML's .nan, .inf) is an error.
+      const auto take = [&](const YAML::Node& parent, const char* key, double& dst) {
+        const YAML::Node n = parent[key];
+        if (!n || !n.IsScalar()) return;
+        const double v = n.as<double>();
+        if (!std::isfinite(v)) throw std::runtime_error(path + ": " + key + ": " + n.Scalar() + " is not a finite number");
+        dst = v;
       };
-      if (ac["environment"]) take(ac["environment"]["rho"], c.rho);
-      take(ac["mass"], c.mass);
+      if (ac["environment"]) take(ac["environment"], "rho", c.rho);
+      take(ac, "mass", c.mass);
       if (ac["wing"]) {
-        take(ac["wing"]["S"], c.wing_S);
-        take(ac["wing"]["c"], c.wing_c);
+        take(ac["wing"], "S", c.wing_S);
+        take(ac["wing"], "c", c.wing_c);
       }
       if (const YAML::Node aero = ac["aero"])
-        for (const auto& k : kCoefficients) take(aero[k.key], c.*k.dst);
+        for (const auto& k : kCoefficients) take(aero, k.key, c.*k.dst);
       if (ac.IsMap())
         for (const auto& node : ac) {
           const YAML::Node rp = node.second.IsMap() ? node.second["ros__parameters"] : YAML::Node();
           if (!rp || !rp.IsMap()) continue;
-          take(rp["rho"], c.rho);
-          take(rp["mass"], c.mass);
-          take(rp["wing_s"], c.wing_S);
-          take(rp["wing_c"], c.wing_c);
+          take(rp, "rho", c.rho);
+          take(rp, "mass", c.mass);
+          take(rp, "wing_s", c.wing_S);
+          take(rp, "wing_c", c.wing_c);
           for (const auto& k : kCoefficients) {
-            take(rp[k.key], c.*k.dst);
-            if (k.rosflight_alias != nullptr) take(rp[k.rosflight_alias], c.*k.dst);
+            take(rp, k.key, c.*k.dst);
+            if (k.rosflight_alias != nullptr) take(rp, k.rosflight_alias, c.*k.dst);
           }
         }
     } catch (const YAML::Exception& e) {

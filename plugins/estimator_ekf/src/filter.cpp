@@ -35,9 +35,9 @@ void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const Pro
   // Covariance P <- F P F^T + Q, with F = I except the blocks
   //   F_p,v = dt I, F_v,theta = -dt R [a]x, F_v,ba = -dt R, F_theta,theta = Exp(-w dt),
   //   F_theta,bg = -dt (I - S_g), F_theta,S = -dt U,
-  //   F_eg,eg = exp(-k dt) I (Gauss-Markov GNSS error).
+  //   F_eg,eg = exp(-k dt) I, F_wd,wd = exp(-dt / tau_w) (Gauss-Markov GNSS error, vertical wind).
   // Done as row then column block operations (F P, then (F P) F^T): a few thousand multiply-adds
-  // instead of 2 x 33^3 for dense products.
+  // instead of 2 kErrDim^3 for dense products.
   const Mat3 Fvth = -dt * R * tern::skew(a);
   const Mat3 Fthth = quat_exp(-w * dt).toRotationMatrix();
   Cov& P = P_;
@@ -104,8 +104,8 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, doub
   q.segment<9>(idx::sg).setConstant(noise.gyro_scale_walk * noise.gyro_scale_walk * dt);
   q.segment<3>(idx::bm).setConstant(noise.mag_bias_walk * noise.mag_bias_walk * dt);
   q(idx::sp) = noise.static_error_walk * noise.static_error_walk * dt;
-  const double kw = noise.vertical_wind_rate(), sw = noise.vertical_wind_sigma;
-  q(idx::wd) = kw > 0.0 ? sw * sw * (1.0 - std::exp(-2.0 * kw * dt)) : sw * sw * dt;
+  const double sw = noise.vertical_wind_sigma;  // steady sigma: the exact discrete Gauss-Markov variance
+  q(idx::wd) = sw * sw * (1.0 - std::exp(-2.0 * noise.vertical_wind_rate() * dt));
   return q;
 }
 

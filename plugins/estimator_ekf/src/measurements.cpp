@@ -63,6 +63,17 @@ Mat3 levelling(double phi, double theta) {
   return L;
 }
 
+/// Rows of d(phi, theta, psi) / d(dtheta): the Euler-angle change of a body-frame rotation
+/// dtheta (Beard & McLain eq. 3.3):
+///   dphi = dtheta_x + sin(phi) tan(theta) dtheta_y + cos(phi) tan(theta) dtheta_z,
+///   dtheta_pitch = cos(phi) dtheta_y - sin(phi) dtheta_z,  dpsi = (sin(phi) dtheta_y + cos(phi) dtheta_z) / cos(theta).
+Mat3 euler_rates(double phi, double theta) {
+  const double cf = std::cos(phi), sf = std::sin(phi), ct = std::cos(theta), tt = std::tan(theta);
+  Mat3 W;
+  W << 1.0, sf * tt, cf * tt, 0.0, cf, -sf, 0.0, sf / ct, cf / ct;
+  return W;
+}
+
 }  // namespace
 
 double MagHeading::heading_from_field(const Vec3& m, double phi, double theta, double declination) {
@@ -94,12 +105,8 @@ MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
   const Vec3 dl_dpsi(a.y(), -a.x(), 0.0);  // d(R_z(psi)^T m_n)/dpsi = -e3 x a
   const Vec3 dl_dphi(st * (cf * b.y() - sf * b.z()), -sf * b.y() - cf * b.z(), ct * (cf * b.y() - sf * b.z()));
   const Vec3 dl_dtheta(-st * b.x() + ct * (sf * b.y() + cf * b.z()), 0.0, -ct * b.x() - st * (sf * b.y() + cf * b.z()));
-  // Euler-angle change of a body-frame rotation dtheta (Beard & McLain eq. 3.3):
-  //   dphi = dtheta_x + sin(phi) tan(theta) dtheta_y + cos(phi) tan(theta) dtheta_z,
-  //   dtheta_pitch = cos(phi) dtheta_y - sin(phi) dtheta_z,  dpsi = (sin(phi) dtheta_y + cos(phi) dtheta_z) / cos(theta).
-  const Vec3 W_phi(1.0, sf * st / ct, cf * st / ct), W_theta(0.0, cf, -sf), W_psi(0.0, sf / ct, cf / ct);
   Jac H = Jac::Zero();
-  H.block<1, 3>(0, idx::th) = (g.dot(dl_dphi) * W_phi + g.dot(dl_dtheta) * W_theta + g.dot(dl_dpsi) * W_psi).transpose();
+  H.block<1, 3>(0, idx::th) = Eigen::RowVector3d(g.dot(dl_dphi), g.dot(dl_dtheta), g.dot(dl_dpsi)) * euler_rates(e.x(), e.y());
   H.block<1, 3>(0, idx::bm) = g.transpose() * L;
   return H;
 }
@@ -113,9 +120,8 @@ double MagHeading::tilt_variance_of(const Vec3& m, double phi, double theta, con
   constexpr double h = 1e-6;  // rad: the heading is smooth in the levelling angles
   const double dphi = (heading_from_field(m, phi + h, theta, 0.0) - heading_from_field(m, phi - h, theta, 0.0)) / (2.0 * h);
   const double dtheta = (heading_from_field(m, phi, theta + h, 0.0) - heading_from_field(m, phi, theta - h, 0.0)) / (2.0 * h);
-  const double cf = std::cos(phi), sf = std::sin(phi), tt = std::tan(theta);
-  // d psi_m / d dtheta (body) = dphi W_phi + dtheta W_theta
-  const Eigen::RowVector3d J = dphi * Eigen::RowVector3d(1.0, sf * tt, cf * tt) + dtheta * Eigen::RowVector3d(0.0, cf, -sf);
+  // d psi_m / d dtheta (body) through the roll and pitch rows of the Euler rates
+  const Eigen::RowVector3d J = Eigen::RowVector3d(dphi, dtheta, 0.0) * euler_rates(phi, theta);
   return J * P_theta * J.transpose();
 }
 

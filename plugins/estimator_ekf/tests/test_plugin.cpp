@@ -1,6 +1,8 @@
 // The estimator_ekf plugin through the SDK test harness: ports, parameters, output, summary.
 #include <doctest/doctest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <memory>
 
 #include "estimator_ekf_plugin.hpp"
@@ -126,7 +128,7 @@ TEST_CASE("plugin: the default air density is the aircraft file's") {
   CHECK_THROWS_AS(testing::Harness(std::make_unique<EstimatorEkf>(), {}, opt), std::runtime_error);
 }
 
-TEST_CASE("plugin: the side-force model takes mass, wing area and C_Y_* from the aircraft file") {
+TEST_CASE("plugin: the side- and normal-force models take mass, wing area and chord, C_Y_* and C_L_* from the aircraft file") {
   const auto real = [](testing::Harness& h, const char* name) { return std::get<double>(h.plugin().find_param(name)->value()); };
   for (const char* file : {"/anaconda.yaml", "/../../plugins/sim_aero/tests/data/anaconda_dynamics.yaml"}) {
     CAPTURE(file);  // tern's format and ROSflight's, unchanged
@@ -138,9 +140,30 @@ TEST_CASE("plugin: the side-force model takes mass, wing area and C_Y_* from the
     CHECK(real(h, "C_Y_beta") == doctest::Approx(-0.98));
     CHECK(real(h, "C_Y_delta_a") == doctest::Approx(0.075));
     CHECK(real(h, "C_Y_delta_r") == doctest::Approx(0.19));
+    CHECK(real(h, "wing_c") == doctest::Approx(0.235));
+    CHECK(real(h, "C_L_0") == doctest::Approx(0.506));  // ROSflight's C_L_O
+    CHECK(real(h, "C_L_alpha") == doctest::Approx(5.61));
+    CHECK(real(h, "C_L_q") == doctest::Approx(7.95));
+    CHECK(real(h, "C_L_delta_e") == doctest::Approx(0.13));
     const auto& est = dynamic_cast<const EstimatorEkf&>(h.plugin()).estimator();
     CHECK(est.config().side_force_active());
+    CHECK(est.config().normal_force_active());
   }
+  // a coefficient that is not a number: one error naming the file, the key and the value
+  const std::filesystem::path bad = std::filesystem::temp_directory_path() / "tern_ekf_nan_aircraft.yaml";
+  {
+    std::ofstream out(bad);
+    out << "mass: 4.5\nwing: {S: 0.52, c: 0.235}\naero: {C_L_alpha: .nan, C_Y_beta: -0.98}\n";
+  }
+  testing::HarnessOptions opt;
+  opt.aircraft_file = bad.string();
+  try {
+    testing::Harness h(std::make_unique<EstimatorEkf>(), {}, opt);
+    FAIL("a NaN coefficient was accepted");
+  } catch (const std::runtime_error& e) {
+    CHECK(std::string(e.what()) == bad.string() + ": C_L_alpha: .nan is not a finite number");
+  }
+  std::filesystem::remove(bad);
   // without an aircraft file the zero-sideslip pseudo-measurement stays in use
   testing::Harness plain(std::make_unique<EstimatorEkf>());
   CHECK(real(plain, "mass") == 0.0);

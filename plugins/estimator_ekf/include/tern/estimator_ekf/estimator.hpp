@@ -568,9 +568,8 @@ class Estimator {
   ZeroSideslip sideslip_;
   SideForce side_force_;
   NormalForce normal_force_;
-  double side_force_sum_ = 0.0;  // body-y specific force summed since the last side-force update
-  int side_force_n_ = 0;
-  double normal_force_sum_ = 0.0;  // body-z specific force summed over the same samples
+  Vec3 accel_sum_ = Vec3::Zero();  // body specific force summed since the previous pitot sample
+  int accel_n_ = 0;                // (the side- and normal-force updates' measurement)
 
   bool initialized_ = false;
   bool keep_calibration_ = false;  ///< the next initialisation keeps the sensor states (after an IMU loss)

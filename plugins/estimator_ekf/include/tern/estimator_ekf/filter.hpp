@@ -9,7 +9,7 @@
 //   q      attitude, unit quaternion rotating body FRD vectors into NED (v_ned = q * v_body)
 //   b_g    gyro bias, body FRD, rad/s          (gyro = omega + b_g + noise)
 //   b_a    accelerometer bias, body FRD, m/s^2 (accel = f + b_a + noise, f = specific force)
-//   wind   horizontal wind (w_n, w_e), m/s; the vertical wind is taken as 0
+//   wind   horizontal wind (w_n, w_e), m/s (the vertical wind is w_d below)
 //   b_baro barometric-altitude bias, m         (baro altitude = -p_d + b_baro + noise)
 //   e_gnss GNSS position error, NED, m          (GNSS position = p + e_gnss + noise)
 //   S_g    gyro sensitivity error, 3x3         (omega = (I - S_g) (w_m - b_g): the scale-factor
@@ -52,7 +52,7 @@
 // 1.4 -> 2.7 deg (bench_estimation, realistic, 10 seeds).
 // Discrete transition over one IMU interval dt (Sola 2017, eq. 270 / 310):
 //   F = I + A dt except the attitude block, which is exact: dtheta' = Exp(-w dt) dtheta - ...,
-//   and the Gauss-Markov block, exp(-k dt) I.
+//   and the Gauss-Markov blocks, exp(-k dt) I and exp(-dt / tau_w).
 // Discrete process noise: Q_v = (sigma_a dt)^2 I, Q_theta = (sigma_g dt)^2 I, where sigma_a and
 // sigma_g are the per-sample standard deviations of the accelerometer and gyro (white noise of
 // one sample held over dt); random walks: Q = sigma^2 dt with sigma in unit/sqrt(s).
@@ -226,7 +226,7 @@ struct ProcessNoise {
   /// moderate turbulence; L_w = h (50 m in Beard & McLain's table 4.1), so L_w / Va = 3 s at 17 m/s.
   double vertical_wind_sigma = 1.5;
   double vertical_wind_time = 3.0;
-  double vertical_wind_rate() const { return vertical_wind_time > 0.0 ? 1.0 / vertical_wind_time : 0.0; }
+  double vertical_wind_rate() const { return 1.0 / vertical_wind_time; }
 
   /// The plugin's parameter names and ranges (declare_struct, tern/param_struct.hpp); the member
   /// initialisers above are their defaults.
@@ -256,7 +256,7 @@ struct ProcessNoise {
     v(&P::mag_bias_walk, "mag_bias_walk",
       ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the magnetometer offset, fraction of the field intensity"));
     v(&P::vertical_wind_sigma, "vertical_wind_sigma", ParamSpec("m/s", 0.0, 20.0, "vertical gust, steady sigma (Gauss-Markov state)"));
-    v(&P::vertical_wind_time, "vertical_wind_time", ParamSpec("s", 0.0, 600.0, "vertical gust correlation time (0: a random walk)"));
+    v(&P::vertical_wind_time, "vertical_wind_time", ParamSpec("s", 0.1, 600.0, "vertical gust correlation time"));
     v(&P::static_error_walk, "static_error_walk",
       ParamSpec("1/sqrt(s)", 0.0, 1.0, "random walk of the static-pressure error coefficient (fraction of the dynamic pressure)"));
   }
@@ -290,7 +290,7 @@ struct UpdateStats {
   }
 };
 
-/// The filter: nominal state, 33x33 covariance, propagation and the generic update.
+/// The filter: nominal state, kErrDim x kErrDim covariance, propagation and the generic update.
 class Filter {
  public:
   /// Sets the state and covariance (P0 must be symmetric positive definite).

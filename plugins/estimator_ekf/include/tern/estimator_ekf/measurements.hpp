@@ -144,7 +144,7 @@ struct BaroAltitude : Measurement<BaroAltitude, 1> {
 /// takeoff, u_r estimated at 3 m/s for a true 9) the pressure's Jacobian rho u_r is a third of
 /// the truth's and one update overshoots by metres per second, and its u_r -> -u_r symmetry holds
 /// a tailwind solution (bench_estimation, aggressive, a seed settled on a wind 25 m/s off).
-/// Applicable when z >= min_airspeed. H = e1^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
+/// Applicable when z >= min_airspeed. H = e1^T J_air (air_velocity_jacobian).
 /// Noise: the pressure's sigma as airspeed, sigma / (rho Va) (dp = rho Va dVa, Va >= min_airspeed),
 /// plus turbulence the wind state does not follow (gust_sigma along x).
 struct PitotAirspeed : Measurement<PitotAirspeed, 1> {
@@ -162,7 +162,7 @@ struct PitotAirspeed : Measurement<PitotAirspeed, 1> {
 
 /// Zero-sideslip pseudo-measurement: z = 0 = v_r, the body-y air velocity (coordinated flight,
 /// Beard & McLain section 8.10.2). Applicable when the estimated airspeed >= min_airspeed.
-/// H = e2^T [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw)].
+/// H = e2^T J_air (air_velocity_jacobian).
 struct ZeroSideslip : Measurement<ZeroSideslip, 1> {
   double sigma = 2.0;         ///< m/s: how far from coordinated the aircraft flies (gusts)
   double min_airspeed = 8.0;  ///< m/s
@@ -247,7 +247,8 @@ struct NormalForce : Measurement<NormalForce, 1> {
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
 };
 
-/// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state (3 x kErrDim).
+/// Jacobian of the body air velocity v_r = R^T (v - w) with respect to the error state
+/// (3 x kErrDim): J_air = [R^T (dv), [v_r]x (dtheta), -R^T[:, 0:2] (dw), -R^T[:, 2] (dw_d)].
 Eigen::Matrix<double, 3, kErrDim> air_velocity_jacobian(const NominalState& x);
 
 }  // namespace tern::ekf
