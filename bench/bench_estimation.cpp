@@ -26,6 +26,9 @@
 // truth's, in the true body axes.
 // With --gnss-outage the outage's errors count in the RMSE too; its own rows give the drift at
 // its end and the largest error 5 to 20 s after the fixes return.
+// The height above home has a second baseline from the same ticks: the barometer alone (ISA
+// pressure altitude, its change since the same first valid estimate; thermal drift and
+// static-port error included).
 // A flight diverged when its horizontal position error exceeded 50 m or its attitude error
 // 30 deg at any compared tick after initialisation. ROSplane 2.0's row comes from a different
 // estimator and a hardware flight: a reference, not a comparison on the same data.
@@ -126,7 +129,7 @@ struct Mean {
 // truth's and the estimate's down position, and the raw GNSS fix's, for the height above home.
 struct Home {
   bool set = false;
-  double truth_d = 0, estimate_d = 0, fix_d = std::nan("");
+  double truth_d = 0, estimate_d = 0, fix_d = std::nan(""), baro_h = std::nan("");
 };
 
 // A GNSS outage flown on purpose (--gnss-outage A,B: the simulator's gnss_nan window): the
@@ -145,6 +148,7 @@ struct Flight {
   Home home;
   OutageResult outage;
   Rms est[kQ], gnss[kGnssRows];
+  Rms baro_home;       // the barometer alone's height above home, m
   Mean nees[kBlocks];  // per dimension
   bool diverged = false, crashed = false, failed = false;
   double diverged_at = std::nan("");  // s: first tick beyond the divergence limits
@@ -198,8 +202,9 @@ void add_outage_tick(OutageResult& r, const Outage& o, double s, double e) {
     r.after_max = std::max(r.after_max, e);
 }
 
-// Estimate and raw-GNSS errors of one tick (both against the truth of the tick, in its frame).
-void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, double s, const Outage& outage) {
+// Estimate and raw-sensor errors of one tick (all against the truth of the tick, in its frame).
+void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, const tern::msg::Baro* b, double s,
+              const Outage& outage) {
   const Eigen::Vector3d p = tern::core::estimate_in_truth_frame(x, t);
   const double dn = p.x() - t.p_n, de = p.y() - t.p_e;
   add_outage_tick(f.outage, outage, s, std::hypot(dn, de));
@@ -240,6 +245,7 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
     f.gnss[ALT].add(t.p_d - q.z());
     f.gnss[HOME].add((t.p_d - f.home.truth_d) - (q.z() - f.home.fix_d));
   }
+  if (b != nullptr) f.baro_home.add((t.p_d - f.home.truth_d) + (tern::isa_pressure_altitude(b->pressure) - f.home.baro_h));
 }
 
 double summary_number(const nlohmann::json& j, const char* instance, const char* key) {
@@ -260,12 +266,13 @@ Flight fly(const std::string& mission, const std::string& profile, const tern::c
   Flight f;
   f.seed = seed;
   std::uint64_t last_seq = 0;
-  const tern::OutputBase *state_src = nullptr, *truth_src = nullptr, *gnss_src = nullptr;
+  const tern::OutputBase *state_src = nullptr, *truth_src = nullptr, *gnss_src = nullptr, *baro_src = nullptr;
   host.set_tick_observer([&](tern::Nanos now) {
     if (state_src == nullptr) {
       state_src = host.topic_source("state");
       truth_src = host.topic_source("truth");
       gnss_src = host.topic_source("gnss");
+      baro_src = host.topic_source("baro");
     }
     const auto* x = latest<tern::msg::State>(state_src);
     const auto* t = latest<tern::msg::State>(truth_src);
@@ -273,11 +280,13 @@ Flight fly(const std::string& mission, const std::string& profile, const tern::c
     if (x == nullptr || t == nullptr || !x->valid) return;
     if (!f.home.set) {
       const auto* g = latest<tern::msg::Gnss>(gnss_src);
-      f.home = {true, t->p_d, x->p_d, g ? tern::core::fix_in_truth_frame(*g, *t).z() : std::nan("")};
+      const auto* b = latest<tern::msg::Baro>(baro_src);
+      f.home = {true, t->p_d, x->p_d, g ? tern::core::fix_in_truth_frame(*g, *t).z() : std::nan(""),
+                b ? tern::isa_pressure_altitude(b->pressure) : std::nan("")};
     }
     if (s < kT0 || state_src->sequence() == last_seq) return;
     last_seq = state_src->sequence();
-    add_tick(f, *x, *t, latest<tern::msg::Gnss>(gnss_src), s, outage);
+    add_tick(f, *x, *t, latest<tern::msg::Gnss>(gnss_src), latest<tern::msg::Baro>(baro_src), s, outage);
   });
   const auto r = host.fly();
   host.set_tick_observer({});
@@ -309,13 +318,13 @@ Spread spread(std::vector<double> v) {
 std::string cell(double v) { return std::isfinite(v) ? fmt::format("{:.3f}", v) : std::string("-"); }
 
 // One line per seed: where the median hides a bad flight ("outage m": the drift at the end of the
-// GNSS outage, with --gnss-outage).
+// GNSS outage, with --gnss-outage; "baro m": the barometer alone's height above home).
 void print_seeds(const std::vector<Flight>& flights) {
-  std::printf("  %4s %9s %8s %8s %8s %9s %8s %10s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "home m", "roll deg",
-              "pitch deg", "yaw deg", "course deg", "wind m/s", "outage m", "NEES att", "resets", "inflat", "diverge", "end");
+  std::printf("  %4s %9s %8s %8s %8s %8s %9s %8s %10s %8s %8s %8s %7s %7s %7s %s\n", "seed", "horiz m", "alt m", "home m", "baro m",
+              "roll deg", "pitch deg", "yaw deg", "course deg", "wind m/s", "outage m", "NEES att", "resets", "inflat", "diverge", "end");
   for (const auto& f : flights) {
-    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8s %8.1f %7.0f %7.0f %7s %s%s\n",
-                static_cast<unsigned long long>(f.seed), f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(),
+    std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8s %8.1f %7.0f %7.0f %7s %s%s\n",
+                static_cast<unsigned long long>(f.seed), f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(), f.baro_home.value(),
                 f.est[ROLL].value() * kDeg, f.est[PITCH].value() * kDeg, f.est[YAW].value() * kDeg, f.est[COURSE].value() * kDeg,
                 f.est[WIND].value(), cell(f.outage.drift).c_str(), f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets,
                 f.inflations, f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
@@ -402,6 +411,13 @@ nlohmann::ordered_json report(const std::string& mission, const std::string& pro
     r["highest"] = sp.worst;
     r["lowest"] = best;
   }
+  std::vector<double> baro;
+  for (const auto& f : flights) baro.push_back(f.baro_home.value());
+  const Spread b = spread(baro);
+  std::printf("  baseline: the barometer alone (ISA) gives the height above home to %s m median, %s m worst\n", cell(b.median).c_str(),
+              cell(b.worst).c_str());
+  j["rmse"][kInfo[HOME].name]["baro_alone_median"] = b.median;
+  j["rmse"][kInfo[HOME].name]["baro_alone_worst"] = b.worst;
   if (outage.on()) report_outage(j, outage, flights);
   std::printf(
       "  divergences %d, crashes %d, failed flights %d; filter resets %.0f, GNSS resets %.0f, mag resets %.0f, "

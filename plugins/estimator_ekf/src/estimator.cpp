@@ -224,11 +224,6 @@ void Estimator::check_timeouts(Nanos now) {
   }
 }
 
-double Estimator::isa_altitude(double pressure) {
-  // ISA troposphere: h = T0/L (1 - (p/p0)^(R L / (g M))), T0 = 288.15 K, L = 0.0065 K/m.
-  return 44330.769 * (1.0 - std::pow(pressure / 101325.0, 0.190263));
-}
-
 Eigen::Quaterniond Estimator::attitude_from_accel(const Vec3& f, double psi) {
   // At rest f = -R^T g e3 = g (sin theta, -sin phi cos theta, -cos phi cos theta).
   const double phi = std::atan2(-f.y(), -f.z());
@@ -463,7 +458,7 @@ void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
 bool Estimator::add_baro(const msg::Baro& m) {
   const bool ok = std::isfinite(m.pressure) && m.pressure > 1000.0 && m.pressure < 120000.0;
   if (!accept(Sensor::baro, m.stamp, ok)) return false;
-  const double h = isa_altitude(m.pressure);
+  const double h = tern::isa_pressure_altitude(m.pressure);
   if (!baro_calibrated_) {
     // Ground calibration: before initialisation the aircraft is at the origin (altitude 0).
     baro_cal_sum_ += h - (initialized_ ? -filter_.x().p.z() : 0.0);

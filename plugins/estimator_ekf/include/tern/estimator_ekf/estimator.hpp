@@ -510,8 +510,6 @@ class Estimator {
 
   /// NED position (m) of a geodetic point relative to the origin (origin must be set).
   Vec3 ned_from_geodetic(double lat_deg, double lon_deg, double alt_m) const;
-  /// Altitude (m) of the International Standard Atmosphere for a static pressure p (Pa).
-  static double isa_altitude(double pressure);
   /// Rotation body -> NED from a specific force (body, at rest: -R^T g e3) and a magnetic field
   /// (body) given the field's declination (rad); yaw from the tilt-compensated field.
   static Eigen::Quaterniond attitude_from_accel_mag(const Vec3& f_body, const Vec3& m_body, double declination);
@@ -596,7 +594,7 @@ class Estimator {
   /// Mean specific force of pre_init_imu_ over (t0, t1]; nullopt when no sample lies there.
   std::optional<Vec3> mean_specific_force(Nanos t0, Nanos t1) const;
   std::int64_t imu_samples_ = 0, mag_samples_ = 0;
-  // barometer calibration: altitude offset = mean(isa_altitude(p) - altitude estimate)
+  // barometer calibration: altitude offset = mean(tern::isa_pressure_altitude(p) - altitude estimate)
   int baro_cal_count_ = 0;
   double baro_cal_sum_ = 0.0;
   double baro_cal_q_sum_ = 0.0;  // dynamic pressure over the calibration, Pa (BaroAltitude::q_datum)
