@@ -406,8 +406,10 @@ bool Estimator::add_mag(const msg::Mag& m) {
   const Vec3 z = m.field / cfg_.mag_field_strength;  // in units of the Earth's field, like b_m
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
+  // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a
+  // hangar's steel or a car bends it, and the heading alone keeps that out of roll and pitch.
   const UpdateResult r =
-      cfg_.mag_heading_only
+      cfg_.mag_heading_only || !airborne(m.stamp)
           ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
           : fuse(mag_, Magnetometer::Vec(z), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
@@ -441,7 +443,7 @@ void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
   P.block<3, 3>(idx::th, idx::th) = R.transpose() * Vec3(t2, t2, y2).asDiagonal() * R;
   // wind: from the air-data triangle with the new heading when the pitot is recent
   double wind_sigma = cfg_.init_wind_sigma;
-  if (last_Va_stamp_ >= 0 && to_seconds(stamp - last_Va_stamp_) < 0.5) {
+  if (airborne(stamp)) {
     x.wind = (x.v - last_Va_ * (x.q * Vec3::UnitX())).head<2>();
     wind_sigma = cfg_.init_wind_sigma_airdata;
   }
@@ -478,6 +480,8 @@ bool Estimator::add_baro(const msg::Baro& m) {
   fuse_robust(Sensor::baro, baro_, BaroAltitude::Vec(h - baro_offset_), valid_at(Sensor::baro, m.stamp), idx::bb, 1);
   return true;
 }
+
+bool Estimator::airborne(Nanos stamp) const { return last_Va_stamp_ >= 0 && to_seconds(stamp - last_Va_stamp_) < 0.5; }
 
 double Estimator::dynamic_pressure() const {
   // the pitot's while it reports, else from the estimated airspeed along the body x axis

@@ -34,7 +34,7 @@ msg::Innovations Estimator::take_innovations(Nanos stamp) {
   m.baro = baro_.stats.take_max_ratio();
   m.diff_pressure = pitot_.stats.take_max_ratio();
   const double heading = mag_heading_.stats.take_max_ratio(), direction = mag_.stats.take_max_ratio();
-  m.mag = cfg_.mag_heading_only ? heading : direction;
+  m.mag = std::max(heading, direction);  // one of the two models takes each sample (Estimator::add_mag)
   const double side_force = side_force_.stats.take_max_ratio(), sideslip = sideslip_.stats.take_max_ratio();
   m.sideslip = side_force_.k != 0.0 ? side_force : sideslip;
   m.normal_force = normal_force_.stats.take_max_ratio();

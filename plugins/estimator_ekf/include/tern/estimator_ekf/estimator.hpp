@@ -132,24 +132,29 @@ struct EstimatorConfig {
   double mag_declination = 0.1857972802;   ///< rad
   double mag_inclination = 1.139436457;    ///< rad
   double mag_field_strength = 5.07163e-5;  ///< T
-  /// T per axis: ROSflight's mag_stdev. Not the sensor's white noise (HMC5883L: 0.2 uT) but what
-  /// a 50-Hz stream cannot average out: local disturbances and the soft iron's heading-dependent
-  /// error; the offset (residual hard iron, motor field) is a state, b_m. As a heading,
-  /// sigma / (B cos I) = 3 uT / 21 uT = 0.14 rad at ROSflight's field. Before b_m this was 7 uT
-  /// (PX4 EKF2's EKF2_HEAD_NOISE, 0.3 rad) to cover the offset; with b_m, 3 uT against 7 uT gave
-  /// yaw 0.78/1.09 against 0.73/1.35 deg (hourglass, median/worst) and 1.00/1.59 against
-  /// 1.50/1.82 (aggressive; bench_estimation, realistic profile, 10 seeds).
-  double mag_sigma = 3e-6;
+  /// T per axis, 1 sigma: PX4 EKF2's EKF2_MAG_NOISE (0.05 gauss). Not the sensor's white noise
+  /// (HMC5883L: 0.2 uT) but what a 50-Hz stream cannot average out: local disturbances and the
+  /// soft iron's heading-dependent error; the offset (residual hard iron, motor field) is a state,
+  /// b_m. As a heading, sigma / (B cos I) = 5 uT / 21 uT = 0.24 rad at ROSflight's field.
+  /// History (bench_estimation, realistic, 10 seeds, worst seed): as a heading, 3 uT against 7 uT
+  /// gave yaw 1.09 against 1.35 deg (hourglass); as a 3-axis direction, 5 uT against 3 uT gave a
+  /// 30-s GNSS outage's drift (150-180 s) 26/24 against 32/30 m (hourglass/aggressive).
+  double mag_sigma = 5e-6;
   double mag_gate = kChi2_999[3];          ///< 3-axis mode (3 dof)
   double mag_heading_gate = kChi2_999[1];  ///< heading mode (1 dof)
-  bool mag_heading_only = true;            ///< tilt-compensated heading (true) or 3-axis direction
-  double mag_init_wait = 2.0;              ///< s to wait for a magnetometer at initialisation
-  double mag_reset_time = 2.0;             ///< s of continuous heading rejection after which yaw is
-                                           ///< reset to the magnetometer (and the wind re-derived)...
-  double mag_reset_window = 30.0;          ///< ...if that happens within this long after initialising
-                                           ///< (a filter started while manoeuvring can lock onto a
-                                           ///< wrong yaw; later, a converged filter rejecting the
-                                           ///< magnetometer more likely sees a disturbed field)
+  /// Tilt-compensated heading always (true), or the field's 3-axis direction in the air and the
+  /// heading on the ground (false: PX4 EKF2's automatic EKF2_MAG_TYPE; airborne()). The heading takes the estimated tilt as known: in a
+  /// 45-deg bank a roll error of 0.7 deg is 1.5 deg of heading at an inclination of 65 deg, and in a GNSS outage the heading fusion turned
+  /// that into 2.4 deg of yaw error and 29 m of drift (aggressive seed 8: 3-axis 1.9 deg, 15 m). The direction also references roll and
+  /// pitch to the field: worst roll and pitch 0.52/0.55 -> 0.50/0.48 deg (hourglass), 0.57/0.54 -> 0.53/0.49 (aggressive; 10 seeds).
+  bool mag_heading_only = false;
+  double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
+  double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
+                                   ///< reset to the magnetometer (and the wind re-derived)...
+  double mag_reset_window = 30.0;  ///< ...if that happens within this long after initialising
+                                   ///< (a filter started while manoeuvring can lock onto a
+                                   ///< wrong yaw; later, a converged filter rejecting the
+                                   ///< magnetometer more likely sees a disturbed field)
   // barometer
   double baro_sigma = 4.0;  ///< Pa
   double baro_gate = kChi2_999[1];
@@ -382,7 +387,7 @@ struct EstimatorConfig {
     v(&C::lateral_max_tilt_sigma, "lateral_max_tilt_sigma",
       ParamSpec("rad", 1e-3, 3.2, "the side force and zero-sideslip models wait until roll and pitch are known to this, 1 sigma"));
     v(&C::mag_heading_only, "mag_heading_only",
-      ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading (true) or 3-axis direction (false)"));
+      ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading always (true) or as 3-axis direction in the air (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
       ParamSpec("", 0, 1,
                 "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error, at least gnss_accuracy_floor) "
@@ -554,6 +559,8 @@ class Estimator {
   /// The dynamic pressure q_bar the static port sees (BaroAltitude), Pa: the pitot's last sample,
   /// or 0.5 rho u_r^2 from the estimate while the pitot is silent.
   double dynamic_pressure() const;
+  /// In the air: the pitot measured at least min_airspeed within the last 0.5 s.
+  bool airborne(Nanos stamp) const;
 
   EstimatorConfig cfg_;
   Filter filter_;
