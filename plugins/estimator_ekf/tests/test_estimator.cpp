@@ -236,6 +236,30 @@ TEST_CASE("a magnetometer offset (hard iron, 2 uT) is learnt in the turns; the h
   CHECK(e.yaw.rms() < 1.0 * kPi / 180);
 }
 
+TEST_CASE("the magnetometer: its heading on the ground, the field's direction in the air; mag_heading_only keeps the heading") {
+  // On the ground (no airspeed) the heading alone: a hangar's steel must not tilt the estimate.
+  StaticStart ground{EstimatorConfig{}};
+  REQUIRE(ground.est.initialized());
+  CHECK(ground.est.mag_heading_model().stats.accepted > 0);
+  CHECK(ground.est.mag_model().stats.accepted == 0);
+  // In the air (the pitot above min_airspeed) the direction, 50 samples a second.
+  TruthSim sim(mixed_flight());
+  Estimator air(truth_sim_config());
+  REQUIRE_FALSE(air.config().mag_heading_only);
+  fly(sim, air, 10.0);
+  const auto heading0 = air.mag_heading_model().stats.accepted, direction0 = air.mag_model().stats.accepted;
+  fly(sim, air, 10.0);
+  CHECK(air.mag_heading_model().stats.accepted == heading0);
+  CHECK(air.mag_model().stats.accepted - direction0 >= 450);
+  EstimatorConfig heading_only = truth_sim_config();
+  heading_only.mag_heading_only = true;
+  TruthSim sim2(mixed_flight());
+  Estimator h(heading_only);
+  fly(sim2, h, 10.0);
+  CHECK(h.mag_model().stats.accepted == 0);
+  CHECK(h.mag_heading_model().stats.accepted >= 450);
+}
+
 TEST_CASE("a static-port error (5 % of the dynamic pressure) is learnt from the changes of airspeed") {
   SimOptions o = mixed_flight();
   o.baro_static_error = 0.05;
