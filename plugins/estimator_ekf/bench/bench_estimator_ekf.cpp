@@ -162,7 +162,7 @@ int main() {
   row("gnss (position + velocity update)", gnss);
   row("baro (altitude update)", baro);
   row("pitot (diff. pressure + sideslip)", pitot);
-  row("mag (heading update)", mag);
+  row("mag (3-axis update in the air)", mag);
   row("imu tick (all of one step)  target 5000", tick);
   std::printf("\n%-40s %10s   (sensors: %s)\n", "accuracy (after 20 s)", "RMSE", sensors_used);
   std::printf("%-40s %10.3f\n%-40s %10.3f\n%-40s %10.3f\n", "north m", north.rms(), "east m", east.rms(), "altitude m", alt.rms());
