@@ -137,16 +137,18 @@ struct EstimatorConfig {
   /// soft iron's heading-dependent error; the offset (residual hard iron, motor field) is a state,
   /// b_m. As a heading, sigma / (B cos I) = 5 uT / 21 uT = 0.24 rad at ROSflight's field.
   /// History (bench_estimation, realistic, 10 seeds, worst seed): as a heading, 3 uT against 7 uT
-  /// gave yaw 1.09 against 1.35 deg (hourglass); as a 3-axis direction, 5 uT against 3 uT gave a
-  /// 30-s GNSS outage's drift (150-180 s) 26/24 against 32/30 m (hourglass/aggressive).
+  /// gave yaw 1.09 against 1.35 deg (hourglass); as a 3-axis direction throughout, 5 uT against
+  /// 3 uT gave a 30-s GNSS outage's drift (150-180 s) 26/24 against 32/30 m (hourglass/aggressive).
   double mag_sigma = 5e-6;
   double mag_gate = kChi2_999[3];          ///< 3-axis mode (3 dof)
   double mag_heading_gate = kChi2_999[1];  ///< heading mode (1 dof)
   /// Tilt-compensated heading always (true), or the field's 3-axis direction in the air and the
-  /// heading on the ground (false: PX4 EKF2's automatic EKF2_MAG_TYPE; airborne()). The heading takes the estimated tilt as known: in a
-  /// 45-deg bank a roll error of 0.7 deg is 1.5 deg of heading at an inclination of 65 deg, and in a GNSS outage the heading fusion turned
-  /// that into 2.4 deg of yaw error and 29 m of drift (aggressive seed 8: 3-axis 1.9 deg, 15 m). The direction also references roll and
-  /// pitch to the field: worst roll and pitch 0.52/0.55 -> 0.50/0.48 deg (hourglass), 0.57/0.54 -> 0.53/0.49 (aggressive; 10 seeds).
+  /// heading on the ground (false: PX4 EKF2's automatic EKF2_MAG_TYPE; airborne()). The heading
+  /// takes the estimated tilt as known: in a 45-deg bank a roll error of 0.7 deg is 1.5 deg of
+  /// heading at an inclination of 65 deg, and in a GNSS outage the heading fusion turned that into
+  /// 2.4 deg of yaw error and 29 m of drift (hourglass seed 8; the direction: 1.9 deg, 15 m). The
+  /// direction also references roll and pitch to the field: worst roll and pitch 0.52/0.55 ->
+  /// 0.51/0.48 deg (hourglass), 0.57/0.54 -> 0.52/0.48 (aggressive; 10 seeds).
   bool mag_heading_only = false;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
