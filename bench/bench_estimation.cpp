@@ -126,7 +126,8 @@ struct Mean {
 };
 
 // Where the aircraft stood at the first valid estimate (on the ground, before takeoff): the
-// truth's and the estimate's down position, and the raw GNSS fix's, for the height above home.
+// truth's and the estimate's down position and the raw GNSS fix's (m, NED down), and the
+// barometer's ISA pressure altitude (m, up), for the height above home.
 struct Home {
   bool set = false;
   double truth_d = 0, estimate_d = 0, fix_d = std::nan(""), baro_h = std::nan("");

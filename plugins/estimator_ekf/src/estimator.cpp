@@ -128,7 +128,8 @@ void Estimator::apply_models_config() {
   sideslip_.sigma = cfg_.sideslip_sigma;
   sideslip_.gate = cfg_.sideslip_gate;
   sideslip_.min_airspeed = cfg_.min_airspeed;
-  side_force_.k = cfg_.side_force_active() ? cfg_.rho * cfg_.wing_S / (2.0 * cfg_.mass) : 0.0;
+  const double k_aero = cfg_.rho * cfg_.wing_S / (2.0 * cfg_.mass);  // rho S / (2 m), 1/m: force per q_bar C, over the mass
+  side_force_.k = cfg_.side_force_active() ? k_aero : 0.0;
   side_force_.C_Y_0 = cfg_.C_Y_0;
   side_force_.C_Y_beta = cfg_.C_Y_beta;
   side_force_.C_Y_delta_a = cfg_.C_Y_delta_a;
@@ -137,7 +138,7 @@ void Estimator::apply_models_config() {
   side_force_.gust_sigma = cfg_.airspeed_gust_sigma;
   side_force_.gate = cfg_.side_force_gate;
   side_force_.min_airspeed = cfg_.min_airspeed;
-  normal_force_.k = cfg_.normal_force_active() ? cfg_.rho * cfg_.wing_S / (2.0 * cfg_.mass) : 0.0;
+  normal_force_.k = cfg_.normal_force_active() ? k_aero : 0.0;
   normal_force_.C_L_0 = cfg_.C_L_0;
   normal_force_.C_L_alpha = cfg_.C_L_alpha;
   normal_force_.C_L_q = cfg_.C_L_q;
@@ -405,13 +406,13 @@ bool Estimator::add_mag(const msg::Mag& m) {
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   const Vec3 z = m.field / cfg_.mag_field_strength;  // in units of the Earth's field, like b_m
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
-  mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
   // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a
   // hangar's steel or a car bends it, and the heading alone keeps that out of roll and pitch.
+  const bool heading = cfg_.mag_heading_only || !airborne(m.stamp);
+  if (heading) mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
   const UpdateResult r =
-      cfg_.mag_heading_only || !airborne(m.stamp)
-          ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
-          : fuse(mag_, Magnetometer::Vec(z), t_v);
+      heading ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
+              : fuse(mag_, Magnetometer::Vec(z), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
   // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
   // after mag_reset_time, trust the magnetometer again.
