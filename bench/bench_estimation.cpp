@@ -50,11 +50,11 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "cli_overrides.hpp"
-#include "common_frame.hpp"
-#include "config.hpp"
-#include "error.hpp"
-#include "host.hpp"
+#include "config/cli_overrides.hpp"
+#include "record/common_frame.hpp"
+#include "config/config.hpp"
+#include "config/error.hpp"
+#include "flight/host.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/port.hpp"

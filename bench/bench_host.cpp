@@ -12,8 +12,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "config.hpp"
-#include "host.hpp"
+#include "config/config.hpp"
+#include "flight/host.hpp"
 #include "tern/port.hpp"
 
 namespace fs = std::filesystem;

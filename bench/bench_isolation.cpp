@@ -20,8 +20,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "config.hpp"
-#include "host.hpp"
+#include "config/config.hpp"
+#include "flight/host.hpp"
 
 namespace fs = std::filesystem;
 

@@ -5,7 +5,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cli_overrides.hpp"
+#include "config/cli_overrides.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
 

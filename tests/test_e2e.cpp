@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "common_frame.hpp"
-#include "loader.hpp"
+#include "record/common_frame.hpp"
+#include "flight/loader.hpp"
 #include "e2e_util.hpp"
 
 using namespace tern::core;

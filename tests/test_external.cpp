@@ -1,4 +1,4 @@
-// `plugin: external` (core/src/external_plugin.hpp) without DDS: its config errors, the error of a
+// `plugin: external` (core/src/runners/external_plugin.hpp) without DDS: its config errors, the error of a
 // tern built without DDS, and the lockstep contract with a link that stands in for DDS.
 #include <doctest/doctest.h>
 
@@ -7,7 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "external_link.hpp"
+#include "runners/external_link.hpp"
 #include "test_util.hpp"
 #include "tern/msg/control.hpp"
 #include "tern/msg/state.hpp"

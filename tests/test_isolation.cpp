@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "isolated_plugin.hpp"
+#include "runners/isolated_plugin.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
 

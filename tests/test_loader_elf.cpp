@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "loader.hpp"
+#include "flight/loader.hpp"
 #include "test_util.hpp"
 
 namespace {

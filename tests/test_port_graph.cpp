@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "error.hpp"
-#include "port_graph.hpp"
+#include "config/error.hpp"
+#include "flight/port_graph.hpp"
 #include "tern/msg/all.hpp"
 
 using namespace tern;

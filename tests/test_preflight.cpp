@@ -4,7 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "preflight.hpp"
+#include "safety/preflight.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;

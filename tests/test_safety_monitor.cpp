@@ -1,8 +1,8 @@
 // The safety monitor and the state-loss recovery alone (no plugin, no host).
 #include <doctest/doctest.h>
 
-#include "safety_monitor.hpp"
-#include "state_loss_recovery.hpp"
+#include "safety/safety_monitor.hpp"
+#include "safety/state_loss_recovery.hpp"
 
 using namespace tern;
 using namespace tern::core;

@@ -6,8 +6,8 @@
 #include <csignal>
 #include <stdexcept>
 
-#include "loader.hpp"
-#include "scheduler.hpp"
+#include "flight/loader.hpp"
+#include "flight/scheduler.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;

@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "loader.hpp"
+#include "flight/loader.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;

@@ -12,9 +12,9 @@
 #include <string>
 #include <vector>
 
-#include "config.hpp"
-#include "error.hpp"
-#include "host.hpp"
+#include "config/config.hpp"
+#include "config/error.hpp"
+#include "flight/host.hpp"
 
 namespace fs = std::filesystem;
 

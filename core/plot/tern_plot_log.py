@@ -1,4 +1,4 @@
-"""tern plot: what a run directory holds (core/src/flight_log.hpp): the topic tables, summary.json,
+"""tern plot: what a run directory holds (core/src/record/flight_log.hpp): the topic tables, summary.json,
 params.csv, config.yaml, and what the figures take from them: the estimator instances, the
 markers, the actuator limits, the waypoint lists as flown, summary.json's RMSE window."""
 
@@ -396,7 +396,7 @@ def added_waypoints(lists, tol=1.0):
 
 
 # ----------------------------------------------------------------------------------------------
-# The RMSE window of summary.json (core/src/metrics.hpp: from window_start_s, cruise only)
+# The RMSE window of summary.json (core/src/record/metrics.hpp: from window_start_s, cruise only)
 # ----------------------------------------------------------------------------------------------
 
 def rmse_window(run):

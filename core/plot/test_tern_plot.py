@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Tests of tern-plot: run as `python3 core/plot/test_tern_plot.py` (plain unittest).
 
-Writes small synthetic run directories (the layout of core/src/flight_log.hpp) into a temp
+Writes small synthetic run directories (the layout of core/src/record/flight_log.hpp) into a temp
 dir, runs tern-plot on them as a user would, and checks the figures, the printed list and
 the errors; also checks the pieces a wrong figure would come from (the YAML subset reader,
 ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segments).

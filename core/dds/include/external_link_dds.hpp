@@ -1,5 +1,5 @@
 // core/dds/include/external_link_dds.hpp: the Fast DDS side of `plugin: external` instances
-// (core/src/external_plugin.hpp). No Fast DDS inside: include it in core/src freely.
+// (core/src/runners/external_plugin.hpp). No Fast DDS inside: include it in core/src freely.
 #pragma once
 
 namespace tern::core {

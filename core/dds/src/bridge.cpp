@@ -11,9 +11,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "dds_internal.hpp"
-#include "error.hpp"
+#include "config/error.hpp"
 #include "file_access.hpp"
-#include "host.hpp"
+#include "flight/host.hpp"
 #include "ros_parameters.hpp"
 #include "stamp_clock.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"

@@ -4,7 +4,7 @@
 #include <algorithm>
 
 #include "client_impl.hpp"
-#include "error.hpp"
+#include "config/error.hpp"
 #include "rcl_convert.hpp"
 #include "rcl_interfaces/srv/ParametersPubSubTypes.h"
 #include "rmw_dds_common/msg/ParticipantEntitiesInfoPubSubTypes.h"

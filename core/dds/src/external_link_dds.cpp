@@ -1,4 +1,4 @@
-// The DDS endpoints of an external instance (external_link_dds.hpp, core/src/external_link.hpp).
+// The DDS endpoints of an external instance (external_link_dds.hpp, core/src/runners/external_link.hpp).
 //
 // Inputs are converted by the bridge's tern -> ROS 2 conversions (convert.cpp, find_type) and
 // stamped with the tick's sim time. The one output binding, rosflight_msgs/msg/Command -> tern
@@ -22,7 +22,7 @@
 #include <deque>
 
 #include "dds_internal.hpp"
-#include "external_link.hpp"
+#include "runners/external_link.hpp"
 #include "rosflight_msgs/msg/CommandPubSubTypes.h"
 #include "rosplane_msgs/msg/ControllerCommandsPubSubTypes.h"
 #include "rosplane_msgs/msg/StatePubSubTypes.h"

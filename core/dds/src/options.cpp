@@ -10,7 +10,7 @@
 
 #include "dds_bridge.hpp"
 #include "dds_keystore.hpp"
-#include "error.hpp"
+#include "config/error.hpp"
 
 namespace tern::core {
 

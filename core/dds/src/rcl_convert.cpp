@@ -7,7 +7,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
-#include "config.hpp"
+#include "config/config.hpp"
 
 namespace tern::core::ddsi {
 

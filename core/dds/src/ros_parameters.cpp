@@ -6,7 +6,7 @@
 #include <map>
 
 #include "dds_internal.hpp"
-#include "host.hpp"
+#include "flight/host.hpp"
 #include "rcl_convert.hpp"
 #include "rcl_interfaces/msg/ParameterEventPubSubTypes.h"
 #include "rcl_interfaces/srv/ParametersPubSubTypes.h"

@@ -6,7 +6,7 @@
 
 #include <fmt/format.h>
 
-#include "config.hpp"
+#include "config/config.hpp"
 #include "rosgraph_msgs/msg/ClockPubSubTypes.h"
 
 namespace tern::core::ddsi {

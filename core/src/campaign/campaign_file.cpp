@@ -6,8 +6,8 @@
 
 #include <fmt/format.h>
 
-#include "config.hpp"
-#include "error.hpp"
+#include "config/config.hpp"
+#include "config/error.hpp"
 
 namespace tern::campaign {
 

@@ -26,10 +26,10 @@
 #include "campaign_report.hpp"
 #include "dispersion.hpp"
 #include "engines.hpp"
-#include "error.hpp"
+#include "config/error.hpp"
 #include "flight_plan.hpp"
 #include "flight_row.hpp"
-#include "host.hpp"
+#include "flight/host.hpp"
 #include "local_pool.hpp"
 #include "progress.hpp"
 

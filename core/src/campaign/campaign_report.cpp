@@ -7,8 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "error.hpp"
-#include "log_file.hpp"
+#include "config/error.hpp"
+#include "record/log_file.hpp"
 
 namespace tern::campaign {
 

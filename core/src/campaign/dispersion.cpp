@@ -5,9 +5,9 @@
 
 #include <fmt/format.h>
 
-#include "config.hpp"
+#include "config/config.hpp"
 #include "counter_rng.hpp"
-#include "error.hpp"
+#include "config/error.hpp"
 
 namespace tern::campaign {
 

@@ -19,7 +19,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "campaign_file.hpp"
-#include "config.hpp"
+#include "config/config.hpp"
 #include "dispersion.hpp"
 
 namespace tern::campaign {

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "error.hpp"
+#include "config/error.hpp"
 
 namespace tern::campaign {
 

@@ -3,8 +3,8 @@
 #include <cstdlib>
 
 #include "console/console_commands.hpp"
-#include "error.hpp"
-#include "host.hpp"
+#include "config/error.hpp"
+#include "flight/host.hpp"
 
 namespace tern::core {
 namespace {

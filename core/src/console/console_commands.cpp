@@ -3,7 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "host.hpp"
+#include "flight/host.hpp"
 
 namespace tern::core {
 namespace {

@@ -18,7 +18,7 @@
 #include <boost/beast/websocket.hpp>
 #include <fmt/format.h>
 
-#include "error.hpp"
+#include "config/error.hpp"
 
 namespace tern::core {
 

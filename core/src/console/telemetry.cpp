@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "host.hpp"
+#include "flight/host.hpp"
 
 namespace tern::core {
 namespace {

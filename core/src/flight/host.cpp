@@ -1,0 +1,557 @@
+#include "flight/host.hpp"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include "config/cli_overrides.hpp"
+#include "flight/elf_check.hpp"
+#include "config/error.hpp"
+#include "record/flight_recorder.hpp"
+#include "flight/replay.hpp"
+#include "record/status_line.hpp"
+
+namespace tern::core {
+
+namespace {
+
+std::atomic<int> g_stop_signal{0};
+
+extern "C" void tern_on_signal(int sig) { request_stop(sig); }
+
+// The host's log goes to the console (warnings only when quiet) and, while flying, to tern.log.
+std::shared_ptr<spdlog::sinks::dist_sink_mt> console_sinks(bool quiet) {
+  auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
+  console->set_level(quiet ? spdlog::level::warn : spdlog::level::info);
+  console->set_pattern("%^[%l]%$ %n: %v");
+  auto dist = std::make_shared<spdlog::sinks::dist_sink_mt>();
+  dist->add_sink(console);
+  return dist;
+}
+
+std::shared_ptr<spdlog::logger> host_logger(std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks) {
+  auto log = std::make_shared<spdlog::logger>("tern", std::move(sinks));
+  log->set_level(spdlog::level::info);
+  return log;
+}
+
+}  // namespace
+
+int stop_signal() { return g_stop_signal.load(); }
+
+void request_stop(int sig) { g_stop_signal.store(sig == 0 ? SIGINT : sig); }
+
+void install_signal_handlers() {
+  struct sigaction sa {};
+  sa.sa_handler = tern_on_signal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = 0;
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);  // the terminal went away (an SSH drop): end the flight cleanly
+  std::signal(SIGXFSZ, SIG_IGN);    // a file-size limit fails the log's writes (EFBIG), not the flight
+}
+
+// ---- life of a host ---------------------------------------------------------------------------
+
+Host::Host(MissionConfig config, HostOptions options)
+    : config_(std::move(config)),
+      options_(std::move(options)),
+      sinks_(console_sinks(options_.quiet)),
+      logger_(host_logger(sinks_)),
+      created_ns_(wall_ns()) {
+  calibrate_step_clock();  // before anything is timed
+  seed_ = options_.seed.value_or(config_.seed);
+}
+
+Host::~Host() {
+  // 1. nobody reads anybody any more
+  for (auto& inst : instances_)
+    if (inst->plugin)
+      for (auto* in : inst->plugin->inputs()) in->bind(nullptr);
+  graph_ = PortGraph();
+  // 2. instances (code in the .so) before their libraries
+  for (auto& inst : instances_) inst->drop_plugin();
+  phase_machine_ = nullptr;
+  metrics_ = nullptr;
+  replay_ = nullptr;
+  for (auto& inst : instances_) inst->lib.reset();
+  instances_.clear();
+  if (!swap_dir_.empty()) {
+    std::error_code ec;
+    fs::remove_all(swap_dir_, ec);
+  }
+}
+
+void Host::build() {
+  LoadedInstances loaded = load_instances(setup(), options_.replay_dir);
+  instances_ = std::move(loaded.list);
+  phase_machine_ = loaded.phase_machine;
+  phase_machine_idx_ = loaded.phase_machine_index;
+  metrics_ = loaded.metrics;
+  replay_ = loaded.replay;
+  rebuild_graph();
+  if (!options_.replay_dir) {  // a replay flies a subset of the flight's instances
+    std::vector<std::string> published;
+    for (const auto& t : topics()) published.push_back(t.name);
+    check_log_topics(config_, published);
+  }
+  built_ = true;
+}
+
+// Routing roles, rates, port graph and initial binding, from the instances' ports and the config.
+void Host::rebuild_graph() {
+  for (auto& inst : instances_)
+    if (inst->plugin)
+      for (auto* in : inst->plugin->inputs()) in->bind(nullptr);
+  graph_ = PortGraph();
+  router_.assign(config_, phase_machine_);
+  std::vector<const InstanceConfig*> cfgs;
+  for (const auto& inst : instances_) cfgs.push_back(&inst->cfg);
+  const Rates rates = resolve_rates(config_.base_rate, config_.root["base_rate"], cfgs, config_.file);
+  base_period_ = rates.base_period;
+  std::vector<PortNode> nodes;
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    Instance& inst = *instances_[i];
+    inst.divisor = rates.divisors[i];
+    inst.stats.budget_ns = rates.budgets[i];
+    if (inst.idle)
+      nodes.push_back({inst.cfg.name, false, false, {}, {}});  // writes and reads nothing
+    else
+      nodes.push_back({inst.cfg.name, inst.info.kind == PluginKind::io, inst.routed, inst.plugin->outputs(), inst.plugin->inputs()});
+  }
+  const OutputBase* edits = remote_.renew_mission_edit_output();
+  const OutputBase* pilot = remote_.renew_pilot_output();
+  graph_ = PortGraph(nodes, {edits, pilot}, config_.file);
+  remote_.keep_mission_edit_output(graph_.offers(edits));
+  remote_.keep_pilot_output(graph_.offers(pilot));
+  graph_.bind(router_.active());
+}
+
+SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
+  if (flying_) throw ConfigError("swap refused: a flight is in progress; swap between flights");
+  std::size_t idx = SIZE_MAX;
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < instances_.size(); ++i) {
+    if (!instances_[i]->builtin) names.push_back(instances_[i]->cfg.name);
+    if (instances_[i]->cfg.name == instance && !instances_[i]->builtin) idx = i;
+  }
+  if (idx == SIZE_MAX) throw ConfigError("swap: no plugin instance named '" + instance + "'" + did_you_mean(instance, names));
+  fs::path so = so_in;
+  if (so.string().find('/') == std::string::npos && so.extension() != ".so")
+    so = find_plugin(so.string(), plugin_search_path(config_.plugin_path));
+  so = fs::absolute(so).lexically_normal();
+  if (!fs::exists(so)) throw ConfigError("swap: '" + so.string() + "' not found");
+  fs::path copy;
+  const auto discard_copy = [&] {  // a refused swap leaves no file behind
+    std::error_code ec;
+    if (!copy.empty()) fs::remove(copy, ec);
+    if (!swap_dir_.empty() && fs::remove(swap_dir_, ec)) swap_dir_.clear();  // only when empty
+  };
+  auto fresh = std::make_unique<Instance>();
+  fresh->cfg = instances_[idx]->cfg;
+  fresh->source = so;
+  try {
+    check_elf(so);  // before the copy: the error names the file as given
+    // a private copy: a rebuild at the same path must not resolve to the library already mapped
+    if (swap_dir_.empty()) {
+      swap_dir_ = fs::temp_directory_path() / fmt::format("tern-swap-{}-{}", ::getpid(), reinterpret_cast<std::uintptr_t>(this));
+      fs::create_directories(swap_dir_);
+    }
+    copy = swap_dir_ / fmt::format("{}-{}", ++swaps_, so.filename().string());
+    fs::copy_file(so, copy, fs::copy_options::overwrite_existing);
+    fresh->lib = open_plugin(copy);
+    fresh->info = fresh->lib->info();
+    fresh->plugin = fresh->lib->create();
+    configure_instance(*fresh, setup());
+    if (fresh->cfg.isolate && !options_.describing) isolate_instance(*fresh, setup());
+  } catch (const std::exception& e) {  // ConfigError, or a filesystem error of the copy
+    fresh->drop_plugin();
+    fresh->lib.reset();
+    discard_copy();
+    throw ConfigError("swap " + instance + " <- " + so.string() + " refused, '" + instances_[idx]->info.name +
+                      "' keeps flying: " + e.what());
+  }
+  std::swap(instances_[idx], fresh);  // `fresh` is now the old instance
+  try {
+    rebuild_graph();
+  } catch (const ConfigError& e) {
+    std::swap(instances_[idx], fresh);
+    rebuild_graph();
+    fresh->drop_plugin();
+    fresh->lib.reset();
+    discard_copy();
+    throw ConfigError("swap " + instance + " <- " + so.string() +
+                      " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
+  }
+  if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
+  const fs::path old_path = fresh->lib ? fresh->lib->info().path : fs::path();
+  const bool shared = fresh->lib && fresh->lib.use_count() > 1;
+  const std::string old_desc = fmt::format("{} ({})", fresh->info.name, fresh->source.string());
+  const SwapReport report{fresh->info.sha256, instances_[idx]->info.sha256};
+  fresh->drop_plugin();
+  fresh->lib.reset();
+  if (!shared && !old_path.empty() && is_loaded(old_path))
+    logger_->warn("swap {}: the old library {} is still mapped after unloading it", instance, old_path.string());
+  if (!old_path.empty() && old_path.parent_path() == swap_dir_ && !shared) fs::remove(old_path);
+  logger_->info("swapped {}: {} sha256 {} -> {} ({}) sha256 {}", instance, old_desc, report.old_sha256, instances_[idx]->info.name,
+                so.string(), report.new_sha256);
+  if (report.same())
+    logger_->warn("swap {}: same library (sha256 {}) as the one running: did the build fail?", instance, report.new_sha256);
+  return report;
+}
+
+bool Host::abort_flight() {
+  if (!flying_.load()) return false;
+  abort_.store(true);
+  return true;
+}
+
+void Host::set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback) {
+  if (flying_) throw ConfigError("phases refused: a flight is in progress; change the table between flights");
+  if (!phase_machine_) throw ConfigError("phases: this mission has no 'phases:' table (and so no phase machine) to change");
+  for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise})
+    if (!phases.count(p)) throw ConfigError("phases: no controller for phase '" + std::string(msg::phase_name(p)) + "'");
+  std::vector<std::string> names;
+  for (const auto& inst : instances_)
+    if (!inst->builtin) names.push_back(inst->cfg.name);
+  auto check = [&](const std::string& n) {
+    if (std::find(names.begin(), names.end(), n) == names.end())
+      throw ConfigError("phases: no plugin instance named '" + n + "'" + did_you_mean(n, names));
+  };
+  for (const auto& [p, n] : phases) check(n);
+  if (fallback) check(*fallback);
+  const auto old_phases = config_.phases;
+  const auto old_fallback = config_.fallback;
+  config_.phases = phases;
+  if (fallback) config_.fallback = fallback;
+  try {
+    rebuild_graph();  // the router refuses phases and fallbacks that are not controllers
+  } catch (const ConfigError& e) {
+    config_.phases = old_phases;
+    config_.fallback = old_fallback;
+    rebuild_graph();
+    throw ConfigError(std::string("phases refused, the old table stays: ") + e.what());
+  }
+  std::string table;
+  for (const auto& [p, n] : config_.phases) table += fmt::format("{}{}={}", table.empty() ? "" : ", ", msg::phase_name(p), n);
+  logger_->info("phase table: {}{}", table, config_.fallback ? ", fallback=" + *config_.fallback : "");
+}
+
+// ---- requests from other threads --------------------------------------------------------------
+
+void Host::request_param(const std::string& qualified, const ParamValue& value, const std::string& source) {
+  const auto dot = qualified.find('.');
+  std::vector<std::string> all;
+  for (const auto& [name, p] : parameters()) all.push_back(name);
+  ParamBase* target = nullptr;
+  if (dot != std::string::npos) {
+    for (const auto& inst : instances_)
+      if (inst->cfg.name == qualified.substr(0, dot)) target = inst->plugin->find_param(qualified.substr(dot + 1));
+  }
+  if (target == nullptr) throw ConfigError("unknown parameter '" + qualified + "'" + did_you_mean(qualified, all));
+  const ParamValue checked = target->validate(value);  // throws ParamError
+  if (!target->spec().live && flying_)
+    throw ParamError("parameter '" + qualified + "' is read when a flight starts: refused in flight, it takes effect next flight " +
+                     "(set it between flights)");
+  remote_.request_param(*target, qualified, checked, source);
+}
+
+void Host::edit_mission(const msg::MissionEdit& edit) {
+  if (!remote_.takes_mission_edits())
+    throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'mission_edit' (add a path_planner)");
+  remote_.edit_mission(edit);
+}
+
+void Host::set_pilot(const msg::Rc& rc) {
+  if (!remote_.takes_pilot())
+    throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'pilot' (fly the simulator, sim_aero)");
+  remote_.set_pilot(rc);
+}
+
+// ---- what the host holds ------------------------------------------------------------------------
+
+Nanos Host::replay_end() const { return replay_ ? replay_->end_time() : 0; }
+
+std::vector<Host::TopicInfo> Host::topics() const {
+  std::vector<TopicInfo> out;
+  for (const auto& t : graph_.topics())
+    if (t.written()) out.push_back({t.name, t.type_name, t.fingerprint});
+  return out;
+}
+
+const OutputBase* Host::topic_source(const std::string& topic) const {
+  const GraphTopic* t = graph_.find(topic);
+  return t ? t->current : nullptr;
+}
+
+std::vector<std::string> Host::schedule() const {
+  std::vector<std::string> out;
+  for (auto i : graph_.order()) out.push_back(instances_[i]->cfg.name);
+  return out;
+}
+
+std::vector<std::pair<std::string, const ParamBase*>> Host::parameters() const {
+  std::vector<std::pair<std::string, const ParamBase*>> out;
+  for (const auto& inst : instances_)
+    for (const auto* p : inst->plugin->params()) out.emplace_back(inst->cfg.name + "." + p->name(), p);
+  return out;
+}
+
+std::string Host::graph_text() const {
+  std::string s = fmt::format("mission '{}' ({}), base rate {} Hz, seed {}\n", config_.name, config_.file.string(),
+                              1e9 / static_cast<double>(base_period_), seed_);
+  s += "schedule (each tick, in this order):\n";
+  for (std::size_t k = 0; k < graph_.order().size(); ++k) {
+    const std::size_t idx = graph_.order()[k];
+    const auto& inst = *instances_[idx];
+    std::string when =
+        inst.trigger ? "on " + inst.trigger->name() : fmt::format("{} Hz", 1e9 / static_cast<double>(base_period_ * inst.divisor));
+    std::string route;
+    if (inst.routed) {
+      std::vector<std::string> phases;
+      for (const auto& [p, name] : config_.phases)
+        if (name == inst.cfg.name) phases.emplace_back(msg::phase_name(p));
+      if (router_.fallback() == idx) phases.emplace_back("fallback");
+      route = fmt::format("  [phase router: {}]", fmt::join(phases, ", "));
+    } else if (inst.idle) {
+      route = "  (not routed: idle, never steps, writes nothing)";
+    }
+    s += fmt::format("  {}. {} ({}, {}) {}{}\n", k + 1, inst.cfg.name, inst.info.name, kind_name(inst.info.kind), when, route);
+    if (inst.info.name == "external")  // ports on DDS topics (external_plugin.hpp): which ones
+      for (const std::vector<PortBase*>& ports : {std::vector<PortBase*>(inst.plugin->inputs().begin(), inst.plugin->inputs().end()),
+                                                  std::vector<PortBase*>(inst.plugin->outputs().begin(), inst.plugin->outputs().end())})
+        for (const PortBase* p : ports) s += fmt::format("       {} [{}]: {}\n", p->topic(), p->type().name, p->description());
+  }
+  return s + "topics:\n" + graph_.describe_topics();
+}
+
+std::string Host::graph_dot() const {
+  std::string s = "digraph tern {\n  rankdir=LR;\n  node [shape=box];\n";
+  for (std::size_t i = 0; i < instances_.size(); ++i)
+    s += fmt::format("  \"{}\" [label=\"{}\\n{}{}\"{}];\n", instances_[i]->cfg.name, instances_[i]->cfg.name, instances_[i]->info.name,
+                     instances_[i]->idle ? "\\n(not routed: idle)" : "",
+                     instances_[i]->info.kind == PluginKind::io ? ", style=bold"
+                     : instances_[i]->idle                      ? ", style=dashed"
+                                                                : "");
+  for (const auto& e : graph_.edges())
+    s += fmt::format("  \"{}\" -> \"{}\" [label=\"{}\"{}];\n", instances_[e.from]->cfg.name, instances_[e.to]->cfg.name, e.topic,
+                     e.feedback ? ", style=dashed" : "");
+  s += "}\n";
+  return s;
+}
+
+FlightFacts Host::facts(double duration_s) const {
+  return {config_,
+          seed_,
+          duration_s,
+          flights_,
+          base_period_,
+          instances_,
+          phase_machine_,
+          router_,
+          metrics_,
+          start_to_first_tick_ms_,
+          failsafes_.events()};
+}
+
+double Host::flight_duration() const { return duration_override_ ? *duration_override_ : options_.duration.value_or(config_.duration); }
+
+// ---- a flight ---------------------------------------------------------------------------------
+
+FlightResult Host::fly() {
+  const std::int64_t fly_entry = wall_ns();
+  if (!built_) build();
+  if (flying_.exchange(true)) throw ConfigError("a flight is already in progress");
+  struct FlyingGuard {
+    std::atomic<bool>& f;
+    ~FlyingGuard() { f.store(false); }
+  } flying_guard{flying_};
+  if (flights_ > 0) reset_for_next_flight();
+  ++flights_;
+  g_stop_signal.store(0);
+  abort_.store(false);
+  const double duration = flight_duration();
+  FlightRecorder recorder(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
+                          [this](const std::string& line) { logger_->error("{}", line); });
+  FlightResult r;
+  r.run_dir = recorder.dir();
+  recorder.start(resolved_config_yaml(facts(duration)), parameters(), param_options(config_));
+  recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
+  logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
+                1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
+  if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
+  const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
+    recorder.param(t, name, p, source);
+  };
+  remote_.apply_start_only(record_param, *logger_);  // asked for between flights: before the plugins read them
+  router_.prepare_flight();
+  for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
+  if (!start_instances(r)) {
+    recorder.close(r);
+    return r;
+  }
+  router_.start_flight();
+  failsafes_.start_flight(config_.failsafes, graph_);
+  StatusLine status(graph_, options_.progress);
+  Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
+  start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
+  flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
+  watchdog_.arm(
+      config_.watchdog, [] { return g_stop_signal.load(); },
+      [&](const std::string& reason, const std::string& detail) {
+        r.ok = reason != "watchdog";
+        r.end_reason = reason;
+        r.end_detail = detail;
+        r.flown = clock.now();
+        r.wall_s = clock.wall_s();
+        emergency_end(recorder, r, duration);
+      });
+  bool aborted = false;
+  while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
+    remote_.apply(clock.now(), record_param, *logger_);
+    const EndRequest end = run_tick(clock);
+    failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);
+    recorder.capture(graph_, clock.now());
+    notify_observer(clock.now());
+    if (!end.reason.empty()) {
+      r.ok = false;
+      r.end_reason = end.reason;
+      r.end_detail = end.detail;
+      logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
+      break;
+    }
+    if (clock.wall_check_due()) {
+      recorder.flush_if_due(*logger_);
+      status.draw(clock.now());
+      clock.pace();
+    }
+    if (abort_.load(std::memory_order_relaxed)) {  // after a complete tick: the log ends with it
+      aborted = true;
+      break;
+    }
+  }
+  watchdog_.disarm();
+  status.finish();
+  if (r.ok) r.end_reason = aborted ? "aborted" : clock.end_reason();
+  r.flown = clock.now();
+  r.wall_s = clock.wall_s();
+  r.flight_cpu_s = clock.cpu_s();
+  finish_flight(recorder, r, duration);
+  return r;
+}
+
+// A new flight from the mission's initial state: clean plugins, routing back to takeoff.
+void Host::reset_for_next_flight() {
+  rebuild_graph();
+  for (auto idx : graph_.order()) {
+    try {
+      instances_[idx]->plugin->reset();
+    } catch (const std::exception& e) {
+      logger_->error("{}.reset failed: {}", instances_[idx]->cfg.name, e.what());
+    }
+    const Nanos budget = instances_[idx]->stats.budget_ns;
+    instances_[idx]->stats = StepStats{};
+    instances_[idx]->stats.budget_ns = budget;
+  }
+}
+
+bool Host::start_instances(FlightResult& r) {
+  for (auto idx : graph_.order()) {
+    try {
+      instances_[idx]->plugin->start();
+    } catch (const std::exception& e) {
+      r.ok = false;
+      r.end_reason = fmt::format("error: {}.start failed: {}", instances_[idx]->cfg.name, e.what());
+      logger_->error("{}", r.end_reason);
+      return false;
+    }
+  }
+  return true;
+}
+
+// Steps every instance due in this tick, in the graph's order. Returns why the flight ends
+// (reason "" while it goes on): an error, the phase machine's failure or a plugin's end_flight.
+EndRequest Host::run_tick(Scheduler& clock) {
+  const Nanos now = clock.now();
+  const auto step = [&clock, this](Instance& inst) {
+    const Nanos before = inst.stats.total_ns;
+    watchdog_.enter(inst.cfg.name, clock.now(), inst.isolated == nullptr);
+    std::string error = clock.step(*inst.plugin, inst.stats);
+    watchdog_.leave(inst.stats, inst.failure().empty() ? inst.stats.total_ns - before : 0, *logger_);  // a failed child: its own line
+    return error;
+  };
+  clock.start_steps();
+  for (const std::size_t idx : graph_.order()) {
+    Instance& inst = *instances_[idx];
+    if (!router_.may_step(idx) || !clock.due(inst.divisor, inst.trigger)) continue;
+    const std::string error = step(inst);
+    if (inst.routed) {
+      if (std::string failure = router_.after_controller_step(now, idx, error, step); !failure.empty()) return {failure, ""};
+    } else if (const std::string failed = inst.failure(); !failed.empty()) {
+      return {"plugin_failed", fmt::format("{} at t={:.3f} s", failed, to_seconds(now))};
+    } else if (!error.empty()) {
+      return {fmt::format("error: {}.step threw at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), error), ""};
+    } else if (idx == phase_machine_idx_) {
+      if (!phase_machine_->failure().empty()) return {phase_machine_->failure(), ""};
+      router_.follow_phase(now);
+    }
+    if (auto end = inst.take_end_request())
+      return {end->reason, fmt::format("{} at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), end->detail)};
+  }
+  return {};
+}
+
+void Host::notify_observer(Nanos now) {
+  if (!tick_observer_) return;
+  try {
+    tick_observer_(now);
+  } catch (const std::exception& e) {
+    logger_->error("t={:.3f} s: tick observer failed, removed: {}", to_seconds(now), e.what());
+    tick_observer_ = nullptr;
+  }
+}
+
+void Host::finish_flight(FlightRecorder& recorder, FlightResult& r, double duration_s) {
+  for (auto it = graph_.order().rbegin(); it != graph_.order().rend(); ++it) {
+    try {
+      instances_[*it]->plugin->stop();
+    } catch (const std::exception& e) {
+      logger_->error("{}.stop failed: {}", instances_[*it]->cfg.name, e.what());
+    }
+  }
+  if (r.end_reason == "SIGINT" || r.end_reason == "SIGTERM" || r.end_reason == "SIGHUP")
+    logger_->warn("flight ended by {} at t={:.3f} s; the log is complete", r.end_reason, to_seconds(r.flown));
+  if (r.end_reason == "aborted") logger_->info("flight aborted at t={:.3f} s; the log is complete", to_seconds(r.flown));
+  recorder.finish(facts(duration_s), r);
+  r.summary = summary_text(facts(duration_s), r);
+  if (!options_.quiet) {
+    std::fputs(r.summary.c_str(), stdout);
+    std::fflush(stdout);
+  }
+}
+
+void Host::emergency_end(FlightRecorder& recorder, FlightResult& r, double duration_s) {
+  logger_->error("{}: {}", r.end_reason, r.end_detail);
+  recorder.finish(facts(duration_s), r);  // summary.json (atomic), the topic files closed, timing.json
+  sinks_->flush();
+  if (options_.quiet) {
+    std::printf("log: %s\n", r.run_dir.c_str());
+  } else {
+    const std::string text = summary_text(facts(duration_s), r);
+    std::fputs(text.c_str(), stdout);
+  }
+  std::fflush(stdout);
+  std::fflush(stderr);
+  std::_Exit(exit_status(r));
+}
+
+}  // namespace tern::core

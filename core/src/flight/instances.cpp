@@ -1,0 +1,302 @@
+#include "flight/instances.hpp"
+
+#include <map>
+#include <set>
+#include <utility>
+
+#include <spdlog/spdlog.h>
+
+#include "config/error.hpp"
+#include "runners/external_plugin.hpp"
+#include "runners/isolated_plugin.hpp"
+#include "record/metrics.hpp"
+#include "safety/phase_machine.hpp"
+#include "flight/replay.hpp"
+
+namespace tern::core {
+
+namespace {
+
+std::uint64_t splitmix64(std::uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+std::uint64_t fnv1a(const std::string& s) {
+  reflect::Fnv1a f;
+  f.bytes(s);
+  return f.h;
+}
+
+}  // namespace
+
+// ---- the context each instance sees ---------------------------------------------------------
+
+class InstanceContext final : public Context {
+ public:
+  InstanceContext(const MissionConfig& config, const InstanceConfig& cfg, std::uint64_t seed, std::shared_ptr<spdlog::logger> log,
+                  bool describing)
+      : config_(config), cfg_(cfg), seed_(seed), log_(std::move(log)), describing_(describing) {}
+
+  const std::string& instance_name() const override { return cfg_.name; }
+  std::optional<ParamValue> configured_value(const std::string& param, const ParamSpec& spec) const override {
+    auto it = cfg_.params.find(param);
+    last_param_ = param;
+    if (it == cfg_.params.end()) return std::nullopt;
+    used_.insert(param);
+    ParamValue v = to_param_value(it->second.node, it->second.file, it->second.field);
+    if (spec.is_path && std::holds_alternative<std::string>(v)) {
+      fs::path p(std::get<std::string>(v));
+      if (p.is_relative()) v = (it->second.file.parent_path() / p).lexically_normal().string();
+    }
+    return v;
+  }
+  std::uint64_t seed() const override { return seed_; }
+  std::shared_ptr<spdlog::logger> logger() const override { return log_; }
+  std::filesystem::path config_dir() const override { return config_.dir; }
+  const YAML::Node& mission() const override { return config_.mission; }
+  std::filesystem::path aircraft_file() const override { return config_.aircraft; }
+  bool describing() const override { return describing_; }
+  void end_flight(const std::string& reason, const std::string& detail) override {
+    if (!end_) end_ = EndRequest{reason, detail};
+  }
+
+  std::optional<EndRequest> take_end_request() { return std::exchange(end_, std::nullopt); }
+  const std::string& last_param() const { return last_param_; }
+  const std::set<std::string>& used() const { return used_; }
+
+ private:
+  const MissionConfig& config_;
+  const InstanceConfig& cfg_;
+  std::uint64_t seed_;
+  std::shared_ptr<spdlog::logger> log_;
+  bool describing_;
+  mutable std::string last_param_;
+  mutable std::set<std::string> used_;
+  std::optional<EndRequest> end_;
+};
+
+Instance::Instance() = default;
+Instance::~Instance() = default;
+
+std::string Instance::failure() const { return isolated ? isolated->failure() : std::string(); }
+
+std::optional<EndRequest> Instance::take_end_request() { return ctx ? ctx->take_end_request() : std::nullopt; }
+
+void Instance::drop_plugin() {
+  isolated = nullptr;
+  plugin.reset();
+  ctx.reset();
+}
+
+// ---- configure ------------------------------------------------------------------------------
+
+namespace {
+
+void run_configure(Instance& inst, const fs::path& f, const std::string& field) {
+  try {
+    inst.plugin->configure();
+  } catch (const ParamError& e) {
+    const std::string& p = inst.ctx->last_param();
+    auto it = inst.cfg.params.find(p);
+    if (it != inst.cfg.params.end()) throw ConfigError(it->second.location() + ": " + e.what());
+    throw ConfigError(where(f, inst.cfg.node) + field + " (" + inst.cfg.name + "): " + e.what());
+  } catch (const ConfigError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw ConfigError(where(f, inst.cfg.node) + field + " (" + inst.cfg.name + "): configure failed: " + e.what());
+  }
+}
+
+// parameters the config sets but the plugin does not have
+void check_unknown_params(const Instance& inst, spdlog::logger& log) {
+  std::vector<std::string> declared;
+  for (const auto* p : inst.plugin->params()) declared.push_back(p->name());
+  for (const auto& [name, setting] : inst.cfg.params) {
+    if (inst.ctx->used().count(name)) continue;
+    const std::string msg = "unknown parameter '" + name + "' of plugin '" + inst.info.name + "'" + did_you_mean(name, declared);
+    if (setting.strict) throw ConfigError(setting.location() + ": " + msg);
+    log.warn("{}: {} (ignored: shared ROS 2 parameter file)", setting.location(), msg);
+  }
+}
+
+void apply_remaps_and_trigger(Instance& inst, const fs::path& f, const std::string& field) {
+  for (const auto& [port, topic] : inst.cfg.remap) {
+    PortBase* p = inst.plugin->find_input(port);
+    if (p == nullptr) p = inst.plugin->find_output(port);
+    if (p == nullptr) {
+      std::vector<std::string> ports;
+      for (auto* i : inst.plugin->inputs()) ports.push_back(i->name());
+      for (auto* o : inst.plugin->outputs()) ports.push_back(o->name());
+      throw ConfigError(where(f, inst.cfg.node["remap"]) + field + ".remap: plugin '" + inst.info.name + "' has no port '" + port + "'" +
+                        did_you_mean(port, ports));
+    }
+    p->set_topic(topic);
+  }
+  if (inst.cfg.trigger) {
+    inst.trigger = inst.plugin->find_input(*inst.cfg.trigger);
+    if (inst.trigger == nullptr) {
+      std::vector<std::string> ports;
+      for (auto* i : inst.plugin->inputs()) ports.push_back(i->name());
+      throw ConfigError(where(f, inst.builtin ? inst.cfg.node : inst.cfg.node["trigger"]) + field + ".trigger: plugin '" + inst.info.name +
+                        "' has no input port '" + *inst.cfg.trigger + "'" + did_you_mean(*inst.cfg.trigger, ports));
+    }
+  }
+}
+
+}  // namespace
+
+void configure_instance(Instance& inst, const InstanceSetup& setup) {
+  const std::uint64_t iseed = splitmix64(setup.seed ^ fnv1a(inst.cfg.name));
+  auto log = std::make_shared<spdlog::logger>(inst.cfg.name, setup.sink);
+  log->set_level(spdlog::level::info);
+  inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing);
+  inst.plugin->attach(inst.ctx.get());
+  const std::string field = inst.builtin ? inst.cfg.name : "plugins[" + std::to_string(inst.cfg.index) + "]";
+  run_configure(inst, setup.config.file, field);
+  check_unknown_params(inst, setup.log);
+  apply_remaps_and_trigger(inst, setup.config.file, field);
+}
+
+void isolate_instance(Instance& inst, const InstanceSetup& setup) {
+  const IsolationSpec spec{setup.config.file, inst.cfg.name, inst.lib->info().path, setup.seed,
+                           static_cast<Nanos>(setup.config.watchdog.hard_ms * 1e6)};
+  try {
+    auto proxy = std::make_unique<IsolatedPlugin>(std::move(inst.plugin), *inst.ctx, spec);
+    inst.isolated = proxy.get();
+    inst.plugin = std::move(proxy);
+  } catch (const ConfigError& e) {
+    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + "plugins[" + std::to_string(inst.cfg.index) +
+                      "].isolate: " + e.what());
+  }
+}
+
+// ---- load -----------------------------------------------------------------------------------
+
+namespace {
+
+std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::path& replay_dir, ReplaySource*& replay) {
+  const MissionConfig& config = setup.config;
+  auto inst = std::make_unique<Instance>();
+  inst->cfg.index = config.plugins.size() + 2;
+  inst->cfg.name = "replay";
+  inst->cfg.plugin = "replay (built in)";
+  inst->cfg.rate = config.base_rate.value_or(400.0);
+  inst->builtin = true;
+  inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}, {}};
+  auto rp = std::make_unique<ReplaySource>(replay_dir);
+  replay = rp.get();
+  inst->plugin = std::move(rp);
+  configure_instance(*inst, setup);
+  return inst;
+}
+
+// `plugin: external`: ports that are DDS topics (external_plugin.hpp), no library.
+std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const InstanceConfig& ic) {
+  const fs::path& f = setup.config.file;
+  const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  ExternalSpec spec = parse_external_spec(ic, f);
+  spec.lockstep = !setup.realtime;
+  if (!external_link_factory())
+    throw ConfigError(where(f, ic.node["plugin"]) + field +
+                      ".plugin: 'external' needs tern built with DDS (libfastrtps-dev and "
+                      "fastddsgen: make deps), and this tern was built without");
+  if (ic.isolate) throw ConfigError(where(f, ic.node["isolate"]) + field + ".isolate: an external module runs in its own process already");
+  auto inst = std::make_unique<Instance>();
+  inst->cfg = ic;
+  inst->source = "external";
+  inst->info = PluginInfo{"external", spec.kind, "a module in another process, ports on DDS topics", {}};
+  std::unique_ptr<ExternalLink> link;
+  if (!setup.describing) {
+    try {
+      link = external_link_factory()(spec, setup.config);
+    } catch (const std::exception& e) {
+      throw ConfigError(where(f, ic.node["plugin"]) + field + " (" + ic.name + "): external module: " + e.what());
+    }
+  }
+  inst->plugin = std::make_unique<ExternalPlugin>(std::move(spec), std::move(link));
+  configure_instance(*inst, setup);
+  return inst;
+}
+
+// The instances of `plugins:`; nullptr for those a replay leaves out (not estimators).
+std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const InstanceConfig& ic, bool replaying,
+                                          const std::vector<fs::path>& search, std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
+  const fs::path& f = setup.config.file;
+  const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  if (is_external(ic)) return replaying ? nullptr : external_instance(setup, ic);
+  auto inst = std::make_unique<Instance>();
+  inst->cfg = ic;
+  fs::path path;
+  try {
+    path = find_plugin(ic.plugin, search);
+    auto it = libs.find(path);
+    if (it == libs.end()) it = libs.emplace(path, open_plugin(path)).first;
+    inst->lib = it->second;
+  } catch (const ConfigError& e) {
+    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + e.what());
+  }
+  inst->info = inst->lib->info();
+  inst->source = path;
+  if (ic.plugin.find('/') == std::string::npos && inst->info.name != ic.plugin)
+    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" + inst->info.name +
+                      "', not '" + ic.plugin + "'");
+  if (replaying && inst->info.kind != PluginKind::estimator) return nullptr;
+  inst->plugin = inst->lib->create();
+  configure_instance(*inst, setup);
+  if (ic.isolate && !setup.describing) isolate_instance(*inst, setup);
+  return inst;
+}
+
+// A built-in instance: reserved name, triggered by `state`, parameters from its own config section.
+void add_builtin(const InstanceSetup& setup, std::vector<std::unique_ptr<Instance>>& list, std::size_t index, const std::string& name,
+                 const std::string& description, const std::map<std::string, ParamSetting>& params, std::unique_ptr<Plugin> plugin) {
+  for (const auto& other : list)
+    if (other->cfg.name == name)
+      throw ConfigError(where(setup.config.file, other->cfg.node) + "instance name '" + name + "' is reserved for " + description);
+  auto inst = std::make_unique<Instance>();
+  inst->cfg.index = index;
+  inst->cfg.name = name;
+  inst->cfg.plugin = name + " (built in)";
+  inst->cfg.trigger = "state";
+  inst->cfg.params = params;
+  if (setup.config.root[name]) inst->cfg.node = setup.config.root[name];
+  inst->builtin = true;
+  inst->info = PluginInfo{name, PluginKind::generic, description, {}, {}};
+  inst->plugin = std::move(plugin);
+  configure_instance(*inst, setup);
+  list.push_back(std::move(inst));
+}
+
+}  // namespace
+
+LoadedInstances load_instances(const InstanceSetup& setup, const std::optional<fs::path>& replay_dir) {
+  const MissionConfig& config = setup.config;
+  LoadedInstances out;
+  if (replay_dir) out.list.push_back(replay_instance(setup, *replay_dir, out.replay));
+  const auto search = plugin_search_path(config.plugin_path);
+  std::map<fs::path, std::shared_ptr<PluginLibrary>> libs;
+  for (const auto& ic : config.plugins)
+    if (auto inst = config_instance(setup, ic, replay_dir.has_value(), search, libs)) out.list.push_back(std::move(inst));
+  if (!config.phases.empty()) {
+    auto pm = std::make_unique<PhaseMachine>();
+    out.phase_machine = pm.get();
+    out.phase_machine_index = out.list.size();
+    add_builtin(setup, out.list, config.plugins.size(), "phase_machine", "the host's flight-phase machine", config.phase_params,
+                std::move(pm));
+  }
+  bool has_state = false;
+  for (const auto& other : out.list)
+    for (const auto* o : other->plugin->outputs()) has_state = has_state || o->topic() == "state";
+  if (has_state) {
+    auto m = std::make_unique<FlightMetrics>();
+    out.metrics = m.get();
+    add_builtin(setup, out.list, config.plugins.size() + 1, "metrics", "the host's flight metrics (estimation and tracking RMSE)",
+                config.metrics_params, std::move(m));
+  }
+  return out;
+}
+
+}  // namespace tern::core

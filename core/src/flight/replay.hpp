@@ -1,0 +1,52 @@
+// core/src/flight/replay.hpp: plays recorded sensor topics of a flight log back into the port graph, for
+// `tern replay RUN_DIR` (run an estimator over a flight's data and compare it with the truth).
+//
+// A built-in I/O instance named `replay`. At configure it reads RUN_DIR/topics/<t>.csv for the
+// sensor topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the
+// estimator's side-force model reads; played one tick late, as a feedback edge is seen in
+// flight) and the truth topic `truth` (those present),
+// mapping columns by name onto the message layout; at each tick it publishes every recorded
+// message whose log time is <= now, in order. The values are bit-exact: the log writes doubles
+// in shortest round-trip form. A last line without a line end (a flight killed while writing
+// it) is dropped with one warning; any other short row is an error naming file and line.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tern/plugin.hpp"
+
+namespace tern::core {
+
+class ReplaySource final : public Plugin {
+ public:
+  explicit ReplaySource(std::filesystem::path run_dir);
+  ~ReplaySource() override;
+  void configure() override;
+  void start() override;
+  void reset() override { start(); }
+  void step(Nanos now) override;
+  /// Flight time of the last recorded IMU sample (0 if none).
+  Nanos end_time() const { return end_; }
+
+  struct TrackBase {
+    virtual ~TrackBase() = default;
+    virtual void publish_until(Nanos now) = 0;
+    virtual void rewind() = 0;
+    virtual Nanos last_time() const = 0;
+    /// Why the CSV's last line was dropped ("" if it was complete).
+    virtual const std::string& partial_last_line() const = 0;
+    /// A topic the flight's controllers wrote after the estimator had run (actuators): it is
+    /// played back one tick late, as the estimator saw it in flight.
+    bool feedback = false;
+  };
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<TrackBase>> tracks_;
+  Nanos end_ = 0;
+};
+
+}  // namespace tern::core

@@ -1,0 +1,292 @@
+#include "record/flight_report.hpp"
+
+#include <fstream>
+#include <iterator>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "record/metrics.hpp"
+#include "safety/phase_machine.hpp"
+
+namespace tern::core {
+
+namespace {
+
+YAML::Node to_yaml(const ParamValue& v) {
+  YAML::Node n;
+  std::visit(
+      [&](const auto& x) {
+        using T = std::decay_t<decltype(x)>;
+        if constexpr (std::is_same_v<T, std::vector<double>>) {
+          n = YAML::Node(YAML::NodeType::Sequence);
+          for (double d : x) n.push_back(d);
+          n.SetStyle(YAML::EmitterStyle::Flow);
+        } else {
+          n = x;
+        }
+      },
+      v);
+  return n;
+}
+
+std::string fmt_ns(double ns) {
+  if (ns < 1e3) return fmt::format("{:.0f} ns", ns);
+  if (ns < 1e6) return fmt::format("{:.1f} us", ns / 1e3);
+  return fmt::format("{:.2f} ms", ns / 1e6);
+}
+
+}  // namespace
+
+std::string resolved_config_yaml(const FlightFacts& f) {
+  YAML::Node root = YAML::Clone(f.config.root);
+  // paths made absolute: the resolved config lives in the run directory, not beside the original
+  if (!f.config.aircraft.empty()) root["aircraft"] = f.config.aircraft.string();
+  if (root["plugin_path"]) {
+    YAML::Node pp(YAML::NodeType::Sequence);
+    for (const auto& d : f.config.plugin_path) pp.push_back(d.string());
+    root["plugin_path"] = pp;
+  }
+  if (root["log"] && root["log"]["dir"]) root["log"]["dir"] = f.config.log.dir.string();
+  if (root["mission"] && root["mission"].IsMap() && root["mission"]["file"] && root["mission"]["file"].IsScalar()) {
+    const fs::path mf(root["mission"]["file"].Scalar());
+    if (mf.is_relative()) root["mission"]["file"] = (f.config.dir / mf).lexically_normal().string();
+  }
+  root["name"] = f.config.name;
+  if (!f.config.phases.empty()) {  // the table flown (--phases, `tern phases` between flights)
+    YAML::Node ph;
+    for (const auto& [phase, instance] : f.config.phases) ph[std::string(msg::phase_name(phase))] = instance;
+    ph.SetStyle(YAML::EmitterStyle::Flow);
+    root["phases"] = ph;
+  }
+  if (f.config.fallback) root["fallback"] = *f.config.fallback;
+  root["seed"] = f.seed;
+  root["duration"] = f.duration_s;
+  for (const auto& inst : f.instances) {
+    if (inst->builtin) {
+      YAML::Node pm;
+      for (const auto* p : inst->plugin->params()) pm[p->name()] = to_yaml(p->value());
+      if (pm.size() > 0) root[inst->cfg.name] = pm;  // phase_machine:, metrics: (replay has none)
+      continue;
+    }
+    YAML::Node entry = root["plugins"][inst->cfg.index];
+    entry.remove("param_file");
+    YAML::Node params;
+    for (const auto* p : inst->plugin->params()) params[p->name()] = to_yaml(p->value());
+    entry["params"] = params;
+    entry["library"] = inst->info.path.string();
+  }
+  YAML::Emitter e;
+  e << root;
+  std::string head = "# resolved from " + f.config.file.string() + "\n";
+  if (!f.config.overrides.empty()) head += fmt::format("# with {}\n", fmt::join(f.config.overrides, " "));
+  return head + e.c_str() + "\n";
+}
+
+namespace {
+
+// The simulator's sensor profile (the first instance with a `sensor_profile` parameter; in a
+// replay, the recorded config.yaml's, which holds every effective value), "" if none.
+std::string sensor_profile(const FlightFacts& f) {
+  for (const auto& inst : f.instances) {
+    if (const ParamBase* p = inst->plugin->find_param("sensor_profile"); p != nullptr) {
+      const ParamValue v = p->value();
+      if (const auto* name = std::get_if<std::string>(&v)) return *name;
+    }
+  }
+  for (const auto& inst : f.config.plugins) {
+    const auto it = inst.params.find("sensor_profile");
+    if (it != inst.params.end() && it->second.node.IsScalar()) return it->second.node.as<std::string>();
+  }
+  return {};
+}
+
+}  // namespace
+
+namespace {
+
+// Phases with their start times and reasons, the controller handovers; preflight_s into `j`.
+void phases_json(const PhaseMachine& pm, const PhaseRouter& router, nlohmann::ordered_json& j) {
+  auto phases = nlohmann::ordered_json::array();
+  phases.push_back({{"phase", std::string(msg::phase_name(pm.first_phase()))}, {"start_s", 0.0}, {"reason", "start of flight"}});
+  for (const auto& t : pm.transitions()) {
+    phases.push_back({{"phase", std::string(msg::phase_name(t.to))}, {"start_s", to_seconds(t.t)}, {"reason", t.reason}});
+    if (t.from == msg::Phase::preflight && t.to == msg::Phase::takeoff && !j.contains("preflight_s"))
+      j["preflight_s"] = to_seconds(t.t);  // how long the alignment and arming checks took
+  }
+  j["phases"] = phases;
+  auto h = nlohmann::ordered_json::array();
+  for (const auto& x : router.handovers()) h.push_back({{"t_s", to_seconds(x.t)}, {"from", x.from}, {"to", x.to}, {"reason", x.reason}});
+  j["controller_handovers"] = h;
+  j["fallback_engaged"] = router.fallback_engaged();
+}
+
+// Per instance: plugin, library (path and FNV-1a of its bytes), steps, its summary() figures.
+nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance>>& instances) {
+  auto out = nlohmann::ordered_json::object();
+  for (const auto& inst : instances) {
+    nlohmann::ordered_json x;
+    x["plugin"] = inst->info.name;
+    if (!inst->builtin) {
+      x["library"] = inst->source.string();
+      std::ifstream lib(inst->info.path, std::ios::binary);
+      reflect::Fnv1a h;
+      std::string bytes((std::istreambuf_iterator<char>(lib)), std::istreambuf_iterator<char>());
+      h.bytes(bytes);
+      x["library_fnv1a"] = fmt::format("{:016x}", h.h);
+    }
+    x["steps"] = inst->stats.steps;
+    for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
+    out[inst->cfg.name] = x;
+  }
+  return out;
+}
+
+nlohmann::ordered_json metrics_json(const FlightMetrics& fm) {
+  nlohmann::ordered_json m;
+  m["loops"] = fm.loops();
+  m["max_cross_track_m"] = fm.max_cross_track();
+  m["max_altitude_error_m"] = fm.max_altitude_error();
+  m["window_start_s"] = fm.window_start() < 0 ? nlohmann::ordered_json() : nlohmann::ordered_json(to_seconds(fm.window_start()));
+  auto passages = nlohmann::ordered_json::array();
+  for (const auto& p : fm.passages()) passages.push_back({{"t_s", to_seconds(p.t)}, {"waypoint", p.index}});
+  m["waypoint_passages"] = passages;
+  auto rms = [](const FlightMetrics::Rms& r) { return r.n ? nlohmann::ordered_json(r.value()) : nlohmann::ordered_json(); };
+  if (fm.has_truth()) {
+    m["estimation_frame"] = "truth (the estimator's origin mapped to the simulator's)";
+    nlohmann::ordered_json e;
+    for (int i = 0; i < FlightMetrics::kEst; ++i) e[FlightMetrics::kEstNames[i]] = rms(fm.estimation()[i]);
+    m["estimation_rmse"] = e;
+    if (fm.has_gnss()) {
+      nlohmann::ordered_json g;
+      for (int i = 0; i < FlightMetrics::kGnss; ++i) g[FlightMetrics::kEstNames[i]] = rms(fm.raw_gnss()[i]);
+      m["raw_gnss_rmse"] = g;
+    }
+  }
+  nlohmann::ordered_json t;
+  for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(fm.tracking()[i]);
+  m["tracking_rmse"] = t;
+  return m;
+}
+
+}  // namespace
+
+std::string summary_json(const FlightFacts& f, const FlightResult& r) {
+  nlohmann::ordered_json j;
+  j["mission"] = f.config.name;
+  j["flight"] = f.flight;
+  j["seed"] = f.seed;
+  j["duration_s"] = to_seconds(r.flown);
+  j["end_reason"] = r.end_reason;
+  if (!r.end_detail.empty()) j["end_detail"] = r.end_detail;
+  j["base_rate_hz"] = 1e9 / static_cast<double>(f.base_period);
+  if (const std::string profile = sensor_profile(f); !profile.empty()) j["sensor_profile"] = profile;
+  if (f.phase_machine) phases_json(*f.phase_machine, f.router, j);
+  auto fs = nlohmann::ordered_json::array();
+  for (const auto& e : f.failsafes)
+    fs.push_back({{"t_s", to_seconds(e.t)}, {"cause", e.cause}, {"action", e.action}, {"detail", e.detail}});
+  j["failsafes"] = fs;
+  j["instances"] = instances_json(f.instances);
+  if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
+  return j.dump(2) + "\n";
+}
+
+std::string timing_json(const FlightFacts& f, const FlightResult& r) {
+  nlohmann::ordered_json j;
+  j["wall_s"] = r.wall_s;
+  j["real_time_factor"] = r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0;
+  j["start_to_first_tick_ms"] = f.start_to_first_tick_ms;
+  // where the time went: the flight thread (plugins and host loop) and the log writer thread
+  j["flight_thread_cpu_s"] = r.flight_cpu_s;
+  j["flight_thread_real_time_factor"] = r.flight_cpu_s > 0 ? to_seconds(r.flown) / r.flight_cpu_s : 0.0;
+  j["log_writer_cpu_s"] = r.log_cpu_s;
+  auto inst_j = nlohmann::ordered_json::object();
+  for (const auto& inst : f.instances) {
+    const auto& s = inst->stats;
+    inst_j[inst->cfg.name] = {{"steps", s.steps},
+                              {"mean_ns", s.steps ? static_cast<double>(s.total_ns) / static_cast<double>(s.steps) : 0.0},
+                              {"median_ns", s.percentile(0.5)},
+                              {"p99_ns", s.percentile(0.99)},
+                              {"max_ns", s.max_ns},
+                              {"budget_ns", s.budget_ns},
+                              {"overruns", s.overruns},
+                              {"watchdog_slow_steps", s.slow}};
+  }
+  j["instances"] = inst_j;
+  return j.dump(2) + "\n";
+}
+
+namespace {
+
+// The ROSplane 2.0 paper's two tables (tracking: command vs estimate; estimation: estimate vs
+// truth) beside tern's figures, and the waypoints reached.
+std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
+  auto v = [](const FlightMetrics::Rms& x) { return x.n ? fmt::format("{:.2f}", x.value()) : std::string("-"); };
+  std::string s;
+  const auto& t = fm.tracking();
+  bool tracked = false;
+  for (const auto& x : t) tracked = tracked || x.n > 0;
+  if (tracked) {
+    s += fmt::format("\nRMS tracking error, command vs estimate ({} loops; window from {}):\n", fm.loops(),
+                     fm.window_start() < 0 ? std::string("never: no full loop") : fmt::format("{:.1f} s", to_seconds(fm.window_start())));
+    const std::string row7 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+    s += fmt::format(fmt::runtime(row7 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "course deg", "airspeed m/s");
+    s += fmt::format(fmt::runtime(row7 + "   tern\n"), v(t[0]), v(t[1]), v(t[2]), v(t[3]), v(t[4]), v(t[5]), v(t[6]));
+    s += fmt::format(fmt::runtime(row7 + "   ROSplane 2.0 flight test\n"), "3.05", "3.29", "1.19", "7.55", "3.04", "8.51", "0.58");
+  }
+  if (fm.has_truth()) {
+    const auto& e = fm.estimation();
+    s += fmt::format("RMS estimation error, estimate vs truth in the simulator's frame (sensor profile: {}):\n",
+                     profile.empty() ? "not a tern simulator" : profile);
+    const std::string row8 = "  {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12} {:>12}";
+    s += fmt::format(fmt::runtime(row8 + "\n"), "north m", "east m", "altitude m", "roll deg", "pitch deg", "heading deg", "course deg",
+                     "airspeed m/s");
+    s += fmt::format(fmt::runtime(row8 + "   tern\n"), v(e[0]), v(e[1]), v(e[2]), v(e[3]), v(e[4]), v(e[5]), v(e[6]), v(e[7]));
+    if (fm.has_gnss()) {
+      const auto& g = fm.raw_gnss();
+      s += fmt::format(fmt::runtime(row8 + "   raw GNSS (latest fix vs truth)\n"), v(g[0]), v(g[1]), v(g[2]), "", "", "", "", "");
+    }
+    s += fmt::format(fmt::runtime(row8 + "   ROSplane 2.0 paper (its estimator, its flight: a reference, not a comparison)\n"), "0.325",
+                     "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
+  }
+  s += fmt::format("waypoints reached: {}\n", fm.passages().size());
+  return s;
+}
+
+}  // namespace
+
+std::string summary_text(const FlightFacts& f, const FlightResult& r) {
+  std::string s = fmt::format("\nflight '{}' ended ({}) at t = {:.2f} s after {:.2f} s wall ({:.0f}x real time)\n", f.config.name,
+                              r.end_reason, to_seconds(r.flown), r.wall_s, r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0);
+  if (f.phase_machine) {
+    s += fmt::format("phases: {} @ 0.00 s", msg::phase_name(f.phase_machine->first_phase()));
+    for (const auto& t : f.phase_machine->transitions()) s += fmt::format(", {} @ {:.2f} s", msg::phase_name(t.to), to_seconds(t.t));
+    s += "\n";
+  }
+  s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", "instance", "steps", "median", "p99", "max", "overruns");
+  for (const auto& inst : f.instances) {
+    const auto& st = inst->stats;
+    s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", inst->cfg.name, st.steps, fmt_ns(st.percentile(0.5)),
+                     fmt_ns(st.percentile(0.99)), fmt_ns(st.max_ns), st.overruns);
+    if (st.slow > 0) s += fmt::format("      {} steps over the watchdog's soft budget\n", st.slow);
+    if (inst->plugin.get() != f.metrics)
+      for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
+  }
+  if (f.metrics) s += metrics_text(*f.metrics, sensor_profile(f));
+  s += fmt::format("log: {}\n", r.run_dir.string());
+  if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);
+  return s;
+}
+
+int exit_status(const FlightResult& r) {
+  if (!r.ok) return 1;
+  if (!r.log_error.empty()) return 3;  // flown, but the log is incomplete
+  if (r.end_reason == "SIGINT") return 130;
+  if (r.end_reason == "SIGTERM") return 143;
+  if (r.end_reason == "SIGHUP") return 129;
+  return 0;
+}
+
+}  // namespace tern::core

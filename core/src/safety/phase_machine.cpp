@@ -1,0 +1,280 @@
+#include "safety/phase_machine.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <spdlog/spdlog.h>
+
+namespace tern::core {
+
+void PhaseMachine::configure() {
+  declare(state_, "state", "vehicle state (altitude)");
+  declare(command_, "controller_command", "commanded altitude h_c", Need::optional);
+  declare(fcu_, "fcu_status", "flight-control unit status: the flight waits disarmed until it is armed and error-free", Need::optional);
+  declare(innovations_, "innovations", "estimator innovation test ratios (preflight check)", Need::optional);
+  declare(gnss_, "gnss", "GNSS fix quality (preflight check)", Need::optional);
+  declare(rc_, "rc", "RC receiver (preflight check when preflight_require_rc)", Need::optional);
+  declare(phase_out_, "flight_phase", "current flight phase");
+  declare(alt_toz_, "alt_toz", 5.0,
+          ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
+  declare(alt_hz_, "alt_hz", 20.0,
+          ParamSpec("m", 0.1, 1000.0, "altitude-hold zone half-width around h_c: cruise within it (ROSplane alt_hz)"));
+  declare(max_deflection_, "max_deflection", 0.7,
+          ParamSpec("rad", 0.01, 3.2, "a controller commanding a larger surface deflection is replaced by the fallback"));
+  declare_preflight();
+  declare_safety();
+  declare_recovery();
+  declare(min_phase_time_, "min_phase_time", 1.0,
+          ParamSpec("s", 0.0, 60.0, "a transition back (loss of altitude) needs its condition this long"));
+}
+
+void PhaseMachine::declare_preflight() {
+  const PreflightLimits d;
+  declare(preflight_, "preflight", true, ParamSpec("", 0, 0, "hold on the ground (motor off) until the arming checks pass").start_only());
+  declare(preflight_time_, "preflight_time", 2.0, ParamSpec("s", 0.0, 600.0, "the arming checks must all pass this long"));
+  declare(preflight_timeout_, "preflight_timeout", 120.0,
+          ParamSpec("s", 1.0, 3600.0, "end the flight (preflight_failed) if not armed by then"));
+  declare(report_interval_, "preflight_report_interval", 5.0, ParamSpec("s", 0.1, 600.0, "how often the failing checks are logged"));
+  declare(max_tilt_sigma_, "preflight_max_tilt_sigma", d.max_tilt_sigma, ParamSpec("rad", 1e-4, 1.0, "estimator roll/pitch 1-sigma limit"));
+  declare(max_yaw_sigma_, "preflight_max_yaw_sigma", d.max_yaw_sigma, ParamSpec("rad", 1e-4, 3.2, "estimator yaw 1-sigma limit"));
+  declare(max_gyro_bias_sigma_, "preflight_max_gyro_bias_sigma", d.max_gyro_bias_sigma,
+          ParamSpec("rad/s", 1e-5, 1.0, "estimator gyro-bias 1-sigma limit, per axis"));
+  declare(max_position_sigma_, "preflight_max_position_sigma", d.max_position_sigma,
+          ParamSpec("m", 0.01, 1000.0, "estimator horizontal position 1-sigma limit"));
+  declare(max_h_acc_, "preflight_max_h_acc", d.max_h_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported horizontal accuracy limit"));
+  declare(max_v_acc_, "preflight_max_v_acc", d.max_v_acc, ParamSpec("m", 0.01, 1000.0, "GNSS reported vertical accuracy limit"));
+  declare(min_sats_, "preflight_min_sats", std::int64_t{d.min_sats}, ParamSpec("", 0, 64, "GNSS satellites in use, at least"));
+  declare(max_ground_speed_, "preflight_max_ground_speed", d.max_ground_speed,
+          ParamSpec("m/s", 0.0, 100.0, "the aircraft counts as at rest below this"));
+  declare(require_rc_, "preflight_require_rc", d.require_rc, ParamSpec("", 0, 0, "the pilot's transmitter must be heard before takeoff"));
+  declare(max_rc_age_, "preflight_max_rc_age", d.max_rc_age, ParamSpec("s", 0.01, 60.0, "the newest RC frame at most this old"));
+}
+
+// The phase router's safety monitor (safety_monitor.hpp; each default's reason is there).
+void PhaseMachine::declare_safety() {
+  const SafetyLimits d;
+  declare(safety_, "safety", d.enabled,
+          ParamSpec("", 0, 0, "the safety monitor may engage the fallback (silent controller, envelope, saturation)"));
+  declare(safety_hand_back_, "safety_hand_back", false,
+          ParamSpec("", 0, 0, "after a safety engagement the next phase change hands back to the phase's controller"));
+  declare(safety_silent_periods_, "safety_silent_periods", d.silent_periods,
+          ParamSpec("", 1, 1000, "steps in a row without an actuators message before the fallback takes over"));
+  declare(safety_hold_, "safety_hold", d.hold, ParamSpec("s", 0.0, 10.0, "an envelope limit must be exceeded this long (hysteresis)"));
+  declare(safety_roll_max_, "safety_roll_max", d.roll_max, ParamSpec("rad", 0.1, 3.2, "envelope: |roll| above this"));
+  declare(safety_pitch_max_, "safety_pitch_max", d.pitch_max, ParamSpec("rad", 0.0, 1.6, "envelope: pitch above this"));
+  declare(safety_pitch_min_, "safety_pitch_min", d.pitch_min, ParamSpec("rad", -1.6, 0.0, "envelope: pitch below this"));
+  declare(safety_floor_, "safety_floor", d.floor,
+          ParamSpec("m", -1000.0, 10000.0, "envelope (climb, cruise): altitude above the origin below this"));
+  declare(safety_airspeed_min_, "safety_airspeed_min", d.airspeed_min,
+          ParamSpec("m/s", 0.0, 200.0, "envelope (climb, cruise): airspeed below this (stall margin)"));
+  declare(safety_airspeed_max_, "safety_airspeed_max", d.airspeed_max,
+          ParamSpec("m/s", 1.0, 400.0, "envelope (climb, cruise): airspeed above this (Vne)"));
+  declare(safety_sink_max_, "safety_sink_max", d.sink_max,
+          ParamSpec("m/s", 0.1, 200.0, "envelope (climb, cruise): sink rate v_d above this"));
+  declare(safety_saturation_, "safety_saturation", d.saturation,
+          ParamSpec("", 0.5, 1.0, "a surface beyond this fraction of max_deflection is at its stop"));
+  declare(safety_error_growth_, "safety_error_growth", d.error_growth,
+          ParamSpec("m", 0.1, 1000.0, "delta_e (or delta_t at 0) at its stop while the altitude error grows by this much"));
+}
+
+// The phase router's state-loss recovery (state_loss_recovery.hpp; each default's reason is there).
+void PhaseMachine::declare_recovery() {
+  const RecoveryGains d;
+  declare(recovery_, "recovery", true,
+          ParamSpec("", 0, 0, "the built-in state-loss recovery flies while the estimate is invalid (climb, cruise)"));
+  declare(recovery_trim_tau_, "recovery_trim_tau", d.trim_tau,
+          ParamSpec("s", 0.01, 600.0, "time constant of the trim: the average good command"));
+  declare(recovery_throttle_up_, "recovery_throttle_up", d.throttle_up,
+          ParamSpec("", 0.0, 1.0, "throttle added to the trim (a gentle climb)"));
+  declare(recovery_roll_kp_, "recovery_roll_kp", d.roll_kp, ParamSpec("rad/rad", 0.0, 10.0, "aileron per rad of roll (integrated gyro)"));
+  declare(recovery_roll_kd_, "recovery_roll_kd", d.roll_kd, ParamSpec("rad/(rad/s)", 0.0, 10.0, "aileron per rad/s of roll rate (gyro)"));
+}
+
+RecoveryGains PhaseMachine::recovery_gains() const {
+  RecoveryGains g;
+  g.trim_tau = recovery_trim_tau_();
+  g.throttle_up = recovery_throttle_up_();
+  g.roll_kp = recovery_roll_kp_();
+  g.roll_kd = recovery_roll_kd_();
+  g.max_deflection = max_deflection_();
+  return g;
+}
+
+SafetyLimits PhaseMachine::safety_limits() const {
+  SafetyLimits l;
+  l.enabled = safety_();
+  l.silent_periods = safety_silent_periods_();
+  l.hold = safety_hold_();
+  l.roll_max = safety_roll_max_();
+  l.pitch_max = safety_pitch_max_();
+  l.pitch_min = safety_pitch_min_();
+  l.floor = safety_floor_();
+  l.airspeed_min = safety_airspeed_min_();
+  l.airspeed_max = safety_airspeed_max_();
+  l.sink_max = safety_sink_max_();
+  l.max_deflection = max_deflection_();
+  l.saturation = safety_saturation_();
+  l.error_growth = safety_error_growth_();
+  return l;
+}
+
+std::optional<double> PhaseMachine::commanded_altitude() const {
+  if (!command_.has_value() || !std::isfinite(command_->h_c)) return std::nullopt;
+  return command_->h_c;
+}
+
+std::optional<double> PhaseMachine::commanded_airspeed() const {
+  if (!command_.has_value() || !std::isfinite(command_->Va_c)) return std::nullopt;
+  return command_->Va_c;
+}
+
+PreflightLimits PhaseMachine::limits() const {
+  PreflightLimits l;
+  l.max_tilt_sigma = max_tilt_sigma_();
+  l.max_yaw_sigma = max_yaw_sigma_();
+  l.max_gyro_bias_sigma = max_gyro_bias_sigma_();
+  l.max_position_sigma = max_position_sigma_();
+  l.max_h_acc = max_h_acc_();
+  l.max_v_acc = max_v_acc_();
+  l.min_sats = static_cast<int>(min_sats_());
+  l.max_ground_speed = max_ground_speed_();
+  l.require_rc = require_rc_();
+  l.max_rc_age = max_rc_age_();
+  return l;
+}
+
+void PhaseMachine::start() {
+  reset();
+  if (!preflight_()) log().warn("preflight skipped: the takeoff begins at t = 0 on whatever the estimator has");
+}
+
+void PhaseMachine::reset() {
+  phase_ = first_phase();
+  disarmed_ = false;
+  checks_passed_since_ = last_report_ = preflight_since_ = -1;
+  failure_.clear();
+  since_ = 0;
+  condition_since_ = -1;
+  transitions_.clear();
+  msg::FlightPhase m;
+  m.phase = m.previous = phase_;
+  phase_out_.publish(m);
+}
+
+void PhaseMachine::enter(Nanos now, msg::Phase to, std::string reason) {
+  log().info("phase {} -> {} at t={:.3f} s: {}", msg::phase_name(phase_), msg::phase_name(to), to_seconds(now), reason);
+  transitions_.push_back({now, phase_, to, std::move(reason)});
+  msg::FlightPhase m;
+  m.stamp = now;
+  m.previous = phase_;
+  m.phase = to;
+  m.since = now;
+  phase_ = to;
+  since_ = now;
+  condition_since_ = -1;
+  phase_out_.publish(m);
+}
+
+// After preflight (whose checks include the FCU's): a disarm waits, with no controller running.
+bool PhaseMachine::wait_for_arming(Nanos now) {
+  if (!fcu_.has_value() || phase_ == msg::Phase::preflight) return false;
+  const std::optional<std::string> not_ready = fcu_not_ready(*fcu_);
+  if (!disarmed_ && !fcu_->armed) {
+    disarmed_ = true;
+    log().warn(
+        "t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
+        "error-free: {}",
+        to_seconds(now), *not_ready);
+    transitions_.push_back({now, phase_, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
+    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, phase_, now});
+  } else if (disarmed_ && !not_ready) {
+    disarmed_ = false;
+    enter(now, msg::Phase::takeoff, "FCU armed and error-free: takeoff");
+  }
+  return disarmed_;
+}
+
+PreflightInputs PhaseMachine::preflight_inputs(Nanos now) const {
+  PreflightInputs in;
+  if (state_.has_value()) in.state = &state_.get();
+  if (innovations_.has_value()) in.innovations = &innovations_.get();
+  if (gnss_.has_value()) in.gnss = &gnss_.get();
+  if (fcu_.has_value()) in.fcu = &fcu_.get();
+  if (rc_.has_value()) in.rc_age = to_seconds(now - rc_->stamp);
+  return in;
+}
+
+void PhaseMachine::run_preflight(Nanos now) {
+  const PreflightInputs in = preflight_inputs(now);
+  const std::vector<std::string> failing = preflight_failures(in, limits());
+  if (failing.empty()) {
+    if (checks_passed_since_ < 0) checks_passed_since_ = now;
+    if (now - checks_passed_since_ >= from_seconds(preflight_time_()))
+      enter(now, msg::Phase::takeoff,
+            fmt::format("arming checks passed for {:.1f} s (aligned at t={:.3f} s)", preflight_time_(), to_seconds(checks_passed_since_)));
+    return;
+  }
+  checks_passed_since_ = -1;
+  const bool armed = in.fcu == nullptr || in.fcu->armed;
+  if (!armed) preflight_since_ = -1;  // the time-out counts once the FCU is armed: arming late is no failure
+  if (armed && preflight_since_ < 0) preflight_since_ = now;
+  if (armed && now - preflight_since_ >= from_seconds(preflight_timeout_())) {
+    failure_ = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
+    return;
+  }
+  if (last_report_ >= 0 && now - last_report_ < from_seconds(report_interval_())) return;
+  last_report_ = now;
+  for (const std::string& f : failing) log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
+}
+
+void PhaseMachine::step(Nanos now) {
+  if (wait_for_arming(now)) return;
+  if (phase_ == msg::Phase::preflight) {
+    run_preflight(now);
+    return;
+  }
+  const msg::State& s = state_.get();
+  if (!state_.has_value() || !std::isfinite(s.p_d)) return;
+  const double h = -s.p_d;
+  const double h_c = command_.has_value() && std::isfinite(command_->h_c) ? command_->h_c : h;
+  const Nanos dwell = from_seconds(min_phase_time_());
+  auto held = [&](bool cond) {
+    if (!cond) {
+      condition_since_ = -1;
+      return false;
+    }
+    if (condition_since_ < 0) condition_since_ = now;
+    return now - condition_since_ >= dwell;
+  };
+  switch (phase_) {
+    case msg::Phase::preflight: break;  // run_preflight()
+    case msg::Phase::takeoff:
+      if (h >= alt_toz_()) enter(now, msg::Phase::climb, fmt::format("altitude {:.1f} m reached alt_toz {:.1f} m", h, alt_toz_()));
+      break;
+    case msg::Phase::climb:
+      if (h < alt_toz_()) {
+        if (held(true)) enter(now, msg::Phase::takeoff, fmt::format("altitude {:.1f} m fell below alt_toz {:.1f} m", h, alt_toz_()));
+      } else if (std::fabs(h_c - h) < alt_hz_()) {
+        enter(now, msg::Phase::cruise, fmt::format("altitude {:.1f} m within alt_hz {:.1f} m of h_c {:.1f} m", h, alt_hz_(), h_c));
+      } else {
+        held(false);
+      }
+      break;
+    case msg::Phase::cruise:
+    case msg::Phase::loiter:
+    case msg::Phase::landing:
+      if (h < alt_toz_()) {
+        if (held(true)) enter(now, msg::Phase::takeoff, fmt::format("altitude {:.1f} m fell below alt_toz {:.1f} m", h, alt_toz_()));
+      } else if (phase_ == msg::Phase::cruise && h_c - h > alt_hz_()) {
+        if (held(true))
+          enter(now, msg::Phase::climb,
+                fmt::format("altitude {:.1f} m is {:.1f} m below h_c {:.1f} m (more than alt_hz)", h, h_c - h, h_c));
+      } else {
+        held(false);
+      }
+      break;
+  }
+}
+
+}  // namespace tern::core

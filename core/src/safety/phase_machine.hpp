@@ -1,0 +1,118 @@
+// core/src/safety/phase_machine.hpp: the host's flight-phase machine (ROSplane 2.0's takeoff ->
+// climb -> altitude hold, here takeoff -> climb -> cruise).
+//
+// A built-in plugin instance named `phase_machine`, present when the config has `phases:`.
+// It steps whenever `state` updates and publishes `flight_phase`. Altitude h = -p_d (above the
+// origin, m); commanded altitude h_c from `controller_command` (h_c = h when none).
+//   preflight -> takeoff when the arming checks (preflight.hpp: FCU armed and error-free,
+//              estimator aligned and consistent with every sensor alive, GNSS fix, aircraft at
+//              rest, RC heard when required) have all passed for preflight_time; no controller
+//              runs before (motor off). One line per failing check every report_interval; after
+//              preflight_timeout (counted once the FCU is armed) the flight ends (failure():
+//              "preflight_failed: ..."). With `preflight: false` (tern fly --skip-preflight) the
+//              flight starts in takeoff.
+//   takeoff -> climb   when h >= alt_toz
+//   climb   -> cruise  when |h_c - h| < alt_hz
+//   cruise  -> climb   when h_c - h > alt_hz for min_phase_time (lost altitude)
+//   climb/cruise -> takeoff when h < alt_toz for min_phase_time (lost altitude near the ground)
+//   after preflight: disarmed when the optional `fcu_status` says the FCU is not armed: the host then
+//              steps no controller (no takeoff, no integrators running) until
+//   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
+// Without `fcu_status` the flight never waits (sim_aero's reports disarmed only during its boot
+// calibration, a failing preflight check). The published phase
+// stays `takeoff` while disarmed (FlightPhase has no disarmed value); disarmed() tells the host.
+// Every transition is recorded with its time and reason. The phase router also reads
+// max_deflection: a controller commanding more (or a throttle outside [0, 1]) is replaced by the
+// fallback.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "safety/preflight.hpp"
+#include "safety/safety_monitor.hpp"
+#include "safety/state_loss_recovery.hpp"
+#include "tern/plugin.hpp"
+
+namespace tern::core {
+
+struct PhaseTransition {
+  Nanos t = 0;
+  msg::Phase from = msg::Phase::takeoff;
+  msg::Phase to = msg::Phase::takeoff;
+  std::string reason;
+};
+
+class PhaseMachine final : public Plugin {
+ public:
+  void configure() override;
+  void start() override;
+  void step(Nanos now) override;
+  void reset() override;
+
+  msg::Phase phase() const { return phase_; }
+  /// The flight waits for the FCU to be armed and error-free: no controller runs.
+  bool disarmed() const { return disarmed_; }
+  /// Largest surface deflection a controller may command before the router replaces it, rad.
+  double max_deflection() const { return max_deflection_(); }
+  const std::vector<PhaseTransition>& transitions() const { return transitions_; }
+  /// The phase a flight starts in: preflight, or takeoff when it is skipped.
+  msg::Phase first_phase() const { return preflight_() ? msg::Phase::preflight : msg::Phase::takeoff; }
+  /// The phase router's safety monitor's limits (safety_* parameters; safety_monitor.hpp).
+  SafetyLimits safety_limits() const;
+  /// The safety monitor may hand control back to the phase's controller on the next phase change.
+  bool safety_hand_back() const { return safety_hand_back_(); }
+  /// Whether the router's state-loss recovery flies while the estimate is invalid, and its gains.
+  bool state_loss_recovery() const { return recovery_(); }
+  RecoveryGains recovery_gains() const;
+  /// The estimate the machine steps on (nullptr before the first one).
+  const msg::State* estimate() const { return state_.has_value() ? &state_.get() : nullptr; }
+  /// The commanded altitude h_c, m (none before the first controller_command).
+  std::optional<double> commanded_altitude() const;
+  /// The commanded airspeed Va_c, m/s (none before the first controller_command).
+  std::optional<double> commanded_airspeed() const;
+  /// Why the flight must end ("preflight_failed: ..."), empty while it may go on.
+  const std::string& failure() const { return failure_; }
+
+ private:
+  void enter(Nanos now, msg::Phase to, std::string reason);
+  /// Enters or leaves the disarmed wait from `fcu_status`; true while waiting.
+  bool wait_for_arming(Nanos now);
+  /// Runs the arming checks in preflight; enters takeoff once they held for preflight_time.
+  void run_preflight(Nanos now);
+  PreflightInputs preflight_inputs(Nanos now) const;
+  PreflightLimits limits() const;
+  void declare_preflight();
+  void declare_safety();
+  void declare_recovery();
+  Input<msg::State> state_;
+  Input<msg::ControllerCommand> command_;
+  Input<msg::FcuStatus> fcu_;
+  Input<msg::Innovations> innovations_;
+  Input<msg::Gnss> gnss_;
+  Input<msg::Rc> rc_;
+  Output<msg::FlightPhase> phase_out_;
+  Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
+  Param<bool> preflight_, require_rc_;
+  Param<double> preflight_time_, preflight_timeout_, report_interval_;
+  Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_, max_ground_speed_,
+      max_rc_age_;
+  Param<std::int64_t> min_sats_;
+  Param<bool> safety_, safety_hand_back_, recovery_;
+  Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;
+  Param<std::int64_t> safety_silent_periods_;
+  Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
+      safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;
+  msg::Phase phase_ = msg::Phase::takeoff;
+  bool disarmed_ = false;
+  Nanos since_ = 0;
+  Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
+  std::vector<PhaseTransition> transitions_;
+  Nanos checks_passed_since_ = -1;  ///< preflight: when every check last began to pass (-1: failing)
+  Nanos last_report_ = -1;          ///< preflight: when the failing checks were last logged
+  Nanos preflight_since_ = -1;      ///< preflight: first check after the last disarmed wait (timeout base)
+  std::string failure_;
+};
+
+}  // namespace tern::core
