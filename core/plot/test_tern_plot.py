@@ -3,7 +3,7 @@
 
 Writes small synthetic run directories (the layout of core/src/record/flight_log.hpp) into a temp
 dir, runs tern-plot on them as a user would, and checks the figures, the printed list and
-the errors; also checks the pieces a wrong figure would come from (the YAML subset reader,
+the errors; also checks the pieces a wrong figure would come from (the YAML reader,
 ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segments).
 """
 
@@ -281,12 +281,12 @@ class Pieces(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
-    def test_yaml_subset(self):
+    def test_yaml_as_tern_reads_it(self):
         doc = TY.yaml_load(
             "# resolved from /x/y.yaml\nname: demo   # comment\nseed: 42\nlog: {dir: runs, topics: all}\n"
             "plugins:\n  - name: sim\n    params:\n      wind: [3.5, -3.5e-1, 0]\n      gusts: []\n"
             "      label: \"a # b\"\n  - {name: ekf, trigger: imu}\nlist:\n- 1\n- two\n"
-            "flag: False\nnothing:\nwps: [[1, 2, 3],\n      [4, 5, 6]]\n")
+            "flag: False\nnothing:\nwps: [[1, 2, 3],\n      [4, 5, 6]]\nrate: 1e-3\n")
         self.assertEqual(doc["name"], "demo")
         self.assertEqual(doc["seed"], 42)
         self.assertEqual(doc["log"], {"dir": "runs", "topics": "all"})
@@ -296,6 +296,7 @@ class Pieces(unittest.TestCase):
         self.assertIs(doc["flag"], False)
         self.assertIsNone(doc["nothing"])
         self.assertEqual(doc["wps"], [[1, 2, 3], [4, 5, 6]])
+        self.assertEqual(doc["rate"], 0.001)  # YAML 1.2's float, as yaml-cpp reads it
         with self.assertRaises(TY.YamlError):
             TY.yaml_load("a: [1, 2\n")
 
