@@ -62,13 +62,12 @@
 namespace fs = std::filesystem;
 
 namespace {
-constexpr double kDeg = 180.0 / tern::kPi;
 constexpr double kT0 = 30.0, kT0Wind = 60.0;
 // Course only while the aircraft moves: at rest it is undefined, and waiting for its takeoff at
 // 3 m/s (an aggressive seed rolled until 45 s in a 6-m/s wind) 0.1 m/s of velocity error across
 // the track is 2 deg.
 constexpr double kCourseMinGroundSpeed = 5.0;  // m/s, true ground speed
-constexpr double kDivergedPosition = 50.0, kDivergedAttitude = 30.0 / kDeg;
+constexpr double kDivergedPosition = 50.0, kDivergedAttitude = 30.0 / tern::kDegPerRad;
 using tern::wrap_pi;
 
 struct Rms {
@@ -100,10 +99,10 @@ const QInfo kInfo[kQ] = {
     {"u m/s", 1, 0.045},
     {"v m/s", 1, 0.089},
     {"w m/s", 1, 0.105},
-    {"roll deg", kDeg, 0.189},
-    {"pitch deg", kDeg, 0.074},
-    {"yaw deg", kDeg, std::nan("")},
-    {"course deg", kDeg, 0.112},
+    {"roll deg", tern::kDegPerRad, 0.189},
+    {"pitch deg", tern::kDegPerRad, 0.074},
+    {"yaw deg", tern::kDegPerRad, std::nan("")},
+    {"course deg", tern::kDegPerRad, 0.112},
     {"wind (from 60 s) m/s", 1, std::nan("")},
     {"vel. error body x m/s", 1, std::nan("")},
     {"vel. error body y m/s", 1, std::nan("")},
@@ -326,7 +325,7 @@ void print_seeds(const std::vector<Flight>& flights) {
   for (const auto& f : flights) {
     std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8s %8.1f %7.0f %7.0f %7s %s%s\n",
                 static_cast<unsigned long long>(f.seed), f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(), f.baro_home.value(),
-                f.est[ROLL].value() * kDeg, f.est[PITCH].value() * kDeg, f.est[YAW].value() * kDeg, f.est[COURSE].value() * kDeg,
+                f.est[ROLL].value() * tern::kDegPerRad, f.est[PITCH].value() * tern::kDegPerRad, f.est[YAW].value() * tern::kDegPerRad, f.est[COURSE].value() * tern::kDegPerRad,
                 f.est[WIND].value(), cell(f.outage.drift).c_str(), f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets,
                 f.inflations, f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
                 f.crashed ? " (crashed)" : "");
@@ -510,7 +509,7 @@ int main(int argc, char** argv) {
   j["window_start_s"] = kT0;
   j["wind_window_start_s"] = kT0Wind;
   for (const auto& set : sets.sets) j["settings"].push_back(set);
-  j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * kDeg);
+  j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * tern::kDegPerRad);
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {
       std::vector<Flight> flights;

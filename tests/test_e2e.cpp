@@ -13,6 +13,7 @@
 #include "record/common_frame.hpp"
 #include "flight/loader.hpp"
 #include "e2e_util.hpp"
+#include "tern/math.hpp"
 
 using namespace tern::core;
 
@@ -316,7 +317,7 @@ TEST_CASE("an air start with the EKF in the loop: the estimator recovers from in
     for (std::size_t k = 1; k < state.size(); ++k) {
       const auto a = cells(state[k]), b = cells(truth[k]);
       if (a[valid] != "1") continue;
-      const double dpsi = std::remainder(std::stod(a[psi]) - std::stod(b[psi]), 2.0 * M_PI);
+      const double dpsi = tern::wrap_pi(std::stod(a[psi]) - std::stod(b[psi]));
       const double e = std::max(
           {std::fabs(dpsi), std::fabs(std::stod(a[phi]) - std::stod(b[phi])), std::fabs(std::stod(a[theta]) - std::stod(b[theta]))});
       double& w = std::stod(a[t_col]) < 2.0 ? worst_early : worst;

@@ -1,9 +1,8 @@
 // core/src/campaign/counter_rng.hpp: counter-based random numbers for campaigns.
 //
 // Every number a campaign draws is a pure function of (campaign seed, flight index, stream,
-// component): SplitMix64's finaliser (Steele, Lea & Flood, "Fast splittable pseudorandom number
-// generators", OOPSLA 2014; the constants of Vigna's splitmix64.c) applied to the key words in
-// turn. No generator state is carried from one flight to the next, so flight k draws the same
+// component): SplitMix64's finaliser (tern::splitmix64 of tern/random.hpp) applied to the key
+// words in turn. No generator state is carried from one flight to the next, so flight k draws the same
 // values whatever the engine, the order or the number of workers. A stream is the FNV-1a hash of
 // the drawn column's name ("sim.wind.speed"), so adding a dispersion changes no other column.
 #pragma once
@@ -12,15 +11,9 @@
 #include <cstdint>
 #include <string_view>
 
-namespace tern::campaign {
+#include "tern/random.hpp"
 
-/// SplitMix64's output function of x + golden gamma.
-constexpr std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ULL;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-  return x ^ (x >> 31);
-}
+namespace tern::campaign {
 
 /// 64-bit FNV-1a of a name (a stream id).
 constexpr std::uint64_t stream_id(std::string_view name) {

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "config/error.hpp"
+#include "tern/random.hpp"
 #include "runners/external_plugin.hpp"
 #include "runners/isolated_plugin.hpp"
 #include "record/metrics.hpp"
@@ -16,13 +17,6 @@
 namespace tern::core {
 
 namespace {
-
-std::uint64_t splitmix64(std::uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
 
 std::uint64_t fnv1a(const std::string& s) {
   reflect::Fnv1a f;

@@ -8,7 +8,6 @@
 namespace tern::core {
 
 namespace {
-constexpr double kDeg = 180.0 / kPi;
 }
 
 void FlightMetrics::configure() {
@@ -82,12 +81,12 @@ void FlightMetrics::step(Nanos now) {
   if (command_.has_value()) {
     trk_[t_alt].add(command_->h_c - (-s.p_d));
     if (std::isfinite(command_->h_c + s.p_d)) max_alt_ = std::max(max_alt_, std::fabs(command_->h_c + s.p_d));
-    trk_[t_course].add(wrap_pi(command_->chi_c - s.chi) * kDeg);
+    trk_[t_course].add(wrap_pi(command_->chi_c - s.chi) * kDegPerRad);
     trk_[t_airspeed].add(command_->Va_c - s.Va);
   }
   if (internals_.has_value()) {
-    trk_[t_roll].add(wrap_pi(internals_->phi_c - s.phi) * kDeg);
-    trk_[t_pitch].add(wrap_pi(internals_->theta_c - s.theta) * kDeg);
+    trk_[t_roll].add(wrap_pi(internals_->phi_c - s.phi) * kDegPerRad);
+    trk_[t_pitch].add(wrap_pi(internals_->theta_c - s.theta) * kDegPerRad);
   }
 }
 
@@ -98,10 +97,10 @@ void FlightMetrics::add_estimation_errors(const msg::State& s, const msg::State&
   est_[e_north].add(p.x() - t.p_n);
   est_[e_east].add(p.y() - t.p_e);
   est_[e_alt].add(t.p_d - p.z());
-  est_[e_roll].add(wrap_pi(s.phi - t.phi) * kDeg);
-  est_[e_pitch].add(wrap_pi(s.theta - t.theta) * kDeg);
-  est_[e_heading].add(wrap_pi(s.psi - t.psi) * kDeg);
-  est_[e_course].add(wrap_pi(s.chi - t.chi) * kDeg);
+  est_[e_roll].add(wrap_pi(s.phi - t.phi) * kDegPerRad);
+  est_[e_pitch].add(wrap_pi(s.theta - t.theta) * kDegPerRad);
+  est_[e_heading].add(wrap_pi(s.psi - t.psi) * kDegPerRad);
+  est_[e_course].add(wrap_pi(s.chi - t.chi) * kDegPerRad);
   est_[e_airspeed].add(s.Va - t.Va);
   est_[e_wind_n].add(s.w_n - t.w_n);
   est_[e_wind_e].add(s.w_e - t.w_e);

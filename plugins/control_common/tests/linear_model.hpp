@@ -14,6 +14,7 @@
 #include <cmath>
 
 #include "control_common/loops.hpp"
+#include "tern/math.hpp"
 
 namespace tern::control::testmodel {
 
@@ -60,7 +61,7 @@ class LinearAircraft {
       q += h_s * q_dot;
       Va += h_s * Va_dot;
     }
-    chi = std::remainder(chi, 2.0 * 3.14159265358979323846);
+    chi = tern::wrap_pi(chi);
   }
 
   VehicleState state() const {

@@ -12,7 +12,6 @@
 using namespace tern::control;
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 }
 
 TEST_CASE("pid: proportional, integral and derivative terms, saturation") {
@@ -63,8 +62,8 @@ TEST_CASE("course errors are wrapped: the short way round") {
   g.course_ki = 0.0;
   lat.set_gains(g);
   // from -179 deg to +179 deg: turn left 2 deg, not right 358 deg
-  const double phi_c = lat.course(179 * kDeg, -179 * kDeg, 0.0, 0.0, 0.01);
-  CHECK(phi_c == doctest::Approx(-2.0 * 2 * kDeg));
+  const double phi_c = lat.course(179 * tern::kRadPerDeg, -179 * tern::kRadPerDeg, 0.0, 0.0, 0.01);
+  CHECK(phi_c == doctest::Approx(-2.0 * 2 * tern::kRadPerDeg));
 }
 
 TEST_CASE("yaw damper opposes a yaw-rate change and washes out a steady turn") {
@@ -230,7 +229,7 @@ TEST_CASE("roll command shaping: slew limit, rate feed-forward, a ramp followed 
     return worst;
   };
   const double lag_without = ramp_lag(0.0), lag_with = ramp_lag(k.a_phi1 / k.a_phi2);
-  MESSAGE("roll error on a 1.5 rad/s ramp: " << lag_without / kDeg << " deg without, " << lag_with / kDeg
+  MESSAGE("roll error on a 1.5 rad/s ramp: " << lag_without / tern::kRadPerDeg << " deg without, " << lag_with / tern::kRadPerDeg
                                              << " deg with the rate feed-forward");
   CHECK(lag_without > 0.1);
   CHECK(lag_with < 0.3 * lag_without);

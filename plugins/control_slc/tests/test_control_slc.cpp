@@ -15,7 +15,6 @@ using namespace tern::control;
 using namespace tern::control::testmodel;
 
 namespace {
-constexpr double kDeg = kPi / 180.0;
 
 struct Aircraft {
   const char* gains;
@@ -57,15 +56,15 @@ TEST_CASE("slc: 90-degree course step overshoots < 10 degrees, either way and ac
       auto Lp = make(a);
       auto& L = *Lp;
       const double start = chi_c == 170.0 ? -100.0 : 0.0;  // -100 -> 170: 90 deg left across 180
-      L.cmd.chi_c = start * kDeg;
+      L.cmd.chi_c = start * kRadPerDeg;
       L.run(30.0);
-      L.cmd.chi_c = chi_c * kDeg;
+      L.cmd.chi_c = chi_c * kRadPerDeg;
       const double dir = chi_c == 170.0 ? -1.0 : (chi_c > 0 ? 1.0 : -1.0);
       double overshoot = 0.0;
-      L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kDeg) / kDeg); });
+      L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kRadPerDeg) / kRadPerDeg); });
       MESSAGE(std::string(a.gains), ": course step to ", chi_c, " deg overshoots ", overshoot, " deg");
       CHECK(overshoot < 10.0);
-      CHECK(std::fabs(wrap_pi(L.plant.chi - chi_c * kDeg)) < 1.0 * kDeg);
+      CHECK(std::fabs(wrap_pi(L.plant.chi - chi_c * kRadPerDeg)) < 1.0 * kRadPerDeg);
       CHECK(std::fabs(L.plant.phi) <= 0.7854 + 0.05);  // roll limit respected
     }
   }
@@ -99,7 +98,7 @@ TEST_CASE("slc: take_over is bumpless (first command within 0.05 rad of the last
   auto Lp = make(kAircraft[0]);
   auto& L = *Lp;
   L.cmd.h_c += 20.0;
-  L.cmd.chi_c = 60 * kDeg;
+  L.cmd.chi_c = 60 * kRadPerDeg;
   L.run(2.0);
   msg::Actuators last;
   last.delta_a = L.last.delta_a + 0.2;                                                  // another controller commanded something else

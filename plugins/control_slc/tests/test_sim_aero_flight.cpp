@@ -19,7 +19,6 @@ using namespace tern;
 using namespace tern::control;
 
 namespace {
-constexpr double kDeg = kPi / 180.0;
 
 msg::State truth(const sim::Simulator& s) {
   const auto& x = s.state();
@@ -132,10 +131,10 @@ TEST_CASE("sim_aero: altitude, course and airspeed steps on the nonlinear model"
     testmodel::StepResponse rh{100.0, 110.0, 2.0};
     f.run(30.0, [&](double t, const msg::State& s) { rh.add(t - t0, s.altitude()); });
     // course +90 deg
-    f.cmd.chi_c = 90 * kDeg;
+    f.cmd.chi_c = 90 * kRadPerDeg;
     double chi_over = 0.0;
-    f.run(40.0, [&](double, const msg::State& s) { chi_over = std::max(chi_over, wrap_pi(s.chi - 90 * kDeg) / kDeg); });
-    const double chi_err = std::fabs(wrap_pi(truth(f.sim).chi - 90 * kDeg)) / kDeg;
+    f.run(40.0, [&](double, const msg::State& s) { chi_over = std::max(chi_over, wrap_pi(s.chi - 90 * kRadPerDeg) / kRadPerDeg); });
+    const double chi_err = std::fabs(wrap_pi(truth(f.sim).chi - 90 * kRadPerDeg)) / kRadPerDeg;
     // airspeed +3 m/s
     const double t1 = to_seconds(f.t);
     f.cmd.Va_c = c.Va + 3.0;
@@ -176,13 +175,13 @@ TEST_CASE("sim_aero: takeoff from rest, climb and cruise (ROSplane's phase thres
     });
     const msg::State s = truth(f.sim);
     MESSAGE(std::string(c.name), ": climb at ", t_climb, " s, cruise at ", t_cruise, " s; after 90 s h = ", s.altitude(), " m, Va = ", s.Va,
-            " m/s, chi = ", s.chi / kDeg, " deg");
+            " m/s, chi = ", s.chi / kRadPerDeg, " deg");
     CHECK(t_climb > 0);
     CHECK(t_cruise > t_climb);
     CHECK_FALSE(f.sim.crashed());
     CHECK(std::fabs(s.altitude() - 50.0) < 2.0);
     CHECK(std::fabs(s.Va - c.Va) < 1.0);
-    CHECK(std::fabs(s.chi) < 3 * kDeg);
+    CHECK(std::fabs(s.chi) < 3 * kRadPerDeg);
   }
 }
 
@@ -198,16 +197,16 @@ TEST_CASE("sim_aero: cruise in 5 m/s wind from the south-east with light turbule
     double se_h = 0, se_V = 0, se_chi = 0;
     int n = 0;
     for (double chi_c : {0.0, 90.0, 180.0, -90.0}) {
-      f.cmd.chi_c = chi_c * kDeg;
+      f.cmd.chi_c = chi_c * kRadPerDeg;
       f.run(15.0);  // turn
       f.run(25.0, [&](double, const msg::State& s) {
         se_h += (s.altitude() - 100.0) * (s.altitude() - 100.0);
         se_V += (s.Va - c.Va) * (s.Va - c.Va);
-        se_chi += wrap_pi(s.chi - chi_c * kDeg) * wrap_pi(s.chi - chi_c * kDeg);
+        se_chi += wrap_pi(s.chi - chi_c * kRadPerDeg) * wrap_pi(s.chi - chi_c * kRadPerDeg);
         ++n;
       });
     }
-    const double rms_h = std::sqrt(se_h / n), rms_V = std::sqrt(se_V / n), rms_chi = std::sqrt(se_chi / n) / kDeg;
+    const double rms_h = std::sqrt(se_h / n), rms_V = std::sqrt(se_V / n), rms_chi = std::sqrt(se_chi / n) / kRadPerDeg;
     MESSAGE(std::string(c.name), ": RMS errors on straight legs: altitude ", rms_h, " m, airspeed ", rms_V, " m/s, course ", rms_chi,
             " deg");
     CHECK_FALSE(f.sim.crashed());

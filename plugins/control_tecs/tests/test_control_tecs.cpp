@@ -15,7 +15,6 @@ using namespace tern::control;
 using namespace tern::control::testmodel;
 
 namespace {
-constexpr double kDeg = kPi / 180.0;
 
 struct Aircraft {
   const char* gains;
@@ -136,11 +135,11 @@ TEST_CASE("tecs: the lateral loops are the shared ones: 90-degree course step ov
   for (const auto& a : kAircraft) {
     auto Lp = make(a);
     auto& L = *Lp;
-    L.cmd.chi_c = 90 * kDeg;
+    L.cmd.chi_c = 90 * kRadPerDeg;
     double overshoot = 0.0;
-    L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, (p.chi - 90 * kDeg) / kDeg); });
+    L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, (p.chi - 90 * kRadPerDeg) / kRadPerDeg); });
     CHECK(overshoot < 10.0);
-    CHECK(std::fabs(L.plant.chi - 90 * kDeg) < 1 * kDeg);
+    CHECK(std::fabs(L.plant.chi - 90 * kRadPerDeg) < 1 * kRadPerDeg);
   }
 }
 

@@ -14,6 +14,7 @@
 #include "tern/path/follower.hpp"
 #include "tern/path/geometry.hpp"
 #include "tern/path/manager.hpp"
+#include "tern/math.hpp"
 
 using namespace tern::path;
 using Clock = std::chrono::steady_clock;
@@ -65,10 +66,10 @@ std::vector<std::pair<Vec3, double>> flight(bool use_chi, int steps) {
     out.emplace_back(p, chi);
     const PathSegment s = m.update(p, chi, k * dt);
     if (k % 10 == 0) c = follow(s, FollowerInput{p, chi, chi, Va, Va}, FollowerGains{});
-    const double err = std::remainder(c.chi_c - chi, 2 * 3.14159265358979323846);
+    const double err = tern::wrap_pi(c.chi_c - chi);
     const double phi_c = std::clamp(2.0 * err + c.phi_ff, -0.785, 0.785);
     phi += (phi_c - phi) * dt / 0.3;
-    chi = std::remainder(chi + 9.81 / Va * std::tan(phi) * dt, 2 * 3.14159265358979323846);
+    chi = tern::wrap_pi(chi + 9.81 / Va * std::tan(phi) * dt);
     n += Va * std::cos(chi) * dt;
     e += Va * std::sin(chi) * dt;
   }

@@ -35,10 +35,10 @@ struct KinematicAircraft {
   /// feed-forward phi_ff, altitude h_c and airspeed Va_c.
   void step(double chi_c, double phi_ff, double h_c, double Va_c, double dt) {
     using tern::kPi;
-    double err = std::remainder(chi_c - chi, 2.0 * kPi);
+    double err = wrap_pi(chi_c - chi);
     const double phi_c = std::clamp(kp_chi * err + phi_ff, -phi_max, phi_max);
     phi += (phi_c - phi) * (dt / tau_phi);
-    psi = std::remainder(psi + 9.81 / Va * std::tan(phi) * dt, 2.0 * kPi);
+    psi = wrap_pi(psi + 9.81 / Va * std::tan(phi) * dt);
     const double v_n = Va * std::cos(psi) + w_n, v_e = Va * std::sin(psi) + w_e;
     chi = std::atan2(v_e, v_n);
     n += v_n * dt;

@@ -9,10 +9,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "tern/math.hpp"
+
 namespace tern::sim {
 namespace {
-
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
   throw std::runtime_error(source + ": " + field + ": " + what);
@@ -340,9 +340,9 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   ac.source = source;
   auto& p = ac.prop;
   RosflightExtras x;
-  x.max_a = ac.max_delta_a / kDeg;
-  x.max_e = ac.max_delta_e / kDeg;
-  x.max_r = ac.max_delta_r / kDeg;
+  x.max_a = ac.max_delta_a / kRadPerDeg;
+  x.max_e = ac.max_delta_e / kRadPerDeg;
+  x.max_r = ac.max_delta_r / kRadPerDeg;
   std::map<std::string, Slot> known = rosflight_keys(ac, x);
   static const std::set<std::string> kZeroOnly = {"C_L_beta", "C_L_p",       "C_L_r",       "C_L_delta_a", "C_L_delta_r", "C_D_beta",
                                                   "C_D_r",    "C_D_delta_a", "C_D_delta_r", "C_ell_alpha", "C_ell_q",     "C_ell_delta_e",
@@ -400,9 +400,9 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   if (x.Jyz != 0.0) fail(source, "Jyz", "value " + num(x.Jyz) + ": the uavbook model needs a symmetric aircraft (Jyz = 0)");
   ac.stall_blend = false;  // ROSflight's simulator sets sigma(alpha) = 0
   ac.e = 0.9;              // ROSflight's drag polar uses a fixed Oswald factor of 0.9 (wing_epsilon is unused)
-  ac.max_delta_a = x.max_a * kDeg;
-  ac.max_delta_e = x.max_e * kDeg;
-  ac.max_delta_r = x.max_r * kDeg;
+  ac.max_delta_a = x.max_a * kRadPerDeg;
+  ac.max_delta_e = x.max_e * kRadPerDeg;
+  ac.max_delta_r = x.max_r * kRadPerDeg;
   ac.gear.points = default_gear_points(ac.b);
   const auto slash = source.find_last_of('/');
   ac.name = source.substr(slash == std::string::npos ? 0 : slash + 1);

@@ -20,7 +20,6 @@ namespace {
 constexpr double kWgs84A = 6378137.0;                   // semi-major axis, m
 constexpr double kWgs84F = 1.0 / 298.257223563;         // flattening
 constexpr double kWgs84E2 = kWgs84F * (2.0 - kWgs84F);  // first eccentricity squared
-constexpr double kDegToRad = 3.14159265358979323846 / 180.0;
 
 Eigen::Vector3d geodetic_to_ecef(double lat_rad, double lon_rad, double h) {
   const double s = std::sin(lat_rad), c = std::cos(lat_rad);
@@ -51,7 +50,7 @@ struct GeoOrigin::Impl {
 };
 
 GeoOrigin::GeoOrigin(double lat, double lon, double alt) : impl_(std::make_unique<Impl>()) {
-  const double phi = lat * kDegToRad, lam = lon * kDegToRad;
+  const double phi = lat * kRadPerDeg, lam = lon * kRadPerDeg;
   impl_->ecef0 = geodetic_to_ecef(phi, lam, alt);
   const double sp = std::sin(phi), cp = std::cos(phi), sl = std::sin(lam), cl = std::cos(lam);
   impl_->R << -sp * cl, -sp * sl, cp, -sl, cl, 0.0, -cp * cl, -cp * sl, -sp;
@@ -61,12 +60,12 @@ GeoOrigin::~GeoOrigin() = default;
 void GeoOrigin::to_geodetic(const Eigen::Vector3d& ned, double& lat, double& lon, double& alt) const {
   double phi = 0, lam = 0;
   ecef_to_geodetic(impl_->ecef0 + impl_->R.transpose() * ned, phi, lam, alt);
-  lat = phi / kDegToRad;
-  lon = lam / kDegToRad;
+  lat = phi / kRadPerDeg;
+  lon = lam / kRadPerDeg;
 }
 
 Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
-  return impl_->R * (geodetic_to_ecef(lat * kDegToRad, lon * kDegToRad, alt) - impl_->ecef0);
+  return impl_->R * (geodetic_to_ecef(lat * kRadPerDeg, lon * kRadPerDeg, alt) - impl_->ecef0);
 }
 
 // ---------------------------------------------------------------- error models -------------

@@ -22,7 +22,6 @@ using tern::sim::test::mean;
 using tern::sim::test::stddev;
 
 namespace {
-constexpr double kDeg = tern::kPi / 180.0;
 
 using Series = std::vector<std::vector<double>>;  // independent series of one zero-mean process
 
@@ -141,7 +140,7 @@ TEST_CASE("sensors: profiles are rosflight (default, first), realistic and ideal
   for (const std::string& n : names) CHECK(msg.find(n) != std::string::npos);
   // realistic: the per-sample IMU noise is density * sqrt(157 Hz)
   const SensorParams r = sensor_profile("realistic");
-  CHECK(r.gyro_noise == doctest::Approx(0.004 * kDeg * 12.53).epsilon(0.001));
+  CHECK(r.gyro_noise == doctest::Approx(0.004 * tern::kRadPerDeg * 12.53).epsilon(0.001));
   CHECK(r.accel_noise == doctest::Approx(100e-6 * 9.80665 * 12.53).epsilon(0.001));
   CHECK(r.gnss_latency == 0.12);
 }
@@ -275,7 +274,7 @@ TEST_CASE("sensors: the GNSS fix is the antenna's position and velocity") {
   Sensors s(p, 1);
   Truth t;
   // heading east (yaw 90 deg), 20 m/s forward, yaw rate 0.5 rad/s
-  t.x = make_state({100, 50, -80}, {20, 0, 0}, 0, 0, 90 * kDeg, {0, 0, 0.5});
+  t.x = make_state({100, 50, -80}, {20, 0, 0}, 0, 0, 90 * tern::kRadPerDeg, {0, 0, 0.5});
   const GnssSample g = s.gnss(t, 0.1);
   // body x points east: the antenna is 1 m east of the CG and 0.5 m above it
   const Eigen::Vector3d pos = s.origin().to_ned(g.lat, g.lon, g.alt);
@@ -342,13 +341,13 @@ TEST_CASE("sensors: the accelerometer off the CG sees centripetal and tangential
 
 TEST_CASE("sensors: IMU mounting rotation (3-2-1, body v reads R_mount^T v)") {
   SensorParams p = sensor_profile("ideal");
-  p.imu_misalignment = Eigen::Vector3d(0, 0, 90 * kDeg);  // IMU yawed 90 deg
+  p.imu_misalignment = Eigen::Vector3d(0, 0, 90 * tern::kRadPerDeg);  // IMU yawed 90 deg
   Sensors s(p, 1);
   const ImuSample m = s.imu(kinematic_truth({1, 0, 0}, {0.1, 0, 0}), 0.0025);
   CHECK((m.accel - Eigen::Vector3d(0, -1, 0)).norm() < 1e-15);  // body x reads -y
   CHECK((m.gyro - Eigen::Vector3d(0, -0.1, 0)).norm() < 1e-15);
   // a general mount against the Euler rotation of tern/math.hpp
-  const Eigen::Vector3d rpy(0.5 * kDeg, -0.5 * kDeg, 1.0 * kDeg);
+  const Eigen::Vector3d rpy(0.5 * tern::kRadPerDeg, -0.5 * tern::kRadPerDeg, 1.0 * tern::kRadPerDeg);
   p.imu_misalignment = rpy;
   Sensors s2(p, 1);
   const Eigen::Vector3d f(1, 2, -9), w(0.3, -0.1, 0.2);
@@ -367,7 +366,7 @@ TEST_CASE("sensors: the stored accelerometer calibration (ROSflight calibrate_ac
     q.imu_cross_axis_range = 0.02;
     q.accel_calibrated_level = true;
   });
-  p.imu_misalignment = Eigen::Vector3d(0.5, -0.5, 1.0) * kDeg;
+  p.imu_misalignment = Eigen::Vector3d(0.5, -0.5, 1.0) * tern::kRadPerDeg;
   Sensors s(p, 3);
   const Eigen::Vector3d level(0, 0, -kGravity), pull_up(0, 0, -2 * kGravity);
   const Eigen::Vector3d g0(0, 0, -tern::kStandardGravity);
@@ -383,13 +382,13 @@ TEST_CASE("sensors: the stored accelerometer calibration (ROSflight calibrate_ac
   CHECK((f2 - (raw.imu(kinematic_truth(pull_up, Eigen::Vector3d::Zero()), 0.0025).accel - cal)).norm() < 1e-12);
   CHECK((f2 - (g0 + (pull_up - level))).norm() > 0.05);
   // A tilted floor is taken as level: the tilt goes into the offset (about g sin(tilt) on x/y).
-  p.accel_calibration_tilt_range = 0.3 * kDeg;
+  p.accel_calibration_tilt_range = 0.3 * tern::kRadPerDeg;
   Sensors tilted(p, 3);
   const double tilt_err = (tilted.accel_calibration() - cal).head<2>().norm();
   CHECK(tilt_err > 0.0);
-  CHECK(tilt_err < kGravity * std::sin(0.3 * kDeg) * std::sqrt(2.0) * 1.05);
+  CHECK(tilt_err < kGravity * std::sin(0.3 * tern::kRadPerDeg) * std::sqrt(2.0) * 1.05);
   // The firmware refuses an offset of 3 m/s^2 or more ("large accel bias"): nothing is stored.
-  p.imu_misalignment = Eigen::Vector3d(0, 30 * kDeg, 0);
+  p.imu_misalignment = Eigen::Vector3d(0, 30 * tern::kRadPerDeg, 0);
   Sensors refused(p, 3);
   CHECK(refused.accel_calibration().norm() == 0.0);
   // Without the calibration nothing is subtracted.
@@ -447,8 +446,8 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
   CHECK((h1.mag(level, 0.02).field - b0 - o1).norm() < 1e-20);  // constant in time
   // soft iron: S recovered from three attitudes, each element of S - I within +-2 %
   const SensorParams ps = ideal_with([](SensorParams& p) { p.mag_soft_iron_range = 0.02; });
-  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0), make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * kDeg),
-                             make_state({0, 0, -100}, {17, 0, 0}, 90 * kDeg, 0, 0)};
+  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0), make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * tern::kRadPerDeg),
+                             make_state({0, 0, -100}, {17, 0, 0}, 90 * tern::kRadPerDeg, 0, 0)};
   double worst = 0;
   for (std::uint64_t k = 0; k < 100; ++k) {
     Sensors s(ps, k);

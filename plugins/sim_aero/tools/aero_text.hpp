@@ -11,7 +11,6 @@
 
 namespace tern::aero::text {
 
-inline constexpr double kDeg = kPi / 180.0;  ///< rad per degree
 
 /// Throws std::runtime_error("file: field: what").
 [[noreturn]] void fail(const std::string& file, const std::string& field, const std::string& what);

@@ -243,7 +243,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
   t.S = p.header.at("Sref_");
   t.c = p.header.at("Cref_");
   t.b = p.header.at("Bref_");
-  t.alpha_ref = p.header.at("AoA_") * kDeg;
+  t.alpha_ref = p.header.at("AoA_") * kRadPerDeg;
   if (p.header.count("Rho_")) {
     const double rho = p.header.at("Rho_");
     if (rho >= 0.3 && rho <= 1.6) {
@@ -264,7 +264,7 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
     const std::string& c = p.cols[k];
     if (!(c == "Alpha" || c == "Beta" || c == "p" || c == "q" || c == "r" || c.rfind("ConGrp_", 0) == 0)) continue;
     if (p.units[k] == "per deg")
-      scale[k] = 1.0 / kDeg;
+      scale[k] = 1.0 / kRadPerDeg;
     else if (p.units[k] != "per rad")
       fail(path, "unit of column " + c, "'" + p.units[k] + "' (expected 'per rad' or 'per deg')");
   }

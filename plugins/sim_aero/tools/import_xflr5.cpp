@@ -139,7 +139,7 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
   auto val = [&](const char* k) { return number(path, k, B.at(k)); };
 
   if (!has("Alpha")) fail(path, "Alpha", "missing (the trim angle of attack, 'Alpha=...°')");
-  t.alpha_ref = val("Alpha") * kDeg;
+  t.alpha_ref = val("Alpha") * kRadPerDeg;
   static const std::pair<const char*, const char*> kNames[] = {
       {"CLa", "C_L_alpha"}, {"CLq", "C_L_q"},    {"Cma", "C_m_alpha"}, {"Cmq", "C_m_q"},      {"Cxa", "C_X_alpha"},
       {"CYb", "C_Y_beta"},  {"CYp", "C_Y_p"},    {"CYr", "C_Y_r"},     {"Clb", "C_ell_beta"}, {"Clp", "C_ell_p"},
@@ -154,11 +154,11 @@ ToolDerivatives parse_xflr5(const std::string& path, const std::string& control)
 
   // trim: C_m = 0 by construction; C_L and rho from q S = -VInf Zw / CLa (XFLR5 prints neither)
   t.d["C_m"] = 0.0;
-  t.notes.push_back("C_m = 0 at Alpha = " + fmt(t.alpha_ref / kDeg) + " deg (XFLR5 trims to zero pitching moment)");
+  t.notes.push_back("C_m = 0 at Alpha = " + fmt(t.alpha_ref / kRadPerDeg) + " deg (XFLR5 trims to zero pitching moment)");
   if (has("Mass") && has("VInf") && has("Zw") && t.S > 0) {
     const double m = val("Mass"), u0 = val("VInf"), Zw = val("Zw");
     const double qS = -u0 * Zw / t.d["C_L_alpha"];
-    const double phi = has("Phi") ? val("Phi") * kDeg : 0.0;
+    const double phi = has("Phi") ? val("Phi") * kRadPerDeg : 0.0;
     if (!(qS > 0) || !(u0 > 0) || !(m > 0)) fail(path, "Zw", "q S = -VInf Zw / CLa is not positive");
     t.d["C_L"] = m * 9.81 / (qS * std::cos(phi));  // XFLR5's g
     t.rho = 2.0 * qS / (u0 * u0 * t.S);

@@ -162,13 +162,12 @@ int eval(const std::string& file, const std::string& state_s, const std::string&
   return 0;
 }
 
-constexpr double kRad2Deg = 180.0 / tern::kPi;
 
 // The trim as a readable table ('#' lines, degrees and percent throttle).
 void print_trim_table(std::ostream& os, const std::string& name, double Va, double gamma, double R, const sim::TrimResult& t) {
   os << "# trim of the " << name << " (Beard & McLain ch. 5)\n";
   os << "#   " << pad("Va", 9) << pad(fixed(Va, 3), 10, true) << " m/s\n";
-  os << "#   " << pad("gamma", 9) << pad(fixed(gamma * kRad2Deg, 3), 10, true) << " deg\n";
+  os << "#   " << pad("gamma", 9) << pad(fixed(gamma * tern::kDegPerRad, 3), 10, true) << " deg\n";
   os << "#   " << pad("R", 9) << pad(std::isinf(R) ? std::string("straight") : fixed(R, 1), 10, true)
      << (std::isinf(R) ? ""
          : R > 0       ? " m (right turn)"
@@ -181,7 +180,7 @@ void print_trim_table(std::ostream& os, const std::string& name, double Va, doub
                                                 {"delta_e", t.delta.delta_e},
                                                 {"delta_a", t.delta.delta_a},
                                                 {"delta_r", t.delta.delta_r}};
-  for (const auto& [k, v] : deg) os << "#   " << pad(k, 9) << pad(fixed(v * kRad2Deg, 3), 10, true) << " deg\n";
+  for (const auto& [k, v] : deg) os << "#   " << pad(k, 9) << pad(fixed(v * tern::kDegPerRad, 3), 10, true) << " deg\n";
   os << "#   " << pad("delta_t", 9) << pad(fixed(100.0 * t.delta.delta_t, 2), 10, true) << " %\n";
   os << "#   (residual " << t.residual << " after " << t.iterations << " Newton iterations; JSON below in rad)\n";
 }
@@ -292,7 +291,7 @@ int import_cmd(const ImportArgs& a) {
                                      "Not given by " + t.tool + " (value used and why):"};
   std::cout << "tern aero import: " << t.tool << " " << t.source << " -> " << a.out << "\n";
   std::cout << "  reference S = " << t.S << " m^2, b = " << t.b << " m, c = " << t.c << " m, alpha_ref = " << t.alpha_ref << " rad ("
-            << t.alpha_ref * kRad2Deg << " deg)\n";
+            << t.alpha_ref * tern::kDegPerRad << " deg)\n";
   for (const auto& n : t.notes) std::cout << "  " << n << "\n";
   if (!a.polar.empty()) {
     std::cout << "  drag from " << a.polar << " (" << pf.rows << " rows): C_D_p = " << pf.C_D_p << ", e = " << pf.e << "\n";

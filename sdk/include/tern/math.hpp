@@ -15,6 +15,10 @@
 namespace tern {
 
 inline constexpr double kPi = 3.14159265358979323846;
+/// Radians per degree (pi / 180): an angle in degrees times kRadPerDeg is the angle in radians.
+inline constexpr double kRadPerDeg = kPi / 180.0;
+/// Degrees per radian (180 / pi): an angle in radians times kDegPerRad is the angle in degrees.
+inline constexpr double kDegPerRad = 180.0 / kPi;
 inline constexpr double kGravity = 9.81;  ///< m/s^2, the book's g
 /// m/s^2, standard gravity g0 (3rd CGPM, 1901): a datasheet's "g", and the ROSflight firmware's
 /// gravity (include/sensors.h, Sensors::gravity_, used by Sensors::calibrate_accel).

@@ -8,6 +8,7 @@
 
 #include "complementary_filter.hpp"
 #include "plugin.hpp"
+#include "tern/math.hpp"
 #include "tern/testing/harness.hpp"
 
 using namespace tern_@NAME@;
@@ -45,7 +46,7 @@ TEST_CASE("filter: holds the bank of a coordinated turn (centripetal term remove
   CHECK(f.estimate().phi == doctest::Approx(phi).epsilon(0.01));
   CHECK(std::fabs(f.estimate().theta) < 0.01);
   // heading integrates the turn rate: 20 s at psi' (wrapped)
-  CHECK(std::fabs(std::remainder(f.estimate().psi - 20.0 * psi_dot, 2 * 3.14159265358979)) < 0.02);
+  CHECK(std::fabs(tern::wrap_pi(f.estimate().psi - 20.0 * psi_dot)) < 0.02);
 }
 
 TEST_CASE("filter: GNSS position, velocity and heading from the course") {

@@ -8,6 +8,7 @@
 
 #include "guidance_model.hpp"
 #include "plugin.hpp"
+#include "tern/math.hpp"
 #include "tern/testing/harness.hpp"
 
 using namespace tern_@NAME@;
@@ -45,7 +46,7 @@ TEST_CASE("model: a steady turn with the orbit feed-forward") {
   m.set_state({0, 0, 100, 0.0, 0, 0, 17.0});
   // the course command of an orbit follower on the circle: chi_c = chi_0 + (g tan(phi_ff) / Va) t
   const double phi_ff = 0.3, chidot = 9.81 * std::tan(phi_ff) / 17.0;
-  for (int i = 1; i <= 3000; ++i) m.step({std::remainder(chidot * 0.01 * i, 2 * 3.14159265358979), 100.0, 17.0, phi_ff}, 0.01);
+  for (int i = 1; i <= 3000; ++i) m.step({tern::wrap_pi(chidot * 0.01 * i), 100.0, 17.0, phi_ff}, 0.01);
   CHECK(m.phi() == doctest::Approx(phi_ff).epsilon(0.01));
   CHECK(m.state().chi_dot == doctest::Approx(chidot).epsilon(0.01));
 }
