@@ -49,7 +49,11 @@ configure: deps $(BUILD)/build.ninja
 build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-fly: build
+# The default mission builds only tern, tern-plot and the mission's plugins (target tern_fly,
+# CMakeLists.txt); another CONFIG builds everything, as its plugins may be any.
+FLY_TARGET := $(if $(filter configs/missions/default.yaml,$(CONFIG)),tern_fly,all)
+fly: configure
+	cmake --build $(BUILD) -j $(JOBS) --target $(FLY_TARGET)
 	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs
 	@run=$$(ls -1dt runs/*/ | head -1); \
 	if [ -x $(BUILD)/bin/tern-plot ]; then $(BUILD)/bin/tern-plot $$run; fi; \
