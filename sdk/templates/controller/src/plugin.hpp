@@ -9,6 +9,8 @@
 //         out controller_internals msg::ControllerInternals (phi_c, theta_c, delta_t_c)
 // Parameters: the gains, trims and limits of slc.hpp (Gains::describe), declared at once with
 // declare_struct(gains_): gains_ always holds their values, also after a change in flight.
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new integrator, filter or counter goes there.
 #pragma once
 
 #include <cstdint>
@@ -27,17 +29,16 @@ class @CLASS@ final : public tern::Plugin {
     declare_struct(gains_);
   }
 
-  void start() override { reset(); }
-
   void step(tern::Nanos now) override {
-    slc_.set_gains(gains_);  // parameters may change in flight
+    tern_@NAME@::Slc& slc = flight_.slc;
+    slc.set_gains(gains_);  // parameters may change in flight
     const tern::msg::State& x = *state_;
-    const double dt = last_ >= 0 ? tern::to_seconds(now - last_) : 0.0;
-    last_ = now;
-    tern_@NAME@::Output o = slc_.trim();
+    const double dt = flight_.last_step >= 0 ? tern::to_seconds(now - flight_.last_step) : 0.0;
+    flight_.last_step = now;
+    tern_@NAME@::Output o = slc.trim();
     if (x.valid && command_.has_value()) {
       const tern::msg::ControllerCommand& c = *command_;
-      o = slc_.update({c.chi_c, c.h_c, c.Va_c, c.phi_ff}, {x.phi, x.theta, x.chi, x.p, x.q, -x.p_d, x.Va}, dt);
+      o = slc.update({c.chi_c, c.h_c, c.Va_c, c.phi_ff}, {x.phi, x.theta, x.chi, x.p, x.q, -x.p_d, x.Va}, dt);
     }
     tern::msg::Actuators a;
     a.stamp = now;
@@ -54,18 +55,15 @@ class @CLASS@ final : public tern::Plugin {
     internals_.publish(in);
   }
 
-  /// Integrators clean; the next step integrates nothing.
-  void reset() override {
-    slc_.reset();
-    last_ = -1;
-  }
+  /// Between flights: as after configure() (integrators clean; the next step integrates nothing).
+  void reset() override { flight_ = Flight{}; }
 
   /// Handover from another controller: integrators clean, except the throttle's, which starts
   /// where the outgoing controller left the throttle.
   void take_over(const tern::msg::Actuators& last) override {
     reset();
-    slc_.set_gains(gains_);
-    if (state_->valid && command_.has_value()) slc_.take_over(last.delta_t, command_->Va_c - state_->Va);
+    flight_.slc.set_gains(gains_);
+    if (state_->valid && command_.has_value()) flight_.slc.take_over(last.delta_t, command_->Va_c - state_->Va);
   }
 
  private:
@@ -75,6 +73,9 @@ class @CLASS@ final : public tern::Plugin {
   tern::Output<tern::msg::Actuators> actuators_;
   tern::Output<tern::msg::ControllerInternals> internals_;
   tern_@NAME@::Gains gains_;  ///< the parameters' values (slc.hpp: names, defaults, ranges)
-  tern_@NAME@::Slc slc_;
-  tern::Nanos last_ = -1;  ///< time of the previous step, -1: none since reset
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    tern_@NAME@::Slc slc;         ///< the loops' integrators (step() gives it gains_ first)
+    tern::Nanos last_step = -1;  ///< time of the previous step, -1: none this flight
+  } flight_;
 };

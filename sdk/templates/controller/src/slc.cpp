@@ -2,15 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include "tern/math.hpp"
+#include "tern/math.hpp"  // wrap_pi: a course error of 350 deg is one of -10 deg
 
 namespace tern_@NAME@ {
-
-namespace {
-using tern::kPi;
-/// a in [-pi, pi): a course error of 350 deg is one of -10 deg
-double wrap_pi(double a) { return a - 2.0 * kPi * std::floor((a + kPi) / (2.0 * kPi)); }
-}  // namespace
 
 double PiLoop::update(double e, double dt, double kp, double ki, double ff, double lo, double hi) {
   const double I_next = I + e * dt;
@@ -35,7 +29,7 @@ Output Slc::update(const Command& c, const State& x, double dt) {
 
   Output o;
   // lateral: course -> roll command -> aileron
-  o.phi_c = course_.update(wrap_pi(c.chi_c - x.chi), dt, g_.course_kp, g_.course_ki, c.phi_ff, -g_.roll_max, g_.roll_max);
+  o.phi_c = course_.update(tern::wrap_pi(c.chi_c - x.chi), dt, g_.course_kp, g_.course_ki, c.phi_ff, -g_.roll_max, g_.roll_max);
   o.delta_a = std::clamp(g_.trim_a + g_.roll_kp * (o.phi_c - x.phi) - g_.roll_kd * x.p, -g_.max_a, g_.max_a);
   // longitudinal: altitude -> pitch command -> elevator; airspeed -> throttle
   o.theta_c = altitude_.update(c.h_c - x.h, dt, g_.altitude_kp, g_.altitude_ki, 0.0, -g_.theta_max, g_.theta_max);

@@ -93,15 +93,17 @@ struct PiLoop {
 
 class Slc {
  public:
-  explicit Slc(Gains g = {}) : g_(g) {}
+  Slc() = default;
+  explicit Slc(const Gains& g) : g_(g) {}
   void set_gains(const Gains& g) { g_ = g; }
   const Gains& gains() const { return g_; }
 
   /// One step of length dt (s; 0 on a first step: nothing integrates). A non-finite command or
   /// state, or a negative dt, gives the trim surfaces and leaves the integrators unchanged.
   Output update(const Command& c, const State& x, double dt);
-  /// Integrators clean (start of a flight, controller handover).
-  void reset() { course_ = altitude_ = airspeed_ = PiLoop{}; }
+  /// Integrators clean (start of a flight, controller handover): the whole loop state replaced,
+  /// as constructed with the current gains.
+  void reset() { *this = Slc(g_); }
   /// Bumpless throttle: after reset(), sets the airspeed integrator so that the next throttle
   /// equals delta_t at airspeed error Va_error (m/s). Course and altitude integrators start at 0.
   void take_over(double delta_t, double Va_error);

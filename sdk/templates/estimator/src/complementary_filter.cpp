@@ -7,14 +7,9 @@
 #include "tern/math.hpp"
 
 namespace tern_@NAME@ {
-namespace {
 using tern::kPi;
-double wrap_pi(double a) {
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0.0) a += 2.0 * kPi;
-  return a - kPi;
-}
-}  // namespace
+using tern::kRadPerDeg;
+using tern::wrap_pi;
 
 void ComplementaryFilter::imu(double t, const Eigen::Vector3d& accel, const Eigen::Vector3d& gyro) {
   if (!accel.allFinite() || !gyro.allFinite() || !std::isfinite(t)) return;
@@ -78,10 +73,10 @@ void ComplementaryFilter::airspeed(double dp, double rho) {
 Eigen::Vector3d geodetic_to_ned(double lat, double lon, double alt, double lat0, double lon0, double alt0) {
   // WGS-84 radii of curvature at the origin (meridian M and prime vertical N)
   constexpr double a = 6378137.0, e2 = 6.69437999014e-3;
-  const double s = std::sin(lat0 * kPi / 180.0);
+  const double s = std::sin(lat0 * kRadPerDeg);
   const double den = std::sqrt(1.0 - e2 * s * s);
   const double M = a * (1.0 - e2) / (den * den * den), N = a / den;
-  return {(lat - lat0) * kPi / 180.0 * (M + alt0), (lon - lon0) * kPi / 180.0 * (N + alt0) * std::cos(lat0 * kPi / 180.0),
+  return {(lat - lat0) * kRadPerDeg * (M + alt0), (lon - lon0) * kRadPerDeg * (N + alt0) * std::cos(lat0 * kRadPerDeg),
           -(alt - alt0)};
 }
 

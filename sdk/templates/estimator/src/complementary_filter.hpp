@@ -56,9 +56,11 @@ struct Estimate {
 
 class ComplementaryFilter {
  public:
-  explicit ComplementaryFilter(FilterParams p = {}) : prm_(p) {}
+  ComplementaryFilter() = default;
+  explicit ComplementaryFilter(const FilterParams& p) : prm_(p) {}
   void set_params(const FilterParams& p) { prm_ = p; }
-  void reset() { x_ = {}; last_imu_ = -1.0; }
+  /// Back to no estimate (as constructed with the current parameters).
+  void reset() { *this = ComplementaryFilter(prm_); }
 
   /// IMU sample at time t (s): specific force accel (m/s^2, FRD) and rates gyro (rad/s, FRD).
   /// The first sample initialises roll and pitch from the accelerometer.

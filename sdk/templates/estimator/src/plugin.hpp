@@ -9,10 +9,13 @@
 //         out state          msg::State; valid once attitude and (with a GNSS) position are
 // Parameters: filter constants (complementary_filter.hpp) and the NED origin: origin_mode
 // first_fix (the first 3-D fix, as ROSplane's estimator does on the ground) or fixed (origin_*).
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new filter state, counter or flag goes there.
 #pragma once
 
 #include <array>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "complementary_filter.hpp"
@@ -35,34 +38,32 @@ class @CLASS@ final : public tern::Plugin {
     declare(origin_alt_, "origin_alt", 1387.0, ParamSpec("m", -500.0, 9000.0, "origin altitude MSL (origin_mode fixed)"));
   }
 
-  void start() override { reset(); }
-  void reset() override {
-    filter_.reset();
-    origin_valid_ = false;
-  }
+  /// Between flights: as after configure() (no attitude, no position, no origin).
+  void reset() override { flight_ = Flight{}; }
 
   void step(tern::Nanos now) override {
-    filter_.set_params(params_);
+    tern_@NAME@::ComplementaryFilter& filter = flight_.filter;
+    filter.set_params(params_);
     if (diff_pressure_.updated()) {
       const double rho = baro_.has_value() ? baro_->pressure / (287.05 * baro_->temperature) : 0.0;
-      filter_.airspeed(diff_pressure_->pressure, rho);
+      filter.airspeed(diff_pressure_->pressure, rho);
     }
-    if (imu_.updated()) filter_.imu(tern::to_seconds(imu_->stamp), imu_->accel, imu_->gyro);
+    if (imu_.updated()) filter.imu(tern::to_seconds(imu_->stamp), imu_->accel, imu_->gyro);
     if (gnss_.updated() && gnss_->fix_type == tern::msg::FixType::fix_3d) {
       const tern::msg::Gnss& g = *gnss_;
-      if (!origin_valid_) {
+      if (!flight_.origin) {
         const bool fixed = origin_mode_() == "fixed";
-        origin_ = {fixed ? origin_lat_() : g.lat, fixed ? origin_lon_() : g.lon, fixed ? origin_alt_() : g.alt};
-        origin_valid_ = true;
+        flight_.origin = {fixed ? origin_lat_() : g.lat, fixed ? origin_lon_() : g.lon, fixed ? origin_alt_() : g.alt};
       }
-      filter_.gnss(tern_@NAME@::geodetic_to_ned(g.lat, g.lon, g.alt, origin_[0], origin_[1], origin_[2]), g.vel);
+      const std::array<double, 3>& o = *flight_.origin;
+      filter.gnss(tern_@NAME@::geodetic_to_ned(g.lat, g.lon, g.alt, o[0], o[1], o[2]), g.vel);
     }
     publish(now);
   }
 
  private:
   void publish(tern::Nanos now) {
-    const tern_@NAME@::Estimate& e = filter_.estimate();
+    const tern_@NAME@::Estimate& e = flight_.filter.estimate();
     tern::msg::State s;
     s.stamp = now;
     s.p_n = e.p_n;
@@ -87,10 +88,11 @@ class @CLASS@ final : public tern::Plugin {
     s.chi = s.Vg > 0.5 ? std::atan2(e.v_e, e.v_n) : e.psi;
     const double V = std::sqrt(e.v_n * e.v_n + e.v_e * e.v_e + e.v_d * e.v_d);
     s.gamma = V > 0.5 ? std::asin(-e.v_d / V) : 0.0;
-    s.origin_lat = origin_[0];
-    s.origin_lon = origin_[1];
-    s.origin_alt = origin_[2];
-    s.origin_valid = origin_valid_;
+    const std::array<double, 3> origin = flight_.origin.value_or(std::array<double, 3>{0.0, 0.0, 0.0});
+    s.origin_lat = origin[0];
+    s.origin_lon = origin[1];
+    s.origin_alt = origin[2];
+    s.origin_valid = flight_.origin.has_value();
     s.valid = e.attitude_valid && (e.position_valid || !gnss_.connected());
     state_.publish(s);
   }
@@ -103,7 +105,9 @@ class @CLASS@ final : public tern::Plugin {
   tern_@NAME@::FilterParams params_;  ///< the filter's parameters' values
   tern::Param<std::string> origin_mode_;
   tern::Param<double> origin_lat_, origin_lon_, origin_alt_;
-  tern_@NAME@::ComplementaryFilter filter_;
-  std::array<double, 3> origin_{0.0, 0.0, 0.0};
-  bool origin_valid_ = false;
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    tern_@NAME@::ComplementaryFilter filter;       ///< the estimate (step() gives it params_ first)
+    std::optional<std::array<double, 3>> origin;  ///< NED origin lat, lon (deg), alt (m MSL); none before
+  } flight_;
 };

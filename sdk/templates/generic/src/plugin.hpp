@@ -6,6 +6,8 @@
 // Parameters: Va_warn (m/s), min_altitude (m).
 // Summary: <instance>.max_abs_phi (rad), .min_Va, .mean_Va (m/s), .time_below_Va_warn (s),
 //          .low_airspeed_episodes.
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new figure, counter or "warned once" flag goes there.
 #pragma once
 
 #include <string>
@@ -26,28 +28,32 @@ class @CLASS@ final : public tern::Plugin {
     declare(min_altitude_, "min_altitude", 5.0, ParamSpec("m", -100.0, 10000.0, "height above the origin from which the aircraft counts as airborne"));
   }
 
-  void start() override { stats_.reset(); }
-  void reset() override { stats_.reset(); }
+  /// Between flights: as after configure() (no figures yet).
+  void reset() override { flight_ = Flight{}; }
 
   void step(tern::Nanos now) override {
     if (!state_.updated()) return;
     const tern::msg::State& x = *state_;
     if (!x.valid || x.altitude() < min_altitude_()) return;
-    if (stats_.add(tern::to_seconds(now), x.phi, x.Va, Va_warn_()))
+    if (flight_.stats.add(tern::to_seconds(now), x.phi, x.Va, Va_warn_()))
       log().warn("t = {:.2f} s: airspeed {:.1f} m/s below {:.1f} m/s at {:.0f} m", tern::to_seconds(now), x.Va, Va_warn_(),
                  x.altitude());
   }
 
   std::vector<std::pair<std::string, double>> summary() const override {
-    return {{"max_abs_phi", stats_.max_abs_phi()},
-            {"min_Va", stats_.min_Va()},
-            {"mean_Va", stats_.mean_Va()},
-            {"time_below_Va_warn", stats_.time_below_warn()},
-            {"low_airspeed_episodes", static_cast<double>(stats_.episodes())}};
+    const tern_@NAME@::FlightStats& s = flight_.stats;
+    return {{"max_abs_phi", s.max_abs_phi()},
+            {"min_Va", s.min_Va()},
+            {"mean_Va", s.mean_Va()},
+            {"time_below_Va_warn", s.time_below_warn()},
+            {"low_airspeed_episodes", static_cast<double>(s.episodes())}};
   }
 
  private:
   tern::Input<tern::msg::State> state_;
   tern::Param<double> Va_warn_, min_altitude_;
-  tern_@NAME@::FlightStats stats_;
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    tern_@NAME@::FlightStats stats;  ///< the figures of summary()
+  } flight_;
 };

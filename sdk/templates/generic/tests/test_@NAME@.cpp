@@ -2,8 +2,11 @@
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
+#include <cmath>
 #include <map>
 #include <memory>
+#include <string>
+#include <utility>
 
 #include "flight_stats.hpp"
 #include "plugin.hpp"
@@ -47,4 +50,29 @@ TEST_CASE("plugin: counts only valid airborne states and reports its summary") {
   CHECK(sum.at("max_abs_phi") == doctest::Approx(0.4));
   CHECK(sum.at("low_airspeed_episodes") == 1.0);
   CHECK_THROWS_AS(h.set_param("Va_warn", -1.0), tern::ParamError);
+}
+
+TEST_CASE("plugin: after reset() a flight is the first one again") {
+  // The contract of tern/plugin.hpp: what a flight changes lives in @CLASS@::Flight, which
+  // reset() replaces. Two flights of the same states with a reset() between them must give the
+  // same summary; a figure kept outside Flight would add the first flight to the second.
+  tern::testing::Harness h(std::make_unique<@CLASS@>());
+  auto fly = [&h] {
+    for (int i = 1; i <= 100; ++i) {  // 10 s, the airspeed sagging below Va_warn and back twice
+      tern::msg::State x;
+      x.valid = true;
+      x.p_d = -50.0;
+      x.phi = 0.01 * (i % 30);
+      x.Va = 14.0 + 3.0 * std::cos(0.13 * i);
+      h.set_input("state", x);
+      h.step(tern::from_seconds(0.1 * i));
+    }
+    h.stop();
+    return h.plugin().summary();
+  };
+  const auto first = fly();
+  REQUIRE(first.size() == 5);  // below 12 m/s twice: two episodes
+  CHECK(first[4] == std::pair<std::string, double>("low_airspeed_episodes", 2.0));
+  h.reset();
+  CHECK(fly() == first);
 }

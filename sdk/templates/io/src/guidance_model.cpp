@@ -5,15 +5,8 @@
 #include "tern/math.hpp"
 
 namespace tern_@NAME@ {
-namespace {
 using tern::kGravity;
-using tern::kPi;
-double wrap_pi(double a) {
-  a = std::fmod(a + kPi, 2.0 * kPi);
-  if (a < 0.0) a += 2.0 * kPi;
-  return a - kPi;
-}
-}  // namespace
+using tern::wrap_pi;
 
 void GuidanceModel::step(const ModelCommand& c, double dt) {
   if (std::isfinite(c.chi_c) && std::isfinite(c.h_c) && std::isfinite(c.Va_c) && std::isfinite(c.phi_ff)) last_ = c;

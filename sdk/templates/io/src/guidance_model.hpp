@@ -35,7 +35,8 @@ struct ModelCommand {
 
 class GuidanceModel {
  public:
-  explicit GuidanceModel(ModelGains g = {}) : g_(g) {}
+  GuidanceModel() = default;
+  explicit GuidanceModel(const ModelGains& g) : g_(g) {}
   void set_gains(const ModelGains& g) { g_ = g; }
   void set_state(const ModelState& x) { x_ = x; }
   const ModelState& state() const { return x_; }

@@ -6,8 +6,11 @@
 //                                 without one the aircraft keeps its initial course, height, speed
 //         out truth               msg::State of the model (p, v, phi, theta = gamma, psi = chi,
 //                                 Va, chi, Vg = Va, gamma; no wind, alpha = beta = 0), valid
-// Parameters: initial state (init_*), model gains (b_*), phi_max, max_climb_rate, and the
-// geodetic origin reported in the state (default: sim_aero's).
+// Parameters: initial state (init_*, start-only: read at a flight's first step), model gains
+// (b_*), phi_max, max_climb_rate, and the geodetic origin reported in the state (default:
+// sim_aero's).
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new state variable or counter goes there.
 #pragma once
 
 #include <cmath>
@@ -24,10 +27,10 @@ class @CLASS@ final : public tern::Plugin {
     declare(command_, "controller_command", "course, altitude and airspeed commands", tern::Need::optional);
     declare(truth_, "truth", "state of the kinematic model");
     declare(init_position_, "init_position", std::vector<double>{0.0, 0.0},
-            ParamSpec("m", -1e6, 1e6, "initial north, east position").of_size(2));
-    declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", -500.0, 10000.0, "initial height above the origin"));
-    declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 1.0, 100.0, "initial airspeed"));
-    declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7.0, 7.0, "initial course"));
+            ParamSpec("m", -1e6, 1e6, "initial north, east position").of_size(2).start_only());
+    declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", -500.0, 10000.0, "initial height above the origin").start_only());
+    declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 1.0, 100.0, "initial airspeed").start_only());
+    declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7.0, 7.0, "initial course").start_only());
     const tern_@NAME@::ModelGains d;
     declare(b_chi_, "b_chi", d.b_chi, ParamSpec("1/s^2", 0.01, 100.0, "course stiffness"));
     declare(b_chidot_, "b_chidot", d.b_chidot, ParamSpec("1/s", 0.01, 100.0, "course-rate damping"));
@@ -41,33 +44,39 @@ class @CLASS@ final : public tern::Plugin {
     declare(origin_alt_, "origin_alt", 1387.0, ParamSpec("m", -500.0, 9000.0, "altitude (MSL) of the NED origin"));
   }
 
-  void start() override { reset(); }
+  /// Between flights: as after configure(); the next step starts the model at the init_* values.
+  void reset() override { flight_ = Flight{}; }
 
-  void reset() override {
+  void step(tern::Nanos now) override {
+    flight_.model.set_gains({b_chi_(), b_chidot_(), b_h_(), b_hdot_(), b_Va_(), phi_max_(), max_climb_rate_()});
+    if (flight_.last_step < 0) {
+      begin_flight();
+    } else {
+      tern_@NAME@::ModelCommand c = flight_.hold;
+      if (command_.has_value()) c = {command_->chi_c, command_->h_c, command_->Va_c, command_->phi_ff};
+      flight_.model.step(c, tern::to_seconds(now - flight_.last_step));
+    }
+    flight_.last_step = now;
+    publish(now);
+  }
+
+ private:
+  /// A flight's first step: the model at the initial state the init_* parameters give now.
+  void begin_flight() {
     tern_@NAME@::ModelState x;
     x.p_n = init_position_()[0];
     x.p_e = init_position_()[1];
     x.h = init_altitude_();
     x.Va = init_airspeed_();
     x.chi = tern::wrap_pi(init_heading_());
-    model_.set_state(x);
-    command_0_ = {x.chi, x.h, x.Va, 0.0};
-    last_ = -1;
+    flight_.model.set_state(x);
+    flight_.hold = {x.chi, x.h, x.Va, 0.0};
   }
 
-  void step(tern::Nanos now) override {
-    model_.set_gains({b_chi_(), b_chidot_(), b_h_(), b_hdot_(), b_Va_(), phi_max_(), max_climb_rate_()});
-    tern_@NAME@::ModelCommand c = command_0_;
-    if (command_.has_value()) c = {command_->chi_c, command_->h_c, command_->Va_c, command_->phi_ff};
-    if (last_ >= 0) model_.step(c, tern::to_seconds(now - last_));
-    last_ = now;
-    publish(now);
-  }
-
- private:
   void publish(tern::Nanos now) {
-    const tern_@NAME@::ModelState& m = model_.state();
-    const double gamma = model_.gamma();
+    const tern_@NAME@::GuidanceModel& model = flight_.model;
+    const tern_@NAME@::ModelState& m = model.state();
+    const double gamma = model.gamma();
     tern::msg::State s;
     s.stamp = now;
     s.p_n = m.p_n;
@@ -76,7 +85,7 @@ class @CLASS@ final : public tern::Plugin {
     s.v_n = m.Va * std::cos(m.chi) * std::cos(gamma);
     s.v_e = m.Va * std::sin(m.chi) * std::cos(gamma);
     s.v_d = -m.h_dot;
-    s.phi = model_.phi();
+    s.phi = model.phi();
     s.theta = gamma;
     s.psi = m.chi;
     s.quat = tern::quaternion_from_euler(s.phi, s.theta, s.psi);
@@ -105,7 +114,10 @@ class @CLASS@ final : public tern::Plugin {
   tern::Param<double> init_altitude_, init_airspeed_, init_heading_;
   tern::Param<double> b_chi_, b_chidot_, b_h_, b_hdot_, b_Va_, phi_max_, max_climb_rate_;
   tern::Param<double> origin_lat_, origin_lon_, origin_alt_;
-  tern_@NAME@::GuidanceModel model_;
-  tern_@NAME@::ModelCommand command_0_;
-  tern::Nanos last_ = -1;
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    tern_@NAME@::GuidanceModel model;  ///< the aircraft (step() gives it the b_* gains first)
+    tern_@NAME@::ModelCommand hold;    ///< flown until a controller_command comes: the initial course, height, speed
+    tern::Nanos last_step = -1;       ///< time of the previous step, -1: none this flight
+  } flight_;
 };

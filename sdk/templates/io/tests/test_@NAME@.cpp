@@ -5,13 +5,28 @@
 
 #include <cmath>
 #include <memory>
+#include <vector>
 
 #include "guidance_model.hpp"
 #include "plugin.hpp"
 #include "tern/math.hpp"
+#include "tern/reflect.hpp"
 #include "tern/testing/harness.hpp"
 
 using namespace tern_@NAME@;
+
+namespace {
+/// What the flight log records of a message: the bytes of every field its describe() names.
+template <class M>
+std::vector<unsigned char> logged(const M& m) {
+  std::vector<unsigned char> bytes;
+  for (const tern::reflect::Column& c : tern::reflect::layout<M>()) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&m) + c.offset;
+    bytes.insert(bytes.end(), p, p + tern::reflect::scalar_size(c.kind));
+  }
+  return bytes;
+}
+}  // namespace
 
 TEST_CASE("model: straight and level flight covers Va * t") {
   GuidanceModel m;
@@ -71,4 +86,44 @@ TEST_CASE("plugin: publishes a valid truth from the initial state and follows co
   for (int i = 101; i <= 3000; ++i) h.step(tern::from_seconds(0.01 * i));
   CHECK(h.output<tern::msg::State>("truth").altitude() == doctest::Approx(100.0).epsilon(1e-3));
   CHECK_THROWS_AS(h.set_param("phi_max", 2.0), tern::ParamError);
+}
+
+TEST_CASE("plugin: after reset() a flight is the first one again, bit for bit") {
+  // The contract of tern/plugin.hpp: what a flight changes lives in @CLASS@::Flight, which
+  // reset() replaces. Two flights of the same commands with a reset() between them must publish
+  // the same truth; a field kept outside Flight (the model's state, the time of the last step)
+  // would carry the first flight into the second and fail this.
+  tern::testing::Harness h(std::make_unique<@CLASS@>(), {{"init_heading", 0.5}});
+  auto fly = [&h] {
+    std::vector<std::vector<unsigned char>> published;
+    for (int i = 0; i <= 500; ++i) {  // 5 s of a climbing right turn, faster
+      tern::msg::ControllerCommand c;
+      c.chi_c = 2.0;
+      c.h_c = 120.0;
+      c.Va_c = 20.0;
+      h.set_input("controller_command", c);
+      h.step(tern::from_seconds(0.01 * i));
+      published.push_back(logged(h.output<tern::msg::State>("truth")));
+    }
+    return published;
+  };
+  const auto first = fly();
+  h.reset();
+  const auto second = fly();
+  REQUIRE(second.size() == first.size());
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(second[i] == first[i]);
+  }
+}
+
+TEST_CASE("plugin: the initial state is start-only; a change between flights flies from the next one") {
+  tern::testing::Harness h(std::make_unique<@CLASS@>());
+  h.step(0);
+  CHECK(h.output<tern::msg::State>("truth").altitude() == doctest::Approx(100.0));
+  h.set_param("init_altitude", 150.0);  // the host refuses this in flight, takes it between flights
+  h.reset();
+  h.step(0);
+  CHECK(h.output<tern::msg::State>("truth").altitude() == doctest::Approx(150.0));
+  CHECK_FALSE(h.plugin().find_param("init_altitude")->spec().live);
 }

@@ -4,6 +4,8 @@
 //         in  current_path        msg::CurrentPath from the path manager (line or orbit)
 //         out controller_command  msg::ControllerCommand: Va_c (the path's Va_d), h_c, chi_c, phi_ff
 // Parameters: chi_inf, k_path, k_orbit (vector_field.hpp).
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new filter, counter or "warned once" flag goes there.
 #pragma once
 
 #include <cmath>
@@ -37,8 +39,8 @@ class @CLASS@ final : public tern::Plugin {
             ? tern_@NAME@::follow_orbit(path.c, path.rho, path.lambda, p, x.chi, x.Va, g)
             : tern_@NAME@::follow_line(path.r, path.q, p, x.chi, g);
     if (!std::isfinite(u.chi_c) || !std::isfinite(u.h_c)) {
-      if (!warned_) log().warn("current_path is degenerate (zero direction or NaN): command not updated");
-      warned_ = true;
+      if (!flight_.warned_degenerate) log().warn("current_path is degenerate (zero direction or NaN): command not updated");
+      flight_.warned_degenerate = true;
       return;
     }
     tern::msg::ControllerCommand c;
@@ -50,12 +52,16 @@ class @CLASS@ final : public tern::Plugin {
     command_.publish(c);
   }
 
-  void reset() override { warned_ = false; }
+  /// Between flights: as after configure().
+  void reset() override { flight_ = Flight{}; }
 
  private:
   tern::Input<tern::msg::State> state_;
   tern::Input<tern::msg::CurrentPath> path_;
   tern::Output<tern::msg::ControllerCommand> command_;
   tern::Param<double> chi_inf_, k_path_, k_orbit_;
-  bool warned_ = false;
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    bool warned_degenerate = false;  ///< the degenerate-path warning was logged (once a flight)
+  } flight_;
 };

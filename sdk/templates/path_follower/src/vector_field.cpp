@@ -5,16 +5,9 @@
 #include "tern/math.hpp"
 
 namespace tern_@NAME@ {
-namespace {
 using tern::kPi;
 using tern::kGravity;
-// angle a shifted by a multiple of 2 pi to within pi of ref (sec. 10.2)
-double unwrap_near(double a, double ref) {
-  double d = std::fmod(a - ref + kPi, 2.0 * kPi);
-  if (d < 0.0) d += 2.0 * kPi;
-  return ref + d - kPi;
-}
-}  // namespace
+using tern::unwrap_near;  // angle a shifted by a multiple of 2 pi to within pi of ref (sec. 10.2)
 
 double cross_track_error(const Eigen::Vector3d& r, const Eigen::Vector3d& q, const Eigen::Vector3d& p) {
   const double chi_q = std::atan2(q.y(), q.x());

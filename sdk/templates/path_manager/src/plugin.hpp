@@ -5,8 +5,12 @@
 //                           restarts the mission at its first segment
 //         out current_path  msg::CurrentPath: a line w_{i-1} -> w_i, or the loiter orbit
 // Parameters: default_airspeed (for waypoints without Va_d), orbit_radius, loiter_altitude.
+// Per-flight state (tern/plugin.hpp): everything a flight changes is in `flight_`, which
+// reset() replaces wholesale; a new mission state or counter goes there.
 #pragma once
 
+#include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "line_manager.hpp"
@@ -24,31 +28,27 @@ class @CLASS@ final : public tern::Plugin {
     declare(loiter_altitude_, "loiter_altitude", 100.0, ParamSpec("m", 0.0, 10000.0, "orbit altitude above the origin without waypoints"));
   }
 
-  void start() override { reset(); }
-  void reset() override {
-    manager_ = {};
-    revision_ = 0;
-    have_list_ = false;
-  }
+  /// Between flights: as after configure() (no mission until the waypoints come).
+  void reset() override { flight_ = Flight{}; }
 
   void step(tern::Nanos now) override {
+    tern_@NAME@::LineManager& manager = flight_.manager;
     const tern::msg::WaypointList& list = *waypoints_;
-    if (waypoints_.has_value() && (!have_list_ || list.revision != revision_)) {
+    if (waypoints_.has_value() && flight_.revision != list.revision) {
       std::vector<Eigen::Vector3d> w;
-      Va_d_.clear();
+      flight_.Va_d.clear();
       for (std::uint32_t k = 0; k < list.count && k < list.items.size(); ++k) {
         w.push_back(list.items[k].w);
-        Va_d_.push_back(list.items[k].Va_d);
+        flight_.Va_d.push_back(list.items[k].Va_d);
       }
-      manager_.set_waypoints(std::move(w), list.loop);
-      revision_ = list.revision;
-      have_list_ = true;
+      manager.set_waypoints(std::move(w), list.loop);
+      flight_.revision = list.revision;
     }
     const tern::msg::State& x = *state_;
     if (!x.valid) return;
-    manager_.orbit_radius = orbit_radius_();
-    manager_.loiter_altitude = loiter_altitude_();
-    const tern_@NAME@::Segment s = manager_.update({x.p_n, x.p_e, x.p_d});
+    manager.orbit_radius = orbit_radius_();
+    manager.loiter_altitude = loiter_altitude_();
+    const tern_@NAME@::Segment s = manager.update({x.p_n, x.p_e, x.p_d});
 
     tern::msg::CurrentPath path;
     path.stamp = now;
@@ -59,8 +59,9 @@ class @CLASS@ final : public tern::Plugin {
     path.rho = s.rho;
     path.lambda = static_cast<std::int8_t>(s.lambda);
     path.waypoint_index = s.index;
-    const bool has_Va = s.index >= 0 && static_cast<std::size_t>(s.index) < Va_d_.size() && Va_d_[s.index] > 0.0;
-    path.Va_d = has_Va ? Va_d_[s.index] : default_airspeed_();
+    const std::vector<double>& Va_d = flight_.Va_d;
+    const bool has_Va = s.index >= 0 && static_cast<std::size_t>(s.index) < Va_d.size() && Va_d[s.index] > 0.0;
+    path.Va_d = has_Va ? Va_d[s.index] : default_airspeed_();
     path_.publish(path);
   }
 
@@ -69,8 +70,10 @@ class @CLASS@ final : public tern::Plugin {
   tern::Input<tern::msg::WaypointList> waypoints_;
   tern::Output<tern::msg::CurrentPath> path_;
   tern::Param<double> default_airspeed_, orbit_radius_, loiter_altitude_;
-  tern_@NAME@::LineManager manager_;
-  std::vector<double> Va_d_;
-  std::uint32_t revision_ = 0;
-  bool have_list_ = false;
+  /// What a flight changes; reset() replaces it with a fresh one.
+  struct Flight {
+    tern_@NAME@::LineManager manager;      ///< the mission and the segment flown (step() gives it the parameters first)
+    std::vector<double> Va_d;              ///< airspeed of each waypoint, m/s (<= 0: default_airspeed)
+    std::optional<std::uint32_t> revision;  ///< of the waypoint list flown; none before the first
+  } flight_;
 };

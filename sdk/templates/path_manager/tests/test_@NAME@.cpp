@@ -3,10 +3,13 @@
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 
 #include "line_manager.hpp"
 #include "plugin.hpp"
+#include "tern/reflect.hpp"
 #include "tern/testing/harness.hpp"
 
 using tern_@NAME@::LineManager;
@@ -16,6 +19,17 @@ namespace {
 // A square: 0 -> 1 north 200 m, 1 -> 2 east, 2 -> 3 south, altitude 100 m.
 std::vector<Eigen::Vector3d> square() {
   return {{0, 0, -100}, {200, 0, -100}, {200, 200, -100}, {0, 200, -100}};
+}
+
+/// What the flight log records of a message: the bytes of every field its describe() names.
+template <class M>
+std::vector<unsigned char> logged(const M& m) {
+  std::vector<unsigned char> bytes;
+  for (const tern::reflect::Column& c : tern::reflect::layout<M>()) {
+    const auto* p = reinterpret_cast<const unsigned char*>(&m) + c.offset;
+    bytes.insert(bytes.end(), p, p + tern::reflect::scalar_size(c.kind));
+  }
+  return bytes;
 }
 }  // namespace
 
@@ -99,4 +113,44 @@ TEST_CASE("plugin: publishes the path once the state is valid; a new revision re
   h.set_input("state", x);
   h.step(tern::from_seconds(0.04));
   CHECK(h.output<tern::msg::CurrentPath>("current_path").waypoint_index == 1);
+}
+
+TEST_CASE("plugin: after reset() a flight is the first one again, bit for bit") {
+  // The contract of tern/plugin.hpp: what a flight changes lives in @CLASS@::Flight, which
+  // reset() replaces. Two flights of the same inputs with a reset() between them must publish
+  // the same paths; a field kept outside Flight (the segment flown, the list's revision, the
+  // waypoints' airspeeds) would carry the first flight into the second and fail this.
+  tern::testing::Harness h(std::make_unique<@CLASS@>());
+  tern::msg::WaypointList list;
+  list.revision = 1;
+  list.count = 4;
+  for (std::size_t k = 0; k < 4; ++k) list.items[k].w = square()[k];
+  list.items[2].Va_d = 20.0;
+  auto fly = [&] {
+    std::vector<std::vector<unsigned char>> published;  // per step: the path, empty if none
+    for (int i = 1; i <= 60; ++i) {  // up the first side and along the second; no state for 1 s
+      tern::msg::State x;
+      x.valid = i > 5;
+      x.p_n = std::min(10.0 * i, 200.0);
+      x.p_e = std::max(10.0 * i - 200.0, 0.0);
+      x.p_d = -100.0;
+      h.set_input("waypoints", list);
+      h.set_input("state", x);
+      const auto before = h.published("current_path");
+      h.step(tern::from_seconds(0.2 * i));
+      published.push_back(h.published("current_path") > before ? logged(h.output<tern::msg::CurrentPath>("current_path"))
+                                                               : std::vector<unsigned char>{});
+    }
+    return published;
+  };
+  const auto first = fly();
+  CHECK(first.back().size() > 0);
+  CHECK(h.output<tern::msg::CurrentPath>("current_path").waypoint_index == 3);  // past w2 by the end
+  h.reset();
+  const auto second = fly();
+  REQUIRE(second.size() == first.size());
+  for (std::size_t i = 0; i < first.size(); ++i) {
+    CAPTURE(i);
+    REQUIRE(second[i] == first[i]);
+  }
 }
