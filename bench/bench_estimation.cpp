@@ -325,10 +325,10 @@ void print_seeds(const std::vector<Flight>& flights) {
   for (const auto& f : flights) {
     std::printf("  %4llu %9.3f %8.3f %8.3f %8.3f %8.3f %9.3f %8.3f %10.3f %8.3f %8s %8.1f %7.0f %7.0f %7s %s%s\n",
                 static_cast<unsigned long long>(f.seed), f.est[HORIZ].value(), f.est[ALT].value(), f.est[HOME].value(), f.baro_home.value(),
-                f.est[ROLL].value() * tern::kDegPerRad, f.est[PITCH].value() * tern::kDegPerRad, f.est[YAW].value() * tern::kDegPerRad, f.est[COURSE].value() * tern::kDegPerRad,
-                f.est[WIND].value(), cell(f.outage.drift).c_str(), f.nees[NEES_ATT].value(), f.filter_resets + f.gnss_resets + f.mag_resets,
-                f.inflations, f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(),
-                f.crashed ? " (crashed)" : "");
+                f.est[ROLL].value() * tern::kDegPerRad, f.est[PITCH].value() * tern::kDegPerRad, f.est[YAW].value() * tern::kDegPerRad,
+                f.est[COURSE].value() * tern::kDegPerRad, f.est[WIND].value(), cell(f.outage.drift).c_str(), f.nees[NEES_ATT].value(),
+                f.filter_resets + f.gnss_resets + f.mag_resets, f.inflations,
+                f.diverged ? fmt::format("{:.1f}s", f.diverged_at).c_str() : "-", f.end_reason.c_str(), f.crashed ? " (crashed)" : "");
   }
 }
 
@@ -509,7 +509,8 @@ int main(int argc, char** argv) {
   j["window_start_s"] = kT0;
   j["wind_window_start_s"] = kT0Wind;
   for (const auto& set : sets.sets) j["settings"].push_back(set);
-  j["divergence"] = fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * tern::kDegPerRad);
+  j["divergence"] =
+      fmt::format("horizontal error > {} m or attitude error > {} deg", kDivergedPosition, kDivergedAttitude * tern::kDegPerRad);
   for (const auto& mission : missions) {
     for (const auto& profile : profiles) {
       std::vector<Flight> flights;

@@ -7,8 +7,7 @@
 
 namespace tern::core {
 
-namespace {
-}
+namespace {}
 
 void FlightMetrics::configure() {
   declare(state_, "state", "estimated state");

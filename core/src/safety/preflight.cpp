@@ -29,12 +29,13 @@ void check_covariance(const msg::State& s, const PreflightLimits& l, std::vector
   const double bias = std::sqrt(std::max({P[bg], P[bg + 1], P[bg + 2]}));
   const double pos = std::sqrt(std::max(P[pos_n], P[pos_n + 1]));
   if (!(tilt <= l.max_tilt_sigma))
-    out.push_back(fmt::format("estimator not aligned: tilt sigma {:.2f} deg > {:.2f} deg", tilt * kDegPerRad, l.max_tilt_sigma * kDegPerRad));
+    out.push_back(
+        fmt::format("estimator not aligned: tilt sigma {:.2f} deg > {:.2f} deg", tilt * kDegPerRad, l.max_tilt_sigma * kDegPerRad));
   if (!(yaw <= l.max_yaw_sigma))
     out.push_back(fmt::format("estimator not aligned: yaw sigma {:.1f} deg > {:.1f} deg", yaw * kDegPerRad, l.max_yaw_sigma * kDegPerRad));
   if (!(bias <= l.max_gyro_bias_sigma))
-    out.push_back(
-        fmt::format("estimator gyro bias not converged: sigma {:.2f} deg/s > {:.2f} deg/s", bias * kDegPerRad, l.max_gyro_bias_sigma * kDegPerRad));
+    out.push_back(fmt::format("estimator gyro bias not converged: sigma {:.2f} deg/s > {:.2f} deg/s", bias * kDegPerRad,
+                              l.max_gyro_bias_sigma * kDegPerRad));
   if (!(pos <= l.max_position_sigma)) out.push_back(fmt::format("estimator position sigma {:.1f} m > {:.1f} m", pos, l.max_position_sigma));
 }
 

@@ -53,9 +53,11 @@ std::string SafetyMonitor::silent(const SafetyInputs& in) {
 
 std::string SafetyMonitor::envelope(const msg::State& s, msg::Phase phase) {
   const SafetyLimits& l = limits_;
-  if (std::fabs(s.phi) > l.roll_max) return fmt::format("envelope: roll {:.0f} deg beyond {:.0f} deg", s.phi * kDegPerRad, l.roll_max * kDegPerRad);
+  if (std::fabs(s.phi) > l.roll_max)
+    return fmt::format("envelope: roll {:.0f} deg beyond {:.0f} deg", s.phi * kDegPerRad, l.roll_max * kDegPerRad);
   if (s.theta > l.pitch_max || s.theta < l.pitch_min)
-    return fmt::format("envelope: pitch {:.0f} deg outside {:.0f}..{:.0f} deg", s.theta * kDegPerRad, l.pitch_min * kDegPerRad, l.pitch_max * kDegPerRad);
+    return fmt::format("envelope: pitch {:.0f} deg outside {:.0f}..{:.0f} deg", s.theta * kDegPerRad, l.pitch_min * kDegPerRad,
+                       l.pitch_max * kDegPerRad);
   floor_armed_ = floor_armed_ || (airborne(phase) && s.altitude() > l.floor);
   if (floor_armed_ && s.altitude() < l.floor)
     return fmt::format("envelope: altitude {:.1f} m below the floor {:.1f} m", s.altitude(), l.floor);

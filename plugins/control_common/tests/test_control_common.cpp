@@ -11,8 +11,7 @@
 
 using namespace tern::control;
 
-namespace {
-}
+namespace {}
 
 TEST_CASE("pid: proportional, integral and derivative terms, saturation") {
   Pid pid({2.0, 1.0, 0.5, -1.0, 1.0});

@@ -61,7 +61,9 @@ TEST_CASE("slc: 90-degree course step overshoots < 10 degrees, either way and ac
       L.cmd.chi_c = chi_c * kRadPerDeg;
       const double dir = chi_c == 170.0 ? -1.0 : (chi_c > 0 ? 1.0 : -1.0);
       double overshoot = 0.0;
-      L.run(40.0, [&](double, const LinearAircraft& p) { overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kRadPerDeg) / kRadPerDeg); });
+      L.run(40.0, [&](double, const LinearAircraft& p) {
+        overshoot = std::max(overshoot, dir * wrap_pi(p.chi - chi_c * kRadPerDeg) / kRadPerDeg);
+      });
       MESSAGE(std::string(a.gains), ": course step to ", chi_c, " deg overshoots ", overshoot, " deg");
       CHECK(overshoot < 10.0);
       CHECK(std::fabs(wrap_pi(L.plant.chi - chi_c * kRadPerDeg)) < 1.0 * kRadPerDeg);

@@ -38,8 +38,8 @@ SensorParams ideal() {
 // ~100 Hz DLPF bandwidth = 157 Hz (first-order filter: pi/2 f_3dB), sqrt(157) = 12.53.
 void realistic_imu(SensorParams& p) {
   const double sqrt_enbw = std::sqrt(1.57 * 100.0);
-  p.gyro_noise = 0.004 * kRadPerDeg * sqrt_enbw;   // 4 mdps/sqrt(Hz) -> 0.050 dps = 8.7e-4 rad/s
-  p.accel_noise = 100e-6 * kG0 * sqrt_enbw;  // 100 ug/sqrt(Hz) -> 1.25 mg = 0.0123 m/s^2
+  p.gyro_noise = 0.004 * kRadPerDeg * sqrt_enbw;  // 4 mdps/sqrt(Hz) -> 0.050 dps = 8.7e-4 rad/s
+  p.accel_noise = 100e-6 * kG0 * sqrt_enbw;       // 100 ug/sqrt(Hz) -> 1.25 mg = 0.0123 m/s^2
   // Raw turn-on gyro bias: the +-1 dps initial ZRO tolerance; the FCU's boot calibration
   // (calibrate_at_boot, boot_calibration.hpp) removes it while the aircraft sits still. The
   // accelerometer's +-25 mg offset is removed by the ground calibration stored in the FCU's
@@ -49,14 +49,14 @@ void realistic_imu(SensorParams& p) {
   p.accel_calibrated_level = true;
   p.accel_calibration_tilt_range = 0.3 * kRadPerDeg;
   p.gyro_bias_range = 1.0 * kRadPerDeg;                               // rad/s: +-1 dps = 0.0175 rad/s
-  p.accel_bias_range = 0.05;                                    // m/s^2 residual of the stored calibration
-  p.gyro_bias_walk = 3e-5;                                      // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)
-  p.accel_bias_walk = 1e-3;                                     // m/s^2/sqrt(s): temperature drift in flight
-  p.gyro_scale_range = 0.01;                                    // sensitivity error +-1 % (datasheet)
-  p.accel_scale_range = 0.01;                                   // sensitivity error +-1 %
-  p.imu_cross_axis_range = 0.02;                                // cross-axis sensitivity +-2 % (datasheet)
+  p.accel_bias_range = 0.05;                                          // m/s^2 residual of the stored calibration
+  p.gyro_bias_walk = 3e-5;                                            // bias instability ~5 deg/h, as a walk in rad/s/sqrt(s)
+  p.accel_bias_walk = 1e-3;                                           // m/s^2/sqrt(s): temperature drift in flight
+  p.gyro_scale_range = 0.01;                                          // sensitivity error +-1 % (datasheet)
+  p.accel_scale_range = 0.01;                                         // sensitivity error +-1 %
+  p.imu_cross_axis_range = 0.02;                                      // cross-axis sensitivity +-2 % (datasheet)
   p.imu_misalignment = Eigen::Vector3d(0.5, -0.5, 1.0) * kRadPerDeg;  // a hand-mounted flight controller
-  p.imu_position = Eigen::Vector3d(0.05, 0.0, 0.02);            // m from the CG, body FRD
+  p.imu_position = Eigen::Vector3d(0.05, 0.0, 0.02);                  // m from the CG, body FRD
   // Full-throttle vibration of a soft-mounted FCU on an electric aircraft (PX4's vibration guidance).
   p.accel_vibration = 1.5;  // m/s^2
   p.gyro_vibration = 0.01;  // rad/s

@@ -11,7 +11,6 @@
 
 namespace tern::aero::text {
 
-
 /// Throws std::runtime_error("file: field: what").
 [[noreturn]] void fail(const std::string& file, const std::string& field, const std::string& what);
 
