@@ -2,14 +2,25 @@
 #include "commands/dds_command.hpp"
 
 #include <cstdlib>
+#include <memory>
 
 #include <fmt/format.h>
 
+#include "commands/commands.hpp"
 #include "dds_keystore.hpp"
 
 namespace tern::core {
 
-void add_dds_command(CLI::App& app, DdsCommand& c) {
+namespace {
+
+struct DdsCommand {
+  CLI::App* app = nullptr;
+  CLI::App* create = nullptr;
+  CLI::App* add_node = nullptr;
+  std::string dir, name;
+};
+
+void add_keystore_options(CLI::App& app, DdsCommand& c) {
   c.app = app.add_subcommand("dds", "DDS Security: make a keystore for `dds.security` and the clients' --keystore");
   c.app->require_subcommand(1);
   auto* ks = c.app->add_subcommand("keystore", "an SROS2-style keystore made with openssl: CA, governance, enclaves");
@@ -22,7 +33,9 @@ void add_dds_command(CLI::App& app, DdsCommand& c) {
       ->required();
 }
 
-int run_dds_command(const DdsCommand& c) {
+/// Runs the parsed subcommand: 0. Throws DdsError or std::filesystem::filesystem_error with one
+/// line (main prints it as "tern: error: ..." and exits 1).
+int run_keystore_command(const DdsCommand& c) {
   if (c.create->parsed()) {
     create_keystore(c.dir);
     fmt::print(
@@ -34,6 +47,14 @@ int run_dds_command(const DdsCommand& c) {
     fmt::print("enclave '{}' added: {}/enclaves/{} (cert.pem CN={}, permissions.p7s)\n", c.name, c.dir, c.name, c.name);
   }
   return 0;
+}
+
+}  // namespace
+
+Command add_dds_command(CLI::App& app) {
+  auto c = std::make_shared<DdsCommand>();
+  add_keystore_options(app, *c);
+  return {c->app, [c] { return run_keystore_command(*c); }};
 }
 
 void apply_client_security(DdsOptions& o, const std::optional<std::string>& keystore, const std::optional<std::string>& enclave) {

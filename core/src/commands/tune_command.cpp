@@ -1,14 +1,17 @@
-// `tern tune LOOP`: see tune_command.hpp and tune.hpp.
-#include "commands/tune_command.hpp"
+// core/src/commands/tune_command.cpp: `tern tune LOOP`: a step-response test of one control loop, flown
+// in fast time (tune.hpp does the work); prints the table and draws tune.png with tern-plot.
 
 #include <fcntl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <cstdio>
+#include <memory>
 
 #include <fmt/format.h>
 
+#include "commands/commands.hpp"
+#include "commands/tune.hpp"
 #include "config/config.hpp"
 #include "config/error.hpp"
 #include "config/override_options.hpp"
@@ -16,6 +19,14 @@
 namespace tern::core {
 
 namespace {
+
+struct TuneCommand {
+  CLI::App* app = nullptr;
+  TuneOptions options;
+  std::string seed_text;
+  bool no_plot = false;
+};
+
 /// Runs `program run_dir` with its standard output discarded; true on exit status 0.
 bool draw(const fs::path& program, const fs::path& run_dir) {
   const pid_t pid = ::fork();
@@ -31,9 +42,8 @@ bool draw(const fs::path& program, const fs::path& run_dir) {
   }
   return WIFEXITED(status) && WEXITSTATUS(status) == 0;
 }
-}  // namespace
 
-void add_tune_command(CLI::App& app, TuneCommand& tc) {
+void add_tune_options(CLI::App& app, TuneCommand& tc) {
   auto& o = tc.options;
   tc.app = app.add_subcommand("tune",
                               "step-response test of one control loop in fast time: rise time, overshoot, settling time, "
@@ -50,7 +60,9 @@ void add_tune_command(CLI::App& app, TuneCommand& tc) {
   tc.app->add_flag("--no-plot", tc.no_plot, "do not draw the figures (tern plot)");
 }
 
-int run_tune_command(TuneCommand& tc, const fs::path& default_config, const fs::path& plot_program) {
+/// Runs the test, prints the table, draws tune.png with `plot_program` (tern-plot); the exit
+/// status: 0 with at least one measured step. Throws ConfigError when no step was measured.
+int run_command(TuneCommand& tc, const fs::path& default_config, const fs::path& plot_program) {
   auto& o = tc.options;
   if (o.config.empty()) o.config = default_config;
   if (!tc.seed_text.empty()) {
@@ -77,6 +89,14 @@ int run_tune_command(TuneCommand& tc, const fs::path& default_config, const fs::
       std::fprintf(stderr, "tern: warning: %s %s failed: no plot\n", plot_program.c_str(), r.flight.run_dir.c_str());
   }
   return 0;
+}
+
+}  // namespace
+
+Command add_tune_command(CLI::App& app) {
+  auto tc = std::make_shared<TuneCommand>();
+  add_tune_options(app, *tc);
+  return {tc->app, [tc] { return run_command(*tc, default_config(), exe_dir() / "tern-plot"); }};
 }
 
 }  // namespace tern::core

@@ -1,0 +1,44 @@
+// core/src/commands/check_command.cpp: `tern check CONFIG`: validate a mission config and its
+// waypoints without flying, and print its port graph (text, or Graphviz with --dot).
+#include <cstdio>
+#include <memory>
+
+#include "commands/commands.hpp"
+#include "commands/host_preparation.hpp"
+
+namespace tern::core {
+
+namespace {
+
+struct CheckOptions {
+  std::string config;
+  bool dot = false;
+  HostPreparation prep;
+};
+
+int check(const CheckOptions& o) {
+  HostOptions opt;
+  opt.describing = true;
+  opt.quiet = true;
+  PreparedMission m = prepare_mission(o.config, o.prep);
+  Host host(std::move(m.config), opt);
+  host.build();
+  std::fputs((o.dot ? host.graph_dot() : host.graph_text()).c_str(), stdout);
+  std::fflush(stdout);
+  const bool ok = report_missions(check_missions(host));
+  if (ok && !o.dot) std::printf("config OK: %s\n", host.config().file.c_str());
+  return ok ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_check_command(CLI::App& app) {
+  auto o = std::make_shared<CheckOptions>();
+  auto* c = app.add_subcommand("check", "validate a mission config and its waypoints without flying and print its port graph");
+  c->add_option("config", o->config, "mission config (YAML)")->required();
+  c->add_flag("--dot", o->dot, "print the port graph as Graphviz instead of text");
+  add_mission_override_options(c, o->prep);
+  return {c, [o] { return check(*o); }};
+}
+
+}  // namespace tern::core

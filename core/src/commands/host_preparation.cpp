@@ -1,0 +1,88 @@
+// core/src/commands/host_preparation.cpp: the shared preparation of a host (host_preparation.hpp).
+#include "commands/host_preparation.hpp"
+
+#include <cstdio>
+
+#include "config/error.hpp"
+#include "config/override_options.hpp"
+
+namespace tern::core {
+
+void add_mission_override_options(CLI::App* cmd, HostPreparation& p) { add_override_options(cmd, p.overrides); }
+
+void add_skip_preflight_option(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_flag("--skip-preflight", p.skip_preflight,
+                "take off at t = 0 without the arming checks (quick experiments; says so in the log)");
+}
+
+void add_log_level_option(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_option("--log-level", p.log_level, "summary (no topic tables), decimated or full (overrides the config's log.level)")
+      ->check(CLI::IsMember({"summary", "decimated", "full"}));
+}
+
+void add_dds_options(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_flag("--dds", p.dds,
+                "bridge telemetry, parameters and mission edits to Fast DDS (loopback unless the config's dds: names interfaces)");
+  cmd->add_option("--dds-domain", p.dds_domain, "DDS domain id (overrides the config's dds.domain)")->check(CLI::Range(0, 232));
+}
+
+void add_console_options(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_flag("--console", p.console, "serve the flight console (a web page on 127.0.0.1; the URL with its token is printed)");
+  cmd->add_option("--console-port", p.console_port, "console port (default: a free one)");
+}
+
+namespace {
+
+void apply_skip_preflight(MissionConfig& mc) {
+  mc.phase_params["preflight"] = ParamSetting{YAML::Node(false), mc.file, "--skip-preflight", true, "--skip-preflight"};
+  mc.overrides.push_back("--skip-preflight");
+}
+
+void apply_log_level(MissionConfig& mc, const std::string& level) {
+  mc.log.level = *log_level_from_name(level);
+  if (!mc.root["log"]) mc.root["log"] = YAML::Node(YAML::NodeType::Map);
+  mc.root["log"]["level"] = level;  // config.yaml records the level flown
+}
+
+}  // namespace
+
+PreparedMission prepare_mission(const std::string& config_file, const HostPreparation& p) {
+  PreparedMission m{load_config(config_file)};
+  MissionConfig& mc = m.config;
+  apply_overrides(mc, p.overrides);
+  if (p.skip_preflight) apply_skip_preflight(mc);
+  if (p.log_level) apply_log_level(mc, *p.log_level);
+#if defined(TERN_WITH_DDS)
+  m.dds = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
+  if (p.dds) m.dds.enabled = true;
+  m.dds_enabled = m.dds.enabled;  // the config's dds: counts for --console too
+  if (p.dds_domain) {
+    m.dds.domain = *p.dds_domain;
+    // external instances (external_plugin.hpp) read the domain from dds: too
+    if (!mc.dds || !mc.dds.IsMap()) mc.dds = YAML::Node(YAML::NodeType::Map);
+    mc.dds["domain"] = *p.dds_domain;
+  }
+#else
+  if (p.dds) throw ConfigError("this tern was built without Fast DDS (install libfastrtps-dev and fastddsgen: make deps)");
+#endif
+  return m;
+}
+
+TickObservers::TickObservers(Host& host, const HostPreparation& p, const PreparedMission& m, bool realtime) {
+  if (p.console) {
+    if (!realtime) throw ConfigError("--console needs --realtime (a page cannot follow a flight in fast time)");
+    if (m.dds_enabled) throw ConfigError("--console and --dds cannot be used together yet (both watch every tick); use one");
+    console_ = std::make_unique<Console>(host, console_asset_dir(), p.console_port);
+    std::printf("console: %s\n", console_->url().c_str());
+    std::fflush(stdout);
+  }
+#if defined(TERN_WITH_DDS)
+  if (m.dds.enabled) bridge_ = std::make_unique<DdsBridge>(host, m.dds);
+#endif
+}
+
+TickObservers::~TickObservers() = default;
+
+std::string TickObservers::console_url() const { return console_ ? console_->url() : std::string(); }
+
+}  // namespace tern::core
