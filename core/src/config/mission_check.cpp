@@ -42,7 +42,7 @@ path::MissionLimits limits_of(const Host& host) {
   for (const auto& inst : host.instances()) {
     if (inst->info.name == "sim_aero" && !l.origin) {
       const auto lat = number(*inst, "origin_lat"), lon = number(*inst, "origin_lon"), alt = number(*inst, "origin_alt");
-      if (lat && lon && alt) l.origin = path::GeoOrigin{*lat, *lon, *alt};
+      if (lat && lon && alt) l.origin = GeoPoint{*lat, *lon, *alt};
     }
     if (inst->info.name == "path_manager") {
       const auto r = number(*inst, "R_min");

@@ -4,39 +4,14 @@
 #include <limits>
 #include <optional>
 
-#include <GeographicLib/LocalCartesian.hpp>
-
 namespace tern::core {
 
-struct CommonFrame::Impl {
-  GeographicLib::LocalCartesian local;  // ENU about the reference
-  // ENU about the last other origin asked for (an estimator keeps one origin per flight)
-  std::optional<GeographicLib::LocalCartesian> about;
-  GeoPoint about_origin;
-};
-
-CommonFrame::CommonFrame(const GeoPoint& reference)
-    : reference_(reference),
-      impl_(std::make_unique<Impl>(Impl{GeographicLib::LocalCartesian(reference.lat, reference.lon, reference.alt), {}, {}})) {}
-CommonFrame::~CommonFrame() = default;
-CommonFrame::CommonFrame(CommonFrame&&) noexcept = default;
-CommonFrame& CommonFrame::operator=(CommonFrame&&) noexcept = default;
-
-Eigen::Vector3d CommonFrame::ned(const GeoPoint& p) const {
-  double e = 0, n = 0, u = 0;
-  impl_->local.Forward(p.lat, p.lon, p.alt, e, n, u);
-  return {n, e, -u};
-}
+Eigen::Vector3d CommonFrame::ned(const GeoPoint& p) const { return local_.to_ned(p); }
 
 Eigen::Vector3d CommonFrame::ned(const GeoPoint& origin, const Eigen::Vector3d& x) const {
-  if (origin == reference_) return x;
-  if (!impl_->about || !(impl_->about_origin == origin)) {
-    impl_->about.emplace(origin.lat, origin.lon, origin.alt);
-    impl_->about_origin = origin;
-  }
-  GeoPoint p;
-  impl_->about->Reverse(x.y(), x.x(), -x.z(), p.lat, p.lon, p.alt);
-  return ned(p);
+  if (origin == reference()) return x;
+  if (!about_ || about_->origin() != origin) about_.emplace(origin);
+  return ned(about_->to_geodetic(x));
 }
 
 namespace {

@@ -3,32 +3,24 @@
 // the simulator's truth is about the simulator's origin. Both State messages carry their
 // origin's latitude, longitude and altitude, so every figure that compares them (flight metrics,
 // `tern replay`, bench_estimation) first maps the estimate into the truth's frame, and computes
-// the raw-GNSS baseline (a fix's lat/lon/alt) in that same frame. WGS-84, exact (GeographicLib's
-// LocalCartesian: local tangent plane at each origin).
+// the raw-GNSS baseline (a fix's lat/lon/alt) in that same frame. WGS-84, exact (tern::GeoOrigin of
+// tern/geodesy.hpp: local tangent plane at each origin).
 #pragma once
 
-#include <memory>
+#include <optional>
 
 #include <Eigen/Core>
 
+#include "tern/geodesy.hpp"
 #include "tern/msg/all.hpp"
 
 namespace tern::core {
 
-/// Geodetic point: latitude, longitude (deg), altitude (m; MSL as the messages report it).
-struct GeoPoint {
-  double lat = 0, lon = 0, alt = 0;
-  bool operator==(const GeoPoint& o) const { return lat == o.lat && lon == o.lon && alt == o.alt; }
-};
-
 /// NED (m) about a reference origin of geodetic points and of NED positions about other origins.
 class CommonFrame {
  public:
-  explicit CommonFrame(const GeoPoint& reference);
-  ~CommonFrame();
-  CommonFrame(CommonFrame&&) noexcept;
-  CommonFrame& operator=(CommonFrame&&) noexcept;
-  const GeoPoint& reference() const { return reference_; }
+  explicit CommonFrame(const GeoPoint& reference) : local_(reference) {}
+  const GeoPoint& reference() const { return local_.origin(); }
 
   /// A geodetic point in the reference frame, NED m.
   Eigen::Vector3d ned(const GeoPoint& p) const;
@@ -37,9 +29,8 @@ class CommonFrame {
   Eigen::Vector3d ned(const GeoPoint& origin, const Eigen::Vector3d& ned_about_origin) const;
 
  private:
-  struct Impl;
-  GeoPoint reference_;
-  std::unique_ptr<Impl> impl_;
+  GeoOrigin local_;                         // NED about the reference
+  mutable std::optional<GeoOrigin> about_;  // NED about the last other origin asked for (an estimator keeps one per flight)
 };
 
 inline GeoPoint origin_of(const msg::State& s) { return {s.origin_lat, s.origin_lon, s.origin_alt}; }

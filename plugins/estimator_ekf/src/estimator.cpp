@@ -258,11 +258,7 @@ Eigen::Quaterniond Estimator::attitude_from_accel_mag(const Vec3& f, const Vec3&
   return quaternion_from_euler(phi, theta, psi);
 }
 
-Vec3 Estimator::ned_from_geodetic(double lat, double lon, double alt) const {
-  double e = 0, n = 0, u = 0;
-  origin_->Forward(lat, lon, alt, e, n, u);
-  return {n, e, -u};
-}
+Vec3 Estimator::ned_from_geodetic(double lat, double lon, double alt) const { return origin_->to_ned(lat, lon, alt); }
 
 bool Estimator::add_imu(const msg::Imu& m) {
   const bool ok = m.accel.allFinite() && m.gyro.allFinite() && m.accel.cwiseAbs().maxCoeff() <= cfg_.accel_max &&

@@ -20,8 +20,8 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <GeographicLib/LocalCartesian.hpp>
 
+#include "tern/geodesy.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/sensors.hpp"
 #include "tern/time.hpp"
@@ -142,7 +142,10 @@ class TruthSim {
     m.stamp = now();
     m.fix_type = msg::FixType::fix_3d;
     m.num_sats = 12;
-    geo_.Reverse(p.y(), p.x(), -p.z(), m.lat, m.lon, m.alt);
+    const GeoPoint fix = geo_.to_geodetic(p);
+    m.lat = fix.lat;
+    m.lon = fix.lon;
+    m.alt = fix.alt;
     m.vel = truth_.v + noise3(o_.gnss_vel_noise);
     m.h_acc = o_.gnss_h;
     m.v_acc = o_.gnss_v;
@@ -174,11 +177,7 @@ class TruthSim {
     return m;
   }
   /// NED position (sim frame) of a geodetic point.
-  Eigen::Vector3d ned_of(double lat, double lon, double alt) const {
-    double e = 0, n = 0, u = 0;
-    geo_.Forward(lat, lon, alt, e, n, u);
-    return {n, e, -u};
-  }
+  Eigen::Vector3d ned_of(double lat, double lon, double alt) const { return geo_.to_ned(lat, lon, alt); }
   Eigen::Vector3d wind_ned() const { return {o_.wind.x(), o_.wind.y(), 0.0}; }
   Eigen::Vector3d air_velocity_body() const { return truth_.R.transpose() * (truth_.v - wind_ned()); }
 
@@ -233,7 +232,7 @@ class TruthSim {
 
   SimOptions o_;
   std::mt19937_64 rng_;
-  GeographicLib::LocalCartesian geo_;
+  GeoOrigin geo_;
   Truth truth_;
   Eigen::Vector3d gnss_err_;
   std::int64_t k_ = 0;

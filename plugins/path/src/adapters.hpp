@@ -62,9 +62,9 @@ class PlannerPlugin final : public Plugin {
   bool loop_ = true;
   bool dirty_ = true;  ///< the list changed since the last publish
   bool waiting_logged_ = false;
-  bool held_ = false;                ///< edits made with publish_now = false wait to be published
-  bool immediate_ = false;           ///< the next list published is flown at once (set_current)
-  std::optional<GeoOrigin> origin_;  ///< origin the published list was converted with
+  bool held_ = false;               ///< edits made with publish_now = false wait to be published
+  bool immediate_ = false;          ///< the next list published is flown at once (set_current)
+  std::optional<GeoPoint> origin_;  ///< origin the published list was converted with
   std::uint32_t revision_ = 0;
   std::uint64_t edits_ = 0;
 };

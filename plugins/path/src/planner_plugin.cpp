@@ -161,7 +161,7 @@ void PlannerPlugin::step(Nanos now) {
     }
   }
   if (state_.has_value() && state_->origin_valid) {
-    const GeoOrigin o{state_->origin_lat, state_->origin_lon, state_->origin_alt};
+    const GeoPoint o{state_->origin_lat, state_->origin_lon, state_->origin_alt};
     const bool changed = !origin_ || origin_->lat != o.lat || origin_->lon != o.lon || origin_->alt != o.alt;
     if (changed && std::isfinite(o.lat) && std::isfinite(o.lon) && std::isfinite(o.alt) && std::fabs(o.lat) <= 90.0 &&
         std::fabs(o.lon) <= 180.0) {

@@ -84,7 +84,7 @@ waypoints:
   CHECK(m.waypoints[1].Va_d == 18.0);
   CHECK(m.waypoints[2].use_chi);
   CHECK(m.waypoints[3].lla);
-  const GeoOrigin o{40.2455, -111.6480, 1450.0};
+  const tern::GeoPoint o{40.2455, -111.6480, 1450.0};
   const auto ned = resolve_to_ned(m.waypoints, o);
   const GeographicLib::LocalCartesian lc(o.lat, o.lon, o.alt);
   for (int i : {1, 3}) {
@@ -131,7 +131,7 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("file: fixedwing_mission.yaml\nwaypoints: []"), "give either waypoints or file, not both"));
   CHECK(contains(error_of("waypoints: 3"), "waypoints: expected a list"));
   CHECK_THROWS_AS(parse_mission_text("waypoints: [ {ned: [1, 2, 3]", "broken.yaml"), MissionError);
-  CHECK_THROWS_AS(lla_to_ned(Eigen::Vector3d(91, 0, 0), GeoOrigin{}), MissionError);
+  CHECK_THROWS_AS(lla_to_ned(Eigen::Vector3d(91, 0, 0), tern::GeoPoint{}), MissionError);
 }
 
 TEST_CASE("mission: loiter and return_home items (issue 18), in a section and in a ROSplane file") {

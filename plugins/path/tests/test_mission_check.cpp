@@ -13,7 +13,7 @@ using namespace tern::path;
 namespace {
 
 // The simulator's default origin (sim_aero sensor_params.hpp).
-const GeoOrigin kOrigin{40.2463724, -111.6474138, 1387.0};
+const tern::GeoPoint kOrigin{40.2463724, -111.6474138, 1387.0};
 
 std::vector<MissionProblem> problems(const std::string& text, const MissionLimits& l = {}) {
   return check_mission(parse_mission_text(text, "m.yaml"), l);

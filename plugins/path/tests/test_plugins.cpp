@@ -545,7 +545,7 @@ TEST_CASE("plugins: LLA waypoints wait for the origin, then publish the Geograph
   const auto& list = p.output<msg::WaypointList>("waypoints");
   CHECK(list.count == 2);
   CHECK(list.items[0].w == Vec3(100, 0, -60));
-  const Vec3 expect = lla_to_ned(Vec3(40.2466, -111.6470, 1480.5), GeoOrigin{40.2455, -111.6480, 1450.0});
+  const Vec3 expect = lla_to_ned(Vec3(40.2466, -111.6470, 1480.5), GeoPoint{40.2455, -111.6480, 1450.0});
   CHECK(list.items[1].w == expect);
   CHECK_FALSE(list.items[1].lla);
   p.step(30'000'000);

@@ -14,8 +14,7 @@ double standard_temperature(double h) { return 288.15 - 0.0065 * h; }
 
 double standard_pressure(double h) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588); }
 
-// WGS-84 geodetic <-> ECEF <-> local NED. Written here rather than taken from GeographicLib: that
-// library's GNU-unique symbols would keep the plugin loaded after dlclose (hot-swap needs it gone).
+// WGS-84 geodetic <-> ECEF <-> local NED (see WorldGeodesy in sensors.hpp).
 namespace {
 constexpr double kWgs84A = 6378137.0;                   // semi-major axis, m
 constexpr double kWgs84F = 1.0 / 298.257223563;         // flattening
@@ -44,28 +43,24 @@ void ecef_to_geodetic(const Eigen::Vector3d& r, double& lat_rad, double& lon_rad
 }
 }  // namespace
 
-struct GeoOrigin::Impl {
-  Eigen::Vector3d ecef0;
-  Eigen::Matrix3d R;  // ECEF -> NED at the origin
-};
-
-GeoOrigin::GeoOrigin(double lat, double lon, double alt) : impl_(std::make_unique<Impl>()) {
-  const double phi = lat * kRadPerDeg, lam = lon * kRadPerDeg;
-  impl_->ecef0 = geodetic_to_ecef(phi, lam, alt);
+WorldGeodesy::WorldGeodesy(const GeoPoint& origin) {
+  const double phi = origin.lat * kRadPerDeg, lam = origin.lon * kRadPerDeg;
+  ecef0_ = geodetic_to_ecef(phi, lam, origin.alt);
   const double sp = std::sin(phi), cp = std::cos(phi), sl = std::sin(lam), cl = std::cos(lam);
-  impl_->R << -sp * cl, -sp * sl, cp, -sl, cl, 0.0, -cp * cl, -cp * sl, -sp;
+  R_ << -sp * cl, -sp * sl, cp, -sl, cl, 0.0, -cp * cl, -cp * sl, -sp;
 }
-GeoOrigin::~GeoOrigin() = default;
 
-void GeoOrigin::to_geodetic(const Eigen::Vector3d& ned, double& lat, double& lon, double& alt) const {
+GeoPoint WorldGeodesy::to_geodetic(const Eigen::Vector3d& ned) const {
   double phi = 0, lam = 0;
-  ecef_to_geodetic(impl_->ecef0 + impl_->R.transpose() * ned, phi, lam, alt);
-  lat = phi / kRadPerDeg;
-  lon = lam / kRadPerDeg;
+  GeoPoint p;
+  ecef_to_geodetic(ecef0_ + R_.transpose() * ned, phi, lam, p.alt);
+  p.lat = phi / kRadPerDeg;
+  p.lon = lam / kRadPerDeg;
+  return p;
 }
 
-Eigen::Vector3d GeoOrigin::to_ned(double lat, double lon, double alt) const {
-  return impl_->R * (geodetic_to_ecef(lat * kRadPerDeg, lon * kRadPerDeg, alt) - impl_->ecef0);
+Eigen::Vector3d WorldGeodesy::to_ned(const GeoPoint& p) const {
+  return R_ * (geodetic_to_ecef(p.lat * kRadPerDeg, p.lon * kRadPerDeg, p.alt) - ecef0_);
 }
 
 // ---------------------------------------------------------------- error models -------------
@@ -90,7 +85,7 @@ Eigen::Vector3d earth_field_ned(const SensorParams& p) {
 Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
     : p_(p),
       seed_(seed),
-      origin_(std::make_unique<GeoOrigin>(p.origin_lat, p.origin_lon, p.origin_alt)),
+      origin_(std::make_unique<WorldGeodesy>(GeoPoint{p.origin_lat, p.origin_lon, p.origin_alt})),
       mount_T_(tern::rotation_from_euler(p.imu_misalignment.x(), p.imu_misalignment.y(), p.imu_misalignment.z()).transpose()) {
   reset();
 }
@@ -251,7 +246,10 @@ GnssSample Sensors::gnss(const Truth& t, double dt) {
   const Eigen::Vector3d r = p_.gnss_antenna_position;
   const Eigen::Vector3d w = t.x.segment<3>(P), v = t.x.segment<3>(U);
   GnssSample m;
-  origin_->to_geodetic(t.x.segment<3>(PN) + R * r + gnss_gm_, m.lat, m.lon, m.alt);
+  const GeoPoint fix = origin_->to_geodetic(t.x.segment<3>(PN) + R * r + gnss_gm_);
+  m.lat = fix.lat;
+  m.lon = fix.lon;
+  m.alt = fix.alt;
   m.vel_ned = R * (v + w.cross(r)) + gnss_vel_gm_;
   m.h_acc = p_.gnss_h_acc;
   m.v_acc = p_.gnss_v_acc;

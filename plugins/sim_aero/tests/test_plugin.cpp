@@ -197,7 +197,7 @@ TEST_CASE("plugin: a GNSS fix is delivered gnss_latency after its time of validi
   std::uint64_t seen = 0;
   std::vector<Nanos> delivered, valid;
   std::vector<double> north_at_validity, north_reported;
-  const tern::sim::GeoOrigin origin(40.2463724, -111.6474138, 1387.0);
+  const tern::GeoOrigin origin(40.2463724, -111.6474138, 1387.0);
   std::map<Nanos, double> truth_north;
   for (Nanos t = 0; t <= from_seconds(1.0); t += dt) {
     h.step(t);

@@ -165,11 +165,10 @@ TEST_CASE("sensors: the ideal profile gives exactly the true values") {
     CHECK(s.baro(t, 0.01).pressure == standard_pressure(p.origin_alt + 75));
     CHECK(s.diff_pressure(t, 0.01).pressure == 0.5 * t.rho * 17 * 17);
     const GnssSample g = s.gnss(t, 0.1);
-    double lat = 0, lon = 0, alt = 0;
-    s.origin().to_geodetic(t.x.segment<3>(PN), lat, lon, alt);
-    CHECK(g.lat == lat);
-    CHECK(g.lon == lon);
-    CHECK(g.alt == alt);
+    const tern::GeoPoint fix = s.origin().to_geodetic(t.x.segment<3>(PN));
+    CHECK(g.lat == fix.lat);
+    CHECK(g.lon == fix.lon);
+    CHECK(g.alt == fix.alt);
     CHECK(g.vel_ned == attitude(t.x).toRotationMatrix() * Eigen::Vector3d(t.x.segment<3>(U)));
     CHECK(g.h_acc > 0);
     CHECK(g.h_acc < 0.1);
@@ -446,7 +445,8 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
   CHECK((h1.mag(level, 0.02).field - b0 - o1).norm() < 1e-20);  // constant in time
   // soft iron: S recovered from three attitudes, each element of S - I within +-2 %
   const SensorParams ps = ideal_with([](SensorParams& p) { p.mag_soft_iron_range = 0.02; });
-  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0), make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * tern::kRadPerDeg),
+  const StateVector xs[3] = {make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0),
+                             make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 90 * tern::kRadPerDeg),
                              make_state({0, 0, -100}, {17, 0, 0}, 90 * tern::kRadPerDeg, 0, 0)};
   double worst = 0;
   for (std::uint64_t k = 0; k < 100; ++k) {

@@ -6,7 +6,6 @@
 #include <fstream>
 #include <sstream>
 
-#include <GeographicLib/LocalCartesian.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include "number_text.hpp"
@@ -354,20 +353,17 @@ Mission load_mission_file(const std::filesystem::path& file) {
   return parse_mission_text(ss.str(), file.string());
 }
 
-Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoOrigin& o) {
+Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoPoint& o) {
   MissionWaypoint probe;
   probe.w = lla;
   probe.lla = true;
   validate_waypoint(probe, "lla_to_ned");
   probe.w = Eigen::Vector3d(o.lat, o.lon, o.alt);
   validate_waypoint(probe, "lla_to_ned origin");
-  const GeographicLib::LocalCartesian proj(o.lat, o.lon, o.alt);
-  double x = 0.0, y = 0.0, z = 0.0;  // east, north, up
-  proj.Forward(lla.x(), lla.y(), lla.z(), x, y, z);
-  return {y, x, -z};
+  return GeoOrigin(o).to_ned(lla.x(), lla.y(), lla.z());
 }
 
-std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoOrigin& origin) {
+std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoPoint& origin) {
   std::vector<MissionWaypoint> out = wps;
   for (auto& wp : out) {
     if (!wp.lla) continue;

@@ -15,6 +15,7 @@
 #include <Eigen/Core>
 #include <boost/random/normal_distribution.hpp>
 
+#include "tern/geodesy.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
 #include "tern_sim_aero/model.hpp"
 
@@ -141,21 +142,22 @@ struct GnssSample {
 double standard_pressure(double h);
 double standard_temperature(double h);
 
-/// NED position about an origin -> WGS-84 latitude, longitude (deg) and altitude (m above the
-/// ellipsoid, reported as MSL: no geoid), and back; exact on the ellipsoid (local tangent plane
-/// at the origin, as GeographicLib's LocalCartesian).
-class GeoOrigin {
+/// The simulated world's geodesy: NED position about the simulator's origin <-> WGS-84 latitude,
+/// longitude (deg) and altitude (m above the ellipsoid, reported as MSL: no geoid), exact on the
+/// ellipsoid (through ECEF, the latitude iterated to convergence). The estimator and the host
+/// convert with tern::GeoOrigin (tern/geodesy.hpp, GeographicLib's LocalCartesian), which gives
+/// the same points to 3e-14 deg and 4e-9 m but not the same last bits: the world keeps this
+/// arithmetic so that every flight stays bit-identical to the reference logs.
+class WorldGeodesy {
  public:
-  GeoOrigin(double lat, double lon, double alt);
-  ~GeoOrigin();
-  GeoOrigin(const GeoOrigin&) = delete;
-  GeoOrigin& operator=(const GeoOrigin&) = delete;
-  void to_geodetic(const Eigen::Vector3d& ned, double& lat, double& lon, double& alt) const;
-  Eigen::Vector3d to_ned(double lat, double lon, double alt) const;
+  explicit WorldGeodesy(const GeoPoint& origin);
+  GeoPoint to_geodetic(const Eigen::Vector3d& ned) const;
+  Eigen::Vector3d to_ned(const GeoPoint& p) const;
+  Eigen::Vector3d to_ned(double lat, double lon, double alt) const { return to_ned(GeoPoint{lat, lon, alt}); }
 
  private:
-  struct Impl;
-  std::unique_ptr<Impl> impl_;
+  Eigen::Vector3d ecef0_;
+  Eigen::Matrix3d R_;  // ECEF -> NED at the origin
 };
 
 /// The sensor error states and their draws. All functions advance error states by dt, the time
@@ -191,7 +193,7 @@ class Sensors {
   const Eigen::Vector3d& accel_calibration() const { return accel_cal_; }
   /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
   const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
-  const GeoOrigin& origin() const { return *origin_; }
+  const WorldGeodesy& origin() const { return *origin_; }
 
  private:
   double gauss() { return n_(rng_); }
@@ -213,7 +215,7 @@ class Sensors {
   std::mt19937_64 rng_;
   boost::random::normal_distribution<double> n_{0.0, 1.0};
   std::uniform_real_distribution<double> u_{0.0, 1.0};
-  std::unique_ptr<GeoOrigin> origin_;
+  std::unique_ptr<WorldGeodesy> origin_;
   Eigen::Matrix3d mount_T_;           ///< R_mount^T: body -> IMU axes (fixed)
   Eigen::Matrix3d accel_M_, gyro_M_;  ///< I + scale and cross-axis terms (per seed)
   Eigen::Matrix3d mag_soft_;          ///< soft iron S = I + E (per seed)

@@ -11,7 +11,7 @@
 //   1. Before initialisation, IMU samples feed low-pass averages of accel, gyro and mag, and
 //      barometer samples feed the ground calibration (the first baro_calibration_count samples).
 //   2. The first GNSS solution with fix_type >= min_fix_type sets the origin (lat, lon, alt):
-//      NED positions are those of GeographicLib::LocalCartesian at the origin.
+//      NED positions are those of tern::GeoOrigin (tern/geodesy.hpp) at the origin.
 //   3. Initialisation needs the origin, init_min_imu_samples IMU samples and, if a magnetometer
 //      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
 //      At rest, roll and pitch come from the averaged specific force, yaw from the
@@ -55,11 +55,10 @@
 #include <string>
 #include <vector>
 
-#include <GeographicLib/LocalCartesian.hpp>
-
 #include "tern/estimator_ekf/filter.hpp"
 #include "tern/estimator_ekf/history.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
+#include "tern/geodesy.hpp"
 #include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
 #include "tern/msg/state.hpp"
@@ -592,7 +591,7 @@ class Estimator {
   bool expect_mag_ = true;
   std::array<bool, kSensorCount> expected_{true, true, true, true, true};
   Nanos first_check_ = -1;  ///< the first check_timeouts() call: when the silence of a never-heard sensor starts
-  std::optional<GeographicLib::LocalCartesian> origin_;
+  std::optional<tern::GeoOrigin> origin_;
   double origin_lat_ = 0.0, origin_lon_ = 0.0, origin_alt_ = 0.0;
   Nanos origin_stamp_ = 0;
 

@@ -1,5 +1,5 @@
 // tern/path/mission.hpp: reading missions (waypoint lists) and converting latitude/longitude
-// to local NED. Plain C++ (yaml-cpp, GeographicLib), no host types: the path planner plugin,
+// to local NED. Plain C++ (yaml-cpp, tern/geodesy.hpp), no host types: the path planner plugin,
 // the host's command line and its DDS bridge use the same functions, so a file that one of
 // them accepts, all accept.
 //
@@ -52,6 +52,7 @@
 
 #include <Eigen/Core>
 
+#include "tern/geodesy.hpp"
 #include "tern/path/item.hpp"
 
 namespace YAML {
@@ -109,20 +110,14 @@ Mission load_mission_file(const std::filesystem::path& file);
 /// Reads a mission from text (tern or ROSplane format); `source` names it in errors.
 Mission parse_mission_text(const std::string& text, const std::string& source);
 
-/// Geodetic origin of the local NED frame (the estimator's origin_lat/lon/alt).
-struct GeoOrigin {
-  double lat = 0.0;  ///< deg
-  double lon = 0.0;  ///< deg
-  double alt = 0.0;  ///< m (same datum as the waypoints' altitudes)
-};
-
-/// NED position (m) of (lat deg, lon deg, alt m) relative to the origin, computed with
-/// GeographicLib::LocalCartesian (WGS84, exact, no flat-earth approximation). Throws
+/// NED position (m) of (lat deg, lon deg, alt m) relative to the origin of the local NED frame
+/// (the estimator's origin_lat/lon/alt; alt on the waypoints' datum), computed with
+/// tern::GeoOrigin (tern/geodesy.hpp: WGS-84, exact, no flat-earth approximation). Throws
 /// MissionError for out-of-range or non-finite input.
-Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoOrigin& origin);
+Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoPoint& origin);
 
 /// The mission's waypoints with every LLA position converted to NED (the others unchanged).
-std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoOrigin& origin);
+std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoPoint& origin);
 
 /// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0); `where` names it
 /// in the error, e.g. "mission_edit 7". Throws MissionError.

@@ -35,7 +35,7 @@ struct MissionLimits {
   std::optional<double> R_min;                     ///< m, the minimum turn radius; none: legs are not checked
   std::string R_min_name = "R_min";
   double min_separation = 1.0;                                   ///< m: closer consecutive waypoints are repeats (horizontal)
-  std::optional<GeoOrigin> origin;                               ///< home as latitude/longitude/altitude; none: LLA not placed
+  std::optional<GeoPoint> origin;                                ///< home as latitude/longitude/altitude; none: LLA not placed
   std::optional<double> fence_max_distance;                      ///< m, horizontal from home
   std::optional<double> fence_min_altitude, fence_max_altitude;  ///< m above home
 };
