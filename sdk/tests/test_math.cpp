@@ -1,6 +1,7 @@
 #include <doctest/doctest.h>
 
 #include "tern/math.hpp"
+#include "tern/random.hpp"
 #include "tern/time.hpp"
 
 using namespace tern;
@@ -13,6 +14,18 @@ TEST_CASE("wrap_pi maps every angle to [-pi, pi)") {
   CHECK(wrap_2pi(-0.5) == doctest::Approx(2 * kPi - 0.5));
   CHECK(wrap_2pi(-1e-17) < 2 * kPi);  // rounds to 2 pi in the sum: must come back as 0
   CHECK(unwrap_near(3.0, -3.0) == doctest::Approx(3.0 - 2 * kPi));
+}
+
+TEST_CASE("angle constants: rad per deg and deg per rad") {
+  CHECK(90.0 * kRadPerDeg == doctest::Approx(kPi / 2));
+  CHECK(kPi * kDegPerRad == doctest::Approx(180.0));
+  CHECK(kRadPerDeg * kDegPerRad == doctest::Approx(1.0));
+}
+
+TEST_CASE("splitmix64: Vigna's reference outputs") {
+  // splitmix64.c seeded with 0 returns splitmix64(0), then splitmix64(0x9e3779b97f4a7c15), ...
+  CHECK(splitmix64(0) == 0xe220a8397b1dcdafULL);
+  CHECK(splitmix64(0x9e3779b97f4a7c15ULL) == 0x6e789e6aa1b965f4ULL);
 }
 
 TEST_CASE("Euler, quaternion and rotation matrix agree and round-trip") {

@@ -2,6 +2,9 @@
 #include "tern/estimator_ekf/measurements.hpp"
 
 #include <algorithm>
+#include <cmath>
+
+#include "tern/math.hpp"
 
 namespace tern::ekf {
 
@@ -89,7 +92,9 @@ MagHeading::Vec MagHeading::h(const NominalState& x) const {
 
 MagHeading::Vec MagHeading::residual(const NominalState& x, const Vec& z) const {
   const double d = z(0) - h(x)(0);
-  return Vec(std::remainder(d, 2.0 * 3.14159265358979323846));
+  // std::remainder is exact for |d| <= pi; tern::wrap_pi rounds (d + pi) - pi by up to 2e-16 rad,
+  // and fused on the ground each flight that would move every shipped flight log's last bits.
+  return Vec(std::remainder(d, 2.0 * kPi));
 }
 
 MagHeading::Jac MagHeading::jacobian(const NominalState& x) const {
