@@ -32,6 +32,7 @@
 #include "flight/host.hpp"
 #include "local_pool.hpp"
 #include "progress.hpp"
+#include "tern/aircraft.hpp"
 
 #ifndef TERN_PYTHON3
 #define TERN_PYTHON3 "/usr/bin/python3"
@@ -140,6 +141,9 @@ int run(const Options& o) {
   host.build();
   ParamCatalogue params;
   for (const auto& [name, p] : host.parameters()) params[name] = p;
+  // The base aircraft is checked by the reader sim_aero uses (tern/aircraft.hpp: one error naming
+  // the file, field and value); its YAML tree is what the dispersions perturb and each flight writes.
+  if (!base.aircraft.empty()) tern::load_aircraft(base.aircraft.string());
   const YAML::Node aircraft = base.aircraft.empty() ? YAML::Node() : YAML::LoadFile(base.aircraft.string());
   const std::vector<Resolved> dispersions = resolve_dispersions(c, params, aircraft);
 

@@ -10,7 +10,7 @@
 #include "closed_loop.hpp"
 #include "control_slc.hpp"
 #include "control_tecs.hpp"
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/simulator.hpp"
 #include "tern_sim_aero/trim.hpp"
 #include "tern_sim_aero/wind.hpp"
@@ -61,7 +61,7 @@ struct Flight {
   msg::FlightPhase phase;
   Nanos t = 0;
   Flight(const std::string& aircraft, std::unique_ptr<Plugin> ctl, const std::string& gains)
-      : sim(sim::load_aircraft(aircraft), 7), h(std::move(ctl), testmodel::load_gains(gains)) {
+      : sim(tern::load_aircraft(aircraft), 7), h(std::move(ctl), testmodel::load_gains(gains)) {
     phase.phase = msg::Phase::cruise;
   }
   void start_at_trim(double Va, double altitude) {

@@ -16,8 +16,8 @@
 #include <vector>
 
 #include <spdlog/spdlog.h>
-#include <yaml-cpp/yaml.h>
 
+#include "tern/aircraft.hpp"
 #include "tern/estimator_ekf/estimator.hpp"
 #include "tern/math.hpp"
 #include "tern/plugin.hpp"
@@ -152,60 +152,24 @@ class EstimatorEkf final : public tern::Plugin {
   const tern::ekf::Estimator& estimator() const { return estimator_; }
 
  private:
-  /// Reads what the estimator can use from an aircraft file, in tern's format (mass, wing: S and c,
-  /// environment: rho, aero: C_Y_*, C_L_*) or ROSflight's (`<node>: ros__parameters:` with mass,
-  /// wing_s, wing_c, rho, C_Y_*, C_L_*). Missing keys keep the defaults. Throws
-  /// std::runtime_error (the file, the key and the value) on a value that is not a finite number.
+  /// Takes what the estimator can use from the aircraft file (tern or ROSflight format, read and
+  /// validated by tern/aircraft.hpp): air density, mass, wing area and chord, the side-force
+  /// (C_Y_*) and lift (C_L_*) coefficients. Throws std::runtime_error naming the file, the field
+  /// and the value (a missing required field, a non-finite or implausible number).
   static void read_aircraft(const std::string& path, EstimatorConfig& c) {
-    // The aerodynamic coefficients: tern's `aero:` key, ROSflight's parameter (and its spelling
-    // with a letter O for zero).
-    struct Coefficient {
-      const char* key;
-      const char* rosflight_alias;
-      double EstimatorConfig::*dst;
-    };
-    static constexpr Coefficient kCoefficients[] = {{"C_Y_0", "C_Y_O", &EstimatorConfig::C_Y_0},
-                                                    {"C_Y_beta", nullptr, &EstimatorConfig::C_Y_beta},
-                                                    {"C_Y_delta_a", nullptr, &EstimatorConfig::C_Y_delta_a},
-                                                    {"C_Y_delta_r", nullptr, &EstimatorConfig::C_Y_delta_r},
-                                                    {"C_L_0", "C_L_O", &EstimatorConfig::C_L_0},
-                                                    {"C_L_alpha", nullptr, &EstimatorConfig::C_L_alpha},
-                                                    {"C_L_q", nullptr, &EstimatorConfig::C_L_q},
-                                                    {"C_L_delta_e", nullptr, &EstimatorConfig::C_L_delta_e}};
-    try {
-      const YAML::Node ac = YAML::LoadFile(path);
-      // A number where the key is present; NaN or infinity (YAML's .nan, .inf) is an error.
-      const auto take = [&](const YAML::Node& parent, const char* key, double& dst) {
-        const YAML::Node n = parent[key];
-        if (!n || !n.IsScalar()) return;
-        const double v = n.as<double>();
-        if (!std::isfinite(v)) throw std::runtime_error(path + ": " + key + ": " + n.Scalar() + " is not a finite number");
-        dst = v;
-      };
-      if (ac["environment"]) take(ac["environment"], "rho", c.rho);
-      take(ac, "mass", c.mass);
-      if (ac["wing"]) {
-        take(ac["wing"], "S", c.wing_S);
-        take(ac["wing"], "c", c.wing_c);
-      }
-      if (const YAML::Node aero = ac["aero"])
-        for (const auto& k : kCoefficients) take(aero, k.key, c.*k.dst);
-      if (ac.IsMap())
-        for (const auto& node : ac) {
-          const YAML::Node rp = node.second.IsMap() ? node.second["ros__parameters"] : YAML::Node();
-          if (!rp || !rp.IsMap()) continue;
-          take(rp, "rho", c.rho);
-          take(rp, "mass", c.mass);
-          take(rp, "wing_s", c.wing_S);
-          take(rp, "wing_c", c.wing_c);
-          for (const auto& k : kCoefficients) {
-            take(rp, k.key, c.*k.dst);
-            if (k.rosflight_alias != nullptr) take(rp, k.rosflight_alias, c.*k.dst);
-          }
-        }
-    } catch (const YAML::Exception& e) {
-      throw std::runtime_error(path + ": cannot read the aircraft's rho, mass, wing area and chord, C_Y_* or C_L_*: " + e.what());
-    }
+    const tern::Aircraft ac = tern::load_aircraft(path);
+    c.rho = ac.rho;
+    c.mass = ac.mass;
+    c.wing_S = ac.S;
+    c.wing_c = ac.c;
+    c.C_Y_0 = ac.aero.C_Y_0;
+    c.C_Y_beta = ac.aero.C_Y_beta;
+    c.C_Y_delta_a = ac.aero.C_Y_delta_a;
+    c.C_Y_delta_r = ac.aero.C_Y_delta_r;
+    c.C_L_0 = ac.aero.C_L_0;
+    c.C_L_alpha = ac.aero.C_L_alpha;
+    c.C_L_q = ac.aero.C_L_q;
+    c.C_L_delta_e = ac.aero.C_L_delta_e;
   }
 
   tern::Input<tern::msg::Imu> imu_;

@@ -5,9 +5,9 @@
 #include <sstream>
 
 #include <spdlog/spdlog.h>
-#include <yaml-cpp/yaml.h>
 
 #include "fcu_serial_plugin.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_fcu_serial/firmware.hpp"
 
 namespace tern::fcu_serial {
@@ -130,19 +130,11 @@ std::array<double, 3> FcuSerial::default_max_deflection() const {
 }
 
 std::array<double, 3> FcuSerial::aircraft_max_deflection() const {
-  std::array<double, 3> m{kDefaultMaxDeflection, kDefaultMaxDeflection, kDefaultMaxDeflection};
   const std::filesystem::path f = context().aircraft_file();
-  if (f.empty() || !std::filesystem::exists(f)) return m;
-  try {
-    const YAML::Node s = YAML::LoadFile(f.string())["servos"];
-    if (!s || !s.IsMap()) return m;
-    const char* keys[] = {"max_delta_a", "max_delta_e", "max_delta_r"};
-    for (std::size_t i = 0; i < 3; ++i)
-      if (s[keys[i]]) m[i] = s[keys[i]].as<double>();
-  } catch (const YAML::Exception& e) {
-    throw std::runtime_error(f.string() + ": servos: " + e.what());
-  }
-  return m;
+  if (f.empty()) return {kDefaultMaxDeflection, kDefaultMaxDeflection, kDefaultMaxDeflection};
+  // tern or ROSflight format, validated (tern/aircraft.hpp): an error names the file, field and value.
+  const tern::Aircraft ac = tern::load_aircraft(f.string());
+  return {ac.max_delta_a, ac.max_delta_e, ac.max_delta_r};
 }
 
 fcu::ActuatorMap FcuSerial::actuator_map(std::array<double, 3> max_deflection) const {

@@ -49,7 +49,7 @@ Row measure(const std::string& name, long n, F&& f) {
 
 int main() {
   const std::string aircraft = std::string(TERN_AIRCRAFT_DIR) + "/anaconda.yaml";
-  const tern::sim::Aircraft ac = tern::sim::load_aircraft(aircraft);
+  const tern::Aircraft ac = tern::load_aircraft(aircraft);
   const tern::sim::TrimResult tr = tern::sim::compute_trim(ac, tern::sim::TrimRequest{});
   std::vector<Row> rows;
 

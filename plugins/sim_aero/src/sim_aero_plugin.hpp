@@ -24,7 +24,7 @@
 #include "tern/math.hpp"
 #include "tern/plugin.hpp"
 #include "sensor_params.hpp"
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
@@ -275,7 +275,7 @@ class SimAero final : public tern::Plugin {
                        ".aircraft': no aircraft file (set it, or the mission config's aircraft: key)");
     }
     if (aircraft_data_ && path == aircraft_path_) return;
-    aircraft_data_ = sim::load_aircraft(path);
+    aircraft_data_ = tern::load_aircraft(path);
     aircraft_path_ = path;
     log().info("aircraft {} from {}", aircraft_data_->name, path);
   }
@@ -606,7 +606,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;
 
-  std::optional<sim::Aircraft> aircraft_data_;
+  std::optional<tern::Aircraft> aircraft_data_;
   std::string aircraft_path_;  ///< the file aircraft_data_ came from
   std::unique_ptr<sim::Simulator> sim_;
   std::unique_ptr<sim::Sensors> sensors_;

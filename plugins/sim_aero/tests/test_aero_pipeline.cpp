@@ -16,7 +16,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "aero_pipeline.hpp"
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern/math.hpp"
 
 namespace sim = tern::sim;
@@ -180,7 +180,7 @@ TEST_CASE("VSPAERO .stab (VSPAERO 6/7 layout): operating point, control groups b
   // the written file loads as sim_aero reads it, with the same numbers
   const auto path = temp_file("trainer.yaml");
   write_file(path, aero::aircraft_yaml(r.aircraft, {"test"}));
-  const sim::Aircraft back = sim::load_aircraft(path.string());
+  const tern::Aircraft back = tern::load_aircraft(path.string());
   CHECK(back.aero.C_ell_p == Approx(a.C_ell_p));
   CHECK(back.aero.C_L_delta_e == Approx(a.C_L_delta_e));
   CHECK(back.mass == 4.5);
@@ -318,7 +318,7 @@ TEST_CASE("XFLR5 v6 analysis log: derived C_L and density, stability -> body axe
 }
 
 TEST_CASE("round trip: the Anaconda -> VSPAERO-layout .stab (per-degree control groups) and .polar -> import") {
-  const sim::Aircraft ac = sim::load_aircraft(kAircraft + "/anaconda.yaml");
+  const tern::Aircraft ac = tern::load_aircraft(kAircraft + "/anaconda.yaml");
   const auto& a = ac.aero;
   const double al = 3.0 * kPi / 180, d2r = kPi / 180;
   const double CL = a.C_L_0 + a.C_L_alpha * al, Cm = a.C_m_0 + a.C_m_alpha * al;
@@ -421,7 +421,7 @@ TEST_CASE("malformed input: one line naming the file and field") {
 }
 
 TEST_CASE("linearize the Aerosonde at 25 m/s: trim-derived transfer functions and state-space entries") {
-  const sim::Aircraft ac = sim::load_aircraft(kAircraft + "/aerosonde.yaml");
+  const tern::Aircraft ac = tern::load_aircraft(kAircraft + "/aerosonde.yaml");
   sim::TrimRequest req;
   req.Va = 25.0;
   const aero::LinearModel lm = aero::linearize(ac, req);
@@ -459,7 +459,7 @@ TEST_CASE("linearize the Aerosonde at 25 m/s: trim-derived transfer functions an
 }
 
 TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yaml's designed values") {
-  const sim::Aircraft ac = sim::load_aircraft(kAircraft + "/anaconda.yaml");
+  const tern::Aircraft ac = tern::load_aircraft(kAircraft + "/anaconda.yaml");
   sim::TrimRequest req;
   req.Va = 17.0;
   const auto g = aero::design_gains(aero::linearize(ac, req), aero::DesignOptions{});
@@ -480,7 +480,7 @@ TEST_CASE("gains for the Anaconda at 17 m/s reproduce configs/gains/anaconda.yam
 }
 
 TEST_CASE("modes of the Aerosonde at 25 m/s: eigenvalues against the textbook approximations") {
-  const sim::Aircraft ac = sim::load_aircraft(kAircraft + "/aerosonde.yaml");
+  const tern::Aircraft ac = tern::load_aircraft(kAircraft + "/aerosonde.yaml");
   sim::TrimRequest req;
   req.Va = 25.0;
   const aero::LinearModel lm = aero::linearize(ac, req);

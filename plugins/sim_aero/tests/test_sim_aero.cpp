@@ -15,15 +15,18 @@
 #include <yaml-cpp/yaml.h>
 
 #include "statistics.hpp"
+#include "tern/aircraft.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
 #include "tern_sim_aero/trim.hpp"
 #include "tern_sim_aero/wind.hpp"
 
+using tern::Aircraft;
 using tern::kGravity;
+using tern::load_aircraft;
+using tern::parse_aircraft;
 
 using namespace tern::sim;
 using tern::sim::test::mean;

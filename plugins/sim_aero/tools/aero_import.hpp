@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 
 namespace tern::aero {
 
@@ -91,7 +91,7 @@ struct Default {
 };
 
 struct ImportResult {
-  sim::Aircraft aircraft;
+  tern::Aircraft aircraft;
   std::vector<Default> defaults;
 };
 
@@ -103,7 +103,7 @@ struct ImportResult {
 ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar, const std::string& name,
                             const std::string& propulsion_from = "");
 
-/// tern aircraft file text (loadable by sim::load_aircraft). `header` lines become comments.
-std::string aircraft_yaml(const sim::Aircraft& ac, const std::vector<std::string>& header);
+/// tern aircraft file text (loadable by tern::load_aircraft). `header` lines become comments.
+std::string aircraft_yaml(const tern::Aircraft& ac, const std::vector<std::string>& header);
 
 }  // namespace tern::aero

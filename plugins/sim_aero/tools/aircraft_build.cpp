@@ -58,7 +58,7 @@ MassProperties load_mass_file(const std::string& path) {
 ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, const PolarFit* polar, const std::string& name,
                             const std::string& propulsion_from) {
   ImportResult r;
-  sim::Aircraft& ac = r.aircraft;
+  tern::Aircraft& ac = r.aircraft;
   ac.name = name;
   ac.source = t.source;
   ac.mass = m.mass;
@@ -79,7 +79,7 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
   ac.rho = t.rho > 0 ? t.rho : 1.225;
   if (!(t.rho > 0)) D.push_back({"environment.rho", ac.rho, by + ": ISA sea level"});
   if (!propulsion_from.empty()) {
-    const sim::Aircraft p = sim::load_aircraft(propulsion_from);
+    const tern::Aircraft p = tern::load_aircraft(propulsion_from);
     ac.prop = p.prop;
     ac.servo_tau = p.servo_tau;
     ac.max_delta_a = p.max_delta_a;
@@ -116,7 +116,7 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
     D.push_back({"wing.M", ac.M, "typical: the book's blending rate"});
     D.push_back({"wing.alpha0", ac.alpha0, "typical: the book's stall angle (27 deg)"});
     D.push_back({"wing.stall_blend", 0.0, "false: linear lift (as ROSflight); the VLM gives no stall"});
-    ac.gear.points = sim::default_gear_points(ac.b);
+    ac.gear.points = tern::default_gear_points(ac.b);
     D.push_back({"gear.*", std::numeric_limits<double>::quiet_NaN(), "sim_aero's default tricycle scaled by the span"});
   }
 
@@ -211,11 +211,11 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
       D.push_back({"aero.C_D_p", 0.03, "no .polar and no viscous drag in the analysis: typical small UAV"});
     }
   }
-  sim::validate(ac);
+  tern::validate_aircraft(ac);
   return r;
 }
 
-std::string aircraft_yaml(const sim::Aircraft& ac, const std::vector<std::string>& header) {
+std::string aircraft_yaml(const tern::Aircraft& ac, const std::vector<std::string>& header) {
   std::ostringstream o;
   o << std::setprecision(10);
   for (const auto& h : header) o << "# " << h << "\n";

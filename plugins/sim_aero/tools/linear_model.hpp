@@ -10,7 +10,7 @@
 
 #include <Eigen/Core>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/trim.hpp"
 
 namespace tern::aero {
@@ -27,6 +27,6 @@ struct LinearModel {
 };
 
 /// Trims `ac` as `req` asks and linearizes about the trim.
-LinearModel linearize(const sim::Aircraft& ac, const sim::TrimRequest& req);
+LinearModel linearize(const tern::Aircraft& ac, const sim::TrimRequest& req);
 
 }  // namespace tern::aero

@@ -9,7 +9,7 @@
 
 namespace tern::aero {
 
-LinearModel linearize(const sim::Aircraft& ac, const sim::TrimRequest& req) {
+LinearModel linearize(const tern::Aircraft& ac, const sim::TrimRequest& req) {
   LinearModel lm;
   lm.Va = req.Va;
   lm.trim = sim::compute_trim(ac, req);

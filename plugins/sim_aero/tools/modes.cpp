@@ -139,7 +139,7 @@ Modes dynamic_modes(const LinearModel& lm) {
   return m;
 }
 
-ModeApproximations approximate_modes(const sim::Aircraft& ac, const LinearModel& lm) {
+ModeApproximations approximate_modes(const tern::Aircraft& ac, const LinearModel& lm) {
   const auto& a = ac.aero;
   const auto& k = lm.tf;
   const double Va = lm.Va, m = ac.mass, S = ac.S, b = ac.b, g = tern::kGravity;

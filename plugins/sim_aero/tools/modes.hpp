@@ -20,7 +20,7 @@
 #include <vector>
 
 #include "linear_model.hpp"
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 
 namespace tern::aero {
 
@@ -67,7 +67,7 @@ struct ModeApproximations {
   double spiral_lambda = 0;                           ///< 1/s
   double dutch_roll_wn = 0, dutch_roll_zeta = 0;      ///< rad/s, -
 };
-ModeApproximations approximate_modes(const sim::Aircraft& ac, const LinearModel& lm);
+ModeApproximations approximate_modes(const tern::Aircraft& ac, const LinearModel& lm);
 
 /// The modes as a readable table, then the approximations, every line starting with "# ".
 std::string modes_table(const Modes& modes, const ModeApproximations& approx);

@@ -37,7 +37,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/trim.hpp"
 
@@ -112,7 +112,7 @@ json state_json(const sim::StateVector& x) {
 }
 
 int eval(const std::string& file, const std::string& state_s, const std::string& delta_s, const std::string& wind_s) {
-  const sim::Aircraft ac = sim::load_aircraft(file);
+  const tern::Aircraft ac = tern::load_aircraft(file);
   const auto st =
       parse_object(state_s, "state", {"p_n", "p_e", "p_d", "u", "v", "w", "phi", "theta", "psi", "e0", "e1", "e2", "e3", "p", "q", "r"});
   const bool euler = st.count("phi") || st.count("theta") || st.count("psi");
@@ -162,7 +162,6 @@ int eval(const std::string& file, const std::string& state_s, const std::string&
   return 0;
 }
 
-
 // The trim as a readable table ('#' lines, degrees and percent throttle).
 void print_trim_table(std::ostream& os, const std::string& name, double Va, double gamma, double R, const sim::TrimResult& t) {
   os << "# trim of the " << name << " (Beard & McLain ch. 5)\n";
@@ -186,7 +185,7 @@ void print_trim_table(std::ostream& os, const std::string& name, double Va, doub
 }
 
 int trim(const std::string& file, double Va, double gamma, double R, double altitude, const std::string& json_out) {
-  const sim::Aircraft ac = sim::load_aircraft(file);
+  const tern::Aircraft ac = tern::load_aircraft(file);
   sim::TrimRequest req;
   req.Va = Va;
   req.gamma = gamma;
@@ -312,7 +311,7 @@ int import_cmd(const ImportArgs& a) {
   f << tern::aero::aircraft_yaml(r.aircraft, header);
   if (!f) throw std::runtime_error(a.out + ": write failed");
   f.close();
-  sim::load_aircraft(a.out);  // the file must load as sim_aero reads it
+  tern::load_aircraft(a.out);  // the file must load as sim_aero reads it
   return 0;
 }
 
@@ -349,7 +348,7 @@ json approx_json(const tern::aero::ModeApproximations& a) {
 }
 
 int linearize_cmd(const std::string& file, double Va, double gamma, double R, const std::string& json_out) {
-  const sim::Aircraft ac = sim::load_aircraft(file);
+  const tern::Aircraft ac = tern::load_aircraft(file);
   sim::TrimRequest req;
   req.Va = Va;
   req.gamma = gamma;
@@ -401,7 +400,7 @@ int linearize_cmd(const std::string& file, double Va, double gamma, double R, co
 }
 
 int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOptions& o, const std::string& out_file) {
-  const sim::Aircraft ac = sim::load_aircraft(file);
+  const tern::Aircraft ac = tern::load_aircraft(file);
   sim::TrimRequest req;
   req.Va = Va;
   const tern::aero::LinearModel lm = tern::aero::linearize(ac, req);

@@ -81,7 +81,7 @@ firmware::Params load_params(const std::string& file) {
 Emulator::Emulator(const Options& o, Port& port)
     : o_(o),
       port_(port),
-      ac_(sim::load_aircraft(o.aircraft)),
+      ac_(tern::load_aircraft(o.aircraft)),
       sim_(ac_, o.seed),
       sensors_(sim::SensorParams{}, o.seed ^ 0x9E3779B97F4A7C15ull),
       boot_params_(load_params(o.params)),

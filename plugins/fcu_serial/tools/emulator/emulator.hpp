@@ -22,7 +22,7 @@
 #include "rc_script.hpp"
 #include "tern_fcu_serial/codec.hpp"
 #include "tern_fcu_serial/fcu_side.hpp"
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
 
@@ -91,7 +91,7 @@ class Emulator {
 
   Options o_;
   Port& port_;
-  sim::Aircraft ac_;
+  tern::Aircraft ac_;
   sim::Simulator sim_;
   sim::Sensors sensors_;
   firmware::Params boot_params_;

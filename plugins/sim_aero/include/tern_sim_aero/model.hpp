@@ -12,7 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern/math.hpp"
 
 namespace tern::sim {

@@ -9,7 +9,7 @@
 #include <string>
 #include <string_view>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/wind.hpp"
 

@@ -13,7 +13,7 @@
 #include <limits>
 #include <string>
 
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
 
 namespace tern::sim {

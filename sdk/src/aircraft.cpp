@@ -1,5 +1,5 @@
 // Aircraft file loader: tern format and ROSflight `*_dynamics.yaml` (see aircraft.hpp).
-#include "tern_sim_aero/aircraft.hpp"
+#include "tern/aircraft.hpp"
 
 #include <cmath>
 #include <map>
@@ -11,7 +11,7 @@
 
 #include "tern/math.hpp"
 
-namespace tern::sim {
+namespace tern {
 namespace {
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& what) {
@@ -415,7 +415,7 @@ std::vector<ContactPoint> default_gear_points(double b) {
   return {ContactPoint(0.15 * b, 0.0, 0.06 * b), ContactPoint(-0.03 * b, 0.1 * b, 0.06 * b), ContactPoint(-0.03 * b, -0.1 * b, 0.06 * b)};
 }
 
-void validate(const Aircraft& ac) {
+void validate_aircraft(const Aircraft& ac) {
   const std::string& src = ac.source;
   auto positive = [&](double v, const char* field, const char* unit) {
     if (!std::isfinite(v) || !(v > 0)) fail(src, field, "value " + num(v) + " must be > 0 " + unit);
@@ -463,7 +463,7 @@ Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source) {
     if (v.IsMap() && v["ros__parameters"]) ros = true;
   }
   Aircraft ac = ros ? parse_rosflight(doc, source) : parse_tern(doc, source);
-  validate(ac);
+  validate_aircraft(ac);
   return ac;
 }
 
@@ -479,4 +479,4 @@ Aircraft load_aircraft(const std::string& path) {
   return parse_aircraft(doc, path);
 }
 
-}  // namespace tern::sim
+}  // namespace tern

@@ -1,6 +1,7 @@
-// tern_sim_aero/aircraft.hpp: the parameters of a fixed-wing aircraft for the uavbook model
-// (Beard & McLain, *Small Unmanned Aircraft*, ch. 3-4 and the propulsion supplement), and the
-// loader of aircraft files.
+// tern/aircraft.hpp: the parameters of a fixed-wing aircraft for the uavbook model (Beard &
+// McLain, *Small Unmanned Aircraft*, ch. 3-4 and the propulsion supplement), and the one reader
+// of aircraft files: the simulator (sim_aero), the estimator (estimator_ekf), the flight
+// controller link (fcu_serial) and the campaigns (core/src/campaign) read the file through it.
 //
 // Two file formats are read:
 //  * tern's own format (configs/aircraft/*.yaml): sections mass/inertia/environment/wing/aero/
@@ -17,7 +18,7 @@
 // Errors: every problem (file missing, malformed YAML, unknown key, missing required field,
 // non-finite or out-of-range value such as a negative mass or inertia, a value no small aircraft
 // has, such as a coefficient of 2.7e300 or an air density in g/m^3: the plausible ranges are
-// in aircraft.cpp) throws std::runtime_error with one line "<file>:<line>: <field>: <what is
+// in sdk/src/aircraft.cpp) throws std::runtime_error with one line "<file>:<line>: <field>: <what is
 // wrong>" (no line for a document built in code, or for a problem of several fields).
 #pragma once
 
@@ -27,11 +28,13 @@
 
 #include <Eigen/Core>
 
+#include "tern/export.hpp"
+
 namespace YAML {
 class Node;
 }
 
-namespace tern::sim {
+namespace tern {
 
 /// Aerodynamic coefficients of the uavbook model (book section 4.2, symbols as in the book).
 /// Dimensionless; rates are normalised by c/(2 Va) (longitudinal) or b/(2 Va) (lateral).
@@ -104,17 +107,17 @@ struct Aircraft {
 
 /// Loads an aircraft file (tern or ROSflight format, detected from its content).
 /// Throws std::runtime_error "<path>: <field>: <problem>".
-Aircraft load_aircraft(const std::string& path);
+TERN_API Aircraft load_aircraft(const std::string& path);
 
 /// Same, from an already parsed document; `source` names it in error messages.
-Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source);
+TERN_API Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source);
 
 /// Checks ranges (positive mass, inertia, geometry, J_x J_z > J_xz^2, finite values, limits);
 /// throws std::runtime_error naming the field. Called by the loaders.
-void validate(const Aircraft& ac);
+TERN_API void validate_aircraft(const Aircraft& ac);
 
 /// Default gear when a file names none: a tricycle scaled by the span b (nose 0.15 b ahead,
 /// mains 0.03 b behind the CG at +-0.1 b, wheels 0.06 b below the CG).
-std::vector<ContactPoint> default_gear_points(double b);
+TERN_API std::vector<ContactPoint> default_gear_points(double b);
 
-}  // namespace tern::sim
+}  // namespace tern

@@ -1,0 +1,69 @@
+// The aircraft-file reader (tern/aircraft.hpp) on both formats and on bad files.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
+
+#include "tern/aircraft.hpp"
+#include "tern/math.hpp"
+
+using namespace tern;
+
+namespace {
+const std::string kTern = std::string(TERN_AIRCRAFT_DIR) + "/anaconda.yaml";
+const std::string kRosflight = std::string(TERN_SIM_AERO_TEST_DATA) + "/anaconda_dynamics.yaml";
+
+/// The error message of loading `path` ("" when it loads).
+std::string error_of(const std::string& path) {
+  try {
+    load_aircraft(path);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "";
+}
+
+/// anaconda.yaml with the line starting `key_line` replaced, written to a temporary file.
+std::string anaconda_with(const std::string& key_line, const std::string& replacement) {
+  const std::filesystem::path out = std::filesystem::temp_directory_path() / "tern_sdk_test_aircraft.yaml";
+  std::ifstream in(kTern);
+  std::ofstream o(out);
+  for (std::string line; std::getline(in, line);) o << (line.rfind(key_line, 0) == 0 ? replacement : line) << "\n";
+  return out.string();
+}
+}  // namespace
+
+TEST_CASE("aircraft: tern's format and ROSflight's give the Anaconda alike") {
+  const Aircraft t = load_aircraft(kTern), r = load_aircraft(kRosflight);
+  for (const Aircraft* a : {&t, &r}) {
+    CAPTURE(a->source);
+    CHECK(a->mass == 4.5);
+    CHECK(a->rho == 1.2682);
+    CHECK(a->S == doctest::Approx(0.52));
+    CHECK(a->aero.C_L_0 == doctest::Approx(0.506));  // ROSflight spells it C_L_O
+    CHECK(a->aero.C_Y_beta == doctest::Approx(-0.98));
+    CHECK(a->max_delta_a == doctest::Approx(40.0 * kRadPerDeg).epsilon(1e-6));  // ROSflight: degrees
+  }
+  CHECK(t.stall_blend);
+  CHECK_FALSE(r.stall_blend);  // ROSflight's simulator: linear lift
+}
+
+TEST_CASE("aircraft: a NaN names the file, the line, the field and the value") {
+  const std::string f = anaconda_with("  C_L_alpha:", "  C_L_alpha: .nan");
+  const std::string e = error_of(f);
+  CHECK(e.rfind(f + ":", 0) == 0);
+  CHECK(e.find(": aero.C_L_alpha: value .nan is not finite") != std::string::npos);
+  std::filesystem::remove(f);
+}
+
+TEST_CASE("aircraft: a word where a number belongs is refused with the word") {
+  const std::string f = anaconda_with("mass:", "mass: heavy");
+  CHECK(error_of(f).find("mass: expected a number, got 'heavy'") != std::string::npos);
+  std::filesystem::remove(f);
+}
+
+TEST_CASE("aircraft: a missing file is one error naming it") {
+  CHECK(error_of("/nonexistent/aircraft.yaml") == "/nonexistent/aircraft.yaml: cannot open aircraft file");
+}
