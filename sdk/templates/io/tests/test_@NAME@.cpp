@@ -91,14 +91,14 @@ TEST_CASE("plugin: publishes a valid truth from the initial state and follows co
 TEST_CASE("plugin: after reset() a flight is the first one again, bit for bit") {
   // The contract of tern/plugin.hpp: what a flight changes lives in @CLASS@::Flight, which
   // reset() replaces. Two flights of the same commands with a reset() between them must publish
-  // the same truth; a field kept outside Flight (the model's state, the time of the last step)
-  // would carry the first flight into the second and fail this.
+  // the same truth; a field kept outside Flight (the model's state and last valid command, the
+  // time of the last step) would carry the first flight into the second and fail this.
   tern::testing::Harness h(std::make_unique<@CLASS@>(), {{"init_heading", 0.5}});
   auto fly = [&h] {
     std::vector<std::vector<unsigned char>> published;
-    for (int i = 0; i <= 500; ++i) {  // 5 s of a climbing right turn, faster
+    for (int i = 0; i <= 500; ++i) {  // 5 s: no valid command for 0.5 s, then a climbing right turn, faster
       tern::msg::ControllerCommand c;
-      c.chi_c = 2.0;
+      c.chi_c = i < 50 ? NAN : 2.0;
       c.h_c = 120.0;
       c.Va_c = 20.0;
       h.set_input("controller_command", c);
