@@ -94,7 +94,7 @@ FlightResult fly_with_ground_station(const std::string& yaml, const std::string&
   Host h(load_config(write_file("flight.yaml", yaml)), o);
   h.build();
   const tern::Nanos last = tern::from_seconds(heard_until);
-  h.set_tick_observer([&h, last](tern::Nanos now) {
+  h.add_tick_observer([&h, last](tern::Nanos now) {
     if (now % 1'000'000'000 == 0 && now <= last) h.ground_link_heard();
   });
   return h.fly();

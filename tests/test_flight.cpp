@@ -243,3 +243,33 @@ TEST_CASE("edit_mission without a mission_edit reader is an error") {
   CHECK_THROWS_WITH_AS(h.edit_mission(tern::msg::MissionEdit{}), doctest::Contains("no plugin instance reads topic 'mission_edit'"),
                        ConfigError);
 }
+
+TEST_CASE("several tick observers: each sees every tick; one that throws is removed, the others go on") {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "observers";
+  Host h(load_config(write_file("obs.yaml", base_config())), o);
+  h.build();
+  int a = 0, b = 0, thrown = 0, removed = 0;
+  h.add_tick_observer([&](tern::Nanos) { ++a; });
+  const int second = h.add_tick_observer([&](tern::Nanos) { ++b; });
+  h.add_tick_observer([&](tern::Nanos now) {
+    if (now >= 1'000'000'000) {
+      ++thrown;
+      throw std::runtime_error("observer failed");
+    }
+  });
+  const int gone = h.add_tick_observer([&](tern::Nanos) { ++removed; });
+  h.remove_tick_observer(gone);
+  const FlightResult r = h.fly();
+  REQUIRE(r.ok);
+  CHECK(a > 100);
+  CHECK(b == a);
+  CHECK(thrown == 1);  // removed after it threw
+  CHECK(removed == 0);
+  h.remove_tick_observer(second);
+  const int before = b;
+  REQUIRE(h.fly().ok);
+  CHECK(b == before);
+  CHECK(a == 2 * before);
+}

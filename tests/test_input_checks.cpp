@@ -92,7 +92,7 @@ TEST_CASE("a start-only parameter is refused in flight ('takes effect next fligh
   tern::core::Host h(tern::core::load_config(write_file("start_only.yaml", base_config())), o);
   h.build();
   std::string refused;
-  h.set_tick_observer([&](tern::Nanos now) {
+  const int observer = h.add_tick_observer([&](tern::Nanos now) {
     if (now != 1'000'000'000) return;
     h.request_param("ctl.kp", 0.06, "dds");  // a live one is taken in flight
     try {
@@ -107,7 +107,7 @@ TEST_CASE("a start-only parameter is refused in flight ('takes effect next fligh
   const std::string params1 = read_file(first.run_dir / "params.csv");
   CHECK(params1.find("\n1.002500000,ctl.kp,0.06,dds\n") != std::string::npos);
   CHECK(params1.find("sensor.h0,5") == std::string::npos);
-  h.set_tick_observer(nullptr);
+  h.remove_tick_observer(observer);
   h.request_param("sensor.h0", 7.0, "dds");  // between flights: the sensor starts from it
   const auto second = h.fly();
   CHECK(read_file(second.run_dir / "params.csv").find("\n0.000000000,sensor.h0,7,dds\n") != std::string::npos);

@@ -43,7 +43,16 @@ void Harness::step(Nanos now) {
   for (auto* in : plugin_->inputs()) in->mark_seen();
 }
 
-void Harness::reset() { plugin_->reset(); }
+void Harness::reset() {
+  plugin_->reset();
+  // as the host does between flights: every output empty, and the inputs hear nothing of the
+  // last flight until a test publishes again
+  for (OutputBase* out : plugin_->outputs()) out->clear();
+  for (auto& [port, feeder] : feeders_) {
+    feeder->clear();
+    plugin_->find_input(port)->bind(feeder.get());
+  }
+}
 
 void Harness::stop() {
   if (started_) plugin_->stop();

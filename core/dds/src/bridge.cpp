@@ -62,6 +62,7 @@ Resp success(const std::string& message = "") {
 
 struct DdsBridge::Impl {
   Host& host;
+  int observer_id = 0;  // the host's tick observer: tick()
   /// every request is the ground station speaking: the link-loss failsafe's "heard"
   const std::function<void()> heard = [this] { host.ground_link_heard(); };
   DdsOptions options;
@@ -471,7 +472,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   // after ros_params and graph: a bridge_topic request may arrive at once, and announce() uses both
   m.start_services();
   m.announce();
-  host.set_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
+  m.observer_id = host.add_tick_observer([impl = impl_.get()](Nanos now) { impl->tick(now); });
   std::string ifs;
   for (const auto& i : options.interfaces) ifs += (ifs.empty() ? "" : ", ") + i;
   host.logger()->info("DDS bridge: domain {}, namespace '{}', interfaces {}{}, {} topics, services under rq/{}", options.domain, options.ns,
@@ -483,7 +484,7 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
                         options.security->enclave, options.security->keystore.string());
 }
 
-DdsBridge::~DdsBridge() { impl_->host.set_tick_observer(nullptr); }
+DdsBridge::~DdsBridge() { impl_->host.remove_tick_observer(impl_->observer_id); }
 
 std::vector<DdsBridge::Published> DdsBridge::published() const {
   std::lock_guard lk(impl_->writers_mu);

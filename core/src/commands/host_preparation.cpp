@@ -71,7 +71,6 @@ PreparedMission prepare_mission(const std::string& config_file, const HostPrepar
 TickObservers::TickObservers(Host& host, const HostPreparation& p, const PreparedMission& m, bool realtime) {
   if (p.console) {
     if (!realtime) throw ConfigError("--console needs --realtime (a page cannot follow a flight in fast time)");
-    if (m.dds_enabled) throw ConfigError("--console and --dds cannot be used together yet (both watch every tick); use one");
     console_ = std::make_unique<Console>(host, console_asset_dir(), p.console_port);
     std::printf("console: %s\n", console_->url().c_str());
     std::fflush(stdout);

@@ -66,7 +66,8 @@ PreparedMission prepare_mission(const std::string& config_file, const HostPrepar
 /// in the reverse order.
 class TickObservers {
  public:
-  /// Throws ConfigError when the console cannot be served (needs `realtime`; not beside DDS yet).
+  /// Throws ConfigError when the console cannot be served (it needs `realtime`). The console and
+  /// the DDS bridge can watch one host together (Host::add_tick_observer).
   TickObservers(Host& host, const HostPreparation& p, const PreparedMission& m, bool realtime);
   ~TickObservers();
   TickObservers(const TickObservers&) = delete;

@@ -218,7 +218,7 @@ TuneResult run_tune(const TuneOptions& o) {
   host.build();
   r.overrides = host.config().overrides;
   std::vector<Sample> x;
-  host.set_tick_observer(recorder(host, *r.loop, x));
+  host.add_tick_observer(recorder(host, *r.loop, x));
   r.flight = host.fly();
   r.engaged_s = engagement(host);
   r.steps = measure(x, r.amplitude, r.period, r.engaged_s);

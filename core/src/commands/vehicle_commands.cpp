@@ -131,7 +131,8 @@ Command add_param(CLI::App& app) {
   o->get->add_option("name", o->name, "instance.param")->required();
   o->describe = c->add_subcommand("describe", "one parameter's descriptor (rcl_interfaces describe_parameters)");
   o->describe->add_option("name", o->name, "instance.param")->required();
-  o->set = c->add_subcommand("set", "change a parameter (validated; applied at the next tick; logged)");
+  o->set = c->add_subcommand(
+      "set", "change a parameter (validated; applied at the next tick, a start-only one when the next flight starts; logged)");
   o->set->add_option("name", o->name, "instance.param")->required();
   o->set->add_option("value", o->value, "a number, true/false, text, or [a, b, c]")->required();
   o->save = c->add_subcommand("save", "write every parameter to a YAML file on the vehicle");
@@ -151,8 +152,11 @@ Command add_param(CLI::App& app) {
                 fmt::print("{}", describe_param(client.param_get(o.name)));
               } else if (o.set->parsed()) {
                 const ParamValue v = to_param_value(YAML::Load(o.value), "command line", o.name);
+                const bool start_only = client.param_get(o.name).read_only;  // the vehicle refuses those in flight
                 client.param_set(o.name, v);
-                fmt::print("{} = {} (applied at the vehicle's next tick)\n", o.name, to_string(v));
+                fmt::print(
+                    "{} = {} ({})\n", o.name, to_string(v),
+                    start_only ? "start-only: takes effect when the vehicle's next flight starts" : "applied at the vehicle's next tick");
               } else if (o.save->parsed()) {
                 fmt::print("saved: {}\n", client.param_save(o.file, o.overwrite));
               }

@@ -38,12 +38,12 @@ Console::Console(Host& host, const std::filesystem::path& assets, std::uint16_t 
   std::vector<std::filesystem::path> files;
   for (const char* f : kFiles) files.push_back(assets / f);
   server_ = std::make_unique<ConsoleServer>(files, *this, port);
-  host_.set_tick_observer(tap_.observer(host_));
+  observer_id_ = host_.add_tick_observer(tap_.observer(host_));
 }
 
 Console::~Console() {
   server_.reset();  // no page calls in any more
-  host_.set_tick_observer(nullptr);
+  host_.remove_tick_observer(observer_id_);
 }
 
 std::string Console::on_open() {

@@ -45,6 +45,7 @@ class Console final : public ConsoleApp {
  private:
   Host& host_;
   TelemetryTap tap_;
+  int observer_id_ = 0;   ///< the host's tick observer feeding tap_
   nlohmann::json hello_;  // built before serving; then the server thread only
   int pages_ = 0;         // server thread only
   std::unique_ptr<ConsoleServer> server_;

@@ -449,7 +449,10 @@ FlightResult Host::fly() {
   return r;
 }
 
-// A new flight from the mission's initial state: clean plugins, routing back to takeoff.
+// A new flight from the mission's initial state, as a fresh host would fly it: every plugin
+// reset (its per-flight state replaced), every output empty (sequence 0, a default message: the
+// first consumers of a tick see no message from the last flight), inputs rebound, routing back
+// to takeoff, step statistics cleared.
 void Host::reset_for_next_flight() {
   rebuild_graph();
   for (auto idx : graph_.order()) {
@@ -462,6 +465,9 @@ void Host::reset_for_next_flight() {
     instances_[idx]->stats = StepStats{};
     instances_[idx]->stats.budget_ns = budget;
   }
+  for (auto& inst : instances_)
+    if (inst->plugin)
+      for (auto* out : inst->plugin->outputs()) out->clear();
 }
 
 bool Host::start_instances(FlightResult& r) {
@@ -510,13 +516,24 @@ EndRequest Host::run_tick(Scheduler& clock) {
   return {};
 }
 
+int Host::add_tick_observer(std::function<void(Nanos now)> observer) {
+  tick_observers_.emplace_back(next_observer_id_, std::move(observer));
+  return next_observer_id_++;
+}
+
+void Host::remove_tick_observer(int id) {
+  std::erase_if(tick_observers_, [id](const auto& o) { return o.first == id; });
+}
+
 void Host::notify_observer(Nanos now) {
-  if (!tick_observer_) return;
-  try {
-    tick_observer_(now);
-  } catch (const std::exception& e) {
-    logger_->error("t={:.3f} s: tick observer failed, removed: {}", to_seconds(now), e.what());
-    tick_observer_ = nullptr;
+  for (auto it = tick_observers_.begin(); it != tick_observers_.end();) {
+    try {
+      it->second(now);
+      ++it;
+    } catch (const std::exception& e) {
+      logger_->error("t={:.3f} s: tick observer failed, removed: {}", to_seconds(now), e.what());
+      it = tick_observers_.erase(it);
+    }
   }
 }
 

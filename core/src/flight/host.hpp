@@ -144,9 +144,13 @@ class Host {
   /// The output that currently feeds `topic` (follows the phase router), or nullptr. Read it only
   /// from the flight thread (e.g. in a tick observer): it changes between ticks.
   const OutputBase* topic_source(const std::string& topic) const;
-  /// Called on the flight thread at the end of every tick, after logging (e.g. the DDS bridge).
-  /// Must be quick; exceptions are logged and the observer is removed. Set between flights.
-  void set_tick_observer(std::function<void(Nanos now)> observer) { tick_observer_ = std::move(observer); }
+  /// Adds a function called on the flight thread at the end of every tick, after logging (the
+  /// DDS bridge, the console, tern tune's recorder; several at once), in the order added. Each
+  /// must be quick; one that throws is logged and removed. Add and remove them between flights.
+  /// Returns the id remove_tick_observer() takes.
+  int add_tick_observer(std::function<void(Nanos now)> observer);
+  /// Removes the observer `id` (an unknown id: nothing happens).
+  void remove_tick_observer(int id);
   /// A flight is running.
   bool flying() const { return flying_.load(); }
   /// Ends the running flight after its current tick as if its duration had ended (end_reason
@@ -199,7 +203,8 @@ class Host {
   std::atomic<bool> abort_{false};  // abort_flight() asked; cleared when a flight starts
   int flights_ = 0;
   std::optional<double> duration_override_;
-  std::function<void(Nanos)> tick_observer_;
+  std::vector<std::pair<int, std::function<void(Nanos)>>> tick_observers_;  // id, observer
+  int next_observer_id_ = 1;
   Watchdog watchdog_;
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries

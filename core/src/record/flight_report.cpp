@@ -176,7 +176,6 @@ nlohmann::ordered_json metrics_json(const FlightMetrics& fm) {
 std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   nlohmann::ordered_json j;
   j["mission"] = f.config.name;
-  j["flight"] = f.flight;
   j["seed"] = f.seed;
   j["duration_s"] = to_seconds(r.flown);
   j["end_reason"] = r.end_reason;
@@ -195,6 +194,7 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
 
 std::string timing_json(const FlightFacts& f, const FlightResult& r) {
   nlohmann::ordered_json j;
+  j["flight"] = f.flight;  // the host's count: a served host's flight 2 is a fresh host's flight 1 (summary.json)
   j["wall_s"] = r.wall_s;
   j["real_time_factor"] = r.wall_s > 0 ? to_seconds(r.flown) / r.wall_s : 0.0;
   j["start_to_first_tick_ms"] = f.start_to_first_tick_ms;
@@ -213,6 +213,7 @@ std::string timing_json(const FlightFacts& f, const FlightResult& r) {
                               {"budget_ns", s.budget_ns},
                               {"overruns", s.overruns},
                               {"watchdog_slow_steps", s.slow}};
+    for (const auto& [k, v] : inst->plugin->timing()) inst_j[inst->cfg.name][k] = v;
   }
   j["instances"] = inst_j;
   return j.dump(2) + "\n";
@@ -271,9 +272,10 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
     s += fmt::format("  {:<16} {:>9} {:>10} {:>10} {:>10} {:>9}\n", inst->cfg.name, st.steps, fmt_ns(st.percentile(0.5)),
                      fmt_ns(st.percentile(0.99)), fmt_ns(st.max_ns), st.overruns);
     if (st.slow > 0) s += fmt::format("      {} steps over the watchdog's soft budget\n", st.slow);
-    if (inst->plugin.get() != f.metrics)
-      for (const auto& [k, v] : inst->plugin->summary()) s += fmt::format("      {} = {:.6g}\n", k, v);
   }
+  // one line per plugin that has something to say; every figure is in summary.json
+  for (const auto& inst : f.instances)
+    if (const std::string h = inst->plugin->health(); !h.empty()) s += fmt::format("{}: {}\n", inst->cfg.name, h);
   if (f.metrics) s += metrics_text(*f.metrics, sensor_profile(f));
   s += fmt::format("log: {}\n", r.run_dir.string());
   if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);

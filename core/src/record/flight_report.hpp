@@ -5,8 +5,10 @@
 //                  the seed and the duration
 //   summary.json   mission, seed, end reason, phases and controller handovers, per instance
 //                  its library (path, FNV-1a of its bytes), steps and summary() figures, the
-//                  metrics (RMSE tables, waypoint passages); same config + seed: same bytes
-//   timing.json    wall and CPU time, real-time factor, per-instance step-time statistics
+//                  metrics (RMSE tables, waypoint passages); same config + seed: same bytes,
+//                  whichever flight of a served host it is
+//   timing.json    the host's flight number, wall and CPU time, real-time factor, per-instance
+//                  step-time statistics
 //   summary text   the console's end-of-flight table (stdout, unless quiet)
 // Pure functions of the host's state after a flight; nothing here changes it.
 #pragma once

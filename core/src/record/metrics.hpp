@@ -56,16 +56,16 @@ class FlightMetrics final : public Plugin {
   void step(Nanos now) override;
   std::vector<std::pair<std::string, double>> summary() const override;
 
-  const std::array<Rms, kEst>& estimation() const { return est_; }
-  const std::array<Rms, kTrk>& tracking() const { return trk_; }
-  const std::array<Rms, kGnss>& raw_gnss() const { return gnss_err_; }
+  const std::array<Rms, kEst>& estimation() const { return f_.est; }
+  const std::array<Rms, kTrk>& tracking() const { return f_.trk; }
+  const std::array<Rms, kGnss>& raw_gnss() const { return f_.gnss_err; }
   bool has_gnss() const { return gnss_.connected(); }
-  const std::vector<Passage>& passages() const { return passages_; }
-  int loops() const { return loops_; }
-  double max_cross_track() const { return max_cross_; }   ///< m, horizontal, over the window
-  double max_altitude_error() const { return max_alt_; }  ///< m, |h_c - h| over the window
+  const std::vector<Passage>& passages() const { return f_.passages; }
+  int loops() const { return f_.loops; }
+  double max_cross_track() const { return f_.max_cross; }   ///< m, horizontal, over the window
+  double max_altitude_error() const { return f_.max_alt; }  ///< m, |h_c - h| over the window
   bool has_truth() const { return truth_.connected(); }
-  Nanos window_start() const { return window_start_; }
+  Nanos window_start() const { return f_.window_start; }
 
  private:
   void add_estimation_errors(const msg::State& estimate, const msg::State& truth);
@@ -78,16 +78,19 @@ class FlightMetrics final : public Plugin {
   Input<msg::FlightPhase> phase_;
   Param<double> period_, start_after_;
   Param<bool> cruise_only_;
-  std::array<Rms, kEst> est_{};
-  std::array<Rms, kTrk> trk_{};
-  std::array<Rms, kGnss> gnss_err_{};
-  std::vector<Passage> passages_;
-  int loops_ = 0;
-  double max_cross_ = 0, max_alt_ = 0;
-  int first_index_ = -1;
-  int last_index_ = -1;
-  Nanos last_sample_ = -1;
-  Nanos window_start_ = -1;
+  /// Everything one flight changes: reset() replaces it wholesale.
+  struct Flight {
+    std::array<Rms, kEst> est{};
+    std::array<Rms, kTrk> trk{};
+    std::array<Rms, kGnss> gnss_err{};
+    std::vector<Passage> passages;
+    int loops = 0;
+    double max_cross = 0, max_alt = 0;
+    int first_index = -1;
+    int last_index = -1;
+    Nanos last_sample = -1;
+    Nanos window_start = -1;
+  } f_;
 };
 
 }  // namespace tern::core

@@ -52,7 +52,8 @@ class ChannelSink final : public spdlog::sinks::base_sink<std::mutex> {
 // The child's view of a host output: the message bytes in the segment, the host's sequence number.
 class ChannelOutput final : public OutputBase {
  public:
-  ChannelOutput(const MsgType& type, const void* data) : OutputBase(type, data) {}
+  // clear(): nothing to do here; the host clears its output and the segment follows it
+  ChannelOutput(const MsgType& type, const void* data) : OutputBase(type, data, [](void*) {}) {}
   void set_sequence(std::uint64_t s) { seq_ = s; }
 };
 

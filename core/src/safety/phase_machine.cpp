@@ -150,49 +150,44 @@ void PhaseMachine::start() {
 }
 
 void PhaseMachine::reset() {
-  phase_ = first_phase();
-  disarmed_ = false;
-  checks_passed_since_ = last_report_ = preflight_since_ = -1;
-  failure_.clear();
-  since_ = 0;
-  condition_since_ = -1;
-  transitions_.clear();
+  f_ = Flight{};
+  f_.phase = first_phase();
   msg::FlightPhase m;
-  m.phase = m.previous = phase_;
+  m.phase = m.previous = f_.phase;
   phase_out_.publish(m);
 }
 
 void PhaseMachine::enter(Nanos now, msg::Phase to, std::string reason) {
-  log().info("phase {} -> {} at t={:.3f} s: {}", msg::phase_name(phase_), msg::phase_name(to), to_seconds(now), reason);
-  transitions_.push_back({now, phase_, to, std::move(reason)});
+  log().info("phase {} -> {} at t={:.3f} s: {}", msg::phase_name(f_.phase), msg::phase_name(to), to_seconds(now), reason);
+  f_.transitions.push_back({now, f_.phase, to, std::move(reason)});
   msg::FlightPhase m;
   m.stamp = now;
-  m.previous = phase_;
+  m.previous = f_.phase;
   m.phase = to;
   m.since = now;
-  phase_ = to;
-  since_ = now;
-  condition_since_ = -1;
+  f_.phase = to;
+  f_.since = now;
+  f_.condition_since = -1;
   phase_out_.publish(m);
 }
 
 // After preflight (whose checks include the FCU's): a disarm waits, with no controller running.
 bool PhaseMachine::wait_for_arming(Nanos now) {
-  if (!fcu_.has_value() || phase_ == msg::Phase::preflight) return false;
+  if (!fcu_.has_value() || f_.phase == msg::Phase::preflight) return false;
   const std::optional<std::string> not_ready = fcu_not_ready(*fcu_);
-  if (!disarmed_ && !fcu_->armed) {
-    disarmed_ = true;
+  if (!f_.disarmed && !fcu_->armed) {
+    f_.disarmed = true;
     log().warn(
         "t={:.3f} s: flight waits disarmed (no takeoff, no controller running) until the FCU is armed and "
         "error-free: {}",
         to_seconds(now), *not_ready);
-    transitions_.push_back({now, phase_, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
-    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, phase_, now});
-  } else if (disarmed_ && !not_ready) {
-    disarmed_ = false;
+    f_.transitions.push_back({now, f_.phase, msg::Phase::takeoff, "disarmed: the FCU is not armed"});
+    phase_out_.publish(msg::FlightPhase{now, msg::Phase::takeoff, f_.phase, now});
+  } else if (f_.disarmed && !not_ready) {
+    f_.disarmed = false;
     enter(now, msg::Phase::takeoff, "FCU armed and error-free: takeoff");
   }
-  return disarmed_;
+  return f_.disarmed;
 }
 
 PreflightInputs PhaseMachine::preflight_inputs(Nanos now) const {
@@ -209,28 +204,29 @@ void PhaseMachine::run_preflight(Nanos now) {
   const PreflightInputs in = preflight_inputs(now);
   const std::vector<std::string> failing = preflight_failures(in, limits());
   if (failing.empty()) {
-    if (checks_passed_since_ < 0) checks_passed_since_ = now;
-    if (now - checks_passed_since_ >= from_seconds(preflight_time_()))
-      enter(now, msg::Phase::takeoff,
-            fmt::format("arming checks passed for {:.1f} s (aligned at t={:.3f} s)", preflight_time_(), to_seconds(checks_passed_since_)));
+    if (f_.checks_passed_since < 0) f_.checks_passed_since = now;
+    if (now - f_.checks_passed_since >= from_seconds(preflight_time_()))
+      enter(
+          now, msg::Phase::takeoff,
+          fmt::format("arming checks passed for {:.1f} s (aligned at t={:.3f} s)", preflight_time_(), to_seconds(f_.checks_passed_since)));
     return;
   }
-  checks_passed_since_ = -1;
+  f_.checks_passed_since = -1;
   const bool armed = in.fcu == nullptr || in.fcu->armed;
-  if (!armed) preflight_since_ = -1;  // the time-out counts once the FCU is armed: arming late is no failure
-  if (armed && preflight_since_ < 0) preflight_since_ = now;
-  if (armed && now - preflight_since_ >= from_seconds(preflight_timeout_())) {
-    failure_ = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
+  if (!armed) f_.preflight_since = -1;  // the time-out counts once the FCU is armed: arming late is no failure
+  if (armed && f_.preflight_since < 0) f_.preflight_since = now;
+  if (armed && now - f_.preflight_since >= from_seconds(preflight_timeout_())) {
+    f_.failure = "preflight_failed: " + fmt::format("{}", fmt::join(failing, "; "));
     return;
   }
-  if (last_report_ >= 0 && now - last_report_ < from_seconds(report_interval_())) return;
-  last_report_ = now;
+  if (f_.last_report >= 0 && now - f_.last_report < from_seconds(report_interval_())) return;
+  f_.last_report = now;
   for (const std::string& f : failing) log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
 }
 
 void PhaseMachine::step(Nanos now) {
   if (wait_for_arming(now)) return;
-  if (phase_ == msg::Phase::preflight) {
+  if (f_.phase == msg::Phase::preflight) {
     run_preflight(now);
     return;
   }
@@ -241,13 +237,13 @@ void PhaseMachine::step(Nanos now) {
   const Nanos dwell = from_seconds(min_phase_time_());
   auto held = [&](bool cond) {
     if (!cond) {
-      condition_since_ = -1;
+      f_.condition_since = -1;
       return false;
     }
-    if (condition_since_ < 0) condition_since_ = now;
-    return now - condition_since_ >= dwell;
+    if (f_.condition_since < 0) f_.condition_since = now;
+    return now - f_.condition_since >= dwell;
   };
-  switch (phase_) {
+  switch (f_.phase) {
     case msg::Phase::preflight: break;  // run_preflight()
     case msg::Phase::takeoff:
       if (h >= alt_toz_()) enter(now, msg::Phase::climb, fmt::format("altitude {:.1f} m reached alt_toz {:.1f} m", h, alt_toz_()));
@@ -266,7 +262,7 @@ void PhaseMachine::step(Nanos now) {
     case msg::Phase::landing:
       if (h < alt_toz_()) {
         if (held(true)) enter(now, msg::Phase::takeoff, fmt::format("altitude {:.1f} m fell below alt_toz {:.1f} m", h, alt_toz_()));
-      } else if (phase_ == msg::Phase::cruise && h_c - h > alt_hz_()) {
+      } else if (f_.phase == msg::Phase::cruise && h_c - h > alt_hz_()) {
         if (held(true))
           enter(now, msg::Phase::climb,
                 fmt::format("altitude {:.1f} m is {:.1f} m below h_c {:.1f} m (more than alt_hz)", h, h_c - h, h_c));

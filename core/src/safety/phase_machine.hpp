@@ -51,12 +51,12 @@ class PhaseMachine final : public Plugin {
   void step(Nanos now) override;
   void reset() override;
 
-  msg::Phase phase() const { return phase_; }
+  msg::Phase phase() const { return f_.phase; }
   /// The flight waits for the FCU to be armed and error-free: no controller runs.
-  bool disarmed() const { return disarmed_; }
+  bool disarmed() const { return f_.disarmed; }
   /// Largest surface deflection a controller may command before the router replaces it, rad.
   double max_deflection() const { return max_deflection_(); }
-  const std::vector<PhaseTransition>& transitions() const { return transitions_; }
+  const std::vector<PhaseTransition>& transitions() const { return f_.transitions; }
   /// The phase a flight starts in: preflight, or takeoff when it is skipped.
   msg::Phase first_phase() const { return preflight_() ? msg::Phase::preflight : msg::Phase::takeoff; }
   /// The phase router's safety monitor's limits (safety_* parameters; safety_monitor.hpp).
@@ -73,7 +73,7 @@ class PhaseMachine final : public Plugin {
   /// The commanded airspeed Va_c, m/s (none before the first controller_command).
   std::optional<double> commanded_airspeed() const;
   /// Why the flight must end ("preflight_failed: ..."), empty while it may go on.
-  const std::string& failure() const { return failure_; }
+  const std::string& failure() const { return f_.failure; }
 
  private:
   void enter(Nanos now, msg::Phase to, std::string reason);
@@ -104,15 +104,18 @@ class PhaseMachine final : public Plugin {
   Param<std::int64_t> safety_silent_periods_;
   Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
       safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;
-  msg::Phase phase_ = msg::Phase::takeoff;
-  bool disarmed_ = false;
-  Nanos since_ = 0;
-  Nanos condition_since_ = -1;  ///< when a transition-back condition became true (-1: not true)
-  std::vector<PhaseTransition> transitions_;
-  Nanos checks_passed_since_ = -1;  ///< preflight: when every check last began to pass (-1: failing)
-  Nanos last_report_ = -1;          ///< preflight: when the failing checks were last logged
-  Nanos preflight_since_ = -1;      ///< preflight: first check after the last disarmed wait (timeout base)
-  std::string failure_;
+  /// Everything one flight changes: reset() replaces it wholesale.
+  struct Flight {
+    msg::Phase phase = msg::Phase::takeoff;
+    bool disarmed = false;
+    Nanos since = 0;
+    Nanos condition_since = -1;  ///< when a transition-back condition became true (-1: not true)
+    std::vector<PhaseTransition> transitions;
+    Nanos checks_passed_since = -1;  ///< preflight: when every check last began to pass (-1: failing)
+    Nanos last_report = -1;          ///< preflight: when the failing checks were last logged
+    Nanos preflight_since = -1;      ///< preflight: first check after the last disarmed wait (timeout base)
+    std::string failure;
+  } f_;
 };
 
 }  // namespace tern::core

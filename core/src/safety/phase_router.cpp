@@ -93,6 +93,7 @@ void PhaseRouter::prepare_flight() {
   safety_logged_.clear();
   monitor_.restart();
   last_good_ = msg::Actuators{};
+  recovery_out_.clear();  // a new flight has heard nothing of the last one's recovery
 }
 
 void PhaseRouter::start_flight() {

@@ -33,23 +33,19 @@ Surfaces Autopilot::trim() const { return limit({lateral_.gains().trim_a, pitch_
 
 void Autopilot::take_over(const Surfaces& last) {
   reset();
-  handover_from_ = last;
-  pending_handover_ = true;
-  last_ = AutopilotOutput{};
-  last_.surfaces = last;
-  have_last_ = true;
+  f_.handover_from = last;
+  f_.pending_handover = true;
+  f_.last = AutopilotOutput{};
+  f_.last.surfaces = last;
+  f_.have_last = true;
 }
 
 void Autopilot::reset() {
   lateral_.reset();
   pitch_.reset();
   law_.reset();
-  offset_ = {};
-  pending_handover_ = false;
-  have_last_ = false;
-  rotated_ = false;
-  last_ = AutopilotOutput{};
-  last_.surfaces = trim();
+  f_ = Flight{};
+  f_.last.surfaces = trim();
 }
 
 AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Command& c, const Sticks& sticks_in, double dt) {
@@ -57,8 +53,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   const bool sticks_ok =
       std::isfinite(sticks_in.roll) && std::isfinite(sticks_in.pitch) && std::isfinite(sticks_in.yaw) && std::isfinite(sticks_in.throttle);
   if (!x.finite() || (!manual && !c.finite()) || (manual && !sticks_ok) || !std::isfinite(dt)) {
-    AutopilotOutput held = last_;
-    if (!have_last_) held.surfaces = trim();
+    AutopilotOutput held = f_.last;
+    if (!f_.have_last) held.surfaces = trim();
     held.held = true;
     return held;
   }
@@ -66,16 +62,16 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
 
   const bool ovp = !manual && c.override_phi;
   const bool ovt = !manual && c.override_theta;
-  if (mode != mode_ || ovp != override_phi_ || ovt != override_theta_) {
-    if (have_last_ && !pending_handover_) {
-      pending_handover_ = true;
-      handover_from_ = last_.surfaces;
+  if (mode != f_.mode || ovp != f_.override_phi || ovt != f_.override_theta) {
+    if (f_.have_last && !f_.pending_handover) {
+      f_.pending_handover = true;
+      f_.handover_from = f_.last.surfaces;
     }
-    if (mode != mode_) rotated_ = false;
+    if (mode != f_.mode) f_.rotated = false;
   }
-  mode_ = mode;
-  override_phi_ = ovp;
-  override_theta_ = ovt;
+  f_.mode = mode;
+  f_.override_phi = ovp;
+  f_.override_theta = ovt;
 
   const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0), saturate(sticks_in.yaw, -1.0, 1.0),
                   saturate(sticks_in.throttle, 0.0, 1.0)};
@@ -92,14 +88,14 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     lateral_.reset();
     pitch_.reset();
     law_.reset();
-    offset_ = {};
-    pending_handover_ = false;
-    last_ = out;
-    have_last_ = true;
+    f_.offset = {};
+    f_.pending_handover = false;
+    f_.last = out;
+    f_.have_last = true;
     return out;
   }
 
-  const bool init = pending_handover_;
+  const bool init = f_.pending_handover;
   const double h = init ? 0.0 : dt;  // the initialising step integrates nothing
 
   // ---- lateral: roll command, aileron, rudder
@@ -120,7 +116,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   const bool shaped_handover = init && L.roll_rate_max > 0.0;
   if (use_course) {
     if (init && !shaped_handover) {
-      const double phi_needed = lateral_.roll_command_for(handover_from_.delta_a, x.phi, x.p);
+      const double phi_needed = lateral_.roll_command_for(f_.handover_from.delta_a, x.phi, x.p);
       lateral_.initialise_course(phi_needed, c.chi_c, x.chi, x.r, c.phi_ff);
     }
     if (shaped_handover) lateral_.idle_course();
@@ -130,15 +126,15 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   }
   phi_c = saturate(phi_c, -L.roll_max, L.roll_max);
   if (shaped_handover) {
-    phi_c = lateral_.roll_command_for(handover_from_.delta_a, x.phi, x.p);
+    phi_c = lateral_.roll_command_for(f_.handover_from.delta_a, x.phi, x.p);
     lateral_.initialise_shape(phi_c);
   } else if (init) {
     lateral_.initialise_shape(phi_c);
   } else {
     phi_c = lateral_.shape_roll(phi_c, h);
   }
-  if (mode == Mode::takeoff && !rotated_ && x.Va < s_.rotation_Va && !init) lateral_.reset_roll_integrator();
-  if (init) lateral_.initialise_roll(handover_from_.delta_a, phi_c, x.phi, x.p);
+  if (mode == Mode::takeoff && !f_.rotated && x.Va < s_.rotation_Va && !init) lateral_.reset_roll_integrator();
+  if (init) lateral_.initialise_roll(f_.handover_from.delta_a, phi_c, x.phi, x.p);
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
   double delta_r = lateral_.yaw_damper(x.r, h);
   if (mode == Mode::manual_angle) delta_r -= st.yaw * L.max_r;
@@ -146,8 +142,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   // ---- longitudinal: pitch command and throttle
   double theta_c = 0.0, delta_t = 0.0, delta_t_c = 0.0;
   if (mode == Mode::takeoff) {
-    if (x.Va >= s_.rotation_Va) rotated_ = true;
-    theta_c = rotated_ ? s_.takeoff_pitch : 0.0;
+    if (x.Va >= s_.rotation_Va) f_.rotated = true;
+    theta_c = f_.rotated ? s_.takeoff_pitch : 0.0;
     delta_t = delta_t_c = s_.takeoff_throttle;
     law_.reset();
   } else if (mode == Mode::manual_angle) {
@@ -157,8 +153,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   } else {
     if (init) {
       const double theta_needed =
-          saturate(pitch_.pitch_command_for(handover_from_.delta_e, x.theta, x.q), law_.theta_min(), law_.theta_max());
-      law_.initialise(x, c, theta_needed, handover_from_.delta_t);
+          saturate(pitch_.pitch_command_for(f_.handover_from.delta_e, x.theta, x.q), law_.theta_min(), law_.theta_max());
+      law_.initialise(x, c, theta_needed, f_.handover_from.delta_t);
     }
     const auto lo = law_.update(x, c, mode == Mode::climb, h);
     theta_c = ovt ? c.theta_c : lo.theta_c;
@@ -166,28 +162,28 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     delta_t_c = lo.delta_t_c;
   }
   // On the ground before rotation the gear holds the attitude: no pitch or roll integration.
-  const bool ground_roll = mode == Mode::takeoff && !rotated_;
+  const bool ground_roll = mode == Mode::takeoff && !f_.rotated;
   if (ground_roll && !init) pitch_.reset();
-  if (init) pitch_.initialise(handover_from_.delta_e, theta_c, x.theta, x.q);
+  if (init) pitch_.initialise(f_.handover_from.delta_e, theta_c, x.theta, x.q);
   const double delta_e = pitch_.update(theta_c, x.theta, x.q, h);
 
   // ---- bumpless offset
   const Surfaces raw{delta_a, delta_e, delta_r, delta_t};
   if (init) {
-    offset_ = {handover_from_.delta_a - raw.delta_a, handover_from_.delta_e - raw.delta_e, handover_from_.delta_r - raw.delta_r,
-               handover_from_.delta_t - raw.delta_t};
-    pending_handover_ = false;
+    f_.offset = {f_.handover_from.delta_a - raw.delta_a, f_.handover_from.delta_e - raw.delta_e, f_.handover_from.delta_r - raw.delta_r,
+                 f_.handover_from.delta_t - raw.delta_t};
+    f_.pending_handover = false;
   } else if (dt > 0.0) {
     const double k = s_.handover_tau > 0.0 ? std::exp(-dt / s_.handover_tau) : 0.0;
-    offset_ = {offset_.delta_a * k, offset_.delta_e * k, offset_.delta_r * k, offset_.delta_t * k};
+    f_.offset = {f_.offset.delta_a * k, f_.offset.delta_e * k, f_.offset.delta_r * k, f_.offset.delta_t * k};
   }
-  out.surfaces =
-      limit({raw.delta_a + offset_.delta_a, raw.delta_e + offset_.delta_e, raw.delta_r + offset_.delta_r, raw.delta_t + offset_.delta_t});
+  out.surfaces = limit(
+      {raw.delta_a + f_.offset.delta_a, raw.delta_e + f_.offset.delta_e, raw.delta_r + f_.offset.delta_r, raw.delta_t + f_.offset.delta_t});
   out.phi_c = phi_c;
   out.theta_c = theta_c;
   out.delta_t_c = delta_t_c;
-  last_ = out;
-  have_last_ = true;
+  f_.last = out;
+  f_.have_last = true;
   return out;
 }
 

@@ -62,8 +62,8 @@ Mode ControllerPlugin::select_mode(const msg::State&) {
 void ControllerPlugin::step(Nanos now) {
   if (!state_.has_value()) return;
   if (dirty_) apply_params();
-  const double dt = last_step_ ? to_seconds(now - *last_step_) : 0.0;
-  last_step_ = now;
+  const double dt = flight_.last_step ? to_seconds(now - *flight_.last_step) : 0.0;
+  flight_.last_step = now;
 
   const msg::State& s = *state_;
   VehicleState x;
@@ -82,14 +82,14 @@ void ControllerPlugin::step(Nanos now) {
     const auto& m = *command_;
     c = {m.Va_c, m.h_c, m.chi_c, m.phi_ff, m.phi_c, m.theta_c, m.override_phi, m.override_theta};
   } else {
-    if (!hold_command_ && x.finite()) hold_command_ = Command{x.Va, x.h, x.chi, 0.0, 0.0, 0.0, false, false};
-    if (hold_command_) c = *hold_command_;
+    if (!flight_.hold_command && x.finite()) flight_.hold_command = Command{x.Va, x.h, x.chi, 0.0, 0.0, 0.0, false, false};
+    if (flight_.hold_command) c = *flight_.hold_command;
   }
   Sticks sticks;
   if (rc_.has_value()) sticks = {rc_->roll, rc_->pitch, rc_->yaw, rc_->throttle};
 
   const Mode mode = select_mode(s);
-  if (mode == Mode::manual_passthrough || mode == Mode::manual_angle) ++manual_steps_;
+  if (mode == Mode::manual_passthrough || mode == Mode::manual_angle) ++flight_.manual_steps;
   AutopilotOutput out;
   if (!s.valid) {
     // The estimator is not initialised (or lost its solution): hold the last command; before
@@ -104,15 +104,15 @@ void ControllerPlugin::step(Nanos now) {
     out = autopilot().update(mode, x, c, sticks, dt);
   }
   if (out.held) {
-    ++held_steps_;
-    if (!holding_) {
+    ++flight_.held_steps;
+    if (!flight_.holding) {
       log().warn("{} at t = {:.3f} s; holding the last actuator command",
                  s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)", to_seconds(now));
     }
-  } else if (holding_) {
+  } else if (flight_.holding) {
     log().info("inputs valid again at t = {:.3f} s; control resumed", to_seconds(now));
   }
-  holding_ = out.held;
+  flight_.holding = out.held;
 
   msg::Actuators a;
   a.stamp = now;
@@ -134,19 +134,24 @@ void ControllerPlugin::step(Nanos now) {
 void ControllerPlugin::reset() {
   if (dirty_) apply_params();
   autopilot().reset();
-  last_step_.reset();
-  hold_command_.reset();
-  holding_ = false;
+  flight_ = Flight{};
 }
 
 void ControllerPlugin::take_over(const msg::Actuators& last) {
   if (dirty_) apply_params();
   autopilot().take_over({last.delta_a, last.delta_e, last.delta_r, last.delta_t});
-  holding_ = false;
+  flight_.holding = false;
+}
+
+std::string ControllerPlugin::health() const {
+  std::string s;
+  if (flight_.held_steps > 0) s = fmt::format("{} steps held the previous command (invalid or non-finite inputs)", flight_.held_steps);
+  if (flight_.manual_steps > 0) s += fmt::format("{}{} steps under the pilot's override", s.empty() ? "" : ", ", flight_.manual_steps);
+  return s;
 }
 
 std::vector<std::pair<std::string, double>> ControllerPlugin::summary() const {
-  return {{"held_steps", static_cast<double>(held_steps_)}, {"manual_steps", static_cast<double>(manual_steps_)}};
+  return {{"held_steps", static_cast<double>(flight_.held_steps)}, {"manual_steps", static_cast<double>(flight_.manual_steps)}};
 }
 
 }  // namespace tern::control

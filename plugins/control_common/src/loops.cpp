@@ -73,6 +73,7 @@ void LateralLoops::reset() {
   roll_.reset();
   washout_.reset();
   phi_c_dot_.reset();
+  phi_c_prev_ = 0.0;
   shaped_ = false;
   p_c_ = 0.0;
 }

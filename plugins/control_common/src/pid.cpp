@@ -80,12 +80,4 @@ double Pid::initialise(double u, double e, double ydot, double ff) {
   return u - u_;
 }
 
-void Pid::reset() {
-  integrator_ = 0.0;
-  e_prev_ = 0.0;
-  primed_ = false;
-  u_ = 0.0;
-  u_unsat_ = 0.0;
-}
-
 }  // namespace tern::control

@@ -79,6 +79,7 @@ void Tecs::reset() {
   Va_dot_.reset();
   underspeed_ = false;
   have_theta_c_ = false;
+  theta_c_ = 0.0;
 }
 
 }  // namespace tern::control

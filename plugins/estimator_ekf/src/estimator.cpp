@@ -150,40 +150,10 @@ void Estimator::apply_models_config() {
 }
 
 void Estimator::reset() {
-  initialized_ = false;
-  keep_calibration_ = false;
-  accel_sum_.setZero();
-  accel_n_ = 0;
-  origin_.reset();
-  origin_lat_ = origin_lon_ = origin_alt_ = 0.0;
-  accel_avg_.setZero();
-  gyro_avg_.setZero();
-  mag_avg_.setZero();
-  imu_samples_ = mag_samples_ = 0;
-  baro_cal_count_ = 0;
-  baro_cal_sum_ = baro_cal_q_sum_ = baro_offset_ = baro_.q_datum = 0.0;
-  baro_calibrated_ = false;
-  baro_datum_var_ = 0.0;
-  imu_stamp_ = -1;
-  last_diff_pressure_ = 0.0;
-  last_diff_stamp_ = -1;
-  rate_.setZero();
-  gnss_reject_since_ = -1;
-  mag_reject_since_ = -1;
-  init_stamp_ = -1;
-  last_Va_ = 0.0;
-  last_Va_stamp_ = -1;
-  output_offset_.setZero();
-  gyro_body_.setZero();
-  omega_dot_.setZero();
-  history_.clear();
-  last_gnss_reset_ = -1;
-  filter_ = Filter{};
-  for (auto& c : counters_) {
-    c.timed_out = false;
-    c.last_stamp = -1;
-  }
-  first_check_ = -1;
+  Estimator fresh(cfg_);
+  fresh.expect_mag_ = expect_mag_;
+  fresh.expected_ = expected_;
+  *this = std::move(fresh);
 }
 
 void Estimator::push(Nanos stamp, EventKind kind, Sensor s, double value) { events_.push_back(Event{stamp, kind, s, value}); }

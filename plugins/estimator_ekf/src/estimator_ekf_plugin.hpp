@@ -70,7 +70,6 @@ class EstimatorEkf final : public tern::Plugin {
     estimator_.expect(Sensor::baro, baro_.connected());
     estimator_.expect(Sensor::diff_pressure, diff_.connected());
     estimator_.expect(Sensor::mag, mag_.connected());
-    ticks_ = 0;
   }
 
   void step(tern::Nanos now) override {
@@ -98,22 +97,22 @@ class EstimatorEkf final : public tern::Plugin {
       }
     }
     const bool imu_silent = estimator_.counters(tern::ekf::Sensor::imu).timed_out;
-    if ((imu_new || imu_silent) && (ticks_++ % output_.decimation) == 0) {
+    if ((imu_new || imu_silent) && (flight_.ticks++ % output_.decimation) == 0) {
       estimator_.fill_state(out_);
       if (imu_silent) out_.stamp = now;  // the invalid state is news of now
       state_.publish(out_);
     }
-    if (now - last_innovations_ >= tern::from_seconds(output_.innovations_period)) {
-      innovations_out_ = estimator_.take_innovations(now);
-      innovations_.publish(innovations_out_);
-      last_innovations_ = now;
+    if (now - flight_.last_innovations >= tern::from_seconds(output_.innovations_period)) {
+      innovations_.publish(estimator_.take_innovations(now));
+      flight_.last_innovations = now;
     }
   }
 
+  /// A new flight: the estimator as new (same configuration and wiring) and the plugin's own
+  /// per-flight state replaced wholesale; parameters are kept.
   void reset() override {
     estimator_.reset();
-    ticks_ = 0;
-    last_innovations_ = std::numeric_limits<tern::Nanos>::min() / 2;
+    flight_ = Flight{};
   }
 
   std::vector<std::pair<std::string, double>> summary() const override {
@@ -145,6 +144,32 @@ class EstimatorEkf final : public tern::Plugin {
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     s.emplace_back("inflations", static_cast<double>(estimator_.inflations()));
+    return s;
+  }
+
+  /// "N resets, M inflations" and each measurement with rejections: "baro 0.9 % rejected".
+  std::string health() const override {
+    std::string s = fmt::format("{} resets (gnss {}, mag {}, filter {}), {} inflations",
+                                estimator_.gnss_resets() + estimator_.mag_resets() + estimator_.filter_resets(), estimator_.gnss_resets(),
+                                estimator_.mag_resets(), estimator_.filter_resets(), estimator_.inflations());
+    const auto rej = [&s](const char* name, const tern::ekf::UpdateStats& st) {
+      const auto n = st.accepted + st.rejected;
+      if (st.rejected > 0)
+        s += fmt::format(", {} {:.1f} % rejected", name, 100.0 * static_cast<double>(st.rejected) / static_cast<double>(n));
+    };
+    rej("gnss_pos", estimator_.gnss_position_model().stats);
+    rej("gnss_vel", estimator_.gnss_velocity_model().stats);
+    rej("mag", estimator_.mag_model().stats);
+    rej("mag_heading", estimator_.mag_heading_model().stats);
+    rej("baro", estimator_.baro_model().stats);
+    rej("diff_pressure", estimator_.diff_pressure_model().stats);
+    rej("sideslip", estimator_.sideslip_model().stats);
+    rej("side_force", estimator_.side_force_model().stats);
+    rej("normal_force", estimator_.normal_force_model().stats);
+    for (int i = 0; i < tern::ekf::kSensorCount; ++i) {
+      const auto& c = estimator_.counters(static_cast<tern::ekf::Sensor>(i));
+      if (c.timeouts > 0) s += fmt::format(", {} timed out {}x", tern::ekf::sensor_name(static_cast<tern::ekf::Sensor>(i)), c.timeouts);
+    }
     return s;
   }
 
@@ -183,10 +208,12 @@ class EstimatorEkf final : public tern::Plugin {
   EstimatorConfig config_;  ///< the parameters' values (EstimatorConfig::describe)
   OutputConfig output_;
   tern::ekf::Estimator estimator_;
-  tern::msg::State out_;
-  tern::msg::Innovations innovations_out_;
-  tern::Nanos last_innovations_ = std::numeric_limits<tern::Nanos>::min() / 2;
-  std::uint64_t ticks_ = 0;
+  tern::msg::State out_;  ///< scratch: the estimate is filled in place before it is published
+  /// Everything one flight changes (besides the estimator): reset() replaces it wholesale.
+  struct Flight {
+    std::uint64_t ticks = 0;  ///< IMU samples seen (output decimation)
+    tern::Nanos last_innovations = std::numeric_limits<tern::Nanos>::min() / 2;
+  } flight_;
   bool dirty_ = false;
 };
 

@@ -53,6 +53,10 @@ class FcuSerial final : public tern::Plugin {
   void stop() override;
   void step(tern::Nanos now) override;
   std::vector<std::pair<std::string, double>> summary() const override;
+  /// The link's frame count (heartbeats and TIMESYNC go at wall-clock rates) and round trip.
+  std::vector<std::pair<std::string, double>> timing() const override;
+  /// The link's trouble, when it had any: losses, reboots, CRC errors, skipped bytes.
+  std::string health() const override;
 
   // ---- for tests ----
   std::uint64_t link_losses() const { return s_.link_losses; }

@@ -211,11 +211,17 @@ void FcuSerial::log_link_summary() {
       s_.link_losses, s_.reboots, ts.offset() * 1e-9, ts.last_rtt() * 1e-6, ts.samples(), ts.rejected());
 }
 
+std::string FcuSerial::health() const {
+  const fcu::LinkStats s = final_stats_;
+  if (s_.link_losses == 0 && s_.reboots == 0 && s.parser.bad_crc == 0 && s.parser.skipped == 0) return {};
+  return fmt::format("{} link losses, {} FCU reboots, {} bad CRC, {} bytes skipped ({} frames)", s_.link_losses, s_.reboots,
+                     s.parser.bad_crc, s.parser.skipped, s.parser.frames);
+}
+
 std::vector<std::pair<std::string, double>> FcuSerial::summary() const {
   const fcu::LinkStats s = final_stats_;
   auto n = [](std::uint64_t v) { return static_cast<double>(v); };
-  return {{"fcu_frames", n(s.parser.frames)},
-          {"fcu_bad_crc", n(s.parser.bad_crc)},
+  return {{"fcu_bad_crc", n(s.parser.bad_crc)},
           {"fcu_skipped_bytes", n(s.parser.skipped)},
           {"fcu_unknown_id", n(s.parser.unknown_id)},
           {"fcu_bad_length", n(s.parser.bad_length)},
@@ -225,7 +231,11 @@ std::vector<std::pair<std::string, double>> FcuSerial::summary() const {
           {"fcu_link_losses", n(s_.link_losses)},
           {"fcu_reboots", n(s_.reboots)},
           {"fcu_imu_superseded", n(s_.imu_superseded)},
-          {"fcu_lockstep_resends", n(s_.lockstep_resends)},
+          {"fcu_lockstep_resends", n(s_.lockstep_resends)}};
+}
+
+std::vector<std::pair<std::string, double>> FcuSerial::timing() const {
+  return {{"fcu_frames", static_cast<double>(final_stats_.parser.frames)},
           {"fcu_timesync_rtt_ms", static_cast<double>(clock_.timesync().last_rtt()) * 1e-6}};
 }
 

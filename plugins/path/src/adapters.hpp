@@ -56,17 +56,20 @@ class PlannerPlugin final : public Plugin {
   Output<msg::WaypointList> waypoints_;
   Param<std::string> mission_file_;
 
-  Mission configured_;                ///< the mission as configured (reset() returns to it)
-  std::string configured_from_;       ///< mission_file when configured_ was read
-  std::vector<MissionWaypoint> wps_;  ///< the mission now (lla entries unconverted)
-  bool loop_ = true;
-  bool dirty_ = true;  ///< the list changed since the last publish
-  bool waiting_logged_ = false;
-  bool held_ = false;               ///< edits made with publish_now = false wait to be published
-  bool immediate_ = false;          ///< the next list published is flown at once (set_current)
-  std::optional<GeoPoint> origin_;  ///< origin the published list was converted with
-  std::uint32_t revision_ = 0;
-  std::uint64_t edits_ = 0;
+  Mission configured_;           ///< the mission as configured (reset() returns to it)
+  std::string configured_from_;  ///< mission_file when configured_ was read
+  /// Everything one flight changes: reset() replaces it wholesale (then takes the configured mission).
+  struct Flight {
+    std::vector<MissionWaypoint> wps;  ///< the mission now (lla entries unconverted)
+    bool loop = true;
+    bool dirty = true;  ///< the list changed since the last publish
+    bool waiting_logged = false;
+    bool held = false;               ///< edits made with publish_now = false wait to be published
+    bool immediate = false;          ///< the next list published is flown at once (set_current)
+    std::optional<GeoPoint> origin;  ///< origin the published list was converted with
+    std::uint32_t revision = 0;
+    std::uint64_t edits = 0;
+  } f_;
 };
 
 /// path_manager: waypoints -> the segment to follow (`current_path`), see tern/path/manager.hpp.
@@ -89,15 +92,18 @@ class ManagerPlugin final : public Plugin {
   Param<bool> orbit_last_;
   Param<std::string> corner_;
 
-  std::unique_ptr<PathManager> manager_;
-  std::optional<std::uint32_t> revision_;
-  // The state's wind estimate, low-passed with wind_tau (turn radii with turn_bank > 0).
-  Vec3 wind_ = Vec3::Zero();
-  std::optional<Nanos> wind_stamp_;
-  // Tracking of the estimated position on lines after the first waypoint (summary): sum of
-  // squares, count, maximum of |cross-track error|, m.
-  double xt_sq_ = 0.0, xt_max_ = 0.0;
-  std::uint64_t xt_n_ = 0;
+  std::unique_ptr<PathManager> manager_;  ///< made anew by reset()
+  /// Everything else one flight changes: reset() replaces it wholesale.
+  struct Flight {
+    std::optional<std::uint32_t> revision;  ///< of the waypoint list the manager has
+    // The state's wind estimate, low-passed with wind_tau (turn radii with turn_bank > 0).
+    Vec3 wind = Vec3::Zero();
+    std::optional<Nanos> wind_stamp;
+    // Tracking of the estimated position on lines after the first waypoint (summary): sum of
+    // squares, count, maximum of |cross-track error|, m.
+    double xt_sq = 0.0, xt_max = 0.0;
+    std::uint64_t xt_n = 0;
+  } f_;
 };
 
 /// path_follower: current_path + state -> controller_command (Va_c, h_c, chi_c, phi_ff), see
@@ -106,13 +112,17 @@ class FollowerPlugin final : public Plugin {
  public:
   void configure() override;
   void step(Nanos now) override;
+  void reset() override { f_ = Flight{}; }
 
  private:
   Input<msg::State> state_;
   Input<msg::CurrentPath> path_;
   Output<msg::ControllerCommand> command_;
   Param<double> chi_infty_, k_path_, k_orbit_;
-  bool warned_nan_ = false;
+  /// Everything one flight changes: reset() replaces it wholesale.
+  struct Flight {
+    bool warned_nan = false;  ///< the non-finite input was logged this flight
+  } f_;
 };
 
 }  // namespace tern::path

@@ -38,8 +38,8 @@ void FollowerPlugin::step(Nanos now) {
   const bool ok = in.p.allFinite() && std::isfinite(s.chi) && std::isfinite(p.Va_d) && p.r.allFinite() && p.q.allFinite() &&
                   p.c.allFinite() && std::isfinite(p.rho) && (seg.type == PathSegment::Type::line || p.rho > 0.0);
   if (!ok) {
-    if (!warned_nan_) log().warn("state or current_path is not finite (or orbit radius <= 0): no command this step");
-    warned_nan_ = true;
+    if (!f_.warned_nan) log().warn("state or current_path is not finite (or orbit radius <= 0): no command this step");
+    f_.warned_nan = true;
     return;
   }
   FollowerGains g;

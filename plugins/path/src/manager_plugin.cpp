@@ -56,23 +56,19 @@ void ManagerPlugin::rebuild() {
   if (manager_) manager_->set_config(config());
 }
 
-void ManagerPlugin::start() { revision_.reset(); }
+void ManagerPlugin::start() { f_.revision.reset(); }
 
 void ManagerPlugin::reset() {
   auto logger = context().logger();
   manager_ = std::make_unique<PathManager>(
       config(), [logger](const std::string& s) { logger->warn("{}", s); }, [logger](const std::string& s) { logger->info("{}", s); });
-  revision_.reset();
-  wind_ = Vec3::Zero();
-  wind_stamp_.reset();
-  xt_sq_ = xt_max_ = 0.0;
-  xt_n_ = 0;
+  f_ = Flight{};
 }
 
 void ManagerPlugin::step(Nanos now) {
-  if (waypoints_.has_value() && (!revision_ || *revision_ != waypoints_->revision)) {
+  if (waypoints_.has_value() && (!f_.revision || *f_.revision != waypoints_->revision)) {
     const auto& list = *waypoints_;
-    revision_ = list.revision;
+    f_.revision = list.revision;
     const std::size_t n = std::min<std::size_t>(list.count, msg::WaypointList::kCapacity);
     if (list.count > msg::WaypointList::kCapacity)
       log().warn("waypoints revision {}: count {} exceeds the capacity {}: the rest is ignored", list.revision, list.count,
@@ -95,23 +91,23 @@ void ManagerPlugin::step(Nanos now) {
   const Vec3 p(s.p_n, s.p_e, s.p_d);
   if (s.valid && std::isfinite(s.w_n) && std::isfinite(s.w_e)) {
     const Vec3 w(s.w_n, s.w_e, 0.0);
-    if (!wind_stamp_) {
-      wind_ = w;
+    if (!f_.wind_stamp) {
+      f_.wind = w;
     } else {
-      const double dt = to_seconds(now - *wind_stamp_);
+      const double dt = to_seconds(now - *f_.wind_stamp);
       const double tau = wind_tau_();
       const double k = tau > 0.0 ? 1.0 - std::exp(-std::max(dt, 0.0) / tau) : 1.0;
-      wind_ += k * (w - wind_);
+      f_.wind += k * (w - f_.wind);
     }
-    wind_stamp_ = now;
-    manager_->set_wind(wind_);
+    f_.wind_stamp = now;
+    manager_->set_wind(f_.wind);
   }
   const PathSegment seg = manager_->update(p, s.chi, to_seconds(now));
   if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
     const double e = std::fabs(cross_track_error(seg.r, seg.q, p));
-    xt_sq_ += e * e;
-    xt_max_ = std::max(xt_max_, e);
-    ++xt_n_;
+    f_.xt_sq += e * e;
+    f_.xt_max = std::max(f_.xt_max, e);
+    ++f_.xt_n;
   }
   msg::CurrentPath out;
   out.stamp = now;
@@ -128,10 +124,10 @@ void ManagerPlugin::step(Nanos now) {
 
 std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
   if (!manager_) return {};
-  const double rms = xt_n_ > 0 ? std::sqrt(xt_sq_ / static_cast<double>(xt_n_)) : 0.0;
+  const double rms = f_.xt_n > 0 ? std::sqrt(f_.xt_sq / static_cast<double>(f_.xt_n)) : 0.0;
   return {{"waypoints_passed", static_cast<double>(manager_->passed().size())},
           {"line_cross_track_rms_m", rms},
-          {"line_cross_track_max_m", xt_max_}};
+          {"line_cross_track_max_m", f_.xt_max}};
 }
 
 }  // namespace tern::path

@@ -69,27 +69,27 @@ void PlannerPlugin::load_configured() {
 }
 
 void PlannerPlugin::replace(Mission m, const std::string& why) {
-  wps_ = std::move(m.waypoints);
-  loop_ = m.loop;
-  dirty_ = true;
-  waiting_logged_ = false;
+  f_.wps = std::move(m.waypoints);
+  f_.loop = m.loop;
+  f_.dirty = true;
+  f_.waiting_logged = false;
   if (context().describing()) return;
-  log().info("mission {} ({}): {} waypoints{}{}", why, m.source, wps_.size(), loop_ ? ", loop" : "",
+  log().info("mission {} ({}): {} waypoints{}{}", why, m.source, f_.wps.size(), f_.loop ? ", loop" : "",
              m.has_lla() ? ", some in lat/lon" : "");
 }
 
 void PlannerPlugin::start() {
   if (mission_file_() != configured_from_) load_configured();  // changed between flights
-  dirty_ = true;
+  f_.dirty = true;
 }
 
 void PlannerPlugin::reset() {
+  f_ = Flight{};
   replace(configured_, "reset to the configured one");
-  origin_.reset();
 }
 
 void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
-  ++edits_;
+  ++f_.edits;
   const std::string tag = "mission_edit " + std::to_string(e.id);
   switch (e.op) {
     case msg::MissionEdit::add: {
@@ -101,38 +101,38 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
         return;
       }
       if (e.set_current_wp) {
-        wps_.assign(1, wp);
-        immediate_ = true;
-      } else if (wps_.size() >= msg::WaypointList::kCapacity) {
-        log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag, wps_.size());
+        f_.wps.assign(1, wp);
+        f_.immediate = true;
+      } else if (f_.wps.size() >= msg::WaypointList::kCapacity) {
+        log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag, f_.wps.size());
         return;
       } else {
-        wps_.push_back(wp);
+        f_.wps.push_back(wp);
       }
-      log().info("{}: waypoint added ({} now){}", tag, wps_.size(), e.set_current_wp ? ", starting a new list" : "");
+      log().info("{}: waypoint added ({} now){}", tag, f_.wps.size(), e.set_current_wp ? ", starting a new list" : "");
       if (e.publish_now || e.set_current_wp)
-        dirty_ = true;
+        f_.dirty = true;
       else
-        held_ = true;
+        f_.held = true;
       return;
     }
     case msg::MissionEdit::clear:
-      wps_.clear();
-      dirty_ = true;
+      f_.wps.clear();
+      f_.dirty = true;
       log().info("{}: mission cleared", tag);
       return;
     case msg::MissionEdit::set_current: {
-      if (e.index >= wps_.size()) {
-        log().error("{}: set_current index {} refused, the mission has {} waypoints", tag, e.index, wps_.size());
+      if (e.index >= f_.wps.size()) {
+        log().error("{}: set_current index {} refused, the mission has {} waypoints", tag, e.index, f_.wps.size());
         return;
       }
       // The published list starts at the new current waypoint: a looping mission keeps its
       // cycle (rotated), a one-pass mission drops the waypoints before it.
-      if (loop_)
-        std::rotate(wps_.begin(), wps_.begin() + e.index, wps_.end());
+      if (f_.loop)
+        std::rotate(f_.wps.begin(), f_.wps.begin() + e.index, f_.wps.end());
       else
-        wps_.erase(wps_.begin(), wps_.begin() + e.index);
-      dirty_ = true;
+        f_.wps.erase(f_.wps.begin(), f_.wps.begin() + e.index);
+      f_.dirty = true;
       log().info("{}: waypoint {} is now the next one (list renumbered from it)", tag, e.index);
       return;
     }
@@ -155,47 +155,47 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
 void PlannerPlugin::step(Nanos now) {
   if (edit_.updated()) {
     apply_edit(*edit_);
-    if (edit_->publish_now && held_) {
-      held_ = false;
-      dirty_ = true;
+    if (edit_->publish_now && f_.held) {
+      f_.held = false;
+      f_.dirty = true;
     }
   }
   if (state_.has_value() && state_->origin_valid) {
     const GeoPoint o{state_->origin_lat, state_->origin_lon, state_->origin_alt};
-    const bool changed = !origin_ || origin_->lat != o.lat || origin_->lon != o.lon || origin_->alt != o.alt;
+    const bool changed = !f_.origin || f_.origin->lat != o.lat || f_.origin->lon != o.lon || f_.origin->alt != o.alt;
     if (changed && std::isfinite(o.lat) && std::isfinite(o.lon) && std::isfinite(o.alt) && std::fabs(o.lat) <= 90.0 &&
         std::fabs(o.lon) <= 180.0) {
-      const bool had = origin_.has_value();
-      origin_ = o;
-      const bool any_lla = std::any_of(wps_.begin(), wps_.end(), [](const auto& w) { return w.lla; });
+      const bool had = f_.origin.has_value();
+      f_.origin = o;
+      const bool any_lla = std::any_of(f_.wps.begin(), f_.wps.end(), [](const auto& w) { return w.lla; });
       if (any_lla) {
-        dirty_ = true;
+        f_.dirty = true;
         if (had) log().warn("origin moved: lat/lon waypoints converted again");
       }
     }
   }
-  if (!dirty_) return;
-  const bool any_lla = std::any_of(wps_.begin(), wps_.end(), [](const auto& w) { return w.lla; });
-  if (any_lla && !origin_) {
-    if (!waiting_logged_) log().info("lat/lon waypoints wait for the estimator's origin before the list is published");
-    waiting_logged_ = true;
+  if (!f_.dirty) return;
+  const bool any_lla = std::any_of(f_.wps.begin(), f_.wps.end(), [](const auto& w) { return w.lla; });
+  if (any_lla && !f_.origin) {
+    if (!f_.waiting_logged) log().info("lat/lon waypoints wait for the estimator's origin before the list is published");
+    f_.waiting_logged = true;
     return;
   }
-  const auto ned = any_lla ? resolve_to_ned(wps_, *origin_) : wps_;
+  const auto ned = any_lla ? resolve_to_ned(f_.wps, *f_.origin) : f_.wps;
   msg::WaypointList out;
   out.stamp = now;
-  out.revision = ++revision_;
-  out.loop = loop_;
+  out.revision = ++f_.revision;
+  out.loop = f_.loop;
   out.count = static_cast<std::uint32_t>(ned.size());
-  out.immediate = immediate_;
+  out.immediate = f_.immediate;
   for (std::size_t i = 0; i < ned.size(); ++i) out.items[i] = to_msg(ned[i]);
   waypoints_.publish(out);
-  dirty_ = false;
-  immediate_ = false;
+  f_.dirty = false;
+  f_.immediate = false;
 }
 
 std::vector<std::pair<std::string, double>> PlannerPlugin::summary() const {
-  return {{"mission_revisions", static_cast<double>(revision_)}, {"mission_edits", static_cast<double>(edits_)}};
+  return {{"mission_revisions", static_cast<double>(f_.revision)}, {"mission_edits", static_cast<double>(f_.edits)}};
 }
 
 }  // namespace tern::path

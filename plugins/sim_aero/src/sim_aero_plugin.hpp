@@ -16,6 +16,7 @@
 #include <memory>
 #include <limits>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -132,8 +133,8 @@ class SimAero final : public tern::Plugin {
   void reset() override { initialise(); }
 
   void step(Nanos now) override {
-    if (!sim_) initialise();
-    sim::Deltas cmd = default_cmd_;
+    if (!f_.sim) initialise();
+    sim::Deltas cmd = f_.default_cmd;
     if (actuators_in_.has_value()) {
       const msg::Actuators& a = actuators_in_.get();
       cmd.delta_a = a.delta_a;
@@ -141,26 +142,26 @@ class SimAero final : public tern::Plugin {
       cmd.delta_r = a.delta_r;
       cmd.delta_t = a.delta_t;
     }
-    sim_->set_command(cmd);  // throws on NaN: an error, not a NaN flight
+    f_.sim->set_command(cmd);  // throws on NaN: an error, not a NaN flight
     apply_live_params();
-    if (!stepped_) {
-      publish_due(t_);
-      stepped_ = true;
+    if (!f_.stepped) {
+      publish_due(f_.t);
+      f_.stepped = true;
     }
-    while (t_ < now) {
-      const Nanos dt = std::min(sim_dt_, now - t_);
-      sim_->step(static_cast<double>(dt) * 1e-9);
-      t_ += dt;
-      ++steps_;
-      publish_due(t_);
+    while (f_.t < now) {
+      const Nanos dt = std::min(f_.sim_dt, now - f_.t);
+      f_.sim->step(static_cast<double>(dt) * 1e-9);
+      f_.t += dt;
+      ++f_.steps;
+      publish_due(f_.t);
     }
-    if (sim_->crashed() && !crash_reported_) report_crash();
+    if (f_.sim->crashed() && !f_.crash_reported) report_crash();
   }
 
   std::vector<std::pair<std::string, double>> summary() const override {
-    std::vector<std::pair<std::string, double>> s = {{"sim_steps", static_cast<double>(steps_)},
-                                                     {"sim_crashed", sim_ && sim_->crashed() ? 1.0 : 0.0}};
-    if (sim_ && sim_->crashed()) {
+    std::vector<std::pair<std::string, double>> s = {{"sim_steps", static_cast<double>(f_.steps)},
+                                                     {"sim_crashed", f_.sim && f_.sim->crashed() ? 1.0 : 0.0}};
+    if (f_.sim && f_.sim->crashed()) {
       const ImpactFacts m = impact();
       s.insert(s.end(), {{"impact_t_s", m.t},
                          {"impact_p_n_m", m.p_ned.x()},
@@ -246,6 +247,51 @@ class SimAero final : public tern::Plugin {
             .start_only());
     declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats},
             ParamSpec("", 0, 64, "reported satellites in use").start_only());
+    for (auto& p : sensor_reals_) track_explicit(p);
+    for (auto& p : sensor_vectors_) track_explicit(p);
+    for (auto& p : actuator_reals_) track_explicit(p);
+    track_explicit(gnss_start_steady_);
+    track_explicit(calibrate_at_boot_);
+    track_explicit(accel_calibrated_level_);
+    track_explicit(gnss_num_sats_);
+    sensor_profile_.on_change([this](const std::string&) { apply_profile_defaults(); });
+  }
+
+  /// Remembers whether the mission sets `p`, and any later change, so that a new sensor_profile
+  /// (between flights) moves only the parameters nobody set.
+  template <class T>
+  void track_explicit(tern::Param<T>& p) {
+    if (context().configured_value(p.name(), p.spec())) set_explicitly_.insert(&p);
+    p.on_change([this, &p](const T&) {
+      if (!applying_profile_) set_explicitly_.insert(&p);
+    });
+  }
+
+  /// sensor_profile changed (a start-only parameter: between flights): every sensor and
+  /// actuator parameter nobody set takes the new profile's default; the next start() uses them.
+  void apply_profile_defaults() {
+    const sim::SensorParams d = sim::sensor_profile(sensor_profile_());
+    const sim::ActuatorParams da = sim::actuator_profile(sensor_profile_());
+    applying_profile_ = true;
+    const auto take = [this](tern::ParamBase& p, const tern::ParamValue& v) {
+      if (!set_explicitly_.count(&p)) p.set(v);
+    };
+    try {
+      for (std::size_t i = 0; i < std::size(kSensorReals); ++i) take(sensor_reals_[i], d.*kSensorReals[i].field);
+      for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
+        const Eigen::Vector3d& v = d.*kSensorVectors[i].field;
+        take(sensor_vectors_[i], std::vector<double>{v.x(), v.y(), v.z()});
+      }
+      for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) take(actuator_reals_[i], da.*kActuatorReals[i].field);
+      take(gnss_start_steady_, d.gnss_start_steady);
+      take(calibrate_at_boot_, d.calibrate_at_boot);
+      take(accel_calibrated_level_, d.accel_calibrated_level);
+      take(gnss_num_sats_, std::int64_t{d.gnss_num_sats});
+    } catch (...) {
+      applying_profile_ = false;
+      throw;
+    }
+    applying_profile_ = false;
   }
 
   sim::SensorParams sensor_params() const {
@@ -283,13 +329,13 @@ class SimAero final : public tern::Plugin {
   void initialise() {
     if (context().describing()) throw std::runtime_error("sim_aero: no aircraft loaded (configure() ran in describing mode)");
     load_aircraft();
+    f_ = Flight{};
     const std::uint64_t seed = context().seed();
-    sim_ = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
-    sensors_ = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
-    sim_->set_actuators(actuator_params());
-    gnss_latency_ = tern::from_seconds(sensors_->params().gnss_latency);
-    gnss_pending_.clear();
-    sim_dt_ = period_of(sim_rate_(), "sim_rate");
+    f_.sim = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
+    f_.sensors = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
+    f_.sim->set_actuators(actuator_params());
+    f_.gnss_latency = tern::from_seconds(f_.sensors->params().gnss_latency);
+    f_.sim_dt = period_of(sim_rate_(), "sim_rate");
     for (SensorSlot* s : slots()) {
       s->schedule = sim::SensorSchedule{};
       s->schedule.period = period_of(s->rate(), s->rate.name());
@@ -297,41 +343,37 @@ class SimAero final : public tern::Plugin {
       s->schedule.dropouts = dropouts_of(*s);
       s->nan_windows = windows_of(s->nan);
     }
-    truth_sched_ = sim::SensorSchedule{};
-    truth_sched_.period = period_of(truth_rate_(), "truth_rate");
-    rc_sched_ = sim::SensorSchedule{};
-    rc_sched_.period = rc_rate_() > 0 ? period_of(rc_rate_(), "rc_rate") : 0;
-    status_sched_ = sim::SensorSchedule{};
-    status_sched_.period = status_rate_() > 0 ? period_of(status_rate_(), "status_rate") : 0;
+    f_.truth_sched.period = period_of(truth_rate_(), "truth_rate");
+    f_.rc_sched.period = rc_rate_() > 0 ? period_of(rc_rate_(), "rc_rate") : 0;
+    f_.status_sched.period = status_rate_() > 0 ? period_of(status_rate_(), "status_rate") : 0;
 
     // Wind.
-    sim_->set_turbulence(sim::dryden_preset(turbulence_()));
-    turbulence_applied_ = turbulence_();
+    f_.sim->set_turbulence(sim::dryden_preset(turbulence_()));
+    f_.turbulence_applied = turbulence_();
     const auto& g = gusts_();
     for (std::size_t i = 0; i + 4 < g.size(); i += 5) {
       sim::CosineGust c;
       c.start = g[i];
       c.duration = g[i + 1];
       c.amplitude = Eigen::Vector3d(g[i + 2], g[i + 3], g[i + 4]);
-      sim_->gusts().add(c);
+      f_.sim->gusts().add(c);
     }
-    sim_->gusts().freeze_schedule();
-    sim_->gusts().set_random(gust_rate_(), gust_max_(), gust_min_duration_(), gust_max_duration_());
-    sim_->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
-    sim_->sync_wind();  // the samples at t = 0 see the wind
+    f_.sim->gusts().freeze_schedule();
+    f_.sim->gusts().set_random(gust_rate_(), gust_max_(), gust_min_duration_(), gust_max_duration_());
+    f_.sim->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
+    f_.sim->sync_wind();  // the samples at t = 0 see the wind
 
     // Initial state.
-    const auto& ac = sim_->aircraft();
+    const auto& ac = f_.sim->aircraft();
     const Eigen::Vector2d ne(init_position_()[0], init_position_()[1]);
-    default_cmd_ = sim::Deltas{};
     const std::string mode = init_mode_();
     if (mode == "ground") {
-      sim_->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
+      f_.sim->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
     } else if (mode == "air") {
-      sensors_->calibrated_before_start();
-      sim_->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0, init_heading_()));
+      f_.sensors->calibrated_before_start();
+      f_.sim->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0, init_heading_()));
     } else {
-      sensors_->calibrated_before_start();
+      f_.sensors->calibrated_before_start();
       sim::TrimRequest req;
       req.Va = init_airspeed_();
       req.altitude = init_altitude_();
@@ -340,16 +382,11 @@ class SimAero final : public tern::Plugin {
       sim::StateVector x = tr.x;
       x[sim::PN] = ne.x();
       x[sim::PE] = ne.y();
-      sim_->set_state(x, tr.delta);
-      default_cmd_ = tr.delta;
+      f_.sim->set_state(x, tr.delta);
+      f_.default_cmd = tr.delta;
       log().info("trim at {} m/s: alpha {:.4f} rad, delta_e {:.4f} rad, delta_t {:.3f}", req.Va, tr.alpha, tr.delta.delta_e,
                  tr.delta.delta_t);
     }
-    t_ = 0;
-    steps_ = 0;
-    stepped_ = false;
-    crash_reported_ = false;
-    boot_reported_ = false;
   }
 
   // ---- ground impact
@@ -361,13 +398,13 @@ class SimAero final : public tern::Plugin {
     double Va, phi, theta;         // m/s, rad, rad
   };
   ImpactFacts impact() const {
-    const auto& m = sim_->impact();
+    const auto& m = f_.sim->impact();
     const Eigen::Quaterniond q = sim::attitude(m.x);
     const Eigen::Vector3d eul = tern::euler_from_quaternion(q);
     return {m.t, m.x.segment<3>(sim::PN), q * m.x.segment<3>(sim::U), m.Va, eul.x(), eul.y()};
   }
   void report_crash() {
-    crash_reported_ = true;
+    f_.crash_reported = true;
     const ImpactFacts m = impact();
     const std::string detail = fmt::format(
         "the aircraft hit the ground at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
@@ -378,10 +415,10 @@ class SimAero final : public tern::Plugin {
   }
 
   void apply_live_params() {
-    sim_->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
-    if (turbulence_() != turbulence_applied_) {
-      sim_->set_turbulence(sim::dryden_preset(turbulence_()));
-      turbulence_applied_ = turbulence_();
+    f_.sim->set_steady_wind(Eigen::Vector3d(wind_()[0], wind_()[1], wind_()[2]));
+    if (turbulence_() != f_.turbulence_applied) {
+      f_.sim->set_turbulence(sim::dryden_preset(turbulence_()));
+      f_.turbulence_applied = turbulence_();
     }
   }
 
@@ -391,15 +428,16 @@ class SimAero final : public tern::Plugin {
     auto get_truth = [&]() -> const sim::Truth& {
       if (!truth) {
         truth.emplace();
-        truth->x = sim_->state();
-        if (sensors_->params().imu_position.isZero()) {
-          truth->fm = sim_->evaluate();
+        truth->x = f_.sim->state();
+        if (f_.sensors->params().imu_position.isZero()) {
+          truth->fm = f_.sim->evaluate();
         } else {  // the lever arm needs the angular acceleration: one evaluation gives both
-          truth->omega_dot = sim::derivative(sim_->aircraft(), truth->x, sim_->surfaces(), sim_->wind(), &truth->fm).segment<3>(sim::P);
+          truth->omega_dot =
+              sim::derivative(f_.sim->aircraft(), truth->x, f_.sim->surfaces(), f_.sim->wind(), &truth->fm).segment<3>(sim::P);
         }
-        truth->mass = sim_->aircraft().mass;
-        truth->rho = sim_->aircraft().rho;
-        truth->throttle = sim_->surfaces().delta_t;
+        truth->mass = f_.sim->aircraft().mass;
+        truth->rho = f_.sim->aircraft().rho;
+        truth->throttle = f_.sim->surfaces().delta_t;
       }
       return *truth;
     };
@@ -410,7 +448,7 @@ class SimAero final : public tern::Plugin {
     };
     run(imu_, [&](bool ok) {
       if (!ok) return;
-      const auto m = sensors_->imu(get_truth(), imu_.schedule.dt_since_last(t));
+      const auto m = f_.sensors->imu(get_truth(), imu_.schedule.dt_since_last(t));
       imu_.schedule.last_sample = t;
       msg::Imu out;
       out.stamp = t;
@@ -422,7 +460,7 @@ class SimAero final : public tern::Plugin {
     });
     run(mag_, [&](bool ok) {
       if (!ok) return;
-      const auto m = sensors_->mag(get_truth(), mag_.schedule.dt_since_last(t));
+      const auto m = f_.sensors->mag(get_truth(), mag_.schedule.dt_since_last(t));
       mag_.schedule.last_sample = t;
       msg::Mag out;
       out.stamp = t;
@@ -431,7 +469,7 @@ class SimAero final : public tern::Plugin {
     });
     run(baro_, [&](bool ok) {
       if (!ok) return;
-      const auto m = sensors_->baro(get_truth(), baro_.schedule.dt_since_last(t));
+      const auto m = f_.sensors->baro(get_truth(), baro_.schedule.dt_since_last(t));
       baro_.schedule.last_sample = t;
       msg::Baro out;
       out.stamp = t;
@@ -442,8 +480,8 @@ class SimAero final : public tern::Plugin {
     run(diff_, [&](bool ok) {
       if (!ok) return;
       const double dt = diff_.schedule.dt_since_last(t);
-      const auto m = t < tern::from_seconds(pitot_cover_()) ? sensors_->diff_pressure(covered_pitot(get_truth()), dt)
-                                                            : sensors_->diff_pressure(get_truth(), dt);
+      const auto m = t < tern::from_seconds(pitot_cover_()) ? f_.sensors->diff_pressure(covered_pitot(get_truth()), dt)
+                                                            : f_.sensors->diff_pressure(get_truth(), dt);
       diff_.schedule.last_sample = t;
       msg::DiffPressure out;
       out.stamp = t;
@@ -456,7 +494,7 @@ class SimAero final : public tern::Plugin {
       out.stamp = t;
       out.time_of_validity = t;
       if (ok) {
-        const auto m = sensors_->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
+        const auto m = f_.sensors->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
         gnss_.schedule.last_sample = t;
         out.fix_type = msg::FixType::fix_3d;
         out.num_sats = static_cast<std::uint8_t>(m.num_sats);
@@ -473,26 +511,26 @@ class SimAero final : public tern::Plugin {
       }
       // In a drop-out window the receiver still reports, without a fix. Every report leaves
       // the receiver gnss_latency after its time of validity.
-      out.stamp = t + gnss_latency_;
-      gnss_pending_.push_back(out);
+      out.stamp = t + f_.gnss_latency;
+      f_.gnss_pending.push_back(out);
     });
-    while (!gnss_pending_.empty() && gnss_pending_.front().stamp <= t) {
-      gnss_out_.publish(gnss_pending_.front());
-      gnss_pending_.pop_front();
+    while (!f_.gnss_pending.empty() && f_.gnss_pending.front().stamp <= t) {
+      gnss_out_.publish(f_.gnss_pending.front());
+      f_.gnss_pending.pop_front();
     }
-    if (truth_sched_.poll(t) == Poll::sample) publish_truth(t, get_truth());
-    if (rc_sched_.poll(t) == Poll::sample) {
+    if (f_.truth_sched.poll(t) == Poll::sample) publish_truth(t, get_truth());
+    if (f_.rc_sched.poll(t) == Poll::sample) {
       msg::Rc rc = pilot_in_.has_value() ? *pilot_in_ : msg::Rc{};
       rc.stamp = t;
       rc_out_.publish(rc);
     }
-    if (status_sched_.poll(t) == Poll::sample) {
+    if (f_.status_sched.poll(t) == Poll::sample) {
       msg::FcuStatus st;
       st.stamp = t;
       st.armed = armed_() && boot_calibrated(t);
       st.offboard = offboard_();
-      const auto& ac = sim_->aircraft();
-      const double V_in = ac.prop.V_max * sim_->surfaces().delta_t;
+      const auto& ac = f_.sim->aircraft();
+      const double V_in = ac.prop.V_max * f_.sim->surfaces().delta_t;
       st.battery_voltage = ac.prop.V_max;
       st.battery_current = std::max(0.0, (V_in - ac.prop.K_Q * get_truth().fm.prop.Omega) / ac.prop.R_motor);
       status_out_.publish(st);
@@ -505,11 +543,11 @@ class SimAero final : public tern::Plugin {
   static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   static constexpr double kMovedDuringCalibration = 0.0175;
   bool boot_calibrated(Nanos t) {
-    const sim::BootCalibration* cal = sensors_->boot_calibration();
+    const sim::BootCalibration* cal = f_.sensors->boot_calibration();
     if (cal == nullptr) return true;
     if (!cal->gyro_done() || (diff_.enabled() && !cal->diff().done) || (baro_.enabled() && !cal->baro_ground().done)) return false;
-    if (!boot_reported_) {
-      boot_reported_ = true;
+    if (!f_.boot_reported) {
+      f_.boot_reported = true;
       const Eigen::Vector3d b = cal->gyro_bias();
       log().info(
           "t={:.3f} s: FCU boot calibration done: gyro bias [{:.5f}, {:.5f}, {:.5f}] rad/s, pitot zero {:.2f} Pa, "
@@ -517,7 +555,7 @@ class SimAero final : public tern::Plugin {
           tern::to_seconds(t), b.x(), b.y(), b.z(), cal->diff().offset, cal->baro_ground().offset,
           cal->gyro_restarts() + cal->diff().restarts + cal->baro_ground().restarts);
       // The world knows what the FCU cannot: whether the aircraft sat still while it averaged.
-      const double off = (b - sensors_->gyro_bias()).norm();
+      const double off = (b - f_.sensors->gyro_bias()).norm();
       if (off > kMovedDuringCalibration)
         log().warn(
             "the aircraft moved during the FCU's gyro calibration: the bias it removes is {:.2f} deg/s off "
@@ -563,16 +601,16 @@ class SimAero final : public tern::Plugin {
     s.Vg = v_ned.norm();
     s.chi = tern::wrap_pi(std::atan2(v_ned.y(), v_ned.x()));
     s.gamma = s.Vg > 1e-6 ? std::asin(std::clamp(-v_ned.z() / s.Vg, -1.0, 1.0)) : 0.0;
-    const Eigen::Vector3d w = sim_->wind_ned();
+    const Eigen::Vector3d w = f_.sim->wind_ned();
     s.w_n = w.x();
     s.w_e = w.y();
     s.w_d = w.z();
-    s.b_x = sensors_->gyro_bias().x();
-    s.b_y = sensors_->gyro_bias().y();
-    s.b_z = sensors_->gyro_bias().z();
-    s.origin_lat = sensors_->params().origin_lat;
-    s.origin_lon = sensors_->params().origin_lon;
-    s.origin_alt = sensors_->params().origin_alt;
+    s.b_x = f_.sensors->gyro_bias().x();
+    s.b_y = f_.sensors->gyro_bias().y();
+    s.b_z = f_.sensors->gyro_bias().z();
+    s.origin_lat = f_.sensors->params().origin_lat;
+    s.origin_lon = f_.sensors->params().origin_lon;
+    s.origin_alt = f_.sensors->params().origin_alt;
     s.origin_valid = true;
     s.valid = true;
     truth_out_.publish(s);
@@ -608,19 +646,27 @@ class SimAero final : public tern::Plugin {
 
   std::optional<tern::Aircraft> aircraft_data_;
   std::string aircraft_path_;  ///< the file aircraft_data_ came from
-  std::unique_ptr<sim::Simulator> sim_;
-  std::unique_ptr<sim::Sensors> sensors_;
-  sim::SensorSchedule truth_sched_, rc_sched_, status_sched_;
-  std::deque<msg::Gnss> gnss_pending_;  ///< fixes taken, not yet delivered (latency)
-  Nanos gnss_latency_ = 0;
-  sim::Deltas default_cmd_;
-  std::string turbulence_applied_;
-  Nanos sim_dt_ = 2'500'000;
-  Nanos t_ = 0;
-  std::uint64_t steps_ = 0;
-  bool stepped_ = false;
-  bool crash_reported_ = false;
-  bool boot_reported_ = false;
+  /// Everything one flight changes: initialise() (start(), reset()) replaces it wholesale. The
+  /// sensor slots' schedules are rebuilt there too, from their start-only parameters.
+  struct Flight {
+    std::unique_ptr<sim::Simulator> sim;
+    std::unique_ptr<sim::Sensors> sensors;
+    sim::SensorSchedule truth_sched, rc_sched, status_sched;
+    std::deque<msg::Gnss> gnss_pending;  ///< fixes taken, not yet delivered (latency)
+    Nanos gnss_latency = 0;
+    sim::Deltas default_cmd;
+    std::string turbulence_applied;
+    Nanos sim_dt = 2'500'000;
+    Nanos t = 0;
+    std::uint64_t steps = 0;
+    bool stepped = false;
+    bool crash_reported = false;
+    bool boot_reported = false;
+  } f_;
+  /// The sensor and actuator parameters a mission or a user set (they keep their value when
+  /// sensor_profile changes; the others take the new profile's defaults).
+  std::set<const tern::ParamBase*> set_explicitly_;
+  bool applying_profile_ = false;
 };
 
 }  // namespace tern::sim_aero

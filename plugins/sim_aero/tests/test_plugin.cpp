@@ -190,6 +190,27 @@ TEST_CASE("plugin: sensor_profile sets every default; a single parameter still o
   CHECK(ideal.output<msg::Gnss>("gnss").vel.x() == doctest::Approx(s.v_n).epsilon(1e-9));
 }
 
+TEST_CASE("plugin: sensor_profile set between flights moves every default nobody set; set ones stay") {
+  auto h = make({{"sensor_profile", std::string("realistic")}, {"gnss_latency", 0.2}});
+  auto value = [&h](const char* name) { return std::get<double>(h.plugin().find_param(name)->value()); };
+  h.set_param("accel_noise", 0.5);  // set by the user after configure()
+  h.set_param("sensor_profile", std::string("ideal"));
+  const tern::sim::SensorParams ideal = tern::sim::sensor_profile("ideal");
+  CHECK(value("gnss_h_sigma") == ideal.gnss_h_sigma);
+  CHECK(value("gyro_noise") == ideal.gyro_noise);
+  CHECK(value("servo_rate_limit") == tern::sim::actuator_profile("ideal").servo_rate_limit);
+  CHECK(value("gnss_latency") == 0.2);  // the mission set it
+  CHECK(value("accel_noise") == 0.5);   // the user set it
+  h.set_param("sensor_profile", std::string("realistic"));
+  CHECK(value("gnss_h_sigma") == tern::sim::sensor_profile("realistic").gnss_h_sigma);
+  // the next flight flies the new profile: with "ideal" and no noise set, the gyro reads the truth
+  auto g = make({{"init_mode", std::string("trim")}, {"accel_noise", 0.0}});
+  g.set_param("sensor_profile", std::string("ideal"));
+  g.reset();
+  run(g, 0.5);
+  CHECK(g.output<msg::Imu>("imu").gyro.y() == g.output<msg::State>("truth").q);
+}
+
 TEST_CASE("plugin: a GNSS fix is delivered gnss_latency after its time of validity, exact to the tick") {
   auto h = make(
       {{"init_mode", std::string("trim")}, {"gnss_latency", 0.12}, {"gnss_h_sigma", 0.0}, {"gnss_v_sigma", 0.0}, {"gnss_vel_noise", 0.0}});

@@ -10,10 +10,29 @@
 //                values, open files. Nothing runs yet.
 //   start()      once, before the first step of a flight.
 //   step(now)    at the configured rate, or when the trigger input has new data.
-//   reset()      between flights: integrators and filters start clean.
+//   reset()      between flights of one host (`tern serve`), before the next start(): the
+//                plugin must then be as it was after configure(), with the parameters' current
+//                values. The host empties every output (OutputBase::clear) and rebinds inputs.
 //   take_over(a) when the phase router hands control to this controller; a is the last actuator
 //                command, to start from (bumpless). Default: reset().
 //   stop()       once, after the last step.
+//
+// Per-flight state, the contract that keeps flight 2 of a served host identical to flight 1 of
+// a fresh one: keep everything a flight changes (integrators, filters, counters for summary(),
+// "warned once" flags, scratch that outlives a step) in ONE struct with member initialisers,
+// and let reset() replace it wholesale, never field by field (a field added later cannot be
+// forgotten):
+//
+//   struct Flight {
+//     double integrator = 0.0;
+//     std::optional<Nanos> last_step;
+//     std::uint64_t held_steps = 0;
+//   } flight_;
+//   void reset() override { flight_ = Flight{}; }
+//
+// Parameters, ports and what configure() read from files stay outside it. An algorithm object
+// that is per-flight as a whole is replaced the same way (`filter_ = Filter(config_)`). The SDK
+// templates (sdk/templates) follow this; tests/test_served_flights.sh checks the shipped plugins.
 // A plugin never sleeps, never keeps a thread running after stop(), and never keeps a pointer
 // into another plugin. Exceptions thrown from these functions end the flight with an error line
 // naming the instance; the flight log is kept.
@@ -52,7 +71,9 @@ namespace tern {
 /// 3: msg::Waypoint's type and loiter fields, msg::WaypointList::immediate (issue 18).
 /// 4: Plugin::declare_struct (parameters from a described config struct, tern/param_struct.hpp);
 ///    log() usable with this header alone (issue 22). SDK package version 0.2.
-inline constexpr std::uint32_t kSdkApiVersion = 4;
+/// 5: OutputBase::clear() (the host empties every output between flights), per-flight state
+///    replaced wholesale by reset(), Plugin::health() and Plugin::timing() (issue 45).
+inline constexpr std::uint32_t kSdkApiVersion = 5;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 enum class PluginKind : std::uint8_t { io, estimator, controller, path_planner, path_manager, path_follower, generic };
@@ -116,6 +137,7 @@ class TERN_API Plugin {
   virtual void configure() = 0;
   virtual void start() {}
   virtual void step(Nanos now) = 0;
+  /// Between flights: back to the state after configure() (see "Per-flight state" above).
   virtual void reset() {}
   /// The phase router made this controller the active one. `last_command` is what the
   /// outgoing controller commanded last: start from it (bumpless transfer: no surface jump).
@@ -125,8 +147,16 @@ class TERN_API Plugin {
     reset();
   }
   virtual void stop() {}
-  /// Figures this plugin adds to the flight's summary.json (name, value), after stop().
+  /// Figures this plugin adds to the flight's summary.json (name, value), after stop(): a
+  /// function of the config and the seed (summary.json is the same bytes for the same flight).
   virtual std::vector<std::pair<std::string, double>> summary() const { return {}; }
+  /// Figures that depend on the wall clock (a link's round trip, frames of a wall-paced link),
+  /// for the flight's timing.json, after stop().
+  virtual std::vector<std::pair<std::string, double>> timing() const { return {}; }
+  /// One short line for the terminal at the end of a flight when this plugin has something to
+  /// say about its health (e.g. "0 resets, baro 0.9 % rejected"), "" when not; after stop().
+  /// The figures behind it belong in summary(), which summary.json keeps.
+  virtual std::string health() const { return {}; }
 
   // ---- host side ----
   void attach(Context* ctx) { ctx_ = ctx; }

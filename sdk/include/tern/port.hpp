@@ -72,18 +72,27 @@ class TERN_API OutputBase : public PortBase {
     std::memcpy(const_cast<void*>(data_), bytes, type().size);
     seq_ = seq;
   }
+  /// Host side, between flights: nothing published yet (sequence 0, a default message), as
+  /// after construction, so that a new flight's first consumers see what a fresh host's do.
+  void clear() {
+    clear_(const_cast<void*>(data_));
+    seq_ = 0;
+  }
 
  protected:
-  OutputBase(const MsgType& type, const void* data) : PortBase(type), data_(data) {}
+  OutputBase(const MsgType& type, const void* data, void (*clear)(void*)) : PortBase(type), data_(data), clear_(clear) {}
   const void* data_;
   std::uint64_t seq_ = 0;
+
+ private:
+  void (*clear_)(void*);  ///< assigns a default message to *data_
 };
 
 /// A plugin's output port carrying messages of type T.
 template <class T>
 class Output final : public OutputBase {
  public:
-  Output() : OutputBase(msg_type_v<T>, &value_) {}
+  Output() : OutputBase(msg_type_v<T>, &value_, [](void* v) { *static_cast<T*>(v) = T{}; }) {}
   /// Makes msg the latest message on the topic: O(sizeof(T)) copy, no allocation.
   void publish(const T& msg) {
     value_ = msg;

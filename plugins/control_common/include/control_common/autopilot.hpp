@@ -143,7 +143,7 @@ class Autopilot {
   void take_over(const Surfaces& last);
   /// Integrators and filters clean; the next update starts from trim.
   void reset();
-  const Surfaces& last() const { return last_.surfaces; }
+  const Surfaces& last() const { return f_.last.surfaces; }
 
  private:
   Surfaces limit(const Surfaces& u) const;
@@ -153,14 +153,17 @@ class Autopilot {
   LateralLoops lateral_;
   PitchLoop pitch_;
   AutopilotSettings s_;
-  AutopilotOutput last_;
-  Surfaces offset_;
-  Surfaces handover_from_;
-  bool pending_handover_ = false;
-  bool have_last_ = false;
-  bool rotated_ = false;
-  Mode mode_ = Mode::cruise;
-  bool override_phi_ = false, override_theta_ = false;
+  /// Everything a flight changes besides the loops' integrators: reset() replaces it wholesale.
+  struct Flight {
+    AutopilotOutput last;
+    Surfaces offset;         ///< bumpless-transfer offset, decaying with handover_tau
+    Surfaces handover_from;  ///< the surfaces to start from at the next mode change
+    bool pending_handover = false;
+    bool have_last = false;
+    bool rotated = false;  ///< takeoff: rotated to takeoff_pitch
+    Mode mode = Mode::cruise;
+    bool override_phi = false, override_theta = false;
+  } f_;
 };
 
 }  // namespace tern::control

@@ -33,6 +33,8 @@ class ControllerPlugin : public Plugin {
   void reset() override;
   void take_over(const msg::Actuators& last_command) override;
   std::vector<std::pair<std::string, double>> summary() const override;
+  /// Steps that held the previous command or flew the pilot's sticks, when there were any.
+  std::string health() const override;
 
  protected:
   /// Declares the law's parameters (with declare_gains, so that changes take effect).
@@ -87,11 +89,14 @@ class ControllerPlugin : public Plugin {
 
   std::optional<Autopilot> autopilot_;
   bool dirty_ = true;
-  std::optional<Nanos> last_step_;
-  std::optional<Command> hold_command_;
-  bool holding_ = false;
-  std::uint64_t held_steps_ = 0;
-  std::uint64_t manual_steps_ = 0;
+  /// Everything one flight changes besides the autopilot's loops: reset() replaces it wholesale.
+  struct Flight {
+    std::optional<Nanos> last_step;
+    std::optional<Command> hold_command;  ///< before the first command: hold the first state's
+    bool holding = false;                 ///< the last step held the previous command
+    std::uint64_t held_steps = 0;
+    std::uint64_t manual_steps = 0;
+  } flight_;
 };
 
 }  // namespace tern::control

@@ -21,10 +21,8 @@ class DirtyDerivative {
   /// Feeds y (any unit) measured dt seconds after the previous sample; returns dy/dt (unit/s).
   double update(double y, double dt);
   double value() const { return ydot_; }
-  void reset() {
-    primed_ = false;
-    ydot_ = 0.0;
-  }
+  /// As constructed with the current tau (a new flight, or a loop taken out of use).
+  void reset() { *this = DirtyDerivative(tau_); }
 
  private:
   double tau_;
@@ -41,10 +39,8 @@ class Washout {
   /// p_wo: washout pole, rad/s (>= 0).
   void set_pole(double p_wo) { p_wo_ = p_wo; }
   double update(double x, double dt);
-  void reset() {
-    primed_ = false;
-    y_ = 0.0;
-  }
+  /// As constructed with the current pole.
+  void reset() { *this = Washout(p_wo_); }
 
  private:
   double p_wo_;
@@ -83,7 +79,8 @@ class Pid {
   /// (0 when the integrator covers it; u - output otherwise).
   double initialise(double u, double e, double ydot, double ff = 0.0);
 
-  void reset();
+  /// As constructed with the current gains: integrator, previous error and outputs cleared.
+  void reset() { *this = Pid(g_); }
   double integrator() const { return integrator_; }
   double last_output() const { return u_; }
   /// Unsaturated output of the last update.

@@ -59,6 +59,8 @@ class TERN_API Harness final : public Context {
   void start();
   /// One step at flight time `now`; marks the inputs seen afterwards, as the host does.
   void step(Nanos now);
+  /// Between flights, as the host: the plugin's reset(), then its outputs and the inputs fed
+  /// by set_input() emptied (no message until the next set_input()).
   void reset();
   void stop();
 

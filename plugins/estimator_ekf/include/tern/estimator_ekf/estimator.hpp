@@ -462,7 +462,9 @@ class Estimator {
   /// valid sample times out counted from the first check_timeouts() (the start), as one that
   /// stops does from its last sample.
   void expect(Sensor s, bool expected) { expected_[static_cast<int>(s)] = expected; }
-  /// Back to the uninitialised state: no origin, no calibration, counters kept.
+  /// A new flight: the estimator as constructed with the current configuration and sensor
+  /// wiring (expect(), expect_mag()): no origin, no calibration, counters and events cleared.
+  /// Every member is per-flight state except those three, so the whole object is replaced.
   void reset();
 
   /// One IMU sample: propagates (after initialisation) to its stamp. Returns false if rejected.
