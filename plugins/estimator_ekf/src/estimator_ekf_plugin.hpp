@@ -126,20 +126,11 @@ class EstimatorEkf final : public tern::Plugin {
       s.emplace_back(n + "_invalid", static_cast<double>(c.invalid));
       s.emplace_back(n + "_timeouts", static_cast<double>(c.timeouts));
     }
-    const auto rej = [&](const char* name, const tern::ekf::UpdateStats& st) {
-      s.emplace_back(std::string(name) + "_accepted", static_cast<double>(st.accepted));
-      s.emplace_back(std::string(name) + "_rejected", static_cast<double>(st.rejected));
-      if (st.nis_count > 0) s.emplace_back(std::string(name) + "_mean_nis", st.mean_nis());
-    };
-    rej("gnss_pos", estimator_.gnss_position_model().stats);
-    rej("gnss_vel", estimator_.gnss_velocity_model().stats);
-    rej("mag", estimator_.mag_model().stats);
-    rej("mag_heading", estimator_.mag_heading_model().stats);
-    rej("baro", estimator_.baro_model().stats);
-    rej("diff_pressure", estimator_.diff_pressure_model().stats);
-    rej("sideslip", estimator_.sideslip_model().stats);
-    rej("side_force", estimator_.side_force_model().stats);
-    rej("normal_force", estimator_.normal_force_model().stats);
+    for (const auto& [name, st] : update_stats()) {
+      s.emplace_back(name + "_accepted", static_cast<double>(st->accepted));
+      s.emplace_back(name + "_rejected", static_cast<double>(st->rejected));
+      if (st->nis_count > 0) s.emplace_back(name + "_mean_nis", st->mean_nis());
+    }
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
@@ -152,25 +143,29 @@ class EstimatorEkf final : public tern::Plugin {
     std::string s = fmt::format("{} resets (gnss {}, mag {}, filter {}), {} inflations",
                                 estimator_.gnss_resets() + estimator_.mag_resets() + estimator_.filter_resets(), estimator_.gnss_resets(),
                                 estimator_.mag_resets(), estimator_.filter_resets(), estimator_.inflations());
-    const auto rej = [&s](const char* name, const tern::ekf::UpdateStats& st) {
-      const auto n = st.accepted + st.rejected;
-      if (st.rejected > 0)
-        s += fmt::format(", {} {:.1f} % rejected", name, 100.0 * static_cast<double>(st.rejected) / static_cast<double>(n));
-    };
-    rej("gnss_pos", estimator_.gnss_position_model().stats);
-    rej("gnss_vel", estimator_.gnss_velocity_model().stats);
-    rej("mag", estimator_.mag_model().stats);
-    rej("mag_heading", estimator_.mag_heading_model().stats);
-    rej("baro", estimator_.baro_model().stats);
-    rej("diff_pressure", estimator_.diff_pressure_model().stats);
-    rej("sideslip", estimator_.sideslip_model().stats);
-    rej("side_force", estimator_.side_force_model().stats);
-    rej("normal_force", estimator_.normal_force_model().stats);
+    for (const auto& [name, st] : update_stats())
+      if (st->rejected > 0)
+        s += fmt::format(", {} {:.1f} % rejected", name,
+                         100.0 * static_cast<double>(st->rejected) / static_cast<double>(st->accepted + st->rejected));
     for (int i = 0; i < tern::ekf::kSensorCount; ++i) {
       const auto& c = estimator_.counters(static_cast<tern::ekf::Sensor>(i));
       if (c.timeouts > 0) s += fmt::format(", {} timed out {}x", tern::ekf::sensor_name(static_cast<tern::ekf::Sensor>(i)), c.timeouts);
     }
     return s;
+  }
+
+  /// Each measurement model's name (its summary.json prefix) and its counts this flight.
+  std::vector<std::pair<std::string, const tern::ekf::UpdateStats*>> update_stats() const {
+    const tern::ekf::Estimator& e = estimator_;
+    return {{"gnss_pos", &e.gnss_position_model().stats},
+            {"gnss_vel", &e.gnss_velocity_model().stats},
+            {"mag", &e.mag_model().stats},
+            {"mag_heading", &e.mag_heading_model().stats},
+            {"baro", &e.baro_model().stats},
+            {"diff_pressure", &e.diff_pressure_model().stats},
+            {"sideslip", &e.sideslip_model().stats},
+            {"side_force", &e.side_force_model().stats},
+            {"normal_force", &e.normal_force_model().stats}};
   }
 
   /// For tests in the same process: the estimator behind the ports.
