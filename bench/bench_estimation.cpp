@@ -267,7 +267,7 @@ Flight fly(const std::string& mission, const std::string& profile, const tern::c
   f.seed = seed;
   std::uint64_t last_seq = 0;
   const tern::OutputBase *state_src = nullptr, *truth_src = nullptr, *gnss_src = nullptr, *baro_src = nullptr;
-  host.set_tick_observer([&](tern::Nanos now) {
+  const int observer = host.add_tick_observer([&](tern::Nanos now) {
     if (state_src == nullptr) {
       state_src = host.topic_source("state");
       truth_src = host.topic_source("truth");
@@ -289,7 +289,7 @@ Flight fly(const std::string& mission, const std::string& profile, const tern::c
     add_tick(f, *x, *t, latest<tern::msg::Gnss>(gnss_src), latest<tern::msg::Baro>(baro_src), s, outage);
   });
   const auto r = host.fly();
-  host.set_tick_observer({});
+  host.remove_tick_observer(observer);
   f.failed = !r.ok;
   f.end_reason = r.end_reason;
   std::ifstream in(r.run_dir / "summary.json");

@@ -1,7 +1,7 @@
 // core/src/console/telemetry.hpp: what the console page shows, taken from a flight without
 // slowing it down.
 //
-// TelemetryTap is a tick observer (Host::set_tick_observer): on the flight thread, at most every
+// TelemetryTap is a tick observer (Host::add_tick_observer): on the flight thread, at most every
 // `period` of flight time (40 ms: 25 Hz, the 20-50 Hz), it copies the latest message of a
 // few topics into a Snapshot and hands it over under a mutex held only for the copy; the console's
 // server thread takes the latest with latest() and never blocks the flight for longer than that

@@ -76,7 +76,8 @@ TEST_CASE("reset: the next flight waits for its own cruise") {
   h.set_input("flight_phase", cruise_since(0.0));
   h.step(from_seconds(0.0));
   CHECK(h.output<msg::ControllerCommand>("controller_command").Va_c == doctest::Approx(15.0));
-  h.reset();
+  h.reset();  // as between flights: the inputs are empty until the producers publish again
+  h.set_input("follower_command", follower());
   msg::FlightPhase climb;
   climb.phase = msg::Phase::climb;
   h.set_input("flight_phase", climb);

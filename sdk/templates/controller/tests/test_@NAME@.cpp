@@ -186,7 +186,9 @@ TEST_CASE("plugin: reset clears the integrators, take_over starts from the last 
   h.set_input("controller_command", c);
   for (int i = 1; i <= 200; ++i) h.step(tern::from_seconds(0.01 * i));  // 2 s
   const double wound = h.output<tern::msg::Actuators>("actuators").delta_t;
-  h.reset();
+  h.reset();  // as between flights: the inputs are empty until the producers publish again
+  h.set_input("state", x);
+  h.set_input("controller_command", c);
   h.step(tern::from_seconds(2.01));
   const double fresh = h.output<tern::msg::Actuators>("actuators").delta_t;
   CHECK(fresh == doctest::Approx(0.568 + 0.161 * 1.0));  // trim + kp e: no integral
