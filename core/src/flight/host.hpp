@@ -9,8 +9,13 @@
 //      the phase; after a controller, the router may engage the fallback)  phase_router.hpp
 //      then the failsafes look at the tick (failsafe_station.hpp: mission edits, termination)
 //   3. what was published is captured in the flight log      flight_recorder.hpp
-//   4. the tick observer (DDS bridge) is called; then, on the wall clock: log flushes, the
-//      status line (status_line.hpp) and, with --realtime, pacing.
+//   4. the tick observers (DDS bridge, console, tern tune) are called in the order added; then,
+//      on the wall clock: log flushes, the status line (status_line.hpp) and, with --realtime,
+//      pacing.
+// Before every flight but the first, the host makes itself as new: every plugin's reset() (its
+// per-flight state replaced, tern/plugin.hpp), every output emptied, the inputs rebound, the
+// router back to the first phase; so flight N of `tern serve` is flight 1 of a fresh host.
+// Between flights (host_between_flights.cpp) a plugin can be swapped and the phase table changed.
 // Every step runs under the watchdog (watchdog.hpp): slow steps are reported, a step stuck past
 // the hard budget, or stuck when a stop signal comes, ends the flight and the process (_exit,
 // after the log is complete). An isolated instance (`isolate: true`) runs in a child process
