@@ -17,16 +17,11 @@ struct CheckOptions {
 };
 
 int check(const CheckOptions& o) {
-  HostOptions opt;
-  opt.describing = true;
-  opt.quiet = true;
-  PreparedMission m = prepare_mission(o.config, o.prep);
-  Host host(std::move(m.config), opt);
-  host.build();
-  std::fputs((o.dot ? host.graph_dot() : host.graph_text()).c_str(), stdout);
+  const std::unique_ptr<Host> host = describing_host(o.config, o.prep);
+  std::fputs((o.dot ? host->graph_dot() : host->graph_text()).c_str(), stdout);
   std::fflush(stdout);
-  const bool ok = report_missions(check_missions(host));
-  if (ok && !o.dot) std::printf("config OK: %s\n", host.config().file.c_str());
+  const bool ok = report_missions(check_missions(*host));
+  if (ok && !o.dot) std::printf("config OK: %s\n", host->config().file.c_str());
   return ok ? 0 : 1;
 }
 

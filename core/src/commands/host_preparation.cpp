@@ -68,6 +68,15 @@ PreparedMission prepare_mission(const std::string& config_file, const HostPrepar
   return m;
 }
 
+std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p) {
+  HostOptions opt;
+  opt.describing = true;
+  opt.quiet = true;
+  auto host = std::make_unique<Host>(prepare_mission(config_file, p).config, opt);
+  host->build();
+  return host;
+}
+
 TickObservers::TickObservers(Host& host, const HostPreparation& p, const PreparedMission& m, bool realtime) {
   if (p.console) {
     if (!realtime) throw ConfigError("--console needs --realtime (a page cannot follow a flight in fast time)");

@@ -61,6 +61,11 @@ struct PreparedMission {
 /// Fast DDS.
 PreparedMission prepare_mission(const std::string& config_file, const HostPreparation& p);
 
+/// A built host that only describes the mission (`tern check`, `tern params`): instances
+/// configured with `describing` (no file or device opened), port graph bound, nothing flown.
+/// Throws ConfigError as prepare_mission() and Host::build() do.
+std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p);
+
 /// The observers of a host's ticks for as long as this lives: the console when --console was
 /// given (its URL printed on stdout), then the DDS bridge when the mission is bridged. Destroyed
 /// in the reverse order.

@@ -18,14 +18,9 @@ struct ParamsOptions {
 };
 
 int params(const ParamsOptions& o) {
-  HostOptions opt;
-  opt.describing = true;
-  opt.quiet = true;
-  PreparedMission m = prepare_mission(o.config, o.prep);
-  Host host(std::move(m.config), opt);
-  host.build();
+  const std::unique_ptr<Host> host = describing_host(o.config, o.prep);
   fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", "parameter", "value", "default", "unit", "range", "description");
-  for (const auto& [name, p] : host.parameters())
+  for (const auto& [name, p] : host->parameters())
     fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", name, to_string(p->value()), to_string(p->default_value()), p->spec().unit,
                range_text(*p), description_text(*p));
   return 0;
