@@ -17,5 +17,5 @@
   X(::tern::msg::ControllerCommand) X(::tern::msg::ControllerInternals)                      \
   X(::tern::msg::Actuators) X(::tern::msg::Waypoint) X(::tern::msg::WaypointList)            \
   X(::tern::msg::CurrentPath) X(::tern::msg::FlightPhase) X(::tern::msg::MissionEdit)  \
-  X(::tern::msg::Innovations)
+  X(::tern::msg::Innovations) X(::tern::msg::Reference)
 // clang-format on

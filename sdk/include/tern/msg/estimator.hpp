@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string_view>
 
 #include "tern/time.hpp"
@@ -34,6 +35,44 @@ struct Innovations {
     v(&Innovations::sideslip, "sideslip", "");
     v(&Innovations::normal_force, "normal_force", "");
   }
+};
+
+/// Another estimator's solution recorded with real sensor data, topic `reference`: the onboard
+/// autopilot's attitude, position and velocity in a sensor log (docs/sensor-log.md), which
+/// `tern replay` compares tern's estimate with when there is no truth. A field the source does not
+/// give is NaN (its CSV cell may be empty or `nan`).
+struct Reference {
+  static constexpr std::string_view type_name = "tern/Reference";
+  Nanos stamp = 0;
+  double phi = kNaN;    ///< roll, rad (3-2-1 Euler angles of body FRD against NED)
+  double theta = kNaN;  ///< pitch, rad
+  double psi = kNaN;    ///< yaw (heading), rad, from true north
+  double lat = kNaN;    ///< WGS-84 latitude, deg
+  double lon = kNaN;    ///< WGS-84 longitude, deg
+  double alt = kNaN;    ///< altitude above mean sea level, m
+  double v_n = kNaN;    ///< ground velocity north, m/s
+  double v_e = kNaN;    ///< m/s
+  double v_d = kNaN;    ///< m/s
+  double w_n = kNaN;    ///< wind north (the air's velocity over the ground), m/s
+  double w_e = kNaN;    ///< m/s
+  template <class V>
+  static constexpr void describe(V& v) {
+    v(&Reference::stamp, "stamp", "ns");
+    v(&Reference::phi, "phi", "rad");
+    v(&Reference::theta, "theta", "rad");
+    v(&Reference::psi, "psi", "rad");
+    v(&Reference::lat, "lat", "deg");
+    v(&Reference::lon, "lon", "deg");
+    v(&Reference::alt, "alt", "m");
+    v(&Reference::v_n, "v_n", "m/s");
+    v(&Reference::v_e, "v_e", "m/s");
+    v(&Reference::v_d, "v_d", "m/s");
+    v(&Reference::w_n, "w_n", "m/s");
+    v(&Reference::w_e, "w_e", "m/s");
+  }
+
+ private:
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 };
 
 }  // namespace tern::msg
