@@ -16,7 +16,7 @@
 #include "flight/elf_check.hpp"
 #include "config/error.hpp"
 #include "record/flight_recorder.hpp"
-#include "flight/replay.hpp"
+#include "replay/replay_source.hpp"
 #include "record/status_line.hpp"
 
 namespace tern::core {

@@ -12,7 +12,7 @@
 #include "runners/isolated_plugin.hpp"
 #include "record/metrics.hpp"
 #include "safety/phase_machine.hpp"
-#include "flight/replay.hpp"
+#include "replay/replay_source.hpp"
 
 namespace tern::core {
 

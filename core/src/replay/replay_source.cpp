@@ -1,4 +1,4 @@
-#include "flight/replay.hpp"
+#include "replay/replay_source.hpp"
 
 #include <charconv>
 #include <cstring>

@@ -1,4 +1,4 @@
-// core/src/flight/replay.hpp: plays recorded sensor topics of a flight log back into the port graph, for
+// core/src/replay/replay_source.hpp: plays recorded sensor topics of a flight log back into the port graph, for
 // `tern replay RUN_DIR` (run an estimator over a flight's data and compare it with the truth).
 //
 // A built-in I/O instance named `replay`. At configure it reads RUN_DIR/topics/<t>.csv for the
