@@ -1,0 +1,86 @@
+#include "import/sensor_log_writer.hpp"
+
+#include <fmt/format.h>
+
+namespace tern::core {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// out_dir, once it is known to be absent or an empty directory.
+fs::path checked_out_dir(const fs::path& out_dir) {
+  std::error_code ec;
+  if (fs::exists(out_dir, ec)) {
+    if (!fs::is_directory(out_dir, ec)) throw ImportError(fmt::format("{}: exists and is not a directory", out_dir.string()));
+    if (!fs::is_empty(out_dir, ec))
+      throw ImportError(fmt::format("{}: exists and is not empty (choose a new directory)", out_dir.string()));
+  }
+  fs::create_directories(out_dir / "topics", ec);
+  if (ec) throw ImportError(fmt::format("{}: cannot create it: {}", out_dir.string(), ec.message()));
+  return out_dir;
+}
+
+std::string meta_yaml(const SensorLogMeta& meta) {
+  YAML::Emitter y;
+  y << YAML::BeginMap;
+  y << YAML::Key << "tern_sensor_log" << YAML::Value << 1;
+  y << YAML::Key << "source" << YAML::Value << YAML::DoubleQuoted << meta.source;
+  if (!meta.date.empty()) y << YAML::Key << "date" << YAML::Value << meta.date;
+  y << YAML::Key << "aircraft" << YAML::Value << YAML::DoubleQuoted << meta.aircraft;
+  if (meta.estimator.IsMap() && meta.estimator.size() > 0) y << YAML::Key << "estimator" << YAML::Value << meta.estimator;
+  if (!meta.notes.empty()) {
+    y << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
+    for (const auto& n : meta.notes) y << YAML::DoubleQuoted << n;
+    y << YAML::EndSeq;
+  }
+  y << YAML::EndMap;
+  return std::string(y.c_str()) + "\n";
+}
+
+}  // namespace
+
+SensorLogWriter::SensorLogWriter(const fs::path& out_dir) : dir_(checked_out_dir(out_dir)), log_(dir_) {
+  if (const std::string e = log_.error(); !e.empty()) throw ImportError(fmt::format("{}: {}", dir_.string(), e));
+}
+
+SensorLogWriter::~SensorLogWriter() = default;  // the flight log closes itself (an unfinished log has no sensor_log.yaml)
+
+SensorLogWriter::Topic& SensorLogWriter::topic_slot(std::string_view topic, std::vector<reflect::Column> columns, std::size_t size,
+                                                    std::uint64_t fingerprint) {
+  auto it = topics_.find(topic);
+  if (it == topics_.end()) {
+    Topic t;
+    t.index = log_.add_topic(std::string(topic), std::move(columns), size);
+    t.fingerprint = fingerprint;
+    it = topics_.emplace(std::string(topic), t).first;
+  } else if (it->second.fingerprint != fingerprint) {
+    throw ImportError(fmt::format("sensor log: topic '{}' written with two different message types", topic));
+  }
+  return it->second;
+}
+
+void SensorLogWriter::check_order(std::string_view topic, const Topic& t, Nanos stamp) {
+  if (t.rows > 0 && stamp < t.last_stamp)
+    throw ImportError(
+        fmt::format("sensor log: topic '{}': stamp {} ns is earlier than the previous row's {} ns", topic, stamp, t.last_stamp));
+}
+
+std::map<std::string, std::uint64_t> SensorLogWriter::rows() const {
+  std::map<std::string, std::uint64_t> r;
+  for (const auto& [name, t] : topics_) r[name] = t.rows;
+  return r;
+}
+
+void SensorLogWriter::finish(const SensorLogMeta& meta) {
+  if (finished_) return;
+  finished_ = true;
+  log_.write_file("sensor_log.yaml", meta_yaml(meta));
+  log_.close();
+  if (const std::string e = log_.error(); !e.empty()) throw ImportError(fmt::format("{}: {}", dir_.string(), e));
+  // the flight log's parameter table: a sensor log has no parameters (only its header was written)
+  std::error_code ec;
+  fs::remove(dir_ / "params.csv", ec);
+}
+
+}  // namespace tern::core

@@ -1,0 +1,97 @@
+// core/src/import/sensor_log_writer.hpp: writes a sensor log (docs/sensor-log.md), the
+// directory `tern replay` reads, for `tern import`'s converters.
+//
+//   <out_dir>/sensor_log.yaml     the metadata (finish())
+//   <out_dir>/topics/<topic>.csv  one table per topic, written by the flight log's own writer
+//                                 (record/flight_log.hpp), so that the tables are byte for byte
+//                                 what a tern flight log holds: header "t [s],stamp [ns],...",
+//                                 doubles in shortest round-trip form
+//
+// Streaming: rows are formatted and written as they come. Memory is bounded by the flight log's
+// buffers (256 KiB per topic waiting for its writer thread, at most 64 MiB queued to it), not by
+// the length of the input. A row's time `t` is the message's `stamp`; a topic whose stamps go
+// backwards is an ImportError (the importers check their inputs' order and report it first).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "record/flight_log.hpp"
+#include "tern/reflect.hpp"
+
+namespace tern::core {
+
+/// An input that cannot be imported, or an output that cannot be written: one line, naming the
+/// file (and line and field, for an input).
+struct ImportError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// What an importer did: rows written per topic, and what the user must know about the input
+/// (low rates, dropped rows, assumptions), one line each.
+struct ImportReport {
+  std::map<std::string, std::uint64_t> rows;
+  std::vector<std::string> warnings;
+};
+
+/// sensor_log.yaml's content (docs/sensor-log.md).
+struct SensorLogMeta {
+  std::string source;              ///< the original log and the converter, free text
+  std::string aircraft;            ///< free text
+  std::string date;                ///< UTC date of the flight, ISO 8601 ("2014-02-11"); "" if unknown (omitted)
+  YAML::Node estimator;            ///< estimator settings the log implies: parameter name -> value
+  std::vector<std::string> notes;  ///< what the converter assumed, one line each
+};
+
+class SensorLogWriter {
+ public:
+  /// Creates out_dir (and its parents). Throws ImportError if out_dir exists and is not an
+  /// empty directory, or cannot be created.
+  explicit SensorLogWriter(const std::filesystem::path& out_dir);
+  ~SensorLogWriter();
+  SensorLogWriter(const SensorLogWriter&) = delete;
+  SensorLogWriter& operator=(const SensorLogWriter&) = delete;
+
+  /// Appends msg to topics/<topic>.csv (declared with T's reflect layout on first use) at row
+  /// time msg.stamp (ns). Throws ImportError if msg.stamp is earlier than the topic's last row.
+  template <class T>
+  void write(std::string_view topic, const T& msg) {
+    Topic& t = topic_slot(topic, reflect::layout<T>(), sizeof(T), reflect::fingerprint<T>());
+    check_order(topic, t, msg.stamp);
+    log_.capture(t.index, msg.stamp, &msg);
+    t.last_stamp = msg.stamp;
+    ++t.rows;
+  }
+
+  /// Writes sensor_log.yaml and flushes every table. Throws ImportError if anything could not
+  /// be written (disk full, ...). Call once.
+  void finish(const SensorLogMeta& meta);
+
+  /// Rows written so far per topic.
+  std::map<std::string, std::uint64_t> rows() const;
+  const std::filesystem::path& dir() const { return dir_; }
+
+ private:
+  struct Topic {
+    std::size_t index = 0;
+    std::uint64_t fingerprint = 0;
+    Nanos last_stamp = 0;
+    std::uint64_t rows = 0;
+  };
+  Topic& topic_slot(std::string_view topic, std::vector<reflect::Column> columns, std::size_t size, std::uint64_t fingerprint);
+  static void check_order(std::string_view topic, const Topic& t, Nanos stamp);
+
+  std::filesystem::path dir_;
+  FlightLog log_;
+  std::map<std::string, Topic, std::less<>> topics_;
+  bool finished_ = false;
+};
+
+}  // namespace tern::core
