@@ -1,0 +1,341 @@
+// The ULog reader against PX4's sample logs and pyulog's printouts of them
+// (../shared/reference/ulog_samples: sample_info.txt, sample_messages.txt, sample_log_small_messages.txt),
+// and corrupt or cut copies of them.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <cstring>
+#include <memory>
+#include <unistd.h>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "import/ulog_reader.hpp"
+
+namespace fs = std::filesystem;
+using tern::core::ulog::DataHandler;
+using tern::core::ulog::DataMessage;
+using tern::core::ulog::LoggedString;
+using tern::core::ulog::Reader;
+using tern::core::ulog::Subscription;
+using tern::core::ulog::UlogDataStats;
+using tern::core::ulog::UlogError;
+
+namespace {
+
+const fs::path kSamples = fs::path(TERN_REFERENCE_DIR) / "ulog_samples";
+
+std::vector<std::string> lines_of(const fs::path& p) {
+  std::ifstream in(p);
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(line);
+  return out;
+}
+
+/// pyulog's `messages` line: "h:mm:ss LEVEL: text" (the printouts' pyulog version has no milliseconds).
+std::string pyulog_message_line(const LoggedString& s) {
+  const std::uint64_t sec = s.timestamp / 1000000;
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%d:%02d:%02d", static_cast<int>(sec / 3600), static_cast<int>(sec / 60 % 60), static_cast<int>(sec % 60));
+  return std::string(buf) + " " + std::string(s.level_name()) + ": " + s.message;
+}
+
+struct Topic {
+  std::size_t size = 0;
+  std::uint64_t count = 0;
+};
+
+/// Everything the tests check, collected in one streaming pass.
+struct Collected {
+  std::map<std::string, Topic> topics;  // "name (multi_id, size)" as pyulog prints it
+  std::vector<std::string> messages;
+  std::vector<std::uint16_t> dropouts;
+  std::vector<std::map<std::string, double>> rows;  // first rows of `row_topic`, by field name
+  std::string row_topic;
+  UlogDataStats stats;
+};
+
+Collected collect(Reader& r, const std::string& row_topic = "", std::size_t max_rows = 3) {
+  Collected c;
+  c.row_topic = row_topic;
+  DataHandler h;
+  h.on_data = [&](const DataMessage& d) {
+    const Subscription& s = d.subscription();
+    auto& t = c.topics[s.name + " (" + std::to_string(s.multi_id) + ", " + std::to_string(s.size()) + ")"];
+    ++t.count;
+    if (s.name == c.row_topic && c.rows.size() < max_rows) {
+      auto& row = c.rows.emplace_back();
+      for (const auto& f : s.fields()) row[f.name] = d.value(f);
+    }
+  };
+  h.on_logged_string = [&](const LoggedString& s) { c.messages.push_back(pyulog_message_line(s)); };
+  h.on_dropout = [&](std::uint16_t ms, std::uint64_t) { c.dropouts.push_back(ms); };
+  c.stats = r.read_data(h);
+  return c;
+}
+
+fs::path scratch_copy(const std::string& name, const std::string& bytes) {
+  const fs::path p = fs::temp_directory_path() / ("tern_test_ulog_" + std::to_string(::getpid()) + "_" + name);
+  std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  return p;
+}
+
+std::string file_bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// The UlogError's text, or "" if none is thrown.
+std::string error_reading(const fs::path& p) {
+  try {
+    Reader r(p);
+    collect(r);
+  } catch (const UlogError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("ulog reader: sample.ulg's info, topics and counts are pyulog's (sample_info.txt)") {
+  Reader r(kSamples / "sample.ulg");
+  CHECK(r.version() == 0);  // a 2017 log: file version 0, no flag bits message
+  CHECK(r.initial_parameters().size() == 493);
+  CHECK(r.info().at("sys_name").text() == "PX4");
+  CHECK(r.info().at("ver_hw").text() == "AUAV_X21");
+  CHECK(r.info().at("ver_sw").text() == "fd483321a5cf50ead91164356d15aa474643aa73");
+  CHECK(r.info().at("time_ref_utc").text() == "0");
+  const Collected c = collect(r);
+
+  // "Logging start time: 0:01:52, duration: 0:01:08"
+  CHECK(r.start_timestamp() / 1000000 == 1 * 60 + 52);
+  CHECK((c.stats.last_timestamp - r.start_timestamp()) / 1000000 == 1 * 60 + 8);
+  // "Dropouts: count: 4, total duration: 0.1 s, max: 62 ms, mean: 29 ms"
+  REQUIRE(c.dropouts.size() == 4);
+  unsigned total = 0, max = 0;
+  for (auto d : c.dropouts) total += d, max = std::max<unsigned>(max, d);
+  CHECK(max == 62);
+  CHECK(total / 4 == 29);
+  CHECK(std::round(total / 100.0) / 10.0 == doctest::Approx(0.1));
+
+  // The table: " name (multi id, size)   count   total bytes".
+  std::map<std::string, Topic> expected;
+  bool in_table = false;
+  for (const auto& line : lines_of(kSamples / "sample_info.txt")) {
+    if (line.rfind("Name (multi id", 0) == 0) {
+      in_table = true;
+      continue;
+    }
+    if (!in_table) continue;
+    const auto close = line.find(')');
+    std::istringstream rest(line.substr(close + 1));
+    std::uint64_t count = 0, bytes = 0;
+    rest >> count >> bytes;
+    const std::string key = line.substr(1, close);
+    expected[key] = {static_cast<std::size_t>(bytes / count), count};
+  }
+  REQUIRE(expected.size() == 15);
+  CHECK(c.topics.size() == expected.size());
+  for (const auto& [key, t] : expected) {
+    INFO(key);
+    REQUIRE(c.topics.count(key) == 1);
+    CHECK(c.topics.at(key).count == t.count);
+  }
+  CHECK(c.stats.truncated == 0);
+  CHECK(c.stats.unknown_msg_id == 0);
+  CHECK(c.stats.wrong_size == 0);
+  CHECK(c.stats.corrupt_regions == 0);
+}
+
+TEST_CASE("ulog reader: logged strings are pyulog's (sample_messages.txt, sample_log_small_messages.txt)") {
+  for (const char* name : {"sample", "sample_log_small"}) {
+    INFO(name);
+    Reader r(kSamples / (std::string(name) + ".ulg"));
+    const Collected c = collect(r);
+    CHECK(c.messages == lines_of(kSamples / (std::string(name) + "_messages.txt")));
+    CHECK(c.stats.truncated == 0);
+  }
+}
+
+// Expected values decoded independently of this reader: a 30-line Python script (struct.unpack on the
+// spec's layout) printed the first data message of each topic, at the byte offsets named.
+TEST_CASE("ulog reader: data rows decode to the values of an independent decoding") {
+  {
+    Reader r(kSamples / "sample.ulg");
+    CHECK(r.initial_parameters().at("CAL_MAG0_XOFF").number() == doctest::Approx(0.028247286));
+    CHECK(r.initial_parameters().at("CAL_MAG0_XOFF").type == "float");
+    CHECK(r.initial_parameters().at("SENS_BOARD_ROT").text() == "0");
+    CHECK(r.initial_parameters().at("SENS_BOARD_X_OFF").number() == doctest::Approx(-1.5048006));
+    const Collected c = collect(r, "sensor_combined");
+    REQUIRE(c.rows.size() == 3);
+    const auto& row = c.rows[0];  // the message at byte 36766
+    CHECK(row.at("timestamp") == 112614307);
+    CHECK(row.at("gyro_rad[0]") == doctest::Approx(-0.001924943644553423).epsilon(1e-7));
+    CHECK(row.at("gyro_rad[2]") == doctest::Approx(-0.0032385666854679585).epsilon(1e-7));
+    CHECK(row.at("accelerometer_m_s2[2]") == doctest::Approx(-9.63039493560791).epsilon(1e-7));
+    CHECK(row.at("magnetometer_timestamp_relative") == -5189);
+    CHECK(row.at("magnetometer_ga[1]") == doctest::Approx(0.1450379192829132).epsilon(1e-7));
+    CHECK(row.at("baro_timestamp_relative") == 2147483647);  // PX4's "no new baro sample" marker
+    CHECK(c.rows[1].at("timestamp") == 112650307);
+  }
+  {
+    Reader r(kSamples / "sample_log_small.ulg");
+    CHECK(r.version() == 1);
+    CHECK(r.info().at("ver_sw_branch").text() == "v1.11.2_w_rc_sysid");
+    CHECK(r.info().at("sys_os_ver_release").number() == 134349055);
+    const Collected c = collect(r, "vehicle_gps_position");
+    REQUIRE(c.rows.size() >= 2);
+    const auto& row = c.rows[0];  // the message at byte 65911
+    CHECK(row.at("timestamp") == 20471648);
+    CHECK(row.at("time_utc_usec") == 1618986658600345.0);
+    CHECK(row.at("lat") == 634170622);
+    CHECK(row.at("lon") == 104082151);
+    CHECK(row.at("alt") == 66814);
+    CHECK(row.at("vel_d_m_s") == doctest::Approx(0.242000013589859).epsilon(1e-7));
+    CHECK(row.at("fix_type") == 3);
+    CHECK(row.at("satellites_used") == 15);
+    CHECK(std::isnan(row.at("heading")));
+    CHECK(c.rows[1].at("lat") == 634170612);
+    CHECK(c.topics.at("sensor_mag (1, 41)").count > 0);  // multi instances are kept apart
+  }
+}
+
+TEST_CASE("ulog reader: nested types and padding are flattened as pyulog does") {
+  Reader r(kSamples / "sample.ulg");
+  const Subscription* triplet = nullptr;
+  std::vector<std::unique_ptr<Subscription>> keep;
+  DataHandler h;
+  h.on_subscription = [&](const Subscription& s) {
+    if (s.name == "position_setpoint_triplet") keep.push_back(std::make_unique<Subscription>(s.name, s.multi_id, s.msg_id, r.formats()));
+  };
+  r.read_data(h);
+  REQUIRE(keep.size() == 1);
+  triplet = keep[0].get();
+  REQUIRE(triplet->field("current.lat") != nullptr);
+  CHECK(triplet->field("next.acceleration_is_force") != nullptr);
+  for (const auto& f : triplet->fields()) CHECK(f.name.find("_padding") == std::string::npos);
+  CHECK(triplet->size() == 327);  // 327 bytes of fields, then 1 byte of trailing padding
+  CHECK(triplet->padded_size() == 328);
+  // "timestamp;uint8_t nav_state;uint8_t[7] _padding0;position_setpoint previous;...", and position_setpoint
+  // (104 bytes) ends in "uint8_t[1] _padding0": padding inside a nested type moves the offsets after it.
+  CHECK(triplet->field("previous.lat")->offset == 8 + 1 + 7 + 8);
+  CHECK(triplet->field("current.timestamp")->offset == 16 + 104);
+  CHECK(triplet->field("current.lat")->offset == 16 + 104 + 8);
+}
+
+TEST_CASE("ulog reader: corrupt and cut files give one line naming the file and the byte, or a counted warning") {
+  const std::string good = file_bytes(kSamples / "sample.ulg");
+  const std::string small = file_bytes(kSamples / "sample_log_small.ulg");
+
+  SUBCASE("a flipped byte in the file header") {
+    std::string bad = good;
+    bad[1] ^= 0x20;
+    const fs::path p = scratch_copy("magic.ulg", bad);
+    const std::string e = error_reading(p);
+    CHECK(e == p.string() + ": byte 0: no ULog magic (\"ULog\" 01 12 35): not a ULog file, or its header is corrupt");
+    fs::remove(p);
+  }
+  SUBCASE("cut in the definitions") {
+    const fs::path p = scratch_copy("cut_defs.ulg", good.substr(0, 20000));
+    const std::string e = error_reading(p);
+    CHECK(e.rfind(p.string() + ": byte ", 0) == 0);
+    CHECK(e.find("file cut short in the definitions section") != std::string::npos);
+    CHECK(e.find('\n') == std::string::npos);
+    fs::remove(p);
+  }
+  SUBCASE("a format message whose text is corrupt") {
+    std::string bad = good;
+    const auto at = bad.find("vehicle_attitude:");
+    REQUIRE(at != std::string::npos);
+    bad[at + 16] = 'X';  // no ':' left in it
+    const fs::path p = scratch_copy("format.ulg", bad);
+    const std::string e = error_reading(p);
+    CHECK(e.find(p.string() + ": byte " + std::to_string(at - 3) + ": format message ('F'): format 'vehicle_attitudeX") == 0);
+    fs::remove(p);
+  }
+  SUBCASE("cut in the middle of the data: a warning, the data before the cut kept") {
+    const fs::path p = scratch_copy("cut_data.ulg", good.substr(0, 36766 + 40));  // inside the first sensor_combined message
+    Reader r(p);
+    const Collected c = collect(r);
+    CHECK(c.stats.truncated == 1);
+    CHECK(c.stats.first_problem_offset == 36766);
+    CHECK(c.topics.count("sensor_combined (0, 72)") == 0);
+    CHECK(c.topics.at("vehicle_attitude (0, 36)").count == 1);
+    const auto w = c.stats.warnings(p.string());
+    REQUIRE(w.size() == 1);
+    CHECK(w[0] ==
+          p.string() + ": 1 message(s) cut short at the end of the data (a log whose writer stopped): dropped (first at byte 36766)");
+    fs::remove(p);
+
+    const fs::path half = scratch_copy("half.ulg", good.substr(0, good.size() / 2));
+    Reader r2(half);
+    const Collected c2 = collect(r2);
+    CHECK(c2.stats.truncated == 1);
+    CHECK(c2.topics.at("sensor_combined (0, 72)").count > 17070 / 3);
+    fs::remove(half);
+  }
+  SUBCASE("a corrupt message header in the data section: resync at the next sync marker, or one line") {
+    std::string bad = good;
+    bad[36766 + 2] = 0;  // the first sensor_combined message's type byte; this log has no sync markers
+    const fs::path p = scratch_copy("nosync.ulg", bad);
+    CHECK(error_reading(p) ==
+          p.string() + ": byte 36766: corrupt message header (type 0x00, size 74), and no sync marker after it to resume from");
+    fs::remove(p);
+
+    std::string bad2 = small;
+    bad2[62512 + 2] = 0;  // sample_log_small has 12 sync messages (the first at byte 111248)
+    const fs::path p2 = scratch_copy("sync.ulg", bad2);
+    Reader r(p2);
+    const Collected c = collect(r);
+    CHECK(c.stats.corrupt_regions == 1);
+    CHECK(c.stats.first_problem_offset == 62512);
+    CHECK(c.messages == lines_of(kSamples / "sample_log_small_messages.txt"));
+    fs::remove(p2);
+  }
+  SUBCASE("unknown incompatible flag bits: the spec forbids reading the log") {
+    std::string bad = small;
+    REQUIRE(bad[16 + 2] == 'B');
+    bad[16 + 3 + 8 + 1] = 0x04;  // incompat_flags[1]
+    const fs::path p = scratch_copy("incompat.ulg", bad);
+    CHECK(error_reading(p) ==
+          p.string() + ": byte 16: unknown incompatible flag bits set (incompat_flags[1] = 4): the ULog spec forbids parsing this log");
+    fs::remove(p);
+  }
+  SUBCASE("appended data: the data section resumes at the appended offset") {
+    // Mark the data after byte 200000 as appended, and cut a message short just before it: the reader
+    // must drop the cut message (counted) and go on reading at the offset.
+    std::string bad = small;
+    const std::uint64_t data_at = 200000;
+    std::uint64_t cut_msg = 62512;  // find the message boundary at or before data_at
+    for (std::uint64_t pos = 62512; pos < data_at;) {
+      cut_msg = pos;
+      pos += 3 + static_cast<std::uint8_t>(bad[pos]) + 256u * static_cast<std::uint8_t>(bad[pos + 1]);
+      if (pos >= data_at) break;
+    }
+    const std::string appended = bad.substr(cut_msg);  // the cut message, whole, starts the appended data
+    bad = bad.substr(0, cut_msg + 5) + appended;       // 5 bytes of it left in the original section
+    const std::uint64_t offset = cut_msg + 5;
+    bad[16 + 3 + 8] = 0x01;  // DATA_APPENDED
+    std::memcpy(&bad[16 + 3 + 16], &offset, 8);
+    const fs::path p = scratch_copy("appended.ulg", bad);
+    Reader r(p);
+    REQUIRE(r.appended_offsets() == std::vector<std::uint64_t>{offset});
+    const Collected c = collect(r);
+    Reader original(kSamples / "sample_log_small.ulg");
+    const Collected o = collect(original);
+    CHECK(c.stats.truncated == 1);
+    CHECK(c.stats.first_problem_offset == cut_msg);
+    CHECK(c.topics.size() == o.topics.size());
+    for (const auto& [k, t] : o.topics) CHECK(c.topics.at(k).count == t.count);
+    fs::remove(p);
+  }
+}
