@@ -1,14 +1,17 @@
-// core/src/replay/replay_source.hpp: plays recorded sensor topics of a flight log back into the port graph, for
-// `tern replay RUN_DIR` (run an estimator over a flight's data and compare it with the truth).
+// core/src/replay/replay_source.hpp: plays a sensor log's topics (docs/sensor-log.md: a tern flight log,
+// or a real flight `tern import` wrote) back into the port graph, for `tern replay LOG`.
 //
-// A built-in I/O instance named `replay`. At configure it reads RUN_DIR/topics/<t>.csv for the
-// sensor topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the
-// estimator's side-force model reads; played one tick late, as a feedback edge is seen in
-// flight) and the truth topic `truth` (those present),
-// mapping columns by name onto the message layout; at each tick it publishes every recorded
-// message whose log time is <= now, in order. The values are bit-exact: the log writes doubles
-// in shortest round-trip form. A last line without a line end (a flight killed while writing
-// it) is dropped with one warning; any other short row is an error naming file and line.
+// A built-in I/O instance named `replay`. At configure it reads LOG/topics/<t>.csv for the sensor
+// topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the estimator's
+// side-force model reads; played one tick late, as a feedback edge is seen in flight), the
+// simulator's `truth` and another estimator's `reference` (those present), mapping columns by
+// name onto the message layout (a unit in brackets must be the layout's; a column the table lacks
+// keeps the message's default, NaN for the reference); at each tick it publishes every row whose
+// time `t` is <= now, in order. The values are bit-exact: the log writes doubles in shortest
+// round-trip form. Rows whose time goes backwards are dropped and rows holding NaN are played
+// (the estimator rejects them), each kind counted in one warning per file; a last line without a
+// line end (a flight killed while writing it) is dropped with one warning; a short row or a cell
+// that is not a number is an error naming file, line and column.
 #pragma once
 
 #include <filesystem>
@@ -38,6 +41,8 @@ class ReplaySource final : public Plugin {
     virtual Nanos last_time() const = 0;
     /// Why the CSV's last line was dropped ("" if it was complete).
     virtual const std::string& partial_last_line() const = 0;
+    /// Rows dropped (time going backwards) or holding NaN, one line per kind with counts.
+    virtual const std::vector<std::string>& warnings() const = 0;
     /// A topic the flight's controllers wrote after the estimator had run (actuators): it is
     /// played back one tick late, as the estimator saw it in flight.
     bool feedback = false;
