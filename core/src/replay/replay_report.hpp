@@ -1,0 +1,141 @@
+// core/src/replay/replay_report.hpp: the truth-free replay report (issue 43): what `tern replay`
+// prints and writes as replay_report.json when a log has no truth to compare with.
+//
+// Reads a run directory `tern replay` wrote (docs/sensor-log.md, core/src/record/flight_log.hpp):
+// topics/state.csv (the estimate), innovations.csv, gnss.csv, reference.csv (another estimator's
+// solution, optional), params.csv (gates, GNSS delay), summary.json (the estimator's own counters
+// and resets) and sensor_log.yaml (its optional `airborne: [start_s, end_s]`).
+//
+// The window: sensor_log.yaml's `airborne` if given, else from the first to the last GNSS fix
+// (log time t) with a horizontal speed >= 5 m/s, else the whole replay; `Window::rule` says which.
+// Comparisons use the window and the samples where the state is valid (valid == 1, origin_valid
+// for positions); NIS figures are given over the whole replay and over the window.
+// Frames and units: errors are estimate minus comparator; angles in deg, wrapped to [-180, 180);
+// positions in m in the estimate's NED frame (the comparator's lat/lon/alt converted with
+// tern::GeoOrigin at state.csv's origin_lat/lon/alt of the same row); velocities in m/s.
+// A figure without samples has NaN values, 0 samples and its `rule` says why.
+//
+// Errors: ConfigError with one line "file:line: ..." for a malformed CSV row or a bad
+// sensor_log.yaml `airborne`; "run_dir: no topics/state.csv" when there is no estimate.
+// Missing optional topics are not errors: their section is absent, saying so.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tern::core {
+
+/// One error figure: RMS and largest magnitude of (estimate - comparator).
+struct ErrorFigure {
+  double rms = std::numeric_limits<double>::quiet_NaN();
+  double max = std::numeric_limits<double>::quiet_NaN();  ///< largest |error| (vector norm for 2-D)
+  std::size_t samples = 0;
+  std::string unit;  ///< "deg", "m", "m/s"
+  std::string rule;  ///< what was compared where (or why nothing was)
+};
+
+/// The part of the replay the comparisons cover.
+struct ReplayWindow {
+  double start_s = 0.0, end_s = 0.0;  ///< flight time (the log's t), s
+  std::string rule;                   ///< which rule produced it
+};
+
+/// NIS of one innovations column over a stretch: per innovations message with a fused sample (the
+/// message carries the largest test ratio NIS / gate since the previous one; -1: none fused).
+struct NisStats {
+  std::size_t count = 0;     ///< messages with a fused sample
+  std::size_t rejected = 0;  ///< of which test ratio > 1
+  double share_rejected = std::numeric_limits<double>::quiet_NaN();
+  double mean_nis = std::numeric_limits<double>::quiet_NaN();  ///< NaN when the gate is unknown
+  double p50_nis = std::numeric_limits<double>::quiet_NaN();   ///< percentiles: linear between order statistics
+  double p95_nis = std::numeric_limits<double>::quiet_NaN();
+  double p99_nis = std::numeric_limits<double>::quiet_NaN();
+  double p50_ratio = std::numeric_limits<double>::quiet_NaN();  ///< the same of the test ratio (gate-free)
+  double p95_ratio = std::numeric_limits<double>::quiet_NaN();
+  double p99_ratio = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct MeasurementReport {
+  std::string name;  ///< innovations.csv column: gnss_pos, gnss_vel, baro, diff_pressure, mag, sideslip, normal_force
+  std::string gate;  ///< where the gate came from ("ekf.gnss_pos_gate = 16.266") or why it is unknown
+  NisStats whole, window;
+};
+
+/// One measurement model's counters of summary.json (<model>_accepted, _rejected, _mean_nis).
+struct ModelCounters {
+  std::string model;
+  double accepted = 0.0, rejected = 0.0;
+  double mean_nis = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct EstimatorCounters {
+  std::string instance;                                ///< "" when summary.json names no estimator
+  std::vector<ModelCounters> models;                   ///< in summary.json's order
+  std::vector<std::pair<std::string, double>> resets;  ///< every "<x>_resets" and "inflations"
+};
+
+struct Validity {
+  double first_valid_s = std::numeric_limits<double>::quiet_NaN();  ///< NaN: never valid
+  double share_valid = std::numeric_limits<double>::quiet_NaN();    ///< of the state samples from the first valid one
+  std::size_t samples = 0;                                          ///< state samples from the first valid one
+  std::size_t valid_to_invalid = 0;                                 ///< transitions after the first valid state
+  std::size_t filter_resets = 0;                                    ///< summary.json's filter_resets
+  std::size_t divergences = 0;                                      ///< valid_to_invalid + filter_resets
+  std::size_t nan_cells = 0, nan_rows = 0;                          ///< in state.csv: must be 0
+};
+
+struct ReferenceComparison {
+  std::string absent;  ///< "" when compared, else why not
+  ErrorFigure roll, pitch, yaw, course, position_h, position_v, velocity_h, velocity_v;
+};
+
+struct GnssComparison {
+  std::string absent;
+  std::string time_rule;  ///< how each fix's time of validity was taken
+  std::size_t fixes = 0, fixes_in_window = 0;
+  ErrorFigure position_h, velocity_h, course;
+  double share_pos_accepted = std::numeric_limits<double>::quiet_NaN();  ///< estimator counters, whole replay
+  double share_vel_accepted = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct WindReport {
+  std::string absent;
+  std::size_t samples = 0;
+  double mean_speed = std::numeric_limits<double>::quiet_NaN();  ///< m/s, of |(w_n, w_e)|
+  double max_speed = std::numeric_limits<double>::quiet_NaN();
+  ErrorFigure vs_reference;  ///< |w - w_ref| horizontal
+};
+
+struct ReplayReport {
+  std::filesystem::path run_dir;
+  double replay_start_s = 0.0, replay_end_s = 0.0;  ///< state.csv's first and last t
+  ReplayWindow window;
+  Validity validity;
+  std::vector<MeasurementReport> measurements;  ///< empty: innovations.csv absent
+  std::string measurements_absent;
+  EstimatorCounters counters;
+  ReferenceComparison reference;
+  GnssComparison gnss;
+  WindReport wind;
+  std::vector<std::string> notes;  ///< partial last lines and the like
+};
+
+/// Builds the report of a finished replay's run directory. Throws ConfigError (see above).
+ReplayReport make_replay_report(const std::filesystem::path& run_dir);
+
+/// The table `tern replay` prints (plain text, lines of at most ~100 characters, ends with '\n').
+std::string format_replay_table(const ReplayReport& report);
+
+/// Everything in the report, each figure with its rule and sample count (replay_report.json).
+nlohmann::json to_json(const ReplayReport& report);
+
+/// Writes to_json(report) as run_dir/replay_report.json (2-space indent). Throws ConfigError
+/// "path: cannot write" on failure.
+void write_replay_report(const ReplayReport& report);
+
+}  // namespace tern::core

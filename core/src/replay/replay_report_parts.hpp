@@ -1,0 +1,83 @@
+// core/src/replay/replay_report_parts.hpp: the sections of the replay report (replay_report.hpp),
+// each computed from the run's tables; internal to core/src/replay.
+#pragma once
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "replay/replay_csv.hpp"
+#include "replay/replay_report.hpp"
+#include "tern/geodesy.hpp"
+
+namespace tern::core::replay_report {
+
+/// The run directory's tables, read once.
+struct RunTables {
+  CsvTable state;
+  std::optional<CsvTable> innovations, gnss, reference;
+  ParamHistory params;
+  nlohmann::ordered_json summary;  ///< {} when summary.json is absent
+  std::filesystem::path dir;
+};
+
+/// Where tq falls in `t` (increasing): t[k] <= tq <= t[k + 1], f = (tq - t[k]) / (t[k + 1] - t[k]).
+/// nullopt outside [t.front(), t.back()] or across a gap longer than max_gap_s.
+struct Bracket {
+  std::size_t k = 0;
+  double f = 0.0;
+};
+std::optional<Bracket> bracket(const std::vector<double>& t, double tq, double max_gap_s);
+/// v at a bracket, linearly (v[k] exactly when both ends are equal); NaN when an end is NaN.
+/// Angles (rad) along the shorter arc.
+double lerp(const std::vector<double>& v, const Bracket& b, bool angle = false);
+/// bracket + lerp: NaN where there is no bracket.
+double interpolate(const std::vector<double>& t, const std::vector<double>& v, double tq, double max_gap_s, bool angle = false);
+constexpr double kMaxGap = 1.0;  ///< s: longest gap between two samples interpolated across
+
+/// Index range [first, last) of the samples of `t` within [start, end].
+std::pair<std::size_t, std::size_t> index_range(const std::vector<double>& t, double start, double end);
+
+/// Sum of squares, largest magnitude and count of errors: an ErrorFigure in the making.
+struct ErrorSum {
+  double sum2 = 0.0, max = 0.0;
+  std::size_t n = 0;
+  void add(double e);  ///< e: a scalar error or a vector error's norm; NaN is skipped
+  ErrorFigure figure(std::string unit, std::string rule) const;
+};
+
+double wrap_pi(double a);
+constexpr double kDeg = 57.29577951308232;
+constexpr double kMinCourseSpeed = 5.0;  ///< m/s: course compared, and the window found, from this speed
+
+/// The NED frame about state.csv's origin at row k (rebuilt only when the origin changes);
+/// nullptr when the row's origin is not valid.
+class OriginCache {
+ public:
+  explicit OriginCache(const CsvTable& s)
+      : lat_(s.at("origin_lat")), lon_(s.at("origin_lon")), alt_(s.at("origin_alt")), valid_(s.at("origin_valid")) {}
+  const GeoOrigin* at(std::size_t k) {
+    if (!(valid_[k] > 0.5)) return nullptr;
+    const GeoPoint o{lat_[k], lon_[k], alt_[k]};
+    if (!frame_ || frame_->origin() != o) frame_ = std::make_unique<GeoOrigin>(o);
+    return frame_.get();
+  }
+  bool same(std::size_t a, std::size_t b) const { return lat_[a] == lat_[b] && lon_[a] == lon_[b] && alt_[a] == alt_[b]; }
+
+ private:
+  const std::vector<double>&lat_, &lon_, &alt_, &valid_;
+  std::unique_ptr<GeoOrigin> frame_;
+};
+
+ReplayWindow find_window(const RunTables& run);
+EstimatorCounters estimator_counters(const nlohmann::ordered_json& summary);
+Validity validity(const CsvTable& state, const EstimatorCounters& counters);
+std::vector<MeasurementReport> measurement_reports(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
+ReferenceComparison compare_reference(const RunTables& run, const ReplayWindow& w);
+GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
+WindReport wind_report(const RunTables& run, const ReplayWindow& w);
+
+}  // namespace tern::core::replay_report

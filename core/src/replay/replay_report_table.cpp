@@ -1,0 +1,103 @@
+// The replay report as the plain-text table `tern replay` prints.
+#include <cmath>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "replay/replay_report.hpp"
+
+namespace tern::core {
+
+namespace {
+
+std::string num(double v, int decimals = 2) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : "-"; }
+std::string pct(double share) { return std::isfinite(share) ? fmt::format("{:.1f}", 100.0 * share) : "-"; }
+
+void header(std::string& out, const ReplayReport& r) {
+  out += fmt::format("replay report: {}\n", r.run_dir.string());
+  out += fmt::format("window {:.3f} - {:.3f} s of {:.3f} - {:.3f} s: {}\n", r.window.start_s, r.window.end_s, r.replay_start_s,
+                     r.replay_end_s, r.window.rule);
+  const Validity& v = r.validity;
+  if (std::isnan(v.first_valid_s))
+    out += "estimate: NEVER VALID\n";
+  else
+    out += fmt::format(
+        "estimate: valid {} % of the replay from its first valid state at {:.3f} s; divergences {} ({} valid->invalid, {} filter "
+        "resets)\n",
+        pct(v.share_valid), v.first_valid_s, v.divergences, v.valid_to_invalid, v.filter_resets);
+  if (v.nan_cells > 0) out += fmt::format("!!! NaN in state.csv: {} cells in {} rows !!!\n", v.nan_cells, v.nan_rows);
+  if (!r.counters.resets.empty()) {
+    out += "resets:";
+    for (const auto& [k, n] : r.counters.resets) out += fmt::format(" {} {:.0f}", k, n);
+    out += "\n";
+  }
+}
+
+void nis_row(std::string& out, const NisStats& s) {
+  out += fmt::format(" {:>6} {:>6} {:>7} {:>7} {:>7} {:>7} |", s.count, pct(s.share_rejected), num(s.mean_nis), num(s.p50_nis),
+                     num(s.p95_nis), num(s.p99_nis));
+}
+
+void measurements(std::string& out, const ReplayReport& r) {
+  if (r.measurements.empty()) {
+    out += fmt::format("\nNIS: {}\n", r.measurements_absent.empty() ? "absent" : r.measurements_absent);
+    return;
+  }
+  out += "\nNIS per innovations message  | whole replay                               | window\n";
+  out += fmt::format("{:<14} {:>6} {:>6} {:>7} {:>7} {:>7} {:>7} |{:>7} {:>6} {:>7} {:>7} {:>7} {:>7} |\n", "measurement", "n", "rej%",
+                     "mean", "p50", "p95", "p99", "n", "rej%", "mean", "p50", "p95", "p99");
+  for (const auto& m : r.measurements) {
+    out += fmt::format("{:<14}", m.name);
+    nis_row(out, m.whole);
+    nis_row(out, m.window);
+    out += m.gate.rfind("gate unknown", 0) == 0 || m.gate.find("(off)") != std::string::npos ? " " + m.gate + "\n" : "\n";
+  }
+  if (r.counters.instance.empty()) return;
+  out += fmt::format("estimator {} counters (whole replay): model accepted/rejected mean NIS\n", r.counters.instance);
+  for (const auto& c : r.counters.models)
+    out += fmt::format("  {:<14} {:>8.0f} / {:<6.0f} {:>8}\n", c.model, c.accepted, c.rejected, num(c.mean_nis, 3));
+}
+
+void figure(std::string& out, const char* name, const ErrorFigure& f) {
+  out += fmt::format("  {:<24} {:>9} {:>9} {:>7}\n", fmt::format("{} [{}]", name, f.unit), num(f.rms), num(f.max), f.samples);
+}
+
+void comparisons(std::string& out, const ReplayReport& r) {
+  const auto& c = r.reference;
+  out += fmt::format("\nagainst the reference (window)   RMS       max       n\n");
+  if (!c.absent.empty()) {
+    out += "  " + c.absent + "\n";
+  } else {
+    figure(out, "roll", c.roll), figure(out, "pitch", c.pitch), figure(out, "yaw", c.yaw), figure(out, "course", c.course);
+    figure(out, "position horiz.", c.position_h), figure(out, "position vert.", c.position_v);
+    figure(out, "velocity horiz.", c.velocity_h), figure(out, "velocity vert.", c.velocity_v);
+  }
+  const auto& g = r.gnss;
+  out += "against GNSS at time of validity RMS       max       n\n";
+  if (!g.absent.empty()) {
+    out += "  " + g.absent + "\n";
+  } else {
+    figure(out, "position horiz.", g.position_h), figure(out, "velocity horiz.", g.velocity_h), figure(out, "course", g.course);
+    out += fmt::format("  fixes accepted: position {} %, velocity {} % (estimator counters); {} fixes, {} in the window\n",
+                       pct(g.share_pos_accepted), pct(g.share_vel_accepted), g.fixes, g.fixes_in_window);
+  }
+  const auto& w = r.wind;
+  if (!w.absent.empty())
+    out += "wind: " + w.absent + "\n";
+  else
+    out += fmt::format("wind (window): mean {} m/s, max {} m/s; against the reference RMS {} m/s ({} samples)\n", num(w.mean_speed),
+                       num(w.max_speed), num(w.vs_reference.rms), w.vs_reference.samples);
+}
+
+}  // namespace
+
+std::string format_replay_table(const ReplayReport& r) {
+  std::string out;
+  header(out, r);
+  measurements(out, r);
+  comparisons(out, r);
+  for (const auto& n : r.notes) out += "note: " + n + "\n";
+  return out;
+}
+
+}  // namespace tern::core

@@ -1,0 +1,310 @@
+// The truth-free replay report (core/src/replay/replay_report.hpp): on a synthetic run directory
+// with known offsets (reference 1 deg off in roll, GNSS fixes 3 m east, NIS ratios with known
+// percentiles, a valid -> invalid transition), with topics missing, with malformed files; and end
+// to end on a short default-mission flight whose truth serves as the reference.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <map>
+#include <string>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "../test_process.hpp"
+#include "../test_util.hpp"
+#include "replay/replay_report.hpp"
+#include "tern/geodesy.hpp"
+
+using tern::core::make_replay_report;
+using tern::core::ReplayReport;
+
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+const tern::GeoPoint kOrigin{47.389, 8.034, 480.0};
+
+void write_csv(const fs::path& p, const std::string& header, const std::vector<std::vector<double>>& rows) {
+  fs::create_directories(p.parent_path());
+  std::ofstream f(p);
+  f << header << "\n";
+  for (const auto& r : rows) {
+    for (std::size_t i = 0; i < r.size(); ++i) f << (i ? "," : "") << fmt::format("{:.17g}", r[i]);
+    f << "\n";
+  }
+}
+
+/// The synthetic estimate: north at 10 m/s, 20 m up, roll 0.2 rad, yaw 179 deg (a reference 2 deg
+/// more crosses +-180), wind (3, -4); valid from 1 s, invalid over [12, 12.5).
+struct Truthy {
+  static double p_n(double t) { return 10.0 * t; }
+  static bool valid(double t) { return t >= 1.0 && !(t >= 12.0 && t < 12.5); }
+};
+
+fs::path synthetic_run(const std::string& name) {
+  const fs::path run = test_dir() / name;
+  fs::create_directories(run / "topics");
+  std::vector<std::vector<double>> state, ref, innov, gnss;
+  const double psi = 179.0 * kDeg;
+  for (int k = 0; k <= 200; ++k) {  // 10 Hz, 0 .. 20 s
+    const double t = 0.1 * k;
+    state.push_back({t, t * 1e9, Truthy::p_n(t), 0.0, -20.0, 10.0, 0.0, 0.0, 0.2, 0.05, psi, 3.0, -4.0, kOrigin.lat, kOrigin.lon,
+                     kOrigin.alt, 1.0, Truthy::valid(t) ? 1.0 : 0.0, k == 50 ? NAN : 0.1});
+  }
+  write_csv(run / "topics/state.csv",
+            "t [s],stamp [ns],p_n [m],p_e [m],p_d [m],v_n [m/s],v_e [m/s],v_d [m/s],phi [rad],theta [rad],psi [rad],w_n [m/s],w_e [m/s],"
+            "origin_lat [deg],origin_lon [deg],origin_alt [m],origin_valid [bool],valid [bool],alpha [rad]",
+            state);
+  const tern::GeoOrigin frame(kOrigin);
+  for (int k = 0; k <= 100; ++k) {  // 5 Hz: interpolated at the state's 10 Hz
+    const double t = 0.2 * k;
+    const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(t), 0.0, -20.0 + 2.0));  // 2 m lower
+    ref.push_back({t, t * 1e9, 0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, std::remainder(psi + 2.0 * kDeg, 2 * M_PI), g.lat, g.lon, g.alt, 10.0,
+                   1.0, 0.0, 3.5, -4.0});
+  }
+  write_csv(
+      run / "topics/reference.csv",
+      "t [s],stamp [ns],phi [rad],theta [rad],psi [rad],lat [deg],lon [deg],alt [m],v_n [m/s],v_e [m/s],v_d [m/s],w_n [m/s],w_e [m/s]",
+      ref);
+  for (int k = 0; k <= 20; ++k) {  // 1 Hz fixes, 3 m east of the estimate at their time of validity k s
+    const double tov = k, stamp = k + 0.2;
+    const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(tov), 3.0, -20.0));
+    const double vn = k < 3 ? 2.0 : 10.0;  // the window opens at the first fix at >= 5 m/s: stamp 3.2 s
+    gnss.push_back(
+        {stamp, stamp * 1e9, k % 2 ? tov * 1e9 : 0.0, k == 15 ? 1.0 : 3.0, 10, g.lat, g.lon, g.alt, vn, 0.5, 0.0, 1.0, 2.0, 0.3});
+  }
+  write_csv(run / "topics/gnss.csv",
+            "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
+            "vel_d [m/s],h_acc [m],v_acc [m],s_acc [m/s]",
+            gnss);
+  for (int k = 0; k <= 200; ++k) {  // gnss_pos ratios k/100 on the even ticks up to 200 (0 .. 1); baro: every other fused one at 2
+    const double t = 0.1 * k;
+    const double pos = k % 2 == 0 ? (k / 2) / 100.0 : -1.0;
+    const double baro = k < 40 ? (k % 2 ? 2.0 : 0.5) : -1.0;
+    innov.push_back({t, t * 1e9, pos, -1, baro, -1, k < 20 ? 0.25 : -1.0, -1, -1});
+  }
+  write_csv(run / "topics/innovations.csv",
+            "t [s],stamp [ns],gnss_pos [],gnss_vel [],baro [],diff_pressure [],mag [],sideslip [],normal_force []", innov);
+  std::ofstream(run / "params.csv") << "t [s],parameter,value,source\n0.000000000,ekf.gnss_pos_gate,16.266,default\n"
+                                       "0.000000000,ekf.baro_gate,10.828,default\n0.000000000,ekf.gnss_delay,0.2,sensor_log.yaml\n"
+                                       "0.000000000,ekf.imu_position,\"[0, 0, 0]\",default\n";
+  std::ofstream(run / "summary.json") << R"({"instances": {"sim": {"plugin": "sim_aero", "steps": 3},
+    "ekf": {"plugin": "estimator_ekf", "gnss_pos_accepted": 90.0, "gnss_pos_rejected": 10.0, "gnss_pos_mean_nis": 1.25,
+            "gnss_vel_accepted": 100.0, "gnss_vel_rejected": 0.0, "mag_accepted": 5.0, "mag_rejected": 0.0,
+            "mag_heading_accepted": 3.0, "mag_heading_rejected": 0.0, "gnss_resets": 2.0, "mag_resets": 0.0,
+            "filter_resets": 1.0, "inflations": 4.0}}})";
+  return run;
+}
+
+const tern::core::MeasurementReport& measurement(const ReplayReport& r, const std::string& name) {
+  for (const auto& m : r.measurements)
+    if (m.name == name) return m;
+  FAIL("no measurement " << name);
+  throw;
+}
+
+}  // namespace
+
+TEST_CASE("replay report: known offsets against the reference and the GNSS") {
+  const ReplayReport r = make_replay_report(synthetic_run("known"));
+  CHECK(r.window.start_s == doctest::Approx(3.2));
+  CHECK(r.window.end_s == doctest::Approx(20.2).epsilon(1e-12));
+  CHECK(r.window.rule.find("GNSS horizontal speed >= 5 m/s") != std::string::npos);
+  // the reference: interpolated at every valid state sample of [3.2, 20]: 3.2 .. 20.0 less 12.0 .. 12.4
+  CHECK(r.reference.absent.empty());
+  CHECK(r.reference.roll.samples == 169 - 5);
+  CHECK(r.reference.roll.rms == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(r.reference.roll.max == doctest::Approx(1.0).epsilon(1e-9));
+  CHECK(r.reference.pitch.rms == doctest::Approx(0.5).epsilon(1e-9));
+  CHECK(r.reference.yaw.rms == doctest::Approx(2.0).epsilon(1e-9));  // across +-180 deg
+  CHECK(r.reference.course.rms == doctest::Approx(std::atan2(1.0, 10.0) / kDeg).epsilon(1e-9));
+  CHECK(r.reference.position_h.rms < 1e-4);
+  CHECK(r.reference.position_v.rms == doctest::Approx(2.0).epsilon(1e-6));
+  CHECK(r.reference.velocity_h.rms == doctest::Approx(1.0).epsilon(1e-12));
+  CHECK(r.wind.vs_reference.rms == doctest::Approx(0.5).epsilon(1e-12));
+  CHECK(r.wind.mean_speed == doctest::Approx(5.0));
+  CHECK(r.wind.max_speed == doctest::Approx(5.0));
+  // GNSS: fixes with tov 4 .. 20 s (3 is before the window), less fix_type 1 at 15 s and tov 12
+  // where the state is invalid; odd ones carry their epoch, even ones stamp - gnss_delay
+  CHECK(r.gnss.fixes == 21);
+  CHECK(r.gnss.fixes_in_window == 16);
+  CHECK(r.gnss.position_h.samples == 15);
+  CHECK(r.gnss.position_h.rms == doctest::Approx(3.0).epsilon(1e-6));
+  CHECK(r.gnss.position_h.max == doctest::Approx(3.0).epsilon(1e-6));
+  CHECK(r.gnss.velocity_h.rms == doctest::Approx(0.5).epsilon(1e-12));
+  CHECK(r.gnss.course.rms == doctest::Approx(std::atan2(0.5, 10.0) / kDeg).epsilon(1e-9));
+  CHECK(r.gnss.share_pos_accepted == doctest::Approx(0.9));
+  CHECK(r.gnss.time_rule.find("(7 fixes), else stamp - ekf.gnss_delay 0.2 s (8 fixes)") != std::string::npos);
+}
+
+TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
+  const ReplayReport r = make_replay_report(synthetic_run("nis"));
+  const auto& pos = measurement(r, "gnss_pos");
+  CHECK(pos.gate == "ekf.gnss_pos_gate = 16.266");
+  CHECK(pos.whole.count == 101);
+  CHECK(pos.whole.rejected == 0);
+  CHECK(pos.whole.p50_nis == doctest::Approx(0.50 * 16.266));
+  CHECK(pos.whole.p95_nis == doctest::Approx(0.95 * 16.266));
+  CHECK(pos.whole.p99_nis == doctest::Approx(0.99 * 16.266));
+  CHECK(pos.whole.mean_nis == doctest::Approx(0.5 * 16.266));
+  CHECK(pos.window.count == 85);  // even ticks 3.2 .. 20.0 s: ratios 0.16 .. 1.00
+  CHECK(pos.window.p50_ratio == doctest::Approx(0.58));
+  const auto& baro = measurement(r, "baro");
+  CHECK(baro.whole.count == 40);
+  CHECK(baro.whole.share_rejected == doctest::Approx(0.5));
+  CHECK(baro.whole.mean_nis == doctest::Approx(1.25 * 10.828));
+  CHECK(baro.window.count == 8);            // 3.2 .. 3.9 s
+  const auto& mag = measurement(r, "mag");  // heading and 3-axis both fused: the gate is not known
+  CHECK(std::isnan(mag.whole.mean_nis));
+  CHECK(mag.whole.p50_ratio == doctest::Approx(0.25));
+  CHECK(mag.gate.find("both mag (5 fused) and mag_heading (3 fused)") != std::string::npos);
+  CHECK(measurement(r, "gnss_vel").whole.count == 0);
+  CHECK(measurement(r, "normal_force").gate.find("fixed gate 10.828") != std::string::npos);
+  CHECK(r.counters.instance == "ekf");
+  CHECK(r.counters.models.size() == 4);
+  CHECK(r.validity.first_valid_s == doctest::Approx(1.0));
+  CHECK(r.validity.valid_to_invalid == 1);
+  CHECK(r.validity.filter_resets == 1);
+  CHECK(r.validity.divergences == 2);
+  CHECK(r.validity.samples == 191);
+  CHECK(r.validity.share_valid == doctest::Approx(186.0 / 191.0));
+  CHECK(r.validity.nan_cells == 1);
+  const std::string table = tern::core::format_replay_table(r);
+  CHECK(table.find("!!! NaN in state.csv: 1 cells in 1 rows !!!") != std::string::npos);
+  CHECK(table.find("roll [deg]") != std::string::npos);
+  const auto j = tern::core::to_json(r);
+  CHECK(j["reference"]["roll"]["samples"].get<int>() == 164);
+  CHECK(j["reference"]["roll"]["window"].get<std::string>() == r.window.rule);
+  CHECK(j["validity"]["nan_cells"].get<int>() == 1);
+  CHECK(j["estimator"]["resets"]["gnss_resets"].get<double>() == 2.0);
+  tern::core::write_replay_report(r);
+  CHECK(fs::exists(r.run_dir / "replay_report.json"));
+}
+
+TEST_CASE("replay report: sensor_log.yaml's airborne window; bad input is one line") {
+  const fs::path run = synthetic_run("airborne");
+  std::ofstream(run / "sensor_log.yaml") << "tern_sensor_log: 1\nairborne: [5, 10]\n";
+  ReplayReport r = make_replay_report(run);
+  CHECK(r.window.start_s == 5.0);
+  CHECK(r.window.end_s == 10.0);
+  CHECK(r.window.rule == "sensor_log.yaml airborne: [5, 10] s");
+  CHECK(r.reference.roll.samples == 51);
+  std::ofstream(run / "sensor_log.yaml") << "tern_sensor_log: 1\nairborne: [10, 5]\n";
+  CHECK_THROWS_WITH(make_replay_report(run), doctest::Contains("sensor_log.yaml:2:11: airborne: [10, 5]: start must be before end"));
+  fs::remove(run / "sensor_log.yaml");
+  std::ofstream(run / "topics/innovations.csv", std::ios::app) << "20.1,20100000000,0.5,-1\n";
+  CHECK_THROWS_WITH(make_replay_report(run), doctest::Contains("innovations.csv:203: 4 values, the header has 9 columns"));
+  std::ofstream(run / "topics/innovations.csv") << "t [s],stamp [ns],gnss_pos []\n0.1,100000000,0.5\n0.2,200000000,x1\n";
+  CHECK_THROWS_WITH(make_replay_report(run), doctest::Contains("innovations.csv:3: column 3: 'x1' is not a number"));
+}
+
+TEST_CASE("replay report: missing topics are absent sections, not errors") {
+  const fs::path run = test_dir() / "bare";
+  fs::create_directories(run / "topics");
+  write_csv(run / "topics/state.csv", "t [s],valid [bool]", {{0.0, 0.0}, {0.1, 1.0}, {0.2, 1.0}});
+  const ReplayReport r = make_replay_report(run);
+  CHECK(r.reference.absent == "absent (no topics/reference.csv)");
+  CHECK(r.gnss.absent == "absent (no topics/gnss.csv)");
+  CHECK(r.measurements_absent == "absent (no topics/innovations.csv)");
+  CHECK(r.window.rule.find("the whole replay") == 0);
+  CHECK(r.validity.share_valid == 1.0);
+  CHECK(tern::core::format_replay_table(r).find("absent (no topics/gnss.csv)") != std::string::npos);
+  CHECK_THROWS_WITH(make_replay_report(test_dir() / "nothing"), doctest::Contains("no topics/state.csv"));
+}
+
+namespace {
+
+/// A topic CSV as rows of cells with a column index by name (the report's reader is what is tested).
+struct Table {
+  std::map<std::string, std::size_t> col;
+  std::vector<std::vector<std::string>> rows;
+  double at(std::size_t r, const std::string& name) const { return std::stod(rows[r][col.at(name)]); }
+};
+
+Table read_table(const fs::path& p) {
+  Table t;
+  const auto ls = lines(read_file(p));
+  const auto head = cells(ls.at(0));
+  for (std::size_t i = 0; i < head.size(); ++i) t.col[head[i].substr(0, head[i].find(" ["))] = i;
+  for (std::size_t k = 1; k < ls.size(); ++k) t.rows.push_back(cells(ls[k]));
+  return t;
+}
+
+/// reference.csv from the simulator's truth: what another estimator would have said, if perfect.
+void reference_from_truth(const fs::path& run) {
+  const Table truth = read_table(run / "topics/truth.csv");
+  const tern::GeoOrigin frame(truth.at(0, "origin_lat"), truth.at(0, "origin_lon"), truth.at(0, "origin_alt"));
+  std::vector<std::vector<double>> rows;
+  for (std::size_t r = 0; r < truth.rows.size(); ++r) {
+    const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(truth.at(r, "p_n"), truth.at(r, "p_e"), truth.at(r, "p_d")));
+    rows.push_back({truth.at(r, "t"), truth.at(r, "stamp"), truth.at(r, "phi"), truth.at(r, "theta"), truth.at(r, "psi"), g.lat, g.lon,
+                    g.alt, truth.at(r, "v_n"), truth.at(r, "v_e"), truth.at(r, "v_d"), truth.at(r, "w_n"), truth.at(r, "w_e")});
+  }
+  write_csv(
+      run / "topics/reference.csv",
+      "t [s],stamp [ns],phi [rad],theta [rad],psi [rad],lat [deg],lon [deg],alt [m],v_n [m/s],v_e [m/s],v_d [m/s],w_n [m/s],w_e [m/s]",
+      rows);
+}
+
+}  // namespace
+
+TEST_CASE("replay report end to end: a default-mission flight, its truth as the reference") {
+  const fs::path out = test_dir() / "fly.out";
+  REQUIRE(run_tern({"fly", std::string(TERN_SOURCE_DIR) + "/configs/missions/default.yaml", "--duration", "60", "-q", "--log-dir",
+                    (test_dir() / "runs").string()},
+                   out) == 0);
+  std::string run;
+  for (const auto& l : lines(read_file(out)))
+    if (l.rfind("log: ", 0) == 0) run = l.substr(5);
+  REQUIRE(!run.empty());
+  reference_from_truth(run);
+  const ReplayReport r = make_replay_report(run);
+  // the window and the roll and pitch errors, computed here from the tables alone
+  const Table gnss = read_table(fs::path(run) / "topics/gnss.csv");
+  double start = NAN, end = NAN;
+  for (std::size_t k = 0; k < gnss.rows.size(); ++k)
+    if (std::hypot(gnss.at(k, "vel_n"), gnss.at(k, "vel_e")) >= 5.0) {
+      if (std::isnan(start)) start = gnss.at(k, "t");
+      end = gnss.at(k, "t");
+    }
+  CHECK(r.window.start_s == start);
+  CHECK(r.window.end_s == end);
+  const Table state = read_table(fs::path(run) / "topics/state.csv");
+  const Table truth = read_table(fs::path(run) / "topics/truth.csv");
+  std::map<std::string, std::size_t> truth_row;
+  for (std::size_t k = 0; k < truth.rows.size(); ++k) truth_row[truth.rows[k][0]] = k;
+  double roll2 = 0.0, pitch2 = 0.0;
+  std::size_t n = 0;
+  for (std::size_t k = 0; k < state.rows.size(); ++k) {
+    const double t = state.at(k, "t");
+    if (t < start || t > end || state.at(k, "valid") != 1.0) continue;
+    const std::size_t j = truth_row.at(state.rows[k][0]);
+    roll2 += std::pow(std::remainder(state.at(k, "phi") - truth.at(j, "phi"), 2 * M_PI) / kDeg, 2);
+    pitch2 += std::pow(std::remainder(state.at(k, "theta") - truth.at(j, "theta"), 2 * M_PI) / kDeg, 2);
+    ++n;
+  }
+  REQUIRE(n > 1000);
+  CHECK(r.reference.roll.samples == n);
+  CHECK(r.reference.roll.rms == doctest::Approx(std::sqrt(roll2 / n)).epsilon(1e-9));
+  CHECK(r.reference.pitch.rms == doctest::Approx(std::sqrt(pitch2 / n)).epsilon(1e-9));
+  // the rest against what the realistic sensors allow: metres, tenths of m/s, no NaN, no divergence
+  CHECK(r.reference.roll.rms < 2.0);
+  CHECK(r.reference.position_h.samples == n);
+  CHECK(r.reference.position_h.rms < 5.0);
+  CHECK(r.reference.velocity_h.rms < 1.0);
+  CHECK(r.gnss.position_h.rms > 0.01);  // the fixes' noise the estimate smooths
+  CHECK(r.gnss.position_h.rms < 10.0);
+  CHECK(r.gnss.position_h.samples > 200);
+  CHECK(r.wind.vs_reference.rms < 2.0);
+  CHECK(r.validity.nan_cells == 0);
+  std::size_t drops = 0;  // valid -> invalid after the first valid state (the flight's first 0.2 s has one)
+  for (std::size_t k = 1, seen = 0; k < state.rows.size(); ++k) {
+    seen = seen || state.at(k - 1, "valid") == 1.0;
+    drops += seen && state.at(k - 1, "valid") == 1.0 && state.at(k, "valid") == 0.0 ? 1 : 0;
+  }
+  CHECK(r.validity.valid_to_invalid == drops);
+  CHECK(r.validity.divergences == drops);  // no filter reset
+  CHECK(measurement(r, "gnss_pos").gate == "ekf.gnss_pos_gate = 16.266");
+  CHECK(measurement(r, "gnss_pos").window.count > 200);
+  MESSAGE(tern::core::format_replay_table(r));
+}
