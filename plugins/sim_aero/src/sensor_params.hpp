@@ -47,9 +47,15 @@ inline const SensorReal kSensorReals[] = {
     {"mag_hard_iron_range", "T", 0, 1e-3, "residual hard iron per axis, uniform in +-range", &sim::SensorParams::mag_hard_iron_range},
     {"mag_soft_iron_range", "", 0, 0.5, "residual soft iron, each term of S - I uniform in +-range",
      &sim::SensorParams::mag_soft_iron_range},
-    {"mag_declination", "rad", -3.2, 3.2, "magnetic declination at the origin", &sim::SensorParams::mag_declination},
-    {"mag_inclination", "rad", -1.6, 1.6, "magnetic inclination at the origin", &sim::SensorParams::mag_inclination},
-    {"mag_intensity", "T", 1e-6, 1e-3, "magnetic field strength at the origin", &sim::SensorParams::mag_intensity},
+    {"mag_declination", "rad", -3.2, 3.2,
+     "magnetic declination at the origin, east positive (unset: the World Magnetic Model's at the origin on `date`; set: overrides it)",
+     &sim::SensorParams::mag_declination},
+    {"mag_inclination", "rad", -1.6, 1.6,
+     "magnetic inclination at the origin, down positive (unset: the World Magnetic Model's at the origin on `date`; set: overrides it)",
+     &sim::SensorParams::mag_inclination},
+    {"mag_intensity", "T", 1e-6, 1e-3,
+     "magnetic field strength at the origin (unset: the World Magnetic Model's at the origin on `date`; set: overrides it)",
+     &sim::SensorParams::mag_intensity},
     {"baro_noise", "Pa", 0, 1000, "barometer white noise", &sim::SensorParams::baro_noise},
     {"baro_bias_range", "Pa", 0, 5000, "initial barometer bias, uniform in +-range", &sim::SensorParams::baro_bias_range},
     {"baro_bias_walk", "Pa/sqrt(s)", 0, 100, "barometer bias random walk", &sim::SensorParams::baro_bias_walk},
@@ -71,7 +77,8 @@ inline const SensorReal kSensorReals[] = {
     {"gnss_s_acc", "m/s", 0, 100, "reported speed accuracy", &sim::SensorParams::gnss_s_acc},
     {"origin_lat", "deg", -90, 90, "latitude of the NED origin", &sim::SensorParams::origin_lat},
     {"origin_lon", "deg", -180, 180, "longitude of the NED origin", &sim::SensorParams::origin_lon},
-    {"origin_alt", "m", -500, 9000, "altitude (MSL) of the NED origin = the ground", &sim::SensorParams::origin_alt},
+    {"origin_alt", "m", -500, 9000, "altitude (MSL) of the NED origin = the ground (also the magnetic model's height)",
+     &sim::SensorParams::origin_alt},
 };
 
 inline const SensorVector kSensorVectors[] = {

@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "tern/math.hpp"
+#include "tern_sim_aero/earth_field.hpp"
 
 namespace tern::sim {
 
@@ -74,18 +75,13 @@ Eigen::Vector3d specific_force_at(const Truth& t, const Eigen::Vector3d& r) {
   const Eigen::Vector3d w = t.x.segment<3>(P);
   return t.fm.specific_force(t.mass) + t.omega_dot.cross(r) + w.cross(w.cross(r));
 }
-
-/// The Earth's field in NED from declination, inclination and intensity, T.
-Eigen::Vector3d earth_field_ned(const SensorParams& p) {
-  const double I = p.mag_inclination, D = p.mag_declination;
-  return p.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D), std::cos(I) * std::sin(D), std::sin(I));
-}
 }  // namespace
 
 Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
     : p_(p),
       seed_(seed),
       origin_(std::make_unique<WorldGeodesy>(GeoPoint{p.origin_lat, p.origin_lon, p.origin_alt})),
+      earth_field_(sim::earth_field(p)),
       mount_T_(tern::rotation_from_euler(p.imu_misalignment.x(), p.imu_misalignment.y(), p.imu_misalignment.z()).transpose()) {
   reset();
 }
@@ -201,7 +197,7 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
 MagSample Sensors::mag(const Truth& t, double dt) {
   const double phi = gm_phi(dt, p_.mag_gm_tau);
   mag_gm_ = phi * mag_gm_ + p_.mag_gm_sigma * std::sqrt(1.0 - phi * phi) * gauss3();
-  const Eigen::Vector3d b = attitude(t.x).conjugate() * earth_field_ned(p_);
+  const Eigen::Vector3d b = attitude(t.x).conjugate() * earth_field_.ned;
   MagSample m;
   m.field = mag_soft_ * b + mag_hard_ + t.throttle * p_.mag_motor_field + mag_gm_ + p_.mag_noise * gauss3();
   return m;

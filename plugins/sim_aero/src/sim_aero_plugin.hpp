@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <array>
 #include <deque>
+#include <functional>
 #include <iterator>
 #include <cmath>
 #include <memory>
@@ -18,6 +19,7 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <spdlog/spdlog.h>
@@ -26,6 +28,8 @@
 #include "tern/plugin.hpp"
 #include "sensor_params.hpp"
 #include "tern/aircraft.hpp"
+#include "tern/magnetic_model.hpp"
+#include "tern_sim_aero/earth_field.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
@@ -102,6 +106,11 @@ class SimAero final : public tern::Plugin {
     declare_sensor(baro_, "baro", 100.0);
     declare_sensor(diff_, "diff_pressure", 100.0);
     declare_sensor(gnss_, "gnss", 10.0);
+    declare(date_, "date", "2025-07-01",
+            ParamSpec("", 0, 0,
+                      "the world's date, ISO YYYY-MM-DD: the Earth's magnetic field is the World Magnetic Model's at the "
+                      "origin on this day (2025-07-01: a fixed day in WMM2025's first year, so flights repeat)")
+                .start_only());
     declare_error_model();
     declare(pitot_cover_, "pitot_cover", 0.0,
             ParamSpec("s", 0, 600,
@@ -220,7 +229,7 @@ class SimAero final : public tern::Plugin {
 
   // The profile's values are the defaults of every sensor and actuator parameter.
   void declare_error_model() {
-    const sim::SensorParams d = sim::sensor_profile(sensor_profile_());
+    const sim::SensorParams d = profile_defaults();
     const sim::ActuatorParams da = sim::actuator_profile(sensor_profile_());
     for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
       const SensorReal& r = kSensorReals[i];
@@ -247,7 +256,8 @@ class SimAero final : public tern::Plugin {
             .start_only());
     declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats},
             ParamSpec("", 0, 64, "reported satellites in use").start_only());
-    for (auto& p : sensor_reals_) track_explicit(p);
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i)
+      track_explicit(sensor_reals_[i], is_origin_row(kSensorReals[i]) ? std::function<void()>([this] { sync_world_field(); }) : nullptr);
     for (auto& p : sensor_vectors_) track_explicit(p);
     for (auto& p : actuator_reals_) track_explicit(p);
     track_explicit(gnss_start_steady_);
@@ -255,29 +265,70 @@ class SimAero final : public tern::Plugin {
     track_explicit(accel_calibrated_level_);
     track_explicit(gnss_num_sats_);
     sensor_profile_.on_change([this](const std::string&) { apply_profile_defaults(); });
+    date_.on_change([this](const std::string&) { sync_world_field(); });
+    sync_world_field();  // the origin and date the mission sets
+  }
+
+  /// The profile's sensor and actuator values, the Earth's field being the model's at the
+  /// profile's origin on `date`.
+  sim::SensorParams profile_defaults() const {
+    sim::SensorParams d = sim::sensor_profile(sensor_profile_());
+    d.date = world_date();
+    return sim::with_earth_field(d);
+  }
+
+  // ---- the world's magnetic field: mag_declination / _inclination / _intensity that nobody set
+  // follow the World Magnetic Model at the origin on `date` (sim::earth_field); a set one overrides.
+  static bool is_field_row(const SensorReal& r) {
+    return r.field == &sim::SensorParams::mag_declination || r.field == &sim::SensorParams::mag_inclination ||
+           r.field == &sim::SensorParams::mag_intensity;
+  }
+  static bool is_origin_row(const SensorReal& r) {
+    return r.field == &sim::SensorParams::origin_lat || r.field == &sim::SensorParams::origin_lon ||
+           r.field == &sim::SensorParams::origin_alt;
+  }
+  /// `date` as a decimal year; a bad date throws ParamError naming the parameter.
+  double world_date() const {
+    try {
+      return tern::decimal_year(date_());
+    } catch (const std::invalid_argument& e) {
+      throw ParamError("parameter '" + context().instance_name() + ".date': " + e.what());
+    }
+  }
+  /// The field parameters nobody set take the model's values at the current origin and date, so
+  /// that they show what the world uses.
+  void sync_world_field() {
+    const sim::SensorParams p = sim::with_earth_field(sensor_params());
+    const bool was_applying = std::exchange(applying_profile_, true);
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
+      if (is_field_row(kSensorReals[i]) && !set_explicitly_.count(&sensor_reals_[i])) sensor_reals_[i].set(p.*kSensorReals[i].field);
+    }
+    applying_profile_ = was_applying;
   }
 
   /// Remembers whether the mission sets `p`, and any later change, so that a new sensor_profile
   /// (between flights) moves only the parameters nobody set.
   template <class T>
-  void track_explicit(tern::Param<T>& p) {
+  void track_explicit(tern::Param<T>& p, std::function<void()> then = nullptr) {
     if (context().configured_value(p.name(), p.spec())) set_explicitly_.insert(&p);
-    p.on_change([this, &p](const T&) {
+    p.on_change([this, &p, then](const T&) {
       if (!applying_profile_) set_explicitly_.insert(&p);
+      if (then) then();
     });
   }
 
   /// sensor_profile changed (a start-only parameter: between flights): every sensor and
   /// actuator parameter nobody set takes the new profile's default; the next start() uses them.
   void apply_profile_defaults() {
-    const sim::SensorParams d = sim::sensor_profile(sensor_profile_());
+    const sim::SensorParams d = sim::sensor_profile(sensor_profile_());  // the field: NaN, from the model
     const sim::ActuatorParams da = sim::actuator_profile(sensor_profile_());
     applying_profile_ = true;
     const auto take = [this](tern::ParamBase& p, const tern::ParamValue& v) {
       if (!set_explicitly_.count(&p)) p.set(v);
     };
     try {
-      for (std::size_t i = 0; i < std::size(kSensorReals); ++i) take(sensor_reals_[i], d.*kSensorReals[i].field);
+      for (std::size_t i = 0; i < std::size(kSensorReals); ++i)
+        if (!is_field_row(kSensorReals[i])) take(sensor_reals_[i], d.*kSensorReals[i].field);
       for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
         const Eigen::Vector3d& v = d.*kSensorVectors[i].field;
         take(sensor_vectors_[i], std::vector<double>{v.x(), v.y(), v.z()});
@@ -292,11 +343,16 @@ class SimAero final : public tern::Plugin {
       throw;
     }
     applying_profile_ = false;
+    sync_world_field();
   }
 
   sim::SensorParams sensor_params() const {
     sim::SensorParams p;
-    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) p.*kSensorReals[i].field = sensor_reals_[i]();
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i) {
+      const bool from_model = is_field_row(kSensorReals[i]) && !set_explicitly_.count(&sensor_reals_[i]);
+      p.*kSensorReals[i].field = from_model ? sim::kFromMagneticModel : sensor_reals_[i]();
+    }
+    p.date = world_date();
     for (std::size_t i = 0; i < std::size(kSensorVectors); ++i) {
       const auto& v = sensor_vectors_[i]();
       p.*kSensorVectors[i].field = Eigen::Vector3d(v[0], v[1], v[2]);
@@ -334,6 +390,7 @@ class SimAero final : public tern::Plugin {
     f_.sim = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
     f_.sensors = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
     f_.sim->set_actuators(actuator_params());
+    report_earth_field();
     f_.gnss_latency = tern::from_seconds(f_.sensors->params().gnss_latency);
     f_.sim_dt = period_of(sim_rate_(), "sim_rate");
     for (SensorSlot* s : slots()) {
@@ -387,6 +444,21 @@ class SimAero final : public tern::Plugin {
       log().info("trim at {} m/s: alpha {:.4f} rad, delta_e {:.4f} rad, delta_t {:.3f}", req.Va, tr.alpha, tr.delta.delta_e,
                  tr.delta.delta_t);
     }
+  }
+
+  /// Says once per flight which field the world has (and which settings override the model), and
+  /// warns when the model is extrapolated.
+  void report_earth_field() {
+    const tern::MagneticField& m = f_.sensors->earth_field();
+    const auto& p = f_.sensors->params();
+    std::string source = fmt::format("{} at {:.5f}, {:.5f} on {}", m.model, p.origin_lat, p.origin_lon, date_());
+    for (std::size_t i = 0; i < std::size(kSensorReals); ++i)
+      if (is_field_row(kSensorReals[i]) && set_explicitly_.count(&sensor_reals_[i]))
+        source += fmt::format("; {} set", kSensorReals[i].name);
+    if (m.model == "mag_* settings") source = "mag_declination, mag_inclination, mag_intensity set";
+    log().info("Earth's field: declination {:.3f} deg, inclination {:.3f} deg, intensity {:.0f} nT ({})", m.declination / tern::kRadPerDeg,
+               m.inclination / tern::kRadPerDeg, m.intensity * 1e9, source);
+    if (m.extrapolated) log().warn("the world's date {} is outside {}'s span: its field is extrapolated", date_(), m.model);
   }
 
   // ---- ground impact
@@ -632,7 +704,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<std::vector<double>> init_position_, wind_, gusts_;
   tern::Param<double> gust_rate_, gust_max_, gust_min_duration_, gust_max_duration_;
   SensorSlot imu_, mag_, baro_, diff_, gnss_;
-  tern::Param<std::string> sensor_profile_;
+  tern::Param<std::string> sensor_profile_, date_;
   std::array<tern::Param<double>, std::size(kSensorReals)> sensor_reals_;
   std::array<tern::Param<std::vector<double>>, std::size(kSensorVectors)> sensor_vectors_;
   std::array<tern::Param<double>, std::size(kActuatorReals)> actuator_reals_;

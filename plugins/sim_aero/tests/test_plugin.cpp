@@ -267,3 +267,39 @@ TEST_CASE("plugin: the shared object really unloads after dlclose (hot-swap)") {
   dlclose(h);
   CHECK(dlopen(path, RTLD_NOW | RTLD_NOLOAD) == nullptr);
 }
+
+TEST_CASE("plugin: the world's magnetic field is the model's at the origin on `date`; a set value overrides it") {
+  const auto value = [](tern::testing::Harness& h, const char* name) { return std::get<double>(h.plugin().find_param(name)->value()); };
+  const double mid_2025 = tern::decimal_year(2025, 7, 1);
+  const tern::MagneticField provo = tern::world_magnetic_field(40.2463724, -111.6474138, 1387.0, mid_2025);
+  auto h = make({{"sensor_profile", std::string("ideal")}, {"init_mode", std::string("air")}});
+  CHECK(value(h, "mag_declination") == provo.declination);  // the parameters show the field in use
+  CHECK(value(h, "mag_inclination") == provo.inclination);
+  CHECK(value(h, "mag_intensity") == provo.intensity);
+  h.step(0);  // level, heading north, error-free magnetometer: it reads the NED field
+  CHECK((h.output<msg::Mag>("mag").field - provo.ned).norm() < 1e-15);
+
+  // Between flights: a set declination stays; moving the origin or the date moves the rest.
+  h.set_param("mag_declination", 0.3);
+  h.set_param("origin_lat", 47.3977);
+  h.set_param("origin_lon", 8.5456);
+  const tern::MagneticField zurich = tern::world_magnetic_field(47.3977, 8.5456, 1387.0, mid_2025);
+  CHECK(value(h, "mag_declination") == 0.3);
+  CHECK(value(h, "mag_inclination") == zurich.inclination);
+  h.set_param("date", std::string("2020-01-01"));
+  const tern::MagneticField zurich_2020 = tern::world_magnetic_field(47.3977, 8.5456, 1387.0, 2020.0);
+  CHECK(zurich_2020.model == "WMM-2020");
+  CHECK(value(h, "mag_intensity") == zurich_2020.intensity);
+  h.reset();
+  h.step(0);
+  const Eigen::Vector3d want =
+      zurich_2020.intensity * Eigen::Vector3d(std::cos(zurich_2020.inclination) * std::cos(0.3),
+                                              std::cos(zurich_2020.inclination) * std::sin(0.3), std::sin(zurich_2020.inclination));
+  CHECK((h.output<msg::Mag>("mag").field - want).norm() < 1e-15);
+
+  // A mission that sets the origin gets that origin's field from the start.
+  auto z = make({{"origin_lat", 47.3977}, {"origin_lon", 8.5456}});
+  CHECK(value(z, "mag_declination") == zurich.declination);
+  CHECK_THROWS_WITH_AS(make({{"date", std::string("2025-02-30")}}),
+                       "parameter 'sim.date': date '2025-02-30': February 2025 has 28 days, not day 30", tern::ParamError);
+}

@@ -11,6 +11,8 @@
 
 #include "statistics.hpp"
 #include "tern/math.hpp"
+#include "tern/magnetic_model.hpp"
+#include "tern_sim_aero/earth_field.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
@@ -93,10 +95,11 @@ Eigen::Matrix3d gyro_matrix(Sensors& s) {
   return M;
 }
 
-/// Earth's field in NED, as the parameters give it.
-Eigen::Vector3d earth_field(const SensorParams& p) {
-  const double I = p.mag_inclination, D = p.mag_declination;
-  return p.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D), std::cos(I) * std::sin(D), std::sin(I));
+/// Earth's field in NED from the declination, inclination and intensity the world takes.
+Eigen::Vector3d field_ned(const SensorParams& p) {
+  const SensorParams q = with_earth_field(p);
+  const double I = q.mag_inclination, D = q.mag_declination;
+  return q.mag_intensity * Eigen::Vector3d(std::cos(I) * std::cos(D), std::cos(I) * std::sin(D), std::sin(I));
 }
 
 /// Every output of every sensor over n rounds, in one vector (for bit-for-bit comparisons).
@@ -161,7 +164,7 @@ TEST_CASE("sensors: the ideal profile gives exactly the true values") {
     const ImuSample a = s.imu(t, 0.0025);
     CHECK(a.accel == t.fm.specific_force(t.mass));
     CHECK(a.gyro == Eigen::Vector3d(t.x.segment<3>(P)));
-    CHECK(s.mag(t, 0.02).field == attitude(t.x).conjugate() * earth_field(p));
+    CHECK(s.mag(t, 0.02).field == attitude(t.x).conjugate() * field_ned(p));
     CHECK(s.baro(t, 0.01).pressure == standard_pressure(p.origin_alt + 75));
     CHECK(s.diff_pressure(t, 0.01).pressure == 0.5 * t.rho * 17 * 17);
     const GnssSample g = s.gnss(t, 0.1);
@@ -437,7 +440,7 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
   // hard iron: a constant per-seed offset within the range
   const SensorParams ph = ideal_with([](SensorParams& p) { p.mag_hard_iron_range = 1e-6; });
   Sensors h1(ph, 1), h2(ph, 2);
-  const Eigen::Vector3d b0 = earth_field(ph);
+  const Eigen::Vector3d b0 = field_ned(ph);
   const Eigen::Vector3d o1 = h1.mag(level, 0.02).field - b0, o2 = h2.mag(level, 0.02).field - b0;
   CHECK(o1.cwiseAbs().maxCoeff() <= 1e-6 + 1e-18);
   CHECK(o1.cwiseAbs().minCoeff() > 0.0);
@@ -455,7 +458,7 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
     for (int j = 0; j < 3; ++j) {
       Truth t = level;
       t.x = xs[j];
-      B.col(j) = attitude(t.x).conjugate() * earth_field(ps);
+      B.col(j) = attitude(t.x).conjugate() * field_ned(ps);
       F.col(j) = s.mag(t, 0.02).field;
     }
     const Eigen::Matrix3d E = F * B.inverse() - Eigen::Matrix3d::Identity();
@@ -589,4 +592,45 @@ TEST_CASE("sensors: boot calibration: pitot zeroed after 128 + 127 cycles of > 2
   for (int i = 0; i < 1000; ++i) max_diff = std::max(max_diff, std::fabs(calibrated.baro(t, 0.01).pressure - raw.baro(t, 0.01).pressure));
   CHECK(max_diff == 0.0);  // the firmware sends the baro pressure as measured
   CHECK(calibrated.boot_calibration()->baro_ground().done);
+}
+
+// ---------------------------------------------------------------- the world's magnetic field ---
+
+TEST_CASE("sensors: the world's field is the World Magnetic Model's at the origin on the date") {
+  const SensorParams p;  // Provo, 1387 m, 2025-07-01, no mag_* settings
+  CHECK(std::isnan(p.mag_declination));
+  CHECK(p.date == tern::decimal_year(2025, 7, 1));
+  const tern::MagneticField wmm = tern::world_magnetic_field(p.origin_lat, p.origin_lon, p.origin_alt, p.date);
+  const Sensors s(p, 1);
+  CHECK(s.earth_field().model == "WMM-2025");
+  CHECK_FALSE(s.earth_field().extrapolated);
+  CHECK((s.earth_field().ned - wmm.ned).norm() < 1e-18);  // T
+  CHECK(s.earth_field().declination == wmm.declination);
+  // Another place and date: another field, and a date past WMM2025's span is flagged.
+  SensorParams q = p;
+  q.origin_lat = 47.3977;  // Zurich
+  q.origin_lon = 8.5456;
+  q.date = tern::decimal_year(2031, 1, 1);
+  const tern::MagneticField fq = earth_field(q);
+  CHECK(fq.extrapolated);
+  CHECK(std::fabs(fq.declination - wmm.declination) > 0.1);  // rad: ~4 deg east vs ~10 deg east
+}
+
+TEST_CASE("sensors: a set mag_declination / _inclination / _intensity overrides the model's") {
+  SensorParams p;
+  p.mag_declination = 0.1857972802;
+  const tern::MagneticField one = earth_field(p);
+  const tern::MagneticField wmm = tern::world_magnetic_field(p.origin_lat, p.origin_lon, p.origin_alt, p.date);
+  CHECK(one.declination == 0.1857972802);
+  CHECK(one.inclination == wmm.inclination);
+  CHECK(one.intensity == wmm.intensity);
+  CHECK(one.model == "WMM-2025");
+  p.mag_inclination = 1.139436457;
+  p.mag_intensity = 5.07163e-5;
+  const tern::MagneticField fixed = earth_field(p);
+  CHECK(fixed.model == "mag_* settings");
+  const double I = 1.139436457, D = 0.1857972802;  // the old fixed field, bit for bit
+  CHECK(fixed.ned ==
+        Eigen::Vector3d(5.07163e-5 * std::cos(I) * std::cos(D), 5.07163e-5 * std::cos(I) * std::sin(D), 5.07163e-5 * std::sin(I)));
+  CHECK(Sensors(p, 3).earth_field().ned == fixed.ned);
 }

@@ -563,7 +563,7 @@ TEST_CASE("sensors: noise statistics match the parameters") {
   CHECK(stddev(baro) == doctest::Approx(p.baro_noise).epsilon(0.03));
   CHECK(std::fabs(mean(diff) - 0.5 * 1.2682 * 17 * 17) <= p.diff_bias_range + k * p.diff_noise);
   CHECK(stddev(diff) == doctest::Approx(p.diff_noise).epsilon(0.03));
-  const double mx_true = p.mag_intensity * std::cos(p.mag_inclination) * std::cos(p.mag_declination);
+  const double mx_true = s.earth_field().ned.x();  // level, heading north
   CHECK(std::fabs(mean(mx) - mx_true) < k * p.mag_noise);
   CHECK(stddev(mx) == doctest::Approx(p.mag_noise).epsilon(0.03));
   CHECK(std::fabs(mean(vn) - 17.0) < k * p.gnss_vel_noise);
@@ -576,7 +576,7 @@ TEST_CASE("sensors: the default magnetometer error is ROSflight's Gauss-Markov p
   Sensors s(p, 12);
   Truth t;
   t.x = make_state({0, 0, -100}, {17, 0, 0}, 0, 0, 0);
-  const double mx_true = p.mag_intensity * std::cos(p.mag_inclination) * std::cos(p.mag_declination);
+  const double mx_true = s.earth_field().ned.x();  // level, heading north
   std::vector<double> e;
   for (int i = 0; i < 50000; ++i) e.push_back(s.mag(t, 0.02).field.x() - mx_true);
   // steady-state sigma, and the sample-to-sample correlation exp(-T_s / tau) = exp(-0.14)

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <random>
 #include <utility>
@@ -16,6 +17,7 @@
 #include <boost/random/normal_distribution.hpp>
 
 #include "tern/geodesy.hpp"
+#include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
 #include "tern_sim_aero/model.hpp"
 
@@ -26,6 +28,9 @@ namespace tern::sim {
 /// profiles.hpp gives the `realistic` (datasheet) and `ideal` (noise-free) sets. Per-seed errors
 /// (turn-on biases, scale factors, cross-axis terms, hard/soft iron) are drawn uniformly in
 /// +-range at reset(); fixed installation geometry (mounting rotation, lever arms) is given.
+/// A mag_declination / _inclination / _intensity to take from the World Magnetic Model.
+inline constexpr double kFromMagneticModel = std::numeric_limits<double>::quiet_NaN();
+
 struct SensorParams {
   // IMU (ROSflight: 400 Hz, accel 0.2 m/s^2, gyro noise as the 0.0023 rad/s)
   double accel_noise = 0.2;        ///< m/s^2 per sample
@@ -71,9 +76,15 @@ struct SensorParams {
   double mag_soft_iron_range = 0.0;  ///< residual soft iron, each element of (S - I), fraction, uniform in +-range
   /// Field of the motor current at full throttle, body FRD, T (scales with throttle).
   Eigen::Vector3d mag_motor_field = Eigen::Vector3d::Zero();
-  double mag_declination = 0.1857972802;  ///< rad (east of true north positive)
-  double mag_inclination = 1.139436457;   ///< rad (down positive)
-  double mag_intensity = 5.07163e-5;      ///< T
+  /// The Earth's field at the origin (earth_field.hpp). NaN, the default: the World Magnetic
+  /// Model's at origin_lat/lon/alt on `date`; a finite value overrides that component.
+  double mag_declination = kFromMagneticModel;  ///< rad (east of true north positive)
+  double mag_inclination = kFromMagneticModel;  ///< rad (down positive)
+  double mag_intensity = kFromMagneticModel;    ///< T
+  /// The world's date, decimal year (tern::decimal_year): the date of the magnetic model. Fixed, not
+  /// the clock, so that a flight is the same whenever it is flown; 2025-07-01 lies in WMM2025's
+  /// first year, where its secular variation has had least time to drift from the real field.
+  double date = tern::decimal_year(2025, 7, 1);
   // barometer (ROSflight: 100 Hz, 4 Pa)
   double baro_noise = 4.0;         ///< Pa
   double baro_bias_range = 500.0;  ///< Pa
@@ -194,6 +205,8 @@ class Sensors {
   /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
   const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
   const WorldGeodesy& origin() const { return *origin_; }
+  /// The Earth's field the magnetometer sees (earth_field.hpp), fixed at construction.
+  const tern::MagneticField& earth_field() const { return earth_field_; }
 
  private:
   double gauss() { return n_(rng_); }
@@ -216,6 +229,7 @@ class Sensors {
   boost::random::normal_distribution<double> n_{0.0, 1.0};
   std::uniform_real_distribution<double> u_{0.0, 1.0};
   std::unique_ptr<WorldGeodesy> origin_;
+  tern::MagneticField earth_field_;
   Eigen::Matrix3d mount_T_;           ///< R_mount^T: body -> IMU axes (fixed)
   Eigen::Matrix3d accel_M_, gyro_M_;  ///< I + scale and cross-axis terms (per seed)
   Eigen::Matrix3d mag_soft_;          ///< soft iron S = I + E (per seed)
