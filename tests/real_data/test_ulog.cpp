@@ -15,6 +15,10 @@
 #include <string>
 #include <vector>
 
+#include <yaml-cpp/yaml.h>
+
+#include "import/importers.hpp"
+#include "import/ulog_import.hpp"
 #include "import/ulog_reader.hpp"
 
 namespace fs = std::filesystem;
@@ -338,4 +342,144 @@ TEST_CASE("ulog reader: corrupt and cut files give one line naming the file and 
     for (const auto& [k, t] : o.topics) CHECK(c.topics.at(k).count == t.count);
     fs::remove(p);
   }
+}
+
+// ---- tern import ulog ----
+
+namespace {
+
+struct Imported {
+  tern::core::ImportReport report;
+  fs::path dir;
+  std::vector<std::string> lines(const std::string& topic) const { return lines_of(dir / "topics" / (topic + ".csv")); }
+};
+
+Imported import_sample(const std::string& name) {
+  Imported i;
+  i.dir = fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name);
+  fs::remove_all(i.dir);
+  tern::core::SensorLogWriter out(i.dir);
+  i.report = tern::core::import_ulog(kSamples / (name + ".ulg"), out);
+  return i;
+}
+
+}  // namespace
+
+std::vector<std::string> cells(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+  return out;
+}
+
+TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_combined with mag, no GPS)") {
+  const Imported i = import_sample("sample");
+  CHECK(i.report.rows.at("imu") == 17070);       // every sensor_combined message (sample_info.txt's count)
+  CHECK(i.report.rows.at("mag") == 6759);        // sensor_combined repeats each mag sample until the next: distinct samples
+  CHECK(i.report.rows.at("reference") == 6461);  // vehicle_attitude; vehicle_local_position never valid (no GPS)
+  CHECK(i.report.rows.count("gnss") == 0);
+  CHECK(i.report.rows.count("baro") == 0);  // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
+  const std::string f = (kSamples / "sample.ulg").string();
+  CHECK(i.report.warnings ==
+        std::vector<std::string>{
+            f + ": no baro: vehicle_air_data, sensor_combined.baro_alt_meter or sensor_baro with data",
+            f + ": no diff_pressure: differential_pressure or airspeed with data",
+            f + ": no gnss: vehicle_gps_position or sensor_gps with data (without GNSS the estimator never initialises)",
+            f + ": no reference wind: wind or wind_estimate with data",
+            f + ": 4 logging dropout(s), 119 ms in all: data lost by PX4's logger",
+            f + ": no GNSS fix with a UTC time: the flight's date is unknown (the magnetic model's date is not set)",
+        });
+  // The header's start timestamp is 112500176 us; the first sensor_combined message (byte 36766,
+  // decoded independently above) is at 112614307 us with its magnetometer sample 5189 us earlier.
+  const auto imu = cells(i.lines("imu").at(1));
+  CHECK(i.lines("imu").at(0) ==
+        "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]");
+  CHECK(imu.at(1) == "114131000");
+  CHECK(std::stod(imu.at(4)) == doctest::Approx(-9.63039493560791));
+  CHECK(std::stod(imu.at(5)) == doctest::Approx(-0.001924943644553423));
+  const auto mag = cells(i.lines("mag").at(1));
+  CHECK(mag.at(1) == std::to_string((112614307 - 5189 - 112500176) * 1000));
+  CHECK(std::stod(mag.at(2)) == doctest::Approx(0.1216617226600647e-4));  // gauss -> T
+  CHECK(std::stod(mag.at(4)) == doctest::Approx(0.44688117504119873e-4));
+  // vehicle_attitude at 112574307 us, q = (0.95459, 0.04148, 0.04817, -0.29106): Euler angles from the
+  // rotation matrix by a separate Python computation (atan2(R32, R33), -asin(R31), atan2(R21, R11)).
+  const auto ref = cells(i.lines("reference").at(1));
+  CHECK(ref.at(1) == "74131000");
+  CHECK(std::stod(ref.at(2)) == doctest::Approx(0.05151783376879919));
+  CHECK(std::stod(ref.at(3)) == doctest::Approx(0.11638264820844389));
+  CHECK(std::stod(ref.at(4)) == doctest::Approx(-0.5888995902920631));
+  CHECK(ref.at(5) == "nan");
+  const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
+  CHECK(!meta["date"]);
+  CHECK(meta["estimator"]["imu_mount"].as<std::vector<double>>() == std::vector<double>{0, 0, 0});
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: sample_log_small.ulg (a 2021 VTOL armed on the ground: GPS, air data, airspeed)") {
+  const Imported i = import_sample("sample_log_small");
+  Reader r(kSamples / "sample_log_small.ulg");
+  for (const char* t : {"imu", "mag", "baro", "diff_pressure", "gnss", "reference"}) CHECK(i.report.rows.count(t) == 1);
+  CHECK(i.report.rows.at("gnss") == 32);
+  CHECK(i.report.rows.at("diff_pressure") == 6);
+  // vehicle_gps_position at byte 65911 (decoded independently above): timestamp 20471648 us, lat 634170622,
+  // lon 104082151 (1e-7 deg), alt 66814 mm, vel_d 0.242 m/s, eph 3.26, epv 6.984, s_variance_m_s 0.651,
+  // fix_type 3, 15 satellites; the header's start timestamp is 20309082 us.
+  const auto g = cells(i.lines("gnss").at(1));
+  CHECK(g.at(1) == std::to_string((20471648 - 20309082) * 1000));
+  CHECK(g.at(2) == "0");  // this PX4 version's vehicle_gps_position has no timestamp_sample
+  CHECK(g.at(3) == "3");
+  CHECK(g.at(4) == "15");
+  CHECK(std::stod(g.at(5)) == doctest::Approx(63.4170622).epsilon(1e-12));
+  CHECK(std::stod(g.at(6)) == doctest::Approx(10.4082151).epsilon(1e-12));
+  CHECK(std::stod(g.at(7)) == doctest::Approx(66.814));
+  CHECK(std::stod(g.at(10)) == doctest::Approx(0.242000013589859));
+  CHECK(std::stod(g.at(11)) == doctest::Approx(3.26));
+  CHECK(std::stod(g.at(12)) == doctest::Approx(6.984));
+  CHECK(std::stod(g.at(13)) == doctest::Approx(0.651));
+  const auto b = cells(i.lines("baro").at(1));
+  CHECK(std::stod(b.at(2)) > 95000.0);  // Pa (vehicle_air_data.baro_pressure_pa), near sea level in Trondheim
+  CHECK(std::stod(b.at(2)) < 105000.0);
+  const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
+  CHECK(meta["date"].as<std::string>() == "2021-04-21");  // time_utc_usec 1618986658600345
+  CHECK(meta["estimator"]["gnss_delay"].as<double>() == doctest::Approx(r.initial_parameters().at("EKF2_GPS_DELAY").number() * 1e-3));
+  CHECK(meta["estimator"]["diff_pressure_delay"].as<double>() ==
+        doctest::Approx(r.initial_parameters().at("EKF2_ASP_DELAY").number() * 1e-3));
+  CHECK(meta["estimator"]["gnss_antenna_position"].as<std::vector<double>>().size() == 3);
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: the conversions, on hand-checked values") {
+  using namespace tern::core::ulog_import;
+  using tern::msg::FixType;
+  CHECK(px4_fix_type(0) == FixType::none);
+  CHECK(px4_fix_type(1) == FixType::none);
+  CHECK(px4_fix_type(2) == FixType::fix_2d);
+  CHECK(px4_fix_type(6) == FixType::fix_3d);
+  CHECK(px4_fix_type(8) == FixType::dead_reckoning);
+  const double h = std::sqrt(0.5);
+  const Euler yaw = euler_from_px4_quaternion(h, 0, 0, h);  // 90 deg about down: nose east
+  CHECK(yaw.psi == doctest::Approx(M_PI / 2));
+  CHECK(yaw.phi == doctest::Approx(0.0));
+  const Euler roll =
+      euler_from_px4_quaternion(2 * std::cos(M_PI / 12), 2 * std::sin(M_PI / 12), 0, 0);  // 30 deg right wing down, unnormalised
+  CHECK(roll.phi == doctest::Approx(M_PI / 6));
+  CHECK(roll.theta == doctest::Approx(0.0));
+  const LatLon north = px4_reproject(0.0, 0.0, 1000.0, 0.0);  // 1 km along a meridian of the 6371 km sphere
+  CHECK(north.lat == doctest::Approx(1000.0 / 6371000.0 * 180.0 / M_PI).epsilon(1e-12));
+  CHECK(north.lon == doctest::Approx(0.0));
+  const LatLon east = px4_reproject(60.0, 10.0, 0.0, 1000.0);  // at 60 deg N a degree of longitude is half as long
+  CHECK(east.lon - 10.0 == doctest::Approx(2 * 1000.0 / 6371000.0 * 180.0 / M_PI).epsilon(1e-6));
+  CHECK(east.lat == doctest::Approx(60.0).epsilon(1e-6));
+  CHECK(iso_date_from_utc_usec(1618986658600345ull) == "2021-04-21");
+
+  std::vector<tern::Nanos> out;
+  ReorderWindow<tern::msg::Mag> w(100, [&](const tern::msg::Mag& m) { out.push_back(m.stamp); });
+  for (tern::Nanos t : {10, 30, 20, 150, 140, 400, 100, 500}) {  // 100 arrives after 400 released everything up to 300
+    tern::msg::Mag m;
+    m.stamp = t;
+    w.push(m);
+  }
+  w.flush();
+  CHECK(out == std::vector<tern::Nanos>{10, 20, 30, 140, 150, 400, 500});
+  CHECK(w.dropped() == 1);
 }

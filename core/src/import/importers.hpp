@@ -23,4 +23,8 @@ ImportReport import_inertialnav(const std::filesystem::path& in, SensorLogWriter
 /// (or one level above it).
 ImportReport import_alfa(const std::filesystem::path& in, SensorLogWriter& out);
 
+/// A PX4 ULog file (.ulg): sensor_combined, vehicle_magnetometer, vehicle_air_data, ... (the mapping:
+/// import/ulog_import.hpp). `in`: the .ulg file itself.
+ImportReport import_ulog(const std::filesystem::path& in, SensorLogWriter& out);
+
 }  // namespace tern::core
