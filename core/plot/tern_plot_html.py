@@ -6,7 +6,7 @@ import json
 import math
 import os
 
-from tern_plot_log import rmse_window
+from tern_plot_log import read_replay_report, rmse_window
 
 # ----------------------------------------------------------------------------------------------
 # index.html: every figure and summary.json's tables, relative image paths (no server needed)
@@ -82,10 +82,81 @@ def summary_tables(runs):
     return out
 
 
+# replay_report.json's objects come with their keys sorted: shown in this order (the rest after)
+REPLAY_ORDER = ["gnss_pos", "gnss_vel", "baro", "diff_pressure", "mag", "sideslip", "normal_force", "roll", "pitch", "yaw",
+                "course", "position_horizontal", "position_vertical", "velocity_horizontal", "velocity_vertical", "vs_reference"]
+
+
+def _ordered(d):
+    rank = {k: n for n, k in enumerate(REPLAY_ORDER)}
+    return sorted(d.items(), key=lambda kv: rank.get(kv[0], len(rank)))
+
+
+def _pct(x):
+    return None if x is None else 100.0 * x
+
+
+def _replay_tables(report, pre, sid):
+    """replay_report.json's tables: facts, NIS per sensor, comparisons, the estimator's counters."""
+    v, w = report.get("validity") or {}, report.get("window") or {}
+    resets = ((report.get("estimator") or {}).get("resets")) or {}
+    facts = [["window", f"{fmt_value(w.get('start_s'))} - {fmt_value(w.get('end_s'))} s: {w.get('rule')}"],
+             ["valid [%] (from the first valid state)", _pct(v.get("share_valid"))],
+             ["first valid [s]", v.get("first_valid_s")],
+             ["divergences (valid -> invalid + filter resets)",
+              f"{fmt_value(v.get('divergences'))} ({fmt_value(v.get('valid_to_invalid'))} + {fmt_value(v.get('filter_resets'))})"],
+             ["NaN cells in state.csv", v.get("nan_cells")]] + [[k, n] for k, n in resets.items()]
+    g, wind = report.get("gnss") or {}, report.get("wind") or {}
+    if g.get("status") == "compared":
+        facts.append(["GNSS fixes accepted: position, velocity [%] (estimator counters)",
+                      f"{fmt_value(_pct(g.get('share_pos_accepted')))}, {fmt_value(_pct(g.get('share_vel_accepted')))}"])
+    if wind.get("status") == "estimated":
+        facts.append(["wind speed in the window: mean, max [m/s]", f"{fmt_value(wind.get('mean_speed'))}, {fmt_value(wind.get('max_speed'))}"])
+    out = [html_table(pre + "replay report (replay_report.json)", ["figure", "value"], facts, "replay" + sid)]
+    meas = report.get("measurements") or {}
+    rows = []
+    for name, m in _ordered(meas):
+        if isinstance(m, dict) and "whole" in m:
+            rows.append([name] + [x for part in ("whole", "window") for x in
+                                  (m[part].get("count"), _pct(m[part].get("share_rejected")), m[part].get("mean_nis"),
+                                   m[part].get("p50_nis"), m[part].get("p95_nis"), m[part].get("p99_nis"))] + [m.get("gate")])
+    head = ["measurement"] + [f"{p} {c}" for p in ("whole", "window") for c in ("n", "rejected [%]", "mean NIS", "p50", "p95", "p99")]
+    out.append(html_table(pre + "NIS per innovations message (" + str(meas.get("rule", meas.get("status", ""))) + ")",
+                          head + ["gate"], rows, "replay-nis" + sid))
+    rows = []
+    for section in ("reference", "gnss", "wind"):
+        sec = report.get(section) or {}
+        if sec.get("status") not in ("compared", "estimated"):
+            rows.append([section, sec.get("status"), None, None, None, None, None])
+            continue
+        for name, f in _ordered(sec):
+            if isinstance(f, dict) and "rms" in f:
+                rows.append([section, name, f.get("rms"), f.get("max"), f.get("unit"), f.get("samples"), f.get("rule")])
+    out.append(html_table(pre + "estimate against the reference and the GNSS (window)",
+                          ["against", "quantity", "RMS", "max", "unit", "samples", "rule"], rows, "replay-compare" + sid))
+    models = ((report.get("estimator") or {}).get("models")) or {}
+    out.append(html_table(pre + "the estimator's counters (whole replay)", ["model", "accepted", "rejected", "mean NIS"],
+                          [[k, m.get("accepted"), m.get("rejected"), m.get("mean_nis")] for k, m in models.items()],
+                          "replay-counters" + sid))
+    return out
+
+
+def replay_report_tables(runs):
+    """The tables of every run's replay_report.json ([] when none has one)."""
+    out = []
+    for k, r in enumerate(runs):
+        report = read_replay_report(r["run_dir"])
+        if report is not None:
+            one = len(runs) == 1
+            out += _replay_tables(report, "" if one else f"{r['label']}: ", "" if one else f"-{k}")
+    return out
+
+
 def write_index(runs, out):
     esc = html.escape
     title = " vs ".join(r["label"] for r in runs)
     runs_list = "".join(f"<li>{esc(r['label'])}: {esc(r['run_dir'])}</li>" for r in runs)
+    replay = replay_report_tables(runs)
     figs = "".join(f'<figure id="{esc(f["file"])}"><img src="{esc(f["file"])}" alt="{esc(f["file"])}">'
                    f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in out["figures"])
     text = f"""<!DOCTYPE html>
@@ -104,6 +175,7 @@ figcaption {{ font-size: 0.9em; color: #444; }}
 <ul>{runs_list}</ul>
 <h2>Summary</h2>
 {"".join(summary_tables(runs))}
+{"<h2>Replay report</h2>" + "".join(replay) if replay else ""}
 <h2>Figures</h2>
 {figs}
 </body></html>

@@ -126,6 +126,21 @@ def read_summary(run_dir):
     return {}
 
 
+def read_replay_report(run_dir):
+    """replay_report.json (`tern replay`'s truth-free report, core/src/replay/replay_report.hpp) as
+    a dict, or None when missing (a note when unreadable)."""
+    path = os.path.join(run_dir, "replay_report.json")
+    if not os.path.isfile(path):
+        return None
+    try:
+        with open(path, encoding="utf-8") as f:
+            r = json.load(f)
+        return r if isinstance(r, dict) else None
+    except (OSError, ValueError) as e:
+        note(f"replay_report.json not readable ({e}): its tables are not shown")
+        return None
+
+
 def read_params(run_dir):
     """params.csv as {qualified name: [(t, text value), ...]} in time order ({} when missing)."""
     path = os.path.join(run_dir, "params.csv")

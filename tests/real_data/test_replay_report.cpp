@@ -177,6 +177,22 @@ TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
   CHECK(j["reference"]["roll"]["window"].get<std::string>() == r.window.rule);
   CHECK(j["validity"]["nan_cells"].get<int>() == 1);
   CHECK(j["estimator"]["resets"]["gnss_resets"].get<double>() == 2.0);
+  // the keys tern plot's index.html reads (core/plot/tern_plot_html.py _replay_tables)
+  for (const char* k : {"start_s", "end_s", "rule"}) CHECK(j["window"].contains(k));
+  for (const char* k : {"share_valid", "first_valid_s", "divergences", "valid_to_invalid", "filter_resets", "nan_cells"})
+    CHECK(j["validity"].contains(k));
+  for (const char* k : {"count", "share_rejected", "mean_nis", "p50_nis", "p95_nis", "p99_nis"})
+    CHECK(j["measurements"]["baro"]["window"].contains(k));
+  CHECK(j["measurements"]["baro"]["gate"] == "ekf.baro_gate = 10.828");
+  CHECK(j["measurements"].contains("rule"));
+  for (const char* k : {"accepted", "rejected", "mean_nis"}) CHECK(j["estimator"]["models"]["gnss_pos"].contains(k));
+  CHECK(j["reference"]["status"] == "compared");
+  CHECK(j["gnss"]["status"] == "compared");
+  CHECK(j["wind"]["status"] == "estimated");
+  for (const char* k : {"rms", "max", "unit", "samples", "rule"}) CHECK(j["gnss"]["course"].contains(k));
+  CHECK(j["gnss"]["share_pos_accepted"].get<double>() == doctest::Approx(0.9));
+  CHECK(j["wind"]["mean_speed"].get<double>() == doctest::Approx(5.0));
+  CHECK(j["wind"]["vs_reference"]["rms"].get<double>() == doctest::Approx(0.5));
   tern::core::write_replay_report(r);
   CHECK(fs::exists(r.run_dir / "replay_report.json"));
 }
