@@ -11,7 +11,7 @@ CMAKE_ARGS ?=
 # installed) fetches the console's uPlot.
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
-  doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev \
+  doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl libssl-dev \
   python3 python3-matplotlib python3-numpy python3-yaml python3-distributed \
   chromium chromium-driver python3-selenium libsdl2-dev clang-format git

@@ -29,8 +29,8 @@ namespace {
 bool run_extension(int argc, char** argv, int& rc) {
   if (argc < 2 || argv[1][0] == '-') return false;
   const std::string sub = argv[1];
-  static const std::set<std::string> builtin = {"fly",  "check", "plugins", "params",  "serve",  "swap", "phases",  "remote", "topics",
-                                                "echo", "hz",    "param",   "mission", "replay", "tune", "console", "help"};
+  static const std::set<std::string> builtin = {"fly",  "check", "plugins", "params",  "serve",  "swap",   "phases", "remote",  "topics",
+                                                "echo", "hz",    "param",   "mission", "replay", "import", "tune",   "console", "help"};
   if (builtin.count(sub)) return false;
   const fs::path ext = exe_dir() / ("tern-" + sub);
   if (!fs::exists(ext)) return false;
@@ -47,8 +47,8 @@ bool run_extension(int argc, char** argv, int& rc) {
 /// Every command, in the order of `tern --help`.
 std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all;
-  for (auto* add : {add_fly_command, add_check_command, add_plugins_command, add_replay_command, add_tune_command, add_params_command,
-                    add_serve_command})
+  for (auto* add : {add_fly_command, add_check_command, add_plugins_command, add_replay_command, add_import_command, add_tune_command,
+                    add_params_command, add_serve_command})
     all.push_back(add(app));
   for (auto& c : add_control_commands(app)) all.push_back(std::move(c));
 #if defined(TERN_WITH_DDS)

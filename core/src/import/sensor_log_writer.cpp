@@ -1,5 +1,7 @@
 #include "import/sensor_log_writer.hpp"
 
+#include <cstdlib>
+
 #include <fmt/format.h>
 
 namespace tern::core {
@@ -21,14 +23,30 @@ fs::path checked_out_dir(const fs::path& out_dir) {
   return out_dir;
 }
 
-std::string meta_yaml(const SensorLogMeta& meta) {
+/// A number as its shortest round-trip text (0.21, not yaml-cpp's 0.20999999999999999); any
+/// other node as it is.
+YAML::Node shortest(const YAML::Node& v) {
+  if (!v.IsScalar()) return v;
+  const std::string& text = v.Scalar();
+  char* end = nullptr;
+  const double d = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size()) return v;
+  return YAML::Node(fmt::format("{}", d));
+}
+
+std::string meta_yaml(const SensorLogMeta& meta, const std::string& origin) {
   YAML::Emitter y;
   y << YAML::BeginMap;
   y << YAML::Key << "tern_sensor_log" << YAML::Value << 1;
   y << YAML::Key << "source" << YAML::Value << YAML::DoubleQuoted << meta.source;
+  if (!origin.empty()) y << YAML::Key << "origin" << YAML::Value << YAML::DoubleQuoted << origin;
   if (!meta.date.empty()) y << YAML::Key << "date" << YAML::Value << meta.date;
   y << YAML::Key << "aircraft" << YAML::Value << YAML::DoubleQuoted << meta.aircraft;
-  if (meta.estimator.IsMap() && meta.estimator.size() > 0) y << YAML::Key << "estimator" << YAML::Value << meta.estimator;
+  if (meta.estimator.IsMap() && meta.estimator.size() > 0) {
+    y << YAML::Key << "estimator" << YAML::Value << YAML::BeginMap;
+    for (const auto& kv : meta.estimator) y << YAML::Key << kv.first << YAML::Value << shortest(kv.second);
+    y << YAML::EndMap;
+  }
   if (!meta.notes.empty()) {
     y << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
     for (const auto& n : meta.notes) y << YAML::DoubleQuoted << n;
@@ -75,7 +93,7 @@ std::map<std::string, std::uint64_t> SensorLogWriter::rows() const {
 void SensorLogWriter::finish(const SensorLogMeta& meta) {
   if (finished_) return;
   finished_ = true;
-  log_.write_file("sensor_log.yaml", meta_yaml(meta));
+  log_.write_file("sensor_log.yaml", meta_yaml(meta, origin_));
   log_.close();
   if (const std::string e = log_.error(); !e.empty()) throw ImportError(fmt::format("{}: {}", dir_.string(), e));
   // the flight log's parameter table: a sensor log has no parameters (only its header was written)

@@ -74,6 +74,8 @@ class SensorLogWriter {
   /// be written (disk full, ...). Call once.
   void finish(const SensorLogMeta& meta);
 
+  /// The input's name (the archive or directory imported), written as `origin:` by finish().
+  void set_origin(std::string origin) { origin_ = std::move(origin); }
   /// Rows written so far per topic.
   std::map<std::string, std::uint64_t> rows() const;
   const std::filesystem::path& dir() const { return dir_; }
@@ -91,6 +93,7 @@ class SensorLogWriter {
   std::filesystem::path dir_;
   FlightLog log_;
   std::map<std::string, Topic, std::less<>> topics_;
+  std::string origin_;
   bool finished_ = false;
 };
 

@@ -1,0 +1,110 @@
+#include "import/archive_input.hpp"
+
+#include <archive.h>
+#include <archive_entry.h>
+#include <stdlib.h>
+
+#include <memory>
+#include <string>
+
+#include <fmt/format.h>
+
+#include "import/sensor_log_writer.hpp"
+
+namespace tern::core {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+using Reader = std::unique_ptr<archive, decltype(&archive_read_free)>;
+using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
+
+fs::path make_temp_dir() {
+  std::string pattern = (fs::temp_directory_path() / "tern-import-XXXXXX").string();
+  if (mkdtemp(pattern.data()) == nullptr) throw ImportError(fmt::format("cannot create a temporary directory ({})", pattern));
+  return pattern;
+}
+
+/// Copies the current member's data from `in` to the disk writer `out`.
+void copy_data(archive* in, archive* out, const fs::path& file, const char* member) {
+  const void* buf = nullptr;
+  size_t size = 0;
+  la_int64_t offset = 0;
+  for (;;) {
+    const int r = archive_read_data_block(in, &buf, &size, &offset);
+    if (r == ARCHIVE_EOF) return;
+    if (r < ARCHIVE_OK) throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(in)));
+    if (archive_write_data_block(out, buf, size, offset) < ARCHIVE_OK)
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out)));
+  }
+}
+
+/// A relative member name without "..".
+bool safe_member(const std::string& member) {
+  const fs::path p(member);
+  if (member.empty() || p.is_absolute()) return false;
+  for (const auto& part : p)
+    if (part == "..") return false;
+  return true;
+}
+
+void unpack(const fs::path& file, const fs::path& into) {
+  Reader in(archive_read_new(), archive_read_free);
+  archive_read_support_format_all(in.get());
+  archive_read_support_filter_all(in.get());
+  if (archive_read_open_filename(in.get(), file.c_str(), 1 << 16) != ARCHIVE_OK)
+    throw ImportError(fmt::format("{}: {}", file.string(), archive_error_string(in.get())));
+  Writer out(archive_write_disk_new(), archive_write_free);
+  // members are written under `into` (an absolute path, so libarchive's NOABSOLUTEPATHS cannot be
+  // used): an absolute or ".." member name is refused here instead
+  archive_write_disk_set_options(out.get(), ARCHIVE_EXTRACT_SECURE_NODOTDOT | ARCHIVE_EXTRACT_SECURE_SYMLINKS);
+  archive_entry* entry = nullptr;
+  for (;;) {
+    const int r = archive_read_next_header(in.get(), &entry);
+    if (r == ARCHIVE_EOF) break;
+    if (r < ARCHIVE_WARN) throw ImportError(fmt::format("{}: {}", file.string(), archive_error_string(in.get())));
+    const std::string member = archive_entry_pathname(entry);
+    if (!safe_member(member))
+      throw ImportError(fmt::format("{}: member '{}' would be written outside the directory", file.string(), member));
+    archive_entry_set_pathname(entry, (into / member).c_str());
+    if (archive_write_header(out.get(), entry) < ARCHIVE_OK)
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
+    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str());
+    if (archive_write_finish_entry(out.get()) < ARCHIVE_OK)
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
+  }
+}
+
+}  // namespace
+
+ArchiveInput::ArchiveInput(const fs::path& input) : input_(input) {
+  std::error_code ec;
+  if (fs::is_directory(input, ec)) {
+    dir_ = input;
+    return;
+  }
+  if (!fs::exists(input, ec)) throw ImportError(fmt::format("{}: no such file or directory", input.string()));
+  temp_ = make_temp_dir();
+  try {
+    unpack(input, temp_);
+  } catch (...) {
+    fs::remove_all(temp_, ec);
+    throw;
+  }
+  dir_ = temp_;
+}
+
+std::string ArchiveInput::readable(std::string text) const {
+  if (temp_.empty()) return text;
+  const std::string from = temp_.string() + "/", to = input_.string() + ":";
+  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+  return text;
+}
+
+ArchiveInput::~ArchiveInput() {
+  std::error_code ec;
+  if (!temp_.empty()) fs::remove_all(temp_, ec);
+}
+
+}  // namespace tern::core
