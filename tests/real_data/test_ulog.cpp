@@ -3,6 +3,7 @@
 // and corrupt or cut copies of them.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -15,8 +16,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include "../test_process.hpp"
 #include "import/importers.hpp"
 #include "import/ulog_import.hpp"
 #include "import/ulog_reader.hpp"
@@ -482,4 +485,34 @@ TEST_CASE("tern import ulog: the conversions, on hand-checked values") {
   w.flush();
   CHECK(out == std::vector<tern::Nanos>{10, 20, 30, 140, 150, 400, 500});
   CHECK(w.dropped() == 1);
+}
+
+TEST_CASE("tern import ulog FILE DIR, then tern replay DIR: every imported sensor row reaches the estimator") {
+  const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_cli_" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const fs::path log = tmp / "log";
+  REQUIRE(run_tern({"import", "ulog", (kSamples / "sample_log_small.ulg").string(), log.string()}, tmp / "import.txt") == 0);
+  const auto printed = lines_of(tmp / "import.txt");
+  CHECK(std::count_if(printed.begin(), printed.end(), [](const std::string& l) {
+          return l.find("gnss") != std::string::npos && l.find(" 32 rows") != std::string::npos;
+        }) == 1);
+  REQUIRE(fs::exists(log / "topics" / "imu.csv"));
+  REQUIRE(fs::exists(log / "sensor_log.yaml"));
+
+  REQUIRE(run_tern({"replay", log.string(), "--log-dir", (tmp / "runs").string(), "-q"}, tmp / "replay.txt") == 0);
+  std::vector<fs::path> runs;
+  for (const auto& e : fs::directory_iterator(tmp / "runs")) runs.push_back(e.path());
+  REQUIRE(runs.size() == 1);
+  std::ifstream in(runs[0] / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  const auto& ekf = summary.at("instances").at("ekf");
+  CHECK(ekf.at("gnss_received").get<double>() == 32);
+  CHECK(ekf.at("mag_received").get<double>() == 319);
+  CHECK(ekf.at("baro_received").get<double>() == 119);
+  CHECK(ekf.at("diff_pressure_received").get<double>() == 6);
+  CHECK(ekf.at("imu_received").get<double>() >= 1297);  // the last IMU row may end the replay
+  CHECK(ekf.at("gnss_invalid").get<double>() == 0);
+  CHECK(ekf.at("mag_invalid").get<double>() == 0);
+  fs::remove_all(tmp);
 }

@@ -24,7 +24,7 @@ ImportReport import_inertialnav(const std::filesystem::path& in, SensorLogWriter
 ImportReport import_alfa(const std::filesystem::path& in, SensorLogWriter& out);
 
 /// A PX4 ULog file (.ulg): sensor_combined, vehicle_magnetometer, vehicle_air_data, ... (the mapping:
-/// import/ulog_import.hpp). `in`: the .ulg file itself.
+/// import/ulog_import.hpp). `in`: the .ulg file, or a directory holding one .ulg.
 ImportReport import_ulog(const std::filesystem::path& in, SensorLogWriter& out);
 
 }  // namespace tern::core

@@ -597,7 +597,13 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
 
 }  // namespace
 
-ImportReport import_ulog(const fs::path& ulg, SensorLogWriter& out) {
+ImportReport import_ulog(const fs::path& in, SensorLogWriter& out) {
+  std::error_code ec;
+  fs::path ulg = in;
+  if (fs::is_directory(in, ec)) {  // an unpacked archive: the one .ulg in it
+    ulg = file_ending_with(in, ".ulg");
+    if (ulg.empty()) throw ImportError(in.string() + ": no .ulg file in this directory");
+  }
   try {
     return convert(ulg, out);
   } catch (const ulog::UlogError& e) {

@@ -42,10 +42,11 @@ struct Reader::Message {
   enum class Status { ok, end, truncated } status = Status::end;
 };
 
-Reader::Reader(const std::filesystem::path& file) : path_(file), buffer_(65536) {
+Reader::Reader(const std::filesystem::path& file) : path_(file), stream_buffer_(1 << 16), buffer_(65536) {
   std::error_code ec;
   size_ = std::filesystem::file_size(file, ec);
   if (ec) throw UlogError(file.string() + ": cannot read: " + ec.message());
+  in_.rdbuf()->pubsetbuf(stream_buffer_.data(), static_cast<std::streamsize>(stream_buffer_.size()));
   in_.open(file, std::ios::binary);
   if (!in_) throw UlogError(file.string() + ": cannot open");
   std::uint8_t header[16];
@@ -72,7 +73,8 @@ bool Reader::read_message(Message& m, std::uint64_t limit) {
     return false;
   }
   std::uint8_t h[3];
-  in_.seekg(static_cast<std::streamoff>(pos_));
+  if (pos_ != stream_pos_) in_.seekg(static_cast<std::streamoff>(pos_));  // seeking drops the stream's buffer: only when needed
+  stream_pos_ = ~0ull;                                                    // unknown until this message was read whole
   if (limit - pos_ < 3 || !in_.read(reinterpret_cast<char*>(h), 3)) {
     in_.clear();
     m.status = Message::Status::truncated;
@@ -86,6 +88,7 @@ bool Reader::read_message(Message& m, std::uint64_t limit) {
     return false;
   }
   pos_ += 3 + m.size;
+  stream_pos_ = pos_;
   m.status = Message::Status::ok;
   return true;
 }
@@ -305,12 +308,14 @@ bool Reader::resync(std::uint64_t from, std::uint64_t limit) {
                                  [](char a, std::uint8_t b) { return static_cast<std::uint8_t>(a) == b; });
     if (hit != chunk.begin() + static_cast<std::ptrdiff_t>(n)) {
       pos_ = at + static_cast<std::uint64_t>(hit - chunk.begin()) + sizeof kSync;
+      stream_pos_ = ~0ull;
       return true;
     }
     if (n < sizeof kSync) break;
     at += n - (sizeof kSync - 1);
   }
   in_.clear();
+  stream_pos_ = ~0ull;
   return false;
 }
 

@@ -220,9 +220,11 @@ class Reader {
   [[noreturn]] void fail(std::uint64_t offset, const std::string& what) const;
 
   std::filesystem::path path_;
+  std::vector<char> stream_buffer_;  ///< in_'s read buffer (declared first: it outlives in_)
   std::ifstream in_;
   std::uint64_t size_ = 0;
-  std::uint64_t pos_ = 0;  ///< current file offset
+  std::uint64_t pos_ = 0;         ///< current file offset
+  std::uint64_t stream_pos_ = 0;  ///< where in_ stands (~0: unknown)
   std::uint64_t data_start_ = 0;
   std::uint8_t version_ = 0;
   std::uint64_t start_timestamp_ = 0;
@@ -235,7 +237,7 @@ class Reader {
   std::map<std::string, Value> parameters_;
   std::map<int, std::map<std::string, Value>> defaults_;
   std::map<std::uint16_t, std::unique_ptr<Subscription>> subscriptions_;
-  std::vector<std::uint8_t> buffer_;
+  std::vector<std::uint8_t> buffer_;  ///< one message's payload
   std::uint64_t last_timestamp_ = 0;
   std::uint64_t unknown_in_definitions_ = 0;
   bool data_read_ = false;
