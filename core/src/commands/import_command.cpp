@@ -41,6 +41,8 @@ int run_import(const ImportOptions& o) {
     return fail(fmt::format("import: unknown format '{}' (known: {})", o.format, known));
   }
   std::unique_ptr<ArchiveInput> archive;
+  std::error_code ec;
+  const bool out_existed = fs::exists(o.out_dir, ec);
   try {
     // A PX4 .ulg is a file, not an archive: it is its own input.
     const bool ulg_file = fs::is_regular_file(o.input) && fs::path(o.input).extension() == ".ulg";
@@ -53,6 +55,7 @@ int run_import(const ImportOptions& o) {
     for (const auto& w : report.warnings) fmt::print(stderr, "tern: warning: {}\n", archive ? archive->readable(w) : w);
     return 0;
   } catch (const ImportError& e) {
+    if (!out_existed) fs::remove_all(o.out_dir, ec);  // no half-written sensor log left behind
     return fail(fmt::format("import: {}", archive ? archive->readable(e.what()) : std::string(e.what())));
   }
 }
