@@ -48,19 +48,20 @@ fs::path synthetic_run(const std::string& name) {
   const double psi = 179.0 * kDeg;
   for (int k = 0; k <= 200; ++k) {  // 10 Hz, 0 .. 20 s
     const double t = 0.1 * k;
-    state.push_back({t, t * 1e9, Truthy::p_n(t), 0.0, -20.0, 10.0, 0.0, 0.0, 0.2, 0.05, psi, 3.0, -4.0, kOrigin.lat, kOrigin.lon,
-                     kOrigin.alt, 1.0, Truthy::valid(t) ? 1.0 : 0.0, k == 50 ? NAN : 0.1});
+    state.push_back({t, std::round(t * 1e9), Truthy::p_n(t), 0.0, -20.0, 10.0, 0.0, 0.0, 0.2, 0.05, psi, 3.0, -4.0, kOrigin.lat,
+                     kOrigin.lon, kOrigin.alt, 1.0, Truthy::valid(t) ? 1.0 : 0.0, k == 50 ? NAN : 0.1});
   }
   write_csv(run / "topics/state.csv",
             "t [s],stamp [ns],p_n [m],p_e [m],p_d [m],v_n [m/s],v_e [m/s],v_d [m/s],phi [rad],theta [rad],psi [rad],w_n [m/s],w_e [m/s],"
             "origin_lat [deg],origin_lon [deg],origin_alt [m],origin_valid [bool],valid [bool],alpha [rad]",
             state);
   const tern::GeoOrigin frame(kOrigin);
-  for (int k = 0; k <= 100; ++k) {  // 5 Hz: interpolated at the state's 10 Hz
+  for (int k = 0; k <= 100; ++k) {  // 5 Hz: interpolated at the state's 10 Hz, each field between its own samples
     const double t = 0.2 * k;
     const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(t), 0.0, -20.0 + 2.0));  // 2 m lower
-    ref.push_back({t, t * 1e9, 0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, std::remainder(psi + 2.0 * kDeg, 2 * M_PI), g.lat, g.lon, g.alt, 10.0,
-                   1.0, 0.0, 3.5, -4.0});
+    ref.push_back({t, std::round(t * 1e9), 0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, std::remainder(psi + 2.0 * kDeg, 2 * M_PI), g.lat, g.lon,
+                   g.alt, 10.0, 1.0, 0.0, 3.5, -4.0});
+    if (k % 3 == 2) ref.back()[2] = ref.back()[3] = ref.back()[4] = NAN;  // merged sources: no attitude in this row
   }
   write_csv(
       run / "topics/reference.csv",
@@ -70,8 +71,8 @@ fs::path synthetic_run(const std::string& name) {
     const double tov = k, stamp = k + 0.2;
     const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(tov), 3.0, -20.0));
     const double vn = k < 3 ? 2.0 : 10.0;  // the window opens at the first fix at >= 5 m/s: stamp 3.2 s
-    gnss.push_back(
-        {stamp, stamp * 1e9, k % 2 ? tov * 1e9 : 0.0, k == 15 ? 1.0 : 3.0, 10, g.lat, g.lon, g.alt, vn, 0.5, 0.0, 1.0, 2.0, 0.3});
+    gnss.push_back({stamp, std::round(stamp * 1e9), k % 2 ? tov * 1e9 : 0.0, k == 15 ? 1.0 : 3.0, 10, g.lat, g.lon, g.alt, vn, 0.5, 0.0,
+                    1.0, 2.0, 0.3});
   }
   write_csv(run / "topics/gnss.csv",
             "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
@@ -81,7 +82,7 @@ fs::path synthetic_run(const std::string& name) {
     const double t = 0.1 * k;
     const double pos = k % 2 == 0 ? (k / 2) / 100.0 : -1.0;
     const double baro = k < 40 ? (k % 2 ? 2.0 : 0.5) : -1.0;
-    innov.push_back({t, t * 1e9, pos, -1, baro, -1, k < 20 ? 0.25 : -1.0, -1, -1});
+    innov.push_back({t, std::round(t * 1e9), pos, -1, baro, -1, k < 20 ? 0.25 : -1.0, -1, -1});
   }
   write_csv(run / "topics/innovations.csv",
             "t [s],stamp [ns],gnss_pos [],gnss_vel [],baro [],diff_pressure [],mag [],sideslip [],normal_force []", innov);

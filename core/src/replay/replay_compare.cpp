@@ -14,16 +14,34 @@ namespace tern::core::replay_report {
 
 namespace {
 
-/// The reference's columns, each present (all NaN when reference.csv lacks it: docs/sensor-log.md
-/// lets any be missing).
-struct ReferenceColumns {
-  std::vector<double> t, phi, theta, psi, lat, lon, alt, v_n, v_e, v_d, w_n, w_e;
-  explicit ReferenceColumns(const CsvTable& r) : t(r.at("t")) {
-    auto take = [&](std::vector<double>& dst, const char* name) { dst = r.has(name) ? r.at(name) : std::vector<double>(r.rows, NAN); };
-    take(phi, "phi"), take(theta, "theta"), take(psi, "psi"), take(lat, "lat"), take(lon, "lon"), take(alt, "alt");
-    take(v_n, "v_n"), take(v_e, "v_e"), take(v_d, "v_d"), take(w_n, "w_n"), take(w_e, "w_e");
+/// One reference field over time: only its rows with a number (NaN: "not given", as a log that
+/// merges two sources leaves the other source's fields empty in each row).
+struct Series {
+  std::vector<double> t, v;
+  Series(const CsvTable& r, const char* name) {
+    if (!r.has(name)) return;  // docs/sensor-log.md lets any field be missing
+    const auto &time = r.at("time"), &value = r.at(name);
+    for (std::size_t k = 0; k < value.size(); ++k)
+      if (std::isfinite(value[k])) t.push_back(time[k]), v.push_back(value[k]);
   }
-  double at(const std::vector<double>& v, double tq, bool angle = false) const { return interpolate(t, v, tq, kMaxGap, angle); }
+};
+
+/// The reference's fields, each interpolated between its own samples.
+struct ReferenceColumns {
+  Series phi, theta, psi, lat, lon, alt, v_n, v_e, v_d, w_n, w_e;
+  explicit ReferenceColumns(const CsvTable& r)
+      : phi(r, "phi"),
+        theta(r, "theta"),
+        psi(r, "psi"),
+        lat(r, "lat"),
+        lon(r, "lon"),
+        alt(r, "alt"),
+        v_n(r, "v_n"),
+        v_e(r, "v_e"),
+        v_d(r, "v_d"),
+        w_n(r, "w_n"),
+        w_e(r, "w_e") {}
+  static double at(const Series& s, double tq, bool angle = false) { return interpolate(s.t, s.v, tq, kMaxGap, angle); }
 };
 
 struct ReferenceSums {
@@ -31,7 +49,7 @@ struct ReferenceSums {
 };
 
 void add_reference_sample(const CsvTable& s, const ReferenceColumns& ref, std::size_t k, OriginCache& origins, ReferenceSums& e) {
-  const double t = s.at("t")[k];
+  const double t = s.at("time")[k];
   e.roll.add(wrap_pi(s.at("phi")[k] - ref.at(ref.phi, t, true)) * kDeg);
   e.pitch.add(wrap_pi(s.at("theta")[k] - ref.at(ref.theta, t, true)) * kDeg);
   e.yaw.add(wrap_pi(s.at("psi")[k] - ref.at(ref.psi, t, true)) * kDeg);
@@ -58,13 +76,13 @@ ReferenceComparison compare_reference(const RunTables& run, const ReplayWindow& 
     return c;
   }
   const CsvTable& s = run.state;
-  const auto [first, last] = index_range(s.at("t"), w.start_s, w.end_s);
+  const auto [first, last] = index_range(s.at("time"), w.start_s, w.end_s);
   OriginCache origins(s);
   ReferenceSums e;
   const ReferenceColumns ref(*run.reference);
   for (std::size_t k = first; k < last; ++k)
     if (s.at("valid")[k] > 0.5) add_reference_sample(s, ref, k, origins, e);
-  const std::string at = "valid state samples in the window, the reference interpolated linearly at their t (gaps <= 1 s)";
+  const std::string at = "valid state samples in the window, the reference interpolated linearly at their stamp (gaps <= 1 s)";
   c.roll = e.roll.figure("deg", "roll: " + at);
   c.pitch = e.pitch.figure("deg", "pitch: " + at);
   c.yaw = e.yaw.figure("deg", "yaw: " + at + ", wrapped");
@@ -83,10 +101,11 @@ WindReport wind_report(const RunTables& run, const ReplayWindow& w) {
     r.absent = "absent (state.csv has no w_n, w_e)";
     return r;
   }
-  const auto [first, last] = index_range(s.at("t"), w.start_s, w.end_s);
-  const auto &wn = s.at("w_n"), &we = s.at("w_e"), &valid = s.at("valid"), &t = s.at("t");
+  const auto [first, last] = index_range(s.at("time"), w.start_s, w.end_s);
+  const auto &wn = s.at("w_n"), &we = s.at("w_e"), &valid = s.at("valid"), &t = s.at("time");
   std::optional<ReferenceColumns> ref;
-  if (run.reference && run.reference->has("w_n") && run.reference->has("w_e")) ref.emplace(*run.reference);
+  if (run.reference) ref.emplace(*run.reference);
+  if (ref && (ref->w_n.t.empty() || ref->w_e.t.empty())) ref.reset();  // no wind in it
   double sum = 0.0, max = 0.0;
   ErrorSum e;
   for (std::size_t k = first; k < last; ++k) {
@@ -95,14 +114,14 @@ WindReport wind_report(const RunTables& run, const ReplayWindow& w) {
     sum += speed;
     max = std::max(max, speed);
     ++r.samples;
-    if (ref) e.add(std::hypot(wn[k] - ref->at(ref->w_n, t[k]), we[k] - ref->at(ref->w_e, t[k])));
+    if (ref) e.add(std::hypot(wn[k] - ReferenceColumns::at(ref->w_n, t[k]), we[k] - ReferenceColumns::at(ref->w_e, t[k])));
   }
   if (r.samples > 0) {
     r.mean_speed = sum / static_cast<double>(r.samples);
     r.max_speed = max;
   }
   r.vs_reference =
-      ref ? e.figure("m/s", "|(w_n, w_e) - reference|: valid state samples in the window, the reference interpolated at their t")
+      ref ? e.figure("m/s", "|(w_n, w_e) - reference|: valid state samples in the window, the reference interpolated at their stamp")
           : e.figure("m/s", "absent (no wind in topics/reference.csv)");
   return r;
 }

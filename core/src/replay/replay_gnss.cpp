@@ -22,7 +22,7 @@ std::string param_prefix(const EstimatorCounters& c) { return c.instance.empty()
 /// One fix at its time of validity tov (s) against the state there; false if the state is not
 /// valid on both sides of tov (or not in one frame).
 bool add_fix(const CsvTable& s, OriginCache& origins, double tov, double lat, double lon, double alt, double vn, double ve, GnssSums& e) {
-  const auto b = bracket(s.at("t"), tov, kMaxGap);
+  const auto b = bracket(s.at("time"), tov, kMaxGap);
   if (!b) return false;
   const std::size_t k1 = b->f == 0.0 ? b->k : b->k + 1;
   const auto& valid = s.at("valid");
@@ -70,8 +70,8 @@ GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& c, co
   }
   g.time_rule = fmt::format("time_of_validity where non-zero ({} fixes), else stamp - {}gnss_delay {} s ({} fixes)", from_epoch, pre, delay,
                             from_delay);
-  const std::string at =
-      fmt::format("fixes (fix_type >= {}) with their time of validity in the window, the valid state interpolated there", min_fix);
+  const std::string at = fmt::format(
+      "fixes (fix_type >= {}) with their time of validity in the window, the valid state interpolated there (at its stamp)", min_fix);
   g.position_h = e.pos_h.figure("m", "horizontal position, fix lat/lon in the estimate's NED (state origin): " + at);
   g.velocity_h = e.vel_h.figure("m/s", "horizontal velocity |(dv_n, dv_e)|: " + at);
   g.course = e.course.figure("deg", "course atan2(v_e, v_n): " + at + ", where the fix's horizontal speed >= 5 m/s");

@@ -47,6 +47,19 @@ std::optional<ReplayWindow> airborne_from_yaml(const std::filesystem::path& file
 
 }  // namespace
 
+void add_sample_time(CsvTable& table) {
+  const auto& t = table.at("t");
+  std::vector<double> time(t);
+  if (table.has("stamp")) {
+    const auto& stamp = table.at("stamp");
+    bool monotonic = true;
+    for (std::size_t k = 0; k < stamp.size() && monotonic; ++k) monotonic = std::isfinite(stamp[k]) && (k == 0 || stamp[k] >= stamp[k - 1]);
+    if (monotonic)
+      for (std::size_t k = 0; k < stamp.size(); ++k) time[k] = stamp[k] / 1e9;
+  }
+  table.columns["time"] = std::move(time);
+}
+
 ReplayWindow find_window(const RunTables& run) {
   if (auto w = airborne_from_yaml(run.dir / "sensor_log.yaml")) return *w;
   const auto& t = run.state.at("t");
@@ -132,6 +145,7 @@ std::optional<CsvTable> optional_topic(const std::filesystem::path& dir, const s
   CsvTable t = read_csv_table(file, wanted);
   if (!t.partial_last_line.empty()) notes.push_back(t.partial_last_line);
   if (t.rows == 0 || !t.has("t")) return std::nullopt;
+  add_sample_time(t);
   return t;
 }
 
@@ -147,11 +161,12 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   run.dir = run_dir;
   const auto state_file = run_dir / "topics" / "state.csv";
   if (!std::filesystem::exists(state_file)) throw ConfigError(run_dir.string() + ": no topics/state.csv (not a replay's run directory?)");
-  run.state = read_csv_table(state_file, {"t", "p_n", "p_e", "p_d", "v_n", "v_e", "v_d", "phi", "theta", "psi", "w_n", "w_e", "origin_lat",
-                                          "origin_lon", "origin_alt", "origin_valid", "valid"});
+  run.state = read_csv_table(state_file, {"t", "stamp", "p_n", "p_e", "p_d", "v_n", "v_e", "v_d", "phi", "theta", "psi", "w_n", "w_e",
+                                          "origin_lat", "origin_lon", "origin_alt", "origin_valid", "valid"});
   if (!run.state.partial_last_line.empty()) r.notes.push_back(run.state.partial_last_line);
   if (run.state.rows == 0) throw ConfigError(state_file.string() + ": no rows (the replay produced no estimate)");
   for (const char* c : {"t", "valid"}) run.state.at(c);  // the columns every section needs: named error if absent
+  add_sample_time(run.state);
   run.innovations = optional_topic(run_dir, "innovations", {}, r.notes);
   run.gnss = optional_topic(run_dir, "gnss", {"t", "stamp", "time_of_validity", "fix_type", "lat", "lon", "alt", "vel_n", "vel_e", "vel_d"},
                             r.notes);

@@ -9,7 +9,9 @@
 // The window: sensor_log.yaml's `airborne` if given, else from the first to the last GNSS fix
 // (log time t) with a horizontal speed >= 5 m/s, else the whole replay; `Window::rule` says which.
 // Comparisons use the window and the samples where the state is valid (valid == 1, origin_valid
-// for positions); NIS figures are given over the whole replay and over the window.
+// for positions); NIS figures are given over the whole replay and over the window. Each sample of
+// the state and the reference is taken at its own time, its `stamp` (a replay records a sample at
+// the tick after it), the GNSS fixes at their time of validity.
 // Frames and units: errors are estimate minus comparator; angles in deg, wrapped to [-180, 180);
 // positions in m in the estimate's NED frame (the comparator's lat/lon/alt converted with
 // tern::GeoOrigin at state.csv's origin_lat/lon/alt of the same row); velocities in m/s.

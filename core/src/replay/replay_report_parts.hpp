@@ -72,6 +72,10 @@ class OriginCache {
   std::unique_ptr<GeoOrigin> frame_;
 };
 
+/// Adds the column "time" (s): each sample's own time, its `stamp` (ns) when the table has one
+/// that never decreases (a replay records a sample at the tick after its stamp), else `t`.
+void add_sample_time(CsvTable& table);
+
 ReplayWindow find_window(const RunTables& run);
 EstimatorCounters estimator_counters(const nlohmann::ordered_json& summary);
 Validity validity(const CsvTable& state, const EstimatorCounters& counters);

@@ -43,7 +43,8 @@ void measurements(std::string& out, const ReplayReport& r) {
     out += fmt::format("\nNIS: {}\n", r.measurements_absent.empty() ? "absent" : r.measurements_absent);
     return;
   }
-  out += "\nNIS per innovations message  | whole replay                               | window\n";
+  out += "\nNIS per innovations message (the largest since the previous message; per-sample means: the counters below)\n";
+  out += "                             | whole replay                               | window\n";
   out += fmt::format("{:<14} {:>6} {:>6} {:>7} {:>7} {:>7} {:>7} |{:>7} {:>6} {:>7} {:>7} {:>7} {:>7} |\n", "measurement", "n", "rej%",
                      "mean", "p50", "p95", "p99", "n", "rej%", "mean", "p50", "p95", "p99");
   for (const auto& m : r.measurements) {
@@ -84,9 +85,12 @@ void comparisons(std::string& out, const ReplayReport& r) {
   const auto& w = r.wind;
   if (!w.absent.empty())
     out += "wind: " + w.absent + "\n";
+  else if (w.vs_reference.samples == 0)
+    out += fmt::format("wind (window): mean {} m/s, max {} m/s ({} samples); the reference has no wind\n", num(w.mean_speed),
+                       num(w.max_speed), w.samples);
   else
-    out += fmt::format("wind (window): mean {} m/s, max {} m/s; against the reference RMS {} m/s ({} samples)\n", num(w.mean_speed),
-                       num(w.max_speed), num(w.vs_reference.rms), w.vs_reference.samples);
+    out += fmt::format("wind (window): mean {} m/s, max {} m/s; against the reference RMS {} m/s, max {} m/s ({} samples)\n",
+                       num(w.mean_speed), num(w.max_speed), num(w.vs_reference.rms), num(w.vs_reference.max), w.vs_reference.samples);
 }
 
 }  // namespace
