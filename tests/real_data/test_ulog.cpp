@@ -279,8 +279,9 @@ TEST_CASE("ulog reader: corrupt and cut files give one line naming the file and 
     CHECK(c.topics.at("vehicle_attitude (0, 36)").count == 1);
     const auto w = c.stats.warnings(p.string());
     REQUIRE(w.size() == 1);
-    CHECK(w[0] ==
-          p.string() + ": 1 message(s) cut short at the end of the data (a log whose writer stopped): dropped (first at byte 36766)");
+    CHECK(w[0] == p.string() +
+                      ": 1 message(s) cut short at the end of the data (a log whose writer stopped): dropped (the first problem in the "
+                      "data at byte 36766)");
     fs::remove(p);
 
     const fs::path half = scratch_copy("half.ulg", good.substr(0, good.size() / 2));

@@ -341,7 +341,8 @@ void Conversion::add_gnss(const std::string& source) {
       m.h_acc = eph ? d.value(*eph) : 0.0;
       m.v_acc = epv ? d.value(*epv) : 0.0;
       m.s_acc = sacc ? d.value(*sacc) : 0.0;
-      if (ts) m.time_of_validity = stamp(d.integer(*ts)).value_or(0) - delay;
+      if (ts)
+        m.time_of_validity = std::max<Nanos>(0, (d.integer(*ts) - static_cast<std::int64_t>(origin_us_)) * 1000 - delay);  // 0: unknown
       if (!std::isfinite(m.lat) || !std::isfinite(m.lon) || !std::isfinite(m.alt) || !m.vel.allFinite() || !std::isfinite(m.h_acc) ||
           !std::isfinite(m.v_acc) || !std::isfinite(m.s_acc))
         return void(++nan_rows_);
@@ -451,6 +452,7 @@ void Conversion::finish(const std::string& file, std::vector<std::string>& notes
 struct Candidate {
   const char* topic;
   std::initializer_list<const char*> fields;
+  std::uint64_t Survey::*samples = nullptr;  ///< a count of valid samples the survey must have found, if any
 };
 
 std::optional<std::string> choose(const Survey& s, const std::map<std::string, ulog::Format>& formats,
@@ -458,12 +460,7 @@ std::optional<std::string> choose(const Survey& s, const std::map<std::string, u
   for (const auto& c : list) {
     const auto it = s.rows.find(c.topic);
     if (it == s.rows.end() || it->second == 0 || !has_fields(formats, c.topic, c.fields)) continue;
-    if (std::string(c.topic) == "sensor_combined" && c.fields.size() && std::string(*c.fields.begin()) == "magnetometer_ga[0]" &&
-        !s.combined_mag)
-      continue;
-    if (std::string(c.topic) == "sensor_combined" && c.fields.size() && std::string(*c.fields.begin()) == "baro_alt_meter" &&
-        !s.combined_baro)
-      continue;
+    if (c.samples && s.*c.samples == 0) continue;
     return std::string(c.topic);
   }
   return std::nullopt;
@@ -486,7 +483,7 @@ void choose_sources(const Survey& s, const ulog::Reader& r, Conversion& c, Impor
   c.add_imu();
   if (auto src = pick("mag",
                       {{"vehicle_magnetometer", {"magnetometer_ga[0]"}},
-                       {"sensor_combined", {"magnetometer_ga[0]", "magnetometer_timestamp_relative"}},
+                       {"sensor_combined", {"magnetometer_ga[0]", "magnetometer_timestamp_relative"}, &Survey::combined_mag},
                        {"sensor_mag", {"x", "y", "z"}}},
                       "vehicle_magnetometer, sensor_combined.magnetometer_ga or sensor_mag with data")) {
     c.add_mag(*src);
@@ -496,7 +493,7 @@ void choose_sources(const Survey& s, const ulog::Reader& r, Conversion& c, Impor
   }
   if (auto src = pick("baro",
                       {{"vehicle_air_data", {"baro_alt_meter"}},
-                       {"sensor_combined", {"baro_alt_meter", "baro_timestamp_relative"}},
+                       {"sensor_combined", {"baro_alt_meter", "baro_timestamp_relative"}, &Survey::combined_baro},
                        {"sensor_baro", {"pressure"}}},
                       "vehicle_air_data, sensor_combined.baro_alt_meter or sensor_baro with data"))
     c.add_baro(*src);
@@ -506,8 +503,12 @@ void choose_sources(const Survey& s, const ulog::Reader& r, Conversion& c, Impor
     if (*src == "airspeed") notes.push_back("diff_pressure: airspeed.indicated_airspeed_m_s taken as EAS, 0.5 * 1.225 * EAS^2");
   }
   if (auto src = pick("gnss", {{"vehicle_gps_position", {"fix_type", "vel_n_m_s"}}, {"sensor_gps", {"fix_type", "vel_n_m_s"}}},
-                      "vehicle_gps_position or sensor_gps with data (without GNSS the estimator never initialises)"))
+                      "vehicle_gps_position or sensor_gps with data (without GNSS the estimator never initialises)")) {
     c.add_gnss(*src);
+    notes.push_back(
+        "gnss: lat/lon/alt as logged (int32 1e-7 deg and mm, or doubles); h_acc/v_acc from eph/epv; s_acc from s_variance_m_s "
+        "(the receiver's speed accuracy in m/s, 1 sigma, despite its name); fix_type 0-1 none, 2 2-D, 3-6 3-D, 7-8 dead reckoning");
+  }
   if (auto src = pick("reference attitude", {{"vehicle_attitude", {"q[0]"}}, {"control_state", {"q[0]"}}},
                       "vehicle_attitude or control_state with data"))
     c.add_attitude(*src);

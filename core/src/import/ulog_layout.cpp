@@ -186,7 +186,8 @@ std::string_view LoggedString::level_name() const {
 
 std::vector<std::string> UlogDataStats::warnings(const std::string& file) const {
   std::vector<std::string> out;
-  const std::string at = first_problem_offset ? " (first at byte " + std::to_string(first_problem_offset) + ")" : "";
+  const std::string at =
+      first_problem_offset ? " (the first problem in the data at byte " + std::to_string(first_problem_offset) + ")" : "";
   auto add = [&](std::uint64_t n, const std::string& what) {
     if (n) out.push_back(file + ": " + std::to_string(n) + " " + what + at);
   };
