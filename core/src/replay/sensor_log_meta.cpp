@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "tern/magnetic_model.hpp"
 
 namespace tern::core {
 
@@ -10,18 +11,6 @@ namespace {
 
 std::string where(const std::filesystem::path& file, const YAML::Node& n, const std::string& field) {
   return fmt::format("{}:{}:{}: {}", file.string(), n.Mark().line + 1, n.Mark().column + 1, field);
-}
-
-/// "2014-02-11" -> 2014.11 (the fraction of the year at 00:00 UTC that day).
-double decimal_year_of(const std::string& text, const std::string& location) {
-  int y = 0, m = 0, d = 0;
-  char tail = 0;
-  if (std::sscanf(text.c_str(), "%4d-%2d-%2d%c", &y, &m, &d, &tail) != 3 || m < 1 || m > 12 || d < 1 || d > 31)
-    throw ConfigError(location + ": '" + text + "' is not a date YYYY-MM-DD");
-  static constexpr int kDaysBefore[12] = {0, 31, 59, 90, 120, 151, 181, 212, 243, 273, 304, 334};
-  const bool leap = (y % 4 == 0 && y % 100 != 0) || y % 400 == 0;
-  const int day_of_year = kDaysBefore[m - 1] + (leap && m > 2 ? 1 : 0) + d - 1;
-  return y + day_of_year / (leap ? 366.0 : 365.0);
 }
 
 }  // namespace
@@ -53,8 +42,11 @@ SensorLogSettings read_sensor_log_settings(const std::filesystem::path& log_dir)
   }
   if (const YAML::Node date = root["date"]) {
     if (!date.IsScalar()) throw ConfigError(where(file, date, "date") + ": expected YYYY-MM-DD");
-    if (!s.estimator.count("mag_model_date"))
-      s.estimator["mag_model_date"] = YAML::Node(decimal_year_of(date.as<std::string>(), where(file, date, "date")));
+    if (!s.estimator.count("mag_model_date")) try {
+        s.estimator["mag_model_date"] = YAML::Node(tern::decimal_year(date.as<std::string>()));
+      } catch (const std::invalid_argument& e) {
+        throw ConfigError(where(file, date, "date") + ": " + e.what() + " (expected YYYY-MM-DD)");
+      }
   }
   return s;
 }

@@ -58,6 +58,11 @@ std::string describe(const Event& e) {
     case EventKind::mag_reset:
       std::snprintf(buf, sizeof buf, "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
       break;
+    case EventKind::gnss_yaw_reset:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: velocity rejected in flight, yaw reset to the GNSS course (innovation %.1f deg); magnetometer no longer fused",
+                    e.value);
+      break;
     case EventKind::inflated:
       std::snprintf(buf, sizeof buf, "%s: rejected repeatedly, variance of the states it measures inflated x%.1f", s, e.value);
       break;
@@ -104,17 +109,17 @@ void Estimator::apply_models_config() {
   gnss_pos_.sigma_h = cfg_.gnss_pos_sigma_h;
   gnss_pos_.sigma_v = cfg_.gnss_pos_sigma_v;
   gnss_pos_.gate = cfg_.gnss_pos_gate;
-  gnss_vel_.sigma_h = cfg_.gnss_vel_sigma_h;
-  gnss_vel_.sigma_v = cfg_.gnss_vel_sigma_v;
+  gnss_vel_.sigma_h = gnss_vel_sigma_h_ = cfg_.gnss_vel_sigma_h;
+  gnss_vel_.sigma_v = gnss_vel_sigma_v_ = cfg_.gnss_vel_sigma_v;
   gnss_vel_.gate = cfg_.gnss_vel_gate;
-  mag_.declination = cfg_.mag_declination;
-  mag_.inclination = cfg_.mag_inclination;
-  mag_.field_strength = cfg_.mag_field_strength;
+  tern::MagneticField fixed;
+  fixed.declination = cfg_.mag_declination;
+  fixed.inclination = cfg_.mag_inclination;
+  fixed.intensity = cfg_.mag_field_strength;
+  fixed.model = "configured";
+  set_earth_field(fixed);
   mag_.sigma = cfg_.mag_sigma;
   mag_.gate = cfg_.mag_gate;
-  mag_heading_.declination = cfg_.mag_declination;
-  mag_heading_.inclination = cfg_.mag_inclination;
-  mag_heading_.field_strength = cfg_.mag_field_strength;
   mag_heading_.sigma = cfg_.mag_sigma;
   mag_heading_.gate = cfg_.mag_heading_gate;
   baro_.sigma = cfg_.baro_sigma / (cfg_.rho * cfg_.gravity);
@@ -147,6 +152,13 @@ void Estimator::apply_models_config() {
   normal_force_.sigma = cfg_.normal_force_sigma;
   normal_force_.min_airspeed = cfg_.min_airspeed;
   normal_force_.level_G = cfg_.accel_level_calibrated ? level_tilt_from_offset(cfg_.gravity) : Mat3::Zero();
+}
+
+void Estimator::set_earth_field(const tern::MagneticField& f) {
+  field_ = f;
+  mag_.declination = mag_heading_.declination = f.declination;
+  mag_.inclination = mag_heading_.inclination = f.inclination;
+  mag_.field_strength = mag_heading_.field_strength = f.intensity;
 }
 
 void Estimator::reset() {
@@ -243,7 +255,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
     const double a = imu_samples_ == 0 ? 1.0 : std::clamp(dt / cfg_.init_average_time, 0.0, 1.0);
     accel_avg_ += a * (accel - accel_avg_);
     gyro_avg_ += a * (gyro - gyro_avg_);
-    pre_init_imu_.push_back({m.stamp, accel});
+    pre_init_imu_.push_back({m.stamp, accel, gyro});
     while (m.stamp - pre_init_imu_.front().stamp > kNanosPerSecond) pre_init_imu_.pop_front();
     ++imu_samples_;
     rate_ = gyro;
@@ -270,6 +282,10 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
+  if (dt > 0.0) {  // |NED acceleration|, low-passed over 0.2 s (ArduPilot EKF3's accNavMag)
+    const Vec3 a_ned = filter_.x().q * (accel - filter_.x().b_a) + Vec3(0.0, 0.0, cfg_.gravity);
+    accel_nav_ += std::min(dt / 0.2, 1.0) * (a_ned.norm() - accel_nav_);
+  }
   accel_sum_ += accel;
   ++accel_n_;
   if (!filter_.healthy()) {
@@ -369,16 +385,17 @@ bool Estimator::add_mag(const msg::Mag& m) {
     ++mag_samples_;
     return true;
   }
+  if (mag_inhibited_) return true;
   const Vec3 e = euler_from_quaternion(filter_.x().q);
-  const Vec3 z = m.field / cfg_.mag_field_strength;  // in units of the Earth's field, like b_m
+  const Vec3 z = m.field / field_.intensity;  // in units of the Earth's field, like b_m
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a
   // hangar's steel or a car bends it, and the heading alone keeps that out of roll and pitch.
   const bool heading = cfg_.mag_heading_only || !airborne(m.stamp);
   if (heading) mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
-  const UpdateResult r =
-      heading ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), cfg_.mag_declination)), t_v)
-              : fuse(mag_, Magnetometer::Vec(z), t_v);
+  const UpdateResult r = heading
+                             ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), field_.declination)), t_v)
+                             : fuse(mag_, Magnetometer::Vec(z), t_v);
   // A heading the filter keeps rejecting means the filter locked onto a wrong (yaw, wind) pair
   // that GNSS velocity and the air data cannot tell apart (e.g. initialised while manoeuvring):
   // after mag_reset_time, trust the magnetometer again.
@@ -386,7 +403,7 @@ bool Estimator::add_mag(const msg::Mag& m) {
     if (mag_reject_since_ < 0) {
       mag_reject_since_ = m.stamp;
     } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time && to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
-      reset_yaw(m.stamp, MagHeading::heading_from_field(z - filter_.x().b_m, e.x(), e.y(), cfg_.mag_declination));
+      reset_yaw(m.stamp, MagHeading::heading_from_field(z - filter_.x().b_m, e.x(), e.y(), field_.declination), cfg_.init_yaw_sigma);
     }
   } else if (r == UpdateResult::accepted) {
     mag_reject_since_ = -1;
@@ -394,17 +411,17 @@ bool Estimator::add_mag(const msg::Mag& m) {
   return true;
 }
 
-void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
+void Estimator::reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss) {
   NominalState& x = filter_.mutable_x();
   const Vec3 e = euler_from_quaternion(x.q);
-  const double innovation = wrap_pi(psi_mag - e.z());
-  x.q = quaternion_from_euler(e.x(), e.y(), psi_mag);
+  const double innovation = wrap_pi(psi - e.z());
+  x.q = quaternion_from_euler(e.x(), e.y(), psi);
   Cov& P = filter_.mutable_P();
   // attitude: keep roll and pitch uncertainty, yaw back to the initial figure, no correlations
   const Mat3 R = x.R();
   const Mat3 P_th_ned = R * P.block<3, 3>(idx::th, idx::th) * R.transpose();
   const double t2 = std::max(P_th_ned(0, 0), P_th_ned(1, 1));
-  const double y2 = cfg_.init_yaw_sigma * cfg_.init_yaw_sigma;
+  const double y2 = sigma * sigma;
   P.middleRows<3>(idx::th).setZero();
   P.middleCols<3>(idx::th).setZero();
   P.block<3, 3>(idx::th, idx::th) = R.transpose() * Vec3(t2, t2, y2).asDiagonal() * R;
@@ -412,7 +429,7 @@ void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
   double wind_sigma = cfg_.init_wind_sigma;
   if (airborne(stamp)) {
     x.wind = (x.v - last_Va_ * (x.q * Vec3::UnitX())).head<2>();
-    wind_sigma = cfg_.init_wind_sigma_airdata;
+    wind_sigma = std::hypot(cfg_.init_wind_sigma_airdata, from_gnss ? last_Va_ * sigma : 0.0);
   }
   P.middleRows<2>(idx::w).setZero();
   P.middleCols<2>(idx::w).setZero();
@@ -420,8 +437,22 @@ void Estimator::reset_yaw(Nanos stamp, double psi_mag) {
   mag_reject_since_ = -1;
   mag_heading_.stats.consecutive_rejected = 0;
   mag_.stats.consecutive_rejected = 0;
-  ++mag_resets_;
-  push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / tern::kPi);
+  if (from_gnss) {
+    ++gnss_yaw_resets_;
+    push(stamp, EventKind::gnss_yaw_reset, Sensor::gnss, innovation * 180.0 / tern::kPi);
+  } else {
+    ++mag_resets_;
+    push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / tern::kPi);
+  }
+}
+
+void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v) {
+  // The course is the heading plus the wind's crab angle, unknown here: within gnss_yaw_sigma.
+  // Velocity and position first (the wind then comes from the fix's velocity), then the yaw.
+  reset_to_gnss(stamp, p, m.vel, t_v);
+  reset_yaw(stamp, std::atan2(m.vel.y(), m.vel.x()), cfg_.gnss_yaw_sigma, true);
+  mag_inhibited_ = true;
+  gnss_vel_reject_since_ = -1;
 }
 
 bool Estimator::add_baro(const msg::Baro& m) {
@@ -516,6 +547,9 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     origin_alt_ = m.alt;
     origin_stamp_ = m.stamp;
     push(m.stamp, EventKind::origin_set, Sensor::gnss);
+    // The GNSS altitude is above mean sea level, the model's height above the ellipsoid: the
+    // geoid's undulation (tens of metres) changes the field by a few nT of ~50000.
+    if (cfg_.mag_field_from_model) set_earth_field(tern::world_magnetic_field(m.lat, m.lon, m.alt, cfg_.mag_model_date));
   }
   const Vec3 p = ned_from_geodetic(m.lat, m.lon, m.alt);
   if (cfg_.use_gnss_accuracy) use_reported_accuracy(m);
@@ -525,6 +559,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     prev_fix_tv_ = t_v;
     return true;
   }
+  set_gnss_noise();
   const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, idx::p, 3);
   if (r == UpdateResult::invalid && history_.full()) {
     push(m.stamp, EventKind::too_old, Sensor::gnss, to_seconds(imu_stamp_ - t_v));
@@ -543,7 +578,17 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   // Velocity is not inflated: a rejected velocity usually means a manoeuvre the IMU model did
   // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
   // the attitude.
-  fuse(gnss_vel_, m.vel, t_v);
+  const UpdateResult rv = fuse(gnss_vel_, m.vel, t_v);
+  if (rv == UpdateResult::rejected) {
+    if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
+    if (cfg_.gnss_yaw_reset_time > 0.0 && airborne(m.stamp) && m.vel.head<2>().norm() >= 5.0 &&
+        to_seconds(m.stamp - gnss_vel_reject_since_) >= cfg_.gnss_yaw_reset_time) {
+      reset_yaw_to_gnss(m.stamp, p, m, t_v);
+      return true;
+    }
+  } else if (rv == UpdateResult::accepted) {
+    gnss_vel_reject_since_ = -1;
+  }
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
@@ -558,9 +603,17 @@ void Estimator::use_reported_accuracy(const msg::Gnss& m) {
   if (m.h_acc > 0.0 && std::isfinite(m.h_acc)) process_.gnss_error_walk_h = std::max(cfg_.gnss_accuracy_floor, m.h_acc) * sqrt_two_k;
   if (m.v_acc > 0.0 && std::isfinite(m.v_acc)) process_.gnss_error_walk_v = std::max(cfg_.gnss_accuracy_floor, m.v_acc) * sqrt_two_k;
   if (m.s_acc > 0.0 && std::isfinite(m.s_acc)) {
-    gnss_vel_.sigma_h = std::max(cfg_.gnss_vel_sigma_h, m.s_acc);
-    gnss_vel_.sigma_v = std::max(cfg_.gnss_vel_sigma_v, m.s_acc);
+    gnss_vel_sigma_h_ = std::max(cfg_.gnss_vel_sigma_h, m.s_acc);
+    gnss_vel_sigma_v_ = std::max(cfg_.gnss_vel_sigma_v, m.s_acc);
   }
+}
+
+void Estimator::set_gnss_noise() {
+  const double dv = cfg_.gnss_vel_accel_scale * accel_nav_, dp = cfg_.gnss_pos_accel_scale * accel_nav_;
+  gnss_vel_.sigma_h = std::hypot(gnss_vel_sigma_h_, dv);
+  gnss_vel_.sigma_v = gnss_vel_sigma_v_;
+  gnss_pos_.sigma_h = std::hypot(cfg_.gnss_pos_sigma_h, dp);
+  gnss_pos_.sigma_v = cfg_.gnss_pos_sigma_v;
 }
 
 Vec3 Estimator::gnss_error_variance() const {
@@ -608,6 +661,17 @@ void Estimator::reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos
   ++gnss_resets_;
 }
 
+bool Estimator::still() const {
+  if (pre_init_imu_.empty()) return false;
+  Vec3 mean = Vec3::Zero();
+  for (const ImuRecord& r : pre_init_imu_) mean += r.gyro;
+  mean /= static_cast<double>(pre_init_imu_.size());
+  double sq = 0.0;
+  for (const ImuRecord& r : pre_init_imu_) sq += (r.gyro - mean).squaredNorm();
+  const double rms = std::sqrt(sq / static_cast<double>(pre_init_imu_.size()));
+  return mean.norm() < cfg_.rest_rate_max && rms < cfg_.rest_rate_max;
+}
+
 std::optional<Vec3> Estimator::mean_specific_force(Nanos t0, Nanos t1) const {
   Vec3 sum = Vec3::Zero();
   int n = 0;
@@ -638,14 +702,14 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   double yaw_sigma = cfg_.init_yaw_sigma;
   if (have_mag && moving) {
     const Vec3 f_ned = (m.vel - prev_fix_vel_) / dt_fix - Vec3(0.0, 0.0, cfg_.gravity);
-    const Vec3 m_ned = field_direction_ned(cfg_.mag_declination, cfg_.mag_inclination);
+    const Vec3 m_ned = field_direction_ned(field_.declination, field_.inclination);
     try {
       x.q = attitude_triad(*f_body, f_ned, mag_avg_, m_ned);
     } catch (const std::invalid_argument&) {  // specific force along the field: no better than level
-      x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
+      x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, field_.declination);
     }
   } else if (have_mag) {
-    x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, cfg_.mag_declination);
+    x.q = attitude_from_accel_mag(accel_avg_, mag_avg_, field_.declination);
   } else if (m.vel.head<2>().norm() > 3.0) {
     x.q = attitude_from_accel(accel_avg_, std::atan2(m.vel.y(), m.vel.x()));
     yaw_sigma = 0.5;
@@ -653,7 +717,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
     x.q = attitude_from_accel(accel_avg_, 0.0);
     yaw_sigma = 1.0;
   }
-  const bool at_rest = m.vel.norm() < 0.5 && std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && gyro_avg_.norm() < 0.5;
+  const bool at_rest = m.vel.norm() < 0.5 && std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && still();
   x.p = p_ned - x.q * cfg_.gnss_antenna + m.vel * to_seconds(std::max<Nanos>(imu_stamp_ - t_v, 0));
   x.v = m.vel;
   x.b_g = at_rest ? gyro_avg_ : Vec3::Zero();

@@ -59,6 +59,12 @@ class EstimatorEkf final : public tern::Plugin {
     if (!context().describing() && !context().aircraft_file().empty()) read_aircraft(context().aircraft_file().string(), config_);
     // Every figure of EstimatorConfig a mission may set, by the names of EstimatorConfig::describe.
     declare_struct(config_, [this] { dirty_ = true; });
+    // The fixed field is an override: a mission that sets any of it means it, unless it also says
+    // mag_field_from_model itself.
+    const bool fixed_set = context().configured_value("mag_declination", tern::ParamSpec()) ||
+                           context().configured_value("mag_inclination", tern::ParamSpec()) ||
+                           context().configured_value("mag_field_strength", tern::ParamSpec());
+    if (fixed_set && !context().configured_value("mag_field_from_model", tern::ParamSpec())) config_.mag_field_from_model = false;
     declare_struct(output_);
     estimator_.set_config(config_);
   }
@@ -90,10 +96,12 @@ class EstimatorEkf final : public tern::Plugin {
       for (const auto& e : estimator_.take_events()) {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
             e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset ||
-            e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap)
+            e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap ||
+            e.kind == tern::ekf::EventKind::gnss_yaw_reset)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else
           log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
+        if (e.kind == tern::ekf::EventKind::origin_set) log_earth_field(e.stamp);
       }
     }
     const bool imu_silent = estimator_.counters(tern::ekf::Sensor::imu).timed_out;
@@ -172,6 +180,18 @@ class EstimatorEkf final : public tern::Plugin {
   const tern::ekf::Estimator& estimator() const { return estimator_; }
 
  private:
+  /// The Earth's field the magnetometer is compared with, once the origin is known.
+  void log_earth_field(tern::Nanos stamp) {
+    const tern::MagneticField& f = estimator_.earth_field();
+    const auto line = fmt::format("t={:.3f} s: Earth's field ({} on {:.2f}): declination {:.2f} deg, inclination {:.2f} deg, {:.1f} uT",
+                                  tern::to_seconds(stamp), f.model, config_.mag_model_date, f.declination * tern::kDegPerRad,
+                                  f.inclination * tern::kDegPerRad, f.intensity * 1e6);
+    if (f.extrapolated)
+      log().warn("{} (the date is outside the model's 5 years: extrapolated)", line);
+    else
+      log().info("{}", line);
+  }
+
   /// Takes what the estimator can use from the aircraft file (tern or ROSflight format, read and
   /// validated by tern/aircraft.hpp): air density, mass, wing area and chord, the side-force
   /// (C_Y_*) and lift (C_L_*) coefficients. Throws std::runtime_error naming the file, the field

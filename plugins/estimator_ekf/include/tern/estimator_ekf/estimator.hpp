@@ -59,6 +59,7 @@
 #include "tern/estimator_ekf/history.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
 #include "tern/geodesy.hpp"
+#include "tern/magnetic_model.hpp"
 #include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
 #include "tern/msg/state.hpp"
@@ -122,15 +123,33 @@ struct EstimatorConfig {
   /// The least steady GNSS error (m, 1 sigma) a reported accuracy is taken for: PX4 EKF2's
   /// EKF2_GPS_P_NOISE, 0.5 m, the lower limit it puts on a receiver's reported accuracy.
   double gnss_accuracy_floor = 0.5;
+  /// GNSS noise grows with manoeuvring: a receiver's own filter lags the aircraft's acceleration.
+  /// Each fix's velocity (position) noise is root-sum-square of the figure above and this times
+  /// the low-passed magnitude of the NED acceleration (m/s per m/s^2; m per m/s^2): ArduPilot
+  /// EKF3's gpsNEVelVarAccScale / gpsPosVarAccScale (0.05), as InertialNav's velErr/posErr
+  /// (0.2 |a|). Replaying the PX4 Zurich 2014 flight (a 2014 receiver at 5 Hz, hand launch, turns of
+  /// 1-4 g) without it rejected 8 % of the velocities at a mean NIS of 9.
+  double gnss_vel_accel_scale = 0.05;
+  double gnss_pos_accel_scale = 0.05;
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
   double gnss_reset_time = 5.0;     ///< s of continuous position rejection before a reset
   double gnss_recovery_time = 2.0;  ///< s: after a GNSS time-out, the position correction
                                     ///< reaches the output with this time constant
-  // magnetometer
-  double mag_declination = 0.1857972802;   ///< rad
-  double mag_inclination = 1.139436457;    ///< rad
-  double mag_field_strength = 5.07163e-5;  ///< T
+  // magnetometer: the Earth's field where the aircraft flies
+  /// true: the World Magnetic Model's field (tern/magnetic_model.hpp) at the GNSS origin on
+  /// mag_model_date, as PX4 and ArduPilot look it up; false: the fixed mag_declination,
+  /// mag_inclination and mag_field_strength below (the plugin sets false when the mission sets any
+  /// of those three explicitly: they are overrides).
+  bool mag_field_from_model = true;
+  /// Decimal year of the flight for the model (a replayed log's sensor_log.yaml `date` sets it;
+  /// default 2025.4959 = 2025-07-01, sim_aero's default world date, so that the simulated world
+  /// and the vehicle agree unless told otherwise; a receiver's UTC would be better, the sensor
+  /// messages do not carry it).
+  double mag_model_date = 2025.4958904109589;
+  double mag_declination = 0.1857972802;   ///< rad, the override (Provo, UT: ROSflight's sim)
+  double mag_inclination = 1.139436457;    ///< rad, the override
+  double mag_field_strength = 5.07163e-5;  ///< T, the override
   /// T per axis, 1 sigma: PX4 EKF2's EKF2_MAG_NOISE (0.05 gauss). Not the sensor's white noise
   /// (HMC5883L: 0.2 uT) but what a 50-Hz stream cannot average out: local disturbances and the
   /// soft iron's heading-dependent error; the offset (residual hard iron, motor field) is a state,
@@ -149,6 +168,14 @@ struct EstimatorConfig {
   /// direction also references roll and pitch to the field: worst roll and pitch 0.52/0.55 ->
   /// 0.51/0.48 deg (hourglass), 0.57/0.54 -> 0.52/0.48 (aggressive; 10 seeds).
   bool mag_heading_only = false;
+  /// s: in the air, GNSS velocity rejected this long means the yaw is wrong (a magnetometer
+  /// disturbed or miscalibrated, a hand launch turned the wrong way): yaw is reset to the GNSS
+  /// course, velocity and position to the fix, and the magnetometer is no longer fused that flight
+  /// (PX4 EKF2's emergency yaw reset and mag_fault, after its EKF-GSF; here the course itself,
+  /// the wind's crab angle within gnss_yaw_sigma). 0: never.
+  double gnss_yaw_reset_time = 1.0;
+  /// rad: the yaw uncertainty after such a reset: the crab angle a wind of 5 m/s gives at 14 m/s.
+  double gnss_yaw_sigma = 0.35;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
                                    ///< reset to the magnetometer (and the wind re-derived)...
@@ -196,6 +223,13 @@ struct EstimatorConfig {
   double side_force_gate = kChi2_999[1];
   // initialisation
   int init_min_imu_samples = 40;
+  /// rad/s: at initialisation the aircraft counts as at rest (gyro bias from the averaged rate, tight
+  /// tilt) only if its mean rate and the rate's RMS deviation over the last second are both below
+  /// this: above any MEMS gyro's turn-on bias (ICM-20602: +-1 deg/s) and its noise, below the slow
+  /// turns of an aircraft held by hand before a hand launch. The PX4 Zurich 2014 flight, held and
+  /// turned for 15 s before its launch, passed the former test (0.5 rad/s) and started with its
+  /// hand's rate as gyro bias.
+  double rest_rate_max = 0.05;
   double init_average_time = 0.25;     ///< s, time constant of the pre-init averages
   double init_tilt_sigma = 0.0707;     ///< rad (ROSplane phi/theta_initial_cov 0.005)
   double init_yaw_sigma = 0.2;         ///< rad, with a magnetometer (1 rad without)
@@ -270,19 +304,31 @@ struct EstimatorConfig {
     v(&C::gnss_pos_sigma_v, "gnss_pos_noise_v", ParamSpec("m", 1e-3, 100.0, "white part of the GNSS altitude noise, 1 sigma"));
     v(&C::gnss_vel_sigma_h, "gnss_vel_noise_h", ParamSpec("m/s", 1e-4, 10.0, "GNSS horizontal velocity noise, 1 sigma"));
     v(&C::gnss_vel_sigma_v, "gnss_vel_noise_v", ParamSpec("m/s", 1e-4, 10.0, "GNSS vertical velocity noise, 1 sigma"));
+    v(&C::gnss_vel_accel_scale, "gnss_vel_accel_scale",
+      ParamSpec("s", 0.0, 1.0, "GNSS velocity noise added per m/s^2 of manoeuvring acceleration (root-sum-square)"));
+    v(&C::gnss_pos_accel_scale, "gnss_pos_accel_scale",
+      ParamSpec("s^2", 0.0, 1.0, "GNSS position noise added per m/s^2 of manoeuvring acceleration (root-sum-square)"));
     v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
     v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)"));
     v(&C::gnss_reset_time, "gnss_reset_time",
       ParamSpec("s", 0.5, 600.0, "continuous GNSS position rejection after which the state is reset to GNSS"));
     v(&C::gnss_recovery_time, "gnss_recovery_time",
       ParamSpec("s", 0.0, 60.0, "after a GNSS time-out, the published position takes the correction with this time constant (0: at once)"));
-    v(&C::mag_declination, "mag_declination", ParamSpec("rad", -tern::kPi, tern::kPi, "magnetic declination, east of true north"));
+    v(&C::mag_model_date, "mag_model_date",
+      ParamSpec("year", 1900.0, 2100.0, "decimal year of the flight for the World Magnetic Model (2025.5: mid 2025)"));
+    v(&C::mag_declination, "mag_declination",
+      ParamSpec("rad", -tern::kPi, tern::kPi, "override: magnetic declination, east of true north (setting it turns the model off)"));
     v(&C::mag_inclination, "mag_inclination",
-      ParamSpec("rad", -tern::kPi / 2, tern::kPi / 2, "magnetic inclination, down from horizontal"));
-    v(&C::mag_field_strength, "mag_field_strength", ParamSpec("T", 1e-6, 1e-3, "total magnetic field intensity"));
+      ParamSpec("rad", -tern::kPi / 2, tern::kPi / 2, "override: magnetic inclination, down from horizontal (turns the model off)"));
+    v(&C::mag_field_strength, "mag_field_strength",
+      ParamSpec("T", 1e-6, 1e-3, "override: total magnetic field intensity (turns the model off)"));
     v(&C::mag_sigma, "mag_noise", ParamSpec("T", 1e-9, 1e-4, "magnetometer noise per axis, 1 sigma"));
     v(&C::mag_gate, "mag_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the 3-axis magnetometer update (3 dof; 0: off)"));
     v(&C::mag_heading_gate, "mag_heading_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the magnetic heading update (1 dof; 0: off)"));
+    v(&C::gnss_yaw_reset_time, "gnss_yaw_reset_time",
+      ParamSpec("s", 0.0, 60.0,
+                "in the air, GNSS velocity rejected this long resets yaw to the GNSS course and stops the magnetometer (0: never)"));
+    v(&C::gnss_yaw_sigma, "gnss_yaw_sigma", ParamSpec("rad", 0.01, 3.2, "yaw uncertainty after a yaw reset to the GNSS course, 1 sigma"));
     v(&C::mag_init_wait, "mag_init_wait",
       ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
     v(&C::mag_reset_time, "mag_reset_time",
@@ -322,6 +368,10 @@ struct EstimatorConfig {
     v(&C::C_L_alpha, "C_L_alpha", ParamSpec("1/rad", -50.0, 50.0, "lift-curve slope (default: the aircraft file's; 0: normal force off)"));
     v(&C::C_L_q, "C_L_q", ParamSpec("1/rad", -100.0, 100.0, "lift per normalised pitch rate (default: the aircraft file's)"));
     v(&C::C_L_delta_e, "C_L_delta_e", ParamSpec("1/rad", -10.0, 10.0, "lift per elevator deflection (default: the aircraft file's)"));
+    v(&C::rest_rate_max, "rest_rate_max",
+      ParamSpec("rad/s", 1e-4, 1.0,
+                "at initialisation: mean rate and its RMS deviation over the last second below this count as at rest "
+                "(gyro bias from the average); a hand-held aircraft is not"));
     v(&C::init_average_time, "init_average_time",
       ParamSpec("s", 0.0, 10.0, "time constant of the accel/gyro averages before initialisation"));
     v(&C::init_tilt_sigma, "init_tilt_sigma", ParamSpec("rad", 1e-4, 3.0, "initial roll/pitch uncertainty, 1 sigma"));
@@ -396,6 +446,10 @@ struct EstimatorConfig {
     v(&C::level_sigma, "level_sigma", ParamSpec("rad", 0.0, 0.2, "how level the floor was for the accelerometer's calibration, 1 sigma"));
     v(&C::lateral_max_tilt_sigma, "lateral_max_tilt_sigma",
       ParamSpec("rad", 1e-3, 3.2, "the side force and zero-sideslip models wait until roll and pitch are known to this, 1 sigma"));
+    v(&C::mag_field_from_model, "mag_field_from_model",
+      ParamSpec("", 0, 1,
+                "the Earth's field from the World Magnetic Model at the GNSS origin on mag_model_date (false: the fixed "
+                "mag_declination/inclination/field_strength)"));
     v(&C::mag_heading_only, "mag_heading_only",
       ParamSpec("", 0, 1, "magnetometer as tilt-compensated heading always (true) or as 3-axis direction in the air (false)"));
     v(&C::use_gnss_accuracy, "use_gnss_accuracy",
@@ -435,7 +489,8 @@ enum class EventKind : std::uint8_t {
   mag_reset,
   inflated,
   imu_lost,
-  too_old
+  too_old,
+  gnss_yaw_reset
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
@@ -519,6 +574,11 @@ class Estimator {
   std::uint64_t gnss_resets() const { return gnss_resets_; }
   std::uint64_t inflations() const { return inflations_; }
   std::uint64_t mag_resets() const { return mag_resets_; }
+  /// The Earth's field the magnetometer is compared with: the model's at the origin once it is
+  /// set (mag_field_from_model), else the configured one.
+  const tern::MagneticField& earth_field() const { return field_; }
+  /// Yaw resets to the GNSS course in flight (the magnetometer is then no longer fused).
+  std::uint64_t gnss_yaw_resets() const { return gnss_yaw_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
 
   /// Events since the last call (the caller logs them).
@@ -606,10 +666,14 @@ class Estimator {
   struct ImuRecord {
     Nanos stamp;
     Vec3 accel;  ///< specific force at the CG, body axes
+    Vec3 gyro;   ///< angular rate, body axes
   };
   std::deque<ImuRecord> pre_init_imu_;
   Vec3 prev_fix_vel_ = Vec3::Zero();
   Nanos prev_fix_tv_ = -1;
+  /// Held still over the last second of pre_init_imu_: the mean angular rate and the rate's RMS
+  /// deviation from it both below rest_rate_max (a hand-held aircraft before a launch is not).
+  bool still() const;
   /// Mean specific force of pre_init_imu_ over (t0, t1]; nullopt when no sample lies there.
   std::optional<Vec3> mean_specific_force(Nanos t0, Nanos t1) const;
   std::int64_t imu_samples_ = 0, mag_samples_ = 0;
@@ -641,7 +705,22 @@ class Estimator {
   Nanos init_stamp_ = -1;
   double last_Va_ = 0.0;  // airspeed of the last applicable pitot sample, m/s (0: none)
   Nanos last_Va_stamp_ = -1;
-  void reset_yaw(Nanos stamp, double psi_mag);
+  /// Yaw to psi (roll and pitch kept) with yaw sigma `sigma`, the wind re-derived from the air
+  /// triangle when airborne; counted as a magnetometer reset unless `from_gnss`.
+  void reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss = false);
+  /// In the air, GNSS velocity rejected for gnss_yaw_reset_time: yaw from the GNSS course,
+  /// velocity and position to the fix, the magnetometer no longer fused (inhibit_mag_).
+  void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v);
+  /// The field at the origin (mag_field_from_model) or the configured one; sets the models.
+  void set_earth_field(const tern::MagneticField& f);
+  tern::MagneticField field_;
+  Nanos gnss_vel_reject_since_ = -1;
+  double accel_nav_ = 0.0;                                  ///< low-passed |NED acceleration|, m/s^2 (GNSS noise in manoeuvres)
+  double gnss_vel_sigma_h_ = 0.0, gnss_vel_sigma_v_ = 0.0;  ///< before the manoeuvre term
+  /// The GNSS noise of the next fix: the receiver's (or the configured) plus the manoeuvre term.
+  void set_gnss_noise();
+  std::uint64_t gnss_yaw_resets_ = 0;
+  bool mag_inhibited_ = false;  ///< after a yaw reset to GNSS: the magnetometer disagreed with it
   std::array<SensorCounters, kSensorCount> counters_{};
   std::vector<Event> events_;
 };
