@@ -127,13 +127,14 @@ def _replay_tables(report, pre, sid):
     for section in ("reference", "gnss", "wind"):
         sec = report.get(section) or {}
         if sec.get("status") not in ("compared", "estimated"):
-            rows.append([section, sec.get("status"), None, None, None, None, None])
+            rows.append([section, sec.get("status"), None, None, None, None, None, None])
             continue
         for name, f in _ordered(sec):
             if isinstance(f, dict) and "rms" in f:
-                rows.append([section, name, f.get("rms"), f.get("max"), f.get("unit"), f.get("samples"), f.get("rule")])
+                rows.append([section, name, f.get("rms"), f.get("max"), f.get("mean"), f.get("unit"), f.get("samples"), f.get("rule")])
     out.append(html_table(pre + "estimate against the reference and the GNSS (window)",
-                          ["against", "quantity", "RMS", "max", "unit", "samples", "rule"], rows, "replay-compare" + sid))
+                          ["against", "quantity", "RMS", "max", "mean (bias)", "unit", "samples", "rule"], rows,
+                          "replay-compare" + sid))
     models = ((report.get("estimator") or {}).get("models")) or {}
     out.append(html_table(pre + "the estimator's counters (whole replay)", ["model", "accepted", "rejected", "mean NIS"],
                           [[k, m.get("accepted"), m.get("rejected"), m.get("mean_nis")] for k, m in models.items()],

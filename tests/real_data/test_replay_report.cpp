@@ -121,6 +121,8 @@ TEST_CASE("replay report: known offsets against the reference and the GNSS") {
   CHECK(r.reference.course.rms == doctest::Approx(std::atan2(1.0, 10.0) / kDeg).epsilon(1e-9));
   CHECK(r.reference.position_h.rms < 1e-4);
   CHECK(r.reference.position_v.rms == doctest::Approx(2.0).epsilon(1e-6));
+  CHECK(r.reference.position_v.mean == doctest::Approx(-2.0).epsilon(1e-6));  // the estimate 2 m higher: a bias
+  CHECK(r.reference.roll.mean == doctest::Approx(1.0).epsilon(1e-9));
   CHECK(r.reference.velocity_h.rms == doctest::Approx(1.0).epsilon(1e-12));
   CHECK(r.wind.vs_reference.rms == doctest::Approx(0.5).epsilon(1e-12));
   CHECK(r.wind.mean_speed == doctest::Approx(5.0));

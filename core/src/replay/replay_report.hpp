@@ -35,7 +35,8 @@ namespace tern::core {
 /// One error figure: RMS and largest magnitude of (estimate - comparator).
 struct ErrorFigure {
   double rms = std::numeric_limits<double>::quiet_NaN();
-  double max = std::numeric_limits<double>::quiet_NaN();  ///< largest |error| (vector norm for 2-D)
+  double max = std::numeric_limits<double>::quiet_NaN();   ///< largest |error| (vector norm for 2-D)
+  double mean = std::numeric_limits<double>::quiet_NaN();  ///< mean error, signed (a bias: e.g. another altitude datum); 2-D: mean norm
   std::size_t samples = 0;
   std::string unit;  ///< "deg", "m", "m/s"
   std::string rule;  ///< what was compared where (or why nothing was)

@@ -43,6 +43,7 @@ std::pair<std::size_t, std::size_t> index_range(const std::vector<double>& t, do
 
 void ErrorSum::add(double e) {
   if (std::isnan(e)) return;
+  sum += e;
   sum2 += e * e;
   max = std::max(max, std::fabs(e));
   ++n;
@@ -56,6 +57,7 @@ ErrorFigure ErrorSum::figure(std::string unit, std::string rule) const {
   if (n > 0) {
     f.rms = std::sqrt(sum2 / static_cast<double>(n));
     f.max = max;
+    f.mean = sum / static_cast<double>(n);
   }
   return f;
 }

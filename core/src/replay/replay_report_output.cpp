@@ -16,7 +16,8 @@ using nlohmann::json;
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 json figure_json(const ErrorFigure& f, const ReplayWindow& w) {
-  return {{"rms", number(f.rms)}, {"max", number(f.max)}, {"unit", f.unit}, {"samples", f.samples}, {"rule", f.rule}, {"window", w.rule}};
+  return {{"rms", number(f.rms)}, {"max", number(f.max)}, {"mean", number(f.mean)}, {"unit", f.unit},
+          {"samples", f.samples}, {"rule", f.rule},       {"window", w.rule}};
 }
 
 json nis_json(const NisStats& s) {

@@ -43,7 +43,7 @@ std::pair<std::size_t, std::size_t> index_range(const std::vector<double>& t, do
 
 /// Sum of squares, largest magnitude and count of errors: an ErrorFigure in the making.
 struct ErrorSum {
-  double sum2 = 0.0, max = 0.0;
+  double sum = 0.0, sum2 = 0.0, max = 0.0;
   std::size_t n = 0;
   void add(double e);  ///< e: a scalar error or a vector error's norm; NaN is skipped
   ErrorFigure figure(std::string unit, std::string rule) const;

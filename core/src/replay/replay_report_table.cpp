@@ -60,12 +60,13 @@ void measurements(std::string& out, const ReplayReport& r) {
 }
 
 void figure(std::string& out, const char* name, const ErrorFigure& f) {
-  out += fmt::format("  {:<24} {:>9} {:>9} {:>7}\n", fmt::format("{} [{}]", name, f.unit), num(f.rms), num(f.max), f.samples);
+  out += fmt::format("  {:<24} {:>9} {:>9} {:>9} {:>7}\n", fmt::format("{} [{}]", name, f.unit), num(f.rms), num(f.max), num(f.mean),
+                     f.samples);
 }
 
 void comparisons(std::string& out, const ReplayReport& r) {
   const auto& c = r.reference;
-  out += fmt::format("\nagainst the reference (window)   RMS       max       n\n");
+  out += fmt::format("\nagainst the reference (window)   RMS       max      mean       n\n");
   if (!c.absent.empty()) {
     out += "  " + c.absent + "\n";
   } else {
@@ -74,7 +75,7 @@ void comparisons(std::string& out, const ReplayReport& r) {
     figure(out, "velocity horiz.", c.velocity_h), figure(out, "velocity vert.", c.velocity_v);
   }
   const auto& g = r.gnss;
-  out += "against GNSS at time of validity RMS       max       n\n";
+  out += "against GNSS at time of validity RMS       max      mean       n\n";
   if (!g.absent.empty()) {
     out += "  " + g.absent + "\n";
   } else {
