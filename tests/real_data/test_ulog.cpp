@@ -517,3 +517,18 @@ TEST_CASE("tern import ulog FILE DIR, then tern replay DIR: every imported senso
   CHECK(ekf.at("mag_invalid").get<double>() == 0);
   fs::remove_all(tmp);
 }
+
+TEST_CASE("tern import ulog on a file cut in its definitions: one error line, exit 1, no output left") {
+  const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_cut_" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const fs::path cut = scratch_copy("cli_cut.ulg", file_bytes(kSamples / "sample.ulg").substr(0, 20000));
+  CHECK(run_tern({"import", "ulog", cut.string(), (tmp / "log").string()}, tmp / "out.txt") == 1);
+  CHECK(lines_of(tmp / "out.txt") ==
+        std::vector<std::string>{
+            "tern: error: import: " + cut.string() +
+            ": byte 19811: file cut short in the definitions section (189 bytes left for a message header and payload)"});
+  CHECK(!fs::exists(tmp / "log"));
+  fs::remove(cut);
+  fs::remove_all(tmp);
+}
