@@ -142,6 +142,7 @@ TEST_CASE("replay report: known offsets against the reference and the GNSS") {
 
 TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
   const ReplayReport r = make_replay_report(synthetic_run("nis"));
+  CHECK(r.measurements.size() == 7);  // the innovations columns, nothing else
   const auto& pos = measurement(r, "gnss_pos");
   CHECK(pos.gate == "ekf.gnss_pos_gate = 16.266");
   CHECK(pos.whole.count == 101);

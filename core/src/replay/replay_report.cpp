@@ -145,7 +145,6 @@ std::optional<CsvTable> optional_topic(const std::filesystem::path& dir, const s
   CsvTable t = read_csv_table(file, wanted);
   if (!t.partial_last_line.empty()) notes.push_back(t.partial_last_line);
   if (t.rows == 0 || !t.has("t")) return std::nullopt;
-  add_sample_time(t);
   return t;
 }
 
@@ -171,6 +170,7 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   run.gnss = optional_topic(run_dir, "gnss", {"t", "stamp", "time_of_validity", "fix_type", "lat", "lon", "alt", "vel_n", "vel_e", "vel_d"},
                             r.notes);
   run.reference = optional_topic(run_dir, "reference", {}, r.notes);
+  if (run.reference) add_sample_time(*run.reference);
   if (std::filesystem::exists(run_dir / "params.csv")) run.params = read_params_csv(run_dir / "params.csv");
   run.summary = read_summary(run_dir / "summary.json");
   r.replay_start_s = run.state.at("t").front();
