@@ -8,6 +8,7 @@
 #include "commands/commands.hpp"
 #include "config/cli_overrides.hpp"
 #include "flight/host.hpp"
+#include "replay/replay_report.hpp"
 #include "replay/sensor_log_meta.hpp"
 
 namespace tern::core {
@@ -37,6 +38,9 @@ int replay(const ReplayOptions& o) {
   mc.fallback.reset();
   mc.phase_params.clear();
   mc.mission = YAML::Node();
+  // a real flight's log (no config.yaml of its own) is named after its directory
+  if (o.config.empty() && !fs::exists(fs::path(o.log_dir) / "config.yaml"))
+    mc.name = fs::absolute(o.log_dir).lexically_normal().filename().string();
   mc.name = mc.name + "-replay";
   apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
   CliOverrides cli;
@@ -53,6 +57,10 @@ int replay(const ReplayOptions& o) {
   const FlightResult r = host.fly();
   const fs::path meta = fs::path(o.log_dir) / "sensor_log.yaml";
   if (fs::exists(meta)) fs::copy_file(meta, fs::path(r.run_dir) / "sensor_log.yaml", fs::copy_options::overwrite_existing);
+  // The comparisons without truth (and with it): NIS per sensor, estimate vs reference and GNSS.
+  const ReplayReport report = make_replay_report(r.run_dir);
+  write_replay_report(report);
+  if (!o.quiet) std::printf("\n%s", format_replay_table(report).c_str());
   if (o.quiet) std::printf("log: %s\n", r.run_dir.c_str());
   return exit_status(r);
 }

@@ -90,10 +90,25 @@ std::map<std::string, std::uint64_t> SensorLogWriter::rows() const {
   return r;
 }
 
+YAML::Node SensorLogWriter::imu_timing_settings(Nanos max_interval) {
+  const double dt = to_seconds(max_interval);
+  YAML::Node n(YAML::NodeType::Map);
+  n["imu_max_dt"] = std::max(0.05, 1.5 * dt);
+  n["imu_timeout"] = std::max(0.02, 2.0 * dt);
+  n["imu_reinit_gap"] = std::max(0.5, 5.0 * dt);
+  return n;
+}
+
 void SensorLogWriter::finish(const SensorLogMeta& meta) {
   if (finished_) return;
   finished_ = true;
-  log_.write_file("sensor_log.yaml", meta_yaml(meta, origin_));
+  SensorLogMeta m = meta;
+  if (const auto imu = topics_.find("imu"); imu != topics_.end() && imu->second.rows > 1) {
+    if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
+    for (const auto& kv : imu_timing_settings(imu->second.max_interval))
+      if (!m.estimator[kv.first.as<std::string>()]) m.estimator[kv.first.as<std::string>()] = kv.second;
+  }
+  log_.write_file("sensor_log.yaml", meta_yaml(m, origin_));
   log_.close();
   if (const std::string e = log_.error(); !e.empty()) throw ImportError(fmt::format("{}: {}", dir_.string(), e));
   // the flight log's parameter table: a sensor log has no parameters (only its header was written)

@@ -13,6 +13,7 @@
 // backwards is an ImportError (the importers check their inputs' order and report it first).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -66,12 +67,15 @@ class SensorLogWriter {
     Topic& t = topic_slot(topic, reflect::layout<T>(), sizeof(T), reflect::fingerprint<T>());
     check_order(topic, t, msg.stamp);
     log_.capture(t.index, msg.stamp, &msg);
+    if (t.rows > 0) t.max_interval = std::max(t.max_interval, msg.stamp - t.last_stamp);
     t.last_stamp = msg.stamp;
     ++t.rows;
   }
 
   /// Writes sensor_log.yaml and flushes every table. Throws ImportError if anything could not
-  /// be written (disk full, ...). Call once.
+  /// be written (disk full, ...). Call once. The IMU's timing settings the estimator needs for
+  /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings()) are added to
+  /// meta.estimator where the importer did not set them.
   void finish(const SensorLogMeta& meta);
 
   /// The input's name (the archive or directory imported), written as `origin:` by finish().
@@ -86,9 +90,14 @@ class SensorLogWriter {
     std::uint64_t fingerprint = 0;
     Nanos last_stamp = 0;
     std::uint64_t rows = 0;
+    Nanos max_interval = 0;  ///< longest interval between consecutive rows
   };
   Topic& topic_slot(std::string_view topic, std::vector<reflect::Column> columns, std::size_t size, std::uint64_t fingerprint);
   static void check_order(std::string_view topic, const Topic& t, Nanos stamp);
+  /// estimator_ekf's IMU timing for an IMU whose longest interval is `max_interval`: the defaults
+  /// (400 Hz: imu_max_dt 0.05 s, imu_timeout 0.02 s, imu_reinit_gap 0.5 s) where they hold, else
+  /// 1.5x (integrate every interval whole), 2x (no time-out between two samples) and 5x it.
+  static YAML::Node imu_timing_settings(Nanos max_interval);
 
   std::filesystem::path dir_;
   FlightLog log_;

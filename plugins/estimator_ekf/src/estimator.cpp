@@ -600,6 +600,8 @@ void Estimator::use_reported_accuracy(const msg::Gnss& m) {
   // speed accuracy is the velocity noise where larger than the configured one (its velocity
   // errors are correlated, EstimatorConfig::gnss_vel_sigma_h).
   const double sqrt_two_k = std::sqrt(2.0 * cfg_.process.gnss_error_k);
+  reported_h_acc_ = m.h_acc > 0.0 && std::isfinite(m.h_acc);
+  reported_s_acc_ = m.s_acc > 0.0 && std::isfinite(m.s_acc);
   if (m.h_acc > 0.0 && std::isfinite(m.h_acc)) process_.gnss_error_walk_h = std::max(cfg_.gnss_accuracy_floor, m.h_acc) * sqrt_two_k;
   if (m.v_acc > 0.0 && std::isfinite(m.v_acc)) process_.gnss_error_walk_v = std::max(cfg_.gnss_accuracy_floor, m.v_acc) * sqrt_two_k;
   if (m.s_acc > 0.0 && std::isfinite(m.s_acc)) {
@@ -609,11 +611,11 @@ void Estimator::use_reported_accuracy(const msg::Gnss& m) {
 }
 
 void Estimator::set_gnss_noise() {
-  const double dv = cfg_.gnss_vel_accel_scale * accel_nav_, dp = cfg_.gnss_pos_accel_scale * accel_nav_;
-  gnss_vel_.sigma_h = std::hypot(gnss_vel_sigma_h_, dv);
+  // Horizontal only (the barometer carries the height); and only for what the receiver does not
+  // report: its own accuracies already grow with its dynamics (u-blox hAcc, sAcc).
+  gnss_vel_.sigma_h = reported_s_acc_ ? gnss_vel_sigma_h_ : std::hypot(gnss_vel_sigma_h_, cfg_.gnss_vel_accel_scale * accel_nav_);
   gnss_vel_.sigma_v = gnss_vel_sigma_v_;
-  gnss_pos_.sigma_h = std::hypot(cfg_.gnss_pos_sigma_h, dp);
-  gnss_pos_.sigma_v = cfg_.gnss_pos_sigma_v;
+  gnss_pos_.sigma_h = reported_h_acc_ ? cfg_.gnss_pos_sigma_h : std::hypot(cfg_.gnss_pos_sigma_h, cfg_.gnss_pos_accel_scale * accel_nav_);
 }
 
 Vec3 Estimator::gnss_error_variance() const {
@@ -717,7 +719,11 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
     x.q = attitude_from_accel(accel_avg_, 0.0);
     yaw_sigma = 1.0;
   }
-  const bool at_rest = m.vel.norm() < 0.5 && std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5 && still();
+  // Not accelerating (the averaged specific force is gravity: roll and pitch from it), and at rest
+  // only if also held still (the averaged rate is the gyro bias); a hand-held aircraft turning
+  // slowly before its launch is the former, not the latter.
+  const bool unaccelerated = m.vel.norm() < 0.5 && std::fabs(accel_avg_.norm() - cfg_.gravity) < 0.5;
+  const bool at_rest = unaccelerated && still();
   x.p = p_ned - x.q * cfg_.gnss_antenna + m.vel * to_seconds(std::max<Nanos>(imu_stamp_ - t_v, 0));
   x.v = m.vel;
   x.b_g = at_rest ? gyro_avg_ : Vec3::Zero();
@@ -732,8 +738,11 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   // In flight the averaged specific force is not gravity (turns, pull-ups) and the levelled
   // field carries that tilt error into yaw: start with wide attitude uncertainty and let GNSS
   // velocity and the air data pull the attitude in.
-  const double tilt_sigma = at_rest ? cfg_.init_tilt_sigma : std::max(cfg_.init_tilt_sigma, 0.35);
-  if (!at_rest) yaw_sigma = std::max(yaw_sigma, 0.6);
+  // 0.4 rad: above max_tilt_sigma's default (0.35), so that such a start is invalid until the GNSS
+  // velocity has brought the tilt in, rather than valid, invalid and valid again as the first
+  // propagation grows it past the threshold (the Zurich 2014 hand launch, initialised walking).
+  const double tilt_sigma = unaccelerated ? cfg_.init_tilt_sigma : std::max(cfg_.init_tilt_sigma, 0.4);
+  if (!unaccelerated) yaw_sigma = std::max(yaw_sigma, 0.6);
   const double t2 = tilt_sigma * tilt_sigma;
   const Mat3 Pg = Vec3(t2, t2, yaw_sigma * yaw_sigma).asDiagonal();
   P0.block<3, 3>(idx::th, idx::th) = R.transpose() * Pg * R;
@@ -752,7 +761,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   if (last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && Va >= cfg_.min_airspeed) {
     x.wind = (m.vel - Va * (x.q * Vec3::UnitX())).head<2>();
     // the wind from the air-data triangle inherits the yaw uncertainty: Va * sigma_psi across
-    wind_sigma = std::hypot(cfg_.init_wind_sigma_airdata, at_rest ? 0.0 : Va * yaw_sigma);
+    wind_sigma = std::hypot(cfg_.init_wind_sigma_airdata, unaccelerated ? 0.0 : Va * yaw_sigma);
   }
   P0.diagonal().segment<2>(idx::w).setConstant(wind_sigma * wind_sigma);
   P0(idx::bb, idx::bb) = cfg_.init_baro_bias_sigma * cfg_.init_baro_bias_sigma;
