@@ -1,0 +1,154 @@
+#!/usr/bin/python3
+"""bench_real_flights.py BIN_DIR [--reference DIR] [--out JSON]: tern's estimator on real flights.
+
+Imports the two real fixed-wing flights of ../shared/reference/real_flights (the PX4 Zurich 2014
+hand launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure) with
+`tern import`, replays each with `tern replay` (configs/replay/estimator.yaml and the log's
+sensor_log.yaml: docs/replay-your-own-flight.md), and reads the replay's replay_report.json
+(core/src/replay/replay_report.hpp: every figure says its window and rule). Prints one table per
+flight against issue 43's targets and writes JSON (default bench/results/real_flights.json).
+
+For ALFA it also compares the innovations before and after the engine failure (the time
+sensor_log.yaml's notes give): the estimator has no thrust model, so the figures say whether the
+airspeed and GNSS updates noticed the change at all.
+"""
+import argparse
+import csv
+import json
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+FLIGHTS = {
+    "zurich2014": ("inertialnav", "px4_fixedwing_zurich2014_InputFilesPX4_search.zip"),
+    "alfa_carbonZ": ("alfa", "alfa_carbonZ_2018-07-18-15-53-31_1_engine_failure_csv.tar.gz"),
+}
+# issue 43's targets on the Zurich flight (airborne part); the NIS range for every fused sensor
+TARGETS = [
+    ("divergences", ("validity", "divergences"), "==", 0),
+    ("roll vs the onboard estimate, RMS deg", ("reference", "roll", "rms"), "<=", 2.0),
+    ("pitch vs the onboard estimate, RMS deg", ("reference", "pitch", "rms"), "<=", 2.0),
+    ("course vs GNSS, RMS deg", ("gnss", "course", "rms"), "<=", 5.0),
+    ("horizontal velocity vs GNSS, RMS m/s", ("gnss", "velocity_horizontal", "rms"), "<=", 1.5),
+    ("horizontal position vs fixes, RMS m", ("gnss", "position_horizontal", "rms"), "<=", 3.0),
+    ("GNSS positions accepted", ("gnss", "share_pos_accepted"), ">=", 0.9),
+    ("GNSS velocities accepted", ("gnss", "share_vel_accepted"), ">=", 0.9),
+]
+
+
+def get(d, path):
+    for k in path:
+        if not isinstance(d, dict) or k not in d:
+            return None
+        d = d[k]
+    return d
+
+
+def run(argv):
+    p = subprocess.run(argv, capture_output=True, text=True)
+    if p.returncode != 0:
+        sys.exit(f"bench_real_flights: {' '.join(argv)} failed:\n{p.stdout}{p.stderr}")
+    return p.stdout + p.stderr
+
+
+def replay(tern, reference, name, tmp):
+    fmt, archive = FLIGHTS[name]
+    log = os.path.join(tmp, name)
+    run([tern, "import", fmt, os.path.join(reference, "real_flights", archive), log])
+    runs = os.path.join(tmp, name + "-runs")
+    run([tern, "replay", log, "-q", "--log-dir", runs])
+    run_dir = os.path.join(runs, os.listdir(runs)[0])
+    with open(os.path.join(run_dir, "replay_report.json")) as f:
+        return log, run_dir, json.load(f)
+
+
+def estimator_nis(report):
+    """Per-sample mean NIS of each model the estimator fused (its own counters)."""
+    out = {}
+    for name, m in (get(report, ("estimator", "models")) or {}).items():
+        if isinstance(m, dict) and m.get("accepted", 0) + m.get("rejected", 0) > 0:
+            out[name] = m.get("mean_nis")
+    return out
+
+
+def engine_failure_time(log):
+    with open(os.path.join(log, "sensor_log.yaml")) as f:
+        m = re.search(r"engine[^\n]*?(\d+\.\d+) s", f.read())
+    return float(m.group(1)) if m else None
+
+
+def innovations_around(run_dir, t_fail, span=15.0):
+    """Mean test ratio (NIS / gate) of each column in [t_fail - span, t_fail) and [t_fail, t_fail + span)."""
+    sums = {}
+    with open(os.path.join(run_dir, "topics", "innovations.csv")) as f:
+        r = csv.reader(f)
+        cols = [c.split(" [")[0] for c in next(r)]
+        for row in r:
+            t = float(row[0])
+            side = "before" if t_fail - span <= t < t_fail else "after" if t_fail <= t < t_fail + span else None
+            if side is None:
+                continue
+            for c, v in zip(cols[2:], row[2:]):
+                if float(v) >= 0:
+                    s = sums.setdefault(c, {}).setdefault(side, [0.0, 0])
+                    s[0] += float(v)
+                    s[1] += 1
+    return {c: {k: round(v[0] / v[1], 3) for k, v in sides.items() if v[1]} for c, sides in sums.items()}
+
+
+def check(value, op, target):
+    if value is None:
+        return "n/a"
+    ok = value == target if op == "==" else value <= target if op == "<=" else value >= target
+    return "met" if ok else "MISSED"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("bin_dir")
+    ap.add_argument("--reference", default=os.path.join(HERE, "..", "..", "shared", "reference"))
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "real_flights.json"))
+    a = ap.parse_args()
+    tern = os.path.join(a.bin_dir, "tern")
+    result = {"what": "tern import + tern replay (configs/replay/estimator.yaml) on real flights; figures from replay_report.json",
+              "flights": {}}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name in FLIGHTS:
+            log, run_dir, rep = replay(tern, a.reference, name, tmp)
+            rows = []
+            for label, path, op, target in TARGETS:
+                v = get(rep, path)
+                rows.append({"figure": label, "value": v, "target": f"{op} {target}", "verdict": check(v, op, target)})
+            nis = estimator_nis(rep)
+            for model, v in nis.items():
+                rows.append({"figure": f"mean NIS {model}", "value": v, "target": "in [0.3, 3]",
+                             "verdict": "met" if v is not None and 0.3 <= v <= 3 else "MISSED"})
+            flight = {"window": get(rep, ("window", "rule")), "rows": rows, "wind_max_mps": get(rep, ("wind", "max_speed")),
+                      "resets": get(rep, ("estimator", "resets")), "nan_cells": get(rep, ("validity", "nan_cells"))}
+            t_fail = engine_failure_time(log)
+            if t_fail is not None:
+                flight["engine_failure_s"] = t_fail
+                flight["test_ratio_15s_before_after"] = innovations_around(run_dir, t_fail)
+            result["flights"][name] = flight
+            print(f"\n{name}: {flight['window']}")
+            print(f"  {'figure':42s} {'value':>10s}  {'target':>12s}  verdict")
+            for r in rows:
+                v = r["value"]
+                vs = "-" if v is None else f"{v:.3f}" if isinstance(v, float) else str(v)
+                print(f"  {r['figure']:42s} {vs:>10s}  {r['target']:>12s}  {r['verdict']}")
+            print(f"  resets {flight['resets']}, wind max {flight['wind_max_mps']:.1f} m/s, NaN cells {flight['nan_cells']}")
+            if t_fail is not None:
+                print(f"  engine failure at {t_fail} s: mean test ratio 15 s before / after:")
+                for c, s in flight["test_ratio_15s_before_after"].items():
+                    print(f"    {c:14s} {s.get('before', '-')!s:>8} {s.get('after', '-')!s:>8}")
+    os.makedirs(os.path.dirname(a.out), exist_ok=True)
+    with open(a.out, "w") as f:
+        json.dump(result, f, indent=2)
+    print(f"\nwrote {a.out}")
+
+
+if __name__ == "__main__":
+    main()
