@@ -57,14 +57,14 @@ class EstimatorEkf final : public tern::Plugin {
     // (environment: rho:, so that the pitot model matches the simulator's; else ROSplane's
     // 1.225 kg/m^3) and, for the side-force model, mass, wing area and the C_Y derivatives.
     if (!context().describing() && !context().aircraft_file().empty()) read_aircraft(context().aircraft_file().string(), config_);
+    // The fixed Earth's field is an override: a mission that sets any of it means it (the default
+    // of mag_field_from_model becomes false, as the aircraft file's figures become defaults).
+    if (context().configured_value("mag_declination", tern::ParamSpec()) ||
+        context().configured_value("mag_inclination", tern::ParamSpec()) ||
+        context().configured_value("mag_field_strength", tern::ParamSpec()))
+      config_.mag_field_from_model = false;
     // Every figure of EstimatorConfig a mission may set, by the names of EstimatorConfig::describe.
     declare_struct(config_, [this] { dirty_ = true; });
-    // The fixed field is an override: a mission that sets any of it means it, unless it also says
-    // mag_field_from_model itself.
-    const bool fixed_set = context().configured_value("mag_declination", tern::ParamSpec()) ||
-                           context().configured_value("mag_inclination", tern::ParamSpec()) ||
-                           context().configured_value("mag_field_strength", tern::ParamSpec());
-    if (fixed_set && !context().configured_value("mag_field_from_model", tern::ParamSpec())) config_.mag_field_from_model = false;
     declare_struct(output_);
     estimator_.set_config(config_);
   }

@@ -182,3 +182,30 @@ TEST_CASE("plugin: every parameter has a unit or is dimensionless, a range and a
     CHECK(prm->spec().min <= prm->spec().max);
   }
 }
+
+TEST_CASE("plugin: the Earth's field from the World Magnetic Model at the origin; a fixed value set is an override") {
+  const auto field_after_origin = [](std::map<std::string, ParamValue> params) {
+    testing::Harness h(std::make_unique<EstimatorEkf>(), std::move(params));
+    TruthSim sim(turning_flight());
+    feed(h, sim, 1.0, [] {});
+    const auto& est = dynamic_cast<EstimatorEkf&>(h.plugin()).estimator();
+    REQUIRE(est.origin_valid());
+    return est.earth_field();
+  };
+  // the model at the origin on mag_model_date (Provo in mid 2025: 10.63 deg, 65.21 deg, 50.56 uT;
+  // sdk/tests/test_magnetic_model.cpp checks the model itself against NOAA's test values)
+  const tern::MagneticField model = field_after_origin({});
+  CHECK(model.model == "WMM-2025");
+  CHECK_FALSE(model.extrapolated);
+  const auto origin = turning_flight();
+  const tern::MagneticField expected = tern::world_magnetic_field(origin.lat0, origin.lon0, origin.alt0, 2025.4958904109589);
+  CHECK(model.declination == doctest::Approx(expected.declination).epsilon(1e-4));  // the origin is a noisy fix
+  // a date outside the models' spans is flagged
+  CHECK(field_after_origin({{"mag_model_date", 2035.0}}).extrapolated);
+  // one fixed value set: the configured field, the model off
+  const tern::MagneticField fixed = field_after_origin({{"mag_declination", 0.2}});
+  CHECK(fixed.model == "configured");
+  CHECK(fixed.declination == 0.2);
+  // unless the mission asks for the model as well
+  CHECK(field_after_origin({{"mag_declination", 0.2}, {"mag_field_from_model", true}}).model == "WMM-2025");
+}
