@@ -164,7 +164,11 @@ void import_gnss(const Inputs& in, Nanos t0, SensorLogWriter& out, ImportReport&
     g.lat = fix.num("field.latitude");
     g.lon = fix.num("field.longitude");
     g.alt = fix.num("field.altitude");
-    if (fix.num("field.position_covariance_type") > 0) {
+    // Only a covariance the receiver reported is an accuracy in metres: DIAGONAL_KNOWN (2) or
+    // KNOWN (3). APPROXIMATED (1) is mavros' (DOP * gps_uere)^2 with gps_uere 1 by default
+    // (mavros global_position.cpp, handle_gps_raw_int: MAVLink 1's GPS_RAW_INT has no h_acc):
+    // its square root is the HDOP/VDOP, not metres. Then no accuracy is reported (0).
+    if (fix.num("field.position_covariance_type") >= 2) {
       g.h_acc = std::sqrt(fix.num("field.position_covariance0"));
       g.v_acc = std::sqrt(fix.num("field.position_covariance8"));
     }
@@ -265,7 +269,9 @@ ImportReport import_alfa(const fs::path& in, SensorLogWriter& out) {
   n.push_back("mag: mavros' value / 1000 = the autopilot's mGauss (calibrated), * 1e-7 = T");
   n.push_back(fmt::format("diff_pressure: {} taken as EAS (ArduPilot's airspeed): 0.5 * 1.225 * EAS^2 Pa",
                           inputs.airspeed.empty() ? std::string("(none)") : inputs.airspeed.filename().string()));
-  n.push_back("gnss: NavSatFix status >= 0 taken as a 3-D fix; h_acc, v_acc from the position covariance's diagonal; no satellite count");
+  n.push_back(
+      "gnss: NavSatFix status >= 0 taken as a 3-D fix; h_acc, v_acc from the position covariance's diagonal only where the receiver "
+      "reported it (covariance type >= 2); type 1 is mavros' DOP^2 (gps_uere 1), not metres: no accuracy (0); no satellite count");
   n.push_back(
       "reference: local_position/odom (attitude; twist in body FLU rotated to NED) and global_position/global (ellipsoidal height)");
   n.push_back("no sensor delays known: the estimator's own delay settings apply; temperature columns not recorded (288.15 K written)");
