@@ -611,11 +611,13 @@ void Estimator::use_reported_accuracy(const msg::Gnss& m) {
 }
 
 void Estimator::set_gnss_noise() {
-  // Horizontal only (the barometer carries the height); and only for what the receiver does not
-  // report: its own accuracies already grow with its dynamics (u-blox hAcc, sAcc).
-  gnss_vel_.sigma_h = reported_s_acc_ ? gnss_vel_sigma_h_ : std::hypot(gnss_vel_sigma_h_, cfg_.gnss_vel_accel_scale * accel_nav_);
-  gnss_vel_.sigma_v = gnss_vel_sigma_v_;
-  gnss_pos_.sigma_h = reported_h_acc_ ? cfg_.gnss_pos_sigma_h : std::hypot(cfg_.gnss_pos_sigma_h, cfg_.gnss_pos_accel_scale * accel_nav_);
+  // Only for what the receiver does not report: its own accuracies already grow with its
+  // dynamics (u-blox hAcc, vAcc, sAcc).
+  const double dv = cfg_.gnss_vel_accel_scale * accel_nav_, dp = cfg_.gnss_pos_accel_scale * accel_nav_;
+  gnss_vel_.sigma_h = reported_s_acc_ ? gnss_vel_sigma_h_ : std::hypot(gnss_vel_sigma_h_, dv);
+  gnss_vel_.sigma_v = reported_s_acc_ ? gnss_vel_sigma_v_ : std::hypot(gnss_vel_sigma_v_, dv);
+  gnss_pos_.sigma_h = reported_h_acc_ ? cfg_.gnss_pos_sigma_h : std::hypot(cfg_.gnss_pos_sigma_h, dp);
+  gnss_pos_.sigma_v = reported_h_acc_ ? cfg_.gnss_pos_sigma_v : std::hypot(cfg_.gnss_pos_sigma_v, dp);
 }
 
 Vec3 Estimator::gnss_error_variance() const {
