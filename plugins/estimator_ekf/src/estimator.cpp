@@ -51,6 +51,10 @@ std::string describe(const Event& e) {
     case EventKind::gnss_reset:
       std::snprintf(buf, sizeof buf, "gnss: position rejected for too long, reset to GNSS (innovation %.1f m)", e.value);
       break;
+    case EventKind::gnss_velocity_reset:
+      std::snprintf(buf, sizeof buf, "gnss: velocity rejected in flight, velocity and position reset to GNSS (innovation %.1f m/s)",
+                    e.value);
+      break;
     case EventKind::imu_gap: std::snprintf(buf, sizeof buf, "imu: gap of %.3f s between samples (propagation clamped)", e.value); break;
     case EventKind::filter_reset:
       std::snprintf(buf, sizeof buf, "filter diverged (non-finite state or covariance): re-initialising");
@@ -583,7 +587,17 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
     if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
     if (cfg_.gnss_yaw_reset_time > 0.0 && airborne(m.stamp) && m.vel.head<2>().norm() >= 5.0 &&
         to_seconds(m.stamp - gnss_vel_reject_since_) >= cfg_.gnss_yaw_reset_time) {
-      reset_yaw_to_gnss(m.stamp, p, m, t_v);
+      // The yaw is the likely cause only if it is further from the course than a crab angle
+      // explains; otherwise (a manoeuvre the receiver lagged) velocity and position alone.
+      const double yaw_error = wrap_pi(std::atan2(m.vel.y(), m.vel.x()) - euler_from_quaternion(filter_.x().q).z());
+      if (std::fabs(yaw_error) > cfg_.gnss_yaw_sigma) {
+        reset_yaw_to_gnss(m.stamp, p, m, t_v);
+      } else {
+        const double innovation = (m.vel - filter_.x().v).norm();
+        reset_to_gnss(m.stamp, p, m.vel, t_v);
+        gnss_vel_reject_since_ = -1;
+        push(m.stamp, EventKind::gnss_velocity_reset, Sensor::gnss, innovation);
+      }
       return true;
     }
   } else if (rv == UpdateResult::accepted) {

@@ -97,7 +97,7 @@ class EstimatorEkf final : public tern::Plugin {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
             e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset ||
             e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap ||
-            e.kind == tern::ekf::EventKind::gnss_yaw_reset)
+            e.kind == tern::ekf::EventKind::gnss_yaw_reset || e.kind == tern::ekf::EventKind::gnss_velocity_reset)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else
           log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));

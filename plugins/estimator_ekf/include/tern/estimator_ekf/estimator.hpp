@@ -171,11 +171,12 @@ struct EstimatorConfig {
   /// direction also references roll and pitch to the field: worst roll and pitch 0.52/0.55 ->
   /// 0.51/0.48 deg (hourglass), 0.57/0.54 -> 0.52/0.48 (aggressive; 10 seeds).
   bool mag_heading_only = false;
-  /// s: in the air, GNSS velocity rejected this long means the yaw is wrong (a magnetometer
-  /// disturbed or miscalibrated, a hand launch turned the wrong way): yaw is reset to the GNSS
-  /// course, velocity and position to the fix, and the magnetometer is no longer fused that flight
-  /// (PX4 EKF2's emergency yaw reset and mag_fault, after its EKF-GSF; here the course itself,
-  /// the wind's crab angle within gnss_yaw_sigma). 0: never.
+  /// s: in the air, GNSS velocity rejected this long: velocity and position are reset to the fix;
+  /// if the yaw is also further than gnss_yaw_sigma from the GNSS course, it is the likely cause
+  /// (a magnetometer disturbed or miscalibrated, a hand launch turned the wrong way): yaw is reset
+  /// to the course and the magnetometer is no longer fused that flight (PX4 EKF2's emergency yaw
+  /// reset and mag_fault, after its EKF-GSF; here the course itself, the wind's crab angle within
+  /// gnss_yaw_sigma). 0: never.
   double gnss_yaw_reset_time = 1.0;
   /// rad: the yaw uncertainty after such a reset: the crab angle a wind of 5 m/s gives at 14 m/s.
   double gnss_yaw_sigma = 0.35;
@@ -493,7 +494,8 @@ enum class EventKind : std::uint8_t {
   inflated,
   imu_lost,
   too_old,
-  gnss_yaw_reset
+  gnss_yaw_reset,
+  gnss_velocity_reset
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
