@@ -225,7 +225,7 @@ TEST_CASE("a magnetometer offset (hard iron, 2 uT) is learnt in the turns; the h
   fly(sim, est, 60.0, h);  // the first turns (from 30 s)
   Errors e;
   fly(sim, est, 100.0, h, [&](const Truth& t, const Estimator& x) { e.add(t, x, sim); });
-  const Vec3 b_m = est.filter().x().b_m * est.config().mag_field_strength;
+  const Vec3 b_m = est.filter().x().b_m * est.earth_field().intensity;
   std::printf("magnetometer offset: learnt (%.2f, %.2f, %.2f) uT of (2, -1.5, 1); yaw RMS %.2f deg\n", b_m.x() * 1e6, b_m.y() * 1e6,
               b_m.z() * 1e6, e.yaw.rms() * 180 / kPi);
   // The horizontal axes show as heading errors that change with the heading: learnt to 0.3 uT
