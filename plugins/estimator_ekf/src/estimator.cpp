@@ -286,6 +286,8 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
+  // the yaw from IMU and GNSS velocity alone, beside the filter (yaw_gsf.hpp)
+  if (dt > 0.0) gsf_.predict(accel, gyro - filter_.x().b_g, dt, airborne(m.stamp) ? last_Va_ : 0.0);
   if (dt > 0.0) {  // |NED acceleration|, low-passed over 0.2 s (ArduPilot EKF3's accNavMag)
     const Vec3 a_ned = filter_.x().q * (accel - filter_.x().b_a) + Vec3(0.0, 0.0, cfg_.gravity);
     accel_nav_ += std::min(dt / 0.2, 1.0) * (a_ned.norm() - accel_nav_);
@@ -450,11 +452,50 @@ void Estimator::reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss)
   }
 }
 
+std::pair<double, double> Estimator::gnss_yaw(const msg::Gnss& m) const {
+  // The GSF's yaw when it has converged; else the course, which is the heading plus the wind's
+  // crab angle (unknown here: within gnss_yaw_sigma).
+  if (gsf_converged()) return {gsf_.yaw(), std::max(std::sqrt(gsf_.yaw_variance()), 0.03)};
+  return {std::atan2(m.vel.y(), m.vel.x()), cfg_.gnss_yaw_sigma};
+}
+
+bool Estimator::gsf_converged() const { return gsf_.active() && gsf_.yaw_variance() < cfg_.gsf_max_sigma * cfg_.gsf_max_sigma; }
+
+bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v) {
+  if (!airborne(m.stamp)) {
+    gsf_.stop();
+    gsf_disagree_since_ = -1;
+    return false;
+  }
+  // The fix is valid at t_v, the GSF runs at the IMU's time: its age is noise in manoeuvres.
+  const double age = to_seconds(std::max<Nanos>(imu_stamp_ - t_v, 0));
+  gsf_.fuse_velocity(m.vel.head<2>(), std::hypot(std::max(gnss_vel_.sigma_h, 0.3), accel_nav_ * age));
+  // A magnetometer the filter follows although the kinematics say otherwise (a compass mounted
+  // turned, a motor's field): the filter's yaw and the converged GSF's disagree for
+  // gsf_disagree_time. The velocity may stay accepted (the wind state absorbs the difference).
+  if (mag_inhibited_ || cfg_.gsf_disagree_time <= 0.0 || !gsf_converged()) {
+    gsf_disagree_since_ = -1;
+    return false;
+  }
+  const Mat3 R = filter_.x().R();
+  const double yaw_var = (R * filter_.P().block<3, 3>(idx::th, idx::th) * R.transpose())(2, 2);
+  const double d = wrap_pi(gsf_.yaw() - euler_from_quaternion(filter_.x().q).z());
+  if (std::fabs(d) <= std::max(3.0 * std::sqrt(gsf_.yaw_variance() + yaw_var), cfg_.gnss_yaw_sigma)) {
+    gsf_disagree_since_ = -1;
+    return false;
+  }
+  if (gsf_disagree_since_ < 0) gsf_disagree_since_ = m.stamp;
+  if (to_seconds(m.stamp - gsf_disagree_since_) < cfg_.gsf_disagree_time) return false;
+  reset_yaw_to_gnss(m.stamp, p, m, t_v);
+  gsf_disagree_since_ = -1;
+  return true;
+}
+
 void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v) {
-  // The course is the heading plus the wind's crab angle, unknown here: within gnss_yaw_sigma.
   // Velocity and position first (the wind then comes from the fix's velocity), then the yaw.
+  const auto [psi, sigma] = gnss_yaw(m);
   reset_to_gnss(stamp, p, m.vel, t_v);
-  reset_yaw(stamp, std::atan2(m.vel.y(), m.vel.x()), cfg_.gnss_yaw_sigma, true);
+  reset_yaw(stamp, psi, sigma, true);
   mag_inhibited_ = true;
   gnss_vel_reject_since_ = -1;
 }
@@ -589,8 +630,10 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
         to_seconds(m.stamp - gnss_vel_reject_since_) >= cfg_.gnss_yaw_reset_time) {
       // The yaw is the likely cause only if it is further from the course than a crab angle
       // explains; otherwise (a manoeuvre the receiver lagged) velocity and position alone.
-      const double yaw_error = wrap_pi(std::atan2(m.vel.y(), m.vel.x()) - euler_from_quaternion(filter_.x().q).z());
-      if (std::fabs(yaw_error) > cfg_.gnss_yaw_sigma) {
+      // the course's sigma is the crab angle's bound itself; the GSF's is 1 sigma (at least 10 deg)
+      const auto [psi, sigma] = gnss_yaw(m);
+      const double yaw_error = wrap_pi(psi - euler_from_quaternion(filter_.x().q).z());
+      if (std::fabs(yaw_error) > (gsf_converged() ? std::max(3.0 * sigma, 0.1745) : sigma)) {
         reset_yaw_to_gnss(m.stamp, p, m, t_v);
       } else {
         const double innovation = (m.vel - filter_.x().v).norm();
@@ -603,6 +646,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   } else if (rv == UpdateResult::accepted) {
     gnss_vel_reject_since_ = -1;
   }
+  if (check_yaw_with_gsf(m, p, t_v)) return true;
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;

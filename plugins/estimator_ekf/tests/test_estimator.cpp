@@ -672,3 +672,33 @@ TEST_CASE("GNSS loss: degraded (gnss), dead reckoning with a growing covariance,
   CHECK(c.est.status() == msg::StateStatus::ok);
   CHECK(c.est.gnss_resets() == 0);
 }
+
+TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetometer is dropped") {
+  // A magnetometer mounted turned: the filter follows it and its wind state absorbs the
+  // difference, so the GNSS velocity stays accepted (yaw 38 deg and wind 11 m/s wrong without the
+  // GSF). The GSF's yaw (IMU and GNSS velocity alone) converges in the turns and disagrees.
+  TruthSim sim(mixed_flight());
+  Estimator est(truth_sim_config());
+  Hooks h;
+  h.mag = [](msg::Mag& m) {
+    m.field = Eigen::AngleAxisd(1.6, Vec3::UnitZ()) * m.field;
+    return true;
+  };
+  fly(sim, est, 60.0, h);  // the first turns (from 30 s)
+  CHECK(est.gnss_yaw_resets() == 1);
+  Errors e;
+  fly(sim, est, 70.0, h, [&](const Truth& t, const Estimator& x) { e.add(t, x, sim); });
+  print("compass 90 deg off", e);
+  CHECK(est.gnss_yaw_resets() == 1);  // once: the magnetometer is no longer fused
+  CHECK(e.yaw.rms() < 3.0 * kPi / 180);
+  CHECK(e.wind.rms() < 1.0);
+  CHECK(e.vel.rms() < 0.3);
+}
+
+TEST_CASE("a good compass: the yaw GSF agrees, no reset") {
+  TruthSim sim(mixed_flight());
+  Estimator est(truth_sim_config());
+  fly(sim, est, 130.0);
+  CHECK(est.gnss_yaw_resets() == 0);
+  CHECK(est.gnss_resets() == 0);
+}

@@ -53,11 +53,13 @@
 #include <deque>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tern/estimator_ekf/filter.hpp"
 #include "tern/estimator_ekf/history.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
+#include "tern/estimator_ekf/yaw_gsf.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/magnetic_model.hpp"
 #include "tern/msg/estimator.hpp"
@@ -178,8 +180,16 @@ struct EstimatorConfig {
   /// reset and mag_fault, after its EKF-GSF; here the course itself, the wind's crab angle within
   /// gnss_yaw_sigma). 0: never.
   double gnss_yaw_reset_time = 1.0;
-  /// rad: the yaw uncertainty after such a reset: the crab angle a wind of 5 m/s gives at 14 m/s.
+  /// rad: the yaw uncertainty after such a reset from the course (the GSF not converged): the
+  /// crab angle a wind of 5 m/s gives at 14 m/s; also the least yaw difference that counts.
   double gnss_yaw_sigma = 0.35;
+  /// rad: the yaw GSF (yaw_gsf.hpp: IMU and GNSS velocity alone, PX4 EKF2's EKF-GSF) counts as
+  /// converged below this 1 sigma; its yaw then replaces the course in the resets above.
+  double gsf_max_sigma = 0.15;
+  /// s: in the air, the filter's yaw further than 3 sigma (at least gnss_yaw_sigma) from the
+  /// converged GSF's this long is reset to it and the magnetometer is no longer fused (a compass
+  /// the filter followed while the wind state absorbed the velocity). 0: never.
+  double gsf_disagree_time = 5.0;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
                                    ///< reset to the magnetometer (and the wind re-derived)...
@@ -333,6 +343,12 @@ struct EstimatorConfig {
       ParamSpec("s", 0.0, 60.0,
                 "in the air, GNSS velocity rejected this long resets yaw to the GNSS course and stops the magnetometer (0: never)"));
     v(&C::gnss_yaw_sigma, "gnss_yaw_sigma", ParamSpec("rad", 0.01, 3.2, "yaw uncertainty after a yaw reset to the GNSS course, 1 sigma"));
+    v(&C::gsf_max_sigma, "gsf_max_sigma",
+      ParamSpec("rad", 0.01, 1.0, "the yaw GSF (IMU and GNSS velocity alone) counts as converged below this 1 sigma"));
+    v(&C::gsf_disagree_time, "gsf_disagree_time",
+      ParamSpec(
+          "s", 0.0, 600.0,
+          "in the air, the filter's yaw disagreeing with the converged yaw GSF this long resets it and stops the magnetometer (0: never)"));
     v(&C::mag_init_wait, "mag_init_wait",
       ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
     v(&C::mag_reset_time, "mag_reset_time",
@@ -720,6 +736,14 @@ class Estimator {
   void set_earth_field(const tern::MagneticField& f);
   tern::MagneticField field_;
   Nanos gnss_vel_reject_since_ = -1;
+  YawGsf gsf_;                     ///< the yaw from IMU and GNSS velocity alone (yaw_gsf.hpp)
+  Nanos gsf_disagree_since_ = -1;  ///< the filter's yaw and the GSF's disagree since
+  /// The GSF's yaw and sigma when it has converged, else the GNSS course and gnss_yaw_sigma.
+  std::pair<double, double> gnss_yaw(const msg::Gnss& m) const;
+  bool gsf_converged() const;
+  /// Feeds the fix's velocity to the GSF in the air (stops it on the ground); resets the yaw to it
+  /// when the filter's yaw keeps disagreeing with the converged GSF. Returns true after a reset.
+  bool check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v);
   double accel_nav_ = 0.0;                                  ///< low-passed |NED acceleration|, m/s^2 (GNSS noise in manoeuvres)
   double gnss_vel_sigma_h_ = 0.0, gnss_vel_sigma_v_ = 0.0;  ///< before the manoeuvre term
   bool reported_h_acc_ = false, reported_s_acc_ = false;    ///< the last fix reported h_acc / s_acc
