@@ -51,6 +51,12 @@ std::string describe(const Event& e) {
     case EventKind::gnss_reset:
       std::snprintf(buf, sizeof buf, "gnss: position rejected for too long, reset to GNSS (innovation %.1f m)", e.value);
       break;
+    case EventKind::gsf_yaw_reset:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: yaw disagreed with the yaw GSF's (IMU and GNSS velocity) in flight, reset to it (innovation %.1f deg); "
+                    "magnetometer no longer fused",
+                    e.value);
+      break;
     case EventKind::gnss_velocity_reset:
       std::snprintf(buf, sizeof buf, "gnss: velocity rejected in flight, velocity and position reset to GNSS (innovation %.1f m/s)",
                     e.value);
@@ -487,6 +493,7 @@ bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v)
   if (gsf_disagree_since_ < 0) gsf_disagree_since_ = m.stamp;
   if (to_seconds(m.stamp - gsf_disagree_since_) < cfg_.gsf_disagree_time) return false;
   reset_yaw_to_gnss(m.stamp, p, m, t_v);
+  events_.back().kind = EventKind::gsf_yaw_reset;  // reset_yaw's event, with its innovation
   gsf_disagree_since_ = -1;
   return true;
 }

@@ -678,7 +678,9 @@ TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetomete
   // difference, so the GNSS velocity stays accepted (yaw 38 deg and wind 11 m/s wrong without the
   // GSF). The GSF's yaw (IMU and GNSS velocity alone) converges in the turns and disagrees.
   TruthSim sim(mixed_flight());
-  Estimator est(truth_sim_config());
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.gsf_disagree_time = 5.0;  // off by default (EstimatorConfig::gsf_disagree_time)
+  Estimator est(cfg);
   Hooks h;
   h.mag = [](msg::Mag& m) {
     m.field = Eigen::AngleAxisd(1.6, Vec3::UnitZ()) * m.field;
@@ -697,7 +699,9 @@ TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetomete
 
 TEST_CASE("a good compass: the yaw GSF agrees, no reset") {
   TruthSim sim(mixed_flight());
-  Estimator est(truth_sim_config());
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.gsf_disagree_time = 5.0;
+  Estimator est(cfg);
   fly(sim, est, 130.0);
   CHECK(est.gnss_yaw_resets() == 0);
   CHECK(est.gnss_resets() == 0);
