@@ -467,6 +467,29 @@ std::pair<double, double> Estimator::gnss_yaw(const msg::Gnss& m) const {
 
 bool Estimator::gsf_converged() const { return gsf_.active() && gsf_.yaw_variance() < cfg_.gsf_max_sigma * cfg_.gsf_max_sigma; }
 
+bool Estimator::recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v) {
+  if (rv == UpdateResult::accepted) gnss_vel_reject_since_ = -1;
+  if (rv != UpdateResult::rejected) return false;
+  if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
+  if (cfg_.gnss_yaw_reset_time <= 0.0 || !airborne(m.stamp) || m.vel.head<2>().norm() < 5.0 ||
+      to_seconds(m.stamp - gnss_vel_reject_since_) < cfg_.gnss_yaw_reset_time)
+    return false;
+  // The yaw is the likely cause only if it is further from the GNSS yaw than that can err: the
+  // converged GSF's 3 sigma (at least 10 deg), or the crab angle's bound from the course;
+  // otherwise (a manoeuvre the receiver lagged) velocity and position alone.
+  const auto [psi, sigma] = gnss_yaw(m);
+  const double yaw_error = wrap_pi(psi - euler_from_quaternion(filter_.x().q).z());
+  if (std::fabs(yaw_error) > (gsf_converged() ? std::max(3.0 * sigma, 0.1745) : sigma)) {
+    reset_yaw_to_gnss(m.stamp, p, m, t_v);
+    return true;
+  }
+  const double innovation = (m.vel - filter_.x().v).norm();
+  reset_to_gnss(m.stamp, p, m.vel, t_v);
+  gnss_vel_reject_since_ = -1;
+  push(m.stamp, EventKind::gnss_velocity_reset, Sensor::gnss, innovation);
+  return true;
+}
+
 bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v) {
   if (!airborne(m.stamp)) {
     gsf_.stop();
@@ -631,28 +654,7 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
   // the attitude.
   const UpdateResult rv = fuse(gnss_vel_, m.vel, t_v);
-  if (rv == UpdateResult::rejected) {
-    if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
-    if (cfg_.gnss_yaw_reset_time > 0.0 && airborne(m.stamp) && m.vel.head<2>().norm() >= 5.0 &&
-        to_seconds(m.stamp - gnss_vel_reject_since_) >= cfg_.gnss_yaw_reset_time) {
-      // The yaw is the likely cause only if it is further from the course than a crab angle
-      // explains; otherwise (a manoeuvre the receiver lagged) velocity and position alone.
-      // the course's sigma is the crab angle's bound itself; the GSF's is 1 sigma (at least 10 deg)
-      const auto [psi, sigma] = gnss_yaw(m);
-      const double yaw_error = wrap_pi(psi - euler_from_quaternion(filter_.x().q).z());
-      if (std::fabs(yaw_error) > (gsf_converged() ? std::max(3.0 * sigma, 0.1745) : sigma)) {
-        reset_yaw_to_gnss(m.stamp, p, m, t_v);
-      } else {
-        const double innovation = (m.vel - filter_.x().v).norm();
-        reset_to_gnss(m.stamp, p, m.vel, t_v);
-        gnss_vel_reject_since_ = -1;
-        push(m.stamp, EventKind::gnss_velocity_reset, Sensor::gnss, innovation);
-      }
-      return true;
-    }
-  } else if (rv == UpdateResult::accepted) {
-    gnss_vel_reject_since_ = -1;
-  }
+  if (recover_velocity(rv, m, p, t_v)) return true;
   if (check_yaw_with_gsf(m, p, t_v)) return true;
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;

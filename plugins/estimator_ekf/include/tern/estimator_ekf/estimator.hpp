@@ -745,6 +745,9 @@ class Estimator {
   /// The GSF's yaw and sigma when it has converged, else the GNSS course and gnss_yaw_sigma.
   std::pair<double, double> gnss_yaw(const msg::Gnss& m) const;
   bool gsf_converged() const;
+  /// After the fix's velocity update `rv`: in the air, velocities rejected for gnss_yaw_reset_time
+  /// reset velocity and position to the fix, and the yaw too if it is off. True after a reset.
+  bool recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);
   /// Feeds the fix's velocity to the GSF in the air (stops it on the ground); resets the yaw to it
   /// when the filter's yaw keeps disagreeing with the converged GSF. Returns true after a reset.
   bool check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v);
