@@ -293,7 +293,7 @@ bool Estimator::add_imu(const msg::Imu& m) {
   rate_ = filter_.x().rate(gyro);
   gnss_vel_.gyro = gyro;
   // the yaw from IMU and GNSS velocity alone, beside the filter (yaw_gsf.hpp)
-  if (dt > 0.0) gsf_.predict(accel, gyro - filter_.x().b_g, dt, airborne(m.stamp) ? last_Va_ : 0.0);
+  if (dt > 0.0 && cfg_.gsf_max_sigma > 0.0) gsf_.predict(accel, gyro - filter_.x().b_g, dt, airborne(m.stamp) ? last_Va_ : 0.0);
   if (dt > 0.0) {  // |NED acceleration|, low-passed over 0.2 s (ArduPilot EKF3's accNavMag)
     const Vec3 a_ned = filter_.x().q * (accel - filter_.x().b_a) + Vec3(0.0, 0.0, cfg_.gravity);
     accel_nav_ += std::min(dt / 0.2, 1.0) * (a_ned.norm() - accel_nav_);
@@ -491,7 +491,7 @@ bool Estimator::recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3
 }
 
 bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v) {
-  if (!airborne(m.stamp)) {
+  if (!airborne(m.stamp) || cfg_.gsf_max_sigma <= 0.0) {
     gsf_.stop();
     gsf_disagree_since_ = -1;
     return false;

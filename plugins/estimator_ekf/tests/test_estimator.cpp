@@ -679,7 +679,8 @@ TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetomete
   // GSF). The GSF's yaw (IMU and GNSS velocity alone) converges in the turns and disagrees.
   TruthSim sim(mixed_flight());
   EstimatorConfig cfg = truth_sim_config();
-  cfg.gsf_disagree_time = 5.0;  // off by default (EstimatorConfig::gsf_disagree_time)
+  cfg.gsf_max_sigma = 0.15;  // the GSF and its check are off by default (EstimatorConfig)
+  cfg.gsf_disagree_time = 5.0;
   Estimator est(cfg);
   Hooks h;
   h.mag = [](msg::Mag& m) {
@@ -700,6 +701,7 @@ TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetomete
 TEST_CASE("a good compass: the yaw GSF agrees, no reset") {
   TruthSim sim(mixed_flight());
   EstimatorConfig cfg = truth_sim_config();
+  cfg.gsf_max_sigma = 0.15;
   cfg.gsf_disagree_time = 5.0;
   Estimator est(cfg);
   fly(sim, est, 130.0);
