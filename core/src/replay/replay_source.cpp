@@ -72,7 +72,6 @@ bool store_cell(const reflect::Column& c, char* p, const std::string& cell) {
 
 /// The header's columns mapped onto T's layout by name; a unit in brackets other than the
 /// layout's is an error (docs/sensor-log.md). Column 0 is `t [s]`.
-template <class T>
 std::vector<const reflect::Column*> map_columns(const std::filesystem::path& csv, const std::string& header,
                                                 const std::vector<reflect::Column>& layout) {
   std::vector<const reflect::Column*> cols;
@@ -111,7 +110,7 @@ class Track final : public ReplaySource::TrackBase {
     std::string header;
     std::getline(in, header);
     const auto layout = reflect::layout<T>();
-    const auto cols = map_columns<T>(csv, header, layout);
+    const auto cols = map_columns(csv, header, layout);
     std::string line, cell;
     std::size_t lineno = 1;
     while (std::getline(in, line)) {

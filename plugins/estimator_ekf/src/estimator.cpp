@@ -415,7 +415,8 @@ bool Estimator::add_mag(const msg::Mag& m) {
     if (mag_reject_since_ < 0) {
       mag_reject_since_ = m.stamp;
     } else if (to_seconds(m.stamp - mag_reject_since_) > cfg_.mag_reset_time && to_seconds(m.stamp - init_stamp_) < cfg_.mag_reset_window) {
-      reset_yaw(m.stamp, MagHeading::heading_from_field(z - filter_.x().b_m, e.x(), e.y(), field_.declination), cfg_.init_yaw_sigma);
+      reset_yaw(m.stamp, MagHeading::heading_from_field(z - filter_.x().b_m, e.x(), e.y(), field_.declination), cfg_.init_yaw_sigma,
+                EventKind::mag_reset);
     }
   } else if (r == UpdateResult::accepted) {
     mag_reject_since_ = -1;
@@ -423,7 +424,8 @@ bool Estimator::add_mag(const msg::Mag& m) {
   return true;
 }
 
-void Estimator::reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss) {
+void Estimator::reset_yaw(Nanos stamp, double psi, double sigma, EventKind why) {
+  const bool from_gnss = why != EventKind::mag_reset;
   NominalState& x = filter_.mutable_x();
   const Vec3 e = euler_from_quaternion(x.q);
   const double innovation = wrap_pi(psi - e.z());
@@ -449,13 +451,8 @@ void Estimator::reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss)
   mag_reject_since_ = -1;
   mag_heading_.stats.consecutive_rejected = 0;
   mag_.stats.consecutive_rejected = 0;
-  if (from_gnss) {
-    ++gnss_yaw_resets_;
-    push(stamp, EventKind::gnss_yaw_reset, Sensor::gnss, innovation * 180.0 / tern::kPi);
-  } else {
-    ++mag_resets_;
-    push(stamp, EventKind::mag_reset, Sensor::mag, innovation * 180.0 / tern::kPi);
-  }
+  ++(from_gnss ? gnss_yaw_resets_ : mag_resets_);
+  push(stamp, why, from_gnss ? Sensor::gnss : Sensor::mag, innovation * 180.0 / tern::kPi);
 }
 
 std::pair<double, double> Estimator::gnss_yaw(const msg::Gnss& m) const {
@@ -480,7 +477,7 @@ bool Estimator::recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3
   const auto [psi, sigma] = gnss_yaw(m);
   const double yaw_error = wrap_pi(psi - euler_from_quaternion(filter_.x().q).z());
   if (std::fabs(yaw_error) > (gsf_converged() ? std::max(3.0 * sigma, 0.1745) : sigma)) {
-    reset_yaw_to_gnss(m.stamp, p, m, t_v);
+    reset_yaw_to_gnss(m.stamp, p, m, t_v, EventKind::gnss_yaw_reset);
     return true;
   }
   const double innovation = (m.vel - filter_.x().v).norm();
@@ -515,17 +512,16 @@ bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v)
   }
   if (gsf_disagree_since_ < 0) gsf_disagree_since_ = m.stamp;
   if (to_seconds(m.stamp - gsf_disagree_since_) < cfg_.gsf_disagree_time) return false;
-  reset_yaw_to_gnss(m.stamp, p, m, t_v);
-  events_.back().kind = EventKind::gsf_yaw_reset;  // reset_yaw's event, with its innovation
+  reset_yaw_to_gnss(m.stamp, p, m, t_v, EventKind::gsf_yaw_reset);
   gsf_disagree_since_ = -1;
   return true;
 }
 
-void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v) {
+void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why) {
   // Velocity and position first (the wind then comes from the fix's velocity), then the yaw.
   const auto [psi, sigma] = gnss_yaw(m);
   reset_to_gnss(stamp, p, m.vel, t_v);
-  reset_yaw(stamp, psi, sigma, true);
+  reset_yaw(stamp, psi, sigma, why);
   mag_inhibited_ = true;
   gnss_vel_reject_since_ = -1;
 }

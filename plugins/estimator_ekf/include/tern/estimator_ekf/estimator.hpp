@@ -734,11 +734,12 @@ class Estimator {
   double last_Va_ = 0.0;  // airspeed of the last applicable pitot sample, m/s (0: none)
   Nanos last_Va_stamp_ = -1;
   /// Yaw to psi (roll and pitch kept) with yaw sigma `sigma`, the wind re-derived from the air
-  /// triangle when airborne; counted as a magnetometer reset unless `from_gnss`.
-  void reset_yaw(Nanos stamp, double psi, double sigma, bool from_gnss = false);
-  /// In the air, GNSS velocity rejected for gnss_yaw_reset_time: yaw from the GNSS course,
-  /// velocity and position to the fix, the magnetometer no longer fused (inhibit_mag_).
-  void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v);
+  /// triangle when airborne (wider by the yaw's sigma unless the yaw came from the magnetometer);
+  /// `why` (mag_reset, gnss_yaw_reset or gsf_yaw_reset) is the event and the counter.
+  void reset_yaw(Nanos stamp, double psi, double sigma, EventKind why);
+  /// Yaw from the GNSS (gnss_yaw(): the converged GSF's, else the course), velocity and position
+  /// to the fix, the magnetometer no longer fused (mag_inhibited_); `why` as for reset_yaw.
+  void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why);
   /// The field at the origin (mag_field_from_model) or the configured one; sets the models.
   void set_earth_field(const tern::MagneticField& f);
   tern::MagneticField field_;
