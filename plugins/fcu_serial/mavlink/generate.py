@@ -37,28 +37,56 @@ def x25(data, crc=0xFFFF):
     return crc
 
 
+def read_dialect(path):
+    """The root element of the dialect file; a malformed file or an <include> is one error line."""
+    try:
+        root = ET.parse(path).getroot()
+    except (OSError, ET.ParseError) as e:
+        raise SystemExit(f"{path}: cannot read the dialect: {e}")
+    for inc in root.iter("include"):
+        raise SystemExit(f"{path}: <include>{inc.text}</include> is not supported (one self-contained dialect file)")
+    return root
+
+
 class Field:
     def __init__(self, el):
         self.name = el.get("name")
         t = el.get("type")
-        if t == "uint8_t_mavlink_version":
+        # MAVLink's magic type: a uint8_t on the wire, filled by the sender with MAVLINK_VERSION
+        self.is_mavlink_version = t == "uint8_t_mavlink_version"
+        if self.is_mavlink_version:
             t = "uint8_t"
         self.array = 0
         if "[" in t:
             t, n = t.split("[")
             self.array = int(n.rstrip("]"))
         if t not in SIZES:
-            raise SystemExit(f"generate.py: field {self.name}: unknown type {t}")
+            raise SystemExit(f"field {self.name}: unknown type {t}")
         self.type = t
         self.size = SIZES[t]
         self.wire = self.size * max(1, self.array)
+
+
+def base_fields(el):
+    """The fields of a message element up to <extensions/> (wire protocol 1.0 has no extensions:
+    the MAVLink generator drops the fields after that marker)."""
+    fields = []
+    for child in el:
+        if child.tag == "extensions":
+            break
+        if child.tag == "field":
+            try:
+                fields.append(Field(child))
+            except SystemExit as e:
+                raise SystemExit(f"message {el.get('name')}: {e}")
+    return fields
 
 
 class Message:
     def __init__(self, el):
         self.id = int(el.get("id"))
         self.name = el.get("name")
-        self.fields = [Field(f) for f in el.findall("field")]
+        self.fields = base_fields(el)
         self.ordered = sorted(self.fields, key=lambda f: f.size, reverse=True)  # stable
         self.length = sum(f.wire for f in self.fields)
         crc = x25((self.name + " ").encode())
@@ -116,7 +144,7 @@ def struct_code(m):
 def main():
     if len(sys.argv) < 3:
         raise SystemExit("usage: generate.py DIALECT.xml OUTPUT.hpp MESSAGE_NAME...")
-    root = ET.parse(sys.argv[1]).getroot()
+    root = read_dialect(sys.argv[1])
     msgs = [Message(el) for el in root.iter("message")]
     by_name = {m.name: m for m in msgs}
     wanted = sys.argv[3:]
