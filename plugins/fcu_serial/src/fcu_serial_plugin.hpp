@@ -111,6 +111,7 @@ class FcuSerial final : public tern::Plugin {
   fcu::LinkOptions link_options() const;
   std::string find_emulator() const;
   void start_emulator();
+  void start_calibration();
   void wait_first_imu(const fcu::LinkOptions& o);
   void shutdown();
   template <class T>
@@ -150,7 +151,7 @@ class FcuSerial final : public tern::Plugin {
   tern::Output<msg::FcuStatus> status_out_;
 
   tern::Param<std::string> transport_, device_, udp_host_, clock_name_, emulator_args_, emulator_path_, channels_, emulator_params_,
-      emulator_rc_;
+      emulator_rc_, emulator_firmware_, calibrate_;
   tern::Param<std::int64_t> baud_, udp_bind_port_, udp_remote_port_, system_id_, component_id_;
   tern::Param<bool> lockstep_, emulator_;
   tern::Param<double> connect_timeout_, wait_timeout_, link_timeout_, command_rate_, heartbeat_rate_, timesync_rate_, mag_scale_;

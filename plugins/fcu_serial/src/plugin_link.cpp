@@ -3,6 +3,7 @@
 // and the flight summary. See fcu_serial_plugin.hpp.
 #include <cstdlib>
 #include <filesystem>
+#include <map>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -52,6 +53,23 @@ void FcuSerial::start() {
   ver.command = static_cast<std::uint8_t>(fcu::RosflightCmd::send_version);
   send(ver);
   wait_first_imu(o);
+  start_calibration();
+}
+
+/// `calibrate`: the ROSFLIGHT_CMD of that calibration, as `tern fcu calibrate` sends it; the
+/// FCU's answer (CMD_ACK) and verdict (STATUSTEXT, e.g. "IMU offsets captured") are logged as
+/// every FCU message is.
+void FcuSerial::start_calibration() {
+  static const std::map<std::string, fcu::RosflightCmd> kinds = {{"imu", fcu::RosflightCmd::accel_calibration},
+                                                                 {"gyro", fcu::RosflightCmd::gyro_calibration},
+                                                                 {"baro", fcu::RosflightCmd::baro_calibration},
+                                                                 {"airspeed", fcu::RosflightCmd::airspeed_calibration}};
+  const auto k = kinds.find(calibrate_());
+  if (k == kinds.end()) return;
+  mav::RosflightCmd cmd;
+  cmd.command = static_cast<std::uint8_t>(k->second);
+  send(cmd);
+  log().info("asked the FCU for its {} calibration", calibrate_());
 }
 
 /// start(): the FCU's first IMU sample within connect_timeout, or one line saying so.
@@ -95,19 +113,22 @@ void FcuSerial::shutdown() {
   }
 }
 
-/// emulator_path, else tern-fcu-emulator next to the tern command, else on PATH.
+/// emulator_path, else the emulator's program (tern-fcu-emulator, or tern-fcu-sil for the real
+/// firmware) next to the tern command, else on PATH.
 std::string FcuSerial::find_emulator() const {
   if (!emulator_path_().empty()) return emulator_path_();
-  const std::filesystem::path here = fcu::executable_dir();
-  if (!here.empty() && std::filesystem::exists(here / "tern-fcu-emulator")) return (here / "tern-fcu-emulator").string();
+  const bool sil = emulator_firmware_() == "rosflight";
+  const std::string program = sil ? "tern-fcu-sil" : "tern-fcu-emulator";
+  std::vector<std::filesystem::path> dirs{fcu::executable_dir()};
   if (const char* path = std::getenv("PATH")) {
     std::stringstream ss(path);
-    for (std::string dir; std::getline(ss, dir, ':');)
-      if (std::filesystem::exists(std::filesystem::path(dir) / "tern-fcu-emulator"))
-        return (std::filesystem::path(dir) / "tern-fcu-emulator").string();
+    for (std::string dir; std::getline(ss, dir, ':');) dirs.emplace_back(dir);
   }
-  throw std::runtime_error("parameter '" + qname("emulator") + "': tern-fcu-emulator not found next to the tern command nor on PATH (set " +
-                           qname("emulator_path") + ")");
+  for (const auto& dir : dirs)
+    if (!dir.empty() && std::filesystem::exists(dir / program)) return (dir / program).string();
+  throw std::runtime_error("parameter '" + qname("emulator") + "': " + program + " not found next to the tern command nor on PATH" +
+                           (sil ? " (it is built when CMake is given a rosflight_firmware tree: -DTERN_ROSFLIGHT_FIRMWARE_DIR=...)"
+                                : " (set " + qname("emulator_path") + ")"));
 }
 
 void FcuSerial::start_emulator() {
@@ -131,14 +152,14 @@ void FcuSerial::start_emulator() {
       line = emulator_proc_->read_line(kEmulatorPortTimeout);
     } catch (const std::exception& e) {
       emulator_proc_.reset();
-      throw std::runtime_error("tern-fcu-emulator (" + exe + ") did not report its port: " + e.what());
+      throw std::runtime_error(exe + " did not report its port: " + e.what());
     }
     if (line.rfind("pty: ", 0) == 0) {
       emulator_device_ = line.substr(5);
       break;
     }
   }
-  log().info("tern-fcu-emulator (pid {}) on {}", emulator_proc_->pid(), emulator_device_);
+  log().info("{} (pid {}) on {}", exe, emulator_proc_->pid(), emulator_device_);
 }
 
 void FcuSerial::send_heartbeat() {

@@ -92,8 +92,20 @@ void FcuSerial::declare_link_params() {
           .start_only());
   declare(emulator_rc_, "emulator_rc", fcu::firmware::kDefaultRcScript,
           ParamSpec("", 0, 0, "the emulated pilot's transmitter over time (tern-fcu-emulator --rc), or none").start_only());
+  declare(emulator_firmware_, "emulator_firmware", "emulated",
+          ParamSpec("", 0, 0,
+                    "emulated: tern-fcu-emulator (tern's reading of the firmware); rosflight: tern-fcu-sil (the real ROSflight "
+                    "firmware on tern's SIL board)")
+              .one_of({"emulated", "rosflight"})
+              .start_only());
+  declare(calibrate_, "calibrate", "",
+          ParamSpec("", 0, 0,
+                    "a calibration the FCU runs at the start (ROSFLIGHT_CMD, as `tern fcu calibrate`): imu (accelerometer and gyro, "
+                    "aircraft level and still), gyro, baro, airspeed (pitot covered); empty: none")
+              .one_of({"", "imu", "gyro", "baro", "airspeed"})
+              .start_only());
   declare(emulator_path_, "emulator_path", "",
-          ParamSpec("", 0, 0, "tern-fcu-emulator executable; empty: next to the tern command, then PATH").start_only());
+          ParamSpec("", 0, 0, "the emulator's executable; empty: next to the tern command, then PATH").start_only());
 }
 
 void FcuSerial::declare_mapping_params() {

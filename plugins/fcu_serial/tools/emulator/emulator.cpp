@@ -10,38 +10,15 @@
 #include <yaml-cpp/yaml.h>
 
 #include "tern_sim_aero/wind.hpp"
+#include "util.hpp"
 
 namespace tern::fcu::emulator {
 
 namespace {
-std::int64_t mono_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
-std::int64_t ns(double s) { return static_cast<std::int64_t>(std::llround(s * 1e9)); }
-
-std::vector<double> numbers(const std::string& s, std::size_t n, const std::string& what) {
-  std::vector<double> v;
-  std::stringstream ss(s);
-  for (std::string item; std::getline(ss, item, s.find(':') != std::string::npos ? ':' : ',');) {
-    try {
-      v.push_back(std::stod(item));
-    } catch (const std::exception&) {
-      throw std::runtime_error(what + ": '" + s + "' is not a list of numbers");
-    }
-  }
-  if (v.size() != n) throw std::runtime_error(what + ": needs " + std::to_string(n) + " numbers, got '" + s + "'");
-  return v;
-}
-
 // ROSFLIGHT_VERSION's text (at most 50 characters: rosflight.xml): this program and the
 // firmware commit it plays
 constexpr const char* kVersion = "tern-fcu-emulator 0.2 (rosflight_firmware e8cf6a0)";
 
-sim::SensorSchedule every(double hz) {
-  sim::SensorSchedule s;
-  s.period = ns(1.0 / hz);
-  return s;
-}
 }  // namespace
 
 firmware::Params load_params(const std::string& file) {

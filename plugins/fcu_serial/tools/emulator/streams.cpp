@@ -3,12 +3,12 @@
 #include <cmath>
 
 #include "emulator.hpp"
+#include "util.hpp"
 
 namespace tern::fcu::emulator {
 
 namespace {
 using Poll = sim::SensorSchedule::Poll;
-constexpr std::int64_t kUnixEpoch = 1'763'683'200'000'000'000;  // a fixed GNSS epoch: repeatable
 }  // namespace
 
 void Emulator::step_sensors(std::int64_t t) {

@@ -1,0 +1,184 @@
+// sil/sil.cpp: see sil.hpp. The world side of each loop is in sil_world.cpp, the parameter
+// upload in sil_params.cpp.
+#include "sil.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+#include <unistd.h>
+
+#include "../emulator/util.hpp"
+#include "mavlink_adapter.hpp"
+#include "rosflight.h"
+#include "tern_fcu_serial/messages.hpp"
+#include "tern_sim_aero/profiles.hpp"
+
+namespace tern::fcu::sil {
+
+namespace {
+/// A fresh flash file for one run: in TMPDIR, named after the process.
+std::string temporary_flash() {
+  const std::filesystem::path dir = std::filesystem::temp_directory_path();
+  return (dir / ("tern-fcu-sil-" + std::to_string(getpid()) + ".flash")).string();
+}
+
+/// The raw sensors of a profile: no calibration at boot or stored in the world (the firmware's
+/// calibrations take their place). The accelerometer keeps its turn-on offset: `realistic`
+/// models what is left after a stored calibration (0.05 m/s^2); uncalibrated, the ICM-20602's
+/// zero-g offset is +-25 mg (DS-000176), 0.245 m/s^2.
+sim::SensorParams raw_sensors(const std::string& profile) {
+  sim::SensorParams p = sim::sensor_profile(profile);
+  if (p.accel_calibrated_level) p.accel_bias_range = std::max(p.accel_bias_range, 0.025 * 9.80665);
+  p.calibrate_at_boot = false;
+  p.accel_calibrated_level = false;
+  p.accel_calibration_tilt_range = 0.0;
+  return p;
+}
+}  // namespace
+
+const char* firmware_version() { return GIT_VERSION_STRING; }
+
+Sil::Sil(const SilOptions& o, emulator::Port& port)
+    : o_(o),
+      port_(port),
+      ac_(tern::load_aircraft(o.world.aircraft)),
+      sim_(ac_, o.world.seed),
+      sensors_(raw_sensors(o.sensor_profile), o.world.seed ^ 0x9E3779B97F4A7C15ull),
+      rc_script_(o.world.rc),
+      board_(o.flash.empty() ? temporary_flash() : o.flash) {
+  temporary_flash_ = o.flash.empty();
+  if (temporary_flash_) std::filesystem::remove(board_.flash_file());
+  const auto out = emulator::numbers(o.outputs, 4, "--outputs");
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (out[i] < 0 || out[i] >= static_cast<double>(SilBoard::kOutputs) || out[i] != std::floor(out[i]))
+      throw std::runtime_error("--outputs: '" + o.outputs + "': each output is an integer 0.." + std::to_string(SilBoard::kOutputs - 1));
+    outputs_[i] = static_cast<int>(out[i]);
+  }
+  throw_ = {ac_.max_delta_a, ac_.max_delta_e, ac_.max_delta_r};
+  if (!o.world.max_deflection.empty()) {
+    const auto m = emulator::numbers(o.world.max_deflection, 3, "--max-deflection");
+    throw_ = {m[0], m[1], m[2]};
+  }
+  sim_.set_actuators(sim::actuator_profile(o.sensor_profile));
+  const auto w = emulator::numbers(o.world.wind, 3, "--wind");
+  sim_.set_turbulence(sim::dryden_preset(o.world.turbulence));
+  sim_.set_steady_wind(Eigen::Vector3d(w[0], w[1], w[2]));
+  if (o.world.init_mode == "ground")
+    sim_.set_state(sim::rest_state(ac_, 0, 0, o.world.init_heading));
+  else if (o.world.init_mode == "air")
+    sim_.set_state(sim::make_state({0, 0, -o.world.init_altitude}, {o.world.init_airspeed, 0, 0}, 0, 0, o.world.init_heading));
+  else
+    throw std::runtime_error("--init-mode: '" + o.world.init_mode + "' is not ground or air");
+  if (!o.world.silence.empty()) {
+    const auto s = emulator::numbers(o.world.silence, 2, "--silence");
+    silence_ = {emulator::ns(s[0]), emulator::ns(s[1])};
+  }
+  imu_ = emulator::every(400);
+  mag_ = emulator::every(50);
+  baro_ = emulator::every(100);
+  diff_ = emulator::every(100);
+  gnss_ = emulator::every(10);
+  rc_ = emulator::every(50);
+  dt_ = imu_.period;
+  gnss_latency_ = emulator::ns(sensors_.params().gnss_latency);
+  board_.set_time_us(static_cast<std::uint64_t>(board_us(0)));
+  upload_params();
+  boot();
+}
+
+Sil::~Sil() {
+  fw_.reset();
+  adapter_.reset();
+  if (temporary_flash_) std::filesystem::remove(board_.flash_file());
+}
+
+/// The firmware as src/main.cpp starts it: the adapter on the board, ROSflight, init().
+void Sil::boot() {
+  fw_.reset();
+  adapter_ = std::make_unique<rosflight_firmware::MavlinkAdapter>(board_);
+  fw_ = std::make_unique<rosflight_firmware::ROSflight>(board_, *adapter_);
+  fw_->init();
+}
+
+/// Frames go out at the end of each loop; a silent link loses them.
+bool Sil::flush() {
+  std::vector<std::uint8_t> sent = board_.take_sent();
+  out_.insert(out_.end(), sent.begin(), sent.end());
+  if (out_.empty()) return true;
+  const bool silent = silence_ && t_ >= silence_->first && t_ < silence_->second;
+  const bool ok = !silent && port_.write(out_.data(), out_.size());
+  if (!ok) ++dropped_;
+  out_.clear();
+  return ok;
+}
+
+/// Moves what the companion sent (waiting at most timeout_ns) to the firmware's serial port,
+/// counting its OFFBOARD_CONTROL frames on the way (the board's UART does not parse).
+void Sil::service(std::int64_t timeout_ns) {
+  pollfd p{port_.fd(), POLLIN, 0};
+  if (poll(&p, 1, static_cast<int>(std::max<std::int64_t>(0, timeout_ns) / 1'000'000)) <= 0) return;
+  std::uint8_t buf[4096];
+  for (std::size_t n; (n = port_.read(buf, sizeof buf)) > 0;) {
+    board_.receive_bytes(buf, n);
+    monitor_.feed(buf, n, [&](const mavlink::Frame& f) {
+      if (f.msgid == mavlink::OffboardControl::kId) ++commands_;
+    });
+  }
+}
+
+void Sil::run_firmware() {
+  fw_->run();
+  if (board_.reboot_requested()) {
+    board_.clear_reboot();
+    ++reboots_;
+    std::cerr << "tern-fcu-sil: reboot at t = " << static_cast<double>(t_) * 1e-9 << " s\n";
+    flush();
+    boot();
+  }
+}
+
+/// --lockstep: one OFFBOARD_CONTROL per IMU sample that reached the companion.
+void Sil::wait_for_command(std::uint64_t& used) {
+  static bool warned = false;
+  const std::int64_t deadline = emulator::mono_ns() + emulator::ns(o_.world.stall_timeout);
+  while (!emulator::g_emulator_stop && commands_ <= used) {
+    const std::int64_t left = deadline - emulator::mono_ns();
+    if (used > 0 && left <= 0) {
+      if (!warned) std::cerr << "tern-fcu-sil: no command for " << o_.world.stall_timeout << " s; running on\n";
+      warned = true;
+      break;
+    }
+    service(used > 0 ? std::min<std::int64_t>(left, 100'000'000) : 100'000'000);
+  }
+  used = commands_;
+}
+
+int Sil::run() {
+  const std::int64_t wall0 = emulator::mono_ns();
+  const std::int64_t end = o_.world.duration > 0 ? emulator::ns(o_.world.duration) : INT64_MAX;
+  std::uint64_t used = 0;
+  while (!emulator::g_emulator_stop && t_ <= end) {
+    board_.set_time_us(static_cast<std::uint64_t>(board_us(t_)));
+    put_sensors(t_);
+    run_firmware();
+    const bool delivered = flush() && imu_sent_;
+    if (o_.world.lockstep && delivered) {
+      wait_for_command(used);
+    } else if (!o_.world.lockstep) {
+      const std::int64_t target = wall0 + static_cast<std::int64_t>(static_cast<double>(t_ + dt_) / o_.world.speed);
+      for (std::int64_t left; !emulator::g_emulator_stop && (left = target - emulator::mono_ns()) > 0;) service(left);
+    }
+    service(0);
+    run_firmware();
+    flush();
+    apply_outputs(t_);
+    sim_.step(static_cast<double>(dt_) * 1e-9);
+    t_ += dt_;
+  }
+  std::cerr << "tern-fcu-sil: stopped at t = " << static_cast<double>(t_) * 1e-9 << " s after " << commands_ << " commands (" << dropped_
+            << " writes lost, " << reboots_ << " reboots)\n";
+  return 0;
+}
+
+}  // namespace tern::fcu::sil
