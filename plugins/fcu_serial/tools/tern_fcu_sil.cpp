@@ -28,6 +28,12 @@ int main(int argc, char** argv) {
   app.add_option("--sensor-profile", o.sensor_profile, "sim_aero sensor and actuator profile of the raw sensors")
       ->check(CLI::IsMember({"realistic", "rosflight", "ideal"}))
       ->capture_default_str();
+  app.add_option("--companion-silence", o.companion_silence,
+                 "T0:T1 s: the companion's bytes do not reach the firmware in this window (its OFFBOARD_TIMEOUT hands the "
+                 "aircraft to the pilot)");
+  app.add_flag("--bench-calibration", o.bench_calibration,
+               "before the flight, calibrate the IMU on the bench (level, still) with the firmware's own calibration and "
+               "save it to flash, as ROSflight asks before flying");
   CLI11_PARSE(app, argc, argv);
   return emulator::run_on_port(o.world, "tern-fcu-sil", [&](emulator::Port& port) {
     auto sil = std::make_shared<sil::Sil>(o, port);

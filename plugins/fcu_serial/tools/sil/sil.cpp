@@ -74,6 +74,10 @@ Sil::Sil(const SilOptions& o, emulator::Port& port)
     const auto s = emulator::numbers(o.world.silence, 2, "--silence");
     silence_ = {emulator::ns(s[0]), emulator::ns(s[1])};
   }
+  if (!o.companion_silence.empty()) {
+    const auto s = emulator::numbers(o.companion_silence, 2, "--companion-silence");
+    deaf_ = {emulator::ns(s[0]), emulator::ns(s[1])};
+  }
   imu_ = emulator::every(400);
   mag_ = emulator::every(50);
   baro_ = emulator::every(100);
@@ -84,6 +88,7 @@ Sil::Sil(const SilOptions& o, emulator::Port& port)
   gnss_latency_ = emulator::ns(sensors_.params().gnss_latency);
   board_.set_time_us(static_cast<std::uint64_t>(board_us(0)));
   upload_params();
+  if (o.bench_calibration) bench_calibration();
   boot();
 }
 
@@ -119,8 +124,9 @@ void Sil::service(std::int64_t timeout_ns) {
   pollfd p{port_.fd(), POLLIN, 0};
   if (poll(&p, 1, static_cast<int>(std::max<std::int64_t>(0, timeout_ns) / 1'000'000)) <= 0) return;
   std::uint8_t buf[4096];
+  const bool deaf = deaf_ && t_ >= deaf_->first && t_ < deaf_->second;
   for (std::size_t n; (n = port_.read(buf, sizeof buf)) > 0;) {
-    board_.receive_bytes(buf, n);
+    if (!deaf) board_.receive_bytes(buf, n);
     monitor_.feed(buf, n, [&](const mavlink::Frame& f) {
       if (f.msgid == mavlink::OffboardControl::kId) ++commands_;
     });

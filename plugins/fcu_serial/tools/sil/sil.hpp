@@ -51,6 +51,11 @@ struct SilOptions {
   std::string flash;                ///< parameter flash file; empty: a fresh one per run (deleted at exit)
   std::string outputs = "0,1,2,4";  ///< firmware outputs driving aileron, elevator, rudder, motor (fixedwing_mixing)
   std::string sensor_profile = "realistic";
+  /// T0:T1 s: the companion's bytes do not reach the firmware (a cut wire, a hung companion);
+  /// lockstep still counts its commands, so the world keeps stepping.
+  std::string companion_silence;
+  /// Before the flight, the firmware calibrates the IMU on the bench and saves it (sil_bench.cpp).
+  bool bench_calibration = false;
 };
 
 /// The firmware's version string: what its CMake puts in GIT_VERSION_STRING.
@@ -66,6 +71,9 @@ class Sil {
   std::int64_t board_us(std::int64_t t) const { return (t + 1'000'000'000) / 1000; }
   void boot();
   void upload_params();
+  void bench_calibration();
+  int run_bench();
+  sim::Truth bench_truth() const;
   void put_sensors(std::int64_t t);
   void put_imu(std::int64_t t);
   void put_gnss(std::int64_t t);
@@ -96,7 +104,7 @@ class Sil {
   std::optional<sim::Truth> truth_;
   std::deque<std::pair<std::int64_t, rosflight_firmware::GnssStruct>> gnss_pending_;  ///< delivery time, fix
   sim::SensorSchedule imu_, mag_, baro_, diff_, gnss_, rc_;
-  std::optional<std::pair<std::int64_t, std::int64_t>> silence_;
+  std::optional<std::pair<std::int64_t, std::int64_t>> silence_, deaf_;
   std::int64_t t_ = 0, dt_ = 2'500'000, gnss_latency_ = 0;
   std::uint64_t dropped_ = 0, reboots_ = 0;
   bool imu_sent_ = false;
