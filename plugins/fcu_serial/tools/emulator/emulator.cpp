@@ -92,6 +92,7 @@ Emulator::Emulator(const Options& o, Port& port)
   status_ = every(10);
   heartbeat_ = every(1);
   dt_ = imu_.period;
+  if (!o.truth.empty()) truth_log_.emplace(o.truth);
 }
 
 /// Frames are written at the end of each loop; a silent link or a full port loses them.
@@ -164,6 +165,7 @@ int Emulator::run() {
     }
     const std::int64_t loop_start = mono_ns();
     step_sensors(t_);
+    if (truth_log_) truth_log_->write(t_, sim_, truth().fm.air.Va);
     fcu_->set_loop_time_us(static_cast<std::uint16_t>(std::min<std::int64_t>((mono_ns() - loop_start) / 1000, 65535)));
     const bool delivered = flush() && imu_delivered_;
     if (o_.lockstep && delivered) {

@@ -20,6 +20,7 @@
 
 #include "port.hpp"
 #include "rc_script.hpp"
+#include "truth_log.hpp"
 #include "tern_fcu_serial/codec.hpp"
 #include "tern_fcu_serial/fcu_side.hpp"
 #include "tern/aircraft.hpp"
@@ -54,6 +55,7 @@ struct Options {
   /// pilot does at power-up in wind, so that the boot calibration zeroes the sensor, not the wind.
   double pitot_cover = 0;
   double stall_timeout = 10;
+  std::string truth;  ///< --truth FILE: the world's true state (truth_log.hpp); empty: none
   bool exit_with_parent = false;
 };
 
@@ -99,6 +101,7 @@ class Emulator {
   RcScript rc_script_;
   std::array<double, 3> throw_{};  ///< servo throw: rad at PWM fraction 1 of aileron, elevator, rudder
   mavlink::Parser parser_;
+  std::optional<TruthLog> truth_log_;
   std::mt19937_64 rng_;
   std::vector<std::uint8_t> out_;
   std::optional<sim::Truth> truth_;

@@ -33,6 +33,7 @@ void add_world_options(CLI::App& app, Options& o) {
   app.add_option("--silence", o.silence, "T0:T1 s: send nothing in this window (link loss)");
   app.add_option("--pitot-cover", o.pitot_cover, "s: the pitot is covered until then (for the FCU's boot calibration in wind)");
   app.add_option("--stall-timeout", o.stall_timeout, "lockstep: run on after this many wall seconds without a command");
+  app.add_option("--truth", o.truth, "write the world's true state to this CSV (50 Hz; for benchmarks, never read by the autopilot)");
   app.add_flag("--exit-with-parent", o.exit_with_parent, "stop when the process that started it ends (the plugin passes it)");
 }
 

@@ -87,6 +87,7 @@ Sil::Sil(const SilOptions& o, emulator::Port& port)
   dt_ = imu_.period;
   gnss_latency_ = emulator::ns(sensors_.params().gnss_latency);
   board_.set_time_us(static_cast<std::uint64_t>(board_us(0)));
+  if (!o.world.truth.empty()) truth_log_.emplace(o.world.truth);
   upload_params();
   if (o.bench_calibration) bench_calibration();
   boot();
@@ -167,6 +168,7 @@ int Sil::run() {
   while (!emulator::g_emulator_stop && t_ <= end) {
     board_.set_time_us(static_cast<std::uint64_t>(board_us(t_)));
     put_sensors(t_);
+    if (truth_log_) truth_log_->write(t_, sim_, truth().fm.air.Va);
     run_firmware();
     const bool delivered = flush() && imu_sent_;
     if (o_.world.lockstep && delivered) {

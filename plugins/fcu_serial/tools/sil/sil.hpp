@@ -94,6 +94,7 @@ class Sil {
   SilBoard board_;
   std::unique_ptr<rosflight_firmware::MavlinkAdapter> adapter_;
   std::unique_ptr<rosflight_firmware::ROSflight> fw_;
+  std::optional<emulator::TruthLog> truth_log_;
   mavlink::Parser monitor_;  ///< counts the companion's OFFBOARD_CONTROL frames (lockstep)
   std::uint64_t commands_ = 0;
   std::array<int, 4> outputs_{};   ///< output index of aileron, elevator, rudder, motor
