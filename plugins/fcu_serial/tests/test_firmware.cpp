@@ -229,6 +229,20 @@ TEST_CASE("8. one sequence counter over components 250 and 0: no phantom gaps, a
   CHECK(p.stats().seq_gaps == 1);
 }
 
+TEST_CASE("8b. a log line under a clock-byte system id is on the same counter: no phantom gap") {
+  // comm_manager.cpp send_buffered_log_messages passes clock_micros() as the system id
+  mav::Encoder fcu(1, 250);
+  std::vector<std::uint8_t> bytes;
+  fcu.append(mav::SmallImu{}, bytes);
+  fcu.append_as(mav::Statustext{}, bytes, 0xA7, 250);
+  fcu.append(mav::SmallImu{}, bytes);
+  mav::Parser p;
+  int frames = 0;
+  p.feed(bytes.data(), bytes.size(), [&](const mav::Frame&) { ++frames; });
+  CHECK(frames == 3);
+  CHECK(p.stats().seq_gaps == 0);
+}
+
 TEST_CASE("9. boot calibration: the pitot zeroes itself (in wind, 0 afterwards), the baro sets BARO_BIAS; GNSS fix types") {
   fw::Firmware f(configured());
   float reported = 0;

@@ -47,10 +47,13 @@ struct ParserStats {
   std::uint64_t bad_crc = 0;     ///< frames with a wrong checksum
   std::uint64_t unknown_id = 0;  ///< headers naming a message id outside the dialect
   std::uint64_t bad_length = 0;  ///< headers whose length does not match the message definition
-  /// Frames lost according to the sequence numbers, counted per system id: a MAVLink sender
-  /// numbers every frame of its link on one counter whatever the component id (ROSflight sends
-  /// PARAM_VALUE as component 0 and the rest as 250 on one counter: mavlink_adapter.cpp
-  /// send_param_value_*, mavlink_helpers.h mavlink_finalize_message_chan).
+  /// Frames lost according to the sequence numbers, counted on one counter for the link: a
+  /// MAVLink sender numbers every frame of its channel on one counter whatever the ids in the
+  /// header (mavlink_helpers.h mavlink_finalize_message_chan). ROSflight sends PARAM_VALUE as
+  /// component 0 and the rest as 250 (mavlink_adapter.cpp send_param_value_*), and its buffered
+  /// log lines (STATUSTEXT sent once a companion is connected) with the low byte of its
+  /// microsecond clock as the system id (comm_manager.cpp send_buffered_log_messages passes
+  /// clock_micros() as system_id): all on the one counter. A link carries one FCU.
   std::uint64_t seq_gaps = 0;
 };
 
@@ -130,10 +133,9 @@ class Parser {
     frame_.compid = buf_[4];
     frame_.msgid = buf_[5];
     for (std::size_t i = 0; i < frame_.len; ++i) frame_.payload[i] = buf_[kHeaderLength + i];
-    const std::size_t key = frame_.sysid;
-    if (seen_[key]) stats_.seq_gaps += static_cast<std::uint8_t>(frame_.seq - last_seq_[key] - 1);
-    seen_[key] = true;
-    last_seq_[key] = frame_.seq;
+    if (seen_) stats_.seq_gaps += static_cast<std::uint8_t>(frame_.seq - last_seq_ - 1);
+    seen_ = true;
+    last_seq_ = frame_.seq;
     ++stats_.frames;
     state_ = State::idle;
     n_ = 0;
@@ -161,8 +163,8 @@ class Parser {
   std::array<std::uint8_t, 2 * kMaxFrameLength> replay_{};  ///< ring buffer of bytes to scan again
   std::size_t replay_head_ = 0, replay_size_ = 0;
   ParserStats stats_;
-  std::array<bool, 256> seen_{};  ///< per system id
-  std::array<std::uint8_t, 256> last_seq_{};
+  bool seen_ = false;  ///< a frame has been seen (its sequence number is last_seq_)
+  std::uint8_t last_seq_ = 0;
 };
 
 /// The messages tern decodes and encodes (issue 9's list).
