@@ -151,7 +151,7 @@ class FcuSerial final : public tern::Plugin {
   tern::Output<msg::FcuStatus> status_out_;
 
   tern::Param<std::string> transport_, device_, udp_host_, clock_name_, emulator_args_, emulator_path_, channels_, emulator_params_,
-      emulator_rc_, emulator_firmware_, calibrate_;
+      emulator_rc_, emulator_firmware_, calibrate_, emulator_link_;
   tern::Param<std::int64_t> baud_, udp_bind_port_, udp_remote_port_, system_id_, component_id_;
   tern::Param<bool> lockstep_, emulator_;
   tern::Param<double> connect_timeout_, wait_timeout_, link_timeout_, command_rate_, heartbeat_rate_, timesync_rate_, mag_scale_;
@@ -162,6 +162,7 @@ class FcuSerial final : public tern::Plugin {
   fcu::RcMap rc_map_;
   std::unique_ptr<fcu::ChildProcess> emulator_proc_;
   std::string emulator_device_;
+  int emulator_socket_ = -1;  ///< our end of the emulator_link: socket pair (-1: none)
   std::unique_ptr<fcu::Link> link_;
   std::unique_ptr<mav::Encoder> enc_;
   fcu::LinkStats final_stats_;

@@ -116,16 +116,33 @@ void FcuSide::stream_echoes(std::vector<std::uint8_t>& out) {
   }
 }
 
-void FcuSide::stream(std::vector<std::uint8_t>& out) {
+// CommManager::log / send_log_message: the text as vsnprintf into LOG_MSG_SIZE (50) leaves it,
+// at most 49 characters.
+void FcuSide::send_log(const firmware::LogLine& line, std::uint8_t system_id, std::vector<std::uint8_t>& out) {
+  mavlink::Statustext st;
+  st.severity = line.severity;
+  st.text = mavlink::to_chars<50>(line.text.substr(0, 49));
+  enc_.append_as(st, out, system_id, kFirmwareComponent);
+}
+
+void FcuSide::stream(std::int64_t fcu_ns, std::vector<std::uint8_t>& out) {
   stream_echoes(out);
   if (fw_.take_status_request()) send(status(), out);
   if (list_next_ < fw_.params().size()) send_param(list_next_++, out);
-  for (auto& line : fw_.take_log()) held_log_.push_back(std::move(line));
-  if (connected_ && !held_log_.empty()) {  // CommManager::send_buffered_log_messages: one a loop
-    mavlink::Statustext st;
-    st.severity = held_log_.front().severity;
-    st.text = mavlink::to_chars<50>(held_log_.front().text);
-    send(st, out);
+  // CommManager::log_message: once a HEARTBEAT came, a line goes out at once; before, it waits
+  // in a buffer of LOG_BUF_SIZE (25, the oldest overwritten)
+  for (const auto& line : fw_.take_log()) {
+    if (connected_) {
+      send_log(line, sysid(), out);
+    } else {
+      held_log_.push_back(line);
+      if (held_log_.size() > kLogBufferSize) held_log_.erase(held_log_.begin());
+    }
+  }
+  // CommManager::send_buffered_log_messages: one held line a loop, sent with clock_micros() where
+  // the system id belongs (the firmware passes the time as send_log_message's system_id)
+  if (connected_ && !held_log_.empty()) {
+    send_log(held_log_.front(), static_cast<std::uint8_t>(fcu_ns / 1000), out);
     held_log_.erase(held_log_.begin());
   }
 }

@@ -36,6 +36,22 @@ bool Firmware::switch_on(std::string_view channel_param) const {
   return dir < 0 ? pwm < 0.2f : pwm >= 0.8f;
 }
 
+// RC::init_switches (at boot and when a switch's channel or direction changes): one line per
+// switch, mapped when its channel is 4..RC_NUM_CHN-1.
+void Firmware::log_switches() {
+  const std::pair<const char*, const char*> sw[] = {{"ARM", "RC_ARM_CHN"},
+                                                    {"ATTITUDE OVERRIDE", "RC_ATT_OVRD_CHN"},
+                                                    {"THROTTLE OVERRIDE", "RC_THR_OVRD_CHN"},
+                                                    {"ATTITUDE TYPE", "RC_ATT_CTRL_CHN"}};
+  for (const auto& [name, param] : sw) {
+    const std::int32_t ch = params_.get_int(param);
+    if (ch > 3 && ch < params_.get_int("RC_NUM_CHN"))
+      log(6, std::string(name) + " switch mapped to RC channel " + std::to_string(ch));
+    else
+      log(6, std::string(name) + " switch not mapped");
+  }
+}
+
 // RC::look_for_arm_disarm_signal: the arm switch if mapped, else throttle low and yaw right
 // (arm) or left (disarm) held for more than 1 s.
 void Firmware::arm_disarm_signal(std::int64_t now) {

@@ -12,6 +12,7 @@ constexpr int kFixedwing = 9, kInvertedVtail = 10;  // mixer.h mixer_type_t
 // Mixer::init_mixing: PRIMARY_MIXER selects a canned mixer; an invalid choice sets
 // ERROR_INVALID_MIXER and the mixer writes nothing. Inputs (rows) are the muxed channels
 // Fx Fy Fz Qx Qy Qz; outputs 0-2 servos, 4 the motor. SECONDARY_MIXER 255 mirrors the primary.
+// Its log lines, as the firmware says them (severity: 3 error, 4 warning, 6 info).
 void Firmware::init_mixing() {
   clear_error(kErrorInvalidMixer);
   const std::int32_t choice = params_.get_int("PRIMARY_MIXER");
@@ -24,26 +25,32 @@ void Firmware::init_mixing() {
     else
       log(3, "Invalid mixer choice for primary mixer");
     set_error(kErrorInvalidMixer);
-    raw_.fill(0.0f);
-    return;
+  } else {
+    output_type_[0] = output_type_[1] = output_type_[2] = 'S';
+    output_type_[4] = 'M';
+    mix_[0][4] = 1.0f;  // Fx -> motor
+    mix_[3][0] = 1.0f;  // Qx -> output 0 (aileron)
+    if (choice == kFixedwing) {
+      mix_[4][1] = 1.0f;  // Qy -> output 1 (elevator)
+      mix_[5][2] = 1.0f;  // Qz -> output 2 (rudder)
+    } else {              // inverted V-tail: left and right ruddervators
+      mix_[4][1] = -0.5f;
+      mix_[4][2] = 0.5f;
+      mix_[5][1] = 0.5f;
+      mix_[5][2] = 0.5f;
+    }
+    if (const std::int32_t axis = params_.get_int("RC_F_AXIS"); axis != 0) {
+      log(4, "PRIMARY_MIXER=" + std::to_string(choice) + " but RC_F_AXIS=" + std::to_string(static_cast<unsigned>(axis)) + ", which");
+      log(4, "will cause issues (check docs). Is this correct?");
+    }
   }
-  output_type_[0] = output_type_[1] = output_type_[2] = 'S';
-  output_type_[4] = 'M';
-  mix_[0][4] = 1.0f;  // Fx -> motor
-  mix_[3][0] = 1.0f;  // Qx -> output 0 (aileron)
-  if (choice == kFixedwing) {
-    mix_[4][1] = 1.0f;  // Qy -> output 1 (elevator)
-    mix_[5][2] = 1.0f;  // Qz -> output 2 (rudder)
-  } else {              // inverted V-tail: left and right ruddervators
-    mix_[4][1] = -0.5f;
-    mix_[4][2] = 0.5f;
-    mix_[5][1] = 0.5f;
-    mix_[5][2] = 0.5f;
+  const std::int32_t secondary = params_.get_int("SECONDARY_MIXER");
+  if (secondary < 0 || secondary > 11) {  // NUM_MIXERS and beyond, as the firmware's unsigned enum reads them
+    log(6, "Invalid mixer selected for secondary mixer!");
+    log(6, "Secondary mixer defaulting to primary!");
+  } else {
+    log(4, "emulator: SECONDARY_MIXER other than 255 is not emulated (uses the primary)");
   }
-  if (params_.get_int("RC_F_AXIS") != 0)
-    log(4, "PRIMARY_MIXER=" + std::to_string(choice) + " but RC_F_AXIS=" + std::to_string(params_.get_int("RC_F_AXIS")) +
-               ", which will cause issues (check docs). Is this correct?");
-  if (params_.get_int("SECONDARY_MIXER") != 255) log(4, "emulator: SECONDARY_MIXER other than 255 is not emulated (uses the primary)");
   raw_.fill(0.0f);
 }
 

@@ -38,6 +38,11 @@ bool calibration_step(auto& cal, double x, std::int64_t now) {
 }
 }  // namespace
 
+float pressure_altitude(float pressure) {
+  constexpr double kIsaPressure = 101325.0, kIsaExponent = 0.190326730028458, kIsaScale = 44318.1386038261;  // turbomath.h
+  return static_cast<float>((1.0 - std::pow(pressure / kIsaPressure, kIsaExponent)) * kIsaScale);
+}
+
 // Sensors::init_imu: every stored accelerometer and gyro bias 0 -> ERROR_UNCALIBRATED_IMU.
 void Firmware::check_imu_calibrated() {
   bool zero = true;
@@ -113,19 +118,26 @@ void Firmware::calibrate_imu(const std::array<float, 3>& a, const std::array<flo
     for (std::size_t i = 0; i < 3; ++i) params_.set_float(kAcc[i], static_cast<float>(b[i]));
     log(6, "IMU offsets captured");
     clear_error(kErrorUncalibratedImu);
-  } else {
-    log(3, "large accel bias");
+  } else {  // "%d.%d" of the norm's integer part and thousandths, unpadded, as the firmware prints it
+    const double norm = std::hypot(b[0], b[1], b[2]);
+    log(3, "large accel bias: norm = " + std::to_string(static_cast<std::uint32_t>(norm)) + "." +
+               std::to_string(static_cast<std::uint32_t>(norm * 1000) % 1000));
   }
 }
 
 // Sensors::run for the IMU, then the loop body of ROSflight::run: command_manager (failsafe
-// takes effect every loop) and Mixer::mix_output.
+// takes effect every loop) and Mixer::mix_output. The first sample after boot only starts the
+// clock (ROSflight::check_time_going_forwards): no mixing, the outputs stay 0.
 void Firmware::imu(std::array<float, 3>& a, std::array<float, 3>& g, std::int64_t now) {
   clear_error(kErrorImuNotResponding);
   if (gyro_cal_ || acc_cal_) calibrate_imu(a, g);
   for (std::size_t i = 0; i < 3; ++i) {  // correct_imu (temperature compensation: not emulated)
     a[i] -= params_.get_float(kAcc[i]);
     g[i] -= params_.get_float(kGyro[i]);
+  }
+  if (!imu_seen_) {
+    imu_seen_ = true;
+    return;
   }
   command_run(false, now);
   mix_output();
@@ -137,7 +149,7 @@ void Firmware::baro(float pressure, std::int64_t now) {
   if (baro_calibrated_ || !calibration_step(baro_cal_, pressure, now)) return;
   if (baro_cal_.var < kBaroMaxVar) {
     params_.set_float("BARO_BIAS", static_cast<float>(baro_cal_.mean));
-    params_.set_float("GROUND_LEVEL", static_cast<float>(44330.77 * (1.0 - std::pow(baro_cal_.mean / 101325.0, 0.190263))));
+    params_.set_float("GROUND_LEVEL", pressure_altitude(params_.get_float("BARO_BIAS")));
     baro_calibrated_ = true;
     log(6, "Baro ground pressure cal successful!");
   } else {
@@ -163,9 +175,13 @@ float Firmware::diff_pressure(float pressure, std::int64_t now) {
 }
 
 // The param_change_callback listeners that matter here: Mixer (PRIMARY_MIXER, SECONDARY_MIXER,
-// RC_F_AXIS -> init_mixing); Sensors (IMU_* orientation -> init_imu: not emulated).
+// RC_F_AXIS -> init_mixing); RC (a switch's channel or direction -> init_switches); Sensors
+// (IMU_* orientation -> init_imu: not emulated).
 void Firmware::param_changed(std::string_view name) {
   if (name == "PRIMARY_MIXER" || name == "SECONDARY_MIXER" || name == "RC_F_AXIS") init_mixing();
+  if (name == "RC_ATT_OVRD_CHN" || name == "RC_THR_OVRD_CHN" || name == "RC_ATT_CTRL_CHN" || name == "RC_ARM_CHN" ||
+      name.rfind("SWITCH_", 0) == 0)
+    log_switches();
 }
 
 }  // namespace tern::fcu::firmware

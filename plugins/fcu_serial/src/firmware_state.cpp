@@ -5,11 +5,13 @@
 namespace tern::fcu::firmware {
 
 // ROSflight::init: StateManager::init (INIT -> PREFLIGHT), Params::init, Mixer::init
-// (init_mixing: ERROR_INVALID_MIXER unless PRIMARY_MIXER is valid), Sensors::init (init_imu:
-// ERROR_UNCALIBRATED_IMU while every stored bias is 0). Boots disarmed.
+// (init_mixing: ERROR_INVALID_MIXER unless PRIMARY_MIXER is valid), RC::init (init_switches'
+// log lines), Sensors::init (init_imu: ERROR_UNCALIBRATED_IMU while every stored bias is 0).
+// Boots disarmed.
 Firmware::Firmware(Params params) : params_(std::move(params)) {
   set_event(Event::initialized, 0);
   init_mixing();
+  log_switches();
   check_imu_calibrated();
   params_.take_changes();  // boot-time writes are not echoed to anyone
 }

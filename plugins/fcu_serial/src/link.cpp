@@ -1,9 +1,13 @@
 // link.cpp: see tern_fcu_serial/link.hpp.
 #include "tern_fcu_serial/link.hpp"
 
+#include <cerrno>
 #include <chrono>
+#include <cstring>
 #include <deque>
 #include <stdexcept>
+
+#include <unistd.h>
 
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange without it
 
@@ -20,6 +24,7 @@ std::int64_t steady_ns() {
 
 std::string LinkOptions::describe() const {
   if (kind == Kind::serial) return "serial " + device + " @ " + std::to_string(baud);
+  if (kind == Kind::socket) return "socket (fd " + std::to_string(socket_fd) + ")";
   return "udp " + udp_host + ":" + std::to_string(udp_bind_port) + " -> " + std::to_string(udp_remote_port);
 }
 
@@ -29,6 +34,7 @@ struct Link::Impl {
   asio::executor_work_guard<asio::io_context::executor_type> work{io.get_executor()};
   asio::serial_port serial{io};
   asio::ip::udp::socket udp{io};
+  asio::local::stream_protocol::socket local{io};
   asio::ip::udp::endpoint remote, sender;
   asio::steady_timer reopen_timer{io};
   std::array<std::uint8_t, 4096> buf{};
@@ -54,6 +60,14 @@ struct Link::Impl {
         serial.close(ec);
         throw std::runtime_error("cannot configure " + o.describe() + ": " + ec.message());
       }
+    } else if (o.kind == LinkOptions::Kind::socket) {
+      const int fd = ::dup(o.socket_fd);
+      if (fd < 0) throw std::runtime_error("cannot use " + o.describe() + ": " + std::strerror(errno));
+      local.assign(asio::local::stream_protocol(), fd, ec);
+      if (ec) {
+        ::close(fd);
+        throw std::runtime_error("cannot use " + o.describe() + ": " + ec.message());
+      }
     } else {
       const auto addr = asio::ip::make_address(o.udp_host, ec);
       if (ec) throw std::runtime_error("udp host '" + o.udp_host + "' is not an IP address: " + ec.message());
@@ -75,6 +89,7 @@ struct Link::Impl {
     error_code ec;  // a pending write completes with operation_aborted and clears the queue
     if (serial.is_open()) serial.close(ec);
     if (udp.is_open()) udp.close(ec);
+    if (local.is_open()) local.close(ec);
     open = false;
   }
 
@@ -134,6 +149,8 @@ struct Link::Impl {
     };
     if (link.opt_.kind == LinkOptions::Kind::serial)
       serial.async_read_some(asio::buffer(buf), handler);
+    else if (link.opt_.kind == LinkOptions::Kind::socket)
+      local.async_read_some(asio::buffer(buf), handler);
     else
       udp.async_receive_from(asio::buffer(buf), sender, handler);
   }
@@ -177,7 +194,7 @@ struct Link::Impl {
       }
       if (!writes.empty()) writes.pop_front();
       // UDP: the FCU not listening yet (connection refused) is not a link failure.
-      if (ec && link.opt_.kind == LinkOptions::Kind::serial) {
+      if (ec && link.opt_.kind != LinkOptions::Kind::udp) {
         writes.clear();
         on_error("write failed", ec);
         return;
@@ -186,6 +203,8 @@ struct Link::Impl {
     };
     if (link.opt_.kind == LinkOptions::Kind::serial)
       asio::async_write(serial, asio::buffer(writes.front()), done);
+    else if (link.opt_.kind == LinkOptions::Kind::socket)
+      asio::async_write(local, asio::buffer(writes.front()), done);
     else
       udp.async_send_to(asio::buffer(writes.front()), remote, done);
   }

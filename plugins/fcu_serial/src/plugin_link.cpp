@@ -3,7 +3,12 @@
 // and the flight summary. See fcu_serial_plugin.hpp.
 #include <cstdlib>
 #include <filesystem>
+#include <cerrno>
+#include <cstring>
 #include <map>
+
+#include <sys/socket.h>
+#include <unistd.h>
 #include <sstream>
 
 #include <spdlog/spdlog.h>
@@ -37,8 +42,9 @@ void FcuSerial::start() {
   fcu::LinkOptions o = link_options();
   if (emulator_()) {
     start_emulator();
-    o.kind = fcu::LinkOptions::Kind::serial;
+    o.kind = emulator_socket_ >= 0 ? fcu::LinkOptions::Kind::socket : fcu::LinkOptions::Kind::serial;
     o.device = emulator_device_;
+    o.socket_fd = emulator_socket_;
   }
   enc_ = std::make_unique<mav::Encoder>(static_cast<std::uint8_t>(system_id_()), static_cast<std::uint8_t>(component_id_()));
   link_ = std::make_unique<fcu::Link>(o);
@@ -111,6 +117,8 @@ void FcuSerial::shutdown() {
     emulator_proc_->stop();
     emulator_proc_.reset();
   }
+  if (emulator_socket_ >= 0) close(emulator_socket_);
+  emulator_socket_ = -1;
 }
 
 /// emulator_path, else the emulator's program (tern-fcu-emulator, or tern-fcu-sil for the real
@@ -145,7 +153,22 @@ void FcuSerial::start_emulator() {
   argv.insert(argv.end(), {"--rc", emulator_rc_()});
   std::stringstream ss(emulator_args_());
   for (std::string a; ss >> a;) argv.push_back(a);
-  emulator_proc_ = std::make_unique<fcu::ChildProcess>(argv);
+  int child_end = -1;
+  if (emulator_link_() == "socket") {  // a connected byte stream without the terminal layer
+    int sv[2];
+    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
+      throw std::runtime_error("parameter '" + qname("emulator_link") + "': socketpair failed: " + std::strerror(errno));
+    emulator_socket_ = sv[0];
+    child_end = sv[1];
+    argv.insert(argv.end(), {"--fd", std::to_string(fcu::ChildProcess::kPassedFd)});
+  }
+  try {
+    emulator_proc_ = std::make_unique<fcu::ChildProcess>(argv, child_end);
+  } catch (...) {
+    if (child_end >= 0) close(child_end);
+    throw;
+  }
+  if (child_end >= 0) close(child_end);
   for (;;) {
     std::string line;
     try {
@@ -154,8 +177,8 @@ void FcuSerial::start_emulator() {
       emulator_proc_.reset();
       throw std::runtime_error(exe + " did not report its port: " + e.what());
     }
-    if (line.rfind("pty: ", 0) == 0) {
-      emulator_device_ = line.substr(5);
+    if (line.rfind("pty: ", 0) == 0 || line.rfind("fd: ", 0) == 0) {
+      emulator_device_ = line.substr(line.find(' ') + 1);
       break;
     }
   }

@@ -98,6 +98,12 @@ void FcuSerial::declare_link_params() {
                     "firmware on tern's SIL board)")
               .one_of({"emulated", "rosflight"})
               .start_only());
+  declare(emulator_link_, "emulator_link", "socket",
+          ParamSpec("", 0, 0,
+                    "the byte stream to the emulator: socket (a connected local stream socket, 3x faster in lockstep) or pty "
+                    "(a pseudo-terminal: the terminal layer a USB serial FCU goes through)")
+              .one_of({"socket", "pty"})
+              .start_only());
   declare(calibrate_, "calibrate", "",
           ParamSpec("", 0, 0,
                     "a calibration the FCU runs at the start (ROSFLIGHT_CMD, as `tern fcu calibrate`): imu (accelerometer and gyro, "

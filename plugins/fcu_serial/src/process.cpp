@@ -25,13 +25,14 @@ std::int64_t mono_ns() {
 }
 }  // namespace
 
-ChildProcess::ChildProcess(const std::vector<std::string>& argv) {
+ChildProcess::ChildProcess(const std::vector<std::string>& argv, int pass_fd) {
   if (argv.empty()) throw std::runtime_error("ChildProcess: empty command");
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe for " + argv[0] + ": " + std::strerror(errno));
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, fds[1], STDOUT_FILENO);
+  if (pass_fd >= 0) posix_spawn_file_actions_adddup2(&fa, pass_fd, kPassedFd);  // dup2 clears close-on-exec
   std::vector<char*> args;
   for (const auto& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);

@@ -13,7 +13,9 @@
 //                            echoed only when a value changes; PARAM_REQUEST_LIST answered one
 //                            parameter per loop (send_next_param); every ROSFLIGHT_CMD refused
 //                            while armed (command_callback); TIMESYNC answered with
-//                            clock_micros() * 1000; STATUSTEXT held until a HEARTBEAT arrived.
+//                            clock_micros() * 1000; STATUSTEXT held until a HEARTBEAT arrived,
+//                            then sent one a loop with clock_micros() as the system id
+//                            (send_buffered_log_messages), later ones at once as SYS_ID.
 #pragma once
 
 #include <cstdint>
@@ -60,9 +62,9 @@ class FcuSide {
 
   /// Handles one frame from the companion at FCU time fcu_ns; answers go to `out`.
   void handle(const mavlink::Frame& f, std::int64_t fcu_ns, std::vector<std::uint8_t>& out);
-  /// The end of one firmware loop (CommManager::stream): parameter echoes, a status the
-  /// firmware asked for, the next parameter of a list request, one held log line.
-  void stream(std::vector<std::uint8_t>& out);
+  /// The end of one firmware loop at FCU time fcu_ns (CommManager::stream): parameter echoes, a
+  /// status the firmware asked for, the next parameter of a list request, log lines.
+  void stream(std::int64_t fcu_ns, std::vector<std::uint8_t>& out);
   /// Appends a frame the firmware sends as itself (system SYS_ID, component 250).
   template <class T>
   void send(const T& m, std::vector<std::uint8_t>& out) {
@@ -83,7 +85,9 @@ class FcuSide {
   const firmware::Params& stored() const { return stored_; }  ///< what WRITE_PARAMS saved
 
  private:
+  static constexpr std::size_t kLogBufferSize = 25;  ///< CommManager::LogMessageBuffer::LOG_BUF_SIZE
   void send_param(std::size_t i, std::vector<std::uint8_t>& out);
+  void send_log(const firmware::LogLine& line, std::uint8_t system_id, std::vector<std::uint8_t>& out);
   void stream_echoes(std::vector<std::uint8_t>& out);
   void param_set(const mavlink::ParamSet& s);
   void command(const mavlink::RosflightCmd& c, std::uint8_t from_sysid, std::vector<std::uint8_t>& out);

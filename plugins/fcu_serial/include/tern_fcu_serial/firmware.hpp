@@ -37,6 +37,10 @@ namespace tern::fcu::firmware {
 /// state_manager.cpp StateManager::set_event), arm switch on, override switch off.
 inline constexpr const char* kDefaultRcScript = "0 throttle=0 aux1=-1 aux2=-1; 2 aux2=1; 2.1 aux1=1; 2.5 aux2=-1";
 
+/// The firmware's pressure altitude, m, of a static pressure in Pa (lib/turbomath turbomath::alt:
+/// ISA, 101325 Pa at 0 m): SMALL_BARO's altitude and GROUND_LEVEL after the baro's calibration.
+float pressure_altitude(float pressure);
+
 /// MAV_PARAM_TYPE of a firmware parameter (param.cpp: PARAM_TYPE_INT32 / PARAM_TYPE_FLOAT).
 enum class ParamType : std::uint8_t { int32 = 6, real32 = 9 };
 
@@ -140,7 +144,8 @@ class Firmware {
   /// A receiver frame: RC::run, then CommandManager::run (muxing happens only here).
   void rc(const RcFrame& f, std::int64_t now);
   /// One IMU sample: Sensors::run (calibration, bias correction), then the loop body:
-  /// CommandManager::run (failsafe), Mixer::mix_output. Returns the corrected sample.
+  /// CommandManager::run (failsafe), Mixer::mix_output, except on the first sample after boot
+  /// (ROSflight::check_time_going_forwards only notes its time). Returns the corrected sample.
   void imu(std::array<float, 3>& accel, std::array<float, 3>& gyro, std::int64_t now);
   /// Sensors::correct_baro: calibrates at boot; the pressure is reported unchanged.
   void baro(float pressure, std::int64_t now);
@@ -183,6 +188,7 @@ class Firmware {
   bool rc_run(const RcFrame& f, std::int64_t now);
   void arm_disarm_signal(std::int64_t now);
   bool switch_on(std::string_view channel_param) const;
+  void log_switches();
   void command_run(bool new_rc, std::int64_t now);
   std::uint16_t override_status(std::int64_t now);
   bool stick_deviated(int mux, std::int64_t now);
@@ -220,7 +226,7 @@ class Firmware {
   };
   Cal baro_cal_, diff_cal_;
   bool baro_calibrated_ = false, diff_calibrated_ = false;
-  bool gyro_cal_ = false, acc_cal_ = false;
+  bool gyro_cal_ = false, acc_cal_ = false, imu_seen_ = false;
   int imu_cal_count_ = 0, gyro_cal_count_ = 0;
   std::array<double, 3> acc_sum_{}, gyro_sum_{}, acc_max_{}, acc_min_{};
   std::vector<LogLine> log_;

@@ -1,5 +1,5 @@
-// tern_fcu_serial/link.hpp: the byte link to a ROSflight FCU (serial port or UDP) with a reader
-// thread. Plain C++ (Boost.Asio), no tern host types.
+// tern_fcu_serial/link.hpp: the byte link to a ROSflight FCU (serial port, UDP, or a connected
+// local stream socket to an FCU program started by the plugin) with a reader thread. Plain C++ (Boost.Asio), no tern host types.
 //
 // start() opens the port (throws std::runtime_error with one line naming the device or port if
 // that fails) and starts one thread that reads, parses (mavlink::Parser) and queues valid frames
@@ -25,16 +25,20 @@
 namespace tern::fcu {
 
 struct LinkOptions {
-  enum class Kind { serial, udp };
+  enum class Kind { serial, udp, socket };
   Kind kind = Kind::serial;
-  std::string device = "/dev/ttyACM0";         ///< serial device (or pseudo-terminal)
-  unsigned baud = 921600;                      ///< serial baud rate
-  std::string udp_host = "127.0.0.1";          ///< where both ends live (ROSflight SIL: localhost)
-  unsigned udp_bind_port = 14520;              ///< our port (rosflight_io's default)
-  unsigned udp_remote_port = 14525;            ///< the FCU's port (ROSflight SIL firmware's default)
+  std::string device = "/dev/ttyACM0";  ///< serial device (or pseudo-terminal)
+  unsigned baud = 921600;               ///< serial baud rate
+  std::string udp_host = "127.0.0.1";   ///< where both ends live (ROSflight SIL: localhost)
+  unsigned udp_bind_port = 14520;       ///< our port (rosflight_io's default)
+  unsigned udp_remote_port = 14525;     ///< the FCU's port (ROSflight SIL firmware's default)
+  /// Kind::socket: a connected AF_UNIX stream socket (the other end handed to the FCU program);
+  /// the link uses a duplicate and never closes this one.
+  int socket_fd = -1;
   std::size_t queue_capacity = 8192;           ///< frames
   std::int64_t reopen_interval = 500'000'000;  ///< ns
-  /// One line naming the port, for messages: "serial /dev/ttyACM0 @ 921600" or "udp 127.0.0.1:14520".
+  /// One line naming the port, for messages: "serial /dev/ttyACM0 @ 921600", "udp 127.0.0.1:14520"
+  /// or "socket (fd 7)".
   std::string describe() const;
 };
 

@@ -12,9 +12,11 @@ namespace tern::fcu {
 class ChildProcess {
  public:
   ChildProcess() = default;
-  /// Starts argv[0] (a path) with argv; stdout goes to a pipe, stderr is inherited.
-  /// Throws std::runtime_error naming the program if it cannot be started.
-  explicit ChildProcess(const std::vector<std::string>& argv);
+  /// Starts argv[0] (a path) with argv; stdout goes to a pipe, stderr is inherited; `pass_fd`
+  /// (if >= 0) becomes the child's file descriptor kPassedFd. Throws std::runtime_error naming
+  /// the program if it cannot be started.
+  explicit ChildProcess(const std::vector<std::string>& argv, int pass_fd = -1);
+  static constexpr int kPassedFd = 3;
   ~ChildProcess();  ///< stop()
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

@@ -36,6 +36,7 @@ struct Options {
   std::string aircraft;
   std::uint64_t seed = 1;
   bool udp = false;
+  int fd = -1;  ///< --fd N: an inherited, connected stream socket (fcu_serial's emulator_link: socket)
   std::string udp_host = "127.0.0.1";
   unsigned udp_port = 14525, udp_remote_port = 14520;
   bool lockstep = false;

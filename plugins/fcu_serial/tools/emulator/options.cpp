@@ -15,6 +15,8 @@ void add_world_options(CLI::App& app, Options& o) {
   app.add_option("--aircraft", o.aircraft, "aircraft file (tern or ROSflight format)")->required()->check(CLI::ExistingFile);
   app.add_option("--seed", o.seed, "random seed of turbulence and sensor noise");
   app.add_flag("--udp", o.udp, "UDP instead of a pseudo-terminal (ROSflight SIL ports)");
+  app.add_option("--fd", o.fd, "a connected stream socket inherited as this file descriptor, instead of a pseudo-terminal")
+      ->check(CLI::Range(3, 1023));
   app.add_option("--udp-host", o.udp_host, "UDP address");
   app.add_option("--udp-port", o.udp_port, "our UDP port (ROSflight SIL: 14525)");
   app.add_option("--udp-remote-port", o.udp_remote_port, "the companion's UDP port (rosflight_io: 14520)");
@@ -53,7 +55,10 @@ int run_on_port(const Options& o, const std::string& program, const std::functio
   try {
     std::unique_ptr<Port> port;
     std::string where;
-    if (o.udp) {
+    if (o.fd >= 0) {
+      port = std::make_unique<FdPort>(o.fd);
+      where = "fd: " + std::to_string(o.fd);
+    } else if (o.udp) {
       port = std::make_unique<UdpPort>(o.udp_host, o.udp_port, o.udp_remote_port);
       where = "udp: " + o.udp_host + ":" + std::to_string(o.udp_port);
     } else {

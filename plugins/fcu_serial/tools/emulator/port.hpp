@@ -20,7 +20,7 @@
 
 namespace tern::fcu::emulator {
 
-/// The port: a pseudo-terminal's master side, or a UDP socket.
+/// The port: a pseudo-terminal's master side, a UDP socket, or an inherited stream socket.
 class Port {
  public:
   virtual ~Port() = default;
@@ -28,6 +28,25 @@ class Port {
   virtual std::size_t read(std::uint8_t* buf, std::size_t n) = 0;  ///< 0 if nothing
   virtual bool write(const std::uint8_t* p, std::size_t n) = 0;    ///< false if dropped
 };
+
+/// Writes all n bytes to a non-blocking descriptor; a reader that does not drain it for 50 ms
+/// (as a UART would not wait) drops the rest: false.
+inline bool write_all(int fd, const std::uint8_t* p, std::size_t n) {
+  while (n > 0) {
+    const ssize_t w = ::write(fd, p, n);
+    if (w < 0) {
+      if (errno == EINTR) continue;
+      if (errno == EAGAIN) {  // nobody reads: wait a little, as a UART would not, then drop
+        pollfd pf{fd, POLLOUT, 0};
+        if (poll(&pf, 1, 50) > 0) continue;
+      }
+      return false;
+    }
+    p += w;
+    n -= static_cast<std::size_t>(w);
+  }
+  return true;
+}
 
 class PtyPort final : public Port {
  public:
@@ -52,26 +71,31 @@ class PtyPort final : public Port {
     const ssize_t r = ::read(master_, buf, n);
     return r > 0 ? static_cast<std::size_t>(r) : 0;
   }
-  bool write(const std::uint8_t* p, std::size_t n) override {
-    while (n > 0) {
-      const ssize_t w = ::write(master_, p, n);
-      if (w < 0) {
-        if (errno == EINTR) continue;
-        if (errno == EAGAIN) {  // nobody reads: wait a little, as a UART would not, then drop
-          pollfd pf{master_, POLLOUT, 0};
-          if (poll(&pf, 1, 50) > 0) continue;
-        }
-        return false;
-      }
-      p += w;
-      n -= static_cast<std::size_t>(w);
-    }
-    return true;
-  }
+  bool write(const std::uint8_t* p, std::size_t n) override { return write_all(master_, p, n); }
 
  private:
   int master_ = -1, slave_ = -1;
   char name_[256] = {};
+};
+
+/// An inherited, connected stream socket (a byte stream like the pseudo-terminal, without the
+/// terminal layer: fcu_serial's lockstep link).
+class FdPort final : public Port {
+ public:
+  explicit FdPort(int fd) : fd_(fd) {
+    if (fcntl(fd_, F_SETFL, fcntl(fd_, F_GETFL) | O_NONBLOCK) != 0)
+      throw std::runtime_error("--fd " + std::to_string(fd) + ": not an open file descriptor: " + std::strerror(errno));
+  }
+  ~FdPort() override { close(fd_); }
+  int fd() const override { return fd_; }
+  std::size_t read(std::uint8_t* buf, std::size_t n) override {
+    const ssize_t r = ::read(fd_, buf, n);
+    return r > 0 ? static_cast<std::size_t>(r) : 0;
+  }
+  bool write(const std::uint8_t* p, std::size_t n) override { return write_all(fd_, p, n); }
+
+ private:
+  int fd_;
 };
 
 class UdpPort final : public Port {

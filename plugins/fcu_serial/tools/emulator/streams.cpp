@@ -29,10 +29,10 @@ void Emulator::step_sensors(std::int64_t t) {
     const auto m = sensors_.baro(truth(), baro_.dt_since_last(t));
     baro_.last_sample = t;
     fcu_->fw().baro(static_cast<float>(m.pressure), ft);
-    mavlink::SmallBaro s;  // CommManager::send_baro: the raw pressure, its altitude
+    mavlink::SmallBaro s;  // CommManager::send_baro: the raw pressure, its altitude (correct_baro: turbomath::alt)
     s.pressure = static_cast<float>(m.pressure);
     s.temperature = static_cast<float>(m.temperature);
-    s.altitude = static_cast<float>(44330.77 * (1.0 - std::pow(m.pressure / 101325.0, 0.190263)));
+    s.altitude = firmware::pressure_altitude(s.pressure);
     send(s);
   }
   if (diff_.poll(t) == Poll::sample) {
@@ -116,8 +116,9 @@ void Emulator::step_imu(const sim::Truth& truth, std::int64_t t) {
 }
 
 /// A receiver frame every 20 ms: RC_CHANNELS as CommManager::send_rc_raw and
-/// MavlinkAdapter::send_rc_raw pack it (chancount 0, channels 1..8 = chan * 1000 + 1000 us,
-/// 9..18 = 0, rssi 0), then RC::run and CommandManager::run (ROSflight::run).
+/// MavlinkAdapter::send_rc_raw pack it (chancount 0, channels 1..8 = chan * 1000 + 1000 us
+/// converted to uint16_t, i.e. truncated: 1350 us, the float 0.35f, reads back 1349; 9..18 = 0,
+/// rssi 0), then RC::run and CommandManager::run (ROSflight::run).
 void Emulator::step_rc(std::int64_t t) {
   if (!rc_script_.receiver() || rc_.poll(t) != Poll::sample) return;
   rc_.last_sample = t;
@@ -127,7 +128,7 @@ void Emulator::step_rc(std::int64_t t) {
   rc.chancount = 0;
   std::uint16_t* ch[8] = {&rc.chan1_raw, &rc.chan2_raw, &rc.chan3_raw, &rc.chan4_raw,
                           &rc.chan5_raw, &rc.chan6_raw, &rc.chan7_raw, &rc.chan8_raw};
-  for (std::size_t i = 0; i < 8; ++i) *ch[i] = static_cast<std::uint16_t>(std::lround(f.chan[i] * 1000.0f + 1000.0f));
+  for (std::size_t i = 0; i < 8; ++i) *ch[i] = static_cast<std::uint16_t>(f.chan[i] * 1000.0 + 1000);
   rc.rssi = 0;
   send(rc);
   fcu_->fw().rc(f, fcu_time());
@@ -144,7 +145,7 @@ void Emulator::step_streams(std::int64_t t) {
     status_.last_sample = t;
     send(fcu_->status());
   }
-  fcu_->stream(out_);
+  fcu_->stream(fcu_time(), out_);
 }
 
 }  // namespace tern::fcu::emulator
