@@ -10,13 +10,17 @@
 set(TERN_ROSFLIGHT_FIRMWARE_DIR "" CACHE PATH
     "rosflight_firmware source tree for the firmware-in-the-loop (tern-fcu-sil); empty: ../shared/reference/rosflight_firmware/source if present")
 
-set(_tern_rf_files
+# Directory-scope variables would not reach the functions below: they run deferred, from the
+# top-level directory (fcu_serial's emulator function), hence the cache.
+set(TERN_ROSFLIGHT_FIRMWARE_FILES
   include/interface/board.h include/rosflight.h include/mavlink_adapter.hpp include/param.h
   src/comm_manager.cpp src/command_manager.cpp src/controller.cpp src/estimator.cpp src/mixer.cpp
   src/param.cpp src/rc.cpp src/rosflight.cpp src/sensors.cpp src/state_manager.cpp src/mavlink_adapter.cpp
-  lib/turbomath/turbomath.cpp lib/turbomath/turbomath.h comms/mavlink/rosflight.xml)
+  lib/turbomath/turbomath.cpp lib/turbomath/turbomath.h comms/mavlink/rosflight.xml
+  CACHE INTERNAL "the files of a rosflight_firmware tree tern-fcu-sil compiles or reads")
 set(TERN_ROSFLIGHT_FIRMWARE_SKIP_REASON
-    "no rosflight_firmware tree: configure with -DTERN_ROSFLIGHT_FIRMWARE_DIR=<a clone of https://github.com/rosflight/rosflight_firmware> (or put it at ../shared/reference/rosflight_firmware/source)")
+    "no rosflight_firmware tree: configure with -DTERN_ROSFLIGHT_FIRMWARE_DIR=<a clone of https://github.com/rosflight/rosflight_firmware> (or put it at ../shared/reference/rosflight_firmware/source)"
+    CACHE INTERNAL "why tern-fcu-sil is not built")
 
 # Sets TERN_ROSFLIGHT_FIRMWARE_TREE to the tree to build, or leaves it empty.
 function(tern_find_rosflight_firmware)
@@ -30,7 +34,7 @@ function(tern_find_rosflight_firmware)
     endif()
   endif()
   set(missing "")
-  foreach(f IN LISTS _tern_rf_files)
+  foreach(f IN LISTS TERN_ROSFLIGHT_FIRMWARE_FILES)
     if(NOT EXISTS "${tree}/${f}")
       list(APPEND missing "${f}")
     endif()
