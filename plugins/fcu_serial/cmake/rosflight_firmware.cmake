@@ -127,6 +127,12 @@ function(tern_fcu_serial_add_sil world_lib)
   target_link_libraries(tern-fcu-sil PRIVATE tern_rosflight_firmware ${world_lib} tern_fcu_serial_core tern_sim_aero_core CLI11::CLI11 yaml-cpp)
   set_target_properties(tern-fcu-sil PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${TERN_BIN_DIR})
   install(TARGETS tern-fcu-sil RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  # The board alone (no firmware code: its Board interface header only).
+  add_executable(tern_fcu_sil_board_tests ${TERN_FCU_SERIAL_DIR}/tests/test_main.cpp ${TERN_FCU_SERIAL_DIR}/tests/test_sil_board.cpp
+                                          ${sil}/sil_board.cpp)
+  target_include_directories(tern_fcu_sil_board_tests PRIVATE ${sil} "${tree}/include/interface")
+  target_link_libraries(tern_fcu_sil_board_tests PRIVATE doctest::doctest)
+  add_test(NAME fcu_sil_board COMMAND tern_fcu_sil_board_tests)
   set(TERN_FCU_SIL_BUILT TRUE PARENT_SCOPE)
 endfunction()
 
