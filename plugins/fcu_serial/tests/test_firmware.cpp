@@ -41,8 +41,15 @@ fw::RcFrame tx(float roll, float throttle, bool arm, bool ovrd) {
   return f;
 }
 
-/// Arms a configured firmware at time t with the override switch (state_manager.cpp).
+void loop(fw::Firmware& f, std::int64_t t) {
+  std::array<float, 3> a{0, 0, -9.8f}, g{};
+  f.imu(a, g, t);
+}
+
+/// Arms a configured firmware at time t with the override switch (state_manager.cpp), after a
+/// first IMU sample (which only starts the firmware's clock: ROSflight::check_time_going_forwards).
 void arm(fw::Firmware& f, std::int64_t& t) {
+  loop(f, t);
   f.rc(tx(0, 0, false, true), t += 20 * kMs);
   f.rc(tx(0, 0, true, true), t += 20 * kMs);
   f.rc(tx(0, 0, true, false), t += 20 * kMs);
@@ -53,11 +60,6 @@ void command(fw::Firmware& f, const Surfaces& s, std::int64_t t) {
   std::array<float, 10> u{};
   for (std::size_t i = 0; i < 10; ++i) u[i] = c.u[i];
   f.offboard(c.mode, u, c.ignore, t);
-}
-
-void loop(fw::Firmware& f, std::int64_t t) {
-  std::array<float, 3> a{0, 0, -9.8f}, g{};
-  f.imu(a, g, t);
 }
 }  // namespace
 
