@@ -18,7 +18,8 @@ float param_wire(double v, std::uint8_t type) {
   return static_cast<float>(v);
 }
 
-FcuSide::FcuSide(firmware::Params params, std::string version) : fw_(params), stored_(std::move(params)), version_(std::move(version)) {}
+FcuSide::FcuSide(std::optional<firmware::Params> flash, std::string version)
+    : fw_(flash), stored_(flash.value_or(firmware::Params{})), version_(std::move(version)) {}
 
 // MavlinkAdapter::send_param_value_int/float: component 0, the value's type, PARAMS_COUNT.
 void FcuSide::send_param(std::size_t i, std::vector<std::uint8_t>& out) {

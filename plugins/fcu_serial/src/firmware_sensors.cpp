@@ -176,9 +176,11 @@ float Firmware::diff_pressure(float pressure, std::int64_t now) {
 
 // The param_change_callback listeners that matter here: Mixer (PRIMARY_MIXER, SECONDARY_MIXER,
 // RC_F_AXIS -> init_mixing); RC (a switch's channel or direction -> init_switches); Sensors
-// (IMU_* orientation -> init_imu: not emulated).
+// (IMU_* orientation -> init_imu: not emulated); CommandManager (FIXED_WING, FAILSAFE_THR ->
+// init_failsafe).
 void Firmware::param_changed(std::string_view name) {
   if (name == "PRIMARY_MIXER" || name == "SECONDARY_MIXER" || name == "RC_F_AXIS") init_mixing();
+  if (name == "FIXED_WING" || name == "FAILSAFE_THR") init_failsafe();
   if (name == "RC_ATT_OVRD_CHN" || name == "RC_THR_OVRD_CHN" || name == "RC_ATT_CTRL_CHN" || name == "RC_ARM_CHN" ||
       name.rfind("SWITCH_", 0) == 0)
     log_switches();

@@ -4,15 +4,18 @@
 
 namespace tern::fcu::firmware {
 
-// ROSflight::init: StateManager::init (INIT -> PREFLIGHT), Params::init, Mixer::init
-// (init_mixing: ERROR_INVALID_MIXER unless PRIMARY_MIXER is valid), RC::init (init_switches'
-// log lines), Sensors::init (init_imu: ERROR_UNCALIBRATED_IMU while every stored bias is 0).
+// ROSflight::init: StateManager::init (INIT -> PREFLIGHT), Params::init (no readable flash: the
+// defaults, said as a warning), Mixer::init (init_mixing: ERROR_INVALID_MIXER unless
+// PRIMARY_MIXER is valid), RC::init (init_switches' log lines), Sensors::init (init_imu:
+// ERROR_UNCALIBRATED_IMU while every stored bias is 0), CommandManager::init (init_failsafe).
 // Boots disarmed.
-Firmware::Firmware(Params params) : params_(std::move(params)) {
+Firmware::Firmware(std::optional<Params> flash) : params_(flash.value_or(Params{})) {
   set_event(Event::initialized, 0);
+  if (!flash) log(4, "Unable to load parameters; using default values");
   init_mixing();
   log_switches();
   check_imu_calibrated();
+  init_failsafe();
   params_.take_changes();  // boot-time writes are not echoed to anyone
 }
 
@@ -45,9 +48,24 @@ void Firmware::clear_error(std::uint16_t e) {
 
 void Firmware::process_errors(std::int64_t now) { set_event(errors_ ? Event::error : Event::no_error, now); }
 
-// StateManager::set_event, FSM_STATE_ERROR / EVENT_REQUEST_ARM: the reasons, at most once a second.
+// CommandManager::init_failsafe (at boot and when FIXED_WING or FAILSAFE_THR change): a
+// multirotor's FAILSAFE_THR must lie in 0..1, else ERROR_INVALID_FAILSAFE (the firmware's
+// defaults, FIXED_WING 0 and FAILSAFE_THR -1, have it); a fixed wing's failsafe throttle is 0.
+void Firmware::init_failsafe() {
+  const float thr = params_.get_float("FAILSAFE_THR");
+  if (!params_.get_int("FIXED_WING") && (thr < 0.0f || thr > 1.0f))
+    set_error(kErrorInvalidFailsafe);
+  else
+    clear_error(kErrorInvalidFailsafe);
+  const std::int32_t axis = params_.get_int("RC_F_AXIS");
+  if (axis < 0 || axis > 2) log(4, "Invalid RC F axis. Defaulting to z-axis.");
+}
+
+// StateManager::set_event, FSM_STATE_ERROR / EVENT_REQUEST_ARM: the reasons, when the last ones
+// are more than a second old (in whole ms: 1 s and one RC frame apart at 50 Hz).
 void Firmware::refuse_arm(std::int64_t now) {
-  if (now < next_arm_error_msg_) return;
+  const std::int64_t ms = now / 1'000'000;
+  if (ms <= next_arm_error_ms_) return;
   const std::pair<std::uint16_t, const char*> why[] = {{kErrorInvalidMixer, "Unable to arm: Invalid mixer"},
                                                        {kErrorImuNotResponding, "Unable to arm: IMU not responding"},
                                                        {kErrorRcLost, "Unable to arm: RC signal lost"},
@@ -57,7 +75,7 @@ void Firmware::refuse_arm(std::int64_t now) {
                                                        {kErrorInvalidFailsafe, "Unable to arm: Invalid failsafe setting"}};
   for (const auto& [bit, text] : why)
     if (errors_ & bit) log(3, text);
-  next_arm_error_msg_ = now + 1'000'000'000;
+  next_arm_error_ms_ = ms + 1000;
 }
 
 void Firmware::set_event(Event e, std::int64_t now) {

@@ -182,18 +182,44 @@ TEST_CASE("4. ignored channels go to the pilot and set OFFBOARD_*_INACTIVE (dete
   });
 }
 
-TEST_CASE("5a. boots disarmed with errors; an FCU in error refuses to arm and says why (state_manager.cpp set_event)") {
+TEST_CASE("5a. boots disarmed with errors; an FCU in error refuses to arm and says why, once a second (state_manager.cpp set_event)") {
   both([](Program p) {
-    FcuProcess f(p, with_rc("0 throttle=0 yaw=1", false));  // the firmware's defaults: arming by sticks
+    FcuProcess f(p, with_rc("0 throttle=0 yaw=1", false));  // no flash: the firmware's defaults, arming by sticks
     f.run_for(3.0);
     const auto s = f.last<mav::RosflightStatus>();
     REQUIRE(s);
     CHECK(f.first_status([](const mav::RosflightStatus& st) { return st.armed != 0; }) == std::nullopt);
-    CHECK((s->error_code & (firmware::kErrorInvalidMixer | firmware::kErrorUncalibratedImu)) ==
-          (firmware::kErrorInvalidMixer | firmware::kErrorUncalibratedImu));
-    CHECK(f.said("Unable to arm: Invalid mixer"));
-    CHECK(f.said("Unable to arm: IMU not calibrated"));
+    // invalid mixer, uncalibrated IMU, and a multirotor (FIXED_WING 0) without failsafe throttle
+    // (FAILSAFE_THR -1: command_manager.cpp init_failsafe)
+    CHECK(s->error_code == (firmware::kErrorInvalidMixer | firmware::kErrorUncalibratedImu | firmware::kErrorInvalidFailsafe));
     CHECK(arming_problems(false, s->error_code).find("run `tern fcu calibrate imu`") != std::string::npos);
+    std::vector<std::string> boot;
+    std::vector<double> refusals;
+    for (const auto& [t, m] : f.all<mav::Statustext>()) {
+      const std::string text = mav::to_string(m.text);
+      if (text.rfind("Unable to arm", 0) != 0)
+        boot.push_back(text);
+      else if (text == "Unable to arm: Invalid mixer")
+        refusals.push_back(t);
+    }
+    // param.cpp Params::init, mixer.cpp init_mixing, rc.cpp init_switches
+    const std::vector<std::string> expected{"Unable to load parameters; using default values",
+                                            "Invalid mixer choice for primary mixer",
+                                            "Invalid mixer selected for secondary mixer!",
+                                            "Secondary mixer defaulting to primary!",
+                                            "ARM switch not mapped",
+                                            "ATTITUDE OVERRIDE switch mapped to RC channel 4",
+                                            "THROTTLE OVERRIDE switch mapped to RC channel 4",
+                                            "ATTITUDE TYPE switch not mapped"};
+    CHECK(boot == expected);
+    CHECK(f.said("Unable to arm: IMU not calibrated"));
+    CHECK(f.said("Unable to arm: Invalid failsafe setting"));
+    // the sticks held from 0 s: the first request 20 ms after boot (rc.cpp counts from clock 0), then
+    // whenever the last reasons are more than 1000 ms old: one RC frame later than 1 s
+    REQUIRE(refusals.size() == 3);
+    CHECK(refusals[0] == doctest::Approx(1.02));
+    CHECK(refusals[1] == doctest::Approx(2.04));
+    CHECK(refusals[2] == doctest::Approx(3.06));
   });
 }
 

@@ -127,9 +127,10 @@ TEST_CASE("4. ignored channels go to the pilot and set override bits (determine_
 }
 
 TEST_CASE("5. boots disarmed with errors; arms only from the transmitter, error-free; motor 0 disarmed; commands refused armed") {
-  fw::Firmware fresh;  // firmware defaults: PRIMARY_MIXER invalid, all IMU biases 0
+  fw::Firmware fresh;  // firmware defaults: PRIMARY_MIXER invalid, all IMU biases 0, a multirotor without failsafe throttle
   CHECK_FALSE(fresh.armed());
-  CHECK(fresh.error_codes() == (fw::kErrorInvalidMixer | fw::kErrorUncalibratedImu));
+  CHECK(fresh.error_codes() ==
+        (fw::kErrorInvalidMixer | fw::kErrorUncalibratedImu | fw::kErrorInvalidFailsafe));  // FIXED_WING 0, FAILSAFE_THR -1
   std::int64_t t = 0;
   fresh.rc(tx(0, 0, true, true), t += 20 * kMs);
   CHECK_FALSE(fresh.armed());

@@ -58,7 +58,9 @@ float param_wire(double v, std::uint8_t type);
 
 class FcuSide {
  public:
-  FcuSide(firmware::Params params, std::string version);
+  /// flash: the stored parameters (nullopt: none readable; the firmware boots with its defaults
+  /// and writes them).
+  FcuSide(std::optional<firmware::Params> flash, std::string version);
 
   /// Handles one frame from the companion at FCU time fcu_ns; answers go to `out`.
   void handle(const mavlink::Frame& f, std::int64_t fcu_ns, std::vector<std::uint8_t>& out);

@@ -131,9 +131,11 @@ class Firmware {
  public:
   static constexpr int kOutputs = 14;  ///< Mixer::NUM_TOTAL_OUTPUTS
 
-  /// Boots with `params` (the stored parameters): StateManager::init, Mixer::init_mixing and
-  /// Sensors::init_imu set their errors; disarmed.
-  explicit Firmware(Params params = {});
+  /// Boots from `flash` (the stored parameters; nullopt: an empty or unreadable flash, whose
+  /// defaults the firmware takes and says so: param.cpp Params::init): StateManager::init,
+  /// Mixer::init_mixing, Sensors::init_imu and CommandManager::init_failsafe set their errors;
+  /// disarmed.
+  explicit Firmware(std::optional<Params> flash = Params{});
 
   // ---- inputs (the main loop of src/rosflight.cpp ROSflight::run) ----
   /// OFFBOARD_CONTROL (mavlink_adapter.cpp handle_msg_offboard_control; comm_manager.cpp
@@ -184,6 +186,7 @@ class Firmware {
   void set_event(Event e, std::int64_t now);
   void process_errors(std::int64_t now);
   void refuse_arm(std::int64_t now);
+  void init_failsafe();
   // RC and commands (firmware_command.cpp)
   bool rc_run(const RcFrame& f, std::int64_t now);
   void arm_disarm_signal(std::int64_t now);
@@ -204,7 +207,7 @@ class Firmware {
   Fsm fsm_ = Fsm::init;
   bool armed_ = false, failsafe_ = false, error_ = false, status_request_ = false;
   std::uint16_t errors_ = 0, rc_override_ = 0;
-  std::int64_t next_arm_error_msg_ = 0;
+  std::int64_t next_arm_error_ms_ = 0;  ///< StateManager::next_arming_error_msg_ms_
   // RC
   RcFrame rc_frame_;
   std::array<float, 4> stick_{};  ///< X, Y, Z (-1..1), F (0..1): rc.cpp RC::Stick

@@ -64,7 +64,8 @@ Emulator::Emulator(const Options& o, Port& port)
       boot_params_(load_params(o.params)),
       rc_script_(o.rc),
       rng_(o.seed ^ 0xC0FFEEull) {
-  fcu_.emplace(boot_params_, kVersion);
+  // no --params: a board with an empty flash (the firmware takes its defaults and says so)
+  fcu_.emplace(o.params.empty() ? std::nullopt : std::optional<firmware::Params>(boot_params_), kVersion);
   throw_ = {ac_.max_delta_a, ac_.max_delta_e, ac_.max_delta_r};
   if (!o.max_deflection.empty()) {
     const auto m = numbers(o.max_deflection, 3, "--max-deflection");
