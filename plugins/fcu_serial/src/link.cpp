@@ -7,6 +7,8 @@
 #include <deque>
 #include <stdexcept>
 
+#include <poll.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <utility>  // before Asio: Boost 1.74's awaitable.hpp uses std::exchange without it
@@ -234,7 +236,36 @@ void Link::stop() {
 
 void Link::send(std::vector<std::uint8_t> bytes) {
   if (!impl_) return;
+  if (opt_.kind == LinkOptions::Kind::socket) {
+    send_now(bytes);
+    return;
+  }
   asio::post(impl_->io, [this, b = std::move(bytes)]() mutable { impl_->write(std::move(b)); });
+}
+
+/// A local socket is written from the caller's thread (no hand-over to the link thread: in
+/// lockstep that hand-over is a thread wake-up per IMU sample); a peer that does not drain it
+/// for 50 ms loses the rest (counted), as a UART would not wait.
+void Link::send_now(const std::vector<std::uint8_t>& bytes) {
+  std::lock_guard wl(write_mu_);
+  const std::uint8_t* p = bytes.data();
+  std::size_t n = bytes.size();
+  while (n > 0) {
+    const ssize_t w = ::send(opt_.socket_fd, p, n, MSG_DONTWAIT | MSG_NOSIGNAL);
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0 && errno == EAGAIN) {
+      pollfd pf{opt_.socket_fd, POLLOUT, 0};
+      if (poll(&pf, 1, 50) > 0) continue;
+    }
+    if (w < 0) break;
+    p += w;
+    n -= static_cast<std::size_t>(w);
+  }
+  std::lock_guard lk(mu_);
+  if (n > 0)
+    ++stats_.write_errors;
+  else
+    stats_.bytes_sent += bytes.size();
 }
 
 std::size_t Link::drain(std::deque<Received>& out) {
