@@ -246,7 +246,7 @@ TEST_CASE("5b. arms only from the transmitter with the override switch; motor 0 
   });
 }
 
-TEST_CASE("6. parameters: echo only on a change, wrong type ignored, other target system ignored; the list (comm_manager.cpp)") {
+TEST_CASE("6. parameters: echo only on a change, wrong type ignored, other target system ignored (param.cpp, comm_manager.cpp)") {
   both([](Program p) {
     FcuProcess f(p, with_rc("none", false));
     f.run_for(0.05);
@@ -267,8 +267,15 @@ TEST_CASE("6. parameters: echo only on a change, wrong type ignored, other targe
     f.run_for(0.1);
     CHECK(echoes(f, mark, "RC_OVRD_DEV").empty());
     CHECK(f.param_get("RC_OVRD_DEV") == doctest::Approx(0.3f));
+  });
+}
+
+TEST_CASE("6b. the parameter list, one a loop; a valid PRIMARY_MIXER clears the error (send_next_param, init_mixing)") {
+  both([](Program p) {
+    FcuProcess f(p, with_rc("none", false));
+    f.run_for(0.05);
     // PARAM_REQUEST_LIST: one parameter a loop, param_count of them, each index once
-    mark = f.log().size();
+    std::size_t mark = f.log().size();
     mav::ParamRequestList list;
     list.target_system = 1;
     f.send(list);
