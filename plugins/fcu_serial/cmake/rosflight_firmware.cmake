@@ -147,9 +147,9 @@ function(tern_fcu_serial_add_sil_tests)
     endforeach()
     return()
   endif()
-  if(TARGET tern_fcu_sil_behaviour_tests)
-    add_test(NAME fcu_sil_behaviours COMMAND tern_fcu_sil_behaviour_tests)
-  endif()
+  include(${TERN_FCU_SERIAL_DIR}/cmake/sil_behaviours.cmake)
+  tern_fcu_sil_behaviour_target()  # tern_fcu_sil_behaviour_tests: both FCU programs, one behaviour a test
+  add_test(NAME fcu_sil_behaviours COMMAND tern_fcu_sil_behaviour_tests)
   if(TARGET tern AND TARGET tern_estimator_ekf AND TARGET tern_control_slc AND TARGET tern_path_planner)
     add_test(NAME fcu_sil_mission
              COMMAND ${TERN_FCU_SERIAL_PYTHON} ${TERN_FCU_SERIAL_DIR}/tests/e2e_sil_mission.py
