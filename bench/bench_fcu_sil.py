@@ -281,6 +281,13 @@ def same_topics(run_dirs):
     return {"identical": not differ, "files": len(names), "differing": differ}
 
 
+def flown_param(run_dir, key):
+    """A parameter's value as flown (the run's config.yaml), or None."""
+    with open(os.path.join(run_dir, "config.yaml")) as f:
+        m = re.search(rf"^\s+{key}:\s*(\S+)", f.read(), re.M)
+    return m.group(1) if m else None
+
+
 def speed(tern, way, seed, duration, repeats, cpu, work):
     """Pinned flights: wall s per flight (measured around `tern fly`; timing.json's wall_s beside
     it) and the CPU s of tern and its FCU program together (user + sys)."""
@@ -298,7 +305,8 @@ def speed(tern, way, seed, duration, repeats, cpu, work):
                     "flight_thread_cpu_s": timing.get("flight_thread_cpu_s")})
     walls = [r["wall_s"] for r in out]
     med = statistics.median(walls)
-    return {"runs": out, "median_wall_s": med, "x_real_time": duration / med,
+    return {"runs": out, "emulator_link": flown_param(out[0]["run_dir"], "emulator_link"), "median_wall_s": med,
+            "x_real_time": duration / med,
             "x_real_time_tern_wall": duration / statistics.median(r["tern_wall_s"] for r in out)}
 
 
@@ -343,12 +351,12 @@ def print_link(link, determinism):
 
 def print_speed(spd, duration, cpu):
     print(f"\nSpeed: {duration:g} s flights pinned to CPU {cpu} (taskset), median of {len(spd['direct']['runs'])}")
-    print(f"{'way':10}{'wall s':>10}{'x real time':>14}{'cpu user s':>12}{'cpu sys s':>11}{'tern thread cpu s':>19}")
+    print(f"{'way':10}{'wall s':>10}{'x real time':>14}{'cpu user s':>12}{'cpu sys s':>11}{'tern thread cpu s':>19}  link")
     for way, s in spd.items():
         runs = s["runs"]
         med = lambda k: statistics.median(r[k] for r in runs)
         print(f"{way:10}{s['median_wall_s']:10.2f}{s['x_real_time']:14.1f}{med('cpu_user_s'):12.2f}{med('cpu_sys_s'):11.2f}"
-              f"{med('flight_thread_cpu_s'):19.2f}")
+              f"{med('flight_thread_cpu_s'):19.2f}  {s['emulator_link'] or '-'}")
     print(f"target: firmware >= {TARGET_SPEED:g}x real time on one core (the FCU flights: tern and the FCU program on it)")
 
 
