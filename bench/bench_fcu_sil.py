@@ -410,6 +410,7 @@ def parse_args():
 
 def main():
     a = parse_args()
+    a.git = git_commit()  # the tree the flights start from
     work = os.path.abspath(a.keep) if a.keep else tempfile.mkdtemp(prefix="bench_fcu_sil-")
     os.makedirs(work, exist_ok=True)
     per_seed, link, track_runs = {}, {}, {}
@@ -440,7 +441,7 @@ def write_results(a, per_seed, agg, ratio, link, determinism, spd):
             r.pop("run_dir")
     out = {
         "bench": "bench/bench_fcu_sil.py", "issue": 40, "date_utc": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()),
-        "git": git_commit(), "machine": machine(), "tern": a.tern,
+        "git": a.git, "machine": machine(), "tern": a.tern,
         "seeds": a.seeds, "tracking_duration_s": a.duration, "speed_duration_s": a.speed_duration,
         "speed_repeats": a.speed_repeats, "speed_cpu": a.cpu,
         "flights": {w: {"config": "configs/missions/" + WAYS[w], "set": fcu_settings(w, "TRUTH.csv")[1::2]} for w in WAYS},
