@@ -11,6 +11,7 @@
 
 #include "tern_sim_aero/wind.hpp"
 #include "util.hpp"
+#include "world.hpp"
 
 namespace tern::fcu::emulator {
 
@@ -66,24 +67,9 @@ Emulator::Emulator(const Options& o, Port& port)
       rng_(o.seed ^ 0xC0FFEEull) {
   // no --params: a board with an empty flash (the firmware takes its defaults and says so)
   fcu_.emplace(o.params.empty() ? std::nullopt : std::optional<firmware::Params>(boot_params_), kVersion);
-  throw_ = {ac_.max_delta_a, ac_.max_delta_e, ac_.max_delta_r};
-  if (!o.max_deflection.empty()) {
-    const auto m = numbers(o.max_deflection, 3, "--max-deflection");
-    throw_ = {m[0], m[1], m[2]};
-  }
-  const auto w = numbers(o.wind, 3, "--wind");
-  sim_.set_turbulence(sim::dryden_preset(o.turbulence));
-  sim_.set_steady_wind(Eigen::Vector3d(w[0], w[1], w[2]));
-  if (o.init_mode == "ground")
-    sim_.set_state(sim::rest_state(ac_, 0, 0, o.init_heading));
-  else if (o.init_mode == "air")
-    sim_.set_state(sim::make_state({0, 0, -o.init_altitude}, {o.init_airspeed, 0, 0}, 0, 0, o.init_heading));
-  else
-    throw std::runtime_error("--init-mode: '" + o.init_mode + "' is not ground or air");
-  if (!o.silence.empty()) {
-    const auto s = numbers(o.silence, 2, "--silence");
-    silence_ = {ns(s[0]), ns(s[1])};
-  }
+  throw_ = servo_throw(ac_, o.max_deflection);
+  place_aircraft(sim_, ac_, o);
+  silence_ = time_window(o.silence, "--silence");
   imu_ = every(400);
   mag_ = every(50);
   baro_ = every(100);

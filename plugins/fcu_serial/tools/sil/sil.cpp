@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "../emulator/util.hpp"
+#include "../emulator/world.hpp"
 #include "mavlink_adapter.hpp"
 #include "rosflight.h"
 #include "tern_fcu_serial/messages.hpp"
@@ -35,6 +36,17 @@ sim::SensorParams raw_sensors(const std::string& profile) {
   p.accel_calibration_tilt_range = 0.0;
   return p;
 }
+/// --outputs: the firmware outputs of aileron, elevator, rudder and motor.
+std::array<int, 4> parse_outputs(const std::string& text) {
+  const auto out = emulator::numbers(text, 4, "--outputs");
+  std::array<int, 4> idx{};
+  for (std::size_t i = 0; i < 4; ++i) {
+    if (out[i] < 0 || out[i] >= static_cast<double>(SilBoard::kOutputs) || out[i] != std::floor(out[i]))
+      throw std::runtime_error("--outputs: '" + text + "': each output is an integer 0.." + std::to_string(SilBoard::kOutputs - 1));
+    idx[i] = static_cast<int>(out[i]);
+  }
+  return idx;
+}
 }  // namespace
 
 const char* firmware_version() { return GIT_VERSION_STRING; }
@@ -49,35 +61,12 @@ Sil::Sil(const SilOptions& o, emulator::Port& port)
       board_(o.flash.empty() ? temporary_flash() : o.flash) {
   temporary_flash_ = o.flash.empty();
   if (temporary_flash_) std::filesystem::remove(board_.flash_file());
-  const auto out = emulator::numbers(o.outputs, 4, "--outputs");
-  for (std::size_t i = 0; i < 4; ++i) {
-    if (out[i] < 0 || out[i] >= static_cast<double>(SilBoard::kOutputs) || out[i] != std::floor(out[i]))
-      throw std::runtime_error("--outputs: '" + o.outputs + "': each output is an integer 0.." + std::to_string(SilBoard::kOutputs - 1));
-    outputs_[i] = static_cast<int>(out[i]);
-  }
-  throw_ = {ac_.max_delta_a, ac_.max_delta_e, ac_.max_delta_r};
-  if (!o.world.max_deflection.empty()) {
-    const auto m = emulator::numbers(o.world.max_deflection, 3, "--max-deflection");
-    throw_ = {m[0], m[1], m[2]};
-  }
+  outputs_ = parse_outputs(o.outputs);
+  throw_ = emulator::servo_throw(ac_, o.world.max_deflection);
   sim_.set_actuators(sim::actuator_profile(o.sensor_profile));
-  const auto w = emulator::numbers(o.world.wind, 3, "--wind");
-  sim_.set_turbulence(sim::dryden_preset(o.world.turbulence));
-  sim_.set_steady_wind(Eigen::Vector3d(w[0], w[1], w[2]));
-  if (o.world.init_mode == "ground")
-    sim_.set_state(sim::rest_state(ac_, 0, 0, o.world.init_heading));
-  else if (o.world.init_mode == "air")
-    sim_.set_state(sim::make_state({0, 0, -o.world.init_altitude}, {o.world.init_airspeed, 0, 0}, 0, 0, o.world.init_heading));
-  else
-    throw std::runtime_error("--init-mode: '" + o.world.init_mode + "' is not ground or air");
-  if (!o.world.silence.empty()) {
-    const auto s = emulator::numbers(o.world.silence, 2, "--silence");
-    silence_ = {emulator::ns(s[0]), emulator::ns(s[1])};
-  }
-  if (!o.companion_silence.empty()) {
-    const auto s = emulator::numbers(o.companion_silence, 2, "--companion-silence");
-    deaf_ = {emulator::ns(s[0]), emulator::ns(s[1])};
-  }
+  emulator::place_aircraft(sim_, ac_, o.world);
+  silence_ = emulator::time_window(o.world.silence, "--silence");
+  deaf_ = emulator::time_window(o.companion_silence, "--companion-silence");
   imu_ = emulator::every(400);
   mag_ = emulator::every(50);
   baro_ = emulator::every(100);
