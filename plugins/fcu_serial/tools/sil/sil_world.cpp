@@ -88,7 +88,7 @@ void Sil::put_imu(std::int64_t t) {
 }
 
 /// A fix valid at t reaches the board gnss_latency later; its header stamp is then ("time of
-/// data read complete", board.h), pps the time of validity.
+/// data read complete", board.h), pps the board time of the top of its UTC second.
 void Sil::put_gnss(std::int64_t t) {
   if (gnss_.poll(t) == Poll::sample) {
     const auto m = sensors_.gnss(truth(), gnss_.dt_since_last(t));
@@ -97,7 +97,7 @@ void Sil::put_gnss(std::int64_t t) {
     const std::int64_t unix_ns = emulator::kUnixEpoch + t;
     s.unix_seconds = unix_ns / 1'000'000'000;
     s.unix_nanos = static_cast<std::int32_t>(unix_ns % 1'000'000'000);
-    s.pps = static_cast<std::uint64_t>(board_us(t));
+    s.pps = static_cast<std::uint64_t>(board_us(t) - s.unix_nanos / 1000);  // the top of the fix's UTC second
     s.fix_type = static_cast<std::uint8_t>(m.fix ? rosflight_firmware::GNSSFixType::GNSS_FIX_TYPE_3D_FIX
                                                  : rosflight_firmware::GNSSFixType::GNSS_FIX_TYPE_NO_FIX);
     s.num_sat = static_cast<std::uint8_t>(m.num_sats);
