@@ -112,6 +112,7 @@ class FcuSerial final : public tern::Plugin {
   std::string find_emulator() const;
   void start_emulator();
   void start_calibration();
+  int socket_pair(std::vector<std::string>& argv);
   void wait_first_imu(const fcu::LinkOptions& o);
   void shutdown();
   template <class T>

@@ -1,15 +1,15 @@
 // plugin_link.cpp: fcu_serial's link to the FCU: opening it (or starting tern-fcu-emulator
 // behind a pseudo-terminal), what we send (HEARTBEAT, TIMESYNC, OFFBOARD_CONTROL), link loss,
 // and the flight summary. See fcu_serial_plugin.hpp.
-#include <cstdlib>
-#include <filesystem>
 #include <cerrno>
+#include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <map>
+#include <sstream>
 
 #include <sys/socket.h>
 #include <unistd.h>
-#include <sstream>
 
 #include <spdlog/spdlog.h>
 
@@ -139,6 +139,17 @@ std::string FcuSerial::find_emulator() const {
                                 : " (set " + qname("emulator_path") + ")"));
 }
 
+/// emulator_link socket: a connected pair of local stream sockets (a byte stream without the
+/// terminal layer); ours stays in emulator_socket_, the child's end is returned and argv names it.
+int FcuSerial::socket_pair(std::vector<std::string>& argv) {
+  int sv[2];
+  if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
+    throw std::runtime_error("parameter '" + qname("emulator_link") + "': socketpair failed: " + std::strerror(errno));
+  emulator_socket_ = sv[0];
+  argv.insert(argv.end(), {"--fd", std::to_string(fcu::ChildProcess::kPassedFd)});
+  return sv[1];
+}
+
 void FcuSerial::start_emulator() {
   const std::string exe = find_emulator();
   std::vector<std::string> argv{exe, "--exit-with-parent", "--seed", std::to_string(context().seed())};
@@ -153,15 +164,7 @@ void FcuSerial::start_emulator() {
   argv.insert(argv.end(), {"--rc", emulator_rc_()});
   std::stringstream ss(emulator_args_());
   for (std::string a; ss >> a;) argv.push_back(a);
-  int child_end = -1;
-  if (emulator_link_() == "socket") {  // a connected byte stream without the terminal layer
-    int sv[2];
-    if (socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
-      throw std::runtime_error("parameter '" + qname("emulator_link") + "': socketpair failed: " + std::strerror(errno));
-    emulator_socket_ = sv[0];
-    child_end = sv[1];
-    argv.insert(argv.end(), {"--fd", std::to_string(fcu::ChildProcess::kPassedFd)});
-  }
+  const int child_end = emulator_link_() == "socket" ? socket_pair(argv) : -1;
   try {
     emulator_proc_ = std::make_unique<fcu::ChildProcess>(argv, child_end);
   } catch (...) {
