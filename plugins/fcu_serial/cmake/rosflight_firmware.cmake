@@ -155,5 +155,10 @@ function(tern_fcu_serial_add_sil_tests)
              COMMAND ${TERN_FCU_SERIAL_PYTHON} ${TERN_FCU_SERIAL_DIR}/tests/e2e_sil_mission.py
                      $<TARGET_FILE:tern> ${CMAKE_SOURCE_DIR}/configs/missions ${CMAKE_BINARY_DIR}/fcu_sil_e2e)
     set_tests_properties(fcu_sil_mission PROPERTIES TIMEOUT 900)
+    # flight N on a served host is flight 1 on a fresh host, through the firmware too (tests/)
+    add_test(NAME served_flights_default_sil
+             COMMAND bash ${CMAKE_SOURCE_DIR}/tests/test_served_flights.sh $<TARGET_FILE:tern>
+                     ${CMAKE_SOURCE_DIR}/configs/missions/default_sil.yaml 150 ekf estimator_ekf)
+    set_tests_properties(served_flights_default_sil PROPERTIES TIMEOUT 300)
   endif()
 endfunction()
