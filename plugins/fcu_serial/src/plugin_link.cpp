@@ -251,11 +251,13 @@ void FcuSerial::check_link(fcu::HostTime host) {
 void FcuSerial::log_link_summary() {
   const fcu::LinkStats s = link_->stats();
   const fcu::TimeSync& ts = clock_.timesync();
+  const fcu::TimeSync::RttStats rtt = ts.rtt_stats();
   log().info(
       "link: {} frames, {} bad CRC, {} unknown id, {} bad length, {} bytes skipped, {} queue drops, "
-      "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s rtt {:.3f} ms ({} answers, {} too slow)",
+      "{} commands sent, {} link losses, {} reboots, TIMESYNC offset {:.3f} s, round trip p50 {:.3f} p99 {:.3f} max {:.3f} ms "
+      "({} answers, {} too slow)",
       s.parser.frames, s.parser.bad_crc, s.parser.unknown_id, s.parser.bad_length, s.parser.skipped, s.queue_dropped, s_.commands_sent,
-      s_.link_losses, s_.reboots, ts.offset() * 1e-9, ts.last_rtt() * 1e-6, ts.samples(), ts.rejected());
+      s_.link_losses, s_.reboots, ts.offset() * 1e-9, rtt.p50 * 1e-6, rtt.p99 * 1e-6, rtt.max * 1e-6, ts.samples(), ts.rejected());
 }
 
 std::string FcuSerial::health() const {
@@ -282,8 +284,12 @@ std::vector<std::pair<std::string, double>> FcuSerial::summary() const {
 }
 
 std::vector<std::pair<std::string, double>> FcuSerial::timing() const {
+  const fcu::TimeSync::RttStats rtt = clock_.timesync().rtt_stats();
   return {{"fcu_frames", static_cast<double>(final_stats_.parser.frames)},
-          {"fcu_timesync_rtt_ms", static_cast<double>(clock_.timesync().last_rtt()) * 1e-6}};
+          {"fcu_timesync_rtt_ms", static_cast<double>(clock_.timesync().last_rtt()) * 1e-6},
+          {"fcu_timesync_rtt_p50_ms", static_cast<double>(rtt.p50) * 1e-6},
+          {"fcu_timesync_rtt_p99_ms", static_cast<double>(rtt.p99) * 1e-6},
+          {"fcu_timesync_rtt_max_ms", static_cast<double>(rtt.max) * 1e-6}};
 }
 
 }  // namespace tern::fcu_serial

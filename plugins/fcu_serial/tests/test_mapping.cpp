@@ -110,3 +110,23 @@ TEST_CASE("time sync: offset from request/answer pairs, RTT filter, reboot reset
   CHECK(ts.resets() == 1);
   CHECK(ts.offset() == 2'000'000'000 - now);
 }
+
+TEST_CASE("time sync: the round trips' p50, p99 and max over the accepted answers") {
+  TimeSync ts({0.9, 20'000'000, 100'000'000});
+  CHECK(ts.rtt_stats().count == 0);
+  CHECK(ts.rtt_stats().max == 0);
+  std::int64_t now = 1'000'000'000;
+  for (int i = 1; i <= 200; ++i) {  // round trips 0.1 .. 20 ms, in reverse order
+    const std::int64_t rtt = (201 - i) * 100'000;
+    const auto ans = TimeSync::respond(TimeSync::request(now), now + rtt / 2);
+    REQUIRE(ts.on_answer(*ans, now + rtt));
+    now += 100'000'000;
+  }
+  const auto slow = TimeSync::respond(TimeSync::request(now), now);  // 30 ms: rejected, not counted
+  CHECK_FALSE(ts.on_answer(*slow, now + 30'000'000));
+  const TimeSync::RttStats r = ts.rtt_stats();
+  CHECK(r.count == 200);
+  CHECK(r.p50 == 10'000'000);  // the 100th of 200
+  CHECK(r.p99 == 19'800'000);  // the 198th
+  CHECK(r.max == 20'000'000);
+}
