@@ -161,12 +161,14 @@ int Sil::run() {
     run_firmware();
     const bool delivered = flush() && imu_sent_;
     if (o_.world.lockstep && delivered) {
-      wait_for_command(used);
+      wait_for_command(used);  // it read everything up to the command
     } else if (!o_.world.lockstep) {
       const std::int64_t target = wall0 + static_cast<std::int64_t>(static_cast<double>(t_ + dt_) / o_.world.speed);
       for (std::int64_t left; !emulator::g_emulator_stop && (left = target - emulator::mono_ns()) > 0;) service(left);
+      service(0);
+    } else {
+      service(0);
     }
-    service(0);
     run_firmware();
     flush();
     apply_outputs(t_);
