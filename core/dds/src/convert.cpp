@@ -27,7 +27,11 @@ std::uint8_t rosplane_zone(std::uint8_t tern_phase) {
     case msg::Phase::preflight:  // on the ground before the takeoff: ROSplane has no such zone
     case msg::Phase::takeoff: return 0;
     case msg::Phase::climb: return 1;
-    case msg::Phase::landing: return 2;
+    case msg::Phase::landing:
+    case msg::Phase::approach:
+    case msg::Phase::flare:
+    case msg::Phase::rollout:
+    case msg::Phase::stopped: return 2;
     case msg::Phase::cruise:
     case msg::Phase::loiter: return 3;
   }

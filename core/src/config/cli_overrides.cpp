@@ -71,7 +71,7 @@ void apply_set(MissionConfig& c, const ParamOverride& po) {
 std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& c, const std::vector<std::string>& items,
                                                       const std::string& option) {
   std::vector<std::string> phase_names;
-  for (auto p : {msg::Phase::takeoff, msg::Phase::climb, msg::Phase::cruise, msg::Phase::landing, msg::Phase::loiter})
+  for (auto p : msg::kControllerPhases)
     phase_names.emplace_back(msg::phase_name(p));
   std::map<msg::Phase, std::string> table;
   for (const auto& item : items) {
@@ -86,7 +86,7 @@ std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& c, co
         throw ConfigError(fmt::format("{}: '{}' is not PHASE=INSTANCE (e.g. takeoff=slc,climb=slc,cruise=tecs)", option, word));
       const std::string phase = trim(word.substr(0, eq)), name = trim(word.substr(eq + 1));
       const auto p = msg::phase_from_name(phase);
-      if (!p || *p == msg::Phase::preflight)
+      if (!p || *p == msg::Phase::preflight || *p == msg::Phase::stopped)
         throw ConfigError(fmt::format("{}: unknown phase '{}'{} (one of {})", option, phase, did_you_mean(phase, phase_names),
                                       fmt::join(phase_names, ", ")));
       if (!has_instance(c, name)) throw ConfigError(fmt::format("{}: {}: {}", option, phase, no_instance(c, name)));

@@ -31,8 +31,7 @@ void FailsafeStation::start_flight(const FailsafeConfig& config, const PortGraph
 
 void FailsafeStation::tick(Nanos now, const PhaseMachine* phase_machine, RemoteQueue& remote, PortGraph& graph) {
   const msg::Phase phase = phase_machine ? phase_machine->phase() : msg::Phase::preflight;
-  const bool airborne =
-      phase == msg::Phase::climb || phase == msg::Phase::cruise || phase == msg::Phase::loiter || phase == msg::Phase::landing;
+  const bool airborne = msg::airborne(phase);
   const double max_deflection = phase_machine ? phase_machine->max_deflection() : 0.0;
   if (gnss_ && gnss_->sequence() != gnss_seen_) {
     gnss_seen_ = gnss_->sequence();

@@ -224,6 +224,8 @@ void PhaseRouter::follow_phase(Nanos now) {
     route_none(now, "disarmed: waiting for the FCU to be armed and error-free");
   else if (p == msg::Phase::preflight)
     route_none(now, "preflight: on the ground until the arming checks pass");
+  else if (p == msg::Phase::stopped)
+    route_none(now, "stopped: landed and at rest, motor off");
   else if (it != table_.end())
     if (const auto idx = index_of(it->second)) route_to(*idx, now, fmt::format("phase {}", msg::phase_name(p)), false);
 }

@@ -25,6 +25,11 @@ struct ControllerCommand {
   bool override_theta = false;
   std::array<double, 4> aux{};  ///< auxiliary commands (ROSplane's aux)
   bool aux_valid = false;
+  /// On a land item's final approach (and its flare and rollout): h_td is the touchdown point's
+  /// altitude above the origin, m, in the estimate's frame; flare and rollout laws measure the
+  /// height above the runway from it.
+  bool landing = false;
+  double h_td = 0.0;
   template <class V>
   static constexpr void describe(V& v) {
     v(&ControllerCommand::stamp, "stamp", "ns");
@@ -38,6 +43,8 @@ struct ControllerCommand {
     v(&ControllerCommand::override_theta, "override_theta", "bool");
     v(&ControllerCommand::aux, "aux", "");
     v(&ControllerCommand::aux_valid, "aux_valid", "bool");
+    v(&ControllerCommand::landing, "landing", "bool");
+    v(&ControllerCommand::h_td, "h_td", "m");
   }
 };
 
@@ -70,6 +77,7 @@ struct Actuators {
   double delta_e = 0.0;  ///< elevator, rad
   double delta_r = 0.0;  ///< rudder, rad
   double delta_t = 0.0;  ///< throttle, 0..1
+  double brake = 0.0;    ///< wheel brakes, 0 (off) .. 1 (full)
   template <class V>
   static constexpr void describe(V& v) {
     v(&Actuators::stamp, "stamp", "ns");
@@ -77,6 +85,7 @@ struct Actuators {
     v(&Actuators::delta_e, "delta_e", "rad");
     v(&Actuators::delta_r, "delta_r", "rad");
     v(&Actuators::delta_t, "delta_t", "");
+    v(&Actuators::brake, "brake", "");
   }
 };
 

@@ -19,20 +19,25 @@ namespace tern::msg {
 ///                 (both 0: loiter until the mission changes)
 ///   return_home   orbit home (the origin, n = e = 0) at altitude -w.z(), radius and direction
 ///                 as a loiter, until the mission changes; w's n and e are ignored
+///   land          land: w is the touchdown point, chi_d the runway heading (tern/path/item.hpp
+///                 LandSpec: glide slope, flare and decision heights)
 /// ROSplane's message has no type: the DDS bridge sends every item as a plain waypoint.
 struct Waypoint {
   static constexpr std::string_view type_name = "tern/Waypoint";
-  enum Type : std::uint8_t { waypoint = 0, loiter = 1, return_home = 2 };
+  enum Type : std::uint8_t { waypoint = 0, loiter = 1, return_home = 2, land = 3 };
   Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< NED position (m) relative to the origin, or (lat deg, lon deg, alt m MSL) when lla
   bool lla = false;                             ///< w is latitude, longitude, altitude
   double chi_d = 0.0;                           ///< desired course at the waypoint, rad (used when use_chi)
   bool use_chi = false;                         ///< fly a Dubins path honouring chi_d, else a fillet
   double Va_d = 0.0;                            ///< desired airspeed, m/s
-  std::uint8_t type = waypoint;                 ///< Type: waypoint (0), loiter (1), return_home (2)
+  std::uint8_t type = waypoint;                 ///< Type: waypoint (0), loiter (1), return_home (2), land (3)
   double loiter_radius = 0.0;                   ///< orbit radius, m, >= 0 (0: the path manager's turn radius)
   std::int8_t loiter_direction = 1;             ///< 1 clockwise, -1 counter-clockwise (seen from above)
   double loiter_time = 0.0;                     ///< loiter: s on the orbit before going on, >= 0 (0: no limit)
   double loiter_turns = 0.0;                    ///< loiter: turns on the orbit before going on, >= 0 (0: no limit)
+  double land_glide_slope = 0.0873;             ///< land: glide-path angle, rad, (0, 0.35]
+  double land_flare_height = 4.0;               ///< land: flare begins this high above the touchdown point, m, > 0
+  double land_decision_height = 12.0;           ///< land: stabilised-approach check below this height, m, > flare height
   template <class V>
   static constexpr void describe(V& v) {
     v(&Waypoint::w, "w", "m|deg", "0,1,2");
@@ -45,6 +50,9 @@ struct Waypoint {
     v(&Waypoint::loiter_direction, "loiter_direction", "");
     v(&Waypoint::loiter_time, "loiter_time", "s");
     v(&Waypoint::loiter_turns, "loiter_turns", "");
+    v(&Waypoint::land_glide_slope, "land_glide_slope", "rad");
+    v(&Waypoint::land_flare_height, "land_flare_height", "m");
+    v(&Waypoint::land_decision_height, "land_decision_height", "m");
   }
 };
 
@@ -85,6 +93,12 @@ struct CurrentPath {
   double rho = 0.0;                              ///< orbit radius, m
   std::int8_t lambda = 1;                        ///< orbit direction: 1 clockwise, -1 counter-clockwise
   std::int32_t waypoint_index = -1;              ///< index of the waypoint being flown to, -1 if none
+  /// The line is a land item's final approach: r is the touchdown point (on the ground, in the
+  /// estimate's frame), q points down the glide path along the runway heading.
+  bool landing = false;
+  double flare_height = 0.0;     ///< landing: flare begins this high above r, m
+  double decision_height = 0.0;  ///< landing: stabilised-approach check below this height above r, m
+  std::uint8_t attempt = 0;      ///< landing: approaches flown so far including this one (1: the first)
   template <class V>
   static constexpr void describe(V& v) {
     v(&CurrentPath::stamp, "stamp", "ns");
@@ -96,6 +110,10 @@ struct CurrentPath {
     v(&CurrentPath::rho, "rho", "m");
     v(&CurrentPath::lambda, "lambda", "");
     v(&CurrentPath::waypoint_index, "waypoint_index", "");
+    v(&CurrentPath::landing, "landing", "bool");
+    v(&CurrentPath::flare_height, "flare_height", "m");
+    v(&CurrentPath::decision_height, "decision_height", "m");
+    v(&CurrentPath::attempt, "attempt", "");
   }
 };
 

@@ -2,6 +2,7 @@
 // machine; the phase router runs the controller the mission config names for it).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -12,7 +13,22 @@ namespace tern::msg {
 
 /// preflight: on the ground, motor off, no controller running, until the arming checks pass
 /// (estimator aligned, GNSS good, aircraft at rest); then takeoff.
-enum class Phase : std::uint8_t { takeoff = 0, climb = 1, cruise = 2, landing = 3, loiter = 4, preflight = 5 };
+/// A land item (tern/path/item.hpp) is flown approach (its final glide path) -> flare (below the
+/// flare height) -> rollout (on the wheels: motor off, steering, brakes) -> stopped (at rest:
+/// the flight ends, end_reason "landed"); a go-around returns to climb. `landing` and `loiter`
+/// are kept for configs that name them (flown as cruise).
+enum class Phase : std::uint8_t {
+  takeoff = 0,
+  climb = 1,
+  cruise = 2,
+  landing = 3,
+  loiter = 4,
+  preflight = 5,
+  approach = 6,
+  flare = 7,
+  rollout = 8,
+  stopped = 9
+};
 
 inline constexpr std::string_view phase_name(Phase p) {
   switch (p) {
@@ -22,14 +38,28 @@ inline constexpr std::string_view phase_name(Phase p) {
     case Phase::landing: return "landing";
     case Phase::loiter: return "loiter";
     case Phase::preflight: return "preflight";
+    case Phase::approach: return "approach";
+    case Phase::flare: return "flare";
+    case Phase::rollout: return "rollout";
+    case Phase::stopped: return "stopped";
   }
   return "unknown";
 }
 
 inline constexpr std::optional<Phase> phase_from_name(std::string_view s) {
-  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight})
+  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight, Phase::approach, Phase::flare,
+                 Phase::rollout, Phase::stopped})
     if (phase_name(p) == s) return p;
   return std::nullopt;
+}
+
+/// The phases a `phases:` table may give a controller (preflight and stopped run none).
+inline constexpr std::array<Phase, 8> kControllerPhases = {Phase::takeoff, Phase::climb,    Phase::cruise, Phase::landing,
+                                                          Phase::loiter,  Phase::approach, Phase::flare,  Phase::rollout};
+
+/// In the air: after the takeoff's climb-out and before the rollout (the failsafes' airborne).
+inline constexpr bool airborne(Phase p) {
+  return p == Phase::climb || p == Phase::cruise || p == Phase::loiter || p == Phase::landing || p == Phase::approach || p == Phase::flare;
 }
 
 struct FlightPhase {

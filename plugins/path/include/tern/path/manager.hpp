@@ -67,6 +67,7 @@ struct MissionPoint {
   double Va_d = 0.0;      ///< desired airspeed, m/s; <= 0: the manager's default_airspeed
   ItemType type = ItemType::waypoint;
   LoiterSpec loiter;  ///< loiter and return_home items (return_home: n and e ignored)
+  LandSpec land;      ///< land items (chi_d: the runway heading; w: the touchdown point)
 };
 
 /// A loiter's time and turns count once |distance to the centre - radius| <= kOnOrbit * radius.

@@ -85,6 +85,7 @@ struct MissionWaypoint {
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
   ItemType type = ItemType::waypoint;
   LoiterSpec loiter;  ///< loiter and return_home items
+  LandSpec land;      ///< land items (chi_d: the runway heading)
   int line = 0;       ///< 1-based line of the entry in its source (0: not read from text)
   std::string field;  ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
 };
