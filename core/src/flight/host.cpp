@@ -319,10 +319,13 @@ FlightResult Host::fly() {
     recorder.capture(graph_, clock.now());
     notify_observer(clock.now());
     if (!end.reason.empty()) {
-      r.ok = false;
+      r.ok = end.ok;
       r.end_reason = end.reason;
-      r.end_detail = end.detail;
-      logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
+      r.end_detail = end.ok ? "" : end.detail;
+      if (end.ok)
+        logger_->info("{}: {}", end.reason, end.detail);
+      else
+        logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
       break;
     }
     if (clock.wall_check_due()) {
@@ -337,7 +340,7 @@ FlightResult Host::fly() {
   }
   watchdog_.disarm();
   status.finish();
-  if (r.ok) r.end_reason = aborted ? "aborted" : clock.end_reason();
+  if (r.ok && r.end_reason.empty()) r.end_reason = aborted ? "aborted" : clock.end_reason();
   r.flown = clock.now();
   r.wall_s = clock.wall_s();
   r.flight_cpu_s = clock.cpu_s();
@@ -404,6 +407,7 @@ EndRequest Host::run_tick(Scheduler& clock) {
       return {fmt::format("error: {}.step threw at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), error), ""};
     } else if (idx == phase_machine_idx_) {
       if (!phase_machine_->failure().empty()) return {phase_machine_->failure(), ""};
+      if (phase_machine_->landed()) return {"landed", phase_machine_->landed_detail(), true};
       router_.follow_phase(now);
     }
     if (auto end = inst.take_end_request())

@@ -37,6 +37,7 @@ class IsolatedPlugin;
 /// A plugin's request to end the flight (Context::end_flight).
 struct EndRequest {
   std::string reason, detail;
+  bool ok = false;  ///< the flight is complete, not cut short (the phase machine's "landed")
 };
 
 struct Instance {

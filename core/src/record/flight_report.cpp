@@ -168,6 +168,14 @@ nlohmann::ordered_json metrics_json(const FlightMetrics& fm) {
   nlohmann::ordered_json t;
   for (int i = 0; i < FlightMetrics::kTrk; ++i) t[FlightMetrics::kTrkNames[i]] = rms(fm.tracking()[i]);
   m["tracking_rmse"] = t;
+  if (const auto& td = fm.touchdown()) {
+    auto num = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(); };
+    m["landing"] = {{"touchdown_t_s", num(td->t_s)},           {"touchdown_along_m", num(td->along_m)},
+                    {"touchdown_across_m", num(td->across_m)}, {"sink_rate_mps", num(td->sink_rate_mps)},
+                    {"airspeed_mps", num(td->airspeed_mps)},   {"ground_speed_mps", num(td->ground_speed_mps)},
+                    {"roll_deg", num(td->roll_deg)},           {"pitch_deg", num(td->pitch_deg)},
+                    {"rollout_m", num(td->rollout_m)},         {"stopped", td->stopped}};
+  }
   return m;
 }
 
@@ -253,6 +261,12 @@ std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
                      "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
   }
   s += fmt::format("waypoints reached: {}\n", fm.passages().size());
+  if (const auto& td = fm.touchdown())
+    s += fmt::format(
+        "landing (truth): touchdown at {:.2f} s, {:+.1f} m along and {:+.1f} m across the aim point, sink {:.2f} m/s, airspeed "
+        "{:.1f} m/s, roll {:+.1f} deg, pitch {:+.1f} deg; rollout {:.1f} m{}\n",
+        td->t_s, td->along_m, td->across_m, td->sink_rate_mps, td->airspeed_mps, td->roll_deg, td->pitch_deg, td->rollout_m,
+        td->stopped ? ", stopped" : "");
   return s;
 }
 

@@ -16,7 +16,8 @@ void FlightMetrics::configure() {
   declare(command_, "controller_command", "commanded altitude, course, airspeed", Need::optional);
   declare(internals_, "controller_internals", "commanded roll and pitch", Need::optional);
   declare(path_, "current_path", "commanded path segment", Need::optional);
-  declare(phase_, "flight_phase", "flight phase (only cruise counts)", Need::optional);
+  declare(phase_, "flight_phase", "flight phase (only cruise counts; the landing's touchdown)", Need::optional);
+  declare(waypoints_, "waypoints", "the mission: a land item's aim point (the landing's touchdown figures)", Need::optional);
   declare(period_, "period", 0.01, ParamSpec("s", 0.0, 10.0, "sample the errors at most this often"));
   declare(start_after_, "start_after", 60.0,
           ParamSpec("s", 0.0, 1e9, "when the mission never completes a loop, the window starts at this flight time"));
@@ -26,6 +27,8 @@ void FlightMetrics::configure() {
 void FlightMetrics::reset() { f_ = Flight{}; }
 
 void FlightMetrics::step(Nanos now) {
+  if (truth_.has_value() && phase_.has_value())
+    f_.landing.observe(now, phase_->phase, truth_.get(), waypoints_.has_value() ? &waypoints_.get() : nullptr);
   // waypoint passages and loops
   if (path_.has_value()) {
     const int idx = path_->waypoint_index;

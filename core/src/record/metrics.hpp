@@ -13,13 +13,15 @@
 //    the closest point of the commanded path segment (line or orbit, horizontal), altitude
 //    h_c - h, roll phi_c - phi, pitch theta_c - theta, course chi_c - chi (wrapped), airspeed
 //    Va_c - Va; and the largest cross-track and altitude errors.
-// It also records every waypoint passage (current_path.waypoint_index changes) and counts loops.
+// It also records every waypoint passage (current_path.waypoint_index changes) and counts loops,
+// and, with `truth` and a land item, the touchdown (landing_report.hpp).
 #pragma once
 
 #include <array>
 #include <string>
 #include <vector>
 
+#include "record/landing_report.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::core {
@@ -66,6 +68,7 @@ class FlightMetrics final : public Plugin {
   double max_altitude_error() const { return f_.max_alt; }  ///< m, |h_c - h| over the window
   bool has_truth() const { return truth_.connected(); }
   Nanos window_start() const { return f_.window_start; }
+  const std::optional<Touchdown>& touchdown() const { return f_.landing.touchdown(); }
 
  private:
   void add_estimation_errors(const msg::State& estimate, const msg::State& truth);
@@ -76,6 +79,7 @@ class FlightMetrics final : public Plugin {
   Input<msg::ControllerInternals> internals_;
   Input<msg::CurrentPath> path_;
   Input<msg::FlightPhase> phase_;
+  Input<msg::WaypointList> waypoints_;
   Param<double> period_, start_after_;
   Param<bool> cruise_only_;
   /// Everything one flight changes: reset() replaces it wholesale.
@@ -90,6 +94,7 @@ class FlightMetrics final : public Plugin {
     int last_index = -1;
     Nanos last_sample = -1;
     Nanos window_start = -1;
+    LandingReport landing;
   } f_;
 };
 

@@ -8,7 +8,7 @@
 // Positions are NED (m) relative to home = the origin of the estimate; altitudes are m above
 // home (h = -p_d). Times are flight time. Each failsafe engages once, then waits until its cause
 // clears (GNSS back, link heard, inside the fence) before it can engage again. Only in the air
-// (`airborne`: the phase machine's climb, cruise, loiter or landing).
+// (`airborne`: msg::airborne(), the phase machine's climb, cruise, loiter, landing, approach or flare).
 //
 //   gnss_loss   no valid GNSS fix (fix_3d, finite lat/lon) on topic `gnss` for `timeout` s, or the
 //               estimate has said "degraded: gnss" for `timeout` s, after a first fix was seen

@@ -15,6 +15,7 @@ void PhaseMachine::configure() {
   declare(innovations_, "innovations", "estimator innovation test ratios (preflight check)", Need::optional);
   declare(gnss_, "gnss", "GNSS fix quality (preflight check)", Need::optional);
   declare(rc_, "rc", "RC receiver (preflight check when preflight_require_rc)", Need::optional);
+  declare(path_, "current_path", "the path manager's segment: a land item's glide path (approach, flare, rollout)", Need::optional);
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0,
           ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
@@ -25,6 +26,8 @@ void PhaseMachine::configure() {
   declare_preflight();
   declare_safety();
   declare_recovery();
+  declare_landing();
+  declare_takeoff();
   declare(min_phase_time_, "min_phase_time", 1.0,
           ParamSpec("s", 0.0, 60.0, "a transition back (loss of altitude) needs its condition this long"));
 }
@@ -49,6 +52,8 @@ void PhaseMachine::declare_preflight() {
           ParamSpec("m/s", 0.0, 100.0, "the aircraft counts as at rest below this"));
   declare(require_rc_, "preflight_require_rc", d.require_rc, ParamSpec("", 0, 0, "the pilot's transmitter must be heard before takeoff"));
   declare(max_rc_age_, "preflight_max_rc_age", d.max_rc_age, ParamSpec("s", 0.01, 60.0, "the newest RC frame at most this old"));
+  declare(max_wind_, "preflight_max_wind", d.max_wind,
+          ParamSpec("m/s", 0.0, 100.0, "the wind seen at rest (airspeed, estimated wind) above this: no takeoff"));
 }
 
 // The phase router's safety monitor (safety_monitor.hpp; each default's reason is there).
@@ -89,6 +94,58 @@ void PhaseMachine::declare_recovery() {
           ParamSpec("", 0.0, 1.0, "throttle added to the trim (a gentle climb)"));
   declare(recovery_roll_kp_, "recovery_roll_kp", d.roll_kp, ParamSpec("rad/rad", 0.0, 10.0, "aileron per rad of roll (integrated gyro)"));
   declare(recovery_roll_kd_, "recovery_roll_kd", d.roll_kd, ParamSpec("rad/(rad/s)", 0.0, 10.0, "aileron per rad/s of roll rate (gyro)"));
+}
+
+// The landing's decisions (landing_checks.hpp; each default's reason is there).
+void PhaseMachine::declare_landing() {
+  const LandingLimits d;
+  declare(land_max_cross_track_, "land_max_cross_track", d.max_cross_track,
+          ParamSpec("m", 0.1, 1000.0, "stabilised approach: cross-track error at most this below the decision height"));
+  declare(land_max_glide_error_, "land_max_glide_error", d.max_glide_error,
+          ParamSpec("m", 0.1, 1000.0, "stabilised approach: altitude within this of the glide path below the decision height"));
+  declare(land_max_airspeed_deficit_, "land_max_airspeed_deficit", d.max_airspeed_deficit,
+          ParamSpec("m/s", 0.1, 100.0, "stabilised approach: airspeed at most this below the commanded airspeed"));
+  declare(land_touchdown_height_, "land_touchdown_height", d.touchdown_height,
+          ParamSpec("m", 0.01, 10.0, "flare -> rollout: estimated height above the touchdown point below this (on the wheels)"));
+  declare(land_stopped_speed_, "land_stopped_speed", d.stopped_speed,
+          ParamSpec("m/s", 0.01, 10.0, "rollout -> stopped: ground speed below this (for land_stopped_time)"));
+  declare(land_stopped_time_, "land_stopped_time", d.stopped_time, ParamSpec("s", 0.0, 60.0, "rollout -> stopped: stopped this long"));
+}
+
+// The takeoff's abort criteria (takeoff_checks.hpp; each default's reason is there).
+void PhaseMachine::declare_takeoff() {
+  const TakeoffLimits d;
+  declare(takeoff_run_length_, "takeoff_run_length", d.run_length,
+          ParamSpec("m", 1.0, 10000.0, "abort the takeoff when the airspeed has not reached takeoff_min_airspeed after this run"));
+  declare(takeoff_min_airspeed_, "takeoff_min_airspeed", d.min_airspeed,
+          ParamSpec("m/s", 0.0, 200.0, "airspeed the takeoff run must reach within takeoff_run_length"));
+  declare(takeoff_max_roll_, "takeoff_max_roll", d.max_roll, ParamSpec("rad", 0.05, 3.2, "abort the takeoff: |roll| above this"));
+  declare(takeoff_max_pitch_, "takeoff_max_pitch", d.max_pitch, ParamSpec("rad", 0.05, 1.6, "abort the takeoff: pitch above this"));
+  declare(takeoff_min_pitch_, "takeoff_min_pitch", d.min_pitch, ParamSpec("rad", -1.6, 0.0, "abort the takeoff: pitch below this"));
+  declare(takeoff_safe_height_, "takeoff_safe_height", d.safe_height,
+          ParamSpec("m", 0.0, 1000.0, "the takeoff's attitude limits apply below this height above its start"));
+}
+
+TakeoffLimits PhaseMachine::takeoff_limits() const {
+  TakeoffLimits l;
+  l.run_length = takeoff_run_length_();
+  l.min_airspeed = takeoff_min_airspeed_();
+  l.max_roll = takeoff_max_roll_();
+  l.max_pitch = takeoff_max_pitch_();
+  l.min_pitch = takeoff_min_pitch_();
+  l.safe_height = takeoff_safe_height_();
+  return l;
+}
+
+LandingLimits PhaseMachine::landing_limits() const {
+  LandingLimits l;
+  l.max_cross_track = land_max_cross_track_();
+  l.max_glide_error = land_max_glide_error_();
+  l.max_airspeed_deficit = land_max_airspeed_deficit_();
+  l.touchdown_height = land_touchdown_height_();
+  l.stopped_speed = land_stopped_speed_();
+  l.stopped_time = land_stopped_time_();
+  return l;
 }
 
 RecoveryGains PhaseMachine::recovery_gains() const {
@@ -141,6 +198,7 @@ PreflightLimits PhaseMachine::limits() const {
   l.max_ground_speed = max_ground_speed_();
   l.require_rc = require_rc_();
   l.max_rc_age = max_rc_age_();
+  l.max_wind = max_wind_();
   return l;
 }
 
@@ -224,6 +282,99 @@ void PhaseMachine::run_preflight(Nanos now) {
   for (const std::string& f : failing) log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
 }
 
+void PhaseMachine::go_around(Nanos now, const std::string& why) {
+  ++f_.go_arounds;
+  enter(now, msg::Phase::climb, "go-around: " + why);
+}
+
+bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
+  const bool on_path = path_.has_value() && path_->landing;
+  const msg::Phase ph = f_.phase;
+  if ((ph == msg::Phase::climb || ph == msg::Phase::cruise) && on_path && path_->attempt != f_.approach_seen) {
+    f_.approach_seen = path_->attempt;
+    enter(now, msg::Phase::approach, fmt::format("final approach {} of the land item", path_->attempt));
+    return true;
+  }
+  if (ph == msg::Phase::rollout) {
+    step_rollout(now, s);
+    return true;
+  }
+  if (ph != msg::Phase::approach && ph != msg::Phase::flare) return false;
+  if (!on_path) {
+    if (ph == msg::Phase::approach) go_around(now, "the glide path was left (the mission changed)");
+    return true;  // a flare goes on: the aircraft is committed
+  }
+  const msg::CurrentPath& p = *path_;
+  const double h = height_above_touchdown(s, p);
+  if (ph == msg::Phase::flare) {
+    if (h < land_touchdown_height_())
+      enter(now, msg::Phase::rollout, fmt::format("on the wheels: {:.2f} m above the touchdown point, sink {:.2f} m/s", h, s.v_d));
+  } else if (h < p.flare_height) {
+    enter(now, msg::Phase::flare, fmt::format("{:.1f} m above the touchdown point (flare height {:.1f} m)", h, p.flare_height));
+  } else if (h < p.decision_height) {
+    const double Va_c = command_.has_value() && std::isfinite(command_->Va_c) ? command_->Va_c : s.Va;
+    if (const std::string why = unstabilised(s, p, Va_c, landing_limits()); !why.empty())
+      go_around(now, fmt::format("not stabilised at {:.1f} m (decision height {:.1f} m): {}", h, p.decision_height, why));
+  }
+  return true;
+}
+
+// Rollout (after a landing or an aborted takeoff): stopped once the ground speed stayed below
+// land_stopped_speed for land_stopped_time; a landing then ends complete, an abort as a failure.
+void PhaseMachine::step_rollout(Nanos now, const msg::State& s) {
+  const LandingLimits l = landing_limits();
+  if (std::hypot(s.v_n, s.v_e) >= l.stopped_speed) {
+    f_.condition_since = -1;
+    return;
+  }
+  if (f_.condition_since < 0) f_.condition_since = now;
+  if (now - f_.condition_since < from_seconds(l.stopped_time)) return;
+  if (!f_.abort_reason.empty()) {
+    f_.failure = "takeoff_aborted: " + f_.abort_reason;
+    enter(now, msg::Phase::stopped, "takeoff aborted, stopped");
+    return;
+  }
+  std::string where;
+  if (path_.has_value() && path_->landing) {
+    const msg::CurrentPath& p = *path_;
+    const double qn = std::max(std::hypot(p.q.x(), p.q.y()), 1e-9);
+    const double dn = s.p_n - p.r.x(), de = s.p_e - p.r.y();
+    where = fmt::format(", {:.1f} m along and {:.1f} m across the touchdown point (estimate), after {} approach(es)",
+                        (dn * p.q.x() + de * p.q.y()) / qn, (-dn * p.q.y() + de * p.q.x()) / qn, p.attempt);
+  }
+  f_.landed_detail = fmt::format("stopped at t={:.3f} s{}", to_seconds(now), where);
+  enter(now, msg::Phase::stopped, fmt::format("landed: ground speed below {:.1f} m/s for {:.1f} s", l.stopped_speed, l.stopped_time));
+}
+
+// Takeoff (and its climb, below takeoff_safe_height): abort on the run or the attitude
+// (takeoff_checks.hpp); only for a takeoff begun at rest.
+bool PhaseMachine::step_takeoff_checks(Nanos now, const msg::State& s) {
+  const msg::Phase ph = f_.phase;
+  if (ph == msg::Phase::takeoff && !f_.takeoff_start && std::isfinite(s.p_n) && std::isfinite(s.p_e)) {
+    f_.takeoff_start = Eigen::Vector3d(s.p_n, s.p_e, s.p_d);
+    f_.takeoff_checked = std::hypot(s.v_n, s.v_e) < max_ground_speed_();
+  }
+  if (!f_.takeoff_start || !f_.takeoff_checked || (ph != msg::Phase::takeoff && ph != msg::Phase::climb)) return false;
+  const Eigen::Vector3d d = Eigen::Vector3d(s.p_n, s.p_e, s.p_d) - *f_.takeoff_start;
+  const double height = -d.z();
+  if (height >= takeoff_limits().safe_height) {
+    f_.takeoff_checked = false;  // the takeoff is done: the climb and cruise safety nets watch from here
+    return false;
+  }
+  const std::string why = takeoff_abort(s, d.head<2>().norm(), height, takeoff_limits());
+  if (why.empty()) return false;
+  f_.abort_reason = why;
+  f_.takeoff_checked = false;
+  enter(now, msg::Phase::rollout, "takeoff aborted: " + why + " (motor off, wings level, brakes)");
+  return true;
+}
+
+std::vector<std::pair<std::string, double>> PhaseMachine::summary() const {
+  return {{"go_arounds", static_cast<double>(f_.go_arounds)},
+          {"landed", landed() ? 1.0 : 0.0},
+          {"takeoff_aborted", f_.abort_reason.empty() ? 0.0 : 1.0}};
+}
+
 void PhaseMachine::step(Nanos now) {
   if (wait_for_arming(now)) return;
   if (f_.phase == msg::Phase::preflight) {
@@ -232,6 +383,7 @@ void PhaseMachine::step(Nanos now) {
   }
   const msg::State& s = state_.get();
   if (!state_.has_value() || !std::isfinite(s.p_d)) return;
+  if (step_takeoff_checks(now, s) || step_landing(now, s)) return;
   const double h = -s.p_d;
   const double h_c = command_.has_value() && std::isfinite(command_->h_c) ? command_->h_c : h;
   const Nanos dwell = from_seconds(min_phase_time_());
@@ -245,6 +397,10 @@ void PhaseMachine::step(Nanos now) {
   };
   switch (f_.phase) {
     case msg::Phase::preflight: break;  // run_preflight()
+    case msg::Phase::approach:
+    case msg::Phase::flare:
+    case msg::Phase::rollout:
+    case msg::Phase::stopped: break;  // step_landing()
     case msg::Phase::takeoff:
       if (h >= alt_toz_()) enter(now, msg::Phase::climb, fmt::format("altitude {:.1f} m reached alt_toz {:.1f} m", h, alt_toz_()));
       break;

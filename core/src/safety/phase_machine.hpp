@@ -18,6 +18,19 @@
 //   after preflight: disarmed when the optional `fcu_status` says the FCU is not armed: the host then
 //              steps no controller (no takeoff, no integrators running) until
 //   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
+// Landing (a land item's glide path on the optional `current_path`, landing_checks.hpp):
+//   climb/cruise -> approach  when a new approach begins (current_path.landing, a new attempt)
+//   approach -> flare     when the height above the touchdown point is below its flare height
+//   approach -> climb     go-around: below the decision height while not stabilised (the
+//                         criterion named), or the glide path was left (the mission changed, a
+//                         failsafe); the path manager comes round for another approach
+//   flare -> rollout      on the wheels: height above the touchdown point < land_touchdown_height
+//   rollout -> stopped    ground speed < land_stopped_speed for land_stopped_time: the flight
+//                         ends complete (landed(): end_reason "landed", summary.json)
+// Takeoff abort (takeoff_checks.hpp; a takeoff begun at rest, below takeoff_safe_height):
+//   takeoff/climb -> rollout  the run or the attitude criterion (named); once stopped the flight
+//                         ends with failure() "takeoff_aborted: <criterion>"
+// Preflight also refuses a takeoff in more wind than preflight_max_wind (preflight.hpp).
 // Without `fcu_status` the flight never waits (sim_aero's reports disarmed only during its boot
 // calibration, a failing preflight check). The published phase
 // stays `takeoff` while disarmed (FlightPhase has no disarmed value); disarmed() tells the host.
@@ -30,9 +43,13 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
+#include "safety/landing_checks.hpp"
 #include "safety/preflight.hpp"
 #include "safety/safety_monitor.hpp"
 #include "safety/state_loss_recovery.hpp"
+#include "safety/takeoff_checks.hpp"
 #include "tern/plugin.hpp"
 
 namespace tern::core {
@@ -74,6 +91,10 @@ class PhaseMachine final : public Plugin {
   std::optional<double> commanded_airspeed() const;
   /// Why the flight must end ("preflight_failed: ..."), empty while it may go on.
   const std::string& failure() const { return f_.failure; }
+  /// The aircraft landed and stopped: the flight is complete (landed_detail() says how).
+  bool landed() const { return f_.phase == msg::Phase::stopped && f_.abort_reason.empty(); }
+  const std::string& landed_detail() const { return f_.landed_detail; }
+  std::vector<std::pair<std::string, double>> summary() const override;
 
  private:
   void enter(Nanos now, msg::Phase to, std::string reason);
@@ -86,22 +107,36 @@ class PhaseMachine final : public Plugin {
   void declare_preflight();
   void declare_safety();
   void declare_recovery();
+  void declare_landing();
+  LandingLimits landing_limits() const;
+  /// The landing transitions (approach, flare, rollout, stopped, go-around); true when it decided.
+  bool step_landing(Nanos now, const msg::State& s);
+  void step_rollout(Nanos now, const msg::State& s);
+  void declare_takeoff();
+  TakeoffLimits takeoff_limits() const;
+  /// Aborts the takeoff (-> rollout) on takeoff_checks.hpp's criteria; true when it did.
+  bool step_takeoff_checks(Nanos now, const msg::State& s);
+  void go_around(Nanos now, const std::string& why);
   Input<msg::State> state_;
   Input<msg::ControllerCommand> command_;
   Input<msg::FcuStatus> fcu_;
   Input<msg::Innovations> innovations_;
   Input<msg::Gnss> gnss_;
   Input<msg::Rc> rc_;
+  Input<msg::CurrentPath> path_;
   Output<msg::FlightPhase> phase_out_;
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
   Param<bool> preflight_, require_rc_;
   Param<double> preflight_time_, preflight_timeout_, report_interval_;
   Param<double> max_tilt_sigma_, max_yaw_sigma_, max_gyro_bias_sigma_, max_position_sigma_, max_h_acc_, max_v_acc_, max_ground_speed_,
-      max_rc_age_;
+      max_rc_age_, max_wind_;
   Param<std::int64_t> min_sats_;
   Param<bool> safety_, safety_hand_back_, recovery_;
   Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;
   Param<std::int64_t> safety_silent_periods_;
+  Param<double> land_max_cross_track_, land_max_glide_error_, land_max_airspeed_deficit_, land_touchdown_height_, land_stopped_speed_,
+      land_stopped_time_;
+  Param<double> takeoff_run_length_, takeoff_min_airspeed_, takeoff_max_roll_, takeoff_max_pitch_, takeoff_min_pitch_, takeoff_safe_height_;
   Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
       safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;
   /// Everything one flight changes: reset() replaces it wholesale.
@@ -115,6 +150,12 @@ class PhaseMachine final : public Plugin {
     Nanos last_report = -1;          ///< preflight: when the failing checks were last logged
     Nanos preflight_since = -1;      ///< preflight: first check after the last disarmed wait (timeout base)
     std::string failure;
+    int approach_seen = 0;  ///< current_path.attempt of the last approach entered
+    int go_arounds = 0;
+    std::string landed_detail;
+    std::optional<Eigen::Vector3d> takeoff_start;  ///< estimated position where the takeoff began
+    bool takeoff_checked = false;                  ///< the takeoff's abort criteria are watched
+    std::string abort_reason;                      ///< why the takeoff was aborted ("" : it was not)
   } f_;
 };
 

@@ -91,6 +91,12 @@ std::vector<std::string> preflight_failures(const PreflightInputs& in, const Pre
     const double speed = std::sqrt(s.v_n * s.v_n + s.v_e * s.v_e + s.v_d * s.v_d);
     if (!(speed <= limits.max_ground_speed))
       out.push_back(fmt::format("aircraft moving: ground speed {:.2f} m/s > {:.2f} m/s", speed, limits.max_ground_speed));
+    const double wind = std::max(std::isfinite(s.Va) ? s.Va : 0.0, std::hypot(s.w_n, s.w_e));
+    if (!(wind <= limits.max_wind) && s.valid)
+      out.push_back(
+          fmt::format("wind at rest {:.1f} m/s > {:.1f} m/s (airspeed {:.1f} m/s, estimated wind {:.1f} m/s): beyond the "
+                      "takeoff limit preflight_max_wind",
+                      wind, limits.max_wind, s.Va, std::hypot(s.w_n, s.w_e)));
   }
   if (in.innovations != nullptr) check_innovations(*in.innovations, out);
   if (in.gnss != nullptr) check_gnss(*in.gnss, limits, out);

@@ -35,6 +35,12 @@ struct PreflightLimits {
   double max_ground_speed = 2.0;    ///< m/s: at rest, or drifting in the wind without brakes; not taxiing
   bool require_rc = false;          ///< the pilot's transmitter must be heard (a safety pilot's flight)
   double max_rc_age = 0.5;          ///< s: the newest RC frame at most this old (rosflight RC_LOSS is 100 ms)
+  /// m/s: the wind the vehicle can see at rest (the pitot's airspeed: the headwind; the
+  /// estimate's wind) above this is beyond the aircraft's takeoff limits. 10 m/s: 60 % of the
+  /// Anaconda's 17 m/s cruise, the upper end of the winds the shipped campaigns fly in. A tailwind
+  /// or a crosswind at rest is not seen by a pitot (and barely by the estimate): the check can
+  /// only say what the vehicle measures.
+  double max_wind = 10.0;
 };
 
 /// The latest messages the checks read; null (or nullopt) where none has arrived or the config

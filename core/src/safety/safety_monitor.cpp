@@ -11,7 +11,8 @@ namespace tern::core {
 
 namespace {
 
-bool airborne(msg::Phase p) { return p == msg::Phase::climb || p == msg::Phase::cruise; }
+// The envelope is watched in climb and cruise (not near the ground: takeoff, approach, flare, rollout).
+bool envelope_phase(msg::Phase p) { return p == msg::Phase::climb || p == msg::Phase::cruise; }
 
 // The error a surface at its stop should reduce: grown by more than `growth` from its smallest
 // since the surface got there (`least`)? `at_stop` false forgets it.
@@ -58,10 +59,10 @@ std::string SafetyMonitor::envelope(const msg::State& s, msg::Phase phase) {
   if (s.theta > l.pitch_max || s.theta < l.pitch_min)
     return fmt::format("envelope: pitch {:.0f} deg outside {:.0f}..{:.0f} deg", s.theta * kDegPerRad, l.pitch_min * kDegPerRad,
                        l.pitch_max * kDegPerRad);
-  floor_armed_ = floor_armed_ || (airborne(phase) && s.altitude() > l.floor);
+  floor_armed_ = floor_armed_ || (envelope_phase(phase) && s.altitude() > l.floor);
   if (floor_armed_ && s.altitude() < l.floor)
     return fmt::format("envelope: altitude {:.1f} m below the floor {:.1f} m", s.altitude(), l.floor);
-  if (!airborne(phase)) return "";
+  if (!envelope_phase(phase)) return "";
   if (s.Va < l.airspeed_min) return fmt::format("envelope: airspeed {:.1f} m/s below {:.1f} m/s", s.Va, l.airspeed_min);
   if (s.Va > l.airspeed_max) return fmt::format("envelope: airspeed {:.1f} m/s above {:.1f} m/s", s.Va, l.airspeed_max);
   if (s.v_d > l.sink_max) return fmt::format("envelope: sink rate {:.1f} m/s above {:.1f} m/s", s.v_d, l.sink_max);
@@ -70,7 +71,7 @@ std::string SafetyMonitor::envelope(const msg::State& s, msg::Phase phase) {
 
 std::string SafetyMonitor::saturated(const SafetyInputs& in) {
   const msg::Actuators* a = in.actuators;
-  if (a == nullptr || !in.h_c || !airborne(in.phase)) {
+  if (a == nullptr || !in.h_c || !envelope_phase(in.phase)) {
     sat_e_.reset();
     sat_t_.reset();
     return "";

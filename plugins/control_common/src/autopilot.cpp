@@ -2,11 +2,13 @@
 
 #include <cmath>
 
+#include "tern/math.hpp"
+
 namespace tern::control {
 
 bool Command::finite() const {
   return std::isfinite(Va_c) && std::isfinite(h_c) && std::isfinite(chi_c) && std::isfinite(phi_ff) && std::isfinite(phi_c) &&
-         std::isfinite(theta_c);
+         std::isfinite(theta_c) && std::isfinite(h_td);
 }
 
 LongitudinalLaw::Output SlcLongitudinal::update(const VehicleState& x, const Command& c, bool /*climb*/, double dt) {
@@ -68,6 +70,11 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
       f_.handover_from = f_.last.surfaces;
     }
     if (mode != f_.mode) f_.rotated = false;
+    if (mode == Mode::flare && f_.mode != Mode::flare) f_.flare.start(x.h - (c.landing ? c.h_td : c.h_c), -x.h_dot, x.theta);
+    if (mode == Mode::rollout && f_.mode != Mode::rollout) {
+      f_.rollout_time = 0.0;
+      f_.rollout_chi = x.chi;
+    }
   }
   f_.mode = mode;
   f_.override_phi = ovp;
@@ -105,7 +112,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     phi_c = st.roll * s_.angle_roll_max;
   } else if (ovp) {
     phi_c = c.phi_c;
-  } else if (mode == Mode::takeoff || (mode == Mode::climb && !s_.climb_course_hold)) {
+  } else if (mode == Mode::takeoff || mode == Mode::rollout || (mode == Mode::climb && !s_.climb_course_hold)) {
     phi_c = 0.0;
   } else {
     use_course = true;
@@ -125,6 +132,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     lateral_.idle_course();
   }
   phi_c = saturate(phi_c, -L.roll_max, L.roll_max);
+  if (mode == Mode::flare) phi_c = saturate(phi_c, -land_.flare_roll_max, land_.flare_roll_max);
   if (shaped_handover) {
     phi_c = lateral_.roll_command_for(f_.handover_from.delta_a, x.phi, x.p);
     lateral_.initialise_shape(phi_c);
@@ -133,7 +141,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   } else {
     phi_c = lateral_.shape_roll(phi_c, h);
   }
-  if (mode == Mode::takeoff && !f_.rotated && x.Va < s_.rotation_Va && !init) lateral_.reset_roll_integrator();
+  const bool on_wheels = (mode == Mode::takeoff && !f_.rotated && x.Va < s_.rotation_Va) || mode == Mode::rollout;
+  if (on_wheels && !init) lateral_.reset_roll_integrator();
   if (init) lateral_.initialise_roll(f_.handover_from.delta_a, phi_c, x.phi, x.p);
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
   double delta_r = lateral_.yaw_damper(x.r, h);
@@ -141,7 +150,14 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
 
   // ---- longitudinal: pitch command and throttle
   double theta_c = 0.0, delta_t = 0.0, delta_t_c = 0.0;
-  if (mode == Mode::takeoff) {
+  if (mode == Mode::flare || mode == Mode::rollout) {
+    const LandingLongitudinal l = landing_step(mode, x, c, h);
+    theta_c = l.theta_c;
+    delta_t = delta_t_c = l.delta_t;
+    if (mode == Mode::rollout) delta_r = l.delta_r;
+    out.brake = l.brake;
+    law_.reset();
+  } else if (mode == Mode::takeoff) {
     if (x.Va >= s_.rotation_Va) f_.rotated = true;
     theta_c = f_.rotated ? s_.takeoff_pitch : 0.0;
     delta_t = delta_t_c = s_.takeoff_throttle;
@@ -162,7 +178,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     delta_t_c = lo.delta_t_c;
   }
   // On the ground before rotation the gear holds the attitude: no pitch or roll integration.
-  const bool ground_roll = mode == Mode::takeoff && !f_.rotated;
+  const bool ground_roll = (mode == Mode::takeoff && !f_.rotated) || mode == Mode::rollout;
   if (ground_roll && !init) pitch_.reset();
   if (init) pitch_.initialise(f_.handover_from.delta_e, theta_c, x.theta, x.q);
   const double delta_e = pitch_.update(theta_c, x.theta, x.q, h);
@@ -185,6 +201,27 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   f_.last = out;
   f_.have_last = true;
   return out;
+}
+
+// Flare: the sink-rate flare's pitch, motor at idle. Rollout: pitch 0, motor off, the rudder
+// (nose wheel) on the course error to the runway's course (no land item: the course the
+// rollout began on), brakes after rollout_brake_delay.
+Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleState& x, const Command& c, double dt) {
+  LandingLongitudinal l;
+  const double h_td = c.landing ? c.h_td : c.h_c;
+  if (mode == Mode::flare) {
+    l.theta_c = f_.flare.update(x.h - h_td, x.h_dot, dt, land_);
+    return l;
+  }
+  f_.rollout_time += dt;
+  // positive rudder yaws the nose left (book sec. 4.2 signs): a course error to the right needs
+  // negative rudder
+  // the runway's course after a landing; after an aborted takeoff the course the rollout began on
+  const double chi_err = tern::wrap_pi((c.landing ? c.chi_c : f_.rollout_chi) - x.chi);
+  const auto& L = lateral_.gains();
+  l.delta_r = saturate(-land_.rollout_steer_kp * chi_err, -L.max_r, L.max_r);
+  l.brake = f_.rollout_time >= land_.rollout_brake_delay ? land_.rollout_brake : 0.0;
+  return l;
 }
 
 }  // namespace tern::control

@@ -9,7 +9,7 @@ namespace tern::control {
 void ControllerPlugin::configure() {
   declare(state_, "state", "estimated vehicle state");
   declare(command_, "controller_command", "airspeed, altitude and course commands of the path follower");
-  declare(phase_, "flight_phase", "flight phase (takeoff, climb, cruise); absent: cruise", Need::optional);
+  declare(phase_, "flight_phase", "flight phase (takeoff, climb, cruise, approach, flare, rollout); absent: cruise", Need::optional);
   declare(rc_, "rc", "pilot sticks and override switch (manual modes)", Need::optional);
   declare(fcu_, "fcu_status", "flight-control unit status (rc_override: manual modes)", Need::optional);
   declare(actuators_, "actuators", "surface deflections, rad, and throttle 0..1");
@@ -21,6 +21,7 @@ void ControllerPlugin::configure() {
   declare_gains(pitch_);
   declare_gains(limits_);
   declare_gains(settings_);
+  declare_gains(landing_);
   declare_struct(manual_);
   declare_law_params();
 
@@ -39,6 +40,7 @@ void ControllerPlugin::apply_params() {
   autopilot_->set_lateral_gains(lateral_);
   autopilot_->set_pitch_gains(pitch_);
   autopilot_->set_settings(settings_);
+  autopilot_->set_landing_settings(landing_);
   apply_law_params();
   dirty_ = false;
 }
@@ -55,6 +57,9 @@ Mode ControllerPlugin::select_mode(const msg::State&) {
   switch (phase_->phase) {
     case msg::Phase::takeoff: return Mode::takeoff;
     case msg::Phase::climb: return Mode::climb;
+    case msg::Phase::approach: return Mode::approach;
+    case msg::Phase::flare: return Mode::flare;
+    case msg::Phase::rollout: return Mode::rollout;
     default: return Mode::cruise;
   }
 }
@@ -80,7 +85,7 @@ void ControllerPlugin::step(Nanos now) {
   Command c;
   if (command_.has_value()) {
     const auto& m = *command_;
-    c = {m.Va_c, m.h_c, m.chi_c, m.phi_ff, m.phi_c, m.theta_c, m.override_phi, m.override_theta};
+    c = {m.Va_c, m.h_c, m.chi_c, m.phi_ff, m.phi_c, m.theta_c, m.override_phi, m.override_theta, m.landing, m.h_td};
   } else {
     if (!flight_.hold_command && x.finite()) flight_.hold_command = Command{x.Va, x.h, x.chi, 0.0, 0.0, 0.0, false, false};
     if (flight_.hold_command) c = *flight_.hold_command;
@@ -120,6 +125,7 @@ void ControllerPlugin::step(Nanos now) {
   a.delta_e = out.surfaces.delta_e;
   a.delta_r = out.surfaces.delta_r;
   a.delta_t = out.surfaces.delta_t;
+  a.brake = out.brake;
   actuators_.publish(a);
 
   msg::ControllerInternals in;

@@ -22,6 +22,7 @@ inline ItemType item_type_of(std::uint8_t t) {
   switch (t) {
     case msg::Waypoint::loiter: return ItemType::loiter;
     case msg::Waypoint::return_home: return ItemType::return_home;
+    case msg::Waypoint::land: return ItemType::land;
     default: return ItemType::waypoint;
   }
 }
@@ -29,6 +30,7 @@ inline std::uint8_t msg_item_type(ItemType t) {
   switch (t) {
     case ItemType::loiter: return msg::Waypoint::loiter;
     case ItemType::return_home: return msg::Waypoint::return_home;
+    case ItemType::land: return msg::Waypoint::land;
     case ItemType::waypoint: break;
   }
   return msg::Waypoint::waypoint;
@@ -85,10 +87,15 @@ class ManagerPlugin final : public Plugin {
   ManagerConfig config() const;
   void rebuild();
 
+  /// Home's altitude while at rest on the ground before the takeoff; a go-around to the manager.
+  void follow_phase(const msg::State& s, Nanos now);
+
   Input<msg::State> state_;
   Input<msg::WaypointList> waypoints_;
+  Input<msg::FlightPhase> phase_;
   Output<msg::CurrentPath> path_;
   Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_, turn_bank_, wind_tau_;
+  Param<std::int64_t> land_attempts_;
   Param<bool> orbit_last_;
   Param<std::string> corner_;
 
@@ -103,6 +110,11 @@ class ManagerPlugin final : public Plugin {
     // squares, count, maximum of |cross-track error|, m.
     double xt_sq = 0.0, xt_max = 0.0;
     std::uint64_t xt_n = 0;
+    // The estimate's altitude at rest before the takeoff, low-passed (home's ground), m; the
+    // flight_phase message (its `since`) of the last go-around passed on.
+    std::optional<double> home_h;
+    Nanos home_stamp = 0;
+    Nanos go_around_since = -1;
   } f_;
 };
 

@@ -35,6 +35,11 @@ FollowerCommand follow(const PathSegment& path, const FollowerInput& in, const F
     const double qn = path.q.x() / q_ne, qe = path.q.y() / q_ne;
     const double along = e_p.x() * qn + e_p.y() * qe;  // = |s_ne| signed along the line
     out.h_c = -path.r.z() - along * path.q.z() / q_ne;
+    if (path.landing) {
+      out.landing = true;
+      out.h_td = -path.r.z();
+      out.h_c = std::max(out.h_c, out.h_td);
+    }
     out.phi_ff = 0.0;
     out.chi_c = unwrap_near(out.chi_c, chi);
     return out;

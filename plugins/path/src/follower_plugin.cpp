@@ -35,6 +35,7 @@ void FollowerPlugin::step(Nanos now) {
   seg.c = p.c;
   seg.rho = p.rho;
   seg.lambda = p.lambda;
+  seg.landing = p.landing;
   const bool ok = in.p.allFinite() && std::isfinite(s.chi) && std::isfinite(p.Va_d) && p.r.allFinite() && p.q.allFinite() &&
                   p.c.allFinite() && std::isfinite(p.rho) && (seg.type == PathSegment::Type::line || p.rho > 0.0);
   if (!ok) {
@@ -53,6 +54,8 @@ void FollowerPlugin::step(Nanos now) {
   out.h_c = c.h_c;
   out.chi_c = c.chi_c;
   out.phi_ff = c.phi_ff;
+  out.landing = c.landing;
+  out.h_td = c.h_td;
   command_.publish(out);
 }
 

@@ -22,10 +22,12 @@ std::string fmt(double v, int decimals = 1) {
 bool same(const MissionPoint& a, const MissionPoint& b) {
   return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d && a.type == b.type &&
          a.loiter.radius == b.loiter.radius && a.loiter.direction == b.loiter.direction && a.loiter.time == b.loiter.time &&
-         a.loiter.turns == b.loiter.turns;
+         a.loiter.turns == b.loiter.turns && a.land.glide_slope == b.land.glide_slope && a.land.flare_height == b.land.flare_height &&
+         a.land.decision_height == b.land.decision_height;
 }
 
-bool orbits(const MissionPoint& w) { return w.type != ItemType::waypoint; }
+bool orbits(const MissionPoint& w) { return w.type == ItemType::loiter || w.type == ItemType::return_home; }
+bool lands(const MissionPoint& w) { return w.type == ItemType::land; }
 
 Vec3 unit3(const Vec3& from, const Vec3& to, const Vec3& fallback) {
   const Vec3 d = to - from;
@@ -49,6 +51,7 @@ void PathManager::set_config(const ManagerConfig& c) {
   if (!std::isfinite(c.default_altitude)) throw std::invalid_argument("path manager: default_altitude must be finite");
   if (!(c.turn_bank >= 0.0 && c.turn_bank <= 1.4))
     throw std::invalid_argument("path manager: turn_bank must be in [0, 1.4] rad, got " + fmt(c.turn_bank, 6));
+  if (c.land_attempts < 1) throw std::invalid_argument("path manager: land_attempts must be >= 1, got " + std::to_string(c.land_attempts));
   cfg_ = c;
   loop_ = raw_loop_ && !cfg_.orbit_last;
 }
@@ -178,6 +181,9 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
   raw_loop_ = loop;
   loop_ = loop && !cfg_.orbit_last;
   warned_.clear();
+  approach_.reset();
+  approaches_ = 0;
+  land_abandoned_ = false;
   wps_ = clean(list);
   passed_.reserve(passed_.size() + wps_.size());
   if (wps_.empty()) {
@@ -186,7 +192,7 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
     stage_ = Stage::orbit;
     return;
   }
-  if (wps_.size() == 1 && orbits(wps_[0].wp)) {
+  if (wps_.size() == 1 && (orbits(wps_[0].wp) || lands(wps_[0].wp))) {
     start_route(0, p, chi);
     return;
   }
@@ -236,6 +242,10 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   const int idx = wps_[target_].index;
   double R = cfg_.R_min;
   seg_R_ = R;
+  if (lands(wt)) {
+    begin_land(p, chi);
+    return;
+  }
   if (orbits(wt)) {
     stage_ = Stage::loiter;
     loiter_on_ = false;
@@ -277,7 +287,8 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
   switch_z_ = wt.w;
   switch_n_ = q_in;
   stage_ = Stage::line;
-  if (!nx || wps_[*nx].wp.use_chi || orbits(wps_[*nx].wp)) return;  // last, or a Dubins path or orbit follows: pass over it
+  // last, or a Dubins path, an orbit or a landing's Dubins path follows: pass over it
+  if (!nx || wps_[*nx].wp.use_chi || orbits(wps_[*nx].wp) || lands(wps_[*nx].wp)) return;
   const Vec3& w_next = wps_[*nx].wp.w;
   if (cfg_.corner == ManagerConfig::Corner::fillet) {
     if (cfg_.turn_bank > 0.0 && horizontal_distance(wt.w, w_next) > 0.0) {
@@ -386,6 +397,7 @@ PathSegment PathManager::current_segment() const {
   if (mode_ == Mode::origin_orbit) return orbit_segment(Vec3(0.0, 0.0, -cfg_.default_altitude), -1, cfg_.default_airspeed);
   const MissionPoint& wt = wps_[target_].wp;
   const int idx = wps_[target_].index;
+  if (lands(wt)) return land_segment(wps_[target_]);
   if (mode_ == Mode::waypoint_orbit || stage_ == Stage::loiter)
     return orbits(wt) ? loiter_segment(wps_[target_]) : orbit_segment(wt.w, idx, airspeed(wt));
   PathSegment s;
@@ -416,6 +428,97 @@ PathSegment PathManager::current_segment() const {
     case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;
     case Stage::orbit: return orbit_segment(wt.w, idx, airspeed(wt));
     case Stage::loiter: return loiter_segment(wps_[target_]);  // (returned above already)
+    case Stage::land_final:
+    case Stage::go_around: break;  // land items: land_segment() (returned above)
+  }
+  return s;
+}
+
+// ---- land items ----------------------------------------------------------------------------
+
+void PathManager::set_home_altitude(double h) {
+  if (std::isfinite(h)) home_h_ = h;
+}
+
+void PathManager::begin_land(const Vec3& p, double chi) {
+  const Entry& e = wps_[target_];
+  Vec3 td = e.wp.w;
+  td.z() -= home_h_;
+  const double entry_d = approach_ ? approach_->entry.z() : prev_.z();
+  approach_ = plan_approach(td, e.wp.chi_d, e.wp.land, entry_d);
+  if (approach_->raised)
+    warn_once("landlow" + std::to_string(e.index), "land item " + std::to_string(e.index) + ": the approach altitude is raised to " +
+                                                       fmt(-approach_->entry.z()) + " m (" + fmt(kMinEntryHeights, 0) +
+                                                       " decision heights above the touchdown point)");
+  if (land_abandoned_) {
+    mode_ = Mode::waypoint_orbit;
+    stage_ = Stage::orbit;
+    return;
+  }
+  const bool from_dubins = prev_chi_valid_ && approaches_ == 0 && stage_ != Stage::go_around;
+  const Vec3 ps = from_dubins ? Vec3(prev_.x(), prev_.y(), approach_->entry.z()) : Vec3(p.x(), p.y(), approach_->entry.z());
+  const double chi_s = from_dubins ? prev_chi_ : (std::isfinite(chi) ? chi : approach_->heading);
+  seg_R_ = planned_radius(airspeed(e.wp), 0.0, 2.0 * kPi);
+  dubins_ = dubins_path(ps, chi_s, approach_->entry, approach_->heading, seg_R_);
+  stage_ = dubins_.arc_s < kPi ? Stage::dubins_2 : Stage::dubins_1;
+  if (info_) info_("land item " + std::to_string(e.index) + ": to the approach's entry point (" + fmt(dubins_.length, 0) + " m)");
+}
+
+void PathManager::go_around(const Vec3& p) {
+  if (mode_ != Mode::route || wps_.empty() || !lands(wps_[target_].wp) || !approach_ || !p.allFinite()) return;
+  const int idx = wps_[target_].index;
+  if (approaches_ >= cfg_.land_attempts) {
+    land_abandoned_ = true;
+    mode_ = Mode::waypoint_orbit;
+    stage_ = Stage::orbit;
+    warn_once("abandon" + std::to_string(idx), "land item " + std::to_string(idx) + ": landing abandoned after " +
+                                                   std::to_string(approaches_) + " approaches: orbiting above the touchdown point");
+    return;
+  }
+  const Vec3 h_dir(std::cos(approach_->heading), std::sin(approach_->heading), 0.0);
+  go_r_ = Vec3(p.x(), p.y(), approach_->entry.z());
+  const double past = std::max(along_runway(*approach_, p), 0.0) + 2.0 * seg_R_;
+  go_z_ = approach_->touchdown + past * h_dir;
+  stage_ = Stage::go_around;
+  if (info_) info_("land item " + std::to_string(idx) + ": go-around after approach " + std::to_string(approaches_));
+}
+
+PathSegment PathManager::land_segment(const Entry& e) const {
+  PathSegment s;
+  s.Va_d = airspeed(e.wp);
+  s.waypoint_index = e.index;
+  const Approach& a = *approach_;
+  if (mode_ == Mode::waypoint_orbit) {  // abandoned
+    PathSegment o = orbit_segment(Vec3(a.touchdown.x(), a.touchdown.y(), a.entry.z()), e.index, s.Va_d);
+    return o;
+  }
+  auto orbit = [&](const Vec3& c, int lambda) {
+    s.type = PathSegment::Type::orbit;
+    s.c = c;
+    s.rho = seg_R_;
+    s.lambda = lambda;
+  };
+  s.type = PathSegment::Type::line;
+  switch (stage_) {
+    case Stage::land_final:
+      s.r = a.touchdown;
+      s.q = a.q;
+      s.landing = true;
+      s.flare_height = e.wp.land.flare_height;
+      s.decision_height = e.wp.land.decision_height;
+      s.attempt = approaches_;
+      break;
+    case Stage::go_around:
+      s.r = go_r_;
+      s.q = Vec3(std::cos(a.heading), std::sin(a.heading), 0.0);
+      break;
+    case Stage::dubins_3:
+      s.r = dubins_.z1;
+      s.q = unit3(dubins_.z1, dubins_.z2, dubins_.q1);
+      break;
+    case Stage::dubins_4:
+    case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;
+    default: orbit(dubins_.cs, dubins_.lambda_s); break;  // dubins_1, dubins_2
   }
   return s;
 }
@@ -453,8 +556,21 @@ PathSegment PathManager::update(const Vec3& p, double chi, double t) {
         if (in_half_plane(p, dubins_.z3, -dubins_.q3)) stage_ = Stage::dubins_5;
         break;
       case Stage::dubins_5:
-        if (in_half_plane(p, dubins_.z3, dubins_.q3)) advance(p, chi);
+        if (!in_half_plane(p, dubins_.z3, dubins_.q3)) break;
+        if (lands(wps_[target_].wp)) {
+          ++approaches_;
+          stage_ = Stage::land_final;
+          if (info_)
+            info_("land item " + std::to_string(wps_[target_].index) + ": final approach " + std::to_string(approaches_) + ", glide path " +
+                  fmt(approach_->length, 0) + " m");
+        } else {
+          advance(p, chi);
+        }
         break;
+      case Stage::go_around:
+        if (in_half_plane(p, go_z_, Vec3(std::cos(approach_->heading), std::sin(approach_->heading), 0.0))) begin_land(p, chi);
+        break;
+      case Stage::land_final: break;
       case Stage::loiter:
         if (loiter_done(p, t)) advance(p, chi);
         break;

@@ -11,6 +11,7 @@ namespace tern::path {
 void ManagerPlugin::configure() {
   declare(state_, "state", "vehicle state (position, course)");
   declare(waypoints_, "waypoints", "the mission from the path planner, NED");
+  declare(phase_, "flight_phase", "flight phase: home's altitude at rest before the takeoff, go-arounds of a land item", Need::optional);
   declare(path_, "current_path", "the segment to follow now (line or orbit)");
   // Defaults: ROSplane's Anaconda parameters (rosplane/params/anaconda_autopilot_params.yaml).
   declare(R_min_, "R_min", 50.0, ParamSpec("m", 1.0, 10000.0, "minimum turn radius: fillets, Dubins paths and orbits"));
@@ -27,6 +28,9 @@ void ManagerPlugin::configure() {
           ParamSpec("rad", 0.0, 1.4, "bank angle turns are planned for in the estimated wind (radius >= R_min); 0: every turn R_min"));
   declare(wind_tau_, "wind_tau", 30.0,
           ParamSpec("s", 0.0, 3600.0, "time constant of the low-pass on the state's wind used for turn_bank radii"));
+  declare(land_attempts_, "land_attempts", std::int64_t{3},
+          ParamSpec("", 1, 20, "approaches to a land item before the landing is abandoned (orbit above the touchdown point)"));
+  land_attempts_.on_change([this](const std::int64_t&) { rebuild(); });
   turn_bank_.on_change([this](const double&) { rebuild(); });
   R_min_.on_change([this](const double&) { rebuild(); });
   orbit_last_.on_change([this](const bool&) { rebuild(); });
@@ -49,6 +53,7 @@ ManagerConfig ManagerPlugin::config() const {
   c.corner = corner_() == "line" ? ManagerConfig::Corner::line : ManagerConfig::Corner::fillet;
   c.min_separation = min_separation_();
   c.turn_bank = turn_bank_();
+  c.land_attempts = static_cast<int>(land_attempts_());
   return c;
 }
 
@@ -83,6 +88,7 @@ void ManagerPlugin::step(Nanos now) {
       wps[i].Va_d = w.Va_d;
       wps[i].type = item_type_of(w.type);
       wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns};
+      wps[i].land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
     }
     manager_->set_waypoints(wps, list.loop, list.immediate);
   }
@@ -102,6 +108,7 @@ void ManagerPlugin::step(Nanos now) {
     f_.wind_stamp = now;
     manager_->set_wind(f_.wind);
   }
+  follow_phase(s, now);
   const PathSegment seg = manager_->update(p, s.chi, to_seconds(now));
   if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
     const double e = std::fabs(cross_track_error(seg.r, seg.q, p));
@@ -119,7 +126,31 @@ void ManagerPlugin::step(Nanos now) {
   out.rho = seg.rho;
   out.lambda = static_cast<std::int8_t>(seg.lambda >= 0 ? 1 : -1);
   out.waypoint_index = seg.waypoint_index;
+  out.landing = seg.landing;
+  out.flare_height = seg.flare_height;
+  out.decision_height = seg.decision_height;
+  out.attempt = static_cast<std::uint8_t>(std::clamp(seg.attempt, 0, 255));
   path_.publish(out);
+}
+
+// Home's ground: the estimate's altitude while the aircraft rests before the takeoff (preflight,
+// or takeoff not yet rolling), low-passed over 2 s; land items' touchdown altitudes count from it.
+void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
+  if (!phase_.has_value()) return;
+  const msg::FlightPhase& ph = *phase_;
+  const bool at_rest = ph.phase == msg::Phase::preflight || (ph.phase == msg::Phase::takeoff && std::isfinite(s.Vg) && s.Vg < 1.0);
+  if (at_rest && s.valid && std::isfinite(s.p_d) && ph.phase != msg::Phase::climb && manager_->approaches() == 0) {
+    const double h = -s.p_d;
+    const double dt = f_.home_h ? to_seconds(now - f_.home_stamp) : 0.0;
+    f_.home_h = f_.home_h ? *f_.home_h + (1.0 - std::exp(-std::max(dt, 0.0) / 2.0)) * (h - *f_.home_h) : h;
+    f_.home_stamp = now;
+    manager_->set_home_altitude(*f_.home_h);
+  }
+  const bool go_around = ph.phase == msg::Phase::climb && (ph.previous == msg::Phase::approach || ph.previous == msg::Phase::flare);
+  if (go_around && ph.since != f_.go_around_since) {
+    f_.go_around_since = ph.since;
+    manager_->go_around(Vec3(s.p_n, s.p_e, s.p_d));
+  }
 }
 
 std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
@@ -127,7 +158,10 @@ std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
   const double rms = f_.xt_n > 0 ? std::sqrt(f_.xt_sq / static_cast<double>(f_.xt_n)) : 0.0;
   return {{"waypoints_passed", static_cast<double>(manager_->passed().size())},
           {"line_cross_track_rms_m", rms},
-          {"line_cross_track_max_m", f_.xt_max}};
+          {"line_cross_track_max_m", f_.xt_max},
+          {"land_approaches", static_cast<double>(manager_->approaches())},
+          {"land_abandoned", manager_->landing_abandoned() ? 1.0 : 0.0},
+          {"home_altitude_m", f_.home_h.value_or(0.0)}};
 }
 
 }  // namespace tern::path

@@ -13,6 +13,10 @@
 //   climb    course hold (or wings level if climb_course_hold is false); the longitudinal law
 //            climbs to h_c (its pitch limits bound the climb).
 //   cruise   (and landing, loiter) course, altitude and airspeed hold.
+//   approach a land item's glide path: as cruise (the follower's h_c descends the glide path).
+//   flare    landing_laws.hpp: the sink-rate flare's pitch, throttle idle, bank within
+//            flare_roll_max; the course loop steers to the runway's course.
+//   rollout  landing_laws.hpp: motor off, wings level, rudder/nose wheel steering, brakes.
 // Manual modes: pass-through (surfaces from the sticks: delta_a = roll max_a, delta_e =
 // -pitch max_e, delta_r = -yaw max_r, delta_t = throttle) and angle mode (phi_c = roll *
 // angle_roll_max, theta_c = pitch * angle_pitch_max, throttle from the stick, rudder = yaw
@@ -29,11 +33,12 @@
 
 #include <cstdint>
 
+#include "control_common/landing_laws.hpp"
 #include "control_common/loops.hpp"
 
 namespace tern::control {
 
-enum class Mode : std::uint8_t { takeoff, climb, cruise, manual_passthrough, manual_angle };
+enum class Mode : std::uint8_t { takeoff, climb, cruise, manual_passthrough, manual_angle, approach, flare, rollout };
 
 /// What the path follower commands (ROSplane's ControllerCommands).
 struct Command {
@@ -45,6 +50,8 @@ struct Command {
   double theta_c = 0.0;  ///< rad, used when override_theta
   bool override_phi = false;
   bool override_theta = false;
+  bool landing = false;  ///< on a land item's glide path: h_td is the touchdown altitude
+  double h_td = 0.0;     ///< m (flare and rollout measure the height above the runway from it)
   bool finite() const;
 };
 
@@ -122,6 +129,7 @@ struct AutopilotOutput {
   double phi_c = 0.0;      ///< roll command used, rad
   double theta_c = 0.0;    ///< pitch command used, rad
   double delta_t_c = 0.0;  ///< throttle before saturation
+  double brake = 0.0;      ///< wheel brakes, 0..1 (rollout)
   bool held = false;       ///< input was not finite: the previous command was held
 };
 
@@ -132,6 +140,7 @@ class Autopilot {
   void set_lateral_gains(const LateralGains& g) { lateral_.set_gains(g); }
   void set_pitch_gains(const PitchGains& g) { pitch_.set_gains(g); }
   void set_settings(const AutopilotSettings& s) { s_ = s; }
+  void set_landing_settings(const LandingSettings& s) { land_ = s; }
   const LateralGains& lateral_gains() const { return lateral_.gains(); }
   const PitchGains& pitch_gains() const { return pitch_.gains(); }
   const AutopilotSettings& settings() const { return s_; }
@@ -148,11 +157,17 @@ class Autopilot {
  private:
   Surfaces limit(const Surfaces& u) const;
   Surfaces trim() const;
+  /// Flare and rollout: pitch command, throttle, and on the rollout the rudder and brakes.
+  struct LandingLongitudinal {
+    double theta_c = 0.0, delta_t = 0.0, delta_r = 0.0, brake = 0.0;
+  };
+  LandingLongitudinal landing_step(Mode mode, const VehicleState& x, const Command& c, double dt);
 
   LongitudinalLaw& law_;
   LateralLoops lateral_;
   PitchLoop pitch_;
   AutopilotSettings s_;
+  LandingSettings land_;
   /// Everything a flight changes besides the loops' integrators: reset() replaces it wholesale.
   struct Flight {
     AutopilotOutput last;
@@ -161,6 +176,9 @@ class Autopilot {
     bool pending_handover = false;
     bool have_last = false;
     bool rotated = false;  ///< takeoff: rotated to takeoff_pitch
+    FlareLaw flare;
+    double rollout_time = 0.0;  ///< s on the rollout
+    double rollout_chi = 0.0;   ///< course when the rollout began, rad
     Mode mode = Mode::cruise;
     bool override_phi = false, override_theta = false;
   } f_;

@@ -85,6 +85,7 @@ class ControllerPlugin : public Plugin {
   LateralGains lateral_;
   PitchGains pitch_;
   AutopilotSettings settings_;
+  LandingSettings landing_;
   ManualMode manual_;
 
   std::optional<Autopilot> autopilot_;

@@ -20,6 +20,12 @@ struct PathSegment {
   double rho = 0.0;         ///< orbit: radius, m (> 0)
   int lambda = 1;           ///< orbit: 1 clockwise, -1 counter-clockwise (seen from above)
   int waypoint_index = -1;  ///< waypoint being flown to (index in the waypoint list), -1: none
+  /// A land item's glide path (landing.hpp): r is the touchdown point; the altitude command
+  /// stops at r's altitude beyond it.
+  bool landing = false;
+  double flare_height = 0.0;     ///< landing: m above r
+  double decision_height = 0.0;  ///< landing: m above r
+  int attempt = 0;               ///< landing: approaches flown, this one included
 };
 
 /// Gains of the vector fields. Defaults: ROSplane's Anaconda values
@@ -42,15 +48,18 @@ struct FollowerInput {
 
 /// What the follower commands (ROSplane's ControllerCommands).
 struct FollowerCommand {
-  double Va_c = 0.0;    ///< commanded airspeed, m/s (= the segment's Va_d)
-  double h_c = 0.0;     ///< commanded altitude (-d), m
-  double chi_c = 0.0;   ///< commanded course, rad, within pi of the input chi (not wrapped)
-  double phi_ff = 0.0;  ///< roll feed-forward, rad (orbits only; 0 on lines)
+  double Va_c = 0.0;     ///< commanded airspeed, m/s (= the segment's Va_d)
+  double h_c = 0.0;      ///< commanded altitude (-d), m
+  double chi_c = 0.0;    ///< commanded course, rad, within pi of the input chi (not wrapped)
+  double phi_ff = 0.0;   ///< roll feed-forward, rad (orbits only; 0 on lines)
+  bool landing = false;  ///< on a land item's glide path (h_td valid)
+  double h_td = 0.0;     ///< landing: the touchdown point's altitude (-r_d), m
 };
 
 /// Line: chi_c = chi_q - chi_inf (2/pi) atan(k_path e_py) (eq. 10.8), with chi_q the course of
 /// q unwrapped near chi, e_py the cross-track error (eq. 10.2) positive right of the line; the
-/// altitude command follows the line (eq. 10.5): h_c = -r_d - |s_ne| q_d / |q_ne|.
+/// altitude command follows the line (eq. 10.5): h_c = -r_d - |s_ne| q_d / |q_ne|; on a landing
+/// glide path no lower than the touchdown point's -r_d.
 /// Orbit: chi_c = varphi + lambda (pi/2 + atan(k_orbit (d - rho) / rho)) (eq. 10.13),
 /// h_c = -c_d, and near the orbit (|d - rho| < rho / 2) the coordinated-turn roll feed-forward
 /// phi_ff = lambda atan(Vg^2 / (g rho cos(chi - psi))) (section 10.3, with cos(chi - psi)

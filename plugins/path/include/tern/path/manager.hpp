@@ -38,6 +38,17 @@
 // altitude) that never ends. The waypoint before a loiter item is passed over (no fillet into
 // the orbit). A list of one loiter or return_home item is flown without the one-waypoint warning.
 //
+// A `land` item (item.hpp, landing.hpp) is the mission's end: a Dubins path to the approach's
+// entry point arriving on the runway heading, then the glide path (Stage::land_final, a line
+// whose segment is marked `landing`), which never switches: the phase machine takes the
+// aircraft through flare and rollout. The touchdown altitude is measured from the home altitude
+// (set_home_altitude: where the estimate put the ground before the takeoff). go_around() (the
+// phase machine's go-around, through the plugin) climbs out along the runway heading at the
+// approach altitude until 2 turn radii past the touchdown point (or past the aircraft, if it is
+// further), then flies the Dubins path to the entry point again; after land_attempts approaches
+// the landing is abandoned: the aircraft orbits above the touchdown point at the approach
+// altitude (warned once).
+//
 // Edits: a list that extends the current one (same first entries, same loop flag) is taken
 // over at once without changing the segment being flown. Any other list takes effect at the
 // next waypoint decision (when the current segment's waypoint is reached), and is then flown
@@ -56,6 +67,7 @@
 #include "tern/path/follower.hpp"
 #include "tern/path/geometry.hpp"
 #include "tern/path/item.hpp"
+#include "tern/path/landing.hpp"
 
 namespace tern::path {
 
@@ -89,6 +101,7 @@ struct ManagerConfig {
   /// tangent points lie within half of each of its legs (warned once), so that consecutive
   /// fillets never overlap; Dubins paths and orbits consider every course.
   double turn_bank = 0.0;
+  int land_attempts = 3;  ///< approaches to a land item before the landing is abandoned, >= 1
 };
 
 class PathManager {
@@ -103,9 +116,11 @@ class PathManager {
     dubins_2,
     dubins_3,
     dubins_4,
-    dubins_5,  ///< Alg. 8 states 1..5
-    orbit,     ///< orbiting (origin, single waypoint, mission complete)
-    loiter,    ///< orbiting a loiter or return_home item (time and turns count on the orbit)
+    dubins_5,    ///< Alg. 8 states 1..5
+    orbit,       ///< orbiting (origin, single waypoint, mission complete)
+    loiter,      ///< orbiting a loiter or return_home item (time and turns count on the orbit)
+    land_final,  ///< a land item's glide path (never switches)
+    go_around,   ///< climbing out along the runway heading after a go-around
   };
 
   /// warn: one line per degenerate case (once per list); info: mission progress.
@@ -144,6 +159,17 @@ class PathManager {
   /// On a loiter item: the aircraft has reached the orbit; its turns flown since then.
   bool on_loiter_orbit() const { return loiter_on_; }
   double loiter_turns_flown() const;
+  /// The estimate's altitude (m above the origin) of the ground at home: a land item's touchdown
+  /// altitude is measured from it (applies to approaches planned from now on). Non-finite: ignored.
+  void set_home_altitude(double h);
+  /// Abandons the current approach to a land item (no effect otherwise): climb out, come round
+  /// for another approach, or after land_attempts orbit above the touchdown point.
+  void go_around(const Vec3& p);
+  /// Approaches flown to the current land item (0: none), and whether the landing was abandoned.
+  int approaches() const { return approaches_; }
+  bool landing_abandoned() const { return land_abandoned_; }
+  /// The current land item's approach (valid once a land item became the target).
+  const std::optional<Approach>& approach() const { return approach_; }
   /// Number of the waypoints as they are flown (after repeats were skipped).
   std::size_t active_count() const { return wps_.size(); }
 
@@ -168,6 +194,10 @@ class PathManager {
   /// R_min, or with turn_bank > 0 the radius of a turn of `sweep` rad from course chi0 at Va.
   double planned_radius(double Va, double chi0, double sweep) const;
   PathSegment current_segment() const;
+  /// Plans the approach to the land item being targeted and the Dubins path to its entry point.
+  void begin_land(const Vec3& p, double chi);
+  /// The segments of a land item's final approach, go-around and abandoned-landing orbit.
+  PathSegment land_segment(const Entry& e) const;
   bool same_prefix(const std::vector<MissionPoint>& list, bool loop) const;
 
   ManagerConfig cfg_;
@@ -200,6 +230,13 @@ class PathManager {
   // (rad), the aircraft's last bearing from the centre (rad)
   bool loiter_on_ = false;
   double loiter_since_ = 0.0, loiter_swept_ = 0.0, loiter_angle_ = 0.0;
+  // the land item being flown: its approach, approaches begun, abandoned, home's altitude (m),
+  // the go-around's climb-out line (start, switch point; along the runway heading)
+  std::optional<Approach> approach_;
+  int approaches_ = 0;
+  bool land_abandoned_ = false;
+  double home_h_ = 0.0;
+  Vec3 go_r_ = Vec3::Zero(), go_z_ = Vec3::Zero();
 };
 
 }  // namespace tern::path

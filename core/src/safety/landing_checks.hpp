@@ -1,0 +1,40 @@
+// core/src/safety/landing_checks.hpp: the phase machine's landing decisions (phase_machine.hpp):
+// is the final approach stabilised, is the aircraft on its wheels, has it stopped. Plain
+// functions of the estimate, the current path (a land item's glide path, msg::CurrentPath
+// `landing`) and the commanded airspeed; no host types.
+//
+// Stabilised approach: the criteria airline operators and the autopilots use at a decision
+// height (FSF ALAR "stabilized approach": on the lateral and vertical path, speed within a
+// band; ArduPlane's and PX4's landing aborts act on the same quantities). Below the land item's
+// decision height and above its flare height, every one of them must hold, else a go-around:
+//   cross-track     |distance from the runway's extended centre line| <= max_cross_track
+//   glide path      |altitude - glide-path altitude| <= max_glide_error
+//   airspeed        Va >= Va_c - max_airspeed_deficit
+// On the wheels: the height above the touchdown point (estimate) below touchdown_height.
+// Stopped: ground speed below stopped_speed (held stopped_time by the phase machine).
+#pragma once
+
+#include <string>
+
+#include "tern/msg/path.hpp"
+#include "tern/msg/state.hpp"
+
+namespace tern::core {
+
+struct LandingLimits {
+  double max_cross_track = 5.0;       ///< m: half a small-UAV runway's width
+  double max_glide_error = 5.0;       ///< m above or below the glide path at the decision height
+  double max_airspeed_deficit = 3.0;  ///< m/s below the commanded airspeed (the stall margin)
+  double touchdown_height = 0.3;      ///< m above the touchdown point: on the wheels
+  double stopped_speed = 0.5;         ///< m/s ground speed
+  double stopped_time = 1.0;          ///< s
+};
+
+/// Height of the estimate above a land path's touchdown point (r), m.
+double height_above_touchdown(const msg::State& s, const msg::CurrentPath& path);
+
+/// Why the approach on `path` is not stabilised ("" when it is), naming the criterion and the
+/// values, e.g. "cross-track 7.2 m > 5.0 m".
+std::string unstabilised(const msg::State& s, const msg::CurrentPath& path, double Va_c, const LandingLimits& l);
+
+}  // namespace tern::core

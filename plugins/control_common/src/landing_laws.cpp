@@ -1,0 +1,30 @@
+// The flare law. See control_common/landing_laws.hpp.
+#include "control_common/landing_laws.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace tern::control {
+
+void FlareLaw::start(double h0, double sink0, double theta0) {
+  h0_ = std::max(h0, 0.1);
+  sink0_ = std::max(sink0, 0.0);
+  theta0_ = theta0;
+  integral_ = 0.0;
+}
+
+double FlareLaw::h_dot_command(double h, const LandingSettings& s) const {
+  const double sink0 = std::max(sink0_, s.flare_sink_td);
+  const double k = std::clamp(h / h0_, 0.0, 1.0);
+  return -(s.flare_sink_td + (sink0 - s.flare_sink_td) * k);
+}
+
+double FlareLaw::update(double h, double h_dot, double dt, const LandingSettings& s) {
+  const double e = h_dot_command(h, s) - h_dot;
+  const double unclamped = theta0_ + s.flare_kp * e + s.flare_ki * (integral_ + e * dt);
+  // integrate only while the command is within its limits (no wind-up at a stop)
+  if (unclamped > s.flare_pitch_min && unclamped < s.flare_pitch_max) integral_ += e * dt;
+  return std::clamp(theta0_ + s.flare_kp * e + s.flare_ki * integral_, s.flare_pitch_min, s.flare_pitch_max);
+}
+
+}  // namespace tern::control
