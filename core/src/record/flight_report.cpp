@@ -261,12 +261,15 @@ std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
                      "0.258", "0.894", "0.189", "0.074", "-", "0.112", "-");
   }
   s += fmt::format("waypoints reached: {}\n", fm.passages().size());
-  if (const auto& td = fm.touchdown())
+  if (const auto& td = fm.touchdown()) {
+    const std::string aim = std::isfinite(td->along_m)
+                                ? fmt::format(", {:+.1f} m along and {:+.1f} m across the aim point", td->along_m, td->across_m)
+                                : std::string(" (no land item: no aim point)");
     s += fmt::format(
-        "landing (truth): touchdown at {:.2f} s, {:+.1f} m along and {:+.1f} m across the aim point, sink {:.2f} m/s, airspeed "
-        "{:.1f} m/s, roll {:+.1f} deg, pitch {:+.1f} deg; rollout {:.1f} m{}\n",
-        td->t_s, td->along_m, td->across_m, td->sink_rate_mps, td->airspeed_mps, td->roll_deg, td->pitch_deg, td->rollout_m,
-        td->stopped ? ", stopped" : "");
+        "landing (truth): touchdown at {:.2f} s{}, sink {:.2f} m/s, airspeed {:.1f} m/s, roll {:+.1f} deg, pitch {:+.1f} deg; "
+        "rollout {:.1f} m{}\n",
+        td->t_s, aim, td->sink_rate_mps, td->airspeed_mps, td->roll_deg, td->pitch_deg, td->rollout_m, td->stopped ? ", stopped" : "");
+  }
   return s;
 }
 

@@ -134,8 +134,8 @@ class PhaseMachine final : public Plugin {
   Param<bool> safety_, safety_hand_back_, recovery_;
   Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;
   Param<std::int64_t> safety_silent_periods_;
-  Param<double> land_max_cross_track_, land_max_glide_error_, land_max_airspeed_deficit_, land_touchdown_height_, land_stopped_speed_,
-      land_stopped_time_;
+  Param<double> land_max_cross_track_, land_max_glide_error_, land_max_airspeed_deficit_, land_touchdown_height_, land_ground_band_,
+      land_stopped_speed_, land_stopped_time_;
   Param<double> takeoff_run_length_, takeoff_min_airspeed_, takeoff_max_roll_, takeoff_max_pitch_, takeoff_min_pitch_, takeoff_safe_height_;
   Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
       safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;

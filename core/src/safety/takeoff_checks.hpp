@@ -19,10 +19,12 @@ namespace tern::core {
 struct TakeoffLimits {
   double run_length = 150.0;   ///< m of runway: the Anaconda's ground roll at full throttle is ~30 m in still air
   double min_airspeed = 10.0;  ///< m/s by the end of the run (the Anaconda rotates at 12 m/s)
-  double max_roll = 0.61;      ///< rad (35 deg): beyond it the wing tip is a few metres from the ground
-  double max_pitch = 0.61;     ///< rad (35 deg): twice the takeoff pitch, a stall on the way
-  double min_pitch = -0.35;    ///< rad (-20 deg): diving at the ground
-  double safe_height = 15.0;   ///< m above the takeoff's start: above it the climb and cruise safety nets watch
+  /// rad (60 deg): 15 deg beyond the autopilot's own bank limit (roll_max 45 deg, which the climb's
+  /// first turn uses): the controller has lost the roll
+  double max_roll = 1.05;
+  double max_pitch = 0.61;    ///< rad (35 deg): twice the takeoff pitch, a stall on the way
+  double min_pitch = -0.35;   ///< rad (-20 deg): diving at the ground
+  double safe_height = 15.0;  ///< m above the takeoff's start: above it the climb and cruise safety nets watch
 };
 
 /// Why the takeoff must be aborted ("" when it may go on): `run` m rolled or flown from the start

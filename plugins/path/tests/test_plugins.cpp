@@ -674,7 +674,9 @@ TEST_CASE("plugins: planner -> manager -> follower fly the ROSplane hourglass; a
   CHECK(q_after_edit.x() > 0.99);
   CHECK(worst < 10.0);
   const auto summary = manager.plugin().summary();
-  REQUIRE(summary.size() == 3);
+  REQUIRE(summary.size() == 6);
+  CHECK(summary[3].first == "land_approaches");
+  CHECK(summary[3].second == 0.0);  // the hourglass has no land item
   CHECK(summary[0].first == "waypoints_passed");
   CHECK(summary[0].second >= 8);
   CHECK(summary[1].first == "line_cross_track_rms_m");
