@@ -10,11 +10,12 @@
 //   cross-track     |distance from the runway's extended centre line| <= max_cross_track
 //   glide path      |altitude - glide-path altitude| <= max_glide_error
 //   airspeed        Va >= Va_c - max_airspeed_deficit
-// On the wheels: the height above the touchdown point (estimate) below touchdown_height, or,
-// as the estimated height drifts by tens of centimetres over a flight (the barometer, the GNSS's
-// vertical error), within ground_band of it with the sink stopped (|v_d| < settled_sink, held
-// settled_time by the phase machine): the flare law always commands a sink of at least its
-// touchdown sink rate, so only the ground stops it.
+// On the wheels: within ground_band of the touchdown point's height with the sink stopped
+// (|v_d| < settled_sink, held settled_time by the phase machine). Not the estimated height alone:
+// it drifts by up to a metre over a flight (the barometer, the GNSS's vertical error; 0.7 m on
+// the default mission), and a rollout begun in the air drops the aircraft with the flare cut; the
+// flare law always commands a sink of at least its touchdown sink rate, so only the ground
+// stops the sink.
 // Stopped: ground speed below stopped_speed (held stopped_time by the phase machine).
 #pragma once
 
@@ -29,8 +30,7 @@ struct LandingLimits {
   double max_cross_track = 5.0;       ///< m: half a small-UAV runway's width
   double max_glide_error = 5.0;       ///< m above or below the glide path at the decision height
   double max_airspeed_deficit = 3.0;  ///< m/s below the commanded airspeed (the stall margin)
-  double touchdown_height = 0.3;      ///< m above the touchdown point: on the wheels
-  double ground_band = 1.5;           ///< m above the touchdown point within which a stopped sink is the ground
+  double ground_band = 2.0;           ///< m above the touchdown point (estimate) within which a stopped sink is the ground
   double settled_sink = 0.15;         ///< m/s: |v_d| below this counts as a stopped sink
   double settled_time = 0.5;          ///< s
   double stopped_speed = 0.5;         ///< m/s ground speed

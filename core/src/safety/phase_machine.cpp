@@ -105,8 +105,6 @@ void PhaseMachine::declare_landing() {
           ParamSpec("m", 0.1, 1000.0, "stabilised approach: altitude within this of the glide path below the decision height"));
   declare(land_max_airspeed_deficit_, "land_max_airspeed_deficit", d.max_airspeed_deficit,
           ParamSpec("m/s", 0.1, 100.0, "stabilised approach: airspeed at most this below the commanded airspeed"));
-  declare(land_touchdown_height_, "land_touchdown_height", d.touchdown_height,
-          ParamSpec("m", 0.01, 10.0, "flare -> rollout: estimated height above the touchdown point below this (on the wheels)"));
   declare(land_ground_band_, "land_ground_band", d.ground_band,
           ParamSpec("m", 0.0, 20.0, "flare -> rollout: within this height of the touchdown point a stopped sink is the ground"));
   declare(land_stopped_speed_, "land_stopped_speed", d.stopped_speed,
@@ -144,7 +142,6 @@ LandingLimits PhaseMachine::landing_limits() const {
   l.max_cross_track = land_max_cross_track_();
   l.max_glide_error = land_max_glide_error_();
   l.max_airspeed_deficit = land_max_airspeed_deficit_();
-  l.touchdown_height = land_touchdown_height_();
   l.ground_band = land_ground_band_();
   l.stopped_speed = land_stopped_speed_();
   l.stopped_time = land_stopped_time_();
@@ -314,7 +311,7 @@ bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
     const bool settled = h < l.ground_band && std::fabs(s.v_d) < l.settled_sink;
     if (!settled) f_.condition_since = -1;
     if (settled && f_.condition_since < 0) f_.condition_since = now;
-    if (h < l.touchdown_height || (settled && now - f_.condition_since >= from_seconds(l.settled_time)))
+    if (settled && now - f_.condition_since >= from_seconds(l.settled_time))
       enter(now, msg::Phase::rollout, fmt::format("on the wheels: {:.2f} m above the touchdown point, sink {:.2f} m/s", h, s.v_d));
   } else if (h < p.flare_height) {
     enter(now, msg::Phase::flare, fmt::format("{:.1f} m above the touchdown point (flare height {:.1f} m)", h, p.flare_height));

@@ -24,7 +24,7 @@
 //   approach -> climb     go-around: below the decision height while not stabilised (the
 //                         criterion named), or the glide path was left (the mission changed, a
 //                         failsafe); the path manager comes round for another approach
-//   flare -> rollout      on the wheels: height above the touchdown point < land_touchdown_height
+//   flare -> rollout      on the wheels: the sink stopped within land_ground_band of the touchdown point
 //   rollout -> stopped    ground speed < land_stopped_speed for land_stopped_time: the flight
 //                         ends complete (landed(): end_reason "landed", summary.json)
 // Takeoff abort (takeoff_checks.hpp; a takeoff begun at rest, below takeoff_safe_height):
@@ -134,8 +134,8 @@ class PhaseMachine final : public Plugin {
   Param<bool> safety_, safety_hand_back_, recovery_;
   Param<double> recovery_trim_tau_, recovery_throttle_up_, recovery_roll_kp_, recovery_roll_kd_;
   Param<std::int64_t> safety_silent_periods_;
-  Param<double> land_max_cross_track_, land_max_glide_error_, land_max_airspeed_deficit_, land_touchdown_height_, land_ground_band_,
-      land_stopped_speed_, land_stopped_time_;
+  Param<double> land_max_cross_track_, land_max_glide_error_, land_max_airspeed_deficit_, land_ground_band_, land_stopped_speed_,
+      land_stopped_time_;
   Param<double> takeoff_run_length_, takeoff_min_airspeed_, takeoff_max_roll_, takeoff_max_pitch_, takeoff_min_pitch_, takeoff_safe_height_;
   Param<double> safety_hold_, safety_roll_max_, safety_pitch_max_, safety_pitch_min_, safety_floor_, safety_airspeed_min_,
       safety_airspeed_max_, safety_sink_max_, safety_saturation_, safety_error_growth_;

@@ -70,7 +70,8 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
       f_.handover_from = f_.last.surfaces;
     }
     if (mode != f_.mode) f_.rotated = false;
-    if (mode == Mode::flare && f_.mode != Mode::flare) f_.flare.start(x.h - (c.landing ? c.h_td : c.h_c), -x.h_dot, x.theta);
+    if (mode == Mode::flare && f_.mode != Mode::flare)
+      f_.flare.start(x.h - (c.landing ? c.h_td : c.h_c), -x.h_dot, x.theta, f_.last.surfaces.delta_t);
     if (mode == Mode::rollout && f_.mode != Mode::rollout) {
       f_.rollout_time = 0.0;
       f_.rollout_chi = x.chi;
@@ -203,7 +204,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   return out;
 }
 
-// Flare: the sink-rate flare's pitch, motor at idle. Rollout: pitch 0, motor off, the rudder
+// Flare: the sink-rate flare's pitch, the throttle winding down to idle. Rollout: pitch 0, motor off, the rudder
 // (nose wheel) on the course error to the runway's course (no land item: the course the
 // rollout began on), brakes after rollout_brake_delay.
 Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleState& x, const Command& c, double dt) {
@@ -211,6 +212,7 @@ Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleS
   const double h_td = c.landing ? c.h_td : c.h_c;
   if (mode == Mode::flare) {
     l.theta_c = f_.flare.update(x.h - h_td, x.h_dot, dt, land_);
+    l.delta_t = f_.flare.throttle(x.h - h_td);
     return l;
   }
   f_.rollout_time += dt;

@@ -6,12 +6,15 @@
 
 namespace tern::control {
 
-void FlareLaw::start(double h0, double sink0, double theta0) {
+void FlareLaw::start(double h0, double sink0, double theta0, double delta_t0) {
   h0_ = std::max(h0, 0.1);
   sink0_ = std::max(sink0, 0.0);
   theta0_ = theta0;
+  delta_t0_ = std::clamp(delta_t0, 0.0, 1.0);
   integral_ = 0.0;
 }
+
+double FlareLaw::throttle(double h) const { return delta_t0_ * std::clamp(h / h0_, 0.0, 1.0); }
 
 double FlareLaw::h_dot_command(double h, const LandingSettings& s) const {
   const double sink0 = std::max(sink0_, s.flare_sink_td);

@@ -64,6 +64,7 @@ class PlannerPlugin final : public Plugin {
   struct Flight {
     std::vector<MissionWaypoint> wps;  ///< the mission now (lla entries unconverted)
     bool loop = true;
+    int loops = 0;      ///< Mission::loops
     bool dirty = true;  ///< the list changed since the last publish
     bool waiting_logged = false;
     bool held = false;               ///< edits made with publish_now = false wait to be published

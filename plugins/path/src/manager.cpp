@@ -85,8 +85,14 @@ bool PathManager::same_prefix(const std::vector<MissionPoint>& list, bool loop) 
   return true;
 }
 
-void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate) {
+void PathManager::set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate, int loops) {
+  loops = std::max(loops, 0);
+  if (pending_ || (mode_ == Mode::route && !need_adopt_ && !immediate && !list.empty()))
+    pending_loops_ = loops;  // a list that waits for the next decision (or extends this one: loops unchanged below)
+  else
+    raw_loops_ = loops;
   if (immediate && !list.empty()) {
+    raw_loops_ = loops;
     pending_.reset();
     raw_ = list;
     raw_loop_ = loop;
@@ -165,7 +171,7 @@ std::vector<PathManager::Entry> PathManager::clean(const std::vector<MissionPoin
     }
     out.push_back(e);
   }
-  if (loop_ && out.size() > 1 && !orbits(out.back().wp) && !orbits(out.front().wp)) {
+  if (loop_ && out.size() > 1 && !orbits(out.back().wp) && !orbits(out.front().wp) && !lands(out.back().wp)) {
     const double d = horizontal_distance(out.back().wp.w, out.front().wp.w);
     if (d < cfg_.min_separation) {
       warn_once("rep" + std::to_string(out.back().index), "waypoint " + std::to_string(out.back().index) + " repeats waypoint " +
@@ -181,6 +187,8 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
   raw_loop_ = loop;
   loop_ = loop && !cfg_.orbit_last;
   warned_.clear();
+  loops_ = loop_ ? raw_loops_ : 0;
+  loops_done_ = 0;
   approach_.reset();
   approaches_ = 0;
   land_abandoned_ = false;
@@ -203,7 +211,7 @@ void PathManager::adopt(const std::vector<MissionPoint>& list, bool loop, const 
     target_ = 0;
     return;
   }
-  if (wps_.size() == 2) {
+  if (wps_.size() == 2 && !lands(wps_.back().wp)) {
     if (loop_)
       warn_once("two", "two-waypoint mission: flying back and forth, turning around beyond each waypoint");
     else
@@ -231,9 +239,16 @@ void PathManager::start_route(std::size_t first, const Vec3& p, double chi) {
   begin_segment(p, chi);
 }
 
+// A final land item is not part of the loop: it comes after the last loop (loops > 0) or after
+// the one pass of a list that does not loop.
 std::optional<std::size_t> PathManager::next_of(std::size_t i) const {
-  if (i + 1 < wps_.size()) return i + 1;
-  if (loop_ && wps_.size() > 1) return 0;
+  const bool land_last = !wps_.empty() && lands(wps_.back().wp);
+  const std::size_t n_loop = land_last ? wps_.size() - 1 : wps_.size();
+  if (i + 1 < n_loop) return i + 1;
+  if (i + 1 > n_loop) return std::nullopt;  // the land item: the end
+  const bool again = loop_ && n_loop > 1 && (loops_ == 0 || loops_done_ + 1 < loops_);
+  if (again) return 0;
+  if (land_last) return n_loop;
   return std::nullopt;
 }
 
@@ -336,6 +351,7 @@ void PathManager::advance(const Vec3& p, double chi) {
   if (pending_) {
     auto next = std::move(*pending_);
     pending_.reset();
+    raw_loops_ = pending_loops_;
     adopt(next.first, next.second, p, chi, 0);
     return;
   }
@@ -349,6 +365,10 @@ void PathManager::advance(const Vec3& p, double chi) {
   prev_ = wps_[target_].wp.w;
   prev_chi_valid_ = was_dubins;
   prev_chi_ = wps_[target_].wp.chi_d;
+  if (*nx == 0 && target_ != 0) {
+    ++loops_done_;
+    if (info_ && loops_ > 0) info_("loop " + std::to_string(loops_done_) + " of " + std::to_string(loops_) + " flown");
+  }
   target_ = *nx;
   begin_segment(p, chi);
 }

@@ -90,7 +90,7 @@ void ManagerPlugin::step(Nanos now) {
       wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns};
       wps[i].land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
     }
-    manager_->set_waypoints(wps, list.loop, list.immediate);
+    manager_->set_waypoints(wps, list.loop, list.immediate, static_cast<int>(std::min<std::uint32_t>(list.loops, 100000)));
   }
   if (!state_.has_value()) return;
   const auto& s = *state_;

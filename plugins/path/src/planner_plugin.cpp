@@ -19,6 +19,7 @@ MissionWaypoint from_msg(const msg::Waypoint& w) {
   m.Va_d = w.Va_d;
   m.type = item_type_of(w.type);
   m.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns};
+  m.land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
   return m;
 }
 
@@ -34,6 +35,9 @@ msg::Waypoint to_msg(const MissionWaypoint& m) {
   w.loiter_direction = static_cast<std::int8_t>(m.loiter.direction >= 0 ? 1 : -1);
   w.loiter_time = m.loiter.time;
   w.loiter_turns = m.loiter.turns;
+  w.land_glide_slope = m.land.glide_slope;
+  w.land_flare_height = m.land.flare_height;
+  w.land_decision_height = m.land.decision_height;
   return w;
 }
 
@@ -71,6 +75,7 @@ void PlannerPlugin::load_configured() {
 void PlannerPlugin::replace(Mission m, const std::string& why) {
   f_.wps = std::move(m.waypoints);
   f_.loop = m.loop;
+  f_.loops = m.loops;
   f_.dirty = true;
   f_.waiting_logged = false;
   if (context().describing()) return;
@@ -186,6 +191,7 @@ void PlannerPlugin::step(Nanos now) {
   out.stamp = now;
   out.revision = ++f_.revision;
   out.loop = f_.loop;
+  out.loops = static_cast<std::uint32_t>(f_.loops);
   out.count = static_cast<std::uint32_t>(ned.size());
   out.immediate = f_.immediate;
   for (std::size_t i = 0; i < ned.size(); ++i) out.items[i] = to_msg(ned[i]);

@@ -159,3 +159,21 @@ TEST_CASE("landing: a go-around climbs out along the runway, comes round, and af
   CHECK(m.approaches() == 0);
   CHECK_FALSE(m.landing_abandoned());
 }
+
+TEST_CASE("landing: loops > 0 flies the route that many times, then the land item; loop without loops never lands") {
+  for (const int loops : {0, 1, 2}) {
+    CAPTURE(loops);
+    ManagerConfig cfg;
+    cfg.R_min = 40.0;
+    PathManager m(cfg);
+    m.set_waypoints({waypoint(300, 0, 50), waypoint(300, 300, 50), waypoint(0, 300, 50), land_item(Vec3(0, 0, 0), -kDeg * 90.0)}, true,
+                    false, loops);
+    testkit::KinematicAircraft ac;
+    ac.h = 50.0;
+    ac.Va = 15.0;
+    const Flown f = fly(m, ac, 1500.0);
+    CHECK(f.final_reached == (loops > 0));
+    CHECK(m.loops_done() == (loops > 0 ? loops - 1 : m.loops_done()));
+    if (loops == 0) CHECK(m.loops_done() >= 3);  // still looping after 1500 s
+  }
+}

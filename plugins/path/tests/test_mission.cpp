@@ -128,7 +128,8 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], speed: 3}"), "unknown key 'speed'"));
   CHECK(contains(error_of("waypoint: []"), ":1: unknown key 'waypoint'"));
   CHECK(contains(error_of("file: nowhere.yaml"), "nowhere.yaml: cannot read the mission file"));
-  CHECK(contains(error_of("file: fixedwing_mission.yaml\nwaypoints: []"), "give either waypoints or file, not both"));
+  CHECK(contains(error_of("loops: 2.5\nwaypoints: [[1, 2, -3]]"), "loops: 2.5 is not a whole number of loops in [1, 1000]"));
+  CHECK(contains(error_of("loops: 0\nwaypoints: [[1, 2, -3]]"), "loops: 0 is not a whole number"));
   CHECK(contains(error_of("waypoints: 3"), "waypoints: expected a list"));
   CHECK_THROWS_AS(parse_mission_text("waypoints: [ {ned: [1, 2, 3]", "broken.yaml"), MissionError);
   CHECK_THROWS_AS(lla_to_ned(Eigen::Vector3d(91, 0, 0), tern::GeoPoint{}), MissionError);
@@ -176,4 +177,16 @@ TEST_CASE("mission: bad loiter and return_home items give one line naming the it
   CHECK(contains(error_of("waypoints: [[0, 0, -50], {type: return_home, turns: 2}]"), "return_home loiters until the mission changes"));
   CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], use_chi: true}]"), "takes no chi_d or use_chi"));
   CHECK(contains(error_of("waypoints: [{type: loiter, ned: [0, 0, -50], altitude: 60}]"), "altitude is for return_home items"));
+}
+
+TEST_CASE("mission: a file's route flown `loops` times, then the section's own items (a land item)") {
+  const Mission m = parse_mission_section(
+      YAML::Load("file: fixedwing_mission.yaml\nloops: 5\nwaypoints:\n  - {type: land, ned: [0, 0, 0], heading: 2.3562}"), kData);
+  REQUIRE(m.waypoints.size() == 5);
+  CHECK(m.loop);
+  CHECK(m.loops == 5);
+  CHECK(m.waypoints[0].w == Eigen::Vector3d(400, -250, -70));  // the file's first
+  CHECK(m.waypoints[4].type == ItemType::land);
+  CHECK(m.waypoints[4].chi_d == doctest::Approx(2.3562));
+  CHECK(m.waypoints[4].w == Eigen::Vector3d::Zero());
 }

@@ -62,6 +62,7 @@ ItemType as_item_type(const YAML::Node& n, const Ctx& c, const std::string& fiel
   if (t == "waypoint") return ItemType::waypoint;
   if (t == "loiter") return ItemType::loiter;
   if (t == "return_home") return ItemType::return_home;
+  if (t == "land") return ItemType::land;
   throw MissionError(c.prefix(n) + field + ": '" + t + "' is not a mission item type (expected waypoint, loiter or return_home)");
 }
 
@@ -87,7 +88,7 @@ struct ItemKeys {
 // Type-specific checks and the return_home position (altitude: NaN when not given, filled in
 // by fill_return_home_altitudes()).
 void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YAML::Node& n, const Ctx& c, const std::string& name) {
-  const bool orbit = wp.type != ItemType::waypoint;
+  const bool orbit = wp.type == ItemType::loiter || wp.type == ItemType::return_home;
   const char* type = item_type_name(wp.type);
   if (!orbit && (k.radius || k.direction || k.time || k.turns))
     throw MissionError(c.prefix(n) + name + ": radius, direction, time and turns are for loiter and return_home items (type: loiter)");
@@ -160,6 +161,14 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
     } else if (key == "turns") {
       wp.loiter.turns = as_non_negative(v, c, field, " turns");
       k.turns = true;
+    } else if (key == "heading") {
+      wp.chi_d = as_double(v, c, field);
+    } else if (key == "glide_slope") {
+      wp.land.glide_slope = as_double(v, c, field);
+    } else if (key == "flare_height") {
+      wp.land.flare_height = as_double(v, c, field);
+    } else if (key == "decision_height") {
+      wp.land.decision_height = as_double(v, c, field);
     } else if (key == "altitude") {
       k.altitude = v;
     } else {
@@ -204,6 +213,11 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
     const std::string key = kv.first.as<std::string>();
     if (key == "loop") {
       m.loop = as_bool(kv.second, c, "loop");
+    } else if (key == "loops") {
+      const double n = as_double(kv.second, c, "loops");
+      if (!(n >= 1.0 && n <= 1000.0 && n == std::floor(n)))
+        throw MissionError(c.prefix(kv.second) + "loops: " + num(n) + " is not a whole number of loops in [1, 1000]");
+      m.loops = static_cast<int>(n);
     } else if (key == "Va_d") {
     } else if (key == "waypoints") {
       have_wps = true;
@@ -217,21 +231,24 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
       have_file = true;
     } else {
       throw MissionError(c.prefix(kv.first), key,
-                         allow_file ? std::vector<std::string>{"waypoints", "file", "loop", "Va_d"}
-                                    : std::vector<std::string>{"waypoints", "loop", "Va_d"});
+                         allow_file ? std::vector<std::string>{"waypoints", "file", "loop", "loops", "Va_d"}
+                                    : std::vector<std::string>{"waypoints", "loop", "loops", "Va_d"});
     }
   }
+  if (m.loops > 0) m.loop = true;
   if (have_file) {
-    if (have_wps) throw MissionError(c.prefix(root["file"]) + "give either waypoints or file, not both");
     if (!root["file"].IsScalar()) throw MissionError(c.prefix(root["file"]) + "file: expected a path");
     std::filesystem::path f = root["file"].as<std::string>();
     if (f.is_relative()) f = (base_dir / f).lexically_normal();
     const bool loop_set = static_cast<bool>(root["loop"]);
     Mission from_file = load_mission_file(f);
-    if (loop_set) from_file.loop = m.loop;
+    if (loop_set || m.loops > 0) from_file.loop = m.loop;
+    if (m.loops > 0) from_file.loops = m.loops;
     if (default_Va > 0.0)
       for (auto& wp : from_file.waypoints)
         if (wp.Va_d <= 0.0) wp.Va_d = default_Va;
+    // `waypoints` beside `file`: the file's items, then these (a land item after a shared route)
+    if (have_wps) from_file.waypoints.insert(from_file.waypoints.end(), m.waypoints.begin(), m.waypoints.end());
     return from_file;
   }
   return m;

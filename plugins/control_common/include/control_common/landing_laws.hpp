@@ -10,8 +10,10 @@
 // with h the height above the touchdown point, h_0 and sink_0 the height and sink rate at the
 // flare's start: the command is continuous at the start (tau = h_0 / (sink_0 - sink_td)).
 // The pitch command tracks it with a PI loop from the pitch at the flare's start, within
-// [pitch_min, pitch_max]; the throttle is at idle and the bank limited to roll_max (wings near
-// level close to the ground).
+// [pitch_min, pitch_max]; the throttle winds down from its value at the flare's start to idle at
+// the touchdown height (delta_t = delta_t_0 h / h_0: the energy to arrest the sink is not cut at
+// the flare's first metre, as with a throttle chopped at once), and the bank is limited to
+// roll_max (wings near level close to the ground).
 // Rollout: motor off, wings level, the elevator at the pitch loop's command for pitch 0, the
 // rudder (and with it the nose wheel) steers the course to the runway's, and the brakes come on
 // brake_delay s after the touchdown (the nose wheel on the ground first).
@@ -23,8 +25,8 @@ namespace tern::control {
 
 struct LandingSettings {
   double flare_sink_td = 0.3;        ///< sink rate at touchdown, m/s (PX4 FW_LND_FL_SINK: 0.25)
-  double flare_kp = 0.1;             ///< pitch per sink-rate error, rad/(m/s)
-  double flare_ki = 0.05;            ///< rad/m
+  double flare_kp = 0.3;             ///< pitch per sink-rate error, rad/(m/s)
+  double flare_ki = 0.2;             ///< rad/m
   double flare_pitch_min = -0.05;    ///< rad
   double flare_pitch_max = 0.3;      ///< rad
   double flare_roll_max = 0.1745;    ///< bank limit in the flare, rad
@@ -52,15 +54,17 @@ struct LandingSettings {
 class FlareLaw {
  public:
   /// The flare begins at height h0 (m above the touchdown point) sinking at sink0 (m/s, > 0
-  /// down) with pitch theta0 (rad).
-  void start(double h0, double sink0, double theta0);
+  /// down) with pitch theta0 (rad) and throttle delta_t0 (0..1).
+  void start(double h0, double sink0, double theta0, double delta_t0);
+  /// Throttle at height h: delta_t0 h / h0, 0 at and below the touchdown point.
+  double throttle(double h) const;
   /// Commanded climb rate at height h, m/s (negative: sinking).
   double h_dot_command(double h, const LandingSettings& s) const;
   /// Pitch command at height h climbing at h_dot, after dt s.
   double update(double h, double h_dot, double dt, const LandingSettings& s);
 
  private:
-  double h0_ = 1.0, sink0_ = 0.0, theta0_ = 0.0, integral_ = 0.0;
+  double h0_ = 1.0, sink0_ = 0.0, theta0_ = 0.0, delta_t0_ = 0.0, integral_ = 0.0;
 };
 
 }  // namespace tern::control

@@ -65,6 +65,9 @@ struct WaypointList {
   std::uint32_t revision = 0;  ///< increases on every edit of the mission
   std::uint32_t count = 0;     ///< valid entries in items, <= kCapacity
   bool loop = true;            ///< after the last waypoint, start again at the first
+  /// With loop: fly the items (before a final land item) this many times, then the land item
+  /// (none: orbit the last); 0: loop until the mission changes (a final land item never comes).
+  std::uint32_t loops = 0;
   /// The path manager flies this list from now on (a failsafe, or a mission edit with
   /// set_current), instead of at its next waypoint decision.
   bool immediate = false;
@@ -75,6 +78,7 @@ struct WaypointList {
     v(&WaypointList::revision, "revision", "");
     v(&WaypointList::count, "count", "");
     v(&WaypointList::loop, "loop", "bool");
+    v(&WaypointList::loops, "loops", "");
     v(&WaypointList::immediate, "immediate", "bool");
     v(&WaypointList::items, "items", "");
   }

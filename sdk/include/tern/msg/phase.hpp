@@ -47,15 +47,15 @@ inline constexpr std::string_view phase_name(Phase p) {
 }
 
 inline constexpr std::optional<Phase> phase_from_name(std::string_view s) {
-  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight, Phase::approach, Phase::flare,
-                 Phase::rollout, Phase::stopped})
+  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight, Phase::approach,
+                 Phase::flare, Phase::rollout, Phase::stopped})
     if (phase_name(p) == s) return p;
   return std::nullopt;
 }
 
 /// The phases a `phases:` table may give a controller (preflight and stopped run none).
 inline constexpr std::array<Phase, 8> kControllerPhases = {Phase::takeoff, Phase::climb,    Phase::cruise, Phase::landing,
-                                                          Phase::loiter,  Phase::approach, Phase::flare,  Phase::rollout};
+                                                           Phase::loiter,  Phase::approach, Phase::flare,  Phase::rollout};
 
 /// In the air: after the takeoff's climb-out and before the rollout (the failsafes' airborne).
 inline constexpr bool airborne(Phase p) {

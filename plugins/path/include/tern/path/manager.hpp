@@ -132,8 +132,11 @@ class PathManager {
   const ManagerConfig& config() const { return cfg_; }
 
   /// A new waypoint list (see "Edits" above). loop: the list's own loop flag; immediate: fly it
-  /// from the next update on, from its first item.
-  void set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate = false);
+  /// from the next update on, from its first item; loops > 0 (with loop): the items before a
+  /// final land item are flown that many times, then the land item (none: the last is orbited).
+  void set_waypoints(const std::vector<MissionPoint>& list, bool loop, bool immediate = false, int loops = 0);
+  /// Loops of the list completed (back at its first item).
+  int loops_done() const { return loops_done_; }
 
   /// The wind (NED m/s, the direction the air moves to) the turn radii are planned for when
   /// turn_bank > 0; it applies to segments that begin (and orbits) from now on. Non-finite
@@ -214,6 +217,9 @@ class PathManager {
 
   std::vector<Entry> wps_;  ///< the list as flown (repeats skipped)
   bool loop_ = true;
+  int raw_loops_ = 0, loops_ = 0;  ///< loops asked for (0: until the list changes) as given / as flown
+  int pending_loops_ = 0;          ///< loops of the pending list
+  int loops_done_ = 0;
   Mode mode_ = Mode::origin_orbit;
   Stage stage_ = Stage::orbit;
   std::size_t target_ = 0;

@@ -16,7 +16,13 @@
 //          - {w: [-400, -250, -70], chi_d: 1.1518, use_chi: true, va_d: 17, lla: false}
 //      or
 //        file: ../missions/fixedwing_mission.yaml     # relative to the config's directory
-//    (`waypoints` and `file` are exclusive.)
+//    (`waypoints` beside `file`: the file's items, then these.)
+//    `loops: N` (a whole number >= 1; implies loop: true): the items before a final land item
+//    are flown N times, then the land item (none: the last item is orbited), e.g.
+//        file: fixedwing_mission.yaml
+//        loops: 5
+//        waypoints:
+//          - {type: land, ned: [0, 0, 0], heading: 2.3562}
 // 2. A tern waypoint file (load_mission_file): a YAML map with the same keys as the section
 //    (loop, Va_d, waypoints); `file` is not allowed inside a file.
 // 3. A ROSplane mission file, unchanged (load_mission_file detects it by its top-level `wp:`
@@ -93,6 +99,7 @@ struct MissionWaypoint {
 struct Mission {
   std::vector<MissionWaypoint> waypoints;
   bool loop = true;
+  int loops = 0;       ///< > 0: the items before a final land item are flown this many times (loop), then it
   std::string source;  ///< "mission config" or the file path, for messages
   /// True when at least one waypoint is latitude/longitude/altitude.
   bool has_lla() const;
