@@ -99,7 +99,7 @@ TEST_CASE("--phases replaces the table, --fallback the fallback; unknown phases 
   CHECK(override_error(phases({"takeoff=ctl2,climb=ctl2", "cruise=ctl"}, "ctl2")) == "");
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,crusie=ctl2"})) ==
         "--phases takeoff=ctl,climb=ctl,crusie=ctl2: unknown phase 'crusie' (did you mean 'cruise'?) (one of takeoff, climb, cruise, "
-        "landing, loiter)");
+        "landing, loiter, approach, flare, rollout)");
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl,cruise=ctl3"}))
             .rfind("--phases takeoff=ctl,climb=ctl,cruise=ctl3: cruise: no plugin instance named 'ctl3' (did you mean 'ctl'?)", 0) == 0);
   CHECK(override_error(phases({"takeoff=ctl,climb=ctl"})) ==

@@ -27,18 +27,29 @@ void check_no_nan(const fs::path& run) {
   }
 }
 
-void check_mission(const FlightResult& r, const std::string& cruise_controller) {
+/// `lands`: the mission ends with its land item (the default), else it flies to its duration.
+void check_mission(const FlightResult& r, const std::string& cruise_controller, bool lands = false) {
   REQUIRE(r.ok);
   const auto s = summary(r);
-  CHECK(s["end_reason"] == "duration");
+  CHECK(s["end_reason"] == (lands ? "landed" : "duration"));
   CHECK(s["fallback_engaged"] == false);
-  // preflight -> takeoff -> climb -> cruise, in that order, and nothing after
-  REQUIRE(s["phases"].size() == 4);
-  CHECK(s["phases"][0]["phase"] == "preflight");
-  CHECK(s["phases"][1]["phase"] == "takeoff");
-  CHECK(s["phases"][2]["phase"] == "climb");
-  CHECK(s["phases"][3]["phase"] == "cruise");
+  // preflight -> takeoff -> climb -> cruise, in that order; a landing mission after its loops
+  // approach -> flare -> rollout -> stopped; nothing else
+  std::vector<std::string> phases;
+  for (const auto& p : s["phases"]) phases.push_back(p["phase"]);
+  std::vector<std::string> expected = {"preflight", "takeoff", "climb", "cruise"};
+  if (lands) expected.insert(expected.end(), {"approach", "flare", "rollout", "stopped"});
+  CHECK(phases == expected);
   CHECK(s["preflight_s"].get<double>() < 15.0);  // the FCU calibrates for 7.7 s, then the checks hold for 2 s
+  if (lands) {
+    const auto& td = s["metrics"]["landing"];
+    MESSAGE("landing: " << td.dump());
+    CHECK(td["stopped"] == true);
+    CHECK(std::fabs(td["touchdown_across_m"].get<double>()) < 3.0);
+    CHECK(std::fabs(td["touchdown_along_m"].get<double>()) < 30.0);
+    CHECK(td["sink_rate_mps"].get<double>() < 1.5);
+    CHECK(s["instances"]["sim"]["sim_crashed"] == 0.0);
+  }
   if (cruise_controller != "slc") CHECK(s["controller_handovers"].back()["to"] == cruise_controller);
   const auto& m = s["metrics"];
   CHECK(m["loops"].get<int>() >= 4);  // the first loop and four more
@@ -50,9 +61,9 @@ void check_mission(const FlightResult& r, const std::string& cruise_controller) 
 }
 }  // namespace
 
-TEST_CASE("the default mission: takeoff, climb, the hourglass loops in wind, estimator in the loop") {
+TEST_CASE("the default mission: takeoff, climb, the hourglass loops in wind, estimator in the loop, the landing") {
   const FlightResult r = fly_mission("default.yaml", "e2e_default");
-  check_mission(r, "slc");
+  check_mission(r, "slc", true);
   // every field the plots need is in the log
   const std::string cmd = std::string(TERN_PYTHON3) + " " + TERN_BIN_DIR + "/tern-plot --strict " + r.run_dir.string() + " > " +
                           (test_dir() / "plot.out").string() + " 2>&1";

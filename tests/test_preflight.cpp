@@ -121,8 +121,26 @@ TEST_CASE("preflight: the FCU must be armed and error-free; RC must be heard whe
   CHECK(preflight_failures(in, rc).empty());
 }
 
+TEST_CASE("preflight: the wind seen at rest (airspeed, estimated wind) beyond preflight_max_wind refuses the takeoff") {
+  State s = aligned();
+  const Gnss g = good_fix();
+  PreflightLimits l;
+  l.max_wind = 8.0;
+  s.Va = 7.9;
+  CHECK(preflight_failures(inputs(&s, nullptr, &g), l).empty());
+  s.Va = 9.0;  // a 9 m/s headwind on the pitot
+  CHECK(only_failure(inputs(&s, nullptr, &g), l) ==
+        "wind at rest 9.0 m/s > 8.0 m/s (airspeed 9.0 m/s, estimated wind 0.0 m/s): beyond the takeoff limit preflight_max_wind");
+  s.Va = 0.0;
+  s.w_n = 6.0;
+  s.w_e = -6.0;  // the estimate's wind
+  CHECK(only_failure(inputs(&s, nullptr, &g), l).rfind("wind at rest 8.5 m/s > 8.0 m/s", 0) == 0);
+}
+
 TEST_CASE("preflight: the flight holds with no controller until the checks pass, then takes off") {
-  std::string cfg = base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5}\n");
+  // (test_filter's state has an airspeed of 15 m/s at rest: a 15-m/s wind the wind check allows here)
+  std::string cfg =
+      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5, preflight_max_wind: 20}\n");
   const std::string filter = "plugin: test_filter, trigger: imu}";
   cfg.replace(cfg.find(filter), filter.size(), "plugin: test_filter, trigger: imu, params: {valid: true}}");
   const FlightResult r = fly_yaml(cfg, "preflight_pass");
@@ -138,7 +156,8 @@ TEST_CASE("preflight: the flight holds with no controller until the checks pass,
 
 TEST_CASE("preflight: an estimator that never aligns ends the flight with preflight_failed") {
   const FlightResult r = fly_yaml(
-      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"), "preflight_fail");
+      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1, preflight_max_wind: 20}\n"),
+      "preflight_fail");
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "preflight_failed: estimator not ready (status degraded)");
   CHECK(tern::to_seconds(r.flown) == doctest::Approx(1.0).epsilon(0.01));

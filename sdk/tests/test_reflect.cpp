@@ -84,5 +84,5 @@ TEST_CASE("log columns name every component with its unit and offset") {
   CHECK(has_quat_w);
   // Nested arrays of structs are fingerprinted but not logged.
   const auto wl = reflect::layout<msg::WaypointList>();
-  CHECK(wl.size() == 5);  // stamp, revision, count, loop, immediate
+  CHECK(wl.size() == 6);  // stamp, revision, count, loop, loops, immediate
 }

@@ -173,6 +173,7 @@ std::vector<TypeEntry> build() {
         stamp(s.header(), m.stamp + epoch);
         s.revision(m.revision);
         s.loop(m.loop);
+        s.loops(m.loops);
         s.waypoints().resize(std::min<std::size_t>(m.count, msg::WaypointList::kCapacity));
         for (std::size_t i = 0; i < s.waypoints().size(); ++i) {
           to_waypoint(m.items[i], s.waypoints()[i]);
@@ -180,7 +181,8 @@ std::vector<TypeEntry> build() {
         }
       },
       [](const tm::WaypointList& s) {
-        std::string out = Text().header(s.header())("revision", s.revision())("loop", s.loop())("count", s.waypoints().size()).str();
+        std::string out =
+            Text().header(s.header())("revision", s.revision())("loop", s.loop())("loops", s.loops())("count", s.waypoints().size()).str();
         for (std::size_t i = 0; i < s.waypoints().size(); ++i) {
           const auto& w = s.waypoints()[i];
           out += fmt::format("waypoint[{}]: w [{}, {}, {}] lla {} chi_d {} use_chi {} va_d {}\n", i, w.w()[0], w.w()[1], w.w()[2], w.lla(),
@@ -196,10 +198,12 @@ std::vector<TypeEntry> build() {
         s.delta_e(m.delta_e);
         s.delta_r(m.delta_r);
         s.delta_t(m.delta_t);
+        s.brake(m.brake);
       },
       [](const tm::Actuators& s) {
         return Text()
-            .header(s.header())("delta_a", s.delta_a())("delta_e", s.delta_e())("delta_r", s.delta_r())("delta_t", s.delta_t())
+            .header(s.header())("delta_a", s.delta_a())("delta_e", s.delta_e())("delta_r", s.delta_r())("delta_t", s.delta_t())("brake",
+                                                                                                                                s.brake())
             .str();
       }));
   v.push_back(entry<msg::FlightPhase, tm::FlightPhasePubSubType>(
