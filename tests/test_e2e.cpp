@@ -110,7 +110,7 @@ TEST_CASE("the estimator's configuration does not depend on the simulator's sens
 }
 
 TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first second; the summary's figures in one frame") {
-  const fs::path cfg = write_file("realistic.yaml", default_mission_with({{"duration: 700", "duration: 300"}}));  // realistic
+  const fs::path cfg = write_file("realistic.yaml", default_mission_with({{"duration: 1000", "duration: 300"}}));  // realistic
   HostOptions o;
   o.quiet = true;
   o.log_dir = test_dir() / "e2e_realistic";

@@ -224,6 +224,7 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
                  source);
   }
   ac.gear.points = default_gear_points(ac.b);
+  ac.gear.structure = default_structure(ac.b);
   if (const YAML::Node g = doc["gear"]) {
     auto& gr = ac.gear;
     read_section(g, "gear",
@@ -232,8 +233,22 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
                   {"mu_roll", &gr.mu_roll, false, kFriction},
                   {"mu_lateral", &gr.mu_lateral, false, kFriction},
                   {"v_slip", &gr.v_slip, false, kSpeed},
-                  {"nose_steering", &gr.nose_steering, false, kFriction}},
-                 source, {"points"});
+                  {"nose_steering", &gr.nose_steering, false, kFriction},
+                  {"mu_brake", &gr.mu_brake, false, kFriction},
+                  {"max_sink_rate", &gr.max_sink_rate, false, kSpeed}},
+                 source, {"points", "structure"});
+    if (const YAML::Node st = g["structure"]) {
+      if (!st.IsMap() || st.size() == 0) fail(source, "gear.structure", "expected a map of name: [x, y, z]");
+      gr.structure.clear();
+      for (const auto& kv : st) {
+        const std::string name = kv.first.as<std::string>();
+        const std::string f = "gear.structure." + name;
+        if (!kv.second.IsSequence() || kv.second.size() != 3) fail(source, f, "expected [x, y, z] in m");
+        gr.structure.emplace_back(
+            name, ContactPoint(read_double(kv.second[0], source, f, kPosition), read_double(kv.second[1], source, f, kPosition),
+                               read_double(kv.second[2], source, f, kPosition)));
+      }
+    }
     if (const YAML::Node pts = g["points"]) {
       if (!pts.IsSequence() || pts.size() == 0) fail(source, "gear.points", "expected a list of [x, y, z]");
       gr.points.clear();
@@ -404,6 +419,7 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   ac.max_delta_e = x.max_e * kRadPerDeg;
   ac.max_delta_r = x.max_r * kRadPerDeg;
   ac.gear.points = default_gear_points(ac.b);
+  ac.gear.structure = default_structure(ac.b);
   const auto slash = source.find_last_of('/');
   ac.name = source.substr(slash == std::string::npos ? 0 : slash + 1);
   return ac;
@@ -413,6 +429,14 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
 
 std::vector<ContactPoint> default_gear_points(double b) {
   return {ContactPoint(0.15 * b, 0.0, 0.06 * b), ContactPoint(-0.03 * b, 0.1 * b, 0.06 * b), ContactPoint(-0.03 * b, -0.1 * b, 0.06 * b)};
+}
+
+// Gear::structure's default: wing tips, nose and tail from the span (aircraft.hpp).
+std::vector<std::pair<std::string, ContactPoint>> default_structure(double b) {
+  return {{"right wing tip", ContactPoint(0.0, 0.5 * b, 0.0)},
+          {"left wing tip", ContactPoint(0.0, -0.5 * b, 0.0)},
+          {"nose", ContactPoint(0.3 * b, 0.0, 0.0)},
+          {"tail", ContactPoint(-0.5 * b, 0.0, -0.06 * b)}};
 }
 
 void validate_aircraft(const Aircraft& ac) {
@@ -453,6 +477,8 @@ void validate_aircraft(const Aircraft& ac) {
   nonneg(ac.gear.mu_lateral, "gear.mu_lateral", "");
   positive(ac.gear.v_slip, "gear.v_slip", "m/s");
   nonneg(ac.gear.nose_steering, "gear.nose_steering", "rad/rad");
+  nonneg(ac.gear.mu_brake, "gear.mu_brake", "");
+  positive(ac.gear.max_sink_rate, "gear.max_sink_rate", "m/s");
 }
 
 Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source) {

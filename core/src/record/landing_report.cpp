@@ -48,7 +48,7 @@ void LandingReport::observe(Nanos now, msg::Phase phase, const msg::State& truth
   }
   if (td_ && !td_->stopped) {
     td_->rollout_m = (p.head<2>() - td_point_).norm();
-    td_->stopped = phase == msg::Phase::stopped;
+    td_->stopped = std::hypot(truth.v_n, truth.v_e) < kStoppedSpeed;
   }
 }
 

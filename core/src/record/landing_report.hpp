@@ -9,7 +9,8 @@
 // touchdown is the largest true sink rate in the kSinkWindow before it (the gear brakes the
 // sink once the wheels touch). Along and across are in the runway's frame (the land item's
 // heading): along > 0 long (beyond the aim point), across > 0 right of the centre line. The
-// rollout length runs from the touchdown point to where the aircraft stopped (or was at the end).
+// rollout length runs from the touchdown point to where the aircraft stopped (its true ground speed
+// below kStoppedSpeed) or was at the end.
 #pragma once
 
 #include <cmath>
@@ -36,6 +37,7 @@ class LandingReport {
  public:
   static constexpr double kContactMargin = 0.03;  ///< m above the CG's height at rest
   static constexpr double kSinkWindow = 0.3;      ///< s before the touchdown
+  static constexpr double kStoppedSpeed = 0.5;    ///< m/s: the aircraft has stopped
 
   /// One truth sample at flight time `now` in `phase`; `wps`: the mission (its land item).
   void observe(Nanos now, msg::Phase phase, const msg::State& truth, const msg::WaypointList* wps);

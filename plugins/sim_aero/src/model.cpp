@@ -76,7 +76,7 @@ double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, al
 
 namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
-void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, double delta_r, ForcesMoments& fm) {
+void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, const Deltas& d, ForcesMoments& fm) {
   const auto& g = ac.gear;
   const double n = static_cast<double>(g.points.size());
   const double k = ac.mass * kGravity / (n * g.static_deflection);
@@ -90,7 +90,7 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
   xh = xn > 1e-6 ? Eigen::Vector2d(xh / xn) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d yh(-xh.y(), xh.x());
   // a steered wheel rolls along body x turned by the steering angle (positive: to the right)
-  const double steer = -g.nose_steering * delta_r;
+  const double steer = -g.nose_steering * d.delta_r;
   const Eigen::Vector2d xs = std::cos(steer) * xh + std::sin(steer) * yh;
   const Eigen::Vector2d ys(-xs.y(), xs.x());
   for (const auto& r : g.points) {
@@ -106,7 +106,9 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
     const Eigen::Vector2d& ax = steered ? xs : xh;
     const Eigen::Vector2d& ay = steered ? ys : yh;
     const double v_long = vh.dot(ax), v_lat = vh.dot(ay);
-    const double f_long = -g.mu_roll * N * std::clamp(v_long / g.v_slip, -1.0, 1.0);
+    // wheels behind the CG brake (a tricycle's mains, a taildragger's... mains ahead: not braked)
+    const double mu_long = g.mu_roll + (r.x() <= 0.0 ? g.mu_brake * std::clamp(d.brake, 0.0, 1.0) : 0.0);
+    const double f_long = -mu_long * N * std::clamp(v_long / g.v_slip, -1.0, 1.0);
     const double f_lat = -g.mu_lateral * N * std::clamp(v_lat / g.v_slip, -1.0, 1.0);
     const Eigen::Vector2d fh = f_long * ax + f_lat * ay;
     const Eigen::Vector3d f_body = Rot.transpose() * Eigen::Vector3d(fh.x(), fh.y(), -N);
@@ -148,7 +150,7 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
   fm.f_aero = Eigen::Vector3d(fx, fy, fz);
   fm.m_aero = Eigen::Vector3d(l, m, nn);
   fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kGravity);
-  ground_contact(ac, x, Rot, d.delta_r, fm);
+  ground_contact(ac, x, Rot, d, fm);
   fm.force = fm.f_aero + fm.f_gravity + fm.f_ground;
   fm.moment = fm.m_aero + fm.m_ground;
   return fm;

@@ -84,6 +84,9 @@ class SimAero final : public tern::Plugin {
     declare(init_altitude_, "init_altitude", 100.0, ParamSpec("m", 0, 10000, "initial height above the ground (air, trim)").start_only());
     declare(init_airspeed_, "init_airspeed", 17.0, ParamSpec("m/s", 0, 100, "initial airspeed (air, trim)").start_only());
     declare(init_heading_, "init_heading", 0.0, ParamSpec("rad", -7, 7, "initial heading psi").start_only());
+    declare(
+        parking_brake_, "parking_brake", 1.0,
+        ParamSpec("", 0.0, 1.0, "init_mode ground: the brakes set until the first actuator command (the aircraft parked)").start_only());
     declare(wind_, "wind", std::vector<double>{0.0, 0.0, 0.0},
             ParamSpec("m/s", -50, 50, "steady wind, NED (direction the air moves to)").of_size(3));
     declare(turbulence_, "turbulence", "none",
@@ -150,6 +153,7 @@ class SimAero final : public tern::Plugin {
       cmd.delta_e = a.delta_e;
       cmd.delta_r = a.delta_r;
       cmd.delta_t = a.delta_t;
+      cmd.brake = a.brake;
     }
     f_.sim->set_command(cmd);  // throws on NaN: an error, not a NaN flight
     apply_live_params();
@@ -426,6 +430,7 @@ class SimAero final : public tern::Plugin {
     const std::string mode = init_mode_();
     if (mode == "ground") {
       f_.sim->set_state(sim::rest_state(ac, ne.x(), ne.y(), init_heading_()));
+      f_.default_cmd.brake = parking_brake_();
     } else if (mode == "air") {
       f_.sensors->calibrated_before_start();
       f_.sim->set_state(sim::make_state({ne.x(), ne.y(), -init_altitude_()}, {init_airspeed_(), 0, 0}, 0, 0, init_heading_()));
@@ -479,9 +484,10 @@ class SimAero final : public tern::Plugin {
     f_.crash_reported = true;
     const ImpactFacts m = impact();
     const std::string detail = fmt::format(
-        "the aircraft hit the ground at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
+        "{} at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
         "airspeed {:.1f} m/s, roll {:.0f} deg, pitch {:.0f} deg",
-        m.t, m.p_ned.x(), m.p_ned.y(), m.v_ned.head<2>().norm(), m.v_ned.z(), m.Va, m.phi * 180.0 / tern::kPi, m.theta * 180.0 / tern::kPi);
+        f_.sim->impact().what, m.t, m.p_ned.x(), m.p_ned.y(), m.v_ned.head<2>().norm(), m.v_ned.z(), m.Va, m.phi * 180.0 / tern::kPi,
+        m.theta * 180.0 / tern::kPi);
     log().warn("{}", detail);
     context().end_flight("crash", detail);
   }
@@ -700,7 +706,7 @@ class SimAero final : public tern::Plugin {
   tern::Output<msg::FcuStatus> status_out_;
 
   tern::Param<std::string> aircraft_, init_mode_, turbulence_;
-  tern::Param<double> sim_rate_, init_altitude_, init_airspeed_, init_heading_;
+  tern::Param<double> sim_rate_, init_altitude_, init_airspeed_, init_heading_, parking_brake_;
   tern::Param<std::vector<double>> init_position_, wind_, gusts_;
   tern::Param<double> gust_rate_, gust_max_, gust_min_duration_, gust_max_duration_;
   SensorSlot imu_, mag_, baro_, diff_, gnss_;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace tern::sim {
@@ -59,6 +60,12 @@ void Simulator::set_state(const StateVector& x, const Deltas& surfaces) {
   t_ = 0;
   crashed_ = false;
   impact_ = Impact{};
+  wheel_down_.assign(ac_.gear.points.size(), false);
+  {
+    const Eigen::Matrix3d Rot = attitude(x_).toRotationMatrix();
+    for (std::size_t i = 0; i < ac_.gear.points.size(); ++i)
+      wheel_down_[i] = (Eigen::Vector3d(x_[PN], x_[PE], x_[PD]) + Rot * ac_.gear.points[i]).z() > 0.0;
+  }
 }
 
 void Simulator::set_command(const Deltas& c) {
@@ -66,12 +73,14 @@ void Simulator::set_command(const Deltas& c) {
                     : !std::isfinite(c.delta_e) ? "delta_e"
                     : !std::isfinite(c.delta_r) ? "delta_r"
                     : !std::isfinite(c.delta_t) ? "delta_t"
+                    : !std::isfinite(c.brake)   ? "brake"
                                                 : nullptr;
   if (bad != nullptr) throw std::runtime_error(std::string("actuators: ") + bad + " is not finite");
   cmd_.delta_a = std::clamp(c.delta_a, -ac_.max_delta_a, ac_.max_delta_a);
   cmd_.delta_e = std::clamp(c.delta_e, -ac_.max_delta_e, ac_.max_delta_e);
   cmd_.delta_r = std::clamp(c.delta_r, -ac_.max_delta_r, ac_.max_delta_r);
   cmd_.delta_t = std::clamp(c.delta_t, 0.0, 1.0);
+  cmd_.brake = std::clamp(c.brake, 0.0, 1.0);
 }
 
 Eigen::Vector3d Simulator::wind_ned() const { return wind_.steady_ned + attitude(x_) * wind_.gust_body; }
@@ -85,6 +94,35 @@ void Simulator::reset_wind() {
 
 ForcesMoments Simulator::evaluate() const { return forces_moments(ac_, x_, act_, wind_); }
 
+// A hard point below the ground, or a wheel touching down faster than the gear's max_sink_rate
+// (its vertical speed when it first touches): what struck, how fast; "" when nothing did.
+std::string Simulator::ground_strike() {
+  const Eigen::Matrix3d Rot = attitude(x_).toRotationMatrix();
+  const Eigen::Vector3d p(x_[PN], x_[PE], x_[PD]), v(x_[U], x_[V], x_[W]), w(x_[P], x_[Q], x_[R]);
+  auto speed_of = [&](const Eigen::Vector3d& r) { return Eigen::Vector3d(Rot * (v + w.cross(r))); };
+  char buf[160];
+  for (const auto& [name, r] : ac_.gear.structure) {
+    if ((p + Rot * r).z() <= 0.0) continue;
+    const Eigen::Vector3d vi = speed_of(r);
+    std::snprintf(buf, sizeof buf, "the %s struck the ground at %.1f m/s (sink %.1f m/s)", name.c_str(), vi.norm(), vi.z());
+    return buf;
+  }
+  const auto& pts = ac_.gear.points;
+  wheel_down_.resize(pts.size(), false);
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    const bool down = (p + Rot * pts[i]).z() > 0.0;
+    const double sink = speed_of(pts[i]).z();
+    const bool first = down && !wheel_down_[i];
+    wheel_down_[i] = down;
+    if (first && sink > ac_.gear.max_sink_rate) {
+      std::snprintf(buf, sizeof buf, "hard touchdown: wheel %zu (%s) at %.1f m/s sink > the gear's %.1f m/s", i,
+                    pts[i].x() > 0.0 ? "nose" : (pts[i].y() >= 0.0 ? "right main" : "left main"), sink, ac_.gear.max_sink_rate);
+      return buf;
+    }
+  }
+  return "";
+}
+
 void Simulator::step(double dt) {
   if (!(dt > 0)) return;
   t_ += dt;
@@ -95,6 +133,7 @@ void Simulator::step(double dt) {
   act_.delta_r = servo_step(act_.delta_r, cmd_.delta_r, k, dt, actuators_);
   const double km = actuators_.motor_tau > 0 ? 1.0 - std::exp(-dt / actuators_.motor_tau) : 1.0;
   act_.delta_t += km * (cmd_.delta_t - act_.delta_t);
+  act_.brake = cmd_.brake;
   // Wind: turbulence driven at the current airspeed, gusts at the new time.
   const double Va = air_data(x_, wind_).Va;
   wind_.gust_body = dryden_.step(dt, Va, rng_);
@@ -106,10 +145,11 @@ void Simulator::step(double dt) {
     throw std::runtime_error("simulation diverged at t = " + std::to_string(t_) + " s: state " + bad + " is not finite");
   }
   x_ = xn;
-  if (x_[PD] > 0.0) {  // CG below the ground: a crash, not a flight
+  std::string what = x_[PD] > 0.0 ? "the CG went below the ground" : ground_strike();
+  if (!what.empty()) {  // a crash, not a flight
     crashed_ = true;
-    impact_ = Impact{t_, x_, air_data(x_, wind_).Va};
-    x_[PD] = 0.0;
+    impact_ = Impact{t_, x_, air_data(x_, wind_).Va, std::move(what)};
+    x_[PD] = std::min(x_[PD], 0.0);
     x_.segment<3>(U).setZero();
     x_.segment<3>(P).setZero();
   }

@@ -24,6 +24,7 @@
 
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -78,6 +79,20 @@ struct Gear {
   /// -nose_steering * delta_r (positive rudder yaws the nose left, so does the wheel), rad/rad.
   /// 0: no steering (a castoring or fixed wheel).
   double nose_steering = 0.0;
+  /// Braking friction coefficient of the wheels behind the CG at full brake (added to mu_roll;
+  /// viscous below v_slip like it, so that a braked aircraft holds still). 0.4: a small rubber
+  /// wheel braked on grass or tarmac (tyre-ground friction 0.4-0.7 dry; a hobby brake locks less).
+  double mu_brake = 0.4;
+  /// A wheel touching down faster than this (its vertical speed at first contact, m/s) breaks the
+  /// gear: the simulator's crash "hard touchdown". 3 m/s: a foam RC trainer's gear survives a
+  /// drop of ~0.5 m (sqrt(2 g 0.5) = 3.1 m/s); FAR 23.473 designs full-size gear for ~3 m/s.
+  double max_sink_rate = 3.0;
+  /// Hard points that must never touch the ground (wing tips, nose, tail), body FRD about the CG,
+  /// m, with names for the crash message. Default (no `structure` in the file): the wing tips at
+  /// (0, +-b/2, 0), the nose at (0.3 b, 0, 0) and the tail at (-0.5 b, 0, -0.06 b) (a small UAV's
+  /// fuselage is ~0.8 of its span; the tail sits as far above the CG as the default wheels below
+  /// it: a tail strike at ~14 deg of pitch on the main wheels).
+  std::vector<std::pair<std::string, ContactPoint>> structure;
 };
 
 /// Everything the uavbook model needs to know about one aircraft. Units SI, frames FRD.
@@ -119,5 +134,8 @@ TERN_API void validate_aircraft(const Aircraft& ac);
 /// Default gear when a file names none: a tricycle scaled by the span b (nose 0.15 b ahead,
 /// mains 0.03 b behind the CG at +-0.1 b, wheels 0.06 b below the CG).
 TERN_API std::vector<ContactPoint> default_gear_points(double b);
+
+/// The default hard points of span b (m): Gear::structure's comment.
+TERN_API std::vector<std::pair<std::string, ContactPoint>> default_structure(double b);
 
 }  // namespace tern

@@ -28,7 +28,7 @@ struct LandingSettings {
   double flare_kp = 0.3;             ///< pitch per sink-rate error, rad/(m/s)
   double flare_ki = 0.2;             ///< rad/m
   double flare_pitch_min = -0.05;    ///< rad
-  double flare_pitch_max = 0.3;      ///< rad
+  double flare_pitch_max = 0.2;      ///< rad (11.5 deg: below a tricycle's tail-strike attitude; PX4 FW_LND_FL_PMAX 15 deg)
   double flare_roll_max = 0.1745;    ///< bank limit in the flare, rad
   double rollout_steer_kp = 1.0;     ///< rudder per course error on the rollout, rad/rad
   double rollout_brake = 1.0;        ///< brake command on the rollout, 0..1

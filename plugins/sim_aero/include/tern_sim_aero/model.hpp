@@ -22,9 +22,10 @@ using StateVector = Eigen::Matrix<double, 13, 1>;
 /// Index of each state in StateVector.
 enum StateIndex : int { PN = 0, PE, PD, U, V, W, E0, E1, E2, E3, P, Q, R };
 
-/// Control inputs (book sec. 4.2 signs): surfaces in rad, throttle 0..1.
+/// Control inputs (book sec. 4.2 signs): surfaces in rad, throttle 0..1, wheel brakes 0..1.
 struct Deltas {
   double delta_e = 0, delta_a = 0, delta_r = 0, delta_t = 0;
+  double brake = 0;  ///< the wheels behind the CG brake with mu_brake * brake (Gear)
 };
 
 /// Wind acting on the aircraft: steady part in NED plus gust part in body axes (book sec. 4.4).

@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "tern/aircraft.hpp"
 #include "tern_sim_aero/model.hpp"
@@ -72,14 +73,17 @@ class Simulator {
   /// Forces and moments at the current state with the current surfaces and wind.
   ForcesMoments evaluate() const;
 
-  /// The CG went below the ground: the aircraft stops there (state frozen) until set_state.
+  /// A crash: the CG went below the ground, a hard point (the gear's structure: wing tips, nose,
+  /// tail) touched it, or a wheel touched down faster than the gear's max_sink_rate. The
+  /// aircraft stops there (state frozen) until set_state.
   bool crashed() const { return crashed_; }
   /// Where and how the aircraft hit the ground (valid once crashed()): the state of the RK4
-  /// step that took the CG below the ground, before it was frozen.
+  /// step that crashed, before it was frozen, and what struck.
   struct Impact {
     double t = 0;                         ///< s since set_state
-    StateVector x = StateVector::Zero();  ///< the state (p_d > 0: below the ground)
+    StateVector x = StateVector::Zero();  ///< the state
     double Va = 0;                        ///< airspeed, m/s
+    std::string what;                     ///< "the left wing tip struck the ground at 3.1 m/s (sink 2.0 m/s)", ...
   };
   const Impact& impact() const { return impact_; }
 
@@ -100,6 +104,8 @@ class Simulator {
   double t_ = 0;
   bool crashed_ = false;
   Impact impact_;
+  std::vector<bool> wheel_down_;  ///< each gear point on the ground after the last step
+  std::string ground_strike();
 };
 
 /// Names the first non-finite element of a state ("p_n", "e0", ...) or returns "".
