@@ -460,6 +460,46 @@ TEST_CASE("ground: parked with a tailwind and crosswind in turbulence it stays o
   CHECK(!sim.crashed());
 }
 
+TEST_CASE("ground: brakes stop a rolling aircraft in a shorter distance than rolling friction alone") {
+  auto roll_out = [](double brake) {
+    const Aircraft ac = anaconda();
+    Simulator sim(ac, 1);
+    StateVector x = rest_state(ac, 0, 0, 0);
+    x[U] = 8.0;  // rolling at 8 m/s, motor off
+    sim.set_state(x);
+    Deltas d;
+    d.brake = brake;
+    sim.set_command(d);
+    for (int i = 0; i < 16000 && sim.state().segment<3>(U).norm() > 0.05; ++i) sim.step(0.0025);
+    CHECK(!sim.crashed());
+    CHECK(sim.state().segment<3>(U).norm() < 0.1);
+    return sim.state()[PN];
+  };
+  const double free_roll = roll_out(0.0), braked = roll_out(1.0);
+  MESSAGE("from 8 m/s: " << free_roll << " m rolling, " << braked << " m braked");
+  CHECK(braked < 0.5 * free_roll);
+  CHECK(braked > 3.0);  // mu_brake 0.4 on the mains: not a wall
+}
+
+TEST_CASE("ground: a wing tip on the ground is a crash naming it; a hard touchdown breaks the gear; a gentle one does not") {
+  const Aircraft ac = anaconda();
+  {  // dropped level onto its wheels banked 40 deg: the right wing tip strikes first
+    Simulator sim(ac, 1);
+    sim.set_state(make_state({0, 0, -0.5}, {10.0, 0, 0}, 40.0 * tern::kPi / 180.0, 0.0, 0));
+    for (int i = 0; i < 2000 && !sim.crashed(); ++i) sim.step(0.0025);
+    REQUIRE(sim.crashed());
+    CHECK(sim.impact().what.find("right wing tip struck the ground") != std::string::npos);
+  }
+  for (const double sink : {4.0, 0.5}) {  // level, sinking onto its wheels
+    CAPTURE(sink);
+    Simulator sim(ac, 1);
+    sim.set_state(make_state({0, 0, -(rest_height(ac) + 0.03)}, {12.0, 0, sink}, 0.0, 0.0, 0));
+    for (int i = 0; i < 800 && !sim.crashed(); ++i) sim.step(0.0025);
+    CHECK(sim.crashed() == (sink > ac.gear.max_sink_rate));
+    if (sim.crashed()) CHECK(sim.impact().what.rfind("hard touchdown: wheel", 0) == 0);
+  }
+}
+
 TEST_CASE("ground: the nose wheel steers with the rudder") {
   // (The wheels' side friction is viscous below v_slip, so a parked aircraft creeps round into
   // a strong wind over seconds: there is no static friction state.)
