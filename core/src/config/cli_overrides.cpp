@@ -71,8 +71,7 @@ void apply_set(MissionConfig& c, const ParamOverride& po) {
 std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& c, const std::vector<std::string>& items,
                                                       const std::string& option) {
   std::vector<std::string> phase_names;
-  for (auto p : msg::kControllerPhases)
-    phase_names.emplace_back(msg::phase_name(p));
+  for (auto p : msg::kControllerPhases) phase_names.emplace_back(msg::phase_name(p));
   std::map<msg::Phase, std::string> table;
   for (const auto& item : items) {
     std::size_t start = 0;

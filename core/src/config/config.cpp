@@ -369,8 +369,7 @@ MissionConfig load_config(const fs::path& file_in) {
   if (const YAML::Node ph = root["phases"]) {
     require_map(ph, f, "phases");
     std::vector<std::string> phase_names;
-    for (auto p : msg::kControllerPhases)
-      phase_names.emplace_back(msg::phase_name(p));
+    for (auto p : msg::kControllerPhases) phase_names.emplace_back(msg::phase_name(p));
     check_keys(ph, f, "phases", phase_names);
     for (const auto& kv : ph) {
       const std::string key = kv.first.as<std::string>();
