@@ -20,6 +20,7 @@ AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   a.v_air = v - (Rot.transpose() * wind.steady_ned + wind.gust_body);
   a.Va = a.v_air.norm();
+  a.V_xz = Eigen::Vector3d(a.v_air.x(), 0.0, a.v_air.z()).norm();  // == Va, bit for bit, when v_r = 0
   a.alpha = std::atan2(a.v_air.z(), a.v_air.x());
   a.beta = a.Va > 1e-9 ? std::asin(std::clamp(a.v_air.y() / a.Va, -1.0, 1.0)) : 0.0;
   return a;
@@ -28,27 +29,28 @@ AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix
 
 AirData air_data(const StateVector& x, const Wind& wind) { return air_data_rot(x, wind, attitude(x).toRotationMatrix()); }
 
-PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t) {
+PropulsionOutput propulsion(const Aircraft& ac, double V, double delta_t) {
   const auto& p = ac.prop;
   const double rho = ac.rho, D = p.D_prop;
   const double D2 = D * D, D3 = D2 * D, D4 = D3 * D, D5 = D4 * D;
   const double V_in = p.V_max * delta_t;
+  const double V2 = V * std::fabs(V);  // the book's Va^2, signed: the flow's push follows its direction
   // Omega is the positive root of a Omega^2 + b Omega + c = 0 (torque balance motor/propeller).
   const double a = rho * D5 * p.C_Q_0 / (4.0 * kPi * kPi);
-  const double b = rho * D4 * p.C_Q_1 * Va / (2.0 * kPi) + p.K_Q * p.K_Q / p.R_motor;
-  const double c = rho * D3 * p.C_Q_2 * Va * Va - p.K_Q * V_in / p.R_motor + p.K_Q * p.i0;
+  const double b = rho * D4 * p.C_Q_1 * V / (2.0 * kPi) + p.K_Q * p.K_Q / p.R_motor;
+  const double c = rho * D3 * p.C_Q_2 * V2 - p.K_Q * V_in / p.R_motor + p.K_Q * p.i0;
   const double disc = b * b - 4.0 * a * c;
   double Omega = disc > 0.0 ? (-b + std::sqrt(disc)) / (2.0 * a) : 0.0;
   Omega = std::max(Omega, 0.0);  // the motor does not drive the propeller backwards
   PropulsionOutput out;
   out.Omega = Omega;
-  // T_p = rho (Omega/2pi)^2 D^4 C_T(J), J = 2 pi Va/(Omega D), written without dividing by Omega.
-  out.T_p =
-      rho * D4 * p.C_T_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D3 * p.C_T_1 * Va * Omega / (2.0 * kPi) + rho * D2 * p.C_T_2 * Va * Va;
-  out.Q_p =
-      rho * D5 * p.C_Q_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D4 * p.C_Q_1 * Va * Omega / (2.0 * kPi) + rho * D3 * p.C_Q_2 * Va * Va;
+  // T_p = rho (Omega/2pi)^2 D^4 C_T(J), J = 2 pi V/(Omega D), written without dividing by Omega.
+  out.T_p = rho * D4 * p.C_T_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D3 * p.C_T_1 * V * Omega / (2.0 * kPi) + rho * D2 * p.C_T_2 * V2;
+  out.Q_p = rho * D5 * p.C_Q_0 * Omega * Omega / (4.0 * kPi * kPi) + rho * D4 * p.C_Q_1 * V * Omega / (2.0 * kPi) + rho * D3 * p.C_Q_2 * V2;
   return out;
 }
+
+double propeller_inflow(const AirData& air, double sigma) { return (1.0 - sigma) * air.V_xz + sigma * air.v_air.x(); }
 
 double blend_sigma(const Aircraft& ac, double alpha) {
   const double a0 = ac.stall_blend ? ac.alpha0 : kLinearLiftLimit;
@@ -119,36 +121,55 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
 }  // namespace
 
 namespace {
+// Lift, drag and pitching moment (book sec. 4.2) on the flow in the body x-z plane: its dynamic
+// pressure qbar cos^2(beta) and speed V_xz = Va cos(beta) (model.hpp, "Large angles").
+void longitudinal(const Aircraft& ac, const StateVector& x, const Deltas& d, double sigma, ForcesMoments& fm) {
+  const auto& A = ac.aero;
+  const double V = fm.air.V_xz, alpha = fm.air.alpha, q = x[Q];
+  // qbar S, and qbar S c/(2 V) written without dividing by V (finite at V = 0).
+  const double qS = 0.5 * ac.rho * V * V * ac.S;
+  const double qSc = 0.25 * ac.rho * V * ac.S * ac.c;
+  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  // Beyond the blending angle C_m_alpha alpha fades to C_m_alpha sin(alpha), and the incidence
+  // terms (C_m_0, the elevator's) to their value times cos(alpha): they reverse with the flow.
+  const double alpha_m = (1.0 - sigma) * alpha + sigma * sa;
+  const double incidence = (1.0 - sigma) + sigma * ca;
+  const double F_lift = qS * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e * incidence) + qSc * A.C_L_q * q;
+  const double F_drag = qS * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
+  fm.f_aero.x() = -ca * F_drag + sa * F_lift;
+  fm.f_aero.z() = -sa * F_drag - ca * F_lift;
+  const double C_m = (A.C_m_0 + A.C_m_delta_e * d.delta_e) * incidence + A.C_m_alpha * alpha_m;
+  fm.m_aero.y() = ac.c * (qS * C_m + qSc * A.C_m_q * q);
+}
+
+// Side force, rolling and yawing moments (book sec. 4.3) on the full dynamic pressure; the
+// sideslip terms leave the book's linear beta beyond the blending angle (model.hpp).
+void lateral(const Aircraft& ac, const StateVector& x, const Deltas& d, ForcesMoments& fm) {
+  const auto& A = ac.aero;
+  const double Va = fm.air.Va, beta = fm.air.beta, p = x[P], r = x[R];
+  // qbar S, and qbar S b/(2 Va) written without dividing by Va (finite at Va = 0).
+  const double qS = 0.5 * ac.rho * Va * Va * ac.S;
+  const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
+  const double sb = blend_sigma(ac, beta), sin_b = std::sin(beta);
+  const double beta_y = (1.0 - sb) * beta + sb * sin_b;                       // side force, yaw
+  const double beta_l = (1.0 - sb) * beta + sb * sin_b * std::cos(beta);      // roll
+  fm.f_aero.y() =
+      qS * (A.C_Y_0 + A.C_Y_beta * beta_y + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
+  fm.m_aero.x() = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta_l + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
+                          qSb * (A.C_ell_p * p + A.C_ell_r * r));
+  fm.m_aero.z() = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta_y + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r) +
+                          qSb * (A.C_n_p * p + A.C_n_r * r));
+}
+
 ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind, const Eigen::Matrix3d& Rot) {
   ForcesMoments fm;
   fm.air = air_data_rot(x, wind, Rot);
-  const double Va = fm.air.Va, alpha = fm.air.alpha, beta = fm.air.beta;
-  const double p = x[P], q = x[Q], r = x[R];
-  const auto& A = ac.aero;
-  // qbar S, and qbar S times c/(2 Va) or b/(2 Va) written without dividing by Va (finite at Va = 0).
-  const double qS = 0.5 * ac.rho * Va * Va * ac.S;
-  const double qSc = 0.25 * ac.rho * Va * ac.S * ac.c;
-  const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
-  const double sigma = blend_sigma(ac, alpha);
-  const double F_lift = qS * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
-  const double F_drag = qS * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
-  const double ca = std::cos(alpha), sa = std::sin(alpha);
-  fm.prop = propulsion(ac, Va, d.delta_t);
-  const double fx = -ca * F_drag + sa * F_lift + fm.prop.T_p;
-  const double fz = -sa * F_drag - ca * F_lift;
-  const double fy =
-      qS * (A.C_Y_0 + A.C_Y_beta * beta + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
-  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
-                           qSb * (A.C_ell_p * p + A.C_ell_r * r)) -
-                   fm.prop.Q_p;
-  // Beyond the blending angle the alpha term fades to C_m_alpha sin(alpha) (bounded for flow
-  // from behind); below it this is the book's C_m_alpha alpha.
-  const double alpha_m = (1.0 - sigma) * alpha + sigma * std::sin(alpha);
-  const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha_m + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
-  const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r) +
-                            qSb * (A.C_n_p * p + A.C_n_r * r));
-  fm.f_aero = Eigen::Vector3d(fx, fy, fz);
-  fm.m_aero = Eigen::Vector3d(l, m, nn);
+  const double sigma = blend_sigma(ac, fm.air.alpha);
+  longitudinal(ac, x, d, sigma, fm);
+  lateral(ac, x, d, fm);
+  fm.prop = propulsion(ac, propeller_inflow(fm.air, sigma), d.delta_t);
+  fm.f_aero.x() += fm.prop.T_p;
+  fm.m_aero.x() -= fm.prop.Q_p;
   fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kGravity);
   ground_contact(ac, x, Rot, d, fm);
   fm.force = fm.f_aero + fm.f_gravity + fm.f_ground;

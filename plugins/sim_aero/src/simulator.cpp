@@ -134,9 +134,12 @@ void Simulator::step(double dt) {
   const double km = actuators_.motor_tau > 0 ? 1.0 - std::exp(-dt / actuators_.motor_tau) : 1.0;
   act_.delta_t += km * (cmd_.delta_t - act_.delta_t);
   act_.brake = cmd_.brake;
-  // Wind: turbulence driven at the current airspeed, gusts at the new time.
-  const double Va = air_data(x_, wind_).Va;
-  wind_.gust_body = dryden_.step(dt, Va, rng_);
+  // Wind: turbulence at the height of the CG, driven at the speed through the air mass without
+  // the turbulence itself (the frozen field's speed; with the gust in it, a parked aircraft's
+  // gust fed its own time scale and grew without bound); gusts at the new time.
+  Wind mean = wind_;
+  mean.gust_body.setZero();
+  wind_.gust_body = dryden_.step(dt, air_data(x_, mean).Va, -x_[PD], steady_.head<2>().norm(), rng_);
   wind_.steady_ned = steady_ + gusts_.step(t_, rng_);
   if (crashed_) return;
   const StateVector xn = rk4_step(ac_, x_, act_, wind_, dt);

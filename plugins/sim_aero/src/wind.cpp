@@ -26,28 +26,61 @@ DrydenParams dryden_preset(const std::string& level) {
   throw std::invalid_argument("turbulence level '" + level + "' is not one of none, light, moderate");
 }
 
+namespace {
+// MIL-F-8785C's low-altitude factor 0.177 + 0.000823 h (h in ft).
+double mil_k(double h_m) { return 0.177 + 0.000823 * h_m / 0.3048; }
+// a, or the smaller of a and cap, by the weight g in [0, 1].
+double capped(double a, double cap, double g) { return (1.0 - g) * a + g * std::min(a, cap); }
+}  // namespace
+
+DrydenParams dryden_at_height(const DrydenParams& p, double h, double W) {
+  if (!(h < kDrydenTableHeight)) return p;  // the book's table (NaN too: no silent change)
+  const double hc = std::max(h, kDrydenMinHeight);
+  const double k = mil_k(hc), k50 = mil_k(kDrydenTableHeight);
+  const double s_l = hc / kDrydenTableHeight;         // L_w = h
+  const double s_uv = s_l * std::pow(k50 / k, 1.2);   // L_u = h / k^1.2
+  const double s_sigma = std::pow(k50 / k, 0.4);      // sigma_u = sigma_w / k^0.4
+  // the weight of the wind's cap: 1 at and below 10 ft, 0 at 50 m, linear in log height
+  const double g = std::clamp(std::log(kDrydenTableHeight / hc) / std::log(kDrydenTableHeight / kDrydenGroundHeight), 0.0, 1.0);
+  const double w_sigma = 0.1 * W, uv_sigma = w_sigma / std::pow(k, 0.4);  // MIL, W taken as W_20
+  DrydenParams q = p;
+  q.L_u = p.L_u * s_uv;
+  q.L_v = p.L_v * s_uv;
+  q.L_w = p.L_w * s_l;
+  q.sigma_u = capped(p.sigma_u * s_sigma, uv_sigma, g);
+  q.sigma_v = capped(p.sigma_v * s_sigma, uv_sigma, g);
+  q.sigma_w = capped(p.sigma_w, w_sigma, g);
+  return q;
+}
+
 double Dryden::second_order(Eigen::Vector2d& x, double sigma, double L, double Va, double dt, double n) {
   // Controllable canonical form of K (s + a/sqrt3)/(s + a)^2, a = Va/L, K = sigma sqrt(3 a),
-  // driven by unit-intensity white noise (increment sqrt(dt) n), semi-implicit Euler.
+  // driven by unit-intensity white noise (increment sqrt(dt) n), semi-implicit Euler (stable
+  // for a dt < 0.83; step() keeps a dt <= 0.5).
   const double a = Va / L;
   x.y() += dt * (-a * a * x.x() - 2.0 * a * x.y()) + std::sqrt(dt) * n;
   x.x() += dt * x.y();
   return sigma * std::sqrt(3.0 * a) * (a / std::sqrt(3.0) * x.x() + x.y());
 }
 
-const Eigen::Vector3d& Dryden::step(double dt, double Va, std::mt19937_64& rng) {
+const Eigen::Vector3d& Dryden::step(double dt, double Va, double h, double W, std::mt19937_64& rng) {
   const double n1 = n_(rng), n2 = n_(rng), n3 = n_(rng);  // drawn always: the stream stays aligned
   if (p_.sigma_u == 0 && p_.sigma_v == 0 && p_.sigma_w == 0) {
     out_.setZero();
     return out_;
   }
   Va = std::max(Va, 1.0);
-  const double au = Va / p_.L_u;
+  DrydenParams p = dryden_at_height(p_, h, W);
+  const double L_min = 2.0 * Va * dt;  // a dt <= 0.5: the second-order update stays stable
+  p.L_u = std::max(p.L_u, L_min);
+  p.L_v = std::max(p.L_v, L_min);
+  p.L_w = std::max(p.L_w, L_min);
+  const double au = Va / p.L_u;
   const double phi = std::exp(-au * dt);
-  u_ = phi * u_ + p_.sigma_u * std::sqrt(1.0 - phi * phi) * n1;
+  u_ = phi * u_ + p.sigma_u * std::sqrt(1.0 - phi * phi) * n1;
   out_.x() = u_;
-  out_.y() = second_order(xv_, p_.sigma_v, p_.L_v, Va, dt, n2);
-  out_.z() = second_order(xw_, p_.sigma_w, p_.L_w, Va, dt, n3);
+  out_.y() = second_order(xv_, p.sigma_v, p.L_v, Va, dt, n2);
+  out_.z() = second_order(xw_, p.sigma_w, p.L_w, Va, dt, n3);
   return out_;
 }
 

@@ -3,6 +3,27 @@
 // the 13-state equations of motion with a quaternion (ch. 3, appendix B), a ground-contact
 // model, and a fixed-step RK4 integrator.
 //
+// Large angles (where this model leaves the book; at beta = 0 with the flow from ahead, within
+// the blending angle, it is the book's, checked term by term in tests/test_sim_aero.cpp). The
+// book's derivatives describe flight; an aircraft parked in a crosswind or a tailwind meets flow
+// from the side or from behind, where they would give forces no airframe makes (a 7 m/s
+// crosswind at rest: alpha undefined, 26 N of "lift"). So:
+//  * Lift, drag and pitching moment act on the flow in the body x-z plane: dynamic pressure
+//    qbar cos^2(beta), speed V_xz = Va cos(beta) (the independence principle of yawed wings:
+//    R. T. Jones, NACA Report 863, 1947; the spanwise flow makes no lift). A pure crosswind
+//    gives side force, not lift. At beta = 0 this is the book's qbar, bit for bit.
+//  * The sideslip derivatives hold up to the blending angle (blend_sigma of beta, as for
+//    alpha) and fade beyond it: C_Y_beta and C_n_beta to sin(beta) (bounded: the fin and
+//    fuselage broadside), C_ell_beta to sin(beta) cos(beta) (the dihedral effect is the wing's
+//    change of angle of attack Gamma v_r/u_r at the dynamic pressure of u_r: it scales with
+//    u_r v_r and vanishes in a pure crosswind).
+//  * Beyond the blending angle of alpha, drag fades to the flat plate and C_m_alpha alpha to
+//    C_m_alpha sin(alpha) (drag_coefficient).
+//  * The propeller sees the flow along its axis (propeller_inflow): the book's Va in flight,
+//    u_r (negative from behind) beyond the blending angle; its drag follows that flow, so a
+//    stopped propeller in a tailwind is pushed forward, not pulled aft, and in a crosswind it
+//    makes no axial force.
+//
 // Frames: NED inertial (ground at p_d = 0), FRD body. Units SI. The state vector is
 //   x = [p_n p_e p_d  u v w  e0 e1 e2 e3  p q r]  (13 x 1)
 // with (u v w) the ground velocity in body axes and e = (e0 scalar) the body -> NED quaternion.
@@ -38,6 +59,7 @@ struct Wind {
 struct AirData {
   Eigen::Vector3d v_air = Eigen::Vector3d::Zero();  ///< (u_r v_r w_r), body, m/s
   double Va = 0, alpha = 0, beta = 0;               ///< m/s, rad, rad (beta = 0 when Va = 0)
+  double V_xz = 0;  ///< speed of the flow in the body x-z plane, sqrt(u_r^2 + w_r^2) = Va cos(beta), m/s
 };
 
 /// Propeller speed, thrust and torque (propulsion supplement).
@@ -69,8 +91,15 @@ Eigen::Quaterniond attitude(const StateVector& x);
 /// Air data from the body ground velocity and the wind (book sec. 4.4: v_air = v - wind in body axes).
 AirData air_data(const StateVector& x, const Wind& wind);
 
-/// Propeller speed, thrust and torque at airspeed Va and throttle delta_t (propulsion supplement).
-PropulsionOutput propulsion(const Aircraft& ac, double Va, double delta_t);
+/// Propeller speed, thrust and torque at inflow speed V along body x (m/s; the book's Va, which
+/// propeller_inflow gives in flight; negative: flow from behind, whose V^2 terms then push
+/// forward) and throttle delta_t (propulsion supplement).
+PropulsionOutput propulsion(const Aircraft& ac, double V, double delta_t);
+
+/// The propeller's inflow speed along body x, m/s: (1 - sigma) V_xz + sigma u_r with sigma the
+/// blending function at alpha (blend_sigma). In flight (alpha within the blending angle) it is
+/// V_xz, i.e. the book's Va at beta = 0; with flow from behind it is u_r < 0, across the disc 0.
+double propeller_inflow(const AirData& air, double sigma);
 
 /// Blending angle used when an aircraft has no stall blend (stall_blend false): its linear lift
 /// holds up to 0.35 rad (20 deg) of angle of attack, then fades to the flat plate.

@@ -25,6 +25,29 @@ struct DrydenParams {
 /// sigma_w = 0.7 / 1.4 m/s). Throws std::invalid_argument for another name.
 DrydenParams dryden_preset(const std::string& level);
 
+/// Height (m) of the book's table 4.1: its parameters hold here and above.
+inline constexpr double kDrydenTableHeight = 50.0;
+/// Lowest height (m) of MIL-F-8785C's low-altitude figures 10 and 11 (10 ft); at and below it
+/// the intensities are the MIL's for the steady wind (dryden_at_height).
+inline constexpr double kDrydenGroundHeight = 3.048;
+/// Lowest height (m) of the length-scale laws: MIL-F-8785C's surface roughness length for the
+/// terminal flight phases (Category C, z0 = 0.15 ft), where its log wind profile reaches zero.
+inline constexpr double kDrydenMinHeight = 0.0457;
+
+/// The parameters p (given at kDrydenTableHeight, as the book's table 4.1) at height h above
+/// the ground (m) in a steady wind of horizontal speed W (m/s). At and above 50 m: p unchanged
+/// (the book's flight). Below, the MIL-F-8785C / MIL-HDBK-1797 low-altitude laws (h in ft)
+///   L_w = h,  L_u = L_v = h / (0.177 + 0.000823 h)^1.2,
+///   sigma_w = 0.1 W_20,  sigma_u = sigma_v = sigma_w / (0.177 + 0.000823 h)^0.4
+/// shape the book's values: (1) every length scale and sigma_u, sigma_v take the MIL's ratio to
+/// its value at 50 m (the eddies shrink with the height: L_w 0.1 m at a parked aircraft's CG,
+/// instead of 50 m; sigma_u grows by up to 25 %), continued below 10 ft as the surface layer's
+/// eddies keep scaling with the height, down to kDrydenMinHeight; (2) the intensities are not
+/// more than the MIL's for the steady wind taken as W_20 (sigma_w <= 0.1 W): at 10 ft and below
+/// in full, fading out in log height up to 50 m. Near the ground the turbulence is the wind's:
+/// "moderate" at 0.8 m/s of wind is no longer 1.4 m/s of vertical gust at the wheels.
+DrydenParams dryden_at_height(const DrydenParams& p, double h, double W);
+
 /// Dryden gust generator: the book's transfer functions
 ///   H_u(s) = sigma_u sqrt(2 Va/L_u) / (s + Va/L_u)
 ///   H_v(s) = sigma_v sqrt(3 Va/L_v) (s + Va/(sqrt(3) L_v)) / (s + Va/L_v)^2   (H_w alike)
@@ -42,8 +65,11 @@ class Dryden {
     xw_.setZero();
     out_.setZero();
   }
-  /// Advances by dt seconds at airspeed Va (floored at 1 m/s) and returns the gust.
-  const Eigen::Vector3d& step(double dt, double Va, std::mt19937_64& rng);
+  /// Advances by dt seconds at airspeed Va (m/s, through the mean air: the speed at which the
+  /// aircraft crosses the frozen field; floored at 1 m/s), height h above the ground (m) and
+  /// steady wind speed W (m/s): the parameters are dryden_at_height(params(), h, W), each
+  /// length scale at least 2 Va dt (eddies the step cannot resolve). Returns the gust.
+  const Eigen::Vector3d& step(double dt, double Va, double h, double W, std::mt19937_64& rng);
   const Eigen::Vector3d& gust() const { return out_; }
 
  private:
