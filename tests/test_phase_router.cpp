@@ -185,6 +185,8 @@ TEST_CASE("phase router: a controller that fails is replaced by the fallback in 
       {"non-finite", [](TestController& c) { c.command.delta_e = std::numeric_limits<double>::quiet_NaN(); }, "non-finite"},
       {"beyond max_deflection", [](TestController& c) { c.command.delta_a = 0.8; }, "outside the actuator limits"},
       {"throttle above 1", [](TestController& c) { c.command.delta_t = 1.2; }, "outside the actuator limits"},
+      {"non-finite brake", [](TestController& c) { c.command.brake = std::numeric_limits<double>::quiet_NaN(); }, "non-finite"},
+      {"brake above 1", [](TestController& c) { c.command.brake = 1.5; }, "outside the actuator limits"},
   };
   for (const Failure& f : failures) {
     CAPTURE(f.name);

@@ -111,16 +111,18 @@ PhaseRouter::Cause PhaseRouter::fallback_reason(const Instance& c, const std::st
   if (std::string failed = c.failure(); !failed.empty()) return {failed};  // an isolated child died or hung
   if (!step_error.empty()) return {fmt::format("{}.step threw: {}", c.cfg.name, step_error)};
   const auto* a = actuators_ ? static_cast<const msg::Actuators*>(actuators_->data()) : nullptr;
-  if (a != nullptr && !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t)))
-    return {fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {})", c.cfg.name, a->delta_a,
-                        a->delta_e, a->delta_r, a->delta_t)};
+  if (a != nullptr &&
+      !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t) && std::isfinite(a->brake)))
+    return {fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {}, brake {})", c.cfg.name,
+                        a->delta_a, a->delta_e, a->delta_r, a->delta_t, a->brake)};
   if (a != nullptr && phase_machine_) {
     const double lim = phase_machine_->max_deflection();
-    if (std::fabs(a->delta_a) > lim || std::fabs(a->delta_e) > lim || std::fabs(a->delta_r) > lim || a->delta_t < 0.0 || a->delta_t > 1.0)
+    if (std::fabs(a->delta_a) > lim || std::fabs(a->delta_e) > lim || std::fabs(a->delta_r) > lim || a->delta_t < 0.0 || a->delta_t > 1.0 ||
+        a->brake < 0.0 || a->brake > 1.0)
       return {
           fmt::format("{} commanded outside the actuator limits (delta_a {:.3f}, delta_e {:.3f}, delta_r {:.3f} rad: max {} rad; "
-                      "delta_t {:.3f}: 0..1)",
-                      c.cfg.name, a->delta_a, a->delta_e, a->delta_r, lim, a->delta_t)};
+                      "delta_t {:.3f}, brake {:.3f}: 0..1)",
+                      c.cfg.name, a->delta_a, a->delta_e, a->delta_r, lim, a->delta_t, a->brake)};
   }
   if (recovery_.active()) return {};  // the estimate is invalid: nothing to judge the controller by
   if (std::string why = safety_cause(now); !why.empty()) return {fmt::format("{}: safety monitor: {}", c.cfg.name, why), true};

@@ -184,6 +184,13 @@ class SimAero final : public tern::Plugin {
                          {"impact_airspeed_mps", m.Va},
                          {"impact_roll_deg", m.phi * 180.0 / tern::kPi},
                          {"impact_pitch_deg", m.theta * 180.0 / tern::kPi}});
+      // what struck (end_detail names it): the gear's hard point or wheel, 1-based (0: none,
+      // the CG), and how fast that point moved
+      const auto& im = f_.sim->impact();
+      s.insert(s.end(), {{"impact_hard_point", static_cast<double>(im.hard_point + 1)},
+                         {"impact_wheel", static_cast<double>(im.wheel + 1)},
+                         {"impact_point_speed_mps", im.point_speed},
+                         {"impact_point_sink_mps", im.point_sink}});
     }
     return s;
   }
@@ -467,8 +474,9 @@ class SimAero final : public tern::Plugin {
   }
 
   // ---- ground impact
-  // The simulator's crash: the CG went below the ground (it freezes the aircraft there). A crash
-  // ends the flight (end_reason "crash"): nothing after it is a flight worth logging.
+  // The simulator's crash: the CG below the ground, a hard point on it or a wheel touching down
+  // faster than the gear's max_sink_rate (it freezes the aircraft there). A crash ends the
+  // flight (end_reason "crash"): nothing after it is a flight worth logging.
   struct ImpactFacts {
     double t;                      // s, flight time (the simulator's clock starts with the flight)
     Eigen::Vector3d p_ned, v_ned;  // m, m/s (v_d > 0: sinking)

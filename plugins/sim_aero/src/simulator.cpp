@@ -95,32 +95,41 @@ void Simulator::reset_wind() {
 ForcesMoments Simulator::evaluate() const { return forces_moments(ac_, x_, act_, wind_); }
 
 // A hard point below the ground, or a wheel touching down faster than the gear's max_sink_rate
-// (its vertical speed when it first touches): what struck, how fast; "" when nothing did.
-std::string Simulator::ground_strike() {
+// (its vertical speed when it first touches): fills what struck and how fast into m.
+bool Simulator::ground_strike(Impact& m) {
   const Eigen::Matrix3d Rot = attitude(x_).toRotationMatrix();
   const Eigen::Vector3d p(x_[PN], x_[PE], x_[PD]), v(x_[U], x_[V], x_[W]), w(x_[P], x_[Q], x_[R]);
   auto speed_of = [&](const Eigen::Vector3d& r) { return Eigen::Vector3d(Rot * (v + w.cross(r))); };
   char buf[160];
-  for (const auto& [name, r] : ac_.gear.structure) {
-    if ((p + Rot * r).z() <= 0.0) continue;
-    const Eigen::Vector3d vi = speed_of(r);
-    std::snprintf(buf, sizeof buf, "the %s struck the ground at %.1f m/s (sink %.1f m/s)", name.c_str(), vi.norm(), vi.z());
-    return buf;
+  const auto& st = ac_.gear.structure;
+  for (std::size_t i = 0; i < st.size(); ++i) {
+    if ((p + Rot * st[i].second).z() <= 0.0) continue;
+    const Eigen::Vector3d vi = speed_of(st[i].second);
+    std::snprintf(buf, sizeof buf, "the %s struck the ground at %.1f m/s (sink %.1f m/s)", st[i].first.c_str(), vi.norm(), vi.z());
+    m.what = buf;
+    m.hard_point = static_cast<int>(i);
+    m.point_speed = vi.norm();
+    m.point_sink = vi.z();
+    return true;
   }
   const auto& pts = ac_.gear.points;
   wheel_down_.resize(pts.size(), false);
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const bool down = (p + Rot * pts[i]).z() > 0.0;
-    const double sink = speed_of(pts[i]).z();
+    const Eigen::Vector3d vi = speed_of(pts[i]);
     const bool first = down && !wheel_down_[i];
     wheel_down_[i] = down;
-    if (first && sink > ac_.gear.max_sink_rate) {
+    if (first && vi.z() > ac_.gear.max_sink_rate) {
       std::snprintf(buf, sizeof buf, "hard touchdown: wheel %zu (%s) at %.1f m/s sink > the gear's %.1f m/s", i,
-                    pts[i].x() > 0.0 ? "nose" : (pts[i].y() >= 0.0 ? "right main" : "left main"), sink, ac_.gear.max_sink_rate);
-      return buf;
+                    pts[i].x() > 0.0 ? "nose" : (pts[i].y() >= 0.0 ? "right main" : "left main"), vi.z(), ac_.gear.max_sink_rate);
+      m.what = buf;
+      m.wheel = static_cast<int>(i);
+      m.point_speed = vi.norm();
+      m.point_sink = vi.z();
+      return true;
     }
   }
-  return "";
+  return false;
 }
 
 void Simulator::step(double dt) {
@@ -148,10 +157,19 @@ void Simulator::step(double dt) {
     throw std::runtime_error("simulation diverged at t = " + std::to_string(t_) + " s: state " + bad + " is not finite");
   }
   x_ = xn;
-  std::string what = x_[PD] > 0.0 ? "the CG went below the ground" : ground_strike();
-  if (!what.empty()) {  // a crash, not a flight
+  Impact m;
+  if (x_[PD] > 0.0) {
+    const Eigen::Vector3d v_ned = attitude(x_) * Eigen::Vector3d(x_[U], x_[V], x_[W]);
+    m.what = "the CG went below the ground";
+    m.point_speed = v_ned.norm();
+    m.point_sink = v_ned.z();
+  }
+  if (!m.what.empty() || ground_strike(m)) {  // a crash, not a flight
     crashed_ = true;
-    impact_ = Impact{t_, x_, air_data(x_, wind_).Va, std::move(what)};
+    m.t = t_;
+    m.x = x_;
+    m.Va = air_data(x_, wind_).Va;
+    impact_ = std::move(m);
     x_[PD] = std::min(x_[PD], 0.0);
     x_.segment<3>(U).setZero();
     x_.segment<3>(P).setZero();

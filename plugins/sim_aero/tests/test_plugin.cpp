@@ -303,3 +303,23 @@ TEST_CASE("plugin: the world's magnetic field is the model's at the origin on `d
   CHECK_THROWS_WITH_AS(make({{"date", std::string("2025-02-30")}}),
                        "parameter 'sim.date': date '2025-02-30': February 2025 has 28 days, not day 30", tern::ParamError);
 }
+
+TEST_CASE("plugin: a wing tip on the ground ends the flight as a crash naming it, with its speed in the summary") {
+  // 1.5 m up at 17 m/s, full right aileron: the right wing tip strikes within a second
+  auto h = make({{"init_mode", std::string("air")}, {"init_altitude", 1.5}});
+  msg::Actuators a;
+  a.delta_a = 0.6;
+  a.delta_t = 0.5;
+  h.set_input("actuators", a);
+  run(h, 2.0);
+  REQUIRE(h.end_request().has_value());
+  CHECK(h.end_request()->first == "crash");
+  CHECK(h.end_request()->second.find("the right wing tip struck the ground at") != std::string::npos);
+  std::map<std::string, double> s;
+  for (const auto& [name, value] : h.plugin().summary()) s[name] = value;
+  CHECK(s["sim_crashed"] == 1.0);
+  CHECK(s["impact_hard_point"] == 1.0);  // the first of anaconda.yaml's structure: the right wing tip
+  CHECK(s["impact_wheel"] == 0.0);
+  CHECK(s["impact_point_speed_mps"] > 5.0);  // flying at 17 m/s
+  CHECK(s["impact_point_sink_mps"] > 0.0);
+}

@@ -1,4 +1,5 @@
-// Tests of sim_aero: aircraft files, physics invariants, trim, ground, sensors, determinism.
+// Tests of sim_aero: aircraft files, physics invariants, trim, wind, sensors, determinism (the
+// ground: test_ground.cpp; the model at large angles: test_large_angles.cpp).
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
 
@@ -37,9 +38,6 @@ const std::string kData = TERN_SIM_AERO_TEST_DATA;
 const std::string kAircraft = TERN_AIRCRAFT_DIR;
 
 Aircraft anaconda() { return load_aircraft(kAircraft + "/anaconda.yaml"); }
-
-/// 3-2-1 yaw of a state, rad.
-double yaw_of(const StateVector& x) { return tern::euler_from_quaternion(attitude(x)).z(); }
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path);
@@ -359,173 +357,6 @@ TEST_CASE("trim: both ROSflight reference files load and trim") {
   // Too fast for the motor: a clear error.
   r1.Va = 80.0;
   CHECK_THROWS_AS(compute_trim(an, r1), std::runtime_error);
-}
-
-// ---------------------------------------------------------------- ground ---------------------
-
-TEST_CASE("ground: at rest with throttle 0 the aircraft stays put, no bounce, no NaN") {
-  Simulator sim(anaconda(), 1);
-  sim.set_state(rest_state(sim.aircraft(), 0, 0, 0));
-  const StateVector x0 = sim.state();  // already settled
-  CHECK(derivative(sim.aircraft(), x0, Deltas{}, Wind{}).norm() < 1e-3);
-  for (int i = 0; i < 4000; ++i) sim.step(0.0025);  // 10 s
-  CHECK((sim.state() - x0).norm() < 1e-4);
-  const StateVector& x = sim.state();
-  CHECK(all_finite(x));
-  CHECK(std::fabs(x[PN] - x0[PN]) < 0.01);
-  CHECK(x.segment<3>(U).norm() < 1e-3);
-  CHECK(sim.evaluate().wheels_on_ground == 3);
-  // The wheels carry the weight.
-  CHECK(-sim.evaluate().f_ground.z() == doctest::Approx(4.5 * kGravity).epsilon(0.01));
-  CHECK(!sim.crashed());
-}
-
-TEST_CASE("ground: takeoff roll from rest with full throttle lifts off") {
-  const Aircraft ac = anaconda();
-  Simulator sim(ac, 1);
-  Deltas d;
-  d.delta_t = 1.0;
-  // Elevator a little up from the Anaconda's cruise trim (about +0.15 rad: its C_m_0 is large).
-  // With T/W > 1 and the stick held, the aircraft would loop after a few seconds: 4 s are enough.
-  d.delta_e = 0.1;
-  sim.set_command(d);
-  double liftoff_distance = -1, max_depth = 0;
-  for (int i = 0; i < 1600; ++i) {  // 4 s
-    sim.step(0.0025);
-    const StateVector& x = sim.state();
-    REQUIRE(all_finite(x));
-    const Eigen::Matrix3d Rm = attitude(x).toRotationMatrix();
-    for (const auto& r : ac.gear.points) {
-      max_depth = std::max(max_depth, (Eigen::Vector3d(x.segment<3>(PN)) + Rm * r).z());
-    }
-    if (liftoff_distance < 0 && sim.evaluate().wheels_on_ground == 0 && -x[PD] > 1.0) liftoff_distance = x[PN];
-  }
-  CHECK(liftoff_distance > 5.0);
-  CHECK(liftoff_distance < 60.0);
-  CHECK(-sim.state()[PD] > 3.0);  // climbing away
-  CHECK(max_depth < 0.05);        // wheels compress a few cm, never sink in
-  CHECK(!sim.crashed());
-}
-
-TEST_CASE("ground: a landing touches down without bounce and rolls to a stop") {
-  const Aircraft ac = anaconda();
-  Simulator sim(ac, 1);
-  const double h_rest = rest_height(ac);
-  sim.set_state(make_state({0, 0, -(h_rest + 0.5)}, {12.0, 0, 1.5}, 0, 0.0, 0));
-  double first_contact = -1, max_depth = 0, max_rise = 0;
-  for (int i = 0; i < 24000; ++i) {  // 60 s
-    sim.step(0.0025);
-    const StateVector& x = sim.state();
-    REQUIRE(all_finite(x));
-    const int wheels = sim.evaluate().wheels_on_ground;
-    if (first_contact < 0 && wheels > 0) first_contact = sim.time();
-    if (first_contact >= 0) max_rise = std::max(max_rise, -x[PD] - h_rest);
-    const Eigen::Matrix3d Rm = attitude(x).toRotationMatrix();
-    for (const auto& r : ac.gear.points) {
-      max_depth = std::max(max_depth, (Eigen::Vector3d(x.segment<3>(PN)) + Rm * r).z());
-    }
-  }
-  CHECK(first_contact > 0);
-  CHECK(max_rise < 0.05);                         // no bounce back into the air
-  CHECK(max_depth < 0.08);                        // no penetration beyond gear compression
-  CHECK(sim.state().segment<3>(U).norm() < 0.2);  // friction and drag stopped it
-  CHECK(!sim.crashed());
-}
-
-TEST_CASE("ground: parked with a tailwind and crosswind in turbulence it stays on its wheels") {
-  // The default mission's start: 5 m/s from the south-east, heading north (air from behind).
-  Simulator sim(anaconda(), 2);
-  sim.set_steady_wind({3.5355, -3.5355, 0.0});
-  sim.set_turbulence(dryden_preset("light"));
-  double max_tilt = 0;
-  for (int i = 0; i < 8000; ++i) {  // 20 s
-    sim.step(0.0025);
-    REQUIRE(all_finite(sim.state()));
-    const Eigen::Vector3d e = tern::sim::attitude(sim.state()).toRotationMatrix().col(2);  // body z in NED
-    max_tilt = std::max(max_tilt, std::acos(std::clamp(e.z(), -1.0, 1.0)));
-  }
-  CHECK(max_tilt < 0.15);
-  CHECK(sim.evaluate().wheels_on_ground == 3);
-  CHECK(!sim.crashed());
-  // Forces stay bounded with the air from behind: far below the weight at 5 m/s.
-  const ForcesMoments fm = sim.evaluate();
-  CHECK(fm.f_aero.norm() < 0.5 * 4.5 * kGravity);
-  // Full throttle: it still takes off (downwind).
-  Deltas d;
-  d.delta_t = 1.0;
-  d.delta_e = 0.1;
-  sim.set_command(d);
-  for (int i = 0; i < 1600; ++i) sim.step(0.0025);
-  CHECK(-sim.state()[PD] > 2.0);
-  CHECK(!sim.crashed());
-}
-
-TEST_CASE("ground: brakes stop a rolling aircraft in a shorter distance than rolling friction alone") {
-  auto roll_out = [](double brake) {
-    const Aircraft ac = anaconda();
-    Simulator sim(ac, 1);
-    StateVector x = rest_state(ac, 0, 0, 0);
-    x[U] = 8.0;  // rolling at 8 m/s, motor off
-    sim.set_state(x);
-    Deltas d;
-    d.brake = brake;
-    sim.set_command(d);
-    for (int i = 0; i < 16000 && sim.state().segment<3>(U).norm() > 0.05; ++i) sim.step(0.0025);
-    CHECK(!sim.crashed());
-    CHECK(sim.state().segment<3>(U).norm() < 0.1);
-    return sim.state()[PN];
-  };
-  const double free_roll = roll_out(0.0), braked = roll_out(1.0);
-  MESSAGE("from 8 m/s: " << free_roll << " m rolling, " << braked << " m braked");
-  CHECK(braked < 0.5 * free_roll);
-  CHECK(braked > 3.0);  // mu_brake 0.4 on the mains: not a wall
-}
-
-TEST_CASE("ground: a wing tip on the ground is a crash naming it; a hard touchdown breaks the gear; a gentle one does not") {
-  const Aircraft ac = anaconda();
-  {  // dropped level onto its wheels banked 40 deg: the right wing tip strikes first
-    Simulator sim(ac, 1);
-    sim.set_state(make_state({0, 0, -0.5}, {10.0, 0, 0}, 40.0 * tern::kPi / 180.0, 0.0, 0));
-    for (int i = 0; i < 2000 && !sim.crashed(); ++i) sim.step(0.0025);
-    REQUIRE(sim.crashed());
-    CHECK(sim.impact().what.find("right wing tip struck the ground") != std::string::npos);
-  }
-  for (const double sink : {4.0, 0.5}) {  // level, sinking onto its wheels
-    CAPTURE(sink);
-    Simulator sim(ac, 1);
-    sim.set_state(make_state({0, 0, -(rest_height(ac) + 0.03)}, {12.0, 0, sink}, 0.0, 0.0, 0));
-    for (int i = 0; i < 800 && !sim.crashed(); ++i) sim.step(0.0025);
-    CHECK(sim.crashed() == (sink > ac.gear.max_sink_rate));
-    if (sim.crashed()) CHECK(sim.impact().what.rfind("hard touchdown: wheel", 0) == 0);
-  }
-}
-
-TEST_CASE("ground: the nose wheel steers with the rudder") {
-  // (The wheels' side friction is viscous below v_slip, so a parked aircraft creeps round into
-  // a strong wind over seconds: there is no static friction state.)
-  const Aircraft ac = anaconda();
-  REQUIRE(ac.gear.nose_steering > 0.0);
-  // taxiing at low power, no wind: negative delta_r (nose right) turns right, positive turns
-  // left, and without steering the same rudder turns it far less
-  double psi[3];
-  const double steering[3] = {ac.gear.nose_steering, ac.gear.nose_steering, 0.0};
-  const double rudder[3] = {-0.3, 0.3, -0.3};
-  for (int k = 0; k < 3; ++k) {
-    Aircraft a = ac;
-    a.gear.nose_steering = steering[k];
-    Simulator sim(a, 3);
-    Deltas d;
-    d.delta_t = 0.35;
-    d.delta_r = rudder[k];
-    sim.set_command(d);
-    for (int i = 0; i < 1200; ++i) sim.step(0.0025);  // 3 s
-    REQUIRE(all_finite(sim.state()));
-    CHECK(sim.evaluate().wheels_on_ground == 3);
-    psi[k] = yaw_of(sim.state());
-  }
-  CHECK(psi[0] > 0.3);
-  CHECK(psi[1] < -0.3);
-  CHECK(std::fabs(psi[2]) < 0.5 * psi[0]);
 }
 
 TEST_CASE("model: the polar and linear lift hold below the blending angle, bounded beyond it") {

@@ -84,6 +84,10 @@ class Simulator {
     StateVector x = StateVector::Zero();  ///< the state
     double Va = 0;                        ///< airspeed, m/s
     std::string what;                     ///< "the left wing tip struck the ground at 3.1 m/s (sink 2.0 m/s)", ...
+    int hard_point = -1;                  ///< index in gear.structure of the point that struck, -1: none
+    int wheel = -1;                       ///< index in gear.points of a wheel touching down too fast, -1: none
+    double point_speed = 0;               ///< speed of that point (or of the CG), m/s
+    double point_sink = 0;                ///< its sink rate (NED down), m/s
   };
   const Impact& impact() const { return impact_; }
 
@@ -105,7 +109,7 @@ class Simulator {
   bool crashed_ = false;
   Impact impact_;
   std::vector<bool> wheel_down_;  ///< each gear point on the ground after the last step
-  std::string ground_strike();
+  bool ground_strike(Impact& m);
 };
 
 /// Names the first non-finite element of a state ("p_n", "e0", ...) or returns "".
