@@ -1,6 +1,7 @@
 // Aircraft file loader: tern format and ROSflight `*_dynamics.yaml` (see aircraft.hpp).
 #include "tern/aircraft.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <set>
@@ -439,6 +440,23 @@ std::vector<std::pair<std::string, ContactPoint>> default_structure(double b) {
           {"tail", ContactPoint(-0.5 * b, 0.0, -0.06 * b)}};
 }
 
+namespace {
+// A hard point must clear the ground with the aircraft level on its compressed wheels (else the
+// parked aircraft would crash at t = 0): z above the lowest wheel less its static deflection.
+void validate_structure(const Aircraft& ac) {
+  double ground_z = 0.0;  // body z of the ground at rest
+  for (const auto& r : ac.gear.points) ground_z = std::max(ground_z, r.z());
+  ground_z -= ac.gear.static_deflection;
+  for (const auto& [name, r] : ac.gear.structure) {
+    if (!r.allFinite()) fail(ac.source, "gear.structure." + name, "is not finite");
+    if (r.z() >= ground_z)
+      fail(ac.source, "gear.structure." + name,
+           "z = " + num(r.z()) + " m is at or below the ground at rest (z = " + num(ground_z) +
+               " m: the wheels less their static deflection): it would strike the ground parked");
+  }
+}
+}  // namespace
+
 void validate_aircraft(const Aircraft& ac) {
   const std::string& src = ac.source;
   auto positive = [&](double v, const char* field, const char* unit) {
@@ -479,6 +497,7 @@ void validate_aircraft(const Aircraft& ac) {
   nonneg(ac.gear.nose_steering, "gear.nose_steering", "rad/rad");
   nonneg(ac.gear.mu_brake, "gear.mu_brake", "");
   positive(ac.gear.max_sink_rate, "gear.max_sink_rate", "m/s");
+  validate_structure(ac);
 }
 
 Aircraft parse_aircraft(const YAML::Node& doc, const std::string& source) {

@@ -160,6 +160,13 @@ TEST_CASE("aircraft: bad files give one line naming the field") {
     d["wing"]["b"] = "wide";
     CHECK(load_error(d) == "test.yaml: wing.b: expected a number, got 'wide'");
   }
+  {  // a hard point below the wheels would strike the ground parked (z down: the ground at 0.105 m)
+    YAML::Node d = YAML::Clone(good);
+    d["gear"]["structure"]["nose"][2] = 0.11;
+    CHECK(load_error(d) ==
+          "test.yaml: gear.structure.nose: z = 0.11 m is at or below the ground at rest (z = 0.105 m: the wheels less their static "
+          "deflection): it would strike the ground parked");
+  }
   // ROSflight format: the same rules with ROSflight's names.
   const YAML::Node ros = YAML::LoadFile(kData + "/anaconda_dynamics.yaml");
   CHECK(load_error(YAML::Clone(ros)) == "(no error)");
