@@ -130,23 +130,28 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
   const double qSc = 0.25 * ac.rho * Va * ac.S * ac.c;
   const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
   const double sigma = blend_sigma(ac, alpha);
-  const double F_lift = qS * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
-  const double F_drag = qS * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
+  // Large sideslip (a crosswind at rest, the rollout): lift, drag and pitching moment come from
+  // the flow in the x-z plane, cos^2(beta) of the dynamic pressure, and the beta terms take
+  // sin(beta): the book's small-angle forms (sec. 4.2, 4.3) to first order, bounded beyond.
+  const double cb2 = std::cos(beta) * std::cos(beta), sb = std::sin(beta);
+  const double qS_xz = qS * cb2;
+  const double F_lift = qS_xz * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e) + qSc * A.C_L_q * q;
+  const double F_drag = qS_xz * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
   const double ca = std::cos(alpha), sa = std::sin(alpha);
   fm.prop = propulsion(ac, Va, d.delta_t);
   const double fx = -ca * F_drag + sa * F_lift + fm.prop.T_p;
   const double fz = -sa * F_drag - ca * F_lift;
   const double fy =
-      qS * (A.C_Y_0 + A.C_Y_beta * beta + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
-  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
+      qS * (A.C_Y_0 + A.C_Y_beta * sb + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
+  const double l = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * sb + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
                            qSb * (A.C_ell_p * p + A.C_ell_r * r)) -
                    fm.prop.Q_p;
   // Beyond the blending angle the alpha term fades to C_m_alpha sin(alpha) (bounded for flow
   // from behind); below it this is the book's C_m_alpha alpha.
   const double alpha_m = (1.0 - sigma) * alpha + sigma * std::sin(alpha);
-  const double m = ac.c * (qS * (A.C_m_0 + A.C_m_alpha * alpha_m + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
-  const double nn = ac.b * (qS * (A.C_n_0 + A.C_n_beta * beta + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r) +
-                            qSb * (A.C_n_p * p + A.C_n_r * r));
+  const double m = ac.c * (qS_xz * (A.C_m_0 + A.C_m_alpha * alpha_m + A.C_m_delta_e * d.delta_e) + qSc * A.C_m_q * q);
+  const double nn =
+      ac.b * (qS * (A.C_n_0 + A.C_n_beta * sb + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r) + qSb * (A.C_n_p * p + A.C_n_r * r));
   fm.f_aero = Eigen::Vector3d(fx, fy, fz);
   fm.m_aero = Eigen::Vector3d(l, m, nn);
   fm.f_gravity = Rot.transpose() * Eigen::Vector3d(0.0, 0.0, ac.mass * kGravity);

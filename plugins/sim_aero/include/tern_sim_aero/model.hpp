@@ -91,6 +91,11 @@ double lift_coefficient(const Aircraft& ac, double alpha);
 double drag_coefficient(const Aircraft& ac, double alpha);
 
 /// All forces and moments at state x (gravity, aerodynamics, propulsion, ground contact).
+/// Sideslip: lift, drag and the pitching moment use cos^2(beta) of the dynamic pressure (the
+/// flow in the x-z plane), and the side force, rolling and yawing moments sin(beta) where the book
+/// writes beta: identical at beta = 0, the book's to first order, bounded in a crosswind at rest
+/// (beta up to 90 deg), where the linear forms gave lift and a rolling moment that tipped a
+/// parked aircraft over.
 ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w);
 
 /// The 13-state derivative (book eqs. 3.14-3.17 with the quaternion of appendix B).
