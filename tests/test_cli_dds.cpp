@@ -99,10 +99,10 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   std::string print;
   for (int i = 0; i < 50 && reaper.alive(); ++i) {  // the planner applies the edit at its next step
     print = run_tern("mission print" + d).second;
-    if (print.find("5 waypoints") != std::string::npos) break;
+    if (print.find("6 waypoints") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  CHECK_MESSAGE(print.find("5 waypoints") != std::string::npos, print);
+  CHECK_MESSAGE(print.find("6 waypoints") != std::string::npos, print);
   CHECK(print.find("w [100.000, -100.000, -60.000]") != std::string::npos);
   CHECK(run_tern("mission clear" + d).first == 0);
   for (int i = 0; i < 50 && reaper.alive(); ++i) {
@@ -127,7 +127,7 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   // the waypoint lists as flown: the added waypoint in a list's items, then the cleared list (no items)
   const std::string items = read_file(runs[0] / "topics" / "waypoints_items.csv");
   CHECK(items.rfind("t [s],stamp [ns],revision [],index [],w_0 [m|deg],w_1 [m|deg],w_2 [m|deg],lla [bool],", 0) == 0);
-  CHECK(items.find(",4,100,-100,-60,0,") != std::string::npos);  // index 4 of the 5 waypoints
+  CHECK(items.find(",5,100,-100,-60,0,") != std::string::npos);  // index 5 of the 6 (the default mission ends with its land item)
   const auto lists = lines(read_file(runs[0] / "topics" / "waypoints.csv"));
   REQUIRE(lists.size() >= 4);  // header, the mission, the edit, the clear
   CHECK(cells(lists.back())[3] == "0");

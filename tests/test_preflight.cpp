@@ -138,9 +138,7 @@ TEST_CASE("preflight: the wind seen at rest (airspeed, estimated wind) beyond pr
 }
 
 TEST_CASE("preflight: the flight holds with no controller until the checks pass, then takes off") {
-  // (test_filter's state has an airspeed of 15 m/s at rest: a 15-m/s wind the wind check allows here)
-  std::string cfg =
-      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5, preflight_max_wind: 20}\n");
+  std::string cfg = base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_time: 0.5}\n");
   const std::string filter = "plugin: test_filter, trigger: imu}";
   cfg.replace(cfg.find(filter), filter.size(), "plugin: test_filter, trigger: imu, params: {valid: true}}");
   const FlightResult r = fly_yaml(cfg, "preflight_pass");
@@ -156,8 +154,7 @@ TEST_CASE("preflight: the flight holds with no controller until the checks pass,
 
 TEST_CASE("preflight: an estimator that never aligns ends the flight with preflight_failed") {
   const FlightResult r = fly_yaml(
-      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1, preflight_max_wind: 20}\n"),
-      "preflight_fail");
+      base_config("", "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight_timeout: 1}\n"), "preflight_fail");
   CHECK_FALSE(r.ok);
   CHECK(r.end_reason == "preflight_failed: estimator not ready (status degraded)");
   CHECK(tern::to_seconds(r.flown) == doctest::Approx(1.0).epsilon(0.01));

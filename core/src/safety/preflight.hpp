@@ -39,7 +39,7 @@ struct PreflightLimits {
   /// estimate's wind) above this is beyond the aircraft's takeoff limits. 10 m/s: 60 % of the
   /// Anaconda's 17 m/s cruise, the upper end of the winds the shipped campaigns fly in. A tailwind
   /// or a crosswind at rest is not seen by a pitot (and barely by the estimate): the check can
-  /// only say what the vehicle measures.
+  /// only say what the vehicle measures. Checked on an estimator's state (one with a covariance).
   double max_wind = 10.0;
 };
 

@@ -142,8 +142,10 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   } else {
     phi_c = lateral_.shape_roll(phi_c, h);
   }
-  const bool on_wheels = (mode == Mode::takeoff && !f_.rotated && x.Va < s_.rotation_Va) || mode == Mode::rollout;
-  if (on_wheels && !init) lateral_.reset_roll_integrator();
+  // Before rotation the gear holds the wings level. On the rollout the roll loop keeps its
+  // integrator: in a crosswind it holds the aileron into the wind, as a pilot does.
+  const bool before_rotation = mode == Mode::takeoff && !f_.rotated && x.Va < s_.rotation_Va;
+  if (before_rotation && !init) lateral_.reset_roll_integrator();
   if (init) lateral_.initialise_roll(f_.handover_from.delta_a, phi_c, x.phi, x.p);
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
   double delta_r = lateral_.yaw_damper(x.r, h);

@@ -112,10 +112,10 @@ class ManagerPlugin final : public Plugin {
     double xt_sq = 0.0, xt_max = 0.0;
     std::uint64_t xt_n = 0;
     // The estimate's altitude at rest before the takeoff, low-passed (home's ground), m; the
-    // flight_phase message (its `since`) of the last go-around passed on.
+    // flight phase seen at the last step (a go-around leaves the approach).
     std::optional<double> home_h;
     Nanos home_stamp = 0;
-    Nanos go_around_since = -1;
+    msg::Phase last_phase = msg::Phase::preflight;
   } f_;
 };
 

@@ -146,11 +146,15 @@ void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
     f_.home_stamp = now;
     manager_->set_home_altitude(*f_.home_h);
   }
-  const bool go_around = ph.phase == msg::Phase::climb && (ph.previous == msg::Phase::approach || ph.previous == msg::Phase::flare);
-  if (go_around && ph.since != f_.go_around_since) {
-    f_.go_around_since = ph.since;
-    manager_->go_around(Vec3(s.p_n, s.p_e, s.p_d));
-  }
+  // A go-around: the phase left the approach (or flare) for anything but the landing's next
+  // phases. Seen from the last phase this plugin saw: the phase machine may pass through climb
+  // to cruise within one of this plugin's periods.
+  auto landing = [](msg::Phase p) {
+    return p == msg::Phase::approach || p == msg::Phase::flare || p == msg::Phase::rollout || p == msg::Phase::stopped;
+  };
+  const bool go_around = (f_.last_phase == msg::Phase::approach || f_.last_phase == msg::Phase::flare) && !landing(ph.phase);
+  f_.last_phase = ph.phase;
+  if (go_around) manager_->go_around(Vec3(s.p_n, s.p_e, s.p_d));
 }
 
 std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {

@@ -492,7 +492,7 @@ class SimAero final : public tern::Plugin {
     f_.crash_reported = true;
     const ImpactFacts m = impact();
     const std::string detail = fmt::format(
-        "{} at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
+        "the aircraft hit the ground ({}) at t = {:.3f} s at p_n {:.1f} m, p_e {:.1f} m: ground speed {:.1f} m/s, sink rate {:.1f} m/s, "
         "airspeed {:.1f} m/s, roll {:.0f} deg, pitch {:.0f} deg",
         f_.sim->impact().what, m.t, m.p_ned.x(), m.p_ned.y(), m.v_ned.head<2>().norm(), m.v_ned.z(), m.Va, m.phi * 180.0 / tern::kPi,
         m.theta * 180.0 / tern::kPi);

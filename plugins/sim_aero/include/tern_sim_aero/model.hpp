@@ -119,7 +119,8 @@ double lift_coefficient(const Aircraft& ac, double alpha);
 /// (|alpha| well below the blending angle) the book's model is unchanged.
 double drag_coefficient(const Aircraft& ac, double alpha);
 
-/// All forces and moments at state x (gravity, aerodynamics, propulsion, ground contact).
+/// All forces and moments at state x (gravity, aerodynamics, propulsion, ground contact); at
+/// large angles as the header's "Large angles" says.
 ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w);
 
 /// The 13-state derivative (book eqs. 3.14-3.17 with the quaternion of appendix B).
