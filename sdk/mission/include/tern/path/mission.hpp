@@ -90,10 +90,11 @@ struct MissionWaypoint {
   bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
   ItemType type = ItemType::waypoint;
-  LoiterSpec loiter;  ///< loiter and return_home items
-  LandSpec land;      ///< land items (chi_d: the runway heading)
-  int line = 0;       ///< 1-based line of the entry in its source (0: not read from text)
-  std::string field;  ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
+  LoiterSpec loiter;   ///< loiter and return_home items
+  LandSpec land;       ///< land items (chi_d: the runway heading)
+  int line = 0;        ///< 1-based line of the entry in its source (0: not read from text)
+  std::string field;   ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
+  std::string source;  ///< the file (or config) the entry was read from ("": not read; see Mission::source)
 };
 
 struct Mission {
@@ -127,8 +128,15 @@ Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoPoint& origin);
 /// The mission's waypoints with every LLA position converted to NED (the others unchanged).
 std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoPoint& origin);
 
-/// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0); `where` names it
-/// in the error, e.g. "mission_edit 7". Throws MissionError.
+/// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0, a land item's
+/// heading, glide slope and heights); `where` names it in the error, e.g. "mission_edit 7".
+/// Throws MissionError.
 void validate_waypoint(const MissionWaypoint& wp, const std::string& where);
+
+/// Checks that a land item ends the mission (no item after it) and is reached (the item before
+/// it is not a return_home or a loiter without time or turns). The readers call it; a mission
+/// edit calls it on the list it would make. Throws MissionError naming the item ("source:line:
+/// field: ", Mission::source for entries not read from text).
+void check_land_last(const Mission& m);
 
 }  // namespace tern::path
