@@ -24,9 +24,9 @@
 //   geofence    the estimate is farther than max_distance from home (horizontally), above
 //               max_altitude, below min_altitude (once it has been above it in the air; not on
 //               the final approach and in the flare, which descend through the floor by design,
-//               as PX4's geofence leaves the landing out) or outside the polygon -> return inside: loiter at home at the altitude clamped into
-//               [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside:
-//               logged; the aircraft keeps loitering at home.
+//               as PX4's geofence leaves the landing out) or outside the polygon -> return inside: loiter at home at the altitude clamped
+//               into [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside: logged; the aircraft keeps loitering at
+//               home.
 //   terminate   (link_loss.terminate_after) flight termination, PX4's and ArduPilot AFS's last
 //               resort: the motor off and the surfaces set by the action:
 //                 glide  delta_t 0, surfaces neutral (PX4: PWM_MAIN_FAILn at their trims)

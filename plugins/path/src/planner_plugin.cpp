@@ -94,6 +94,11 @@ void PlannerPlugin::reset() {
 }
 
 void PlannerPlugin::add_item(const msg::MissionEdit& e, const std::string& tag) {
+  if (e.waypoint.type > msg::Waypoint::land) {
+    log().error("{}: refused: type {} is not a mission item type (0 waypoint, 1 loiter, 2 return_home, 3 land)", tag,
+                static_cast<int>(e.waypoint.type));
+    return;
+  }
   const MissionWaypoint wp = from_msg(e.waypoint);
   Mission next;
   next.source = tag;
