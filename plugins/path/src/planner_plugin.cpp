@@ -117,6 +117,7 @@ void PlannerPlugin::add_item(const msg::MissionEdit& e, const std::string& tag) 
   }
   f_.wps = std::move(next.waypoints);
   f_.immediate = f_.immediate || e.set_current_wp;
+  if (e.set_current_wp) f_.loops = 0;  // a new list: not the configured mission's loop count
   log().info("{}: {} added ({} now){}", tag, item_type_name(wp.type), f_.wps.size(), e.set_current_wp ? ", starting a new list" : "");
   if (wp.type == ItemType::land && f_.loop && f_.loops == 0) {
     // a loop without a count would never reach the landing (mission.hpp): the items once more

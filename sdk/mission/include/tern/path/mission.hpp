@@ -34,16 +34,28 @@
 // Entry keys: ned | w (3 numbers), lla (3 numbers, or a bool flag saying that w is lat/lon/alt),
 // chi_d (rad, finite), use_chi (bool), Va_d | va_d (m/s, >= 0; 0: the path manager's default),
 // and tern's mission items (item.hpp; ROSplane files may use them too):
-//   type: waypoint | loiter | return_home      (default waypoint)
+//   type: waypoint | loiter | return_home | land   (default waypoint)
 //   radius: m >= 0 (0: the path manager's turn radius), direction: cw | ccw (default cw),
 //   time: s >= 0, turns: >= 0                  (loiter only; both 0 or absent: loiter until the
 //                                              mission changes)
 //   altitude: m above home                     (return_home only, instead of a position; absent:
 //                                              the altitude of the item before it)
+//   heading: rad in [-2 pi, 2 pi]              (land only, required: the runway heading, the
+//                                              direction of landing; a ROSplane file may give it
+//                                              as chi_d, never both)
+//   glide_slope: rad in (0, 0.35], flare_height: m > 0, decision_height: m > flare_height
+//                                              (land only; defaults: item.hpp LandSpec)
 // e.g.  - {type: loiter, ned: [0, 300, -70], radius: 80, direction: ccw, turns: 2}
 //       - {type: return_home, altitude: 70}
+//       - {type: land, ned: [0, 0, 0], heading: 2.3562, glide_slope: 0.0873, flare_height: 3}
 // loiter and return_home take no chi_d/use_chi; return_home takes no position (home is the
-// origin); items after a return_home are never reached.
+// origin); items after a return_home are never reached. A land item's position (ned or lla)
+// is the touchdown point; it takes no radius, direction, time, turns, altitude or use_chi:
+// true. It is the mission's last item (an item after it is an error) and must be reached (not
+// after a return_home or a loiter without time or turns: an error). A mission ending with a
+// land item flies the items before it once, or `loops` times: `loop` alone is moot there, and
+// `loop: true` without `loops` (never landing) is an error; a file's `loop: true` gives way when
+// a config's section appends a land item to it.
 // Latitude must be in [-90, 90] deg, longitude in [-180, 180] deg. Unknown keys are errors.
 //
 // Errors: every function throws MissionError (a std::runtime_error) with one line naming the

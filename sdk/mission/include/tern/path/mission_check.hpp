@@ -4,7 +4,8 @@
 //
 // Home is the NED origin (the estimate's origin); altitudes are m above it (-down).
 // Errors (the mission cannot be what was meant):
-//   - a waypoint below home: NED down > 0, or an LLA altitude below the origin's altitude;
+//   - a waypoint below home: NED down > 0, or an LLA altitude below the origin's altitude (not a
+//     land item's touchdown point: (c) below);
 //   - a waypoint further than `max_distance` from home (3-D): a latitude/longitude read as
 //     metres (the `lla` flag forgotten) or a missing minus sign puts it kilometres away;
 //   - a leg between two consecutive plain waypoints (and the closing leg of a looped mission of
@@ -15,7 +16,8 @@
 //   - a NED waypoint whose north and east look like a latitude and a longitude (within
 //     [-90, 90] and [-180, 180] with more than three decimals): `lla: true` forgotten?;
 //   - a waypoint outside the geofence (beyond fence_max_distance horizontally, above
-//     fence_max_altitude, below fence_min_altitude): the geofence failsafe would take over;
+//     fence_max_altitude, below fence_min_altitude; a land item's touchdown point: not the
+//     floor, (a) below): the geofence failsafe would take over;
 //   - LLA waypoints when the origin is not known (no simulator: it is the first GNSS fix):
 //     they are not placed, so not checked against home or as legs.
 // A land item (item.hpp: the last item; its position the touchdown point, its heading the
@@ -66,7 +68,7 @@ inline constexpr double kTouchdownHomeTolerance = 1.0;
 /// land item or steepen the glide slope.
 inline constexpr double kMaxFinalLength = 2000.0;
 /// (d) Decision heights: an approach entered lower has less than 2 decision heights of glide
-/// path above the decision height (2 DH / tan(glide_slope): 275 m, ~18 s at 15 m/s with the
+/// path above the decision height (2 DH / tan(glide_slope): 274 m, ~18 s at 15 m/s with the
 /// defaults) to settle after the turn onto the final before the stabilised-approach gate.
 inline constexpr double kMinApproachHeights = 3.0;
 
