@@ -392,7 +392,7 @@ bool Mission::has_lla() const {
 }
 
 namespace {
-/// " (D deg is R rad)" when `rad` looks like D degrees given as radians, else "".
+/// " (radians: D deg would be R)" when `rad` looks like D degrees given as radians, else "".
 std::string degrees_hint(double rad, double max_rad) {
   if (!(std::fabs(rad) > max_rad && std::fabs(rad) <= 360.0)) return "";
   return " (radians: " + num(rad) + " deg would be " + number_text(rad * kRadPerDeg, 4) + ")";
