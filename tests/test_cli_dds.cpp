@@ -132,12 +132,13 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   for (const auto& e : fs::directory_iterator(logs)) runs.push_back(e.path());
   std::erase_if(runs, [](const fs::path& p) { return !fs::is_directory(p); });  // params.yaml
   REQUIRE(runs.size() == 1);
-  // the waypoint lists as flown: the added waypoint in a list's items, then the cleared list (no items)
+  // the waypoint lists as flown: the added waypoint and land item in a list's items, then the cleared list (no items)
   const std::string items = read_file(runs[0] / "topics" / "waypoints_items.csv");
   CHECK(items.rfind("t [s],stamp [ns],revision [],index [],w_0 [m|deg],w_1 [m|deg],w_2 [m|deg],lla [bool],", 0) == 0);
-  CHECK(items.find(",5,100,-100,-60,0,") != std::string::npos);  // index 5 of the 6 (the default mission ends with its land item)
+  CHECK(items.find(",0,100,-100,-60,0,") != std::string::npos);  // the new list's first
+  CHECK(items.find(",1,0,0,0,0,2.3562,") != std::string::npos);  // its land item: the touchdown point, the runway heading
   const auto lists = lines(read_file(runs[0] / "topics" / "waypoints.csv"));
-  REQUIRE(lists.size() >= 4);  // header, the mission, the edit, the clear
+  REQUIRE(lists.size() >= 5);  // header, the mission, the two edits, the clear
   CHECK(cells(lists.back())[3] == "0");
   const std::string params = read_file(runs[0] / "params.csv");
   CHECK(params.find(",slc.roll_kp,0.5,dds\n") != std::string::npos);

@@ -146,9 +146,12 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
         return;
       }
       // The published list starts at the new current waypoint: a looping mission keeps its
-      // cycle (rotated), a one-pass mission drops the waypoints before it.
-      if (f_.loop)
-        std::rotate(f_.wps.begin(), f_.wps.begin() + e.index, f_.wps.end());
+      // cycle (rotated; a final land item stays last, after it), a one-pass mission (or one sent
+      // to its land item) drops the waypoints before it.
+      const bool lands = f_.wps.back().type == ItemType::land;
+      const auto cycle_end = lands ? f_.wps.end() - 1 : f_.wps.end();
+      if (f_.loop && f_.wps.begin() + e.index < cycle_end)
+        std::rotate(f_.wps.begin(), f_.wps.begin() + e.index, cycle_end);
       else
         f_.wps.erase(f_.wps.begin(), f_.wps.begin() + e.index);
       f_.dirty = true;

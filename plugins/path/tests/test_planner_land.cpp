@@ -117,3 +117,26 @@ TEST_CASE("planner: a land item added to a looping mission ends the loop; nothin
   p->step(5 * kStep);
   CHECK(p->published("waypoints") == 2);
 }
+
+TEST_CASE("planner: set_current in a mission that loops before its landing rotates the loop, the land item stays last") {
+  auto p = planner("loops: 2\nwaypoints: [[600, 0, -70], [0, 600, -70], [-600, 0, -70], {type: land, ned: [0, 0, 0], heading: 0}]");
+  p->step(kStep);
+  msg::MissionEdit e;
+  e.id = 1;
+  e.op = msg::MissionEdit::set_current;
+  e.index = 1;
+  p->set_input("mission_edit", e);
+  p->step(2 * kStep);
+  REQUIRE(list_of(*p).count == 4);
+  CHECK(list_of(*p).loop);
+  CHECK(list_of(*p).items[0].w == Eigen::Vector3d(0, 600, -70));
+  CHECK(list_of(*p).items[1].w == Eigen::Vector3d(-600, 0, -70));
+  CHECK(list_of(*p).items[2].w == Eigen::Vector3d(600, 0, -70));
+  CHECK(list_of(*p).items[3].type == msg::Waypoint::land);
+  e.id = 2;
+  e.index = 3;  // to the land item: land now
+  p->set_input("mission_edit", e);
+  p->step(3 * kStep);
+  REQUIRE(list_of(*p).count == 1);
+  CHECK(list_of(*p).items[0].type == msg::Waypoint::land);
+}
