@@ -145,12 +145,16 @@ TEST_CASE("failsafe: geofence: distance, altitudes and polygon each breach; the 
   CHECK(ev[0].detail.find("below min_altitude 20 m") != std::string::npos);
   CHECK(ev[0].centre.z() == doctest::Approx(-30.0));
   Watch poly(parse("geofence: {polygon: [[100, -100], [100, 100], [-100, 100], [-100, -100]]}"));
-  // the final approach and the flare descend through the floor (issue 46): no breach there, but
-  // the same descent out of the landing is one
+  // the final approach and the flare descend through the floor (issue 46): no breach there, nor
+  // in the go-around's climb back through it; once above it again, the floor holds
   Watch landing(c);
   CHECK(landing.run(0.0, 1.0, at(100, 100, 70), 100.0).empty());
   CHECK(landing.run(1.01, 2.0, at(100, 100, 5), 100.0, -1.0, true, true).empty());
-  CHECK(landing.run(2.01, 2.02, at(100, 100, 5), 100.0).size() == 1);
+  CHECK(landing.run(2.01, 3.0, at(100, 100, 5), 100.0).empty());
+  CHECK(landing.run(3.01, 4.0, at(100, 100, 40), 100.0).empty());
+  ev = landing.run(4.01, 4.02, at(100, 100, 5), 100.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].detail.find("below min_altitude 20 m") != std::string::npos);
   CHECK(poly.run(0.0, 1.0, at(90, 90, 50), 100.0).empty());
   ev = poly.run(1.01, 1.02, at(90, 110, 50), 100.0);
   REQUIRE(ev.size() == 1);

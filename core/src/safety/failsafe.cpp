@@ -115,12 +115,12 @@ void FailsafeMonitor::link(const FailsafeInputs& in, std::vector<FailsafeEvent>&
        Eigen::Vector3d(0.0, 0.0, -h), c.radius});
 }
 
-FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s, bool landing) const {
+FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s) const {
   const GeofenceConfig& c = config_.geofence;
   const double h = s.altitude();
   if (c.max_distance && std::hypot(s.p_n, s.p_e) > *c.max_distance) return Breach::max_distance;
   if (c.max_altitude && h > *c.max_altitude) return Breach::max_altitude;
-  if (c.min_altitude && floor_armed_ && !landing && h < *c.min_altitude) return Breach::min_altitude;
+  if (c.min_altitude && floor_armed_ && h < *c.min_altitude) return Breach::min_altitude;
   if (!c.polygon.empty() && !inside_polygon(c.polygon, {s.p_n, s.p_e})) return Breach::polygon;
   return Breach::none;
 }
@@ -141,8 +141,8 @@ std::string FailsafeMonitor::describe(Breach b, const msg::State& s) const {
 void FailsafeMonitor::geofence(const FailsafeInputs& in, std::vector<FailsafeEvent>& out) {
   const GeofenceConfig& c = config_.geofence;
   if (!usable(in.state)) return;
-  floor_armed_ = floor_armed_ || (in.airborne && (!c.min_altitude || in.state->altitude() > *c.min_altitude));
-  const Breach breach = fence_breach(*in.state, in.landing);
+  floor_armed_ = !in.landing && (floor_armed_ || (in.airborne && (!c.min_altitude || in.state->altitude() > *c.min_altitude)));
+  const Breach breach = fence_breach(*in.state);
   if (fence_breached_at_ && breach == Breach::none) {
     out.push_back({in.now, "geofence_inside", "none",
                    fmt::format("inside the geofence again after {:.1f} s; the aircraft keeps loitering at home",

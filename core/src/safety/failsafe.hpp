@@ -22,11 +22,12 @@
 //               again: logged; the aircraft keeps loitering at home. With terminate_after, a
 //               link still lost that long after the engagement terminates the flight.
 //   geofence    the estimate is farther than max_distance from home (horizontally), above
-//               max_altitude, below min_altitude (once it has been above it in the air; not on
-//               the final approach and in the flare, which descend through the floor by design,
-//               as PX4's geofence leaves the landing out) or outside the polygon -> return inside: loiter at home at the altitude clamped
-//               into [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside: logged; the aircraft keeps loitering at
-//               home.
+//               max_altitude, below min_altitude (once it has been above it in the air, and not
+//               since the final approach or the flare, which descend through the floor by design,
+//               as PX4's geofence leaves the landing out: after a go-around, once above it again)
+//               or outside the polygon -> return inside: loiter at home at the altitude clamped into
+//               [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside:
+//               logged; the aircraft keeps loitering at home.
 //   terminate   (link_loss.terminate_after) flight termination, PX4's and ArduPilot AFS's last
 //               resort: the motor off and the surfaces set by the action:
 //                 glide  delta_t 0, surfaces neutral (PX4: PWM_MAIN_FAILn at their trims)
@@ -90,7 +91,7 @@ struct FailsafeInputs {
   const msg::State* state = nullptr;  ///< the estimate (nullptr: none yet)
   std::optional<Nanos> last_fix;      ///< when the last valid GNSS fix arrived (none: never, or no `gnss` topic)
   std::optional<Nanos> link_heard;    ///< when the ground station was last heard (none: never)
-  bool landing = false;               ///< on the final approach or in the flare: min_altitude does not apply
+  bool landing = false;               ///< on the final approach or in the flare: min_altitude disarmed
 };
 
 /// An engagement (action loiter, return_home or terminate) or the end of a cause (action none).
@@ -125,7 +126,7 @@ class FailsafeMonitor {
   void geofence(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
   enum class Breach { none, max_distance, max_altitude, min_altitude, polygon };
   /// The first fence limit the estimate is beyond (checked every tick: no formatting).
-  Breach fence_breach(const msg::State& s, bool landing) const;
+  Breach fence_breach(const msg::State& s) const;
   /// `b` in words with the estimate's figures, for the event.
   std::string describe(Breach b, const msg::State& s) const;
 
@@ -135,7 +136,7 @@ class FailsafeMonitor {
   std::optional<Nanos> link_lost_at_;
   bool terminated_ = false;
   std::optional<Nanos> fence_breached_at_;
-  bool floor_armed_ = false;  // above min_altitude in the air once
+  bool floor_armed_ = false;  // above min_altitude in the air once (since the last landing)
 };
 
 }  // namespace tern::core

@@ -187,7 +187,7 @@ TEST_CASE("mission check (a): the final's entry point beyond the geofence; the f
   CHECK(ps[0].note);
   CHECK(ps[0].text ==
         "m.yaml:7: waypoints[4]: the glide path descends below the geofence's min_altitude 20 m in its last 228.5 m: expected (the "
-        "geofence leaves the final approach and the flare out)");
+        "geofence floor is off from the final approach until the aircraft is above it again)");
   // entered below the floor (raised from 10 m to 24 m): a warning, the floor's breach comes before the final
   l.fence_min_altitude = 30.0;
   ps = problems(landing("[-600, 0, -10]", "ned: [0, 0, 0], heading: 0"), l);

@@ -62,7 +62,7 @@ void check_final_fence(const std::string& where, const MissionWaypoint& land, co
   const double below = (floor - f.h_td) / std::tan(land.land.glide_slope);
   out.push_back({false,
                  where + "the glide path descends below the geofence's min_altitude " + g(floor) + " m in its last " + m1(below) +
-                     " m: expected (the geofence leaves the final approach and the flare out)",
+                     " m: expected (the geofence floor is off from the final approach until the aircraft is above it again)",
                  true});
 }
 

@@ -29,8 +29,9 @@
 //   (a) the entry point beyond the geofence's max_distance (the touchdown point is checked as
 //       any item; the glide path between them is a straight line, so no point of it is further
 //       from home than its two ends). The geofence's min_altitude is a note, not a warning: the
-//       landing descends through the floor by design, and the geofence failsafe leaves the final
-//       approach and the flare out (failsafe.hpp; PX4's geofence likewise ignores the landing);
+//       landing descends through the floor by design, and the geofence failsafe disarms the floor
+//       on the final approach and in the flare until the aircraft is above it again, after a
+//       go-around (failsafe.hpp; PX4's geofence likewise leaves the landing out);
 //   (b) no room for the turn onto the final: the entry point closer than 2 R_min to the item
 //       before, or the final reversing the course from the item before to the entry point (a
 //       turn of more than kMaxFinalTurn) with the item before less than 2 R_min beside the
