@@ -94,16 +94,24 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   CHECK(desc.rfind("slc.roll_kp (double, rad/rad)\n", 0) == 0);
   CHECK(desc.find("\n  range: [0, 10]\n") != std::string::npos);
   CHECK(desc.find("\n  changes in flight at the next tick\n") != std::string::npos);
-  auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17" + d);
+  // the default mission ends with a land item, after which nothing is added: a new list, ending
+  // with a land item through tern's add_mission_item (ROSplane's AddWaypoint has no item type)
+  auto [rc5, add] = run_tern("mission add 100 -100 -60 --Va 17 --set-current" + d);
   CHECK_MESSAGE(rc5 == 0, add);
+  auto [rc5l, land] = run_tern("mission add 0 0 0 --Va 15 --land 2.3562 --flare-height 3" + d);
+  CHECK_MESSAGE(rc5l == 0, land);
+  CHECK(land == "land item added\n");
   std::string print;
-  for (int i = 0; i < 50 && reaper.alive(); ++i) {  // the planner applies the edit at its next step
+  for (int i = 0; i < 50 && reaper.alive(); ++i) {  // the planner applies the edits at its next steps
     print = run_tern("mission print" + d).second;
-    if (print.find("6 waypoints") != std::string::npos) break;
+    if (print.find("2 waypoints") != std::string::npos) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
-  CHECK_MESSAGE(print.find("6 waypoints") != std::string::npos, print);
+  CHECK_MESSAGE(print.find("2 waypoints") != std::string::npos, print);
   CHECK(print.find("w [100.000, -100.000, -60.000]") != std::string::npos);
+  CHECK_MESSAGE(print.find("chi_d 2.3562 rad land (chi_d: the runway heading): glide slope 0.0873 rad, flare 3 m, decision 12 m") !=
+                    std::string::npos,
+                print);
   CHECK(run_tern("mission clear" + d).first == 0);
   for (int i = 0; i < 50 && reaper.alive(); ++i) {
     print = run_tern("mission print" + d).second;
@@ -124,12 +132,13 @@ TEST_CASE("tern topics, echo, param and mission against a flying vehicle") {
   for (const auto& e : fs::directory_iterator(logs)) runs.push_back(e.path());
   std::erase_if(runs, [](const fs::path& p) { return !fs::is_directory(p); });  // params.yaml
   REQUIRE(runs.size() == 1);
-  // the waypoint lists as flown: the added waypoint in a list's items, then the cleared list (no items)
+  // the waypoint lists as flown: the added waypoint and land item in a list's items, then the cleared list (no items)
   const std::string items = read_file(runs[0] / "topics" / "waypoints_items.csv");
   CHECK(items.rfind("t [s],stamp [ns],revision [],index [],w_0 [m|deg],w_1 [m|deg],w_2 [m|deg],lla [bool],", 0) == 0);
-  CHECK(items.find(",5,100,-100,-60,0,") != std::string::npos);  // index 5 of the 6 (the default mission ends with its land item)
+  CHECK(items.find(",0,100,-100,-60,0,") != std::string::npos);  // the new list's first
+  CHECK(items.find(",1,0,0,0,0,2.3562,") != std::string::npos);  // its land item: the touchdown point, the runway heading
   const auto lists = lines(read_file(runs[0] / "topics" / "waypoints.csv"));
-  REQUIRE(lists.size() >= 4);  // header, the mission, the edit, the clear
+  REQUIRE(lists.size() >= 5);  // header, the mission, the two edits, the clear
   CHECK(cells(lists.back())[3] == "0");
   const std::string params = read_file(runs[0] / "params.csv");
   CHECK(params.find(",slc.roll_kp,0.5,dds\n") != std::string::npos);

@@ -32,12 +32,12 @@ struct Watch {
   // Runs from t0 to t1 (s) with `s`, fixes until `fix_until` and the link heard until
   // `heard_until` (s); returns the events.
   std::vector<FailsafeEvent> run(double t0, double t1, const msg::State& s, double fix_until, double heard_until = -1.0,
-                                 bool airborne = true) {
+                                 bool airborne = true, bool landing = false) {
     std::vector<FailsafeEvent> all;
     for (Nanos t = from_seconds(t0); t <= from_seconds(t1); t += kTick) {
       if (to_seconds(t) <= fix_until) fix = t;
       if (to_seconds(t) <= heard_until) heard = t;
-      for (auto& e : m.check({t, airborne, &s, fix, heard})) all.push_back(e);
+      for (auto& e : m.check({t, airborne, &s, fix, heard, landing})) all.push_back(e);
     }
     return all;
   }
@@ -145,6 +145,16 @@ TEST_CASE("failsafe: geofence: distance, altitudes and polygon each breach; the 
   CHECK(ev[0].detail.find("below min_altitude 20 m") != std::string::npos);
   CHECK(ev[0].centre.z() == doctest::Approx(-30.0));
   Watch poly(parse("geofence: {polygon: [[100, -100], [100, 100], [-100, 100], [-100, -100]]}"));
+  // the final approach and the flare descend through the floor (issue 46): no breach there, nor
+  // in the go-around's climb back through it; once above it again, the floor holds
+  Watch landing(c);
+  CHECK(landing.run(0.0, 1.0, at(100, 100, 70), 100.0).empty());
+  CHECK(landing.run(1.01, 2.0, at(100, 100, 5), 100.0, -1.0, true, true).empty());
+  CHECK(landing.run(2.01, 3.0, at(100, 100, 5), 100.0).empty());
+  CHECK(landing.run(3.01, 4.0, at(100, 100, 40), 100.0).empty());
+  ev = landing.run(4.01, 4.02, at(100, 100, 5), 100.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].detail.find("below min_altitude 20 m") != std::string::npos);
   CHECK(poly.run(0.0, 1.0, at(90, 90, 50), 100.0).empty());
   ev = poly.run(1.01, 1.02, at(90, 110, 50), 100.0);
   REQUIRE(ev.size() == 1);

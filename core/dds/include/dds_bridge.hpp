@@ -187,7 +187,8 @@ class DdsClient {
   /// vehicle allows (or absolute inside one); an existing file only with `overwrite`.
   std::string param_save(const std::string& filename, bool overwrite = false);
   /// ROSplane's AddWaypoint: w (NED m or lat/lon/alt), chi_d, use_chi, Va_d, lla; set_current
-  /// starts a new list with this waypoint; publish_now republishes the list immediately.
+  /// starts a new list with this waypoint; publish_now republishes the list immediately. An item
+  /// with a type (loiter, return_home, land) goes through tern's add_mission_item instead.
   void mission_add(const msg::Waypoint& wp, bool set_current = false, bool publish_now = true);
   void mission_clear();
   void mission_load(const std::string& filename);

@@ -14,6 +14,7 @@
 #include "config/error.hpp"
 #include "file_access.hpp"
 #include "flight/host.hpp"
+#include "mission_item.hpp"
 #include "ros_parameters.hpp"
 #include "stamp_clock.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
@@ -292,6 +293,7 @@ struct DdsBridge::Impl {
     if (options.read_only) return;
     start_param_services();
     start_mission_services();
+    start_mission_item_service();
   }
 
   /// A tern service (its entities belong to the bridge's ROS node).
@@ -371,11 +373,12 @@ struct DdsBridge::Impl {
     add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "print_waypoints", heard, [this](const Trigger_Request&) {
       std::lock_guard lk(mu);
       if (!waypoints) return failure<Trigger_Response>("no waypoint list published yet (topic 'waypoints')");
-      std::string s = fmt::format("{} waypoints (revision {}{})\n", waypoints->count, waypoints->revision, waypoints->loop ? ", loop" : "");
+      std::string s = fmt::format("{} waypoints (revision {}{}{})\n", waypoints->count, waypoints->revision,
+                                  waypoints->loop ? ", loop" : "", waypoints->loops > 0 ? fmt::format(" {} times", waypoints->loops) : "");
       for (std::uint32_t i = 0; i < waypoints->count && i < msg::WaypointList::kCapacity; ++i) {
         const auto& w = waypoints->items[i];
-        s += fmt::format("{:3d}: w [{:.3f}, {:.3f}, {:.3f}]{} Va_d {:.2f} m/s chi_d {:.4f} rad{}\n", i, w.w.x(), w.w.y(), w.w.z(),
-                         w.lla ? " (lla)" : "", w.Va_d, w.chi_d, w.use_chi ? " (dubins)" : "");
+        s += fmt::format("{:3d}: w [{:.3f}, {:.3f}, {:.3f}]{} Va_d {:.2f} m/s chi_d {:.4f} rad{}{}\n", i, w.w.x(), w.w.y(), w.w.z(),
+                         w.lla ? " (lla)" : "", w.Va_d, w.chi_d, w.use_chi ? " (dubins)" : "", item_text(w));
       }
       return success<Trigger_Response>(s);
     }));
@@ -391,6 +394,31 @@ struct DdsBridge::Impl {
             return success<Resp>(fmt::format("loading {} (edit #{})", p.string(), e.id));
           } catch (const std::exception& e) {
             host.logger()->warn("DDS: {}", e.what());
+            return failure<Resp>(e.what());
+          }
+        }));
+  }
+
+  /// add_mission_item: a mission item with its type (a land item, a loiter), as add_waypoint.
+  void start_mission_item_service() {
+    using namespace tern_msgs::srv;
+    add_server(std::make_shared<ServiceServer<MissionAddItem_RequestPubSubType, MissionAddItem_ResponsePubSubType>>(
+        participant, publisher, subscriber, options.ns, "add_mission_item", heard, [this](const MissionAddItem_Request& rq) {
+          using Resp = MissionAddItem_Response;
+          try {
+            msg::MissionEdit e = new_edit(msg::MissionEdit::add);
+            e.waypoint = from_mission_item(rq.item());
+            e.set_current_wp = rq.set_current();
+            e.publish_now = rq.publish_now();
+            if (e.waypoint.type > msg::Waypoint::land)
+              return failure<Resp>(
+                  fmt::format("add_mission_item: type {} is not a mission item type (0 waypoint, 1 loiter, "
+                              "2 return_home, 3 land)",
+                              static_cast<int>(e.waypoint.type)));
+            host.edit_mission(e);
+            return success<Resp>(
+                fmt::format("{} added (edit #{}): the vehicle's log says if the planner refused it", item_name(e.waypoint), e.id));
+          } catch (const std::exception& e) {
             return failure<Resp>(e.what());
           }
         }));

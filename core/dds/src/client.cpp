@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include "client_impl.hpp"
+#include "mission_item.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
 #include "tern_msgs/srv/ServicesPubSubTypes.h"
@@ -51,6 +52,16 @@ std::string DdsClient::param_save(const std::string& filename, bool overwrite) {
 }
 
 void DdsClient::mission_add(const msg::Waypoint& wp, bool set_current, bool publish_now) {
+  if (wp.type != msg::Waypoint::waypoint) {  // ROSplane's AddWaypoint has no item type: tern's service
+    ts::MissionAddItem_Request rq;
+    ddsi::to_mission_item(wp, rq.item());
+    rq.set_current(set_current);
+    rq.publish_now(publish_now);
+    const auto r = impl_->call<ts::MissionAddItem_RequestPubSubType, ts::MissionAddItem_ResponsePubSubType>("add_mission_item", rq,
+                                                                                                            "tern mission print");
+    if (!r.success()) throw DdsError(r.message());
+    return;
+  }
   rosplane_msgs::srv::AddWaypoint_Request rq;
   for (int i = 0; i < 3; ++i) rq.w()[i] = static_cast<float>(wp.w[i]);
   rq.lla(wp.lla);

@@ -29,6 +29,7 @@
 #include <fastdds/rtps/common/SerializedPayload.h>
 
 #include "dds_internal.hpp"
+#include "mission_item.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/reflect.hpp"
 
@@ -526,5 +527,32 @@ TEST_CASE("dds messages: each conversion carries every described field, and only
             dropped ? " is listed as not on this wire but reaches it" : " does not reach the wire (convert.cpp / convert_ros.cpp)");
       }
     });
+  }
+}
+
+TEST_CASE("dds messages: tern_msgs/MissionItem (add_mission_item) is msg::Waypoint field for field, and carries each field both ways") {
+  const Structs idl = read_idl(TERN_DDS_IDL_DIR);
+  REQUIRE(idl.count("tern_msgs::msg::MissionItem"));
+  std::vector<Field> want;
+  for (const auto& f : described(static_cast<msg::Waypoint*>(nullptr))) want.push_back({f.name, f.idl_type});
+  const auto& have = idl.at("tern_msgs::msg::MissionItem");
+  CHECK_MESSAGE(have == want, "\n  IDL:        ", field_list(have), "\n  describe(): ", field_list(want));
+  std::vector<Leaf> ls;
+  leaves<msg::Waypoint>(ls, "", "", 0);
+  msg::Waypoint base;
+  for (std::size_t i = 0; i < ls.size(); ++i) assign(&base, ls[i], base_value(ls[i], i));
+  for (std::size_t i = 0; i < ls.size(); ++i) {
+    CAPTURE(ls[i].label);
+    for (const double v : other_values(ls[i], base_value(ls[i], i))) {
+      msg::Waypoint m = base;
+      assign(&m, ls[i], v);
+      tern_msgs::msg::MissionItem item;
+      ddsi::to_mission_item(m, item);
+      const msg::Waypoint back = ddsi::from_mission_item(item);
+      for (const Leaf& l : ls)  // every field as sent, the changed one too
+        CHECK_MESSAGE(std::memcmp(reinterpret_cast<const char*>(&back) + l.offset, reinterpret_cast<const char*>(&m) + l.offset,
+                                  reflect::scalar_size(l.kind)) == 0,
+                      l.label);
+    }
   }
 }

@@ -35,7 +35,9 @@ int fail(const std::string& msg) {
   return 1;
 }
 
-bool report_missions(const MissionReport& r) {
+bool report_missions(const MissionReport& r, bool notes) {
+  if (notes)
+    for (const auto& n : r.notes) std::fprintf(stderr, "tern: note: %s\n", n.c_str());
   for (const auto& w : r.warnings) std::fprintf(stderr, "tern: warning: %s\n", w.c_str());
   for (const auto& e : r.errors) std::fprintf(stderr, "tern: error: %s\n", e.c_str());
   return r.errors.empty();

@@ -30,7 +30,8 @@ std::filesystem::path default_config();
 /// Prints "tern: error: MSG" on stderr; returns 1 (the exit status).
 int fail(const std::string& msg);
 
-/// Prints the warnings and errors of `r` on stderr; true when there are no errors.
-bool report_missions(const MissionReport& r);
+/// Prints the warnings and errors of `r` (and its notes, with `notes`: `tern check`) on stderr;
+/// true when there are no errors.
+bool report_missions(const MissionReport& r, bool notes = false);
 
 }  // namespace tern::core

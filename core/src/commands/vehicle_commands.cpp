@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -170,6 +171,8 @@ Command add_mission(CLI::App& app) {
     std::vector<double> w;
     bool lla = false, use_chi = false, set_current = false;
     double chi = 0, Va = 0;
+    std::optional<double> land;  ///< a land item's runway heading, rad
+    msg::Waypoint spec;          ///< a land item's glide slope and heights (msg::Waypoint's defaults)
     std::string file;
     CLI::App *add = nullptr, *load = nullptr, *print = nullptr;
   };
@@ -184,6 +187,14 @@ Command add_mission(CLI::App& app) {
   o->add->add_flag("--use-chi", o->use_chi, "fly a Dubins path to arrive at --chi");
   o->add->add_option("--Va", o->Va, "desired airspeed, m/s")->required()->check(CLI::PositiveNumber);
   o->add->add_flag("--set-current", o->set_current, "start a new list with this waypoint, now");
+  o->add->add_option("--land", o->land, "a land item: w is the touchdown point, this the runway heading, rad (tern's add_mission_item)")
+      ->excludes("--chi")
+      ->excludes("--use-chi");
+  o->add->add_option("--glide-slope", o->spec.land_glide_slope, "land: glide-path angle, rad, (0, 0.35]")->needs("--land");
+  o->add->add_option("--flare-height", o->spec.land_flare_height, "land: flare begins this high above the touchdown point, m")
+      ->needs("--land");
+  o->add->add_option("--decision-height", o->spec.land_decision_height, "land: stabilised below this height or go around, m")
+      ->needs("--land");
   c->add_subcommand("clear", "remove every waypoint (the aircraft orbits the origin)");
   o->load = c->add_subcommand("load", "replace the mission with a waypoint file on the vehicle");
   o->load->add_option("file", o->file, "tern or ROSplane waypoint file")->required();
@@ -191,14 +202,15 @@ Command add_mission(CLI::App& app) {
   return {c, [c, o] {
             return with_client(c, *o, [&o = *o](DdsClient& client) {
               if (o.add->parsed()) {
-                msg::Waypoint wp;
+                msg::Waypoint wp = o.spec;
                 wp.w = Eigen::Vector3d(o.w[0], o.w[1], o.w[2]);
                 wp.lla = o.lla;
-                wp.chi_d = o.chi;
+                wp.chi_d = o.land.value_or(o.chi);
                 wp.use_chi = o.use_chi;
                 wp.Va_d = o.Va;
+                if (o.land) wp.type = msg::Waypoint::land;
                 client.mission_add(wp, o.set_current, true);
-                fmt::print("waypoint added\n");
+                fmt::print("{} added\n", o.land ? "land item" : "waypoint");
               } else if (o.load->parsed()) {
                 client.mission_load(o.file);
                 fmt::print("mission loaded: {}\n", o.file);

@@ -71,7 +71,7 @@ std::string read_error(const path::MissionError& e) {
 }
 
 void check_one(const path::Mission& m, const path::MissionLimits& l, MissionReport& r) {
-  for (const auto& p : path::check_mission(m, l)) (p.error ? r.errors : r.warnings).push_back(p.text);
+  for (const auto& p : path::check_mission(m, l)) (p.error ? r.errors : p.note ? r.notes : r.warnings).push_back(p.text);
 }
 
 }  // namespace

@@ -10,6 +10,8 @@
 //   turn radius   the path manager's R_min and min_separation (the largest R_min of path_manager
 //                 instances)
 //   geofence      failsafes.geofence's max_distance, min_altitude, max_altitude, when configured
+// and a final land item's approach (entry point in the fence, room for the turn onto the final,
+// touchdown altitude, the final's length: tern/path/mission_check.hpp (a)-(d)).
 // Each problem is one line naming file:line and the field.
 #pragma once
 
@@ -25,6 +27,7 @@ class Host;
 struct MissionReport {
   std::vector<std::string> errors;    ///< refuse the flight
   std::vector<std::string> warnings;  ///< fly, but say so
+  std::vector<std::string> notes;     ///< expected by design (a landing through the geofence floor): `tern check` says so
 };
 
 /// The problems of the missions of `host` (built, describing or not; its parameter values are

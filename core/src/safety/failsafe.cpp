@@ -141,7 +141,7 @@ std::string FailsafeMonitor::describe(Breach b, const msg::State& s) const {
 void FailsafeMonitor::geofence(const FailsafeInputs& in, std::vector<FailsafeEvent>& out) {
   const GeofenceConfig& c = config_.geofence;
   if (!usable(in.state)) return;
-  floor_armed_ = floor_armed_ || (in.airborne && (!c.min_altitude || in.state->altitude() > *c.min_altitude));
+  floor_armed_ = !in.landing && (floor_armed_ || (in.airborne && (!c.min_altitude || in.state->altitude() > *c.min_altitude)));
   const Breach breach = fence_breach(*in.state);
   if (fence_breached_at_ && breach == Breach::none) {
     out.push_back({in.now, "geofence_inside", "none",

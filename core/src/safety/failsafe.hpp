@@ -22,8 +22,10 @@
 //               again: logged; the aircraft keeps loitering at home. With terminate_after, a
 //               link still lost that long after the engagement terminates the flight.
 //   geofence    the estimate is farther than max_distance from home (horizontally), above
-//               max_altitude, below min_altitude (once it has been above it in the air) or outside
-//               the polygon -> return inside: loiter at home at the altitude clamped into
+//               max_altitude, below min_altitude (once it has been above it in the air, and not
+//               since the final approach or the flare, which descend through the floor by design,
+//               as PX4's geofence leaves the landing out: after a go-around, once above it again)
+//               or outside the polygon -> return inside: loiter at home at the altitude clamped into
 //               [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside:
 //               logged; the aircraft keeps loitering at home.
 //   terminate   (link_loss.terminate_after) flight termination, PX4's and ArduPilot AFS's last
@@ -89,6 +91,7 @@ struct FailsafeInputs {
   const msg::State* state = nullptr;  ///< the estimate (nullptr: none yet)
   std::optional<Nanos> last_fix;      ///< when the last valid GNSS fix arrived (none: never, or no `gnss` topic)
   std::optional<Nanos> link_heard;    ///< when the ground station was last heard (none: never)
+  bool landing = false;               ///< on the final approach or in the flare: min_altitude disarmed
 };
 
 /// An engagement (action loiter, return_home or terminate) or the end of a cause (action none).
@@ -133,7 +136,7 @@ class FailsafeMonitor {
   std::optional<Nanos> link_lost_at_;
   bool terminated_ = false;
   std::optional<Nanos> fence_breached_at_;
-  bool floor_armed_ = false;  // above min_altitude in the air once
+  bool floor_armed_ = false;  // above min_altitude in the air once (since the last landing)
 };
 
 }  // namespace tern::core

@@ -49,6 +49,8 @@ class PlannerPlugin final : public Plugin {
 
  private:
   void apply_edit(const msg::MissionEdit& e);
+  /// MissionEdit add: the item validated, and a land item kept last (tern/path/mission.hpp).
+  void add_item(const msg::MissionEdit& e, const std::string& tag);
   void replace(Mission m, const std::string& why);
   /// Reads the configured mission (mission_file, else the config's mission: section).
   void load_configured();

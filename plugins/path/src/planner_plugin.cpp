@@ -93,34 +93,48 @@ void PlannerPlugin::reset() {
   replace(configured_, "reset to the configured one");
 }
 
+void PlannerPlugin::add_item(const msg::MissionEdit& e, const std::string& tag) {
+  if (e.waypoint.type > msg::Waypoint::land) {
+    log().error("{}: refused: type {} is not a mission item type (0 waypoint, 1 loiter, 2 return_home, 3 land)", tag,
+                static_cast<int>(e.waypoint.type));
+    return;
+  }
+  const MissionWaypoint wp = from_msg(e.waypoint);
+  Mission next;
+  next.source = tag;
+  next.waypoints = e.set_current_wp ? std::vector<MissionWaypoint>{} : f_.wps;
+  next.waypoints.push_back(wp);
+  try {
+    validate_waypoint(wp, tag);
+    check_land_last(next);
+  } catch (const MissionError& err) {
+    log().error("{}: refused", err.what());
+    return;
+  }
+  if (!e.set_current_wp && next.waypoints.size() > msg::WaypointList::kCapacity) {
+    log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag, f_.wps.size());
+    return;
+  }
+  f_.wps = std::move(next.waypoints);
+  f_.immediate = f_.immediate || e.set_current_wp;
+  if (e.set_current_wp) f_.loops = 0;  // a new list: not the configured mission's loop count
+  log().info("{}: {} added ({} now){}", tag, item_type_name(wp.type), f_.wps.size(), e.set_current_wp ? ", starting a new list" : "");
+  if (wp.type == ItemType::land && f_.loop && f_.loops == 0) {
+    // a loop without a count would never reach the landing (mission.hpp): the items once more
+    f_.loop = false;
+    if (!e.set_current_wp) log().info("{}: the mission no longer loops: its items once more from the first, then the landing", tag);
+  }
+  if (e.publish_now || e.set_current_wp)
+    f_.dirty = true;
+  else
+    f_.held = true;
+}
+
 void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
   ++f_.edits;
   const std::string tag = "mission_edit " + std::to_string(e.id);
   switch (e.op) {
-    case msg::MissionEdit::add: {
-      MissionWaypoint wp = from_msg(e.waypoint);
-      try {
-        validate_waypoint(wp, tag);
-      } catch (const MissionError& err) {
-        log().error("{}: refused", err.what());
-        return;
-      }
-      if (e.set_current_wp) {
-        f_.wps.assign(1, wp);
-        f_.immediate = true;
-      } else if (f_.wps.size() >= msg::WaypointList::kCapacity) {
-        log().error("{}: refused, the mission already holds {} waypoints (the most a WaypointList carries)", tag, f_.wps.size());
-        return;
-      } else {
-        f_.wps.push_back(wp);
-      }
-      log().info("{}: waypoint added ({} now){}", tag, f_.wps.size(), e.set_current_wp ? ", starting a new list" : "");
-      if (e.publish_now || e.set_current_wp)
-        f_.dirty = true;
-      else
-        f_.held = true;
-      return;
-    }
+    case msg::MissionEdit::add: add_item(e, tag); return;
     case msg::MissionEdit::clear:
       f_.wps.clear();
       f_.dirty = true;
@@ -132,9 +146,12 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
         return;
       }
       // The published list starts at the new current waypoint: a looping mission keeps its
-      // cycle (rotated), a one-pass mission drops the waypoints before it.
-      if (f_.loop)
-        std::rotate(f_.wps.begin(), f_.wps.begin() + e.index, f_.wps.end());
+      // cycle (rotated; a final land item stays last, after it), a one-pass mission (or one sent
+      // to its land item) drops the waypoints before it.
+      const bool lands = f_.wps.back().type == ItemType::land;
+      const auto cycle_end = lands ? f_.wps.end() - 1 : f_.wps.end();
+      if (f_.loop && f_.wps.begin() + e.index < cycle_end)
+        std::rotate(f_.wps.begin(), f_.wps.begin() + e.index, cycle_end);
       else
         f_.wps.erase(f_.wps.begin(), f_.wps.begin() + e.index);
       f_.dirty = true;

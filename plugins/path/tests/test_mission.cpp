@@ -62,7 +62,7 @@ TEST_CASE("mission: ROSplane format errors name the file, line and field") {
                        "m.yaml:3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)", MissionError);
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
                        "m.yaml:3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, va_d, type, radius, direction, "
-                       "time, turns, altitude)",
+                       "time, turns, altitude, heading, glide_slope, flare_height, decision_height)",
                        MissionError);
 }
 
@@ -189,4 +189,129 @@ TEST_CASE("mission: a file's route flown `loops` times, then the section's own i
   CHECK(m.waypoints[4].type == ItemType::land);
   CHECK(m.waypoints[4].chi_d == doctest::Approx(2.3562));
   CHECK(m.waypoints[4].w == Eigen::Vector3d::Zero());
+}
+
+TEST_CASE("mission: a land item: touchdown point, runway heading, glide slope, flare and decision heights") {
+  const Mission m = parse_mission_section(YAML::Load(R"(
+Va_d: 17
+waypoints:
+  - [600, -600, -70]
+  - {type: land, ned: [0, 0, 0], heading: 2.3562, glide_slope: 0.07, flare_height: 3, decision_height: 10, Va_d: 14}
+)"),
+                                          kData);
+  REQUIRE(m.waypoints.size() == 2);
+  const MissionWaypoint& l = m.waypoints[1];
+  CHECK(l.type == ItemType::land);
+  CHECK(l.w == Eigen::Vector3d::Zero());
+  CHECK(l.chi_d == 2.3562);
+  CHECK_FALSE(l.use_chi);
+  CHECK(l.land.glide_slope == 0.07);
+  CHECK(l.land.flare_height == 3.0);
+  CHECK(l.land.decision_height == 10.0);
+  CHECK(l.Va_d == 14.0);
+  CHECK_FALSE(m.loop);  // a mission that lands flies its items once (no loops given)
+  // the defaults of LandSpec (item.hpp) when only the heading is given; an LLA touchdown point
+  const Mission d = parse_mission_section(
+      YAML::Load("waypoints:\n  - [600, -600, -70]\n  - {type: land, lla: [40.2455, -111.6480, 1450.0], heading: -1.5}"), kData);
+  const MissionWaypoint& ll = d.waypoints[1];
+  CHECK(ll.lla);
+  CHECK(ll.w == Eigen::Vector3d(40.2455, -111.6480, 1450.0));
+  CHECK(ll.chi_d == -1.5);
+  CHECK(ll.land.glide_slope == LandSpec{}.glide_slope);
+  CHECK(ll.land.flare_height == LandSpec{}.flare_height);
+  CHECK(ll.land.decision_height == LandSpec{}.decision_height);
+  CHECK(resolve_to_ned(d.waypoints, tern::GeoPoint{40.2455, -111.6480, 1450.0})[1].w.norm() < 1e-9);  // at the origin
+}
+
+TEST_CASE("mission: a land item in a ROSplane file takes chi_d as its heading (use_chi: False, lla: False as ROSplane writes)") {
+  const Mission m = parse_mission_text(
+      "wp:\n  w: [600.0, -600.0, -70.0]\n  va_d: 17.0\n"
+      "wp:\n  type: land\n  w: [10.0, -5.0, 0.0]\n  chi_d: 2.3562\n  lla: False\n  use_chi: False\n  va_d: 15.0\n  flare_height: 2.5\n",
+      "ros.yaml");
+  REQUIRE(m.waypoints.size() == 2);
+  CHECK(m.waypoints[1].type == ItemType::land);
+  CHECK(m.waypoints[1].chi_d == 2.3562);
+  CHECK(m.waypoints[1].w == Eigen::Vector3d(10, -5, 0));
+  CHECK(m.waypoints[1].land.flare_height == 2.5);
+  CHECK(m.waypoints[1].line == 4);
+  CHECK_FALSE(m.loop);
+}
+
+TEST_CASE("mission: loops before a landing: loops: N flies the items N times, loop: true alone is refused") {
+  const Mission m = parse_mission_section(YAML::Load("loops: 3\nwaypoints: [[600, -600, -70], [0, 600, -70], "
+                                                     "{type: land, ned: [0, 0, 0], heading: 0}]"),
+                                          kData);
+  CHECK(m.loop);
+  CHECK(m.loops == 3);
+  CHECK_FALSE(
+      parse_mission_section(YAML::Load("loop: false\nwaypoints: [[600, 0, -70], {type: land, ned: [0, 0, 0], heading: 0}]"), kData).loop);
+  CHECK(error_of("loop: true\nwaypoints: [[600, 0, -70], {type: land, ned: [0, 0, 0], heading: 0}]") ==
+        "mission config (mission:):1: loop: true would never reach the land item waypoints[1]: give loops: N (the items before it "
+        "flown N times, then the landing), or leave loop out (once)");
+  // a file's loop gives way to the landing appended by the section; without loops: once
+  const Mission f =
+      parse_mission_section(YAML::Load("file: fixedwing_mission.yaml\nwaypoints: [{type: land, ned: [0, 0, 0], heading: 0}]"), kData);
+  CHECK(f.waypoints.size() == 5);
+  CHECK_FALSE(f.loop);
+}
+
+TEST_CASE("mission: bad land items give one line naming file:line, the item, the field and the value") {
+  const std::string before = "waypoints:\n  - [600, 0, -70]\n  - {type: land, ned: [0, 0, 0], ";
+  CHECK(error_of(before + "glide_slope: 0.1}") ==
+        "mission config (mission:):3: waypoints[1]: a land item needs heading: the runway heading, rad (the course of the final approach)");
+  CHECK(error_of(before + "heading: 1, chi_d: 1}") ==
+        "mission config (mission:):3: waypoints[1]: give the runway heading once: heading or chi_d, not both");
+  CHECK(error_of(before + "heading: 135}") ==
+        "mission config (mission:):3: waypoints[1]: heading 135 rad is outside [-2 pi, 2 pi] (radians: 135 deg would be 2.3562)");
+  CHECK(error_of(before + "heading: 0, glide_slope: 5}") ==
+        "mission config (mission:):3: waypoints[1]: glide_slope 5 rad is outside (0, 0.35] (radians: 5 deg would be 0.0873)");
+  CHECK(error_of(before + "heading: 0, glide_slope: 0}") ==
+        "mission config (mission:):3: waypoints[1]: glide_slope 0 rad is outside (0, 0.35]");
+  CHECK(error_of(before + "heading: 0, glide_slope: -0.05}") ==
+        "mission config (mission:):3: waypoints[1]: glide_slope -0.05 rad is outside (0, 0.35]");
+  CHECK(error_of(before + "heading: 0, flare_height: 0}") ==
+        "mission config (mission:):3: waypoints[1]: flare_height 0 m must be > 0 (above the touchdown point)");
+  CHECK(error_of(before + "heading: 0, flare_height: 5, decision_height: 5}") ==
+        "mission config (mission:):3: waypoints[1]: decision_height 5 m must be above flare_height 5 m (the approach is judged before the "
+        "flare)");
+  CHECK(error_of(before + "heading: 0, flare_height: abc}") ==
+        "mission config (mission:):3: waypoints[1].flare_height: 'abc' is not a number");
+  CHECK(error_of(before + "heading: 0, radius: 50}") ==
+        "mission config (mission:):3: waypoints[1]: a land item takes no radius, direction, time or turns (those are loiter keys)");
+  CHECK(error_of(before + "heading: 0, turns: 1}").find("takes no radius, direction, time or turns") != std::string::npos);
+  CHECK(error_of(before + "heading: 0, use_chi: true}") ==
+        "mission config (mission:):3: waypoints[1]: use_chi: true is for waypoints (a land item always arrives on its heading)");
+  CHECK(error_of(before + "heading: 0, altitude: 0}") ==
+        "mission config (mission:):3: waypoints[1]: altitude is for return_home items (others give a position)");
+  CHECK(error_of("waypoints:\n  - [600, 0, -70]\n  - {type: land, heading: 0}") ==
+        "mission config (mission:):3: waypoints[1]: no position (ned, w or lla: [lat, lon, alt])");
+  // the keys of a land item on other items
+  CHECK(error_of("waypoints:\n  - {ned: [600, 0, -70], heading: 1}") ==
+        "mission config (mission:):2: waypoints[0]: heading is a land item's runway heading (a waypoint takes chi_d)");
+  CHECK(error_of("waypoints:\n  - {type: loiter, ned: [600, 0, -70], glide_slope: 0.1}") ==
+        "mission config (mission:):2: waypoints[0]: glide_slope, flare_height and decision_height are for land items (type: land)");
+}
+
+TEST_CASE("mission: a land item is the last, and is reached") {
+  CHECK(error_of("waypoints:\n  - [600, 0, -70]\n  - {type: land, ned: [0, 0, 0], heading: 0}\n  - [0, 600, -70]") ==
+        "mission config (mission:):4: waypoints[2]: comes after the land item waypoints[1], which ends the mission: never reached");
+  CHECK(error_of("waypoints:\n  - {type: return_home, altitude: 70}\n  - {type: land, ned: [0, 0, 0], heading: 0}") ==
+        "mission config (mission:):3: waypoints[1]: never reached: the item before it (return_home) orbits until the mission changes (a "
+        "loiter before a landing needs time or turns)");
+  CHECK(
+      error_of("waypoints:\n  - {type: loiter, ned: [600, 0, -70]}\n  - {type: land, ned: [0, 0, 0], heading: 0}").find("never reached") !=
+      std::string::npos);
+  CHECK(parse_mission_section(YAML::Load("waypoints:\n  - {type: loiter, ned: [600, 0, -70], turns: 2}\n"
+                                         "  - {type: land, ned: [0, 0, 0], heading: 0}"),
+                              kData)
+            .waypoints.size() == 2);
+  // the section's items after a file that lands: the error names the section's own line
+  const auto file = std::filesystem::temp_directory_path() / "tern_path_test_lands.yaml";
+  {
+    std::ofstream f(file);
+    f << "waypoints:\n  - [600, 0, -70]\n  - {type: land, ned: [0, 0, 0], heading: 0}\n";
+  }
+  CHECK(error_of("file: " + file.string() + "\nwaypoints:\n  - [0, 600, -70]") ==
+        "mission config (mission:):3: waypoints[0]: comes after the land item waypoints[1], which ends the mission: never reached");
+  std::filesystem::remove(file);
 }

@@ -138,3 +138,132 @@ TEST_CASE("mission check: an unknown key keeps its parts for a suggestion") {
     CHECK(std::find(e.expected_keys().begin(), e.expected_keys().end(), "use_chi") != e.expected_keys().end());
   }
 }
+
+// ---- land items (issue 46): the approach the path manager will fly ------------------------------
+
+namespace {
+// The default mission's landing: the hourglass, then a land item at home into the wind (heading
+// 135 deg: the final comes from the south-east); its final approach is 800 m from 70 m at 5 deg.
+const std::string kLandingHourglass =
+    "loops: 5\nwaypoints:\n  - [400, -250, -70]\n  - [-400, -50, -70]\n  - [-400, -250, -70]\n  - [400, -50, -70]\n"
+    "  - {type: land, ned: [0, 0, 0], heading: 2.3562, flare_height: 3}\n";
+
+// One waypoint `before` (NED), then a land item at home with `land` (its keys after the position).
+std::string landing(const std::string& before, const std::string& land) {
+  return "waypoints:\n  - " + before + "\n  - {type: land, " + land + "}\n";
+}
+
+std::vector<std::string> notes(const std::vector<MissionProblem>& ps) {
+  std::vector<std::string> out;
+  for (const auto& p : ps)
+    if (p.note) out.push_back(p.text);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("mission check: the default mission's landing (a downwind leg, then a 153-deg turn onto the final) has no problem") {
+  MissionLimits l = with_turns(50.0);
+  l.fence_max_distance = 1000.0;
+  l.fence_max_altitude = 120.0;
+  CHECK(problems(kLandingHourglass, l).empty());
+  l.origin = kOrigin;  // the same about a known origin
+  CHECK(problems(kLandingHourglass, l).empty());
+}
+
+TEST_CASE("mission check (a): the final's entry point beyond the geofence; the floor crossed on the final is a note") {
+  MissionLimits l = with_turns(50.0);
+  l.fence_max_distance = 700.0;
+  auto ps = problems(kLandingHourglass, l);
+  REQUIRE(ps.size() == 1);
+  CHECK_FALSE(ps[0].error);
+  CHECK_FALSE(ps[0].note);
+  CHECK(ps[0].text ==
+        "m.yaml:7: waypoints[4]: the final approach's entry point (565.5, -565.5) is 799.8 m from home, beyond the geofence's "
+        "max_distance 700 m: the geofence failsafe would take over on the way to it");
+  l.fence_max_distance.reset();
+  l.fence_min_altitude = 20.0;  // the touchdown point itself draws no floor warning
+  ps = problems(kLandingHourglass, l);
+  REQUIRE(ps.size() == 1);
+  CHECK(ps[0].note);
+  CHECK(ps[0].text ==
+        "m.yaml:7: waypoints[4]: the glide path descends below the geofence's min_altitude 20 m in its last 228.5 m: expected (the "
+        "geofence floor is off from the final approach until the aircraft is above it again)");
+  // entered below the floor (raised from 10 m to 24 m): a warning, the floor's breach comes before the final
+  l.fence_min_altitude = 30.0;
+  ps = problems(landing("[-600, 0, -10]", "ned: [0, 0, 0], heading: 0"), l);
+  const auto w = texts(ps, false);
+  CHECK(notes(ps).empty());
+  CHECK(std::find(w.begin(), w.end(),
+                  "m.yaml:3: waypoints[1]: the final approach begins 24.0 m above home, below the geofence's min_altitude 30 m: the "
+                  "geofence failsafe would take over on the way to its entry point") != w.end());
+}
+
+TEST_CASE("mission check (b): no room for the turn onto the final") {
+  const MissionLimits l = with_turns(50.0);
+  // from 30 m the final is 343 m long: its entry point (-342.8, 0) is 66 m from the item before
+  auto w = texts(problems(landing("[-300, 50, -30]", "ned: [0, 0, 0], heading: 0, decision_height: 9"), l), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] ==
+        "m.yaml:3: waypoints[1]: the final approach's entry point is 65.8 m from waypoints[0], less than 2 R_min = 100 m: no room for "
+        "the turn onto the final (the path to it loops around)");
+  // the item before on the centreline between the entry point and the runway: flown out along the final, turned back onto it
+  w = texts(problems(landing("[-100, 20, -30]", "ned: [0, 0, 0], heading: 0, decision_height: 9"), l), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] ==
+        "m.yaml:3: waypoints[1]: the final reverses the course from waypoints[0] to its entry point (a 175 deg turn onto heading 0 rad) "
+        "with waypoints[0] 20.0 m beside the final's extended centreline, less than 2 R_min = 100 m: the turn onto the final swings out "
+        "across it (is the heading the direction of landing?)");
+  // the heading the wrong way round: the item before lined up on the approach, the entry point beyond the runway
+  w = texts(problems(landing("[-600, 0, -30]", "ned: [0, 0, 0], heading: 3.1416, decision_height: 9"), l), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0].find("a 180 deg turn onto heading 3.1416 rad") != std::string::npos);
+  // lined up (the item before on the centreline beyond the entry point), or abeam it 2 R_min out: nothing
+  CHECK(problems(landing("[-600, 0, -30]", "ned: [0, 0, 0], heading: 0, decision_height: 9"), l).empty());
+  CHECK(problems(landing("[-100, 100, -30]", "ned: [0, 0, 0], heading: 0, decision_height: 9"), l).empty());
+  // no turn radius known: not checked
+  CHECK(problems(landing("[-100, 20, -30]", "ned: [0, 0, 0], heading: 0, decision_height: 9")).empty());
+}
+
+TEST_CASE("mission check (c): a touchdown point away from home's altitude, above or below (not an error)") {
+  MissionLimits l;
+  auto ps = problems(landing("[-800, 0, -70]", "ned: [0, 0, -5], heading: 0"), l);
+  REQUIRE(ps.size() == 1);
+  CHECK_FALSE(ps[0].error);
+  CHECK(ps[0].text ==
+        "m.yaml:3: waypoints[1]: touchdown point 5.0 m above home (down = -5): the landing takes the runway to be there; most fields "
+        "are at home's altitude");
+  ps = problems(landing("[-800, 0, -70]", "ned: [0, 0, 3], heading: 0"), l);
+  REQUIRE(ps.size() == 1);
+  CHECK_FALSE(ps[0].error);
+  CHECK(ps[0].text.find("touchdown point 3.0 m below home (down = 3)") != std::string::npos);
+  CHECK(problems(landing("[-800, 0, -70]", "ned: [0, 0, 0.8], heading: 0"), l).empty());  // within the estimate's own drift
+  l.origin = kOrigin;
+  ps = problems(landing("[-800, 0, -70]", "lla: [40.2463724, -111.6474138, 1397.0], heading: 0"), l);
+  REQUIRE(ps.size() == 1);
+  CHECK(ps[0].text ==
+        "m.yaml:3: waypoints[1]: altitude 1397 m MSL is 10.0 m above home (1387 m MSL): the landing takes the runway to be there; most "
+        "fields are at home's altitude");
+}
+
+TEST_CASE("mission check (d): a final longer than 2 km, or begun lower than 3 decision heights") {
+  auto w = texts(problems(landing("[-2500, 0, -200]", "ned: [0, 0, 0], heading: 0")), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] ==
+        "m.yaml:3: waypoints[1]: the final approach is 2285.1 m long (200.0 m at glide_slope 0.0873 rad), longer than 2000 m of ground "
+        "assumed flat at the runway's altitude: lower waypoints[0] or steepen the glide slope");
+  CHECK(problems(landing("[-2500, 0, -200]", "ned: [0, 0, 0], heading: 0, glide_slope: 0.105")).empty());  // 6 deg: 1896 m
+  w = texts(problems(landing("[-600, 0, -30]", "ned: [0, 0, 0], heading: 0")), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] ==
+        "m.yaml:3: waypoints[1]: the final approach begins at the altitude of waypoints[0], 30.0 m above the touchdown point, less than 3 "
+        "decision heights (36 m): 205.7 m of glide path above the decision height to settle after the turn onto the final");
+  w = texts(problems(landing("[-600, 0, -15]", "ned: [0, 0, 0], heading: 0")), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0].find("15.0 m above the touchdown point, less than 3 decision heights (36 m): the path manager raises it to 24.0 m: 137.1 m") !=
+        std::string::npos);
+  w = texts(problems("waypoints:\n  - {type: land, ned: [0, 0, 0], heading: 0}\n"), false);
+  REQUIRE(w.size() == 1);
+  CHECK(w[0] ==
+        "m.yaml:2: waypoints[0]: no item before the land item: its final approach begins 24.0 m above the touchdown point (2 decision "
+        "heights), wherever the aircraft is: put a waypoint at the approach altitude before it");
+}

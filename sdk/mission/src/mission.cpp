@@ -8,7 +8,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "entry_text.hpp"
 #include "number_text.hpp"
+#include "tern/math.hpp"
 
 namespace tern::path {
 
@@ -63,7 +65,7 @@ ItemType as_item_type(const YAML::Node& n, const Ctx& c, const std::string& fiel
   if (t == "loiter") return ItemType::loiter;
   if (t == "return_home") return ItemType::return_home;
   if (t == "land") return ItemType::land;
-  throw MissionError(c.prefix(n) + field + ": '" + t + "' is not a mission item type (expected waypoint, loiter or return_home)");
+  throw MissionError(c.prefix(n) + field + ": '" + t + "' is not a mission item type (expected waypoint, loiter, return_home or land)");
 }
 
 int as_direction(const YAML::Node& n, const Ctx& c, const std::string& field) {
@@ -79,17 +81,34 @@ double as_non_negative(const YAML::Node& n, const Ctx& c, const std::string& fie
   return v;
 }
 
-/// The entry's keys that only loiter and return_home items take; checked once the type is known.
+/// The entry's keys that only some item types take; checked once the type is known.
 struct ItemKeys {
   bool radius = false, direction = false, time = false, turns = false, chi = false;  // given
-  YAML::Node altitude;                                                               // (null when not given)
+  bool chi_d = false, heading = false, land = false;  // given; land: glide_slope, flare_height or decision_height
+  YAML::Node altitude, heading_value;                 // (null when not given)
 };
+
+// A land item: the keys it takes, and its runway heading (`heading`, or ROSplane's `chi_d`).
+void finish_land(MissionWaypoint& wp, const ItemKeys& k, const YAML::Node& n, const Ctx& c, const std::string& name) {
+  if (k.radius || k.direction || k.time || k.turns)
+    throw MissionError(c.prefix(n) + name + ": a land item takes no radius, direction, time or turns (those are loiter keys)");
+  if (wp.use_chi) throw MissionError(c.prefix(n) + name + ": use_chi: true is for waypoints (a land item always arrives on its heading)");
+  if (k.heading && k.chi_d) throw MissionError(c.prefix(n) + name + ": give the runway heading once: heading or chi_d, not both");
+  if (k.heading) wp.chi_d = as_double(k.heading_value, c, name + ".heading");
+  if (!k.heading && !k.chi_d)
+    throw MissionError(c.prefix(n) + name + ": a land item needs heading: the runway heading, rad (the course of the final approach)");
+}
 
 // Type-specific checks and the return_home position (altitude: NaN when not given, filled in
 // by fill_return_home_altitudes()).
 void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YAML::Node& n, const Ctx& c, const std::string& name) {
   const bool orbit = wp.type == ItemType::loiter || wp.type == ItemType::return_home;
   const char* type = item_type_name(wp.type);
+  if (wp.type != ItemType::land && k.heading)
+    throw MissionError(c.prefix(n) + name + ": heading is a land item's runway heading (a " + type + " takes chi_d)");
+  if (wp.type != ItemType::land && k.land)
+    throw MissionError(c.prefix(n) + name + ": glide_slope, flare_height and decision_height are for land items (type: land)");
+  if (wp.type == ItemType::land) finish_land(wp, k, n, c, name);
   if (!orbit && (k.radius || k.direction || k.time || k.turns))
     throw MissionError(c.prefix(n) + name + ": radius, direction, time and turns are for loiter and return_home items (type: loiter)");
   if (orbit && k.chi) throw MissionError(c.prefix(n) + name + ": a " + type + " item takes no chi_d or use_chi");
@@ -107,13 +126,51 @@ void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YA
   if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
 }
 
-const std::vector<std::string> kEntryKeys = {"ned",  "w",      "lla",       "chi_d", "use_chi", "Va_d",    "va_d",
-                                             "type", "radius", "direction", "time",  "turns",   "altitude"};
+const std::vector<std::string> kEntryKeys = {"ned",      "w",       "lla",         "chi_d",        "use_chi",        "Va_d",
+                                             "va_d",     "type",    "radius",      "direction",    "time",           "turns",
+                                             "altitude", "heading", "glide_slope", "flare_height", "decision_height"};
+
+// The keys of loiter, return_home and land items (item.hpp); false for any other key.
+bool parse_item_key(const std::string& key, const YAML::Node& v, const Ctx& c, const std::string& field, MissionWaypoint& wp, ItemKeys& k) {
+  if (key == "type") {
+    wp.type = as_item_type(v, c, field);
+  } else if (key == "radius") {
+    wp.loiter.radius = as_non_negative(v, c, field, " m");
+    k.radius = true;
+  } else if (key == "direction") {
+    wp.loiter.direction = as_direction(v, c, field);
+    k.direction = true;
+  } else if (key == "time") {
+    wp.loiter.time = as_non_negative(v, c, field, " s");
+    k.time = true;
+  } else if (key == "turns") {
+    wp.loiter.turns = as_non_negative(v, c, field, " turns");
+    k.turns = true;
+  } else if (key == "heading") {
+    k.heading = true;
+    k.heading_value = v;
+  } else if (key == "glide_slope") {
+    wp.land.glide_slope = as_double(v, c, field);
+    k.land = true;
+  } else if (key == "flare_height") {
+    wp.land.flare_height = as_double(v, c, field);
+    k.land = true;
+  } else if (key == "decision_height") {
+    wp.land.decision_height = as_double(v, c, field);
+    k.land = true;
+  } else if (key == "altitude") {
+    k.altitude = v;
+  } else {
+    return false;
+  }
+  return true;
+}
 
 MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string& name, double default_Va) {
   MissionWaypoint wp;
   wp.Va_d = default_Va;
   wp.field = name;
+  wp.source = c.source;
   if (n.Mark().line >= 0) wp.line = n.Mark().line + 1 + c.line_offset;
   if (n.IsSequence()) {
     wp.w = as_vec3(n, c, name);
@@ -141,37 +198,13 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
       }
     } else if (key == "chi_d") {
       wp.chi_d = as_double(v, c, field);
-      k.chi = true;
+      k.chi = k.chi_d = true;
     } else if (key == "use_chi") {
       wp.use_chi = as_bool(v, c, field);
       k.chi = true;
     } else if (key == "Va_d" || key == "va_d") {
       wp.Va_d = as_double(v, c, field);
-    } else if (key == "type") {
-      wp.type = as_item_type(v, c, field);
-    } else if (key == "radius") {
-      wp.loiter.radius = as_non_negative(v, c, field, " m");
-      k.radius = true;
-    } else if (key == "direction") {
-      wp.loiter.direction = as_direction(v, c, field);
-      k.direction = true;
-    } else if (key == "time") {
-      wp.loiter.time = as_non_negative(v, c, field, " s");
-      k.time = true;
-    } else if (key == "turns") {
-      wp.loiter.turns = as_non_negative(v, c, field, " turns");
-      k.turns = true;
-    } else if (key == "heading") {
-      wp.chi_d = as_double(v, c, field);
-    } else if (key == "glide_slope") {
-      wp.land.glide_slope = as_double(v, c, field);
-    } else if (key == "flare_height") {
-      wp.land.flare_height = as_double(v, c, field);
-    } else if (key == "decision_height") {
-      wp.land.decision_height = as_double(v, c, field);
-    } else if (key == "altitude") {
-      k.altitude = v;
-    } else {
+    } else if (!parse_item_key(key, v, c, field, wp, k)) {
       throw MissionError(c.prefix(kv.first) + name + ": ", key, kEntryKeys);
     }
   }
@@ -195,6 +228,37 @@ void fill_return_home_altitudes(Mission& m) {
     if (m.waypoints[i - 1].lla) throw MissionError(name + ": no altitude, and the item before it is lat/lon (MSL): give altitude");
     wp.w.z() = m.waypoints[i - 1].w.z();
   }
+}
+
+bool orbits_forever(const MissionWaypoint& wp) {
+  return wp.type == ItemType::return_home || (wp.type == ItemType::loiter && wp.loiter.time <= 0.0 && wp.loiter.turns <= 0.0);
+}
+
+}  // namespace
+
+void check_land_last(const Mission& m) {
+  const auto& w = m.waypoints;
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    if (w[i].type != ItemType::land) continue;
+    const std::string land = w[i].field.empty() ? "the land item" : "the land item " + w[i].field;
+    if (i + 1 < w.size()) throw MissionError(entry_prefix(m, w[i + 1]) + "comes after " + land + ", which ends the mission: never reached");
+    if (i > 0 && orbits_forever(w[i - 1]))
+      throw MissionError(entry_prefix(m, w[i]) + "never reached: the item before it (" + item_type_name(w[i - 1].type) +
+                         ") orbits until the mission changes (a loiter before a landing needs time or turns)");
+  }
+}
+
+namespace {
+
+// A mission that ends with a land item flies the items before it `loops` times, else once: a
+// loop without a count would never reach the landing. `loop` (null: not given) is this map's.
+void settle_landing_loop(Mission& m, const YAML::Node& loop, const Ctx& c) {
+  check_land_last(m);
+  if (m.waypoints.empty() || m.waypoints.back().type != ItemType::land) return;
+  if (loop && loop.IsScalar() && m.loop && m.loops == 0)
+    throw MissionError(c.prefix(loop) + "loop: true would never reach the land item " + m.waypoints.back().field +
+                       ": give loops: N (the items before it flown N times, then the landing), or leave loop out (once)");
+  m.loop = m.loops > 0;
 }
 
 /// The keys shared by the config section and a tern waypoint file.
@@ -249,8 +313,10 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
         if (wp.Va_d <= 0.0) wp.Va_d = default_Va;
     // `waypoints` beside `file`: the file's items, then these (a land item after a shared route)
     if (have_wps) from_file.waypoints.insert(from_file.waypoints.end(), m.waypoints.begin(), m.waypoints.end());
+    settle_landing_loop(from_file, root["loop"], c);
     return from_file;
   }
+  settle_landing_loop(m, root["loop"], c);
   return m;
 }
 
@@ -299,6 +365,7 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     m.waypoints.back().line = chunks[k].first;  // the entry's `wp:` line
   }
   fill_return_home_altitudes(m);
+  settle_landing_loop(m, YAML::Node(), Ctx{source, 0});
   return m;
 }
 
@@ -324,6 +391,28 @@ bool Mission::has_lla() const {
   return false;
 }
 
+namespace {
+/// " (radians: D deg would be R)" when `rad` looks like D degrees given as radians, else "".
+std::string degrees_hint(double rad, double max_rad) {
+  if (!(std::fabs(rad) > max_rad && std::fabs(rad) <= 360.0)) return "";
+  return " (radians: " + num(rad) + " deg would be " + number_text(rad * kRadPerDeg, 4) + ")";
+}
+
+void validate_land(const MissionWaypoint& wp, const std::string& where) {
+  const LandSpec& l = wp.land;
+  if (std::fabs(wp.chi_d) > 2.0 * kPi)
+    throw MissionError(where + ": heading " + num(wp.chi_d) + " rad is outside [-2 pi, 2 pi]" + degrees_hint(wp.chi_d, 2.0 * kPi));
+  if (!(l.glide_slope > 0.0 && l.glide_slope <= kMaxGlideSlope))
+    throw MissionError(where + ": glide_slope " + num(l.glide_slope) + " rad is outside (0, " + num(kMaxGlideSlope) + "]" +
+                       degrees_hint(l.glide_slope, kMaxGlideSlope));
+  if (!(std::isfinite(l.flare_height) && l.flare_height > 0.0))
+    throw MissionError(where + ": flare_height " + num(l.flare_height) + " m must be > 0 (above the touchdown point)");
+  if (!(std::isfinite(l.decision_height) && l.decision_height > l.flare_height))
+    throw MissionError(where + ": decision_height " + num(l.decision_height) + " m must be above flare_height " + num(l.flare_height) +
+                       " m (the approach is judged before the flare)");
+}
+}  // namespace
+
 void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
   if (!wp.w.allFinite()) throw MissionError(where + ": position is not finite");
   if (!std::isfinite(wp.chi_d)) throw MissionError(where + ": chi_d is not finite");
@@ -336,6 +425,7 @@ void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
   if (!std::isfinite(wp.loiter.time) || wp.loiter.time < 0.0 || !std::isfinite(wp.loiter.turns) || wp.loiter.turns < 0.0)
     throw MissionError(where + ": loiter time " + num(wp.loiter.time) + " s and turns " + num(wp.loiter.turns) + " must be >= 0");
   if (wp.type == ItemType::return_home && wp.lla) throw MissionError(where + ": return_home takes no lat/lon (home is the origin)");
+  if (wp.type == ItemType::land) validate_land(wp, where);
   if (wp.lla) {
     if (std::fabs(wp.w.x()) > 90.0) throw MissionError(where + ": latitude " + num(wp.w.x()) + " deg is outside [-90, 90]");
     if (std::fabs(wp.w.y()) > 180.0) throw MissionError(where + ": longitude " + num(wp.w.y()) + " deg is outside [-180, 180]");

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "entry_text.hpp"
+#include "land_check.hpp"
 #include "number_text.hpp"
 
 namespace tern::path {
@@ -12,15 +14,6 @@ namespace {
 
 std::string m1(double v) { return number_text(v, 1); }
 std::string g(double v) { return number_text(v); }
-
-/// "source:line: field: " of an entry.
-std::string at(const Mission& m, const MissionWaypoint& wp) {
-  std::string s = m.source;
-  if (wp.line > 0) s.append(":").append(std::to_string(wp.line));
-  s.append(": ");
-  if (!wp.field.empty()) s.append(wp.field).append(": ");
-  return s;
-}
 
 bool more_than_3_decimals(double x) {
   const double k = x * 1000.0;
@@ -43,7 +36,7 @@ std::optional<Eigen::Vector3d> placed(const MissionWaypoint& wp, const MissionLi
 void check_ground_and_distance(const std::string& where, const MissionWaypoint& wp, const Eigen::Vector3d& p, const MissionLimits& l,
                                std::vector<MissionProblem>& out) {
   const double h = -p.z();
-  if (h < 0.0) {
+  if (h < 0.0 && wp.type != ItemType::land) {  // a runway may lie below home: land_check.cpp (c)
     if (wp.lla)
       out.push_back({true, where + "altitude " + g(wp.w.z()) + " m MSL is " + m1(-h) + " m below home (" + g(l.origin->alt) +
                                " m MSL): below the ground"});
@@ -56,14 +49,15 @@ void check_ground_and_distance(const std::string& where, const MissionWaypoint& 
     out.push_back({true, where + m1(d) + " m from home, further than " + l.max_distance_name + " = " + g(l.max_distance) + " m"});
 }
 
-void check_fence(const std::string& where, const Eigen::Vector3d& p, const MissionLimits& l, std::vector<MissionProblem>& out) {
+void check_fence(const std::string& where, const MissionWaypoint& wp, const Eigen::Vector3d& p, const MissionLimits& l,
+                 std::vector<MissionProblem>& out) {
   const double h = -p.z(), r = std::hypot(p.x(), p.y());
   const std::string then = ": the geofence failsafe would take over";
   if (l.fence_max_distance && r > *l.fence_max_distance)
     out.push_back({false, where + m1(r) + " m from home, beyond the geofence's max_distance " + g(*l.fence_max_distance) + " m" + then});
   if (l.fence_max_altitude && h > *l.fence_max_altitude)
     out.push_back({false, where + "altitude " + m1(h) + " m, above the geofence's max_altitude " + g(*l.fence_max_altitude) + " m" + then});
-  if (l.fence_min_altitude && h < *l.fence_min_altitude && h >= 0.0)
+  if (l.fence_min_altitude && h < *l.fence_min_altitude && h >= 0.0 && wp.type != ItemType::land)  // the landing's: land_check.cpp (a)
     out.push_back({false, where + "altitude " + m1(h) + " m, below the geofence's min_altitude " + g(*l.fence_min_altitude) + " m" + then});
 }
 
@@ -73,14 +67,13 @@ void check_leg(const Mission& m, const MissionWaypoint& a, const Eigen::Vector3d
   const double d = std::hypot(pb.x() - pa.x(), pb.y() - pa.y());
   const std::string from = a.field.empty() ? "the previous waypoint" : a.field;
   if (d < l.min_separation)
-    out.push_back({false, at(m, b) + "repeats " + from + " (" + m1(d) + " m apart): the path manager skips it"});
+    out.push_back({false, entry_prefix(m, b) + "repeats " + from + " (" + m1(d) + " m apart): the path manager skips it"});
   else if (l.R_min && d < *l.R_min)
-    out.push_back({true, at(m, b) + "the leg from " + from + " is " + m1(d) + " m, shorter than the minimum turn radius " + l.R_min_name +
-                             " = " + g(*l.R_min) + " m: no room to turn"});
+    out.push_back({true, entry_prefix(m, b) + "the leg from " + from + " is " + m1(d) + " m, shorter than the minimum turn radius " +
+                             l.R_min_name + " = " + g(*l.R_min) + " m: no room to turn"});
 }
 
-void check_legs(const Mission& m, const std::vector<std::optional<Eigen::Vector3d>>& pos, const MissionLimits& l,
-                std::vector<MissionProblem>& out) {
+void check_legs(const Mission& m, const PlacedItems& pos, const MissionLimits& l, std::vector<MissionProblem>& out) {
   const auto& w = m.waypoints;
   bool all_plain = true;
   for (std::size_t i = 0; i < w.size(); ++i) {
@@ -96,10 +89,10 @@ void check_legs(const Mission& m, const std::vector<std::optional<Eigen::Vector3
 
 std::vector<MissionProblem> check_mission(const Mission& m, const MissionLimits& l) {
   std::vector<MissionProblem> out;
-  std::vector<std::optional<Eigen::Vector3d>> pos;
+  PlacedItems pos;
   std::size_t unplaced = 0;
   for (const auto& wp : m.waypoints) {
-    const std::string where = at(m, wp);
+    const std::string where = entry_prefix(m, wp);
     if (looks_like_lat_lon(wp))
       out.push_back({false, where + "[" + g(wp.w.x()) + ", " + g(wp.w.y()) + ", " + g(wp.w.z()) +
                                 "] is NED (m) but looks like latitude, longitude, altitude: lla: true forgotten?"});
@@ -109,9 +102,10 @@ std::vector<MissionProblem> check_mission(const Mission& m, const MissionLimits&
       continue;
     }
     check_ground_and_distance(where, wp, *pos.back(), l, out);
-    check_fence(where, *pos.back(), l, out);
+    check_fence(where, wp, *pos.back(), l, out);
   }
   check_legs(m, pos, l, out);
+  check_land(m, pos, l, out);
   if (unplaced > 0)
     out.push_back({false, m.source + ": " + std::to_string(unplaced) +
                               " latitude/longitude waypoint(s) not checked against home: the origin is not known before the first "

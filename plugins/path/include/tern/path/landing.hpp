@@ -26,13 +26,10 @@ struct Approach {
 };
 
 /// The approach to `touchdown` (NED m) on `heading` (rad) with `spec`, entered at NED down
-/// `entry_d` (m). An approach altitude less than kMinEntryHeights decision heights above the
+/// `entry_d` (m). An approach altitude less than kMinEntryHeights (item.hpp) decision heights above the
 /// touchdown point is raised to that (raised = true): below it there would be no stabilised
 /// glide path before the decision height. Inputs must be finite (the mission reader checks).
 Approach plan_approach(const Vec3& touchdown, double heading, const LandSpec& spec, double entry_d);
-
-/// The approach starts at least this many decision heights above the touchdown point.
-inline constexpr double kMinEntryHeights = 2.0;
 
 /// The glide path's altitude (m above the origin, -d) at the point of p's projection on it;
 /// the touchdown altitude at and beyond the touchdown point, the entry altitude before the entry.

@@ -27,7 +27,7 @@ struct LoiterSpec {
 /// that heading (PX4's and ArduPlane's straight-in approach); it begins where the glide path
 /// meets the altitude of the item before the land item.
 struct LandSpec {
-  /// Glide-path angle below the horizon, rad, in (0, 0.35]. 0.087 (5 deg): PX4's FW_LND_ANG
+  /// Glide-path angle below the horizon, rad, in (0, kMaxGlideSlope = 0.35]. 0.087 (5 deg): PX4's FW_LND_ANG
   /// default; small aircraft fly 3-8 deg.
   double glide_slope = 0.0873;
   /// Height above the touchdown point at which the flare begins, m, > 0 (PX4 FW_LND_FLALT's
@@ -38,6 +38,16 @@ struct LandSpec {
   /// else the aircraft goes around (ArduPlane's LAND_ABORT_..., PX4's abort criteria).
   double decision_height = 12.0;
 };
+
+/// The steepest glide slope a land item takes, rad (20 deg): steeper than any small fixed wing's
+/// approach (3-8 deg) and past what a flare from flare_height can round out; a larger value is
+/// most likely degrees given as radians.
+inline constexpr double kMaxGlideSlope = 0.35;
+
+/// The final approach begins at least this many decision heights above the touchdown point: an
+/// item before the land item lower than that raises the approach (the path manager warns), else
+/// there would be no stabilised glide path above the decision height.
+inline constexpr double kMinEntryHeights = 2.0;
 
 /// "waypoint", "loiter", "return_home" or "land".
 inline const char* item_type_name(ItemType t) {

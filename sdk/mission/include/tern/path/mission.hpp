@@ -34,16 +34,28 @@
 // Entry keys: ned | w (3 numbers), lla (3 numbers, or a bool flag saying that w is lat/lon/alt),
 // chi_d (rad, finite), use_chi (bool), Va_d | va_d (m/s, >= 0; 0: the path manager's default),
 // and tern's mission items (item.hpp; ROSplane files may use them too):
-//   type: waypoint | loiter | return_home      (default waypoint)
+//   type: waypoint | loiter | return_home | land   (default waypoint)
 //   radius: m >= 0 (0: the path manager's turn radius), direction: cw | ccw (default cw),
 //   time: s >= 0, turns: >= 0                  (loiter only; both 0 or absent: loiter until the
 //                                              mission changes)
 //   altitude: m above home                     (return_home only, instead of a position; absent:
 //                                              the altitude of the item before it)
+//   heading: rad in [-2 pi, 2 pi]              (land only, required: the runway heading, the
+//                                              direction of landing; a ROSplane file may give it
+//                                              as chi_d, never both)
+//   glide_slope: rad in (0, 0.35], flare_height: m > 0, decision_height: m > flare_height
+//                                              (land only; defaults: item.hpp LandSpec)
 // e.g.  - {type: loiter, ned: [0, 300, -70], radius: 80, direction: ccw, turns: 2}
 //       - {type: return_home, altitude: 70}
+//       - {type: land, ned: [0, 0, 0], heading: 2.3562, glide_slope: 0.0873, flare_height: 3}
 // loiter and return_home take no chi_d/use_chi; return_home takes no position (home is the
-// origin); items after a return_home are never reached.
+// origin); items after a return_home are never reached. A land item's position (ned or lla)
+// is the touchdown point; it takes no radius, direction, time, turns, altitude or use_chi:
+// true. It is the mission's last item (an item after it is an error) and must be reached (not
+// after a return_home or a loiter without time or turns: an error). A mission ending with a
+// land item flies the items before it once, or `loops` times: `loop` alone is moot there, and
+// `loop: true` without `loops` (never landing) is an error; a file's `loop: true` gives way when
+// a config's section appends a land item to it.
 // Latitude must be in [-90, 90] deg, longitude in [-180, 180] deg. Unknown keys are errors.
 //
 // Errors: every function throws MissionError (a std::runtime_error) with one line naming the
@@ -90,10 +102,11 @@ struct MissionWaypoint {
   bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
   ItemType type = ItemType::waypoint;
-  LoiterSpec loiter;  ///< loiter and return_home items
-  LandSpec land;      ///< land items (chi_d: the runway heading)
-  int line = 0;       ///< 1-based line of the entry in its source (0: not read from text)
-  std::string field;  ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
+  LoiterSpec loiter;   ///< loiter and return_home items
+  LandSpec land;       ///< land items (chi_d: the runway heading)
+  int line = 0;        ///< 1-based line of the entry in its source (0: not read from text)
+  std::string field;   ///< the entry's name in its source ("waypoints[2]", "wp 3"; "" if not read)
+  std::string source;  ///< the file (or config) the entry was read from ("": not read; see Mission::source)
 };
 
 struct Mission {
@@ -127,8 +140,15 @@ Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoPoint& origin);
 /// The mission's waypoints with every LLA position converted to NED (the others unchanged).
 std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& wps, const GeoPoint& origin);
 
-/// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0); `where` names it
-/// in the error, e.g. "mission_edit 7". Throws MissionError.
+/// Checks one waypoint (finite values, latitude/longitude ranges, Va_d >= 0, a land item's
+/// heading, glide slope and heights); `where` names it in the error, e.g. "mission_edit 7".
+/// Throws MissionError.
 void validate_waypoint(const MissionWaypoint& wp, const std::string& where);
+
+/// Checks that a land item ends the mission (no item after it) and is reached (the item before
+/// it is not a return_home or a loiter without time or turns). The readers call it; a mission
+/// edit calls it on the list it would make. Throws MissionError naming the item ("source:line:
+/// field: ", Mission::source for entries not read from text).
+void check_land_last(const Mission& m);
 
 }  // namespace tern::path
