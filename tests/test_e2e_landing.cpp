@@ -1,6 +1,7 @@
 // End-to-end: the landing and the takeoff's aborts (issue 46) on the default mission's world, on
 // seeds the tuning never saw: the land item flown to a stop in a crosswind with gusts, a go-around
-// when the approach is not stabilised (and the landing abandoned after land_attempts), a takeoff
+// when the approach is not stabilised (and the landing abandoned after land_attempts) or the
+// operator commands it, a takeoff
 // aborted on its run, and a takeoff refused in more wind than the preflight allows.
 #include <doctest/doctest.h>
 
@@ -10,6 +11,7 @@
 
 #include "e2e_util.hpp"
 
+using namespace tern;
 using namespace tern::core;
 
 namespace {
@@ -70,6 +72,42 @@ TEST_CASE("landing: an approach not stabilised at the decision height goes aroun
   }
   CHECK(go_arounds == 2);
   CHECK_FALSE(s["metrics"].contains("landing"));  // never touched down
+}
+
+TEST_CASE("landing: the operator's go-around is taken on the approach and refused in cruise; the next approach lands") {
+  HostOptions o;
+  o.quiet = true;
+  o.log_dir = test_dir() / "e2e_land_operator";
+  o.duration = 1100.0;
+  Host h(load_config(write_file("land_operator.yaml", one_loop({}))), o);
+  h.build();
+  const OutputBase* phase = h.topic_source("flight_phase");
+  REQUIRE(phase != nullptr);
+  bool asked_in_cruise = false, asked_on_approach = false;
+  Nanos approach_since = -1;
+  h.add_tick_observer([&](Nanos now) {
+    const auto ph = static_cast<const msg::FlightPhase*>(phase->data())->phase;
+    if (ph == msg::Phase::cruise && !asked_in_cruise && now > from_seconds(60.0)) {
+      asked_in_cruise = true;  // not on a landing: logged, not taken
+      h.go_around("test, in cruise");
+    }
+    if (ph == msg::Phase::approach && approach_since < 0) approach_since = now;
+    if (ph == msg::Phase::approach && !asked_on_approach && now - approach_since > from_seconds(10.0)) {
+      asked_on_approach = true;
+      h.go_around("test");
+    }
+  });
+  const FlightResult r = h.fly();
+  const auto s = summary(r);
+  CHECK(asked_in_cruise);
+  CHECK(asked_on_approach);
+  CHECK(s["end_reason"] == "landed");
+  CHECK(s["instances"]["phase_machine"]["go_arounds"] == 1.0);
+  CHECK(s["instances"]["manager"]["land_approaches"] == 2.0);
+  int commanded = 0;
+  for (const auto& p : s["phases"])
+    if (p.value("reason", "").find("go-around: the operator's command (test)") != std::string::npos) ++commanded;
+  CHECK(commanded == 1);
 }
 
 TEST_CASE("takeoff: the airspeed not building within the runway aborts it: motor off, brakes, stopped, the criterion named") {

@@ -80,6 +80,32 @@ TEST_CASE("safety monitor: the floor counts once the aircraft has been above it 
   CHECK(m.check(step(52 * kPeriod, s, a)) == "envelope: altitude 6.0 m below the floor 8.0 m");
 }
 
+TEST_CASE("safety monitor: the landing descends through the floor: disarmed from the approach, re-armed above it after a go-around") {
+  SafetyMonitor m;
+  msg::State s = cruising();
+  msg::Actuators a;
+  a.delta_t = 0.5;
+  CHECK(m.check(step(0, s, a)).empty());  // 70 m in cruise: armed
+  SafetyInputs in = step(kPeriod, s, a);
+  in.phase = msg::Phase::approach;
+  CHECK(m.check(in).empty());
+  s.p_d = -3.0;  // the flare, 3 m up: no cause
+  for (int k = 2; k < 40; ++k) {
+    in = step(k * kPeriod, s, a);
+    in.phase = k < 20 ? msg::Phase::approach : msg::Phase::flare;
+    CHECK(m.check(in).empty());
+  }
+  in = step(40 * kPeriod, s, a);  // a go-around from 3 m: climbing back, below the floor, no cause
+  in.phase = msg::Phase::climb;
+  CHECK(m.check(in).empty());
+  CHECK(m.check(step(60 * kPeriod, s, a)).empty());
+  s.p_d = -20.0;  // above it again: armed
+  CHECK(m.check(step(61 * kPeriod, s, a)).empty());
+  s.p_d = -6.0;
+  CHECK(m.check(step(62 * kPeriod, s, a)).empty());
+  CHECK(m.check(step(82 * kPeriod, s, a)) == "envelope: altitude 6.0 m below the floor 8.0 m");
+}
+
 TEST_CASE("safety monitor: delta_e at its stop is a cause only once the altitude error grows") {
   SafetyMonitor m;
   msg::State s = cruising();

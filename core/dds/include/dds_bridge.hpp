@@ -194,6 +194,9 @@ class DdsClient {
   void mission_load(const std::string& filename);
   /// The vehicle's current waypoint list, one waypoint per line.
   std::string mission_print();
+  /// The operator's go-around (service `go_around`, std_srvs/Trigger): taken on the final approach
+  /// or in the flare; DdsError with the vehicle's reason otherwise (the phase). Returns its answer.
+  std::string go_around();
   /// Asks the vehicle to publish tern topic `topic` (e.g. truth, imu) from now on, at most
   /// `rate` Hz (0: every message). Returns "rt/<ns>/<topic> <DDS type>"; DdsError when the
   /// vehicle has no such topic or no DDS type for it.

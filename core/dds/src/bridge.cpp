@@ -382,6 +382,21 @@ struct DdsBridge::Impl {
       }
       return success<Trigger_Response>(s);
     }));
+    add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "go_around", heard, [this](const Trigger_Request&) {
+      const auto ph = static_cast<msg::Phase>(phase.load(std::memory_order_relaxed));
+      if (!host.flying() || (ph != msg::Phase::approach && ph != msg::Phase::flare))
+        return failure<Trigger_Response>(
+            fmt::format("go_around: no landing to go around from ({}phase {}): taken on the final approach "
+                        "and in the flare",
+                        host.flying() ? "" : "not flying, ", msg::phase_name(ph)));
+      try {
+        host.go_around("DDS go_around");
+        return success<Trigger_Response>(
+            fmt::format("go-around commanded in the {} (the vehicle's log says when it is taken)", msg::phase_name(ph)));
+      } catch (const std::exception& e) {
+        return failure<Trigger_Response>(e.what());
+      }
+    }));
     add(std::make_shared<ServiceServer<MissionLoad_RequestPubSubType, MissionLoad_ResponsePubSubType>>(
         participant, publisher, subscriber, ns, "load_mission_from_file", heard, [this](const MissionLoad_Request& rq) {
           using Resp = MissionLoad_Response;

@@ -97,6 +97,13 @@ std::string DdsClient::mission_print() {
   return r.message();
 }
 
+std::string DdsClient::go_around() {
+  std_srvs::srv::Trigger_Request rq;
+  const auto r = impl_->call<std_srvs::srv::Trigger_RequestPubSubType, std_srvs::srv::Trigger_ResponsePubSubType>("go_around", rq);
+  if (!r.success()) throw DdsError(r.message());
+  return r.message();
+}
+
 std::string DdsClient::bridge_topic(const std::string& topic, double rate) {
   ts::BridgeTopic_Request rq;
   rq.topic(topic);

@@ -1,6 +1,6 @@
 // core/src/commands/vehicle_commands.cpp: the commands against a running `tern fly --dds` (or
 // `serve --dds`) over DDS (core/dds): topics, echo, hz, param (list, get, describe, set, save) and
-// mission (add, clear, load, print). Each finds the vehicle by domain and namespace, or by a
+// mission (add, clear, load, print), go-around. Each finds the vehicle by domain and namespace, or by a
 // mission config's dds: section, and uses the DDS Security of dds_command.hpp.
 #include <chrono>
 #include <cstdio>
@@ -225,10 +225,24 @@ Command add_mission(CLI::App& app) {
           }};
 }
 
+Command add_go_around(CLI::App& app) {
+  auto o = std::make_shared<ClientOptions>();
+  auto* c = add_client(app, "go-around",
+                       "abandon the landing under way: climb out and come round for another approach (taken on the final approach "
+                       "and in the flare; the path manager's land_attempts bound the approaches)",
+                       *o);
+  return {c, [c, o] {
+            return with_client(c, *o, [](DdsClient& client) {
+              fmt::print("{}\n", client.go_around());
+              return 0;
+            });
+          }};
+}
+
 }  // namespace
 
 std::vector<Command> add_vehicle_commands(CLI::App& app) {
-  return {add_topics(app), add_echo(app), add_hz(app), add_param(app), add_mission(app)};
+  return {add_topics(app), add_echo(app), add_hz(app), add_param(app), add_mission(app), add_go_around(app)};
 }
 
 }  // namespace tern::core

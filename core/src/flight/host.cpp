@@ -167,6 +167,22 @@ void Host::edit_mission(const msg::MissionEdit& edit) {
   remote_.edit_mission(edit);
 }
 
+void Host::go_around(const std::string& source) {
+  if (phase_machine_ == nullptr)
+    throw ConfigError(config_.file.string() + ": no phase machine (the config has no phases:): nothing to go around");
+  remote_.request_go_around(source);
+}
+
+// At the start of a tick: the operator's go-around, if one was asked for, to the phase machine.
+void Host::take_go_around(Nanos now) {
+  const std::optional<std::string> source = remote_.take_go_around();
+  if (!source || phase_machine_ == nullptr) return;
+  if (const std::string why = phase_machine_->request_go_around(*source); !why.empty())
+    logger_->warn("t={:.3f} s: go-around ({}) not taken: {}", to_seconds(now), *source, why);
+  else
+    logger_->info("t={:.3f} s: go-around commanded ({})", to_seconds(now), *source);
+}
+
 void Host::set_pilot(const msg::Rc& rc) {
   if (!remote_.takes_pilot())
     throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'pilot' (fly the simulator, sim_aero)");
@@ -289,6 +305,7 @@ FlightResult Host::fly() {
     recorder.param(t, name, p, source);
   };
   remote_.apply_start_only(record_param, *logger_);  // asked for between flights: before the plugins read them
+  remote_.take_go_around();                          // one asked for between flights is not for this flight
   router_.prepare_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
   if (!start_instances(r)) {
@@ -314,6 +331,7 @@ FlightResult Host::fly() {
   bool aborted = false;
   while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
     remote_.apply(clock.now(), record_param, *logger_);
+    take_go_around(clock.now());
     const EndRequest end = run_tick(clock);
     failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);
     recorder.capture(graph_, clock.now());

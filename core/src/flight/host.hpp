@@ -118,6 +118,11 @@ class Host {
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
   /// ConfigError when no instance reads `mission_edit`.
   void edit_mission(const msg::MissionEdit& edit);
+  /// The operator's go-around (any thread: tern go-around, the DDS service `go_around`), from
+  /// `source`: handed to the phase machine at the start of the next tick, which takes it on the
+  /// approach or in the flare (phase_machine.hpp) and logs it either way. Throws ConfigError
+  /// when the mission has no phase machine (no `phases:`).
+  void go_around(const std::string& source);
   /// The ground station was heard (any thread): the DDS bridge calls this on every request and
   /// heartbeat. The link-loss failsafe (failsafe.hpp) acts only once this has been called in a
   /// flight.
@@ -196,6 +201,7 @@ class Host {
   FailsafeStation failsafes_{logger_};
   Nanos base_period_ = 0;
   std::uint64_t seed_ = 1;
+  void take_go_around(Nanos now);
   PhaseMachine* phase_machine_ = nullptr;  // built-ins, owned by instances_
   FlightMetrics* metrics_ = nullptr;
   ReplaySource* replay_ = nullptr;

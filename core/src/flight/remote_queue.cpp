@@ -1,6 +1,7 @@
 #include "flight/remote_queue.hpp"
 
 #include <algorithm>
+#include <utility>
 
 #include <spdlog/spdlog.h>
 
@@ -16,6 +17,19 @@ void RemoteQueue::edit_mission(const msg::MissionEdit& edit) {
   std::lock_guard lk(mu_);
   edits_.push_back(edit);
   pending_.store(true, std::memory_order_release);
+}
+
+void RemoteQueue::request_go_around(std::string source) {
+  std::lock_guard lk(mu_);
+  go_around_ = std::move(source);
+  go_around_pending_.store(true, std::memory_order_release);
+}
+
+std::optional<std::string> RemoteQueue::take_go_around() {
+  if (!go_around_pending_.load(std::memory_order_acquire)) return std::nullopt;
+  std::lock_guard lk(mu_);
+  go_around_pending_.store(false, std::memory_order_relaxed);
+  return std::exchange(go_around_, std::nullopt);
 }
 
 void RemoteQueue::set_pilot(const msg::Rc& rc) {

@@ -43,6 +43,11 @@ class RemoteQueue {
   /// Queues a mission edit (takes_mission_edits() first). Any thread.
   void edit_mission(const msg::MissionEdit& edit);
 
+  /// Queues the operator's go-around, from `source` (any thread); the flight thread takes it with
+  /// take_go_around() and hands it to the phase machine.
+  void request_go_around(std::string source);
+  std::optional<std::string> take_go_around();
+
   /// Whether the port graph took the output for pilot input (some plugin reads `pilot`).
   bool takes_pilot() const { return pilot_out_ != nullptr; }
   /// Replaces the pending pilot input (takes_pilot() first). Any thread.
@@ -72,10 +77,12 @@ class RemoteQueue {
     std::string source;
   };
   std::mutex mu_;
-  std::vector<ParamRequest> params_;     // under mu_
-  std::vector<msg::MissionEdit> edits_;  // under mu_
-  std::optional<msg::Rc> pilot_;         // under mu_
-  std::atomic<bool> pending_{false};     // something is queued
+  std::vector<ParamRequest> params_;      // under mu_
+  std::vector<msg::MissionEdit> edits_;   // under mu_
+  std::optional<msg::Rc> pilot_;          // under mu_
+  std::optional<std::string> go_around_;  // under mu_
+  std::atomic<bool> go_around_pending_{false};
+  std::atomic<bool> pending_{false};  // something is queued
   std::unique_ptr<Output<msg::MissionEdit>> mission_edit_out_;
   std::unique_ptr<Output<msg::Rc>> pilot_out_;
 };

@@ -1,6 +1,7 @@
 #include "safety/phase_machine.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -287,9 +288,24 @@ void PhaseMachine::go_around(Nanos now, const std::string& why) {
   enter(now, msg::Phase::climb, "go-around: " + why);
 }
 
+std::string PhaseMachine::request_go_around(const std::string& source) {
+  if (f_.phase != msg::Phase::approach && f_.phase != msg::Phase::flare)
+    return fmt::format("no landing to go around from: the phase is {} (a go-around is taken on the approach and in the flare)",
+                       msg::phase_name(f_.phase));
+  f_.go_around_request = source;
+  return "";
+}
+
 bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
   const bool on_path = path_.has_value() && path_->landing;
   const msg::Phase ph = f_.phase;
+  if (!f_.go_around_request.empty()) {
+    const std::string source = std::exchange(f_.go_around_request, "");
+    if (ph == msg::Phase::approach || ph == msg::Phase::flare) {
+      go_around(now, fmt::format("the operator's command ({})", source));
+      return true;
+    }
+  }
   if ((ph == msg::Phase::climb || ph == msg::Phase::cruise) && on_path && path_->attempt != f_.approach_seen) {
     f_.approach_seen = path_->attempt;
     enter(now, msg::Phase::approach, fmt::format("final approach {} of the land item", path_->attempt));

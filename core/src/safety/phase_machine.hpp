@@ -24,6 +24,8 @@
 //   approach -> climb     go-around: below the decision height while not stabilised (the
 //                         criterion named), or the glide path was left (the mission changed, a
 //                         failsafe); the path manager comes round for another approach
+//   approach/flare -> climb  the operator's go-around (request_go_around: tern go-around, the DDS
+//                         service go_around), also from the flare (a balked landing)
 //   flare -> rollout      on the wheels: the sink stopped within land_ground_band of the touchdown point
 //   rollout -> stopped    ground speed < land_stopped_speed for land_stopped_time: the flight
 //                         ends complete (landed(): end_reason "landed", summary.json)
@@ -94,6 +96,10 @@ class PhaseMachine final : public Plugin {
   /// The aircraft landed and stopped: the flight is complete (landed_detail() says how).
   bool landed() const { return f_.phase == msg::Phase::stopped && f_.abort_reason.empty(); }
   const std::string& landed_detail() const { return f_.landed_detail; }
+  /// The operator's go-around (from `source`, e.g. "DDS"), taken at the next step on the approach
+  /// or in the flare and counted like the automatic ones (the path manager's land_attempts bound
+  /// them). Host thread, between ticks. Returns "" when it will be taken, else why not (the phase).
+  std::string request_go_around(const std::string& source);
   std::vector<std::pair<std::string, double>> summary() const override;
 
  private:
@@ -152,6 +158,7 @@ class PhaseMachine final : public Plugin {
     std::string failure;
     int approach_seen = 0;  ///< current_path.attempt of the last approach entered
     int go_arounds = 0;
+    std::string go_around_request;  ///< the operator's go-around, by its source ("": none pending)
     std::string landed_detail;
     std::optional<Eigen::Vector3d> takeoff_start;  ///< estimated position where the takeoff began
     bool takeoff_checked = false;                  ///< the takeoff's abort criteria are watched

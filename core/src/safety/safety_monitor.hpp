@@ -13,7 +13,8 @@
 //                 Va < airspeed_min or Va > airspeed_max                      (m/s)
 //                 v_d > sink_max                                              (m/s, down)
 //               or, once the aircraft has been above `floor` in climb or cruise (whatever the
-//               phase since):
+//               phase since, but for the landing's phases: the approach descends through it by
+//               design, and a go-around re-arms it once above it again):
 //                 h = -p_d < floor (m above the origin);
 //   saturated   in climb or cruise, delta_e sits at its stop (|delta_e| >= saturation *
 //               max_deflection), or delta_t at 0 with the aircraft below h_c and slower than Va_c
