@@ -235,7 +235,7 @@ def true_aim(run, spec):
     if truth is None or truth.get("p_n") is None or not pre:
         return None
     t = truth.get("t")
-    k = int(np.searchsorted(t, pre[0][1], side="right")) - 1
+    k = int(np.searchsorted(t, pre[0][1], side="left")) - 1  # the last sample before the takeoff
     if k < 0:
         return None
     n, e = np.array([truth.get("p_n")[k], truth.get("p_e")[k]]) + spec["td"][:2]
@@ -285,19 +285,16 @@ class Landing:
         grid = fig.add_gridspec(2, 3, height_ratios=[1.1, 1.0])
         side, zoom = fig.add_subplot(grid[0, :2]), fig.add_subplot(grid[0, 2])
         top = fig.add_subplot(grid[1, :], sharex=side)
-        markers = self._draw(run, spec, drawn, side, zoom, top)
         self._limits(spec, drawn[-1], side, zoom, top)
+        markers = self._draw(run, spec, drawn, side, zoom, top)
         heading = math.degrees(spec["heading"]) % 360.0
         fig.suptitle(f"landing - {run['label']}: runway heading {heading:.0f} deg, glide slope "
                      f"{math.degrees(spec['glide_slope']):.1f} deg (land item: {spec['source']})",
                      x=0.01, ha="left", fontsize="medium")
-        legend = []
-        for ax, loc in ((side, "upper right"), (top, "best")):
-            labels = ax.get_legend_handles_labels()[1]
-            if labels:
-                ax.legend(loc=loc, fontsize="x-small")
-                legend += labels
-        fig.subplots_adjust(left=0.07, right=0.985, bottom=0.06, top=0.93, hspace=0.22, wspace=0.3)
+        side.legend(loc="upper right", fontsize="x-small")
+        top.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize="x-small", frameon=False)
+        legend = side.get_legend_handles_labels()[1] + top.get_legend_handles_labels()[1]
+        fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.93, hspace=0.22, wspace=0.3)
         self.h["save"](fig, out, "landing.png", CAPTION, markers, legend)
         return None
 
@@ -354,17 +351,20 @@ class Landing:
                 ax.plot(tr[1], tr[3], color=colour, zorder=3, **style)
             top.plot(tr[1], tr[2], color=colour, zorder=3, label=f"{name}, {what}", **style)
         ref = d["est"] if d["est"] is not None else d["truth"]
-        events = [(t, name if last else f"{name} {number}") for t, name in a["phases"]]
+        events = [(t, f"{name} {number}" if name == "approach" or not last else name) for t, name in a["phases"]]
         if a["go_around"] is not None:
             events.append((a["go_around"], f"go-around {number}"))
         out = []
-        for t, label in events:
+        for j, (t, label) in enumerate(events):
             p = at_time(ref, t)
             if p is None:
                 continue
             for ax in (side, zoom):
                 ax.plot(p[0], p[2], "o", color="white", mec="black", ms=5, zorder=5)
-                ax.annotate(label, (p[0], p[2]), xytext=(4, 6), textcoords="offset points", fontsize="x-small",
+                x0, x1 = ax.get_xlim()
+                right = p[0] > x0 + 0.8 * (x1 - x0)  # near the right edge: the label to the left
+                ax.annotate(label, (p[0], p[2]), xytext=(-4 if right else 4, 6 + 10 * (j % 2)),
+                            textcoords="offset points", ha="right" if right else "left", fontsize="x-small",
                             annotation_clip=True)
             out.append(label)
         return out

@@ -9,6 +9,7 @@ ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segmen
 
 import importlib.machinery
 import importlib.util
+import json
 import math
 import os
 import shutil
@@ -143,6 +144,75 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
                     "    - ned: [-100, 0, -50]   # block map entry\n"
                     "      Va_d: 17\n"
                     f"    - {{lla: [{ORIGIN[0]}, {ORIGIN[1] - 0.0011}, {ORIGIN[2] + 50}]}}\n")
+
+
+# A landing (heading east, touchdown point at the origin; along = east, across = -north): at rest,
+# a first approach that goes around at the decision height, the second flown to a stop.
+LAND_GS, LAND_HEADING, LAND_ENTRY = 0.0873, math.pi / 2, 40.0
+LAND_PHASES = [(0.0, 5, "preflight"), (10.0, 0, "takeoff"), (12.0, 1, "climb"), (20.0, 2, "cruise"),
+               (30.0, 6, "approach"), (51.3, 1, "climb"), (60.0, 2, "cruise"), (80.0, 6, "approach"),
+               (107.4, 7, "flare"), (111.0, 8, "rollout"), (120.0, 9, "stopped")]
+ITEM_HEADER = ["t [s]", "stamp [ns]", "revision []", "index []", "w_0 [m|deg]", "w_1 [m|deg]", "w_2 [m|deg]",
+               "lla [bool]", "chi_d [rad]", "use_chi [bool]", "Va_d [m/s]", "type [enum]", "loiter_radius [m]",
+               "loiter_direction []", "loiter_time [s]", "loiter_turns []"]
+LAND_FIELDS = ["land_glide_slope [rad]", "land_flare_height [m]", "land_decision_height [m]"]
+
+
+def landing_position(t):
+    """(along, height above the touchdown point) of the synthetic landing at time t."""
+    length = LAND_ENTRY / math.tan(LAND_GS)
+    if t < 30.0:
+        return (0.0, 0.0) if t < 10.0 else (-length - 300.0, LAND_ENTRY)
+    if t < 60.0:  # the first approach, 2 m high; the go-around at 51.3 s climbs out
+        along = -length + 15.0 * (t - 30.0)
+        climb = 3.0 * max(0.0, t - 51.3)
+        return along, -along * math.tan(LAND_GS) + 2.0 + climb
+    if t < 80.0:
+        return -length - 300.0, LAND_ENTRY
+    along = -length + 15.0 * (t - 80.0)  # the second approach; the flare at 107.4 s, on the wheels at 111 s
+    if t < 107.4:
+        return along, -along * math.tan(LAND_GS)
+    if t < 111.0:
+        return along, 4.0 * (111.0 - t) / 3.6
+    return 7.8 + 48.0 * (1.0 - math.exp(-(t - 111.0) / 3.0)), 0.0  # rolled out, stopped 56 m beyond
+
+
+def write_landing_run(run, land_item=True, approached=True):
+    """A run directory with the synthetic landing (truth 1 m north of the estimate, which is 0.3 m low)."""
+    os.makedirs(os.path.join(run, "topics"))
+    tp = os.path.join(run, "topics")
+    phases = [p for p in LAND_PHASES if approached or p[0] < 30.0]
+    truth, state, path = [], [], []
+    for k in range(int(125.0 * 20) + 1):
+        t = k / 20.0
+        along, h = landing_position(t)
+        row = [t, t * 1e9, -0.5 * math.sin(0.1 * t), along, -h, 15, 0, 0, 0, 0.05, LAND_HEADING, 15, 0.05,
+               LAND_HEADING, ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, 1, 0, 0]
+        truth.append(row)
+        state.append([t, t * 1e9, row[2] + 1.0, along, -h + 0.3] + row[5:])
+        land = approached and (30.0 <= t < 51.3 or t >= 80.0)
+        q = (0.0, math.cos(LAND_GS), math.sin(LAND_GS))
+        path.append([t, t * 1e9, 1, 15, 0, 0, 0, *q, 0, 0, 0, 0, 1, 1, int(land), 4, 12, 1 + (t >= 80.0)])
+    write_csv(os.path.join(tp, "truth.csv"), STATE_HEADER, truth)
+    write_csv(os.path.join(tp, "state.csv"), STATE_HEADER, state)
+    write_csv(os.path.join(tp, "current_path.csv"),
+              ["t [s]", "stamp [ns]", "path_type [enum]", "Va_d [m/s]", "r_n [m]", "r_e [m]", "r_d [m]", "q_n []",
+               "q_e []", "q_d []", "c_n [m]", "c_e [m]", "c_d [m]", "rho [m]", "lambda []", "waypoint_index []",
+               "landing [bool]", "flare_height [m]", "decision_height [m]", "attempt []"], path)
+    write_csv(os.path.join(tp, "flight_phase.csv"), ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
+              [[t, t * 1e9, code, 0, t * 1e9] for t, code, _ in phases])
+    items = [[0, 0, 1, 0, 0, -800, -LAND_ENTRY, 0, 0, 0, 17, 0, 0, 1, 0, 0, 0.0873, 4, 12]]
+    if land_item:
+        items.append([0, 0, 1, 1, 0, 0, 0, 0, LAND_HEADING, 0, 15, 3, 0, 1, 0, 0, LAND_GS, 4, 12])
+    write_csv(os.path.join(tp, "waypoints_items.csv"), ITEM_HEADER + LAND_FIELDS, items)
+    aim_n = truth[200][2]  # metrics.landing: about the truth at rest (10 s) plus the item's offset
+    landing = {"touchdown_t_s": 111.0, "touchdown_along_m": 7.8, "touchdown_across_m": -(truth[2220][2] - aim_n),
+               "sink_rate_mps": 1.11, "rollout_m": 48.0, "stopped": True} if approached else None
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"phases": [{"phase": name, "start_s": t, "reason": "r"} for t, _, name in phases],
+                   "controller_handovers": [], "failsafes": [],
+                   "instances": {"manager": {"plugin": "path_manager", "home_altitude_m": 0.0}},
+                   "metrics": {"window_start_s": None, **({"landing": landing} if landing else {})}}, f)
 
 
 def run_plot(*args):
