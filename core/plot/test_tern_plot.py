@@ -275,6 +275,56 @@ class TernPlotRuns(unittest.TestCase):
         self.assertIn(path, r.stdout.splitlines())
         self.assertIsNotNone(png_size(path))
 
+    def test_a_landing_gets_landing_png_with_its_markers(self):
+        run = os.path.join(self.tmp, "landing")
+        write_landing_run(run)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        path = os.path.join(run, "plots", "landing.png")
+        self.assertIn(path, r.stdout.splitlines())
+        size = png_size(path)
+        self.assertIsNotNone(size)
+        self.assertGreater(size[0], 1000)
+        self.assertFalse([ln for ln in r.stdout.splitlines() if "note:" in ln and "landing" in ln], r.stdout)
+        with open(os.path.join(run, "plots", "figures.json")) as f:
+            fig = {x["file"]: x for x in json.load(f)}["landing.png"]
+        self.assertEqual(fig["markers"], ["approach 1", "go-around 1", "approach 2", "flare", "rollout", "stopped",
+                                          "touchdown", "stop"])
+        legend = " ".join(fig["legend"])
+        for text in ("planned glide path (5.0 deg from the entry, 457 m short, 40 m up)", "flare height 4 m",
+                     "decision height 12 m", "touchdown t 111.0 s (metrics.landing, truth): +7.8 m along",
+                     "sink 1.11 m/s", "true, approach 2 (last)", "estimated, approach 1 (went around)",
+                     "stopped (true), rollout 48 m", "runway centre line (heading 90 deg)"):
+            self.assertIn(text, legend)
+        # the aim point on the field: the truth's last sample at rest plus the item's offset
+        self.assertIn("aim point on the field (truth at rest + item; -0.0 m along, +0.4 m across)", legend)
+        self.assertIn("runway's frame", fig["caption"])
+        with open(os.path.join(run, "plots", "index.html")) as f:
+            self.assertIn('<img src="landing.png"', f.read())
+
+    def test_no_landing_figure_without_a_land_item_or_an_approach(self):
+        plain = os.path.join(self.tmp, "plain")
+        write_run(plain)
+        r = run_plot("--strict", plain)   # no land item: nothing to say, no note
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(plain, "plots", "landing.png")))
+        run = os.path.join(self.tmp, "no_land_item")
+        write_landing_run(run, land_item=False, approached=False)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(run, "plots", "landing.png")))
+        self.assertNotIn("landing", r.stdout)
+        with open(os.path.join(run, "plots", "figures.json")) as f:
+            self.assertNotIn("landing.png", [x["file"] for x in json.load(f)])
+        run = os.path.join(self.tmp, "never_approached")
+        write_landing_run(run, approached=False)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(run, "plots", "landing.png")))
+        notes = [ln for ln in r.stdout.splitlines() if "landing" in ln]
+        self.assertEqual(notes, ["tern plot: note: landing.png not drawn: the land item (topics/waypoints_items.csv) "
+                                 "was never approached: no approach phase"])
+
     def test_missing_topics_are_skipped_with_a_note(self):
         run = os.path.join(self.tmp, "run")
         write_run(run, topics=("state", "controller_command"), config=False)
@@ -431,6 +481,29 @@ class Pieces(unittest.TestCase):
         self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
         v = np.array([0.9, 0.0, 0.7, 0.1, 0.1, -0.7, 0.2, 0.2, 0.2, 0.3, 0.1, -0.3])
         self.assertEqual(TP.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
+
+    def test_landing_approaches_and_the_runway_frame(self):
+        import tern_plot_landing as TLand
+        spans = [(0.0, 10.0, "preflight"), (10.0, 30.0, "climb"), (30.0, 51.0, "approach"), (51.0, 60.0, "climb"),
+                 (60.0, 80.0, "approach"), (80.0, 84.0, "flare"), (84.0, 90.0, "rollout"), (90.0, 95.0, "stopped")]
+        a = TLand.approaches(spans)
+        self.assertEqual([(x["t0"], x["t1"], x["go_around"]) for x in a], [(30.0, 51.0, 51.0), (60.0, 95.0, None)])
+        self.assertEqual([n for _, n in a[1]["phases"]], ["approach", "flare", "rollout", "stopped"])
+        # runway heading east, touchdown point at n 10, e 20, d 1 (below the origin)
+        spec = {"td": np.array([10.0, 20.0, 1.0]), "heading": math.pi / 2}
+        along, across, height = TLand.runway_frame(spec, np.array([10.0, 7.0]), np.array([-80.0, 25.0]), np.array([-9.0, 1.0]))
+        np.testing.assert_allclose(along, [-100.0, 5.0], atol=1e-9)
+        np.testing.assert_allclose(across, [0.0, 3.0], atol=1e-9)   # south of an eastward runway: right of it
+        np.testing.assert_allclose(height, [10.0, 0.0], atol=1e-9)
+        run = {"summary": {}, "state": None, "run_dir": self.tmp, "t_end": 95.0, "phase": None, "waypoints": (None, True),
+               "truth": None, "config": {"mission": {"file": "m.yaml", "waypoints": [
+                   {"type": "land", "ned": [0, 0, 0], "heading": 2.3562, "flare_height": 3}]}}}
+        spec = TLand.land_item(run)   # from config.yaml: item.hpp's defaults for the rest
+        self.assertEqual((spec["source"], spec["flare_height"], spec["decision_height"], spec["glide_slope"]),
+                         ("config.yaml", 3.0, 12.0, 0.0873))
+        self.assertEqual(spec["heading"], 2.3562)
+        self.assertEqual(TLand.entry_height(dict(spec, prev_d=-70.0), run, []), 70.0)
+        self.assertEqual(TLand.entry_height(dict(spec, prev_d=-10.0), run, []), 24.0)  # raised: 2 decision heights
 
     def test_waypoints_added_in_flight(self):
         first = (0.0, 1, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0]]), np.array([0, 0]), np.zeros(2))
