@@ -206,8 +206,8 @@ def runway_frame(spec, n, e, d):
     return dn * c + de * s, -s * dn + c * de, spec["td"][2] - np.asarray(d)
 
 
-def track(topic, spec, t0, t1, masked=None):
-    """(t, along, across, height) of a state topic's positions within [t0, t1], or None."""
+def track(topic, spec, t0, t1, masked=None, dz=0.0):
+    """(t, along, across, height - dz) of a state topic's positions within [t0, t1], or None."""
     if topic is None or any(topic.get(f) is None for f in ("p_n", "p_e", "p_d")):
         return None
     t = topic.get("t")
@@ -215,7 +215,8 @@ def track(topic, spec, t0, t1, masked=None):
     if not sel.any():
         return None
     n, e, d = ((masked(topic, f) if masked else topic.get(f))[sel] for f in ("p_n", "p_e", "p_d"))
-    return (t[sel],) + tuple(runway_frame(spec, n, e, d))
+    along, across, height = runway_frame(spec, n, e, d)
+    return t[sel], along, across, height - dz
 
 
 def at_time(tr, t):
@@ -227,36 +228,51 @@ def at_time(tr, t):
     return p if all(math.isfinite(x) for x in p) else None
 
 
-def true_aim(run, spec):
-    """The aim point on the field in the runway frame (along, across): the truth's position at
-    rest (its last sample in preflight) plus the land item's offset, as metrics.landing measures."""
+def truth_home(run):
+    """The truth's position at rest (n, e, d; its last sample before the takeoff), or None."""
     truth = run["truth"]
     pre = [s for s in phase_spans(run) if s[2] == "preflight"]
-    if truth is None or truth.get("p_n") is None or not pre:
+    if truth is None or any(truth.get(f) is None for f in ("p_n", "p_e", "p_d")) or not pre:
         return None
-    t = truth.get("t")
-    k = int(np.searchsorted(t, pre[0][1], side="left")) - 1  # the last sample before the takeoff
-    if k < 0:
+    k = int(np.searchsorted(truth.get("t"), pre[0][1], side="left")) - 1
+    return None if k < 0 else np.array([truth.get(f)[k] for f in ("p_n", "p_e", "p_d")])
+
+
+def true_aim(run, spec):
+    """The aim point on the field in the runway frame (along, across): the truth's position at
+    rest plus the land item's offset, as metrics.landing measures; None without a truth at rest."""
+    home = truth_home(run)
+    if home is None:
         return None
-    n, e = np.array([truth.get("p_n")[k], truth.get("p_e")[k]]) + spec["td"][:2]
-    along, across, _ = runway_frame(spec, n, e, 0.0)
+    along, across, _ = runway_frame(spec, home[0] + spec["td"][0], home[1] + spec["td"][1], 0.0)
     return float(along), float(across)
+
+
+def truth_rebase(run):
+    """How much higher the truth is at rest than the estimate's home (m): the truth's heights
+    count from its own height at rest, as metrics.landing's and the manager's count from home (the
+    estimator's altitude origin, its first GNSS fix, is metres off; at rest both are on the
+    ground). 0 without a truth at rest."""
+    home = truth_home(run)
+    return 0.0 if home is None else float(-home[2] - home_altitude(run))
 
 
 # ----------------------------------------------------------------------------------------------
 # The figure
 # ----------------------------------------------------------------------------------------------
 
-CAPTION = ("Landing, in the runway's frame (the estimate's NED, the truth moved into it; along the runway heading "
-           "from the path manager's touchdown point, < 0 short of it). Top: side view, the height above the touchdown "
-           "point: the planned glide path (the glide slope from the approach entry down to the touchdown point, level "
-           "beyond), the flare and decision heights, the true and estimated trajectory of the last approach, its flare "
-           "and rollout (earlier approaches that went around fainter, to their go-around and climb-out), the phase "
-           "changes, the touchdown (summary.json's metrics.landing, on the truth); right: the same, closer, from "
-           "above the decision height to the stop. Bottom: top view, across the centre line (> 0 right of it, drawn "
-           "downwards as seen from above) against along: the centre line, the touchdown point, the aim point on the "
-           "field (the truth at rest plus the land item's offset, which metrics.landing measures from), the true and "
-           "estimated tracks, the touchdown and where the rollout stopped.")
+CAPTION = ("Landing in the runway's frame: along the runway heading from the path manager's touchdown point (< 0 "
+           "short of it), across the centre line (> 0 right of it), in the estimate's NED with the truth moved into "
+           "it. Top: side view, the height above the touchdown point (the estimate's above the manager's touchdown "
+           "point, counted from home; the truth's above its own height at rest, as metrics.landing counts): the "
+           "planned glide path (the glide slope from the approach entry down to the touchdown point, level beyond), "
+           "the flare and decision heights, the true and estimated trajectory of the last approach, its flare and "
+           "rollout (earlier approaches that went around fainter, to their go-around and climb-out), the phase "
+           "changes, the touchdown (summary.json's metrics.landing, on the truth). Bottom: top view, across (drawn "
+           "downwards: seen from above, flying to the right) against along: the centre line, the touchdown point, "
+           "the aim point on the field (the truth at rest plus the land item's offset, which metrics.landing measures "
+           "from), the true and estimated tracks, the touchdown and where the rollout stopped. Right: the same, "
+           "closer, from above the decision height to the stop.")
 
 
 class Landing:
@@ -277,51 +293,58 @@ class Landing:
         if not atts:
             return f"the land item ({spec['source']}) was never approached: no approach phase"
         spec["entry"] = entry_height(spec, run, atts)
+        spec["truth_dz"] = truth_rebase(run)
         drawn = [self._tracks(run, spec, a, k + 1 == len(atts)) for k, a in enumerate(atts)]
         if drawn[-1]["truth"] is None and drawn[-1]["est"] is None:
             return "no truth or estimate over the approach"
-        plt = self.h["plt"]
-        fig = plt.figure(figsize=(11, 9.5))
-        grid = fig.add_gridspec(2, 3, height_ratios=[1.1, 1.0])
-        side, zoom = fig.add_subplot(grid[0, :2]), fig.add_subplot(grid[0, 2])
-        top = fig.add_subplot(grid[1, :], sharex=side)
-        self._limits(spec, drawn[-1], side, zoom, top)
-        markers = self._draw(run, spec, drawn, side, zoom, top)
-        heading = math.degrees(spec["heading"]) % 360.0
-        fig.suptitle(f"landing - {run['label']}: runway heading {heading:.0f} deg, glide slope "
-                     f"{math.degrees(spec['glide_slope']):.1f} deg (land item: {spec['source']})",
-                     x=0.01, ha="left", fontsize="medium")
+        fig, axes = self._axes(run, spec)
+        self._limits(spec, drawn[-1], axes)
+        markers = self._draw(run, spec, drawn, axes)
+        side, top = axes["side"][0], axes["top"][0]
         side.legend(loc="upper right", fontsize="x-small")
-        top.legend(loc="upper center", bbox_to_anchor=(0.5, -0.13), ncol=3, fontsize="x-small", frameon=False)
+        top.legend(loc="upper center", bbox_to_anchor=(0.75, -0.13), ncol=3, fontsize="x-small", frameon=False)
         legend = side.get_legend_handles_labels()[1] + top.get_legend_handles_labels()[1]
         fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.93, hspace=0.22, wspace=0.3)
         self.h["save"](fig, out, "landing.png", CAPTION, markers, legend)
         return None
 
+    def _axes(self, run, spec):
+        """The figure: {"side": (whole, closer), "top": (whole, closer)}; the closer ones on the right."""
+        fig = self.h["plt"].figure(figsize=(11, 10))
+        grid = fig.add_gridspec(2, 3, height_ratios=[1.1, 1.0])
+        side, zoom = fig.add_subplot(grid[0, :2]), fig.add_subplot(grid[0, 2])
+        top, top_zoom = fig.add_subplot(grid[1, :2], sharex=side), fig.add_subplot(grid[1, 2], sharex=zoom)
+        heading = math.degrees(spec["heading"]) % 360.0
+        fig.suptitle(f"landing - {run['label']}: runway heading {heading:.0f} deg, glide slope "
+                     f"{math.degrees(spec['glide_slope']):.1f} deg (land item: {spec['source']})",
+                     x=0.01, ha="left", fontsize="medium")
+        return fig, {"side": (side, zoom), "top": (top, top_zoom)}
+
     def _tracks(self, run, spec, a, last):
         """One approach's true and estimated tracks in the runway frame (an earlier one to its
         go-around plus CLIMB_OUT s)."""
         t1 = a["t1"] if last or a["go_around"] is None else a["go_around"] + CLIMB_OUT
-        return {"a": a, "last": last, "truth": track(run["truth"], spec, a["t0"], t1),
+        return {"a": a, "last": last, "truth": track(run["truth"], spec, a["t0"], t1, dz=spec["truth_dz"]),
                 "est": track(run["state"], spec, a["t0"], t1, self.h["est"])}
 
-    def _draw(self, run, spec, drawn, side, zoom, top):
-        """Everything on the three axes; returns the markers' labels (phase changes, go-arounds,
+    def _draw(self, run, spec, drawn, axes):
+        """Everything on the axes; returns the markers' labels (phase changes, go-arounds,
         touchdown, stop)."""
-        for ax in (side, zoom):
-            self._plan(ax, spec, drawn[-1], ax is side)
-        top.axhline(0.0, color="0.3", lw=1.0, zorder=1,
-                    label=f"runway centre line (heading {math.degrees(spec['heading']) % 360.0:.0f} deg)")
-        top.plot(0.0, 0.0, "D", color=C_PLAN, mec="black", ms=7, zorder=6, label="touchdown point (path manager's)")
+        for ax in axes["side"]:
+            self._plan(ax, spec, drawn[-1], ax is axes["side"][0])
         aim = true_aim(run, spec)
-        if aim is not None:
-            top.plot(*aim, "P", color="gold", mec="black", ms=9, zorder=6,
-                     label=f"aim point on the field (truth at rest + item; {aim[0]:+.1f} m along, {aim[1]:+.1f} m across)")
+        for k, ax in enumerate(axes["top"]):
+            ax.axhline(0.0, color="0.3", lw=1.0, zorder=1, label=None if k else
+                       f"runway centre line (heading {math.degrees(spec['heading']) % 360.0:.0f} deg)")
+            ax.plot(0.0, 0.0, "D", color=C_PLAN, mec="black", ms=7, zorder=6,
+                    label=None if k else "touchdown point (path manager's)")
+            if aim is not None:
+                ax.plot(*aim, "P", color="gold", mec="black", ms=9, zorder=6, label=None if k else
+                        f"aim point on the field (truth at rest + item; {aim[0]:+.1f} m along, {aim[1]:+.1f} m across)")
         markers = []
         for k, d in enumerate(drawn):
-            markers += self._approach(d, k + 1, side, zoom, top)
-        markers += self._touchdown(run, drawn[-1], side, zoom, top)
-        return markers
+            markers += self._approach(d, k + 1, axes)
+        return markers + self._touchdown(run, drawn[-1], axes)
 
     def _plan(self, ax, spec, last, labels):
         """The planned glide path (entry to touchdown, level beyond), flare and decision heights."""
@@ -338,7 +361,7 @@ class Landing:
         ax.axvline(0.0, color="0.5", lw=0.6, zorder=1)
         ax.axhline(0.0, color="0.5", lw=0.6, zorder=1)
 
-    def _approach(self, d, number, side, zoom, top):
+    def _approach(self, d, number, axes):
         """One approach's tracks (the last full, earlier ones faint) and its phase changes."""
         a, last = d["a"], d["last"]
         style = {"lw": 1.2, "alpha": 1.0} if last else {"lw": 0.8, "alpha": 0.35}
@@ -347,9 +370,10 @@ class Landing:
             tr = d[key]
             if tr is None:
                 continue
-            for ax in (side, zoom):
+            for ax in axes["side"]:
                 ax.plot(tr[1], tr[3], color=colour, zorder=3, **style)
-            top.plot(tr[1], tr[2], color=colour, zorder=3, label=f"{name}, {what}", **style)
+            for k, ax in enumerate(axes["top"]):
+                ax.plot(tr[1], tr[2], color=colour, zorder=3, label=None if k else f"{name}, {what}", **style)
         ref = d["est"] if d["est"] is not None else d["truth"]
         events = [(t, f"{name} {number}" if name == "approach" or not last else name) for t, name in a["phases"]]
         if a["go_around"] is not None:
@@ -357,47 +381,65 @@ class Landing:
         out = []
         for j, (t, label) in enumerate(events):
             p = at_time(ref, t)
-            if p is None:
-                continue
-            for ax in (side, zoom):
-                ax.plot(p[0], p[2], "o", color="white", mec="black", ms=5, zorder=5)
-                x0, x1 = ax.get_xlim()
-                right = p[0] > x0 + 0.8 * (x1 - x0)  # near the right edge: the label to the left
-                ax.annotate(label, (p[0], p[2]), xytext=(-4 if right else 4, 6 + 10 * (j % 2)),
-                            textcoords="offset points", ha="right" if right else "left", fontsize="x-small",
-                            annotation_clip=True)
-            out.append(label)
+            if p is not None:
+                self._event(axes["side"], p, label, j)
+                out.append(label)
         return out
 
-    def _touchdown(self, run, last, side, zoom, top):
+    def _event(self, sides, p, label, j):
+        """A phase change on the side views: a dot, its label (on the whole view only where the
+        closer one does not show it)."""
+        for ax in sides:
+            ax.plot(p[0], p[2], "o", color="white", mec="black", ms=5, zorder=5)
+            x0, x1 = ax.get_xlim()
+            if ax is sides[0] and sides[1].get_xlim()[0] <= p[0] <= sides[1].get_xlim()[1]:
+                continue
+            right = p[0] > x0 + 0.8 * (x1 - x0)  # near the right edge: the label to the left
+            ax.annotate(label, (p[0], p[2]), xytext=(-4 if right else 4, 6 + 10 * (j % 2)), textcoords="offset points",
+                        ha="right" if right else "left", fontsize="x-small", annotation_clip=True, zorder=8,
+                        bbox=dict(boxstyle="round,pad=0.1", fc="white", ec="none", alpha=0.75))
+
+    def _touchdown(self, run, last, axes):
         """metrics.landing's touchdown (the truth at its time) and the stop point."""
         out = []
         m = run["summary"].get("metrics", {}).get("landing")
-        tr = last["truth"] if last["truth"] is not None else last["est"]
         if isinstance(m, dict) and isinstance(m.get("touchdown_t_s"), (int, float)):
             p = at_time(last["truth"], float(m["touchdown_t_s"]))
             if p is not None:
                 label = (f"touchdown t {m['touchdown_t_s']:.1f} s (metrics.landing, truth): {_num(m, 'touchdown_along_m')} "
                          f"m along, {_num(m, 'touchdown_across_m')} m across the aim point, sink "
                          f"{_num(m, 'sink_rate_mps', '.2f')} m/s")
-                for ax in (side, zoom):
-                    ax.plot(p[0], p[2], "v", color=C_TD, mec="black", ms=9, zorder=7, label=label if ax is side else None)
-                top.plot(p[0], p[1], "v", color=C_TD, mec="black", ms=9, zorder=7)
+                for ax in axes["side"]:
+                    ax.plot(p[0], p[2], "v", color=C_TD, mec="black", ms=9, zorder=7,
+                            label=label if ax is axes["side"][0] else None)
+                for ax in axes["top"]:
+                    ax.plot(p[0], p[1], "v", color=C_TD, mec="black", ms=9, zorder=7)
                 out.append("touchdown")
-        stop = [t for t, name in last["a"]["phases"] if name == "stopped"]
-        if tr is not None and (stop or last["a"]["phases"][-1][1] == "rollout"):
-            p = at_time(tr, stop[0]) if stop else (float(tr[1][-1]), float(tr[2][-1]), float(tr[3][-1]))
-            if p is not None:
-                rollout = f", rollout {m['rollout_m']:.0f} m (metrics.landing)" if isinstance(m, dict) and \
-                    isinstance(m.get("rollout_m"), (int, float)) else ""
-                what = "stopped" if stop else "end of the rollout (not stopped)"
-                top.plot(p[0], p[1], "s", color=C_STOP, mec="black", ms=8, zorder=7,
-                         label=f"{what} ({'true' if tr is last['truth'] else 'estimated'}){rollout}")
-                out.append("stop")
+        stop = self._stop(last, m)
+        if stop is not None:
+            for k, ax in enumerate(axes["top"]):
+                ax.plot(stop[0], stop[1], "s", color=C_STOP, mec="black", ms=8, zorder=7, label=None if k else stop[2])
+            out.append("stop")
         return out
 
-    def _limits(self, spec, last, side, zoom, top):
-        """The side and top views from the entry to the stop; the zoom from 1.3 decision heights."""
+    def _stop(self, last, m):
+        """(along, across, label) where the rollout stopped (the phase stopped began) or, not
+        stopped, ended; on the truth, else the estimate. None before a rollout."""
+        tr = last["truth"] if last["truth"] is not None else last["est"]
+        stop = [t for t, name in last["a"]["phases"] if name == "stopped"]
+        if tr is None or not (stop or last["a"]["phases"][-1][1] == "rollout"):
+            return None
+        p = at_time(tr, stop[0]) if stop else (float(tr[1][-1]), float(tr[2][-1]), float(tr[3][-1]))
+        if p is None:
+            return None
+        rollout = f", rollout {m['rollout_m']:.0f} m (metrics.landing)" if isinstance(m, dict) and \
+            isinstance(m.get("rollout_m"), (int, float)) else ""
+        what = "stopped" if stop else "end of the rollout (not stopped)"
+        return p[0], p[1], f"{what} ({'true' if tr is last['truth'] else 'estimated'}){rollout}"
+
+    def _limits(self, spec, last, axes):
+        """The whole views from the entry to the stop; the closer ones from 1.3 decision heights."""
+        (side, zoom), (top, top_zoom) = axes["side"], axes["top"]
         tan = math.tan(spec["glide_slope"])
         lo = min(-spec["entry"] / tan, _min_along(last))
         hi = max(_max_along(last), 20.0)
@@ -407,13 +449,14 @@ class Landing:
         z0 = -1.3 * spec["decision_height"] / tan
         zoom.set_xlim(z0, hi + 0.05 * (hi - z0))
         zoom.set_ylim(min(-0.5, _min_height(last, z0) - 0.3), 1.35 * spec["decision_height"])
-        top.invert_yaxis()  # right of the centre line downwards: seen from above, flying to the right
+        for ax in (top, top_zoom):
+            ax.invert_yaxis()  # right of the centre line downwards: seen from above, flying to the right
         side.set_ylabel("height above the touchdown point [m]")
         zoom.set_title("closer: decision height to the stop", fontsize="small")
         top.set_ylabel("across [m], > 0 right (down)")
         top.set_xlabel("along the runway heading from the touchdown point [m] (< 0 short)")
-        zoom.set_xlabel("along [m]")
-        for ax in (side, zoom, top):
+        top_zoom.set_xlabel("along [m]")
+        for ax in (side, zoom, top, top_zoom):
             ax.grid(True, lw=0.4, alpha=0.6)
 
 
