@@ -219,9 +219,10 @@ def track(topic, spec, t0, t1, masked=None, dz=0.0):
     return t[sel], along, across, height - dz
 
 
-def at_time(tr, t):
-    """(along, across, height) of a track at time t (the nearest sample at or after it), or None."""
-    if tr is None or not (tr[0][0] <= t <= tr[0][-1]):
+def at_time(tr, t, slack=0.1):
+    """(along, across, height) of a track at time t (its first sample at or after t; the last
+    one for t up to `slack` s after it), or None."""
+    if tr is None or not (tr[0][0] <= t <= tr[0][-1] + slack):
         return None
     k = min(int(np.searchsorted(tr[0], t)), len(tr[0]) - 1)
     p = (float(tr[1][k]), float(tr[2][k]), float(tr[3][k]))
@@ -316,7 +317,7 @@ class Landing:
         top, top_zoom = fig.add_subplot(grid[1, :2], sharex=side), fig.add_subplot(grid[1, 2], sharex=zoom)
         heading = math.degrees(spec["heading"]) % 360.0
         fig.suptitle(f"landing - {run['label']}: runway heading {heading:.0f} deg, glide slope "
-                     f"{math.degrees(spec['glide_slope']):.1f} deg (land item: {spec['source']})",
+                     f"{math.degrees(spec['glide_slope']):.1f} deg, from {spec['source'].split('/')[-1]}{_abandoned(run)}",
                      x=0.01, ha="left", fontsize="medium")
         return fig, {"side": (side, zoom), "top": (top, top_zoom)}
 
@@ -365,7 +366,8 @@ class Landing:
         """One approach's tracks (the last full, earlier ones faint) and its phase changes."""
         a, last = d["a"], d["last"]
         style = {"lw": 1.2, "alpha": 1.0} if last else {"lw": 0.8, "alpha": 0.35}
-        what = f"approach {number} (last)" if last else f"approach {number} (went around)"
+        what = ", ".join((["last"] if last else []) + (["went around"] if a["go_around"] is not None else []))
+        what = f"approach {number} ({what})"
         for key, colour, name in (("truth", self.h["C_TRUE"], "true"), ("est", self.h["C_EST"], "estimated")):
             tr = d[key]
             if tr is None:
@@ -382,13 +384,14 @@ class Landing:
         for j, (t, label) in enumerate(events):
             p = at_time(ref, t)
             if p is not None:
-                self._event(axes["side"], p, label, j)
+                self._event(axes["side"], p, label, j + number)
                 out.append(label)
         return out
 
     def _event(self, sides, p, label, j):
         """A phase change on the side views: a dot, its label (on the whole view only where the
-        closer one does not show it)."""
+        closer one does not show it) at one of two heights by j's parity, so that the next event
+        and the same event of the approach before do not hide it."""
         for ax in sides:
             ax.plot(p[0], p[2], "o", color="white", mec="black", ms=5, zorder=5)
             x0, x1 = ax.get_xlim()
@@ -485,6 +488,15 @@ def _max_height(last):
 def _min_height(last, lo=-math.inf):
     v = _values(last, 3, lo)
     return float(v.min()) if len(v) else 0.0
+
+
+def _abandoned(run):
+    """The title's "; abandoned after N approaches" when the path manager abandoned the landing
+    (summary.json's instances), else ""."""
+    for inst in (run["summary"].get("instances") or {}).values():
+        if isinstance(inst, dict) and inst.get("land_abandoned") == 1:
+            return f"; abandoned after {inst.get('land_approaches', 0):.0f} approaches"
+    return ""
 
 
 def _num(m, key, spec="+.1f"):
