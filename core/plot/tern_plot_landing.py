@@ -1,18 +1,22 @@
 """tern plot: landing.png, the landing of a flight with a land item (docs/landing.md).
 
 The runway's frame: along (m, along the runway heading from the touchdown point; < 0 short of
-it), across (m, > 0 right of the centre line) and the height above the touchdown point. It is
-the estimate's NED (tern plot's one frame, the truth moved into it): the touchdown point is the
-path manager's, the land item's position with its altitude counted from home (the estimate at
-rest before the takeoff), so the gap between the true and the estimated trajectory is the
-estimation error. summary.json's metrics.landing measures the touchdown on the truth about the
-aim point on the field (the item's offset from the aircraft's true position at rest,
+it), across (m, > 0 right of the centre line) and the height above the touchdown point. Along
+and across are in the estimate's NED (tern plot's one frame, the truth moved into it) about the
+path manager's touchdown point, the land item's position; the gap between the true and the
+estimated track is the estimation error. Heights count from home on both sides, as the landing
+does: the estimate's above the manager's touchdown point (the item's altitude counted from home,
+the estimate at rest before the takeoff), the truth's above its own height at rest plus the
+item's (the estimator's altitude origin, its first GNSS fix, is metres off: the other figures
+show that as an altitude error; here the gap is the estimate's drift since the takeoff).
+summary.json's metrics.landing measures the touchdown on the truth about the aim point on the
+field (the item's offset from the aircraft's true position at rest,
 core/src/record/landing_report.hpp): that aim point is marked too, and the touchdown marker is
 the true position at metrics.landing's touchdown time.
 
 The land item: topics/current_path.csv's landing rows (the glide path flown: touchdown point r,
 direction q, flare and decision heights), else the last list of topics/waypoints_items.csv, else
-config.yaml's mission (type: land); missing values are tern/path/item.hpp's defaults. The glide
+config.yaml's inline mission waypoints (type: land); missing values are tern/path/item.hpp's defaults. The glide
 path starts at the approach entry: where it meets the altitude of the item before the land item,
 at least kMinEntryHeights decision heights up (plugins/path/src/landing.cpp)."""
 
@@ -35,15 +39,16 @@ C_PLAN, C_FLARE, C_DH, C_TD, C_STOP = "#d62728", "#17becf", "#ff7f0e", "#2ca02c"
 # ----------------------------------------------------------------------------------------------
 
 
-def land_item(run):
-    """{td (n, e, d), heading, glide_slope, flare_height, decision_height, prev_d, source} or None."""
+def land_item(run, spans):
+    """{td (n, e, d), heading, glide_slope, flare_height, decision_height, prev_d, source} or None;
+    spans: phase_spans(run)."""
     spec = _from_items(run) or _from_config(run)
     path = _from_path(run)
     if path is not None:  # the glide path flown; the item before the land item from the mission
         path["prev_d"] = spec["prev_d"] if spec else None
         return path
     if spec is not None:
-        spec["td"][2] -= home_altitude(run)  # the manager counts the item's altitude from home
+        spec["td"][2] -= home_altitude(run, spans)  # the manager counts the item's altitude from home
     return spec
 
 
@@ -131,14 +136,14 @@ def _lla(lla, run):
     return None if origin is None else np.array(lla_to_ned([float(x) for x in lla], origin))
 
 
-def home_altitude(run):
+def home_altitude(run, spans):
     """Home's altitude in the estimate's frame (m, up): the path manager's home_altitude_m in
     summary.json, else the mean valid estimate during preflight, else 0."""
     for inst in (run["summary"].get("instances") or {}).values():
         if isinstance(inst, dict) and isinstance(inst.get("home_altitude_m"), (int, float)):
             return float(inst["home_altitude_m"])
     state = run["state"]
-    pre = [(t0, t1) for t0, t1, name in phase_spans(run) if name == "preflight"]
+    pre = [(t0, t1) for t0, t1, name in spans if name == "preflight"]
     if state is not None and pre and state.get("p_d") is not None:
         t = state.get("t")
         sel = (t >= pre[0][0]) & (t <= pre[0][1]) & (state.get("valid") > 0.5)
@@ -229,33 +234,33 @@ def at_time(tr, t, slack=0.1):
     return p if all(math.isfinite(x) for x in p) else None
 
 
-def truth_home(run):
+def truth_home(run, spans):
     """The truth's position at rest (n, e, d; its last sample before the takeoff), or None."""
     truth = run["truth"]
-    pre = [s for s in phase_spans(run) if s[2] == "preflight"]
+    pre = [s for s in spans if s[2] == "preflight"]
     if truth is None or any(truth.get(f) is None for f in ("p_n", "p_e", "p_d")) or not pre:
         return None
     k = int(np.searchsorted(truth.get("t"), pre[0][1], side="left")) - 1
     return None if k < 0 else np.array([truth.get(f)[k] for f in ("p_n", "p_e", "p_d")])
 
 
-def true_aim(run, spec):
+def true_aim(run, spec, spans):
     """The aim point on the field in the runway frame (along, across): the truth's position at
     rest plus the land item's offset, as metrics.landing measures; None without a truth at rest."""
-    home = truth_home(run)
+    home = truth_home(run, spans)
     if home is None:
         return None
     along, across, _ = runway_frame(spec, home[0] + spec["td"][0], home[1] + spec["td"][1], 0.0)
     return float(along), float(across)
 
 
-def truth_rebase(run):
+def truth_rebase(run, spans):
     """How much higher the truth is at rest than the estimate's home (m): the truth's heights
     count from its own height at rest, as metrics.landing's and the manager's count from home (the
     estimator's altitude origin, its first GNSS fix, is metres off; at rest both are on the
     ground). 0 without a truth at rest."""
-    home = truth_home(run)
-    return 0.0 if home is None else float(-home[2] - home_altitude(run))
+    home = truth_home(run, spans)
+    return 0.0 if home is None else float(-home[2] - home_altitude(run, spans))
 
 
 # ----------------------------------------------------------------------------------------------
@@ -287,14 +292,16 @@ class Landing:
         if len(runs) != 1:
             return ""
         run = runs[0]
-        spec = land_item(run)
+        spans = phase_spans(run, self.h["PHASES"])
+        spec = land_item(run, spans)
         if spec is None:
             return ""
-        atts = approaches(phase_spans(run, self.h["PHASES"]))
+        atts = approaches(spans)
         if not atts:
             return f"the land item ({spec['source']}) was never approached: no approach phase"
         spec["entry"] = entry_height(spec, run, atts)
-        spec["truth_dz"] = truth_rebase(run)
+        spec["truth_dz"] = truth_rebase(run, spans)
+        spec["aim"] = true_aim(run, spec, spans)
         drawn = [self._tracks(run, spec, a, k + 1 == len(atts)) for k, a in enumerate(atts)]
         if drawn[-1]["truth"] is None and drawn[-1]["est"] is None:
             return "no truth or estimate over the approach"
@@ -333,7 +340,7 @@ class Landing:
         touchdown, stop)."""
         for ax in axes["side"]:
             self._plan(ax, spec, drawn[-1], ax is axes["side"][0])
-        aim = true_aim(run, spec)
+        aim = spec["aim"]
         for k, ax in enumerate(axes["top"]):
             ax.axhline(0.0, color="0.3", lw=1.0, zorder=1, label=None if k else
                        f"runway centre line (heading {math.degrees(spec['heading']) % 360.0:.0f} deg)")

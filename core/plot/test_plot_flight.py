@@ -270,13 +270,14 @@ class Flights(unittest.TestCase):
         self.assertNotIn("landing.png", [f for f in figures(self.plots_a)])  # no land item: none
         TP.NOTES.clear()
         ctx = TP.load_run(self.land, False)
-        spec = TLand.land_item(ctx)  # the manager's touchdown point: the item (0, 0, 0) from home
+        spans = TLand.phase_spans(ctx)
+        spec = TLand.land_item(ctx, spans)  # the manager's touchdown point: the item (0, 0, 0) from home
         home = next(i["home_altitude_m"] for i in s["instances"].values() if isinstance(i, dict) and "home_altitude_m" in i)
         np.testing.assert_allclose(spec["td"], [0.0, 0.0, -home], atol=1e-6)
-        last = TLand.approaches(TLand.phase_spans(ctx))[-1]
-        tr = TLand.track(ctx["truth"], spec, last["t0"], last["t1"], dz=TLand.truth_rebase(ctx))
+        last = TLand.approaches(spans)[-1]
+        tr = TLand.track(ctx["truth"], spec, last["t0"], last["t1"], dz=TLand.truth_rebase(ctx, spans))
         along, across, height = TLand.at_time(tr, m["touchdown_t_s"])
-        aim = TLand.true_aim(ctx, spec)
+        aim = TLand.true_aim(ctx, spec, spans)
         self.assertAlmostEqual(along - aim[0], m["touchdown_along_m"], delta=0.3)
         self.assertAlmostEqual(across - aim[1], m["touchdown_across_m"], delta=0.1)
         self.assertAlmostEqual(height, 0.0, delta=0.1)  # the true CG at its height at rest: on the wheels

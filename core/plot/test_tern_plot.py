@@ -498,7 +498,7 @@ class Pieces(unittest.TestCase):
         run = {"summary": {}, "state": None, "run_dir": self.tmp, "t_end": 95.0, "phase": None, "waypoints": (None, True),
                "truth": None, "config": {"mission": {"file": "m.yaml", "waypoints": [
                    {"type": "land", "ned": [0, 0, 0], "heading": 2.3562, "flare_height": 3}]}}}
-        spec = TLand.land_item(run)   # from config.yaml: item.hpp's defaults for the rest
+        spec = TLand.land_item(run, [])   # from config.yaml: item.hpp's defaults for the rest
         self.assertEqual((spec["source"], spec["flare_height"], spec["decision_height"], spec["glide_slope"]),
                          ("config.yaml", 3.0, 12.0, 0.0873))
         self.assertEqual(spec["heading"], 2.3562)
