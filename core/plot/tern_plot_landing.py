@@ -455,7 +455,7 @@ class Landing:
         hi = max(_max_along(last), 20.0)
         pad = 0.02 * (hi - lo)
         side.set_xlim(lo - pad, hi + pad)
-        side.set_ylim(min(-2.0, _min_height(last) - 1.0), 1.12 * max(spec["entry"], _max_height(last)))
+        side.set_ylim(min(-2.0, _min_height(last) - 1.0), 1.2 * max(spec["entry"], _max_height(last)))
         z0 = -1.3 * spec["decision_height"] / tan
         zoom.set_xlim(z0, hi + 0.05 * (hi - z0))
         zoom.set_ylim(min(-0.5, _min_height(last, z0) - 0.3), 1.35 * spec["decision_height"])
