@@ -10,7 +10,9 @@ a limit; every time figure carries the phase, handover, fallback and failsafe ma
 waypoint list flown last with the added loiter; +-3 sigma bands that hold the errors; the legend's
 RMSE equal to summary.json's over the same window, which it names; a replay with two estimator
 instances (one colour each) and a replay against the recorded estimate; the overlay of A and B;
-index.html in headless Chromium (every image loaded, summary values shown).
+index.html in headless Chromium (every image loaded, summary values shown). And the default
+mission flown one loop, then its land item: landing.png's markers, and its touchdown marker where
+summary.json's metrics.landing measured it.
 """
 import csv
 import json
@@ -22,6 +24,7 @@ import tempfile
 import unittest
 
 from test_tern_plot import SCRIPT, TP, np  # (re-executes with Debian's python3 when numpy is missing)
+import tern_plot_landing as TLand  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TERN = None
@@ -57,6 +60,19 @@ CTL_B = ("{name: ctl, plugin: test_controller, rate: 100, params: {tag: 0.168, h
          "fail_mode: throw, fail_at: 30}}")
 EKF_B = ("  - {name: ekf_b, plugin: estimator_ekf, rate: 400, params: {gnss_vel_noise_h: 1.0, wind_walk: 0.05}, "
          "remap: {state: state_b, innovations: innovations_b}}\n")
+
+
+def landing_mission():
+    """configs/missions/default.yaml flown one loop of the hourglass, then its land item."""
+    with open(os.path.join(REPO, "configs", "missions", "default.yaml")) as f:
+        text = f.read()
+    for old, new in (("name: default", "name: plot_land"), ("aircraft: ../", f"aircraft: {REPO}/configs/"),
+                     ("param_file: ../", f"param_file: {REPO}/configs/"), ("loops: 5", "loops: 1"),
+                     ("file: fixedwing_mission.yaml", f"file: {REPO}/configs/missions/fixedwing_mission.yaml")):
+        if old not in text:
+            raise AssertionError(f"default.yaml has no '{old}'")
+        text = text.replace(old, new)
+    return text
 
 
 def mission(name, ctl, dropout, extra_estimator=""):
@@ -108,6 +124,9 @@ class Flights(unittest.TestCase):
             paths[name] = os.path.join(cls.tmp, name + ".yaml")
             with open(paths[name], "w") as f:
                 f.write(mission(name, ctl, dropout, extra))
+        paths["plot_land"] = os.path.join(cls.tmp, "plot_land.yaml")
+        with open(paths["plot_land"], "w") as f:
+            f.write(landing_mission())
         cls.a = log_dir_of(run([TERN, "fly", paths["plot_a"], "--duration", "75", "--log-dir", logs, "-q"]).stdout)
         cls.b = log_dir_of(run([TERN, "fly", paths["plot_b"], "--duration", "45", "--log-dir", logs, "-q"]).stdout)
         # replays of A: with its own config (the recorded estimate beside), with two estimators
@@ -117,6 +136,8 @@ class Flights(unittest.TestCase):
         cls.plots_b = plot(cls.b)
         cls.plots_r2 = plot(cls.r2)
         cls.plots_ab = plot(cls.a, cls.b)
+        cls.land = log_dir_of(run([TERN, "fly", paths["plot_land"], "--log-dir", logs, "-q"]).stdout)
+        cls.plots_land = plot("--strict", cls.land)
         cls.sa = summary(cls.a)
         TP.NOTES.clear()
 
@@ -237,6 +258,29 @@ class Flights(unittest.TestCase):
         self.assertIn(f"{names[1]}: fallback: ctl -> slc", markers)
         self.assertEqual(len(markers), len(set(markers)), "a marker both runs share is drawn once")
         self.assertIn(f"{names[0]}: failsafe gnss_loss", markers)
+
+    def test_landing_figure_marks_the_touchdown_metrics_landing_measured(self):
+        s = summary(self.land)
+        self.assertEqual(s["end_reason"], "landed")
+        m = s["metrics"]["landing"]
+        fig = figures(self.plots_land)["landing.png"]
+        self.assertEqual(fig["markers"], ["approach 1", "flare", "rollout", "stopped", "touchdown", "stop"])
+        self.assertIn(f"touchdown t {m['touchdown_t_s']:.1f} s (metrics.landing, truth): {m['touchdown_along_m']:+.1f} m "
+                      f"along, {m['touchdown_across_m']:+.1f} m across the aim point", " ".join(fig["legend"]))
+        self.assertNotIn("landing.png", [f for f in figures(self.plots_a)])  # no land item: none
+        TP.NOTES.clear()
+        ctx = TP.load_run(self.land, False)
+        spans = TLand.phase_spans(ctx)
+        spec = TLand.land_item(ctx, spans)  # the manager's touchdown point: the item (0, 0, 0) from home
+        home = next(i["home_altitude_m"] for i in s["instances"].values() if isinstance(i, dict) and "home_altitude_m" in i)
+        np.testing.assert_allclose(spec["td"], [0.0, 0.0, -home], atol=1e-6)
+        last = TLand.approaches(spans)[-1]
+        tr = TLand.track(ctx["truth"], spec, last["t0"], last["t1"], dz=TLand.truth_rebase(ctx, spans))
+        along, across, height = TLand.at_time(tr, m["touchdown_t_s"])
+        aim = TLand.true_aim(ctx, spec, spans)
+        self.assertAlmostEqual(along - aim[0], m["touchdown_along_m"], delta=0.3)
+        self.assertAlmostEqual(across - aim[1], m["touchdown_across_m"], delta=0.1)
+        self.assertAlmostEqual(height, 0.0, delta=0.1)  # the true CG at its height at rest: on the wheels
 
     def test_index_html_in_headless_chromium(self):
         try:

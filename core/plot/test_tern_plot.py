@@ -9,6 +9,7 @@ ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segmen
 
 import importlib.machinery
 import importlib.util
+import json
 import math
 import os
 import shutil
@@ -145,6 +146,75 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
                     f"    - {{lla: [{ORIGIN[0]}, {ORIGIN[1] - 0.0011}, {ORIGIN[2] + 50}]}}\n")
 
 
+# A landing (heading east, touchdown point at the origin; along = east, across = -north): at rest,
+# a first approach that goes around at the decision height, the second flown to a stop.
+LAND_GS, LAND_HEADING, LAND_ENTRY = 0.0873, math.pi / 2, 40.0
+LAND_PHASES = [(0.0, 5, "preflight"), (10.0, 0, "takeoff"), (12.0, 1, "climb"), (20.0, 2, "cruise"),
+               (30.0, 6, "approach"), (51.3, 1, "climb"), (60.0, 2, "cruise"), (80.0, 6, "approach"),
+               (107.4, 7, "flare"), (111.0, 8, "rollout"), (120.0, 9, "stopped")]
+ITEM_HEADER = ["t [s]", "stamp [ns]", "revision []", "index []", "w_0 [m|deg]", "w_1 [m|deg]", "w_2 [m|deg]",
+               "lla [bool]", "chi_d [rad]", "use_chi [bool]", "Va_d [m/s]", "type [enum]", "loiter_radius [m]",
+               "loiter_direction []", "loiter_time [s]", "loiter_turns []"]
+LAND_FIELDS = ["land_glide_slope [rad]", "land_flare_height [m]", "land_decision_height [m]"]
+
+
+def landing_position(t):
+    """(along, height above the touchdown point) of the synthetic landing at time t."""
+    length = LAND_ENTRY / math.tan(LAND_GS)
+    if t < 30.0:
+        return (0.0, 0.0) if t < 10.0 else (-length - 300.0, LAND_ENTRY)
+    if t < 60.0:  # the first approach, 2 m high; the go-around at 51.3 s climbs out
+        along = -length + 15.0 * (t - 30.0)
+        climb = 3.0 * max(0.0, t - 51.3)
+        return along, -along * math.tan(LAND_GS) + 2.0 + climb
+    if t < 80.0:
+        return -length - 300.0, LAND_ENTRY
+    along = -length + 15.0 * (t - 80.0)  # the second approach; the flare at 107.4 s, on the wheels at 111 s
+    if t < 107.4:
+        return along, -along * math.tan(LAND_GS)
+    if t < 111.0:
+        return along, 4.0 * (111.0 - t) / 3.6
+    return 7.8 + 48.0 * (1.0 - math.exp(-(t - 111.0) / 3.0)), 0.0  # rolled out, stopped 56 m beyond
+
+
+def write_landing_run(run, land_item=True, approached=True):
+    """A run directory with the synthetic landing (truth 1 m north of the estimate, which is 0.3 m low)."""
+    os.makedirs(os.path.join(run, "topics"))
+    tp = os.path.join(run, "topics")
+    phases = [p for p in LAND_PHASES if approached or p[0] < 30.0]
+    truth, state, path = [], [], []
+    for k in range(int(125.0 * 20) + 1):
+        t = k / 20.0
+        along, h = landing_position(t)
+        row = [t, t * 1e9, -0.5 * math.sin(0.1 * t), along, -h, 15, 0, 0, 0, 0.05, LAND_HEADING, 15, 0.05,
+               LAND_HEADING, ORIGIN[0], ORIGIN[1], ORIGIN[2], 1, 1, 0, 0]
+        truth.append(row)
+        state.append([t, t * 1e9, row[2] + 1.0, along, -h + 0.3] + row[5:])
+        land = approached and (30.0 <= t < 51.3 or t >= 80.0)
+        q = (0.0, math.cos(LAND_GS), math.sin(LAND_GS))
+        path.append([t, t * 1e9, 1, 15, 0, 0, 0, *q, 0, 0, 0, 0, 1, 1, int(land), 4, 12, 1 + (t >= 80.0)])
+    write_csv(os.path.join(tp, "truth.csv"), STATE_HEADER, truth)
+    write_csv(os.path.join(tp, "state.csv"), STATE_HEADER, state)
+    write_csv(os.path.join(tp, "current_path.csv"),
+              ["t [s]", "stamp [ns]", "path_type [enum]", "Va_d [m/s]", "r_n [m]", "r_e [m]", "r_d [m]", "q_n []",
+               "q_e []", "q_d []", "c_n [m]", "c_e [m]", "c_d [m]", "rho [m]", "lambda []", "waypoint_index []",
+               "landing [bool]", "flare_height [m]", "decision_height [m]", "attempt []"], path)
+    write_csv(os.path.join(tp, "flight_phase.csv"), ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
+              [[t, t * 1e9, code, 0, t * 1e9] for t, code, _ in phases])
+    items = [[0, 0, 1, 0, 0, -800, -LAND_ENTRY, 0, 0, 0, 17, 0, 0, 1, 0, 0, 0.0873, 4, 12]]
+    if land_item:
+        items.append([0, 0, 1, 1, 0, 0, 0, 0, LAND_HEADING, 0, 15, 3, 0, 1, 0, 0, LAND_GS, 4, 12])
+    write_csv(os.path.join(tp, "waypoints_items.csv"), ITEM_HEADER + LAND_FIELDS, items)
+    aim_n = truth[200][2]  # metrics.landing: about the truth at rest (10 s) plus the item's offset
+    landing = {"touchdown_t_s": 111.0, "touchdown_along_m": 7.8, "touchdown_across_m": -(truth[2220][2] - aim_n),
+               "sink_rate_mps": 1.11, "rollout_m": 48.0, "stopped": True} if approached else None
+    with open(os.path.join(run, "summary.json"), "w") as f:
+        json.dump({"phases": [{"phase": name, "start_s": t, "reason": "r"} for t, _, name in phases],
+                   "controller_handovers": [], "failsafes": [],
+                   "instances": {"manager": {"plugin": "path_manager", "home_altitude_m": 0.0}},
+                   "metrics": {"window_start_s": None, **({"landing": landing} if landing else {})}}, f)
+
+
 def run_plot(*args):
     return subprocess.run([SCRIPT, *args], capture_output=True, text=True, timeout=300)
 
@@ -204,6 +274,56 @@ class TernPlotRuns(unittest.TestCase):
         path = os.path.join(run, "plots", "tune.png")
         self.assertIn(path, r.stdout.splitlines())
         self.assertIsNotNone(png_size(path))
+
+    def test_a_landing_gets_landing_png_with_its_markers(self):
+        run = os.path.join(self.tmp, "landing")
+        write_landing_run(run)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        path = os.path.join(run, "plots", "landing.png")
+        self.assertIn(path, r.stdout.splitlines())
+        size = png_size(path)
+        self.assertIsNotNone(size)
+        self.assertGreater(size[0], 1000)
+        self.assertFalse([ln for ln in r.stdout.splitlines() if "note:" in ln and "landing" in ln], r.stdout)
+        with open(os.path.join(run, "plots", "figures.json")) as f:
+            fig = {x["file"]: x for x in json.load(f)}["landing.png"]
+        self.assertEqual(fig["markers"], ["approach 1", "go-around 1", "approach 2", "flare", "rollout", "stopped",
+                                          "touchdown", "stop"])
+        legend = " ".join(fig["legend"])
+        for text in ("planned glide path (5.0 deg from the entry, 457 m short, 40 m up)", "flare height 4 m",
+                     "decision height 12 m", "touchdown t 111.0 s (metrics.landing, truth): +7.8 m along",
+                     "sink 1.11 m/s", "true, approach 2 (last)", "estimated, approach 1 (went around)",
+                     "stopped (true), rollout 48 m", "runway centre line (heading 90 deg)"):
+            self.assertIn(text, legend)
+        # the aim point on the field: the truth's last sample at rest plus the item's offset
+        self.assertIn("aim point on the field (truth at rest + item; -0.0 m along, +0.4 m across)", legend)
+        self.assertIn("runway's frame", fig["caption"])
+        with open(os.path.join(run, "plots", "index.html")) as f:
+            self.assertIn('<img src="landing.png"', f.read())
+
+    def test_no_landing_figure_without_a_land_item_or_an_approach(self):
+        plain = os.path.join(self.tmp, "plain")
+        write_run(plain)
+        r = run_plot("--strict", plain)   # no land item: nothing to say, no note
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(plain, "plots", "landing.png")))
+        run = os.path.join(self.tmp, "no_land_item")
+        write_landing_run(run, land_item=False, approached=False)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(run, "plots", "landing.png")))
+        self.assertNotIn("landing", r.stdout)
+        with open(os.path.join(run, "plots", "figures.json")) as f:
+            self.assertNotIn("landing.png", [x["file"] for x in json.load(f)])
+        run = os.path.join(self.tmp, "never_approached")
+        write_landing_run(run, approached=False)
+        r = run_plot(run)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(run, "plots", "landing.png")))
+        notes = [ln for ln in r.stdout.splitlines() if "landing" in ln]
+        self.assertEqual(notes, ["tern plot: note: landing.png not drawn: the land item (topics/waypoints_items.csv) "
+                                 "was never approached: no approach phase"])
 
     def test_missing_topics_are_skipped_with_a_note(self):
         run = os.path.join(self.tmp, "run")
@@ -361,6 +481,29 @@ class Pieces(unittest.TestCase):
         self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
         v = np.array([0.9, 0.0, 0.7, 0.1, 0.1, -0.7, 0.2, 0.2, 0.2, 0.3, 0.1, -0.3])
         self.assertEqual(TP.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
+
+    def test_landing_approaches_and_the_runway_frame(self):
+        import tern_plot_landing as TLand
+        spans = [(0.0, 10.0, "preflight"), (10.0, 30.0, "climb"), (30.0, 51.0, "approach"), (51.0, 60.0, "climb"),
+                 (60.0, 80.0, "approach"), (80.0, 84.0, "flare"), (84.0, 90.0, "rollout"), (90.0, 95.0, "stopped")]
+        a = TLand.approaches(spans)
+        self.assertEqual([(x["t0"], x["t1"], x["go_around"]) for x in a], [(30.0, 51.0, 51.0), (60.0, 95.0, None)])
+        self.assertEqual([n for _, n in a[1]["phases"]], ["approach", "flare", "rollout", "stopped"])
+        # runway heading east, touchdown point at n 10, e 20, d 1 (below the origin)
+        spec = {"td": np.array([10.0, 20.0, 1.0]), "heading": math.pi / 2}
+        along, across, height = TLand.runway_frame(spec, np.array([10.0, 7.0]), np.array([-80.0, 25.0]), np.array([-9.0, 1.0]))
+        np.testing.assert_allclose(along, [-100.0, 5.0], atol=1e-9)
+        np.testing.assert_allclose(across, [0.0, 3.0], atol=1e-9)   # south of an eastward runway: right of it
+        np.testing.assert_allclose(height, [10.0, 0.0], atol=1e-9)
+        run = {"summary": {}, "state": None, "run_dir": self.tmp, "t_end": 95.0, "phase": None, "waypoints": (None, True),
+               "truth": None, "config": {"mission": {"file": "m.yaml", "waypoints": [
+                   {"type": "land", "ned": [0, 0, 0], "heading": 2.3562, "flare_height": 3}]}}}
+        spec = TLand.land_item(run, [])   # from config.yaml: item.hpp's defaults for the rest
+        self.assertEqual((spec["source"], spec["flare_height"], spec["decision_height"], spec["glide_slope"]),
+                         ("config.yaml", 3.0, 12.0, 0.0873))
+        self.assertEqual(spec["heading"], 2.3562)
+        self.assertEqual(TLand.entry_height(dict(spec, prev_d=-70.0), run, []), 70.0)
+        self.assertEqual(TLand.entry_height(dict(spec, prev_d=-10.0), run, []), 24.0)  # raised: 2 decision heights
 
     def test_waypoints_added_in_flight(self):
         first = (0.0, 1, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0]]), np.array([0, 0]), np.zeros(2))
