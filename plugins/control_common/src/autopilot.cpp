@@ -206,7 +206,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   return out;
 }
 
-// Flare: the sink-rate flare's pitch, the throttle winding down to idle. Rollout: pitch 0, motor off, the rudder
+// Flare: the sink-rate flare's pitch, the throttle winding down to idle above the airspeed floor. Rollout: pitch 0, motor off, the rudder
 // (nose wheel) on the course error to the runway's course (no land item: the course the
 // rollout began on), brakes after rollout_brake_delay.
 Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleState& x, const Command& c, double dt) {
@@ -214,7 +214,8 @@ Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleS
   const double h_td = c.landing ? c.h_td : c.h_c;
   if (mode == Mode::flare) {
     l.theta_c = f_.flare.update(x.h - h_td, x.h_dot, dt, land_);
-    l.delta_t = f_.flare.throttle(x.h - h_td);
+    const double Va_floor = std::isfinite(c.Va_c) ? land_.flare_airspeed_ratio * c.Va_c : 0.0;
+    l.delta_t = f_.flare.throttle(x.h - h_td, x.Va, Va_floor, dt, land_);
     return l;
   }
   f_.rollout_time += dt;

@@ -12,9 +12,18 @@ void FlareLaw::start(double h0, double sink0, double theta0, double delta_t0) {
   theta0_ = theta0;
   delta_t0_ = std::clamp(delta_t0, 0.0, 1.0);
   integral_ = 0.0;
+  deficit_integral_ = 0.0;
 }
 
-double FlareLaw::throttle(double h) const { return delta_t0_ * std::clamp(h / h0_, 0.0, 1.0); }
+double FlareLaw::throttle(double h, double Va, double Va_floor, double dt, const LandingSettings& s) {
+  const double schedule = delta_t0_ * std::clamp(h / h0_, 0.0, 1.0);
+  const double deficit = std::isfinite(Va) && std::isfinite(Va_floor) ? Va_floor - Va : 0.0;
+  // integrated deficit, never below 0 and no more than full throttle's worth (no wind-up)
+  const double i_max = s.flare_throttle_ki > 0.0 ? 1.0 / s.flare_throttle_ki : 0.0;
+  deficit_integral_ = std::clamp(deficit_integral_ + deficit * dt, 0.0, i_max);
+  const double floor = s.flare_throttle_kp * deficit + s.flare_throttle_ki * deficit_integral_;
+  return std::clamp(std::max(schedule, floor), 0.0, 1.0);
+}
 
 double FlareLaw::h_dot_command(double h, const LandingSettings& s) const {
   const double sink0 = std::max(sink0_, s.flare_sink_td);

@@ -265,3 +265,21 @@ TEST_CASE("autopilot: with a roll slew limit a transfer slews the roll command a
   // no wound-up course integrator holding the course off for tens of seconds
   CHECK(std::fabs(tern::wrap_pi(1.0 - L.plant.chi)) < 0.01);
 }
+
+TEST_CASE("flare: the throttle winds down with the height, and holds the airspeed floor a flare begun too high would lose") {
+  tern::control::LandingSettings s;
+  tern::control::FlareLaw f;
+  f.start(3.0, 1.3, -0.05, 0.4);
+  CHECK(f.throttle(3.0, 15.0, 12.0, 0.01, s) == doctest::Approx(0.4));  // above the floor: the schedule
+  CHECK(f.throttle(1.5, 15.0, 12.0, 0.01, s) == doctest::Approx(0.2));
+  CHECK(f.throttle(-0.5, 15.0, 12.0, 0.01, s) == doctest::Approx(0.0));  // at the touchdown height: idle
+  // flared 2 m too high: the schedule is at idle while the aircraft is 2 m/s below the floor
+  double t = 0.0;
+  for (int i = 0; i < 200; ++i) t = f.throttle(0.0, 10.0, 12.0, 0.01, s);  // 2 s
+  CHECK(t == doctest::Approx(0.1 * 2.0 + 0.1 * 4.0));                      // kp 2 m/s + ki 2 m/s x 2 s
+  // back above the floor: the integrated deficit unwinds, the throttle returns to the schedule
+  for (int i = 0; i < 1000; ++i) t = f.throttle(0.0, 13.0, 12.0, 0.01, s);
+  CHECK(t == doctest::Approx(0.0));
+  s.flare_airspeed_ratio = 0.0;  // (the autopilot passes Va_floor = ratio x Va_c)
+  CHECK(f.throttle(0.0, 10.0, 0.0, 0.01, s) == doctest::Approx(0.0));
+}

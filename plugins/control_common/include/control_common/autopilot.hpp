@@ -14,7 +14,7 @@
 //            climbs to h_c (its pitch limits bound the climb).
 //   cruise   (and landing, loiter) course, altitude and airspeed hold.
 //   approach a land item's glide path: as cruise (the follower's h_c descends the glide path).
-//   flare    landing_laws.hpp: the sink-rate flare's pitch, throttle idle, bank within
+//   flare    landing_laws.hpp: the sink-rate flare's pitch, throttle to idle above an airspeed floor, bank within
 //            flare_roll_max; the course loop steers to the runway's course.
 //   rollout  landing_laws.hpp: motor off, wings level, rudder/nose wheel steering, brakes.
 // Manual modes: pass-through (surfaces from the sticks: delta_a = roll max_a, delta_e =
