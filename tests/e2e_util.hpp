@@ -49,6 +49,17 @@ inline std::string default_mission_with(const std::vector<std::pair<std::string,
   return mission_with("default.yaml", edits);
 }
 
+/// `text` (default.yaml as mission_with gives it) without its landing: the mission section's
+/// `loops:` line through its land item, so that the mission file flies alone (e.g. a file that ends
+/// with a return_home, after which no land item is reached).
+inline std::string without_landing(std::string text) {
+  const auto from = text.find("  loops: ");
+  const auto land = text.find("type: land", from);
+  REQUIRE_MESSAGE((from != std::string::npos && land != std::string::npos), "default.yaml has no loops: and land item");
+  text.erase(from, text.find('\n', land) + 1 - from);
+  return text;
+}
+
 // default.yaml's estimator installation (the realistic profile's lever arms), and the rosflight
 // profile's (IMU and antenna at the CG): a test that flies the rosflight profile swaps them.
 inline const std::string kLeverArms = "      gnss_antenna_position: [-0.1, 0.0, -0.08]\n      imu_position: [0.05, 0.0, 0.02]\n";

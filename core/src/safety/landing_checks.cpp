@@ -10,6 +10,20 @@ namespace tern::core {
 
 double height_above_touchdown(const msg::State& s, const msg::CurrentPath& path) { return path.r.z() - s.p_d; }
 
+double along_touchdown(const msg::State& s, const msg::CurrentPath& path) {
+  const double qn = std::hypot(path.q.x(), path.q.y());
+  if (!(qn > 1e-9)) return 0.0;
+  return ((s.p_n - path.r.x()) * path.q.x() + (s.p_e - path.r.y()) * path.q.y()) / qn;
+}
+
+double runway_height(const msg::State& s, const msg::CurrentPath& path, const msg::Range* range, Nanos now) {
+  if (range != nullptr && now - range->stamp <= msg::Range::kFresh) {
+    const double h = range->height(s.phi, s.theta);
+    if (std::isfinite(h)) return h;
+  }
+  return height_above_touchdown(s, path);
+}
+
 std::string unstabilised(const msg::State& s, const msg::CurrentPath& path, double Va_c, const LandingLimits& l) {
   const double qn = std::hypot(path.q.x(), path.q.y());
   if (!(qn > 1e-9)) return "the glide path has no horizontal direction";

@@ -22,6 +22,7 @@
 #include <string>
 
 #include "tern/msg/path.hpp"
+#include "tern/msg/sensors.hpp"
 #include "tern/msg/state.hpp"
 
 namespace tern::core {
@@ -30,7 +31,7 @@ struct LandingLimits {
   double max_cross_track = 5.0;       ///< m: half a small-UAV runway's width
   double max_glide_error = 5.0;       ///< m above or below the glide path at the decision height
   double max_airspeed_deficit = 3.0;  ///< m/s below the commanded airspeed (the stall margin)
-  double ground_band = 2.0;           ///< m above the touchdown point (estimate) within which a stopped sink is the ground
+  double ground_band = 2.0;           ///< m above the runway (runway_height) within which a stopped sink is the ground
   double settled_sink = 0.15;         ///< m/s: |v_d| below this counts as a stopped sink
   double settled_time = 0.5;          ///< s
   double stopped_speed = 0.5;         ///< m/s ground speed
@@ -39,6 +40,14 @@ struct LandingLimits {
 
 /// Height of the estimate above a land path's touchdown point (r), m.
 double height_above_touchdown(const msg::State& s, const msg::CurrentPath& path);
+
+/// Distance of the estimate along the runway past the touchdown point (r), m (< 0: short of it).
+double along_touchdown(const msg::State& s, const msg::CurrentPath& path);
+
+/// The height above the runway, m: a downward range finder's (msg::Range::height) when `range`
+/// holds a measurement at most Range::kFresh old at `now` (the flare and the touchdown need
+/// centimetres; the altitude estimate drifts metres over a flight), else height_above_touchdown.
+double runway_height(const msg::State& s, const msg::CurrentPath& path, const msg::Range* range, Nanos now);
 
 /// Why the approach on `path` is not stabilised ("" when it is), naming the criterion and the
 /// values, e.g. "cross-track 7.2 m > 5.0 m".

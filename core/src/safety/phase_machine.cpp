@@ -17,6 +17,8 @@ void PhaseMachine::configure() {
   declare(gnss_, "gnss", "GNSS fix quality (preflight check)", Need::optional);
   declare(rc_, "rc", "RC receiver (preflight check when preflight_require_rc)", Need::optional);
   declare(path_, "current_path", "the path manager's segment: a land item's glide path (approach, flare, rollout)", Need::optional);
+  declare(range_, "range", "downward range finder: the height above the runway on the landing (absent: the altitude estimate's)",
+          Need::optional);
   declare(phase_out_, "flight_phase", "current flight phase");
   declare(alt_toz_, "alt_toz", 5.0,
           ParamSpec("m", 0.0, 1000.0, "top of the takeoff zone: climb begins above this altitude (ROSplane alt_toz)"));
@@ -321,7 +323,7 @@ bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
     return true;  // a flare goes on: the aircraft is committed
   }
   const msg::CurrentPath& p = *path_;
-  const double h = height_above_touchdown(s, p);
+  const double h = runway_height(s, p, range_.has_value() ? &range_.get() : nullptr, now);
   if (ph == msg::Phase::flare) {
     const LandingLimits l = landing_limits();
     const bool settled = h < l.ground_band && std::fabs(s.v_d) < l.settled_sink;
@@ -331,6 +333,10 @@ bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
       enter(now, msg::Phase::rollout, fmt::format("on the wheels: {:.2f} m above the touchdown point, sink {:.2f} m/s", h, s.v_d));
   } else if (h < p.flare_height) {
     enter(now, msg::Phase::flare, fmt::format("{:.1f} m above the touchdown point (flare height {:.1f} m)", h, p.flare_height));
+  } else if (const double along = along_touchdown(s, p); along > 0.0 && h < p.decision_height) {
+    // the glide path ended above the runway (the estimate's altitude metres off): flare from here
+    enter(now, msg::Phase::flare,
+          fmt::format("{:.1f} m past the touchdown point, {:.1f} m above the runway: the glide path ended above it", along, h));
   } else if (h < p.decision_height) {
     const double Va_c = command_.has_value() && std::isfinite(command_->Va_c) ? command_->Va_c : s.Va;
     if (const std::string why = unstabilised(s, p, Va_c, landing_limits()); !why.empty())

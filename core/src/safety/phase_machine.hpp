@@ -20,7 +20,10 @@
 //   disarmed -> takeoff  the FCU is armed and error-free (the controller is reset on handover)
 // Landing (a land item's glide path on the optional `current_path`, landing_checks.hpp):
 //   climb/cruise -> approach  when a new approach begins (current_path.landing, a new attempt)
-//   approach -> flare     when the height above the touchdown point is below its flare height
+//   approach -> flare     when the height above the runway (landing_checks.hpp runway_height: a
+//                         range finder's, else the estimate's above the touchdown point) is below
+//                         its flare height, or past the touchdown point below the decision height
+//                         (the glide path, on the estimate's altitude, ended above the runway)
 //   approach -> climb     go-around: below the decision height while not stabilised (the
 //                         criterion named), or the glide path was left (the mission changed, a
 //                         failsafe); the path manager comes round for another approach
@@ -130,6 +133,7 @@ class PhaseMachine final : public Plugin {
   Input<msg::Gnss> gnss_;
   Input<msg::Rc> rc_;
   Input<msg::CurrentPath> path_;
+  Input<msg::Range> range_;
   Output<msg::FlightPhase> phase_out_;
   Param<double> alt_toz_, alt_hz_, min_phase_time_, max_deflection_;
   Param<bool> preflight_, require_rc_;

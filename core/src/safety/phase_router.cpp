@@ -111,8 +111,8 @@ PhaseRouter::Cause PhaseRouter::fallback_reason(const Instance& c, const std::st
   if (std::string failed = c.failure(); !failed.empty()) return {failed};  // an isolated child died or hung
   if (!step_error.empty()) return {fmt::format("{}.step threw: {}", c.cfg.name, step_error)};
   const auto* a = actuators_ ? static_cast<const msg::Actuators*>(actuators_->data()) : nullptr;
-  if (a != nullptr &&
-      !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t) && std::isfinite(a->brake)))
+  if (a != nullptr && !(std::isfinite(a->delta_a) && std::isfinite(a->delta_e) && std::isfinite(a->delta_r) && std::isfinite(a->delta_t) &&
+                        std::isfinite(a->brake)))
     return {fmt::format("{} commanded a non-finite actuator value (delta_a {}, delta_e {}, delta_r {}, delta_t {}, brake {})", c.cfg.name,
                         a->delta_a, a->delta_e, a->delta_r, a->delta_t, a->brake)};
   if (a != nullptr && phase_machine_) {

@@ -70,8 +70,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
       f_.handover_from = f_.last.surfaces;
     }
     if (mode != f_.mode) f_.rotated = false;
-    if (mode == Mode::flare && f_.mode != Mode::flare)
-      f_.flare.start(x.h - (c.landing ? c.h_td : c.h_c), -x.h_dot, x.theta, f_.last.surfaces.delta_t);
+    if (mode == Mode::flare && f_.mode != Mode::flare) f_.flare.start(runway_height(x, c), -x.h_dot, x.theta, f_.last.surfaces.delta_t);
     if (mode == Mode::rollout && f_.mode != Mode::rollout) {
       f_.rollout_time = 0.0;
       f_.rollout_chi = x.chi;
@@ -206,16 +205,24 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   return out;
 }
 
+// The height above the runway: the range finder's when it measures (centimetres), else the altitude
+// estimate's above the touchdown point (a land item's h_td; without one, h_c), which drifts metres
+// over a flight.
+double Autopilot::runway_height(const VehicleState& x, const Command& c) {
+  if (std::isfinite(x.h_agl)) return x.h_agl;
+  return x.h - (c.landing ? c.h_td : c.h_c);
+}
+
 // Flare: the sink-rate flare's pitch, the throttle winding down to idle above the airspeed floor. Rollout: pitch 0, motor off, the rudder
 // (nose wheel) on the course error to the runway's course (no land item: the course the
 // rollout began on), brakes after rollout_brake_delay.
 Autopilot::LandingLongitudinal Autopilot::landing_step(Mode mode, const VehicleState& x, const Command& c, double dt) {
   LandingLongitudinal l;
-  const double h_td = c.landing ? c.h_td : c.h_c;
   if (mode == Mode::flare) {
-    l.theta_c = f_.flare.update(x.h - h_td, x.h_dot, dt, land_);
+    const double h = runway_height(x, c);
+    l.theta_c = f_.flare.update(h, x.h_dot, dt, land_);
     const double Va_floor = std::isfinite(c.Va_c) ? land_.flare_airspeed_ratio * c.Va_c : 0.0;
-    l.delta_t = f_.flare.throttle(x.h - h_td, x.Va, Va_floor, dt, land_);
+    l.delta_t = f_.flare.throttle(h, x.Va, Va_floor, dt, land_);
     return l;
   }
   f_.rollout_time += dt;

@@ -11,6 +11,8 @@ void ControllerPlugin::configure() {
   declare(command_, "controller_command", "airspeed, altitude and course commands of the path follower");
   declare(phase_, "flight_phase", "flight phase (takeoff, climb, cruise, approach, flare, rollout); absent: cruise", Need::optional);
   declare(rc_, "rc", "pilot sticks and override switch (manual modes)", Need::optional);
+  declare(range_, "range", "downward range finder: the height above the runway in the flare (absent: the altitude estimate's)",
+          Need::optional);
   declare(fcu_, "fcu_status", "flight-control unit status (rc_override: manual modes)", Need::optional);
   declare(actuators_, "actuators", "surface deflections, rad, and throttle 0..1");
   declare(internals_, "controller_internals", "roll and pitch commands, throttle before saturation");
@@ -81,6 +83,7 @@ void ControllerPlugin::step(Nanos now) {
   x.h = -s.p_d;
   x.h_dot = -s.v_d;
   x.Va = s.Va;
+  if (range_.has_value() && now - range_->stamp <= msg::Range::kFresh) x.h_agl = range_->height(s.phi, s.theta);
 
   Command c;
   if (command_.has_value()) {

@@ -96,6 +96,7 @@ class ManagerPlugin final : public Plugin {
   Input<msg::State> state_;
   Input<msg::WaypointList> waypoints_;
   Input<msg::FlightPhase> phase_;
+  Input<msg::Range> range_;
   Output<msg::CurrentPath> path_;
   Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_, turn_bank_, wind_tau_;
   Param<std::int64_t> land_attempts_;
@@ -118,7 +119,11 @@ class ManagerPlugin final : public Plugin {
     std::optional<double> home_h;
     Nanos home_stamp = 0;
     msg::Phase last_phase = msg::Phase::preflight;
+    // The runway's NED down as the range finder sees it on the final, low-passed, m.
+    std::optional<double> runway_d;
+    Nanos runway_stamp = 0;
   } f_;
+  void follow_runway(const msg::State& s, Nanos now);
 };
 
 /// path_follower: current_path + state -> controller_command (Va_c, h_c, chi_c, phi_ff), see

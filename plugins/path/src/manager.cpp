@@ -460,6 +460,10 @@ void PathManager::set_home_altitude(double h) {
   if (std::isfinite(h)) home_h_ = h;
 }
 
+void PathManager::set_runway_down(double d) {
+  if (std::isfinite(d)) runway_d_ = d;
+}
+
 void PathManager::begin_land(const Vec3& p, double chi) {
   const Entry& e = wps_[target_];
   Vec3 td = e.wp.w;
@@ -522,6 +526,7 @@ PathSegment PathManager::land_segment(const Entry& e) const {
   switch (stage_) {
     case Stage::land_final:
       s.r = a.touchdown;
+      if (runway_d_) s.r.z() = *runway_d_;  // the glide path moved onto the runway the range finder sees
       s.q = a.q;
       s.landing = true;
       s.flare_height = e.wp.land.flare_height;

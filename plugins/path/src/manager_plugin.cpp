@@ -12,6 +12,7 @@ void ManagerPlugin::configure() {
   declare(state_, "state", "vehicle state (position, course)");
   declare(waypoints_, "waypoints", "the mission from the path planner, NED");
   declare(phase_, "flight_phase", "flight phase: home's altitude at rest before the takeoff, go-arounds of a land item", Need::optional);
+  declare(range_, "range", "downward range finder: the runway's altitude on a land item's final (absent: home's)", Need::optional);
   declare(path_, "current_path", "the segment to follow now (line or orbit)");
   // Defaults: ROSplane's Anaconda parameters (rosplane/params/anaconda_autopilot_params.yaml).
   declare(R_min_, "R_min", 50.0, ParamSpec("m", 1.0, 10000.0, "minimum turn radius: fillets, Dubins paths and orbits"));
@@ -109,6 +110,7 @@ void ManagerPlugin::step(Nanos now) {
     manager_->set_wind(f_.wind);
   }
   follow_phase(s, now);
+  follow_runway(s, now);
   const PathSegment seg = manager_->update(p, s.chi, to_seconds(now));
   if (seg.type == PathSegment::Type::line && !manager_->passed().empty() && p.allFinite()) {
     const double e = std::fabs(cross_track_error(seg.r, seg.q, p));
@@ -157,15 +159,32 @@ void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
   if (go_around) manager_->go_around(Vec3(s.p_n, s.p_e, s.p_d));
 }
 
+// The runway under the final approach as the range finder measures it (a measurement at most
+// Range::kFresh old, in the approach or the flare): the estimate's p_d plus the height, low-passed
+// over 2 s; the glide path's touchdown point takes it (PathManager::set_runway_down).
+void ManagerPlugin::follow_runway(const msg::State& s, Nanos now) {
+  if (!phase_.has_value() || !range_.has_value() || !s.valid) return;
+  const msg::Phase ph = phase_->phase;
+  if ((ph != msg::Phase::approach && ph != msg::Phase::flare) || now - range_->stamp > msg::Range::kFresh) return;
+  const double d = s.p_d + range_->height(s.phi, s.theta);
+  if (!std::isfinite(d)) return;
+  const double dt = f_.runway_d ? to_seconds(now - f_.runway_stamp) : 0.0;
+  f_.runway_d = f_.runway_d ? *f_.runway_d + (1.0 - std::exp(-std::max(dt, 0.0) / 2.0)) * (d - *f_.runway_d) : d;
+  f_.runway_stamp = now;
+  manager_->set_runway_down(*f_.runway_d);
+}
+
 std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
   if (!manager_) return {};
   const double rms = f_.xt_n > 0 ? std::sqrt(f_.xt_sq / static_cast<double>(f_.xt_n)) : 0.0;
-  return {{"waypoints_passed", static_cast<double>(manager_->passed().size())},
-          {"line_cross_track_rms_m", rms},
-          {"line_cross_track_max_m", f_.xt_max},
-          {"land_approaches", static_cast<double>(manager_->approaches())},
-          {"land_abandoned", manager_->landing_abandoned() ? 1.0 : 0.0},
-          {"home_altitude_m", f_.home_h.value_or(0.0)}};
+  std::vector<std::pair<std::string, double>> out{{"waypoints_passed", static_cast<double>(manager_->passed().size())},
+                                                  {"line_cross_track_rms_m", rms},
+                                                  {"line_cross_track_max_m", f_.xt_max},
+                                                  {"land_approaches", static_cast<double>(manager_->approaches())},
+                                                  {"land_abandoned", manager_->landing_abandoned() ? 1.0 : 0.0},
+                                                  {"home_altitude_m", f_.home_h.value_or(0.0)}};
+  if (f_.runway_d) out.emplace_back("runway_altitude_m", -*f_.runway_d);  // the range finder's runway, m above the origin
+  return out;
 }
 
 }  // namespace tern::path

@@ -113,6 +113,32 @@ TEST_CASE("landing: the kinematic aircraft flies a Dubins path onto the runway h
   }
 }
 
+TEST_CASE("landing: the runway a range finder measures moves the glide path's touchdown point; home's altitude before it") {
+  ManagerConfig cfg;
+  cfg.R_min = 60.0;
+  PathManager m(cfg);
+  m.set_home_altitude(0.5);
+  m.set_waypoints({waypoint(300, 300, 60), land_item(Vec3(0, 0, 0), 0.0)}, true);
+  testkit::KinematicAircraft ac;
+  ac.h = 60.0;
+  ac.Va = 15.0;
+  ac.set_course(0.0);
+  PathSegment seg;
+  for (double t = 0.0; t < 400.0 && !seg.landing; t += 0.02) {
+    seg = m.update(ac.p(), ac.chi, t);
+    const FollowerCommand c = follow(seg, {ac.p(), ac.chi, ac.psi, ac.Va, ac.Vg()}, FollowerGains{});
+    ac.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, 0.02);
+  }
+  REQUIRE(seg.landing);
+  CHECK(seg.r.z() == Approx(-0.5));  // home's
+  m.set_runway_down(-3.2);           // the estimate's altitude 2.7 m off: the runway at 3.2 m
+  seg = m.update(ac.p(), ac.chi, 400.0);
+  CHECK(seg.r.z() == Approx(-3.2));
+  CHECK(seg.q.isApprox(m.approach()->q));  // the same slope, moved
+  m.set_runway_down(std::nan(""));         // ignored
+  CHECK(m.update(ac.p(), ac.chi, 400.02).r.z() == Approx(-3.2));
+}
+
 TEST_CASE("landing: a go-around climbs out along the runway, comes round, and after land_attempts the landing is abandoned") {
   ManagerConfig cfg;
   cfg.R_min = 50.0;

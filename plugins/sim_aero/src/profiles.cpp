@@ -30,6 +30,7 @@ SensorParams ideal() {
   p.gnss_vel_noise = 0.0;
   p.gnss_antenna_position.setZero();
   p.gnss_latency = 0.0;
+  p.range_noise_near = p.range_noise_far = 0.0;
   p.gnss_h_acc = p.gnss_v_acc = p.gnss_s_acc = 0.01;  // small but positive (an estimator divides by them)
   return p;
 }

@@ -75,6 +75,11 @@ inline const SensorReal kSensorReals[] = {
     {"gnss_h_acc", "m", 0, 1000, "reported horizontal accuracy", &sim::SensorParams::gnss_h_acc},
     {"gnss_v_acc", "m", 0, 1000, "reported vertical accuracy", &sim::SensorParams::gnss_v_acc},
     {"gnss_s_acc", "m/s", 0, 100, "reported speed accuracy", &sim::SensorParams::gnss_s_acc},
+    {"range_noise_near", "m", 0, 10, "range finder noise below range_far_from, 1 sigma", &sim::SensorParams::range_noise_near},
+    {"range_noise_far", "m", 0, 10, "range finder noise at and beyond range_far_from, 1 sigma", &sim::SensorParams::range_noise_far},
+    {"range_far_from", "m", 0, 1000, "range finder: distance from which range_noise_far applies", &sim::SensorParams::range_far_from},
+    {"range_min", "m", 0, 10, "range finder: nearest distance measured (nearer: -inf)", &sim::SensorParams::range_min},
+    {"range_max", "m", 0.1, 1000, "range finder: farthest distance measured (farther: no return, +inf)", &sim::SensorParams::range_max},
     {"origin_lat", "deg", -90, 90, "latitude of the NED origin", &sim::SensorParams::origin_lat},
     {"origin_lon", "deg", -180, 180, "longitude of the NED origin", &sim::SensorParams::origin_lon},
     {"origin_alt", "m", -500, 9000, "altitude (MSL) of the NED origin = the ground (also the magnetic model's height)",
@@ -87,6 +92,8 @@ inline const SensorVector kSensorVectors[] = {
     {"imu_position", "m", -5, 5, "IMU position from the CG, body FRD", &sim::SensorParams::imu_position},
     {"mag_motor_field", "T", -1e-3, 1e-3, "field of the motor current at full throttle, body FRD", &sim::SensorParams::mag_motor_field},
     {"gnss_antenna_position", "m", -5, 5, "GNSS antenna position from the CG, body FRD", &sim::SensorParams::gnss_antenna_position},
+    {"range_position", "m", -5, 5, "range finder position from the CG, body FRD (it looks along body +z)",
+     &sim::SensorParams::range_position},
 };
 
 inline const ActuatorReal kActuatorReals[] = {

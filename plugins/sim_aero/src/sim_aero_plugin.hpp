@@ -30,6 +30,7 @@
 #include "tern/aircraft.hpp"
 #include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/earth_field.hpp"
+#include "tern_sim_aero/rangefinder.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
@@ -67,6 +68,7 @@ class SimAero final : public tern::Plugin {
     declare(baro_out_, "baro", "static pressure");
     declare(diff_out_, "diff_pressure", "pitot differential pressure");
     declare(mag_out_, "mag", "magnetometer");
+    declare(range_out_, "range", "downward range finder (lidar): distance to the ground along body +z");
     declare(truth_out_, "truth", "true state of the simulated aircraft");
     declare(pilot_in_, "pilot", "a pilot's sticks and switches (console, joystick), reported on rc", tern::Need::optional);
     declare(rc_out_, "rc", "RC receiver: the pilot input's sticks and switches, else centred, no override");
@@ -109,6 +111,7 @@ class SimAero final : public tern::Plugin {
     declare_sensor(baro_, "baro", 100.0);
     declare_sensor(diff_, "diff_pressure", 100.0);
     declare_sensor(gnss_, "gnss", 10.0);
+    declare_sensor(range_, "range", 50.0);
     declare(date_, "date", "2025-07-01",
             ParamSpec("", 0, 0,
                       "the world's date, ISO YYYY-MM-DD: the Earth's magnetic field is the World Magnetic Model's at the "
@@ -204,7 +207,7 @@ class SimAero final : public tern::Plugin {
     declare(s.nan, name + "_nan", std::vector<double>{},
             ParamSpec("s", 0, 1e9, name + " windows of NaN samples (a failing sensor): pairs [start, end) of flight time").start_only());
   }
-  std::vector<SensorSlot*> slots() { return {&imu_, &mag_, &baro_, &diff_, &gnss_}; }
+  std::vector<SensorSlot*> slots() { return {&imu_, &mag_, &baro_, &diff_, &gnss_, &range_}; }
 
   Nanos period_of(double hz, const std::string& name) const {
     try {
@@ -400,6 +403,7 @@ class SimAero final : public tern::Plugin {
     const std::uint64_t seed = context().seed();
     f_.sim = std::make_unique<sim::Simulator>(*aircraft_data_, seed);
     f_.sensors = std::make_unique<sim::Sensors>(sensor_params(), seed ^ 0x9E3779B97F4A7C15ull);
+    f_.rangefinder = std::make_unique<sim::RangeFinder>(f_.sensors->params(), seed ^ 0xD1B54A32D192ED03ull);
     f_.sim->set_actuators(actuator_params());
     report_earth_field();
     f_.gnss_latency = tern::from_seconds(f_.sensors->params().gnss_latency);
@@ -563,6 +567,16 @@ class SimAero final : public tern::Plugin {
       out.temperature = m.temperature;
       baro_out_.publish(out);
     });
+    run(range_, [&](bool ok) {
+      if (!ok) return;
+      range_.schedule.last_sample = t;
+      msg::Range out;
+      out.stamp = t;
+      out.distance = range_.non_finite(t) ? kNaN : f_.rangefinder->distance(get_truth().x);
+      out.min_range = f_.sensors->params().range_min;
+      out.max_range = f_.sensors->params().range_max;
+      range_out_.publish(out);
+    });
     run(diff_, [&](bool ok) {
       if (!ok) return;
       const double dt = diff_.schedule.dt_since_last(t);
@@ -706,6 +720,7 @@ class SimAero final : public tern::Plugin {
   tern::Output<msg::Imu> imu_out_;
   tern::Output<msg::Gnss> gnss_out_;
   tern::Output<msg::Baro> baro_out_;
+  tern::Output<msg::Range> range_out_;
   tern::Output<msg::DiffPressure> diff_out_;
   tern::Output<msg::Mag> mag_out_;
   tern::Output<msg::State> truth_out_;
@@ -717,7 +732,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<double> sim_rate_, init_altitude_, init_airspeed_, init_heading_, parking_brake_;
   tern::Param<std::vector<double>> init_position_, wind_, gusts_;
   tern::Param<double> gust_rate_, gust_max_, gust_min_duration_, gust_max_duration_;
-  SensorSlot imu_, mag_, baro_, diff_, gnss_;
+  SensorSlot imu_, mag_, baro_, diff_, gnss_, range_;
   tern::Param<std::string> sensor_profile_, date_;
   std::array<tern::Param<double>, std::size(kSensorReals)> sensor_reals_;
   std::array<tern::Param<std::vector<double>>, std::size(kSensorVectors)> sensor_vectors_;
@@ -737,6 +752,7 @@ class SimAero final : public tern::Plugin {
   struct Flight {
     std::unique_ptr<sim::Simulator> sim;
     std::unique_ptr<sim::Sensors> sensors;
+    std::unique_ptr<sim::RangeFinder> rangefinder;
     sim::SensorSchedule truth_sched, rc_sched, status_sched;
     std::deque<msg::Gnss> gnss_pending;  ///< fixes taken, not yet delivered (latency)
     Nanos gnss_latency = 0;

@@ -40,6 +40,7 @@ TEST_CASE("plugin: sensors publish at their own rates; truth is filled") {
   CHECK(h.published("baro") == 101);
   CHECK(h.published("diff_pressure") == 101);
   CHECK(h.published("gnss") == 11);
+  CHECK(h.published("range") == 51);
   CHECK(h.published("truth") == 401);
   CHECK(h.published("rc") == 51);
   CHECK(h.published("fcu_status") == 11);
@@ -322,4 +323,20 @@ TEST_CASE("plugin: a wing tip on the ground ends the flight as a crash naming it
   CHECK(s["impact_wheel"] == 0.0);
   CHECK(s["impact_point_speed_mps"] > 5.0);  // flying at 17 m/s
   CHECK(s["impact_point_sink_mps"] > 0.0);
+}
+
+TEST_CASE("plugin: the range finder measures the height at 20 m in trim, and switching it off changes no other sensor") {
+  auto fly = [](bool range) {
+    auto h = make({{"init_mode", std::string("trim")}, {"init_altitude", 20.0}, {"turbulence", std::string("light")}, {"range_enabled", range}},
+                  7);
+    run(h, 2.0);
+    return std::make_tuple(h.output<msg::Imu>("imu"), h.output<msg::Gnss>("gnss"), h.output<msg::Baro>("baro"),
+                           h.published("range") > 0 ? h.output<msg::Range>("range").distance : 0.0, h.output<msg::State>("truth"));
+  };
+  const auto on = fly(true), off = fly(false);
+  CHECK(std::get<0>(on).accel == std::get<0>(off).accel);  // its noise has a generator of its own
+  CHECK(std::get<1>(on).lat == std::get<1>(off).lat);
+  CHECK(std::get<2>(on).pressure == std::get<2>(off).pressure);
+  const auto& s = std::get<4>(on);
+  CHECK(std::get<3>(on) == doctest::Approx(s.altitude() / (std::cos(s.phi) * std::cos(s.theta))).epsilon(0.01));
 }

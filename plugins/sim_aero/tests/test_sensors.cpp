@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "tern_sim_aero/earth_field.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/profiles.hpp"
+#include "tern_sim_aero/rangefinder.hpp"
 #include "tern_sim_aero/sensors.hpp"
 
 using tern::kGravity;
@@ -633,4 +635,37 @@ TEST_CASE("sensors: a set mag_declination / _inclination / _intensity overrides 
   CHECK(fixed.ned ==
         Eigen::Vector3d(5.07163e-5 * std::cos(I) * std::cos(D), 5.07163e-5 * std::cos(I) * std::sin(D), 5.07163e-5 * std::sin(I)));
   CHECK(Sensors(p, 3).earth_field().ned == fixed.ned);
+}
+
+TEST_CASE("range finder: the slant distance to the ground, its noise by distance, no return beyond 40 m or looking up") {
+  const SensorParams p;  // LIDAR-Lite v3's figures
+  StateVector x = StateVector::Zero();
+  x[E0] = 1.0;
+  x[PD] = -3.0;
+  RangeFinder r(p, 11);
+  std::vector<double> near, far;
+  for (int i = 0; i < 4000; ++i) near.push_back(r.distance(x) - 3.0);
+  CHECK(std::fabs(mean(near)) < 0.003);
+  CHECK(stddev(near) == doctest::Approx(0.025).epsilon(0.05));
+  x[PD] = -20.0;
+  for (int i = 0; i < 4000; ++i) far.push_back(r.distance(x) - 20.0);
+  CHECK(stddev(far) == doctest::Approx(0.10).epsilon(0.05));
+  x[PD] = -41.0;
+  CHECK(r.distance(x) == std::numeric_limits<double>::infinity());
+  // banked 60 deg at 10 m: the beam meets the ground at 20 m
+  SensorParams ideal = sensor_profile("ideal");
+  RangeFinder exact(ideal, 1);
+  x[PD] = -10.0;
+  const Eigen::Quaterniond q(Eigen::AngleAxisd(std::acos(0.5), Eigen::Vector3d::UnitX()));
+  x[E0] = q.w();
+  x[E1] = q.x();
+  CHECK(exact.distance(x) == doctest::Approx(20.0).epsilon(1e-12));
+  const Eigen::Quaterniond up(Eigen::AngleAxisd(2.0, Eigen::Vector3d::UnitX()));  // axis above the horizon
+  x[E0] = up.w();
+  x[E1] = up.x();
+  CHECK(exact.distance(x) == std::numeric_limits<double>::infinity());
+  x[E0] = 1.0;  // level, 2 cm up: nearer than its 5 cm
+  x[E1] = 0.0;
+  x[PD] = -0.02;
+  CHECK(exact.distance(x) == -std::numeric_limits<double>::infinity());
 }

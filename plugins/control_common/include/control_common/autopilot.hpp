@@ -157,6 +157,7 @@ class Autopilot {
  private:
   Surfaces limit(const Surfaces& u) const;
   Surfaces trim() const;
+  static double runway_height(const VehicleState& x, const Command& c);
   /// Flare and rollout: pitch command, throttle, and on the rollout the rudder and brakes.
   struct LandingLongitudinal {
     double theta_c = 0.0, delta_t = 0.0, delta_r = 0.0, brake = 0.0;

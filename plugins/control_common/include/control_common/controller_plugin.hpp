@@ -64,6 +64,7 @@ class ControllerPlugin : public Plugin {
   Input<msg::ControllerCommand> command_;
   Input<msg::FlightPhase> phase_;
   Input<msg::Rc> rc_;
+  Input<msg::Range> range_;
   Input<msg::FcuStatus> fcu_;
   Output<msg::Actuators> actuators_;
   Output<msg::ControllerInternals> internals_;

@@ -22,6 +22,8 @@
 // config uses (ROSplane's name in parentheses in the description).
 #pragma once
 
+#include <limits>
+
 #include "control_common/pid.hpp"
 #include "tern/param.hpp"
 
@@ -34,6 +36,9 @@ struct VehicleState {
   double h = 0.0;                            ///< altitude (up), m
   double h_dot = 0.0;                        ///< climb rate, m/s
   double Va = 0.0;                           ///< airspeed, m/s
+  /// Height above the ground from a downward range finder, m (NaN: none; flare and rollout then
+  /// measure the height from the altitude estimate). Not part of finite().
+  double h_agl = std::numeric_limits<double>::quiet_NaN();
   bool finite() const;
 };
 

@@ -112,6 +112,14 @@ struct SensorParams {
   double gnss_v_acc = 0.40 * 3.0;  ///< reported vertical accuracy, m
   double gnss_s_acc = 0.01;        ///< reported speed accuracy, m/s
   int gnss_num_sats = 12;
+  // downward range finder (rangefinder.hpp; Garmin LIDAR-Lite v3's specifications in every
+  // profile but `ideal`: ROSflight's simulator has none)
+  double range_noise_near = 0.025;                           ///< m, 1 sigma below range_far_from
+  double range_noise_far = 0.10;                             ///< m, 1 sigma at and beyond range_far_from
+  double range_far_from = 5.0;                               ///< m
+  double range_min = 0.05;                                   ///< m
+  double range_max = 40.0;                                   ///< m
+  Eigen::Vector3d range_position = Eigen::Vector3d::Zero();  ///< body FRD, m, from the CG
   // origin of the NED frame (ROSflight's default, Provo UT)
   double origin_lat = 40.2463724;    ///< deg
   double origin_lon = -111.6474138;  ///< deg

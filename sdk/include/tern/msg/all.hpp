@@ -13,7 +13,7 @@
 // clang-format off
 #define TERN_STANDARD_MESSAGES(X)                                                       \
   X(::tern::msg::Imu) X(::tern::msg::Gnss) X(::tern::msg::Baro) X(::tern::msg::DiffPressure) \
-  X(::tern::msg::Mag) X(::tern::msg::Rc) X(::tern::msg::FcuStatus) X(::tern::msg::State)     \
+  X(::tern::msg::Mag) X(::tern::msg::Range) X(::tern::msg::Rc) X(::tern::msg::FcuStatus) X(::tern::msg::State)     \
   X(::tern::msg::ControllerCommand) X(::tern::msg::ControllerInternals)                      \
   X(::tern::msg::Actuators) X(::tern::msg::Waypoint) X(::tern::msg::WaypointList)            \
   X(::tern::msg::CurrentPath) X(::tern::msg::FlightPhase) X(::tern::msg::MissionEdit)  \

@@ -1,10 +1,12 @@
 // tern/msg/sensors.hpp: raw sensor messages on the default topics imu, gnss, baro,
-// diff_pressure, mag, rc and fcu_status. Published by the I/O plugin (sim_aero or fcu_serial).
+// diff_pressure, mag, range, rc and fcu_status. Published by the I/O plugin (sim_aero or fcu_serial).
 // SI units; body vectors in FRD; `stamp` is the flight time of the measurement in ns.
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string_view>
 
 #include <Eigen/Core>
@@ -102,6 +104,34 @@ struct Mag {
   static constexpr void describe(V& v) {
     v(&Mag::stamp, "stamp", "ns");
     v(&Mag::field, "field", "T", "x,y,z");
+  }
+};
+
+/// Downward range finder (a lidar such as Garmin's LIDAR-Lite v3), topic `range`: the distance
+/// along the sensor's axis, body +z (down, FRD), to the ground. As sensor_msgs/Range: a distance
+/// outside [min_range, max_range] is no measurement (+inf: no return, beyond max_range); NaN: a
+/// failing sensor. On flat ground the height of the sensor is distance cos(phi) cos(theta).
+struct Range {
+  static constexpr std::string_view type_name = "tern/Range";
+  Nanos stamp = 0;
+  double distance = std::numeric_limits<double>::infinity();  ///< m
+  double min_range = 0.05;                                    ///< m, the sensor's
+  double max_range = 40.0;                                    ///< m, the sensor's
+  /// Consumers (the flare, the phase machine) take a measurement as current this long, ns (5
+  /// samples at sim_aero's 50 Hz); older, they fall back on the altitude estimate.
+  static constexpr Nanos kFresh = 100'000'000;
+  /// The sensor's height above flat ground, m, given roll and pitch (rad); NaN without a valid
+  /// measurement.
+  double height(double phi, double theta) const {
+    if (!(distance >= min_range && distance <= max_range)) return std::numeric_limits<double>::quiet_NaN();
+    return distance * std::cos(phi) * std::cos(theta);
+  }
+  template <class V>
+  static constexpr void describe(V& v) {
+    v(&Range::stamp, "stamp", "ns");
+    v(&Range::distance, "distance", "m");
+    v(&Range::min_range, "min_range", "m");
+    v(&Range::max_range, "max_range", "m");
   }
 };
 

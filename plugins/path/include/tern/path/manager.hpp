@@ -42,7 +42,10 @@
 // entry point arriving on the runway heading, then the glide path (Stage::land_final, a line
 // whose segment is marked `landing`), which never switches: the phase machine takes the
 // aircraft through flare and rollout. The touchdown altitude is measured from the home altitude
-// (set_home_altitude: where the estimate put the ground before the takeoff). go_around() (the
+// (set_home_altitude: where the estimate put the ground before the takeoff), or once a range
+// finder sees the runway on the final, from its measurement (set_runway_down: the estimate's
+// altitude minus the height the range finder measures, as PX4's landing takes its terrain
+// estimate; it assumes the ground under the final is level with the runway). go_around() (the
 // phase machine's go-around, through the plugin) climbs out along the runway heading at the
 // approach altitude until 2 turn radii past the touchdown point (or past the aircraft, if it is
 // further), then flies the Dubins path to the entry point again; after land_attempts approaches
@@ -165,6 +168,10 @@ class PathManager {
   /// The estimate's altitude (m above the origin) of the ground at home: a land item's touchdown
   /// altitude is measured from it (applies to approaches planned from now on). Non-finite: ignored.
   void set_home_altitude(double h);
+  /// The runway's NED down in the estimate's frame as a range finder measures it (p_d + the
+  /// height above the ground), m: the glide path's touchdown point takes it from now on (the
+  /// estimate's altitude drifts metres over a flight; the plugin low-passes it). Non-finite: ignored.
+  void set_runway_down(double d);
   /// Abandons the current approach to a land item (no effect otherwise): climb out, come round
   /// for another approach, or after land_attempts orbit above the touchdown point.
   void go_around(const Vec3& p);
@@ -242,6 +249,7 @@ class PathManager {
   int approaches_ = 0;
   bool land_abandoned_ = false;
   double home_h_ = 0.0;
+  std::optional<double> runway_d_;  // set_runway_down
   Vec3 go_r_ = Vec3::Zero(), go_z_ = Vec3::Zero();
 };
 
