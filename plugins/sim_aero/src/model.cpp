@@ -151,8 +151,8 @@ void lateral(const Aircraft& ac, const StateVector& x, const Deltas& d, ForcesMo
   const double qS = 0.5 * ac.rho * Va * Va * ac.S;
   const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
   const double sb = blend_sigma(ac, beta), sin_b = std::sin(beta);
-  const double beta_y = (1.0 - sb) * beta + sb * sin_b;                       // side force, yaw
-  const double beta_l = (1.0 - sb) * beta + sb * sin_b * std::cos(beta);      // roll
+  const double beta_y = (1.0 - sb) * beta + sb * sin_b;                   // side force, yaw
+  const double beta_l = (1.0 - sb) * beta + sb * sin_b * std::cos(beta);  // roll
   fm.f_aero.y() =
       qS * (A.C_Y_0 + A.C_Y_beta * beta_y + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
   fm.m_aero.x() = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta_l + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +

@@ -37,9 +37,9 @@ DrydenParams dryden_at_height(const DrydenParams& p, double h, double W) {
   if (!(h < kDrydenTableHeight)) return p;  // the book's table (NaN too: no silent change)
   const double hc = std::max(h, kDrydenMinHeight);
   const double k = mil_k(hc), k50 = mil_k(kDrydenTableHeight);
-  const double s_l = hc / kDrydenTableHeight;         // L_w = h
-  const double s_uv = s_l * std::pow(k50 / k, 1.2);   // L_u = h / k^1.2
-  const double s_sigma = std::pow(k50 / k, 0.4);      // sigma_u = sigma_w / k^0.4
+  const double s_l = hc / kDrydenTableHeight;        // L_w = h
+  const double s_uv = s_l * std::pow(k50 / k, 1.2);  // L_u = h / k^1.2
+  const double s_sigma = std::pow(k50 / k, 0.4);     // sigma_u = sigma_w / k^0.4
   // the weight of the wind's cap: 1 at and below 10 ft, 0 at 50 m, linear in log height
   const double g = std::clamp(std::log(kDrydenTableHeight / hc) / std::log(kDrydenTableHeight / kDrydenGroundHeight), 0.0, 1.0);
   const double w_sigma = 0.1 * W, uv_sigma = w_sigma / std::pow(k, 0.4);  // MIL, W taken as W_20

@@ -27,9 +27,7 @@ Aircraft anaconda() { return load_aircraft(kAircraft + "/anaconda.yaml"); }
 double yaw_of(const StateVector& x) { return tern::euler_from_quaternion(attitude(x)).z(); }
 
 /// Angle between body z and the vertical, rad.
-double tilt_of(const StateVector& x) {
-  return std::acos(std::clamp(attitude(x).toRotationMatrix().col(2).z(), -1.0, 1.0));
-}
+double tilt_of(const StateVector& x) { return std::acos(std::clamp(attitude(x).toRotationMatrix().col(2).z(), -1.0, 1.0)); }
 }  // namespace
 
 TEST_CASE("ground: at rest with throttle 0 the aircraft stays put, no bounce, no NaN") {
@@ -196,7 +194,6 @@ TEST_CASE("ground: the nose wheel steers with the rudder") {
   CHECK(std::fabs(psi[2]) < 0.5 * psi[0]);
 }
 
-
 // ---------------------------------------------------------------- turbulence near the ground -
 
 TEST_CASE("wind: below 50 m the Dryden parameters follow MIL-F-8785C's low-altitude laws; at and above, the book's") {
@@ -297,7 +294,7 @@ TEST_CASE("ground: parked with brakes in 0-8 m/s from the nose, side or tail, mo
         CAPTURE(seed);
         const Parked p = park(speed, from, "moderate", seed, 30.0);
         CHECK_MESSAGE(!p.crashed, p.what);
-        CHECK(p.max_tilt < 0.2);  // the wing tips strike at ~9 deg of roll, the tail at ~15 deg of pitch
+        CHECK(p.max_tilt < 0.2);   // the wing tips strike at ~9 deg of roll, the tail at ~15 deg of pitch
         CHECK(p.max_rise < 0.05);  // 2.4 cm at 8 m/s: light on its wheels in the gusts
         CHECK(p.airborne < 0.5);   // s with no wheel on the ground (0.05 s at most at 8 m/s)
       }

@@ -56,9 +56,9 @@ Book book_forces(const Aircraft& ac, double u, double w, const Eigen::Vector3d& 
   out.f.x() = -ca * F_drag + sa * F_lift + prop.x();
   out.f.z() = -sa * F_drag - ca * F_lift;
   out.f.y() = qbar * ac.S * (A.C_Y_0 + A.C_Y_p * bp + A.C_Y_r * br + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r);
-  out.m.x() = qbar * ac.S * ac.b *
-                  (A.C_ell_0 + A.C_ell_p * bp + A.C_ell_r * br + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) -
-              prop.y();
+  out.m.x() =
+      qbar * ac.S * ac.b * (A.C_ell_0 + A.C_ell_p * bp + A.C_ell_r * br + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) -
+      prop.y();
   out.m.y() = qbar * ac.S * ac.c * (A.C_m_0 + A.C_m_alpha * alpha + A.C_m_q * cq + A.C_m_delta_e * d.delta_e);
   out.m.z() = qbar * ac.S * ac.b * (A.C_n_0 + A.C_n_p * bp + A.C_n_r * br + A.C_n_delta_a * d.delta_a + A.C_n_delta_r * d.delta_r);
   return out;
@@ -110,13 +110,14 @@ TEST_CASE("model: a pure crosswind at rest gives side force, no lift; the dihedr
   CHECK(std::fabs(fm.m_aero.y()) < 1e-9);
   CHECK(std::fabs(fm.m_aero.x()) < 1e-9);  // C_ell_beta sin(beta) cos(beta)
   const double qS = 0.5 * ac.rho * 49.0 * ac.S;
-  CHECK(fm.f_aero.y() == doctest::Approx(qS * ac.aero.C_Y_beta));  // pushed downwind (C_Y_beta < 0)
+  CHECK(fm.f_aero.y() == doctest::Approx(qS * ac.aero.C_Y_beta));         // pushed downwind (C_Y_beta < 0)
   CHECK(fm.m_aero.z() == doctest::Approx(qS * ac.b * ac.aero.C_n_beta));  // the nose turns into the wind
   // at 10 deg of sideslip, within the blending angle, the book's linear derivatives
   const double b10 = 10.0 * kPi / 180.0;
   const ForcesMoments f10 = model_forces(ac, {17.0 * std::cos(b10), 17.0 * std::sin(b10), 0.0}, {0, 0, 0}, Deltas{});
   const double qS10 = 0.5 * ac.rho * 17.0 * 17.0 * ac.S;
-  CHECK(f10.m_aero.x() + f10.prop.Q_p == doctest::Approx(qS10 * ac.b * ac.aero.C_ell_beta * b10).epsilon(1e-3));  // less the windmilling torque
+  CHECK(f10.m_aero.x() + f10.prop.Q_p ==
+        doctest::Approx(qS10 * ac.b * ac.aero.C_ell_beta * b10).epsilon(1e-3));  // less the windmilling torque
   // ... and the lift of the flow in the x-z plane, qbar cos^2(beta)
   CHECK(-f10.f_aero.z() == doctest::Approx(qS10 * std::pow(std::cos(b10), 2) * ac.aero.C_L_0).epsilon(0.02));
 }

@@ -327,8 +327,8 @@ TEST_CASE("plugin: a wing tip on the ground ends the flight as a crash naming it
 
 TEST_CASE("plugin: the range finder measures the height at 20 m in trim, and switching it off changes no other sensor") {
   auto fly = [](bool range) {
-    auto h = make({{"init_mode", std::string("trim")}, {"init_altitude", 20.0}, {"turbulence", std::string("light")}, {"range_enabled", range}},
-                  7);
+    auto h = make(
+        {{"init_mode", std::string("trim")}, {"init_altitude", 20.0}, {"turbulence", std::string("light")}, {"range_enabled", range}}, 7);
     run(h, 2.0);
     return std::make_tuple(h.output<msg::Imu>("imu"), h.output<msg::Gnss>("gnss"), h.output<msg::Baro>("baro"),
                            h.published("range") > 0 ? h.output<msg::Range>("range").distance : 0.0, h.output<msg::State>("truth"));

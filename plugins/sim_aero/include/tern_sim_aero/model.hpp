@@ -59,7 +59,7 @@ struct Wind {
 struct AirData {
   Eigen::Vector3d v_air = Eigen::Vector3d::Zero();  ///< (u_r v_r w_r), body, m/s
   double Va = 0, alpha = 0, beta = 0;               ///< m/s, rad, rad (beta = 0 when Va = 0)
-  double V_xz = 0;  ///< speed of the flow in the body x-z plane, sqrt(u_r^2 + w_r^2) = Va cos(beta), m/s
+  double V_xz = 0;                                  ///< speed of the flow in the body x-z plane, sqrt(u_r^2 + w_r^2) = Va cos(beta), m/s
 };
 
 /// Propeller speed, thrust and torque (propulsion supplement).
