@@ -23,7 +23,8 @@ void check_no_nan(const fs::path& run) {
   for (const auto& e : fs::directory_iterator(run / "topics")) {
     const std::string text = read_file(e.path());
     CHECK_MESSAGE(text.find("nan") == std::string::npos, e.path().string());
-    CHECK_MESSAGE(text.find("inf") == std::string::npos, e.path().string());
+    // a range finder's "no return" is +inf by sensor_msgs/Range's convention (tern/msg/sensors.hpp)
+    if (e.path().filename() != "range.csv") CHECK_MESSAGE(text.find("inf") == std::string::npos, e.path().string());
   }
 }
 

@@ -254,13 +254,14 @@ def true_aim(run, spec, spans):
     return float(along), float(across)
 
 
-def truth_rebase(run, spans):
-    """How much higher the truth is at rest than the estimate's home (m): the truth's heights
-    count from its own height at rest, as metrics.landing's and the manager's count from home (the
+def truth_rebase(run, spans, spec):
+    """How much higher the truth is at rest than the touchdown point of `spec` (m): the truth's
+    heights count from its own height at rest, as metrics.landing's do, the estimate's from the
+    manager's touchdown point (home's altitude, or the runway its range finder measured; the
     estimator's altitude origin, its first GNSS fix, is metres off; at rest both are on the
     ground). 0 without a truth at rest."""
     home = truth_home(run, spans)
-    return 0.0 if home is None else float(-home[2] - home_altitude(run, spans))
+    return 0.0 if home is None else float(-home[2] + spec["td"][2])
 
 
 # ----------------------------------------------------------------------------------------------
@@ -300,7 +301,7 @@ class Landing:
         if not atts:
             return f"the land item ({spec['source']}) was never approached: no approach phase"
         spec["entry"] = entry_height(spec, run, atts)
-        spec["truth_dz"] = truth_rebase(run, spans)
+        spec["truth_dz"] = truth_rebase(run, spans, spec)
         spec["aim"] = true_aim(run, spec, spans)
         drawn = [self._tracks(run, spec, a, k + 1 == len(atts)) for k, a in enumerate(atts)]
         if drawn[-1]["truth"] is None and drawn[-1]["est"] is None:
