@@ -384,7 +384,7 @@ struct DdsBridge::Impl {
     }));
     add(std::make_shared<TriggerServer>(participant, publisher, subscriber, ns, "go_around", heard, [this](const Trigger_Request&) {
       const auto ph = static_cast<msg::Phase>(phase.load(std::memory_order_relaxed));
-      if (!host.flying() || (ph != msg::Phase::approach && ph != msg::Phase::flare))
+      if (!host.flying() || !msg::on_final(ph))
         return failure<Trigger_Response>(
             fmt::format("go_around: no landing to go around from ({}phase {}): taken on the final approach "
                         "and in the flare",

@@ -8,7 +8,7 @@ namespace tern::core {
 namespace {
 constexpr double kRadToDeg = 57.29577951308232;
 
-bool landing_phase(msg::Phase p) { return p == msg::Phase::flare || p == msg::Phase::rollout || p == msg::Phase::stopped; }
+bool from_the_flare(msg::Phase p) { return p == msg::Phase::flare || p == msg::Phase::rollout || p == msg::Phase::stopped; }
 }  // namespace
 
 void LandingReport::observe(Nanos now, msg::Phase phase, const msg::State& truth, const msg::WaypointList* wps) {
@@ -29,7 +29,7 @@ void LandingReport::observe(Nanos now, msg::Phase phase, const msg::State& truth
     while (now - sinks_.front().first > from_seconds(kSinkWindow)) sinks_.pop_front();
   }
   const Eigen::Vector2d u(std::cos(heading_), std::sin(heading_));
-  if (!td_ && landing_phase(phase) && -p.z() <= -home_->z() + kContactMargin) {
+  if (!td_ && from_the_flare(phase) && -p.z() <= -home_->z() + kContactMargin) {
     Touchdown t;
     t.t_s = to_seconds(now);
     td_point_ = p.head<2>();

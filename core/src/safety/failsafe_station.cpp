@@ -47,7 +47,7 @@ void FailsafeStation::tick(Nanos now, const PhaseMachine* phase_machine, RemoteQ
   in.state = state_ && state_->sequence() > 0 ? static_cast<const msg::State*>(state_->data()) : nullptr;
   in.last_fix = last_fix_;
   in.link_heard = link_heard_;
-  in.landing = phase == msg::Phase::approach || phase == msg::Phase::flare;
+  in.landing = msg::on_final(phase);
   for (const FailsafeEvent& e : monitor_.check(in)) act(e, max_deflection, remote);
   if (terminated_) {
     msg::Actuators a = terminate_out_.last();

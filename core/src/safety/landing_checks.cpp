@@ -17,11 +17,8 @@ double along_touchdown(const msg::State& s, const msg::CurrentPath& path) {
 }
 
 double runway_height(const msg::State& s, const msg::CurrentPath& path, const msg::Range* range, Nanos now) {
-  if (range != nullptr && now - range->stamp <= msg::Range::kFresh) {
-    const double h = range->height(s.phi, s.theta);
-    if (std::isfinite(h)) return h;
-  }
-  return height_above_touchdown(s, path);
+  const double h = range != nullptr ? range->height_at(now, s.phi, s.theta) : std::nan("");
+  return std::isfinite(h) ? h : height_above_touchdown(s, path);
 }
 
 std::string unstabilised(const msg::State& s, const msg::CurrentPath& path, double Va_c, const LandingLimits& l) {

@@ -291,7 +291,7 @@ void PhaseMachine::go_around(Nanos now, const std::string& why) {
 }
 
 std::string PhaseMachine::request_go_around(const std::string& source) {
-  if (f_.phase != msg::Phase::approach && f_.phase != msg::Phase::flare)
+  if (!msg::on_final(f_.phase))
     return fmt::format("no landing to go around from: the phase is {} (a go-around is taken on the approach and in the flare)",
                        msg::phase_name(f_.phase));
   f_.go_around_request = source;
@@ -303,7 +303,7 @@ bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
   const msg::Phase ph = f_.phase;
   if (!f_.go_around_request.empty()) {
     const std::string source = std::exchange(f_.go_around_request, "");
-    if (ph == msg::Phase::approach || ph == msg::Phase::flare) {
+    if (msg::on_final(ph)) {
       go_around(now, fmt::format("the operator's command ({})", source));
       return true;
     }
@@ -317,7 +317,7 @@ bool PhaseMachine::step_landing(Nanos now, const msg::State& s) {
     step_rollout(now, s);
     return true;
   }
-  if (ph != msg::Phase::approach && ph != msg::Phase::flare) return false;
+  if (!msg::on_final(ph)) return false;
   if (!on_path) {
     if (ph == msg::Phase::approach) go_around(now, "the glide path was left (the mission changed)");
     return true;  // a flare goes on: the aircraft is committed

@@ -61,9 +61,7 @@ std::string SafetyMonitor::envelope(const msg::State& s, msg::Phase phase) {
                        l.pitch_max * kDegPerRad);
   // the landing descends through the floor by design: disarmed from the approach on, re-armed
   // after a go-around once above it again (as the geofence's floor, failsafe.hpp)
-  const bool landing =
-      phase == msg::Phase::approach || phase == msg::Phase::flare || phase == msg::Phase::rollout || phase == msg::Phase::stopped;
-  floor_armed_ = !landing && (floor_armed_ || (envelope_phase(phase) && s.altitude() > l.floor));
+  floor_armed_ = !msg::landing_phase(phase) && (floor_armed_ || (envelope_phase(phase) && s.altitude() > l.floor));
   if (floor_armed_ && s.altitude() < l.floor)
     return fmt::format("envelope: altitude {:.1f} m below the floor {:.1f} m", s.altitude(), l.floor);
   if (!envelope_phase(phase)) return "";

@@ -83,7 +83,7 @@ void ControllerPlugin::step(Nanos now) {
   x.h = -s.p_d;
   x.h_dot = -s.v_d;
   x.Va = s.Va;
-  if (range_.has_value() && now - range_->stamp <= msg::Range::kFresh) x.h_agl = range_->height(s.phi, s.theta);
+  if (range_.has_value()) x.h_agl = range_->height_at(now, s.phi, s.theta);
 
   Command c;
   if (command_.has_value()) {

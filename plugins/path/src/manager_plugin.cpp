@@ -135,6 +135,15 @@ void ManagerPlugin::step(Nanos now) {
   path_.publish(out);
 }
 
+namespace {
+// y <- x low-passed over 2 s (first order; the first sample taken as it is), stamped at now.
+void low_pass(std::optional<double>& y, Nanos& stamp, double x, Nanos now) {
+  const double dt = y ? std::max(to_seconds(now - stamp), 0.0) : 0.0;
+  y = y ? *y + (1.0 - std::exp(-dt / 2.0)) * (x - *y) : x;
+  stamp = now;
+}
+}  // namespace
+
 // Home's ground: the estimate's altitude while the aircraft rests before the takeoff (preflight,
 // or takeoff not yet rolling), low-passed over 2 s; land items' touchdown altitudes count from it.
 void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
@@ -142,19 +151,13 @@ void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
   const msg::FlightPhase& ph = *phase_;
   const bool at_rest = ph.phase == msg::Phase::preflight || (ph.phase == msg::Phase::takeoff && std::isfinite(s.Vg) && s.Vg < 1.0);
   if (at_rest && s.valid && std::isfinite(s.p_d) && ph.phase != msg::Phase::climb && manager_->approaches() == 0) {
-    const double h = -s.p_d;
-    const double dt = f_.home_h ? to_seconds(now - f_.home_stamp) : 0.0;
-    f_.home_h = f_.home_h ? *f_.home_h + (1.0 - std::exp(-std::max(dt, 0.0) / 2.0)) * (h - *f_.home_h) : h;
-    f_.home_stamp = now;
+    low_pass(f_.home_h, f_.home_stamp, -s.p_d, now);
     manager_->set_home_altitude(*f_.home_h);
   }
   // A go-around: the phase left the approach (or flare) for anything but the landing's next
   // phases. Seen from the last phase this plugin saw: the phase machine may pass through climb
   // to cruise within one of this plugin's periods.
-  auto landing = [](msg::Phase p) {
-    return p == msg::Phase::approach || p == msg::Phase::flare || p == msg::Phase::rollout || p == msg::Phase::stopped;
-  };
-  const bool go_around = (f_.last_phase == msg::Phase::approach || f_.last_phase == msg::Phase::flare) && !landing(ph.phase);
+  const bool go_around = msg::on_final(f_.last_phase) && !msg::landing_phase(ph.phase);
   f_.last_phase = ph.phase;
   if (go_around) manager_->go_around(Vec3(s.p_n, s.p_e, s.p_d));
 }
@@ -165,12 +168,10 @@ void ManagerPlugin::follow_phase(const msg::State& s, Nanos now) {
 void ManagerPlugin::follow_runway(const msg::State& s, Nanos now) {
   if (!phase_.has_value() || !range_.has_value() || !s.valid) return;
   const msg::Phase ph = phase_->phase;
-  if ((ph != msg::Phase::approach && ph != msg::Phase::flare) || now - range_->stamp > msg::Range::kFresh) return;
-  const double d = s.p_d + range_->height(s.phi, s.theta);
+  if (!msg::on_final(ph)) return;
+  const double d = s.p_d + range_->height_at(now, s.phi, s.theta);
   if (!std::isfinite(d)) return;
-  const double dt = f_.runway_d ? to_seconds(now - f_.runway_stamp) : 0.0;
-  f_.runway_d = f_.runway_d ? *f_.runway_d + (1.0 - std::exp(-std::max(dt, 0.0) / 2.0)) * (d - *f_.runway_d) : d;
-  f_.runway_stamp = now;
+  low_pass(f_.runway_d, f_.runway_stamp, d, now);
   manager_->set_runway_down(*f_.runway_d);
 }
 

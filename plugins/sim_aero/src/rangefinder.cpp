@@ -3,6 +3,8 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace tern::sim {
 
@@ -13,7 +15,11 @@ RangeFinder::RangeFinder(const SensorParams& p, std::uint64_t seed)
       min_range_(p.range_min),
       max_range_(p.range_max),
       position_(p.range_position),
-      rng_(seed) {}
+      rng_(seed) {
+  if (!(min_range_ < max_range_))
+    throw std::invalid_argument("range_min (" + std::to_string(min_range_) + " m) must be below range_max (" + std::to_string(max_range_) +
+                                " m)");
+}
 
 double RangeFinder::distance(const StateVector& x) {
   const double noise = n_(rng_);                             // drawn always: the stream stays aligned whatever the geometry

@@ -668,4 +668,7 @@ TEST_CASE("range finder: the slant distance to the ground, its noise by distance
   x[E1] = 0.0;
   x[PD] = -0.02;
   CHECK(exact.distance(x) == -std::numeric_limits<double>::infinity());
+  SensorParams bad;
+  bad.range_min = 50.0;  // beyond its 40-m range_max
+  CHECK_THROWS_WITH_AS(RangeFinder(bad, 1), "range_min (50.000000 m) must be below range_max (40.000000 m)", std::invalid_argument);
 }

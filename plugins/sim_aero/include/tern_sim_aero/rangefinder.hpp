@@ -24,6 +24,7 @@ namespace tern::sim {
 
 class RangeFinder {
  public:
+  /// Throws std::invalid_argument when range_min is not below range_max.
   RangeFinder(const SensorParams& p, std::uint64_t seed);
   /// The distance measured at the true state x (sim::StateVector), m (+-inf: none, see above).
   double distance(const StateVector& x);

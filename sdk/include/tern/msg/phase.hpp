@@ -62,6 +62,13 @@ inline constexpr bool airborne(Phase p) {
   return p == Phase::climb || p == Phase::cruise || p == Phase::loiter || p == Phase::landing || p == Phase::approach || p == Phase::flare;
 }
 
+/// On the glide path or in the flare: the phases a go-around leaves (and where the floors of the
+/// geofence and the safety monitor are disarmed).
+inline constexpr bool on_final(Phase p) { return p == Phase::approach || p == Phase::flare; }
+
+/// A land item's phases, from the final approach to stopped on the runway.
+inline constexpr bool landing_phase(Phase p) { return on_final(p) || p == Phase::rollout || p == Phase::stopped; }
+
 struct FlightPhase {
   static constexpr std::string_view type_name = "tern/FlightPhase";
   Nanos stamp = 0;

@@ -126,6 +126,10 @@ struct Range {
     if (!(distance >= min_range && distance <= max_range)) return std::numeric_limits<double>::quiet_NaN();
     return distance * std::cos(phi) * std::cos(theta);
   }
+  /// height() of a measurement at most kFresh old at flight time `now`, else NaN.
+  double height_at(Nanos now, double phi, double theta) const {
+    return now - stamp <= kFresh ? height(phi, theta) : std::numeric_limits<double>::quiet_NaN();
+  }
   template <class V>
   static constexpr void describe(V& v) {
     v(&Range::stamp, "stamp", "ns");
