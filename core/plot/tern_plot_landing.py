@@ -1,17 +1,18 @@
 """tern plot: landing.png, the landing of a flight with a land item (docs/landing.md).
 
-The runway's frame: along (m, along the runway heading from the touchdown point; < 0 short of
-it), across (m, > 0 right of the centre line) and the height above the touchdown point. Along
+The runway's frame: along (m, along the runway heading from the glide path's aim point; < 0
+short of it), across (m, > 0 right of the centre line) and the height above the runway. Along
 and across are in the estimate's NED (tern plot's one frame, the truth moved into it) about the
-path manager's touchdown point, the land item's position; the gap between the true and the
+path manager's aim point: the land item's touchdown point moved back by the flare's float in the
+wind (plugins/path/include/tern/path/landing.hpp, aim_offset); the gap between the true and the
 estimated track is the estimation error. Heights count from home on both sides, as the landing
 does: the estimate's above the manager's touchdown point (the item's altitude counted from home,
 the estimate at rest before the takeoff), the truth's above its own height at rest plus the
 item's (the estimator's altitude origin, its first GNSS fix, is metres off: the other figures
 show that as an altitude error; here the gap is the estimate's drift since the takeoff).
-summary.json's metrics.landing measures the touchdown on the truth about the aim point on the
-field (the item's offset from the aircraft's true position at rest,
-core/src/record/landing_report.hpp): that aim point is marked too, and the touchdown marker is
+summary.json's metrics.landing measures the touchdown on the truth about the touchdown point on
+the field (the item's offset from the aircraft's true position at rest,
+core/src/record/landing_report.hpp): that point is marked too, and the touchdown marker is
 the true position at metrics.landing's touchdown time.
 
 The land item: topics/current_path.csv's landing rows (the glide path flown: touchdown point r,
@@ -40,12 +41,13 @@ C_PLAN, C_FLARE, C_DH, C_TD, C_STOP = "#d62728", "#17becf", "#ff7f0e", "#2ca02c"
 
 
 def land_item(run, spans):
-    """{td (n, e, d), heading, glide_slope, flare_height, decision_height, prev_d, source} or None;
-    spans: phase_spans(run)."""
+    """{td (n, e, d), item (n, e), heading, glide_slope, flare_height, decision_height, prev_d, source} or
+    None; td: the glide path's aim point, item: the land item's touchdown point; spans: phase_spans(run)."""
     spec = _from_items(run) or _from_config(run)
     path = _from_path(run)
-    if path is not None:  # the glide path flown; the item before the land item from the mission
+    if path is not None:  # the glide path flown; the item and the one before it from the mission
         path["prev_d"] = spec["prev_d"] if spec else None
+        path["item"] = spec["td"][:2] if spec else path["td"][:2]
         return path
     if spec is not None:
         spec["td"][2] -= home_altitude(run, spans)  # the manager counts the item's altitude from home
@@ -244,13 +246,14 @@ def truth_home(run, spans):
     return None if k < 0 else np.array([truth.get(f)[k] for f in ("p_n", "p_e", "p_d")])
 
 
-def true_aim(run, spec, spans):
-    """The aim point on the field in the runway frame (along, across): the truth's position at
+def true_touchdown_point(run, spec, spans):
+    """The touchdown point on the field in the runway frame (along, across): the truth's position at
     rest plus the land item's offset, as metrics.landing measures; None without a truth at rest."""
     home = truth_home(run, spans)
     if home is None:
         return None
-    along, across, _ = runway_frame(spec, home[0] + spec["td"][0], home[1] + spec["td"][1], 0.0)
+    item = spec.get("item", spec["td"])
+    along, across, _ = runway_frame(spec, home[0] + item[0], home[1] + item[1], 0.0)
     return float(along), float(across)
 
 
@@ -268,7 +271,8 @@ def truth_rebase(run, spans, spec):
 # The figure
 # ----------------------------------------------------------------------------------------------
 
-CAPTION = ("Landing in the runway's frame: along the runway heading from the path manager's touchdown point (< 0 "
+CAPTION = ("Landing in the runway's frame: along the runway heading from the path manager's aim point (the glide "
+           "path's end on the runway: the land item's touchdown point moved back by the flare's float in the wind; < 0 "
            "short of it), across the centre line (> 0 right of it), in the estimate's NED with the truth moved into "
            "it. Top: side view, the height above the touchdown point (the estimate's above the manager's touchdown "
            "point, counted from home; the truth's above its own height at rest, as metrics.landing counts): the "
@@ -277,7 +281,7 @@ CAPTION = ("Landing in the runway's frame: along the runway heading from the pat
            "rollout (earlier approaches that went around fainter, to their go-around and climb-out), the phase "
            "changes, the touchdown (summary.json's metrics.landing, on the truth). Bottom: top view, across (drawn "
            "downwards: seen from above, flying to the right) against along: the centre line, the touchdown point, "
-           "the aim point on the field (the truth at rest plus the land item's offset, which metrics.landing measures "
+           "the touchdown point on the field (the truth at rest plus the land item's offset, which metrics.landing measures "
            "from), the true and estimated tracks, the touchdown and where the rollout stopped. Right: the same, "
            "closer, from above the decision height to the stop.")
 
@@ -302,7 +306,7 @@ class Landing:
             return f"the land item ({spec['source']}) was never approached: no approach phase"
         spec["entry"] = entry_height(spec, run, atts)
         spec["truth_dz"] = truth_rebase(run, spans, spec)
-        spec["aim"] = true_aim(run, spec, spans)
+        spec["field"] = true_touchdown_point(run, spec, spans)
         drawn = [self._tracks(run, spec, a, k + 1 == len(atts)) for k, a in enumerate(atts)]
         if drawn[-1]["truth"] is None and drawn[-1]["est"] is None:
             return "no truth or estimate over the approach"
@@ -341,15 +345,15 @@ class Landing:
         touchdown, stop)."""
         for ax in axes["side"]:
             self._plan(ax, spec, drawn[-1], ax is axes["side"][0])
-        aim = spec["aim"]
+        field = spec["field"]
         for k, ax in enumerate(axes["top"]):
             ax.axhline(0.0, color="0.3", lw=1.0, zorder=1, label=None if k else
                        f"runway centre line (heading {math.degrees(spec['heading']) % 360.0:.0f} deg)")
             ax.plot(0.0, 0.0, "D", color=C_PLAN, mec="black", ms=7, zorder=6,
-                    label=None if k else "touchdown point (path manager's)")
-            if aim is not None:
-                ax.plot(*aim, "P", color="gold", mec="black", ms=9, zorder=6, label=None if k else
-                        f"aim point on the field (truth at rest + item; {aim[0]:+.1f} m along, {aim[1]:+.1f} m across)")
+                    label=None if k else "glide path's aim point (path manager's)")
+            if field is not None:
+                ax.plot(*field, "P", color="gold", mec="black", ms=9, zorder=6, label=None if k else
+                        f"touchdown point on the field (truth at rest + item; {field[0]:+.1f} m along, {field[1]:+.1f} m across)")
         markers = []
         for k, d in enumerate(drawn):
             markers += self._approach(d, k + 1, axes)
@@ -418,7 +422,7 @@ class Landing:
             p = at_time(last["truth"], float(m["touchdown_t_s"]))
             if p is not None:
                 label = (f"touchdown t {m['touchdown_t_s']:.1f} s (metrics.landing, truth): {_num(m, 'touchdown_along_m')} "
-                         f"m along, {_num(m, 'touchdown_across_m')} m across the aim point, sink "
+                         f"m along, {_num(m, 'touchdown_across_m')} m across the touchdown point, sink "
                          f"{_num(m, 'sink_rate_mps', '.2f')} m/s")
                 for ax in axes["side"]:
                     ax.plot(p[0], p[2], "v", color=C_TD, mec="black", ms=9, zorder=7,
@@ -465,7 +469,7 @@ class Landing:
         side.set_ylabel("height above the touchdown point [m]")
         zoom.set_title("closer: decision height to the stop", fontsize="small")
         top.set_ylabel("across [m], > 0 right (down)")
-        top.set_xlabel("along the runway heading from the touchdown point [m] (< 0 short)")
+        top.set_xlabel("along the runway heading from the glide path's aim point [m] (< 0 short)")
         top_zoom.set_xlabel("along [m]")
         for ax in (side, zoom, top, top_zoom):
             ax.grid(True, lw=0.4, alpha=0.6)

@@ -16,6 +16,7 @@ summary.json's metrics.landing measured it.
 """
 import csv
 import json
+import math
 import os
 import shutil
 import subprocess
@@ -266,19 +267,21 @@ class Flights(unittest.TestCase):
         fig = figures(self.plots_land)["landing.png"]
         self.assertEqual(fig["markers"], ["approach 1", "flare", "rollout", "stopped", "touchdown", "stop"])
         self.assertIn(f"touchdown t {m['touchdown_t_s']:.1f} s (metrics.landing, truth): {m['touchdown_along_m']:+.1f} m "
-                      f"along, {m['touchdown_across_m']:+.1f} m across the aim point", " ".join(fig["legend"]))
+                      f"along, {m['touchdown_across_m']:+.1f} m across the touchdown point", " ".join(fig["legend"]))
         self.assertNotIn("landing.png", [f for f in figures(self.plots_a)])  # no land item: none
         TP.NOTES.clear()
         ctx = TP.load_run(self.land, False)
         spans = TLand.phase_spans(ctx)
-        spec = TLand.land_item(ctx, spans)  # the manager's touchdown point: the item (0, 0, 0) from home,
-        # or on the runway its range finder measured on the final (runway_altitude_m)
+        spec = TLand.land_item(ctx, spans)  # the manager's aim point: land_aim_offset_m short of the item (0, 0, 0)
+        # from home, on the runway its range finder measured on the final (runway_altitude_m) or at home's altitude
         mgr = next(i for i in s["instances"].values() if isinstance(i, dict) and "home_altitude_m" in i)
-        np.testing.assert_allclose(spec["td"], [0.0, 0.0, -mgr.get("runway_altitude_m", mgr["home_altitude_m"])], atol=1e-3)
+        back = mgr["land_aim_offset_m"] * np.array([math.cos(spec["heading"]), math.sin(spec["heading"])])
+        np.testing.assert_allclose(spec["td"], [-back[0], -back[1], -mgr.get("runway_altitude_m", mgr["home_altitude_m"])],
+                                   atol=1e-3)
         last = TLand.approaches(spans)[-1]
         tr = TLand.track(ctx["truth"], spec, last["t0"], last["t1"], dz=TLand.truth_rebase(ctx, spans, spec))
         along, across, height = TLand.at_time(tr, m["touchdown_t_s"])
-        aim = TLand.true_aim(ctx, spec, spans)
+        aim = TLand.true_touchdown_point(ctx, spec, spans)
         self.assertAlmostEqual(along - aim[0], m["touchdown_along_m"], delta=0.3)
         self.assertAlmostEqual(across - aim[1], m["touchdown_across_m"], delta=0.1)
         self.assertAlmostEqual(height, 0.0, delta=0.1)  # the true CG at its height at rest: on the wheels

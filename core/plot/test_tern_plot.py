@@ -296,8 +296,8 @@ class TernPlotRuns(unittest.TestCase):
                      "sink 1.11 m/s", "true, approach 2 (last)", "estimated, approach 1 (went around)",
                      "stopped (true), rollout 48 m", "runway centre line (heading 90 deg)"):
             self.assertIn(text, legend)
-        # the aim point on the field: the truth's last sample at rest plus the item's offset
-        self.assertIn("aim point on the field (truth at rest + item; -0.0 m along, +0.4 m across)", legend)
+        # the touchdown point on the field: the truth's last sample at rest plus the item's offset
+        self.assertIn("touchdown point on the field (truth at rest + item; -0.0 m along, +0.4 m across)", legend)
         self.assertIn("runway's frame", fig["caption"])
         with open(os.path.join(run, "plots", "index.html")) as f:
             self.assertIn('<img src="landing.png"', f.read())

@@ -263,8 +263,8 @@ std::string metrics_text(const FlightMetrics& fm, const std::string& profile) {
   s += fmt::format("waypoints reached: {}\n", fm.passages().size());
   if (const auto& td = fm.touchdown()) {
     const std::string aim = std::isfinite(td->along_m)
-                                ? fmt::format(", {:+.1f} m along and {:+.1f} m across the aim point", td->along_m, td->across_m)
-                                : std::string(" (no land item: no aim point)");
+                                ? fmt::format(", {:+.1f} m along and {:+.1f} m across the touchdown point", td->along_m, td->across_m)
+                                : std::string(" (no land item: no touchdown point)");
     s += fmt::format(
         "landing (truth): touchdown at {:.2f} s{}, sink {:.2f} m/s, airspeed {:.1f} m/s, roll {:+.1f} deg, pitch {:+.1f} deg; "
         "rollout {:.1f} m{}\n",

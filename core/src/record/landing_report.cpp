@@ -15,13 +15,13 @@ void LandingReport::observe(Nanos now, msg::Phase phase, const msg::State& truth
   const Eigen::Vector3d p(truth.p_n, truth.p_e, truth.p_d);
   if (!p.allFinite()) return;
   if (phase == msg::Phase::preflight || !home_) home_ = p;  // the last sample at rest (or the first)
-  if (!have_aim_ && wps != nullptr) {
+  if (!have_target_ && wps != nullptr) {
     for (std::uint32_t i = 0; i < std::min<std::uint32_t>(wps->count, msg::WaypointList::kCapacity); ++i) {
       const msg::Waypoint& w = wps->items[i];
       if (w.type != msg::Waypoint::land || w.lla) continue;
-      aim_ = home_->head<2>() + w.w.head<2>();
+      target_ = home_->head<2>() + w.w.head<2>();
       heading_ = w.chi_d;
-      have_aim_ = true;
+      have_target_ = true;
     }
   }
   if (!td_) {  // the sink rates within the window before now
@@ -33,8 +33,8 @@ void LandingReport::observe(Nanos now, msg::Phase phase, const msg::State& truth
     Touchdown t;
     t.t_s = to_seconds(now);
     td_point_ = p.head<2>();
-    if (have_aim_) {
-      const Eigen::Vector2d d = td_point_ - aim_;
+    if (have_target_) {
+      const Eigen::Vector2d d = td_point_ - target_;
       t.along_m = d.dot(u);
       t.across_m = -u.y() * d.x() + u.x() * d.y();
     }

@@ -1,14 +1,14 @@
 // core/src/record/landing_report.hpp: how the aircraft touched down, measured on the simulator's
 // truth (summary.json "landing", the console's landing line; the flight metrics feed it).
 //
-// The aim point is the land item's position (the mission's NED, m, about home) placed at the
+// The touchdown point is the land item's position (the mission's NED, m, about home) placed at the
 // aircraft's true position at rest before the takeoff (home, in the truth's frame): the point a
 // researcher would mark on the field, not the estimate's idea of it. The touchdown is the first
 // truth sample in the flare or rollout whose CG height is within kContactMargin of its height at
 // rest on the wheels (the gear compressed by its static deflection, ~2 cm); the sink rate at
 // touchdown is the largest true sink rate in the kSinkWindow before it (the gear brakes the
 // sink once the wheels touch). Along and across are in the runway's frame (the land item's
-// heading): along > 0 long (beyond the aim point), across > 0 right of the centre line. The
+// heading): along > 0 long (beyond the touchdown point), across > 0 right of the centre line. The
 // rollout length runs from the touchdown point to where the aircraft stopped (its true ground speed
 // below kStoppedSpeed) or was at the end.
 #pragma once
@@ -50,8 +50,8 @@ class LandingReport {
   Eigen::Vector2d td_point_ = Eigen::Vector2d::Zero();
   double heading_ = 0.0;
   std::deque<std::pair<Nanos, double>> sinks_;  ///< (time, true v_d) over the window before now
-  bool have_aim_ = false;
-  Eigen::Vector2d aim_ = Eigen::Vector2d::Zero();
+  bool have_target_ = false;
+  Eigen::Vector2d target_ = Eigen::Vector2d::Zero();
 };
 
 }  // namespace tern::core

@@ -17,7 +17,7 @@ void FlightMetrics::configure() {
   declare(internals_, "controller_internals", "commanded roll and pitch", Need::optional);
   declare(path_, "current_path", "commanded path segment", Need::optional);
   declare(phase_, "flight_phase", "flight phase (only cruise counts; the landing's touchdown)", Need::optional);
-  declare(waypoints_, "waypoints", "the mission: a land item's aim point (the landing's touchdown figures)", Need::optional);
+  declare(waypoints_, "waypoints", "the mission: a land item's touchdown point (the landing's touchdown figures)", Need::optional);
   declare(period_, "period", 0.01, ParamSpec("s", 0.0, 10.0, "sample the errors at most this often"));
   declare(start_after_, "start_after", 60.0,
           ParamSpec("s", 0.0, 1e9, "when the mission never completes a loop, the window starts at this flight time"));

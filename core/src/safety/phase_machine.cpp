@@ -365,7 +365,7 @@ void PhaseMachine::step_rollout(Nanos now, const msg::State& s) {
     const msg::CurrentPath& p = *path_;
     const double qn = std::max(std::hypot(p.q.x(), p.q.y()), 1e-9);
     const double dn = s.p_n - p.r.x(), de = s.p_e - p.r.y();
-    where = fmt::format(", {:.1f} m along and {:.1f} m across the touchdown point (estimate), after {} approach(es)",
+    where = fmt::format(", {:.1f} m along and {:.1f} m across the glide path's aim point (estimate), after {} approach(es)",
                         (dn * p.q.x() + de * p.q.y()) / qn, (-dn * p.q.y() + de * p.q.x()) / qn, p.attempt);
   }
   f_.landed_detail = fmt::format("stopped at t={:.3f} s{}", to_seconds(now), where);

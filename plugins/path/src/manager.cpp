@@ -52,6 +52,8 @@ void PathManager::set_config(const ManagerConfig& c) {
   if (!(c.turn_bank >= 0.0 && c.turn_bank <= 1.4))
     throw std::invalid_argument("path manager: turn_bank must be in [0, 1.4] rad, got " + fmt(c.turn_bank, 6));
   if (c.land_attempts < 1) throw std::invalid_argument("path manager: land_attempts must be >= 1, got " + std::to_string(c.land_attempts));
+  if (!(c.flare_time >= 0.0 && c.flare_time <= 30.0))
+    throw std::invalid_argument("path manager: flare_time must be in [0, 30] s, got " + fmt(c.flare_time, 6));
   cfg_ = c;
   loop_ = raw_loop_ && !cfg_.orbit_last;
 }
@@ -469,7 +471,8 @@ void PathManager::begin_land(const Vec3& p, double chi) {
   Vec3 td = e.wp.w;
   td.z() -= home_h_;
   const double entry_d = approach_ ? approach_->entry.z() : prev_.z();
-  approach_ = plan_approach(td, e.wp.chi_d, e.wp.land, entry_d);
+  const double Vg = runway_ground_speed(airspeed(e.wp), wind_, e.wp.chi_d);
+  approach_ = plan_approach(td, e.wp.chi_d, e.wp.land, entry_d, aim_offset(Vg, cfg_.flare_time, e.wp.land));
   if (approach_->raised)
     warn_once("landlow" + std::to_string(e.index), "land item " + std::to_string(e.index) + ": the approach altitude is raised to " +
                                                        fmt(-approach_->entry.z()) + " m (" + fmt(kMinEntryHeights, 0) +
@@ -525,7 +528,7 @@ PathSegment PathManager::land_segment(const Entry& e) const {
   s.type = PathSegment::Type::line;
   switch (stage_) {
     case Stage::land_final:
-      s.r = a.touchdown;
+      s.r = a.aim;
       if (runway_d_) s.r.z() = *runway_d_;  // the glide path moved onto the runway the range finder sees
       s.q = a.q;
       s.landing = true;
@@ -587,7 +590,7 @@ PathSegment PathManager::update(const Vec3& p, double chi, double t) {
           stage_ = Stage::land_final;
           if (info_)
             info_("land item " + std::to_string(wps_[target_].index) + ": final approach " + std::to_string(approaches_) + ", glide path " +
-                  fmt(approach_->length, 0) + " m");
+                  fmt(approach_->length, 0) + " m aimed " + fmt(approach_->aim_offset) + " m before the touchdown point");
         } else {
           advance(p, chi);
         }

@@ -31,7 +31,12 @@ void ManagerPlugin::configure() {
           ParamSpec("s", 0.0, 3600.0, "time constant of the low-pass on the state's wind used for turn_bank radii"));
   declare(land_attempts_, "land_attempts", std::int64_t{3},
           ParamSpec("", 1, 20, "approaches to a land item before the landing is abandoned (orbit above the touchdown point)"));
+  declare(flare_time_, "flare_time", ManagerConfig{}.flare_time,
+          ParamSpec("s", 0.0, 30.0,
+                    "a land item's glide path is aimed ground speed x flare_time - flare_height / tan(glide_slope) before its "
+                    "touchdown point (the flare's float in the wind, as ArduPlane's LAND_FLARE_SEC); 0: at the touchdown point"));
   land_attempts_.on_change([this](const std::int64_t&) { rebuild(); });
+  flare_time_.on_change([this](const double&) { rebuild(); });
   turn_bank_.on_change([this](const double&) { rebuild(); });
   R_min_.on_change([this](const double&) { rebuild(); });
   orbit_last_.on_change([this](const bool&) { rebuild(); });
@@ -55,6 +60,7 @@ ManagerConfig ManagerPlugin::config() const {
   c.min_separation = min_separation_();
   c.turn_bank = turn_bank_();
   c.land_attempts = static_cast<int>(land_attempts_());
+  c.flare_time = flare_time_();
   return c;
 }
 
@@ -185,6 +191,7 @@ std::vector<std::pair<std::string, double>> ManagerPlugin::summary() const {
                                                   {"land_abandoned", manager_->landing_abandoned() ? 1.0 : 0.0},
                                                   {"home_altitude_m", f_.home_h.value_or(0.0)}};
   if (f_.runway_d) out.emplace_back("runway_altitude_m", -*f_.runway_d);  // the range finder's runway, m above the origin
+  if (manager_->approach()) out.emplace_back("land_aim_offset_m", manager_->approach()->aim_offset);  // the last final's
   return out;
 }
 

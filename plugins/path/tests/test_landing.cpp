@@ -88,6 +88,61 @@ TEST_CASE("landing: the approach's entry point, glide direction and glide-path a
   CHECK(low.entry.y() == Approx(-200.0));  // heading east: the entry lies west
 }
 
+TEST_CASE("landing: the aim point moved for the wind, hand-worked") {
+  LandSpec spec;
+  spec.glide_slope = std::atan(0.1);
+  spec.flare_height = 3.0;  // reached 30 m before the aim point
+  // Ground speed along the runway (heading north): a 5 m/s headwind, a 5 m/s crosswind crabbed into.
+  CHECK(runway_ground_speed(15.0, Vec3(-5, 0, 0), 0.0) == Approx(10.0));
+  CHECK(runway_ground_speed(15.0, Vec3(0, 5, 0), 0.0) == Approx(std::sqrt(200.0)));
+  CHECK(runway_ground_speed(15.0, Vec3(0, -20, 0), 0.0) == Approx(0.0).scale(1.0));  // crosswind above Va: no progress
+  CHECK(runway_ground_speed(15.0, Vec3(0, 5, 0), kDeg * 90.0) == Approx(20.0));      // heading east: a tailwind
+  // The flare takes 3 s: 45 m at 15 m/s, of which 30 m are the glide path's own: aimed 15 m short.
+  CHECK(aim_offset(15.0, 3.0, spec) == Approx(15.0));
+  CHECK(aim_offset(9.0, 3.0, spec) == Approx(-3.0));  // into 6 m/s of headwind: 3 m beyond
+  CHECK(aim_offset(15.0, 0.0, spec) == Approx(0.0).scale(1.0));
+  const Approach a = plan_approach(Vec3(100, 0, 0), 0.0, spec, -60.0, 15.0);
+  CHECK(a.aim.x() == Approx(85.0));
+  CHECK(a.aim_offset == Approx(15.0));
+  CHECK(a.entry.x() == Approx(-515.0));  // the whole glide path moved back
+  CHECK(glide_path_altitude(a, Vec3(85, 0, 0)) == Approx(0.0).scale(1.0));
+  CHECK(glide_path_altitude(a, Vec3(55, 0, 0)) == Approx(3.0));  // the flare height, 45 m before the touchdown point
+  CHECK(along_runway(a, Vec3(90, 0, 0)) == Approx(-10.0));       // still counted from the touchdown point
+  // Limited to half the glide path's length (600 m) either way.
+  CHECK(plan_approach(Vec3(100, 0, 0), 0.0, spec, -60.0, 1000.0).aim_offset == Approx(300.0));
+  CHECK(plan_approach(Vec3(100, 0, 0), 0.0, spec, -60.0, -1000.0).aim_offset == Approx(-300.0));
+}
+
+TEST_CASE("landing: the path manager aims the glide path for the wind it was given; flare_time 0 aims at the touchdown point") {
+  for (const double flare_time : {0.0, 3.0}) {
+    CAPTURE(flare_time);
+    ManagerConfig cfg;
+    cfg.R_min = 60.0;
+    cfg.flare_time = flare_time;
+    PathManager m(cfg);
+    m.set_wind(Vec3(-4, 0, 0));  // 4 m/s of headwind on a runway heading north
+    m.set_waypoints({waypoint(300, 300, 60), land_item(Vec3(0, 0, 0), 0.0)}, true);
+    testkit::KinematicAircraft ac;
+    ac.h = 60.0;
+    ac.Va = 15.0;
+    ac.set_course(0.0);
+    PathSegment seg;
+    for (double t = 0.0; t < 400.0 && !seg.landing; t += 0.02) {
+      seg = m.update(ac.p(), ac.chi, t);
+      const FollowerCommand c = follow(seg, {ac.p(), ac.chi, ac.psi, ac.Va, ac.Vg()}, FollowerGains{});
+      ac.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, 0.02);
+    }
+    REQUIRE(seg.landing);
+    const LandSpec spec;  // the item's defaults
+    const double expected = flare_time > 0.0 ? 11.0 * 3.0 - spec.flare_height / std::tan(spec.glide_slope) : 0.0;
+    CHECK(m.approach()->aim_offset == Approx(expected));
+    CHECK(seg.r.x() == Approx(-expected));  // the line the follower flies meets the runway there
+  }
+  ManagerConfig bad;
+  bad.flare_time = -1.0;
+  CHECK_THROWS_WITH(PathManager{bad}, doctest::Contains("flare_time"));
+}
+
 TEST_CASE("landing: the kinematic aircraft flies a Dubins path onto the runway heading and down the glide path") {
   for (const double heading : {0.0, 100.0 * kDeg, -150.0 * kDeg}) {
     CAPTURE(heading);

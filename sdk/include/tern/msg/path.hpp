@@ -97,8 +97,9 @@ struct CurrentPath {
   double rho = 0.0;                              ///< orbit radius, m
   std::int8_t lambda = 1;                        ///< orbit direction: 1 clockwise, -1 counter-clockwise
   std::int32_t waypoint_index = -1;              ///< index of the waypoint being flown to, -1 if none
-  /// The line is a land item's final approach: r is the touchdown point (on the ground, in the
-  /// estimate's frame), q points down the glide path along the runway heading.
+  /// The line is a land item's final approach: r is the glide path's aim point (on the ground, in
+  /// the estimate's frame: the item's touchdown point moved back along the runway by the flare's
+  /// float, tern/path/landing.hpp aim_offset), q points down the glide path along the runway heading.
   bool landing = false;
   double flare_height = 0.0;     ///< landing: flare begins this high above r, m
   double decision_height = 0.0;  ///< landing: stabilised-approach check below this height above r, m

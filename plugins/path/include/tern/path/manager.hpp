@@ -105,6 +105,12 @@ struct ManagerConfig {
   /// fillets never overlap; Dubins paths and orbits consider every course.
   double turn_bank = 0.0;
   int land_attempts = 3;  ///< approaches to a land item before the landing is abandoned, >= 1
+  /// The flare's expected duration, s, [0, 30]: a land item's glide path is aimed
+  /// aim_offset(Vg, flare_time, spec) before its touchdown point (landing.hpp), with Vg the
+  /// ground speed along the runway at the item's airspeed in the wind given by set_wind() when
+  /// the final approach is planned. 0: aimed at the touchdown point. ArduPlane's LAND_FLARE_SEC
+  /// plays the same part (default 2 s).
+  double flare_time = 3.0;
 };
 
 class PathManager {
