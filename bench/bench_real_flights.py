@@ -126,6 +126,13 @@ def main():
             for model, v in nis.items():
                 rows.append({"figure": f"mean NIS {model}", "value": v, "target": "in [0.3, 3]",
                              "verdict": "met" if v is not None and 0.3 <= v <= 3 else "MISSED"})
+            # the physics check (replay_report.hpp SpecificForceCheck): which attitude, tern's or the
+            # reference's, the accelerometer and the GNSS acceleration agree with (no target: a referee)
+            for who, key in (("tern", ""), ("reference", "reference_")):
+                for axis in ("roll", "pitch"):
+                    f = get(rep, ("specific_force", key + axis)) or {}
+                    rows.append({"figure": f"{who} {axis} vs the specific force, RMS (mean) deg",
+                                 "value": f.get("rms"), "mean": f.get("mean"), "target": "(referee)", "verdict": "-"})
             flight = {"window": get(rep, ("window", "rule")), "rows": rows, "wind_max_mps": get(rep, ("wind", "max_speed")),
                       "resets": get(rep, ("estimator", "resets")), "nan_cells": get(rep, ("validity", "nan_cells"))}
             t_fail = engine_failure_time(log)
@@ -134,11 +141,13 @@ def main():
                 flight["test_ratio_15s_before_after"] = innovations_around(run_dir, t_fail)
             result["flights"][name] = flight
             print(f"\n{name}: {flight['window']}")
-            print(f"  {'figure':42s} {'value':>10s}  {'target':>12s}  verdict")
+            print(f"  {'figure':48s} {'value':>16s}  {'target':>12s}  verdict")
             for r in rows:
                 v = r["value"]
                 vs = "-" if v is None else f"{v:.3f}" if isinstance(v, float) else str(v)
-                print(f"  {r['figure']:42s} {vs:>10s}  {r['target']:>12s}  {r['verdict']}")
+                if r.get("mean") is not None:
+                    vs += f" ({r['mean']:+.2f})"
+                print(f"  {r['figure']:48s} {vs:>16s}  {r['target']:>12s}  {r['verdict']}")
             print(f"  resets {flight['resets']}, wind max {flight['wind_max_mps']:.1f} m/s, NaN cells {flight['nan_cells']}")
             if t_fail is not None:
                 print(f"  engine failure at {t_fail} s: mean test ratio 15 s before / after:")

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "../test_process.hpp"
@@ -138,6 +139,54 @@ TEST_CASE("replay report: known offsets against the reference and the GNSS") {
   CHECK(r.gnss.course.rms == doctest::Approx(std::atan2(0.5, 10.0) / kDeg).epsilon(1e-9));
   CHECK(r.gnss.share_pos_accepted == doctest::Approx(0.9));
   CHECK(r.gnss.time_rule.find("(7 fixes), else stamp - ekf.gnss_delay 0.2 s (8 fixes)") != std::string::npos);
+}
+
+TEST_CASE("replay report: the attitude against the specific force, the estimate's and the reference's") {
+  const fs::path run = synthetic_run("specific_force");
+  // 10 Hz fixes accelerating at 2 m/s^2 north; an accelerometer at 100 Hz that agrees with the
+  // estimate's attitude (roll 0.2 rad, pitch 0.05 rad, yaw 179 deg): f = R^T (a - g)
+  std::vector<std::vector<double>> gnss, imu;
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 0.1 * k;
+    gnss.push_back({t, std::round(t * 1e9), std::round(t * 1e9), 3.0, 10, kOrigin.lat, kOrigin.lon, kOrigin.alt, 6.0 + 2.0 * t, 0.0, 0.0,
+                    1.0, 2.0, 0.3});
+  }
+  auto body_to_ned = [](double phi, double theta, double psi) {
+    return (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
+            Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX()))
+        .toRotationMatrix();
+  };
+  const Eigen::Vector3d a_g(2.0, 0.0, -9.80665);  // a - g, NED
+  const Eigen::Vector3d f = body_to_ned(0.2, 0.05, 179.0 * kDeg).transpose() * a_g;
+  for (int k = 0; k <= 2000; ++k) imu.push_back({0.01 * k, std::round(0.01 * k * 1e9), f.x(), f.y(), f.z(), 0.0, 0.0, 0.0, 288.15});
+  write_csv(run / "topics/gnss.csv",
+            "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
+            "vel_d [m/s],h_acc [m],v_acc [m],s_acc [m/s]",
+            gnss);
+  write_csv(run / "topics/imu.csv",
+            "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]",
+            imu);
+  const ReplayReport r = make_replay_report(run);
+  const auto& c = r.specific_force;
+  REQUIRE(c.absent.empty());
+  // the window opens at the first fix at 5 m/s or more (t = 0): epochs every 0.5 s from 0.6 s to
+  // 19.4 s, less those whose bracket touches the invalid state at [12, 12.5)
+  CHECK(c.epochs == 36);
+  CHECK(c.roll.rms < 1e-6);
+  CHECK(c.pitch.rms < 1e-6);
+  // the reference: 1 deg less roll, 0.5 deg more pitch, 2 deg more yaw (which turns the 2 m/s^2
+  // north into the body's y axis as well): the residual its attitude leaves, over g
+  const Eigen::Vector3d res = f - body_to_ned(0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, 181.0 * kDeg).transpose() * a_g;
+  CHECK(c.reference_roll.samples == c.epochs);
+  CHECK(c.reference_roll.mean == doctest::Approx(res.y() / 9.80665 / kDeg).epsilon(1e-6));
+  CHECK(c.reference_pitch.mean == doctest::Approx(-res.x() / 9.80665 / kDeg).epsilon(1e-6));
+  CHECK(c.reference_roll.mean == doctest::Approx(-1.0).epsilon(0.4));  // about the roll offset
+  CHECK(c.reference_pitch.mean == doctest::Approx(0.5).epsilon(0.1));
+  CHECK(tern::core::format_replay_table(r).find("pitch, reference") != std::string::npos);
+  CHECK(tern::core::to_json(r)["specific_force"]["reference_roll"]["samples"] == c.epochs);
+  // without an accelerometer: absent, said so
+  fs::remove(run / "topics/imu.csv");
+  CHECK(make_replay_report(run).specific_force.absent == "absent (no accelerometer in topics/imu.csv)");
 }
 
 TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
@@ -326,5 +375,13 @@ TEST_CASE("replay report end to end: a default-mission flight, its truth as the 
   CHECK(r.validity.divergences == drops);  // no filter reset
   CHECK(measurement(r, "gnss_pos").gate == "ekf.gnss_pos_gate = 16.266");
   CHECK(measurement(r, "gnss_pos").window.count > 200);
+  // the physics check scores the truth and this estimate (0.2 deg from it) alike: the same scatter
+  // (the GNSS velocity's noise, the realistic IMU's vibration; 2-4 deg RMS) and no bias beyond 1 deg
+  const auto& sf = r.specific_force;
+  CHECK(sf.epochs > 50);
+  CHECK(sf.reference_roll.samples == sf.epochs);
+  CHECK(std::fabs(sf.roll.rms - sf.reference_roll.rms) < 0.5);
+  CHECK(std::fabs(sf.pitch.rms - sf.reference_pitch.rms) < 0.5);
+  for (const auto* e : {&sf.roll, &sf.pitch, &sf.reference_roll, &sf.reference_pitch}) CHECK(std::fabs(e->mean) < 1.0);
   MESSAGE(tern::core::format_replay_table(r));
 }

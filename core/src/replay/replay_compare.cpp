@@ -14,18 +14,6 @@ namespace tern::core::replay_report {
 
 namespace {
 
-/// One reference field over time: only its rows with a number (NaN: "not given", as a log that
-/// merges two sources leaves the other source's fields empty in each row).
-struct Series {
-  std::vector<double> t, v;
-  Series(const CsvTable& r, const char* name) {
-    if (!r.has(name)) return;  // docs/sensor-log.md lets any field be missing
-    const auto &time = r.at("time"), &value = r.at(name);
-    for (std::size_t k = 0; k < value.size(); ++k)
-      if (std::isfinite(value[k])) t.push_back(time[k]), v.push_back(value[k]);
-  }
-};
-
 /// The reference's fields, each interpolated between its own samples.
 struct ReferenceColumns {
   Series phi, theta, psi, lat, lon, alt, v_n, v_e, v_d, w_n, w_e;

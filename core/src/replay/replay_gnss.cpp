@@ -45,6 +45,19 @@ double share_accepted(const EstimatorCounters& c, const std::string& model) {
 
 }  // namespace
 
+FixTimes fix_times(const RunTables& run, const EstimatorCounters& c, const ReplayWindow& w) {
+  const CsvTable& f = *run.gnss;
+  FixTimes out;
+  out.param = param_prefix(c) + "gnss_delay";
+  out.delay = run.params.number_at(out.param, w.start_s).value_or(0.0);
+  const auto &stamp = f.at("stamp"), &tov_ns = f.at("time_of_validity");
+  for (std::size_t k = 0; k < f.rows; ++k) {
+    out.epoch.push_back(tov_ns[k] != 0.0);
+    out.tov.push_back((out.epoch.back() ? tov_ns[k] : stamp[k] - std::round(out.delay * 1e9)) / 1e9);  // in ns, then s: exact
+  }
+  return out;
+}
+
 GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& c, const ReplayWindow& w) {
   GnssComparison g;
   if (!run.gnss) {
@@ -52,24 +65,22 @@ GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& c, co
     return g;
   }
   const CsvTable& f = *run.gnss;
-  const std::string pre = param_prefix(c);
-  const double delay = run.params.number_at(pre + "gnss_delay", w.start_s).value_or(0.0);
-  const double min_fix = run.params.number_at(pre + "min_gnss_fix_type", w.start_s).value_or(3.0);
-  const auto &stamp = f.at("stamp"), &tov_ns = f.at("time_of_validity"), &fix = f.at("fix_type");
+  const double min_fix = run.params.number_at(param_prefix(c) + "min_gnss_fix_type", w.start_s).value_or(3.0);
+  const auto& fix = f.at("fix_type");
+  const FixTimes times = fix_times(run, c, w);
   OriginCache origins(run.state);
   GnssSums e;
   std::size_t from_epoch = 0, from_delay = 0;
   g.fixes = f.rows;
   for (std::size_t k = 0; k < f.rows; ++k) {
-    const bool epoch = tov_ns[k] != 0.0;
-    const double tov = (epoch ? tov_ns[k] : stamp[k] - std::round(delay * 1e9)) / 1e9;  // in ns, then s: exact for whole ns
+    const double tov = times.tov[k];
     if (!(fix[k] >= min_fix) || tov < w.start_s || tov > w.end_s) continue;
     ++g.fixes_in_window;
     if (!add_fix(run.state, origins, tov, f.at("lat")[k], f.at("lon")[k], f.at("alt")[k], f.at("vel_n")[k], f.at("vel_e")[k], e)) continue;
-    (epoch ? from_epoch : from_delay)++;
+    (times.epoch[k] ? from_epoch : from_delay)++;
   }
-  g.time_rule = fmt::format("time_of_validity where non-zero ({} fixes), else stamp - {}gnss_delay {} s ({} fixes)", from_epoch, pre, delay,
-                            from_delay);
+  g.time_rule = fmt::format("time_of_validity where non-zero ({} fixes), else stamp - {} {} s ({} fixes)", from_epoch, times.param,
+                            times.delay, from_delay);
   const std::string at = fmt::format(
       "fixes (fix_type >= {}) with their time of validity in the window, the valid state interpolated there (at its stamp)", min_fix);
   g.position_h = e.pos_h.figure("m", "horizontal position, fix lat/lon in the estimate's NED (state origin): " + at);

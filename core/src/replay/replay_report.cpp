@@ -170,6 +170,8 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   run.gnss = optional_topic(run_dir, "gnss", {"t", "stamp", "time_of_validity", "fix_type", "lat", "lon", "alt", "vel_n", "vel_e", "vel_d"},
                             r.notes);
   run.reference = optional_topic(run_dir, "reference", {}, r.notes);
+  run.imu = optional_topic(run_dir, "imu", {"t", "stamp", "accel_x", "accel_y", "accel_z"}, r.notes);
+  if (run.imu) add_sample_time(*run.imu);
   if (run.reference) add_sample_time(*run.reference);
   if (std::filesystem::exists(run_dir / "params.csv")) run.params = read_params_csv(run_dir / "params.csv");
   run.summary = read_summary(run_dir / "summary.json");
@@ -183,6 +185,7 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   r.reference = compare_reference(run, r.window);
   r.gnss = compare_gnss(run, r.counters, r.window);
   r.wind = wind_report(run, r.window);
+  r.specific_force = check_specific_force(run, r.counters, r.window);
   return r;
 }
 

@@ -114,6 +114,25 @@ struct WindReport {
   ErrorFigure vs_reference;  ///< |w - w_ref| horizontal
 };
 
+/// The attitude checked against physics, without any other estimator: the specific force the
+/// accelerometer measured against the one an attitude implies, f = R(phi, theta, psi)^T (a - g),
+/// with a the acceleration the GNSS velocity shows (NED, a straight-line fit over
+/// +-kSpecificForceSpan s of fixes at their time of validity) and the accelerometer averaged over
+/// the same span. The residual's x and y components over g are the pitch and roll errors the
+/// attitude must have (small angles, near-level flight: pitch error = -res_x / g, roll error =
+/// res_y / g), plus the accelerometer's bias, its misalignment and the GNSS's acceleration error,
+/// which are the same for every attitude checked: an attitude that needs a large constant tilt
+/// needs an implausible accelerometer bias instead (0.1 m/s^2 is 0.6 deg). The estimator fuses
+/// the same sensors, so this checks consistency, not truth; it decides between two estimates of
+/// one flight (the estimate's and the reference's).
+struct SpecificForceCheck {
+  std::string absent;                           ///< "" when checked, else why not
+  std::string rule;                             ///< what was compared where
+  std::size_t epochs = 0;                       ///< check epochs (every kSpecificForceStep s of the window with enough fixes)
+  ErrorFigure pitch, roll;                      ///< the estimate's implied tilt errors, deg
+  ErrorFigure reference_pitch, reference_roll;  ///< the reference's, deg (samples 0 without a reference)
+};
+
 struct ReplayReport {
   std::filesystem::path run_dir;
   double replay_start_s = 0.0, replay_end_s = 0.0;  ///< state.csv's first and last t
@@ -125,6 +144,7 @@ struct ReplayReport {
   ReferenceComparison reference;
   GnssComparison gnss;
   WindReport wind;
+  SpecificForceCheck specific_force;
   std::vector<std::string> notes;  ///< partial last lines and the like
 };
 

@@ -116,6 +116,17 @@ json wind_json(const ReplayReport& r) {
           {"vs_reference", figure_json(d.vs_reference, r.window)}};
 }
 
+json specific_force_json(const ReplayReport& r) {
+  const auto& c = r.specific_force;
+  if (!c.absent.empty()) return {{"status", c.absent}};
+  return {{"status", "checked"},
+          {"epochs", c.epochs},
+          {"pitch", figure_json(c.pitch, r.window)},
+          {"roll", figure_json(c.roll, r.window)},
+          {"reference_pitch", figure_json(c.reference_pitch, r.window)},
+          {"reference_roll", figure_json(c.reference_roll, r.window)}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const ReplayReport& r) {
@@ -129,6 +140,7 @@ nlohmann::json to_json(const ReplayReport& r) {
   j["reference"] = reference_json(r);
   j["gnss"] = gnss_json(r);
   j["wind"] = wind_json(r);
+  j["specific_force"] = specific_force_json(r);
   j["notes"] = r.notes;
   return j;
 }

@@ -18,7 +18,7 @@ namespace tern::core::replay_report {
 /// The run directory's tables, read once.
 struct RunTables {
   CsvTable state;
-  std::optional<CsvTable> innovations, gnss, reference;
+  std::optional<CsvTable> innovations, gnss, reference, imu;
   ParamHistory params;
   nlohmann::ordered_json summary;  ///< {} when summary.json is absent
   std::filesystem::path dir;
@@ -37,6 +37,18 @@ double lerp(const std::vector<double>& v, const Bracket& b, bool angle = false);
 /// bracket + lerp: NaN where there is no bracket.
 double interpolate(const std::vector<double>& t, const std::vector<double>& v, double tq, double max_gap_s, bool angle = false);
 constexpr double kMaxGap = 1.0;  ///< s: longest gap between two samples interpolated across
+
+/// One field of a table over its "time": only its rows with a number (NaN: "not given", as a log
+/// that merges two sources leaves the other source's fields empty in each row).
+struct Series {
+  std::vector<double> t, v;
+  Series(const CsvTable& r, const char* name) {
+    if (!r.has(name)) return;  // docs/sensor-log.md lets any field be missing
+    const auto &time = r.at("time"), &value = r.at(name);
+    for (std::size_t k = 0; k < value.size(); ++k)
+      if (std::isfinite(value[k])) t.push_back(time[k]), v.push_back(value[k]);
+  }
+};
 
 /// Index range [first, last) of the samples of `t` within [start, end].
 std::pair<std::size_t, std::size_t> index_range(const std::vector<double>& t, double start, double end);
@@ -83,5 +95,17 @@ std::vector<MeasurementReport> measurement_reports(const RunTables& run, const E
 ReferenceComparison compare_reference(const RunTables& run, const ReplayWindow& w);
 GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
 WindReport wind_report(const RunTables& run, const ReplayWindow& w);
+SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
+constexpr double kSpecificForceSpan = 0.6;  ///< s either side of a check epoch
+constexpr double kSpecificForceStep = 0.5;  ///< s between check epochs
+/// Each fix's time of validity (s): time_of_validity where non-zero (epoch), else stamp -
+/// gnss_delay (the estimator's parameter at the window's start; replay_gnss.cpp).
+struct FixTimes {
+  std::vector<double> tov;
+  std::vector<bool> epoch;
+  double delay = 0.0;
+  std::string param;  ///< "ekf.gnss_delay"
+};
+FixTimes fix_times(const RunTables& run, const EstimatorCounters& c, const ReplayWindow& w);
 
 }  // namespace tern::core::replay_report

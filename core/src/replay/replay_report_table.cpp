@@ -94,6 +94,18 @@ void comparisons(std::string& out, const ReplayReport& r) {
                        num(w.mean_speed), num(w.max_speed), num(w.vs_reference.rms), num(w.vs_reference.max), w.vs_reference.samples);
 }
 
+void specific_force(std::string& out, const ReplayReport& r) {
+  const auto& c = r.specific_force;
+  if (!c.absent.empty()) {
+    out += "attitude vs the specific force: " + c.absent + "\n";
+    return;
+  }
+  out += fmt::format("attitude vs the specific force (accelerometer against GNSS acceleration - g; {} epochs)\n", c.epochs);
+  out += "  implied error                RMS       max      mean       n\n";
+  figure(out, "roll, estimate", c.roll), figure(out, "pitch, estimate", c.pitch);
+  if (c.reference_roll.samples > 0) figure(out, "roll, reference", c.reference_roll), figure(out, "pitch, reference", c.reference_pitch);
+}
+
 }  // namespace
 
 std::string format_replay_table(const ReplayReport& r) {
@@ -101,6 +113,7 @@ std::string format_replay_table(const ReplayReport& r) {
   header(out, r);
   measurements(out, r);
   comparisons(out, r);
+  specific_force(out, r);
   for (const auto& n : r.notes) out += "note: " + n + "\n";
   return out;
 }
