@@ -32,6 +32,7 @@ struct FlyOptions {
   std::optional<double> duration;
   std::optional<std::string> log_dir;
   bool realtime = false, quiet = false;
+  RealtimeOptions rt;
   HostPreparation prep;
 };
 
@@ -41,6 +42,7 @@ int fly(const FlyOptions& o) {
   opt.duration = o.duration;
   if (o.log_dir) opt.log_dir = fs::path(*o.log_dir);
   opt.realtime = o.realtime;
+  opt.rt = o.rt;
   opt.quiet = o.quiet;
   opt.progress = !o.quiet;
   PreparedMission m = prepare_mission(o.config.empty() ? default_config().string() : o.config, o.prep);
@@ -65,7 +67,7 @@ Command add_fly_command(CLI::App& app) {
   c->add_option("config", o->config, "mission config (YAML)");
   c->add_option("--seed", o->seed, "random seed (overrides the config's seed)")->check(kSeedCheck);
   c->add_option("--duration", o->duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
-  c->add_flag("--realtime", o->realtime, "pace the simulated clock to wall time");
+  add_realtime_options(c, o->realtime, o->rt, "pace the simulated clock to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
   add_skip_preflight_option(c, o->prep);
   c->add_option("--log-dir", o->log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");

@@ -31,6 +31,18 @@ void add_console_options(CLI::App* cmd, HostPreparation& p) {
   cmd->add_option("--console-port", p.console_port, "console port (default: a free one)");
 }
 
+void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, const std::string& what) {
+  auto* pace = cmd->add_flag("--realtime", realtime, what);
+  cmd->add_option("--rt-priority", rt.priority, "with --realtime: run the flight thread SCHED_FIFO at this priority (1-99)")
+      ->check(CLI::Range(1, 99))
+      ->needs(pace);
+  cmd->add_option("--cpu", rt.cpu, "with --realtime: pin the flight thread to this CPU (0-based)")
+      ->check(CLI::NonNegativeNumber)
+      ->needs(pace);
+  cmd->add_flag("--mlockall", rt.lock_memory, "with --realtime: lock the process's memory (no page faults from disk in the loop)")
+      ->needs(pace);
+}
+
 namespace {
 
 void apply_skip_preflight(MissionConfig& mc) {

@@ -46,6 +46,9 @@ void add_log_level_option(CLI::App* cmd, HostPreparation& p);
 void add_dds_options(CLI::App* cmd, HostPreparation& p);
 /// --console, --console-port.
 void add_console_options(CLI::App* cmd, HostPreparation& p);
+/// --realtime and the flight thread's scheduling with it (flight/realtime.hpp): --rt-priority N,
+/// --cpu K, --mlockall; `what`: "pace the simulated clock to wall time" or the like.
+void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, const std::string& what);
 
 /// A mission config ready for a Host, and whether its flights are bridged to DDS.
 struct PreparedMission {

@@ -15,6 +15,7 @@ struct ServeOptions {
   std::string socket = default_socket().string();
   std::optional<std::string> log_dir;
   bool realtime = false;
+  RealtimeOptions rt;
   HostPreparation prep;
 };
 
@@ -22,6 +23,7 @@ int serve_mission(const ServeOptions& o) {
   HostOptions opt;
   if (o.log_dir) opt.log_dir = fs::path(*o.log_dir);
   opt.realtime = o.realtime;
+  opt.rt = o.rt;
   PreparedMission m = prepare_mission(o.config, o.prep);
   Host host(std::move(m.config), opt);
   host.build();
@@ -38,7 +40,7 @@ Command add_serve_command(CLI::App& app) {
   c->add_option("config", o->config, "mission config (YAML)")->required();
   c->add_option("--socket", o->socket, "control socket")->capture_default_str();
   c->add_option("--log-dir", o->log_dir, "directory for the run directories");
-  c->add_flag("--realtime", o->realtime, "pace each flight to wall time");
+  add_realtime_options(c, o->realtime, o->rt, "pace each flight to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
   add_dds_options(c, o->prep);
   add_mission_override_options(c, o->prep);

@@ -308,7 +308,7 @@ FlightResult Host::fly() {
   remote_.take_go_around();                          // one asked for between flights is not for this flight
   router_.prepare_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
-  if (!start_instances(r)) {
+  if (!apply_realtime_options(r) || !start_instances(r)) {
     recorder.close(r);
     return r;
   }
@@ -362,6 +362,11 @@ FlightResult Host::fly() {
   r.flown = clock.now();
   r.wall_s = clock.wall_s();
   r.flight_cpu_s = clock.cpu_s();
+  if (RealtimeStats* rt = clock.realtime_stats()) {
+    rt->end();
+    r.realtime = rt->to_json(options_.rt);
+    r.realtime_line = rt->line(options_.rt);
+  }
   finish_flight(recorder, r, duration);
   return r;
 }
@@ -385,6 +390,20 @@ void Host::reset_for_next_flight() {
   for (auto& inst : instances_)
     if (inst->plugin)
       for (auto* out : inst->plugin->outputs()) out->clear();
+}
+
+// The flight thread's scheduling for a paced flight (realtime.hpp): every flight, on the thread
+// that flies it; a setting the system refuses ends the flight before it starts, in one line.
+bool Host::apply_realtime_options(FlightResult& r) {
+  if (!options_.realtime || !options_.rt.any()) return true;
+  if (const std::string err = apply_realtime(options_.rt); !err.empty()) {
+    r.ok = false;
+    r.end_reason = "error: realtime: " + err;
+    logger_->error("{}", r.end_reason);
+    return false;
+  }
+  logger_->info("real time: {}", describe(options_.rt));
+  return true;
 }
 
 bool Host::start_instances(FlightResult& r) {

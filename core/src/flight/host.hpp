@@ -39,6 +39,7 @@
 
 #include <spdlog/sinks/dist_sink.h>
 
+#include "flight/realtime.hpp"
 #include "config/config.hpp"
 #include "safety/failsafe_station.hpp"
 #include "record/flight_report.hpp"
@@ -67,6 +68,7 @@ struct HostOptions {
   std::optional<double> duration;   ///< s
   std::optional<fs::path> log_dir;  ///< parent of run directories
   bool realtime = false;
+  RealtimeOptions rt;       ///< the flight thread's scheduling when realtime (realtime.hpp)
   bool progress = false;    ///< live status line on stdout
   bool describing = false;  ///< configure only (check/params): open no files/devices
   bool quiet = false;       ///< no console log below warnings
@@ -183,6 +185,7 @@ class Host {
   double flight_duration() const;
   // fly(), in order
   void reset_for_next_flight();
+  bool apply_realtime_options(FlightResult& r);
   bool start_instances(FlightResult& r);
   EndRequest run_tick(Scheduler& clock);
   void notify_observer(Nanos now);

@@ -1,6 +1,7 @@
 #include "flight/scheduler.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "flight/realtime.hpp"
 
 namespace tern::core {
 
@@ -155,7 +157,13 @@ Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate
 // ---- the clock of a flight --------------------------------------------------------------------
 
 Scheduler::Scheduler(Nanos base_period, Nanos end, bool realtime)
-    : period_(base_period), end_(end), realtime_(realtime), wall0_(wall_ns()), cpu0_(thread_cpu_ns()) {}
+    : period_(base_period), end_(end), realtime_(realtime), wall0_(wall_ns()), cpu0_(thread_cpu_ns()) {
+  if (!realtime_) return;
+  rt_ = std::make_unique<RealtimeStats>();
+  rt_->begin(wall0_);
+}
+
+Scheduler::~Scheduler() = default;
 
 const char* signal_end_reason(int sig) { return sig == SIGTERM ? "SIGTERM" : sig == SIGHUP ? "SIGHUP" : "SIGINT"; }
 
@@ -196,11 +204,17 @@ std::string Scheduler::step(Plugin& plugin, StepStats& stats) {
   return error;
 }
 
-void Scheduler::pace() const {
+void Scheduler::pace() {
   if (!realtime_) return;
   const std::int64_t deadline = wall0_ + now_ + period_;
-  const std::int64_t wait = deadline - wall_ns();
-  if (wait > 0) std::this_thread::sleep_for(std::chrono::nanoseconds(wait));
+  if (rt_->work_done(wall_ns(), deadline)) return;  // late: no sleep
+  // wall_ns() is the steady clock, CLOCK_MONOTONIC on Linux: sleep to the deadline itself
+  timespec ts{};
+  ts.tv_sec = static_cast<time_t>(deadline / 1'000'000'000);
+  ts.tv_nsec = static_cast<long>(deadline % 1'000'000'000);
+  while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+  }
+  rt_->woke(wall_ns(), deadline);
 }
 
 double Scheduler::wall_s() const { return static_cast<double>(wall_ns() - wall0_) * 1e-9; }

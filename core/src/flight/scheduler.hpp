@@ -16,6 +16,7 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -61,12 +62,16 @@ struct Rates {
 Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate_node, const std::vector<const InstanceConfig*>& instances,
                     const fs::path& file);
 
+/// What the clock of a paced flight measured (defined in realtime.hpp).
+class RealtimeStats;
+
 /// The clock of one flight.
 class Scheduler {
  public:
   /// Ticks every `base_period` from t = 0 to `end` (ns, inclusive); `realtime`: paced to wall
   /// time. Starts the wall and CPU stopwatches.
   Scheduler(Nanos base_period, Nanos end, bool realtime);
+  ~Scheduler();
 
   /// Starts the next tick. False when the flight is over: past its end (end_reason()
   /// "duration") or stopped by a signal (`stop_signal`, 0 for none: "SIGINT", "SIGTERM" or "SIGHUP");
@@ -88,8 +93,11 @@ class Scheduler {
   /// Every 64th tick, or every tick when paced: time to look at the wall clock (flush the log,
   /// redraw the status line, pace).
   bool wall_check_due() const { return (tick_ & 63) == 0 || realtime_; }
-  /// Paced flights: waits until this tick's end in wall time. Otherwise returns at once.
-  void pace() const;
+  /// Paced flights: waits until this tick's end in wall time (clock_nanosleep, absolute), and
+  /// measures the tick (realtime.hpp). Otherwise returns at once.
+  void pace();
+  /// A paced flight's figures (realtime.hpp); nullptr for an unpaced one.
+  RealtimeStats* realtime_stats() { return rt_.get(); }
 
   std::int64_t wall_start() const { return wall0_; }  ///< wall_ns() at construction
   double wall_s() const;                              ///< wall time since construction, s
@@ -103,6 +111,7 @@ class Scheduler {
   std::string end_reason_;
   std::int64_t step_clock_ = 0;  // cycle clock at the end of the previous step of this tick
   std::int64_t wall0_, cpu0_;
+  std::unique_ptr<RealtimeStats> rt_;  // paced flights only
 };
 
 }  // namespace tern::core

@@ -197,6 +197,7 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   j["failsafes"] = fs;
   j["instances"] = instances_json(f.instances);
   if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
+  if (!r.realtime.is_null()) j["realtime"] = r.realtime;  // paced flights only: wall-clock figures
   return j.dump(2) + "\n";
 }
 
@@ -294,6 +295,7 @@ std::string summary_text(const FlightFacts& f, const FlightResult& r) {
   for (const auto& inst : f.instances)
     if (const std::string h = inst->plugin->health(); !h.empty()) s += fmt::format("{}: {}\n", inst->cfg.name, h);
   if (f.metrics) s += metrics_text(*f.metrics, sensor_profile(f));
+  s += r.realtime_line;
   s += fmt::format("log: {}\n", r.run_dir.string());
   if (!r.end_detail.empty()) s += fmt::format("FLIGHT ENDED EARLY ({}): {}\n", r.end_reason, r.end_detail);
   return s;

@@ -18,6 +18,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "config/config.hpp"
 #include "flight/instances.hpp"
 #include "safety/phase_router.hpp"
@@ -39,6 +41,10 @@ struct FlightResult {
   double flight_cpu_s = 0;  ///< CPU time of the flight thread (the plugins and the host's loop)
   double log_cpu_s = 0;     ///< CPU time of the flight log's writer thread (CSV formatting, writes)
   std::string summary;      ///< the console's end-of-flight tables (summary_text), for `tern remote fly`
+  /// A paced flight's real-time figures (flight/realtime.hpp: summary.json "realtime") and its
+  /// console line; null and "" for an unpaced flight.
+  nlohmann::ordered_json realtime;
+  std::string realtime_line;
 };
 
 /// Exit status of `tern fly` and `tern replay` (README, "Exit status"): 1 when !ok, 3 when the
