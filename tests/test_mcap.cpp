@@ -54,7 +54,7 @@ std::vector<Logged> messages_of(const fs::path& file, std::vector<std::string>* 
 
 msg::Imu imu_at(int k) {
   msg::Imu m;
-  m.stamp = k * 2'500'000;
+  m.stamp = Nanos{k} * 2'500'000;
   m.accel = Eigen::Vector3d(0.1 * k, -9.80665 + 1e-17 * k, k % 7 == 0 ? -0.0 : 1.0 / (k + 3));
   m.gyro = Eigen::Vector3d(k % 11 == 0 ? std::nan("") : 1e-300 * k, k % 13 == 0 ? -std::numeric_limits<double>::infinity() : 0.5, 3.0e8 / (k + 1));
   m.temperature = 288.15 + 0.001 * k;
@@ -63,7 +63,7 @@ msg::Imu imu_at(int k) {
 
 msg::Gnss gnss_at(int k) {
   msg::Gnss g;
-  g.stamp = k * 100'000'000LL;
+  g.stamp = Nanos{k} * 100'000'000;
   g.fix_type = static_cast<msg::FixType>(k % 4);
   g.num_sats = static_cast<std::uint8_t>(255 - k % 256);
   g.lat = 47.397742 + 1e-9 * k;
@@ -122,7 +122,7 @@ TEST_CASE("mcap: a flight log's file reads back: channels, messages in capture o
   std::memcpy(&summary_start, bytes.data() + bytes.size() - 8 - 20, 8);
   REQUIRE(summary_start < bytes.size());
   CHECK(static_cast<mcap::Op>(bytes[summary_start]) == mcap::Op::schema);
-  CHECK(tern_schema_text(reflect::layout<msg::Gnss>()).find("uint8 fix_type\nuint8 num_sats\nfloat64 lat  # deg\n") != std::string::npos);
+  CHECK(tern_schema_text(reflect::layout<msg::Gnss>()).find("uint8 fix_type  # enum\nuint8 num_sats\nfloat64 lat  # deg\n") != std::string::npos);
 }
 
 TEST_CASE("mcap: the same captures give the same bytes, however often the log is flushed") {
@@ -206,6 +206,7 @@ TEST_CASE("mcap: recover a file cut at many offsets: the messages of every compl
       continue;
     }
     const RecoverReport r = recover_mcap(part, out, 8 * 1024);
+    INFO("cut at ", cut, ": ", r.stopped);
     CHECK(r.stopped.find("the file ends at byte " + std::to_string(cut)) == 0);
     std::string stopped = "?";
     const auto got = messages_of(out, nullptr, &stopped);

@@ -236,7 +236,7 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     const Nanos when = load_time(bytes.data() + off + sizeof index);
     cdr_.clear();
     encode_cdr(t.columns, bytes.data() + off + sizeof index + sizeof(Nanos), cdr_);
-    mcap_->message(t.channel, static_cast<std::uint64_t>(std::max<Nanos>(when, 0)), cdr_);
+    mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
     off += sizeof index + sizeof(Nanos) + t.msg_size;
   }
 }
