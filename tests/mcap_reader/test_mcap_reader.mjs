@@ -84,7 +84,7 @@ for (const channel of reader.channelsById.values()) {
       ++values;
     });
   });
-  if (reader.statistics.channelMessageCounts.get(channel.id) !== BigInt(messages.length)) fail(`${topic}: statistics' count`);
+  if ((reader.statistics.channelMessageCounts.get(channel.id) ?? 0n) !== BigInt(messages.length)) fail(`${topic}: statistics' count`);
   total += messages.length;
 }
 if (reader.statistics.messageCount !== BigInt(total)) fail(`statistics: ${reader.statistics.messageCount} messages, ${total} read`);

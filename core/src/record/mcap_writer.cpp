@@ -308,11 +308,11 @@ void McapWriter::write_summary_locked() {
   group(Op::metadata_index, metadata_indexes_);
   const std::uint64_t summary_offset_start = summary_start + summary.size();
   std::string tail = summary + offsets;
-  const std::size_t f = begin_record(tail, Op::footer);
+  Out{tail}.u8(static_cast<std::uint8_t>(Op::footer));
+  Out{tail}.u64(8 + 8 + 4);  // the footer's length: its CRC covers it
   Out{tail}.u64(summary_start);
   Out{tail}.u64(summary_offset_start);
   Out{tail}.u32(mcap::crc32(tail));  // from the summary's start through summary_offset_start
-  end_record(tail, f);
   tail.append(mcap::kMagic, sizeof mcap::kMagic);
   write(b + tail);
 }
