@@ -56,7 +56,8 @@ msg::Imu imu_at(int k) {
   msg::Imu m;
   m.stamp = Nanos{k} * 2'500'000;
   m.accel = Eigen::Vector3d(0.1 * k, -9.80665 + 1e-17 * k, k % 7 == 0 ? -0.0 : 1.0 / (k + 3));
-  m.gyro = Eigen::Vector3d(k % 11 == 0 ? std::nan("") : 1e-300 * k, k % 13 == 0 ? -std::numeric_limits<double>::infinity() : 0.5, 3.0e8 / (k + 1));
+  m.gyro = Eigen::Vector3d(k % 11 == 0 ? std::nan("") : 1e-300 * k, k % 13 == 0 ? -std::numeric_limits<double>::infinity() : 0.5,
+                           3.0e8 / (k + 1));
   m.temperature = 288.15 + 0.001 * k;
   return m;
 }
@@ -122,7 +123,8 @@ TEST_CASE("mcap: a flight log's file reads back: channels, messages in capture o
   std::memcpy(&summary_start, bytes.data() + bytes.size() - 8 - 20, 8);
   REQUIRE(summary_start < bytes.size());
   CHECK(static_cast<mcap::Op>(bytes[summary_start]) == mcap::Op::schema);
-  CHECK(tern_schema_text(reflect::layout<msg::Gnss>()).find("uint8 fix_type  # enum\nuint8 num_sats\nfloat64 lat  # deg\n") != std::string::npos);
+  CHECK(tern_schema_text(reflect::layout<msg::Gnss>()).find("uint8 fix_type  # enum\nuint8 num_sats\nfloat64 lat  # deg\n") !=
+        std::string::npos);
 }
 
 TEST_CASE("mcap: the same captures give the same bytes, however often the log is flushed") {

@@ -35,7 +35,8 @@ int run_csv(const ExportOptions& o) {
   fmt::print("{} -> {}/\n", mcap_of(o.run).string(), out.string());
   for (const auto& [topic, rows] : r.rows) fmt::print("  {:<24} {:>9} rows\n", topic, rows);
   for (const auto& s : r.skipped) fmt::print(stderr, "tern: warning: channel {} is not a tern topic table: skipped\n", s);
-  if (!r.stopped.empty()) fmt::print(stderr, "tern: warning: {}: {} (tern export recover completes it)\n", mcap_of(o.run).string(), r.stopped);
+  if (!r.stopped.empty())
+    fmt::print(stderr, "tern: warning: {}: {} (tern export recover completes it)\n", mcap_of(o.run).string(), r.stopped);
   return 0;
 }
 

@@ -67,7 +67,7 @@ struct LogConfig {
   LogLevel level = LogLevel::full;
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
-  double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
+  double decimated_rate = 10.0;          ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
   std::vector<std::string> topics;      ///< when !all_topics
   double max_rate = 100.0;              ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)

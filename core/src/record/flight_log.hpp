@@ -125,7 +125,7 @@ class FlightLog {
   Format format_;
   LogHealth health_;
   std::unique_ptr<McapWriter> mcap_;
-  std::vector<char> mcap_pending_;  // records in capture order: uint64 topic, int64 t, msg_size bytes
+  std::vector<char> mcap_pending_;                  // records in capture order: uint64 topic, int64 t, msg_size bytes
   std::map<std::string, std::string> attachments_;  // name -> text, attached at the end
   std::string params_text_;                         // params.csv whole, attached at the end
   std::string cdr_;                                 // the writer thread's encoding buffer

@@ -25,7 +25,8 @@ std::vector<reflect::Column> schema_columns(const McapSchema& s, const fs::path&
     std::string type, name;
     if (!(words >> type >> name)) continue;  // blank or comment
     const auto kind = scalar_of_ros2msg(type);
-    if (!kind) throw McapError(fmt::format("{}: schema {}: field '{}' has type '{}', not a tern log column", file.string(), s.name, name, type));
+    if (!kind)
+      throw McapError(fmt::format("{}: schema {}: field '{}' has type '{}', not a tern log column", file.string(), s.name, name, type));
     cols.push_back({name, "", *kind, offset});
     offset += reflect::scalar_size(*kind);
   }
@@ -74,7 +75,8 @@ void Exporter::add_channel(const McapChannel& c) {
   t.columns = schema_columns(schema->second, reader_.path());
   for (const auto& col : t.columns) t.msg_size = col.offset + reflect::scalar_size(col.kind);
   const fs::path csv = out_dir_ / (t.topic + ".csv");
-  if (fs::exists(csv)) throw McapError(fmt::format("{}: exists; nothing was overwritten (export into another directory: --out)", csv.string()));
+  if (fs::exists(csv))
+    throw McapError(fmt::format("{}: exists; nothing was overwritten (export into another directory: --out)", csv.string()));
   t.file = std::make_unique<LogFile>(csv, health_);
   t.file->append(header->second + "\n");
   if (health_.failed()) throw McapError(health_.error());
@@ -90,7 +92,8 @@ void Exporter::add_message(const McapMessage& m) {
   const auto when = static_cast<Nanos>(m.log_time);
   std::memcpy(t.pending.data() + n, &when, sizeof when);
   if (!decode_cdr(t.columns, m.data, t.pending.data() + n + sizeof when))
-    throw McapError(fmt::format("{}: /{} message {}: not {} bytes of little-endian CDR", reader_.path().string(), t.topic, m.sequence, t.msg_size));
+    throw McapError(
+        fmt::format("{}: /{} message {}: not {} bytes of little-endian CDR", reader_.path().string(), t.topic, m.sequence, t.msg_size));
   ++t.rows;
   if (t.pending.size() >= 256 * 1024) write(t);
 }

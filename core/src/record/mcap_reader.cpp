@@ -151,7 +151,8 @@ void McapReader::chunk_messages(const McapRecord& r, std::string& buffer, const 
   if (compression == "zstd") {
     buffer.resize(size);
     const std::size_t n = ZSTD_decompress(buffer.data(), buffer.size(), data.data(), data.size());
-    if (ZSTD_isError(n) || n != size) damaged(r.offset, fmt::format("chunk does not decompress (zstd: {})", ZSTD_isError(n) ? ZSTD_getErrorName(n) : "wrong size"));
+    if (ZSTD_isError(n) || n != size)
+      damaged(r.offset, fmt::format("chunk does not decompress (zstd: {})", ZSTD_isError(n) ? ZSTD_getErrorName(n) : "wrong size"));
   } else if (compression.empty()) {
     buffer.assign(data);
   } else {

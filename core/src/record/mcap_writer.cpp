@@ -151,8 +151,8 @@ void McapWriter::message(std::uint16_t channel, std::uint64_t log_time, std::str
 std::string McapWriter::chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets) {
   const std::string& r = chunk_.records;
   compressed_.resize(ZSTD_compressBound(r.size()));
-  const std::size_t n = ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zstd_), compressed_.data(), compressed_.size(), r.data(), r.size(),
-                                          options_.zstd_level);
+  const std::size_t n =
+      ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zstd_), compressed_.data(), compressed_.size(), r.data(), r.size(), options_.zstd_level);
   compressed_.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail with a bound-sized buffer
   std::string b;
   const std::size_t c = begin_record(b, Op::chunk);
