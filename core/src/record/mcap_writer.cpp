@@ -64,18 +64,28 @@ void McapWriter::write(const std::string& bytes) {
   int err = 0;
   if (::lseek(fd_, static_cast<off_t>(size_), SEEK_SET) < 0) err = errno;
   if (err == 0) write_all(fd_, bytes, err);
-  if (err == 0 && provisional_ > bytes.size() && ::ftruncate(fd_, static_cast<off_t>(size_ + bytes.size())) != 0) err = errno;
-  provisional_ = 0;
+  if (err == 0 && provisional_.size() > bytes.size() && ::ftruncate(fd_, static_cast<off_t>(size_ + bytes.size())) != 0) err = errno;
   if (err == 0) {
     size_ += bytes.size();
+    provisional_.clear();
     return;
   }
   health_.fail(cannot_write(path_, err));
+  restore_provisional();
+  ::close(fd_);
+  fd_ = -1;
+}
+
+void McapWriter::restore_provisional() {
+  // cut back to the last complete record; the provisional chunk the failed write overwrote goes
+  // back where it was (it fitted there before), so the file keeps every chunk it had
+  int err = 0;
+  if (::ftruncate(fd_, static_cast<off_t>(size_ + provisional_.size())) == 0 && ::lseek(fd_, static_cast<off_t>(size_), SEEK_SET) >= 0 &&
+      write_all(fd_, provisional_, err) == provisional_.size())
+    return;
   if (::ftruncate(fd_, static_cast<off_t>(size_)) != 0) {
     // a reader (recover) stops at the partial record
   }
-  ::close(fd_);
-  fd_ = -1;
 }
 
 void McapWriter::sync() {
@@ -83,12 +93,12 @@ void McapWriter::sync() {
   if (synced_ || fd_ < 0) return;
   std::uint64_t chunk_length = 0;
   std::map<std::uint16_t, std::uint64_t> index_offsets;
-  const std::string b = chunk_records(chunk_length, index_offsets);
+  std::string b = chunk_records(chunk_length, index_offsets);
   const std::uint64_t keep = size_;
   write(b);  // at size_, over the previous provisional chunk
   if (fd_ < 0) return;
-  provisional_ = size_ - keep;
   size_ = keep;
+  provisional_ = std::move(b);
   synced_ = true;
 }
 

@@ -11,11 +11,12 @@
 // finished file's chunk boundaries depend on the messages only (chunk size), never on the wall
 // clock: the same config and seed give the same bytes.
 //
-// Memory is bounded: one open chunk (about the chunk size) and its compressed copy; the summary
+// Memory is bounded: one open chunk (about the chunk size) and two compressed copies; the summary
 // keeps a few dozen bytes per chunk. Every byte written reached the kernel with write(2), so a
 // killed process leaves a file that `tern export recover` reads up to its last complete chunk.
 // A write error is recorded once in the log's LogHealth, the file is cut back to its last
-// complete record and nothing more is written (log_file.hpp). No wall-clock time is written:
+// complete record (the provisional chunk a failed write overwrote is put back) and nothing more
+// is written (log_file.hpp). No wall-clock time is written:
 // log and publish times are the flight's, attachments' create_time is 0.
 // Thread-safe: declarations and attachments come from the flight thread, messages from the
 // log's writer thread.
@@ -71,7 +72,9 @@ class McapWriter {
     std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> index;  // channel -> (log_time, offset)
     std::uint64_t start = UINT64_MAX, end = 0;
   };
+  /// Writes `bytes` at size_ (over a provisional chunk) and cuts the file after them.
   void write(const std::string& bytes);
+  void restore_provisional();
   /// The open chunk and its message indexes, serialised; `chunk_length` = the chunk record's.
   std::string chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets);
   /// Writes the open chunk for good and starts a new one.
@@ -85,9 +88,9 @@ class McapWriter {
   Options options_;
   std::mutex mu_;
   int fd_ = -1;
-  std::uint64_t size_ = 0;         // bytes in the file for good (a provisional chunk follows)
-  std::uint64_t provisional_ = 0;  // bytes of the provisional chunk after size_
-  bool synced_ = true;             // the provisional chunk holds the whole open chunk
+  std::uint64_t size_ = 0;   // bytes in the file for good (a provisional chunk follows)
+  std::string provisional_;  // the provisional chunk at size_, as written (restored if a write fails)
+  bool synced_ = true;       // the provisional chunk holds the whole open chunk
   OpenChunk chunk_;
   void* zstd_ = nullptr;  // ZSTD_CCtx, reused
   std::string compressed_;
