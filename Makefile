@@ -5,13 +5,14 @@ JOBS ?= 2
 CONFIG ?= configs/missions/default.yaml
 CMAKE_ARGS ?=
 
-# Every Debian package tern needs to build, test, fly and plot (clang-format and git: the format
+# Every Debian package tern needs to build, test, fly and plot (zstd and zlib: the MCAP flight
+# log; clang-format and git: the format
 # test; chromium, its driver and selenium:
 # the console's browser test; SDL2: the joystick plugin). npm (Debian's, unless one is
-# installed) fetches the console's uPlot.
+# installed) fetches the console's uPlot and the tests' MCAP readers (@mcap/core, @foxglove/rosmsg...).
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
-  doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev \
+  doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev libzstd-dev zlib1g-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl libssl-dev \
   python3 python3-matplotlib python3-numpy python3-yaml python3-distributed \
   chromium chromium-driver python3-selenium libsdl2-dev clang-format git
@@ -27,6 +28,7 @@ deps:
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEBIAN_PACKAGES)"
 	@command -v npm >/dev/null || $(MAKE) --no-print-directory install-packages PACKAGES="npm"
 	cd core/console && npm ci --no-audit --no-fund   # uPlot for the console (package-lock.json)
+	cd tests/mcap_reader && npm ci --no-audit --no-fund   # Foxglove's MCAP readers for the tests (package-lock.json)
 
 install-packages:
 	@missing=""; for p in $(PACKAGES); do \

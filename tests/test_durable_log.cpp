@@ -1,6 +1,8 @@
 // The flight log survives what ends or starves a flight (issue 19, item 3): SIGKILL loses at
 // most 100 ms of wall time of log, SIGHUP ends the flight cleanly, and a write error (file-size
-// limit, unwritable directory) is one line while the flight flies on, with exit status 3.
+// limit, unwritable directory) is one line while the flight flies on, with exit status 3. The
+// same for the MCAP log (issue 44): a killed flight's flight.mcap, recovered and exported, holds
+// its rows up to 100 ms before the kill; a file-size limit leaves a file that recovers.
 #include <doctest/doctest.h>
 #include <sys/resource.h>
 
@@ -49,10 +51,11 @@ double last_row_time(const std::string& csv) {
 
 /// Starts a long realtime flight logging under test_dir()/<name>_runs; returns its pid once the
 /// flight has started (its tern.log has the flight line), and the log directory.
-std::pair<pid_t, fs::path> start_realtime_flight(const std::string& name) {
+std::pair<pid_t, fs::path> start_realtime_flight(const std::string& name, const std::string& log_format = "csv") {
   const fs::path cfg = write_file(name + ".yaml", long_flight());
   const fs::path logdir = test_dir() / (name + "_runs");
-  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string()}, test_dir() / (name + ".out"));
+  const pid_t pid = spawn_tern({"fly", cfg.string(), "--realtime", "-q", "--log-dir", logdir.string(), "--log-format", log_format},
+                               test_dir() / (name + ".out"));
   REQUIRE(wait_until([&] { return !the_run(logdir).empty() && flight_line_time(the_run(logdir)); }, 20));
   return {pid, logdir};
 }
@@ -76,6 +79,26 @@ TEST_CASE("SIGKILL of a realtime flight loses at most 100 ms of wall time of log
   // tick comes after the logged line; its millisecond stamp is truncated: + 1 ms)
   const double flown_max = std::chrono::duration<double>(killed_at - *flight_line_time(run)).count() + 0.001;
   const double logged = last_row_time(read_file(run / "topics" / "imu.csv"));
+  INFO("flown at most " << flown_max << " s, logged up to " << logged << " s");
+  CHECK(logged > 1.0);
+  CHECK(flown_max - logged <= 0.100);
+}
+
+TEST_CASE("SIGKILL of a realtime flight logging MCAP: recovered, it holds the log up to 100 ms before the kill") {
+  const auto [pid, logdir] = start_realtime_flight("kill_mcap", "mcap");
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  const auto killed_at = std::chrono::system_clock::now();
+  kill(pid, SIGKILL);
+  wait_for(pid);
+  const fs::path run = the_run(logdir);
+  const double flown_max = std::chrono::duration<double>(killed_at - *flight_line_time(run)).count() + 0.001;
+  CHECK_FALSE(fs::exists(run / "topics"));
+  const fs::path out = test_dir() / "kill_mcap_recover.out";
+  REQUIRE(run_tern({"export", "recover", run.string()}, out) == 0);
+  INFO(read_file(out));
+  CHECK(read_file(out).find("stopped: the file ends at byte") != std::string::npos);  // no summary: killed
+  REQUIRE(run_tern({"export", "csv", (run / "flight.recovered.mcap").string(), "--out", (run / "exported").string()}, out) == 0);
+  const double logged = last_row_time(read_file(run / "exported" / "imu.csv"));
   INFO("flown at most " << flown_max << " s, logged up to " << logged << " s");
   CHECK(logged > 1.0);
   CHECK(flown_max - logged <= 0.100);
@@ -118,6 +141,31 @@ TEST_CASE("a file-size limit mid-flight: the flight completes, one error line, w
     CHECK((csv.empty() || csv.back() == '\n'));
   }
   CHECK_FALSE(fs::exists(run / "summary.json.tmp"));
+}
+
+TEST_CASE("a file-size limit mid-flight logging MCAP: one error line, exit status 3, a file that recovers") {
+  std::string yaml = base_config().replace(base_config().find("duration: 2"), 11, "duration: 30");
+  yaml.replace(yaml.find("log: {max_rate: 0}"), 18, "log: {max_rate: 0, chunk_size: 4096}");  // chunks end before the limit
+  const fs::path cfg = write_file("fsize_mcap.yaml", yaml);
+  const fs::path logdir = test_dir() / "fsize_mcap_runs";
+  const fs::path out = test_dir() / "fsize_mcap.out";
+  const int rc = run_tern({"fly", cfg.string(), "-q", "--log-dir", logdir.string(), "--log-format", "mcap"}, out, [] {
+    const rlimit lim{64 * 1024, 64 * 1024};
+    setrlimit(RLIMIT_FSIZE, &lim);
+  });
+  const std::string console = read_file(out);
+  INFO(console);
+  CHECK(rc == 3);
+  CHECK(count_lines_with(console, "error") == 1);
+  CHECK(console.find("File too large; logging stopped, the flight goes on") != std::string::npos);
+  const fs::path run = the_run(logdir);
+  CHECK(nlohmann::json::parse(read_file(run / "summary.json"))["end_reason"] == "duration");
+  CHECK(fs::file_size(run / "flight.mcap") <= 64 * 1024);
+  const fs::path rec = test_dir() / "fsize_mcap_recover.out";
+  REQUIRE(run_tern({"export", "recover", run.string()}, rec) == 0);
+  INFO(read_file(rec));
+  CHECK(read_file(rec).find(" messages from ") != std::string::npos);
+  CHECK(read_file(rec).find(" 0 messages from ") == std::string::npos);  // the chunks before the limit are kept
 }
 
 TEST_CASE("an unwritable log directory: the flight flies, one error line, exit status 3") {

@@ -18,6 +18,9 @@ void add_skip_preflight_option(CLI::App* cmd, HostPreparation& p) {
 void add_log_level_option(CLI::App* cmd, HostPreparation& p) {
   cmd->add_option("--log-level", p.log_level, "summary (no topic tables), decimated or full (overrides the config's log.level)")
       ->check(CLI::IsMember({"summary", "decimated", "full"}));
+  cmd->add_option("--log-format", p.log_format,
+                  "csv (topics/*.csv), mcap (flight.mcap) or both (overrides the config's log.format; docs/logs.md)")
+      ->check(CLI::IsMember({"csv", "mcap", "both"}));
 }
 
 void add_dds_options(CLI::App* cmd, HostPreparation& p) {
@@ -56,6 +59,12 @@ void apply_log_level(MissionConfig& mc, const std::string& level) {
   mc.root["log"]["level"] = level;  // config.yaml records the level flown
 }
 
+void apply_log_format(MissionConfig& mc, const std::string& format) {
+  mc.log.format = *log_format_from_name(format);
+  if (!mc.root["log"]) mc.root["log"] = YAML::Node(YAML::NodeType::Map);
+  mc.root["log"]["format"] = format;  // config.yaml records the format flown
+}
+
 }  // namespace
 
 PreparedMission prepare_mission(const std::string& config_file, const HostPreparation& p) {
@@ -64,6 +73,7 @@ PreparedMission prepare_mission(const std::string& config_file, const HostPrepar
   apply_overrides(mc, p.overrides);
   if (p.skip_preflight) apply_skip_preflight(mc);
   if (p.log_level) apply_log_level(mc, *p.log_level);
+  if (p.log_format) apply_log_format(mc, *p.log_format);
 #if defined(TERN_WITH_DDS)
   m.dds = parse_dds_options(mc.dds, mc.file);  // checked by `tern check` too
   if (p.dds) m.dds.enabled = true;

@@ -30,6 +30,7 @@ struct HostPreparation {
   CliOverrides overrides;
   bool skip_preflight = false;              ///< --skip-preflight: take off at t = 0 without the arming checks
   std::optional<std::string> log_level;     ///< --log-level: summary, decimated or full
+  std::optional<std::string> log_format;    ///< --log-format: csv, mcap or both
   bool dds = false;                         ///< --dds: bridge to Fast DDS
   std::optional<std::uint32_t> dds_domain;  ///< --dds-domain: 0 .. 232
   bool console = false;                     ///< --console: serve the flight console (needs --realtime)

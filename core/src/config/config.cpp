@@ -102,6 +102,21 @@ std::optional<LogLevel> log_level_from_name(const std::string& name) {
   return std::nullopt;
 }
 
+const char* log_format_name(LogFormat format) {
+  switch (format) {
+    case LogFormat::csv: return "csv";
+    case LogFormat::mcap: return "mcap";
+    case LogFormat::both: return "both";
+  }
+  return "csv";
+}
+
+std::optional<LogFormat> log_format_from_name(const std::string& name) {
+  for (LogFormat f : {LogFormat::csv, LogFormat::mcap, LogFormat::both})
+    if (name == log_format_name(f)) return f;
+  return std::nullopt;
+}
+
 std::string duration_problem(double s) {
   if (!std::isfinite(s)) return fmt::format("must be a finite number of seconds, got {}", s);
   if (!(s > 0)) return fmt::format("must be > 0 s, got {}", s);
@@ -258,7 +273,18 @@ MissionConfig load_config(const fs::path& file_in) {
   }
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
-    check_keys(log, f, "log", {"dir", "level", "decimated_rate", "topics", "max_rate", "rates"});
+    check_keys(log, f, "log", {"dir", "level", "format", "chunk_size", "decimated_rate", "topics", "max_rate", "rates"});
+    if (const YAML::Node fm = log["format"]) {
+      const auto format = fm.IsScalar() ? log_format_from_name(fm.Scalar()) : std::nullopt;
+      if (!format) throw ConfigError(where(f, fm) + "log.format: expected csv, mcap or both, got '" + str(fm) + "'");
+      c.log.format = *format;
+    }
+    if (log["chunk_size"]) {
+      const double n = as_number(log["chunk_size"], f, "log.chunk_size");
+      if (!(n >= 1024 && n <= 1024.0 * 1024 * 1024))
+        throw ConfigError(where(f, log["chunk_size"]) + "log.chunk_size: must be 1024 to 1073741824 bytes, got " + str(log["chunk_size"]));
+      c.log.chunk_size = static_cast<std::size_t>(n);
+    }
     if (const YAML::Node lv = log["level"]) {
       const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
       if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");

@@ -55,10 +55,19 @@ const char* log_level_name(LogLevel level);
 /// The level named `name`, nullopt if none.
 std::optional<LogLevel> log_level_from_name(const std::string& name);
 
+/// Which files hold the logged topics: csv (topics/<t>.csv), mcap (flight.mcap) or both.
+enum class LogFormat { csv, mcap, both };
+/// "csv", "mcap", "both".
+const char* log_format_name(LogFormat format);
+/// The format named `name`, nullopt if none.
+std::optional<LogFormat> log_format_from_name(const std::string& name);
+
 struct LogConfig {
   fs::path dir;  ///< parent of the run directories
   LogLevel level = LogLevel::full;
-  double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
+  LogFormat format = LogFormat::csv;
+  std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
+  double decimated_rate = 10.0;          ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
   std::vector<std::string> topics;      ///< when !all_topics
   double max_rate = 100.0;              ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)

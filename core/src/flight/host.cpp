@@ -292,8 +292,9 @@ FlightResult Host::fly() {
   g_stop_signal.store(0);
   abort_.store(false);
   const double duration = flight_duration();
-  FlightRecorder recorder(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
-                          [this](const std::string& line) { logger_->error("{}", line); });
+  FlightRecorder recorder(
+      options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
+      [this](const std::string& line) { logger_->error("{}", line); }, FlightRecorder::format_of(config_.log));
   FlightResult r;
   r.run_dir = recorder.dir();
   recorder.start(resolved_config_yaml(facts(duration)), parameters(), param_options(config_));

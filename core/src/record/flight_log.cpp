@@ -1,5 +1,8 @@
 #include "record/flight_log.hpp"
 
+#include "record/cdr_columns.hpp"
+#include "record/csv_rows.hpp"
+
 #include <algorithm>
 #include <charconv>
 #include <cstring>
@@ -31,61 +34,57 @@ class TextSink final : public spdlog::sinks::base_sink<std::mutex> {
   LogFile file_;
 };
 
-// Row formatting writes into a pre-sized char buffer with std::to_chars (shortest round-trip
-// for floating point, so a logged double reads back bit-exact): about twice as fast as
-// fmt::format_to through a back_inserter, and the writer thread shares the flight's core when
-// the process is pinned to one.
-constexpr std::size_t kMaxCellChars = 32;  // "-1.2345678901234567e-308" and any 64-bit integer fit
-
-char* put_time(char* p, Nanos t) {
-  // exact decimal seconds from integer ns: "<s>.<9 digits>"
-  if (t < 0) *p++ = '-';
-  const std::uint64_t a = t < 0 ? 0ull - static_cast<std::uint64_t>(t) : static_cast<std::uint64_t>(t);
-  p = std::to_chars(p, p + 20, a / 1'000'000'000ull).ptr;
-  *p++ = '.';
-  std::uint64_t frac = a % 1'000'000'000ull;
-  for (int i = 8; i >= 0; --i) {
-    p[i] = static_cast<char>('0' + frac % 10);
-    frac /= 10;
-  }
-  return p + 9;
+Nanos load_time(const char* p) {
+  Nanos t;
+  std::memcpy(&t, p, sizeof t);
+  return t;
 }
 
 void append_time(std::string& out, Nanos t) {
   char buf[kMaxCellChars];
-  out.append(buf, put_time(buf, t));
+  out.append(buf, put_csv_time(buf, t));
 }
 
-template <class T>
-T load(const char* p) {
-  T v;
-  std::memcpy(&v, p, sizeof v);
-  return v;
+// Which of the small files written whole go into the MCAP file too (timing.json has wall-clock
+// times: the MCAP file stays the same for the same config and seed).
+std::string_view attached_media_type(const std::string& name) {
+  if (name == "config.yaml") return "application/yaml";
+  if (name == "summary.json") return "application/json";
+  return {};
 }
 }  // namespace
 
-FlightLog::FlightLog(fs::path run_dir, ErrorHandler on_error) : dir_(std::move(run_dir)), on_error_(std::move(on_error)) {
+FlightLog::FlightLog(fs::path run_dir, ErrorHandler on_error, Format format)
+    : dir_(std::move(run_dir)), on_error_(std::move(on_error)), format_(format) {
   std::error_code ec;
-  fs::create_directories(dir_ / "topics", ec);
+  fs::create_directories(format_.csv ? dir_ / "topics" : dir_, ec);
   if (ec) health_.fail(fmt::format("cannot create the run directory '{}': {}", dir_.string(), ec.message()));
   params_file_ = std::make_unique<LogFile>(dir_ / "params.csv", health_);
-  params_file_->append("t [s],parameter,value,source\n");
+  params_text_ = "t [s],parameter,value,source\n";
+  params_file_->append(params_text_);
+  if (format_.mcap) mcap_ = std::make_unique<McapWriter>(dir_ / "flight.mcap", health_, McapWriter::Options{format_.mcap_chunk_bytes});
   writer_ = std::thread([this] { writer_loop(); });
   report();
 }
 
 FlightLog::~FlightLog() { close(); }
 
-std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::Column> columns, std::size_t msg_size) {
+std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::Column> columns, std::size_t msg_size,
+                                 std::string_view type_name) {
   auto t = std::make_unique<Topic>();
   t->name = topic;
   t->columns = std::move(columns);
   t->msg_size = msg_size;
-  t->file = std::make_unique<LogFile>(dir_ / "topics" / (topic + ".csv"), health_);
-  std::string header = "t [s]";
-  for (const auto& c : t->columns) header += "," + c.name + " [" + c.unit + "]";
-  header += "\n";
-  t->file->append(header);
+  const std::string header = csv_header(t->columns);
+  if (format_.csv) {
+    t->file = std::make_unique<LogFile>(dir_ / "topics" / (topic + ".csv"), health_);
+    t->file->append(header);
+  }
+  if (mcap_) {
+    const auto schema = mcap_->add_schema(tern_schema_name(type_name, topic), "ros2msg", tern_schema_text(t->columns));
+    // the CSV header keeps the names and units `tern export csv` writes
+    t->channel = mcap_->add_channel(schema, "/" + topic, "cdr", {{"tern.csv_header", header.substr(0, header.size() - 1)}});
+  }
   topics_.push_back(std::move(t));
   report();
   return topics_.size() - 1;
@@ -94,11 +93,23 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
 void FlightLog::capture(std::size_t index, Nanos t, const void* data) {
   if (health_.failed()) return;  // nothing more is written: no need to keep it
   Topic& tp = *topics_[index];
-  const std::size_t n = tp.pending.size();
-  tp.pending.resize(n + sizeof(Nanos) + tp.msg_size);
-  std::memcpy(tp.pending.data() + n, &t, sizeof t);
-  std::memcpy(tp.pending.data() + n + sizeof t, data, tp.msg_size);
-  if (tp.pending.size() >= kChunkBytes) hand_over(index, tp.pending);
+  if (tp.file) {
+    const std::size_t n = tp.pending.size();
+    tp.pending.resize(n + sizeof(Nanos) + tp.msg_size);
+    std::memcpy(tp.pending.data() + n, &t, sizeof t);
+    std::memcpy(tp.pending.data() + n + sizeof t, data, tp.msg_size);
+    if (tp.pending.size() >= kChunkBytes) hand_over(index, tp.pending);
+  }
+  if (mcap_) {  // one buffer for every topic: the file keeps the order of capture
+    std::vector<char>& m = mcap_pending_;
+    const std::size_t n = m.size();
+    const std::uint64_t topic = index;
+    m.resize(n + sizeof topic + sizeof(Nanos) + tp.msg_size);
+    std::memcpy(m.data() + n, &topic, sizeof topic);
+    std::memcpy(m.data() + n + sizeof topic, &t, sizeof t);
+    std::memcpy(m.data() + n + sizeof topic + sizeof t, data, tp.msg_size);
+    if (m.size() >= kChunkBytes) hand_over(kMcap, m);
+  }
 }
 
 void FlightLog::param(Nanos t, const std::string& name, const std::string& value, const std::string& source) {
@@ -123,6 +134,7 @@ void FlightLog::param(Nanos t, const std::string& name, const std::string& value
   put_cell(source);
   row.push_back('\n');
   params_pending_.insert(params_pending_.end(), row.begin(), row.end());
+  if (mcap_) params_text_ += row;
 }
 
 void FlightLog::hand_over(std::size_t topic, std::vector<char>& buf) {
@@ -143,11 +155,17 @@ void FlightLog::flush() {
   report();
   if (health_.failed()) return;
   for (std::size_t i = 0; i < topics_.size(); ++i) hand_over(i, topics_[i]->pending);
-  hand_over(SIZE_MAX, params_pending_);
+  hand_over(kParams, params_pending_);
+  if (mcap_) {  // the open chunk to the kernel, after the rows above
+    hand_over(kMcap, mcap_pending_);
+    std::vector<char> sync{'\0'};
+    hand_over(kSync, sync);
+  }
 }
 
 void FlightLog::write_file(const std::string& name, const std::string& text) {
   write_file_atomically(dir_ / name, text, health_);
+  if (mcap_ && !attached_media_type(name).empty()) attachments_[name] = text;
   report();
 }
 
@@ -161,42 +179,6 @@ std::shared_ptr<spdlog::sinks::sink> FlightLog::text_sink(const std::string& nam
 void FlightLog::report() {
   if (!on_error_) return;
   if (auto e = health_.take_unreported()) on_error_(fmt::format("flight log: {}; logging stopped, the flight goes on", *e));
-}
-
-std::size_t FlightLog::format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out, std::size_t& capacity) const {
-  const std::size_t rec = sizeof(Nanos) + t.msg_size;
-  const std::size_t rows = bytes.size() / rec;
-  const std::size_t row_max = (t.columns.size() + 1) * (kMaxCellChars + 1) + 1;
-  if (rows * row_max > capacity) {
-    capacity = rows * row_max;
-    out = std::make_unique_for_overwrite<char[]>(capacity);  // no zero-filling: every byte used is written
-  }
-  char* p = out.get();
-  char* const end = p + capacity;
-  for (std::size_t off = 0; off + rec <= bytes.size(); off += rec) {
-    const char* r = bytes.data() + off;
-    p = put_time(p, load<Nanos>(r));
-    const char* m = r + sizeof(Nanos);
-    for (const auto& c : t.columns) {
-      const char* v = m + c.offset;
-      *p++ = ',';
-      switch (c.kind) {
-        case reflect::Scalar::f64: p = std::to_chars(p, end, load<double>(v)).ptr; break;
-        case reflect::Scalar::f32: p = std::to_chars(p, end, load<float>(v)).ptr; break;
-        case reflect::Scalar::i64: p = std::to_chars(p, end, load<std::int64_t>(v)).ptr; break;
-        case reflect::Scalar::i32: p = std::to_chars(p, end, load<std::int32_t>(v)).ptr; break;
-        case reflect::Scalar::i16: p = std::to_chars(p, end, load<std::int16_t>(v)).ptr; break;
-        case reflect::Scalar::i8: p = std::to_chars(p, end, static_cast<int>(load<std::int8_t>(v))).ptr; break;
-        case reflect::Scalar::u64: p = std::to_chars(p, end, load<std::uint64_t>(v)).ptr; break;
-        case reflect::Scalar::u32: p = std::to_chars(p, end, load<std::uint32_t>(v)).ptr; break;
-        case reflect::Scalar::u16: p = std::to_chars(p, end, load<std::uint16_t>(v)).ptr; break;
-        case reflect::Scalar::u8: p = std::to_chars(p, end, static_cast<unsigned>(load<std::uint8_t>(v))).ptr; break;
-        case reflect::Scalar::boolean: *p++ = load<std::uint8_t>(v) ? '1' : '0'; break;
-      }
-    }
-    *p++ = '\n';
-  }
-  return static_cast<std::size_t>(p - out.get());
 }
 
 void FlightLog::writer_loop() {
@@ -226,13 +208,37 @@ void FlightLog::writer_loop() {
 }
 
 void FlightLog::write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::size_t& capacity) {
-  if (c.topic == SIZE_MAX) {
+  if (c.topic == kParams) {
     params_file_->append(std::string_view(c.bytes.data(), c.bytes.size()));
     return;
   }
+  if (c.topic == kSync) {
+    mcap_->sync();
+    return;
+  }
+  if (c.topic == kMcap) {
+    write_mcap(c.bytes);
+    return;
+  }
   Topic& t = *topics_[c.topic];
-  const std::size_t n = format(t, c.bytes, text, capacity);
-  t.file->append(std::string_view(text.get(), n));
+  if (t.file) {
+    const std::size_t n = format_csv_rows(t.columns, t.msg_size, std::string_view(c.bytes.data(), c.bytes.size()), text, capacity);
+    t.file->append(std::string_view(text.get(), n));
+  }
+}
+
+void FlightLog::write_mcap(const std::vector<char>& bytes) {
+  std::size_t off = 0;
+  while (off + sizeof(std::uint64_t) + sizeof(Nanos) <= bytes.size()) {
+    std::uint64_t index;
+    std::memcpy(&index, bytes.data() + off, sizeof index);
+    const Topic& t = *topics_[index];
+    const Nanos when = load_time(bytes.data() + off + sizeof index);
+    cdr_.clear();
+    encode_cdr(t.columns, bytes.data() + off + sizeof index + sizeof(Nanos), cdr_);
+    mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
+    off += sizeof index + sizeof(Nanos) + t.msg_size;
+  }
 }
 
 void FlightLog::close() {
@@ -247,6 +253,12 @@ void FlightLog::close() {
   if (writer_.joinable()) writer_.join();
   for (auto& t : topics_) t->file.reset();
   params_file_.reset();
+  if (mcap_) {
+    attachments_["params.csv"] = params_text_;
+    for (const auto& [name, text] : attachments_)  // by name: config.yaml, params.csv, summary.json
+      mcap_->attachment(name, name == "params.csv" ? "text/csv" : attached_media_type(name), text, 0);
+    mcap_->finish();
+  }
   report();
 }
 

@@ -2,7 +2,13 @@
 //
 //   <run>/config.yaml       the resolved config (every parameter's effective value)
 //   <run>/topics/<t>.csv    one table per logged topic: a header row "name [unit]", then one row
-//                           per published message (t [s] = flight time of the tick)
+//                           per published message (t [s] = flight time of the tick): csv_rows.hpp
+//   <run>/flight.mcap       the same topics in one MCAP file (log.format mcap or both): a channel
+//                           "/<t>" per topic, ROS 2 CDR messages with tern_msgs/msg/<Name> ros2msg
+//                           schemas (cdr_columns.hpp), log_time = flight time (ns), messages in
+//                           the order captured; chunked and zstd-compressed, the open chunk on
+//                           disk at every flush (mcap_writer.hpp); config.yaml, params.csv and
+//                           summary.json attached at the end
 //   <run>/params.csv        every parameter value at start and every change, with time and source
 //   <run>/tern.log          the host's text log
 //   <run>/summary.json      what the flight did (deterministic: same config + seed, same bytes)
@@ -24,6 +30,7 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -31,6 +38,7 @@
 #include <vector>
 
 #include "record/log_file.hpp"
+#include "record/mcap_writer.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
@@ -43,6 +51,13 @@ namespace tern::core {
 
 namespace fs = std::filesystem;
 
+/// Which files hold a flight log's topics (log.format: csv, mcap or both).
+struct FlightLogFormat {
+  bool csv = true;
+  bool mcap = false;
+  std::size_t mcap_chunk_bytes = McapWriter::Options{}.chunk_bytes;
+};
+
 class FlightLog {
  public:
   /// Hand buffered rows to the writer at least this often (wall time): with the writer's own
@@ -51,16 +66,19 @@ class FlightLog {
   /// Called with the log's first write error, once, on the thread that called the FlightLog
   /// method that noticed it (never from the writer thread or under a logger's lock).
   using ErrorHandler = std::function<void(const std::string& line)>;
+  using Format = FlightLogFormat;
 
   /// Creates the run directory (and its parent). Never throws: when it cannot, the error is
   /// reported and nothing is logged.
-  explicit FlightLog(fs::path run_dir, ErrorHandler on_error = {});
+  explicit FlightLog(fs::path run_dir, ErrorHandler on_error = {}, Format format = {});
   ~FlightLog();  ///< close()
 
   const fs::path& dir() const { return dir_; }
 
-  /// Declares a topic to log: its column layout and message size. Returns its index.
-  std::size_t add_topic(const std::string& topic, std::vector<reflect::Column> columns, std::size_t msg_size);
+  /// Declares a topic to log: its column layout, message size and type name ("tern/State": the
+  /// MCAP schema's name). Returns its index.
+  std::size_t add_topic(const std::string& topic, std::vector<reflect::Column> columns, std::size_t msg_size,
+                        std::string_view type_name = {});
   /// Copies one message of topic `index` (msg_size bytes at data), logged at flight time t.
   void capture(std::size_t index, Nanos t, const void* data);
   /// A parameter value at time t ("default", "config", "cli", "dds" ... as source).
@@ -85,24 +103,32 @@ class FlightLog {
     std::string name;
     std::vector<reflect::Column> columns;
     std::size_t msg_size = 0;
-    std::unique_ptr<LogFile> file;
-    std::vector<char> pending;  // records: int64 t, then msg_size bytes
+    std::unique_ptr<LogFile> file;  // null without CSV
+    std::uint16_t channel = 0;      // MCAP channel (0: no MCAP)
+    std::vector<char> pending;      // records: int64 t, then msg_size bytes
   };
+  static constexpr std::size_t kParams = SIZE_MAX;    // Chunk::topic of params rows
+  static constexpr std::size_t kMcap = SIZE_MAX - 1;  // Chunk::topic of MCAP records (all topics)
+  static constexpr std::size_t kSync = SIZE_MAX - 2;  // Chunk::topic: the open MCAP chunk to disk
   struct Chunk {
-    std::size_t topic;  // SIZE_MAX: params file
+    std::size_t topic;  // a topic's index, kParams, kMcap or kSync
     std::vector<char> bytes;
   };
   void writer_loop();
   void write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::size_t& capacity);
+  void write_mcap(const std::vector<char>& bytes);
   void report();
   void hand_over(std::size_t topic, std::vector<char>& buf);
-  /// Formats the records in `bytes` as CSV rows into `out` (grown to `capacity` when needed);
-  /// returns the number of characters written.
-  std::size_t format(const Topic& t, const std::vector<char>& bytes, std::unique_ptr<char[]>& out, std::size_t& capacity) const;
 
   fs::path dir_;
   ErrorHandler on_error_;
+  Format format_;
   LogHealth health_;
+  std::unique_ptr<McapWriter> mcap_;
+  std::vector<char> mcap_pending_;                  // records in capture order: uint64 topic, int64 t, msg_size bytes
+  std::map<std::string, std::string> attachments_;  // name -> text, attached at the end
+  std::string params_text_;                         // params.csv whole, attached at the end
+  std::string cdr_;                                 // the writer thread's encoding buffer
   std::vector<std::unique_ptr<Topic>> topics_;
   std::unique_ptr<LogFile> params_file_;
   std::vector<char> params_pending_;

@@ -60,8 +60,8 @@ std::string param_text(const ParamValue& v) {
 }  // namespace
 
 FlightRecorder::FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
-                               FlightLog::ErrorHandler on_error)
-    : log_(new_run_dir(parent, mission), std::move(on_error)), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
+                               FlightLog::ErrorHandler on_error, FlightLog::Format format)
+    : log_(new_run_dir(parent, mission), std::move(on_error), format), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
   file_sink_ = log_.text_sink("tern.log");
   sinks_->add_sink(file_sink_);
 }
@@ -81,6 +81,10 @@ void FlightRecorder::start(const std::string& config_yaml, const std::vector<std
   }
 }
 
+FlightLog::Format FlightRecorder::format_of(const LogConfig& log) {
+  return {log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size};
+}
+
 void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
   // raw sensor topics (and the actuators, an input of the estimator's side-force model) are
   // logged in full by default, so that a flight can be replayed
@@ -92,9 +96,9 @@ void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log,
     const GraphTopic& t = graph.topics()[k];
     if (!t.written() || (!log.all_topics && !wanted.count(t.name))) continue;
     Logged& l = logged_[k];
-    l.index = log_.add_topic(t.name, t.columns, t.msg_size);
+    l.index = log_.add_topic(t.name, t.columns, t.msg_size, t.type_name);
     if (t.fingerprint == reflect::fingerprint<msg::WaypointList>())
-      l.items = log_.add_topic(t.name + "_items", waypoint_item_columns(), sizeof(WaypointItem));
+      l.items = log_.add_topic(t.name + "_items", waypoint_item_columns(), sizeof(WaypointItem), WaypointItem::type_name);
     const auto rate_it = log.rates.find(t.name);
     double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
     if (log.level == LogLevel::decimated) max_rate = max_rate > 0 ? std::min(max_rate, log.decimated_rate) : log.decimated_rate;

@@ -39,7 +39,7 @@ class FlightRecorder {
   /// `sinks` (where the host's logger and the instances' write). Throws ConfigError if the
   /// directory cannot be created. `on_error` hears the log's first write error (once).
   FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
-                 FlightLog::ErrorHandler on_error);
+                 FlightLog::ErrorHandler on_error, FlightLog::Format format = {});
   ~FlightRecorder();  ///< removes tern.log from the sinks (flushed), closes the log
   FlightRecorder(const FlightRecorder&) = delete;
   FlightRecorder& operator=(const FlightRecorder&) = delete;
@@ -53,6 +53,8 @@ class FlightRecorder {
              const std::map<std::string, std::string>& options);
   /// Chooses the topics of `graph` to log (see above); warns (naming `config_file`) of topics
   /// `log.topics` names that nobody publishes. The graph must not change until the flight ends.
+  /// The log's files as `log` (log.format, log.chunk_size) asks.
+  static FlightLog::Format format_of(const LogConfig& log);
   void choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn);
   /// A parameter's value from time t on, and who set it.
   void param(Nanos t, const std::string& qualified_name, const ParamBase& p, const std::string& source);

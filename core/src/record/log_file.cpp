@@ -11,11 +11,8 @@
 
 namespace tern::core {
 
-namespace {
-
 std::string cannot_write(const fs::path& p, int err) { return fmt::format("cannot write '{}': {}", p.string(), std::strerror(err)); }
 
-/// write(2) until all of `text` is written; returns the bytes written and sets `err` on failure.
 std::size_t write_all(int fd, std::string_view text, int& err) {
   std::size_t done = 0;
   while (done < text.size()) {
@@ -31,6 +28,8 @@ std::size_t write_all(int fd, std::string_view text, int& err) {
   }
   return done;
 }
+
+namespace {
 
 int open_for_writing(const fs::path& p) { return ::open(p.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644); }
 

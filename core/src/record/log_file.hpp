@@ -68,6 +68,11 @@ class LogFile {
   off_t size_ = 0;  ///< bytes known to be in the file
 };
 
+/// write(2) until all of `text` is written; returns the bytes written and sets `err` on failure.
+std::size_t write_all(int fd, std::string_view text, int& err);
+/// "cannot write 'PATH': REASON", one line.
+std::string cannot_write(const fs::path& p, int err);
+
 /// Replaces `path` with `text` through `path`.tmp and a rename. On an error records it in
 /// `health`, removes the temporary file and returns false. Tried even after the log has failed.
 bool write_file_atomically(const fs::path& path, std::string_view text, LogHealth& health);
