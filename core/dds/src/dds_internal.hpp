@@ -1,6 +1,7 @@
 // core/dds/src/dds_internal.hpp: Fast DDS side of the bridge (private to core/dds).
 #pragma once
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <functional>
@@ -10,6 +11,7 @@
 #include <string>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include <fastdds/dds/domain/DomainParticipant.hpp>
 #include <fastdds/dds/domain/DomainParticipantFactory.hpp>
@@ -176,7 +178,10 @@ class ServiceClient {
     if (writer_ == nullptr || reader_ == nullptr) throw DdsError("DDS: cannot create client of '" + service + "'");
   }
   /// Waits for the server, sends with request id `id` (answered_requests.hpp), waits for the
-  /// matching reply.
+  /// matching reply; without one after kResendInterval sends the request again under the same id
+  /// (the server applies an id once and answers a repeat with the first answer): a reply written
+  /// before the server's reply writer had matched this client's reader is lost, and discovery
+  /// on a loaded machine can take longer than the server waits for that match.
   CallResult call(const Req& req, Resp& resp, std::chrono::milliseconds timeout, std::uint64_t id) {
     const auto t0 = std::chrono::steady_clock::now();
     const bool matched = wait_until(
@@ -192,24 +197,34 @@ class ServiceClient {
     // the request names this client's reply reader (rmw_fastrtps convention) and carries the
     // request id; the reply comes back with related_sample_identity = (reader GUID, request
     // sequence number)
-    eprosima::fastrtps::rtps::WriteParams wp;
-    wp.related_sample_identity().writer_guid(reader_->guid());
-    wp.related_sample_identity().sequence_number(eprosima::fastrtps::rtps::SequenceNumber_t(id));
-    if (!writer_->write(const_cast<Req*>(&req), wp)) return CallResult::no_server;
-    const auto seq = wp.sample_identity().sequence_number();
+    std::vector<eprosima::fastrtps::rtps::SequenceNumber_t> sent;  // each copy's sequence number: a reply names one
+    auto send = [&] {
+      eprosima::fastrtps::rtps::WriteParams wp;
+      wp.related_sample_identity().writer_guid(reader_->guid());
+      wp.related_sample_identity().sequence_number(eprosima::fastrtps::rtps::SequenceNumber_t(id));
+      if (!writer_->write(const_cast<Req*>(&req), wp)) return false;
+      sent.push_back(wp.sample_identity().sequence_number());
+      return true;
+    };
+    if (!send()) return CallResult::no_server;
+    auto last_send = std::chrono::steady_clock::now();
     for (;;) {
-      const auto left = timeout - std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - t0);
+      const auto now = std::chrono::steady_clock::now();
+      const auto left = timeout - std::chrono::duration_cast<std::chrono::milliseconds>(now - t0);
       if (left.count() <= 0) return CallResult::no_reply;
       fdds::SampleInfo info;
       if (reader_->take_next_sample(&resp, &info) == ReturnCode_t::RETCODE_OK) {
-        if (info.valid_data && info.related_sample_identity.sequence_number() == seq &&
-            info.related_sample_identity.writer_guid() == reader_->guid())
+        const auto seq = info.related_sample_identity.sequence_number();
+        if (info.valid_data && info.related_sample_identity.writer_guid() == reader_->guid() &&
+            std::find(sent.begin(), sent.end(), seq) != sent.end())
           return CallResult::answered;
         continue;
       }
+      if (now - last_send >= kResendInterval && send()) last_send = now;
       reader_->wait_for_unread_message(Duration(0, static_cast<std::uint32_t>(std::min<long>(left.count(), 100) * 1000000)));
     }
   }
+  static constexpr std::chrono::seconds kResendInterval{3};
 
  private:
   std::string service_;
