@@ -6,6 +6,7 @@
 #   flight.mcap cut at several offsets    tern export recover: a complete file whose tables are
 #                                         the start of the flight's (every row of the chunks kept)
 #
+#   a flight logged as MCAP only         tern replay RUN and tern plot RUN read it
 #   node mcap_reader/test_mcap_reader.mjs Foxglove's @mcap/core and rosmsg2-serialization decode every
 #                                         channel of flight.mcap; every value equals the CSV table's
 #
@@ -55,4 +56,14 @@ for frac in 13 37 50 71 97; do
   echo "cut at $frac % ($cut bytes): $rows rows recovered; $(head -1 "$work/recover.txt")"
   [ "$rows" -gt 0 ] || [ "$frac" -lt 20 ] || fail "cut at $cut: nothing recovered"
 done
+# a flight logged as MCAP only: tern replay and tern plot read it (its tables exported first)
+"$tern" fly "$config" --duration "$duration" --log-format mcap --log-dir "$work/m" -q >/dev/null
+m=$(ls -1d "$work"/m/*/)
+[ ! -d "$m/topics" ] || fail "an MCAP-only flight wrote topics/"
+"$tern" replay "$m" -q --log-dir "$work/replays" >"$work/replay.txt" 2>&1 || { cat "$work/replay.txt"; fail "tern replay of an MCAP-only flight"; }
+grep -q "topic tables exported from" "$work/replay.txt" || fail "tern replay did not say it exported the tables"
+for f in $direct; do cmp "$m/topics/$f" "$a/topics/$f" || fail "$f: the replay's export differs from the CSV log"; done
+"$(dirname "$tern")/tern-plot" "$m" >"$work/plot.txt" 2>&1 || { cat "$work/plot.txt"; fail "tern plot of an MCAP-only flight"; }
+[ -s "$m/plots/index.html" ] || fail "tern plot wrote no index.html for the MCAP-only flight"
+echo "MCAP-only flight: tern replay and tern plot read it"
 echo "PASS"

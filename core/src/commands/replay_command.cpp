@@ -9,6 +9,7 @@
 #include "config/cli_overrides.hpp"
 #include "flight/host.hpp"
 #include "replay/replay_report.hpp"
+#include "record/mcap_csv_export.hpp"
 #include "replay/sensor_log_meta.hpp"
 
 namespace tern::core {
@@ -32,7 +33,18 @@ fs::path replay_config(const ReplayOptions& o) {
   return default_config().parent_path().parent_path() / "replay" / "estimator.yaml";
 }
 
+/// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
+/// `tern export csv LOG` writes them (record/mcap_csv_export.hpp), which the replay then reads.
+void tables_from_mcap(const fs::path& log_dir) {
+  const fs::path mcap = log_dir / "flight.mcap";
+  if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
+  const CsvExportReport r = export_csv(mcap, log_dir / "topics");
+  std::fprintf(stderr, "replay: %zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
+               r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
+}
+
 int replay(const ReplayOptions& o) {
+  tables_from_mcap(o.log_dir);
   MissionConfig mc = load_config(replay_config(o).string());
   mc.phases.clear();  // an estimator alone: no controllers, no phases, no mission
   mc.fallback.reset();
@@ -42,6 +54,7 @@ int replay(const ReplayOptions& o) {
   if (o.config.empty() && !fs::exists(fs::path(o.log_dir) / "config.yaml"))
     mc.name = fs::absolute(o.log_dir).lexically_normal().filename().string();
   mc.name = mc.name + "-replay";
+  if (mc.log.format == LogFormat::mcap) mc.log.format = LogFormat::both;  // the replay report reads the tables
   apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
   CliOverrides cli;
   cli.sets = o.sets;
