@@ -8,7 +8,8 @@ namespace tern::core {
 
 namespace {
 constexpr char kHeader[4] = {0x00, 0x01, 0x00, 0x00};  // CDR_LE, options 0
-constexpr std::string_view kPlaceholder = "uint8 structure_needs_at_least_one_member\n";
+// rosidl gives a message without members this one field (and CDR one byte for it)
+constexpr std::string_view kEmptyMessageField = "uint8 structure_needs_at_least_one_member\n";
 
 struct Kind {
   reflect::Scalar scalar;
@@ -61,7 +62,7 @@ std::string ros2msg_field_name(std::string_view column) {
 }
 
 std::string tern_schema_text(const std::vector<reflect::Column>& columns) {
-  if (columns.empty()) return std::string(kPlaceholder);
+  if (columns.empty()) return std::string(kEmptyMessageField);
   std::string s;
   std::set<std::string> taken;
   for (const auto& c : columns) {

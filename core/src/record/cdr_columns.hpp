@@ -10,7 +10,8 @@
 // The encoding is the one ROS 2's rmw implementations use (XCDR1, plain CDR): the 4-byte
 // encapsulation header 00 01 00 00 (CDR, little-endian), then each field little-endian, aligned
 // to its own size counted from the end of the header; bool is one byte 0/1. A message without
-// columns gets ROS 2's placeholder field `uint8 structure_needs_at_least_one_member`.
+// columns gets the one field rosidl generates for a message without members,
+// `uint8 structure_needs_at_least_one_member` (encoded as one zero byte).
 #pragma once
 
 #include <optional>

@@ -92,7 +92,8 @@ struct In {
   std::size_t left() const { return static_cast<std::size_t>(end - p); }
 };
 
-/// Begins a record: opcode and a length placeholder; returns where the content starts.
+/// Begins a record: opcode and a zero length that end_record() overwrites with the content's
+/// length; returns where the content starts.
 inline std::size_t begin_record(std::string& b, Op op) {
   Out{b}.u8(static_cast<std::uint8_t>(op));
   Out{b}.u64(0);

@@ -63,6 +63,27 @@ Flown fly(PathManager& m, testkit::KinematicAircraft& ac, double seconds, double
   }
   return out;
 }
+
+/// The kinematic aircraft at 60 m, 15 m/s, heading north at the origin.
+testkit::KinematicAircraft start_at_60m() {
+  testkit::KinematicAircraft ac;
+  ac.h = 60.0;
+  ac.Va = 15.0;
+  ac.set_course(0.0);
+  return ac;
+}
+
+/// Flies `ac` through manager and follower until the segment is a land item's final (or 400 s);
+/// returns the last segment.
+PathSegment fly_to_final(PathManager& m, testkit::KinematicAircraft& ac) {
+  PathSegment seg;
+  for (double t = 0.0; t < 400.0 && !seg.landing; t += 0.02) {
+    seg = m.update(ac.p(), ac.chi, t);
+    const FollowerCommand c = follow(seg, {ac.p(), ac.chi, ac.psi, ac.Va, ac.Vg()}, FollowerGains{});
+    ac.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, 0.02);
+  }
+  return seg;
+}
 }  // namespace
 
 TEST_CASE("landing: the approach's entry point, glide direction and glide-path altitude, hand-worked") {
@@ -122,16 +143,8 @@ TEST_CASE("landing: the path manager aims the glide path for the wind it was giv
     PathManager m(cfg);
     m.set_wind(Vec3(-4, 0, 0));  // 4 m/s of headwind on a runway heading north
     m.set_waypoints({waypoint(300, 300, 60), land_item(Vec3(0, 0, 0), 0.0)}, true);
-    testkit::KinematicAircraft ac;
-    ac.h = 60.0;
-    ac.Va = 15.0;
-    ac.set_course(0.0);
-    PathSegment seg;
-    for (double t = 0.0; t < 400.0 && !seg.landing; t += 0.02) {
-      seg = m.update(ac.p(), ac.chi, t);
-      const FollowerCommand c = follow(seg, {ac.p(), ac.chi, ac.psi, ac.Va, ac.Vg()}, FollowerGains{});
-      ac.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, 0.02);
-    }
+    testkit::KinematicAircraft ac = start_at_60m();
+    const PathSegment seg = fly_to_final(m, ac);
     REQUIRE(seg.landing);
     const LandSpec spec;  // the item's defaults
     const double expected = flare_time > 0.0 ? 11.0 * 3.0 - spec.flare_height / std::tan(spec.glide_slope) : 0.0;
@@ -174,16 +187,8 @@ TEST_CASE("landing: the runway a range finder measures moves the glide path's to
   PathManager m(cfg);
   m.set_home_altitude(0.5);
   m.set_waypoints({waypoint(300, 300, 60), land_item(Vec3(0, 0, 0), 0.0)}, true);
-  testkit::KinematicAircraft ac;
-  ac.h = 60.0;
-  ac.Va = 15.0;
-  ac.set_course(0.0);
-  PathSegment seg;
-  for (double t = 0.0; t < 400.0 && !seg.landing; t += 0.02) {
-    seg = m.update(ac.p(), ac.chi, t);
-    const FollowerCommand c = follow(seg, {ac.p(), ac.chi, ac.psi, ac.Va, ac.Vg()}, FollowerGains{});
-    ac.step(c.chi_c, c.phi_ff, c.h_c, c.Va_c, 0.02);
-  }
+  testkit::KinematicAircraft ac = start_at_60m();
+  PathSegment seg = fly_to_final(m, ac);
   REQUIRE(seg.landing);
   CHECK(seg.r.z() == Approx(-0.5));  // home's
   m.set_runway_down(-3.2);           // the estimate's altitude 2.7 m off: the runway at 3.2 m
