@@ -113,6 +113,7 @@ Mat3 level_tilt_from_offset(double g) {
 
 void Estimator::apply_models_config() {
   process_ = cfg_.process;
+  filter_.set_covariance_period(cfg_.covariance_period);
   R_bi_ = rotation_from_euler(cfg_.imu_mount.x(), cfg_.imu_mount.y(), cfg_.imu_mount.z());
   gnss_pos_.antenna = cfg_.gnss_antenna;
   gnss_vel_.antenna = cfg_.gnss_antenna;
@@ -279,12 +280,13 @@ bool Estimator::add_imu(const msg::Imu& m) {
     push(m.stamp, EventKind::imu_gap, Sensor::imu, dt);
     dt = cfg_.imu_max_dt;
   }
+  bool covariance_stepped = false;
   if (dt > 0.0) {
-    filter_.propagate(accel, gyro, dt, process_, cfg_.gravity);
+    covariance_stepped = filter_.propagate(accel, gyro, dt, process_, cfg_.gravity);
     // The wind is never less known than without any air data: where none reaches it (on the
     // ground, below the pitot's minimum airspeed) the random walk would grow it past 8 m/s in a
     // minute of taxiing.
-    filter_.limit_variance(idx::w, 2, cfg_.init_wind_sigma * cfg_.init_wind_sigma);
+    if (covariance_stepped) filter_.limit_variance(idx::w, 2, cfg_.init_wind_sigma * cfg_.init_wind_sigma);
     if (!output_offset_.isZero()) {
       output_offset_ *= cfg_.gnss_recovery_time > 0.0 ? std::exp(-dt / cfg_.gnss_recovery_time) : 0.0;
       if (output_offset_.norm() < 1e-4) output_offset_.setZero();
@@ -300,7 +302,9 @@ bool Estimator::add_imu(const msg::Imu& m) {
   }
   accel_sum_ += accel;
   ++accel_n_;
-  if (!filter_.healthy()) {
+  // The covariance changes when it steps and in updates: checked with the next step (within one
+  // covariance period), the state with every sample.
+  if (covariance_stepped ? !filter_.healthy() : !filter_.x().all_finite()) {
     ++filter_resets_;
     push(m.stamp, EventKind::filter_reset, Sensor::imu);
     initialized_ = false;

@@ -1,6 +1,7 @@
 // Filter propagation and the error-state correction (equations in filter.hpp).
 #include "tern/estimator_ekf/filter.hpp"
 
+#include <array>
 #include <cmath>
 
 namespace tern::ekf {
@@ -22,44 +23,83 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   return r;
 }
 
-void Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity) {
+bool Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity) {
   const Vec3 a = accel - x_.b_a;  // specific force, body
-  const Vec3 w = x_.rate(gyro);   // body rate
-  const Mat3 R = x_.R();
-  const Mat3 Fthbg = -dt * (Mat3::Identity() - x_.S_g);
-  const Mat39 Fthsg = -dt * sensitivity_jacobian(gyro - x_.b_g);
-  const Mat3 Fvba = -dt * R;
-
+  accumulate(a, x_.rate(gyro), gyro - x_.b_g, dt, noise, (a - Vec3(0.0, 0.0, -gravity)).norm());
   x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise);
+  if (pending_.dt < covariance_period_ * (1.0 - 1e-6)) return false;
+  step_covariance();
+  return true;
+}
 
-  // Covariance P <- F P F^T + Q, with F = I except the blocks
-  //   F_p,v = dt I, F_v,theta = -dt R [a]x, F_v,ba = -dt R, F_theta,theta = Exp(-w dt),
-  //   F_theta,bg = -dt (I - S_g), F_theta,S = -dt U,
-  //   F_eg,eg = exp(-k dt) I, F_wd,wd = exp(-dt / tau_w) (Gauss-Markov GNSS error, vertical wind).
-  // Done as row then column block operations (F P, then (F P) F^T): a few thousand multiply-adds
-  // instead of 2 kErrDim^3 for dense products.
-  const Mat3 Fvth = -dt * R * tern::skew(a);
+void Filter::accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, const ProcessNoise& noise, double load) {
+  // Phi <- F Phi on the blocks Pending keeps, each from the old values (filter.hpp), with the
+  // sample's F_v,theta = -dt R [a]x, F_v,ba = -dt R, F_theta,theta = Exp(-w dt),
+  // F_theta,bg = -dt (I - S_g), F_theta,S = -dt U.
+  Pending& f = pending_;
+  const Mat3 R = x_.R();
   const Mat3 Fthth = quat_exp(-w * dt).toRotationMatrix();
+  f.v_th.noalias() += (-dt * R * tern::skew(a)).lazyProduct(f.th_th);
+  f.v_ba.noalias() -= dt * R;
+  f.th_bg = (Fthth.lazyProduct(f.th_bg) - dt * (Mat3::Identity() - x_.S_g)).eval();
+  f.th_sg = (Fthth.lazyProduct(f.th_sg) - dt * sensitivity_jacobian(u)).eval();
+  f.th_th = Fthth.lazyProduct(f.th_th).eval();
+  f.q += process_noise_diagonal(noise, dt, load);
+  f.dt += dt;
+  f.gnss_error_k = noise.gnss_error_k;
+  f.vertical_wind_rate = noise.vertical_wind_rate();
+  ++f.samples;
+}
+
+namespace {
+/// The error states Phi moves (rows of Phi other than the identity's): p, v, theta, e_gnss, w_d.
+constexpr std::array<int, 13> kMoved = {idx::p,      idx::p + 1,  idx::p + 2, idx::v,      idx::v + 1,  idx::v + 2, idx::th,
+                                        idx::th + 1, idx::th + 2, idx::eg,    idx::eg + 1, idx::eg + 2, idx::wd};
+}  // namespace
+
+void Filter::step_covariance() {
+  Pending& f = pending_;
+  if (f.samples == 0) return;
+  // P <- Phi P Phi^T + Q, Phi = I except its blocks (Pending, filter.hpp) and the Gauss-Markov
+  // decays exp(-k T) I (GNSS error) and exp(-T / tau_w) (vertical wind). Phi's rows differ from
+  // the identity's only for the 13 states kMoved (set M), so:
+  //  1. B = P Phi^T: the columns of M, as column block operations (contiguous, vectorised);
+  //  2. Phi B differs from B only on the rows of M; on the columns outside M those rows are
+  //     B's columns of M transposed (P' is symmetric and Phi's row there is the identity's);
+  //  3. on M x M, Phi B is formed from B's columns of M with Phi's blocks and symmetrised.
+  // A few thousand multiply-adds instead of 2 kErrDim^3 for dense products.
   Cov& P = P_;
-  // Rows (order matters: each row block uses the old values of the blocks below it).
-  P.middleRows<3>(idx::p) += dt * P.middleRows<3>(idx::v);
-  P.middleRows<3>(idx::v) += Fvth * P.middleRows<3>(idx::th) + Fvba * P.middleRows<3>(idx::ba);
-  P.middleRows<3>(idx::th) =
-      (Fthth * P.middleRows<3>(idx::th) + Fthbg * P.middleRows<3>(idx::bg) + Fthsg * P.middleRows<9>(idx::sg)).eval();
-  const double fe = std::exp(-noise.gnss_error_k * dt), fw = std::exp(-noise.vertical_wind_rate() * dt);
-  P.middleRows<3>(idx::eg) *= fe;
-  P.row(idx::wd) *= fw;
-  // Columns.
-  P.middleCols<3>(idx::p) += dt * P.middleCols<3>(idx::v);
-  P.middleCols<3>(idx::v) += P.middleCols<3>(idx::th) * Fvth.transpose() + P.middleCols<3>(idx::ba) * Fvba.transpose();
-  P.middleCols<3>(idx::th) = (P.middleCols<3>(idx::th) * Fthth.transpose() + P.middleCols<3>(idx::bg) * Fthbg.transpose() +
-                              P.middleCols<9>(idx::sg) * Fthsg.transpose())
-                                 .eval();
+  symmetrize(P);  // steps 2 and 3 take P's columns for its rows (a reset's blocks may differ by an ulp)
+  const double T = f.dt;
+  const double fe = std::exp(-f.gnss_error_k * T), fw = std::exp(-f.vertical_wind_rate * T);
+  // 1. Columns (order matters: each block uses the old values of the blocks after it).
+  P.middleCols<3>(idx::p) += T * P.middleCols<3>(idx::v);
+  P.middleCols<3>(idx::v) +=
+      P.middleCols<3>(idx::th).lazyProduct(f.v_th.transpose()) + P.middleCols<3>(idx::ba).lazyProduct(f.v_ba.transpose());
+  P.middleCols<3>(idx::th) =
+      (P.middleCols<3>(idx::th).lazyProduct(f.th_th.transpose()) + P.middleCols<3>(idx::bg).lazyProduct(f.th_bg.transpose()) +
+       P.middleCols<9>(idx::sg).lazyProduct(f.th_sg.transpose()))
+          .eval();
   P.middleCols<3>(idx::eg) *= fe;
   P.col(idx::wd) *= fw;
+  // 2. Rows of M outside M x M: the mirror of the columns.
+  Eigen::Matrix<double, kErrDim, 13> B;
+  for (int j = 0; j < 13; ++j) B.col(j) = P.col(kMoved[j]);
+  for (int j = 0; j < 13; ++j) P.row(kMoved[j]) = B.col(j).transpose();
+  // 3. M x M: (Phi B) on the rows of M (in kMoved's order), then symmetrised.
+  Eigen::Matrix<double, 13, 13> PB;
+  PB.middleRows<3>(0) = B.middleRows<3>(idx::p) + T * B.middleRows<3>(idx::v);
+  PB.middleRows<3>(3) =
+      B.middleRows<3>(idx::v) + f.v_th.lazyProduct(B.middleRows<3>(idx::th)) + f.v_ba.lazyProduct(B.middleRows<3>(idx::ba));
+  PB.middleRows<3>(6) = f.th_th.lazyProduct(B.middleRows<3>(idx::th)) + f.th_bg.lazyProduct(B.middleRows<3>(idx::bg)) +
+                        f.th_sg.lazyProduct(B.middleRows<9>(idx::sg));
+  PB.middleRows<3>(9) = fe * B.middleRows<3>(idx::eg);
+  PB.row(12) = fw * B.row(idx::wd);
+  for (int j = 0; j < 13; ++j)
+    for (int i = 0; i <= j; ++i) P(kMoved[i], kMoved[j]) = P(kMoved[j], kMoved[i]) = 0.5 * (PB(i, j) + PB(j, i));
 
-  P.diagonal() += process_noise_diagonal(noise, dt, (a - Vec3(0.0, 0.0, -gravity)).norm());
-  symmetrize(P);
+  P.diagonal() += f.q;
+  f = Pending{};
 }
 
 NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,

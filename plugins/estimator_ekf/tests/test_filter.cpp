@@ -259,6 +259,47 @@ TEST_CASE("block-wise propagation equals F P F^T + Q and keeps P symmetric") {
   CHECK((f.x().p - xn.p).norm() == 0.0);
 }
 
+TEST_CASE("covariance period: the samples' transitions in one step, to second order in the period") {
+  // Four 400-Hz samples in a turn with a pull-up: one covariance step (period 10 ms) against a
+  // step per sample (period 0). The nominal state is the same; the covariance differs by the
+  // blocks the period leaves out (second order in T, filter.hpp).
+  const NominalState x = sample_state();
+  const Cov P0 = random_spd(5);
+  ProcessNoise qn;
+  qn.position = 0.01;
+  Filter each, period;
+  each.initialize(x, P0);
+  period.initialize(x, P0);
+  period.set_covariance_period(0.01);
+  const Vec3 gyro(0.8, -0.3, 0.5);
+  for (int k = 0; k < 4; ++k) {
+    const Vec3 accel(1.5, -0.8 + 0.1 * k, -14.0);
+    CHECK(each.propagate(accel, gyro, 0.0025, qn, 9.81));
+    CHECK(period.propagate(accel, gyro, 0.0025, qn, 9.81) == (k == 3));  // stepped with the fourth
+  }
+  CHECK((period.x().q.coeffs() - each.x().q.coeffs()).norm() == 0.0);
+  const double scale = each.P().cwiseAbs().maxCoeff();
+  // the p and v rows and columns by the blocks left out: Phi_p,theta ~ 0.5 T^2 R [a]x, 7e-4 here
+  CHECK((period.P() - each.P()).cwiseAbs().maxCoeff() < 5e-4 * scale);
+  CHECK((period.P() - period.P().transpose()).cwiseAbs().maxCoeff() == 0.0);
+  // Phi_theta,X is kept exactly: the attitude's covariances with everything but p and v agree to rounding
+  const int n = kErrDim - idx::th;
+  CHECK((period.P().block<3, n>(idx::th, idx::th) - each.P().block<3, n>(idx::th, idx::th)).cwiseAbs().maxCoeff() < 1e-12 * scale);
+  // an update steps the pending samples first: after one sample it sees what period 0 sees
+  Filter one, pending;
+  one.initialize(x, P0);
+  pending.initialize(x, P0);
+  pending.set_covariance_period(0.01);
+  CHECK(one.propagate(Vec3(0.0, 0.0, -9.81), gyro, 0.0025, qn, 9.81));
+  CHECK_FALSE(pending.propagate(Vec3(0.0, 0.0, -9.81), gyro, 0.0025, qn, 9.81));
+  CHECK((pending.P() - P0).cwiseAbs().maxCoeff() == 0.0);  // not stepped yet
+  BaroAltitude a, b;
+  a.gate = b.gate = 0.0;
+  CHECK(one.update(a, BaroAltitude::Vec(0.3)) == UpdateResult::accepted);
+  CHECK(pending.update(b, BaroAltitude::Vec(0.3)) == UpdateResult::accepted);
+  CHECK((pending.P() - one.P()).cwiseAbs().maxCoeff() < 1e-12 * one.P().cwiseAbs().maxCoeff());
+}
+
 TEST_CASE("update: Joseph form, variance shrinks, gate rejects and counts outliers") {
   Filter f;
   NominalState x = sample_state();

@@ -286,9 +286,12 @@ struct EstimatorConfig {
   double init_baro_bias_sigma = 0.1;
   double init_gnss_error_sigma = 0.5;  ///< m, GNSS position error at initialisation
   // sensor checks
-  double accel_max = 160.0;                                            ///< m/s^2 per axis (16 g)
-  double gyro_max = 35.0;                                              ///< rad/s per axis (2000 deg/s)
-  double imu_max_dt = 0.05;                                            ///< s, longer IMU gaps are counted and clamped
+  double accel_max = 160.0;  ///< m/s^2 per axis (16 g)
+  double gyro_max = 35.0;    ///< rad/s per axis (2000 deg/s)
+  double imu_max_dt = 0.05;  ///< s, longer IMU gaps are counted and clamped
+  /// s: the covariance steps once per this long over the IMU samples since (filter.hpp; PX4
+  /// EKF2's 10 ms filter period), the nominal state with every sample; 0: every sample.
+  double covariance_period = 0.01;
   std::array<double, kSensorCount> timeout{0.02, 1.0, 0.5, 0.5, 0.5};  ///< s, per Sensor
   /// s, per Sensor: how long before its stamp a sample was valid (IMU: unused). The GNSS's
   /// time_of_validity, when the driver gives one, already says it: this is subtracted from it.
@@ -419,6 +422,8 @@ struct EstimatorConfig {
     v(&C::init_baro_bias_sigma, "init_baro_bias_sigma", ParamSpec("m", 1e-3, 1000.0, "initial barometer-bias uncertainty, 1 sigma"));
     v(&C::accel_max, "accel_max", ParamSpec("m/s^2", 1.0, 2000.0, "accelerometer samples beyond this (any axis) are rejected"));
     v(&C::gyro_max, "gyro_max", ParamSpec("rad/s", 0.1, 100.0, "gyro samples beyond this (any axis) are rejected"));
+    v(&C::covariance_period, "covariance_period",
+      ParamSpec("s", 0.0, 0.1, "covariance propagation period over the IMU samples (0: every sample; PX4 EKF2: 10 ms)"));
     v(&C::imu_max_dt, "imu_max_dt", ParamSpec("s", 1e-4, 1.0, "longest IMU interval propagated in one step (longer gaps are clamped)"));
     v([](C& c) -> double& { return c.timeout[0]; }, "imu_timeout", ParamSpec("s", 1e-3, 60.0, "IMU silence reported as a time-out"));
     v([](C& c) -> double& { return c.timeout[1]; }, "gnss_timeout",

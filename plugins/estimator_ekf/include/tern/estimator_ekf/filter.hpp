@@ -56,6 +56,16 @@
 // Discrete process noise: Q_v = (sigma_a dt)^2 I, Q_theta = (sigma_g dt)^2 I, where sigma_a and
 // sigma_g are the per-sample standard deviations of the accelerometer and gyro (white noise of
 // one sample held over dt); random walks: Q = sigma^2 dt with sigma in unit/sqrt(s).
+// Covariance period (PX4 EKF2's FILTER_UPDATE_PERIOD_MS, 10 ms, over its accumulated delta
+// angles and velocities): the nominal state moves with every IMU sample, the covariance once per
+// covariance_period with the product of the samples' transitions, Phi = F_N ... F_1, kept on F's
+// blocks: Phi_theta,theta (the accumulated body rotation's transpose), Phi_theta,bg and
+// Phi_theta,S exactly (Phi_th,X <- F_th,th Phi_th,X + F_th,X); Phi_v,theta = sum -dt R [a]x
+// Phi_theta,theta and Phi_v,ba = sum -dt R (first order in the period); Phi_p,v = T I (T the
+// period's length). The blocks left out (p,theta; v,bg; v,S; ...) are second order in T
+// (0.5 T^2 g = 0.5 mm/rad at 10 ms). Q is the sum of the samples' Q_i (not rotated within the
+// period: the accelerometer and gyro noises are isotropic). Every update steps the covariance to
+// the current sample first; with a period of 0 every sample steps it (Phi = F).
 //
 // Measurement update (any model of the shape described in measurements.hpp):
 //   y = z - h(x),  S = H P H^T + R,  NIS = y^T S^-1 y (chi-square gate),
@@ -297,11 +307,25 @@ class Filter {
   void initialize(const NominalState& x0, const Cov& P0) {
     x_ = x0;
     P_ = P0;
+    pending_ = Pending{};
   }
 
   /// Propagates over dt seconds (> 0) with one IMU sample: accel = measured specific force
-  /// (body FRD, m/s^2), gyro = measured rate (body FRD, rad/s). Allocation free.
-  void propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity);
+  /// (body FRD, m/s^2), gyro = measured rate (body FRD, rad/s). Allocation free. The nominal
+  /// state moves now; the covariance when the samples since its last step span the covariance
+  /// period (file comment). Returns true when the covariance stepped.
+  bool propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity);
+
+  /// Covariance period, s (>= 0; 0: every sample). Steps the pending samples first.
+  void set_covariance_period(double seconds) {
+    step_covariance();
+    covariance_period_ = std::max(seconds, 0.0);
+  }
+  double covariance_period() const { return covariance_period_; }
+  /// Brings the covariance to the last propagated sample (no-op when it is there). update() and
+  /// mutable_P() call it; P() does not (it is the covariance at the last step, at most one
+  /// covariance period old).
+  void step_covariance();
 
   /// The nominal-state part of propagate(): constant specific force and rate over dt.
   static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
@@ -336,6 +360,7 @@ class Filter {
   /// GNSS position (z = p + e_gnss, p and e_gnss strongly anti-correlated) the next fix would
   /// then tell the filter it had learnt e_gnss (measured: position NEES 165).
   void inflate(int first, int n, double beta) {
+    step_covariance();
     for (int i = first; i < first + n; ++i) P_(i, i) += (beta - 1.0) * P_(i, i);
   }
 
@@ -345,6 +370,7 @@ class Filter {
   /// wind on the ground, below the pitot's minimum airspeed): its variance would otherwise grow
   /// past any figure the state can physically take.
   void limit_variance(int first, int n, double max_var) {
+    step_covariance();
     for (int i = first; i < first + n; ++i) {
       if (!(P_(i, i) > max_var)) continue;
       const double d = std::sqrt(max_var / P_(i, i));
@@ -366,14 +392,35 @@ class Filter {
   bool healthy() const { return std::isfinite(P_.sum()) && (P_.diagonal().array() > 0.0).all() && x_.all_finite(); }
 
   const NominalState& x() const { return x_; }
+  /// The covariance as of its last step (at most one covariance period behind x()).
   const Cov& P() const { return P_; }
   NominalState& mutable_x() { return x_; }
-  Cov& mutable_P() { return P_; }
+  Cov& mutable_P() {
+    step_covariance();
+    return P_;
+  }
 
  private:
+  /// The samples propagated since the covariance's last step: Phi's blocks and the summed Q.
+  struct Pending {
+    int samples = 0;
+    double dt = 0.0;                ///< s, their total length
+    Mat3 th_th = Mat3::Identity();  ///< Phi_theta,theta
+    Mat3 th_bg = Mat3::Zero();      ///< Phi_theta,bg
+    Mat39 th_sg = Mat39::Zero();    ///< Phi_theta,S
+    Mat3 v_th = Mat3::Zero();       ///< Phi_v,theta
+    Mat3 v_ba = Mat3::Zero();       ///< Phi_v,ba
+    ErrVec q = ErrVec::Zero();      ///< sum of the samples' process noise (diagonal)
+    double gnss_error_k = 0.0;      ///< the Gauss-Markov rates they were propagated with
+    double vertical_wind_rate = 0.0;
+  };
+  void accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, const ProcessNoise& noise, double load);
+
   NominalState x_;
   Cov P_ = Cov::Identity();
   ErrVec correction_sum_ = ErrVec::Zero();
+  double covariance_period_ = 0.0;
+  Pending pending_;
 };
 
 template <class Model>
@@ -390,11 +437,16 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
     ++model.stats.skipped;
     return UpdateResult::skipped;
   }
+  step_covariance();
   const Jac H = model.jacobian(x_);
   VecM y = model.residual(x_then != nullptr ? *x_then : x_, z);
   if (corrected_since != nullptr) y -= H * *corrected_since;
   const MatM R = model.noise(x_);
-  const Eigen::Matrix<double, M, kErrDim> HP = H * P_;
+  // H P over H's non-zero columns only (a model touches a few states), with P's column k for
+  // its row k (P is symmetric; the column is contiguous).
+  Eigen::Matrix<double, M, kErrDim> HP = Eigen::Matrix<double, M, kErrDim>::Zero();
+  for (int k = 0; k < kErrDim; ++k)
+    if (!H.col(k).isZero(0.0)) HP.noalias() += H.col(k) * P_.col(k).transpose();
   const MatM S = HP * H.transpose() + R;
   const Eigen::LLT<MatM> llt(S);
   if (!y.allFinite() || !S.allFinite() || llt.info() != Eigen::Success) {
@@ -418,18 +470,15 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   correction_sum_ += dx;
   // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, evaluated expanded (exact for any K):
   //   P - K (H P) - (K (H P))^T + K S K^T,   S = H P H^T + R,
-  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. The correction is
-  // symmetric by construction; it is formed on the upper triangle and mirrored, which also
-  // leaves P exactly symmetric (the (P + P^T) / 2 of the file comment, in the same pass).
-  const Eigen::Matrix<double, kErrDim, M> KS = K * S;
-  for (int j = 0; j < kErrDim; ++j) {
-    for (int i = 0; i <= j; ++i) {
-      const double d = KS.row(i).dot(K.row(j)) - K.row(i).dot(HP.col(j)) - K.row(j).dot(HP.col(i));
-      const double m = i == j ? P_(i, i) + d : 0.5 * (P_(i, j) + P_(j, i)) + d;
-      P_(i, j) = m;
-      P_(j, i) = m;
-    }
-  }
+  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. Column by column,
+  // vectorised over the rows: d(:, j) = (K S - (H P)^T) K(j, :)^T - K (H P)(:, j); the upper
+  // triangle is then mirrored, which keeps P exactly symmetric (the (P + P^T) / 2 of the file
+  // comment).
+  const Eigen::Matrix<double, kErrDim, M> E = K * S - HP.transpose();
+  for (int j = 0; j < kErrDim; ++j)
+    for (int m = 0; m < M; ++m) P_.col(j) += K(j, m) * E.col(m) - HP(m, j) * K.col(m);
+  for (int j = 0; j < kErrDim; ++j)
+    for (int i = 0; i < j; ++i) P_(j, i) = P_(i, j);
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
