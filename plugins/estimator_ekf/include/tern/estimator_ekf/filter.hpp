@@ -470,15 +470,14 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   correction_sum_ += dx;
   // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, evaluated expanded (exact for any K):
   //   P - K (H P) - (K (H P))^T + K S K^T,   S = H P H^T + R,
-  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. Column by column,
-  // vectorised over the rows: d(:, j) = (K S - (H P)^T) K(j, :)^T - K (H P)(:, j); the upper
-  // triangle is then mirrored, which keeps P exactly symmetric (the (P + P^T) / 2 of the file
-  // comment).
+  // which costs O(n^2 M) instead of O(n^3): every term is a rank-M product. On the upper
+  // triangle, column by column, vectorised over the rows:
+  //   d(0..j, j) = (K S - (H P)^T)(0..j, :) K(j, :)^T - K(0..j, :) (H P)(:, j),
+  // then mirrored, which keeps P exactly symmetric (the (P + P^T) / 2 of the file comment).
   const Eigen::Matrix<double, kErrDim, M> E = K * S - HP.transpose();
   for (int j = 0; j < kErrDim; ++j)
-    for (int m = 0; m < M; ++m) P_.col(j) += K(j, m) * E.col(m) - HP(m, j) * K.col(m);
-  for (int j = 0; j < kErrDim; ++j)
-    for (int i = 0; i < j; ++i) P_(j, i) = P_(i, j);
+    for (int m = 0; m < M; ++m) P_.col(j).head(j + 1) += K(j, m) * E.col(m).head(j + 1) - HP(m, j) * K.col(m).head(j + 1);
+  P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
