@@ -52,7 +52,7 @@ def throughput(out, what):
     with open(os.path.join(out, "throughput.json")) as f:
         t = json.load(f)
     print(f"info {what}: {t['flights_flown']} flights in {t['wall_s']:.1f} s on {t['workers']} worker(s), "
-          f"{t['mean_flight_real_time_factor']:.0f}x real time per flight, overhead {100 * t['overhead_fraction']:.0f} %")
+          f"{t['flights_per_core_minute']:.1f} flights per core-minute, {t['mean_flight_real_time_factor']:.0f}x real time per flight, overhead {100 * t['overhead_fraction']:.0f} %")
 
 
 def summaries(out):

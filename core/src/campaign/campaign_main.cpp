@@ -111,6 +111,12 @@ void write_throughput(const fs::path& out, const std::string& engine, int worker
   j["flights_flown"] = t.flown;
   j["wall_s"] = wall;
   j["flights_per_minute"] = wall > 0 ? 60.0 * static_cast<double>(t.flown) / wall : 0.0;
+  // per core: a worker flies one flight at a time on one core; local workers beyond this machine's
+  // cores share them (Dask's workers are their own cores)
+  const unsigned hw = std::thread::hardware_concurrency();
+  const int cores = engine == "local" && hw > 0 ? std::min(workers, static_cast<int>(hw)) : workers;
+  j["cores"] = cores;
+  j["flights_per_core_minute"] = wall > 0 && cores > 0 ? 60.0 * static_cast<double>(t.flown) / (wall * cores) : 0.0;
   j["flight_time_s"] = t.flight_s;
   j["aggregate_real_time_factor"] = wall > 0 ? t.flight_s / wall : 0.0;
   j["mean_flight_real_time_factor"] = t.flight_wall_s > 0 ? t.flight_s / t.flight_wall_s : 0.0;
@@ -119,10 +125,11 @@ void write_throughput(const fs::path& out, const std::string& engine, int worker
   j["overhead_fraction"] = capacity > 0 ? std::max(0.0, 1.0 - t.flight_wall_s / capacity) : 0.0;
   std::ofstream(out / "throughput.json") << j.dump(2) << "\n";
   fmt::print(
-      "throughput: {} flights in {:.1f} s on {} {} worker(s): {:.1f} flights/min, {:.0f}x real time in all, {:.0f}x per flight, overhead "
-      "{:.1f} %\n",
-      t.flown, wall, workers, engine, j["flights_per_minute"].get<double>(), j["aggregate_real_time_factor"].get<double>(),
-      j["mean_flight_real_time_factor"].get<double>(), 100 * j["overhead_fraction"].get<double>());
+      "throughput: {} flights in {:.1f} s on {} {} worker(s): {:.1f} flights/min ({:.1f} per core-minute), {:.0f}x real time in "
+      "all, {:.0f}x per flight, overhead {:.1f} %\n",
+      t.flown, wall, workers, engine, j["flights_per_minute"].get<double>(), j["flights_per_core_minute"].get<double>(),
+      j["aggregate_real_time_factor"].get<double>(), j["mean_flight_real_time_factor"].get<double>(),
+      100 * j["overhead_fraction"].get<double>());
 }
 
 struct Options {
