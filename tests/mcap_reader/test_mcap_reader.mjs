@@ -54,10 +54,47 @@ const same = (type, cell, value) => {
   }
 };
 
-let total = 0, values = 0;
+/// A topic's copy in its ROS type (tern.topic: /tern/estimated_state is rosplane_msgs/msg/State
+/// of topic state): every message decoded with the file's schema, one per tern message (a
+/// waypoint list: a clear, then one per waypoint), header.stamp equal to the tern message's stamp,
+/// and for the state the ROSplane fields equal to the float of tern's columns.
+const CHECKED = { "rosplane_msgs/msg/State": { p_n: "p_n", p_e: "p_e", p_d: "p_d", va: "Va", chi: "chi", phi: "phi" } };
+const STAMP = { "rosflight_msgs/msg/GNSS": "time_of_validity" };  // rosflight_io stamps a fix with its time (convert_ros.cpp)
+const rosCopy = async (channel, schema, tern) => {
+  const decoder = new MessageReader(parse(new TextDecoder().decode(schema.data), { ros2: true }));
+  const lines = readFileSync(join(csvDir, `${tern}.csv`), "utf8").split("\n").filter((l) => l.length > 0);
+  const header = lines[0].split(",").map((h) => h.slice(0, h.lastIndexOf(" [")));
+  const messages = [];
+  for await (const m of reader.readMessages({ topics: [channel.topic] })) if (m.channelId === channel.id) messages.push(m);
+  messages.sort((a, b) => a.sequence - b.sequence);
+  const rows = lines.slice(1).map((l) => l.split(","));
+  if (schema.name !== "rosplane_msgs/msg/Waypoint" && messages.length !== rows.length)
+    fail(`${channel.topic}: ${messages.length} ${schema.name} messages, ${rows.length} rows of ${tern}`);
+  const stampCol = header.indexOf(STAMP[schema.name] ?? "stamp");
+  messages.forEach((m, k) => {
+    const d = decoder.readMessage(m.data);
+    if (schema.name === "rosplane_msgs/msg/Waypoint") return;  // decoded; several per tern message
+    const row = rows[k];
+    const stamp = BigInt(d.header.stamp.sec) * 1000000000n + BigInt(d.header.stamp.nanosec);
+    if (stampCol >= 0 && stamp !== BigInt(row[stampCol])) fail(`${channel.topic} #${k}: header.stamp ${stamp}, ${tern}.${header[stampCol]} ${row[stampCol]}`);
+    for (const [field, column] of Object.entries(CHECKED[schema.name] ?? {}))
+      if (!Object.is(Math.fround(number(row[header.indexOf(column)])), d[field]))
+        fail(`${channel.topic} #${k}: ${field} ${d[field]}, ${tern}.${column} ${row[header.indexOf(column)]}`);
+  });
+  return messages.length;
+};
+
+let total = 0, values = 0, rosChannels = 0;
 for (const channel of reader.channelsById.values()) {
   const schema = reader.schemasById.get(channel.schemaId);
   if (schema.encoding !== "ros2msg" || channel.messageEncoding !== "cdr") fail(`${channel.topic}: ${schema.encoding}/${channel.messageEncoding}`);
+  if (channel.metadata.has("tern.topic")) {
+    const n = await rosCopy(channel, schema, channel.metadata.get("tern.topic"));
+    if ((reader.statistics.channelMessageCounts.get(channel.id) ?? 0n) !== BigInt(n)) fail(`${channel.topic}: statistics' count`);
+    total += n;
+    ++rosChannels;
+    continue;
+  }
   const definitions = parse(new TextDecoder().decode(schema.data), { ros2: true });
   const fields = definitions[0].definitions.filter((d) => !d.isConstant);
   const decoder = new MessageReader(definitions);
@@ -71,7 +108,7 @@ for (const channel of reader.channelsById.values()) {
     if (!f.name.startsWith(column)) fail(`${topic}: field ${f.name} is CSV column '${header[i + 1]}'`);
   });
   const messages = [];
-  for await (const m of reader.readMessages({ topics: [channel.topic] })) messages.push(m);
+  for await (const m of reader.readMessages({ topics: [channel.topic] })) if (m.channelId === channel.id) messages.push(m);
   messages.sort((a, b) => a.sequence - b.sequence);
   if (messages.length !== lines.length - 1) fail(`${topic}: ${messages.length} messages, ${lines.length - 1} CSV rows`);
   messages.forEach((m, k) => {
@@ -90,5 +127,6 @@ for (const channel of reader.channelsById.values()) {
 if (reader.statistics.messageCount !== BigInt(total)) fail(`statistics: ${reader.statistics.messageCount} messages, ${total} read`);
 const attachments = reader.attachmentIndexes.map((a) => a.name).sort().join(",");
 if (attachments !== "config.yaml,params.csv,summary.json") fail(`attachments: ${attachments}`);
-console.log(`@mcap/core + rosmsg2-serialization: ${reader.channelsById.size} channels, ${total} messages, ${values} values equal to the CSV tables`);
+if (process.env.TERN_MCAP_ROS_CHANNELS === "1" && rosChannels === 0) fail("no ROS-typed channel (a tern built with Fast DDS writes them)");
+console.log(`@mcap/core + rosmsg2-serialization: ${reader.channelsById.size} channels (${rosChannels} in ROS types), ${total} messages, ${values} values equal to the CSV tables`);
 await fh.close();

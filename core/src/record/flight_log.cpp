@@ -2,6 +2,7 @@
 
 #include "record/cdr_columns.hpp"
 #include "record/csv_rows.hpp"
+#include "record/ros_channels.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -84,10 +85,21 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
     const auto schema = mcap_->add_schema(tern_schema_name(type_name, topic), "ros2msg", tern_schema_text(t->columns));
     // the CSV header keeps the names and units `tern export csv` writes
     t->channel = mcap_->add_channel(schema, "/" + topic, "cdr", {{"tern.csv_header", header.substr(0, header.size() - 1)}});
+    add_ros_channel(*t, type_name);
   }
   topics_.push_back(std::move(t));
   report();
   return topics_.size() - 1;
+}
+
+void FlightLog::add_ros_channel(Topic& t, std::string_view type_name) {
+  const RosChannelLookup& lookup = ros_channel_lookup();
+  if (!lookup) return;
+  std::optional<RosChannel> ros = lookup(t.name, type_name);
+  if (!ros) return;
+  const auto schema = mcap_->add_schema(ros->type, "ros2msg", ros->schema);
+  t.ros_channel = mcap_->add_channel(schema, ros->topic, "cdr", {{"tern.topic", t.name}});
+  t.ros_encode = std::move(ros->encode);
 }
 
 void FlightLog::capture(std::size_t index, Nanos t, const void* data) {
@@ -234,9 +246,18 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     std::memcpy(&index, bytes.data() + off, sizeof index);
     const Topic& t = *topics_[index];
     const Nanos when = load_time(bytes.data() + off + sizeof index);
+    const char* msg = bytes.data() + off + sizeof index + sizeof(Nanos);
     cdr_.clear();
-    encode_cdr(t.columns, bytes.data() + off + sizeof index + sizeof(Nanos), cdr_);
+    encode_cdr(t.columns, msg, cdr_);
     mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
+    if (t.ros_channel != 0) {                                           // the same message in its ROS type, stamped with the flight time
+      // the record sits at any offset: the message struct (Eigen members) wants its alignment
+      aligned_.resize(t.msg_size / sizeof(std::max_align_t) + 1);
+      std::memcpy(aligned_.data(), msg, t.msg_size);
+      ros_samples_.clear();
+      t.ros_encode(aligned_.data(), ros_samples_);
+      for (const std::string& sample : ros_samples_) mcap_->message(t.ros_channel, static_cast<std::uint64_t>(when), sample);
+    }
     off += sizeof index + sizeof(Nanos) + t.msg_size;
   }
 }

@@ -8,7 +8,9 @@
 //                           schemas (cdr_columns.hpp), log_time = flight time (ns), messages in
 //                           the order captured; chunked and zstd-compressed, the open chunk on
 //                           disk at every flush (mcap_writer.hpp); config.yaml, params.csv and
-//                           summary.json attached at the end
+//                           summary.json attached at the end; a topic tern also speaks in a ROS
+//                           type has a second channel in it (/tern/estimated_state as
+//                           rosplane_msgs/msg/State, ...: ros_channels.hpp)
 //   <run>/params.csv        every parameter value at start and every change, with time and source
 //   <run>/tern.log          the host's text log
 //   <run>/summary.json      what the flight did (deterministic: same config + seed, same bytes)
@@ -29,6 +31,7 @@
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
+#include <cstddef>
 #include <functional>
 #include <map>
 #include <memory>
@@ -105,7 +108,9 @@ class FlightLog {
     std::size_t msg_size = 0;
     std::unique_ptr<LogFile> file;  // null without CSV
     std::uint16_t channel = 0;      // MCAP channel (0: no MCAP)
-    std::vector<char> pending;      // records: int64 t, then msg_size bytes
+    std::uint16_t ros_channel = 0;  // its ROS-typed MCAP channel (0: none; ros_channels.hpp)
+    std::function<void(const void*, std::vector<std::string>&)> ros_encode;
+    std::vector<char> pending;  // records: int64 t, then msg_size bytes
   };
   static constexpr std::size_t kParams = SIZE_MAX;    // Chunk::topic of params rows
   static constexpr std::size_t kMcap = SIZE_MAX - 1;  // Chunk::topic of MCAP records (all topics)
@@ -117,6 +122,7 @@ class FlightLog {
   void writer_loop();
   void write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::size_t& capacity);
   void write_mcap(const std::vector<char>& bytes);
+  void add_ros_channel(Topic& t, std::string_view type_name);
   void report();
   void hand_over(std::size_t topic, std::vector<char>& buf);
 
@@ -129,6 +135,8 @@ class FlightLog {
   std::map<std::string, std::string> attachments_;  // name -> text, attached at the end
   std::string params_text_;                         // params.csv whole, attached at the end
   std::string cdr_;                                 // the writer thread's encoding buffer
+  std::vector<std::string> ros_samples_;            // ...and its ROS-typed samples
+  std::vector<std::max_align_t> aligned_;           // ...and a message at its alignment
   std::vector<std::unique_ptr<Topic>> topics_;
   std::unique_ptr<LogFile> params_file_;
   std::vector<char> params_pending_;
