@@ -41,11 +41,9 @@ std::vector<std::string> used_types(const std::string& text) {
   return out;
 }
 
-}  // namespace
-
 /// The ros2msg schema of `type` ("rosplane_msgs/msg/State"): its .msg text, then each type it
-/// uses (depth first, once) after a line of 80 '=' and "MSG: pkg/Type", as rosbag2 writes it.
-/// Empty when a text is missing.
+/// uses (in order of first use, once) after a line of 80 '=' and "MSG: pkg/Type", as rosbag2
+/// writes it. Empty when a text is missing.
 std::string ros2msg_schema(const std::string& type) {
   const auto& texts = ros_msg_texts();
   const auto root = texts.find(type);
@@ -66,6 +64,8 @@ std::string ros2msg_schema(const std::string& type) {
   }
   return out;
 }
+
+}  // namespace
 
 void register_dds_mcap_channels() {
   set_ros_channel_lookup([](std::string_view topic, std::string_view type_name) -> std::optional<RosChannel> {

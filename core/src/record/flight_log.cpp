@@ -250,8 +250,9 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     cdr_.clear();
     encode_cdr(t.columns, msg, cdr_);
     mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
-    if (t.ros_channel != 0) {                                           // the same message in its ROS type, stamped with the flight time
-      // the record sits at any offset: the message struct (Eigen members) wants its alignment
+    // the same message in its ROS type; the record sits at any offset and the message struct
+    // (Eigen members) wants its alignment
+    if (t.ros_channel != 0) {
       aligned_.resize(t.msg_size / sizeof(std::max_align_t) + 1);
       std::memcpy(aligned_.data(), msg, t.msg_size);
       ros_samples_.clear();
