@@ -20,6 +20,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cerrno>
 #include <cstdint>
 #include <cstring>
@@ -37,7 +38,6 @@
 #include <unistd.h>
 
 #include "port.hpp"
-#include "util.hpp"
 
 namespace tern::fcu::emulator {
 
@@ -91,6 +91,9 @@ class UartPort final : public Port {
     return stats_;
   }
   std::int64_t byte_ns() const { return byte_ns_; }
+  static std::int64_t mono_ns() {
+    return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  }
 
  private:
   using Line = std::deque<std::pair<std::int64_t, std::uint8_t>>;  ///< (time the byte is through, byte)
