@@ -15,8 +15,8 @@ Settings:
 Loads:
   none   nothing started by the bench (what else runs on the machine is recorded: the load average
          and the whole machine's CPU busy share during the flight, from /proc/stat);
-  stress one CPU hog per core (a `python3` busy loop each, nice 0: as hungry as the flight's own
-         process) and a big file write: `dd if=/dev/zero of=TMP bs=1M count=GB*1024 conv=fsync`
+  stress one CPU hog per core (--hogs; a `python3` busy loop each, nice 0: as hungry as the flight's
+         own process) and a big file write (--write-gb; 0: none): `dd if=/dev/zero of=TMP bs=1M count=GB*1024 conv=fsync`
          (default 4 GB, in the directory of --write-dir, default the system's temporary
          directory), deleted and written again until the flight ends; dirty pages pile up and
          the kernel writes them back under the flight. The hogs and dd start 2 s before the
@@ -140,7 +140,7 @@ def fly(tern, mission, duration, settings, log_dir):
 
 def one(tern, mission, duration, settings, load, args, work):
     print(f"  {settings:5} load {load:6} ({duration:g} s) ...", end="", flush=True)
-    stress = Stress(os.cpu_count(), args.write_gb, args.write_dir) if load == "stress" else None
+    stress = Stress(args.hogs, args.write_gb, args.write_dir) if load == "stress" else None
     if stress:
         stress.start()
     load0, (busy0, steal0, total0) = os.getloadavg(), cpu_times()
@@ -212,6 +212,7 @@ def parse_args():
     ap.add_argument("--duration", type=float, default=600.0, help="s of each flight (default 600: the issue's target)")
     ap.add_argument("--settings", default="other,fifo", help="comma-separated: other, fifo")
     ap.add_argument("--loads", default="none,stress", help="comma-separated: none, stress")
+    ap.add_argument("--hogs", type=int, default=os.cpu_count(), help="CPU hogs of the stress (default: one per core)")
     ap.add_argument("--write-gb", type=float, default=4.0, help="GB per pass of the file write (0: no file write)")
     ap.add_argument("--write-dir", default=tempfile.gettempdir(), help="where the big file is written")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "realtime_load.json"))
@@ -229,6 +230,8 @@ def parse_args():
         fail("--settings and --loads each need at least one entry")
     if not a.duration > 0:
         fail(f"--duration: {a.duration:g}: must be > 0 s")
+    if not 0 <= a.hogs <= 256:
+        fail(f"--hogs: {a.hogs}: must be 0..256")
     if a.write_gb < 0:
         fail(f"--write-gb: {a.write_gb:g}: must be >= 0")
     if not os.path.isdir(a.write_dir):
@@ -259,7 +262,7 @@ def main():
             shutil.rmtree(work, ignore_errors=True)
     print_table(rows)
     result = {"bench": "realtime_load", "mission": os.path.relpath(a.mission, REPO), "duration_s": a.duration,
-              "stress": {"cpu_hogs": f"{os.cpu_count()} x python3 busy loop (one per core, nice 0)",
+              "stress": {"cpu_hogs": f"{a.hogs} x python3 busy loop (nice 0; {os.cpu_count()} cores)",
                          "file_write": f"dd if=/dev/zero bs=1M count={int(a.write_gb * 1024)} conv=fsync to {a.write_dir}, "
                                        "removed and repeated until the flight ends" if a.write_gb > 0 else "none"},
               "machine": machine(), "git": commit, "time": time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()), "flights": rows}
