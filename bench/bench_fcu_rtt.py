@@ -20,7 +20,10 @@ TIMESYNC against the REAL ROSflight firmware (tern-fcu-sil) over a pseudo-termin
            tools/emulator/uart.hpp): every byte 10.85 us, queued behind what the firmware
            streams (IMU and attitude at 400 Hz ...): what a real UART at that rate adds.
    Loads: none, or stress (bench_realtime_load.py's: one busy loop per core and a repeated 4-GB
-   file write with fsync).
+   file write with fsync). On an aircraft the FCU is other hardware; here its stand-in shares the
+   loaded cores, and under the stress it falls behind real time itself. --fcu-priority N runs
+   tern-fcu-sil at SCHED_FIFO N (through `chrt`, as fcu_serial's emulator_path), so that the load
+   reaches the companion's side only (tern stays SCHED_OTHER).
 2. `tern fcu status` against a tern-fcu-sil of its own (uart link, no flight): --status-samples
    TIMESYNC requests at 10 Hz; its printed round trip line.
 Prints a table and writes JSON (default bench/results/fcu_rtt.json).
@@ -60,16 +63,26 @@ def mission_param(key):
     return m.group(1)
 
 
-def settings(link):
+def settings(link, wrapper):
     args = re.sub(r"\s*--companion-silence \S+", "", mission_param("emulator_args")) + " --speed 1 " + " ".join(LINKS[link])
     rc = "; ".join(s.strip() for s in mission_param("emulator_rc").split(";") if float(s.split()[0]) < PILOT_EVENTS_FROM_S)
-    return ["--set", "sim.lockstep=false", "--set", "sim.emulator_link=pty", "--set", "sim.emulator_args=" + json.dumps(args.strip()),
-            "--set", "sim.emulator_rc=" + json.dumps(rc)]
+    out = ["--set", "sim.lockstep=false", "--set", "sim.emulator_link=pty", "--set", "sim.emulator_args=" + json.dumps(args.strip()),
+           "--set", "sim.emulator_rc=" + json.dumps(rc)]
+    return out + (["--set", "sim.emulator_path=" + json.dumps(wrapper)] if wrapper else [])
 
 
-def fly(tern, link, duration, log_dir):
+def fifo_wrapper(bin_dir, priority, work):
+    """A script that execs tern-fcu-sil under SCHED_FIFO `priority` (same process: --exit-with-parent holds)."""
+    path = os.path.join(work, "tern-fcu-sil-fifo")
+    with open(path, "w") as f:
+        f.write(f"#!/bin/sh\nexec chrt -f {priority} {os.path.join(bin_dir, 'tern-fcu-sil')} \"$@\"\n")
+    os.chmod(path, 0o755)
+    return path
+
+
+def fly(tern, link, duration, log_dir, wrapper):
     os.makedirs(log_dir, exist_ok=True)
-    argv = [tern, "fly", MISSION, "--duration", str(duration), "-q", "--log-dir", log_dir] + settings(link)
+    argv = [tern, "fly", MISSION, "--duration", str(duration), "-q", "--log-dir", log_dir] + settings(link, wrapper)
     p = subprocess.run(argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     with open(os.path.join(log_dir, "fly.log"), "w") as f:
         f.write(p.stdout)
@@ -81,13 +94,13 @@ def fly(tern, link, duration, log_dir):
     return os.path.dirname(runs[0]), p.stdout
 
 
-def one_flight(tern, link, load, duration, work):
+def one_flight(tern, link, load, duration, work, wrapper, fcu_priority):
     print(f"  flight, link {link:4} load {load:6} ({duration:g} s) ...", end="", flush=True)
     stress = Stress(os.cpu_count(), 4.0, tempfile.gettempdir()) if load == "stress" else None
     if stress:
         stress.start()
     try:
-        run, out = fly(tern, link, duration, os.path.join(work, f"{link}-{load}"))
+        run, out = fly(tern, link, duration, os.path.join(work, f"{link}-{load}"), wrapper)
     finally:
         achieved = stress.stop() if stress else None
     with open(os.path.join(run, "timing.json")) as f:
@@ -102,7 +115,7 @@ def one_flight(tern, link, load, duration, work):
     if sim["fcu_timesync_answers"] < 1:
         fail(f"{run}: no TIMESYNC answer in the whole flight")
     uart = [line for line in out.splitlines() if "tern-fcu-sil: UART" in line]
-    row = {"link": link, "load": load, "duration_s": duration, "end_reason": summary["end_reason"],
+    row = {"link": link, "load": load, "fcu_priority": fcu_priority, "duration_s": duration, "end_reason": summary["end_reason"],
            "flight_s": summary["duration_s"], "stress": achieved, "uart": uart[-1] if uart else None,
            **{k: sim[k] for k in keys}, "fcu_seq_gaps": summary["instances"]["sim"].get("fcu_seq_gaps"),
            "fcu_link_losses": summary["instances"]["sim"].get("fcu_link_losses")}
@@ -139,13 +152,13 @@ def status_check(bin_dir, samples, work):
 
 def print_table(rows, status):
     print(f"\nTIMESYNC round trip, companion -> ROSflight firmware (tern-fcu-sil, real time) -> companion")
-    print(f"{'link':34}{'load':8}{'flight s':>9}{'answers':>9}{'p50 ms':>9}{'p99 ms':>9}{'max ms':>9}{'>50 ms':>8}")
+    print(f"{'link':34}{'fcu':9}{'load':8}{'flight s':>9}{'answers':>9}{'p50 ms':>9}{'p99 ms':>9}{'max ms':>9}{'>50 ms':>8}")
     names = {"pty": "pty (memory speed)", "uart": f"pty paced as a UART, {BAUD} baud"}
     for r in rows:
-        print(f"{names[r['link']]:34}{r['load']:8}{r['flight_s']:9.0f}{r['fcu_timesync_answers']:9.0f}{r['fcu_timesync_rtt_p50_ms']:9.3f}"
+        print(f"{names[r['link']]:34}{('FIFO ' + str(r['fcu_priority'])) if r.get('fcu_priority') else 'OTHER':9}{r['load']:8}{r['flight_s']:9.0f}{r['fcu_timesync_answers']:9.0f}{r['fcu_timesync_rtt_p50_ms']:9.3f}"
               f"{r['fcu_timesync_rtt_p99_ms']:9.3f}{r['fcu_timesync_rtt_max_ms']:9.3f}{r['fcu_timesync_too_slow']:8.0f}")
     if status:
-        print(f"{'tern fcu status (' + names['uart'] + ')':42}{'':9}{status['answers']:9d}{status['rtt_p50_ms']:9.3f}"
+        print(f"{'tern fcu status (' + names['uart'] + ')':51}{'':9}{status['answers']:9d}{status['rtt_p50_ms']:9.3f}"
               f"{status['rtt_p99_ms']:9.3f}{status['rtt_max_ms']:9.3f}")
     for r in rows:
         if r["uart"]:
@@ -158,6 +171,7 @@ def parse_args():
     ap.add_argument("--duration", type=float, default=120.0, help="s of each flight (real time)")
     ap.add_argument("--links", default="pty,uart", help="comma-separated: pty, uart")
     ap.add_argument("--loads", default="none,stress", help="comma-separated: none, stress")
+    ap.add_argument("--fcu-priority", type=int, default=0, help="run tern-fcu-sil at SCHED_FIFO N (1..99; 0: SCHED_OTHER)")
     ap.add_argument("--status-samples", type=int, default=300, help="TIMESYNC requests of `tern fcu status` (0: not run)")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "fcu_rtt.json"))
     ap.add_argument("--keep", help="fly into this directory and keep it (default: a temporary one, removed)")
@@ -172,6 +186,10 @@ def parse_args():
             fail(f"--loads: '{s}' is not one of {', '.join(LOADS)}")
     if not a.duration >= 20:
         fail(f"--duration: {a.duration:g}: at least 20 s (the firmware boots, calibrates and arms in the first 10)")
+    if not 0 <= a.fcu_priority <= 99:
+        fail(f"--fcu-priority: {a.fcu_priority}: must be 0..99")
+    if a.fcu_priority and not shutil.which("chrt"):
+        fail("--fcu-priority: no chrt (util-linux) on PATH")
     if a.status_samples < 0:
         fail(f"--status-samples: {a.status_samples}: must be >= 0")
     for exe in ("tern", "tern-fcu", "tern-fcu-sil"):
@@ -189,9 +207,10 @@ def main():
     print(f"serial round trip: {os.path.relpath(MISSION, REPO)} free-running, {a.duration:g}-s flights; in {work}")
     rows, status = [], None
     try:
+        wrapper = fifo_wrapper(a.bin_dir, a.fcu_priority, work) if a.fcu_priority else None
         for load in a.loads:
             for link in a.links:
-                rows.append(one_flight(os.path.join(a.bin_dir, "tern"), link, load, a.duration, work))
+                rows.append(one_flight(os.path.join(a.bin_dir, "tern"), link, load, a.duration, work, wrapper, a.fcu_priority))
         if a.status_samples:
             status = status_check(a.bin_dir, a.status_samples, work)
     finally:
