@@ -283,13 +283,16 @@ std::vector<std::pair<std::string, double>> FcuSerial::summary() const {
           {"fcu_lockstep_resends", n(s_.lockstep_resends)}};
 }
 
+/// Wall-clock figures (timing.json): frames, and the TIMESYNC round trips of the flight (the
+/// answers counted, so that a 0 without answers is not read as a 0-ms link).
 std::vector<std::pair<std::string, double>> FcuSerial::timing() const {
-  const fcu::TimeSync::RttStats rtt = clock_.timesync().rtt_stats();
-  return {{"fcu_frames", static_cast<double>(final_stats_.parser.frames)},
-          {"fcu_timesync_rtt_ms", static_cast<double>(clock_.timesync().last_rtt()) * 1e-6},
-          {"fcu_timesync_rtt_p50_ms", static_cast<double>(rtt.p50) * 1e-6},
-          {"fcu_timesync_rtt_p99_ms", static_cast<double>(rtt.p99) * 1e-6},
-          {"fcu_timesync_rtt_max_ms", static_cast<double>(rtt.max) * 1e-6}};
+  const fcu::TimeSync& ts = clock_.timesync();
+  const fcu::TimeSync::RttStats rtt = ts.rtt_stats();
+  return {
+      {"fcu_frames", static_cast<double>(final_stats_.parser.frames)},  {"fcu_timesync_answers", static_cast<double>(rtt.count)},
+      {"fcu_timesync_too_slow", static_cast<double>(ts.rejected())},    {"fcu_timesync_rtt_ms", static_cast<double>(ts.last_rtt()) * 1e-6},
+      {"fcu_timesync_rtt_p50_ms", static_cast<double>(rtt.p50) * 1e-6}, {"fcu_timesync_rtt_p99_ms", static_cast<double>(rtt.p99) * 1e-6},
+      {"fcu_timesync_rtt_max_ms", static_cast<double>(rtt.max) * 1e-6}};
 }
 
 }  // namespace tern::fcu_serial

@@ -14,13 +14,21 @@ firmware (tern-fcu-sil, lockstep), checked against what the mission's script doe
 4. companion silence (tern's bytes do not reach the firmware, 220-222 s): the firmware stops
    reporting offboard control after OFFBOARD_TIMEOUT (100 ms) and resumes it when tern's
    commands arrive again; the flight goes on to its end;
-5. determinism: two 30-s flights with the same seed write byte-identical topics.
+5. determinism: two 30-s flights with the same seed write byte-identical topics;
+6. the link's round trip is reported (issue 41): the flight's timing.json has TIMESYNC answers
+   and finite, ordered round trips (p50 <= p99 <= max), and `tern fcu status` against a
+   tern-fcu-sil paced as a 921600-baud UART prints its state and a round-trip line. The
+   plumbing only: no figure is compared with a time (bench/bench_fcu_rtt.py measures them).
 
 usage: e2e_sil_mission.py TERN MISSIONS_DIR WORK_DIR [DURATION_S]
 """
 import filecmp
+import json
+import math
 import os
+import re
 import shutil
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -86,6 +94,49 @@ def check_flight(c, run, summary):
     return after
 
 
+def rtt_ordered(p50, p99, mx):
+    """Finite and ordered, each above 0 and below TimeSync's 50-ms acceptance bound (timesync.hpp)."""
+    vals = (p50, p99, mx)
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in vals) and 0 < p50 <= p99 <= mx < 50
+
+
+def check_round_trip(c, run):
+    with open(os.path.join(run, "timing.json")) as f:
+        sim = json.load(f)["instances"]["sim"]
+    answers = sim.get("fcu_timesync_answers", 0)
+    c.row("TIMESYNC answers in the flight", ">= 1", answers)
+    c.expect(answers >= 1, "timing.json: no TIMESYNC answer (fcu_timesync_answers) in the whole flight")
+    vals = [sim.get(k) for k in ("fcu_timesync_rtt_p50_ms", "fcu_timesync_rtt_p99_ms", "fcu_timesync_rtt_max_ms")]
+    c.row("flight round trip p50/p99/max ordered", True, answers >= 1 and rtt_ordered(*vals))
+    c.expect(answers >= 1 and rtt_ordered(*vals), f"timing.json: round trips p50/p99/max {vals} are not finite and ordered")
+
+
+def check_status(c, tern, missions, work):
+    """`tern fcu status` against a tern-fcu-sil of its own, its port paced as a 921600-baud UART."""
+    bindir = os.path.dirname(tern)
+    configs = os.path.dirname(os.path.abspath(missions))
+    sil = [os.path.join(bindir, "tern-fcu-sil"), "--aircraft", os.path.join(configs, "aircraft", "anaconda.yaml"), "--params",
+           os.path.join(configs, "fcu", "anaconda_rosflight_sil.yaml"), "--baud", "921600", "--flash", os.path.join(work, "status.flash")]
+    proc = subprocess.Popen(sil, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
+    try:
+        line = proc.stdout.readline().strip()
+        out = subprocess.run([os.path.join(bindir, "tern-fcu"), "--device", line.split(" ", 1)[-1], "status", "--samples", "5"],
+                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=60) if line.startswith("pty: ") else None
+    finally:
+        proc.terminate()
+        proc.wait(timeout=10)
+    c.row("tern-fcu-sil --baud 921600 port", "pty: ...", line)
+    c.expect(out is not None, f"tern-fcu-sil said '{line}', not its port")
+    if out is None:
+        return
+    m = re.search(r"^round trip: p50 (\S+) ms, p99 (\S+) ms, max (\S+) ms \(TIMESYNC, (\d+) of 5 ", out.stdout, re.M)
+    c.row("tern fcu status: exit, round-trip line", "0, yes", f"{out.returncode}, {'yes' if m else 'no'}")
+    c.expect(out.returncode == 0 and m is not None and "\nstate:" in out.stdout, f"tern fcu status said:\n{out.stdout}")
+    if m:
+        c.row("tern fcu status round trip ordered", True, rtt_ordered(*(float(m.group(i)) for i in (1, 2, 3))))
+        c.expect(int(m.group(4)) >= 1 and rtt_ordered(*(float(m.group(i)) for i in (1, 2, 3))), f"tern fcu status: {m.group(0)}")
+
+
 def check_determinism(c, tern, config, work):
     runs = []
     for i in (1, 2):
@@ -110,6 +161,8 @@ def main():
     check_rc_loss(c, run, summary)
     check_companion_silence(c, run)
     check_flight(c, run, summary)
+    check_round_trip(c, run)
+    check_status(c, tern, missions, work)
     check_determinism(c, tern, config, work)
     for name, a, b in c.rows:
         print(f"{name:40s} expected {a!s:>10}  got {b!s:>10}")

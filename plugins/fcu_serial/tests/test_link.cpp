@@ -16,6 +16,7 @@
 #include <termios.h>
 #include <unistd.h>
 
+#include "../tools/emulator/uart.hpp"
 #include "fcu_serial_plugin.hpp"
 #include "tern/testing/harness.hpp"
 #include "tern_fcu_serial/firmware.hpp"
@@ -158,6 +159,51 @@ TEST_CASE("plugin: start() fails in one line when the FCU does not stream") {
   CHECK_THROWS_WITH_AS(h.start(), doctest::Contains("no IMU data (SMALL_IMU) from the FCU on serial"), std::runtime_error);
 }
 
+namespace {
+/// Reads from fd until n bytes came or 5 s passed.
+std::vector<std::uint8_t> read_n(int fd, std::size_t n) {
+  std::vector<std::uint8_t> out;
+  const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  while (out.size() < n && std::chrono::steady_clock::now() < end) {
+    pollfd p{fd, POLLIN, 0};
+    if (poll(&p, 1, 10) > 0) {
+      std::uint8_t b[4096];
+      const ssize_t r = ::read(fd, b, sizeof b);
+      if (r > 0) out.insert(out.end(), b, b + r);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+TEST_CASE("UartPort (--baud): every byte through, in order, both ways; a write larger than the transmit buffer dropped whole") {
+  using tern::fcu::emulator::UartPort;
+  auto pty = std::make_unique<tern::fcu::emulator::PtyPort>();
+  const int slave = open(pty->name(), O_RDWR | O_NOCTTY | O_CLOEXEC);
+  REQUIRE(slave >= 0);
+  UartPort uart(std::move(pty), 921600);
+  CHECK(uart.byte_ns() == 10850);  // 10 bit times at 921600 baud, ns (rounded down)
+  std::vector<std::uint8_t> out(3000), in(700);
+  for (std::size_t i = 0; i < out.size(); ++i) out[i] = static_cast<std::uint8_t>(i * 7);
+  for (std::size_t i = 0; i < in.size(); ++i) in[i] = static_cast<std::uint8_t>(i * 13 + 1);
+  CHECK(uart.write(out.data(), 1000));  // three writes: the line keeps their order
+  CHECK(uart.write(out.data() + 1000, 1000));
+  CHECK(uart.write(out.data() + 2000, 1000));
+  CHECK(::write(slave, in.data(), in.size()) == static_cast<ssize_t>(in.size()));
+  CHECK(read_n(slave, out.size()) == out);
+  CHECK(read_n(uart.fd(), in.size()) == in);
+  const std::vector<std::uint8_t> big(UartPort::kTxBuffer + 1, 0x55);
+  CHECK_FALSE(uart.write(big.data(), big.size()));
+  const UartPort::Stats st = uart.stats();
+  CHECK(st.sent == out.size());
+  CHECK(st.received == in.size());
+  CHECK(st.dropped_writes == 1);
+  CHECK(st.dropped_bytes == big.size());
+  close(slave);
+  CHECK_THROWS_WITH_AS(UartPort(std::make_unique<tern::fcu::emulator::PtyPort>(), 100), doctest::Contains("--baud 100: not a UART's rate"),
+                       std::runtime_error);
+}
+
 #ifdef TERN_FCU_EMULATOR
 
 namespace {
@@ -208,6 +254,30 @@ TEST_CASE("tern fcu param list/get/set against the emulator") {
   out = run(tool + "param get NO_SUCH_PARAM 2>&1", st);
   CHECK(st != 0);
   CHECK(out.find("has no parameter NO_SUCH_PARAM") != std::string::npos);
+}
+
+TEST_CASE("tern fcu status against the emulator over a UART-paced pseudo-terminal: state and the TIMESYNC round trip") {
+  std::unique_ptr<ChildProcess> emu;
+  const std::string pty = start_emulator(emu, {"--speed", "1", "--baud", "921600", "--rc", "0 throttle=0"});
+  int st = -1;
+  const std::string out = run(std::string(TERN_FCU_TERN_FCU) + " --device " + pty + " status --samples 5 --rate 20", st);
+  CHECK(st == 0);
+  CHECK(out.find("FCU:        system 1 on serial " + pty + " @ 921600, firmware ") == 0);
+  CHECK(out.find("\nstate:      disarmed, failsafe off") != std::string::npos);  // the pilot never arms (--rc)
+  double p50 = 0, p99 = 0, mx = 0;
+  int answered = 0, sent = 0;
+  const auto at = out.find("\nround trip: ");
+  REQUIRE(at != std::string::npos);
+  REQUIRE(std::sscanf(out.c_str() + at, "\nround trip: p50 %lf ms, p99 %lf ms, max %lf ms (TIMESYNC, %d of %d", &p50, &p99, &mx, &answered,
+                      &sent) == 5);
+  CHECK(sent == 5);
+  CHECK(answered >= 1);
+  CHECK(0 < p50);  // ordered, not timed
+  CHECK(p50 <= p99);
+  CHECK(p99 <= mx);
+  int bad = -1;
+  CHECK(run(std::string(TERN_FCU_TERN_FCU) + " --device " + pty + " status --samples 0 2>&1", bad).find("--samples") != std::string::npos);
+  CHECK(bad != 0);
 }
 
 TEST_CASE("plugin: flies the emulator's aircraft in lockstep over a pseudo-terminal") {

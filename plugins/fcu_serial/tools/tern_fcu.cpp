@@ -1,7 +1,8 @@
-// tern-fcu: `tern fcu param list|get|set`, `tern fcu calibrate imu|gyro|baro|airspeed` - a
-// ROSflight FCU's firmware parameters and calibrations over its MAVLink link (serial port or
-// UDP). Not while flying: the flight holds the port.
+// tern-fcu: `tern fcu param list|get|set`, `tern fcu calibrate imu|gyro|baro|airspeed`,
+// `tern fcu status` - a ROSflight FCU's firmware parameters, calibrations and state over its
+// MAVLink link (serial port or UDP). Not while flying: the flight holds the port.
 //
+//   tern fcu --device /dev/ttyACM0 status              (version, arming, errors, TIMESYNC round trip)
 //   tern fcu --device /dev/ttyACM0 param list
 //   tern fcu param get RC_ATT_OVRD_CHN
 //   tern fcu param set MOTOR_IDLE_THR 0.15 --write      (--write: save to the FCU's flash)
@@ -24,6 +25,8 @@
 #include "tern_fcu_serial/codec.hpp"
 #include "tern_fcu_serial/fcu_side.hpp"
 #include "tern_fcu_serial/link.hpp"
+#include "tern_fcu_serial/status.hpp"
+#include "tern_fcu_serial/timesync.hpp"
 
 namespace {
 
@@ -187,10 +190,82 @@ int run_calibration(Client& c, const std::string& what, double timeout) {
   return 0;
 }
 
+/// `status`: the firmware's version (ROSFLIGHT_CMD_SEND_VERSION), its state (ROSFLIGHT_STATUS,
+/// 10 Hz) and the link's round trip: `samples` TIMESYNC requests at `rate` Hz, each answered by
+/// the firmware's main loop (comm_manager.cpp CommManager::timesync_callback, through
+/// ROSflight::run -> MavlinkAdapter::receive -> handle_msg_timesync); the round trip is the
+/// answer's arrival (stamped by the link's reader thread) minus the request's send time, the
+/// same figure as a flight's fcu_timesync_rtt_* (timesync.hpp).
+int run_status(Client& c, int samples, double rate, double timeout) {
+  mav::RosflightCmd ver;
+  ver.command = static_cast<std::uint8_t>(fcu::RosflightCmd::send_version);
+  c.send(ver);
+  std::optional<std::string> version;
+  std::optional<bool> version_refused;  // the firmware answers SEND_VERSION only disarmed (comm_manager.cpp command_callback)
+  std::optional<mav::RosflightStatus> status;
+  fcu::TimeSync ts;
+  const auto period = static_cast<std::int64_t>(1e9 / rate);
+  int sent = 0;
+  std::int64_t next = fcu::steady_ns();
+  const std::int64_t deadline = next + static_cast<std::int64_t>((samples / rate + std::max(timeout, 1.0)) * 1e9);
+  for (;;) {
+    const std::int64_t now = fcu::steady_ns();
+    if (sent < samples && now >= next) {
+      c.send(fcu::TimeSync::request(now));
+      ++sent;
+      next += period;
+    }
+    c.link.drain(c.rx);
+    while (!c.rx.empty()) {
+      const fcu::Received r = c.rx.front();
+      c.rx.pop_front();
+      const auto m = mav::decode(r.frame);
+      if (!m) continue;
+      if (const auto* t = std::get_if<mav::Timesync>(&*m))
+        ts.on_answer(*t, r.rx_ns);
+      else if (const auto* v = std::get_if<mav::RosflightVersion>(&*m))
+        version = mav::to_string(v->version);
+      else if (const auto* st = std::get_if<mav::RosflightStatus>(&*m))
+        status = *st;
+      else if (const auto* a = std::get_if<mav::RosflightCmdAck>(&*m); a && a->command == ver.command && a->success == 0)
+        version_refused = true;
+    }
+    const bool answered = ts.samples() + ts.rejected() >= static_cast<std::uint64_t>(samples);
+    if ((answered && (version || version_refused) && status) || fcu::steady_ns() >= deadline) break;
+    const std::int64_t wake = sent < samples ? std::min(next, deadline) : deadline;
+    c.link.wait(std::max<std::int64_t>(0, wake - fcu::steady_ns()));
+  }
+  std::printf("FCU:        system %d on %s, firmware %s\n", int(c.target), c.link.options().describe().c_str(),
+              version           ? version->c_str()
+              : version_refused ? "(not told: the firmware answers SEND_VERSION only when disarmed)"
+                                : "(no ROSFLIGHT_VERSION answer)");
+  if (status) {
+    const std::string errors = fcu::describe_errors(status->error_code), override_ = fcu::describe_override(status->rc_override);
+    std::printf("state:      %s, failsafe %s, offboard control %s, RC override %s, errors %s\n", status->armed ? "armed" : "disarmed",
+                status->failsafe ? "ON" : "off", status->offboard ? "active" : "inactive", override_.empty() ? "none" : override_.c_str(),
+                errors.empty() ? "none" : errors.c_str());
+    const std::string problems = fcu::arming_problems(status->armed != 0, status->error_code);
+    if (!problems.empty()) std::printf("            %s\n", problems.c_str());
+  } else {
+    std::printf("state:      (no ROSFLIGHT_STATUS within %.1f s)\n", samples / rate + std::max(timeout, 1.0));
+  }
+  const fcu::TimeSync::RttStats rtt = ts.rtt_stats();
+  if (rtt.count == 0) {
+    std::printf("round trip: no TIMESYNC answer to %d requests (%llu slower than 50 ms)\n", sent,
+                static_cast<unsigned long long>(ts.rejected()));
+    return 1;
+  }
+  std::printf(
+      "round trip: p50 %.3f ms, p99 %.3f ms, max %.3f ms (TIMESYNC, %zu of %d requests answered within 50 ms); FCU clock - "
+      "companion clock %.6f s\n",
+      rtt.p50 * 1e-6, rtt.p99 * 1e-6, rtt.max * 1e-6, rtt.count, sent, ts.offset() * 1e-9);
+  return status ? 0 : 1;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tern fcu: the firmware parameters of a ROSflight flight-control unit"};
+  CLI::App app{"tern fcu: the firmware parameters, calibrations and state of a ROSflight flight-control unit"};
   app.require_subcommand(1);
   fcu::LinkOptions o;
   bool udp = false;
@@ -219,6 +294,13 @@ int main(int argc, char** argv) {
   calibrate->add_option("what", what, "imu (accelerometer and gyro: level and still), gyro, baro, airspeed (pitot covered)")
       ->required()
       ->check(CLI::IsMember({"imu", "gyro", "baro", "airspeed"}));
+  auto* status = app.add_subcommand("status", "the firmware's version, arming, failsafe, errors and the link's TIMESYNC round trip");
+  int rtt_samples = 50;
+  double rtt_rate = 10.0;
+  status->add_option("--samples", rtt_samples, "TIMESYNC round trips to measure")->check(CLI::Range(1, 1000000))->capture_default_str();
+  status->add_option("--rate", rtt_rate, "TIMESYNC requests per second (fcu_serial's timesync_rate: 10)")
+      ->check(CLI::Range(0.1, 1000.0))
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   if (udp) o.kind = fcu::LinkOptions::Kind::udp;
 
@@ -228,6 +310,7 @@ int main(int argc, char** argv) {
       std::cerr << "tern fcu: nothing from an FCU on " << o.describe() << " within " << std::max(timeout, 2.0) << " s\n";
       return 1;
     }
+    if (status->parsed()) return run_status(c, rtt_samples, rtt_rate, timeout);
     if (calibrate->parsed()) return run_calibration(c, what, timeout);
     if (write_cmd->parsed()) return command(c, fcu::RosflightCmd::write_params, timeout) ? 0 : 1;
     if (list->parsed()) {

@@ -41,6 +41,7 @@ struct Options {
   unsigned udp_port = 14525, udp_remote_port = 14520;
   bool lockstep = false;
   double speed = 1.0;
+  unsigned baud = 0;  ///< --baud N: the port paced as a UART at N baud, 8N1 (uart.hpp); 0: at memory speed
   double duration = 0;
   std::string wind = "0,0,0";
   std::string turbulence = "none";

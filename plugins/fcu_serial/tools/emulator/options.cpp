@@ -1,6 +1,8 @@
 // emulator/options.cpp: see options.hpp.
 #include "options.hpp"
 
+#include "uart.hpp"
+
 #include <csignal>
 #include <iostream>
 #include <memory>
@@ -21,6 +23,10 @@ void add_world_options(CLI::App& app, Options& o) {
   app.add_option("--udp-port", o.udp_port, "our UDP port (ROSflight SIL: 14525)");
   app.add_option("--udp-remote-port", o.udp_remote_port, "the companion's UDP port (rosflight_io: 14520)");
   app.add_flag("--lockstep", o.lockstep, "wait for one OFFBOARD_CONTROL per IMU sample");
+  app.add_option("--baud", o.baud,
+                 "pace the pseudo-terminal (or --fd socket) as a UART at this baud rate, 8N1: 10 bit times a byte each way "
+                 "(a pty alone moves bytes at memory speed whatever its baud setting); 0: no pacing")
+      ->capture_default_str();
   app.add_option("--speed", o.speed, "free-running: simulated seconds per wall second")->check(CLI::Range(0.01, 1000.0));
   app.add_option("--duration", o.duration, "stop after this many simulated seconds (0: run until stopped)");
   app.add_option("--wind", o.wind, "steady wind n,e,d (m/s, NED)");
@@ -59,12 +65,17 @@ int run_on_port(const Options& o, const std::string& program, const std::functio
       port = std::make_unique<FdPort>(o.fd);
       where = "fd: " + std::to_string(o.fd);
     } else if (o.udp) {
+      if (o.baud > 0) throw std::runtime_error("--baud " + std::to_string(o.baud) + ": paces a serial line (pty or --fd), not --udp");
       port = std::make_unique<UdpPort>(o.udp_host, o.udp_port, o.udp_remote_port);
       where = "udp: " + o.udp_host + ":" + std::to_string(o.udp_port);
     } else {
       auto pty = std::make_unique<PtyPort>();
       where = std::string("pty: ") + pty->name();
       port = std::move(pty);
+    }
+    if (o.baud > 0) {
+      port = std::make_unique<UartPort>(std::move(port), o.baud);
+      std::cerr << program << ": the port paced as a UART at " << o.baud << " baud, 8N1\n";
     }
     const std::function<int()> run = make(*port);
     std::cout << where << std::endl;

@@ -2,12 +2,14 @@
 // upload in sil_params.cpp.
 #include "sil.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
 
 #include <unistd.h>
 
+#include "../emulator/uart.hpp"
 #include "../emulator/util.hpp"
 #include "../emulator/world.hpp"
 #include "mavlink_adapter.hpp"
@@ -109,18 +111,24 @@ bool Sil::flush() {
 }
 
 /// Moves what the companion sent (waiting at most timeout_ns) to the firmware's serial port,
-/// counting its OFFBOARD_CONTROL frames on the way (the board's UART does not parse).
-void Sil::service(std::int64_t timeout_ns) {
+/// counting its OFFBOARD_CONTROL frames on the way (the board's UART does not parse). True when
+/// bytes came.
+bool Sil::service(std::int64_t timeout_ns) {
   pollfd p{port_.fd(), POLLIN, 0};
-  if (poll(&p, 1, static_cast<int>(std::max<std::int64_t>(0, timeout_ns) / 1'000'000)) <= 0) return;
+  const std::int64_t wait = std::max<std::int64_t>(0, timeout_ns);
+  const timespec ts{static_cast<time_t>(wait / 1'000'000'000), static_cast<long>(wait % 1'000'000'000)};
+  if (ppoll(&p, 1, &ts, nullptr) <= 0) return false;
   std::uint8_t buf[4096];
   const bool deaf = deaf_ && t_ >= deaf_->first && t_ < deaf_->second;
+  bool got = false;
   for (std::size_t n; (n = port_.read(buf, sizeof buf)) > 0;) {
+    got = true;
     if (!deaf) board_.receive_bytes(buf, n);
     monitor_.feed(buf, n, [&](const mavlink::Frame& f) {
       if (f.msgid == mavlink::OffboardControl::kId) ++commands_;
     });
   }
+  return got && !deaf;
 }
 
 void Sil::run_firmware() {
@@ -150,6 +158,23 @@ void Sil::wait_for_command(std::uint64_t& used) {
   used = commands_;
 }
 
+/// Free-running: waits for the next IMU period at --speed times real time. The board's main loop
+/// spins meanwhile (ROSflight::run() over and over, as a board's main() calls it), so what the
+/// companion sends is received, handled and answered (TIMESYNC, parameters) when it arrives,
+/// with the board clock at that moment, not at the next IMU sample.
+void Sil::wait_free_running(std::int64_t wall0) {
+  const double speed = o_.world.speed;
+  const std::int64_t target = wall0 + static_cast<std::int64_t>(static_cast<double>(t_ + dt_) / speed);
+  for (std::int64_t left; !emulator::g_emulator_stop && (left = target - emulator::mono_ns()) > 0;) {
+    if (!service(left)) continue;
+    const auto now = static_cast<std::int64_t>(static_cast<double>(emulator::mono_ns() - wall0) * speed);
+    board_.set_time_us(static_cast<std::uint64_t>(board_us(std::clamp(now, t_, t_ + dt_ - 1000))));
+    run_firmware();
+    flush();
+  }
+  service(0);  // the board clock stays where the last run left it (never back)
+}
+
 int Sil::run() {
   const std::int64_t wall0 = emulator::mono_ns();
   const std::int64_t end = o_.world.duration > 0 ? emulator::ns(o_.world.duration) : INT64_MAX;
@@ -163,9 +188,7 @@ int Sil::run() {
     if (o_.world.lockstep && delivered) {
       wait_for_command(used);  // it read everything up to the command
     } else if (!o_.world.lockstep) {
-      const std::int64_t target = wall0 + static_cast<std::int64_t>(static_cast<double>(t_ + dt_) / o_.world.speed);
-      for (std::int64_t left; !emulator::g_emulator_stop && (left = target - emulator::mono_ns()) > 0;) service(left);
-      service(0);
+      wait_free_running(wall0);
     } else {
       service(0);
     }
@@ -177,6 +200,14 @@ int Sil::run() {
   }
   std::cerr << "tern-fcu-sil: stopped at t = " << static_cast<double>(t_) * 1e-9 << " s after " << commands_ << " commands (" << dropped_
             << " writes lost, " << reboots_ << " reboots)\n";
+  if (const auto* uart = dynamic_cast<const emulator::UartPort*>(&port_)) {
+    const emulator::UartPort::Stats u = uart->stats();
+    const double wall = static_cast<double>(emulator::mono_ns() - wall0) * 1e-9;
+    std::cerr << "tern-fcu-sil: UART " << u.sent << " bytes sent (" << 100.0 * static_cast<double>(u.sent * uart->byte_ns()) * 1e-9 / wall
+              << " % of the line over " << wall << " s), " << u.received << " received, " << u.dropped_writes
+              << " writes dropped (transmit buffer full), longest wait in the transmit buffer "
+              << static_cast<double>(u.max_tx_queue_ns) * 1e-6 << " ms\n";
+  }
   return 0;
 }
 

@@ -13,7 +13,8 @@
 //     streams, receive, state machine, RC, command muxing;
 //  3. what it wrote to its serial port goes out; --lockstep: the loop waits for one
 //     OFFBOARD_CONTROL from the companion per IMU sample that reached it; otherwise it keeps
-//     --speed times real time;
+//     --speed times real time, running the firmware again whenever the companion's bytes
+//     arrive during the wait (a board's main loop spins: TIMESYNC is answered on arrival);
 //  4. ROSflight::run() once more with no new sensor data: on a board the main loop spins between
 //     IMU samples, so a command that arrived is received and muxed before the next sample
 //     (it reaches the mixer with that sample: one IMU period after it was sent);
@@ -80,7 +81,8 @@ class Sil {
   void put_rc(std::int64_t t);
   void run_firmware();
   bool flush();
-  void service(std::int64_t timeout_ns);
+  bool service(std::int64_t timeout_ns);
+  void wait_free_running(std::int64_t wall0);
   void wait_for_command(std::uint64_t& used);
   void apply_outputs(std::int64_t t);
   const sim::Truth& truth();
