@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <thread>
 
 #include <nlohmann/json.hpp>
@@ -195,7 +196,14 @@ TEST_CASE("100 swaps: no growth of mapped libraries, file descriptors or residen
   for (int i = 0; i < 100; ++i) h->swap("ctl", i % 2 ? kV1 : kV2);
   CHECK(count_lines_with("/proc/self/maps", "libtern_test_controller") == maps0);
   CHECK(open_fds() == fds0);
-  CHECK(rss_kb() - rss0 < 1024);
+  // Under qemu-user (an arm64 cross build's ctest sets TERN_TEST_UNDER_QEMU) the resident memory
+  // is the emulator's, whose translated-code cache grows with every library loaded again (20 MB
+  // over these 100 swaps): only the mapped libraries and descriptors say something there.
+  if (std::getenv("TERN_TEST_UNDER_QEMU") == nullptr) {
+    CHECK(rss_kb() - rss0 < 1024);
+  } else {
+    MESSAGE("resident memory not checked under qemu-user (TERN_TEST_UNDER_QEMU): " << rss_kb() - rss0 << " kB");
+  }
 }
 
 TEST_CASE("the phase table changes between flights") {
