@@ -42,7 +42,7 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(HERE)
 sys.path.insert(0, HERE)
-from bench_realtime_load import Stress, git_commit, machine  # noqa: E402
+from bench_realtime_load import Stress, comma_list, git_commit, machine  # noqa: E402
 
 MISSION = os.path.join(REPO, "configs", "missions", "default_sil.yaml")
 BAUD = 921600
@@ -176,14 +176,8 @@ def parse_args():
     ap.add_argument("--out", default=os.path.join(HERE, "results", "fcu_rtt.json"))
     ap.add_argument("--keep", help="fly into this directory and keep it (default: a temporary one, removed)")
     a = ap.parse_args()
-    a.links = [s.strip() for s in a.links.split(",") if s.strip()]
-    a.loads = [s.strip() for s in a.loads.split(",") if s.strip()]
-    for s in a.links:
-        if s not in LINKS:
-            fail(f"--links: '{s}' is not one of {', '.join(LINKS)}")
-    for s in a.loads:
-        if s not in LOADS:
-            fail(f"--loads: '{s}' is not one of {', '.join(LOADS)}")
+    a.links = comma_list(a.links, "--links", LINKS, fail)
+    a.loads = comma_list(a.loads, "--loads", LOADS, fail)
     if not a.duration >= 20:
         fail(f"--duration: {a.duration:g}: at least 20 s (the firmware boots, calibrates and arms in the first 10)")
     if not 0 <= a.fcu_priority <= 99:

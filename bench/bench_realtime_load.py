@@ -205,6 +205,17 @@ def git_commit():
     return {"commit": head, "tracked_files_modified": bool(dirty)}
 
 
+def comma_list(value, option, allowed, error=None):
+    """'a,b' -> ['a', 'b'], each one of `allowed`; else one error line naming the option, through
+    `error` (the calling bench's own fail; default this one's)."""
+    error = error or fail
+    items = [s.strip() for s in value.split(",") if s.strip()]
+    for s in items:
+        if s not in allowed:
+            error(f"{option}: '{s}' is not one of {', '.join(allowed)}")
+    return items
+
+
 def parse_args():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("bin_dir", nargs="?", default=os.path.join(REPO, "build", "bin"), help="directory of tern (default build/bin)")
@@ -218,14 +229,8 @@ def parse_args():
     ap.add_argument("--out", default=os.path.join(HERE, "results", "realtime_load.json"))
     ap.add_argument("--keep", help="fly into this directory and keep it (default: a temporary one, removed)")
     a = ap.parse_args()
-    a.settings = [s.strip() for s in a.settings.split(",") if s.strip()]
-    a.loads = [s.strip() for s in a.loads.split(",") if s.strip()]
-    for s in a.settings:
-        if s not in SETTINGS:
-            fail(f"--settings: '{s}' is not one of {', '.join(SETTINGS)}")
-    for s in a.loads:
-        if s not in LOADS:
-            fail(f"--loads: '{s}' is not one of {', '.join(LOADS)}")
+    a.settings = comma_list(a.settings, "--settings", SETTINGS)
+    a.loads = comma_list(a.loads, "--loads", LOADS)
     if not a.settings or not a.loads:
         fail("--settings and --loads each need at least one entry")
     if not a.duration > 0:

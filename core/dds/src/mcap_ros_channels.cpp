@@ -2,6 +2,7 @@
 // from the bridge's own conversions: the topics, names and types of ROSplane's profile
 // (rosplane_profile.cpp), the tern -> ROS conversion of each (convert.cpp) and Fast DDS's CDR
 // serialisation of the generated type, with the encapsulation header, as rosbag2 stores it.
+#include <deque>
 #include <map>
 #include <memory>
 #include <set>
@@ -50,17 +51,18 @@ std::string ros2msg_schema(const std::string& type) {
   if (root == texts.end()) return {};
   std::string out = root->second;
   std::set<std::string> done{type};
-  std::vector<std::string> todo = used_types(root->second);
-  while (!todo.empty()) {
-    const std::string dep = todo.front();
-    todo.erase(todo.begin());
+  const std::vector<std::string> direct = used_types(root->second);
+  std::deque<std::string> queue(direct.begin(), direct.end());  // breadth first: each type once
+  while (!queue.empty()) {
+    const std::string dep = queue.front();
+    queue.pop_front();
     const std::string name = full_name(dep);
     if (!done.insert(name).second) continue;
     const auto it = texts.find(name);
     if (it == texts.end()) return {};
     const std::string short_name = name.substr(0, name.find('/')) + name.substr(name.rfind('/'));
     out += "\n" + std::string(80, '=') + "\nMSG: " + short_name + "\n" + it->second;
-    for (auto& d : used_types(it->second)) todo.push_back(d);
+    for (auto& d : used_types(it->second)) queue.push_back(d);
   }
   return out;
 }

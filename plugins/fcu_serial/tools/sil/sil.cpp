@@ -159,8 +159,10 @@ void Sil::wait_for_command(std::uint64_t& used) {
 }
 
 /// Free-running: waits for the next IMU period at --speed times real time. The board's main loop
-/// spins meanwhile (ROSflight::run() over and over, as a board's main() calls it), so what the
-/// companion sends is received, handled and answered (TIMESYNC, parameters) when it arrives,
+/// spins meanwhile (ROSflight::run() over and over: src/main.cpp, `while (true) { firmware.run(); }`),
+/// so what the companion sends is received, handled and answered (TIMESYNC: ROSflight::run ->
+/// MavlinkAdapter::receive -> handle_msg_timesync, src/mavlink_adapter.cpp ->
+/// CommManager::timesync_callback, src/comm_manager.cpp, which replies at once) when it arrives,
 /// with the board clock at that moment, not at the next IMU sample.
 void Sil::wait_free_running(std::int64_t wall0) {
   const double speed = o_.world.speed;
