@@ -118,6 +118,9 @@ struct MissionConfig {
   std::vector<std::string> overrides;
   std::string phases_option;    ///< the --phases option that set `phases` ("" : the file)
   std::string fallback_option;  ///< the --fallback option that set `fallback` ("" : the file)
+  /// A multi-vehicle mission's vehicle names (fleet_config.hpp), for its coordination plugins
+  /// (Context::vehicles()); empty in a vehicle's own config and in a one-vehicle mission.
+  std::vector<std::string> vehicles;
 };
 
 /// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what).

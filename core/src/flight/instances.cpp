@@ -52,6 +52,7 @@ class InstanceContext final : public Context {
   std::filesystem::path config_dir() const override { return config_.dir; }
   const YAML::Node& mission() const override { return config_.mission; }
   std::filesystem::path aircraft_file() const override { return config_.aircraft; }
+  std::vector<std::string> vehicles() const override { return config_.vehicles; }
   bool describing() const override { return describing_; }
   void end_flight(const std::string& reason, const std::string& detail) override {
     if (!end_) end_ = EndRequest{reason, detail};
@@ -238,6 +239,11 @@ std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const Inst
     throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: " + path.string() + " registers plugin '" + inst->info.name +
                       "', not '" + ic.plugin + "'");
   if (replaying && inst->info.kind != PluginKind::estimator) return nullptr;
+  if ((inst->info.kind == PluginKind::coordination) != !setup.config.vehicles.empty())
+    throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: '" + inst->info.name + "' is " +
+                      (setup.config.vehicles.empty() ? "a coordination plugin: it belongs in a multi-vehicle mission's coordination: list"
+                                                     : std::string("a ") + kind_name(inst->info.kind) +
+                                                           " plugin: coordination: takes coordination plugins (a vehicle's own go in plugins:)"));
   inst->plugin = inst->lib->create();
   configure_instance(*inst, setup);
   if (ic.isolate && !setup.describing) isolate_instance(*inst, setup);

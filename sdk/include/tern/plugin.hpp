@@ -73,10 +73,13 @@ namespace tern {
 ///    log() usable with this header alone (issue 22). SDK package version 0.2.
 /// 5: OutputBase::clear() (the host empties every output between flights), per-flight state
 ///    replaced wholesale by reset(), Plugin::health() and Plugin::timing() (issue 45).
-inline constexpr std::uint32_t kSdkApiVersion = 5;
+/// 6: PluginKind::coordination and Context::vehicles() (multi-vehicle missions, issue 42).
+inline constexpr std::uint32_t kSdkApiVersion = 6;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
-enum class PluginKind : std::uint8_t { io, estimator, controller, path_planner, path_manager, path_follower, generic };
+/// `coordination`: runs once per tick after every vehicle of a multi-vehicle mission, sees their
+/// topics and sends them mission edits (Context::vehicles()).
+enum class PluginKind : std::uint8_t { io, estimator, controller, path_planner, path_manager, path_follower, generic, coordination };
 constexpr const char* kind_name(PluginKind k) {
   switch (k) {
     case PluginKind::io: return "io";
@@ -86,12 +89,13 @@ constexpr const char* kind_name(PluginKind k) {
     case PluginKind::path_manager: return "path_manager";
     case PluginKind::path_follower: return "path_follower";
     case PluginKind::generic: return "generic";
+    case PluginKind::coordination: return "coordination";
   }
   return "generic";
 }
 inline std::optional<PluginKind> plugin_kind_from_name(std::string_view s) {
   for (auto k : {PluginKind::io, PluginKind::estimator, PluginKind::controller, PluginKind::path_planner, PluginKind::path_manager,
-                 PluginKind::path_follower, PluginKind::generic})
+                 PluginKind::path_follower, PluginKind::generic, PluginKind::coordination})
     if (s == kind_name(k)) return k;
   return std::nullopt;
 }
@@ -125,6 +129,12 @@ class TERN_API Context {
   /// `tern fly` exits 1. The first request of a flight counts. A context that flies nothing
   /// logs it as a warning; the test harness records it (Harness::end_request()).
   virtual void end_flight(const std::string& reason, const std::string& detail);
+  /// The vehicles of a multi-vehicle mission (its `vehicles:` names, in the config's order) for
+  /// a `coordination` plugin, which declares its ports per vehicle: an input "<vehicle>/state"
+  /// (any topic a vehicle publishes, as "<vehicle>/<topic>") and an output
+  /// "<vehicle>/mission_edit" (msg::MissionEdit, applied by that vehicle's path planner at the
+  /// start of its next tick). Empty for every other plugin and for a one-vehicle mission.
+  virtual std::vector<std::string> vehicles() const { return {}; }
 };
 
 class TERN_API Plugin {

@@ -28,6 +28,7 @@ struct HarnessOptions {
   std::filesystem::path config_dir;     ///< relative path parameters resolve against this
   std::filesystem::path aircraft_file;  ///< what Context::aircraft_file() returns
   YAML::Node mission;                   ///< what Context::mission() returns
+  std::vector<std::string> vehicles;    ///< what Context::vehicles() returns (a coordination plugin's)
 };
 
 class TERN_API Harness final : public Context {
@@ -86,6 +87,7 @@ class TERN_API Harness final : public Context {
   std::filesystem::path config_dir() const override { return options_.config_dir; }
   const YAML::Node& mission() const override { return options_.mission; }
   std::filesystem::path aircraft_file() const override { return options_.aircraft_file; }
+  std::vector<std::string> vehicles() const override { return options_.vehicles; }
   /// Records the first request (reason, detail); the harness steps on regardless.
   void end_flight(const std::string& reason, const std::string& detail) override {
     if (!end_request_) end_request_.emplace(reason, detail);
