@@ -241,9 +241,10 @@ std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const Inst
   if (replaying && inst->info.kind != PluginKind::estimator) return nullptr;
   if ((inst->info.kind == PluginKind::coordination) != !setup.config.vehicles.empty())
     throw ConfigError(where(f, ic.node["plugin"]) + field + ".plugin: '" + inst->info.name + "' is " +
-                      (setup.config.vehicles.empty() ? "a coordination plugin: it belongs in a multi-vehicle mission's coordination: list"
-                                                     : std::string("a ") + kind_name(inst->info.kind) +
-                                                           " plugin: coordination: takes coordination plugins (a vehicle's own go in plugins:)"));
+                      (setup.config.vehicles.empty()
+                           ? "a coordination plugin: it belongs in a multi-vehicle mission's coordination: list"
+                           : std::string("a ") + kind_name(inst->info.kind) +
+                                 " plugin: coordination: takes coordination plugins (a vehicle's own go in plugins:)"));
   inst->plugin = inst->lib->create();
   configure_instance(*inst, setup);
   if (ic.isolate && !setup.describing) isolate_instance(*inst, setup);
