@@ -1,8 +1,9 @@
 /* core/dds/interop/cyclone_client.c: a ROS 2 tool's view of tern, built on Eclipse Cyclone DDS
  * (the other DDS that ROS 2 ships) with types from ros2_types.idl (idlc), not tern's code.
- * Against a running `tern fly --dds` on DDS domain argv[1], namespace "tern", loopback only:
+ * Against a running `tern fly --dds` on DDS domain argv[1], namespace argv[2] (default "tern"; a
+ * multi-vehicle mission's vehicle name), loopback only:
  *   1. discovers the nodes on ros_discovery_info (rmw_dds_common ParticipantEntitiesInfo);
- *   2. reads rt/tern/state as rosplane_msgs/msg/State;
+ *   2. reads rt/<namespace>/state as rosplane_msgs/msg/State;
  *   3. sets ctl's parameter kp through rcl_interfaces set_parameters and sees the change on
  *      rt/parameter_events; describes it through describe_parameters;
  *   4. adds a waypoint with ROSplane's add_waypoint (rosplane_msgs/srv/AddWaypoint).
@@ -20,6 +21,15 @@
 #include "ros2_types.h"
 
 #define TIMEOUT DDS_SECS(30)
+
+static const char* ns = "tern"; /* the vehicle's namespace */
+
+/* "<ns>/<rest>" (static buffer: one use at a time) */
+static const char* in_ns(const char* fmt_rest) {
+  static char buf[256];
+  snprintf(buf, sizeof buf, fmt_rest, ns);
+  return buf;
+}
 
 static int fail(const char* step) {
   printf("FAILED: %s\n", step);
@@ -98,7 +108,7 @@ static int discover(dds_entity_t pp) {
     for (uint32_t i = 0; i < info.node_entities_info_seq._length; ++i) {
       const rmw_dds_common_msg_dds__NodeEntitiesInfo_* n = &info.node_entities_info_seq._buffer[i];
       printf(" %s/%s", n->node_namespace, n->node_name);
-      found = found || (strcmp(n->node_namespace, "/tern") == 0 && strcmp(n->node_name, "ctl") == 0);
+      found = found || (strcmp(n->node_namespace, in_ns("/%s")) == 0 && strcmp(n->node_name, "ctl") == 0);
     }
     printf("\n");
   }
@@ -107,11 +117,11 @@ static int discover(dds_entity_t pp) {
 
 static int read_state(dds_entity_t pp) {
   dds_entity_t r =
-      reader(pp, &rosplane_msgs_msg_dds__State__desc, "rt/tern/state", qos(DDS_RELIABILITY_BEST_EFFORT, DDS_DURABILITY_VOLATILE, 1));
+      reader(pp, &rosplane_msgs_msg_dds__State__desc, in_ns("rt/%s/state"), qos(DDS_RELIABILITY_BEST_EFFORT, DDS_DURABILITY_VOLATILE, 1));
   rosplane_msgs_msg_dds__State_ s;
   memset(&s, 0, sizeof s);
   if (take_one(r, &s) != 0) return -1;
-  printf("rt/tern/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va, s.quat.w);
+  printf("rt/%s/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", ns, s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va, s.quat.w);
   return s.va > 0 ? 0 : -1;
 }
 
@@ -128,18 +138,18 @@ static int set_parameter(dds_entity_t pp) {
   rcl_interfaces_srv_dds__SetParameters_Response_ rs;
   memset(&rs, 0, sizeof rs);
   dds_sleepfor(DDS_MSECS(500)); /* the event reader matches the vehicle's writer */
-  if (call(pp, "tern/ctl/set_parameters", &rcl_interfaces_srv_dds__SetParameters_Request__desc, &rq,
+  if (call(pp, in_ns("%s/ctl/set_parameters"), &rcl_interfaces_srv_dds__SetParameters_Request__desc, &rq,
            &rcl_interfaces_srv_dds__SetParameters_Response__desc, &rs) != 0 ||
       rs.results._length != 1)
     return -1;
-  printf("set_parameters /tern/ctl kp 0.125: successful %d reason '%s'\n", rs.results._buffer[0].successful, rs.results._buffer[0].reason);
+  printf("set_parameters /%s/ctl kp 0.125: successful %d reason '%s'\n", ns, rs.results._buffer[0].successful, rs.results._buffer[0].reason);
   if (!rs.results._buffer[0].successful) return -1;
   rcl_interfaces_msg_dds__ParameterEvent_ e;
   memset(&e, 0, sizeof e);
   if (take_one(ev, &e) != 0 || e.changed_parameters._length != 1) return -1;
   printf("rt/parameter_events: node %s changed %s = %g\n", e.node, e.changed_parameters._buffer[0].name,
          e.changed_parameters._buffer[0].value.double_value);
-  return strcmp(e.node, "/tern/ctl") == 0 && e.changed_parameters._buffer[0].value.double_value == 0.125 ? 0 : -1;
+  return strcmp(e.node, in_ns("/%s/ctl")) == 0 && e.changed_parameters._buffer[0].value.double_value == 0.125 ? 0 : -1;
 }
 
 static int describe_parameter(dds_entity_t pp) {
@@ -147,12 +157,12 @@ static int describe_parameter(dds_entity_t pp) {
   rcl_interfaces_srv_dds__DescribeParameters_Request_ rq = {.names = {1, 1, names, false}};
   rcl_interfaces_srv_dds__DescribeParameters_Response_ rs;
   memset(&rs, 0, sizeof rs);
-  if (call(pp, "tern/ctl/describe_parameters", &rcl_interfaces_srv_dds__DescribeParameters_Request__desc, &rq,
+  if (call(pp, in_ns("%s/ctl/describe_parameters"), &rcl_interfaces_srv_dds__DescribeParameters_Request__desc, &rq,
            &rcl_interfaces_srv_dds__DescribeParameters_Response__desc, &rs) != 0 ||
       rs.descriptors._length != 1)
     return -1;
   const rcl_interfaces_msg_dds__ParameterDescriptor_* d = &rs.descriptors._buffer[0];
-  printf("describe_parameters /tern/ctl kp: type %u description '%s' constraints '%s' read_only %d", d->type, d->description,
+  printf("describe_parameters /%s/ctl kp: type %u description '%s' constraints '%s' read_only %d", ns, d->type, d->description,
          d->additional_constraints, d->read_only);
   if (d->floating_point_range._length == 1)
     printf(" range [%g, %g]", d->floating_point_range._buffer[0].from_value, d->floating_point_range._buffer[0].to_value);
@@ -164,7 +174,7 @@ static int add_waypoint(dds_entity_t pp) {
   rosplane_msgs_srv_dds__AddWaypoint_Request_ rq = {.w = {120.0f, -80.0f, -50.0f}, .va_d = 17.0f, .publish_now = true};
   rosplane_msgs_srv_dds__AddWaypoint_Response_ rs;
   memset(&rs, 0, sizeof rs);
-  if (call(pp, "tern/add_waypoint", &rosplane_msgs_srv_dds__AddWaypoint_Request__desc, &rq,
+  if (call(pp, in_ns("%s/add_waypoint"), &rosplane_msgs_srv_dds__AddWaypoint_Request__desc, &rq,
            &rosplane_msgs_srv_dds__AddWaypoint_Response__desc, &rs) != 0)
     return -1;
   printf("add_waypoint [120, -80, -50] va_d 17: success %d message '%s'\n", rs.success, rs.message);
@@ -172,24 +182,25 @@ static int add_waypoint(dds_entity_t pp) {
 }
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    fprintf(stderr, "usage: %s DOMAIN\n", argv[0]);
+  if (argc != 2 && argc != 3) {
+    fprintf(stderr, "usage: %s DOMAIN [NAMESPACE]\n", argv[0]);
     return 2;
   }
+  if (argc == 3) ns = argv[2];
   const dds_entity_t pp = dds_create_participant((dds_domainid_t)atoi(argv[1]), NULL, NULL);
   if (pp < 0) return fail("create a Cyclone DDS participant");
   int rc = 0;
   if (discover(pp) != 0)
-    rc = fail("discover node /tern/ctl on ros_discovery_info");
+    rc = fail("discover node ctl in the namespace on ros_discovery_info");
   else if (read_state(pp) != 0)
-    rc = fail("read rt/tern/state as rosplane_msgs/msg/State");
+    rc = fail("read rt/<namespace>/state as rosplane_msgs/msg/State");
   else if (describe_parameter(pp) != 0)
-    rc = fail("describe /tern/ctl kp (rcl_interfaces describe_parameters)");
+    rc = fail("describe <namespace>/ctl kp (rcl_interfaces describe_parameters)");
   else if (set_parameter(pp) != 0)
-    rc = fail("set /tern/ctl kp and see it on rt/parameter_events");
+    rc = fail("set <namespace>/ctl kp and see it on rt/parameter_events");
   else if (add_waypoint(pp) != 0)
     rc = fail("add a waypoint (rosplane_msgs/srv/AddWaypoint)");
   dds_delete(pp);
-  if (rc == 0) printf("OK: Cyclone DDS %s client drove tern\n", DDS_VERSION);
+  if (rc == 0) printf("OK: Cyclone DDS %s client drove tern's /%s\n", DDS_VERSION, ns);
   return rc;
 }

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "commands/fleet_command.hpp"
 #include "commands/host_preparation.hpp"
 
 namespace tern::core {
@@ -17,6 +18,7 @@ struct CheckOptions {
 };
 
 int check(const CheckOptions& o) {
+  if (is_fleet_file(o.config)) return check_fleet(o.config, o.prep);
   const std::unique_ptr<Host> host = describing_host(o.config, o.prep);
   std::fputs((o.dot ? host->graph_dot() : host->graph_text()).c_str(), stdout);
   std::fflush(stdout);

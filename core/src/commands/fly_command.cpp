@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "commands/commands.hpp"
+#include "commands/fleet_command.hpp"
 #include "commands/host_preparation.hpp"
 
 namespace tern::core {
@@ -37,6 +38,11 @@ struct FlyOptions {
 };
 
 int fly(const FlyOptions& o) {
+  if (!o.config.empty() && is_fleet_file(o.config)) {
+    FleetFlyOptions f{{o.seed, o.duration, o.log_dir ? std::optional<fs::path>(*o.log_dir) : std::nullopt, o.quiet, false, o.realtime},
+                      o.prep};
+    return fly_fleet(o.config, f);
+  }
   HostOptions opt;
   opt.seed = o.seed;
   opt.duration = o.duration;

@@ -68,7 +68,11 @@ void apply_log_format(MissionConfig& mc, const std::string& format) {
 }  // namespace
 
 PreparedMission prepare_mission(const std::string& config_file, const HostPreparation& p) {
-  PreparedMission m{load_config(config_file)};
+  return prepare_loaded(load_config(config_file), p);
+}
+
+PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p) {
+  PreparedMission m{std::move(config)};
   MissionConfig& mc = m.config;
   apply_overrides(mc, p.overrides);
   if (p.skip_preflight) apply_skip_preflight(mc);

@@ -64,6 +64,8 @@ struct PreparedMission {
 /// the config's own errors, a bad override, a bad dds: section, or --dds on a tern built without
 /// Fast DDS.
 PreparedMission prepare_mission(const std::string& config_file, const HostPreparation& p);
+/// The same for a config already loaded (a fleet's vehicle, fleet_config.hpp).
+PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p);
 
 /// A built host that only describes the mission (`tern check`, `tern params`): instances
 /// configured with `describing` (no file or device opened), port graph bound, nothing flown.

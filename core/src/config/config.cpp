@@ -55,6 +55,8 @@ std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const
   return out;
 }
 
+}  // namespace
+
 YAML::Node load_yaml(const fs::path& file, const char* what) {
   if (!fs::exists(file)) throw ConfigError(std::string(what) + " '" + file.string() + "' not found");
   try {
@@ -65,6 +67,8 @@ YAML::Node load_yaml(const fs::path& file, const char* what) {
     throw ConfigError(std::string("cannot read ") + what + " '" + file.string() + "'");
   }
 }
+
+namespace {
 
 /// A rate (Hz) the scheduler can run: > 0 and <= kMaxRateHz.
 double as_rate(const YAML::Node& n, const fs::path& file, const std::string& field) {
@@ -212,15 +216,23 @@ std::map<std::string, ParamSetting> load_param_file(const fs::path& file, const 
 }
 
 MissionConfig load_config(const fs::path& file_in) {
+  const fs::path file = fs::absolute(file_in).lexically_normal();
+  const YAML::Node root = load_yaml(file, "config file");
+  if (root.IsMap() && root["vehicles"])
+    throw ConfigError(where(file, root["vehicles"]) +
+                      "vehicles: a multi-vehicle mission: `tern fly` and `tern check` take it (docs/multi-vehicle.md), not this command");
+  return config_from_yaml(root, file);
+}
+
+MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, const std::string& plugins_key) {
   MissionConfig c;
-  c.file = fs::absolute(file_in).lexically_normal();
+  c.file = file;
   c.dir = c.file.parent_path();
-  const YAML::Node root = load_yaml(c.file, "config file");
   const fs::path& f = c.file;
   if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
   c.root = root;
   check_keys(root, f, "",
-             {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", "plugins", "phases", "fallback", "phase_machine",
+             {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", plugins_key, "phases", "fallback", "phase_machine",
               "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
   if (const YAML::Node wd = root["watchdog"]) {
     require_map(wd, f, "watchdog");
@@ -320,14 +332,14 @@ MissionConfig load_config(const fs::path& file_in) {
     }
   }
 
-  const YAML::Node plugins = root["plugins"];
-  if (!plugins) throw ConfigError(f.string() + ": plugins: missing (the list of plugin instances to load)");
+  const YAML::Node plugins = root[plugins_key];
+  if (!plugins) throw ConfigError(f.string() + ": " + plugins_key + ": missing (the list of plugin instances to load)");
   if (!plugins.IsSequence() || plugins.size() == 0)
-    throw ConfigError(where(f, plugins) + "plugins: expected a non-empty list of plugin instances");
+    throw ConfigError(where(f, plugins) + plugins_key + ": expected a non-empty list of plugin instances");
   std::set<std::string> names;
   for (std::size_t i = 0; i < plugins.size(); ++i) {
     const YAML::Node p = plugins[i];
-    const std::string field = "plugins[" + std::to_string(i) + "]";
+    const std::string field = plugins_key + "[" + std::to_string(i) + "]";
     require_map(p, f, field);
     // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
     std::vector<std::string> keys{"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"};
@@ -337,6 +349,7 @@ MissionConfig load_config(const fs::path& file_in) {
     check_keys(p, f, field, keys);
     InstanceConfig ic;
     ic.index = i;
+    ic.field = field;
     ic.node = p;
     if (!p["plugin"]) throw ConfigError(where(f, p) + field + ": missing key 'plugin' (the plugin to load, e.g. sim_aero)");
     ic.plugin = as_string(p["plugin"], f, field + ".plugin");

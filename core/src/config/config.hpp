@@ -35,6 +35,7 @@ struct ParamSetting {
 
 struct InstanceConfig {
   std::size_t index = 0;               ///< position in `plugins:`
+  std::string field;                   ///< where it is in the file: "plugins[2]" ("coordination[0]" in a fleet's)
   std::string name;                    ///< instance name
   std::string plugin;                  ///< plugin name or a path to a .so
   std::optional<double> rate;          ///< Hz
@@ -121,10 +122,20 @@ struct MissionConfig {
   /// A multi-vehicle mission's vehicle names (fleet_config.hpp), for its coordination plugins
   /// (Context::vehicles()); empty in a vehicle's own config and in a one-vehicle mission.
   std::vector<std::string> vehicles;
+  /// Which part of a multi-vehicle mission this is: a vehicle's name or "coordination" ("" for a
+  /// one-vehicle mission): what an isolated instance's child loads (load_fleet_part).
+  std::string fleet_part;
 };
 
-/// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what).
+/// Loads and validates a mission config. Throws ConfigError (one line: file:line:col: field: what),
+/// also for a multi-vehicle mission (`vehicles:`, fleet_config.hpp), which is not one host's.
 MissionConfig load_config(const fs::path& file);
+/// The same checks on a document already loaded from `file` (relative paths resolve against its
+/// directory); `plugins_key` names the list of instances ("plugins"; a fleet's "coordination").
+MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, const std::string& plugins_key = "plugins");
+/// Reads a YAML file (`what`: "config file", in errors). Throws ConfigError: missing, unreadable,
+/// a syntax error (file:line:col).
+YAML::Node load_yaml(const fs::path& file, const char* what);
 
 // ---- meaning checks, shared by the config, the command line and `tern serve` ----------------
 

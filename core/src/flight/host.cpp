@@ -28,10 +28,10 @@ std::atomic<int> g_stop_signal{0};
 extern "C" void tern_on_signal(int sig) { request_stop(sig); }
 
 // The host's log goes to the console (warnings only when quiet) and, while flying, to tern.log.
-std::shared_ptr<spdlog::sinks::dist_sink_mt> console_sinks(bool quiet) {
+std::shared_ptr<spdlog::sinks::dist_sink_mt> console_sinks(bool quiet, const std::string& prefix) {
   auto console = std::make_shared<spdlog::sinks::stderr_color_sink_mt>();
   console->set_level(quiet ? spdlog::level::warn : spdlog::level::info);
-  console->set_pattern("%^[%l]%$ %n: %v");
+  console->set_pattern(prefix.empty() ? "%^[%l]%$ %n: %v" : "%^[%l]%$ " + prefix + "/%n: %v");
   auto dist = std::make_shared<spdlog::sinks::dist_sink_mt>();
   dist->add_sink(console);
   return dist;
@@ -44,6 +44,21 @@ std::shared_ptr<spdlog::logger> host_logger(std::shared_ptr<spdlog::sinks::dist_
 }
 
 }  // namespace
+
+// A flight between begin_flight() and end_flight(): its log, result and clock.
+struct Host::Running {
+  Running(const fs::path& run_dir, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks, FlightLog::ErrorHandler on_error,
+          FlightLog::Format format, double duration_s)
+      : recorder(run_dir, std::move(sinks), std::move(on_error), format), duration(duration_s) {}
+  FlightRecorder recorder;
+  FlightResult r;
+  double duration;
+  std::int64_t fly_entry = 0;
+  std::unique_ptr<Scheduler> clock;  // from the first tick on
+  std::unique_ptr<StatusLine> status;
+  bool aborted = false;
+  bool ended = false;  // tick() returned false
+};
 
 int stop_signal() { return g_stop_signal.load(); }
 
@@ -65,7 +80,7 @@ void install_signal_handlers() {
 Host::Host(MissionConfig config, HostOptions options)
     : config_(std::move(config)),
       options_(std::move(options)),
-      sinks_(console_sinks(options_.quiet)),
+      sinks_(console_sinks(options_.quiet, options_.console_prefix)),
       logger_(host_logger(sinks_)),
       created_ns_(wall_ns()) {
   calibrate_step_clock();  // before anything is timed
@@ -98,6 +113,7 @@ void Host::build() {
   phase_machine_idx_ = loaded.phase_machine_index;
   metrics_ = loaded.metrics;
   replay_ = loaded.replay;
+  if (options_.check_instances) options_.check_instances(instances_);
   rebuild_graph();
   if (!options_.replay_dir) {  // a replay flies a subset of the flight's instances
     std::vector<std::string> published;
@@ -130,7 +146,9 @@ void Host::rebuild_graph() {
   }
   const OutputBase* edits = remote_.renew_mission_edit_output();
   const OutputBase* pilot = remote_.renew_pilot_output();
-  graph_ = PortGraph(nodes, {edits, pilot}, config_.file);
+  std::vector<const OutputBase*> offered{edits, pilot};
+  offered.insert(offered.end(), options_.external_outputs.begin(), options_.external_outputs.end());
+  graph_ = PortGraph(nodes, offered, config_.file);
   remote_.keep_mission_edit_output(graph_.offers(edits));
   remote_.keep_pilot_output(graph_.offers(pilot));
   graph_.bind(router_.active());
@@ -280,95 +298,127 @@ double Host::flight_duration() const { return duration_override_ ? *duration_ove
 // ---- a flight ---------------------------------------------------------------------------------
 
 FlightResult Host::fly() {
+  if (begin_flight())
+    while (tick()) {
+    }
+  return end_flight();
+}
+
+Nanos Host::now() const { return running_ && running_->clock ? running_->clock->now() : 0; }
+
+bool Host::begin_flight() {
   const std::int64_t fly_entry = wall_ns();
   if (!built_) build();
   if (flying_.exchange(true)) throw ConfigError("a flight is already in progress");
-  struct FlyingGuard {
-    std::atomic<bool>& f;
-    ~FlyingGuard() { f.store(false); }
-  } flying_guard{flying_};
-  if (flights_ > 0) reset_for_next_flight();
-  ++flights_;
-  g_stop_signal.store(0);
-  abort_.store(false);
-  const double duration = flight_duration();
-  FlightRecorder recorder(
-      options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name, sinks_,
-      [this](const std::string& line) { logger_->error("{}", line); }, FlightRecorder::format_of(config_.log));
-  FlightResult r;
-  r.run_dir = recorder.dir();
-  recorder.start(resolved_config_yaml(facts(duration)), parameters(), param_options(config_));
-  recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
+  try {
+    if (flights_ > 0) reset_for_next_flight();
+    ++flights_;
+    g_stop_signal.store(0);
+    abort_.store(false);
+    const double duration = flight_duration();
+    const fs::path run_dir = options_.run_dir
+                                 ? fs::absolute(*options_.run_dir)
+                                 : new_run_dir(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name);
+    running_ = std::make_unique<Running>(
+        run_dir, sinks_, [this](const std::string& line) { logger_->error("{}", line); }, FlightRecorder::format_of(config_.log), duration);
+  } catch (...) {
+    flying_.store(false);
+    throw;
+  }
+  Running& f = *running_;
+  f.fly_entry = fly_entry;
+  f.r.run_dir = f.recorder.dir();
+  f.recorder.start(resolved_config_yaml(facts(f.duration)), parameters(), param_options(config_));
+  f.recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
-                1e9 / static_cast<double>(base_period_), duration, seed_, r.run_dir.string());
+                1e9 / static_cast<double>(base_period_), f.duration, seed_, f.r.run_dir.string());
   if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
-  const auto record_param = [&recorder](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
-    recorder.param(t, name, p, source);
-  };
-  remote_.apply_start_only(record_param, *logger_);  // asked for between flights: before the plugins read them
-  remote_.take_go_around();                          // one asked for between flights is not for this flight
+  remote_.apply_start_only(
+      [&f](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) { f.recorder.param(t, name, p, source); },
+      *logger_);             // asked for between flights: before the plugins read them
+  remote_.take_go_around();  // one asked for between flights is not for this flight
   router_.prepare_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
-  if (!apply_realtime_options(r) || !start_instances(r)) {
-    recorder.close(r);
-    return r;
-  }
+  if (!apply_realtime_options(f.r) || !start_instances(f.r)) return false;
   router_.start_flight();
   failsafes_.start_flight(config_.failsafes, graph_);
-  StatusLine status(graph_, options_.progress);
-  Scheduler clock(base_period_, from_seconds(duration), options_.realtime);
-  start_to_first_tick_ms_ = static_cast<double>(clock.wall_start() - created_ns_) * 1e-6;
-  flight_start_ms_ = static_cast<double>(clock.wall_start() - fly_entry) * 1e-6;
+  f.status = std::make_unique<StatusLine>(graph_, options_.progress);
+  f.clock = std::make_unique<Scheduler>(base_period_, from_seconds(f.duration), options_.realtime);
+  start_to_first_tick_ms_ = static_cast<double>(f.clock->wall_start() - created_ns_) * 1e-6;
+  flight_start_ms_ = static_cast<double>(f.clock->wall_start() - fly_entry) * 1e-6;
   watchdog_.arm(
       config_.watchdog, [] { return g_stop_signal.load(); },
-      [&](const std::string& reason, const std::string& detail) {
-        r.ok = reason != "watchdog";
-        r.end_reason = reason;
-        r.end_detail = detail;
-        r.flown = clock.now();
-        r.wall_s = clock.wall_s();
-        emergency_end(recorder, r, duration);
+      [this](const std::string& reason, const std::string& detail) {
+        Running& g = *running_;
+        g.r.ok = reason != "watchdog";
+        g.r.end_reason = reason;
+        g.r.end_detail = detail;
+        g.r.flown = g.clock->now();
+        g.r.wall_s = g.clock->wall_s();
+        emergency_end(g.recorder, g.r, g.duration);
       });
-  bool aborted = false;
-  while (clock.next(g_stop_signal.load(std::memory_order_relaxed))) {
-    remote_.apply(clock.now(), record_param, *logger_);
-    take_go_around(clock.now());
-    const EndRequest end = run_tick(clock);
-    failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);
-    recorder.capture(graph_, clock.now());
-    notify_observer(clock.now());
-    if (!end.reason.empty()) {
-      r.ok = end.ok;
-      r.end_reason = end.reason;
-      r.end_detail = end.ok ? "" : end.detail;
-      if (end.ok)
-        logger_->info("{}: {}", end.reason, end.detail);
-      else
-        logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
-      break;
+  return true;
+}
+
+bool Host::tick() {
+  Running& f = *running_;
+  Scheduler& clock = *f.clock;
+  if (f.ended || !clock.next(g_stop_signal.load(std::memory_order_relaxed))) return !(f.ended = true);
+  const auto record_param = [&f](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
+    f.recorder.param(t, name, p, source);
+  };
+  remote_.apply(clock.now(), record_param, *logger_);
+  take_go_around(clock.now());
+  const EndRequest end = run_tick(clock);
+  failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);
+  f.recorder.capture(graph_, clock.now());
+  notify_observer(clock.now());
+  if (!end.reason.empty()) {
+    f.r.ok = end.ok;
+    f.r.end_reason = end.reason;
+    f.r.end_detail = end.ok ? "" : end.detail;
+    if (end.ok)
+      logger_->info("{}: {}", end.reason, end.detail);
+    else
+      logger_->error("{}{}", end.reason, end.detail.empty() ? "" : ": " + end.detail);
+    return !(f.ended = true);
+  }
+  if (clock.wall_check_due()) {
+    f.recorder.flush_if_due(*logger_);
+    f.status->draw(clock.now());
+    clock.pace();
+  }
+  if (abort_.load(std::memory_order_relaxed)) f.aborted = f.ended = true;  // after a complete tick: the log ends with it
+  return !f.ended;
+}
+
+FlightResult Host::end_flight(const std::string& reason) {
+  struct FlyingGuard {
+    std::atomic<bool>& f;
+    std::unique_ptr<Running>& running;
+    ~FlyingGuard() {
+      running.reset();
+      f.store(false);
     }
-    if (clock.wall_check_due()) {
-      recorder.flush_if_due(*logger_);
-      status.draw(clock.now());
-      clock.pace();
-    }
-    if (abort_.load(std::memory_order_relaxed)) {  // after a complete tick: the log ends with it
-      aborted = true;
-      break;
-    }
+  } guard{flying_, running_};
+  Running& f = *running_;
+  FlightResult& r = f.r;
+  if (!f.clock) {  // ended before its first tick (realtime options, a start() that threw)
+    f.recorder.close(r);
+    return r;
   }
   watchdog_.disarm();
-  status.finish();
-  if (r.ok && r.end_reason.empty()) r.end_reason = aborted ? "aborted" : clock.end_reason();
-  r.flown = clock.now();
-  r.wall_s = clock.wall_s();
-  r.flight_cpu_s = clock.cpu_s();
-  if (RealtimeStats* rt = clock.realtime_stats()) {
+  f.status->finish();
+  if (r.ok && r.end_reason.empty()) r.end_reason = f.aborted ? "aborted" : f.ended ? f.clock->end_reason() : reason;
+  r.flown = f.clock->now();
+  r.wall_s = f.clock->wall_s();
+  r.flight_cpu_s = f.clock->cpu_s();
+  if (RealtimeStats* rt = f.clock->realtime_stats()) {
     rt->end();
     r.realtime = rt->to_json(options_.rt);
     r.realtime_line = rt->line(options_.rt);
   }
-  finish_flight(recorder, r, duration);
+  finish_flight(f.recorder, r, f.duration);
   return r;
 }
 

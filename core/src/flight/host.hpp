@@ -75,6 +75,18 @@ struct HostOptions {
   /// `tern replay`: play this flight log's sensor and truth topics instead of an I/O plugin, and
   /// keep only the config's estimator instances.
   std::optional<fs::path> replay_dir;
+  /// The flight log goes exactly here (a multi-vehicle run's `<run>/<vehicle>`), not into a new
+  /// directory under log_dir. One flight per host then.
+  std::optional<fs::path> run_dir;
+  /// The console log's lines start "[level] <console_prefix>/<logger>: " (a vehicle's name), not
+  /// "[level] <logger>: ".
+  std::string console_prefix;
+  /// Outputs of another host's topics (a fleet's mirrors of its vehicles' topics) offered to this
+  /// host's port graph as host outputs; they must outlive the host.
+  std::vector<const OutputBase*> external_outputs;
+  /// Called by build() with the loaded, configured instances before their port graph is built
+  /// (a fleet checks its coordination's ports); throws ConfigError to refuse them.
+  std::function<void(const std::vector<std::unique_ptr<Instance>>&)> check_instances;
 };
 
 /// Request the running flight to end (signal handlers call this). Thread- and signal-safe.
@@ -95,7 +107,18 @@ class Host {
   /// Loads plugins, configures instances, binds ports, orders the schedule. Throws ConfigError.
   void build();
   /// Flies one flight (build() first). Never throws for plugin failures: see FlightResult.
+  /// fly() is begin_flight(), tick() until it returns false, end_flight().
   FlightResult fly();
+  /// The same flight driven by another loop (a multi-vehicle fleet flies its vehicles' hosts
+  /// tick by tick, fleet.hpp): begin_flight() prepares it (log, reset, start; false: it ended
+  /// before its first tick), tick() flies one tick (false: the flight has ended, the tick done),
+  /// end_flight() finishes it (`reason` is the end reason when it is still going: the fleet ended
+  /// it) and returns what fly() returns. Nothing between them may call fly().
+  bool begin_flight();
+  bool tick();
+  FlightResult end_flight(const std::string& reason = "aborted");
+  /// Flight time of the running flight's current tick (0 before the first).
+  Nanos now() const;
 
   const MissionConfig& config() const { return config_; }
   const HostOptions& options() const { return options_; }
@@ -134,6 +157,8 @@ class Host {
   /// thread. Throws ConfigError when no instance reads `pilot`.
   void set_pilot(const msg::Rc& rc);
   bool takes_pilot() const { return remote_.takes_pilot(); }
+  /// An instance reads topic `mission_edit` (edit_mission() takes edits).
+  bool takes_mission_edits() const { return remote_.takes_mission_edits(); }
   /// Between flights: replaces instance `instance` by the plugin in the shared object `so` (another
   /// plugin or a rebuild of the same one), configured with the instance's parameters. The new
   /// library is loaded from a private copy, so a rebuild at the same path loads too; the old
@@ -184,6 +209,8 @@ class Host {
   FlightFacts facts(double duration_s) const;
   double flight_duration() const;
   // fly(), in order
+  struct Running;  // a flight between begin_flight() and end_flight() (host.cpp)
+  std::unique_ptr<Running> running_;
   void reset_for_next_flight();
   bool apply_realtime_options(FlightResult& r);
   bool start_instances(FlightResult& r);

@@ -16,15 +16,11 @@
 
 namespace tern::core {
 
-namespace {
-
-std::uint64_t fnv1a(const std::string& s) {
+std::uint64_t derived_seed(std::uint64_t seed, const std::string& name) {
   reflect::Fnv1a f;
-  f.bytes(s);
-  return f.h;
+  f.bytes(name);
+  return splitmix64(seed ^ f.h);
 }
-
-}  // namespace
 
 // ---- the context each instance sees ---------------------------------------------------------
 
@@ -144,27 +140,27 @@ void apply_remaps_and_trigger(Instance& inst, const fs::path& f, const std::stri
 }  // namespace
 
 void configure_instance(Instance& inst, const InstanceSetup& setup) {
-  const std::uint64_t iseed = splitmix64(setup.seed ^ fnv1a(inst.cfg.name));
+  const std::uint64_t iseed = derived_seed(setup.seed, inst.cfg.name);
   auto log = std::make_shared<spdlog::logger>(inst.cfg.name, setup.sink);
   log->set_level(spdlog::level::info);
   inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing);
   inst.plugin->attach(inst.ctx.get());
-  const std::string field = inst.builtin ? inst.cfg.name : "plugins[" + std::to_string(inst.cfg.index) + "]";
+  const std::string field = inst.builtin ? inst.cfg.name : inst.cfg.field;
   run_configure(inst, setup.config.file, field);
   check_unknown_params(inst, setup.log);
   apply_remaps_and_trigger(inst, setup.config.file, field);
 }
 
 void isolate_instance(Instance& inst, const InstanceSetup& setup) {
-  const IsolationSpec spec{setup.config.file, inst.cfg.name, inst.lib->info().path, setup.seed,
-                           static_cast<Nanos>(setup.config.watchdog.hard_ms * 1e6)};
+  const IsolationSpec spec{
+      setup.config.file,      inst.cfg.name, inst.lib->info().path, setup.seed, static_cast<Nanos>(setup.config.watchdog.hard_ms * 1e6),
+      setup.config.fleet_part};
   try {
     auto proxy = std::make_unique<IsolatedPlugin>(std::move(inst.plugin), *inst.ctx, spec);
     inst.isolated = proxy.get();
     inst.plugin = std::move(proxy);
   } catch (const ConfigError& e) {
-    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + "plugins[" + std::to_string(inst.cfg.index) +
-                      "].isolate: " + e.what());
+    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + inst.cfg.field + ".isolate: " + e.what());
   }
 }
 
@@ -191,7 +187,7 @@ std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::
 // `plugin: external`: ports that are DDS topics (external_plugin.hpp), no library.
 std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const InstanceConfig& ic) {
   const fs::path& f = setup.config.file;
-  const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  const std::string field = ic.field;
   ExternalSpec spec = parse_external_spec(ic, f);
   spec.lockstep = !setup.realtime;
   if (!external_link_factory())
@@ -220,7 +216,7 @@ std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const In
 std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const InstanceConfig& ic, bool replaying,
                                           const std::vector<fs::path>& search, std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
   const fs::path& f = setup.config.file;
-  const std::string field = "plugins[" + std::to_string(ic.index) + "]";
+  const std::string field = ic.field;
   if (is_external(ic)) return replaying ? nullptr : external_instance(setup, ic);
   auto inst = std::make_unique<Instance>();
   inst->cfg = ic;

@@ -14,8 +14,6 @@
 
 namespace tern::core {
 
-namespace {
-
 fs::path new_run_dir(const fs::path& parent, const std::string& mission) {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};
@@ -26,6 +24,8 @@ fs::path new_run_dir(const fs::path& parent, const std::string& mission) {
   for (int k = 2; fs::exists(dir); ++k) dir = parent / fmt::format("{}-{}-{}", stamp, mission, k);
   return dir;
 }
+
+namespace {
 
 // One row of <topic>_items.csv: a waypoint of a logged waypoint list.
 struct WaypointItem {
@@ -59,9 +59,9 @@ std::string param_text(const ParamValue& v) {
 
 }  // namespace
 
-FlightRecorder::FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
+FlightRecorder::FlightRecorder(const fs::path& run_dir, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
                                FlightLog::ErrorHandler on_error, FlightLog::Format format)
-    : log_(new_run_dir(parent, mission), std::move(on_error), format), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
+    : log_(run_dir, std::move(on_error), format), sinks_(std::move(sinks)), last_flush_(wall_ns()) {
   file_sink_ = log_.text_sink("tern.log");
   sinks_->add_sink(file_sink_);
 }

@@ -33,13 +33,17 @@
 
 namespace tern::core {
 
+/// A new run directory under `parent` for mission `mission`: "<UTC stamp>-<mission>", with "-2",
+/// "-3" ... when it exists (not created here).
+fs::path new_run_dir(const fs::path& parent, const std::string& mission);
+
 class FlightRecorder {
  public:
-  /// Creates the run directory under `parent` for mission `mission` and adds its tern.log to
-  /// `sinks` (where the host's logger and the instances' write). Throws ConfigError if the
-  /// directory cannot be created. `on_error` hears the log's first write error (once).
-  FlightRecorder(const fs::path& parent, const std::string& mission, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks,
-                 FlightLog::ErrorHandler on_error, FlightLog::Format format = {});
+  /// Creates the run directory `run_dir` (new_run_dir()) and adds its tern.log to `sinks` (where
+  /// the host's logger and the instances' write). Throws ConfigError if the directory cannot be
+  /// created. `on_error` hears the log's first write error (once).
+  FlightRecorder(const fs::path& run_dir, std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks, FlightLog::ErrorHandler on_error,
+                 FlightLog::Format format = {});
   ~FlightRecorder();  ///< removes tern.log from the sinks (flushed), closes the log
   FlightRecorder(const FlightRecorder&) = delete;
   FlightRecorder& operator=(const FlightRecorder&) = delete;

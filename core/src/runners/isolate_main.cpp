@@ -24,6 +24,7 @@
 
 #include "config/config.hpp"
 #include "config/error.hpp"
+#include "fleet/fleet_config.hpp"
 #include "flight/instances.hpp"
 #include "runners/isolation_channel.hpp"
 #include "flight/loader.hpp"
@@ -61,7 +62,10 @@ class Child {
  public:
   Child(Header& h, char* base) : h_(h), base_(base) {}
 
-  void build(const fs::path& config_file, const std::string& instance, const fs::path& library, std::uint64_t seed);
+  /// `part`: a multi-vehicle mission's vehicle or "coordination" (fleet_config.hpp), "" for a
+  /// one-vehicle mission.
+  void build(const fs::path& config_file, const std::string& part, const std::string& instance, const fs::path& library,
+             std::uint64_t seed);
   /// Runs commands until quit.
   void serve();
 
@@ -81,8 +85,9 @@ class Child {
   std::vector<std::unique_ptr<ChannelOutput>> sources_;  // per input
 };
 
-void Child::build(const fs::path& config_file, const std::string& instance, const fs::path& library, std::uint64_t seed) {
-  config_ = load_config(config_file);
+void Child::build(const fs::path& config_file, const std::string& part, const std::string& instance, const fs::path& library,
+                  std::uint64_t seed) {
+  config_ = part.empty() ? load_config(config_file) : load_fleet_part(config_file, part);
   const InstanceConfig* ic = nullptr;
   for (const auto& c : config_.plugins)
     if (c.name == instance) ic = &c;
@@ -216,8 +221,8 @@ void Child::serve() {
 
 int main(int argc, char** argv) {
   using namespace tern::core;
-  if (argc != 6) {
-    std::fprintf(stderr, "tern-isolate: started by the tern host only (FD CONFIG INSTANCE LIBRARY SEED)\n");
+  if (argc != 7) {
+    std::fprintf(stderr, "tern-isolate: started by the tern host only (FD CONFIG INSTANCE LIBRARY SEED FLEET_PART)\n");
     return 2;
   }
   const int fd = std::atoi(argv[1]);
@@ -234,7 +239,7 @@ int main(int argc, char** argv) {
   auto& h = *static_cast<isolation::Header*>(map);
   Child child(h, static_cast<char*>(map));
   try {
-    child.build(argv[2], argv[3], argv[4], std::stoull(argv[5]));
+    child.build(argv[2], argv[6], argv[3], argv[4], std::stoull(argv[5]));
   } catch (const std::exception& e) {
     h.failed = 1;
     isolation::put_text(h.text, isolation::kTextBytes, e.what());

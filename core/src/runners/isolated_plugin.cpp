@@ -127,8 +127,9 @@ void IsolatedPlugin::map_segment() {
 
 void IsolatedPlugin::spawn() {
   const fs::path exe = isolate_binary();
-  const std::vector<std::string> args = {exe.string(),   std::to_string(kChildFd), spec_.config_file.string(),
-                                         spec_.instance, spec_.library.string(),   std::to_string(spec_.seed)};
+  const std::vector<std::string> args = {exe.string(),    std::to_string(kChildFd), spec_.config_file.string(),
+                                         spec_.instance,  spec_.library.string(),   std::to_string(spec_.seed),
+                                         spec_.fleet_part};
   std::vector<char*> argv;
   for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);

@@ -50,11 +50,12 @@ namespace fs = std::filesystem;
 
 /// What the child needs to build the same instance.
 struct IsolationSpec {
-  fs::path config_file;  ///< the mission config the child loads
-  std::string instance;  ///< instance name in it
-  fs::path library;      ///< the .so the child opens (a hot-swap's private copy)
-  std::uint64_t seed;    ///< the flight's seed (the child derives the instance's as the host does)
-  Nanos hard_budget;     ///< wall time a call may take before the child is killed, ns
+  fs::path config_file;      ///< the mission config the child loads
+  std::string instance;      ///< instance name in it
+  fs::path library;          ///< the .so the child opens (a hot-swap's private copy)
+  std::uint64_t seed;        ///< the flight's seed (the child derives the instance's as the host does)
+  Nanos hard_budget;         ///< wall time a call may take before the child is killed, ns
+  std::string fleet_part{};  ///< the config's part in a multi-vehicle mission (MissionConfig::fleet_part), "" if none
 };
 
 /// A call to an isolated instance whose child died, exited or hung.
