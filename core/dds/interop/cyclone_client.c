@@ -121,7 +121,8 @@ static int read_state(dds_entity_t pp) {
   rosplane_msgs_msg_dds__State_ s;
   memset(&s, 0, sizeof s);
   if (take_one(r, &s) != 0) return -1;
-  printf("rt/%s/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", ns, s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va, s.quat.w);
+  printf("rt/%s/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", ns, s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va,
+         s.quat.w);
   return s.va > 0 ? 0 : -1;
 }
 
@@ -142,7 +143,8 @@ static int set_parameter(dds_entity_t pp) {
            &rcl_interfaces_srv_dds__SetParameters_Response__desc, &rs) != 0 ||
       rs.results._length != 1)
     return -1;
-  printf("set_parameters /%s/ctl kp 0.125: successful %d reason '%s'\n", ns, rs.results._buffer[0].successful, rs.results._buffer[0].reason);
+  printf("set_parameters /%s/ctl kp 0.125: successful %d reason '%s'\n", ns, rs.results._buffer[0].successful,
+         rs.results._buffer[0].reason);
   if (!rs.results._buffer[0].successful) return -1;
   rcl_interfaces_msg_dds__ParameterEvent_ e;
   memset(&e, 0, sizeof e);
