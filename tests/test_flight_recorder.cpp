@@ -86,13 +86,13 @@ TEST_CASE("flight recorder: run directory, config, parameter sources, topics thi
   result.flown = 400'000'000;
   fs::path dir;
   {
-    FlightRecorder rec(parent, "unit", sinks, [&](const std::string& line) { write_error = line; });
+    FlightRecorder rec(new_run_dir(parent, "unit"), sinks, [&](const std::string& line) { write_error = line; });
     dir = rec.dir();
     CHECK(dir.parent_path() == parent);
     CHECK(dir.filename().string().size() > std::string("-unit").size());
     CHECK(dir.filename().string().substr(dir.filename().string().size() - 5) == "-unit");
     {
-      FlightRecorder same_second(parent, "unit", sinks, {});  // a second run directory, never the same one
+      FlightRecorder same_second(new_run_dir(parent, "unit"), sinks, {});  // a second run directory, never the same one
       CHECK(same_second.dir() != dir);
       FlightResult closed;
       same_second.close(closed);
@@ -158,7 +158,7 @@ TEST_CASE("flight recorder: captured rows stay in memory until a flush hands the
   spdlog::logger host_log("tern", sinks);
   Sim sim;
   LogConfig log;
-  FlightRecorder rec(test_dir() / "unflushed", "unit", sinks, {});
+  FlightRecorder rec(new_run_dir(test_dir() / "unflushed", "unit"), sinks, {});
   rec.choose_topics(sim.graph, log, "/missions/m.yaml", host_log);
   sim.imu.publish(msg::Imu{});
   rec.capture(sim.graph, 0);
@@ -174,7 +174,7 @@ TEST_CASE("flight recorder: log.level summary writes no topic table") {
   Sim sim;
   LogConfig log;
   log.level = LogLevel::summary;
-  FlightRecorder rec(test_dir() / "summary_only", "unit", sinks, {});
+  FlightRecorder rec(new_run_dir(test_dir() / "summary_only", "unit"), sinks, {});
   rec.choose_topics(sim.graph, log, "/missions/m.yaml", host_log);
   sim.imu.publish(msg::Imu{});
   rec.capture(sim.graph, 0);

@@ -29,6 +29,7 @@
 #include "config/error.hpp"
 #include "flight_plan.hpp"
 #include "flight_row.hpp"
+#include "fleet/fleet_config.hpp"
 #include "flight/host.hpp"
 #include "local_pool.hpp"
 #include "progress.hpp"
@@ -143,7 +144,8 @@ int run(const Options& o) {
   core::HostOptions hopt;
   hopt.describing = true;
   hopt.quiet = true;
-  core::MissionConfig base = core::load_config(c.base);
+  // a multi-vehicle base (docs/multi-vehicle.md): the vehicles' shared stack is what is dispersed
+  core::MissionConfig base = core::is_fleet_file(c.base) ? core::fleet_stack(c.base) : core::load_config(c.base);
   core::Host host(base, hopt);
   host.build();
   ParamCatalogue params;

@@ -61,6 +61,36 @@ YAML::Node base_params(const core::InstanceConfig& ic, const ParamCatalogue& par
   return out;
 }
 
+/// A multi-vehicle base's paths (each vehicle's aircraft and mission file, the coordination's
+/// parameter files) made absolute: the flight's copy lives in another directory.
+void absolute_fleet_paths(YAML::Node& root, const fs::path& dir) {
+  const auto absolute = [&dir](YAML::Node n) {
+    if (n && n.IsScalar() && fs::path(n.Scalar()).is_relative()) n = (dir / n.Scalar()).lexically_normal().string();
+  };
+  if (root["vehicles"] && root["vehicles"].IsSequence())
+    for (YAML::Node v : root["vehicles"]) {
+      absolute(v["aircraft"]);
+      if (v["mission"] && v["mission"].IsMap()) absolute(v["mission"]["file"]);
+    }
+  if (root["coordination"] && root["coordination"].IsSequence())
+    for (YAML::Node p : root["coordination"]) absolute(p["param_file"]);
+}
+
+/// In a multi-vehicle flight the world (`world:`, fleet_config.hpp) sets the simulator's wind and
+/// turbulence: a draw of sim.wind or sim.turbulence goes there, not into the shared stack.
+void move_world_settings(YAML::Node& root, const core::MissionConfig& base) {
+  if (!root["world"] || !root["world"].IsMap()) return;
+  for (const auto& ic : base.plugins) {
+    if (ic.plugin != "sim_aero") continue;
+    YAML::Node params = root["plugins"][ic.index]["params"];
+    for (const char* key : {"wind", "turbulence"})
+      if (params[key] && root["world"][key]) {
+        root["world"][key] = YAML::Clone(params[key]);
+        params.remove(key);
+      }
+  }
+}
+
 /// The instance parameter that names the simulator's aircraft file.
 std::string aircraft_param(const ParamCatalogue& params) {
   for (const auto& [name, p] : params)
@@ -119,6 +149,7 @@ void write_flight(const CampaignFile& c, const core::MissionConfig& base, const 
     const fs::path mf(root["mission"]["file"].Scalar());
     if (mf.is_relative()) root["mission"]["file"] = (base.dir / mf).lexically_normal().string();
   }
+  absolute_fleet_paths(root, base.dir);
   std::map<std::string, YAML::Node> instance_params;  // instance -> params map
   for (const auto& ic : base.plugins) {
     root["plugins"][ic.index].remove("param_file");
@@ -139,6 +170,7 @@ void write_flight(const CampaignFile& c, const core::MissionConfig& base, const 
     }
   }
   for (const auto& ic : base.plugins) root["plugins"][ic.index]["params"] = instance_params[ic.name];
+  move_world_settings(root, base);
   write_text(
       files.config,
       fmt::format("# campaign {} ({}), flight {}: re-fly with\n#   {}\n", c.name, c.file.string(), draw.index, files.command) + emit(root));

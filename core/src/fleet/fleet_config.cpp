@@ -228,6 +228,17 @@ FleetConfig load_fleet(const fs::path& file_in) {
   return out;
 }
 
+MissionConfig fleet_stack(const fs::path& file) {
+  const FleetConfig fleet = load_fleet(file);  // every part checked
+  YAML::Node stack(YAML::NodeType::Map);
+  for (const auto& kv : fleet.root)
+    if (std::find(kFleetOnly.begin(), kFleetOnly.end(), kv.first.as<std::string>()) == kFleetOnly.end()) stack[kv.first] = kv.second;
+  stack["name"] = fleet.name;
+  MissionConfig c = config_from_yaml(stack, fleet.file);
+  c.root = fleet.root;
+  return c;
+}
+
 MissionConfig load_fleet_part(const fs::path& file, const std::string& part) {
   FleetConfig fleet = load_fleet(file);
   if (part == "coordination" && fleet.coordination) return std::move(*fleet.coordination);

@@ -65,6 +65,10 @@ bool is_fleet(const YAML::Node& root);
 bool is_fleet_file(const fs::path& file);
 /// Loads and validates a multi-vehicle mission. Throws ConfigError (one line).
 FleetConfig load_fleet(const fs::path& file);
+/// The stack every vehicle shares (plugins, phases, mission, ... without the vehicles' own keys,
+/// the world or the coordination) as a one-vehicle mission whose `root` is the whole file: what
+/// `tern campaign` reads parameters from and writes each flight's copy of. Throws ConfigError.
+MissionConfig fleet_stack(const fs::path& file);
 /// One part of it as a one-host mission: a vehicle's config (`part` its name) or the
 /// coordination's ("coordination"); what an isolated instance's child process loads. Throws
 /// ConfigError.

@@ -1,8 +1,11 @@
 // The fleet's view of its world between ticks: positions in one frame, the separation monitor
 // and its response, and the run's documents (fleet.json, summary.json).
+#include <algorithm>
 #include <fstream>
+#include <set>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "fleet/fleet.hpp"
 #include "tern/msg/all.hpp"
@@ -83,7 +86,16 @@ nlohmann::ordered_json Fleet::summary(const FleetResult& r) const {
   nlohmann::ordered_json vehicles = nlohmann::ordered_json::object();
   for (const auto& [name, f] : r.vehicles)
     vehicles[name] = {{"end_reason", f.end_reason}, {"ok", f.ok}, {"flown_s", to_seconds(f.flown)}, {"log", name}};
-  nlohmann::ordered_json out = {{"mission", config_.name}, {"seed", seed_}, {"vehicles", vehicles}};
+  // the flight's end as one word for tools that read one flight's summary (tern campaign): the
+  // vehicles' common end reason, else theirs joined ("duration,plugin_failed")
+  std::set<std::string> ends;
+  double flown = 0;
+  for (const auto& [name, f] : r.vehicles) {
+    ends.insert(f.end_reason);
+    flown = std::max(flown, to_seconds(f.flown));
+  }
+  nlohmann::ordered_json out = {{"mission", config_.name}, {"seed", seed_},          {"end_reason", fmt::format("{}", fmt::join(ends, ","))},
+                                {"duration_s", flown},      {"vehicles", vehicles}};
   out["separation"] = separation_->report();
   if (r.coordination) {
     nlohmann::ordered_json c = {{"end_reason", r.coordination->end_reason}, {"ok", r.coordination->ok}, {"log", "coordination"}};
