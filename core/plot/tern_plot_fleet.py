@@ -245,18 +245,16 @@ class Fleet:
         if not self.pairs:
             return "fewer than two vehicles with a track over a common time"
         fig, axes = self.h["new_figure"](2, "separation", [{"label": f"fleet {self.mission}"}], row_height=2.8)
-        import matplotlib
-        pair_colours = [matplotlib.colors.to_hex(c) for c in matplotlib.colormaps["tab10"].colors]
+        colour = {v["name"]: v["colour"] for v in drawn}
         closest = {}
-        for k, p in enumerate(self.pairs):
-            col = pair_colours[k % len(pair_colours)]
-            ls = ("-", "--", "-.", ":")[(k // len(pair_colours)) % 4]
+        for p in self.pairs:  # a pair's line striped in its two vehicles' colours
             name = f"{p['a']}-{p['b']}"
             for ax, kind in zip(axes, ("horizontal", "3d")):
                 d = p[kind]
                 m = int(np.nanargmin(d)) if np.isfinite(d).any() else None
                 what = f": min {d[m]:.1f} m at {p['t'][m]:.1f} s" if m is not None else ""
-                self.h["plot_ts"](ax, p["t"], d, color=col, lw=1.0, ls=ls, label=f"{name}{what}")
+                self.h["plot_ts"](ax, p["t"], d, color=colour[p["a"]], gapcolor=colour[p["b"]], ls=(0, (5, 5)), lw=1.8,
+                                  label=f"{name}{what}")
         for ax, kind in zip(axes, ("horizontal", "3d")):
             c = self.computed_closest(kind)
             closest[kind] = c
@@ -280,7 +278,7 @@ class Fleet:
             ax.set_ylim(bottom=0.0)
         self.h["finish"](fig, axes, self._time_runs(drawn), out, "separation.png",
                          "Distance between each pair of vehicles over time, horizontal and 3-D (world NED, truth when "
-                         "logged, else the estimate), each pair its colour; the closest approach of the logs "
+                         "logged, else the estimate), each pair's line striped in its two vehicles' colours; the closest approach of the logs "
                          "(triangle) and summary.json's (star, 3-D panel); summary.json's min_distance (dashed red).")
         out["figures"][-1].update({"pairs": [[p["a"], p["b"]] for p in self.pairs], "closest": closest,
                                    "summary_closest": s, "min_distance_m": md if _number(md) else None})
