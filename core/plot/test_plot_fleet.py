@@ -304,6 +304,7 @@ class FlownFleet(unittest.TestCase):
 
 
 if __name__ == "__main__":
-    if TERN is not None:
+    if TERN is not None:  # ctest plot_fleet_flight: the flights only (plot_fleet runs the rest)
         sys.argv.pop(1)
+        unittest.main(defaultTest="FlownFleet", verbosity=2)
     unittest.main(verbosity=2)
