@@ -210,12 +210,7 @@ class Fleet:
                 ax.plot([pts[0][1], pts[1][1]], [pts[0][0], pts[1][0]], "k:", lw=1.2, zorder=6)
                 ax.plot([q[1] for q in pts], [q[0] for q in pts], "*", color="gold", mec="black", ms=15, zorder=6,
                         label=closest_label(closest))
-        ax.set_xlabel("east [m]")
-        ax.set_ylabel("north [m]")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.grid(True, lw=0.4, alpha=0.6)
-        ax.legend(loc="best", fontsize="small")
-        fig.subplots_adjust(left=0.1, right=0.97, bottom=0.07, top=0.95)
+        self.h["top_view"](fig, ax)
         self.h["save"](fig, out, "tracks.png",
                        f"Every vehicle's track, north up, in the world NED about {self.origin_what} (a vehicle's truth "
                        "when logged, else its estimate moved from its own origin into the world frame), one colour per "

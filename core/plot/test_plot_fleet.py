@@ -19,13 +19,13 @@ import json
 import math
 import os
 import shutil
-import subprocess
 import sys
 import tempfile
 import unittest
 
 from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv  # (re-executes with Debian's python3 when numpy is missing)
 from test_plot_reference import ned_to_lla  # noqa: E402  (the test's own inverse of lla_to_ned)
+from test_plot_flight import log_dir_of, run  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TERN = sys.argv[1] if __name__ == "__main__" and len(sys.argv) > 1 and not sys.argv[1].startswith("-") else None
@@ -232,17 +232,6 @@ class MalformedFleet(unittest.TestCase):
         self.assertEqual(r.returncode, 1)
         self.assertEqual(len(r.stderr.strip().splitlines()), 1, r.stderr)
         self.assertIn(os.path.join(self.fleet, "uav2") + ": not a tern run directory", r.stderr)
-
-
-def run(cmd):
-    r = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
-    if r.returncode != 0:
-        raise AssertionError(f"{' '.join(cmd)} exited {r.returncode}: {r.stderr[-2000:]}")
-    return r
-
-
-def log_dir_of(stdout):
-    return next(line.split(": ", 1)[1].strip() for line in stdout.splitlines() if line.startswith("log: "))
 
 
 @unittest.skipIf(TERN is None, "no tern given (ctest plot_fleet_flight gives it)")
