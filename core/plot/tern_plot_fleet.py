@@ -357,10 +357,10 @@ def write_fleet_index(fleet, vehicles, out):
         body.append(f'<h3 id="vehicle-{esc(v["name"])}" style="color:{v.get("colour", "#222")}">{esc(v["name"])}</h3>')
         body.append(f"<p>{_link(out['dir'], os.path.join(vout['dir'], 'index.html'), v['name'] + ': every figure and its summary tables')}"
                     f" (run directory {esc(v['run']['run_dir'])})</p>")
+        rel = [esc(os.path.relpath(os.path.join(vout["dir"], f["file"]), out["dir"])) for f in vout["figures"]]
         body.append('<div class="thumbs">' + "".join(
-            f'<a href="{esc(os.path.relpath(os.path.join(vout["dir"], f["file"]), out["dir"]))}">'
-            f'<img style="width: 32%; margin: 0 0.5% 0.5em 0" src="{esc(os.path.relpath(os.path.join(vout["dir"], f["file"]), out["dir"]))}"'
-            f' alt="{esc(v["name"])}: {esc(f["file"])}" title="{esc(f["file"])}"></a>' for f in vout["figures"]) + "</div>")
+            f'<a href="{src}"><img src="{src}" alt="{esc(v["name"])}: {esc(f["file"])}" title="{esc(f["file"])}"></a>'
+            for src, f in zip(rel, vout["figures"])) + "</div>")
     coord = os.path.join(fleet_dir, "coordination")
     if os.path.isdir(coord):
         body.append('<h2 id="coordination">Coordination</h2><p>The coordination plugins\' log: '
@@ -376,4 +376,11 @@ def write_fleet_index(fleet, vehicles, out):
     figures = out["figures"] + [dict(f, file=os.path.join(v["name"], f["file"]), vehicle=v["name"])
                                 for v in vehicles for f in v["out"]["figures"]]
     out["written"].append(write_page(out["dir"], f"fleet {fleet.get('mission', os.path.basename(fleet_dir))}",
-                                     "\n".join(body), figures))
+                                     "\n".join(body), figures, style=THUMBS))
+
+
+THUMBS = """
+.thumbs { display: flex; flex-wrap: wrap; gap: 0.5em; align-items: flex-start; margin-bottom: 1.5em; }
+.thumbs a { width: 32%; }
+.thumbs img { width: 100%; }
+"""

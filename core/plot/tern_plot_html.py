@@ -171,12 +171,13 @@ def figure_html(figures, prefix=""):
                    f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in figures)
 
 
-def write_page(out_dir, title, body, figures):
-    """out_dir/index.html (title, body) and out_dir/figures.json (figures); returns the page's path."""
+def write_page(out_dir, title, body, figures, style=""):
+    """out_dir/index.html (title, body, STYLE and `style`'s further rules) and out_dir/figures.json
+    (figures); returns the page's path."""
     esc = html.escape
     text = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>tern plot: {esc(title)}</title>
-{STYLE}</head>
+{STYLE}{"<style>" + style + "</style>" if style else ""}</head>
 <body>
 <h1>tern plot: {esc(title)}</h1>
 {body}
