@@ -141,7 +141,7 @@ class Fleet:
             v["colour"] = c
             v["track"] = self.track(v, origin)
         self.origin, self.origin_what = origin, origin_what
-        self.mission = str(fleet.get("mission", os.path.basename(os.path.dirname(out["dir"].rstrip("/")))))
+        self.mission = str(fleet.get("mission", os.path.basename(fleet["_dir"])))
         drawn = [v for v in vehicles if v["track"] is not None]
         summary = fleet.get("_summary", {})
         sep = summary.get("separation") if isinstance(summary.get("separation"), dict) else {}
