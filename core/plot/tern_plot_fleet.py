@@ -273,7 +273,8 @@ class Fleet:
             ax.set_ylim(bottom=0.0)
         self.h["finish"](fig, axes, self._time_runs(drawn), out, "separation.png",
                          "Distance between each pair of vehicles over time, horizontal and 3-D (world NED, truth when "
-                         "logged, else the estimate), each pair's line striped in its two vehicles' colours; the closest approach of the logs "
+                         "logged, else the estimate), each pair's line striped in its two vehicles' colours; the "
+                         "closest approach of the logs "
                          "(triangle) and summary.json's (star, 3-D panel); summary.json's min_distance (dashed red).")
         out["figures"][-1].update({"pairs": [[p["a"], p["b"]] for p in self.pairs], "closest": closest,
                                    "summary_closest": s, "min_distance_m": md if _number(md) else None})
@@ -355,7 +356,8 @@ def write_fleet_index(fleet, vehicles, out):
     for v in vehicles:
         vout = v["out"]
         body.append(f'<h3 id="vehicle-{esc(v["name"])}" style="color:{v.get("colour", "#222")}">{esc(v["name"])}</h3>')
-        body.append(f"<p>{_link(out['dir'], os.path.join(vout['dir'], 'index.html'), v['name'] + ': every figure and its summary tables')}"
+        page = _link(out["dir"], os.path.join(vout["dir"], "index.html"), v["name"] + ": every figure and its summary tables")
+        body.append(f"<p>{page}"
                     f" (run directory {esc(v['run']['run_dir'])})</p>")
         rel = [esc(os.path.relpath(os.path.join(vout["dir"], f["file"]), out["dir"])) for f in vout["figures"]]
         body.append('<div class="thumbs">' + "".join(

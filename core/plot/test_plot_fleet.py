@@ -23,7 +23,8 @@ import sys
 import tempfile
 import unittest
 
-from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv  # (re-executes with Debian's python3 when numpy is missing)
+# (test_tern_plot re-executes with Debian's python3 when numpy is missing)
+from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv
 from test_plot_reference import ned_to_lla  # noqa: E402  (the test's own inverse of lla_to_ned)
 from test_plot_flight import log_dir_of, run  # noqa: E402
 
