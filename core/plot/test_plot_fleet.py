@@ -24,7 +24,7 @@ import tempfile
 import unittest
 
 # (test_tern_plot re-executes with Debian's python3 when numpy is missing)
-from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv
+from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, TP, np, png_size, run_plot, write_csv
 from test_plot_reference import ned_to_lla  # noqa: E402  (the test's own inverse of lla_to_ned)
 from test_plot_flight import log_dir_of, run  # noqa: E402
 
@@ -277,7 +277,6 @@ class FlownFleet(unittest.TestCase):
         import tern_plot_fleet as TF
         import tern_plot_log as TL
         src = os.path.join(self.fleet, "uav2")
-        TP = sys.modules["tern_plot"]
         ctx = TP.load_run(src, False)
         ctx["truth"] = None
         fleet = TF.Fleet({"est": TP.est, "last_origin": TP.last_origin})
