@@ -19,6 +19,7 @@ import json
 import math
 import os
 import shutil
+import subprocess
 import sys
 import tempfile
 import unittest
@@ -253,7 +254,11 @@ class FlownFleet(unittest.TestCase):
         shutil.copytree(b, os.path.join(cls.fleet, "uav2"))
         with open(os.path.join(cls.fleet, "fleet.json"), "w") as f:
             json.dump({"mission": "two", "seed": 1, "vehicles": ["uav1", "uav2"], "coordination": False}, f)
-        cls.r = run([sys.executable, SCRIPT, cls.fleet])
+        path = os.path.dirname(os.path.abspath(TERN)) + os.pathsep + os.environ.get("PATH", "")
+        cls.r = subprocess.run([sys.executable, SCRIPT, cls.fleet], capture_output=True, text=True, timeout=300,
+                               env=dict(os.environ, PATH=path))  # uav2's tables: tern export csv, tern on PATH
+        if cls.r.returncode != 0:
+            raise AssertionError(f"tern plot exited {cls.r.returncode}: {cls.r.stderr[-2000:]}")
         cls.plots = os.path.join(cls.fleet, "plots")
 
     @classmethod
