@@ -153,37 +153,52 @@ def replay_report_tables(runs):
     return out
 
 
-def write_index(runs, out):
+STYLE = """<style>
+body { font-family: sans-serif; margin: 1.5em; color: #222; }
+table { border-collapse: collapse; margin: 0 0 1.5em 0; font-size: 0.9em; }
+caption { text-align: left; font-weight: bold; padding: 0.3em 0; }
+th, td { border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; vertical-align: top; }
+img { max-width: 100%; border: 1px solid #ddd; }
+figure { margin: 0 0 2em 0; }
+figcaption { font-size: 0.9em; color: #444; }
+</style>"""
+
+
+def figure_html(figures, prefix=""):
+    """<figure> elements of out["figures"] entries, images at prefix + file (relative)."""
     esc = html.escape
-    title = " vs ".join(r["label"] for r in runs)
-    runs_list = "".join(f"<li>{esc(r['label'])}: {esc(r['run_dir'])}</li>" for r in runs)
-    replay = replay_report_tables(runs)
-    figs = "".join(f'<figure id="{esc(f["file"])}"><img src="{esc(f["file"])}" alt="{esc(f["file"])}">'
-                   f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in out["figures"])
+    return "".join(f'<figure id="{esc(prefix + f["file"])}"><img src="{esc(prefix + f["file"])}" alt="{esc(f["file"])}">'
+                   f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in figures)
+
+
+def write_page(out_dir, title, body, figures, style=""):
+    """out_dir/index.html (title, body, STYLE and `style`'s further rules) and out_dir/figures.json
+    (figures); returns the page's path."""
+    esc = html.escape
     text = f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>tern plot: {esc(title)}</title>
-<style>
-body {{ font-family: sans-serif; margin: 1.5em; color: #222; }}
-table {{ border-collapse: collapse; margin: 0 0 1.5em 0; font-size: 0.9em; }}
-caption {{ text-align: left; font-weight: bold; padding: 0.3em 0; }}
-th, td {{ border: 1px solid #ccc; padding: 0.2em 0.6em; text-align: left; vertical-align: top; }}
-img {{ max-width: 100%; border: 1px solid #ddd; }}
-figure {{ margin: 0 0 2em 0; }}
-figcaption {{ font-size: 0.9em; color: #444; }}
-</style></head>
+{STYLE}{"<style>" + style + "</style>" if style else ""}</head>
 <body>
 <h1>tern plot: {esc(title)}</h1>
-<ul>{runs_list}</ul>
+{body}
+</body></html>
+"""
+    path = os.path.join(out_dir, "index.html")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    with open(os.path.join(out_dir, "figures.json"), "w", encoding="utf-8") as f:
+        json.dump(figures, f, indent=1)
+    return path
+
+
+def write_index(runs, out):
+    esc = html.escape
+    runs_list = "".join(f"<li>{esc(r['label'])}: {esc(r['run_dir'])}</li>" for r in runs)
+    replay = replay_report_tables(runs)
+    body = f"""<ul>{runs_list}</ul>
 <h2>Summary</h2>
 {"".join(summary_tables(runs))}
 {"<h2>Replay report</h2>" + "".join(replay) if replay else ""}
 <h2>Figures</h2>
-{figs}
-</body></html>
-"""
-    path = os.path.join(out["dir"], "index.html")
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(text)
-    with open(os.path.join(out["dir"], "figures.json"), "w", encoding="utf-8") as f:
-        json.dump(out["figures"], f, indent=1)
-    out["written"].append(path)
+{figure_html(out["figures"])}"""
+    out["written"].append(write_page(out["dir"], " vs ".join(r["label"] for r in runs), body, out["figures"]))

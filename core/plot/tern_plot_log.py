@@ -21,11 +21,12 @@ CRUISE = 2  # msg::Phase::cruise
 # ----------------------------------------------------------------------------------------------
 
 NOTES = []
+NOTE_SCOPE = [""]  # what the notes are about when several run directories are drawn (a fleet's "uav1: ")
 
 
 def note(msg):
-    NOTES.append(msg)
-    print(f"{PROG}: note: {msg}")
+    NOTES.append(NOTE_SCOPE[0] + msg)
+    print(f"{PROG}: note: {NOTE_SCOPE[0]}{msg}")
 
 
 # ----------------------------------------------------------------------------------------------

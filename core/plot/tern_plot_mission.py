@@ -27,15 +27,24 @@ def _ecef(lat_deg, lon_deg, alt):
                      (n * (1.0 - e2) + alt) * math.sin(lat)])
 
 
-def lla_to_ned(lla, origin):
-    """Geodetic (deg, deg, m) -> NED (m) about origin (deg, deg, m), WGS84 local tangent plane."""
-    d = _ecef(*lla) - _ecef(*origin)
+def ecef_to_ned_rotation(origin):
+    """The 3 x 3 rotation from ECEF axes to the NED axes of the local tangent plane at origin
+    (deg, deg, m): ned = R @ (ecef - ecef(origin))."""
     lat, lon = math.radians(origin[0]), math.radians(origin[1])
     sl, cl, so, co = math.sin(lat), math.cos(lat), math.sin(lon), math.cos(lon)
-    e = -so * d[0] + co * d[1]
-    n = -sl * co * d[0] - sl * so * d[1] + cl * d[2]
-    u = cl * co * d[0] + cl * so * d[1] + sl * d[2]
-    return [n, e, -u]
+    return np.array([[-sl * co, -sl * so, cl], [-so, co, 0.0], [-cl * co, -cl * so, -sl]])
+
+
+def lla_to_ned(lla, origin):
+    """Geodetic (deg, deg, m) -> NED (m) about origin (deg, deg, m), WGS84 local tangent plane."""
+    return [float(x) for x in ecef_to_ned_rotation(origin) @ (_ecef(*lla) - _ecef(*origin))]
+
+
+def ned_to_ned(ned, origin, to_origin):
+    """Points (N x 3, NED about origin) -> NED about to_origin: exact through ECEF (the two
+    tangent planes' tilt included), both origins (deg, deg, m) on WGS84."""
+    rot = ecef_to_ned_rotation(to_origin) @ ecef_to_ned_rotation(origin).T
+    return np.asarray(ned, dtype=float) @ rot.T + np.array(lla_to_ned(origin, to_origin))
 
 
 def _triple(v):

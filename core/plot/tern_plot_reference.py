@@ -153,12 +153,7 @@ class Overlays:
             ax.plot(r["ref_ned"][1], r["ref_ned"][0], color=C_REF, lw=0.9, label="reference", zorder=2)
         if r["gnss_ned"] is not None:
             ax.plot(r["gnss_ned"][1], r["gnss_ned"][0], ".", color=C_GNSS, ms=2, label="GNSS fixes", zorder=1)
-        ax.set_xlabel("east [m]")
-        ax.set_ylabel("north [m]")
-        ax.set_aspect("equal", adjustable="datalim")
-        ax.grid(True, lw=0.4, alpha=0.6)
-        ax.legend(loc="best", fontsize="small")
-        fig.subplots_adjust(left=0.1, right=0.97, bottom=0.07, top=0.95)
+        self.h["top_view"](fig, ax)
         self.h["save"](fig, out, "replay_track.png", "Track, north up (m, the estimate's NED about its origin): tern's "
                        "estimate, the reference's and the GNSS fixes' lat/lon converted into it.",
                        legend=ax.get_legend_handles_labels()[1])
