@@ -6,7 +6,8 @@
 #      least one conflict, and the `hold` response flown: uav2 ends the flight higher than it began;
 #   3. a crash contained: uav2's isolated filter dies (SIGSEGV) at t = 5 s; uav2's flight ends
 #      "plugin_failed", uav1 flies to the end, the fleet's exit status is 1 and its summary says so;
-#   4. bad input: two vehicles with one name, one line naming the file and the field.
+#   4. bad input: two vehicles with one name, a vehicle without a mission: one line naming the
+#      file and the field.
 # usage: test_fleet.sh TERN REPO_DIR PYTHON3 TEST_PLUGIN_DIR
 set -euo pipefail
 tern=$1 repo=$2 python=$3 test_plugins=$4
@@ -80,6 +81,10 @@ PY
 
 # 4. bad input: one line, the file and the field
 sed 's/name: uav2/name: uav1/' "$work/crash.yaml" > "$work/twice.yaml"
-if "$tern" check "$work/twice.yaml" > "$work/twice.out" 2>&1; then echo "FAIL: two vehicles named uav1 accepted"; exit 1; fi
+if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/twice.yaml" > "$work/twice.out" 2>&1; then echo "FAIL: two vehicles named uav1 accepted"; exit 1; fi
 grep -q "twice.yaml:.*vehicles\[1\].name: vehicle name 'uav1' is used twice" "$work/twice.out" || { cat "$work/twice.out"; echo "FAIL: error line"; exit 1; }
+grep -v '^mission:' "$work/crash.yaml" > "$work/nomission.yaml"
+if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/nomission.yaml" > "$work/nomission.out" 2>&1; then echo "FAIL: a vehicle without a mission accepted"; exit 1; fi
+grep -q "nomission.yaml:.*vehicles\[0\] (uav1): no mission" "$work/nomission.out" || { cat "$work/nomission.out"; echo "FAIL: error line"; exit 1; }
+[ "$(wc -l < "$work/nomission.out")" -eq 1 ] || { cat "$work/nomission.out"; echo "FAIL: more than one line"; exit 1; }
 echo "PASS"

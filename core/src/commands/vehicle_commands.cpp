@@ -14,6 +14,7 @@
 #include "commands/commands.hpp"
 #include "commands/dds_command.hpp"
 #include "dds_bridge.hpp"
+#include "fleet/fleet_config.hpp"
 #include "flight/host.hpp"
 #include "topic_tools.hpp"
 
@@ -25,6 +26,7 @@ namespace {
 struct ClientOptions {
   std::string config;  ///< a mission config whose dds: gives domain, namespace, interfaces and peers
   std::string ns = "tern";
+  std::string vehicle;  ///< a multi-vehicle mission's vehicle (docs/multi-vehicle.md): its namespace
   std::uint32_t domain = 0;
   double timeout = 3.0;  ///< s
   std::optional<std::uint64_t> request_id;
@@ -37,6 +39,7 @@ CLI::App* add_client(CLI::App& app, const std::string& name, const std::string& 
   c->add_option("--domain", o.domain, "DDS domain id of the vehicle")->check(CLI::Range(0, 232));
   c->add_option("--namespace", o.ns, "vehicle namespace")->capture_default_str();
   c->add_option("--config", o.config, "take domain, namespace, interfaces and peers from this mission config's dds:");
+  c->add_option("--vehicle", o.vehicle, "a multi-vehicle mission's vehicle: its namespace (with --config: that vehicle's dds:)");
   c->add_option("--timeout", o.timeout, "seconds to wait for the vehicle")->capture_default_str()->check(CLI::Range(0.001, 86400.0));
   // 1 .. 2^63-1: the ids a vehicle remembers (answered_requests.hpp); another would be applied again
   c->add_option("--request-id", o.request_id, "repeat a request that timed out with the id its error gave (applied once)")
@@ -51,11 +54,15 @@ CLI::App* add_client(CLI::App& app, const std::string& name, const std::string& 
 int with_client(const CLI::App* c, const ClientOptions& o, const std::function<int(DdsClient&)>& action) {
   DdsOptions dopt;
   if (!o.config.empty()) {
-    const MissionConfig mc = load_config(o.config);
+    if (is_fleet_file(o.config) && o.vehicle.empty())
+      return fail(o.config + ": a multi-vehicle mission: name the vehicle (--vehicle NAME)");
+    const MissionConfig mc = is_fleet_file(o.config) ? load_fleet_part(o.config, o.vehicle) : load_config(o.config);
     dopt = parse_dds_options(mc.dds, mc.file);
   }
   if (c->count("--domain")) dopt.domain = o.domain;
   if (c->count("--namespace") || o.config.empty()) dopt.ns = o.ns;
+  // a fleet's vehicle is bridged under its name, below the mission's namespace when one is given
+  if (!o.vehicle.empty() && o.config.empty()) dopt.ns = c->count("--namespace") && !o.ns.empty() ? o.ns + "/" + o.vehicle : o.vehicle;
   try {
     apply_client_security(dopt, o.keystore, o.enclave);
     DdsClient client(dopt, std::chrono::milliseconds(static_cast<long>(o.timeout * 1000)));

@@ -34,8 +34,10 @@ struct ParamSetting {
 };
 
 struct InstanceConfig {
-  std::size_t index = 0;               ///< position in `plugins:`
-  std::string field;                   ///< where it is in the file: "plugins[2]" ("coordination[0]" in a fleet's)
+  std::size_t index = 0;  ///< position in `plugins:`
+  std::string field;      ///< where it is in the file: "plugins[2]" ("coordination[0]" in a fleet's)
+  /// `field`, or "plugins[<index>]" when none was set.
+  std::string label() const { return field.empty() ? "plugins[" + std::to_string(index) + "]" : field; }
   std::string name;                    ///< instance name
   std::string plugin;                  ///< plugin name or a path to a .so
   std::optional<double> rate;          ///< Hz

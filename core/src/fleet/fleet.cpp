@@ -1,5 +1,6 @@
 #include "fleet/fleet.hpp"
 
+#include <chrono>
 #include <cstdio>
 
 #include <fmt/format.h>
@@ -139,7 +140,7 @@ void Fleet::check_coordination_ports(const std::vector<std::unique_ptr<Instance>
   std::vector<std::string> names;
   for (const auto& v : vehicles_) names.push_back(v.name);
   for (const auto& inst : list) {
-    const std::string who = config_.file.string() + ": " + inst->cfg.field + " (" + inst->cfg.name + ")";
+    const std::string who = config_.file.string() + ": " + inst->cfg.label() + " (" + inst->cfg.name + ")";
     const auto vehicle_of = [&](const PortBase& p) -> const Vehicle* {
       const auto [vehicle, topic] = split_topic(p.topic());
       if (vehicle.empty()) return nullptr;
@@ -174,6 +175,7 @@ FleetResult Fleet::fly() {
     v.active = v.host->begin_flight();
     if (!v.active) v.result = v.host->end_flight();
   }
+  const auto t0 = std::chrono::steady_clock::now();
   bool coordinating = coordination_ && coordination_->begin_flight();
   std::optional<FlightResult> coord_result;
   if (coordination_ && !coordinating) coord_result = coordination_->end_flight();
@@ -201,6 +203,7 @@ FleetResult Fleet::fly() {
     if (coordinating) forward_edits();
   }
   if (coordinating) coord_result = coordination_->end_flight("vehicles_ended");
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (auto& v : vehicles_) r.vehicles.emplace_back(v.name, v.result);
   r.coordination = coord_result;
   r.summary = summary(r);

@@ -50,6 +50,7 @@ struct FleetResult {
   std::vector<std::pair<std::string, FlightResult>> vehicles;  ///< in `vehicles:` order
   std::optional<FlightResult> coordination;
   nlohmann::ordered_json summary;  ///< what summary.json holds
+  double wall_s = 0;               ///< wall time of the flight, first tick to last (timing.json)
   bool ok() const;                 ///< every vehicle's and the coordination's flight ok
 };
 

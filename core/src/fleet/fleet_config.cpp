@@ -138,7 +138,8 @@ VehicleConfig load_vehicle(const YAML::Node& root, const YAML::Node& v, const fs
   out.config.fleet_part = out.name;
   const std::string who = out.field + " (" + out.name + ")";
   if (out.config.aircraft.empty()) throw ConfigError(where(f, v) + who + ": no aircraft (aircraft: here or for every vehicle at the top)");
-  if (!out.config.mission) throw ConfigError(where(f, v) + who + ": no mission (mission: here or for every vehicle at the top)");
+  if (!out.config.mission || out.config.mission.IsNull())
+    throw ConfigError(where(f, v) + who + ": no mission (mission: here or for every vehicle at the top)");
   apply_world(out.config, root["world"], f);
   apply_initial(out.config, v["initial"], f, out.field);
   apply_params(out.config, v["params"], f, out.field);

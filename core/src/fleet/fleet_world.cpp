@@ -94,8 +94,11 @@ nlohmann::ordered_json Fleet::summary(const FleetResult& r) const {
     ends.insert(f.end_reason);
     flown = std::max(flown, to_seconds(f.flown));
   }
-  nlohmann::ordered_json out = {{"mission", config_.name}, {"seed", seed_},          {"end_reason", fmt::format("{}", fmt::join(ends, ","))},
-                                {"duration_s", flown},      {"vehicles", vehicles}};
+  nlohmann::ordered_json out = {{"mission", config_.name},
+                                {"seed", seed_},
+                                {"end_reason", fmt::format("{}", fmt::join(ends, ","))},
+                                {"duration_s", flown},
+                                {"vehicles", vehicles}};
   out["separation"] = separation_->report();
   if (r.coordination) {
     nlohmann::ordered_json c = {{"end_reason", r.coordination->end_reason}, {"ok", r.coordination->ok}, {"log", "coordination"}};
@@ -116,8 +119,16 @@ void Fleet::write_documents(const FleetResult& r) const {
   const nlohmann::ordered_json fleet = {
       {"mission", config_.name}, {"config", config_.file.string()},          {"seed", seed_},
       {"vehicles", names},       {"coordination", coordination_ != nullptr}, {"format", "tern fleet run 1"}};
-  for (const auto& [file, doc] :
-       {std::pair<const char*, const nlohmann::ordered_json*>{"fleet.json", &fleet}, {"summary.json", &r.summary}}) {
+  // wall-clock figures apart from summary.json (which is the same bytes for the same flight)
+  double vehicle_s = 0;
+  for (const auto& [name, f] : r.vehicles) vehicle_s += to_seconds(f.flown);
+  const double flight_s = r.summary.value("duration_s", 0.0);
+  const nlohmann::ordered_json timing = {{"wall_s", r.wall_s},
+                                         {"real_time_factor", r.wall_s > 0 ? flight_s / r.wall_s : 0.0},
+                                         {"vehicle_seconds_per_wall_s", r.wall_s > 0 ? vehicle_s / r.wall_s : 0.0}};
+  for (const auto& [file, doc] : {std::pair<const char*, const nlohmann::ordered_json*>{"fleet.json", &fleet},
+                                  {"summary.json", &r.summary},
+                                  {"timing.json", &timing}}) {
     const fs::path tmp = run_dir_ / (std::string(file) + ".tmp");
     std::ofstream out(tmp);
     out << doc->dump(2) << "\n";

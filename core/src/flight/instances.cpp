@@ -145,7 +145,7 @@ void configure_instance(Instance& inst, const InstanceSetup& setup) {
   log->set_level(spdlog::level::info);
   inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing);
   inst.plugin->attach(inst.ctx.get());
-  const std::string field = inst.builtin ? inst.cfg.name : inst.cfg.field;
+  const std::string field = inst.builtin ? inst.cfg.name : inst.cfg.label();
   run_configure(inst, setup.config.file, field);
   check_unknown_params(inst, setup.log);
   apply_remaps_and_trigger(inst, setup.config.file, field);
@@ -160,7 +160,7 @@ void isolate_instance(Instance& inst, const InstanceSetup& setup) {
     inst.isolated = proxy.get();
     inst.plugin = std::move(proxy);
   } catch (const ConfigError& e) {
-    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + inst.cfg.field + ".isolate: " + e.what());
+    throw ConfigError(where(setup.config.file, inst.cfg.node["isolate"]) + inst.cfg.label() + ".isolate: " + e.what());
   }
 }
 
@@ -187,7 +187,7 @@ std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::
 // `plugin: external`: ports that are DDS topics (external_plugin.hpp), no library.
 std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const InstanceConfig& ic) {
   const fs::path& f = setup.config.file;
-  const std::string field = ic.field;
+  const std::string field = ic.label();
   ExternalSpec spec = parse_external_spec(ic, f);
   spec.lockstep = !setup.realtime;
   if (!external_link_factory())
@@ -216,7 +216,7 @@ std::unique_ptr<Instance> external_instance(const InstanceSetup& setup, const In
 std::unique_ptr<Instance> config_instance(const InstanceSetup& setup, const InstanceConfig& ic, bool replaying,
                                           const std::vector<fs::path>& search, std::map<fs::path, std::shared_ptr<PluginLibrary>>& libs) {
   const fs::path& f = setup.config.file;
-  const std::string field = ic.field;
+  const std::string field = ic.label();
   if (is_external(ic)) return replaying ? nullptr : external_instance(setup, ic);
   auto inst = std::make_unique<Instance>();
   inst->cfg = ic;

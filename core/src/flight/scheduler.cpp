@@ -142,7 +142,8 @@ Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate
       if (r > base || rounded < 1 || std::fabs(ratio - rounded) > 1e-9 * rounded || period == 0 ||
           period != out.base_period * static_cast<Nanos>(rounded)) {
         throw ConfigError(
-            where(file, ic->node["rate"]) + ic->field + ".rate: " + fmt::format("{} Hz cannot be served by the base rate {} Hz", r, base) +
+            where(file, ic->node["rate"]) + ic->label() +
+            ".rate: " + fmt::format("{} Hz cannot be served by the base rate {} Hz", r, base) +
             fmt::format(
                 " (the base rate must be a whole multiple of every rate: {} / {} = {:.4g}); use a rate that divides {} Hz or `trigger:`",
                 base, r, ratio, base));

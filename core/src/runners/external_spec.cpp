@@ -91,7 +91,7 @@ const std::vector<std::string>& external_keys() {
 
 ExternalSpec parse_external_spec(const InstanceConfig& ic, const fs::path& file) {
   const YAML::Node& n = ic.node;
-  const std::string field = ic.field;
+  const std::string field = ic.label();
   ExternalSpec s;
   s.instance = ic.name;
   if (n["role"]) {
