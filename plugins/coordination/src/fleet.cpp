@@ -56,7 +56,7 @@ bool FleetPlugin::phase_ok(std::size_t i) {
   return in.has_value() && in->phase == msg::Phase::cruise;
 }
 
-std::optional<Observed> FleetPlugin::observe(std::size_t i) {
+std::optional<Observed> FleetPlugin::observe(std::size_t i, bool for_start) {
   const auto& in = ports_[i]->state;
   if (!in.has_value()) return std::nullopt;
   const msg::State& x = *in;
@@ -66,7 +66,7 @@ std::optional<Observed> FleetPlugin::observe(std::size_t i) {
     fleet_.warned_nan[i] = true;
     return std::nullopt;
   }
-  if (!phase_ok(i)) return std::nullopt;
+  if (for_start && !phase_ok(i)) return std::nullopt;
   const GeoPoint g = GeoOrigin(x.origin_lat, x.origin_lon, x.origin_alt).to_geodetic(Eigen::Vector3d(x.p_n, x.p_e, x.p_d));
   Observed o;
   o.ned = frame().to_ned(g);

@@ -48,9 +48,10 @@ class FleetPlugin : public Plugin {
   const std::string& vehicle(std::size_t i) const { return names_[i]; }
   /// Index of vehicle `name`, or nullopt.
   std::optional<std::size_t> index_of(const std::string& name) const;
-  /// Vehicle i's estimate in the common frame, or nullopt while it is not ready: no state yet,
-  /// not valid, no origin, not in cruise (start_phase), or a non-finite field (warned once).
-  std::optional<Observed> observe(std::size_t i);
+  /// Vehicle i's estimate in the common frame, or nullopt while it is not usable: no state yet,
+  /// not valid, no origin, or a non-finite field (warned once); with `for_start`, also while it
+  /// is not in cruise (start_phase = cruise: the gate of the start only, not of what follows).
+  std::optional<Observed> observe(std::size_t i, bool for_start);
   /// The common frame (from the `origin` parameter).
   GeoOrigin frame() const;
   /// A waypoint at `ned` (common frame, m) as lat/lon/alt.

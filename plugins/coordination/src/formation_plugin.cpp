@@ -71,7 +71,8 @@ int FormationPlugin::follower_number(std::size_t i) const {
 void FormationPlugin::step(Nanos now) {
   const double t = to_seconds(now);
   std::vector<std::optional<Observed>> obs(vehicle_count());
-  for (std::size_t i = 0; i < obs.size(); ++i) obs[i] = observe(i);
+  const bool starting = !flight_.t_start.has_value();
+  for (std::size_t i = 0; i < obs.size(); ++i) obs[i] = observe(i, starting);
   if (!flight_.t_start)
     start_formation(t, obs);
   else

@@ -76,7 +76,8 @@ VehicleKinematics RendezvousPlugin::kinematics(const Observed& o) {
 void RendezvousPlugin::step(Nanos now) {
   const double t = to_seconds(now);
   std::vector<std::optional<Observed>> obs(vehicle_count());
-  for (std::size_t i = 0; i < obs.size(); ++i) obs[i] = observe(i);
+  const bool starting = !flight_.T.has_value();
+  for (std::size_t i = 0; i < obs.size(); ++i) obs[i] = observe(i, starting);
   if (!flight_.T) {
     if (!plan_all(t, obs) && !flight_.waiting_logged) log().info("t = {:.1f} s: waiting for every vehicle to be ready", t);
     flight_.waiting_logged = true;

@@ -139,6 +139,12 @@ TEST_CASE("rendezvous plugin: start_phase cruise waits for every vehicle's cruis
   h.set_input("uav3/flight_phase", ph);
   h.step(tern::from_seconds(2.0));
   CHECK(summary_of(h.plugin()).at("rendezvous_T") > 100.0);
+  // the phase gates the start only: uav1 out of cruise still arrives
+  ph.phase = tern::msg::Phase::loiter;
+  h.set_input("uav1/flight_phase", ph);
+  h.set_input("uav1/state", state_at(0, {-10, 0, -100}, 0.0));
+  h.step(tern::from_seconds(3.0));
+  CHECK(summary_of(h.plugin()).at("arrival_uav1") == 3.0);
 }
 
 namespace {
