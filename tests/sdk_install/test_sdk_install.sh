@@ -6,7 +6,7 @@
 #     package, `tern` and its extensions, the stock plugins, configs and templates are there,
 #     and the installed `tern` runs from the prefix (RPATH $ORIGIN/../lib).
 #  2. `tern new-plugin` (through the installed `tern`) writes one project of every kind; they are
-#     built out of tree against the prefix alone (one CMake project holding the six, to build
+#     built out of tree against the prefix alone (one CMake project holding the seven, to build
 #     them in one go) and their ctest runs (unit tests, `tern check` and a 10 s `tern fly` of
 #     each mission snippet).
 #  3. The generated controller flies the default mission's first leg: the installed default
@@ -15,7 +15,7 @@
 #     the start of cruise, waypoints 0 and 1 are passed in order, the fallback never engages and
 #     the largest cross-track on the lines stays under 25 m.
 # WORK_DIR (default: BUILD_DIR/sdk_install_test, emptied first, removed on success) keeps
-# everything for a look. The six projects build at -O1 (this checks that they build, test and
+# everything for a look. The seven projects build at -O1 (this checks that they build, test and
 # fly, not how fast) and through ccache with CCACHE_BASEDIR, so that a re-run is quick.
 set -euo pipefail
 
@@ -64,7 +64,7 @@ esac
 grep -q "$prefix/$libdir/tern/plugins" "$work/plugins.txt" || fail "installed tern does not search $prefix/$libdir/tern/plugins"
 
 step "generate one plugin of every kind with the installed tern new-plugin"
-kinds="controller estimator path_follower path_manager io generic"
+kinds="controller estimator path_follower path_manager io generic coordination"
 mkdir -p "$work/plugins"
 {
   echo "cmake_minimum_required(VERSION 3.20)"
@@ -84,7 +84,7 @@ if "$prefix/bin/tern" new-plugin Bad-Name --kind generic --dir "$work/bad" 2> /d
 if "$prefix/bin/tern" new-plugin ok --kind nope --dir "$work/bad" 2> /dev/null; then fail "an unknown kind was accepted"; fi
 if "$prefix/bin/tern" new-plugin ok --kind io --dir "$work/plugins/io" 2> /dev/null; then fail "a non-empty directory was overwritten"; fi
 
-step "build the six projects out of tree against the prefix"
+step "build the seven projects out of tree against the prefix"
 gen=()
 command -v ninja > /dev/null && gen=(-G Ninja)
 launcher=()
@@ -108,7 +108,7 @@ cmake --build "$work/plugins/build" -j 2 > "$work/build.log" 2>&1 || { grep -B2 
 if grep -q 'warning:' "$work/build.log"; then grep -m5 'warning:' "$work/build.log"; fail "the generated projects compile with warnings"; fi
 ctest --test-dir "$work/plugins/build" --output-on-failure -j 2 > "$work/ctest.log" 2>&1 || { cat "$work/ctest.log"; fail "ctest of the generated projects"; }
 n_tests="$(grep -c 'Test *#' "$work/ctest.log" || true)"
-[ "$n_tests" -eq 18 ] || { cat "$work/ctest.log"; fail "expected 18 tests of the generated projects, ran $n_tests"; }
+[ "$n_tests" -eq 21 ] || { cat "$work/ctest.log"; fail "expected 21 tests of the generated projects, ran $n_tests"; }
 for k in $kinds; do
   [ -f "$work/plugins/build/plugins/libtern_my_$k.so" ] || fail "libtern_my_$k.so not built in build/plugins"
 done
@@ -182,5 +182,5 @@ for f in actuators.png estimation_errors.png index.html; do
   [ -s "$run/plots/$f" ] || { cat "$work/plot.log"; fail "tern plot wrote no plots/$f"; }
 done
 
-echo "PASS: SDK installed, 6 template kinds built and tested out of tree, generated controller flew the default mission's first leg"
+echo "PASS: SDK installed, 7 template kinds built and tested out of tree, generated controller flew the default mission's first leg"
 [ $keep -eq 1 ] || rm -rf "$work"
