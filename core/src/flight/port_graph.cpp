@@ -1,5 +1,7 @@
 #include "flight/port_graph.hpp"
 
+#include <algorithm>
+
 #include <map>
 
 #include <fmt/format.h>
@@ -16,6 +18,7 @@ PortGraph::PortGraph(const std::vector<PortNode>& nodes, const std::vector<const
   std::vector<std::string> written;
   for (const auto& t : topics_)
     if (!t.writers.empty()) written.push_back(t.name);
+  for (const OutputBase* out : host_outputs) written.push_back(out->topic());  // offer() checks their readers
   for (auto& t : topics_) {
     check_writers(t, nodes, file);
     check_readers(t, written, file);
@@ -74,7 +77,7 @@ void PortGraph::check_readers(const GraphTopic& t, const std::vector<std::string
   for (auto& [i, in] : t.readers) {
     const std::string who = port_id(i, *in);
     if (t.writers.empty()) {
-      if (in->need() == Need::optional) continue;
+      if (in->need() == Need::optional || std::find(written.begin(), written.end(), t.name) != written.end()) continue;
       throw ConfigError(
           fmt::format("{}: input '{}' (topic '{}', {}) has no producer: no instance publishes '{}'{}; "
                       "add a plugin that does or remap the input",

@@ -106,19 +106,36 @@ void RendezvousPlugin::detect_arrivals(double t, const std::vector<std::optional
   for (std::size_t i = 0; i < obs.size(); ++i) {
     Vehicle& v = flight_.v[i];
     if (v.arrived || !obs[i] || !v.commanded) continue;
-    if ((obs[i]->ned.head<2>() - point2()).norm() > arrival_radius_()) continue;
+    // the arrival is the passage: the least horizontal distance to the point while within
+    // arrival_radius, taken when the distance grows again (or the vehicle leaves the circle)
+    const double d = (obs[i]->ned.head<2>() - point2()).norm();
+    if (d <= arrival_radius_() && d <= v.closest) {
+      v.closest = d;
+      v.closest_t = t;
+      continue;
+    }
+    if (v.closest_t < 0.0) continue;
     v.arrived = true;
-    v.arrival_t = t;
-    log().info("t = {:.1f} s: {} arrived ({:+.1f} s from T), loitering over its slot", t, vehicle(i), t - *flight_.T);
+    v.arrival_t = v.closest_t;
+    msg::Waypoint stay = lla_waypoint(slot(i));
+    stay.type = msg::Waypoint::loiter;
+    stay.loiter_radius = loiter_radius_();
+    stay.Va_d = config().Va_nominal;
+    queue_add(i, stay, true);
+    log().info("t = {:.1f} s: {} arrived (passed {:.1f} m from the point {:+.1f} s from T), loitering over its slot", v.arrival_t,
+               vehicle(i), v.closest, v.arrival_t - *flight_.T);
   }
 }
+
+/// Arrived, or inside the arrival circle on its passage: no longer planned for.
+bool RendezvousPlugin::passing(const Vehicle& v) { return v.arrived || v.closest_t >= 0.0; }
 
 void RendezvousPlugin::replan(double t, const std::vector<std::optional<Observed>>& obs) {
   flight_.last_replan = t;
   const RendezvousConfig cfg = config();
   std::vector<VehicleKinematics> transit;
   for (std::size_t i = 0; i < obs.size(); ++i)
-    if (obs[i] && !flight_.v[i].arrived && t >= flight_.v[i].hold_end) transit.push_back(kinematics(*obs[i]));
+    if (obs[i] && !passing(flight_.v[i]) && t >= flight_.v[i].hold_end) transit.push_back(kinematics(*obs[i]));
   const double T = arrival_time_slip(t, *flight_.T, transit, point2(), cfg);
   const bool slipped = T > *flight_.T + cfg.time_tolerance;
   if (slipped) {
@@ -127,7 +144,7 @@ void RendezvousPlugin::replan(double t, const std::vector<std::optional<Observed
   }
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const Vehicle& v = flight_.v[i];
-    if (!obs[i] || v.arrived) continue;
+    if (!obs[i] || passing(v)) continue;
     if (slipped) {
       command(i, t, *obs[i]);
       continue;
@@ -138,15 +155,22 @@ void RendezvousPlugin::replan(double t, const std::vector<std::optional<Observed
   }
 }
 
+/// m: how far past the point the commanded leg goes on (longer than a replan period's flight).
+constexpr double kBeyond = 400.0;
+
 void RendezvousPlugin::command(std::size_t i, double t, const Observed& o) {
   const RendezvousConfig cfg = config();
   const VehicleCommand c = command_for(t, *flight_.T, kinematics(o), point2(), cfg);
   Vehicle& v = flight_.v[i];
   msg::Waypoint target = lla_waypoint(slot(i));
   target.Va_d = c.Va_d;
-  msg::Waypoint stay = target;
-  stay.type = msg::Waypoint::loiter;
-  stay.loiter_radius = loiter_radius_();
+  // A waypoint beyond the point on the line from where the leg starts: the path manager's fillet
+  // at the point is then straight (the vehicle passes through it, not inside a corner's cut);
+  // after its arrival the vehicle is sent to loiter over its slot.
+  const Vec2 from = c.hold_time > 0.0 ? c.hold_center : Vec2(o.ned.head<2>());
+  const Vec2 ahead = direction_to(from, point2(), o.chi);
+  msg::Waypoint stay = lla_waypoint(slot(i) + Eigen::Vector3d(ahead.x(), ahead.y(), 0.0) * kBeyond);
+  stay.Va_d = c.Va_d;
   if (c.hold_time > 0.0) {
     msg::Waypoint hold = lla_waypoint({c.hold_center.x(), c.hold_center.y(), slot(i).z()});
     hold.type = msg::Waypoint::loiter;

@@ -59,6 +59,8 @@ class RendezvousPlugin final : public FleetPlugin {
     bool commanded = false;
     bool arrived = false;
     double arrival_t = -1.0;                                     ///< s
+    double closest = std::numeric_limits<double>::infinity();    ///< m: within arrival_radius, the least distance yet
+    double closest_t = -1.0;                                     ///< s: when
     double Va_sent = 0.0;                                        ///< m/s, to the point
     double hold_end = -std::numeric_limits<double>::infinity();  ///< s: holding until then
   };
@@ -70,6 +72,7 @@ class RendezvousPlugin final : public FleetPlugin {
     bool waiting_logged = false;
     std::uint64_t replans = 0;
   } flight_;
+  static bool passing(const Vehicle& v);
 };
 
 }  // namespace tern::coord
