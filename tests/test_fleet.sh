@@ -6,8 +6,9 @@
 #      least one conflict, and the `hold` response flown: uav2 ends the flight higher than it began;
 #   3. a crash contained: uav2's isolated filter dies (SIGSEGV) at t = 5 s; uav2's flight ends
 #      "plugin_failed", uav1 flies to the end, the fleet's exit status is 1 and its summary says so;
-#   4. bad input: two vehicles with one name, a vehicle without a mission: one line naming the
-#      file and the field.
+#   4. bad input: two vehicles with one name, a vehicle without a mission, a coordination port on
+#      an unknown vehicle: one line naming the file and the field.
+# and 2b: the shipped coordination examples (rendezvous: three arrivals within 1 s; formation).
 # usage: test_fleet.sh TERN REPO_DIR PYTHON3 TEST_PLUGIN_DIR
 set -euo pipefail
 tern=$1 repo=$2 python=$3 test_plugins=$4
@@ -49,6 +50,24 @@ assert climb > 10.0, climb
 PY
 grep -q "uav2 holds over" "$work/a.err" || { echo "FAIL: no hold in the fleet's log"; exit 1; }
 
+# 2b. the coordination examples: the timed rendezvous (three vehicles pass the point within 1 s)
+# and the formation on one orbit, as shipped
+"$tern" fly "$repo/configs/missions/rendezvous.yaml" --log-level summary --log-dir "$work/rdv" -q > /dev/null 2>&1
+"$tern" fly "$repo/configs/missions/formation.yaml" --log-level summary --log-dir "$work/formation" -q > /dev/null 2>&1
+"$python" - "$(ls -1d "$work"/rdv/*/)" "$(ls -1d "$work"/formation/*/)" <<'PY'
+import json, math, sys
+r = json.load(open(sys.argv[1] + "summary.json"))
+f = r["coordination"]["instances"]["rendezvous"]
+print(f"rendezvous: T {f['rendezvous_T']:.1f} s, spread {f['arrival_spread']:.2f} s, closest {r['separation']['closest_approach_m']:.1f} m")
+assert f["vehicles_arrived"] == 3 and f["arrival_spread"] <= 1.0, f
+assert all(abs(f["arrival_" + v] - f["rendezvous_T"]) < 1.5 for v in ("uav1", "uav2", "uav3")), f
+assert r["coordination"]["end_reason"] == "vehicles_ended"
+m = json.load(open(sys.argv[2] + "summary.json"))
+g = m["coordination"]["instances"]["formation"]
+print(f"formation: spacing rms {g['spacing_rms']:.1f} m over {g['spacing_samples']:.0f} samples")
+assert g["spacing_samples"] > 0 and math.isfinite(g["spacing_rms"]), g
+PY
+
 # 3. a crashed vehicle contained
 cat > "$work/crash.yaml" <<YAML
 name: crash
@@ -87,4 +106,10 @@ grep -v '^mission:' "$work/crash.yaml" > "$work/nomission.yaml"
 if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/nomission.yaml" > "$work/nomission.out" 2>&1; then echo "FAIL: a vehicle without a mission accepted"; exit 1; fi
 grep -q "nomission.yaml:.*vehicles\[0\] (uav1): no mission" "$work/nomission.out" || { cat "$work/nomission.out"; echo "FAIL: error line"; exit 1; }
 [ "$(wc -l < "$work/nomission.out")" -eq 1 ] || { cat "$work/nomission.out"; echo "FAIL: more than one line"; exit 1; }
+# a coordination port that names an unknown vehicle
+sed 's|      start_phase: cruise|      start_phase: cruise\n    remap: {uav2/state: uav9/state}|' "$repo/configs/missions/rendezvous.yaml" |
+  sed "s|\.\./|$repo/configs/|g" > "$work/unknown.yaml"
+if "$tern" check "$work/unknown.yaml" > "$work/unknown.out" 2>&1; then echo "FAIL: a port on vehicle uav9 accepted"; exit 1; fi
+grep -q "unknown.yaml: coordination\[0\] (rendezvous): port 'uav2/state' (topic 'uav9/state') names an unknown vehicle 'uav9'" "$work/unknown.out" ||
+  { cat "$work/unknown.out"; echo "FAIL: error line"; exit 1; }
 echo "PASS"
