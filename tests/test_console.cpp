@@ -190,6 +190,19 @@ TEST_CASE("console telemetry: non-finite values go to the page as null, altitude
   CHECK(j.dump().find("nan") == std::string::npos);
 }
 
+TEST_CASE("console telemetry: a multi-vehicle flight's other vehicles as traffic, none without") {
+  Snapshot s;
+  CHECK_FALSE(to_json(s, false).contains("traffic"));
+  s.traffic.push_back({"uav2", 100.0, -50.0, 90.0, 1.0});
+  s.traffic.push_back({"uav3", std::nan(""), 0.0, 80.0, 0.0});
+  const auto j = to_json(s, false);
+  REQUIRE(j["traffic"].size() == 2);
+  CHECK(j["traffic"][0]["name"] == "uav2");
+  CHECK(j["traffic"][0]["p_e"] == -50.0);
+  CHECK(j["traffic"][0]["h"] == 90.0);
+  CHECK(j["traffic"][1]["p_n"].is_null());
+}
+
 TEST_CASE("console requests on a host: parameters go the way of `tern param set` into params.csv; bad ones are answered, not thrown") {
   HostOptions o;
   o.quiet = true;

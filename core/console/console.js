@@ -10,7 +10,9 @@ const $ = (id) => document.getElementById(id);
 
 // ---- connection -------------------------------------------------------------------------------
 const ws = new WebSocket(`ws://${location.host}/ws`);
-const state = { hello: null, last: null, frames: 0, trail: [], waypoints: [], manual: false };
+const state = { hello: null, last: null, frames: 0, trail: [], waypoints: [], manual: false, traffic: {} };
+// a multi-vehicle flight's other vehicles (telemetry "traffic", in this vehicle's frame): one colour each
+const TRAFFIC_COLOURS = ["#27ae60", "#8e44ad", "#d4ac0d", "#16a085", "#e67e22", "#7f8c8d", "#c2185b", "#1abc9c", "#34495e"];
 window.ternConsole = state;  // for tests and the curious
 
 ws.onopen = () => { $("link").textContent = "up"; };
@@ -78,6 +80,12 @@ function onTelemetry(m) {
     if (state.trail.length > 25 * 600) state.trail.shift();
   }
   if (m.waypoints) state.waypoints = m.waypoints.items;
+  for (const v of m.traffic || []) {
+    const t = state.traffic[v.name] || (state.traffic[v.name] = { trail: [], colour: TRAFFIC_COLOURS[Object.keys(state.traffic).length % TRAFFIC_COLOURS.length] });
+    t.trail.push([v.p_n, v.p_e]);
+    if (t.trail.length > 25 * 600) t.trail.shift();
+    t.last = v;
+  }
   $("t").textContent = m.t.toFixed(1);
   $("phase").textContent = m.phase || "–";
   const s = m.safety || {};
@@ -100,7 +108,8 @@ function onTelemetry(m) {
 // ---- ground track and attitude ----------------------------------------------------------------
 function drawTrack() {
   const cv = $("track"), g = cv.getContext("2d"), m = state.last;
-  const pts = state.waypoints.map((w) => [w[0], w[1]]).concat(state.trail.slice(-2000));
+  const others = Object.entries(state.traffic);
+  const pts = state.waypoints.map((w) => [w[0], w[1]]).concat(state.trail.slice(-2000), ...others.map(([, t]) => t.trail.slice(-2000)));
   if (m && m.path && m.path.type === "orbit") pts.push([m.path.c[0] + m.path.rho, m.path.c[1] + m.path.rho], [m.path.c[0] - m.path.rho, m.path.c[1] - m.path.rho]);
   if (!pts.length) return;
   let nmin = Math.min(...pts.map((p) => p[0])), nmax = Math.max(...pts.map((p) => p[0]));
@@ -118,6 +127,14 @@ function drawTrack() {
   g.strokeStyle = "#2471a3"; g.lineWidth = 1.5; g.beginPath();
   state.trail.forEach((p, i) => { const [x, y] = xy(p[0], p[1]); if (i) g.lineTo(x, y); else g.moveTo(x, y); });
   g.stroke(); g.lineWidth = 1;
+  for (const [name, t] of others) {
+    g.strokeStyle = t.colour; g.lineWidth = 1.5; g.beginPath();
+    t.trail.slice(-2000).forEach((p, i) => { const [x, y] = xy(p[0], p[1]); if (i) g.lineTo(x, y); else g.moveTo(x, y); });
+    g.stroke(); g.lineWidth = 1;
+    const [x, y] = xy(t.last.p_n, t.last.p_e);
+    drawAircraft(g, [x, y], t.last.psi, t.colour);
+    g.fillStyle = t.colour; g.fillText(`${name} ${Math.round(t.last.h)} m`, x + 10, y + 4);
+  }
   if (m && m.state) drawAircraft(g, xy(m.state.p_n, m.state.p_e), m.state.psi);
 }
 function drawPath(g, p, xy, k) {
@@ -126,8 +143,8 @@ function drawPath(g, p, xy, k) {
   else { const [x0, y0] = xy(p.r[0], p.r[1]); const [x1, y1] = xy(p.r[0] + 400 * p.q[0], p.r[1] + 400 * p.q[1]); g.moveTo(x0, y0); g.lineTo(x1, y1); }
   g.stroke();
 }
-function drawAircraft(g, [x, y], psi) {
-  g.save(); g.translate(x, y); g.rotate(psi); g.fillStyle = "#c0392b";
+function drawAircraft(g, [x, y], psi, colour = "#c0392b") {
+  g.save(); g.translate(x, y); g.rotate(psi); g.fillStyle = colour;
   g.beginPath(); g.moveTo(0, -9); g.lineTo(6, 7); g.lineTo(0, 3); g.lineTo(-6, 7); g.closePath(); g.fill(); g.restore();
 }
 function drawAttitude() {

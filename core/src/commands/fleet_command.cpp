@@ -66,8 +66,12 @@ std::vector<PreparedMission> prepare_fleet(FleetConfig& fc, const HostPreparatio
 }
 
 int fly_fleet(const std::string& file, const FleetFlyOptions& o) {
-  if (o.prep.console) throw ConfigError("--console: the console follows one vehicle; a multi-vehicle mission has none yet");
   FleetConfig fc = load_fleet(file);
+  std::size_t focus = 0;  // the console's vehicle
+  for (std::size_t i = 0; i < fc.vehicles.size(); ++i)
+    if (fc.vehicles[i].name == o.console_vehicle) focus = i;
+  if (!o.console_vehicle.empty() && fc.vehicles[focus].name != o.console_vehicle)
+    throw ConfigError("--console-vehicle: no vehicle named '" + o.console_vehicle + "' in " + fc.file.string());
   const std::vector<PreparedMission> prepared = prepare_fleet(fc, o.prep);
   for (const auto& m : prepared)
     if (!report_missions(check_missions(m.config))) return 1;
@@ -76,9 +80,20 @@ int fly_fleet(const std::string& file, const FleetFlyOptions& o) {
   install_signal_handlers();
   FleetResult r;
   {
-    std::vector<std::unique_ptr<TickObservers>> observers;  // each vehicle's DDS bridge, in its namespace
-    for (std::size_t i = 0; i < fleet.size(); ++i)
-      observers.push_back(std::make_unique<TickObservers>(fleet.vehicle(i), o.prep, prepared[i], o.fleet.realtime));
+    // each vehicle's DDS bridge, in its namespace; the console (one) on the focused vehicle, with
+    // the others drawn as traffic on its track
+    std::vector<std::unique_ptr<TickObservers>> observers;
+    for (std::size_t i = 0; i < fleet.size(); ++i) {
+      HostPreparation p = o.prep;
+      p.console = o.prep.console && i == focus;
+      observers.push_back(std::make_unique<TickObservers>(fleet.vehicle(i), p, prepared[i], o.fleet.realtime));
+    }
+    if (Console* console = observers[focus]->console())
+      console->set_traffic([&fleet, focus] {
+        std::vector<Traffic> out;
+        for (const auto& t : fleet.others_seen_from(focus)) out.push_back({t.name, t.ned.x(), t.ned.y(), -t.ned.z(), t.psi});
+        return out;
+      });
     r = fleet.fly();
   }
   std::printf("fleet '%s': %zu vehicles\n", fleet.config().name.c_str(), fleet.size());

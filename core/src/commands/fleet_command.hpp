@@ -15,6 +15,7 @@ namespace tern::core {
 struct FleetFlyOptions {
   FleetOptions fleet;
   HostPreparation prep;
+  std::string console_vehicle;  ///< --console-vehicle: the vehicle the console follows ("": the first)
 };
 
 /// Applies the command line (`p`) to every part of `fc` (see fleet_command.cpp for --set) and

@@ -33,6 +33,7 @@ struct FlyOptions {
   std::optional<double> duration;
   std::optional<std::string> log_dir;
   bool realtime = false, quiet = false;
+  std::string console_vehicle;  ///< a multi-vehicle mission's vehicle the console follows
   RealtimeOptions rt;
   HostPreparation prep;
 };
@@ -40,7 +41,8 @@ struct FlyOptions {
 int fly(const FlyOptions& o) {
   if (!o.config.empty() && is_fleet_file(o.config)) {
     FleetFlyOptions f{{o.seed, o.duration, o.log_dir ? std::optional<fs::path>(*o.log_dir) : std::nullopt, o.quiet, false, o.realtime},
-                      o.prep};
+                      o.prep,
+                      o.console_vehicle};
     return fly_fleet(o.config, f);
   }
   HostOptions opt;
@@ -75,6 +77,8 @@ Command add_fly_command(CLI::App& app) {
   c->add_option("--duration", o->duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   add_realtime_options(c, o->realtime, o->rt, "pace the simulated clock to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
+  c->add_option("--console-vehicle", o->console_vehicle,
+                "a multi-vehicle mission: the vehicle the console follows (default the first; the others are drawn on its track)");
   add_skip_preflight_option(c, o->prep);
   c->add_option("--log-dir", o->log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   add_log_level_option(c, o->prep);

@@ -86,6 +86,8 @@ class TickObservers {
 
   /// The console's URL with its token; empty without a console.
   std::string console_url() const;
+  /// The console, nullptr without one.
+  Console* console() const { return console_.get(); }
 
  private:
   std::unique_ptr<Console> console_;

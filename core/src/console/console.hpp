@@ -12,9 +12,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -36,6 +38,8 @@ class Console final : public ConsoleApp {
   ~Console() override;  ///< removes the tick observer
 
   std::string url() const { return server_->url(); }
+  /// A multi-vehicle flight's other vehicles, drawn on the page's track (TelemetryTap::set_traffic).
+  void set_traffic(std::function<std::vector<Traffic>()> source) { tap_.set_traffic(std::move(source)); }
 
   std::string on_open() override;
   std::optional<std::string> poll(std::uint64_t& cursor) override;

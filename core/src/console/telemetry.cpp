@@ -53,6 +53,7 @@ void TelemetryTap::take(const Host& host, Nanos now) {
     s.active = it == table.end() ? "" : it->second;
   }
   s.handover_reason = h.empty() ? "" : h.back().reason;
+  if (traffic_) s.traffic = traffic_();
   std::lock_guard lk(mu_);
   s.seq = latest_.seq + 1;
   latest_ = s;
@@ -89,6 +90,12 @@ nlohmann::json to_json(const Snapshot& s, bool with_waypoints) {
   }
   if (s.has_rc) j["rc"] = {{"override", s.rc.rc_override}, {"failsafe", s.rc.failsafe}};
   j["safety"] = {{"handovers", s.handovers}, {"active", s.active}, {"reason", s.handover_reason}};
+  if (!s.traffic.empty()) {
+    nlohmann::json t = nlohmann::json::array();
+    for (const auto& v : s.traffic)
+      t.push_back({{"name", v.name}, {"p_n", num(v.p_n)}, {"p_e", num(v.p_e)}, {"h", num(v.h)}, {"psi", num(v.psi)}});
+    j["traffic"] = t;
+  }
   if (s.has_waypoints) {
     j["waypoints_revision"] = s.waypoints.revision;
     if (with_waypoints) {

@@ -16,6 +16,7 @@
 #include <functional>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -25,6 +26,14 @@
 namespace tern::core {
 
 class Host;
+
+/// Another vehicle of a multi-vehicle flight (fleet.hpp) as the console's vehicle sees it: its
+/// estimate in the console vehicle's NED frame.
+struct Traffic {
+  std::string name;
+  double p_n = 0, p_e = 0, h = 0;  ///< m (h = -p_d, above the console vehicle's origin)
+  double psi = 0;                  ///< rad
+};
 
 struct Snapshot {
   std::uint64_t seq = 0;  ///< increases with every new snapshot (0: none yet)
@@ -41,6 +50,7 @@ struct Snapshot {
   msg::Rc rc;
   std::size_t handovers = 0;            ///< controller changes this flight
   std::string active, handover_reason;  ///< controller flying now ("": none); why the last change happened
+  std::vector<Traffic> traffic;         ///< the other vehicles of a multi-vehicle flight
 };
 
 /// The snapshot as the page reads it: {"type":"telemetry", "t": s, "state": {...}, ...}, angles
@@ -55,6 +65,9 @@ class TelemetryTap {
   std::function<void(Nanos)> observer(const Host& host);
   /// A copy of the latest snapshot (seq 0: none yet). Any thread.
   Snapshot latest() const;
+  /// The other vehicles of a multi-vehicle flight, asked on the flight thread with each snapshot
+  /// (set it between flights).
+  void set_traffic(std::function<std::vector<Traffic>()> source) { traffic_ = std::move(source); }
 
  private:
   void take(const Host& host, Nanos now);
@@ -62,6 +75,7 @@ class TelemetryTap {
   Nanos period_;
   Nanos next_ = 0;    // flight thread only
   Snapshot staging_;  // flight thread only
+  std::function<std::vector<Traffic>()> traffic_;
   mutable std::mutex mu_;
   Snapshot latest_;  // under mu_
 };

@@ -73,6 +73,16 @@ class Fleet {
   const std::string& vehicle_name(std::size_t i) const { return vehicles_[i].name; }
   Host* coordination() { return coordination_.get(); }
   std::uint64_t seed() const { return seed_; }
+  /// Where the other vehicles estimate they are, in vehicle `focus`'s own NED frame (its
+  /// estimator's origin), for a view from that vehicle (the console); vehicles without an
+  /// estimate yet, and every one while `focus` has none, are left out. Call on the flight thread
+  /// (a tick observer).
+  struct Track {
+    std::string name;
+    Eigen::Vector3d ned;  ///< m
+    double psi = 0;       ///< rad
+  };
+  std::vector<Track> others_seen_from(std::size_t focus);
 
  private:
   struct Vehicle {

@@ -47,6 +47,19 @@ std::optional<Eigen::Vector3d> Fleet::estimated_position(Vehicle& v) {
   return v.origin_offset + Eigen::Vector3d(s->p_n, s->p_e, s->p_d);
 }
 
+std::vector<Fleet::Track> Fleet::others_seen_from(std::size_t focus) {
+  std::vector<Track> out;
+  const auto self = estimated_position(vehicles_[focus]);
+  if (!self) return out;
+  for (std::size_t i = 0; i < vehicles_.size(); ++i) {
+    if (i == focus) continue;
+    const auto p = estimated_position(vehicles_[i]);
+    const msg::State* s = state_of(*vehicles_[i].host, "state");
+    if (p && s) out.push_back({vehicles_[i].name, *p - vehicles_[focus].origin_offset, s->psi});
+  }
+  return out;
+}
+
 void Fleet::watch_separation(Nanos now) {
   SeparationMonitor::Positions est(vehicles_.size()), truth(vehicles_.size());
   for (std::size_t i = 0; i < vehicles_.size(); ++i) {
