@@ -53,7 +53,6 @@ struct Host::Running {
   FlightRecorder recorder;
   FlightResult r;
   double duration;
-  std::int64_t fly_entry = 0;
   std::unique_ptr<Scheduler> clock;  // from the first tick on
   std::unique_ptr<StatusLine> status;
   bool aborted = false;
@@ -326,7 +325,6 @@ bool Host::begin_flight() {
     throw;
   }
   Running& f = *running_;
-  f.fly_entry = fly_entry;
   f.r.run_dir = f.recorder.dir();
   f.recorder.start(resolved_config_yaml(facts(f.duration)), parameters(), param_options(config_));
   f.recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
