@@ -7,6 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "tern/math.hpp"
+
 namespace tern::coord {
 
 void RendezvousPlugin::configure() {
@@ -83,6 +85,7 @@ void RendezvousPlugin::step(Nanos now) {
     flight_.waiting_logged = true;
   } else {
     detect_arrivals(t, obs);
+    end_holds(t, obs);
     if (t - flight_.last_replan >= replan_period_() - 1e-6) replan(t, obs);  // 1 us: steps summed in floating point
   }
   send_queued(now);
@@ -124,6 +127,19 @@ void RendezvousPlugin::detect_arrivals(double t, const std::vector<std::optional
     queue_add(i, stay, true);
     log().info("t = {:.1f} s: {} arrived (passed {:.1f} m from the point {:+.1f} s from T), loitering over its slot", v.arrival_t,
                vehicle(i), v.closest, v.arrival_t - *flight_.T);
+  }
+}
+
+/// A holding vehicle leaves its circle at the first step from which flying to the point at
+/// Va_nominal arrives no earlier than T - time_tolerance: where on the circle it then is, its
+/// turn onto the leg included, is what the plan's hold_time (from the circle's centre) could
+/// only guess (up to half a circle, ~ pi R / Vg), so that it can still both speed up and slow down.
+void RendezvousPlugin::end_holds(double t, const std::vector<std::optional<Observed>>& obs) {
+  const RendezvousConfig cfg = config();
+  for (std::size_t i = 0; i < obs.size(); ++i) {
+    const Vehicle& v = flight_.v[i];
+    if (!obs[i] || passing(v) || !(t < v.hold_end)) continue;
+    if (predicted_arrival(t, kinematics(*obs[i]), point2(), cfg.Va_nominal, cfg) >= *flight_.T - cfg.time_tolerance) command(i, t, *obs[i]);
   }
 }
 
@@ -176,11 +192,14 @@ void RendezvousPlugin::command(std::size_t i, double t, const Observed& o) {
     hold.type = msg::Waypoint::loiter;
     hold.loiter_radius = cfg.turn_radius;
     hold.loiter_direction = 1;
-    hold.loiter_time = c.hold_time;
+    // end_holds() ends it; the path manager leaves on its own only a circle later (a fleet
+    // without its coordination still reaches the point)
+    const double circle_time = 2.0 * kPi * cfg.turn_radius / cfg.Va_min;
+    hold.loiter_time = c.hold_time + circle_time;
     hold.Va_d = cfg.Va_min;
     queue_add(i, hold, true);
     queue_add(i, target, false);
-    v.hold_end = t + c.hold_time;
+    v.hold_end = t + hold.loiter_time;
   } else {
     queue_add(i, target, true);
     v.hold_end = -std::numeric_limits<double>::infinity();

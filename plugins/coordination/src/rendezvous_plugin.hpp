@@ -7,7 +7,10 @@
 // plugin plans the arrival time T and sends each vehicle a new list (set_current):
 //   [waypoint at slot i, Va_d]  [loiter at slot i, loiter_radius, no time limit]
 // or, for a vehicle that would be early even at Va_min,
-//   [loiter hold_time s on a circle it is already on, Va_min]  [waypoint at slot i, Va_nominal]  [loiter at slot i]
+//   [loiter on a circle it is already on, Va_min]  [waypoint at slot i, Va_nominal]  [loiter at slot i]
+// and ends the hold (a new list) at the first step from which the point at Va_nominal is reached
+// no earlier than T - time_tolerance (the circle's loiter_time, hold_time plus one circle, is the
+// manager's own way out).
 // Every replan_period it replans the vehicles in transit from fresh estimates: a new list goes
 // out only when the vehicle's predicted arrival with its current command misses T by more than
 // time_tolerance (no thrashing of the path manager); a vehicle that cannot make T even at Va_max
@@ -48,6 +51,7 @@ class RendezvousPlugin final : public FleetPlugin {
   bool plan_all(double t, const std::vector<std::optional<Observed>>& obs);
   void detect_arrivals(double t, const std::vector<std::optional<Observed>>& obs);
   void replan(double t, const std::vector<std::optional<Observed>>& obs);
+  void end_holds(double t, const std::vector<std::optional<Observed>>& obs);
   void command(std::size_t i, double t, const Observed& o);
   static VehicleKinematics kinematics(const Observed& o);
 

@@ -198,10 +198,10 @@ TEST_CASE("rendezvous plugin: flown along its commands, the vehicles arrive toge
   // arrival: the passage (the least distance to the point), at T to a step (0.1 s)
   for (const auto& v : kVehicles) CHECK(s.at("arrival_" + v) == doctest::Approx(T).epsilon(0.15 / T));
   CHECK(s.at("arrival_spread") < 1.0);
-  // the plan held: one list each and no thrashing (2 + 2 + 3 edits), then each its loiter over
-  // its slot on arriving (3)
-  CHECK(s.at("replans") == 3.0);
-  CHECK(s.at("mission_edits") == 10.0);
+  // the plan held: one list each and no thrashing (2 + 2 + 3 edits), the holding vehicle's end
+  // of hold (a list of 2, end_holds), then each its loiter over its slot on arriving (3)
+  CHECK(s.at("replans") == 4.0);
+  CHECK(s.at("mission_edits") == 12.0);
 }
 
 TEST_CASE("rendezvous plugin: a vehicle that falls behind is replanned faster") {
