@@ -59,7 +59,11 @@ void PathManager::set_config(const ManagerConfig& c) {
 }
 
 void PathManager::warn_once(const std::string& key, const std::string& text) {
-  if (warned_.insert(key).second && warn_) warn_(text);
+  if (!warned_.insert(key).second) return;  // once per list
+  // and once per flight: a coordination plugin or an operator re-sending lists of one shape
+  // (coord_rendezvous: ~130 per flight) would otherwise repeat the same notices every time
+  if (!warned_in_flight_.insert(key).second) return;
+  if (warn_) warn_(text);
 }
 
 double PathManager::airspeed(const MissionPoint& w) const {

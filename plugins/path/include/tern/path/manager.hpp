@@ -132,7 +132,8 @@ class PathManager {
     go_around,   ///< climbing out along the runway heading after a go-around
   };
 
-  /// warn: one line per degenerate case (once per list); info: mission progress.
+  /// warn: one line per degenerate case (once per flight for each case and waypoint number, so
+  /// that lists re-sent by a coordination plugin do not repeat it); info: mission progress.
   explicit PathManager(ManagerConfig config = {}, Message warn = {}, Message info = {});
 
   /// New parameters; they apply from the next segment on. Throws std::invalid_argument if a
@@ -218,7 +219,8 @@ class PathManager {
 
   ManagerConfig cfg_;
   Message warn_, info_;
-  std::set<std::string> warned_;
+  std::set<std::string> warned_;            ///< keys warned for the current list
+  std::set<std::string> warned_in_flight_;  ///< keys warned in this flight (a key warns once per flight)
 
   std::vector<MissionPoint> raw_;  ///< the list as given
   bool raw_loop_ = true;
