@@ -31,6 +31,12 @@ double spacing_error(double theta_leader, double theta_k, int k, const Formation
   return cfg.radius * wrap_pi(behind - k * cfg.spacing / cfg.radius);
 }
 
-double follower_airspeed(double e, const FormationConfig& cfg) { return saturate(cfg.Va_nominal + cfg.gain * e, cfg.Va_min, cfg.Va_max); }
+Vec2 orbit_tangent(double theta, const FormationConfig& cfg) { return cfg.direction * Vec2(-std::sin(theta), std::cos(theta)); }
+
+double follower_airspeed(double e, const OrbitPlace& leader, const OrbitPlace& follower, const FormationConfig& cfg) {
+  const double Vg_leader = ground_speed(cfg.Va_nominal, leader.wind, orbit_tangent(leader.theta, cfg));
+  const double Vg = std::max(Vg_leader + cfg.gain * e, 0.0);
+  return saturate(airspeed_for(Vg, follower.wind, orbit_tangent(follower.theta, cfg)), cfg.Va_min, cfg.Va_max);
+}
 
 }  // namespace tern::coord

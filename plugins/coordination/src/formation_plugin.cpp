@@ -22,7 +22,7 @@ void FormationPlugin::configure() {
   declare(spacing_, "spacing", d.spacing,
           ParamSpec("m", 1.0, 100000.0, "arc length between consecutive vehicles on the orbit").start_only());
   declare(altitude_offset_, "altitude_offset", 15.0, ParamSpec("m", 0.0, 500.0, "follower k flies k * this above the leader").start_only());
-  declare(gain_, "gain", d.gain, ParamSpec("1/s", 0.0, 10.0, "spacing gain K_s: airspeed change per metre of arc error").start_only());
+  declare(gain_, "gain", d.gain, ParamSpec("1/s", 0.0, 10.0, "spacing gain K_s: ground-speed change per metre of arc error").start_only());
   declare(Va_min_, "Va_min", d.Va_min, ParamSpec("m/s", 1.0, 100.0, "lowest follower airspeed").start_only());
   declare(Va_nominal_, "Va_nominal", d.Va_nominal, ParamSpec("m/s", 1.0, 100.0, "the leader's airspeed").start_only());
   declare(Va_max_, "Va_max", d.Va_max, ParamSpec("m/s", 1.0, 100.0, "highest follower airspeed").start_only());
@@ -97,21 +97,22 @@ void FormationPlugin::start_formation(double t, const std::vector<std::optional<
 void FormationPlugin::track(double t, const std::vector<std::optional<Observed>>& obs) {
   if (!obs[leader_index_]) return;
   const FormationConfig cfg = config();
-  const double theta_leader = orbit_angle(obs[leader_index_]->ned.head<2>(), cfg.center);
+  const OrbitPlace leader{orbit_angle(obs[leader_index_]->ned.head<2>(), cfg.center), obs[leader_index_]->wind};
   const bool update = t - flight_.last_update >= update_period_() - 1e-6;  // 1 us: steps summed in floating point
   const bool settled = t >= *flight_.t_start + settle_time_();
   if (update) flight_.last_update = t;
   for (std::size_t i = 0; i < obs.size(); ++i) {
     const int k = follower_number(i);
     if (k == 0 || !obs[i]) continue;
-    const double e = spacing_error(theta_leader, orbit_angle(obs[i]->ned.head<2>(), cfg.center), k, cfg);
+    const OrbitPlace follower{orbit_angle(obs[i]->ned.head<2>(), cfg.center), obs[i]->wind};
+    const double e = spacing_error(leader.theta, follower.theta, k, cfg);
     Vehicle& v = flight_.v[i];
     if (settled) {
       v.sum_sq += e * e;
       ++v.samples;
       flight_.error_max = std::max(flight_.error_max, std::fabs(e));
     }
-    const double Va = follower_airspeed(e, cfg);
+    const double Va = follower_airspeed(e, leader, follower, cfg);
     if (update && (v.Va_sent == 0.0 || std::fabs(Va - v.Va_sent) > Va_tolerance_())) send_orbit(i, k, Va);
   }
 }

@@ -33,25 +33,50 @@ TEST_CASE("formation: orbit angle and arc error, both directions") {
   CHECK(std::fabs(spacing_error(0.0, tern::kPi, 1, c)) <= tern::kPi * c.radius);
 }
 
-TEST_CASE("formation: the airspeed command is proportional and saturated") {
+TEST_CASE("formation: without wind the airspeed command is proportional and saturated") {
   FormationConfig c;
-  CHECK(follower_airspeed(0.0, c) == c.Va_nominal);
-  CHECK(follower_airspeed(20.0, c) == doctest::Approx(c.Va_nominal + c.gain * 20.0));
-  CHECK(follower_airspeed(1000.0, c) == c.Va_max);
-  CHECK(follower_airspeed(-1000.0, c) == c.Va_min);
+  const OrbitPlace l{0.3, Vec2::Zero()}, f{-0.4, Vec2::Zero()};
+  CHECK(follower_airspeed(0.0, l, f, c) == doctest::Approx(c.Va_nominal).epsilon(1e-12));
+  CHECK(follower_airspeed(20.0, l, f, c) == doctest::Approx(c.Va_nominal + c.gain * 20.0));
+  CHECK(follower_airspeed(1000.0, l, f, c) == c.Va_max);
+  CHECK(follower_airspeed(-1000.0, l, f, c) == c.Va_min);
 }
 
-TEST_CASE("formation: on a kinematic orbit two followers converge to their places") {
-  FormationConfig c;
-  double th_l = 0.0, th1 = 2.5, th2 = -1.0;  // followers far from their places
-  const double dt = 0.1;
-  for (int i = 0; i < 3000; ++i) {  // 300 s
-    const double v1 = follower_airspeed(spacing_error(th_l, th1, 1, c), c);
-    const double v2 = follower_airspeed(spacing_error(th_l, th2, 2, c), c);
-    th_l += c.direction * c.Va_nominal / c.radius * dt;
-    th1 += c.direction * v1 / c.radius * dt;
-    th2 += c.direction * v2 / c.radius * dt;
+TEST_CASE("formation: in wind the follower is given the leader's ground speed where it is") {
+  FormationConfig c;  // clockwise: at theta = 0 (north of the centre) the tangent points east
+  CHECK(orbit_tangent(0.0, c).isApprox(Vec2(0.0, 1.0)));
+  c.direction = -1;
+  CHECK(orbit_tangent(0.0, c).isApprox(Vec2(0.0, -1.0)));
+  c.direction = 1;
+  const Vec2 w(0.0, 5.0);  // 5 m/s towards the east
+  // leader at theta = 0 flies downwind (Vg 22), follower at theta = pi flies upwind: Va 27 -> Va_max
+  CHECK(follower_airspeed(0.0, {0.0, w}, {tern::kPi, w}, c) == c.Va_max);
+  // follower at pi / 2 (east of the centre, flying south): crosswind, |(-22, 0) - (0, 5)|
+  c.Va_max = 30.0;
+  CHECK(follower_airspeed(0.0, {0.0, w}, {tern::kPi / 2, w}, c) == doctest::Approx(std::hypot(22.0, 5.0)).epsilon(1e-9));
+}
+
+TEST_CASE("formation: on a kinematic orbit in wind two followers converge to their places") {
+  for (double wind : {0.0, 5.0}) {
+    FormationConfig c;  // a speed range wide enough for the wind's +-5 m/s (no saturation)
+    c.radius = 200.0;
+    c.Va_min = 8.0;
+    c.Va_max = 30.0;
+    const Vec2 w(wind, 0.0);
+    double th_l = 0.0, th1 = 2.5, th2 = -1.0;  // followers far from their places
+    const double dt = 0.1;
+    auto vg = [&](double Va, double th) { return ground_speed(Va, w, orbit_tangent(th, c)); };
+    double worst = 0.0;
+    for (int i = 0; i < 6000; ++i) {  // 600 s
+      const double v1 = follower_airspeed(spacing_error(th_l, th1, 1, c), {th_l, w}, {th1, w}, c);
+      const double v2 = follower_airspeed(spacing_error(th_l, th2, 2, c), {th_l, w}, {th2, w}, c);
+      const double g0 = vg(c.Va_nominal, th_l), g1 = vg(v1, th1), g2 = vg(v2, th2);
+      th_l += c.direction * g0 / c.radius * dt;
+      th1 += c.direction * g1 / c.radius * dt;
+      th2 += c.direction * g2 / c.radius * dt;
+      if (i > 3000) worst = std::max({worst, std::fabs(spacing_error(th_l, th1, 1, c)), std::fabs(spacing_error(th_l, th2, 2, c))});
+    }
+    CAPTURE(wind);
+    CHECK(worst < 0.5);
   }
-  CHECK(std::fabs(spacing_error(th_l, th1, 1, c)) < 0.5);
-  CHECK(std::fabs(spacing_error(th_l, th2, 2, c)) < 0.5);
 }

@@ -10,11 +10,20 @@
 // orbit is theta = atan2(e - c_e, n - c_n) (rad, the book's orbit angle, sec. 10.3); the arc
 // error
 //     e_k = rho * wrap_pi(lambda * (theta_leader - theta_k) - k * spacing / rho)       (m)
-// is > 0 when the follower is too far behind. The airspeed command is proportional:
-//     Va_k = sat(Va_leader + K_s * e_k, Va_min, Va_max)                              (m/s)
-// with K_s (1/s) the spacing gain: e_k then decays with time constant ~1/K_s while unsaturated
-// (d e_k / dt = -(Vg_k - Vg_leader) with Vg ~ Va on the same circle). The wrap keeps the error in
-// [-pi rho, pi rho): a follower more than half an orbit off closes the shorter way round.
+// is > 0 when the follower is too far behind. The arc error moves with the ground speeds,
+// d e_k / dt = Vg_leader - Vg_k, and in a wind w the ground speed along the orbit's tangent
+// t(theta) = lambda (-sin theta, cos theta) varies round the circle at one airspeed
+// (Vg = ground_speed(Va, w, t), the wind triangle of uavbook sec. 2.3): two aircraft a quarter
+// orbit apart in 5 m/s of wind differ by up to ~7 m/s. So the follower is commanded the ground
+// speed of the leader (flying Va_nominal at its own place) plus a proportional correction, and
+// the airspeed that gives it there in its own wind estimate:
+//     Vg_k = ground_speed(Va_nominal, w_leader, t(theta_leader)) + K_s * e_k
+//     Va_k = sat(airspeed_for(Vg_k, w_k, t(theta_k)), Va_min, Va_max)               (m/s)
+// with K_s (1/s) the spacing gain: e_k then decays with time constant ~1/K_s while unsaturated.
+// Without wind it is Va_k = Va_nominal + K_s e_k. (Proportional on airspeed alone, the wind's
+// periodic ground-speed difference left 41-62 m RMS of spacing error 300 m behind the leader,
+// configs/missions/formation.yaml seeds 1-5.) The wrap keeps the error in [-pi rho, pi rho): a
+// follower more than half an orbit off closes the shorter way round.
 //
 // Why an orbit and not straight lines: on one circle the followers' cross-track is the
 // follower's own business (sec. 10.3) and the formation is a one-dimensional spacing problem
@@ -45,7 +54,14 @@ struct FormationConfig {
 double orbit_angle(const Vec2& p, const Vec2& center);
 /// Arc error e_k (m) of follower k >= 1 at angle theta_k behind the leader at theta_leader.
 double spacing_error(double theta_leader, double theta_k, int k, const FormationConfig& cfg);
-/// Airspeed command Va_k (m/s) for arc error e (m).
-double follower_airspeed(double e, const FormationConfig& cfg);
+/// Unit tangent (north, east) of the orbit at angle theta in the direction of flight.
+Vec2 orbit_tangent(double theta, const FormationConfig& cfg);
+/// What the law needs of a vehicle: its orbit angle (rad) and wind estimate (north, east, m/s).
+struct OrbitPlace {
+  double theta = 0.0;
+  Vec2 wind = Vec2::Zero();
+};
+/// Airspeed command Va_k (m/s) for arc error e (m), the leader and the follower where they are.
+double follower_airspeed(double e, const OrbitPlace& leader, const OrbitPlace& follower, const FormationConfig& cfg);
 
 }  // namespace tern::coord
