@@ -123,6 +123,7 @@ void Estimator::apply_models_config() {
   gnss_vel_.sigma_h = gnss_vel_sigma_h_ = cfg_.gnss_vel_sigma_h;
   gnss_vel_.sigma_v = gnss_vel_sigma_v_ = cfg_.gnss_vel_sigma_v;
   gnss_vel_.gate = cfg_.gnss_vel_gate;
+  gnss_vel_ne_.gate = cfg_.gnss_vel_gate * kChi2_999[2] / kChi2_999[3];  // the same confidence with 2 dof
   tern::MagneticField fixed;
   fixed.declination = cfg_.mag_declination;
   fixed.inclination = cfg_.mag_inclination;
@@ -601,7 +602,12 @@ bool Estimator::add_diff_pressure(const msg::DiffPressure& m) {
   return true;
 }
 
-bool Estimator::add_gnss(const msg::Gnss& m) {
+bool Estimator::add_gnss(const msg::Gnss& fix) {
+  // Without the receiver's down velocity (use_gnss_vel_d false) the fix's vel_d is not data:
+  // everything below takes the estimate's (0 before initialisation), and the update fuses
+  // north and east only.
+  msg::Gnss m = fix;
+  if (!cfg_.use_gnss_vel_d) m.vel.z() = initialized_ ? filter_.x().v.z() : 0.0;
   if (static_cast<int>(m.fix_type) < cfg_.min_fix_type) {
     ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
     return false;
@@ -653,7 +659,8 @@ bool Estimator::add_gnss(const msg::Gnss& m) {
   // Velocity is not inflated: a rejected velocity usually means a manoeuvre the IMU model did
   // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
   // the attitude.
-  const UpdateResult rv = fuse(gnss_vel_, m.vel, t_v);
+  gnss_vel_ne_.full = gnss_vel_;  // antenna, gyro, noise
+  const UpdateResult rv = cfg_.use_gnss_vel_d ? fuse(gnss_vel_, m.vel, t_v) : fuse(gnss_vel_ne_, GnssVelocityNE::Vec(m.vel.head<2>()), t_v);
   if (recover_velocity(rv, m, p, t_v)) return true;
   if (check_yaw_with_gsf(m, p, t_v)) return true;
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.

@@ -166,7 +166,7 @@ class EstimatorEkf final : public tern::Plugin {
   std::vector<std::pair<std::string, const tern::ekf::UpdateStats*>> update_stats() const {
     const tern::ekf::Estimator& e = estimator_;
     return {{"gnss_pos", &e.gnss_position_model().stats},
-            {"gnss_vel", &e.gnss_velocity_model().stats},
+            {"gnss_vel", &e.gnss_velocity_stats()},
             {"mag", &e.mag_model().stats},
             {"mag_heading", &e.mag_heading_model().stats},
             {"baro", &e.baro_model().stats},

@@ -708,3 +708,33 @@ TEST_CASE("a good compass: the yaw GSF agrees, no reset") {
   CHECK(est.gnss_yaw_resets() == 0);
   CHECK(est.gnss_resets() == 0);
 }
+
+TEST_CASE("a GNSS without a down velocity (use_gnss_vel_d false): north and east fused, the climb not held back") {
+  // mavros' GPS_RAW_INT velocity has no down component and is written as 0 (the ALFA import)
+  const auto climb_error = [](bool use_vel_d, UpdateStats* stats) {
+    TruthSim sim(mixed_flight());  // climbs at gamma 0.1 rad (~1.7 m/s) from 60 to 75 s
+    EstimatorConfig c = truth_sim_config();
+    c.use_gnss_vel_d = use_vel_d;
+    auto est = std::make_unique<Estimator>(c);
+    Hooks h;
+    h.gnss = [](msg::Gnss& g) {
+      g.vel.z() = 0.0;
+      return true;
+    };
+    Rms vd;
+    fly(sim, *est, 75.0, h, [&](const Truth& t, const Estimator& x) {
+      if (sim.now() > 63'000'000'000) vd.add(x.filter().x().v.z() - t.v.z());
+    });
+    *stats = est->gnss_velocity_stats();
+    return vd.rms();
+  };
+  UpdateStats with_vd, without_vd;
+  const double err_fused = climb_error(true, &with_vd);
+  const double err_ne = climb_error(false, &without_vd);
+  MESSAGE("v_d RMS in the climb: vel_d = 0 fused " << err_fused << " m/s, north-east only " << err_ne << " m/s");
+  CHECK(err_ne < 0.1);
+  CHECK(err_fused > 3.0 * err_ne);
+  CHECK(without_vd.accepted > 300);
+  CHECK(without_vd.rejected == 0);
+  CHECK(without_vd.nis_count == without_vd.accepted);
+}

@@ -138,6 +138,11 @@ struct EstimatorConfig {
   double gnss_pos_accel_scale = 0.05;
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
+  /// Fuse the GNSS's down velocity. false: the receiver (or the log) has none (a sensor log's
+  /// metadata sets it, docs/sensor-log.md): the north and east rows are fused (GnssVelocityNE,
+  /// 2 dof, gate gnss_vel_gate scaled by the 2- over the 3-dof quantile) and the fix's vel_d is
+  /// not used anywhere (resets and initialisation take the estimate's, or 0).
+  bool use_gnss_vel_d = true;
   double gnss_reset_time = 5.0;     ///< s of continuous position rejection before a reset
   double gnss_recovery_time = 2.0;  ///< s: after a GNSS time-out, the position correction
                                     ///< reaches the output with this time constant
@@ -333,6 +338,8 @@ struct EstimatorConfig {
       ParamSpec("s^2", 0.0, 1.0, "GNSS position noise added per m/s^2 of manoeuvring acceleration (root-sum-square)"));
     v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
     v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)"));
+    v(&C::use_gnss_vel_d, "use_gnss_vel_d",
+      ParamSpec("", 0, 1, "fuse the GNSS down velocity (false: a receiver or log without one; north and east only)"));
     v(&C::gnss_reset_time, "gnss_reset_time",
       ParamSpec("s", 0.5, 600.0, "continuous GNSS position rejection after which the state is reset to GNSS"));
     v(&C::gnss_recovery_time, "gnss_recovery_time",
@@ -595,6 +602,8 @@ class Estimator {
   const SensorCounters& counters(Sensor s) const { return counters_[static_cast<int>(s)]; }
   const GnssPosition& gnss_position_model() const { return gnss_pos_; }
   const GnssVelocity& gnss_velocity_model() const { return gnss_vel_; }
+  /// The counters of the GNSS velocity model in use (3-D, or north-east without use_gnss_vel_d).
+  const UpdateStats& gnss_velocity_stats() const { return cfg_.use_gnss_vel_d ? gnss_vel_.stats : gnss_vel_ne_.stats; }
   const Magnetometer& mag_model() const { return mag_; }
   const MagHeading& mag_heading_model() const { return mag_heading_; }
   const BaroAltitude& baro_model() const { return baro_; }
@@ -671,6 +680,7 @@ class Estimator {
   Filter filter_;
   GnssPosition gnss_pos_;
   GnssVelocity gnss_vel_;
+  GnssVelocityNE gnss_vel_ne_;  ///< gnss_vel_'s north and east rows, without use_gnss_vel_d
   Magnetometer mag_;
   MagHeading mag_heading_;
   BaroAltitude baro_;

@@ -67,6 +67,16 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
   Noise noise(const NominalState& x) const;
 };
 
+/// GNSS velocity of a receiver or log without the vertical component (mavros' GPS_RAW_INT, a
+/// ground speed and course alone): z = the north and east rows of GnssVelocity (its h, H and
+/// noise; `full` holds the antenna, the gyro and sigma_h, its sigma_v is unused). 2 dof.
+struct GnssVelocityNE : Measurement<GnssVelocityNE, 2> {
+  GnssVelocity full;
+  Vec h(const NominalState& x) const { return full.h(x).head<2>(); }
+  Jac jacobian(const NominalState& x) const { return full.jacobian(x).topRows<2>(); }
+  Noise noise(const NominalState& x) const { return full.noise(x).topLeftCorner<2, 2>(); }
+};
+
 /// The unit field direction in NED from declination D (east of north) and inclination I (down
 /// from horizontal), rad: (cos I cos D, cos I sin D, sin I).
 Vec3 field_direction_ned(double declination, double inclination);
