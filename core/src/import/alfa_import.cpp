@@ -176,10 +176,10 @@ void import_gnss(const Inputs& in, Nanos t0, SensorLogWriter& out, ImportReport&
     if (order.accept(g.stamp)) out.write("gnss", g);
   }
   order.report(in.fix, report);
-  report.warnings.push_back(fmt::format(
-      "{}: no vertical velocity (GPS_RAW_INT has none; mavros writes z = 0): vel_d is 0 in every fix, and sensor_log.yaml "
-      "sets the estimator's use_gnss_vel_d false",
-      in.gps_vel.filename().string()));
+  report.warnings.push_back(
+      fmt::format("{}: no vertical velocity (GPS_RAW_INT has none; mavros writes z = 0): vel_d is 0 in every fix, and sensor_log.yaml "
+                  "sets the estimator's use_gnss_vel_d false",
+                  in.gps_vel.filename().string()));
   report.warnings.push_back(
       fmt::format("{}: altitude is mavros' height above the WGS-84 ellipsoid (about 33 m below mean sea level near "
                   "Pittsburgh), not above mean sea level",
