@@ -274,6 +274,11 @@ TEST_CASE("alfa: the Carbon-Z engine-failure flight, from its tar.gz as shipped"
   CHECK(r.rows.at("reference") == 544 + 544);  // odometry rows and global-position rows
   CHECK(has_warning(r, "the IMU is logged at 10.0 Hz"));
   CHECK(has_warning(r, "no vertical velocity"));
+  {  // what the log implies for the estimator: no down velocity, the field's default GNSS latency
+    const YAML::Node y = YAML::LoadFile((log / "sensor_log.yaml").string());
+    CHECK(y["estimator"]["use_gnss_vel_d"].as<bool>() == false);
+    CHECK(y["estimator"]["gnss_delay"].as<double>() == 0.11);
+  }
 
   // time zero: the earliest first header stamp, nav_info/airspeed's 1531943810860078371 ns
   constexpr std::int64_t t0 = 1531943810860078371;
