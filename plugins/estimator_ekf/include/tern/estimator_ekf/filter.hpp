@@ -464,21 +464,18 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
     ++model.stats.consecutive_rejected;
     return UpdateResult::rejected;
   }
-  // K = P H^T S^-1 = (S^-1 H P)^T (P and S symmetric).
-  const Eigen::Matrix<double, kErrDim, M> K = llt.solve(HP).transpose();
-  const ErrVec dx = K * y;
+  // With S = L L^T (Cholesky) and W = L^-1 H P (M x n): K = P H^T S^-1 = W^T L^-1, and the
+  // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, expanded P - K H P - (K H P)^T + K S K^T,
+  // is, for this (optimal) K, P - K H P = P - W^T W: a rank-M product, O(n^2 M) instead of
+  // O(n^3). Column by column, vectorised over the rows, P(:, j) -= W^T W(:, j): element (i, j)
+  // and (j, i) take the same products in the same order, so P stays exactly symmetric (the
+  // (P + P^T) / 2 of the file comment) without a mirror.
+  const Eigen::Matrix<double, M, kErrDim> W = llt.matrixL().solve(HP);
+  const ErrVec dx = W.transpose() * llt.matrixL().solve(y);
   x_ = boxplus(x_, dx);
   correction_sum_ += dx;
-  // Joseph form P = (I - K H) P (I - K H)^T + K R K^T, expanded: P - K (H P) - (K (H P))^T +
-  // K S K^T, S = H P H^T + R. With this K, the optimal gain, K S = (H P)^T, so the last two
-  // terms cancel and it is P - K (H P): a rank-M product, O(n^2 M) instead of O(n^3). (The
-  // expanded Joseph terms only added K's rounding, ~1e-16 relative, at twice the cost.) On the
-  // upper triangle, column by column, vectorised over the rows:
-  //   d(0..j, j) = -K(0..j, :) (H P)(:, j),
-  // then mirrored, which keeps P exactly symmetric (the (P + P^T) / 2 of the file comment).
   for (int j = 0; j < kErrDim; ++j)
-    for (int m = 0; m < M; ++m) P_.col(j).head(j + 1) -= HP(m, j) * K.col(m).head(j + 1);
-  P_.template triangularView<Eigen::StrictlyLower>() = P_.transpose();
+    for (int m = 0; m < M; ++m) P_.col(j) -= W(m, j) * W.row(m).transpose();
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
