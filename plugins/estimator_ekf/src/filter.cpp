@@ -69,7 +69,9 @@ void Filter::step_covariance() {
   //  3. on M x M, Phi B is formed from B's columns of M with Phi's blocks and symmetrised.
   // A few thousand multiply-adds instead of 2 kErrDim^3 for dense products.
   Cov& P = P_;
-  symmetrize(P);  // steps 2 and 3 take P's columns for its rows (a reset's blocks may differ by an ulp)
+  // steps 2 and 3 take P's columns for its rows (a reset's blocks may differ by an ulp)
+  if (!P_symmetric_) symmetrize(P);
+  P_symmetric_ = true;
   const double T = f.dt;
   const double fe = std::exp(-f.gnss_error_k * T), fw = std::exp(-f.vertical_wind_rate * T);
   // 1. Columns (order matters: each block uses the old values of the blocks after it).

@@ -308,6 +308,7 @@ class Filter {
   void initialize(const NominalState& x0, const Cov& P0) {
     x_ = x0;
     P_ = P0;
+    P_symmetric_ = false;
     pending_ = Pending{};
   }
 
@@ -398,6 +399,7 @@ class Filter {
   NominalState& mutable_x() { return x_; }
   Cov& mutable_P() {
     step_covariance();
+    P_symmetric_ = false;  // the caller's blocks may differ from their mirror by an ulp
     return P_;
   }
 
@@ -419,6 +421,9 @@ class Filter {
 
   NominalState x_;
   Cov P_ = Cov::Identity();
+  /// P_ exactly symmetric: update(), step_covariance(), inflate() and limit_variance() keep it
+  /// so; initialize() and mutable_P() may not (step_covariance() then symmetrises first).
+  bool P_symmetric_ = true;
   ErrVec correction_sum_ = ErrVec::Zero();
   double covariance_period_ = 0.0;
   Pending pending_;
