@@ -60,9 +60,11 @@ void PathManager::set_config(const ManagerConfig& c) {
 
 void PathManager::warn_once(const std::string& key, const std::string& text) {
   if (!warned_.insert(key).second) return;  // once per list
-  // and once per flight: a coordination plugin or an operator re-sending lists of one shape
-  // (coord_rendezvous: ~130 per flight) would otherwise repeat the same notices every time
-  if (!warned_in_flight_.insert(key).second) return;
+  // and at most once per kRewarnInterval: a coordination plugin re-sending lists of one shape
+  // (coord_rendezvous: every few seconds) would otherwise repeat the same notices every time
+  const auto last = warned_at_.find(key);
+  if (last != warned_at_.end() && now_ - last->second < kRewarnInterval) return;
+  warned_at_[key] = now_;
   if (warn_) warn_(text);
 }
 
@@ -556,6 +558,7 @@ PathSegment PathManager::land_segment(const Entry& e) const {
 }
 
 PathSegment PathManager::update(const Vec3& p, double chi, double t) {
+  now_ = t;
   if (!p.allFinite()) {
     warn_once("state", "aircraft position is not finite: keeping the current segment");
     return have_last_ ? last_ : current_segment();

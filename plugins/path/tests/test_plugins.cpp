@@ -269,21 +269,25 @@ TEST_CASE("manager: a two-waypoint loop doubles back 180 degrees: fly over, turn
   CHECK(in_cycle_order(g.manager.passed(), 2));
 }
 
-TEST_CASE("manager: a list re-sent in flight does not repeat its warnings; a new case still warns") {
+TEST_CASE("manager: a list re-sent every 2 s warns once a minute; a new case warns at once") {
   Flight f;
-  // coord_rendezvous re-sends a two-waypoint list of one shape every few seconds
-  for (int k = 0; k < 5; ++k) {
-    f.manager.set_waypoints(points({{0, 0, -70}, {500.0 + 10.0 * k, 0, -70}}), true);
-    f.run(20.0);
+  // coord_rendezvous re-sends a two-waypoint list of one shape every few seconds, flown at once
+  for (int k = 0; k < 20; ++k) {  // 40 s
+    f.manager.set_waypoints(points({{0, 0, -70}, {500.0 + 10.0 * k, 0, -70}}), true, true);
+    f.run(2.0);
   }
   CHECK(f.finite);
   CHECK(f.count_warnings("two-waypoint mission") == 1);
   const std::size_t seen = f.warnings.size();
-  // a list with a case not seen yet in this flight still warns
-  f.manager.set_waypoints(points({{0, 0, -70}, {0, 0, -70}, {300, 0, -70}, {0, 60, -70}}), true);
-  f.run(20.0);
+  // a list with a case not seen yet warns at once
+  f.manager.set_waypoints(points({{0, 0, -70}, {0, 0, -70}, {300, 0, -70}, {0, 60, -70}}), true, true);
+  f.run(30.0);
   CHECK(f.count_warnings("repeats") == 1);
   CHECK(f.warnings.size() > seen);
+  // a minute after its last warning, the two-waypoint case warns again
+  f.manager.set_waypoints(points({{0, 0, -70}, {700, 0, -70}}), true, true);
+  f.run(2.0);
+  CHECK(f.count_warnings("two-waypoint mission") == 2);
 }
 
 TEST_CASE("manager: a corner too sharp for the fillet radius is flown over") {

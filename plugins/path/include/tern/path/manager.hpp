@@ -63,6 +63,7 @@
 
 #include <functional>
 #include <optional>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -132,8 +133,9 @@ class PathManager {
     go_around,   ///< climbing out along the runway heading after a go-around
   };
 
-  /// warn: one line per degenerate case (once per flight for each case and waypoint number, so
-  /// that lists re-sent by a coordination plugin do not repeat it); info: mission progress.
+  /// warn: one line per degenerate case (once per list, and for each case and waypoint number at
+  /// most once a minute, so that lists re-sent by a coordination plugin do not repeat it every
+  /// time); info: mission progress.
   explicit PathManager(ManagerConfig config = {}, Message warn = {}, Message info = {});
 
   /// New parameters; they apply from the next segment on. Throws std::invalid_argument if a
@@ -219,8 +221,10 @@ class PathManager {
 
   ManagerConfig cfg_;
   Message warn_, info_;
-  std::set<std::string> warned_;            ///< keys warned for the current list
-  std::set<std::string> warned_in_flight_;  ///< keys warned in this flight (a key warns once per flight)
+  std::set<std::string> warned_;                ///< keys warned for the current list
+  std::map<std::string, double> warned_at_;      ///< when each key last warned, s (update()'s t)
+  double now_ = 0.0;                             ///< s, the last update()'s t
+  static constexpr double kRewarnInterval = 60.0;  ///< s: a later list repeats a case's warning after this long
 
   std::vector<MissionPoint> raw_;  ///< the list as given
   bool raw_loop_ = true;
