@@ -221,9 +221,9 @@ class PathManager {
 
   ManagerConfig cfg_;
   Message warn_, info_;
-  std::set<std::string> warned_;                ///< keys warned for the current list
-  std::map<std::string, double> warned_at_;      ///< when each key last warned, s (update()'s t)
-  double now_ = 0.0;                             ///< s, the last update()'s t
+  std::set<std::string> warned_;                   ///< keys warned for the current list
+  std::map<std::string, double> warned_at_;        ///< when each key last warned, s (update()'s t)
+  double now_ = 0.0;                               ///< s, the last update()'s t
   static constexpr double kRewarnInterval = 60.0;  ///< s: a later list repeats a case's warning after this long
 
   std::vector<MissionPoint> raw_;  ///< the list as given
