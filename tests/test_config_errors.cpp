@@ -32,7 +32,7 @@ TEST_CASE("unknown keys suggest the closest valid one") {
   CHECK(e.find(":9:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
 }
 
-TEST_CASE("log.format and log.chunk_size: one line naming the key and the value") {
+TEST_CASE("log.format, log.chunk_size, log.ros_channels: one line naming the key and the value") {
   auto with_log = [](const std::string& log) {
     std::string y = base_config();
     return y.replace(y.find("log: {max_rate: 0}"), 18, "log: {" + log + "}");
@@ -40,6 +40,8 @@ TEST_CASE("log.format and log.chunk_size: one line naming the key and the value"
   CHECK(build_error(with_log("format: mcap, chunk_size: 65536")) == "");
   CHECK(build_error(with_log("format: parquet")).find(":4:15: log.format: expected csv, mcap or both, got 'parquet'") != std::string::npos);
   CHECK(build_error(with_log("chunk_size: 10")).find("log.chunk_size: must be 1024 to 1073741824 bytes, got 10") != std::string::npos);
+  CHECK(build_error(with_log("format: mcap, ros_channels: false")) == "");
+  CHECK(build_error(with_log("ros_channels: maybe")).find("log.ros_channels: expected true or false, got 'maybe'") != std::string::npos);
 }
 
 TEST_CASE("plugin not found prints the search path") {

@@ -15,6 +15,7 @@
 #include "record/mcap_csv_export.hpp"
 #include "record/mcap_reader.hpp"
 #include "record/mcap_recover.hpp"
+#include "record/ros_channels.hpp"
 #include "tern/msg/all.hpp"
 #include "test_util.hpp"
 
@@ -164,6 +165,29 @@ TEST_CASE("mcap: log.format mcap writes no topic table; csv writes no MCAP file"
   const fs::path c = write_log("csv_only", {}, 100, 0);
   CHECK(!fs::exists(c / "flight.mcap"));
   CHECK(fs::exists(c / "topics" / "imu.csv"));
+}
+
+TEST_CASE("mcap: log.ros_channels false writes tern's own channels only") {
+  // a stand-in for tern_dds's lookup: imu gets a ROS-typed copy
+  set_ros_channel_lookup([](std::string_view topic, std::string_view) -> std::optional<RosChannel> {
+    if (topic != "imu") return std::nullopt;
+    return RosChannel{"/tern/imu/data", "test_msgs/msg/Stamp", "int64 stamp\n", [](const void* m, std::vector<std::string>& out) {
+                        out.emplace_back(reinterpret_cast<const char*>(m), sizeof(Nanos));
+                      }};
+  });
+  const auto count = [](const fs::path& dir, const std::string& topic) {
+    std::size_t n = 0;
+    for (const Logged& m : messages_of(dir / "flight.mcap")) n += m.topic == topic;
+    return n;
+  };
+  const fs::path with = write_log("mcap_ros", {false, true, 64 * 1024, true}, 100, 0);
+  const fs::path without = write_log("mcap_no_ros", {false, true, 64 * 1024, false}, 100, 0);
+  set_ros_channel_lookup({});
+  CHECK(count(with, "/tern/imu/data") == 100);
+  CHECK(count(with, "/imu") == 100);
+  CHECK(count(without, "/tern/imu/data") == 0);
+  CHECK(count(without, "/imu") == 100);
+  CHECK(count(without, "/gnss") == 3);
 }
 
 TEST_CASE("mcap: after a flush the open chunk is on disk, complete: a killed flight keeps it") {

@@ -24,6 +24,12 @@ void require_map(const YAML::Node& n, const fs::path& file, const std::string& f
   if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + str(n));
 }
 
+bool as_bool(const YAML::Node& n, const fs::path& file, const std::string& field) {
+  if (!n.IsScalar() || (n.Scalar() != "true" && n.Scalar() != "false"))
+    throw ConfigError(where(file, n) + field + ": expected true or false, got '" + str(n) + "'");
+  return n.Scalar() == "true";
+}
+
 double as_number(const YAML::Node& n, const fs::path& file, const std::string& field) {
   if (!n.IsScalar()) throw ConfigError(where(file, n) + field + ": expected a number, got " + str(n));
   try {
@@ -285,7 +291,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
   }
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
-    check_keys(log, f, "log", {"dir", "level", "format", "chunk_size", "decimated_rate", "topics", "max_rate", "rates"});
+    check_keys(log, f, "log", {"dir", "level", "format", "chunk_size", "ros_channels", "decimated_rate", "topics", "max_rate", "rates"});
     if (const YAML::Node fm = log["format"]) {
       const auto format = fm.IsScalar() ? log_format_from_name(fm.Scalar()) : std::nullopt;
       if (!format) throw ConfigError(where(f, fm) + "log.format: expected csv, mcap or both, got '" + str(fm) + "'");
@@ -297,6 +303,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
         throw ConfigError(where(f, log["chunk_size"]) + "log.chunk_size: must be 1024 to 1073741824 bytes, got " + str(log["chunk_size"]));
       c.log.chunk_size = static_cast<std::size_t>(n);
     }
+    if (const YAML::Node rc = log["ros_channels"]) c.log.ros_channels = as_bool(rc, f, "log.ros_channels");
     if (const YAML::Node lv = log["level"]) {
       const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
       if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");
@@ -369,11 +376,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       if (!(*ic.budget_us > 0))
         throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
     }
-    if (const YAML::Node iso = p["isolate"]) {
-      if (!iso.IsScalar() || (iso.Scalar() != "true" && iso.Scalar() != "false"))
-        throw ConfigError(where(f, iso) + field + ".isolate: expected true or false, got '" + str(iso) + "'");
-      ic.isolate = iso.Scalar() == "true";
-    }
+    if (const YAML::Node iso = p["isolate"]) ic.isolate = as_bool(iso, f, field + ".isolate");
     if (const YAML::Node pf = p["param_file"]) {
       const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));
       try {

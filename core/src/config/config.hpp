@@ -70,6 +70,7 @@ struct LogConfig {
   LogLevel level = LogLevel::full;
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
+  bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (record/ros_channels.hpp)
   double decimated_rate = 10.0;          ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
   std::vector<std::string> topics;      ///< when !all_topics

@@ -85,7 +85,7 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
     const auto schema = mcap_->add_schema(tern_schema_name(type_name, topic), "ros2msg", tern_schema_text(t->columns));
     // the CSV header keeps the names and units `tern export csv` writes
     t->channel = mcap_->add_channel(schema, "/" + topic, "cdr", {{"tern.csv_header", header.substr(0, header.size() - 1)}});
-    add_ros_channel(*t, type_name);
+    if (format_.mcap_ros_channels) add_ros_channel(*t, type_name);
   }
   topics_.push_back(std::move(t));
   report();

@@ -59,6 +59,7 @@ struct FlightLogFormat {
   bool csv = true;
   bool mcap = false;
   std::size_t mcap_chunk_bytes = McapWriter::Options{}.chunk_bytes;
+  bool mcap_ros_channels = true;  ///< the ROS-typed copies of the topics that have one (ros_channels.hpp)
 };
 
 class FlightLog {

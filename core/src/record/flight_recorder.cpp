@@ -82,7 +82,7 @@ void FlightRecorder::start(const std::string& config_yaml, const std::vector<std
 }
 
 FlightLog::Format FlightRecorder::format_of(const LogConfig& log) {
-  return {log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size};
+  return {log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size, log.ros_channels};
 }
 
 void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
