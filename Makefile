@@ -57,7 +57,7 @@ build: configure
 FLY_TARGET := $(if $(filter configs/missions/default.yaml,$(CONFIG)),tern_fly,all)
 fly: configure
 	cmake --build $(BUILD) -j $(JOBS) --target $(FLY_TARGET)
-	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs
+	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs --log-format both
 	@run=$$(ls -1dt runs/*/ | head -1); \
 	if [ -x $(BUILD)/bin/tern-plot ]; then $(BUILD)/bin/tern-plot $$run; fi; \
 	echo "flight log: $$run"; \
