@@ -79,6 +79,8 @@ std::int64_t wall_ns() {
 }
 
 void calibrate_step_clock() { (void)cycle_clock(); }
+std::int64_t step_clock_now() { return cycle_clock().now(); }
+Nanos step_clock_ns(std::int64_t ticks) { return cycle_clock().to_ns(ticks); }
 
 // ---- step statistics ------------------------------------------------------------------------
 

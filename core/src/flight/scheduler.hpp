@@ -34,6 +34,12 @@ std::int64_t wall_ns();
 const char* signal_end_reason(int sig);
 /// Calibrates the step-timing clock (once per process, about 2 ms); call before timing anything.
 void calibrate_step_clock();
+/// The step-timing clock: the CPU's invariant time-stamp counter where it has one (constant and
+/// nonstop TSC), else wall_ns(); a read costs a few ns against clock_gettime's tens. Ticks, to
+/// be differenced and turned into ns by step_clock_ns().
+std::int64_t step_clock_now();
+/// A difference of step_clock_now() ticks in ns.
+Nanos step_clock_ns(std::int64_t ticks);
 
 /// Step-time statistics of one instance (wall clock; not part of the deterministic log).
 struct StepStats {

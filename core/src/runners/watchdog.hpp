@@ -75,7 +75,7 @@ class Watchdog {
   WatchdogConfig budgets_;
   StopSignal stop_;
   Emergency emergency_;
-  std::atomic<std::int64_t> started_{0};  // wall_ns() at the running step's start; 0: none; -1: claimed
+  std::atomic<std::int64_t> started_{0};  // step_clock_now() at the running step's start; 0: none; -1: claimed
   std::atomic<bool> policed_{false};
   const std::string* name_ = nullptr;  // written before started_ (release), read after it (acquire)
   Nanos step_now_ = 0;
