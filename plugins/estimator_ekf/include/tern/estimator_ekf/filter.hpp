@@ -475,12 +475,13 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   // O(n^3). Column by column, vectorised over the rows, P(:, j) -= W^T W(:, j): element (i, j)
   // and (j, i) take the same products in the same order, so P stays exactly symmetric (the
   // (P + P^T) / 2 of the file comment) without a mirror.
-  const Eigen::Matrix<double, M, kErrDim> W = llt.matrixL().solve(HP);
-  const ErrVec dx = W.transpose() * llt.matrixL().solve(y);
+  // (W^T held as its columns: contiguous, so the column updates vectorise)
+  const Eigen::Matrix<double, kErrDim, M> Wt = llt.matrixL().solve(HP).transpose();
+  const ErrVec dx = Wt * llt.matrixL().solve(y);
   x_ = boxplus(x_, dx);
   correction_sum_ += dx;
   for (int j = 0; j < kErrDim; ++j)
-    for (int m = 0; m < M; ++m) P_.col(j) -= W(m, j) * W.row(m).transpose();
+    for (int m = 0; m < M; ++m) P_.col(j) -= Wt(j, m) * Wt.col(m);
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
