@@ -60,21 +60,23 @@ double blend_sigma(const Aircraft& ac, double alpha) {
 }
 
 namespace {
-double lift_c(const Aircraft& ac, double alpha, double sigma) {
-  const double sa = std::sin(alpha), ca = std::cos(alpha);
+// sa, ca: sin(alpha), cos(alpha), computed once per evaluation by the caller
+double lift_c(const Aircraft& ac, double alpha, double sigma, double sa, double ca) {
   const double sgn = alpha >= 0.0 ? 1.0 : -1.0;
   return (1.0 - sigma) * (ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha) + sigma * (2.0 * sgn * sa * sa * ca);
 }
 
-double drag_c(const Aircraft& ac, double alpha, double sigma) {
+double drag_c(const Aircraft& ac, double alpha, double sigma, double sin_alpha) {
   const double cl = ac.aero.C_L_0 + ac.aero.C_L_alpha * alpha;
-  const double sa = std::fabs(std::sin(alpha));
+  const double sa = std::fabs(sin_alpha);
   return ac.aero.C_D_p + (1.0 - sigma) * cl * cl / (kPi * ac.e * ac.AR()) + sigma * 2.0 * sa * sa * sa;
 }
 }  // namespace
 
-double lift_coefficient(const Aircraft& ac, double alpha) { return lift_c(ac, alpha, blend_sigma(ac, alpha)); }
-double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, alpha, blend_sigma(ac, alpha)); }
+double lift_coefficient(const Aircraft& ac, double alpha) {
+  return lift_c(ac, alpha, blend_sigma(ac, alpha), std::sin(alpha), std::cos(alpha));
+}
+double drag_coefficient(const Aircraft& ac, double alpha) { return drag_c(ac, alpha, blend_sigma(ac, alpha), std::sin(alpha)); }
 
 namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
@@ -134,8 +136,8 @@ void longitudinal(const Aircraft& ac, const StateVector& x, const Deltas& d, dou
   // terms (C_m_0, the elevator's) to their value times cos(alpha): they reverse with the flow.
   const double alpha_m = (1.0 - sigma) * alpha + sigma * sa;
   const double incidence = (1.0 - sigma) + sigma * ca;
-  const double F_lift = qS * (lift_c(ac, alpha, sigma) + A.C_L_delta_e * d.delta_e * incidence) + qSc * A.C_L_q * q;
-  const double F_drag = qS * (drag_c(ac, alpha, sigma) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
+  const double F_lift = qS * (lift_c(ac, alpha, sigma, sa, ca) + A.C_L_delta_e * d.delta_e * incidence) + qSc * A.C_L_q * q;
+  const double F_drag = qS * (drag_c(ac, alpha, sigma, sa) + A.C_D_delta_e * d.delta_e) + qSc * A.C_D_q * q;
   fm.f_aero.x() = -ca * F_drag + sa * F_lift;
   fm.f_aero.z() = -sa * F_drag - ca * F_lift;
   const double C_m = (A.C_m_0 + A.C_m_delta_e * d.delta_e) * incidence + A.C_m_alpha * alpha_m;
