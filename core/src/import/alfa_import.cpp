@@ -264,7 +264,7 @@ ImportReport import_alfa(const fs::path& in, SensorLogWriter& out) {
   if (!inputs.fix.empty() && !inputs.gps_vel.empty()) {
     import_gnss(inputs, t0, out, report);
     // fused as 0 the missing down velocity held every climb and descent back (baro NIS 1.9
-    // with 33 of 1229 rejected, GNSS positions 77 % accepted; north-east only: 0.38, none, 85 %)
+    // with 33 of 1229 rejected, GNSS positions 77 % accepted; north-east only: 0.38, none, 84 %)
     meta.estimator["use_gnss_vel_d"] = false;
     // The fixes are stamped when ArduPilot had them (GPS_RAW_INT's time_usec through mavros'
     // synchronized_header), after the receiver's own latency, which the log does not give: the

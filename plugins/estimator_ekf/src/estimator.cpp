@@ -659,13 +659,17 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   // Velocity is not inflated: a rejected velocity usually means a manoeuvre the IMU model did
   // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
   // the attitude.
-  gnss_vel_ne_.full = gnss_vel_;  // antenna, gyro, noise
-  const UpdateResult rv = cfg_.use_gnss_vel_d ? fuse(gnss_vel_, m.vel, t_v) : fuse(gnss_vel_ne_, GnssVelocityNE::Vec(m.vel.head<2>()), t_v);
+  const UpdateResult rv = cfg_.use_gnss_vel_d ? fuse(gnss_vel_, m.vel, t_v) : fuse_gnss_velocity_ne(m.vel, t_v);
   if (recover_velocity(rv, m, p, t_v)) return true;
   if (check_yaw_with_gsf(m, p, t_v)) return true;
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
+}
+
+UpdateResult Estimator::fuse_gnss_velocity_ne(const Vec3& vel, Nanos t_v) {
+  gnss_vel_ne_.full = gnss_vel_;  // its antenna, gyro and noise, as set for this fix
+  return fuse(gnss_vel_ne_, GnssVelocityNE::Vec(vel.head<2>()), t_v);
 }
 
 void Estimator::use_reported_accuracy(const msg::Gnss& m) {

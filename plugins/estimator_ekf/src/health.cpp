@@ -30,7 +30,7 @@ msg::Innovations Estimator::take_innovations(Nanos stamp) {
   msg::Innovations m;
   m.stamp = stamp;
   m.gnss_pos = gnss_pos_.stats.take_max_ratio();
-  m.gnss_vel = (cfg_.use_gnss_vel_d ? gnss_vel_.stats : gnss_vel_ne_.stats).take_max_ratio();
+  m.gnss_vel = gnss_velocity_stats().take_max_ratio();
   m.baro = baro_.stats.take_max_ratio();
   m.diff_pressure = pitot_.stats.take_max_ratio();
   const double heading = mag_heading_.stats.take_max_ratio(), direction = mag_.stats.take_max_ratio();

@@ -300,6 +300,30 @@ TEST_CASE("covariance period: the samples' transitions in one step, to second or
   CHECK((pending.P() - one.P()).cwiseAbs().maxCoeff() < 1e-12 * one.P().cwiseAbs().maxCoeff());
 }
 
+TEST_CASE("covariance: exactly symmetric after updates, and after a reset's edit once stepped") {
+  Filter f;
+  Cov P0 = Cov::Identity();
+  P0(idx::th, idx::v) = P0(idx::v, idx::th) = 0.3;
+  f.initialize(sample_state(), P0);
+  f.set_covariance_period(0.01);
+  ProcessNoise qn;
+  MagHeading h;  // 1 dof
+  h.gate = 0.0;
+  GnssVelocity gv;  // 3 dof
+  gv.gate = 0.0;
+  const auto exactly_symmetric = [&] { return (f.P() - f.P().transpose()).cwiseAbs().maxCoeff() == 0.0; };
+  for (int k = 0; k < 8; ++k) f.propagate(Vec3(1.5, -0.8, -14.0), Vec3(0.8, -0.3, 0.5), 0.0025, qn, 9.81);
+  CHECK(f.update(h, MagHeading::Vec(0.2)) == UpdateResult::accepted);
+  CHECK(exactly_symmetric());
+  CHECK(f.update(gv, Vec3(f.x().v + Vec3(0.3, -0.2, 0.1))) == UpdateResult::accepted);
+  CHECK(exactly_symmetric());
+  // a reset edits P through mutable_P(), one triangle off by more than an ulp
+  f.mutable_P()(idx::bg, idx::bm) += 1e-9;  // states the step moves neither of
+  CHECK_FALSE(exactly_symmetric());
+  for (int k = 0; k < 4; ++k) f.propagate(Vec3(1.5, -0.8, -14.0), Vec3(0.8, -0.3, 0.5), 0.0025, qn, 9.81);
+  CHECK(exactly_symmetric());  // the step symmetrised it first
+}
+
 TEST_CASE("update: Joseph form, variance shrinks, gate rejects and counts outliers") {
   Filter f;
   NominalState x = sample_state();

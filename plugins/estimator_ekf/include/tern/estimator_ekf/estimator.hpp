@@ -604,6 +604,7 @@ class Estimator {
   const GnssVelocity& gnss_velocity_model() const { return gnss_vel_; }
   /// The counters of the GNSS velocity model in use (3-D, or north-east without use_gnss_vel_d).
   const UpdateStats& gnss_velocity_stats() const { return cfg_.use_gnss_vel_d ? gnss_vel_.stats : gnss_vel_ne_.stats; }
+  UpdateStats& gnss_velocity_stats() { return cfg_.use_gnss_vel_d ? gnss_vel_.stats : gnss_vel_ne_.stats; }
   const Magnetometer& mag_model() const { return mag_; }
   const MagHeading& mag_heading_model() const { return mag_heading_; }
   const BaroAltitude& baro_model() const { return baro_; }
@@ -664,6 +665,8 @@ class Estimator {
   template <class Model>
   UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
+  /// The GNSS velocity's north and east (m/s, NED) through GnssVelocityNE (use_gnss_vel_d false).
+  UpdateResult fuse_gnss_velocity_ne(const Vec3& vel, Nanos t_v);
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);

@@ -68,8 +68,9 @@ struct GnssVelocity : Measurement<GnssVelocity, 3> {
 };
 
 /// GNSS velocity of a receiver or log without the vertical component (mavros' GPS_RAW_INT, a
-/// ground speed and course alone): z = the north and east rows of GnssVelocity (its h, H and
-/// noise; `full` holds the antenna, the gyro and sigma_h, its sigma_v is unused). 2 dof.
+/// ground speed and course alone): z = the antenna's north and east ground velocity, m/s (NED);
+/// h, H and the noise are GnssVelocity's north and east rows (`full` holds the antenna, the gyro
+/// and sigma_h; its sigma_v is unused). 2 dof.
 struct GnssVelocityNE : Measurement<GnssVelocityNE, 2> {
   GnssVelocity full;
   Vec h(const NominalState& x) const { return full.h(x).head<2>(); }
