@@ -15,19 +15,35 @@ double safe_exp(double x) { return std::exp(std::min(x, 700.0)); }
 Eigen::Quaterniond attitude(const StateVector& x) { return Eigen::Quaterniond(x[E0], x[E1], x[E2], x[E3]).normalized(); }
 
 namespace {
+Eigen::Vector3d air_velocity(const StateVector& x, const Wind& wind, const Eigen::Matrix3d& Rot) {
+  return Eigen::Vector3d(x[U], x[V], x[W]) - (Rot.transpose() * wind.steady_ned + wind.gust_body);
+}
+
 AirData air_data_rot(const StateVector& x, const Wind& wind, const Eigen::Matrix3d& Rot) {
   AirData a;
-  const Eigen::Vector3d v(x[U], x[V], x[W]);
-  a.v_air = v - (Rot.transpose() * wind.steady_ned + wind.gust_body);
+  a.v_air = air_velocity(x, wind, Rot);
   a.Va = a.v_air.norm();
   a.V_xz = Eigen::Vector3d(a.v_air.x(), 0.0, a.v_air.z()).norm();  // == Va, bit for bit, when v_r = 0
   a.alpha = std::atan2(a.v_air.z(), a.v_air.x());
-  a.beta = a.Va > 1e-9 ? std::asin(std::clamp(a.v_air.y() / a.Va, -1.0, 1.0)) : 0.0;
+  if (a.V_xz > 0.0) {
+    a.sin_alpha = a.v_air.z() / a.V_xz;
+    a.cos_alpha = a.v_air.x() / a.V_xz;
+  } else {  // atan2's signed zeros (alpha 0 or pi)
+    a.sin_alpha = std::sin(a.alpha);
+    a.cos_alpha = std::cos(a.alpha);
+  }
+  if (a.Va > 1e-9) {
+    a.sin_beta = std::clamp(a.v_air.y() / a.Va, -1.0, 1.0);
+    a.beta = std::asin(a.sin_beta);
+    a.cos_beta = a.V_xz / a.Va;
+  }
   return a;
 }
 }  // namespace
 
 AirData air_data(const StateVector& x, const Wind& wind) { return air_data_rot(x, wind, attitude(x).toRotationMatrix()); }
+
+double airspeed(const StateVector& x, const Wind& wind) { return air_velocity(x, wind, attitude(x).toRotationMatrix()).norm(); }
 
 PropulsionOutput propulsion(const Aircraft& ac, double V, double delta_t) {
   const auto& p = ac.prop;
@@ -52,12 +68,34 @@ PropulsionOutput propulsion(const Aircraft& ac, double V, double delta_t) {
 
 double propeller_inflow(const AirData& air, double sigma) { return (1.0 - sigma) * air.V_xz + sigma * air.v_air.x(); }
 
-double blend_sigma(const Aircraft& ac, double alpha) {
+namespace {
+// The blending function of an aircraft with exp(M a0) computed once: sigma(x) = (1 + e1 + e2) /
+// ((1 + e1)(1 + e2)), e1 = exp(-M (x - a0)) = e0 / exp(M x), e2 = exp(M (x + a0)) = e0 exp(M x):
+// one exp per angle (the angle of attack's and the sideslip's in every evaluation).
+struct Blend {
+  double M, a0, e0;
+};
+
+Blend blend_of(const Aircraft& ac) {
   const double a0 = ac.stall_blend ? ac.alpha0 : kLinearLiftLimit;
-  const double e1 = safe_exp(-ac.M * (alpha - a0));
-  const double e2 = safe_exp(ac.M * (alpha + a0));
+  return {ac.M, a0, safe_exp(ac.M * a0)};
+}
+
+double sigma_at(const Blend& b, double x) {
+  double e1 = 0.0, e2 = 0.0;
+  if (std::fabs(b.M * b.a0) + std::fabs(b.M * x) < 700.0) {
+    const double ex = std::exp(b.M * x);
+    e1 = b.e0 / ex;
+    e2 = b.e0 * ex;
+  } else {  // far beyond the blending angle (or an extreme M): each term capped
+    e1 = safe_exp(-b.M * (x - b.a0));
+    e2 = safe_exp(b.M * (x + b.a0));
+  }
   return (1.0 + e1 + e2) / ((1.0 + e1) * (1.0 + e2));
 }
+}  // namespace
+
+double blend_sigma(const Aircraft& ac, double alpha) { return sigma_at(blend_of(ac), alpha); }
 
 namespace {
 // sa, ca: sin(alpha), cos(alpha), computed once per evaluation by the caller
@@ -93,10 +131,10 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
   const double xn = xh.norm();
   xh = xn > 1e-6 ? Eigen::Vector2d(xh / xn) : Eigen::Vector2d(1.0, 0.0);
   const Eigen::Vector2d yh(-xh.y(), xh.x());
-  // a steered wheel rolls along body x turned by the steering angle (positive: to the right)
-  const double steer = -g.nose_steering * d.delta_r;
-  const Eigen::Vector2d xs = std::cos(steer) * xh + std::sin(steer) * yh;
-  const Eigen::Vector2d ys(-xs.y(), xs.x());
+  // a steered wheel rolls along body x turned by the steering angle (positive: to the right);
+  // its direction is worked out with the first wheel on the ground (none in the air)
+  bool steer_known = false;
+  Eigen::Vector2d xs = xh, ys = yh;
   for (const auto& r : g.points) {
     const Eigen::Vector3d pi = p + Rot * r;
     const double depth = pi.z();  // > 0: below the ground
@@ -107,6 +145,12 @@ void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matri
     ++fm.wheels_on_ground;
     const Eigen::Vector2d vh(vi.x(), vi.y());
     const bool steered = g.nose_steering != 0.0 && r.x() > 0.0;
+    if (steered && !steer_known) {
+      const double steer = -g.nose_steering * d.delta_r;
+      xs = std::cos(steer) * xh + std::sin(steer) * yh;
+      ys = Eigen::Vector2d(-xs.y(), xs.x());
+      steer_known = true;
+    }
     const Eigen::Vector2d& ax = steered ? xs : xh;
     const Eigen::Vector2d& ay = steered ? ys : yh;
     const double v_long = vh.dot(ax), v_lat = vh.dot(ay);
@@ -131,7 +175,7 @@ void longitudinal(const Aircraft& ac, const StateVector& x, const Deltas& d, dou
   // qbar S, and qbar S c/(2 V) written without dividing by V (finite at V = 0).
   const double qS = 0.5 * ac.rho * V * V * ac.S;
   const double qSc = 0.25 * ac.rho * V * ac.S * ac.c;
-  const double ca = std::cos(alpha), sa = std::sin(alpha);
+  const double ca = fm.air.cos_alpha, sa = fm.air.sin_alpha;
   // Beyond the blending angle C_m_alpha alpha fades to C_m_alpha sin(alpha), and the incidence
   // terms (C_m_0, the elevator's) to their value times cos(alpha): they reverse with the flow.
   const double alpha_m = (1.0 - sigma) * alpha + sigma * sa;
@@ -146,15 +190,15 @@ void longitudinal(const Aircraft& ac, const StateVector& x, const Deltas& d, dou
 
 // Side force, rolling and yawing moments (book sec. 4.3) on the full dynamic pressure; the
 // sideslip terms leave the book's linear beta beyond the blending angle (model.hpp).
-void lateral(const Aircraft& ac, const StateVector& x, const Deltas& d, ForcesMoments& fm) {
+void lateral(const Aircraft& ac, const Blend& blend, const StateVector& x, const Deltas& d, ForcesMoments& fm) {
   const auto& A = ac.aero;
   const double Va = fm.air.Va, beta = fm.air.beta, p = x[P], r = x[R];
   // qbar S, and qbar S b/(2 Va) written without dividing by Va (finite at Va = 0).
   const double qS = 0.5 * ac.rho * Va * Va * ac.S;
   const double qSb = 0.25 * ac.rho * Va * ac.S * ac.b;
-  const double sb = blend_sigma(ac, beta), sin_b = std::sin(beta);
-  const double beta_y = (1.0 - sb) * beta + sb * sin_b;                   // side force, yaw
-  const double beta_l = (1.0 - sb) * beta + sb * sin_b * std::cos(beta);  // roll
+  const double sb = sigma_at(blend, beta), sin_b = fm.air.sin_beta;
+  const double beta_y = (1.0 - sb) * beta + sb * sin_b;                    // side force, yaw
+  const double beta_l = (1.0 - sb) * beta + sb * sin_b * fm.air.cos_beta;  // roll
   fm.f_aero.y() =
       qS * (A.C_Y_0 + A.C_Y_beta * beta_y + A.C_Y_delta_a * d.delta_a + A.C_Y_delta_r * d.delta_r) + qSb * (A.C_Y_p * p + A.C_Y_r * r);
   fm.m_aero.x() = ac.b * (qS * (A.C_ell_0 + A.C_ell_beta * beta_l + A.C_ell_delta_a * d.delta_a + A.C_ell_delta_r * d.delta_r) +
@@ -163,12 +207,13 @@ void lateral(const Aircraft& ac, const StateVector& x, const Deltas& d, ForcesMo
                           qSb * (A.C_n_p * p + A.C_n_r * r));
 }
 
-ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind, const Eigen::Matrix3d& Rot) {
+ForcesMoments forces_moments_rot(const Aircraft& ac, const Blend& blend, const StateVector& x, const Deltas& d, const Wind& wind,
+                                 const Eigen::Matrix3d& Rot) {
   ForcesMoments fm;
   fm.air = air_data_rot(x, wind, Rot);
-  const double sigma = blend_sigma(ac, fm.air.alpha);
+  const double sigma = sigma_at(blend, fm.air.alpha);
   longitudinal(ac, x, d, sigma, fm);
-  lateral(ac, x, d, fm);
+  lateral(ac, blend, x, d, fm);
   fm.prop = propulsion(ac, propeller_inflow(fm.air, sigma), d.delta_t);
   fm.f_aero.x() += fm.prop.T_p;
   fm.m_aero.x() -= fm.prop.Q_p;
@@ -181,12 +226,13 @@ ForcesMoments forces_moments_rot(const Aircraft& ac, const StateVector& x, const
 }  // namespace
 
 ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& wind) {
-  return forces_moments_rot(ac, x, d, wind, attitude(x).toRotationMatrix());
+  return forces_moments_rot(ac, blend_of(ac), x, d, wind, attitude(x).toRotationMatrix());
 }
 
-StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
+namespace {
+StateVector derivative_b(const Aircraft& ac, const Blend& blend, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
   const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
-  const ForcesMoments fm = forces_moments_rot(ac, x, d, w, Rot);
+  const ForcesMoments fm = forces_moments_rot(ac, blend, x, d, w, Rot);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   const double p = x[P], q = x[Q], r = x[R];
   StateVector dx;
@@ -215,12 +261,18 @@ StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d
   if (out != nullptr) *out = fm;
   return dx;
 }
+}  // namespace
+
+StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
+  return derivative_b(ac, blend_of(ac), x, d, w, out);
+}
 
 StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, double dt) {
-  const StateVector k1 = derivative(ac, x, d, w);
-  const StateVector k2 = derivative(ac, x + 0.5 * dt * k1, d, w);
-  const StateVector k3 = derivative(ac, x + 0.5 * dt * k2, d, w);
-  const StateVector k4 = derivative(ac, x + dt * k3, d, w);
+  const Blend blend = blend_of(ac);
+  const StateVector k1 = derivative_b(ac, blend, x, d, w, nullptr);
+  const StateVector k2 = derivative_b(ac, blend, x + 0.5 * dt * k1, d, w, nullptr);
+  const StateVector k3 = derivative_b(ac, blend, x + 0.5 * dt * k2, d, w, nullptr);
+  const StateVector k4 = derivative_b(ac, blend, x + dt * k3, d, w, nullptr);
   StateVector xn = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   xn.segment<4>(E0).normalize();
   return xn;

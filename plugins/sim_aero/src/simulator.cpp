@@ -148,7 +148,7 @@ void Simulator::step(double dt) {
   // gust fed its own time scale and grew without bound); gusts at the new time.
   Wind mean = wind_;
   mean.gust_body.setZero();
-  wind_.gust_body = dryden_.step(dt, air_data(x_, mean).Va, -x_[PD], steady_.head<2>().norm(), rng_);
+  wind_.gust_body = dryden_.step(dt, airspeed(x_, mean), -x_[PD], steady_.head<2>().norm(), rng_);
   wind_.steady_ned = steady_ + gusts_.step(t_, rng_);
   if (crashed_) return;
   const StateVector xn = rk4_step(ac_, x_, act_, wind_, dt);

@@ -154,3 +154,24 @@ TEST_CASE("model: with the flow from behind C_m_0 reverses, as the tail's incide
   // from ahead at alpha 0 it is the book's +C_m_0
   CHECK(model_forces(ac, {8.0, 0, 0}, {0, 0, 0}, Deltas{}).m_aero.y() == doctest::Approx(qSc * ac.aero.C_m_0).epsilon(1e-6));
 }
+
+TEST_CASE("model: the blending function is the book's sigma(alpha) over the whole circle, an extreme M included") {
+  Aircraft ac = load_aircraft(kAircraft + "/aerosonde.yaml");
+  // book eq. 4.10, each exponential on its own (capped where it would overflow)
+  const auto book_sigma = [](double M, double a0, double a) {
+    const double e1 = std::exp(std::min(-M * (a - a0), 700.0)), e2 = std::exp(std::min(M * (a + a0), 700.0));
+    return (1.0 + e1 + e2) / ((1.0 + e1) * (1.0 + e2));
+  };
+  for (const double M : {ac.M, 500.0}) {
+    ac.M = M;
+    for (int i = -360; i <= 360; ++i) {
+      const double a = kPi * i / 360.0;
+      const double s = blend_sigma(ac, a), b = book_sigma(M, ac.alpha0, a);
+      INFO("M " << M << ", alpha " << a);
+      REQUIRE(std::isfinite(s));
+      CHECK(s == doctest::Approx(b).epsilon(1e-12));
+      CHECK(s >= 0.0);
+      CHECK(s <= 1.0 + 1e-12);
+    }
+  }
+}

@@ -60,6 +60,9 @@ struct AirData {
   Eigen::Vector3d v_air = Eigen::Vector3d::Zero();  ///< (u_r v_r w_r), body, m/s
   double Va = 0, alpha = 0, beta = 0;               ///< m/s, rad, rad (beta = 0 when Va = 0)
   double V_xz = 0;                                  ///< speed of the flow in the body x-z plane, sqrt(u_r^2 + w_r^2) = Va cos(beta), m/s
+  /// sin and cos of alpha and beta from the flow's components (w_r / V_xz, u_r / V_xz; v_r / Va,
+  /// V_xz / Va: the functions' values to rounding, without a call each)
+  double sin_alpha = 0, cos_alpha = 1, sin_beta = 0, cos_beta = 1;
 };
 
 /// Propeller speed, thrust and torque (propulsion supplement).
@@ -90,6 +93,8 @@ Eigen::Quaterniond attitude(const StateVector& x);
 
 /// Air data from the body ground velocity and the wind (book sec. 4.4: v_air = v - wind in body axes).
 AirData air_data(const StateVector& x, const Wind& wind);
+/// Va alone (air_data(x, wind).Va without the angles), m/s.
+double airspeed(const StateVector& x, const Wind& wind);
 
 /// Propeller speed, thrust and torque at inflow speed V along body x (m/s; the book's Va, which
 /// propeller_inflow gives in flight; negative: flow from behind, whose V^2 terms then push
