@@ -448,12 +448,13 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   VecM y = model.residual(x_then != nullptr ? *x_then : x_, z);
   if (corrected_since != nullptr) y -= H * *corrected_since;
   const MatM R = model.noise(x_);
-  // H P over H's non-zero columns only (a model touches a few states), with P's column k for
-  // its row k (P is symmetric; the column is contiguous).
-  Eigen::Matrix<double, M, kErrDim> HP = Eigen::Matrix<double, M, kErrDim>::Zero();
+  // (H P)^T = P H^T over H's non-zero columns only (a model touches a few states): P's column k
+  // (contiguous) times H's column k, held as columns.
+  Eigen::Matrix<double, kErrDim, M> HPt = Eigen::Matrix<double, kErrDim, M>::Zero();
   for (int k = 0; k < kErrDim; ++k)
-    if (!H.col(k).isZero(0.0)) HP.noalias() += H.col(k) * P_.col(k).transpose();
-  const MatM S = HP * H.transpose() + R;
+    for (int m = 0; m < M; ++m)
+      if (H(m, k) != 0.0) HPt.col(m) += H(m, k) * P_.col(k);
+  const MatM S = H.lazyProduct(HPt) + R;  // coefficient-wise (Eigen's GEMM set-up cost more than the product)
   const Eigen::LLT<MatM> llt(S);
   if (!y.allFinite() || !S.allFinite() || llt.info() != Eigen::Success) {
     ++model.stats.invalid;
@@ -475,8 +476,14 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   // O(n^3). Column by column, vectorised over the rows, P(:, j) -= W^T W(:, j): element (i, j)
   // and (j, i) take the same products in the same order, so P stays exactly symmetric (the
   // (P + P^T) / 2 of the file comment) without a mirror.
-  // (W^T held as its columns: contiguous, so the column updates vectorise)
-  const Eigen::Matrix<double, kErrDim, M> Wt = llt.matrixL().solve(HP).transpose();
+  // (W^T held as its columns: contiguous, so the column updates vectorise; W^T = (HP)^T L^-T by
+  // forward substitution over those columns)
+  const MatM L = llt.matrixL();
+  Eigen::Matrix<double, kErrDim, M>& Wt = HPt;
+  for (int i = 0; i < M; ++i) {
+    for (int k = 0; k < i; ++k) Wt.col(i) -= L(i, k) * Wt.col(k);
+    Wt.col(i) /= L(i, i);
+  }
   const ErrVec dx = Wt * llt.matrixL().solve(y);
   x_ = boxplus(x_, dx);
   correction_sum_ += dx;
