@@ -77,7 +77,7 @@ def bad_input(tmp):
         "dispersions.slc.roll_kp.high": ("slc.roll_kp: {dist: uniform, low: 0, high: 1000}", "1000"),
         "dispersions.sim.turbulence.values[1]": ("sim.turbulence: {dist: choice, values: [light, stormy]}", "stormy"),
         "dispersions.aircraft.aero.C_Q_9": ("aircraft.aero.C_Q_9: {dist: uniform, low: -0.1, high: 0.1}", "C_Q_9"),
-        "dispersions.slc.roll_kp.relative": ("slc.roll_kp: {dist: uniform, low: -0.1, high: 0.1, relative: yes}", "yes"),
+        "dispersions.slc.roll_kp.relative": ("slc.roll_kp: {dist: uniform, low: -0.1, high: 0.1, relative: maybe}", "maybe"),
     }
     for field, (line, value) in cases.items():
         path = os.path.join(tmp, "bad.yaml")

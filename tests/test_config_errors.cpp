@@ -5,6 +5,9 @@
 
 #include <cstdlib>
 
+#include <yaml-cpp/yaml.h>
+
+#include "config/error.hpp"
 #include "test_util.hpp"
 
 using doctest::Contains;
@@ -42,6 +45,19 @@ TEST_CASE("log.format, log.chunk_size, log.ros_channels: one line naming the key
   CHECK(build_error(with_log("chunk_size: 10")).find("log.chunk_size: must be 1024 to 1073741824 bytes, got 10") != std::string::npos);
   CHECK(build_error(with_log("format: mcap, ros_channels: false")) == "");
   CHECK(build_error(with_log("ros_channels: maybe")).find("log.ros_channels: expected true or false, got 'maybe'") != std::string::npos);
+  CHECK(build_error(with_log("ros_channels: [true]")).find("log.ros_channels: expected true or false, got '<list>'") != std::string::npos);
+}
+
+TEST_CASE("every boolean setting reads the same words (yaml_bool): true/false, True/FALSE, yes/no, on/off") {
+  const std::filesystem::path f = test_dir() / "bools.yaml";
+  const YAML::Node words = YAML::Load("[true, True, TRUE, yes, on, false, False, no, Off]");
+  const std::vector<bool> expected{true, true, true, true, true, false, false, false, false};
+  for (std::size_t i = 0; i < expected.size(); ++i) CHECK(tern::core::yaml_bool(words[i], f, "x") == expected[i]);
+  for (const char* bad : {"1", "maybe", "truee", "~"}) {
+    INFO(bad);
+    CHECK_THROWS_WITH_AS(tern::core::yaml_bool(YAML::Load(bad), f, "a.b"), doctest::Contains("a.b: expected true or false"),
+                         tern::core::ConfigError);
+  }
 }
 
 TEST_CASE("plugin not found prints the search path") {

@@ -53,14 +53,6 @@ double number(const YAML::Node& n, const fs::path& file, const std::string& fiel
   return v;
 }
 
-bool boolean(const YAML::Node& n, const fs::path& file, const std::string& field) {
-  try {
-    if (n.IsScalar()) return n.as<bool>();
-  } catch (const YAML::Exception&) {
-  }
-  throw ConfigError(where(file, n) + field + ": expected true or false, got " + show(n));
-}
-
 std::string text(const YAML::Node& n, const fs::path& file, const std::string& field, bool allow_empty) {
   if (!n.IsScalar() || (!allow_empty && n.Scalar().empty()))
     throw ConfigError(where(file, n) + field + ": expected a " + (allow_empty ? "" : "non-empty ") + "string, got " + show(n));
@@ -180,7 +172,7 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   check_keys(dds, file, "dds",
              {"enabled", "domain", "namespace", "interfaces", "peers", "multicast", "rate", "topics", "read_only", "mission_dirs",
               "param_dirs", "security", "aliases", "time", "clock_rate"});
-  if (dds["enabled"]) o.enabled = boolean(dds["enabled"], file, "dds.enabled");
+  if (dds["enabled"]) o.enabled = yaml_bool(dds["enabled"], file, "dds.enabled");
   if (dds["domain"]) {
     const double d = number(dds["domain"], file, "dds.domain", 0, 232);
     if (d != std::floor(d)) throw ConfigError(where(file, dds["domain"]) + "dds.domain: expected an integer, got " + show(dds["domain"]));
@@ -189,13 +181,13 @@ DdsOptions parse_dds_options(const YAML::Node& dds, const std::filesystem::path&
   if (dds["namespace"]) o.ns = dds_name(dds["namespace"], file, "dds.namespace", true);
   if (dds["interfaces"]) o.interfaces = ipv4_list(dds["interfaces"], file, "dds.interfaces");
   if (dds["peers"]) o.peers = ipv4_list(dds["peers"], file, "dds.peers");
-  if (dds["multicast"]) o.multicast = boolean(dds["multicast"], file, "dds.multicast");
-  if (dds["read_only"]) o.read_only = boolean(dds["read_only"], file, "dds.read_only");
+  if (dds["multicast"]) o.multicast = yaml_bool(dds["multicast"], file, "dds.multicast");
+  if (dds["read_only"]) o.read_only = yaml_bool(dds["read_only"], file, "dds.read_only");
   if (dds["mission_dirs"]) o.mission_dirs = dir_list(dds["mission_dirs"], file, "dds.mission_dirs");
   if (dds["param_dirs"]) o.param_dirs = dir_list(dds["param_dirs"], file, "dds.param_dirs");
   if (dds["security"]) o.security = security(dds["security"], file);
   if (dds["rate"]) o.rate = number(dds["rate"], file, "dds.rate", 0, 1e6);
-  if (dds["aliases"]) o.aliases = boolean(dds["aliases"], file, "dds.aliases");
+  if (dds["aliases"]) o.aliases = yaml_bool(dds["aliases"], file, "dds.aliases");
   o.topics = DdsOptions::rosplane_profile(o.aliases);
   if (dds["time"]) o.time = time_source(dds["time"], file);
   if (dds["clock_rate"]) o.clock_rate = number(dds["clock_rate"], file, "dds.clock_rate", 0, 10000);

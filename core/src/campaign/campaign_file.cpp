@@ -61,10 +61,9 @@ Dispersion dispersion(const std::string& target, const YAML::Node& n, const fs::
   if (!n["dist"]) throw ConfigError(where(f, n) + field + ": missing 'dist' (uniform, normal, choice, grid or polar)");
   const std::string dist = text_of(n["dist"]);
   const YAML::Node rel = n["relative"];
-  if (rel && !(rel.IsScalar() && (rel.Scalar() == "true" || rel.Scalar() == "false")))
-    throw ConfigError(where(f, rel) + field + ".relative: expected true or false, got '" + text_of(rel) + "'");
-  d.relative = d.aircraft() || (rel && rel.Scalar() == "true");
-  if (d.aircraft() && rel && rel.Scalar() != "true")
+  const bool relative = rel && core::yaml_bool(rel, f, field + ".relative");
+  d.relative = d.aircraft() || relative;
+  if (d.aircraft() && rel && !relative)
     throw ConfigError(where(f, rel) + field + ".relative: aircraft perturbations are relative (value x (1 + draw))");
   if (dist == "uniform") {
     core::check_keys(n, f, field, {"dist", "low", "high", "relative"});

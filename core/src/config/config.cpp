@@ -24,12 +24,6 @@ void require_map(const YAML::Node& n, const fs::path& file, const std::string& f
   if (!n.IsMap()) throw ConfigError(where(file, n) + field + ": expected a map of key: value, got " + str(n));
 }
 
-bool as_bool(const YAML::Node& n, const fs::path& file, const std::string& field) {
-  if (!n.IsScalar() || (n.Scalar() != "true" && n.Scalar() != "false"))
-    throw ConfigError(where(file, n) + field + ": expected true or false, got '" + str(n) + "'");
-  return n.Scalar() == "true";
-}
-
 double as_number(const YAML::Node& n, const fs::path& file, const std::string& field) {
   if (!n.IsScalar()) throw ConfigError(where(file, n) + field + ": expected a number, got " + str(n));
   try {
@@ -303,7 +297,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
         throw ConfigError(where(f, log["chunk_size"]) + "log.chunk_size: must be 1024 to 1073741824 bytes, got " + str(log["chunk_size"]));
       c.log.chunk_size = static_cast<std::size_t>(n);
     }
-    if (const YAML::Node rc = log["ros_channels"]) c.log.ros_channels = as_bool(rc, f, "log.ros_channels");
+    if (const YAML::Node rc = log["ros_channels"]) c.log.ros_channels = yaml_bool(rc, f, "log.ros_channels");
     if (const YAML::Node lv = log["level"]) {
       const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
       if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");
@@ -376,7 +370,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       if (!(*ic.budget_us > 0))
         throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
     }
-    if (const YAML::Node iso = p["isolate"]) ic.isolate = as_bool(iso, f, field + ".isolate");
+    if (const YAML::Node iso = p["isolate"]) ic.isolate = yaml_bool(iso, f, field + ".isolate");
     if (const YAML::Node pf = p["param_file"]) {
       const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));
       try {

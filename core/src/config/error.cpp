@@ -16,6 +16,15 @@ std::string where(const std::filesystem::path& file, const YAML::Node& node) {
   return where(file, node.Mark());
 }
 
+bool yaml_bool(const YAML::Node& node, const std::filesystem::path& file, const std::string& field) {
+  if (node.IsScalar()) {
+    bool value = false;
+    if (YAML::convert<bool>::decode(node, value)) return value;
+  }
+  const std::string got = node.IsScalar() ? node.Scalar() : node.IsMap() ? "<map>" : node.IsSequence() ? "<list>" : "<null>";
+  throw ConfigError(where(file, node) + field + ": expected true or false, got '" + got + "'");
+}
+
 std::size_t edit_distance(std::string_view a, std::string_view b) {
   std::vector<std::size_t> prev(b.size() + 1), cur(b.size() + 1);
   for (std::size_t j = 0; j <= b.size(); ++j) prev[j] = j;

@@ -25,6 +25,12 @@ class ConfigError : public std::runtime_error {
 std::string where(const std::filesystem::path& file, const YAML::Node& node);
 std::string where(const std::filesystem::path& file, const YAML::Mark& mark);
 
+/// A YAML boolean of a tern file: what yaml-cpp reads as one (true/false, True/FALSE, yes/no,
+/// on/off: YAML 1.1's words, as ROS 2's parameter files take them too); anything else (a number,
+/// a list, "maybe") throws ConfigError "file:line:col: field: expected true or false, got 'x'".
+/// Every boolean setting of the mission, failsafe, DDS and campaign files is read by this one.
+bool yaml_bool(const YAML::Node& node, const std::filesystem::path& file, const std::string& field);
+
 /// Levenshtein distance, for "did you mean" suggestions.
 std::size_t edit_distance(std::string_view a, std::string_view b);
 /// " (did you mean 'x'?)" when a candidate is close enough, else "".

@@ -33,13 +33,7 @@ struct Reader {
     if (v < lo) throw ConfigError(where(file, n) + fmt::format("{}: {} {} is below {}", field, v, unit, lo));
     return v;
   }
-  bool boolean(const YAML::Node& n, const std::string& field) const {
-    try {
-      if (n.IsScalar()) return n.as<bool>();
-    } catch (const YAML::Exception&) {
-    }
-    throw ConfigError(where(file, n) + field + ": expected true or false, got '" + value_of(n) + "'");
-  }
+  bool boolean(const YAML::Node& n, const std::string& field) const { return yaml_bool(n, file, field); }
 };
 
 void read_gnss(const Reader& r, const YAML::Node& n, GnssLossConfig& c) {
