@@ -11,7 +11,7 @@ CMAKE_ARGS ?=
 # the console's browser test; SDL2: the joystick plugin). npm (Debian's, unless one is
 # installed) fetches the console's uPlot and the tests' MCAP readers (@mcap/core, @foxglove/rosmsg...).
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
-  libeigen3-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
+  libeigen3-dev libpcg-cpp-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev libzstd-dev zlib1g-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl libssl-dev \
   python3 python3-matplotlib python3-numpy python3-yaml python3-distributed \

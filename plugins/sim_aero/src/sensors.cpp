@@ -150,7 +150,7 @@ void Sensors::reset() {
 Eigen::Vector3d Sensors::draw_accel_calibration() {
   constexpr int kSamples = 1000;  // src/sensors.cpp: accel_calibration_count_ > 1000
   if (!p_.accel_calibrated_level) return Eigen::Vector3d::Zero();
-  std::mt19937_64 rng(seed_ ^ 0xacce1ca1u);
+  Rng rng(seed_ ^ 0xacce1ca1u);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   boost::random::normal_distribution<double> n(0.0, 1.0);
   const double roll = p_.accel_calibration_tilt_range * u(rng), pitch = p_.accel_calibration_tilt_range * u(rng);

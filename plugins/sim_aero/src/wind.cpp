@@ -63,7 +63,7 @@ double Dryden::second_order(Eigen::Vector2d& x, double sigma, double L, double V
   return sigma * std::sqrt(3.0 * a) * (a / std::sqrt(3.0) * x.x() + x.y());
 }
 
-const Eigen::Vector3d& Dryden::step(double dt, double Va, double h, double W, std::mt19937_64& rng) {
+const Eigen::Vector3d& Dryden::step(double dt, double Va, double h, double W, Rng& rng) {
   const double n1 = n_(rng), n2 = n_(rng), n3 = n_(rng);  // drawn always: the stream stays aligned
   if (p_.sigma_u == 0 && p_.sigma_v == 0 && p_.sigma_w == 0) {
     out_.setZero();
@@ -97,7 +97,7 @@ void GustField::set_random(double rate, double max_amplitude, double min_duratio
   next_random_ = -1;
 }
 
-Eigen::Vector3d GustField::step(double t, std::mt19937_64& rng) {
+Eigen::Vector3d GustField::step(double t, Rng& rng) {
   if (rate_ > 0 && max_amp_ > 0) {
     std::exponential_distribution<double> gap(rate_);
     std::uniform_real_distribution<double> u01(0.0, 1.0);

@@ -233,7 +233,7 @@ TEST_CASE("wind: at a parked aircraft's height the gusts have the intensities of
   // moderate turbulence, 8 m/s of wind, CG 0.1 m up: sigma_w = 0.8 m/s, sigma_u = 1.6 m/s
   const DrydenParams p = dryden_at_height(dryden_preset("moderate"), 0.1, 8.0);
   Dryden d(dryden_preset("moderate"));
-  std::mt19937_64 rng(5);
+  Rng rng(5);
   std::vector<double> u, w;
   for (int i = 0; i < 400 * 1800; ++i) {  // 30 min at 400 Hz
     const Eigen::Vector3d g = d.step(0.0025, 8.0, 0.1, 8.0, rng);

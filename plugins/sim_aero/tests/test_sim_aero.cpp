@@ -383,7 +383,7 @@ TEST_CASE("model: the polar and linear lift hold below the blending angle, bound
 
 TEST_CASE("wind: Dryden turbulence has the MIL-F-8785C intensities; seeded") {
   Dryden d(dryden_preset("moderate"));
-  std::mt19937_64 rng(3);
+  Rng rng(3);
   std::vector<double> u, v, w;
   for (int i = 0; i < 400 * 3600; ++i) {  // one hour at 400 Hz, Va = 17 m/s
     const Eigen::Vector3d g = d.step(0.0025, 17.0, 70.0, 5.0, rng);

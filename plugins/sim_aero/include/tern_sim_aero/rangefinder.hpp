@@ -32,7 +32,7 @@ class RangeFinder {
  private:
   double noise_near_, noise_far_, far_from_, min_range_, max_range_;
   Eigen::Vector3d position_;
-  std::mt19937_64 rng_;
+  Rng rng_;
   boost::random::normal_distribution<double> n_{0.0, 1.0};
 };
 

@@ -1,6 +1,6 @@
 // tern_sim_aero/sensors.hpp: sensor models of the simulator (Beard & McLain, ch. 7, with the
 // defaults of the ROSflight simulator): IMU, magnetometer, barometer, differential pressure and
-// GNSS. Noise is drawn from the caller's seeded std::mt19937_64 through Boost's ziggurat normal
+// GNSS. Noise is drawn from a seeded Rng (random.hpp) through Boost's ziggurat normal
 // distribution (its output is fixed by Boost's code, where std::normal_distribution's differs
 // between standard libraries, and it is 2.4x faster); biases start uniformly in +-range and
 // wander as random walks; magnetometer and GNSS position errors are Gauss-Markov.
@@ -20,6 +20,7 @@
 #include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
 #include "tern_sim_aero/model.hpp"
+#include "tern_sim_aero/random.hpp"
 
 namespace tern::sim {
 
@@ -233,7 +234,7 @@ class Sensors {
   void step_gnss_errors(double dt);
   SensorParams p_;
   std::uint64_t seed_;
-  std::mt19937_64 rng_;
+  Rng rng_;
   boost::random::normal_distribution<double> n_{0.0, 1.0};
   std::uniform_real_distribution<double> u_{0.0, 1.0};
   std::unique_ptr<WorldGeodesy> origin_;

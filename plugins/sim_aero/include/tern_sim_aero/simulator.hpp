@@ -97,7 +97,7 @@ class Simulator {
  private:
   Aircraft ac_;
   std::uint64_t seed_;
-  std::mt19937_64 rng_;
+  Rng rng_;
   StateVector x_ = StateVector::Zero();
   Deltas cmd_, act_;
   ActuatorParams actuators_;

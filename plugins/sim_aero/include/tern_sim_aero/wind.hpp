@@ -1,6 +1,6 @@
 // tern_sim_aero/wind.hpp: wind model (Beard & McLain, sec. 4.4): steady wind in NED, Dryden
 // turbulence in body axes with the MIL-F-8785C parameter sets of the book's table 4.1, and
-// discrete 1-cosine gusts. Random draws come from the caller's std::mt19937_64 (seeded), normal
+// discrete 1-cosine gusts. Random draws come from the caller's seeded Rng (random.hpp), normal
 // ones through Boost's ziggurat distribution (as the sensors).
 #pragma once
 
@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 #include <boost/random/normal_distribution.hpp>
+
+#include "tern_sim_aero/random.hpp"
 
 namespace tern::sim {
 
@@ -69,7 +71,7 @@ class Dryden {
   /// aircraft crosses the frozen field; floored at 1 m/s), height h above the ground (m) and
   /// steady wind speed W (m/s): the parameters are dryden_at_height(params(), h, W), each
   /// length scale at least 2 Va dt (eddies the step cannot resolve). Returns the gust.
-  const Eigen::Vector3d& step(double dt, double Va, double h, double W, std::mt19937_64& rng);
+  const Eigen::Vector3d& step(double dt, double Va, double h, double W, Rng& rng);
   const Eigen::Vector3d& gust() const { return out_; }
 
  private:
@@ -98,7 +100,7 @@ class GustField {
   void add(const CosineGust& g) { gusts_.push_back(g); }
   void set_random(double rate, double max_amplitude, double min_duration, double max_duration);
   /// Advances to time t (s, non-decreasing), drawing new random gusts, and returns the sum.
-  Eigen::Vector3d step(double t, std::mt19937_64& rng);
+  Eigen::Vector3d step(double t, Rng& rng);
   void reset() {
     gusts_.resize(scheduled_);
     next_random_ = -1;
