@@ -56,7 +56,7 @@ TEST_CASE("watchdog: a policed step stuck past hard_ms ends the flight from the 
   auto emergency = arm(w, 10, 100, sig);
   const std::string name = "stuck_controller";
   const auto t0 = std::chrono::steady_clock::now();
-  w.enter(name, from_seconds(12.5), true);  // ... and the step never returns
+  w.enter(name, from_seconds(12.5), true, step_clock_now());  // ... and the step never returns
   REQUIRE(emergency.wait_for(5s) == std::future_status::ready);
   const auto waited = std::chrono::steady_clock::now() - t0;
   CHECK(waited >= 100ms);
@@ -72,7 +72,7 @@ TEST_CASE("watchdog: an isolated instance's step (not policed) is left to its ow
   std::atomic<int> sig{0};
   auto emergency = arm(w, 10, 50, sig);
   const std::string name = "isolated";
-  w.enter(name, 0, false);
+  w.enter(name, 0, false, step_clock_now());
   CHECK(emergency.wait_for(300ms) == std::future_status::timeout);
   TextLog tl;
   StepStats stats;
@@ -87,7 +87,7 @@ TEST_CASE("watchdog: a stop signal ends a step stuck for the grace time, with th
   std::atomic<int> sig{0};
   auto emergency = arm(w, 10, 1e6, sig);  // the hard budget never trips here
   const std::string name = "sleeper";
-  w.enter(name, from_seconds(3.0), true);
+  w.enter(name, from_seconds(3.0), true, step_clock_now());
   CHECK(emergency.wait_for(200ms) == std::future_status::timeout);  // no signal: waits on
   sig = SIGTERM;
   const auto t0 = std::chrono::steady_clock::now();
@@ -106,12 +106,12 @@ TEST_CASE("watchdog: steps over the soft budget are counted, warned about once; 
   TextLog tl;
   StepStats stats;
   const std::string name = "slow_estimator";
-  w.enter(name, from_seconds(1.0), true);
+  w.enter(name, from_seconds(1.0), true, step_clock_now());
   w.leave(stats, 5'000'000, tl.log);  // 5 ms
   CHECK(stats.slow == 0);
-  w.enter(name, from_seconds(2.0), true);
+  w.enter(name, from_seconds(2.0), true, step_clock_now());
   w.leave(stats, 25'000'000, tl.log);  // 25 ms
-  w.enter(name, from_seconds(3.0), true);
+  w.enter(name, from_seconds(3.0), true, step_clock_now());
   w.leave(stats, 30'000'000, tl.log);
   CHECK(stats.slow == 2);
   const std::string text = tl.text.str();

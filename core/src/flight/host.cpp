@@ -475,7 +475,7 @@ EndRequest Host::run_tick(Scheduler& clock) {
   const Nanos now = clock.now();
   const auto step = [&clock, this](Instance& inst) {
     const Nanos before = inst.stats.total_ns;
-    watchdog_.enter(inst.cfg.name, clock.now(), inst.isolated == nullptr);
+    watchdog_.enter(inst.cfg.name, clock.now(), inst.isolated == nullptr, clock.step_start_ticks());
     std::string error = clock.step(*inst.plugin, inst.stats);
     watchdog_.leave(inst.stats, inst.failure().empty() ? inst.stats.total_ns - before : 0, *logger_);  // a failed child: its own line
     return error;

@@ -105,6 +105,9 @@ class Scheduler {
   /// A paced flight's figures (realtime.hpp); nullptr for an unpaced one.
   RealtimeStats* realtime_stats() { return rt_.get(); }
 
+  /// step_clock_now() where the next step starts: the end of the previous one of this tick, or
+  /// start_steps() (the watchdog's start of a step without a clock read of its own).
+  std::int64_t step_start_ticks() const { return step_clock_; }
   std::int64_t wall_start() const { return wall0_; }  ///< wall_ns() at construction
   double wall_s() const;                              ///< wall time since construction, s
   double cpu_s() const;                               ///< CPU time of this thread since construction, s

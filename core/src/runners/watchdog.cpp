@@ -35,11 +35,11 @@ void Watchdog::disarm() {
   thread_.join();
 }
 
-void Watchdog::enter(const std::string& name, Nanos now, bool policed) {
+void Watchdog::enter(const std::string& name, Nanos now, bool policed, std::int64_t started) {
   name_ = &name;
   step_now_ = now;
   policed_.store(policed, std::memory_order_relaxed);
-  started_.store(step_clock_now(), std::memory_order_release);  // the TSC where it can: a step's cost
+  started_.store(started, std::memory_order_release);
 }
 
 void Watchdog::leave(StepStats& stats, Nanos dt, spdlog::logger& log) {

@@ -893,7 +893,9 @@ msg::State Estimator::state() const {
 Eigen::Quaterniond Estimator::body_attitude() const {
   const NominalState& x = filter_.x();
   if (!cfg_.accel_level_calibrated) return x.q;
-  return (x.q * quat_exp(-level_tilt_from_offset(cfg_.gravity) * x.b_a)).normalized();
+  LevelTilt& t = level_tilt_;
+  if (!(x.b_a == t.b_a) || cfg_.gravity != t.gravity) t = {x.b_a, cfg_.gravity, quat_exp(-level_tilt_from_offset(cfg_.gravity) * x.b_a)};
+  return (x.q * t.exp_minus_mu).normalized();
 }
 
 Vec3 Estimator::body_attitude_variance() const {

@@ -51,6 +51,7 @@
 #include <array>
 #include <cstdint>
 #include <deque>
+#include <limits>
 #include <optional>
 #include <string>
 #include <utility>
@@ -693,6 +694,14 @@ class Estimator {
   NormalForce normal_force_;
   Vec3 accel_sum_ = Vec3::Zero();  // body specific force summed since the previous pitot sample
   int accel_n_ = 0;                // (the side- and normal-force updates' measurement)
+  /// body_attitude()'s Exp(-mu) for the b_a and gravity it was formed with: b_a moves only in
+  /// updates, the attitude is published with every IMU sample.
+  struct LevelTilt {
+    Vec3 b_a = Vec3::Constant(std::numeric_limits<double>::quiet_NaN());
+    double gravity = 0.0;
+    Eigen::Quaterniond exp_minus_mu = Eigen::Quaterniond::Identity();
+  };
+  mutable LevelTilt level_tilt_;
 
   bool initialized_ = false;
   bool keep_calibration_ = false;  ///< the next initialisation keeps the sensor states (after an IMU loss)

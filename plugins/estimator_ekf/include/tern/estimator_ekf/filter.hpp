@@ -81,6 +81,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -301,6 +302,13 @@ struct UpdateStats {
   }
 };
 
+/// P's column j minus W^T's columns m = 0, 1, ... times W^T(j, m), subtracted in that order in one
+/// pass over the column (the update's P -= W^T W, filter.hpp's Filter::update).
+template <class WtMat, std::size_t... m>
+void downdate_column(Cov& P, const WtMat& Wt, int j, std::index_sequence<m...>) {
+  P.col(j) = (P.col(j) - ... - (Wt(j, static_cast<int>(m)) * Wt.col(static_cast<int>(m))));
+}
+
 /// The filter: nominal state, kErrDim x kErrDim covariance, propagation and the generic update.
 class Filter {
  public:
@@ -487,8 +495,7 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   const ErrVec dx = Wt * llt.matrixL().solve(y);
   x_ = boxplus(x_, dx);
   correction_sum_ += dx;
-  for (int j = 0; j < kErrDim; ++j)
-    for (int m = 0; m < M; ++m) P_.col(j) -= Wt(j, m) * Wt.col(m);
+  for (int j = 0; j < kErrDim; ++j) downdate_column(P_, Wt, j, std::make_index_sequence<M>{});
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
