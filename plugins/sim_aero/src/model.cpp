@@ -120,10 +120,12 @@ namespace {
 // Spring-damper wheels with rolling and side friction; ground plane p_d = 0.
 void ground_contact(const Aircraft& ac, const StateVector& x, const Eigen::Matrix3d& Rot, const Deltas& d, ForcesMoments& fm) {
   const auto& g = ac.gear;
+  const Eigen::Vector3d p(x[PN], x[PE], x[PD]);
+  // in the air (no wheel below the ground: each `continue`s below) there is nothing to work out
+  if (std::none_of(g.points.begin(), g.points.end(), [&](const Eigen::Vector3d& r) { return (p + Rot * r).z() > 0.0; })) return;
   const double n = static_cast<double>(g.points.size());
   const double k = ac.mass * kGravity / (n * g.static_deflection);
   const double c = 2.0 * g.damping_ratio * std::sqrt(k * ac.mass / n);
-  const Eigen::Vector3d p(x[PN], x[PE], x[PD]);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   const Eigen::Vector3d w(x[P], x[Q], x[R]);
   // Wheel rolling direction: body x projected on the ground plane.
@@ -230,9 +232,35 @@ ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Del
 }
 
 namespace {
-StateVector derivative_b(const Aircraft& ac, const Blend& blend, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
+// Book eq. 3.13: the Gamma coefficients of the inertia matrix.
+struct Gammas {
+  double G1, G2, G3, G4, G5, G6, G7, G8;
+};
+
+Gammas gammas_of(const Aircraft& ac) {
+  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
+  return {ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G,
+          (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G,
+          ac.Jz / G,
+          ac.Jxz / G,
+          (ac.Jz - ac.Jx) / ac.Jy,
+          ac.Jxz / ac.Jy,
+          ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G,
+          ac.Jx / G};
+}
+
+// What every evaluation of an integration step shares: computed once per step.
+struct StepConstants {
+  Blend blend;
+  Gammas gamma;
+};
+
+StepConstants constants_of(const Aircraft& ac) { return {blend_of(ac), gammas_of(ac)}; }
+
+StateVector derivative_b(const Aircraft& ac, const StepConstants& k, const StateVector& x, const Deltas& d, const Wind& w,
+                         ForcesMoments* out) {
   const Eigen::Matrix3d Rot = attitude(x).toRotationMatrix();
-  const ForcesMoments fm = forces_moments_rot(ac, blend, x, d, w, Rot);
+  const ForcesMoments fm = forces_moments_rot(ac, k.blend, x, d, w, Rot);
   const Eigen::Vector3d v(x[U], x[V], x[W]);
   const double p = x[P], q = x[Q], r = x[R];
   StateVector dx;
@@ -248,12 +276,7 @@ StateVector derivative_b(const Aircraft& ac, const Blend& blend, const StateVect
   dx[E2] = 0.5 * (q * e0 - r * e1 + p * e3);
   dx[E3] = 0.5 * (r * e0 + q * e1 - p * e2);
   // Book eq. 3.17 with the Gamma coefficients of eq. 3.13.
-  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
-  const double G1 = ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G;
-  const double G2 = (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G;
-  const double G3 = ac.Jz / G, G4 = ac.Jxz / G;
-  const double G5 = (ac.Jz - ac.Jx) / ac.Jy, G6 = ac.Jxz / ac.Jy;
-  const double G7 = ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G, G8 = ac.Jx / G;
+  const auto [G1, G2, G3, G4, G5, G6, G7, G8] = k.gamma;
   const double l = fm.moment.x(), m = fm.moment.y(), n = fm.moment.z();
   dx[P] = G1 * p * q - G2 * q * r + G3 * l + G4 * n;
   dx[Q] = G5 * p * r - G6 * (p * p - r * r) + m / ac.Jy;
@@ -264,15 +287,15 @@ StateVector derivative_b(const Aircraft& ac, const Blend& blend, const StateVect
 }  // namespace
 
 StateVector derivative(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, ForcesMoments* out) {
-  return derivative_b(ac, blend_of(ac), x, d, w, out);
+  return derivative_b(ac, constants_of(ac), x, d, w, out);
 }
 
 StateVector rk4_step(const Aircraft& ac, const StateVector& x, const Deltas& d, const Wind& w, double dt) {
-  const Blend blend = blend_of(ac);
-  const StateVector k1 = derivative_b(ac, blend, x, d, w, nullptr);
-  const StateVector k2 = derivative_b(ac, blend, x + 0.5 * dt * k1, d, w, nullptr);
-  const StateVector k3 = derivative_b(ac, blend, x + 0.5 * dt * k2, d, w, nullptr);
-  const StateVector k4 = derivative_b(ac, blend, x + dt * k3, d, w, nullptr);
+  const StepConstants c = constants_of(ac);
+  const StateVector k1 = derivative_b(ac, c, x, d, w, nullptr);
+  const StateVector k2 = derivative_b(ac, c, x + 0.5 * dt * k1, d, w, nullptr);
+  const StateVector k3 = derivative_b(ac, c, x + 0.5 * dt * k2, d, w, nullptr);
+  const StateVector k4 = derivative_b(ac, c, x + dt * k3, d, w, nullptr);
   StateVector xn = x + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
   xn.segment<4>(E0).normalize();
   return xn;
