@@ -1,6 +1,7 @@
 // Filter propagation and the error-state correction (equations in filter.hpp).
 #include "tern/estimator_ekf/filter.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -21,6 +22,70 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
   r.k_sp += dx(idx::sp);
   r.wind_d += dx(idx::wd);
   return r;
+}
+
+// The covariance's O(n^2) loops run over P's contiguous columns, each element by the same
+// multiplications and additions in the same order whatever the vector width: on x86-64 they are
+// also built for AVX (4 doubles, where the baseline has 2), chosen at load time where the CPU has
+// it, with identical results (no FMA: that would round differently). AVX-512 was slower here.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define TERN_EKF_AVX_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define TERN_EKF_AVX_CLONES
+#endif
+
+// One pass over each column with M <= 3 terms (the models' dimensions), a pass per term beyond.
+TERN_EKF_AVX_CLONES
+void downdate(Cov& P, const double* Wt, int M) {
+  constexpr int n = kErrDim;
+  for (int j = 0; j < n; ++j) {
+    double* Pj = P.col(j).data();
+    const double* w0 = Wt;
+    const double a0 = w0[j];
+    if (M == 1) {
+      for (int i = 0; i < n; ++i) Pj[i] = Pj[i] - a0 * w0[i];
+      continue;
+    }
+    const double *w1 = Wt + n, a1 = w1[j];
+    if (M == 2) {
+      for (int i = 0; i < n; ++i) Pj[i] = (Pj[i] - a0 * w0[i]) - a1 * w1[i];
+      continue;
+    }
+    const double *w2 = Wt + 2 * n, a2 = w2[j];
+    for (int i = 0; i < n; ++i) Pj[i] = ((Pj[i] - a0 * w0[i]) - a1 * w1[i]) - a2 * w2[i];
+    for (int m = 3; m < M; ++m) {
+      const double* w = Wt + m * n;
+      for (int i = 0; i < n; ++i) Pj[i] = Pj[i] - w[j] * w[i];
+    }
+  }
+}
+
+TERN_EKF_AVX_CLONES
+void P_times_Ht(const Cov& P, const double* H, int M, double* PHt) {
+  constexpr int n = kErrDim;
+  std::fill(PHt, PHt + n * M, 0.0);
+  for (int k = 0; k < n; ++k) {
+    const double* Pk = P.col(k).data();
+    for (int m = 0; m < M; ++m) {
+      const double h = H[m + k * M];
+      if (h == 0.0) continue;
+      double* out = PHt + m * n;
+      for (int i = 0; i < n; ++i) out[i] = out[i] + h * Pk[i];
+    }
+  }
+}
+
+TERN_EKF_AVX_CLONES
+bool all_finite(const Cov& P) {
+  constexpr int N = kErrDim * kErrDim, L = 4;  // four running sums: one vector's lanes
+  const double* p = P.data();
+  double acc[L] = {0.0, 0.0, 0.0, 0.0};
+  int i = 0;
+  for (; i + L <= N; i += L)
+    for (int k = 0; k < L; ++k) acc[k] += p[i + k];
+  double sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  for (; i < N; ++i) sum += p[i];
+  return std::isfinite(sum);
 }
 
 bool Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity) {
@@ -52,6 +117,41 @@ void Filter::accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, 
 }
 
 namespace {
+/// step_covariance()'s step 1: B = P Phi^T on the columns of p, v and theta, in place:
+///   P_p += T P_v;  P_v += P_th V_th^T + P_ba V_ba^T;  P_th = P_th Th^T + P_bg Bg^T + P_S S^T
+/// (V_th = Phi_v,theta, ...), each sum over k in order k = 0, 1, ... (Eigen's lazyProduct's).
+TERN_EKF_AVX_CLONES
+void step_columns(Cov& P, double T, const Mat3& v_th, const Mat3& v_ba, const Mat3& th_th, const Mat3& th_bg, const Mat39& th_sg) {
+  constexpr int n = kErrDim;
+  auto col = [&P](int c) { return P.col(c).data(); };
+  for (int c = 0; c < 3; ++c) {
+    double* pc = col(idx::p + c);
+    const double* vc = col(idx::v + c);
+    for (int i = 0; i < n; ++i) pc[i] = pc[i] + T * vc[i];
+  }
+  const double *th0 = col(idx::th), *th1 = col(idx::th + 1), *th2 = col(idx::th + 2);
+  const double *ba0 = col(idx::ba), *ba1 = col(idx::ba + 1), *ba2 = col(idx::ba + 2);
+  for (int c = 0; c < 3; ++c) {
+    double* vc = col(idx::v + c);
+    const double a0 = v_th(c, 0), a1 = v_th(c, 1), a2 = v_th(c, 2);
+    const double b0 = v_ba(c, 0), b1 = v_ba(c, 1), b2 = v_ba(c, 2);
+    for (int i = 0; i < n; ++i) vc[i] = vc[i] + (((th0[i] * a0 + th1[i] * a1) + th2[i] * a2) + ((ba0[i] * b0 + ba1[i] * b1) + ba2[i] * b2));
+  }
+  const double *bg0 = col(idx::bg), *bg1 = col(idx::bg + 1), *bg2 = col(idx::bg + 2);
+  const double* sg = col(idx::sg);  // 9 contiguous columns
+  alignas(32) double out[3][n];
+  for (int c = 0; c < 3; ++c) {
+    const double a0 = th_th(c, 0), a1 = th_th(c, 1), a2 = th_th(c, 2);
+    const double b0 = th_bg(c, 0), b1 = th_bg(c, 1), b2 = th_bg(c, 2);
+    for (int i = 0; i < n; ++i) {
+      double s = sg[i] * th_sg(c, 0);
+      for (int k = 1; k < 9; ++k) s = s + sg[k * n + i] * th_sg(c, k);
+      out[c][i] = (((th0[i] * a0 + th1[i] * a1) + th2[i] * a2) + ((bg0[i] * b0 + bg1[i] * b1) + bg2[i] * b2)) + s;
+    }
+  }
+  for (int c = 0; c < 3; ++c) std::copy(out[c], out[c] + n, col(idx::th + c));
+}
+
 /// The error states Phi moves (rows of Phi other than the identity's): p, v, theta, e_gnss, w_d.
 constexpr std::array<int, 13> kMoved = {idx::p,      idx::p + 1,  idx::p + 2, idx::v,      idx::v + 1,  idx::v + 2, idx::th,
                                         idx::th + 1, idx::th + 2, idx::eg,    idx::eg + 1, idx::eg + 2, idx::wd};
@@ -75,13 +175,7 @@ void Filter::step_covariance() {
   const double T = f.dt;
   const double fe = std::exp(-f.gnss_error_k * T), fw = std::exp(-f.vertical_wind_rate * T);
   // 1. Columns (order matters: each block uses the old values of the blocks after it).
-  P.middleCols<3>(idx::p) += T * P.middleCols<3>(idx::v);
-  P.middleCols<3>(idx::v) +=
-      P.middleCols<3>(idx::th).lazyProduct(f.v_th.transpose()) + P.middleCols<3>(idx::ba).lazyProduct(f.v_ba.transpose());
-  P.middleCols<3>(idx::th) =
-      (P.middleCols<3>(idx::th).lazyProduct(f.th_th.transpose()) + P.middleCols<3>(idx::bg).lazyProduct(f.th_bg.transpose()) +
-       P.middleCols<9>(idx::sg).lazyProduct(f.th_sg.transpose()))
-          .eval();
+  step_columns(P, T, f.v_th, f.v_ba, f.th_th, f.th_bg, f.th_sg);
   P.middleCols<3>(idx::eg) *= fe;
   P.col(idx::wd) *= fw;
   // 2. Rows of M outside M x M: the mirror of the columns.

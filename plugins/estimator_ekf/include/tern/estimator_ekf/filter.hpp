@@ -81,7 +81,6 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <utility>
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -302,12 +301,17 @@ struct UpdateStats {
   }
 };
 
-/// P's column j minus W^T's columns m = 0, 1, ... times W^T(j, m), subtracted in that order in one
-/// pass over the column (the update's P -= W^T W, filter.hpp's Filter::update).
-template <class WtMat, std::size_t... m>
-void downdate_column(Cov& P, const WtMat& Wt, int j, std::index_sequence<m...>) {
-  P.col(j) = (P.col(j) - ... - (Wt(j, static_cast<int>(m)) * Wt.col(static_cast<int>(m))));
-}
+/// The update's P -= W^T W (Filter::update): for each column j, W^T's columns m = 0 .. M-1
+/// (contiguous, kErrDim each) times W^T(j, m) subtracted from P's column j in that order, one pass
+/// over the column. Every element takes the same multiplications and subtractions whatever the
+/// vector width, so the result does not depend on the machine (on x86-64 the function is also
+/// built for AVX and chosen at load time where the CPU has it: filter.cpp).
+void downdate(Cov& P, const double* Wt, int M);
+/// The update's P H^T (kErrDim x M, column-major, into PHt): H's (M x kErrDim, column-major) non-zero
+/// entries times P's columns, summed over P's columns in order (filter.cpp, as downdate()).
+void P_times_Ht(const Cov& P, const double* H, int M, double* PHt);
+/// Every element of P finite (their sum is: an overflow counts as not finite).
+bool all_finite(const Cov& P);
 
 /// The filter: nominal state, kErrDim x kErrDim covariance, propagation and the generic update.
 class Filter {
@@ -399,7 +403,7 @@ class Filter {
   /// Covariance finite with a positive diagonal, state finite. (The sum of P is finite exactly
   /// when every element is, barring an overflow that is unhealthy too; it vectorises, where an
   /// element-wise check costs as much as the covariance propagation.)
-  bool healthy() const { return std::isfinite(P_.sum()) && (P_.diagonal().array() > 0.0).all() && x_.all_finite(); }
+  bool healthy() const { return all_finite(P_) && (P_.diagonal().array() > 0.0).all() && x_.all_finite(); }
 
   const NominalState& x() const { return x_; }
   /// The covariance as of its last step (at most one covariance period behind x()).
@@ -458,10 +462,8 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   const MatM R = model.noise(x_);
   // (H P)^T = P H^T over H's non-zero columns only (a model touches a few states): P's column k
   // (contiguous) times H's column k, held as columns.
-  Eigen::Matrix<double, kErrDim, M> HPt = Eigen::Matrix<double, kErrDim, M>::Zero();
-  for (int k = 0; k < kErrDim; ++k)
-    for (int m = 0; m < M; ++m)
-      if (H(m, k) != 0.0) HPt.col(m) += H(m, k) * P_.col(k);
+  Eigen::Matrix<double, kErrDim, M> HPt;
+  P_times_Ht(P_, H.data(), M, HPt.data());
   const MatM S = H.lazyProduct(HPt) + R;  // coefficient-wise (Eigen's GEMM set-up cost more than the product)
   const Eigen::LLT<MatM> llt(S);
   if (!y.allFinite() || !S.allFinite() || llt.info() != Eigen::Success) {
@@ -495,7 +497,7 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   const ErrVec dx = Wt * llt.matrixL().solve(y);
   x_ = boxplus(x_, dx);
   correction_sum_ += dx;
-  for (int j = 0; j < kErrDim; ++j) downdate_column(P_, Wt, j, std::make_index_sequence<M>{});
+  downdate(P_, Wt.data(), M);
   ++model.stats.accepted;
   model.stats.consecutive_rejected = 0;
   return UpdateResult::accepted;
