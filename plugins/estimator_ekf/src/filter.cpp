@@ -77,14 +77,15 @@ void P_times_Ht(const Cov& P, const double* H, int M, double* PHt) {
 
 TERN_EKF_AVX_CLONES
 bool all_finite(const Cov& P) {
-  constexpr int N = kErrDim * kErrDim, L = 4;  // four running sums: one vector's lanes
+  constexpr int N = kErrDim * kErrDim, L = 16;  // 16 running sums: four vectors' lanes, added in parallel
   const double* p = P.data();
-  double acc[L] = {0.0, 0.0, 0.0, 0.0};
+  double acc[L] = {};
   int i = 0;
   for (; i + L <= N; i += L)
     for (int k = 0; k < L; ++k) acc[k] += p[i + k];
-  double sum = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+  double sum = 0.0;
   for (; i < N; ++i) sum += p[i];
+  for (double a : acc) sum += a;
   return std::isfinite(sum);
 }
 
