@@ -92,7 +92,7 @@ bool all_finite(const Cov& P) {
 bool Filter::propagate(const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise, double gravity) {
   const Vec3 a = accel - x_.b_a;  // specific force, body
   accumulate(a, x_.rate(gyro), gyro - x_.b_g, dt, noise, (a - Vec3(0.0, 0.0, -gravity)).norm());
-  x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise);
+  x_ = propagate_nominal(x_, accel, gyro, dt, gravity, noise, &decays_for(noise, dt));
   if (pending_.dt < covariance_period_ * (1.0 - 1e-6)) return false;
   step_covariance();
   return true;
@@ -110,7 +110,7 @@ void Filter::accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, 
   f.th_bg = (Fthth.lazyProduct(f.th_bg) - dt * (Mat3::Identity() - x_.S_g)).eval();
   f.th_sg = (Fthth.lazyProduct(f.th_sg) - dt * sensitivity_jacobian(u)).eval();
   f.th_th = Fthth.lazyProduct(f.th_th).eval();
-  f.q += process_noise_diagonal(noise, dt, load);
+  f.q += process_noise_diagonal(noise, dt, load, &decays_for(noise, dt));
   f.dt += dt;
   f.gnss_error_k = noise.gnss_error_k;
   f.vertical_wind_rate = noise.vertical_wind_rate();
@@ -199,15 +199,32 @@ void Filter::step_covariance() {
   f = Pending{};
 }
 
+Filter::Decays Filter::decays(const ProcessNoise& noise, double dt) {
+  return {std::exp(-noise.gnss_error_k * dt), std::exp(-noise.vertical_wind_rate() * dt),
+          1.0 - std::exp(-2.0 * noise.vertical_wind_rate() * dt)};
+}
+
+const Filter::Decays& Filter::decays_for(const ProcessNoise& noise, double dt) {
+  auto& c = decays_;
+  if (dt != c.dt || noise.gnss_error_k != c.gnss_error_k || noise.vertical_wind_time != c.vertical_wind_time) {
+    c.dt = dt;
+    c.gnss_error_k = noise.gnss_error_k;
+    c.vertical_wind_time = noise.vertical_wind_time;
+    c.d = decays(noise, dt);
+  }
+  return c.d;
+}
+
 NominalState Filter::propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
-                                       const ProcessNoise& noise) {
+                                       const ProcessNoise& noise, const Decays* d) {
+  const Decays dd = d != nullptr ? *d : decays(noise, dt);
   NominalState r = x;
   const Vec3 a_n = x.R() * (accel - x.b_a) + Vec3(0.0, 0.0, gravity);
   r.p += x.v * dt + (0.5 * dt * dt) * a_n;
   r.v += a_n * dt;
   r.q = (x.q * quat_exp(x.rate(gyro) * dt)).normalized();
-  r.e_gnss *= std::exp(-noise.gnss_error_k * dt);  // expectations of the Gauss-Markov processes
-  r.wind_d *= std::exp(-noise.vertical_wind_rate() * dt);
+  r.e_gnss *= dd.gnss_error;  // expectations of the Gauss-Markov processes
+  r.wind_d *= dd.vertical_wind;
   return r;
 }
 
@@ -225,7 +242,7 @@ Cov Filter::transition(const NominalState& x, const Vec3& accel, const Vec3& gyr
   return F;
 }
 
-ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, double load) {
+ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, double load, const Decays* d) {
   // R sigma^2 I R^T = sigma^2 I for the isotropic accelerometer noise.
   ErrVec q;
   q.segment<3>(idx::p).setConstant(noise.position * noise.position * dt);
@@ -242,7 +259,7 @@ ErrVec Filter::process_noise_diagonal(const ProcessNoise& noise, double dt, doub
   q.segment<3>(idx::bm).setConstant(noise.mag_bias_walk * noise.mag_bias_walk * dt);
   q(idx::sp) = noise.static_error_walk * noise.static_error_walk * dt;
   const double sw = noise.vertical_wind_sigma;  // steady sigma: the exact discrete Gauss-Markov variance
-  q(idx::wd) = sw * sw * (1.0 - std::exp(-2.0 * noise.vertical_wind_rate() * dt));
+  q(idx::wd) = sw * sw * (d != nullptr ? d->vertical_wind_var : decays(noise, dt).vertical_wind_var);
   return q;
 }
 

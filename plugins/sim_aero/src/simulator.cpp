@@ -132,15 +132,24 @@ bool Simulator::ground_strike(Impact& m) {
   return false;
 }
 
+double Simulator::Lag::operator()(double step, double time_constant) {
+  if (step != dt || time_constant != tau) {
+    dt = step;
+    tau = time_constant;
+    k = tau > 0 ? 1.0 - std::exp(-dt / tau) : 1.0;
+  }
+  return k;
+}
+
 void Simulator::step(double dt) {
   if (!(dt > 0)) return;
   t_ += dt;
   // Servos: deadband, first-order lag (exact for a command held over the step), rate limit.
-  const double k = ac_.servo_tau > 0 ? 1.0 - std::exp(-dt / ac_.servo_tau) : 1.0;
+  const double k = servo_lag_(dt, ac_.servo_tau);
   act_.delta_a = servo_step(act_.delta_a, cmd_.delta_a, k, dt, actuators_);
   act_.delta_e = servo_step(act_.delta_e, cmd_.delta_e, k, dt, actuators_);
   act_.delta_r = servo_step(act_.delta_r, cmd_.delta_r, k, dt, actuators_);
-  const double km = actuators_.motor_tau > 0 ? 1.0 - std::exp(-dt / actuators_.motor_tau) : 1.0;
+  const double km = motor_lag_(dt, actuators_.motor_tau);
   act_.delta_t += km * (cmd_.delta_t - act_.delta_t);
   act_.brake = cmd_.brake;
   // Wind: turbulence at the height of the CG, driven at the speed through the air mass without

@@ -108,6 +108,12 @@ class Simulator {
   double t_ = 0;
   bool crashed_ = false;
   Impact impact_;
+  /// 1 - exp(-dt / tau) of a first-order lag, remembered for the last dt and tau (the step is fixed).
+  struct Lag {
+    double dt = -1.0, tau = 0.0, k = 1.0;
+    double operator()(double step, double time_constant);
+  };
+  Lag servo_lag_, motor_lag_;
   std::vector<bool> wheel_down_;  ///< each gear point on the ground after the last step
   bool ground_strike(Impact& m);
 };

@@ -341,15 +341,23 @@ class Filter {
   /// covariance period old).
   void step_covariance();
 
-  /// The nominal-state part of propagate(): constant specific force and rate over dt.
+  /// The Gauss-Markov states' decays over dt: exp(-k dt) of the GNSS error, exp(-dt / tau_w) of
+  /// the vertical wind, and 1 - exp(-2 dt / tau_w) (its discrete variance's factor).
+  struct Decays {
+    double gnss_error, vertical_wind, vertical_wind_var;
+  };
+  static Decays decays(const ProcessNoise& noise, double dt);
+
+  /// The nominal-state part of propagate(): constant specific force and rate over dt (`d`: the
+  /// decays over dt, computed when null).
   static NominalState propagate_nominal(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, double gravity,
-                                        const ProcessNoise& noise);
+                                        const ProcessNoise& noise, const Decays* d = nullptr);
   /// The dense error-state transition F of propagate() with the Gauss-Markov rates of `noise` (for tests and documentation;
   /// propagate() applies it block-wise without forming it).
   static Cov transition(const NominalState& x, const Vec3& accel, const Vec3& gyro, double dt, const ProcessNoise& noise);
   /// The discrete process noise Q of propagate() (diagonal) at the specific force's departure
   /// |a - (0, 0, -g)| = load, m/s^2, from the level 1 g at which the accelerometer was calibrated.
-  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double load);
+  static ErrVec process_noise_diagonal(const ProcessNoise& noise, double dt, double load, const Decays* d = nullptr);
 
   /// Generic measurement update with a model (measurements.hpp describes the interface):
   /// residual z - h(x), Jacobian H, noise R, chi-square gate model.gate (<= 0: no gate).
@@ -430,6 +438,8 @@ class Filter {
     double vertical_wind_rate = 0.0;
   };
   void accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, const ProcessNoise& noise, double load);
+  /// decays() for this dt and noise, remembered: the IMU's interval repeats sample after sample.
+  const Decays& decays_for(const ProcessNoise& noise, double dt);
 
   NominalState x_;
   Cov P_ = Cov::Identity();
@@ -439,6 +449,10 @@ class Filter {
   ErrVec correction_sum_ = ErrVec::Zero();
   double covariance_period_ = 0.0;
   Pending pending_;
+  struct {
+    double dt = -1.0, gnss_error_k = 0.0, vertical_wind_time = 0.0;
+    Decays d{};
+  } decays_;
 };
 
 template <class Model>
