@@ -120,7 +120,7 @@ void Filter::accumulate(const Vec3& a, const Vec3& w, const Vec3& u, double dt, 
 namespace {
 /// step_covariance()'s step 1: B = P Phi^T on the columns of p, v and theta, in place:
 ///   P_p += T P_v;  P_v += P_th V_th^T + P_ba V_ba^T;  P_th = P_th Th^T + P_bg Bg^T + P_S S^T
-/// (V_th = Phi_v,theta, ...), each sum over k in order k = 0, 1, ... (Eigen's lazyProduct's).
+/// (V_th = Phi_v,theta, ...), each sum over k in order k = 0, 1, ...
 TERN_EKF_AVX_CLONES
 void step_columns(Cov& P, double T, const Mat3& v_th, const Mat3& v_ba, const Mat3& th_th, const Mat3& th_bg, const Mat39& th_sg) {
   constexpr int n = kErrDim;

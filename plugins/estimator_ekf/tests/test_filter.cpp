@@ -2,7 +2,9 @@
 // the Joseph-form update and the chi-square gate.
 #include <doctest/doctest.h>
 
+#include <limits>
 #include <random>
+#include <utility>
 
 #include "tern/estimator_ekf/filter.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
@@ -497,4 +499,50 @@ TEST_CASE("covariance inflation adds independent variance: fusing p + e afterwar
   const Eigen::Matrix3d S = H * Pi * H.transpose() + 0.01 * Mat3::Identity();
   const Cov post = Pi - Pi * H.transpose() * S.inverse() * H * Pi;
   CHECK(post(idx::eg, idx::eg) > 0.9);
+}
+
+TEST_CASE("the covariance kernels: the same numbers as Eigen's expressions, bit for bit, at every dimension") {
+  // downdate() and P_times_Ht() run as plain loops, built also for AVX (filter.cpp): every element
+  // must take the same operations in the same order as the expressions they replace, or a flight
+  // would depend on the machine's vector width.
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> n01;
+  Cov P;
+  for (int j = 0; j < kErrDim; ++j)
+    for (int i = 0; i < kErrDim; ++i) P(i, j) = n01(rng);
+  Eigen::Matrix<double, kErrDim, 3> Wt;
+  for (int j = 0; j < 3; ++j)
+    for (int i = 0; i < kErrDim; ++i) Wt(i, j) = n01(rng);
+  for (int M = 1; M <= 3; ++M) {
+    Cov expected = P;
+    for (int j = 0; j < kErrDim; ++j)
+      for (int m = 0; m < M; ++m) expected.col(j) -= Wt(j, m) * Wt.col(m);
+    Cov got = P;
+    downdate(got, Wt.data(), M);
+    CHECK(got == expected);
+  }
+  Eigen::Matrix<double, 3, kErrDim> H = Eigen::Matrix<double, 3, kErrDim>::Zero();
+  for (int k : {0, 4, 6, 7, 15, 20, 31, 34}) H.col(k) = Vec3(n01(rng), 0.0, n01(rng));  // zeros too, as a model's
+  Eigen::Matrix<double, kErrDim, 3> expected = Eigen::Matrix<double, kErrDim, 3>::Zero();
+  for (int k = 0; k < kErrDim; ++k)
+    for (int m = 0; m < 3; ++m)
+      if (H(m, k) != 0.0) expected.col(m) += H(m, k) * P.col(k);
+  Eigen::Matrix<double, kErrDim, 3> got;
+  P_times_Ht(P, H.data(), 3, got.data());
+  CHECK(got == expected);
+}
+
+TEST_CASE("all_finite: a NaN, an infinity or an overflowing sum anywhere in P") {
+  Cov P = Cov::Identity();
+  CHECK(all_finite(P));
+  for (const auto& [i, j] : {std::pair{0, 0}, std::pair{17, 3}, std::pair{34, 34}}) {
+    Cov bad = P;
+    bad(i, j) = std::numeric_limits<double>::quiet_NaN();
+    CHECK_FALSE(all_finite(bad));
+    bad(i, j) = -std::numeric_limits<double>::infinity();
+    CHECK_FALSE(all_finite(bad));
+  }
+  Cov huge = P;
+  huge(3, 5) = huge(5, 3) = std::numeric_limits<double>::max();
+  CHECK_FALSE(all_finite(huge));  // finite elements whose sum is not: unhealthy too
 }
