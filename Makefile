@@ -107,7 +107,7 @@ ARM64_PACKAGES := crossbuild-essential-arm64 qemu-user qemu-user-binfmt \
   libarchive-dev:arm64 libzstd-dev:arm64 zlib1g-dev:arm64 libssl-dev:arm64 libfastrtps-dev:arm64 \
   libsdl2-dev:arm64 libyaml-cpp0.7:arm64 libgeographiclib23:arm64
 ARM64_HOST_PACKAGES := cmake ninja-build ccache make pkg-config python3 fastddsgen \
-  libeigen3-dev doctest-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libpcg-cpp-dev doctest-dev libcli11-dev nlohmann-json3-dev
 # -dev packages that are not Multi-Arch: same (apt would remove the amd64 one): unpacked into
 # the build tree instead, DEV:RUNTIME (tests/arm64/extra_dev.sh)
 ARM64_EXTRA_DEV := libyaml-cpp-dev:libyaml-cpp0.7 libgeographiclib-dev:libgeographiclib23
