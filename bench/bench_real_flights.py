@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""bench_real_flights.py BIN_DIR [--reference DIR] [--out JSON]: tern's estimator on real flights.
+"""bench_real_flights.py BIN_DIR [--reference DIR] [--set INSTANCE.PARAM=VALUE ...] [--out JSON]: tern's estimator on real flights.
 
 Imports the two real fixed-wing flights of ../shared/reference/real_flights (the PX4 Zurich 2014
 hand launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure) with
@@ -54,12 +54,12 @@ def run(argv):
     return p.stdout + p.stderr
 
 
-def replay(tern, reference, name, tmp):
+def replay(tern, reference, name, tmp, sets):
     fmt, archive = FLIGHTS[name]
     log = os.path.join(tmp, name)
     run([tern, "import", fmt, os.path.join(reference, "real_flights", archive), log])
     runs = os.path.join(tmp, name + "-runs")
-    run([tern, "replay", log, "-q", "--log-dir", runs])
+    run([tern, "replay", log, "-q", "--log-dir", runs] + [arg for s in sets for arg in ("--set", s)])
     run_dir = os.path.join(runs, os.listdir(runs)[0])
     with open(os.path.join(run_dir, "replay_report.json")) as f:
         return log, run_dir, json.load(f)
@@ -110,14 +110,16 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("bin_dir")
     ap.add_argument("--reference", default=os.path.join(HERE, "..", "..", "shared", "reference"))
+    ap.add_argument("--set", action="append", default=[], metavar="INSTANCE.PARAM=VALUE",
+                    help="a setting for both replays, as `tern replay --set` (e.g. ekf.wind_walk=1.0); repeatable")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "real_flights.json"))
     a = ap.parse_args()
     tern = os.path.join(a.bin_dir, "tern")
     result = {"what": "tern import + tern replay (configs/replay/estimator.yaml) on real flights; figures from replay_report.json",
-              "flights": {}}
+              "settings": a.set, "flights": {}}
     with tempfile.TemporaryDirectory() as tmp:
         for name in FLIGHTS:
-            log, run_dir, rep = replay(tern, a.reference, name, tmp)
+            log, run_dir, rep = replay(tern, a.reference, name, tmp, a.set)
             rows = []
             for label, path, op, target in TARGETS:
                 v = get(rep, path)
