@@ -146,6 +146,33 @@ TEST_CASE("sensor log tables have a tern flight log's header") {
   CHECK_THROWS_AS(SensorLogWriter(d.path / "log"), ImportError);
 }
 
+TEST_CASE("sensor log: a sensor slower than 5 Hz gets a time-out of 2.5 mean intervals, a faster one the default") {
+  TempDir d;
+  {
+    SensorLogWriter w(d.path / "log");
+    for (std::int64_t k = 0; k < 5; ++k) {  // a 1-Hz pitot and a 5-Hz GNSS over 4 s
+      msg::DiffPressure dp;
+      dp.stamp = k * 1'000'000'000;
+      w.write("diff_pressure", dp);
+    }
+    for (std::int64_t k = 0; k < 21; ++k) {
+      msg::Gnss g;
+      g.stamp = k * 200'000'000;
+      w.write("gnss", g);
+    }
+    msg::Baro b;  // one row: no interval, no setting
+    w.write("baro", b);
+    YAML::Node est;
+    est["mag_timeout"] = 7.0;
+    w.finish({"test", "none", "", est, {}});
+  }
+  const YAML::Node e = YAML::LoadFile((d.path / "log" / "sensor_log.yaml").string())["estimator"];
+  CHECK(e["diff_pressure_timeout"].as<double>() == doctest::Approx(2.5));
+  CHECK(!e["gnss_timeout"]);  // 0.2-s interval: estimator_ekf's default stays
+  CHECK(!e["baro_timeout"]);
+  CHECK(e["mag_timeout"].as<double>() == 7.0);  // the importer's own setting is kept
+}
+
 TEST_CASE("inertialnav: the Zurich PX4 flight, from its zip as shipped") {
   TempDir d;
   const fs::path log = d.path / "zurich";

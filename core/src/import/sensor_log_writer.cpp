@@ -99,6 +99,20 @@ YAML::Node SensorLogWriter::imu_timing_settings(Nanos max_interval) {
   return n;
 }
 
+YAML::Node SensorLogWriter::slow_sensor_timeouts() const {
+  constexpr double kSlowInterval = 0.2;   // s: slower than 5 Hz
+  constexpr double kIntervalsLate = 2.5;  // mean intervals of silence before a time-out
+  YAML::Node n(YAML::NodeType::Map);
+  for (const char* sensor : {"gnss", "baro", "diff_pressure", "mag"}) {
+    const auto it = topics_.find(sensor);
+    if (it == topics_.end() || it->second.rows < 2) continue;
+    const Topic& t = it->second;
+    const double mean = to_seconds(t.last_stamp - t.first_stamp) / static_cast<double>(t.rows - 1);
+    if (mean > kSlowInterval) n[std::string(sensor) + "_timeout"] = kIntervalsLate * mean;
+  }
+  return n;
+}
+
 void SensorLogWriter::finish(const SensorLogMeta& meta) {
   if (finished_) return;
   finished_ = true;
@@ -107,6 +121,10 @@ void SensorLogWriter::finish(const SensorLogMeta& meta) {
     if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
     for (const auto& kv : imu_timing_settings(imu->second.max_interval))
       if (!m.estimator[kv.first.as<std::string>()]) m.estimator[kv.first.as<std::string>()] = kv.second;
+  }
+  for (const auto& kv : slow_sensor_timeouts()) {
+    if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
+    if (!m.estimator[kv.first.as<std::string>()]) m.estimator[kv.first.as<std::string>()] = kv.second;
   }
   log_.write_file("sensor_log.yaml", meta_yaml(m, origin_));
   log_.close();

@@ -68,6 +68,7 @@ class SensorLogWriter {
     check_order(topic, t, msg.stamp);
     log_.capture(t.index, msg.stamp, &msg);
     if (t.rows > 0) t.max_interval = std::max(t.max_interval, msg.stamp - t.last_stamp);
+    if (t.rows == 0) t.first_stamp = msg.stamp;
     t.last_stamp = msg.stamp;
     ++t.rows;
   }
@@ -75,7 +76,8 @@ class SensorLogWriter {
   /// Writes sensor_log.yaml and flushes every table. Throws ImportError if anything could not
   /// be written (disk full, ...). Call once. The IMU's timing settings the estimator needs for
   /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings()) are added to
-  /// meta.estimator where the importer did not set them.
+  /// meta.estimator where the importer did not set them, and so is the time-out of every other
+  /// sensor slower than 5 Hz (slow_sensor_timeouts()).
   void finish(const SensorLogMeta& meta);
 
   /// The input's name (the archive or directory imported), written as `origin:` by finish().
@@ -88,6 +90,7 @@ class SensorLogWriter {
   struct Topic {
     std::size_t index = 0;
     std::uint64_t fingerprint = 0;
+    Nanos first_stamp = 0;
     Nanos last_stamp = 0;
     std::uint64_t rows = 0;
     Nanos max_interval = 0;  ///< longest interval between consecutive rows
@@ -98,6 +101,11 @@ class SensorLogWriter {
   /// (400 Hz: imu_max_dt 0.05 s, imu_timeout 0.02 s, imu_reinit_gap 0.5 s) where they hold, else
   /// 1.5x (integrate every interval whole), 2x (no time-out between two samples) and 5x it.
   static YAML::Node imu_timing_settings(Nanos max_interval);
+  /// `<sensor>_timeout` (gnss, baro, diff_pressure, mag) for each such topic whose mean interval
+  /// is longer than 0.2 s (slower than 5 Hz: estimator_ekf's time-outs, 0.5-1 s, would report
+  /// every gap between two samples): 2.5 mean intervals. A faster sensor keeps the default, so
+  /// a real drop-out is still reported.
+  YAML::Node slow_sensor_timeouts() const;
 
   std::filesystem::path dir_;
   FlightLog log_;
