@@ -1,6 +1,6 @@
 // The ULog reader against PX4's sample logs and pyulog's printouts of them
-// (../shared/reference/ulog_samples: sample_info.txt, sample_messages.txt, sample_log_small_messages.txt),
-// and corrupt or cut copies of them.
+// (../shared/reference/ulog_samples: sample_info.txt, sample_messages.txt, sample_log_small_messages.txt;
+// tests/real_data/ulog: pyulog's appended-data and tagged-logging samples), and corrupt or cut copies of them.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -87,6 +87,35 @@ Collected collect(Reader& r, const std::string& row_topic = "", std::size_t max_
   return c;
 }
 
+/// pyulog info's table, " name (multi id, size)   count   total bytes", by "name (multi id, size)".
+std::map<std::string, Topic> pyulog_info_table(const fs::path& info) {
+  std::map<std::string, Topic> table;
+  bool in_table = false;
+  for (const auto& line : lines_of(info)) {
+    if (line.rfind("Name (multi id", 0) == 0) {
+      in_table = true;
+      continue;
+    }
+    if (!in_table) continue;
+    const auto close = line.find(')');
+    std::istringstream rest(line.substr(close + 1));
+    std::uint64_t count = 0, bytes = 0;
+    rest >> count >> bytes;
+    table[line.substr(1, close)] = {static_cast<std::size_t>(bytes / count), count};
+  }
+  return table;
+}
+
+/// The reader saw exactly pyulog's topics, each with pyulog's count.
+void check_topics(const Collected& c, const std::map<std::string, Topic>& expected) {
+  CHECK(c.topics.size() == expected.size());
+  for (const auto& [key, t] : expected) {
+    INFO(key);
+    REQUIRE(c.topics.count(key) == 1);
+    CHECK(c.topics.at(key).count == t.count);
+  }
+}
+
 fs::path scratch_copy(const std::string& name, const std::string& bytes) {
   const fs::path p = fs::temp_directory_path() / ("tern_test_ulog_" + std::to_string(::getpid()) + "_" + name);
   std::ofstream(p, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
@@ -134,29 +163,9 @@ TEST_CASE("ulog reader: sample.ulg's info, topics and counts are pyulog's (sampl
   CHECK(total / 4 == 29);
   CHECK(std::round(total / 100.0) / 10.0 == doctest::Approx(0.1));
 
-  // The table: " name (multi id, size)   count   total bytes".
-  std::map<std::string, Topic> expected;
-  bool in_table = false;
-  for (const auto& line : lines_of(kSamples / "sample_info.txt")) {
-    if (line.rfind("Name (multi id", 0) == 0) {
-      in_table = true;
-      continue;
-    }
-    if (!in_table) continue;
-    const auto close = line.find(')');
-    std::istringstream rest(line.substr(close + 1));
-    std::uint64_t count = 0, bytes = 0;
-    rest >> count >> bytes;
-    const std::string key = line.substr(1, close);
-    expected[key] = {static_cast<std::size_t>(bytes / count), count};
-  }
+  const std::map<std::string, Topic> expected = pyulog_info_table(kSamples / "sample_info.txt");
   REQUIRE(expected.size() == 15);
-  CHECK(c.topics.size() == expected.size());
-  for (const auto& [key, t] : expected) {
-    INFO(key);
-    REQUIRE(c.topics.count(key) == 1);
-    CHECK(c.topics.at(key).count == t.count);
-  }
+  check_topics(c, expected);
   CHECK(c.stats.truncated == 0);
   CHECK(c.stats.unknown_msg_id == 0);
   CHECK(c.stats.wrong_size == 0);
@@ -170,6 +179,63 @@ TEST_CASE("ulog reader: logged strings are pyulog's (sample_messages.txt, sample
     const Collected c = collect(r);
     CHECK(c.messages == lines_of(kSamples / (std::string(name) + "_messages.txt")));
     CHECK(c.stats.truncated == 0);
+  }
+}
+
+TEST_CASE("ulog reader: pyulog's appended-data and tagged-logging samples (tests/real_data/ulog)") {
+  const fs::path dir = fs::path(TERN_SOURCE_DIR) / "tests" / "real_data" / "ulog";
+  SUBCASE("sample_appended_multiple.ulg: data appended twice after the log ended (flag bits' appended offsets)") {
+    Reader r(dir / "sample_appended_multiple.ulg");
+    CHECK(r.version() == 1);
+    const Collected c = collect(r);
+    // "Logging start time: 0:00:12, duration: 0:00:09", "No Dropouts"
+    CHECK(r.start_timestamp() / 1000000 == 12);
+    CHECK((c.stats.last_timestamp - r.start_timestamp()) / 1000000 == 9);
+    CHECK(c.dropouts.empty());
+    const std::map<std::string, Topic> expected = pyulog_info_table(dir / "sample_appended_multiple_info.txt");
+    REQUIRE(expected.size() == 20);
+    check_topics(c, expected);
+    CHECK(c.messages == lines_of(dir / "sample_appended_multiple_messages.txt"));
+    CHECK(c.stats.truncated == 0);
+    CHECK(c.stats.unknown_msg_id == 0);
+    CHECK(c.stats.corrupt_regions == 0);
+  }
+  SUBCASE("sample_logging_tagged_and_default_params.ulg: tagged logged strings, parameter defaults") {
+    Reader r(dir / "sample_logging_tagged_and_default_params.ulg");
+    std::vector<std::string> untagged;
+    std::vector<LoggedString> tagged;
+    DataHandler h;
+    h.on_logged_string = [&](const LoggedString& s) {
+      // pyulog's `messages` prints the untagged strings ('L') and skips one ending in a tab: the
+      // copy of a PX4 event, which it prints decoded from the `event` topic with PX4's event
+      // metadata instead (its line 2, "logging: opening log file ..."; this reader has no such
+      // metadata). Tagged strings ('C') are pyulog's logged_messages_tagged, not printed.
+      if (s.tag) tagged.push_back(s);
+      else if (s.message.empty() || s.message.back() != '\t') untagged.push_back(pyulog_message_line(s));
+    };
+    const UlogDataStats stats = r.read_data(h);
+    std::vector<std::string> expected = lines_of(dir / "sample_logging_tagged_and_default_params_messages.txt");
+    REQUIRE(expected.size() == 4);
+    CHECK(expected[1] == "0:00:00 INFO: logging: opening log file 2022-4-29/8_45_27.ulg");
+    expected.erase(expected.begin() + 1);
+    CHECK(untagged == expected);
+    REQUIRE(tagged.size() == 3);
+    for (const auto& t : tagged) {
+      CHECK(*t.tag == 1);
+      CHECK(t.level_name() == "INFO");
+      CHECK(t.message == "tagged message test");
+    }
+    // 'Q' default parameters by default type bit, as a struct.unpack of the spec's layout counts them
+    REQUIRE(r.default_parameters().count(0) == 1);
+    REQUIRE(r.default_parameters().count(1) == 1);
+    CHECK(r.default_parameters().at(0).size() == 44);  // system defaults
+    CHECK(r.default_parameters().at(1).size() == 21);  // the current setup's defaults
+    CHECK(r.default_parameters().at(0).at("BAT1_N_CELLS").type == "int32_t");
+    CHECK(r.default_parameters().at(0).at("BAT1_N_CELLS").number() == 0.0);
+    CHECK(r.default_parameters().at(1).at("CAL_ACC0_PRIO").number() == -1.0);
+    CHECK(stats.truncated == 0);
+    CHECK(stats.unknown_msg_id == 0);
+    CHECK(stats.corrupt_regions == 0);
   }
 }
 
@@ -358,12 +424,12 @@ struct Imported {
   std::vector<std::string> lines(const std::string& topic) const { return lines_of(dir / "topics" / (topic + ".csv")); }
 };
 
-Imported import_sample(const std::string& name) {
+Imported import_sample(const std::string& name, const fs::path& dir = kSamples) {
   Imported i;
   i.dir = fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(i.dir);
   tern::core::SensorLogWriter out(i.dir);
-  i.report = tern::core::import_ulog(kSamples / (name + ".ulg"), out);
+  i.report = tern::core::import_ulog(dir / (name + ".ulg"), out);
   return i;
 }
 
@@ -416,6 +482,18 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
   const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
   CHECK(!meta["date"]);
   CHECK(meta["estimator"]["imu_mount"].as<std::vector<double>>() == std::vector<double>{0, 0, 0});
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: pyulog's appended-data sample (2017, a quadrotor's ground log with data appended after it ended)") {
+  const Imported i = import_sample("sample_appended_multiple", fs::path(TERN_SOURCE_DIR) / "tests" / "real_data" / "ulog");
+  CHECK(i.report.rows.at("imu") == 2373);       // every sensor_combined message, the appended ones included (pyulog's count)
+  // vehicle_attitude's 306 rows (attitude) and vehicle_local_position's 95 (position, velocity), each
+  // message its own row at its own stamp (pyulog's counts)
+  CHECK(i.report.rows.at("reference") == 306 + 95);
+  CHECK(i.report.rows.count("gnss") == 0);
+  const auto imu = cells(i.lines("imu").back());
+  CHECK(std::stoll(imu.at(1)) <= 9'780'000'000);  // the last row within the log's 9.78 s
   fs::remove_all(i.dir);
 }
 
