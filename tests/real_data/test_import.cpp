@@ -146,7 +146,7 @@ TEST_CASE("sensor log tables have a tern flight log's header") {
   CHECK_THROWS_AS(SensorLogWriter(d.path / "log"), ImportError);
 }
 
-TEST_CASE("sensor log: a sensor slower than 5 Hz gets a time-out of 2.5 mean intervals, a faster one the default") {
+TEST_CASE("sensor log: a sensor slower than 2.5 Hz gets a time-out of 2.5 mean intervals, a faster one the default") {
   TempDir d;
   {
     SensorLogWriter w(d.path / "log");
@@ -160,16 +160,21 @@ TEST_CASE("sensor log: a sensor slower than 5 Hz gets a time-out of 2.5 mean int
       g.stamp = k * 200'000'000;
       w.write("gnss", g);
     }
-    msg::Baro b;  // one row: no interval, no setting
-    w.write("baro", b);
+    for (std::int64_t k = 0; k < 11; ++k) {  // a 2-Hz barometer: 1.25 s, longer than any default
+      msg::Baro b;
+      b.stamp = k * 500'000'000;
+      w.write("baro", b);
+    }
+    msg::Mag m;  // one row: no interval, no setting
+    w.write("mag", m);
     YAML::Node est;
     est["mag_timeout"] = 7.0;
     w.finish({"test", "none", "", est, {}});
   }
   const YAML::Node e = YAML::LoadFile((d.path / "log" / "sensor_log.yaml").string())["estimator"];
   CHECK(e["diff_pressure_timeout"].as<double>() == doctest::Approx(2.5));
-  CHECK(!e["gnss_timeout"]);  // 0.2-s interval: estimator_ekf's default stays
-  CHECK(!e["baro_timeout"]);
+  CHECK(!e["gnss_timeout"]);  // 0.2-s interval: estimator_ekf's default stays (2.5 of them would shorten it)
+  CHECK(e["baro_timeout"].as<double>() == doctest::Approx(1.25));
   CHECK(e["mag_timeout"].as<double>() == 7.0);  // the importer's own setting is kept
 }
 

@@ -210,8 +210,10 @@ TEST_CASE("ulog reader: pyulog's appended-data and tagged-logging samples (tests
       // copy of a PX4 event, which it prints decoded from the `event` topic with PX4's event
       // metadata instead (its line 2, "logging: opening log file ..."; this reader has no such
       // metadata). Tagged strings ('C') are pyulog's logged_messages_tagged, not printed.
-      if (s.tag) tagged.push_back(s);
-      else if (s.message.empty() || s.message.back() != '\t') untagged.push_back(pyulog_message_line(s));
+      if (s.tag)
+        tagged.push_back(s);
+      else if (s.message.empty() || s.message.back() != '\t')
+        untagged.push_back(pyulog_message_line(s));
     };
     const UlogDataStats stats = r.read_data(h);
     std::vector<std::string> expected = lines_of(dir / "sample_logging_tagged_and_default_params_messages.txt");
@@ -487,7 +489,7 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
 
 TEST_CASE("tern import ulog: pyulog's appended-data sample (2017, a quadrotor's ground log with data appended after it ended)") {
   const Imported i = import_sample("sample_appended_multiple", fs::path(TERN_SOURCE_DIR) / "tests" / "real_data" / "ulog");
-  CHECK(i.report.rows.at("imu") == 2373);       // every sensor_combined message, the appended ones included (pyulog's count)
+  CHECK(i.report.rows.at("imu") == 2373);  // every sensor_combined message, the appended ones included (pyulog's count)
   // vehicle_attitude's 306 rows (attitude) and vehicle_local_position's 95 (position, velocity), each
   // message its own row at its own stamp (pyulog's counts)
   CHECK(i.report.rows.at("reference") == 306 + 95);

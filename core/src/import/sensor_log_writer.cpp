@@ -100,7 +100,9 @@ YAML::Node SensorLogWriter::imu_timing_settings(Nanos max_interval) {
 }
 
 YAML::Node SensorLogWriter::slow_sensor_timeouts() const {
-  constexpr double kSlowInterval = 0.2;   // s: slower than 5 Hz
+  // s: slower than 2.5 Hz, so 2.5 mean intervals are longer than 1 s, every default time-out of
+  // these sensors (0.5-1 s): the setting only ever lengthens one
+  constexpr double kSlowInterval = 0.4;
   constexpr double kIntervalsLate = 2.5;  // mean intervals of silence before a time-out
   YAML::Node n(YAML::NodeType::Map);
   for (const char* sensor : {"gnss", "baro", "diff_pressure", "mag"}) {

@@ -77,7 +77,7 @@ class SensorLogWriter {
   /// be written (disk full, ...). Call once. The IMU's timing settings the estimator needs for
   /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings()) are added to
   /// meta.estimator where the importer did not set them, and so is the time-out of every other
-  /// sensor slower than 5 Hz (slow_sensor_timeouts()).
+  /// sensor slower than 2.5 Hz (slow_sensor_timeouts()).
   void finish(const SensorLogMeta& meta);
 
   /// The input's name (the archive or directory imported), written as `origin:` by finish().
@@ -102,9 +102,9 @@ class SensorLogWriter {
   /// 1.5x (integrate every interval whole), 2x (no time-out between two samples) and 5x it.
   static YAML::Node imu_timing_settings(Nanos max_interval);
   /// `<sensor>_timeout` (gnss, baro, diff_pressure, mag) for each such topic whose mean interval
-  /// is longer than 0.2 s (slower than 5 Hz: estimator_ekf's time-outs, 0.5-1 s, would report
-  /// every gap between two samples): 2.5 mean intervals. A faster sensor keeps the default, so
-  /// a real drop-out is still reported.
+  /// is longer than 0.4 s (slower than 2.5 Hz: estimator_ekf's time-outs, 0.5-1 s, would report
+  /// gaps between two samples): 2.5 mean intervals, always longer than the default. A faster
+  /// sensor keeps the default, so a real drop-out is still reported.
   YAML::Node slow_sensor_timeouts() const;
 
   std::filesystem::path dir_;
