@@ -35,7 +35,7 @@ TEST_CASE("unknown keys suggest the closest valid one") {
   CHECK(e.find(":9:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
 }
 
-TEST_CASE("log.format, log.chunk_size, log.ros_channels: one line naming the key and the value") {
+TEST_CASE("log.format, log.chunk_size, log.ros_channels, log.zstd_level: one line naming the key and the value") {
   auto with_log = [](const std::string& log) {
     std::string y = base_config();
     return y.replace(y.find("log: {max_rate: 0}"), 18, "log: {" + log + "}");
@@ -46,6 +46,10 @@ TEST_CASE("log.format, log.chunk_size, log.ros_channels: one line naming the key
   CHECK(build_error(with_log("format: mcap, ros_channels: false")) == "");
   CHECK(build_error(with_log("ros_channels: maybe")).find("log.ros_channels: expected true or false, got 'maybe'") != std::string::npos);
   CHECK(build_error(with_log("ros_channels: [true]")).find("log.ros_channels: expected true or false, got '<list>'") != std::string::npos);
+  CHECK(build_error(with_log("format: mcap, zstd_level: -5")) == "");
+  CHECK(build_error(with_log("zstd_level: 22")).find("log.zstd_level: must be an integer from -7 to 19, got 22") != std::string::npos);
+  CHECK(build_error(with_log("zstd_level: 1.5")).find("log.zstd_level: must be an integer from -7 to 19, got 1.5") != std::string::npos);
+  CHECK(build_error(with_log("zstd_level: fast")).find("log.zstd_level") != std::string::npos);
 }
 
 TEST_CASE("every boolean setting reads the same words (yaml_bool): true/false, True/FALSE, yes/no, on/off") {

@@ -157,6 +157,18 @@ TEST_CASE("mcap: tern export csv writes the CSV log's tables byte for byte") {
   CHECK_THROWS_WITH_AS(export_csv(not_mcap, dir / "x"), doctest::Contains("not.mcap: not an MCAP file"), McapError);
 }
 
+TEST_CASE("mcap: log.zstd_level trades size for the writer's time; the messages are the same") {
+  FlightLog::Format fast = both(), small = both();
+  fast.mcap_zstd_level = -7;
+  small.mcap_zstd_level = 19;
+  const fs::path a = write_log("mcap_zstd_fast", fast, 3000, 0);
+  const fs::path b = write_log("mcap_zstd_small", small, 3000, 0);
+  CHECK(fs::file_size(a / "flight.mcap") > fs::file_size(b / "flight.mcap"));
+  const std::vector<Logged> ma = messages_of(a / "flight.mcap"), mb = messages_of(b / "flight.mcap");
+  CHECK(ma.size() == 3075);
+  CHECK(ma == mb);
+}
+
 TEST_CASE("mcap: log.format mcap writes no topic table; csv writes no MCAP file") {
   const fs::path m = write_log("mcap_only", {false, true, 64 * 1024}, 100, 0);
   CHECK(fs::exists(m / "flight.mcap"));

@@ -285,7 +285,8 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
   }
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
-    check_keys(log, f, "log", {"dir", "level", "format", "chunk_size", "ros_channels", "decimated_rate", "topics", "max_rate", "rates"});
+    check_keys(log, f, "log",
+               {"dir", "level", "format", "chunk_size", "ros_channels", "zstd_level", "decimated_rate", "topics", "max_rate", "rates"});
     if (const YAML::Node fm = log["format"]) {
       const auto format = fm.IsScalar() ? log_format_from_name(fm.Scalar()) : std::nullopt;
       if (!format) throw ConfigError(where(f, fm) + "log.format: expected csv, mcap or both, got '" + str(fm) + "'");
@@ -298,6 +299,13 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       c.log.chunk_size = static_cast<std::size_t>(n);
     }
     if (const YAML::Node rc = log["ros_channels"]) c.log.ros_channels = yaml_bool(rc, f, "log.ros_channels");
+    if (const YAML::Node z = log["zstd_level"]) {
+      const double n = as_number(z, f, "log.zstd_level");
+      if (!(n >= kZstdLevelMin && n <= kZstdLevelMax && n == std::floor(n)))
+        throw ConfigError(where(f, z) +
+                          fmt::format("log.zstd_level: must be an integer from {} to {}, got {}", kZstdLevelMin, kZstdLevelMax, str(z)));
+      c.log.zstd_level = static_cast<int>(n);
+    }
     if (const YAML::Node lv = log["level"]) {
       const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
       if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");

@@ -65,13 +65,19 @@ const char* log_format_name(LogFormat format);
 /// The format named `name`, nullopt if none.
 std::optional<LogFormat> log_format_from_name(const std::string& name);
 
+/// log.zstd_level's range: zstd's fast levels (-7: least CPU) to its slowest without "ultra" memory (19).
+constexpr int kZstdLevelMin = -7;
+constexpr int kZstdLevelMax = 19;
+
 struct LogConfig {
   fs::path dir;  ///< parent of the run directories
   LogLevel level = LogLevel::full;
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
   bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (record/ros_channels.hpp)
-  double decimated_rate = 10.0;          ///< Hz, every topic's limit at level decimated (> 0)
+  /// MCAP: the chunks' zstd level, kZstdLevelMin..kZstdLevelMax; unset: McapWriter::Options' default
+  std::optional<int> zstd_level;
+  double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
   bool all_topics = true;
   std::vector<std::string> topics;      ///< when !all_topics
   double max_rate = 100.0;              ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)

@@ -63,7 +63,9 @@ FlightLog::FlightLog(fs::path run_dir, ErrorHandler on_error, Format format)
   params_file_ = std::make_unique<LogFile>(dir_ / "params.csv", health_);
   params_text_ = "t [s],parameter,value,source\n";
   params_file_->append(params_text_);
-  if (format_.mcap) mcap_ = std::make_unique<McapWriter>(dir_ / "flight.mcap", health_, McapWriter::Options{format_.mcap_chunk_bytes});
+  if (format_.mcap)
+    mcap_ =
+        std::make_unique<McapWriter>(dir_ / "flight.mcap", health_, McapWriter::Options{format_.mcap_chunk_bytes, format_.mcap_zstd_level});
   writer_ = std::thread([this] { writer_loop(); });
   report();
 }

@@ -60,6 +60,7 @@ struct FlightLogFormat {
   bool mcap = false;
   std::size_t mcap_chunk_bytes = McapWriter::Options{}.chunk_bytes;
   bool mcap_ros_channels = true;  ///< the ROS-typed copies of the topics that have one (ros_channels.hpp)
+  int mcap_zstd_level = McapWriter::Options{}.zstd_level;
 };
 
 class FlightLog {

@@ -82,7 +82,9 @@ void FlightRecorder::start(const std::string& config_yaml, const std::vector<std
 }
 
 FlightLog::Format FlightRecorder::format_of(const LogConfig& log) {
-  return {log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size, log.ros_channels};
+  FlightLog::Format f{log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size, log.ros_channels};
+  if (log.zstd_level) f.mcap_zstd_level = *log.zstd_level;
+  return f;
 }
 
 void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
