@@ -694,8 +694,11 @@ void Estimator::set_gnss_noise() {
   const double dv = cfg_.gnss_vel_accel_scale * accel_nav_, dp = cfg_.gnss_pos_accel_scale * accel_nav_;
   gnss_vel_.sigma_h = reported_s_acc_ ? gnss_vel_sigma_h_ : std::hypot(gnss_vel_sigma_h_, dv);
   gnss_vel_.sigma_v = reported_s_acc_ ? gnss_vel_sigma_v_ : std::hypot(gnss_vel_sigma_v_, dv);
-  gnss_pos_.sigma_h = reported_h_acc_ ? cfg_.gnss_pos_sigma_h : std::hypot(cfg_.gnss_pos_sigma_h, dp);
-  gnss_pos_.sigma_v = reported_h_acc_ ? cfg_.gnss_pos_sigma_v : std::hypot(cfg_.gnss_pos_sigma_v, dp);
+  // Without a reported accuracy the fix's white noise is at least the floor: PX4 EKF2 takes
+  // EKF2_GPS_P_NOISE (0.5 m) as the noise of a fix without hAcc, ArduPilot EKF3 EK3_POSNE_M_NSE.
+  const double floor = cfg_.gnss_accuracy_floor;
+  gnss_pos_.sigma_h = reported_h_acc_ ? cfg_.gnss_pos_sigma_h : std::hypot(std::max(cfg_.gnss_pos_sigma_h, floor), dp);
+  gnss_pos_.sigma_v = reported_h_acc_ ? cfg_.gnss_pos_sigma_v : std::hypot(std::max(cfg_.gnss_pos_sigma_v, floor), dp);
 }
 
 Vec3 Estimator::gnss_error_variance() const {

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <deque>
 #include <limits>
+#include <random>
 
 #include "fly.hpp"
 
@@ -597,6 +598,42 @@ Errors fly_with_gnss_delay(double delay, bool with_epoch) {
   return e;
 }
 }  // namespace
+
+namespace {
+/// The GNSS positions' mean NIS and rejected count over 60 s after convergence, of a receiver
+/// that reports no accuracy and whose fixes jitter by 0.5 m (1 sigma) horizontally.
+std::pair<double, std::uint64_t> gnss_nis_without_accuracy(double accuracy_floor) {
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.gnss_accuracy_floor = accuracy_floor;
+  TruthSim sim{mixed_flight()};
+  Estimator est{cfg};
+  fly(sim, est, 22.0);
+  const UpdateStats before = est.gnss_position_model().stats;
+  std::mt19937 rng(7);
+  std::normal_distribution<double> jitter(0.0, 0.5);
+  Hooks h;
+  h.gnss = [&](msg::Gnss& g) {
+    g.h_acc = g.v_acc = g.s_acc = 0.0;
+    g.lat += jitter(rng) / 111'000.0;
+    g.lon += jitter(rng) / (111'000.0 * std::cos(g.lat * kPi / 180.0));
+    return true;
+  };
+  fly(sim, est, 60.0, h);
+  const UpdateStats& after = est.gnss_position_model().stats;
+  const double nis = (after.nis_sum - before.nis_sum) / static_cast<double>(after.nis_count - before.nis_count);
+  return {nis, after.rejected - before.rejected};
+}
+}  // namespace
+
+TEST_CASE("a receiver without a reported accuracy: each fix's white noise is at least gnss_accuracy_floor (PX4's 0.5 m)") {
+  const auto [nis, rejected] = gnss_nis_without_accuracy(EstimatorConfig{}.gnss_accuracy_floor);
+  const auto [nis_reporting, rejected_reporting] = gnss_nis_without_accuracy(0.01);  // a reporting receiver's 0.1 m
+  MESSAGE("mean NIS " << nis << " (" << rejected << " rejected); with 0.1 m: " << nis_reporting << " (" << rejected_reporting << ")");
+  CHECK(nis > 0.3);
+  CHECK(nis < 3.0);
+  CHECK(rejected <= 3);  // of 600 fixes
+  CHECK(nis_reporting > 3.0);
+}
 
 TEST_CASE("a GNSS fix fused at its time of validity: 120 ms late gives the estimate of an undelayed one") {
   const Errors now = fly_with_gnss_delay(0.0, true);
