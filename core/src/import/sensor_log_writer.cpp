@@ -119,15 +119,16 @@ void SensorLogWriter::finish(const SensorLogMeta& meta) {
   if (finished_) return;
   finished_ = true;
   SensorLogMeta m = meta;
-  if (const auto imu = topics_.find("imu"); imu != topics_.end() && imu->second.rows > 1) {
-    if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
-    for (const auto& kv : imu_timing_settings(imu->second.max_interval))
+  // the settings this log implies, where the importer did not set them itself
+  const auto add_unset = [&m](const YAML::Node& settings) {
+    for (const auto& kv : settings) {
+      if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
       if (!m.estimator[kv.first.as<std::string>()]) m.estimator[kv.first.as<std::string>()] = kv.second;
-  }
-  for (const auto& kv : slow_sensor_timeouts()) {
-    if (!m.estimator.IsMap()) m.estimator = YAML::Node(YAML::NodeType::Map);
-    if (!m.estimator[kv.first.as<std::string>()]) m.estimator[kv.first.as<std::string>()] = kv.second;
-  }
+    }
+  };
+  if (const auto imu = topics_.find("imu"); imu != topics_.end() && imu->second.rows > 1)
+    add_unset(imu_timing_settings(imu->second.max_interval));
+  add_unset(slow_sensor_timeouts());
   log_.write_file("sensor_log.yaml", meta_yaml(m, origin_));
   log_.close();
   if (const std::string e = log_.error(); !e.empty()) throw ImportError(fmt::format("{}: {}", dir_.string(), e));

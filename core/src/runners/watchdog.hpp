@@ -61,8 +61,9 @@ class Watchdog {
   void disarm();
 
   /// The flight thread starts a step of the instance `name` (which outlives the step) at flight
-  /// time `now`, step_clock_now() `started` (> 0: the scheduler's, Scheduler::step_start_ticks());
-  /// `policed`: the hard budget applies (false for isolated instances).
+  /// time `now`; `started`: step_clock_now() at the step's start (the flight loop passes
+  /// Scheduler::step_start_ticks(), a read it already made); `policed`: the hard budget applies
+  /// (false for isolated instances).
   void enter(const std::string& name, Nanos now, bool policed, std::int64_t started);
   /// The step returned after `dt` ns of wall time: counts a slow step in `stats.slow` and warns
   /// (at the first) on `log`. Never returns if the watchdog has claimed the flight.
