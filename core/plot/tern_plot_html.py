@@ -163,12 +163,46 @@ figure { margin: 0 0 2em 0; }
 figcaption { font-size: 0.9em; color: #444; }
 </style>"""
 
+# the first screen: the flight itself (ground track on the left, altitude and landing on the right)
+FLIGHT_FIGURES = ("ground_track.png", "altitude.png", "landing.png")
+FLIGHT_STYLE = """
+h1 { font-size: 1.3em; margin: 0 0 0.3em 0; }
+.runs { margin: 0 0 0.5em 0; font-size: 0.9em; color: #444; }
+.flight { display: grid; grid-template-columns: minmax(0, 9fr) minmax(0, 11fr); gap: 0 1em; align-items: start; }
+.flight figure { margin: 0 0 0.6em 0; }
+.flight img { width: 100%; }
+.flight .track { grid-row: span 2; }
+.flight figcaption { font-size: 0.8em; }
+.differences { border: 1px solid #bbb; background: #f6f6f6; padding: 0.2em 0.8em; margin: 0 0 0.8em 0; font-size: 0.9em; }
+.differences ul { margin: 0.2em 0 0.4em 0; }
+.warning { color: #a00; font-weight: bold; }
+"""
+
 
 def figure_html(figures, prefix=""):
     """<figure> elements of out["figures"] entries, images at prefix + file (relative)."""
     esc = html.escape
     return "".join(f'<figure id="{esc(prefix + f["file"])}"><img src="{esc(prefix + f["file"])}" alt="{esc(f["file"])}">'
                    f"<figcaption>{esc(f['file'])}: {esc(f['caption'])}</figcaption></figure>\n" for f in figures)
+
+
+def flight_html(figures):
+    """The first screen's figures (FLIGHT_FIGURES, those drawn) side by side: the ground track on
+    the left, the altitude and the landing stacked on its right; each caption folded."""
+    esc = html.escape
+    parts = []
+    for f in figures:
+        cls = ' class="track"' if f["file"] == FLIGHT_FIGURES[0] else ""
+        parts.append(f'<figure id="{esc(f["file"])}"{cls}><img src="{esc(f["file"])}" alt="{esc(f["file"])}">'
+                     f"<figcaption><details><summary>{esc(f['file'])}</summary>{esc(f['caption'])}</details>"
+                     "</figcaption></figure>\n")
+    return f'<div class="flight">\n{"".join(parts)}</div>\n' if parts else ""
+
+
+def split_flight(figures):
+    """(the flight figures in FLIGHT_FIGURES' order, the others in drawing order)."""
+    first = [f for name in FLIGHT_FIGURES for f in figures if f["file"] == name]
+    return first, [f for f in figures if f not in first]
 
 
 def write_page(out_dir, title, body, figures, style=""):
@@ -191,14 +225,36 @@ def write_page(out_dir, title, body, figures, style=""):
     return path
 
 
-def write_index(runs, out):
+def flight_line(run):
+    """One line of what the flight was: mission, how long, how it ended, seed, sensor profile."""
+    s = run["summary"]
+    parts = [f"mission {s['mission']}" if s.get("mission") else None,
+             f"{fmt_value(s['duration_s'])} s" if isinstance(s.get("duration_s"), (int, float)) else None,
+             f"ended: {s['end_reason']}" if s.get("end_reason") else None,
+             f"seed {s['seed']}" if s.get("seed") is not None else None,
+             f"sensor profile {s['sensor_profile']}" if s.get("sensor_profile") else None]
+    return ", ".join(p for p in parts if p)
+
+
+def write_index(runs, out, differences_html="", param_rows=()):
+    """index.html: the runs, what differs between them (differences_html, several runs), the flight
+    figures on the first screen, the other figures, then the tables (summary.json's, the
+    parameters that differ, replay_report.json's)."""
     esc = html.escape
-    runs_list = "".join(f"<li>{esc(r['label'])}: {esc(r['run_dir'])}</li>" for r in runs)
+    runs_list = "".join(f"<li>{esc(r['label'])}: {esc(flight_line(r) + ' ' if flight_line(r) else '')}({esc(r['run_dir'])})</li>"
+                        for r in runs)
+    first, rest = split_flight(out["figures"])
+    tables = summary_tables(runs)
+    if param_rows:
+        tables.append(html_table("parameters that differ (the values each flight started with)",
+                                 ["runs", "parameter", "A", "B"], param_rows, "param-differences"))
     replay = replay_report_tables(runs)
-    body = f"""<ul>{runs_list}</ul>
-<h2>Summary</h2>
-{"".join(summary_tables(runs))}
-{"<h2>Replay report</h2>" + "".join(replay) if replay else ""}
+    body = f"""<ul class="runs">{runs_list}</ul>
+{differences_html}
+{flight_html(first)}
 <h2>Figures</h2>
-{figure_html(out["figures"])}"""
-    out["written"].append(write_page(out["dir"], " vs ".join(r["label"] for r in runs), body, out["figures"]))
+{figure_html(rest)}
+<h2>Summary</h2>
+{"".join(tables)}
+{"<h2>Replay report</h2>" + "".join(replay) if replay else ""}"""
+    out["written"].append(write_page(out["dir"], " vs ".join(r["label"] for r in runs), body, out["figures"], FLIGHT_STYLE))

@@ -10,10 +10,10 @@ import os
 
 import numpy as np
 
+from tern_plot_angles import wrap_deg, wrapped_deg
 from tern_plot_log import read_replay_report, read_topic
 from tern_plot_mission import lla_to_ned
 
-DEG = 180.0 / math.pi
 C_TERN, C_REF, C_GNSS = "#1f77b4", "#d62728", "#7f7f7f"
 STATE = ["p_n", "p_e", "p_d", "v_n", "v_e", "phi", "theta", "psi", "w_n", "w_e", "valid",
          "origin_lat", "origin_lon", "origin_alt", "origin_valid"]
@@ -76,13 +76,6 @@ def course(vn, ve):
     return np.where(np.hypot(vn, ve) >= MIN_COURSE_SPEED, np.arctan2(ve, vn), np.nan)
 
 
-def wrapped_deg(a):
-    """Angle in deg in [-180, 180), NaN at each wrap so that a line does not cross the axes."""
-    d = ((np.asarray(a) + math.pi) % (2 * math.pi) - math.pi) * DEG
-    jumps = np.nonzero(np.abs(np.diff(d)) > 180.0)[0]
-    return np.insert(d.astype(float), jumps + 1, np.nan), jumps + 1
-
-
 def shade_window(axes, report):
     w = (report or {}).get("window") or {}
     if "start_s" in w and "end_s" in w:
@@ -132,7 +125,7 @@ class Overlays:
         g = r["gnss"]
         if g is not None:
             c = course(g.get("vel_n"), g.get("vel_e"))
-            axes[3].plot(g.get("t"), ((c + math.pi) % (2 * math.pi) - math.pi) * DEG, ".", color=C_GNSS, ms=2,
+            axes[3].plot(g.get("t"), wrap_deg(c), ".", color=C_GNSS, ms=2,
                          label="GNSS (fix time t)")
         axes[3].set_ylabel(f"course [deg] (Vg >= {MIN_COURSE_SPEED:g} m/s)")
         shade_window(axes, r["report"])

@@ -4,7 +4,8 @@
 Writes small synthetic run directories (the layout of core/src/record/flight_log.hpp) into a temp
 dir, runs tern-plot on them as a user would, and checks the figures, the printed list and
 the errors; also checks the pieces a wrong figure would come from (the YAML reader,
-ROSplane mission files, lat/lon -> NED, course unwrapping, commanded path segments).
+ROSplane mission files, lat/lon -> NED, angle errors across +-pi, commanded path segments).
+With test_plot_pages.py's: index.html's order, course.png wrapped, the A/B differences.
 """
 
 import importlib.machinery
@@ -564,12 +565,16 @@ class Pieces(unittest.TestCase):
                                delta=0.005)
         self.assertAlmostEqual(d, -10.0, delta=0.01)
 
-    def test_course_follows_the_reference_across_pi(self):
+    def test_angle_errors_are_wrapped_across_pi(self):
         t = np.linspace(0.0, 10.0, 101)
-        ref = np.unwrap(TP.wrap_pi(3.0 + 0.1 * t))             # 3.0 .. 4.0 rad, past pi
-        cmd = TP.wrap_pi(3.0 + 0.1 * t + 0.05)                 # wrapped, jumps at pi
-        u = TP.unwrap_like(t, ref, t, cmd)
-        np.testing.assert_allclose(u, 3.0 + 0.1 * t + 0.05, atol=1e-12)
+        truth = TP.wrap_pi(3.0 + 0.1 * t)                      # 3.0 .. 4.0 rad: jumps at pi
+        estimate = TP.wrap_pi(3.0 + 0.1 * t + 0.02)            # jumps 0.2 s earlier
+        e = TP.wrap_pi(np.interp(t, t, TP.nan_unwrap(estimate)) - TP.nan_unwrap(truth))
+        np.testing.assert_allclose(e, 0.02, atol=1e-12)
+        with_gap = estimate.copy()
+        with_gap[40:50] = np.nan                               # not valid there: a gap, not NaN ever after
+        u = TP.nan_unwrap(with_gap)
+        self.assertTrue(np.isnan(u[40:50]).all() and np.isfinite(u[50:]).all())
 
     def test_decimation_keeps_the_envelope(self):
         t = np.arange(100001) * 0.0025
@@ -611,4 +616,6 @@ class Pieces(unittest.TestCase):
 
 
 if __name__ == "__main__":
+    sys.modules.setdefault("test_tern_plot", sys.modules["__main__"])  # test_plot_pages imports this module, not again
+    from test_plot_pages import ABDifferences, IndexPage, WrappedCourse  # noqa: F401 (run here too: ctest plot)
     unittest.main(verbosity=2)
