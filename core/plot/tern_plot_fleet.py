@@ -322,15 +322,15 @@ def _link(out_dir, path, text):
 
 
 def write_fleet_index(fleet, vehicles, out):
-    """out["dir"]/index.html: fleet.json's and summary.json's tables, the fleet's figures, a
-    section per vehicle (a link to its own page and its figures), the coordination log."""
+    """out["dir"]/index.html: the fleet's figures first, then fleet.json's and summary.json's
+    tables, a section per vehicle (a link to its own page and its figures), the coordination log."""
     esc = html.escape
     fleet_dir = fleet["_dir"]
     summary = fleet.get("_summary", {})
     body = [f"<p>{esc(fleet_dir)}: {len(vehicles)} vehicles, "
             + ", ".join(f'<a href="#vehicle-{esc(v["name"])}" style="color:{v.get("colour", "#222")}">'
                         f'{esc(v["name"])}</a>' for v in vehicles) + "</p>",
-            "<h2>Fleet</h2>",
+            "<h2>Figures</h2>", figure_html(out["figures"]), "<h2>Fleet</h2>",
             html_table("fleet.json", ["field", "value"], _scalar_rows({k: v for k, v in fleet.items()
                                                                        if not k.startswith("_")}), "fleet")]
     per = summary.get("vehicles") if isinstance(summary.get("vehicles"), dict) else {}
@@ -352,7 +352,7 @@ def write_fleet_index(fleet, vehicles, out):
     rest = _scalar_rows(summary, skip=("vehicles", "separation"))
     if rest:
         body.append(html_table("summary.json", ["field", "value"], rest, "summary"))
-    body += ["<h2>Figures</h2>", figure_html(out["figures"]), "<h2>Vehicles</h2>"]
+    body.append("<h2>Vehicles</h2>")
     for v in vehicles:
         vout = v["out"]
         body.append(f'<h3 id="vehicle-{esc(v["name"])}" style="color:{v.get("colour", "#222")}">{esc(v["name"])}</h3>')

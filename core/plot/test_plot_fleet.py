@@ -174,6 +174,7 @@ class SyntheticFleet(unittest.TestCase):
             self.assertIn(f'"{src}"', page)
         for text in ("synthetic_fleet", "closest_approach_m", "71.410", "duration", "mission_edits"):
             self.assertIn(text, page)
+        self.assertLess(page.index('<img src="separation.png"'), page.index("<table"), "the fleet's figures first")
         with open(os.path.join(self.plots, "uav1", "index.html")) as f:
             self.assertIn('<img src="ground_track.png"', f.read())
         self.assertIn("uav2/ground_track.png", figures(self.plots))
