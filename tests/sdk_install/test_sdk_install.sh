@@ -60,6 +60,16 @@ case "$sdk_resolved" in
   "$prefix"/*) ;;
   *) fail "installed tern resolves libtern_sdk.so to '$sdk_resolved', not to the prefix" ;;
 esac
+# Every installed program starts from the prefix (its RPATH finds libtern_sdk.so there, not in the
+# build tree: nothing here sets LD_LIBRARY_PATH) and answers --help.
+for exe in "$prefix"/bin/*; do
+  name="$(basename "$exe")"
+  out="$(env -u LD_LIBRARY_PATH "$exe" --help 2>&1)" || { echo "$out" | tail -5; fail "installed $name --help exits non-zero"; }
+  case "$out" in *"error while loading shared libraries"*) echo "$out"; fail "installed $name does not find its libraries" ;; esac
+  if [ "$(head -c 4 "$exe" | tail -c 3)" = ELF ] && ldd "$exe" | grep -q 'not found'; then
+    ldd "$exe" | grep 'not found'; fail "installed $name has unresolved libraries"
+  fi
+done
 "$prefix/bin/tern" plugins > "$work/plugins.txt" 2>&1 || { cat "$work/plugins.txt"; fail "installed tern plugins"; }
 grep -q "$prefix/$libdir/tern/plugins" "$work/plugins.txt" || fail "installed tern does not search $prefix/$libdir/tern/plugins"
 
@@ -114,28 +124,18 @@ for k in $kinds; do
 done
 
 step "fly the default mission's first leg with the generated controller in cruise"
-# The installed default mission, unchanged except for the generated controller: an instance
-# `ctl` appended to its plugins and named for the cruise phase (take-off and climb stay on the
-# stock slc, which is also the fallback). The copy sits next to links to the installed aircraft,
-# gains and mission files, so its relative paths resolve as they do where it is installed.
-cfg="$prefix/share/tern/configs"
-mkdir -p "$work/configs/missions"
-for d in "$cfg"/*; do [ "$(basename "$d")" = missions ] || ln -s "$d" "$work/configs/$(basename "$d")"; done
-for f in "$cfg"/missions/*; do ln -s "$f" "$work/configs/missions/$(basename "$f")"; done
-rm "$work/configs/missions/default.yaml"
-grep -q '^phases:.*slc' "$cfg/missions/default.yaml" || fail "the installed default mission has no 'phases:' line naming slc"
-awk '
-  function ctl() { print "  - name: ctl"; print "    plugin: my_controller"; print "    rate: 100"; done = 1 }
-  /^plugins:/ { inplugins = 1; print; next }
-  inplugins && /^[A-Za-z_]/ { ctl(); inplugins = 0 }
-  /^phases:/ { print "phases: {takeoff: slc, climb: slc, cruise: ctl}"; print "fallback: slc"; next }
-  { print }
-  END { if (inplugins) ctl(); if (!done) exit 1 }
-' "$cfg/missions/default.yaml" > "$work/configs/missions/first_leg.yaml" || fail "no 'plugins:' list in the installed default mission"
+# The generated project's mission.yaml: the installed default mission, unchanged except for the
+# generated controller (an instance `ctl` appended to its plugins, named for the cruise phase;
+# take-off and climb stay on the stock slc, which is also the fallback), its paths into the prefix.
+mission="$work/plugins/controller/mission.yaml"
+grep -q "^aircraft: $prefix/share/tern/configs/aircraft/" "$mission" || fail "the generated mission.yaml does not fly the installed aircraft"
+diff <(grep -v '^#' "$prefix/share/tern/configs/missions/default.yaml" | sed -e '/^name:/d' -e '/^phases:/d' -e "s| \.\./| $prefix/share/tern/configs/|" -e "s|^  file: |  file: $prefix/share/tern/configs/missions/|") \
+     <(grep -v '^#' "$mission" | sed -e '/^name:/d' -e '/^phases:/d' -e '/^plugin_path:/d' -e '/^fallback:/d' -e '/^  - name: ctl$/,/^    params:/d') \
+  > "$work/mission.diff" || { cat "$work/mission.diff"; fail "the generated mission.yaml is not the default mission plus the controller"; }
 # 84 s: the default mission (seed 1, 12.2 s of preflight: the FCU's 7.7-s boot calibration, the
 # estimator's gyro bias converging by 10.2 s and 2 s of passing checks) passes waypoint 0 at ~39 s
 # and waypoint 1 at ~80 s, and ends before waypoint 2 (~88 s) and the next long line.
-TERN_PLUGIN_PATH="$work/plugins/build/plugins" "$prefix/bin/tern" fly "$work/configs/missions/first_leg.yaml" --duration 84 \
+TERN_PLUGIN_PATH="$work/plugins/build/plugins" "$prefix/bin/tern" fly "$mission" --duration 84 \
   --log-dir "$work/runs" -q > "$work/fly.log" 2>&1 || { cat "$work/fly.log"; fail "tern fly of the first leg with the generated controller"; }
 run="$(ls -d "$work"/runs/*/ 2> /dev/null | head -1)"
 [ -n "$run" ] || { cat "$work/fly.log"; fail "no run directory written"; }

@@ -126,7 +126,7 @@ function(tern_fcu_serial_add_sil world_lib)
                               ${sil}/sil_params.cpp ${sil}/sil_bench.cpp ${sil}/sil_board.cpp)
   target_link_libraries(tern-fcu-sil PRIVATE tern_rosflight_firmware ${world_lib} tern_fcu_serial_core tern_sim_aero_core CLI11::CLI11 yaml-cpp)
   set_target_properties(tern-fcu-sil PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${TERN_BIN_DIR})
-  install(TARGETS tern-fcu-sil RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+  tern_install_program(tern-fcu-sil)
   # The board alone (no firmware code: its Board interface header only).
   add_executable(tern_fcu_sil_board_tests ${TERN_FCU_SERIAL_DIR}/tests/test_main.cpp ${TERN_FCU_SERIAL_DIR}/tests/test_sil_board.cpp
                                           ${sil}/sil_board.cpp)
