@@ -25,11 +25,20 @@ FUZZ_SECONDS ?= 60
 
 all: build
 
-deps:
+# The npm folders: uPlot for the console, Foxglove's MCAP readers for the tests. `npm ci` runs only
+# when a folder's package-lock.json is newer than what it installed (npm's own copy of the lock in
+# node_modules/.package-lock.json), so that after the first `make fly` tern builds and flies offline.
+NPM_DIRS := core/console tests/mcap_reader
+NPM_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NPM_DIRS))
+
+deps: $(NPM_STAMPS)
+	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEBIAN_PACKAGES)"
+
+%/node_modules/.package-lock.json: %/package-lock.json
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(DEBIAN_PACKAGES)"
 	@command -v npm >/dev/null || $(MAKE) --no-print-directory install-packages PACKAGES="npm"
-	cd core/console && npm ci --no-audit --no-fund   # uPlot for the console (package-lock.json)
-	cd tests/mcap_reader && npm ci --no-audit --no-fund   # Foxglove's MCAP readers for the tests (package-lock.json)
+	cd $* && npm ci --no-audit --no-fund
+	touch $@
 
 install-packages:
 	@missing=""; for p in $(PACKAGES); do \
@@ -57,7 +66,7 @@ build: configure
 FLY_TARGET := $(if $(filter configs/missions/default.yaml,$(CONFIG)),tern_fly,all)
 fly: configure
 	cmake --build $(BUILD) -j $(JOBS) --target $(FLY_TARGET)
-	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs --log-format both
+	$(BUILD)/bin/tern fly $(CONFIG) --log-dir runs --log-format mcap
 	@run=$$(ls -1dt runs/*/ | head -1); \
 	if [ -x $(BUILD)/bin/tern-plot ]; then $(BUILD)/bin/tern-plot $$run; fi; \
 	echo "flight log: $$run"; \
