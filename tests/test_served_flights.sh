@@ -26,13 +26,20 @@ trap cleanup EXIT
 "$tern" fly "$config" --duration "$duration" --log-dir "$work/fresh" -q >/dev/null
 fresh=$(ls -1d "$work"/fresh/*/)
 
+# No server: a client waits --wait seconds, then says so in one line.
+t0=$(date +%s%N)
+if reply=$("$tern" remote status --socket "$work/nobody.sock" --wait 0.5 2>&1); then
+  echo "$reply"; echo "FAIL: remote status answered without a server"; exit 1
+fi
+elapsed_ms=$(( ($(date +%s%N) - t0) / 1000000 ))
+case "$reply" in *"no tern serve is listening at $work/nobody.sock after waiting 0.5 s"*) ;;
+  *) echo "$reply"; echo "FAIL: remote status without a server: unexpected message"; exit 1 ;; esac
+[ "$elapsed_ms" -ge 500 ] || { echo "FAIL: remote status gave up after $elapsed_ms ms, before its 0.5-s wait"; exit 1; }
+
+# As the README writes it: the server in the background, the first command at once (the client
+# waits for the starting server).
 "$tern" serve "$config" --socket "$sock" --log-dir "$work/served" >"$work/serve.log" 2>&1 &
 server=$!
-for _ in $(seq 1 300); do
-  "$tern" remote status --socket "$sock" >/dev/null 2>&1 && break
-  kill -0 "$server" 2>/dev/null || { cat "$work/serve.log"; echo "FAIL: tern serve exited"; exit 1; }
-  sleep 0.1
-done
 
 fly() {
   local reply

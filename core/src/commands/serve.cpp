@@ -6,7 +6,9 @@
 #include <sys/un.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstring>
 #include <mutex>
@@ -192,15 +194,34 @@ int serve(Host& host, const std::filesystem::path& socket_path, const std::strin
   return 0;
 }
 
-std::string send_command(const std::filesystem::path& socket_path, const std::string& line) {
-  const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
-  if (fd < 0) throw ConfigError(std::string("cannot create a socket: ") + std::strerror(errno));
+namespace {
+
+/// A socket connected to the server at `socket_path`, retried every 50 ms for `wait_s` seconds
+/// while nobody listens there yet (no socket file, or no listener on it: a server that is
+/// starting). Throws ConfigError naming the path, the last error and the wait.
+int connect_to_server(const std::filesystem::path& socket_path, double wait_s) {
   const sockaddr_un a = address(socket_path);
-  if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) != 0) {
-    const std::string err = std::strerror(errno);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(std::max(0.0, wait_s));
+  for (;;) {
+    const int fd = ::socket(AF_UNIX, SOCK_STREAM, 0);
+    if (fd < 0) throw ConfigError(std::string("cannot create a socket: ") + std::strerror(errno));
+    if (::connect(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0) return fd;
+    const int err = errno;
     ::close(fd);
-    throw ConfigError("no tern serve answers at " + socket_path.string() + " (" + err + "); start one with `tern serve CONFIG`");
+    const bool starting = err == ENOENT || err == ECONNREFUSED;
+    if (!starting || std::chrono::steady_clock::now() >= deadline) {
+      const std::string waited = wait_s > 0 ? fmt::format(" after waiting {:g} s", wait_s) : std::string();
+      throw ConfigError("no tern serve is listening at " + socket_path.string() + waited + " (" + std::strerror(err) +
+                        "): start one with `tern serve CONFIG`, or name its socket with --socket");
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
+}
+
+}  // namespace
+
+std::string send_command(const std::filesystem::path& socket_path, const std::string& line, double wait_s) {
+  const int fd = connect_to_server(socket_path, wait_s);
   write_all(fd, line + "\n");
   std::string reply;
   char buf[512];

@@ -23,8 +23,13 @@ std::filesystem::path default_socket();
 /// `console` command hands it to a client of the socket (only this user can open it).
 int serve(Host& host, const std::filesystem::path& socket, const std::string& console_url = "");
 
-/// Sends one command line to a server and returns its reply. Throws ConfigError when no server
-/// answers at `socket`.
-std::string send_command(const std::filesystem::path& socket, const std::string& line);
+/// How long a client command (`tern remote`, `swap`, `phases`, `console`) waits by default for a
+/// server that is still starting (`tern serve CONFIG &` then `tern remote fly` at once), in s.
+constexpr double kServerWaitS = 10.0;
+
+/// Sends one command line to a server and returns its reply. While nobody listens at `socket`
+/// yet, retries for up to `wait_s` seconds (0: one try). Throws ConfigError when no server
+/// answers in that time.
+std::string send_command(const std::filesystem::path& socket, const std::string& line, double wait_s = 0.0);
 
 }  // namespace tern::core
