@@ -2,8 +2,8 @@
 """bench_log_levels.py BIN_DIR [MISSION] [--seconds S] [--repeat N] [--cpu K] [--out JSON]: what a flight's log level costs.
 
 Flies MISSION (default: configs/missions/default.yaml, its full duration unless --seconds) N
-times (default 3, interleaved) at each log level (summary, decimated, full; core/src/config/config.hpp) in CSV, and the full
-log in MCAP (docs/logs.md), each flight pinned to one core (--cpu, default the last), and reads each
+times (default 3, interleaved) at each log level (summary, decimated, replay, sysid, full; core/src/config/config.hpp)
+in CSV and in MCAP (docs/logs.md), each flight pinned to one core (--cpu, default the last), and reads each
 flight's timing.json (core/src/record/flight_report.hpp): wall time, real-time factor (flight time /
 wall time), the flight thread's and the log writer's CPU time, and the run directory's size.
 Reports each level's best run (least wall time: the least disturbed by other processes) and
@@ -26,8 +26,10 @@ def dir_bytes(path):
     return sum(os.path.getsize(os.path.join(d, f)) for d, _, fs in os.walk(path) for f in fs)
 
 
-# (log level, log format): the levels in CSV, and the full log in MCAP (docs/logs.md)
-VARIANTS = (("summary", "csv"), ("decimated", "csv"), ("full", "csv"), ("full", "mcap"))
+# (log level, log format): the levels in CSV, the default (replay) and the full log in MCAP too
+# (docs/logs.md); `make fly` writes replay in MCAP
+VARIANTS = (("summary", "csv"), ("decimated", "csv"), ("replay", "csv"), ("replay", "mcap"), ("sysid", "mcap"), ("full", "csv"),
+            ("full", "mcap"))
 
 
 def fly(tern, mission, variant, seconds, tmp, k, cpu):

@@ -76,6 +76,7 @@ TEST_CASE("flight recorder: run directory, config, parameter sources, topics thi
   Params params;
   MissionConfig config;
   config.name = "unit";
+  config.log.level = LogLevel::full;
   config.log.max_rate = 10.0;  // Hz: state at most every 0.1 s of flight time; imu (a sensor) in full
   std::vector<std::unique_ptr<Instance>> no_instances;
   PortGraph no_graph;
@@ -179,4 +180,34 @@ TEST_CASE("flight recorder: log.level summary writes no topic table") {
   sim.imu.publish(msg::Imu{});
   rec.capture(sim.graph, 0);
   CHECK(fs::is_empty(rec.dir() / "topics"));
+}
+
+TEST_CASE("flight recorder: each log level's rate per topic (replay, the default: sensors in full, the rest at plot_rate)") {
+  LogConfig log;
+  CHECK(log.level == LogLevel::replay);
+  CHECK(FlightRecorder::topic_rate(log, "imu") == 0.0);  // every message: what tern replay needs
+  CHECK(FlightRecorder::topic_rate(log, "actuators") == 0.0);
+  CHECK(FlightRecorder::topic_rate(log, "state") == log.plot_rate);
+  CHECK(FlightRecorder::topic_rate(log, "truth") == log.plot_rate);
+  log.level = LogLevel::sysid;
+  CHECK(FlightRecorder::topic_rate(log, "truth") == 0.0);
+  CHECK(FlightRecorder::topic_rate(log, "state") == 0.0);
+  CHECK(FlightRecorder::topic_rate(log, "controller_command") == log.plot_rate);
+  log.level = LogLevel::full;
+  CHECK(FlightRecorder::topic_rate(log, "imu") == 0.0);
+  CHECK(FlightRecorder::topic_rate(log, "state") == log.max_rate);
+  log.level = LogLevel::decimated;
+  CHECK(FlightRecorder::topic_rate(log, "imu") == log.decimated_rate);
+  log.rates["imu"] = 5.0;  // an override below the cap stays
+  CHECK(FlightRecorder::topic_rate(log, "imu") == 5.0);
+  log.level = LogLevel::replay;
+  log.rates["state"] = 0.0;
+  CHECK(FlightRecorder::topic_rate(log, "state") == 0.0);
+  // the ROS-typed copies at the plotting rate at levels replay and sysid, every message otherwise
+  CHECK(FlightRecorder::format_of(log).mcap_ros_interval_ns == 100'000'000);
+  log.level = LogLevel::full;
+  CHECK(FlightRecorder::format_of(log).mcap_ros_interval_ns == 0);
+  CHECK(log_level_names() == "summary, decimated, replay, sysid or full");
+  CHECK(log_level_from_name("sysid") == LogLevel::sysid);
+  CHECK(!log_level_from_name("default"));
 }

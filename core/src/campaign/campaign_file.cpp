@@ -165,7 +165,7 @@ CampaignFile load_campaign(const fs::path& file_in) {
   if (root["log"]) {
     c.log_level = text_of(root["log"]);
     if (!core::log_level_from_name(c.log_level))
-      throw ConfigError(where(f, root["log"]) + "log: expected summary, decimated or full, got '" + c.log_level + "'");
+      throw ConfigError(where(f, root["log"]) + "log: expected " + core::log_level_names() + ", got '" + c.log_level + "'");
   }
   if (const YAML::Node ds = root["dispersions"]) {
     if (!ds.IsMap()) throw ConfigError(where(f, ds) + "dispersions: expected a map PARAMETER: {dist: ...}");

@@ -4,6 +4,7 @@
 #include <cctype>
 #include <charconv>
 #include <cmath>
+#include <iterator>
 #include <set>
 
 #include <fmt/format.h>
@@ -95,15 +96,28 @@ const char* log_level_name(LogLevel level) {
   switch (level) {
     case LogLevel::summary: return "summary";
     case LogLevel::decimated: return "decimated";
+    case LogLevel::replay: return "replay";
+    case LogLevel::sysid: return "sysid";
     case LogLevel::full: return "full";
   }
   return "full";
 }
 
+namespace {
+constexpr LogLevel kLogLevels[] = {LogLevel::summary, LogLevel::decimated, LogLevel::replay, LogLevel::sysid, LogLevel::full};
+}
+
 std::optional<LogLevel> log_level_from_name(const std::string& name) {
-  for (LogLevel l : {LogLevel::summary, LogLevel::decimated, LogLevel::full})
+  for (LogLevel l : kLogLevels)
     if (name == log_level_name(l)) return l;
   return std::nullopt;
+}
+
+std::string log_level_names() {
+  std::string names;
+  const std::size_t n = std::size(kLogLevels);
+  for (std::size_t i = 0; i < n; ++i) names += std::string(i == 0 ? "" : i + 1 == n ? " or " : ", ") + log_level_name(kLogLevels[i]);
+  return names;
 }
 
 const char* log_format_name(LogFormat format) {
@@ -286,7 +300,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
     check_keys(log, f, "log",
-               {"dir", "level", "format", "chunk_size", "ros_channels", "zstd_level", "decimated_rate", "topics", "max_rate", "rates"});
+               {"dir", "level", "format", "chunk_size", "ros_channels", "zstd_level", "decimated_rate", "plot_rate", "topics", "max_rate", "rates"});
     if (const YAML::Node fm = log["format"]) {
       const auto format = fm.IsScalar() ? log_format_from_name(fm.Scalar()) : std::nullopt;
       if (!format) throw ConfigError(where(f, fm) + "log.format: expected csv, mcap or both, got '" + str(fm) + "'");
@@ -308,12 +322,16 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
     }
     if (const YAML::Node lv = log["level"]) {
       const auto level = lv.IsScalar() ? log_level_from_name(lv.Scalar()) : std::nullopt;
-      if (!level) throw ConfigError(where(f, lv) + "log.level: expected summary, decimated or full, got '" + str(lv) + "'");
+      if (!level) throw ConfigError(where(f, lv) + "log.level: expected " + log_level_names() + ", got '" + str(lv) + "'");
       c.log.level = *level;
     }
     if (log["decimated_rate"]) {
       c.log.decimated_rate = as_number(log["decimated_rate"], f, "log.decimated_rate");
       if (!(c.log.decimated_rate > 0)) throw ConfigError(where(f, log["decimated_rate"]) + "log.decimated_rate: must be > 0 Hz");
+    }
+    if (log["plot_rate"]) {
+      c.log.plot_rate = as_number(log["plot_rate"], f, "log.plot_rate");
+      if (!(c.log.plot_rate > 0)) throw ConfigError(where(f, log["plot_rate"]) + "log.plot_rate: must be > 0 Hz");
     }
     if (log["max_rate"]) {
       c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");

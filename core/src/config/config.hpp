@@ -49,14 +49,21 @@ struct InstanceConfig {
   YAML::Node node;                           ///< the entry, for error locations
 };
 
-/// How much of a flight the log keeps. summary: config.yaml, params.csv, tern.log, summary.json
-/// and timing.json, no topic tables (a campaign flight); decimated: every logged topic, the
-/// sensors too, at most `decimated_rate` Hz; full: the topics as `topics`/`max_rate`/`rates` say.
-enum class LogLevel { summary, decimated, full };
-/// "summary", "decimated", "full".
+/// How much of a flight the log keeps, as PX4's logger profiles do (its default profile logs the
+/// sensors at every sample and vehicle_attitude at 20 Hz: src/modules/logger/logged_topics.cpp).
+/// summary: config.yaml, params.csv, tern.log, summary.json and timing.json, no topic tables (a
+/// campaign flight); decimated: every logged topic, the sensors too, at most `decimated_rate` Hz
+/// (cannot be replayed); replay (the default): the replay inputs (sensors, rc, fcu_status,
+/// actuators) at every message, the other topics at most `plot_rate` Hz; sysid: as replay, and
+/// `truth` and `state` at every message too (system identification); full: the replay inputs at
+/// every message, the other topics as `max_rate` says. `rates` overrides any level's per topic.
+enum class LogLevel { summary, decimated, replay, sysid, full };
+/// "summary", "decimated", "replay", "sysid", "full".
 const char* log_level_name(LogLevel level);
 /// The level named `name`, nullopt if none.
 std::optional<LogLevel> log_level_from_name(const std::string& name);
+/// The level names for an error message: "summary, decimated, replay, sysid or full".
+std::string log_level_names();
 
 /// Which files hold the logged topics: csv (topics/<t>.csv), mcap (flight.mcap) or both.
 enum class LogFormat { csv, mcap, both };
@@ -71,13 +78,16 @@ constexpr int kZstdLevelMax = 19;
 
 struct LogConfig {
   fs::path dir;  ///< parent of the run directories
-  LogLevel level = LogLevel::full;
+  LogLevel level = LogLevel::replay;
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
   bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (record/ros_channels.hpp)
   /// MCAP: the chunks' zstd level, kZstdLevelMin..kZstdLevelMax; unset: McapWriter::Options' default
   std::optional<int> zstd_level;
   double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
+  /// Hz, the limit of the topics not kept in full at levels replay and sysid, and of the ROS-typed
+  /// copies there (> 0): PX4's default profile logs vehicle_local_position every 100 ms
+  double plot_rate = 10.0;
   bool all_topics = true;
   std::vector<std::string> topics;      ///< when !all_topics
   double max_rate = 100.0;              ///< Hz: a topic's messages closer than 1/max_rate are not logged (0: all)

@@ -246,7 +246,7 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
   while (off + sizeof(std::uint64_t) + sizeof(Nanos) <= bytes.size()) {
     std::uint64_t index;
     std::memcpy(&index, bytes.data() + off, sizeof index);
-    const Topic& t = *topics_[index];
+    Topic& t = *topics_[index];
     const Nanos when = load_time(bytes.data() + off + sizeof index);
     const char* msg = bytes.data() + off + sizeof index + sizeof(Nanos);
     cdr_.clear();
@@ -254,7 +254,8 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
     // the same message in its ROS type; the record sits at any offset and the message struct
     // (Eigen members) wants its alignment
-    if (t.ros_channel != 0) {
+    if (t.ros_channel != 0 && when - t.ros_last >= format_.mcap_ros_interval_ns) {
+      t.ros_last = when;
       aligned_.resize(t.msg_size / sizeof(std::max_align_t) + 1);
       std::memcpy(aligned_.data(), msg, t.msg_size);
       ros_samples_.clear();

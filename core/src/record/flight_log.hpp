@@ -60,6 +60,9 @@ struct FlightLogFormat {
   bool mcap = false;
   std::size_t mcap_chunk_bytes = McapWriter::Options{}.chunk_bytes;
   bool mcap_ros_channels = true;  ///< the ROS-typed copies of the topics that have one (ros_channels.hpp)
+  /// ns of flight time: the least between two ROS-typed copies of one topic (0: a copy of every
+  /// message). The copies are a convenience for ROS tools; tern's own channel keeps every message.
+  std::int64_t mcap_ros_interval_ns = 0;
   int mcap_zstd_level = McapWriter::Options{}.zstd_level;
 };
 
@@ -112,7 +115,8 @@ class FlightLog {
     std::uint16_t channel = 0;      // MCAP channel (0: no MCAP)
     std::uint16_t ros_channel = 0;  // its ROS-typed MCAP channel (0: none; ros_channels.hpp)
     std::function<void(const void*, std::vector<std::string>&)> ros_encode;
-    std::vector<char> pending;  // records: int64 t, then msg_size bytes
+    std::int64_t ros_last = INT64_MIN / 2;  // flight time of its last ROS-typed copy (the writer thread's)
+    std::vector<char> pending;              // records: int64 t, then msg_size bytes
   };
   static constexpr std::size_t kParams = SIZE_MAX;    // Chunk::topic of params rows
   static constexpr std::size_t kMcap = SIZE_MAX - 1;  // Chunk::topic of MCAP records (all topics)

@@ -84,13 +84,27 @@ void FlightRecorder::start(const std::string& config_yaml, const std::vector<std
 FlightLog::Format FlightRecorder::format_of(const LogConfig& log) {
   FlightLog::Format f{log.format != LogFormat::mcap, log.format != LogFormat::csv, log.chunk_size, log.ros_channels};
   if (log.zstd_level) f.mcap_zstd_level = *log.zstd_level;
+  // levels replay and sysid: the ROS-typed copies at the plotting rate, also of the topics kept in full
+  if (log.level == LogLevel::replay || log.level == LogLevel::sysid)
+    f.mcap_ros_interval_ns = static_cast<std::int64_t>(std::llround(1e9 / log.plot_rate));
   return f;
 }
 
-void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
+double FlightRecorder::topic_rate(const LogConfig& log, const std::string& topic) {
   // raw sensor topics (and the actuators, an input of the estimator's side-force model) are
-  // logged in full by default, so that a flight can be replayed
+  // logged in full but at level decimated, so that a flight can be replayed
   static const std::set<std::string> kReplayInputs = {"imu", "gnss", "baro", "diff_pressure", "mag", "rc", "fcu_status", "actuators"};
+  // what system identification needs besides: the simulator's truth and the estimate, every sample
+  static const std::set<std::string> kSysidInputs = {"truth", "state"};
+  const bool in_full = kReplayInputs.count(topic) || (log.level == LogLevel::sysid && kSysidInputs.count(topic));
+  const bool thinned = log.level == LogLevel::replay || log.level == LogLevel::sysid;
+  const auto rate_it = log.rates.find(topic);
+  const double rate = rate_it != log.rates.end() ? rate_it->second : in_full ? 0.0 : thinned ? log.plot_rate : log.max_rate;
+  if (log.level != LogLevel::decimated) return rate;
+  return rate > 0 ? std::min(rate, log.decimated_rate) : log.decimated_rate;
+}
+
+void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn) {
   const std::set<std::string> wanted(log.topics.begin(), log.topics.end());
   logged_.assign(graph.topics().size(), Logged{});
   if (log.level == LogLevel::summary) return;  // no topic tables (log.topics was checked by the config)
@@ -101,9 +115,7 @@ void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log,
     l.index = log_.add_topic(t.name, t.columns, t.msg_size, t.type_name);
     if (t.fingerprint == reflect::fingerprint<msg::WaypointList>())
       l.items = log_.add_topic(t.name + "_items", waypoint_item_columns(), sizeof(WaypointItem), WaypointItem::type_name);
-    const auto rate_it = log.rates.find(t.name);
-    double max_rate = rate_it != log.rates.end() ? rate_it->second : kReplayInputs.count(t.name) ? 0.0 : log.max_rate;
-    if (log.level == LogLevel::decimated) max_rate = max_rate > 0 ? std::min(max_rate, log.decimated_rate) : log.decimated_rate;
+    const double max_rate = topic_rate(log, t.name);
     l.interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
     l.t = std::numeric_limits<Nanos>::min() / 2;
   }

@@ -5,11 +5,11 @@
 // are listed in flight_log.hpp. While the recorder lives, the host's log also goes to tern.log.
 // Topics logged: `log.topics` (default: every topic with a writer). A topic's message is captured
 // at the end of the tick it was published in (flight time of the tick), at most one per
-// 1 / max_rate s of flight time: `log.rates.<topic>`, else `log.max_rate` (Hz, 0: every message),
-// except the sensor topics and `actuators`, logged in full by default so that a flight can be
-// replayed (tern replay). Thinning by flight time keeps the log deterministic. `log.level`
-// (config.hpp) summary logs no topic; decimated caps every topic, the sensors too, at
-// `log.decimated_rate` Hz (such a log cannot be replayed).
+// 1 / rate s of flight time, the rate as `log.level` says (config.hpp: topic_rate below):
+// `log.rates.<topic>`, else every message for the sensor topics and `actuators` (so that a flight
+// can be replayed: tern replay), else `log.plot_rate` (levels replay and sysid) or `log.max_rate`
+// (full). Thinning by flight time keeps the log deterministic. Level summary logs no topic;
+// decimated caps every topic, the sensors too, at `log.decimated_rate` Hz (cannot be replayed).
 // A logged waypoint list (msg::WaypointList, topic `waypoints`) also writes its items, one row
 // per waypoint of each list captured, to topics/<topic>_items.csv (revision, index and the
 // Waypoint's columns): the mission as flown, edits in flight included (tern plot draws it).
@@ -60,6 +60,8 @@ class FlightRecorder {
   /// The log's files as `log` (log.format, log.chunk_size) asks.
   static FlightLog::Format format_of(const LogConfig& log);
   void choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn);
+  /// Hz: the most messages a second of `topic` that `log` keeps (0: every message).
+  static double topic_rate(const LogConfig& log, const std::string& topic);
   /// A parameter's value from time t on, and who set it.
   void param(Nanos t, const std::string& qualified_name, const ParamBase& p, const std::string& source);
   /// At the end of a tick at flight time `now`: captures what was published on each logged topic.
