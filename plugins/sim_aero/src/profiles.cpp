@@ -61,6 +61,11 @@ void realistic_imu(SensorParams& p) {
   // Full-throttle vibration of a soft-mounted FCU on an electric aircraft (PX4's vibration guidance).
   p.accel_vibration = 1.5;  // m/s^2
   p.gyro_vibration = 0.01;  // rad/s
+  // Output resolution at the full-scale ranges a fixed-wing FCU sets (+-16 g, +-2000 dps):
+  // 2048 LSB/g, 16.4 LSB/dps, temperature 326.8 LSB/degC (DS-000176, tables 1-3).
+  p.accel_resolution = kG0 / 2048.0;                    // 4.79e-3 m/s^2
+  p.gyro_resolution = kRadPerDeg / 16.4;                // 1.06e-3 rad/s
+  p.imu_temperature_resolution = 1.0 / 326.8;           // K
 }
 
 // HMC5883L / IST8310 class (the ROSflight boards); residuals after a compass calibration.
@@ -71,6 +76,7 @@ void realistic_mag(SensorParams& p) {
   p.mag_hard_iron_range = 1e-6;                              // T per axis residual hard iron
   p.mag_soft_iron_range = 0.02;                              // +-2 % residual soft iron
   p.mag_motor_field = Eigen::Vector3d(0.0, 0.5e-6, 1.5e-6);  // T at full throttle (motor current)
+  p.mag_resolution = 1e-4 / 1090.0;                          // T: HMC5883L at +-1.3 Ga, 1090 LSB/Ga (0.92 mG)
 }
 
 // TE MS5611-01BA03 barometer.
@@ -79,6 +85,8 @@ void realistic_baro(SensorParams& p) {
   p.baro_bias_range = 150.0;   // Pa: absolute accuracy +-1.5 mbar (25 C, 750..1100 mbar)
   p.baro_bias_walk = 0.5;      // Pa/sqrt(s): thermal drift in flight
   p.baro_static_error = 0.05;  // static-port error 5 % of the dynamic pressure (typical installation)
+  p.baro_resolution = 1.0;               // Pa: the compensated pressure P in 0.01 mbar
+  p.baro_temperature_resolution = 0.01;  // K: TEMP in 0.01 degC
 }
 
 // TE MS4525DO-DS5AI001DP (001PD: +-1 psi, 14 bit over 10..90 % of the counts: 13790 Pa / 13107
@@ -88,6 +96,8 @@ void realistic_pitot(SensorParams& p) {
   p.diff_bias_range = 2.0;    // Pa: offset since the last zero (the boot calibration removes it)
   p.diff_bias_walk = 0.05;    // Pa/sqrt(s): thermal drift of the offset
   p.diff_scale_range = 0.05;  // +-5 %: installation (probe position, pitot/static tubes)
+  p.diff_resolution = 13789.5 / 13107.0;           // Pa per count (1.05)
+  p.diff_temperature_resolution = 200.0 / 2047.0;  // K: 11 bits over -50..150 degC
 }
 
 // u-blox NEO-M8N. Datasheet: 2.5 m CEP horizontal (24 h static, open sky; per-axis sigma

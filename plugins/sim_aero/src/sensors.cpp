@@ -68,6 +68,12 @@ Eigen::Vector3d WorldGeodesy::to_ned(const GeoPoint& p) const {
 
 namespace {
 /// Transition factor exp(-dt / tau) of a first-order Gauss-Markov process (0: white).
+/// `x` in whole counts of `lsb` (the sensor's resolution; 0: unchanged).
+double quantized(double x, double lsb) { return lsb > 0 ? std::round(x / lsb) * lsb : x; }
+Eigen::Vector3d quantized(const Eigen::Vector3d& v, double lsb) {
+  return lsb > 0 ? Eigen::Vector3d((v / lsb).array().round() * lsb) : v;
+}
+
 double gm_phi(double dt, double tau) { return tau > 0 ? std::exp(-std::max(dt, 0.0) / tau) : 0.0; }
 
 /// Specific force at a point r (body) off the CG: f_cg + omega_dot x r + omega x (omega x r).
@@ -186,10 +192,12 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
   const Eigen::Vector3d f = specific_force_at(t, p_.imu_position);
   const Eigen::Vector3d w = t.x.segment<3>(P);
   ImuSample m;
-  m.accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle) - accel_cal_;
-  m.gyro = gyro_M_ * (mount_T_ * w) + gyro_bias_ + white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle);
+  const Eigen::Vector3d accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
+  m.accel = quantized(accel, p_.accel_resolution) - accel_cal_;
+  m.gyro = quantized(gyro_M_ * (mount_T_ * w) + gyro_bias_ + white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle),
+                     p_.gyro_resolution);
   if (p_.calibrate_at_boot) m.gyro = boot_.gyro(m.gyro);
-  m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
+  m.temperature = quantized(standard_temperature(p_.origin_alt - t.x[PD]), p_.imu_temperature_resolution);
   return m;
 }
 
@@ -199,7 +207,7 @@ MagSample Sensors::mag(const Truth& t, double dt) {
   mag_gm_ = phi * mag_gm_ + p_.mag_gm_sigma * std::sqrt(1.0 - phi * phi) * gauss3();
   const Eigen::Vector3d b = attitude(t.x).conjugate() * earth_field_.ned;
   MagSample m;
-  m.field = mag_soft_ * b + mag_hard_ + t.throttle * p_.mag_motor_field + mag_gm_ + p_.mag_noise * gauss3();
+  m.field = quantized(mag_soft_ * b + mag_hard_ + t.throttle * p_.mag_motor_field + mag_gm_ + p_.mag_noise * gauss3(), p_.mag_resolution);
   return m;
 }
 
@@ -209,9 +217,9 @@ BaroSample Sensors::baro(const Truth& t, double dt) {
   const double h = p_.origin_alt - t.x[PD];
   const double q = 0.5 * t.rho * t.fm.air.Va * t.fm.air.Va;
   BaroSample m;
-  m.pressure = standard_pressure(h) + p_.baro_static_error * q + baro_bias_ + p_.baro_noise * gauss();
+  m.pressure = quantized(standard_pressure(h) + p_.baro_static_error * q + baro_bias_ + p_.baro_noise * gauss(), p_.baro_resolution);
   if (p_.calibrate_at_boot) m.pressure = boot_.baro(m.pressure, dt);
-  m.temperature = standard_temperature(h);
+  m.temperature = quantized(standard_temperature(h), p_.baro_temperature_resolution);
   return m;
 }
 
@@ -220,9 +228,9 @@ DiffPressureSample Sensors::diff_pressure(const Truth& t, double dt) {
   diff_bias_ += p_.diff_bias_walk * std::sqrt(std::max(dt, 0.0)) * gauss();
   const double u_r = t.fm.air.v_air.x();
   DiffPressureSample m;
-  m.pressure = diff_scale_ * 0.5 * t.rho * u_r * u_r + diff_bias_ + p_.diff_noise * gauss();
+  m.pressure = quantized(diff_scale_ * 0.5 * t.rho * u_r * u_r + diff_bias_ + p_.diff_noise * gauss(), p_.diff_resolution);
   if (p_.calibrate_at_boot) m.pressure = boot_.diff_pressure(m.pressure, dt);
-  m.temperature = standard_temperature(p_.origin_alt - t.x[PD]);
+  m.temperature = quantized(standard_temperature(p_.origin_alt - t.x[PD]), p_.diff_temperature_resolution);
   return m;
 }
 

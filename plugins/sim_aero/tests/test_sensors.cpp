@@ -317,14 +317,44 @@ TEST_CASE("sensors: IMU white noise plus vibration scaled by the throttle") {
     return std::vector<double>{stddev(ax), stddev(ay), stddev(gx), stddev(gz)};
   };
   const std::vector<double> half = sigmas(0.5), idle = sigmas(0.0);
-  const double sa = std::hypot(p.accel_noise, 0.5 * p.accel_vibration);  // 0.750 m/s^2
-  const double sg = std::hypot(p.gyro_noise, 0.5 * p.gyro_vibration);    // 0.00508 rad/s
+  // whole counts add the quantisation noise lsb^2 / 12 (Widrow: the noise spans several counts)
+  auto counted = [](double sigma, double lsb) { return std::sqrt(sigma * sigma + lsb * lsb / 12.0); };
+  const double sa = counted(std::hypot(p.accel_noise, 0.5 * p.accel_vibration), p.accel_resolution);  // 0.750 m/s^2
+  const double sg = counted(std::hypot(p.gyro_noise, 0.5 * p.gyro_vibration), p.gyro_resolution);     // 0.00508 rad/s
   CHECK(half[0] == doctest::Approx(sa).epsilon(0.03));
   CHECK(half[1] == doctest::Approx(sa).epsilon(0.03));
   CHECK(half[2] == doctest::Approx(sg).epsilon(0.03));
   CHECK(half[3] == doctest::Approx(sg).epsilon(0.03));
-  CHECK(idle[0] == doctest::Approx(p.accel_noise).epsilon(0.03));
-  CHECK(idle[3] == doctest::Approx(p.gyro_noise).epsilon(0.03));
+  CHECK(idle[0] == doctest::Approx(counted(p.accel_noise, p.accel_resolution)).epsilon(0.03));
+  CHECK(idle[3] == doctest::Approx(counted(p.gyro_noise, p.gyro_resolution)).epsilon(0.03));
+}
+
+TEST_CASE("sensors: realistic readings are whole counts of the datasheets' resolutions; rosflight's are continuous") {
+  SensorParams p = sensor_profile("realistic");
+  p.calibrate_at_boot = false;  // the raw counts (the FCU's boot calibration subtracts a mean)
+  p.accel_calibrated_level = false;
+  CHECK(p.accel_resolution == doctest::Approx(tern::kStandardGravity / 2048.0));
+  CHECK(p.gyro_resolution == doctest::Approx(tern::kRadPerDeg / 16.4));
+  CHECK(p.baro_resolution == 1.0);
+  auto whole = [](double x, double lsb) { return std::abs(x / lsb - std::round(x / lsb)) < 1e-6; };
+  Sensors s(p, 5);
+  Truth t = level_truth();
+  t.throttle = 0.6;
+  for (int i = 0; i < 200; ++i) {
+    const ImuSample imu = s.imu(t, 0.0025);
+    for (int k = 0; k < 3; ++k) {
+      REQUIRE(whole(imu.accel[k], p.accel_resolution));
+      REQUIRE(whole(imu.gyro[k], p.gyro_resolution));
+      REQUIRE(whole(s.mag(t, 0.0025).field[k], p.mag_resolution));
+    }
+    REQUIRE(whole(imu.temperature, p.imu_temperature_resolution));
+    REQUIRE(whole(s.baro(t, 0.0025).pressure, p.baro_resolution));
+    REQUIRE(whole(s.diff_pressure(t, 0.0025).pressure, p.diff_resolution));
+  }
+  Sensors r(sensor_profile("rosflight"), 5);
+  int off_grid = 0;
+  for (int i = 0; i < 200; ++i) off_grid += !whole(r.imu(t, 0.0025).gyro.x(), tern::kRadPerDeg / 16.4);
+  CHECK(off_grid > 190);
 }
 
 TEST_CASE("sensors: the accelerometer off the CG sees centripetal and tangential accelerations") {
