@@ -8,6 +8,7 @@ import numpy as np
 
 DEG = 180.0 / math.pi
 CIRCLE_TICKS = (-180, -90, 0, 90, 180)
+MIN_COURSE_VG = 1.0  # m/s: the course is drawn from this ground speed (at rest it is noise)
 
 
 def wrap_pi(a):
@@ -42,3 +43,11 @@ def circle_axis(ax):
     """A y axis of the whole circle: -180 to 180 deg, a tick every 90 deg."""
     ax.set_ylim(-185.0, 185.0)
     ax.set_yticks(CIRCLE_TICKS)
+
+
+def course_where_moving(chi, vg, min_vg=MIN_COURSE_VG):
+    """The course chi with NaN where the ground speed vg is below min_vg (vg None: chi as is)."""
+    if vg is None:
+        return chi
+    with np.errstate(invalid="ignore"):
+        return np.where(vg >= min_vg, chi, np.nan)

@@ -131,10 +131,17 @@ def _short(a, b):
     return f"{na} vs {nb}" if na != nb else f"{a} vs {b}"
 
 
+def libraries(run):
+    """{instance name: its plugin library's FNV-1a hash} of summary.json's instances."""
+    return {name: d.get("library_fnv1a") for name, d in (run["summary"].get("instances") or {}).items()
+            if isinstance(d, dict) and d.get("library_fnv1a")}
+
+
 def setup_differences(a, b):
-    """[text] of the plugin instances and the phase table that differ."""
+    """[text] of the plugin instances, their libraries (another build) and the phase table that differ."""
     out = []
     ia, ib = instances(a), instances(b)
+    la, lb = libraries(a), libraries(b)
     for name in sorted(set(ia) | set(ib)):
         if name not in ib:
             out.append(f"instance {name} ({ia[name]}) only in {a['label']}")
@@ -142,6 +149,8 @@ def setup_differences(a, b):
             out.append(f"instance {name} ({ib[name]}) only in {b['label']}")
         elif ia[name] != ib[name]:
             out.append(f"plugin of {name} {ia[name]} vs {ib[name]}")
+        elif la.get(name) and lb.get(name) and la[name] != lb[name]:
+            out.append(f"plugin library of {name} ({ia[name]}): another build (FNV-1a {la[name]} vs {lb[name]})")
     pa, pb = a["config"].get("phases") or {}, b["config"].get("phases") or {}
     if isinstance(pa, dict) and isinstance(pb, dict):
         for phase in [p for p in pa if p in pb] + [p for p in pa if p not in pb] + [p for p in pb if p not in pa]:
@@ -152,11 +161,14 @@ def setup_differences(a, b):
 
 def param_differences(a, b):
     """[(name, value in a or None, value in b or None)] of the parameters that differ, by name;
-    the sensor profile left out (a fact of its own)."""
+    left out: the sensor profile (a fact of its own) and the parameters of an instance only one
+    run has (named as such by setup_differences)."""
     pa, pb = start_params(a), start_params(b)
+    ia, ib = instances(a), instances(b)
+    lone = set(ia) ^ set(ib)
     out = []
     for name in sorted(set(pa) | set(pb)):
-        if name.endswith(".sensor_profile"):
+        if name.endswith(".sensor_profile") or name.split(".", 1)[0] in lone:
             continue
         va, vb = pa.get(name), pb.get(name)
         if va is None or vb is None or not _same_value(va, vb):
@@ -186,19 +198,26 @@ def compare_runs(runs):
 # The block: terminal lines and index.html
 # ----------------------------------------------------------------------------------------------
 
-def _param_text(p, limit=None):
-    shown = p if limit is None else p[:limit]
-    text = "; ".join(f"{name} {_text(va)} vs {_text(vb)}" for name, va, vb in shown)
-    more = f" (+{len(p) - limit} more: index.html)" if limit is not None and len(p) > limit else ""
-    return f"parameters ({len(p)}): {text}{more}"
+def _cut(texts, limit, where):
+    more = f" (+{len(texts) - limit} more: {where})" if len(texts) > limit else ""
+    return "; ".join(texts[:limit]) + more
 
 
-def block_items(d, limit=PARAMS_SHOWN):
+def param_items(d, where="index.html", limit=PARAMS_SHOWN):
+    """The parameter differences as texts: those both runs have ("parameters (n): name a vs b; ..."),
+    then those only one run has ("parameters only in B (n): name, ...")."""
+    both = [f"{name} {_text(va)} vs {_text(vb)}" for name, va, vb in d["params"] if va is not None and vb is not None]
+    out = [f"parameters ({len(both)}): {_cut(both, limit, where)}"] if both else []
+    for k, label in ((2, d["b"]), (1, d["a"])):
+        only = [p[0] for p in d["params"] if p[k] is not None and p[3 - k] is None]
+        if only:
+            out.append(f"parameters only in {label} ({len(only)}): {_cut(only, limit, where).replace('; ', ', ')}")
+    return out
+
+
+def block_items(d, where="index.html"):
     """The differences as short texts: facts, then plugins and phases, then parameters."""
-    items = [text for _, text in d["facts"]] + d["setup"]
-    if d["params"]:
-        items.append(_param_text(d["params"], limit))
-    return items
+    return [text for _, text in d["facts"]] + d["setup"] + param_items(d, where)
 
 
 def headline(d):
@@ -238,9 +257,7 @@ def html_block(differences):
     esc = html.escape
     parts = []
     for d in differences:
-        items = [text for _, text in d["facts"]] + d["setup"]
-        if d["params"]:
-            items.append(_param_text(d["params"], PARAMS_SHOWN).replace("index.html", "the table below the figures"))
+        items = block_items(d, "the table below the figures")
         pair = f"{d['a']} vs {d['b']}"
         if not items:
             head = headline(d)

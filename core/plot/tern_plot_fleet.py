@@ -186,7 +186,7 @@ class Fleet:
 
     def fig_tracks(self, drawn, out, closest):
         plt = self.h["plt"]
-        fig, ax = plt.subplots(figsize=(9, 9))
+        fig, ax = plt.subplots(figsize=(9, 10))
         ax.set_title(f"tracks - fleet {self.mission} ({len(drawn)} vehicles), world NED", loc="left", fontsize="medium")
         info = {}
         for v in drawn:

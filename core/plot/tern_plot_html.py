@@ -229,7 +229,7 @@ def flight_line(run):
     """One line of what the flight was: mission, how long, how it ended, seed, sensor profile."""
     s = run["summary"]
     parts = [f"mission {s['mission']}" if s.get("mission") else None,
-             f"{fmt_value(s['duration_s'])} s" if isinstance(s.get("duration_s"), (int, float)) else None,
+             f"{s['duration_s']:.1f} s" if isinstance(s.get("duration_s"), (int, float)) else None,
              f"ended: {s['end_reason']}" if s.get("end_reason") else None,
              f"seed {s['seed']}" if s.get("seed") is not None else None,
              f"sensor profile {s['sensor_profile']}" if s.get("sensor_profile") else None]

@@ -314,10 +314,11 @@ class Landing:
         self._limits(spec, drawn[-1], axes)
         markers = self._draw(run, spec, drawn, axes)
         side, top = axes["side"][0], axes["top"][0]
-        side.legend(loc="upper right", fontsize="x-small")
+        # the legends outside the views (a go-around climbs into any corner): above the side view, below the top view
+        side.legend(loc="lower left", bbox_to_anchor=(0.0, 1.0), fontsize="x-small", frameon=False, borderaxespad=0.2)
         top.legend(loc="upper center", bbox_to_anchor=(0.75, -0.13), ncol=3, fontsize="x-small", frameon=False)
         legend = side.get_legend_handles_labels()[1] + top.get_legend_handles_labels()[1]
-        fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.93, hspace=0.22, wspace=0.3)
+        fig.subplots_adjust(left=0.07, right=0.985, bottom=0.13, top=0.86, hspace=0.22, wspace=0.3)
         self.h["save"](fig, out, "landing.png", CAPTION, markers, legend)
         return None
 

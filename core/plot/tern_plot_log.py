@@ -204,6 +204,7 @@ def read_config(run_dir):
 STATE_FIELDS = ["p_n", "p_e", "p_d", "phi", "theta", "psi", "Va", "chi", "valid",
                 "origin_lat", "origin_lon", "origin_alt", "origin_valid"]
 P_FIELDS = [f"P_diag_{k}" for k in range(9)]  # position and attitude blocks (estimator_ekf's layout)
+OPTIONAL_STATE = P_FIELDS + ["Vg"]  # read when logged, without a note when not
 
 
 def is_state_topic(columns):
@@ -246,12 +247,12 @@ def load_estimators(run_dir, cfg, cfg_source):
         cols = topic_columns(run_dir, name)
         if name != "state" and not is_state_topic(cols):
             continue
-        topic = read_topic(run_dir, name, STATE_FIELDS, optional=name != "state", extra=P_FIELDS)
+        topic = read_topic(run_dir, name, STATE_FIELDS, optional=name != "state", extra=OPTIONAL_STATE)
         if topic is not None:
             out.append({"name": instance_of_topic(cfg, name), "topic": topic})
     src = replay_source(run_dir, cfg_source)
     if src is not None:
-        topic = read_topic(src, "state", STATE_FIELDS, optional=True, extra=P_FIELDS)
+        topic = read_topic(src, "state", STATE_FIELDS, optional=True, extra=OPTIONAL_STATE)
         if topic is not None:
             src_cfg, _ = read_config(src)
             out.append({"name": instance_of_topic(src_cfg, "state") + " (recorded in flight "

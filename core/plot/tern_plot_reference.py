@@ -139,7 +139,7 @@ class Overlays:
         if r is None:
             return why or None
         plt = self.h["plt"]
-        fig, ax = plt.subplots(figsize=(9, 9))
+        fig, ax = plt.subplots(figsize=(9, 10))
         ax.set_title(f"track, north up: tern, reference, GNSS - {runs[0]['label']}", loc="left", fontsize="medium")
         ax.plot(r["s"]["p_e"], r["s"]["p_n"], color=C_TERN, lw=0.9, label="tern", zorder=3)
         if r["ref_ned"] is not None:

@@ -20,6 +20,7 @@ import unittest
 from test_tern_plot import TP, np, run_plot, write_landing_run, write_run
 import tern_plot_angles as TA  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
 import tern_plot_compare as TC  # noqa: E402
+from matplotlib.legend import Legend  # noqa: E402
 
 
 def edit(path, old, new):
@@ -31,22 +32,63 @@ def edit(path, old, new):
         f.write(text.replace(old, new))
 
 
-def drawn_lines(run_dir, out_dir):
-    """{figure file: [[(label, x, y) of each line] of each axes]}: tern-plot's figures of run_dir,
-    drawn in this process with its save() watching."""
-    drawn, save = {}, TP.save
+def watched(run_dirs, out_dir, look):
+    """{figure file: look(fig)}: tern-plot's figures of run_dirs (one run or an overlay), drawn in
+    this process with its save() watching."""
+    seen, save = {}, TP.save
 
     def watch(fig, out, fname, *args, **kw):
-        drawn[fname] = [[(ln.get_label(), np.asarray(ln.get_xdata(), float), np.asarray(ln.get_ydata(), float))
-                         for ln in ax.lines] for ax in fig.axes]
+        seen[fname] = look(fig)
         return save(fig, out, fname, *args, **kw)
     TP.save = watch
     try:
-        TP.plot_runs([run_dir], out_dir)
+        TP.plot_runs(run_dirs, out_dir)
     finally:
         TP.save = save
         TP.NOTES.clear()
-    return drawn
+    return seen
+
+
+def drawn_lines(run_dir, out_dir):
+    """{figure file: [[(label, x, y) of each line] of each axes]}."""
+    return watched([run_dir], out_dir, lambda fig: [[(ln.get_label(), np.asarray(ln.get_xdata(), float),
+                                                      np.asarray(ln.get_ydata(), float)) for ln in ax.lines]
+                                                    for ax in fig.axes])
+
+
+def drawn_texts(fig):
+    """The texts a figure shows: titles, axis labels, the tick labels within the axes' limits,
+    annotations, legend texts."""
+    out = list(fig.texts)
+    for ax in fig.axes:
+        out += [ax.title, ax._left_title, ax._right_title, ax.xaxis.label, ax.yaxis.label, ax.yaxis.offsetText]
+        out += list(ax.texts)
+        for axis in (ax.xaxis, ax.yaxis):
+            lo, hi = sorted(axis.get_view_interval())
+            tol = 1e-6 * (hi - lo)
+            out += [t.label1 for t in axis.get_major_ticks() if lo - tol <= t.get_loc() <= hi + tol and t.label1.get_visible()]
+        for legend in [c for c in ax.get_children() if isinstance(c, Legend)]:
+            out += list(legend.get_texts()) + [legend.get_title()]
+    return [t for t in out if t.get_visible() and t.get_text().strip()]
+
+
+def _overlap(a, b, px=1.0):
+    return min(a.x1, b.x1) - max(a.x0, b.x0) > px and min(a.y1, b.y1) - max(a.y0, b.y0) > px
+
+
+def overlaps(fig):
+    """["text / text" of two texts that overlap, "legend 'text' over an axes" of a legend on a
+    panel's data area]: what hides what in the figure as drawn."""
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    boxes = [(t.get_text(), t.get_window_extent(r)) for t in drawn_texts(fig)]
+    out = [f"{a[0]!r} / {b[0]!r}" for k, a in enumerate(boxes) for b in boxes[k + 1:] if _overlap(a[1], b[1])]
+    for ax in fig.axes:
+        for legend in [c for c in ax.get_children() if isinstance(c, Legend)]:
+            box = legend.get_window_extent(r)
+            out += [f"legend {legend.get_texts()[0].get_text()!r} over an axes" for other in fig.axes
+                    if _overlap(box, other.get_window_extent(r))]
+    return out
 
 
 class IndexPage(unittest.TestCase):
@@ -84,6 +126,38 @@ class IndexPage(unittest.TestCase):
         page = self.page(run)
         self.assertEqual(re.findall(r'<img src="([^"]+)"', page)[:2], ["ground_track.png", "altitude.png"])
         self.assertLess(max(m.start() for m in re.finditer("<img ", page)), page.index("<table"))
+
+
+class NothingHidden(unittest.TestCase):
+    """No text over another and no legend over the data, in every figure of a flight, a landing
+    and an overlay of two runs."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="tern_plot_pages_")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def check(self, run_dirs, want):
+        found = watched(run_dirs, os.path.join(self.tmp, "plots"), overlaps)
+        self.assertEqual(sorted(found), sorted(want))
+        for name, what in found.items():
+            self.assertEqual(what, [], name)
+
+    def test_a_flight_and_its_overlay(self):
+        a, b = os.path.join(self.tmp, "a"), os.path.join(self.tmp, "b")
+        write_run(a)
+        write_run(b, duration=50.0)
+        figures = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png", "actuators.png",
+                   "estimation_errors.png"]
+        self.check([a], figures)
+        self.check([a, b], figures)
+
+    def test_a_landing(self):
+        run = os.path.join(self.tmp, "landing")
+        write_landing_run(run)
+        self.check([run], ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png",
+                           "estimation_errors.png", "landing.png"])
 
 
 class WrappedCourse(unittest.TestCase):
@@ -194,10 +268,19 @@ class ABDifferences(unittest.TestCase):
                                                                     {"name": "slc", "plugin": "control_tecs"},
                                                                     {"name": "ctl", "plugin": "my_ctl"}],
                              "phases": {"takeoff": "slc", "cruise": "ctl"}})
+        base["summary"]["instances"] = {"sim": {"plugin": "sim_aero", "library_fnv1a": "0f07"}}
+        other["summary"]["instances"] = {"sim": {"plugin": "sim_aero", "library_fnv1a": "7284"}}
+        base["params"] = {"sim.wind": [(0.0, "[3.5, -3.5, 0]")], "slc.max_a": [(0.0, "0.15")], "slc.kp": [(0.0, "1")]}
+        other["params"] = {"sim.wind": [(0.0, "[3.5, -3.5, 0]")], "slc.max_a": [(0.0, "1.5e-1")], "ctl.kp": [(0.0, "2")],
+                           "sim.gyro_resolution": [(0.0, "0.001")]}
         d = TC.compare(base, other)
         self.assertEqual([text for _, text in d["facts"]], ["sensor profile realistic vs ideal", "aircraft anaconda.yaml vs zagi.yaml"])
-        self.assertEqual(d["setup"], ["instance ctl (my_ctl) only in B", "plugin of slc control_slc vs control_tecs",
+        self.assertEqual(d["setup"], ["instance ctl (my_ctl) only in B", "plugin library of sim (sim_aero): another build "
+                                      "(FNV-1a 0f07 vs 7284)", "plugin of slc control_slc vs control_tecs",
                                       "phases.cruise slc vs ctl"])
+        # 0.15 = 1.5e-1; ctl's parameters go with its instance; a parameter only one build of sim has
+        self.assertEqual(TC.param_items(d), ["parameters only in B (1): sim.gyro_resolution",
+                                             "parameters only in A (1): slc.kp"])
         self.assertFalse(d["missions_differ"])
         self.assertIsNone(TC.warning(d))
 

@@ -617,5 +617,5 @@ class Pieces(unittest.TestCase):
 
 if __name__ == "__main__":
     sys.modules.setdefault("test_tern_plot", sys.modules["__main__"])  # test_plot_pages imports this module, not again
-    from test_plot_pages import ABDifferences, IndexPage, WrappedCourse  # noqa: F401 (run here too: ctest plot)
+    from test_plot_pages import ABDifferences, IndexPage, NothingHidden, WrappedCourse  # noqa: F401 (ctest plot)
     unittest.main(verbosity=2)
