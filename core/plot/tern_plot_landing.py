@@ -227,9 +227,10 @@ def track(topic, spec, t0, t1, masked=None, dz=0.0):
 
 
 def at_time(tr, t, slack=0.1):
-    """(along, across, height) of a track at time t (its first sample at or after t; the last
-    one for t up to `slack` s after it), or None."""
-    if tr is None or not (tr[0][0] <= t <= tr[0][-1] + slack):
+    """(along, across, height) of a track at time t (its first sample at or after t; the first
+    one for t up to `slack` s before it, as a track logged slower than the phase changes starts
+    after the approach began; the last one for t up to `slack` s after it), or None."""
+    if tr is None or not (tr[0][0] - slack <= t <= tr[0][-1] + slack):
         return None
     k = min(int(np.searchsorted(tr[0], t)), len(tr[0]) - 1)
     p = (float(tr[1][k]), float(tr[2][k]), float(tr[3][k]))

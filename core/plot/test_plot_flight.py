@@ -10,9 +10,10 @@ a limit; every time figure carries the phase, handover, fallback and failsafe ma
 waypoint list flown last with the added loiter; +-3 sigma bands that hold the errors; the legend's
 RMSE equal to summary.json's over the same window, which it names; a replay with two estimator
 instances (one colour each) and a replay against the recorded estimate; the overlay of A and B;
-index.html in headless Chromium (every image loaded, summary values shown). And the default
-mission flown one loop, then its land item: landing.png's markers, and its touchdown marker where
-summary.json's metrics.landing measured it.
+index.html in headless Chromium (every image loaded, summary values shown, the ground track and the
+altitude on the first screen, no table there). And the default mission flown one loop, then its
+land item: landing.png's markers (its approach too when state.csv is logged slower than the phase
+changes), and its touchdown marker where summary.json's metrics.landing measured it.
 """
 import csv
 import json
@@ -299,6 +300,16 @@ class Flights(unittest.TestCase):
                 self.assertEqual(sorted(i[0] for i in imgs), sorted(figures(plots)))
                 for src, complete, width in imgs:
                     self.assertTrue(complete and width > 500, f"{src} did not load")
+                # the first screen (1400 x 1000) shows the flight: the ground track whole, the altitude beside it
+                boxes = driver.execute_script(
+                    "const box = s => document.querySelector(s).getBoundingClientRect();"
+                    "return [box('img[src=\"ground_track.png\"]'), box('img[src=\"altitude.png\"]'), box('table')]"
+                    ".map(b => [b.left, b.top, b.bottom]);")
+                (track_left, track_top, track_bottom), (alt_left, alt_top, _), (_, table_top, _) = boxes
+                self.assertLess(track_bottom, 1000, "the ground track is not on the first screen")
+                self.assertLess(alt_top, 1000)
+                self.assertGreater(alt_left, track_left, "the altitude beside the ground track")
+                self.assertGreater(table_top, 1000, "a table on the first screen")
                 cell = driver.execute_script(
                     "const t = document.getElementById('rmse'); const row = Array.from(t.rows)"
                     ".find(r => r.cells[0].textContent === 'north_m'); return Array.from(row.cells).map(c => c.textContent);")

@@ -496,6 +496,9 @@ class Pieces(unittest.TestCase):
         np.testing.assert_allclose(along, [-100.0, 5.0], atol=1e-9)
         np.testing.assert_allclose(across, [0.0, 3.0], atol=1e-9)   # south of an eastward runway: right of it
         np.testing.assert_allclose(height, [10.0, 0.0], atol=1e-9)
+        tr = (np.array([10.05, 10.1]), np.array([1.0, 2.0]), np.zeros(2), np.zeros(2))  # logged at 20 Hz
+        self.assertEqual(TLand.at_time(tr, 10.03), (1.0, 0.0, 0.0))  # a phase change between two samples
+        self.assertIsNone(TLand.at_time(tr, 9.9))
         run = {"summary": {}, "state": None, "run_dir": self.tmp, "t_end": 95.0, "phase": None, "waypoints": (None, True),
                "truth": None, "config": {"mission": {"file": "m.yaml", "waypoints": [
                    {"type": "land", "ned": [0, 0, 0], "heading": 2.3562, "flare_height": 3}]}}}
