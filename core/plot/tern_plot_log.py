@@ -50,11 +50,22 @@ class Topic:
 _HEADER_RE = re.compile(r"^\s*(.*?)\s*(\[[^\]]*\])?\s*$")
 
 
+# Runs logged as MCAP only have their tables exported outside the run (tern-plot's
+# tables_from_mcap): real path of the run directory -> the directory of its tables.
+EXPORTED_TOPICS = {}
+
+
+def topics_dir(run_dir):
+    """The directory of a run's topic tables: RUN/topics, or where they were exported from its
+    flight.mcap."""
+    return EXPORTED_TOPICS.get(os.path.realpath(run_dir), os.path.join(run_dir, "topics"))
+
+
 def read_topic(run_dir, name, fields, optional=False, extra=()):
     """Reads topics/<name>.csv, only `fields` (plus t) and those of `extra` it has (no note
     when they are not). None (with a note) when missing/empty; an optional topic that is
     missing is None without a note."""
-    path = os.path.join(run_dir, "topics", name + ".csv")
+    path = os.path.join(topics_dir(run_dir), name + ".csv")
     if not os.path.isfile(path):
         if not optional:
             note(f"topics/{name}.csv missing: skipped")
@@ -173,7 +184,7 @@ def param_at(params, name, t):
 
 
 def topic_columns(run_dir, name):
-    path = os.path.join(run_dir, "topics", name + ".csv")
+    path = os.path.join(topics_dir(run_dir), name + ".csv")
     try:
         with open(path, encoding="utf-8", errors="replace") as f:
             return [_HEADER_RE.match(h).group(1) for h in f.readline().rstrip("\r\n").split(",")]
@@ -231,7 +242,7 @@ def replay_source(run_dir, cfg_source):
     if not cfg_source or os.path.basename(cfg_source) != "config.yaml":
         return None
     src = os.path.dirname(cfg_source)
-    if os.path.realpath(src) == os.path.realpath(run_dir) or not os.path.isfile(os.path.join(src, "topics", "state.csv")):
+    if os.path.realpath(src) == os.path.realpath(run_dir) or not os.path.isfile(os.path.join(topics_dir(src), "state.csv")):
         return None
     return src
 
@@ -239,8 +250,7 @@ def replay_source(run_dir, cfg_source):
 def load_estimators(run_dir, cfg, cfg_source):
     """[{name, label, topic}] of every state topic (main `state` first), plus, for a replay of a
     flight, the estimate recorded in that flight."""
-    topics_dir = os.path.join(run_dir, "topics")
-    names = sorted(f[:-4] for f in os.listdir(topics_dir) if f.endswith(".csv") and f[:-4] != "truth")
+    names = sorted(f[:-4] for f in os.listdir(topics_dir(run_dir)) if f.endswith(".csv") and f[:-4] != "truth")
     names.sort(key=lambda n: n != "state")
     out = []
     for name in names:

@@ -11,7 +11,7 @@ import os
 import numpy as np
 
 from tern_plot_angles import wrap_deg, wrapped_deg
-from tern_plot_log import read_replay_report, read_topic
+from tern_plot_log import read_replay_report, read_topic, topics_dir
 from tern_plot_mission import lla_to_ned
 
 C_TERN, C_REF, C_GNSS = "#1f77b4", "#d62728", "#7f7f7f"
@@ -24,7 +24,7 @@ MIN_COURSE_SPEED = 5.0  # m/s: course drawn from this horizontal speed (as repla
 
 def applies(run):
     """A run with a reference and no truth."""
-    topics = os.path.join(run["run_dir"], "topics")
+    topics = topics_dir(run["run_dir"])
     return os.path.isfile(os.path.join(topics, "reference.csv")) and not os.path.isfile(os.path.join(topics, "truth.csv"))
 
 
