@@ -18,7 +18,7 @@ PHASES = {0: ("takeoff", "#ff7f0e"), 1: ("climb", "#2ca02c"), 2: ("cruise", "#1f
           9: ("stopped", "#393b79")}
 PREFLIGHT = 5
 WIDTH_IN = 11.0                  # a time figure's width
-LEGEND_CHARS_PER_ROW = 150       # legend text that fits one row of a time figure's width (small font)
+LEGEND_CHARS_PER_ROW = 140       # legend text that fits one row of a time figure's width (small font)
 MARKER_LABEL_PX = 13             # markers closer than this (pixels) share one label
 DPI = 110                        # tern plot's PNGs (save)
 MARKER_CHAR_PX = 6.0             # a marker label's character (x-small) along the line, pixels
@@ -153,11 +153,14 @@ def draw_markers(axes, runs, xlim):
 
 
 def legend_columns(lengths, limit=LEGEND_CHARS_PER_ROW):
-    """The most columns whose widths (matplotlib fills a legend column by column, each column as
-    wide as its longest text, plus its handle) add up to at most `limit` characters; at least 1."""
+    """The most columns whose widths add up to at most `limit` characters (at least 1): matplotlib
+    fills a legend column by column, the first len % ncol columns one entry longer, each column
+    as wide as its longest text plus its handle."""
     for ncol in range(len(lengths), 1, -1):
-        rows = -(-len(lengths) // ncol)
-        if sum(max(lengths[c:c + rows]) + 6 for c in range(0, len(lengths), rows)) <= limit:
+        rows, longer = divmod(len(lengths), ncol)
+        sizes = [rows + 1] * longer + [rows] * (ncol - longer)
+        starts = [sum(sizes[:c]) for c in range(ncol)]
+        if sum(max(lengths[a:a + n]) + 6 for a, n in zip(starts, sizes)) <= limit:
             return ncol
     return 1
 

@@ -12,7 +12,8 @@ malformed fleet.json is one error line naming the file and the field, exit 1.
 
 With TERN (ctest plot_fleet_flight): two real 30 s flights of the default mission, the second
 started at (300, 0) and logged as MCAP only, put under uav1/ and uav2/ with a fleet.json: uav2's
-truth starts at (300, 0) in the world frame, its converted estimate within a few metres of it.
+truth starts at (300, 0) in the world frame, its converted estimate within a few metres of it;
+uav2's tables exported outside its run directory (no uav2/topics after the plot).
 """
 
 import json
@@ -273,7 +274,9 @@ class FlownFleet(unittest.TestCase):
         np.testing.assert_allclose(v["uav1"]["start_ne"], [0.0, 0.0], atol=0.5)
         np.testing.assert_allclose(v["uav2"]["start_ne"], [300.0, 0.0], atol=0.5)
         self.assertNotEqual(v["uav1"]["colour"], v["uav2"]["colour"])
-        self.assertIn("topics/ exported from flight.mcap", self.r.stdout)
+        # uav2's tables exported from its flight.mcap outside the run directory (it keeps its size)
+        self.assertFalse(os.path.exists(os.path.join(self.fleet, "uav2", "topics")))
+        self.assertIn(os.path.join(self.plots, "uav2", "ground_track.png"), self.r.stdout.splitlines())
         sep = figures(self.plots)["separation.png"]
         self.assertEqual(sep["pairs"], [["uav1", "uav2"]])
         self.assertLess(sep["closest"]["horizontal"]["distance_m"], 300.5)
@@ -283,6 +286,12 @@ class FlownFleet(unittest.TestCase):
         import tern_plot_fleet as TF
         import tern_plot_log as TL
         src = os.path.join(self.fleet, "uav2")
+        path = os.environ["PATH"]
+        os.environ["PATH"] = os.path.dirname(os.path.abspath(TERN)) + os.pathsep + path
+        try:
+            TP.check_run_dir(src)  # MCAP only: its tables exported (tern export csv, tern on PATH) for this process
+        finally:
+            os.environ["PATH"] = path
         ctx = TP.load_run(src, False)
         ctx["truth"] = None
         fleet = TF.Fleet({"est": TP.est, "last_origin": TP.last_origin})

@@ -32,17 +32,17 @@ def edit(path, old, new):
         f.write(text.replace(old, new))
 
 
-def watched(run_dirs, out_dir, look):
-    """{figure file: look(fig)}: tern-plot's figures of run_dirs (one run or an overlay), drawn in
-    this process with its save() watching."""
+def watched(run_dirs, out_dir, look, draw=None):
+    """{figure file (below out_dir): look(fig)}: tern-plot's figures of run_dirs (one run or an overlay; or
+    draw(run_dirs, out_dir), e.g. TP.plot_fleet), drawn in this process with its save() watching."""
     seen, save = {}, TP.save
 
     def watch(fig, out, fname, *args, **kw):
-        seen[fname] = look(fig)
+        seen[os.path.relpath(os.path.join(out["dir"], fname), out_dir)] = look(fig)
         return save(fig, out, fname, *args, **kw)
     TP.save = watch
     try:
-        TP.plot_runs(run_dirs, out_dir)
+        (draw or TP.plot_runs)(run_dirs, out_dir)
     finally:
         TP.save = save
         TP.NOTES.clear()
@@ -78,11 +78,13 @@ def _overlap(a, b, px=1.0):
 
 def overlaps(fig):
     """["text / text" of two texts that overlap, "legend 'text' over an axes" of a legend on a
-    panel's data area]: what hides what in the figure as drawn."""
+    panel's data area, "'text' cut by the figure's edge"]: what hides what in the figure as drawn."""
     fig.canvas.draw()
     r = fig.canvas.get_renderer()
     boxes = [(t.get_text(), t.get_window_extent(r)) for t in drawn_texts(fig)]
     out = [f"{a[0]!r} / {b[0]!r}" for k, a in enumerate(boxes) for b in boxes[k + 1:] if _overlap(a[1], b[1])]
+    w, h = fig.bbox.width, fig.bbox.height
+    out += [f"{text!r} cut by the figure's edge" for text, b in boxes if b.x0 < -1 or b.y0 < -1 or b.x1 > w + 1 or b.y1 > h + 1]
     for ax in fig.axes:
         for legend in [c for c in ax.get_children() if isinstance(c, Legend)]:
             box = legend.get_window_extent(r)
@@ -138,11 +140,19 @@ class NothingHidden(unittest.TestCase):
     def tearDown(self):
         shutil.rmtree(self.tmp, ignore_errors=True)
 
-    def check(self, run_dirs, want):
-        found = watched(run_dirs, os.path.join(self.tmp, "plots"), overlaps)
+    def check(self, run_dirs, want, draw=None):
+        found = watched(run_dirs, os.path.join(self.tmp, "plots"), overlaps, draw)
         self.assertEqual(sorted(found), sorted(want))
         for name, what in found.items():
             self.assertEqual(what, [], name)
+
+    def test_a_fleet(self):
+        from test_plot_fleet import write_fleet
+        fleet = os.path.join(self.tmp, "fleet")
+        write_fleet(fleet)
+        each = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png"]
+        self.check(fleet, [f"{v}/{f}" for v in ("uav1", "uav3") for f in each + ["estimation_errors.png"]]
+                   + [f"uav2/{f}" for f in each] + ["tracks.png", "altitude.png", "separation.png"], draw=TP.plot_fleet)
 
     def test_a_flight_and_its_overlay(self):
         a, b = os.path.join(self.tmp, "a"), os.path.join(self.tmp, "b")
