@@ -282,7 +282,15 @@ void PhaseMachine::run_preflight(Nanos now) {
   }
   if (f_.last_report >= 0 && now - f_.last_report < from_seconds(report_interval_())) return;
   f_.last_report = now;
-  for (const std::string& f : failing) log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
+  // A preflight waits for the FCU's calibration and the estimator's alignment (seconds): what it
+  // waits for is information; a warning once the armed FCU has waited half of preflight_timeout.
+  const bool long_wait = armed && now - f_.preflight_since >= from_seconds(0.5 * preflight_timeout_());
+  for (const std::string& f : failing) {
+    if (long_wait)
+      log().warn("t={:.3f} s: not taking off: {}", to_seconds(now), f);
+    else
+      log().info("t={:.3f} s: not taking off yet: {}", to_seconds(now), f);
+  }
 }
 
 void PhaseMachine::go_around(Nanos now, const std::string& why) {

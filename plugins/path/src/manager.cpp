@@ -58,14 +58,22 @@ void PathManager::set_config(const ManagerConfig& c) {
   loop_ = raw_loop_ && !cfg_.orbit_last;
 }
 
-void PathManager::warn_once(const std::string& key, const std::string& text) {
-  if (!warned_.insert(key).second) return;  // once per list
+bool PathManager::first_notice(const std::string& key) {
+  if (!warned_.insert(key).second) return false;  // once per list
   // and at most once per kRewarnInterval: a coordination plugin re-sending lists of one shape
   // (coord_rendezvous: every few seconds) would otherwise repeat the same notices every time
   const auto last = warned_at_.find(key);
-  if (last != warned_at_.end() && now_ - last->second < kRewarnInterval) return;
+  if (last != warned_at_.end() && now_ - last->second < kRewarnInterval) return false;
   warned_at_[key] = now_;
-  if (warn_) warn_(text);
+  return true;
+}
+
+void PathManager::warn_once(const std::string& key, const std::string& text) {
+  if (first_notice(key) && warn_) warn_(text);
+}
+
+void PathManager::inform_once(const std::string& key, const std::string& text) {
+  if (first_notice(key) && info_) info_(text);
 }
 
 double PathManager::airspeed(const MissionPoint& w) const {
@@ -326,11 +334,13 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
       const double tan_half_turn = std::tan(0.5 * turn);
       const double R_fit = tan_half_turn > 1e-9 ? half_leg / tan_half_turn : R_wind;
       R = std::max(cfg_.R_min, std::min(R_wind, R_fit));
+      // information: the turn is flown tighter, at more bank (tan phi grows as 1 / R at one speed)
       if (R_wind > R + 1e-6)
-        warn_once("bank" + std::to_string(idx), "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) +
-                                                    " m for " + fmt(cfg_.turn_bank * 180.0 / kPi) +
-                                                    " deg of bank in the wind; its legs leave room for " + fmt(R_fit) + " m: flying " +
-                                                    fmt(R) + " m");
+        inform_once("bank" + std::to_string(idx),
+                    "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) + " m for " +
+                        fmt(cfg_.turn_bank * 180.0 / kPi) + " deg of bank in the wind; its legs leave room for " + fmt(R_fit) +
+                        " m: flying " + fmt(R) + " m, about " +
+                        fmt(std::atan(std::tan(cfg_.turn_bank) * R_wind / R) * 180.0 / kPi) + " deg of bank");
       seg_R_ = R;
     }
     fillet_ = compute_fillet(prev_, wt.w, w_next, R);

@@ -204,7 +204,10 @@ class PathManager {
   void advance(const Vec3& p, double chi);
   std::optional<std::size_t> next_of(std::size_t i) const;
   double airspeed(const MissionPoint& w) const;
+  /// True the first time `key` comes up for this list (and not within kRewarnInterval of its last).
+  bool first_notice(const std::string& key);
   void warn_once(const std::string& key, const std::string& text);
+  void inform_once(const std::string& key, const std::string& text);
   PathSegment orbit_segment(const Vec3& c, int index, double Va) const;
   /// The orbit of loiter or return_home entry `e`.
   PathSegment loiter_segment(const Entry& e) const;
