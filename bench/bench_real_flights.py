@@ -1,12 +1,13 @@
 #!/usr/bin/python3
-"""bench_real_flights.py BIN_DIR [--reference DIR] [--set INSTANCE.PARAM=VALUE ...] [--out JSON]: tern's estimator on real flights.
+"""bench_real_flights.py BIN_DIR [--flights DIR] [--set INSTANCE.PARAM=VALUE ...] [--out JSON]: tern's estimator on real flights.
 
-Imports the two real fixed-wing flights of ../shared/reference/real_flights (the PX4 Zurich 2014
-hand launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure) with
-`tern import`, replays each with `tern replay` (configs/replay/estimator.yaml and the log's
-sensor_log.yaml: docs/replay-your-own-flight.md), and reads the replay's replay_report.json
-(core/src/replay/replay_report.hpp: every figure says its window and rule). Prints one table per
-flight against issue 43's targets and writes JSON (default bench/results/real_flights.json).
+Imports the two real fixed-wing flights shipped in data/real_flights (the PX4 Zurich 2014 hand
+launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure; provenance and
+licences in data/real_flights/README.md) with `tern import`, replays each with `tern replay`
+(configs/replay/estimator.yaml and the log's sensor_log.yaml: docs/replay-your-own-flight.md),
+and reads the replay's replay_report.json (core/src/replay/replay_report.hpp: every figure says
+its window and rule). Prints one table per flight against issue 43's targets and writes JSON
+(default bench/results/real_flights.json).
 
 For ALFA it also compares the innovations before and after the engine failure (the time
 sensor_log.yaml's notes give): the estimator has no thrust model, so the figures say whether the
@@ -54,10 +55,10 @@ def run(argv):
     return p.stdout + p.stderr
 
 
-def replay(tern, reference, name, tmp, sets):
+def replay(tern, flights, name, tmp, sets):
     fmt, archive = FLIGHTS[name]
     log = os.path.join(tmp, name)
-    run([tern, "import", fmt, os.path.join(reference, "real_flights", archive), log])
+    run([tern, "import", fmt, os.path.join(flights, archive), log])
     runs = os.path.join(tmp, name + "-runs")
     run([tern, "replay", log, "-q", "--log-dir", runs] + [arg for s in sets for arg in ("--set", s)])
     run_dir = os.path.join(runs, os.listdir(runs)[0])
@@ -109,7 +110,8 @@ def check(value, op, target):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("bin_dir")
-    ap.add_argument("--reference", default=os.path.join(HERE, "..", "..", "shared", "reference"))
+    ap.add_argument("--flights", default=os.path.join(HERE, "..", "data", "real_flights"),
+                    help="the folder holding the two flights' archives (default: the repository's data/real_flights)")
     ap.add_argument("--set", action="append", default=[], metavar="INSTANCE.PARAM=VALUE",
                     help="a setting for both replays, as `tern replay --set` (e.g. ekf.wind_walk=1.0); repeatable")
     ap.add_argument("--out", default=os.path.join(HERE, "results", "real_flights.json"))
@@ -119,7 +121,7 @@ def main():
               "settings": a.set, "flights": {}}
     with tempfile.TemporaryDirectory() as tmp:
         for name in FLIGHTS:
-            log, run_dir, rep = replay(tern, a.reference, name, tmp, a.set)
+            log, run_dir, rep = replay(tern, a.flights, name, tmp, a.set)
             rows = []
             for label, path, op, target in TARGETS:
                 v = get(rep, path)

@@ -1,4 +1,4 @@
-// tern import's converters (core/src/import/) on the two real flights in ../shared/reference:
+// tern import's converters (core/src/import/) on the two real flights in data/real_flights:
 // row counts, hand-checked rows (units and frames written out below), the header a flight log
 // writes, and one-line errors for corrupt or truncated inputs.
 #include <cmath>
@@ -23,7 +23,7 @@ using namespace tern::core;
 
 namespace {
 
-const fs::path kFlights = fs::path(TERN_REFERENCE_DIR) / "real_flights";
+const fs::path kFlights = fs::path(TERN_REAL_FLIGHTS_DIR);
 const fs::path kZurich = kFlights / "px4_fixedwing_zurich2014_InputFilesPX4_search.zip";
 const fs::path kAlfa = kFlights / "alfa_carbonZ_2018-07-18-15-53-31_1_engine_failure_csv.tar.gz";
 

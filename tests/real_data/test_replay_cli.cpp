@@ -1,5 +1,5 @@
 // tests/real_data/test_replay_cli.cpp: `tern import` + `tern replay` as a user runs them on the two
-// real flights of ../shared/reference/real_flights (docs/replay-your-own-flight.md): what holds on
+// real flights of data/real_flights (docs/replay-your-own-flight.md): what holds on
 // the PX4 Zurich 2014 hand launch and the ALFA Carbon-Z flight, --set against sensor_log.yaml, and
 // one clear line for a bad sensor log.
 #include <doctest/doctest.h>
@@ -45,7 +45,7 @@ fs::path scratch(const std::string& name) {
   return d;
 }
 
-const fs::path kFlights = fs::path(TERN_REFERENCE_DIR) / "real_flights";
+const fs::path kFlights = fs::path(TERN_REAL_FLIGHTS_DIR);
 
 /// Imports `archive` with `format` into a fresh directory; returns it.
 fs::path import_flight(const std::string& format, const std::string& archive, const std::string& name) {

@@ -352,7 +352,7 @@ TEST_CASE("replay report end to end: a default-mission flight, its truth as the 
     pitch2 += std::pow(std::remainder(state.at(k, "theta") - truth.at(j, "theta"), 2 * M_PI) / kDeg, 2);
     ++n;
   }
-  REQUIRE(n > 1000);
+  REQUIRE(n > 400);  // state.csv at the default log's 10 Hz (docs/logs.md, log level replay) over ~47 s of window
   CHECK(r.reference.roll.samples == n);
   CHECK(r.reference.roll.rms == doctest::Approx(std::sqrt(roll2 / n)).epsilon(1e-9));
   CHECK(r.reference.pitch.rms == doctest::Approx(std::sqrt(pitch2 / n)).epsilon(1e-9));
