@@ -9,6 +9,11 @@ and reads the replay's replay_report.json (core/src/replay/replay_report.hpp: ev
 its window and rule). Prints one table per flight against issue 43's targets and writes JSON
 (default bench/results/real_flights.json).
 
+A target a figure misses is printed with the explanation the replay report derived from the
+flight's data for that figure (its "note": e.g. the physics check that puts an attitude gap on
+the reference's side, a magnetometer whose field is not the Earth's, a NIS set low by a cautious
+noise setting); a MISSED without one says so, and is the one to look at.
+
 For ALFA it also compares the innovations before and after the engine failure (the time
 sensor_log.yaml's notes give): the estimator has no thrust model, so the figures say whether the
 airspeed and GNSS updates noticed the change at all.
@@ -100,6 +105,12 @@ def innovations_around(run_dir, t_fail, span=15.0):
     return {c: {k: round(v[0] / v[1], 3) for k, v in sides.items() if v[1]} for c, sides in sums.items()}
 
 
+def note_for(report, path):
+    """The replay report's explanation of the figure at `path` (the object holding it), or None."""
+    figure = get(report, path[:-1]) if len(path) > 1 else None
+    return figure.get("note") if isinstance(figure, dict) else None
+
+
 def check(value, op, target):
     if value is None:
         return "n/a"
@@ -125,11 +136,13 @@ def main():
             rows = []
             for label, path, op, target in TARGETS:
                 v = get(rep, path)
-                rows.append({"figure": label, "value": v, "target": f"{op} {target}", "verdict": check(v, op, target)})
+                rows.append({"figure": label, "value": v, "target": f"{op} {target}", "verdict": check(v, op, target),
+                             "note": note_for(rep, path)})
             nis = estimator_nis(rep)
             for model, v in nis.items():
                 rows.append({"figure": f"mean NIS {model}", "value": v, "target": "in [0.3, 3]",
-                             "verdict": "met" if v is not None and 0.3 <= v <= 3 else "MISSED"})
+                             "verdict": "met" if v is not None and 0.3 <= v <= 3 else "MISSED",
+                             "note": note_for(rep, ("estimator", "models", model, "mean_nis"))})
             # the physics check (replay_report.hpp SpecificForceCheck): which attitude, tern's or the
             # reference's, the accelerometer and the GNSS acceleration agree with (no target: a referee)
             for who, key in (("tern", ""), ("reference", "reference_")):
@@ -152,6 +165,8 @@ def main():
                 if r.get("mean") is not None:
                     vs += f" ({r['mean']:+.2f})"
                 print(f"  {r['figure']:48s} {vs:>16s}  {r['target']:>12s}  {r['verdict']}")
+                if r["verdict"] == "MISSED":
+                    print(f"      why: {r.get('note') or 'replay_report.json explains nothing here: unexplained, look'}")
             print(f"  resets {flight['resets']}, wind max {flight['wind_max_mps']:.1f} m/s, NaN cells {flight['nan_cells']}")
             if t_fail is not None:
                 print(f"  engine failure at {t_fail} s: mean test ratio 15 s before / after:")

@@ -1,7 +1,9 @@
 // The truth-free replay report (core/src/replay/replay_report.hpp): on a synthetic run directory
 // with known offsets (reference 1 deg off in roll, GNSS fixes 3 m east, NIS ratios with known
-// percentiles, a valid -> invalid transition), with topics missing, with malformed files; and end
-// to end on a short default-mission flight whose truth serves as the reference.
+// percentiles, a valid -> invalid transition), with topics missing, with malformed files; its
+// notes (a reference altitude on another datum, a rejected magnetometer, a NIS far below 1) on
+// variants of it; and end to end on a short default-mission flight whose truth serves as the
+// reference.
 #include <doctest/doctest.h>
 
 #include <cmath>
@@ -265,6 +267,101 @@ TEST_CASE("replay report: sensor_log.yaml's airborne window; bad input is one li
   CHECK_THROWS_WITH(make_replay_report(run), doctest::Contains("innovations.csv:203: 4 values, the header has 9 columns"));
   std::ofstream(run / "topics/innovations.csv") << "t [s],stamp [ns],gnss_pos []\n0.1,100000000,0.5\n0.2,200000000,x1\n";
   CHECK_THROWS_WITH(make_replay_report(run), doctest::Contains("innovations.csv:3: column 3: 'x1' is not a number"));
+}
+
+namespace {
+
+/// reference.csv as synthetic_run writes it, but `above` m higher than the estimate.
+void reference_above(const fs::path& run, double above) {
+  const tern::GeoOrigin frame(kOrigin);
+  std::vector<std::vector<double>> ref;
+  for (int k = 0; k <= 100; ++k) {
+    const double t = 0.2 * k;
+    const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(t), 0.0, -20.0 - above));
+    ref.push_back({t, std::round(t * 1e9), 0.2, 0.05, 179.0 * kDeg, g.lat, g.lon, g.alt, 10.0, 0.0, 0.0, 3.0, -4.0});
+  }
+  write_csv(
+      run / "topics/reference.csv",
+      "t [s],stamp [ns],phi [rad],theta [rad],psi [rad],lat [deg],lon [deg],alt [m],v_n [m/s],v_e [m/s],v_d [m/s],w_n [m/s],w_e [m/s]",
+      ref);
+}
+
+/// The ISA static pressure (Pa) at pressure altitude h (m) against 1013.25 hPa (docs/sensor-log.md).
+double isa_pressure(double h) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588); }
+
+std::string note_at(const ReplayReport& r, const std::string& where) {
+  for (const auto& e : r.explanations)
+    for (const auto& w : e.where)
+      if (w == where) return e.text;
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("replay report notes: a reference altitude on another datum, said where it shows and from which data") {
+  CHECK(make_replay_report(synthetic_run("no_notes")).explanations.empty());  // 2 m lower, 1 deg of roll: nothing to explain
+  const fs::path run = synthetic_run("datum");
+  reference_above(run, 56.0);
+  ReplayReport r = make_replay_report(run);  // without a barometer: neither GNSS nor pressure altitude
+  std::string note = note_at(r, "reference.position_vertical");
+  CHECK(note.find("the reference's altitude is 56.0 m above the estimate's (median of 164 samples in the window") == 0);
+  CHECK(note.find("it is not the GNSS altitude (+56.0 m); the estimate's altitude is +0.0 m from the GNSS's (median)") !=
+        std::string::npos);
+  // a barometer whose ISA pressure altitude is the reference's: a day 56 m of pressure below standard
+  std::vector<std::vector<double>> baro;
+  for (int k = 0; k <= 400; ++k) baro.push_back({0.05 * k, std::round(0.05 * k * 1e9), isa_pressure(kOrigin.alt + 20.0 + 56.0), 288.15});
+  write_csv(run / "topics/baro.csv", "t [s],stamp [ns],pressure [Pa],temperature [K]", baro);
+  r = make_replay_report(run);
+  note = note_at(r, "reference.position_vertical");
+  const double qnh = isa_pressure(kOrigin.alt + 20.0 + 56.0) / std::pow(1.0 - 2.25577e-5 * (kOrigin.alt + 20.0), 5.25588) / 100.0;
+  CHECK(note.find("it is the barometer's ISA pressure altitude against 1013.25 hPa (median difference +0.0 m), 56.0 m above the GNSS "
+                  "altitude; the estimate's altitude is +0.0 m from the GNSS's (median)") != std::string::npos);
+  CHECK(note.find(fmt::format("the pressure altitude is the GNSS altitude at a sea-level pressure (QNH) of {:.1f} hPa", qnh)) !=
+        std::string::npos);
+  // where it shows: under the printed row, as the figure's "note", and in "notes"
+  const std::string table = tern::core::format_replay_table(r);
+  CHECK(table.find("position vert. [m]") < table.find("    note: the reference's altitude is 56.0 m above"));
+  CHECK(table.find("    note: the reference's altitude is 56.0 m above") < table.find("velocity horiz. [m/s]"));
+  const auto j = tern::core::to_json(r);
+  CHECK(j["reference"]["position_vertical"]["note"] == note);
+  CHECK(j["notes"].back() == "reference.position_vertical: " + note);
+}
+
+TEST_CASE("replay report notes: a rejected 3-axis magnetometer (the field it read against the model's), a NIS far below 1") {
+  const fs::path run = synthetic_run("mag");
+  std::vector<std::vector<double>> mag, innov;
+  for (int k = 0; k <= 200; ++k) {  // 30 uT until 10 s, 48 uT after; the magnetometer rejected until 10 s
+    const double t = 0.1 * k, b = t < 10.0 ? 30e-6 : 48e-6;
+    mag.push_back({t, std::round(t * 1e9), b * 0.6, 0.0, b * 0.8});
+    innov.push_back({t, std::round(t * 1e9), -1, -1, -1, 0.05, t < 10.0 ? 3.0 : 0.5, -1, -1});
+  }
+  write_csv(run / "topics/mag.csv", "t [s],stamp [ns],field_x [T],field_y [T],field_z [T]", mag);
+  write_csv(run / "topics/innovations.csv",
+            "t [s],stamp [ns],gnss_pos [],gnss_vel [],baro [],diff_pressure [],mag [],sideslip [],normal_force []", innov);
+  std::ofstream(run / "params.csv") << "t [s],parameter,value,source\n0,ekf.mag_model_date,2014.11,sensor_log.yaml\n"
+                                       "0,ekf.airspeed_gust_sigma,1,default\n0,ekf.diff_pressure_noise,2,default\n";
+  std::ofstream(run / "summary.json") << R"({"instances": {"ekf": {"plugin": "estimator_ekf", "mag_accepted": 0.0,
+    "mag_rejected": 100.0, "mag_mean_nis": 33.0, "mag_heading_accepted": 2101.0, "mag_heading_rejected": 3.0,
+    "mag_heading_mean_nis": 2.78, "diff_pressure_accepted": 200.0, "diff_pressure_rejected": 0.0,
+    "diff_pressure_mean_nis": 0.085}}})";
+  const ReplayReport r = make_replay_report(run);
+  const std::string note = note_at(r, "estimator.models.mag");
+  CHECK(note == note_at(r, "measurements.mag"));  // the NIS table's row, where "100.0 %" shows, and the counters' row
+  CHECK(note.find("mag 100.0 % rejected: the 3-axis magnetometer's 100 of 100 samples (mean NIS 33.0); in the window where it was "
+                  "rejected the field reads 30-30 uT (5-95 %, ") == 0);
+  CHECK(note.find("(WMM-2015v2 on 2014.11 at the origin, extrapolated) and 48 uT (median) where it was accepted: -37 % is not the "
+                  "Earth's field alone") != std::string::npos);
+  CHECK(note.find("against the Earth's 47.") != std::string::npos);
+  CHECK(note.find("; what was fused is the heading model (mag_heading): 2101 samples accepted at mean NIS 2.78") != std::string::npos);
+  CHECK(note.find("no magnetometer sample is fused after") == std::string::npos);  // fused to the window's end
+  const std::string pitot = note_at(r, "estimator.models.diff_pressure");
+  CHECK(pitot.find("mean NIS 0.085, below 0.3: the innovations are smaller than the noise the estimator allows for them "
+                   "(airspeed_gust_sigma = 1 m/s of gusts") == 0);
+  CHECK(note_at(r, "estimator.models.mag_heading").empty());  // 2.78: within [0.3, 3]
+  const std::string table = tern::core::format_replay_table(r);
+  CHECK(table.find("    note: mag 100.0 % rejected") != std::string::npos);
+  CHECK(table.find("    note: mag 100.0 % rejected") == table.rfind("    note: mag 100.0 % rejected"));  // printed once
+  CHECK(tern::core::to_json(r)["estimator"]["models"]["mag"]["note"] == note);
 }
 
 TEST_CASE("replay report: missing topics are absent sections, not errors") {

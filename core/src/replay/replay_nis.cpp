@@ -63,14 +63,6 @@ std::optional<Candidate> pick(const std::string& column, const EstimatorCounters
   return std::nullopt;
 }
 
-double percentile(std::vector<double> v, double p) {  // linear between order statistics (numpy's default)
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const double x = p * static_cast<double>(v.size() - 1);
-  const auto k = static_cast<std::size_t>(std::floor(x));
-  return k + 1 < v.size() ? v[k] + (x - static_cast<double>(k)) * (v[k + 1] - v[k]) : v[k];
-}
-
 NisStats stats(const std::vector<double>& ratios, const std::vector<double>& nis) {
   NisStats s;
   s.count = ratios.size();

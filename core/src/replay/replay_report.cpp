@@ -171,7 +171,10 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
                             r.notes);
   run.reference = optional_topic(run_dir, "reference", {}, r.notes);
   run.imu = optional_topic(run_dir, "imu", {"t", "stamp", "accel_x", "accel_y", "accel_z"}, r.notes);
+  run.baro = optional_topic(run_dir, "baro", {"t", "stamp", "pressure"}, r.notes);
+  run.mag = optional_topic(run_dir, "mag", {"t", "field_x", "field_y", "field_z"}, r.notes);
   if (run.imu) add_sample_time(*run.imu);
+  if (run.baro) add_sample_time(*run.baro);
   if (run.reference) add_sample_time(*run.reference);
   if (std::filesystem::exists(run_dir / "params.csv")) run.params = read_params_csv(run_dir / "params.csv");
   run.summary = read_summary(run_dir / "summary.json");
@@ -186,6 +189,7 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   r.gnss = compare_gnss(run, r.counters, r.window);
   r.wind = wind_report(run, r.window);
   r.specific_force = check_specific_force(run, r.counters, r.window);
+  r.explanations = explain_anomalies(run, r);
   return r;
 }
 

@@ -17,6 +17,12 @@
 // tern::GeoOrigin at state.csv's origin_lat/lon/alt of the same row); velocities in m/s.
 // A figure without samples has NaN values, 0 samples and its `rule` says why.
 //
+// Each anomaly the report shows is explained in one line where it shows (ReportNote, below): the
+// reference's altitude on another datum, a magnetometer rejected, roll/pitch/yaw far from the
+// reference's and which of the two the sensors contradict, a NIS far from 1. Every explanation
+// comes from the run's data by a threshold stated below (never from the flight's name); the
+// extra tables they read are topics/baro.csv (pressure) and topics/mag.csv (field).
+//
 // Errors: ConfigError with one line "file:line: ..." for a malformed CSV row or a bad
 // sensor_log.yaml `airborne`; "run_dir: no topics/state.csv" when there is no estimate.
 // Missing optional topics are not errors: their section is absent, saying so.
@@ -133,6 +139,32 @@ struct SpecificForceCheck {
   ErrorFigure reference_pitch, reference_roll;  ///< the reference's, deg (samples 0 without a reference)
 };
 
+/// One anomaly the report shows, explained in one line where it shows (replay_notes*.cpp). Each is
+/// derived from the run's data by a stated rule, a threshold on a measured figure (constants
+/// below), never from the flight's name: the reference's altitude on another datum, a sensor
+/// rejected and what its data show, an attitude gap that the physics check puts on one side, a
+/// NIS far from 1 and the setting behind it.
+struct ReportNote {
+  /// The figures it explains, as replay_report.json names them ("reference.position_vertical",
+  /// "measurements.mag", "estimator.models.mag"): the JSON objects get it as their "note"; the
+  /// printed table shows it under the row of the first.
+  std::vector<std::string> where;
+  std::string text;  ///< one line: what was measured, what the data say caused it, whether it is a defect
+};
+
+/// Note rules (replay_notes*.cpp).
+constexpr double kDatumOffsetNote = 10.0;  ///< m: |median reference - estimate altitude| above this: another datum
+constexpr double kDatumMatch = 3.0;        ///< m: |median| below this: the reference's altitude is that candidate datum
+constexpr double kAttitudeGapNote = 2.0;   ///< deg RMS of roll or pitch against the reference: the physics check says whose
+constexpr double kRefereeMargin = 1.25;    ///< one attitude's specific-force RMS this many times the other's: that one is off
+constexpr double kRejectedNote = 0.5;      ///< share of a magnetometer model's samples rejected
+constexpr double kFieldOffNote = 0.15;     ///< |measured / the Earth's field - 1| beyond this: not the Earth's field alone
+constexpr double kMagSilentNote = 10.0;    ///< s: no magnetometer fused for this long before the window's end is said
+constexpr double kYawGapNote = 10.0;       ///< deg RMS of yaw against the reference: the GNSS course says whose
+constexpr double kLowNisNote = 0.3;        ///< mean NIS below: the filter allows that sensor more noise than it has
+constexpr double kHighNisNote = 3.0;       ///< mean NIS above: less noise than it has, or a sensor that disagrees
+constexpr double kSlowImuNote = 0.02;      ///< s: a median IMU interval longer than this is named in the attitude notes
+
 struct ReplayReport {
   std::filesystem::path run_dir;
   double replay_start_s = 0.0, replay_end_s = 0.0;  ///< state.csv's first and last t
@@ -145,7 +177,8 @@ struct ReplayReport {
   GnssComparison gnss;
   WindReport wind;
   SpecificForceCheck specific_force;
-  std::vector<std::string> notes;  ///< partial last lines and the like
+  std::vector<ReportNote> explanations;  ///< the anomalies above, each explained (replay_notes.cpp)
+  std::vector<std::string> notes;        ///< partial last lines and the like
 };
 
 /// Builds the report of a finished replay's run directory. Throws ConfigError (see above).
@@ -154,7 +187,9 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir);
 /// The table `tern replay` prints (plain text, lines of at most ~100 characters, ends with '\n').
 std::string format_replay_table(const ReplayReport& report);
 
-/// Everything in the report, each figure with its rule and sample count (replay_report.json).
+/// Everything in the report, each figure with its rule and sample count (replay_report.json); a
+/// figure an explanation is about gets it as "note", and "notes" lists every explanation as
+/// "where: text" after the partial-line notes.
 nlohmann::json to_json(const ReplayReport& report);
 
 /// Writes to_json(report) as run_dir/replay_report.json (2-space indent). Throws ConfigError

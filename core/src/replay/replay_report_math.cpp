@@ -1,5 +1,5 @@
 // The replay report's arithmetic: brackets and linear interpolation in time, angle wrapping, RMS
-// and largest error.
+// and largest error, percentiles.
 #include <algorithm>
 #include <cmath>
 
@@ -34,6 +34,16 @@ double interpolate(const std::vector<double>& t, const std::vector<double>& v, d
   const auto b = bracket(t, tq, max_gap_s);
   return b ? lerp(v, *b, angle) : NAN;
 }
+
+double percentile(std::vector<double> v, double p) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const double x = p * static_cast<double>(v.size() - 1);
+  const auto k = static_cast<std::size_t>(std::floor(x));
+  return k + 1 < v.size() ? v[k] + (x - static_cast<double>(k)) * (v[k + 1] - v[k]) : v[k];
+}
+
+double median(const std::vector<double>& v) { return percentile(v, 0.5); }
 
 std::pair<std::size_t, std::size_t> index_range(const std::vector<double>& t, double start, double end) {
   const auto first = std::lower_bound(t.begin(), t.end(), start);

@@ -1,4 +1,5 @@
 // The replay report as text (the table `tern replay` prints) and as JSON (replay_report.json).
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -127,6 +128,28 @@ json specific_force_json(const ReplayReport& r) {
           {"reference_roll", figure_json(c.reference_roll, r.window)}};
 }
 
+/// The object at a dotted path ("reference.position_vertical"), or nullptr.
+json* object_at(json& j, const std::string& where) {
+  json* o = &j;
+  std::size_t from = 0;
+  while (o != nullptr && from <= where.size()) {
+    const std::size_t dot = std::min(where.find('.', from), where.size());
+    const std::string key = where.substr(from, dot - from);
+    o = o->is_object() && o->contains(key) ? &(*o)[key] : nullptr;
+    from = dot + 1;
+  }
+  return o != nullptr && o->is_object() ? o : nullptr;
+}
+
+/// Each explanation as the "note" of the figures it is about, and as "where: text" in "notes".
+void add_explanations(json& j, const ReplayReport& r) {
+  for (const auto& e : r.explanations) {
+    for (const auto& where : e.where)
+      if (json* o = object_at(j, where)) (*o)["note"] = o->contains("note") ? (*o)["note"].get<std::string>() + "; " + e.text : e.text;
+    j["notes"].push_back((e.where.empty() ? std::string("report") : e.where.front()) + ": " + e.text);
+  }
+}
+
 }  // namespace
 
 nlohmann::json to_json(const ReplayReport& r) {
@@ -142,6 +165,7 @@ nlohmann::json to_json(const ReplayReport& r) {
   j["wind"] = wind_json(r);
   j["specific_force"] = specific_force_json(r);
   j["notes"] = r.notes;
+  add_explanations(j, r);
   return j;
 }
 

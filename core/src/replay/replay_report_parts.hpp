@@ -18,7 +18,7 @@ namespace tern::core::replay_report {
 /// The run directory's tables, read once.
 struct RunTables {
   CsvTable state;
-  std::optional<CsvTable> innovations, gnss, reference, imu;
+  std::optional<CsvTable> innovations, gnss, reference, imu, baro, mag;
   ParamHistory params;
   nlohmann::ordered_json summary;  ///< {} when summary.json is absent
   std::filesystem::path dir;
@@ -62,6 +62,9 @@ struct ErrorSum {
 };
 
 double wrap_pi(double a);
+/// The p-quantile (0..1) of v, linear between order statistics (numpy's default); NaN when empty.
+double percentile(std::vector<double> v, double p);
+double median(const std::vector<double>& v);  ///< percentile(v, 0.5)
 constexpr double kDeg = 57.29577951308232;
 constexpr double kMinCourseSpeed = 5.0;  ///< m/s: course compared, and the window found, from this speed
 
@@ -107,5 +110,18 @@ struct FixTimes {
   std::string param;  ///< "ekf.gnss_delay"
 };
 FixTimes fix_times(const RunTables& run, const EstimatorCounters& c, const ReplayWindow& w);
+
+/// The explanations of the report's anomalies (ReportNote), each from its own rule:
+/// replay_note_altitude.cpp (the reference's altitude datum), replay_note_mag.cpp (a magnetometer
+/// model rejected), replay_note_attitude.cpp (roll and pitch gaps against the specific-force
+/// check, a yaw gap against the GNSS course), replay_notes.cpp (NIS far from 1, and the list in
+/// the order the table prints).
+std::vector<ReportNote> explain_anomalies(const RunTables& run, const ReplayReport& r);
+std::optional<ReportNote> altitude_datum_note(const RunTables& run, const ReplayReport& r);
+std::optional<ReportNote> magnetometer_note(const RunTables& run, const ReplayReport& r);
+std::vector<ReportNote> attitude_notes(const RunTables& run, const ReplayReport& r);
+/// The estimator's parameter `name` (without its instance) at the window's start; nullopt when
+/// params.csv has no number for it.
+std::optional<double> estimator_param(const RunTables& run, const ReplayReport& r, const std::string& name);
 
 }  // namespace tern::core::replay_report

@@ -1,5 +1,7 @@
-// The replay report as the plain-text table `tern replay` prints.
+// The replay report as the plain-text table `tern replay` prints; each explanation (ReportNote)
+// under the row of the figure it is about, those without a printed row at the end.
 #include <cmath>
+#include <set>
 #include <string>
 
 #include <fmt/format.h>
@@ -9,6 +11,21 @@
 namespace tern::core {
 
 namespace {
+
+/// The explanations whose first figure is `where`, one line each; remembers what was shown.
+struct Notes {
+  const ReplayReport& r;
+  std::set<std::string> shown;
+  void under(std::string& out, const std::string& where) {
+    for (const auto& e : r.explanations)
+      if (!e.where.empty() && e.where.front() == where) out += "    note: " + e.text + "\n";
+    shown.insert(where);
+  }
+  void rest(std::string& out) const {
+    for (const auto& e : r.explanations)
+      if (e.where.empty() || shown.count(e.where.front()) == 0) out += "note: " + e.text + "\n";
+  }
+};
 
 std::string num(double v, int decimals = 2) { return std::isfinite(v) ? fmt::format("{:.{}f}", v, decimals) : "-"; }
 std::string pct(double share) { return std::isfinite(share) ? fmt::format("{:.1f}", 100.0 * share) : "-"; }
@@ -38,7 +55,7 @@ void nis_row(std::string& out, const NisStats& s) {
                      num(s.p95_nis), num(s.p99_nis));
 }
 
-void measurements(std::string& out, const ReplayReport& r) {
+void measurements(std::string& out, const ReplayReport& r, Notes& notes) {
   if (r.measurements.empty()) {
     out += fmt::format("\nNIS: {}\n", r.measurements_absent.empty() ? "absent" : r.measurements_absent);
     return;
@@ -52,34 +69,43 @@ void measurements(std::string& out, const ReplayReport& r) {
     nis_row(out, m.whole);
     nis_row(out, m.window);
     out += m.gate.rfind("gate unknown", 0) == 0 || m.gate.find("(off)") != std::string::npos ? " " + m.gate + "\n" : "\n";
+    notes.under(out, "measurements." + m.name);
   }
   if (r.counters.instance.empty()) return;
   out += fmt::format("estimator {} counters (whole replay): model accepted/rejected mean NIS\n", r.counters.instance);
-  for (const auto& c : r.counters.models)
+  for (const auto& c : r.counters.models) {
     out += fmt::format("  {:<14} {:>8.0f} / {:<6.0f} {:>8}\n", c.model, c.accepted, c.rejected, num(c.mean_nis, 3));
+    notes.under(out, "estimator.models." + c.model);
+  }
 }
 
-void figure(std::string& out, const char* name, const ErrorFigure& f) {
+/// One figure's row; `where` names it for its explanations ("reference.roll").
+void figure(std::string& out, Notes& notes, const char* name, const ErrorFigure& f, const std::string& where) {
   out += fmt::format("  {:<24} {:>9} {:>9} {:>9} {:>7}\n", fmt::format("{} [{}]", name, f.unit), num(f.rms), num(f.max), num(f.mean),
                      f.samples);
+  notes.under(out, where);
 }
 
-void comparisons(std::string& out, const ReplayReport& r) {
+void comparisons(std::string& out, const ReplayReport& r, Notes& n) {
   const auto& c = r.reference;
   out += fmt::format("\nagainst the reference (window)   RMS       max      mean       n\n");
   if (!c.absent.empty()) {
     out += "  " + c.absent + "\n";
   } else {
-    figure(out, "roll", c.roll), figure(out, "pitch", c.pitch), figure(out, "yaw", c.yaw), figure(out, "course", c.course);
-    figure(out, "position horiz.", c.position_h), figure(out, "position vert.", c.position_v);
-    figure(out, "velocity horiz.", c.velocity_h), figure(out, "velocity vert.", c.velocity_v);
+    figure(out, n, "roll", c.roll, "reference.roll"), figure(out, n, "pitch", c.pitch, "reference.pitch");
+    figure(out, n, "yaw", c.yaw, "reference.yaw"), figure(out, n, "course", c.course, "reference.course");
+    figure(out, n, "position horiz.", c.position_h, "reference.position_horizontal");
+    figure(out, n, "position vert.", c.position_v, "reference.position_vertical");
+    figure(out, n, "velocity horiz.", c.velocity_h, "reference.velocity_horizontal");
+    figure(out, n, "velocity vert.", c.velocity_v, "reference.velocity_vertical");
   }
   const auto& g = r.gnss;
   out += "against GNSS at time of validity RMS       max      mean       n\n";
   if (!g.absent.empty()) {
     out += "  " + g.absent + "\n";
   } else {
-    figure(out, "position horiz.", g.position_h), figure(out, "velocity horiz.", g.velocity_h), figure(out, "course", g.course);
+    figure(out, n, "position horiz.", g.position_h, "gnss.position_horizontal");
+    figure(out, n, "velocity horiz.", g.velocity_h, "gnss.velocity_horizontal"), figure(out, n, "course", g.course, "gnss.course");
     out += fmt::format("  fixes accepted: position {} %, velocity {} % (estimator counters); {} fixes, {} in the window\n",
                        pct(g.share_pos_accepted), pct(g.share_vel_accepted), g.fixes, g.fixes_in_window);
   }
@@ -94,7 +120,7 @@ void comparisons(std::string& out, const ReplayReport& r) {
                        num(w.mean_speed), num(w.max_speed), num(w.vs_reference.rms), num(w.vs_reference.max), w.vs_reference.samples);
 }
 
-void specific_force(std::string& out, const ReplayReport& r) {
+void specific_force(std::string& out, const ReplayReport& r, Notes& n) {
   const auto& c = r.specific_force;
   if (!c.absent.empty()) {
     out += "attitude vs the specific force: " + c.absent + "\n";
@@ -102,18 +128,23 @@ void specific_force(std::string& out, const ReplayReport& r) {
   }
   out += fmt::format("attitude vs the specific force (accelerometer against GNSS acceleration - g; {} epochs)\n", c.epochs);
   out += "  implied error                RMS       max      mean       n\n";
-  figure(out, "roll, estimate", c.roll), figure(out, "pitch, estimate", c.pitch);
-  if (c.reference_roll.samples > 0) figure(out, "roll, reference", c.reference_roll), figure(out, "pitch, reference", c.reference_pitch);
+  figure(out, n, "roll, estimate", c.roll, "specific_force.roll"), figure(out, n, "pitch, estimate", c.pitch, "specific_force.pitch");
+  if (c.reference_roll.samples > 0) {
+    figure(out, n, "roll, reference", c.reference_roll, "specific_force.reference_roll");
+    figure(out, n, "pitch, reference", c.reference_pitch, "specific_force.reference_pitch");
+  }
 }
 
 }  // namespace
 
 std::string format_replay_table(const ReplayReport& r) {
   std::string out;
+  Notes notes{r, {}};
   header(out, r);
-  measurements(out, r);
-  comparisons(out, r);
-  specific_force(out, r);
+  measurements(out, r, notes);
+  comparisons(out, r, notes);
+  specific_force(out, r, notes);
+  notes.rest(out);
   for (const auto& n : r.notes) out += "note: " + n + "\n";
   return out;
 }
