@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # A short flight logged with log.format both, as a user gets there (docs/logs.md):
-#   tern fly CONFIG --log-format both     topics/*.csv and flight.mcap from one flight
+#   tern fly CONFIG --log-format both     topics/*.csv and flight.mcap from one flight (--log-level full:
+#                                         every ROS-typed copy, which the default level thins)
 #   tern export csv RUN --out DIR         the MCAP file's tables equal topics/*.csv byte for byte
 #   the same flight again                 the same flight.mcap, byte for byte (determinism)
 #   flight.mcap cut at several offsets    tern export recover: a complete file whose tables are
@@ -19,8 +20,8 @@ work=$(mktemp -d "${TMPDIR:-/tmp}/tern-mcap-XXXXXX")
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 
-"$tern" fly "$config" --duration "$duration" --log-format both --log-dir "$work/a" -q >/dev/null
-"$tern" fly "$config" --duration "$duration" --log-format both --log-dir "$work/b" -q >/dev/null
+"$tern" fly "$config" --duration "$duration" --log-level full --log-format both --log-dir "$work/a" -q >/dev/null
+"$tern" fly "$config" --duration "$duration" --log-level full --log-format both --log-dir "$work/b" -q >/dev/null
 a=$(ls -1d "$work"/a/*/) b=$(ls -1d "$work"/b/*/)
 [ -s "$a/flight.mcap" ] || fail "no flight.mcap in $a"
 cmp "$a/flight.mcap" "$b/flight.mcap" || fail "two flights of the same config and seed wrote different flight.mcap"
@@ -57,7 +58,7 @@ for frac in 13 37 50 71 97; do
   [ "$rows" -gt 0 ] || [ "$frac" -lt 20 ] || fail "cut at $cut: nothing recovered"
 done
 # a flight logged as MCAP only: tern replay and tern plot read it (its tables exported first)
-"$tern" fly "$config" --duration "$duration" --log-format mcap --log-dir "$work/m" -q >/dev/null
+"$tern" fly "$config" --duration "$duration" --log-level full --log-format mcap --log-dir "$work/m" -q >/dev/null
 m=$(ls -1d "$work"/m/*/)
 [ ! -d "$m/topics" ] || fail "an MCAP-only flight wrote topics/"
 "$tern" replay "$m" -q --log-dir "$work/replays" >"$work/replay.txt" 2>&1 || { cat "$work/replay.txt"; fail "tern replay of an MCAP-only flight"; }

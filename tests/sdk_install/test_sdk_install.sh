@@ -61,11 +61,16 @@ case "$sdk_resolved" in
   *) fail "installed tern resolves libtern_sdk.so to '$sdk_resolved', not to the prefix" ;;
 esac
 # Every installed program starts from the prefix (its RPATH finds libtern_sdk.so there, not in the
-# build tree: nothing here sets LD_LIBRARY_PATH) and answers --help.
+# build tree: nothing here sets LD_LIBRARY_PATH): `--help` gets an answer from the program itself
+# (its help or its usage line: tern-isolate and tern-campaign-dask are started by tern with
+# arguments), never the loader's "error while loading shared libraries" (exit 127) or a Python
+# traceback.
 for exe in "$prefix"/bin/*; do
   name="$(basename "$exe")"
-  out="$(env -u LD_LIBRARY_PATH "$exe" --help 2>&1)" || { echo "$out" | tail -5; fail "installed $name --help exits non-zero"; }
-  case "$out" in *"error while loading shared libraries"*) echo "$out"; fail "installed $name does not find its libraries" ;; esac
+  status=0
+  out="$(env -u LD_LIBRARY_PATH "$exe" --help 2>&1)" || status=$?
+  case "$out" in *"error while loading shared libraries"*|*Traceback*) echo "$out"; fail "installed $name does not start" ;; esac
+  [ $status -ne 127 ] && [ -n "$out" ] || { echo "$out"; fail "installed $name --help: exit $status, no answer of its own"; }
   if [ "$(head -c 4 "$exe" | tail -c 3)" = ELF ] && ldd "$exe" | grep -q 'not found'; then
     ldd "$exe" | grep 'not found'; fail "installed $name has unresolved libraries"
   fi

@@ -16,7 +16,8 @@ void add_skip_preflight_option(CLI::App* cmd, HostPreparation& p) {
 }
 
 void add_log_level_option(CLI::App* cmd, HostPreparation& p) {
-  cmd->add_option("--log-level", p.log_level, "summary (no topic tables), decimated, replay (the default: sensors in full, the rest at log.plot_rate), sysid "
+  cmd->add_option("--log-level", p.log_level,
+                  "summary (no topic tables), decimated, replay (the default: sensors in full, the rest at log.plot_rate), sysid "
                   "(replay + truth and state in full) or full (overrides the config's log.level)")
       ->check([](const std::string& v) { return log_level_from_name(v) ? std::string() : "expected " + log_level_names(); });
   cmd->add_option("--log-format", p.log_format,

@@ -300,7 +300,8 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
   if (const YAML::Node log = root["log"]) {
     require_map(log, f, "log");
     check_keys(log, f, "log",
-               {"dir", "level", "format", "chunk_size", "ros_channels", "zstd_level", "decimated_rate", "plot_rate", "topics", "max_rate", "rates"});
+               {"dir", "level", "format", "chunk_size", "ros_channels", "zstd_level", "decimated_rate", "plot_rate", "topics", "max_rate",
+                "rates"});
     if (const YAML::Node fm = log["format"]) {
       const auto format = fm.IsScalar() ? log_format_from_name(fm.Scalar()) : std::nullopt;
       if (!format) throw ConfigError(where(f, fm) + "log.format: expected csv, mcap or both, got '" + str(fm) + "'");
@@ -336,6 +337,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
     if (log["max_rate"]) {
       c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");
       if (c.log.max_rate < 0) throw ConfigError(where(f, log["max_rate"]) + "log.max_rate: must be >= 0 Hz (0: every message)");
+      if (!log["level"]) c.log.level = LogLevel::full;  // max_rate is level full's: giving it alone asks for that level
     }
     if (const YAML::Node rates = log["rates"]) {
       require_map(rates, f, "log.rates");

@@ -56,7 +56,8 @@ struct InstanceConfig {
 /// (cannot be replayed); replay (the default): the replay inputs (sensors, rc, fcu_status,
 /// actuators) at every message, the other topics at most `plot_rate` Hz; sysid: as replay, and
 /// `truth` and `state` at every message too (system identification); full: the replay inputs at
-/// every message, the other topics as `max_rate` says. `rates` overrides any level's per topic.
+/// every message, the other topics as `max_rate` says (a config that sets `max_rate` and no
+/// level gets full). `rates` overrides any level's per topic.
 enum class LogLevel { summary, decimated, replay, sysid, full };
 /// "summary", "decimated", "replay", "sysid", "full".
 const char* log_level_name(LogLevel level);

@@ -336,11 +336,11 @@ void PathManager::begin_segment(const Vec3& p, double chi) {
       R = std::max(cfg_.R_min, std::min(R_wind, R_fit));
       // information: the turn is flown tighter, at more bank (tan phi grows as 1 / R at one speed)
       if (R_wind > R + 1e-6)
-        inform_once("bank" + std::to_string(idx),
-                    "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) + " m for " +
-                        fmt(cfg_.turn_bank * 180.0 / kPi) + " deg of bank in the wind; its legs leave room for " + fmt(R_fit) +
-                        " m: flying " + fmt(R) + " m, about " +
-                        fmt(std::atan(std::tan(cfg_.turn_bank) * R_wind / R) * 180.0 / kPi) + " deg of bank");
+        inform_once("bank" + std::to_string(idx), "waypoint " + std::to_string(idx) + ": the turn needs a radius of " + fmt(R_wind) +
+                                                      " m for " + fmt(cfg_.turn_bank * 180.0 / kPi) +
+                                                      " deg of bank in the wind; its legs leave room for " + fmt(R_fit) + " m: flying " +
+                                                      fmt(R) + " m, about " +
+                                                      fmt(std::atan(std::tan(cfg_.turn_bank) * R_wind / R) * 180.0 / kPi) + " deg of bank");
       seg_R_ = R;
     }
     fillet_ = compute_fillet(prev_, wt.w, w_next, R);

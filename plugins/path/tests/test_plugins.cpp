@@ -40,7 +40,8 @@ std::vector<MissionPoint> hourglass(bool use_chi = false) {
 /// The manager (100 Hz) and the follower (10 Hz, as ROSplane) flying the kinematic aircraft.
 struct Flight {
   explicit Flight(ManagerConfig cfg = {})
-      : manager(cfg, [this](const std::string& s) { warnings.push_back(s); }, [this](const std::string& s) { infos.push_back(s); }) {
+      : manager(
+            cfg, [this](const std::string& s) { warnings.push_back(s); }, [this](const std::string& s) { infos.push_back(s); }) {
     aircraft.h = 70;
   }
   PathManager manager;

@@ -63,9 +63,9 @@ void realistic_imu(SensorParams& p) {
   p.gyro_vibration = 0.01;  // rad/s
   // Output resolution at the full-scale ranges a fixed-wing FCU sets (+-16 g, +-2000 dps):
   // 2048 LSB/g, 16.4 LSB/dps, temperature 326.8 LSB/degC (DS-000176, tables 1-3).
-  p.accel_resolution = kG0 / 2048.0;                    // 4.79e-3 m/s^2
-  p.gyro_resolution = kRadPerDeg / 16.4;                // 1.06e-3 rad/s
-  p.imu_temperature_resolution = 1.0 / 326.8;           // K
+  p.accel_resolution = kG0 / 2048.0;           // 4.79e-3 m/s^2
+  p.gyro_resolution = kRadPerDeg / 16.4;       // 1.06e-3 rad/s
+  p.imu_temperature_resolution = 1.0 / 326.8;  // K
 }
 
 // HMC5883L / IST8310 class (the ROSflight boards); residuals after a compass calibration.
@@ -81,10 +81,10 @@ void realistic_mag(SensorParams& p) {
 
 // TE MS5611-01BA03 barometer.
 void realistic_baro(SensorParams& p) {
-  p.baro_noise = 1.2;          // Pa: resolution RMS 0.012 mbar at OSR 4096
-  p.baro_bias_range = 150.0;   // Pa: absolute accuracy +-1.5 mbar (25 C, 750..1100 mbar)
-  p.baro_bias_walk = 0.5;      // Pa/sqrt(s): thermal drift in flight
-  p.baro_static_error = 0.05;  // static-port error 5 % of the dynamic pressure (typical installation)
+  p.baro_noise = 1.2;                    // Pa: resolution RMS 0.012 mbar at OSR 4096
+  p.baro_bias_range = 150.0;             // Pa: absolute accuracy +-1.5 mbar (25 C, 750..1100 mbar)
+  p.baro_bias_walk = 0.5;                // Pa/sqrt(s): thermal drift in flight
+  p.baro_static_error = 0.05;            // static-port error 5 % of the dynamic pressure (typical installation)
   p.baro_resolution = 1.0;               // Pa: the compensated pressure P in 0.01 mbar
   p.baro_temperature_resolution = 0.01;  // K: TEMP in 0.01 degC
 }
@@ -92,10 +92,10 @@ void realistic_baro(SensorParams& p) {
 // TE MS4525DO-DS5AI001DP (001PD: +-1 psi, 14 bit over 10..90 % of the counts: 13790 Pa / 13107
 // counts = 1.05 Pa per count).
 void realistic_pitot(SensorParams& p) {
-  p.diff_noise = 1.5;         // Pa: ~1.4 counts RMS
-  p.diff_bias_range = 2.0;    // Pa: offset since the last zero (the boot calibration removes it)
-  p.diff_bias_walk = 0.05;    // Pa/sqrt(s): thermal drift of the offset
-  p.diff_scale_range = 0.05;  // +-5 %: installation (probe position, pitot/static tubes)
+  p.diff_noise = 1.5;                              // Pa: ~1.4 counts RMS
+  p.diff_bias_range = 2.0;                         // Pa: offset since the last zero (the boot calibration removes it)
+  p.diff_bias_walk = 0.05;                         // Pa/sqrt(s): thermal drift of the offset
+  p.diff_scale_range = 0.05;                       // +-5 %: installation (probe position, pitot/static tubes)
   p.diff_resolution = 13789.5 / 13107.0;           // Pa per count (1.05)
   p.diff_temperature_resolution = 200.0 / 2047.0;  // K: 11 bits over -50..150 degC
 }

@@ -70,9 +70,7 @@ namespace {
 /// Transition factor exp(-dt / tau) of a first-order Gauss-Markov process (0: white).
 /// `x` in whole counts of `lsb` (the sensor's resolution; 0: unchanged).
 double quantized(double x, double lsb) { return lsb > 0 ? std::round(x / lsb) * lsb : x; }
-Eigen::Vector3d quantized(const Eigen::Vector3d& v, double lsb) {
-  return lsb > 0 ? Eigen::Vector3d((v / lsb).array().round() * lsb) : v;
-}
+Eigen::Vector3d quantized(const Eigen::Vector3d& v, double lsb) { return lsb > 0 ? Eigen::Vector3d((v / lsb).array().round() * lsb) : v; }
 
 double gm_phi(double dt, double tau) { return tau > 0 ? std::exp(-std::max(dt, 0.0) / tau) : 0.0; }
 
@@ -192,7 +190,8 @@ ImuSample Sensors::imu(const Truth& t, double dt) {
   const Eigen::Vector3d f = specific_force_at(t, p_.imu_position);
   const Eigen::Vector3d w = t.x.segment<3>(P);
   ImuSample m;
-  const Eigen::Vector3d accel = accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
+  const Eigen::Vector3d accel =
+      accel_M_ * (mount_T_ * f) + accel_bias_ + white_and_vibration(p_.accel_noise, p_.accel_vibration, t.throttle);
   m.accel = quantized(accel, p_.accel_resolution) - accel_cal_;
   m.gyro = quantized(gyro_M_ * (mount_T_ * w) + gyro_bias_ + white_and_vibration(p_.gyro_noise, p_.gyro_vibration, t.throttle),
                      p_.gyro_resolution);

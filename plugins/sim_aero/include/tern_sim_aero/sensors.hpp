@@ -70,14 +70,14 @@ struct SensorParams {
   // Resolution of each sensor's digital output (its LSB), applied to the raw reading before the
   // FCU's calibrations: a real sensor gives whole counts. 0: a continuous value (ROSflight's
   // simulator, whose profile this default is, draws continuous Gaussian noise).
-  double accel_resolution = 0.0;            ///< m/s^2 per count
-  double gyro_resolution = 0.0;             ///< rad/s per count
-  double imu_temperature_resolution = 0.0;  ///< K per count
-  double mag_resolution = 0.0;              ///< T per count
-  double baro_resolution = 0.0;             ///< Pa per count (the temperature: baro_temperature_resolution)
-  double baro_temperature_resolution = 0.0; ///< K per count
-  double diff_resolution = 0.0;             ///< Pa per count
-  double diff_temperature_resolution = 0.0; ///< K per count
+  double accel_resolution = 0.0;             ///< m/s^2 per count
+  double gyro_resolution = 0.0;              ///< rad/s per count
+  double imu_temperature_resolution = 0.0;   ///< K per count
+  double mag_resolution = 0.0;               ///< T per count
+  double baro_resolution = 0.0;              ///< Pa per count (the temperature: baro_temperature_resolution)
+  double baro_temperature_resolution = 0.0;  ///< K per count
+  double diff_resolution = 0.0;              ///< Pa per count
+  double diff_temperature_resolution = 0.0;  ///< K per count
   // magnetometer (ROSflight: 50 Hz; field of the default origin). ROSflight's error is a
   // Gauss-Markov process eta <- exp(-k_mag T_s) eta + T_s * mag_stdev * N(0,1) with mag_stdev 3 uT,
   // k_mag 7 /s and T_s 0.02 s, and no white part: steady sigma 3e-6 * 0.02 / sqrt(1 - exp(-0.28)).
