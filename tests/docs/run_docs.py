@@ -595,6 +595,18 @@ class Measure:
             out.append(h_true - (-st["p_d"][k]))
         return percentile(out, q)
 
+    def grab(self, regex: str, after: str | None = None) -> float:
+        """The number regex's first group matches in the output (of the first command containing after)."""
+        m = re.search(regex, self.output_of(after), re.M)
+        if not m:
+            raise LookupError(f"/{regex}/ not in the output" + (f" of `{after}`" if after else ""))
+        return float(m.group(1))
+
+    def yaml_file(self, pattern: str):
+        import yaml
+
+        return yaml.safe_load(newest(pattern, self.res.farm, self.res.home).read_text())
+
     def values(self, spec, doc_regex: str, n: int) -> list[float]:
         if "output" in spec:
             rx = doc_regex if spec["output"] == "same" else spec["output"]
@@ -603,6 +615,8 @@ class Measure:
             if not m:
                 raise LookupError(f"/{rx}/ not in the output" + (f" of `{spec['after']}`" if spec.get("after") else ""))
             vals = [float(g) for g in m.groups()]
+            if "groups" in spec:  # the output's groups in another order than the doc's
+                vals = [vals[k - 1] for k in spec["groups"]]
         elif "json" in spec:
             obj = self.summary(spec["json"])
             paths = spec["path"] if isinstance(spec["path"], list) else [spec["path"]]
@@ -611,7 +625,8 @@ class Measure:
             ns = {"summary": self.summary, "table": self.table, "get": get_path, "math": math,
                   "output": self.output_of, "size_mb": lambda p: dir_size(newest(p, self.res.farm, self.res.home)) / 1e6,
                   "percentile": percentile, "mean": lambda x: sum(x) / len(x),
-                  "altitude_offset": self.altitude_offset}
+                  "altitude_offset": self.altitude_offset, "grab": self.grab, "yaml_file": self.yaml_file,
+                  "second_order_step": second_order_step}
             v = eval(spec["expr"], ns)  # the table is the project's own file
             vals = [float(x) for x in (v if isinstance(v, (list, tuple)) else [v])]
         else:
@@ -619,6 +634,26 @@ class Measure:
         if len(vals) != n:
             raise LookupError(f"{len(vals)} measured values for {n} written")
         return [v * spec.get("scale", 1.0) for v in vals]
+
+
+def second_order_step(wn: float, zeta: float) -> tuple[float, float]:
+    """The unit step response of wn^2 / (s^2 + 2 zeta wn s + wn^2), 0 < zeta < 1: its 10-90 % rise
+    time (s) and its overshoot (%)."""
+    wd = wn * math.sqrt(1 - zeta * zeta)
+    phase = math.acos(zeta)
+
+    def y(t):
+        return 1 - math.exp(-zeta * wn * t) / math.sqrt(1 - zeta * zeta) * math.sin(wd * t + phase)
+
+    dt, t, t10, t90 = 1e-4 / wn, 0.0, None, None
+    while t90 is None:
+        t += dt
+        v = y(t)
+        if t10 is None and v >= 0.1:
+            t10 = t
+        if v >= 0.9:
+            t90 = t
+    return t90 - t10, 100 * math.exp(-zeta * math.pi / math.sqrt(1 - zeta * zeta))
 
 
 def dir_size(p: Path) -> int:
