@@ -478,11 +478,15 @@ def load_figures(path: Path) -> list[dict]:
     return figs
 
 
-def newest(pattern: str, base: Path, home: Path) -> Path:
+def newest(pattern: str, base: Path, home: Path, pick: str = "newest") -> Path:
+    """The newest match of a glob (relative to base, or ~/... in home), or with pick: "first" the
+    first in name order (a run directory's name starts with its UTC time: the first flight)."""
     pat = pattern.replace("~", str(home), 1) if pattern.startswith("~") else str(base / pattern)
     hits = glob.glob(pat)
     if not hits:
         raise LookupError(f"nothing matches {pattern}")
+    if pick == "first":
+        return Path(sorted(hits)[0])
     return Path(max(hits, key=lambda h: os.path.getmtime(h)))
 
 
@@ -520,8 +524,8 @@ class Measure:
                 return self.res.outputs[line]
         raise LookupError(f"no command containing '{after}' ran")
 
-    def summary(self, pattern: str):
-        return json.loads(newest(pattern, self.res.farm, self.res.home).read_text())
+    def summary(self, pattern: str, pick: str = "newest"):
+        return json.loads(newest(pattern, self.res.farm, self.res.home, pick).read_text())
 
     def table(self, pattern: str) -> dict:
         """A CSV table's columns by name (without the unit), as floats."""
@@ -618,7 +622,7 @@ class Measure:
             if "groups" in spec:  # the output's groups in another order than the doc's
                 vals = [vals[k - 1] for k in spec["groups"]]
         elif "json" in spec:
-            obj = self.summary(spec["json"])
+            obj = self.summary(spec["json"], spec.get("pick", "newest"))
             paths = spec["path"] if isinstance(spec["path"], list) else [spec["path"]]
             vals = [float(get_path(obj, p)) for p in paths]
         elif "expr" in spec:
