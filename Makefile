@@ -4,6 +4,9 @@ BUILD ?= build
 JOBS ?= 2
 CONFIG ?= configs/missions/default.yaml
 CMAKE_ARGS ?=
+# ccache (CMakeLists.txt uses it when installed) hashes paths below this folder as relative
+# ones, so that a second clone of tern (another folder, CI's) reuses what this one compiled.
+export CCACHE_BASEDIR ?= $(CURDIR)
 
 # Every Debian package tern needs to build, test, fly and plot (zstd and zlib: the MCAP flight
 # log; clang-format and git: the format
