@@ -13,7 +13,7 @@ firmware (default_sil.yaml, tern-fcu-sil).
    programs' --truth file) is taken into the estimator's frame (its origin, the first GNSS fix:
    the frame the path is flown in) and compared, at 50 Hz, in FlightMetrics' window (cruise phase,
    from the end of the first loop: not the path capture after the climb), with the commanded path
-   as FlightMetrics (core/src/record/metrics.cpp) does with the estimate: the horizontal distance
+   as FlightMetrics (core/host/record/metrics.cpp) does with the estimate: the horizontal distance
    to the closest point of the line or orbit, and h_c - h (h: the true height above the takeoff
    point, where the estimator's barometric altitude is zeroed).
 2. Link figures of the firmware flights (summary.json / timing.json) and determinism: the seed's

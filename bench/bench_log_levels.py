@@ -2,9 +2,9 @@
 """bench_log_levels.py BIN_DIR [MISSION] [--seconds S] [--repeat N] [--cpu K] [--out JSON]: what a flight's log level costs.
 
 Flies MISSION (default: configs/missions/default.yaml, its full duration unless --seconds) N
-times (default 3, interleaved) at each log level (summary, decimated, replay, sysid, full; core/src/config/config.hpp)
+times (default 3, interleaved) at each log level (summary, decimated, replay, sysid, full; core/host/config/config.hpp)
 in CSV and in MCAP (docs/logs.md), each flight pinned to one core (--cpu, default the last), and reads each
-flight's timing.json (core/src/record/flight_report.hpp): wall time, real-time factor (flight time /
+flight's timing.json (core/host/record/flight_report.hpp): wall time, real-time factor (flight time /
 wall time), the flight thread's and the log writer's CPU time, and the run directory's size.
 Reports each level's best run (least wall time: the least disturbed by other processes) and
 the median real-time factors. Prints a table and writes JSON (default

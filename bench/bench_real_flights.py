@@ -5,7 +5,7 @@ Imports the two real fixed-wing flights shipped in data/real_flights (the PX4 Zu
 launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure; provenance and
 licences in data/real_flights/README.md) with `tern import`, replays each with `tern replay`
 (configs/replay/estimator.yaml and the log's sensor_log.yaml: docs/replay-your-own-flight.md),
-and reads the replay's replay_report.json (core/src/replay/replay_report.hpp: every figure says
+and reads the replay's replay_report.json (core/apps/replay/replay_report.hpp: every figure says
 its window and rule). Prints one table per flight against issue 43's targets and writes JSON
 (default bench/results/real_flights.json).
 

@@ -4,7 +4,7 @@ the real-time load test of issue 41, item 3.
 
 Flies the default mission paced to wall time (`tern fly configs/missions/default.yaml --realtime
 --duration S`, 600 s by default: 240000 ticks at 400 Hz) once per (load, settings) pair and reads
-each flight's summary.json "realtime" (core/src/flight/realtime.hpp): deadline misses, wake-up
+each flight's summary.json "realtime" (core/host/graph/realtime.hpp): deadline misses, wake-up
 latency and work per tick (p50, p99, max), the flight thread's page faults.
 
 Settings:

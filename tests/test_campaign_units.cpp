@@ -1,4 +1,4 @@
-// The campaign's pure pieces (core/src/campaign): counter-based draws, the Wilson interval,
+// The campaign's pure pieces (core/apps/campaign): counter-based draws, the Wilson interval,
 // percentiles, summary flattening and the pass/fail criteria. Whole campaigns: test_campaign.py.
 #include <doctest/doctest.h>
 

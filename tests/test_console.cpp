@@ -1,4 +1,4 @@
-// The console's server (core/src/console/console_server.hpp) and requests
+// The console's server (core/apps/console/console_server.hpp) and requests
 // (console_commands.hpp): who gets in, what is served, what a page may ask of a host.
 #include <doctest/doctest.h>
 

@@ -11,7 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "record/common_frame.hpp"
-#include "flight/loader.hpp"
+#include "graph/loader.hpp"
 #include "e2e_util.hpp"
 #include "tern/math.hpp"
 

@@ -1,4 +1,4 @@
-// `plugin: external` (core/src/runners/external_plugin.hpp) without DDS: its config errors, the error of a
+// `plugin: external` (core/host/runners/external_plugin.hpp) without DDS: its config errors, the error of a
 // tern built without DDS, and the lockstep contract with a link that stands in for DDS.
 #include <doctest/doctest.h>
 

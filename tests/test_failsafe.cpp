@@ -1,11 +1,11 @@
-// The failsafes (core/src/safety/failsafe.hpp) and their config section alone: no plugin, no host.
+// The failsafes (core/host/safety/failsafe.hpp) and their config section alone: no plugin, no host.
 #include <doctest/doctest.h>
 
 #include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
 #include "safety/failsafe.hpp"
-#include "safety/failsafe_config.hpp"
+#include "config/failsafe_config.hpp"
 
 using namespace tern;
 using namespace tern::core;

@@ -1,4 +1,4 @@
-// The landing's checks alone (core/src/safety/landing_checks.hpp): the height above the runway
+// The landing's checks alone (core/host/safety/landing_checks.hpp): the height above the runway
 // from a range finder or the estimate, and the stabilised-approach criteria.
 #include <doctest/doctest.h>
 

@@ -6,7 +6,7 @@
 
 #include <fstream>
 
-#include "flight/loader.hpp"
+#include "graph/loader.hpp"
 #include "test_util.hpp"
 
 namespace {

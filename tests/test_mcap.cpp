@@ -12,9 +12,9 @@
 
 #include "record/cdr_columns.hpp"
 #include "record/flight_log.hpp"
-#include "record/mcap_csv_export.hpp"
-#include "record/mcap_reader.hpp"
-#include "record/mcap_recover.hpp"
+#include "export/mcap_csv_export.hpp"
+#include "export/mcap_reader.hpp"
+#include "export/mcap_recover.hpp"
 #include "record/ros_channels.hpp"
 #include "tern/msg/all.hpp"
 #include "test_util.hpp"

@@ -16,8 +16,8 @@
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/spdlog.h>
 
-#include "flight/instances.hpp"
-#include "flight/port_graph.hpp"
+#include "graph/instances.hpp"
+#include "graph/port_graph.hpp"
 #include "safety/phase_machine.hpp"
 #include "safety/phase_router.hpp"
 #include "tern/testing/harness.hpp"

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "config/error.hpp"
-#include "flight/port_graph.hpp"
+#include "graph/port_graph.hpp"
 #include "tern/msg/all.hpp"
 
 using namespace tern;

@@ -1,4 +1,4 @@
-// A paced flight's real-time figures and thread settings (core/src/flight/realtime.hpp): the
+// A paced flight's real-time figures and thread settings (core/host/graph/realtime.hpp): the
 // statistics on hand-made ticks, the settings the system refuses as one line, and `tern fly
 // --realtime` reporting them in summary.json and on the console (no timing thresholds here: the
 // figures of this machine are bench material, docs/companion-computer.md).
@@ -6,7 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "flight/realtime.hpp"
+#include "graph/realtime.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
 

@@ -13,7 +13,7 @@
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/spdlog.h>
 
-#include "flight/remote_queue.hpp"
+#include "graph/remote_queue.hpp"
 
 using namespace tern;
 using namespace tern::core;

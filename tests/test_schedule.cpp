@@ -6,8 +6,8 @@
 #include <csignal>
 #include <stdexcept>
 
-#include "flight/loader.hpp"
-#include "flight/scheduler.hpp"
+#include "graph/loader.hpp"
+#include "graph/scheduler.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;

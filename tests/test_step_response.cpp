@@ -1,4 +1,4 @@
-// Step-response figures (core/src/commands/step_response.hpp) on systems whose answers are known in
+// Step-response figures (core/apps/commands/step_response.hpp) on systems whose answers are known in
 // closed form: first order (rise 2.197 tau, settling 3.912 tau) and second order (overshoot
 // exp(-zeta pi / sqrt(1 - zeta^2)), settling bounded by the envelope).
 #include <doctest/doctest.h>

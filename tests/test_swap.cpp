@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "flight/loader.hpp"
+#include "graph/loader.hpp"
 #include "test_util.hpp"
 
 using namespace tern::core;

@@ -1,4 +1,4 @@
-// tern import's converters (core/src/import/) on the two real flights in data/real_flights:
+// tern import's converters (core/apps/import/) on the two real flights in data/real_flights:
 // row counts, hand-checked rows (units and frames written out below), the header a flight log
 // writes, and one-line errors for corrupt or truncated inputs.
 #include <cmath>

@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "flight/loader.hpp"
+#include "graph/loader.hpp"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-// The truth-free replay report (core/src/replay/replay_report.hpp): on a synthetic run directory
+// The truth-free replay report (core/apps/replay/replay_report.hpp): on a synthetic run directory
 // with known offsets (reference 1 deg off in roll, GNSS fixes 3 m east, NIS ratios with known
 // percentiles, a valid -> invalid transition), with topics missing, with malformed files; its
 // notes (a reference altitude on another datum, a rejected magnetometer, a NIS far below 1) on
@@ -232,7 +232,7 @@ TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
   CHECK(j["reference"]["roll"]["window"].get<std::string>() == r.window.rule);
   CHECK(j["validity"]["nan_cells"].get<int>() == 1);
   CHECK(j["estimator"]["resets"]["gnss_resets"].get<double>() == 2.0);
-  // the keys tern plot's index.html reads (core/plot/tern_plot_html.py _replay_tables)
+  // the keys tern plot's index.html reads (core/apps/plot/tern_plot_html.py _replay_tables)
   for (const char* k : {"start_s", "end_s", "rule"}) CHECK(j["window"].contains(k));
   for (const char* k : {"share_valid", "first_valid_s", "divergences", "valid_to_invalid", "filter_resets", "nan_cells"})
     CHECK(j["validity"].contains(k));

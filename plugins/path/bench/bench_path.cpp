@@ -69,7 +69,7 @@ std::vector<std::pair<Vec3, double>> flight(bool use_chi, int steps) {
     const double err = tern::wrap_pi(c.chi_c - chi);
     const double phi_c = std::clamp(2.0 * err + c.phi_ff, -0.785, 0.785);
     phi += (phi_c - phi) * dt / 0.3;
-    chi = tern::wrap_pi(chi + 9.81 / Va * std::tan(phi) * dt);
+    chi = tern::wrap_pi(chi + tern::kGravity / Va * std::tan(phi) * dt);
     n += Va * std::cos(chi) * dt;
     e += Va * std::sin(chi) * dt;
   }

@@ -1,7 +1,7 @@
 // tern/aircraft.hpp: the parameters of a fixed-wing aircraft for the uavbook model (Beard &
 // McLain, *Small Unmanned Aircraft*, ch. 3-4 and the propulsion supplement), and the one reader
 // of aircraft files: the simulator (sim_aero), the estimator (estimator_ekf), the flight
-// controller link (fcu_serial) and the campaigns (core/src/campaign) read the file through it.
+// controller link (fcu_serial) and the campaigns (core/apps/campaign) read the file through it.
 //
 // Two file formats are read:
 //  * tern's own format (configs/aircraft/*.yaml): sections mass/inertia/environment/wing/aero/

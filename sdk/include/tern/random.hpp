@@ -3,7 +3,7 @@
 // splitmix64 is SplitMix64's output function (Steele, Lea & Flood, "Fast splittable pseudorandom
 // number generators", OOPSLA 2014; the constants of Vigna's splitmix64.c): a bijective mixer of a
 // 64-bit word. The host derives each instance's seed with it (Context::seed()), the campaigns
-// their counter-based draws (core/src/campaign/counter_rng.hpp). Header-only, constexpr.
+// their counter-based draws (core/apps/campaign/counter_rng.hpp). Header-only, constexpr.
 #pragma once
 
 #include <cstdint>

@@ -180,7 +180,7 @@ struct PlainVisitor {
 };
 
 /// Whether a described message may cross a process boundary by memcpy (an isolated instance's
-/// ports, core/src/runners/isolation_channel.hpp): every described field is plain bytes (above), and the
+/// ports, core/host/runners/isolation_channel.hpp): every described field is plain bytes (above), and the
 /// struct owns nothing (trivially destructible: no string, vector or pointer owner hides in an
 /// undescribed member) and has no virtual table. Eigen's vectors are not
 /// std::is_trivially_copyable (user-declared copy constructors), hence this check.

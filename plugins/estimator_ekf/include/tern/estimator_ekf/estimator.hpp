@@ -66,6 +66,7 @@
 #include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
 #include "tern/msg/state.hpp"
+#include "tern/math.hpp"
 
 namespace tern::ekf {
 
@@ -79,9 +80,9 @@ const char* sensor_name(Sensor s);
 /// accuracy (use_gnss_accuracy). Sensor rates IMU 400 Hz, mag 50 Hz, baro 100 Hz, pitot
 /// 100 Hz, GNSS 10 Hz.
 struct EstimatorConfig {
-  double gravity = 9.81;  ///< m/s^2
-  double rho = 1.225;     ///< air density for the pitot, kg/m^3
-  ProcessNoise process;   ///< IMU noise and random walks (filter.hpp)
+  double gravity = kGravity;  ///< m/s^2
+  double rho = 1.225;         ///< air density for the pitot, kg/m^3
+  ProcessNoise process;       ///< IMU noise and random walks (filter.hpp)
 
   // geometry, measured on the aircraft (body FRD)
   Vec3 gnss_antenna = Vec3::Zero();  ///< GNSS antenna position from the CG, m

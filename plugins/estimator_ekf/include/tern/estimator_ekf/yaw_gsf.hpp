@@ -17,6 +17,7 @@
 #include <array>
 
 #include <Eigen/Core>
+#include "tern/math.hpp"
 
 namespace tern::ekf {
 
@@ -28,7 +29,7 @@ class YawGsf {
     double accel_noise = 2.0;      ///< m/s^2: horizontal acceleration noise of each model (PX4: 2.0)
     double tilt_gain = 0.2;        ///< 1/s: complementary filter's tilt correction at 1 g (PX4: 0.2)
     double gyro_bias_gain = 0.04;  ///< 1/s: its gyro-bias integral gain (PX4: 0.04)
-    double gravity = 9.81;         ///< m/s^2
+    double gravity = kGravity;     ///< m/s^2
   };
 
   YawGsf() = default;

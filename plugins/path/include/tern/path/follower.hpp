@@ -6,6 +6,7 @@
 #include <Eigen/Core>
 
 #include "tern/path/geometry.hpp"
+#include "tern/math.hpp"
 
 namespace tern::path {
 
@@ -31,10 +32,10 @@ struct PathSegment {
 /// Gains of the vector fields. Defaults: ROSplane's Anaconda values
 /// (rosplane/params/anaconda_autopilot_params.yaml, path_follower).
 struct FollowerGains {
-  double chi_inf = 1.2;    ///< course of approach from far away, rad, (0, pi/2]  (book: chi^inf)
-  double k_path = 0.0175;  ///< line field transition gain, 1/m, > 0
-  double k_orbit = 0.5;    ///< orbit field transition gain, dimensionless, > 0
-  double gravity = 9.81;   ///< m/s^2, for the roll feed-forward
+  double chi_inf = 1.2;       ///< course of approach from far away, rad, (0, pi/2]  (book: chi^inf)
+  double k_path = 0.0175;     ///< line field transition gain, 1/m, > 0
+  double k_orbit = 0.5;       ///< orbit field transition gain, dimensionless, > 0
+  double gravity = kGravity;  ///< m/s^2, for the roll feed-forward
 };
 
 /// What the aircraft state the follower needs.

@@ -15,6 +15,7 @@
 #include <string_view>
 
 #include <Eigen/Core>
+#include "tern/math.hpp"
 
 namespace tern::path {
 
@@ -76,7 +77,7 @@ Fillet compute_fillet(const Vec3& w_prev, const Vec3& w, const Vec3& w_next, dou
 /// course needs (Va + |w|)^2 / (g tan(phi)). Courses the wind makes unflyable (cross wind >= Va)
 /// count with a crab angle of asin(0.99). Evaluated every 2 degrees or finer and at the downwind
 /// course when the turn sweeps it. Returns 0 for Va <= 0 or non-finite input.
-double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g = 9.81);
+double wind_turn_radius(double Va, const Vec3& wind, double chi0, double sweep, double phi, double g = kGravity);
 
 /// The four Dubins path types of Beard & McLain, section 11.2.2 (R: right turn, S: straight,
 /// L: left turn).

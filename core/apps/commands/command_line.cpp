@@ -1,0 +1,46 @@
+// core/apps/commands/command_line.cpp: what every command of `tern` shares (command_line.hpp).
+#include "commands/command_line.hpp"
+
+#include <cstdio>
+
+#ifndef TERN_SOURCE_DIR
+#define TERN_SOURCE_DIR ""
+#endif
+#ifndef TERN_INSTALL_DATA_DIR
+#define TERN_INSTALL_DATA_DIR ""
+#endif
+
+namespace fs = std::filesystem;
+
+namespace tern::core {
+
+fs::path exe_dir() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::path() : exe.parent_path();
+}
+
+fs::path default_config() {
+  // an installed tern: <prefix>/share/tern; a build tree's tern: the source tree
+  for (const fs::path& base : {exe_dir() / ".." / "share" / "tern", fs::path(TERN_SOURCE_DIR), fs::path(TERN_INSTALL_DATA_DIR)}) {
+    if (base.empty()) continue;
+    const fs::path p = (base / "configs" / "missions" / "default.yaml").lexically_normal();
+    if (fs::exists(p)) return p;
+  }
+  return fs::path("configs/missions/default.yaml");
+}
+
+int fail(const std::string& msg) {
+  std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
+  return 1;
+}
+
+bool report_missions(const MissionReport& r, bool notes) {
+  if (notes)
+    for (const auto& n : r.notes) std::fprintf(stderr, "tern: note: %s\n", n.c_str());
+  for (const auto& w : r.warnings) std::fprintf(stderr, "tern: warning: %s\n", w.c_str());
+  for (const auto& e : r.errors) std::fprintf(stderr, "tern: error: %s\n", e.c_str());
+  return r.errors.empty();
+}
+
+}  // namespace tern::core

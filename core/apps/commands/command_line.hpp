@@ -1,0 +1,37 @@
+// core/apps/commands/command_line.hpp: what every command of `tern` (main.cpp) shares: where the
+// binary and its default mission are, the one-line error, the mission checks' report, and the
+// shape of a command (its CLI11 subcommand and what runs when it is the one parsed).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands/mission_check.hpp"
+
+namespace tern::core {
+
+/// A command of the command line: its subcommand and its run (the process's exit status). The run
+/// may throw std::exception; main prints what() as one "tern: error: ..." line and exits 1.
+struct Command {
+  CLI::App* app = nullptr;
+  std::function<int()> run;
+};
+
+/// The directory of the running binary (empty when /proc/self/exe cannot be read).
+std::filesystem::path exe_dir();
+
+/// The default mission: <prefix>/share/tern/configs/missions/default.yaml for an installed tern,
+/// the source tree's for a build tree's, else configs/missions/default.yaml (relative).
+std::filesystem::path default_config();
+
+/// Prints "tern: error: MSG" on stderr; returns 1 (the exit status).
+int fail(const std::string& msg);
+
+/// Prints the warnings and errors of `r` (and its notes, with `notes`: `tern check`) on stderr;
+/// true when there are no errors.
+bool report_missions(const MissionReport& r, bool notes = false);
+
+}  // namespace tern::core

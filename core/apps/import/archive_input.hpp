@@ -1,0 +1,31 @@
+// core/apps/import/archive_input.hpp: `tern import`'s INPUT as a directory: a directory as it is,
+// an archive as shipped (.zip, .tar.gz, .tgz, .tar: read by libarchive) unpacked into a fresh
+// temporary directory that is removed again when the ArchiveInput goes.
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+namespace tern::core {
+
+class ArchiveInput {
+ public:
+  /// Throws ImportError naming the archive (and the member) if it cannot be read or unpacked.
+  explicit ArchiveInput(const std::filesystem::path& input);
+  ~ArchiveInput();
+  ArchiveInput(const ArchiveInput&) = delete;
+  ArchiveInput& operator=(const ArchiveInput&) = delete;
+
+  /// The directory to import from.
+  const std::filesystem::path& dir() const { return dir_; }
+  /// `text` (an error or a warning) with the temporary directory's path replaced by the
+  /// archive's: "px4.zip:GPS.txt:121: ..." rather than "/tmp/tern-import-XXXXXX/GPS.txt:121: ...".
+  std::string readable(std::string text) const;
+
+ private:
+  std::filesystem::path dir_;
+  std::filesystem::path input_;
+  std::filesystem::path temp_;  // "" for a directory input
+};
+
+}  // namespace tern::core

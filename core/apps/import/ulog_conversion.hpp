@@ -1,0 +1,143 @@
+// core/apps/import/ulog_conversion.hpp: the conversion pass of `tern import ulog` (internal to
+// ulog_import.cpp and ulog_conversion.cpp): the survey of which topics hold data, and the handlers
+// that turn one PX4 topic's data messages into sensor-log rows (the mapping: ulog_import.hpp).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <initializer_list>
+#include <map>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "import/import_support.hpp"
+#include "import/sensor_log_writer.hpp"
+#include "import/ulog_import.hpp"
+#include "import/ulog_reader.hpp"
+#include "tern/msg/estimator.hpp"
+#include "tern/msg/sensors.hpp"
+
+namespace tern::core::ulog_import {
+
+/// Rows of an output topic are put in time order within this window (ReorderWindow).
+inline constexpr Nanos kReorderWindow = kNanosPerSecond;
+
+/// Which topics (multi-instance 0) hold data, and whether old sensor_combined carries mag/baro samples.
+struct Survey {
+  std::map<std::string, std::uint64_t> rows;
+  std::uint64_t combined_mag = 0, combined_baro = 0;
+};
+/// Reads `file`'s data section once and counts. Throws ulog::UlogError.
+Survey survey(const std::filesystem::path& file);
+
+/// A resolved field list of one subscription: `need` throws if absent (the source was chosen for it).
+struct Fields {
+  const ulog::Subscription& sub;
+  const ulog::Field* opt(const std::string& name) const { return sub.field(name); }
+  const ulog::Field& need(const std::string& name) const {
+    const ulog::Field* f = sub.field(name);
+    if (!f) throw std::out_of_range("topic '" + sub.name + "' has no field '" + name + "'");
+    return *f;
+  }
+  std::array<const ulog::Field*, 3> vec(const std::string& name) const {
+    return {&need(name + "[0]"), &need(name + "[1]"), &need(name + "[2]")};
+  }
+  /// The first of `names` the format has, or nullptr.
+  const ulog::Field* first_of(std::initializer_list<const char*> names) const {
+    for (const char* n : names)
+      if (const ulog::Field* f = sub.field(n)) return f;
+    return nullptr;
+  }
+};
+
+/// Whether `topic`'s format has every one of `names` (flattened field names).
+bool has_fields(const std::map<std::string, ulog::Format>& formats, const std::string& topic, std::initializer_list<const char*> names);
+
+/// Everything the conversion pass carries.
+class Conversion {
+ public:
+  Conversion(const ulog::Reader& reader, SensorLogWriter& out, ImportReport& report)
+      : origin_us_(reader.start_timestamp()),
+        params_(reader.initial_parameters()),
+        report_(report),
+        imu_(kReorderWindow, [&out](const msg::Imu& m) { out.write("imu", m); }),
+        mag_(kReorderWindow, [&out](const msg::Mag& m) { out.write("mag", m); }),
+        baro_(kReorderWindow, [&out](const msg::Baro& m) { out.write("baro", m); }),
+        dp_(kReorderWindow, [&out](const msg::DiffPressure& m) { out.write("diff_pressure", m); }),
+        gnss_(kReorderWindow, [&out](const msg::Gnss& m) { out.write("gnss", m); }),
+        ref_(kReorderWindow, [&out](const msg::Reference& m) { out.write("reference", m); }) {}
+
+  /// The handlers of one topic, built when its subscription (multi-instance 0) appears.
+  using Handler = std::function<void(const ulog::DataMessage&)>;
+  std::map<std::string, std::vector<std::function<Handler(const Fields&)>>> factories;
+  std::map<std::uint16_t, std::vector<Handler>> handlers;
+
+  void subscribe(const ulog::Subscription& s) {
+    handlers.erase(s.msg_id);
+    if (s.multi_id != 0) return;
+    const auto it = factories.find(s.name);
+    if (it == factories.end()) return;
+    const Fields f{s};
+    for (const auto& make : it->second) handlers[s.msg_id].push_back(make(f));
+  }
+  void data(const ulog::DataMessage& d) {
+    const auto it = handlers.find(d.subscription().msg_id);
+    if (it == handlers.end()) return;
+    for (const auto& h : it->second) h(d);
+  }
+
+  /// us since boot -> the log's clock, ns; nullopt (counted) before the log's start.
+  std::optional<Nanos> stamp(std::int64_t t_us) {
+    if (t_us < static_cast<std::int64_t>(origin_us_)) {
+      ++before_start_;
+      return std::nullopt;
+    }
+    return (t_us - static_cast<std::int64_t>(origin_us_)) * 1000;
+  }
+  /// The sample's time: timestamp_sample if the format has it, else timestamp.
+  std::optional<Nanos> sample_stamp(const ulog::DataMessage& d, const ulog::Field* timestamp_sample) {
+    return stamp(timestamp_sample ? d.integer(*timestamp_sample) : static_cast<std::int64_t>(d.timestamp()));
+  }
+  std::optional<double> param(const std::string& name) const {
+    const auto it = params_.find(name);
+    if (it == params_.end()) return std::nullopt;
+    return it->second.number();
+  }
+
+  // Each registers the handler factory of one output's source topic.
+  void add_imu();
+  void add_mag(const std::string& source);
+  void add_baro(const std::string& source);
+  void add_diff_pressure(const std::string& source);
+  void add_gnss(const std::string& source);
+  void add_attitude(const std::string& source);
+  void add_position(const std::string& source);
+  void add_velocity(const std::string& source);
+  void add_wind(const std::string& source);
+  /// Releases the rows still held and reports what was dropped.
+  void finish(const std::string& file, std::vector<std::string>& notes);
+
+  std::string date;  ///< of the first GNSS fix with a UTC time
+  IntervalStats imu_intervals, gnss_intervals;
+
+ private:
+  void write_mag(Nanos t, double x, double y, double z);
+  std::uint64_t origin_us_;
+  const std::map<std::string, ulog::Value>& params_;
+  ImportReport& report_;
+  ReorderWindow<msg::Imu> imu_;
+  ReorderWindow<msg::Mag> mag_;
+  ReorderWindow<msg::Baro> baro_;
+  ReorderWindow<msg::DiffPressure> dp_;
+  ReorderWindow<msg::Gnss> gnss_;
+  ReorderWindow<msg::Reference> ref_;
+  std::uint64_t before_start_ = 0, nan_rows_ = 0, no_temperature_ = 0, course_velocity_ = 0;
+  std::int64_t max_accel_relative_us_ = 0;
+  Nanos last_combined_mag_ = -1, last_combined_baro_ = -1;
+};
+
+}  // namespace tern::core::ulog_import

@@ -1,0 +1,49 @@
+// core/apps/replay/replay_csv.hpp: the numeric tables of a run directory as the replay report reads
+// them: a topic CSV (topics/<name>.csv: header `name [unit]`, one row per sample, numbers) and
+// params.csv (`t [s],parameter,value,source`, values possibly quoted).
+//
+// Errors: ConfigError, one line "file:line: what" for a short or long row or a cell that is not a
+// number. Cells `nan`, `-nan`, `inf` and empty cells read as NaN (a reference topic leaves a
+// field it lacks empty, docs/sensor-log.md) and are counted. A last line without a line end (a
+// run cut off while writing) is dropped and named in `partial_last_line`.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace tern::core {
+
+/// Columns of one topic CSV, by field name (the header's name without its " [unit]").
+struct CsvTable {
+  std::filesystem::path file;
+  std::map<std::string, std::vector<double>> columns;  ///< only the columns asked for (those present)
+  std::size_t rows = 0;
+  std::size_t nan_cells = 0;      ///< NaN or empty cells in any column (asked for or not)
+  std::size_t nan_rows = 0;       ///< rows with at least one such cell
+  std::string partial_last_line;  ///< "" or why the last line was dropped
+
+  bool has(const std::string& name) const { return columns.count(name) != 0; }
+  /// The column; throws ConfigError "file: no column 'name'" when absent.
+  const std::vector<double>& at(const std::string& name) const;
+};
+
+/// Reads `file`, keeping the columns named in `wanted` (all when empty). Throws ConfigError.
+CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted = {});
+
+/// params.csv: every value each parameter took, with the flight time it took it (s).
+struct ParamHistory {
+  /// "instance.name" -> [(t_s, text)] in file order.
+  std::map<std::string, std::vector<std::pair<double, std::string>>> values;
+  /// The value in effect at time t (the last row at or before t, else the first), as a number;
+  /// nullopt when the parameter is absent or its value is not a number.
+  std::optional<double> number_at(const std::string& name, double t_s) const;
+};
+
+/// Reads params.csv. Throws ConfigError "file:line: ..." for a row without three fields.
+ParamHistory read_params_csv(const std::filesystem::path& file);
+
+}  // namespace tern::core

@@ -1,0 +1,199 @@
+// core/apps/replay/replay_report.hpp: the truth-free replay report (issue 43): what `tern replay`
+// prints and writes as replay_report.json when a log has no truth to compare with.
+//
+// Reads a run directory `tern replay` wrote (docs/sensor-log.md, core/host/record/flight_log.hpp):
+// topics/state.csv (the estimate), innovations.csv, gnss.csv, reference.csv (another estimator's
+// solution, optional), params.csv (gates, GNSS delay), summary.json (the estimator's own counters
+// and resets) and sensor_log.yaml (its optional `airborne: [start_s, end_s]`).
+//
+// The window: sensor_log.yaml's `airborne` if given, else from the first to the last GNSS fix
+// (log time t) with a horizontal speed >= 5 m/s, else the whole replay; `Window::rule` says which.
+// Comparisons use the window and the samples where the state is valid (valid == 1, origin_valid
+// for positions); NIS figures are given over the whole replay and over the window. Each sample of
+// the state and the reference is taken at its own time, its `stamp` (a replay records a sample at
+// the tick after it), the GNSS fixes at their time of validity.
+// Frames and units: errors are estimate minus comparator; angles in deg, wrapped to [-180, 180);
+// positions in m in the estimate's NED frame (the comparator's lat/lon/alt converted with
+// tern::GeoOrigin at state.csv's origin_lat/lon/alt of the same row); velocities in m/s.
+// A figure without samples has NaN values, 0 samples and its `rule` says why.
+//
+// Each anomaly the report shows is explained in one line where it shows (ReportNote, below): the
+// reference's altitude on another datum, a magnetometer rejected, roll/pitch/yaw far from the
+// reference's and which of the two the sensors contradict, a NIS far from 1. Every explanation
+// comes from the run's data by a threshold stated below (never from the flight's name); the
+// extra tables they read are topics/baro.csv (pressure) and topics/mag.csv (field).
+//
+// Errors: ConfigError with one line "file:line: ..." for a malformed CSV row or a bad
+// sensor_log.yaml `airborne`; "run_dir: no topics/state.csv" when there is no estimate.
+// Missing optional topics are not errors: their section is absent, saying so.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace tern::core {
+
+/// One error figure: RMS and largest magnitude of (estimate - comparator).
+struct ErrorFigure {
+  double rms = std::numeric_limits<double>::quiet_NaN();
+  double max = std::numeric_limits<double>::quiet_NaN();   ///< largest |error| (vector norm for 2-D)
+  double mean = std::numeric_limits<double>::quiet_NaN();  ///< mean error, signed (a bias: e.g. another altitude datum); 2-D: mean norm
+  std::size_t samples = 0;
+  std::string unit;  ///< "deg", "m", "m/s"
+  std::string rule;  ///< what was compared where (or why nothing was)
+};
+
+/// The part of the replay the comparisons cover.
+struct ReplayWindow {
+  double start_s = 0.0, end_s = 0.0;  ///< flight time (the log's t), s
+  std::string rule;                   ///< which rule produced it
+};
+
+/// NIS of one innovations column over a stretch: per innovations message with a fused sample (the
+/// message carries the largest test ratio NIS / gate since the previous one; -1: none fused).
+struct NisStats {
+  std::size_t count = 0;     ///< messages with a fused sample
+  std::size_t rejected = 0;  ///< of which test ratio > 1
+  double share_rejected = std::numeric_limits<double>::quiet_NaN();
+  double mean_nis = std::numeric_limits<double>::quiet_NaN();  ///< NaN when the gate is unknown
+  double p50_nis = std::numeric_limits<double>::quiet_NaN();   ///< percentiles: linear between order statistics
+  double p95_nis = std::numeric_limits<double>::quiet_NaN();
+  double p99_nis = std::numeric_limits<double>::quiet_NaN();
+  double p50_ratio = std::numeric_limits<double>::quiet_NaN();  ///< the same of the test ratio (gate-free)
+  double p95_ratio = std::numeric_limits<double>::quiet_NaN();
+  double p99_ratio = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct MeasurementReport {
+  std::string name;  ///< innovations.csv column: gnss_pos, gnss_vel, baro, diff_pressure, mag, sideslip, normal_force
+  std::string gate;  ///< where the gate came from ("ekf.gnss_pos_gate = 16.266") or why it is unknown
+  NisStats whole, window;
+};
+
+/// One measurement model's counters of summary.json (<model>_accepted, _rejected, _mean_nis).
+struct ModelCounters {
+  std::string model;
+  double accepted = 0.0, rejected = 0.0;
+  double mean_nis = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct EstimatorCounters {
+  std::string instance;                                ///< "" when summary.json names no estimator
+  std::vector<ModelCounters> models;                   ///< in summary.json's order
+  std::vector<std::pair<std::string, double>> resets;  ///< every "<x>_resets" and "inflations"
+};
+
+struct Validity {
+  double first_valid_s = std::numeric_limits<double>::quiet_NaN();  ///< NaN: never valid
+  double share_valid = std::numeric_limits<double>::quiet_NaN();    ///< of the state samples from the first valid one
+  std::size_t samples = 0;                                          ///< state samples from the first valid one
+  std::size_t valid_to_invalid = 0;                                 ///< transitions after the first valid state
+  std::size_t filter_resets = 0;                                    ///< summary.json's filter_resets
+  std::size_t divergences = 0;                                      ///< valid_to_invalid + filter_resets
+  std::size_t nan_cells = 0, nan_rows = 0;                          ///< in state.csv: must be 0
+};
+
+struct ReferenceComparison {
+  std::string absent;  ///< "" when compared, else why not
+  ErrorFigure roll, pitch, yaw, course, position_h, position_v, velocity_h, velocity_v;
+};
+
+struct GnssComparison {
+  std::string absent;
+  std::string time_rule;  ///< how each fix's time of validity was taken
+  std::size_t fixes = 0, fixes_in_window = 0;
+  ErrorFigure position_h, velocity_h, course;
+  double share_pos_accepted = std::numeric_limits<double>::quiet_NaN();  ///< estimator counters, whole replay
+  double share_vel_accepted = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct WindReport {
+  std::string absent;
+  std::size_t samples = 0;
+  double mean_speed = std::numeric_limits<double>::quiet_NaN();  ///< m/s, of |(w_n, w_e)|
+  double max_speed = std::numeric_limits<double>::quiet_NaN();
+  ErrorFigure vs_reference;  ///< |w - w_ref| horizontal
+};
+
+/// The attitude checked against physics, without any other estimator: the specific force the
+/// accelerometer measured against the one an attitude implies, f = R(phi, theta, psi)^T (a - g),
+/// with a the acceleration the GNSS velocity shows (NED, a straight-line fit over
+/// +-kSpecificForceSpan s of fixes at their time of validity) and the accelerometer averaged over
+/// the same span. The residual's x and y components over g are the pitch and roll errors the
+/// attitude must have (small angles, near-level flight: pitch error = -res_x / g, roll error =
+/// res_y / g), plus the accelerometer's bias, its misalignment and the GNSS's acceleration error,
+/// which are the same for every attitude checked: an attitude that needs a large constant tilt
+/// needs an implausible accelerometer bias instead (0.1 m/s^2 is 0.6 deg). The estimator fuses
+/// the same sensors, so this checks consistency, not truth; it decides between two estimates of
+/// one flight (the estimate's and the reference's).
+struct SpecificForceCheck {
+  std::string absent;                           ///< "" when checked, else why not
+  std::string rule;                             ///< what was compared where
+  std::size_t epochs = 0;                       ///< check epochs (every kSpecificForceStep s of the window with enough fixes)
+  ErrorFigure pitch, roll;                      ///< the estimate's implied tilt errors, deg
+  ErrorFigure reference_pitch, reference_roll;  ///< the reference's, deg (samples 0 without a reference)
+};
+
+/// One anomaly the report shows, explained in one line where it shows (replay_notes*.cpp). Each is
+/// derived from the run's data by a stated rule, a threshold on a measured figure (constants
+/// below), never from the flight's name: the reference's altitude on another datum, a sensor
+/// rejected and what its data show, an attitude gap that the physics check puts on one side, a
+/// NIS far from 1 and the setting behind it.
+struct ReportNote {
+  /// The figures it explains, as replay_report.json names them ("reference.position_vertical",
+  /// "measurements.mag", "estimator.models.mag"): the JSON objects get it as their "note"; the
+  /// printed table shows it under the row of the first.
+  std::vector<std::string> where;
+  std::string text;  ///< one line: what was measured, what the data say caused it, whether it is a defect
+};
+
+/// Note rules (replay_notes*.cpp).
+constexpr double kDatumOffsetNote = 10.0;  ///< m: |median reference - estimate altitude| above this: another datum
+constexpr double kDatumMatch = 3.0;        ///< m: |median| below this: the reference's altitude is that candidate datum
+constexpr double kAttitudeGapNote = 2.0;   ///< deg RMS of roll or pitch against the reference: the physics check says whose
+constexpr double kRefereeMargin = 1.25;    ///< one attitude's specific-force RMS this many times the other's: that one is off
+constexpr double kRejectedNote = 0.5;      ///< share of a magnetometer model's samples rejected
+constexpr double kFieldOffNote = 0.15;     ///< |measured / the Earth's field - 1| beyond this: not the Earth's field alone
+constexpr double kMagSilentNote = 10.0;    ///< s: no magnetometer fused for this long before the window's end is said
+constexpr double kYawGapNote = 10.0;       ///< deg RMS of yaw against the reference: the GNSS course says whose
+constexpr double kLowNisNote = 0.3;        ///< mean NIS below: the filter allows that sensor more noise than it has
+constexpr double kHighNisNote = 3.0;       ///< mean NIS above: less noise than it has, or a sensor that disagrees
+constexpr double kSlowImuNote = 0.02;      ///< s: a median IMU interval longer than this is named in the attitude notes
+
+struct ReplayReport {
+  std::filesystem::path run_dir;
+  double replay_start_s = 0.0, replay_end_s = 0.0;  ///< state.csv's first and last t
+  ReplayWindow window;
+  Validity validity;
+  std::vector<MeasurementReport> measurements;  ///< empty: innovations.csv absent
+  std::string measurements_absent;
+  EstimatorCounters counters;
+  ReferenceComparison reference;
+  GnssComparison gnss;
+  WindReport wind;
+  SpecificForceCheck specific_force;
+  std::vector<ReportNote> explanations;  ///< the anomalies above, each explained (replay_notes.cpp)
+  std::vector<std::string> notes;        ///< partial last lines and the like
+};
+
+/// Builds the report of a finished replay's run directory. Throws ConfigError (see above).
+ReplayReport make_replay_report(const std::filesystem::path& run_dir);
+
+/// The table `tern replay` prints (plain text, lines of at most ~100 characters, ends with '\n').
+std::string format_replay_table(const ReplayReport& report);
+
+/// Everything in the report, each figure with its rule and sample count (replay_report.json); a
+/// figure an explanation is about gets it as "note", and "notes" lists every explanation as
+/// "where: text" after the partial-line notes.
+nlohmann::json to_json(const ReplayReport& report);
+
+/// Writes to_json(report) as run_dir/replay_report.json (2-space indent). Throws ConfigError
+/// "path: cannot write" on failure.
+void write_replay_report(const ReplayReport& report);
+
+}  // namespace tern::core

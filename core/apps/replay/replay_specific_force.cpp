@@ -1,0 +1,124 @@
+// The replay report's physics check of the attitude (replay_report.hpp, SpecificForceCheck): the
+// accelerometer's specific force against R^T (a - g) with a from the GNSS velocity, for the
+// estimate and for the reference.
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "replay/replay_report_parts.hpp"
+#include "tern/math.hpp"
+
+namespace tern::core::replay_report {
+
+namespace {
+
+constexpr std::size_t kMinFixes = 4;    ///< fixes within the span for a velocity slope
+constexpr std::size_t kMinImu = 4;      ///< accelerometer samples within the span
+constexpr double kMinCheckSpeed = 5.0;  ///< m/s of GNSS horizontal speed: in flight
+
+/// Slope of y over x by least squares (x centred on x0); NaN with fewer than two distinct x.
+double slope(const std::vector<double>& x, const std::vector<double>& y, double x0) {
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double u = x[i] - x0;
+    sx += u, sy += y[i], sxx += u * u, sxy += u * y[i];
+  }
+  const double d = n * sxx - sx * sx;
+  return d > 1e-12 ? (n * sxy - sx * sy) / d : NAN;
+}
+
+/// The GNSS acceleration (NED, m/s^2) at t from the fixes within the span, or nullopt.
+std::optional<Eigen::Vector3d> gnss_acceleration(const CsvTable& g, const FixTimes& times, double t) {
+  std::vector<double> x, vn, ve, vd;
+  const auto &fix = g.at("fix_type"), &n = g.at("vel_n"), &e = g.at("vel_e"), &d = g.at("vel_d");
+  double speed = 0.0;
+  for (std::size_t k = 0; k < g.rows; ++k) {
+    if (std::fabs(times.tov[k] - t) > kSpecificForceSpan || !(fix[k] >= 3.0) || !std::isfinite(n[k] + e[k] + d[k])) continue;
+    x.push_back(times.tov[k]), vn.push_back(n[k]), ve.push_back(e[k]), vd.push_back(d[k]);
+    speed = std::max(speed, std::hypot(n[k], e[k]));
+  }
+  if (x.size() < kMinFixes || speed < kMinCheckSpeed) return std::nullopt;
+  const Eigen::Vector3d a(slope(x, vn, t), slope(x, ve, t), slope(x, vd, t));
+  return a.allFinite() ? std::optional(a) : std::nullopt;
+}
+
+/// The accelerometer's mean specific force (m/s^2, its own axes) within the span about t.
+std::optional<Eigen::Vector3d> mean_specific_force(const CsvTable& imu, double t) {
+  const auto [first, last] = index_range(imu.at("time"), t - kSpecificForceSpan, t + kSpecificForceSpan);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::size_t n = 0;
+  for (std::size_t k = first; k < last; ++k) {
+    const Eigen::Vector3d f(imu.at("accel_x")[k], imu.at("accel_y")[k], imu.at("accel_z")[k]);
+    if (f.allFinite()) sum += f, ++n;
+  }
+  return n >= kMinImu ? std::optional<Eigen::Vector3d>(sum / static_cast<double>(n)) : std::nullopt;
+}
+
+/// The state's roll, pitch, yaw at t, or nullopt (no bracket, not valid on both sides, NaN).
+std::optional<Eigen::Vector3d> state_attitude(const CsvTable& s, double t) {
+  const auto b = bracket(s.at("time"), t, kMaxGap);
+  if (!b || !(s.at("valid")[b->k] > 0.5 && s.at("valid")[b->f == 0.0 ? b->k : b->k + 1] > 0.5)) return std::nullopt;
+  const Eigen::Vector3d e(lerp(s.at("phi"), *b, true), lerp(s.at("theta"), *b, true), lerp(s.at("psi"), *b, true));
+  return e.allFinite() ? std::optional(e) : std::nullopt;
+}
+
+/// The reference's attitude, each angle between its own samples.
+struct ReferenceAttitude {
+  Series phi, theta, psi;
+  explicit ReferenceAttitude(const CsvTable& r) : phi(r, "phi"), theta(r, "theta"), psi(r, "psi") {}
+  std::optional<Eigen::Vector3d> at(double t) const {
+    const Eigen::Vector3d e(interpolate(phi.t, phi.v, t, kMaxGap, true), interpolate(theta.t, theta.v, t, kMaxGap, true),
+                            interpolate(psi.t, psi.v, t, kMaxGap, true));
+    return e.allFinite() ? std::optional(e) : std::nullopt;
+  }
+};
+
+/// Adds the implied pitch and roll errors (deg) of an attitude (roll, pitch, yaw) at one epoch.
+void add_epoch(const Eigen::Vector3d& euler, const Eigen::Vector3d& a, const Eigen::Vector3d& f, ErrorSum& pitch, ErrorSum& roll) {
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(euler.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(euler.y(), Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(euler.x(), Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();  // body FRD -> NED
+  const Eigen::Vector3d res = f - R.transpose() * (a - Eigen::Vector3d(0.0, 0.0, kStandardGravity));
+  pitch.add(-res.x() / kStandardGravity * kDegPerRad);
+  roll.add(res.y() / kStandardGravity * kDegPerRad);
+}
+
+}  // namespace
+
+SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCounters& c, const ReplayWindow& w) {
+  SpecificForceCheck out;
+  if (!run.imu || !run.imu->has("accel_x")) out.absent = "absent (no accelerometer in topics/imu.csv)";
+  if (!run.gnss) out.absent = "absent (no topics/gnss.csv)";
+  if (!out.absent.empty()) return out;
+  const FixTimes times = fix_times(run, c, w);
+  const bool ref = run.reference && run.reference->has("phi") && run.reference->has("theta") && run.reference->has("psi");
+  const std::optional<ReferenceAttitude> reference = ref ? std::optional<ReferenceAttitude>(*run.reference) : std::nullopt;
+  ErrorSum pitch, roll, ref_pitch, ref_roll;
+  for (double t = w.start_s + kSpecificForceSpan; t <= w.end_s - kSpecificForceSpan; t += kSpecificForceStep) {
+    const auto a = gnss_acceleration(*run.gnss, times, t);
+    const auto f = a ? mean_specific_force(*run.imu, t) : std::nullopt;
+    const auto est = f ? state_attitude(run.state, t) : std::nullopt;
+    if (!est) continue;
+    ++out.epochs;
+    add_epoch(*est, *a, *f, pitch, roll);
+    if (const auto r = reference ? reference->at(t) : std::nullopt) add_epoch(*r, *a, *f, ref_pitch, ref_roll);
+  }
+  const std::string mount =
+      run.params.values.count(c.instance + ".imu_mount") ? run.params.values.at(c.instance + ".imu_mount").front().second : "unknown";
+  out.rule = fmt::format(
+      "every {} s of the window where the GNSS (>= {} fixes with fix_type >= 3 within +-{} s at their time of validity, "
+      "{} m/s or faster) gives the acceleration a by a straight-line fit of its velocity and the accelerometer (imu.csv, its own "
+      "axes; imu_mount {} not applied) its mean over the same span: pitch error -res_x / g, roll error res_y / g of res = f_imu - "
+      "R(phi, theta, psi)^T (a - g), g = {} m/s^2; the attitude interpolated at the epoch (the state where valid)",
+      kSpecificForceStep, kMinFixes, kSpecificForceSpan, kMinCheckSpeed, mount, kStandardGravity);
+  out.pitch = pitch.figure("deg", out.rule);
+  out.roll = roll.figure("deg", out.rule);
+  out.reference_pitch = ref_pitch.figure("deg", ref ? out.rule : "no reference attitude");
+  out.reference_roll = ref_roll.figure("deg", ref ? out.rule : "no reference attitude");
+  return out;
+}
+
+}  // namespace tern::core::replay_report

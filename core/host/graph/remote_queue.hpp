@@ -1,0 +1,90 @@
+// core/host/graph/remote_queue.hpp: parameter changes and mission edits from other threads, applied
+// between ticks.
+//
+// The command line (`tern serve`), the DDS bridge and the host API queue them from any thread;
+// the flight thread applies them at the start of the next tick (apply()), so a plugin never
+// sees a value change during its step. Parameter values arrive validated (the parameter's
+// ParamSpec) and are applied in arrival order; every change is recorded with the tick's time
+// and its source ("cli", "dds"). Mission edits are published on topic `mission_edit` by the
+// host's own output, one per tick (a port holds one message), in arrival order; the path
+// planner applies them. Requests queued between flights are applied at the first tick of the
+// next flight. Pilot input (the console's sticks and switches) is a latest-value slot: the newest
+// msg::Rc set before a tick is published on topic `pilot` at its start (sim_aero reports it on
+// `rc`); older ones are dropped, as a receiver drops stale frames.
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <spdlog/fwd.h>
+
+#include "tern/msg/mission.hpp"
+#include "tern/msg/sensors.hpp"
+#include "tern/param.hpp"
+#include "tern/port.hpp"
+
+namespace tern::core {
+
+class RemoteQueue {
+ public:
+  /// Records one applied change: flight time, qualified name ("slc.roll_kp"), the parameter
+  /// (holding its new value), source.
+  using ParamRecorder = std::function<void(Nanos, const std::string&, const ParamBase&, const std::string&)>;
+
+  /// Queues `param` = `value` (already validated by param.validate()). Any thread.
+  void request_param(ParamBase& param, std::string qualified_name, ParamValue value, std::string source);
+  /// Whether the port graph took the output for mission edits (some plugin reads `mission_edit`).
+  bool takes_mission_edits() const { return mission_edit_out_ != nullptr; }
+  /// Queues a mission edit (takes_mission_edits() first). Any thread.
+  void edit_mission(const msg::MissionEdit& edit);
+
+  /// Queues the operator's go-around, from `source` (any thread); the flight thread takes it with
+  /// take_go_around() and hands it to the phase machine.
+  void request_go_around(std::string source);
+  std::optional<std::string> take_go_around();
+
+  /// Whether the port graph took the output for pilot input (some plugin reads `pilot`).
+  bool takes_pilot() const { return pilot_out_ != nullptr; }
+  /// Replaces the pending pilot input (takes_pilot() first). Any thread.
+  void set_pilot(const msg::Rc& rc);
+  /// A fresh output for topic `pilot`, to offer to the next port graph; keep_pilot_output as below.
+  const OutputBase* renew_pilot_output();
+  void keep_pilot_output(bool taken);
+
+  /// A fresh output for topic `mission_edit` (sequence 0), to offer to the next port graph.
+  const OutputBase* renew_mission_edit_output();
+  /// After the graph is built: whether it took the output (else it is dropped).
+  void keep_mission_edit_output(bool taken);
+
+  /// On the flight thread, at the start of a tick at flight time `now`: publishes the pending
+  /// pilot input and the first queued mission edit and applies every queued parameter change, recording each with
+  /// `record`. A value the parameter refuses now is logged as an error and not applied.
+  void apply(Nanos now, const ParamRecorder& record, spdlog::logger& log);
+  /// Before a flight's start(): applies the queued changes of start-only parameters (asked for
+  /// between flights), recorded at t = 0; the live ones stay queued for the first tick.
+  void apply_start_only(const ParamRecorder& record, spdlog::logger& log);
+
+ private:
+  struct ParamRequest {
+    ParamBase* param;
+    std::string name;
+    ParamValue value;
+    std::string source;
+  };
+  std::mutex mu_;
+  std::vector<ParamRequest> params_;      // under mu_
+  std::vector<msg::MissionEdit> edits_;   // under mu_
+  std::optional<msg::Rc> pilot_;          // under mu_
+  std::optional<std::string> go_around_;  // under mu_
+  std::atomic<bool> go_around_pending_{false};
+  std::atomic<bool> pending_{false};  // something is queued
+  std::unique_ptr<Output<msg::MissionEdit>> mission_edit_out_;
+  std::unique_ptr<Output<msg::Rc>> pilot_out_;
+};
+
+}  // namespace tern::core

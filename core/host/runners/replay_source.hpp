@@ -1,0 +1,57 @@
+// core/host/runners/replay_source.hpp: plays a sensor log's topics (docs/sensor-log.md: a tern flight log,
+// or a real flight `tern import` wrote) back into the port graph, for `tern replay LOG`.
+//
+// A built-in I/O instance named `replay`. At configure it reads LOG/topics/<t>.csv for the sensor
+// topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the estimator's
+// side-force model reads; played one tick late, as a feedback edge is seen in flight), the
+// simulator's `truth` and another estimator's `reference` (those present), mapping columns by
+// name onto the message layout (a unit in brackets must be the layout's; a column the table lacks
+// keeps the message's default, NaN for the reference); at each tick it publishes every row whose
+// time `t` is <= now, in order. The values are bit-exact: the log writes doubles in shortest
+// round-trip form. Rows whose time goes backwards are dropped and rows holding NaN are played
+// (the estimator rejects them), each kind counted in one warning per file; a last line without a
+// line end (a flight killed while writing it) is dropped with one warning; a short row or a cell
+// that is not a number is an error naming file, line and column.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "tern/plugin.hpp"
+
+namespace tern::core {
+
+class ReplaySource final : public Plugin {
+ public:
+  explicit ReplaySource(std::filesystem::path run_dir);
+  ~ReplaySource() override;
+  void configure() override;
+  void start() override;
+  void reset() override { start(); }
+  void step(Nanos now) override;
+  /// Flight time of the last recorded IMU sample (0 if none).
+  Nanos end_time() const { return end_; }
+
+  struct TrackBase {
+    virtual ~TrackBase() = default;
+    virtual void publish_until(Nanos now) = 0;
+    virtual void rewind() = 0;
+    virtual Nanos last_time() const = 0;
+    /// Why the CSV's last line was dropped ("" if it was complete).
+    virtual const std::string& partial_last_line() const = 0;
+    /// Rows dropped (time going backwards) or holding NaN, one line per kind with counts.
+    virtual const std::vector<std::string>& warnings() const = 0;
+    /// A topic the flight's controllers wrote after the estimator had run (actuators): it is
+    /// played back one tick late, as the estimator saw it in flight.
+    bool feedback = false;
+  };
+
+ private:
+  std::filesystem::path dir_;
+  std::vector<std::unique_ptr<TrackBase>> tracks_;
+  Nanos end_ = 0;
+};
+
+}  // namespace tern::core
