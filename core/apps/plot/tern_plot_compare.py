@@ -43,7 +43,7 @@ def sensor_profile(run):
 
 def run_facts(run):
     """{mission, mission_file, sensor_profile, duration_s, seed, aircraft} of one loaded run
-    (tern-plot's load_run); None where the run does not say."""
+    (tern_plot_load.py's load_run); None where the run does not say."""
     s, cfg = run["summary"], run["config"]
     mission_cfg = cfg.get("mission") if isinstance(cfg.get("mission"), dict) else {}
     duration = s.get("duration_s")
@@ -177,7 +177,7 @@ def param_differences(a, b):
 
 
 def compare(a, b):
-    """What differs between runs a and b (tern-plot's loaded runs): {a, b, facts (fact_differences),
+    """What differs between runs a and b (tern_plot_load.py's loaded runs): {a, b, facts (fact_differences),
     setup, params, missions_differ}."""
     fa, fb = run_facts(a), run_facts(b)
     facts = fact_differences(fa, fb)

@@ -90,8 +90,8 @@ def _number(x):
 
 class Fleet:
     """The fleet's figures (tracks.png, altitude.png, separation.png) from the vehicles' loaded
-    runs; helpers: tern-plot's drawing functions (new_figure, finish, save, plot_ts, plt, est,
-    last_origin, RUN_COLOURS)."""
+    runs; helpers: the drawing functions of tern_plot_draw.py (new_figure, finish, save, plot_ts, plt,
+    est, RUN_COLOURS) and tern_plot_load.py's last_origin."""
 
     def __init__(self, helpers):
         self.h = helpers

@@ -50,7 +50,7 @@ class Topic:
 _HEADER_RE = re.compile(r"^\s*(.*?)\s*(\[[^\]]*\])?\s*$")
 
 
-# Runs logged as MCAP only have their tables exported outside the run (tern-plot's
+# Runs logged as MCAP only have their tables exported outside the run (tern_plot_load.py's
 # tables_from_mcap): real path of the run directory -> the directory of its tables.
 EXPORTED_TOPICS = {}
 

@@ -26,9 +26,11 @@ import tempfile
 import unittest
 
 # (test_tern_plot re-executes with Debian's python3 when numpy is missing)
-from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, TP, np, png_size, run_plot, write_csv
+from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv
 from test_plot_reference import ned_to_lla  # noqa: E402  (the test's own inverse of lla_to_ned)
 from test_plot_flight import log_dir_of, run  # noqa: E402
+import tern_plot_draw as TDraw  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
+import tern_plot_load as TLoad  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # core/apps/plot/ -> the repository
 TERN = sys.argv[1] if __name__ == "__main__" and len(sys.argv) > 1 and not sys.argv[1].startswith("-") else None
@@ -289,14 +291,14 @@ class FlownFleet(unittest.TestCase):
         path = os.environ["PATH"]
         os.environ["PATH"] = os.path.dirname(os.path.abspath(TERN)) + os.pathsep + path
         try:
-            TP.check_run_dir(src)  # MCAP only: its tables exported (tern export csv, tern on PATH) for this process
+            TLoad.check_run_dir(src)  # MCAP only: its tables exported (tern export csv, tern on PATH) for this process
         finally:
             os.environ["PATH"] = path
-        ctx = TP.load_run(src, False)
+        ctx = TLoad.load_run(src, False)
         ctx["truth"] = None
-        fleet = TF.Fleet({"est": TP.est, "last_origin": TP.last_origin})
+        fleet = TF.Fleet({"est": TDraw.est, "last_origin": TLoad.last_origin})
         world = TL.read_topic(os.path.join(self.fleet, "uav1"), "truth", TL.STATE_FIELDS)
-        origin = TP.last_origin(world)
+        origin = TLoad.last_origin(world)
         source, t, p = fleet.track({"name": "uav2", "run": ctx}, origin)
         self.assertEqual(source, "estimated")
         truth = TL.read_topic(src, "truth", ["p_n", "p_e", "p_d"])

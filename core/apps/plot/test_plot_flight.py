@@ -25,8 +25,11 @@ import sys
 import tempfile
 import unittest
 
-from test_tern_plot import SCRIPT, TP, np  # (re-executes with Debian's python3 when numpy is missing)
+from test_tern_plot import SCRIPT, np  # (re-executes with Debian's python3 when numpy is missing)
 import tern_plot_landing as TLand  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
+import tern_plot_errors as TErrors  # noqa: E402
+import tern_plot_load as TLoad  # noqa: E402
+import tern_plot_log as TL  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))))  # core/apps/plot/ -> the repository
 TERN = None
@@ -141,7 +144,7 @@ class Flights(unittest.TestCase):
         cls.land = log_dir_of(run([TERN, "fly", paths["plot_land"], "--log-dir", logs, "-q"]).stdout)
         cls.plots_land = plot("--strict", cls.land)
         cls.sa = summary(cls.a)
-        TP.NOTES.clear()
+        TL.NOTES.clear()
 
     @classmethod
     def tearDownClass(cls):
@@ -168,7 +171,7 @@ class Flights(unittest.TestCase):
 
     def test_actuator_limits_follow_the_controller_and_saturation_is_shaded(self):
         delta_a, t = column(self.a, "actuators", "delta_a")
-        lo, hi, sources = TP.actuator_limits(self.sa, TP.read_params(self.a), t)["delta_a"]
+        lo, hi, sources = TL.actuator_limits(self.sa, TL.read_params(self.a), t)["delta_a"]
         t_cruise = next(p["start_s"] for p in self.sa["phases"] if p["phase"] == "cruise")
         self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
         np.testing.assert_array_equal(hi[t >= t_cruise + 0.01], 0.15)
@@ -177,7 +180,7 @@ class Flights(unittest.TestCase):
         with np.errstate(invalid="ignore"):  # no limit (NaN) before the first controller flies
             at_limit = (delta_a >= hi * (1 - 1e-4)) | (delta_a <= lo * (1 - 1e-4))
         self.assertGreater(np.sum(at_limit & (t > t_cruise)), 100, "ctl's aileron never at its 0.15 rad limit")
-        spans = TP.saturation_spans(t, delta_a, lo, hi)
+        spans = TL.saturation_spans(t, delta_a, lo, hi)
         shaded = np.zeros(len(t), bool)
         for t0, t1 in spans:
             shaded |= (t >= t0) & (t < t1)
@@ -188,10 +191,10 @@ class Flights(unittest.TestCase):
         self.assertIn("controller limit (ctl.max_a, slc.max_a; params.csv)", legend)
 
     def test_waypoints_as_flown_include_the_failsafe_loiter(self):
-        lists = TP.flown_waypoints(self.a)
+        lists = TL.flown_waypoints(self.a)
         self.assertGreaterEqual(len(lists), 2)
         self.assertEqual(lists[0][2].tolist(), [[-150, 150, -40], [-150, -100, -40], [100, 0, -40]])
-        added = TP.added_waypoints(lists)
+        added = TL.added_waypoints(lists)
         self.assertEqual(len(added), 1)
         k, t_add = added[0]
         fs = next(f for f in self.sa["failsafes"] if f["cause"] == "gnss_loss")
@@ -200,9 +203,9 @@ class Flights(unittest.TestCase):
         self.assertIn("added in flight", figures(self.plots_a)["ground_track.png"]["legend"])
 
     def test_sigma_bands_hold_the_errors(self):
-        TP.NOTES.clear()
-        ctx = TP.load_run(self.a, False)
-        tc, errs = TP.instance_errors(ctx, ctx["estimators"][0])
+        TL.NOTES.clear()
+        ctx = TLoad.load_run(self.a, False)
+        tc, errs = TErrors.instance_errors(ctx, ctx["estimators"][0])
         for key in ("n", "e", "h", "phi", "theta", "psi"):
             e, sig = errs[key]
             ok = np.isfinite(e) & np.isfinite(sig) & (tc > 20.0)
@@ -236,12 +239,12 @@ class Flights(unittest.TestCase):
         fig = figures(self.plots_r2)["estimation_errors.png"]
         self.assertEqual(sorted(fig["rmse"]), ["ekf", "ekf_b"])
         self.assertIn("ekf_b estimated", figures(self.plots_r2)["altitude.png"]["legend"])
-        TP.NOTES.clear()
-        inst = TP.load_run(self.r2, False)["estimators"]
+        TL.NOTES.clear()
+        inst = TLoad.load_run(self.r2, False)["estimators"]
         self.assertEqual([e["name"] for e in inst], ["ekf", "ekf_b"])
         self.assertNotEqual(inst[0]["colour"], inst[1]["colour"])
-        cfg, source = TP.read_config(self.r1)
-        inst = TP.load_estimators(self.r1, cfg, source)
+        cfg, source = TL.read_config(self.r1)
+        inst = TL.load_estimators(self.r1, cfg, source)
         self.assertEqual([e["name"] for e in inst],
                          ["ekf (replayed)", f"ekf (recorded in flight {os.path.basename(self.a)})"])
 
@@ -270,8 +273,8 @@ class Flights(unittest.TestCase):
         self.assertIn(f"touchdown t {m['touchdown_t_s']:.1f} s (metrics.landing, truth): {m['touchdown_along_m']:+.1f} m "
                       f"along, {m['touchdown_across_m']:+.1f} m across the touchdown point", " ".join(fig["legend"]))
         self.assertNotIn("landing.png", [f for f in figures(self.plots_a)])  # no land item: none
-        TP.NOTES.clear()
-        ctx = TP.load_run(self.land, False)
+        TL.NOTES.clear()
+        ctx = TLoad.load_run(self.land, False)
         spans = TLand.phase_spans(ctx)
         spec = TLand.land_item(ctx, spans)  # the manager's aim point: land_aim_offset_m short of the item (0, 0, 0)
         # from home, on the runway its range finder measured on the final (runway_altitude_m) or at home's altitude

@@ -17,9 +17,12 @@ import tempfile
 import unittest
 
 # (test_tern_plot re-executes with Debian's python3 when numpy is missing)
-from test_tern_plot import TP, np, run_plot, write_landing_run, write_run
+from test_tern_plot import np, run_plot, write_landing_run, write_run
 import tern_plot_angles as TA  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
 import tern_plot_compare as TC  # noqa: E402
+import tern_plot_draw as TDraw  # noqa: E402
+import tern_plot_log as TL  # noqa: E402
+import tern_plot_output as TOutput  # noqa: E402
 from matplotlib.legend import Legend  # noqa: E402
 
 
@@ -34,18 +37,18 @@ def edit(path, old, new):
 
 def watched(run_dirs, out_dir, look, draw=None):
     """{figure file (below out_dir): look(fig)}: tern-plot's figures of run_dirs (one run or an overlay; or
-    draw(run_dirs, out_dir), e.g. TP.plot_fleet), drawn in this process with its save() watching."""
-    seen, save = {}, TP.save
+    draw(run_dirs, out_dir), e.g. TOutput.plot_fleet), drawn in this process with tern_plot_draw.save watching."""
+    seen, save = {}, TDraw.save
 
     def watch(fig, out, fname, *args, **kw):
         seen[os.path.relpath(os.path.join(out["dir"], fname), out_dir)] = look(fig)
         return save(fig, out, fname, *args, **kw)
-    TP.save = watch
+    TDraw.save = watch
     try:
-        (draw or TP.plot_runs)(run_dirs, out_dir)
+        (draw or TOutput.plot_runs)(run_dirs, out_dir)
     finally:
-        TP.save = save
-        TP.NOTES.clear()
+        TDraw.save = save
+        TL.NOTES.clear()
     return seen
 
 
@@ -152,7 +155,7 @@ class NothingHidden(unittest.TestCase):
         write_fleet(fleet)
         each = ["ground_track.png", "altitude.png", "airspeed.png", "course.png", "roll_pitch.png"]
         self.check(fleet, [f"{v}/{f}" for v in ("uav1", "uav3") for f in each + ["estimation_errors.png"]]
-                   + [f"uav2/{f}" for f in each] + ["tracks.png", "altitude.png", "separation.png"], draw=TP.plot_fleet)
+                   + [f"uav2/{f}" for f in each] + ["tracks.png", "altitude.png", "separation.png"], draw=TOutput.plot_fleet)
 
     def test_a_flight_and_its_overlay(self):
         a, b = os.path.join(self.tmp, "a"), os.path.join(self.tmp, "b")

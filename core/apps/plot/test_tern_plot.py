@@ -48,6 +48,10 @@ TP = load_module()  # it puts its modules (tern_plot_*.py, beside it) on sys.pat
 import tern_plot_log as TL  # noqa: E402
 import tern_plot_mission as TM  # noqa: E402
 import tern_plot_yaml as TY  # noqa: E402
+import tern_plot_angles as TA  # noqa: E402
+import tern_plot_draw as TDraw  # noqa: E402
+import tern_plot_errors as TErrors  # noqa: E402
+import tern_plot_track as TTrack  # noqa: E402
 
 STATE_HEADER = ["t [s]", "stamp [ns]", "p_n [m]", "p_e [m]", "p_d [m]", "u [m/s]", "v [m/s]", "w [m/s]",
                 "phi [rad]", "theta [rad]", "psi [rad]", "Va [m/s]", "alpha [rad]", "chi [rad]",
@@ -366,8 +370,8 @@ class TernPlotRuns(unittest.TestCase):
         self.assertEqual(notes, ["tern plot: note: topics/state.csv: the last line is partial "
                                  "(no line end: the flight was cut off while writing it): dropped"])
         self.assertIsNotNone(png_size(os.path.join(run, "plots", "ground_track.png")))
-        TP.NOTES.clear()
-        topic = TP.read_topic(run, "state", ["w_e"])
+        TL.NOTES.clear()
+        topic = TL.read_topic(run, "state", ["w_e"])
         self.assertEqual(len(topic), len(rows) - 1)
         self.assertEqual(topic.get("w_e")[-1], float(rows[-1].split(",")[-1]))
 
@@ -440,14 +444,14 @@ class Pieces(unittest.TestCase):
         os.makedirs(run)
         with open(os.path.join(run, "config.yaml"), "w") as f:
             f.write(f"# resolved from {cfg_dir}/mine.yaml\nname: x\nmission:\n  file: hourglass.yaml\n")
-        wps, loop = TP.mission_waypoints(run, None, None)  # no state: origin from nowhere
+        wps, loop = TM.mission_waypoints(run, None, None)  # no state: origin from nowhere
         self.assertTrue(loop)
         self.assertEqual(wps.tolist(), [[400, -250, -70], [-400, -50, -70]])  # the lla one needs an origin
         state = TL.Topic("state", {"t": np.array([0.0, 1.0]), "origin_lat": np.array([0.0, ORIGIN[0]]),
                                    "origin_lon": np.array([0.0, ORIGIN[1]]),
                                    "origin_alt": np.array([0.0, ORIGIN[2]]),
                                    "origin_valid": np.array([0.0, 1.0])})
-        wps, _ = TP.mission_waypoints(run, state, None)
+        wps, _ = TM.mission_waypoints(run, state, None)
         self.assertEqual(len(wps), 3)
         np.testing.assert_allclose(wps[2], [0.0, 0.0, -70.0], atol=1e-6)
 
@@ -467,7 +471,7 @@ class Pieces(unittest.TestCase):
                                       {"t_s": 41.0, "from": "ctl", "to": "slc", "reason": "fallback for the rest of the flight: x"}],
              "failsafes": [{"t_s": 50.0, "cause": "gnss_loss", "action": "loiter"},
                            {"t_s": 58.0, "cause": "gnss_back", "action": "none"}]}
-        self.assertEqual(TP.flight_markers(s), [
+        self.assertEqual(TL.flight_markers(s), [
             (12.2, "takeoff; (none) -> slc", "handover"), (30.0, "cruise; slc -> ctl", "handover"),
             (41.0, "fallback: ctl -> slc", "fallback"), (50.0, "failsafe gnss_loss", "failsafe"),
             (58.0, "failsafe gnss_back", "cleared")])
@@ -476,12 +480,12 @@ class Pieces(unittest.TestCase):
         s = {"controller_handovers": [{"t_s": 1.0, "from": "(none)", "to": "slc"}, {"t_s": 3.0, "from": "slc", "to": "ctl"}]}
         params = {"slc.max_a": [(0.0, "0.7")], "ctl.max_a": [(0.0, "0.2"), (4.0, "0.3")]}
         t = np.arange(0.0, 6.0, 0.5)
-        lo, hi, sources = TP.actuator_limits(s, params, t)["delta_a"]
+        lo, hi, sources = TL.actuator_limits(s, params, t)["delta_a"]
         np.testing.assert_array_equal(hi, [np.nan, np.nan, 0.7, 0.7, 0.7, 0.7, 0.2, 0.2, 0.3, 0.3, 0.3, 0.3])
         np.testing.assert_array_equal(lo, -hi)
         self.assertEqual(sources, ["ctl.max_a", "slc.max_a"])
         v = np.array([0.9, 0.0, 0.7, 0.1, 0.1, -0.7, 0.2, 0.2, 0.2, 0.3, 0.1, -0.3])
-        self.assertEqual(TP.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
+        self.assertEqual(TL.saturation_spans(t, v, lo, hi), [(1.0, 1.5), (2.5, 4.0), (4.5, 5.0), (5.5, 6.0)])
 
     def test_landing_approaches_and_the_runway_frame(self):
         import tern_plot_landing as TLand
@@ -514,8 +518,8 @@ class Pieces(unittest.TestCase):
         edit = (20.0, 2, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0], [50.0, 50.0, -60.0]]), np.zeros(3, int),
                 np.zeros(3))
         loiter = (35.0, 3, np.array([[50.0, 50.0, -60.0], [7.0, 8.0, -40.0]]), np.array([0, 1]), np.zeros(2))
-        self.assertEqual(TP.added_waypoints([first]), [])
-        self.assertEqual(TP.added_waypoints([first, edit, loiter]), [(0, 20.0), (1, 35.0)])
+        self.assertEqual(TL.added_waypoints([first]), [])
+        self.assertEqual(TL.added_waypoints([first, edit, loiter]), [(0, 20.0), (1, 35.0)])
 
     def test_waypoint_lists_from_the_log_a_cleared_one_included(self):
         tp = os.path.join(self.tmp, "topics")
@@ -528,28 +532,28 @@ class Pieces(unittest.TestCase):
                   ["t [s]", "stamp [ns]", "revision []", "index []", "w_0 [m|deg]", "w_1 [m|deg]", "w_2 [m|deg]",
                    "lla [bool]", "chi_d [rad]", "use_chi [bool]", "Va_d [m/s]", "type [enum]", "loiter_radius [m]",
                    "loiter_direction []", "loiter_time [s]", "loiter_turns []"], items)
-        lists = TP.flown_waypoints(self.tmp)
+        lists = TL.flown_waypoints(self.tmp)
         self.assertEqual([(t, rev, len(pos)) for t, rev, pos, _, _ in lists], [(0.0, 1, 2), (10.0, 2, 3), (20.0, 3, 0)])
-        self.assertEqual(TP.added_waypoints(lists[:2]), [(2, 10.0)])
-        self.assertEqual(TP.added_waypoints(lists), [])
-        self.assertIsNone(TP.flown_waypoints(os.path.join(self.tmp, "nowhere")))
+        self.assertEqual(TL.added_waypoints(lists[:2]), [(2, 10.0)])
+        self.assertEqual(TL.added_waypoints(lists), [])
+        self.assertIsNone(TL.flown_waypoints(os.path.join(self.tmp, "nowhere")))
 
     def test_euler_sigmas_level_and_banked(self):
         P = np.array([[1e-4, 4e-4, 9e-4]])
-        s = TP.euler_sigmas(P, np.array([0.0]), np.array([0.0]))
+        s = TErrors.euler_sigmas(P, np.array([0.0]), np.array([0.0]))
         np.testing.assert_allclose([x[0] for x in s], [0.01, 0.02, 0.03])
-        s = TP.euler_sigmas(P, np.array([math.pi / 2]), np.array([0.0]))  # banked 90 deg: pitch from body z
+        s = TErrors.euler_sigmas(P, np.array([math.pi / 2]), np.array([0.0]))  # banked 90 deg: pitch from body z
         np.testing.assert_allclose([x[0] for x in s], [0.01, 0.03, 0.02], atol=1e-12)
 
     def test_rmse_window_of_the_summary(self):
         phase = TL.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
         run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase}
-        mask, label = TP.rmse_window(run)
+        mask, label = TL.rmse_window(run)
         t = np.array([5.0, 12.0, 16.0, 25.0, 31.0])
         self.assertEqual(mask(t).tolist(), [False, False, True, False, True])
         self.assertEqual(label, "cruise 15-40 s, as summary.json")
         run["summary"]["metrics"]["window_start_s"] = None
-        mask, label = TP.rmse_window(run)
+        mask, label = TL.rmse_window(run)
         self.assertTrue(mask(t).all())
         self.assertIn("no RMSE window", label)
 
@@ -560,23 +564,23 @@ class Pieces(unittest.TestCase):
         s = math.sin(math.radians(lat))
         m_radius = a * (1 - e2) / (1 - e2 * s * s) ** 1.5     # meridian radius of curvature
         n_radius = a / math.sqrt(1 - e2 * s * s)              # prime vertical
-        n, e, d = TP.lla_to_ned((lat + 0.001, lon, alt), ORIGIN)
+        n, e, d = TM.lla_to_ned((lat + 0.001, lon, alt), ORIGIN)
         self.assertAlmostEqual(n, (m_radius + alt) * math.radians(0.001), delta=0.005)
         self.assertAlmostEqual(e, 0.0, delta=1e-6)
-        n, e, d = TP.lla_to_ned((lat, lon - 0.001, alt + 10.0), ORIGIN)
+        n, e, d = TM.lla_to_ned((lat, lon - 0.001, alt + 10.0), ORIGIN)
         self.assertAlmostEqual(e, -(n_radius + alt) * math.cos(math.radians(lat)) * math.radians(0.001),
                                delta=0.005)
         self.assertAlmostEqual(d, -10.0, delta=0.01)
 
     def test_angle_errors_are_wrapped_across_pi(self):
         t = np.linspace(0.0, 10.0, 101)
-        truth = TP.wrap_pi(3.0 + 0.1 * t)                      # 3.0 .. 4.0 rad: jumps at pi
-        estimate = TP.wrap_pi(3.0 + 0.1 * t + 0.02)            # jumps 0.2 s earlier
-        e = TP.wrap_pi(np.interp(t, t, TP.nan_unwrap(estimate)) - TP.nan_unwrap(truth))
+        truth = TA.wrap_pi(3.0 + 0.1 * t)                      # 3.0 .. 4.0 rad: jumps at pi
+        estimate = TA.wrap_pi(3.0 + 0.1 * t + 0.02)            # jumps 0.2 s earlier
+        e = TA.wrap_pi(np.interp(t, t, TErrors.nan_unwrap(estimate)) - TErrors.nan_unwrap(truth))
         np.testing.assert_allclose(e, 0.02, atol=1e-12)
         with_gap = estimate.copy()
         with_gap[40:50] = np.nan                               # not valid there: a gap, not NaN ever after
-        u = TP.nan_unwrap(with_gap)
+        u = TErrors.nan_unwrap(with_gap)
         self.assertTrue(np.isnan(u[40:50]).all() and np.isfinite(u[50:]).all())
 
     def test_decimation_keeps_the_envelope(self):
@@ -585,8 +589,8 @@ class Pieces(unittest.TestCase):
         v[54321] = 7.0          # one-sample spike
         v[77777] = -3.0
         v[20000:30000] = np.nan  # estimator not valid there
-        td, vd = TP.decimate(t, v)
-        self.assertLessEqual(len(td), TP.MAX_POINTS + 100)
+        td, vd = TDraw.decimate(t, v)
+        self.assertLessEqual(len(td), TDraw.MAX_POINTS + 100)
         self.assertTrue(np.all(np.diff(td) > 0))
         self.assertEqual(np.nanmax(vd), 7.0)
         self.assertEqual(np.nanmin(vd), -3.0)
@@ -594,7 +598,7 @@ class Pieces(unittest.TestCase):
         self.assertTrue(gap.any() and np.all(np.isnan(vd[gap])))
         self.assertFalse(np.isnan(vd[~((td >= 50.0) & (td < 75.0))]).any())
         short = np.arange(10.0)
-        self.assertIs(TP.decimate(short, short)[1], short)
+        self.assertIs(TDraw.decimate(short, short)[1], short)
 
     def test_commanded_segments_cover_the_stretch_flown(self):
         t = np.arange(0.0, 20.0, 0.1)
@@ -606,7 +610,7 @@ class Pieces(unittest.TestCase):
         a = np.clip((t - 10) / 10, 0, 1) * (np.pi / 2)
         pn = np.where(t < 10, 15.0 * t, 200.0 - 50.0 * np.cos(a))
         pe = np.where(t < 10, 0.0, -50.0 * np.sin(a))
-        segs = TP.path_segments(path, (t, pn, pe))
+        segs = TTrack.path_segments(path, (t, pn, pe))
         self.assertEqual(len(segs), 2)
         (le, ln), (oe, on) = segs
         self.assertEqual(ln.tolist(), [0.0, 150.0])
