@@ -72,7 +72,6 @@ struct FailsafeEvent {
 /// The termination command of `action` (max_deflection: rad, the surfaces' stop).
 msg::Actuators termination_command(TerminateAction action, double max_deflection);
 
-
 class FailsafeMonitor {
  public:
   void set_config(const FailsafeConfig& c) { config_ = c; }
