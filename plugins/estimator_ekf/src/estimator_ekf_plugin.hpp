@@ -6,7 +6,7 @@
 // Schedule it with `rate:` at the IMU's rate rather than `trigger: imu`: only a plugin stepped
 // by the clock notices that the IMU went silent.
 // Every figure of EstimatorConfig a mission may set is a parameter, named in
-// EstimatorConfig::describe (estimator.hpp) next to its default; changes apply from the next step.
+// EstimatorConfig::describe (estimator_config.hpp) next to its default; changes apply from the next step.
 #pragma once
 
 #include <array>
