@@ -238,16 +238,11 @@ MissionConfig load_config(const fs::path& file_in) {
   return config_from_yaml(root, file);
 }
 
-MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, const std::string& plugins_key) {
-  MissionConfig c;
-  c.file = file;
-  c.dir = c.file.parent_path();
-  const fs::path& f = c.file;
-  if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
-  c.root = root;
-  check_keys(root, f, "",
-             {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", plugins_key, "phases", "fallback", "phase_machine",
-              "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
+// ---- config_from_yaml's readers, one per section of the mission file, in the order it calls them
+
+namespace {
+
+void read_watchdog(const YAML::Node& root, const fs::path& f, MissionConfig& c) {
   if (const YAML::Node wd = root["watchdog"]) {
     require_map(wd, f, "watchdog");
     check_keys(wd, f, "watchdog", {"soft_ms", "hard_ms"});
@@ -257,7 +252,9 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       throw ConfigError(where(f, wd) + fmt::format("watchdog: need 0 < soft_ms <= hard_ms <= 3600000, got soft_ms {}, hard_ms {}",
                                                    c.watchdog.soft_ms, c.watchdog.hard_ms));
   }
+}
 
+void read_check(const YAML::Node& root, const fs::path& f, MissionConfig& c) {
   if (const YAML::Node ck = root["check"]) {
     require_map(ck, f, "check");
     check_keys(ck, f, "check", {"max_waypoint_distance"});
@@ -267,7 +264,10 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
         throw ConfigError(where(f, d) + "check.max_waypoint_distance: must be > 0 m, got " + str(d));
     }
   }
+}
 
+// name, seed, duration, base_rate, aircraft, plugin_path
+void read_run(const YAML::Node& root, const fs::path& f, MissionConfig& c) {
   c.name = root["name"] ? mission_name(root["name"], f) : c.file.stem().string();
   if (root["seed"]) {
     const auto seed = root["seed"].IsScalar() ? parse_seed(root["seed"].Scalar()) : std::nullopt;
@@ -290,7 +290,35 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       throw ConfigError(where(f, pp) + "plugin_path: expected a directory or a list of directories");
     }
   }
+}
 
+// log.decimated_rate, plot_rate, max_rate, rates: how often each topic is written
+void read_log_rates(const YAML::Node& log, const fs::path& f, MissionConfig& c) {
+  if (log["decimated_rate"]) {
+    c.log.decimated_rate = as_number(log["decimated_rate"], f, "log.decimated_rate");
+    if (!(c.log.decimated_rate > 0)) throw ConfigError(where(f, log["decimated_rate"]) + "log.decimated_rate: must be > 0 Hz");
+  }
+  if (log["plot_rate"]) {
+    c.log.plot_rate = as_number(log["plot_rate"], f, "log.plot_rate");
+    if (!(c.log.plot_rate > 0)) throw ConfigError(where(f, log["plot_rate"]) + "log.plot_rate: must be > 0 Hz");
+  }
+  if (log["max_rate"]) {
+    c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");
+    if (c.log.max_rate < 0) throw ConfigError(where(f, log["max_rate"]) + "log.max_rate: must be >= 0 Hz (0: every message)");
+    if (!log["level"]) c.log.level = LogLevel::full;  // max_rate is level full's: giving it alone asks for that level
+  }
+  if (const YAML::Node rates = log["rates"]) {
+    require_map(rates, f, "log.rates");
+    for (const auto& kv : rates) {
+      const std::string k = kv.first.as<std::string>();
+      const double r = as_number(kv.second, f, "log.rates." + k);
+      if (r < 0) throw ConfigError(where(f, kv.second) + "log.rates." + k + ": must be >= 0 Hz (0: every message)");
+      c.log.rates[k] = r;
+    }
+  }
+}
+
+void read_log(const YAML::Node& root, const fs::path& f, MissionConfig& c) {
   c.log.dir = fs::current_path() / "runs";
   if (root["log"] && root["log"].IsScalar()) {  // `log: summary` is short for `log: {level: summary}`
     YAML::Node m(YAML::NodeType::Map);
@@ -326,28 +354,7 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       if (!level) throw ConfigError(where(f, lv) + "log.level: expected " + log_level_names() + ", got '" + str(lv) + "'");
       c.log.level = *level;
     }
-    if (log["decimated_rate"]) {
-      c.log.decimated_rate = as_number(log["decimated_rate"], f, "log.decimated_rate");
-      if (!(c.log.decimated_rate > 0)) throw ConfigError(where(f, log["decimated_rate"]) + "log.decimated_rate: must be > 0 Hz");
-    }
-    if (log["plot_rate"]) {
-      c.log.plot_rate = as_number(log["plot_rate"], f, "log.plot_rate");
-      if (!(c.log.plot_rate > 0)) throw ConfigError(where(f, log["plot_rate"]) + "log.plot_rate: must be > 0 Hz");
-    }
-    if (log["max_rate"]) {
-      c.log.max_rate = as_number(log["max_rate"], f, "log.max_rate");
-      if (c.log.max_rate < 0) throw ConfigError(where(f, log["max_rate"]) + "log.max_rate: must be >= 0 Hz (0: every message)");
-      if (!log["level"]) c.log.level = LogLevel::full;  // max_rate is level full's: giving it alone asks for that level
-    }
-    if (const YAML::Node rates = log["rates"]) {
-      require_map(rates, f, "log.rates");
-      for (const auto& kv : rates) {
-        const std::string k = kv.first.as<std::string>();
-        const double r = as_number(kv.second, f, "log.rates." + k);
-        if (r < 0) throw ConfigError(where(f, kv.second) + "log.rates." + k + ": must be >= 0 Hz (0: every message)");
-        c.log.rates[k] = r;
-      }
-    }
+    read_log_rates(log, f, c);
     if (log["dir"]) c.log.dir = resolve(c.dir, as_string(log["dir"], f, "log.dir"));
     if (const YAML::Node t = log["topics"]) {
       if (t.IsScalar() && t.Scalar() == "all") {
@@ -360,70 +367,79 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
       }
     }
   }
+}
 
+// One entry of `plugins:` (`coordination:` in a fleet); `names` collects the instance names.
+InstanceConfig read_instance(const YAML::Node& p, std::size_t i, const std::string& plugins_key, const fs::path& f, const fs::path& dir,
+                             std::set<std::string>& names) {
+  const std::string field = plugins_key + "[" + std::to_string(i) + "]";
+  require_map(p, f, field);
+  // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
+  std::vector<std::string> keys{"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"};
+  // an external module's ports are DDS topics (external_spec.hpp)
+  const bool external = p["plugin"] && p["plugin"].IsScalar() && p["plugin"].Scalar() == "external";
+  if (external) keys.insert(keys.end(), external_keys().begin(), external_keys().end());
+  check_keys(p, f, field, keys);
+  InstanceConfig ic;
+  ic.index = i;
+  ic.field = field;
+  ic.node = p;
+  if (!p["plugin"]) throw ConfigError(where(f, p) + field + ": missing key 'plugin' (the plugin to load, e.g. sim_aero)");
+  ic.plugin = as_string(p["plugin"], f, field + ".plugin");
+  ic.name = p["name"] ? as_string(p["name"], f, field + ".name") : ic.plugin;
+  if (const std::string bad = identifier_problem(ic.name); !bad.empty())
+    throw ConfigError(where(f, p["name"] ? p["name"] : p["plugin"]) + field + ".name: " + bad +
+                      (p["name"] ? "" : " (the instance is named after its plugin: give it a name:)"));
+  if (!names.insert(ic.name).second)
+    throw ConfigError(where(f, p["name"] ? p["name"] : p) + field + ".name: instance name '" + ic.name + "' is used twice");
+  if (p["rate"]) ic.rate = as_rate(p["rate"], f, field + ".rate");
+  if (p["trigger"]) ic.trigger = as_string(p["trigger"], f, field + ".trigger");
+  if (ic.rate && ic.trigger) throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
+  if (!ic.rate && !ic.trigger)
+    throw ConfigError(where(f, p) + field + " (" + ic.name + "): missing 'rate' (Hz) or 'trigger' (an input port name)");
+  if (p["budget_us"]) {
+    ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
+    if (!(*ic.budget_us > 0))
+      throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
+  }
+  if (const YAML::Node iso = p["isolate"]) ic.isolate = yaml_bool(iso, f, field + ".isolate");
+  if (const YAML::Node pf = p["param_file"]) {
+    const fs::path pfile = resolve(dir, as_string(pf, f, field + ".param_file"));
+    try {
+      ic.params = load_param_file(pfile, ic.name, ic.plugin);
+    } catch (const ConfigError& e) {
+      if (!fs::exists(pfile)) throw ConfigError(where(f, pf) + field + ".param_file: '" + pfile.string() + "' not found");
+      throw;
+    }
+  }
+  if (const YAML::Node pr = p["params"]) {
+    if (!pr.IsNull()) {
+      require_map(pr, f, field + ".params");
+      for (auto& [k, v] : params_from_map(pr, f, field + ".params", true)) ic.params[k] = v;
+    }
+  }
+  if (const YAML::Node rm = p["remap"]) {
+    require_map(rm, f, field + ".remap");
+    for (const auto& kv : rm)
+      ic.remap[kv.first.as<std::string>()] = as_string(kv.second, f, field + ".remap." + kv.first.as<std::string>());
+  }
+  return ic;
+}
+
+void read_plugins(const YAML::Node& root, const fs::path& f, const std::string& plugins_key, MissionConfig& c) {
   const YAML::Node plugins = root[plugins_key];
   if (!plugins) throw ConfigError(f.string() + ": " + plugins_key + ": missing (the list of plugin instances to load)");
   if (!plugins.IsSequence() || plugins.size() == 0)
     throw ConfigError(where(f, plugins) + plugins_key + ": expected a non-empty list of plugin instances");
   std::set<std::string> names;
-  for (std::size_t i = 0; i < plugins.size(); ++i) {
-    const YAML::Node p = plugins[i];
-    const std::string field = plugins_key + "[" + std::to_string(i) + "]";
-    require_map(p, f, field);
-    // `library` is written by the flight log's resolved config.yaml (where the plugin came from)
-    std::vector<std::string> keys{"name", "plugin", "rate", "trigger", "params", "param_file", "remap", "budget_us", "library", "isolate"};
-    // an external module's ports are DDS topics (external_spec.hpp)
-    const bool external = p["plugin"] && p["plugin"].IsScalar() && p["plugin"].Scalar() == "external";
-    if (external) keys.insert(keys.end(), external_keys().begin(), external_keys().end());
-    check_keys(p, f, field, keys);
-    InstanceConfig ic;
-    ic.index = i;
-    ic.field = field;
-    ic.node = p;
-    if (!p["plugin"]) throw ConfigError(where(f, p) + field + ": missing key 'plugin' (the plugin to load, e.g. sim_aero)");
-    ic.plugin = as_string(p["plugin"], f, field + ".plugin");
-    ic.name = p["name"] ? as_string(p["name"], f, field + ".name") : ic.plugin;
-    if (const std::string bad = identifier_problem(ic.name); !bad.empty())
-      throw ConfigError(where(f, p["name"] ? p["name"] : p["plugin"]) + field + ".name: " + bad +
-                        (p["name"] ? "" : " (the instance is named after its plugin: give it a name:)"));
-    if (!names.insert(ic.name).second)
-      throw ConfigError(where(f, p["name"] ? p["name"] : p) + field + ".name: instance name '" + ic.name + "' is used twice");
-    if (p["rate"]) ic.rate = as_rate(p["rate"], f, field + ".rate");
-    if (p["trigger"]) ic.trigger = as_string(p["trigger"], f, field + ".trigger");
-    if (ic.rate && ic.trigger) throw ConfigError(where(f, p["trigger"]) + field + ": give either rate or trigger, not both");
-    if (!ic.rate && !ic.trigger)
-      throw ConfigError(where(f, p) + field + " (" + ic.name + "): missing 'rate' (Hz) or 'trigger' (an input port name)");
-    if (p["budget_us"]) {
-      ic.budget_us = as_number(p["budget_us"], f, field + ".budget_us");
-      if (!(*ic.budget_us > 0))
-        throw ConfigError(where(f, p["budget_us"]) + field + ".budget_us: must be > 0 us, got " + str(p["budget_us"]));
-    }
-    if (const YAML::Node iso = p["isolate"]) ic.isolate = yaml_bool(iso, f, field + ".isolate");
-    if (const YAML::Node pf = p["param_file"]) {
-      const fs::path pfile = resolve(c.dir, as_string(pf, f, field + ".param_file"));
-      try {
-        ic.params = load_param_file(pfile, ic.name, ic.plugin);
-      } catch (const ConfigError& e) {
-        if (!fs::exists(pfile)) throw ConfigError(where(f, pf) + field + ".param_file: '" + pfile.string() + "' not found");
-        throw;
-      }
-    }
-    if (const YAML::Node pr = p["params"]) {
-      if (!pr.IsNull()) {
-        require_map(pr, f, field + ".params");
-        for (auto& [k, v] : params_from_map(pr, f, field + ".params", true)) ic.params[k] = v;
-      }
-    }
-    if (const YAML::Node rm = p["remap"]) {
-      require_map(rm, f, field + ".remap");
-      for (const auto& kv : rm)
-        ic.remap[kv.first.as<std::string>()] = as_string(kv.second, f, field + ".remap." + kv.first.as<std::string>());
-    }
-    c.plugins.push_back(std::move(ic));
-  }
+  for (std::size_t i = 0; i < plugins.size(); ++i) c.plugins.push_back(read_instance(plugins[i], i, plugins_key, f, c.dir, names));
+}
 
+// phases, fallback, phase_machine: the controllers they name must be instances of `plugins:`
+void read_phases(const YAML::Node& root, const fs::path& f, MissionConfig& c) {
   std::vector<std::string> instance_names;
   for (const auto& ic : c.plugins) instance_names.push_back(ic.name);
+  const std::set<std::string> names(instance_names.begin(), instance_names.end());
   auto check_instance = [&](const YAML::Node& n, const std::string& field) {
     const std::string v = as_string(n, f, field);
     if (!names.count(v))
@@ -454,6 +470,26 @@ MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, con
     require_map(pm, f, "phase_machine");
     c.phase_params = params_from_map(pm, f, "phase_machine", true);
   }
+}
+
+}  // namespace
+
+MissionConfig config_from_yaml(const YAML::Node& root, const fs::path& file, const std::string& plugins_key) {
+  MissionConfig c;
+  c.file = file;
+  c.dir = c.file.parent_path();
+  const fs::path& f = c.file;
+  if (!root.IsMap()) throw ConfigError(where(f, root) + "a mission config is a map of key: value");
+  c.root = root;
+  check_keys(root, f, "",
+             {"name", "seed", "duration", "base_rate", "aircraft", "plugin_path", "log", plugins_key, "phases", "fallback", "phase_machine",
+              "metrics", "mission", "dds", "failsafes", "watchdog", "check"});
+  read_watchdog(root, f, c);
+  read_check(root, f, c);
+  read_run(root, f, c);
+  read_log(root, f, c);
+  read_plugins(root, f, plugins_key, c);
+  read_phases(root, f, c);
   if (const YAML::Node mt = root["metrics"]) {
     require_map(mt, f, "metrics");
     c.metrics_params = params_from_map(mt, f, "metrics", true);
