@@ -154,7 +154,10 @@ function(tern_fcu_serial_add_sil_tests)
     add_test(NAME fcu_sil_mission
              COMMAND ${TERN_FCU_SERIAL_PYTHON} ${TERN_FCU_SERIAL_DIR}/tests/e2e_sil_mission.py
                      $<TARGET_FILE:tern> ${CMAKE_SOURCE_DIR}/configs/missions ${CMAKE_BINARY_DIR}/fcu_sil_e2e)
-    set_tests_properties(fcu_sil_mission PROPERTIES TIMEOUT 900)
+    # RUN_SERIAL: its flights are lockstep (deterministic), its last part is wall clock (`tern fcu
+    # status` over a pty paced as a 921600-baud UART, TIMESYNC answers within 50 ms); run beside
+    # other tests on a 2-core machine it failed once in six whole `make test` runs (output not kept).
+    set_tests_properties(fcu_sil_mission PROPERTIES TIMEOUT 900 RUN_SERIAL ON)
     # flight N on a served host is flight 1 on a fresh host, through the firmware too (tests/)
     add_test(NAME served_flights_default_sil
              COMMAND bash ${CMAKE_SOURCE_DIR}/tests/test_served_flights.sh $<TARGET_FILE:tern>
