@@ -61,9 +61,18 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
     return held;
   }
   if (dt < 0.0) dt = 0.0;
+  enter_mode(mode, x, c, !manual && c.override_phi, !manual && c.override_theta);
+  const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0), saturate(sticks_in.yaw, -1.0, 1.0),
+                  saturate(sticks_in.throttle, 0.0, 1.0)};
+  AutopilotOutput out = mode == Mode::manual_passthrough ? passthrough(x, st) : loops(mode, x, c, st, dt);
+  f_.last = out;
+  f_.have_last = true;
+  return out;
+}
 
-  const bool ovp = !manual && c.override_phi;
-  const bool ovt = !manual && c.override_theta;
+// A new mode or override: the handover starts from the last surfaces; the flare and the rollout
+// take their initial conditions.
+void Autopilot::enter_mode(Mode mode, const VehicleState& x, const Command& c, bool ovp, bool ovt) {
   if (mode != f_.mode || ovp != f_.override_phi || ovt != f_.override_theta) {
     if (f_.have_last && !f_.pending_handover) {
       f_.pending_handover = true;
@@ -79,33 +88,56 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   f_.mode = mode;
   f_.override_phi = ovp;
   f_.override_theta = ovt;
+}
 
-  const Sticks st{saturate(sticks_in.roll, -1.0, 1.0), saturate(sticks_in.pitch, -1.0, 1.0), saturate(sticks_in.yaw, -1.0, 1.0),
-                  saturate(sticks_in.throttle, 0.0, 1.0)};
+// manual_passthrough: the sticks straight to the surfaces; the loops restart from the pilot's
+// command when the autopilot takes over again.
+AutopilotOutput Autopilot::passthrough(const VehicleState& x, const Sticks& st) {
   const auto& L = lateral_.gains();
   const auto& P = pitch_.gains();
   AutopilotOutput out;
+  out.surfaces = limit({st.roll * L.max_a, -st.pitch * P.max_e, -st.yaw * L.max_r, st.throttle});
+  out.phi_c = x.phi;
+  out.theta_c = x.theta;
+  out.delta_t_c = st.throttle;
+  lateral_.reset();
+  pitch_.reset();
+  law_.reset();
+  f_.offset = {};
+  f_.pending_handover = false;
+  return out;
+}
 
-  if (mode == Mode::manual_passthrough) {
-    out.surfaces = limit({st.roll * L.max_a, -st.pitch * P.max_e, -st.yaw * L.max_r, st.throttle});
-    out.phi_c = x.phi;
-    out.theta_c = x.theta;
-    out.delta_t_c = st.throttle;
-    // The loops restart from the pilot's command when the autopilot takes over again.
-    lateral_.reset();
-    pitch_.reset();
-    law_.reset();
-    f_.offset = {};
-    f_.pending_handover = false;
-    f_.last = out;
-    f_.have_last = true;
-    return out;
-  }
-
+// Every mode but manual_passthrough: the roll and pitch loops, the speed law, the bumpless offset.
+AutopilotOutput Autopilot::loops(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, double dt) {
   const bool init = f_.pending_handover;
   const double h = init ? 0.0 : dt;  // the initialising step integrates nothing
+  const LateralOut lat = lateral_step(mode, x, c, st, init, h);
+  AutopilotOutput out;
+  double delta_r = lat.delta_r;
+  const LongitudinalOut lon = longitudinal_step(mode, x, c, st, init, h, delta_r, out.brake);
+  // ---- bumpless offset
+  const Surfaces raw{lat.delta_a, lon.delta_e, delta_r, lon.delta_t};
+  if (init) {
+    f_.offset = {f_.handover_from.delta_a - raw.delta_a, f_.handover_from.delta_e - raw.delta_e, f_.handover_from.delta_r - raw.delta_r,
+                 f_.handover_from.delta_t - raw.delta_t};
+    f_.pending_handover = false;
+  } else if (dt > 0.0) {
+    const double k = s_.handover_tau > 0.0 ? std::exp(-dt / s_.handover_tau) : 0.0;
+    f_.offset = {f_.offset.delta_a * k, f_.offset.delta_e * k, f_.offset.delta_r * k, f_.offset.delta_t * k};
+  }
+  out.surfaces = limit(
+      {raw.delta_a + f_.offset.delta_a, raw.delta_e + f_.offset.delta_e, raw.delta_r + f_.offset.delta_r, raw.delta_t + f_.offset.delta_t});
+  out.phi_c = lat.phi_c;
+  out.theta_c = lon.theta_c;
+  out.delta_t_c = lon.delta_t_c;
+  return out;
+}
 
-  // ---- lateral: roll command, aileron, rudder
+// Lateral: the roll command (course hold, a held angle, wings level), aileron and rudder.
+Autopilot::LateralOut Autopilot::lateral_step(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, bool init, double h) {
+  const auto& L = lateral_.gains();
+  const bool ovp = f_.override_phi;
   double phi_c = 0.0;
   bool use_course = false;
   if (mode == Mode::manual_angle) {
@@ -149,15 +181,21 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   const double delta_a = lateral_.roll(phi_c, x.phi, x.p, h);
   double delta_r = lateral_.yaw_damper(x.r, h);
   if (mode == Mode::manual_angle) delta_r -= st.yaw * L.max_r;
+  return {phi_c, delta_a, delta_r};
+}
 
-  // ---- longitudinal: pitch command and throttle
+// Longitudinal: the pitch command and throttle (flare and rollout, takeoff, held angles, or the
+// speed and altitude law), the elevator; on the rollout also the rudder (delta_r) and the brakes.
+Autopilot::LongitudinalOut Autopilot::longitudinal_step(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, bool init,
+                                                        double h, double& delta_r, double& brake) {
+  const bool ovt = f_.override_theta;
   double theta_c = 0.0, delta_t = 0.0, delta_t_c = 0.0;
   if (mode == Mode::flare || mode == Mode::rollout) {
     const LandingLongitudinal l = landing_step(mode, x, c, h);
     theta_c = l.theta_c;
     delta_t = delta_t_c = l.delta_t;
     if (mode == Mode::rollout) delta_r = l.delta_r;
-    out.brake = l.brake;
+    brake = l.brake;
     law_.reset();
   } else if (mode == Mode::takeoff) {
     if (x.Va >= s_.rotation_Va) f_.rotated = true;
@@ -184,25 +222,7 @@ AutopilotOutput Autopilot::update(Mode mode, const VehicleState& x, const Comman
   if (ground_roll && !init) pitch_.reset();
   if (init) pitch_.initialise(f_.handover_from.delta_e, theta_c, x.theta, x.q);
   const double delta_e = pitch_.update(theta_c, x.theta, x.q, h);
-
-  // ---- bumpless offset
-  const Surfaces raw{delta_a, delta_e, delta_r, delta_t};
-  if (init) {
-    f_.offset = {f_.handover_from.delta_a - raw.delta_a, f_.handover_from.delta_e - raw.delta_e, f_.handover_from.delta_r - raw.delta_r,
-                 f_.handover_from.delta_t - raw.delta_t};
-    f_.pending_handover = false;
-  } else if (dt > 0.0) {
-    const double k = s_.handover_tau > 0.0 ? std::exp(-dt / s_.handover_tau) : 0.0;
-    f_.offset = {f_.offset.delta_a * k, f_.offset.delta_e * k, f_.offset.delta_r * k, f_.offset.delta_t * k};
-  }
-  out.surfaces = limit(
-      {raw.delta_a + f_.offset.delta_a, raw.delta_e + f_.offset.delta_e, raw.delta_r + f_.offset.delta_r, raw.delta_t + f_.offset.delta_t});
-  out.phi_c = phi_c;
-  out.theta_c = theta_c;
-  out.delta_t_c = delta_t_c;
-  f_.last = out;
-  f_.have_last = true;
-  return out;
+  return {theta_c, delta_t, delta_t_c, delta_e};
 }
 
 // The height above the runway: the range finder's when it measures (centimetres), else the altitude

@@ -163,6 +163,19 @@ class Autopilot {
     double theta_c = 0.0, delta_t = 0.0, delta_r = 0.0, brake = 0.0;
   };
   LandingLongitudinal landing_step(Mode mode, const VehicleState& x, const Command& c, double dt);
+  // update()'s steps (autopilot.cpp)
+  void enter_mode(Mode mode, const VehicleState& x, const Command& c, bool override_phi, bool override_theta);
+  AutopilotOutput passthrough(const VehicleState& x, const Sticks& st);
+  AutopilotOutput loops(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, double dt);
+  struct LateralOut {
+    double phi_c, delta_a, delta_r;  ///< rad
+  };
+  LateralOut lateral_step(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, bool init, double h);
+  struct LongitudinalOut {
+    double theta_c, delta_t, delta_t_c, delta_e;  ///< rad, throttle 0..1, rad
+  };
+  LongitudinalOut longitudinal_step(Mode mode, const VehicleState& x, const Command& c, const Sticks& st, bool init, double h,
+                                    double& delta_r, double& brake);
 
   LongitudinalLaw& law_;
   LateralLoops lateral_;
