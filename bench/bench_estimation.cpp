@@ -58,6 +58,7 @@
 #include "tern/math.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/port.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace fs = std::filesystem;
 

@@ -17,6 +17,7 @@
 #include "../test_process.hpp"
 #include "../test_util.hpp"
 #include "replay/replay_report.hpp"
+#include "tern/atmosphere.hpp"
 #include "tern/geodesy.hpp"
 
 using tern::core::make_replay_report;
@@ -287,7 +288,6 @@ void reference_above(const fs::path& run, double above) {
 }
 
 /// The ISA static pressure (Pa) at pressure altitude h (m) against 1013.25 hPa (docs/sensor-log.md).
-double isa_pressure(double h) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588); }
 
 std::string note_at(const ReplayReport& r, const std::string& where) {
   for (const auto& e : r.explanations)
@@ -309,11 +309,13 @@ TEST_CASE("replay report notes: a reference altitude on another datum, said wher
         std::string::npos);
   // a barometer whose ISA pressure altitude is the reference's: a day 56 m of pressure below standard
   std::vector<std::vector<double>> baro;
-  for (int k = 0; k <= 400; ++k) baro.push_back({0.05 * k, std::round(0.05 * k * 1e9), isa_pressure(kOrigin.alt + 20.0 + 56.0), 288.15});
+  for (int k = 0; k <= 400; ++k)
+    baro.push_back({0.05 * k, std::round(0.05 * k * 1e9), tern::isa_pressure(kOrigin.alt + 20.0 + 56.0), 288.15});
   write_csv(run / "topics/baro.csv", "t [s],stamp [ns],pressure [Pa],temperature [K]", baro);
   r = make_replay_report(run);
   note = note_at(r, "reference.position_vertical");
-  const double qnh = isa_pressure(kOrigin.alt + 20.0 + 56.0) / std::pow(1.0 - 2.25577e-5 * (kOrigin.alt + 20.0), 5.25588) / 100.0;
+  const double qnh = tern::isa_pressure(kOrigin.alt + 20.0 + 56.0) /
+                     std::pow(1.0 - tern::kIsaPressureLapse * (kOrigin.alt + 20.0), tern::kIsaPressureExponent) / 100.0;
   CHECK(note.find("it is the barometer's ISA pressure altitude against 1013.25 hPa (median difference +0.0 m), 56.0 m above the GNSS "
                   "altitude; the estimate's altitude is +0.0 m from the GNSS's (median)") != std::string::npos);
   CHECK(note.find(fmt::format("the pressure altitude is the GNSS altitude at a sea-level pressure (QNH) of {:.1f} hPa", qnh)) !=

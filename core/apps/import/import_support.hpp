@@ -12,6 +12,7 @@
 
 #include "import/sensor_log_writer.hpp"
 #include "tern/time.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::core {
 
@@ -59,9 +60,9 @@ class IntervalStats {
 
 /// Pitot differential pressure from an equivalent airspeed (EAS is defined at sea-level
 /// density): 0.5 * 1.225 kg/m^3 * EAS^2, Pa.
-inline double diff_pressure_from_eas(double eas_m_s) { return 0.5 * 1.225 * eas_m_s * eas_m_s; }
+inline double diff_pressure_from_eas(double eas_m_s) { return 0.5 * kIsaSeaLevelDensity * eas_m_s * eas_m_s; }
 /// Static pressure of an ISA pressure altitude h (m, against 1013.25 hPa), troposphere:
 /// 101325 (1 - 2.25577e-5 h)^5.25588, Pa.
-inline double isa_pressure_from_height(double h_m) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h_m, 5.25588); }
+inline double isa_pressure_from_height(double h_m) { return isa_pressure(h_m); }
 
 }  // namespace tern::core

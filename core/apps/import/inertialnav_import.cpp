@@ -30,6 +30,7 @@
 #include "tern/math.hpp"
 #include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::core {
 
@@ -234,7 +235,7 @@ ImportReport import_inertialnav(const fs::path& in, SensorLogWriter& out) {
   meta.estimator["baro_delay"] = timing.hgt_delay_ms * 1e-3;
   meta.estimator["mag_delay"] = timing.mag_delay_ms * 1e-3;
   meta.estimator["diff_pressure_delay"] = timing.tas_delay_ms * 1e-3;
-  meta.estimator["rho"] = 1.225 / (timing.eas2tas * timing.eas2tas);
+  meta.estimator["rho"] = kIsaSeaLevelDensity / (timing.eas2tas * timing.eas2tas);
   inertialnav_gnss_noise(meta);
   auto& n = meta.notes;
   n.push_back(

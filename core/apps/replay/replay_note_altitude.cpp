@@ -11,15 +11,11 @@
 #include <fmt/ranges.h>
 
 #include "replay/replay_report_parts.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::core::replay_report {
 
 namespace {
-
-constexpr double kIsaP0 = 101325.0;   ///< Pa, ISA sea-level pressure
-constexpr double kIsaK = 2.25577e-5;  ///< 1/m: p = p0 (1 - k h)^n (ISA troposphere, docs/sensor-log.md)
-constexpr double kIsaN = 5.25588;     ///< the exponent n
-double pressure_altitude(double p) { return (1.0 - std::pow(p / kIsaP0, 1.0 / kIsaN)) / kIsaK; }
 
 /// The estimate's altitude (m, the origin's datum) at state row k: origin_alt - p_d.
 double estimate_alt(const CsvTable& s, std::size_t k) {
@@ -72,8 +68,8 @@ DatumMedians datum_medians(const RunTables& run, const ReplayReport& r) {
     const auto &t = run.baro->at("time"), &p = run.baro->at("pressure");
     for (std::size_t k = 0; k < run.baro->rows; ++k) {
       if (t[k] < r.window.start_s || t[k] > r.window.end_s || !(p[k] > 0.0)) continue;
-      rp.push_back(interpolate(ref_alt.t, ref_alt.v, t[k], kMaxGap) - pressure_altitude(p[k]));
-      qnh.push_back(p[k] / std::pow(1.0 - kIsaK * interpolate(fix_t, fix_alt, t[k], kMaxGap), kIsaN) / 100.0);
+      rp.push_back(interpolate(ref_alt.t, ref_alt.v, t[k], kMaxGap) - isa_pressure_altitude(p[k]));
+      qnh.push_back(p[k] / std::pow(1.0 - kIsaPressureLapse * interpolate(fix_t, fix_alt, t[k], kMaxGap), kIsaPressureExponent) / 100.0);
     }
     std::erase_if(rp, [](double x) { return std::isnan(x); });
     std::erase_if(qnh, [](double x) { return std::isnan(x); });

@@ -7,6 +7,7 @@
 
 #include "tern/math.hpp"
 #include "estimator_fusion.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::ekf {
 

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "tern_fcu_serial/firmware.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::fcu::firmware {
 
@@ -38,10 +39,7 @@ bool calibration_step(auto& cal, double x, std::int64_t now) {
 }
 }  // namespace
 
-float pressure_altitude(float pressure) {
-  constexpr double kIsaPressure = 101325.0, kIsaExponent = 0.190326730028458, kIsaScale = 44318.1386038261;  // turbomath.h
-  return static_cast<float>((1.0 - std::pow(pressure / kIsaPressure, kIsaExponent)) * kIsaScale);
-}
+float pressure_altitude(float pressure) { return static_cast<float>(tern::rosflight::pressure_altitude(pressure)); }
 
 // Sensors::init_imu: every stored accelerometer and gyro bias 0 -> ERROR_UNCALIBRATED_IMU.
 void Firmware::check_imu_calibrated() {

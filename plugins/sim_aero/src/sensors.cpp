@@ -8,12 +8,13 @@
 
 #include "tern/math.hpp"
 #include "tern_sim_aero/earth_field.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::sim {
 
 double standard_temperature(double h) { return 288.15 - 0.0065 * h; }
 
-double standard_pressure(double h) { return 101325.0 * std::pow(1.0 - 2.25577e-5 * h, 5.25588); }
+double standard_pressure(double h) { return tern::isa_pressure(h); }
 
 // WGS-84 geodetic <-> ECEF <-> local NED (see WorldGeodesy in sensors.hpp).
 namespace {

@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "aero_text.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::aero {
 using namespace text;
@@ -76,7 +77,7 @@ ImportResult build_aircraft(const ToolDerivatives& t, const MassProperties& m, c
   const std::string by = "not given by " + t.tool;
 
   // environment, stall and propulsion: not aerodynamic-analysis outputs
-  ac.rho = t.rho > 0 ? t.rho : 1.225;
+  ac.rho = t.rho > 0 ? t.rho : tern::kIsaSeaLevelDensity;
   if (!(t.rho > 0)) D.push_back({"environment.rho", ac.rho, by + ": ISA sea level"});
   if (!propulsion_from.empty()) {
     const tern::Aircraft p = tern::load_aircraft(propulsion_from);

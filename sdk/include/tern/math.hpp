@@ -24,11 +24,6 @@ inline constexpr double kGravity = 9.81;  ///< m/s^2, the book's g
 /// gravity (include/sensors.h, Sensors::gravity_, used by Sensors::calibrate_accel).
 inline constexpr double kStandardGravity = 9.80665;
 
-/// Pressure altitude, m, of a static pressure in Pa: the ISA troposphere (ISO 2533),
-/// h = T0 / L (1 - (p / p0)^(R L / (g0 M))), T0 = 288.15 K, L = 0.0065 K/m, p0 = 101325 Pa.
-/// Valid from about -500 to 11000 m (above it the stratosphere's isothermal layer); NaN stays NaN.
-inline double isa_pressure_altitude(double pressure_pa) { return 44330.769 * (1.0 - std::pow(pressure_pa / 101325.0, 0.190263)); }
-
 /// Wraps an angle to [-pi, pi). NaN stays NaN.
 inline double wrap_pi(double a) {
   if (!std::isfinite(a)) return a;

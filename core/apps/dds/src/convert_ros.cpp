@@ -25,6 +25,7 @@
 #include "sensor_msgs/msg/ImuPubSubTypes.h"
 #include "sensor_msgs/msg/MagneticFieldPubSubTypes.h"
 #include "tern/msg/all.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::core::ddsi {
 
@@ -33,12 +34,6 @@ namespace {
 /// rosflight_io's header.frame_id for imu/data and magnetometer: its `frame_id` parameter's
 /// default (ROSflightIO constructor: get_parameter_or("frame_id", "world")).
 constexpr const char* kRosflightFrame = "world";
-
-/// The firmware's ISA pressure altitude (turbomath::alt: ISA_PRESSURE, ISA_EXPONENT, ISA_SCALE_FACTOR).
-double isa_altitude(double pressure_pa) { return (1.0 - std::pow(pressure_pa / 101325.0, 0.190326730028458)) * 44318.1386038261; }
-
-/// The firmware's indicated airspeed from differential pressure (sea-level density 1.225 kg/m^3).
-double indicated_airspeed(double dp_pa) { return std::copysign(std::sqrt(std::fabs(dp_pa) / (0.5 * 1.225)), dp_pa); }
 
 template <class V3, class E>
 void vector3(V3& out, const E& in) {
@@ -78,7 +73,7 @@ void add_sensor_types(std::vector<TypeEntry>& v) {
   v.push_back(entry<msg::Baro, rf::BarometerPubSubType>(
       [](const msg::Baro& m, rf::Barometer& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.altitude(static_cast<float>(isa_altitude(m.pressure)));
+        s.altitude(static_cast<float>(tern::rosflight::pressure_altitude(m.pressure)));
         s.pressure(static_cast<float>(m.pressure));
         s.temperature(static_cast<float>(m.temperature));
       },
@@ -88,7 +83,7 @@ void add_sensor_types(std::vector<TypeEntry>& v) {
   v.push_back(entry<msg::DiffPressure, rf::AirspeedPubSubType>(
       [](const msg::DiffPressure& m, rf::Airspeed& s, Nanos epoch) {
         stamp(s.header(), m.stamp + epoch);
-        s.velocity(static_cast<float>(indicated_airspeed(m.pressure)));
+        s.velocity(static_cast<float>(tern::rosflight::indicated_airspeed(m.pressure)));
         s.differential_pressure(static_cast<float>(m.pressure));
         s.temperature(static_cast<float>(m.temperature));
       },

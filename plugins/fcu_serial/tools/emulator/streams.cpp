@@ -4,6 +4,7 @@
 
 #include "emulator.hpp"
 #include "util.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::fcu::emulator {
 
@@ -46,7 +47,7 @@ void Emulator::step_sensors(std::int64_t t) {
     mavlink::DiffPressure s;  // CommManager::send_diff_pressure after correct_diff_pressure
     s.diff_pressure = p;
     s.temperature = static_cast<float>(m.temperature);
-    s.velocity = static_cast<float>((p < 0 ? -1.0 : 1.0) * std::sqrt(std::fabs(p) / (0.5 * 1.225)));
+    s.velocity = static_cast<float>(tern::rosflight::indicated_airspeed(p));
     send(s);
   }
   if (gnss_.poll(t) == Poll::sample) {

@@ -20,6 +20,7 @@
 
 #include <Eigen/Core>
 
+#include "tern/atmosphere.hpp"
 #include "tern/param.hpp"  // ParamSpec only: FilterParams::describe names the plugin's parameters
 
 namespace tern_@NAME@ {
@@ -31,7 +32,7 @@ struct FilterParams {
   double tau_psi = 3.0;         ///< s, heading correction time constant (> 0)
   double gnss_blend = 0.5;      ///< weight of a GNSS position fix, (0, 1]
   double min_gnss_speed = 5.0;  ///< m/s, below it the GNSS course does not correct the heading
-  double rho_default = 1.225;   ///< kg/m^3, air density without a barometer
+  double rho_default = tern::kIsaSeaLevelDensity;  ///< kg/m^3, air density without a barometer
 
   template <class V> static void describe(V& v) {
     using tern::ParamSpec;

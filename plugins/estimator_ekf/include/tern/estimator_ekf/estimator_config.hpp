@@ -12,6 +12,7 @@
 #include "tern/estimator_ekf/measurements.hpp"
 #include "tern/estimator_ekf/yaw_gsf.hpp"
 #include "tern/math.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::ekf {
 
@@ -25,9 +26,9 @@ const char* sensor_name(Sensor s);
 /// accuracy (use_gnss_accuracy). Sensor rates IMU 400 Hz, mag 50 Hz, baro 100 Hz, pitot
 /// 100 Hz, GNSS 10 Hz.
 struct EstimatorConfig {
-  double gravity = kGravity;  ///< m/s^2
-  double rho = 1.225;         ///< air density for the pitot, kg/m^3
-  ProcessNoise process;       ///< IMU noise and random walks (filter.hpp)
+  double gravity = kGravity;         ///< m/s^2
+  double rho = kIsaSeaLevelDensity;  ///< air density for the pitot, kg/m^3
+  ProcessNoise process;              ///< IMU noise and random walks (filter.hpp)
 
   // geometry, measured on the aircraft (body FRD)
   Vec3 gnss_antenna = Vec3::Zero();  ///< GNSS antenna position from the CG, m

@@ -19,6 +19,8 @@
 #include <cmath>
 
 #include "tern/estimator_ekf/filter.hpp"
+#include "tern/atmosphere.hpp"
+#include "tern/math.hpp"
 
 namespace tern::ekf {
 
@@ -140,10 +142,10 @@ struct MagHeading : Measurement<MagHeading, 1> {
 /// (q_bar from 0 to ~100 Pa at a constant height) and every change of airspeed. At a constant
 /// airspeed k_sp stays its prior and out of the altitude.
 struct BaroAltitude : Measurement<BaroAltitude, 1> {
-  double sigma = 0.33;             ///< m (4 Pa / (rho g))
-  double rho_g = 1.225 * 9.80665;  ///< Pa per metre of height (air density times gravity)
-  double dynamic_pressure = 0.0;   ///< q_bar, Pa (>= 0)
-  double q_datum = 0.0;            ///< q_0, the mean dynamic pressure of the calibration, Pa
+  double sigma = 0.33;                                    ///< m (4 Pa / (rho g))
+  double rho_g = kIsaSeaLevelDensity * kStandardGravity;  ///< Pa per metre of height (air density times gravity)
+  double dynamic_pressure = 0.0;                          ///< q_bar, Pa (>= 0)
+  double q_datum = 0.0;                                   ///< q_0, the mean dynamic pressure of the calibration, Pa
   Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro - x.k_sp * (dynamic_pressure - q_datum) / rho_g); }
   Jac jacobian(const NominalState& x) const;
   Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
@@ -159,10 +161,10 @@ struct BaroAltitude : Measurement<BaroAltitude, 1> {
 /// Noise: the pressure's sigma as airspeed, sigma / (rho Va) (dp = rho Va dVa, Va >= min_airspeed),
 /// plus turbulence the wind state does not follow (gust_sigma along x).
 struct PitotAirspeed : Measurement<PitotAirspeed, 1> {
-  double rho = 1.225;         ///< air density, kg/m^3
-  double sigma = 1.15;        ///< differential-pressure noise, Pa
-  double gust_sigma = 1.0;    ///< m/s, unmodelled gusts along body x
-  double min_airspeed = 8.0;  ///< m/s
+  double rho = kIsaSeaLevelDensity;  ///< air density, kg/m^3
+  double sigma = 1.15;               ///< differential-pressure noise, Pa
+  double gust_sigma = 1.0;           ///< m/s, unmodelled gusts along body x
+  double min_airspeed = 8.0;         ///< m/s
   /// The airspeed (m/s) a differential pressure (Pa) gives; 0 for p <= 0.
   double airspeed(double pressure) const { return pressure > 0.0 ? std::sqrt(2.0 * pressure / rho) : 0.0; }
   bool applicable(const NominalState& /*x*/, const Vec& z) const { return z(0) >= min_airspeed; }
