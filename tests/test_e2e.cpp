@@ -12,6 +12,7 @@
 
 #include "record/common_frame.hpp"
 #include "graph/loader.hpp"
+#include "replay/replay_source.hpp"
 #include "e2e_util.hpp"
 #include "tern/math.hpp"
 
@@ -222,7 +223,7 @@ TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduce
   mc.mission = YAML::Node();
   HostOptions o;
   o.quiet = true;
-  o.replay_dir = flown.run_dir;
+  o.replay = replay_source(flown.run_dir);
   o.log_dir = test_dir() / "e2e_replay";
   Host h(std::move(mc), o);
   h.build();

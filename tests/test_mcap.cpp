@@ -1,4 +1,4 @@
-// The MCAP flight log alone (record/mcap_*.hpp, FlightLog with log.format both), no flight: a
+// The MCAP flight log alone (mcap/mcap_*.hpp, FlightLog with log.format both), no flight: a
 // written file read back record by record, the same captures giving the same bytes whatever the
 // flushes, `tern export csv`'s tables equal to the CSV log's byte for byte (NaN, infinities,
 // -0, integer extremes, bools included), the open chunk on disk after a flush, and recovery of a
@@ -13,8 +13,8 @@
 #include "record/cdr_columns.hpp"
 #include "record/flight_log.hpp"
 #include "export/mcap_csv_export.hpp"
-#include "export/mcap_reader.hpp"
-#include "export/mcap_recover.hpp"
+#include "mcap/mcap_reader.hpp"
+#include "mcap/mcap_recover.hpp"
 #include "record/ros_channels.hpp"
 #include "tern/msg/all.hpp"
 #include "test_util.hpp"

@@ -2,10 +2,10 @@
 """Floors that only point down: every #include between core's rooms goes to a lower floor.
 
 The floors are declared once, in docs/architecture.md's "Floors" table (| floor | rooms | ...),
-each room a folder of core/host or core/apps. A file may include its own room's headers and any
+each room a folder of core/formats, core/host or core/apps. A file may include its own room's headers and any
 room on a lower floor; an include of a room on its own floor (another room) or a higher one fails,
 named as file:line. Every room folder must stand in the table, and every source file of the
-host's rooms must have its line in the document's room tables (`stem`), so the map stays the
+host's and the formats' rooms must have its line in the document's room tables (`stem`), so the map stays the
 tree. Run by ctest as `floors`; exit 1 with one line per finding, 0 with a summary line.
 """
 import re
@@ -15,10 +15,11 @@ from pathlib import Path
 ROOT = Path(sys.argv[1]) if len(sys.argv) > 1 else Path(__file__).resolve().parents[2]
 DOC = ROOT / "docs" / "architecture.md"
 SOURCES = (".cpp", ".hpp", ".h", ".c")
+SIDES = ("formats", "host", "apps")  # core's libraries, from the ground up
 
 
 def floors_table(doc: str) -> dict[str, tuple[int, str]]:
-    """room -> (floor, 'host'|'apps') from the '## Floors' section's table."""
+    """room -> (floor, side: one of SIDES) from the '## Floors' section's table."""
     m = re.search(r"^## Floors\b(.*?)(?=^## )", doc, re.S | re.M)
     if not m:
         raise SystemExit(f"{DOC}: no '## Floors' section")
@@ -27,7 +28,7 @@ def floors_table(doc: str) -> dict[str, tuple[int, str]]:
         cells = [c.strip() for c in line.strip().strip("|").split("|")]
         if len(cells) < 2 or not cells[0].isdigit():
             continue
-        for room in re.findall(r"`core/(host|apps)/([a-z_]+)/`", cells[1]):
+        for room in re.findall(r"`core/(" + "|".join(SIDES) + r")/([a-z_]+)/`", cells[1]):
             rooms[room[1]] = (int(cells[0]), room[0])
     if not rooms:
         raise SystemExit(f"{DOC}: the Floors table names no room (`core/host/ROOM/`)")
@@ -36,14 +37,14 @@ def floors_table(doc: str) -> dict[str, tuple[int, str]]:
 
 def room_of(path: Path) -> str | None:
     rel = path.relative_to(ROOT / "core").parts
-    return rel[1] if len(rel) > 2 and rel[0] in ("host", "apps") else None
+    return rel[1] if len(rel) > 2 and rel[0] in SIDES else None
 
 
 def main() -> int:
     doc = DOC.read_text()
     rooms = floors_table(doc)
     problems = []
-    folders = [d for side in ("host", "apps") for d in sorted((ROOT / "core" / side).iterdir()) if d.is_dir()]
+    folders = [d for side in SIDES for d in sorted((ROOT / "core" / side).iterdir()) if d.is_dir()]
     for d in folders:
         if d.name not in rooms:
             problems.append(f"{d.relative_to(ROOT)}: a room not on any floor of {DOC.relative_to(ROOT)}'s Floors table")
@@ -76,7 +77,7 @@ def main() -> int:
                     problems.append(f"{f.relative_to(ROOT)}:{n}: includes \"{inc}\" of room {t}/ on {where} "
                                     f"({rooms[t][0]}; {own}/ is on {rooms[own][0]})")
     for f in files:
-        if room_of(f) in rooms and rooms[room_of(f)][1] == "host" and f"`{f.stem}`" not in doc:
+        if room_of(f) in rooms and rooms[room_of(f)][1] in ("formats", "host") and f"`{f.stem}`" not in doc:
             problems.append(f"{f.relative_to(ROOT)}: no line for `{f.stem}` in {DOC.relative_to(ROOT)}")
     for p in problems:
         print(p)

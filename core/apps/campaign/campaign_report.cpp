@@ -8,7 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
-#include "record/log_file.hpp"
+#include "files/log_file.hpp"
 
 namespace tern::campaign {
 

@@ -1,9 +1,9 @@
 // core/apps/commands/export_command.cpp: `tern export csv RUN` and `tern export recover RUN`, on a
 // flight's MCAP log (docs/logs.md). RUN is a run directory (its flight.mcap) or an .mcap file.
 //   csv      the topic tables the CSV log would have written, into RUN/topics/ (or --out DIR);
-//            nothing is overwritten (record/mcap_csv_export.hpp)
+//            nothing is overwritten (export/mcap_csv_export.hpp)
 //   recover  a file cut short rewritten complete, up to its last complete chunk, as
-//            RUN/flight.recovered.mcap (or --out FILE) (record/mcap_recover.hpp)
+//            RUN/flight.recovered.mcap (or --out FILE) (mcap/mcap_recover.hpp)
 // Prints what was written; exit status 0, or 1 with one error line.
 #include <memory>
 
@@ -11,9 +11,9 @@
 
 #include "commands/commands.hpp"
 #include "export/mcap_csv_export.hpp"
-#include "export/mcap_reader.hpp"
-#include "export/mcap_recover.hpp"
-#include "record/mcap_writer.hpp"
+#include "mcap/mcap_reader.hpp"
+#include "mcap/mcap_recover.hpp"
+#include "mcap/mcap_writer.hpp"
 
 namespace tern::core {
 

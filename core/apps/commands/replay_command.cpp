@@ -9,6 +9,7 @@
 #include "config/cli_overrides.hpp"
 #include "flight/host.hpp"
 #include "replay/replay_report.hpp"
+#include "replay/replay_source.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "replay/sensor_log_meta.hpp"
 
@@ -34,7 +35,7 @@ fs::path replay_config(const ReplayOptions& o) {
 }
 
 /// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
-/// `tern export csv LOG` writes them (record/mcap_csv_export.hpp), which the replay then reads.
+/// `tern export csv LOG` writes them (export/mcap_csv_export.hpp), which the replay then reads.
 void tables_from_mcap(const fs::path& log_dir) {
   const fs::path mcap = log_dir / "flight.mcap";
   if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
@@ -60,7 +61,7 @@ int replay(const ReplayOptions& o) {
   cli.sets = o.sets;
   apply_overrides(mc, cli);
   HostOptions opt;
-  opt.replay_dir = fs::absolute(o.log_dir);
+  opt.replay = replay_source(fs::absolute(o.log_dir));
   opt.quiet = o.quiet;
   if (o.out_dir) opt.log_dir = fs::path(*o.out_dir);
   Host host(std::move(mc), opt);

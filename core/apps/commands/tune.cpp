@@ -12,7 +12,7 @@
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
-#include "record/log_file.hpp"
+#include "files/log_file.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {

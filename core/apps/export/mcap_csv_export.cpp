@@ -7,8 +7,8 @@
 
 #include "record/cdr_columns.hpp"
 #include "record/csv_rows.hpp"
-#include "record/log_file.hpp"
-#include "export/mcap_reader.hpp"
+#include "files/log_file.hpp"
+#include "mcap/mcap_reader.hpp"
 
 namespace tern::core {
 

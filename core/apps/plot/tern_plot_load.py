@@ -23,7 +23,7 @@ MAIN_TOPICS = ("state", "truth", "controller_command", "controller_internals", "
 def tables_from_mcap(run_dir):
     """A flight logged as MCAP only (log.format mcap, as make fly logs): its tables exported by
     `tern export csv RUN --out TMP` (the tern beside tern-plot, else on PATH), as the CSV log
-    writes them (core/host/record/mcap_csv_export.hpp), into a temporary directory removed at
+    writes them (core/apps/export/mcap_csv_export.hpp), into a temporary directory removed at
     exit: the run directory keeps its size."""
     import atexit
     import shutil

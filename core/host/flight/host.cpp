@@ -16,7 +16,6 @@
 #include "graph/elf_check.hpp"
 #include "config/error.hpp"
 #include "record/flight_recorder.hpp"
-#include "runners/replay_source.hpp"
 #include "record/status_line.hpp"
 
 namespace tern::core {
@@ -106,7 +105,7 @@ Host::~Host() {
 }
 
 void Host::build() {
-  LoadedInstances loaded = load_instances(setup(), options_.replay_dir);
+  LoadedInstances loaded = load_instances(setup(), options_.replay);
   instances_ = std::move(loaded.list);
   phase_machine_ = loaded.phase_machine;
   phase_machine_idx_ = loaded.phase_machine_index;
@@ -114,7 +113,7 @@ void Host::build() {
   replay_ = loaded.replay;
   if (options_.check_instances) options_.check_instances(instances_);
   rebuild_graph();
-  if (!options_.replay_dir) {  // a replay flies a subset of the flight's instances
+  if (!options_.replay) {  // a replay flies a subset of the flight's instances
     std::vector<std::string> published;
     for (const auto& t : topics()) published.push_back(t.name);
     check_log_topics(config_, published);

@@ -72,9 +72,9 @@ struct HostOptions {
   bool progress = false;    ///< live status line on stdout
   bool describing = false;  ///< configure only (check/params): open no files/devices
   bool quiet = false;       ///< no console log below warnings
-  /// `tern replay`: play this flight log's sensor and truth topics instead of an I/O plugin, and
-  /// keep only the config's estimator instances.
-  std::optional<fs::path> replay_dir;
+  /// `tern replay`: play the recorded flight this makes (apps/replay/replay_source.hpp: a sensor
+  /// log's topics) instead of the config's I/O plugins, and keep only its estimator instances.
+  RecordedSourceFactory replay;
   /// The flight log goes exactly here (a multi-vehicle run's `<run>/<vehicle>`), not into a new
   /// directory under log_dir. One flight per host then.
   std::optional<fs::path> run_dir;
@@ -234,7 +234,7 @@ class Host {
   void take_go_around(Nanos now);
   PhaseMachine* phase_machine_ = nullptr;  // built-ins, owned by instances_
   FlightMetrics* metrics_ = nullptr;
-  ReplaySource* replay_ = nullptr;
+  RecordedSource* replay_ = nullptr;
   std::size_t phase_machine_idx_ = SIZE_MAX;
   std::int64_t created_ns_ = 0;
   double start_to_first_tick_ms_ = 0;

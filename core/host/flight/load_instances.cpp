@@ -8,7 +8,6 @@
 #include "record/metrics.hpp"
 #include "runners/external_plugin.hpp"
 #include "runners/isolated_plugin.hpp"
-#include "runners/replay_source.hpp"
 #include "safety/phase_machine.hpp"
 
 namespace tern::core {
@@ -33,7 +32,7 @@ void isolate_instance(Instance& inst, const InstanceSetup& setup) {
 
 namespace {
 
-std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::path& replay_dir, ReplaySource*& replay) {
+std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const RecordedSourceFactory& make, RecordedSource*& replay) {
   const MissionConfig& config = setup.config;
   auto inst = std::make_unique<Instance>();
   inst->cfg.index = config.plugins.size() + 2;
@@ -42,7 +41,7 @@ std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const fs::
   inst->cfg.rate = config.base_rate.value_or(400.0);
   inst->builtin = true;
   inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}, {}};
-  auto rp = std::make_unique<ReplaySource>(replay_dir);
+  auto rp = make();
   replay = rp.get();
   inst->plugin = std::move(rp);
   configure_instance(*inst, setup);
@@ -134,14 +133,14 @@ void add_builtin(const InstanceSetup& setup, std::vector<std::unique_ptr<Instanc
 
 }  // namespace
 
-LoadedInstances load_instances(const InstanceSetup& setup, const std::optional<fs::path>& replay_dir) {
+LoadedInstances load_instances(const InstanceSetup& setup, const RecordedSourceFactory& replay) {
   const MissionConfig& config = setup.config;
   LoadedInstances out;
-  if (replay_dir) out.list.push_back(replay_instance(setup, *replay_dir, out.replay));
+  if (replay) out.list.push_back(replay_instance(setup, replay, out.replay));
   const auto search = plugin_search_path(config.plugin_path);
   std::map<fs::path, std::shared_ptr<PluginLibrary>> libs;
   for (const auto& ic : config.plugins)
-    if (auto inst = config_instance(setup, ic, replay_dir.has_value(), search, libs)) out.list.push_back(std::move(inst));
+    if (auto inst = config_instance(setup, ic, static_cast<bool>(replay), search, libs)) out.list.push_back(std::move(inst));
   if (!config.phases.empty()) {
     auto pm = std::make_unique<PhaseMachine>();
     out.phase_machine = pm.get();

@@ -12,12 +12,12 @@
 #include <vector>
 
 #include "graph/instances.hpp"
+#include "graph/recorded_source.hpp"
 
 namespace tern::core {
 
 class PhaseMachine;
 class FlightMetrics;
-class ReplaySource;
 
 /// `isolate: true`: moves the configured `inst.plugin` (the shadow) into an IsolatedPlugin that
 /// runs the plugin in a child process (isolated_plugin.hpp). Throws ConfigError.
@@ -29,11 +29,11 @@ struct LoadedInstances {
   PhaseMachine* phase_machine = nullptr;
   std::size_t phase_machine_index = SIZE_MAX;
   FlightMetrics* metrics = nullptr;
-  ReplaySource* replay = nullptr;
+  RecordedSource* replay = nullptr;
 };
 
-/// Loads and configures every instance of `setup.config` (with `replay_dir`: the replay source
-/// and the estimators only). Throws ConfigError.
-LoadedInstances load_instances(const InstanceSetup& setup, const std::optional<fs::path>& replay_dir);
+/// Loads and configures every instance of `setup.config` (with `replay`: the replay's source and
+/// the estimators only). Throws ConfigError.
+LoadedInstances load_instances(const InstanceSetup& setup, const RecordedSourceFactory& replay);
 
 }  // namespace tern::core

@@ -40,8 +40,8 @@
 #include <thread>
 #include <vector>
 
-#include "record/log_file.hpp"
-#include "record/mcap_writer.hpp"
+#include "files/log_file.hpp"
+#include "mcap/mcap_writer.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"

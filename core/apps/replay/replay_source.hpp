@@ -1,7 +1,7 @@
-// core/host/runners/replay_source.hpp: plays a sensor log's topics (docs/sensor-log.md: a tern flight log,
+// core/apps/replay/replay_source.hpp: plays a sensor log's topics (docs/sensor-log.md: a tern flight log,
 // or a real flight `tern import` wrote) back into the port graph, for `tern replay LOG`.
 //
-// A built-in I/O instance named `replay`. At configure it reads LOG/topics/<t>.csv for the sensor
+// The host's built-in I/O instance `replay` (host/graph/recorded_source.hpp). At configure it reads LOG/topics/<t>.csv for the sensor
 // topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the estimator's
 // side-force model reads; played one tick late, as a feedback edge is seen in flight), the
 // simulator's `truth` and another estimator's `reference` (those present), mapping columns by
@@ -19,11 +19,11 @@
 #include <string>
 #include <vector>
 
-#include "tern/plugin.hpp"
+#include "graph/recorded_source.hpp"
 
 namespace tern::core {
 
-class ReplaySource final : public Plugin {
+class ReplaySource final : public RecordedSource {
  public:
   explicit ReplaySource(std::filesystem::path run_dir);
   ~ReplaySource() override;
@@ -31,8 +31,7 @@ class ReplaySource final : public Plugin {
   void start() override;
   void reset() override { start(); }
   void step(Nanos now) override;
-  /// Flight time of the last recorded IMU sample (0 if none).
-  Nanos end_time() const { return end_; }
+  Nanos end_time() const override { return end_; }
 
   struct TrackBase {
     virtual ~TrackBase() = default;
@@ -53,5 +52,8 @@ class ReplaySource final : public Plugin {
   std::vector<std::unique_ptr<TrackBase>> tracks_;
   Nanos end_ = 0;
 };
+
+/// HostOptions::replay for the sensor log in `run_dir`.
+RecordedSourceFactory replay_source(std::filesystem::path run_dir);
 
 }  // namespace tern::core

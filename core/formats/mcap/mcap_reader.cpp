@@ -1,4 +1,4 @@
-#include "export/mcap_reader.hpp"
+#include "mcap/mcap_reader.hpp"
 
 #include <cstring>
 

@@ -1,4 +1,4 @@
-// core/host/record/mcap_format.hpp: the byte layout of MCAP files (https://mcap.dev/spec, format
+// core/formats/mcap/mcap_format.hpp: the byte layout of MCAP files (https://mcap.dev/spec, format
 // version 0), shared by the writer (mcap_writer.hpp) and the reader (mcap_reader.hpp).
 //
 // A file is the magic, records, the magic. A record is an opcode (uint8), the content's length

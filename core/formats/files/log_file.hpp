@@ -1,4 +1,4 @@
-// core/host/record/log_file.hpp: the files of one flight log, and what happens when writing them fails.
+// core/formats/files/log_file.hpp: the files of one flight log, and what happens when writing them fails.
 //
 // A full disk, a read-only directory or a file-size limit must not end a flight: the first write
 // error of a log is recorded once in its LogHealth, every file of the log stops writing, and the

@@ -1,4 +1,4 @@
-#include "record/log_file.hpp"
+#include "files/log_file.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>

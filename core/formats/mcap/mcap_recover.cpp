@@ -1,11 +1,11 @@
-#include "export/mcap_recover.hpp"
+#include "mcap/mcap_recover.hpp"
 
 #include <map>
 
 #include <fmt/format.h>
 
-#include "export/mcap_reader.hpp"
-#include "record/mcap_writer.hpp"
+#include "mcap/mcap_reader.hpp"
+#include "mcap/mcap_writer.hpp"
 
 namespace tern::core {
 

@@ -1,4 +1,4 @@
-#include "record/mcap_writer.hpp"
+#include "mcap/mcap_writer.hpp"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -8,7 +8,7 @@
 #include <zlib.h>
 #include <zstd.h>
 
-#include "record/mcap_format.hpp"
+#include "mcap/mcap_format.hpp"
 
 namespace tern::core {
 

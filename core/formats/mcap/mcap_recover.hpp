@@ -1,4 +1,4 @@
-// core/apps/export/mcap_recover.hpp: `tern export recover`: a flight.mcap cut short (a killed
+// core/formats/mcap/mcap_recover.hpp: `tern export recover`: a flight.mcap cut short (a killed
 // process, a full disk: no summary, maybe a partial last record) rewritten as a complete file
 // with everything up to its last complete chunk, as `mcap recover` does. The schemas, channels,
 // messages (re-chunked with the same chunk size), attachments and metadata are copied in their

@@ -1,4 +1,4 @@
-#include "runners/replay_source.hpp"
+#include "replay/replay_source.hpp"
 
 #include <charconv>
 #include <cmath>
@@ -219,6 +219,10 @@ void ReplaySource::start() {
 
 void ReplaySource::step(Nanos now) {
   for (auto& t : tracks_) t->publish_until(t->feedback ? now - 1 : now);
+}
+
+RecordedSourceFactory replay_source(std::filesystem::path run_dir) {
+  return [run_dir = std::move(run_dir)] { return std::make_unique<ReplaySource>(run_dir); };
 }
 
 }  // namespace tern::core

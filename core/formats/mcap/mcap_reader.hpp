@@ -1,4 +1,4 @@
-// core/apps/export/mcap_reader.hpp: an MCAP file read record by record from its start, as
+// core/formats/mcap/mcap_reader.hpp: an MCAP file read record by record from its start, as
 // `tern export` reads a flight's flight.mcap (whole or cut short by a killed process), one record
 // in memory at a time. Checks what a damaged file gets wrong: the magic, a record running past
 // the end of the file, a chunk that does not decompress or whose CRC-32 does not match.
@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "record/mcap_format.hpp"
+#include "mcap/mcap_format.hpp"
 
 namespace tern::core {
 

@@ -1,4 +1,4 @@
-// core/host/record/mcap_writer.hpp: one MCAP file (https://mcap.dev/spec) written as a flight goes:
+// core/formats/mcap/mcap_writer.hpp: one MCAP file (https://mcap.dev/spec) written as a flight goes:
 // schemas and channels as they are declared, messages into one open chunk, the chunk compressed
 // (zstd) and written with its message indexes when it reaches the chunk size, then at finish()
 // the data end, the summary (schemas, channels, statistics, chunk, attachment and metadata
@@ -30,7 +30,7 @@
 #include <string_view>
 #include <vector>
 
-#include "record/log_file.hpp"
+#include "files/log_file.hpp"
 
 namespace tern::core {
 
