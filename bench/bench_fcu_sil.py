@@ -48,7 +48,6 @@ WAYS = {  # way -> mission config
 }
 INIT_HEADING = "2.3562"      # rad, default.yaml's sim.init_heading
 PILOT_EVENTS_FROM_S = 100.0  # the scripted pilot's first step after arming (default_sil.yaml)
-CRUISE = 2                   # msg::Phase::cruise
 GRID_HZ = 50                 # the FCU programs' --truth rate
 TARGET_RATIO = 1.2           # firmware within 20 % of direct
 TARGET_SPEED = 100.0         # x real time on one core
@@ -177,6 +176,15 @@ def rms(xs):
     return math.sqrt(sum(x * x for x in xs) / len(xs)) if xs else float("nan")
 
 
+def phase_code(run_dir, name):
+    """The code of phase `name` in the run's definitions.json (core/host/record/log_definitions.hpp)."""
+    with open(os.path.join(run_dir, "definitions.json")) as f:
+        codes = [int(c) for c, n in json.load(f)["phase"].items() if n == name]
+    if not codes:
+        raise SystemExit(f"{run_dir}/definitions.json: no phase named {name}")
+    return codes[0]
+
+
 def tracking(run_dir, truth_rows, truth_origin, t_from):
     """Tracking of the true aircraft, 50 Hz, in the cruise phase from t_from on: horizontally in the
     estimator's frame (the path's), vertically the true height above the takeoff point (where the
@@ -184,11 +192,12 @@ def tracking(run_dir, truth_rows, truth_origin, t_from):
     metres) against h_c."""
     path, command, phase = (series(run_dir, n) for n in ("current_path", "controller_command", "flight_phase"))
     sim, est = TangentPlane(*truth_origin), TangentPlane(*estimator_origin(run_dir))
+    cruise = phase_code(run_dir, "cruise")
     xt, alt, times = {1: [], 0: []}, [], []
     for r in truth_rows:
         t = r["t"]
         ph = latest(*phase, t)
-        if t < t_from or not on_grid(t) or ph is None or ph["phase"] != CRUISE:
+        if t < t_from or not on_grid(t) or ph is None or ph["phase"] != cruise:
             continue
         cp, cmd = latest(*path, t), latest(*command, t)
         n, e, _ = est.to_ned(sim.to_ecef((r["p_n"], r["p_e"], r["p_d"])))

@@ -126,7 +126,7 @@ for (const channel of reader.channelsById.values()) {
 }
 if (reader.statistics.messageCount !== BigInt(total)) fail(`statistics: ${reader.statistics.messageCount} messages, ${total} read`);
 const attachments = reader.attachmentIndexes.map((a) => a.name).sort().join(",");
-if (attachments !== "config.yaml,params.csv,summary.json") fail(`attachments: ${attachments}`);
+if (attachments !== "config.yaml,definitions.json,params.csv,summary.json") fail(`attachments: ${attachments}`);
 if (process.env.TERN_MCAP_ROS_CHANNELS === "1" && rosChannels === 0) fail("no ROS-typed channel (a tern built with Fast DDS writes them)");
 console.log(`@mcap/core + rosmsg2-serialization: ${reader.channelsById.size} channels (${rosChannels} in ROS types), ${total} messages, ${values} values equal to the CSV tables`);
 await fh.close();

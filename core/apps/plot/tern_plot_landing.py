@@ -17,20 +17,19 @@ the true position at metrics.landing's touchdown time.
 
 The land item: topics/current_path.csv's landing rows (the glide path flown: touchdown point r,
 direction q, flare and decision heights), else the last list of topics/waypoints_items.csv, else
-config.yaml's inline mission waypoints (type: land); missing values are tern/path/item.hpp's defaults. The glide
-path starts at the approach entry: where it meets the altitude of the item before the land item,
-at least kMinEntryHeights decision heights up (plugins/path/src/landing.cpp)."""
+config.yaml's inline mission waypoints (type: land); missing values are the land item's defaults
+the log states (definitions.json "land_item": tern/path/item.hpp's LandSpec). The glide path
+starts at the approach entry: where it meets the altitude of the item before the land item, at
+least min_entry_heights decision heights up (plugins/path/src/landing.cpp)."""
 
 import math
 
 import numpy as np
 
-from tern_plot_log import read_topic
+from tern_plot_log import codes_named, note, read_topic
 from tern_plot_mission import geo_origin, lla_to_ned
 
-LAND = 3  # msg::Waypoint::land
-DEFAULTS = {"glide_slope": 0.0873, "flare_height": 4.0, "decision_height": 12.0}  # tern/path/item.hpp LandSpec
-MIN_ENTRY_HEIGHTS = 2.0  # item.hpp kMinEntryHeights
+LAND_KEYS = ("glide_slope", "flare_height", "decision_height")  # a land item's LandSpec (definitions.json)
 LANDING = ("approach", "flare", "rollout", "stopped")
 CLIMB_OUT = 8.0  # s of an earlier approach's climb-out drawn after its go-around
 C_PLAN, C_FLARE, C_DH, C_TD, C_STOP = "#d62728", "#17becf", "#ff7f0e", "#2ca02c", "#393b79"
@@ -38,6 +37,19 @@ C_PLAN, C_FLARE, C_DH, C_TD, C_STOP = "#d62728", "#17becf", "#ff7f0e", "#2ca02c"
 # ----------------------------------------------------------------------------------------------
 # The land item, in the estimate's NED
 # ----------------------------------------------------------------------------------------------
+
+
+def land_defaults(run):
+    """definitions.json's land item defaults (glide_slope, flare_height, decision_height,
+    min_entry_heights), NaN for those it lacks."""
+    d = run.get("definitions", {}).get("land_item", {})
+    out = {}
+    for k in LAND_KEYS + ("min_entry_heights",):
+        try:
+            out[k] = float(d[k])
+        except (KeyError, TypeError, ValueError):
+            out[k] = math.nan
+    return out
 
 
 def land_item(run, spans):
@@ -67,7 +79,7 @@ def _from_path(run):
     spec = {"td": np.array([float(p.get(c)[k]) for c in ("r_n", "r_e", "r_d")]), "heading": math.atan2(q_e, q_n),
             "glide_slope": math.atan2(q_d, math.hypot(q_n, q_e)), "source": "topics/current_path.csv"}
     for key in ("flare_height", "decision_height"):
-        spec[key] = float(p.get(key)[k]) if p.get(key) is not None else DEFAULTS[key]
+        spec[key] = float(p.get(key)[k]) if p.get(key) is not None else land_defaults(run)[key]
     return spec
 
 
@@ -80,15 +92,15 @@ def _from_items(run):
     last = items.get("t") == items.get("t")[-1]  # the list the planner published last
     order = np.argsort(items.get("index")[last])
     col = {c: items.get(c)[last][order] for c in cols if items.get(c) is not None}
-    lands = np.nonzero(col["type"].astype(int) == LAND)[0]
+    lands = np.nonzero(np.isin(col["type"].astype(int), codes_named(run.get("definitions", {}).get("item_type", {}), "land")))[0]
     if not len(lands):
         return None
     k = lands[-1]
     spec = {"td": np.array([col["w_0"][k], col["w_1"][k], col["w_2"][k]], dtype=float),
             "heading": float(col["chi_d"][k]), "source": "topics/waypoints_items.csv",
             "prev_d": float(col["w_2"][k - 1]) if k > 0 else None}
-    for key in DEFAULTS:
-        spec[key] = float(col["land_" + key][k]) if "land_" + key in col else DEFAULTS[key]
+    for key in LAND_KEYS:
+        spec[key] = float(col["land_" + key][k]) if "land_" + key in col else land_defaults(run)[key]
     return spec
 
 
@@ -106,8 +118,8 @@ def _from_config(run):
         return None
     spec = {"td": td, "heading": float(e.get("heading", e.get("chi_d", 0.0))), "source": "config.yaml",
             "prev_d": None}
-    for key in DEFAULTS:
-        spec[key] = float(e.get(key, DEFAULTS[key]))
+    for key in LAND_KEYS:
+        spec[key] = float(e.get(key, land_defaults(run)[key]))
     before = _position(entries[k - 1], run) if k > 0 else None
     wps = run.get("waypoints", (None, True))[0]
     if before is None and k == 0 and wps is not None and len(wps):  # the mission file's last item
@@ -156,13 +168,14 @@ def home_altitude(run, spans):
 
 def entry_height(spec, run, attempts):
     """Height of the approach entry above the touchdown point (m): the item before the land
-    item's altitude, else the estimate's at the first approach; at least MIN_ENTRY_HEIGHTS
-    decision heights."""
+    item's altitude, else the estimate's at the first approach; at least min_entry_heights
+    (definitions.json) decision heights."""
     h = spec["td"][2] - spec["prev_d"] if spec.get("prev_d") is not None else math.nan
     if not math.isfinite(h) and attempts and run["state"] is not None:
         st = run["state"]
         h = float(spec["td"][2] - np.interp(attempts[0]["t0"], st.get("t"), st.get("p_d")))
-    return max(h if math.isfinite(h) else 0.0, MIN_ENTRY_HEIGHTS * spec["decision_height"])
+    floor = land_defaults(run)["min_entry_heights"] * spec["decision_height"]
+    return max(h if math.isfinite(h) else 0.0, floor if math.isfinite(floor) else 0.0)
 
 
 # ----------------------------------------------------------------------------------------------
@@ -170,14 +183,14 @@ def entry_height(spec, run, attempts):
 # ----------------------------------------------------------------------------------------------
 
 
-def phase_spans(run, phase_names=None):
+def phase_spans(run):
     """[(t0, t1, name)] of the flight's phases: summary.json's phases, else topics/flight_phase.csv
-    (names from phase_names, tern plot's PHASES)."""
+    (names from definitions.json)."""
     changes = [(float(p["start_s"]), str(p.get("phase", "?"))) for p in run["summary"].get("phases", [])]
     ph = run.get("phase")
     if not changes and ph is not None and ph.get("phase") is not None:
         for t, p in zip(ph.get("t"), ph.get("phase").astype(int)):
-            name = (phase_names or {}).get(p, (f"phase {p}",))[0]
+            name = run.get("definitions", {}).get("phase", {}).get(p, f"phase {p}")
             if not changes or changes[-1][1] != name:
                 changes.append((float(t), name))
     ends = [t for t, _ in changes[1:]] + [run["t_end"]]
@@ -288,7 +301,7 @@ CAPTION = ("Landing in the runway's frame: along the runway heading from the pat
 
 
 class Landing:
-    """landing.png, drawn with tern plot's helpers (save, plt, est, PHASES, colours)."""
+    """landing.png, drawn with tern plot's helpers (save, plt, est, colours)."""
 
     def __init__(self, helpers):
         self.h = helpers
@@ -298,7 +311,7 @@ class Landing:
         if len(runs) != 1:
             return ""
         run = runs[0]
-        spans = phase_spans(run, self.h["PHASES"])
+        spans = phase_spans(run)
         spec = land_item(run, spans)
         if spec is None:
             return ""

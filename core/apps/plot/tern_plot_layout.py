@@ -11,12 +11,11 @@ from matplotlib.patches import Patch
 
 from tern_plot_log import MARKER_STYLE
 
-# msg::Phase (sdk/include/tern/msg/phase.hpp): code -> (name, band colour)
-PHASES = {0: ("takeoff", "#ff7f0e"), 1: ("climb", "#2ca02c"), 2: ("cruise", "#1f77b4"),
-          3: ("landing", "#9467bd"), 4: ("loiter", "#7f7f7f"), 5: ("preflight", "#8c564b"),
-          6: ("approach", "#e377c2"), 7: ("flare", "#17becf"), 8: ("rollout", "#bcbd22"),
-          9: ("stopped", "#393b79")}
-PREFLIGHT = 5
+# a phase's band colour, by the name definitions.json gives its code (a phase not here: grey)
+PHASE_COLOURS = {"takeoff": "#ff7f0e", "climb": "#2ca02c", "cruise": "#1f77b4", "landing": "#9467bd",
+                 "loiter": "#7f7f7f", "preflight": "#8c564b", "approach": "#e377c2", "flare": "#17becf",
+                 "rollout": "#bcbd22", "stopped": "#393b79"}
+NO_COLOUR = "#bbbbbb"
 WIDTH_IN = 11.0                  # a time figure's width
 LEGEND_CHARS_PER_ROW = 140       # legend text that fits one row of a time figure's width (small font)
 MARKER_LABEL_PX = 13             # markers closer than this (pixels) share one label
@@ -29,11 +28,13 @@ LEGEND_ROW_IN = 0.22             # a legend row above a panel (small), inches
 # Phases
 # ----------------------------------------------------------------------------------------------
 
-def phase_bands(phase, t_end):
-    """[(t0, t1, phase)] from flight_phase rows."""
+def phase_bands(phase, t_end, names):
+    """[(t0, t1, name)] from flight_phase rows; names: definitions.json's phase codes -> names
+    (a code it lacks: "phase N")."""
     if phase is None or phase.get("phase") is None:
         return []
-    t, p = phase.get("t"), phase.get("phase").astype(int)
+    t = phase.get("t")
+    p = [names.get(int(c), f"phase {int(c)}") for c in phase.get("phase")]
     bands = []
     for k in range(len(t)):
         t1 = t[k + 1] if k + 1 < len(t) else max(t_end, t[k])
@@ -44,10 +45,9 @@ def phase_bands(phase, t_end):
     return bands
 
 
-def phase_label(p, bands):
-    name = PHASES.get(p, (f"phase {p}",))[0]
-    if p == PREFLIGHT:  # how long the calibration, alignment and arming checks took
-        name += " ({:.1f} s)".format(sum(t1 - t0 for t0, t1, q in bands if q == PREFLIGHT))
+def phase_label(name, bands):
+    if name == "preflight":  # how long the calibration, alignment and arming checks took
+        return name + " ({:.1f} s)".format(sum(t1 - t0 for t0, t1, q in bands if q == name))
     return name
 
 
@@ -57,12 +57,12 @@ def draw_bands(axes, bands):
         return
     for ax in axes:
         for t0, t1, p in bands:
-            ax.axvspan(t0, t1, color=PHASES.get(p, ("?", "#bbbbbb"))[1], alpha=0.10, lw=0, zorder=0)
+            ax.axvspan(t0, t1, color=PHASE_COLOURS.get(p, NO_COLOUR), alpha=0.10, lw=0, zorder=0)
     seen = []
     for _, _, p in bands:
         if p not in seen:
             seen.append(p)
-    handles = [Patch(color=PHASES.get(p, ("?", "#bbbbbb"))[1], alpha=0.25, label=phase_label(p, bands)) for p in seen]
+    handles = [Patch(color=PHASE_COLOURS.get(p, NO_COLOUR), alpha=0.25, label=phase_label(p, bands)) for p in seen]
     # below the tick labels and the axis label of the bottom panel (borderaxespad: in font sizes)
     # a Legend of its own (ax.legend() is the panel's, made later), not clipped: in the layout
     legend = Legend(axes[-1], handles, [h.get_label() for h in handles], loc="upper center", bbox_to_anchor=(0.5, 0.0),

@@ -13,7 +13,7 @@ from tern_plot_draw import INSTANCE_COLOURS
 from tern_plot_layout import phase_bands
 from tern_plot_log import (
     EXPORTED_TOPICS, STATE_FIELDS, SURFACES, added_waypoints, flight_markers, flown_waypoints, load_estimators,
-    read_config, read_params, read_summary, read_topic, topics_dir)
+    read_config, read_definitions, read_params, read_summary, read_topic, topics_dir)
 from tern_plot_mission import lla_to_ned, mission_waypoints
 from tern_plot_usage import fail
 
@@ -112,7 +112,8 @@ def load_run(run_dir, overlay):
     if not present:
         fail(f"{run_dir}: no plottable rows in topics/ ({', '.join(t + '.csv' for t in MAIN_TOPICS)})")
     ctx["t_end"] = max(float(tp.get("t")[-1]) for tp in present)
-    ctx["bands"] = phase_bands(ctx["phase"], ctx["t_end"])
+    ctx["definitions"] = read_definitions(run_dir)
+    ctx["bands"] = phase_bands(ctx["phase"], ctx["t_end"], ctx["definitions"]["phase"])
     ctx["summary"] = read_summary(run_dir)
     ctx["params"] = read_params(run_dir)
     ctx["markers"] = flight_markers(ctx["summary"])

@@ -14,7 +14,6 @@ import numpy as np
 from tern_plot_yaml import YamlError, yaml_load
 
 PROG = "tern plot"
-CRUISE = 2  # msg::Phase::cruise
 
 # ----------------------------------------------------------------------------------------------
 # Notes
@@ -136,6 +135,37 @@ def read_summary(run_dir):
     except ValueError as e:
         note(f"summary.json not readable ({e}): no markers, limits by controller or RMSE window")
     return {}
+
+
+def read_definitions(run_dir):
+    """definitions.json (core/host/record/log_definitions.hpp: what the log's codes and defaults
+    mean) as {"phase": {code: name}, "item_type": {code: name}, "land_item": {name: value}}; a
+    part missing or unreadable is {} with a note (a log from before tern wrote the file)."""
+    path = os.path.join(run_dir, "definitions.json")
+    try:
+        with open(path, encoding="utf-8") as f:
+            d = json.load(f)
+    except OSError:
+        d = None
+        note("definitions.json missing: phases shown by code, no cruise-only RMSE window, no land-item defaults")
+    except ValueError as e:
+        d = None
+        note(f"definitions.json not readable ({e}): phases shown by code, no cruise-only RMSE window, no land-item defaults")
+    d = d if isinstance(d, dict) else {}
+
+    def codes(key):
+        try:
+            return {int(k): str(v) for k, v in d.get(key, {}).items()}
+        except (AttributeError, TypeError, ValueError):
+            note(f"definitions.json: {key} is not a table of codes -> names")
+            return {}
+    land = d.get("land_item")
+    return {"phase": codes("phase"), "item_type": codes("item_type"), "land_item": land if isinstance(land, dict) else {}}
+
+
+def codes_named(names, name):
+    """The codes a definitions.json table gives `name` (a list, empty when it has none)."""
+    return [c for c, n in names.items() if n == name]
 
 
 def read_replay_report(run_dir):
@@ -435,12 +465,13 @@ def rmse_window(run):
         return (lambda t: np.ones(len(t), bool)), "whole flight: summary.json has no RMSE window"
     cruise_only = not (run["params"].get("metrics.cruise_only") and run["params"]["metrics.cruise_only"][-1][1] == "false")
     phase = run["phase"]
-    if cruise_only and phase is not None and phase.get("phase") is not None:
+    cruise = codes_named(run.get("definitions", {}).get("phase", {}), "cruise")
+    if cruise_only and phase is not None and phase.get("phase") is not None and cruise:
         pt, pv = phase.get("t"), phase.get("phase")
 
         def mask(t):
             idx = np.searchsorted(pt, t, side="right") - 1
-            in_cruise = (idx >= 0) & (pv[np.clip(idx, 0, len(pv) - 1)] == CRUISE)
+            in_cruise = (idx >= 0) & np.isin(pv[np.clip(idx, 0, len(pv) - 1)], cruise)
             return (t >= w0) & in_cruise
         return mask, f"cruise {w0:.4g}-{t_end:.4g} s, as summary.json"
     return (lambda t: t >= w0), f"{w0:.4g}-{t_end:.4g} s, as summary.json"

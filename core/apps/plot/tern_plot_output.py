@@ -14,7 +14,6 @@ from tern_plot_errors import fig_errors
 from tern_plot_fleet import Fleet, FleetError, read_fleet, write_fleet_index
 from tern_plot_html import write_index
 from tern_plot_landing import Landing
-from tern_plot_layout import PHASES
 from tern_plot_load import check_run_dir, last_origin, load_run
 from tern_plot_log import NOTE_SCOPE, note
 from tern_plot_reference import Overlays
@@ -28,7 +27,7 @@ def figures():
         out.append((fname, lambda runs, o, a=(fname, title, caption, panels): fig_tracking(runs, o, *a)))
     out += [("actuators.png", fig_actuators), ("estimation_errors.png", fig_errors), ("tune.png", fig_tune)]
     helpers = figure_helpers()
-    landing = Landing(dict(helpers, est=est, PHASES=PHASES, C_TRUE=C_TRUE, C_EST=C_EST))  # tern_plot_landing.py
+    landing = Landing(dict(helpers, est=est, C_TRUE=C_TRUE, C_EST=C_EST))  # tern_plot_landing.py
     out.append(("landing.png", landing.figure))
     return out + Overlays(helpers).figures()  # a truth-free replay's (tern_plot_reference.py)
 

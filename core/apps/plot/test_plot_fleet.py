@@ -26,7 +26,7 @@ import tempfile
 import unittest
 
 # (test_tern_plot re-executes with Debian's python3 when numpy is missing)
-from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv
+from test_tern_plot import ORIGIN, SCRIPT, STATE_HEADER, np, png_size, run_plot, write_csv, write_definitions
 from test_plot_reference import ned_to_lla  # noqa: E402  (the test's own inverse of lla_to_ned)
 from test_plot_flight import log_dir_of, run  # noqa: E402
 import tern_plot_draw as TDraw  # noqa: E402  (beside tern-plot: on sys.path once test_tern_plot loaded it)
@@ -68,6 +68,7 @@ def write_vehicle(run, path, truth=True, state_origin=ORIGIN, duration=50.0, rat
     write_csv(os.path.join(tp, "state.csv"), STATE_HEADER, state_rows)
     write_csv(os.path.join(tp, "flight_phase.csv"), ["t [s]", "stamp [ns]", "phase [enum]", "previous [enum]", "since [ns]"],
               [[0, 0, 2, 0, 0]])
+    write_definitions(run)
     with open(os.path.join(run, "summary.json"), "w") as f:
         json.dump({"phases": [{"phase": "cruise", "start_s": 0.0, "reason": "r"}], "controller_handovers": [],
                    "failsafes": [{"t_s": 30.0, "cause": "geofence", "action": "loiter"}] if path is uav3 else [],

@@ -63,6 +63,19 @@ R_ORBIT = 100.0
 VA = 17.0
 
 
+# definitions.json as the host writes it (core/host/record/log_definitions.hpp; test_plot_flight
+# reads a real flight's): the synthetic runs' codes mean what a flight's mean
+DEFINITIONS = {"phase": {"0": "takeoff", "1": "climb", "2": "cruise", "3": "landing", "4": "loiter", "5": "preflight",
+                         "6": "approach", "7": "flare", "8": "rollout", "9": "stopped"},
+               "item_type": {"0": "waypoint", "1": "loiter", "2": "return_home", "3": "land"},
+               "land_item": {"glide_slope": 0.0873, "flare_height": 4.0, "decision_height": 12.0, "min_entry_heights": 2.0}}
+
+
+def write_definitions(run, definitions=None):
+    with open(os.path.join(run, "definitions.json"), "w") as f:
+        json.dump(DEFINITIONS if definitions is None else definitions, f)
+
+
 def write_csv(path, header, rows):
     with open(path, "w") as f:
         f.write(",".join(header) + "\n")
@@ -127,6 +140,7 @@ def write_run(run, topics=("state", "truth", "controller_command", "controller_i
         with open(os.path.join(run, "params.csv"), "a") as f:
             f.write("0,slc.max_a,0.5,config\n0,slc.max_e,0.61,default\n0,slc.max_r,0.523,default\n"
                     "0,slc.min_t,0,default\n0,slc.max_t,1,default\n0,phase_machine.max_deflection,0.7,default\n")
+        write_definitions(run)
         with open(os.path.join(run, "summary.json"), "w") as f:
             f.write('{"phases": [{"phase": "takeoff", "start_s": 0.0, "reason": "r"}], "controller_handovers": '
                     '[{"t_s": 0.0, "from": "(none)", "to": "slc", "reason": "phase takeoff"}], "failsafes": [], '
@@ -213,6 +227,7 @@ def write_landing_run(run, land_item=True, approached=True):
     aim_n = truth[200][2]  # metrics.landing: about the truth at rest (10 s) plus the item's offset
     landing = {"touchdown_t_s": 111.0, "touchdown_along_m": 7.8, "touchdown_across_m": -(truth[2220][2] - aim_n),
                "sink_rate_mps": 1.11, "rollout_m": 48.0, "stopped": True} if approached else None
+    write_definitions(run)
     with open(os.path.join(run, "summary.json"), "w") as f:
         json.dump({"phases": [{"phase": name, "start_s": t, "reason": "r"} for t, _, name in phases],
                    "controller_handovers": [], "failsafes": [],
@@ -504,14 +519,21 @@ class Pieces(unittest.TestCase):
         self.assertEqual(TLand.at_time(tr, 10.03), (1.0, 0.0, 0.0))  # a phase change between two samples
         self.assertIsNone(TLand.at_time(tr, 9.9))
         run = {"summary": {}, "state": None, "run_dir": self.tmp, "t_end": 95.0, "phase": None, "waypoints": (None, True),
+               "definitions": TL.read_definitions(self.tmp) if write_definitions(self.tmp) is None else None,
                "truth": None, "config": {"mission": {"file": "m.yaml", "waypoints": [
                    {"type": "land", "ned": [0, 0, 0], "heading": 2.3562, "flare_height": 3}]}}}
-        spec = TLand.land_item(run, [])   # from config.yaml: item.hpp's defaults for the rest
+        spec = TLand.land_item(run, [])   # from config.yaml: definitions.json's defaults for the rest
         self.assertEqual((spec["source"], spec["flare_height"], spec["decision_height"], spec["glide_slope"]),
                          ("config.yaml", 3.0, 12.0, 0.0873))
         self.assertEqual(spec["heading"], 2.3562)
         self.assertEqual(TLand.entry_height(dict(spec, prev_d=-70.0), run, []), 70.0)
         self.assertEqual(TLand.entry_height(dict(spec, prev_d=-10.0), run, []), 24.0)  # raised: 2 decision heights
+        # the defaults are the log's, not a copy: another build's
+        run["definitions"]["land_item"] = {"glide_slope": 0.05, "flare_height": 2.0, "decision_height": 9.0,
+                                           "min_entry_heights": 3.0}
+        spec = TLand.land_item(run, [])
+        self.assertEqual((spec["flare_height"], spec["decision_height"], spec["glide_slope"]), (3.0, 9.0, 0.05))
+        self.assertEqual(TLand.entry_height(dict(spec, prev_d=-10.0), run, []), 27.0)
 
     def test_waypoints_added_in_flight(self):
         first = (0.0, 1, np.array([[0.0, 0.0, -50.0], [100.0, 0.0, -50.0]]), np.array([0, 0]), np.zeros(2))
@@ -547,11 +569,14 @@ class Pieces(unittest.TestCase):
 
     def test_rmse_window_of_the_summary(self):
         phase = TL.Topic("flight_phase", {"t": np.array([0.0, 10.0, 20.0, 30.0]), "phase": np.array([0.0, 2.0, 1.0, 2.0])})
-        run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase}
+        run = {"summary": {"metrics": {"window_start_s": 15.0}}, "t_end": 40.0, "params": {}, "phase": phase,
+               "definitions": {"phase": {0: "takeoff", 1: "climb", 2: "cruise"}}}
         mask, label = TL.rmse_window(run)
         t = np.array([5.0, 12.0, 16.0, 25.0, 31.0])
         self.assertEqual(mask(t).tolist(), [False, False, True, False, True])
         self.assertEqual(label, "cruise 15-40 s, as summary.json")
+        run["definitions"] = {"phase": {1: "cruise", 2: "climb"}}  # the codes are the log's, not a copy
+        self.assertEqual(TL.rmse_window(run)[0](t).tolist(), [False, False, False, True, False])
         run["summary"]["metrics"]["window_start_s"] = None
         mask, label = TL.rmse_window(run)
         self.assertTrue(mask(t).all())

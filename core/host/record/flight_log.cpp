@@ -50,7 +50,7 @@ void append_time(std::string& out, Nanos t) {
 // times: the MCAP file stays the same for the same config and seed).
 std::string_view attached_media_type(const std::string& name) {
   if (name == "config.yaml") return "application/yaml";
-  if (name == "summary.json") return "application/json";
+  if (name == "summary.json" || name == "definitions.json") return "application/json";
   return {};
 }
 }  // namespace
@@ -280,7 +280,7 @@ void FlightLog::close() {
   params_file_.reset();
   if (mcap_) {
     attachments_["params.csv"] = params_text_;
-    for (const auto& [name, text] : attachments_)  // by name: config.yaml, params.csv, summary.json
+    for (const auto& [name, text] : attachments_)  // by name: config.yaml, definitions.json, params.csv, summary.json
       mcap_->attachment(name, name == "params.csv" ? "text/csv" : attached_media_type(name), text, 0);
     mcap_->finish();
   }

@@ -1,14 +1,15 @@
 // core/host/record/flight_log.hpp: the flight log directory.
 //
 //   <run>/config.yaml       the resolved config (every parameter's effective value)
+//   <run>/definitions.json  what the log's codes and defaults mean (log_definitions.hpp)
 //   <run>/topics/<t>.csv    one table per logged topic: a header row "name [unit]", then one row
 //                           per published message (t [s] = flight time of the tick): csv_rows.hpp
 //   <run>/flight.mcap       the same topics in one MCAP file (log.format mcap or both): a channel
 //                           "/<t>" per topic, ROS 2 CDR messages with tern_msgs/msg/<Name> ros2msg
 //                           schemas (cdr_columns.hpp), log_time = flight time (ns), messages in
 //                           the order captured; chunked and zstd-compressed, the open chunk on
-//                           disk at every flush (mcap_writer.hpp); config.yaml, params.csv and
-//                           summary.json attached at the end; a topic tern also speaks in a ROS
+//                           disk at every flush (mcap_writer.hpp); config.yaml, definitions.json,
+//                           params.csv and summary.json attached at the end; a topic tern also speaks in a ROS
 //                           type has a second channel in it (/tern/estimated_state as
 //                           rosplane_msgs/msg/State, ...: ros_channels.hpp)
 //   <run>/params.csv        every parameter value at start and every change, with time and source

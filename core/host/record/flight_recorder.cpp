@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "graph/scheduler.hpp"
+#include "record/log_definitions.hpp"
 #include "tern/msg/path.hpp"
 
 namespace tern::core {
@@ -74,6 +75,7 @@ FlightRecorder::~FlightRecorder() {
 void FlightRecorder::start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params,
                            const std::map<std::string, std::string>& options) {
   log_.write_file("config.yaml", config_yaml);
+  log_.write_file("definitions.json", log_definitions_json());
   for (const auto& [name, p] : params) {
     const auto option = options.find(name);
     const bool set = !(p->value() == p->default_value());

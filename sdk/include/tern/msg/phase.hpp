@@ -46,9 +46,12 @@ inline constexpr std::string_view phase_name(Phase p) {
   return "unknown";
 }
 
+/// Every phase, in code order.
+inline constexpr std::array<Phase, 10> kAllPhases = {Phase::takeoff,   Phase::climb,    Phase::cruise, Phase::landing, Phase::loiter,
+                                                     Phase::preflight, Phase::approach, Phase::flare,  Phase::rollout, Phase::stopped};
+
 inline constexpr std::optional<Phase> phase_from_name(std::string_view s) {
-  for (auto p : {Phase::takeoff, Phase::climb, Phase::cruise, Phase::landing, Phase::loiter, Phase::preflight, Phase::approach,
-                 Phase::flare, Phase::rollout, Phase::stopped})
+  for (auto p : kAllPhases)
     if (phase_name(p) == s) return p;
   return std::nullopt;
 }
