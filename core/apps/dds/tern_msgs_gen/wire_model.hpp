@@ -17,6 +17,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "idl_scalar.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
 #include "wire_spec.hpp"
@@ -43,20 +44,6 @@ struct WireStruct {
   WireSpec spec;
   std::vector<WireField> fields;
 };
-
-template <class T>
-std::string idl_scalar() {
-  if constexpr (std::is_enum_v<T>)
-    return idl_scalar<std::underlying_type_t<T>>();
-  else if constexpr (std::is_same_v<T, bool>)
-    return "boolean";
-  else if constexpr (std::is_same_v<T, double>)
-    return "double";
-  else if constexpr (std::is_same_v<T, float>)
-    return "float";
-  else
-    return std::string(std::is_signed_v<T> ? "int" : "uint") + std::to_string(8 * sizeof(T));
-}
 
 /// "std::uint8_t" for an enum on std::uint8_t.
 template <class T>

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "dds_internal.hpp"
+#include "idl_scalar.hpp"
 #include "mission_item.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/reflect.hpp"
@@ -39,6 +40,7 @@ using namespace tern;
 namespace ddsi = tern::core::ddsi;
 namespace fs = std::filesystem;
 using namespace tern::dds_test;
+using tern::msgs_gen::idl_scalar;
 
 namespace {
 
@@ -230,20 +232,6 @@ std::string wire_struct(const std::string& dds_type) {
 }
 
 // ---- describe() as IDL -----------------------------------------------------------------------
-
-template <class T>
-std::string idl_scalar() {
-  if constexpr (std::is_enum_v<T>)
-    return idl_scalar<std::underlying_type_t<T>>();
-  else if constexpr (std::is_same_v<T, bool>)
-    return "boolean";
-  else if constexpr (std::is_same_v<T, double>)
-    return "double";
-  else if constexpr (std::is_same_v<T, float>)
-    return "float";
-  else
-    return std::string(std::is_signed_v<T> ? "int" : "uint") + std::to_string(8 * sizeof(T));
-}
 
 /// The IDL type a described field of type F has on tern's own wire.
 template <class F>
