@@ -9,6 +9,8 @@
 //   std::array<T, N>, Eigen vector N  T[N], double[N]
 //   std::array of described structs   sequence<WireSpec::Sequence::element> (count: its length)
 // plus WireSpec's derived field and constants. Any other field type stops the generator's build.
+// The generated C++ names the struct msg::<type name after "tern/"> and each field m.<describe()'s
+// name>: a struct or describe() name that differs from its C++ name fails tern_dds's build.
 #pragma once
 
 #include <cstddef>
