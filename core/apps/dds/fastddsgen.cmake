@@ -1,6 +1,6 @@
 # core/apps/dds/fastddsgen.cmake: one fastddsgen -typeros2 run over the IDL files of one folder, run by
 # core/apps/dds/CMakeLists.txt at build time as
-#   cmake -DFASTDDSGEN=<fastddsgen> -DIDL_ROOT=<idl/> -DOUT_DIR=<gen/pkg/msg> -DTEMP_DIR=<dir>
+#   cmake -DFASTDDSGEN=<fastddsgen> -DIDL_ROOTS=<idl/|...> -DOUT_DIR=<gen/pkg/msg> -DTEMP_DIR=<dir>
 #         -DIDLS=<a.idl|b.idl|...> -P fastddsgen.cmake
 #
 # Why a wrapper (issue 45), as measured on Debian's fastddsgen 2.3.0:
@@ -11,17 +11,22 @@
 #  - a parse error in an included IDL is printed but fastddsgen still exits 0. Here any line
 #    with "error:", "ERROR" or "Exception in thread", a non-zero status or a missing output
 #    fails the build, with fastddsgen's output.
-foreach(_var FASTDDSGEN IDL_ROOT OUT_DIR TEMP_DIR IDLS)
+foreach(_var FASTDDSGEN IDL_ROOTS OUT_DIR TEMP_DIR IDLS)
   if(NOT DEFINED ${_var} OR "${${_var}}" STREQUAL "")
     message(FATAL_ERROR "fastddsgen.cmake: -D${_var}=... is required")
   endif()
 endforeach()
 string(REPLACE "|" ";" _idls "${IDLS}")
+string(REPLACE "|" ";" _roots "${IDL_ROOTS}")
+set(_includes)
+foreach(_root IN LISTS _roots)  # the include roots an #include "pkg/msg/X.idl" is looked up in
+  list(APPEND _includes -I "${_root}")
+endforeach()
 
 file(REMOVE_RECURSE "${TEMP_DIR}")
 file(MAKE_DIRECTORY "${TEMP_DIR}" "${OUT_DIR}")
 execute_process(
-  COMMAND "${FASTDDSGEN}" -typeros2 -replace -cs -I "${IDL_ROOT}" -t "${TEMP_DIR}" -d "${OUT_DIR}" ${_idls}
+  COMMAND "${FASTDDSGEN}" -typeros2 -replace -cs ${_includes} -t "${TEMP_DIR}" -d "${OUT_DIR}" ${_idls}
   RESULT_VARIABLE _status
   OUTPUT_VARIABLE _output
   ERROR_VARIABLE _output)

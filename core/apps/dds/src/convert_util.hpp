@@ -1,4 +1,5 @@
-// core/apps/dds/src/convert_util.hpp: helpers of the tern -> DDS conversions (convert.cpp, convert_ros.cpp).
+// core/apps/dds/src/convert_util.hpp: helpers of the tern <-> DDS conversions (the generated
+// tern_msgs_convert.cpp, convert_rosplane.cpp, convert_ros.cpp).
 #pragma once
 
 #include <array>
@@ -30,6 +31,12 @@ inline void vec(std::array<T, N>& out, const V& in) {
   for (std::size_t i = 0; i < N; ++i) out[i] = static_cast<T>(in[i]);
 }
 
+/// The reverse of vec: a wire array into a std::array or an Eigen vector of the same length.
+template <class V, class T, std::size_t N>
+inline void unvec(V& out, const std::array<T, N>& in) {
+  for (std::size_t i = 0; i < N; ++i) out[static_cast<decltype(out.size())>(i)] = in[i];
+}
+
 /// "name: value" lines.
 class Text {
  public:
@@ -48,6 +55,15 @@ class Text {
       for (const auto& x : v) items += (items.empty() ? "" : ", ") + fmt::format("{}", x);
       s_ += fmt::format("{}: [{}]\n", name, items);
     }
+    return *this;
+  }
+  /// "name: 'sec.nanosec'"
+  Text& time(std::string_view name, const builtin_interfaces::msg::Time& t) {
+    return (*this)(name, fmt::format("{}.{:09d}", t.sec(), t.nanosec()));
+  }
+  /// A line made elsewhere (ending in a newline).
+  Text& line(const std::string& text) {
+    s_ += text;
     return *this;
   }
   Text& header(const std_msgs::msg::Header& h) {

@@ -1,17 +1,15 @@
 // core/apps/dds/src/mission_item.hpp: a mission item with its type (msg::Waypoint: a land item, a
-// loiter) as tern_msgs/MissionItem, the request of the add_mission_item service; field for
-// field (ctest dds_messages checks the IDL against msg::Waypoint's describe()).
+// loiter) as tern_msgs/MissionItem, the request of the add_mission_item service, field for field:
+// to_mission_item() and from_mission_item() are generated from msg::Waypoint's describe()
+// (tern_msgs_convert.hpp); here, how an item reads in messages.
 #pragma once
 
 #include <string>
 
 #include "tern/msg/path.hpp"
-#include "tern_msgs/msg/Vehicle.h"
+#include "tern_msgs_convert.hpp"
 
 namespace tern::core::ddsi {
-
-void to_mission_item(const msg::Waypoint& w, tern_msgs::msg::MissionItem& out);
-msg::Waypoint from_mission_item(const tern_msgs::msg::MissionItem& in);
 
 /// "waypoint", "loiter item", "return_home item", "land item" (messages).
 std::string item_name(const msg::Waypoint& w);
