@@ -96,9 +96,10 @@ PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p) {
   return m;
 }
 
-std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p) {
+std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p, Producers producers) {
   HostOptions opt;
   opt.describing = true;
+  opt.producers = producers;
   opt.quiet = true;
   auto host = std::make_unique<Host>(prepare_mission(config_file, p).config, opt);
   host->build();

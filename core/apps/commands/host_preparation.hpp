@@ -69,8 +69,10 @@ PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p);
 
 /// A built host that only describes the mission (`tern check`, `tern params`): instances
 /// configured with `describing` (no file or device opened), port graph bound, nothing flown.
-/// Throws ConfigError as prepare_mission() and Host::build() do.
-std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p);
+/// `producers`: not_checked lets an input without a producer pass (`tern params` on a replay's
+/// config, whose sensors come from a log). Throws ConfigError as prepare_mission() and
+/// Host::build() do.
+std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p, Producers producers = Producers::required);
 
 /// The observers of a host's ticks for as long as this lives: the console when --console was
 /// given (its URL printed on stdout), then the DDS bridge when the mission is bridged. Destroyed

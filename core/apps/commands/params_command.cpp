@@ -18,7 +18,8 @@ struct ParamsOptions {
 };
 
 int params(const ParamsOptions& o) {
-  const std::unique_ptr<Host> host = describing_host(o.config, o.prep);
+  // the parameters only: a replay's config (configs/replay/) has no producer for its sensors
+  const std::unique_ptr<Host> host = describing_host(o.config, o.prep, Producers::not_checked);
   fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", "parameter", "value", "default", "unit", "range", "description");
   for (const auto& [name, p] : host->parameters())
     fmt::print("{:<34} {:<16} {:<16} {:<8} {:<20} {}\n", name, to_string(p->value()), to_string(p->default_value()), p->spec().unit,

@@ -66,6 +66,13 @@ void IntervalStats::add(Nanos stamp) {
   ++n_;
 }
 
+void AirborneWindow::write_to(SensorLogMeta& meta) const {
+  if (!first_) return;
+  meta.airborne = {to_seconds(*first_), to_seconds(*last_)};
+  meta.notes.push_back(fmt::format("airborne: the first to the last GNSS fix at >= {:.0f} m/s horizontal speed ({:.3f} s to {:.3f} s)",
+                                   kSpeed, to_seconds(*first_), to_seconds(*last_)));
+}
+
 std::string IntervalStats::describe() const {
   if (n_ < 2) return fmt::format("{} samples", n_);
   return fmt::format("{} samples, {:.1f} Hz mean, intervals {:.1f} to {:.1f} ms", n_, 1.0 / mean_s(), static_cast<double>(min_) * 1e-6,

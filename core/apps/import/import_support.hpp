@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -56,6 +57,25 @@ class IntervalStats {
  private:
   std::uint64_t n_ = 0;
   Nanos first_ = 0, last_ = 0, min_ = 0, max_ = 0;
+};
+
+/// The airborne part of a flight for sensor_log.yaml's `airborne` (the replay report's window):
+/// from the first to the last GNSS fix (its stamp) whose horizontal speed reaches 5 m/s, the rule
+/// the report applies to a log without one (replay/replay_report.hpp), written down so that a
+/// reader sees it and may narrow it.
+class AirborneWindow {
+ public:
+  static constexpr double kSpeed = 5.0;  ///< m/s, horizontal GNSS speed
+  void add(Nanos stamp, double vel_n, double vel_e) {
+    if (!(std::hypot(vel_n, vel_e) >= kSpeed)) return;
+    if (!first_) first_ = stamp;
+    last_ = stamp;
+  }
+  /// Sets meta.airborne and a note saying where it came from; nothing without such a fix.
+  void write_to(SensorLogMeta& meta) const;
+
+ private:
+  std::optional<Nanos> first_, last_;
 };
 
 /// Pitot differential pressure from an equivalent airspeed (EAS is defined at sea-level

@@ -113,7 +113,8 @@ msg::FixType fix_type(const TextTable& t, double status) {
 }
 
 /// GPS.txt, with GPSraw.txt's NED velocity when that file is present (as InertialNav fuses it).
-void import_gnss(const fs::path& dir, SensorLogWriter& out, ImportReport& report, std::vector<std::string>& notes) {
+void import_gnss(const fs::path& dir, SensorLogWriter& out, ImportReport& report, std::vector<std::string>& notes,
+                 AirborneWindow& airborne) {
   TextTable t(dir / "GPS.txt", TextTable::Separator::whitespace);
   std::optional<TextTable> raw;
   if (fs::exists(dir / "GPSraw.txt")) raw.emplace(dir / "GPSraw.txt", TextTable::Separator::whitespace);
@@ -139,7 +140,9 @@ void import_gnss(const fs::path& dir, SensorLogWriter& out, ImportReport& report
       }
       g.vel = v;
     }
-    if (order.accept(g.stamp)) out.write("gnss", g);
+    if (!order.accept(g.stamp)) continue;
+    out.write("gnss", g);
+    airborne.add(g.stamp, g.vel.x(), g.vel.y());
   }
   order.report(t.file(), report);
   if (raw) {
@@ -226,7 +229,8 @@ ImportReport import_inertialnav(const fs::path& in, SensorLogWriter& out) {
   meta.source = "InertialNav text files (github.com/priseborough/InertialNav, code/main_closed_loop_float.cpp's columns)";
   meta.aircraft = "PX4 fixed wing (InertialNav's PX4 data set)";
   import_imu(dir, out, report, meta.notes);
-  import_gnss(dir, out, report, meta.notes);
+  AirborneWindow airborne;
+  import_gnss(dir, out, report, meta.notes, airborne);
   import_air_data(dir, out, report);
   import_mag(dir, out, report);
   import_reference(dir, out, report);
@@ -260,6 +264,7 @@ ImportReport import_inertialnav(const fs::path& in, SensorLogWriter& out) {
   n.push_back("temperature columns: not recorded; the message default 288.15 K is written");
   n.push_back("date: the flight's date is not in the files; 2014-02-11 is the day the data set was added to InertialNav (an upper bound)");
   meta.date = "2014-02-11";
+  airborne.write_to(meta);
   out.finish(meta);
   report.rows = out.rows();
   return report;

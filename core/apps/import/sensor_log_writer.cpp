@@ -47,6 +47,9 @@ std::string meta_yaml(const SensorLogMeta& meta, const std::string& origin) {
     for (const auto& kv : meta.estimator) y << YAML::Key << kv.first << YAML::Value << shortest(kv.second);
     y << YAML::EndMap;
   }
+  if (meta.airborne)
+    y << YAML::Key << "airborne" << YAML::Value << YAML::Flow << YAML::BeginSeq << fmt::format("{}", meta.airborne->first)
+      << fmt::format("{}", meta.airborne->second) << YAML::EndSeq;
   if (!meta.notes.empty()) {
     y << YAML::Key << "notes" << YAML::Value << YAML::BeginSeq;
     for (const auto& n : meta.notes) y << YAML::DoubleQuoted << n;

@@ -17,9 +17,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
@@ -44,10 +46,12 @@ struct ImportReport {
 
 /// sensor_log.yaml's content (docs/sensor-log.md).
 struct SensorLogMeta {
-  std::string source;              ///< the original log and the converter, free text
-  std::string aircraft;            ///< free text
-  std::string date;                ///< UTC date of the flight, ISO 8601 ("2014-02-11"); "" if unknown (omitted)
-  YAML::Node estimator;            ///< estimator settings the log implies: parameter name -> value
+  std::string source;    ///< the original log and the converter, free text
+  std::string aircraft;  ///< free text
+  std::string date;      ///< UTC date of the flight, ISO 8601 ("2014-02-11"); "" if unknown (omitted)
+  YAML::Node estimator;  ///< estimator settings the log implies: parameter name -> value
+  /// s of log time: the airborne part, for the replay report's window (omitted when unset)
+  std::optional<std::pair<double, double>> airborne;
   std::vector<std::string> notes;  ///< what the converter assumed, one line each
 };
 

@@ -182,6 +182,7 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   r.replay_end_s = run.state.at("t").back();
   r.window = find_window(run);
   r.counters = estimator_counters(run.summary);
+  r.rows = row_account(run.summary, r.counters);
   r.validity = validity(run.state, r.counters);
   r.measurements = measurement_reports(run, r.counters, r.window);
   if (!run.innovations) r.measurements_absent = "absent (no topics/innovations.csv)";

@@ -4,7 +4,7 @@
 // Reads a run directory `tern replay` wrote (docs/sensor-log.md, core/host/record/flight_log.hpp):
 // topics/state.csv (the estimate), innovations.csv, gnss.csv, reference.csv (another estimator's
 // solution, optional), params.csv (gates, GNSS delay), summary.json (the estimator's own counters
-// and resets) and sensor_log.yaml (its optional `airborne: [start_s, end_s]`).
+// and resets, the replay's rows played per topic: RowAccount) and sensor_log.yaml (its optional `airborne: [start_s, end_s]`).
 //
 // The window: sensor_log.yaml's `airborne` if given, else from the first to the last GNSS fix
 // (log time t) with a horizontal speed >= 5 m/s, else the whole replay; `Window::rule` says which.
@@ -86,6 +86,27 @@ struct EstimatorCounters {
   std::string instance;                                ///< "" when summary.json names no estimator
   std::vector<ModelCounters> models;                   ///< in summary.json's order
   std::vector<std::pair<std::string, double>> resets;  ///< every "<x>_resets" and "inflations"
+};
+
+/// One sensor table's rows against the estimator's samples (summary.json): `rows` the log's table
+/// holds (less the rows the replay dropped: time going backwards), `played` by the replay (the
+/// rest lie after the tick of the last IMU row, where the replay ends), `received` by the
+/// estimator (each one fused, gated out, used to initialise or calibrate, or `invalid`: NaN, out
+/// of range, its stamp going backwards), `missed`: samples its input queue could not hold.
+/// lost = played - received: 0 when every played sample reached the filter.
+struct TopicRows {
+  std::string topic;  ///< imu, gnss, baro, diff_pressure, mag
+  double rows = 0.0, played = 0.0, received = 0.0, invalid = 0.0, missed = 0.0;
+  double lost() const { return played - received; }
+};
+
+/// The row account of the sensor tables: the replay instance's `<topic>_rows`/`_played` against
+/// the estimator's `<sensor>_received`/`_invalid`/`<input>_missed` in summary.json.
+struct RowAccount {
+  std::string absent;             ///< "" when counted, else why not
+  std::vector<TopicRows> topics;  ///< those the log has, in the order above
+  double lost = 0.0;              ///< summed over topics
+  double not_played = 0.0;        ///< rows after the replay's end, summed over topics
 };
 
 struct Validity {
@@ -173,6 +194,7 @@ struct ReplayReport {
   std::vector<MeasurementReport> measurements;  ///< empty: innovations.csv absent
   std::string measurements_absent;
   EstimatorCounters counters;
+  RowAccount rows;
   ReferenceComparison reference;
   GnssComparison gnss;
   WindReport wind;

@@ -58,6 +58,21 @@ json estimator_json(const EstimatorCounters& c) {
           {"resets", resets}};
 }
 
+json rows_json(const RowAccount& a) {
+  if (!a.absent.empty()) return {{"status", a.absent}};
+  json topics = json::object();
+  for (const auto& t : a.topics)
+    topics[t.topic] = {{"rows", t.rows},       {"played", t.played}, {"received", t.received},
+                       {"invalid", t.invalid}, {"missed", t.missed}, {"lost", t.lost()}};
+  return {{"rule",
+           "summary.json: the replay instance's <topic>_rows and _played against the estimator's <sensor>_received (fused, gated, "
+           "used to initialise or calibrate, or invalid), _invalid and <input>_missed (its queue could not hold them); lost = played - "
+           "received; rows after the tick of the last IMU row are not played"},
+          {"lost", a.lost},
+          {"not_played", a.not_played},
+          {"topics", topics}};
+}
+
 json validity_json(const Validity& v) {
   return {{"first_valid_s", number(v.first_valid_s)},
           {"share_valid", number(v.share_valid)},
@@ -160,6 +175,7 @@ nlohmann::json to_json(const ReplayReport& r) {
   j["validity"] = validity_json(r.validity);
   j["measurements"] = measurements_json(r);
   j["estimator"] = estimator_json(r.counters);
+  j["rows"] = rows_json(r.rows);
   j["reference"] = reference_json(r);
   j["gnss"] = gnss_json(r);
   j["wind"] = wind_json(r);

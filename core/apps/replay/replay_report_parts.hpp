@@ -93,6 +93,7 @@ void add_sample_time(CsvTable& table);
 
 ReplayWindow find_window(const RunTables& run);
 EstimatorCounters estimator_counters(const nlohmann::ordered_json& summary);
+RowAccount row_account(const nlohmann::ordered_json& summary, const EstimatorCounters& counters);
 Validity validity(const CsvTable& state, const EstimatorCounters& counters);
 std::vector<MeasurementReport> measurement_reports(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
 ReferenceComparison compare_reference(const RunTables& run, const ReplayWindow& w);

@@ -50,6 +50,21 @@ void header(std::string& out, const ReplayReport& r) {
   }
 }
 
+/// Per sensor table: rows, played, received by the estimator (invalid), lost.
+void rows(std::string& out, const ReplayReport& r) {
+  const RowAccount& a = r.rows;
+  if (!a.absent.empty()) {
+    out += "rows: " + a.absent + "\n";
+    return;
+  }
+  out += fmt::format("rows: {:.0f} lost (played, not received by the estimator){}\n", a.lost,
+                     a.not_played > 0 ? fmt::format("; {:.0f} after the last IMU row's tick, not played", a.not_played) : "");
+  out += fmt::format("  {:<14} {:>8} {:>8} {:>9} {:>8} {:>7} {:>6}\n", "topic", "rows", "played", "received", "invalid", "missed", "lost");
+  for (const auto& t : a.topics)
+    out += fmt::format("  {:<14} {:>8.0f} {:>8.0f} {:>9.0f} {:>8.0f} {:>7.0f} {:>6.0f}\n", t.topic, t.rows, t.played, t.received, t.invalid,
+                       t.missed, t.lost());
+}
+
 void nis_row(std::string& out, const NisStats& s) {
   out += fmt::format(" {:>6} {:>6} {:>7} {:>7} {:>7} {:>7} |", s.count, pct(s.share_rejected), num(s.mean_nis), num(s.p50_nis),
                      num(s.p95_nis), num(s.p99_nis));
@@ -141,6 +156,7 @@ std::string format_replay_table(const ReplayReport& r) {
   std::string out;
   Notes notes{r, {}};
   header(out, r);
+  rows(out, r);
   measurements(out, r, notes);
   comparisons(out, r, notes);
   specific_force(out, r, notes);

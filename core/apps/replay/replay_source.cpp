@@ -137,6 +137,8 @@ class Track final : public ReplaySource::TrackBase {
   }
   void rewind() override { next_ = 0; }
   Nanos last_time() const override { return rows_.empty() ? 0 : rows_.back().first; }
+  std::size_t rows() const override { return rows_.size(); }
+  std::size_t played() const override { return next_; }
   const std::string& partial_last_line() const override { return partial_; }
   const std::vector<std::string>& warnings() const override { return warnings_; }
   Output<T>& output() { return *out_; }
@@ -197,6 +199,7 @@ void ReplaySource::configure() {
     if (!track->partial_last_line().empty()) log().warn("replay: {}", track->partial_last_line());
     for (const auto& w : track->warnings()) log().warn("replay: {}", w);
     track->feedback = feedback;
+    track->topic = topic;
     this->declare(track->output(), topic, "recorded " + topic);
     tracks_.push_back(std::move(track));
   };
@@ -215,6 +218,15 @@ void ReplaySource::configure() {
 
 void ReplaySource::start() {
   for (auto& t : tracks_) t->rewind();
+}
+
+std::vector<std::pair<std::string, double>> ReplaySource::summary() const {
+  std::vector<std::pair<std::string, double>> s;
+  for (const auto& t : tracks_) {
+    s.emplace_back(t->topic + "_rows", static_cast<double>(t->rows()));
+    s.emplace_back(t->topic + "_played", static_cast<double>(t->played()));
+  }
+  return s;
 }
 
 void ReplaySource::step(Nanos now) {

@@ -7,7 +7,10 @@
 // simulator's `truth` and another estimator's `reference` (those present), mapping columns by
 // name onto the message layout (a unit in brackets must be the layout's; a column the table lacks
 // keeps the message's default, NaN for the reference); at each tick it publishes every row whose
-// time `t` is <= now, in order. The values are bit-exact: the log writes doubles in shortest
+// time `t` is <= now, in order, each one a message of its own (several rows of one topic inside one
+// tick reach a consumer with a queue each: tern/port.hpp). The replay ends at the first tick at or
+// after the last IMU row (end_time()), so that row is played; rows of other topics after that tick
+// are not (the summary counts them). The values are bit-exact: the log writes doubles in shortest
 // round-trip form. Rows whose time goes backwards are dropped and rows holding NaN are played
 // (the estimator rejects them), each kind counted in one warning per file; a last line without a
 // line end (a flight killed while writing it) is dropped with one warning; a short row or a cell
@@ -32,12 +35,18 @@ class ReplaySource final : public RecordedSource {
   void reset() override { start(); }
   void step(Nanos now) override;
   Nanos end_time() const override { return end_; }
+  /// Per topic: `<topic>_rows` (rows read, after the dropped ones) and `<topic>_played` (published
+  /// this flight), for the replay report's row account.
+  std::vector<std::pair<std::string, double>> summary() const override;
 
   struct TrackBase {
     virtual ~TrackBase() = default;
     virtual void publish_until(Nanos now) = 0;
     virtual void rewind() = 0;
     virtual Nanos last_time() const = 0;
+    virtual std::size_t rows() const = 0;
+    virtual std::size_t played() const = 0;
+    std::string topic;
     /// Why the CSV's last line was dropped ("" if it was complete).
     virtual const std::string& partial_last_line() const = 0;
     /// Rows dropped (time going backwards) or holding NaN, one line per kind with counts.

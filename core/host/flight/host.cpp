@@ -146,7 +146,7 @@ void Host::rebuild_graph() {
   const OutputBase* pilot = remote_.renew_pilot_output();
   std::vector<const OutputBase*> offered{edits, pilot};
   offered.insert(offered.end(), options_.external_outputs.begin(), options_.external_outputs.end());
-  graph_ = PortGraph(nodes, offered, config_.file);
+  graph_ = PortGraph(nodes, offered, config_.file, options_.producers);
   remote_.keep_mission_edit_output(graph_.offers(edits));
   remote_.keep_pilot_output(graph_.offers(pilot));
   graph_.bind(router_.active());
@@ -207,7 +207,11 @@ void Host::set_pilot(const msg::Rc& rc) {
 
 // ---- what the host holds ------------------------------------------------------------------------
 
-Nanos Host::replay_end() const { return replay_ ? replay_->end_time() : 0; }
+Nanos Host::replay_end() const {
+  if (!replay_ || base_period_ <= 0) return 0;
+  const Nanos last = replay_->end_time();
+  return (last + base_period_ - 1) / base_period_ * base_period_;  // a sample between two ticks: the next one plays it
+}
 
 std::vector<Host::TopicInfo> Host::topics() const {
   std::vector<TopicInfo> out;

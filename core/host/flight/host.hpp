@@ -71,7 +71,10 @@ struct HostOptions {
   RealtimeOptions rt;       ///< the flight thread's scheduling when realtime (realtime.hpp)
   bool progress = false;    ///< live status line on stdout
   bool describing = false;  ///< configure only (check/params): open no files/devices
-  bool quiet = false;       ///< no console log below warnings
+  /// Producers::not_checked: an input nothing publishes is no error (`tern params` on a replay's
+  /// config, graph/port_graph.hpp), for a describing host.
+  Producers producers = Producers::required;
+  bool quiet = false;  ///< no console log below warnings
   /// `tern replay`: play the recorded flight this makes (apps/replay/replay_source.hpp: a sensor
   /// log's topics) instead of the config's I/O plugins, and keep only its estimator instances.
   RecordedSourceFactory replay;
@@ -196,7 +199,8 @@ class Host {
   bool abort_flight();
   /// Flights flown by this host.
   int flights() const { return flights_; }
-  /// Flight time of the last recorded IMU sample when replaying (0 otherwise).
+  /// When replaying, the first tick at or after the last recorded IMU sample (the flight's
+  /// duration that plays it, RecordedSource::end_time()); 0 otherwise.
   Nanos replay_end() const;
   /// Milliseconds from the Host constructor to the first tick of the last flight.
   double start_to_first_tick_ms() const { return start_to_first_tick_ms_; }
@@ -205,7 +209,9 @@ class Host {
 
  private:
   void rebuild_graph();
-  InstanceSetup setup() const { return {config_, seed_, sinks_, options_.describing, *logger_, options_.realtime}; }
+  InstanceSetup setup() const {
+    return {config_, seed_, sinks_, options_.describing, *logger_, options_.realtime, static_cast<bool>(options_.replay)};
+  }
   FlightFacts facts(double duration_s) const;
   double flight_duration() const;
   // fly(), in order

@@ -22,8 +22,8 @@ std::uint64_t derived_seed(std::uint64_t seed, const std::string& name) {
 class InstanceContext final : public Context {
  public:
   InstanceContext(const MissionConfig& config, const InstanceConfig& cfg, std::uint64_t seed, std::shared_ptr<spdlog::logger> log,
-                  bool describing)
-      : config_(config), cfg_(cfg), seed_(seed), log_(std::move(log)), describing_(describing) {}
+                  bool describing, bool replaying)
+      : config_(config), cfg_(cfg), seed_(seed), log_(std::move(log)), describing_(describing), replaying_(replaying) {}
 
   const std::string& instance_name() const override { return cfg_.name; }
   std::optional<ParamValue> configured_value(const std::string& param, const ParamSpec& spec) const override {
@@ -45,6 +45,7 @@ class InstanceContext final : public Context {
   std::filesystem::path aircraft_file() const override { return config_.aircraft; }
   std::vector<std::string> vehicles() const override { return config_.vehicles; }
   bool describing() const override { return describing_; }
+  bool replaying() const override { return replaying_; }
   void end_flight(const std::string& reason, const std::string& detail) override {
     if (!end_) end_ = EndRequest{reason, detail};
   }
@@ -58,7 +59,7 @@ class InstanceContext final : public Context {
   const InstanceConfig& cfg_;
   std::uint64_t seed_;
   std::shared_ptr<spdlog::logger> log_;
-  bool describing_;
+  bool describing_, replaying_;
   mutable std::string last_param_;
   mutable std::set<std::string> used_;
   std::optional<EndRequest> end_;
@@ -138,7 +139,7 @@ void configure_instance(Instance& inst, const InstanceSetup& setup) {
   const std::uint64_t iseed = derived_seed(setup.seed, inst.cfg.name);
   auto log = std::make_shared<spdlog::logger>(inst.cfg.name, setup.sink);
   log->set_level(spdlog::level::info);
-  inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing);
+  inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing, setup.replaying);
   inst.plugin->attach(inst.ctx.get());
   const std::string field = inst.builtin ? inst.cfg.name : inst.cfg.label();
   run_configure(inst, setup.config.file, field);

@@ -71,6 +71,7 @@ struct InstanceSetup {
   bool describing;                            ///< check/params: configure only, open no files or devices
   spdlog::logger& log;                        ///< the host's logger (warnings)
   bool realtime = false;                      ///< --realtime: external instances take the latest output, no lockstep
+  bool replaying = false;                     ///< `tern replay`: the inputs come from a log (Context::replaying())
 };
 
 /// Attaches a context to `inst.plugin` and configures it (see above). Throws ConfigError.

@@ -12,7 +12,7 @@
 namespace tern::core {
 
 PortGraph::PortGraph(const std::vector<PortNode>& nodes, const std::vector<const OutputBase*>& host_outputs,
-                     const std::filesystem::path& file) {
+                     const std::filesystem::path& file, Producers producers) {
   for (const auto& n : nodes) names_.push_back(n.name);
   collect(nodes);
   std::vector<std::string> written;
@@ -21,10 +21,18 @@ PortGraph::PortGraph(const std::vector<PortNode>& nodes, const std::vector<const
   for (const OutputBase* out : host_outputs) written.push_back(out->topic());  // offer() checks their readers
   for (auto& t : topics_) {
     check_writers(t, nodes, file);
-    check_readers(t, written, file);
+    if (producers == Producers::required) check_readers(t, written, file);
+    keep_histories(t);
   }
   for (const OutputBase* out : host_outputs) offer(out, file);
   order_schedule(nodes);
+}
+
+// Each writer holds as many messages as its deepest reader's queue reads (Input<T>::received()).
+void PortGraph::keep_histories(const GraphTopic& t) {
+  std::size_t depth = 1;
+  for (const auto& [i, in] : t.readers) depth = std::max<std::size_t>(depth, in->queue_depth());
+  for (const auto& [i, out] : t.writers) out->keep_history(depth);
 }
 
 std::string PortGraph::port_id(std::size_t node, const PortBase& port) const { return names_[node] + "." + port.name(); }

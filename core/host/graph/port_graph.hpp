@@ -61,13 +61,20 @@ struct GraphEdge {
   bool feedback = false;  ///< `to` runs before `from` in a tick: it reads the previous tick's message
 };
 
+/// Whether every required input must have a producer: `tern params` lists the parameters of a
+/// replay's config (configs/replay/), whose inputs a sensor log feeds, without one.
+enum class Producers : std::uint8_t { required, not_checked };
+
 class PortGraph {
  public:
   PortGraph() = default;
   /// Collects the topics of `nodes` (indices into `nodes` name the nodes everywhere below),
-  /// checks them, offers `host_outputs` and orders the schedule. Binds nothing. Throws
-  /// ConfigError ("<file>: topic 'actuators' has 2 writers: ...").
-  PortGraph(const std::vector<PortNode>& nodes, const std::vector<const OutputBase*>& host_outputs, const std::filesystem::path& file);
+  /// checks them, offers `host_outputs` and orders the schedule. Each writer keeps as many
+  /// messages as its deepest reader's queue (OutputBase::keep_history, tern/port.hpp). Binds
+  /// nothing. Throws ConfigError ("<file>: topic 'actuators' has 2 writers: ...", "<file>: input
+  /// 'ekf.imu' (topic 'imu', ...) has no producer ..." unless `producers` is not_checked).
+  PortGraph(const std::vector<PortNode>& nodes, const std::vector<const OutputBase*>& host_outputs, const std::filesystem::path& file,
+            Producers producers = Producers::required);
 
   const std::vector<GraphTopic>& topics() const { return topics_; }
   const std::vector<GraphEdge>& edges() const { return edges_; }
@@ -105,6 +112,7 @@ class PortGraph {
   void check_writers(GraphTopic& t, const std::vector<PortNode>& nodes, const std::filesystem::path& file) const;
   void check_readers(const GraphTopic& t, const std::vector<std::string>& written, const std::filesystem::path& file) const;
   void offer(const OutputBase* out, const std::filesystem::path& file);
+  static void keep_histories(const GraphTopic& t);
   void order_schedule(const std::vector<PortNode>& nodes);
   static void bind_readers(GraphTopic& t, const OutputBase* src);
   static const OutputBase* routed_writer(const GraphTopic& t, std::optional<std::size_t> active);

@@ -14,7 +14,8 @@ namespace tern::core {
 
 class RecordedSource : public Plugin {
  public:
-  /// Flight time of the last recorded IMU sample (0 if none): the replay's duration.
+  /// Flight time of the last recorded IMU sample (0 if none): the replay flies until the first
+  /// tick at or after it (Host::replay_end()), so that sample is played.
   virtual Nanos end_time() const = 0;
 };
 

@@ -1,6 +1,11 @@
 // estimator_ekf plugin class (header so that tests can instantiate it): binds tern::ekf::Estimator to ports and parameters.
 //
-// Inputs: imu (required), gnss, baro, diff_pressure, mag, actuators (optional).
+// Inputs: imu (required), gnss, baro, diff_pressure, mag, actuators (optional). The sensors'
+// inputs are queues (kSensorQueue messages, tern/port.hpp): every sample published since the
+// previous step reaches the filter, oldest first, each with its own stamp (a replay plays several
+// rows of one topic inside one 2.5-ms step); the IMU's first, then gnss, baro, diff_pressure, mag.
+// A sample the queue could not hold is counted (summary.json `<input>_missed`, only when some
+// were) and warned about once. actuators: the latest command only.
 // Outputs: state (msg::State), every output_decimation-th IMU sample, and on every step while the
 // IMU is silent (status invalid); innovations (msg::Innovations) every innovations_period.
 // Schedule it with `rate:` at the IMU's rate rather than `trigger: imu`: only a plugin stepped
@@ -39,15 +44,19 @@ struct OutputConfig {
   }
 };
 
+/// Samples of one sensor an input holds between two steps: 25 ms of a 1-kHz IMU at a 400-Hz step.
+inline constexpr std::uint32_t kSensorQueue = 64;
+
 class EstimatorEkf final : public tern::Plugin {
  public:
   void configure() override {
     using tern::Need;
-    declare(imu_, "imu", "IMU samples; each one propagates the filter (use trigger: imu)");
-    declare(gnss_, "gnss", "GNSS solutions: origin, position and velocity updates", Need::optional);
-    declare(baro_, "baro", "static pressure: altitude updates after the ground calibration", Need::optional);
-    declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates", Need::optional);
-    declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional);
+    const tern::Queue q{kSensorQueue};
+    declare(imu_, "imu", "IMU samples; each one propagates the filter (use trigger: imu)", Need::required, q);
+    declare(gnss_, "gnss", "GNSS solutions: origin, position and velocity updates", Need::optional, q);
+    declare(baro_, "baro", "static pressure: altitude updates after the ground calibration", Need::optional, q);
+    declare(diff_, "diff_pressure", "pitot differential pressure: airspeed and zero-sideslip updates", Need::optional, q);
+    declare(mag_, "mag", "magnetometer: attitude (heading) updates", Need::optional, q);
     declare(actuators_, "actuators", "surface deflections for the side- and normal-force models (delta_a, delta_e, delta_r)",
             Need::optional);
     declare(state_, "state", "the estimate; status: ok, degraded (which sensor) or invalid");
@@ -72,10 +81,14 @@ class EstimatorEkf final : public tern::Plugin {
   void start() override {
     estimator_.set_config(config_);
     estimator_.expect_mag(mag_.connected());
-    estimator_.expect(Sensor::gnss, gnss_.connected());
-    estimator_.expect(Sensor::baro, baro_.connected());
-    estimator_.expect(Sensor::diff_pressure, diff_.connected());
-    estimator_.expect(Sensor::mag, mag_.connected());
+    // A wired sensor silent from the start times out, unless a replayed log's clock starts
+    // anywhere (Context::replaying()): then each sensor's time-out starts at its first sample.
+    const bool live = !context().replaying();
+    estimator_.expect(Sensor::imu, live);
+    estimator_.expect(Sensor::gnss, gnss_.connected() && live);
+    estimator_.expect(Sensor::baro, baro_.connected() && live);
+    estimator_.expect(Sensor::diff_pressure, diff_.connected() && live);
+    estimator_.expect(Sensor::mag, mag_.connected() && live);
   }
 
   void step(tern::Nanos now) override {
@@ -84,11 +97,7 @@ class EstimatorEkf final : public tern::Plugin {
       dirty_ = false;
     }
     const bool imu_new = imu_.updated();
-    if (imu_new) estimator_.add_imu(*imu_);
-    if (gnss_.updated()) estimator_.add_gnss(*gnss_);
-    if (baro_.updated()) estimator_.add_baro(*baro_);
-    if (diff_.updated()) estimator_.add_diff_pressure(*diff_);
-    if (mag_.updated()) estimator_.add_mag(*mag_);
+    take_samples();
     if (actuators_.updated()) estimator_.set_controls(actuators_->delta_a, actuators_->delta_e, actuators_->delta_r);
     // On the host's clock: with `rate:` scheduling a silent IMU times out here.
     estimator_.check_timeouts(now);
@@ -134,6 +143,9 @@ class EstimatorEkf final : public tern::Plugin {
       s.emplace_back(n + "_invalid", static_cast<double>(c.invalid));
       s.emplace_back(n + "_timeouts", static_cast<double>(c.timeouts));
     }
+    for (std::size_t i = 0; i < flight_.missed.size(); ++i)
+      if (flight_.missed[i] > 0)
+        s.emplace_back(std::string(sensor_inputs()[i]->name()) + "_missed", static_cast<double>(flight_.missed[i]));
     for (const auto& [name, st] : update_stats()) {
       s.emplace_back(name + "_accepted", static_cast<double>(st->accepted));
       s.emplace_back(name + "_rejected", static_cast<double>(st->rejected));
@@ -180,6 +192,26 @@ class EstimatorEkf final : public tern::Plugin {
   const tern::ekf::Estimator& estimator() const { return estimator_; }
 
  private:
+  /// Every sample the sensors' queues received since the previous step into the filter, in
+  /// order; the ones a queue could not hold counted and warned about once per input.
+  void take_samples() {
+    for (const auto& m : imu_.received()) estimator_.add_imu(m);
+    for (const auto& m : gnss_.received()) estimator_.add_gnss(m);
+    for (const auto& m : baro_.received()) estimator_.add_baro(m);
+    for (const auto& m : diff_.received()) estimator_.add_diff_pressure(m);
+    for (const auto& m : mag_.received()) estimator_.add_mag(m);
+    const auto inputs = sensor_inputs();
+    for (std::size_t i = 0; i < inputs.size(); ++i) {
+      const std::uint64_t n = inputs[i]->missed();
+      if (n > 0 && flight_.missed[i] == 0)
+        log().warn("{}: {} samples between two steps did not fit the input's queue ({}): lost (further losses counted in summary.json)",
+                   inputs[i]->name(), n, inputs[i]->queue_depth());
+      flight_.missed[i] += n;
+    }
+  }
+  /// The sensors' inputs, in the order their samples are taken.
+  std::array<const tern::InputBase*, 5> sensor_inputs() const { return {&imu_, &gnss_, &baro_, &diff_, &mag_}; }
+
   /// The Earth's field the magnetometer is compared with, once the origin is known.
   void log_earth_field(tern::Nanos stamp) {
     const tern::MagneticField& f = estimator_.earth_field();
@@ -226,7 +258,8 @@ class EstimatorEkf final : public tern::Plugin {
   tern::msg::State out_;  ///< scratch: the estimate is filled in place before it is published
   /// Everything one flight changes (besides the estimator): reset() replaces it wholesale.
   struct Flight {
-    std::uint64_t ticks = 0;  ///< IMU samples seen (output decimation)
+    std::uint64_t ticks = 0;                ///< IMU samples seen (output decimation)
+    std::array<std::uint64_t, 5> missed{};  ///< per sensor_inputs(): samples their queues could not hold
     tern::Nanos last_innovations = std::numeric_limits<tern::Nanos>::min() / 2;
   } flight_;
   bool dirty_ = false;

@@ -5,9 +5,10 @@
 //   TERN_PLUGIN(MyController, "my_controller", tern::PluginKind::controller, "one line");
 //
 // and built with tern_add_plugin() into libtern_my_controller.so. Its life, driven by the host:
-//   configure()  declare ports (declare(input_, "state")) and parameters (declare(kp_, "kp", ...),
-//                or a whole config struct at once: declare_struct(config_)); read parameter
-//                values, open files. Nothing runs yet.
+//   configure()  declare ports (declare(input_, "state"); every message between two steps:
+//                declare(imu_, "imu", "...", Need::required, Queue{64})) and parameters
+//                (declare(kp_, "kp", ...), or a whole config struct at once:
+//                declare_struct(config_)); read parameter values, open files. Nothing runs yet.
 //   start()      once, before the first step of a flight.
 //   step(now)    at the configured rate, or when the trigger input has new data.
 //   reset()      between flights of one host (`tern serve`), before the next start(): the
@@ -74,7 +75,9 @@ namespace tern {
 /// 5: OutputBase::clear() (the host empties every output between flights), per-flight state
 ///    replaced wholesale by reset(), Plugin::health() and Plugin::timing() (issue 45).
 /// 6: PluginKind::coordination and Context::vehicles() (multi-vehicle missions, issue 42).
-inline constexpr std::uint32_t kSdkApiVersion = 6;
+/// 7: input queues (Queue, Input<T>::received(), an Output's history: every message between two
+///    steps reaches a consumer that asks for it; tern/port.hpp), Context::replaying() (issue 61).
+inline constexpr std::uint32_t kSdkApiVersion = 7;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 /// `coordination`: runs once per tick after every vehicle of a multi-vehicle mission, sees their
@@ -123,6 +126,11 @@ class TERN_API Context {
   /// True when the host only wants the plugin's ports and parameters (`tern plugins`,
   /// `tern params`): configure() should declare everything and open no file or device.
   virtual bool describing() const { return false; }
+  /// True when the inputs come from a recorded log (`tern replay`): the log's clock may start
+  /// anywhere and each sensor's first sample may come at any time after the flight's start
+  /// (docs/sensor-log.md), so a sensor silent before its first sample is no fault (an estimator
+  /// starts its time-out at its first sample).
+  virtual bool replaying() const { return false; }
   /// Ends the flight after this step, for a reason only the plugin can see (a simulator's
   /// aircraft hit the ground). `reason` becomes summary.json's `end_reason` (one word: "crash"),
   /// `detail` says what happened (time, place, speeds). The flight ends with ok = false, so
@@ -192,6 +200,13 @@ class TERN_API Plugin {
   void declare(Input<T>& port, std::string name, std::string description = {}, Need need = Need::required) {
     port.set_need(need);
     add_input(port, std::move(name), std::move(description));
+  }
+  /// An input that reads every message published between two steps, up to `queue.depth` of
+  /// them (Input<T>::received(), tern/port.hpp): e.g. a sensor a replay may deliver in bursts.
+  template <class T>
+  void declare(Input<T>& port, std::string name, std::string description, Need need, Queue queue) {
+    port.set_queue(queue);
+    declare(port, std::move(name), std::move(description), need);
   }
   template <class T>
   void declare(Output<T>& port, std::string name, std::string description = {}) {

@@ -41,7 +41,8 @@ class TERN_API Harness final : public Context {
 
   Plugin& plugin() { return *plugin_; }
 
-  /// Publishes msg to the plugin's input port `port` (created and bound on first use).
+  /// Publishes msg to the plugin's input port `port` (created and bound on first use). Several
+  /// before one step reach an input with a queue (Input<T>::received()) each, in order.
   template <class T>
   void set_input(const std::string& port, const T& msg) {
     InputBase* in = plugin_->find_input(port);
@@ -50,6 +51,7 @@ class TERN_API Harness final : public Context {
     auto it = feeders_.find(port);
     if (it == feeders_.end()) {
       auto out = std::make_unique<Output<T>>();
+      out->keep_history(in->queue_depth());  // as the host sizes a producer for its queued readers
       in->bind(out.get());
       it = feeders_.emplace(port, std::move(out)).first;
     }

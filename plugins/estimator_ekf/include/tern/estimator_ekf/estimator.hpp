@@ -121,7 +121,8 @@ class Estimator {
   void expect_mag(bool expected) { expect_mag_ = expected; }
   /// Whether a sensor is wired (default: every one): an expected sensor that never delivers a
   /// valid sample times out counted from the first check_timeouts() (the start), as one that
-  /// stops does from its last sample.
+  /// stops does from its last sample. Not expected: its time-out starts at its first sample (an
+  /// unwired sensor, or any sensor of a replayed log, whose clock may start anywhere).
   void expect(Sensor s, bool expected) { expected_[static_cast<int>(s)] = expected; }
   /// A new flight: the estimator as constructed with the current configuration and sensor
   /// wiring (expect(), expect_mag()): no origin, no calibration, counters and events cleared.
