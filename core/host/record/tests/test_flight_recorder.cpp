@@ -151,7 +151,8 @@ TEST_CASE("flight recorder: run directory, config, parameter sources, topics thi
   CHECK(nlohmann::json::parse(read_file(dir / "timing.json")).contains("wall_s"));
   std::set<std::string> files;
   for (const auto& e : fs::directory_iterator(dir)) files.insert(e.path().filename().string());
-  CHECK(files == std::set<std::string>{"config.yaml", "definitions.json", "params.csv", "summary.json", "timing.json", "tern.log", "topics"});
+  CHECK(files ==
+        std::set<std::string>{"config.yaml", "definitions.json", "params.csv", "summary.json", "timing.json", "tern.log", "topics"});
 }
 
 TEST_CASE("flight recorder: captured rows stay in memory until a flush hands them to the writer") {
