@@ -33,6 +33,9 @@ double lowest_altitude(const FlightResult& r, double t0, double t1) {
   const auto header = cells(rows[0]);
   const auto col = static_cast<std::size_t>(std::find(header.begin(), header.end(), "p_d [m]") - header.begin());
   REQUIRE(col < header.size());
+  // the whole window is in the table (a log that ended before t1 gave the rows there were, and
+  // none at all 1e9: a check "> 30 m" passed on a flight that never got there)
+  REQUIRE_MESSAGE(std::stod(cells(rows.back())[0]) >= t1, "truth.csv ends before t = " << t1 << " s");
   double low = 1e9;
   for (std::size_t k = 1; k < rows.size(); ++k) {
     const auto c = cells(rows[k]);

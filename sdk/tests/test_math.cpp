@@ -28,6 +28,18 @@ TEST_CASE("splitmix64: Vigna's reference outputs") {
   CHECK(splitmix64(0x9e3779b97f4a7c15ULL) == 0x6e789e6aa1b965f4ULL);
 }
 
+TEST_CASE("FNV-1a: the reference vectors from the true offset basis; tern's seeds from its own") {
+  Fnv1a a{Fnv1a::kOffsetBasis};
+  a.chars("a");
+  CHECK(a.h == 0xaf63dc4c8601ec8cULL);  // draft-eastlake-fnv's test vector for "a"
+  CHECK(Fnv1a{Fnv1a::kOffsetBasis}.h == 14695981039346656037ULL);
+  // an instance's seed as every flight so far derived it (splitmix64(seed ^ FNV-1a field from
+  // kTernBasis)): changing it would change every flight's noise
+  CHECK(derive_seed(1, "sim") == 0x7c860fd76b57de94ULL);
+  CHECK(derive_seed(1, "sim") != derive_seed(2, "sim"));
+  CHECK(derive_seed(1, "sim") != derive_seed(1, "ekf"));
+}
+
 TEST_CASE("Euler, quaternion and rotation matrix agree and round-trip") {
   const double phi = 0.3, theta = -0.2, psi = 2.5;
   const Eigen::Quaterniond q = quaternion_from_euler(phi, theta, psi);

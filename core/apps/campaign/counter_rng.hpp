@@ -17,9 +17,9 @@ namespace tern::campaign {
 
 /// 64-bit FNV-1a of a name (a stream id).
 constexpr std::uint64_t stream_id(std::string_view name) {
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  for (char c : name) h = (h ^ static_cast<unsigned char>(c)) * 0x100000001b3ULL;
-  return h;
+  Fnv1a f{Fnv1a::kOffsetBasis};
+  f.chars(name);
+  return f.h;
 }
 
 /// The random word for (seed, flight, stream, component).

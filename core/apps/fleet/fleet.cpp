@@ -11,6 +11,7 @@
 #include "graph/instances.hpp"
 #include "record/flight_recorder.hpp"
 #include "tern/msg/all.hpp"
+#include "tern/random.hpp"
 
 namespace tern::core {
 
@@ -81,7 +82,7 @@ void Fleet::build_vehicle(std::size_t i) {
   Vehicle& v = vehicles_[i];
   v.name = config_.vehicles[i].name;
   HostOptions o;
-  o.seed = derived_seed(seed_, v.name);
+  o.seed = derive_seed(seed_, v.name);
   o.duration = options_.duration;
   o.quiet = options_.quiet;
   o.describing = options_.describing;
@@ -112,7 +113,7 @@ void Fleet::build_coordination() {
   MissionConfig c = *config_.coordination;
   c.base_rate = 1e9 / static_cast<double>(vehicles_.front().host->base_period());  // the vehicles' clock
   HostOptions o;
-  o.seed = derived_seed(seed_, "coordination");
+  o.seed = derive_seed(seed_, "coordination");
   o.duration = options_.duration;
   o.quiet = options_.quiet;
   o.describing = options_.describing;

@@ -3,7 +3,7 @@
 //
 // Each vehicle is a Host of its own (its plugin stack, port graph, phase machine, failsafes,
 // flight log), built from its part of the fleet config (fleet_config.hpp) with its own seed,
-// splitmix64(seed ^ fnv1a(name)) as an instance's is derived. The coordination plugins are one
+// tern::derive_seed(seed, name) (tern/random.hpp) as an instance's is derived. The coordination plugins are one
 // more Host, whose port graph is offered mirrors of every vehicle topic as "<vehicle>/<topic>".
 // Every tick, at flight time t:
 //   1. each vehicle flies its tick, in `vehicles:` order           Host::tick

@@ -11,12 +11,6 @@
 
 namespace tern::core {
 
-std::uint64_t derived_seed(std::uint64_t seed, const std::string& name) {
-  reflect::Fnv1a f;
-  f.bytes(name);
-  return splitmix64(seed ^ f.h);
-}
-
 // ---- the context each instance sees ---------------------------------------------------------
 
 class InstanceContext final : public Context {
@@ -136,7 +130,7 @@ void apply_remaps_and_trigger(Instance& inst, const fs::path& f, const std::stri
 }  // namespace
 
 void configure_instance(Instance& inst, const InstanceSetup& setup) {
-  const std::uint64_t iseed = derived_seed(setup.seed, inst.cfg.name);
+  const std::uint64_t iseed = derive_seed(setup.seed, inst.cfg.name);
   auto log = std::make_shared<spdlog::logger>(inst.cfg.name, setup.sink);
   log->set_level(spdlog::level::info);
   inst.ctx = std::make_unique<InstanceContext>(setup.config, inst.cfg, iseed, log, setup.describing, setup.replaying);

@@ -27,10 +27,6 @@ namespace tern::core {
 class InstanceContext;
 class IsolatedPlugin;
 
-/// The seed of a part named `name` of a flight seeded `seed`: splitmix64(seed ^ FNV-1a(name)), an
-/// instance's (Context::seed) and a fleet vehicle's (fleet.hpp).
-std::uint64_t derived_seed(std::uint64_t seed, const std::string& name);
-
 /// A plugin's request to end the flight (Context::end_flight).
 struct EndRequest {
   std::string reason, detail;

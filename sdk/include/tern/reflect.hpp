@@ -33,6 +33,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "tern/fnv1a.hpp"
+
 namespace tern::reflect {
 
 /// Scalar kinds that a log column can hold.
@@ -88,23 +90,7 @@ struct is_eigen_vec<Eigen::Matrix<double, N, 1>> : std::true_type {};
 
 // ---- fingerprint ------------------------------------------------------------------------------
 
-struct Fnv1a {
-  std::uint64_t h = 1469598103934665603ull;
-  constexpr void bytes(std::string_view s) {
-    for (char c : s) {
-      h ^= static_cast<unsigned char>(c);
-      h *= 1099511628211ull;
-    }
-    h ^= 0xffu;  // field separator
-    h *= 1099511628211ull;
-  }
-  constexpr void number(std::uint64_t v) {
-    for (int i = 0; i < 8; ++i) {
-      h ^= (v >> (8 * i)) & 0xffu;
-      h *= 1099511628211ull;
-    }
-  }
-};
+using tern::Fnv1a;  // tern/fnv1a.hpp
 
 template <class M>
 constexpr std::uint64_t fingerprint();
