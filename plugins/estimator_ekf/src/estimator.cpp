@@ -27,7 +27,18 @@ std::string describe(const Event& e) {
   char buf[200];
   const char* s = sensor_name(e.sensor);
   switch (e.kind) {
-    case EventKind::origin_set: std::snprintf(buf, sizeof buf, "origin set from the first 3-D GNSS fix"); break;
+    case EventKind::origin_set:
+      std::snprintf(buf, sizeof buf, "origin set from the GNSS fix that passed the start-up checks (%.1f s after the first fix)", e.value);
+      break;
+    case EventKind::gnss_checks_passed:
+      std::snprintf(buf, sizeof buf, "gnss: start-up checks passed, %.1f s after the first fix", e.value);
+      break;
+    case EventKind::gnss_checks_failing: {
+      const std::string names = gnss_check_names(static_cast<std::uint32_t>(e.value));
+      std::snprintf(buf, sizeof buf, "gnss: waiting for the receiver to settle: %s",
+                    names.empty() ? "every check passing, held" : names.c_str());
+      break;
+    }
     case EventKind::initialized:
       std::snprintf(buf, sizeof buf, "initialised (%s)",
                     e.value > 0.5 ? "yaw from magnetometer" : "no magnetometer: yaw from GNSS course or 0");
@@ -100,6 +111,7 @@ Mat3 level_tilt_from_offset(double g) {
 
 void Estimator::apply_models_config() {
   process_ = cfg_.process;
+  gnss_checks_.set_config(cfg_.gnss_checks);
   filter_.set_covariance_period(cfg_.covariance_period);
   R_bi_ = rotation_from_euler(cfg_.imu_mount.x(), cfg_.imu_mount.y(), cfg_.imu_mount.z());
   gnss_pos_.antenna = cfg_.gnss_antenna;

@@ -16,7 +16,10 @@ bool Estimator::add_baro(const msg::Baro& m) {
   if (!accept(Sensor::baro, m.stamp, ok)) return false;
   const double h = tern::isa_pressure_altitude(m.pressure);
   if (!baro_calibrated_) {
-    // Ground calibration: before initialisation the aircraft is at the origin (altitude 0).
+    // Ground calibration, against the origin's altitude: it waits for the origin (a fix that passed
+    // the GNSS start-up checks; an unsettled receiver's altitude wanders by metres). Before
+    // initialisation the aircraft is at the origin (altitude 0), after it at the estimate's.
+    if (!origin_) return true;
     baro_cal_sum_ += h - (initialized_ ? -filter_.x().p.z() : 0.0);
     baro_cal_q_sum_ += dynamic_pressure();
     if (++baro_cal_count_ >= cfg_.baro_calibration_count) {

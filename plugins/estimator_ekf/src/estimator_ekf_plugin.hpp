@@ -108,6 +108,8 @@ class EstimatorEkf final : public tern::Plugin {
             e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap ||
             e.kind == tern::ekf::EventKind::gnss_yaw_reset || e.kind == tern::ekf::EventKind::gnss_velocity_reset)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
+        else if (e.kind == tern::ekf::EventKind::gnss_checks_failing && e.value != 0.0)  // with the values and limits
+          log().info("t={:.3f} s: {} ({})", tern::to_seconds(e.stamp), tern::ekf::describe(e), estimator_.gnss_checks().describe_failing());
         else
           log().info("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         if (e.kind == tern::ekf::EventKind::origin_set) log_earth_field(e.stamp);
@@ -155,6 +157,9 @@ class EstimatorEkf final : public tern::Plugin {
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     s.emplace_back("inflations", static_cast<double>(estimator_.inflations()));
+    // The GNSS start-up checks: the wait from the first fix to the one that passed (s), when one did.
+    const auto& checks = estimator_.gnss_checks();
+    if (checks.passed()) s.emplace_back("gnss_checks_wait", tern::to_seconds(checks.passed_stamp() - checks.first_stamp()));
     return s;
   }
 

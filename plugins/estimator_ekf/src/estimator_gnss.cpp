@@ -18,12 +18,15 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   if (!cfg_.use_gnss_vel_d) m.vel.z() = initialized_ ? filter_.x().v.z() : 0.0;
   if (static_cast<int>(m.fix_type) < cfg_.min_fix_type) {
     ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
+    if (!origin_) check_gnss_start(m, false);
     return false;
   }
   const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) && m.vel.allFinite() && std::fabs(m.lat) <= 90.0 &&
                   std::fabs(m.lon) <= 180.0 && m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
   const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
+  // The receiver has to settle first: its fixes count (received, time-outs) but are not used.
+  if (!origin_ && !check_gnss_start(m, true)) return false;
   // The receiver's epoch when the driver gives it (sim_aero does; over ROSflight's link it is
   // the stamp), minus the configured delay.
   const Nanos epoch = m.time_of_validity > 0 && m.time_of_validity <= m.stamp ? m.time_of_validity : m.stamp;
@@ -35,7 +38,7 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
     origin_lon_ = m.lon;
     origin_alt_ = m.alt;
     origin_stamp_ = m.stamp;
-    push(m.stamp, EventKind::origin_set, Sensor::gnss);
+    push(m.stamp, EventKind::origin_set, Sensor::gnss, to_seconds(m.stamp - gnss_checks_.first_stamp()));
     // The GNSS altitude is above mean sea level, the model's height above the ellipsoid: the
     // geoid's undulation (tens of metres) changes the field by a few nT of ~50000.
     if (cfg_.mag_field_from_model) set_earth_field(tern::world_magnetic_field(m.lat, m.lon, m.alt, cfg_.mag_model_date));
@@ -73,6 +76,32 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.
   if (was_timed_out && cfg_.gnss_recovery_time > 0.0) output_offset_ -= filter_.x().p - p_before;
   return true;
+}
+
+bool Estimator::check_gnss_start(const msg::Gnss& m, bool usable) {
+  const bool passed = gnss_checks_.update(m, usable, gnss_check_motion(m));
+  if (passed) {
+    push(m.stamp, EventKind::gnss_checks_passed, Sensor::gnss, to_seconds(m.stamp - gnss_checks_.first_stamp()));
+    return true;
+  }
+  // What fails while waiting: when it changes, at most every report_interval.
+  const std::uint32_t failing = gnss_checks_.failing();
+  const bool due = checks_reported_ < 0 || to_seconds(m.stamp - checks_reported_) >= cfg_.gnss_checks.report_interval;
+  if (failing != reported_failing_ && due) {
+    push(m.stamp, EventKind::gnss_checks_failing, Sensor::gnss, static_cast<double>(failing));
+    reported_failing_ = failing;
+    checks_reported_ = m.stamp;
+  }
+  return false;
+}
+
+GnssChecks::Motion Estimator::gnss_check_motion(const msg::Gnss& m) const {
+  // Flying: the pitot's airspeed (its last sample, at most 0.5 s old) or the ground speed says so;
+  // on the ground, still by the gyro over the last second (still(), as for the initial gyro bias).
+  const bool pitot_flying =
+      last_diff_stamp_ >= 0 && to_seconds(m.stamp - last_diff_stamp_) < 0.5 && pitot_.airspeed(last_diff_pressure_) >= cfg_.min_airspeed;
+  if (pitot_flying || m.vel.head<2>().norm() >= cfg_.gnss_checks.in_air_ground_speed) return GnssChecks::Motion::in_air;
+  return still() ? GnssChecks::Motion::at_rest : GnssChecks::Motion::moving;
 }
 
 UpdateResult Estimator::fuse_gnss_velocity_ne(const Vec3& vel, Nanos t_v) {

@@ -12,10 +12,18 @@ namespace tern::ekf::test {
 
 /// The estimator's configuration for TruthSim: its accelerometer has a raw offset (accel_bias),
 /// not the board's tilt a level calibration stores (EstimatorConfig::accel_level_calibrated).
+/// `c` with the origin on the first fix that passes the GNSS start-up checks, without their 10-s
+/// hold: the truth simulation's receiver is settled from its first fix, and the tests of
+/// everything else start there (test_gnss_checks.cpp tests the checks and the hold).
+inline EstimatorConfig settled_receiver(EstimatorConfig c) {
+  c.gnss_checks.hold_time = 0.0;
+  return c;
+}
+
 inline EstimatorConfig truth_sim_config() {
   EstimatorConfig c;
   c.accel_level_calibrated = false;
-  return c;
+  return settled_receiver(c);
 }
 
 /// Hooks: return false to drop the message; may modify it.

@@ -106,13 +106,13 @@ struct StaticStart {
   TruthSim sim;
   Estimator est;
   explicit StaticStart(const EstimatorConfig& cfg)
-      : c(cfg),
+      : c(settled_receiver(cfg)),
         sim([] {
           SimOptions o;
           o.static_mode = true;
           return o;
         }()),
-        est(cfg) {
+        est(c) {
     fly(sim, est, 3.0);
   }
   double gnss_error_variance() const {  // the vertical GNSS error's steady variance, from the reported accuracy

@@ -44,7 +44,9 @@ SimOptions turning_flight() {
 TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
   auto plugin = std::make_unique<EstimatorEkf>();
   const EstimatorEkf* p = plugin.get();
-  testing::Harness h(std::move(plugin), {{"gyro_noise", 0.0023}, {"mag_gate", 16.0}, {"accel_level_calibrated", false}});
+  // gnss_req_hold_time 0: the truth simulation's receiver is settled from its first fix (fly.hpp settled_receiver)
+  testing::Harness h(std::move(plugin),
+                     {{"gyro_noise", 0.0023}, {"mag_gate", 16.0}, {"accel_level_calibrated", false}, {"gnss_req_hold_time", 0.0}});
   REQUIRE(h.plugin().find_input("imu") != nullptr);
   CHECK(h.plugin().find_input("imu")->need() == Need::required);
   for (const char* n : {"gnss", "baro", "diff_pressure", "mag"}) {
@@ -99,7 +101,7 @@ TEST_CASE("plugin: ports, state output every IMU sample, origin and validity") {
 }
 
 TEST_CASE("plugin: output decimation, parameter ranges, run-time changes, reset") {
-  testing::Harness h(std::make_unique<EstimatorEkf>(), {{"output_decimation", std::int64_t{4}}});
+  testing::Harness h(std::make_unique<EstimatorEkf>(), {{"output_decimation", std::int64_t{4}}, {"gnss_req_hold_time", 0.0}});
   TruthSim sim(turning_flight());
   feed(h, sim, 2.0, [] {});
   CHECK(h.published("state") == 200);
@@ -185,6 +187,7 @@ TEST_CASE("plugin: every parameter has a unit or is dimensionless, a range and a
 
 TEST_CASE("plugin: the Earth's field from the World Magnetic Model at the origin; a fixed value set is an override") {
   const auto field_after_origin = [](std::map<std::string, ParamValue> params) {
+    params.emplace("gnss_req_hold_time", 0.0);  // fly.hpp settled_receiver
     testing::Harness h(std::make_unique<EstimatorEkf>(), std::move(params));
     TruthSim sim(turning_flight());
     feed(h, sim, 1.0, [] {});
@@ -208,4 +211,24 @@ TEST_CASE("plugin: the Earth's field from the World Magnetic Model at the origin
   CHECK(fixed.declination == 0.2);
   // unless the mission asks for the model as well
   CHECK(field_after_origin({{"mag_declination", 0.2}, {"mag_field_from_model", true}}).model == "WMM-2025");
+}
+
+TEST_CASE("plugin: the GNSS start-up checks hold the origin for gnss_req_hold_time (PX4 EKF2_REQ_GPS_H, 10 s); summary gnss_checks_wait") {
+  testing::Harness h(std::make_unique<EstimatorEkf>());
+  CHECK(std::get<double>(h.plugin().find_param("gnss_req_hold_time")->value()) == 10.0);
+  CHECK(std::get<std::int64_t>(h.plugin().find_param("gnss_check")->value()) == 1023);
+  SimOptions o;
+  o.static_mode = true;  // at rest: the drift checks run too
+  TruthSim sim(o);
+  const auto& est = dynamic_cast<EstimatorEkf&>(h.plugin()).estimator();
+  feed(h, sim, 9.9, [] {});
+  CHECK_FALSE(est.origin_valid());
+  CHECK_FALSE(h.output<msg::State>("state").valid);
+  feed(h, sim, 1.0, [] {});
+  REQUIRE(est.origin_valid());
+  double wait = -1.0;
+  for (const auto& [name, value] : h.plugin().summary())
+    if (name == "gnss_checks_wait") wait = value;
+  CHECK(wait >= 10.0);
+  CHECK(wait < 10.15);  // the first fix after the hold (10 Hz)
 }

@@ -30,7 +30,7 @@ TEST_CASE("with sim_aero's sensor models: loose accuracy bounds over 200 s, 3 se
     // receiver's correlated errors the 0.3-m/s default is for; configured as a user would
     c.gnss_vel_sigma_h = c.gnss_vel_sigma_v = 0.01;
     c.accel_level_calibrated = false;  // sim_aero's default accelerometer: a raw offset, no level calibration
-    Estimator est(c);
+    Estimator est(settled_receiver(c));
     Rms roll, pitch, yaw, vel, alt, pos, wind, gnss_pos;
     int k = 0;
     fly_sim_aero(sim, feed, est, 200.0, {}, [&](const Truth& t, const Estimator& x) {

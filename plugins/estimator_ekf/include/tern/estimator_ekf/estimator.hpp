@@ -10,8 +10,13 @@
 // Life of an estimate:
 //   1. Before initialisation, IMU samples feed low-pass averages of accel, gyro and mag, and
 //      barometer samples feed the ground calibration (the first baro_calibration_count samples).
-//   2. The first GNSS solution with fix_type >= min_fix_type sets the origin (lat, lon, alt):
-//      NED positions are those of tern::GeoOrigin (tern/geodesy.hpp) at the origin.
+//   2. GNSS solutions feed the start-up checks (gnss_checks.hpp: fix type, satellites, reported
+//      accuracies, drift while still on the ground, held for a time, as PX4 EKF2 does); the first
+//      solution with which they pass sets the origin (lat, lon, alt): NED positions are those of
+//      tern::GeoOrigin (tern/geodesy.hpp) at the origin. Until then no fix is used, and the
+//      barometer's ground calibration waits too (its datum is the origin's altitude). Events: the
+//      failing checks while waiting (when they change, at most every gnss_check_report_interval),
+//      and when they pass.
 //   3. Initialisation needs the origin, init_min_imu_samples IMU samples and, if a magnetometer
 //      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
 //      At rest, roll and pitch come from the averaged specific force, yaw from the
@@ -96,11 +101,14 @@ enum class EventKind : std::uint8_t {
   too_old,
   gnss_yaw_reset,
   gnss_velocity_reset,
-  gsf_yaw_reset
+  gsf_yaw_reset,
+  gnss_checks_failing,
+  gnss_checks_passed
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
-/// for gnss_reset, the variance factor for inflated, the age (s) for too_old.
+/// for gnss_reset, the variance factor for inflated, the age (s) for too_old, the failing checks
+/// (gnss_check bits) for gnss_checks_failing, the wait since the first fix (s) for gnss_checks_passed.
 struct Event {
   Nanos stamp = 0;
   EventKind kind = EventKind::initialized;
@@ -190,6 +198,8 @@ class Estimator {
   /// Yaw resets to the GNSS course in flight (the magnetometer is then no longer fused).
   std::uint64_t gnss_yaw_resets() const { return gnss_yaw_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
+  /// The GNSS start-up checks (their verdict, the failing checks and drifts while waiting).
+  const GnssChecks& gnss_checks() const { return gnss_checks_; }
 
   /// Events since the last call (the caller logs them).
   std::vector<Event> take_events();
@@ -232,6 +242,10 @@ class Estimator {
   template <class Model>
   UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
+  /// Before the origin: one fix through the start-up checks, with their events. True once passed.
+  bool check_gnss_start(const msg::Gnss& m, bool usable);
+  /// The aircraft's motion for the start-up checks' drift tests (before initialisation).
+  GnssChecks::Motion gnss_check_motion(const msg::Gnss& m) const;
   /// The GNSS velocity's north and east (m/s, NED) through GnssVelocityNE (use_gnss_vel_d false).
   UpdateResult fuse_gnss_velocity_ne(const Vec3& vel, Nanos t_v);
   void use_reported_accuracy(const msg::Gnss& m);
@@ -275,6 +289,9 @@ class Estimator {
   std::array<bool, kSensorCount> expected_{true, true, true, true, true};
   Nanos first_check_ = -1;  ///< the first check_timeouts() call: when the silence of a never-heard sensor starts
   std::optional<tern::GeoOrigin> origin_;
+  GnssChecks gnss_checks_;
+  std::uint32_t reported_failing_ = 0xFFFFFFFFu;  ///< the failing checks last reported (none yet: all ones)
+  Nanos checks_reported_ = -1;                    ///< when
   double origin_lat_ = 0.0, origin_lon_ = 0.0, origin_alt_ = 0.0;
   Nanos origin_stamp_ = 0;
 

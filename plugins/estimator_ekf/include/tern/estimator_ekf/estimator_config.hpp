@@ -9,6 +9,7 @@
 #include <string>
 
 #include "tern/estimator_ekf/filter.hpp"
+#include "tern/estimator_ekf/gnss_checks.hpp"
 #include "tern/estimator_ekf/measurements.hpp"
 #include "tern/estimator_ekf/yaw_gsf.hpp"
 #include "tern/math.hpp"
@@ -57,7 +58,10 @@ struct EstimatorConfig {
   double level_sigma = 0.0030;
 
   // GNSS
-  int min_fix_type = 3;           ///< minimum fix type used (3: 3-D fix)
+  int min_fix_type = 3;  ///< minimum fix type used (3: 3-D fix)
+  /// The start-up checks a receiver passes before its fix becomes the origin and the barometer's
+  /// datum (gnss_checks.hpp: PX4 EKF2_GPS_CHECK, EKF2_REQ_*, held EKF2_REQ_GPS_H).
+  GnssCheckConfig gnss_checks;
   double gnss_pos_sigma_h = 0.1;  ///< white part of the GNSS position noise, m (without a reported accuracy: at least gnss_accuracy_floor)
   double gnss_pos_sigma_v = 0.2;  ///< m
   /// GNSS velocity noise per fix, m/s. Not the datasheet's 0.05 m/s: a receiver's velocity comes
@@ -417,6 +421,7 @@ struct EstimatorConfig {
     using tern::ParamSpec;
     using C = EstimatorConfig;
     v(&C::min_fix_type, "min_gnss_fix_type", ParamSpec("", 2, 3, "minimum GNSS fix type used (2: 2-D, 3: 3-D)"));
+    v(&C::gnss_checks);  // GnssCheckConfig::describe (gnss_checks.hpp)
     v(&C::baro_calibration_count, "baro_calibration_count",
       ParamSpec("", 1, 100000, "barometer samples averaged for the ground calibration"));
     v(&C::init_min_imu_samples, "init_min_imu_samples", ParamSpec("", 1, 100000, "IMU samples averaged before initialisation"));
