@@ -28,7 +28,14 @@ std::string describe(const Event& e) {
   const char* s = sensor_name(e.sensor);
   switch (e.kind) {
     case EventKind::origin_set:
-      std::snprintf(buf, sizeof buf, "origin set from the GNSS fix that passed the start-up checks (%.1f s after the first fix)", e.value);
+      std::snprintf(buf, sizeof buf,
+                    "origin set from the first fix passing every GNSS start-up check (%.1f s after the first fix); provisional "
+                    "until they have held (on the ground the estimate is invalid till then)",
+                    e.value);
+      break;
+    case EventKind::origin_dropped:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: a start-up check failed before they had held: origin, estimate and barometer calibration dropped");
       break;
     case EventKind::gnss_checks_passed:
       std::snprintf(buf, sizeof buf, "gnss: start-up checks passed, %.1f s after the first fix", e.value);
@@ -286,7 +293,7 @@ void Estimator::fill_state(msg::State& s) const {
   s.origin_lat = origin_lat_;
   s.origin_lon = origin_lon_;
   s.origin_alt = origin_alt_;
-  s.origin_valid = origin_.has_value();
+  s.origin_valid = origin_valid();
   s.status = status(&s.degraded_sensors);
   s.valid = s.status != msg::StateStatus::invalid;
   s.p_n = x.p.x() + output_offset_.x();

@@ -18,15 +18,16 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   if (!cfg_.use_gnss_vel_d) m.vel.z() = initialized_ ? filter_.x().v.z() : 0.0;
   if (static_cast<int>(m.fix_type) < cfg_.min_fix_type) {
     ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
-    if (!origin_) check_gnss_start(m, false);
+    if (!gnss_checks_.passed()) check_gnss_start(m, false);
     return false;
   }
   const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) && m.vel.allFinite() && std::fabs(m.lat) <= 90.0 &&
                   std::fabs(m.lon) <= 180.0 && m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
   const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
-  // The receiver has to settle first: its fixes count (received, time-outs) but are not used.
-  if (!origin_ && !check_gnss_start(m, true)) return false;
+  // The receiver has to settle first: fixes that fail a start-up check count (received,
+  // time-outs) but are not used.
+  if (!gnss_checks_.passed() && !check_gnss_start(m, true)) return false;
   // The receiver's epoch when the driver gives it (sim_aero does; over ROSflight's link it is
   // the stamp), minus the configured delay.
   const Nanos epoch = m.time_of_validity > 0 && m.time_of_validity <= m.stamp ? m.time_of_validity : m.stamp;
@@ -34,11 +35,12 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   const Vec3 p_before = filter_.x().p;
   if (!origin_) {
     origin_.emplace(m.lat, m.lon, m.alt);
+    started_in_air_ = !gnss_checks_.passed() && gnss_check_motion(m) == GnssChecks::Motion::in_air;
     origin_lat_ = m.lat;
     origin_lon_ = m.lon;
     origin_alt_ = m.alt;
     origin_stamp_ = m.stamp;
-    push(m.stamp, EventKind::origin_set, Sensor::gnss, to_seconds(m.stamp - gnss_checks_.first_stamp()));
+    push(m.stamp, EventKind::origin_set, Sensor::gnss, to_seconds(m.stamp - gnss_checks_.first_stamp()));  // provisional until passed
     // The GNSS altitude is above mean sea level, the model's height above the ellipsoid: the
     // geoid's undulation (tens of metres) changes the field by a few nT of ~50000.
     if (cfg_.mag_field_from_model) set_earth_field(tern::world_magnetic_field(m.lat, m.lon, m.alt, cfg_.mag_model_date));
@@ -92,7 +94,31 @@ bool Estimator::check_gnss_start(const msg::Gnss& m, bool usable) {
     reported_failing_ = failing;
     checks_reported_ = m.stamp;
   }
+  // Every check passing, not yet for hold_time: the estimator starts (or goes on) on these fixes,
+  // its state invalid until they have held; a failure drops what they started.
+  if (failing == 0) return true;
+  if (origin_) drop_unsettled_start(m.stamp);
   return false;
+}
+
+void Estimator::drop_unsettled_start(Nanos stamp) {
+  // The origin, the filter and the barometer's calibration, as before the first fix; the IMU's
+  // averages start again (imu_samples_), the counters and the checks go on.
+  push(stamp, EventKind::origin_dropped, Sensor::gnss);
+  origin_.reset();
+  started_in_air_ = false;
+  initialized_ = false;
+  keep_calibration_ = false;
+  imu_samples_ = 0;
+  mag_samples_ = 0;
+  pre_init_imu_.clear();
+  prev_fix_tv_ = -1;
+  history_.clear();
+  baro_calibrated_ = false;
+  baro_cal_count_ = 0;
+  baro_cal_sum_ = baro_cal_q_sum_ = baro_offset_ = 0.0;
+  output_offset_.setZero();
+  gnss_reject_since_ = gnss_vel_reject_since_ = mag_reject_since_ = -1;
 }
 
 GnssChecks::Motion Estimator::gnss_check_motion(const msg::Gnss& m) const {

@@ -13,7 +13,9 @@ msg::StateStatus Estimator::status(std::uint8_t* degraded_sensors) const {
     if (counters_[i].timed_out) bits |= static_cast<std::uint8_t>(1u << i);
   if (gnss_pos_.stats.consecutive_rejected >= static_cast<std::uint64_t>(cfg_.inflate_after)) bits |= msg::sensor_bit::gnss;
   if (degraded_sensors != nullptr) *degraded_sensors = bits;
-  if (!initialized_ || (bits & msg::sensor_bit::imu) != 0) return msg::StateStatus::invalid;
+  // Invalid too until the GNSS start-up checks have held (the origin is provisional till then),
+  // unless the start was in the air (origin_valid()).
+  if (!initialized_ || !origin_valid() || (bits & msg::sensor_bit::imu) != 0) return msg::StateStatus::invalid;
   // The covariance says whether the attitude and position are still known: roll and pitch are
   // the NED x and y components of the body-frame attitude error.
   const Cov& P = filter_.P();

@@ -11,12 +11,20 @@
 //   1. Before initialisation, IMU samples feed low-pass averages of accel, gyro and mag, and
 //      barometer samples feed the ground calibration (the first baro_calibration_count samples).
 //   2. GNSS solutions feed the start-up checks (gnss_checks.hpp: fix type, satellites, reported
-//      accuracies, drift while still on the ground, held for a time, as PX4 EKF2 does); the first
-//      solution with which they pass sets the origin (lat, lon, alt): NED positions are those of
-//      tern::GeoOrigin (tern/geodesy.hpp) at the origin. Until then no fix is used, and the
-//      barometer's ground calibration waits too (its datum is the origin's altitude). Events: the
-//      failing checks while waiting (when they change, at most every gnss_check_report_interval),
-//      and when they pass.
+//      accuracies, drift while still on the ground, held for a time, as PX4 EKF2 does). A fix
+//      that fails one is not used. The first fix passing every check sets the origin (lat, lon,
+//      alt): NED positions are those of tern::GeoOrigin (tern/geodesy.hpp) at the origin; the
+//      barometer's ground calibration waits for it (its datum is the origin's altitude). The
+//      estimator starts on it and on the passing fixes after it, but on the ground its state
+//      stays invalid (and origin_valid() false) until the checks have held for
+//      gnss_req_hold_time; a check failing before that drops the origin, the filter and the
+//      calibration, and the next passing fix starts again. So the hold costs no alignment time on
+//      the ground (PX4 aligns before its GNSS checks pass too), and what the origin and the datum
+//      are taken from is a fix the checks never faulted. A start in the air (a log that begins in
+//      flight, an air launch) is valid at once: there the drift checks cannot run, and an
+//      aircraft without any estimate for the hold is worse off than PX4's, whose attitude is valid
+//      before its GNSS checks pass; a check failing within the hold still drops that start. Events: the failing checks while waiting (when
+//      they change, at most every gnss_check_report_interval), origin_dropped, and when they pass.
 //   3. Initialisation needs the origin, init_min_imu_samples IMU samples and, if a magnetometer
 //      is expected, a magnetometer sample (or mag_init_wait seconds since the origin was set).
 //      At rest, roll and pitch come from the averaged specific force, yaw from the
@@ -103,7 +111,8 @@ enum class EventKind : std::uint8_t {
   gnss_velocity_reset,
   gsf_yaw_reset,
   gnss_checks_failing,
-  gnss_checks_passed
+  gnss_checks_passed,
+  origin_dropped
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
@@ -160,7 +169,9 @@ class Estimator {
   msg::Innovations take_innovations(Nanos stamp);
 
   bool initialized() const { return initialized_; }
-  bool origin_valid() const { return origin_.has_value(); }
+  /// The origin is set and the GNSS start-up checks have held, or it was set in the air (before
+  /// that it is provisional).
+  bool origin_valid() const { return origin_.has_value() && (gnss_checks_.passed() || started_in_air_); }
   /// The estimate as a message (valid = status() is ok or degraded). stamp: that of the last
   /// IMU sample.
   msg::State state() const;
@@ -242,8 +253,11 @@ class Estimator {
   template <class Model>
   UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
-  /// Before the origin: one fix through the start-up checks, with their events. True once passed.
+  /// Until the start-up checks have held: one fix through them, with their events. True when the
+  /// fix may be used (every check passing); a failing one drops an unsettled start.
   bool check_gnss_start(const msg::Gnss& m, bool usable);
+  /// The origin, the filter and the barometer calibration a provisional origin started, dropped.
+  void drop_unsettled_start(Nanos stamp);
   /// The aircraft's motion for the start-up checks' drift tests (before initialisation).
   GnssChecks::Motion gnss_check_motion(const msg::Gnss& m) const;
   /// The GNSS velocity's north and east (m/s, NED) through GnssVelocityNE (use_gnss_vel_d false).
@@ -290,6 +304,7 @@ class Estimator {
   Nanos first_check_ = -1;  ///< the first check_timeouts() call: when the silence of a never-heard sensor starts
   std::optional<tern::GeoOrigin> origin_;
   GnssChecks gnss_checks_;
+  bool started_in_air_ = false;                   ///< the origin was set in the air, before the checks had held
   std::uint32_t reported_failing_ = 0xFFFFFFFFu;  ///< the failing checks last reported (none yet: all ones)
   Nanos checks_reported_ = -1;                    ///< when
   double origin_lat_ = 0.0, origin_lon_ = 0.0, origin_alt_ = 0.0;
