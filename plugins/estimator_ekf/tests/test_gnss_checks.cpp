@@ -253,3 +253,39 @@ TEST_CASE("a receiver that never settles: no origin, no estimate, the failing ch
   }
   CHECK(failing_events == 1);  // reported once: it never changed
 }
+
+TEST_CASE("a check failing within the hold drops the start: origin, estimate and barometer calibration begin again") {
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.gnss_checks = GnssCheckConfig{};
+  SimOptions o;
+  o.static_mode = true;
+  TruthSim sim(o);
+  Estimator est(cfg);
+  Hooks h;
+  h.gnss = [&](msg::Gnss& g) {
+    const double t = to_seconds(g.stamp);
+    if (t > 4.95 && t < 5.05) g.h_acc = 10.0;  // one fix at 5 s above EKF2_REQ_EPH
+    return true;
+  };
+  fly(sim, est, 4.9, h);
+  CHECK(est.initialized());         // started on the first passing fix...
+  CHECK_FALSE(est.origin_valid());  // ...provisionally: invalid on the ground until the hold
+  CHECK_FALSE(est.state().valid);
+  fly(sim, est, 0.12, h);  // the fix at 5 s
+  CHECK_FALSE(est.initialized());
+  fly(sim, est, 9.78, h);  // to 14.9 s: the start again at 5.1 s, the hold from the failure at 5 s
+  CHECK(est.initialized());
+  CHECK_FALSE(est.state().valid);
+  fly(sim, est, 0.3, h);
+  CHECK(est.origin_valid());
+  CHECK(est.state().valid);
+  int set = 0, dropped = 0, calibrated = 0;
+  for (const Event& e : est.take_events()) {
+    set += e.kind == EventKind::origin_set;
+    dropped += e.kind == EventKind::origin_dropped;
+    calibrated += e.kind == EventKind::baro_calibrated;
+  }
+  CHECK(set == 2);
+  CHECK(dropped == 1);
+  CHECK(calibrated == 2);
+}
