@@ -59,8 +59,9 @@ struct EstimatorConfig {
 
   // GNSS
   int min_fix_type = 3;  ///< minimum fix type used (3: 3-D fix)
-  /// The start-up checks a receiver passes before its fix becomes the origin and the barometer's
-  /// datum (gnss_checks.hpp: PX4 EKF2_GPS_CHECK, EKF2_REQ_*, held EKF2_REQ_GPS_H).
+  /// The start-up checks a fix passes before it is used (the first as the origin and the
+  /// barometer's datum) and that must hold before the estimate is valid on the ground
+  /// (gnss_checks.hpp: PX4 EKF2_GPS_CHECK, EKF2_REQ_*, held EKF2_REQ_GPS_H).
   GnssCheckConfig gnss_checks;
   double gnss_pos_sigma_h = 0.1;  ///< white part of the GNSS position noise, m (without a reported accuracy: at least gnss_accuracy_floor)
   double gnss_pos_sigma_v = 0.2;  ///< m

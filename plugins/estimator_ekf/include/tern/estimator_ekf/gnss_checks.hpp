@@ -1,5 +1,6 @@
 // tern/estimator_ekf/gnss_checks.hpp: the GNSS start-up checks: whether a receiver has settled
-// enough for its fix to become the estimator's origin (and the barometer's datum).
+// enough for its fixes to be used, the first of them as the estimator's origin (and the
+// barometer's datum). How the estimator uses the verdicts: estimator.hpp, "Life of an estimate" 2.
 //
 // A receiver that has just acquired its first 3-D fix is not yet right: its altitude wanders by
 // metres to tens of metres and its velocity shows metres per second while the aircraft sits
@@ -26,7 +27,7 @@
 // spoofing flag, so a PX4 mask can be copied unchanged and those two checks are not run.
 // The checks pass (passed(), latched) once no enabled check has failed for hold_time
 // (EKF2_REQ_GPS_H, 10 s); the first fix counts as a failure, so a receiver good from its first fix
-// passes hold_time after it.
+// passes hold_time after it. failing() == 0 before that: every check passes, not yet for long enough.
 //
 // Drift (bits 5-8): first-order low-pass filters with time constant drift_time_constant (PX4: 10 s)
 // of the position change between fixes over their interval (the fix's own NED displacement,
