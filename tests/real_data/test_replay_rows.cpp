@@ -18,6 +18,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tern/math.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -49,8 +51,8 @@ SyntheticLog write_log(const fs::path& dir) {
   SyntheticLog log{dir};
   fs::create_directories(dir / "topics");
   Table imu(dir / "topics" / "imu.csv", "accel_x,accel_y,accel_z,gyro_x,gyro_y,gyro_z");
-  const std::string still = "0,0,-9.80665,0,0,0";
-  for (int k = 0; k <= 5000; ++k) {  // 1 kHz: 2 or 3 rows in each 2.5-ms step
+  const std::string still = "0,0," + std::to_string(-tern::kStandardGravity) + ",0,0,0";  // level at rest
+  for (int k = 0; k <= 5000; ++k) {                                                       // 1 kHz: 2 or 3 rows in each 2.5-ms step
     imu.row(kT0 + k * 1e-3, still);
     if (k == 1000 || k == 3000) imu.row(kT0 + k * 1e-3, still), ++log.imu_duplicates;  // the same time twice
     if (k == 2000) imu.row(kT0 + 2.0005, still);                                       // inserted by hand
