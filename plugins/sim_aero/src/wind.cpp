@@ -54,13 +54,19 @@ DrydenParams dryden_at_height(const DrydenParams& p, double h, double W) {
 }
 
 double Dryden::second_order(Eigen::Vector2d& x, double sigma, double L, double Va, double dt, double n) {
-  // Controllable canonical form of K (s + a/sqrt3)/(s + a)^2, a = Va/L, K = sigma sqrt(3 a),
-  // driven by unit-intensity white noise (increment sqrt(dt) n), semi-implicit Euler (stable
-  // for a dt < 0.83; step() keeps a dt <= 0.5).
-  const double a = Va / L;
-  x.y() += dt * (-a * a * x.x() - 2.0 * a * x.y()) + std::sqrt(dt) * n;
-  x.x() += dt * x.y();
-  return sigma * std::sqrt(3.0 * a) * (a / std::sqrt(3.0) * x.x() + x.y());
+  // K (s + a/sqrt3)/(s + a)^2, a = Va/L, K = sigma sqrt(3 a), driven by unit-intensity white
+  // noise, in eddy time tau = a t with the states normalised (wind.hpp): x'' + 2 x' + x = w(tau),
+  // output sigma (x + sqrt3 x'), each state of a variance that does not depend on a. For a
+  // constant a this is the controllable canonical form in t with x = a^1.5 x_t, x' = a^0.5 x_t'
+  // (the same filter and the same semi-implicit Euler step: stable for a dt < 0.83, step()
+  // keeps a dt <= 0.5). In t the canonical state x_t has a variance 1/(4 a^3): when a grew (the
+  // length scale shrinking near the ground, the airspeed rising) the output sigma a^1.5 x_t grew
+  // with it, and with the airspeed it pushed up, without bound (issue: a terminated glide's
+  // gust reached 10 km/s at 0.6 m and the simulation diverged).
+  const double dtau = Va / L * dt;
+  x.y() += dtau * (-x.x() - 2.0 * x.y()) + std::sqrt(dtau) * n;
+  x.x() += dtau * x.y();
+  return sigma * (x.x() + std::sqrt(3.0) * x.y());
 }
 
 const Eigen::Vector3d& Dryden::step(double dt, double Va, double h, double W, Rng& rng) {

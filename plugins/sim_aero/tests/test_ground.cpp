@@ -247,6 +247,69 @@ TEST_CASE("wind: at a parked aircraft's height the gusts have the intensities of
   CHECK(p.sigma_u < 0.8 * dryden_preset("moderate").sigma_u);
 }
 
+TEST_CASE("wind: descending fast through 50 m to the ground, the gusts keep their intensity (the filters in eddy time)") {
+  // A terminated glide (issue 18's flight termination, 6-8 m/s of sink in light turbulence): the
+  // length scales shrink from 200 m to 1 m within seconds and Va/L grows a hundredfold. The
+  // canonical form in t, whose lateral state had the variance 1/(4 (Va/L)^3) of 50 m, gave
+  // 50 m/s of side gust at 1.3 m and 10 km/s at 0.6 m (and the simulation diverged).
+  const DrydenParams light = dryden_preset("light");
+  std::vector<double> v1, w1;  // every run's gust at 1 m
+  double largest = 0.0;
+  for (std::uint64_t seed = 1; seed <= 200; ++seed) {
+    Dryden d(light);
+    Rng rng(seed);
+    double h = 60.0;
+    for (int i = 0; i < 400 * 30; ++i) {  // 30 s at 60 m, then down at 7 m/s to 0.5 m
+      if (i >= 400 * 20) h = std::max(0.5, h - 7.0 * 0.0025);
+      const Eigen::Vector3d g = d.step(0.0025, 16.0, h, 5.0, rng);
+      largest = std::max(largest, g.cwiseAbs().maxCoeff());
+      if (h < 1.0 && v1.size() < seed) {
+        v1.push_back(g.y());
+        w1.push_back(g.z());
+      }
+    }
+  }
+  const DrydenParams p1 = dryden_at_height(light, 1.0, 5.0);
+  MESSAGE("largest gust " << largest << " m/s; at 1 m sigma_v " << tern::sim::test::stddev(v1) << " (MIL " << p1.sigma_v << "), sigma_w "
+                          << tern::sim::test::stddev(w1) << " (" << p1.sigma_w << ")");
+  CHECK(largest < 6.0 * light.sigma_u);  // 5.3 m/s
+  CHECK(tern::sim::test::stddev(v1) == doctest::Approx(p1.sigma_v).epsilon(0.25));
+  CHECK(tern::sim::test::stddev(w1) == doctest::Approx(p1.sigma_w).epsilon(0.25));
+}
+
+TEST_CASE("ground: a flight termination's glide (motor off, surfaces neutral) ends landed or crashed, never diverged") {
+  // issue 18's terminate action from 30 m in the default mission's weather (5 m/s from the
+  // south-east, light turbulence): before the Dryden filters ran in eddy time, such a glide's
+  // side gust grew without bound in the last metres and the state went to NaN.
+  const Aircraft ac = anaconda();
+  int crashed = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    CAPTURE(seed);
+    Simulator sim(ac, seed);
+    sim.set_state(
+        make_state({0, 0, -30.0}, {15.0, 0.0, 0.0}, 0.1 * static_cast<double>(seed % 5) - 0.2, 0.0, 0.3 * static_cast<double>(seed)));
+    sim.set_steady_wind({3.5355, -3.5355, 0.0});
+    sim.set_turbulence(dryden_preset("light"));
+    double largest_gust = 0.0;
+    for (int i = 0; i < 400 * 60 && !sim.crashed(); ++i) {  // 60 s (a throw: diverged)
+      sim.step(0.0025);
+      largest_gust = std::max(largest_gust, sim.wind().gust_body.norm());
+    }
+    CHECK(largest_gust < 6.0);  // m/s: light turbulence (sigma 1.06 m/s)
+    const StateVector& x = sim.state();
+    CHECK(all_finite(x));
+    if (sim.crashed()) {
+      ++crashed;
+      MESSAGE("seed " << seed << ": " << sim.impact().what << " at " << sim.impact().t << " s");
+    } else {  // landed: on its wheels, rolling slowly or stopped
+      MESSAGE("seed " << seed << ": landed, " << x.segment<3>(U).norm() << " m/s at " << sim.time() << " s");
+      CHECK(-x[PD] < rest_height(ac) + 0.05);
+      CHECK(sim.evaluate().wheels_on_ground > 0);
+    }
+  }
+  MESSAGE(crashed << " of 12 crashed");
+}
+
 // ---------------------------------------------------------------- parked in wind -------------
 
 namespace {

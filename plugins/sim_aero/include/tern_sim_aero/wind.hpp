@@ -55,6 +55,15 @@ DrydenParams dryden_at_height(const DrydenParams& p, double h, double W);
 ///   H_v(s) = sigma_v sqrt(3 Va/L_v) (s + Va/(sqrt(3) L_v)) / (s + Va/L_v)^2   (H_w alike)
 /// driven by unit white noise, discretised at the step dt (first order exactly, second order
 /// by a state-space update). Output: gust velocity in body axes, m/s.
+/// The filters run in eddy time tau = integral of Va/L dt (MIL-F-8785C gives the spectra in
+/// spatial frequency, rad/m; in time they are those of the frozen field crossed at Va), with
+/// states normalised so that each one's variance does not depend on Va/L: the first-order
+/// Gauss-Markov u (variance sigma_u^2 whatever a), and x'' + 2 x' + x = w(tau) with output
+/// sigma (x + sqrt3 x') for v and w. Va and L change every step (the airspeed; the length
+/// scales below 50 m shrink to centimetres at the ground): the gust keeps its intensity sigma,
+/// where the canonical form in t (a state of variance 1/(4 (Va/L)^3)) turned a faster Va/L into
+/// a larger gust: 33 sigma at 1 m after a descent at 7 m/s, and without bound once that gust
+/// pushed the airspeed up (a flight termination's glide diverged at 0.6 m).
 class Dryden {
  public:
   Dryden() = default;
