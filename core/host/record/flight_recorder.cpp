@@ -115,11 +115,14 @@ void FlightRecorder::choose_topics(const PortGraph& graph, const LogConfig& log,
     if (!t.written() || (!log.all_topics && !wanted.count(t.name))) continue;
     Logged& l = logged_[k];
     l.index = log_.add_topic(t.name, t.columns, t.msg_size, t.type_name);
+    l.topic = t.name;
     if (t.fingerprint == reflect::fingerprint<msg::WaypointList>())
       l.items = log_.add_topic(t.name + "_items", waypoint_item_columns(), sizeof(WaypointItem), WaypointItem::type_name);
     const double max_rate = topic_rate(log, t.name);
     l.interval = max_rate > 0 ? static_cast<Nanos>(std::llround(1e9 / max_rate)) : 0;
     l.t = std::numeric_limits<Nanos>::min() / 2;
+    if (l.interval == 0)
+      for (const auto& [node, out] : t.writers) out->keep_history(kBurstDepth);
   }
   for (const auto& w : wanted) {
     const GraphTopic* t = graph.find(w);
@@ -139,17 +142,27 @@ void FlightRecorder::capture(const PortGraph& graph, Nanos now) {
     const std::uint64_t seq = src->sequence();
     if (seq == 0 || (src == l.source && seq == l.seq)) continue;
     if (now - l.t < l.interval) continue;
+    // Logged in full: every message since the last capture that the writer still holds (from
+    // its first held one at a topic's first capture); another writer taking over (a phase's
+    // controller) starts at its latest.
+    const bool every = l.interval == 0 && (src == l.source || l.source == nullptr);
+    const std::uint64_t next = src == l.source ? l.seq + 1 : src->oldest();
+    const std::uint64_t first = every ? std::max(next, src->oldest()) : seq;
+    if (every && src == l.source) l.lost += first - next;
+    for (std::uint64_t s = first; s <= seq; ++s) write(l, now, src->message(s));
     l.source = src;
     l.seq = seq;
     l.t = now;
-    log_.capture(l.index, now, src->data());
-    if (l.items != SIZE_MAX) {
-      const auto& list = *static_cast<const msg::WaypointList*>(src->data());
-      for (std::uint32_t i = 0; i < std::min<std::uint32_t>(list.count, msg::WaypointList::kCapacity); ++i) {
-        const WaypointItem row{list.stamp, list.revision, i, list.items[i]};
-        log_.capture(l.items, now, &row);
-      }
-    }
+  }
+}
+
+void FlightRecorder::write(const Logged& l, Nanos now, const void* msg) {
+  log_.capture(l.index, now, msg);
+  if (l.items == SIZE_MAX) return;
+  const auto& list = *static_cast<const msg::WaypointList*>(msg);
+  for (std::uint32_t i = 0; i < std::min<std::uint32_t>(list.count, msg::WaypointList::kCapacity); ++i) {
+    const WaypointItem row{list.stamp, list.revision, i, list.items[i]};
+    log_.capture(l.items, now, &row);
   }
 }
 
@@ -167,6 +180,11 @@ void FlightRecorder::finish(const FlightFacts& facts, FlightResult& r) {
   r.log_cpu_s = log_.writer_cpu_s();
   log_.write_file("timing.json", timing_json(facts, r));
   r.log_error = log_.error();
+  for (const Logged& l : logged_)
+    if (r.log_error.empty() && l.lost > 0)
+      r.log_error =
+          fmt::format("topic '{}': {} messages not logged: published faster than the log captured them (its writer holds the last {})",
+                      l.topic, l.lost, kBurstDepth);
 }
 
 }  // namespace tern::core

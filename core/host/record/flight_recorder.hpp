@@ -10,6 +10,10 @@
 // can be replayed: tern replay), else `log.plot_rate` (levels replay and sysid) or `log.max_rate`
 // (full). Thinning by flight time keeps the log deterministic. Level summary logs no topic;
 // decimated caps every topic, the sensors too, at `log.decimated_rate` Hz (cannot be replayed).
+// A topic logged with every message gets every message, also when several are published in one
+// tick (a replay's bursts, an FCU link's): its writers hold the last kBurstDepth messages
+// (OutputBase::keep_history), and a writer that published more between two captures than it
+// held makes the log incomplete (FlightResult::log_error names the topic and the count).
 // A logged waypoint list (msg::WaypointList, topic `waypoints`) also writes its items, one row
 // per waypoint of each list captured, to topics/<topic>_items.csv (revision, index and the
 // Waypoint's columns): the mission as flown, edits in flight included (tern plot draws it).
@@ -62,6 +66,9 @@ class FlightRecorder {
   void choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn);
   /// Hz: the most messages a second of `topic` that `log` keeps (0: every message).
   static double topic_rate(const LogConfig& log, const std::string& topic);
+  /// Messages a writer of a topic logged in full holds for the capture at the end of a tick: 64
+  /// covers 160 ms of a 400-Hz IMU arriving at once (a stalled serial link, a replayed burst).
+  static constexpr std::size_t kBurstDepth = 64;
   /// A parameter's value from time t on, and who set it.
   void param(Nanos t, const std::string& qualified_name, const ParamBase& p, const std::string& source);
   /// At the end of a tick at flight time `now`: captures what was published on each logged topic.
@@ -70,7 +77,8 @@ class FlightRecorder {
   /// of wall time.
   void flush_if_due(spdlog::logger& text_log);
   /// Writes summary.json, closes the topic files, then writes timing.json (with the log
-  /// writer's CPU time, stored into r.log_cpu_s); r.log_error: the log's first write error.
+  /// writer's CPU time, stored into r.log_cpu_s); r.log_error: the log's first write error, else
+  /// the first topic logged in full that lost messages (kBurstDepth).
   void finish(const FlightFacts& facts, FlightResult& r);
   /// Closes the log without a summary (a flight that never started).
   void close(FlightResult& r) {
@@ -86,7 +94,10 @@ class FlightRecorder {
     std::uint64_t seq = 0;               // its sequence number
     Nanos interval = 0;                  // minimum flight time between two captures
     Nanos t = 0;                         // flight time of the last capture
+    std::uint64_t lost = 0;              // messages of a logged-in-full topic its writer no longer held
+    std::string topic;
   };
+  void write(const Logged& l, Nanos now, const void* msg);
   FlightLog log_;
   std::shared_ptr<spdlog::sinks::dist_sink_mt> sinks_;
   std::shared_ptr<spdlog::sinks::sink> file_sink_;

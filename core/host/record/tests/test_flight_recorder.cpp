@@ -3,7 +3,7 @@
 // to log.max_rate by flight time, nothing twice), tern.log taking the host's log only while the
 // recorder lives, and durability: captured rows reach the disk (write(2), what a killed process
 // keeps) when the recorder flushes, before the flight ends; summary.json and timing.json at the
-// end, written whole (no temporary file left).
+// end, written whole (no temporary file left); a burst of messages in one tick logged whole.
 #include <doctest/doctest.h>
 
 #include <chrono>
@@ -211,4 +211,49 @@ TEST_CASE("flight recorder: each log level's rate per topic (replay, the default
   CHECK(log_level_names() == "summary, decimated, replay, sysid or full");
   CHECK(log_level_from_name("sysid") == LogLevel::sysid);
   CHECK(!log_level_from_name("default"));
+}
+
+TEST_CASE("flight recorder: a topic logged in full keeps every message of a burst; more than its writer held makes the log incomplete") {
+  auto sinks = std::make_shared<spdlog::sinks::dist_sink_mt>();
+  auto host_log = std::make_shared<spdlog::logger>("tern", sinks);
+  Sim sim;
+  MissionConfig config;
+  config.name = "unit";  // log.level replay: imu in full, state at plot_rate
+  std::vector<std::unique_ptr<Instance>> no_instances;
+  PortGraph no_graph;
+  PhaseRouter router(no_instances, no_graph, host_log);
+  const std::vector<FailsafeEvent> no_failsafes;
+  FlightResult result;
+  fs::path dir;
+  const std::vector<int> per_tick{3, 1, 0, 2, static_cast<int>(FlightRecorder::kBurstDepth) + 5, 1};
+  Nanos stamp = 0;
+  {
+    FlightRecorder rec(new_run_dir(test_dir() / "bursts", "unit"), sinks, {});
+    dir = rec.dir();
+    rec.choose_topics(sim.graph, config.log, config.file, *host_log);
+    for (std::size_t k = 0; k < per_tick.size(); ++k) {
+      for (int i = 0; i < per_tick[k]; ++i) {
+        msg::Imu imu;
+        imu.stamp = ++stamp;  // 1, 2, 3 ...: every row says which message it is
+        sim.imu.publish(imu);
+        sim.state.publish(msg::State{});
+      }
+      rec.capture(sim.graph, static_cast<Nanos>(k) * 2'500'000);
+    }
+    const FlightFacts facts{config, 7, 0.015, 1, 2'500'000, no_instances, nullptr, router, nullptr, 0.0, no_failsafes};
+    rec.finish(facts, result);
+  }
+  auto imu_rows = lines(read_file(dir / "topics" / "imu.csv"));
+  imu_rows.erase(imu_rows.begin());
+  const std::size_t held = FlightRecorder::kBurstDepth;
+  REQUIRE(imu_rows.size() == 3 + 1 + 2 + held + 1);  // the 5 of the long burst its writer no longer held are missing
+  std::vector<std::int64_t> stamps;
+  for (const auto& r : imu_rows) stamps.push_back(std::stoll(cells(r)[1]));
+  CHECK(stamps.front() == 1);
+  CHECK(stamps[5] == 6);                                                  // the first six, in order
+  CHECK(stamps[6] == 6 + 5 + 1);                                          // the long burst's last `held`
+  CHECK(stamps.back() == stamp);                                          // and the last message
+  CHECK(std::stod(cells(imu_rows[2])[0]) == 0.0);                         // a burst's rows carry the tick's flight time
+  CHECK(lines(read_file(dir / "topics" / "state.csv")).size() == 1 + 1);  // thinned to plot_rate: the latest of the first tick
+  CHECK(result.log_error.find("topic 'imu': 5 messages not logged") != std::string::npos);
 }

@@ -9,6 +9,7 @@
 
 #include <unistd.h>
 
+#include "tern/math.hpp"
 #include "../emulator/uart.hpp"
 #include "../emulator/util.hpp"
 #include "../emulator/world.hpp"
@@ -33,7 +34,8 @@ std::string temporary_flash() {
 /// whose calibration is taken at power-up (`rosflight`) already draws the raw turn-on offset.
 sim::SensorParams raw_sensors(const std::string& profile) {
   sim::SensorParams p = sim::sensor_profile(profile);
-  if (p.accel_calibrated_level && !p.accel_calibrated_at_power_up) p.accel_bias_range = std::max(p.accel_bias_range, 0.025 * 9.80665);
+  if (p.accel_calibrated_level && !p.accel_calibrated_at_power_up)
+    p.accel_bias_range = std::max(p.accel_bias_range, 0.025 * tern::kStandardGravity);
   p.calibrate_at_boot = false;
   p.accel_calibrated_level = p.accel_calibrated_at_power_up = false;
   p.accel_calibration_tilt_range = 0.0;

@@ -15,6 +15,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "tern/math.hpp"
 #include "../emulator/util.hpp"
 #include "mavlink_adapter.hpp"
 #include "rosflight.h"
@@ -33,7 +34,7 @@ sim::Truth Sil::bench_truth() const {
   t.x = sim::make_state(Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero(), 0, 0, 0);
   t.mass = ac_.mass;
   t.rho = ac_.rho;
-  t.fm.f_gravity = Eigen::Vector3d(0, 0, ac_.mass * 9.80665);  // held still: no net force
+  t.fm.f_gravity = Eigen::Vector3d(0, 0, ac_.mass * tern::kGravity);  // held still: no net force (the world's g, sim_aero model.cpp)
   return t;
 }
 
