@@ -35,6 +35,19 @@ SensorParams ideal() {
   return p;
 }
 
+// ROSflight's standalone simulator (SensorParams' defaults) as a ROSflight user flies it: the
+// firmware refuses to arm until the IMU is calibrated ("Unable to arm: IMU not calibrated",
+// state_manager.cpp), so calibrate_imu has put this power-up's accelerometer offset into
+// ACC_{X,Y,Z}_BIAS before the flight, with the aircraft at rest on this world's flat ground (the
+// gear's wheels at one height: it rests level, so the floor adds no tilt). Left: the mean's noise
+// 0.2 / sqrt(1000) = 0.006 m/s^2 (0.04 deg) and the bias walk since.
+SensorParams rosflight() {
+  SensorParams p;
+  p.accel_calibrated_level = true;
+  p.accel_calibrated_at_power_up = true;
+  return p;
+}
+
 // TDK InvenSense ICM-20602 (DS-000176). Per-sample sigma = density * sqrt(ENBW), ENBW = 1.57 x the
 // ~100 Hz DLPF bandwidth = 157 Hz (first-order filter: pi/2 f_3dB), sqrt(157) = 12.53.
 void realistic_imu(SensorParams& p) {
@@ -135,7 +148,7 @@ const std::vector<std::string>& sensor_profile_names() {
 }
 
 SensorParams sensor_profile(std::string_view name) {
-  if (name == "rosflight") return SensorParams{};
+  if (name == "rosflight") return rosflight();
   if (name == "realistic") return realistic();
   if (name == "ideal") return ideal();
   std::string valid;

@@ -149,7 +149,8 @@ void Sensors::reset() {
 }
 
 // ROSflight's Sensors::calibrate_accel on a surface tilted by (roll, pitch): the mean of 1000
-// samples at rest (noise sigma / sqrt(1000)) plus the firmware's gravity, refused when |.| >= 3.
+// samples at rest (noise sigma / sqrt(1000), the turn-on bias when taken at this power-up) plus
+// the firmware's gravity, refused when |.| >= 3.
 // Drawn from a stream of its own (seeded from the seed), so that the other draws are the same with
 // or without it.
 Eigen::Vector3d Sensors::draw_accel_calibration() {
@@ -162,7 +163,8 @@ Eigen::Vector3d Sensors::draw_accel_calibration() {
   const double n0 = n(rng), n1 = n(rng), n2 = n(rng);
   const Eigen::Vector3d noise = p_.accel_noise / std::sqrt(double{kSamples}) * Eigen::Vector3d(n0, n1, n2);
   const Eigen::Vector3d f_rest = tern::rotation_from_euler(roll, pitch, 0.0).transpose() * Eigen::Vector3d(0.0, 0.0, -kGravity);
-  const Eigen::Vector3d offset = accel_M_ * (mount_T_ * f_rest) + noise + Eigen::Vector3d(0.0, 0.0, tern::kStandardGravity);
+  const Eigen::Vector3d bias = p_.accel_calibrated_at_power_up ? accel_bias_ : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d offset = accel_M_ * (mount_T_ * f_rest) + bias + noise + Eigen::Vector3d(0.0, 0.0, tern::kStandardGravity);
   return offset.norm() < 3.0 ? offset : Eigen::Vector3d::Zero();
 }
 

@@ -154,6 +154,10 @@ void SimAero::declare_error_model() {
       accel_calibrated_level_, "accel_calibrated_level", d.accel_calibrated_level,
       ParamSpec("", 0, 0, "the FCU's stored accelerometer offset was taken with the aircraft taken as level (ROSflight calibrate_accel)")
           .start_only());
+  declare(
+      accel_calibrated_at_power_up_, "accel_calibrated_at_power_up", d.accel_calibrated_at_power_up,
+      ParamSpec("", 0, 0, "that offset was taken after this power-up (ROSflight's calibrate_imu before arming): it holds the turn-on bias")
+          .start_only());
   declare(gnss_num_sats_, "gnss_num_sats", std::int64_t{d.gnss_num_sats}, ParamSpec("", 0, 64, "reported satellites in use").start_only());
   for (std::size_t i = 0; i < std::size(kSensorReals); ++i)
     track_explicit(sensor_reals_[i], is_origin_row(kSensorReals[i]) ? std::function<void()>([this] { sync_world_field(); }) : nullptr);
@@ -162,6 +166,7 @@ void SimAero::declare_error_model() {
   track_explicit(gnss_start_steady_);
   track_explicit(calibrate_at_boot_);
   track_explicit(accel_calibrated_level_);
+  track_explicit(accel_calibrated_at_power_up_);
   track_explicit(gnss_num_sats_);
   sensor_profile_.on_change([this](const std::string&) { apply_profile_defaults(); });
   date_.on_change([this](const std::string&) { sync_world_field(); });
@@ -192,6 +197,7 @@ void SimAero::apply_profile_defaults() {
     take(gnss_start_steady_, d.gnss_start_steady);
     take(calibrate_at_boot_, d.calibrate_at_boot);
     take(accel_calibrated_level_, d.accel_calibrated_level);
+    take(accel_calibrated_at_power_up_, d.accel_calibrated_at_power_up);
     take(gnss_num_sats_, std::int64_t{d.gnss_num_sats});
   } catch (...) {
     applying_profile_ = false;
@@ -215,6 +221,7 @@ sim::SensorParams SimAero::sensor_params() const {
   p.gnss_start_steady = gnss_start_steady_();
   p.calibrate_at_boot = calibrate_at_boot_();
   p.accel_calibrated_level = accel_calibrated_level_();
+  p.accel_calibrated_at_power_up = accel_calibrated_at_power_up_();
   p.gnss_num_sats = static_cast<int>(gnss_num_sats_());
   return p;
 }

@@ -175,6 +175,7 @@ class SimAero final : public tern::Plugin {
   tern::Param<bool> gnss_start_steady_;
   tern::Param<bool> calibrate_at_boot_;
   tern::Param<bool> accel_calibrated_level_;
+  tern::Param<bool> accel_calibrated_at_power_up_;
   tern::Param<double> pitot_cover_;
   tern::Param<std::int64_t> gnss_num_sats_;
   tern::Param<bool> armed_, offboard_;

@@ -131,9 +131,13 @@ TEST_CASE("sensors: profiles are rosflight (default, first), realistic and ideal
   CHECK(names[0] == "rosflight");
   CHECK(std::find(names.begin(), names.end(), "realistic") != names.end());
   CHECK(std::find(names.begin(), names.end(), "ideal") != names.end());
-  // rosflight is SensorParams{}: the same outputs draw for draw
-  Sensors a(sensor_profile("rosflight"), 3), b(SensorParams{}, 3);
+  // rosflight is SensorParams{} with the FCU's accelerometer calibration at power-up: the same
+  // outputs draw for draw (the calibration draws from a stream of its own)
+  SensorParams raw;
+  raw.accel_calibrated_level = raw.accel_calibrated_at_power_up = true;
+  Sensors a(sensor_profile("rosflight"), 3), b(raw, 3);
   CHECK(sample_all(a, 50) == sample_all(b, 50));
+  CHECK(a.accel_calibration().norm() > 0.0);
   CHECK_THROWS_AS(sensor_profile("nope"), std::invalid_argument);
   std::string msg;
   try {
@@ -428,6 +432,40 @@ TEST_CASE("sensors: the stored accelerometer calibration (ROSflight calibrate_ac
   // Without the calibration nothing is subtracted.
   p.accel_calibrated_level = false;
   CHECK(Sensors(p, 3).accel_calibration().norm() == 0.0);
+}
+
+TEST_CASE("sensors: a calibration taken at this power-up holds the turn-on bias; the rosflight profile's FCU has one") {
+  // ROSflight refuses to arm until calibrate_imu has run, so its aircraft flies with this
+  // power-up's accelerometer offset stored: what is left at rest level is the mean's noise
+  // (sigma / sqrt(1000)), not the +-accel_bias_range turn-on bias.
+  SensorParams p = sensor_profile("rosflight");
+  REQUIRE(p.accel_calibrated_level);
+  REQUIRE(p.accel_calibrated_at_power_up);
+  p.accel_bias_walk = 0.0;
+  const Eigen::Vector3d g0(0, 0, -tern::kStandardGravity);
+  const double mean_sigma = p.accel_noise / std::sqrt(1000.0);
+  double worst_calibrated = 0.0, worst_earlier = 0.0;
+  for (std::uint64_t seed = 1; seed <= 50; ++seed) {
+    Sensors s(p, seed);
+    // at rest level the residual offset is the calibration mean's noise ...
+    worst_calibrated = std::max(
+        worst_calibrated,
+        (s.accel_bias() - (s.accel_calibration() - Eigen::Vector3d(0, 0, tern::kStandardGravity - kGravity))).cwiseAbs().maxCoeff());
+    // ... where a calibration from an earlier session leaves the whole turn-on bias
+    SensorParams q = p;
+    q.accel_calibrated_at_power_up = false;
+    Sensors e(q, seed);
+    worst_earlier = std::max(
+        worst_earlier,
+        (e.accel_bias() - (e.accel_calibration() - Eigen::Vector3d(0, 0, tern::kStandardGravity - kGravity))).cwiseAbs().maxCoeff());
+    CHECK(e.accel_bias() == s.accel_bias());  // same draws either way
+  }
+  CHECK(worst_calibrated < 4.5 * mean_sigma);
+  CHECK(worst_earlier > 0.8 * p.accel_bias_range);
+  // The reading at rest level: the firmware's (0, 0, -9.80665) plus that residual.
+  p.accel_noise = 0.0;
+  Sensors quiet(p, 7);
+  CHECK((quiet.imu(kinematic_truth(Eigen::Vector3d(0, 0, -kGravity), Eigen::Vector3d::Zero()), 0.0025).accel - g0).norm() < 1e-12);
 }
 
 TEST_CASE("sensors: IMU scale factors and cross-axis terms are per-seed, within their ranges") {

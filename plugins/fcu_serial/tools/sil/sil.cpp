@@ -29,13 +29,15 @@ std::string temporary_flash() {
 
 /// The raw sensors of a profile: no calibration at boot or stored in the world (the firmware's
 /// calibrations take their place). The accelerometer keeps its turn-on offset: `realistic`
-/// models what is left after a stored calibration (0.05 m/s^2); uncalibrated, the ICM-20602's
-/// zero-g offset is +-25 mg (DS-000176), 0.245 m/s^2.
+/// models what is left after a calibration stored in an earlier session (0.05 m/s^2);
+/// uncalibrated, the ICM-20602's zero-g offset is +-25 mg (DS-000176), 0.245 m/s^2. A profile
+/// whose calibration is taken at power-up (`rosflight`) already draws the raw turn-on offset.
 sim::SensorParams raw_sensors(const std::string& profile) {
   sim::SensorParams p = sim::sensor_profile(profile);
-  if (p.accel_calibrated_level) p.accel_bias_range = std::max(p.accel_bias_range, 0.025 * tern::kStandardGravity);
+  if (p.accel_calibrated_level && !p.accel_calibrated_at_power_up)
+    p.accel_bias_range = std::max(p.accel_bias_range, 0.025 * tern::kStandardGravity);
   p.calibrate_at_boot = false;
-  p.accel_calibrated_level = false;
+  p.accel_calibrated_level = p.accel_calibrated_at_power_up = false;
   p.accel_calibration_tilt_range = 0.0;
   return p;
 }

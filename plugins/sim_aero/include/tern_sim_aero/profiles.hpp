@@ -1,5 +1,6 @@
 // tern_sim_aero/profiles.hpp: named sets of sensor defaults (sim_aero's `sensor_profile`).
-//   rosflight  ROSflight's standalone simulator (SensorParams' own defaults)
+//   rosflight  ROSflight's standalone simulator (SensorParams' own defaults) with the accelerometer
+//              calibrated level at power-up, as the firmware requires before it arms
 //   realistic  datasheet-grade: u-blox M8N/M9N GNSS, ICM-20602 IMU with motor vibration, residual
 //              hard/soft iron, MS5611 barometer with static-port error, MS4525DO pitot; each
 //              figure cited in profiles.cpp

@@ -25,7 +25,8 @@
 namespace tern::sim {
 
 /// Every noise, bias and error figure of the sensors (1-sigma values unless said otherwise). The
-/// defaults are ROSflight's standalone simulator (the `rosflight` profile); sensor_profile() in
+/// defaults are ROSflight's standalone simulator's raw sensors (the `rosflight` profile adds the
+/// FCU's accelerometer calibration at power-up); sensor_profile() in
 /// profiles.hpp gives the `realistic` (datasheet) and `ideal` (noise-free) sets. Per-seed errors
 /// (turn-on biases, scale factors, cross-axis terms, hard/soft iron) are drawn uniformly in
 /// +-range at reset(); fixed installation geometry (mounting rotation, lever arms) is given.
@@ -62,6 +63,12 @@ struct SensorParams {
   /// accel_bias_range is then the drift since. A mean with |offset| >= 3 m/s^2 is refused ("large
   /// accel bias") and nothing is stored.
   bool accel_calibrated_level = false;
+  /// That calibration was taken after this power-up, with this power-up's turn-on bias in its mean
+  /// (ROSflight: `calibrate_imu` before the flight, which the firmware requires: it refuses to arm
+  /// with ERROR_UNCALIBRATED_IMU, state_manager.cpp, while every ACC_ and GYRO_ bias parameter is 0);
+  /// what is left is the mean's noise (accel_noise / sqrt(1000)), the floor's level and the bias walk
+  /// since. false: it was stored in an earlier session and accel_bias_range is the drift since.
+  bool accel_calibrated_at_power_up = false;
   /// Roll and pitch of the surface the aircraft stood on during that calibration, each uniform in
   /// +-range, rad: what was taken as level.
   double accel_calibration_tilt_range = 0.0;
