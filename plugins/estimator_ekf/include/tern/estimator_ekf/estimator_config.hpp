@@ -154,6 +154,35 @@ struct EstimatorConfig {
   /// Needs gsf_max_sigma. Off by default: in bench_estimation's aggressive mission (50-deg banks,
   /// turbulence) the GSF disagreed with a right yaw by 20-44 deg for 5 s on 4 of 20 flights.
   double gsf_disagree_time = 0.0;
+  /// After a yaw reset to the GNSS (gnss_yaw_reset_time, gsf_disagree_time) the magnetometer is
+  /// not fused but still tested: its tilt-compensated heading against the filter's yaw, as PX4
+  /// EKF2's checkMagHeadingConsistency (mag_control.cpp) keeps testing a stopped magnetometer and
+  /// lets heading fusion start again once the heading innovation is inside EKF2_HEAD_NOISE while
+  /// the yaw is observable. Here: every sample's heading innovation within mag_resume_error, with
+  /// the filter's yaw 1 sigma below mag_resume_yaw_sigma (the GNSS velocity has observed the yaw
+  /// since the reset), for mag_resume_time: fusion resumes (event mag_resumed). Samples with the
+  /// pitch beyond 60 deg (the Euler yaw and the tilt-compensated heading ill-conditioned: loops)
+  /// neither pass nor fail. A compass the reset was right to drop (turned, disturbed) stays off;
+  /// one that agreed throughout (the reset blamed the yaw for a manoeuvre) comes back. PX4's
+  /// emergency reset itself keeps mag_fault until the sensor's calibration changes (its own
+  /// "TODO: allow clearing mag_fault if mag_3d is good?"); issue 61 asks for the resume.
+  /// s; 0: never resume (the magnetometer off for the rest of the flight, the former behaviour).
+  double mag_resume_time = 5.0;
+  /// rad: PX4 EKF2_HEAD_NOISE's default (0.3 rad), the bound PX4 puts on the heading innovation
+  /// of a consistent magnetometer; 3 x mag_resume_yaw_sigma.
+  double mag_resume_error = 0.3;
+  /// rad: the filter's yaw must be known this well (1 sigma) for the test to count: just after a
+  /// reset to the course (gnss_yaw_sigma 0.35 rad) agreement says little.
+  double mag_resume_yaw_sigma = 0.1;
+  /// s: the GNSS course lags the aircraft by the receiver's delay, known only to within this
+  /// (a log's assumed gnss_delay against the receiver's true one: issue 61's aerobatic flight
+  /// behaved differently at 0 and 0.33 s; a u-blox M8N at 10 Hz is 0.1-0.2 s late). The yaw is
+  /// blamed for rejected GNSS velocity (gnss_yaw_reset_time) only when it is further from the
+  /// course than gnss_yaw_sigma plus this times the largest course rate over the rejection, and
+  /// never while the course cannot be the heading (a fix's horizontal speed under 5 m/s, the
+  /// pitch beyond 45 deg in that time: loops, vertical flight). 0: the course compared as it is
+  /// (no lag, no manoeuvre test: the former rule).
+  double gnss_course_lag = 0.35;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
                                    ///< reset to the magnetometer (and the wind re-derived)...
@@ -318,6 +347,18 @@ struct EstimatorConfig {
       ParamSpec(
           "s", 0.0, 600.0,
           "in the air, the filter's yaw disagreeing with the converged yaw GSF this long resets it and stops the magnetometer (0: never)"));
+    v(&C::mag_resume_time, "mag_resume_time",
+      ParamSpec("s", 0.0, 600.0,
+                "after a yaw reset to GNSS, the magnetometer's heading consistent with the yaw this long resumes its fusion (0: never)"));
+    v(&C::mag_resume_error, "mag_resume_error",
+      ParamSpec("rad", 0.01, 3.2,
+                "largest heading innovation a stopped magnetometer may show to count as consistent (PX4 EKF2_HEAD_NOISE)"));
+    v(&C::mag_resume_yaw_sigma, "mag_resume_yaw_sigma",
+      ParamSpec("rad", 0.001, 3.2, "the filter's yaw 1 sigma below which a stopped magnetometer's consistency counts"));
+    v(&C::gnss_course_lag, "gnss_course_lag",
+      ParamSpec("s", 0.0, 2.0,
+                "uncertainty of the GNSS delay: the course's lag allowed before the yaw is blamed for rejected velocity (0: the course as "
+                "it is)"));
     v(&C::mag_init_wait, "mag_init_wait",
       ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
     v(&C::mag_reset_time, "mag_reset_time",
