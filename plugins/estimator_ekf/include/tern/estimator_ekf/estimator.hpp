@@ -188,7 +188,7 @@ class Estimator {
   /// The Earth's field the magnetometer is compared with: the model's at the origin once it is
   /// set (mag_field_from_model), else the configured one.
   const tern::MagneticField& earth_field() const { return field_; }
-  /// Yaw resets to the GNSS course in flight (the magnetometer is then no longer fused).
+  /// Yaw resets to the GNSS course in flight (the magnetometer then tested, not fused, until it agrees).
   std::uint64_t gnss_yaw_resets() const { return gnss_yaw_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
   /// The magnetometer is tested, not fused, since a yaw reset to GNSS (mag_resume_time).
@@ -336,7 +336,7 @@ class Estimator {
   /// `why` (mag_reset, gnss_yaw_reset or gsf_yaw_reset) is the event and the counter.
   void reset_yaw(Nanos stamp, double psi, double sigma, EventKind why);
   /// Yaw from the GNSS (gnss_yaw(): the converged GSF's, else the course), velocity and position
-  /// to the fix, the magnetometer no longer fused (mag_inhibited_); `why` as for reset_yaw.
+  /// to the fix, the magnetometer tested, not fused (mag_inhibited_, test_stopped_mag); `why` as for reset_yaw.
   void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why);
   /// The field at the origin (mag_field_from_model) or the configured one; sets the models.
   void set_earth_field(const tern::MagneticField& f);

@@ -134,9 +134,10 @@ struct EstimatorConfig {
   /// s: in the air, GNSS velocity rejected this long: velocity and position are reset to the fix;
   /// if the yaw is also further than gnss_yaw_sigma from the GNSS course, it is the likely cause
   /// (a magnetometer disturbed or miscalibrated, a hand launch turned the wrong way): yaw is reset
-  /// to the course and the magnetometer is no longer fused that flight (PX4 EKF2's emergency yaw
-  /// reset and mag_fault, after its EKF-GSF; here the course itself, the wind's crab angle within
-  /// gnss_yaw_sigma). 0: never.
+  /// to the course and the magnetometer is not fused until its heading agrees again
+  /// (mag_resume_time; PX4 EKF2's emergency yaw reset and mag_fault, after its EKF-GSF; here the
+  /// course itself, the wind's crab angle within gnss_yaw_sigma, its lag within gnss_course_lag).
+  /// 0: never.
   double gnss_yaw_reset_time = 1.0;
   /// rad: the yaw uncertainty after such a reset from the course (the GSF not converged): the
   /// crab angle a wind of 5 m/s gives at 14 m/s; also the least yaw difference that counts.
@@ -146,9 +147,11 @@ struct EstimatorConfig {
   /// default): the GSF does not run. Off by default: on a simulated aggressive flight (60-deg
   /// banks, turbulence, the realistic IMU) its converged yaw erred 11 deg RMS (24 deg at worst)
   /// while claiming 1-2 deg; a compass the filter follows wrongly is its use (gsf_disagree_time).
+  /// Not in aerobatics: its models' tilt (a complementary filter for coordinated flight) comes
+  /// out of a loop wrong (bench_aerobatics --gsf: yaw resets 87-163 deg wrong, up to 8 a flight).
   double gsf_max_sigma = 0.0;
   /// s: in the air, the filter's yaw further than 3 sigma (at least gnss_yaw_sigma) from the
-  /// converged GSF's this long is reset to it and the magnetometer is no longer fused (a compass
+  /// converged GSF's this long is reset to it and the magnetometer is not fused until it agrees (a compass
   /// the filter followed while the wind state absorbed the velocity: a compass turned 92 deg left
   /// yaw 38 deg and wind 11 m/s wrong with the GNSS velocity accepted). 0 (the default): never.
   /// Needs gsf_max_sigma. Off by default: in bench_estimation's aggressive mission (50-deg banks,
@@ -180,8 +183,11 @@ struct EstimatorConfig {
   /// blamed for rejected GNSS velocity (gnss_yaw_reset_time) only when it is further from the
   /// course than gnss_yaw_sigma plus this times the largest course rate over the rejection, and
   /// never while the course cannot be the heading (a fix's horizontal speed under 5 m/s, the
-  /// pitch beyond 45 deg in that time: loops, vertical flight). 0: the course compared as it is
-  /// (no lag, no manoeuvre test: the former rule).
+  /// pitch beyond 45 deg in that time: loops, vertical flight); and the velocity and position
+  /// are reset only when the velocity innovation exceeds this times the manoeuvring acceleration
+  /// (accel_nav_: within it the lagged fix is the one off). 0: the course compared as it is and
+  /// every such rejection reset (the former rules). bench_aerobatics, a receiver 0.3 s late
+  /// unaccounted: 30 velocity resets and 2 yaw resets per flight before, <= 6 and 0 with 0.35 s.
   double gnss_course_lag = 0.35;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
