@@ -29,7 +29,10 @@ bool Estimator::add_mag(const msg::Mag& m) {
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a
   // hangar's steel or a car bends it, and the heading alone keeps that out of roll and pitch.
-  const bool heading = cfg_.mag_heading_only || !airborne(m.stamp);
+  // After a resume (test_stopped_mag) only the heading was tested: the field's direction, which
+  // also steers roll and pitch, stays out (a field off the model's, e.g. Zurich's 52 uT at 67.6 deg
+  // against WMM's 47.8 uT at 63.3, worsened that flight's course 4.7 -> 4.9 deg as 3-axis).
+  const bool heading = cfg_.mag_heading_only || !airborne(m.stamp) || mag_resumes_ > 0;
   if (heading) mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
   const UpdateResult r = heading
                              ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), field_.declination)), t_v)
