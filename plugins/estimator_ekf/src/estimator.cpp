@@ -59,7 +59,7 @@ std::string describe(const Event& e) {
     case EventKind::gsf_yaw_reset:
       std::snprintf(buf, sizeof buf,
                     "gnss: yaw disagreed with the yaw GSF's (IMU and GNSS velocity) in flight, reset to it (innovation %.1f deg); "
-                    "magnetometer no longer fused",
+                    "magnetometer tested, not fused, until its heading agrees",
                     e.value);
       break;
     case EventKind::gnss_velocity_reset:
@@ -75,8 +75,12 @@ std::string describe(const Event& e) {
       break;
     case EventKind::gnss_yaw_reset:
       std::snprintf(buf, sizeof buf,
-                    "gnss: velocity rejected in flight, yaw reset to the GNSS course (innovation %.1f deg); magnetometer no longer fused",
+                    "gnss: velocity rejected in flight, yaw reset to the GNSS course (innovation %.1f deg); magnetometer tested, not "
+                    "fused, until its heading agrees",
                     e.value);
+      break;
+    case EventKind::mag_resumed:
+      std::snprintf(buf, sizeof buf, "mag: heading consistent with the yaw again, fusion resumed (%.1f s after the yaw reset)", e.value);
       break;
     case EventKind::inflated:
       std::snprintf(buf, sizeof buf, "%s: rejected repeatedly, variance of the states it measures inflated x%.1f", s, e.value);

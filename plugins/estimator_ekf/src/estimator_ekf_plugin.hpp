@@ -106,7 +106,8 @@ class EstimatorEkf final : public tern::Plugin {
         if (e.kind == tern::ekf::EventKind::sensor_timeout || e.kind == tern::ekf::EventKind::gnss_reset ||
             e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset ||
             e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap ||
-            e.kind == tern::ekf::EventKind::gnss_yaw_reset || e.kind == tern::ekf::EventKind::gnss_velocity_reset)
+            e.kind == tern::ekf::EventKind::gnss_yaw_reset || e.kind == tern::ekf::EventKind::gnss_velocity_reset ||
+            e.kind == tern::ekf::EventKind::gsf_yaw_reset)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else if (e.kind == tern::ekf::EventKind::gnss_checks_failing && e.value != 0.0)  // with the values and limits
           log().info("t={:.3f} s: {} ({})", tern::to_seconds(e.stamp), tern::ekf::describe(e), estimator_.gnss_checks().describe_failing());
@@ -155,6 +156,9 @@ class EstimatorEkf final : public tern::Plugin {
     }
     s.emplace_back("gnss_resets", static_cast<double>(estimator_.gnss_resets()));
     s.emplace_back("mag_resets", static_cast<double>(estimator_.mag_resets()));
+    // of gnss_resets (each resets the position too), not a reset of its own: no "_resets" suffix
+    s.emplace_back("gnss_yaw_reset_count", static_cast<double>(estimator_.gnss_yaw_resets()));
+    s.emplace_back("mag_resumes", static_cast<double>(estimator_.mag_resumes()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     s.emplace_back("inflations", static_cast<double>(estimator_.inflations()));
     // The GNSS start-up checks: the wait from the first fix to the one that passed (s), when one did.

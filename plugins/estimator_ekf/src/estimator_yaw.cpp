@@ -20,13 +20,19 @@ bool Estimator::add_mag(const msg::Mag& m) {
     ++mag_samples_;
     return true;
   }
-  if (mag_inhibited_) return true;
-  const Vec3 e = euler_from_quaternion(filter_.x().q);
   const Vec3 z = m.field / field_.intensity;  // in units of the Earth's field, like b_m
+  if (mag_inhibited_) {
+    test_stopped_mag(m.stamp, z);
+    return true;
+  }
+  const Vec3 e = euler_from_quaternion(filter_.x().q);
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a
   // hangar's steel or a car bends it, and the heading alone keeps that out of roll and pitch.
-  const bool heading = cfg_.mag_heading_only || !airborne(m.stamp);
+  // After a resume (test_stopped_mag) only the heading was tested: the field's direction, which
+  // also steers roll and pitch, stays out (a field off the model's, e.g. Zurich's 52 uT at 67.6 deg
+  // against WMM's 47.8 uT at 63.3, worsened that flight's course 4.7 -> 4.9 deg as 3-axis).
+  const bool heading = cfg_.mag_heading_only || !airborne(m.stamp) || mag_resumes_ > 0;
   if (heading) mag_heading_.tilt_variance = MagHeading::tilt_variance_of(z, e.x(), e.y(), filter_.P().block<3, 3>(idx::th, idx::th));
   const UpdateResult r = heading
                              ? fuse(mag_heading_, MagHeading::Vec(MagHeading::heading_from_field(z, e.x(), e.y(), field_.declination)), t_v)
@@ -90,20 +96,26 @@ bool Estimator::gsf_converged() const { return gsf_.active() && gsf_.yaw_varianc
 bool Estimator::recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v) {
   if (rv == UpdateResult::accepted) gnss_vel_reject_since_ = -1;
   if (rv != UpdateResult::rejected) return false;
+  watch_course(m, gnss_vel_reject_since_ < 0);
   if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
   if (cfg_.gnss_yaw_reset_time <= 0.0 || !airborne(m.stamp) || m.vel.head<2>().norm() < 5.0 ||
       to_seconds(m.stamp - gnss_vel_reject_since_) < cfg_.gnss_yaw_reset_time)
     return false;
   // The yaw is the likely cause only if it is further from the GNSS yaw than that can err: the
-  // converged GSF's 3 sigma (at least 10 deg), or the crab angle's bound from the course;
+  // converged GSF's 3 sigma (at least 10 deg), or the crab angle's bound from the course plus
+  // its lag in the manoeuvre (yaw_blamed_on_course: never in loops or vertical flight);
   // otherwise (a manoeuvre the receiver lagged) velocity and position alone.
   const auto [psi, sigma] = gnss_yaw(m);
   const double yaw_error = wrap_pi(psi - euler_from_quaternion(filter_.x().q).z());
-  if (std::fabs(yaw_error) > (gsf_converged() ? std::max(3.0 * sigma, 0.1745) : sigma)) {
+  if (gsf_converged() ? std::fabs(yaw_error) > std::max(3.0 * sigma, 0.1745) : yaw_blamed_on_course(yaw_error, sigma)) {
     reset_yaw_to_gnss(m.stamp, p, m, t_v, EventKind::gnss_yaw_reset);
     return true;
   }
+  // Within what the course's lag gives (the manoeuvring acceleration times gnss_course_lag) the
+  // fix, not the state, is the likely one off: no reset; the timer runs on, so that a difference
+  // that outlasts the manoeuvre resets at once.
   const double innovation = (m.vel - filter_.x().v).norm();
+  if (innovation <= cfg_.gnss_course_lag * accel_nav_) return false;
   reset_to_gnss(m.stamp, p, m.vel, t_v);
   gnss_vel_reject_since_ = -1;
   push(m.stamp, EventKind::gnss_velocity_reset, Sensor::gnss, innovation);
@@ -145,7 +157,9 @@ void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m
   const auto [psi, sigma] = gnss_yaw(m);
   reset_to_gnss(stamp, p, m.vel, t_v);
   reset_yaw(stamp, psi, sigma, why);
+  if (!mag_inhibited_) mag_inhibited_since_ = stamp;
   mag_inhibited_ = true;
+  mag_consistent_since_ = -1;
   gnss_vel_reject_since_ = -1;
 }
 

@@ -729,10 +729,51 @@ TEST_CASE("a compass 90 deg off in flight: the yaw GSF finds it, the magnetomete
   Errors e;
   fly(sim, est, 70.0, h, [&](const Truth& t, const Estimator& x) { e.add(t, x, sim); });
   print("compass 90 deg off", e);
-  CHECK(est.gnss_yaw_resets() == 1);  // once: the magnetometer is no longer fused
+  CHECK(est.gnss_yaw_resets() == 1);  // once: the magnetometer is tested, never fused again
+  CHECK(est.mag_inhibited());
+  CHECK(est.mag_resumes() == 0);
   CHECK(e.yaw.rms() < 3.0 * kPi / 180);
   CHECK(e.wind.rms() < 1.0);
   CHECK(e.vel.rms() < 0.3);
+}
+
+TEST_CASE("after a yaw reset, a magnetometer that agrees again is fused again (issue 61)") {
+  // A disturbance that turns the field 90 deg until the yaw GSF resets the yaw, then ends: the
+  // magnetometer's heading agrees with the yaw from then on, and its fusion must resume (before
+  // issue 61 it stayed off for the rest of the flight).
+  TruthSim sim(mixed_flight());
+  EstimatorConfig cfg = truth_sim_config();
+  cfg.gsf_max_sigma = 0.15;
+  cfg.gsf_disagree_time = 5.0;
+  Estimator est(cfg);
+  Hooks h;
+  h.mag = [&](msg::Mag& m) {
+    if (est.gnss_yaw_resets() == 0) m.field = Eigen::AngleAxisd(1.6, Vec3::UnitZ()) * m.field;
+    return true;
+  };
+  const auto fused = [&] { return est.mag_model().stats.accepted + est.mag_heading_model().stats.accepted; };
+  Nanos reset_at = -1, resumed_at = -1;
+  decltype(fused()) fused_at_resume = 0;
+  Errors e;
+  fly(sim, est, 130.0, h, [&](const Truth& t, const Estimator& x) {
+    if (reset_at < 0 && x.gnss_yaw_resets() > 0) reset_at = sim.now();
+    if (reset_at >= 0 && resumed_at < 0 && !x.mag_inhibited()) {
+      resumed_at = sim.now();
+      fused_at_resume = fused();
+    }
+    if (resumed_at >= 0) e.add(t, x, sim);
+  });
+  print("disturbance gone after the reset", e);
+  REQUIRE(reset_at > 0);
+  REQUIRE(resumed_at > 0);
+  MESSAGE("yaw reset at " << to_seconds(reset_at) << " s, magnetometer fused again at " << to_seconds(resumed_at) << " s");
+  CHECK(to_seconds(resumed_at - reset_at) >= cfg.mag_resume_time);  // tested for mag_resume_time first
+  CHECK(to_seconds(resumed_at - reset_at) < 30.0);
+  CHECK(!est.mag_inhibited());
+  CHECK(est.mag_resumes() == 1);
+  CHECK(est.gnss_yaw_resets() == 1);
+  CHECK(e.yaw.rms() < 3.0 * kPi / 180);
+  CHECK(fused() > fused_at_resume + 1000);  // fused again: 50 Hz for the rest of the flight
 }
 
 TEST_CASE("a good compass: the yaw GSF agrees, no reset") {

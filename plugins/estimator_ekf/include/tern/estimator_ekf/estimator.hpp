@@ -112,7 +112,8 @@ enum class EventKind : std::uint8_t {
   gsf_yaw_reset,
   gnss_checks_failing,
   gnss_checks_passed,
-  origin_dropped
+  origin_dropped,
+  mag_resumed
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
@@ -206,11 +207,15 @@ class Estimator {
   /// The Earth's field the magnetometer is compared with: the model's at the origin once it is
   /// set (mag_field_from_model), else the configured one.
   const tern::MagneticField& earth_field() const { return field_; }
-  /// Yaw resets to the GNSS course in flight (the magnetometer is then no longer fused).
+  /// Yaw resets to the GNSS course in flight (the magnetometer then tested, not fused, until it agrees).
   std::uint64_t gnss_yaw_resets() const { return gnss_yaw_resets_; }
   std::uint64_t filter_resets() const { return filter_resets_; }
   /// The GNSS start-up checks (their verdict, the failing checks and drifts while waiting).
   const GnssChecks& gnss_checks() const { return gnss_checks_; }
+  /// The magnetometer is tested, not fused, since a yaw reset to GNSS (mag_resume_time).
+  bool mag_inhibited() const { return mag_inhibited_; }
+  /// Times its fusion resumed after such a reset (its heading consistent again).
+  std::uint64_t mag_resumes() const { return mag_resumes_; }
 
   /// Events since the last call (the caller logs them).
   std::vector<Event> take_events();
@@ -363,7 +368,7 @@ class Estimator {
   /// `why` (mag_reset, gnss_yaw_reset or gsf_yaw_reset) is the event and the counter.
   void reset_yaw(Nanos stamp, double psi, double sigma, EventKind why);
   /// Yaw from the GNSS (gnss_yaw(): the converged GSF's, else the course), velocity and position
-  /// to the fix, the magnetometer no longer fused (mag_inhibited_); `why` as for reset_yaw.
+  /// to the fix, the magnetometer tested, not fused (mag_inhibited_, test_stopped_mag); `why` as for reset_yaw.
   void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why);
   /// The field at the origin (mag_field_from_model) or the configured one; sets the models.
   void set_earth_field(const tern::MagneticField& f);
@@ -386,7 +391,27 @@ class Estimator {
   /// The GNSS noise of the next fix: the receiver's (or the configured) plus the manoeuvre term.
   void set_gnss_noise();
   std::uint64_t gnss_yaw_resets_ = 0;
-  bool mag_inhibited_ = false;  ///< after a yaw reset to GNSS: the magnetometer disagreed with it
+  bool mag_inhibited_ = false;  ///< after a yaw reset to GNSS: tested (test_stopped_mag), not fused
+  Nanos mag_inhibited_since_ = -1;
+  Nanos mag_consistent_since_ = -1;  ///< the stopped magnetometer's heading consistent since (-1: not)
+  std::uint64_t mag_resumes_ = 0;
+  /// While mag_inhibited_: the heading of the field z (Earth-field units) against the filter's
+  /// yaw; resumes the fusion after mag_resume_time of consistency (estimator_mag_resume.cpp).
+  void test_stopped_mag(Nanos stamp, const Vec3& z);
+  /// What the fixes' course did since the GNSS velocity was first rejected (recover_velocity):
+  /// its largest rate, and whether it could not be the heading at some fix (slow, steep).
+  struct CourseWatch {
+    double prev = 0.0;
+    Nanos prev_stamp = -1;
+    double rate_max = 0.0;  ///< rad/s
+    bool not_heading = false;
+  };
+  CourseWatch course_;
+  /// Feeds one fix to course_ (restarted when the velocity is accepted).
+  void watch_course(const msg::Gnss& m, bool restart);
+  /// Whether a yaw `yaw_error` (rad) from the course of sigma `sigma` is the likely cause of the
+  /// rejected velocity rather than the course's lag in a manoeuvre (gnss_course_lag).
+  bool yaw_blamed_on_course(double yaw_error, double sigma) const;
   std::array<SensorCounters, kSensorCount> counters_{};
   std::vector<Event> events_;
 };

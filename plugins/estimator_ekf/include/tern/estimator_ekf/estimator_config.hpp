@@ -139,9 +139,10 @@ struct EstimatorConfig {
   /// s: in the air, GNSS velocity rejected this long: velocity and position are reset to the fix;
   /// if the yaw is also further than gnss_yaw_sigma from the GNSS course, it is the likely cause
   /// (a magnetometer disturbed or miscalibrated, a hand launch turned the wrong way): yaw is reset
-  /// to the course and the magnetometer is no longer fused that flight (PX4 EKF2's emergency yaw
-  /// reset and mag_fault, after its EKF-GSF; here the course itself, the wind's crab angle within
-  /// gnss_yaw_sigma). 0: never.
+  /// to the course and the magnetometer is not fused until its heading agrees again
+  /// (mag_resume_time; PX4 EKF2's emergency yaw reset and mag_fault, after its EKF-GSF; here the
+  /// course itself, the wind's crab angle within gnss_yaw_sigma, its lag within gnss_course_lag).
+  /// 0: never.
   double gnss_yaw_reset_time = 1.0;
   /// rad: the yaw uncertainty after such a reset from the course (the GSF not converged): the
   /// crab angle a wind of 5 m/s gives at 14 m/s; also the least yaw difference that counts.
@@ -151,14 +152,48 @@ struct EstimatorConfig {
   /// default): the GSF does not run. Off by default: on a simulated aggressive flight (60-deg
   /// banks, turbulence, the realistic IMU) its converged yaw erred 11 deg RMS (24 deg at worst)
   /// while claiming 1-2 deg; a compass the filter follows wrongly is its use (gsf_disagree_time).
+  /// Not in aerobatics: its models' tilt (a complementary filter for coordinated flight) comes
+  /// out of a loop wrong (bench_aerobatics --gsf: yaw resets 87-163 deg wrong, up to 8 a flight).
   double gsf_max_sigma = 0.0;
   /// s: in the air, the filter's yaw further than 3 sigma (at least gnss_yaw_sigma) from the
-  /// converged GSF's this long is reset to it and the magnetometer is no longer fused (a compass
+  /// converged GSF's this long is reset to it and the magnetometer is not fused until it agrees (a compass
   /// the filter followed while the wind state absorbed the velocity: a compass turned 92 deg left
   /// yaw 38 deg and wind 11 m/s wrong with the GNSS velocity accepted). 0 (the default): never.
   /// Needs gsf_max_sigma. Off by default: in bench_estimation's aggressive mission (50-deg banks,
   /// turbulence) the GSF disagreed with a right yaw by 20-44 deg for 5 s on 4 of 20 flights.
   double gsf_disagree_time = 0.0;
+  /// After a yaw reset to the GNSS (gnss_yaw_reset_time, gsf_disagree_time) the magnetometer is
+  /// not fused but still tested: its tilt-compensated heading against the filter's yaw, as PX4
+  /// EKF2's checkMagHeadingConsistency (mag_control.cpp) keeps testing a stopped magnetometer and
+  /// lets heading fusion start again once the heading innovation is inside EKF2_HEAD_NOISE while
+  /// the yaw is observable. Here: every sample's heading innovation within mag_resume_error, with
+  /// the filter's yaw 1 sigma below mag_resume_yaw_sigma (the GNSS velocity has observed the yaw
+  /// since the reset), for mag_resume_time: fusion resumes (event mag_resumed). Samples with the
+  /// pitch beyond 60 deg (the Euler yaw and the tilt-compensated heading ill-conditioned: loops)
+  /// neither pass nor fail. A compass the reset was right to drop (turned, disturbed) stays off;
+  /// one that agreed throughout (the reset blamed the yaw for a manoeuvre) comes back. PX4's
+  /// emergency reset itself keeps mag_fault until the sensor's calibration changes (its own
+  /// "TODO: allow clearing mag_fault if mag_3d is good?"); issue 61 asks for the resume.
+  /// s; 0: never resume (the magnetometer off for the rest of the flight, the former behaviour).
+  double mag_resume_time = 5.0;
+  /// rad: PX4 EKF2_HEAD_NOISE's default (0.3 rad), the bound PX4 puts on the heading innovation
+  /// of a consistent magnetometer; 3 x mag_resume_yaw_sigma.
+  double mag_resume_error = 0.3;
+  /// rad: the filter's yaw must be known this well (1 sigma) for the test to count: just after a
+  /// reset to the course (gnss_yaw_sigma 0.35 rad) agreement says little.
+  double mag_resume_yaw_sigma = 0.1;
+  /// s: the GNSS course lags the aircraft by the receiver's delay, known only to within this
+  /// (a log's assumed gnss_delay against the receiver's true one: issue 61's aerobatic flight
+  /// behaved differently at 0 and 0.33 s; a u-blox M8N at 10 Hz is 0.1-0.2 s late). The yaw is
+  /// blamed for rejected GNSS velocity (gnss_yaw_reset_time) only when it is further from the
+  /// course than gnss_yaw_sigma plus this times the largest course rate over the rejection, and
+  /// never while the course cannot be the heading (a fix's horizontal speed under 5 m/s, the
+  /// pitch beyond 45 deg in that time: loops, vertical flight); and the velocity and position
+  /// are reset only when the velocity innovation exceeds this times the manoeuvring acceleration
+  /// (accel_nav_: within it the lagged fix is the one off). 0: the course compared as it is and
+  /// every such rejection reset (the former rules). bench_aerobatics, a receiver 0.3 s late
+  /// unaccounted: 30 velocity resets and 2 yaw resets per flight before, <= 6 and 0 with 0.35 s.
+  double gnss_course_lag = 0.35;
   double mag_init_wait = 2.0;      ///< s to wait for a magnetometer at initialisation
   double mag_reset_time = 2.0;     ///< s of continuous heading rejection after which yaw is
                                    ///< reset to the magnetometer (and the wind re-derived)...
@@ -323,6 +358,18 @@ struct EstimatorConfig {
       ParamSpec(
           "s", 0.0, 600.0,
           "in the air, the filter's yaw disagreeing with the converged yaw GSF this long resets it and stops the magnetometer (0: never)"));
+    v(&C::mag_resume_time, "mag_resume_time",
+      ParamSpec("s", 0.0, 600.0,
+                "after a yaw reset to GNSS, the magnetometer's heading consistent with the yaw this long resumes its fusion (0: never)"));
+    v(&C::mag_resume_error, "mag_resume_error",
+      ParamSpec("rad", 0.01, 3.2,
+                "largest heading innovation a stopped magnetometer may show to count as consistent (PX4 EKF2_HEAD_NOISE)"));
+    v(&C::mag_resume_yaw_sigma, "mag_resume_yaw_sigma",
+      ParamSpec("rad", 0.001, 3.2, "the filter's yaw 1 sigma below which a stopped magnetometer's consistency counts"));
+    v(&C::gnss_course_lag, "gnss_course_lag",
+      ParamSpec("s", 0.0, 2.0,
+                "uncertainty of the GNSS delay: the course's lag allowed before the yaw is blamed for rejected velocity (0: the course as "
+                "it is)"));
     v(&C::mag_init_wait, "mag_init_wait",
       ParamSpec("s", 0.0, 60.0, "time to wait for a magnetometer sample after the origin is set before initialising without"));
     v(&C::mag_reset_time, "mag_reset_time",
