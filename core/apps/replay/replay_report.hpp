@@ -19,7 +19,8 @@
 //
 // Each anomaly the report shows is explained in one line where it shows (ReportNote, below): the
 // reference's altitude on another datum, a magnetometer rejected, roll/pitch/yaw far from the
-// reference's and which of the two the sensors contradict, a NIS far from 1. Every explanation
+// reference's and which of the two the sensors contradict (SpecificForceCheck: no yaw read), a NIS
+// far from 1, the magnetometer's field against the model (MagFieldCheck). Every explanation
 // comes from the run's data by a threshold stated below (never from the flight's name); the
 // extra tables they read are topics/baro.csv (pressure) and topics/mag.csv (field).
 //

@@ -72,22 +72,26 @@ std::optional<Eigen::Vector3d> mean_specific_force(const CsvTable& imu, double t
   return n >= kMinImu ? std::optional<Eigen::Vector3d>(sum / static_cast<double>(n)) : std::nullopt;
 }
 
-/// The state's roll, pitch, yaw at t, or nullopt (no bracket, not valid on both sides, NaN).
-std::optional<Eigen::Vector3d> state_attitude(const CsvTable& s, double t) {
+/// An attitude's roll and pitch (rad): all the check reads of it (no yaw).
+struct Tilt {
+  double phi = 0.0, theta = 0.0;
+};
+
+/// The state's roll and pitch at t, or nullopt (no bracket, not valid on both sides, NaN).
+std::optional<Tilt> state_tilt(const CsvTable& s, double t) {
   const auto b = bracket(s.at("time"), t, kMaxGap);
   if (!b || !(s.at("valid")[b->k] > 0.5 && s.at("valid")[b->f == 0.0 ? b->k : b->k + 1] > 0.5)) return std::nullopt;
-  const Eigen::Vector3d e(lerp(s.at("phi"), *b, true), lerp(s.at("theta"), *b, true), lerp(s.at("psi"), *b, true));
-  return e.allFinite() ? std::optional(e) : std::nullopt;
+  const Tilt e{lerp(s.at("phi"), *b, true), lerp(s.at("theta"), *b, true)};
+  return std::isfinite(e.phi + e.theta) ? std::optional(e) : std::nullopt;
 }
 
-/// The reference's attitude, each angle between its own samples.
-struct ReferenceAttitude {
-  Series phi, theta, psi;
-  explicit ReferenceAttitude(const CsvTable& r) : phi(r, "phi"), theta(r, "theta"), psi(r, "psi") {}
-  std::optional<Eigen::Vector3d> at(double t) const {
-    const Eigen::Vector3d e(interpolate(phi.t, phi.v, t, kMaxGap, true), interpolate(theta.t, theta.v, t, kMaxGap, true),
-                            interpolate(psi.t, psi.v, t, kMaxGap, true));
-    return e.allFinite() ? std::optional(e) : std::nullopt;
+/// The reference's roll and pitch, each between its own samples.
+struct ReferenceTilt {
+  Series phi, theta;
+  explicit ReferenceTilt(const CsvTable& r) : phi(r, "phi"), theta(r, "theta") {}
+  std::optional<Tilt> at(double t) const {
+    const Tilt e{interpolate(phi.t, phi.v, t, kMaxGap, true), interpolate(theta.t, theta.v, t, kMaxGap, true)};
+    return std::isfinite(e.phi + e.theta) ? std::optional(e) : std::nullopt;
   }
 };
 
@@ -105,12 +109,12 @@ Eigen::Vector3d yaw_free_residual(double phi, double theta, const Eigen::Vector3
   return L.transpose() * Eigen::Vector3d((p - h) * u.x(), (p - h) * u.y(), f_lev.z() - f_ned.z());
 }
 
-/// Adds the implied pitch and roll errors (deg) of an attitude (roll, pitch; its yaw unused) at one
+/// Adds the implied pitch and roll errors (deg) of an attitude's roll and pitch at one
 /// epoch: pitch where the GNSS acceleration across the track is at most kFreeYawAxis, roll where
 /// the one along it is (else the free yaw absorbs that tilt).
-void add_epoch(const Eigen::Vector3d& euler, const GnssAcceleration& g, const Eigen::Vector3d& f, ErrorSum& pitch, ErrorSum& roll) {
+void add_epoch(const Tilt& tilt, const GnssAcceleration& g, const Eigen::Vector3d& f, ErrorSum& pitch, ErrorSum& roll) {
   const Eigen::Vector3d f_ned = g.a - Eigen::Vector3d(0.0, 0.0, kStandardGravity);
-  const Eigen::Vector3d res = yaw_free_residual(euler.x(), euler.y(), f_ned, f);
+  const Eigen::Vector3d res = yaw_free_residual(tilt.phi, tilt.theta, f_ned, f);
   if (std::fabs(g.across) <= kFreeYawAxis) pitch.add(-res.x() / f_ned.norm() * kDegPerRad);  // a tilt delta moves f by |f| delta
   if (std::fabs(g.along) <= kFreeYawAxis) roll.add(res.y() / f_ned.norm() * kDegPerRad);
 }
@@ -123,13 +127,13 @@ SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCou
   if (!run.gnss) out.absent = "absent (no topics/gnss.csv)";
   if (!out.absent.empty()) return out;
   const FixTimes times = fix_times(run, c, w);
-  const bool ref = run.reference && run.reference->has("phi") && run.reference->has("theta") && run.reference->has("psi");
-  const std::optional<ReferenceAttitude> reference = ref ? std::optional<ReferenceAttitude>(*run.reference) : std::nullopt;
+  const bool ref = run.reference && run.reference->has("phi") && run.reference->has("theta");
+  const std::optional<ReferenceTilt> reference = ref ? std::optional<ReferenceTilt>(*run.reference) : std::nullopt;
   ErrorSum pitch, roll, ref_pitch, ref_roll;
   for (double t = w.start_s + kSpecificForceSpan; t <= w.end_s - kSpecificForceSpan; t += kSpecificForceStep) {
     const auto a = gnss_acceleration(*run.gnss, times, t);
     const auto f = a ? mean_specific_force(*run.imu, t) : std::nullopt;
-    const auto est = f ? state_attitude(run.state, t) : std::nullopt;
+    const auto est = f ? state_tilt(run.state, t) : std::nullopt;
     if (!est) continue;
     ++out.epochs;
     if (a->a.head<2>().norm() > kFreeYawAxis) ++out.accelerated;
