@@ -501,7 +501,8 @@ TEST_CASE("replay report: the magnetometer's field against the model, the model'
   CHECK(r.mag_field.heading_spread < 1e-9);
   CHECK(r.mag_field.vertical - r.mag_field.model_vertical == doctest::Approx(4.0));
   const std::string note = note_at(r, "mag_field");
-  CHECK(note.find("which the model (and its extrapolation) cannot make; the strength is steady with heading") != std::string::npos);
+  CHECK(note.find("25 times that in strength and 10 in inclination, which the model (and its extrapolation) cannot make; the "
+                  "strength is steady with heading") != std::string::npos);
   CHECK(note.find("(+4.0 uT vertical, +0.0 uT horizontal) is a calibration level flight does not turn") != std::string::npos);
   MESSAGE(note);
 }

@@ -143,9 +143,17 @@ std::optional<ReportNote> mag_field_note(const ReplayReport& r) {
     text += fmt::format(", {:.2f} years outside its span: extrapolated, its forecast drifting {:.3f} uT and {:.3f} deg a year here ({})",
                         c.years_outside, c.drift_intensity, c.drift_inclination, c.drift_rule);
   text += fmt::format(") whose expected error is {:.2f} uT and {:.2f} deg", c.expected_intensity, c.expected_inclination);
-  if (off_f <= kMagModelMargin && off_i <= kMagModelMargin) return ReportNote{{"mag_field"}, text + ": the model fits"};
-  text += fmt::format(": {:.0f} and {:.0f} times that, which the model (and its extrapolation) cannot make", off_f, off_i);
-  if (c.heading_spread > kMagHeadingSpread * c.intensity)
+  const bool turns = c.heading_spread > kMagHeadingSpread * c.intensity;
+  if (off_f <= kMagModelMargin && off_i <= kMagModelMargin)
+    return ReportNote{{"mag_field"},
+                      text + ": the model fits" +
+                          (turns ? fmt::format("; the strength changes with heading by {:.1f} uT: a calibration the log "
+                                               "did not undo",
+                                               c.heading_spread)
+                                 : "")};
+  text += fmt::format(": {:.0f} times that in strength and {:.0f} in inclination, which the model (and its extrapolation) cannot make",
+                      off_f, off_i);
+  if (turns)
     return ReportNote{{"mag_field"},
                       text + fmt::format("; the strength changes with heading by {:.1f} uT over {} sectors: a hard- or soft-iron "
                                          "calibration the log did not undo is the cause",
