@@ -145,13 +145,23 @@ def main():
                 rows.append({"figure": f"mean NIS {model}", "value": v, "target": "in [0.3, 3]",
                              "verdict": "met" if v is not None and 0.3 <= v <= 3 else "MISSED",
                              "note": note_for(rep, ("estimator", "models", model, "mean_nis"))})
-            # the physics check (replay_report.hpp SpecificForceCheck): which attitude, tern's or the
-            # reference's, the accelerometer and the GNSS acceleration agree with (no target: a referee)
+            # the physics check (replay_report.hpp SpecificForceCheck): which attitude's roll and pitch,
+            # tern's or the reference's, the accelerometer and the GNSS acceleration agree with, the yaw
+            # solved per epoch (neither's own; no target: a referee), over the epochs where that axis is
+            # observable (n)
             for who, key in (("tern", ""), ("reference", "reference_")):
                 for axis in ("roll", "pitch"):
                     f = get(rep, ("specific_force", key + axis)) or {}
                     rows.append({"figure": f"{who} {axis} vs the specific force, RMS (mean) deg",
-                                 "value": f.get("rms"), "mean": f.get("mean"), "target": "(referee)", "verdict": "-"})
+                                 "value": f.get("rms"), "mean": f.get("mean"), "samples": f.get("samples"),
+                                 "target": "(referee)", "verdict": "-"})
+            # the magnetometer's field against the model (MagFieldCheck): the model's error or the
+            # log's calibration, said in its note (no target: a diagnosis)
+            m = get(rep, ("mag_field", "measured", "intensity_uT"))
+            e = get(rep, ("mag_field", "model", "intensity_uT"))
+            if m is not None and e is not None:
+                rows.append({"figure": "magnetometer |B| minus the model's, uT", "value": m - e, "target": "(diagnosis)",
+                             "verdict": "-", "note": get(rep, ("mag_field", "note"))})
             flight = {"window": get(rep, ("window", "rule")), "rows": rows, "wind_max_mps": get(rep, ("wind", "max_speed")),
                       "resets": get(rep, ("estimator", "resets")), "nan_cells": get(rep, ("validity", "nan_cells"))}
             t_fail = engine_failure_time(log)
@@ -166,9 +176,13 @@ def main():
                 vs = "-" if v is None else f"{v:.3f}" if isinstance(v, float) else str(v)
                 if r.get("mean") is not None:
                     vs += f" ({r['mean']:+.2f})"
+                if r.get("samples") is not None:
+                    vs += f" n={r['samples']}"
                 print(f"  {r['figure']:48s} {vs:>16s}  {r['target']:>12s}  {r['verdict']}")
                 if r["verdict"] == "MISSED":
                     print(f"      why: {r.get('note') or 'replay_report.json explains nothing here: unexplained, look'}")
+                elif r["target"] == "(diagnosis)" and r.get("note"):
+                    print(f"      note: {r['note']}")
             print(f"  resets {flight['resets']}, wind max {flight['wind_max_mps']:.1f} m/s, NaN cells {flight['nan_cells']}")
             if t_fail is not None:
                 print(f"  engine failure at {t_fail} s: mean test ratio 15 s before / after:")

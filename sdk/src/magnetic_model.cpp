@@ -94,13 +94,11 @@ void check_position(double lat_deg, double lon_deg, double height_m, double year
   if (!std::isfinite(year)) throw std::invalid_argument(fmt::format("world_magnetic_field: decimal year {} is not finite", year));
 }
 
-}  // namespace
-
-MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height_m, double year) {
-  check_position(lat_deg, lon_deg, height_m, year);
+/// The field of one model at t (its own span or not).
+MagneticField evaluate(const Model& model, double lat_deg, double lon_deg, double height_m, double year) {
   MagneticField f;
-  const Model& model = model_for(year, f.extrapolated);
   f.model = model.name;
+  f.extrapolated = year < model.epoch || year > model.epoch + kSpanYears;
   double X = 0, Y = 0, Z = 0;
   std::vector<double> M(9);  // Geocentric's rotation, row-major: geocentric = M local (ENU)
   GeographicLib::Geocentric::WGS84().Forward(lat_deg, lon_deg, height_m, X, Y, Z, M);
@@ -115,6 +113,30 @@ MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height
   f.inclination = std::atan2(f.ned.z(), f.ned.head<2>().norm());
   f.intensity = f.ned.norm();
   return f;
+}
+
+}  // namespace
+
+MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height_m, double year) {
+  check_position(lat_deg, lon_deg, height_m, year);
+  bool extrapolated = false;
+  return evaluate(model_for(year, extrapolated), lat_deg, lon_deg, height_m, year);
+}
+
+std::vector<MagneticModelInfo> world_magnetic_models() {
+  std::vector<MagneticModelInfo> out;
+  for (const auto& m : models()) out.push_back({m->name, m->epoch});
+  return out;
+}
+
+MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height_m, double year, std::string_view name) {
+  check_position(lat_deg, lon_deg, height_m, year);
+  std::string known;
+  for (const auto& m : models()) {
+    if (m->name == name) return evaluate(*m, lat_deg, lon_deg, height_m, year);
+    known += (known.empty() ? "" : ", ") + m->name;
+  }
+  throw std::invalid_argument(fmt::format("world_magnetic_field: no model '{}' (shipped: {})", name, known));
 }
 
 }  // namespace tern

@@ -138,6 +138,29 @@ TEST_CASE("magnetic model: the date chooses the model; outside every span it is 
   CHECK((at(2025.0).ned - at(2024.999).ned).norm() > 5e-9);
 }
 
+TEST_CASE("magnetic model: a named model on any date; the shipped list") {
+  const auto models = tern::world_magnetic_models();
+  REQUIRE(models.size() == 3);
+  CHECK(models.front().name == "WMM-2015v2");
+  CHECK(models.front().epoch == 2015.0);
+  CHECK(models.back().name == "WMM-2025");
+  // within its span a named model is the one the date chooses; carried past it, flagged
+  const MagneticField chosen = world_magnetic_field(40.2463724, -111.6474138, 1387.0, 2017.5);
+  const MagneticField named = world_magnetic_field(40.2463724, -111.6474138, 1387.0, 2017.5, "WMM-2015v2");
+  CHECK(named.model == "WMM-2015v2");
+  CHECK((named.ned - chosen.ned).norm() == 0.0);
+  CHECK_FALSE(named.extrapolated);
+  // WMM2015v2 carried to 2020.0 is its own straight line, not WMM2020 (its forecast's drift)
+  const MagneticField carried = world_magnetic_field(40.2463724, -111.6474138, 1387.0, 2020.0, "WMM-2015v2");
+  const MagneticField fresh = world_magnetic_field(40.2463724, -111.6474138, 1387.0, 2020.0);
+  CHECK_FALSE(carried.extrapolated);  // 2020.0 closes its span
+  CHECK(world_magnetic_field(40.2463724, -111.6474138, 1387.0, 2020.5, "WMM-2015v2").extrapolated);
+  CHECK(fresh.model == "WMM-2020");
+  CHECK((carried.ned - fresh.ned).norm() > 1e-9);  // T: more than 1 nT apart at Provo
+  CHECK_THROWS_WITH_AS(world_magnetic_field(0.0, 0.0, 0.0, 2025.0, "WMM-2010"),
+                       "world_magnetic_field: no model 'WMM-2010' (shipped: WMM-2015v2, WMM-2020, WMM-2025)", std::invalid_argument);
+}
+
 TEST_CASE("magnetic model: declination, inclination and intensity follow the NED field") {
   const MagneticField f = world_magnetic_field(-33.0, 151.0, 0.0, 2025.5);  // Sydney: D east, I up
   CHECK(f.ned.z() < 0.0);

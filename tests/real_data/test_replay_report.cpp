@@ -19,6 +19,7 @@
 #include "replay/replay_report.hpp"
 #include "tern/atmosphere.hpp"
 #include "tern/geodesy.hpp"
+#include "tern/magnetic_model.hpp"
 
 using tern::core::make_replay_report;
 using tern::core::ReplayReport;
@@ -101,6 +102,25 @@ fs::path synthetic_run(const std::string& name) {
   return run;
 }
 
+Eigen::Matrix3d body_to_ned(double phi, double theta, double psi) {
+  return (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+/// f - R(phi, theta, psi)^T f_ned for the yaw that leaves the smallest, found by search (a 0.1 deg
+/// grid, then 1e-5 deg steps about its best): the check's closed form, reached another way.
+Eigen::Vector3d best_yaw_residual(double phi, double theta, const Eigen::Vector3d& f_ned, const Eigen::Vector3d& f) {
+  auto res = [&](double psi) { return Eigen::Vector3d(f - body_to_ned(phi, theta, psi).transpose() * f_ned); };
+  double best = 0.0;
+  for (int k = 0; k < 3600; ++k)
+    if (res(k * 0.1 * kDeg).norm() < res(best).norm()) best = k * 0.1 * kDeg;
+  const double coarse = best;
+  for (int k = -10000; k <= 10000; ++k)
+    if (res(coarse + k * 1e-5 * kDeg).norm() < res(best).norm()) best = coarse + k * 1e-5 * kDeg;
+  return res(best);
+}
+
 const tern::core::MeasurementReport& measurement(const ReplayReport& r, const std::string& name) {
   for (const auto& m : r.measurements)
     if (m.name == name) return m;
@@ -154,11 +174,6 @@ TEST_CASE("replay report: the attitude against the specific force, the estimate'
     gnss.push_back({t, std::round(t * 1e9), std::round(t * 1e9), 3.0, 10, kOrigin.lat, kOrigin.lon, kOrigin.alt, 6.0 + 2.0 * t, 0.0, 0.0,
                     1.0, 2.0, 0.3});
   }
-  auto body_to_ned = [](double phi, double theta, double psi) {
-    return (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) *
-            Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX()))
-        .toRotationMatrix();
-  };
   const Eigen::Vector3d a_g(2.0, 0.0, -9.80665);  // a - g, NED
   const Eigen::Vector3d f = body_to_ned(0.2, 0.05, 179.0 * kDeg).transpose() * a_g;
   for (int k = 0; k <= 2000; ++k) imu.push_back({0.01 * k, std::round(0.01 * k * 1e9), f.x(), f.y(), f.z(), 0.0, 0.0, 0.0, 288.15});
@@ -173,23 +188,90 @@ TEST_CASE("replay report: the attitude against the specific force, the estimate'
   const auto& c = r.specific_force;
   REQUIRE(c.absent.empty());
   // the window opens at the first fix at 5 m/s or more (t = 0): epochs every 0.5 s from 0.6 s to
-  // 19.4 s, less those whose bracket touches the invalid state at [12, 12.5)
+  // 19.4 s, less those whose bracket touches the invalid state at [12, 12.5); all accelerated
   CHECK(c.epochs == 36);
-  CHECK(c.roll.rms < 1e-6);
+  CHECK(c.accelerated == 36);
+  CHECK(c.pitch.samples == c.epochs);
   CHECK(c.pitch.rms < 1e-6);
-  // the reference: 1 deg less roll, 0.5 deg more pitch, 2 deg more yaw (which turns the 2 m/s^2
-  // north into the body's y axis as well): the residual its attitude leaves, over g
-  const Eigen::Vector3d res = f - body_to_ned(0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, 181.0 * kDeg).transpose() * a_g;
-  CHECK(c.reference_roll.samples == c.epochs);
-  CHECK(c.reference_roll.mean == doctest::Approx(res.y() / 9.80665 / kDeg).epsilon(1e-6));
-  CHECK(c.reference_pitch.mean == doctest::Approx(-res.x() / 9.80665 / kDeg).epsilon(1e-6));
-  CHECK(c.reference_roll.mean == doctest::Approx(-1.0).epsilon(0.4));  // about the roll offset
-  CHECK(c.reference_pitch.mean == doctest::Approx(0.5).epsilon(0.1));
+  // the 2 m/s^2 lie along the heading (yaw 179 deg, a north): a yaw turned by about
+  // g * roll error / 2 m/s^2 would explain any roll error, so roll is not judged
+  CHECK(c.roll.samples == 0);
+  // the reference: 1 deg less roll, 0.5 deg more pitch, 2 deg more yaw: what the best yaw leaves
+  // (searched for here), whatever its own yaw: about its pitch error (the roll error, absorbed by
+  // a yaw, lengthens the horizontal part a little: + 0.06 deg)
+  const Eigen::Vector3d res = best_yaw_residual(0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, a_g, f);
+  CHECK(c.reference_pitch.samples == c.epochs);
+  CHECK(c.reference_pitch.mean == doctest::Approx(-res.x() / a_g.norm() / kDeg).epsilon(1e-4));
+  CHECK(c.reference_pitch.mean == doctest::Approx(0.5).epsilon(0.15));
+  CHECK(c.reference_roll.samples == 0);
   CHECK(tern::core::format_replay_table(r).find("pitch, reference") != std::string::npos);
-  CHECK(tern::core::to_json(r)["specific_force"]["reference_roll"]["samples"] == c.epochs);
+  CHECK(tern::core::to_json(r)["specific_force"]["reference_pitch"]["samples"] == c.epochs);
+  CHECK(tern::core::to_json(r)["specific_force"]["accelerated_epochs"] == c.accelerated);
   // without an accelerometer: absent, said so
   fs::remove(run / "topics/imu.csv");
   CHECK(make_replay_report(run).specific_force.absent == "absent (no accelerometer in topics/imu.csv)");
+}
+
+TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw (a coordinated turn)") {
+  const fs::path run = synthetic_run("specific_force_turn");
+  // a coordinated turn at 20 m/s, 0.2 rad/s (4 m/s^2 toward the centre, bank atan(4 / g)), level;
+  // the estimate has the right roll and pitch and a yaw 40 deg off; the reference the right yaw
+  // and 1 deg more roll. Fixes at 10 Hz, the accelerometer at 100 Hz
+  constexpr double V = 20.0, w = 0.2, g = 9.80665, yaw_error = 40.0 * kDeg;
+  const double bank = std::atan(V * w / g);
+  auto f_ned = [&](double t) { return Eigen::Vector3d(-V * w * std::sin(w * t), V * w * std::cos(w * t), -g); };  // a - g
+  std::vector<std::vector<double>> gnss, imu, state, ref;
+  for (int k = 0; k <= 200; ++k) {
+    const double t = 0.1 * k, chi = w * t;
+    gnss.push_back({t, std::round(t * 1e9), std::round(t * 1e9), 3.0, 10, kOrigin.lat, kOrigin.lon, kOrigin.alt, V * std::cos(chi),
+                    V * std::sin(chi), 0.0, 1.0, 2.0, 0.3});
+    state.push_back({t, std::round(t * 1e9), 0.0, 0.0, -20.0, V * std::cos(chi), V * std::sin(chi), 0.0, bank, 0.0,
+                     std::remainder(chi + yaw_error, 2 * M_PI), 0.0, 0.0, kOrigin.lat, kOrigin.lon, kOrigin.alt, 1.0, 1.0, 0.1});
+    ref.push_back({t, std::round(t * 1e9), bank + 1.0 * kDeg, 0.0, std::remainder(chi, 2 * M_PI), kOrigin.lat, kOrigin.lon, kOrigin.alt,
+                   V * std::cos(chi), V * std::sin(chi), 0.0, 0.0, 0.0});
+  }
+  for (int k = 0; k <= 2000; ++k) {
+    const double t = 0.01 * k;
+    const Eigen::Vector3d f = body_to_ned(bank, 0.0, w * t).transpose() * f_ned(t);
+    imu.push_back({t, std::round(t * 1e9), f.x(), f.y(), f.z(), 0.0, 0.0, w, 288.15});
+  }
+  write_csv(run / "topics/gnss.csv",
+            "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
+            "vel_d [m/s],h_acc [m],v_acc [m],s_acc [m/s]",
+            gnss);
+  write_csv(run / "topics/imu.csv",
+            "t [s],stamp [ns],accel_x [m/s^2],accel_y [m/s^2],accel_z [m/s^2],gyro_x [rad/s],gyro_y [rad/s],gyro_z [rad/s],temperature [K]",
+            imu);
+  write_csv(run / "topics/state.csv",
+            "t [s],stamp [ns],p_n [m],p_e [m],p_d [m],v_n [m/s],v_e [m/s],v_d [m/s],phi [rad],theta [rad],psi [rad],w_n [m/s],w_e [m/s],"
+            "origin_lat [deg],origin_lon [deg],origin_alt [m],origin_valid [bool],valid [bool],alpha [rad]",
+            state);
+  write_csv(
+      run / "topics/reference.csv",
+      "t [s],stamp [ns],phi [rad],theta [rad],psi [rad],lat [deg],lon [deg],alt [m],v_n [m/s],v_e [m/s],v_d [m/s],w_n [m/s],w_e [m/s]",
+      ref);
+  // the check this replaces, R(phi, theta, psi)^T (a - g) with the estimate's own yaw, would put
+  // the yaw error into roll and pitch: 4 m/s^2 turned by 40 deg is 15 deg of tilt
+  const Eigen::Vector3d inherited =
+      body_to_ned(bank, 0.0, 5.0 * w).transpose() * f_ned(5.0) - body_to_ned(bank, 0.0, 5.0 * w + yaw_error).transpose() * f_ned(5.0);
+  REQUIRE(inherited.head<2>().norm() / g / kDeg > 10.0);
+  const auto& c = make_replay_report(run).specific_force;
+  REQUIRE(c.absent.empty());
+  CHECK(c.epochs == 38);  // every 0.5 s from 0.6 s to 19.1 s
+  CHECK(c.accelerated == c.epochs);
+  // the turn's 4 m/s^2 lie across the heading: roll judged at every epoch, pitch at none (a yaw
+  // would explain it); the estimate's roll is right whatever its yaw (the velocity fit's
+  // straight line through the circle's +-0.6 s shortens a by 0.14 %: 0.03 deg)
+  CHECK(c.roll.samples == c.epochs);
+  CHECK(c.roll.rms < 0.05);
+  CHECK(c.pitch.samples == 0);
+  // the reference's 1 deg of roll, as the best yaw (searched for) leaves it: 1 deg
+  const Eigen::Vector3d f5 = body_to_ned(bank, 0.0, 5.0 * w).transpose() * f_ned(5.0);
+  const Eigen::Vector3d res = best_yaw_residual(bank + 1.0 * kDeg, 0.0, f_ned(5.0), f5);
+  CHECK(res.y() / f_ned(5.0).norm() / kDeg == doctest::Approx(1.0).epsilon(0.01));
+  CHECK(c.reference_roll.samples == c.epochs);
+  CHECK(c.reference_roll.mean == doctest::Approx(1.0).epsilon(0.05));
+  CHECK(c.reference_roll.max == doctest::Approx(1.0).epsilon(0.05));
 }
 
 TEST_CASE("replay report: NIS percentiles, counters, validity, NaN") {
@@ -366,6 +448,65 @@ TEST_CASE("replay report notes: a rejected 3-axis magnetometer (the field it rea
   CHECK(tern::core::to_json(r)["estimator"]["models"]["mag"]["note"] == note);
 }
 
+TEST_CASE("replay report: the magnetometer's field against the model, the model's error or the calibration") {
+  // level flight turning at 0.2 rad/s for 40 s (every heading flown); the magnetometer reads the
+  // WMM's field at the origin on 2014.11 (WMM-2015v2 carried back 0.89 years) rotated into the
+  // body, plus an offset in body axes
+  const tern::MagneticField earth = tern::world_magnetic_field(kOrigin.lat, kOrigin.lon, kOrigin.alt, 2014.11);
+  auto run_with = [&](const std::string& name, const Eigen::Vector3d& offset_uT) {
+    const fs::path run = synthetic_run(name);
+    std::vector<std::vector<double>> state, gnss, mag;
+    for (int k = 0; k <= 400; ++k) {
+      const double t = 0.1 * k, psi = std::remainder(0.2 * t, 2 * M_PI);
+      state.push_back({t, std::round(t * 1e9), 0.0, 0.0, -20.0, 20.0 * std::cos(psi), 20.0 * std::sin(psi), 0.0, 0.0, 0.0, psi, 0.0, 0.0,
+                       kOrigin.lat, kOrigin.lon, kOrigin.alt, 1.0, 1.0, 0.1});
+      gnss.push_back({t, std::round(t * 1e9), std::round(t * 1e9), 3.0, 10, kOrigin.lat, kOrigin.lon, kOrigin.alt, 20.0 * std::cos(psi),
+                      20.0 * std::sin(psi), 0.0, 1.0, 2.0, 0.3});
+      const Eigen::Vector3d b = body_to_ned(0.0, 0.0, psi).transpose() * earth.ned + offset_uT * 1e-6;
+      mag.push_back({t, std::round(t * 1e9), b.x(), b.y(), b.z()});
+    }
+    write_csv(run / "topics/state.csv",
+              "t [s],stamp [ns],p_n [m],p_e [m],p_d [m],v_n [m/s],v_e [m/s],v_d [m/s],phi [rad],theta [rad],psi [rad],w_n [m/s],"
+              "w_e [m/s],origin_lat [deg],origin_lon [deg],origin_alt [m],origin_valid [bool],valid [bool],alpha [rad]",
+              state);
+    write_csv(run / "topics/gnss.csv",
+              "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
+              "vel_d [m/s],h_acc [m],v_acc [m],s_acc [m/s]",
+              gnss);
+    write_csv(run / "topics/mag.csv", "t [s],stamp [ns],field_x [T],field_y [T],field_z [T]", mag);
+    std::ofstream(run / "params.csv", std::ios::app) << "0,ekf.mag_model_date,2014.11,sensor_log.yaml\n";
+    return make_replay_report(run);
+  };
+  // the model's own field: it fits; its expected error is the WMM's plus 0.89 years of drift
+  ReplayReport r = run_with("mag_field_model", Eigen::Vector3d::Zero());
+  const auto& c = r.mag_field;
+  REQUIRE(c.absent.empty());
+  CHECK(c.samples == 401);
+  CHECK(c.intensity == doctest::Approx(earth.intensity * 1e6).epsilon(1e-9));
+  CHECK(c.inclination == doctest::Approx(earth.inclination / kDeg).epsilon(1e-9));
+  CHECK(c.model.find("WMM-2015v2 on 2014.11") == 0);
+  CHECK(c.years_outside == doctest::Approx(2015.0 - 2014.11));
+  CHECK(c.drift_intensity > 0.0);
+  CHECK(c.expected_intensity == doctest::Approx(0.138 + c.years_outside * c.drift_intensity));
+  CHECK(c.sectors == 8);
+  CHECK(c.heading_spread < 1e-9);
+  CHECK(note_at(r, "mag_field").find(": the model fits") != std::string::npos);
+  CHECK(tern::core::to_json(r)["mag_field"]["model"]["years_outside_span"] == doctest::Approx(0.89));
+  // a hard iron of 3 uT along the body's x: the strength follows the heading; the calibration
+  r = run_with("mag_field_hard_iron", Eigen::Vector3d(3.0, 0.0, 0.0));
+  CHECK(r.mag_field.heading_spread > 2.0);
+  CHECK(note_at(r, "mag_field").find("a hard- or soft-iron calibration the log did not undo is the cause") != std::string::npos);
+  // 4 uT along the body's z (level flight never turns it): steady with heading, not the model
+  r = run_with("mag_field_z_offset", Eigen::Vector3d(0.0, 0.0, 4.0));
+  CHECK(r.mag_field.heading_spread < 1e-9);
+  CHECK(r.mag_field.vertical - r.mag_field.model_vertical == doctest::Approx(4.0));
+  const std::string note = note_at(r, "mag_field");
+  CHECK(note.find("25 times that in strength and 10 in inclination, which the model (and its extrapolation) cannot make; the "
+                  "strength is steady with heading") != std::string::npos);
+  CHECK(note.find("(+4.0 uT vertical, +0.0 uT horizontal) is a calibration level flight does not turn") != std::string::npos);
+  MESSAGE(note);
+}
+
 TEST_CASE("replay report: missing topics are absent sections, not errors") {
   const fs::path run = test_dir() / "bare";
   fs::create_directories(run / "topics");
@@ -475,10 +616,13 @@ TEST_CASE("replay report end to end: a default-mission flight, its truth as the 
   CHECK(measurement(r, "gnss_pos").gate == "ekf.gnss_pos_gate = 16.266");
   CHECK(measurement(r, "gnss_pos").window.count > 200);
   // the physics check scores the truth and this estimate (0.2 deg from it) alike: the same scatter
-  // (the GNSS velocity's noise, the realistic IMU's vibration; 2-4 deg RMS) and no bias beyond 1 deg
+  // (the GNSS velocity's noise, the realistic IMU's vibration; 1-3 deg RMS) and no bias beyond 1 deg
   const auto& sf = r.specific_force;
   CHECK(sf.epochs > 50);
-  CHECK(sf.reference_roll.samples == sf.epochs);
+  CHECK(sf.roll.samples > 20);  // along-track acceleration within 0.5 m/s^2: roll judged
+  CHECK(sf.pitch.samples > 20);
+  CHECK(sf.reference_roll.samples == sf.roll.samples);  // the same epochs for every attitude judged
+  CHECK(sf.reference_pitch.samples == sf.pitch.samples);
   CHECK(std::fabs(sf.roll.rms - sf.reference_roll.rms) < 0.5);
   CHECK(std::fabs(sf.pitch.rms - sf.reference_pitch.rms) < 0.5);
   for (const auto* e : {&sf.roll, &sf.pitch, &sf.reference_roll, &sf.reference_pitch}) CHECK(std::fabs(e->mean) < 1.0);

@@ -1,6 +1,7 @@
 // The replay report's attitude notes: when the estimate's roll or pitch is more than
 // kAttitudeGapNote deg RMS from the reference's, which of the two the specific-force check
-// (replay_specific_force.cpp) finds consistent with the accelerometer and the GNSS; when its yaw
+// (replay_specific_force.cpp: roll and pitch only, the yaw solved per epoch, so neither side's yaw
+// error enters) finds consistent with the accelerometer and the GNSS; when its yaw
 // is more than kYawGapNote from the reference's, which of the two headings the GNSS course
 // contradicts beyond the crab angle the estimated wind allows. One of the two more than
 // kRefereeMargin times the other's error is "the one off"; else neither can be called wrong.
@@ -36,13 +37,14 @@ std::string verdict(double estimate_rms, double reference_rms, double gap_rms) {
       gap_rms <= kRefereeMargin * std::max(estimate_rms, reference_rms) ? " and the gap is within that check's own scatter" : "");
 }
 
-std::optional<ReportNote> tilt_note(const RunTables& run, const ReplayReport& r, const char* axis, const ErrorFigure& gap,
-                                    const ErrorFigure& est, const ErrorFigure& ref) {
+std::optional<ReportNote> tilt_note(const RunTables& run, const char* axis, const ErrorFigure& gap, const ErrorFigure& est,
+                                    const ErrorFigure& ref) {
   if (!(gap.rms > kAttitudeGapNote) || est.samples == 0 || ref.samples == 0) return std::nullopt;
   std::string text = fmt::format(
-      "{} is {:.1f} deg RMS from the reference's; against the specific force (accelerometer vs GNSS acceleration - g, {} epochs) the "
-      "reference's {} needs {:.1f} deg RMS (mean {:+.1f}), the estimate's {:.1f} (mean {:+.1f}){}",
-      axis, gap.rms, r.specific_force.epochs, axis, ref.rms, ref.mean, est.rms, est.mean, verdict(est.rms, ref.rms, gap.rms));
+      "{} is {:.1f} deg RMS from the reference's; against the specific force (accelerometer vs GNSS acceleration - g, the yaw solved "
+      "per epoch, neither's own: {} epochs where the {} is observable) the reference's {} needs {:.1f} deg RMS (mean {:+.1f}), the "
+      "estimate's {:.1f} (mean {:+.1f}){}",
+      axis, gap.rms, ref.samples, axis, axis, ref.rms, ref.mean, est.rms, est.mean, verdict(est.rms, ref.rms, gap.rms));
   const double dt = imu_interval(run);
   if (dt > kSlowImuNote)
     text += fmt::format(
@@ -109,8 +111,8 @@ std::vector<ReportNote> attitude_notes(const RunTables& run, const ReplayReport&
   if (!r.reference.absent.empty()) return out;
   const auto& sf = r.specific_force;
   if (sf.absent.empty()) {
-    if (auto n = tilt_note(run, r, "roll", r.reference.roll, sf.roll, sf.reference_roll)) out.push_back(std::move(*n));
-    if (auto n = tilt_note(run, r, "pitch", r.reference.pitch, sf.pitch, sf.reference_pitch)) out.push_back(std::move(*n));
+    if (auto n = tilt_note(run, "roll", r.reference.roll, sf.roll, sf.reference_roll)) out.push_back(std::move(*n));
+    if (auto n = tilt_note(run, "pitch", r.reference.pitch, sf.pitch, sf.reference_pitch)) out.push_back(std::move(*n));
   }
   if (auto n = yaw_note(run, r)) out.push_back(std::move(*n));
   return out;

@@ -5,7 +5,9 @@
 // against the Earth's field the estimator compared it with (the World Magnetic Model at the
 // origin on ekf.mag_model_date, tern/magnetic_model.hpp, or the configured mag_field_strength)
 // and against the stretches it accepted; then what the estimator fused instead, and from when it
-// fused no magnetometer at all (more than kMagSilentNote before the window's end).
+// fused no magnetometer at all (more than kMagSilentNote before the window's end). And the note on
+// the field against the model (MagFieldCheck): whether a mismatch is the model's or the log's
+// calibration.
 #include <cmath>
 
 #include <fmt/format.h>
@@ -126,6 +128,47 @@ std::string instead_text(const RunTables& run, const ReplayReport& r, const Mode
 }
 
 }  // namespace
+
+std::optional<ReportNote> mag_field_note(const ReplayReport& r) {
+  const MagFieldCheck& c = r.mag_field;
+  if (!c.absent.empty()) return std::nullopt;
+  const double off_f = std::fabs(c.intensity - c.model_intensity) / c.expected_intensity;
+  const double off_i = std::fabs(c.inclination - c.model_inclination) / c.expected_inclination;
+  std::string text = fmt::format(
+      "the field measured in the window, {:.1f} uT at {:.1f} deg inclination (horizontal {:.1f}, vertical {:+.1f} uT), against the "
+      "model's {:.1f} uT at {:.1f} deg ({:.1f}, {:+.1f}; {}",
+      c.intensity, c.inclination, c.horizontal, c.vertical, c.model_intensity, c.model_inclination, c.model_horizontal, c.model_vertical,
+      c.model);
+  if (c.years_outside > 0.0)
+    text += fmt::format(", {:.2f} years outside its span: extrapolated, its forecast drifting {:.3f} uT and {:.3f} deg a year here ({})",
+                        c.years_outside, c.drift_intensity, c.drift_inclination, c.drift_rule);
+  text += fmt::format(") whose expected error is {:.2f} uT and {:.2f} deg", c.expected_intensity, c.expected_inclination);
+  const bool turns = c.heading_spread > kMagHeadingSpread * c.intensity;
+  if (off_f <= kMagModelMargin && off_i <= kMagModelMargin)
+    return ReportNote{{"mag_field"},
+                      text + ": the model fits" +
+                          (turns ? fmt::format("; the strength changes with heading by {:.1f} uT: a calibration the log "
+                                               "did not undo",
+                                               c.heading_spread)
+                                 : "")};
+  text += fmt::format(": {:.0f} times that in strength and {:.0f} in inclination, which the model (and its extrapolation) cannot make",
+                      off_f, off_i);
+  if (turns)
+    return ReportNote{{"mag_field"},
+                      text + fmt::format("; the strength changes with heading by {:.1f} uT over {} sectors: a hard- or soft-iron "
+                                         "calibration the log did not undo is the cause",
+                                         c.heading_spread, c.sectors)};
+  if (std::isfinite(c.heading_spread))
+    text += fmt::format("; the strength is steady with heading ({:.1f} uT over {} sectors): no horizontal hard iron; ", c.heading_spread,
+                        c.sectors);
+  else
+    text += "; too few headings flown to test the calibration; ";
+  return ReportNote{{"mag_field"},
+                    text + fmt::format("the mismatch ({:+.1f} uT vertical, {:+.1f} uT horizontal) is a calibration level "
+                                       "flight does not turn (an offset along the body's z axis, a scale error, the motor's "
+                                       "current) or a magnetic anomaly at the site, not the model",
+                                       c.vertical - c.model_vertical, c.horizontal - c.model_horizontal)};
+}
 
 std::optional<ReportNote> magnetometer_note(const RunTables& run, const ReplayReport& r) {
   const ModelCounters* failed = nullptr;

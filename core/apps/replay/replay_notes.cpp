@@ -74,6 +74,7 @@ std::vector<ReportNote> explain_anomalies(const RunTables& run, const ReplayRepo
       if (auto n = nis_note(run, r, m)) out.push_back(std::move(*n));
   for (auto& n : attitude_notes(run, r)) out.push_back(std::move(n));
   if (auto n = altitude_datum_note(run, r)) out.push_back(std::move(*n));
+  if (auto n = mag_field_note(r)) out.push_back(std::move(*n));
   return out;
 }
 

@@ -190,6 +190,7 @@ ReplayReport make_replay_report(const std::filesystem::path& run_dir) {
   r.gnss = compare_gnss(run, r.counters, r.window);
   r.wind = wind_report(run, r.window);
   r.specific_force = check_specific_force(run, r.counters, r.window);
+  r.mag_field = check_mag_field(run, r);
   r.explanations = explain_anomalies(run, r);
   return r;
 }

@@ -19,7 +19,8 @@
 //
 // Each anomaly the report shows is explained in one line where it shows (ReportNote, below): the
 // reference's altitude on another datum, a magnetometer rejected, roll/pitch/yaw far from the
-// reference's and which of the two the sensors contradict, a NIS far from 1. Every explanation
+// reference's and which of the two the sensors contradict (SpecificForceCheck: no yaw read), a NIS
+// far from 1, the magnetometer's field against the model (MagFieldCheck). Every explanation
 // comes from the run's data by a threshold stated below (never from the flight's name); the
 // extra tables they read are topics/baro.csv (pressure) and topics/mag.csv (field).
 //
@@ -28,6 +29,7 @@
 // Missing optional topics are not errors: their section is absent, saying so.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <filesystem>
 #include <limits>
@@ -141,24 +143,77 @@ struct WindReport {
   ErrorFigure vs_reference;  ///< |w - w_ref| horizontal
 };
 
-/// The attitude checked against physics, without any other estimator: the specific force the
-/// accelerometer measured against the one an attitude implies, f = R(phi, theta, psi)^T (a - g),
-/// with a the acceleration the GNSS velocity shows (NED, a straight-line fit over
-/// +-kSpecificForceSpan s of fixes at their time of validity) and the accelerometer averaged over
-/// the same span. The residual's x and y components over g are the pitch and roll errors the
-/// attitude must have (small angles, near-level flight: pitch error = -res_x / g, roll error =
-/// res_y / g), plus the accelerometer's bias, its misalignment and the GNSS's acceleration error,
-/// which are the same for every attitude checked: an attitude that needs a large constant tilt
-/// needs an implausible accelerometer bias instead (0.1 m/s^2 is 0.6 deg). The estimator fuses
-/// the same sensors, so this checks consistency, not truth; it decides between two estimates of
-/// one flight (the estimate's and the reference's).
+/// The attitude's roll and pitch checked against physics, without any estimator's yaw (issue 61):
+/// the specific force the accelerometer measured, f (body axes, its mean over +-kSpecificForceSpan
+/// s), against the one the GNSS implies, f_ned = a - g (NED; a from a straight-line fit of the
+/// fixes' velocity over the same span, at their time of validity). With R = Rz(psi) L^T and
+/// L = Ry(theta) Rx(phi), f = R^T f_ned reads L f = Rz(psi)^T f_ned: in the level frame (x along the
+/// heading, z down) the body's specific force L f must have the vertical part f_ned,z, which no
+/// yaw changes, and a horizontal part of length h = |f_ned,x f_ned,y| in a direction that only
+/// the yaw sets. The check solves the yaw per epoch as a free parameter: the nearest such vector
+/// lies along L f's own horizontal part, so the residual, in level axes,
+///   res_lev = ((p - h) u, (L f)_z - f_ned,z),  p = |(L f)_xy|, u = (L f)_xy / p,
+/// is the smallest any yaw leaves (res = L^T res_lev in body axes; pitch error -res_x / |f_ned|,
+/// roll error res_y / |f_ned|, small angles: a tilt delta moves f by |f| delta, g / cos(bank) in a
+/// coordinated turn). It uses the attitude's roll and pitch
+/// only: an estimator's yaw error, which R^T (a - g) turns into a tilt of about yaw error * h / g,
+/// cannot enter. Observability: a tilt error delta (level axes) moves L f by delta x L f; with
+/// L f = (h e, f_z) the part of delta about e (the horizontal specific force's direction) moves it
+/// across e, which a yaw of delta_e f_z / h undoes, so that tilt is unobservable once h is large
+/// against g delta; the part about the horizontal axis across e changes p and the vertical part:
+/// observed. Hence the per-axis rule: pitch is judged only where the GNSS acceleration across the
+/// track (turns) is at most kFreeYawAxis (replay_specific_force.cpp), roll only where the one
+/// along it (speeding up, slowing down) is; the track's axes are the GNSS velocity's, the same
+/// for every attitude judged (the heading differs from the track by the crab angle, which mixes
+/// sin(crab) of one into the other). In unaccelerated flight
+/// (h -> 0) the yaw is unobservable and irrelevant: roll and pitch come from gravity alone, both
+/// judged. Limits: the GNSS acceleration's noise n enters h, so in straight flight the free yaw
+/// turns up to |n| of it against a tilt error (a residual short by up to |n| / g rad; the
+/// accelerometer's bias, misalignment and the GNSS's acceleration error are the same for every
+/// attitude checked: an attitude that needs a large constant tilt needs an implausible
+/// accelerometer bias instead, 0.1 m/s^2 is 0.6 deg). The estimator fuses the same sensors, so
+/// this checks consistency, not truth; it decides between two estimates of one flight (the
+/// estimate's and the reference's), judged at the same epochs by the same rule.
 struct SpecificForceCheck {
   std::string absent;                           ///< "" when checked, else why not
   std::string rule;                             ///< what was compared where
   std::size_t epochs = 0;                       ///< check epochs (every kSpecificForceStep s of the window with enough fixes)
+  std::size_t accelerated = 0;                  ///< of those, where h > kFreeYawAxis: the yaw solvable, one tilt axis not
   ErrorFigure pitch, roll;                      ///< the estimate's implied tilt errors, deg
   ErrorFigure reference_pitch, reference_roll;  ///< the reference's, deg (samples 0 without a reference)
 };
+
+/// The magnetometer's field against the World Magnetic Model (issue 61): whether a mismatch is the
+/// model's or the log's calibration. Measured in the window (mag.csv, its own axes; valid state):
+/// the strength |B|, and, levelled by the estimate's roll and pitch (no yaw), the horizontal and
+/// vertical parts and the inclination; its median strength in each 45 deg sector of the
+/// estimate's yaw (a hard or soft iron the calibration left makes the strength change with
+/// heading; the Earth's field does not). The model: tern/magnetic_model.hpp at the origin on
+/// ekf.mag_model_date, with its expected error: the WMM's own error model (kWmmErrorIntensity,
+/// kWmmErrorInclination: the crustal field included) plus, for every year outside the model's
+/// span, the drift of the WMM's secular-variation forecasts at this place (each shipped model
+/// carried to its successor's epoch against the successor there, per year, the largest). The note (replay_note_mag.cpp) says which of the
+/// two a mismatch is.
+struct MagFieldCheck {
+  std::string absent;  ///< "" when checked, else why not
+  std::string rule;
+  std::size_t samples = 0;
+  double intensity = NAN, intensity_p5 = NAN, intensity_p95 = NAN;  ///< |B| median and 5-95 %, uT
+  double horizontal = NAN, vertical = NAN, inclination = NAN;       ///< medians: uT, uT (down), deg
+  std::string model;                                                ///< "WMM-2015v2 on 2014.11 at the origin"
+  double model_intensity = NAN, model_horizontal = NAN, model_vertical = NAN, model_inclination = NAN;
+  double years_outside = 0.0;                             ///< years of extrapolation beyond the model's span
+  double drift_intensity = NAN, drift_inclination = NAN;  ///< the forecast's drift: uT/yr, deg/yr
+  std::string drift_rule;
+  double expected_intensity = NAN, expected_inclination = NAN;  ///< the model's expected error here: uT, deg
+  std::size_t sectors = 0;                                      ///< heading sectors with >= 10 samples
+  double heading_spread = NAN;                                  ///< max - min of their median |B|, uT
+};
+/// The WMM's uncertainty (its error model, commission and omission i.e. crustal errors, over a
+/// 5-year span): NCEI's WMM2025 technical report, Table 3 "Uncertainty estimates provided by the
+/// WMM2025 error model": F 138 nT, I 0.20 deg (WMM2020's: 145 nT, 0.21 deg).
+constexpr double kWmmErrorIntensity = 0.138;   ///< uT
+constexpr double kWmmErrorInclination = 0.20;  ///< deg
 
 /// One anomaly the report shows, explained in one line where it shows (replay_notes*.cpp). Each is
 /// derived from the run's data by a stated rule, a threshold on a measured figure (constants
@@ -174,17 +229,19 @@ struct ReportNote {
 };
 
 /// Note rules (replay_notes*.cpp).
-constexpr double kDatumOffsetNote = 10.0;  ///< m: |median reference - estimate altitude| above this: another datum
-constexpr double kDatumMatch = 3.0;        ///< m: |median| below this: the reference's altitude is that candidate datum
-constexpr double kAttitudeGapNote = 2.0;   ///< deg RMS of roll or pitch against the reference: the physics check says whose
-constexpr double kRefereeMargin = 1.25;    ///< one attitude's specific-force RMS this many times the other's: that one is off
-constexpr double kRejectedNote = 0.5;      ///< share of a magnetometer model's samples rejected
-constexpr double kFieldOffNote = 0.15;     ///< |measured / the Earth's field - 1| beyond this: not the Earth's field alone
-constexpr double kMagSilentNote = 10.0;    ///< s: no magnetometer fused for this long before the window's end is said
-constexpr double kYawGapNote = 10.0;       ///< deg RMS of yaw against the reference: the GNSS course says whose
-constexpr double kLowNisNote = 0.3;        ///< mean NIS below: the filter allows that sensor more noise than it has
-constexpr double kHighNisNote = 3.0;       ///< mean NIS above: less noise than it has, or a sensor that disagrees
-constexpr double kSlowImuNote = 0.02;      ///< s: a median IMU interval longer than this is named in the attitude notes
+constexpr double kDatumOffsetNote = 10.0;   ///< m: |median reference - estimate altitude| above this: another datum
+constexpr double kDatumMatch = 3.0;         ///< m: |median| below this: the reference's altitude is that candidate datum
+constexpr double kAttitudeGapNote = 2.0;    ///< deg RMS of roll or pitch against the reference: the physics check says whose
+constexpr double kRefereeMargin = 1.25;     ///< one attitude's specific-force RMS this many times the other's: that one is off
+constexpr double kRejectedNote = 0.5;       ///< share of a magnetometer model's samples rejected
+constexpr double kFieldOffNote = 0.15;      ///< |measured / the Earth's field - 1| beyond this: not the Earth's field alone
+constexpr double kMagSilentNote = 10.0;     ///< s: no magnetometer fused for this long before the window's end is said
+constexpr double kYawGapNote = 10.0;        ///< deg RMS of yaw against the reference: the GNSS course says whose
+constexpr double kLowNisNote = 0.3;         ///< mean NIS below: the filter allows that sensor more noise than it has
+constexpr double kHighNisNote = 3.0;        ///< mean NIS above: less noise than it has, or a sensor that disagrees
+constexpr double kMagModelMargin = 3.0;     ///< a field this many expected errors from the model's is not the model's
+constexpr double kMagHeadingSpread = 0.03;  ///< strength changing with heading by this share of it: a calibration left
+constexpr double kSlowImuNote = 0.02;       ///< s: a median IMU interval longer than this is named in the attitude notes
 
 struct ReplayReport {
   std::filesystem::path run_dir;
@@ -199,6 +256,7 @@ struct ReplayReport {
   GnssComparison gnss;
   WindReport wind;
   SpecificForceCheck specific_force;
+  MagFieldCheck mag_field;
   std::vector<ReportNote> explanations;  ///< the anomalies above, each explained (replay_notes.cpp)
   std::vector<std::string> notes;        ///< partial last lines and the like
 };

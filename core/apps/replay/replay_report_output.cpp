@@ -137,10 +137,41 @@ json specific_force_json(const ReplayReport& r) {
   if (!c.absent.empty()) return {{"status", c.absent}};
   return {{"status", "checked"},
           {"epochs", c.epochs},
+          {"accelerated_epochs", c.accelerated},
           {"pitch", figure_json(c.pitch, r.window)},
           {"roll", figure_json(c.roll, r.window)},
           {"reference_pitch", figure_json(c.reference_pitch, r.window)},
           {"reference_roll", figure_json(c.reference_roll, r.window)}};
+}
+
+json mag_field_json(const ReplayReport& r) {
+  const auto& c = r.mag_field;
+  if (!c.absent.empty()) return {{"status", c.absent}};
+  return {{"status", "checked"},
+          {"rule", c.rule},
+          {"window", r.window.rule},
+          {"samples", c.samples},
+          {"measured",
+           {{"intensity_uT", number(c.intensity)},
+            {"intensity_p5_uT", number(c.intensity_p5)},
+            {"intensity_p95_uT", number(c.intensity_p95)},
+            {"horizontal_uT", number(c.horizontal)},
+            {"vertical_uT", number(c.vertical)},
+            {"inclination_deg", number(c.inclination)}}},
+          {"model",
+           {{"source", c.model},
+            {"intensity_uT", number(c.model_intensity)},
+            {"horizontal_uT", number(c.model_horizontal)},
+            {"vertical_uT", number(c.model_vertical)},
+            {"inclination_deg", number(c.model_inclination)},
+            {"years_outside_span", c.years_outside},
+            {"forecast_drift_uT_per_year", number(c.drift_intensity)},
+            {"forecast_drift_deg_per_year", number(c.drift_inclination)},
+            {"forecast_drift_rule", c.drift_rule},
+            {"expected_error_uT", number(c.expected_intensity)},
+            {"expected_error_deg", number(c.expected_inclination)}}},
+          {"heading_sectors", c.sectors},
+          {"heading_spread_uT", number(c.heading_spread)}};
 }
 
 /// The object at a dotted path ("reference.position_vertical"), or nullptr.
@@ -180,6 +211,7 @@ nlohmann::json to_json(const ReplayReport& r) {
   j["gnss"] = gnss_json(r);
   j["wind"] = wind_json(r);
   j["specific_force"] = specific_force_json(r);
+  j["mag_field"] = mag_field_json(r);
   j["notes"] = r.notes;
   add_explanations(j, r);
   return j;

@@ -100,8 +100,9 @@ ReferenceComparison compare_reference(const RunTables& run, const ReplayWindow& 
 GnssComparison compare_gnss(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
 WindReport wind_report(const RunTables& run, const ReplayWindow& w);
 SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCounters& counters, const ReplayWindow& w);
-constexpr double kSpecificForceSpan = 0.6;  ///< s either side of a check epoch
-constexpr double kSpecificForceStep = 0.5;  ///< s between check epochs
+MagFieldCheck check_mag_field(const RunTables& run, const ReplayReport& r);  ///< replay_mag_field.cpp
+constexpr double kSpecificForceSpan = 0.6;                                   ///< s either side of a check epoch
+constexpr double kSpecificForceStep = 0.5;                                   ///< s between check epochs
 /// Each fix's time of validity (s): time_of_validity where non-zero (epoch), else stamp -
 /// gnss_delay (the estimator's parameter at the window's start; replay_gnss.cpp).
 struct FixTimes {
@@ -120,6 +121,7 @@ FixTimes fix_times(const RunTables& run, const EstimatorCounters& c, const Repla
 std::vector<ReportNote> explain_anomalies(const RunTables& run, const ReplayReport& r);
 std::optional<ReportNote> altitude_datum_note(const RunTables& run, const ReplayReport& r);
 std::optional<ReportNote> magnetometer_note(const RunTables& run, const ReplayReport& r);
+std::optional<ReportNote> mag_field_note(const ReplayReport& r);
 std::vector<ReportNote> attitude_notes(const RunTables& run, const ReplayReport& r);
 /// The estimator's parameter `name` (without its instance) at the window's start; nullopt when
 /// params.csv has no number for it.

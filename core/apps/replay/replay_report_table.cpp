@@ -141,13 +141,29 @@ void specific_force(std::string& out, const ReplayReport& r, Notes& n) {
     out += "attitude vs the specific force: " + c.absent + "\n";
     return;
   }
-  out += fmt::format("attitude vs the specific force (accelerometer against GNSS acceleration - g; {} epochs)\n", c.epochs);
+  out += fmt::format(
+      "roll and pitch vs the specific force (accelerometer against GNSS acceleration - g, the yaw solved per epoch, no "
+      "estimator's; {} epochs, {} accelerated)\n",
+      c.epochs, c.accelerated);
   out += "  implied error                RMS       max      mean       n\n";
   figure(out, n, "roll, estimate", c.roll, "specific_force.roll"), figure(out, n, "pitch, estimate", c.pitch, "specific_force.pitch");
-  if (c.reference_roll.samples > 0) {
+  if (c.reference_roll.samples + c.reference_pitch.samples > 0) {
     figure(out, n, "roll, reference", c.reference_roll, "specific_force.reference_roll");
     figure(out, n, "pitch, reference", c.reference_pitch, "specific_force.reference_pitch");
   }
+}
+
+void mag_field(std::string& out, const ReplayReport& r, Notes& n) {
+  const auto& c = r.mag_field;
+  if (!c.absent.empty()) {
+    out += "magnetometer field vs the model: " + c.absent + "\n";
+    return;
+  }
+  out += fmt::format(
+      "magnetometer field vs the model ({} samples): {} uT at {} deg against {} uT at {} deg ({}), expected error {} uT, {} deg\n",
+      c.samples, num(c.intensity, 1), num(c.inclination, 1), num(c.model_intensity, 1), num(c.model_inclination, 1), c.model,
+      num(c.expected_intensity), num(c.expected_inclination));
+  n.under(out, "mag_field");
 }
 
 }  // namespace
@@ -160,6 +176,7 @@ std::string format_replay_table(const ReplayReport& r) {
   measurements(out, r, notes);
   comparisons(out, r, notes);
   specific_force(out, r, notes);
+  mag_field(out, r, notes);
   notes.rest(out);
   for (const auto& n : r.notes) out += "note: " + n + "\n";
   return out;

@@ -1,6 +1,6 @@
 // The replay report's physics check of the attitude (replay_report.hpp, SpecificForceCheck): the
-// accelerometer's specific force against R^T (a - g) with a from the GNSS velocity, for the
-// estimate and for the reference.
+// accelerometer's specific force against R^T (a - g) with a from the GNSS velocity and the yaw
+// solved for at each epoch, for the estimate's roll and pitch and for the reference's.
 #include <cmath>
 
 #include <Eigen/Geometry>
@@ -16,6 +16,11 @@ namespace {
 constexpr std::size_t kMinFixes = 4;    ///< fixes within the span for a velocity slope
 constexpr std::size_t kMinImu = 4;      ///< accelerometer samples within the span
 constexpr double kMinCheckSpeed = 5.0;  ///< m/s of GNSS horizontal speed: in flight
+/// m/s^2: a tilt axis is judged only where the GNSS acceleration along it (roll: along the track,
+/// pitch: across it) is at most this; beyond, a yaw turned by about g * tilt / that acceleration
+/// explains the tilt instead (at this bound a tilt error delta is still seen as at least
+/// 1 - kFreeYawAxis / sqrt(kFreeYawAxis^2 + (g delta)^2) of it: 37 % of 3.6 deg, 61 % of 7 deg).
+constexpr double kFreeYawAxis = 0.5;
 
 /// Slope of y over x by least squares (x centred on x0); NaN with fewer than two distinct x.
 double slope(const std::vector<double>& x, const std::vector<double>& y, double x0) {
@@ -29,19 +34,30 @@ double slope(const std::vector<double>& x, const std::vector<double>& y, double 
   return d > 1e-12 ? (n * sxy - sx * sy) / d : NAN;
 }
 
-/// The GNSS acceleration (NED, m/s^2) at t from the fixes within the span, or nullopt.
-std::optional<Eigen::Vector3d> gnss_acceleration(const CsvTable& g, const FixTimes& times, double t) {
+/// The GNSS's acceleration at an epoch (NED, m/s^2), and its horizontal part along and across the
+/// track (the fixes' mean horizontal velocity): the axes the per-axis rule reads.
+struct GnssAcceleration {
+  Eigen::Vector3d a;
+  double along = 0.0, across = 0.0;
+};
+
+/// The GNSS acceleration at t from the fixes within the span, or nullopt.
+std::optional<GnssAcceleration> gnss_acceleration(const CsvTable& g, const FixTimes& times, double t) {
   std::vector<double> x, vn, ve, vd;
   const auto &fix = g.at("fix_type"), &n = g.at("vel_n"), &e = g.at("vel_e"), &d = g.at("vel_d");
   double speed = 0.0;
+  Eigen::Vector2d v = Eigen::Vector2d::Zero();
   for (std::size_t k = 0; k < g.rows; ++k) {
     if (std::fabs(times.tov[k] - t) > kSpecificForceSpan || !(fix[k] >= 3.0) || !std::isfinite(n[k] + e[k] + d[k])) continue;
     x.push_back(times.tov[k]), vn.push_back(n[k]), ve.push_back(e[k]), vd.push_back(d[k]);
     speed = std::max(speed, std::hypot(n[k], e[k]));
+    v += Eigen::Vector2d(n[k], e[k]);
   }
-  if (x.size() < kMinFixes || speed < kMinCheckSpeed) return std::nullopt;
+  if (x.size() < kMinFixes || speed < kMinCheckSpeed || v.norm() == 0.0) return std::nullopt;
   const Eigen::Vector3d a(slope(x, vn, t), slope(x, ve, t), slope(x, vd, t));
-  return a.allFinite() ? std::optional(a) : std::nullopt;
+  const Eigen::Vector2d track = v.normalized();
+  if (!a.allFinite()) return std::nullopt;
+  return GnssAcceleration{a, a.head<2>().dot(track), track.x() * a.y() - track.y() * a.x()};
 }
 
 /// The accelerometer's mean specific force (m/s^2, its own axes) within the span about t.
@@ -56,34 +72,51 @@ std::optional<Eigen::Vector3d> mean_specific_force(const CsvTable& imu, double t
   return n >= kMinImu ? std::optional<Eigen::Vector3d>(sum / static_cast<double>(n)) : std::nullopt;
 }
 
-/// The state's roll, pitch, yaw at t, or nullopt (no bracket, not valid on both sides, NaN).
-std::optional<Eigen::Vector3d> state_attitude(const CsvTable& s, double t) {
+/// An attitude's roll and pitch (rad): all the check reads of it (no yaw).
+struct Tilt {
+  double phi = 0.0, theta = 0.0;
+};
+
+/// The state's roll and pitch at t, or nullopt (no bracket, not valid on both sides, NaN).
+std::optional<Tilt> state_tilt(const CsvTable& s, double t) {
   const auto b = bracket(s.at("time"), t, kMaxGap);
   if (!b || !(s.at("valid")[b->k] > 0.5 && s.at("valid")[b->f == 0.0 ? b->k : b->k + 1] > 0.5)) return std::nullopt;
-  const Eigen::Vector3d e(lerp(s.at("phi"), *b, true), lerp(s.at("theta"), *b, true), lerp(s.at("psi"), *b, true));
-  return e.allFinite() ? std::optional(e) : std::nullopt;
+  const Tilt e{lerp(s.at("phi"), *b, true), lerp(s.at("theta"), *b, true)};
+  return std::isfinite(e.phi + e.theta) ? std::optional(e) : std::nullopt;
 }
 
-/// The reference's attitude, each angle between its own samples.
-struct ReferenceAttitude {
-  Series phi, theta, psi;
-  explicit ReferenceAttitude(const CsvTable& r) : phi(r, "phi"), theta(r, "theta"), psi(r, "psi") {}
-  std::optional<Eigen::Vector3d> at(double t) const {
-    const Eigen::Vector3d e(interpolate(phi.t, phi.v, t, kMaxGap, true), interpolate(theta.t, theta.v, t, kMaxGap, true),
-                            interpolate(psi.t, psi.v, t, kMaxGap, true));
-    return e.allFinite() ? std::optional(e) : std::nullopt;
+/// The reference's roll and pitch, each between its own samples.
+struct ReferenceTilt {
+  Series phi, theta;
+  explicit ReferenceTilt(const CsvTable& r) : phi(r, "phi"), theta(r, "theta") {}
+  std::optional<Tilt> at(double t) const {
+    const Tilt e{interpolate(phi.t, phi.v, t, kMaxGap, true), interpolate(theta.t, theta.v, t, kMaxGap, true)};
+    return std::isfinite(e.phi + e.theta) ? std::optional(e) : std::nullopt;
   }
 };
 
-/// Adds the implied pitch and roll errors (deg) of an attitude (roll, pitch, yaw) at one epoch.
-void add_epoch(const Eigen::Vector3d& euler, const Eigen::Vector3d& a, const Eigen::Vector3d& f, ErrorSum& pitch, ErrorSum& roll) {
-  const Eigen::Matrix3d R =
-      (Eigen::AngleAxisd(euler.z(), Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(euler.y(), Eigen::Vector3d::UnitY()) *
-       Eigen::AngleAxisd(euler.x(), Eigen::Vector3d::UnitX()))
-          .toRotationMatrix();  // body FRD -> NED
-  const Eigen::Vector3d res = f - R.transpose() * (a - Eigen::Vector3d(0.0, 0.0, kStandardGravity));
-  pitch.add(-res.x() / kStandardGravity * kDegPerRad);
-  roll.add(res.y() / kStandardGravity * kDegPerRad);
+/// What an attitude's roll and pitch leave of the specific force f_ned = a - g with the yaw that
+/// fits best (replay_report.hpp, SpecificForceCheck), body axes, m/s^2: the level frame's
+/// f_lev = Ry(theta) Rx(phi) f_body against Rz(psi)^T f_ned, whose vertical part is the same for
+/// every psi and whose horizontal part is any vector of length h = |f_ned horizontal|, the nearest
+/// one along f_lev's own horizontal part (along x when f_lev has none).
+Eigen::Vector3d yaw_free_residual(double phi, double theta, const Eigen::Vector3d& f_ned, const Eigen::Vector3d& f) {
+  const Eigen::Matrix3d L =
+      (Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()) * Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  const Eigen::Vector3d f_lev = L * f;  // body FRD -> level (heading) frame
+  const double h = f_ned.head<2>().norm(), p = f_lev.head<2>().norm();
+  const Eigen::Vector2d u = p > 0.0 ? Eigen::Vector2d(f_lev.head<2>() / p) : Eigen::Vector2d::UnitX();
+  return L.transpose() * Eigen::Vector3d((p - h) * u.x(), (p - h) * u.y(), f_lev.z() - f_ned.z());
+}
+
+/// Adds the implied pitch and roll errors (deg) of an attitude's roll and pitch at one
+/// epoch: pitch where the GNSS acceleration across the track is at most kFreeYawAxis, roll where
+/// the one along it is (else the free yaw absorbs that tilt).
+void add_epoch(const Tilt& tilt, const GnssAcceleration& g, const Eigen::Vector3d& f, ErrorSum& pitch, ErrorSum& roll) {
+  const Eigen::Vector3d f_ned = g.a - Eigen::Vector3d(0.0, 0.0, kStandardGravity);
+  const Eigen::Vector3d res = yaw_free_residual(tilt.phi, tilt.theta, f_ned, f);
+  if (std::fabs(g.across) <= kFreeYawAxis) pitch.add(-res.x() / f_ned.norm() * kDegPerRad);  // a tilt delta moves f by |f| delta
+  if (std::fabs(g.along) <= kFreeYawAxis) roll.add(res.y() / f_ned.norm() * kDegPerRad);
 }
 
 }  // namespace
@@ -94,15 +127,16 @@ SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCou
   if (!run.gnss) out.absent = "absent (no topics/gnss.csv)";
   if (!out.absent.empty()) return out;
   const FixTimes times = fix_times(run, c, w);
-  const bool ref = run.reference && run.reference->has("phi") && run.reference->has("theta") && run.reference->has("psi");
-  const std::optional<ReferenceAttitude> reference = ref ? std::optional<ReferenceAttitude>(*run.reference) : std::nullopt;
+  const bool ref = run.reference && run.reference->has("phi") && run.reference->has("theta");
+  const std::optional<ReferenceTilt> reference = ref ? std::optional<ReferenceTilt>(*run.reference) : std::nullopt;
   ErrorSum pitch, roll, ref_pitch, ref_roll;
   for (double t = w.start_s + kSpecificForceSpan; t <= w.end_s - kSpecificForceSpan; t += kSpecificForceStep) {
     const auto a = gnss_acceleration(*run.gnss, times, t);
     const auto f = a ? mean_specific_force(*run.imu, t) : std::nullopt;
-    const auto est = f ? state_attitude(run.state, t) : std::nullopt;
+    const auto est = f ? state_tilt(run.state, t) : std::nullopt;
     if (!est) continue;
     ++out.epochs;
+    if (a->a.head<2>().norm() > kFreeYawAxis) ++out.accelerated;
     add_epoch(*est, *a, *f, pitch, roll);
     if (const auto r = reference ? reference->at(t) : std::nullopt) add_epoch(*r, *a, *f, ref_pitch, ref_roll);
   }
@@ -111,9 +145,11 @@ SpecificForceCheck check_specific_force(const RunTables& run, const EstimatorCou
   out.rule = fmt::format(
       "every {} s of the window where the GNSS (>= {} fixes with fix_type >= 3 within +-{} s at their time of validity, "
       "{} m/s or faster) gives the acceleration a by a straight-line fit of its velocity and the accelerometer (imu.csv, its own "
-      "axes; imu_mount {} not applied) its mean over the same span: pitch error -res_x / g, roll error res_y / g of res = f_imu - "
-      "R(phi, theta, psi)^T (a - g), g = {} m/s^2; the attitude interpolated at the epoch (the state where valid)",
-      kSpecificForceStep, kMinFixes, kSpecificForceSpan, kMinCheckSpeed, mount, kStandardGravity);
+      "axes; imu_mount {} not applied) its mean f over the same span: res = f - R(phi, theta, psi*)^T (a - g), g = {} m/s^2, with "
+      "the attitude's roll and pitch (interpolated at the epoch; the state where valid) and the yaw psi* that fits best (no "
+      "estimator's yaw); pitch error -res_x / |a - g| where the GNSS acceleration across the track (the fixes' mean horizontal "
+      "velocity) is <= {} m/s^2, roll error res_y / |a - g| where the one along it is: the same epochs for every attitude",
+      kSpecificForceStep, kMinFixes, kSpecificForceSpan, kMinCheckSpeed, mount, kStandardGravity, kFreeYawAxis);
   out.pitch = pitch.figure("deg", out.rule);
   out.roll = roll.figure("deg", out.rule);
   out.reference_pitch = ref_pitch.figure("deg", ref ? out.rule : "no reference attitude");

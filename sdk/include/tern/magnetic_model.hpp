@@ -25,6 +25,7 @@
 
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -45,6 +46,21 @@ struct MagneticField {
 /// The WMM's field at latitude, longitude (deg, WGS-84), height above the ellipsoid (m) on a
 /// decimal year (e.g. decimal_year(2025, 7, 1)). Throws std::invalid_argument for bad input.
 TERN_API MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height_m, double decimal_year);
+
+/// One shipped model: its name as its file names it ("WMM-2015v2") and its epoch (decimal year).
+struct MagneticModelInfo {
+  std::string name;
+  double epoch = 0.0;
+};
+
+/// The shipped models, oldest epoch first.
+TERN_API std::vector<MagneticModelInfo> world_magnetic_models();
+
+/// The field of the named model (one of world_magnetic_models()) on any decimal year, flagged
+/// `extrapolated` outside its span: e.g. a model carried to its successor's epoch, whose field
+/// there shows how far its secular variation strayed. Throws std::invalid_argument for bad input
+/// or an unknown model, naming the shipped ones.
+TERN_API MagneticField world_magnetic_field(double lat_deg, double lon_deg, double height_m, double decimal_year, std::string_view model);
 
 /// A calendar date (Gregorian).
 struct CalendarDate {
