@@ -20,6 +20,7 @@
 #include "tern/atmosphere.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/magnetic_model.hpp"
+#include "tern/math.hpp"
 
 using tern::core::make_replay_report;
 using tern::core::ReplayReport;
@@ -217,7 +218,7 @@ TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw 
   // a coordinated turn at 20 m/s, 0.2 rad/s (4 m/s^2 toward the centre, bank atan(4 / g)), level;
   // the estimate has the right roll and pitch and a yaw 40 deg off; the reference the right yaw
   // and 1 deg more roll. Fixes at 10 Hz, the accelerometer at 100 Hz
-  constexpr double V = 20.0, w = 0.2, g = 9.80665, yaw_error = 40.0 * kDeg;
+  constexpr double V = 20.0, w = 0.2, g = tern::kStandardGravity, yaw_error = 40.0 * kDeg;
   const double bank = std::atan(V * w / g);
   auto f_ned = [&](double t) { return Eigen::Vector3d(-V * w * std::sin(w * t), V * w * std::cos(w * t), -g); };  // a - g
   std::vector<std::vector<double>> gnss, imu, state, ref;
