@@ -118,7 +118,9 @@ struct GnssCheckConfig {
     v(&C::max_v_drift, "gnss_req_vdrift",
       ParamSpec("m/s", 0.1, 1.5, "largest filtered vertical drift and speed still on the ground (PX4 EKF2_REQ_VDRIFT)"));
     v(&C::hold_time, "gnss_req_hold_time",
-      ParamSpec("s", 0.0, 600.0, "the start-up checks must pass this long before the origin is set (PX4 EKF2_REQ_GPS_H)"));
+      ParamSpec("s", 0.0, 600.0,
+                "the start-up checks must pass this long before the estimate is valid on the ground; the origin, the first passing fix, is "
+                "provisional until then (PX4 EKF2_REQ_GPS_H)"));
     v(&C::drift_time_constant, "gnss_drift_time_constant", ParamSpec("s", 0.1, 100.0, "time constant of the drift filters"));
     v(&C::in_air_ground_speed, "gnss_check_in_air_speed",
       ParamSpec("m/s", 0.5, 100.0, "GNSS ground speed from which the start-up checks take the aircraft as flying (drift checks off)"));
