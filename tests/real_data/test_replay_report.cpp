@@ -27,7 +27,7 @@ using tern::core::ReplayReport;
 
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+constexpr double kDeg = tern::kRadPerDeg;
 const tern::GeoPoint kOrigin{47.389, 8.034, 480.0};
 
 void write_csv(const fs::path& p, const std::string& header, const std::vector<std::vector<double>>& rows) {

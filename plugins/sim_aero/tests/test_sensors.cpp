@@ -150,7 +150,7 @@ TEST_CASE("sensors: profiles are rosflight (default, first), realistic and ideal
   // realistic: the per-sample IMU noise is density * sqrt(157 Hz)
   const SensorParams r = sensor_profile("realistic");
   CHECK(r.gyro_noise == doctest::Approx(0.004 * tern::kRadPerDeg * 12.53).epsilon(0.001));
-  CHECK(r.accel_noise == doctest::Approx(100e-6 * 9.80665 * 12.53).epsilon(0.001));
+  CHECK(r.accel_noise == doctest::Approx(100e-6 * tern::kStandardGravity * 12.53).epsilon(0.001));
   CHECK(r.gnss_latency == 0.12);
 }
 
@@ -398,7 +398,7 @@ TEST_CASE("sensors: IMU mounting rotation (3-2-1, body v reads R_mount^T v)") {
 
 TEST_CASE("sensors: the stored accelerometer calibration (ROSflight calibrate_accel) makes level read -g0 z") {
   // A misaligned, cross-coupled, scaled IMU calibrated on a level floor: at rest level it reads
-  // the firmware's (0, 0, -9.80665) exactly; in a 2-g pull-up the errors of the second g remain.
+  // the firmware's (0, 0, -kStandardGravity) exactly; in a 2-g pull-up the errors of the second g remain.
   SensorParams p = ideal_with([](SensorParams& q) {
     q.accel_scale_range = 0.01;
     q.imu_cross_axis_range = 0.02;
@@ -462,7 +462,7 @@ TEST_CASE("sensors: a calibration taken at this power-up holds the turn-on bias;
   }
   CHECK(worst_calibrated < 4.5 * mean_sigma);
   CHECK(worst_earlier > 0.8 * p.accel_bias_range);
-  // The reading at rest level: the firmware's (0, 0, -9.80665) plus that residual.
+  // The reading at rest level: the firmware's (0, 0, -kStandardGravity) plus that residual.
   p.accel_noise = 0.0;
   Sensors quiet(p, 7);
   CHECK((quiet.imu(kinematic_truth(Eigen::Vector3d(0, 0, -kGravity), Eigen::Vector3d::Zero()), 0.0025).accel - g0).norm() < 1e-12);

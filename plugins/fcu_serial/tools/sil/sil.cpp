@@ -31,7 +31,11 @@ std::string temporary_flash() {
 /// calibrations take their place). The accelerometer keeps its turn-on offset: `realistic`
 /// models what is left after a calibration stored in an earlier session (0.05 m/s^2);
 /// uncalibrated, the ICM-20602's zero-g offset is +-25 mg (DS-000176), 0.245 m/s^2. A profile
-/// whose calibration is taken at power-up (`rosflight`) already draws the raw turn-on offset.
+/// whose calibration is taken at power-up (`rosflight`) already draws the raw turn-on offset: the
+/// firmware refuses to arm until it is calibrated (ERROR_UNCALIBRATED_IMU, set in Sensors::init_imu
+/// and checked in StateManager, source/src/sensors.cpp and state_manager.cpp), and its
+/// Sensors::calibrate_accel stores the mean of 1000 samples plus gravity as ACC_X/Y/Z_BIAS; here
+/// the SIL's firmware itself runs that calibration on the raw sensors.
 sim::SensorParams raw_sensors(const std::string& profile) {
   sim::SensorParams p = sim::sensor_profile(profile);
   if (p.accel_calibrated_level && !p.accel_calibrated_at_power_up)

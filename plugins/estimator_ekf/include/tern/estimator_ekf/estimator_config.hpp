@@ -172,8 +172,8 @@ struct EstimatorConfig {
   /// pitch beyond 60 deg (the Euler yaw and the tilt-compensated heading ill-conditioned: loops)
   /// neither pass nor fail. A compass the reset was right to drop (turned, disturbed) stays off;
   /// one that agreed throughout (the reset blamed the yaw for a manoeuvre) comes back. PX4's
-  /// emergency reset itself keeps mag_fault until the sensor's calibration changes (its own
-  /// "TODO: allow clearing mag_fault if mag_3d is good?"); issue 61 asks for the resume.
+  /// emergency reset itself keeps mag_fault until the sensor's calibration changes (its source
+  /// leaves clearing it on a good 3-axis field as an open question); issue 61 asks for the resume.
   /// s; 0: never resume (the magnetometer off for the rest of the flight, the former behaviour).
   double mag_resume_time = 5.0;
   /// rad: PX4 EKF2_HEAD_NOISE's default (0.3 rad), the bound PX4 puts on the heading innovation
