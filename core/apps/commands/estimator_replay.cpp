@@ -1,0 +1,68 @@
+// core/apps/commands/estimator_replay.cpp: the estimator over a sensor log (estimator_replay.hpp).
+#include "commands/estimator_replay.hpp"
+
+#include <cstdio>
+
+#include "commands/commands.hpp"
+#include "config/cli_overrides.hpp"
+#include "export/mcap_csv_export.hpp"
+#include "replay/replay_source.hpp"
+#include "replay/sensor_log_meta.hpp"
+
+namespace tern::core {
+
+namespace {
+
+/// The replay's mission config: the request's, the flight's own config.yaml, or (a real flight's
+/// log) the shipped estimator-only config beside the default mission.
+fs::path replay_config(const EstimatorReplay& o) {
+  if (!o.config.empty()) return o.config;
+  const fs::path own = fs::path(o.log_dir) / "config.yaml";
+  if (fs::exists(own)) return own;
+  return default_config().parent_path().parent_path() / "replay" / "estimator.yaml";
+}
+
+/// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
+/// `tern export csv LOG` writes them (export/mcap_csv_export.hpp), which the replay then reads.
+void tables_from_mcap(const fs::path& log_dir) {
+  const fs::path mcap = log_dir / "flight.mcap";
+  if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
+  const CsvExportReport r = export_csv(mcap, log_dir / "topics");
+  std::fprintf(stderr, "replay: %zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
+               r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
+}
+
+}  // namespace
+
+FlightResult replay_estimator(const EstimatorReplay& o) {
+  tables_from_mcap(o.log_dir);
+  MissionConfig mc = load_config(replay_config(o).string());
+  mc.phases.clear();  // an estimator alone: no controllers, no phases, no mission
+  mc.fallback.reset();
+  mc.phase_params.clear();
+  mc.mission = YAML::Node();
+  // a real flight's log (no config.yaml of its own) is named after its directory
+  if (o.config.empty() && !fs::exists(fs::path(o.log_dir) / "config.yaml"))
+    mc.name = fs::absolute(o.log_dir).lexically_normal().filename().string();
+  mc.name = mc.name + "-replay";
+  if (mc.log.format == LogFormat::mcap) mc.log.format = LogFormat::both;  // the replay report reads the tables
+  if (o.level) mc.log.level = *o.level;
+  apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
+  CliOverrides cli;
+  cli.sets = o.sets;
+  apply_overrides(mc, cli);
+  HostOptions opt;
+  opt.replay = replay_source(fs::absolute(o.log_dir));
+  opt.quiet = o.quiet;
+  if (o.out_dir) opt.log_dir = fs::path(*o.out_dir);
+  Host host(std::move(mc), opt);
+  host.build();
+  host.set_duration(to_seconds(host.replay_end()));
+  install_signal_handlers();
+  FlightResult r = host.fly();
+  const fs::path meta = fs::path(o.log_dir) / "sensor_log.yaml";
+  if (fs::exists(meta)) fs::copy_file(meta, fs::path(r.run_dir) / "sensor_log.yaml", fs::copy_options::overwrite_existing);
+  return r;
+}
+
+}  // namespace tern::core

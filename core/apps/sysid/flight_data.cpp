@@ -1,0 +1,196 @@
+// core/apps/sysid/flight_data.cpp: a flight's measurements on the IMU's time base (flight_data.hpp).
+#include "sysid/flight_data.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "config/error.hpp"
+#include "replay/replay_csv.hpp"
+#include "tern/math.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+constexpr double kMaxGap = 1.0;  ///< s: the estimate is not interpolated across a longer gap
+
+using Column = std::vector<double>;
+
+const CsvTable read_table(const std::filesystem::path& file, const std::vector<std::string>& wanted, const char* why) {
+  if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
+  CsvTable table = read_csv_table(file, wanted);
+  for (const auto& name : wanted)
+    if (!table.has(name)) throw ConfigError(fmt::format("{}: no column '{}'", file.string(), name));
+  return table;
+}
+
+/// An angle made continuous (no jump of 2 pi between neighbours).
+Column unwrapped(const Column& a) {
+  Column out(a);
+  for (std::size_t k = 1; k < out.size(); ++k) out[k] = out[k - 1] + wrap_pi(a[k] - a[k - 1]);
+  return out;
+}
+
+/// The IMU rows whose every value is finite, in time order (rows going backwards dropped).
+std::vector<std::size_t> usable_imu_rows(const CsvTable& imu, const std::vector<std::string>& names) {
+  std::vector<std::size_t> rows;
+  const Column& t = imu.at("t");
+  for (std::size_t k = 0; k < imu.rows; ++k) {
+    bool finite = std::isfinite(t[k]) && (rows.empty() || t[k] > t[rows.back()]);
+    for (const auto& n : names) finite = finite && std::isfinite(imu.at(n)[k]);
+    if (finite) rows.push_back(k);
+  }
+  return rows;
+}
+
+/// Commands in force at each time of `tq` (the last row at or before it; before the first row,
+/// the first), through a first-order lag of time constant tau (0: none).
+Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& tq, double tau) {
+  Column out(tq.size());
+  std::size_t j = 0;
+  double y = cmd.empty() ? 0.0 : cmd.front();
+  for (std::size_t k = 0; k < tq.size(); ++k) {
+    while (j + 1 < t_cmd.size() && t_cmd[j + 1] <= tq[k]) ++j;
+    const double u = cmd.empty() ? 0.0 : cmd[j];
+    const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
+    y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (u - y) : u;
+    out[k] = y;
+  }
+  return out;
+}
+
+/// Linear interpolation of (ts, v) at each time of tq; NaN outside or across a gap > kMaxGap.
+Column interpolated(const Column& ts, const Column& v, const Column& tq) {
+  Column out(tq.size(), std::nan(""));
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < tq.size(); ++k) {
+    while (j + 1 < ts.size() && ts[j + 1] < tq[k]) ++j;
+    if (j + 1 >= ts.size() || ts[j] > tq[k] || ts[j + 1] - ts[j] > kMaxGap) continue;
+    const double f = (tq[k] - ts[j]) / (ts[j + 1] - ts[j]);
+    out[k] = v[j] + f * (v[j + 1] - v[j]);
+  }
+  return out;
+}
+
+double median_interval(const Column& t) {
+  Column d;
+  for (std::size_t k = 1; k < t.size(); ++k) d.push_back(t[k] - t[k - 1]);
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  return d[d.size() / 2];
+}
+
+Column central_difference(const Column& x, const Column& t) {
+  Column out(x.size(), 0.0);
+  for (std::size_t k = 1; k + 1 < x.size(); ++k) out[k] = (x[k + 1] - x[k - 1]) / (t[k + 1] - t[k - 1]);
+  if (x.size() > 2) {
+    out.front() = out[1];
+    out.back() = out[x.size() - 2];
+  }
+  return out;
+}
+
+/// Every `step`-th element.
+Column decimated(const Column& x, std::size_t step) {
+  Column out;
+  out.reserve(x.size() / step + 1);
+  for (std::size_t k = 0; k < x.size(); k += step) out.push_back(x[k]);
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cutoff_hz, double dt_s) {
+  if (x.size() < 3 || cutoff_hz <= 0.0) return x;
+  // Bilinear transform with pre-warping of the analogue Butterworth s^2 + sqrt(2) s + 1.
+  const double K = std::tan(kPi * std::min(cutoff_hz * dt_s, 0.45));
+  const double norm = 1.0 / (1.0 + std::sqrt(2.0) * K + K * K);
+  const double b0 = K * K * norm, b1 = 2.0 * b0, b2 = b0;
+  const double a1 = 2.0 * (K * K - 1.0) * norm, a2 = (1.0 - std::sqrt(2.0) * K + K * K) * norm;
+  auto pass = [&](std::vector<double>& v) {
+    double x1 = v.front(), x2 = v.front(), y1 = v.front(), y2 = v.front();
+    for (double& s : v) {
+      const double y = b0 * s + b1 * x1 + b2 * x2 - a1 * y1 - a2 * y2;
+      x2 = x1, x1 = s, y2 = y1, y1 = y;
+      s = y;
+    }
+  };
+  std::vector<double> y(x);
+  pass(y);
+  std::reverse(y.begin(), y.end());
+  pass(y);
+  std::reverse(y.begin(), y.end());
+  return y;
+}
+
+FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
+                                const FlightSeriesOptions& o) {
+  const std::vector<std::string> imu_names = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
+  std::vector<std::string> imu_wanted = imu_names;
+  imu_wanted.push_back("t");
+  const CsvTable imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
+  const CsvTable act = read_table(log_dir / "topics" / "actuators.csv", {"t", "delta_a", "delta_e", "delta_r", "delta_t"},
+                                  "the surfaces' commands are required (docs/sensor-log.md, actuators)");
+  const std::vector<std::string> state_names = {"t",     "valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha", "beta",
+                                                "p_n",   "p_e",   "p_d", "u",     "v",   "w",   "w_n", "w_e", "w_d"};
+  const CsvTable st = read_table(estimate_dir / "topics" / "state.csv", state_names, "the estimate (tern replay LOG) is required");
+
+  const std::vector<std::size_t> rows = usable_imu_rows(imu, imu_names);
+  if (rows.size() < 3) throw ConfigError(fmt::format("{}: fewer than 3 usable IMU rows", imu.file.string()));
+  auto pick = [&](const std::string& name) {
+    Column c(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) c[k] = imu.at(name)[rows[k]];
+    return c;
+  };
+  FlightSeries s;
+  const Column t = pick("t");
+  const double dt = median_interval(t);
+  if (!(dt > 0.0)) throw ConfigError(fmt::format("{}: the IMU's rows share one time", imu.file.string()));
+  auto est = [&](const std::string& name, bool angle = false) {
+    return interpolated(st.at("t"), angle ? unwrapped(st.at(name)) : st.at(name), t);
+  };
+  const Column valid = est("valid");
+  auto lp = [&](const Column& c) { return zero_phase_lowpass(c, o.filter_hz, dt); };
+  // the gyro less the estimated bias (zero where the estimate is not valid)
+  auto rate = [&](const char* gyro, const char* bias) {
+    Column g = pick(gyro);
+    const Column b = est(bias);
+    for (std::size_t k = 0; k < g.size(); ++k) g[k] -= std::isfinite(b[k]) ? b[k] : 0.0;
+    return lp(g);
+  };
+  const Column p = rate("gyro_x", "b_x"), q = rate("gyro_y", "b_y"), r = rate("gyro_z", "b_z");
+  const std::size_t step = o.rate_hz > 0.0 ? std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1.0 / (dt * o.rate_hz)))) : 1;
+  auto keep = [&](const Column& c) { return decimated(c, step); };
+  auto command = [&](const char* name) { return keep(lp(commands_in_force(act.at("t"), act.at(name), t, o.servo_tau))); };
+  s.t = keep(t);
+  s.a_x = keep(lp(pick("accel_x"))), s.a_y = keep(lp(pick("accel_y"))), s.a_z = keep(lp(pick("accel_z")));
+  s.p_dot = keep(central_difference(p, t)), s.q_dot = keep(central_difference(q, t)), s.r_dot = keep(central_difference(r, t));
+  s.p = keep(p), s.q = keep(q), s.r = keep(r);
+  s.delta_a = command("delta_a"), s.delta_e = command("delta_e"), s.delta_r = command("delta_r"), s.delta_t = command("delta_t");
+  // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
+  // a gap) the filter sees the nearest value and the result stays NaN
+  auto estimate = [&](const std::string& name, bool angle = false) {
+    Column c = est(name, angle);
+    Column filled = c;
+    for (std::size_t k = 1; k < filled.size(); ++k)
+      if (!std::isfinite(filled[k])) filled[k] = filled[k - 1];
+    for (std::size_t k = filled.size() - 1; k-- > 0;)
+      if (!std::isfinite(filled[k])) filled[k] = filled[k + 1];
+    Column f = std::isfinite(filled.front()) ? lp(filled) : filled;
+    for (std::size_t k = 0; k < f.size(); ++k)
+      if (!std::isfinite(c[k])) f[k] = c[k];
+    return keep(f);
+  };
+  s.Va = estimate("Va"), s.alpha = estimate("alpha"), s.beta = estimate("beta");
+  s.phi = estimate("phi", true), s.theta = estimate("theta"), s.psi = estimate("psi", true);
+  s.p_n = estimate("p_n"), s.p_e = estimate("p_e"), s.p_d = estimate("p_d");
+  s.u = estimate("u"), s.v = estimate("v"), s.w = estimate("w");
+  s.w_n = estimate("w_n"), s.w_e = estimate("w_e"), s.w_d = estimate("w_d");
+  const Column v = keep(valid);
+  s.valid.resize(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;
+  return s;
+}
+
+}  // namespace tern::core::sysid

@@ -1,0 +1,61 @@
+// core/apps/sysid/flight_data.hpp: a flight's measurements on one time base, as system
+// identification and model validation read them (Klein and Morelli, *Aircraft System
+// Identification*, ch. 10: data compatibility and conditioning before the regression).
+//
+// What comes from where (the two-step method: the estimator first, then the model):
+//   LOG/topics/imu.csv        specific force a (accelerometer) and angular rate (gyro), body FRD
+//   LOG/topics/actuators.csv  the surfaces' and throttle's commands (docs/sensor-log.md)
+//   EST/topics/state.csv      the estimator's attitude, gyro bias, air data (Va, alpha, beta from
+//                             the wind triangle), wind and position: a `tern replay` of LOG at
+//                             log level sysid (the state at every message), or LOG itself
+// The time base is the IMU's. At each IMU sample the command in force is the last actuators row at
+// or before it (a command that changes between two IMU samples counts from the next), passed
+// through the prior's first-order servo lag (servos.tau). The estimate is interpolated linearly
+// (angles unwrapped), never across a gap longer than 1 s. Every channel is then low-passed by the
+// same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear
+// relation between channels holds after filtering as before it; the angular acceleration is the
+// central difference of the filtered rate; then the samples are decimated to `rate_hz`.
+//
+// Units SI, angles rad, body frame FRD, NED. Errors: ConfigError, one line naming the file
+// (a missing table, a column it lacks, fewer than two seconds of estimate).
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+namespace tern::core::sysid {
+
+struct FlightSeriesOptions {
+  double servo_tau = 0.0;   ///< s, first-order lag from command to deflection (0: none)
+  double filter_hz = 10.0;  ///< Hz, cut-off of the zero-phase low-pass (0: no filter)
+  double rate_hz = 50.0;    ///< Hz, rate of the series after decimation (0: the IMU's)
+};
+
+/// One vector per channel, all of length size(); sample k of each belongs to time t[k].
+struct FlightSeries {
+  std::vector<double> t;                       ///< s, log time
+  std::vector<double> a_x, a_y, a_z;           ///< specific force, body FRD, m/s^2
+  std::vector<double> p, q, r;                 ///< body rates, gyro less the estimated bias, rad/s
+  std::vector<double> p_dot, q_dot, r_dot;     ///< angular acceleration, rad/s^2
+  std::vector<double> delta_a, delta_e, delta_r;  ///< surface deflections (lagged commands), rad
+  std::vector<double> delta_t;                 ///< throttle, 0..1
+  std::vector<double> Va, alpha, beta;         ///< estimator's airspeed (m/s) and flow angles (rad)
+  std::vector<double> phi, theta, psi;         ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
+  std::vector<double> p_n, p_e, p_d;           ///< estimator's position NED from its origin, m
+  std::vector<double> u, v, w;                 ///< estimator's ground velocity, body FRD, m/s
+  std::vector<double> w_n, w_e, w_d;           ///< estimator's wind, NED, m/s
+  std::vector<unsigned char> valid;            ///< 1 where the estimate was valid and interpolated
+  std::size_t size() const { return t.size(); }
+};
+
+/// Reads and conditions the series (header). `log_dir` holds imu.csv and actuators.csv under
+/// topics/, `estimate_dir` state.csv under topics/ (the two may be the same run).
+FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
+                                const FlightSeriesOptions& options);
+
+/// A second-order Butterworth low-pass at `cutoff_hz` for samples `dt_s` apart, run forward and
+/// backward over `x` (zero phase, magnitude squared). The ends start from the first and last
+/// values. Used for every channel alike; exposed for tests.
+std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cutoff_hz, double dt_s);
+
+}  // namespace tern::core::sysid
