@@ -14,6 +14,7 @@ Command add_check_command(CLI::App& app);    ///< check_command.cpp: validate a 
 Command add_plugins_command(CLI::App& app);  ///< plugins_command.cpp: the plugins in the search path
 Command add_replay_command(CLI::App& app);   ///< replay_command.cpp: an estimator over a flight log's sensors
 Command add_import_command(CLI::App& app);   ///< import_command.cpp: another project's flight log into a sensor log
+Command add_sysid_command(CLI::App& app);    ///< sysid_command.cpp: the aircraft's coefficients from a flight log
 Command add_export_command(CLI::App& app);   ///< export_command.cpp: a flight's MCAP log as CSV, or recovered
 Command add_tune_command(CLI::App& app);     ///< tune_command.cpp: a step-response test of one loop
 Command add_params_command(CLI::App& app);   ///< params_command.cpp: every parameter of a mission

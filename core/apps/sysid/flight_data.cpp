@@ -132,8 +132,8 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const CsvTable imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
   const CsvTable act = read_table(log_dir / "topics" / "actuators.csv", {"t", "delta_a", "delta_e", "delta_r", "delta_t"},
                                   "the surfaces' commands are required (docs/sensor-log.md, actuators)");
-  const std::vector<std::string> state_names = {"t",     "valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha", "beta",
-                                                "p_n",   "p_e",   "p_d", "u",     "v",   "w",   "w_n", "w_e", "w_d"};
+  const std::vector<std::string> state_names = {"t",    "valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha",
+                                                "beta", "p_n",   "p_e", "p_d",   "u",   "v",   "w",   "w_n", "w_e", "w_d"};
   const CsvTable st = read_table(estimate_dir / "topics" / "state.csv", state_names, "the estimate (tern replay LOG) is required");
 
   const std::vector<std::size_t> rows = usable_imu_rows(imu, imu_names);
@@ -187,6 +187,13 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   s.p_n = estimate("p_n"), s.p_e = estimate("p_e"), s.p_d = estimate("p_d");
   s.u = estimate("u"), s.v = estimate("v"), s.w = estimate("w");
   s.w_n = estimate("w_n"), s.w_e = estimate("w_e"), s.w_d = estimate("w_d");
+  s.qbar = Column(s.t.size(), std::nan(""));
+  const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
+  if (std::filesystem::exists(pitot)) {
+    const CsvTable dp = read_table(pitot, {"t", "pressure"}, "");
+    Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
+    s.qbar = keep(lp(q));
+  }
   const Column v = keep(valid);
   s.valid.resize(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;

@@ -5,6 +5,9 @@
 // What comes from where (the two-step method: the estimator first, then the model):
 //   LOG/topics/imu.csv        specific force a (accelerometer) and angular rate (gyro), body FRD
 //   LOG/topics/actuators.csv  the surfaces' and throttle's commands (docs/sensor-log.md)
+//   LOG/topics/diff_pressure.csv (optional) the pitot's differential pressure: the dynamic
+//                             pressure the airframe met, gusts included (the estimator's Va, from
+//                             its steady wind, misses them)
 //   EST/topics/state.csv      the estimator's attitude, gyro bias, air data (Va, alpha, beta from
 //                             the wind triangle), wind and position: a `tern replay` of LOG at
 //                             log level sysid (the state at every message), or LOG itself
@@ -33,18 +36,19 @@ struct FlightSeriesOptions {
 
 /// One vector per channel, all of length size(); sample k of each belongs to time t[k].
 struct FlightSeries {
-  std::vector<double> t;                       ///< s, log time
-  std::vector<double> a_x, a_y, a_z;           ///< specific force, body FRD, m/s^2
-  std::vector<double> p, q, r;                 ///< body rates, gyro less the estimated bias, rad/s
-  std::vector<double> p_dot, q_dot, r_dot;     ///< angular acceleration, rad/s^2
+  std::vector<double> t;                          ///< s, log time
+  std::vector<double> a_x, a_y, a_z;              ///< specific force, body FRD, m/s^2
+  std::vector<double> p, q, r;                    ///< body rates, gyro less the estimated bias, rad/s
+  std::vector<double> p_dot, q_dot, r_dot;        ///< angular acceleration, rad/s^2
   std::vector<double> delta_a, delta_e, delta_r;  ///< surface deflections (lagged commands), rad
-  std::vector<double> delta_t;                 ///< throttle, 0..1
-  std::vector<double> Va, alpha, beta;         ///< estimator's airspeed (m/s) and flow angles (rad)
-  std::vector<double> phi, theta, psi;         ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
-  std::vector<double> p_n, p_e, p_d;           ///< estimator's position NED from its origin, m
-  std::vector<double> u, v, w;                 ///< estimator's ground velocity, body FRD, m/s
-  std::vector<double> w_n, w_e, w_d;           ///< estimator's wind, NED, m/s
-  std::vector<unsigned char> valid;            ///< 1 where the estimate was valid and interpolated
+  std::vector<double> delta_t;                    ///< throttle, 0..1
+  std::vector<double> Va, alpha, beta;            ///< estimator's airspeed (m/s) and flow angles (rad)
+  std::vector<double> qbar;                       ///< pitot differential pressure, Pa (NaN: no pitot in the log)
+  std::vector<double> phi, theta, psi;            ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
+  std::vector<double> p_n, p_e, p_d;              ///< estimator's position NED from its origin, m
+  std::vector<double> u, v, w;                    ///< estimator's ground velocity, body FRD, m/s
+  std::vector<double> w_n, w_e, w_d;              ///< estimator's wind, NED, m/s
+  std::vector<unsigned char> valid;               ///< 1 where the estimate was valid and interpolated
   std::size_t size() const { return t.size(); }
 };
 

@@ -1,0 +1,92 @@
+// core/apps/commands/sysid_command.cpp: `tern sysid LOG --aircraft PRIOR --out DIR`: the uavbook's
+// aerodynamic coefficients from a flight log (docs/system-identification.md): tern's estimator
+// replays the log (attitude, wind, alpha, beta), then sysid/identify.hpp's regressions;
+// sysid/sysid_output.hpp's files.
+#include <cstdio>
+#include <memory>
+
+#include <fmt/format.h>
+
+#include "commands/commands.hpp"
+#include "commands/estimator_replay.hpp"
+#include "config/error.hpp"
+#include "sysid/flight_data.hpp"
+#include "sysid/identify.hpp"
+#include "sysid/sysid_output.hpp"
+
+namespace tern::core {
+
+namespace {
+
+struct SysidOptionsCli {
+  std::string log_dir, aircraft, out_dir, estimate, flow_angles = "accelerometer";
+  std::vector<double> band = {0.1, 2.0};
+  double trim_window = 4.0, filter_hz = 10.0, rate_hz = 50.0;
+  std::vector<std::string> sets;
+};
+
+/// The estimate: a given run, else tern's estimator over the log at log level sysid.
+fs::path estimate_of(const SysidOptionsCli& o) {
+  if (!o.estimate.empty()) return o.estimate;
+  EstimatorReplay req;
+  req.log_dir = o.log_dir;
+  req.out_dir = (fs::path(o.out_dir) / "replay").string();
+  req.sets = o.sets;
+  req.level = LogLevel::sysid;
+  req.quiet = true;
+  const FlightResult r = replay_estimator(req);
+  return r.run_dir;
+}
+
+int run_sysid(const SysidOptionsCli& o) {
+  const Aircraft prior = load_aircraft(o.aircraft);
+  if (o.band.size() != 2 || !(o.band[0] > 0.0) || !(o.band[1] > o.band[0]))
+    throw ConfigError(fmt::format("--band: {} .. {} Hz: expected 0 < LO < HI", o.band.front(), o.band.back()));
+  if (o.flow_angles != "accelerometer" && o.flow_angles != "estimator")
+    throw ConfigError(fmt::format("--flow-angles: '{}': expected accelerometer or estimator", o.flow_angles));
+  const fs::path estimate = estimate_of(o);
+  sysid::FlightSeriesOptions so;
+  so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
+  const sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, so);
+  sysid::SysidOptions io;
+  io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;
+  io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
+  const sysid::SysidResult r = sysid::identify(series, prior, io);
+  const std::string options =
+      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s", o.band[0],
+                  o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau);
+  sysid::write_sysid_outputs(r, {o.log_dir, o.aircraft, estimate.string(), options}, o.out_dir);
+  std::printf("%s", sysid::format_sysid_table(r).c_str());
+  for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+  std::printf("wrote %s/aircraft.yaml, sysid.json, index.html\n", o.out_dir.c_str());
+  return 0;
+}
+
+}  // namespace
+
+Command add_sysid_command(CLI::App& app) {
+  auto o = std::make_shared<SysidOptionsCli>();
+  auto* c = app.add_subcommand("sysid",
+                               "identify the aircraft's aerodynamic coefficients from a flight log with actuators "
+                               "(docs/system-identification.md)");
+  c->add_option("log_dir", o->log_dir, "a sensor log with actuators (a tern flight log, or tern import's output)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--aircraft", o->aircraft, "the prior aircraft file: mass, inertia, geometry, propulsion and the coefficients' priors")
+      ->required()
+      ->check(CLI::ExistingFile);
+  c->add_option("--out", o->out_dir, "directory for aircraft.yaml, sysid.json and index.html")->required();
+  c->add_option("--estimate", o->estimate, "a tern replay run of the log to take the estimate from (default: replay it now)")
+      ->check(CLI::ExistingDirectory);
+  c->add_option("--band", o->band, "LO HI: the frequency band of the moment regressions, Hz (default 0.1 2)")->expected(2);
+  c->add_option("--trim-window", o->trim_window, "s: window of the trim regressions (lift, drag, bias terms; default 4)");
+  c->add_option("--flow-angles", o->flow_angles,
+                "accelerometer (alpha, beta from lift and side force; default) or estimator (the wind triangle's)");
+  c->add_option("--filter-hz", o->filter_hz, "Hz: the zero-phase low-pass every channel gets (default 10)");
+  c->add_option("--rate", o->rate_hz, "Hz: samples after decimation (default 50)");
+  c->add_option("--set", o->sets, "INSTANCE.PARAM=VALUE: an estimator parameter for the replay, as tern replay --set")
+      ->type_name("INSTANCE.PARAM=VALUE");
+  return {c, [o] { return run_sysid(*o); }};
+}
+
+}  // namespace tern::core

@@ -1,0 +1,448 @@
+// core/apps/sysid/identify.cpp: the equation-error identification (identify.hpp).
+#include "sysid/identify.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "sysid/regression.hpp"
+#include "tern/math.hpp"
+#include "tern_sim_aero/model.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+using Col = std::vector<double>;
+using Member = double AeroCoefficients::*;
+
+/// When a regressor counts as excited: `peak` of |signal| (rates) or the standard deviation of
+/// signal less its trim-window means (angles, surfaces) above `threshold`; `what` words the
+/// failure ("pitch rate never above 5 deg/s").
+struct Excitation {
+  const Col* signal = nullptr;
+  bool peak = false;
+  double threshold = 0.0;
+  std::string what;
+};
+
+/// One term of a model: coefficient * regressor.
+struct Term {
+  std::string name;
+  Member member = nullptr;
+  const Col* x = nullptr;
+  Excitation excitation;
+};
+
+/// The airborne stretches (consecutive samples of the series) and the trim windows in them.
+struct Layout {
+  std::vector<std::pair<std::size_t, std::size_t>> segments;  ///< [begin, end) of the samples
+  std::vector<std::vector<std::size_t>> windows;              ///< samples of each trim window
+};
+
+Layout layout_of(const AeroSamples& a, double window_s, double min_segment_s) {
+  Layout L;
+  std::size_t begin = 0;
+  for (std::size_t k = 1; k <= a.size(); ++k) {
+    if (k < a.size() && a.source[k] == a.source[k - 1] + 1) continue;
+    if (a.t[k - 1] - a.t[begin] >= min_segment_s) L.segments.emplace_back(begin, k);
+    // trim windows over every stretch, short ones too
+    for (std::size_t w = begin; w < k;) {
+      std::vector<std::size_t> idx;
+      for (; w < k && a.t[w] - a.t[idx.empty() ? w : idx.front()] < window_s; ++w) idx.push_back(w);
+      if (a.t[idx.back()] - a.t[idx.front()] >= 0.75 * window_s) L.windows.push_back(std::move(idx));
+    }
+    begin = k;
+  }
+  return L;
+}
+
+Col window_means(const Col& x, const Layout& L) {
+  Col m;
+  for (const auto& w : L.windows) {
+    double s = 0.0;
+    for (const std::size_t k : w) s += x[k];
+    m.push_back(s / static_cast<double>(w.size()));
+  }
+  return m;
+}
+
+/// x less its trim-window means (samples outside every window: 0).
+Col detrended(const Col& x, const Layout& L) {
+  Col d(x.size(), 0.0);
+  const Col m = window_means(x, L);
+  for (std::size_t i = 0; i < L.windows.size(); ++i)
+    for (const std::size_t k : L.windows[i]) d[k] = x[k] - m[i];
+  return d;
+}
+
+double rms(const Col& x) {
+  double s = 0.0;
+  for (const double v : x) s += v * v;
+  return x.empty() ? 0.0 : std::sqrt(s / static_cast<double>(x.size()));
+}
+
+double peak(const Col& x) {
+  double m = 0.0;
+  for (const double v : x) m = std::max(m, std::abs(v));
+  return m;
+}
+
+/// The frequency-domain rows of every signal: each segment at the multiples of 1/T in the band.
+class Spectra {
+ public:
+  Spectra(const AeroSamples& a, const Layout& L, double lo, double hi) : a_(a), L_(L), lo_(lo), hi_(hi) {}
+  const Eigen::VectorXcd& of(const Col& x) {
+    auto it = cache_.find(&x);
+    if (it != cache_.end()) return it->second;
+    std::vector<Eigen::VectorXcd> parts;
+    Eigen::Index n = 0;
+    for (const auto& [b, e] : L_.segments) {
+      const Col t(a_.t.begin() + static_cast<std::ptrdiff_t>(b), a_.t.begin() + static_cast<std::ptrdiff_t>(e));
+      const Col v(x.begin() + static_cast<std::ptrdiff_t>(b), x.begin() + static_cast<std::ptrdiff_t>(e));
+      const double T = t.back() - t.front();
+      Col f;
+      for (int m = static_cast<int>(std::ceil(lo_ * T)); m / T <= hi_; ++m) f.push_back(m / T);
+      parts.push_back(fourier(v, t, f));
+      n += parts.back().size();
+    }
+    Eigen::VectorXcd all(n);
+    Eigen::Index at = 0;
+    for (const auto& p : parts) all.segment(at, p.size()) = p, at += p.size();
+    return cache_.emplace(&x, std::move(all)).first->second;
+  }
+
+ private:
+  const AeroSamples& a_;
+  const Layout& L_;
+  double lo_, hi_;
+  std::map<const Col*, Eigen::VectorXcd> cache_;
+};
+
+struct Context {
+  const AeroSamples& a;
+  const Layout& L;
+  const SysidOptions& o;
+  Spectra spectra;
+  AeroCoefficients& coef;  ///< the identified model so far
+  const AeroCoefficients& prior;
+  SysidResult& result;
+};
+
+CoefficientEstimate& record(Context& c, const Term& t, const std::string& method) {
+  CoefficientEstimate e;
+  e.name = t.name;
+  e.prior = c.prior.*t.member;
+  e.estimate = c.coef.*t.member;
+  e.method = method;
+  c.result.coefficients.push_back(e);
+  return c.result.coefficients.back();
+}
+
+/// Why a term's regressor was not excited, or "".
+std::string unexcited(Context& c, const Term& t) {
+  const Excitation& x = t.excitation;
+  if (x.signal == nullptr) return "";
+  const double level = x.peak ? peak(*x.signal) : rms(detrended(*x.signal, c.L));
+  return level > x.threshold ? "" : x.what;
+}
+
+/// Why each free term fails after a fit (collinear, poorly determined), by name.
+std::map<std::string, std::string> failures(Context& c, const std::vector<Term>& free, const LsEstimate& e, const Eigen::MatrixXd& R) {
+  std::map<std::string, std::string> bad;
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    for (std::size_t i = 0; i < free.size(); ++i)
+      if (i != j && std::abs(R(J, static_cast<Eigen::Index>(i))) > c.o.max_correlation) {
+        bad[free[j].name] = fmt::format("collinear with {} (r = {:.2f})", free[i].name, R(J, static_cast<Eigen::Index>(i)));
+        break;
+      }
+    if (!bad.count(free[j].name) && e.std_error[J] > c.o.max_relative_error * std::abs(e.theta[J]))
+      bad[free[j].name] = fmt::format("poorly determined: {:.3g} +- {:.2g}", e.theta[J], e.std_error[J]);
+  }
+  return bad;
+}
+
+/// z = sum of terms, in the frequency domain over the band. Terms not excited, collinear or poorly
+/// determined keep the prior (moved to the left side) and the others are fitted again.
+void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms) {
+  std::vector<Term> free;
+  std::map<std::string, std::string> why;
+  for (const Term& t : terms) {
+    const std::string u = unexcited(c, t);
+    if (u.empty())
+      free.push_back(t);
+    else
+      why[t.name] = u;
+  }
+  while (!free.empty()) {
+    Eigen::VectorXcd zf = c.spectra.of(z);
+    for (const Term& t : terms)
+      if (why.count(t.name)) zf -= (c.prior.*t.member) * c.spectra.of(*t.x);
+    Eigen::MatrixXcd X(zf.size(), static_cast<Eigen::Index>(free.size()));
+    for (std::size_t j = 0; j < free.size(); ++j) X.col(static_cast<Eigen::Index>(j)) = c.spectra.of(*free[j].x);
+    if (X.rows() <= X.cols())
+      throw std::runtime_error(fmt::format("{}: too few frequency rows in {}..{} Hz", axis, c.o.band_lo_hz, c.o.band_hi_hz));
+    const LsEstimate e = least_squares_frequency(X, zf);
+    const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(X));
+    if (bad.empty()) {
+      c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows});
+      for (std::size_t j = 0; j < free.size(); ++j) {
+        c.coef.*free[j].member = e.theta[static_cast<Eigen::Index>(j)];
+        CoefficientEstimate& r = record(c, free[j], "band");
+        r.std_error = e.std_error[static_cast<Eigen::Index>(j)];
+        r.identified = true;
+      }
+      break;
+    }
+    std::vector<Term> kept;
+    for (const Term& t : free)
+      if (bad.count(t.name))
+        why[t.name] = bad.at(t.name);
+      else
+        kept.push_back(t);
+    free = kept;
+  }
+  for (const Term& t : terms)
+    if (why.count(t.name)) {
+      c.coef.*t.member = c.prior.*t.member;
+      record(c, t, "band").note = why[t.name];
+    }
+}
+
+/// A bias term from the trim windows: mean of z less the model's other terms.
+void bias_fit(Context& c, const std::string& name, Member member, const Col& z, const std::vector<Term>& terms) {
+  Col resid(z);
+  for (const Term& t : terms)
+    for (std::size_t k = 0; k < z.size(); ++k) resid[k] -= (c.coef.*t.member) * (*t.x)[k];
+  const Col m = window_means(resid, c.L);
+  Eigen::MatrixXd X = Eigen::MatrixXd::Ones(static_cast<Eigen::Index>(m.size()), 1);
+  const Eigen::VectorXd zz = Eigen::Map<const Eigen::VectorXd>(m.data(), static_cast<Eigen::Index>(m.size()));
+  const LsEstimate e = least_squares(X, zz, 3);
+  c.coef.*member = e.theta[0];
+  CoefficientEstimate& r = record(c, {name, member, nullptr, {}}, "trim");
+  r.std_error = e.std_error[0];
+  r.identified = true;
+}
+
+/// Time-domain least squares on the trim windows' means: z = X theta. Returns the estimate.
+LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& columns) {
+  const Col zm = window_means(z, c.L);
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(zm.size()), static_cast<Eigen::Index>(columns.size()));
+  for (std::size_t j = 0; j < columns.size(); ++j) {
+    const Col m = window_means(*columns[j], c.L);
+    for (std::size_t i = 0; i < m.size(); ++i) X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m[i];
+  }
+  if (X.rows() <= X.cols()) throw std::runtime_error(fmt::format("too few trim windows ({}) of {} s", X.rows(), c.o.trim_window_s));
+  return least_squares(X, Eigen::Map<const Eigen::VectorXd>(zm.data(), static_cast<Eigen::Index>(zm.size())), 3);
+}
+
+double stddev(const Col& x) {
+  double m = 0.0;
+  for (const double v : x) m += v;
+  m /= static_cast<double>(x.size());
+  double s = 0.0;
+  for (const double v : x) s += (v - m) * (v - m);
+  return std::sqrt(s / static_cast<double>(x.size()));
+}
+
+/// Lift from the trim: C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the window
+/// means (gusts average out), the pitch-rate and elevator terms at the prior.
+void lift(Context& c) {
+  const AeroSamples& a = c.a;
+  Col z(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) z[k] = a.C_L[k] - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k];
+  const Col ones(a.size(), 1.0);
+  const double spread = stddev(window_means(a.alpha, c.L));
+  const Term t0{"C_L_0", &AeroCoefficients::C_L_0, &ones, {}}, ta{"C_L_alpha", &AeroCoefficients::C_L_alpha, &a.alpha, {}};
+  if (spread < kRadPerDeg) {
+    const std::string why = fmt::format("alpha's trim never spread beyond {:.2f} deg (fly several airspeeds)", spread * kDegPerRad);
+    record(c, t0, "trim").note = why;
+    record(c, ta, "trim").note = why;
+  } else {
+    const LsEstimate e = trim_fit(c, z, {&ones, &a.alpha});
+    c.coef.C_L_0 = e.theta[0], c.coef.C_L_alpha = e.theta[1];
+    c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
+    for (int j = 0; j < 2; ++j) {
+      CoefficientEstimate& r = record(c, j == 0 ? t0 : ta, "trim");
+      r.std_error = e.std_error[j];
+      r.identified = true;
+    }
+  }
+  for (const Term& t :
+       {Term{"C_L_q", &AeroCoefficients::C_L_q, nullptr, {}}, Term{"C_L_delta_e", &AeroCoefficients::C_L_delta_e, nullptr, {}}})
+    record(c, t, "trim").note = "kept: without a vane, the lift's alpha comes from the lift itself";
+}
+
+/// alpha where the accelerometers' lift says it was (identify.hpp, step 2).
+Col alpha_from_lift(const Context& c) {
+  const AeroSamples& a = c.a;
+  Col alpha(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+    alpha[k] = (a.C_L[k] - c.coef.C_L_0 - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k]) / c.coef.C_L_alpha;
+  return alpha;
+}
+
+/// The polar from the trim: C_D - C_D_q q^ - C_D_delta_e delta_e = C_D_p + C_Lw^2 / (pi e AR) with
+/// C_Lw = C_L_0 + C_L_alpha alpha (sim_aero's drag_coefficient in the linear range).
+void drag(Context& c, const Col& alpha, double AR) {
+  const AeroSamples& a = c.a;
+  Col z(a.size()), cl2(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    z[k] = a.C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
+    const double CLw = c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k];
+    cl2[k] = CLw * CLw;
+  }
+  const Col ones(a.size(), 1.0);
+  const Term tp{"C_D_p", &AeroCoefficients::C_D_p, &ones, {}};
+  const LsEstimate e = trim_fit(c, z, {&ones, &cl2});
+  c.result.fits.push_back({"drag", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
+  c.coef.C_D_p = e.theta[0];
+  CoefficientEstimate& r = record(c, tp, "trim");
+  r.std_error = e.std_error[0];
+  r.identified = true;
+  // the Oswald factor e = 1 / (pi AR k): kept in the result's aircraft, reported as a note
+  const double k = e.theta[1], prior_e = c.result.aircraft.e;
+  if (k > 0.0 && e.std_error[1] < c.o.max_relative_error * k) {
+    c.result.aircraft.e = 1.0 / (kPi * AR * k);
+    c.result.notes.push_back(fmt::format("e (Oswald factor): {:.3f} (prior {:.3f}), from the polar's slope {:.4f} +- {:.2g}",
+                                         c.result.aircraft.e, prior_e, k, e.std_error[1]));
+  } else {
+    c.result.notes.push_back(
+        fmt::format("e (Oswald factor): kept, the polar's slope {:.4f} +- {:.2g} is not determined", k, e.std_error[1]));
+  }
+  for (const Term& t :
+       {Term{"C_D_q", &AeroCoefficients::C_D_q, nullptr, {}}, Term{"C_D_delta_e", &AeroCoefficients::C_D_delta_e, nullptr, {}}})
+    record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
+}
+
+/// The excitation tests (identify.hpp), worded for the log.
+struct Signals {
+  Excitation alpha, beta, p, q, r, delta_a, delta_e, delta_r;
+};
+
+Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
+  const double angle = 0.3 * kRadPerDeg, rate = 5.0 * kRadPerDeg;
+  return {{&alpha, false, angle, "alpha never moved more than 0.3 deg about its trim"},
+          {&beta, false, angle, "sideslip never moved more than 0.3 deg about its trim"},
+          {&a.p, true, 2.0 * rate, "roll rate never above 10 deg/s"},
+          {&a.q, true, rate, "pitch rate never above 5 deg/s"},
+          {&a.r, true, rate, "yaw rate never above 5 deg/s"},
+          {&a.delta_a, false, angle, "aileron never moved more than 0.3 deg about its trim"},
+          {&a.delta_e, false, angle, "elevator never moved more than 0.3 deg about its trim"},
+          {&a.delta_r, false, angle, "rudder never moved more than 0.3 deg about its trim"}};
+}
+
+using M = AeroCoefficients;
+
+/// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r).
+std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member, 5>& m, const AeroSamples& a, const Col& beta,
+                                const Signals& x) {
+  return {{axis + "_beta", m[0], &beta, x.beta},
+          {axis + "_p", m[1], &a.p_hat, x.p},
+          {axis + "_r", m[2], &a.r_hat, x.r},
+          {axis + "_delta_a", m[3], &a.delta_a, x.delta_a},
+          {axis + "_delta_r", m[4], &a.delta_r, x.delta_r}};
+}
+
+/// beta where the side force says it was, once C_Y is known (identify.hpp, step 2); with
+/// `from_force` false, the estimator's.
+Col beta_from_side_force(const Context& c, bool from_force) {
+  const AeroSamples& a = c.a;
+  if (!from_force) return a.beta;
+  const M& m = c.coef;
+  Col beta(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k)
+    beta[k] =
+        (a.C_Y[k] - m.C_Y_0 - m.C_Y_p * a.p_hat[k] - m.C_Y_r * a.r_hat[k] - m.C_Y_delta_a * a.delta_a[k] - m.C_Y_delta_r * a.delta_r[k]) /
+        m.C_Y_beta;
+  return beta;
+}
+
+void drag_at_trim(SysidResult& r, const Aircraft& prior, const Col& alpha, const AeroSamples& a) {
+  double al = 0.0, de = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) al += alpha[k], de += a.delta_e[k];
+  al /= static_cast<double>(a.size()), de /= static_cast<double>(a.size());
+  r.C_D_trim_prior = sim::drag_coefficient(prior, al) + prior.aero.C_D_delta_e * de;
+  r.C_D_trim = sim::drag_coefficient(r.aircraft, al) + r.aircraft.aero.C_D_delta_e * de;
+  const double C_L = sim::lift_coefficient(r.aircraft, al) + r.aircraft.aero.C_L_delta_e * de;
+  r.C_D_per_deg = C_L * kRadPerDeg / r.C_D_trim;
+}
+
+/// Each axis's measured and predicted coefficient over the longest stretch.
+std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const AeroCoefficients& m, const Aircraft& ac, const Col& alpha,
+                                    const Col& beta) {
+  std::pair<std::size_t, std::size_t> longest = L.segments.front();
+  for (const auto& s : L.segments)
+    if (s.second - s.first > longest.second - longest.first) longest = s;
+  std::vector<AxisSeries> out;
+  for (const char* axis : {"C_L", "C_D", "C_Y", "C_ell", "C_m", "C_n"}) out.push_back({axis, {}, {}, {}});
+  for (std::size_t k = longest.first; k < longest.second; ++k) {
+    const double al = alpha[k], be = beta[k], ph = a.p_hat[k], qh = a.q_hat[k], rh = a.r_hat[k];
+    const double da = a.delta_a[k], de = a.delta_e[k], dr = a.delta_r[k];
+    const double predicted[6] = {
+        m.C_L_0 + m.C_L_alpha * al + m.C_L_q * qh + m.C_L_delta_e * de,
+        sim::drag_coefficient(ac, al) + m.C_D_q * qh + m.C_D_delta_e * de,
+        m.C_Y_0 + m.C_Y_beta * be + m.C_Y_p * ph + m.C_Y_r * rh + m.C_Y_delta_a * da + m.C_Y_delta_r * dr,
+        m.C_ell_0 + m.C_ell_beta * be + m.C_ell_p * ph + m.C_ell_r * rh + m.C_ell_delta_a * da + m.C_ell_delta_r * dr,
+        m.C_m_0 + m.C_m_alpha * al + m.C_m_q * qh + m.C_m_delta_e * de,
+        m.C_n_0 + m.C_n_beta * be + m.C_n_p * ph + m.C_n_r * rh + m.C_n_delta_a * da + m.C_n_delta_r * dr};
+    const double measured[6] = {a.C_L[k], a.C_D[k], a.C_Y[k], a.C_ell[k], a.C_m[k], a.C_n[k]};
+    for (std::size_t i = 0; i < 6; ++i) {
+      out[i].t.push_back(a.t[k]);
+      out[i].measured.push_back(measured[i]);
+      out[i].predicted.push_back(predicted[i]);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+SysidResult identify(const FlightSeries& series, const Aircraft& prior, const SysidOptions& o) {
+  const AeroSamples a = aero_samples(series, prior, o.airborne);
+  if (a.size() < 2) throw std::runtime_error("no airborne samples: the estimate never valid above the height floor");
+  const Layout L = layout_of(a, o.trim_window_s, o.min_segment_s);
+  if (L.segments.empty())
+    throw std::runtime_error(
+        fmt::format("no airborne stretch of {} s or more (the longest flight without a gap is shorter)", o.min_segment_s));
+  SysidResult r;
+  r.aircraft = prior;
+  r.samples = a.size(), r.segments = L.segments.size();
+  for (const auto& [b, e] : L.segments) r.airborne_s += a.t[e - 1] - a.t[b];
+  AeroCoefficients coef = prior.aero;
+  Context c{a, L, o, Spectra(a, L, o.band_lo_hz, o.band_hi_hz), coef, prior.aero, r};
+  lift(c);
+  const bool accel = o.flow_angles == FlowAngles::accelerometer;
+  const Col alpha = accel ? alpha_from_lift(c) : a.alpha;
+  drag(c, alpha, prior.AR());
+  Signals x = signals(a, alpha, a.beta);
+  const std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x);
+  band_fit(c, "side force", a.C_Y, side);
+  bias_fit(c, "C_Y_0", &M::C_Y_0, a.C_Y, side);
+  const Col beta = beta_from_side_force(c, accel);
+  x = signals(a, alpha, beta);
+  const std::vector<Term> pitch = {{"C_m_alpha", &M::C_m_alpha, &alpha, x.alpha},
+                                   {"C_m_q", &M::C_m_q, &a.q_hat, x.q},
+                                   {"C_m_delta_e", &M::C_m_delta_e, &a.delta_e, x.delta_e}};
+  band_fit(c, "pitch", a.C_m, pitch);
+  bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
+  const std::vector<Term> roll =
+      lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x);
+  band_fit(c, "roll", a.C_ell, roll);
+  bias_fit(c, "C_ell_0", &M::C_ell_0, a.C_ell, roll);
+  const std::vector<Term> yaw = lateral_terms("C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, a, beta, x);
+  band_fit(c, "yaw", a.C_n, yaw);
+  bias_fit(c, "C_n_0", &M::C_n_0, a.C_n, yaw);
+  r.aircraft.aero = coef;
+  drag_at_trim(r, prior, alpha, a);
+  r.series = axis_series(a, L, coef, r.aircraft, alpha, beta);
+  for (const auto& e : r.coefficients)
+    if (!e.identified) r.notes.push_back(fmt::format("{}: not identifiable: {}; the prior {:.4g} kept", e.name, e.note, e.prior));
+  return r;
+}
+
+}  // namespace tern::core::sysid

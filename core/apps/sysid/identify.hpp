@@ -1,0 +1,94 @@
+// core/apps/sysid/identify.hpp: the uavbook's aerodynamic coefficients (Beard and McLain, *Small
+// Unmanned Aircraft*, ch. 4: C_L_*, C_D_*, C_Y_*, C_ell_*, C_m_*, C_n_*) from a flight, by the
+// equation-error method (Klein and Morelli, *Aircraft System Identification*, 2006, ch. 5 and 7),
+// after the estimator has given attitude, wind, Va, alpha and beta (the two-step method).
+//
+// Built for real air. In turbulence the wind-triangle alpha and beta miss the gusts (the
+// estimator's wind is steady): errors as large as what a manoeuvre moves them, which bias plain
+// least squares by tens of per cent while its bounds read a few. So:
+//  1. Lift and drag from the trim (time domain, the means of windows of trim_window_s): the gusts
+//     average out over a window while alpha spans the flight's airspeeds. C_L_0 and C_L_alpha,
+//     then the polar's C_D_p and Oswald factor e on the lift.
+//  2. alpha from where it is observable: the accelerometers' lift, alpha = (C_L - C_L_0 - C_L_q q^ -
+//     C_L_delta_e delta_e) / C_L_alpha (the flow the wing met, gusts included); beta likewise from
+//     the side force once C_Y is known (flow_angles: accelerometer; estimator: the wind triangle's).
+//  3. The moments and the side force in the frequency domain, over the band the excitation filled
+//     (band_lo_hz .. band_hi_hz, each airborne stretch of min_segment_s or more transformed at the
+//     multiples of 1/T in the band): the trim, slow drifts and the estimator's wind fall out.
+//     Bias terms (C_m_0, C_Y_0, C_ell_0, C_n_0) from the trim windows' means with the rest fixed.
+// Every sample pairs the command in force when it was taken, through the servo lag (flight_data).
+//
+// For each coefficient: the estimate, its standard error (the larger of the white-residual
+// Cramer-Rao bound and the one that accounts for coloured residuals: the time domain's residual
+// autocorrelation, the frequency domain's per-frequency residual power), the prior, and whether the
+// data identified it. A coefficient is not identified (the prior is kept, with one line saying
+// why) when its regressor was not excited (e.g. "pitch rate never above 5 deg/s"), when it is
+// collinear with another regressor (|r| > max_correlation), or when its standard error exceeds
+// max_relative_error of the estimate.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sysid/aero_samples.hpp"
+#include "sysid/flight_data.hpp"
+#include "tern/aircraft.hpp"
+
+namespace tern::core::sysid {
+
+enum class FlowAngles { accelerometer, estimator };
+
+struct SysidOptions {
+  AirborneFilter airborne;
+  double band_lo_hz = 0.1;      ///< Hz, lowest frequency of the frequency-domain regressions
+  double band_hi_hz = 2.0;      ///< Hz, highest
+  double trim_window_s = 4.0;   ///< s, window of the trim (lift, drag, bias) regressions
+  double min_segment_s = 10.0;  ///< s, shortest airborne stretch transformed
+  FlowAngles flow_angles = FlowAngles::accelerometer;
+  double max_correlation = 0.95;    ///< |r| between two regressors beyond which both are suspect
+  double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
+};
+
+struct CoefficientEstimate {
+  std::string name;  ///< the aircraft file's key, e.g. "C_m_q"
+  double prior = 0.0;
+  double estimate = 0.0;   ///< the identified value (the prior when not identified)
+  double std_error = 0.0;  ///< 1 sigma (0 when not identified)
+  bool identified = false;
+  std::string method;  ///< "trim" or "band"
+  std::string note;    ///< why not identified, or "" when it was
+};
+
+/// How well one regression's model fits its measured coefficient.
+struct AxisFit {
+  std::string axis;    ///< "lift", "drag", "side force", "roll", "pitch", "yaw"
+  std::string domain;  ///< "trim" (time domain, window means) or "band" (frequency domain)
+  double r_squared = 0.0;
+  double rms_residual = 0.0;  ///< coefficient units (band: per frequency row)
+  std::size_t rows = 0;
+};
+
+/// A measured coefficient and the identified model's over the longest airborne stretch (plots).
+struct AxisSeries {
+  std::string axis;  ///< "C_L", "C_D", "C_Y", "C_ell", "C_m", "C_n"
+  std::vector<double> t, measured, predicted;
+};
+
+struct SysidResult {
+  Aircraft aircraft;  ///< the prior with the identified coefficients
+  std::vector<CoefficientEstimate> coefficients;
+  std::vector<AxisFit> fits;
+  std::size_t samples = 0;   ///< airborne samples used
+  std::size_t segments = 0;  ///< airborne stretches transformed
+  double airborne_s = 0.0;
+  double C_D_trim_prior = 0.0, C_D_trim = 0.0;  ///< drag at the flight's mean trim, prior and identified
+  double C_D_per_deg = 0.0;                     ///< how much 1 deg of alpha (or pitch) bias moves C_D at trim, fraction
+  std::vector<std::string> notes;               ///< one line each: what the log could not support, and why
+  std::vector<AxisSeries> series;
+};
+
+/// Identifies the coefficients (header). Throws std::runtime_error with one line when the flight
+/// cannot support any identification: no airborne samples, no stretch of min_segment_s.
+SysidResult identify(const FlightSeries& series, const Aircraft& prior, const SysidOptions& options);
+
+}  // namespace tern::core::sysid

@@ -1,0 +1,111 @@
+// core/apps/sysid/regression.cpp: least squares in the time and frequency domains (regression.hpp).
+#include "sysid/regression.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+
+#include "tern/math.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+void check_shapes(Eigen::Index rows, Eigen::Index z_rows, Eigen::Index cols) {
+  if (rows != z_rows) throw std::invalid_argument("least squares: X and z have different numbers of rows");
+  if (rows <= cols) throw std::invalid_argument("least squares: fewer rows than parameters");
+}
+
+Eigen::MatrixXd inverse_spd(const Eigen::MatrixXd& A) { return A.ldlt().solve(Eigen::MatrixXd::Identity(A.rows(), A.cols())); }
+
+}  // namespace
+
+LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag) {
+  check_shapes(X.rows(), z.rows(), X.cols());
+  const Eigen::Index n = X.rows(), p = X.cols();
+  const Eigen::MatrixXd D = inverse_spd(X.transpose() * X);
+  LsEstimate e;
+  e.rows = static_cast<std::size_t>(n);
+  e.theta = D * (X.transpose() * z);
+  e.residual = z - X * e.theta;
+  e.s2 = e.residual.squaredNorm() / static_cast<double>(n - p);
+  e.std_error_white = (e.s2 * D.diagonal()).cwiseSqrt();
+  // K&M eq. 5.81: the middle term sum_k R_vv(k) sum_i (x_i x_{i+k}^T + x_{i+k} x_i^T), k > 0
+  const Eigen::VectorXd& v = e.residual;
+  Eigen::MatrixXd M = v.squaredNorm() / static_cast<double>(n) * (X.transpose() * X);
+  const Eigen::Index lags = std::min<Eigen::Index>(static_cast<Eigen::Index>(max_lag), n - 1);
+  for (Eigen::Index k = 1; k <= lags; ++k) {
+    const double R = v.head(n - k).dot(v.tail(n - k)) / static_cast<double>(n);
+    const Eigen::MatrixXd C = X.topRows(n - k).transpose() * X.bottomRows(n - k);
+    M += R * (C + C.transpose());
+  }
+  const Eigen::MatrixXd cov = D * M * D;
+  e.std_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
+  const double zc = (z.array() - z.mean()).matrix().squaredNorm();
+  e.r_squared = zc > 0.0 ? 1.0 - v.squaredNorm() / zc : 0.0;
+  return e;
+}
+
+LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z) {
+  check_shapes(X.rows(), z.rows(), X.cols());
+  const Eigen::Index n = X.rows(), p = X.cols();
+  const Eigen::MatrixXd A = (X.adjoint() * X).real();
+  const Eigen::MatrixXd D = inverse_spd(A);
+  LsEstimate e;
+  e.rows = static_cast<std::size_t>(n);
+  e.theta = D * (X.adjoint() * z).real();
+  const Eigen::VectorXcd v = z - X * e.theta.cast<std::complex<double>>();
+  e.residual = v.cwiseAbs();
+  e.s2 = v.squaredNorm() / static_cast<double>(n - p);
+  e.std_error_white = (e.s2 * D.diagonal()).cwiseSqrt();
+  // residual power differing from frequency to frequency (coloured residuals): the sandwich
+  // D Re(X^H diag(|v|^2) X) D, scaled by n / (n - p) as s^2 is
+  const Eigen::MatrixXcd Xw = v.cwiseAbs2().cast<std::complex<double>>().asDiagonal() * X;
+  const Eigen::MatrixXd M = (X.adjoint() * Xw).real() * (static_cast<double>(n) / static_cast<double>(n - p));
+  e.std_error = (D * M * D).diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
+  const double zz = z.squaredNorm();
+  e.r_squared = zz > 0.0 ? 1.0 - v.squaredNorm() / zz : 0.0;
+  return e;
+}
+
+Eigen::VectorXcd fourier(const std::vector<double>& x, const std::vector<double>& t, const std::vector<double>& f_hz) {
+  if (x.size() != t.size()) throw std::invalid_argument("fourier: x and t differ in length");
+  Eigen::VectorXcd out = Eigen::VectorXcd::Zero(static_cast<Eigen::Index>(f_hz.size()));
+  if (x.size() < 2) return out;
+  const double dt = (t.back() - t.front()) / static_cast<double>(t.size() - 1);
+  for (std::size_t i = 0; i < f_hz.size(); ++i) {
+    // the phasor advanced by a recurrence per sample (exp(-j w dt) once), renormalised now and then
+    const double w = 2.0 * kPi * f_hz[i];
+    const std::complex<double> step = std::polar(1.0, -w * dt);
+    std::complex<double> ph = std::polar(1.0, -w * t.front()), sum = 0.0;
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      sum += x[k] * ph;
+      ph *= step;
+      if ((k & 1023) == 1023) ph /= std::abs(ph);
+    }
+    out[static_cast<Eigen::Index>(i)] = sum * dt;
+  }
+  return out;
+}
+
+Eigen::MatrixXd column_correlation(const Eigen::MatrixXd& X) {
+  Eigen::MatrixXd C = X.rowwise() - X.colwise().mean();
+  const Eigen::VectorXd norms = C.colwise().norm();
+  Eigen::MatrixXd R = C.transpose() * C;
+  for (Eigen::Index i = 0; i < R.rows(); ++i)
+    for (Eigen::Index j = 0; j < R.cols(); ++j) R(i, j) = norms[i] * norms[j] > 0.0 ? R(i, j) / (norms[i] * norms[j]) : 0.0;
+  return R;
+}
+
+Eigen::MatrixXd column_correlation(const Eigen::MatrixXcd& X) {
+  const Eigen::VectorXd norms = X.colwise().norm();
+  Eigen::MatrixXd R = (X.adjoint() * X).real();
+  for (Eigen::Index i = 0; i < R.rows(); ++i)
+    for (Eigen::Index j = 0; j < R.cols(); ++j) R(i, j) = norms[i] * norms[j] > 0.0 ? R(i, j) / (norms[i] * norms[j]) : 0.0;
+  return R;
+}
+
+}  // namespace tern::core::sysid

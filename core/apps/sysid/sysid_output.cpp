@@ -1,0 +1,121 @@
+// core/apps/sysid/sysid_output.cpp: aircraft.yaml, sysid.json, index.html and the table (sysid_output.hpp).
+#include "sysid/sysid_output.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <yaml-cpp/yaml.h>
+
+#include "config/error.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+void write_text(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  if (!out.flush()) throw ConfigError(fmt::format("{}: cannot write", file.string()));
+}
+
+/// The prior's document with aero.<name> replaced by each estimate (and wing.e by the polar's).
+std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
+  YAML::Node doc = YAML::LoadFile(from.prior);
+  if (!doc["aero"] || !doc["aero"].IsMap())
+    throw ConfigError(fmt::format(
+        "{}: aero: not a tern aircraft file (a map 'aero' of the uavbook's coefficients); convert it with tern aero import", from.prior));
+  for (const auto& c : r.coefficients) doc["aero"][c.name] = c.estimate;
+  if (doc["wing"] && doc["wing"].IsMap()) doc["wing"]["e"] = r.aircraft.e;
+  doc["name"] = r.aircraft.name + "-identified";
+  YAML::Emitter e;
+  e.SetDoublePrecision(6);
+  e << doc;
+  return fmt::format("# {} identified by tern sysid from {} (prior {}); the estimates and their bounds: sysid.json\n{}\n", r.aircraft.name,
+                     from.log, from.prior, e.c_str());
+}
+
+nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
+  nlohmann::json j;
+  j["produced_by"] = {
+      {"command", "tern sysid"}, {"log", from.log}, {"prior", from.prior}, {"estimate", from.estimate}, {"options", from.options}};
+  j["samples"] = r.samples, j["segments"] = r.segments, j["airborne_s"] = r.airborne_s;
+  for (const auto& c : r.coefficients)
+    j["coefficients"][c.name] = {{"estimate", c.estimate},     {"std_error", c.std_error}, {"prior", c.prior},
+                                 {"identified", c.identified}, {"method", c.method},       {"note", c.note}};
+  for (const auto& f : r.fits)
+    j["fits"].push_back(
+        {{"axis", f.axis}, {"domain", f.domain}, {"r_squared", f.r_squared}, {"rms_residual", f.rms_residual}, {"rows", f.rows}});
+  j["drag_at_trim"] = {{"prior", r.C_D_trim_prior}, {"identified", r.C_D_trim}, {"change_per_deg_of_alpha", r.C_D_per_deg}};
+  j["oswald_e"] = r.aircraft.e;
+  j["notes"] = r.notes;
+  return j;
+}
+
+/// One SVG panel: measured (black) and predicted (orange) against time.
+std::string svg_panel(const AxisSeries& s) {
+  if (s.t.empty()) return "";
+  const double W = 900, H = 160;
+  double lo = *std::min_element(s.measured.begin(), s.measured.end()), hi = *std::max_element(s.measured.begin(), s.measured.end());
+  for (const double v : s.predicted) lo = std::min(lo, v), hi = std::max(hi, v);
+  if (hi <= lo) hi = lo + 1e-9;
+  const double t0 = s.t.front(), t1 = std::max(s.t.back(), t0 + 1e-9);
+  auto line = [&](const std::vector<double>& v, const char* colour) {
+    std::string pts;
+    for (std::size_t k = 0; k < v.size(); ++k)
+      pts += fmt::format("{:.1f},{:.1f} ", (s.t[k] - t0) / (t1 - t0) * W, H - (v[k] - lo) / (hi - lo) * H);
+    return fmt::format("<polyline fill='none' stroke='{}' stroke-width='1' points='{}'/>", colour, pts);
+  };
+  return fmt::format(
+      "<h3>{} (measured black, identified model orange; {:.4g} .. {:.4g}; t {:.1f} .. {:.1f} s)</h3>\n"
+      "<svg width='{}' height='{}' style='border:1px solid #ccc'>{}{}</svg>\n",
+      s.axis, lo, hi, t0, t1, W, H, line(s.measured, "black"), line(s.predicted, "#e07000"));
+}
+
+std::string html(const SysidResult& r, const SysidProvenance& from) {
+  std::string rows;
+  for (const auto& c : r.coefficients)
+    rows += fmt::format("<tr><td>{}</td><td>{:.5g}</td><td>{:.5g}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", c.name, c.prior,
+                        c.estimate, c.identified ? fmt::format("{:.2g}", c.std_error) : "", c.method, c.identified ? "identified" : c.note);
+  std::string panels;
+  for (const auto& s : r.series) panels += svg_panel(s);
+  std::string notes;
+  for (const auto& n : r.notes) notes += "<li>" + n + "</li>\n";
+  return fmt::format(
+      "<!doctype html><html><head><meta charset='utf-8'><title>tern sysid: {}</title>"
+      "<style>body{{font-family:sans-serif}} td,th{{padding:2px 8px;text-align:right}} "
+      "td:first-child,td:last-child{{text-align:left}}</style>"
+      "</head><body><h1>tern sysid: {}</h1><p>log {}<br>prior {}<br>estimate {}<br>{}</p>"
+      "<p>{} airborne samples in {} stretches, {:.0f} s. Drag at trim: prior {:.4f}, identified {:.4f}; 1 deg of alpha bias moves it by "
+      "{:.0f} %.</p>"
+      "<table><tr><th>coefficient</th><th>prior</th><th>estimate</th><th>std error</th><th>method</th><th></th></tr>\n{}</table>"
+      "<ul>{}</ul>{}</body></html>\n",
+      r.aircraft.name, r.aircraft.name, from.log, from.prior, from.estimate, from.options, r.samples, r.segments, r.airborne_s,
+      r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg, rows, notes, panels);
+}
+
+}  // namespace
+
+void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir) {
+  std::filesystem::create_directories(dir);
+  write_text(dir / "aircraft.yaml", aircraft_yaml(r, from));
+  write_text(dir / "sysid.json", to_json(r, from).dump(2) + "\n");
+  write_text(dir / "index.html", html(r, from));
+}
+
+std::string format_sysid_table(const SysidResult& r) {
+  std::string out = fmt::format("{:<14} {:>10} {:>10} {:>9}  {}\n", "coefficient", "prior", "estimate", "std err", "");
+  for (const auto& c : r.coefficients)
+    out += fmt::format("{:<14} {:>10.4g} {:>10.4g} {:>9}  {}\n", c.name, c.prior, c.estimate,
+                       c.identified ? fmt::format("{:.2g}", c.std_error) : "-", c.identified ? c.method : "prior kept: " + c.note);
+  out += fmt::format("drag at trim: prior {:.4f}, identified {:.4f} (1 deg of alpha or pitch bias moves it by {:.0f} %)\n",
+                     r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg);
+  for (const auto& f : r.fits)
+    out +=
+        fmt::format("fit {:<10} {:<4} R^2 {:.3f}, rms residual {:.3g}, {} rows\n", f.axis, f.domain, f.r_squared, f.rms_residual, f.rows);
+  return out;
+}
+
+}  // namespace tern::core::sysid

@@ -1,0 +1,32 @@
+// core/apps/sysid/sysid_output.hpp: what `tern sysid` writes (docs/system-identification.md):
+//   DIR/aircraft.yaml  the prior file with the identified coefficients (tern's aircraft format,
+//                      flyable as it is: mass, inertia, geometry, propulsion, servos and gear are
+//                      the prior's)
+//   DIR/sysid.json     every coefficient: estimate, standard error, prior, identified, method, note;
+//                      each regression's fit; the drag figure; what produced the numbers
+//   DIR/index.html     the table, and measured against predicted coefficients per axis
+// and the table `tern sysid` prints. Errors: ConfigError naming the file (a prior not in tern's
+// format, a file that cannot be written).
+#pragma once
+
+#include <filesystem>
+#include <string>
+
+#include "sysid/identify.hpp"
+
+namespace tern::core::sysid {
+
+/// What produced the result, for sysid.json and the page.
+struct SysidProvenance {
+  std::string log;       ///< the log identified
+  std::string prior;     ///< the prior aircraft file
+  std::string estimate;  ///< the estimator's run (tern replay) whose state was used
+  std::string options;   ///< the options, one line
+};
+
+void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir);
+
+/// The coefficient table as printed: name, prior, estimate, standard error, identified or why not.
+std::string format_sysid_table(const SysidResult& r);
+
+}  // namespace tern::core::sysid
