@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 #include <fmt/format.h>
 
@@ -138,11 +139,20 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
 
   const std::vector<std::size_t> rows = usable_imu_rows(imu, imu_names);
   if (rows.size() < 3) throw ConfigError(fmt::format("{}: fewer than 3 usable IMU rows", imu.file.string()));
-  auto pick = [&](const std::string& name) {
-    Column c(rows.size());
-    for (std::size_t k = 0; k < rows.size(); ++k) c[k] = imu.at(name)[rows[k]];
-    return c;
-  };
+  // the IMU's axes turned into the body's (the estimator's imu_mount)
+  const Eigen::Matrix3d R_bi = rotation_from_euler(o.imu_mount.x(), o.imu_mount.y(), o.imu_mount.z());
+  std::map<std::string, Column> body;
+  for (const char* sensor : {"accel", "gyro"}) {
+    const std::string x = std::string(sensor) + "_x", y = std::string(sensor) + "_y", z = std::string(sensor) + "_z";
+    for (const auto& n : {x, y, z}) body[n].resize(rows.size());
+    for (std::size_t k = 0; k < rows.size(); ++k) {
+      const Eigen::Vector3d v = R_bi * Eigen::Vector3d(imu.at(x)[rows[k]], imu.at(y)[rows[k]], imu.at(z)[rows[k]]);
+      body[x][k] = v.x(), body[y][k] = v.y(), body[z][k] = v.z();
+    }
+  }
+  body["t"].resize(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) body["t"][k] = imu.at("t")[rows[k]];
+  auto pick = [&](const std::string& name) { return body.at(name); };
   FlightSeries s;
   const Column t = pick("t");
   const double dt = median_interval(t);
@@ -164,8 +174,15 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   auto keep = [&](const Column& c) { return decimated(c, step); };
   auto command = [&](const char* name) { return keep(lp(commands_in_force(act.at("t"), act.at(name), t, o.servo_tau))); };
   s.t = keep(t);
-  s.a_x = keep(lp(pick("accel_x"))), s.a_y = keep(lp(pick("accel_y"))), s.a_z = keep(lp(pick("accel_z")));
-  s.p_dot = keep(central_difference(p, t)), s.q_dot = keep(central_difference(q, t)), s.r_dot = keep(central_difference(r, t));
+  const Column p_dot = central_difference(p, t), q_dot = central_difference(q, t), r_dot = central_difference(r, t);
+  Column ax = lp(pick("accel_x")), ay = lp(pick("accel_y")), az = lp(pick("accel_z"));
+  for (std::size_t k = 0; k < t.size(); ++k) {  // to the CG: a - w' x r - w x (w x r)
+    const Eigen::Vector3d w(p[k], q[k], r[k]), wd(p_dot[k], q_dot[k], r_dot[k]);
+    const Eigen::Vector3d a = Eigen::Vector3d(ax[k], ay[k], az[k]) - wd.cross(o.imu_position) - w.cross(w.cross(o.imu_position));
+    ax[k] = a.x(), ay[k] = a.y(), az[k] = a.z();
+  }
+  s.a_x = keep(ax), s.a_y = keep(ay), s.a_z = keep(az);
+  s.p_dot = keep(p_dot), s.q_dot = keep(q_dot), s.r_dot = keep(r_dot);
   s.p = keep(p), s.q = keep(q), s.r = keep(r);
   s.delta_a = command("delta_a"), s.delta_e = command("delta_e"), s.delta_r = command("delta_r"), s.delta_t = command("delta_t");
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across

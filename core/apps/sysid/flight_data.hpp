@@ -11,6 +11,8 @@
 //   EST/topics/state.csv      the estimator's attitude, gyro bias, air data (Va, alpha, beta from
 //                             the wind triangle), wind and position: a `tern replay` of LOG at
 //                             log level sysid (the state at every message), or LOG itself
+// The IMU's axes are turned into the body's (imu_mount) and its specific force moved to the CG
+// (imu_position: a_cg = a - w' x r - w x (w x r)), as the estimator is configured to do.
 // The time base is the IMU's. At each IMU sample the command in force is the last actuators row at
 // or before it (a command that changes between two IMU samples counts from the next), passed
 // through the prior's first-order servo lag (servos.tau). The estimate is interpolated linearly
@@ -26,12 +28,16 @@
 #include <filesystem>
 #include <vector>
 
+#include <Eigen/Core>
+
 namespace tern::core::sysid {
 
 struct FlightSeriesOptions {
-  double servo_tau = 0.0;   ///< s, first-order lag from command to deflection (0: none)
-  double filter_hz = 10.0;  ///< Hz, cut-off of the zero-phase low-pass (0: no filter)
-  double rate_hz = 50.0;    ///< Hz, rate of the series after decimation (0: the IMU's)
+  double servo_tau = 0.0;                                  ///< s, first-order lag from command to deflection (0: none)
+  double filter_hz = 10.0;                                 ///< Hz, cut-off of the zero-phase low-pass (0: no filter)
+  double rate_hz = 50.0;                                   ///< Hz, rate of the series after decimation (0: the IMU's)
+  Eigen::Vector3d imu_position = Eigen::Vector3d::Zero();  ///< m, body FRD from the CG (the estimator's)
+  Eigen::Vector3d imu_mount = Eigen::Vector3d::Zero();     ///< rad, roll pitch yaw of the IMU axes in the body's
 };
 
 /// One vector per channel, all of length size(); sample k of each belongs to time t[k].

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -18,6 +19,7 @@ namespace {
 
 using Col = std::vector<double>;
 using Member = double AeroCoefficients::*;
+using M = AeroCoefficients;
 
 /// When a regressor counts as excited: `peak` of |signal| (rates) or the standard deviation of
 /// signal less its trim-window means (angles, surfaces) above `threshold`; `what` words the
@@ -249,32 +251,89 @@ double stddev(const Col& x) {
   return std::sqrt(s / static_cast<double>(x.size()));
 }
 
-/// Lift from the trim: C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the window
-/// means (gusts average out), the pitch-rate and elevator terms at the prior.
-void lift(Context& c) {
+/// The excitation tests (identify.hpp), worded for the log.
+struct Signals {
+  Excitation alpha, beta, p, q, r, delta_a, delta_e, delta_r;
+};
+
+Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
+  const double angle = 0.3 * kRadPerDeg, rate = 5.0 * kRadPerDeg;
+  return {{&alpha, false, angle, "alpha never moved more than 0.3 deg about its trim"},
+          {&beta, false, angle, "sideslip never moved more than 0.3 deg about its trim"},
+          {&a.p, true, 2.0 * rate, "roll rate never above 10 deg/s"},
+          {&a.q, true, rate, "pitch rate never above 5 deg/s"},
+          {&a.r, true, rate, "yaw rate never above 5 deg/s"},
+          {&a.delta_a, false, angle, "aileron never moved more than 0.3 deg about its trim"},
+          {&a.delta_e, false, angle, "elevator never moved more than 0.3 deg about its trim"},
+          {&a.delta_r, false, angle, "rudder never moved more than 0.3 deg about its trim"}};
+}
+
+/// The band's estimate of `name`, taken out of the result (reported, not adopted); nullopt if the
+/// band did not identify it.
+std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name) {
+  auto& all = c.result.coefficients;
+  const auto it = std::find_if(all.begin(), all.end(), [&](const CoefficientEstimate& e) { return e.name == name; });
+  std::optional<CoefficientEstimate> out;
+  if (it->identified) out = *it;
+  all.erase(it);
+  return out;
+}
+
+/// C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the trim windows' means.
+LsEstimate lift_trim_fit(Context& c) {
   const AeroSamples& a = c.a;
   Col z(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) z[k] = a.C_L[k] - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k];
   const Col ones(a.size(), 1.0);
+  return trim_fit(c, z, {&ones, &a.alpha});
+}
+
+/// The lift's pitch-rate and elevator terms back to the prior, with the reason.
+void lift_band_rejected(Context& c, const std::string& why) {
+  for (auto& e : c.result.coefficients)
+    if ((e.name == "C_L_q" || e.name == "C_L_delta_e") && e.identified) {
+      e.identified = false, e.estimate = e.prior, e.std_error = 0.0, e.note = why;
+      c.coef.*(e.name == "C_L_q" ? &M::C_L_q : &M::C_L_delta_e) = e.prior;
+    }
+}
+
+/// Lift. The pitch-rate and elevator terms in the band, beside the wind triangle's alpha; C_L_0
+/// and C_L_alpha from the trim windows' means (the gusts average out), with those terms. The band's
+/// own C_L_alpha is the check: gusts the estimator does not see bias it low, and the terms beside
+/// it with it; if it disagrees with the trim's (beyond 3 of its standard errors and 5 %), the band's
+/// terms are not taken.
+void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excitation& delta_e) {
+  const AeroSamples& a = c.a;
+  band_fit(c, "lift", a.C_L,
+           {{"C_L_alpha", &M::C_L_alpha, &a.alpha, alpha},
+            {"C_L_q", &M::C_L_q, &a.q_hat, q},
+            {"C_L_delta_e", &M::C_L_delta_e, &a.delta_e, delta_e}});
+  const std::optional<CoefficientEstimate> band = take_out(c, "C_L_alpha");
+  c.coef.C_L_alpha = c.prior.C_L_alpha;
+  const Term t0{"C_L_0", &M::C_L_0, nullptr, {}}, ta{"C_L_alpha", &M::C_L_alpha, nullptr, {}};
   const double spread = stddev(window_means(a.alpha, c.L));
-  const Term t0{"C_L_0", &AeroCoefficients::C_L_0, &ones, {}}, ta{"C_L_alpha", &AeroCoefficients::C_L_alpha, &a.alpha, {}};
   if (spread < kRadPerDeg) {
     const std::string why = fmt::format("alpha's trim never spread beyond {:.2f} deg (fly several airspeeds)", spread * kDegPerRad);
     record(c, t0, "trim").note = why;
     record(c, ta, "trim").note = why;
-  } else {
-    const LsEstimate e = trim_fit(c, z, {&ones, &a.alpha});
-    c.coef.C_L_0 = e.theta[0], c.coef.C_L_alpha = e.theta[1];
-    c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
-    for (int j = 0; j < 2; ++j) {
-      CoefficientEstimate& r = record(c, j == 0 ? t0 : ta, "trim");
-      r.std_error = e.std_error[j];
-      r.identified = true;
-    }
+    lift_band_rejected(c, "not checked: no trim C_L_alpha to hold the band's against");
+    return;
   }
-  for (const Term& t :
-       {Term{"C_L_q", &AeroCoefficients::C_L_q, nullptr, {}}, Term{"C_L_delta_e", &AeroCoefficients::C_L_delta_e, nullptr, {}}})
-    record(c, t, "trim").note = "kept: without a vane, the lift's alpha comes from the lift itself";
+  LsEstimate e = lift_trim_fit(c);
+  if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
+    lift_band_rejected(
+        c, fmt::format("the wind triangle's alpha disagrees with the lift (C_L_alpha {:.3g} +- {:.2g} in the band, {:.3g} from the trim): "
+                       "gusts the estimator does not see",
+                       band->estimate, band->std_error, e.theta[1]));
+    e = lift_trim_fit(c);
+  }
+  c.coef.C_L_0 = e.theta[0], c.coef.C_L_alpha = e.theta[1];
+  c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
+  for (int j = 0; j < 2; ++j) {
+    CoefficientEstimate& r = record(c, j == 0 ? t0 : ta, "trim");
+    r.std_error = e.std_error[j];
+    r.identified = true;
+  }
 }
 
 /// alpha where the accelerometers' lift says it was (identify.hpp, step 2).
@@ -318,25 +377,6 @@ void drag(Context& c, const Col& alpha, double AR) {
        {Term{"C_D_q", &AeroCoefficients::C_D_q, nullptr, {}}, Term{"C_D_delta_e", &AeroCoefficients::C_D_delta_e, nullptr, {}}})
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
 }
-
-/// The excitation tests (identify.hpp), worded for the log.
-struct Signals {
-  Excitation alpha, beta, p, q, r, delta_a, delta_e, delta_r;
-};
-
-Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
-  const double angle = 0.3 * kRadPerDeg, rate = 5.0 * kRadPerDeg;
-  return {{&alpha, false, angle, "alpha never moved more than 0.3 deg about its trim"},
-          {&beta, false, angle, "sideslip never moved more than 0.3 deg about its trim"},
-          {&a.p, true, 2.0 * rate, "roll rate never above 10 deg/s"},
-          {&a.q, true, rate, "pitch rate never above 5 deg/s"},
-          {&a.r, true, rate, "yaw rate never above 5 deg/s"},
-          {&a.delta_a, false, angle, "aileron never moved more than 0.3 deg about its trim"},
-          {&a.delta_e, false, angle, "elevator never moved more than 0.3 deg about its trim"},
-          {&a.delta_r, false, angle, "rudder never moved more than 0.3 deg about its trim"}};
-}
-
-using M = AeroCoefficients;
 
 /// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r).
 std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member, 5>& m, const AeroSamples& a, const Col& beta,
@@ -415,7 +455,8 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   for (const auto& [b, e] : L.segments) r.airborne_s += a.t[e - 1] - a.t[b];
   AeroCoefficients coef = prior.aero;
   Context c{a, L, o, Spectra(a, L, o.band_lo_hz, o.band_hi_hz), coef, prior.aero, r};
-  lift(c);
+  const Signals x0 = signals(a, a.alpha, a.beta);
+  lift(c, x0.alpha, x0.q, x0.delta_e);
   const bool accel = o.flow_angles == FlowAngles::accelerometer;
   const Col alpha = accel ? alpha_from_lift(c) : a.alpha;
   drag(c, alpha, prior.AR());

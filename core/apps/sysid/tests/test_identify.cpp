@@ -1,0 +1,139 @@
+// The equation-error identification (sysid/identify.hpp) on flights the uavbook model flies itself:
+// the Aerosonde trimmed at three airspeeds, its surfaces driven by orthogonal multisines, no wind and
+// exact measurements. From a prior scaled by 0.6 and 1.5 the coefficients must come back, with the
+// truth inside the reported bounds; an unexcited axis must keep the prior and say why.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "sysid/identify.hpp"
+#include "sysid/regression.hpp"
+#include "tern/math.hpp"
+#include "tern_sim_aero/model.hpp"
+#include "tern_sim_aero/trim.hpp"
+
+namespace {
+
+using tern::core::sysid::FlightSeries;
+
+/// Appends `seconds` of flight from the trim at Va, the surfaces trim + multisine (rad).
+void fly(const tern::Aircraft& ac, double Va, double seconds, double amplitude, FlightSeries& s) {
+  namespace sim = tern::sim;
+  const sim::TrimResult trim = sim::compute_trim(ac, {Va});
+  sim::StateVector x = trim.x;
+  const double dt = 1.0 / 200.0, t0 = s.t.empty() ? 0.0 : s.t.back() + 1.0;
+  for (double t = 0.0; t < seconds; t += dt) {
+    sim::Deltas d = trim.delta;
+    // disjoint harmonic sets of 1/seconds per surface (Schroeder-like phases)
+    for (int k = 1; k <= 12; ++k) {
+      const double f = k * 0.15, ph = tern::kPi * k * k / 12.0;
+      const double w = amplitude * std::sin(2.0 * tern::kPi * f * t + ph) / 4.0;
+      if (k % 3 == 0)
+        d.delta_e += w;
+      else if (k % 3 == 1)
+        d.delta_a += 0.5 * w;
+      else
+        d.delta_r += w;
+    }
+    sim::ForcesMoments fm;
+    const sim::StateVector dx = sim::derivative(ac, x, d, {}, &fm);
+    const sim::AirData air = fm.air;
+    const Eigen::Vector3d f = fm.specific_force(ac.mass);
+    const Eigen::Vector3d euler = tern::euler_from_quaternion(sim::attitude(x));
+    s.t.push_back(t0 + t);
+    s.a_x.push_back(f.x()), s.a_y.push_back(f.y()), s.a_z.push_back(f.z());
+    s.p.push_back(x[sim::P]), s.q.push_back(x[sim::Q]), s.r.push_back(x[sim::R]);
+    s.p_dot.push_back(dx[sim::P]), s.q_dot.push_back(dx[sim::Q]), s.r_dot.push_back(dx[sim::R]);
+    s.delta_a.push_back(d.delta_a), s.delta_e.push_back(d.delta_e), s.delta_r.push_back(d.delta_r), s.delta_t.push_back(d.delta_t);
+    s.Va.push_back(air.Va), s.alpha.push_back(air.alpha), s.beta.push_back(air.beta), s.qbar.push_back(std::nan(""));
+    s.phi.push_back(euler.x()), s.theta.push_back(euler.y()), s.psi.push_back(euler.z());
+    s.p_n.push_back(x[sim::PN]), s.p_e.push_back(x[sim::PE]), s.p_d.push_back(std::min(x[sim::PD], -50.0));
+    s.u.push_back(x[sim::U]), s.v.push_back(x[sim::V]), s.w.push_back(x[sim::W]);
+    s.w_n.push_back(0.0), s.w_e.push_back(0.0), s.w_d.push_back(0.0);
+    s.valid.push_back(t + dt < seconds ? 1 : 0);  // the last sample of a stretch ends it
+    x = sim::rk4_step(ac, x, d, {}, dt);
+  }
+}
+
+tern::Aircraft aerosonde() { return tern::load_aircraft(TERN_AIRCRAFT_DIR "/aerosonde.yaml"); }
+
+/// The truth's coefficients scaled by 0.6 and 1.5 in turn (the bench's wrong prior).
+tern::Aircraft wrong_prior(const tern::Aircraft& truth) {
+  tern::Aircraft p = truth;
+  double* c = &p.aero.C_L_0;
+  const std::size_t n = sizeof(tern::AeroCoefficients) / sizeof(double);
+  for (std::size_t i = 0; i < n; ++i) c[i] *= i % 2 == 0 ? 0.6 : 1.5;
+  return p;
+}
+
+double coefficient(const tern::core::sysid::SysidResult& r, const std::string& name, bool* identified = nullptr, double* se = nullptr) {
+  for (const auto& c : r.coefficients)
+    if (c.name == name) {
+      if (identified) *identified = c.identified;
+      if (se) *se = c.std_error;
+      return c.estimate;
+    }
+  FAIL("no coefficient ", name);
+  return 0.0;
+}
+
+}  // namespace
+
+TEST_CASE("exact flights at three airspeeds: every excited coefficient from a prior off by 0.6 and 1.5") {
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  const auto r = tern::core::sysid::identify(s, wrong_prior(truth), {});
+  const tern::AeroCoefficients& T = truth.aero;
+  const std::pair<const char*, double> targets[] = {{"C_L_0", T.C_L_0},
+                                                    {"C_L_alpha", T.C_L_alpha},
+                                                    {"C_m_alpha", T.C_m_alpha},
+                                                    {"C_m_q", T.C_m_q},
+                                                    {"C_m_delta_e", T.C_m_delta_e},
+                                                    {"C_ell_p", T.C_ell_p},
+                                                    {"C_ell_delta_a", T.C_ell_delta_a},
+                                                    {"C_n_r", T.C_n_r},
+                                                    {"C_n_delta_r", T.C_n_delta_r},
+                                                    {"C_Y_beta", T.C_Y_beta},
+                                                    {"C_n_beta", T.C_n_beta},
+                                                    {"C_ell_beta", T.C_ell_beta}};
+  for (const auto& [name, value] : targets) {
+    bool identified = false;
+    double se = 0.0;
+    const double e = coefficient(r, name, &identified, &se);
+    CAPTURE(name);
+    CAPTURE(e);
+    CHECK(identified);
+    CHECK(std::abs(e - value) <= 0.03 * std::abs(value));
+  }
+  CHECK(std::abs(r.C_D_trim - r.C_D_trim_prior) > 0.0);
+}
+
+TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  for (std::size_t k = 1; k < s.size(); ++k) s.delta_r[k] = s.delta_r[0];
+  const tern::Aircraft prior = wrong_prior(truth);
+  const auto r = tern::core::sysid::identify(s, prior, {});
+  bool identified = true;
+  CHECK(coefficient(r, "C_n_delta_r", &identified) == prior.aero.C_n_delta_r);
+  CHECK_FALSE(identified);
+  bool said = false;
+  for (const auto& n : r.notes) said = said || n.find("C_n_delta_r: not identifiable: rudder never moved") != std::string::npos;
+  CHECK(said);
+}
+
+TEST_CASE("the coloured-residual bound is wider than the white one when the residuals are correlated") {
+  const int n = 2000;
+  Eigen::MatrixXd X(n, 1);
+  Eigen::VectorXd z(n);
+  double v = 0.0;
+  for (int k = 0; k < n; ++k) {
+    X(k, 0) = std::sin(0.01 * k);
+    v = 0.98 * v + 0.1 * std::sin(1.7 * k * k);  // a slowly decaying, correlated residual
+    z[k] = 2.0 * X(k, 0) + v;
+  }
+  const auto e = tern::core::sysid::least_squares(X, z, 200);
+  CHECK(e.std_error[0] > 2.0 * e.std_error_white[0]);
+}
