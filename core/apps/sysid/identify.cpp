@@ -37,6 +37,7 @@ struct Term {
   Member member = nullptr;
   const Col* x = nullptr;
   Excitation excitation;
+  const Col* instrument = nullptr;  ///< the same quantity measured with an independent error (or none)
 };
 
 /// The airborne stretches (consecutive samples of the series) and the trim windows in them.
@@ -184,11 +185,16 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     Eigen::VectorXcd zf = c.spectra.of(z);
     for (const Term& t : terms)
       if (why.count(t.name)) zf -= (c.prior.*t.member) * c.spectra.of(*t.x);
-    Eigen::MatrixXcd X(zf.size(), static_cast<Eigen::Index>(free.size()));
-    for (std::size_t j = 0; j < free.size(); ++j) X.col(static_cast<Eigen::Index>(j)) = c.spectra.of(*free[j].x);
+    Eigen::MatrixXcd X(zf.size(), static_cast<Eigen::Index>(free.size())), Z(X.rows(), X.cols());
+    bool instrumented = false;
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      X.col(static_cast<Eigen::Index>(j)) = c.spectra.of(*free[j].x);
+      Z.col(static_cast<Eigen::Index>(j)) = c.spectra.of(free[j].instrument != nullptr ? *free[j].instrument : *free[j].x);
+      instrumented = instrumented || free[j].instrument != nullptr;
+    }
     if (X.rows() <= X.cols())
       throw std::runtime_error(fmt::format("{}: too few frequency rows in {}..{} Hz", axis, c.o.band_lo_hz, c.o.band_hi_hz));
-    const LsEstimate e = least_squares_frequency(X, zf);
+    const LsEstimate e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
     const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(X));
     if (bad.empty()) {
       c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows});
@@ -380,8 +386,8 @@ void drag(Context& c, const Col& alpha, double AR) {
 
 /// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r).
 std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member, 5>& m, const AeroSamples& a, const Col& beta,
-                                const Signals& x) {
-  return {{axis + "_beta", m[0], &beta, x.beta},
+                                const Signals& x, const Col* beta_instrument = nullptr) {
+  return {{axis + "_beta", m[0], &beta, x.beta, beta_instrument},
           {axis + "_p", m[1], &a.p_hat, x.p},
           {axis + "_r", m[2], &a.r_hat, x.r},
           {axis + "_delta_a", m[3], &a.delta_a, x.delta_a},
@@ -466,16 +472,21 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   bias_fit(c, "C_Y_0", &M::C_Y_0, a.C_Y, side);
   const Col beta = beta_from_side_force(c, accel);
   x = signals(a, alpha, beta);
-  const std::vector<Term> pitch = {{"C_m_alpha", &M::C_m_alpha, &alpha, x.alpha},
+  // alpha and beta from the forces, each instrumented by the wind triangle's: errors independent
+  // (the accelerometers' noise and vibration; the gusts the estimator misses)
+  const Col* alpha_iv = accel ? &a.alpha : nullptr;
+  const Col* beta_iv = accel ? &a.beta : nullptr;
+  const std::vector<Term> pitch = {{"C_m_alpha", &M::C_m_alpha, &alpha, x.alpha, alpha_iv},
                                    {"C_m_q", &M::C_m_q, &a.q_hat, x.q},
                                    {"C_m_delta_e", &M::C_m_delta_e, &a.delta_e, x.delta_e}};
   band_fit(c, "pitch", a.C_m, pitch);
   bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
   const std::vector<Term> roll =
-      lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x);
+      lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x, beta_iv);
   band_fit(c, "roll", a.C_ell, roll);
   bias_fit(c, "C_ell_0", &M::C_ell_0, a.C_ell, roll);
-  const std::vector<Term> yaw = lateral_terms("C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, a, beta, x);
+  const std::vector<Term> yaw =
+      lateral_terms("C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, a, beta, x, beta_iv);
   band_fit(c, "yaw", a.C_n, yaw);
   bias_fit(c, "C_n_0", &M::C_n_0, a.C_n, yaw);
   r.aircraft.aero = coef;

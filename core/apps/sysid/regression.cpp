@@ -49,23 +49,24 @@ LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std
   return e;
 }
 
-LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z) {
+LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z, const Eigen::MatrixXcd* instruments) {
   check_shapes(X.rows(), z.rows(), X.cols());
+  const Eigen::MatrixXcd& Z = instruments != nullptr ? *instruments : X;
+  if (Z.rows() != X.rows() || Z.cols() != X.cols()) throw std::invalid_argument("least squares: instruments and X differ in shape");
   const Eigen::Index n = X.rows(), p = X.cols();
-  const Eigen::MatrixXd A = (X.adjoint() * X).real();
-  const Eigen::MatrixXd D = inverse_spd(A);
+  const Eigen::MatrixXd D = (Z.adjoint() * X).real().inverse();
   LsEstimate e;
   e.rows = static_cast<std::size_t>(n);
-  e.theta = D * (X.adjoint() * z).real();
+  e.theta = D * (Z.adjoint() * z).real();
   const Eigen::VectorXcd v = z - X * e.theta.cast<std::complex<double>>();
   e.residual = v.cwiseAbs();
   e.s2 = v.squaredNorm() / static_cast<double>(n - p);
-  e.std_error_white = (e.s2 * D.diagonal()).cwiseSqrt();
+  e.std_error_white = (e.s2 * D * (Z.adjoint() * Z).real() * D.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
   // residual power differing from frequency to frequency (coloured residuals): the sandwich
-  // D Re(X^H diag(|v|^2) X) D, scaled by n / (n - p) as s^2 is
-  const Eigen::MatrixXcd Xw = v.cwiseAbs2().cast<std::complex<double>>().asDiagonal() * X;
-  const Eigen::MatrixXd M = (X.adjoint() * Xw).real() * (static_cast<double>(n) / static_cast<double>(n - p));
-  e.std_error = (D * M * D).diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
+  // D Re(Z^H diag(|v|^2) Z) D^T, scaled by n / (n - p) as s^2 is
+  const Eigen::MatrixXcd Zw = v.cwiseAbs2().cast<std::complex<double>>().asDiagonal() * Z;
+  const Eigen::MatrixXd M = (Z.adjoint() * Zw).real() * (static_cast<double>(n) / static_cast<double>(n - p));
+  e.std_error = (D * M * D.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
   const double zz = z.squaredNorm();
   e.r_squared = zz > 0.0 ? 1.0 - v.squaredNorm() / zz : 0.0;
   return e;

@@ -13,7 +13,8 @@
 //  * least_squares_frequency: the same regression on the finite Fourier transforms of z and X
 //    at chosen frequencies (K&M sec. 7.2.2): theta = Re(X~^H X~)^-1 Re(X~^H z~), covariance
 //    s^2 Re(X~^H X~)^-1 with s^2 the residual power, and (coloured residuals: a residual power
-//    that differs across the band) the sandwich D Re(X~^H diag|v|^2 X~) D, D = Re(X~^H X~)^-1. Only the band the excitation filled enters,
+//    that differs across the band) the sandwich D Re(X~^H diag|v|^2 X~) D, D = Re(X~^H X~)^-1;
+//    optionally with instrumental variables (below). Only the band the excitation filled enters,
 //    so bias terms and slow drifts (the trim, the estimator's wind) fall out, and noise above
 //    the band does not enter.
 // Errors: std::invalid_argument for mismatched shapes or fewer rows than parameters.
@@ -39,8 +40,12 @@ struct LsEstimate {
 /// Time-domain least squares with the coloured-residual covariance (header). max_lag in samples.
 LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag);
 
-/// Frequency-domain least squares on complex rows (header).
-LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z);
+/// Frequency-domain least squares on complex rows (header). With `instruments` Z (the shape of
+/// X), the instrumental-variable estimate theta = Re(Z~^H X~)^-1 Re(Z~^H z~) (K&M sec. 5.5; Ljung,
+/// *System Identification*, sec. 7.6): consistent when a regressor carries an error, so long as
+/// the instrument's column measures the same quantity with an independent error; covariance
+/// D Re(Z~^H diag|v|^2 Z~) D^T, D = Re(Z~^H X~)^-1.
+LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z, const Eigen::MatrixXcd* instruments = nullptr);
 
 /// Finite Fourier transform of `x` sampled at times t (s, uniform dt) at each frequency of f (Hz):
 /// X(f) = sum_k x_k exp(-j 2 pi f t_k) dt (K&M eq. 7.8, the Euler approximation, exact for a
