@@ -102,6 +102,17 @@ Column decimated(const Column& x, std::size_t step) {
 
 }  // namespace
 
+void check_sensor_log(const std::filesystem::path& log_dir) {
+  const std::pair<const char*, const char*> tables[] = {
+      {"imu.csv", "the IMU's specific force and rates are required"},
+      {"actuators.csv", "the surfaces' commands are required (docs/sensor-log.md, actuators)"}};
+  for (const auto& [name, why] : tables) {
+    const std::filesystem::path file = log_dir / "topics" / name;
+    if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
+    if (read_csv_table(file, {"t"}).rows < 2) throw ConfigError(fmt::format("{}: fewer than two rows: {}", file.string(), why));
+  }
+}
+
 std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cutoff_hz, double dt_s) {
   if (x.size() < 3 || cutoff_hz <= 0.0) return x;
   // Bilinear transform with pre-warping of the analogue Butterworth s^2 + sqrt(2) s + 1.

@@ -58,6 +58,11 @@ struct FlightSeries {
   std::size_t size() const { return t.size(); }
 };
 
+/// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv with
+/// at least two rows each. Throws ConfigError naming the file ("no such table: the surfaces'
+/// commands are required ...").
+void check_sensor_log(const std::filesystem::path& log_dir);
+
 /// Reads and conditions the series (header). `log_dir` holds imu.csv and actuators.csv under
 /// topics/, `estimate_dir` state.csv under topics/ (the two may be the same run).
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,

@@ -455,6 +455,14 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   if (L.segments.empty())
     throw std::runtime_error(
         fmt::format("no airborne stretch of {} s or more (the longest flight without a gap is shorter)", o.min_segment_s));
+  {
+    const Signals x = signals(a, a.alpha, a.beta);
+    auto moved = [&](const Excitation& e) { return rms(detrended(*e.signal, L)) > e.threshold; };
+    if (!moved(x.delta_a) && !moved(x.delta_e) && !moved(x.delta_r))
+      throw std::runtime_error(
+          "no excitation: aileron, elevator and rudder never moved more than 0.3 deg about their trim (fly configs/missions/sysid.yaml, "
+          "docs/system-identification.md)");
+  }
   SysidResult r;
   r.aircraft = prior;
   r.samples = a.size(), r.segments = L.segments.size();

@@ -1,0 +1,213 @@
+#!/usr/bin/python3
+"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON]: system identification against the truth.
+
+Issue 62's bench. For each seed: the truth aircraft (default the Aerosonde, configs/aircraft/aerosonde.yaml)
+flies configs/missions/sysid.yaml (excitation on every surface at three airspeeds, `realistic` sensors,
+light turbulence); `tern sysid` identifies it from a prior whose aerodynamic coefficients are all
+the truth's scaled by 0.6 (odd seeds) or 1.5 (even seeds); the estimates are compared with the
+truth file. Then the identified file flies: the default mission's hourglass on the truth aircraft's
+gains (configs/gains/<aircraft>.yaml) with the true file, the identified file and the prior, same
+seed, and `tern validate` scores the three files on the sysid flight.
+
+Prints the table (worst seed per coefficient, against the targets) and writes JSON (default
+bench/results/bench_sysid.json). Every figure says what produced it: the truth is the aircraft
+file the simulator flew; the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
+"""
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import yaml
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+# issue 62's targets: relative error of the worst seed
+TARGET_10 = ["C_L_0", "C_L_alpha", "C_m_q", "C_m_delta_e", "C_ell_p", "C_ell_delta_a", "C_n_r", "C_n_delta_r"]
+TARGET_15 = ["C_m_alpha", "C_n_beta", "C_Y_beta", "C_ell_beta"]
+
+
+def run(argv, **kw):
+    p = subprocess.run(argv, capture_output=True, text=True, **kw)
+    if p.returncode != 0:
+        sys.exit(f"bench_sysid: {' '.join(argv)} failed ({p.returncode}):\n{p.stdout[-2000:]}\n{p.stderr[-2000:]}")
+    return p
+
+
+def run_dir(stdout):
+    for line in stdout.splitlines():
+        if line.startswith("log: "):
+            return line[5:].strip()
+    sys.exit("bench_sysid: no 'log:' line from tern fly")
+
+
+def scaled_prior(truth_file, factor, out):
+    doc = yaml.safe_load(open(truth_file))
+    doc["aero"] = {k: v * factor for k, v in doc["aero"].items()}
+    doc["name"] = f"{doc.get('name', 'aircraft')}-prior-x{factor}"
+    with open(out, "w") as f:
+        yaml.safe_dump(doc, f, sort_keys=False)
+    return out
+
+
+def mission_copy(src, out, aircraft=None, drop_excitation=False, loops=None, gains=None):
+    """The mission with absolute paths; another aircraft file; without the excitation; fewer loops."""
+    doc = yaml.safe_load(open(src))
+    base = os.path.dirname(os.path.abspath(src))
+    doc["aircraft"] = os.path.abspath(aircraft) if aircraft else os.path.join(base, doc["aircraft"])
+    for p in doc["plugins"]:
+        if "param_file" in p:
+            p["param_file"] = os.path.abspath(gains) if gains and p["plugin"].startswith("control") else os.path.join(base, p["param_file"])
+        if drop_excitation and "remap" in p:
+            p["remap"] = {k: v for k, v in p["remap"].items() if k != "actuators"} or None
+            if p["remap"] is None:
+                del p["remap"]
+    if drop_excitation:
+        doc["plugins"] = [p for p in doc["plugins"] if p["plugin"] != "signal_generator"]
+    mission = doc.get("mission", {})
+    if "file" in mission:
+        mission["file"] = os.path.join(base, mission["file"])
+    if loops is not None:
+        mission["loops"] = loops
+    with open(out, "w") as f:
+        yaml.safe_dump(doc, f, sort_keys=False)
+    return out
+
+
+def trim_point(tern, aircraft, Va):
+    out = run([tern, "aero", "trim", "--aircraft", aircraft, "--Va", str(Va)]).stdout
+    return json.loads(out[out.index("{"):])
+
+
+def drag_coefficient(ac, alpha, delta_e):
+    """sim_aero's polar in the linear range: C_D_p + (C_L_0 + C_L_alpha alpha)^2 / (pi e AR) + C_D_delta_e delta_e."""
+    a, w = ac["aero"], ac["wing"]
+    AR = w["b"] ** 2 / w["S"]
+    return a["C_D_p"] + (a["C_L_0"] + a["C_L_alpha"] * alpha) ** 2 / (math.pi * w["e"] * AR) + a["C_D_delta_e"] * delta_e
+
+
+def tracking(summary_file):
+    s = json.load(open(summary_file))
+    t = s["metrics"]["tracking_rmse"]
+    return {k: t[k] for k in ("north_m", "east_m", "altitude_m", "course_deg", "airspeed_mps")}
+
+
+def one_seed(tern, seed, args, work):
+    truth_file = os.path.abspath(args.aircraft)
+    truth = yaml.safe_load(open(truth_file))
+    factor = 0.6 if seed % 2 == 1 else 1.5
+    prior = scaled_prior(truth_file, factor, os.path.join(work, f"prior_{seed}.yaml"))
+    mission = mission_copy(args.mission, os.path.join(work, f"sysid_{seed}.yaml"), aircraft=truth_file)
+    flight = run_dir(run([tern, "fly", mission, "--seed", str(seed), "--log-dir", work, "--log-format", "csv", "-q"]).stdout)
+    out = os.path.join(work, f"sysid_{seed}")
+    t0 = time.monotonic()
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
+    seconds = time.monotonic() - t0
+    result = json.load(open(os.path.join(out, "sysid.json")))
+    rows = {}
+    for name, c in result["coefficients"].items():
+        true = truth["aero"].get(name, 0.0)
+        rows[name] = {"truth": true, "prior": c["prior"], "estimate": c["estimate"], "std_error": c["std_error"],
+                      "identified": c["identified"], "note": c["note"],
+                      "relative_error": abs(c["estimate"] - true) / abs(true) if true else None,
+                      "closer_than_prior": abs(c["estimate"] - true) < abs(c["prior"] - true) if c["prior"] != true else None,
+                      "inside_3_sigma": abs(c["estimate"] - true) <= 3 * c["std_error"] if c["identified"] else None}
+    trim = trim_point(tern, truth_file, 25.0)
+    identified = yaml.safe_load(open(os.path.join(out, "aircraft.yaml")))
+    prior_doc = yaml.safe_load(open(prior))
+    drag = {name: drag_coefficient(doc, trim["alpha"], trim["delta_e"])
+            for name, doc in (("truth", truth), ("identified", identified), ("prior", prior_doc))}
+    return {"seed": seed, "prior_factor": factor, "flight": flight, "sysid_seconds": seconds,
+            "log_seconds": result.get("airborne_s"), "coefficients": rows, "drag_at_trim_25": drag,
+            "identified_file": os.path.join(out, "aircraft.yaml"), "prior_file": prior}
+
+
+def flies(tern, seed_result, args, work):
+    """The default mission's hourglass (2 loops) on the truth's gains: true, identified and prior files."""
+    base = os.path.splitext(os.path.basename(args.aircraft))[0]
+    gains = os.path.join(ROOT, "configs", "gains", f"{base}.yaml")
+    figures = {}
+    for name, file in (("truth", os.path.abspath(args.aircraft)), ("identified", seed_result["identified_file"]), ("prior", seed_result["prior_file"])):
+        mission = mission_copy(os.path.join(ROOT, "configs", "missions", "default.yaml"),
+                               os.path.join(work, f"default_{name}_{seed_result['seed']}.yaml"), aircraft=file, loops=1, gains=gains)
+        p = subprocess.run([tern, "fly", mission, "--seed", str(seed_result["seed"]), "--log-dir", work, "--log-level", "summary", "-q"],
+                           capture_output=True, text=True)
+        if p.returncode != 0:
+            figures[name] = {"error": (p.stderr.strip().splitlines() or ["failed"])[-1]}
+            continue
+        figures[name] = tracking(os.path.join(run_dir(p.stdout), "summary.json"))
+    return figures
+
+
+def validate(tern, seed_result, args, work):
+    out = os.path.join(work, f"validate_{seed_result['seed']}")
+    p = subprocess.run([tern, "validate", seed_result["flight"], "--aircraft", os.path.abspath(args.aircraft), "--aircraft",
+                        seed_result["identified_file"], "--aircraft", seed_result["prior_file"], "--out", out], capture_output=True, text=True)
+    if p.returncode != 0:
+        return {"error": (p.stderr.strip().splitlines() or ["failed"])[-1]}
+    return json.load(open(os.path.join(out, "validate.json")))
+
+
+def table(seeds):
+    names = list(seeds[0]["coefficients"].keys())
+    lines = [f"{'coefficient':<14} {'truth':>9} {'worst est':>10} {'worst err':>9} {'target':>7} {'closer':>7} {'in 3 se':>8}  note"]
+    summary = {}
+    for n in names:
+        rs = [s["coefficients"][n] for s in seeds]
+        errs = [r["relative_error"] for r in rs if r["relative_error"] is not None]
+        worst = max(rs, key=lambda r: r["relative_error"] or 0.0)
+        target = 0.10 if n in TARGET_10 else 0.15 if n in TARGET_15 else None
+        closer = all(r["closer_than_prior"] for r in rs if r["closer_than_prior"] is not None)
+        inside = sum(1 for r in rs if r["inside_3_sigma"]) / max(1, sum(1 for r in rs if r["inside_3_sigma"] is not None))
+        verdict = "" if target is None else ("met" if errs and max(errs) <= target else "MISSED")
+        summary[n] = {"worst_relative_error": max(errs) if errs else None, "target": target, "verdict": verdict,
+                      "closer_than_prior_every_seed": closer, "share_inside_3_se": inside}
+        lines.append(f"{n:<14} {rs[0]['truth']:>9.4g} {worst['estimate']:>10.4g} {(max(errs) if errs else float('nan')):>9.1%} "
+                     f"{'' if target is None else f'{target:.0%}':>7} {str(closer):>7} {inside:>8.0%}  {verdict} {worst['note']}")
+    return "\n".join(lines), summary
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("bin_dir")
+    ap.add_argument("--seeds", type=int, default=5)
+    ap.add_argument("--mission", default=os.path.join(ROOT, "configs", "missions", "sysid.yaml"))
+    ap.add_argument("--aircraft", default=os.path.join(ROOT, "configs", "aircraft", "aerosonde.yaml"))
+    ap.add_argument("--out", default=os.path.join(HERE, "results", "bench_sysid.json"))
+    ap.add_argument("--work", help="keep the runs here (default: a temporary directory)")
+    ap.add_argument("--no-flights", action="store_true", help="skip the identified file's flights and tern validate")
+    args = ap.parse_args()
+    tern = os.path.join(os.path.abspath(args.bin_dir), "tern")
+    work = args.work or tempfile.mkdtemp(prefix="bench_sysid_")
+    os.makedirs(work, exist_ok=True)
+    seeds = []
+    for seed in range(1, args.seeds + 1):
+        r = one_seed(tern, seed, args, work)
+        if not args.no_flights:
+            r["flies"] = flies(tern, r, args, work)
+            r["validate"] = validate(tern, r, args, work)
+        seeds.append(r)
+        print(f"seed {seed}: prior x{r['prior_factor']}, sysid {r['sysid_seconds']:.1f} s on {r['log_seconds']:.0f} s airborne; "
+              f"drag at 25 m/s trim: truth {r['drag_at_trim_25']['truth']:.4f}, identified {r['drag_at_trim_25']['identified']:.4f}, "
+              f"prior {r['drag_at_trim_25']['prior']:.4f}", flush=True)
+        if "flies" in r:
+            print(f"  hourglass tracking RMS (north/east/alt m, course deg, Va m/s): {json.dumps(r['flies'])}", flush=True)
+    text, summary = table(seeds)
+    print(text)
+    drag_errors = [abs(s["drag_at_trim_25"]["identified"] - s["drag_at_trim_25"]["truth"]) / s["drag_at_trim_25"]["truth"] for s in seeds]
+    print(f"drag at the 25-m/s trim: worst relative error {max(drag_errors):.1%} (target 25 %)")
+    doc = {"produced_by": f"bench/bench_sysid.py {args.bin_dir} --seeds {args.seeds}", "mission": os.path.relpath(args.mission, ROOT),
+           "aircraft": os.path.relpath(args.aircraft, ROOT), "summary": summary, "drag_worst_relative_error": max(drag_errors),
+           "seeds": seeds}
+    os.makedirs(os.path.dirname(args.out), exist_ok=True)
+    with open(args.out, "w") as f:
+        json.dump(doc, f, indent=1)
+    print(f"wrote {args.out}")
+
+
+if __name__ == "__main__":
+    main()
