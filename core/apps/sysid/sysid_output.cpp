@@ -98,8 +98,23 @@ std::string html(const SysidResult& r, const SysidProvenance& from) {
 
 }  // namespace
 
+/// Measured and predicted coefficients over the longest stretch, one row per sample.
+std::string series_csv(const SysidResult& r) {
+  std::string out = "t [s]";
+  for (const auto& s : r.series) out += fmt::format(",{0}_measured [],{0}_predicted []", s.axis);
+  out += "\n";
+  const std::size_t n = r.series.empty() ? 0 : r.series.front().t.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    out += fmt::format("{:.4f}", r.series.front().t[k]);
+    for (const auto& s : r.series) out += fmt::format(",{:.6g},{:.6g}", s.measured[k], s.predicted[k]);
+    out += "\n";
+  }
+  return out;
+}
+
 void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
+  write_text(dir / "coefficients.csv", series_csv(r));
   write_text(dir / "aircraft.yaml", aircraft_yaml(r, from));
   write_text(dir / "sysid.json", to_json(r, from).dump(2) + "\n");
   write_text(dir / "index.html", html(r, from));

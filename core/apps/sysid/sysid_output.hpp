@@ -5,6 +5,7 @@
 //   DIR/sysid.json     every coefficient: estimate, standard error, prior, identified, method, note;
 //                      each regression's fit; the drag figure; what produced the numbers
 //   DIR/index.html     the table, and measured against predicted coefficients per axis
+//   DIR/coefficients.csv  those coefficients over the longest airborne stretch, per sample
 // and the table `tern sysid` prints. Errors: ConfigError naming the file (a prior not in tern's
 // format, a file that cannot be written).
 #pragma once
