@@ -1,6 +1,6 @@
 // core/apps/commands/validate_command.cpp: `tern validate LOG --aircraft FILE [--aircraft FILE2 ...]`:
 // the simulator scored against a flight log (sysid/validate.hpp: the method; validate_report.hpp:
-// what is printed and written). The estimate is always tern's own: the estimator replayed over
+// what is printed and written). By default the estimate is tern's own: the estimator replayed over
 // the log at log level sysid (commands/estimator_replay.hpp), as it must be for a real flight's
 // log, which records no state at every message; a tern flight's log is treated alike (--estimate
 // names a run to take it from instead, e.g. a previous validate's estimate/). Writes
@@ -10,6 +10,9 @@
 #include <cstdio>
 #include <fstream>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -64,6 +67,22 @@ void write_text(const fs::path& file, const std::string& text) {
   if (!out) throw ConfigError(file.string() + ": cannot write");
 }
 
+/// Each file scored on the series loaded with its own servo lag; the windows (and the measured
+/// channels) from the first, the same samples for all.
+void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft, const std::vector<std::string>& files, const fs::path& log,
+               const fs::path& estimate) {
+  for (std::size_t i = 0; i < aircraft.size(); ++i) {
+    run.series.servo_tau = aircraft[i].servo_tau;
+    const sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
+    if (i == 0) {
+      run.windows = sysid::airborne_windows(s, run.options, run.log);
+      run.t = s.t;
+      for (std::size_t c = 0; c < sysid::kChannels; ++c) run.measured[c] = s.*sysid::kChannelSpecs[c].measured;
+    }
+    run.files.push_back(sysid::score_aircraft(s, aircraft[i], files[i], run.windows, run.options));
+  }
+}
+
 int validate(const ValidateRequest& o) {
   const std::vector<Aircraft> aircraft = load_all(o.aircraft);
   const fs::path log(o.log_dir), actuators = log / "topics" / "actuators.csv";
@@ -81,16 +100,7 @@ int validate(const ValidateRequest& o) {
                      ? "tern replay of the log (its estimator, log level sysid: the state at every message), kept as estimate/"
                      : "topics/state.csv of " + o.estimate + " (--estimate)";
   run.options = o.options;
-  for (std::size_t i = 0; i < aircraft.size(); ++i) {
-    run.series.servo_tau = aircraft[i].servo_tau;  // each file's own servo lag; the same samples for all
-    const sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
-    if (i == 0) {
-      run.windows = sysid::airborne_windows(s, o.options, o.log_dir);
-      run.t = s.t;
-      for (std::size_t c = 0; c < sysid::kChannels; ++c) run.measured[c] = s.*sysid::kChannelSpecs[c].measured;
-    }
-    run.files.push_back(sysid::score_aircraft(s, aircraft[i], o.aircraft[i], run.windows, o.options));
-  }
+  score_all(run, aircraft, o.aircraft, log, estimate);
   write_text(dir / "validate.json", sysid::validate_json(run).dump(2) + "\n");
   write_text(dir / "index.html", sysid::validate_html(run));
   if (!o.quiet) std::printf("%s\n", sysid::format_validate_table(run).c_str());
