@@ -61,6 +61,7 @@ DOCS = [
     "docs/aircraft-modelling.md",
     "docs/flying.md",
     "docs/fly-with-the-real-firmware.md",
+    "docs/validate.md",
 ]
 MARK = "@@tern-docs"
 SYSTEM_PATH = "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"

@@ -19,6 +19,8 @@ Command add_export_command(CLI::App& app);   ///< export_command.cpp: a flight's
 Command add_tune_command(CLI::App& app);     ///< tune_command.cpp: a step-response test of one loop
 Command add_params_command(CLI::App& app);   ///< params_command.cpp: every parameter of a mission
 Command add_serve_command(CLI::App& app);    ///< serve_command.cpp: a host kept alive across flights
+/// validate_command.cpp: aircraft files scored against a flight log (sysid/validate.hpp).
+Command add_validate_command(CLI::App& app);
 /// control_commands.cpp: swap, phases, console and remote, which drive a `tern serve` over its socket.
 std::vector<Command> add_control_commands(CLI::App& app);
 #if defined(TERN_WITH_DDS)

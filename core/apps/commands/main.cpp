@@ -49,7 +49,7 @@ bool run_extension(int argc, char** argv, int& rc) {
 std::vector<Command> add_commands(CLI::App& app) {
   std::vector<Command> all;
   for (auto* add : {add_fly_command, add_check_command, add_plugins_command, add_replay_command, add_import_command, add_sysid_command,
-                    add_export_command, add_tune_command, add_params_command, add_serve_command})
+                    add_validate_command, add_export_command, add_tune_command, add_params_command, add_serve_command})
     all.push_back(add(app));
   for (auto& c : add_control_commands(app)) all.push_back(std::move(c));
 #if defined(TERN_WITH_DDS)

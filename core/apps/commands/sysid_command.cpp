@@ -6,12 +6,10 @@
 #include <memory>
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
 #include "commands/commands.hpp"
 #include "commands/estimator_replay.hpp"
 #include "config/error.hpp"
-#include "replay/replay_csv.hpp"
 #include "sysid/flight_data.hpp"
 #include "sysid/identify.hpp"
 #include "sysid/sysid_output.hpp"
@@ -40,21 +38,6 @@ fs::path estimate_of(const SysidOptionsCli& o) {
   return r.run_dir;
 }
 
-/// The estimator's installation setting `name` (imu_position, imu_mount: a 3-vector) as the
-/// estimate's run recorded it in params.csv (any instance), else zero.
-Eigen::Vector3d installation(const fs::path& estimate, const std::string& name) {
-  const fs::path file = estimate / "params.csv";
-  if (!fs::exists(file)) return Eigen::Vector3d::Zero();
-  for (const auto& [key, values] : read_params_csv(file).values) {
-    if (key.size() <= name.size() || key.compare(key.size() - name.size() - 1, std::string::npos, "." + name) != 0) continue;
-    const YAML::Node v = YAML::Load(values.back().second);
-    if (!v.IsSequence() || v.size() != 3)
-      throw ConfigError(fmt::format("{}: {}: '{}' is not a 3-vector", file.string(), key, values.back().second));
-    return {v[0].as<double>(), v[1].as<double>(), v[2].as<double>()};
-  }
-  return Eigen::Vector3d::Zero();
-}
-
 int run_sysid(const SysidOptionsCli& o) {
   const Aircraft prior = load_aircraft(o.aircraft);
   if (o.band.size() != 2 || !(o.band[0] > 0.0) || !(o.band[1] > o.band[0]))
@@ -65,7 +48,7 @@ int run_sysid(const SysidOptionsCli& o) {
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
-  so.imu_position = installation(estimate, "imu_position"), so.imu_mount = installation(estimate, "imu_mount");
+  sysid::read_installation(estimate, so);
   const sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, so);
   sysid::SysidOptions io;
   io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;

@@ -6,6 +6,7 @@
 #include <map>
 
 #include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
 #include "replay/replay_csv.hpp"
@@ -109,8 +110,27 @@ void check_sensor_log(const std::filesystem::path& log_dir) {
   for (const auto& [name, why] : tables) {
     const std::filesystem::path file = log_dir / "topics" / name;
     if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
-    if (read_csv_table(file, {"t"}).rows < 2) throw ConfigError(fmt::format("{}: fewer than two rows: {}", file.string(), why));
   }
+}
+
+namespace {
+Eigen::Vector3d installation(const std::filesystem::path& estimate, const std::string& name) {
+  const std::filesystem::path file = estimate / "params.csv";
+  if (!std::filesystem::exists(file)) return Eigen::Vector3d::Zero();
+  for (const auto& [key, values] : read_params_csv(file).values) {
+    if (key.size() <= name.size() || key.compare(key.size() - name.size() - 1, std::string::npos, "." + name) != 0) continue;
+    const YAML::Node v = YAML::Load(values.back().second);
+    if (!v.IsSequence() || v.size() != 3)
+      throw ConfigError(fmt::format("{}: {}: '{}' is not a 3-vector", file.string(), key, values.back().second));
+    return {v[0].as<double>(), v[1].as<double>(), v[2].as<double>()};
+  }
+  return Eigen::Vector3d::Zero();
+}
+}  // namespace
+
+void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o) {
+  o.imu_position = installation(estimate_dir, "imu_position");
+  o.imu_mount = installation(estimate_dir, "imu_mount");
 }
 
 std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cutoff_hz, double dt_s) {

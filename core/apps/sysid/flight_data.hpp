@@ -58,10 +58,15 @@ struct FlightSeries {
   std::size_t size() const { return t.size(); }
 };
 
-/// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv with
-/// at least two rows each. Throws ConfigError naming the file ("no such table: the surfaces'
+/// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv (a
+/// table without rows is found later: no airborne samples, an estimate never valid). Throws ConfigError naming the file ("no such table: the surfaces'
 /// commands are required ...").
 void check_sensor_log(const std::filesystem::path& log_dir);
+
+/// The estimator's installation, as the estimate's run recorded it in params.csv (the setting
+/// `<instance>.imu_position` and `.imu_mount` of any instance; zero when absent), into `o`.
+/// Throws ConfigError naming params.csv when a value is not a 3-vector.
+void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o);
 
 /// Reads and conditions the series (header). `log_dir` holds imu.csv and actuators.csv under
 /// topics/, `estimate_dir` state.csv under topics/ (the two may be the same run).
