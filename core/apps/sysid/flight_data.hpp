@@ -59,8 +59,8 @@ struct FlightSeries {
 };
 
 /// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv (a
-/// table without rows is found later: no airborne samples, an estimate never valid). Throws ConfigError naming the file ("no such table: the surfaces'
-/// commands are required ...").
+/// table without rows is found later: no airborne samples, an estimate never valid). Throws ConfigError naming the file ("no such table:
+/// the surfaces' commands are required ...").
 void check_sensor_log(const std::filesystem::path& log_dir);
 
 /// The estimator's installation, as the estimate's run recorded it in params.csv (the setting
