@@ -111,6 +111,8 @@ class SignalGeneratorPlugin final : public Plugin {
   void abort(Nanos now, const std::string& why);
   std::optional<std::string> envelope_violation() const;
   bool active() const { return flight_.run != Run::idle; }
+  /// "instance.param", as the host names a parameter in its errors.
+  std::string qname(const std::string& p) const { return context().instance_name() + "." + p; }
   void try_engage(Nanos now, const msg::ControllerCommand& follower);
   double latched_base(const msg::ControllerCommand& follower) const;
 

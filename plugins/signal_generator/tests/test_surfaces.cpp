@@ -72,7 +72,7 @@ TEST_CASE("surface mode: pass-through before, the doublet added during, pass-thr
 TEST_CASE("surface mode: surfaces clamped to the aircraft's limits, the throttle to [0, 1]") {
   auto p = doublet_on_elevator();
   p["axis"] = std::string("delta_a, delta_t");
-  p["magnitude"] = std::vector<double>{2.0, 0.9};
+  p["magnitude"] = std::vector<double>{0.9, 0.9};
   p["t_gap"] = 0.0;
   Harness h(std::make_unique<signal::SignalGeneratorPlugin>(), p);
   h.start();
