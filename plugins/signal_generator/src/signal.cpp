@@ -139,9 +139,10 @@ Multisine::Multisine(double f_start_hz, double f_stop_hz, double t_rec, int n_ax
                                             f_start_hz, f_stop_hz, t_rec, std::max(0, k_hi - k_lo + 1), n_axes));
   const double M = static_cast<double>(k_.size());
   for (std::size_t m = 1; m <= k_.size(); ++m) phase_.push_back(-kPi * static_cast<double>(m * (m - 1)) / M);
-  // Peak over the record: a grid of 64 samples per period of the highest harmonic, then a grid
-  // 1000 times finer around each sample near the grid's peak (the sum is smooth).
-  const int n = std::max(1024, 64 * k_.back());
+  // Peak over the record: a grid of 16 samples per period of the highest harmonic, then a
+  // golden-section search on each of the grid's local maxima of |sum| near its peak (the sum is
+  // smooth: one maximum between two grid neighbours).
+  const int n = std::max(256, 16 * k_.back());
   const double dt = t_rec / n;
   std::vector<double> r(static_cast<std::size_t>(n));
   double coarse = 0.0, sum2 = 0.0;
@@ -151,9 +152,20 @@ Multisine::Multisine(double f_start_hz, double f_stop_hz, double t_rec, int n_ax
     sum2 += r[static_cast<std::size_t>(i)] * r[static_cast<std::size_t>(i)];
   }
   double peak = coarse;
-  for (int i = 0; i < n; ++i)
-    if (std::abs(r[static_cast<std::size_t>(i)]) > 0.95 * coarse)
-      for (int j = -1000; j <= 1000; ++j) peak = std::max(peak, std::abs(raw(dt * (i + j / 1000.0))));
+  const auto at = [&](int i) { return std::abs(r[static_cast<std::size_t>((i + n) % n)]); };
+  const double golden = (std::sqrt(5.0) - 1.0) / 2.0;
+  for (int i = 0; i < n; ++i) {
+    if (at(i) < 0.95 * coarse || at(i) < at(i - 1) || at(i) < at(i + 1)) continue;
+    double a = dt * (i - 1), b = dt * (i + 1);
+    for (int it = 0; it < 60; ++it) {
+      const double c = b - golden * (b - a), d = a + golden * (b - a);
+      if (std::abs(raw(c)) > std::abs(raw(d)))
+        b = d;
+      else
+        a = c;
+    }
+    peak = std::max(peak, std::abs(raw((a + b) / 2.0)));
+  }
   scale_ = 1.0 / peak;
   peak_factor_ = peak / std::sqrt(2.0 * sum2 / n);
 }
