@@ -403,12 +403,11 @@ void SignalGeneratorPlugin::step_surfaces(Nanos now) {
     if (engage_() == "off") abort(now, "engage set to off");
     if (engage_() == "now" && !active()) begin_run(now, false, "engage set to now");
   }
-  if (rc_channel_() >= 0 && rc_.has_value()) {
-    const msg::Rc& rc = *rc_;
-    const bool high = rc.aux[static_cast<std::size_t>(rc_channel_())] > 0.5;
-    if (rc.failsafe || rc.rc_override)
-      abort(now, rc.failsafe ? "RC failsafe" : "RC override");
-    else if (high && !flight_.rc_high && !active())
+  if (rc_.has_value() && (rc_->failsafe || rc_->rc_override)) abort(now, rc_->failsafe ? "RC failsafe" : "RC override");
+  // The switch engages nothing while the pilot or the receiver's failsafe flies.
+  if (rc_channel_() >= 0 && rc_.has_value() && !rc_->failsafe && !rc_->rc_override) {
+    const bool high = rc_->aux[static_cast<std::size_t>(rc_channel_())] > 0.5;
+    if (high && !flight_.rc_high && !active())
       begin_run(now, false, fmt::format("RC aux {} switch", rc_channel_()));
     else if (!high && flight_.rc_high)
       abort(now, fmt::format("RC aux {} switch off", rc_channel_()));

@@ -198,6 +198,15 @@ TEST_CASE("surface mode: the RC switch engages and aborts") {
   h.set_input("rc", rc);
   h.step(from_seconds(1.02));
   CHECK(same(h.output<msg::Actuators>("actuators"), controller()));
+  rc.aux[2] = 1.0;  // up again: a new run
+  h.set_input("rc", rc);
+  h.step(from_seconds(1.03));
+  CHECK(h.output<msg::Actuators>("excitation").delta_e == doctest::Approx(0.05));
+  rc.rc_override = true;  // the pilot takes over: abort, whatever the switch says
+  h.set_input("rc", rc);
+  h.step(from_seconds(1.04));
+  CHECK(same(h.output<msg::Actuators>("actuators"), controller()));
+  CHECK(h.plugin().summary()[1].second == 2.0);
 }
 
 TEST_CASE("surface mode: with Va_sequence the list is flown at each airspeed once the estimate holds it") {
