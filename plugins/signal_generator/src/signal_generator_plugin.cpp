@@ -111,18 +111,6 @@ void SignalGeneratorPlugin::configure() {
                     "surface mode: the manoeuvre list, comma-separated, each delta_a, delta_e, delta_r, delta_t or several joined by + "
                     "(at once: multisine); empty: loop mode on `loop` (ArduPilot's SID_AXIS)")
               .start_only());
-  declare(waveform_, "waveform", "square",
-          ParamSpec("", 0, 0,
-                    "loop mode: step, square, sine, triangle, sawtooth, doublet; surface mode: chirp, multisine, 3211 or doublet, "
-                    "one name or one per manoeuvre, comma-separated"));
-  declare(amplitude_, "amplitude", 0.1,
-          ParamSpec("rad, m or m/s", -100.0, 100.0, "loop mode: command = base + offset + amplitude * w(t) (the loop's unit)"));
-  declare(period_, "period", 4.0, ParamSpec("s", 0.1, 3600.0, "loop mode: signal period; step, square, doublet: first edge at period/2"));
-  declare(offset_, "offset", 0.0, ParamSpec("rad, m or m/s", -1000.0, 1000.0, "loop mode: added to the base (the loop's unit)"));
-  declare(reference_, "reference", "command",
-          ParamSpec("", 0, 0, "loop mode: base: command = the loop's command at engagement; absolute = 0")
-              .one_of({"command", "absolute"})
-              .start_only());
   declare(start_time_, "start_time", 20.0, ParamSpec("s", 0.0, 1e6, "engagement, after the start of start_phase").start_only());
   declare(start_phase_, "start_phase", "cruise",
           ParamSpec("", 0, 0, "start_time counts from: flight = t 0, cruise = the first cruise phase")
@@ -140,9 +128,15 @@ void SignalGeneratorPlugin::configure_loop_mode() {
   declare(phase_, "flight_phase", "flight phase: start_phase cruise waits for the first cruise", Need::optional);
   declare(internals_, "controller_internals", "the controller's phi_c, theta_c: base of roll and pitch signals", Need::optional);
   declare(command_, "controller_command", "the follower's command with the chosen loop's command replaced");
-  if (!waveform_from_name(waveform_()))
-    throw ParamError(fmt::format("parameter '{}': \"{}\" is not a loop-mode waveform (step, square, sine, triangle, sawtooth, doublet)",
-                                 qname("waveform"), waveform_()));
+  declare(waveform_, "waveform", "square",
+          ParamSpec("", 0, 0, "signal shape (signal.hpp)").one_of({"step", "square", "sine", "triangle", "sawtooth", "doublet"}));
+  declare(amplitude_, "amplitude", 0.1,
+          ParamSpec("rad, m or m/s", -100.0, 100.0, "signal height: command = base + offset + amplitude * w(t) (the loop's unit)"));
+  declare(period_, "period", 4.0, ParamSpec("s", 0.1, 3600.0, "signal period; step, square, doublet: first edge at period/2"));
+  declare(offset_, "offset", 0.0, ParamSpec("rad, m or m/s", -1000.0, 1000.0, "added to the base (the loop's unit)"));
+  declare(
+      reference_, "reference", "command",
+      ParamSpec("", 0, 0, "base: command = the loop's command at engagement; absolute = 0").one_of({"command", "absolute"}).start_only());
   loop_value_ = *loop_from_name(loop_());
   reference_value_ = *reference_from_name(reference_());
 }
@@ -156,6 +150,8 @@ void SignalGeneratorPlugin::configure_surface_mode() {
   declare(mission_edit_, "mission_edit", "a mission edit (a failsafe's, an operator's) aborts", Need::optional);
   declare(actuators_, "actuators", "the controller's command with the excitation added, clamped to the surfaces' limits");
   declare(excitation_, "excitation", "the increments added this step (rad; delta_t: throttle fraction); 0 outside a manoeuvre");
+  declare(waveform_, "waveform", "chirp",
+          ParamSpec("", 0, 0, "chirp, multisine, 3211 or doublet: one name, or one per manoeuvre, comma-separated (signal.hpp)"));
   declare(magnitude_, "magnitude", std::vector<double>{0.0349},
           ParamSpec("rad; delta_t: 0..1", -1.0, 1.0,
                     "peak excitation per axis named in `axis`, in order (one value: every axis) (ArduPilot's SID_MAGNITUDE)"));
