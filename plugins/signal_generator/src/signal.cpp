@@ -134,9 +134,10 @@ Multisine::Multisine(double f_start_hz, double f_stop_hz, double t_rec, int n_ax
   const int k_hi = static_cast<int>(std::floor(f_stop_hz * t_rec + 1e-9));
   for (int k = k_lo + axis; k <= k_hi; k += n_axes) k_.push_back(k);
   if (k_.empty())
-    throw std::invalid_argument(fmt::format("f_start_hz {} .. f_stop_hz {} over t_rec {} s holds {} harmonics of 1/t_rec, fewer than "
-                                            "the {} axes excited at once: widen the band or lengthen t_rec",
-                                            f_start_hz, f_stop_hz, t_rec, std::max(0, k_hi - k_lo + 1), n_axes));
+    throw std::invalid_argument(
+        fmt::format("f_start_hz {} .. f_stop_hz {} over t_rec {} s holds {} harmonics of 1/t_rec, fewer than "
+                    "the {} axes excited at once: widen the band or lengthen t_rec",
+                    f_start_hz, f_stop_hz, t_rec, std::max(0, k_hi - k_lo + 1), n_axes));
   const double M = static_cast<double>(k_.size());
   for (std::size_t m = 1; m <= k_.size(); ++m) phase_.push_back(-kPi * static_cast<double>(m * (m - 1)) / M);
   // Peak over the record: a grid of 16 samples per period of the highest harmonic, then a

@@ -102,10 +102,13 @@ std::string Manoeuvre::describe() const {
 // ---- configuration --------------------------------------------------------------------------
 
 void SignalGeneratorPlugin::configure() {
-  declare(loop_, "loop", "roll",
-          ParamSpec("", 0, 0, "loop mode (axis empty): loop whose command is replaced: roll phi_c, pitch theta_c, course chi_c, altitude h_c, airspeed Va_c")
-              .one_of({"roll", "pitch", "course", "altitude", "airspeed"})
-              .start_only());
+  declare(
+      loop_, "loop", "roll",
+      ParamSpec(
+          "", 0, 0,
+          "loop mode (axis empty): loop whose command is replaced: roll phi_c, pitch theta_c, course chi_c, altitude h_c, airspeed Va_c")
+          .one_of({"roll", "pitch", "course", "altitude", "airspeed"})
+          .start_only());
   declare(axis_, "axis", "",
           ParamSpec("", 0, 0,
                     "surface mode: the manoeuvre list, comma-separated, each delta_a, delta_e, delta_r, delta_t or several joined by + "
@@ -167,7 +170,8 @@ void SignalGeneratorPlugin::configure_surface_mode() {
           ParamSpec("s", 0.01, 60.0, "3211, doublet: the unit pulse T_p, one value or one per manoeuvre"));
   declare(t_gap_, "t_gap", 4.0, ParamSpec("s", 0.0, 600.0, "pass-through between two manoeuvres (the aircraft settles)"));
   declare(Va_sequence_, "Va_sequence", std::vector<double>{},
-          ParamSpec("m/s", 1.0, 200.0, "mission: fly the list once at each airspeed, in order, when the estimate holds it (empty: once, at start_time)")
+          ParamSpec("m/s", 1.0, 200.0,
+                    "mission: fly the list once at each airspeed, in order, when the estimate holds it (empty: once, at start_time)")
               .start_only());
   declare(Va_tolerance_, "Va_tolerance", 1.0, ParamSpec("m/s", 0.1, 20.0, "steady: |Va - Va_sequence[i]| below this"));
   declare(t_settle_, "t_settle", 5.0, ParamSpec("s", 0.0, 600.0, "steady: for this long, wings level (|phi| < phi_settle)"));
@@ -203,7 +207,7 @@ std::vector<Manoeuvre> SignalGeneratorPlugin::plan() const {
   if (shapes.size() != 1 && shapes.size() != groups.size())
     throw bad("waveform", waveform_(), fmt::format("give one waveform or one per manoeuvre ({})", groups.size()));
   for (const char* p : {"f_start_hz", "f_stop_hz", "t_rec", "pulse_width"}) {
-    const auto& v = std::string_view(p) == "f_start_hz" ? f_start_hz_()
+    const auto& v = std::string_view(p) == "f_start_hz"  ? f_start_hz_()
                     : std::string_view(p) == "f_stop_hz" ? f_stop_hz_()
                     : std::string_view(p) == "t_rec"     ? t_rec_()
                                                          : pulse_width_();
@@ -245,7 +249,8 @@ std::vector<Manoeuvre> SignalGeneratorPlugin::plan() const {
       if (m.shape == Shape::chirp) m.chirp.validate();
       if (m.shape == Shape::multisine)
         for (std::size_t j = 0; j < m.axes.size(); ++j)
-          m.multisine.emplace_back(m.chirp.f_start_hz, m.chirp.f_stop_hz, m.chirp.t_rec, static_cast<int>(m.axes.size()), static_cast<int>(j));
+          m.multisine.emplace_back(m.chirp.f_start_hz, m.chirp.f_stop_hz, m.chirp.t_rec, static_cast<int>(m.axes.size()),
+                                   static_cast<int>(j));
     } catch (const std::invalid_argument& e) {
       throw ParamError(fmt::format("{}: manoeuvre {} ({} {}): {}", context().instance_name(), i, groups[i], shape_text, e.what()));
     }
@@ -354,7 +359,8 @@ void SignalGeneratorPlugin::begin_manoeuvre(Nanos now) {
   flight_.t0 = now;
   const Manoeuvre& m = flight_.list[flight_.item];
   const double Va = state_.has_value() ? state_->Va : 0.0;
-  log().info("t={:.3f} s: manoeuvre {} begins: {}, {:.4g} s, at Va {:.2f} m/s", to_seconds(now), flight_.flown, m.describe(), m.duration(), Va);
+  log().info("t={:.3f} s: manoeuvre {} begins: {}, {:.4g} s, at Va {:.2f} m/s", to_seconds(now), flight_.flown, m.describe(), m.duration(),
+             Va);
   flight_.marks.emplace_back(fmt::format("m{}_start_s", flight_.flown), to_seconds(now));
 }
 

@@ -39,8 +39,12 @@ bool same(const msg::Actuators& a, const msg::Actuators& b) {
   return a.delta_a == b.delta_a && a.delta_e == b.delta_e && a.delta_r == b.delta_r && a.delta_t == b.delta_t && a.brake == b.brake;
 }
 std::map<std::string, ParamValue> doublet_on_elevator() {
-  return {{"axis", std::string("delta_e")},     {"waveform", std::string("doublet")}, {"magnitude", std::vector<double>{0.05}},
-          {"pulse_width", std::vector<double>{1.0}}, {"start_time", 2.0},            {"h_min", 50.0},
+  return {{"axis", std::string("delta_e")},
+          {"waveform", std::string("doublet")},
+          {"magnitude", std::vector<double>{0.05}},
+          {"pulse_width", std::vector<double>{1.0}},
+          {"start_time", 2.0},
+          {"h_min", 50.0},
           {"Va_min", 15.0}};
 }
 }  // namespace
@@ -262,6 +266,7 @@ TEST_CASE("surface mode: bad lists are one error naming the parameter and the va
           "f_stop_hz 1 must be above f_start_hz 2");
   refused({{"axis", std::string("delta_a, delta_e")}, {"magnitude", std::vector<double>{0.1, 0.2, 0.3}}}, "magnitude");
   refused({{"waveform", std::string("sine")}}, "\"sine\": not a surface-mode waveform");
-  CHECK_THROWS_AS(Harness(std::make_unique<signal::SignalGeneratorPlugin>(), {{"axis", std::string("delta_e")}, {"t_rec", std::vector<double>{-1.0}}}),
-                  ParamError);
+  CHECK_THROWS_AS(
+      Harness(std::make_unique<signal::SignalGeneratorPlugin>(), {{"axis", std::string("delta_e")}, {"t_rec", std::vector<double>{-1.0}}}),
+      ParamError);
 }
