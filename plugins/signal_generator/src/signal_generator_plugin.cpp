@@ -203,6 +203,12 @@ std::vector<Manoeuvre> SignalGeneratorPlugin::plan() const {
   };
   std::vector<Manoeuvre> out;
   const auto groups = split(axis_(), ',');
+  for (const auto& g : groups)  // the names first: a wrong one explains a wrong count below
+    for (const auto& name : split(g, '+'))
+      if (!surface_from_name(name))
+        throw bad("axis", "\"" + name + "\"",
+                  loop_from_name(name) ? "a loop: loops are excited in loop mode (axis empty, loop: " + name + ")"
+                                       : "not a surface (delta_a, delta_e, delta_r, delta_t)");
   const auto shapes = split(waveform_(), ',');
   if (shapes.size() != 1 && shapes.size() != groups.size())
     throw bad("waveform", waveform_(), fmt::format("give one waveform or one per manoeuvre ({})", groups.size()));
@@ -223,12 +229,6 @@ std::vector<Manoeuvre> SignalGeneratorPlugin::plan() const {
     Manoeuvre m;
     for (const auto& name : split(groups[i], '+')) {
       const auto s = surface_from_name(name);
-      if (!s) {
-        const bool is_loop = loop_from_name(name).has_value();
-        throw bad("axis", "\"" + name + "\"",
-                  is_loop ? "a loop: loops are excited in loop mode (axis empty, loop: " + name + ")"
-                          : "not a surface (delta_a, delta_e, delta_r, delta_t)");
-      }
       if (std::find(m.axes.begin(), m.axes.end(), *s) != m.axes.end()) throw bad("axis", "\"" + groups[i] + "\"", "names a surface twice");
       m.axes.push_back(*s);
       const double mag = magnitude_().size() == 1 ? magnitude_()[0] : magnitude_()[axis_index];
@@ -252,7 +252,10 @@ std::vector<Manoeuvre> SignalGeneratorPlugin::plan() const {
           m.multisine.emplace_back(m.chirp.f_start_hz, m.chirp.f_stop_hz, m.chirp.t_rec, static_cast<int>(m.axes.size()),
                                    static_cast<int>(j));
     } catch (const std::invalid_argument& e) {
-      throw ParamError(fmt::format("{}: manoeuvre {} ({} {}): {}", context().instance_name(), i, groups[i], shape_text, e.what()));
+      // signal.hpp's messages begin with the parameter at fault ("f_stop_hz 1 must be above ...").
+      const std::string what = e.what();
+      throw ParamError(
+          fmt::format("parameter '{}': manoeuvre {} ({} {}): {}", qname(what.substr(0, what.find(' '))), i, groups[i], shape_text, what));
     }
     out.push_back(std::move(m));
   }
