@@ -108,3 +108,22 @@ TEST_CASE("sysid.yaml with an envelope tighter than the manoeuvres: the first ab
   CHECK(peak(x, "delta_a", t_abort, 1e6) == 0.0);
   CHECK(read_file(r.run_dir / "tern.log").find("excitation aborted in manoeuvre 0") != std::string::npos);
 }
+
+TEST_CASE("sysid.yaml with a bad manoeuvre list: one error line at the parameter it names, with its value") {
+  const auto error_of = [](const std::string& from, const std::string& to) {
+    const fs::path f = write_file("sysid_bad.yaml", mission_with("sysid.yaml", {{from, to}}));
+    try {
+      Host h(load_config(f), HostOptions{});
+      h.build();
+    } catch (const ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const std::string band = error_of("f_stop_hz: [4.0, 3.0,", "f_stop_hz: [0.1, 3.0,");
+  CHECK(band.find("sysid_bad.yaml:") != std::string::npos);
+  CHECK(band.find("plugins[6].params.f_stop_hz: parameter 'excite.f_stop_hz': manoeuvre 0 (delta_e chirp): f_stop_hz 0.1 must be above "
+                  "f_start_hz 0.2 (Hz)") != std::string::npos);
+  const std::string axis = error_of("delta_a+delta_r, delta_a,", "delta_a+delta_q, delta_a,");
+  CHECK(axis.find("plugins[6].params.axis: parameter 'excite.axis': \"delta_q\": not a surface") != std::string::npos);
+}
