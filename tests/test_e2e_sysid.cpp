@@ -127,3 +127,25 @@ TEST_CASE("sysid.yaml with a bad manoeuvre list: one error line at the parameter
   const std::string axis = error_of("delta_a+delta_r, delta_a,", "delta_a+delta_q, delta_a,");
   CHECK(axis.find("plugins[6].params.axis: parameter 'excite.axis': \"delta_q\": not a surface") != std::string::npos);
 }
+
+TEST_CASE("sysid.yaml with a geofence the first leg crosses: the failsafe's mission edit aborts the manoeuvre in flight") {
+  const std::string text = mission_with("sysid.yaml", {{"phases: {takeoff: slc, climb: slc, cruise: slc}\n",
+                                                        "phases: {takeoff: slc, climb: slc, cruise: slc}\n"
+                                                        "failsafes: {geofence: {max_distance: 1200}}\n"},
+                                                       {"duration: 720", "duration: 120"}});
+  const FlightResult r = fly_text(text, "sysid_fence.yaml", "e2e_sysid_fence", 120.0);
+  REQUIRE(r.ok);
+  const auto s = summary(r);
+  const auto& ex = s["instances"]["excite"];
+  CHECK(ex["aborts"].get<double>() == 1.0);
+  REQUIRE(ex.contains("m1_aborted_s"));
+  const double t_abort = ex["m1_aborted_s"].get<double>();
+  REQUIRE(s["failsafes"].size() >= 1);
+  const double t_fence = s["failsafes"][0]["t_s"].get<double>();
+  CHECK(s["failsafes"][0]["cause"] == "geofence");
+  CHECK(t_abort >= t_fence);
+  CHECK(t_abort - t_fence < 0.05);  // the edit reaches the generator at the next tick
+  const Table x = read_table(r.run_dir / "topics" / "excitation.csv");
+  CHECK(peak(x, "delta_a", t_abort, 1e6) == 0.0);
+  CHECK(peak(x, "delta_r", t_abort, 1e6) == 0.0);
+}
