@@ -1,6 +1,8 @@
 // tern/signal_generator/signal.hpp: test signals for tuning one control loop, after ROSplane 2.0's
 // rosplane_tuning signal generator (rosplane_tuning/src/signal_generator.cpp: step, square,
-// sawtooth, triangle, sine), plus a doublet. Plain C++: no tern host types.
+// sawtooth, triangle, sine), plus a doublet; and the excitation manoeuvres for system
+// identification (chirp, Schroeder multisine, 3-2-1-1, doublet: the second half of this file).
+// Plain C++: no tern host types.
 //
 // A waveform w(t) is a shape in [-1, 1], t in s since the signal started, P the period in s:
 //   step      0 for t < P/2, then 1 (held)
