@@ -80,7 +80,13 @@ void run_configure(Instance& inst, const fs::path& f, const std::string& field) 
   try {
     inst.plugin->configure();
   } catch (const ParamError& e) {
-    const std::string& p = inst.ctx->last_param();
+    // The parameter the message names ("parameter 'inst.p': ..."), else the last one declared.
+    std::string p = inst.ctx->last_param();
+    const std::string what = e.what(), named = "parameter '" + inst.cfg.name + ".";
+    if (const auto at = what.find(named); at != std::string::npos) {
+      const auto from = at + named.size(), to = what.find('\'', from);
+      if (to != std::string::npos && inst.cfg.params.count(what.substr(from, to - from))) p = what.substr(from, to - from);
+    }
     auto it = inst.cfg.params.find(p);
     if (it != inst.cfg.params.end()) throw ConfigError(it->second.location() + ": " + e.what());
     throw ConfigError(where(f, inst.cfg.node) + field + " (" + inst.cfg.name + "): " + e.what());

@@ -209,12 +209,15 @@ void PortGraph::bind(std::optional<std::size_t> active) {
 
 void PortGraph::route(std::optional<std::size_t> active) {
   for (auto& t : topics_)
-    if (t.routed) bind_readers(t, routed_writer(t, active));
+    if (t.routed)
+      bind_readers(t, routed_writer(t, active));
+    else if (!t.host_writer && !t.writers.empty() && t.current != t.writers.front().second)
+      bind_readers(t, t.writers.front().second);  // route_topic's override of a plugin's topic ends
 }
 
 bool PortGraph::route_topic(const std::string& topic, const OutputBase* src) {
   for (auto& t : topics_)
-    if (t.name == topic && t.routed) {
+    if (t.name == topic && (t.routed || (!t.host_writer && !t.writers.empty()))) {
       bind_readers(t, src);
       return true;
     }

@@ -101,10 +101,13 @@ class PortGraph {
   /// Binds every input to its topic's writer; routed topics to node `active`'s outputs (nullopt:
   /// routed topics stay unbound).
   void bind(std::optional<std::size_t> active);
-  /// Rebinds the routed topics only, to node `active`'s outputs (nullopt: unbound).
+  /// Rebinds the routed topics to node `active`'s outputs (nullopt: unbound), and a plugin's
+  /// topic that route_topic() took over back to its writer.
   void route(std::optional<std::size_t> active);
-  /// Rebinds the routed topic `topic` alone to `src`, an output of the host's of the topic's
-  /// type (the state-loss recovery's actuators); route() undoes it. False if `topic` is not routed.
+  /// Rebinds `topic` alone to `src`, an output of the host's of the topic's type (the state-loss
+  /// recovery's and the flight termination's actuators); route() undoes it. `topic` is routed, or
+  /// written by one plugin (the signal generator's `actuators`, downstream of the controller's
+  /// remapped command: the host's command still reaches the aircraft). False otherwise.
   bool route_topic(const std::string& topic, const OutputBase* src);
 
  private:

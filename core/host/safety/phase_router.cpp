@@ -273,9 +273,15 @@ void PhaseRouter::engage_fallback(Nanos now, const std::string& why, bool may_ha
 
 const OutputBase* PhaseRouter::find_actuators() const {
   if (!active_) return nullptr;
+  // Its msg::Actuators output: on `actuators`, or remapped (a signal generator adds an excitation
+  // to it and publishes `actuators`): the checks and the monitor watch the controller's own command.
+  const OutputBase* remapped = nullptr;
   for (auto* o : instances_[*active_]->plugin->outputs())
-    if (o->topic() == "actuators" && o->type().fingerprint == reflect::fingerprint<msg::Actuators>()) return o;
-  return nullptr;
+    if (o->type().fingerprint == reflect::fingerprint<msg::Actuators>()) {
+      if (o->topic() == "actuators") return o;
+      if (!remapped) remapped = o;
+    }
+  return remapped;
 }
 
 }  // namespace tern::core

@@ -131,6 +131,30 @@ TEST_CASE("port graph: one writer per topic, except controllers behind the phase
   CHECK(g.find("actuators")->current == nullptr);
 }
 
+TEST_CASE("port graph: route_topic takes over a topic a plugin writes downstream of a remapped controller; route() gives it back") {
+  // control_slc's actuators remapped to controller_actuators, a signal generator adding the
+  // excitation and publishing actuators: the host's termination and state-loss recovery still
+  // reach the aircraft.
+  Ports ctl, gen, sim, host;
+  auto& c = ctl.out<msg::Actuators>("actuators");
+  c.set_topic("controller_actuators");
+  gen.in<msg::Actuators>("controller_actuators");
+  auto& g_out = gen.out<msg::Actuators>("actuators");
+  auto& in = sim.in<msg::Actuators>("actuators");
+  auto& host_cmd = host.out<msg::Actuators>("actuators");
+  PortGraph g({ctl.node("ctl", false, true), gen.node("gen"), sim.node("sim", true)}, {}, kFile);
+  CHECK_FALSE(g.find("actuators")->routed);
+  g.bind(0);
+  CHECK(in.source() == &g_out);
+  CHECK(g.route_topic("actuators", &host_cmd));
+  CHECK(in.source() == &host_cmd);
+  CHECK(g.find("actuators")->current == &host_cmd);  // what the log records
+  g.route(0);
+  CHECK(in.source() == &g_out);
+  CHECK(g.find("actuators")->current == &g_out);
+  CHECK_FALSE(g.route_topic("no_such_topic", &host_cmd));
+}
+
 TEST_CASE("port graph: writers and readers of a topic must carry one message type") {
   Ports c1, c2, r;
   c1.out<msg::Actuators>("actuators");

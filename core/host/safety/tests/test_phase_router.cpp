@@ -56,7 +56,9 @@ class TestController final : public Plugin {
 /// Instances "slc" and "tecs" (controllers), "spare" (a controller no table names), the reader
 /// of `actuators` (an estimator's input, here a bare port), the phase machine and the router.
 struct Rig {
-  explicit Rig(std::map<msg::Phase, std::string> phases, std::optional<std::string> fallback = std::nullopt, bool preflight = false)
+  /// `topic`: where the controllers' actuators go (a remap, e.g. to a signal generator's input).
+  explicit Rig(std::map<msg::Phase, std::string> phases, std::optional<std::string> fallback = std::nullopt, bool preflight = false,
+               const std::string& topic = "actuators")
       : pm(std::make_unique<PhaseMachine>(), {{"preflight", preflight},
                                               {"preflight_time", 0.0},
                                               {"alt_toz", 5.0},
@@ -69,9 +71,10 @@ struct Rig {
       inst->info.kind = PluginKind::controller;
       inst->plugin = std::make_unique<TestController>();
       inst->plugin->configure();
+      for (auto* o : inst->plugin->outputs()) o->set_topic(topic);
       instances.push_back(std::move(inst));
     }
-    reader.set_identity("actuators", "");
+    reader.set_identity(topic, "");
     config.phases = std::move(phases);
     config.fallback = std::move(fallback);
     router = std::make_unique<PhaseRouter>(instances, graph, log);
@@ -210,6 +213,19 @@ TEST_CASE("phase router: a controller that fails is replaced by the fallback in 
     CHECK(r.router->active() == kTecs);
     CHECK(r.router->handovers().size() == 1);
   }
+}
+
+TEST_CASE("phase router: a controller whose actuators are remapped (to a signal generator) is watched all the same") {
+  Rig r({{msg::Phase::takeoff, "slc"}, {msg::Phase::climb, "slc"}, {msg::Phase::cruise, "slc"}}, "tecs", false, "controller_actuators");
+  r.ctl(kSlc).command.delta_e = 0.07;
+  r.ctl(kTecs).command.delta_e = 0.3;
+  REQUIRE(r.tick(0.1, 1.0).empty());
+  CHECK(r.reader.get().delta_e == 0.07);
+  r.ctl(kSlc).command.delta_e = std::numeric_limits<double>::quiet_NaN();
+  CHECK(r.tick(0.2, 1.0).empty());
+  CHECK(r.router->fallback_engaged());
+  CHECK(r.reader.get().delta_e == 0.3);
+  CHECK(r.ctl(kTecs).taken_over_from.delta_e == 0.07);
 }
 
 TEST_CASE("phase router: when the fallback itself fails, the flight ends with an error") {
