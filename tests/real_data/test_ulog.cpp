@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -438,13 +440,17 @@ struct Imported {
   std::vector<std::string> lines(const std::string& topic) const { return lines_of(dir / "topics" / (topic + ".csv")); }
 };
 
-Imported import_sample(const std::string& name, const fs::path& dir = kSamples) {
+Imported import_sample(const std::string& name, const fs::path& dir = kSamples, const tern::core::CommandMapping& commands = {}) {
   Imported i;
   i.dir = fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(i.dir);
   tern::core::SensorLogWriter out(i.dir);
-  i.report = tern::core::import_ulog(dir / (name + ".ulg"), out);
+  i.report = tern::core::import_ulog(dir / (name + ".ulg"), out, commands);
   return i;
+}
+
+bool has_line(const std::vector<std::string>& lines, const std::string& part) {
+  return std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(part) != std::string::npos; }) == 1;
 }
 
 }  // namespace
@@ -463,6 +469,8 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
   CHECK(i.report.rows.at("reference") == 6461);  // vehicle_attitude; vehicle_local_position never valid (no GPS)
   CHECK(i.report.rows.count("gnss") == 0);
   CHECK(i.report.rows.count("baro") == 0);  // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
+  CHECK(i.report.rows.count("actuators") == 0);  // the full deflections not stated: not written
+  CHECK(!fs::exists(i.dir / "topics" / "actuators.csv"));
   const std::string f = (kSamples / "sample.ulg").string();
   CHECK(i.report.warnings ==
         std::vector<std::string>{
@@ -470,6 +478,9 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
             f + ": no diff_pressure: differential_pressure or airspeed with data",
             f + ": no gnss: vehicle_gps_position or sensor_gps with data (without GNSS the estimator never initialises)",
             f + ": no reference wind: wind or wind_estimate with data",
+            f + ": actuator_controls_0 holds the surfaces' commands, normalised: no actuators.csv written without --max-deflection A E R "
+                "(rad: the full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; a ULog does not "
+                "hold them)",
             f + ": 4 logging dropout(s), 119 ms in all: data lost by PX4's logger",
             f + ": no GNSS fix with a UTC time: the flight's date is unknown (the magnetic model's date is not set)",
         });
@@ -542,6 +553,111 @@ TEST_CASE("tern import ulog: sample_log_small.ulg (a 2021 VTOL armed on the grou
         doctest::Approx(r.initial_parameters().at("EKF2_ASP_DELAY").number() * 1e-3));
   CHECK(meta["estimator"]["gnss_antenna_position"].as<std::vector<double>>().size() == 3);
   fs::remove_all(i.dir);
+}
+
+/// `bytes` with `from` replaced by the same-length `to` at every place `where` accepts (its offset).
+std::string patched(std::string bytes, const std::string& from, const std::string& to, const std::function<bool(std::size_t)>& where) {
+  REQUIRE(from.size() == to.size());
+  int n = 0;
+  for (std::size_t at = bytes.find(from); at != std::string::npos; at = bytes.find(from, at + 1))
+    if (where(at)) bytes.replace(at, from.size(), to), ++n;
+  REQUIRE(n > 0);
+  return bytes;
+}
+
+TEST_CASE("tern import ulog: actuator_controls_0 -> actuators, the uavbook's signs, stamps at publication (sample.ulg)" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  m.command_delay = 0.02;
+  const Imported i = import_sample("sample", kSamples, m);
+  CHECK(i.report.rows.at("actuators") == 3269);  // every actuator_controls_0 message (sample_info.txt's count)
+  CHECK(i.report.rows.at("imu") == 17070);       // the sensors as without the option
+  const std::string f = (kSamples / "sample.ulg").string();
+  CHECK(has_line(i.report.warnings, f + ": MAV_TYPE 2 is no fixed wing: actuator_controls_0's roll, pitch and yaw are the rotors' torque"));
+  CHECK(has_line(i.report.warnings, f + ": the surfaces' commands are logged at 47.4 Hz: too slow for a sysid excitation above 10 Hz"));
+  CHECK(i.lines("actuators").at(0) == "t [s],stamp [ns],delta_a [rad],delta_e [rad],delta_r [rad],delta_t [],brake []");
+  // The first actuator_controls_0 message, decoded independently (Python struct on the file): timestamp
+  // 112574774 us (timestamp_sample 112574307), control = (-0.04677823930978775, -0.09784627705812454,
+  // -0.04372883960604668, 0): PX4's roll left, nose down, yaw left. The header's start is 112500176 us.
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == std::to_string((112574774 - 112500176) * 1000 + 20'000'000));  // + --command-delay 0.02 s
+  CHECK(std::stod(a.at(2)) == doctest::Approx(-0.04677823930978775 * 0.35).epsilon(1e-12));  // roll left: delta_a < 0
+  CHECK(std::stod(a.at(3)) == doctest::Approx(0.09784627705812454 * 0.30).epsilon(1e-12));   // nose down: delta_e > 0
+  CHECK(std::stod(a.at(4)) == doctest::Approx(0.04372883960604668 * 0.40).epsilon(1e-12));   // yaw left: delta_r > 0
+  CHECK(a.at(5) == "0");
+  CHECK(a.at(6) == "0");
+  const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
+  std::vector<std::string> notes;
+  for (const auto& n : meta["notes"]) notes.push_back(n.as<std::string>());
+  CHECK(has_line(notes, "actuators: full deflections (--max-deflection) aileron 0.35 rad (20.1 deg), elevator 0.3 rad (17.2 deg), rudder "
+                        "0.4 rad (22.9 deg), stated at import, not in the log"));
+  CHECK(has_line(notes, "+ 0.02 s (--command-delay); the latency from there to the surface is not in the log"));
+  CHECK(has_line(notes, "actuators: actuator_controls_0 published 0.6 ms (mean; at most 2.1 ms) after the gyro sample"));
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: a VTOL's surfaces from its fixed-wing group actuator_controls_1 (sample_log_small.ulg)" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.5, 0.4, 0.3};
+  const Imported i = import_sample("sample_log_small", kSamples, m);
+  CHECK(i.report.rows.at("actuators") == 1812);  // actuator_controls_1's messages (MAV_TYPE 22: a VTOL)
+  for (const auto& w : i.report.warnings) CHECK(w.find("actuator") == std::string::npos);  // 279 Hz, a fixed wing's group
+  // actuator_controls_1's first message: timestamp 20327133 us, control = (-0.19372718036174774,
+  // -0.021825987845659256, 0, 0); the header's start is 20309082 us
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == std::to_string((20327133 - 20309082) * 1000));
+  CHECK(std::stod(a.at(2)) == doctest::Approx(-0.19372718036174774 * 0.5).epsilon(1e-12));
+  CHECK(std::stod(a.at(3)) == doctest::Approx(0.021825987845659256 * 0.4).epsilon(1e-12));
+  CHECK(a.at(4) == "0");
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: an actuator topic malformed or empty: one line naming it, the sensors imported" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const std::string good = file_bytes(kSamples / "sample.ulg");
+  const std::string format = "actuator_controls_0:uint64_t timestamp;uint64_t timestamp_sample;float[8] control";
+  SUBCASE("actuator_controls_0's format without control[]") {
+    const fs::path p = scratch_copy("act_malformed.ulg", patched(good, format, format.substr(0, format.size() - 7) + "kontrol",
+                                                                 [](std::size_t) { return true; }));
+    const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+    CHECK(i.report.rows.at("imu") == 17070);
+    CHECK(i.report.rows.count("actuators") == 0);
+    CHECK(has_line(i.report.warnings, p.string() + ": topic actuator_controls_0 has no fields control[0..3] (roll, pitch, yaw, throttle): "
+                                                   "no actuators.csv written; the sensors are imported"));
+    fs::remove_all(i.dir);
+    fs::remove(p);
+  }
+  SUBCASE("actuator_controls_0 subscribed as actuator_controls_2: no actuator_controls_0 data") {
+    // the add-logged message names the topic without the format's ':'; actuator_controls_2 has the same format
+    const fs::path p = scratch_copy("act_empty.ulg", patched(good, "actuator_controls_0", "actuator_controls_2", [&good](std::size_t at) {
+                                      return good[at + std::strlen("actuator_controls_0")] != ':';
+                                    }));
+    const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+    CHECK(i.report.rows.at("imu") == 17070);
+    CHECK(i.report.rows.count("actuators") == 0);
+    CHECK(has_line(i.report.warnings, p.string() + ": no surface commands in this log (actuator_controls_0 holds no data): no "
+                                                   "actuators.csv written (tern sysid needs one)"));
+    fs::remove_all(i.dir);
+    fs::remove(p);
+  }
+}
+
+TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {
+  const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_act_cli_" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const std::string ulg = (kSamples / "sample_log_small.ulg").string();
+  REQUIRE(run_tern({"import", "ulog", ulg, (tmp / "log").string(), "--max-deflection", "0.35", "0.3", "0.4"}, tmp / "import.txt") == 0);
+  const auto printed = lines_of(tmp / "import.txt");
+  CHECK(std::count_if(printed.begin(), printed.end(), [](const std::string& l) {
+          return l.find("actuators") != std::string::npos && l.find(" 1812 rows") != std::string::npos;
+        }) == 1);
+  CHECK(run_tern({"import", "ulog", ulg, (tmp / "log2").string(), "--max-deflection", "35", "0.3", "0.4"}, tmp / "bad.txt") == 1);
+  CHECK(lines_of(tmp / "bad.txt") ==
+        std::vector<std::string>{"tern: error: import: --max-deflection 35: each full deflection is in rad, above 0 and below pi/2"});
+  CHECK(!fs::exists(tmp / "log2"));
+  fs::remove_all(tmp);
 }
 
 TEST_CASE("tern import ulog: the conversions, on hand-checked values") {

@@ -139,6 +139,49 @@ void choose_sources(const Survey& s, const ulog::Reader& r, Conversion& c, Impor
     c.add_wind(*src);
 }
 
+/// MAVLink's MAV_TYPE (common.xml): 1 fixed wing; 19-25 the VTOLs (tailsitters, tiltrotor, fixed
+/// rotor, tiltwing), whose fixed-wing controller publishes actuator_controls_1.
+bool is_vtol(int mav_type) { return mav_type >= 19 && mav_type <= 25; }
+
+/// The surfaces' commands: actuator_controls_1 (the fixed-wing group) on a VTOL, else
+/// actuator_controls_0 (the attitude controller's group: a fixed wing's surfaces and throttle).
+/// One line where the log has none, or has them and the full deflections were not stated.
+void choose_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, const CommandMapping& mapping, ImportReport& report,
+                      std::vector<std::string>& notes) {
+  const std::string file = r.path().string();
+  const int mav_type = static_cast<int>(c.param("MAV_TYPE").value_or(0.0));
+  const std::string source = is_vtol(mav_type) ? "actuator_controls_1" : "actuator_controls_0";
+  const auto rows = s.rows.find(source);
+  if (!r.formats().count(source) || rows == s.rows.end() || rows->second == 0) {
+    report.warnings.push_back(fmt::format("{}: no surface commands in this log ({} holds no data): no actuators.csv written (tern sysid "
+                                          "needs one)",
+                                          file, source));
+    return;
+  }
+  if (!has_fields(r.formats(), source, {"control[0]", "control[1]", "control[2]", "control[3]"})) {
+    report.warnings.push_back(fmt::format("{}: topic {} has no fields control[0..3] (roll, pitch, yaw, throttle): no actuators.csv "
+                                          "written; the sensors are imported",
+                                          file, source));
+    return;
+  }
+  if (!mapping.max_deflection) {
+    report.warnings.push_back(fmt::format("{}: {} holds the surfaces' commands, normalised: no actuators.csv written without "
+                                          "--max-deflection A E R (rad: the full aileron, elevator and rudder deflections, the aircraft "
+                                          "file's servos.max_delta_a/e/r; a ULog does not hold them)",
+                                          file, source));
+    return;
+  }
+  c.add_actuators(source, mapping);
+  notes.push_back(fmt::format("actuators: from {} ({} messages): control[0..3] = roll, pitch, yaw (-1..1: roll right, nose up, nose "
+                              "right positive), throttle (0..1){}",
+                              source, rows->second, is_vtol(mav_type) ? "; a VTOL's fixed-wing group (MAV_TYPE " + std::to_string(mav_type) + ")" : ""));
+  notes.push_back(describe(mapping));
+  if (mav_type != 1 && !is_vtol(mav_type))
+    report.warnings.push_back(fmt::format("{}: MAV_TYPE {} is no fixed wing: {}'s roll, pitch and yaw are the rotors' torque commands, "
+                                          "not surfaces; actuators.csv holds them as deflections nonetheless",
+                                          file, mav_type, source));
+}
+
 /// The PX4 parameters that map onto the estimator's settings (docs/sensor-log.md), where the log has them.
 void estimator_settings(const Conversion& c, SensorLogMeta& meta) {
   auto delay = [&](const char* px4, const char* tern) {
@@ -173,7 +216,7 @@ std::string info_text(const ulog::Reader& r, const char* key) {
   return it == r.info().end() ? std::string("?") : it->second.text();
 }
 
-ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
+ImportReport convert(const fs::path& ulg, SensorLogWriter& out, const CommandMapping& mapping) {
   const std::string file = ulg.string();
   const Survey s = survey(ulg);
   ulog::Reader r(ulg);
@@ -181,6 +224,7 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
   SensorLogMeta meta;
   Conversion c(r, out, report);
   choose_sources(s, r, c, report, meta.notes);
+  choose_actuators(s, r, c, mapping, report, meta.notes);
   std::uint64_t dropouts = 0, dropout_ms = 0;
   ulog::DataHandler h;
   h.on_subscription = [&](const Subscription& sub) { c.subscribe(sub); };
@@ -194,6 +238,13 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
         fmt::format("{}: {} logging dropout(s), {} ms in all: data lost by PX4's logger", file, dropouts, dropout_ms));
   if (c.imu_intervals.count()) meta.notes.push_back("imu: " + c.imu_intervals.describe());
   if (c.gnss_intervals.count()) meta.notes.push_back("gnss: " + c.gnss_intervals.describe());
+  if (c.actuator_intervals.count()) {
+    meta.notes.push_back("actuators: " + c.actuator_intervals.describe());
+    if (c.actuator_intervals.count() > 1 && 1.0 / c.actuator_intervals.mean_s() < kActuatorsMinRateHz)
+      report.warnings.push_back(fmt::format("{}: the surfaces' commands are logged at {:.1f} Hz: too slow for a sysid excitation above "
+                                            "{:.0f} Hz (5 samples a cycle)",
+                                            file, 1.0 / c.actuator_intervals.mean_s(), kActuatorsMinRateHz / 5.0));
+  }
   meta.notes.push_back("times: PX4 timestamps (us since boot) minus the log's start timestamp " + std::to_string(r.start_timestamp()) +
                        " us");
   estimator_settings(c, meta);
@@ -211,7 +262,7 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
 
 }  // namespace
 
-ImportReport import_ulog(const fs::path& in, SensorLogWriter& out) {
+ImportReport import_ulog(const fs::path& in, SensorLogWriter& out, const CommandMapping& commands) {
   std::error_code ec;
   fs::path ulg = in;
   if (fs::is_directory(in, ec)) {  // an unpacked archive: the one .ulg in it
@@ -219,7 +270,7 @@ ImportReport import_ulog(const fs::path& in, SensorLogWriter& out) {
     if (ulg.empty()) throw ImportError(in.string() + ": no .ulg file in this directory");
   }
   try {
-    return convert(ulg, out);
+    return convert(ulg, out, commands);
   } catch (const ulog::UlogError& e) {
     throw ImportError(e.what());
   } catch (const std::out_of_range& e) {
