@@ -272,10 +272,8 @@ void import_actuators(const fs::path& file, Nanos t0, const CommandMapping& mapp
                               file.filename().string(), ch[0], ch[1], ch[2], ch[3]));
   notes.push_back(describe(mapping));
   notes.push_back(fmt::format("actuators: {}: {}", file.filename().string(), dt.describe()));
-  if (dt.count() > 1 && 1.0 / dt.mean_s() < kActuatorsMinRateHz)
-    report.warnings.push_back(fmt::format("{}: the surfaces' commands are logged at {:.1f} Hz: too slow for a sysid excitation above "
-                                          "{:.0f} Hz (5 samples a cycle); quasi-steady lift and drag at best",
-                                          file.filename().string(), 1.0 / dt.mean_s(), kActuatorsMinRateHz / 5.0));
+  if (dt.count() > 1)
+    if (auto w = actuator_rate_warning(file.filename().string(), 1.0 / dt.mean_s()); !w.empty()) report.warnings.push_back(w);
 }
 
 /// The first time the engine-failure flag is set, s on the log's clock (the table has only the

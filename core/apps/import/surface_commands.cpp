@@ -47,4 +47,12 @@ std::string describe(const CommandMapping& mapping) {
       mapping.command_delay != 0.0 ? fmt::format(" + {} s (--command-delay)", mapping.command_delay) : std::string());
 }
 
+std::string actuator_rate_warning(const std::string& file, double rate_hz) {
+  if (!(rate_hz < kActuatorsMinRateHz)) return "";
+  return fmt::format(
+      "{}: the surfaces' commands are logged at {:.1f} Hz, below the {:.0f} Hz sysid needs (a held command lags half a sample: {:.0f} ms); "
+      "the moments' dynamic coefficients cannot be identified from them, quasi-steady lift and drag at best",
+      file, rate_hz, kActuatorsMinRateHz, 1e3 / (2.0 * rate_hz));
+}
+
 }  // namespace tern::core

@@ -58,8 +58,11 @@ double throttle_from_pwm(double pwm_us);
 /// The mapping for sensor_log.yaml's notes, one line: the full deflections, the signs, the delay.
 std::string describe(const CommandMapping& mapping);
 
-/// Below this rate (Hz) an actuators table cannot follow a 4-Hz excitation at 5 samples a cycle
-/// (docs/sensor-log.md, "actuators": the rate sysid needs).
+/// Hz: the rate sysid needs of the surfaces' commands (docs/sensor-log.md, "actuators"): a held
+/// command lags half a sample, 360 f / (2 rate) degrees at the excitation's frequency f; at 50 Hz
+/// that is 14 deg at the top of a 4-Hz chirp (12 samples a cycle).
 inline constexpr double kActuatorsMinRateHz = 50.0;
+/// One line for a table of surface commands whose mean rate is below kActuatorsMinRateHz; "" otherwise.
+std::string actuator_rate_warning(const std::string& file, double rate_hz);
 
 }  // namespace tern::core

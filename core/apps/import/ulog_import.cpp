@@ -240,10 +240,8 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out, const CommandMap
   if (c.gnss_intervals.count()) meta.notes.push_back("gnss: " + c.gnss_intervals.describe());
   if (c.actuator_intervals.count()) {
     meta.notes.push_back("actuators: " + c.actuator_intervals.describe());
-    if (c.actuator_intervals.count() > 1 && 1.0 / c.actuator_intervals.mean_s() < kActuatorsMinRateHz)
-      report.warnings.push_back(fmt::format("{}: the surfaces' commands are logged at {:.1f} Hz: too slow for a sysid excitation above "
-                                            "{:.0f} Hz (5 samples a cycle)",
-                                            file, 1.0 / c.actuator_intervals.mean_s(), kActuatorsMinRateHz / 5.0));
+    if (c.actuator_intervals.count() > 1)
+      if (auto w = actuator_rate_warning(file, 1.0 / c.actuator_intervals.mean_s()); !w.empty()) report.warnings.push_back(w);
   }
   meta.notes.push_back("times: PX4 timestamps (us since boot) minus the log's start timestamp " + std::to_string(r.start_timestamp()) +
                        " us");
