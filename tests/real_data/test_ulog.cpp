@@ -636,11 +636,96 @@ TEST_CASE("tern import ulog: an actuator topic malformed or empty: one line nami
     const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
     CHECK(i.report.rows.at("imu") == 17070);
     CHECK(i.report.rows.count("actuators") == 0);
-    CHECK(has_line(i.report.warnings, p.string() + ": no surface commands in this log (actuator_controls_0 holds no data): no "
-                                                   "actuators.csv written (tern sysid needs one)"));
+    CHECK(has_line(i.report.warnings, p.string() + ": no surface commands in this log (neither actuator_controls_0 nor actuator_servos "
+                                                   "holds data): no actuators.csv written (tern sysid needs one)"));
     fs::remove_all(i.dir);
     fs::remove(p);
   }
+}
+
+/// A ULog file written byte by byte (the spec's header, then 'F', 'P', 'A' and 'D' messages; no flag
+/// bits message, which the spec makes optional).
+class UlogBytes {
+ public:
+  explicit UlogBytes(std::uint64_t start_us) {
+    bytes_ = std::string("ULog\x01\x12\x35", 7) + std::string(1, '\x01');
+    put(start_us);
+  }
+  void format(const std::string& text) { message('F', text); }
+  template <class T>
+  void param(const std::string& type, const std::string& name, T value) {
+    const std::string key = type + " " + name;
+    message('P', std::string(1, static_cast<char>(key.size())) + key + raw(value));
+  }
+  void subscribe(std::uint16_t id, const std::string& topic) { message('A', std::string(1, '\0') + raw(id) + topic); }
+  /// A data message of subscription `id`: the timestamp, then floats.
+  void data(std::uint16_t id, std::uint64_t t_us, const std::vector<float>& values) {
+    std::string p = raw(id) + raw(t_us);
+    for (float v : values) p += raw(v);
+    message('D', p);
+  }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  template <class T>
+  static std::string raw(T v) {
+    std::string s(sizeof v, '\0');
+    std::memcpy(s.data(), &v, sizeof v);
+    return s;
+  }
+  template <class T>
+  void put(T v) {
+    bytes_ += raw(v);
+  }
+  void message(char type, const std::string& payload) {
+    put(static_cast<std::uint16_t>(payload.size()));
+    bytes_ += type;
+    bytes_ += payload;
+  }
+  std::string bytes_;
+};
+
+TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' torque effectiveness, throttle from actuator_motors") {
+  // a conventional fixed wing as PX4's control allocation describes it: left and right aileron (roll
+  // -0.5, +0.5), elevator (pitch 1), rudder (yaw 1), one pusher motor
+  UlogBytes u(1'000'000);
+  u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+  u.format("actuator_servos:uint64_t timestamp;float[8] control");
+  u.format("actuator_motors:uint64_t timestamp;float[4] control");
+  u.param<std::int32_t>("int32_t", "MAV_TYPE", 1);
+  u.param<std::int32_t>("int32_t", "CA_AIRFRAME", 1);
+  u.param<std::int32_t>("int32_t", "CA_ROTOR_COUNT", 1);
+  u.param<std::int32_t>("int32_t", "CA_SV_CS_COUNT", 4);
+  const std::vector<std::array<float, 3>> trq = {{-0.5f, 0, 0}, {0.5f, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int i = 0; i < 4; ++i) {
+    u.param<std::int32_t>("int32_t", "CA_SV_CS" + std::to_string(i) + "_TYPE", i + 1);  // 1-4: left, right aileron, elevator, rudder
+    for (int a = 0; a < 3; ++a) u.param<float>("float", "CA_SV_CS" + std::to_string(i) + "_TRQ_" + "RPY"[a], trq[i][a]);
+  }
+  u.subscribe(0, "sensor_combined");
+  u.subscribe(1, "actuator_servos");
+  u.subscribe(2, "actuator_motors");
+  for (int k = 0; k < 20; ++k) u.data(0, 1'000'000 + 4000 * k, {0, 0, 0, 0, 0, -9.81f});
+  u.data(2, 1'010'000, {0.6f, 0, 0, 0});
+  // left aileron -0.2 and right +0.2 (roll right), elevator +0.3 (PX4: nose up), rudder -0.1 (yaw left)
+  u.data(1, 1'012'000, {-0.2f, 0.2f, 0.3f, -0.1f, 0, 0, 0, 0});
+  u.data(1, 1'032'000, {0.1f, 0.3f, 0, 0, 0, 0, 0, 0});  // ailerons 0.1 and 0.3: roll 0.1, half their difference
+  const fs::path p = scratch_copy("servos.ulg", u.bytes());
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+  CHECK(i.report.rows.at("imu") == 20);
+  REQUIRE(i.report.rows.at("actuators") == 2);
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == "12000000");  // 1012000 us - the start 1000000 us
+  CHECK(std::stod(a.at(2)) == doctest::Approx(0.2 * 0.35).epsilon(1e-6));   // roll right: delta_a > 0
+  CHECK(std::stod(a.at(3)) == doctest::Approx(-0.3 * 0.30).epsilon(1e-6));  // nose up: delta_e < 0
+  CHECK(std::stod(a.at(4)) == doctest::Approx(0.1 * 0.40).epsilon(1e-6));   // yaw left: delta_r > 0
+  CHECK(std::stod(a.at(5)) == doctest::Approx(0.6).epsilon(1e-6));          // the motor in force
+  const auto b = cells(i.lines("actuators").at(2));
+  CHECK(std::stod(b.at(2)) == doctest::Approx(0.1 * 0.35).epsilon(1e-6));
+  CHECK(b.at(3) == "0");
+  fs::remove_all(i.dir);
+  fs::remove(p);
 }
 
 TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {

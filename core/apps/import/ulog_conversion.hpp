@@ -124,6 +124,13 @@ class Conversion {
   /// actuator_controls_N's control[0..3] (roll, pitch, yaw, throttle) through `mapping`, stamped
   /// with the message's timestamp (its publication).
   void add_actuators(const std::string& source, const CommandMapping& mapping);
+  /// PX4 v1.13+'s control allocation: actuator_servos' positions (-1..1) weighted by each surface's
+  /// torque effectiveness (CA_SV_CS<i>_TRQ_R/P/Y), per axis sum_i E_i s_i / sum_i |E_i|: two ailerons
+  /// of effectiveness -0.5 and +0.5 give the mean of their antisymmetric deflection, an elevator of
+  /// any effectiveness its own position; throttle: the mean of actuator_motors' `motors` (indices),
+  /// the latest message in force. Rows at actuator_servos' timestamps.
+  void add_servo_actuators(const std::array<std::vector<double>, 3>& effectiveness, const std::vector<int>& motors,
+                           const CommandMapping& mapping);
   /// Releases the rows still held and reports what was dropped.
   void finish(const std::string& file, std::vector<std::string>& notes);
 
@@ -145,6 +152,7 @@ class Conversion {
   std::uint64_t before_start_ = 0, nan_rows_ = 0, no_temperature_ = 0, course_velocity_ = 0;
   std::int64_t max_accel_relative_us_ = 0;
   std::string actuator_source_;
+  double motor_throttle_ = 0.0;
   std::uint64_t nan_actuator_rows_ = 0, control_latency_count_ = 0;
   std::int64_t control_latency_sum_us_ = 0, control_latency_max_us_ = 0;
   Nanos last_combined_mag_ = -1, last_combined_baro_ = -1;
