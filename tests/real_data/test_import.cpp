@@ -199,8 +199,9 @@ TEST_CASE("inertialnav: the Zurich PX4 flight, from its zip as shipped") {
   // above 3 m/s, GPS.txt's speed and course (radians) and GPSraw.txt's NED velocity agree within 0.5 m/s but twice
   REQUIRE(r.warnings.size() == 2);
   CHECK(has_warning(r, "2 of 642 fixes above 3 m/s"));
-  CHECK(has_warning(r, ": no surface commands in this log (InertialNav's files hold sensors and the onboard estimate only): no "
-                       "actuators.csv written (tern sysid needs one)"));
+  CHECK(has_warning(r,
+                    ": no surface commands in this log (InertialNav's files hold sensors and the onboard estimate only): no "
+                    "actuators.csv written (tern sysid needs one)"));
   CHECK(!fs::exists(log / "topics" / "actuators.csv"));
 
   SUBCASE("imu: IMU.txt line 2, ms -> ns, gyro rad/s and accel m/s^2 already body FRD") {
@@ -439,9 +440,10 @@ TEST_CASE("alfa: rc/out's servo pulses -> actuators: ArduPlane's channel map, th
     const ImportReport r = import_alfa(in, out, m);
     CHECK(r.rows.at("actuators") == 3);
     CHECK(r.rows.at("imu") == 1324);  // the sensors as without rc/out
-    CHECK(has_warning(r, "-mavros-rc-out.csv: the surfaces' commands are logged at 3.0 Hz, below the 50 Hz sysid needs (a held command "
-                         "lags half a sample: 167 ms); the moments' dynamic coefficients cannot be identified from them, quasi-steady lift "
-                         "and drag at best"));
+    CHECK(has_warning(r,
+                      "-mavros-rc-out.csv: the surfaces' commands are logged at 3.0 Hz, below the 50 Hz sysid needs (a held command "
+                      "lags half a sample: 167 ms); the moments' dynamic coefficients cannot be identified from them, quasi-steady lift "
+                      "and drag at best"));
     const Table t = read_table(d.path / "log" / "topics" / "actuators.csv");
     const auto& a = t.at(t1 - t0);
     CHECK(t.num(a, "delta_a") == doctest::Approx(0.2 * 0.35).epsilon(1e-12));  // roll right: delta_a > 0
@@ -457,7 +459,8 @@ TEST_CASE("alfa: rc/out's servo pulses -> actuators: ArduPlane's channel map, th
     CHECK(t.num(full, "delta_t") == 1.0);
     const YAML::Node y = YAML::LoadFile((d.path / "log" / "sensor_log.yaml").string());
     bool mapped = false;
-    for (const auto& n : y["notes"]) mapped |= n.as<std::string>().find("channels aileron 1, elevator 2, throttle 3, rudder 4") != std::string::npos;
+    for (const auto& n : y["notes"])
+      mapped |= n.as<std::string>().find("channels aileron 1, elevator 2, throttle 3, rudder 4") != std::string::npos;
     CHECK(mapped);
   }
   SUBCASE("elevator on a reversed channel 2, the delay shifting the stamps") {
@@ -474,8 +477,9 @@ TEST_CASE("alfa: rc/out's servo pulses -> actuators: ArduPlane's channel map, th
     SensorLogWriter out(d.path / "log");
     const ImportReport r = import_alfa(in, out);
     CHECK(r.rows.count("actuators") == 0);
-    CHECK(has_warning(r, "carbonZ_2018-07-18-15-53-31_1_engine_failure-mavros-rc-out.csv: holds the servos' pulses: no actuators.csv "
-                         "written without --max-deflection A E R"));
+    CHECK(has_warning(r,
+                      "carbonZ_2018-07-18-15-53-31_1_engine_failure-mavros-rc-out.csv: holds the servos' pulses: no actuators.csv "
+                      "written without --max-deflection A E R"));
   }
   SUBCASE("a channel the table does not have: one error line naming the file and column") {
     m.rc_channels = {1, 2, 3, 9};

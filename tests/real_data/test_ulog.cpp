@@ -468,7 +468,7 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
   CHECK(i.report.rows.at("mag") == 6759);        // sensor_combined repeats each mag sample until the next: distinct samples
   CHECK(i.report.rows.at("reference") == 6461);  // vehicle_attitude; vehicle_local_position never valid (no GPS)
   CHECK(i.report.rows.count("gnss") == 0);
-  CHECK(i.report.rows.count("baro") == 0);  // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
+  CHECK(i.report.rows.count("baro") == 0);       // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
   CHECK(i.report.rows.count("actuators") == 0);  // the full deflections not stated: not written
   CHECK(!fs::exists(i.dir / "topics" / "actuators.csv"));
   const std::string f = (kSamples / "sample.ulg").string();
@@ -574,13 +574,15 @@ TEST_CASE("tern import ulog: actuator_controls_0 -> actuators, the uavbook's sig
   CHECK(i.report.rows.at("imu") == 17070);       // the sensors as without the option
   const std::string f = (kSamples / "sample.ulg").string();
   CHECK(has_line(i.report.warnings, f + ": MAV_TYPE 2 is no fixed wing: actuator_controls_0's roll, pitch and yaw are the rotors' torque"));
-  CHECK(has_line(i.report.warnings, f + ": the surfaces' commands are logged at 47.4 Hz, below the 50 Hz sysid needs (a held command lags half a sample: 11 ms)"));
+  CHECK(has_line(
+      i.report.warnings,
+      f + ": the surfaces' commands are logged at 47.4 Hz, below the 50 Hz sysid needs (a held command lags half a sample: 11 ms)"));
   CHECK(i.lines("actuators").at(0) == "t [s],stamp [ns],delta_a [rad],delta_e [rad],delta_r [rad],delta_t [],brake []");
   // The first actuator_controls_0 message, decoded independently (Python struct on the file): timestamp
   // 112574774 us (timestamp_sample 112574307), control = (-0.04677823930978775, -0.09784627705812454,
   // -0.04372883960604668, 0): PX4's roll left, nose down, yaw left. The header's start is 112500176 us.
   const auto a = cells(i.lines("actuators").at(1));
-  CHECK(a.at(1) == std::to_string((112574774 - 112500176) * 1000 + 20'000'000));  // + --command-delay 0.02 s
+  CHECK(a.at(1) == std::to_string((112574774 - 112500176) * 1000 + 20'000'000));             // + --command-delay 0.02 s
   CHECK(std::stod(a.at(2)) == doctest::Approx(-0.04677823930978775 * 0.35).epsilon(1e-12));  // roll left: delta_a < 0
   CHECK(std::stod(a.at(3)) == doctest::Approx(0.09784627705812454 * 0.30).epsilon(1e-12));   // nose down: delta_e > 0
   CHECK(std::stod(a.at(4)) == doctest::Approx(0.04372883960604668 * 0.40).epsilon(1e-12));   // yaw left: delta_r > 0
@@ -589,8 +591,9 @@ TEST_CASE("tern import ulog: actuator_controls_0 -> actuators, the uavbook's sig
   const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
   std::vector<std::string> notes;
   for (const auto& n : meta["notes"]) notes.push_back(n.as<std::string>());
-  CHECK(has_line(notes, "actuators: full deflections (--max-deflection) aileron 0.35 rad (20.1 deg), elevator 0.3 rad (17.2 deg), rudder "
-                        "0.4 rad (22.9 deg), stated at import, not in the log"));
+  CHECK(has_line(notes,
+                 "actuators: full deflections (--max-deflection) aileron 0.35 rad (20.1 deg), elevator 0.3 rad (17.2 deg), rudder "
+                 "0.4 rad (22.9 deg), stated at import, not in the log"));
   CHECK(has_line(notes, "+ 0.02 s (--command-delay); the latency from there to the surface is not in the log"));
   CHECK(has_line(notes, "actuators: actuator_controls_0 published 0.6 ms (mean; at most 2.1 ms) after the gyro sample"));
   fs::remove_all(i.dir);
@@ -618,8 +621,8 @@ TEST_CASE("tern import ulog: an actuator topic malformed or empty: one line nami
   const std::string good = file_bytes(kSamples / "sample.ulg");
   const std::string format = "actuator_controls_0:uint64_t timestamp;uint64_t timestamp_sample;float[8] control";
   SUBCASE("actuator_controls_0's format without control[]") {
-    const fs::path p = scratch_copy("act_malformed.ulg", patched(good, format, format.substr(0, format.size() - 7) + "kontrol",
-                                                                 [](std::size_t) { return true; }));
+    const fs::path p = scratch_copy(
+        "act_malformed.ulg", patched(good, format, format.substr(0, format.size() - 7) + "kontrol", [](std::size_t) { return true; }));
     const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
     CHECK(i.report.rows.at("imu") == 17070);
     CHECK(i.report.rows.count("actuators") == 0);
@@ -716,7 +719,7 @@ TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' 
   CHECK(i.report.rows.at("imu") == 20);
   REQUIRE(i.report.rows.at("actuators") == 2);
   const auto a = cells(i.lines("actuators").at(1));
-  CHECK(a.at(1) == "12000000");  // 1012000 us - the start 1000000 us
+  CHECK(a.at(1) == "12000000");                                             // 1012000 us - the start 1000000 us
   CHECK(std::stod(a.at(2)) == doctest::Approx(0.2 * 0.35).epsilon(1e-6));   // roll right: delta_a > 0
   CHECK(std::stod(a.at(3)) == doctest::Approx(-0.3 * 0.30).epsilon(1e-6));  // nose up: delta_e < 0
   CHECK(std::stod(a.at(4)) == doctest::Approx(0.1 * 0.40).epsilon(1e-6));   // yaw left: delta_r > 0

@@ -58,7 +58,8 @@ std::optional<CommandMapping> command_mapping(const ImportOptions& o) {
   m.command_delay = o.command_delay;
   for (std::size_t i = 0; i < 4; ++i) {
     const int ch = o.rc_channels[i];
-    if (ch == 0 || std::abs(ch) > 32) return fail(fmt::format("import: --rc-channels: channel {} is not 1..32 (or -1..-32, reversed)", ch)), std::nullopt;
+    if (ch == 0 || std::abs(ch) > 32)
+      return fail(fmt::format("import: --rc-channels: channel {} is not 1..32 (or -1..-32, reversed)", ch)), std::nullopt;
     m.rc_channels[i] = ch;
   }
   return m;

@@ -266,10 +266,11 @@ void import_actuators(const fs::path& file, Nanos t0, const CommandMapping& mapp
   }
   order.report(file, report);
   const auto& ch = mapping.rc_channels;
-  notes.push_back(fmt::format("actuators: {}: servo pulses of channels aileron {}, elevator {}, throttle {}, rudder {} (a negative "
-                              "channel reversed; ArduPlane's default RCMAP 1 2 3 4); surfaces (pwm - 1500) / 500 us, throttle (pwm - "
-                              "1000) / 1000 us (SERVOn_MIN/TRIM/MAX defaults; this dataset has no parameters)",
-                              file.filename().string(), ch[0], ch[1], ch[2], ch[3]));
+  notes.push_back(
+      fmt::format("actuators: {}: servo pulses of channels aileron {}, elevator {}, throttle {}, rudder {} (a negative "
+                  "channel reversed; ArduPlane's default RCMAP 1 2 3 4); surfaces (pwm - 1500) / 500 us, throttle (pwm - "
+                  "1000) / 1000 us (SERVOn_MIN/TRIM/MAX defaults; this dataset has no parameters)",
+                  file.filename().string(), ch[0], ch[1], ch[2], ch[3]));
   notes.push_back(describe(mapping));
   notes.push_back(fmt::format("actuators: {}: {}", file.filename().string(), dt.describe()));
   if (dt.count() > 1)
@@ -320,14 +321,16 @@ ImportReport import_alfa(const fs::path& in, SensorLogWriter& out, const Command
   if (!inputs.airspeed.empty()) import_airspeed(inputs, t0, out, report);
   import_reference(inputs, t0, out, report);
   if (inputs.rc_out.empty())
-    report.warnings.push_back(fmt::format("{}: no surface commands in this log (no *-mavros-rc-out.csv): no actuators.csv written (tern "
-                                          "sysid needs one)",
-                                          dir.string()));
+    report.warnings.push_back(
+        fmt::format("{}: no surface commands in this log (no *-mavros-rc-out.csv): no actuators.csv written (tern "
+                    "sysid needs one)",
+                    dir.string()));
   else if (!commands.max_deflection)
-    report.warnings.push_back(fmt::format("{}: holds the servos' pulses: no actuators.csv written without --max-deflection A E R (rad: the "
-                                          "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; the "
-                                          "log does not hold them)",
-                                          inputs.rc_out.filename().string()));
+    report.warnings.push_back(
+        fmt::format("{}: holds the servos' pulses: no actuators.csv written without --max-deflection A E R (rad: the "
+                    "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; the "
+                    "log does not hold them)",
+                    inputs.rc_out.filename().string()));
   else
     import_actuators(inputs.rc_out, t0, commands, out, report, n);
   n.push_back("frames: mavros body FLU -> FRD (y, z negated), ENU -> NED (x and y swapped, z negated), attitude R_ned_frd = P R_enu_flu F");

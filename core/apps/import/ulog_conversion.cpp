@@ -310,8 +310,10 @@ void Conversion::add_servo_actuators(const std::array<std::vector<double>, 3>& e
         double sum = 0.0;
         for (const Field* m : u) sum += d.value(*m);
         const double mean = sum / static_cast<double>(u.size());
-        if (std::isfinite(mean)) motor_throttle_ = std::clamp(mean, 0.0, 1.0);  // NaN: disarmed (the motors stopped)
-        else motor_throttle_ = 0.0;
+        if (std::isfinite(mean))
+          motor_throttle_ = std::clamp(mean, 0.0, 1.0);  // NaN: disarmed (the motors stopped)
+        else
+          motor_throttle_ = 0.0;
       };
     });
   factories["actuator_servos"].push_back([this, effectiveness, mapping](const Fields& f) -> Handler {
@@ -350,10 +352,11 @@ void Conversion::finish(const std::string& file, std::vector<std::string>& notes
   warn(nan_rows_, "sensor row(s) with a NaN or infinite value: dropped");
   warn(nan_actuator_rows_, actuator_source_ + " row(s) with a NaN or infinite control (disarmed outputs): dropped");
   if (control_latency_count_)
-    notes.push_back(fmt::format("actuators: {} published {:.1f} ms (mean; at most {:.1f} ms) after the gyro sample it was computed from "
-                                "(timestamp - timestamp_sample)",
-                                actuator_source_, 1e-3 * static_cast<double>(control_latency_sum_us_) / static_cast<double>(control_latency_count_),
-                                1e-3 * static_cast<double>(control_latency_max_us_)));
+    notes.push_back(
+        fmt::format("actuators: {} published {:.1f} ms (mean; at most {:.1f} ms) after the gyro sample it was computed from "
+                    "(timestamp - timestamp_sample)",
+                    actuator_source_, 1e-3 * static_cast<double>(control_latency_sum_us_) / static_cast<double>(control_latency_count_),
+                    1e-3 * static_cast<double>(control_latency_max_us_)));
   warn(course_velocity_, "GNSS row(s) without a valid NED velocity (vel_ned_valid 0): north/east from vel_m_s and cog_rad");
   if (no_temperature_)
     notes.push_back(fmt::format("{} baro/diff_pressure rows without a usable temperature: 288.15 K written", no_temperature_));

@@ -149,9 +149,10 @@ bool holds_data(const Survey& s, const ulog::Reader& r, const std::string& topic
 }
 
 std::string no_deflection_line(const std::string& file, const std::string& topic) {
-  return fmt::format("{}: {} holds the surfaces' commands, normalised: no actuators.csv written without --max-deflection A E R (rad: the "
-                     "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; a ULog does not hold them)",
-                     file, topic);
+  return fmt::format(
+      "{}: {} holds the surfaces' commands, normalised: no actuators.csv written without --max-deflection A E R (rad: the "
+      "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; a ULog does not hold them)",
+      file, topic);
 }
 
 /// PX4 v1.13+ (control allocation): actuator_servos through the surfaces' torque effectiveness
@@ -165,9 +166,10 @@ void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& 
   const ulog::Subscription servos("actuator_servos", 0, 0, r.formats());
   for (int i = 0; i < count; ++i) {
     if (!servos.field(fmt::format("control[{}]", i))) {
-      report.warnings.push_back(fmt::format("{}: topic actuator_servos has no field control[{}] (CA_SV_CS_COUNT {}): no actuators.csv "
-                                            "written; the sensors are imported",
-                                            file, i, count));
+      report.warnings.push_back(
+          fmt::format("{}: topic actuator_servos has no field control[{}] (CA_SV_CS_COUNT {}): no actuators.csv "
+                      "written; the sensors are imported",
+                      file, i, count));
       return;
     }
     const char* axis[] = {"R", "P", "Y"};
@@ -176,9 +178,10 @@ void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& 
                             c.param(fmt::format("CA_SV_CS{}_TYPE", i)).value_or(0.0), e[0].back(), e[1].back(), e[2].back());
   }
   if (count <= 0 || surfaces.empty()) {
-    report.warnings.push_back(fmt::format("{}: actuator_servos holds data but the log has no CA_SV_CS_COUNT (the control surfaces' "
-                                          "configuration): no actuators.csv written",
-                                          file));
+    report.warnings.push_back(
+        fmt::format("{}: actuator_servos holds data but the log has no CA_SV_CS_COUNT (the control surfaces' "
+                    "configuration): no actuators.csv written",
+                    file));
     return;
   }
   if (!mapping.max_deflection) return void(report.warnings.push_back(no_deflection_line(file, "actuator_servos")));
@@ -194,9 +197,10 @@ void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& 
         motors.push_back(i);
   }
   c.add_servo_actuators(e, motors, mapping);
-  notes.push_back("actuators: from actuator_servos (positions -1..1) through the torque effectiveness CA_SV_CS<i>_TRQ_R/P/Y, per axis "
-                  "sum E_i s_i / sum |E_i|: " +
-                  surfaces);
+  notes.push_back(
+      "actuators: from actuator_servos (positions -1..1) through the torque effectiveness CA_SV_CS<i>_TRQ_R/P/Y, per axis "
+      "sum E_i s_i / sum |E_i|: " +
+      surfaces);
   std::string m;
   for (int i : motors) m += fmt::format("{}{}", m.empty() ? "" : ", ", i);
   notes.push_back(motors.empty() ? std::string("actuators: no forward motor in actuator_motors (CA_AIRFRAME, CA_ROTOR<i>_AX_X): delta_t 0")
@@ -215,28 +219,31 @@ void choose_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, con
   const std::string source = is_vtol(mav_type) ? "actuator_controls_1" : "actuator_controls_0";
   if (!holds_data(s, r, source)) {
     if (holds_data(s, r, "actuator_servos")) return choose_servo_actuators(s, r, c, mapping, report, notes);
-    report.warnings.push_back(fmt::format("{}: no surface commands in this log (neither {} nor actuator_servos holds data): no "
-                                          "actuators.csv written (tern sysid needs one)",
-                                          file, source));
+    report.warnings.push_back(
+        fmt::format("{}: no surface commands in this log (neither {} nor actuator_servos holds data): no "
+                    "actuators.csv written (tern sysid needs one)",
+                    file, source));
     return;
   }
   if (!has_fields(r.formats(), source, {"control[0]", "control[1]", "control[2]", "control[3]"})) {
-    report.warnings.push_back(fmt::format("{}: topic {} has no fields control[0..3] (roll, pitch, yaw, throttle): no actuators.csv "
-                                          "written; the sensors are imported",
-                                          file, source));
+    report.warnings.push_back(
+        fmt::format("{}: topic {} has no fields control[0..3] (roll, pitch, yaw, throttle): no actuators.csv "
+                    "written; the sensors are imported",
+                    file, source));
     return;
   }
   if (!mapping.max_deflection) return void(report.warnings.push_back(no_deflection_line(file, source)));
   c.add_actuators(source, mapping);
-  notes.push_back(fmt::format("actuators: from {} ({} messages): control[0..3] = roll, pitch, yaw (-1..1: roll right, nose up, nose "
-                              "right positive), throttle (0..1){}",
-                              source, s.rows.at(source),
-                              is_vtol(mav_type) ? "; a VTOL's fixed-wing group (MAV_TYPE " + std::to_string(mav_type) + ")" : ""));
+  notes.push_back(fmt::format(
+      "actuators: from {} ({} messages): control[0..3] = roll, pitch, yaw (-1..1: roll right, nose up, nose "
+      "right positive), throttle (0..1){}",
+      source, s.rows.at(source), is_vtol(mav_type) ? "; a VTOL's fixed-wing group (MAV_TYPE " + std::to_string(mav_type) + ")" : ""));
   notes.push_back(describe(mapping));
   if (mav_type != 1 && !is_vtol(mav_type))
-    report.warnings.push_back(fmt::format("{}: MAV_TYPE {} is no fixed wing: {}'s roll, pitch and yaw are the rotors' torque commands, "
-                                          "not surfaces; actuators.csv holds them as deflections nonetheless",
-                                          file, mav_type, source));
+    report.warnings.push_back(
+        fmt::format("{}: MAV_TYPE {} is no fixed wing: {}'s roll, pitch and yaw are the rotors' torque commands, "
+                    "not surfaces; actuators.csv holds them as deflections nonetheless",
+                    file, mav_type, source));
 }
 
 /// The PX4 parameters that map onto the estimator's settings (docs/sensor-log.md), where the log has them.
