@@ -576,7 +576,8 @@ TEST_CASE("tern import ulog: actuator_controls_0 -> actuators, the uavbook's sig
   CHECK(has_line(i.report.warnings, f + ": MAV_TYPE 2 is no fixed wing: actuator_controls_0's roll, pitch and yaw are the rotors' torque"));
   CHECK(has_line(
       i.report.warnings,
-      f + ": the surfaces' commands are logged at 47.4 Hz, below the 50 Hz sysid needs (a held command lags half a sample: 11 ms)"));
+      f + ": the surfaces' commands are logged at 47.4 Hz, below the 50 Hz sysid needs (a held command lags half a sample, 11 ms: 15 "
+          "deg of phase at 3.95 Hz)"));
   CHECK(i.lines("actuators").at(0) == "t [s],stamp [ns],delta_a [rad],delta_e [rad],delta_r [rad],delta_t [],brake []");
   // The first actuator_controls_0 message, decoded independently (Python struct on the file): timestamp
   // 112574774 us (timestamp_sample 112574307), control = (-0.04677823930978775, -0.09784627705812454,

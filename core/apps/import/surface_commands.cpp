@@ -49,10 +49,13 @@ std::string describe(const CommandMapping& mapping) {
 
 std::string actuator_rate_warning(const std::string& file, double rate_hz) {
   if (!(rate_hz < kActuatorsMinRateHz)) return "";
+  constexpr double kPhaseDeg = 15.0;       // the half-sample lag's phase at the highest usable frequency
+  constexpr double kQuasiSteadyHz = 10.0;  // below it not even a 1-Hz manoeuvre has 10 samples a cycle
   return fmt::format(
-      "{}: the surfaces' commands are logged at {:.1f} Hz, below the {:.0f} Hz sysid needs (a held command lags half a sample: {:.0f} ms); "
-      "the moments' dynamic coefficients cannot be identified from them, quasi-steady lift and drag at best",
-      file, rate_hz, kActuatorsMinRateHz, 1e3 / (2.0 * rate_hz));
+      "{}: the surfaces' commands are logged at {:.1f} Hz, below the {:.0f} Hz sysid needs (a held command lags half a "
+      "sample, {:.0f} ms: {:.0f} deg of phase at {:.2f} Hz){}",
+      file, rate_hz, kActuatorsMinRateHz, 1e3 / (2.0 * rate_hz), kPhaseDeg, rate_hz * kPhaseDeg / 180.0,
+      rate_hz < kQuasiSteadyHz ? "; quasi-steady lift and drag at best" : "");
 }
 
 }  // namespace tern::core
