@@ -21,7 +21,7 @@ constexpr double kPwmFullRange = 1000.0;  // us: SERVOn_MAX - SERVOn_MIN
 msg::Actuators actuators_from_normalised(Nanos stamp, const NormalisedCommand& u, const CommandMapping& mapping) {
   const auto& max = mapping.max_deflection.value();
   msg::Actuators a;
-  a.stamp = stamp + static_cast<Nanos>(std::llround(mapping.command_delay * 1e9));
+  a.stamp = stamp + from_seconds(mapping.command_delay);
   a.delta_a = u.roll * max[0];
   a.delta_e = 0.0 - u.pitch * max[1];  // 0 - 0 = +0, not -0
   a.delta_r = 0.0 - u.yaw * max[2];
