@@ -13,8 +13,11 @@
 // since 1970), made relative to the earliest first stamp of the tables read.
 // Surfaces: rc/out (mavros_msgs/RCOut: the autopilot's SERVO_OUTPUT_RAW, one pulse width in us per
 // channel, columns field.channels0..) where the dataset has it: ArduPlane's default channel map
-// (RCMAP_ROLL 1, RCMAP_PITCH 2, RCMAP_THROTTLE 3, RCMAP_YAW 4; --rc-channels), surfaces about 1500
-// us +-500 us, throttle 1000..2000 us (surface_commands.hpp).
+// (RCMAP_ROLL 1, RCMAP_PITCH 2, RCMAP_THROTTLE 3, RCMAP_YAW 4: ArduPilot's
+// libraries/AP_RCMapper/AP_RCMapper.cpp; --rc-channels), surfaces about 1500 us +-500 us, throttle
+// 1000..2000 us (surface_commands.hpp). ArduPlane's scaled servo outputs are positive for roll
+// right, nose up (ArduPlane's stabilize_pitch: the elevator from demanded minus measured pitch)
+// and yaw right, and an unreversed channel's pulse grows with them (SRV_Channel's pwm_from_angle).
 #include <cmath>
 #include <ctime>
 #include <limits>
