@@ -1,9 +1,11 @@
 // tern import's converters (core/apps/import/) on the two real flights in data/real_flights:
 // row counts, hand-checked rows (units and frames written out below), the header a flight log
 // writes, and one-line errors for corrupt or truncated inputs.
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -88,7 +90,11 @@ std::string flight_log_header() {
   return line;
 }
 
-ImportReport import_into(const fs::path& input, const fs::path& out_dir, ImportReport (*importer)(const fs::path&, SensorLogWriter&)) {
+using Importer = std::function<ImportReport(const fs::path&, SensorLogWriter&)>;
+/// import_alfa without the surfaces' options.
+const Importer alfa_default = [](const fs::path& in, SensorLogWriter& out) { return import_alfa(in, out); };
+
+ImportReport import_into(const fs::path& input, const fs::path& out_dir, const Importer& importer) {
   const ArchiveInput in(input);
   SensorLogWriter out(out_dir);
   out.set_origin(input.filename().string());
@@ -96,7 +102,7 @@ ImportReport import_into(const fs::path& input, const fs::path& out_dir, ImportR
 }
 
 /// The ImportError's message of importing `dir`, "" if none.
-std::string import_error(const fs::path& dir, const fs::path& out_dir, ImportReport (*importer)(const fs::path&, SensorLogWriter&)) {
+std::string import_error(const fs::path& dir, const fs::path& out_dir, const Importer& importer) {
   try {
     import_into(dir, out_dir, importer);
   } catch (const ImportError& e) {
@@ -191,8 +197,12 @@ TEST_CASE("inertialnav: the Zurich PX4 flight, from its zip as shipped") {
   CHECK(r.rows.at("diff_pressure") == 10869);
   CHECK(r.rows.at("reference") == 7560);
   // above 3 m/s, GPS.txt's speed and course (radians) and GPSraw.txt's NED velocity agree within 0.5 m/s but twice
-  REQUIRE(r.warnings.size() == 1);
+  REQUIRE(r.warnings.size() == 2);
   CHECK(has_warning(r, "2 of 642 fixes above 3 m/s"));
+  CHECK(has_warning(r,
+                    ": no surface commands in this log (InertialNav's files hold sensors and the onboard estimate only): no "
+                    "actuators.csv written (tern sysid needs one)"));
+  CHECK(!fs::exists(log / "topics" / "actuators.csv"));
 
   SUBCASE("imu: IMU.txt line 2, ms -> ns, gyro rad/s and accel m/s^2 already body FRD") {
     // "8.2111359e+00 8.2111359e+00 1.5411900e-01 2.6476000e-02 5.3018000e-02 1.3661700e+00 3.2541300e-01 -9.0435160e+00"
@@ -296,7 +306,7 @@ TEST_CASE("inertialnav: without GPSraw.txt the velocity comes from speed and cou
 TEST_CASE("alfa: the Carbon-Z engine-failure flight, from its tar.gz as shipped") {
   TempDir d;
   const fs::path log = d.path / "alfa";
-  const ImportReport r = import_into(kAlfa, log, import_alfa);
+  const ImportReport r = import_into(kAlfa, log, alfa_default);
   // one row per data line (the CSVs' line counts minus their header)
   CHECK(r.rows.at("imu") == 1324);
   CHECK(r.rows.at("mag") == 1324);
@@ -306,6 +316,9 @@ TEST_CASE("alfa: the Carbon-Z engine-failure flight, from its tar.gz as shipped"
   CHECK(r.rows.at("reference") == 544 + 544);  // odometry rows and global-position rows
   CHECK(has_warning(r, "the IMU is logged at 10.0 Hz"));
   CHECK(has_warning(r, "no vertical velocity"));
+  // the shipped flight has no rc/out table: no surface commands, one line
+  CHECK(has_warning(r, ": no surface commands in this log (no *-mavros-rc-out.csv): no actuators.csv written (tern sysid needs one)"));
+  CHECK(r.rows.count("actuators") == 0);
   {  // what the log implies for the estimator: no down velocity, the field's default GNSS latency
     const YAML::Node y = YAML::LoadFile((log / "sensor_log.yaml").string());
     CHECK(y["estimator"]["use_gnss_vel_d"].as<bool>() == false);
@@ -395,8 +408,87 @@ TEST_CASE("alfa: a truncated CSV gives one line naming the file and line") {
     std::ofstream f(in / mag, std::ios::app);
     f << "1531943860000000000,2810,1531943860000000000,base_link,-194000.0\n";
   }
-  const std::string e = import_error(in, d.path / "out", import_alfa);
+  const std::string e = import_error(in, d.path / "out", alfa_default);
   CHECK(e.find(mag + ":501: expected 16 values, got 5") != std::string::npos);
   CHECK(e.find('\n') == std::string::npos);
-  CHECK(import_error(kFlights / "no_such.tar.gz", d.path / "out2", import_alfa).find("no_such.tar.gz: no such file") != std::string::npos);
+  CHECK(import_error(kFlights / "no_such.tar.gz", d.path / "out2", alfa_default).find("no_such.tar.gz: no such file") != std::string::npos);
+}
+
+TEST_CASE("alfa: rc/out's servo pulses -> actuators: ArduPlane's channel map, the uavbook's signs, a reversed channel") {
+  TempDir d;
+  const ArchiveInput alfa(kAlfa);
+  const fs::path in = d.path / "in";
+  fs::create_directories(in);
+  for (const auto& e : fs::directory_iterator(alfa.dir())) fs::copy_file(e.path(), in / e.path().filename());
+  // mavros_msgs/RCOut as `rostopic echo -p` writes it, at the full dataset's ~3 Hz; time zero stays
+  // nav_info/airspeed's first stamp 1531943810860078371 ns
+  constexpr std::int64_t t0 = 1531943810860078371, t1 = 1531943811860078371, t2 = 1531943812193411704, t3 = 1531943812526745037;
+  {
+    std::ofstream f(in / "carbonZ_2018-07-18-15-53-31_1_engine_failure-mavros-rc-out.csv");
+    f << "%time,field.header.seq,field.header.stamp,field.header.frame_id,field.channels0,field.channels1,field.channels2,"
+         "field.channels3,field.channels4,field.channels5,field.channels6,field.channels7\n";
+    // ch1 aileron 1600 us (+0.2: roll right), ch2 elevator 1400 us (-0.2: nose down), ch3 throttle 1750 us (0.75),
+    // ch4 rudder 1450 us (-0.1: yaw left)
+    f << t1 + 1000 << ",1," << t1 << ",,1600,1400,1750,1450,1500,1500,1000,1000\n";
+    f << t2 + 1000 << ",2," << t2 << ",,1500,1500,1000,1500,1500,1500,1000,1000\n";
+    f << t3 + 1000 << ",3," << t3 << ",,1000,2000,2000,2000,1500,1500,1000,1000\n";
+  }
+  CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  SUBCASE("the default map 1 2 3 4") {
+    SensorLogWriter out(d.path / "log");
+    const ImportReport r = import_alfa(in, out, m);
+    CHECK(r.rows.at("actuators") == 3);
+    CHECK(r.rows.at("imu") == 1324);  // the sensors as without rc/out
+    CHECK(has_warning(r,
+                      "-mavros-rc-out.csv: the surfaces' commands are logged at 3.0 Hz, below the 50 Hz sysid needs (a held command "
+                      "lags half a sample, 167 ms: 15 deg of phase at 0.25 Hz); quasi-steady lift and drag at best"));
+    const Table t = read_table(d.path / "log" / "topics" / "actuators.csv");
+    const auto& a = t.at(t1 - t0);
+    CHECK(t.num(a, "delta_a") == doctest::Approx(0.2 * 0.35).epsilon(1e-12));  // roll right: delta_a > 0
+    CHECK(t.num(a, "delta_e") == doctest::Approx(0.2 * 0.30).epsilon(1e-12));  // nose down: delta_e > 0
+    CHECK(t.num(a, "delta_r") == doctest::Approx(0.1 * 0.40).epsilon(1e-12));  // yaw left: delta_r > 0
+    CHECK(t.num(a, "delta_t") == doctest::Approx(0.75).epsilon(1e-12));
+    const auto& centre = t.at(t2 - t0);
+    for (const char* c : {"delta_a", "delta_e", "delta_r", "delta_t"}) CHECK(t.num(centre, c) == 0.0);
+    const auto& full = t.at(t3 - t0);  // full left stick, full nose up, full throttle, full right rudder
+    CHECK(t.num(full, "delta_a") == doctest::Approx(-0.35).epsilon(1e-12));
+    CHECK(t.num(full, "delta_e") == doctest::Approx(-0.30).epsilon(1e-12));
+    CHECK(t.num(full, "delta_r") == doctest::Approx(-0.40).epsilon(1e-12));
+    CHECK(t.num(full, "delta_t") == 1.0);
+    const YAML::Node y = YAML::LoadFile((d.path / "log" / "sensor_log.yaml").string());
+    bool mapped = false;
+    for (const auto& n : y["notes"])
+      mapped |= n.as<std::string>().find("channels aileron 1, elevator 2, throttle 3, rudder 4") != std::string::npos;
+    CHECK(mapped);
+  }
+  SUBCASE("elevator on a reversed channel 2, the delay shifting the stamps") {
+    m.rc_channels = {1, -2, 3, 4};
+    m.command_delay = 0.05;
+    SensorLogWriter out(d.path / "log");
+    import_alfa(in, out, m);
+    const Table t = read_table(d.path / "log" / "topics" / "actuators.csv");
+    const auto& a = t.at(t1 - t0 + 50'000'000);
+    CHECK(t.num(a, "delta_e") == doctest::Approx(-0.2 * 0.30).epsilon(1e-12));
+    CHECK(t.num(a, "delta_a") == doctest::Approx(0.2 * 0.35).epsilon(1e-12));
+  }
+  SUBCASE("without --max-deflection: no actuators, one line") {
+    SensorLogWriter out(d.path / "log");
+    const ImportReport r = import_alfa(in, out);
+    CHECK(r.rows.count("actuators") == 0);
+    CHECK(has_warning(r,
+                      "carbonZ_2018-07-18-15-53-31_1_engine_failure-mavros-rc-out.csv: holds the servos' pulses: no actuators.csv "
+                      "written without --max-deflection A E R"));
+  }
+  SUBCASE("a channel the table does not have: one error line naming the file and column") {
+    m.rc_channels = {1, 2, 3, 9};
+    SensorLogWriter out(d.path / "log");
+    std::string e;
+    try {
+      import_alfa(in, out, m);
+    } catch (const ImportError& x) {
+      e = x.what();
+    }
+    CHECK(e.find("-mavros-rc-out.csv:1: no column 'field.channels8'") != std::string::npos);
+  }
 }

@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <memory>
@@ -13,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -438,13 +440,17 @@ struct Imported {
   std::vector<std::string> lines(const std::string& topic) const { return lines_of(dir / "topics" / (topic + ".csv")); }
 };
 
-Imported import_sample(const std::string& name, const fs::path& dir = kSamples) {
+Imported import_sample(const std::string& name, const fs::path& dir = kSamples, const tern::core::CommandMapping& commands = {}) {
   Imported i;
   i.dir = fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name);
   fs::remove_all(i.dir);
   tern::core::SensorLogWriter out(i.dir);
-  i.report = tern::core::import_ulog(dir / (name + ".ulg"), out);
+  i.report = tern::core::import_ulog(dir / (name + ".ulg"), out, commands);
   return i;
+}
+
+bool has_line(const std::vector<std::string>& lines, const std::string& part) {
+  return std::count_if(lines.begin(), lines.end(), [&](const std::string& l) { return l.find(part) != std::string::npos; }) == 1;
 }
 
 }  // namespace
@@ -462,7 +468,9 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
   CHECK(i.report.rows.at("mag") == 6759);        // sensor_combined repeats each mag sample until the next: distinct samples
   CHECK(i.report.rows.at("reference") == 6461);  // vehicle_attitude; vehicle_local_position never valid (no GPS)
   CHECK(i.report.rows.count("gnss") == 0);
-  CHECK(i.report.rows.count("baro") == 0);  // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
+  CHECK(i.report.rows.count("baro") == 0);       // baro_timestamp_relative is always PX4's "invalid" (the log: no barometer found)
+  CHECK(i.report.rows.count("actuators") == 0);  // the full deflections not stated: not written
+  CHECK(!fs::exists(i.dir / "topics" / "actuators.csv"));
   const std::string f = (kSamples / "sample.ulg").string();
   CHECK(i.report.warnings ==
         std::vector<std::string>{
@@ -470,6 +478,9 @@ TEST_CASE("tern import ulog: sample.ulg (a 2017 quadrotor on the ground: sensor_
             f + ": no diff_pressure: differential_pressure or airspeed with data",
             f + ": no gnss: vehicle_gps_position or sensor_gps with data (without GNSS the estimator never initialises)",
             f + ": no reference wind: wind or wind_estimate with data",
+            f + ": actuator_controls_0 holds the surfaces' commands, normalised: no actuators.csv written without --max-deflection A E R "
+                "(rad: the full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; a ULog does not "
+                "hold them)",
             f + ": 4 logging dropout(s), 119 ms in all: data lost by PX4's logger",
             f + ": no GNSS fix with a UTC time: the flight's date is unknown (the magnetic model's date is not set)",
         });
@@ -542,6 +553,200 @@ TEST_CASE("tern import ulog: sample_log_small.ulg (a 2021 VTOL armed on the grou
         doctest::Approx(r.initial_parameters().at("EKF2_ASP_DELAY").number() * 1e-3));
   CHECK(meta["estimator"]["gnss_antenna_position"].as<std::vector<double>>().size() == 3);
   fs::remove_all(i.dir);
+}
+
+/// `bytes` with `from` replaced by the same-length `to` at every place `where` accepts (its offset).
+std::string patched(std::string bytes, const std::string& from, const std::string& to, const std::function<bool(std::size_t)>& where) {
+  REQUIRE(from.size() == to.size());
+  int n = 0;
+  for (std::size_t at = bytes.find(from); at != std::string::npos; at = bytes.find(from, at + 1))
+    if (where(at)) bytes.replace(at, from.size(), to), ++n;
+  REQUIRE(n > 0);
+  return bytes;
+}
+
+TEST_CASE("tern import ulog: actuator_controls_0 -> actuators, the uavbook's signs, stamps at publication (sample.ulg)" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  m.command_delay = 0.02;
+  const Imported i = import_sample("sample", kSamples, m);
+  CHECK(i.report.rows.at("actuators") == 3269);  // every actuator_controls_0 message (sample_info.txt's count)
+  CHECK(i.report.rows.at("imu") == 17070);       // the sensors as without the option
+  const std::string f = (kSamples / "sample.ulg").string();
+  CHECK(has_line(i.report.warnings, f + ": MAV_TYPE 2 is no fixed wing: actuator_controls_0's roll, pitch and yaw are the rotors' torque"));
+  CHECK(has_line(
+      i.report.warnings,
+      f + ": the surfaces' commands are logged at 47.4 Hz, below the 50 Hz sysid needs (a held command lags half a sample, 11 ms: 15 "
+          "deg of phase at 3.95 Hz)"));
+  CHECK(i.lines("actuators").at(0) == "t [s],stamp [ns],delta_a [rad],delta_e [rad],delta_r [rad],delta_t [],brake []");
+  // The first actuator_controls_0 message, decoded independently (Python struct on the file): timestamp
+  // 112574774 us (timestamp_sample 112574307), control = (-0.04677823930978775, -0.09784627705812454,
+  // -0.04372883960604668, 0): PX4's roll left, nose down, yaw left. The header's start is 112500176 us.
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == std::to_string((112574774 - 112500176) * 1000 + 20'000'000));             // + --command-delay 0.02 s
+  CHECK(std::stod(a.at(2)) == doctest::Approx(-0.04677823930978775 * 0.35).epsilon(1e-12));  // roll left: delta_a < 0
+  CHECK(std::stod(a.at(3)) == doctest::Approx(0.09784627705812454 * 0.30).epsilon(1e-12));   // nose down: delta_e > 0
+  CHECK(std::stod(a.at(4)) == doctest::Approx(0.04372883960604668 * 0.40).epsilon(1e-12));   // yaw left: delta_r > 0
+  CHECK(a.at(5) == "0");
+  CHECK(a.at(6) == "0");
+  const YAML::Node meta = YAML::LoadFile((i.dir / "sensor_log.yaml").string());
+  std::vector<std::string> notes;
+  for (const auto& n : meta["notes"]) notes.push_back(n.as<std::string>());
+  CHECK(has_line(notes,
+                 "actuators: full deflections (--max-deflection) aileron 0.35 rad (20.1 deg), elevator 0.3 rad (17.2 deg), rudder "
+                 "0.4 rad (22.9 deg), stated at import, not in the log"));
+  CHECK(has_line(notes, "+ 0.02 s (--command-delay); the latency from there to the surface is not in the log"));
+  CHECK(has_line(notes, "actuators: actuator_controls_0 published 0.6 ms (mean; at most 2.1 ms) after the gyro sample"));
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: a VTOL's surfaces from its fixed-wing group actuator_controls_1 (sample_log_small.ulg)" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.5, 0.4, 0.3};
+  const Imported i = import_sample("sample_log_small", kSamples, m);
+  CHECK(i.report.rows.at("actuators") == 1812);  // actuator_controls_1's messages (MAV_TYPE 22: a VTOL)
+  for (const auto& w : i.report.warnings) CHECK(w.find("actuator") == std::string::npos);  // 279 Hz, a fixed wing's group
+  // actuator_controls_1's first message: timestamp 20327133 us, control = (-0.19372718036174774,
+  // -0.021825987845659256, 0, 0); the header's start is 20309082 us
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == std::to_string((20327133 - 20309082) * 1000));
+  CHECK(std::stod(a.at(2)) == doctest::Approx(-0.19372718036174774 * 0.5).epsilon(1e-12));
+  CHECK(std::stod(a.at(3)) == doctest::Approx(0.021825987845659256 * 0.4).epsilon(1e-12));
+  CHECK(a.at(4) == "0");
+  fs::remove_all(i.dir);
+}
+
+TEST_CASE("tern import ulog: an actuator topic malformed or empty: one line naming it, the sensors imported" * kNeedsSamples) {
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const std::string good = file_bytes(kSamples / "sample.ulg");
+  const std::string format = "actuator_controls_0:uint64_t timestamp;uint64_t timestamp_sample;float[8] control";
+  SUBCASE("actuator_controls_0's format without control[]") {
+    const fs::path p = scratch_copy(
+        "act_malformed.ulg", patched(good, format, format.substr(0, format.size() - 7) + "kontrol", [](std::size_t) { return true; }));
+    const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+    CHECK(i.report.rows.at("imu") == 17070);
+    CHECK(i.report.rows.count("actuators") == 0);
+    CHECK(has_line(i.report.warnings, p.string() + ": topic actuator_controls_0 has no fields control[0..3] (roll, pitch, yaw, throttle): "
+                                                   "no actuators.csv written; the sensors are imported"));
+    fs::remove_all(i.dir);
+    fs::remove(p);
+  }
+  SUBCASE("actuator_controls_0 subscribed as actuator_controls_2: no actuator_controls_0 data") {
+    // the add-logged message names the topic without the format's ':'; actuator_controls_2 has the same format
+    const fs::path p = scratch_copy("act_empty.ulg", patched(good, "actuator_controls_0", "actuator_controls_2", [&good](std::size_t at) {
+                                      return good[at + std::strlen("actuator_controls_0")] != ':';
+                                    }));
+    const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+    CHECK(i.report.rows.at("imu") == 17070);
+    CHECK(i.report.rows.count("actuators") == 0);
+    CHECK(has_line(i.report.warnings, p.string() + ": no surface commands in this log (neither actuator_controls_0 nor actuator_servos "
+                                                   "holds data): no actuators.csv written (tern sysid needs one)"));
+    fs::remove_all(i.dir);
+    fs::remove(p);
+  }
+}
+
+/// A ULog file written byte by byte (the spec's header, then 'F', 'P', 'A' and 'D' messages; no flag
+/// bits message, which the spec makes optional).
+class UlogBytes {
+ public:
+  explicit UlogBytes(std::uint64_t start_us) {
+    bytes_ = std::string("ULog\x01\x12\x35", 7) + std::string(1, '\x01');
+    put(start_us);
+  }
+  void format(const std::string& text) { message('F', text); }
+  template <class T>
+  void param(const std::string& type, const std::string& name, T value) {
+    const std::string key = type + " " + name;
+    message('P', std::string(1, static_cast<char>(key.size())) + key + raw(value));
+  }
+  void subscribe(std::uint16_t id, const std::string& topic) { message('A', std::string(1, '\0') + raw(id) + topic); }
+  /// A data message of subscription `id`: the timestamp, then floats.
+  void data(std::uint16_t id, std::uint64_t t_us, const std::vector<float>& values) {
+    std::string p = raw(id) + raw(t_us);
+    for (float v : values) p += raw(v);
+    message('D', p);
+  }
+  const std::string& bytes() const { return bytes_; }
+
+ private:
+  template <class T>
+  static std::string raw(T v) {
+    std::string s(sizeof v, '\0');
+    std::memcpy(s.data(), &v, sizeof v);
+    return s;
+  }
+  template <class T>
+  void put(T v) {
+    bytes_ += raw(v);
+  }
+  void message(char type, const std::string& payload) {
+    put(static_cast<std::uint16_t>(payload.size()));
+    bytes_ += type;
+    bytes_ += payload;
+  }
+  std::string bytes_;
+};
+
+TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' torque effectiveness, throttle from actuator_motors") {
+  // a conventional fixed wing as PX4's control allocation describes it: left and right aileron (roll
+  // -0.5, +0.5), elevator (pitch 1), rudder (yaw 1), one pusher motor
+  UlogBytes u(1'000'000);
+  u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+  u.format("actuator_servos:uint64_t timestamp;float[8] control");
+  u.format("actuator_motors:uint64_t timestamp;float[4] control");
+  u.param<std::int32_t>("int32_t", "MAV_TYPE", 1);
+  u.param<std::int32_t>("int32_t", "CA_AIRFRAME", 1);
+  u.param<std::int32_t>("int32_t", "CA_ROTOR_COUNT", 1);
+  u.param<std::int32_t>("int32_t", "CA_SV_CS_COUNT", 4);
+  const std::vector<std::array<float, 3>> trq = {{-0.5f, 0, 0}, {0.5f, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (int i = 0; i < 4; ++i) {
+    u.param<std::int32_t>("int32_t", "CA_SV_CS" + std::to_string(i) + "_TYPE", i + 1);  // 1-4: left, right aileron, elevator, rudder
+    for (int a = 0; a < 3; ++a) u.param<float>("float", "CA_SV_CS" + std::to_string(i) + "_TRQ_" + "RPY"[a], trq[i][a]);
+  }
+  u.subscribe(0, "sensor_combined");
+  u.subscribe(1, "actuator_servos");
+  u.subscribe(2, "actuator_motors");
+  for (int k = 0; k < 20; ++k) u.data(0, 1'000'000 + 4000 * k, {0, 0, 0, 0, 0, -9.81f});
+  u.data(2, 1'010'000, {0.6f, 0, 0, 0});
+  // left aileron -0.2 and right +0.2 (roll right), elevator +0.3 (PX4: nose up), rudder -0.1 (yaw left)
+  u.data(1, 1'012'000, {-0.2f, 0.2f, 0.3f, -0.1f, 0, 0, 0, 0});
+  u.data(1, 1'032'000, {0.1f, 0.3f, 0, 0, 0, 0, 0, 0});  // ailerons 0.1 and 0.3: roll 0.1, half their difference
+  const fs::path p = scratch_copy("servos.ulg", u.bytes());
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+  CHECK(i.report.rows.at("imu") == 20);
+  REQUIRE(i.report.rows.at("actuators") == 2);
+  const auto a = cells(i.lines("actuators").at(1));
+  CHECK(a.at(1) == "12000000");                                             // 1012000 us - the start 1000000 us
+  CHECK(std::stod(a.at(2)) == doctest::Approx(0.2 * 0.35).epsilon(1e-6));   // roll right: delta_a > 0
+  CHECK(std::stod(a.at(3)) == doctest::Approx(-0.3 * 0.30).epsilon(1e-6));  // nose up: delta_e < 0
+  CHECK(std::stod(a.at(4)) == doctest::Approx(0.1 * 0.40).epsilon(1e-6));   // yaw left: delta_r > 0
+  CHECK(std::stod(a.at(5)) == doctest::Approx(0.6).epsilon(1e-6));          // the motor in force
+  const auto b = cells(i.lines("actuators").at(2));
+  CHECK(std::stod(b.at(2)) == doctest::Approx(0.1 * 0.35).epsilon(1e-6));
+  CHECK(b.at(3) == "0");
+  fs::remove_all(i.dir);
+  fs::remove(p);
+}
+
+TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {
+  const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_act_cli_" + std::to_string(::getpid()));
+  fs::remove_all(tmp);
+  fs::create_directories(tmp);
+  const std::string ulg = (kSamples / "sample_log_small.ulg").string();
+  REQUIRE(run_tern({"import", "ulog", ulg, (tmp / "log").string(), "--max-deflection", "0.35", "0.3", "0.4"}, tmp / "import.txt") == 0);
+  const auto printed = lines_of(tmp / "import.txt");
+  CHECK(std::count_if(printed.begin(), printed.end(), [](const std::string& l) {
+          return l.find("actuators") != std::string::npos && l.find(" 1812 rows") != std::string::npos;
+        }) == 1);
+  CHECK(run_tern({"import", "ulog", ulg, (tmp / "log2").string(), "--max-deflection", "35", "0.3", "0.4"}, tmp / "bad.txt") == 1);
+  CHECK(lines_of(tmp / "bad.txt") ==
+        std::vector<std::string>{"tern: error: import: --max-deflection 35: each full deflection is in rad, above 0 and below pi/2"});
+  CHECK(!fs::exists(tmp / "log2"));
+  fs::remove_all(tmp);
 }
 
 TEST_CASE("tern import ulog: the conversions, on hand-checked values") {

@@ -11,6 +11,13 @@
 // magnetic field the autopilot's mGauss multiplied by 1000 (mavros' constant "MILLIT_TO_TESLA =
 // 1000.0"), so T = value * 1e-3 * 1e-7; static pressure Pa. Time: the ROS header stamps (ns
 // since 1970), made relative to the earliest first stamp of the tables read.
+// Surfaces: rc/out (mavros_msgs/RCOut: the autopilot's SERVO_OUTPUT_RAW, one pulse width in us per
+// channel, columns field.channels0..) where the dataset has it: ArduPlane's default channel map
+// (RCMAP_ROLL 1, RCMAP_PITCH 2, RCMAP_THROTTLE 3, RCMAP_YAW 4: ArduPilot's
+// libraries/AP_RCMapper/AP_RCMapper.cpp; --rc-channels), surfaces about 1500 us +-500 us, throttle
+// 1000..2000 us (surface_commands.hpp). ArduPlane's scaled servo outputs are positive for roll
+// right, nose up (ArduPlane's stabilize_pitch: the elevator from demanded minus measured pitch)
+// and yaw right, and an unreversed channel's pulse grows with them (SRV_Channel's pwm_from_angle).
 #include <cmath>
 #include <ctime>
 #include <limits>
@@ -57,7 +64,7 @@ struct RosTable {
 };
 
 struct Inputs {
-  fs::path imu, mag, baro, fix, gps_vel, airspeed, odom, global, engines;
+  fs::path imu, mag, baro, fix, gps_vel, airspeed, odom, global, engines, rc_out;
   bool airspeed_is_vfr_hud = false;
 };
 
@@ -78,13 +85,14 @@ Inputs find_inputs(const fs::path& dir) {
   in.odom = file_ending_with(dir, "-mavros-local_position-odom.csv");
   in.global = file_ending_with(dir, "-mavros-global_position-global.csv");
   in.engines = file_ending_with(dir, "-failure_status-engines.csv");
+  in.rc_out = file_ending_with(dir, "-mavros-rc-out.csv");
   return in;
 }
 
 /// The earliest first header stamp of the tables (the log's time zero).
 Nanos time_zero(const Inputs& in) {
   Nanos t0 = std::numeric_limits<Nanos>::max();
-  for (const fs::path* f : {&in.imu, &in.mag, &in.baro, &in.fix, &in.airspeed, &in.odom, &in.global}) {
+  for (const fs::path* f : {&in.imu, &in.mag, &in.baro, &in.fix, &in.airspeed, &in.odom, &in.global, &in.rc_out}) {
     if (f->empty()) continue;
     RosTable t(*f);
     if (t.more) t0 = std::min(t0, t.stamp(0));
@@ -235,6 +243,43 @@ void import_reference(const Inputs& in, Nanos t0, SensorLogWriter& out, ImportRe
   order.report(in.odom.empty() ? in.global : in.odom, report);
 }
 
+/// rc/out's servo pulses as the surfaces' commands (ArduPilot's sense: roll right, pitch up, yaw
+/// right for a longer pulse on an unreversed channel), through `mapping`.
+void import_actuators(const fs::path& file, Nanos t0, const CommandMapping& mapping, SensorLogWriter& out, ImportReport& report,
+                      std::vector<std::string>& notes) {
+  RosTable r(file);
+  std::array<std::size_t, 4> col{};  // aileron, elevator, throttle, rudder
+  for (std::size_t i = 0; i < 4; ++i) {
+    const int ch = mapping.rc_channels[i];
+    col[i] = r.t.column(fmt::format("field.channels{}", std::abs(ch) - 1));
+  }
+  StampOrder order;
+  IntervalStats dt;
+  for (; r.more; r.more = r.t.next()) {
+    auto pwm = [&](std::size_t i) { return r.t.number(col[i]); };
+    NormalisedCommand u;
+    u.roll = normalised_from_pwm(pwm(0), mapping.rc_channels[0] < 0);
+    u.pitch = normalised_from_pwm(pwm(1), mapping.rc_channels[1] < 0);
+    u.throttle = throttle_from_pwm(pwm(2));
+    u.yaw = normalised_from_pwm(pwm(3), mapping.rc_channels[3] < 0);
+    const msg::Actuators a = actuators_from_normalised(r.stamp(t0), u, mapping);
+    if (!order.accept(a.stamp)) continue;
+    dt.add(a.stamp);
+    out.write("actuators", a);
+  }
+  order.report(file, report);
+  const auto& ch = mapping.rc_channels;
+  notes.push_back(
+      fmt::format("actuators: {}: servo pulses of channels aileron {}, elevator {}, throttle {}, rudder {} (a negative "
+                  "channel reversed; ArduPlane's default RCMAP 1 2 3 4); surfaces (pwm - 1500) / 500 us, throttle (pwm - "
+                  "1000) / 1000 us (SERVOn_MIN/TRIM/MAX defaults; this dataset has no parameters)",
+                  file.filename().string(), ch[0], ch[1], ch[2], ch[3]));
+  notes.push_back(describe(mapping));
+  notes.push_back(fmt::format("actuators: {}: {}", file.filename().string(), dt.describe()));
+  if (dt.count() > 1)
+    if (auto w = actuator_rate_warning(file.filename().string(), 1.0 / dt.mean_s()); !w.empty()) report.warnings.push_back(w);
+}
+
 /// The first time the engine-failure flag is set, s on the log's clock (the table has only the
 /// bag's receive time, %time); nan if never.
 double engine_failure_s(const fs::path& file, Nanos t0) {
@@ -247,7 +292,7 @@ double engine_failure_s(const fs::path& file, Nanos t0) {
 
 }  // namespace
 
-ImportReport import_alfa(const fs::path& in, SensorLogWriter& out) {
+ImportReport import_alfa(const fs::path& in, SensorLogWriter& out, const CommandMapping& commands) {
   const fs::path dir = directory_holding(in, {"-mavros-imu-data_raw.csv", "-mavros-imu-data.csv"});
   const Inputs inputs = find_inputs(dir);
   const Nanos t0 = time_zero(inputs);
@@ -278,6 +323,19 @@ ImportReport import_alfa(const fs::path& in, SensorLogWriter& out) {
     report.warnings.push_back(fmt::format("{}: GNSS needs both raw/fix and raw/gps_vel: no gnss topic written", dir.string()));
   if (!inputs.airspeed.empty()) import_airspeed(inputs, t0, out, report);
   import_reference(inputs, t0, out, report);
+  if (inputs.rc_out.empty())
+    report.warnings.push_back(
+        fmt::format("{}: no surface commands in this log (no *-mavros-rc-out.csv): no actuators.csv written (tern "
+                    "sysid needs one)",
+                    dir.string()));
+  else if (!commands.max_deflection)
+    report.warnings.push_back(
+        fmt::format("{}: holds the servos' pulses: no actuators.csv written without --max-deflection A E R (rad: the "
+                    "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; the "
+                    "log does not hold them)",
+                    inputs.rc_out.filename().string()));
+  else
+    import_actuators(inputs.rc_out, t0, commands, out, report, n);
   n.push_back("frames: mavros body FLU -> FRD (y, z negated), ENU -> NED (x and y swapped, z negated), attitude R_ned_frd = P R_enu_flu F");
   n.push_back("mag: mavros' value / 1000 = the autopilot's mGauss (calibrated), * 1e-7 = T");
   n.push_back(fmt::format("diff_pressure: {} taken as EAS (ArduPilot's airspeed): 0.5 * 1.225 * EAS^2 Pa",

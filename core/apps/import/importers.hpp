@@ -9,22 +9,26 @@
 #include <filesystem>
 
 #include "import/sensor_log_writer.hpp"
+#include "import/surface_commands.hpp"
 
 namespace tern::core {
 
 /// Paul Riseborough's InertialNav text files (github.com/priseborough/InertialNav,
 /// code/main_closed_loop_float.cpp): IMU.txt, GPS.txt, MAG.txt, NTUN.txt, ATT.txt,
 /// GPOSonboard.txt, timing.txt, as in its InputFilesPX4_search.zip (a PX4 fixed wing, Zurich
-/// 2014). `in`: the directory holding them (or one level above it).
+/// 2014). `in`: the directory holding them (or one level above it). The files hold no surface
+/// commands: no actuators table (one line says so).
 ImportReport import_inertialnav(const std::filesystem::path& in, SensorLogWriter& out);
 
 /// The ALFA dataset's mavros topic CSVs (CMU AirLab, castacks/alfa-dataset-tools: one
 /// <bag>-mavros-<topic>.csv per topic, ROS ENU/FLU frames). `in`: the directory holding them
-/// (or one level above it).
-ImportReport import_alfa(const std::filesystem::path& in, SensorLogWriter& out);
+/// (or one level above it). The surfaces' commands from <bag>-mavros-rc-out.csv (servo PWM) where
+/// the directory has it and `commands` states the full deflections.
+ImportReport import_alfa(const std::filesystem::path& in, SensorLogWriter& out, const CommandMapping& commands = {});
 
 /// A PX4 ULog file (.ulg): sensor_combined, vehicle_magnetometer, vehicle_air_data, ... (the mapping:
-/// import/ulog_import.hpp). `in`: the .ulg file, or a directory holding one .ulg.
-ImportReport import_ulog(const std::filesystem::path& in, SensorLogWriter& out);
+/// import/ulog_import.hpp). `in`: the .ulg file, or a directory holding one .ulg. The surfaces'
+/// commands from actuator_controls where the log has them and `commands` states the full deflections.
+ImportReport import_ulog(const std::filesystem::path& in, SensorLogWriter& out, const CommandMapping& commands = {});
 
 }  // namespace tern::core

@@ -264,6 +264,10 @@ ImportReport import_inertialnav(const fs::path& in, SensorLogWriter& out) {
   n.push_back("temperature columns: not recorded; the message default 288.15 K is written");
   n.push_back("date: the flight's date is not in the files; 2014-02-11 is the day the data set was added to InertialNav (an upper bound)");
   meta.date = "2014-02-11";
+  report.warnings.push_back(
+      fmt::format("{}: no surface commands in this log (InertialNav's files hold sensors and the onboard estimate "
+                  "only): no actuators.csv written (tern sysid needs one)",
+                  dir.string()));
   airborne.write_to(meta);
   out.finish(meta);
   report.rows = out.rows();

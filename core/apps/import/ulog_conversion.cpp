@@ -276,15 +276,87 @@ void Conversion::add_wind(const std::string& source) {
   });
 }
 
+void Conversion::add_actuators(const std::string& source, const CommandMapping& mapping) {
+  actuator_source_ = source;
+  factories[source].push_back([this, mapping](const Fields& f) -> Handler {
+    const std::array<const Field*, 4> u{&f.need("control[0]"), &f.need("control[1]"), &f.need("control[2]"), &f.need("control[3]")};
+    const Field* ts = f.opt("timestamp_sample");
+    return [this, u, ts, mapping](const DataMessage& d) {
+      const auto t = stamp(static_cast<std::int64_t>(d.timestamp()));
+      if (!t) return;
+      const NormalisedCommand c{d.value(*u[0]), d.value(*u[1]), d.value(*u[2]), d.value(*u[3])};
+      if (!std::isfinite(c.roll) || !std::isfinite(c.pitch) || !std::isfinite(c.yaw) || !std::isfinite(c.throttle))
+        return void(++nan_actuator_rows_);
+      if (ts && d.integer(*ts) > 0) {  // the gyro sample the command was computed from
+        const std::int64_t lag = static_cast<std::int64_t>(d.timestamp()) - d.integer(*ts);
+        control_latency_sum_us_ += lag, ++control_latency_count_;
+        control_latency_max_us_ = std::max(control_latency_max_us_, lag);
+      }
+      const msg::Actuators a = actuators_from_normalised(*t, c, mapping);
+      actuator_intervals.add(a.stamp);
+      act_.push(a);
+    };
+  });
+}
+
+void Conversion::add_servo_actuators(const std::array<std::vector<double>, 3>& effectiveness, const std::vector<int>& motors,
+                                     const CommandMapping& mapping) {
+  actuator_source_ = "actuator_servos";
+  if (!motors.empty())
+    factories["actuator_motors"].push_back([this, motors](const Fields& f) -> Handler {
+      std::vector<const Field*> u;
+      for (int i : motors) u.push_back(&f.need(fmt::format("control[{}]", i)));
+      return [this, u](const DataMessage& d) {
+        double sum = 0.0;
+        for (const Field* m : u) sum += d.value(*m);
+        const double mean = sum / static_cast<double>(u.size());
+        if (std::isfinite(mean))
+          motor_throttle_ = std::clamp(mean, 0.0, 1.0);  // NaN: disarmed (the motors stopped)
+        else
+          motor_throttle_ = 0.0;
+      };
+    });
+  factories["actuator_servos"].push_back([this, effectiveness, mapping](const Fields& f) -> Handler {
+    std::vector<const Field*> s;
+    for (std::size_t i = 0; i < effectiveness[0].size(); ++i) s.push_back(&f.need(fmt::format("control[{}]", i)));
+    return [this, s, effectiveness, mapping](const DataMessage& d) {
+      const auto t = stamp(static_cast<std::int64_t>(d.timestamp()));
+      if (!t) return;
+      std::array<double, 3> u{};
+      for (std::size_t axis = 0; axis < 3; ++axis) {
+        double sum = 0.0, weight = 0.0;
+        for (std::size_t i = 0; i < s.size(); ++i) {
+          const double e = effectiveness[axis][i];
+          if (e == 0.0) continue;
+          sum += e * d.value(*s[i]), weight += std::abs(e);
+        }
+        u[axis] = weight > 0.0 ? sum / weight : 0.0;
+      }
+      if (!std::isfinite(u[0]) || !std::isfinite(u[1]) || !std::isfinite(u[2])) return void(++nan_actuator_rows_);  // disarmed
+      const msg::Actuators a = actuators_from_normalised(*t, {u[0], u[1], u[2], motor_throttle_}, mapping);
+      actuator_intervals.add(a.stamp);
+      act_.push(a);
+    };
+  });
+}
+
 void Conversion::finish(const std::string& file, std::vector<std::string>& notes) {
-  imu_.flush(), mag_.flush(), baro_.flush(), dp_.flush(), gnss_.flush(), ref_.flush();
-  const std::uint64_t late = imu_.dropped() + mag_.dropped() + baro_.dropped() + dp_.dropped() + gnss_.dropped() + ref_.dropped();
+  imu_.flush(), mag_.flush(), baro_.flush(), dp_.flush(), gnss_.flush(), ref_.flush(), act_.flush();
+  const std::uint64_t late =
+      imu_.dropped() + mag_.dropped() + baro_.dropped() + dp_.dropped() + gnss_.dropped() + ref_.dropped() + act_.dropped();
   auto warn = [&](std::uint64_t n, const std::string& what) {
     if (n) report_.warnings.push_back(fmt::format("{}: {} {}", file, n, what));
   };
   warn(before_start_, "row(s) stamped before the log's start timestamp (stale samples published before logging began): dropped");
   warn(late, "row(s) more than 1 s out of time order within their topic: dropped");
   warn(nan_rows_, "sensor row(s) with a NaN or infinite value: dropped");
+  warn(nan_actuator_rows_, actuator_source_ + " row(s) with a NaN or infinite control (disarmed outputs): dropped");
+  if (control_latency_count_)
+    notes.push_back(
+        fmt::format("actuators: {} published {:.1f} ms (mean; at most {:.1f} ms) after the gyro sample it was computed from "
+                    "(timestamp - timestamp_sample)",
+                    actuator_source_, 1e-3 * static_cast<double>(control_latency_sum_us_) / static_cast<double>(control_latency_count_),
+                    1e-3 * static_cast<double>(control_latency_max_us_)));
   warn(course_velocity_, "GNSS row(s) without a valid NED velocity (vel_ned_valid 0): north/east from vel_m_s and cog_rad");
   if (no_temperature_)
     notes.push_back(fmt::format("{} baro/diff_pressure rows without a usable temperature: 288.15 K written", no_temperature_));

@@ -16,8 +16,10 @@
 
 #include "import/import_support.hpp"
 #include "import/sensor_log_writer.hpp"
+#include "import/surface_commands.hpp"
 #include "import/ulog_import.hpp"
 #include "import/ulog_reader.hpp"
+#include "tern/msg/control.hpp"
 #include "tern/msg/estimator.hpp"
 #include "tern/msg/sensors.hpp"
 
@@ -69,7 +71,8 @@ class Conversion {
         baro_(kReorderWindow, [&out](const msg::Baro& m) { out.write("baro", m); }),
         dp_(kReorderWindow, [&out](const msg::DiffPressure& m) { out.write("diff_pressure", m); }),
         gnss_(kReorderWindow, [&out](const msg::Gnss& m) { out.write("gnss", m); }),
-        ref_(kReorderWindow, [&out](const msg::Reference& m) { out.write("reference", m); }) {}
+        ref_(kReorderWindow, [&out](const msg::Reference& m) { out.write("reference", m); }),
+        act_(kReorderWindow, [&out](const msg::Actuators& m) { out.write("actuators", m); }) {}
 
   /// The handlers of one topic, built when its subscription (multi-instance 0) appears.
   using Handler = std::function<void(const ulog::DataMessage&)>;
@@ -118,11 +121,21 @@ class Conversion {
   void add_position(const std::string& source);
   void add_velocity(const std::string& source);
   void add_wind(const std::string& source);
+  /// actuator_controls_N's control[0..3] (roll, pitch, yaw, throttle) through `mapping`, stamped
+  /// with the message's timestamp (its publication).
+  void add_actuators(const std::string& source, const CommandMapping& mapping);
+  /// PX4 v1.13+'s control allocation: actuator_servos' positions (-1..1) weighted by each surface's
+  /// torque effectiveness (CA_SV_CS<i>_TRQ_R/P/Y), per axis sum_i E_i s_i / sum_i |E_i|: two ailerons
+  /// of effectiveness -0.5 and +0.5 give the mean of their antisymmetric deflection, an elevator of
+  /// any effectiveness its own position; throttle: the mean of actuator_motors' `motors` (indices),
+  /// the latest message in force. Rows at actuator_servos' timestamps.
+  void add_servo_actuators(const std::array<std::vector<double>, 3>& effectiveness, const std::vector<int>& motors,
+                           const CommandMapping& mapping);
   /// Releases the rows still held and reports what was dropped.
   void finish(const std::string& file, std::vector<std::string>& notes);
 
   std::string date;  ///< of the first GNSS fix with a UTC time
-  IntervalStats imu_intervals, gnss_intervals;
+  IntervalStats imu_intervals, gnss_intervals, actuator_intervals;
 
  private:
   void write_mag(Nanos t, double x, double y, double z);
@@ -135,8 +148,13 @@ class Conversion {
   ReorderWindow<msg::DiffPressure> dp_;
   ReorderWindow<msg::Gnss> gnss_;
   ReorderWindow<msg::Reference> ref_;
+  ReorderWindow<msg::Actuators> act_;
   std::uint64_t before_start_ = 0, nan_rows_ = 0, no_temperature_ = 0, course_velocity_ = 0;
   std::int64_t max_accel_relative_us_ = 0;
+  std::string actuator_source_;
+  double motor_throttle_ = 0.0;
+  std::uint64_t nan_actuator_rows_ = 0, control_latency_count_ = 0;
+  std::int64_t control_latency_sum_us_ = 0, control_latency_max_us_ = 0;
   Nanos last_combined_mag_ = -1, last_combined_baro_ = -1;
 };
 

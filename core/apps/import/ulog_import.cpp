@@ -139,6 +139,113 @@ void choose_sources(const Survey& s, const ulog::Reader& r, Conversion& c, Impor
     c.add_wind(*src);
 }
 
+/// MAVLink's MAV_TYPE (common.xml): 1 fixed wing; 19-25 the VTOLs (tailsitters, tiltrotor, fixed
+/// rotor, tiltwing), whose fixed-wing controller publishes actuator_controls_1.
+bool is_vtol(int mav_type) { return mav_type >= 19 && mav_type <= 25; }
+
+bool holds_data(const Survey& s, const ulog::Reader& r, const std::string& topic) {
+  const auto it = s.rows.find(topic);
+  return r.formats().count(topic) && it != s.rows.end() && it->second > 0;
+}
+
+std::string no_deflection_line(const std::string& file, const std::string& topic) {
+  return fmt::format(
+      "{}: {} holds the surfaces' commands, normalised: no actuators.csv written without --max-deflection A E R (rad: the "
+      "full aileron, elevator and rudder deflections, the aircraft file's servos.max_delta_a/e/r; a ULog does not hold them)",
+      file, topic);
+}
+
+/// PX4 v1.13+ (control allocation): actuator_servos through the surfaces' torque effectiveness
+/// (CA_SV_CS<i>_TRQ_R/P/Y), throttle from actuator_motors' forward motors.
+void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, const CommandMapping& mapping, ImportReport& report,
+                            std::vector<std::string>& notes) {
+  const std::string file = r.path().string();
+  const int count = static_cast<int>(c.param("CA_SV_CS_COUNT").value_or(0.0));
+  std::array<std::vector<double>, 3> e;
+  std::string surfaces;
+  const ulog::Subscription servos("actuator_servos", 0, 0, r.formats());
+  for (int i = 0; i < count; ++i) {
+    if (!servos.field(fmt::format("control[{}]", i))) {
+      report.warnings.push_back(
+          fmt::format("{}: topic actuator_servos has no field control[{}] (CA_SV_CS_COUNT {}): no actuators.csv "
+                      "written; the sensors are imported",
+                      file, i, count));
+      return;
+    }
+    const char* axis[] = {"R", "P", "Y"};
+    for (int a = 0; a < 3; ++a) e[a].push_back(c.param(fmt::format("CA_SV_CS{}_TRQ_{}", i, axis[a])).value_or(0.0));
+    surfaces += fmt::format("{}servo {} (CA_SV_CS{}_TYPE {}) roll {} pitch {} yaw {}", surfaces.empty() ? "" : "; ", i, i,
+                            c.param(fmt::format("CA_SV_CS{}_TYPE", i)).value_or(0.0), e[0].back(), e[1].back(), e[2].back());
+  }
+  if (count <= 0 || surfaces.empty()) {
+    report.warnings.push_back(
+        fmt::format("{}: actuator_servos holds data but the log has no CA_SV_CS_COUNT (the control surfaces' "
+                    "configuration): no actuators.csv written",
+                    file));
+    return;
+  }
+  if (!mapping.max_deflection) return void(report.warnings.push_back(no_deflection_line(file, "actuator_servos")));
+  // throttle: a fixed wing's (CA_AIRFRAME 1) motors all push forward; a VTOL's forward motors are
+  // those whose thrust axis CA_ROTOR<i>_AX_X points forward
+  std::vector<int> motors;
+  const int rotors = static_cast<int>(c.param("CA_ROTOR_COUNT").value_or(0.0));
+  const bool fixed_wing = c.param("CA_AIRFRAME").value_or(-1.0) == 1.0;
+  if (holds_data(s, r, "actuator_motors")) {
+    const ulog::Subscription m("actuator_motors", 0, 0, r.formats());
+    for (int i = 0; i < rotors; ++i)
+      if ((fixed_wing || c.param(fmt::format("CA_ROTOR{}_AX_X", i)).value_or(0.0) > 0.5) && m.field(fmt::format("control[{}]", i)))
+        motors.push_back(i);
+  }
+  c.add_servo_actuators(e, motors, mapping);
+  notes.push_back(
+      "actuators: from actuator_servos (positions -1..1) through the torque effectiveness CA_SV_CS<i>_TRQ_R/P/Y, per axis "
+      "sum E_i s_i / sum |E_i|: " +
+      surfaces);
+  std::string m;
+  for (int i : motors) m += fmt::format("{}{}", m.empty() ? "" : ", ", i);
+  notes.push_back(motors.empty() ? std::string("actuators: no forward motor in actuator_motors (CA_AIRFRAME, CA_ROTOR<i>_AX_X): delta_t 0")
+                                 : "actuators: delta_t the mean of actuator_motors' forward motors " + m + ", the latest in force");
+  notes.push_back(describe(mapping));
+}
+
+/// The surfaces' commands: actuator_controls_1 (the fixed-wing group) on a VTOL, else
+/// actuator_controls_0 (the attitude controller's group: a fixed wing's surfaces and throttle);
+/// PX4 v1.13+ without them: actuator_servos and actuator_motors. One line where the log has none,
+/// where the topic is malformed, or where the full deflections were not stated.
+void choose_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, const CommandMapping& mapping, ImportReport& report,
+                      std::vector<std::string>& notes) {
+  const std::string file = r.path().string();
+  const int mav_type = static_cast<int>(c.param("MAV_TYPE").value_or(0.0));
+  const std::string source = is_vtol(mav_type) ? "actuator_controls_1" : "actuator_controls_0";
+  if (!holds_data(s, r, source)) {
+    if (holds_data(s, r, "actuator_servos")) return choose_servo_actuators(s, r, c, mapping, report, notes);
+    report.warnings.push_back(
+        fmt::format("{}: no surface commands in this log (neither {} nor actuator_servos holds data): no "
+                    "actuators.csv written (tern sysid needs one)",
+                    file, source));
+    return;
+  }
+  if (!has_fields(r.formats(), source, {"control[0]", "control[1]", "control[2]", "control[3]"})) {
+    report.warnings.push_back(
+        fmt::format("{}: topic {} has no fields control[0..3] (roll, pitch, yaw, throttle): no actuators.csv "
+                    "written; the sensors are imported",
+                    file, source));
+    return;
+  }
+  if (!mapping.max_deflection) return void(report.warnings.push_back(no_deflection_line(file, source)));
+  c.add_actuators(source, mapping);
+  notes.push_back(fmt::format(
+      "actuators: from {} ({} messages): control[0..3] = roll, pitch, yaw (-1..1: roll right, nose up, nose "
+      "right positive), throttle (0..1){}",
+      source, s.rows.at(source), is_vtol(mav_type) ? "; a VTOL's fixed-wing group (MAV_TYPE " + std::to_string(mav_type) + ")" : ""));
+  notes.push_back(describe(mapping));
+  if (mav_type != 1 && !is_vtol(mav_type))
+    report.warnings.push_back(
+        fmt::format("{}: MAV_TYPE {} is no fixed wing: {}'s roll, pitch and yaw are the rotors' torque commands, "
+                    "not surfaces; actuators.csv holds them as deflections nonetheless",
+                    file, mav_type, source));
+}
+
 /// The PX4 parameters that map onto the estimator's settings (docs/sensor-log.md), where the log has them.
 void estimator_settings(const Conversion& c, SensorLogMeta& meta) {
   auto delay = [&](const char* px4, const char* tern) {
@@ -173,7 +280,7 @@ std::string info_text(const ulog::Reader& r, const char* key) {
   return it == r.info().end() ? std::string("?") : it->second.text();
 }
 
-ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
+ImportReport convert(const fs::path& ulg, SensorLogWriter& out, const CommandMapping& mapping) {
   const std::string file = ulg.string();
   const Survey s = survey(ulg);
   ulog::Reader r(ulg);
@@ -181,6 +288,7 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
   SensorLogMeta meta;
   Conversion c(r, out, report);
   choose_sources(s, r, c, report, meta.notes);
+  choose_actuators(s, r, c, mapping, report, meta.notes);
   std::uint64_t dropouts = 0, dropout_ms = 0;
   ulog::DataHandler h;
   h.on_subscription = [&](const Subscription& sub) { c.subscribe(sub); };
@@ -194,6 +302,11 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
         fmt::format("{}: {} logging dropout(s), {} ms in all: data lost by PX4's logger", file, dropouts, dropout_ms));
   if (c.imu_intervals.count()) meta.notes.push_back("imu: " + c.imu_intervals.describe());
   if (c.gnss_intervals.count()) meta.notes.push_back("gnss: " + c.gnss_intervals.describe());
+  if (c.actuator_intervals.count()) {
+    meta.notes.push_back("actuators: " + c.actuator_intervals.describe());
+    if (c.actuator_intervals.count() > 1)
+      if (auto w = actuator_rate_warning(file, 1.0 / c.actuator_intervals.mean_s()); !w.empty()) report.warnings.push_back(w);
+  }
   meta.notes.push_back("times: PX4 timestamps (us since boot) minus the log's start timestamp " + std::to_string(r.start_timestamp()) +
                        " us");
   estimator_settings(c, meta);
@@ -211,7 +324,7 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out) {
 
 }  // namespace
 
-ImportReport import_ulog(const fs::path& in, SensorLogWriter& out) {
+ImportReport import_ulog(const fs::path& in, SensorLogWriter& out, const CommandMapping& commands) {
   std::error_code ec;
   fs::path ulg = in;
   if (fs::is_directory(in, ec)) {  // an unpacked archive: the one .ulg in it
@@ -219,7 +332,7 @@ ImportReport import_ulog(const fs::path& in, SensorLogWriter& out) {
     if (ulg.empty()) throw ImportError(in.string() + ": no .ulg file in this directory");
   }
   try {
-    return convert(ulg, out);
+    return convert(ulg, out, commands);
   } catch (const ulog::UlogError& e) {
     throw ImportError(e.what());
   } catch (const std::out_of_range& e) {

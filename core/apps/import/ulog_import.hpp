@@ -23,6 +23,12 @@
 //                  xy_global/z_global); vehicle_local_position vx/vy/vz (else vehicle_global_position
 //                  vel_n/e/d); wind (else wind_estimate) windspeed_north/east. One row per source
 //                  message; the columns that message does not give are NaN.
+//   actuators      actuator_controls_0 (a VTOL, MAV_TYPE 19-25: actuator_controls_1, its fixed-wing
+//                  group): control[0..3] = roll, pitch, yaw (-1..1), throttle (0..1) as the uavbook's
+//                  deflections through --max-deflection (import/surface_commands.hpp; without it none
+//                  are written, one line says why); stamp: timestamp (the command's publication).
+//                  PX4 v1.13+ without them: actuator_servos through CA_SV_CS<i>_TRQ_R/P/Y, throttle
+//                  from actuator_motors (Conversion::add_servo_actuators)
 // Times: PX4 timestamps are us since boot; stamp = (t - the header's start timestamp) in ns. A sensor
 // sample's stamp is its timestamp_sample where the topic has one (the time PX4's EKF2 subtracts its
 // EKF2_*_DELAY from), so the delays of sensor_log.yaml are PX4's EKF2_*_DELAY parameters. GNSS:
