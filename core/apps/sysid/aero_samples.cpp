@@ -47,6 +47,7 @@ AeroSamples aero_samples(const FlightSeries& s, const Aircraft& ac, const Airbor
     a.t.push_back(s.t[k]);
     a.C_L.push_back((std::sin(alpha) * Fx - std::cos(alpha) * Fz) / qS_xz);
     a.C_D.push_back(-(std::cos(alpha) * Fx + std::sin(alpha) * Fz) / qS_xz);
+    a.C_X.push_back(Fx / qS_xz), a.C_Z.push_back(Fz / qS_xz);
     a.C_Y.push_back(Fy / qS);
     a.C_ell.push_back(l / (qS * ac.b));
     a.C_m.push_back(m / (qS_xz * ac.c));

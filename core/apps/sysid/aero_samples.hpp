@@ -17,7 +17,8 @@
 // Nondimensional rates: p^ = b p / (2 Va), q^ = c q / (2 V_xz), r^ = b r / (2 Va).
 // qbar is the pitot's differential pressure where the log has one (the dynamic pressure the
 // airframe met, gusts included), else rho Va^2 / 2 of the estimator's Va; Va = sqrt(2 qbar / rho).
-// alpha and beta here are the estimator's (the wind triangle); identify.hpp says where better
+// C_L and C_D here are rotated by the estimator's alpha; C_X and C_Z let identify.hpp rotate them by
+// a better one. alpha and beta here are the estimator's (the wind triangle); identify.hpp says where better
 // ones come from.
 #pragma once
 
@@ -31,8 +32,9 @@ namespace tern::core::sysid {
 struct AeroSamples {
   std::vector<double> t;                               ///< s
   std::vector<double> C_L, C_D, C_Y, C_ell, C_m, C_n;  ///< measured coefficients
-  std::vector<double> alpha, beta;                     ///< rad, the estimator's
-  std::vector<double> p_hat, q_hat, r_hat;             ///< nondimensional rates
+  std::vector<double> C_X, C_Z;             ///< the body-axis force coefficients F_x / (qbar_xz S), F_z / (qbar_xz S) (thrust removed)
+  std::vector<double> alpha, beta;          ///< rad, the estimator's
+  std::vector<double> p_hat, q_hat, r_hat;  ///< nondimensional rates
   std::vector<double> delta_a, delta_e, delta_r, delta_t;
   std::vector<double> Va;           ///< m/s, from qbar
   std::vector<double> p, q, r;      ///< rad/s (the excitation tests read them)

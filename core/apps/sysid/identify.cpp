@@ -342,22 +342,34 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
   }
 }
 
-/// alpha where the accelerometers' lift says it was (identify.hpp, step 2).
+/// alpha where the accelerometers' lift says it was (identify.hpp, step 2). The lift is the body
+/// force turned through alpha itself: the estimator's first, then twice the lift's own.
 Col alpha_from_lift(const Context& c) {
   const AeroSamples& a = c.a;
-  Col alpha(a.size());
-  for (std::size_t k = 0; k < a.size(); ++k)
-    alpha[k] = (a.C_L[k] - c.coef.C_L_0 - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k]) / c.coef.C_L_alpha;
+  Col alpha = a.alpha;
+  for (int pass = 0; pass < 3; ++pass)
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      const double C_L = std::sin(alpha[k]) * a.C_X[k] - std::cos(alpha[k]) * a.C_Z[k];
+      alpha[k] = (C_L - c.coef.C_L_0 - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k]) / c.coef.C_L_alpha;
+    }
   return alpha;
+}
+
+/// The drag coefficient with the body forces turned through `alpha`.
+Col drag_at(const AeroSamples& a, const Col& alpha) {
+  Col C_D(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) C_D[k] = -(std::cos(alpha[k]) * a.C_X[k] + std::sin(alpha[k]) * a.C_Z[k]);
+  return C_D;
 }
 
 /// The polar from the trim: C_D - C_D_q q^ - C_D_delta_e delta_e = C_D_p + C_Lw^2 / (pi e AR) with
 /// C_Lw = C_L_0 + C_L_alpha alpha (sim_aero's drag_coefficient in the linear range).
 void drag(Context& c, const Col& alpha, double AR) {
   const AeroSamples& a = c.a;
+  const Col C_D = drag_at(a, alpha);
   Col z(a.size()), cl2(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
-    z[k] = a.C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
+    z[k] = C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
     const double CLw = c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k];
     cl2[k] = CLw * CLw;
   }
