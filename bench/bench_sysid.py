@@ -119,7 +119,7 @@ def one_seed(tern, seed, args, work):
     trim = trim_point(tern, truth_file, 25.0)
     identified = yaml.safe_load(open(os.path.join(out, "aircraft.yaml")))
     prior_doc = yaml.safe_load(open(prior))
-    drag = {name: drag_coefficient(doc, trim["alpha"], trim["delta_e"])
+    drag = {name: drag_coefficient(doc, trim["alpha"], trim["delta"]["delta_e"])
             for name, doc in (("truth", truth), ("identified", identified), ("prior", prior_doc))}
     return {"seed": seed, "prior_factor": factor, "flight": flight, "sysid_seconds": seconds,
             "log_seconds": result.get("airborne_s"), "coefficients": rows, "drag_at_trim_25": drag,
@@ -127,14 +127,16 @@ def one_seed(tern, seed, args, work):
 
 
 def flies(tern, seed_result, args, work):
-    """The default mission's hourglass (2 loops) on the truth's gains: true, identified and prior files."""
+    """The default mission's hourglass (2 loops: the figures count from the second) on the truth's gains: true, identified and prior files."""
     base = os.path.splitext(os.path.basename(args.aircraft))[0]
     gains = os.path.join(ROOT, "configs", "gains", f"{base}.yaml")
     figures = {}
     for name, file in (("truth", os.path.abspath(args.aircraft)), ("identified", seed_result["identified_file"]), ("prior", seed_result["prior_file"])):
         mission = mission_copy(os.path.join(ROOT, "configs", "missions", "default.yaml"),
-                               os.path.join(work, f"default_{name}_{seed_result['seed']}.yaml"), aircraft=file, loops=1, gains=gains)
-        p = subprocess.run([tern, "fly", mission, "--seed", str(seed_result["seed"]), "--log-dir", work, "--log-level", "summary", "-q"],
+                               os.path.join(work, f"default_{name}_{seed_result['seed']}.yaml"), aircraft=file, loops=2, gains=gains)
+        # two loops of cruise, not the Aerosonde's landing on the Anaconda's approach speeds
+        p = subprocess.run([tern, "fly", mission, "--seed", str(seed_result["seed"]), "--log-dir", work, "--log-level", "summary", "-q",
+                            "--duration", "450"],
                            capture_output=True, text=True)
         if p.returncode != 0:
             figures[name] = {"error": (p.stderr.strip().splitlines() or ["failed"])[-1]}

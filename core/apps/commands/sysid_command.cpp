@@ -20,8 +20,9 @@ namespace {
 
 struct SysidOptionsCli {
   std::string log_dir, aircraft, out_dir, estimate, flow_angles = "accelerometer";
-  std::vector<double> band = {0.1, 2.0};
-  double trim_window = 4.0, filter_hz = 10.0, rate_hz = 50.0;
+  std::vector<double> band = {sysid::SysidOptions{}.band_lo_hz, sysid::SysidOptions{}.band_hi_hz};
+  double trim_window = sysid::SysidOptions{}.trim_window_s;
+  double filter_hz = sysid::FlightSeriesOptions{}.filter_hz, rate_hz = sysid::FlightSeriesOptions{}.rate_hz;
   std::vector<std::string> sets;
 };
 
@@ -80,7 +81,7 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--out", o->out_dir, "directory for aircraft.yaml, sysid.json and index.html")->required();
   c->add_option("--estimate", o->estimate, "a tern replay run of the log to take the estimate from (default: replay it now)")
       ->check(CLI::ExistingDirectory);
-  c->add_option("--band", o->band, "LO HI: the frequency band of the moment regressions, Hz (default 0.1 2)")->expected(2);
+  c->add_option("--band", o->band, "LO HI: the frequency band of the moment regressions, Hz (default 0.1 4)")->expected(2);
   c->add_option("--trim-window", o->trim_window, "s: window of the trim regressions (lift, drag, bias terms; default 4)");
   c->add_option("--flow-angles", o->flow_angles,
                 "accelerometer (alpha, beta from lift and side force; default) or estimator (the wind triangle's)");

@@ -41,7 +41,7 @@ enum class FlowAngles { accelerometer, estimator };
 struct SysidOptions {
   AirborneFilter airborne;
   double band_lo_hz = 0.1;      ///< Hz, lowest frequency of the frequency-domain regressions
-  double band_hi_hz = 2.0;      ///< Hz, highest
+  double band_hi_hz = 4.0;      ///< Hz, highest (sysid.yaml's chirps reach 4 Hz)
   double trim_window_s = 4.0;   ///< s, window of the trim (lift, drag, bias) regressions
   double min_segment_s = 10.0;  ///< s, shortest airborne stretch transformed
   FlowAngles flow_angles = FlowAngles::accelerometer;
