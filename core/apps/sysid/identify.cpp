@@ -294,6 +294,9 @@ LsEstimate lift_trim_fit(Context& c) {
   return trim_fit(c, z, {&ones, &a.alpha});
 }
 
+/// The band's lift fit on the wind triangle's alpha below which its terms are not taken.
+constexpr double kMinLiftBandFit = 0.9;
+
 /// The lift's pitch-rate and elevator terms back to the prior, with the reason.
 void lift_band_rejected(Context& c, const std::string& why) {
   for (auto& e : c.result.coefficients)
@@ -305,9 +308,10 @@ void lift_band_rejected(Context& c, const std::string& why) {
 
 /// Lift. The pitch-rate and elevator terms in the band, beside the wind triangle's alpha; C_L_0
 /// and C_L_alpha from the trim windows' means (the gusts average out), with those terms. The band's
-/// own C_L_alpha is the check: gusts the estimator does not see bias it low, and the terms beside
-/// it with it; if it disagrees with the trim's (beyond 3 of its standard errors and 5 %), the band's
-/// terms are not taken.
+/// own fit is the check: gusts the estimator does not see bias it low, and the terms beside it with
+/// it; if that alpha explains less than kMinLiftBandFit of the lift in the band, or the band's
+/// C_L_alpha disagrees with the trim's (beyond 3 of its standard errors and 5 %), the band's terms
+/// are not taken.
 void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excitation& delta_e) {
   const AeroSamples& a = c.a;
   band_fit(c, "lift", a.C_L,
@@ -326,7 +330,13 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
     return;
   }
   LsEstimate e = lift_trim_fit(c);
-  if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
+  const auto fit = std::find_if(c.result.fits.begin(), c.result.fits.end(), [](const AxisFit& f) { return f.axis == "lift"; });
+  if (fit != c.result.fits.end() && fit->r_squared < kMinLiftBandFit) {
+    lift_band_rejected(
+        c, fmt::format("the wind triangle's alpha explains R^2 {:.2f} of the lift in the band (gusts the estimator does not see)",
+                       fit->r_squared));
+    e = lift_trim_fit(c);
+  } else if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
     lift_band_rejected(
         c, fmt::format("the wind triangle's alpha disagrees with the lift (C_L_alpha {:.3g} +- {:.2g} in the band, {:.3g} from the trim): "
                        "gusts the estimator does not see",
