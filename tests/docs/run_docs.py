@@ -62,6 +62,7 @@ DOCS = [
     "docs/flying.md",
     "docs/fly-with-the-real-firmware.md",
     "docs/validate.md",
+    "docs/system-identification.md",
 ]
 MARK = "@@tern-docs"
 SYSTEM_PATH = "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"

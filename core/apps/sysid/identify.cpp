@@ -46,12 +46,21 @@ struct Layout {
   std::vector<std::vector<std::size_t>> windows;              ///< samples of each trim window
 };
 
+/// s: the longest piece of an airborne stretch transformed at once (a longer stretch is cut into
+/// equal pieces): the frequency-domain rows' batches, whose estimates' scatter bounds the error.
+constexpr double kMaxSegment = 120.0;
+
 Layout layout_of(const AeroSamples& a, double window_s, double min_segment_s) {
   Layout L;
   std::size_t begin = 0;
   for (std::size_t k = 1; k <= a.size(); ++k) {
     if (k < a.size() && a.source[k] == a.source[k - 1] + 1) continue;
-    if (a.t[k - 1] - a.t[begin] >= min_segment_s) L.segments.emplace_back(begin, k);
+    if (a.t[k - 1] - a.t[begin] >= min_segment_s) {
+      // pieces of at most kMaxSegment (equal lengths): the batches of the scatter bound
+      const auto pieces = static_cast<std::size_t>(std::ceil((a.t[k - 1] - a.t[begin]) / kMaxSegment));
+      for (std::size_t i = 0; i < pieces; ++i)
+        L.segments.emplace_back(begin + (k - begin) * i / pieces, begin + (k - begin) * (i + 1) / pieces);
+    }
     // trim windows over every stretch, short ones too
     for (std::size_t w = begin; w < k;) {
       std::vector<std::size_t> idx;
@@ -97,7 +106,16 @@ double peak(const Col& x) {
 /// The frequency-domain rows of every signal: each segment at the multiples of 1/T in the band.
 class Spectra {
  public:
-  Spectra(const AeroSamples& a, const Layout& L, double lo, double hi) : a_(a), L_(L), lo_(lo), hi_(hi) {}
+  Spectra(const AeroSamples& a, const Layout& L, double lo, double hi) : a_(a), L_(L), lo_(lo), hi_(hi) {
+    Eigen::Index at = 0;
+    for (const auto& [b, e] : L_.segments) {
+      const Eigen::Index n = static_cast<Eigen::Index>(frequencies(b, e).size());
+      rows_.emplace_back(at, n);
+      at += n;
+    }
+  }
+  /// (first row, rows) of each segment's frequencies in every spectrum.
+  const std::vector<std::pair<Eigen::Index, Eigen::Index>>& segment_rows() const { return rows_; }
   const Eigen::VectorXcd& of(const Col& x) {
     auto it = cache_.find(&x);
     if (it != cache_.end()) return it->second;
@@ -106,10 +124,7 @@ class Spectra {
     for (const auto& [b, e] : L_.segments) {
       const Col t(a_.t.begin() + static_cast<std::ptrdiff_t>(b), a_.t.begin() + static_cast<std::ptrdiff_t>(e));
       const Col v(x.begin() + static_cast<std::ptrdiff_t>(b), x.begin() + static_cast<std::ptrdiff_t>(e));
-      const double T = t.back() - t.front();
-      Col f;
-      for (int m = static_cast<int>(std::ceil(lo_ * T)); m / T <= hi_; ++m) f.push_back(m / T);
-      parts.push_back(fourier(v, t, f));
+      parts.push_back(fourier(v, t, frequencies(b, e)));
       n += parts.back().size();
     }
     Eigen::VectorXcd all(n);
@@ -119,10 +134,18 @@ class Spectra {
   }
 
  private:
+  /// The multiples of 1/T in the band, T the segment's length.
+  Col frequencies(std::size_t b, std::size_t e) const {
+    const double T = a_.t[e - 1] - a_.t[b];
+    Col f;
+    for (int m = static_cast<int>(std::ceil(lo_ * T)); m / T <= hi_; ++m) f.push_back(m / T);
+    return f;
+  }
   const AeroSamples& a_;
   const Layout& L_;
   double lo_, hi_;
   std::map<const Col*, Eigen::VectorXcd> cache_;
+  std::vector<std::pair<Eigen::Index, Eigen::Index>> rows_;
 };
 
 struct Context {
@@ -151,6 +174,24 @@ std::string unexcited(Context& c, const Term& t) {
   if (x.signal == nullptr) return "";
   const double level = x.peak ? peak(*x.signal) : rms(detrended(*x.signal, c.L));
   return level > x.threshold ? "" : x.what;
+}
+
+/// The scatter bound: the same regression on each segment alone (batches of at most kMaxSegment),
+/// the estimates' standard deviation over sqrt(batches): what the flight's pieces disagree by,
+/// which no residual model of one fit sees. Zero when fewer than three batches can be fitted.
+Eigen::VectorXd batch_scatter(const Context& c, const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z, const Eigen::MatrixXcd& Z, bool iv) {
+  std::vector<Eigen::VectorXd> thetas;
+  for (const auto& [first, n] : c.spectra.segment_rows()) {
+    if (n < 3 * X.cols()) continue;
+    const Eigen::MatrixXcd Zb = Z.middleRows(first, n);
+    thetas.push_back(least_squares_frequency(X.middleRows(first, n), z.segment(first, n), iv ? &Zb : nullptr).theta);
+  }
+  Eigen::VectorXd se = Eigen::VectorXd::Zero(X.cols());
+  if (thetas.size() < 3) return se;
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(X.cols());
+  for (const auto& t : thetas) mean += t / static_cast<double>(thetas.size());
+  for (const auto& t : thetas) se += (t - mean).cwiseAbs2() / static_cast<double>(thetas.size() - 1);
+  return (se / static_cast<double>(thetas.size())).cwiseSqrt();
 }
 
 /// Why each free term fails after a fit (collinear, poorly determined), by name.
@@ -194,7 +235,8 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     }
     if (X.rows() <= X.cols())
       throw std::runtime_error(fmt::format("{}: too few frequency rows in {}..{} Hz", axis, c.o.band_lo_hz, c.o.band_hi_hz));
-    const LsEstimate e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
+    LsEstimate e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
+    e.std_error = e.std_error.cwiseMax(batch_scatter(c, X, zf, Z, instrumented));
     const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(X));
     if (bad.empty()) {
       c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows});
@@ -286,12 +328,35 @@ std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name)
 }
 
 /// C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the trim windows' means.
-LsEstimate lift_trim_fit(Context& c) {
+/// The prior of a term kept at it is taken as uncertain by this fraction of its value (a model
+/// from XFLR5 or the book's sister aircraft: x0.6 .. x1.5); its effect on the estimates fitted
+/// beside it is added to their bounds (a consider covariance).
+constexpr double kPriorUncertainty = 0.5;
+
+LsEstimate lift_trim_fit(Context& c, double q_scale = 1.0, double delta_e_scale = 1.0) {
   const AeroSamples& a = c.a;
   Col z(a.size());
-  for (std::size_t k = 0; k < a.size(); ++k) z[k] = a.C_L[k] - c.coef.C_L_q * a.q_hat[k] - c.coef.C_L_delta_e * a.delta_e[k];
+  for (std::size_t k = 0; k < a.size(); ++k)
+    z[k] = a.C_L[k] - q_scale * c.coef.C_L_q * a.q_hat[k] - delta_e_scale * c.coef.C_L_delta_e * a.delta_e[k];
   const Col ones(a.size(), 1.0);
   return trim_fit(c, z, {&ones, &a.alpha});
+}
+
+/// The lift's trim fit with the bounds widened by what the kept pitch-rate and elevator terms'
+/// uncertainty (kPriorUncertainty, or the band's standard error where identified) moves it by.
+LsEstimate lift_trim_considered(Context& c) {
+  LsEstimate e = lift_trim_fit(c);
+  Eigen::VectorXd extra = Eigen::VectorXd::Zero(e.theta.size());
+  for (const char* name : {"C_L_q", "C_L_delta_e"}) {
+    double rel = kPriorUncertainty;
+    for (const auto& r : c.result.coefficients)
+      if (r.name == name && r.identified && r.estimate != 0.0) rel = r.std_error / std::abs(r.estimate);
+    const bool q = std::string(name) == "C_L_q";
+    const LsEstimate shifted = lift_trim_fit(c, q ? 1.0 + rel : 1.0, q ? 1.0 : 1.0 + rel);
+    extra += (shifted.theta - e.theta).cwiseAbs2();
+  }
+  e.std_error = (e.std_error.cwiseAbs2() + extra).cwiseSqrt();
+  return e;
 }
 
 /// The band's lift fit on the wind triangle's alpha below which its terms are not taken.
@@ -329,19 +394,19 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
     lift_band_rejected(c, "not checked: no trim C_L_alpha to hold the band's against");
     return;
   }
-  LsEstimate e = lift_trim_fit(c);
+  LsEstimate e = lift_trim_considered(c);
   const auto fit = std::find_if(c.result.fits.begin(), c.result.fits.end(), [](const AxisFit& f) { return f.axis == "lift"; });
   if (fit != c.result.fits.end() && fit->r_squared < kMinLiftBandFit) {
     lift_band_rejected(
         c, fmt::format("the wind triangle's alpha explains R^2 {:.2f} of the lift in the band (gusts the estimator does not see)",
                        fit->r_squared));
-    e = lift_trim_fit(c);
+    e = lift_trim_considered(c);
   } else if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
     lift_band_rejected(
         c, fmt::format("the wind triangle's alpha disagrees with the lift (C_L_alpha {:.3g} +- {:.2g} in the band, {:.3g} from the trim): "
                        "gusts the estimator does not see",
                        band->estimate, band->std_error, e.theta[1]));
-    e = lift_trim_fit(c);
+    e = lift_trim_considered(c);
   }
   c.coef.C_L_0 = e.theta[0], c.coef.C_L_alpha = e.theta[1];
   c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
