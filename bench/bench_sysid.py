@@ -190,6 +190,13 @@ def anaconda_gains(tern, seed, work):
     return {"seed": seed, "prior_factor": factor, "tracking": figures}
 
 
+def validate_line(v):
+    if "error" in v:
+        return v["error"]
+    files = v["aircraft"]
+    return ", ".join(f"{ch} " + " / ".join(f"{f['channels'][ch]['nrmse']:.3f}" for f in files) for ch in ("p", "q", "r", "alpha", "theta"))
+
+
 def table(seeds):
     names = list(seeds[0]["coefficients"].keys())
     lines = [f"{'coefficient':<14} {'truth':>9} {'worst est':>10} {'worst err':>9} {'target':>7} {'closer':>7} {'in 3 se':>8}  note"]
@@ -234,6 +241,7 @@ def main():
               f"prior {r['drag_at_trim_25']['prior']:.4f}", flush=True)
         if "flies" in r:
             print(f"  hourglass tracking RMS (north/east/alt m, course deg, Va m/s): {json.dumps(r['flies'])}", flush=True)
+            print(f"  tern validate NRMSE (true / identified / prior file): {validate_line(r['validate'])}", flush=True)
     gains = [] if args.no_flights else [anaconda_gains(tern, seed, work) for seed in (1, 2)]
     for g in gains:
         print(f"Anaconda, gains from the file identified from x{g['prior_factor']} (seed {g['seed']}), default mission two loops, "
