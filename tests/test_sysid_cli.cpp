@@ -10,32 +10,14 @@
 #include <string>
 
 #include <nlohmann/json.hpp>
-#include <yaml-cpp/yaml.h>
 
-#include "e2e_util.hpp"
+#include "aircraft_cli_util.hpp"
 #include "tern/aircraft.hpp"
-#include "test_process.hpp"
 
 namespace {
 
 const std::string kSource = TERN_SOURCE_DIR;
 const std::string kAerosonde = kSource + "/configs/aircraft/aerosonde.yaml";
-
-fs::path run_dir_of(const fs::path& out) {
-  for (const auto& l : lines(read_file(out)))
-    if (l.rfind("log: ", 0) == 0) return l.substr(5);
-  FAIL("no 'log:' line in " << read_file(out));
-  return {};
-}
-
-/// The Aerosonde's file with every aerodynamic coefficient times `factor`, written as `name`.
-fs::path scaled_aerosonde(double factor, const std::string& name) {
-  YAML::Node doc = YAML::LoadFile(kAerosonde);
-  for (auto entry : doc["aero"]) entry.second = entry.second.as<double>() * factor;
-  YAML::Emitter e;
-  e << doc;
-  return write_file(name, e.c_str());
-}
 
 std::pair<int, std::string> sysid(std::vector<std::string> args, const std::string& tag) {
   args.insert(args.begin(), "sysid");
@@ -56,7 +38,7 @@ fs::path fly(const std::vector<std::string>& extra, const std::string& name) {
 
 TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and pitch stiffness from a prior x0.6") {
   const fs::path run = fly({"--log-format", "csv"}, "flight");
-  const fs::path prior = scaled_aerosonde(0.6, "prior.yaml");
+  const fs::path prior = scaled_aircraft(kAerosonde, 0.6, "prior.yaml");
   const fs::path out1 = test_dir() / "out1", out2 = test_dir() / "out2";
   const auto r = sysid({run.string(), "--aircraft", prior.string(), "--out", out1.string()}, "1");
   INFO(r.second);
@@ -92,13 +74,7 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
 }
 
 TEST_CASE("tern sysid: each bad input is one error line") {
-  auto one_line = [](const std::pair<int, std::string>& r, const std::string& what) {
-    INFO(r.second);
-    CHECK(r.first == 1);
-    const auto l = lines(r.second);
-    REQUIRE(l.size() == 1);
-    CHECK(l[0].find(what) != std::string::npos);
-  };
+  const auto one_line = check_one_error_line;
   const fs::path run = fly({"--log-format", "csv", "--duration", "20"}, "short");  // on the ground: preflight
   std::string no_mass;
   for (const auto& l : lines(read_file(kAerosonde)))

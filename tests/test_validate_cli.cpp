@@ -10,20 +10,11 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
-#include "e2e_util.hpp"
-#include "test_process.hpp"
+#include "aircraft_cli_util.hpp"
 
 namespace {
 
 const std::string kAerosonde = std::string(TERN_SOURCE_DIR) + "/configs/aircraft/aerosonde.yaml";
-
-/// The run directory a quiet `tern fly` printed ("log: DIR").
-fs::path run_dir_of(const fs::path& out) {
-  for (const auto& l : lines(read_file(out)))
-    if (l.rfind("log: ", 0) == 0) return l.substr(5);
-  FAIL("no 'log:' line in " << read_file(out));
-  return {};
-}
 
 /// default.yaml flown by the Aerosonde with its gains for `seconds` at log level sysid.
 fs::path aerosonde_flight(const std::string& name, double seconds) {
@@ -35,16 +26,6 @@ fs::path aerosonde_flight(const std::string& name, double seconds) {
                     (test_dir() / name).string(), "-q"},
                    out) == 0);
   return run_dir_of(out);
-}
-
-/// The Aerosonde's file with every aerodynamic coefficient times `factor`, as a file.
-fs::path scaled_aerosonde(double factor) {
-  YAML::Node doc = YAML::LoadFile(kAerosonde);
-  for (auto entry : doc["aero"]) entry.second = entry.second.as<double>() * factor;
-  doc["name"] = "aerosonde_scaled";
-  YAML::Emitter e;
-  e << doc;
-  return write_file("aerosonde_scaled.yaml", e.c_str());
 }
 
 /// `tern validate ARGS`: its exit status and output.
@@ -59,7 +40,7 @@ std::pair<int, std::string> validate(std::vector<std::string> args, const std::s
 
 TEST_CASE("tern validate: the true Aerosonde fits its own flight clearly better than coefficients x0.6, the same bytes twice") {
   const fs::path run = aerosonde_flight("flight", 120.0);
-  const fs::path scaled = scaled_aerosonde(0.6);
+  const fs::path scaled = scaled_aircraft(kAerosonde, 0.6, "aerosonde_scaled.yaml");
   const fs::path out1 = test_dir() / "v1", out2 = test_dir() / "v2";
   const auto [rc, text] = validate({run.string(), "--aircraft", kAerosonde, "--aircraft", scaled.string(), "--out", out1.string()}, "1");
   INFO(text);
@@ -83,13 +64,7 @@ TEST_CASE("tern validate: the true Aerosonde fits its own flight clearly better 
 }
 
 TEST_CASE("tern validate: each bad input is one error line") {
-  auto one_line = [](const std::pair<int, std::string>& r, const std::string& what) {
-    INFO(r.second);
-    CHECK(r.first == 1);
-    const auto l = lines(r.second);
-    REQUIRE(l.size() == 1);
-    CHECK(l[0].find(what) != std::string::npos);
-  };
+  const auto one_line = check_one_error_line;
   std::string no_mass;
   for (const auto& l : lines(read_file(kAerosonde)))
     if (l.rfind("mass:", 0) != 0) no_mass += l + "\n";
