@@ -7,21 +7,28 @@
 // estimator's wind is steady): errors as large as what a manoeuvre moves them, which bias plain
 // least squares by tens of per cent while its bounds read a few. So:
 //  1. Lift and drag from the trim (time domain, the means of windows of trim_window_s): the gusts
-//     average out over a window while alpha spans the flight's airspeeds. C_L_0 and C_L_alpha,
-//     then the polar's C_D_p and Oswald factor e on the lift.
+//     average out over a window while alpha spans the flight's airspeeds. C_L_0 and C_L_alpha
+//     (C_L_q, C_L_delta_e from the band beside the wind triangle's alpha, taken only when that
+//     alpha explains the band's lift: in turbulence it does not, and they keep the prior), then the
+//     polar's C_D_p and Oswald factor e on the lift.
 //  2. alpha from where it is observable: the accelerometers' lift, alpha = (C_L - C_L_0 - C_L_q q^ -
-//     C_L_delta_e delta_e) / C_L_alpha (the flow the wing met, gusts included); beta likewise from
-//     the side force once C_Y is known (flow_angles: accelerometer; estimator: the wind triangle's).
+//     C_L_delta_e delta_e) / C_L_alpha (the flow the wing met, gusts included; the body forces
+//     turned through it), beta likewise from the side force once C_Y is known (flow_angles:
+//     accelerometer; estimator: the wind triangle's). In the moment regressions they are
+//     instrumented by the wind triangle's (instrumental variables: independent errors).
 //  3. The moments and the side force in the frequency domain, over the band the excitation filled
-//     (band_lo_hz .. band_hi_hz, each airborne stretch of min_segment_s or more transformed at the
-//     multiples of 1/T in the band): the trim, slow drifts and the estimator's wind fall out.
-//     Bias terms (C_m_0, C_Y_0, C_ell_0, C_n_0) from the trim windows' means with the rest fixed.
+//     (band_lo_hz .. band_hi_hz, each airborne stretch of min_segment_s or more, in pieces of at
+//     most two minutes, transformed at the multiples of 1/T in the band): the trim, slow drifts and
+//     the estimator's wind fall out. Bias terms (C_m_0, C_Y_0, C_ell_0, C_n_0) from the trim
+//     windows' means with the rest fixed.
 // Every sample pairs the command in force when it was taken, through the servo lag (flight_data).
 //
-// For each coefficient: the estimate, its standard error (the larger of the white-residual
-// Cramer-Rao bound and the one that accounts for coloured residuals: the time domain's residual
-// autocorrelation, the frequency domain's per-frequency residual power), the prior, and whether the
-// data identified it. A coefficient is not identified (the prior is kept, with one line saying
+// For each coefficient: the estimate, its standard error, the prior, and whether the data
+// identified it. The standard error is the largest of the white-residual Cramer-Rao bound, the one
+// that accounts for coloured residuals (the time domain's residual autocorrelation, the frequency
+// domain's per-frequency residual power) and the scatter of the same regression over the flight's
+// two-minute pieces; the lift's also carries what the kept terms beside it, uncertain by half
+// their prior, move it by. A coefficient is not identified (the prior is kept, with one line saying
 // why) when its regressor was not excited (e.g. "pitch rate never above 5 deg/s"), when it is
 // collinear with another regressor (|r| > max_correlation), or when its standard error exceeds
 // max_relative_error of the estimate.
