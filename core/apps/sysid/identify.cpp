@@ -505,6 +505,26 @@ void drag_at_trim(SysidResult& r, const Aircraft& prior, const Col& alpha, const
   r.C_D_per_deg = C_L * kRadPerDeg / r.C_D_trim;
 }
 
+/// The lift's alpha carries the lift's pitch-rate and elevator terms: alpha = (C_L - C_L_0 - C_L_q q^
+/// - C_L_delta_e delta_e) / C_L_alpha, so the pitching moment's fit takes C_m_q as b + (C_m_alpha /
+/// C_L_alpha) C_L_q and C_m_delta_e likewise. Where those lift terms kept their prior, the prior's
+/// uncertainty (kPriorUncertainty) is added to C_m_q's and C_m_delta_e's bounds (a consider
+/// covariance).
+void consider_lift_terms(Context& c) {
+  const double ratio = std::abs(c.coef.C_m_alpha / c.coef.C_L_alpha);
+  const std::pair<const char*, const char*> pairs[] = {{"C_m_q", "C_L_q"}, {"C_m_delta_e", "C_L_delta_e"}};
+  for (const auto& [moment, lift] : pairs) {
+    const auto find = [&](const char* name) {
+      return std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),
+                          [&](const CoefficientEstimate& e) { return e.name == name; });
+    };
+    const auto m = find(moment), l = find(lift);
+    if (m == c.result.coefficients.end() || l == c.result.coefficients.end() || !m->identified || l->identified) continue;
+    const double consider = ratio * kPriorUncertainty * std::abs(l->prior);
+    m->std_error = std::hypot(m->std_error, consider);
+  }
+}
+
 /// Each axis's measured and predicted coefficient over the longest stretch.
 std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const AeroCoefficients& m, const Aircraft& ac, const Col& alpha,
                                     const Col& beta) {
@@ -575,6 +595,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
                                    {"C_m_q", &M::C_m_q, &a.q_hat, x.q},
                                    {"C_m_delta_e", &M::C_m_delta_e, &a.delta_e, x.delta_e}};
   band_fit(c, "pitch", a.C_m, pitch);
+  if (accel) consider_lift_terms(c);
   bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
   const std::vector<Term> roll =
       lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x, beta_iv);
