@@ -322,17 +322,19 @@ std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name)
   auto& all = c.result.coefficients;
   const auto it = std::find_if(all.begin(), all.end(), [&](const CoefficientEstimate& e) { return e.name == name; });
   std::optional<CoefficientEstimate> out;
+  if (it == all.end()) return out;
   if (it->identified) out = *it;
   all.erase(it);
   return out;
 }
 
-/// C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the trim windows' means.
 /// The prior of a term kept at it is taken as uncertain by this fraction of its value (a model
 /// from XFLR5 or the book's sister aircraft: x0.6 .. x1.5); its effect on the estimates fitted
 /// beside it is added to their bounds (a consider covariance).
 constexpr double kPriorUncertainty = 0.5;
 
+/// C_L - C_L_q q^ - C_L_delta_e delta_e = C_L_0 + C_L_alpha alpha on the trim windows' means (the
+/// two terms scaled by q_scale, delta_e_scale: the consider covariance's shifted fits).
 LsEstimate lift_trim_fit(Context& c, double q_scale = 1.0, double delta_e_scale = 1.0) {
   const AeroSamples& a = c.a;
   Col z(a.size());
