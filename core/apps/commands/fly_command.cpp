@@ -77,6 +77,7 @@ Command add_fly_command(CLI::App& app) {
   c->add_option("--duration", o->duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   add_realtime_options(c, o->realtime, o->rt, "pace the simulated clock to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
+  add_gcs_options(c, o->prep);
   c->add_option("--console-vehicle", o->console_vehicle,
                 "a multi-vehicle mission: the vehicle the console follows (default the first; the others are drawn on its track)");
   add_skip_preflight_option(c, o->prep);

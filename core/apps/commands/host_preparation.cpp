@@ -36,6 +36,31 @@ void add_console_options(CLI::App* cmd, HostPreparation& p) {
   cmd->add_option("--console-port", p.console_port, "console port (default: a free one)");
 }
 
+void add_gcs_options(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_option("--gcs", p.gcs,
+                  "MAVLink 2 ground-station endpoint over UDP (QGroundControl, Mission Planner: docs/ground-station.md): "
+                  "telemetry goes to ADDR:PORT (default 127.0.0.1:14550) and to every GCS heard")
+      ->expected(0, 1)
+      ->default_str("127.0.0.1:14550")
+      ->check([](const std::string& v) {
+        try {
+          mavlink::check_endpoint(v, "--gcs");
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
+  cmd->add_option("--gcs-bind", p.gcs_bind, "with --gcs: the vehicle's own UDP ADDR:PORT (default 127.0.0.1:14580; port 0: a free one)")
+      ->check([](const std::string& v) {
+        try {
+          mavlink::check_endpoint(v, "--gcs-bind");
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
+}
+
 void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, const std::string& what) {
   auto* pace = cmd->add_flag("--realtime", realtime, what);
   cmd->add_option("--rt-priority", rt.priority, "with --realtime: run the flight thread SCHED_FIFO at this priority (1-99)")
@@ -116,6 +141,15 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
 #if defined(TERN_WITH_DDS)
   if (m.dds.enabled) bridge_ = std::make_unique<DdsBridge>(host, m.dds);
 #endif
+  if (p.gcs) {
+    mavlink::GcsOptions g;
+    g.send_to = p.gcs->empty() ? g.send_to : *p.gcs;
+    g.bind = p.gcs_bind;
+    gcs_ = std::make_unique<mavlink::GcsLink>(host, g);
+    std::printf("mavlink: %s\n", gcs_->describe().c_str());
+    for (const auto& [qualified, id] : gcs_->shortened_ids()) std::printf("mavlink: parameter %s is %s\n", qualified.c_str(), id.c_str());
+    std::fflush(stdout);
+  }
 }
 
 TickObservers::~TickObservers() = default;
