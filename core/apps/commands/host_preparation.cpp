@@ -146,13 +146,22 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
     g.send_to = p.gcs->empty() ? g.send_to : *p.gcs;
     g.bind = p.gcs_bind;
     gcs_ = std::make_unique<mavlink::GcsLink>(host, g);
-    std::printf("mavlink: %s\n", gcs_->describe().c_str());
-    for (const auto& [qualified, id] : gcs_->shortened_ids()) std::printf("mavlink: parameter %s is %s\n", qualified.c_str(), id.c_str());
+    std::printf("mavlink: %s (%zu ids shortened to 16 characters: tern params CONFIG --mavlink)\n", gcs_->describe().c_str(),
+                gcs_->shortened_ids().size());
     std::fflush(stdout);
   }
 }
 
-TickObservers::~TickObservers() = default;
+TickObservers::~TickObservers() {
+  if (!gcs_) return;
+  const mavlink::Counters c = gcs_->counters();
+  std::printf("mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long\n",
+              static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames),
+              static_cast<unsigned long long>(c.bad_crc), static_cast<unsigned long long>(c.truncated),
+              static_cast<unsigned long long>(c.unknown_id), static_cast<unsigned long long>(c.mavlink1),
+              static_cast<unsigned long long>(c.bad_length));
+  std::fflush(stdout);
+}
 
 std::string TickObservers::console_url() const { return console_ ? console_->url() : std::string(); }
 

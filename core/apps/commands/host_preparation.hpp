@@ -81,7 +81,7 @@ std::unique_ptr<Host> describing_host(const std::string& config_file, const Host
 
 /// The observers of a host's ticks for as long as this lives: the console when --console was
 /// given (its URL printed on stdout), then the DDS bridge when the mission is bridged, then the
-/// MAVLink endpoint with --gcs (its addresses and shortened parameter ids printed on stdout).
+/// MAVLink endpoint with --gcs (its addresses printed on stdout).
 /// Destroyed in the reverse order.
 class TickObservers {
  public:
