@@ -155,7 +155,16 @@ struct GcsLink::Impl {
   void start() {
     receive();
     schedule();
-    thread = std::thread([this] { io.run(); });
+    thread = std::thread([this] {
+      for (;;) {
+        try {
+          io.run();
+          return;
+        } catch (const std::exception& e) {  // one bad request must not end the link
+          std::fprintf(stderr, "mavlink: %s\n", e.what());
+        }
+      }
+    });
   }
 
   void receive() {
@@ -200,7 +209,7 @@ struct GcsLink::Impl {
             i = table.find(m.param_id);
           if (i) send_param(*i);
           else
-            send(StatusText{MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : m.param_id)});
+            say(StatusText{MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : m.param_id)});
           break;
         }
         case PARAM_SET: on_param_set(decode_param_set(f.payload)); break;
@@ -217,7 +226,7 @@ struct GcsLink::Impl {
     if (!for_us(m.target_system, m.target_component)) return;
     const auto i = table.find(m.param_id);
     if (!i) {
-      send(StatusText{MAV_SEVERITY_WARNING, "no parameter " + m.param_id});
+      say(StatusText{MAV_SEVERITY_WARNING, "no parameter " + m.param_id});
       return;
     }
     const MavParam& mp = table.params()[*i];
@@ -240,7 +249,7 @@ struct GcsLink::Impl {
     if (accepted) {
       send_param(*i, to_mav_value(*accepted));  // applied at the start of the next tick
     } else {
-      send(StatusText{MAV_SEVERITY_WARNING, why});
+      say(StatusText{MAV_SEVERITY_WARNING, why});
       if (p != nullptr) send_param(*i);  // refused: the value it keeps, as PX4 answers
     }
   }
@@ -270,6 +279,12 @@ struct GcsLink::Impl {
     for (auto it = peers.begin(); it != peers.end();)
       it = now - it->second > kPeerTimeout ? peers.erase(it) : std::next(it);
     if (peers.count(from) != 0 || peers.size() < kMaxPeers) peers[from] = now;
+  }
+
+  /// A text to the GCS, in chunks when it is longer than 50 characters.
+  void say(const StatusText& t) {
+    if (t.text.size() > 50 && ++text_id == 0) ++text_id;  // ids of chunked texts: 1, 2, ... (0: one chunk)
+    for (const auto& chunk : statustext_chunks(t.severity, t.text, text_id)) send(chunk);
   }
 
   template <class M>
@@ -312,7 +327,7 @@ struct GcsLink::Impl {
       s = latest;
       ev.swap(events);
     }
-    for (const auto& e : ev) send(StatusText{e.severity, e.text});
+    for (const auto& e : ev) say(StatusText{e.severity, e.text});
     if (due(next_heartbeat, std::chrono::milliseconds(1000), now)) {
       send(heartbeat(s));
       send(sys_status(s));
@@ -497,6 +512,7 @@ struct GcsLink::Impl {
   std::map<udp::endpoint, Clock::time_point> peers;
   std::optional<std::size_t> list_cursor;
   std::uint8_t seq = 0;
+  std::uint16_t text_id = 0;
   std::optional<GeoOrigin> origin;
   Clock::time_point next_heartbeat{}, next_attitude{}, next_position{}, next_hud{}, next_gps{}, next_home{};
 };

@@ -138,7 +138,16 @@ std::vector<std::uint8_t> encode(const ParamValueMsg& m) {
 }
 
 std::vector<std::uint8_t> encode(const StatusText& m) {
-  return Writer(STATUSTEXT).put(m.severity).text(m.text.substr(0, 50), 50).done();  // id, chunk_seq 0: one chunk
+  return Writer(STATUSTEXT).put(m.severity).text(m.text.substr(0, 50), 50).put(m.id).put(m.chunk_seq).done();
+}
+
+std::vector<StatusText> statustext_chunks(std::uint8_t severity, const std::string& text, std::uint16_t id) {
+  if (text.size() <= 50) return {StatusText{severity, text, 0, 0}};
+  std::vector<StatusText> out;
+  for (std::size_t at = 0; at < text.size() && out.size() < 255; at += 50)
+    out.push_back({severity, text.substr(at, 50), id, static_cast<std::uint8_t>(out.size())});
+  if (text.size() % 50 == 0 && out.size() < 256) out.push_back({severity, "", id, static_cast<std::uint8_t>(out.size())});
+  return out;
 }
 
 std::vector<std::uint8_t> encode(const ParamRequestRead& m) {

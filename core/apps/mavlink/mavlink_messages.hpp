@@ -108,11 +108,17 @@ struct ParamValueMsg {
   std::uint8_t param_type = MAV_PARAM_TYPE_REAL32;
   std::uint16_t param_count = 0, param_index = 0;
 };
-/// STATUSTEXT (253): up to 50 chars (longer text is cut; chunking is not used).
+/// STATUSTEXT (253): one chunk of up to 50 chars; id 0: the only chunk (statustext_chunks()).
 struct StatusText {
   std::uint8_t severity = MAV_SEVERITY_INFO;
   std::string text;
+  std::uint16_t id = 0;         ///< non-zero: the chunks of one long text share it
+  std::uint8_t chunk_seq = 0;   ///< from 0
 };
+/// A text as STATUSTEXT chunks (common.xml: a text of at most 50 chars is one message with id 0; a
+/// longer one is cut into 50-char chunks with `id` (non-zero) and chunk_seq 0, 1, ...; a NUL in a
+/// chunk ends the text, so one whose length is a multiple of 50 gets an empty last chunk).
+std::vector<StatusText> statustext_chunks(std::uint8_t severity, const std::string& text, std::uint16_t id);
 /// PARAM_REQUEST_READ (20): by id, or by index when param_index >= 0.
 struct ParamRequestRead {
   std::uint8_t target_system = 0, target_component = 0;

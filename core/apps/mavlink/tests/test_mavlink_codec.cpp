@@ -181,3 +181,26 @@ TEST_CASE("parameter values as MAVLink's float") {
   CHECK(to_mav_value(tern::ParamValue(std::int64_t{12})) == 12.0f);
   CHECK(to_mav_value(tern::ParamValue(true)) == 1.0f);
 }
+
+TEST_CASE("STATUSTEXT: one message up to 50 characters, chunks beyond") {
+  const auto one = statustext_chunks(MAV_SEVERITY_INFO, "phase cruise", 7);
+  REQUIRE(one.size() == 1);
+  CHECK(one[0].id == 0);
+  const std::string long_text(120, 'x');
+  const auto three = statustext_chunks(MAV_SEVERITY_WARNING, long_text, 7);
+  REQUIRE(three.size() == 3);
+  CHECK(three[2].text.size() == 20);
+  CHECK(three[2].chunk_seq == 2);
+  CHECK(three[1].id == 7);
+  // a multiple of 50: an empty last chunk carries the NUL that ends the text
+  const auto exact = statustext_chunks(MAV_SEVERITY_WARNING, std::string(100, 'y'), 8);
+  REQUIRE(exact.size() == 3);
+  CHECK(exact[2].text.empty());
+  // a chunk's fields on the wire
+  const auto bytes = encode_frame(STATUSTEXT, encode(three[1]), 0, 1, 1);
+  Counters c;
+  const auto f = parse_datagram(bytes.data(), bytes.size(), c);
+  REQUIRE(f.size() == 1);
+  CHECK(f[0].payload[51] == 7);  // id, little endian
+  CHECK(f[0].payload[53] == 1);  // chunk_seq
+}
