@@ -155,11 +155,11 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
 TickObservers::~TickObservers() {
   if (!gcs_) return;
   const mavlink::Counters c = gcs_->counters();
-  std::printf("mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long\n",
-              static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames),
-              static_cast<unsigned long long>(c.bad_crc), static_cast<unsigned long long>(c.truncated),
-              static_cast<unsigned long long>(c.unknown_id), static_cast<unsigned long long>(c.mavlink1),
-              static_cast<unsigned long long>(c.bad_length));
+  std::printf(
+      "mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long\n",
+      static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.bad_crc),
+      static_cast<unsigned long long>(c.truncated), static_cast<unsigned long long>(c.unknown_id),
+      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length));
   std::fflush(stdout);
 }
 

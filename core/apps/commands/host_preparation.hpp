@@ -29,14 +29,14 @@ namespace tern::core {
 /// The command line's changes to a mission and its host, as parsed (each command takes a subset).
 struct HostPreparation {
   CliOverrides overrides;
-  bool skip_preflight = false;              ///< --skip-preflight: take off at t = 0 without the arming checks
-  std::optional<std::string> log_level;     ///< --log-level: summary, decimated or full
-  std::optional<std::string> log_format;    ///< --log-format: csv, mcap or both
-  bool dds = false;                         ///< --dds: bridge to Fast DDS
-  std::optional<std::uint32_t> dds_domain;  ///< --dds-domain: 0 .. 232
-  bool console = false;                     ///< --console: serve the flight console (needs --realtime)
-  std::uint16_t console_port = 0;           ///< --console-port (0: a free one)
-  std::optional<std::string> gcs;           ///< --gcs [ADDR:PORT]: the MAVLink endpoint, sending there first
+  bool skip_preflight = false;               ///< --skip-preflight: take off at t = 0 without the arming checks
+  std::optional<std::string> log_level;      ///< --log-level: summary, decimated or full
+  std::optional<std::string> log_format;     ///< --log-format: csv, mcap or both
+  bool dds = false;                          ///< --dds: bridge to Fast DDS
+  std::optional<std::uint32_t> dds_domain;   ///< --dds-domain: 0 .. 232
+  bool console = false;                      ///< --console: serve the flight console (needs --realtime)
+  std::uint16_t console_port = 0;            ///< --console-port (0: a free one)
+  std::optional<std::string> gcs;            ///< --gcs [ADDR:PORT]: the MAVLink endpoint, sending there first
   std::string gcs_bind = "127.0.0.1:14580";  ///< --gcs-bind ADDR:PORT: the vehicle's own UDP address
 };
 

@@ -34,8 +34,8 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr Nanos kSnapshotPeriod = 20'000'000;  // flight time between copies, ns (50 Hz)
 constexpr std::size_t kMaxPeers = 8;
 constexpr auto kPeerTimeout = std::chrono::seconds(10);
-constexpr std::size_t kMaxEvents = 32;          // STATUSTEXTs waiting to be sent
-constexpr std::size_t kParamsPerTick = 25;      // PARAM_VALUEs of a list sent per 10-ms tick
+constexpr std::size_t kMaxEvents = 32;      // STATUSTEXTs waiting to be sent
+constexpr std::size_t kParamsPerTick = 25;  // PARAM_VALUEs of a list sent per 10-ms tick
 constexpr auto kTick = std::chrono::milliseconds(10);
 
 udp::endpoint parse(const std::string& text, const std::string& what) {
@@ -207,7 +207,8 @@ struct GcsLink::Impl {
             i = static_cast<std::size_t>(m.param_index);
           else if (m.param_index < 0)
             i = table.find(m.param_id);
-          if (i) send_param(*i);
+          if (i)
+            send_param(*i);
           else
             say(StatusText{MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : m.param_id)});
           break;
@@ -240,7 +241,7 @@ struct GcsLink::Impl {
     } else {
       try {
         const ParamValue v = p->validate(from_mav_value(m.param_value, mp.kind));  // throws ParamError
-        host.request_param(mp.qualified, v, "mavlink");                             // throws: start-only in flight
+        host.request_param(mp.qualified, v, "mavlink");                            // throws: start-only in flight
         accepted = v;
       } catch (const std::exception& e) {
         why = e.what();
@@ -276,8 +277,7 @@ struct GcsLink::Impl {
 
   void heard(const udp::endpoint& from) {
     const auto now = Clock::now();
-    for (auto it = peers.begin(); it != peers.end();)
-      it = now - it->second > kPeerTimeout ? peers.erase(it) : std::next(it);
+    for (auto it = peers.begin(); it != peers.end();) it = now - it->second > kPeerTimeout ? peers.erase(it) : std::next(it);
     if (peers.count(from) != 0 || peers.size() < kMaxPeers) peers[from] = now;
   }
 
@@ -534,7 +534,8 @@ GcsLink::~GcsLink() {
 }
 
 std::string GcsLink::describe() const {
-  std::string out = "udp " + impl_->bound.address().to_string() + ":" + std::to_string(impl_->bound.port()) + " -> " + impl_->options.send_to;
+  std::string out =
+      "udp " + impl_->bound.address().to_string() + ":" + std::to_string(impl_->bound.port()) + " -> " + impl_->options.send_to;
   out += ", " + std::to_string(impl_->table.params().size()) + " parameters";
   return out;
 }

@@ -15,8 +15,8 @@ std::uint16_t crc_x25(const std::uint8_t* data, std::size_t n, std::uint16_t crc
   return crc;
 }
 
-std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload, std::uint8_t seq,
-                                       std::uint8_t sysid, std::uint8_t compid) {
+std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload, std::uint8_t seq, std::uint8_t sysid,
+                                       std::uint8_t compid) {
   const MessageInfo info = *message_info(msgid);
   std::size_t len = payload.size() < kMaxPayload ? payload.size() : kMaxPayload;
   while (len > 1 && payload[len - 1] == 0) --len;  // zero trimming; one byte always stays

@@ -86,7 +86,14 @@ std::optional<MessageInfo> message_info(std::uint32_t msgid) {
 }
 
 std::vector<std::uint8_t> encode(const Heartbeat& m) {
-  return Writer(HEARTBEAT).put(m.custom_mode).put(m.type).put(m.autopilot).put(m.base_mode).put(m.system_status).put(m.mavlink_version).done();
+  return Writer(HEARTBEAT)
+      .put(m.custom_mode)
+      .put(m.type)
+      .put(m.autopilot)
+      .put(m.base_mode)
+      .put(m.system_status)
+      .put(m.mavlink_version)
+      .done();
 }
 
 std::vector<std::uint8_t> encode(const SysStatus& m) {

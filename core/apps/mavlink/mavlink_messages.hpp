@@ -20,8 +20,8 @@ namespace tern::core::mavlink {
 
 // Message ids (common.xml)
 inline constexpr std::uint32_t HEARTBEAT = 0, SYS_STATUS = 1, PARAM_REQUEST_READ = 20, PARAM_REQUEST_LIST = 21, PARAM_VALUE = 22,
-                               PARAM_SET = 23, GPS_RAW_INT = 24, ATTITUDE = 30, GLOBAL_POSITION_INT = 33, VFR_HUD = 74,
-                               HOME_POSITION = 242, STATUSTEXT = 253;
+                               PARAM_SET = 23, GPS_RAW_INT = 24, ATTITUDE = 30, GLOBAL_POSITION_INT = 33, VFR_HUD = 74, HOME_POSITION = 242,
+                               STATUSTEXT = 253;
 
 // Enums (common.xml / minimal.xml), the values tern uses
 inline constexpr std::uint8_t MAV_TYPE_FIXED_WING = 1, MAV_TYPE_GCS = 6;
@@ -29,8 +29,7 @@ inline constexpr std::uint8_t MAV_AUTOPILOT_GENERIC = 0;
 inline constexpr std::uint8_t MAV_MODE_FLAG_CUSTOM_MODE_ENABLED = 1, MAV_MODE_FLAG_AUTO_ENABLED = 4, MAV_MODE_FLAG_GUIDED_ENABLED = 8,
                               MAV_MODE_FLAG_STABILIZE_ENABLED = 16, MAV_MODE_FLAG_MANUAL_INPUT_ENABLED = 64,
                               MAV_MODE_FLAG_SAFETY_ARMED = 128;
-inline constexpr std::uint8_t MAV_STATE_UNINIT = 0, MAV_STATE_BOOT = 1, MAV_STATE_STANDBY = 3, MAV_STATE_ACTIVE = 4,
-                              MAV_STATE_CRITICAL = 5;
+inline constexpr std::uint8_t MAV_STATE_UNINIT = 0, MAV_STATE_BOOT = 1, MAV_STATE_STANDBY = 3, MAV_STATE_ACTIVE = 4, MAV_STATE_CRITICAL = 5;
 inline constexpr std::uint8_t MAV_COMP_ID_AUTOPILOT1 = 1;
 inline constexpr std::uint8_t MAV_PARAM_TYPE_UINT8 = 1, MAV_PARAM_TYPE_INT32 = 6, MAV_PARAM_TYPE_REAL32 = 9;
 inline constexpr std::uint8_t MAV_SEVERITY_CRITICAL = 2, MAV_SEVERITY_ERROR = 3, MAV_SEVERITY_WARNING = 4, MAV_SEVERITY_NOTICE = 5,
@@ -112,8 +111,8 @@ struct ParamValueMsg {
 struct StatusText {
   std::uint8_t severity = MAV_SEVERITY_INFO;
   std::string text;
-  std::uint16_t id = 0;         ///< non-zero: the chunks of one long text share it
-  std::uint8_t chunk_seq = 0;   ///< from 0
+  std::uint16_t id = 0;        ///< non-zero: the chunks of one long text share it
+  std::uint8_t chunk_seq = 0;  ///< from 0
 };
 /// A text as STATUSTEXT chunks (common.xml: a text of at most 50 chars is one message with id 0; a
 /// longer one is cut into 50-char chunks with `id` (non-zero) and chunk_seq 0, 1, ...; a NUL in a

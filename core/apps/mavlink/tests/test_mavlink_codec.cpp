@@ -24,8 +24,8 @@ TEST_CASE("X.25 CRC: CRC-16/MCRF4XX's check value") {
 TEST_CASE("CRC_EXTRA and payload lengths are common.xml's (tests/mavlink/crc_extra_common.txt)") {
   std::ifstream in(std::string(TERN_SOURCE_DIR) + "/tests/mavlink/crc_extra_common.txt");
   REQUIRE(in.good());
-  const std::map<std::string, int> size = {{"char", 1},    {"int8_t", 1},   {"uint8_t", 1},  {"int16_t", 2},  {"uint16_t", 2}, {"int32_t", 4},
-                                           {"uint32_t", 4}, {"float", 4},    {"int64_t", 8},  {"uint64_t", 8}, {"double", 8}};
+  const std::map<std::string, int> size = {{"char", 1},     {"int8_t", 1}, {"uint8_t", 1}, {"int16_t", 2},  {"uint16_t", 2}, {"int32_t", 4},
+                                           {"uint32_t", 4}, {"float", 4},  {"int64_t", 8}, {"uint64_t", 8}, {"double", 8}};
   std::set<std::uint32_t> seen;
   std::string line;
   while (std::getline(in, line)) {
