@@ -10,10 +10,11 @@
 //     SYS_STATUS, ATTITUDE, GLOBAL_POSITION_INT, VFR_HUD, GPS_RAW_INT, HOME_POSITION and a
 //     STATUSTEXT arrive, every frame with a CRC node-mavlink accepts; values plausible;
 //   - PARAM_REQUEST_LIST: param_count PARAM_VALUEs, indices 0..count-1 once each, count equal to
-//     the numeric and boolean parameters `tern params` lists;
+//     the numeric and boolean parameters `tern params` lists, each id and type where
+//     `tern params --mavlink` puts it;
 //   - PARAM_SET slc.course_kp 2.5 answered with PARAM_VALUE 2.5, read back by PARAM_REQUEST_READ
-//     (by id and by index); a start-only parameter (sim.init_altitude) refused with its old value
-//     and a STATUSTEXT;
+//     (by id and by index); a start-only parameter (sim.init_altitude, by its shortened id as
+//     `tern params --mavlink` lists it) refused with its old value and a STATUSTEXT;
 //   - hostile datagrams (random bytes, a wrong CRC, truncated frames, an unknown message id) are
 //     counted in SYS_STATUS.errors_comm and the endpoint still answers;
 //   - the flight's params.csv records the change with source "mavlink".
@@ -91,7 +92,11 @@ function send(msg) {
 
 // ---- what `tern params` lists: the numeric and boolean parameters are the GCS's ----
 const listing = execFileSync(tern, ['params', mission], { encoding: 'utf8' })
-console.log(listing.split('\n').slice(0, 3).join('\n'))
+// and the ids tern documents for them (`tern params --mavlink`: index, id, type, name)
+const table = execFileSync(tern, ['params', mission, '--mavlink'], { encoding: 'utf8' })
+  .split('\n').map((l) => l.trim().split(/\s+/)).filter((r) => r.length === 4 && /^\d+$/.test(r[0]))
+  .map(([index, id, type, name]) => ({ index: Number(index), id, type, name }))
+const idOf = (name) => (table.find((r) => r.name === name) || {}).id
 
 // ---- fly ----
 const logDir = path.join(work, 'runs')
@@ -113,7 +118,10 @@ try {
   check([att.roll, att.pitch, att.yaw].every((a) => Number.isFinite(a) && Math.abs(a) <= Math.PI + 1e-6), `ATTITUDE roll ${att.roll.toFixed(3)} pitch ${att.pitch.toFixed(3)} yaw ${att.yaw.toFixed(3)} rad`)
   const pos = await next('GLOBAL_POSITION_INT')
   check(pos.lat !== 0 && Math.abs(pos.lat) <= 900000000 && Math.abs(pos.lon) <= 1800000000, `GLOBAL_POSITION_INT lat ${pos.lat / 1e7} lon ${pos.lon / 1e7}`)
-  check(pos.relativeAlt > 20000 && pos.relativeAlt < 400000, `GLOBAL_POSITION_INT relative_alt ${pos.relativeAlt} mm (released at 100 m)`)
+  // home is the estimate's origin (its first GNSS fix, in the air here): alt = home's + relative_alt
+  const home0 = await next('HOME_POSITION', () => true, 5000)
+  check(Math.abs(pos.relativeAlt) < 400000 && Math.abs(pos.alt - home0.altitude - pos.relativeAlt) < 1000,
+    `GLOBAL_POSITION_INT alt ${pos.alt} mm MSL = home's ${home0.altitude} + relative_alt ${pos.relativeAlt} (within 1 m)`)
   const hud = await next('VFR_HUD')
   check(hud.airspeed > 5 && hud.airspeed < 60, `VFR_HUD airspeed ${hud.airspeed.toFixed(2)} m/s`)
   const gps = await next('GPS_RAW_INT')
@@ -151,6 +159,9 @@ try {
   // not text ("...") or a vector ([...])
   const numeric = listing.split('\n').filter((l) => /^\S+\.\S+\s+[^"[ ]/.test(l)).length
   check(numeric === count, `param_count ${count} equals tern params' ${numeric} numeric and boolean parameters`)
+  const typeCode = { REAL32: common.MavParamType.REAL32, INT32: common.MavParamType.INT32, UINT8: common.MavParamType.UINT8 }
+  const mismatched = table.filter((r) => !values.has(r.index) || values.get(r.index).paramId !== r.id || values.get(r.index).paramType !== typeCode[r.type])
+  check(table.length === count && mismatched.length === 0, `every id and type at its index as \`tern params --mavlink\` lists it (${mismatched.length} differ, e.g. ${JSON.stringify(mismatched[0])})`)
   const course = [...values.values()].find((v) => v.paramId === 'slc.course_kp')
   check(course && course.paramType === common.MavParamType.REAL32, `slc.course_kp listed as MAV_PARAM_TYPE_REAL32 (${course && course.paramValue})`)
 
@@ -184,17 +195,18 @@ try {
   check((await c).paramValue === 2.5, 'PARAM_REQUEST_READ by index reads 2.5')
 
   // ---- a start-only parameter is refused in flight, its old value echoed ----
-  const alt = [...values.values()].find((v) => v.paramId === 'sim.init_altitude')
-  check(alt !== undefined, 'sim.init_altitude listed')
+  const altId = idOf('sim.init_altitude') // 17 characters: shortened
+  const alt = [...values.values()].find((v) => v.paramId === altId)
+  check(alt !== undefined && altId.length === 16 && altId.startsWith('sim.init_al~'), `sim.init_altitude listed as ${altId}`)
   if (alt) {
     const refuse = new common.ParamSet()
     refuse.targetSystem = 1
     refuse.targetComponent = 1
-    refuse.paramId = 'sim.init_altitude'
+    refuse.paramId = altId
     refuse.paramValue = 250
     refuse.paramType = common.MavParamType.REAL32
     const why = next('STATUSTEXT', (d) => d.text.includes('sim.init_altitude'))
-    const echo = next('PARAM_VALUE', (d) => d.paramId === 'sim.init_altitude')
+    const echo = next('PARAM_VALUE', (d) => d.paramId === altId)
     send(refuse)
     const e = await echo
     check(e.paramValue === alt.paramValue, `start-only sim.init_altitude refused in flight: ${e.paramValue} kept`)
@@ -235,6 +247,7 @@ try {
 // ---- the end of the flight, and its log ----
 child.kill('SIGINT')
 const { code, signal } = await exited
+console.log(out.trim())
 check(code === 0 || code === 130 || signal === 'SIGINT', `tern fly ended (code ${code}, signal ${signal})`)
 const runs = fs.existsSync(logDir) ? fs.readdirSync(logDir) : []
 const params = runs.length ? path.join(logDir, runs[0], 'params.csv') : ''

@@ -7,7 +7,8 @@
 # flood as dropped and tern ends normally. What only describes the host's run (timing.json,
 # tern.log) is not compared.
 #
-# usage: test_gcs_flood.sh TERN CONFIG DURATION_S PYTHON3
+# usage: test_gcs_flood.sh TERN CONFIG DURATION_S PYTHON3 (a DURATION_S that takes a few seconds of
+# wall time in lockstep: the flood hits the endpoint all through the flight)
 set -euo pipefail
 tern=$1 config=$2 duration=$3 python=$4
 
@@ -26,12 +27,14 @@ gcs_port=$(free_port)
 "$tern" fly "$config" --seed 7 --duration "$duration" --log-dir "$work/plain" -q >"$work/plain.out"
 
 # the flood: until killed, datagrams of 0-300 random bytes to the vehicle's port
-"$python" - "$vehicle_port" <<'PY' &
+"$python" - "$vehicle_port" "$work/flooding" <<'PY' &
 import os, random, socket, sys
 s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
 rng = random.Random(1)
 n = 0
 while True:
+    if n == 1000:
+        open(sys.argv[2], "w").close()  # flooding: the flight may start
     d = bytearray(os.urandom(rng.randrange(0, 300)))
     if d and n % 2 == 0:
         d[0] = 0xFD
@@ -39,6 +42,8 @@ while True:
     n += 1
 PY
 flooder=$!
+for _ in $(seq 100); do [ -e "$work/flooding" ] && break; sleep 0.1; done
+[ -e "$work/flooding" ] || { echo "FAIL: the flood did not start"; exit 1; }
 "$tern" fly "$config" --seed 7 --duration "$duration" --log-dir "$work/gcs" -q \
   --gcs "127.0.0.1:$gcs_port" --gcs-bind "127.0.0.1:$vehicle_port" >"$work/gcs.out"
 kill "$flooder"

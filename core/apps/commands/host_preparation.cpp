@@ -156,10 +156,11 @@ TickObservers::~TickObservers() {
   if (!gcs_) return;
   const mavlink::Counters c = gcs_->counters();
   std::printf(
-      "mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long\n",
+      "mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long, %llu "
+      "noise\n",
       static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.bad_crc),
       static_cast<unsigned long long>(c.truncated), static_cast<unsigned long long>(c.unknown_id),
-      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length));
+      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length), static_cast<unsigned long long>(c.noise));
   std::fflush(stdout);
 }
 

@@ -248,7 +248,8 @@ struct GcsLink::Impl {
       }
     }
     if (accepted) {
-      send_param(*i, to_mav_value(*accepted));  // applied at the start of the next tick
+      pending[mp.qualified] = {*accepted, Clock::now()};
+      send_param(*i);
     } else {
       say(StatusText{MAV_SEVERITY_WARNING, why});
       if (p != nullptr) send_param(*i);  // refused: the value it keeps, as PX4 answers
@@ -262,13 +263,28 @@ struct GcsLink::Impl {
     return nullptr;
   }
 
-  void send_param(std::size_t i, std::optional<float> value = std::nullopt) {
+  /// The value a GCS is told: a change accepted but not yet applied (Host::request_param applies
+  /// it at the start of the next tick, a served host's between flights at the next flight's) is
+  /// reported as set, as PX4 echoes a PARAM_SET; it is forgotten once the parameter holds it, or a
+  /// second after it was asked in flight (another client may have changed the parameter since).
+  ParamValue current(const std::string& qualified, const ParamBase& p) {
+    const auto it = pending.find(qualified);
+    if (it == pending.end()) return p.value();
+    ParamValue now = p.value();
+    if (now == it->second.first || (host.flying() && Clock::now() - it->second.second > std::chrono::seconds(1))) {
+      pending.erase(it);
+      return now;
+    }
+    return it->second.first;
+  }
+
+  void send_param(std::size_t i) {
     const MavParam& mp = table.params()[i];
     const ParamBase* p = param(mp.qualified);
     if (p == nullptr) return;
     ParamValueMsg v;
     v.param_id = mp.id;
-    v.param_value = value ? *value : to_mav_value(p->value());
+    v.param_value = to_mav_value(current(mp.qualified, *p));
     v.param_type = mp.mav_type;
     v.param_count = static_cast<std::uint16_t>(table.params().size());
     v.param_index = static_cast<std::uint16_t>(i);
@@ -511,6 +527,7 @@ struct GcsLink::Impl {
   // the link's thread only
   std::map<udp::endpoint, Clock::time_point> peers;
   std::optional<std::size_t> list_cursor;
+  std::map<std::string, std::pair<ParamValue, Clock::time_point>> pending;  // accepted sets not yet applied
   std::uint8_t seq = 0;
   std::uint16_t text_id = 0;
   std::optional<GeoOrigin> origin;

@@ -44,6 +44,7 @@ std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<st
 std::vector<Frame> parse_datagram(const std::uint8_t* data, std::size_t n, Counters& c) {
   ++c.datagrams;
   std::vector<Frame> frames;
+  const std::uint64_t junk_before = c.junk_bytes;
   std::size_t i = 0;
   while (i < n) {
     if (data[i] == kMagicV1) {  // a MAVLink 1 frame: len at [1], 6 header bytes, 2 checksum bytes
@@ -103,6 +104,7 @@ std::vector<Frame> parse_datagram(const std::uint8_t* data, std::size_t n, Count
     ++c.frames;
     i += total;
   }
+  if (n == 0 || c.junk_bytes - junk_before == n) ++c.noise;  // nothing in it looked like a frame
   return frames;
 }
 

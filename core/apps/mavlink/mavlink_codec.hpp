@@ -68,7 +68,8 @@ struct Counters {
   std::uint64_t mavlink1 = 0;    ///< MAVLink 1 frames (0xFE): not spoken
   std::uint64_t junk_bytes = 0;  ///< bytes skipped looking for a start-of-frame
   std::uint64_t bad_length = 0;  ///< a known message longer than its definition
-  std::uint64_t dropped() const { return bad_crc + truncated + unknown_id + mavlink1 + bad_length; }
+  std::uint64_t noise = 0;       ///< datagrams without a start-of-frame byte at all
+  std::uint64_t dropped() const { return bad_crc + truncated + unknown_id + mavlink1 + bad_length + noise; }
 };
 
 /// Reads the frames of one UDP datagram (a datagram holds whole frames; nothing is carried over to

@@ -146,6 +146,8 @@ TEST_CASE("two frames in one datagram, and hostile bytes counted and dropped") {
     }
     CHECK(k.datagrams == 20000);
     CHECK(frames == 0);
+    CHECK(k.noise > 0);
+    CHECK(k.dropped() >= 10000);  // every datagram that started like a frame was dropped one way or another
   }
 }
 
