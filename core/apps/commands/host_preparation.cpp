@@ -44,7 +44,7 @@ void add_gcs_options(CLI::App* cmd, HostPreparation& p) {
       ->default_str("127.0.0.1:14550")
       ->check([](const std::string& v) {
         try {
-          mavlink::check_endpoint(v, "--gcs");
+          mavlink::check_endpoint(v, "");
         } catch (const std::exception& e) {
           return std::string(e.what());
         }
@@ -53,7 +53,7 @@ void add_gcs_options(CLI::App* cmd, HostPreparation& p) {
   cmd->add_option("--gcs-bind", p.gcs_bind, "with --gcs: the vehicle's own UDP ADDR:PORT (default 127.0.0.1:14580; port 0: a free one)")
       ->check([](const std::string& v) {
         try {
-          mavlink::check_endpoint(v, "--gcs-bind");
+          mavlink::check_endpoint(v, "");
         } catch (const std::exception& e) {
           return std::string(e.what());
         }

@@ -39,11 +39,12 @@ constexpr std::size_t kParamsPerTick = 25;  // PARAM_VALUEs of a list sent per 1
 constexpr auto kTick = std::chrono::milliseconds(10);
 
 udp::endpoint parse(const std::string& text, const std::string& what) {
+  const std::string where = what.empty() ? std::string() : what + ": ";
   const auto colon = text.rfind(':');
-  if (colon == std::string::npos) throw ConfigError(what + ": '" + text + "' is not ADDR:PORT (e.g. 127.0.0.1:14550)");
+  if (colon == std::string::npos) throw ConfigError(where + "'" + text + "' is not ADDR:PORT (e.g. 127.0.0.1:14550)");
   boost::system::error_code ec;
   const auto addr = asio::ip::make_address_v4(text.substr(0, colon), ec);
-  if (ec) throw ConfigError(what + ": '" + text.substr(0, colon) + "' is not an IPv4 address");
+  if (ec) throw ConfigError(where + "'" + text.substr(0, colon) + "' is not an IPv4 address");
   const std::string port = text.substr(colon + 1);
   unsigned long p = 0;
   std::size_t used = 0;
@@ -52,7 +53,7 @@ udp::endpoint parse(const std::string& text, const std::string& what) {
   } catch (const std::exception&) {
     used = 0;
   }
-  if (port.empty() || used != port.size() || p > 65535) throw ConfigError(what + ": '" + port + "' is not a port (0-65535)");
+  if (port.empty() || used != port.size() || p > 65535) throw ConfigError(where + "'" + port + "' is not a port (0-65535)");
   return {addr, static_cast<unsigned short>(p)};
 }
 

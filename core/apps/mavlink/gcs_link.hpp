@@ -45,7 +45,8 @@ struct GcsOptions {
   std::uint8_t system_id = 1;               ///< MAVLink system id of the vehicle (1-255)
 };
 
-/// Checks an "ADDR:PORT" (IPv4 dotted quad, port 0-65535). Throws ConfigError naming `what`.
+/// Checks an "ADDR:PORT" (IPv4 dotted quad, port 0-65535). Throws ConfigError naming `what` ("": the
+/// value only, for a caller that names the option itself).
 void check_endpoint(const std::string& text, const std::string& what);
 
 class GcsLink {
