@@ -399,8 +399,8 @@ struct GcsLink::Impl {
     sensor("diff_pressure", MAV_SYS_STATUS_SENSOR_DIFFERENTIAL_PRESSURE, msg::sensor_bit::diff_pressure);
     sensor("gnss", MAV_SYS_STATUS_SENSOR_GPS, msg::sensor_bit::gnss);
     if (has("state")) {
-      present |= MAV_SYS_STATUS_SENSOR_AHRS;
-      if (!s.has_state || !s.state.valid) unhealthy |= MAV_SYS_STATUS_SENSOR_AHRS;
+      present |= MAV_SYS_STATUS_AHRS;
+      if (!s.has_state || !s.state.valid) unhealthy |= MAV_SYS_STATUS_AHRS;
     }
     if (has("actuators"))
       present |= MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL | MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION |

@@ -41,7 +41,7 @@ inline constexpr std::uint32_t MAV_SYS_STATUS_SENSOR_3D_GYRO = 1, MAV_SYS_STATUS
                                MAV_SYS_STATUS_SENSOR_GPS = 32, MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL = 1024,
                                MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION = 2048, MAV_SYS_STATUS_SENSOR_YAW_POSITION = 4096,
                                MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL = 8192, MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL = 16384,
-                               MAV_SYS_STATUS_SENSOR_AHRS = 0x200000, MAV_SYS_STATUS_SENSOR_RC_RECEIVER = 65536;
+                               MAV_SYS_STATUS_AHRS = 0x200000, MAV_SYS_STATUS_SENSOR_RC_RECEIVER = 65536;
 
 /// One row of the table behind message_info(): name, id, CRC_EXTRA, full payload length.
 struct MessageDef {
