@@ -2,6 +2,7 @@
 """CRC_EXTRA and wire layout of MAVLink messages, computed from a dialect's XML as the spec defines.
 
 Usage: crc_extra_from_xml.py COMMON_XML [NAME ...]
+       crc_extra_from_xml.py COMMON_XML --entries ENTRY ...   (the values of enum entries)
   COMMON_XML: message_definitions/v1.0/common.xml of github.com/mavlink/mavlink; its <include>s
   (standard.xml, minimal.xml: HEARTBEAT, GLOBAL_POSITION_INT) are read from the same folder.
 Prints, per message: id, name, CRC_EXTRA, the base payload length, and the fields in wire order
@@ -65,7 +66,21 @@ def messages(path: Path, seen: set) -> list:
     return out + list(root.iter("message"))
 
 
+def entries(path: Path, wanted: set) -> int:
+    """Prints 'ENTRY value' for each enum entry named in `wanted`, in the order asked."""
+    found = {}
+    for xml in [path, path.parent / "standard.xml", path.parent / "minimal.xml"]:
+        for e in ET.parse(xml).getroot().iter("entry"):
+            if e.get("name") in wanted:
+                found[e.get("name")] = e.get("value")
+    for name in sorted(wanted):
+        print(f"{name} {found.get(name, 'MISSING')}")
+    return 0 if len(found) == len(wanted) else 1
+
+
 def main() -> int:
+    if len(sys.argv) > 2 and sys.argv[2] == "--entries":
+        return entries(Path(sys.argv[1]), set(sys.argv[3:]))
     wanted = set(sys.argv[2:])
     for msg in sorted(messages(Path(sys.argv[1]), set()), key=lambda m: int(m.get("id"))):
         name = msg.get("name")

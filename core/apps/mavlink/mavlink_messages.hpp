@@ -23,7 +23,8 @@ inline constexpr std::uint32_t HEARTBEAT = 0, SYS_STATUS = 1, PARAM_REQUEST_READ
                                PARAM_SET = 23, GPS_RAW_INT = 24, ATTITUDE = 30, GLOBAL_POSITION_INT = 33, VFR_HUD = 74, HOME_POSITION = 242,
                                STATUSTEXT = 253;
 
-// Enums (common.xml / minimal.xml), the values tern uses
+// Enums (common.xml / minimal.xml), the values tern uses; checked against the XML's by the unit test
+// (tests/mavlink/enums_common.txt, from crc_extra_from_xml.py --entries)
 inline constexpr std::uint8_t MAV_TYPE_FIXED_WING = 1, MAV_TYPE_GCS = 6;
 inline constexpr std::uint8_t MAV_AUTOPILOT_GENERIC = 0;
 inline constexpr std::uint8_t MAV_MODE_FLAG_CUSTOM_MODE_ENABLED = 1, MAV_MODE_FLAG_AUTO_ENABLED = 4, MAV_MODE_FLAG_GUIDED_ENABLED = 8,
