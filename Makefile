@@ -28,10 +28,11 @@ FUZZ_SECONDS ?= 60
 
 all: build
 
-# The npm folders: uPlot for the console, Foxglove's MCAP readers for the tests. `npm ci` runs only
-# when a folder's package-lock.json is newer than what it installed (npm's own copy of the lock in
-# node_modules/.package-lock.json), so that after the first `make fly` tern builds and flies offline.
-NPM_DIRS := core/apps/console tests/mcap_reader
+# The npm folders: uPlot for the console, Foxglove's MCAP readers and node-mavlink (a ground station)
+# for the tests. `npm ci` runs only when a folder's package-lock.json is newer than what it installed
+# (npm's own copy of the lock in node_modules/.package-lock.json), so that after the first `make fly`
+# tern builds and flies offline.
+NPM_DIRS := core/apps/console tests/mcap_reader tests/mavlink
 NPM_STAMPS := $(addsuffix /node_modules/.package-lock.json,$(NPM_DIRS))
 
 deps: $(NPM_STAMPS)

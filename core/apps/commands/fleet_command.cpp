@@ -80,12 +80,13 @@ int fly_fleet(const std::string& file, const FleetFlyOptions& o) {
   install_signal_handlers();
   FleetResult r;
   {
-    // each vehicle's DDS bridge, in its namespace; the console (one) on the focused vehicle, with
-    // the others drawn as traffic on its track
+    // each vehicle's DDS bridge, in its namespace; the console and the MAVLink endpoint (one each)
+    // on the focused vehicle, the console drawing the others as traffic on its track
     std::vector<std::unique_ptr<TickObservers>> observers;
     for (std::size_t i = 0; i < fleet.size(); ++i) {
       HostPreparation p = o.prep;
       p.console = o.prep.console && i == focus;
+      if (i != focus) p.gcs.reset();
       observers.push_back(std::make_unique<TickObservers>(fleet.vehicle(i), p, prepared[i], o.fleet.realtime));
     }
     if (Console* console = observers[focus]->console())

@@ -77,8 +77,10 @@ Command add_fly_command(CLI::App& app) {
   c->add_option("--duration", o->duration, "flight length in seconds (overrides the config)")->check(kDurationCheck);
   add_realtime_options(c, o->realtime, o->rt, "pace the simulated clock to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
-  c->add_option("--console-vehicle", o->console_vehicle,
-                "a multi-vehicle mission: the vehicle the console follows (default the first; the others are drawn on its track)");
+  add_gcs_options(c, o->prep);
+  c->add_option(
+      "--console-vehicle", o->console_vehicle,
+      "a multi-vehicle mission: the vehicle the console and --gcs follow (default the first; the console draws the others on its track)");
   add_skip_preflight_option(c, o->prep);
   c->add_option("--log-dir", o->log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   add_log_level_option(c, o->prep);

@@ -36,6 +36,31 @@ void add_console_options(CLI::App* cmd, HostPreparation& p) {
   cmd->add_option("--console-port", p.console_port, "console port (default: a free one)");
 }
 
+void add_gcs_options(CLI::App* cmd, HostPreparation& p) {
+  cmd->add_option("--gcs", p.gcs,
+                  "MAVLink 2 ground-station endpoint over UDP (QGroundControl, Mission Planner: docs/ground-station.md): "
+                  "telemetry goes to ADDR:PORT (default 127.0.0.1:14550) and to every GCS heard")
+      ->expected(0, 1)
+      ->default_str("127.0.0.1:14550")
+      ->check([](const std::string& v) {
+        try {
+          mavlink::check_endpoint(v, "");
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
+  cmd->add_option("--gcs-bind", p.gcs_bind, "with --gcs: the vehicle's own UDP ADDR:PORT (default 127.0.0.1:14580; port 0: a free one)")
+      ->check([](const std::string& v) {
+        try {
+          mavlink::check_endpoint(v, "");
+        } catch (const std::exception& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
+}
+
 void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, const std::string& what) {
   auto* pace = cmd->add_flag("--realtime", realtime, what);
   cmd->add_option("--rt-priority", rt.priority, "with --realtime: run the flight thread SCHED_FIFO at this priority (1-99)")
@@ -116,9 +141,28 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
 #if defined(TERN_WITH_DDS)
   if (m.dds.enabled) bridge_ = std::make_unique<DdsBridge>(host, m.dds);
 #endif
+  if (p.gcs) {
+    mavlink::GcsOptions g;
+    g.send_to = p.gcs->empty() ? g.send_to : *p.gcs;
+    g.bind = p.gcs_bind;
+    gcs_ = std::make_unique<mavlink::GcsLink>(host, g);
+    std::printf("mavlink: %s (%zu ids shortened to 16 characters: tern params CONFIG --mavlink)\n", gcs_->describe().c_str(),
+                gcs_->shortened_ids().size());
+    std::fflush(stdout);
+  }
 }
 
-TickObservers::~TickObservers() = default;
+TickObservers::~TickObservers() {
+  if (!gcs_) return;
+  const mavlink::Counters c = gcs_->counters();
+  std::printf(
+      "mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long, %llu "
+      "noise\n",
+      static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.bad_crc),
+      static_cast<unsigned long long>(c.truncated), static_cast<unsigned long long>(c.unknown_id),
+      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length), static_cast<unsigned long long>(c.noise));
+  std::fflush(stdout);
+}
 
 std::string TickObservers::console_url() const { return console_ ? console_->url() : std::string(); }
 

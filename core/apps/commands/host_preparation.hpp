@@ -3,8 +3,8 @@
 //   the mission config loaded, with the command line's --set/--phases/--fallback
 //   (cli_overrides.hpp), --skip-preflight and --log-level applied;
 //   the config's dds: section checked (every command) and --dds/--dds-domain applied;
-//   the tick observers a flight asked for: the console (--console, --console-port) and the DDS
-//   bridge (--dds or the config's dds.enabled).
+//   the tick observers a flight asked for: the console (--console, --console-port), the DDS
+//   bridge (--dds or the config's dds.enabled) and the MAVLink endpoint (--gcs, --gcs-bind).
 // The options are worded once here for every command that takes them.
 #pragma once
 
@@ -19,6 +19,7 @@
 #include "config/config.hpp"
 #include "console/console.hpp"
 #include "flight/host.hpp"
+#include "mavlink/gcs_link.hpp"
 #if defined(TERN_WITH_DDS)
 #include "dds_bridge.hpp"
 #endif
@@ -28,13 +29,15 @@ namespace tern::core {
 /// The command line's changes to a mission and its host, as parsed (each command takes a subset).
 struct HostPreparation {
   CliOverrides overrides;
-  bool skip_preflight = false;              ///< --skip-preflight: take off at t = 0 without the arming checks
-  std::optional<std::string> log_level;     ///< --log-level: summary, decimated or full
-  std::optional<std::string> log_format;    ///< --log-format: csv, mcap or both
-  bool dds = false;                         ///< --dds: bridge to Fast DDS
-  std::optional<std::uint32_t> dds_domain;  ///< --dds-domain: 0 .. 232
-  bool console = false;                     ///< --console: serve the flight console (needs --realtime)
-  std::uint16_t console_port = 0;           ///< --console-port (0: a free one)
+  bool skip_preflight = false;               ///< --skip-preflight: take off at t = 0 without the arming checks
+  std::optional<std::string> log_level;      ///< --log-level: summary, decimated or full
+  std::optional<std::string> log_format;     ///< --log-format: csv, mcap or both
+  bool dds = false;                          ///< --dds: bridge to Fast DDS
+  std::optional<std::uint32_t> dds_domain;   ///< --dds-domain: 0 .. 232
+  bool console = false;                      ///< --console: serve the flight console (needs --realtime)
+  std::uint16_t console_port = 0;            ///< --console-port (0: a free one)
+  std::optional<std::string> gcs;            ///< --gcs [ADDR:PORT]: the MAVLink endpoint, sending there first
+  std::string gcs_bind = "127.0.0.1:14580";  ///< --gcs-bind ADDR:PORT: the vehicle's own UDP address
 };
 
 /// --set, --phases, --fallback (override_options.hpp).
@@ -47,6 +50,8 @@ void add_log_level_option(CLI::App* cmd, HostPreparation& p);
 void add_dds_options(CLI::App* cmd, HostPreparation& p);
 /// --console, --console-port.
 void add_console_options(CLI::App* cmd, HostPreparation& p);
+/// --gcs [ADDR:PORT], --gcs-bind ADDR:PORT (mavlink/gcs_link.hpp, docs/ground-station.md).
+void add_gcs_options(CLI::App* cmd, HostPreparation& p);
 /// --realtime and the flight thread's scheduling with it (flight/realtime.hpp): --rt-priority N,
 /// --cpu K, --mlockall; `what`: "pace the simulated clock to wall time" or the like.
 void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, const std::string& what);
@@ -75,12 +80,14 @@ PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p);
 std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p, Producers producers = Producers::required);
 
 /// The observers of a host's ticks for as long as this lives: the console when --console was
-/// given (its URL printed on stdout), then the DDS bridge when the mission is bridged. Destroyed
-/// in the reverse order.
+/// given (its URL printed on stdout), then the DDS bridge when the mission is bridged, then the
+/// MAVLink endpoint with --gcs (its addresses printed on stdout).
+/// Destroyed in the reverse order.
 class TickObservers {
  public:
-  /// Throws ConfigError when the console cannot be served (it needs `realtime`). The console and
-  /// the DDS bridge can watch one host together (Host::add_tick_observer).
+  /// Throws ConfigError when the console cannot be served (it needs `realtime`) or the MAVLink
+  /// port cannot be bound. The console, the DDS bridge and the MAVLink endpoint can watch one
+  /// host together (Host::add_tick_observer).
   TickObservers(Host& host, const HostPreparation& p, const PreparedMission& m, bool realtime);
   ~TickObservers();
   TickObservers(const TickObservers&) = delete;
@@ -96,6 +103,7 @@ class TickObservers {
 #if defined(TERN_WITH_DDS)
   std::unique_ptr<DdsBridge> bridge_;
 #endif
+  std::unique_ptr<mavlink::GcsLink> gcs_;
 };
 
 }  // namespace tern::core

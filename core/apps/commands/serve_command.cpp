@@ -42,6 +42,7 @@ Command add_serve_command(CLI::App& app) {
   c->add_option("--log-dir", o->log_dir, "directory for the run directories");
   add_realtime_options(c, o->realtime, o->rt, "pace each flight to wall time (the real-time figures: docs/companion-computer.md)");
   add_console_options(c, o->prep);
+  add_gcs_options(c, o->prep);
   add_dds_options(c, o->prep);
   add_mission_override_options(c, o->prep);
   return {c, [o] { return serve_mission(*o); }};
