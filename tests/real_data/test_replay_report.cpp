@@ -27,7 +27,6 @@ using tern::core::ReplayReport;
 
 namespace {
 
-constexpr double kDeg = tern::kRadPerDeg;
 const tern::GeoPoint kOrigin{47.389, 8.034, 480.0};
 
 void write_csv(const fs::path& p, const std::string& header, const std::vector<std::vector<double>>& rows) {
@@ -51,7 +50,7 @@ fs::path synthetic_run(const std::string& name) {
   const fs::path run = test_dir() / name;
   fs::create_directories(run / "topics");
   std::vector<std::vector<double>> state, ref, innov, gnss;
-  const double psi = 179.0 * kDeg;
+  const double psi = 179.0 * tern::kRadPerDeg;
   for (int k = 0; k <= 200; ++k) {  // 10 Hz, 0 .. 20 s
     const double t = 0.1 * k;
     state.push_back({t, std::round(t * 1e9), Truthy::p_n(t), 0.0, -20.0, 10.0, 0.0, 0.0, 0.2, 0.05, psi, 3.0, -4.0, kOrigin.lat,
@@ -65,8 +64,8 @@ fs::path synthetic_run(const std::string& name) {
   for (int k = 0; k <= 100; ++k) {  // 5 Hz: interpolated at the state's 10 Hz, each field between its own samples
     const double t = 0.2 * k;
     const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(t), 0.0, -20.0 + 2.0));  // 2 m lower
-    ref.push_back({t, std::round(t * 1e9), 0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, std::remainder(psi + 2.0 * kDeg, 2 * M_PI), g.lat, g.lon,
-                   g.alt, 10.0, 1.0, 0.0, 3.5, -4.0});
+    ref.push_back({t, std::round(t * 1e9), 0.2 - 1.0 * tern::kRadPerDeg, 0.05 + 0.5 * tern::kRadPerDeg,
+                   std::remainder(psi + 2.0 * tern::kRadPerDeg, 2 * M_PI), g.lat, g.lon, g.alt, 10.0, 1.0, 0.0, 3.5, -4.0});
     if (k % 3 == 2) ref.back()[2] = ref.back()[3] = ref.back()[4] = NAN;  // merged sources: no attitude in this row
   }
   write_csv(
@@ -115,10 +114,10 @@ Eigen::Vector3d best_yaw_residual(double phi, double theta, const Eigen::Vector3
   auto res = [&](double psi) { return Eigen::Vector3d(f - body_to_ned(phi, theta, psi).transpose() * f_ned); };
   double best = 0.0;
   for (int k = 0; k < 3600; ++k)
-    if (res(k * 0.1 * kDeg).norm() < res(best).norm()) best = k * 0.1 * kDeg;
+    if (res(k * 0.1 * tern::kRadPerDeg).norm() < res(best).norm()) best = k * 0.1 * tern::kRadPerDeg;
   const double coarse = best;
   for (int k = -10000; k <= 10000; ++k)
-    if (res(coarse + k * 1e-5 * kDeg).norm() < res(best).norm()) best = coarse + k * 1e-5 * kDeg;
+    if (res(coarse + k * 1e-5 * tern::kRadPerDeg).norm() < res(best).norm()) best = coarse + k * 1e-5 * tern::kRadPerDeg;
   return res(best);
 }
 
@@ -143,7 +142,7 @@ TEST_CASE("replay report: known offsets against the reference and the GNSS") {
   CHECK(r.reference.roll.max == doctest::Approx(1.0).epsilon(1e-9));
   CHECK(r.reference.pitch.rms == doctest::Approx(0.5).epsilon(1e-9));
   CHECK(r.reference.yaw.rms == doctest::Approx(2.0).epsilon(1e-9));  // across +-180 deg
-  CHECK(r.reference.course.rms == doctest::Approx(std::atan2(1.0, 10.0) / kDeg).epsilon(1e-9));
+  CHECK(r.reference.course.rms == doctest::Approx(std::atan2(1.0, 10.0) / tern::kRadPerDeg).epsilon(1e-9));
   CHECK(r.reference.position_h.rms < 1e-4);
   CHECK(r.reference.position_v.rms == doctest::Approx(2.0).epsilon(1e-6));
   CHECK(r.reference.position_v.mean == doctest::Approx(-2.0).epsilon(1e-6));  // the estimate 2 m higher: a bias
@@ -160,7 +159,7 @@ TEST_CASE("replay report: known offsets against the reference and the GNSS") {
   CHECK(r.gnss.position_h.rms == doctest::Approx(3.0).epsilon(1e-6));
   CHECK(r.gnss.position_h.max == doctest::Approx(3.0).epsilon(1e-6));
   CHECK(r.gnss.velocity_h.rms == doctest::Approx(0.5).epsilon(1e-12));
-  CHECK(r.gnss.course.rms == doctest::Approx(std::atan2(0.5, 10.0) / kDeg).epsilon(1e-9));
+  CHECK(r.gnss.course.rms == doctest::Approx(std::atan2(0.5, 10.0) / tern::kRadPerDeg).epsilon(1e-9));
   CHECK(r.gnss.share_pos_accepted == doctest::Approx(0.9));
   CHECK(r.gnss.time_rule.find("(7 fixes), else stamp - ekf.gnss_delay 0.2 s (8 fixes)") != std::string::npos);
 }
@@ -176,7 +175,7 @@ TEST_CASE("replay report: the attitude against the specific force, the estimate'
                     1.0, 2.0, 0.3});
   }
   const Eigen::Vector3d a_g(2.0, 0.0, -9.80665);  // a - g, NED
-  const Eigen::Vector3d f = body_to_ned(0.2, 0.05, 179.0 * kDeg).transpose() * a_g;
+  const Eigen::Vector3d f = body_to_ned(0.2, 0.05, 179.0 * tern::kRadPerDeg).transpose() * a_g;
   for (int k = 0; k <= 2000; ++k) imu.push_back({0.01 * k, std::round(0.01 * k * 1e9), f.x(), f.y(), f.z(), 0.0, 0.0, 0.0, 288.15});
   write_csv(run / "topics/gnss.csv",
             "t [s],stamp [ns],time_of_validity [ns],fix_type [enum],num_sats [],lat [deg],lon [deg],alt [m],vel_n [m/s],vel_e [m/s],"
@@ -200,9 +199,9 @@ TEST_CASE("replay report: the attitude against the specific force, the estimate'
   // the reference: 1 deg less roll, 0.5 deg more pitch, 2 deg more yaw: what the best yaw leaves
   // (searched for here), whatever its own yaw: about its pitch error (the roll error, absorbed by
   // a yaw, lengthens the horizontal part a little: + 0.06 deg)
-  const Eigen::Vector3d res = best_yaw_residual(0.2 - 1.0 * kDeg, 0.05 + 0.5 * kDeg, a_g, f);
+  const Eigen::Vector3d res = best_yaw_residual(0.2 - 1.0 * tern::kRadPerDeg, 0.05 + 0.5 * tern::kRadPerDeg, a_g, f);
   CHECK(c.reference_pitch.samples == c.epochs);
-  CHECK(c.reference_pitch.mean == doctest::Approx(-res.x() / a_g.norm() / kDeg).epsilon(1e-4));
+  CHECK(c.reference_pitch.mean == doctest::Approx(-res.x() / a_g.norm() / tern::kRadPerDeg).epsilon(1e-4));
   CHECK(c.reference_pitch.mean == doctest::Approx(0.5).epsilon(0.15));
   CHECK(c.reference_roll.samples == 0);
   CHECK(tern::core::format_replay_table(r).find("pitch, reference") != std::string::npos);
@@ -218,7 +217,7 @@ TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw 
   // a coordinated turn at 20 m/s, 0.2 rad/s (4 m/s^2 toward the centre, bank atan(4 / g)), level;
   // the estimate has the right roll and pitch and a yaw 40 deg off; the reference the right yaw
   // and 1 deg more roll. Fixes at 10 Hz, the accelerometer at 100 Hz
-  constexpr double V = 20.0, w = 0.2, g = tern::kStandardGravity, yaw_error = 40.0 * kDeg;
+  constexpr double V = 20.0, w = 0.2, g = tern::kStandardGravity, yaw_error = 40.0 * tern::kRadPerDeg;
   const double bank = std::atan(V * w / g);
   auto f_ned = [&](double t) { return Eigen::Vector3d(-V * w * std::sin(w * t), V * w * std::cos(w * t), -g); };  // a - g
   std::vector<std::vector<double>> gnss, imu, state, ref;
@@ -228,8 +227,8 @@ TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw 
                     V * std::sin(chi), 0.0, 1.0, 2.0, 0.3});
     state.push_back({t, std::round(t * 1e9), 0.0, 0.0, -20.0, V * std::cos(chi), V * std::sin(chi), 0.0, bank, 0.0,
                      std::remainder(chi + yaw_error, 2 * M_PI), 0.0, 0.0, kOrigin.lat, kOrigin.lon, kOrigin.alt, 1.0, 1.0, 0.1});
-    ref.push_back({t, std::round(t * 1e9), bank + 1.0 * kDeg, 0.0, std::remainder(chi, 2 * M_PI), kOrigin.lat, kOrigin.lon, kOrigin.alt,
-                   V * std::cos(chi), V * std::sin(chi), 0.0, 0.0, 0.0});
+    ref.push_back({t, std::round(t * 1e9), bank + 1.0 * tern::kRadPerDeg, 0.0, std::remainder(chi, 2 * M_PI), kOrigin.lat, kOrigin.lon,
+                   kOrigin.alt, V * std::cos(chi), V * std::sin(chi), 0.0, 0.0, 0.0});
   }
   for (int k = 0; k <= 2000; ++k) {
     const double t = 0.01 * k;
@@ -255,7 +254,7 @@ TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw 
   // the yaw error into roll and pitch: 4 m/s^2 turned by 40 deg is 15 deg of tilt
   const Eigen::Vector3d inherited =
       body_to_ned(bank, 0.0, 5.0 * w).transpose() * f_ned(5.0) - body_to_ned(bank, 0.0, 5.0 * w + yaw_error).transpose() * f_ned(5.0);
-  REQUIRE(inherited.head<2>().norm() / g / kDeg > 10.0);
+  REQUIRE(inherited.head<2>().norm() / g / tern::kRadPerDeg > 10.0);
   const auto& c = make_replay_report(run).specific_force;
   REQUIRE(c.absent.empty());
   CHECK(c.epochs == 38);  // every 0.5 s from 0.6 s to 19.1 s
@@ -268,8 +267,8 @@ TEST_CASE("replay report: the specific-force check does not inherit a wrong yaw 
   CHECK(c.pitch.samples == 0);
   // the reference's 1 deg of roll, as the best yaw (searched for) leaves it: 1 deg
   const Eigen::Vector3d f5 = body_to_ned(bank, 0.0, 5.0 * w).transpose() * f_ned(5.0);
-  const Eigen::Vector3d res = best_yaw_residual(bank + 1.0 * kDeg, 0.0, f_ned(5.0), f5);
-  CHECK(res.y() / f_ned(5.0).norm() / kDeg == doctest::Approx(1.0).epsilon(0.01));
+  const Eigen::Vector3d res = best_yaw_residual(bank + 1.0 * tern::kRadPerDeg, 0.0, f_ned(5.0), f5);
+  CHECK(res.y() / f_ned(5.0).norm() / tern::kRadPerDeg == doctest::Approx(1.0).epsilon(0.01));
   CHECK(c.reference_roll.samples == c.epochs);
   CHECK(c.reference_roll.mean == doctest::Approx(1.0).epsilon(0.05));
   CHECK(c.reference_roll.max == doctest::Approx(1.0).epsilon(0.05));
@@ -362,7 +361,7 @@ void reference_above(const fs::path& run, double above) {
   for (int k = 0; k <= 100; ++k) {
     const double t = 0.2 * k;
     const tern::GeoPoint g = frame.to_geodetic(Eigen::Vector3d(Truthy::p_n(t), 0.0, -20.0 - above));
-    ref.push_back({t, std::round(t * 1e9), 0.2, 0.05, 179.0 * kDeg, g.lat, g.lon, g.alt, 10.0, 0.0, 0.0, 3.0, -4.0});
+    ref.push_back({t, std::round(t * 1e9), 0.2, 0.05, 179.0 * tern::kRadPerDeg, g.lat, g.lon, g.alt, 10.0, 0.0, 0.0, 3.0, -4.0});
   }
   write_csv(
       run / "topics/reference.csv",
@@ -484,7 +483,7 @@ TEST_CASE("replay report: the magnetometer's field against the model, the model'
   REQUIRE(c.absent.empty());
   CHECK(c.samples == 401);
   CHECK(c.intensity == doctest::Approx(earth.intensity * 1e6).epsilon(1e-9));
-  CHECK(c.inclination == doctest::Approx(earth.inclination / kDeg).epsilon(1e-9));
+  CHECK(c.inclination == doctest::Approx(earth.inclination / tern::kRadPerDeg).epsilon(1e-9));
   CHECK(c.model.find("WMM-2015v2 on 2014.11") == 0);
   CHECK(c.years_outside == doctest::Approx(2015.0 - 2014.11));
   CHECK(c.drift_intensity > 0.0);
@@ -589,8 +588,8 @@ TEST_CASE("replay report end to end: a default-mission flight, its truth as the 
     const double t = state.at(k, "t");
     if (t < start || t > end || state.at(k, "valid") != 1.0) continue;
     const std::size_t j = truth_row.at(state.rows[k][0]);
-    roll2 += std::pow(std::remainder(state.at(k, "phi") - truth.at(j, "phi"), 2 * M_PI) / kDeg, 2);
-    pitch2 += std::pow(std::remainder(state.at(k, "theta") - truth.at(j, "theta"), 2 * M_PI) / kDeg, 2);
+    roll2 += std::pow(std::remainder(state.at(k, "phi") - truth.at(j, "phi"), 2 * M_PI) / tern::kRadPerDeg, 2);
+    pitch2 += std::pow(std::remainder(state.at(k, "theta") - truth.at(j, "theta"), 2 * M_PI) / tern::kRadPerDeg, 2);
     ++n;
   }
   REQUIRE(n > 400);  // state.csv at the default log's 10 Hz (docs/logs.md, log level replay) over ~47 s of window

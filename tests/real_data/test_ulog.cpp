@@ -27,6 +27,7 @@
 #include "import/importers.hpp"
 #include "import/ulog_import.hpp"
 #include "import/ulog_reader.hpp"
+#include "tern/math.hpp"
 
 namespace fs = std::filesystem;
 using tern::core::ulog::DataHandler;
@@ -708,7 +709,7 @@ TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' 
   u.subscribe(0, "sensor_combined");
   u.subscribe(1, "actuator_servos");
   u.subscribe(2, "actuator_motors");
-  for (int k = 0; k < 20; ++k) u.data(0, 1'000'000 + 4000 * k, {0, 0, 0, 0, 0, -9.81f});
+  for (int k = 0; k < 20; ++k) u.data(0, 1'000'000 + 4000 * k, {0, 0, 0, 0, 0, static_cast<float>(-tern::kStandardGravity)});
   u.data(2, 1'010'000, {0.6f, 0, 0, 0});
   // left aileron -0.2 and right +0.2 (roll right), elevator +0.3 (PX4: nose up), rudder -0.1 (yaw left)
   u.data(1, 1'012'000, {-0.2f, 0.2f, 0.3f, -0.1f, 0, 0, 0, 0});

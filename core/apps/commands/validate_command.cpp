@@ -19,6 +19,7 @@
 #include "commands/commands.hpp"
 #include "commands/estimator_replay.hpp"
 #include "config/error.hpp"
+#include "sysid/sysid_output.hpp"
 #include "sysid/validate_report.hpp"
 
 namespace tern::core {
@@ -61,12 +62,6 @@ fs::path replayed_estimate(const ValidateRequest& o, const fs::path& dir) {
   return estimate;
 }
 
-void write_text(const fs::path& file, const std::string& text) {
-  std::ofstream out(file);
-  out << text;
-  if (!out) throw ConfigError(file.string() + ": cannot write");
-}
-
 /// Each file scored on the series loaded with its own servo lag; the windows (and the measured
 /// channels) from the first, the same samples for all.
 void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft, const std::vector<std::string>& files, const fs::path& log,
@@ -98,8 +93,8 @@ int validate(const ValidateRequest& o) {
                      : "topics/state.csv of " + o.estimate + " (--estimate)";
   run.options = o.options;
   score_all(run, aircraft, o.aircraft, log, estimate);
-  write_text(dir / "validate.json", sysid::validate_json(run).dump(2) + "\n");
-  write_text(dir / "index.html", sysid::validate_html(run));
+  sysid::write_text_file(dir / "validate.json", sysid::validate_json(run).dump(2) + "\n");
+  sysid::write_text_file(dir / "index.html", sysid::validate_html(run));
   if (!o.quiet) std::printf("%s\n", sysid::format_validate_table(run).c_str());
   std::printf("validate: %s (validate.json, index.html)\n", dir.c_str());
   return 0;

@@ -7,15 +7,6 @@
 namespace tern::core {
 namespace {
 
-/// The latest message on `topic`, if someone writes it with type T.
-template <class T>
-bool read(const Host& host, const char* topic, T& out) {
-  const OutputBase* o = host.topic_source(topic);
-  if (o == nullptr || o->sequence() == 0 || o->type().name != T::type_name) return false;
-  out = *static_cast<const T*>(o->data());
-  return true;
-}
-
 /// JSON has no NaN or infinity: a non-finite value is sent as null (the chart shows a gap).
 nlohmann::json num(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
@@ -36,14 +27,14 @@ std::function<void(Nanos)> TelemetryTap::observer(const Host& host) {
 void TelemetryTap::take(const Host& host, Nanos now) {
   Snapshot& s = staging_;
   s.t = now;
-  s.has_state = read(host, "state", s.state);
-  s.has_command = read(host, "controller_command", s.command);
-  s.has_internals = read(host, "controller_internals", s.internals);
-  s.has_actuators = read(host, "actuators", s.actuators);
-  s.has_phase = read(host, "flight_phase", s.phase);
-  s.has_waypoints = read(host, "waypoints", s.waypoints);
-  s.has_path = read(host, "current_path", s.path);
-  s.has_rc = read(host, "rc", s.rc);
+  s.has_state = latest_message(host, "state", s.state);
+  s.has_command = latest_message(host, "controller_command", s.command);
+  s.has_internals = latest_message(host, "controller_internals", s.internals);
+  s.has_actuators = latest_message(host, "actuators", s.actuators);
+  s.has_phase = latest_message(host, "flight_phase", s.phase);
+  s.has_waypoints = latest_message(host, "waypoints", s.waypoints);
+  s.has_path = latest_message(host, "current_path", s.path);
+  s.has_rc = latest_message(host, "rc", s.rc);
   const auto& h = host.handovers();
   s.handovers = h.size();
   s.active = h.empty() ? "" : h.back().to;

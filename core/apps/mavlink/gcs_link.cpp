@@ -74,14 +74,6 @@ struct Event {
   std::string text;
 };
 
-template <class T>
-bool read(const Host& host, const char* topic, T& out) {
-  const OutputBase* o = host.topic_source(topic);
-  if (o == nullptr || o->sequence() == 0 || o->type().name != T::type_name) return false;
-  out = *static_cast<const T*>(o->data());
-  return true;
-}
-
 std::int32_t deg_e7(double deg) { return static_cast<std::int32_t>(std::llround(deg * 1e7)); }
 std::int32_t mm(double m) { return static_cast<std::int32_t>(std::llround(m * 1000.0)); }
 std::int16_t cm_s(double v) { return static_cast<std::int16_t>(std::clamp(std::lround(v * 100.0), -32767L, 32767L)); }
@@ -134,11 +126,11 @@ struct GcsLink::Impl {
     Snapshot& s = staging;
     s.any = true;
     s.t = now;
-    s.has_state = read(host, "state", s.state);
-    s.has_phase = read(host, "flight_phase", s.phase);
-    s.has_gnss = read(host, "gnss", s.gnss);
-    s.has_actuators = read(host, "actuators", s.actuators);
-    s.has_rc = read(host, "rc", s.rc);
+    s.has_state = latest_message(host, "state", s.state);
+    s.has_phase = latest_message(host, "flight_phase", s.phase);
+    s.has_gnss = latest_message(host, "gnss", s.gnss);
+    s.has_actuators = latest_message(host, "actuators", s.actuators);
+    s.has_rc = latest_message(host, "rc", s.rc);
     if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
       last_phase = s.phase.phase;
       push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));

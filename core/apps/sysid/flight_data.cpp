@@ -20,7 +20,7 @@ constexpr double kMaxGap = 1.0;  ///< s: the estimate is not interpolated across
 
 using Column = std::vector<double>;
 
-const CsvTable read_table(const std::filesystem::path& file, const std::vector<std::string>& wanted, const char* why) {
+CsvTable read_table(const std::filesystem::path& file, const std::vector<std::string>& wanted, const char* why) {
   if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
   CsvTable table = read_csv_table(file, wanted);
   for (const auto& name : wanted)

@@ -15,12 +15,6 @@ namespace tern::core::sysid {
 
 namespace {
 
-void write_text(const std::filesystem::path& file, const std::string& text) {
-  std::ofstream out(file, std::ios::binary);
-  out << text;
-  if (!out.flush()) throw ConfigError(fmt::format("{}: cannot write", file.string()));
-}
-
 /// The prior's document with aero.<name> replaced by each estimate (and wing.e by the polar's).
 std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
   YAML::Node doc = YAML::LoadFile(from.prior);
@@ -112,12 +106,18 @@ std::string series_csv(const SysidResult& r) {
   return out;
 }
 
+void write_text_file(const std::filesystem::path& file, const std::string& text) {
+  std::ofstream out(file, std::ios::binary);
+  out << text;
+  if (!out.flush()) throw ConfigError(fmt::format("{}: cannot write", file.string()));
+}
+
 void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir);
-  write_text(dir / "coefficients.csv", series_csv(r));
-  write_text(dir / "aircraft.yaml", aircraft_yaml(r, from));
-  write_text(dir / "sysid.json", to_json(r, from).dump(2) + "\n");
-  write_text(dir / "index.html", html(r, from));
+  write_text_file(dir / "coefficients.csv", series_csv(r));
+  write_text_file(dir / "aircraft.yaml", aircraft_yaml(r, from));
+  write_text_file(dir / "sysid.json", to_json(r, from).dump(2) + "\n");
+  write_text_file(dir / "index.html", html(r, from));
 }
 
 std::string format_sysid_table(const SysidResult& r) {

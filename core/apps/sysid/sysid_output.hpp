@@ -27,6 +27,9 @@ struct SysidProvenance {
 
 void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir);
 
+/// `text` written to `file` (a command's output file); throws ConfigError "FILE: cannot write".
+void write_text_file(const std::filesystem::path& file, const std::string& text);
+
 /// The coefficient table as printed: name, prior, estimate, standard error, identified or why not.
 std::string format_sysid_table(const SysidResult& r);
 
