@@ -162,7 +162,10 @@ struct GcsLink::Impl {
 
   void receive() {
     socket.async_receive_from(asio::buffer(rx), sender, [this](const boost::system::error_code& ec, std::size_t n) {
-      if (ec == asio::error::operation_aborted) return;
+      // closed (the destructor): stop. A datagram that completed just before the close would
+      // otherwise re-arm on a closed socket, whose immediate error re-arms again, forever, and
+      // io.run() never returns to the join (a hang seen under a flood)
+      if (ec == asio::error::operation_aborted || !socket.is_open()) return;
       if (!ec) on_datagram(n);
       receive();
     });
