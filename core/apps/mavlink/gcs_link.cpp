@@ -148,25 +148,13 @@ struct GcsLink::Impl {
   void start() {
     receive();
     schedule();
-    thread = std::thread([this] {
-      for (;;) {
-        try {
-          io.run();
-          return;
-        } catch (const std::exception& e) {  // one bad request must not end the link
-          std::fprintf(stderr, "mavlink: %s\n", e.what());
-        }
-      }
-    });
+    thread = std::thread([this] { io.run(); });
   }
 
   void receive() {
     socket.async_receive_from(asio::buffer(rx), sender, [this](const boost::system::error_code& ec, std::size_t n) {
-      // closed (the destructor): stop. A datagram that completed just before the close would
-      // otherwise re-arm on a closed socket, whose immediate error re-arms again, forever, and
-      // io.run() never returns to the join (a hang seen under a flood)
-      if (ec == asio::error::operation_aborted || !socket.is_open()) return;
-      if (!ec) on_datagram(n);
+      if (ec == asio::error::operation_aborted) return;
+      if (!ec) guarded([&] { on_datagram(n); });
       receive();
     });
   }
@@ -175,9 +163,20 @@ struct GcsLink::Impl {
     timer.expires_after(kTick);
     timer.async_wait([this](const boost::system::error_code& ec) {
       if (ec) return;
-      on_tick();
+      guarded([&] { on_tick(); });
       schedule();
     });
+  }
+
+  /// One bad request or failed send must not end the link: its error is one line, and the link
+  /// goes on.
+  template <class F>
+  static void guarded(F&& f) {
+    try {
+      f();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "mavlink: %s\n", e.what());
+    }
   }
 
   void on_datagram(std::size_t n) {
@@ -538,11 +537,10 @@ GcsLink::GcsLink(Host& host, const GcsOptions& options) : impl_(std::make_unique
 
 GcsLink::~GcsLink() {
   impl_->host.remove_tick_observer(impl_->observer_id);
-  asio::post(impl_->io, [impl = impl_.get()] {
-    boost::system::error_code ec;
-    impl->timer.cancel();
-    impl->socket.close(ec);
-  });
+  // io.stop() makes run() return once the handler running now (if any) is done, whatever else is
+  // queued: cancelling the timer and closing the socket from a posted handler did not always end
+  // it, as a tick or a datagram already completed re-armed itself (mavlink_flood hung under load)
+  impl_->io.stop();
   impl_->thread.join();
 }
 

@@ -43,6 +43,7 @@ struct Link::Impl {
   mavlink::Parser parser;
   bool open = false;
   bool reported_down = false;
+  bool stopping = false;  ///< set by stop(): a reopen already due must not open the port again
 
   explicit Impl(Link& l) : link(l) {}
 
@@ -111,7 +112,7 @@ struct Link::Impl {
   void schedule_reopen() {
     reopen_timer.expires_after(std::chrono::nanoseconds(link.opt_.reopen_interval));
     reopen_timer.async_wait([this](const error_code& ec) {
-      if (ec) return;  // cancelled (stop)
+      if (ec || stopping) return;  // cancelled, or due just before stop()
       try {
         open_port();
         {
@@ -226,6 +227,7 @@ void Link::start() {
 void Link::stop() {
   if (!impl_) return;
   asio::post(impl_->io, [this] {
+    impl_->stopping = true;
     impl_->reopen_timer.cancel();
     impl_->close_port();
     impl_->work.reset();
