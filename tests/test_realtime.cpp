@@ -2,6 +2,8 @@
 // statistics on hand-made ticks, the settings the system refuses as one line, and `tern fly
 // --realtime` reporting them in summary.json and on the console (no timing thresholds here: the
 // figures of this machine are bench material, docs/companion-computer.md).
+#include <chrono>
+
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
@@ -76,4 +78,18 @@ TEST_CASE("real time: tern fly --realtime reports the figures in summary.json an
   REQUIRE(run_tern({"fly", mission, "--duration", "1", "-q", "--log-dir", (test_dir() / "plain").string()}, test_dir() / "plain.out") == 0);
   for (const auto& e : fs::directory_iterator(test_dir() / "plain")) run = e.path();
   CHECK_FALSE(nlohmann::json::parse(read_file(run / "summary.json")).contains("realtime"));
+}
+
+TEST_CASE("real time: --speed paces flight time at a multiple of wall time (PX4_SIM_SPEED_FACTOR); it needs --realtime") {
+  const std::string mission = std::string(TERN_TEST_CONFIG_DIR) + "/../../configs/missions/default.yaml";
+  const fs::path out = test_dir() / "speed.out";
+  const auto t0 = std::chrono::steady_clock::now();
+  REQUIRE(run_tern({"fly", mission, "--duration", "5", "--realtime", "--speed", "10", "--log-dir", (test_dir() / "speed_runs").string()},
+                   out) == 0);
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK(read_file(out).find("real time: SCHED_OTHER, any CPU, memory not locked, 10x wall time; 2001 ticks, ") != std::string::npos);
+  // paced: the last tick cannot end before 5 s / 10 of wall time (a lower bound only: no timing threshold)
+  CHECK(wall_s >= 0.5);
+  CHECK(run_tern({"fly", mission, "--duration", "1", "--speed", "10"}, test_dir() / "speed_alone.out") != 0);
+  CHECK(run_tern({"fly", mission, "--duration", "1", "--realtime", "--speed", "0"}, test_dir() / "speed_zero.out") != 0);
 }

@@ -131,6 +131,22 @@ try {
   const sys = await next('SYS_STATUS')
   check((sys.onboardControlSensorsPresent & 3) === 3, `SYS_STATUS gyro and accelerometer present (${sys.onboardControlSensorsPresent})`)
   check(texts.some((t) => t.startsWith('phase ')), `STATUSTEXT of the phase (${JSON.stringify(texts.slice(0, 2))})`)
+  const nav = await next('NAV_CONTROLLER_OUTPUT')
+  check([nav.navRoll, nav.navPitch, nav.altError, nav.aspdError, nav.xtrackError].every(Number.isFinite) &&
+    Math.abs(nav.navRoll) <= 60 && Math.abs(nav.altError) < 200 && Math.abs(nav.aspdError) < 30 && Math.abs(nav.xtrackError) < 1000,
+  `NAV_CONTROLLER_OUTPUT nav_roll ${nav.navRoll.toFixed(1)} deg, alt_error ${nav.altError.toFixed(1)} m, aspd_error ${nav.aspdError.toFixed(1)} m/s, xtrack ${nav.xtrackError.toFixed(1)} m, wp_dist ${nav.wpDist} m`)
+  const cur = await next('MISSION_CURRENT', () => true, 5000)
+  check(cur.total > 0 && cur.seq < cur.total && cur.missionState === 3, `MISSION_CURRENT seq ${cur.seq} of ${cur.total}, state ${cur.missionState} (ACTIVE)`)
+  const ext = await next('EXTENDED_SYS_STATE', () => true, 5000)
+  check([2, 3].includes(ext.landedState), `EXTENDED_SYS_STATE landed_state ${ext.landedState} (IN_AIR or TAKEOFF)`)
+  const wind = await next('WIND_COV', () => true, 5000)
+  check(Math.hypot(wind.windX, wind.windY) < 30 && Number.isNaN(wind.windZ), `WIND_COV wind ${wind.windX.toFixed(2)} N ${wind.windY.toFixed(2)} E m/s, down NaN`)
+  const clock = await next('SYSTEM_TIME', () => true, 5000)
+  check(Math.abs(Number(clock.timeUnixUsec) / 1000 - Date.now()) < 10000, `SYSTEM_TIME ${clock.timeUnixUsec} us is this computer's time`)
+  const ts1 = 123456789n
+  send(Object.assign(new common.TimeSync(), { tc1: 0n, ts1, targetSystem: 1, targetComponent: 1 }))
+  const sync = await next('TIMESYNC', (d) => d.ts1 === ts1, 5000)
+  check(sync.tc1 > 0n && sync.targetSystem === 255 && sync.targetComponent === 190, `TIMESYNC answered: tc1 ${sync.tc1} ns, to 255/190`)
 
   // ---- the parameter list ----
   const values = new Map()
@@ -237,7 +253,8 @@ try {
   send(read)
   check((await still).paramValue === 2.5, 'the endpoint still answers after the flood')
   check(crcErrors === 0, `node-mavlink found ${crcErrors} CRC errors in tern's frames`)
-  check(['HEARTBEAT', 'SYS_STATUS', 'ATTITUDE', 'GLOBAL_POSITION_INT', 'VFR_HUD', 'GPS_RAW_INT', 'HOME_POSITION', 'PARAM_VALUE', 'STATUSTEXT']
+  check(['HEARTBEAT', 'SYS_STATUS', 'ATTITUDE', 'GLOBAL_POSITION_INT', 'VFR_HUD', 'GPS_RAW_INT', 'HOME_POSITION', 'PARAM_VALUE', 'STATUSTEXT',
+    'NAV_CONTROLLER_OUTPUT', 'MISSION_CURRENT', 'EXTENDED_SYS_STATE', 'WIND_COV', 'SYSTEM_TIME', 'TIMESYNC']
     .every((n) => seen[n] > 0), `messages seen: ${JSON.stringify(seen)}`)
 } catch (e) {
   failures.push(e.message)

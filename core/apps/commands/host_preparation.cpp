@@ -71,6 +71,12 @@ void add_realtime_options(CLI::App* cmd, bool& realtime, RealtimeOptions& rt, co
       ->needs(pace);
   cmd->add_flag("--mlockall", rt.lock_memory, "with --realtime: lock the process's memory (no page faults from disk in the loop)")
       ->needs(pace);
+  cmd->add_option("--speed", rt.speed,
+                  "with --realtime: flight time runs FACTOR times as fast as wall time (e.g. 2, 10: PX4's PX4_SIM_SPEED_FACTOR; "
+                  "default 1)")
+      ->type_name("FACTOR")
+      ->check(CLI::Range(1e-3, 1000.0))
+      ->needs(pace);
 }
 
 namespace {

@@ -20,6 +20,7 @@
 #include "flight/host.hpp"
 #include "mavlink/mavlink_messages.hpp"
 #include "mavlink/param_ids.hpp"
+#include "mavlink/telemetry.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/msg/all.hpp"
 
@@ -30,7 +31,6 @@ namespace asio = boost::asio;
 using udp = asio::ip::udp;
 using Clock = std::chrono::steady_clock;
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr Nanos kSnapshotPeriod = 20'000'000;  // flight time between copies, ns (50 Hz)
 constexpr std::size_t kMaxPeers = 8;
 constexpr auto kPeerTimeout = std::chrono::seconds(10);
@@ -57,34 +57,10 @@ udp::endpoint parse(const std::string& text, const std::string& what) {
   return {addr, static_cast<unsigned short>(p)};
 }
 
-/// The latest of what the GCS is shown, copied on the flight thread.
-struct Snapshot {
-  bool any = false;  ///< a flight has ticked since the link started
-  Nanos t = 0;
-  bool has_state = false, has_phase = false, has_gnss = false, has_actuators = false, has_rc = false;
-  msg::State state;
-  msg::FlightPhase phase;
-  msg::Gnss gnss;
-  msg::Actuators actuators;
-  msg::Rc rc;
-};
-
 struct Event {
   std::uint8_t severity;
   std::string text;
 };
-
-std::int32_t deg_e7(double deg) { return static_cast<std::int32_t>(std::llround(deg * 1e7)); }
-std::int32_t mm(double m) { return static_cast<std::int32_t>(std::llround(m * 1000.0)); }
-std::int16_t cm_s(double v) { return static_cast<std::int16_t>(std::clamp(std::lround(v * 100.0), -32767L, 32767L)); }
-/// An angle in rad as centidegrees [0, 36000).
-std::uint16_t cdeg(double rad) {
-  double d = std::fmod(rad * 180.0 / kPi, 360.0);
-  if (d < 0) d += 360.0;
-  return static_cast<std::uint16_t>(std::lround(d * 100.0) % 36000);
-}
-
-bool airborne_phase(msg::Phase p) { return p != msg::Phase::preflight && p != msg::Phase::stopped; }
 
 }  // namespace
 
@@ -112,6 +88,7 @@ struct GcsLink::Impl {
   void observe(Nanos now) {
     if (now == 0) {  // a new flight
       next_snapshot = 0;
+      waypoints_sequence = 0;
       last_phase.reset();
       handovers_seen = 0;
     }
@@ -131,12 +108,37 @@ struct GcsLink::Impl {
     s.has_gnss = latest_message(host, "gnss", s.gnss);
     s.has_actuators = latest_message(host, "actuators", s.actuators);
     s.has_rc = latest_message(host, "rc", s.rc);
+    s.has_command = latest_message(host, "controller_command", s.command);
+    s.has_internals = latest_message(host, "controller_internals", s.internals);
+    s.has_path = latest_message(host, "current_path", s.path);
+    observe_mission(s);
     if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
       last_phase = s.phase.phase;
       push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));
     }
     std::lock_guard lk(mu);
     latest = s;
+  }
+
+  /// The mission's size and the waypoint flown to; the list (up to 64 items) is copied only when
+  /// the planner republished it.
+  void observe_mission(Snapshot& s) {
+    const OutputBase* o = host.topic_source("waypoints");
+    if (o == nullptr || o->sequence() == 0 || o->type().name != msg::WaypointList::type_name) {
+      s.mission_items.reset();
+      s.target.reset();
+      return;
+    }
+    if (o->sequence() != waypoints_sequence) {
+      waypoints = *static_cast<const msg::WaypointList*>(o->data());
+      waypoints_sequence = o->sequence();
+    }
+    s.mission_items = waypoints.count;
+    const std::int32_t i = s.has_path ? s.path.waypoint_index : -1;
+    if (i >= 0 && static_cast<std::uint32_t>(i) < waypoints.count)
+      s.target = waypoints.items[static_cast<std::size_t>(i)];
+    else
+      s.target.reset();
   }
 
   void push_event(std::uint8_t severity, std::string text) {
@@ -209,9 +211,21 @@ struct GcsLink::Impl {
           break;
         }
         case PARAM_SET: on_param_set(decode_param_set(f.payload)); break;
-        default: break;  // HEARTBEAT of a GCS (its address is kept above), our own messages echoed
+        case TIMESYNC: on_timesync(decode_timesync(f.payload), f); break;
+        case HEARTBEAT:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
+          if (decode_heartbeat(f.payload).type == MAV_TYPE_GCS) host.ground_link_heard();
+          break;
+        default: break;  // our own messages echoed, a GCS's other traffic
       }
     }
+  }
+
+  /// A request (tc1 0) is answered with the link's wall-clock time since it started (ns, never 0:
+  /// flight time may run at any speed, and a GCS estimates a clock offset), addressed back.
+  void on_timesync(const Timesync& m, const Frame& f) {
+    if (m.tc1 != 0 || !for_us(m.target_system, m.target_component)) return;
+    const auto since = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started).count();
+    send(Timesync{std::max<std::int64_t>(1, since), m.ts1, f.sysid, f.compid});
   }
 
   bool for_us(std::uint8_t sys, std::uint8_t comp) const {
@@ -313,6 +327,21 @@ struct GcsLink::Impl {
   static std::uint32_t msgid_of(const HomePosition&) { return HOME_POSITION; }
   static std::uint32_t msgid_of(const ParamValueMsg&) { return PARAM_VALUE; }
   static std::uint32_t msgid_of(const StatusText&) { return STATUSTEXT; }
+  static std::uint32_t msgid_of(const SystemTime&) { return SYSTEM_TIME; }
+  static std::uint32_t msgid_of(const MissionCurrent&) { return MISSION_CURRENT; }
+  static std::uint32_t msgid_of(const NavControllerOutput&) { return NAV_CONTROLLER_OUTPUT; }
+  static std::uint32_t msgid_of(const Timesync&) { return TIMESYNC; }
+  static std::uint32_t msgid_of(const WindCov&) { return WIND_COV; }
+  static std::uint32_t msgid_of(const ExtendedSysState&) { return EXTENDED_SYS_STATE; }
+
+  Counters link_counters() const {
+    std::lock_guard lk(counters_mu);
+    return counters;
+  }
+  static std::uint64_t unix_us() {
+    using namespace std::chrono;
+    return static_cast<std::uint64_t>(duration_cast<microseconds>(system_clock::now().time_since_epoch()).count());
+  }
 
   void send_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload) {
     const auto frame = encode_frame(msgid, payload, seq++, options.system_id, MAV_COMP_ID_AUTOPILOT1);
@@ -340,156 +369,24 @@ struct GcsLink::Impl {
     }
     for (const auto& e : ev) say(StatusText{e.severity, e.text});
     if (due(next_heartbeat, std::chrono::milliseconds(1000), now)) {
-      send(heartbeat(s));
-      send(sys_status(s));
+      send(heartbeat(s, host.flying()));
+      send(sys_status(s, topics, link_counters()));
+      send(SystemTime{unix_us(), static_cast<std::uint32_t>(s.t / 1'000'000)});
+      if (const auto m = extended_sys_state(s)) send(*m);
+      if (const auto m = mission_current(s)) send(*m);
+      if (const auto m = wind_cov(s)) send(*m);
     }
     const bool state = s.has_state && s.state.valid && s.state.origin_valid;
     if (state && due(next_attitude, std::chrono::milliseconds(50), now)) send(attitude(s));
-    if (state && due(next_position, std::chrono::milliseconds(200), now)) send(global_position(s));
+    if (state && due(next_position, std::chrono::milliseconds(200), now)) {
+      send(global_position(s, origin));
+      if (const auto m = nav_controller(s, origin)) send(*m);
+    }
     if (s.has_state && due(next_hud, std::chrono::milliseconds(250), now)) send(vfr_hud(s));
     if (s.has_gnss && due(next_gps, std::chrono::milliseconds(500), now)) send(gps_raw(s));
     if (s.has_state && s.state.origin_valid && due(next_home, std::chrono::milliseconds(2000), now)) send(home(s));
     for (std::size_t k = 0; k < kParamsPerTick && list_cursor && *list_cursor < table.params().size(); ++k) send_param((*list_cursor)++);
     if (list_cursor && *list_cursor >= table.params().size()) list_cursor.reset();
-  }
-
-  // ---- the messages (the mapping: docs/ground-station.md) ----
-  Heartbeat heartbeat(const Snapshot& s) const {
-    Heartbeat h;
-    h.type = MAV_TYPE_FIXED_WING;
-    h.autopilot = MAV_AUTOPILOT_GENERIC;
-    const bool flying = host.flying();
-    if (!s.any || !s.has_phase) {
-      h.system_status = s.any && flying ? MAV_STATE_BOOT : MAV_STATE_STANDBY;
-      return h;
-    }
-    h.custom_mode = static_cast<std::uint32_t>(s.phase.phase);  // tern's Phase code (tern/msg/phase.hpp)
-    h.base_mode = MAV_MODE_FLAG_CUSTOM_MODE_ENABLED;
-    const bool armed = flying && airborne_phase(s.phase.phase);
-    if (armed) {
-      h.base_mode |= MAV_MODE_FLAG_SAFETY_ARMED;
-      if (s.has_rc && s.rc.rc_override)
-        h.base_mode |= MAV_MODE_FLAG_MANUAL_INPUT_ENABLED;
-      else
-        h.base_mode |= MAV_MODE_FLAG_STABILIZE_ENABLED | MAV_MODE_FLAG_GUIDED_ENABLED | MAV_MODE_FLAG_AUTO_ENABLED;
-    }
-    h.system_status = !armed ? MAV_STATE_STANDBY : (s.has_rc && s.rc.failsafe) ? MAV_STATE_CRITICAL : MAV_STATE_ACTIVE;
-    return h;
-  }
-
-  SysStatus sys_status(const Snapshot& s) const {
-    SysStatus m;
-    const auto has = [this](const char* t) { return topics.count(t) != 0; };
-    std::uint32_t present = 0, unhealthy = 0;
-    const std::uint8_t degraded = s.has_state ? s.state.degraded_sensors : 0;
-    const auto sensor = [&](const char* topic, std::uint32_t bits, std::uint8_t sensor_bit) {
-      if (!has(topic)) return;
-      present |= bits;
-      if ((degraded & sensor_bit) != 0) unhealthy |= bits;
-    };
-    sensor("imu", MAV_SYS_STATUS_SENSOR_3D_GYRO | MAV_SYS_STATUS_SENSOR_3D_ACCEL, msg::sensor_bit::imu);
-    sensor("mag", MAV_SYS_STATUS_SENSOR_3D_MAG, msg::sensor_bit::mag);
-    sensor("baro", MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE, msg::sensor_bit::baro);
-    sensor("diff_pressure", MAV_SYS_STATUS_SENSOR_DIFFERENTIAL_PRESSURE, msg::sensor_bit::diff_pressure);
-    sensor("gnss", MAV_SYS_STATUS_SENSOR_GPS, msg::sensor_bit::gnss);
-    if (has("state")) {
-      present |= MAV_SYS_STATUS_AHRS;
-      if (!s.has_state || !s.state.valid) unhealthy |= MAV_SYS_STATUS_AHRS;
-    }
-    if (has("actuators"))
-      present |= MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL | MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION |
-                 MAV_SYS_STATUS_SENSOR_YAW_POSITION | MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL;
-    if (has("rc")) {
-      present |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
-      if (s.has_rc && s.rc.failsafe) unhealthy |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
-    }
-    m.present = present;
-    m.enabled = present;
-    m.health = present & ~unhealthy;
-    Counters c;
-    {
-      std::lock_guard lk(counters_mu);
-      c = counters;
-    }
-    const std::uint64_t seen = c.frames + c.dropped();
-    m.drop_rate_comm = seen == 0 ? 0 : static_cast<std::uint16_t>(std::min<std::uint64_t>(10000, c.dropped() * 10000 / seen));
-    m.errors_comm = static_cast<std::uint16_t>(std::min<std::uint64_t>(UINT16_MAX, c.dropped()));
-    return m;
-  }
-
-  static std::uint32_t boot_ms(const Snapshot& s) { return static_cast<std::uint32_t>(s.t / 1'000'000); }
-
-  Attitude attitude(const Snapshot& s) const {
-    const auto& x = s.state;
-    return {boot_ms(s),
-            static_cast<float>(x.phi),
-            static_cast<float>(x.theta),
-            static_cast<float>(x.psi),
-            static_cast<float>(x.p),
-            static_cast<float>(x.q),
-            static_cast<float>(x.r)};
-  }
-
-  GeoPoint position(const msg::State& x) {
-    const GeoPoint o{x.origin_lat, x.origin_lon, x.origin_alt};
-    if (!origin || origin->origin() != o) origin.emplace(o);
-    return origin->to_geodetic(Eigen::Vector3d(x.p_n, x.p_e, x.p_d));
-  }
-
-  GlobalPositionInt global_position(const Snapshot& s) {
-    const auto& x = s.state;
-    const GeoPoint g = position(x);
-    GlobalPositionInt m;
-    m.time_boot_ms = boot_ms(s);
-    m.lat = deg_e7(g.lat);
-    m.lon = deg_e7(g.lon);
-    m.alt = mm(g.alt);
-    m.relative_alt = mm(-x.p_d);  // home is the estimate's origin
-    m.vx = cm_s(x.v_n);
-    m.vy = cm_s(x.v_e);
-    m.vz = cm_s(x.v_d);
-    m.hdg = cdeg(x.psi);
-    return m;
-  }
-
-  VfrHud vfr_hud(const Snapshot& s) const {
-    const auto& x = s.state;
-    VfrHud m;
-    m.airspeed = static_cast<float>(x.Va);
-    m.groundspeed = static_cast<float>(x.Vg);
-    m.alt = static_cast<float>(x.origin_alt - x.p_d);
-    m.climb = static_cast<float>(-x.v_d);
-    m.heading = static_cast<std::int16_t>(cdeg(x.psi) / 100);
-    m.throttle = s.has_actuators ? static_cast<std::uint16_t>(std::lround(std::clamp(s.actuators.delta_t, 0.0, 1.0) * 100.0)) : 0;
-    return m;
-  }
-
-  GpsRawInt gps_raw(const Snapshot& s) const {
-    const auto& g = s.gnss;
-    GpsRawInt m;
-    m.time_usec = static_cast<std::uint64_t>(g.stamp / 1000);
-    switch (g.fix_type) {
-      case msg::FixType::none:
-      case msg::FixType::dead_reckoning: m.fix_type = GPS_FIX_TYPE_NO_FIX; break;
-      case msg::FixType::fix_2d: m.fix_type = GPS_FIX_TYPE_2D_FIX; break;
-      case msg::FixType::fix_3d: m.fix_type = GPS_FIX_TYPE_3D_FIX; break;
-    }
-    m.lat = deg_e7(g.lat);
-    m.lon = deg_e7(g.lon);
-    m.alt = mm(g.alt);
-    const double v = std::hypot(g.vel.x(), g.vel.y());
-    m.vel = static_cast<std::uint16_t>(std::min(65534L, std::lround(v * 100.0)));
-    m.cog = v > 0.5 ? cdeg(std::atan2(g.vel.y(), g.vel.x())) : UINT16_MAX;  // below 0.5 m/s the course is noise
-    m.satellites_visible = g.num_sats;
-    return m;
-  }
-
-  HomePosition home(const Snapshot& s) const {
-    HomePosition m;
-    m.latitude = deg_e7(s.state.origin_lat);
-    m.longitude = deg_e7(s.state.origin_lon);
-    m.altitude = mm(s.state.origin_alt);
-    return m;  // x y z 0: home is the local frame's origin; q identity and no approach vector
   }
 
   Host& host;
@@ -503,12 +400,15 @@ struct GcsLink::Impl {
   std::set<std::string> topics;
   std::thread thread;
   int observer_id = 0;
+  Clock::time_point started = Clock::now();
 
   // flight thread only
   Nanos next_snapshot = 0;
   Snapshot staging;
   std::optional<msg::Phase> last_phase;
   std::size_t handovers_seen = 0;
+  msg::WaypointList waypoints;
+  std::uint64_t waypoints_sequence = 0;
 
   // under mu
   std::mutex mu;

@@ -4,18 +4,22 @@
 //
 // What it does:
 //   - telemetry, on wall-clock rates (a GCS's timeouts are wall time; in fast time it is a
-//     time-lapse of the flight): HEARTBEAT 1 Hz, SYS_STATUS 1 Hz, ATTITUDE 20 Hz,
-//     GLOBAL_POSITION_INT 5 Hz, VFR_HUD 4 Hz, GPS_RAW_INT 2 Hz, HOME_POSITION 0.5 Hz (once the
+//     time-lapse of the flight): HEARTBEAT, SYS_STATUS, SYSTEM_TIME, EXTENDED_SYS_STATE,
+//     MISSION_CURRENT, WIND_COV 1 Hz, ATTITUDE 20 Hz, GLOBAL_POSITION_INT and
+//     NAV_CONTROLLER_OUTPUT 5 Hz, VFR_HUD 4 Hz, GPS_RAW_INT 2 Hz, HOME_POSITION 0.5 Hz (once the
 //     estimate has an origin), STATUSTEXT on tern's events (phase changes, controller handovers);
+//     a TIMESYNC request answered;
 //   - the parameter protocol (PARAM_REQUEST_LIST, PARAM_REQUEST_READ, PARAM_SET -> PARAM_VALUE;
 //     https://mavlink.io/en/services/parameter.html) over every instance's numeric and boolean
 //     parameters (param_ids.hpp), a set going through Host::request_param as the console's does;
 //   - bad datagrams (wrong CRC, truncated, unknown ids, MAVLink 1) are counted (SYS_STATUS's
 //     drop_rate_comm and errors_comm) and dropped.
 // It only reads the host's topics (state: the estimate, never truth; flight_phase, gnss,
-// actuators, rc) in a tick observer that copies them every 20 ms of flight time under a mutex
-// held only for the copy; a flight flies the same bytes with or without it. The link-loss
-// failsafe is not fed from MAVLink heartbeats (Host::ground_link_heard is not called).
+// actuators, rc, the commands and the path: telemetry.hpp) in a tick observer that copies them
+// every 20 ms of flight time under a mutex held only for the copy; a flight flies the same bytes
+// with or without it. A GCS's HEARTBEAT (type MAV_TYPE_GCS) feeds the link-loss failsafe
+// (Host::ground_link_heard), as the DDS bridge's requests do: a GCS going silent changes nothing
+// unless the mission configures `failsafes.link_loss`.
 //
 // Addresses: it binds `bind` (default 127.0.0.1:14580) and sends to `send_to` (default
 // 127.0.0.1:14550, where QGroundControl listens) and to every address a good frame came from

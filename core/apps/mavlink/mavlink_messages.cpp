@@ -65,6 +65,7 @@ const std::vector<MessageDef>& known_messages() {
   static const std::vector<MessageDef> table = {
       {"HEARTBEAT", HEARTBEAT, 50, 9},
       {"SYS_STATUS", SYS_STATUS, 124, 43},
+      {"SYSTEM_TIME", SYSTEM_TIME, 137, 12},
       {"PARAM_REQUEST_READ", PARAM_REQUEST_READ, 214, 20},
       {"PARAM_REQUEST_LIST", PARAM_REQUEST_LIST, 159, 2},
       {"PARAM_VALUE", PARAM_VALUE, 220, 25},
@@ -72,8 +73,13 @@ const std::vector<MessageDef>& known_messages() {
       {"GPS_RAW_INT", GPS_RAW_INT, 24, 52},
       {"ATTITUDE", ATTITUDE, 39, 28},
       {"GLOBAL_POSITION_INT", GLOBAL_POSITION_INT, 104, 28},
+      {"MISSION_CURRENT", MISSION_CURRENT, 28, 18},
+      {"NAV_CONTROLLER_OUTPUT", NAV_CONTROLLER_OUTPUT, 183, 26},
       {"VFR_HUD", VFR_HUD, 20, 20},
+      {"TIMESYNC", TIMESYNC, 34, 18},
+      {"WIND_COV", WIND_COV, 105, 40},
       {"HOME_POSITION", HOME_POSITION, 104, 60},
+      {"EXTENDED_SYS_STATE", EXTENDED_SYS_STATE, 130, 2},
       {"STATUSTEXT", STATUSTEXT, 83, 54},
   };
   return table;
@@ -148,6 +154,48 @@ std::vector<std::uint8_t> encode(const StatusText& m) {
   return Writer(STATUSTEXT).put(m.severity).text(m.text.substr(0, 50), 50).put(m.id).put(m.chunk_seq).done();
 }
 
+std::vector<std::uint8_t> encode(const SystemTime& m) { return Writer(SYSTEM_TIME).put(m.time_unix_usec).put(m.time_boot_ms).done(); }
+
+std::vector<std::uint8_t> encode(const MissionCurrent& m) {
+  // extensions: mission_state, mission_mode, then the plan ids (0: not supported)
+  return Writer(MISSION_CURRENT).put(m.seq).put(m.total).put(m.mission_state).put(m.mission_mode).done();
+}
+
+std::vector<std::uint8_t> encode(const NavControllerOutput& m) {
+  return Writer(NAV_CONTROLLER_OUTPUT)
+      .put(m.nav_roll)
+      .put(m.nav_pitch)
+      .put(m.alt_error)
+      .put(m.aspd_error)
+      .put(m.xtrack_error)
+      .put(m.nav_bearing)
+      .put(m.target_bearing)
+      .put(m.wp_dist)
+      .done();
+}
+
+std::vector<std::uint8_t> encode(const Timesync& m) {
+  return Writer(TIMESYNC).put(m.tc1).put(m.ts1).put(m.target_system).put(m.target_component).done();
+}
+
+std::vector<std::uint8_t> encode(const WindCov& m) {
+  return Writer(WIND_COV)
+      .put(m.time_usec)
+      .put(m.wind_x)
+      .put(m.wind_y)
+      .put(m.wind_z)
+      .put(m.var_horiz)
+      .put(m.var_vert)
+      .put(m.wind_alt)
+      .put(m.horiz_accuracy)
+      .put(m.vert_accuracy)
+      .done();
+}
+
+std::vector<std::uint8_t> encode(const ExtendedSysState& m) {
+  return Writer(EXTENDED_SYS_STATE).put(m.vtol_state).put(m.landed_state).done();
+}
+
 std::vector<StatusText> statustext_chunks(std::uint8_t severity, const std::string& text, std::uint16_t id) {
   if (text.size() <= 50) return {StatusText{severity, text, 0, 0}};
   std::vector<StatusText> out;
@@ -218,6 +266,16 @@ ParamValueMsg decode_param_value(const std::vector<std::uint8_t>& p) {
   m.param_index = r.get<std::uint16_t>();
   m.param_id = r.text(16);
   m.param_type = r.get<std::uint8_t>();
+  return m;
+}
+
+Timesync decode_timesync(const std::vector<std::uint8_t>& p) {
+  Reader r(p);
+  Timesync m;
+  m.tc1 = r.get<std::int64_t>();
+  m.ts1 = r.get<std::int64_t>();
+  m.target_system = r.get<std::uint8_t>();
+  m.target_component = r.get<std::uint8_t>();
   return m;
 }
 

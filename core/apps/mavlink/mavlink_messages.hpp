@@ -19,9 +19,10 @@
 namespace tern::core::mavlink {
 
 // Message ids (common.xml)
-inline constexpr std::uint32_t HEARTBEAT = 0, SYS_STATUS = 1, PARAM_REQUEST_READ = 20, PARAM_REQUEST_LIST = 21, PARAM_VALUE = 22,
-                               PARAM_SET = 23, GPS_RAW_INT = 24, ATTITUDE = 30, GLOBAL_POSITION_INT = 33, VFR_HUD = 74, HOME_POSITION = 242,
-                               STATUSTEXT = 253;
+inline constexpr std::uint32_t HEARTBEAT = 0, SYS_STATUS = 1, SYSTEM_TIME = 2, PARAM_REQUEST_READ = 20, PARAM_REQUEST_LIST = 21,
+                               PARAM_VALUE = 22, PARAM_SET = 23, GPS_RAW_INT = 24, ATTITUDE = 30, GLOBAL_POSITION_INT = 33,
+                               MISSION_CURRENT = 42, NAV_CONTROLLER_OUTPUT = 62, VFR_HUD = 74, TIMESYNC = 111, WIND_COV = 231,
+                               HOME_POSITION = 242, EXTENDED_SYS_STATE = 245, STATUSTEXT = 253;
 
 // Enums (common.xml / minimal.xml), the values tern uses; checked against the XML's by the unit test
 // (tests/mavlink/enums_common.txt, from crc_extra_from_xml.py --entries)
@@ -36,6 +37,11 @@ inline constexpr std::uint8_t MAV_PARAM_TYPE_UINT8 = 1, MAV_PARAM_TYPE_INT32 = 6
 inline constexpr std::uint8_t MAV_SEVERITY_CRITICAL = 2, MAV_SEVERITY_ERROR = 3, MAV_SEVERITY_WARNING = 4, MAV_SEVERITY_NOTICE = 5,
                               MAV_SEVERITY_INFO = 6;
 inline constexpr std::uint8_t GPS_FIX_TYPE_NO_GPS = 0, GPS_FIX_TYPE_NO_FIX = 1, GPS_FIX_TYPE_2D_FIX = 2, GPS_FIX_TYPE_3D_FIX = 3;
+inline constexpr std::uint8_t MAV_LANDED_STATE_UNDEFINED = 0, MAV_LANDED_STATE_ON_GROUND = 1, MAV_LANDED_STATE_IN_AIR = 2,
+                              MAV_LANDED_STATE_TAKEOFF = 3, MAV_LANDED_STATE_LANDING = 4;
+inline constexpr std::uint8_t MAV_VTOL_STATE_UNDEFINED = 0;
+inline constexpr std::uint8_t MISSION_STATE_UNKNOWN = 0, MISSION_STATE_NO_MISSION = 1, MISSION_STATE_NOT_STARTED = 2,
+                              MISSION_STATE_ACTIVE = 3, MISSION_STATE_COMPLETE = 5;
 // MAV_SYS_STATUS_SENSOR bits
 inline constexpr std::uint32_t MAV_SYS_STATUS_SENSOR_3D_GYRO = 1, MAV_SYS_STATUS_SENSOR_3D_ACCEL = 2, MAV_SYS_STATUS_SENSOR_3D_MAG = 4,
                                MAV_SYS_STATUS_SENSOR_ABSOLUTE_PRESSURE = 8, MAV_SYS_STATUS_SENSOR_DIFFERENTIAL_PRESSURE = 16,
@@ -101,6 +107,39 @@ struct HomePosition {
   std::array<float, 4> q{1, 0, 0, 0};
   float approach_x = 0, approach_y = 0, approach_z = 0;
 };
+/// SYSTEM_TIME (2): UNIX time (us; 0: unknown) and time since boot (ms).
+struct SystemTime {
+  std::uint64_t time_unix_usec = 0;
+  std::uint32_t time_boot_ms = 0;
+};
+/// MISSION_CURRENT (42): the item flown to, the items on the vehicle (UINT16_MAX: unknown), the
+/// mission's state (MISSION_STATE) and mode (0 unknown, 1 in mission, 2 suspended); ids 0: none.
+struct MissionCurrent {
+  std::uint16_t seq = 0, total = UINT16_MAX;
+  std::uint8_t mission_state = MISSION_STATE_UNKNOWN, mission_mode = 0;
+};
+/// NAV_CONTROLLER_OUTPUT (62): deg, deg, m, m/s, m; bearings deg; wp_dist m.
+struct NavControllerOutput {
+  float nav_roll = 0, nav_pitch = 0, alt_error = 0, aspd_error = 0, xtrack_error = 0;
+  std::int16_t nav_bearing = 0, target_bearing = 0;
+  std::uint16_t wp_dist = 0;
+};
+/// TIMESYNC (111): a request has tc1 0; the answer carries the responder's time in tc1 and the
+/// request's ts1, addressed to the requester (ns).
+struct Timesync {
+  std::int64_t tc1 = 0, ts1 = 0;
+  std::uint8_t target_system = 0, target_component = 0;
+};
+/// WIND_COV (231): wind NED (m/s, NaN unknown), variability 1-STD (m/s, NaN unknown), altitude
+/// MSL (m), accuracies 1-STD (m/s, 0 unknown); time_usec since boot.
+struct WindCov {
+  std::uint64_t time_usec = 0;
+  float wind_x = 0, wind_y = 0, wind_z = 0, var_horiz = 0, var_vert = 0, wind_alt = 0, horiz_accuracy = 0, vert_accuracy = 0;
+};
+/// EXTENDED_SYS_STATE (245): MAV_VTOL_STATE, MAV_LANDED_STATE.
+struct ExtendedSysState {
+  std::uint8_t vtol_state = MAV_VTOL_STATE_UNDEFINED, landed_state = MAV_LANDED_STATE_UNDEFINED;
+};
 /// PARAM_VALUE (22)
 struct ParamValueMsg {
   std::string param_id;  ///< up to 16 chars
@@ -149,11 +188,18 @@ std::vector<std::uint8_t> encode(const StatusText& m);
 std::vector<std::uint8_t> encode(const ParamRequestRead& m);
 std::vector<std::uint8_t> encode(const ParamRequestList& m);
 std::vector<std::uint8_t> encode(const ParamSet& m);
+std::vector<std::uint8_t> encode(const SystemTime& m);
+std::vector<std::uint8_t> encode(const MissionCurrent& m);
+std::vector<std::uint8_t> encode(const NavControllerOutput& m);
+std::vector<std::uint8_t> encode(const Timesync& m);
+std::vector<std::uint8_t> encode(const WindCov& m);
+std::vector<std::uint8_t> encode(const ExtendedSysState& m);
 
 Heartbeat decode_heartbeat(const std::vector<std::uint8_t>& p);
 ParamRequestRead decode_param_request_read(const std::vector<std::uint8_t>& p);
 ParamRequestList decode_param_request_list(const std::vector<std::uint8_t>& p);
 ParamSet decode_param_set(const std::vector<std::uint8_t>& p);
 ParamValueMsg decode_param_value(const std::vector<std::uint8_t>& p);
+Timesync decode_timesync(const std::vector<std::uint8_t>& p);
 
 }  // namespace tern::core::mavlink

@@ -344,7 +344,7 @@ bool Host::begin_flight() {
   router_.start_flight();
   failsafes_.start_flight(config_.failsafes, graph_);
   f.status = std::make_unique<StatusLine>(graph_, options_.progress);
-  f.clock = std::make_unique<Scheduler>(base_period_, from_seconds(f.duration), options_.realtime);
+  f.clock = std::make_unique<Scheduler>(base_period_, from_seconds(f.duration), options_.realtime, options_.rt.speed);
   start_to_first_tick_ms_ = static_cast<double>(f.clock->wall_start() - created_ns_) * 1e-6;
   flight_start_ms_ = static_cast<double>(f.clock->wall_start() - fly_entry) * 1e-6;
   watchdog_.arm(

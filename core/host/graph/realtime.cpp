@@ -63,8 +63,9 @@ std::string apply_realtime(const RealtimeOptions& o) {
 }
 
 std::string describe(const RealtimeOptions& o) {
-  return fmt::format("{}, {}, memory {}", o.priority != 0 ? fmt::format("SCHED_FIFO {}", o.priority) : std::string("SCHED_OTHER"),
-                     o.cpu >= 0 ? fmt::format("CPU {}", o.cpu) : std::string("any CPU"), o.lock_memory ? "locked" : "not locked");
+  return fmt::format("{}, {}, memory {}{}", o.priority != 0 ? fmt::format("SCHED_FIFO {}", o.priority) : std::string("SCHED_OTHER"),
+                     o.cpu >= 0 ? fmt::format("CPU {}", o.cpu) : std::string("any CPU"), o.lock_memory ? "locked" : "not locked",
+                     o.speed != 1.0 ? fmt::format(", {:g}x wall time", o.speed) : std::string());
 }
 
 void RealtimeStats::begin(std::int64_t now) {

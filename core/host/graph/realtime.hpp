@@ -29,6 +29,10 @@ struct RealtimeOptions {
   int priority = 0;          ///< SCHED_FIFO priority, 1..99; 0: the default scheduler (SCHED_OTHER)
   int cpu = -1;              ///< the one CPU the flight thread runs on; -1: any
   bool lock_memory = false;  ///< mlockall(MCL_CURRENT | MCL_FUTURE): no page of the process is paged out
+  /// Flight time per wall time, (0, 1000]: 1 real time, 10 ten times faster (PX4's
+  /// PX4_SIM_SPEED_FACTOR); ticks are paced to `speed` times wall time.
+  double speed = 1.0;
+  /// Any of the thread's settings (not the speed) is asked for.
   bool any() const { return priority != 0 || cpu >= 0 || lock_memory; }
 };
 

@@ -160,8 +160,8 @@ Rates resolve_rates(std::optional<double> base_rate, const YAML::Node& base_rate
 
 // ---- the clock of a flight --------------------------------------------------------------------
 
-Scheduler::Scheduler(Nanos base_period, Nanos end, bool realtime)
-    : period_(base_period), end_(end), realtime_(realtime), wall0_(wall_ns()), cpu0_(thread_cpu_ns()) {
+Scheduler::Scheduler(Nanos base_period, Nanos end, bool realtime, double speed)
+    : period_(base_period), end_(end), realtime_(realtime), speed_(speed), wall0_(wall_ns()), cpu0_(thread_cpu_ns()) {
   if (!realtime_) return;
   // a paced thread's sleeps end on time: no timer slack (Linux's default 50 us, added to every
   // wake-up of a SCHED_OTHER thread; SCHED_FIFO threads have none)
@@ -213,7 +213,8 @@ std::string Scheduler::step(Plugin& plugin, StepStats& stats) {
 
 void Scheduler::pace() {
   if (!realtime_) return;
-  const std::int64_t deadline = wall0_ + now_ + period_;
+  const std::int64_t deadline =
+      wall0_ + (speed_ == 1.0 ? now_ + period_ : static_cast<std::int64_t>(std::llround(static_cast<double>(now_ + period_) / speed_)));
   if (rt_->work_done(wall_ns(), deadline)) return;  // late: no sleep
   // wall_ns() is the steady clock, CLOCK_MONOTONIC on Linux: sleep to the deadline itself
   timespec ts{};

@@ -9,8 +9,8 @@
 // Step times are wall clock (the CPU's invariant TSC where there is one, else steady_clock)
 // and never reach the deterministic log: timing.json and the console summary only. A step
 // longer than its budget (the instance's period; `budget_us` in the config) is an overrun.
-// With `realtime` the flight is paced: tick k does not end before k * base_period + one period
-// of wall time after the first tick.
+// With `realtime` the flight is paced: tick k does not end before (k + 1) * base_period / speed
+// of wall time after the first tick (speed 1: real time).
 #pragma once
 
 #include <array>
@@ -75,8 +75,8 @@ class RealtimeStats;
 class Scheduler {
  public:
   /// Ticks every `base_period` from t = 0 to `end` (ns, inclusive); `realtime`: paced to wall
-  /// time. Starts the wall and CPU stopwatches.
-  Scheduler(Nanos base_period, Nanos end, bool realtime);
+  /// time, flight time running `speed` (> 0) times as fast. Starts the wall and CPU stopwatches.
+  Scheduler(Nanos base_period, Nanos end, bool realtime, double speed = 1.0);
   ~Scheduler();
 
   /// Starts the next tick. False when the flight is over: past its end (end_reason()
@@ -115,6 +115,7 @@ class Scheduler {
  private:
   Nanos period_, end_;
   bool realtime_;
+  double speed_;  ///< flight time per wall time when realtime_
   std::int64_t tick_ = -1;
   Nanos now_ = 0;
   std::string end_reason_;

@@ -64,8 +64,8 @@ struct State {
   /// mounting uncertainty), down position by the uncertainty of the barometer's calibration
   /// datum (the origin, a GNSS fix).
   std::array<double, 21> P_diag{};
-  /// First index of each 3-vector block of P_diag (estimator_ekf's layout above).
-  static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6, P_gyro_bias = 9;
+  /// First index of each block of P_diag (estimator_ekf's layout above; P_wind: north, east).
+  static constexpr std::size_t P_position = 0, P_velocity = 3, P_attitude = 6, P_gyro_bias = 9, P_wind = 15;
 
   double altitude() const { return -p_d; }  ///< height above the origin, m
 
