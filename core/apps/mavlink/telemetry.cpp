@@ -87,8 +87,8 @@ SysStatus sys_status(const Snapshot& s, const std::set<std::string>& topics, con
     if (!s.has_state || !s.state.valid) unhealthy |= MAV_SYS_STATUS_AHRS;
   }
   if (has("actuators"))
-    present |= MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL | MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION | MAV_SYS_STATUS_SENSOR_YAW_POSITION |
-               MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL;
+    present |= MAV_SYS_STATUS_SENSOR_ANGULAR_RATE_CONTROL | MAV_SYS_STATUS_SENSOR_ATTITUDE_STABILIZATION |
+               MAV_SYS_STATUS_SENSOR_YAW_POSITION | MAV_SYS_STATUS_SENSOR_Z_ALTITUDE_CONTROL | MAV_SYS_STATUS_SENSOR_XY_POSITION_CONTROL;
   if (has("rc")) {
     present |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
     if (s.has_rc && s.rc.failsafe) unhealthy |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
@@ -194,7 +194,8 @@ std::optional<MissionCurrent> mission_current(const Snapshot& s) {
   if (!s.mission_items) return std::nullopt;
   MissionCurrent m;
   m.total = static_cast<std::uint16_t>(std::min<std::uint32_t>(*s.mission_items, UINT16_MAX - 1));
-  if (s.has_path && s.path.waypoint_index >= 0) m.seq = static_cast<std::uint16_t>(std::min<std::int32_t>(s.path.waypoint_index, UINT16_MAX));
+  if (s.has_path && s.path.waypoint_index >= 0)
+    m.seq = static_cast<std::uint16_t>(std::min<std::int32_t>(s.path.waypoint_index, UINT16_MAX));
   if (*s.mission_items == 0)
     m.mission_state = MISSION_STATE_NO_MISSION;
   else if (!s.has_phase)

@@ -52,8 +52,8 @@ TEST_CASE("NAV_CONTROLLER_OUTPUT: commands less the estimate, the path's lateral
   CHECK(m->alt_error == doctest::Approx(5.0));
   CHECK(m->aspd_error == doctest::Approx(1.0));
   CHECK(m->xtrack_error == doctest::Approx(-10.0));  // north of a line flown east: left of it
-  CHECK(m->wp_dist == 300);                           // hypot(10, 300) rounds to 300
-  CHECK(m->target_bearing == 91);                     // a little south of east, whole degrees
+  CHECK(m->wp_dist == 300);                          // hypot(10, 300) rounds to 300
+  CHECK(m->target_bearing == 91);                    // a little south of east, whole degrees
 
   s.command.override_phi = true;
   s.command.phi_c = -20.0 * kRadPerDeg;
