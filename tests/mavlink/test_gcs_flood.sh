@@ -4,7 +4,9 @@
 #   2. with --gcs while a flood of random and malformed datagrams (random bytes, half of them
 #      starting with MAVLink 2's 0xFD) hits the vehicle's port,
 # write byte-identical tables (topics/*.csv, params.csv) and summary.json; the endpoint counts the
-# flood as dropped and tern ends normally. What only describes the host's run (timing.json,
+# flood as dropped, a ground station's port gets the telemetry (HEARTBEAT, ATTITUDE,
+# GLOBAL_POSITION_INT frames) and tern ends normally. Any mission: the simulator's, or the real
+# firmware's through fcu_serial (default_sil.yaml). What only describes the host's run (timing.json,
 # tern.log) is not compared.
 #
 # usage: test_gcs_flood.sh TERN CONFIG DURATION_S PYTHON3 (a DURATION_S that takes a few seconds of
@@ -13,9 +15,10 @@ set -euo pipefail
 tern=$1 config=$2 duration=$3 python=$4
 
 work=$(mktemp -d "${TMPDIR:-/tmp}/tern-gcs-flood-XXXXXX")
-flooder=
+flooder= listener=
 cleanup() {
   [ -n "$flooder" ] && kill "$flooder" 2>/dev/null || true
+  [ -n "$listener" ] && kill "$listener" 2>/dev/null || true
   rm -rf "$work"
 }
 trap cleanup EXIT
@@ -42,6 +45,25 @@ while True:
     n += 1
 PY
 flooder=$!
+# the ground station: counts the frames of each message id it gets, written when it is stopped
+"$python" - "$gcs_port" "$work/gcs_frames" <<'PY' &
+import collections, signal, socket, sys
+s = socket.socket(socket.AF_INET, socket.SOCK_DGRAM)
+s.bind(("127.0.0.1", int(sys.argv[1])))
+seen = collections.Counter()
+def done(*_):
+    with open(sys.argv[2], "w") as f:
+        f.write(" ".join(f"{k}:{v}" for k, v in sorted(seen.items())) + "\n")
+    sys.exit(0)
+signal.signal(signal.SIGTERM, done)
+while True:
+    d = s.recv(65536)
+    i = 0
+    while i + 12 <= len(d) and d[i] == 0xFD:  # MAVLink 2 frames: 10-byte header, payload, CRC
+        seen[d[i + 7] | d[i + 8] << 8 | d[i + 9] << 16] += 1
+        i += 12 + d[i + 1] + (13 if d[i + 2] & 1 else 0)
+PY
+listener=$!
 for _ in $(seq 100); do [ -e "$work/flooding" ] && break; sleep 0.1; done
 [ -e "$work/flooding" ] || { echo "FAIL: the flood did not start"; exit 1; }
 # a flight that does not end (the endpoint's thread not joining) fails here, named, well inside
@@ -51,10 +73,16 @@ timeout 120 "$tern" fly "$config" --seed 7 --duration "$duration" --log-dir "$wo
   --gcs "127.0.0.1:$gcs_port" --gcs-bind "127.0.0.1:$vehicle_port" >"$work/gcs.out" || rc=$?
 [ "$rc" -ne 124 ] || { cat "$work/gcs.out"; echo "FAIL: tern fly --gcs under the flood did not end within 120 s"; exit 1; }
 [ "$rc" -eq 0 ] || { cat "$work/gcs.out"; echo "FAIL: tern fly --gcs under the flood exited $rc"; exit 1; }
-kill "$flooder"
+kill "$flooder" "$listener"
 wait "$flooder" 2>/dev/null || true
-flooder=
+wait "$listener" 2>/dev/null || true
+flooder= listener=
 cat "$work/gcs.out"
+frames=$(cat "$work/gcs_frames" 2>/dev/null || true)
+echo "the ground station got (message id:frames): $frames"
+for id in 0 30 33; do  # HEARTBEAT, ATTITUDE, GLOBAL_POSITION_INT
+  [[ " $frames" == *" $id:"* ]] || { echo "FAIL: the ground station got no message $id"; exit 1; }
+done
 
 grep -q "^mavlink: udp 127.0.0.1:$vehicle_port -> 127.0.0.1:$gcs_port" "$work/gcs.out" || { echo "FAIL: no endpoint line"; exit 1; }
 datagrams=$(sed -n 's/^mavlink: \([0-9]*\) datagrams, \([0-9]*\) frames.*/\1 \2/p' "$work/gcs.out")

@@ -163,5 +163,11 @@ function(tern_fcu_serial_add_sil_tests)
              COMMAND bash ${CMAKE_SOURCE_DIR}/tests/test_served_flights.sh $<TARGET_FILE:tern>
                      ${CMAKE_SOURCE_DIR}/configs/missions/default_sil.yaml 150 ekf estimator_ekf)
     set_tests_properties(served_flights_default_sil PROPERTIES TIMEOUT 300)
+    # the MAVLink ground-station endpoint through the firmware (issue 64): telemetry, a flood
+    # dropped, the flight byte-identical to one without --gcs (tests/mavlink/test_gcs_flood.sh)
+    add_test(NAME mavlink_flood_sil
+             COMMAND bash ${CMAKE_SOURCE_DIR}/tests/mavlink/test_gcs_flood.sh $<TARGET_FILE:tern>
+                     ${CMAKE_SOURCE_DIR}/configs/missions/default_sil.yaml 150 ${TERN_FCU_SERIAL_PYTHON})
+    set_tests_properties(mavlink_flood_sil PROPERTIES TIMEOUT 300)
   endif()
 endfunction()
