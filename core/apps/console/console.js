@@ -1,6 +1,7 @@
 // tern flight console: the page's side of core/apps/console (console_commands.hpp lists the
 // requests, telemetry.hpp the frames). One WebSocket to tern; charts with uPlot; the ground
-// track and attitude on plain canvases; sticks from the keyboard or the browser Gamepad API.
+// track and attitude on plain canvases; the 3-D view with view3d.js (the scene of tern plot's
+// replay); sticks from the keyboard or the browser Gamepad API.
 "use strict";
 
 const DEG = 180 / Math.PI;
@@ -65,6 +66,7 @@ function redraw() {
   for (const c of Object.values(charts)) if (c.dirty) { c.plot.setData(c.data); c.dirty = false; }
   drawTrack();
   drawAttitude();
+  if (live3d.view && live3d.view.dirty) live3d.view.render();
   requestAnimationFrame(redraw);
 }
 requestAnimationFrame(redraw);
@@ -86,6 +88,7 @@ function onTelemetry(m) {
     if (t.trail.length > 25 * 600) t.trail.shift();
     t.last = v;
   }
+  update3d(m);
   $("t").textContent = m.t.toFixed(1);
   $("phase").textContent = m.phase || "–";
   const s = m.safety || {};
@@ -103,6 +106,50 @@ function onTelemetry(m) {
     $("r_theta").textContent = (m.state.theta * DEG).toFixed(1);
     $("r_chi").textContent = (m.state.chi * DEG).toFixed(0);
   }
+}
+
+// ---- 3-D view: the estimate, its track, the commanded path and attitude, the wind, traffic ----
+const live3d = { view: null, revision: null };
+state.view3d = live3d;
+function start3d(h) {
+  if (!window.TernView3D) { $("view3d_note").textContent = "view3d.js did not load: no 3-D view"; return; }
+  let dims = h.aircraft;
+  if (!dims || dims.error) {
+    const span = 1;  // m: said on the page
+    $("view3d_note").textContent = `aircraft: ${dims ? dims.error : "the mission names no aircraft file"}: the model drawn ${span} m across`;
+    dims = { b: span, c: span / 8, nose: 0.3 * span, tail: 0.5 * span };
+  }
+  live3d.view = new TernView3D.View3D($("view3d_live"), { extent: 1000, center: [0, 0, 0] });
+  live3d.view.addVehicle(h.mission, "#c0392b", dims, 25 * 600);
+  live3d.view.setFreeScale();
+  live3d.view.setFollow($("follow3d").checked);
+  $("follow3d").onchange = () => live3d.view.setFollow($("follow3d").checked);
+}
+function update3d(m) {
+  const view = live3d.view;
+  if (!view) return;
+  const me = view.vehicles[0], s = m.state;
+  if (m.waypoints && m.waypoints_revision !== live3d.revision && m.waypoints.items.length) {
+    live3d.revision = m.waypoints_revision;  // the scene sized to the waypoints and home
+    const pts = m.waypoints.items.concat([[0, 0, 0]]);
+    const lo = [0, 1].map((i) => Math.min(...pts.map((p) => p[i]))), hi = [0, 1].map((i) => Math.max(...pts.map((p) => p[i])));
+    view.setExtent(1.2 * Math.max(hi[0] - lo[0], hi[1] - lo[1], 100), [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, 0]);
+    view.setFreeScale();
+    view.setStatics({ waypoints: m.waypoints.items, home: [0, 0, 0] });
+  }
+  if (s) {
+    me.estimate.push(s.p_n, s.p_e, s.p_d);
+    me.pose([s.p_n, s.p_e, s.p_d], [s.phi, s.theta, s.psi], m.internals ? [m.internals.phi_c, m.internals.theta_c] : null);
+    view.setWind(s.w || [NaN, NaN, NaN], 1);
+  }
+  me.setPath(m.path || null);
+  for (const v of m.traffic || []) {
+    let o = view.vehicles.find((x) => x.name === v.name);
+    if (!o) { o = view.addVehicle(v.name, state.traffic[v.name].colour, me.dims, 25 * 600); o.scale(view.follow ? 1 : view.freeScale); }
+    o.estimate.push(v.p_n, v.p_e, -v.h);
+    o.pose([v.p_n, v.p_e, -v.h], [0, 0, v.psi], null);  // traffic: position and heading only
+  }
+  view.dirty = true;
 }
 
 // ---- ground track and attitude ----------------------------------------------------------------
@@ -163,6 +210,7 @@ function drawAttitude() {
 // ---- parameters: one control per ParamSpec ----------------------------------------------------
 function onHello(h) {
   state.hello = h;
+  start3d(h);
   $("mission").textContent = h.mission;
   const gens = new Set((h.instances || []).filter((i) => i.plugin === "signal_generator").map((i) => i.name));
   const groups = {};

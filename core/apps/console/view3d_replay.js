@@ -71,7 +71,7 @@ export function startReplay(root, data) {
   view.setFreeScale();
   view.setFollow(false);
 
-  const st = { t: data.t0, playing: false, view, fps: 0, where: [] };
+  const st = { t: data.t0, playing: false, view, fps: 0, where: [], firstFrameMs: 0, speed };
   window.ternView3d = st;
   function show(t) {
     st.t = Math.min(data.t1, Math.max(data.t0, t));
@@ -121,6 +121,7 @@ export function startReplay(root, data) {
     last = now;
     if (view.dirty || st.playing) {
       view.render();
+      if (!st.firstFrameMs) st.firstFrameMs = performance.now();  // ms since the page's navigation began
       st.where = view.vehicles.map((_, k) => view.where(k));
       fpsFrames += 1;
     }
