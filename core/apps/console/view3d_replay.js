@@ -71,7 +71,7 @@ export function startReplay(root, data) {
   view.setFreeScale();
   view.setFollow(false);
 
-  const st = { t: data.t0, playing: false, view, fps: 0, where: [], firstFrameMs: 0, speed };
+  const st = { t: data.t0, drawnT: null, playing: false, view, fps: 0, where: [], firstFrameMs: 0, speed };
   window.ternView3d = st;
   function show(t) {
     st.t = Math.min(data.t1, Math.max(data.t0, t));
@@ -123,6 +123,7 @@ export function startReplay(root, data) {
       view.render();
       if (!st.firstFrameMs) st.firstFrameMs = performance.now();  // ms since the page's navigation began
       st.where = view.vehicles.map((_, k) => view.where(k));
+      st.drawnT = st.t;  // the time the canvas shows
       fpsFrames += 1;
     }
     if (now - fpsSince >= 1000) { st.fps = (1000 * fpsFrames) / (now - fpsSince); fpsFrames = 0; fpsSince = now; }

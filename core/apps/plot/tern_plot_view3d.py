@@ -227,7 +227,7 @@ def write_view3d(out_dir, vehicles, waypoints, home, runway, missing):
     src = bundle_path()
     esc = html.escape
     if src is None:
-        return ('<p class="warning">3-D replay not written: view3d.js is not installed (make deps runs npm ci in '
+        return ('<p class="hint">3-D replay not written: view3d.js is not installed (make deps runs npm ci in '
                 "core/apps/console, then rebuild)</p>")
     t = [x for v in vehicles for s in (v["truth"], v["state"]) if s for x in (s["t"][0], s["t"][-1])]
     extent, center = scene_box(vehicles, waypoints)
