@@ -179,7 +179,7 @@ export class View3D {
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color("#dfe8f0");
     this.scene.add(new THREE.HemisphereLight("#ffffff", "#6b7a5a", 2.2), new THREE.AmbientLight("#ffffff", 0.4));
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     container.appendChild(this.renderer.domElement);
     this.camera = new THREE.PerspectiveCamera(50, 1, 0.5, 50 * this.extent);
