@@ -83,12 +83,13 @@ class Track {
     this.line.frustumCulled = false;
     scene.add(this.line);
   }
-  /// Sets all points (flat NED) at once; shown up to show(k).
+  /// Sets all points (flat NED; null: not logged, drawn at the point before) at once; shown up to show(k).
   set(flat) {
     const n = Math.min(this.capacity, Math.floor(flat.length / 3));
     const v = new THREE.Vector3();
     for (let k = 0; k < n; ++k) {
-      nedToThree(flat[3 * k], flat[3 * k + 1], flat[3 * k + 2], v);
+      const p = flat.slice(3 * k, 3 * k + 3);
+      if (p.every(Number.isFinite)) nedToThree(p[0], p[1], p[2], v);  // else v keeps the point before
       this.positions.set([v.x, v.y, v.z], 3 * k);
     }
     this.count = n;

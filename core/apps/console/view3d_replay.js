@@ -18,19 +18,22 @@ function before(t, x) {
   return lo - 1;
 }
 /// The series' sample at x: flat rows of `width`, linear between rows (angles: along the shorter
-/// arc when `angles`), the first/last row outside; null without rows or with a gap of > 1 s.
+/// arc when `angles`), the first/last row up to 1 s outside; null without rows, further outside,
+/// or where a value is not logged (null: NaN in the log).
 function sample(series, x, field, width, angles = false) {
   if (!series || !series.t.length) return null;
   const t = series.t, v = series[field];
   const k = before(t, x);
   if (k < 0 || k >= t.length - 1) {
     const j = k < 0 ? 0 : t.length - 1;
-    return Math.abs(t[j] - x) > 1 ? null : v.slice(width * j, width * j + width);
+    const row = v.slice(width * j, width * j + width);
+    return Math.abs(t[j] - x) > 1 || row.some((a) => a === null) ? null : row;
   }
   const f = (x - t[k]) / (t[k + 1] - t[k]);
   const out = [];
   for (let i = 0; i < width; ++i) {
     const a = v[width * k + i], b = v[width * (k + 1) + i];
+    if (a === null || b === null) return null;
     let d = b - a;
     if (angles) d = Math.atan2(Math.sin(d), Math.cos(d));
     out.push(a + f * d);

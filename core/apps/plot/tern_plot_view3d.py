@@ -78,7 +78,8 @@ def aircraft_dims(run):
     b, c = wing.get("b", _find(doc, "wing_b")), wing.get("c", _find(doc, "wing_c"))
     if not all(isinstance(x, (int, float)) and math.isfinite(x) and x > 0 for x in (b, c)):
         return None, f"aircraft file {path}: no positive wing span b and chord c"
-    structure = _find(doc, "structure") or {}
+    structure = _find(doc, "structure")
+    structure = structure if isinstance(structure, dict) else {}
     nose, tail = structure.get("nose"), structure.get("tail")
     fwd = float(nose[0]) if isinstance(nose, list) and nose else 0.3 * b
     aft = -float(tail[0]) if isinstance(tail, list) and tail else 0.5 * b
@@ -101,7 +102,7 @@ def _flat(cols, digits):
     return [None if not math.isfinite(x) else float(x) for x in a]
 
 
-def series(topic, fields, to_world):
+def series(topic, to_world):
     """{t, ned, euler} of a State-shaped topic (positions moved by to_world), or None."""
     if topic is None or any(topic.get(f) is None for f in ("p_n", "p_e", "p_d", "phi", "theta", "psi")):
         return None
@@ -170,7 +171,7 @@ def vehicle_data(run, name, colour, to_world):
         span = 1.0  # m: the model drawn 1 m across, said on the page
         dims = {"b": span, "c": span / 8, "nose": 0.3 * span, "tail": 0.5 * span}
         missing.append(f"{why}: the model drawn {span:g} m across")
-    truth, state = series(run["truth"], (), to_world), series(run["state"], (), to_world)
+    truth, state = series(run["truth"], to_world), series(run["state"], to_world)
     if truth is None:
         missing.append("truth (the aircraft drawn at its estimate)" if state is not None else "truth")
     if state is None:
