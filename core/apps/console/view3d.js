@@ -158,8 +158,8 @@ class Vehicle {
         flat.push(p.c[0] + p.rho * Math.cos(a), p.c[1] + p.rho * Math.sin(a), p.c[2]);
       }
     } else if (p.type === "line") {
-      const reach = this.view.extent;  // the line over the whole scene
-      flat.push(...p.r, p.r[0] + reach * p.q[0], p.r[1] + reach * p.q[1], p.r[2] + reach * p.q[2]);
+      const reach = this.view.extent;  // the line through r over the whole scene (below ground: hidden)
+      flat.push(...[-1, 1].flatMap((s) => [0, 1, 2].map((i) => p.r[i] + s * reach * p.q[i])));
     }
     this.path = nedLine(flat, "#d35400");
     this.view.scene.add(this.path);
@@ -171,6 +171,7 @@ class Vehicle {
 }
 
 // ---- the view -----------------------------------------------------------------------------------
+export const SKY = "#dfe8f0", GROUND = "#d5dccb";  // what is drawn differs from both (test_plot_view3d.py)
 /// A 3-D view in `container` (a sized element). opts.extent: the scene's size in m (grid, camera).
 export class View3D {
   constructor(container, opts = {}) {
@@ -178,7 +179,7 @@ export class View3D {
     this.extent = opts.extent || 1000;
     this.center = opts.center || [0, 0, 0];
     this.scene = new THREE.Scene();
-    this.scene.background = new THREE.Color("#dfe8f0");
+    this.scene.background = new THREE.Color(SKY);
     this.scene.add(new THREE.HemisphereLight("#ffffff", "#6b7a5a", 2.2), new THREE.AmbientLight("#ffffff", 0.4));
     this.renderer = new THREE.WebGLRenderer({ antialias: true });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
@@ -208,7 +209,12 @@ export class View3D {
     if (this.grid) this.scene.remove(this.grid);
     const cell = 10 ** Math.floor(Math.log10(extent / 5));  // 5 to 50 cells across
     const cells = Math.ceil(extent / cell);
-    this.grid = new THREE.GridHelper(cells * cell, cells, "#7f8c8d", "#b8c2cc");
+    this.grid = new THREE.Group();
+    const lines = new THREE.GridHelper(cells * cell, cells, "#7f8c8d", "#a9b4a0");
+    const ground = new THREE.Mesh(new THREE.PlaneGeometry(3 * cells * cell, 3 * cells * cell), new THREE.MeshBasicMaterial({ color: GROUND }));
+    ground.rotation.x = -Math.PI / 2;  // the plane into the ground (y up)
+    ground.position.y = -0.05;         // under the grid's lines
+    this.grid.add(ground, lines);
     nedToThree(center[0], center[1], 0, this.grid.position);
     this.scene.add(this.grid);
     this.camera.far = 50 * extent;
@@ -284,7 +290,7 @@ export class View3D {
     const dir = nedToThree(w[0] / speed, w[1] / speed, w[2] / speed);
     this.wind.setDirection(dir);
     const scale = this.follow ? 1 : this.freeScale, len = gain * speed * v.dims.b * scale;
-    this.wind.setLength(len, 0.25 * len, 0.12 * len);
+    this.wind.setLength(len, 0.2 * len, 0.08 * len);
     this.wind.position.copy(v.model.position).add(new THREE.Vector3(0, v.dims.b * scale, 0)).addScaledVector(dir, -len / 2);
   }
   resize() {

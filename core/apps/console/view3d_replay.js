@@ -6,7 +6,7 @@
 // tests and benchmarks.
 import { View3D } from "./view3d.js";
 
-export { View3D, nedToThree, attitudeToThree } from "./view3d.js";
+export { View3D, nedToThree, attitudeToThree, SKY, GROUND } from "./view3d.js";
 
 /// The last index k with t[k] <= x (-1 before the first).
 function before(t, x) {
