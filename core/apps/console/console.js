@@ -66,7 +66,7 @@ function redraw() {
   for (const c of Object.values(charts)) if (c.dirty) { c.plot.setData(c.data); c.dirty = false; }
   drawTrack();
   drawAttitude();
-  if (live3d.view && live3d.view.dirty) live3d.view.render();
+  render3d();
   requestAnimationFrame(redraw);
 }
 requestAnimationFrame(redraw);
@@ -109,17 +109,32 @@ function onTelemetry(m) {
 }
 
 // ---- 3-D view: the estimate, its track, the commanded path and attitude, the wind, traffic ----
-const live3d = { view: null, revision: null };
+const live3d = { view: null, revision: null, next: 0 };
+const VIEW3D_SHARE = 0.2;  // of the page's time at most for the 3-D view (a software renderer is slow)
+const VIEW3D_PERIOD_MS = 200;  // and 5 frames/s at most: the pilot's sticks and the charts come first
+function render3d() {
+  const t0 = performance.now();
+  if (!live3d.view || !live3d.view.dirty || t0 < live3d.next) return;
+  live3d.view.render();
+  const took = performance.now() - t0;
+  live3d.next = t0 + Math.max(VIEW3D_PERIOD_MS, took / VIEW3D_SHARE);
+}
 state.view3d = live3d;
 function start3d(h) {
   if (!window.TernView3D) { $("view3d_note").textContent = "view3d.js did not load: no 3-D view"; return; }
+  if (new URLSearchParams(location.search).get("view3d") === "0") { $("view3d_note").textContent = "3-D view off (view3d=0 in the URL)"; return; }
   let dims = h.aircraft;
   if (!dims || dims.error) {
     const span = 1;  // m: said on the page
     $("view3d_note").textContent = `aircraft: ${dims ? dims.error : "the mission names no aircraft file"}: the model drawn ${span} m across`;
     dims = { b: span, c: span / 8, nose: 0.3 * span, tail: 0.5 * span };
   }
-  live3d.view = new TernView3D.View3D($("view3d_live"), { extent: 1000, center: [0, 0, 0] });
+  try {
+    live3d.view = new TernView3D.View3D($("view3d_live"), { extent: 1000, center: [0, 0, 0], antialias: false });
+  } catch (e) {  // no WebGL in this browser: the rest of the page works without the view
+    $("view3d_note").textContent = `no 3-D view: ${e.message}`;
+    return;
+  }
   live3d.view.addVehicle(h.mission, "#c0392b", dims, 25 * 600);
   live3d.view.setFreeScale();
   live3d.view.setFollow($("follow3d").checked);

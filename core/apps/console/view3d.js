@@ -172,7 +172,8 @@ class Vehicle {
 
 // ---- the view -----------------------------------------------------------------------------------
 export const SKY = "#dfe8f0", GROUND = "#d5dccb";  // what is drawn differs from both (test_plot_view3d.py)
-/// A 3-D view in `container` (a sized element). opts.extent: the scene's size in m (grid, camera).
+/// A 3-D view in `container` (a sized element). opts.extent: the scene's size in m (grid, camera);
+/// opts.antialias: false to spare a software renderer the multisampling (default true).
 export class View3D {
   constructor(container, opts = {}) {
     this.container = container;
@@ -181,7 +182,7 @@ export class View3D {
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(SKY);
     this.scene.add(new THREE.HemisphereLight("#ffffff", "#6b7a5a", 2.2), new THREE.AmbientLight("#ffffff", 0.4));
-    this.renderer = new THREE.WebGLRenderer({ antialias: true });
+    this.renderer = new THREE.WebGLRenderer({ antialias: opts.antialias !== false });
     this.renderer.setPixelRatio(window.devicePixelRatio || 1);
     container.appendChild(this.renderer.domElement);
     this.camera = new THREE.PerspectiveCamera(50, 1, 0.5, 50 * this.extent);
