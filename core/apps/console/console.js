@@ -111,7 +111,7 @@ function onTelemetry(m) {
 // ---- 3-D view: the estimate, its track, the commanded path and attitude, the wind, traffic ----
 const live3d = { view: null, revision: null, next: 0 };
 const VIEW3D_SHARE = 0.2;  // of the page's time at most for the 3-D view (a software renderer is slow)
-const VIEW3D_PERIOD_MS = 200;  // and 5 frames/s at most: the pilot's sticks and the charts come first
+const VIEW3D_PERIOD_MS = 40;   // the telemetry's 25 Hz: drawing more often shows nothing new
 function render3d() {
   const t0 = performance.now();
   if (!live3d.view || !live3d.view.dirty || t0 < live3d.next) return;
