@@ -11,8 +11,9 @@ export CCACHE_BASEDIR ?= $(CURDIR)
 # Every Debian package tern needs to build, test, fly and plot (zstd and zlib: the MCAP flight
 # log; clang-format and git: the format
 # test; chromium, its driver and selenium:
-# the console's browser test; SDL2: the joystick plugin). npm (Debian's, unless one is
-# installed) fetches the console's uPlot and the tests' MCAP readers (@mcap/core, @foxglove/rosmsg...).
+# the console's and the 3-D replay's browser tests; SDL2: the joystick plugin). npm (Debian's, unless
+# one is installed) fetches the console's uPlot and three.js (bundled by esbuild into the 3-D view)
+# and the tests' MCAP readers (@mcap/core, @foxglove/rosmsg...).
 DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   libeigen3-dev libpcg-cpp-dev libboost-dev libboost-filesystem-dev libyaml-cpp-dev libspdlog-dev libfmt-dev \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev libzstd-dev zlib1g-dev \
@@ -28,7 +29,7 @@ FUZZ_SECONDS ?= 60
 
 all: build
 
-# The npm folders: uPlot for the console, Foxglove's MCAP readers and node-mavlink (a ground station)
+# The npm folders: uPlot, three.js and esbuild for the console and tern plot's 3-D replay, Foxglove's MCAP readers and node-mavlink (a ground station)
 # for the tests. `npm ci` runs only when a folder's package-lock.json is newer than what it installed
 # (npm's own copy of the lock in node_modules/.package-lock.json), so that after the first `make fly`
 # tern builds and flies offline.

@@ -182,9 +182,13 @@ TEST_CASE("console telemetry: non-finite values go to the page as null, altitude
   s.has_state = true;
   s.state.p_d = -120.0;
   s.state.phi = std::nan("");
+  s.state.w_n = 3.0;
+  s.state.w_e = -4.0;
   const auto j = to_json(s, true);
   CHECK(j["t"] == 1.5);
   CHECK(j["state"]["h"] == 120.0);
+  CHECK(j["state"]["p_d"] == -120.0);  // the 3-D view's NED
+  CHECK(j["state"]["w"] == nlohmann::json::array({3.0, -4.0, 0.0}));
   CHECK(j["state"]["phi"].is_null());
   CHECK_FALSE(j.contains("actuators"));
   CHECK(j.dump().find("nan") == std::string::npos);

@@ -4,6 +4,8 @@
     test_console.py TERN MISSION [SCREENSHOT.png]
 
 Flies MISSION with `tern fly --realtime --console`, then checks, against the live flight:
+  * the live 3-D view (view3d.js) draws the aircraft where the telemetry puts it (then the page is
+    opened again with view3d=0, without it: see main);
   * requests without the token (or with a wrong one, or another Host) get 403, the page with it 200;
     a WebSocket upgrade without the token gets 403;
   * the page's charts update (telemetry frames arrive, flight time advances, uPlot holds points);
@@ -119,6 +121,15 @@ def wait_for(driver, script, what, timeout=15):
             return v
         time.sleep(0.1)
     raise AssertionError(f"timed out waiting for {what}")
+
+
+def check_view3d(driver):
+    """The live 3-D view (view3d.js) draws the aircraft where the telemetry puts it."""
+    wait_for(driver, "const v = window.ternConsole && window.ternConsole.view3d.view; "
+             "return v && v.frames > 2 && v.where(0) && window.ternConsole.last.state", "the 3-D view drawing the aircraft")
+    w, s = driver.execute_script("const c = window.ternConsole; return [c.view3d.view.where(0), c.last.state]")
+    assert abs(w["ned"][0] - s["p_n"]) < 50 and abs(w["ned"][1] - s["p_e"]) < 50, f"the 3-D view's aircraft at {w['ned']}"
+    print(f"3-D view: the aircraft at NED {[round(x) for x in w['ned']]} m, on the canvas at {[round(x) for x in w['screen']]} px")
 
 
 def check_charts(driver):
@@ -242,6 +253,10 @@ def main():
             proc.kill()
             skip(f"headless Chromium does not start here: {str(e).splitlines()[0]}")
         driver.get(url)
+        check_view3d(driver)
+        # the rest without the 3-D view: compositing a WebGL canvas in software (no GPU here) slows
+        # headless Chromium's input and scripts more than the pilot checks' timing allows
+        driver.get(url + "&view3d=0")
         check_charts(driver)
         name, value = move_slider(driver)
         fly_manual(driver)

@@ -5,12 +5,31 @@
 #include "console/console_commands.hpp"
 #include "config/error.hpp"
 #include "flight/host.hpp"
+#include "tern/aircraft.hpp"
 
 namespace tern::core {
 namespace {
 
 constexpr Nanos kTelemetryPeriod = 40'000'000;  // ns of flight time: 25 Hz to the page
-const char* const kFiles[] = {"index.html", "console.js", "console.css", "uPlot.iife.min.js", "uPlot.min.css"};
+const char* const kFiles[] = {"index.html", "console.js", "console.css", "uPlot.iife.min.js", "uPlot.min.css", "view3d.js"};
+
+/// The 3-D view's aircraft size (view3d.js): span b, chord c, and the gear structure's nose and
+/// tail hard points (m ahead of / behind the CG); null without an aircraft file, {"error": why}
+/// when it does not load (the view says so on the page).
+nlohmann::json aircraft_dims(const Host& host) {
+  if (host.config().aircraft.empty()) return nullptr;
+  try {
+    const Aircraft ac = load_aircraft(host.config().aircraft.string());
+    nlohmann::json d = {{"b", ac.b}, {"c", ac.c}, {"nose", 0.0}, {"tail", 0.0}};
+    for (const auto& [name, p] : ac.gear.structure) {
+      if (name == "nose") d["nose"] = p.x();
+      if (name == "tail") d["tail"] = -p.x();
+    }
+    return d;
+  } catch (const std::exception& e) {
+    return {{"error", e.what()}};
+  }
+}
 
 }  // namespace
 
@@ -24,7 +43,7 @@ std::filesystem::path console_asset_dir() {
   }
   for (const char* f : kFiles)
     if (!std::filesystem::exists(dir / f))
-      throw ConfigError("console: " + (dir / f).string() + " is missing (uPlot comes from npm: run `make deps`, then rebuild)");
+      throw ConfigError("console: " + (dir / f).string() + " is missing (uPlot and three.js come from npm: run `make deps`, then rebuild)");
   return dir;
 }
 
@@ -33,7 +52,8 @@ Console::Console(Host& host, const std::filesystem::path& assets, std::uint16_t 
             {"mission", host.config().name},
             {"params", param_catalogue(host)},
             {"pilot", host.takes_pilot()},
-            {"telemetry_hz", 1e9 / static_cast<double>(kTelemetryPeriod)}};
+            {"telemetry_hz", 1e9 / static_cast<double>(kTelemetryPeriod)},
+            {"aircraft", aircraft_dims(host)}};
   for (const auto& inst : host.instances()) hello_["instances"].push_back({{"name", inst->cfg.name}, {"plugin", inst->info.name}});
   std::vector<std::filesystem::path> files;
   for (const char* f : kFiles) files.push_back(assets / f);

@@ -1,6 +1,7 @@
 // tern flight console: the page's side of core/apps/console (console_commands.hpp lists the
 // requests, telemetry.hpp the frames). One WebSocket to tern; charts with uPlot; the ground
-// track and attitude on plain canvases; sticks from the keyboard or the browser Gamepad API.
+// track and attitude on plain canvases; the 3-D view with view3d.js (the scene of tern plot's
+// replay); sticks from the keyboard or the browser Gamepad API.
 "use strict";
 
 const DEG = 180 / Math.PI;
@@ -65,6 +66,7 @@ function redraw() {
   for (const c of Object.values(charts)) if (c.dirty) { c.plot.setData(c.data); c.dirty = false; }
   drawTrack();
   drawAttitude();
+  render3d();
   requestAnimationFrame(redraw);
 }
 requestAnimationFrame(redraw);
@@ -86,6 +88,7 @@ function onTelemetry(m) {
     if (t.trail.length > 25 * 600) t.trail.shift();
     t.last = v;
   }
+  update3d(m);
   $("t").textContent = m.t.toFixed(1);
   $("phase").textContent = m.phase || "–";
   const s = m.safety || {};
@@ -103,6 +106,65 @@ function onTelemetry(m) {
     $("r_theta").textContent = (m.state.theta * DEG).toFixed(1);
     $("r_chi").textContent = (m.state.chi * DEG).toFixed(0);
   }
+}
+
+// ---- 3-D view: the estimate, its track, the commanded path and attitude, the wind, traffic ----
+const live3d = { view: null, revision: null, next: 0 };
+const VIEW3D_SHARE = 0.2;  // of the page's time at most for the 3-D view (a software renderer is slow)
+const VIEW3D_PERIOD_MS = 40;   // the telemetry's 25 Hz: drawing more often shows nothing new
+function render3d() {
+  const t0 = performance.now();
+  if (!live3d.view || !live3d.view.dirty || t0 < live3d.next) return;
+  live3d.view.render();
+  const took = performance.now() - t0;
+  live3d.next = t0 + Math.max(VIEW3D_PERIOD_MS, took / VIEW3D_SHARE);
+}
+state.view3d = live3d;
+function start3d(h) {
+  if (!window.TernView3D) { $("view3d_note").textContent = "view3d.js did not load: no 3-D view"; return; }
+  if (new URLSearchParams(location.search).get("view3d") === "0") { $("view3d_note").textContent = "3-D view off (view3d=0 in the URL)"; return; }
+  let dims = h.aircraft;
+  if (!dims || dims.error) {
+    const span = 1;  // m: said on the page
+    $("view3d_note").textContent = `aircraft: ${dims ? dims.error : "the mission names no aircraft file"}: the model drawn ${span} m across`;
+    dims = { b: span, c: span / 8, nose: 0.3 * span, tail: 0.5 * span };
+  }
+  try {
+    live3d.view = new TernView3D.View3D($("view3d_live"), { extent: 1000, center: [0, 0, 0], antialias: false });
+  } catch (e) {  // no WebGL in this browser: the rest of the page works without the view
+    $("view3d_note").textContent = `no 3-D view: ${e.message}`;
+    return;
+  }
+  live3d.view.addVehicle(h.mission, "#c0392b", dims, 25 * 600);
+  live3d.view.setFreeScale();
+  live3d.view.setFollow($("follow3d").checked);
+  $("follow3d").onchange = () => live3d.view.setFollow($("follow3d").checked);
+}
+function update3d(m) {
+  const view = live3d.view;
+  if (!view) return;
+  const me = view.vehicles[0], s = m.state;
+  if (m.waypoints && m.waypoints_revision !== live3d.revision && m.waypoints.items.length) {
+    live3d.revision = m.waypoints_revision;  // the scene sized to the waypoints and home
+    const pts = m.waypoints.items.concat([[0, 0, 0]]);
+    const lo = [0, 1].map((i) => Math.min(...pts.map((p) => p[i]))), hi = [0, 1].map((i) => Math.max(...pts.map((p) => p[i])));
+    view.setExtent(1.2 * Math.max(hi[0] - lo[0], hi[1] - lo[1], 100), [(lo[0] + hi[0]) / 2, (lo[1] + hi[1]) / 2, 0]);
+    view.setFreeScale();
+    view.setStatics({ waypoints: m.waypoints.items, home: [0, 0, 0] });
+  }
+  if (s) {
+    me.estimate.push(s.p_n, s.p_e, s.p_d);
+    me.pose([s.p_n, s.p_e, s.p_d], [s.phi, s.theta, s.psi], m.internals ? [m.internals.phi_c, m.internals.theta_c] : null);
+    view.setWind(s.w || [NaN, NaN, NaN], 1);
+  }
+  me.setPath(m.path || null);
+  for (const v of m.traffic || []) {
+    let o = view.vehicles.find((x) => x.name === v.name);
+    if (!o) { o = view.addVehicle(v.name, state.traffic[v.name].colour, me.dims, 25 * 600); o.scale(view.follow ? 1 : view.freeScale); }
+    o.estimate.push(v.p_n, v.p_e, -v.h);
+    o.pose([v.p_n, v.p_e, -v.h], [0, 0, v.psi], null);  // traffic: position and heading only
+  }
+  view.dirty = true;
 }
 
 // ---- ground track and attitude ----------------------------------------------------------------
@@ -163,6 +225,7 @@ function drawAttitude() {
 // ---- parameters: one control per ParamSpec ----------------------------------------------------
 function onHello(h) {
   state.hello = h;
+  start3d(h);
   $("mission").textContent = h.mission;
   const gens = new Set((h.instances || []).filter((i) => i.plugin === "signal_generator").map((i) => i.name));
   const groups = {};

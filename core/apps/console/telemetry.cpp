@@ -59,8 +59,9 @@ nlohmann::json to_json(const Snapshot& s, bool with_waypoints) {
   nlohmann::json j = {{"type", "telemetry"}, {"t", to_seconds(s.t)}};
   if (s.has_state) {
     const auto& x = s.state;
-    j["state"] = {{"p_n", num(x.p_n)}, {"p_e", num(x.p_e)}, {"h", num(-x.p_d)}, {"phi", num(x.phi)}, {"theta", num(x.theta)},
-                  {"psi", num(x.psi)}, {"chi", num(x.chi)}, {"Va", num(x.Va)},  {"Vg", num(x.Vg)},   {"valid", x.valid}};
+    j["state"] = {{"p_n", num(x.p_n)},     {"p_e", num(x.p_e)}, {"h", num(-x.p_d)},  {"phi", num(x.phi)},
+                  {"theta", num(x.theta)}, {"psi", num(x.psi)}, {"chi", num(x.chi)}, {"Va", num(x.Va)},
+                  {"Vg", num(x.Vg)},       {"valid", x.valid},  {"p_d", num(x.p_d)}, {"w", {num(x.w_n), num(x.w_e), num(x.w_d)}}};
   }
   if (s.has_command) j["command"] = {{"Va_c", num(s.command.Va_c)}, {"h_c", num(s.command.h_c)}, {"chi_c", num(s.command.chi_c)}};
   if (s.has_internals) j["internals"] = {{"phi_c", num(s.internals.phi_c)}, {"theta_c", num(s.internals.theta_c)}};

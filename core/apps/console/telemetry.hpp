@@ -54,7 +54,8 @@ struct Snapshot {
 };
 
 /// The snapshot as the page reads it: {"type":"telemetry", "t": s, "state": {...}, ...}, angles
-/// in rad, altitude h = -p_d in m above the origin; waypoints only when `with_waypoints`.
+/// in rad, altitude h = -p_d in m above the origin (p_d too, and the wind w = [w_n, w_e, w_d] in
+/// m/s, for the 3-D view); waypoints only when `with_waypoints`.
 nlohmann::json to_json(const Snapshot& s, bool with_waypoints);
 
 class TelemetryTap {

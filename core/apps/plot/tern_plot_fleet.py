@@ -23,6 +23,7 @@ import numpy as np
 from tern_plot_html import figure_html, fmt_value, html_table, write_page
 from tern_plot_log import note
 from tern_plot_mission import ned_to_ned
+from tern_plot_view3d import VIEW3D_STYLE
 
 
 class FleetError(Exception):
@@ -330,7 +331,7 @@ def write_fleet_index(fleet, vehicles, out):
     body = [f"<p>{esc(fleet_dir)}: {len(vehicles)} vehicles, "
             + ", ".join(f'<a href="#vehicle-{esc(v["name"])}" style="color:{v.get("colour", "#222")}">'
                         f'{esc(v["name"])}</a>' for v in vehicles) + "</p>",
-            "<h2>Figures</h2>", figure_html(out["figures"]), "<h2>Fleet</h2>",
+            out.get("view3d", ""), "<h2>Figures</h2>", figure_html(out["figures"]), "<h2>Fleet</h2>",
             html_table("fleet.json", ["field", "value"], _scalar_rows({k: v for k, v in fleet.items()
                                                                        if not k.startswith("_")}), "fleet")]
     per = summary.get("vehicles") if isinstance(summary.get("vehicles"), dict) else {}
@@ -378,7 +379,7 @@ def write_fleet_index(fleet, vehicles, out):
     figures = out["figures"] + [dict(f, file=os.path.join(v["name"], f["file"]), vehicle=v["name"])
                                 for v in vehicles for f in v["out"]["figures"]]
     out["written"].append(write_page(out["dir"], f"fleet {fleet.get('mission', os.path.basename(fleet_dir))}",
-                                     "\n".join(body), figures, style=THUMBS))
+                                     "\n".join(body), figures, style=THUMBS + VIEW3D_STYLE))
 
 
 THUMBS = """

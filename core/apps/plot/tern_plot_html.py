@@ -7,6 +7,7 @@ import math
 import os
 
 from tern_plot_log import read_replay_report, rmse_window
+from tern_plot_view3d import VIEW3D_STYLE, runs_view3d
 
 # ----------------------------------------------------------------------------------------------
 # index.html: every figure and summary.json's tables, relative image paths (no server needed)
@@ -252,9 +253,10 @@ def write_index(runs, out, differences_html="", param_rows=()):
     body = f"""<ul class="runs">{runs_list}</ul>
 {differences_html}
 {flight_html(first)}
+{runs_view3d(runs, out["dir"])}
 <h2>Figures</h2>
 {figure_html(rest)}
 <h2>Summary</h2>
 {"".join(tables)}
 {"<h2>Replay report</h2>" + "".join(replay) if replay else ""}"""
-    out["written"].append(write_page(out["dir"], " vs ".join(r["label"] for r in runs), body, out["figures"], FLIGHT_STYLE))
+    out["written"].append(write_page(out["dir"], " vs ".join(r["label"] for r in runs), body, out["figures"], FLIGHT_STYLE + VIEW3D_STYLE))

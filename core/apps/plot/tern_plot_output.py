@@ -19,6 +19,7 @@ from tern_plot_log import NOTE_SCOPE, note
 from tern_plot_reference import Overlays
 from tern_plot_track import fig_ground_track
 from tern_plot_usage import fail
+from tern_plot_view3d import fleet_view3d
 
 def figures():
     """[(file, function of (runs, out) returning None or why it was not drawn)]."""
@@ -94,7 +95,9 @@ def plot_fleet(fleet_dir, out_dir):
         vehicles.append({"name": name, "run": runs[0], "out": vout})
     NOTE_SCOPE[0] = ""
     out = make_out_dir(out_dir)
-    Fleet(dict(figure_helpers(), est=est, last_origin=last_origin, RUN_COLOURS=RUN_COLOURS)).draw(fleet, vehicles, out)
+    drawing = Fleet(dict(figure_helpers(), est=est, last_origin=last_origin, RUN_COLOURS=RUN_COLOURS))
+    drawing.draw(fleet, vehicles, out)
+    out["view3d"] = fleet_view3d(vehicles, drawing.origin, out["dir"])
     try:
         write_fleet_index(fleet, vehicles, out)
     except OSError as e:
