@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -14,11 +15,15 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include <boost/asio.hpp>
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
+#include "mavlink/gcs_commands.hpp"
 #include "mavlink/mavlink_messages.hpp"
+#include "mavlink/mission_protocol.hpp"
 #include "mavlink/param_ids.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/msg/all.hpp"
@@ -100,6 +105,17 @@ struct GcsLink::Impl {
     if (ec) throw ConfigError("--gcs-bind " + o.bind + ": cannot bind the MAVLink port: " + ec.message());
     bound = socket.local_endpoint();
     for (const auto& t : host.topics()) topics.insert(t.name);
+    start_mission_and_commands();
+  }
+
+  /// The mission protocol and the commands (mission_protocol.hpp, gcs_commands.hpp), answering through this link.
+  void start_mission_and_commands() {
+    const Outbox out{[this](std::uint32_t id, const std::vector<std::uint8_t>& payload) { send_frame(id, payload); },
+                     [this](std::uint8_t severity, const std::string& text) { say(StatusText{severity, text}); }};
+    const auto dir = std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
+    watch = std::make_unique<FlightWatch>(host);
+    mission = std::make_unique<MissionProtocol>(host, *watch, out, options.system_id, dir);
+    commands = std::make_unique<GcsCommands>(host, *watch, *mission, out, options.system_id);
   }
 
   static std::vector<std::pair<std::string, ParamKind>> numeric_params(const Host& h) {
@@ -209,7 +225,9 @@ struct GcsLink::Impl {
           break;
         }
         case PARAM_SET: on_param_set(decode_param_set(f.payload)); break;
-        default: break;  // HEARTBEAT of a GCS (its address is kept above), our own messages echoed
+        default:  // missions, commands; else a GCS's HEARTBEAT (its address is kept above), our own messages echoed
+          if (!mission->on_frame(f)) commands->on_frame(f);
+          break;
       }
     }
   }
@@ -351,6 +369,7 @@ struct GcsLink::Impl {
     if (s.has_state && s.state.origin_valid && due(next_home, std::chrono::milliseconds(2000), now)) send(home(s));
     for (std::size_t k = 0; k < kParamsPerTick && list_cursor && *list_cursor < table.params().size(); ++k) send_param((*list_cursor)++);
     if (list_cursor && *list_cursor >= table.params().size()) list_cursor.reset();
+    mission->on_tick();
   }
 
   // ---- the messages (the mapping: docs/ground-station.md) ----
@@ -503,6 +522,9 @@ struct GcsLink::Impl {
   std::set<std::string> topics;
   std::thread thread;
   int observer_id = 0;
+  std::unique_ptr<FlightWatch> watch;
+  std::unique_ptr<MissionProtocol> mission;
+  std::unique_ptr<GcsCommands> commands;
 
   // flight thread only
   Nanos next_snapshot = 0;
