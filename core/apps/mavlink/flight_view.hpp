@@ -28,14 +28,14 @@ class Host;
 namespace mavlink {
 
 struct FlightView {
-  bool flying = false;        ///< a flight is running (Host::flying)
-  bool has_state = false;     ///< an estimate with a valid origin was seen (this flight or an earlier one)
-  GeoPoint origin;            ///< the estimate's origin (home): lat, lon deg, alt m MSL
+  bool flying = false;                              ///< a flight is running (Host::flying)
+  bool has_state = false;                           ///< an estimate with a valid origin was seen (this flight or an earlier one)
+  GeoPoint origin;                                  ///< the estimate's origin (home): lat, lon deg, alt m MSL
   Eigen::Vector3d p_ned = Eigen::Vector3d::Zero();  ///< the estimate's position, NED m about origin
   bool has_phase = false;
   msg::Phase phase = msg::Phase::preflight;
-  std::int32_t waypoint_index = -1;  ///< index in `list` of the waypoint flown to (current_path), -1: none
-  std::uint64_t list_seq = 0;        ///< how many lists the planner has published this flight (0: none yet)
+  std::int32_t waypoint_index = -1;               ///< index in `list` of the waypoint flown to (current_path), -1: none
+  std::uint64_t list_seq = 0;                     ///< how many lists the planner has published this flight (0: none yet)
   std::shared_ptr<const msg::WaypointList> list;  ///< the latest (null: none since the link started)
   bool airborne() const {
     return flying && has_phase && phase != msg::Phase::preflight && phase != msg::Phase::stopped && phase != msg::Phase::rollout;
@@ -56,7 +56,7 @@ class FlightWatch {
   void observe(Nanos now);
   Host& host_;
   int id_ = 0;
-  Nanos next_ = 0;             // flight thread
+  Nanos next_ = 0;              // flight thread
   std::uint64_t seen_seq_ = 0;  // flight thread: the `waypoints` sequence copied last
   mutable std::mutex mu_;
   FlightView view_;  // under mu_

@@ -78,9 +78,7 @@ GcsCommands::Result GcsCommands::run(const Command& c) {
     case MAV_CMD_NAV_LOITER_UNLIM: return loiter_at(c, v, "loiter");
     case MAV_CMD_NAV_LAND:
     case MAV_CMD_DO_LAND_START: return land(v);
-    case MAV_CMD_DO_GO_AROUND:
-      try {
-        host_.go_around("mavlink");
+    case MAV_CMD_DO_GO_AROUND: try { host_.go_around("mavlink");
       } catch (const std::exception& e) {
         return {MAV_RESULT_DENIED, e.what()};
       }
@@ -179,7 +177,8 @@ GcsCommands::Result GcsCommands::set_mode(const Command& c, const FlightView& v)
     return {MAV_RESULT_DENIED, "set mode refused: tern's modes are custom modes (HEARTBEAT custom_mode: the phase)"};
   const float custom = c.param[1];
   if (v.has_phase && custom == static_cast<float>(static_cast<int>(v.phase))) return {MAV_RESULT_ACCEPTED, ""};
-  if (custom == static_cast<float>(static_cast<int>(msg::Phase::loiter))) return loiter_at(Command{MAV_CMD_NAV_LOITER_UNLIM, {}, false, 0, 0, NAN}, v, "loiter");
+  if (custom == static_cast<float>(static_cast<int>(msg::Phase::loiter)))
+    return loiter_at(Command{MAV_CMD_NAV_LOITER_UNLIM, {}, false, 0, 0, NAN}, v, "loiter");
   if (custom == static_cast<float>(static_cast<int>(msg::Phase::landing))) return land(v);
   if (custom == static_cast<float>(static_cast<int>(msg::Phase::cruise))) {
     const std::string why = mission_.fly_from(mission_.current_seq().value_or(0));

@@ -111,8 +111,11 @@ struct GcsLink::Impl {
   /// The mission protocol and the commands (mission_protocol.hpp, gcs_commands.hpp), answering through this link.
   void start_mission_and_commands() {
     const Outbox out{[this](std::uint32_t id, const std::vector<std::uint8_t>& payload) { send_frame(id, payload); },
-                     [this](std::uint8_t severity, const std::string& text) { say(StatusText{severity, text}); }};
-    const auto dir = std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
+                     [this](std::uint8_t severity, const std::string& text) {
+                       say(StatusText{severity, text});
+                     }};
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
     watch = std::make_unique<FlightWatch>(host);
     mission = std::make_unique<MissionProtocol>(host, *watch, out, options.system_id, dir);
     commands = std::make_unique<GcsCommands>(host, *watch, *mission, out, options.system_id);

@@ -13,11 +13,6 @@ namespace {
 
 constexpr double kE7 = 1e7;  // degE7 per degree
 
-bool is_nav(std::uint16_t c) {
-  return c == MAV_CMD_NAV_WAYPOINT || c == MAV_CMD_NAV_TAKEOFF || c == MAV_CMD_NAV_LOITER_UNLIM || c == MAV_CMD_NAV_LOITER_TURNS ||
-         c == MAV_CMD_NAV_LOITER_TIME || c == MAV_CMD_NAV_RETURN_TO_LAUNCH || c == MAV_CMD_NAV_LAND;
-}
-
 bool relative(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT; }
 
 std::string where(const MissionItemInt& it) { return "mission item " + std::to_string(it.seq) + " (" + command_name(it.command) + "): "; }
@@ -114,6 +109,11 @@ MissionItemInt nav_item(const msg::Waypoint& w, const GeoOrigin& home) {
 
 }  // namespace
 
+bool is_nav_item(std::uint16_t c) {
+  return c == MAV_CMD_NAV_WAYPOINT || c == MAV_CMD_NAV_TAKEOFF || c == MAV_CMD_NAV_LOITER_UNLIM || c == MAV_CMD_NAV_LOITER_TURNS ||
+         c == MAV_CMD_NAV_LOITER_TIME || c == MAV_CMD_NAV_RETURN_TO_LAUNCH || c == MAV_CMD_NAV_LAND;
+}
+
 std::string command_name(std::uint16_t c) {
   switch (c) {
     case MAV_CMD_NAV_WAYPOINT: return "NAV_WAYPOINT";
@@ -124,6 +124,7 @@ std::string command_name(std::uint16_t c) {
     case MAV_CMD_NAV_LAND: return "NAV_LAND";
     case MAV_CMD_NAV_TAKEOFF: return "NAV_TAKEOFF";
     case MAV_CMD_DO_CHANGE_SPEED: return "DO_CHANGE_SPEED";
+    case MAV_CMD_DO_LAND_START: return "DO_LAND_START";
     default: return "MAV_CMD " + std::to_string(c);
   }
 }
@@ -135,9 +136,11 @@ void check_item(const MissionItemInt& it) {
       refuse(it, MAV_MISSION_INVALID_PARAM2, "speed " + num(it.param2) + " m/s: > 0, or -1 (no change), -2 (default)");
     return;
   }
-  if (!is_nav(it.command)) refuse(it, MAV_MISSION_UNSUPPORTED, "not a mission item tern flies (docs/ground-station.md)");
+  if (it.command == MAV_CMD_DO_LAND_START) return;
+  if (!is_nav_item(it.command)) refuse(it, MAV_MISSION_UNSUPPORTED, "not a mission item tern flies (docs/ground-station.md)");
   if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
-    refuse(it, MAV_MISSION_UNSUPPORTED_FRAME, "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
+    refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
+           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
   if (it.x < -90 * 10'000'000 || it.x > 90 * 10'000'000) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "latitude " + num(it.x / kE7) + " deg");
   if (it.y < -180 * 10'000'000 || it.y > 180 * 10'000'000)
     refuse(it, MAV_MISSION_INVALID_PARAM6_Y, "longitude " + num(it.y / kE7) + " deg");
@@ -146,8 +149,8 @@ void check_item(const MissionItemInt& it) {
   if (it.command == MAV_CMD_NAV_WAYPOINT && std::isfinite(it.param1) && it.param1 != 0.0f)
     refuse(it, MAV_MISSION_INVALID_PARAM1, "hold " + num(it.param1) + " s: tern does not hold at a waypoint (use NAV_LOITER_TIME)");
   if ((it.command == MAV_CMD_NAV_LOITER_TURNS || it.command == MAV_CMD_NAV_LOITER_TIME) && !(std::isfinite(it.param1) && it.param1 > 0.0f))
-    refuse(it, MAV_MISSION_INVALID_PARAM1, std::string(it.command == MAV_CMD_NAV_LOITER_TURNS ? "turns" : "time") + " must be > 0, got " +
-                                               num(it.param1));
+    refuse(it, MAV_MISSION_INVALID_PARAM1,
+           std::string(it.command == MAV_CMD_NAV_LOITER_TURNS ? "turns" : "time") + " must be > 0, got " + num(it.param1));
   if (it.command >= MAV_CMD_NAV_LOITER_UNLIM && it.command <= MAV_CMD_NAV_LOITER_TIME && std::isinf(it.param3))
     refuse(it, MAV_MISSION_INVALID_PARAM3, "radius " + num(it.param3) + " m");
   if (it.command == MAV_CMD_NAV_LAND && std::isinf(it.param4)) refuse(it, MAV_MISSION_INVALID_PARAM4, "heading " + num(it.param4) + " deg");
@@ -165,6 +168,7 @@ path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrig
       if (it.param2 == -2.0f) Va_d = 0.0;
       continue;
     }
+    if (!is_nav_item(it.command)) continue;  // DO_LAND_START: a marker
     path::MissionWaypoint w = waypoint_of(it, home, Va_d);
     if (w.type == path::ItemType::land && std::isnan(w.chi_d)) {
       if (m.waypoints.empty() || m.waypoints.back().type == path::ItemType::return_home)

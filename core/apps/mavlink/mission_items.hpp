@@ -19,9 +19,11 @@
 //                            glide slope, flare and decision heights are tern's defaults (item.hpp).
 //   DO_CHANGE_SPEED (178)    param1 0 (airspeed), param2 m/s > 0 (-1: no change, -2: the path
 //                            manager's default): the Va_d of the nav items after it.
+//   DO_LAND_START (189)      a marker (where a landing sequence begins, as QGroundControl's landing
+//                            pattern sends it): no waypoint; MAV_CMD_DO_LAND_START flies the land item.
 // Frames: nav items GLOBAL (0) / GLOBAL_INT (5): z m MSL; GLOBAL_RELATIVE_ALT (3) /
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; x, y degE7 (in MISSION_ITEM_INT every global frame
-// carries degE7). DO_CHANGE_SPEED takes any frame (QGroundControl sends MISSION, 2).
+// carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
 // An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission.
 //
 // A download of the planner's list (msg::WaypointList, NED) gives the items back in
@@ -57,6 +59,9 @@ class ItemError : public std::runtime_error {
 
 /// "NAV_WAYPOINT", ..., or the number of a command tern does not take ("MAV_CMD 183").
 std::string command_name(std::uint16_t command);
+
+/// A nav item: one that becomes a waypoint (not DO_CHANGE_SPEED or DO_LAND_START).
+bool is_nav_item(std::uint16_t command);
 
 /// Checks one item as it arrives (command, frame, parameters, position ranges). Throws ItemError.
 void check_item(const MissionItemInt& item);

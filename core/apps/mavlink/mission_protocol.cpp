@@ -15,7 +15,7 @@ namespace tern::core::mavlink {
 namespace {
 
 using Clock = std::chrono::steady_clock;
-constexpr double kSamePoint = 0.01;  // m: a listed waypoint is an uploaded one within this
+constexpr double kSamePoint = 0.01;      // m: a listed waypoint is an uploaded one within this
 constexpr std::uint32_t kFilesKept = 4;  // upload files kept (the planner reads one at the tick after its edit)
 
 msg::Waypoint listed(const path::MissionWaypoint& w) {
@@ -27,7 +27,7 @@ msg::Waypoint listed(const path::MissionWaypoint& w) {
 
 bool same(const msg::Waypoint& a, const msg::Waypoint& b) { return a.type == b.type && (a.w - b.w).norm() < kSamePoint; }
 
-bool is_nav(const MissionItemInt& it) { return it.command != MAV_CMD_DO_CHANGE_SPEED; }
+bool is_nav(const MissionItemInt& it) { return is_nav_item(it.command); }
 
 /// The mission edit that loads `file` (a path shorter than the edit's field: write() checks).
 msg::MissionEdit load_edit(std::uint32_t id, const std::filesystem::path& file) {
@@ -169,7 +169,8 @@ std::filesystem::path MissionProtocol::write(const std::string& text) {
   o << text;
   o.close();
   if (!o) throw std::runtime_error("cannot write " + file.string());
-  if (file.string().size() >= msg::MissionEdit{}.file.size()) throw std::runtime_error(file.string() + ": path too long for a mission edit");
+  if (file.string().size() >= msg::MissionEdit{}.file.size())
+    throw std::runtime_error(file.string() + ": path too long for a mission edit");
   return file;
 }
 

@@ -52,9 +52,9 @@ struct Outbox {
 
 class MissionProtocol {
  public:
-  static constexpr std::uint16_t kMaxItems = 1000;                     ///< the longest upload taken (items)
-  static constexpr std::chrono::milliseconds kRetryPeriod{250};         ///< silence before an item is asked again
-  static constexpr int kRetries = 5;                                    ///< re-requests before an upload is given up
+  static constexpr std::uint16_t kMaxItems = 1000;               ///< the longest upload taken (items)
+  static constexpr std::chrono::milliseconds kRetryPeriod{250};  ///< silence before an item is asked again
+  static constexpr int kRetries = 5;                             ///< re-requests before an upload is given up
 
   /// `dir`: where accepted uploads are written (created; removed by the destructor).
   MissionProtocol(Host& host, const FlightWatch& flight, Outbox out, std::uint8_t system_id, std::filesystem::path dir);
@@ -91,9 +91,9 @@ class MissionProtocol {
   };
   struct Uploaded {
     std::vector<MissionItemInt> items;
-    std::vector<std::uint16_t> nav_seq;  // the item each waypoint came from
+    std::vector<std::uint16_t> nav_seq;    // the item each waypoint came from
     std::vector<msg::Waypoint> waypoints;  // NED, as the planner lists them
-    std::uint64_t list_seq = 0;           // the planner's list count when it was handed over
+    std::uint64_t list_seq = 0;            // the planner's list count when it was handed over
     std::filesystem::path file;
   };
   void on_count(const Frame& f);

@@ -64,5 +64,4 @@ class Reader {
   std::size_t at_ = 0;
 };
 
-
 }  // namespace tern::core::mavlink

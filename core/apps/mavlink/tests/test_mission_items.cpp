@@ -49,10 +49,15 @@ MissionItemInt speed(std::uint16_t seq, float Va) {
 
 /// A mission of 10 items a GCS's plan view makes: takeoff, speed, waypoints, loiters, land.
 std::vector<MissionItemInt> plan() {
-  std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_TAKEOFF, 0, 0, 40), speed(1, 18.0f), at(2, MAV_CMD_NAV_WAYPOINT, 400, -250, 70),
-                                       at(3, MAV_CMD_NAV_WAYPOINT, -400, -50, 70), at(4, MAV_CMD_NAV_LOITER_TURNS, 0, 300, 70),
-                                       at(5, MAV_CMD_NAV_LOITER_TIME, 300, 300, 60), speed(6, 15.0f),
-                                       at(7, MAV_CMD_NAV_WAYPOINT, -300, -300, 50), at(8, MAV_CMD_NAV_WAYPOINT, -600, -600, 40),
+  std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_TAKEOFF, 0, 0, 40),
+                                       speed(1, 18.0f),
+                                       at(2, MAV_CMD_NAV_WAYPOINT, 400, -250, 70),
+                                       at(3, MAV_CMD_NAV_WAYPOINT, -400, -50, 70),
+                                       at(4, MAV_CMD_NAV_LOITER_TURNS, 0, 300, 70),
+                                       at(5, MAV_CMD_NAV_LOITER_TIME, 300, 300, 60),
+                                       speed(6, 15.0f),
+                                       at(7, MAV_CMD_NAV_WAYPOINT, -300, -300, 50),
+                                       at(8, MAV_CMD_NAV_WAYPOINT, -600, -600, 40),
                                        at(9, MAV_CMD_NAV_LAND, 0, 0, 0)};
   items[4].param1 = 2.0f;    // turns
   items[4].param3 = -80.0f;  // counter-clockwise, 80 m
@@ -317,6 +322,15 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   nan_alt.z = NAN;
   CHECK(refused(nan_alt).first == MAV_MISSION_INVALID_PARAM7);
   CHECK(refused(at(0, MAV_CMD_NAV_WAYPOINT, 10, 10, 50)).first == -1);
+  // DO_LAND_START (QGroundControl's landing pattern) is a marker: taken, no waypoint
+  MissionItemInt marker = speed(1, 0.0f);
+  marker.command = MAV_CMD_DO_LAND_START;
+  CHECK(refused(marker).first == -1);
+  MissionItemInt touchdown = at(2, MAV_CMD_NAV_LAND, 0, 0, 0);
+  touchdown.param4 = 90.0f;
+  const path::Mission landing = to_mission({at(0, MAV_CMD_NAV_WAYPOINT, 0, -600, 60), marker, touchdown}, GeoOrigin(kHome));
+  REQUIRE(landing.waypoints.size() == 2);
+  CHECK(landing.waypoints[1].chi_d == doctest::Approx(tern::kPi / 2));
   // a land item without heading or an item before it: nothing to take the course from
   MissionItemInt land = at(0, MAV_CMD_NAV_LAND, 0, 0, 0);
   land.param4 = NAN;
