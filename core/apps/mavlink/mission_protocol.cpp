@@ -154,6 +154,7 @@ void MissionProtocol::finish_upload() {
   out_.say(MAV_SEVERITY_INFO, "mission of " + std::to_string(up.items.size()) + " items accepted: " + std::to_string(up.waypoints.size()) +
                                   " waypoints, flown once");
   uploaded_ = std::move(up);
+  commanded_ = false;
   ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_ACCEPTED);
 }
 
@@ -216,6 +217,7 @@ void MissionProtocol::on_clear(const Frame& f) {
   Uploaded none;
   none.list_seq = flight_.view().list_seq;
   uploaded_ = std::move(none);
+  commanded_ = false;
   ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED);
 }
 
@@ -276,7 +278,9 @@ std::optional<std::uint16_t> MissionProtocol::current_seq() const {
 
 void MissionProtocol::keep_mission() {
   const FlightView v = flight_.view();
-  if ((uploaded_ && ours_flown(v)) || !v.list || v.list->count == 0 || !v.has_state) return;
+  const bool keep = !(uploaded_ && (ours_flown(v) || commanded_)) && v.list && v.list->count > 0 && v.has_state;
+  commanded_ = true;  // the list flown next is a command's: a second command keeps the mission kept now
+  if (!keep) return;
   Uploaded kept;
   kept.items = to_items(*v.list, GeoOrigin(v.origin));
   for (const MissionItemInt& it : kept.items)
@@ -313,6 +317,7 @@ std::string MissionProtocol::fly_from(std::uint16_t seq) {
   } catch (const std::exception& err) {
     return err.what();
   }
+  commanded_ = false;
   return "";
 }
 

@@ -118,6 +118,7 @@ class MissionProtocol {
   std::optional<Uploaded> uploaded_;
   std::vector<MissionItemInt> download_;  // the items of the last MISSION_COUNT sent
   std::uint32_t files_ = 0, edits_ = 0;
+  bool commanded_ = false;  // a command's list (return, loiter) replaced the mission kept in uploaded_
 };
 
 }  // namespace mavlink
