@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <optional>
@@ -14,11 +15,15 @@
 #include <thread>
 #include <vector>
 
+#include <unistd.h>
+
 #include <boost/asio.hpp>
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
+#include "mavlink/gcs_commands.hpp"
 #include "mavlink/mavlink_messages.hpp"
+#include "mavlink/mission_protocol.hpp"
 #include "mavlink/param_ids.hpp"
 #include "mavlink/telemetry.hpp"
 #include "tern/geodesy.hpp"
@@ -76,6 +81,20 @@ struct GcsLink::Impl {
     if (ec) throw ConfigError("--gcs-bind " + o.bind + ": cannot bind the MAVLink port: " + ec.message());
     bound = socket.local_endpoint();
     for (const auto& t : host.topics()) topics.insert(t.name);
+    start_mission_and_commands();
+  }
+
+  /// The mission protocol and the commands (mission_protocol.hpp, gcs_commands.hpp), answering through this link.
+  void start_mission_and_commands() {
+    const Outbox out{[this](std::uint32_t id, const std::vector<std::uint8_t>& payload) { send_frame(id, payload); },
+                     [this](std::uint8_t severity, const std::string& text) {
+                       say(StatusText{severity, text});
+                     }};
+    const auto dir =
+        std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
+    watch = std::make_unique<FlightWatch>(host);
+    mission = std::make_unique<MissionProtocol>(host, *watch, out, options.system_id, dir);
+    commands = std::make_unique<GcsCommands>(host, *watch, *mission, out, options.system_id);
   }
 
   static std::vector<std::pair<std::string, ParamKind>> numeric_params(const Host& h) {
@@ -215,7 +234,9 @@ struct GcsLink::Impl {
         case HEARTBEAT:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
           if (decode_heartbeat(f.payload).type == MAV_TYPE_GCS) host.ground_link_heard();
           break;
-        default: break;  // our own messages echoed, a GCS's other traffic
+        default:  // missions, commands; else our own messages echoed, a GCS's other traffic
+          if (!mission->on_frame(f)) commands->on_frame(f);
+          break;
       }
     }
   }
@@ -373,7 +394,11 @@ struct GcsLink::Impl {
       send(sys_status(s, topics, link_counters()));
       send(SystemTime{unix_us(), static_cast<std::uint32_t>(s.t / 1'000'000)});
       if (const auto m = extended_sys_state(s)) send(*m);
-      if (const auto m = mission_current(s)) send(*m);
+      if (auto m = mission_current(s)) {  // seq and total as the GCS's mission items (mission_protocol.hpp)
+        if (const auto seq = mission->current_seq()) m->seq = *seq;
+        m->total = static_cast<std::uint16_t>(std::min<std::size_t>(mission->items().size(), UINT16_MAX - 1));
+        send(*m);
+      }
       if (const auto m = wind_cov(s)) send(*m);
     }
     const bool state = s.has_state && s.state.valid && s.state.origin_valid;
@@ -387,6 +412,7 @@ struct GcsLink::Impl {
     if (s.has_state && s.state.origin_valid && due(next_home, std::chrono::milliseconds(2000), now)) send(home(s));
     for (std::size_t k = 0; k < kParamsPerTick && list_cursor && *list_cursor < table.params().size(); ++k) send_param((*list_cursor)++);
     if (list_cursor && *list_cursor >= table.params().size()) list_cursor.reset();
+    mission->on_tick();
   }
 
   Host& host;
@@ -401,6 +427,9 @@ struct GcsLink::Impl {
   std::thread thread;
   int observer_id = 0;
   Clock::time_point started = Clock::now();
+  std::unique_ptr<FlightWatch> watch;
+  std::unique_ptr<MissionProtocol> mission;
+  std::unique_ptr<GcsCommands> commands;
 
   // flight thread only
   Nanos next_snapshot = 0;

@@ -6,58 +6,10 @@
 #include <cstring>
 
 #include "mavlink/mavlink_codec.hpp"
+#include "mavlink/mission_messages.hpp"
+#include "mavlink/wire.hpp"
 
 namespace tern::core::mavlink {
-namespace {
-
-/// Little-endian writes into a payload of the message's full length.
-class Writer {
- public:
-  explicit Writer(std::uint32_t msgid) : p_(message_info(msgid)->length, 0) {}
-  template <class T>
-  Writer& put(T v) {
-    std::uint8_t b[sizeof(T)];
-    std::memcpy(b, &v, sizeof(T));  // tern builds for little-endian hosts only (x86-64, aarch64)
-    std::copy(b, b + sizeof(T), p_.begin() + static_cast<std::ptrdiff_t>(at_));
-    at_ += sizeof(T);
-    return *this;
-  }
-  /// A char[n] field: the text, NUL-padded (no terminator when it fills the field).
-  Writer& text(const std::string& s, std::size_t n) {
-    for (std::size_t i = 0; i < n; ++i) p_[at_ + i] = i < s.size() ? static_cast<std::uint8_t>(s[i]) : 0;
-    at_ += n;
-    return *this;
-  }
-  std::vector<std::uint8_t> done() { return std::move(p_); }
-
- private:
-  std::vector<std::uint8_t> p_;
-  std::size_t at_ = 0;
-};
-
-class Reader {
- public:
-  explicit Reader(const std::vector<std::uint8_t>& p) : p_(p) {}
-  template <class T>
-  T get() {
-    T v{};
-    if (at_ + sizeof(T) <= p_.size()) std::memcpy(&v, p_.data() + at_, sizeof(T));
-    at_ += sizeof(T);
-    return v;
-  }
-  std::string text(std::size_t n) {
-    std::string s;
-    for (std::size_t i = 0; i < n && at_ + i < p_.size() && p_[at_ + i] != 0; ++i) s.push_back(static_cast<char>(p_[at_ + i]));
-    at_ += n;
-    return s;
-  }
-
- private:
-  const std::vector<std::uint8_t>& p_;
-  std::size_t at_ = 0;
-};
-
-}  // namespace
 
 const std::vector<MessageDef>& known_messages() {
   // id, CRC_EXTRA, full payload length: tests/mavlink/crc_extra_common.txt (base length, plus the
@@ -87,6 +39,8 @@ const std::vector<MessageDef>& known_messages() {
 
 std::optional<MessageInfo> message_info(std::uint32_t msgid) {
   for (const auto& m : known_messages())
+    if (m.id == msgid) return MessageInfo{m.crc_extra, m.length};
+  for (const auto& m : mission_messages())  // mission_messages.hpp
     if (m.id == msgid) return MessageInfo{m.crc_extra, m.length};
   return std::nullopt;
 }

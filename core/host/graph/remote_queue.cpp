@@ -51,6 +51,7 @@ void RemoteQueue::keep_pilot_output(bool taken) {
 const OutputBase* RemoteQueue::renew_mission_edit_output() {
   mission_edit_out_ = std::make_unique<Output<msg::MissionEdit>>();
   mission_edit_out_->set_identity("mission_edit", "mission edits from the command line and DDS");
+  mission_edit_out_->keep_history(msg::MissionEdit::kQueue);  // a reader stepping less often than the ticks reads each
   return mission_edit_out_.get();
 }
 

@@ -50,7 +50,11 @@ void check_capacity(const Mission& m) {
 
 void PlannerPlugin::configure() {
   declare(state_, "state", "vehicle state: its origin converts lat/lon waypoints to NED", Need::optional);
-  declare(edit_, "mission_edit", "runtime mission edits (host command line, DDS bridge)", Need::optional);
+  // The host publishes one edit per tick and the planner may step less often (10 Hz under a 400 Hz
+  // tick): a queue, so that edits in quick succession (a ground station's upload then set current)
+  // are each applied, in order
+  declare(edit_, "mission_edit", "runtime mission edits (host command line, DDS bridge, MAVLink)", Need::optional,
+          Queue{msg::MissionEdit::kQueue});
   declare(waypoints_, "waypoints", "the mission, NED, republished with a higher revision on every change");
   declare(mission_file_, "mission_file", "",
           ParamSpec("", 0, 0,
@@ -175,9 +179,10 @@ void PlannerPlugin::apply_edit(const msg::MissionEdit& e) {
 }
 
 void PlannerPlugin::step(Nanos now) {
-  if (edit_.updated()) {
-    apply_edit(*edit_);
-    if (edit_->publish_now && f_.held) {
+  if (edit_.missed() > 0) log().error("{} mission edits arrived faster than this planner steps and were lost", edit_.missed());
+  for (const msg::MissionEdit& e : edit_.received()) {
+    apply_edit(e);
+    if (e.publish_now && f_.held) {
       f_.held = false;
       f_.dirty = true;
     }

@@ -21,6 +21,9 @@ struct MissionEdit {
     set_current = 2,  ///< fly to waypoint number `index` next
     load_file = 3,    ///< replace the mission with the waypoint file `file` (tern or ROSplane format)
   };
+  /// Edits a reader takes between two of its steps: the host publishes one edit per tick and
+  /// keeps this many (its output's history), the path planner reads them all (its input's queue).
+  static constexpr std::uint32_t kQueue = 64;
   Nanos stamp = 0;
   std::uint32_t id = 0;  ///< increasing edit number, echoed in logs
   std::uint8_t op = add;

@@ -1,0 +1,248 @@
+// core/apps/mavlink/mission_items.cpp: MAVLink mission items <-> tern's mission (mission_items.hpp).
+#include "mavlink/mission_items.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <optional>
+
+#include "tern/math.hpp"
+
+namespace tern::core::mavlink {
+namespace {
+
+constexpr double kE7 = 1e7;  // degE7 per degree
+
+bool relative(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT; }
+
+std::string where(const MissionItemInt& it) { return "mission item " + std::to_string(it.seq) + " (" + command_name(it.command) + "): "; }
+
+std::string num(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+[[noreturn]] void refuse(const MissionItemInt& it, std::uint8_t result, const std::string& why) {
+  throw ItemError(result, where(it) + why);
+}
+
+/// NED of the item's position; x = y = 0 (no position given): above home at z.
+Eigen::Vector3d ned_of(const MissionItemInt& it, const GeoOrigin& home) {
+  const double alt = relative(it.frame) ? home.origin().alt + it.z : it.z;
+  if (it.x == 0 && it.y == 0) return {0.0, 0.0, home.origin().alt - alt};
+  return home.to_ned(it.x / kE7, it.y / kE7, alt);
+}
+
+/// Loiter radius and direction from param3 (< 0: counter-clockwise; NaN: 0).
+path::LoiterSpec loiter_of(const MissionItemInt& it) {
+  path::LoiterSpec l;
+  const double r = std::isfinite(it.param3) ? it.param3 : 0.0;
+  l.radius = std::fabs(r);
+  l.direction = std::signbit(r) ? -1 : 1;
+  if (it.command == MAV_CMD_NAV_LOITER_TURNS) l.turns = it.param1;
+  if (it.command == MAV_CMD_NAV_LOITER_TIME) l.time = it.param1;
+  return l;
+}
+
+path::MissionWaypoint waypoint_of(const MissionItemInt& it, const GeoOrigin& home, double Va_d) {
+  path::MissionWaypoint w;
+  w.Va_d = Va_d;
+  w.field = "mission item " + std::to_string(it.seq);
+  switch (it.command) {
+    case MAV_CMD_NAV_LOITER_UNLIM:
+    case MAV_CMD_NAV_LOITER_TURNS:
+    case MAV_CMD_NAV_LOITER_TIME:
+      w.type = path::ItemType::loiter;
+      w.loiter = loiter_of(it);
+      break;
+    case MAV_CMD_NAV_RETURN_TO_LAUNCH:
+      w.type = path::ItemType::return_home;
+      w.w = Eigen::Vector3d(0.0, 0.0, std::nan(""));  // the altitude of the item before (mission.hpp)
+      return w;
+    case MAV_CMD_NAV_LAND:
+      w.type = path::ItemType::land;
+      w.chi_d = std::isfinite(it.param4) ? it.param4 * kRadPerDeg : std::nan("");  // NaN: from the item before
+      break;
+    default: break;  // NAV_WAYPOINT, NAV_TAKEOFF
+  }
+  w.w = ned_of(it, home);
+  return w;
+}
+
+MissionItemInt item(std::uint16_t command, std::uint8_t frame) {
+  MissionItemInt it;
+  it.command = command;
+  it.frame = frame;
+  it.autocontinue = 1;
+  return it;
+}
+
+MissionItemInt speed_item(double Va_d) {
+  MissionItemInt it = item(MAV_CMD_DO_CHANGE_SPEED, MAV_FRAME_MISSION);
+  it.param1 = 0.0f;  // airspeed
+  it.param2 = Va_d > 0.0 ? static_cast<float>(Va_d) : -2.0f;
+  it.param3 = -1.0f;  // throttle: no change
+  return it;
+}
+
+MissionItemInt nav_item(const msg::Waypoint& w, const GeoOrigin& home) {
+  std::uint16_t command = MAV_CMD_NAV_WAYPOINT;
+  if (w.type == msg::Waypoint::loiter)
+    command = w.loiter_time > 0.0 ? MAV_CMD_NAV_LOITER_TIME : w.loiter_turns > 0.0 ? MAV_CMD_NAV_LOITER_TURNS : MAV_CMD_NAV_LOITER_UNLIM;
+  if (w.type == msg::Waypoint::return_home) command = MAV_CMD_NAV_RETURN_TO_LAUNCH;
+  if (w.type == msg::Waypoint::land) command = MAV_CMD_NAV_LAND;
+  MissionItemInt it = item(command, MAV_FRAME_GLOBAL_RELATIVE_ALT);
+  const GeoPoint g = home.to_geodetic(w.w);
+  it.x = static_cast<std::int32_t>(std::llround(g.lat * kE7));
+  it.y = static_cast<std::int32_t>(std::llround(g.lon * kE7));
+  it.z = static_cast<float>(g.alt - home.origin().alt);
+  if (w.type == msg::Waypoint::loiter) {
+    it.param1 = static_cast<float>(w.loiter_time > 0.0 ? w.loiter_time : w.loiter_turns);
+    it.param3 = static_cast<float>(w.loiter_direction < 0 ? -w.loiter_radius : w.loiter_radius);
+    if (w.loiter_direction < 0 && w.loiter_radius == 0.0) it.param3 = -0.0f;
+  }
+  if (w.type == msg::Waypoint::return_home) it.x = it.y = 0;
+  if (w.type == msg::Waypoint::land) it.param4 = static_cast<float>(w.chi_d * kDegPerRad);
+  return it;
+}
+
+}  // namespace
+
+bool is_nav_item(std::uint16_t c) {
+  return c == MAV_CMD_NAV_WAYPOINT || c == MAV_CMD_NAV_TAKEOFF || c == MAV_CMD_NAV_LOITER_UNLIM || c == MAV_CMD_NAV_LOITER_TURNS ||
+         c == MAV_CMD_NAV_LOITER_TIME || c == MAV_CMD_NAV_RETURN_TO_LAUNCH || c == MAV_CMD_NAV_LAND;
+}
+
+std::string command_name(std::uint16_t c) {
+  switch (c) {
+    case MAV_CMD_NAV_WAYPOINT: return "NAV_WAYPOINT";
+    case MAV_CMD_NAV_LOITER_UNLIM: return "NAV_LOITER_UNLIM";
+    case MAV_CMD_NAV_LOITER_TURNS: return "NAV_LOITER_TURNS";
+    case MAV_CMD_NAV_LOITER_TIME: return "NAV_LOITER_TIME";
+    case MAV_CMD_NAV_RETURN_TO_LAUNCH: return "NAV_RETURN_TO_LAUNCH";
+    case MAV_CMD_NAV_LAND: return "NAV_LAND";
+    case MAV_CMD_NAV_TAKEOFF: return "NAV_TAKEOFF";
+    case MAV_CMD_DO_CHANGE_SPEED: return "DO_CHANGE_SPEED";
+    case MAV_CMD_DO_LAND_START: return "DO_LAND_START";
+    default: return "MAV_CMD " + std::to_string(c);
+  }
+}
+
+void check_item(const MissionItemInt& it) {
+  if (it.command == MAV_CMD_DO_CHANGE_SPEED) {
+    if (it.param1 != 0.0f) refuse(it, MAV_MISSION_INVALID_PARAM1, "speed type " + num(it.param1) + ": tern flies airspeed (type 0)");
+    if (it.param2 != -1.0f && it.param2 != -2.0f && !(std::isfinite(it.param2) && it.param2 > 0.0f))
+      refuse(it, MAV_MISSION_INVALID_PARAM2, "speed " + num(it.param2) + " m/s: > 0, or -1 (no change), -2 (default)");
+    return;
+  }
+  if (it.command == MAV_CMD_DO_LAND_START) return;
+  if (!is_nav_item(it.command)) refuse(it, MAV_MISSION_UNSUPPORTED, "not a mission item tern flies (docs/ground-station.md)");
+  if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
+    refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
+           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
+  if (it.x < -90 * 10'000'000 || it.x > 90 * 10'000'000) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "latitude " + num(it.x / kE7) + " deg");
+  if (it.y < -180 * 10'000'000 || it.y > 180 * 10'000'000)
+    refuse(it, MAV_MISSION_INVALID_PARAM6_Y, "longitude " + num(it.y / kE7) + " deg");
+  if (!std::isfinite(it.z) && it.command != MAV_CMD_NAV_RETURN_TO_LAUNCH)
+    refuse(it, MAV_MISSION_INVALID_PARAM7, "altitude " + num(it.z) + ": not a number");
+  if (it.command == MAV_CMD_NAV_WAYPOINT && std::isfinite(it.param1) && it.param1 != 0.0f)
+    refuse(it, MAV_MISSION_INVALID_PARAM1, "hold " + num(it.param1) + " s: tern does not hold at a waypoint (use NAV_LOITER_TIME)");
+  if ((it.command == MAV_CMD_NAV_LOITER_TURNS || it.command == MAV_CMD_NAV_LOITER_TIME) && !(std::isfinite(it.param1) && it.param1 > 0.0f))
+    refuse(it, MAV_MISSION_INVALID_PARAM1,
+           std::string(it.command == MAV_CMD_NAV_LOITER_TURNS ? "turns" : "time") + " must be > 0, got " + num(it.param1));
+  if (it.command >= MAV_CMD_NAV_LOITER_UNLIM && it.command <= MAV_CMD_NAV_LOITER_TIME && std::isinf(it.param3))
+    refuse(it, MAV_MISSION_INVALID_PARAM3, "radius " + num(it.param3) + " m");
+  if (it.command == MAV_CMD_NAV_LAND && std::isinf(it.param4)) refuse(it, MAV_MISSION_INVALID_PARAM4, "heading " + num(it.param4) + " deg");
+}
+
+path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& home, std::vector<std::uint16_t>* nav_seq) {
+  path::Mission m;
+  m.loop = false;
+  m.source = "MAVLink upload";
+  double Va_d = 0.0;
+  for (const MissionItemInt& it : items) {
+    check_item(it);
+    if (it.command == MAV_CMD_DO_CHANGE_SPEED) {
+      if (it.param2 > 0.0f) Va_d = it.param2;
+      if (it.param2 == -2.0f) Va_d = 0.0;
+      continue;
+    }
+    if (!is_nav_item(it.command)) continue;  // DO_LAND_START: a marker
+    path::MissionWaypoint w = waypoint_of(it, home, Va_d);
+    if (w.type == path::ItemType::land && std::isnan(w.chi_d)) {
+      if (m.waypoints.empty() || m.waypoints.back().type == path::ItemType::return_home)
+        refuse(it, MAV_MISSION_INVALID_PARAM4, "no heading (param4 NaN) and no position before it to take the course from");
+      const Eigen::Vector3d d = w.w - m.waypoints.back().w;
+      if (std::hypot(d.x(), d.y()) < 1.0) refuse(it, MAV_MISSION_INVALID_PARAM4, "no heading (param4 NaN) and the item before is above it");
+      w.chi_d = std::atan2(d.y(), d.x());
+    }
+    if (w.type == path::ItemType::return_home) {
+      if (m.waypoints.empty()) refuse(it, MAV_MISSION_INVALID, "the first nav item: no altitude before it to return home at");
+      w.w.z() = m.waypoints.back().w.z();
+    }
+    m.waypoints.push_back(w);
+    if (nav_seq) nav_seq->push_back(it.seq);
+  }
+  return m;
+}
+
+std::vector<MissionItemInt> to_items(const msg::WaypointList& list, const GeoOrigin& home) {
+  std::vector<MissionItemInt> out;
+  double Va_d = 0.0;
+  for (std::uint32_t i = 0; i < list.count && i < list.items.size(); ++i) {
+    const msg::Waypoint& w = list.items[i];
+    if (w.Va_d != Va_d) out.push_back(speed_item(w.Va_d));
+    Va_d = w.Va_d;
+    out.push_back(nav_item(w, home));
+  }
+  for (std::size_t k = 0; k < out.size(); ++k) out[k].seq = static_cast<std::uint16_t>(k);
+  return out;
+}
+
+path::Mission to_mission(const msg::WaypointList& list) {
+  path::Mission m;
+  m.loop = list.loop;
+  m.loops = static_cast<int>(list.loops);
+  m.source = "the planner's list";
+  for (std::uint32_t i = 0; i < list.count && i < list.items.size(); ++i) {
+    const msg::Waypoint& w = list.items[i];
+    path::MissionWaypoint out;
+    out.w = w.w;
+    out.chi_d = w.chi_d;
+    out.use_chi = w.use_chi;
+    out.Va_d = w.Va_d;
+    out.type = static_cast<path::ItemType>(std::min<std::uint8_t>(w.type, msg::Waypoint::land));  // the same order
+    out.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns};
+    out.land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
+    m.waypoints.push_back(out);
+  }
+  return m;
+}
+
+std::string mission_text(const path::Mission& m) {
+  std::string t = std::string("loop: ") + (m.loop ? "true" : "false") + "\n";
+  if (m.loops > 0) t += "loops: " + std::to_string(m.loops) + "\n";
+  t += "waypoints:\n";
+  for (const path::MissionWaypoint& w : m.waypoints) {
+    t += "  - {type: " + std::string(path::item_type_name(w.type));
+    if (w.type == path::ItemType::return_home)
+      t += ", altitude: " + num(-w.w.z());
+    else
+      t += ", ned: [" + num(w.w.x()) + ", " + num(w.w.y()) + ", " + num(w.w.z()) + "]";
+    if (w.Va_d > 0.0) t += ", Va_d: " + num(w.Va_d);
+    if (w.type == path::ItemType::loiter || w.type == path::ItemType::return_home) {
+      t += ", radius: " + num(w.loiter.radius) + ", direction: " + (w.loiter.direction < 0 ? "ccw" : "cw");
+      if (w.loiter.time > 0.0) t += ", time: " + num(w.loiter.time);
+      if (w.loiter.turns > 0.0) t += ", turns: " + num(w.loiter.turns);
+    }
+    if (w.type == path::ItemType::waypoint && w.use_chi) t += ", chi_d: " + num(w.chi_d) + ", use_chi: true";
+    if (w.type == path::ItemType::land)
+      t += ", heading: " + num(w.chi_d) + ", glide_slope: " + num(w.land.glide_slope) + ", flare_height: " + num(w.land.flare_height) +
+           ", decision_height: " + num(w.land.decision_height);
+    t += "}\n";
+  }
+  return t;
+}
+
+}  // namespace tern::core::mavlink

@@ -1,0 +1,324 @@
+// core/apps/mavlink/mission_protocol.cpp: the mission protocol's vehicle side (mission_protocol.hpp).
+#include "mavlink/mission_protocol.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+#include <system_error>
+
+#include "config/error.hpp"
+#include "flight/host.hpp"
+#include "mavlink/mission_items.hpp"
+#include "tern/msg/mission.hpp"
+
+namespace tern::core::mavlink {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kSamePoint = 0.01;      // m: a listed waypoint is an uploaded one within this
+constexpr std::uint32_t kFilesKept = 4;  // upload files kept (the planner reads one at the tick after its edit)
+
+msg::Waypoint listed(const path::MissionWaypoint& w) {
+  msg::Waypoint out;
+  out.w = w.w;
+  out.type = static_cast<std::uint8_t>(w.type);  // the same order (tern/msg/path.hpp, tern/path/item.hpp)
+  return out;
+}
+
+bool same(const msg::Waypoint& a, const msg::Waypoint& b) { return a.type == b.type && (a.w - b.w).norm() < kSamePoint; }
+
+bool is_nav(const MissionItemInt& it) { return is_nav_item(it.command); }
+
+/// The mission edit that loads `file` (a path shorter than the edit's field: write() checks).
+msg::MissionEdit load_edit(std::uint32_t id, const std::filesystem::path& file) {
+  msg::MissionEdit e;
+  e.id = id;
+  e.op = msg::MissionEdit::load_file;
+  const std::string text = file.string();
+  std::memcpy(e.file.data(), text.c_str(), std::min(text.size() + 1, e.file.size()));
+  return e;
+}
+
+}  // namespace
+
+MissionProtocol::MissionProtocol(Host& host, const FlightWatch& flight, Outbox out, std::uint8_t system_id, std::filesystem::path dir)
+    : host_(host), flight_(flight), out_(std::move(out)), system_id_(system_id), dir_(std::move(dir)) {
+  std::filesystem::create_directories(dir_);
+}
+
+MissionProtocol::~MissionProtocol() {
+  std::error_code ec;
+  std::filesystem::remove_all(dir_, ec);  // what is left of the uploads: nothing to do about a failure
+}
+
+bool MissionProtocol::on_frame(const Frame& f) {
+  switch (f.msgid) {
+    case MISSION_COUNT: on_count(f); return true;
+    case MISSION_ITEM_INT: on_item(f); return true;
+    case MISSION_REQUEST:
+    case MISSION_REQUEST_INT: on_request(f); return true;
+    case MISSION_REQUEST_LIST: on_list(f); return true;
+    case MISSION_CLEAR_ALL: on_clear(f); return true;
+    case MISSION_SET_CURRENT: on_set_current(f); return true;
+    case MISSION_ACK: return true;  // the end of a download: nothing kept
+    default: return false;
+  }
+}
+
+bool MissionProtocol::for_us(std::uint8_t sys, std::uint8_t comp) const {
+  return (sys == 0 || sys == system_id_) && (comp == 0 || comp == MAV_COMP_ID_AUTOPILOT1);
+}
+
+void MissionProtocol::ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result) {
+  MissionAck a;
+  a.target_system = sys;
+  a.target_component = comp;
+  a.type = result;
+  out_.send(MISSION_ACK, encode(a));
+}
+
+void MissionProtocol::request(const Upload& u) {
+  MissionRequest r;
+  r.seq = u.next;
+  r.target_system = u.gcs_sys;
+  r.target_component = u.gcs_comp;
+  out_.send(MISSION_REQUEST_INT, encode(r));
+}
+
+void MissionProtocol::on_count(const Frame& f) {
+  const MissionCount m = decode_mission_count(f.payload);
+  if (!for_us(m.target_system, m.target_component)) return;
+  upload_.reset();  // a new count restarts an upload
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  if (m.count > kMaxItems) {
+    out_.say(MAV_SEVERITY_WARNING, "mission of " + std::to_string(m.count) + " items refused: at most " + std::to_string(kMaxItems));
+    return ack(f.sysid, f.compid, MAV_MISSION_NO_SPACE);
+  }
+  if (!flight_.view().has_state) {
+    out_.say(MAV_SEVERITY_WARNING, "mission refused: no position estimate yet (its origin places lat/lon)");
+    return ack(f.sysid, f.compid, MAV_MISSION_DENIED);
+  }
+  upload_ = Upload{m.count, 0, f.sysid, f.compid, {}, Clock::now(), 0};
+  if (m.count == 0) return finish_upload();
+  request(*upload_);
+}
+
+void MissionProtocol::on_item(const Frame& f) {
+  const MissionItemInt it = decode_mission_item_int(f.payload);
+  if (!for_us(it.target_system, it.target_component) || !upload_ || it.mission_type != MAV_MISSION_TYPE_MISSION) return;
+  Upload& u = *upload_;
+  if (it.seq != u.next) return request(u);  // out of order: the one expected, again
+  try {
+    check_item(it);
+  } catch (const ItemError& e) {
+    out_.say(MAV_SEVERITY_WARNING, e.what());
+    ack(u.gcs_sys, u.gcs_comp, e.result());
+    upload_.reset();
+    return;
+  }
+  u.items.push_back(it);
+  u.next++;
+  u.retries = 0;
+  u.asked = Clock::now();
+  if (u.next == u.count) return finish_upload();
+  request(u);
+}
+
+void MissionProtocol::finish_upload() {
+  const Upload u = std::move(*upload_);
+  upload_.reset();
+  const FlightView v = flight_.view();
+  const auto refuse = [&](std::uint8_t result, const std::string& why) {
+    out_.say(MAV_SEVERITY_WARNING, why);
+    ack(u.gcs_sys, u.gcs_comp, result);
+  };
+  Uploaded up;
+  up.items = u.items;
+  up.list_seq = v.list_seq;
+  try {
+    const path::Mission m = to_mission(u.items, GeoOrigin(v.origin), &up.nav_seq);
+    if (m.waypoints.size() > msg::WaypointList::kCapacity)
+      return refuse(MAV_MISSION_NO_SPACE, "mission refused: " + std::to_string(m.waypoints.size()) + " nav items, more than the " +
+                                              std::to_string(msg::WaypointList::kCapacity) + " of the planner's list");
+    const std::string text = mission_text(m);
+    for (const auto& w : path::parse_mission_text(text, "MAVLink upload").waypoints) up.waypoints.push_back(listed(w));
+    up.file = write(text);
+    host_.edit_mission(load_edit(next_edit_id(), up.file));  // throws ConfigError: no planner
+  } catch (const ItemError& e) {
+    return refuse(e.result(), e.what());
+  } catch (const path::MissionError& e) {
+    return refuse(MAV_MISSION_INVALID, std::string("mission refused: ") + e.what());
+  } catch (const std::exception& e) {
+    return refuse(MAV_MISSION_ERROR, std::string("mission refused: ") + e.what());
+  }
+  out_.say(MAV_SEVERITY_INFO, "mission of " + std::to_string(up.items.size()) + " items accepted: " + std::to_string(up.waypoints.size()) +
+                                  " waypoints, flown once");
+  uploaded_ = std::move(up);
+  commanded_ = false;
+  ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_ACCEPTED);
+}
+
+std::filesystem::path MissionProtocol::write(const std::string& text) {
+  const std::uint32_t n = ++files_;
+  const auto name = [this](std::uint32_t k) { return dir_ / ("upload-" + std::to_string(k) + ".yaml"); };
+  if (n > kFilesKept) {
+    std::error_code ec;
+    std::filesystem::remove(name(n - kFilesKept), ec);
+  }
+  const std::filesystem::path file = name(n);
+  std::ofstream o(file);
+  o << text;
+  o.close();
+  if (!o) throw std::runtime_error("cannot write " + file.string());
+  if (file.string().size() >= msg::MissionEdit{}.file.size())
+    throw std::runtime_error(file.string() + ": path too long for a mission edit");
+  return file;
+}
+
+void MissionProtocol::on_request(const Frame& f) {
+  const MissionRequest r = decode_mission_request(f.payload);
+  if (!for_us(r.target_system, r.target_component)) return;
+  if (r.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  if (r.seq >= download_.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE);
+  MissionItemInt it = download_[r.seq];
+  it.target_system = f.sysid;
+  it.target_component = f.compid;
+  it.mission_type = MAV_MISSION_TYPE_MISSION;
+  out_.send(MISSION_ITEM_INT, encode(it));
+}
+
+void MissionProtocol::on_list(const Frame& f) {
+  const MissionTarget m = decode_mission_target(f.payload);
+  if (!for_us(m.target_system, m.target_component)) return;
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  download_ = items();
+  MissionCount c;
+  c.count = static_cast<std::uint16_t>(download_.size());
+  c.target_system = f.sysid;
+  c.target_component = f.compid;
+  out_.send(MISSION_COUNT, encode(c));
+}
+
+void MissionProtocol::on_clear(const Frame& f) {
+  const MissionTarget m = decode_mission_target(f.payload);
+  if (!for_us(m.target_system, m.target_component)) return;
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION && m.mission_type != MAV_MISSION_TYPE_ALL)
+    return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  upload_.reset();
+  msg::MissionEdit e;
+  e.id = next_edit_id();
+  e.op = msg::MissionEdit::clear;
+  try {
+    host_.edit_mission(e);
+  } catch (const std::exception& err) {
+    out_.say(MAV_SEVERITY_WARNING, std::string("mission not cleared: ") + err.what());
+    return ack(f.sysid, f.compid, MAV_MISSION_ERROR);
+  }
+  Uploaded none;
+  none.list_seq = flight_.view().list_seq;
+  uploaded_ = std::move(none);
+  commanded_ = false;
+  ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED);
+}
+
+void MissionProtocol::on_set_current(const Frame& f) {
+  const MissionSetCurrent m = decode_mission_set_current(f.payload);
+  if (!for_us(m.target_system, m.target_component)) return;
+  const std::string why = fly_from(m.seq);
+  if (!why.empty()) out_.say(MAV_SEVERITY_WARNING, "MISSION_SET_CURRENT " + std::to_string(m.seq) + " refused: " + why);
+}
+
+void MissionProtocol::on_tick() {
+  if (!upload_ || Clock::now() - upload_->asked < kRetryPeriod) return;
+  Upload& u = *upload_;
+  if (u.retries >= kRetries) {
+    out_.say(MAV_SEVERITY_WARNING, "mission upload given up: item " + std::to_string(u.next) + " not received after " +
+                                       std::to_string(kRetries + 1) + " requests; the mission is unchanged");
+    ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_OPERATION_CANCELLED);
+    upload_.reset();
+    return;
+  }
+  u.retries++;
+  u.asked = Clock::now();
+  request(u);
+}
+
+bool MissionProtocol::ours_flown(const FlightView& v) const {
+  if (v.list_seq == uploaded_->list_seq || !v.list) return true;  // handed over, not yet listed by the planner
+  const msg::WaypointList& p = *v.list;
+  if (p.count == 0 || p.count > uploaded_->waypoints.size()) return p.count == 0 && uploaded_->waypoints.empty();
+  for (std::uint32_t i = 0; i < p.count; ++i)
+    if (std::none_of(uploaded_->waypoints.begin(), uploaded_->waypoints.end(), [&](const msg::Waypoint& w) { return same(w, p.items[i]); }))
+      return false;
+  return true;
+}
+
+std::vector<MissionItemInt> MissionProtocol::items() const {
+  const FlightView v = flight_.view();
+  if (uploaded_ && ours_flown(v)) return uploaded_->items;
+  if (v.list && v.has_state) return to_items(*v.list, GeoOrigin(v.origin));
+  return {};
+}
+
+std::optional<std::uint16_t> MissionProtocol::current_seq() const {
+  const FlightView v = flight_.view();
+  if (!v.list || v.waypoint_index < 0 || static_cast<std::uint32_t>(v.waypoint_index) >= v.list->count) return std::nullopt;
+  const msg::Waypoint& flown = v.list->items[static_cast<std::size_t>(v.waypoint_index)];
+  if (uploaded_ && ours_flown(v)) {
+    for (std::size_t k = 0; k < uploaded_->waypoints.size(); ++k)
+      if (same(uploaded_->waypoints[k], flown)) return uploaded_->nav_seq[k];
+    return std::nullopt;
+  }
+  if (!v.has_state) return std::nullopt;
+  std::int32_t nav = -1;
+  for (const MissionItemInt& it : to_items(*v.list, GeoOrigin(v.origin)))
+    if (is_nav(it) && ++nav == v.waypoint_index) return it.seq;
+  return std::nullopt;
+}
+
+void MissionProtocol::keep_mission() {
+  const FlightView v = flight_.view();
+  const bool keep = !(uploaded_ && (ours_flown(v) || commanded_)) && v.list && v.list->count > 0 && v.has_state;
+  commanded_ = true;  // the list flown next is a command's: a second command keeps the mission kept now
+  if (!keep) return;
+  Uploaded kept;
+  kept.items = to_items(*v.list, GeoOrigin(v.origin));
+  for (const MissionItemInt& it : kept.items)
+    if (is_nav(it)) kept.nav_seq.push_back(it.seq);
+  for (std::uint32_t i = 0; i < v.list->count; ++i) kept.waypoints.push_back(v.list->items[i]);
+  kept.list_seq = v.list_seq;
+  try {
+    kept.file = write(mission_text(to_mission(*v.list)));
+  } catch (const std::exception& e) {
+    out_.say(MAV_SEVERITY_WARNING, std::string("the mission is not kept for MISSION_START: ") + e.what());
+    return;
+  }
+  uploaded_ = std::move(kept);
+}
+
+std::string MissionProtocol::fly_from(std::uint16_t seq) {
+  const FlightView v = flight_.view();
+  const bool kept = uploaded_ && !uploaded_->file.empty();  // an upload, or the mission kept by a command
+  const std::vector<MissionItemInt> all = kept ? uploaded_->items : items();
+  if (seq >= all.size()) return "no item " + std::to_string(seq) + " (the mission has " + std::to_string(all.size()) + ")";
+  const auto first_nav = std::find_if(all.begin() + seq, all.end(), is_nav);
+  if (first_nav == all.end()) return "no nav item from item " + std::to_string(seq);
+  const auto index = static_cast<std::uint32_t>(std::count_if(all.begin(), first_nav, is_nav));
+  try {
+    if (kept) {  // loaded again: the planner's list may be renumbered (set_current) or replaced (a command)
+      host_.edit_mission(load_edit(next_edit_id(), uploaded_->file));
+      uploaded_->list_seq = v.list_seq;
+    }
+    msg::MissionEdit e;
+    e.id = next_edit_id();
+    e.op = msg::MissionEdit::set_current;
+    e.index = index;
+    host_.edit_mission(e);
+  } catch (const std::exception& err) {
+    return err.what();
+  }
+  commanded_ = false;
+  return "";
+}
+
+}  // namespace tern::core::mavlink

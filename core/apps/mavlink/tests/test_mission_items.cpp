@@ -1,0 +1,338 @@
+// MAVLink mission items <-> tern's mission (mavlink/mission_items.hpp) without a flight, and the
+// mission and command messages (mission_messages.hpp) against common.xml's CRC_EXTRA values,
+// lengths and enum values (tests/mavlink/crc_extra_mission.txt, enums_mission.txt).
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "mavlink/mavlink_codec.hpp"
+#include "mavlink/mission_items.hpp"
+#include "mavlink/mission_messages.hpp"
+#include "tern/math.hpp"
+
+using namespace tern::core::mavlink;
+using tern::GeoOrigin;
+using tern::GeoPoint;
+namespace path = tern::path;
+namespace msg = tern::msg;
+
+namespace {
+
+const GeoPoint kHome{40.2463, -111.6475, 1400.0};  // an origin near ROSplane's (BYU), m MSL
+
+/// A global item at `north`, `east` m from home, `up` m above it (GLOBAL_RELATIVE_ALT_INT).
+MissionItemInt at(std::uint16_t seq, std::uint16_t command, double north, double east, double up) {
+  const GeoPoint g = GeoOrigin(kHome).to_geodetic(Eigen::Vector3d(north, east, 0.0));
+  MissionItemInt it;
+  it.seq = seq;
+  it.command = command;
+  it.frame = MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+  it.x = static_cast<std::int32_t>(std::llround(g.lat * 1e7));
+  it.y = static_cast<std::int32_t>(std::llround(g.lon * 1e7));
+  it.z = static_cast<float>(up);
+  return it;
+}
+
+MissionItemInt speed(std::uint16_t seq, float Va) {
+  MissionItemInt it;
+  it.seq = seq;
+  it.command = MAV_CMD_DO_CHANGE_SPEED;
+  it.frame = MAV_FRAME_MISSION;
+  it.param2 = Va;
+  it.param3 = -1.0f;
+  return it;
+}
+
+/// A mission of 10 items a GCS's plan view makes: takeoff, speed, waypoints, loiters, land.
+std::vector<MissionItemInt> plan() {
+  std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_TAKEOFF, 0, 0, 40),
+                                       speed(1, 18.0f),
+                                       at(2, MAV_CMD_NAV_WAYPOINT, 400, -250, 70),
+                                       at(3, MAV_CMD_NAV_WAYPOINT, -400, -50, 70),
+                                       at(4, MAV_CMD_NAV_LOITER_TURNS, 0, 300, 70),
+                                       at(5, MAV_CMD_NAV_LOITER_TIME, 300, 300, 60),
+                                       speed(6, 15.0f),
+                                       at(7, MAV_CMD_NAV_WAYPOINT, -300, -300, 50),
+                                       at(8, MAV_CMD_NAV_WAYPOINT, -600, -600, 40),
+                                       at(9, MAV_CMD_NAV_LAND, 0, 0, 0)};
+  items[4].param1 = 2.0f;    // turns
+  items[4].param3 = -80.0f;  // counter-clockwise, 80 m
+  items[5].param1 = 30.0f;   // s
+  items[9].param4 = NAN;     // the course from item 8
+  return items;
+}
+
+std::vector<std::string> rows(const std::string& file) {
+  std::ifstream in(std::string(TERN_SOURCE_DIR) + "/tests/mavlink/" + file);
+  REQUIRE(in.good());
+  std::vector<std::string> out;
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty() && line[0] != '#') out.push_back(line);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the mission and command messages' CRC_EXTRA and lengths are common.xml's (crc_extra_mission.txt)") {
+  const std::map<std::string, int> size = {{"uint8_t", 1}, {"int8_t", 1}, {"uint16_t", 2}, {"int16_t", 2}, {"uint32_t", 4},
+                                           {"int32_t", 4}, {"float", 4},  {"uint64_t", 8}, {"char", 1}};
+  std::set<std::uint32_t> seen;
+  for (const std::string& line : rows("crc_extra_mission.txt")) {
+    std::istringstream head(line);
+    std::uint32_t id = 0;
+    std::string name;
+    int crc = 0;
+    head >> id >> name >> crc;
+    // the full length: the last field's offset plus its size ("60:uint8_t uid2[18]")
+    const std::string last = line.substr(line.rfind(", ") + 2);
+    const int offset = std::stoi(last);
+    const std::string type = last.substr(last.find(':') + 1, last.find(' ') - last.find(':') - 1);
+    const auto bracket = last.find('[');
+    const int full = offset + size.at(type) * (bracket == std::string::npos ? 1 : std::stoi(last.substr(bracket + 1)));
+    INFO(name);
+    const auto info = message_info(id);
+    REQUIRE(info.has_value());
+    CHECK(info->crc_extra == crc);
+    CHECK(info->length == full);
+    seen.insert(id);
+  }
+  for (const auto& d : mission_messages()) {
+    INFO(d.name);
+    CHECK(seen.count(d.id) == 1);
+  }
+}
+
+TEST_CASE("the enum values of the mission and commands are common.xml's (enums_mission.txt)") {
+  const std::map<std::string, std::uint64_t> ours = {
+      {"MAV_CMD_COMPONENT_ARM_DISARM", MAV_CMD_COMPONENT_ARM_DISARM},
+      {"MAV_CMD_DO_CHANGE_SPEED", MAV_CMD_DO_CHANGE_SPEED},
+      {"MAV_CMD_DO_GO_AROUND", MAV_CMD_DO_GO_AROUND},
+      {"MAV_CMD_DO_LAND_START", MAV_CMD_DO_LAND_START},
+      {"MAV_CMD_DO_REPOSITION", MAV_CMD_DO_REPOSITION},
+      {"MAV_CMD_DO_SET_MODE", MAV_CMD_DO_SET_MODE},
+      {"MAV_CMD_MISSION_START", MAV_CMD_MISSION_START},
+      {"MAV_CMD_NAV_LAND", MAV_CMD_NAV_LAND},
+      {"MAV_CMD_NAV_LOITER_TIME", MAV_CMD_NAV_LOITER_TIME},
+      {"MAV_CMD_NAV_LOITER_TURNS", MAV_CMD_NAV_LOITER_TURNS},
+      {"MAV_CMD_NAV_LOITER_UNLIM", MAV_CMD_NAV_LOITER_UNLIM},
+      {"MAV_CMD_NAV_RETURN_TO_LAUNCH", MAV_CMD_NAV_RETURN_TO_LAUNCH},
+      {"MAV_CMD_NAV_TAKEOFF", MAV_CMD_NAV_TAKEOFF},
+      {"MAV_CMD_NAV_WAYPOINT", MAV_CMD_NAV_WAYPOINT},
+      {"MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES", MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES},
+      {"MAV_CMD_REQUEST_MESSAGE", MAV_CMD_REQUEST_MESSAGE},
+      {"MAV_CMD_SET_MESSAGE_INTERVAL", MAV_CMD_SET_MESSAGE_INTERVAL},
+      {"MAV_FRAME_GLOBAL", MAV_FRAME_GLOBAL},
+      {"MAV_FRAME_GLOBAL_INT", MAV_FRAME_GLOBAL_INT},
+      {"MAV_FRAME_GLOBAL_RELATIVE_ALT", MAV_FRAME_GLOBAL_RELATIVE_ALT},
+      {"MAV_FRAME_GLOBAL_RELATIVE_ALT_INT", MAV_FRAME_GLOBAL_RELATIVE_ALT_INT},
+      {"MAV_FRAME_MISSION", MAV_FRAME_MISSION},
+      {"MAV_MISSION_ACCEPTED", MAV_MISSION_ACCEPTED},
+      {"MAV_MISSION_DENIED", MAV_MISSION_DENIED},
+      {"MAV_MISSION_ERROR", MAV_MISSION_ERROR},
+      {"MAV_MISSION_INVALID", MAV_MISSION_INVALID},
+      {"MAV_MISSION_INVALID_PARAM1", MAV_MISSION_INVALID_PARAM1},
+      {"MAV_MISSION_INVALID_PARAM2", MAV_MISSION_INVALID_PARAM2},
+      {"MAV_MISSION_INVALID_PARAM3", MAV_MISSION_INVALID_PARAM3},
+      {"MAV_MISSION_INVALID_PARAM4", MAV_MISSION_INVALID_PARAM4},
+      {"MAV_MISSION_INVALID_PARAM5_X", MAV_MISSION_INVALID_PARAM5_X},
+      {"MAV_MISSION_INVALID_PARAM6_Y", MAV_MISSION_INVALID_PARAM6_Y},
+      {"MAV_MISSION_INVALID_PARAM7", MAV_MISSION_INVALID_PARAM7},
+      {"MAV_MISSION_INVALID_SEQUENCE", MAV_MISSION_INVALID_SEQUENCE},
+      {"MAV_MISSION_NO_SPACE", MAV_MISSION_NO_SPACE},
+      {"MAV_MISSION_OPERATION_CANCELLED", MAV_MISSION_OPERATION_CANCELLED},
+      {"MAV_MISSION_TYPE_ALL", MAV_MISSION_TYPE_ALL},
+      {"MAV_MISSION_TYPE_FENCE", MAV_MISSION_TYPE_FENCE},
+      {"MAV_MISSION_TYPE_MISSION", MAV_MISSION_TYPE_MISSION},
+      {"MAV_MISSION_TYPE_RALLY", MAV_MISSION_TYPE_RALLY},
+      {"MAV_MISSION_UNSUPPORTED", MAV_MISSION_UNSUPPORTED},
+      {"MAV_MISSION_UNSUPPORTED_FRAME", MAV_MISSION_UNSUPPORTED_FRAME},
+      {"MAV_PROTOCOL_CAPABILITY_COMMAND_INT", MAV_PROTOCOL_CAPABILITY_COMMAND_INT},
+      {"MAV_PROTOCOL_CAPABILITY_MAVLINK2", MAV_PROTOCOL_CAPABILITY_MAVLINK2},
+      {"MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT", MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT},
+      {"MAV_PROTOCOL_CAPABILITY_MISSION_INT", MAV_PROTOCOL_CAPABILITY_MISSION_INT},
+      {"MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT", MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT},
+      {"MAV_RESULT_ACCEPTED", MAV_RESULT_ACCEPTED},
+      {"MAV_RESULT_DENIED", MAV_RESULT_DENIED},
+      {"MAV_RESULT_FAILED", MAV_RESULT_FAILED},
+      {"MAV_RESULT_TEMPORARILY_REJECTED", MAV_RESULT_TEMPORARILY_REJECTED},
+      {"MAV_RESULT_UNSUPPORTED", MAV_RESULT_UNSUPPORTED},
+  };
+  std::size_t checked = 0;
+  for (const std::string& line : rows("enums_mission.txt")) {
+    std::istringstream row(line);
+    std::string name;
+    std::uint64_t value = 0;
+    row >> name >> value;
+    INFO(name);
+    REQUIRE(ours.count(name) == 1);
+    CHECK(ours.at(name) == value);
+    ++checked;
+  }
+  CHECK(checked == ours.size());
+}
+
+TEST_CASE("a MISSION_ITEM_INT survives a frame, trailing zeros trimmed") {
+  MissionItemInt it = plan()[4];
+  it.target_system = 1;
+  it.target_component = 1;
+  const auto bytes = encode_frame(MISSION_ITEM_INT, encode(it), 3, 255, 190);
+  Counters c;
+  const auto frames = parse_datagram(bytes.data(), bytes.size(), c);
+  REQUIRE(frames.size() == 1);
+  const MissionItemInt back = decode_mission_item_int(frames[0].payload);
+  CHECK(back.seq == 4);
+  CHECK(back.command == MAV_CMD_NAV_LOITER_TURNS);
+  CHECK(back.x == it.x);
+  CHECK(back.y == it.y);
+  CHECK(back.z == it.z);
+  CHECK(back.param3 == -80.0f);
+  CHECK(back.frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT);
+  CHECK(back.mission_type == MAV_MISSION_TYPE_MISSION);
+  CHECK(bytes[1] == 37);  // mission_type 0 (the last byte) trimmed
+}
+
+TEST_CASE("a plan's items become tern's waypoints about home, NED") {
+  const GeoOrigin home(kHome);
+  std::vector<std::uint16_t> nav_seq;
+  const path::Mission m = to_mission(plan(), home, &nav_seq);
+  REQUIRE(m.waypoints.size() == 8);  // two DO_CHANGE_SPEED items set the airspeed of the items after them
+  CHECK(nav_seq == std::vector<std::uint16_t>{0, 2, 3, 4, 5, 7, 8, 9});
+  CHECK_FALSE(m.loop);
+  const auto& w = m.waypoints;
+  // takeoff without a position: above home
+  CHECK(w[0].type == path::ItemType::waypoint);
+  CHECK(w[0].w.norm() == doctest::Approx(40.0));
+  CHECK(w[0].w.z() == doctest::Approx(-40.0));
+  CHECK(w[0].Va_d == 0.0);
+  // lat/lon to NED: within the degE7 rounding (1.1 cm) of where the plan put it
+  CHECK(w[1].w.x() == doctest::Approx(400.0).epsilon(1e-4));
+  CHECK(w[1].w.y() == doctest::Approx(-250.0).epsilon(1e-4));
+  CHECK(w[1].w.z() == doctest::Approx(-70.0 + 400.0 * 400.0 / 2 / 6.37e6 + 250.0 * 250.0 / 2 / 6.37e6).epsilon(1e-3));  // Earth's curvature
+  CHECK(w[1].Va_d == 18.0);
+  CHECK(w[3].type == path::ItemType::loiter);
+  CHECK(w[3].loiter.turns == 2.0);
+  CHECK(w[3].loiter.radius == 80.0);
+  CHECK(w[3].loiter.direction == -1);
+  CHECK(w[4].loiter.time == 30.0);
+  CHECK(w[4].loiter.direction == 1);
+  CHECK(w[5].Va_d == 15.0);
+  CHECK(w[7].type == path::ItemType::land);
+  CHECK(w[7].chi_d == doctest::Approx(std::atan2(600.0, 600.0)).epsilon(1e-3));  // from (-600, -600) towards home: north-east
+  // the same mission through a tern waypoint file, read with the planner's own reader
+  const path::Mission back = path::parse_mission_text(mission_text(m), "test");
+  REQUIRE(back.waypoints.size() == m.waypoints.size());
+  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
+    INFO(i);
+    CHECK((back.waypoints[i].w - m.waypoints[i].w).norm() == doctest::Approx(0.0));
+    CHECK(back.waypoints[i].type == m.waypoints[i].type);
+    CHECK(back.waypoints[i].Va_d == m.waypoints[i].Va_d);
+  }
+  CHECK_FALSE(back.loop);
+}
+
+TEST_CASE("GLOBAL_INT's altitude is MSL, GLOBAL_RELATIVE_ALT's above home") {
+  const GeoOrigin home(kHome);
+  MissionItemInt msl = at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 0);
+  msl.frame = MAV_FRAME_GLOBAL_INT;
+  msl.z = static_cast<float>(kHome.alt + 50.0);
+  MissionItemInt rel = at(1, MAV_CMD_NAV_WAYPOINT, 100, 0, 50);
+  rel.frame = MAV_FRAME_GLOBAL_RELATIVE_ALT;
+  const path::Mission m = to_mission({msl, rel}, home);
+  CHECK(m.waypoints[0].w.z() == doctest::Approx(m.waypoints[1].w.z()).epsilon(1e-6));
+  CHECK(m.waypoints[0].w.z() == doctest::Approx(-50.0).epsilon(1e-3));
+}
+
+TEST_CASE("the planner's list comes back as the items that made it") {
+  const GeoOrigin home(kHome);
+  const std::vector<MissionItemInt> sent = plan();
+  const path::Mission m = path::parse_mission_text(mission_text(to_mission(sent, home)), "test");
+  msg::WaypointList list;
+  list.count = static_cast<std::uint32_t>(m.waypoints.size());
+  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
+    auto& w = list.items[i];
+    const auto& p = m.waypoints[i];
+    w.w = p.w;
+    w.Va_d = p.Va_d;
+    w.type = static_cast<std::uint8_t>(p.type);
+    w.chi_d = p.chi_d;
+    w.loiter_radius = p.loiter.radius;
+    w.loiter_direction = static_cast<std::int8_t>(p.loiter.direction);
+    w.loiter_time = p.loiter.time;
+    w.loiter_turns = p.loiter.turns;
+  }
+  const std::vector<MissionItemInt> back = to_items(list, home);
+  REQUIRE(back.size() == sent.size());
+  for (std::size_t i = 0; i < sent.size(); ++i) {
+    INFO(i);
+    CHECK(back[i].seq == i);
+    if (i == 0) {
+      CHECK(back[i].command == MAV_CMD_NAV_WAYPOINT);  // a takeoff is flown (and listed) as a waypoint
+      continue;
+    }
+    CHECK(back[i].command == sent[i].command);
+    if (sent[i].command == MAV_CMD_DO_CHANGE_SPEED) {
+      CHECK(back[i].param2 == sent[i].param2);
+      continue;
+    }
+    CHECK(std::abs(back[i].x - sent[i].x) <= 1);
+    CHECK(std::abs(back[i].y - sent[i].y) <= 1);
+    CHECK(back[i].z == doctest::Approx(sent[i].z).epsilon(1e-4));
+    CHECK(back[i].frame == MAV_FRAME_GLOBAL_RELATIVE_ALT);
+  }
+  CHECK(back[4].param1 == 2.0f);
+  CHECK(back[4].param3 == -80.0f);
+  CHECK(back[5].param1 == 30.0f);
+  CHECK(back[9].param4 == doctest::Approx(45.0).epsilon(1e-3));
+}
+
+TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and the item named") {
+  const auto refused = [](MissionItemInt it) -> std::pair<int, std::string> {
+    try {
+      check_item(it);
+    } catch (const ItemError& e) {
+      return {e.result(), e.what()};
+    }
+    return {-1, ""};
+  };
+  MissionItemInt jump = at(3, 177, 0, 0, 0);  // DO_JUMP
+  auto r = refused(jump);
+  CHECK(r.first == MAV_MISSION_UNSUPPORTED);
+  CHECK(r.second == "mission item 3 (MAV_CMD 177): not a mission item tern flies (docs/ground-station.md)");
+  MissionItemInt local = at(2, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
+  local.frame = 1;  // LOCAL_NED
+  CHECK(refused(local).first == MAV_MISSION_UNSUPPORTED_FRAME);
+  MissionItemInt hold = at(1, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
+  hold.param1 = 5.0f;
+  r = refused(hold);
+  CHECK(r.first == MAV_MISSION_INVALID_PARAM1);
+  CHECK(r.second.find("mission item 1 (NAV_WAYPOINT): hold 5 s") == 0);
+  MissionItemInt north = at(0, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
+  north.x = 91 * 10'000'000;
+  CHECK(refused(north).first == MAV_MISSION_INVALID_PARAM5_X);
+  MissionItemInt turns = at(0, MAV_CMD_NAV_LOITER_TURNS, 0, 0, 50);
+  CHECK(refused(turns).first == MAV_MISSION_INVALID_PARAM1);  // 0 turns
+  MissionItemInt ground_speed = speed(0, 12.0f);
+  ground_speed.param1 = 1.0f;
+  CHECK(refused(ground_speed).first == MAV_MISSION_INVALID_PARAM1);
+  MissionItemInt nan_alt = at(0, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
+  nan_alt.z = NAN;
+  CHECK(refused(nan_alt).first == MAV_MISSION_INVALID_PARAM7);
+  CHECK(refused(at(0, MAV_CMD_NAV_WAYPOINT, 10, 10, 50)).first == -1);
+  // DO_LAND_START (QGroundControl's landing pattern) is a marker: taken, no waypoint
+  MissionItemInt marker = speed(1, 0.0f);
+  marker.command = MAV_CMD_DO_LAND_START;
+  CHECK(refused(marker).first == -1);
+  MissionItemInt touchdown = at(2, MAV_CMD_NAV_LAND, 0, 0, 0);
+  touchdown.param4 = 90.0f;
+  const path::Mission landing = to_mission({at(0, MAV_CMD_NAV_WAYPOINT, 0, -600, 60), marker, touchdown}, GeoOrigin(kHome));
+  REQUIRE(landing.waypoints.size() == 2);
+  CHECK(landing.waypoints[1].chi_d == doctest::Approx(tern::kPi / 2));
+  // a land item without heading or an item before it: nothing to take the course from
+  MissionItemInt land = at(0, MAV_CMD_NAV_LAND, 0, 0, 0);
+  land.param4 = NAN;
+  CHECK_THROWS_AS(to_mission({land}, GeoOrigin(kHome)), ItemError);
+}
