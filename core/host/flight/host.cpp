@@ -306,6 +306,18 @@ FlightResult Host::fly() {
   return end_flight();
 }
 
+FlightLog::Format Host::log_format() const {
+  FlightLog::Format f = FlightRecorder::format_of(config_.log);
+  if (!f.mcap || !f.mcap_ros_channels) return f;
+  try {
+    f.scene = scene_options(config_.aircraft.string(), config_.fleet_part);
+  } catch (const std::exception& e) {  // the simulator names the file's problem too; the log goes on without a model
+    logger_->warn("flight log: no aircraft model in the 3-D scene: {}", e.what());
+    f.scene = scene_options("", config_.fleet_part);
+  }
+  return f;
+}
+
 Nanos Host::now() const { return running_ && running_->clock ? running_->clock->now() : 0; }
 
 bool Host::begin_flight() {
@@ -322,7 +334,7 @@ bool Host::begin_flight() {
                                  ? fs::absolute(*options_.run_dir)
                                  : new_run_dir(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name);
     running_ = std::make_unique<Running>(
-        run_dir, sinks_, [this](const std::string& line) { logger_->error("{}", line); }, FlightRecorder::format_of(config_.log), duration);
+        run_dir, sinks_, [this](const std::string& line) { logger_->error("{}", line); }, log_format(), duration);
   } catch (...) {
     flying_.store(false);
     throw;
