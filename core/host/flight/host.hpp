@@ -42,7 +42,6 @@
 #include "graph/realtime.hpp"
 #include "config/config.hpp"
 #include "safety/failsafe_station.hpp"
-#include "record/flight_log.hpp"
 #include "record/flight_report.hpp"
 #include "flight/load_instances.hpp"
 #include "record/metrics.hpp"
@@ -215,8 +214,6 @@ class Host {
   }
   FlightFacts facts(double duration_s) const;
   double flight_duration() const;
-  /// The flight log's files as log.* asks, and its 3-D scene from the aircraft file (scene_channels.hpp).
-  FlightLog::Format log_format() const;
   // fly(), in order
   struct Running;  // a flight between begin_flight() and end_flight() (host.cpp)
   std::unique_ptr<Running> running_;

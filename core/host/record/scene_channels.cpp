@@ -51,6 +51,9 @@ RosMarker marker(Nanos stamp, std::string frame, std::string ns, std::int32_t id
   m.id = id;
   m.type = type;
   m.color = color;
+  // drawn where its frame is now: the panel need not find the frame at the marker's stamp (the
+  // mission is stamped before the estimate's first transform)
+  m.frame_locked = true;
   return m;
 }
 
@@ -95,7 +98,6 @@ std::vector<RosMarker> model_markers(const SceneOptions& o, Nanos stamp, const s
     RosMarker m = marker(stamp, frame, ns, static_cast<std::int32_t>(out.size()), RosMarker::cube, color);
     m.position = b.centre;
     m.scale = b.size;
-    m.frame_locked = true;
     out.push_back(std::move(m));
   }
   return out;

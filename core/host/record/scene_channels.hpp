@@ -15,13 +15,14 @@
 //   <p>base_link_estimate      the aircraft as estimated (topic state), FLU
 // NED -> ENU and FRD -> FLU are converted in one place (enu_of_ned, flu_attitude_in_enu below).
 //
-// Channels (each with metadata tern.scene naming what it draws):
+// Channels (each with metadata tern.scene: its own topic); every marker is frame-locked (drawn
+// where its frame is at the time shown, not looked up at its stamp):
 //   /tf                          tf2_msgs/msg/TFMessage: map -> <p>base_link at every truth
 //                                message copied, map -> <p>map_estimate -> <p>base_link_estimate
 //                                at every state message copied; stamps = the State's stamp
 //   /tern/markers/aircraft       visualization_msgs/msg/MarkerArray, once per frame: the model,
 //                                boxes in <p>base_link (ns "truth", opaque) and a translucent
-//                                ghost in <p>base_link_estimate (ns "estimate"), frame-locked
+//                                ghost in <p>base_link_estimate (ns "estimate")
 //   /tern/markers/mission        MarkerArray in <p>map_estimate at each new revision of the
 //                                waypoint list: waypoints, the route, loiter orbits, home, and a
 //                                land item's glide path and runway centre line
