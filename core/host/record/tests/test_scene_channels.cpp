@@ -47,7 +47,7 @@ TEST_CASE("scene: NED positions and FRD attitudes become ENU and FLU (REP-103)")
   CHECK(up.z() == doctest::Approx(std::cos(phi) * std::cos(theta)));
   // level, nose north: FLU x is ENU y (yaw +90 deg about z)
   const Eigen::Quaterniond level = flu_attitude_in_enu(Eigen::Quaterniond::Identity());
-  CHECK(level.isApprox(Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()))));
+  CHECK(level.toRotationMatrix().isApprox(Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix()));
 }
 
 TEST_CASE("scene: the channels each topic feeds, a fleet vehicle's frames under its prefix") {
