@@ -10,8 +10,10 @@
 //     base_link_estimate, the wing as wide as the aircraft file's span b
 //   - the track, mission, current path and wind markers decode, are non-empty and finite
 //   - the layout file parses and names only channels, fields and frames the log has
+// A fleet vehicle's log (PREFIX "uav1/"): its frames and marker namespaces under the prefix; the
+// layout (one vehicle's, following base_link) is not checked against it.
 //
-// usage: node test_foxglove_scene.mjs RUN_DIR LAYOUT_JSON AIRCRAFT_YAML
+// usage: node test_foxglove_scene.mjs RUN_DIR LAYOUT_JSON AIRCRAFT_YAML [PREFIX]
 import { McapIndexedReader } from "@mcap/core";
 import { parse } from "@foxglove/rosmsg";
 import { MessageReader } from "@foxglove/rosmsg2-serialization";
@@ -21,7 +23,7 @@ import { open } from "node:fs/promises";
 import { readFileSync } from "node:fs";
 import { join } from "node:path";
 
-const [runDir, layoutFile, aircraftFile] = process.argv.slice(2);
+const [runDir, layoutFile, aircraftFile, prefix = ""] = process.argv.slice(2);
 const fail = (msg) => {
   console.error(`FAIL: ${msg}`);
   process.exit(1);
@@ -77,7 +79,8 @@ for (const { t, msg } of tf)
     if (!byChild.has(x.child_frame_id)) byChild.set(x.child_frame_id, []);
     byChild.get(x.child_frame_id).push({ t, x });
   }
-const base = byChild.get("base_link") ?? [], estimate = byChild.get("base_link_estimate") ?? [], origin = byChild.get("map_estimate") ?? [];
+const base = byChild.get(`${prefix}base_link`) ?? [], estimate = byChild.get(`${prefix}base_link_estimate`) ?? [];
+const origin = byChild.get(`${prefix}map_estimate`) ?? [];
 if (base.length !== truth.length || base.length < 10) fail(`/tf: ${base.length} map -> base_link for ${truth.length} truth messages`);
 if (estimate.length !== state.length || origin.length !== state.length) fail(`/tf: ${estimate.length} base_link_estimate, ${origin.length} map_estimate for ${state.length} state messages`);
 /// A FRD -> NED quaternion (w, x, y, z) as FLU -> ENU: q_enu_ned * q * q_frd_flu (scene_channels.cpp), as [x, y, z, w]
@@ -100,15 +103,15 @@ base.forEach(({ t, x }, k) => {
 });
 estimate.forEach(({ x }, k) => {
   const m = state[k].msg, tr = x.transform.translation;
-  if (x.header.frame_id !== "map_estimate" || tr.x !== m.p_e || tr.y !== m.p_n || tr.z !== -m.p_d) fail(`/tf: base_link_estimate #${k} in ${x.header.frame_id} at ${tr.x} ${tr.y} ${tr.z}`);
+  if (x.header.frame_id !== `${prefix}map_estimate` || tr.x !== m.p_e || tr.y !== m.p_n || tr.z !== -m.p_d) fail(`/tf: base_link_estimate #${k} in ${x.header.frame_id} at ${tr.x} ${tr.y} ${tr.z}`);
 });
 
 // ---- the markers ----
 const b = Number(/^\s+b:\s*([0-9.eE+-]+)/m.exec(readFileSync(aircraftFile, "utf8"))?.[1]);
 const model = (await read("/tern/markers/aircraft")).flatMap((m) => m.msg.markers);
 for (const [ns, frame] of [["truth", "base_link"], ["estimate", "base_link_estimate"]]) {
-  const boxes = model.filter((m) => m.ns === ns);
-  if (boxes.length !== 4 || boxes.some((m) => m.type !== 1 || m.header.frame_id !== frame || !m.frame_locked)) fail(`model ${ns}: ${JSON.stringify(boxes.map((m) => [m.type, m.header.frame_id]))}`);
+  const boxes = model.filter((m) => m.ns === prefix + ns);
+  if (boxes.length !== 4 || boxes.some((m) => m.type !== 1 || m.header.frame_id !== prefix + frame || !m.frame_locked)) fail(`model ${ns}: ${JSON.stringify(boxes.map((m) => [m.type, m.header.frame_id]))}`);
   if (!boxes.some((m) => m.scale.y === b)) fail(`model ${ns}: no box as wide as the span b ${b} of ${aircraftFile}`);
 }
 const counts = {};
@@ -120,10 +123,10 @@ for (const topic of ["/tern/markers/track", "/tern/markers/mission", "/tern/mark
   counts[topic] = markers.length;
 }
 const mission = (await read("/tern/markers/mission")).at(-1).msg.markers;
-if (!mission.some((m) => m.ns === "mission" && m.type === 7 && m.points.length >= 2)) fail("/tern/markers/mission: no waypoints");
+if (!mission.some((m) => m.ns === `${prefix}mission` && m.type === 7 && m.points.length >= 2)) fail("/tern/markers/mission: no waypoints");
 
 // ---- the layout names what the log has ----
-const layout = JSON.parse(readFileSync(layoutFile, "utf8"));
+const layout = prefix ? { configById: {} } : JSON.parse(readFileSync(layoutFile, "utf8"));
 const frames = new Set(["map", ...byChild.keys()]);
 let named = 0;
 for (const [id, config] of Object.entries(layout.configById)) {

@@ -163,6 +163,8 @@ struct Scene::State {
   } tracks[2];
 
   std::string frame(const char* name) const { return o.frame_prefix + name; }
+  // a marker namespace, prefixed as the frames: a fleet's files opened together keep their markers apart
+  std::string ns(const char* name) const { return o.frame_prefix + name; }
   void see(const msg::State& s) {
     if (!map && s.origin_valid) map.emplace(origin_of(s));
   }
@@ -213,15 +215,15 @@ void Scene::State::model(bool truth, const msg::State& s, std::vector<std::strin
   bool& sent = model_sent[truth ? 0 : 1];
   if (sent || o.span <= 0.0) return;
   sent = true;
-  put(out, truth ? model_markers(o, s.stamp, frame("base_link"), "truth", kTruthColor)
-                 : model_markers(o, s.stamp, frame("base_link_estimate"), "estimate", kEstimateColor));
+  put(out, truth ? model_markers(o, s.stamp, frame("base_link"), ns("truth"), kTruthColor)
+                 : model_markers(o, s.stamp, frame("base_link_estimate"), ns("estimate"), kEstimateColor));
 }
 
 void Scene::State::wind(const msg::State& s, std::vector<std::string>& out) {
   see(s);
   if (s.stamp - last_wind < kSlowPeriod) return;
   last_wind = s.stamp;
-  RosMarker m = line(s.stamp, "map", "wind", 0, RosMarker::arrow, kWindColor);
+  RosMarker m = line(s.stamp, "map", ns("wind"), 0, RosMarker::arrow, kWindColor);
   m.scale = Eigen::Vector3d(kLineWidth, 2.0 * kLineWidth, 2.0 * kLineWidth);  // shaft and head diameters, head length
   const Eigen::Vector3d from = in_map(s);
   m.points = {enu_of_ned(from), enu_of_ned(from + kWindArrowSeconds * Eigen::Vector3d(s.w_n, s.w_e, s.w_d))};
@@ -234,7 +236,7 @@ void Scene::State::track(bool truth, const msg::State& s, std::vector<std::strin
   const Eigen::Vector3d p = enu_of_ned(truth ? in_map(s) : position_of(s));
   if (!p.allFinite() || (k.last && s.stamp - k.t < kSlowPeriod)) return;
   if (k.last) {  // one segment a marker of its own (ids 0, 1 ...): the panel keeps them all
-    RosMarker m = line(s.stamp, truth ? "map" : frame("map_estimate"), truth ? "truth_track" : "estimate_track", k.segments++,
+    RosMarker m = line(s.stamp, truth ? "map" : frame("map_estimate"), ns(truth ? "truth_track" : "estimate_track"), k.segments++,
                        RosMarker::line_list, truth ? kTruthColor : kEstimateColor);
     m.points = {*k.last, p};
     put(out, {m});
@@ -260,9 +262,9 @@ void Scene::State::add_land(const msg::Waypoint& w, std::vector<RosMarker>& mark
   const Eigen::Vector3d along(std::cos(w.chi_d), std::sin(w.chi_d), 0.0);
   const double entry_h = path::kMinEntryHeights * w.land_decision_height;
   const double tan_gs = std::tan(w.land_glide_slope);
-  RosMarker glide = line(0, frame("map_estimate"), "mission", 3, RosMarker::line_strip, kLandColor);
+  RosMarker glide = line(0, frame("map_estimate"), ns("mission"), 3, RosMarker::line_strip, kLandColor);
   glide.points = {enu_of_ned(w.w - along * (entry_h / tan_gs) - Eigen::Vector3d(0.0, 0.0, entry_h)), enu_of_ned(w.w)};
-  RosMarker runway = line(0, frame("map_estimate"), "mission", 4, RosMarker::line_strip, kLandColor);
+  RosMarker runway = line(0, frame("map_estimate"), ns("mission"), 4, RosMarker::line_strip, kLandColor);
   runway.scale.x() = o.span > 0.0 ? o.span : kLineWidth;  // as wide as the aircraft's span
   const Eigen::Vector3d reach = along * (w.land_decision_height / tan_gs);
   runway.points = {enu_of_ned(w.w - reach), enu_of_ned(w.w + reach)};
@@ -275,10 +277,10 @@ void Scene::State::mission(const msg::WaypointList& l, std::vector<std::string>&
   list = l;
   has_list = true;
   const std::string f = frame("map_estimate");
-  RosMarker points = marker(l.stamp, f, "mission", 0, RosMarker::sphere_list, kRouteColor);
+  RosMarker points = marker(l.stamp, f, ns("mission"), 0, RosMarker::sphere_list, kRouteColor);
   points.scale = Eigen::Vector3d::Constant(kPointDiameter);
-  RosMarker route_line = line(l.stamp, f, "mission", 1, RosMarker::line_strip, kRouteColor);
-  RosMarker orbits = line(l.stamp, f, "mission", 2, RosMarker::line_list, kRouteColor);
+  RosMarker route_line = line(l.stamp, f, ns("mission"), 1, RosMarker::line_strip, kRouteColor);
+  RosMarker orbits = line(l.stamp, f, ns("mission"), 2, RosMarker::line_list, kRouteColor);
   for (const Eigen::Vector3d& p : route()) points.points.push_back(enu_of_ned(p));
   route_line.points = points.points;
   if (l.loop && route_line.points.size() > 2) route_line.points.push_back(route_line.points.front());
@@ -291,7 +293,11 @@ void Scene::State::mission(const msg::WaypointList& l, std::vector<std::string>&
       append_segments(orbits.points, orbit_points(item_point(w), w.loiter_radius));
     if (w.type == msg::Waypoint::land) add_land(w, markers);
   }
-  RosMarker home = marker(l.stamp, f, "mission", 5, RosMarker::sphere, kHomeColor);
+  if (markers.empty()) {  // no land item: its glide path and runway of an earlier revision go
+    markers.push_back(line(l.stamp, f, ns("mission"), 3, RosMarker::line_strip, kLandColor));
+    markers.push_back(line(l.stamp, f, ns("mission"), 4, RosMarker::line_strip, kLandColor));
+  }
+  RosMarker home = marker(l.stamp, f, ns("mission"), 5, RosMarker::sphere, kHomeColor);
   home.scale = Eigen::Vector3d::Constant(kPointDiameter);
   for (RosMarker* m : {&points, &route_line, &orbits, &home}) markers.push_back(std::move(*m));
   for (RosMarker& m : markers) m.stamp = l.stamp;
@@ -301,7 +307,7 @@ void Scene::State::mission(const msg::WaypointList& l, std::vector<std::string>&
 void Scene::State::current_path(const msg::CurrentPath& p, std::vector<std::string>& out) {
   if (path && same_path(*path, p)) return;
   path = p;
-  RosMarker m = line(p.stamp, frame("map_estimate"), "current_path", 0, RosMarker::line_strip, kPathColor);
+  RosMarker m = line(p.stamp, frame("map_estimate"), ns("current_path"), 0, RosMarker::line_strip, kPathColor);
   if (p.path_type == msg::CurrentPath::orbit) {
     m.points = orbit_points(p.c, p.rho);
   } else {

@@ -95,6 +95,7 @@ TEST_CASE("scene: the channels each topic feeds, a fleet vehicle's frames under 
   truth[1].encode(&s, out);
   REQUIRE(out.size() == 1);
   CHECK(contains(out[0], "uav1/base_link"));
+  CHECK(contains(out[0], std::string("uav1/truth\0", 11)));  // its namespace too: a fleet's files opened together
 }
 
 TEST_CASE("scene: the estimate under map_estimate, placed by its origin") {
