@@ -10,6 +10,9 @@
 #   a flight logged as MCAP only         tern replay RUN and tern plot RUN read it
 #   node mcap_reader/test_mcap_reader.mjs Foxglove's @mcap/core and rosmsg2-serialization decode every
 #                                         channel of flight.mcap; every value equals the CSV table's
+#   node mcap_reader/test_foxglove_scene.mjs  the 3-D scene: /tf equals truth in ENU/FLU, the model,
+#                                         markers and configs/foxglove/tern-3d.json's topics; a
+#                                         fleet's vehicles' scenes under their names
 #
 # usage: test_mcap_flight.sh TERN CONFIG DURATION_S NODE
 set -euo pipefail
@@ -38,6 +41,16 @@ echo "export csv: $n tables equal to the CSV log's, $(stat -c %s "$a/flight.mcap
 
 [ -d "$readers/node_modules/@mcap/core" ] || fail "Foxglove's readers are not installed: make deps (npm ci in tests/mcap_reader)"
 "$node" "$readers/test_mcap_reader.mjs" "$a" "$a/topics" || fail "the ecosystem's readers disagree with the CSV log"
+# Foxglove's 3-D panel: /tf against truth, the model, the markers, the shipped layout (docs/logs.md)
+root=$(cd "$(dirname "$0")/.." && pwd)
+"$node" "$readers/test_foxglove_scene.mjs" "$a" "$root/configs/foxglove/tern-3d.json" "$(dirname "$config")/$(sed -n 's/^aircraft: *//p' "$config")" ||
+  fail "the 3-D scene of flight.mcap"
+# a fleet (docs/multi-vehicle.md): each vehicle's scene under its name (uav1/base_link ...)
+"$tern" fly "$root/configs/missions/crossing.yaml" --duration 20 --log-format mcap --log-dir "$work/fleet" -q >/dev/null
+for v in uav1 uav2; do
+  "$node" "$readers/test_foxglove_scene.mjs" "$(ls -1d "$work"/fleet/*/)$v" - "$root/configs/aircraft/anaconda.yaml" "$v/" ||
+    fail "the 3-D scene of fleet vehicle $v"
+done
 
 size=$(stat -c %s "$a/flight.mcap")
 for frac in 13 37 50 71 97; do

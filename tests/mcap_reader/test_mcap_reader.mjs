@@ -84,10 +84,19 @@ const rosCopy = async (channel, schema, tern) => {
   return messages.length;
 };
 
-let total = 0, values = 0, rosChannels = 0;
+let total = 0, values = 0, rosChannels = 0, sceneChannels = 0;
 for (const channel of reader.channelsById.values()) {
   const schema = reader.schemasById.get(channel.schemaId);
   if (schema.encoding !== "ros2msg" || channel.messageEncoding !== "cdr") fail(`${channel.topic}: ${schema.encoding}/${channel.messageEncoding}`);
+  if (channel.metadata.has("tern.scene")) {  // the 3-D scene (scene_channels.hpp): decoded here, checked by test_foxglove_scene.mjs
+    const decoder = new MessageReader(parse(new TextDecoder().decode(schema.data), { ros2: true }));
+    let n = 0;
+    for await (const m of reader.readMessages({ topics: [channel.topic] })) if (m.channelId === channel.id && decoder.readMessage(m.data)) ++n;
+    if ((reader.statistics.channelMessageCounts.get(channel.id) ?? 0n) !== BigInt(n)) fail(`${channel.topic}: statistics' count`);
+    total += n;
+    ++sceneChannels;
+    continue;
+  }
   if (channel.metadata.has("tern.topic")) {
     const n = await rosCopy(channel, schema, channel.metadata.get("tern.topic"));
     if ((reader.statistics.channelMessageCounts.get(channel.id) ?? 0n) !== BigInt(n)) fail(`${channel.topic}: statistics' count`);
@@ -128,5 +137,5 @@ if (reader.statistics.messageCount !== BigInt(total)) fail(`statistics: ${reader
 const attachments = reader.attachmentIndexes.map((a) => a.name).sort().join(",");
 if (attachments !== "config.yaml,definitions.json,params.csv,summary.json") fail(`attachments: ${attachments}`);
 if (process.env.TERN_MCAP_ROS_CHANNELS === "1" && rosChannels === 0) fail("no ROS-typed channel (a tern built with Fast DDS writes them)");
-console.log(`@mcap/core + rosmsg2-serialization: ${reader.channelsById.size} channels (${rosChannels} in ROS types), ${total} messages, ${values} values equal to the CSV tables`);
+console.log(`@mcap/core + rosmsg2-serialization: ${reader.channelsById.size} channels (${rosChannels} in ROS types, ${sceneChannels} of the 3-D scene), ${total} messages, ${values} values equal to the CSV tables`);
 await fh.close();

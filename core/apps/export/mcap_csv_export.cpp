@@ -64,7 +64,8 @@ class Exporter {
 };
 
 void Exporter::add_channel(const McapChannel& c) {
-  if (c.metadata.count("tern.topic")) return;  // a topic's copy in its ROS type (ros_channels.hpp): its table is the topic's own
+  // a topic's copy in its ROS type (ros_channels.hpp): its table is the topic's own; the 3-D scene (scene_channels.hpp)
+  if (c.metadata.count("tern.topic") || c.metadata.count("tern.scene")) return;
   const auto header = c.metadata.find("tern.csv_header");
   const auto schema = schemas_.find(c.schema);
   if (header == c.metadata.end() || schema == schemas_.end() || c.message_encoding != "cdr") {

@@ -299,6 +299,21 @@ double Host::flight_duration() const { return duration_override_ ? *duration_ove
 
 // ---- a flight ---------------------------------------------------------------------------------
 
+namespace {
+/// The flight log's files as log.* asks, and its 3-D scene from the aircraft file (scene_channels.hpp).
+FlightLog::Format log_format(const MissionConfig& config, spdlog::logger& logger) {
+  FlightLog::Format f = FlightRecorder::format_of(config.log);
+  if (!f.mcap || !f.mcap_ros_channels) return f;
+  try {
+    f.scene = scene_options(config.aircraft.string(), config.fleet_part);
+  } catch (const std::exception& e) {  // the simulator names the file's problem too; the log goes on without a model
+    logger.warn("flight log: no aircraft model in the 3-D scene: {}", e.what());
+    f.scene = scene_options("", config.fleet_part);
+  }
+  return f;
+}
+}  // namespace
+
 FlightResult Host::fly() {
   if (begin_flight())
     while (tick()) {
@@ -322,7 +337,7 @@ bool Host::begin_flight() {
                                  ? fs::absolute(*options_.run_dir)
                                  : new_run_dir(options_.log_dir ? fs::absolute(*options_.log_dir) : config_.log.dir, config_.name);
     running_ = std::make_unique<Running>(
-        run_dir, sinks_, [this](const std::string& line) { logger_->error("{}", line); }, FlightRecorder::format_of(config_.log), duration);
+        run_dir, sinks_, [this](const std::string& line) { logger_->error("{}", line); }, log_format(config_, *logger_), duration);
   } catch (...) {
     flying_.store(false);
     throw;

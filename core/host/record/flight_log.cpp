@@ -87,21 +87,32 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
     const auto schema = mcap_->add_schema(tern_schema_name(type_name, topic), "ros2msg", tern_schema_text(t->columns));
     // the CSV header keeps the names and units `tern export csv` writes
     t->channel = mcap_->add_channel(schema, "/" + topic, "cdr", {{"tern.csv_header", header.substr(0, header.size() - 1)}});
-    if (format_.mcap_ros_channels) add_ros_channel(*t, type_name);
+    if (format_.mcap_ros_channels) add_ros_channels(*t, type_name);
   }
   topics_.push_back(std::move(t));
   report();
   return topics_.size() - 1;
 }
 
-void FlightLog::add_ros_channel(Topic& t, std::string_view type_name) {
-  const RosChannelLookup& lookup = ros_channel_lookup();
-  if (!lookup) return;
-  std::optional<RosChannel> ros = lookup(t.name, type_name);
-  if (!ros) return;
-  const auto schema = mcap_->add_schema(ros->type, "ros2msg", ros->schema);
-  t.ros_channel = mcap_->add_channel(schema, ros->topic, "cdr", {{"tern.topic", t.name}});
-  t.ros_encode = std::move(ros->encode);
+void FlightLog::add_ros_channels(Topic& t, std::string_view type_name) {
+  if (const RosChannelLookup& lookup = ros_channel_lookup())
+    if (std::optional<RosChannel> ros = lookup(t.name, type_name)) add_copy(t, std::move(*ros), {{"tern.topic", t.name}});
+  if (!scene_) scene_ = std::make_unique<Scene>(format_.scene);
+  for (RosChannel& c : scene_->channels_of(t.name, type_name)) {
+    const std::string topic = c.topic;
+    add_copy(t, std::move(c), {{"tern.scene", topic}});
+  }
+}
+
+void FlightLog::add_copy(Topic& t, RosChannel ros, const McapWriter::Metadata& metadata) {
+  // a channel several topics feed (/tf) and a schema several channels use are written once
+  auto id = [this](const std::string& key, auto add) {
+    const auto it = copy_ids_.find(key);
+    return it != copy_ids_.end() ? it->second : copy_ids_[key] = add();
+  };
+  const auto schema = id("schema:" + ros.type, [&] { return mcap_->add_schema(ros.type, "ros2msg", ros.schema); });
+  const auto channel = id(ros.topic, [&] { return mcap_->add_channel(schema, ros.topic, "cdr", metadata); });
+  t.copies.push_back({channel, std::move(ros.encode)});
 }
 
 void FlightLog::capture(std::size_t index, Nanos t, const void* data) {
@@ -254,13 +265,16 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
     // the same message in its ROS type; the record sits at any offset and the message struct
     // (Eigen members) wants its alignment
-    if (t.ros_channel != 0 && when - t.ros_last >= format_.mcap_ros_interval_ns) {
-      t.ros_last = when;
+    if (!t.copies.empty()) {
       aligned_.resize(t.msg_size / sizeof(std::max_align_t) + 1);
       std::memcpy(aligned_.data(), msg, t.msg_size);
+    }
+    for (Topic::Copy& copy : t.copies) {
+      if (when - copy.last < format_.mcap_ros_interval_ns) continue;
+      copy.last = when;
       ros_samples_.clear();
-      t.ros_encode(aligned_.data(), ros_samples_);
-      for (const std::string& sample : ros_samples_) mcap_->message(t.ros_channel, static_cast<std::uint64_t>(when), sample);
+      copy.encode(aligned_.data(), ros_samples_);
+      for (const std::string& sample : ros_samples_) mcap_->message(copy.channel, static_cast<std::uint64_t>(when), sample);
     }
     off += sizeof index + sizeof(Nanos) + t.msg_size;
   }

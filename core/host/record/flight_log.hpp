@@ -11,7 +11,9 @@
 //                           disk at every flush (mcap_writer.hpp); config.yaml, definitions.json,
 //                           params.csv and summary.json attached at the end; a topic tern also speaks in a ROS
 //                           type has a second channel in it (/tern/estimated_state as
-//                           rosplane_msgs/msg/State, ...: ros_channels.hpp)
+//                           rosplane_msgs/msg/State, ...: ros_channels.hpp), and the 3-D scene
+//                           the topics truth, state, waypoints and current_path draw (/tf and
+//                           markers, for Foxglove's 3-D panel: scene_channels.hpp)
 //   <run>/params.csv        every parameter value at start and every change, with time and source
 //   <run>/tern.log          the host's text log
 //   <run>/summary.json      what the flight did (deterministic: same config + seed, same bytes)
@@ -43,6 +45,7 @@
 
 #include "files/log_file.hpp"
 #include "mcap/mcap_writer.hpp"
+#include "record/scene_channels.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
@@ -65,6 +68,8 @@ struct FlightLogFormat {
   /// message). The copies are a convenience for ROS tools; tern's own channel keeps every message.
   std::int64_t mcap_ros_interval_ns = 0;
   int mcap_zstd_level = McapWriter::Options{}.zstd_level;
+  /// The 3-D scene's frames and model (scene_channels.hpp), written with the ROS-typed copies.
+  SceneOptions scene;
 };
 
 class FlightLog {
@@ -114,10 +119,13 @@ class FlightLog {
     std::size_t msg_size = 0;
     std::unique_ptr<LogFile> file;  // null without CSV
     std::uint16_t channel = 0;      // MCAP channel (0: no MCAP)
-    std::uint16_t ros_channel = 0;  // its ROS-typed MCAP channel (0: none; ros_channels.hpp)
-    std::function<void(const void*, std::vector<std::string>&)> ros_encode;
-    std::int64_t ros_last = INT64_MIN / 2;  // flight time of its last ROS-typed copy (the writer thread's)
-    std::vector<char> pending;              // records: int64 t, then msg_size bytes
+    struct Copy {                   // a ROS-typed channel this topic feeds (ros_channels.hpp, scene_channels.hpp)
+      std::uint16_t channel = 0;
+      std::function<void(const void*, std::vector<std::string>&)> encode;
+      std::int64_t last = INT64_MIN / 2;  // flight time of its last copy (the writer thread's)
+    };
+    std::vector<Copy> copies;
+    std::vector<char> pending;  // records: int64 t, then msg_size bytes
   };
   static constexpr std::size_t kParams = SIZE_MAX;    // Chunk::topic of params rows
   static constexpr std::size_t kMcap = SIZE_MAX - 1;  // Chunk::topic of MCAP records (all topics)
@@ -129,7 +137,8 @@ class FlightLog {
   void writer_loop();
   void write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::size_t& capacity);
   void write_mcap(const std::vector<char>& bytes);
-  void add_ros_channel(Topic& t, std::string_view type_name);
+  void add_ros_channels(Topic& t, std::string_view type_name);
+  void add_copy(Topic& t, RosChannel ros, const McapWriter::Metadata& metadata);
   void report();
   void hand_over(std::size_t topic, std::vector<char>& buf);
 
@@ -138,6 +147,8 @@ class FlightLog {
   Format format_;
   LogHealth health_;
   std::unique_ptr<McapWriter> mcap_;
+  std::unique_ptr<Scene> scene_;                    // with mcap_ros_channels
+  std::map<std::string, std::uint16_t> copy_ids_;   // ROS-typed channels by topic, their schemas by "schema:" type
   std::vector<char> mcap_pending_;                  // records in capture order: uint64 topic, int64 t, msg_size bytes
   std::map<std::string, std::string> attachments_;  // name -> text, attached at the end
   std::string params_text_;                         // params.csv whole, attached at the end
