@@ -38,13 +38,12 @@ PythonFlightOptions flight_options(std::optional<std::uint64_t> seed, std::optio
   return o;
 }
 
-std::string config_or_default(const std::optional<std::string>& config) {
-  return config ? *config : tern::core::default_config().string();
-}
+std::string config_or_default(const std::optional<std::string>& config) { return config ? *config : tern::core::default_config().string(); }
 
 py::dict fly(std::optional<std::string> config, std::optional<std::uint64_t> seed, std::optional<double> duration, const py::dict& sets,
              std::optional<std::string> log_dir, std::optional<std::string> log_level, std::optional<std::string> log_format, bool quiet) {
-  const PythonFlightOptions o = flight_options(seed, duration, sets, std::move(log_dir), std::move(log_level), std::move(log_format), quiet);
+  const PythonFlightOptions o =
+      flight_options(seed, duration, sets, std::move(log_dir), std::move(log_level), std::move(log_format), quiet);
   const std::string file = config_or_default(config);
   std::optional<tern::core::FlightResult> r;
   {
@@ -77,22 +76,21 @@ PYBIND11_MODULE(_tern, m) {
       error(e.what());
     }
   });
-  m.def("default_config", [] { return tern::core::default_config().string(); }, "the default mission's config file");
+  m.def(
+      "default_config", [] { return tern::core::default_config().string(); }, "the default mission's config file");
   m.def("fly", &fly, py::arg("config") = py::none(), py::kw_only(), py::arg("seed") = py::none(), py::arg("duration") = py::none(),
         py::arg("set") = py::dict(), py::arg("log_dir") = py::none(), py::arg("log_level") = py::none(), py::arg("log_format") = py::none(),
         py::arg("quiet") = true, "one flight as `tern fly` flies it; returns {run_dir, ok, end_reason, end_detail, wall_s}");
   m.def(
-      "export_csv",
-      [](const std::string& mcap, const std::string& out_dir) {
-        return tern::core::export_csv(mcap, out_dir).rows;
-      },
+      "export_csv", [](const std::string& mcap, const std::string& out_dir) { return tern::core::export_csv(mcap, out_dir).rows; },
       py::arg("mcap"), py::arg("out_dir"), "an MCAP log's topic tables into out_dir/<topic>.csv (tern export csv)");
   py::class_<PythonHost>(m, "Host")
       .def(py::init([](std::optional<std::string> config, std::optional<std::uint64_t> seed, std::optional<double> duration,
                        const py::dict& sets, std::optional<std::string> log_dir, std::optional<std::string> log_level,
                        std::optional<std::string> log_format, bool quiet) {
-             return std::make_unique<PythonHost>(config_or_default(config), flight_options(seed, duration, sets, std::move(log_dir),
-                                                                                           std::move(log_level), std::move(log_format), quiet));
+             return std::make_unique<PythonHost>(
+                 config_or_default(config),
+                 flight_options(seed, duration, sets, std::move(log_dir), std::move(log_level), std::move(log_format), quiet));
            }),
            py::arg("config") = py::none(), py::kw_only(), py::arg("seed") = py::none(), py::arg("duration") = py::none(),
            py::arg("set") = py::dict(), py::arg("log_dir") = py::none(), py::arg("log_level") = py::none(),

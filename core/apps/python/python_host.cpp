@@ -107,7 +107,8 @@ std::string PythonHost::topic_list() const { return fmt::format("{}", fmt::join(
 
 py::object PythonHost::read(const std::string& topic) const {
   const OutputBase* o = host_->topic_source(topic);
-  if (o == nullptr) throw ConfigError(fmt::format("Host.read: no topic '{}' in mission '{}'; its topics: {}", topic, host_->config().name, topic_list()));
+  if (o == nullptr)
+    throw ConfigError(fmt::format("Host.read: no topic '{}' in mission '{}'; its topics: {}", topic, host_->config().name, topic_list()));
   if (o->sequence() == 0) return py::none();
   return message_dict(o->type(), o->data());
 }
@@ -132,10 +133,13 @@ void PythonHost::write(const std::string& topic, const py::dict& fields) {
 py::object PythonHost::get_param(const std::string& name) const {
   for (const auto& [qualified, p] : host_->parameters())
     if (qualified == name) return param_object(p->value());
-  throw ConfigError(fmt::format("Host.get_param: no parameter '{}' in mission '{}' (tern params CONFIG lists them)", name, host_->config().name));
+  throw ConfigError(
+      fmt::format("Host.get_param: no parameter '{}' in mission '{}' (tern params CONFIG lists them)", name, host_->config().name));
 }
 
-void PythonHost::set_param(const std::string& name, const py::handle& value) { host_->request_param(name, param_value(name, value), "python"); }
+void PythonHost::set_param(const std::string& name, const py::handle& value) {
+  host_->request_param(name, param_value(name, value), "python");
+}
 
 void PythonHost::swap(const std::string& instance, const std::string& so) {
   if (running_) throw ConfigError(fmt::format("Host.swap('{}'): a flight is running: end() it first", instance));

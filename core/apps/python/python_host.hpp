@@ -35,9 +35,9 @@ struct PythonFlightOptions {
   std::optional<std::uint64_t> seed;  ///< else the config's
   std::optional<double> duration;     ///< s, else the config's
   std::optional<std::string> log_dir;
-  std::optional<std::string> log_level;  ///< summary, decimated or full (--log-level)
+  std::optional<std::string> log_level;   ///< summary, decimated or full (--log-level)
   std::optional<std::string> log_format;  ///< csv, mcap or both (--log-format)
-  bool quiet = true;  ///< console log: warnings only
+  bool quiet = true;                      ///< console log: warnings only
 };
 
 /// The CLI's preparation and host options for `o` (fly_mission.hpp, Host).
@@ -84,7 +84,7 @@ class PythonHost {
   std::uint64_t seed_ = 1;
   std::unique_ptr<Host> host_;
   std::vector<std::pair<std::string, std::string>> swaps_;  // (instance, library), re-applied on a rebuild
-  bool running_ = false;  // between begin_flight() and end_flight()
+  bool running_ = false;                                    // between begin_flight() and end_flight()
   std::string end_reason_;
   std::string last_run_dir_;
   Nanos ended_at_ = 0;

@@ -1,6 +1,10 @@
 #include "python/python_messages.hpp"
 
+#include <optional>
+#include <variant>
+
 #include <fmt/format.h>
+#include <pybind11/stl.h>
 
 #include "config/error.hpp"
 #include "graph/message_columns.hpp"
@@ -11,12 +15,13 @@ namespace {
 
 bool is_integer_kind(reflect::Scalar k) { return k != reflect::Scalar::f64 && k != reflect::Scalar::f32 && k != reflect::Scalar::boolean; }
 
-std::string repr(const py::handle& v) { return py::repr(v).cast<std::string>(); }
+std::string text_of(const py::handle& v) { return py::repr(v).cast<std::string>(); }
 
 /// A real number from Python (bool, int, float, numpy scalar), or nullopt.
 std::optional<double> number(const py::handle& v) {
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? 1.0 : 0.0;
-  if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) || !PyNumber_Check(v.ptr()) || PyComplex_Check(v.ptr())) return std::nullopt;
+  if (py::isinstance<py::str>(v) || py::isinstance<py::bytes>(v) || !PyNumber_Check(v.ptr()) || PyComplex_Check(v.ptr()))
+    return std::nullopt;
   PyObject* f = PyNumber_Float(v.ptr());
   if (f == nullptr) {
     PyErr_Clear();
@@ -46,10 +51,10 @@ py::dict message_dict(const MsgType& type, const void* msg) {
 std::vector<std::pair<std::string, double>> message_fields(const std::string& topic, const py::dict& fields) {
   std::vector<std::pair<std::string, double>> out;
   for (const auto& [key, value] : fields) {
-    if (!py::isinstance<py::str>(key)) throw ConfigError(fmt::format("topic '{}': field name {} is not a str", topic, repr(key)));
+    if (!py::isinstance<py::str>(key)) throw ConfigError(fmt::format("topic '{}': field name {} is not a str", topic, text_of(key)));
     const std::string name = key.cast<std::string>();
     const std::optional<double> x = number(value);
-    if (!x) throw ConfigError(fmt::format("topic '{}': field '{}': {} is not a number", topic, name, repr(value)));
+    if (!x) throw ConfigError(fmt::format("topic '{}': field '{}': {} is not a number", topic, name, text_of(value)));
     out.emplace_back(name, *x);
   }
   return out;
@@ -66,12 +71,12 @@ ParamValue param_value(const std::string& name, const py::handle& value) {
     std::vector<double> v;
     for (const auto& item : items) {
       const std::optional<double> x = number(item);
-      if (!x) throw ConfigError(fmt::format("parameter '{}': element {} of {} is not a number", name, v.size(), repr(value)));
+      if (!x) throw ConfigError(fmt::format("parameter '{}': element {} of {} is not a number", name, v.size(), text_of(value)));
       v.push_back(*x);
     }
     return v;
   }
-  throw ConfigError(fmt::format("parameter '{}': {} is not a bool, int, float, str or list of numbers", name, repr(value)));
+  throw ConfigError(fmt::format("parameter '{}': {} is not a bool, int, float, str or list of numbers", name, text_of(value)));
 }
 
 py::object param_object(const ParamValue& value) {

@@ -222,9 +222,15 @@ std::vector<Host::TopicInfo> Host::topics() const {
 
 void Host::hold_message(const std::string& topic, const std::vector<std::pair<std::string, double>>& fields) {
   const GraphTopic* t = graph_.find(topic);
-  if (t == nullptr || t->writers.empty())
-    throw ConfigError(fmt::format("topic '{}': no plugin of mission '{}' publishes it (a held message replaces a plugin's output)", topic,
-                                  config_.name));
+  if (t == nullptr || t->writers.empty()) {
+    std::vector<std::string> written;
+    for (const auto& w : graph_.topics())
+      if (!w.writers.empty()) written.push_back(w.name);
+    throw ConfigError(
+        fmt::format("topic '{}': no plugin of mission '{}' publishes it (a held message replaces a plugin's output); "
+                    "its plugins publish: {}",
+                    topic, config_.name, fmt::join(written, ", ")));
+  }
   held_.hold(topic, t->writers.front().second->type(), fields);
 }
 

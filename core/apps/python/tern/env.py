@@ -42,6 +42,7 @@ except ImportError:
     _gymnasium = None
 
 LEARN_CONFIG = Path(default_config()).parent / "learn.yaml"
+ROLL_OBSERVATION = (("state", "phi"), ("state", "p"), ("controller_internals", "phi_c"))
 
 
 class Box:
@@ -90,9 +91,9 @@ class FlightEnv:
     action_topic        the module output the action replaces ("actuators", "controller_command")
     action_fields       its fields, in the action vector's order; action_low/high their bounds
     observation         (topic, field) pairs: [("state", "phi"), ("truth", "phi"), ...]; a pair
-                        ("controller_internals", "phi_c") reads another module's output; the default
-                        task's observation is computed by `observe`
+                        ("controller_internals", "phi_c") reads another module's output
     observe             optional: f(values) -> obs vector, values the observation pairs' numbers
+                        (with ROLL_OBSERVATION, the default task's [phi_c - phi, p, phi_c])
     reward              f(obs, action) -> float
     terminate           optional: f(obs) -> bool (the episode ends terminated)
     control_rate_hz     steps per second of flight time (100: 4 ticks of a 400-Hz host)
@@ -105,15 +106,15 @@ class FlightEnv:
     render_mode = None
 
     def __init__(self, config=None, *, action_topic="actuators", action_fields=("delta_a",), action_low=(-0.6,), action_high=(0.6,),
-                 observation=(("state", "phi"), ("state", "p"), ("controller_internals", "phi_c")), observe=None,
+                 observation=ROLL_OBSERVATION, observe=None,
                  reward=roll_reward, terminate=None, control_rate_hz=100.0, episode_s=10.0, start_s=5.0, set=None,
                  log_level="summary", log_dir=None, keep_logs=False):
         self.config = str(config or LEARN_CONFIG)
         self.action_topic = action_topic
         self.action_fields = tuple(action_fields)
         self.observation = tuple((t, f) for t, f in observation)
-        if observe is None and config is None and observation == FlightEnv.__init__.__kwdefaults__["observation"]:
-            observe = _roll_observation
+        if observe is None and self.observation == ROLL_OBSERVATION:
+            observe = _roll_observation  # the default task's [phi_c - phi, p, phi_c]
         self._observe_fn = observe
         self._reward = reward
         self._terminate = terminate

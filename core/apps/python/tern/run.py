@@ -19,6 +19,7 @@ import math
 import re
 import shutil
 import tempfile
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -44,7 +45,8 @@ def _cell(text):
 
 def read_table(path):
     """A topic CSV (header "name [unit]", then rows) as a numpy structured array with the units
-    in its dtype's metadata. Raises tern.Error naming the file and row for a malformed table."""
+    in its dtype's metadata. Raises tern.Error naming the file for a malformed table (a cell that
+    is not a number, rows of another length than the header)."""
     path = Path(path)
     with open(path, newline="") as f:
         header = f.readline().rstrip("\r\n")
@@ -57,15 +59,21 @@ def read_table(path):
         units[name] = unit or ""
     kinds = [np.int64 if units[n] == "ns" else bool if units[n] == "bool" else np.float64 for n in names]
     dtype = np.dtype({"names": names, "formats": kinds}, metadata={"units": units})
-    try:
-        cells = np.loadtxt(path, delimiter=",", skiprows=1, dtype=np.float64, ndmin=2)
-    except ValueError as e:
-        raise Error(f"{path}: not a table of numbers: {e}") from None
-    if cells.size and cells.shape[1] != len(names):
-        raise Error(f"{path}: {cells.shape[1]} values a row, {len(names)} columns in the header")
+    with open(path, "rb") as f:
+        f.readline()
+        body = f.read().replace(b"\n", b",").decode()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", DeprecationWarning)  # numpy's word for a cell that is not a number
+        try:
+            cells = np.fromstring(body, dtype=np.float64, sep=",") if body.strip(",") else np.empty(0)
+        except DeprecationWarning:
+            raise Error(f"{path}: a cell that is not a number (a number, nan or inf in every cell)") from None
+    if cells.size % len(names):
+        raise Error(f"{path}: {cells.size} values, not a whole number of rows of the header's {len(names)} columns")
+    cells = cells.reshape(-1, len(names))
     out = np.empty(len(cells), dtype=dtype)
     for i, n in enumerate(names):
-        out[n] = cells[:, i] if cells.size else []
+        out[n] = cells[:, i]
     return out
 
 
