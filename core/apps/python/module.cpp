@@ -3,6 +3,8 @@
 // (export/mcap_csv_export.hpp, for tern.Run), and tern.Error: ConfigError, ParamError and
 // McapError raised as one Python exception whose message names the file, topic, field or
 // parameter. The package around it is tern/*.py (docs/python.md).
+#include <cstdlib>
+
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -60,9 +62,18 @@ py::dict fly(std::optional<std::string> config, std::optional<std::uint64_t> see
   return d;
 }
 
+// The plugins built with this module: the host looks beside its program (graph/loader.hpp), and
+// the program here is python3; so they join TERN_PLUGIN_PATH, after the directories it names.
+void add_build_plugins_to_search_path() {
+  const char* now = std::getenv("TERN_PLUGIN_PATH");
+  const std::string path = now && *now ? std::string(now) + ":" + TERN_PYTHON_PLUGIN_DIR : std::string(TERN_PYTHON_PLUGIN_DIR);
+  setenv("TERN_PLUGIN_PATH", path.c_str(), 1);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_tern, m) {
+  add_build_plugins_to_search_path();
   m.doc() = "tern's host from Python (docs/python.md); use the package tern, not this module";
   static py::exception<tern::core::ConfigError> error(m, "Error", PyExc_ValueError);
   py::register_exception_translator([](std::exception_ptr p) {
