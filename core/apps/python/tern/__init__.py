@@ -18,6 +18,7 @@ from tern._tern import Host as _Host
 from tern.run import Run
 
 __all__ = ["Error", "Host", "Run", "default_config", "fly"]
+Error.__module__ = "tern"  # raised as tern.Error
 
 
 def fly(config=None, seed=None, duration=None, set=None, log_dir=None, log_level=None, log_format=None, quiet=True):
