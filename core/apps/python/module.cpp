@@ -116,7 +116,7 @@ PYBIND11_MODULE(_tern, m) {
       .def_property_readonly("base_period", &PythonHost::base_period)
       .def_property_readonly("topics", &PythonHost::topics)
       .def_property_readonly("handovers", &PythonHost::handovers)
-      .def("read", &PythonHost::read, py::arg("topic"))
+      .def("read", &PythonHost::read, py::arg("topic"), py::arg("fields") = py::none())
       .def("write", &PythonHost::write, py::arg("topic"), py::arg("fields"))
       .def("release", &PythonHost::release, py::arg("topic"))
       .def("get_param", &PythonHost::get_param, py::arg("name"))

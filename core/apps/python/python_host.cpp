@@ -105,12 +105,27 @@ py::list PythonHost::handovers() const {
 
 std::string PythonHost::topic_list() const { return fmt::format("{}", fmt::join(topics(), ", ")); }
 
-py::object PythonHost::read(const std::string& topic) const {
+const std::vector<reflect::Column>& PythonHost::columns_of(const MsgType& type) const {
+  auto it = columns_.find(type.name);
+  if (it == columns_.end()) it = columns_.emplace(std::string(type.name), type.columns()).first;
+  return it->second;
+}
+
+py::object PythonHost::read(const std::string& topic, const std::optional<std::vector<std::string>>& fields) const {
   const OutputBase* o = host_->topic_source(topic);
   if (o == nullptr)
     throw ConfigError(fmt::format("Host.read: no topic '{}' in mission '{}'; its topics: {}", topic, host_->config().name, topic_list()));
-  if (o->sequence() == 0) return py::none();
-  return message_dict(o->type(), o->data());
+  const std::vector<reflect::Column>& columns = columns_of(o->type());
+  if (!fields) return o->sequence() == 0 ? py::none() : py::object(message_dict(columns, o->data()));
+  py::tuple out(fields->size());
+  for (std::size_t i = 0; i < fields->size(); ++i) {
+    const reflect::Column* c = find_column(columns, (*fields)[i]);
+    if (c == nullptr)
+      throw ConfigError(fmt::format("Host.read: topic '{}' ({}): no field '{}'; its fields: {}", topic, o->type().name, (*fields)[i],
+                                    column_names(columns)));
+    out[i] = py::float_(o->sequence() == 0 ? 0.0 : column_value(*c, o->data()));
+  }
+  return std::move(out);
 }
 
 void PythonHost::write(const std::string& topic, const py::dict& fields) {
@@ -120,7 +135,7 @@ void PythonHost::write(const std::string& topic, const py::dict& fields) {
     return;
   }
   msg::Rc rc;
-  const auto columns = msg_type_v<msg::Rc>.columns();
+  const auto& columns = columns_of(msg_type_v<msg::Rc>);
   for (const auto& [name, v] : values) {
     const reflect::Column* c = find_column(columns, name);
     if (c == nullptr) throw ConfigError(fmt::format("topic 'pilot' (tern/Rc): no field '{}'; its fields: {}", name, column_names(columns)));

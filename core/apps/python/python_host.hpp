@@ -5,7 +5,8 @@
 //                    (plugins take their seed when configured) with the swaps made so far
 //   step(n)          n ticks of the base rate (Host::tick, the CLI's loop); step_until(t) up to
 //                    flight time t s; both return False once the flight has ended
-//   read(topic)      the latest message on an output as a dict (python_messages.hpp)
+//   read(topic)      the latest message on an output as a dict (python_messages.hpp); with
+//                    fields=[...] those fields' values as a tuple of floats (no dict: quicker)
 //   write(topic, d)  fields held on a plugin's output (Host::hold_message) until release(topic);
 //                    `pilot`: the pilot's sticks (Host::set_pilot)
 //   get_param/set_param, swap(instance, so) between flights (Host::swap), end() -> run dir
@@ -14,6 +15,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -64,7 +66,7 @@ class PythonHost {
   /// The running (or last) flight's controller handovers (the safety net's: phase_router.hpp)
   /// as dicts {t [s], from, to, reason}.
   py::list handovers() const;
-  py::object read(const std::string& topic) const;
+  py::object read(const std::string& topic, const std::optional<std::vector<std::string>>& fields) const;
   void write(const std::string& topic, const py::dict& fields);
   bool release(const std::string& topic) { return host_->release_message(topic); }
   py::object get_param(const std::string& name) const;
@@ -78,6 +80,8 @@ class PythonHost {
   void build();
   void begin();
   std::string topic_list() const;
+  /// The log columns of a message type, computed once per type.
+  const std::vector<reflect::Column>& columns_of(const MsgType& type) const;
 
   std::string config_file_;
   PythonFlightOptions options_;
@@ -88,6 +92,7 @@ class PythonHost {
   std::string end_reason_;
   std::string last_run_dir_;
   Nanos ended_at_ = 0;
+  mutable std::map<std::string, std::vector<reflect::Column>, std::less<>> columns_;  // by message type name
 };
 
 }  // namespace tern::core::python

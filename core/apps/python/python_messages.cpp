@@ -34,9 +34,9 @@ std::optional<double> number(const py::handle& v) {
 
 }  // namespace
 
-py::dict message_dict(const MsgType& type, const void* msg) {
+py::dict message_dict(const std::vector<reflect::Column>& columns, const void* msg) {
   py::dict d;
-  for (const auto& c : type.columns()) {
+  for (const auto& c : columns) {
     const double v = column_value(c, msg);
     if (c.kind == reflect::Scalar::boolean)
       d[py::str(c.name)] = py::bool_(v != 0.0);

@@ -18,9 +18,9 @@ namespace tern::core::python {
 
 namespace py = pybind11;
 
-/// The message at `msg` of type `type` as {column: value}: bool for a boolean field, int for an
-/// integer one, float otherwise.
-py::dict message_dict(const MsgType& type, const void* msg);
+/// The message at `msg` with log columns `columns` as {column: value}: bool for a boolean field,
+/// int for an integer one, float otherwise.
+py::dict message_dict(const std::vector<reflect::Column>& columns, const void* msg);
 
 /// {field: number} as (field, value) pairs for `topic`; a key that is not a str or a value that is
 /// not a real number (bool, int, float, numpy scalar) throws ConfigError naming the topic and

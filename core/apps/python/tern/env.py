@@ -113,6 +113,11 @@ class FlightEnv:
         self.action_topic = action_topic
         self.action_fields = tuple(action_fields)
         self.observation = tuple((t, f) for t, f in observation)
+        self._groups = {}  # topic -> (its fields, their places in the observation)
+        for i, (topic, field) in enumerate(self.observation):
+            self._groups.setdefault(topic, ([], []))
+            self._groups[topic][0].append(field)
+            self._groups[topic][1].append(i)
         if observe is None and self.observation == ROLL_OBSERVATION:
             observe = _roll_observation  # the default task's [phi_c - phi, p, phi_c]
         self._observe_fn = observe
@@ -221,20 +226,13 @@ class FlightEnv:
             shutil.rmtree(run.dir, ignore_errors=True)
 
     def _values(self):
-        cache = {}
         out = np.empty(len(self.observation))
-        for i, (topic, field) in enumerate(self.observation):
-            if topic not in cache:
-                cache[topic] = self._host.read(topic) or {}
-            msg = cache[topic]
-            if msg and field not in msg:
-                raise Error(f"FlightEnv: topic '{topic}' has no field '{field}'; its fields: {', '.join(msg)}")
-            out[i] = msg.get(field, 0.0)
+        for topic, (fields, where) in self._groups.items():
+            out[where] = self._host.read(topic, fields)  # tern.Error names a topic or field it lacks
         return out
 
     def _zero_values(self):
-        for topic, _ in self.observation:
-            self._host.read(topic)  # an unknown topic raises tern.Error here
+        self._values()
         return np.zeros(len(self.observation))
 
     def _observe(self, values):
