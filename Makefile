@@ -19,6 +19,7 @@ DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
   doctest-dev libcli11-dev nlohmann-json3-dev libgeographiclib-dev libarchive-dev libzstd-dev zlib1g-dev \
   libfastrtps-dev fastddsgen cyclonedds-dev cyclonedds-tools openssl libssl-dev \
   python3 python3-matplotlib python3-numpy python3-yaml python3-distributed \
+  pybind11-dev python3-dev python3-pytest \
   chromium chromium-driver python3-selenium libsdl2-dev clang-format git
 # Only for `make fuzz` (libFuzzer needs clang and its runtime).
 FUZZ_PACKAGES := clang libclang-rt-14-dev

@@ -63,6 +63,7 @@ DOCS = [
     "docs/fly-with-the-real-firmware.md",
     "docs/validate.md",
     "docs/system-identification.md",
+    "docs/python.md",
 ]
 MARK = "@@tern-docs"
 SYSTEM_PATH = "/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin"

@@ -5,6 +5,7 @@
 
 #include "commands/commands.hpp"
 #include "commands/fleet_command.hpp"
+#include "commands/fly_mission.hpp"
 #include "commands/host_preparation.hpp"
 
 namespace tern::core {
@@ -53,18 +54,10 @@ int fly(const FlyOptions& o) {
   opt.rt = o.rt;
   opt.quiet = o.quiet;
   opt.progress = !o.quiet;
-  PreparedMission m = prepare_mission(o.config.empty() ? default_config().string() : o.config, o.prep);
-  if (!report_missions(check_missions(m.config))) return 1;  // refused before anything flies
-  Host host(std::move(m.config), opt);
-  host.build();
-  install_signal_handlers();
-  FlightResult r;
-  {
-    const TickObservers observers(host, o.prep, m, o.realtime);
-    r = host.fly();
-  }
-  if (o.quiet) std::printf("log: %s\n", r.run_dir.c_str());
-  return exit_status(r);
+  const std::optional<FlightResult> r = fly_mission(o.config.empty() ? default_config().string() : o.config, o.prep, opt, true);
+  if (!r) return 1;
+  if (o.quiet) std::printf("log: %s\n", r->run_dir.c_str());
+  return exit_status(*r);
 }
 
 }  // namespace

@@ -220,6 +220,20 @@ std::vector<Host::TopicInfo> Host::topics() const {
   return out;
 }
 
+void Host::hold_message(const std::string& topic, const std::vector<std::pair<std::string, double>>& fields) {
+  const GraphTopic* t = graph_.find(topic);
+  if (t == nullptr || t->writers.empty()) {
+    std::vector<std::string> written;
+    for (const auto& w : graph_.topics())
+      if (!w.writers.empty()) written.push_back(w.name);
+    throw ConfigError(
+        fmt::format("topic '{}': no plugin of mission '{}' publishes it (a held message replaces a plugin's output); "
+                    "its plugins publish: {}",
+                    topic, config_.name, fmt::join(written, ", ")));
+  }
+  held_.hold(topic, t->writers.front().second->type(), fields);
+}
+
 const OutputBase* Host::topic_source(const std::string& topic) const {
   const GraphTopic* t = graph_.find(topic);
   return t ? t->current : nullptr;
@@ -354,6 +368,7 @@ bool Host::begin_flight() {
       *logger_);             // asked for between flights: before the plugins read them
   remote_.take_go_around();  // one asked for between flights is not for this flight
   router_.prepare_flight();
+  held_.new_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
   if (!apply_realtime_options(f.r) || !start_instances(f.r)) return false;
   router_.start_flight();
@@ -514,6 +529,7 @@ EndRequest Host::run_tick(Scheduler& clock) {
       if (phase_machine_->landed()) return {"landed", phase_machine_->landed_detail(), true};
       router_.follow_phase(now);
     }
+    if (!held_.empty()) held_.apply(graph_);
     if (auto end = inst.take_end_request())
       return {end->reason, fmt::format("{} at t={:.3f} s: {}", inst.cfg.name, to_seconds(now), end->detail)};
   }

@@ -43,6 +43,7 @@
 #include "config/config.hpp"
 #include "safety/failsafe_station.hpp"
 #include "record/flight_report.hpp"
+#include "flight/held_messages.hpp"
 #include "flight/load_instances.hpp"
 #include "record/metrics.hpp"
 #include "safety/phase_machine.hpp"
@@ -175,6 +176,16 @@ class Host {
   void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
   /// Flight length of the next flights (nullopt: the option or the config's duration).
   void set_duration(std::optional<double> seconds) { duration_override_ = seconds; }
+  /// Holds fields of `topic`'s message (log column names, e.g. "delta_a" of `actuators`): after
+  /// every step of what feeds the topic (topic_source(): for `actuators` the routed controller)
+  /// they replace the producer's values before any consumer reads them and before the log
+  /// captures them, this flight and the next ones, until release_message() (held_messages.hpp).
+  /// Call it between ticks, on the thread that flies. Throws ConfigError naming the topic: no
+  /// plugin publishes it, an unknown field (the message's fields listed), a value that is not
+  /// finite or does not fit its field. Nothing held: the flight is untouched.
+  void hold_message(const std::string& topic, const std::vector<std::pair<std::string, double>>& fields);
+  /// Stops holding `topic`; false when nothing was held there.
+  bool release_message(const std::string& topic) { return held_.release(topic); }
   /// Topics with a producer, for bridges (DDS): name, message type name, layout fingerprint.
   struct TopicInfo {
     std::string name, type_name;
@@ -253,6 +264,7 @@ class Host {
   std::vector<std::pair<int, std::function<void(Nanos)>>> tick_observers_;  // id, observer
   int next_observer_id_ = 1;
   Watchdog watchdog_;
+  HeldMessages held_;
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries
 };

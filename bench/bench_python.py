@@ -1,0 +1,111 @@
+#!/usr/bin/python3
+"""bench_python.py [--build BUILD] [--steps N] [--flights N] [--out JSON]: tern from Python (issue 66).
+
+1. The learning environment (tern.env.FlightEnv, its default roll task on learn.yaml): steps per
+   second of wall time at 100-Hz control, each step 4 ticks of the 400-Hz host (simulator,
+   estimator, guidance and controller), with a numpy linear policy computing every action; the
+   episodes' resets (a new seed builds the host anew) counted apart. Beside it: Host.step(4)
+   alone (no action, no observation), the floor the environment's Python adds to.
+2. The default flight (configs/missions/default.yaml, seed 1, to its landing) flown by
+   `tern fly -q` (a process) and by tern.fly in this process followed by reading its state,
+   truth and actuators as arrays; the best of --flights runs each.
+
+Prints a table, writes JSON (default bench/results/bench_python.json). Run with Debian's python3
+(python3-numpy) after building (make build): /usr/bin/python3 bench/bench_python.py.
+"""
+import argparse
+import json
+import os
+import platform
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def env_rate(steps, episode_s):
+    import numpy as np
+    import tern.env
+    env = tern.env.FlightEnv(episode_s=episode_s, start_s=5.0)
+    gains = np.array([1.5, -0.1])
+    stepping = resetting = 0.0
+    done = episodes = 0
+    while done < steps:
+        t0 = time.perf_counter()
+        obs, _ = env.reset(seed=episodes + 1)
+        t1 = time.perf_counter()
+        resetting += t1 - t0
+        episodes += 1
+        while done < steps:
+            obs, reward, terminated, truncated, _ = env.step(np.array([gains @ obs[:2]]))
+            done += 1
+            if terminated or truncated:
+                break
+        stepping += time.perf_counter() - t1
+    host = env.host
+    host.reset(1)
+    t0 = time.perf_counter()
+    for _ in range(steps):
+        if not host.step(4):
+            host.reset(1)
+    raw = time.perf_counter() - t0
+    env.close()
+    return {"steps": steps, "episodes": episodes, "episode_s": episode_s, "steps_per_s": steps / stepping,
+            "steps_per_s_with_resets": steps / (stepping + resetting), "reset_s": resetting / episodes,
+            "host_step4_per_s": steps / raw, "real_time_factor": steps / stepping * 0.01}
+
+
+def default_flight(build, flights):
+    import tern
+    cli, py = [], []
+    with tempfile.TemporaryDirectory(prefix="bench-python-") as tmp:
+        for i in range(flights):
+            t0 = time.perf_counter()
+            subprocess.run([str(build / "bin" / "tern"), "fly", "-q", "--seed", "1", "--log-dir", f"{tmp}/cli{i}"], check=True,
+                           capture_output=True)
+            cli.append(time.perf_counter() - t0)
+            t0 = time.perf_counter()
+            run = tern.fly(seed=1, log_dir=f"{tmp}/py{i}")
+            rows = sum(len(run[t]) for t in ("state", "truth", "actuators"))
+            py.append(time.perf_counter() - t0)
+            flown = run.summary["duration_s"]
+    return {"flight_s": flown, "cli_wall_s": min(cli), "python_fly_and_read_wall_s": min(py), "rows_read": rows,
+            "python_over_cli": min(py) / min(cli), "flights": flights}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=str(ROOT / "build"))
+    ap.add_argument("--steps", type=int, default=20000)
+    ap.add_argument("--episode", type=float, default=20.0, help="episode length, s")
+    ap.add_argument("--flights", type=int, default=2)
+    ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "bench_python.json"))
+    a = ap.parse_args()
+    build = Path(a.build).resolve()
+    sys.path.insert(0, str(build / "python"))
+    env = env_rate(a.steps, a.episode)
+    fly = default_flight(build, a.flights)
+    print(f"{'environment (100-Hz control, 4 ticks a step)':<52} {'value':>12}  target")
+    print(f"{'steps per second (numpy linear policy)':<52} {env['steps_per_s']:12.0f}  >= 20000")
+    print(f"{'  the same with the episodes resets':<52} {env['steps_per_s_with_resets']:12.0f}")
+    print(f"{'  reset (new seed: host built anew), s':<52} {env['reset_s']:12.3f}")
+    print(f"{'Host.step(4) alone per second':<52} {env['host_step4_per_s']:12.0f}")
+    print(f"{'real-time factor':<52} {env['real_time_factor']:12.0f}  >= 200")
+    print(f"{'default flight (%.1f s of flight)' % fly['flight_s']:<52}")
+    print(f"{'  tern fly -q, wall s':<52} {fly['cli_wall_s']:12.2f}")
+    print(f"{'  tern.fly + state/truth/actuators as arrays, wall s':<52} {fly['python_fly_and_read_wall_s']:12.2f}  <= CLI")
+    result = {"bench": "bench_python", "issue": 66, "machine": platform.node(), "cpus": os.cpu_count(),
+              "python": sys.version.split()[0], "environment": env, "default_flight": fly,
+              "command": "python3 bench/bench_python.py " + " ".join(sys.argv[1:])}
+    Path(a.out).parent.mkdir(parents=True, exist_ok=True)
+    with open(a.out, "w") as f:
+        json.dump(result, f, indent=2)
+    print(f"wrote {a.out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,52 @@
+"""tern.fly and tern.Run: a short flight of the default mission read as arrays, overrides, the
+MCAP log read as the CSV one, determinism, and errors that name what is wrong."""
+import numpy as np
+import pytest
+
+import tern
+from conftest import DEFAULT
+
+
+def test_fly_reads_arrays(logs):
+    run = tern.fly(DEFAULT, seed=1, duration=20, set={"slc.roll_kp": 0.6}, log_dir=logs)
+    assert run.ok and run.end_reason == "duration"
+    assert {"state", "truth", "actuators", "imu"} <= set(run.topics)
+    state = run["state"]
+    assert state.dtype.names[:3] == ("t", "stamp", "p_n")
+    assert state.dtype["stamp"] == np.int64
+    assert run.units("state")["p_d"] == "m" and state.dtype.metadata["units"]["Va"] == "m/s"
+    assert len(state) > 100 and state["t"][-1] == pytest.approx(20.0, abs=0.01)
+    assert np.all(np.diff(state["t"]) > 0)
+    assert run.summary["seed"] == 1 and run.summary["mission"] == "default"
+    assert run.params["slc.roll_kp"] == 0.6
+    kinds = {e["kind"] for e in run.events}
+    assert "phase" in kinds and "handover" in kinds
+    assert run.config["name"] == "default"
+
+
+def test_same_seed_same_arrays(logs):
+    a = tern.fly(DEFAULT, seed=3, duration=15, log_dir=logs / "a")
+    b = tern.fly(DEFAULT, seed=3, duration=15, log_dir=logs / "b")
+    c = tern.fly(DEFAULT, seed=4, duration=15, log_dir=logs / "c")
+    for topic in ("state", "truth", "imu", "actuators"):
+        assert a[topic].tobytes() == b[topic].tobytes(), topic
+    assert a["imu"].tobytes() != c["imu"].tobytes()
+
+
+def test_mcap_reads_as_csv(logs):
+    run = tern.fly(DEFAULT, seed=2, duration=8, log_format="both", log_dir=logs)
+    mcap = tern.Run(run.dir / "flight.mcap")
+    assert mcap.topics == run.topics
+    assert mcap["state"].tobytes() == run["state"].tobytes()
+
+
+def test_errors_name_what_is_wrong(logs, tmp_path):
+    run = tern.fly(DEFAULT, seed=1, duration=2, log_dir=logs)
+    with pytest.raises(tern.Error, match="no topic 'stat'"):
+        run["stat"]
+    with pytest.raises(tern.Error, match="not a run directory"):
+        tern.Run(tmp_path / "nowhere")
+    with pytest.raises(tern.Error, match="slc.roll_kq"):
+        tern.fly(DEFAULT, duration=1, set={"slc.roll_kq": 1.0}, log_dir=logs)
+    with pytest.raises(tern.Error, match="nowhere.yaml"):
+        tern.fly(tmp_path / "nowhere.yaml", log_dir=logs)
