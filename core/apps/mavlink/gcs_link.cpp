@@ -107,7 +107,6 @@ struct GcsLink::Impl {
   void observe(Nanos now) {
     if (now == 0) {  // a new flight
       next_snapshot = 0;
-      waypoints_sequence = 0;
       last_phase.reset();
       handovers_seen = 0;
     }
@@ -130,7 +129,6 @@ struct GcsLink::Impl {
     s.has_command = latest_message(host, "controller_command", s.command);
     s.has_internals = latest_message(host, "controller_internals", s.internals);
     s.has_path = latest_message(host, "current_path", s.path);
-    observe_mission(s);
     if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
       last_phase = s.phase.phase;
       push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));
@@ -139,25 +137,15 @@ struct GcsLink::Impl {
     latest = s;
   }
 
-  /// The mission's size and the waypoint flown to; the list (up to 64 items) is copied only when
-  /// the planner republished it.
-  void observe_mission(Snapshot& s) {
-    const OutputBase* o = host.topic_source("waypoints");
-    if (o == nullptr || o->sequence() == 0 || o->type().name != msg::WaypointList::type_name) {
-      s.mission_items.reset();
-      s.target.reset();
-      return;
-    }
-    if (o->sequence() != waypoints_sequence) {
-      waypoints = *static_cast<const msg::WaypointList*>(o->data());
-      waypoints_sequence = o->sequence();
-    }
-    s.mission_items = waypoints.count;
-    const std::int32_t i = s.has_path ? s.path.waypoint_index : -1;
-    if (i >= 0 && static_cast<std::uint32_t>(i) < waypoints.count)
-      s.target = waypoints.items[static_cast<std::size_t>(i)];
-    else
-      s.target.reset();
+  /// The mission's size and the waypoint flown to, from the mission side's copy of `waypoints`
+  /// and `current_path` (flight_view.hpp: one copy of the list, made when the planner republishes it).
+  static void mission_of(const FlightView& v, Snapshot& s) {
+    s.mission_items.reset();
+    s.target.reset();
+    if (!v.list) return;
+    s.mission_items = v.list->count;
+    if (v.waypoint_index >= 0 && static_cast<std::uint32_t>(v.waypoint_index) < v.list->count)
+      s.target = v.list->items[static_cast<std::size_t>(v.waypoint_index)];
   }
 
   void push_event(std::uint8_t severity, std::string text) {
@@ -388,6 +376,7 @@ struct GcsLink::Impl {
       s = latest;
       ev.swap(events);
     }
+    mission_of(watch->view(), s);
     for (const auto& e : ev) say(StatusText{e.severity, e.text});
     if (due(next_heartbeat, std::chrono::milliseconds(1000), now)) {
       send(heartbeat(s, host.flying()));
@@ -436,8 +425,6 @@ struct GcsLink::Impl {
   Snapshot staging;
   std::optional<msg::Phase> last_phase;
   std::size_t handovers_seen = 0;
-  msg::WaypointList waypoints;
-  std::uint64_t waypoints_sequence = 0;
 
   // under mu
   std::mutex mu;

@@ -37,8 +37,9 @@ struct Snapshot {
   msg::ControllerCommand command;
   msg::ControllerInternals internals;
   msg::CurrentPath path;
-  /// The mission: items on `waypoints` (nullopt: nothing publishes it), and the waypoint
-  /// current_path flies to (path.waypoint_index), as published (NED, or lat/lon/alt when lla).
+  /// The mission: items on `waypoints` (nullopt: none published since the link started; a served
+  /// host's last list between flights), and the waypoint current_path flies to
+  /// (path.waypoint_index), as published (NED, or lat/lon/alt when lla).
   std::optional<std::uint32_t> mission_items;
   std::optional<msg::Waypoint> target;
 };
