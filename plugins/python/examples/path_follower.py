@@ -6,7 +6,7 @@ mission with it:
     - name: follower
       plugin: python_path_follower
       rate: 100
-      params: {script: ../../plugins/python/examples/path_follower.py, class: PathFollower}
+      params: {script: ../../plugins/python/examples/path_follower.py}
 
 Lines (eq. 10.8): chi_c = chi_q - chi_inf (2/pi) atan(k_path e_py), the altitude along the line
 (eq. 10.5). Orbits (Alg. 4): chi_c = varphi + lambda (pi/2 + atan(k_orbit (d - rho) / rho)),
