@@ -33,7 +33,8 @@ void start() {
   const PyStatus status = Py_InitializeFromConfig(&config);
   PyConfig_Clear(&config);
   if (PyStatus_Exception(status))
-    throw std::runtime_error(fmt::format("the Python interpreter did not start: {}", status.err_msg ? status.err_msg : "(no reason given)"));
+    throw std::runtime_error(
+        fmt::format("the Python interpreter did not start: {}", status.err_msg ? status.err_msg : "(no reason given)"));
   PyEval_SaveThread();  // the GIL is taken by each call (Gil), on whatever thread flies
 }
 

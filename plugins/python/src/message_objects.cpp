@@ -80,9 +80,7 @@ void write_integer_column(const reflect::Column& c, void* m, long long v) {
   }
 }
 
-bool is_integer_kind(reflect::Scalar k) {
-  return k != reflect::Scalar::f64 && k != reflect::Scalar::f32 && k != reflect::Scalar::boolean;
-}
+bool is_integer_kind(reflect::Scalar k) { return k != reflect::Scalar::f64 && k != reflect::Scalar::f32 && k != reflect::Scalar::boolean; }
 
 }  // namespace
 
@@ -139,7 +137,8 @@ void MessageColumns::set(const reflect::Column& c, PyObject* value, void* bytes,
     write_as<bool>(bytes, c.offset, truth != 0);
     return;
   }
-  if (PyUnicode_Check(value) || PyBytes_Check(value) || !PyNumber_Check(value)) throw wrong(is_integer_kind(c.kind) ? "an integer" : "a number");
+  if (PyUnicode_Check(value) || PyBytes_Check(value) || !PyNumber_Check(value))
+    throw wrong(is_integer_kind(c.kind) ? "an integer" : "a number");
   const double x = PyFloat_AsDouble(value);
   if (x == -1.0 && PyErr_Occurred() != nullptr) throw_python_error();
   if (!is_integer_kind(c.kind)) {

@@ -53,7 +53,8 @@ void PythonPlugin::load_class() {
   module_name_ = module_name_for(context().instance_name());
   Ref sys_path = Ref::borrow(PySys_GetObject("path"));
   Ref dir = Ref::take(PyUnicode_FromString(script.parent_path().c_str()));
-  if (sys_path && PySequence_Contains(sys_path.get(), dir.get()) == 0 && PyList_Insert(sys_path.get(), 0, dir.get()) != 0) throw_python_error();
+  if (sys_path && PySequence_Contains(sys_path.get(), dir.get()) == 0 && PyList_Insert(sys_path.get(), 0, dir.get()) != 0)
+    throw_python_error();
   try {
     Ref util = Ref::take(PyImport_ImportModule("importlib.util"));
     Ref spec = Ref::take(PyObject_CallMethod(util.get(), "spec_from_file_location", "ss", module_name_.c_str(), script.c_str()));
@@ -113,13 +114,13 @@ void PythonPlugin::declare_port(const std::string& port, PyObject* spec, bool in
   }
   const std::string wanted = type.rfind("tern/", 0) == 0 ? type : "tern/" + type;
   bool found = false;
-#define TERN_PYTHON_PORT_(T)                        \
-  if (!found && T::type_name == wanted) {           \
-    found = true;                                   \
-    if (input)                                      \
-      add_input<T>(port, description, need);        \
-    else                                            \
-      add_output<T>(port, description);             \
+#define TERN_PYTHON_PORT_(T)                 \
+  if (!found && T::type_name == wanted) {    \
+    found = true;                            \
+    if (input)                               \
+      add_input<T>(port, description, need); \
+    else                                     \
+      add_output<T>(port, description);      \
   }
   TERN_STANDARD_MESSAGES(TERN_PYTHON_PORT_)
 #undef TERN_PYTHON_PORT_
@@ -154,13 +155,13 @@ void PythonPlugin::add_output(const std::string& port, const std::string& descri
 void PythonPlugin::declare_params() {
   if (PyObject_HasAttrString(cls_.get(), "params") == 0) return;
   Ref params = Ref::take(PyObject_GetAttrString(cls_.get(), "params"));
-  if (!PyDict_Check(params.get())) fail("`params` is a dict {name: default or (default, unit, min, max, description)}, not " + text_of(params.get()));
+  if (!PyDict_Check(params.get()))
+    fail("`params` is a dict {name: default or (default, unit, min, max, description)}, not " + text_of(params.get()));
   PyObject *key = nullptr, *spec = nullptr;
   Py_ssize_t pos = 0;
   while (PyDict_Next(params.get(), &pos, &key, &spec)) {
     const std::string name = text_of(key);
-    if (name == "script" || name == "class" || name == "seed" || name == "instance" || name == "log" ||
-        is_method(cls_.get(), name))
+    if (name == "script" || name == "class" || name == "seed" || name == "instance" || name == "log" || is_method(cls_.get(), name))
       fail(fmt::format("parameter '{}' would hide the plugin's own '{}': choose another name", name, name));
     const bool tuple = PyTuple_Check(spec) != 0;
     const Py_ssize_t n = tuple ? PyTuple_GET_SIZE(spec) : 1;

@@ -120,7 +120,8 @@ void PythonPlugin::new_instance() {
   instance_ = Ref::take(PyObject_CallMethod(cls_.get(), "__new__", "O", cls_.get()));
   Ref seed = Ref::take(PyLong_FromUnsignedLongLong(context().seed()));
   Ref name = Ref::take(PyUnicode_FromString(context().instance_name().c_str()));
-  if (PyObject_SetAttrString(instance_.get(), "seed", seed.get()) != 0 || PyObject_SetAttrString(instance_.get(), "instance", name.get()) != 0 ||
+  if (PyObject_SetAttrString(instance_.get(), "seed", seed.get()) != 0 ||
+      PyObject_SetAttrString(instance_.get(), "instance", name.get()) != 0 ||
       PyObject_SetAttrString(instance_.get(), "log", logger_.get()) != 0)
     throw_python_error();
   params_changed_ = false;
