@@ -139,3 +139,15 @@ def test_python_follower_reloads_between_flights_and_matches_the_cpp_one(tmp_pat
         host.reset(seed=1)
         assert host.step_until(41.0)
         assert abs(host.read("controller_command")["chi_c"] - commands[0]["chi_c"]) < 0.05  # one law in two languages
+
+
+@pytest.mark.parametrize("kind,end", [("path_follower", "duration"), ("controller", "landed")])
+def test_new_plugin_python_template_flies(tmp_path, kind, end):
+    out = cli("new-plugin", "my_module", "--python", "--kind", kind, "--dir", tmp_path / "p").stdout
+    assert "class MyModule in my_module.py" in out
+    assert "class MyModule:" in (tmp_path / "p" / "my_module.py").read_text()
+    d = run_dir(cli("fly", tmp_path / "p" / "mission.yaml", "--duration", "1000", "--log-dir", tmp_path, "-q").stdout)
+    summary = json.load(open(f"{d}/summary.json"))
+    assert summary["end_reason"] == end and not summary["fallback_engaged"]
+    r = cli("new-plugin", "other", "--python", "--kind", "estimator", "--dir", tmp_path / "q", check=False)
+    assert r.returncode == 2 and "kind 'estimator' has no Python template" in r.stderr

@@ -30,7 +30,10 @@ void PythonPlugin::configure() {
   ParamSpec class_spec;
   class_spec.description = "the class in the script ('' when the script defines exactly one class with a step method)";
   declare(class_name_, "class", "", class_spec.start_only());
-  if (script_().empty()) fail("params.script is not set: name the Python file that defines the plugin's class");
+  if (script_().empty()) {
+    if (context().describing()) return;  // `tern plugins`: the ports and parameters come from a script
+    fail("params.script is not set: name the Python file that defines the plugin's class");
+  }
   ensure_interpreter();
   Gil gil;
   load_class();
