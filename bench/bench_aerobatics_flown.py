@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+"""bench_aerobatics_flown.py [--build BUILD] [--seeds N] [--out JSON]: the estimator through flown aerobatics (issue 61).
+
+configs/missions/aerobatics.yaml flies the default mission's world (the `realistic` sensors, 5 m/s
+of wind and light turbulence) with rolls and loops flown through the surfaces between stretches of
+cruise (plugins/python/examples/aerobatics.py, a Python controller; control_slc takes off and
+lands), the EKF in the loop. Per seed, from the full log (state and truth of the same tick,
+airborne: truth more than 5 m up, after t = 30 s):
+  yaw error     the rotation about the vertical between the estimated and the true attitude
+                (the earth-frame error rotation R_est R_true^T, its yaw), RMS and maximum, deg:
+                defined through a loop's vertical, where the Euler yaw is not
+  tilt error    the rest of that error rotation (its angle off the vertical axis), RMS and max, deg
+  resets        the estimator's GNSS, magnetometer and filter resets and yaw resets (summary.json)
+  magnetometer  samples fused (3-axis or heading) per sample received
+  manoeuvres    rolls and loops flown (the controller's summary), the lowest truth altitude
+                from the first cruise to the approach, and how the flight ended
+Issue 61's target: 0 resets, yaw within 3 deg RMS of truth, the magnetometer fused throughout, on
+every seed. Prints the table (each seed, then the worst) and writes JSON (default
+bench/results/bench_aerobatics_flown.json). Run after building: /usr/bin/python3 bench/bench_aerobatics_flown.py.
+"""
+import argparse
+import json
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[1]
+CONFIG = ROOT / "configs" / "missions" / "aerobatics.yaml"
+RESETS = ("gnss_resets", "mag_resets", "filter_resets", "gnss_yaw_reset_count")
+
+
+def rotation(w, x, y, z):
+    """Body-to-NED rotation matrices of unit quaternions, shape (n, 3, 3)."""
+    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
+                     np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
+                     np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
+
+
+def attitude_errors(state, truth):
+    """(yaw, tilt) error in deg at the ticks both logged, airborne."""
+    idx = np.searchsorted(truth["stamp"], state["stamp"]).clip(0, len(truth) - 1)
+    same = truth["stamp"][idx] == state["stamp"]
+    s, t = state[same], truth[idx[same]]
+    air = (-t["p_d"] > 5.0) & (t["t"] > 30.0)
+    s, t = s[air], t[air]
+    E = rotation(s["quat_w"], s["quat_x"], s["quat_y"], s["quat_z"]) @ np.transpose(
+        rotation(t["quat_w"], t["quat_x"], t["quat_y"], t["quat_z"]), (0, 2, 1))
+    yaw = np.degrees(np.arctan2(E[:, 1, 0] - E[:, 0, 1], E[:, 0, 0] + E[:, 1, 1]))
+    tilt = np.degrees(np.arccos(np.clip(E[:, 2, 2], -1.0, 1.0)))
+    return yaw, tilt
+
+
+def fly(build, seed, log_dir):
+    r = subprocess.run([str(build / "bin" / "tern"), "fly", str(CONFIG), "--seed", str(seed), "--log-level", "full", "-q",
+                        "--log-dir", str(log_dir)], capture_output=True, text=True)
+    return Path(r.stdout.split("log: ")[-1].split()[0])
+
+
+def one_seed(build, seed, tmp):
+    import tern
+    run_dir = fly(build, seed, tmp)
+    run = tern.Run(run_dir)
+    summary = run.summary
+    ekf = summary["instances"]["ekf"]
+    yaw, tilt = attitude_errors(run["state"], run["truth"])
+    truth = run["truth"]
+    cruise = [p for p in summary["phases"] if p["phase"] == "cruise"]
+    approach = next((p["start_s"] for p in summary["phases"] if p["phase"] == "approach"), truth["t"][-1])
+    between = (truth["t"] > cruise[0]["start_s"]) & (truth["t"] < approach) if cruise else truth["t"] < 0
+    return {"seed": seed, "end_reason": summary["end_reason"], "fallback_engaged": summary["fallback_engaged"],
+            "manoeuvres": summary["instances"]["aero"].get("manoeuvres", 0.0),
+            "inverted_s": float((np.abs(truth["phi"]) > np.radians(170)).sum() / 400.0),
+            "lowest_m": float((-truth["p_d"][between]).min()) if between.any() else None,
+            "yaw_rms_deg": float(np.sqrt(np.mean(yaw ** 2))), "yaw_max_deg": float(np.abs(yaw).max()),
+            "tilt_rms_deg": float(np.sqrt(np.mean(tilt ** 2))), "tilt_max_deg": float(tilt.max()),
+            "resets": {k: ekf.get(k, 0.0) for k in RESETS}, "mag_resumes": ekf.get("mag_resumes", 0.0),
+            "mag_fused_share": (ekf["mag_accepted"] + ekf["mag_heading_accepted"]) / ekf["mag_received"]}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", type=Path, default=ROOT / "build")
+    ap.add_argument("--seeds", type=int, default=10)
+    ap.add_argument("--out", type=Path, default=ROOT / "bench" / "results" / "bench_aerobatics_flown.json")
+    args = ap.parse_args()
+    sys.path.insert(0, str(args.build / "python"))
+    with tempfile.TemporaryDirectory(prefix="bench-aerobatics-") as tmp:
+        rows = [one_seed(args.build, seed, Path(tmp) / str(seed)) for seed in range(1, args.seeds + 1)]
+    worst = {"yaw_rms_deg": max(r["yaw_rms_deg"] for r in rows), "yaw_max_deg": max(r["yaw_max_deg"] for r in rows),
+             "tilt_rms_deg": max(r["tilt_rms_deg"] for r in rows), "resets": sum(sum(r["resets"].values()) for r in rows),
+             "mag_fused_share": min(r["mag_fused_share"] for r in rows), "manoeuvres": min(r["manoeuvres"] for r in rows)}
+    worst["targets_met"] = worst["resets"] == 0 and worst["yaw_rms_deg"] <= 3.0 and worst["mag_fused_share"] >= 0.95
+    print(f"{'seed':>4} {'end':>8} {'man.':>5} {'inv s':>6} {'low m':>6} {'yaw rms':>8} {'yaw max':>8} {'tilt rms':>9} {'resets':>7} {'mag fused':>10}")
+    for r in rows:
+        print(f"{r['seed']:4d} {r['end_reason']:>8} {r['manoeuvres']:5.0f} {r['inverted_s']:6.1f} {r['lowest_m'] or float('nan'):6.1f} "
+              f"{r['yaw_rms_deg']:8.2f} {r['yaw_max_deg']:8.2f} {r['tilt_rms_deg']:9.2f} {sum(r['resets'].values()):7.0f} {r['mag_fused_share']:10.3f}")
+    print(f"worst: yaw RMS {worst['yaw_rms_deg']:.2f} deg (max {worst['yaw_max_deg']:.2f}), tilt RMS {worst['tilt_rms_deg']:.2f}, "
+          f"resets {worst['resets']:.0f}, magnetometer fused >= {worst['mag_fused_share']:.3f}: targets {'met' if worst['targets_met'] else 'MISSED'}")
+    result = {"bench": "bench_aerobatics_flown", "issue": 61, "config": "configs/missions/aerobatics.yaml",
+              "command": "python3 bench/bench_aerobatics_flown.py" + (f" --seeds {args.seeds}" if args.seeds != 10 else ""),
+              "targets": {"resets": 0, "yaw_rms_deg_max": 3.0, "mag_fused_share_min": 0.95}, "worst": worst, "seeds": rows}
+    args.out.write_text(json.dumps(result, indent=2) + "\n")
+    print(f"written: {args.out}")
+
+
+if __name__ == "__main__":
+    main()
