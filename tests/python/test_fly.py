@@ -55,10 +55,12 @@ def test_errors_name_what_is_wrong(logs, tmp_path):
 def test_malformed_table_names_file_line_and_column(tmp_path):
     from tern.run import read_table
     good = tmp_path / "good.csv"
-    good.write_text("t [s],stamp [ns],x [m],ok [bool]\n0.5,500000000,-1.25e-3,1\n1,1000000000,nan,0\n")
+    good.write_text("t [s],stamp [ns],x [m],ok [bool]\n0.5,500000000,-1.25e-3,1\n1,1000000000,nan,0\n"
+                    "1.5,9007199254740993,+2,1\n2,2e3,-inf,0\n")
     t = read_table(good)
-    assert t["stamp"].tolist() == [500000000, 1000000000] and t["stamp"].dtype == np.int64
-    assert t["x"][0] == -1.25e-3 and np.isnan(t["x"][1]) and t["ok"].tolist() == [True, False]
+    assert t["stamp"].tolist() == [500000000, 1000000000, 2**53 + 1, 2000] and t["stamp"].dtype == np.int64  # ns exact
+    assert t["x"][0] == -1.25e-3 and np.isnan(t["x"][1]) and t["x"][2] == 2.0 and t["x"][3] == -np.inf
+    assert t["ok"].tolist() == [True, False, True, False]
     bad = tmp_path / "bad.csv"
     bad.write_text("t [s],x [m]\n0.5,1\n1,zero\n")
     with pytest.raises(tern.Error, match=r"bad.csv:3: column 2 'x': 'zero' is not a number"):
@@ -75,4 +77,4 @@ def test_malformed_table_names_file_line_and_column(tmp_path):
     big.write_text("t [s],x [m]\n" + "".join(f"{i},{i * 0.5}\n" for i in range(9999)) + "9999,x\n")
     with pytest.raises(tern.Error, match=r"big.csv:10001: column 2 'x': 'x' is not a number"):
         read_table(big)
-    assert len(read_table(big.parent / "good.csv")) == 2
+    assert len(read_table(big.parent / "good.csv")) == 4

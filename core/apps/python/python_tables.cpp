@@ -91,18 +91,19 @@ std::optional<Failure> parse_rows(const std::string& text, const std::vector<std
       }
       const char* cell = p;
       while (p < end && *p != ',') ++p;
+      const char* digits = cell + (cell < p && *cell == '+' && p - cell > 1 && cell[1] != '-');  // "+1" as strtod reads it
       double v = 0;
       std::from_chars_result res{};
       if (cols[c].kind == Kind::i64) {
         std::int64_t i = 0;
-        res = std::from_chars(cell, p, i);
+        res = std::from_chars(digits, p, i);
         if (res.ec == std::errc() && res.ptr == p) {
           std::memcpy(row + cols[c].offset, &i, sizeof i);
           continue;
         }
       }
-      res = std::from_chars(cell, p, v);
-      if (res.ec != std::errc() || res.ptr != p || cell == p)
+      res = std::from_chars(digits, p, v);
+      if (res.ec != std::errc() || res.ptr != p || digits == p)
         return Failure{r, fmt::format("column {} '{}': '{}' is not a number", c + 1, cols[c].name, std::string(cell, p))};
       if (cols[c].kind == Kind::f64) {
         std::memcpy(row + cols[c].offset, &v, sizeof v);
