@@ -1,14 +1,21 @@
 #!/usr/bin/python3
-"""bench_python.py [--build BUILD] [--steps N] [--flights N] [--out JSON]: tern from Python (issue 66).
+"""bench_python.py [--build BUILD] [--steps N] [--envs N] [--flights N] [--out JSON]: tern from Python (issue 66).
 
 1. The learning environment (tern.env.FlightEnv, its default roll task on learn.yaml): steps per
    second of wall time at 100-Hz control, each step 4 ticks of the 400-Hz host (simulator,
    estimator, guidance and controller), with a numpy linear policy computing every action; the
    episodes' resets (a new seed builds the host anew) counted apart. Beside it: Host.step(4)
    alone (no action, no observation), the floor the environment's Python adds to.
-2. The default flight (configs/missions/default.yaml, seed 1, to its landing) flown by
+2. The vectorised environment (tern.vector_env.VectorFlightEnv, --envs sub-environments, each its
+   own Host, in this one thread): sub-environment steps per second, the same task and policy
+   (one batched matrix product a step); without resets (episodes longer than the run) and with
+   the autoresets of --episode-long episodes.
+3. The default flight (configs/missions/default.yaml, seed 1, to its landing) flown by
    `tern fly -q` (a process) and by tern.fly in this process followed by reading its state,
-   truth and actuators as arrays; the best of --flights runs each.
+   truth and actuators as arrays, --flights times each, alternating (which goes first too); the
+   medians of wall time, tern.fly's two parts (the flight, the reading) apart, and of CPU time
+   (every thread: the CLI's process as a child's rusage, tern.fly's as this process's), which the
+   machine's other load changes less than the wall time.
 
 Prints a table, writes JSON (default bench/results/bench_python.json). Run with Debian's python3
 (python3-numpy) after building (make build): /usr/bin/python3 bench/bench_python.py.
@@ -58,22 +65,69 @@ def env_rate(steps, episode_s):
             "host_step4_per_s": steps / raw, "real_time_factor": steps / stepping * 0.01}
 
 
+def vector_rate(steps, episode_s, n):
+    """Sub-environment steps per second of a VectorFlightEnv of n: (without resets, with autoresets)."""
+    import numpy as np
+    from tern.vector_env import VectorFlightEnv
+    gains = np.array([1.5, -0.1])
+    out = []
+    for length in (steps / n * 0.01 + 1.0, episode_s):  # longer than the run: no reset; then episode_s
+        venv = VectorFlightEnv(n, episode_s=length, start_s=5.0)
+        obs, _ = venv.reset(seed=1)
+        resets = 0
+        t0 = time.perf_counter()
+        for _ in range(steps // n):
+            obs, rewards, terminated, truncated, _ = venv.step((obs[:, :2] @ gains)[:, None])
+            resets += int(np.count_nonzero(terminated | truncated))
+        out.append((steps // n * n / (time.perf_counter() - t0), resets))
+        venv.close()
+    return {"num_envs": n, "steps": steps // n * n, "steps_per_s": out[0][0], "episode_s": episode_s,
+            "steps_per_s_with_autoresets": out[1][0], "autoresets": out[1][1]}
+
+
 def default_flight(build, flights):
+    import resource
+    import statistics
     import tern
-    cli, py = [], []
+
+    def cpu(who):
+        r = resource.getrusage(who)
+        return r.ru_utime + r.ru_stime
+
+    cli, py, fly, read, cli_cpu, py_cpu = [], [], [], [], [], []
     with tempfile.TemporaryDirectory(prefix="bench-python-") as tmp:
         for i in range(flights):
-            t0 = time.perf_counter()
-            subprocess.run([str(build / "bin" / "tern"), "fly", "-q", "--seed", "1", "--log-dir", f"{tmp}/cli{i}"], check=True,
-                           capture_output=True)
-            cli.append(time.perf_counter() - t0)
-            t0 = time.perf_counter()
-            run = tern.fly(seed=1, log_dir=f"{tmp}/py{i}")
-            rows = sum(len(run[t]) for t in ("state", "truth", "actuators"))
-            py.append(time.perf_counter() - t0)
+            def by_cli():
+                c0, t0 = cpu(resource.RUSAGE_CHILDREN), time.perf_counter()
+                subprocess.run([str(build / "bin" / "tern"), "fly", "-q", "--seed", "1", "--log-dir", f"{tmp}/cli{i}"], check=True,
+                               capture_output=True)
+                cli.append(time.perf_counter() - t0)
+                cli_cpu.append(cpu(resource.RUSAGE_CHILDREN) - c0)
+
+            def by_python():
+                c0, t0 = cpu(resource.RUSAGE_SELF), time.perf_counter()
+                run = tern.fly(seed=1, log_dir=f"{tmp}/py{i}")
+                t1 = time.perf_counter()
+                rows = sum(len(run[t]) for t in ("state", "truth", "actuators"))
+                t2 = time.perf_counter()
+                py_cpu.append(cpu(resource.RUSAGE_SELF) - c0)
+                py.append(t2 - t0)
+                fly.append(t1 - t0)
+                read.append(t2 - t1)
+                return run, rows
+
+            if i % 2:  # alternate which goes first
+                run, rows = by_python()
+                by_cli()
+            else:
+                by_cli()
+                run, rows = by_python()
             flown = run.summary["duration_s"]
-    return {"flight_s": flown, "cli_wall_s": min(cli), "python_fly_and_read_wall_s": min(py), "rows_read": rows,
-            "python_over_cli": min(py) / min(cli), "flights": flights}
+    m = statistics.median
+    return {"flight_s": flown, "cli_wall_s": m(cli), "python_fly_and_read_wall_s": m(py), "python_fly_wall_s": m(fly),
+            "python_read_wall_s": m(read), "rows_read": rows, "python_over_cli": m(py) / m(cli),
+            "cli_cpu_s": m(cli_cpu), "python_fly_and_read_cpu_s": m(py_cpu), "python_over_cli_cpu": m(py_cpu) / m(cli_cpu),
+            "flights": flights, "statistic": "median", "cli_wall_s_all": cli, "python_fly_and_read_wall_s_all": py}
 
 
 def main():
@@ -81,12 +135,14 @@ def main():
     ap.add_argument("--build", default=str(ROOT / "build"))
     ap.add_argument("--steps", type=int, default=20000)
     ap.add_argument("--episode", type=float, default=20.0, help="episode length, s")
-    ap.add_argument("--flights", type=int, default=2)
+    ap.add_argument("--envs", type=int, default=4, help="sub-environments of the vectorised environment")
+    ap.add_argument("--flights", type=int, default=5)
     ap.add_argument("--out", default=str(ROOT / "bench" / "results" / "bench_python.json"))
     a = ap.parse_args()
     build = Path(a.build).resolve()
     sys.path.insert(0, str(build / "python"))
     env = env_rate(a.steps, a.episode)
+    vec = vector_rate(a.steps, a.episode, a.envs)
     fly = default_flight(build, a.flights)
     print(f"{'environment (100-Hz control, 4 ticks a step)':<52} {'value':>12}  target")
     print(f"{'steps per second (numpy linear policy)':<52} {env['steps_per_s']:12.0f}  >= 20000")
@@ -94,11 +150,19 @@ def main():
     print(f"{'  reset (new seed: host built anew), s':<52} {env['reset_s']:12.3f}")
     print(f"{'Host.step(4) alone per second':<52} {env['host_step4_per_s']:12.0f}")
     print(f"{'real-time factor':<52} {env['real_time_factor']:12.0f}  >= 200")
-    print(f"{'default flight (%.1f s of flight)' % fly['flight_s']:<52}")
+    print(f"{'vectorised, %d sub-environments: steps per second' % vec['num_envs']:<52} {vec['steps_per_s']:12.0f}")
+    print(f"{'  the same with autoresets (%g-s episodes)' % vec['episode_s']:<52} {vec['steps_per_s_with_autoresets']:12.0f}")
+    print(f"{'default flight (%.1f s of flight), median of %d' % (fly['flight_s'], fly['flights']):<52}")
     print(f"{'  tern fly -q, wall s':<52} {fly['cli_wall_s']:12.2f}")
     print(f"{'  tern.fly + state/truth/actuators as arrays, wall s':<52} {fly['python_fly_and_read_wall_s']:12.2f}  <= CLI")
+    print(f"{'    the flight (tern.fly), wall s':<52} {fly['python_fly_wall_s']:12.2f}")
+    print(f"{'    reading %d rows as arrays, wall s' % fly['rows_read']:<52} {fly['python_read_wall_s']:12.3f}")
+    print(f"{'  ratio':<52} {fly['python_over_cli']:12.3f}  <= 1")
+    print(f"{'  CPU time (all threads): tern fly, s':<52} {fly['cli_cpu_s']:12.2f}")
+    print(f"{'  CPU time: tern.fly + arrays, s':<52} {fly['python_fly_and_read_cpu_s']:12.2f}")
+    print(f"{'  ratio of CPU times':<52} {fly['python_over_cli_cpu']:12.3f}")
     result = {"bench": "bench_python", "issue": 66, "machine": platform.node(), "cpus": os.cpu_count(),
-              "python": sys.version.split()[0], "environment": env, "default_flight": fly,
+              "python": sys.version.split()[0], "environment": env, "vector_environment": vec, "default_flight": fly,
               "command": "python3 bench/bench_python.py " + " ".join(sys.argv[1:])}
     Path(a.out).parent.mkdir(parents=True, exist_ok=True)
     with open(a.out, "w") as f:

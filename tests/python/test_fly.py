@@ -50,3 +50,31 @@ def test_errors_name_what_is_wrong(logs, tmp_path):
         tern.fly(DEFAULT, duration=1, set={"slc.roll_kq": 1.0}, log_dir=logs)
     with pytest.raises(tern.Error, match="nowhere.yaml"):
         tern.fly(tmp_path / "nowhere.yaml", log_dir=logs)
+
+
+def test_malformed_table_names_file_line_and_column(tmp_path):
+    from tern.run import read_table
+    good = tmp_path / "good.csv"
+    good.write_text("t [s],stamp [ns],x [m],ok [bool]\n0.5,500000000,-1.25e-3,1\n1,1000000000,nan,0\n"
+                    "1.5,9007199254740993,+2,1\n2,2e3,-inf,0\n")
+    t = read_table(good)
+    assert t["stamp"].tolist() == [500000000, 1000000000, 2**53 + 1, 2000] and t["stamp"].dtype == np.int64  # ns exact
+    assert t["x"][0] == -1.25e-3 and np.isnan(t["x"][1]) and t["x"][2] == 2.0 and t["x"][3] == -np.inf
+    assert t["ok"].tolist() == [True, False, True, False]
+    bad = tmp_path / "bad.csv"
+    bad.write_text("t [s],x [m]\n0.5,1\n1,zero\n")
+    with pytest.raises(tern.Error, match=r"bad.csv:3: column 2 'x': 'zero' is not a number"):
+        read_table(bad)
+    short = tmp_path / "short.csv"
+    short.write_text("t [s],x [m],y [m]\n0.5,1,2\n1,2\n")
+    with pytest.raises(tern.Error, match=r"short.csv:3: 2 cells, the header has 3 columns"):
+        read_table(short)
+    long = tmp_path / "long.csv"
+    long.write_text("t [s],x [m]\n0.5,1,2\n")
+    with pytest.raises(tern.Error, match=r"long.csv:2: more cells than the header's 2 columns"):
+        read_table(long)
+    big = tmp_path / "big.csv"  # two threads: an error in the second half names its own line
+    big.write_text("t [s],x [m]\n" + "".join(f"{i},{i * 0.5}\n" for i in range(9999)) + "9999,x\n")
+    with pytest.raises(tern.Error, match=r"big.csv:10001: column 2 'x': 'x' is not a number"):
+        read_table(big)
+    assert len(read_table(big.parent / "good.csv")) == 4

@@ -1,6 +1,7 @@
 // core/apps/python/module.cpp: the native module tern._tern (pybind11): tern.fly's flight (the
 // CLI's, commands/fly_mission.hpp), tern.Host (python_host.hpp), an MCAP log's tables as CSV
-// (export/mcap_csv_export.hpp, for tern.Run), and tern.Error: ConfigError, ParamError and
+// (export/mcap_csv_export.hpp, for tern.Run), a CSV topic table as a numpy array (python_tables.hpp),
+// and tern.Error: ConfigError, ParamError and
 // McapError raised as one Python exception whose message names the file, topic, field or
 // parameter. The package around it is tern/*.py (docs/python.md).
 #include <cstdlib>
@@ -16,6 +17,7 @@
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
 #include "python/python_host.hpp"
+#include "python/python_tables.hpp"
 
 namespace py = pybind11;
 using tern::core::python::PythonFlightOptions;
@@ -95,6 +97,10 @@ PYBIND11_MODULE(_tern, m) {
   m.def(
       "export_csv", [](const std::string& mcap, const std::string& out_dir) { return tern::core::export_csv(mcap, out_dir).rows; },
       py::arg("mcap"), py::arg("out_dir"), "an MCAP log's topic tables into out_dir/<topic>.csv (tern export csv)");
+  m.def("read_table", &tern::core::python::read_table, py::arg("path"), py::arg("dtype"),
+        "a topic CSV's rows as an array of the structured dtype made from its header (tern.run.read_table)");
+  m.def(
+      "bin_dir", [] { return std::string(TERN_PYTHON_BIN_DIR); }, "the build tree's programs (tern, tern-campaign)");
   py::class_<PythonHost>(m, "Host")
       .def(py::init([](std::optional<std::string> config, std::optional<std::uint64_t> seed, std::optional<double> duration,
                        const py::dict& sets, std::optional<std::string> log_dir, std::optional<std::string> log_level,

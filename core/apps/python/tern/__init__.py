@@ -5,19 +5,22 @@
     run["state"]["p_d"]          # numpy structured array of a topic: one field per log column
     host = tern.Host()            # the Host `tern fly` flies, stepped tick by tick
     host.reset(seed=1); host.step(400); host.read("state")["phi"]
+    c = tern.campaign("configs/campaigns/landing_dispersion.yaml", workers=2)   # c.table, c.summary
 
 tern.fly flies through the same code as `tern fly` (core/apps/commands/fly_mission.hpp); tern.Host is
 that Host (core/host/flight/host.hpp); tern.Run reads what a flight wrote. Errors about the
 outside world (a wrong topic, field, parameter, type or file) raise tern.Error (a ValueError)
-naming it. tern.env is the learning environment.
+naming it. tern.env is the learning environment, tern.vector_env several at once; tern.campaign
+flies a Monte Carlo campaign (tern/campaigns.py).
 """
 
 from tern._tern import Error, default_config
 from tern._tern import fly as _fly
 from tern._tern import Host as _Host
 from tern.run import Run
+from tern.campaigns import Campaign, campaign
 
-__all__ = ["Error", "Host", "Run", "default_config", "fly"]
+__all__ = ["Campaign", "Error", "Host", "Run", "campaign", "default_config", "fly"]
 Error.__module__ = "tern"  # raised as tern.Error
 
 

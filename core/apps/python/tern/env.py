@@ -16,6 +16,9 @@ controls over (a controller handover after the start), or when `terminate(obs)` 
 `truncated` after `episode_s`. Before the first observation the mission's own modules fly for
 `start_s` (the action is not held): the episode starts from the flight as it is then.
 
+tern.env.VectorFlightEnv (tern/vector_env.py) steps several of them at once, after Gymnasium's
+vector API.
+
 Per episode, reset(seed=, options={"set": {...}, "config": FILE}) chooses the seed (sensor
 noise, turbulence), parameter overrides (wind: {"sim.wind": [vn, ve, vd]}, sensors:
 {"sim.sensor_profile": "ideal"}, gains) and the mission; a new seed, config or override builds the
@@ -245,8 +248,17 @@ def _roll_observation(values):
     return values
 
 
+def __getattr__(name):  # tern.env.VectorFlightEnv: several FlightEnv at once (tern/vector_env.py)
+    if name == "VectorFlightEnv":
+        from tern.vector_env import VectorFlightEnv
+        return VectorFlightEnv
+    raise AttributeError(f"module 'tern.env' has no attribute '{name}'")
+
+
 if _gymnasium is not None:
-    try:
+    try:  # gymnasium.make_vec("tern/Flight-v0", num_envs=4, vectorization_mode="vector_entry_point"): VectorFlightEnv
+        _gymnasium.register(id="tern/Flight-v0", entry_point="tern.env:FlightEnv", vector_entry_point="tern.vector_env:VectorFlightEnv")
+    except TypeError:  # a Gymnasium without vector entry points
         _gymnasium.register(id="tern/Flight-v0", entry_point="tern.env:FlightEnv")
     except _gymnasium.error.Error:  # registered already (a reload)
         pass

@@ -19,12 +19,12 @@ import math
 import re
 import shutil
 import tempfile
-import warnings
 from pathlib import Path
 
 import numpy as np
 
 from tern._tern import Error, export_csv
+from tern._tern import read_table as _read_rows
 
 _HEADER_CELL = re.compile(r"^(.*?)(?: \[(.*)\])?$")
 
@@ -45,8 +45,10 @@ def _cell(text):
 
 def read_table(path):
     """A topic CSV (header "name [unit]", then rows) as a numpy structured array with the units
-    in its dtype's metadata. Raises tern.Error naming the file for a malformed table (a cell that
-    is not a number, rows of another length than the header)."""
+    in its dtype's metadata. The header makes the dtype; the rows are parsed into it in C++
+    (tern._tern.read_table: std::from_chars, the exact inverse of the log's std::to_chars, on two
+    threads, without a copy). Raises tern.Error naming the file and line for a malformed table (a
+    cell that is not a number, a row of another length than the header)."""
     path = Path(path)
     with open(path, newline="") as f:
         header = f.readline().rstrip("\r\n")
@@ -59,22 +61,7 @@ def read_table(path):
         units[name] = unit or ""
     kinds = [np.int64 if units[n] == "ns" else bool if units[n] == "bool" else np.float64 for n in names]
     dtype = np.dtype({"names": names, "formats": kinds}, metadata={"units": units})
-    with open(path, "rb") as f:
-        f.readline()
-        body = f.read().replace(b"\n", b",").decode()
-    with warnings.catch_warnings():
-        warnings.simplefilter("error", DeprecationWarning)  # numpy's word for a cell that is not a number
-        try:
-            cells = np.fromstring(body, dtype=np.float64, sep=",") if body.strip(",") else np.empty(0)
-        except DeprecationWarning:
-            raise Error(f"{path}: a cell that is not a number (a number, nan or inf in every cell)") from None
-    if cells.size % len(names):
-        raise Error(f"{path}: {cells.size} values, not a whole number of rows of the header's {len(names)} columns")
-    cells = cells.reshape(-1, len(names))
-    out = np.empty(len(cells), dtype=dtype)
-    for i, n in enumerate(names):
-        out[n] = cells[:, i]
-    return out
+    return _read_rows(str(path), dtype)
 
 
 class Run:
