@@ -125,7 +125,7 @@ py::object PythonHost::read(const std::string& topic, const std::optional<std::v
                                     column_names(columns)));
     out[i] = py::float_(o->sequence() == 0 ? 0.0 : column_value(*c, o->data()));
   }
-  return std::move(out);
+  return out;
 }
 
 void PythonHost::write(const std::string& topic, const py::dict& fields) {
