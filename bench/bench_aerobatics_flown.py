@@ -7,9 +7,9 @@ cruise (plugins/python/examples/aerobatics.py, a Python controller; control_slc 
 lands), the EKF in the loop. Per seed, from the full log (state and truth of the same tick,
 airborne: truth more than 5 m up, after t = 30 s):
   yaw error     the rotation about the vertical between the estimated and the true attitude
-                (the earth-frame error rotation R_est R_true^T, its yaw), RMS and maximum, deg:
-                defined through a loop's vertical, where the Euler yaw is not
-  tilt error    the rest of that error rotation (its angle off the vertical axis), RMS and max, deg
+                (tern.attitude.errors: the earth-frame error rotation R_est R_true^T, its yaw),
+                RMS and maximum, deg: defined through a loop's vertical, where the Euler yaw is not
+  tilt error    the angle that error rotation tilts the vertical, RMS and max, deg
   resets        the estimator's GNSS, magnetometer and filter resets and yaw resets (summary.json)
   magnetometer  samples fused (3-axis or heading) per sample received
   manoeuvres    rolls and loops flown (the controller's summary), the lowest truth altitude
@@ -32,27 +32,6 @@ CONFIG = ROOT / "configs" / "missions" / "aerobatics.yaml"
 RESETS = ("gnss_resets", "mag_resets", "filter_resets", "gnss_yaw_reset_count")
 
 
-def rotation(w, x, y, z):
-    """Body-to-NED rotation matrices of unit quaternions, shape (n, 3, 3)."""
-    return np.stack([np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)], -1),
-                     np.stack([2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)], -1),
-                     np.stack([2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)], -1)], -2)
-
-
-def attitude_errors(state, truth):
-    """(yaw, tilt) error in deg at the ticks both logged, airborne."""
-    idx = np.searchsorted(truth["stamp"], state["stamp"]).clip(0, len(truth) - 1)
-    same = truth["stamp"][idx] == state["stamp"]
-    s, t = state[same], truth[idx[same]]
-    air = (-t["p_d"] > 5.0) & (t["t"] > 30.0)
-    s, t = s[air], t[air]
-    E = rotation(s["quat_w"], s["quat_x"], s["quat_y"], s["quat_z"]) @ np.transpose(
-        rotation(t["quat_w"], t["quat_x"], t["quat_y"], t["quat_z"]), (0, 2, 1))
-    yaw = np.degrees(np.arctan2(E[:, 1, 0] - E[:, 0, 1], E[:, 0, 0] + E[:, 1, 1]))
-    tilt = np.degrees(np.arccos(np.clip(E[:, 2, 2], -1.0, 1.0)))
-    return yaw, tilt
-
-
 def fly(build, seed, log_dir):
     r = subprocess.run([str(build / "bin" / "tern"), "fly", str(CONFIG), "--seed", str(seed), "--log-level", "full", "-q",
                         "--log-dir", str(log_dir)], capture_output=True, text=True)
@@ -61,11 +40,12 @@ def fly(build, seed, log_dir):
 
 def one_seed(build, seed, tmp):
     import tern
+    import tern.attitude
     run_dir = fly(build, seed, tmp)
     run = tern.Run(run_dir)
     summary = run.summary
     ekf = summary["instances"]["ekf"]
-    yaw, tilt = attitude_errors(run["state"], run["truth"])
+    yaw, tilt = tern.attitude.errors(run["state"], run["truth"])
     truth = run["truth"]
     cruise = [p for p in summary["phases"] if p["phase"] == "cruise"]
     approach = next((p["start_s"] for p in summary["phases"] if p["phase"] == "approach"), truth["t"][-1])
