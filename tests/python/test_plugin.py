@@ -151,3 +151,12 @@ def test_new_plugin_python_template_flies(tmp_path, kind, end):
     assert summary["end_reason"] == end and not summary["fallback_engaged"]
     r = cli("new-plugin", "other", "--python", "--kind", "estimator", "--dir", tmp_path / "q", check=False)
     assert r.returncode == 2 and "kind 'estimator' has no Python template" in r.stderr
+
+
+def test_failing_summary_loses_only_its_figures(tmp_path):
+    bad = script(tmp_path, "bad_summary.py", "class F:\n    inputs = {'state': 'State'}\n    outputs = {'controller_command': 'ControllerCommand'}\n"
+                 "    def step(self, now, inputs):\n        return {'controller_command': {'Va_c': 17.0, 'h_c': 70.0, 'chi_c': inputs['state'].chi}}\n"
+                 "    def summary(self):\n        return {'x': 'not a number'}\n")
+    run = tern.fly(FOLLOWER, duration=20, set={"follower.script": str(bad)}, log_dir=tmp_path)
+    assert run.ok and run.summary["instances"]["follower"]["steps"] > 1000 and "x" not in run.summary["instances"]["follower"]
+    assert "summary() failed, its figures are left out" in (run.dir / "tern.log").read_text()

@@ -95,9 +95,19 @@ void PythonPlugin::stop() {
   call("stop");
 }
 
+// A failing summary() loses its own figures only: one error line, and summary.json is written.
 std::vector<std::pair<std::string, double>> PythonPlugin::summary() const {
   if (!instance_) return {};
   Gil gil;
+  try {
+    return summary_figures();
+  } catch (const PythonError& e) {
+    log().error("summary() failed, its figures are left out: {}", e.what());
+    return {};
+  }
+}
+
+std::vector<std::pair<std::string, double>> PythonPlugin::summary_figures() const {
   Ref figures = call_if_defined(instance_.get(), "summary");
   if (!figures || figures.get() == Py_None) return {};
   if (!PyDict_Check(figures.get())) fail("summary() returns a dict {name: number}, not " + text_of(figures.get()));

@@ -101,6 +101,7 @@ class PythonPlugin final : public Plugin {
   Ref inputs_dict();
   void publish(PyObject* outputs, Nanos now);
   void drain_log();
+  std::vector<std::pair<std::string, double>> summary_figures() const;
   [[noreturn]] void fail(const std::string& what) const;
 
   Param<std::string> script_, class_name_;
