@@ -174,11 +174,17 @@ void import_gnss(const Inputs& in, Nanos t0, SensorLogWriter& out, ImportReport&
     g.alt = fix.num("field.altitude");
     // Only a covariance the receiver reported is an accuracy in metres: DIAGONAL_KNOWN (2) or
     // KNOWN (3). APPROXIMATED (1) is mavros' (DOP * gps_uere)^2 with gps_uere 1 by default
-    // (mavros global_position.cpp, handle_gps_raw_int: MAVLink 1's GPS_RAW_INT has no h_acc):
-    // its square root is the HDOP/VDOP, not metres. Then no accuracy is reported (0).
-    if (fix.num("field.position_covariance_type") >= 2) {
-      g.h_acc = std::sqrt(fix.num("field.position_covariance0"));
-      g.v_acc = std::sqrt(fix.num("field.position_covariance8"));
+    // (mavros global_position.cpp, handle_gps_raw_int: MAVLink 1's GPS_RAW_INT has no h_acc,
+    // its eph and epv are the HDOP and VDOP): its square roots are the HDOP and VDOP, not metres.
+    // Then no accuracy is reported (0), the dilutions are.
+    const double covariance_type = fix.num("field.position_covariance_type");
+    const double var_h = fix.num("field.position_covariance0"), var_v = fix.num("field.position_covariance8");
+    if (covariance_type >= 2) {
+      g.h_acc = std::sqrt(var_h);
+      g.v_acc = std::sqrt(var_v);
+    } else if (covariance_type == 1 && var_h > 0.0 && var_v > 0.0) {
+      g.hdop = std::sqrt(var_h);
+      g.vdop = std::sqrt(var_v);
     }
     g.vel = enu_to_ned(vel.vec("field.twist.linear"));
     if (order.accept(g.stamp)) out.write("gnss", g);

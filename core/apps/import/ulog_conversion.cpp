@@ -165,6 +165,7 @@ void Conversion::add_gnss(const std::string& source) {
     const auto vel = std::array<const Field*, 3>{&f.need("vel_n_m_s"), &f.need("vel_e_m_s"), &f.need("vel_d_m_s")};
     const Field *fix = &f.need("fix_type"), *sats = f.opt("satellites_used"), *eph = f.opt("eph"), *epv = f.opt("epv");
     const Field *sacc = f.opt("s_variance_m_s"), *ts = f.opt("timestamp_sample"), *utc = f.opt("time_utc_usec");
+    const Field *hdop = f.opt("hdop"), *vdop = f.opt("vdop");
     const Field *ned_valid = f.opt("vel_ned_valid"), *speed = f.opt("vel_m_s"), *course = f.opt("cog_rad");
     const Nanos delay = static_cast<Nanos>(std::llround(param("EKF2_GPS_DELAY").value_or(0.0) * 1e6));
     return [=](const DataMessage& d) {
@@ -187,10 +188,12 @@ void Conversion::add_gnss(const std::string& source) {
       m.h_acc = eph ? d.value(*eph) : 0.0;
       m.v_acc = epv ? d.value(*epv) : 0.0;
       m.s_acc = sacc ? d.value(*sacc) : 0.0;
+      m.hdop = hdop ? d.value(*hdop) : 0.0;
+      m.vdop = vdop ? d.value(*vdop) : 0.0;
       if (ts)
         m.time_of_validity = std::max<Nanos>(0, (d.integer(*ts) - static_cast<std::int64_t>(origin_us_)) * 1000 - delay);  // 0: unknown
       if (!std::isfinite(m.lat) || !std::isfinite(m.lon) || !std::isfinite(m.alt) || !m.vel.allFinite() || !std::isfinite(m.h_acc) ||
-          !std::isfinite(m.v_acc) || !std::isfinite(m.s_acc))
+          !std::isfinite(m.v_acc) || !std::isfinite(m.s_acc) || !std::isfinite(m.hdop) || !std::isfinite(m.vdop))
         return void(++nan_rows_);
       if (date.empty() && utc && m.fix_type >= msg::FixType::fix_2d && d.integer(*utc) > 1'000'000'000'000'000)
         date = iso_date_from_utc_usec(static_cast<std::uint64_t>(d.integer(*utc)));

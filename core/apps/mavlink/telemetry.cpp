@@ -160,6 +160,11 @@ GpsRawInt gps_raw(const Snapshot& s) {
   m.vel = static_cast<std::uint16_t>(std::min(65534L, std::lround(v * 100.0)));
   m.cog = v > 0.5 ? cdeg(std::atan2(g.vel.y(), g.vel.x())) : UINT16_MAX;  // below 0.5 m/s the course is noise
   m.satellites_visible = g.num_sats;
+  const auto dop = [](double d) {  // GPS_RAW_INT's eph/epv: the DOP x 100, UINT16_MAX when unknown
+    return d > 0.0 && std::isfinite(d) ? static_cast<std::uint16_t>(std::min(65534L, std::lround(d * 100.0))) : std::uint16_t{UINT16_MAX};
+  };
+  m.eph = dop(g.hdop);
+  m.epv = dop(g.vdop);
   return m;
 }
 

@@ -12,11 +12,19 @@ namespace tern::ekf {
 namespace {
 /// A reported accuracy above its limit; 0 or non-finite is "not reported" and passes.
 bool above(double reported, double limit) { return std::isfinite(reported) && reported > 0.0 && reported > limit; }
+
+/// The dilution the PDOP check judges: PDOP from both (PX4), HDOP where only it is reported
+/// (ArduPilot), 0 when neither is.
+double reported_dop(const msg::Gnss& f) {
+  const bool h = std::isfinite(f.hdop) && f.hdop > 0.0, v = std::isfinite(f.vdop) && f.vdop > 0.0;
+  return h && v ? std::hypot(f.hdop, f.vdop) : h ? f.hdop : 0.0;
+}
 }  // namespace
 
 std::string gnss_check_names(std::uint32_t bits) {
   static constexpr std::pair<std::uint32_t, const char*> kNames[] = {{gnss_check::fix, "fix type"},
                                                                      {gnss_check::nsats, "satellites"},
+                                                                     {gnss_check::pdop, "dilution of precision"},
                                                                      {gnss_check::eph, "h_acc"},
                                                                      {gnss_check::epv, "v_acc"},
                                                                      {gnss_check::sacc, "s_acc"},
@@ -60,6 +68,7 @@ std::uint32_t GnssChecks::fix_failures(const msg::Gnss& f, bool usable) const {
   std::uint32_t fail = 0;
   if (!usable) fail |= gnss_check::fix;
   if (usable && f.num_sats > 0 && f.num_sats < c_.min_sats) fail |= gnss_check::nsats;
+  if (above(reported_dop(f), c_.max_pdop)) fail |= gnss_check::pdop;
   if (above(f.h_acc, c_.max_h_acc)) fail |= gnss_check::eph;
   if (above(f.v_acc, c_.max_v_acc)) fail |= gnss_check::epv;
   if (above(f.s_acc, c_.max_s_acc)) fail |= gnss_check::sacc;
@@ -117,6 +126,7 @@ std::string GnssChecks::describe_failing() const {
   };
   add(gnss_check::fix, "fix type %.0f below the minimum", static_cast<double>(last_.fix_type), 0.0);
   add(gnss_check::nsats, "%.0f satellites < %.0f", last_.num_sats, c_.min_sats);
+  add(gnss_check::pdop, last_.vdop > 0.0 ? "PDOP %.2f > %.2f" : "HDOP %.2f > %.2f", reported_dop(last_), c_.max_pdop);
   add(gnss_check::eph, "h_acc %.2f m > %.2f", last_.h_acc, c_.max_h_acc);
   add(gnss_check::epv, "v_acc %.2f m > %.2f", last_.v_acc, c_.max_v_acc);
   add(gnss_check::sacc, "s_acc %.2f m/s > %.2f", last_.s_acc, c_.max_s_acc);

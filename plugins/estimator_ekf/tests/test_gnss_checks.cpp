@@ -99,6 +99,31 @@ TEST_CASE("GNSS checks: each reported quantity over its PX4 limit fails; 0 (not 
   CHECK(passed_near(feed(c, 8.2, 20.0, Motion::at_rest, [](double t) { return fix_at(t); }), 18.1));
 }
 
+TEST_CASE("GNSS checks: a log with dilutions and no accuracies: PDOP (PX4) from both, HDOP (ArduPilot) from one alone") {
+  const auto dop_fix = [](double t, double hdop, double vdop) {
+    msg::Gnss g = fix_at(t, 0.0, 0.0, 0.0, 0);  // no accuracy, no satellite count reported
+    g.hdop = hdop;
+    g.vdop = vdop;
+    return g;
+  };
+  // PDOP = sqrt(1.8^2 + 2.0^2) = 2.69 > 2.5 although each alone is below it
+  GnssChecks both;
+  CHECK(feed(both, 0.0, 20.0, Motion::at_rest, [&](double t) { return dop_fix(t, 1.8, 2.0); }) < 0.0);
+  CHECK(both.failing() == gnss_check::pdop);
+  CHECK(both.describe_failing() == "PDOP 2.69 > 2.50");
+  // HDOP alone: 3.1 fails, then the geometry improves to 1.2 and the hold runs from there
+  GnssChecks alone;
+  CHECK(feed(alone, 0.0, 15.0, Motion::at_rest, [&](double t) { return dop_fix(t, 3.1, 0.0); }) < 0.0);
+  CHECK(alone.describe_failing() == "HDOP 3.10 > 2.50");
+  CHECK(passed_near(feed(alone, 15.1, 30.0, Motion::at_rest, [&](double t) { return dop_fix(t, 1.2, 0.0); }), 25.0));
+  // a limit raised (gnss_req_pdop) lets the first receiver through; 0 (not reported) passes
+  GnssCheckConfig loose;
+  loose.max_pdop = 3.0;
+  GnssChecks relaxed(loose), unreported;
+  CHECK(passed_near(feed(relaxed, 0.0, 11.0, Motion::at_rest, [&](double t) { return dop_fix(t, 1.8, 2.0); }), 10.0));
+  CHECK(passed_near(feed(unreported, 0.0, 11.0, Motion::at_rest, [&](double t) { return dop_fix(t, 0.0, 0.0); }), 10.0));
+}
+
 TEST_CASE("GNSS checks: drift while still fails without any reported accuracy; moving keeps the verdict; flying passes it") {
   // climbing 1 m/s in the receiver's altitude and velocity, nothing else reported
   const auto drifting = [](double t) {

@@ -77,7 +77,8 @@ namespace tern {
 /// 6: PluginKind::coordination and Context::vehicles() (multi-vehicle missions, issue 42).
 /// 7: input queues (Queue, Input<T>::received(), an Output's history: every message between two
 ///    steps reaches a consumer that asks for it; tern/port.hpp), Context::replaying() (issue 61).
-inline constexpr std::uint32_t kSdkApiVersion = 7;
+/// 8: msg::Gnss::hdop and vdop (the receiver's dilutions of precision, issue 61).
+inline constexpr std::uint32_t kSdkApiVersion = 8;
 
 /// What a plugin is for; the host runs `io` plugins first in every tick.
 /// `coordination`: runs once per tick after every vehicle of a multi-vehicle mission, sees their

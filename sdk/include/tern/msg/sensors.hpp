@@ -47,6 +47,10 @@ struct Gnss {
   double h_acc = 0.0;                             ///< horizontal accuracy (1 sigma), m
   double v_acc = 0.0;                             ///< vertical accuracy (1 sigma), m
   double s_acc = 0.0;                             ///< speed accuracy (1 sigma), m/s
+  /// Dilutions of precision the receiver reports (horizontal, vertical; 0: not reported): what a
+  /// log without accuracies says of its fixes (the estimator's start-up checks, gnss_checks.hpp).
+  double hdop = 0.0;
+  double vdop = 0.0;
   /// When the fix was valid (the receiver's measurement epoch), flight time ns. `stamp` is when
   /// it was delivered; stamp - time_of_validity is the receiver's latency (0 when unknown).
   Nanos time_of_validity = 0;
@@ -63,6 +67,8 @@ struct Gnss {
     v(&Gnss::h_acc, "h_acc", "m");
     v(&Gnss::v_acc, "v_acc", "m");
     v(&Gnss::s_acc, "s_acc", "m/s");
+    v(&Gnss::hdop, "hdop", "");
+    v(&Gnss::vdop, "vdop", "");
   }
 };
 

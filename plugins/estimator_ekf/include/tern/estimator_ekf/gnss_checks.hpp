@@ -15,6 +15,10 @@
 // Per fix (update()), each check enabled in GnssCheckConfig::mask (PX4 EKF2_GPS_CHECK's bit
 // positions) fails when:
 //   bit 0 nsats   num_sats < min_sats                                  (EKF2_REQ_NSATS, 6)
+//   bit 1 pdop    PDOP = sqrt(hdop^2 + vdop^2) > max_pdop              (EKF2_REQ_PDOP, 2.5; PX4's
+//                 EKF2.cpp makes its pdop so from vehicle_gps_position); a receiver reporting
+//                 HDOP alone (vdop 0): hdop > max_pdop, ArduPilot EKF3's geometry check
+//                 (calcGpsGoodToAlign: hdopFail, "GPS HDOP %.1f (needs 2.5)")
 //   bit 2 eph     h_acc > max_h_acc                                    (EKF2_REQ_EPH, 3 m)
 //   bit 3 epv     v_acc > max_v_acc                                    (EKF2_REQ_EPV, 5 m)
 //   bit 4 sacc    s_acc > max_s_acc                                    (EKF2_REQ_SACC, 0.5 m/s)
@@ -22,9 +26,9 @@
 //   bit 6 vdrift  filtered vertical position rate > max_v_drift         (EKF2_REQ_VDRIFT, 0.2 m/s)
 //   bit 7 hspeed  filtered horizontal GNSS speed > max_h_drift          (EKF2_REQ_HDRIFT)
 //   bit 8 vspeed  filtered vertical GNSS speed > max_v_drift            (EKF2_REQ_VDRIFT)
-// and always when the fix is below the estimator's min_fix_type (bit kFixBit, not maskable). Bit 1
-// (PDOP, EKF2_REQ_PDOP) and bit 9 (spoofing) select nothing: msg::Gnss carries neither a DOP nor a
-// spoofing flag, so a PX4 mask can be copied unchanged and those two checks are not run.
+// and always when the fix is below the estimator's min_fix_type (bit kFixBit, not maskable). Bit 9
+// (spoofing) selects nothing: msg::Gnss carries no spoofing flag, so a PX4 mask can be copied
+// unchanged and that check is not run.
 // The checks pass (passed(), latched) once no enabled check has failed for hold_time
 // (EKF2_REQ_GPS_H, 10 s); the first fix counts as a failure, so a receiver good from its first fix
 // passes hold_time after it. failing() == 0 before that: every check passes, not yet for long enough.
@@ -39,7 +43,8 @@
 // receiver reports beyond position and velocity, so they hold for a receiver without accuracies.
 //
 // Quantities a receiver does not report. msg::Gnss writes 0 for "not reported" (h_acc, v_acc,
-// s_acc; num_sats). PX4 tests `hacc > EKF2_REQ_EPH` and so passes a zero accuracy; ArduPilot EKF3
+// s_acc, hdop, vdop; num_sats). A log with dilutions but no accuracies (an ArduPilot GPS log's
+// HDop; mavros' APPROXIMATED covariance) is judged on its geometry by the PDOP/HDOP check. PX4 tests `hacc > EKF2_REQ_EPH` and so passes a zero accuracy; ArduPilot EKF3
 // skips hAcc, vAcc and sAcc when the driver has none. tern does the same: an accuracy of 0 (or
 // non-finite) passes its check. For the satellite count PX4 and ArduPilot fail a zero
 // (nsats < 6); tern deviates and skips num_sats == 0 with a fix at or above min_fix_type, since a
@@ -69,6 +74,7 @@ namespace tern::ekf {
 /// Bits of GnssCheckConfig::mask and GnssChecks::failing(): PX4 EKF2_GPS_CHECK's positions.
 namespace gnss_check {
 inline constexpr std::uint32_t nsats = 1u << 0;
+inline constexpr std::uint32_t pdop = 1u << 1;
 inline constexpr std::uint32_t eph = 1u << 2;
 inline constexpr std::uint32_t epv = 1u << 3;
 inline constexpr std::uint32_t sacc = 1u << 4;
@@ -86,6 +92,7 @@ std::string gnss_check_names(std::uint32_t bits);
 struct GnssCheckConfig {
   std::int64_t mask = 1023;         ///< EKF2_GPS_CHECK (default 1023): bits as above; 0 leaves the fix type and the hold
   int min_sats = 6;                 ///< EKF2_REQ_NSATS, 6 (range 4-12)
+  double max_pdop = 2.5;            ///< EKF2_REQ_PDOP, 2.5 (1.5-5); ArduPilot EKF3's HDOP limit, 2.5, where only HDOP is reported
   double max_h_acc = 3.0;           ///< m, EKF2_REQ_EPH, 3 m (2-100)
   double max_v_acc = 5.0;           ///< m, EKF2_REQ_EPV, 5 m (2-100)
   double max_s_acc = 0.5;           ///< m/s, EKF2_REQ_SACC, 0.5 m/s (0.5-5)
@@ -107,9 +114,11 @@ struct GnssCheckConfig {
     using C = GnssCheckConfig;
     v(&C::mask, "gnss_check",
       ParamSpec("", 0, 1023,
-                "GNSS start-up checks, PX4 EKF2_GPS_CHECK bits: 0 sats, 2 h_acc, 3 v_acc, 4 s_acc, 5 h drift, 6 v drift, "
-                "7 h speed, 8 v speed (1 PDOP, 9 spoofing: no such field, not run)"));
+                "GNSS start-up checks, PX4 EKF2_GPS_CHECK bits: 0 sats, 1 PDOP (HDOP alone where only it is reported), 2 h_acc, "
+                "3 v_acc, 4 s_acc, 5 h drift, 6 v drift, 7 h speed, 8 v speed (9 spoofing: no such field, not run)"));
     v(&C::min_sats, "gnss_req_nsats", ParamSpec("", 4, 12, "satellites a fix needs (PX4 EKF2_REQ_NSATS; 0 reported: skipped)"));
+    v(&C::max_pdop, "gnss_req_pdop",
+      ParamSpec("", 1.5, 5.0, "largest reported PDOP, or HDOP where only it is reported (PX4 EKF2_REQ_PDOP; 0 reported: skipped)"));
     v(&C::max_h_acc, "gnss_req_eph", ParamSpec("m", 2.0, 100.0, "largest reported horizontal accuracy (PX4 EKF2_REQ_EPH)"));
     v(&C::max_v_acc, "gnss_req_epv", ParamSpec("m", 2.0, 100.0, "largest reported vertical accuracy (PX4 EKF2_REQ_EPV)"));
     v(&C::max_s_acc, "gnss_req_sacc", ParamSpec("m/s", 0.5, 5.0, "largest reported speed accuracy (PX4 EKF2_REQ_SACC)"));
