@@ -60,8 +60,8 @@ int run_sysid(const SysidOptionsCli& o) {
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   const sysid::SysidResult r = sysid::identify(series, prior, io);
   const std::string options =
-      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}", o.band[0],
-                  o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
+      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}",
+                  o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
                   o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   sysid::write_sysid_outputs(r, {o.log_dir, o.aircraft, estimate.string(), options}, o.out_dir);
   std::printf("%s", sysid::format_sysid_table(r).c_str());

@@ -538,8 +538,8 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
   }
   if (free.empty()) return;
   const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
-  const std::vector<std::string> outputs = axes == RateAxes::pitch ? std::vector<std::string>{"pitch rate"}
-                                                                   : std::vector<std::string>{"roll rate", "yaw rate"};
+  const std::vector<std::string> outputs =
+      axes == RateAxes::pitch ? std::vector<std::string>{"pitch rate"} : std::vector<std::string>{"roll rate", "yaw rate"};
   std::string rms;
   for (std::size_t a = 0; a < outputs.size(); ++a) {
     const auto A = static_cast<Eigen::Index>(a);
@@ -547,8 +547,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     rms += fmt::format("{}{} {:.4f} -> {:.4f} rad/s", a ? ", " : "", outputs[a], f.rms_start[A], f.rms[A]);
   }
   c.result.notes.push_back(fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations",
-                                       axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations,
-                                       f.evaluations));
+                                       axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations));
   for (std::size_t j = 0; j < free.size(); ++j) {
     const auto J = static_cast<Eigen::Index>(j);
     auto e = std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),

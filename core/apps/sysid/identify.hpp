@@ -72,8 +72,8 @@ struct CoefficientEstimate {
   double estimate = 0.0;   ///< the identified value (the prior when not identified)
   double std_error = 0.0;  ///< 1 sigma (0 when not identified)
   bool identified = false;
-  std::string method;  ///< "trim", "band" or "output error"
-  std::string note;    ///< why not identified, or "" when it was
+  std::string method;                     ///< "trim", "band" or "output error"
+  std::string note;                       ///< why not identified, or "" when it was
   double equation_error = 0.0;            ///< the equation-error estimate (trim or band), before any output error
   double equation_error_std_error = 0.0;  ///< its standard error
 };

@@ -21,13 +21,22 @@ using M = AeroCoefficients;
 using Member = double M::*;
 
 const std::map<std::string, Member>& moment_table() {
-  static const std::map<std::string, Member> table = {
-      {"C_ell_0", &M::C_ell_0},         {"C_ell_beta", &M::C_ell_beta},       {"C_ell_p", &M::C_ell_p},
-      {"C_ell_r", &M::C_ell_r},         {"C_ell_delta_a", &M::C_ell_delta_a}, {"C_ell_delta_r", &M::C_ell_delta_r},
-      {"C_m_0", &M::C_m_0},             {"C_m_alpha", &M::C_m_alpha},         {"C_m_q", &M::C_m_q},
-      {"C_m_delta_e", &M::C_m_delta_e}, {"C_n_0", &M::C_n_0},                 {"C_n_beta", &M::C_n_beta},
-      {"C_n_p", &M::C_n_p},             {"C_n_r", &M::C_n_r},                 {"C_n_delta_a", &M::C_n_delta_a},
-      {"C_n_delta_r", &M::C_n_delta_r}};
+  static const std::map<std::string, Member> table = {{"C_ell_0", &M::C_ell_0},
+                                                      {"C_ell_beta", &M::C_ell_beta},
+                                                      {"C_ell_p", &M::C_ell_p},
+                                                      {"C_ell_r", &M::C_ell_r},
+                                                      {"C_ell_delta_a", &M::C_ell_delta_a},
+                                                      {"C_ell_delta_r", &M::C_ell_delta_r},
+                                                      {"C_m_0", &M::C_m_0},
+                                                      {"C_m_alpha", &M::C_m_alpha},
+                                                      {"C_m_q", &M::C_m_q},
+                                                      {"C_m_delta_e", &M::C_m_delta_e},
+                                                      {"C_n_0", &M::C_n_0},
+                                                      {"C_n_beta", &M::C_n_beta},
+                                                      {"C_n_p", &M::C_n_p},
+                                                      {"C_n_r", &M::C_n_r},
+                                                      {"C_n_delta_a", &M::C_n_delta_a},
+                                                      {"C_n_delta_r", &M::C_n_delta_r}};
   return table;
 }
 
@@ -83,8 +92,8 @@ Eigen::Vector3d rate_derivative(const Gammas& G, const M& A, const Input& u, con
 /// The simulation: inputs per sample, which rates are integrated, the held coefficients.
 class RateModel {
  public:
-  RateModel(const RateData& d, const Aircraft& ac, const M& base, RateAxes axes, const std::vector<Member>& free)
-      : d_(d), G_(gammas_of(ac)), base_(base), free_(free) {
+  RateModel(const RateData& d, const Aircraft& ac, const M& base, RateAxes axes, const std::vector<Member>& free, bool hold_commands)
+      : d_(d), G_(gammas_of(ac)), base_(base), free_(free), hold_commands_(hold_commands) {
     for (std::size_t k = 0; k < d.size(); ++k) {
       Input u;
       const double qbar = 0.5 * ac.rho * d.Va[k] * d.Va[k], cb = std::cos(d.beta[k]);
@@ -124,7 +133,9 @@ class RateModel {
           um.da = u1.da = u0.da, um.de = u1.de = u0.de, um.dr = u1.dr = u0.dr;
         }
         // the integrated rates from w, the others measured at each stage's time
-        auto at = [&](const Input& u, const Eigen::Vector3d& x) { return integrated_.cwiseProduct(x) + (Eigen::Vector3d::Ones() - integrated_).cwiseProduct(u.w); };
+        auto at = [&](const Input& u, const Eigen::Vector3d& x) {
+          return integrated_.cwiseProduct(x) + (Eigen::Vector3d::Ones() - integrated_).cwiseProduct(u.w);
+        };
         const Eigen::Vector3d k1 = rate_derivative(G_, A, u0, at(u0, w));
         const Eigen::Vector3d k2 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k1));
         const Eigen::Vector3d k3 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k2));
@@ -166,8 +177,6 @@ class RateModel {
   std::vector<int> outputs_;
   Eigen::Vector3d integrated_;
   std::size_t residual_rows_ = 0;
-
- public:
   bool hold_commands_ = false;
 };
 
@@ -273,14 +282,14 @@ double AeroCoefficients::*moment_coefficient(const std::string& name) {
 
 RateData rate_data(const AeroSamples& a, const std::vector<double>& alpha, const std::vector<double>& beta,
                    const std::vector<std::pair<std::size_t, std::size_t>>& segments, const Aircraft& prior, double window_s) {
-  if (alpha.size() != a.size() || beta.size() != a.size()) throw std::invalid_argument("rate_data: alpha, beta and the samples differ in length");
+  if (alpha.size() != a.size() || beta.size() != a.size())
+    throw std::invalid_argument("rate_data: alpha, beta and the samples differ in length");
   if (!(window_s > 0.0)) throw std::invalid_argument("rate_data: window_s must be > 0");
   RateData d;
   d.t = a.t, d.Va = a.Va, d.alpha = alpha, d.beta = beta;
   d.delta_a = a.delta_a, d.delta_e = a.delta_e, d.delta_r = a.delta_r;
   d.p = a.p, d.q = a.q, d.r = a.r;
-  for (std::size_t k = 0; k < a.size(); ++k)
-    d.Q_p.push_back(sim::propulsion(prior, a.Va[k] * std::cos(beta[k]), a.delta_t[k]).Q_p);
+  for (std::size_t k = 0; k < a.size(); ++k) d.Q_p.push_back(sim::propulsion(prior, a.Va[k] * std::cos(beta[k]), a.delta_t[k]).Q_p);
   for (const auto& [b, e] : segments) {
     std::size_t w = b;
     for (std::size_t k = b + 1; k < e; ++k)
@@ -297,7 +306,7 @@ RateData rate_data(const AeroSamples& a, const std::vector<double>& alpha, const
 }
 
 std::vector<Eigen::Vector3d> simulate_rates(const RateData& d, const Aircraft& prior, const AeroCoefficients& aero, RateAxes axes) {
-  return RateModel(d, prior, aero, axes, {}).simulate(aero);
+  return RateModel(d, prior, aero, axes, {}, false).simulate(aero);
 }
 
 OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const AeroCoefficients& start, RateAxes axes,
@@ -318,12 +327,12 @@ OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const Aero
     moment_coefficient(free[j]);
     const bool pitch = free[j].rfind("C_m_", 0) == 0;
     if (pitch != (axes == RateAxes::pitch))
-      throw std::invalid_argument(fmt::format("output error: {} is not in the {} axes' moments", free[j], axes == RateAxes::pitch ? "pitch" : "lateral"));
+      throw std::invalid_argument(
+          fmt::format("output error: {} is not in the {} axes' moments", free[j], axes == RateAxes::pitch ? "pitch" : "lateral"));
     members.push_back(moment_coefficient(free[j]));
     fit.start[static_cast<Eigen::Index>(j)] = start.*members.back();
   }
-  RateModel model(d, prior, start, axes, members);
-  model.hold_commands_ = o.hold_commands;
+  const RateModel model(d, prior, start, axes, members, o.hold_commands);
   const Eigen::Index ny = model.ny();
   Eigen::VectorXd theta = fit.start;
   const Eigen::VectorXd scale = theta.cwiseAbs().cwiseMax(1e-3);

@@ -51,23 +51,23 @@ enum class RateAxes { pitch, lateral };
 
 struct OutputErrorOptions {
   bool enabled = true;
-  double window_s = 5.0;           ///< s, the simulation restarts from the measured rates this often (> 0)
-  double max_lag_s = 2.0;          ///< s, longest lag of the residual autocorrelation in the coloured bound
-  int max_relaxations = 5;         ///< fits with R fixed, R re-estimated after each (>= 1)
-  int max_evaluations = 400;       ///< model simulations per Levenberg-Marquardt fit
-  double theta_tolerance = 1e-3;   ///< relaxation stops when no coefficient moves more than this many standard errors
-  bool hold_commands = false;      ///< the surfaces held over each sample interval (raw zero-order-hold data) instead of interpolated
+  double window_s = 5.0;          ///< s, the simulation restarts from the measured rates this often (> 0)
+  double max_lag_s = 2.0;         ///< s, longest lag of the residual autocorrelation in the coloured bound
+  int max_relaxations = 5;        ///< fits with R fixed, R re-estimated after each (>= 1)
+  int max_evaluations = 400;      ///< model simulations per Levenberg-Marquardt fit
+  double theta_tolerance = 1e-3;  ///< relaxation stops when no coefficient moves more than this many standard errors
+  bool hold_commands = false;     ///< the surfaces held over each sample interval (raw zero-order-hold data) instead of interpolated
 };
 
 /// The measured side, one entry per sample (every vector the same length); windows are runs of
 /// consecutive samples, each simulated from its first sample's measured rates.
 struct RateData {
-  std::vector<double> t;                          ///< s
-  std::vector<double> Va;                         ///< m/s, sqrt(2 qbar / rho)
-  std::vector<double> alpha, beta;                ///< rad
-  std::vector<double> delta_a, delta_e, delta_r;  ///< rad, the commands in force
-  std::vector<double> Q_p;                        ///< N m, the prior's propeller torque
-  std::vector<double> p, q, r;                    ///< rad/s, measured
+  std::vector<double> t;                                     ///< s
+  std::vector<double> Va;                                    ///< m/s, sqrt(2 qbar / rho)
+  std::vector<double> alpha, beta;                           ///< rad
+  std::vector<double> delta_a, delta_e, delta_r;             ///< rad, the commands in force
+  std::vector<double> Q_p;                                   ///< N m, the prior's propeller torque
+  std::vector<double> p, q, r;                               ///< rad/s, measured
   std::vector<std::pair<std::size_t, std::size_t>> windows;  ///< [begin, end) of each window
   std::size_t size() const { return t.size(); }
 };

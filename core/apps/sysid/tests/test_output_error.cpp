@@ -60,7 +60,7 @@ RateData synthetic(const tern::Aircraft& ac, const AeroCoefficients& truth, Rate
   return d;
 }
 
-const std::vector<std::string> kLateral = {"C_ell_0",  "C_ell_beta", "C_ell_p", "C_ell_r", "C_ell_delta_a", "C_n_0",
+const std::vector<std::string> kLateral = {"C_ell_0",  "C_ell_beta", "C_ell_p", "C_ell_r",     "C_ell_delta_a", "C_n_0",
                                            "C_n_beta", "C_n_p",      "C_n_r",   "C_n_delta_a", "C_n_delta_r"};
 const std::vector<std::string> kPitch = {"C_m_0", "C_m_alpha", "C_m_q", "C_m_delta_e"};
 
@@ -129,8 +129,7 @@ TEST_CASE("output error: names outside the axes' moments and empty windows are o
   RateData d = synthetic(ac, ac.aero, RateAxes::pitch, 0.0, 1);
   CHECK_THROWS_WITH_AS(output_error(d, ac, ac.aero, RateAxes::pitch, {"C_L_alpha"}, {}), doctest::Contains("not a moment coefficient"),
                        std::invalid_argument);
-  CHECK_THROWS_WITH_AS(output_error(d, ac, ac.aero, RateAxes::lateral, {"C_m_q"}, {}), doctest::Contains("lateral"),
-                       std::invalid_argument);
+  CHECK_THROWS_WITH_AS(output_error(d, ac, ac.aero, RateAxes::lateral, {"C_m_q"}, {}), doctest::Contains("lateral"), std::invalid_argument);
   d.windows = {{0, 2}};
   CHECK_THROWS_AS(output_error(d, ac, ac.aero, RateAxes::pitch, {"C_m_q"}, {}), std::invalid_argument);
 }
