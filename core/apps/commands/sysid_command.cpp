@@ -23,6 +23,8 @@ struct SysidOptionsCli {
   std::vector<double> band = {sysid::SysidOptions{}.band_lo_hz, sysid::SysidOptions{}.band_hi_hz};
   double trim_window = sysid::SysidOptions{}.trim_window_s;
   double filter_hz = sysid::FlightSeriesOptions{}.filter_hz, rate_hz = sysid::FlightSeriesOptions{}.rate_hz;
+  double oe_window = sysid::OutputErrorOptions{}.window_s;
+  bool no_output_error = false;
   std::vector<std::string> sets;
 };
 
@@ -54,10 +56,13 @@ int run_sysid(const SysidOptionsCli& o) {
   sysid::SysidOptions io;
   io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;
   io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
+  if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
+  io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   const sysid::SysidResult r = sysid::identify(series, prior, io);
   const std::string options =
-      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s", o.band[0],
-                  o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau);
+      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}",
+                  o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
+                  o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   sysid::write_sysid_outputs(r, {o.log_dir, o.aircraft, estimate.string(), options}, o.out_dir);
   std::printf("%s", sysid::format_sysid_table(r).c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
@@ -87,6 +92,9 @@ Command add_sysid_command(CLI::App& app) {
                 "accelerometer (alpha, beta from lift and side force; default) or estimator (the wind triangle's)");
   c->add_option("--filter-hz", o->filter_hz, "Hz: the zero-phase low-pass every channel gets (default 10)");
   c->add_option("--rate", o->rate_hz, "Hz: samples after decimation (default 50)");
+  c->add_option("--output-error-window", o->oe_window,
+                "s: the output-error step restarts its simulated rates from the measured ones this often (default 5)");
+  c->add_flag("--no-output-error", o->no_output_error, "equation error only (the rotational axes' output-error refinement skipped)");
   c->add_option("--set", o->sets, "INSTANCE.PARAM=VALUE: an estimator parameter for the replay, as tern replay --set")
       ->type_name("INSTANCE.PARAM=VALUE");
   return {c, [o] { return run_sysid(*o); }};

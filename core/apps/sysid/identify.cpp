@@ -164,6 +164,7 @@ CoefficientEstimate& record(Context& c, const Term& t, const std::string& method
   e.prior = c.prior.*t.member;
   e.estimate = c.coef.*t.member;
   e.method = method;
+  e.equation_error = e.estimate;
   c.result.coefficients.push_back(e);
   return c.result.coefficients.back();
 }
@@ -527,6 +528,45 @@ void consider_lift_terms(Context& c) {
   }
 }
 
+/// The output-error refinement (output_error.hpp) of one group of axes: the coefficients of the
+/// axes' moments the equation error identified, from their estimates; the others held.
+void refine(Context& c, const RateData& d, RateAxes axes) {
+  std::vector<std::string> free;
+  for (const auto& e : c.result.coefficients) {
+    const bool pitch = e.name.rfind("C_m_", 0) == 0, lateral = e.name.rfind("C_ell_", 0) == 0 || e.name.rfind("C_n_", 0) == 0;
+    if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
+  }
+  if (free.empty()) return;
+  const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
+  const std::vector<std::string> outputs =
+      axes == RateAxes::pitch ? std::vector<std::string>{"pitch rate"} : std::vector<std::string>{"roll rate", "yaw rate"};
+  std::string rms;
+  for (std::size_t a = 0; a < outputs.size(); ++a) {
+    const auto A = static_cast<Eigen::Index>(a);
+    c.result.fits.push_back({outputs[a], "output error", f.r_squared[A], f.rms[A], f.samples});
+    rms += fmt::format("{}{} {:.4f} -> {:.4f} rad/s", a ? ", " : "", outputs[a], f.rms_start[A], f.rms[A]);
+  }
+  c.result.notes.push_back(fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations",
+                                       axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations));
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    auto e = std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),
+                          [&](const CoefficientEstimate& x) { return x.name == free[j]; });
+    double se = f.std_error[J];
+    if (se > c.o.max_relative_error * std::abs(f.theta[J])) {
+      c.result.notes.push_back(fmt::format("{}: output error poorly determined ({:.4g} +- {:.2g}); the equation error's {:.4g} kept",
+                                           e->name, f.theta[J], se, e->estimate));
+      continue;
+    }
+    // two estimates further apart than their bounds: one of them is biased, and which is not known;
+    // the bound then holds the equation error's and reaches half way to it
+    const double apart = std::abs(f.theta[J] - e->estimate);
+    if (apart > std::hypot(se, e->std_error)) se = std::max({se, e->std_error, 0.5 * apart});
+    e->estimate = f.theta[J], e->std_error = se, e->method = "output error";
+    c.coef.*moment_coefficient(e->name) = f.theta[J];
+  }
+}
+
 /// Each axis's measured and predicted coefficient over the longest stretch.
 std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const AeroCoefficients& m, const Aircraft& ac, const Col& alpha,
                                     const Col& beta) {
@@ -597,7 +637,6 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
                                    {"C_m_q", &M::C_m_q, &a.q_hat, x.q},
                                    {"C_m_delta_e", &M::C_m_delta_e, &a.delta_e, x.delta_e}};
   band_fit(c, "pitch", a.C_m, pitch);
-  if (accel) consider_lift_terms(c);
   bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
   const std::vector<Term> roll =
       lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x, beta_iv);
@@ -607,6 +646,13 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
       lateral_terms("C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, a, beta, x, beta_iv);
   band_fit(c, "yaw", a.C_n, yaw);
   bias_fit(c, "C_n_0", &M::C_n_0, a.C_n, yaw);
+  for (auto& e : r.coefficients) e.equation_error = e.estimate, e.equation_error_std_error = e.std_error;
+  if (o.output_error.enabled) {
+    const RateData d = rate_data(a, alpha, beta, L.segments, prior, o.output_error.window_s);
+    refine(c, d, RateAxes::pitch);
+    refine(c, d, RateAxes::lateral);
+  }
+  if (accel) consider_lift_terms(c);
   r.aircraft.aero = coef;
   drag_at_trim(r, prior, alpha, a);
   r.series = axis_series(a, L, coef, r.aircraft, alpha, beta);

@@ -21,6 +21,14 @@
 //     most two minutes, transformed at the multiples of 1/T in the band): the trim, slow drifts and
 //     the estimator's wind fall out. Bias terms (C_m_0, C_Y_0, C_ell_0, C_n_0) from the trim
 //     windows' means with the rest fixed.
+//  4. Output error on the rotational axes (output_error.hpp; K&M ch. 6): the pitch rate, then the
+//     roll and yaw rates together, simulated over windows of the flight from the measured rates,
+//     driven by step 2's alpha and beta, the commands and qbar; the moment coefficients the band
+//     identified (and the bias terms) refined by Levenberg-Marquardt from their equation-error
+//     values. Those the band did not identify keep the prior: output error does not free them.
+//     The reported standard error is the output error's (coloured-residual) bound, never below
+//     the equation error's when the two estimates disagree by more than their bounds combined;
+//     an output-error estimate poorly determined (max_relative_error) is not adopted.
 // Every sample pairs the command in force when it was taken, through the servo lag (flight_data).
 //
 // For each coefficient: the estimate, its standard error, the prior, and whether the data
@@ -39,6 +47,7 @@
 
 #include "sysid/aero_samples.hpp"
 #include "sysid/flight_data.hpp"
+#include "sysid/output_error.hpp"
 #include "tern/aircraft.hpp"
 
 namespace tern::core::sysid {
@@ -54,6 +63,7 @@ struct SysidOptions {
   FlowAngles flow_angles = FlowAngles::accelerometer;
   double max_correlation = 0.95;    ///< |r| between two regressors beyond which both are suspect
   double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
+  OutputErrorOptions output_error;  ///< step 4, the rotational axes' output-error refinement
 };
 
 struct CoefficientEstimate {
@@ -62,16 +72,18 @@ struct CoefficientEstimate {
   double estimate = 0.0;   ///< the identified value (the prior when not identified)
   double std_error = 0.0;  ///< 1 sigma (0 when not identified)
   bool identified = false;
-  std::string method;  ///< "trim" or "band"
-  std::string note;    ///< why not identified, or "" when it was
+  std::string method;                     ///< "trim", "band" or "output error"
+  std::string note;                       ///< why not identified, or "" when it was
+  double equation_error = 0.0;            ///< the equation-error estimate (trim or band), before any output error
+  double equation_error_std_error = 0.0;  ///< its standard error
 };
 
 /// How well one regression's model fits its measured coefficient.
 struct AxisFit {
-  std::string axis;    ///< "lift", "drag", "side force", "roll", "pitch", "yaw"
-  std::string domain;  ///< "trim" (time domain, window means) or "band" (frequency domain)
+  std::string axis;    ///< "lift", "drag", "side force", "roll", "pitch", "yaw"; output error: "roll rate", "pitch rate", "yaw rate"
+  std::string domain;  ///< "trim" (time domain, window means), "band" (frequency domain) or "output error" (simulated rates)
   double r_squared = 0.0;
-  double rms_residual = 0.0;  ///< coefficient units (band: per frequency row)
+  double rms_residual = 0.0;  ///< coefficient units (band: per frequency row); output error: rad/s
   std::size_t rows = 0;
 };
 

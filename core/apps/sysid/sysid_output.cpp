@@ -36,9 +36,12 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   j["produced_by"] = {
       {"command", "tern sysid"}, {"log", from.log}, {"prior", from.prior}, {"estimate", from.estimate}, {"options", from.options}};
   j["samples"] = r.samples, j["segments"] = r.segments, j["airborne_s"] = r.airborne_s;
-  for (const auto& c : r.coefficients)
+  for (const auto& c : r.coefficients) {
     j["coefficients"][c.name] = {{"estimate", c.estimate},     {"std_error", c.std_error}, {"prior", c.prior},
                                  {"identified", c.identified}, {"method", c.method},       {"note", c.note}};
+    if (c.identified)
+      j["coefficients"][c.name]["equation_error"] = {{"estimate", c.equation_error}, {"std_error", c.equation_error_std_error}};
+  }
   for (const auto& f : r.fits)
     j["fits"].push_back(
         {{"axis", f.axis}, {"domain", f.domain}, {"r_squared", f.r_squared}, {"rms_residual", f.rms_residual}, {"rows", f.rows}});
@@ -71,8 +74,10 @@ std::string svg_panel(const AxisSeries& s) {
 std::string html(const SysidResult& r, const SysidProvenance& from) {
   std::string rows;
   for (const auto& c : r.coefficients)
-    rows += fmt::format("<tr><td>{}</td><td>{:.5g}</td><td>{:.5g}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", c.name, c.prior,
-                        c.estimate, c.identified ? fmt::format("{:.2g}", c.std_error) : "", c.method, c.identified ? "identified" : c.note);
+    rows += fmt::format("<tr><td>{}</td><td>{:.5g}</td><td>{:.5g}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n", c.name, c.prior,
+                        c.estimate, c.identified ? fmt::format("{:.2g}", c.std_error) : "", c.method,
+                        c.method == "output error" ? fmt::format("{:.5g} +- {:.2g}", c.equation_error, c.equation_error_std_error) : "",
+                        c.identified ? "identified" : c.note);
   std::string panels;
   for (const auto& s : r.series) panels += svg_panel(s);
   std::string notes;
@@ -84,7 +89,8 @@ std::string html(const SysidResult& r, const SysidProvenance& from) {
       "</head><body><h1>tern sysid: {}</h1><p>log {}<br>prior {}<br>estimate {}<br>{}</p>"
       "<p>{} airborne samples in {} stretches, {:.0f} s. Drag at trim: prior {:.4f}, identified {:.4f}; 1 deg of alpha bias moves it by "
       "{:.0f} %.</p>"
-      "<table><tr><th>coefficient</th><th>prior</th><th>estimate</th><th>std error</th><th>method</th><th></th></tr>\n{}</table>"
+      "<table><tr><th>coefficient</th><th>prior</th><th>estimate</th><th>std error</th><th>method</th><th>equation "
+      "error</th><th></th></tr>\n{}</table>"
       "<ul>{}</ul>{}</body></html>\n",
       r.aircraft.name, r.aircraft.name, from.log, from.prior, from.estimate, from.options, r.samples, r.segments, r.airborne_s,
       r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg, rows, notes, panels);

@@ -1,0 +1,373 @@
+// core/apps/sysid/output_error.cpp: the output-error refinement of the rotational axes (output_error.hpp).
+#include "sysid/output_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <stdexcept>
+
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+#include <fmt/format.h>
+#include <unsupported/Eigen/LevenbergMarquardt>
+
+#include "tern_sim_aero/model.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+using M = AeroCoefficients;
+using Member = double M::*;
+
+const std::map<std::string, Member>& moment_table() {
+  static const std::map<std::string, Member> table = {{"C_ell_0", &M::C_ell_0},
+                                                      {"C_ell_beta", &M::C_ell_beta},
+                                                      {"C_ell_p", &M::C_ell_p},
+                                                      {"C_ell_r", &M::C_ell_r},
+                                                      {"C_ell_delta_a", &M::C_ell_delta_a},
+                                                      {"C_ell_delta_r", &M::C_ell_delta_r},
+                                                      {"C_m_0", &M::C_m_0},
+                                                      {"C_m_alpha", &M::C_m_alpha},
+                                                      {"C_m_q", &M::C_m_q},
+                                                      {"C_m_delta_e", &M::C_m_delta_e},
+                                                      {"C_n_0", &M::C_n_0},
+                                                      {"C_n_beta", &M::C_n_beta},
+                                                      {"C_n_p", &M::C_n_p},
+                                                      {"C_n_r", &M::C_n_r},
+                                                      {"C_n_delta_a", &M::C_n_delta_a},
+                                                      {"C_n_delta_r", &M::C_n_delta_r}};
+  return table;
+}
+
+/// The book's Gamma coefficients (eq. 3.13), as sim_aero's model computes them.
+struct Gammas {
+  double G1, G2, G3, G4, G5, G6, G7, G8, inv_Jy;
+};
+
+Gammas gammas_of(const Aircraft& ac) {
+  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
+  return {ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G,
+          (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G,
+          ac.Jz / G,
+          ac.Jxz / G,
+          (ac.Jz - ac.Jx) / ac.Jy,
+          ac.Jxz / ac.Jy,
+          ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G,
+          ac.Jx / G,
+          1.0 / ac.Jy};
+}
+
+/// One sample's inputs, the dimensional factors precomputed (interpolated linearly between samples).
+struct Input {
+  double qSb = 0, qSc = 0;  ///< qbar S b, qbar cos^2(beta) S c, N m
+  double kb = 0, kc = 0;    ///< b / (2 Va), c / (2 V_xz), s
+  double alpha = 0, beta = 0, da = 0, de = 0, dr = 0, Q_p = 0;
+  Eigen::Vector3d w = Eigen::Vector3d::Zero();  ///< measured rates
+};
+
+Input lerp(const Input& a, const Input& b, double s) {
+  auto l = [s](double x, double y) { return x + s * (y - x); };
+  Input o;
+  o.qSb = l(a.qSb, b.qSb), o.qSc = l(a.qSc, b.qSc), o.kb = l(a.kb, b.kb), o.kc = l(a.kc, b.kc);
+  o.alpha = l(a.alpha, b.alpha), o.beta = l(a.beta, b.beta), o.da = l(a.da, b.da), o.de = l(a.de, b.de), o.dr = l(a.dr, b.dr);
+  o.Q_p = l(a.Q_p, b.Q_p);
+  o.w = a.w + s * (b.w - a.w);
+  return o;
+}
+
+/// The rates' derivative (header's moment equations) at rates w.
+Eigen::Vector3d rate_derivative(const Gammas& G, const M& A, const Input& u, const Eigen::Vector3d& w) {
+  const double p = w.x(), q = w.y(), r = w.z();
+  const double l = u.qSb * (A.C_ell_0 + A.C_ell_beta * u.beta + A.C_ell_delta_a * u.da + A.C_ell_delta_r * u.dr +
+                            u.kb * (A.C_ell_p * p + A.C_ell_r * r)) -
+                   u.Q_p;
+  const double m = u.qSc * (A.C_m_0 + A.C_m_alpha * u.alpha + A.C_m_delta_e * u.de + u.kc * A.C_m_q * q);
+  const double n =
+      u.qSb * (A.C_n_0 + A.C_n_beta * u.beta + A.C_n_delta_a * u.da + A.C_n_delta_r * u.dr + u.kb * (A.C_n_p * p + A.C_n_r * r));
+  return {G.G1 * p * q - G.G2 * q * r + G.G3 * l + G.G4 * n, G.G5 * p * r - G.G6 * (p * p - r * r) + m * G.inv_Jy,
+          G.G7 * p * q - G.G1 * q * r + G.G4 * l + G.G8 * n};
+}
+
+/// The simulation: inputs per sample, which rates are integrated, the held coefficients.
+class RateModel {
+ public:
+  RateModel(const RateData& d, const Aircraft& ac, const M& base, RateAxes axes, const std::vector<Member>& free, bool hold_commands)
+      : d_(d), G_(gammas_of(ac)), base_(base), free_(free), hold_commands_(hold_commands) {
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      Input u;
+      const double qbar = 0.5 * ac.rho * d.Va[k] * d.Va[k], cb = std::cos(d.beta[k]);
+      u.qSb = qbar * ac.S * ac.b, u.qSc = qbar * cb * cb * ac.S * ac.c;
+      u.kb = ac.b / (2.0 * d.Va[k]), u.kc = ac.c / (2.0 * d.Va[k] * cb);
+      u.alpha = d.alpha[k], u.beta = d.beta[k], u.da = d.delta_a[k], u.de = d.delta_e[k], u.dr = d.delta_r[k], u.Q_p = d.Q_p[k];
+      u.w = {d.p[k], d.q[k], d.r[k]};
+      in_.push_back(u);
+    }
+    outputs_ = axes == RateAxes::pitch ? std::vector<int>{1} : std::vector<int>{0, 2};
+    integrated_ = axes == RateAxes::pitch ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(1, 0, 1);
+    for (const auto& [b, e] : d.windows) residual_rows_ += e - b - 1;
+  }
+  const std::vector<int>& outputs() const { return outputs_; }
+  Eigen::Index ny() const { return static_cast<Eigen::Index>(outputs_.size()); }
+  /// Residual samples per output (every window sample but its first).
+  Eigen::Index rows() const { return static_cast<Eigen::Index>(residual_rows_); }
+
+  M coefficients(const Eigen::VectorXd& theta) const {
+    M A = base_;
+    for (std::size_t j = 0; j < free_.size(); ++j) A.*free_[j] = theta[static_cast<Eigen::Index>(j)];
+    return A;
+  }
+
+  /// Simulated rates at every sample (measured outside the windows).
+  std::vector<Eigen::Vector3d> simulate(const M& A) const {
+    std::vector<Eigen::Vector3d> out(in_.size());
+    for (std::size_t k = 0; k < in_.size(); ++k) out[k] = in_[k].w;
+    for (const auto& [b, e] : d_.windows) {
+      Eigen::Vector3d w = in_[b].w;
+      for (std::size_t k = b; k + 1 < e; ++k) {
+        const double h = d_.t[k + 1] - d_.t[k];
+        const Input& u0 = in_[k];
+        Input u1 = in_[k + 1];
+        Input um = lerp(u0, u1, 0.5);
+        if (hold_commands_) {
+          um.da = u1.da = u0.da, um.de = u1.de = u0.de, um.dr = u1.dr = u0.dr;
+        }
+        // the integrated rates from w, the others measured at each stage's time
+        auto at = [&](const Input& u, const Eigen::Vector3d& x) {
+          return integrated_.cwiseProduct(x) + (Eigen::Vector3d::Ones() - integrated_).cwiseProduct(u.w);
+        };
+        const Eigen::Vector3d k1 = rate_derivative(G_, A, u0, at(u0, w));
+        const Eigen::Vector3d k2 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k1));
+        const Eigen::Vector3d k3 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k2));
+        const Eigen::Vector3d k4 = rate_derivative(G_, A, u1, at(u1, w + h * k3));
+        w = at(u1, w + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
+        out[k + 1] = w;
+      }
+    }
+    return out;
+  }
+
+  /// Measured less simulated rates, rows (sample, output) sample-major.
+  Eigen::VectorXd residuals(const Eigen::VectorXd& theta) const {
+    const std::vector<Eigen::Vector3d> y = simulate(coefficients(theta));
+    Eigen::VectorXd v(rows() * ny());
+    Eigen::Index i = 0;
+    for (const auto& [b, e] : d_.windows)
+      for (std::size_t k = b + 1; k < e; ++k)
+        for (const int a : outputs_) v[i++] = in_[k].w[a] - y[k][a];
+    return v;
+  }
+
+  /// The outputs' measured values in the residuals' order.
+  Eigen::VectorXd measured() const {
+    Eigen::VectorXd z(rows() * ny());
+    Eigen::Index i = 0;
+    for (const auto& [b, e] : d_.windows)
+      for (std::size_t k = b + 1; k < e; ++k)
+        for (const int a : outputs_) z[i++] = in_[k].w[a];
+    return z;
+  }
+
+ private:
+  const RateData& d_;
+  Gammas G_;
+  M base_;
+  std::vector<Member> free_;
+  std::vector<Input> in_;
+  std::vector<int> outputs_;
+  Eigen::Vector3d integrated_;
+  std::size_t residual_rows_ = 0;
+  bool hold_commands_ = false;
+};
+
+/// The residuals v (rows x ny, sample-major) as a matrix.
+Eigen::MatrixXd as_rows(const Eigen::VectorXd& v, Eigen::Index ny) {
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(v.data(), v.size() / ny, ny);
+}
+
+Eigen::MatrixXd covariance(const Eigen::VectorXd& v, Eigen::Index ny) {
+  const Eigen::MatrixXd V = as_rows(v, ny);
+  return V.transpose() * V / static_cast<double>(V.rows());
+}
+
+/// Whitened residuals L^-1 v_k (R = L L^T) and their central-difference Jacobian, for Eigen's LM.
+struct Whitened : Eigen::DenseFunctor<double> {
+  Whitened(const RateModel& model, const Eigen::MatrixXd& R, const Eigen::VectorXd& scale, int& evaluations)
+      : Eigen::DenseFunctor<double>(static_cast<int>(scale.size()), static_cast<int>(model.rows() * model.ny())),
+        model_(model),
+        Linv_(R.llt().matrixL().solve(Eigen::MatrixXd::Identity(R.rows(), R.cols()))),
+        scale_(scale),
+        evaluations_(evaluations) {}
+
+  int operator()(const Eigen::VectorXd& theta, Eigen::VectorXd& f) const {
+    ++evaluations_;
+    f = whiten(model_.residuals(theta));
+    return f.allFinite() ? 0 : -1;
+  }
+
+  int df(const Eigen::VectorXd& theta, Eigen::MatrixXd& J) const {
+    J.resize(values(), inputs());
+    for (Eigen::Index j = 0; j < theta.size(); ++j) {
+      const double h = 1e-4 * scale_[j];
+      Eigen::VectorXd up = theta, down = theta;
+      up[j] += h, down[j] -= h;
+      evaluations_ += 2;
+      J.col(j) = (whiten(model_.residuals(up)) - whiten(model_.residuals(down))) / (2.0 * h);
+    }
+    return J.allFinite() ? 0 : -1;
+  }
+
+  Eigen::VectorXd whiten(const Eigen::VectorXd& v) const {
+    const Eigen::Index ny = model_.ny();
+    Eigen::VectorXd out(v.size());
+    for (Eigen::Index i = 0; i < v.size(); i += ny) out.segment(i, ny) = Linv_ * v.segment(i, ny);
+    return out;
+  }
+
+ private:
+  const RateModel& model_;
+  Eigen::MatrixXd Linv_;
+  Eigen::VectorXd scale_;
+  int& evaluations_;
+};
+
+/// The three bounds' largest (header): white Cramer-Rao, Morelli-Klein with the residual
+/// autocorrelation up to max_lag samples, and each window's residuals as one batch. J is the
+/// whitened residuals' Jacobian, e the whitened residuals, both sample-major with ny outputs.
+void bounds(const Eigen::MatrixXd& J, const Eigen::VectorXd& e, Eigen::Index ny, const RateData& d, Eigen::Index max_lag,
+            OutputErrorFit& fit) {
+  const Eigen::Index n = e.size() / ny, np = J.cols();
+  std::vector<Eigen::MatrixXd> G(static_cast<std::size_t>(ny));  // per output: n x np
+  for (Eigen::Index a = 0; a < ny; ++a) {
+    G[static_cast<std::size_t>(a)].resize(n, np);
+    for (Eigen::Index k = 0; k < n; ++k) G[static_cast<std::size_t>(a)].row(k) = J.row(k * ny + a);
+  }
+  const Eigen::MatrixXd E = as_rows(e, ny);
+  const Eigen::MatrixXd Minv = (J.transpose() * J).inverse();
+  fit.std_error_white = Minv.diagonal().cwiseMax(0.0).cwiseSqrt();
+  Eigen::MatrixXd mk = Eigen::MatrixXd::Zero(np, np);
+  for (Eigen::Index lag = 0; lag <= std::min(max_lag, n - 1); ++lag) {
+    const Eigen::MatrixXd Ree = E.topRows(n - lag).transpose() * E.bottomRows(n - lag) / static_cast<double>(n);
+    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(np, np);
+    for (Eigen::Index a = 0; a < ny; ++a)
+      for (Eigen::Index b = 0; b < ny; ++b)
+        C += Ree(a, b) * G[static_cast<std::size_t>(a)].topRows(n - lag).transpose() * G[static_cast<std::size_t>(b)].bottomRows(n - lag);
+    mk += lag == 0 ? C : Eigen::MatrixXd(C + C.transpose());
+  }
+  Eigen::MatrixXd batches = Eigen::MatrixXd::Zero(np, np);
+  Eigen::Index at = 0;
+  for (const auto& [b, end] : d.windows) {
+    const auto rows = static_cast<Eigen::Index>(end - b - 1);
+    const Eigen::VectorXd s = J.middleRows(at * ny, rows * ny).transpose() * e.segment(at * ny, rows * ny);
+    batches += s * s.transpose();
+    at += rows;
+  }
+  const Eigen::VectorXd se_mk = (Minv * mk * Minv).diagonal().cwiseMax(0.0).cwiseSqrt();
+  const Eigen::VectorXd se_batch = (Minv * batches * Minv).diagonal().cwiseMax(0.0).cwiseSqrt();
+  fit.std_error = fit.std_error_white.cwiseMax(se_mk).cwiseMax(se_batch);
+}
+
+Eigen::VectorXd rms_per_output(const Eigen::VectorXd& v, Eigen::Index ny) {
+  const Eigen::MatrixXd V = as_rows(v, ny);
+  return (V.colwise().squaredNorm().transpose() / static_cast<double>(V.rows())).cwiseSqrt();
+}
+
+}  // namespace
+
+double AeroCoefficients::*moment_coefficient(const std::string& name) {
+  const auto it = moment_table().find(name);
+  if (it == moment_table().end()) throw std::invalid_argument(fmt::format("output error: '{}' is not a moment coefficient", name));
+  return it->second;
+}
+
+RateData rate_data(const AeroSamples& a, const std::vector<double>& alpha, const std::vector<double>& beta,
+                   const std::vector<std::pair<std::size_t, std::size_t>>& segments, const Aircraft& prior, double window_s) {
+  if (alpha.size() != a.size() || beta.size() != a.size())
+    throw std::invalid_argument("rate_data: alpha, beta and the samples differ in length");
+  if (!(window_s > 0.0)) throw std::invalid_argument("rate_data: window_s must be > 0");
+  RateData d;
+  d.t = a.t, d.Va = a.Va, d.alpha = alpha, d.beta = beta;
+  d.delta_a = a.delta_a, d.delta_e = a.delta_e, d.delta_r = a.delta_r;
+  d.p = a.p, d.q = a.q, d.r = a.r;
+  for (std::size_t k = 0; k < a.size(); ++k) d.Q_p.push_back(sim::propulsion(prior, a.Va[k] * std::cos(beta[k]), a.delta_t[k]).Q_p);
+  for (const auto& [b, e] : segments) {
+    std::size_t w = b;
+    for (std::size_t k = b + 1; k < e; ++k)
+      if (a.t[k] - a.t[w] >= window_s) {
+        d.windows.emplace_back(w, k);
+        w = k;
+      }
+    if (e - w >= 3 && a.t[e - 1] - a.t[w] >= 0.5 * window_s)
+      d.windows.emplace_back(w, e);
+    else if (!d.windows.empty() && d.windows.back().second == w)
+      d.windows.back().second = e;
+  }
+  return d;
+}
+
+std::vector<Eigen::Vector3d> simulate_rates(const RateData& d, const Aircraft& prior, const AeroCoefficients& aero, RateAxes axes) {
+  return RateModel(d, prior, aero, axes, {}, false).simulate(aero);
+}
+
+OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const AeroCoefficients& start, RateAxes axes,
+                            const std::vector<std::string>& free, const OutputErrorOptions& o) {
+  for (const auto* v : {&d.Va, &d.alpha, &d.beta, &d.delta_a, &d.delta_e, &d.delta_r, &d.Q_p, &d.p, &d.q, &d.r})
+    if (v->size() != d.size()) throw std::invalid_argument("output error: the data's channels differ in length");
+  std::size_t usable = 0;
+  for (const auto& [b, e] : d.windows) {
+    if (e > d.size() || b >= e) throw std::invalid_argument("output error: a window outside the data");
+    usable += e - b >= 3 ? 1 : 0;
+  }
+  if (usable == 0) throw std::invalid_argument("output error: no window of 3 samples or more");
+  std::vector<Member> members;
+  OutputErrorFit fit;
+  fit.axes = axes, fit.names = free;
+  fit.start.resize(static_cast<Eigen::Index>(free.size()));
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    moment_coefficient(free[j]);
+    const bool pitch = free[j].rfind("C_m_", 0) == 0;
+    if (pitch != (axes == RateAxes::pitch))
+      throw std::invalid_argument(
+          fmt::format("output error: {} is not in the {} axes' moments", free[j], axes == RateAxes::pitch ? "pitch" : "lateral"));
+    members.push_back(moment_coefficient(free[j]));
+    fit.start[static_cast<Eigen::Index>(j)] = start.*members.back();
+  }
+  const RateModel model(d, prior, start, axes, members, o.hold_commands);
+  const Eigen::Index ny = model.ny();
+  Eigen::VectorXd theta = fit.start;
+  const Eigen::VectorXd scale = theta.cwiseAbs().cwiseMax(1e-3);
+  Eigen::VectorXd v = model.residuals(theta);
+  fit.rms_start = rms_per_output(v, ny);
+  Eigen::MatrixXd R = covariance(v, ny);
+  Eigen::MatrixXd J;
+  for (fit.relaxations = 1; fit.relaxations <= std::max(1, o.max_relaxations); ++fit.relaxations) {
+    Whitened f(model, R, scale, fit.evaluations);
+    Eigen::LevenbergMarquardt<Whitened> lm(f);
+    lm.setMaxfev(o.max_evaluations);
+    const Eigen::VectorXd before = theta;
+    lm.minimize(theta);
+    v = model.residuals(theta);
+    R = covariance(v, ny);
+    Whitened g(model, R, scale, fit.evaluations);
+    g.df(theta, J);
+    const Eigen::VectorXd se = (J.transpose() * J).inverse().diagonal().cwiseMax(0.0).cwiseSqrt();
+    if (((theta - before).cwiseAbs().array() <= o.theta_tolerance * se.array()).all()) break;
+  }
+  fit.relaxations = std::min(fit.relaxations, std::max(1, o.max_relaxations));
+  fit.theta = theta;
+  fit.residual_covariance = R;
+  fit.rms = rms_per_output(v, ny);
+  fit.samples = static_cast<std::size_t>(model.rows());
+  const Eigen::MatrixXd Z = as_rows(model.measured(), ny);
+  const Eigen::MatrixXd V = as_rows(v, ny);
+  fit.r_squared.resize(ny);
+  for (Eigen::Index a = 0; a < ny; ++a)
+    fit.r_squared[a] = 1.0 - V.col(a).squaredNorm() / (Z.col(a).array() - Z.col(a).mean()).matrix().squaredNorm();
+  Whitened white(model, R, scale, fit.evaluations);
+  const auto first = std::find_if(d.windows.begin(), d.windows.end(), [](const auto& w) { return w.second - w.first >= 3; });
+  const double dt = d.t[first->first + 1] - d.t[first->first];
+  bounds(J, white.whiten(v), ny, d, static_cast<Eigen::Index>(std::lround(o.max_lag_s / dt)), fit);
+  return fit;
+}
+
+}  // namespace tern::core::sysid

@@ -1,0 +1,106 @@
+// core/apps/sysid/output_error.hpp: the output-error refinement of the rotational axes (Klein and
+// Morelli, *Aircraft System Identification*, 2006, ch. 6), after the equation-error estimates
+// (identify.hpp).
+//
+// The model. The body rates w = (p, q, r), rad/s, integrated from the uavbook's moment equations
+// (Beard and McLain, *Small Unmanned Aircraft*, eqs. 3.13 and 3.17, the Gamma terms of the prior's
+// inertia, J with -Jxz off the diagonal):
+//   p' = G1 p q - G2 q r + G3 l + G4 n,  q' = G5 p r - G6 (p^2 - r^2) + m / Jy,
+//   r' = G7 p q - G1 q r + G4 l + G8 n,
+//   l = qbar S b (C_ell_0 + C_ell_beta beta + C_ell_p b p / (2 Va) + C_ell_r b r / (2 Va) + C_ell_delta_a delta_a
+//       + C_ell_delta_r delta_r) - Q_p,
+//   m = qbar cos^2(beta) S c (C_m_0 + C_m_alpha alpha + C_m_q c q / (2 V_xz) + C_m_delta_e delta_e),
+//   n = qbar S b (C_n_0 + ... the same terms as l with C_n_*),
+// (sim_aero's model in its linear range, tern_sim_aero/model.hpp), driven by the measured Va (from
+// qbar), alpha, beta, the commands in force and the prior's propeller torque Q_p, all linearly
+// interpolated between samples, RK4 over each sample interval. A group of axes is integrated (pitch:
+// q; lateral: p and r, coupled through Jxz and the cross derivatives); the other rates enter the
+// inertial coupling as measured. Each window of the data restarts from the measured rates (the
+// simulation does not carry one gust's error through the flight).
+//
+// The fit. theta (the free coefficients) minimises J = sum_k v_k^T R^-1 v_k, v_k the measured less
+// the simulated rates, by Eigen's Levenberg-Marquardt (unsupported/Eigen/LevenbergMarquardt, MINPACK's
+// lmder) with central-difference sensitivities; R, the residual covariance, is re-estimated from
+// the residuals after each fit and the fit repeated until theta settles (K&M sec. 6.2, the
+// relaxation technique). It starts from the equation-error estimates.
+//
+// The bounds. The Cramer-Rao bound M^-1, M = sum_k S_k^T R^-1 S_k (S the output sensitivities),
+// assumes white residuals; flight residuals are coloured (turbulence, model error), so the reported
+// standard error is the largest of: that bound; Morelli and Klein's correction (J. Guidance 20(1),
+// 1997; K&M sec. 6.3) M^-1 [sum_i sum_j S_i^T R^-1 R_vv(i - j) R^-1 S_j] M^-1 with the residual
+// autocorrelation R_vv up to max_lag_s; and the same sandwich with each window's residuals taken
+// as one independent batch (what a residual correlated across a whole window does).
+//
+// Units SI, rad, rad/s. Errors: std::invalid_argument for mismatched lengths, an unknown coefficient
+// name, a coefficient not in the axes' moments, or no window with at least 3 samples.
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sysid/aero_samples.hpp"
+#include "tern/aircraft.hpp"
+
+namespace tern::core::sysid {
+
+/// Which rates the model integrates.
+enum class RateAxes { pitch, lateral };
+
+struct OutputErrorOptions {
+  bool enabled = true;
+  double window_s = 5.0;          ///< s, the simulation restarts from the measured rates this often (> 0)
+  double max_lag_s = 2.0;         ///< s, longest lag of the residual autocorrelation in the coloured bound
+  int max_relaxations = 5;        ///< fits with R fixed, R re-estimated after each (>= 1)
+  int max_evaluations = 400;      ///< model simulations per Levenberg-Marquardt fit
+  double theta_tolerance = 1e-3;  ///< relaxation stops when no coefficient moves more than this many standard errors
+  bool hold_commands = false;     ///< the surfaces held over each sample interval (raw zero-order-hold data) instead of interpolated
+};
+
+/// The measured side, one entry per sample (every vector the same length); windows are runs of
+/// consecutive samples, each simulated from its first sample's measured rates.
+struct RateData {
+  std::vector<double> t;                                     ///< s
+  std::vector<double> Va;                                    ///< m/s, sqrt(2 qbar / rho)
+  std::vector<double> alpha, beta;                           ///< rad
+  std::vector<double> delta_a, delta_e, delta_r;             ///< rad, the commands in force
+  std::vector<double> Q_p;                                   ///< N m, the prior's propeller torque
+  std::vector<double> p, q, r;                               ///< rad/s, measured
+  std::vector<std::pair<std::size_t, std::size_t>> windows;  ///< [begin, end) of each window
+  std::size_t size() const { return t.size(); }
+};
+
+struct OutputErrorFit {
+  RateAxes axes = RateAxes::pitch;
+  std::vector<std::string> names;        ///< the free coefficients, the aircraft file's keys
+  Eigen::VectorXd start, theta;          ///< the equation-error start and the output-error estimate
+  Eigen::VectorXd std_error;             ///< 1 sigma, the largest of the three bounds (header)
+  Eigen::VectorXd std_error_white;       ///< the Cramer-Rao bound, white residuals
+  Eigen::MatrixXd residual_covariance;   ///< R, (rad/s)^2, outputs in the order p q r of the axes
+  Eigen::VectorXd rms_start, rms;        ///< rad/s per output: the start's and the estimate's residuals
+  Eigen::VectorXd r_squared;             ///< per output, 1 - sum v^2 / sum (z - mean z)^2
+  int relaxations = 0, evaluations = 0;  ///< fits made, model simulations in all
+  std::size_t samples = 0;               ///< residual samples per output
+};
+
+/// The windows' data from the airborne samples: `alpha` and `beta` the flow angles to drive the
+/// model with (identify's, from the forces), `segments` runs of consecutive samples, cut into
+/// windows of `window_s` (a last piece shorter than half of it joins the window before).
+RateData rate_data(const AeroSamples& a, const std::vector<double>& alpha, const std::vector<double>& beta,
+                   const std::vector<std::pair<std::size_t, std::size_t>>& segments, const Aircraft& prior, double window_s);
+
+/// The rates the model gives over every window with coefficients `aero` (header): [p q r] per
+/// sample; samples outside every window are the measured rates.
+std::vector<Eigen::Vector3d> simulate_rates(const RateData& d, const Aircraft& prior, const AeroCoefficients& aero, RateAxes axes);
+
+/// Fits the coefficients named in `free` (keys of the aircraft file among C_ell_*, C_m_*, C_n_*
+/// of the axes' moments) from `start`, the others held (header).
+OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const AeroCoefficients& start, RateAxes axes,
+                            const std::vector<std::string>& free, const OutputErrorOptions& o);
+
+/// The member of AeroCoefficients a rotational coefficient's key names; throws std::invalid_argument.
+double AeroCoefficients::*moment_coefficient(const std::string& name);
+
+}  // namespace tern::core::sysid
