@@ -44,14 +44,12 @@
 //
 // Quantities a receiver does not report. msg::Gnss writes 0 for "not reported" (h_acc, v_acc,
 // s_acc, hdop, vdop; num_sats). A log with dilutions but no accuracies (an ArduPilot GPS log's
-// HDop; mavros' APPROXIMATED covariance) is judged on its geometry by the PDOP/HDOP check. PX4 tests `hacc > EKF2_REQ_EPH` and so passes a zero accuracy; ArduPilot EKF3
-// skips hAcc, vAcc and sAcc when the driver has none. tern does the same: an accuracy of 0 (or
-// non-finite) passes its check. For the satellite count PX4 and ArduPilot fail a zero
-// (nsats < 6); tern deviates and skips num_sats == 0 with a fix at or above min_fix_type, since a
-// 3-D fix from no satellite is impossible and the 0 can only mean the log has no count (the
-// Zurich 2014 and ALFA logs: with PX4's rule they would never pass). A receiver reporting nothing
-// then rests on the drift checks alone while still on the ground, and in the air on the fix type
-// and the hold time alone: what such a log can say.
+// HDop; mavros' APPROXIMATED covariance) is judged on its geometry by the PDOP/HDOP check. PX4 tests `hacc > EKF2_REQ_EPH` and so passes a
+// zero accuracy; ArduPilot EKF3 skips hAcc, vAcc and sAcc when the driver has none. tern does the same: an accuracy of 0 (or non-finite)
+// passes its check. For the satellite count PX4 and ArduPilot fail a zero (nsats < 6); tern deviates and skips num_sats == 0 with a fix at
+// or above min_fix_type, since a 3-D fix from no satellite is impossible and the 0 can only mean the log has no count (the Zurich 2014 and
+// ALFA logs: with PX4's rule they would never pass). A receiver reporting nothing then rests on the drift checks alone while still on the
+// ground, and in the air on the fix type and the hold time alone: what such a log can say.
 //
 // What PX4 does after the start-up checks (runSimplifiedChecks: loose accuracy limits in flight)
 // is not here: the checks decide the origin, not the fusion of later fixes (the estimator's
