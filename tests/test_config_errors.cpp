@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
+#include "tern/plugin.hpp"
 #include "test_util.hpp"
 
 using doctest::Contains;
@@ -81,7 +82,8 @@ TEST_CASE("handshake mismatches are refused before any plugin code runs") {
   // the factories of these plugins abort(): reaching them would kill the test
   std::string e = build_error(base_config("  - {name: x, plugin: " TERN_TEST_PLUGIN_DIR "/libtern_test_bad_api.so, rate: 400}\n"));
   CHECK(e.find("plugin 'test_bad_api'") != std::string::npos);
-  CHECK(e.find("SDK API version mismatch: plugin built for API 999, this host speaks API 7") != std::string::npos);
+  CHECK(e.find("SDK API version mismatch: plugin built for API 999, this host speaks API " + std::to_string(tern::kSdkApiVersion)) !=
+        std::string::npos);
   e = build_error(base_config("  - {name: x, plugin: " TERN_TEST_PLUGIN_DIR "/libtern_test_bad_abi.so, rate: 400}\n"));
   CHECK(e.find("plugin 'test_bad_abi'") != std::string::npos);
   CHECK(e.find("ABI mismatch: plugin built with 'libstdc++9;cxx11abi=0;eigen=3.3.7;eigen_align=32', host with '") != std::string::npos);
