@@ -364,9 +364,12 @@ TEST_CASE("alfa: the Carbon-Z engine-failure flight, from its tar.gz as shipped"
     CHECK(t.num(row, "vel_n") == -1.98924575298);
     CHECK(t.num(row, "vel_e") == 19.0866183839);
     CHECK(t.num(row, "vel_d") == 0.0);
-    // covariance type 1: mavros' (HDOP * gps_uere)^2 = 0.4356 is a DOP, not an accuracy: none reported
+    // covariance type 1: mavros' (HDOP * gps_uere)^2 = 0.4356 is a DOP, not an accuracy: none
+    // reported; the dilutions are (gps_uere 1: HDOP 0.66, and the VDOP from covariance 8)
     CHECK(t.num(row, "h_acc") == 0.0);
     CHECK(t.num(row, "v_acc") == 0.0);
+    CHECK(t.num(row, "hdop") == doctest::Approx(0.66).epsilon(1e-6));
+    CHECK(t.num(row, "vdop") > t.num(row, "hdop"));
   }
   SUBCASE("reference: odometry's first row, ENU/FLU quaternion -> NED/FRD Euler angles") {
     // orientation (x, y, z, w) = (0.430355280624, 0.0100020537959, -0.00634773302409, -0.902581850939)
