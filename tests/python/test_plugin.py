@@ -3,7 +3,8 @@ examples fly the default mission from the command line and from Python, bit-iden
 to run; a Python exception is one line naming the script's file and line, and the safety net
 handles it as any plugin's (a routed controller: the fallback flies on; anything else: the flight
 ends, its log kept); a hang in an isolated instance is killed; bad declarations are one line;
-parameters change in flight; a Python plugin swaps with a C++ one between flights."""
+parameters change in flight; the plugin's library reloads between flights (a hot swap) with the
+interpreter alive; the Python path follower commands what the C++ one does; the templates fly."""
 import json
 import re
 import subprocess

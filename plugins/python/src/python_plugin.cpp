@@ -67,6 +67,7 @@ void PythonPlugin::step(Nanos now) {
 }
 
 void PythonPlugin::reset() {
+  if (!module_) return;  // described only (no script): nothing of Python's was made
   Gil gil;
   instance_.reset();
   for (auto& in : inputs_py_) {
