@@ -40,23 +40,12 @@ const std::map<std::string, Member>& moment_table() {
   return table;
 }
 
-/// The book's Gamma coefficients (eq. 3.13), as sim_aero's model computes them.
-struct Gammas {
-  double G1, G2, G3, G4, G5, G6, G7, G8, inv_Jy;
+/// The book's Gamma coefficients (eq. 3.13, tern/aircraft.hpp, as sim_aero's model uses them) and 1 / J_y.
+struct Gammas : InertiaGammas {
+  double inv_Jy;
 };
 
-Gammas gammas_of(const Aircraft& ac) {
-  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
-  return {ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G,
-          (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G,
-          ac.Jz / G,
-          ac.Jxz / G,
-          (ac.Jz - ac.Jx) / ac.Jy,
-          ac.Jxz / ac.Jy,
-          ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G,
-          ac.Jx / G,
-          1.0 / ac.Jy};
-}
+Gammas gammas_of(const Aircraft& ac) { return {inertia_gammas(ac), 1.0 / ac.Jy}; }
 
 /// One sample's inputs, the dimensional factors precomputed (interpolated linearly between samples).
 struct Input {

@@ -232,30 +232,13 @@ ForcesMoments forces_moments(const Aircraft& ac, const StateVector& x, const Del
 }
 
 namespace {
-// Book eq. 3.13: the Gamma coefficients of the inertia matrix.
-struct Gammas {
-  double G1, G2, G3, G4, G5, G6, G7, G8;
-};
-
-Gammas gammas_of(const Aircraft& ac) {
-  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
-  return {ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G,
-          (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G,
-          ac.Jz / G,
-          ac.Jxz / G,
-          (ac.Jz - ac.Jx) / ac.Jy,
-          ac.Jxz / ac.Jy,
-          ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G,
-          ac.Jx / G};
-}
-
 // What every evaluation of an integration step shares: computed once per step.
 struct StepConstants {
   Blend blend;
-  Gammas gamma;
+  InertiaGammas gamma;
 };
 
-StepConstants constants_of(const Aircraft& ac) { return {blend_of(ac), gammas_of(ac)}; }
+StepConstants constants_of(const Aircraft& ac) { return {blend_of(ac), inertia_gammas(ac)}; }
 
 StateVector derivative_b(const Aircraft& ac, const StepConstants& k, const StateVector& x, const Deltas& d, const Wind& w,
                          ForcesMoments* out) {

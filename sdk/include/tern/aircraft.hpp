@@ -120,6 +120,24 @@ struct Aircraft {
   double AR() const { return b * b / S; }  ///< aspect ratio
 };
 
+/// The inertia's Gamma coefficients of the rotational equations (Beard & McLain, eq. 3.13), with
+/// Gamma = J_x J_z - J_xz^2: p_dot = G1 p q - G2 q r + G3 l + G4 n,
+/// q_dot = G5 p r - G6 (p^2 - r^2) + m / J_y, r_dot = G7 p q - G1 q r + G4 l + G8 n.
+struct InertiaGammas {
+  double G1, G2, G3, G4, G5, G6, G7, G8;
+};
+inline InertiaGammas inertia_gammas(const Aircraft& ac) {
+  const double G = ac.Jx * ac.Jz - ac.Jxz * ac.Jxz;
+  return {ac.Jxz * (ac.Jx - ac.Jy + ac.Jz) / G,
+          (ac.Jz * (ac.Jz - ac.Jy) + ac.Jxz * ac.Jxz) / G,
+          ac.Jz / G,
+          ac.Jxz / G,
+          (ac.Jz - ac.Jx) / ac.Jy,
+          ac.Jxz / ac.Jy,
+          ((ac.Jx - ac.Jy) * ac.Jx + ac.Jxz * ac.Jxz) / G,
+          ac.Jx / G};
+}
+
 /// Loads an aircraft file (tern or ROSflight format, detected from its content).
 /// Throws std::runtime_error "<path>: <field>: <problem>".
 TERN_API Aircraft load_aircraft(const std::string& path);

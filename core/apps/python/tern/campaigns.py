@@ -27,7 +27,6 @@ cell NaN), else text. A figure named like an earlier column (summary.json's `see
 """
 
 import csv
-import json
 import re
 import subprocess
 from pathlib import Path
@@ -35,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from tern._tern import Error, bin_dir
+from tern.run import read_json
 
 _HEADER_CELL = re.compile(r"^(.*?)(?: \[(.*)\])?$")
 _INT = re.compile(r"^-?[0-9]+$")
@@ -103,11 +103,7 @@ class Campaign:
         return [dict(zip(names, row)) for row in self.table.tolist()]
 
     def _json(self, name):
-        f = self.dir / name
-        if not f.is_file():
-            raise Error(f"{self.dir}: no {name}")
-        with open(f) as fh:
-            return json.load(fh)
+        return read_json(self.dir, name, "a campaign that did not finish, or not a campaign directory")
 
     @property
     def summary(self):

@@ -64,6 +64,15 @@ def read_table(path):
     return _read_rows(str(path), dtype)
 
 
+def read_json(directory, name, missing):
+    """directory/name parsed; tern.Error "<directory>: no <name> (<missing>)" when it is not there."""
+    f = directory / name
+    if not f.is_file():
+        raise Error(f"{directory}: no {name} ({missing})")
+    with open(f) as fh:
+        return json.load(fh)
+
+
 class Run:
     """A run directory (or an MCAP log) read as Python objects; see the module's docstring."""
 
@@ -119,11 +128,7 @@ class Run:
         return dict(self[topic].dtype.metadata["units"])
 
     def _json(self, name):
-        f = self.dir / name
-        if not f.is_file():
-            raise Error(f"{self.dir}: no {name} (a flight that did not finish, or not a run directory)")
-        with open(f) as fh:
-            return json.load(fh)
+        return read_json(self.dir, name, "a flight that did not finish, or not a run directory")
 
     @property
     def summary(self):
