@@ -469,9 +469,10 @@ void widen(NuisanceEstimate& e, const NuisanceEstimate& shifted) {
 /// whose shift of every estimate is added to its standard error; the lift then scales by
 /// (k / (k + sigma))^2 (`C_L_scale`).
 void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples* at_k_plus_sigma, double C_L_scale) {
-  DragPolar p = drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3);
+  DragPolar p = drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias);
   if (at_k_plus_sigma != nullptr) {
-    const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3);
+    const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3,
+                                   c.o.fit_accel_x_bias);
     widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x);
   }
   c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows});
@@ -490,7 +491,7 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
   }
   c.result.oswald = p.e;
   c.result.accel_x_bias = p.bias_x;
-  if (!p.bias_x.identified) c.result.notes.push_back(fmt::format("accelerometer x bias: not identifiable: {}; 0 taken", p.bias_x.note));
+  if (!p.bias_x.identified) c.result.notes.push_back(fmt::format("accelerometer x bias: {}; 0 taken", p.bias_x.note));
   for (const Term& t :
        {Term{"C_D_q", &AeroCoefficients::C_D_q, nullptr, {}}, Term{"C_D_delta_e", &AeroCoefficients::C_D_delta_e, nullptr, {}}})
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";

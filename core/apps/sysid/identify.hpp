@@ -67,6 +67,7 @@ struct SysidOptions {
   double max_correlation = 0.95;    ///< |r| between two regressors beyond which both are suspect
   double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
   OutputErrorOptions output_error;  ///< step 4, the rotational axes' output-error refinement
+  bool fit_accel_x_bias = false;    ///< the accelerometer's x bias as a parameter of the polar (instrumentation.hpp)
 };
 
 struct CoefficientEstimate {

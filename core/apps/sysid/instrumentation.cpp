@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <Eigen/SVD>
 #include <fmt/format.h>
 
 #include "sysid/regression.hpp"
@@ -47,10 +48,14 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
     X(i, 1) = R(0, 0), X(i, 2) = R(1, 0);
     z[i] = s.u[k];
   }
-  const Eigen::MatrixXd r = column_correlation(X);
-  const double worst = std::max(std::abs(r(0, 1)), std::abs(r(0, 2)));
-  if (worst > max_correlation) {
-    out.k.note = fmt::format("airspeed and the wind's projection collinear (|r| {:.2f}): fly turns or several airspeeds", worst);
+  // k's regressor against what the wind's columns explain of it (uncentred: no intercept in the
+  // model), as a multiple correlation; rank-revealing, so one heading (the wind's columns constant
+  // and collinear with each other) is caught too
+  const Eigen::MatrixXd W = X.rightCols(2);
+  const Eigen::VectorXd explained = W * W.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(X.col(0));
+  const double r = explained.norm() / X.col(0).norm();
+  if (r > max_correlation) {
+    out.k.note = fmt::format("airspeed and the wind's projection collinear (|r| {:.2f}): fly turns", r);
     return out;
   }
   const LsEstimate e = least_squares(X, z, kWindMaxLag);
@@ -60,7 +65,7 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
   return out;
 }
 
-DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag) {
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias) {
   if (w.size() < 4) throw std::invalid_argument(fmt::format("drag polar: {} trim windows, at least 4 needed", w.size()));
   const auto n = static_cast<Eigen::Index>(w.size());
   Eigen::MatrixXd X(n, 3);
@@ -73,18 +78,20 @@ DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_re
   DragPolar out;
   const double bias_mean = mean(X.col(2));
   const double bias_spread = std::sqrt((X.col(2).array() - bias_mean).square().mean());
-  bool with_bias = bias_spread > 0.01 * std::abs(bias_mean);
+  bool with_bias = fit_bias && bias_spread > 0.01 * std::abs(bias_mean);
   LsEstimate e;
   if (with_bias) {
     e = least_squares(X, z, max_lag);
     // the bias's uncertainty as drag at the mean window: beyond max_relative_error of the drag, undetermined
     if (e.std_error[2] * std::abs(bias_mean) > max_relative_error * std::abs(mean(z))) {
       with_bias = false;
-      out.bias_x.note = fmt::format("not separated from the polar (+-{:.2g} m/s^2 moves the drag by more than {:.0f} %)", e.std_error[2],
-                                    100.0 * max_relative_error);
+      out.bias_x.note = fmt::format("not identifiable: not separated from the polar (+-{:.2g} m/s^2 moves the drag by more than {:.0f} %)",
+                                    e.std_error[2], 100.0 * max_relative_error);
     }
+  } else if (fit_bias) {
+    out.bias_x.note = "not identifiable: one airspeed: a constant force along body x and the drag at trim are the same line";
   } else {
-    out.bias_x.note = "one airspeed: a constant force along body x and the drag at trim are the same line";
+    out.bias_x.note = "not fitted (tern sysid --accel-x-bias fits it)";
   }
   if (with_bias) {
     out.bias_x = {e.theta[2], e.std_error[2], true, ""};

@@ -9,8 +9,9 @@
 //    velocity (GNSS-aided), turned into the body axes, less a wind constant over the flight equals
 //    the air velocity along body x, k Va_pitot cos(alpha) cos(beta). Linear in (k, w_n, w_e, w_d).
 //    Separable when the flight turns (the wind's projection changes with heading while k Va_pitot
-//    does not) or flies several airspeeds on one heading; a straight line at one airspeed leaves
-//    k and the along-track wind collinear, and k is not identified (kept at 1). A wind that drifts
+//    does not); on one heading only the airspeeds' spread about their mean separates k from the
+//    along-track wind, rarely enough, and a straight line at one airspeed leaves them collinear:
+//    k is then not identified (kept at 1). A wind that drifts
 //    over the flight colours the residuals; the coloured-residual bound widens with it.
 //  * the accelerometer's x bias b (m/s^2; the residual of its calibration, and a calibration tilt's
 //    share of gravity at 1 g, which a constant force along body x cannot tell from a bias). It
@@ -20,6 +21,10 @@
 //    three distinct shapes, so three airspeeds (or one airspeed with load factors that move C_Lw
 //    apart from qbar) separate them; at one airspeed and 1 g all three are constant and only their
 //    sum is known: b is then not identified, fixed at 0, and C_D_p and e carry it (one line says so).
+//    The bias is only as good as the polar's model: a drag error shaped like 1/qbar (the lift's
+//    alpha, whose error moves the drag by C_L delta_alpha, the prior's C_D_delta_e times the trim
+//    elevator) goes into b with a small bound. On the shipped bench it did (b +0.04..+0.25 m/s^2
+//    against -0.09..+0.02 in truth), so identify.hpp fits it only on request (fit_accel_x_bias).
 // Standard errors are the coloured-residual least-squares bounds of the joint fit, so each
 // coefficient's includes the nuisance parameters' uncertainty; the pitot scale's own uncertainty
 // is added by the caller (identify.cpp) as a consider term: the polar refitted at k + sigma_k.
@@ -50,8 +55,8 @@ struct AirspeedScale {
 
 /// The pitot's scale from the wind triangle over the samples `idx` of `s` (header). Va_pitot is
 /// sqrt(2 qbar / rho); samples without a pitot reading are skipped. k is not identified (1 kept)
-/// when its regressor correlates with a wind component's beyond `max_correlation` (no turn, one
-/// airspeed), or fewer than ten samples hold a pitot reading.
+/// when the wind's columns explain its regressor with a multiple correlation beyond
+/// `max_correlation` (no turn), or fewer than ten samples hold a pitot reading.
 AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation);
 
 /// One trim window's means for the polar: the measured drag coefficient (thrust removed, forces
@@ -78,7 +83,7 @@ struct DragPolar {
 /// below 1 % of its mean), or when its standard error moves the mean measured drag coefficient by
 /// more than `max_relative_error` of it (the data did not separate it). e is identified when K > 0
 /// and K's standard error is below `max_relative_error` of K. Throws std::invalid_argument with
-/// fewer than four windows.
-DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag);
+/// fewer than four windows. `fit_bias` false: the bias is not a parameter (0, not identified).
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias = true);
 
 }  // namespace tern::core::sysid
