@@ -25,6 +25,7 @@ struct SysidOptionsCli {
   double filter_hz = sysid::FlightSeriesOptions{}.filter_hz, rate_hz = sysid::FlightSeriesOptions{}.rate_hz;
   double oe_window = sysid::OutputErrorOptions{}.window_s;
   bool no_output_error = false;
+  bool accel_x_bias = false;
   std::vector<std::string> sets;
 };
 
@@ -58,6 +59,7 @@ int run_sysid(const SysidOptionsCli& o) {
   io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
   if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
+  io.fit_accel_x_bias = o.accel_x_bias;
   const sysid::SysidResult r = sysid::identify(series, prior, io);
   const std::string options =
       fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}",
@@ -95,6 +97,9 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--output-error-window", o->oe_window,
                 "s: the output-error step restarts its simulated rates from the measured ones this often (default 5)");
   c->add_flag("--no-output-error", o->no_output_error, "equation error only (the rotational axes' output-error refinement skipped)");
+  c->add_flag("--accel-x-bias", o->accel_x_bias,
+              "fit the accelerometer's x bias jointly with the drag polar (needs several airspeeds and a polar model that holds: "
+              "docs/system-identification.md)");
   c->add_option("--set", o->sets, "INSTANCE.PARAM=VALUE: an estimator parameter for the replay, as tern replay --set")
       ->type_name("INSTANCE.PARAM=VALUE");
   return {c, [o] { return run_sysid(*o); }};

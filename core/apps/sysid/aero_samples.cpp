@@ -31,10 +31,10 @@ std::vector<std::size_t> airborne(const FlightSeries& s, const AirborneFilter& f
 
 }  // namespace
 
-AeroSamples aero_samples(const FlightSeries& s, const Aircraft& ac, const AirborneFilter& filter) {
+AeroSamples aero_samples(const FlightSeries& s, const Aircraft& ac, const AirborneFilter& filter, double pitot_scale) {
   AeroSamples a;
   for (const std::size_t k : airborne(s, filter)) {
-    const double qbar = std::isfinite(s.qbar[k]) ? s.qbar[k] : 0.5 * ac.rho * s.Va[k] * s.Va[k];
+    const double qbar = std::isfinite(s.qbar[k]) ? pitot_scale * pitot_scale * s.qbar[k] : 0.5 * ac.rho * s.Va[k] * s.Va[k];
     const double Va = std::sqrt(2.0 * std::max(qbar, 0.0) / ac.rho), alpha = s.alpha[k], beta = s.beta[k];
     const double V_xz = Va * std::cos(beta);
     const double qS = qbar * ac.S, qS_xz = qS * std::cos(beta) * std::cos(beta);

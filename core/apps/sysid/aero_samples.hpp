@@ -50,7 +50,9 @@ struct AirborneFilter {
 };
 
 /// The samples where the estimate is valid and the aircraft flies (filter), as coefficients.
-/// Mass, inertia, geometry, rho and the propulsion model come from `prior`.
-AeroSamples aero_samples(const FlightSeries& s, const Aircraft& prior, const AirborneFilter& filter);
+/// Mass, inertia, geometry, rho and the propulsion model come from `prior`. `pitot_scale` k
+/// (instrumentation.hpp, > 0): the true airspeed is k times the pitot's, so its dynamic pressure
+/// k^2 times (no effect where the log has no pitot).
+AeroSamples aero_samples(const FlightSeries& s, const Aircraft& prior, const AirborneFilter& filter, double pitot_scale = 1.0);
 
 }  // namespace tern::core::sysid

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "sysid/instrumentation.hpp"
 #include "sysid/regression.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/model.hpp"
@@ -440,35 +441,57 @@ Col drag_at(const AeroSamples& a, const Col& alpha) {
   return C_D;
 }
 
-/// The polar from the trim: C_D - C_D_q q^ - C_D_delta_e delta_e = C_D_p + C_Lw^2 / (pi e AR) with
-/// C_Lw = C_L_0 + C_L_alpha alpha (sim_aero's drag_coefficient in the linear range).
-void drag(Context& c, const Col& alpha, double AR) {
-  const AeroSamples& a = c.a;
+/// The polar's trim windows (instrumentation.hpp): C_D - C_D_q q^ - C_D_delta_e delta_e, C_Lw =
+/// C_L_scale (C_L_0 + C_L_alpha alpha) (sim_aero's drag_coefficient in the linear range) and the
+/// accelerometer bias's regressor -m cos(alpha) / (qbar_xz S), each a window's mean.
+std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, const Col& alpha, const Aircraft& ac, double C_L_scale) {
   const Col C_D = drag_at(a, alpha);
-  Col z(a.size()), cl2(a.size());
+  Col z(a.size()), clw(a.size()), bias(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
     z[k] = C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
-    const double CLw = c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k];
-    cl2[k] = CLw * CLw;
+    clw[k] = C_L_scale * (c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k]);
+    const double V_xz = a.Va[k] * std::cos(a.beta[k]);
+    bias[k] = -ac.mass * std::cos(alpha[k]) / (0.5 * ac.rho * V_xz * V_xz * ac.S);
   }
-  const Col ones(a.size(), 1.0);
-  const Term tp{"C_D_p", &AeroCoefficients::C_D_p, &ones, {}};
-  const LsEstimate e = trim_fit(c, z, {&ones, &cl2});
-  c.result.fits.push_back({"drag", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
-  c.coef.C_D_p = e.theta[0];
+  const Col zm = window_means(z, c.L), cm = window_means(clw, c.L), bm = window_means(bias, c.L);
+  std::vector<PolarWindow> w(zm.size());
+  for (std::size_t i = 0; i < zm.size(); ++i) w[i] = {zm[i], cm[i], bm[i]};
+  return w;
+}
+
+/// sigma widened by what `shifted` moved the estimate by (a consider term: the pitot scale's).
+void widen(NuisanceEstimate& e, const NuisanceEstimate& shifted) {
+  if (e.identified && shifted.identified) e.std_error = std::hypot(e.std_error, shifted.estimate - e.estimate);
+}
+
+/// The polar and the accelerometer's x bias from the trim (instrumentation.hpp). `at_k_plus_sigma`:
+/// the samples with the pitot scale one standard error higher (nullptr when k was not identified),
+/// whose shift of every estimate is added to its standard error; the lift then scales by
+/// (k / (k + sigma))^2 (`C_L_scale`).
+void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples* at_k_plus_sigma, double C_L_scale) {
+  DragPolar p = drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias);
+  if (at_k_plus_sigma != nullptr) {
+    const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3,
+                                   c.o.fit_accel_x_bias);
+    widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x);
+  }
+  c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows});
+  c.coef.C_D_p = p.C_D_p.estimate;
+  const Term tp{"C_D_p", &AeroCoefficients::C_D_p, nullptr, {}};
   CoefficientEstimate& r = record(c, tp, "trim");
-  r.std_error = e.std_error[0];
+  r.std_error = p.C_D_p.std_error;
   r.identified = true;
-  // the Oswald factor e = 1 / (pi AR k): kept in the result's aircraft, reported as a note
-  const double k = e.theta[1], prior_e = c.result.aircraft.e;
-  if (k > 0.0 && e.std_error[1] < c.o.max_relative_error * k) {
-    c.result.aircraft.e = 1.0 / (kPi * AR * k);
-    c.result.notes.push_back(fmt::format("e (Oswald factor): {:.3f} (prior {:.3f}), from the polar's slope {:.4f} +- {:.2g}",
-                                         c.result.aircraft.e, prior_e, k, e.std_error[1]));
+  const double prior_e = c.result.aircraft.e;
+  if (p.e.identified) {
+    c.result.aircraft.e = p.e.estimate;
+    c.result.notes.push_back(fmt::format("e (Oswald factor): {:.3f} +- {:.2g} (prior {:.3f}), from the polar's slope {:.4f} +- {:.2g}",
+                                         p.e.estimate, p.e.std_error, prior_e, p.K.estimate, p.K.std_error));
   } else {
-    c.result.notes.push_back(
-        fmt::format("e (Oswald factor): kept, the polar's slope {:.4f} +- {:.2g} is not determined", k, e.std_error[1]));
+    c.result.notes.push_back(fmt::format("e (Oswald factor): kept, {}", p.K.note));
   }
+  c.result.oswald = p.e;
+  c.result.accel_x_bias = p.bias_x;
+  if (!p.bias_x.identified) c.result.notes.push_back(fmt::format("accelerometer x bias: {}; 0 taken", p.bias_x.note));
   for (const Term& t :
        {Term{"C_D_q", &AeroCoefficients::C_D_q, nullptr, {}}, Term{"C_D_delta_e", &AeroCoefficients::C_D_delta_e, nullptr, {}}})
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
@@ -598,8 +621,11 @@ std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const
 }  // namespace
 
 SysidResult identify(const FlightSeries& series, const Aircraft& prior, const SysidOptions& o) {
-  const AeroSamples a = aero_samples(series, prior, o.airborne);
-  if (a.size() < 2) throw std::runtime_error("no airborne samples: the estimate never valid above the height floor");
+  if (aero_samples(series, prior, o.airborne).size() < 2)
+    throw std::runtime_error("no airborne samples: the estimate never valid above the height floor");
+  const AirspeedScale scale = airspeed_scale(series, aero_samples(series, prior, o.airborne).source, prior.rho, o.max_correlation);
+  const double k = scale.k.identified ? scale.k.estimate : 1.0;
+  const AeroSamples a = aero_samples(series, prior, o.airborne, k);
   const Layout L = layout_of(a, o.trim_window_s, o.min_segment_s);
   if (L.segments.empty())
     throw std::runtime_error(
@@ -614,6 +640,9 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   }
   SysidResult r;
   r.aircraft = prior;
+  r.pitot_scale = scale.k;
+  r.wind_n = scale.w_n, r.wind_e = scale.w_e;
+  if (!scale.k.identified) r.notes.push_back(fmt::format("pitot scale: not identifiable: {}; 1 taken", scale.k.note));
   r.samples = a.size(), r.segments = L.segments.size();
   for (const auto& [b, e] : L.segments) r.airborne_s += a.t[e - 1] - a.t[b];
   AeroCoefficients coef = prior.aero;
@@ -622,7 +651,13 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   lift(c, x0.alpha, x0.q, x0.delta_e);
   const bool accel = o.flow_angles == FlowAngles::accelerometer;
   const Col alpha = accel ? alpha_from_lift(c) : a.alpha;
-  drag(c, alpha, prior.AR());
+  if (scale.k.identified) {
+    const double k_hi = k + scale.k.std_error;
+    const AeroSamples a_hi = aero_samples(series, prior, o.airborne, k_hi);
+    drag(c, alpha, prior, &a_hi, (k / k_hi) * (k / k_hi));
+  } else {
+    drag(c, alpha, prior, nullptr, 1.0);
+  }
   Signals x = signals(a, alpha, a.beta);
   const std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x);
   band_fit(c, "side force", a.C_Y, side);

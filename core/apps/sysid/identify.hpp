@@ -10,7 +10,9 @@
 //     average out over a window while alpha spans the flight's airspeeds. C_L_0 and C_L_alpha
 //     (C_L_q, C_L_delta_e from the band beside the wind triangle's alpha, taken only when that
 //     alpha explains the band's lift: in turbulence it does not, and they keep the prior), then the
-//     polar's C_D_p and Oswald factor e on the lift.
+//     polar's C_D_p and Oswald factor e on the lift, jointly with the accelerometer's x bias; every
+//     coefficient on the dynamic pressure corrected by the pitot's scale from the wind triangle
+//     (instrumentation.hpp: instrumentation-error parameters, K&M ch. 10).
 //  2. alpha from where it is observable: the accelerometers' lift, alpha = (C_L - C_L_0 - C_L_q q^ -
 //     C_L_delta_e delta_e) / C_L_alpha (the flow the wing met, gusts included; the body forces
 //     turned through it), beta likewise from the side force once C_Y is known (flow_angles:
@@ -47,6 +49,7 @@
 
 #include "sysid/aero_samples.hpp"
 #include "sysid/flight_data.hpp"
+#include "sysid/instrumentation.hpp"
 #include "sysid/output_error.hpp"
 #include "tern/aircraft.hpp"
 
@@ -64,6 +67,7 @@ struct SysidOptions {
   double max_correlation = 0.95;    ///< |r| between two regressors beyond which both are suspect
   double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
   OutputErrorOptions output_error;  ///< step 4, the rotational axes' output-error refinement
+  bool fit_accel_x_bias = false;    ///< the accelerometer's x bias as a parameter of the polar (instrumentation.hpp)
 };
 
 struct CoefficientEstimate {
@@ -102,6 +106,10 @@ struct SysidResult {
   double airborne_s = 0.0;
   double C_D_trim_prior = 0.0, C_D_trim = 0.0;  ///< drag at the flight's mean trim, prior and identified
   double C_D_per_deg = 0.0;                     ///< how much 1 deg of alpha (or pitch) bias moves C_D at trim, fraction
+  NuisanceEstimate pitot_scale;                 ///< Va_true = k Va_pitot, from the wind triangle (instrumentation.hpp)
+  double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
+  NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar
+  NuisanceEstimate oswald;                      ///< e, from the polar's slope
   std::vector<std::string> notes;               ///< one line each: what the log could not support, and why
   std::vector<AxisSeries> series;
 };

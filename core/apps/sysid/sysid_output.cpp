@@ -47,6 +47,14 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
         {{"axis", f.axis}, {"domain", f.domain}, {"r_squared", f.r_squared}, {"rms_residual", f.rms_residual}, {"rows", f.rows}});
   j["drag_at_trim"] = {{"prior", r.C_D_trim_prior}, {"identified", r.C_D_trim}, {"change_per_deg_of_alpha", r.C_D_per_deg}};
   j["oswald_e"] = r.aircraft.e;
+  const auto nuisance = [](const NuisanceEstimate& e, const char* unit) {
+    return nlohmann::json{
+        {"estimate", e.estimate}, {"std_error", e.std_error}, {"identified", e.identified}, {"note", e.note}, {"unit", unit}};
+  };
+  j["oswald"] = nuisance(r.oswald, "");
+  j["instrumentation"] = {{"pitot_scale", nuisance(r.pitot_scale, "Va_true / Va_pitot")},
+                          {"accel_x_bias", nuisance(r.accel_x_bias, "m/s^2")},
+                          {"wind_ne", {r.wind_n, r.wind_e}}};
   j["notes"] = r.notes;
   return j;
 }
@@ -133,6 +141,11 @@ std::string format_sysid_table(const SysidResult& r) {
                        c.identified ? fmt::format("{:.2g}", c.std_error) : "-", c.identified ? c.method : "prior kept: " + c.note);
   out += fmt::format("drag at trim: prior {:.4f}, identified {:.4f} (1 deg of alpha or pitch bias moves it by {:.0f} %)\n",
                      r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg);
+  const auto line = [](const NuisanceEstimate& e, const char* fmt_identified) {
+    return e.identified ? fmt::format(fmt::runtime(fmt_identified), e.estimate, e.std_error) : "not identifiable (" + e.note + ")";
+  };
+  out += fmt::format("pitot scale {}, accelerometer x bias {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
+                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"));
   for (const auto& f : r.fits)
     out +=
         fmt::format("fit {:<10} {:<4} R^2 {:.3f}, rms residual {:.3g}, {} rows\n", f.axis, f.domain, f.r_squared, f.rms_residual, f.rows);

@@ -1,0 +1,112 @@
+// core/apps/sysid/instrumentation.cpp: the pitot's scale and the accelerometer's x bias beside the
+// drag polar (instrumentation.hpp).
+#include "sysid/instrumentation.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/SVD>
+#include <fmt/format.h>
+
+#include "sysid/regression.hpp"
+#include "tern/math.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+/// Every n-th sample enters the wind triangle's fit: neighbours at 50 Hz carry the same gust.
+constexpr std::size_t kWindStride = 25;
+/// Samples of lag (after the stride) of the wind fit's coloured-residual bound: gusts last tens
+/// of seconds at the Dryden model's scale lengths.
+constexpr std::size_t kWindMaxLag = 60;
+
+double mean(const Eigen::VectorXd& x) { return x.size() ? x.mean() : 0.0; }
+
+}  // namespace
+
+AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation) {
+  AirspeedScale out;
+  out.k.estimate = 1.0;
+  std::vector<std::size_t> use;
+  for (std::size_t i = 0; i < idx.size(); i += kWindStride)
+    if (std::isfinite(s.qbar[idx[i]]) && s.qbar[idx[i]] > 0.0) use.push_back(idx[i]);
+  out.samples = use.size();
+  if (use.size() < 10) {
+    out.k.note = "no pitot in the log (the airspeed is the estimator's)";
+    return out;
+  }
+  const auto n = static_cast<Eigen::Index>(use.size());
+  Eigen::MatrixXd X(n, 3);
+  Eigen::VectorXd z(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::size_t k = use[static_cast<std::size_t>(i)];
+    const Eigen::Matrix3d R = rotation_from_euler(s.phi[k], s.theta[k], s.psi[k]);
+    const double Va_pitot = std::sqrt(2.0 * s.qbar[k] / rho);
+    // u_ground - (R^T w)_x = k Va_pitot cos(alpha) cos(beta); the vertical wind taken as 0
+    X(i, 0) = Va_pitot * std::cos(s.alpha[k]) * std::cos(s.beta[k]);
+    X(i, 1) = R(0, 0), X(i, 2) = R(1, 0);
+    z[i] = s.u[k];
+  }
+  // k's regressor against what the wind's columns explain of it (uncentred: no intercept in the
+  // model), as a multiple correlation; rank-revealing, so one heading (the wind's columns constant
+  // and collinear with each other) is caught too
+  const Eigen::MatrixXd W = X.rightCols(2);
+  const Eigen::VectorXd explained = W * W.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(X.col(0));
+  const double r = explained.norm() / X.col(0).norm();
+  if (r > max_correlation) {
+    out.k.note = fmt::format("airspeed and the wind's projection collinear (|r| {:.2f}): fly turns", r);
+    return out;
+  }
+  const LsEstimate e = least_squares(X, z, kWindMaxLag);
+  out.k = {e.theta[0], e.std_error[0], true, ""};
+  out.w_n = e.theta[1], out.w_e = e.theta[2];
+  out.rms_residual = std::sqrt(e.s2);
+  return out;
+}
+
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias) {
+  if (w.size() < 4) throw std::invalid_argument(fmt::format("drag polar: {} trim windows, at least 4 needed", w.size()));
+  const auto n = static_cast<Eigen::Index>(w.size());
+  Eigen::MatrixXd X(n, 3);
+  Eigen::VectorXd z(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PolarWindow& p = w[static_cast<std::size_t>(i)];
+    X(i, 0) = 1.0, X(i, 1) = p.C_Lw * p.C_Lw, X(i, 2) = p.bias_regressor;
+    z[i] = p.C_D;
+  }
+  DragPolar out;
+  const double bias_mean = mean(X.col(2));
+  const double bias_spread = std::sqrt((X.col(2).array() - bias_mean).square().mean());
+  bool with_bias = fit_bias && bias_spread > 0.01 * std::abs(bias_mean);
+  LsEstimate e;
+  if (with_bias) {
+    e = least_squares(X, z, max_lag);
+    // the bias's uncertainty as drag at the mean window: beyond max_relative_error of the drag, undetermined
+    if (e.std_error[2] * std::abs(bias_mean) > max_relative_error * std::abs(mean(z))) {
+      with_bias = false;
+      out.bias_x.note = fmt::format("not identifiable: not separated from the polar (+-{:.2g} m/s^2 moves the drag by more than {:.0f} %)",
+                                    e.std_error[2], 100.0 * max_relative_error);
+    }
+  } else if (fit_bias) {
+    out.bias_x.note = "not identifiable: one airspeed: a constant force along body x and the drag at trim are the same line";
+  } else {
+    out.bias_x.note = "not fitted (tern sysid --accel-x-bias fits it)";
+  }
+  if (with_bias) {
+    out.bias_x = {e.theta[2], e.std_error[2], true, ""};
+  } else {
+    e = least_squares(X.leftCols(2), z, max_lag);
+  }
+  out.C_D_p = {e.theta[0], e.std_error[0], true, ""};
+  out.K = {e.theta[1], e.std_error[1], e.theta[1] > 0.0 && e.std_error[1] < max_relative_error * e.theta[1], ""};
+  if (out.K.identified) {
+    out.e = {1.0 / (kPi * AR * out.K.estimate), out.K.std_error / (kPi * AR * out.K.estimate * out.K.estimate), true, ""};
+  } else {
+    out.K.note = out.e.note = fmt::format("the polar's slope {:.4f} +- {:.2g} is not determined", e.theta[1], e.std_error[1]);
+  }
+  out.r_squared = e.r_squared, out.rms_residual = std::sqrt(e.s2), out.rows = e.rows;
+  return out;
+}
+
+}  // namespace tern::core::sysid

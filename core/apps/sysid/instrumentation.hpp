@@ -1,0 +1,89 @@
+// core/apps/sysid/instrumentation.hpp: instrumentation-error parameters estimated beside the
+// drag polar (Klein and Morelli, *Aircraft System Identification*, 2006, sec. 10.2 data
+// compatibility: bias and scale-factor parameters of the sensors fitted with the model's).
+//
+// The drag at trim is some 1 % of the lift, so the sensors' small errors are large beside it:
+//  * the pitot's scale (installation: probe position, tubes). The true airspeed is k times the
+//    pitot's, Va = k Va_pitot, so the dynamic pressure is k^2 qbar_pitot and the propeller's
+//    inflow k V. k is found from the wind triangle (airspeed_scale): the estimator's ground
+//    velocity (GNSS-aided), turned into the body axes, less a wind constant over the flight equals
+//    the air velocity along body x, k Va_pitot cos(alpha) cos(beta). Linear in (k, w_n, w_e, w_d).
+//    Separable when the flight turns (the wind's projection changes with heading while k Va_pitot
+//    does not); on one heading only the airspeeds' spread about their mean separates k from the
+//    along-track wind, rarely enough, and a straight line at one airspeed leaves them collinear:
+//    k is then not identified (kept at 1). A wind that drifts
+//    over the flight colours the residuals; the coloured-residual bound widens with it.
+//  * the accelerometer's x bias b (m/s^2; the residual of its calibration, and a calibration tilt's
+//    share of gravity at 1 g, which a constant force along body x cannot tell from a bias). It
+//    adds m b to the measured x force, so the measured drag coefficient of a trim window is
+//      C_D_measured = C_D_p + K C_Lw^2 - b m cos(alpha) / (qbar S),  K = 1 / (pi e AR)
+//    (drag_polar). Across airspeeds the three regressors are 1, ~1/Va^4 (C_Lw at 1 g) and ~1/Va^2:
+//    three distinct shapes, so three airspeeds (or one airspeed with load factors that move C_Lw
+//    apart from qbar) separate them; at one airspeed and 1 g all three are constant and only their
+//    sum is known: b is then not identified, fixed at 0, and C_D_p and e carry it (one line says so).
+//    The bias is only as good as the polar's model: a drag error shaped like 1/qbar (the lift's
+//    alpha, whose error moves the drag by C_L delta_alpha, the prior's C_D_delta_e times the trim
+//    elevator) goes into b with a small bound. On the shipped bench it did (b +0.04..+0.25 m/s^2
+//    against -0.09..+0.02 in truth), so identify.hpp fits it only on request (fit_accel_x_bias).
+// Standard errors are the coloured-residual least-squares bounds of the joint fit, so each
+// coefficient's includes the nuisance parameters' uncertainty; the pitot scale's own uncertainty
+// is added by the caller (identify.cpp) as a consider term: the polar refitted at k + sigma_k.
+// Units SI; angles rad. Errors: std::invalid_argument for inputs of mismatched lengths.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "sysid/flight_data.hpp"
+
+namespace tern::core::sysid {
+
+/// One instrumentation parameter: estimate, 1-sigma standard error, whether the data separated it.
+struct NuisanceEstimate {
+  double estimate = 0.0;
+  double std_error = 0.0;
+  bool identified = false;
+  std::string note;  ///< why not identified, or ""
+};
+
+struct AirspeedScale {
+  NuisanceEstimate k;                      ///< Va_true = k Va_pitot (1 when not identified)
+  double w_n = 0.0, w_e = 0.0, w_d = 0.0;  ///< m/s, the flight's constant wind, NED (fitted beside k)
+  double rms_residual = 0.0;               ///< m/s, body-x air velocity residual
+  std::size_t samples = 0;
+};
+
+/// The pitot's scale from the wind triangle over the samples `idx` of `s` (header). Va_pitot is
+/// sqrt(2 qbar / rho); samples without a pitot reading are skipped. k is not identified (1 kept)
+/// when the wind's columns explain its regressor with a multiple correlation beyond
+/// `max_correlation` (no turn), or fewer than ten samples hold a pitot reading.
+AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation);
+
+/// One trim window's means for the polar: the measured drag coefficient (thrust removed, forces
+/// turned through alpha), the lift model's C_Lw, and the bias regressor -m cos(alpha) / (qbar S)
+/// (s^2/m: times b in m/s^2 gives a drag coefficient).
+struct PolarWindow {
+  double C_D = 0.0;
+  double C_Lw = 0.0;
+  double bias_regressor = 0.0;
+};
+
+struct DragPolar {
+  NuisanceEstimate C_D_p;
+  NuisanceEstimate K;       ///< the polar's slope 1 / (pi e AR)
+  NuisanceEstimate e;       ///< Oswald factor from K (standard error by first-order propagation)
+  NuisanceEstimate bias_x;  ///< m/s^2, accelerometer x bias (0, not identified, at one airspeed)
+  double r_squared = 0.0, rms_residual = 0.0;
+  std::size_t rows = 0;
+};
+
+/// The polar and the accelerometer's x bias jointly on the trim windows (header). `AR` the aspect
+/// ratio; `max_lag` windows for the coloured-residual bound. The bias is dropped from the fit (0,
+/// not identified) when its regressor does not vary across the windows (one airspeed: its spread
+/// below 1 % of its mean), or when its standard error moves the mean measured drag coefficient by
+/// more than `max_relative_error` of it (the data did not separate it). e is identified when K > 0
+/// and K's standard error is below `max_relative_error` of K. Throws std::invalid_argument with
+/// fewer than four windows. `fit_bias` false: the bias is not a parameter (0, not identified).
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias = true);
+
+}  // namespace tern::core::sysid
