@@ -7,7 +7,7 @@ Between manoeuvres it is the cruise controller (cruise_controller.py, successive
 Every `interval` seconds of cruise it flies the next manoeuvre of the sequence, open loop on the
 surfaces, until the body rate integrated since its start has turned the aircraft through a full
 turn (less `lead`, the rotation the recovery still carries):
-  roll_right, roll_left   full aileron (`roll_aileron`), elevator and throttle as at the start
+  roll_right, roll_left   the aileron at `roll_aileron` (0.5 rad), elevator and throttle as at the start
   loop                    elevator pulled by `loop_pull` from the trim, full throttle, the wings held
                           in the loop's plane (the aileron keeps the body's y axis horizontal,
                           upright or inverted, from the estimate's attitude, and damps the roll rate)
