@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import tern
-from conftest import BUILD, LEARN
+from conftest import BUILD, LEARN, SOURCE
 
 
 @pytest.fixture
@@ -96,3 +96,29 @@ def test_host_flies_what_tern_fly_flies(logs):
     for topic in ("state", "truth", "actuators"):
         a, b = flown[topic], stepped[topic]
         assert len(b) >= len(a) > 100 and a.tobytes() == b[: len(a)].tobytes(), topic
+
+
+def test_mission_edits_reach_the_planner(logs):
+    """add_waypoint / clear_waypoints / load_mission: ROSplane's services, applied at the next tick."""
+    with tern.Host(SOURCE / "configs" / "missions" / "default.yaml", log_dir=logs) as host:
+        host.reset(1)
+        host.step_until(60.0)
+        assert host.clear_waypoints() == 1  # (the default mission ends with a land item: nothing follows it)
+        host.step(80)  # the planner steps at 10 Hz: 40 ticks
+        assert host.read("waypoints")["count"] == 0
+        assert host.add_waypoint([400.0, -300.0, -80.0], 18.0) == 2
+        host.add_waypoint([-200.0, 300.0, -80.0], 18.0, chi_d=1.0, use_chi=True)
+        host.step(80)
+        assert host.read("waypoints")["count"] == 2
+        host.add_waypoint([0.0, 0.0, -60.0], 16.0, set_current=True)
+        host.step(80)
+        assert host.read("waypoints")["count"] == 1 and host.read("current_path")["Va_d"] == 16.0
+        host.load_mission(SOURCE / "configs" / "missions" / "fixedwing_mission.yaml")
+        host.step(80)
+        assert host.read("waypoints")["count"] >= 4
+        with pytest.raises(tern.Error, match="Va_d"):
+            host.add_waypoint([0.0, 0.0, -60.0], 0.0)
+        with pytest.raises(tern.Error, match="no such file"):
+            host.load_mission("/nonexistent/mission.yaml")
+        with pytest.raises(tern.Error, match="must be finite"):
+            host.add_waypoint([math.nan, 0.0, -60.0], 16.0)

@@ -124,6 +124,13 @@ PYBIND11_MODULE(_tern, m) {
       .def_property_readonly("handovers", &PythonHost::handovers)
       .def("read", &PythonHost::read, py::arg("topic"), py::arg("fields") = py::none())
       .def("write", &PythonHost::write, py::arg("topic"), py::arg("fields"))
+      .def("add_waypoint", &PythonHost::add_waypoint, py::arg("w"), py::arg("Va_d"), py::kw_only(), py::arg("chi_d") = 0.0,
+           py::arg("use_chi") = false, py::arg("lla") = false, py::arg("set_current") = false,
+           "queues a waypoint (NED m, or lat/lon deg and altitude m with lla=True) for the path planner at the next tick; "
+           "set_current: a new list starting with it (ROSplane's add_waypoint); returns the edit's number")
+      .def("clear_waypoints", &PythonHost::clear_waypoints, "queues the removal of every waypoint (ROSplane's clear_waypoints)")
+      .def("load_mission", &PythonHost::load_mission, py::arg("file"),
+           "queues the replacement of the mission by a waypoint file, tern's or ROSplane's (load_mission_from_file)")
       .def("release", &PythonHost::release, py::arg("topic"))
       .def("get_param", &PythonHost::get_param, py::arg("name"))
       .def("set_param", &PythonHost::set_param, py::arg("name"), py::arg("value"))

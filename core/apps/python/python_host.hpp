@@ -10,10 +10,14 @@
 //   write(topic, d)  fields held on a plugin's output (Host::hold_message) until release(topic);
 //                    `pilot`: the pilot's sticks (Host::set_pilot)
 //   get_param/set_param, swap(instance, so) between flights (Host::swap), end() -> run dir
+//   add_waypoint(w, Va_d, ...), clear_waypoints(), load_mission(file): mission edits, ROSplane's
+//                    services (Host::edit_mission, applied by the path planner at the next tick;
+//                    python_mission.cpp)
 // Errors are ConfigError / ParamError, raised in Python as tern.Error naming the topic, field or
 // parameter.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -72,6 +76,12 @@ class PythonHost {
   py::object get_param(const std::string& name) const;
   void set_param(const std::string& name, const py::handle& value);
   void swap(const std::string& instance, const std::string& so);
+  /// Mission edits (python_mission.cpp), each queued for the next tick; the edit's number.
+  /// Throws ConfigError for a non-finite waypoint, Va_d <= 0, a missing file, or a mission
+  /// whose planner takes no edits.
+  std::uint32_t add_waypoint(const std::array<double, 3>& w, double Va_d, double chi_d, bool use_chi, bool lla, bool set_current);
+  std::uint32_t clear_waypoints();
+  std::uint32_t load_mission(const std::string& file);
   /// Ends the running flight (end_reason "aborted" when it was still going; a flight whose tick
   /// ended it is ended at once); the run directory of the last flight ("" before the first).
   std::string end();
@@ -88,6 +98,7 @@ class PythonHost {
   std::uint64_t seed_ = 1;
   std::unique_ptr<Host> host_;
   std::vector<std::pair<std::string, std::string>> swaps_;  // (instance, library), re-applied on a rebuild
+  std::uint32_t edits_ = 0;                                 // mission edits sent (their numbers)
   bool running_ = false;                                    // between begin_flight() and end_flight()
   std::string end_reason_;
   std::string last_run_dir_;

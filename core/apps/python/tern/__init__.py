@@ -45,7 +45,9 @@ class Host(_Host):
     one); step(ticks=1) and step_until(t) fly it, False once it has ended; time (s), topics,
     read(topic) -> dict or None, write(topic, {field: value}) held until release(topic),
     get_param(name) / set_param(name, value), swap(instance, so) between flights, handovers,
-    end_reason; end() ends the flight and returns its Run."""
+    end_reason; add_waypoint(w, Va_d, chi_d=, use_chi=, lla=, set_current=), clear_waypoints(),
+    load_mission(file): mission edits for the path planner (ROSplane's services); end() ends the
+    flight and returns its Run."""
 
     def __init__(self, config=None, *, seed=None, duration=None, set=None, log_dir=None, log_level=None, log_format=None, quiet=True):
         super().__init__(None if config is None else str(config), seed=seed, duration=duration, set=set or {},
@@ -58,6 +60,10 @@ class Host(_Host):
 
     def swap(self, instance, so):
         super().swap(instance, str(so))
+
+    def load_mission(self, file):
+        """Queues the replacement of the mission by a waypoint file (tern's or ROSplane's format)."""
+        return super().load_mission(str(file))
 
     def __enter__(self):
         return self
