@@ -14,7 +14,7 @@ with the coordinated-turn roll feed-forward near the orbit (section 10.3).
 """
 import math
 
-GRAVITY = 9.81  # m/s^2, the book's g (tern/math.hpp's kGravity, as the C++ follower)
+from tern_sdk import GRAVITY  # m/s^2, the book's g: tern/math.hpp's kGravity, as the C++ follower's
 
 
 def wrap_pi(angle):

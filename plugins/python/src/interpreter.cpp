@@ -8,6 +8,9 @@
 
 #include <fmt/format.h>
 
+#include "tern/atmosphere.hpp"
+#include "tern/math.hpp"
+
 namespace tern::python_plugin {
 
 namespace {
@@ -55,11 +58,28 @@ std::string innermost_frame(PyObject* tb) {
   return fmt::format("{}:{} in {}", text_of(file.get()), PyLong_AsLong(line.get()), text_of(function.get()));
 }
 
+// The module `tern_sdk` (interpreter.hpp), made once per interpreter.
+void make_sdk_module() {
+  Gil gil;
+  PyObject* modules = PyImport_GetModuleDict();
+  if (PyDict_GetItemString(modules, "tern_sdk") != nullptr) return;  // a plugin loaded before this one made it
+  Ref m = Ref::take(PyModule_New("tern_sdk"));
+  const std::pair<const char*, double> constants[] = {
+      {"GRAVITY", kGravity},       {"STANDARD_GRAVITY", kStandardGravity},           {"RAD_PER_DEG", kRadPerDeg},
+      {"DEG_PER_RAD", kDegPerRad}, {"ISA_SEA_LEVEL_PRESSURE", kIsaSeaLevelPressure}, {"ISA_SEA_LEVEL_DENSITY", kIsaSeaLevelDensity}};
+  for (const auto& [name, value] : constants)
+    if (PyModule_AddObject(m.get(), name, PyFloat_FromDouble(value)) != 0) throw_python_error();
+  if (PyDict_SetItemString(modules, "tern_sdk", m.get()) != 0) throw_python_error();
+}
+
 }  // namespace
 
 void ensure_interpreter() {
   static std::once_flag once;
-  std::call_once(once, start);
+  std::call_once(once, [] {
+    start();
+    make_sdk_module();
+  });
 }
 
 Ref Ref::take(PyObject* p) {

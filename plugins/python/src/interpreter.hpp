@@ -29,7 +29,11 @@ struct PythonError : std::runtime_error {
 };
 
 /// Starts the interpreter once per process (see above); throws std::runtime_error when it
-/// cannot start.
+/// cannot start. Then makes the module `tern_sdk`: the SDK's constants for scripts, from the
+/// same declarations the C++ uses (tern/math.hpp, tern/atmosphere.hpp), as Python floats:
+///   GRAVITY (kGravity, the book's g, m/s^2), STANDARD_GRAVITY (kStandardGravity, m/s^2),
+///   RAD_PER_DEG, DEG_PER_RAD, ISA_SEA_LEVEL_PRESSURE (Pa), ISA_SEA_LEVEL_DENSITY (kg/m^3).
+/// Plain values only: nothing in it points into this shared object.
 void ensure_interpreter();
 
 /// Holds the GIL for a scope, on any thread (PyGILState_Ensure).

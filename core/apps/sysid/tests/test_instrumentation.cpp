@@ -55,10 +55,11 @@ void windows(double Va, const std::vector<double>& loads, double k_est, std::mt1
   const double qbar_true = 0.5 * kRho * Va * Va, Va_pitot = Va / kScale;
   const double qbar = 0.5 * kRho * (k_est * Va_pitot) * (k_est * Va_pitot);
   for (const double n : loads) {
-    const double C_L = n * kMass * 9.81 / (qbar_true * kS);
+    const double lift = n * kMass * tern::kGravity;
+    const double C_L = lift / (qbar_true * kS);
     const double drag_force = qbar_true * kS * (kCDp + C_L * C_L / (tern::kPi * kE * kAR));
     const double measured = drag_force - kMass * kBias * std::cos(alpha);
-    w.push_back({measured / (qbar * kS) + noise(rng), n * kMass * 9.81 / (qbar * kS), -kMass * std::cos(alpha) / (qbar * kS)});
+    w.push_back({measured / (qbar * kS) + noise(rng), lift / (qbar * kS), -kMass * std::cos(alpha) / (qbar * kS)});
   }
 }
 
