@@ -108,6 +108,14 @@ def test_wrong_output_column_is_one_line(tmp_path):
     assert not run.ok and "output 'controller_command': tern/ControllerCommand has no column 'Va_cc'" in run.end_reason
 
 
+@pytest.mark.parametrize("value,wanted", [("0.5", "a bool"), ("'yes'", "a bool")])
+def test_wrong_output_value_is_one_line(tmp_path, value, wanted):
+    bad = script(tmp_path, "flag.py", "class Flag:\n    outputs = {'controller_command': 'ControllerCommand'}\n"
+                 f"    def step(self, now, inputs):\n        return {{'controller_command': {{'Va_c': 17.0, 'landing': {value}}}}}\n")
+    run = tern.fly(FOLLOWER, duration=5, set={"follower.script": str(bad)}, log_dir=tmp_path)
+    assert not run.ok and f"column 'landing' of tern/ControllerCommand takes {wanted}" in run.end_reason
+
+
 def test_parameters_change_in_flight(tmp_path):
     hold = script(tmp_path, "hold.py", "class Hold:\n    inputs = {'state': 'State'}\n    outputs = {'controller_command': 'ControllerCommand'}\n"
                   "    params = {'Va': (17.0, 'm/s', 10.0, 30.0, 'airspeed to hold'), 'h': 70.0}\n"

@@ -47,7 +47,7 @@ class Aerobatics(CruiseController):
         if self.next_at is None:
             self.next_at = now + int(self.interval * 1e9)
         if self.manoeuvre is None and now >= self.next_at:
-            self.manoeuvre, self.turned, self.started = SEQUENCE[self.flown % len(SEQUENCE)], 0.0, now
+            self.manoeuvre, self.turned = SEQUENCE[self.flown % len(SEQUENCE)], 0.0
             self.log.info("t=%.2f s: %s", now * 1e-9, self.manoeuvre)
         if self.manoeuvre is None:
             out = super().step(now, inputs)

@@ -130,11 +130,11 @@ void MessageColumns::set(const reflect::Column& c, PyObject* value, void* bytes,
   const auto wrong = [&](const char* wanted) {
     return PythonError(fmt::format("output '{}': column '{}' of {} takes {}, not {}", port, c.name, type_name_, wanted, text_of(value)));
   };
-  if (c.kind == reflect::Scalar::boolean) {
-    if (!PyBool_Check(value) && !PyLong_Check(value) && !PyNumber_Check(value)) throw wrong("a bool");
-    const int truth = PyObject_IsTrue(value);
-    if (truth < 0) throw_python_error();
-    write_as<bool>(bytes, c.offset, truth != 0);
+  if (c.kind == reflect::Scalar::boolean) {  // True/False, or a number that is 0 or 1 (numpy's bool_, 1.0)
+    const double x = PyBool_Check(value) ? (value == Py_True ? 1.0 : 0.0) : PyNumber_Check(value) ? PyFloat_AsDouble(value) : -1.0;
+    if (x == -1.0 && PyErr_Occurred() != nullptr) PyErr_Clear();
+    if (x != 0.0 && x != 1.0) throw wrong("a bool");
+    write_as<bool>(bytes, c.offset, x == 1.0);
     return;
   }
   if (PyUnicode_Check(value) || PyBytes_Check(value) || !PyNumber_Check(value))
