@@ -48,9 +48,10 @@ std::uint32_t PythonHost::load_mission(const std::string& file) {
   const std::filesystem::path p = std::filesystem::absolute(file, ec);
   if (ec || !std::filesystem::is_regular_file(p)) throw ConfigError(fmt::format("Host.load_mission: no such file: {}", file));
   msg::MissionEdit e = edit_of(msg::MissionEdit::load_file, edits_ + 1);
-  if (p.string().size() >= e.file.size())
-    throw ConfigError(fmt::format("Host.load_mission: the path is longer than {} characters: {}", e.file.size() - 1, p.string()));
-  std::copy(p.string().begin(), p.string().end(), e.file.begin());
+  const std::string path = p.string();  // (string() makes a new string at each call)
+  if (path.size() >= e.file.size())
+    throw ConfigError(fmt::format("Host.load_mission: the path is longer than {} characters: {}", e.file.size() - 1, path));
+  std::copy(path.begin(), path.end(), e.file.begin());
   host_->edit_mission(e);
   return ++edits_;
 }

@@ -403,8 +403,9 @@ struct DdsBridge::Impl {
           try {
             const fs::path p = mission_files.for_reading("load_mission_from_file", rq.filename());
             msg::MissionEdit e = new_edit(msg::MissionEdit::load_file);
-            if (p.string().size() >= e.file.size()) return failure<Resp>("load_mission_from_file: path too long: " + p.string());
-            std::copy(p.string().begin(), p.string().end(), e.file.begin());
+            const std::string path = p.string();  // (string() makes a new string at each call)
+            if (path.size() >= e.file.size()) return failure<Resp>("load_mission_from_file: path too long: " + path);
+            std::copy(path.begin(), path.end(), e.file.begin());
             host.edit_mission(e);
             return success<Resp>(fmt::format("loading {} (edit #{})", p.string(), e.id));
           } catch (const std::exception& e) {
