@@ -49,7 +49,11 @@ FlightResult replay_estimator(const EstimatorReplay& o) {
   if (o.level) mc.log.level = *o.level;
   apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
   CliOverrides cli;
-  cli.sets = o.sets;
+  if (o.kinematic)
+    for (const InstanceConfig& i : mc.plugins)
+      if (i.plugin == "estimator_ekf")
+        for (const char* update : {"use_normal_force", "use_side_force"}) cli.sets.push_back(i.name + "." + update + "=false");
+  cli.sets.insert(cli.sets.end(), o.sets.begin(), o.sets.end());
   apply_overrides(mc, cli);
   HostOptions opt;
   opt.replay = replay_source(fs::absolute(o.log_dir));

@@ -20,6 +20,14 @@ struct EstimatorReplay {
   std::vector<std::string> sets;       ///< INSTANCE.PARAM=VALUE, as `tern replay --set`
   std::optional<LogLevel> level;       ///< the replay's log level (default: the config's)
   bool quiet = false;
+  /// The estimate from kinematics alone: every estimator_ekf instance without the aircraft-model
+  /// updates (use_normal_force, use_side_force false), as system identification and validation
+  /// need it. Those updates turn the accelerometers into alpha and beta through the aircraft
+  /// file's C_L and C_Y: the very coefficients being identified or scored (the log's file: in a
+  /// simulation the world's truth, on a real aircraft the prior), so an estimate made with them
+  /// hands them back. Klein and Morelli, *Aircraft System Identification*, ch. 10: the flight
+  /// path is reconstructed from the kinematic equations, independently of the aerodynamic model.
+  bool kinematic = false;
 };
 
 /// Flies the estimator alone (no controllers, phases or mission) over the log's sensors; a log

@@ -38,6 +38,7 @@ fs::path estimate_of(const SysidOptionsCli& o) {
   req.sets = o.sets;
   req.level = LogLevel::sysid;
   req.quiet = true;
+  req.kinematic = true;  // the estimate not shaped by any file's coefficients (estimator_replay.hpp)
   const FlightResult r = replay_estimator(req);
   return r.run_dir;
 }

@@ -156,6 +156,18 @@ std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cuto
   return y;
 }
 
+/// alpha and beta of the ground velocity less the steady wind (header), at every sample.
+void flow_angles_from_steady_wind(FlightSeries& s) {
+  s.alpha.assign(s.size(), std::nan("")), s.beta.assign(s.size(), std::nan(""));
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const Eigen::Matrix3d R_nb = rotation_from_euler(s.phi[k], s.theta[k], s.psi[k]);  // body to NED
+    const Eigen::Vector3d v_r = Eigen::Vector3d(s.u[k], s.v[k], s.w[k]) - R_nb.transpose() * Eigen::Vector3d(s.w_n[k], s.w_e[k], s.w_d[k]);
+    if (!v_r.allFinite() || !(v_r.norm() > 0.0)) continue;
+    s.alpha[k] = std::atan2(v_r.z(), v_r.x());
+    s.beta[k] = std::asin(v_r.y() / v_r.norm());
+  }
+}
+
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
                                 const FlightSeriesOptions& o) {
   const std::vector<std::string> imu_names = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
@@ -218,23 +230,26 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   s.delta_a = command("delta_a"), s.delta_e = command("delta_e"), s.delta_r = command("delta_r"), s.delta_t = command("delta_t");
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
   // a gap) the filter sees the nearest value and the result stays NaN
-  auto estimate = [&](const std::string& name, bool angle = false) {
+  auto filtered = [&](const std::string& name, bool angle, double cutoff_hz) {
     Column c = est(name, angle);
     Column filled = c;
     for (std::size_t k = 1; k < filled.size(); ++k)
       if (!std::isfinite(filled[k])) filled[k] = filled[k - 1];
     for (std::size_t k = filled.size() - 1; k-- > 0;)
       if (!std::isfinite(filled[k])) filled[k] = filled[k + 1];
-    Column f = std::isfinite(filled.front()) ? lp(filled) : filled;
+    Column f = std::isfinite(filled.front()) ? zero_phase_lowpass(filled, cutoff_hz, dt) : filled;
     for (std::size_t k = 0; k < f.size(); ++k)
       if (!std::isfinite(c[k])) f[k] = c[k];
     return keep(f);
   };
-  s.Va = estimate("Va"), s.alpha = estimate("alpha"), s.beta = estimate("beta");
+  auto estimate = [&](const std::string& name, bool angle = false) { return filtered(name, angle, o.filter_hz); };
+  s.Va = estimate("Va");
   s.phi = estimate("phi", true), s.theta = estimate("theta"), s.psi = estimate("psi", true);
   s.p_n = estimate("p_n"), s.p_e = estimate("p_e"), s.p_d = estimate("p_d");
   s.u = estimate("u"), s.v = estimate("v"), s.w = estimate("w");
-  s.w_n = estimate("w_n"), s.w_e = estimate("w_e"), s.w_d = estimate("w_d");
+  const double wind_hz = o.steady_wind_s > 0.0 ? 1.0 / o.steady_wind_s : o.filter_hz;
+  s.w_n = filtered("w_n", false, wind_hz), s.w_e = filtered("w_e", false, wind_hz), s.w_d = filtered("w_d", false, wind_hz);
+  flow_angles_from_steady_wind(s);
   s.qbar = Column(s.t.size(), std::nan(""));
   const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
   if (std::filesystem::exists(pitot)) {

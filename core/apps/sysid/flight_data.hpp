@@ -38,6 +38,9 @@ struct FlightSeriesOptions {
   double rate_hz = 50.0;                                   ///< Hz, rate of the series after decimation (0: the IMU's)
   Eigen::Vector3d imu_position = Eigen::Vector3d::Zero();  ///< m, body FRD from the CG (the estimator's)
   Eigen::Vector3d imu_mount = Eigen::Vector3d::Zero();     ///< rad, roll pitch yaw of the IMU axes in the body's
+  /// s: the wind the flow angles are reconstructed against is the estimator's low-passed at
+  /// 1 / steady_wind_s Hz (0: at filter_hz, the estimator's own)
+  double steady_wind_s = 30.0;
 };
 
 /// One vector per channel, all of length size(); sample k of each belongs to time t[k].
@@ -48,15 +51,26 @@ struct FlightSeries {
   std::vector<double> p_dot, q_dot, r_dot;        ///< angular acceleration, rad/s^2
   std::vector<double> delta_a, delta_e, delta_r;  ///< surface deflections (lagged commands), rad
   std::vector<double> delta_t;                    ///< throttle, 0..1
-  std::vector<double> Va, alpha, beta;            ///< estimator's airspeed (m/s) and flow angles (rad)
+  std::vector<double> Va;                         ///< estimator's airspeed, m/s
+  std::vector<double> alpha, beta;                ///< flow angles of the reconstructed flight path, rad (header)
   std::vector<double> qbar;                       ///< pitot differential pressure, Pa (NaN: no pitot in the log)
   std::vector<double> phi, theta, psi;            ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
   std::vector<double> p_n, p_e, p_d;              ///< estimator's position NED from its origin, m
   std::vector<double> u, v, w;                    ///< estimator's ground velocity, body FRD, m/s
-  std::vector<double> w_n, w_e, w_d;              ///< estimator's wind, NED, m/s
+  std::vector<double> w_n, w_e, w_d;              ///< estimator's wind low-passed to the steady wind, NED, m/s
   std::vector<unsigned char> valid;               ///< 1 where the estimate was valid and interpolated
   std::size_t size() const { return t.size(); }
 };
+
+/// The flow angles of the flight-path reconstruction (Klein and Morelli ch. 10: the kinematic
+/// equations with a wind constant over the manoeuvres): the air velocity is the estimator's ground
+/// velocity (u, v, w, body FRD) less the steady wind (w_n, w_e, w_d) turned into the body axes by
+/// phi, theta, psi; alpha = atan2(w_r, u_r), beta = asin(v_r / |v_r|). Not the estimator's own
+/// alpha and beta: its wind follows the gusts through the zero-sideslip and pitot updates
+/// (wind_walk), which leaves its sideslip uncorrelated with the true one in the manoeuvres' band.
+/// The gusts faster than the steady wind are these angles' error, independent of the
+/// accelerometers' (identify.hpp takes them as instruments). NaN where an input is.
+void flow_angles_from_steady_wind(FlightSeries& s);
 
 /// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv (a
 /// table without rows is found later: no airborne samples, an estimate never valid). Throws ConfigError naming the file ("no such table:

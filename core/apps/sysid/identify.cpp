@@ -280,16 +280,25 @@ void bias_fit(Context& c, const std::string& name, Member member, const Col& z, 
   r.identified = true;
 }
 
-/// Time-domain least squares on the trim windows' means: z = X theta. Returns the estimate.
-LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& columns) {
-  const Col zm = window_means(z, c.L);
-  Eigen::MatrixXd X(static_cast<Eigen::Index>(zm.size()), static_cast<Eigen::Index>(columns.size()));
+/// The trim windows' means of each column, as a matrix (rows: windows).
+Eigen::MatrixXd window_matrix(const Context& c, const std::vector<const Col*>& columns) {
+  Eigen::MatrixXd X(static_cast<Eigen::Index>(c.L.windows.size()), static_cast<Eigen::Index>(columns.size()));
   for (std::size_t j = 0; j < columns.size(); ++j) {
     const Col m = window_means(*columns[j], c.L);
     for (std::size_t i = 0; i < m.size(); ++i) X(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = m[i];
   }
+  return X;
+}
+
+/// Time-domain least squares on the trim windows' means: z = X theta, with `instruments` (one per
+/// column, or empty: ordinary least squares) the instrumental-variable estimate. Returns it.
+LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& columns, const std::vector<const Col*>& instruments = {}) {
+  const Col zm = window_means(z, c.L);
+  const Eigen::MatrixXd X = window_matrix(c, columns);
   if (X.rows() <= X.cols()) throw std::runtime_error(fmt::format("too few trim windows ({}) of {} s", X.rows(), c.o.trim_window_s));
-  return least_squares(X, Eigen::Map<const Eigen::VectorXd>(zm.data(), static_cast<Eigen::Index>(zm.size())), 3);
+  const Eigen::MatrixXd Z = instruments.empty() ? X : window_matrix(c, instruments);
+  return least_squares(X, Eigen::Map<const Eigen::VectorXd>(zm.data(), static_cast<Eigen::Index>(zm.size())), 3,
+                       instruments.empty() ? nullptr : &Z);
 }
 
 double stddev(const Col& x) {
@@ -343,7 +352,13 @@ LsEstimate lift_trim_fit(Context& c, double q_scale = 1.0, double delta_e_scale 
   for (std::size_t k = 0; k < a.size(); ++k)
     z[k] = a.C_L[k] - q_scale * c.coef.C_L_q * a.q_hat[k] - delta_e_scale * c.coef.C_L_delta_e * a.delta_e[k];
   const Col ones(a.size(), 1.0);
-  return trim_fit(c, z, {&ones, &a.alpha});
+  // alpha's instrument: 1 / qbar (the trim's alpha at 1 g goes as m g / (qbar S)), whose error (the
+  // pitot's noise, the longitudinal gust) is independent of the wind triangle's (the vertical gust,
+  // the estimator's vertical wind): the window means of alpha carry that error undiminished by the
+  // flight's length, and ordinary least squares on them flattens the lift curve
+  Col inv_qbar(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) inv_qbar[k] = 1.0 / (a.Va[k] * a.Va[k]);
+  return trim_fit(c, z, {&ones, &a.alpha}, {&ones, &inv_qbar});
 }
 
 /// The lift's trim fit with the bounds widened by what the kept pitch-rate and elevator terms'

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 
 #include "tern/math.hpp"
 
@@ -23,26 +24,29 @@ Eigen::MatrixXd inverse_spd(const Eigen::MatrixXd& A) { return A.ldlt().solve(Ei
 
 }  // namespace
 
-LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag) {
+LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag, const Eigen::MatrixXd* instruments) {
   check_shapes(X.rows(), z.rows(), X.cols());
+  const Eigen::MatrixXd& Z = instruments != nullptr ? *instruments : X;
+  if (Z.rows() != X.rows() || Z.cols() != X.cols()) throw std::invalid_argument("least squares: instruments and X differ in shape");
   const Eigen::Index n = X.rows(), p = X.cols();
-  const Eigen::MatrixXd D = inverse_spd(X.transpose() * X);
+  // D = (Z^T X)^-1: (X^T X)^-1 for ordinary least squares
+  const Eigen::MatrixXd D = instruments != nullptr ? Eigen::MatrixXd((Z.transpose() * X).inverse()) : inverse_spd(X.transpose() * X);
   LsEstimate e;
   e.rows = static_cast<std::size_t>(n);
-  e.theta = D * (X.transpose() * z);
+  e.theta = D * (Z.transpose() * z);
   e.residual = z - X * e.theta;
   e.s2 = e.residual.squaredNorm() / static_cast<double>(n - p);
-  e.std_error_white = (e.s2 * D.diagonal()).cwiseSqrt();
-  // K&M eq. 5.81: the middle term sum_k R_vv(k) sum_i (x_i x_{i+k}^T + x_{i+k} x_i^T), k > 0
+  e.std_error_white = (e.s2 * D * (Z.transpose() * Z) * D.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt();
+  // K&M eq. 5.81: the middle term sum_k R_vv(k) sum_i (z_i z_{i+k}^T + z_{i+k} z_i^T), k > 0
   const Eigen::VectorXd& v = e.residual;
-  Eigen::MatrixXd M = v.squaredNorm() / static_cast<double>(n) * (X.transpose() * X);
+  Eigen::MatrixXd M = v.squaredNorm() / static_cast<double>(n) * (Z.transpose() * Z);
   const Eigen::Index lags = std::min<Eigen::Index>(static_cast<Eigen::Index>(max_lag), n - 1);
   for (Eigen::Index k = 1; k <= lags; ++k) {
     const double R = v.head(n - k).dot(v.tail(n - k)) / static_cast<double>(n);
-    const Eigen::MatrixXd C = X.topRows(n - k).transpose() * X.bottomRows(n - k);
+    const Eigen::MatrixXd C = Z.topRows(n - k).transpose() * Z.bottomRows(n - k);
     M += R * (C + C.transpose());
   }
-  const Eigen::MatrixXd cov = D * M * D;
+  const Eigen::MatrixXd cov = D * M * D.transpose();
   e.std_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
   const double zc = (z.array() - z.mean()).matrix().squaredNorm();
   e.r_squared = zc > 0.0 ? 1.0 - v.squaredNorm() / zc : 0.0;

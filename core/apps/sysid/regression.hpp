@@ -38,7 +38,11 @@ struct LsEstimate {
 };
 
 /// Time-domain least squares with the coloured-residual covariance (header). max_lag in samples.
-LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag);
+/// With `instruments` Z (the shape of X), the instrumental-variable estimate theta = (Z^T X)^-1
+/// Z^T z (K&M sec. 5.5), covariance D [sum_i sum_j z_i R_vv(i-j) z_j^T] D^T, D = (Z^T X)^-1:
+/// consistent when a regressor carries an error that Z's columns do not correlate with.
+LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag,
+                         const Eigen::MatrixXd* instruments = nullptr);
 
 /// Frequency-domain least squares on complex rows (header). With `instruments` Z (the shape of
 /// X), the instrumental-variable estimate theta = Re(Z~^H X~)^-1 Re(Z~^H z~) (K&M sec. 5.5; Ljung,

@@ -141,3 +141,46 @@ TEST_CASE("the coloured-residual bound is wider than the white one when the resi
   const auto e = tern::core::sysid::least_squares(X, z, 200);
   CHECK(e.std_error[0] > 2.0 * e.std_error_white[0]);
 }
+
+TEST_CASE("instrumental variables: a regressor with its own error is flattened by least squares, not by IV") {
+  // z = 2 x_true; the regressor carries an independent error as large as x_true's spread (a gust
+  // in the wind triangle's alpha); the instrument measures x_true through another route
+  const int n = 4000;
+  Eigen::MatrixXd X(n, 2), Z(n, 2);
+  Eigen::VectorXd z(n);
+  for (int k = 0; k < n; ++k) {
+    const double x = std::sin(0.013 * k), gust = std::sin(0.71 * k + 0.3 * std::sin(0.05 * k)), other = std::sin(1.37 * k * k);
+    X(k, 0) = 1.0, X(k, 1) = x + gust;
+    Z(k, 0) = 1.0, Z(k, 1) = x + 0.2 * other;
+    z[k] = 0.5 + 2.0 * x;
+  }
+  const auto ls = tern::core::sysid::least_squares(X, z, 3);
+  const auto iv = tern::core::sysid::least_squares(X, z, 3, &Z);
+  CHECK(ls.theta[1] < 1.4);  // attenuated by var(x) / (var(x) + var(gust)) = 1/2
+  CHECK(iv.theta[1] == doctest::Approx(2.0).epsilon(0.02));
+  CHECK(iv.theta[0] == doctest::Approx(0.5).epsilon(0.02));
+  CHECK(std::abs(iv.theta[1] - 2.0) <= 3.0 * iv.std_error[1]);
+  const Eigen::MatrixXd bad = Z.leftCols(1);
+  CHECK_THROWS_AS(tern::core::sysid::least_squares(X, z, 3, &bad), std::invalid_argument);
+}
+
+TEST_CASE("the flow angles of the reconstructed flight path: ground velocity less the steady wind, in body axes") {
+  FlightSeries s;
+  const double phi = 0.3, theta = 0.1, psi = 2.0, alpha = 0.06, beta = -0.03, Va = 22.0;
+  const Eigen::Vector3d wind(3.0, -4.0, 0.0);
+  const Eigen::Vector3d v_air(Va * std::cos(alpha) * std::cos(beta), Va * std::sin(beta), Va * std::sin(alpha) * std::cos(beta));
+  const Eigen::Matrix3d R = tern::rotation_from_euler(phi, theta, psi);
+  const Eigen::Vector3d v_ground = v_air + R.transpose() * wind;
+  s.t = {0.0, 0.02};
+  for (int k = 0; k < 2; ++k) {
+    s.phi.push_back(phi), s.theta.push_back(theta), s.psi.push_back(psi);
+    s.u.push_back(v_ground.x()), s.v.push_back(v_ground.y()), s.w.push_back(v_ground.z());
+    s.w_n.push_back(wind.x()), s.w_e.push_back(wind.y()), s.w_d.push_back(wind.z());
+  }
+  s.u[1] = std::nan("");
+  tern::core::sysid::flow_angles_from_steady_wind(s);
+  CHECK(s.alpha[0] == doctest::Approx(alpha).epsilon(1e-12));
+  CHECK(s.beta[0] == doctest::Approx(beta).epsilon(1e-12));
+  CHECK(std::isnan(s.alpha[1]));
+  CHECK(std::isnan(s.beta[1]));
+}
