@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -11,6 +12,7 @@
 
 #include "sysid/instrumentation.hpp"
 #include "sysid/regression.hpp"
+#include "sysid/sideslip_instrument.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/model.hpp"
 
@@ -117,6 +119,10 @@ class Spectra {
   }
   /// (first row, rows) of each segment's frequencies in every spectrum.
   const std::vector<std::pair<Eigen::Index, Eigen::Index>>& segment_rows() const { return rows_; }
+  /// The frequencies (Hz) of segment i's rows.
+  Col segment_frequencies(std::size_t i) const { return frequencies(L_.segments[i].first, L_.segments[i].second); }
+  /// A spectrum made in the frequency domain (an instrument), served as `of(*key)`.
+  void put(const Col* key, Eigen::VectorXcd spectrum) { cache_[key] = std::move(spectrum); }
   const Eigen::VectorXcd& of(const Col& x) {
     auto it = cache_.find(&x);
     if (it != cache_.end()) return it->second;
@@ -178,22 +184,31 @@ std::string unexcited(Context& c, const Term& t) {
   return level > x.threshold ? "" : x.what;
 }
 
-/// The scatter bound: the same regression on each segment alone (batches of at most kMaxSegment),
-/// the estimates' standard deviation over sqrt(batches): what the flight's pieces disagree by,
-/// which no residual model of one fit sees. Zero when fewer than three batches can be fitted.
+/// The scatter bound: the delete-one-batch jackknife over the segments (batches of at most
+/// kMaxSegment): the regression refitted without each batch in turn, the variance
+/// (G - 1) / G sum (theta_(i) - mean)^2 (Efron and Tibshirani, *An Introduction to the Bootstrap*,
+/// ch. 11): what the flight's pieces disagree by, which no residual model of one fit sees. Unlike a
+/// fit of each batch alone it stays defined when a batch holds no excitation of its own (the take-off's,
+/// an instrument weak there). Zero when fewer than three batches hold rows.
 Eigen::VectorXd batch_scatter(const Context& c, const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z, const Eigen::MatrixXcd& Z, bool iv) {
   std::vector<Eigen::VectorXd> thetas;
   for (const auto& [first, n] : c.spectra.segment_rows()) {
-    if (n < 3 * X.cols()) continue;
-    const Eigen::MatrixXcd Zb = Z.middleRows(first, n);
-    thetas.push_back(least_squares_frequency(X.middleRows(first, n), z.segment(first, n), iv ? &Zb : nullptr).theta);
+    if (n == 0 || X.rows() - n <= 3 * X.cols()) continue;
+    const Eigen::Index rest = X.rows() - n, tail = X.rows() - first - n;
+    Eigen::MatrixXcd Xr(rest, X.cols()), Zr(rest, X.cols());
+    Eigen::VectorXcd zr(rest);
+    Xr << X.topRows(first), X.bottomRows(tail);
+    Zr << Z.topRows(first), Z.bottomRows(tail);
+    zr << z.head(first), z.tail(tail);
+    thetas.push_back(least_squares_frequency(Xr, zr, iv ? &Zr : nullptr).theta);
   }
   Eigen::VectorXd se = Eigen::VectorXd::Zero(X.cols());
   if (thetas.size() < 3) return se;
+  const double G = static_cast<double>(thetas.size());
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(X.cols());
-  for (const auto& t : thetas) mean += t / static_cast<double>(thetas.size());
-  for (const auto& t : thetas) se += (t - mean).cwiseAbs2() / static_cast<double>(thetas.size() - 1);
-  return (se / static_cast<double>(thetas.size())).cwiseSqrt();
+  for (const auto& t : thetas) mean += t / G;
+  for (const auto& t : thetas) se += (t - mean).cwiseAbs2();
+  return (se * (G - 1.0) / G).cwiseSqrt();
 }
 
 /// Why each free term fails after a fit (collinear, poorly determined), by name.
@@ -212,8 +227,9 @@ std::map<std::string, std::string> failures(Context& c, const std::vector<Term>&
   return bad;
 }
 
-/// z = sum of terms, in the frequency domain over the band. Terms not excited, collinear or poorly
-/// determined keep the prior (moved to the left side) and the others are fitted again.
+/// z = sum of terms, in the frequency domain over the band. Terms not excited keep the prior (moved
+/// to the left side); of those collinear or poorly determined after a fit, the least determined
+/// (largest standard error / |estimate|) keeps its prior and the others are fitted again.
 void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms) {
   std::vector<Term> free;
   std::map<std::string, std::string> why;
@@ -239,7 +255,8 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
       throw std::runtime_error(fmt::format("{}: too few frequency rows in {}..{} Hz", axis, c.o.band_lo_hz, c.o.band_hi_hz));
     LsEstimate e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
     e.std_error = e.std_error.cwiseMax(batch_scatter(c, X, zf, Z, instrumented));
-    const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(X));
+    // with instruments the estimate rests on Z: collinear instruments leave it undetermined
+    const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(instrumented ? Z : X));
     if (bad.empty()) {
       c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows});
       for (std::size_t j = 0; j < free.size(); ++j) {
@@ -250,13 +267,16 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
       }
       break;
     }
-    std::vector<Term> kept;
-    for (const Term& t : free)
-      if (bad.count(t.name))
-        why[t.name] = bad.at(t.name);
-      else
-        kept.push_back(t);
-    free = kept;
+    // one term at a time, the least determined first: of two collinear terms the other may then stand
+    std::size_t worst = free.size();
+    double worst_ratio = -1.0;
+    for (std::size_t j = 0; j < free.size(); ++j) {
+      const auto J = static_cast<Eigen::Index>(j);
+      const double ratio = e.std_error[J] / std::max(std::abs(e.theta[J]), 1e-300);
+      if (bad.count(free[j].name) && ratio > worst_ratio) worst = j, worst_ratio = ratio;
+    }
+    why[free[worst].name] = bad.at(free[worst].name);
+    free.erase(free.begin() + static_cast<std::ptrdiff_t>(worst));
   }
   for (const Term& t : terms)
     if (why.count(t.name)) {
@@ -522,6 +542,33 @@ std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member
           {axis + "_delta_r", m[4], &a.delta_r, x.delta_r}};
 }
 
+/// The side force's instrument for beta (sideslip_instrument.hpp), put into the spectra under `key`:
+/// each stretch's sideslip of the lateral model for its commands, linearised at the stretch's mean
+/// airspeed with the coefficients identified so far. False (no instrument) when that model does not
+/// trim, with the reason in `why`.
+bool put_sideslip_instrument(Context& c, const Col& key, std::string& why) {
+  const Eigen::VectorXcd& DA = c.spectra.of(c.a.delta_a);
+  const Eigen::VectorXcd& DR = c.spectra.of(c.a.delta_r);
+  Eigen::VectorXcd Z(DA.size());
+  Aircraft model = c.result.aircraft;
+  model.aero = c.coef;
+  for (std::size_t i = 0; i < c.L.segments.size(); ++i) {
+    const auto [b, e] = c.L.segments[i];
+    double Va = 0.0;
+    for (std::size_t k = b; k < e; ++k) Va += c.a.Va[k] / static_cast<double>(e - b);
+    const auto [first, n] = c.spectra.segment_rows()[i];
+    try {
+      const tern::aero::LinearModel m = tern::aero::linearize(model, {Va});
+      Z.segment(first, n) = modelled_sideslip(m, c.spectra.segment_frequencies(i), DA.segment(first, n), DR.segment(first, n));
+    } catch (const std::exception& ex) {
+      why = fmt::format("the lateral model does not trim at {:.1f} m/s ({})", Va, ex.what());
+      return false;
+    }
+  }
+  c.spectra.put(&key, std::move(Z));
+  return true;
+}
+
 /// beta where the side force says it was, once C_Y is known (identify.hpp, step 2); with
 /// `from_force` false, the estimator's.
 Col beta_from_side_force(const Context& c, bool from_force) {
@@ -674,7 +721,18 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
     drag(c, alpha, prior, nullptr, 1.0);
   }
   Signals x = signals(a, alpha, a.beta);
-  const std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x);
+  // the reconstructed beta misses the lateral gusts: instrumented by the lateral model's sideslip
+  const Col beta_model(a.size(), 0.0);  // a key: its spectrum is put in the frequency domain
+  std::string why;
+  const bool side_iv = put_sideslip_instrument(c, beta_model, why);
+  if (!side_iv) r.notes.push_back(fmt::format("side force: beta not instrumented: {}", why));
+  std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x,
+                                         side_iv ? &beta_model : nullptr);
+  if (side_iv)  // the model's sideslip is itself a mix of the rates' responses: beside it p^ and r^ take up its error
+    for (Term& t : side)
+      if (t.name == "C_Y_p" || t.name == "C_Y_r")
+        t.excitation = {t.excitation.signal, true, std::numeric_limits<double>::infinity(),
+                        "held: the instrumented sideslip leaves the side force's rate terms undetermined (small on a symmetric airframe)"};
   band_fit(c, "side force", a.C_Y, side);
   bias_fit(c, "C_Y_0", &M::C_Y_0, a.C_Y, side);
   const Col beta = beta_from_side_force(c, accel);
