@@ -14,6 +14,7 @@ bench/results/bench_sysid.json). Every figure says what produced it: the truth i
 file the simulator flew; the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
 """
 import argparse
+import csv
 import json
 import math
 import os
@@ -90,6 +91,26 @@ def drag_coefficient(ac, alpha, delta_e):
     return a["C_D_p"] + (a["C_L_0"] + a["C_L_alpha"] * alpha) ** 2 / (math.pi * w["e"] * AR) + a["C_D_delta_e"] * delta_e
 
 
+def imu_mount_pitch(flight):
+    """The simulator's IMU mounting pitch (rad) from the flight's params.csv (sim.imu_misalignment): the world's,
+    read here only to state the truth in the frame the vehicle measures in; 0 when the profile has none."""
+    with open(os.path.join(flight, "params.csv")) as f:
+        for row in csv.reader(f):
+            if len(row) >= 3 and row[1].endswith(".imu_misalignment"):
+                return float(yaml.safe_load(row[2])[1])
+    return 0.0
+
+
+def truth_in_imu_frame(truth_aero, pitch):
+    """The coefficients as the vehicle can know them: alpha in the IMU's axes is the body's plus the mounting
+    pitch, so the lift's and pitching moment's constant terms move by the slopes times it (C_L_0 - C_L_alpha
+    pitch, C_m_0 - C_m_alpha pitch); no estimate can see the mounting, only the frame it measures in."""
+    t = dict(truth_aero)
+    t["C_L_0"] = truth_aero["C_L_0"] - truth_aero["C_L_alpha"] * pitch
+    t["C_m_0"] = truth_aero["C_m_0"] - truth_aero["C_m_alpha"] * pitch
+    return t
+
+
 def tracking(summary_file):
     s = json.load(open(summary_file))
     t = s["metrics"]["tracking_rmse"]
@@ -108,9 +129,11 @@ def one_seed(tern, seed, args, work):
     run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
+    pitch = imu_mount_pitch(flight)
+    truth_imu = truth_in_imu_frame(truth["aero"], pitch)
     rows = {}
     for name, c in result["coefficients"].items():
-        true = truth["aero"].get(name, 0.0)
+        true = truth_imu.get(name, 0.0)
         rows[name] = {"truth": true, "prior": c["prior"], "estimate": c["estimate"], "std_error": c["std_error"],
                       "identified": c["identified"], "note": c["note"],
                       "relative_error": abs(c["estimate"] - true) / abs(true) if true else None,
@@ -119,10 +142,11 @@ def one_seed(tern, seed, args, work):
     trim = trim_point(tern, truth_file, 25.0)
     identified = yaml.safe_load(open(os.path.join(out, "aircraft.yaml")))
     prior_doc = yaml.safe_load(open(prior))
-    drag = {name: drag_coefficient(doc, trim["alpha"], trim["delta"]["delta_e"])
+    # each file at the trim's alpha in its own frame: the identified one's is the IMU's
+    drag = {name: drag_coefficient(doc, trim["alpha"] + (pitch if name == "identified" else 0.0), trim["delta"]["delta_e"])
             for name, doc in (("truth", truth), ("identified", identified), ("prior", prior_doc))}
     return {"seed": seed, "prior_factor": factor, "flight": flight, "sysid_seconds": seconds,
-            "log_seconds": result.get("airborne_s"), "coefficients": rows, "drag_at_trim_25": drag,
+            "log_seconds": result.get("airborne_s"), "imu_mount_pitch_rad": pitch, "coefficients": rows, "drag_at_trim_25": drag,
             "identified_file": os.path.join(out, "aircraft.yaml"), "prior_file": prior}
 
 

@@ -359,6 +359,40 @@ std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name)
   return out;
 }
 
+/// Which flow angle a model instrument stands for (sideslip_instrument.hpp).
+enum class FlowAngle { alpha, beta };
+
+/// The instrument for alpha (the lift's) or beta (the side force's), put into the spectra under
+/// `key` (sideslip_instrument.hpp): each stretch's flow angle of the linear model for its commands
+/// (elevator and throttle, or aileron and rudder), linearised at the stretch's mean airspeed with
+/// the coefficients known so far. False (no instrument) when that model does not trim, with the
+/// reason in `why`.
+bool put_flow_instrument(Context& c, FlowAngle angle, const Col& key, std::string& why) {
+  const bool lateral = angle == FlowAngle::beta;
+  const Eigen::VectorXcd& U1 = c.spectra.of(lateral ? c.a.delta_a : c.a.delta_e);
+  const Eigen::VectorXcd& U2 = c.spectra.of(lateral ? c.a.delta_r : c.a.delta_t);
+  Eigen::VectorXcd Z(U1.size());
+  Aircraft model = c.result.aircraft;
+  model.aero = c.coef;
+  for (std::size_t i = 0; i < c.L.segments.size(); ++i) {
+    const auto [b, e] = c.L.segments[i];
+    double Va = 0.0;
+    for (std::size_t k = b; k < e; ++k) Va += c.a.Va[k] / static_cast<double>(e - b);
+    const auto [first, n] = c.spectra.segment_rows()[i];
+    const Col f = c.spectra.segment_frequencies(i);
+    try {
+      const tern::aero::LinearModel m = tern::aero::linearize(model, {Va});
+      Z.segment(first, n) = lateral ? modelled_sideslip(m, f, U1.segment(first, n), U2.segment(first, n))
+                                    : modelled_alpha(m, f, U1.segment(first, n), U2.segment(first, n));
+    } catch (const std::exception& ex) {
+      why = fmt::format("the linear model does not trim at {:.1f} m/s ({})", Va, ex.what());
+      return false;
+    }
+  }
+  c.spectra.put(&key, std::move(Z));
+  return true;
+}
+
 /// The prior of a term kept at it is taken as uncertain by this fraction of its value (a model
 /// from XFLR5 or the book's sister aircraft: x0.6 .. x1.5); its effect on the estimates fitted
 /// beside it is added to their bounds (a consider covariance).
@@ -398,7 +432,7 @@ LsEstimate lift_trim_considered(Context& c) {
   return e;
 }
 
-/// The band's lift fit on the wind triangle's alpha below which its terms are not taken.
+/// The band's lift fit on the reconstructed alpha below which its terms are not taken.
 constexpr double kMinLiftBandFit = 0.9;
 
 /// The lift's pitch-rate and elevator terms back to the prior, with the reason.
@@ -410,16 +444,20 @@ void lift_band_rejected(Context& c, const std::string& why) {
     }
 }
 
-/// Lift. The pitch-rate and elevator terms in the band, beside the wind triangle's alpha; C_L_0
-/// and C_L_alpha from the trim windows' means (the gusts average out), with those terms. The band's
-/// own fit is the check: gusts the estimator does not see bias it low, and the terms beside it with
-/// it; if that alpha explains less than kMinLiftBandFit of the lift in the band, or the band's
-/// C_L_alpha disagrees with the trim's (beyond 3 of its standard errors and 5 %), the band's terms
-/// are not taken.
+/// Lift. The pitch-rate and elevator terms in the band, beside the reconstructed alpha instrumented
+/// by the longitudinal model's; C_L_0 and C_L_alpha from the trim windows' means by instrumental
+/// variables (lift_trim_fit), with those terms. The band's own fit is the check: if alpha explains
+/// less than kMinLiftBandFit of the lift in the band, or the band's C_L_alpha disagrees with the
+/// trim's (beyond 3 of its standard errors and 5 %), the band's terms are not taken.
 void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excitation& delta_e) {
   const AeroSamples& a = c.a;
+  // the reconstructed alpha misses the vertical gusts: instrumented by the longitudinal model's
+  const Col alpha_model(a.size(), 0.0);  // a key: its spectrum is put in the frequency domain
+  std::string why;
+  const bool iv = put_flow_instrument(c, FlowAngle::alpha, alpha_model, why);
+  if (!iv) c.result.notes.push_back(fmt::format("lift: alpha not instrumented in the band: {}", why));
   band_fit(c, "lift", a.C_L,
-           {{"C_L_alpha", &M::C_L_alpha, &a.alpha, alpha},
+           {{"C_L_alpha", &M::C_L_alpha, &a.alpha, alpha, iv ? &alpha_model : nullptr},
             {"C_L_q", &M::C_L_q, &a.q_hat, q},
             {"C_L_delta_e", &M::C_L_delta_e, &a.delta_e, delta_e}});
   const std::optional<CoefficientEstimate> band = take_out(c, "C_L_alpha");
@@ -436,14 +474,13 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
   LsEstimate e = lift_trim_considered(c);
   const auto fit = std::find_if(c.result.fits.begin(), c.result.fits.end(), [](const AxisFit& f) { return f.axis == "lift"; });
   if (fit != c.result.fits.end() && fit->r_squared < kMinLiftBandFit) {
-    lift_band_rejected(
-        c, fmt::format("the wind triangle's alpha explains R^2 {:.2f} of the lift in the band (gusts the estimator does not see)",
-                       fit->r_squared));
+    lift_band_rejected(c, fmt::format("the reconstructed alpha explains R^2 {:.2f} of the lift in the band (gusts the flight path misses)",
+                                      fit->r_squared));
     e = lift_trim_considered(c);
   } else if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
     lift_band_rejected(
-        c, fmt::format("the wind triangle's alpha disagrees with the lift (C_L_alpha {:.3g} +- {:.2g} in the band, {:.3g} from the trim): "
-                       "gusts the estimator does not see",
+        c, fmt::format("the reconstructed alpha disagrees with the lift (C_L_alpha {:.3g} +- {:.2g} in the band, {:.3g} from the trim): "
+                       "gusts the flight path misses",
                        band->estimate, band->std_error, e.theta[1]));
     e = lift_trim_considered(c);
   }
@@ -540,33 +577,6 @@ std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member
           {axis + "_r", m[2], &a.r_hat, x.r},
           {axis + "_delta_a", m[3], &a.delta_a, x.delta_a},
           {axis + "_delta_r", m[4], &a.delta_r, x.delta_r}};
-}
-
-/// The side force's instrument for beta (sideslip_instrument.hpp), put into the spectra under `key`:
-/// each stretch's sideslip of the lateral model for its commands, linearised at the stretch's mean
-/// airspeed with the coefficients identified so far. False (no instrument) when that model does not
-/// trim, with the reason in `why`.
-bool put_sideslip_instrument(Context& c, const Col& key, std::string& why) {
-  const Eigen::VectorXcd& DA = c.spectra.of(c.a.delta_a);
-  const Eigen::VectorXcd& DR = c.spectra.of(c.a.delta_r);
-  Eigen::VectorXcd Z(DA.size());
-  Aircraft model = c.result.aircraft;
-  model.aero = c.coef;
-  for (std::size_t i = 0; i < c.L.segments.size(); ++i) {
-    const auto [b, e] = c.L.segments[i];
-    double Va = 0.0;
-    for (std::size_t k = b; k < e; ++k) Va += c.a.Va[k] / static_cast<double>(e - b);
-    const auto [first, n] = c.spectra.segment_rows()[i];
-    try {
-      const tern::aero::LinearModel m = tern::aero::linearize(model, {Va});
-      Z.segment(first, n) = modelled_sideslip(m, c.spectra.segment_frequencies(i), DA.segment(first, n), DR.segment(first, n));
-    } catch (const std::exception& ex) {
-      why = fmt::format("the lateral model does not trim at {:.1f} m/s ({})", Va, ex.what());
-      return false;
-    }
-  }
-  c.spectra.put(&key, std::move(Z));
-  return true;
 }
 
 /// beta where the side force says it was, once C_Y is known (identify.hpp, step 2); with
@@ -724,7 +734,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   // the reconstructed beta misses the lateral gusts: instrumented by the lateral model's sideslip
   const Col beta_model(a.size(), 0.0);  // a key: its spectrum is put in the frequency domain
   std::string why;
-  const bool side_iv = put_sideslip_instrument(c, beta_model, why);
+  const bool side_iv = put_flow_instrument(c, FlowAngle::beta, beta_model, why);
   if (!side_iv) r.notes.push_back(fmt::format("side force: beta not instrumented: {}", why));
   std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x,
                                          side_iv ? &beta_model : nullptr);

@@ -1,23 +1,27 @@
 // core/apps/sysid/identify.hpp: the uavbook's aerodynamic coefficients (Beard and McLain, *Small
 // Unmanned Aircraft*, ch. 4: C_L_*, C_D_*, C_Y_*, C_ell_*, C_m_*, C_n_*) from a flight, by the
 // equation-error method (Klein and Morelli, *Aircraft System Identification*, 2006, ch. 5 and 7),
-// after the estimator has given attitude, wind, Va, alpha and beta (the two-step method).
+// after the estimator has given attitude, ground velocity and wind from kinematics alone (the
+// two-step method; flight_data.hpp reconstructs alpha and beta against the steady wind).
 //
-// Built for real air. In turbulence the wind-triangle alpha and beta miss the gusts (the
-// estimator's wind is steady): errors as large as what a manoeuvre moves them, which bias plain
-// least squares by tens of per cent while its bounds read a few. So:
-//  1. Lift and drag from the trim (time domain, the means of windows of trim_window_s): the gusts
-//     average out over a window while alpha spans the flight's airspeeds. C_L_0 and C_L_alpha
-//     (C_L_q, C_L_delta_e from the band beside the wind triangle's alpha, taken only when that
-//     alpha explains the band's lift: in turbulence it does not, and they keep the prior), then the
-//     polar's C_D_p and Oswald factor e on the lift, jointly with the accelerometer's x bias; every
-//     coefficient on the dynamic pressure corrected by the pitot's scale from the wind triangle
-//     (instrumentation.hpp: instrumentation-error parameters, K&M ch. 10).
-//  2. alpha from where it is observable: the accelerometers' lift, alpha = (C_L - C_L_0 - C_L_q q^ -
+// Built for real air. In turbulence the reconstructed alpha and beta miss the gusts: errors as
+// large as what a manoeuvre moves them, which bias plain least squares by tens of per cent while
+// its bounds read a few. So:
+//  1. Lift and drag from the trim (time domain, the means of windows of trim_window_s) over the
+//     flight's airspeeds: C_L_0 and C_L_alpha by instrumental variables, 1/qbar instrumenting alpha
+//     (a window's gust does not average out; the trim's alpha at 1 g goes as m g / (qbar S));
+//     C_L_q, C_L_delta_e from the band, alpha instrumented by the longitudinal model's alpha for
+//     the commands (sideslip_instrument.hpp), taken only when the band's fit holds and its
+//     C_L_alpha agrees with the trim's; then the polar's C_D_p and Oswald factor e on the lift,
+//     optionally jointly with the accelerometer's x bias; every coefficient on the dynamic pressure
+//     corrected by the pitot's scale from the wind triangle (instrumentation.hpp, K&M ch. 10).
+//  2. The side force in the band, beta instrumented by the lateral model's sideslip for the
+//     commands (sideslip_instrument.hpp; C_Y_p, C_Y_r held beside it). Then alpha and beta from
+//     where they are observable: the accelerometers' lift, alpha = (C_L - C_L_0 - C_L_q q^ -
 //     C_L_delta_e delta_e) / C_L_alpha (the flow the wing met, gusts included; the body forces
-//     turned through it), beta likewise from the side force once C_Y is known (flow_angles:
-//     accelerometer; estimator: the wind triangle's). In the moment regressions they are
-//     instrumented by the wind triangle's (instrumental variables: independent errors).
+//     turned through it), beta likewise from the side force (flow_angles: accelerometer;
+//     estimator: the reconstruction's). In the moment regressions they are instrumented by the
+//     reconstruction's (instrumental variables: independent errors).
 //  3. The moments and the side force in the frequency domain, over the band the excitation filled
 //     (band_lo_hz .. band_hi_hz, each airborne stretch of min_segment_s or more, in pieces of at
 //     most two minutes, transformed at the multiples of 1/T in the band): the trim, slow drifts and
@@ -36,7 +40,7 @@
 // For each coefficient: the estimate, its standard error, the prior, and whether the data
 // identified it. The standard error is the largest of the white-residual Cramer-Rao bound, the one
 // that accounts for coloured residuals (the time domain's residual autocorrelation, the frequency
-// domain's per-frequency residual power) and the scatter of the same regression over the flight's
+// domain's per-frequency residual power) and the delete-one-batch jackknife over the flight's
 // two-minute pieces; the lift's also carries what the kept terms beside it, uncertain by half
 // their prior, move it by. A coefficient is not identified (the prior is kept, with one line saying
 // why) when its regressor was not excited (e.g. "pitch rate never above 5 deg/s"), when it is

@@ -1,6 +1,7 @@
 // core/apps/sysid/sideslip_instrument.hpp: an instrument for the sideslip in the side force's
 // regression (identify.hpp): the sideslip a linear lateral model gives for the flight's own aileron
-// and rudder commands, frequency by frequency.
+// and rudder commands, frequency by frequency; and likewise alpha for the lift's, from the
+// longitudinal model and the elevator and throttle.
 //
 // Why. The side force's regression needs beta, and beta is not measured: the flight path's
 // reconstruction (flight_data.hpp) misses the lateral gusts, an error as large as what the rudder
@@ -33,5 +34,10 @@ namespace tern::core::sysid {
 /// beta(f) of the lateral model `m` for the commands' spectra at the frequencies `f_hz` (header).
 Eigen::VectorXcd modelled_sideslip(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
                                    const Eigen::VectorXcd& delta_r);
+
+/// alpha(f) of the longitudinal model (x = [u w q theta h], u = [delta_e delta_t], eq. 5.50):
+/// w(f) / Va for the commands' spectra, the lift's instrument likewise.
+Eigen::VectorXcd modelled_alpha(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_e,
+                                const Eigen::VectorXcd& delta_t);
 
 }  // namespace tern::core::sysid
