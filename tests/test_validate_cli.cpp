@@ -56,7 +56,11 @@ TEST_CASE("tern validate: the true Aerosonde fits its own flight clearly better 
     CHECK(u_truth < 0.75 * u_prior);
   }
   const double a_z_truth = j["aircraft"][0]["one_step"]["a_z"]["rms"], a_z_prior = j["aircraft"][1]["one_step"]["a_z"]["rms"];
-  CHECK(a_z_truth < 0.25 * a_z_prior);  // lift x0.6: the specific force along z misses ~40 % of the weight
+  // lift x0.6: the specific force along z misses ~40 % of the weight. The true file's own residual is
+  // the vertical gusts' (3.1 m/s^2 RMS here): the estimate is kinematic, its alpha misses them (an
+  // estimate that read alpha from the lift through the true file's C_L had it near 0, and scored
+  // that file by itself)
+  CHECK(a_z_truth < 0.75 * a_z_prior);
   CHECK(read_file(out1 / "index.html").find("<svg") != std::string::npos);
   REQUIRE(validate({run.string(), "--aircraft", kAerosonde, "--aircraft", scaled.string(), "--out", out2.string(), "-q"}, "2").first == 0);
   CHECK(read_file(out1 / "validate.json") == read_file(out2 / "validate.json"));

@@ -61,12 +61,14 @@ int run_sysid(const SysidOptionsCli& o) {
   if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   io.fit_accel_x_bias = o.accel_x_bias;
-  const sysid::SysidResult r = sysid::identify(series, prior, io);
+  sysid::SysidResult r = sysid::identify(series, prior, io);
   const std::string options =
       fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}",
                   o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
                   o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
-  sysid::write_sysid_outputs(r, {o.log_dir, o.aircraft, estimate.string(), options}, o.out_dir);
+  const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate.string(), options};
+  sysid::keep_loadable(r, from);
+  sysid::write_sysid_outputs(r, from, o.out_dir);
   std::printf("%s", sysid::format_sysid_table(r).c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
   std::printf("wrote %s/aircraft.yaml, sysid.json, index.html\n", o.out_dir.c_str());

@@ -31,6 +31,45 @@ std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
                      from.log, from.prior, e.c_str());
 }
 
+/// The field of the loader's message "SOURCE:LINE: FIELD: problem" ("" when it names none).
+std::string refused_field(const std::string& message) {
+  const auto a = message.find(": ");
+  const auto b = a == std::string::npos ? a : message.find(": ", a + 2);
+  return b == std::string::npos ? "" : message.substr(a + 2, b - a - 2);
+}
+
+}  // namespace
+
+void keep_loadable(SysidResult& r, const SysidProvenance& from) {
+  for (std::size_t tries = 0; tries <= r.coefficients.size() + 1; ++tries) {
+    std::string why;
+    try {
+      Aircraft loaded = parse_aircraft(YAML::Load(aircraft_yaml(r, from)), "aircraft.yaml");
+      loaded.name = r.aircraft.name;
+      r.aircraft = loaded;  // the file as written, the prior's values where an estimate was not adopted
+      return;
+    } catch (const std::runtime_error& e) {
+      why = e.what();
+    }
+    const std::string field = refused_field(why);
+    const std::string problem = why.substr(why.find(field) + field.size() + 2);
+    if (field == "wing.e" && r.oswald.identified) {
+      r.notes.push_back(fmt::format("e (Oswald factor): not adopted: {} (the aircraft format's); the prior {:.3f} kept", problem,
+                                    r.oswald.estimate = load_aircraft(from.prior).e));
+      r.oswald.identified = false, r.aircraft.e = r.oswald.estimate;
+      continue;
+    }
+    auto c = std::find_if(r.coefficients.begin(), r.coefficients.end(),
+                          [&](const CoefficientEstimate& x) { return field == "aero." + x.name && x.identified; });
+    if (c == r.coefficients.end()) throw ConfigError(fmt::format("the identified aircraft does not load: {}", why));
+    c->note = fmt::format("not adopted: {} (the aircraft format's)", problem);
+    c->estimate = c->prior, c->std_error = 0.0, c->identified = false;
+    r.notes.push_back(fmt::format("{}: {}; the prior {:.4g} kept", c->name, c->note, c->prior));
+  }
+}
+
+namespace {
+
 nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   nlohmann::json j;
   j["produced_by"] = {

@@ -25,6 +25,12 @@ struct SysidProvenance {
   std::string options;   ///< the options, one line
 };
 
+/// The result made loadable as tern's aircraft format: an estimate the format's loader refuses (its
+/// plausible ranges, tern/aircraft.hpp: C_m_q 888, an Oswald factor 1.53) is not adopted: the
+/// prior is kept for it, it counts as not identified, and a note says so. The loader is the judge,
+/// so the ranges are declared once. Throws ConfigError when the prior itself does not load.
+void keep_loadable(SysidResult& r, const SysidProvenance& from);
+
 void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, const std::filesystem::path& dir);
 
 /// `text` written to `file` (a command's output file); throws ConfigError "FILE: cannot write".

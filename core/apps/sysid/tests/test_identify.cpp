@@ -8,6 +8,7 @@
 
 #include "sysid/identify.hpp"
 #include "sysid/regression.hpp"
+#include "sysid/sysid_output.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/model.hpp"
 #include "tern_sim_aero/trim.hpp"
@@ -183,4 +184,26 @@ TEST_CASE("the flow angles of the reconstructed flight path: ground velocity les
   CHECK(s.beta[0] == doctest::Approx(beta).epsilon(1e-12));
   CHECK(std::isnan(s.alpha[1]));
   CHECK(std::isnan(s.beta[1]));
+}
+
+TEST_CASE("an estimate the aircraft format refuses is not adopted: the prior kept, one note, the file loads") {
+  namespace sysid = tern::core::sysid;
+  const std::string prior = std::string(TERN_AIRCRAFT_DIR) + "/aerosonde.yaml";
+  sysid::SysidResult r;
+  r.aircraft = tern::load_aircraft(prior);
+  sysid::CoefficientEstimate q;
+  q.name = "C_m_q", q.prior = r.aircraft.aero.C_m_q, q.estimate = 888.8, q.std_error = 2.0, q.identified = true;
+  sysid::CoefficientEstimate a;
+  a.name = "C_L_alpha", a.prior = r.aircraft.aero.C_L_alpha, a.estimate = 5.0, a.std_error = 0.1, a.identified = true;
+  r.coefficients = {q, a};
+  r.aircraft.e = 1.53, r.oswald.estimate = 1.53, r.oswald.identified = true;
+  sysid::keep_loadable(r, {"log", prior, "estimate", "options"});
+  CHECK_FALSE(r.coefficients[0].identified);
+  CHECK(r.coefficients[0].estimate == r.coefficients[0].prior);
+  CHECK(r.coefficients[0].note.find("plausible range") != std::string::npos);
+  CHECK(r.coefficients[1].identified);
+  CHECK(r.aircraft.aero.C_L_alpha == 5.0);
+  CHECK(r.aircraft.e == doctest::Approx(0.9));
+  CHECK_FALSE(r.oswald.identified);
+  CHECK(r.notes.size() == 2);
 }
