@@ -310,15 +310,54 @@ Eigen::MatrixXd window_matrix(const Context& c, const std::vector<const Col*>& c
   return X;
 }
 
+/// The batch (segment piece) each trim window starts in; windows outside every piece: the last batch + 1.
+std::vector<std::size_t> window_batches(const Layout& L) {
+  std::vector<std::size_t> batch;
+  for (const auto& w : L.windows) {
+    std::size_t i = 0;
+    while (i < L.segments.size() && !(w.front() >= L.segments[i].first && w.front() < L.segments[i].second)) ++i;
+    batch.push_back(i);
+  }
+  return batch;
+}
+
+/// The delete-one-batch jackknife of a trim fit (batch_scatter's, over the windows of each batch):
+/// what the flight's pieces, each at its own airspeeds, disagree by. Zero with fewer than three.
+Eigen::VectorXd trim_jackknife(const Layout& L, const Eigen::MatrixXd& X, const Eigen::VectorXd& z, const Eigen::MatrixXd* Z) {
+  const std::vector<std::size_t> batch = window_batches(L);
+  std::vector<Eigen::VectorXd> thetas;
+  for (std::size_t b = 0; b <= L.segments.size(); ++b) {
+    std::vector<Eigen::Index> keep;
+    for (std::size_t i = 0; i < batch.size(); ++i)
+      if (batch[i] != b) keep.push_back(static_cast<Eigen::Index>(i));
+    if (keep.size() == batch.size() || keep.size() <= 3 * static_cast<std::size_t>(X.cols())) continue;
+    const Eigen::MatrixXd Xb = X(keep, Eigen::all), Zb = Z != nullptr ? Eigen::MatrixXd((*Z)(keep, Eigen::all)) : Xb;
+    const Eigen::VectorXd zb = z(keep);
+    if (std::abs((Zb.transpose() * Xb).determinant()) < 1e-12 * (Zb.norm() * Xb.norm())) continue;  // a batch held every airspeed
+    thetas.push_back(least_squares(Xb, zb, 3, Z != nullptr ? &Zb : nullptr).theta);
+  }
+  Eigen::VectorXd se = Eigen::VectorXd::Zero(X.cols());
+  if (thetas.size() < 3) return se;
+  const double G = static_cast<double>(thetas.size());
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(X.cols());
+  for (const auto& t : thetas) mean += t / G;
+  for (const auto& t : thetas) se += (t - mean).cwiseAbs2();
+  return (se * (G - 1.0) / G).cwiseSqrt();
+}
+
 /// Time-domain least squares on the trim windows' means: z = X theta, with `instruments` (one per
-/// column, or empty: ordinary least squares) the instrumental-variable estimate. Returns it.
+/// column, or empty: ordinary least squares) the instrumental-variable estimate; the bounds never
+/// below the delete-one-batch jackknife's (trim_jackknife). Returns it.
 LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& columns, const std::vector<const Col*>& instruments = {}) {
   const Col zm = window_means(z, c.L);
   const Eigen::MatrixXd X = window_matrix(c, columns);
   if (X.rows() <= X.cols()) throw std::runtime_error(fmt::format("too few trim windows ({}) of {} s", X.rows(), c.o.trim_window_s));
   const Eigen::MatrixXd Z = instruments.empty() ? X : window_matrix(c, instruments);
-  return least_squares(X, Eigen::Map<const Eigen::VectorXd>(zm.data(), static_cast<Eigen::Index>(zm.size())), 3,
-                       instruments.empty() ? nullptr : &Z);
+  const Eigen::Map<const Eigen::VectorXd> zz(zm.data(), static_cast<Eigen::Index>(zm.size()));
+  const Eigen::MatrixXd* iv = instruments.empty() ? nullptr : &Z;
+  LsEstimate e = least_squares(X, zz, 3, iv);
+  e.std_error = e.std_error.cwiseMax(trim_jackknife(c.L, X, zz, iv));
+  return e;
 }
 
 double stddev(const Col& x) {
