@@ -57,13 +57,14 @@ struct FlightSeries {
   std::vector<double> phi, theta, psi;            ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
   std::vector<double> p_n, p_e, p_d;              ///< estimator's position NED from its origin, m
   std::vector<double> u, v, w;                    ///< estimator's ground velocity, body FRD, m/s
-  std::vector<double> w_n, w_e, w_d;              ///< estimator's wind low-passed to the steady wind, NED, m/s
+  std::vector<double> w_n, w_e, w_d;              ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
   std::vector<unsigned char> valid;               ///< 1 where the estimate was valid and interpolated
   std::size_t size() const { return t.size(); }
 };
 
 /// The flow angles of the flight-path reconstruction (Klein and Morelli ch. 10: the kinematic
-/// equations with a wind constant over the manoeuvres): the air velocity is the estimator's ground
+/// equations with a horizontal wind constant over the manoeuvres; the estimator's vertical wind,
+/// seen only through the lift's update, is not taken): the air velocity is the estimator's ground
 /// velocity (u, v, w, body FRD) less the steady wind (w_n, w_e, w_d) turned into the body axes by
 /// phi, theta, psi; alpha = atan2(w_r, u_r), beta = asin(v_r / |v_r|). Not the estimator's own
 /// alpha and beta: its wind follows the gusts through the zero-sideslip and pitot updates
