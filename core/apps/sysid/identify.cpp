@@ -184,6 +184,18 @@ std::string unexcited(Context& c, const Term& t) {
   return level > x.threshold ? "" : x.what;
 }
 
+/// The jackknife's standard errors of the delete-one-batch estimates `thetas` (p each): sqrt((G - 1) /
+/// G sum (theta_(i) - mean)^2). Zero with fewer than three.
+Eigen::VectorXd jackknife_se(const std::vector<Eigen::VectorXd>& thetas, Eigen::Index p) {
+  Eigen::VectorXd se = Eigen::VectorXd::Zero(p);
+  if (thetas.size() < 3) return se;
+  const double G = static_cast<double>(thetas.size());
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(p);
+  for (const auto& t : thetas) mean += t / G;
+  for (const auto& t : thetas) se += (t - mean).cwiseAbs2();
+  return (se * (G - 1.0) / G).cwiseSqrt();
+}
+
 /// The scatter bound: the delete-one-batch jackknife over the segments (batches of at most
 /// kMaxSegment): the regression refitted without each batch in turn, the variance
 /// (G - 1) / G sum (theta_(i) - mean)^2 (Efron and Tibshirani, *An Introduction to the Bootstrap*,
@@ -202,13 +214,7 @@ Eigen::VectorXd batch_scatter(const Context& c, const Eigen::MatrixXcd& X, const
     zr << z.head(first), z.tail(tail);
     thetas.push_back(least_squares_frequency(Xr, zr, iv ? &Zr : nullptr).theta);
   }
-  Eigen::VectorXd se = Eigen::VectorXd::Zero(X.cols());
-  if (thetas.size() < 3) return se;
-  const double G = static_cast<double>(thetas.size());
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(X.cols());
-  for (const auto& t : thetas) mean += t / G;
-  for (const auto& t : thetas) se += (t - mean).cwiseAbs2();
-  return (se * (G - 1.0) / G).cwiseSqrt();
+  return jackknife_se(thetas, X.cols());
 }
 
 /// Why each free term fails after a fit (collinear, poorly determined), by name.
@@ -336,13 +342,7 @@ Eigen::VectorXd trim_jackknife(const Layout& L, const Eigen::MatrixXd& X, const 
     if (std::abs((Zb.transpose() * Xb).determinant()) < 1e-12 * (Zb.norm() * Xb.norm())) continue;  // a batch held every airspeed
     thetas.push_back(least_squares(Xb, zb, 3, Z != nullptr ? &Zb : nullptr).theta);
   }
-  Eigen::VectorXd se = Eigen::VectorXd::Zero(X.cols());
-  if (thetas.size() < 3) return se;
-  const double G = static_cast<double>(thetas.size());
-  Eigen::VectorXd mean = Eigen::VectorXd::Zero(X.cols());
-  for (const auto& t : thetas) mean += t / G;
-  for (const auto& t : thetas) se += (t - mean).cwiseAbs2();
-  return (se * (G - 1.0) / G).cwiseSqrt();
+  return jackknife_se(thetas, X.cols());
 }
 
 /// Time-domain least squares on the trim windows' means: z = X theta, with `instruments` (one per
