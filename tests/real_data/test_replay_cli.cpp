@@ -85,13 +85,14 @@ const char* kAlfa = "alfa_carbonZ_2018-07-18-15-53-31_1_engine_failure_csv.tar.g
 TEST_CASE("the PX4 Zurich 2014 hand launch: the GNSS is kept through the launch") {
   const fs::path log = import_flight("inertialnav", kZurich, "zurich2014");
   const nlohmann::json rep = replay(log, "");
-  // Issue 43's targets that a wrong yaw at the launch broke (0 GNSS resets, 29 % of positions).
+  // Issue 43's targets that a wrong yaw at the launch broke (0 GNSS resets, 29 % of positions);
+  // issue 61's course and velocity (the yaw aligned in flight at the launch: launch_course_error).
   CHECK(rep["validity"]["divergences"] == 0);
   CHECK(rep["validity"]["nan_cells"] == 0);
   CHECK(rep["gnss"]["share_pos_accepted"].get<double>() >= 0.9);
   CHECK(rep["gnss"]["share_vel_accepted"].get<double>() >= 0.9);
-  CHECK(rep["gnss"]["course"]["rms"].get<double>() < 5.0);
-  CHECK(rep["gnss"]["velocity_horizontal"]["rms"].get<double>() < 1.5);
+  CHECK(rep["gnss"]["course"]["rms"].get<double>() <= 4.0);
+  CHECK(rep["gnss"]["velocity_horizontal"]["rms"].get<double>() <= 1.2);
   CHECK(rep["gnss"]["position_horizontal"]["rms"].get<double>() < 3.0);
   // the estimated wind stays a wind (it grew to 30 m/s when the velocity was lost)
   CHECK(rep["wind"]["max_speed"].get<double>() < 12.0);
