@@ -155,8 +155,9 @@ struct EstimatorConfig {
   /// adds the course error to the yaw), ArduPilot EKF2's alignYawGPS at its first in-flight yaw
   /// alignment (firstMagYawInit). Without it the yaw waits gnss_yaw_reset_time (1 s, PX4's
   /// EKFGSF_reset_delay) of rejection: on the PX4 Zurich 2014 hand launch, with the compass's yaw
-  /// 34 deg off, six fixes 37-44 deg off the course; with it aligned at 17.55 s instead of 18.34 s, course 4.90 -> 3.61 deg RMS,
-  /// velocity 1.216 -> 1.177 m/s over the flight, no other reset. 0: no such alignment (the former rules).
+  /// 34 deg off, six fixes were 37-44 deg off the course; with it the yaw is aligned at 17.55 s
+  /// instead of 18.34 s: course 4.90 -> 3.63 deg RMS, velocity 1.216 -> 1.182 m/s over the
+  /// flight (bench_real_flights), no other reset. 0: no such alignment (the former rules).
   double launch_course_error = 0.5;
   /// rad: the yaw uncertainty after such a reset from the course (the GSF not converged): the
   /// crab angle a wind of 5 m/s gives at 14 m/s; also the least yaw difference that counts.
