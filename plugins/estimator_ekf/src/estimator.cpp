@@ -79,6 +79,12 @@ std::string describe(const Event& e) {
                     "fused, until its heading agrees",
                     e.value);
       break;
+    case EventKind::launch_yaw_alignment:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: yaw aligned in flight to the GNSS course after the launch (turned %.1f deg); magnetometer tested, not "
+                    "fused, until its heading agrees",
+                    e.value);
+      break;
     case EventKind::mag_resumed:
       std::snprintf(buf, sizeof buf, "mag: heading consistent with the yaw again, fusion resumed (%.1f s after the yaw reset)", e.value);
       break;

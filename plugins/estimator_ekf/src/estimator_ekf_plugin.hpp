@@ -107,7 +107,7 @@ class EstimatorEkf final : public tern::Plugin {
             e.kind == tern::ekf::EventKind::filter_reset || e.kind == tern::ekf::EventKind::mag_reset ||
             e.kind == tern::ekf::EventKind::first_invalid || e.kind == tern::ekf::EventKind::imu_gap ||
             e.kind == tern::ekf::EventKind::gnss_yaw_reset || e.kind == tern::ekf::EventKind::gnss_velocity_reset ||
-            e.kind == tern::ekf::EventKind::gsf_yaw_reset)
+            e.kind == tern::ekf::EventKind::gsf_yaw_reset || e.kind == tern::ekf::EventKind::launch_yaw_alignment)
           log().warn("t={:.3f} s: {}", tern::to_seconds(e.stamp), tern::ekf::describe(e));
         else if (e.kind == tern::ekf::EventKind::gnss_checks_failing && e.value != 0.0)  // with the values and limits
           log().info("t={:.3f} s: {} ({})", tern::to_seconds(e.stamp), tern::ekf::describe(e), estimator_.gnss_checks().describe_failing());

@@ -73,6 +73,7 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   // not follow, and inflating velocity (with its correlation to attitude) lets one fix swing
   // the attitude.
   const UpdateResult rv = cfg_.use_gnss_vel_d ? fuse(gnss_vel_, m.vel, t_v) : fuse_gnss_velocity_ne(m.vel, t_v);
+  if (align_yaw_in_flight(rv, m, p, t_v)) return true;
   if (recover_velocity(rv, m, p, t_v)) return true;
   if (check_yaw_with_gsf(m, p, t_v)) return true;
   // First GNSS after a time-out: hide the position jump from the output, then let it decay.

@@ -139,6 +139,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   filter_.initialize(x, P0);
   history_.clear();
   initialized_ = true;
+  inflight_yaw_aligned_ = false;  // a yaw from the magnetometer (or none): the first fixes in flight confirm it
   init_stamp_ = m.stamp;
   mag_reject_since_ = -1;
   gnss_reject_since_ = -1;

@@ -153,14 +153,19 @@ bool Estimator::check_yaw_with_gsf(const msg::Gnss& m, const Vec3& p, Nanos t_v)
 }
 
 void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why) {
-  // Velocity and position first (the wind then comes from the fix's velocity), then the yaw.
   const auto [psi, sigma] = gnss_yaw(m);
+  reset_yaw_to_gnss(stamp, p, m, t_v, why, psi, sigma);
+}
+
+void Estimator::reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why, double psi, double sigma) {
+  // Velocity and position first (the wind then comes from the fix's velocity), then the yaw.
   reset_to_gnss(stamp, p, m.vel, t_v);
   reset_yaw(stamp, psi, sigma, why);
   if (!mag_inhibited_) mag_inhibited_since_ = stamp;
   mag_inhibited_ = true;
   mag_consistent_since_ = -1;
   gnss_vel_reject_since_ = -1;
+  inflight_yaw_aligned_ = true;
 }
 
 }  // namespace tern::ekf

@@ -29,6 +29,24 @@ void Estimator::watch_course(const msg::Gnss& m, bool restart) {
   course_.prev_stamp = speed >= kCourseMinSpeed ? m.stamp : -1;
 }
 
+bool Estimator::align_yaw_in_flight(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v) {
+  if (inflight_yaw_aligned_ || cfg_.launch_course_error <= 0.0 || !airborne(m.stamp)) return false;
+  const Eigen::Vector2d v_gnss = m.vel.head<2>(), v = filter_.x().v.head<2>();
+  const Vec3 e = euler_from_quaternion(filter_.x().q);
+  if (v_gnss.norm() < kCourseMinSpeed || v.norm() < kCourseMinSpeed || std::fabs(e.y()) > kCourseMaxPitch) return false;
+  // The launch threw the aircraft along its nose: the filter's velocity has the direction of its
+  // yaw, the receiver's the true one; their difference is the yaw's error (PX4 ecl realignYawGPS,
+  // first alignment: "euler321(2) += courseYawError").
+  const double d = wrap_pi(std::atan2(v_gnss.y(), v_gnss.x()) - std::atan2(v.y(), v.x()));
+  if (std::fabs(d) <= cfg_.launch_course_error) {
+    inflight_yaw_aligned_ = rv == UpdateResult::accepted;
+    return false;
+  }
+  if (rv != UpdateResult::rejected) return false;
+  reset_yaw_to_gnss(m.stamp, p, m, t_v, EventKind::launch_yaw_alignment, e.z() + d, cfg_.gnss_yaw_sigma);
+  return true;
+}
+
 bool Estimator::yaw_blamed_on_course(double yaw_error, double sigma) const {
   if (cfg_.gnss_course_lag <= 0.0) return std::fabs(yaw_error) > sigma;  // the course as it is
   if (course_.not_heading) return false;

@@ -113,7 +113,8 @@ enum class EventKind : std::uint8_t {
   gnss_checks_failing,
   gnss_checks_passed,
   origin_dropped,
-  mag_resumed
+  mag_resumed,
+  launch_yaw_alignment
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
@@ -370,6 +371,8 @@ class Estimator {
   /// Yaw from the GNSS (gnss_yaw(): the converged GSF's, else the course), velocity and position
   /// to the fix, the magnetometer tested, not fused (mag_inhibited_, test_stopped_mag); `why` as for reset_yaw.
   void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why);
+  /// The same to the yaw `psi` (rad) of 1-sigma `sigma`.
+  void reset_yaw_to_gnss(Nanos stamp, const Vec3& p, const msg::Gnss& m, Nanos t_v, EventKind why, double psi, double sigma);
   /// The field at the origin (mag_field_from_model) or the configured one; sets the models.
   void set_earth_field(const tern::MagneticField& f);
   tern::MagneticField field_;
@@ -379,6 +382,12 @@ class Estimator {
   /// The GSF's yaw and sigma when it has converged, else the GNSS course and gnss_yaw_sigma.
   std::pair<double, double> gnss_yaw(const msg::Gnss& m) const;
   bool gsf_converged() const;
+  /// The first yaw alignment in flight (launch_course_error): until a fix in the air confirms the
+  /// yaw, a rejected velocity whose course is off the filter's by more than launch_course_error
+  /// turns the yaw by that difference, resets velocity and position to the fix and stops the
+  /// magnetometer as reset_yaw_to_gnss does. True after the alignment's reset.
+  bool align_yaw_in_flight(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);
+  bool inflight_yaw_aligned_ = false;  ///< a fix in the air confirmed the yaw, or a yaw reset to the GNSS set it
   /// After the fix's velocity update `rv`: in the air, velocities rejected for gnss_yaw_reset_time
   /// reset velocity and position to the fix, and the yaw too if it is off. True after a reset.
   bool recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);
