@@ -279,7 +279,7 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     for (std::size_t j = 0; j < free.size(); ++j) {
       const auto J = static_cast<Eigen::Index>(j);
       const double ratio = e.std_error[J] / std::max(std::abs(e.theta[J]), 1e-300);
-      if (bad.count(free[j].name) && ratio > worst_ratio) worst = j, worst_ratio = ratio;
+      if (bad.count(free[j].name) && (worst == free.size() || ratio > worst_ratio)) worst = j, worst_ratio = ratio;
     }
     why[free[worst].name] = bad.at(free[worst].name);
     free.erase(free.begin() + static_cast<std::ptrdiff_t>(worst));
@@ -446,9 +446,9 @@ LsEstimate lift_trim_fit(Context& c, double q_scale = 1.0, double delta_e_scale 
     z[k] = a.C_L[k] - q_scale * c.coef.C_L_q * a.q_hat[k] - delta_e_scale * c.coef.C_L_delta_e * a.delta_e[k];
   const Col ones(a.size(), 1.0);
   // alpha's instrument: 1 / qbar (the trim's alpha at 1 g goes as m g / (qbar S)), whose error (the
-  // pitot's noise, the longitudinal gust) is independent of the wind triangle's (the vertical gust,
-  // the estimator's vertical wind): the window means of alpha carry that error undiminished by the
-  // flight's length, and ordinary least squares on them flattens the lift curve
+  // pitot's noise, the longitudinal gust) is independent of the reconstructed alpha's (the vertical
+  // gust): the window means of alpha carry that error undiminished by the flight's length, and
+  // ordinary least squares on them flattens the lift curve
   Col inv_qbar(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) inv_qbar[k] = 1.0 / (a.Va[k] * a.Va[k]);
   return trim_fit(c, z, {&ones, &a.alpha}, {&ones, &inv_qbar});
