@@ -94,7 +94,8 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--band", o->band, "LO HI: the frequency band of the moment regressions, Hz (default 0.1 4)")->expected(2);
   c->add_option("--trim-window", o->trim_window, "s: window of the trim regressions (lift, drag, bias terms; default 4)");
   c->add_option("--flow-angles", o->flow_angles,
-                "accelerometer (alpha, beta from lift and side force; default) or estimator (the wind triangle's)");
+                "accelerometer (alpha, beta from lift and side force; default) or estimator (the flight path's reconstruction against the "
+                "steady wind)");
   c->add_option("--filter-hz", o->filter_hz, "Hz: the zero-phase low-pass every channel gets (default 10)");
   c->add_option("--rate", o->rate_hz, "Hz: samples after decimation (default 50)");
   c->add_option("--output-error-window", o->oe_window,
