@@ -121,8 +121,10 @@ class Spectra {
   const std::vector<std::pair<Eigen::Index, Eigen::Index>>& segment_rows() const { return rows_; }
   /// The frequencies (Hz) of segment i's rows.
   Col segment_frequencies(std::size_t i) const { return frequencies(L_.segments[i].first, L_.segments[i].second); }
-  /// A spectrum made in the frequency domain (an instrument), served as `of(*key)`.
+  /// A spectrum made in the frequency domain (an instrument), served as `of(*key)` until forget(key):
+  /// the cache is keyed by address, so a key must be forgotten before it goes out of scope.
   void put(const Col* key, Eigen::VectorXcd spectrum) { cache_[key] = std::move(spectrum); }
+  void forget(const Col* key) { cache_.erase(key); }
   const Eigen::VectorXcd& of(const Col& x) {
     auto it = cache_.find(&x);
     if (it != cache_.end()) return it->second;
@@ -499,6 +501,7 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
            {{"C_L_alpha", &M::C_L_alpha, &a.alpha, alpha, iv ? &alpha_model : nullptr},
             {"C_L_q", &M::C_L_q, &a.q_hat, q},
             {"C_L_delta_e", &M::C_L_delta_e, &a.delta_e, delta_e}});
+  c.spectra.forget(&alpha_model);
   const std::optional<CoefficientEstimate> band = take_out(c, "C_L_alpha");
   c.coef.C_L_alpha = c.prior.C_L_alpha;
   const Term t0{"C_L_0", &M::C_L_0, nullptr, {}}, ta{"C_L_alpha", &M::C_L_alpha, nullptr, {}};
@@ -694,6 +697,7 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
         t.excitation = {t.excitation.signal, true, std::numeric_limits<double>::infinity(),
                         "held: the instrumented sideslip leaves the side force's rate terms undetermined (small on a symmetric airframe)"};
   band_fit(c, "side force", a.C_Y, side);
+  c.spectra.forget(&beta_model);
   bias_fit(c, "C_Y_0", &M::C_Y_0, a.C_Y, side);
   Col beta = beta_from_side_force(c, accel);
   x = signals(a, alpha, beta);

@@ -74,16 +74,11 @@ std::string describe(const Event& e) {
       std::snprintf(buf, sizeof buf, "mag: heading rejected for too long, yaw reset to the magnetometer (innovation %.1f deg)", e.value);
       break;
     case EventKind::gnss_yaw_reset:
-      std::snprintf(buf, sizeof buf,
-                    "gnss: velocity rejected in flight, yaw reset to the GNSS course (innovation %.1f deg); magnetometer tested, not "
-                    "fused, until its heading agrees",
-                    e.value);
-      break;
     case EventKind::launch_yaw_alignment:
-      std::snprintf(buf, sizeof buf,
-                    "gnss: yaw aligned in flight to the GNSS course after the launch (turned %.1f deg); magnetometer tested, not "
-                    "fused, until its heading agrees",
-                    e.value);
+      std::snprintf(buf, sizeof buf, "gnss: %s (%s %.1f deg); magnetometer tested, not fused, until its heading agrees",
+                    e.kind == EventKind::gnss_yaw_reset ? "velocity rejected in flight, yaw reset to the GNSS course"
+                                                        : "yaw aligned in flight to the GNSS course after the launch",
+                    e.kind == EventKind::gnss_yaw_reset ? "innovation" : "turned", e.value);
       break;
     case EventKind::mag_resumed:
       std::snprintf(buf, sizeof buf, "mag: heading consistent with the yaw again, fusion resumed (%.1f s after the yaw reset)", e.value);
