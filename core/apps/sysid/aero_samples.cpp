@@ -56,6 +56,10 @@ AeroSamples aero_samples(const FlightSeries& s, const Aircraft& ac, const Airbor
     a.p_hat.push_back(ac.b * p / (2.0 * Va)), a.q_hat.push_back(ac.c * q / (2.0 * V_xz)), a.r_hat.push_back(ac.b * r / (2.0 * Va));
     a.delta_a.push_back(s.delta_a[k]), a.delta_e.push_back(s.delta_e[k]), a.delta_r.push_back(s.delta_r[k]);
     a.delta_t.push_back(s.delta_t[k]);
+    if (!s.exc_delta_a.empty()) {
+      a.exc_delta_a.push_back(s.exc_delta_a[k]), a.exc_delta_e.push_back(s.exc_delta_e[k]);
+      a.exc_delta_r.push_back(s.exc_delta_r[k]), a.exc_delta_t.push_back(s.exc_delta_t[k]);
+    }
     a.Va.push_back(Va), a.p.push_back(p), a.q.push_back(q), a.r.push_back(r);
     a.source.push_back(k);
   }

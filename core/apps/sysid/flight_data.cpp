@@ -228,6 +228,12 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   s.p_dot = keep(p_dot), s.q_dot = keep(q_dot), s.r_dot = keep(r_dot);
   s.p = keep(p), s.q = keep(q), s.r = keep(r);
   s.delta_a = command("delta_a"), s.delta_e = command("delta_e"), s.delta_r = command("delta_r"), s.delta_t = command("delta_t");
+  const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
+  if (std::filesystem::exists(excitation)) {
+    const CsvTable ex = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
+    auto part = [&](const char* name) { return keep(lp(commands_in_force(ex.at("t"), ex.at(name), t, o.servo_tau))); };
+    s.exc_delta_a = part("delta_a"), s.exc_delta_e = part("delta_e"), s.exc_delta_r = part("delta_r"), s.exc_delta_t = part("delta_t");
+  }
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
   // a gap) the filter sees the nearest value and the result stays NaN
   auto filtered = [&](const std::string& name, bool angle, double cutoff_hz) {

@@ -5,6 +5,7 @@
 // What comes from where (the two-step method: the estimator first, then the model):
 //   LOG/topics/imu.csv        specific force a (accelerometer) and angular rate (gyro), body FRD
 //   LOG/topics/actuators.csv  the surfaces' and throttle's commands (docs/sensor-log.md)
+//   LOG/topics/excitation.csv (optional) the excitation's increments within those commands
 //   LOG/topics/diff_pressure.csv (optional) the pitot's differential pressure: the dynamic
 //                             pressure the airframe met, gusts included (the estimator's Va, from
 //                             its steady wind, misses them)
@@ -51,6 +52,11 @@ struct FlightSeries {
   std::vector<double> p_dot, q_dot, r_dot;        ///< angular acceleration, rad/s^2
   std::vector<double> delta_a, delta_e, delta_r;  ///< surface deflections (lagged commands), rad
   std::vector<double> delta_t;                    ///< throttle, 0..1
+  /// the excitation's increments within those (topics/excitation.csv, the signal generator's, or
+  /// ArduPilot's SIDD), lagged and filtered alike, in the same order: delta_a, delta_e, delta_r rad,
+  /// delta_t throttle fraction. Independent of the gusts, unlike the commands the controller adds
+  /// to them: the instruments of a closed-loop flight (identify.hpp). Empty when the log has none.
+  std::vector<double> exc_delta_a, exc_delta_e, exc_delta_r, exc_delta_t;
   std::vector<double> Va;                         ///< estimator's airspeed, m/s
   std::vector<double> alpha, beta;                ///< flow angles of the reconstructed flight path, rad (header)
   std::vector<double> qbar;                       ///< pitot differential pressure, Pa (NaN: no pitot in the log)

@@ -403,15 +403,37 @@ std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name)
 /// Which flow angle a model instrument stands for (sideslip_instrument.hpp).
 enum class FlowAngle { alpha, beta };
 
+/// The excitation's part of `command` (one of c.a's delta_*) where the log has one that moved
+/// about its trim by more than the excitation test's 0.3 deg (throttle: 0.01); else nullptr. In a
+/// closed-loop flight the controller's share of a command answers the gusts, which are the
+/// regressions' error: only the excitation's share is independent of them (Klein and Morelli sec.
+/// 5.5 and ch. 9, identification in closed loop).
+const Col* excitation_part(const Context& c, const Col& command) {
+  const AeroSamples& a = c.a;
+  const std::tuple<const Col*, const Col*, double> parts[] = {{&a.delta_a, &a.exc_delta_a, 0.3 * kRadPerDeg},
+                                                              {&a.delta_e, &a.exc_delta_e, 0.3 * kRadPerDeg},
+                                                              {&a.delta_r, &a.exc_delta_r, 0.3 * kRadPerDeg},
+                                                              {&a.delta_t, &a.exc_delta_t, 0.01}};
+  for (const auto& [cmd, part, threshold] : parts)
+    if (cmd == &command) return !part->empty() && rms(detrended(*part, c.L)) > threshold ? part : nullptr;
+  return nullptr;
+}
+
 /// The instrument for alpha (the lift's) or beta (the side force's), put into the spectra under
 /// `key` (sideslip_instrument.hpp): each stretch's flow angle of the linear model for its commands
 /// (elevator and throttle, or aileron and rudder), linearised at the stretch's mean airspeed with
-/// the coefficients known so far. False (no instrument) when that model does not trim, with the
-/// reason in `why`.
+/// the coefficients known so far. The model is driven by the excitation's part of the commands
+/// where the log has it (excitation_part), by the whole commands otherwise. False (no instrument)
+/// when that model does not trim, with the reason in `why`.
 bool put_flow_instrument(Context& c, FlowAngle angle, const Col& key, std::string& why) {
   const bool lateral = angle == FlowAngle::beta;
-  const Eigen::VectorXcd& U1 = c.spectra.of(lateral ? c.a.delta_a : c.a.delta_e);
-  const Eigen::VectorXcd& U2 = c.spectra.of(lateral ? c.a.delta_r : c.a.delta_t);
+  const Col& u1 = lateral ? c.a.delta_a : c.a.delta_e;
+  const Col& u2 = lateral ? c.a.delta_r : c.a.delta_t;
+  const bool excited = excitation_part(c, u1) != nullptr || excitation_part(c, u2) != nullptr;
+  const Col& x1 = excited ? (lateral ? c.a.exc_delta_a : c.a.exc_delta_e) : u1;
+  const Col& x2 = excited ? (lateral ? c.a.exc_delta_r : c.a.exc_delta_t) : u2;
+  const Eigen::VectorXcd& U1 = c.spectra.of(x1);
+  const Eigen::VectorXcd& U2 = c.spectra.of(x2);
   Eigen::VectorXcd Z(U1.size());
   Aircraft model = c.result.aircraft;
   model.aero = c.coef;
@@ -611,14 +633,18 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
 }
 
-/// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r).
-std::vector<Term> lateral_terms(const std::string& axis, const std::array<Member, 5>& m, const AeroSamples& a, const Col& beta,
-                                const Signals& x, const Col* beta_instrument = nullptr) {
+/// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r);
+/// with `closed_loop`, each command instrumented by its excitation's part where it has one.
+std::vector<Term> lateral_terms(const Context& c, const std::string& axis, const std::array<Member, 5>& m, const Col& beta,
+                                const Signals& x, const Col* beta_instrument = nullptr, bool closed_loop = false) {
+  const AeroSamples& a = c.a;
+  const Col* da = closed_loop ? excitation_part(c, a.delta_a) : nullptr;
+  const Col* dr = closed_loop ? excitation_part(c, a.delta_r) : nullptr;
   return {{axis + "_beta", m[0], &beta, x.beta, beta_instrument},
           {axis + "_p", m[1], &a.p_hat, x.p},
           {axis + "_r", m[2], &a.r_hat, x.r},
-          {axis + "_delta_a", m[3], &a.delta_a, x.delta_a},
-          {axis + "_delta_r", m[4], &a.delta_r, x.delta_r}};
+          {axis + "_delta_a", m[3], &a.delta_a, x.delta_a, da},
+          {axis + "_delta_r", m[4], &a.delta_r, x.delta_r, dr}};
 }
 
 /// beta where the side force says it was, once C_Y is known (identify.hpp, step 2); with
@@ -689,8 +715,8 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
   const bool side_iv = put_flow_instrument(c, FlowAngle::beta, beta_model, why);
   if (!side_iv) c.result.notes.push_back(fmt::format("side force: beta not instrumented: {}", why));
   Signals x = signals(a, alpha, a.beta);
-  std::vector<Term> side = lateral_terms("C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a, a.beta, x,
-                                         side_iv ? &beta_model : nullptr);
+  std::vector<Term> side = lateral_terms(c, "C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a.beta, x,
+                                         side_iv ? &beta_model : nullptr, side_iv);
   if (side_iv)  // the model's sideslip is itself a mix of the rates' responses: beside it p^ and r^ take up its error
     for (Term& t : side)
       if (t.name == "C_Y_p" || t.name == "C_Y_r")
@@ -703,11 +729,11 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
   x = signals(a, alpha, beta);
   const Col* beta_iv = accel ? &a.beta : nullptr;
   const std::vector<Term> roll =
-      lateral_terms("C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, a, beta, x, beta_iv);
+      lateral_terms(c, "C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, beta, x, beta_iv);
   band_fit(c, "roll", a.C_ell, roll);
   bias_fit(c, "C_ell_0", &M::C_ell_0, a.C_ell, roll);
   const std::vector<Term> yaw =
-      lateral_terms("C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, a, beta, x, beta_iv);
+      lateral_terms(c, "C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, beta, x, beta_iv);
   band_fit(c, "yaw", a.C_n, yaw);
   bias_fit(c, "C_n_0", &M::C_n_0, a.C_n, yaw);
   return beta;
@@ -743,12 +769,20 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
                                            e->name, f.theta[J], se, e->estimate));
       continue;
     }
-    // two estimates further apart than their bounds: one of them is biased, and which is not known;
-    // the bound then holds the equation error's and reaches half way to it
+    // two estimates further apart than their bounds: one of them is biased (the equation error by
+    // its flow angles' errors, the output error by the turbulence it does not model: process noise,
+    // Klein and Morelli sec. 6.5), and which is not known. The estimate is then their mean, its bound
+    // the larger of theirs and half the gap (the truth between them lies inside it).
+    double theta = f.theta[J];
+    std::string method = "output error";
     const double apart = std::abs(f.theta[J] - e->estimate);
-    if (apart > std::hypot(se, e->std_error)) se = std::max({se, e->std_error, 0.5 * apart});
-    e->estimate = f.theta[J], e->std_error = se, e->method = "output error";
-    c.coef.*moment_coefficient(e->name) = f.theta[J];
+    if (apart > std::hypot(se, e->std_error)) {
+      se = std::max({se, e->std_error, 0.5 * apart});
+      theta = 0.5 * (f.theta[J] + e->estimate);
+      method = "mean of equation and output error";
+    }
+    e->estimate = theta, e->std_error = se, e->method = method;
+    c.coef.*moment_coefficient(e->name) = theta;
   }
 }
 
