@@ -26,6 +26,7 @@ struct SysidOptionsCli {
   double oe_window = sysid::OutputErrorOptions{}.window_s;
   bool no_output_error = false;
   bool accel_x_bias = false;
+  double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
   std::vector<std::string> sets;
 };
 
@@ -61,10 +62,13 @@ int run_sysid(const SysidOptionsCli& o) {
   if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   io.fit_accel_x_bias = o.accel_x_bias;
+  if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
+    throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
+  io.gyro_cross_axis = o.gyro_cross_axis;
   sysid::SysidResult r = sysid::identify(series, prior, io);
   const std::string options =
-      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, {}",
-                  o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
+      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, gyro cross-axis {}, {}",
+                  o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, o.gyro_cross_axis,
                   o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate.string(), options};
   sysid::keep_loadable(r, from);
@@ -104,6 +108,9 @@ Command add_sysid_command(CLI::App& app) {
   c->add_flag("--accel-x-bias", o->accel_x_bias,
               "fit the accelerometer's x bias jointly with the drag polar (needs several airspeeds and a polar model that holds: "
               "docs/system-identification.md)");
+  c->add_option("--gyro-cross-axis", o->gyro_cross_axis,
+                "rad/rad: the largest share of one gyro axis's rate in another's (cross-axis sensitivity and mounting; default 0.02): "
+                "widens the rolling and yawing moments' bounds, which cannot see it");
   c->add_option("--set", o->sets, "INSTANCE.PARAM=VALUE: an estimator parameter for the replay, as tern replay --set")
       ->type_name("INSTANCE.PARAM=VALUE");
   return {c, [o] { return run_sysid(*o); }};

@@ -72,6 +72,10 @@ struct SysidOptions {
   double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
   OutputErrorOptions output_error;  ///< step 4, the rotational axes' output-error refinement
   bool fit_accel_x_bias = false;    ///< the accelerometer's x bias as a parameter of the polar (instrumentation.hpp)
+  /// rad/rad, >= 0: the largest share of one gyro axis's rate in another's reading (the datasheet's
+  /// cross-axis sensitivity plus the board's mounting error; MEMS gyros: 1-2 %). Not identifiable
+  /// from the moments (consider_gyro_coupling): it widens the rolling and yawing moments' bounds.
+  double gyro_cross_axis = 0.02;
 };
 
 struct CoefficientEstimate {
