@@ -30,6 +30,9 @@ ROOT = os.path.dirname(HERE)
 # issue 62's targets: relative error of the worst seed
 TARGET_10 = ["C_L_0", "C_L_alpha", "C_m_q", "C_m_delta_e", "C_ell_p", "C_ell_delta_a", "C_n_r", "C_n_delta_r"]
 TARGET_15 = ["C_m_alpha", "C_n_beta", "C_Y_beta", "C_ell_beta"]
+# s: the default mission's hourglass flown to here is three loops (about 115 s each after the climb): the
+# tracking window (from the second loop) holds two loops of cruise and none of the landing's approach
+CRUISE_END_S = 370
 
 
 def run(argv, **kw):
@@ -91,20 +94,48 @@ def drag_coefficient(ac, alpha, delta_e):
     return a["C_D_p"] + (a["C_L_0"] + a["C_L_alpha"] * alpha) ** 2 / (math.pi * w["e"] * AR) + a["C_D_delta_e"] * delta_e
 
 
-def imu_mount_pitch(flight):
-    """The simulator's IMU mounting pitch (rad) from the flight's params.csv (sim.imu_misalignment): the world's,
-    read here only to state the truth in the frame the vehicle measures in; 0 when the profile has none."""
-    with open(os.path.join(flight, "params.csv")) as f:
-        for row in csv.reader(f):
-            if len(row) >= 3 and row[1].endswith(".imu_misalignment"):
-                return float(yaml.safe_load(row[2])[1])
-    return 0.0
+def read_columns(path, names):
+    """The named columns of a tern CSV topic (headers "name [unit]"), as floats."""
+    with open(path) as f:
+        rows = csv.reader(f)
+        header = [h.split(" [")[0] for h in next(rows)]
+        at = [header.index(n) for n in names]
+        out = {n: [] for n in names}
+        for row in rows:
+            for n, k in zip(names, at):
+                out[n].append(float(row[k]) if row[k] not in ("", "nan") else math.nan)
+    return out
 
 
-def truth_in_imu_frame(truth_aero, pitch):
-    """The coefficients as the vehicle can know them: alpha in the IMU's axes is the body's plus the mounting
-    pitch, so the lift's and pitching moment's constant terms move by the slopes times it (C_L_0 - C_L_alpha
-    pitch, C_m_0 - C_m_alpha pitch); no estimate can see the mounting, only the frame it measures in."""
+def estimate_pitch_offset(flight, sysid_out, min_height=10.0):
+    """rad: the mean of the estimate's pitch less the simulator's over the airborne estimate that sysid used
+    (its replay's state.csv against the flight's truth.csv). The flight path's alpha is the true one plus this
+    offset (the ground calibration's level, the IMU's mounting, the estimator's own bias): the frame the
+    vehicle measures in. Read here only to state the truth in that frame."""
+    truth = read_columns(os.path.join(flight, "topics", "truth.csv"), ["t", "theta"])
+    replay = os.path.join(sysid_out, "replay")
+    state_file = os.path.join(replay, os.listdir(replay)[0], "topics", "state.csv")
+    est = read_columns(state_file, ["t", "theta", "valid", "p_d"])
+    tt, th = truth["t"], truth["theta"]
+    total, n, j = 0.0, 0, 0
+    for t, theta, valid, p_d in zip(est["t"], est["theta"], est["valid"], est["p_d"]):
+        if not (valid > 0.5 and -p_d > min_height and math.isfinite(theta)):
+            continue
+        while j + 1 < len(tt) and tt[j + 1] <= t:
+            j += 1
+        if j + 1 >= len(tt):
+            break
+        w = (t - tt[j]) / (tt[j + 1] - tt[j])
+        total += theta - (th[j] + w * (th[j + 1] - th[j]))
+        n += 1
+    return total / n if n else 0.0
+
+
+def truth_in_vehicle_frame(truth_aero, pitch):
+    """The coefficients as the vehicle can know them: the alpha it measures is the true one plus `pitch`
+    (estimate_pitch_offset), so the lift's and pitching moment's constant terms move by the slopes times it
+    (C_L_0 - C_L_alpha pitch, C_m_0 - C_m_alpha pitch); no estimate can see that offset, only the frame it
+    measures in."""
     t = dict(truth_aero)
     t["C_L_0"] = truth_aero["C_L_0"] - truth_aero["C_L_alpha"] * pitch
     t["C_m_0"] = truth_aero["C_m_0"] - truth_aero["C_m_alpha"] * pitch
@@ -129,8 +160,8 @@ def one_seed(tern, seed, args, work):
     run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
-    pitch = imu_mount_pitch(flight)
-    truth_imu = truth_in_imu_frame(truth["aero"], pitch)
+    pitch = estimate_pitch_offset(flight, out)
+    truth_imu = truth_in_vehicle_frame(truth["aero"], pitch)
     rows = {}
     for name, c in result["coefficients"].items():
         true = truth_imu.get(name, 0.0)
@@ -142,25 +173,25 @@ def one_seed(tern, seed, args, work):
     trim = trim_point(tern, truth_file, 25.0)
     identified = yaml.safe_load(open(os.path.join(out, "aircraft.yaml")))
     prior_doc = yaml.safe_load(open(prior))
-    # each file at the trim's alpha in its own frame: the identified one's is the IMU's
+    # each file at the trim's alpha in its own frame: the identified one's is the vehicle's
     drag = {name: drag_coefficient(doc, trim["alpha"] + (pitch if name == "identified" else 0.0), trim["delta"]["delta_e"])
             for name, doc in (("truth", truth), ("identified", identified), ("prior", prior_doc))}
     return {"seed": seed, "prior_factor": factor, "flight": flight, "sysid_seconds": seconds,
-            "log_seconds": result.get("airborne_s"), "imu_mount_pitch_rad": pitch, "coefficients": rows, "drag_at_trim_25": drag,
+            "log_seconds": result.get("airborne_s"), "estimate_pitch_offset_rad": pitch, "coefficients": rows, "drag_at_trim_25": drag,
             "identified_file": os.path.join(out, "aircraft.yaml"), "prior_file": prior}
 
 
 def flies(tern, seed_result, args, work):
-    """The default mission's hourglass (2 loops: the figures count from the second) on the truth's gains: true, identified and prior files."""
+    """The default mission's hourglass on the truth's gains, true, identified and prior files: the figures count from the second
+    loop (summary.json's window) to CRUISE_END_S, two loops of cruise (the landing, from the fifth, is not in them)."""
     base = os.path.splitext(os.path.basename(args.aircraft))[0]
     gains = os.path.join(ROOT, "configs", "gains", f"{base}.yaml")
     figures = {}
     for name, file in (("truth", os.path.abspath(args.aircraft)), ("identified", seed_result["identified_file"]), ("prior", seed_result["prior_file"])):
         mission = mission_copy(os.path.join(ROOT, "configs", "missions", "default.yaml"),
-                               os.path.join(work, f"default_{name}_{seed_result['seed']}.yaml"), aircraft=file, loops=2, gains=gains)
-        # two loops of cruise, not the Aerosonde's landing on the Anaconda's approach speeds
+                               os.path.join(work, f"default_{name}_{seed_result['seed']}.yaml"), aircraft=file, gains=gains)
         p = subprocess.run([tern, "fly", mission, "--seed", str(seed_result["seed"]), "--log-dir", work, "--log-level", "summary", "-q",
-                            "--duration", "450"],
+                            "--duration", str(CRUISE_END_S)],
                            capture_output=True, text=True)
         if p.returncode != 0:
             figures[name] = {"error": (p.stderr.strip().splitlines() or ["failed"])[-1]}
@@ -240,6 +271,30 @@ def table(seeds):
     return "\n".join(lines), summary
 
 
+def inside_shares(seeds):
+    """The share of estimates with the truth inside 3 reported standard errors: the targeted coefficients', every identified one's."""
+    targeted = [r["inside_3_sigma"] for s in seeds for n, r in s["coefficients"].items() if n in TARGET_10 + TARGET_15 and r["identified"]]
+    every = [r["inside_3_sigma"] for s in seeds for r in s["coefficients"].values() if r["identified"]]
+    return {"targeted": sum(targeted) / max(len(targeted), 1), "all": sum(every) / max(len(every), 1),
+            "targeted_count": [sum(targeted), len(targeted)], "all_count": [sum(every), len(every)]}
+
+
+def flies_ratios(seeds):
+    """The identified file's hourglass figures over the true file's, same seed: the largest (worse than the
+    truth) and the smallest (better) ratio, with their figure and seed (None without flights)."""
+    ratios = []
+    for s in seeds:
+        f = s.get("flies", {})
+        if "north_m" not in f.get("truth", {}) or "north_m" not in f.get("identified", {}):
+            continue
+        ratios += [(f["identified"][k] / v if v else math.inf, k, s["seed"]) for k, v in f["truth"].items()]
+    if not ratios:
+        return None
+    hi, lo = max(ratios), min(ratios)
+    return {"worst_ratio": hi[0], "worst_figure": hi[1], "worst_seed": hi[2], "best_ratio": lo[0], "best_figure": lo[1],
+            "best_seed": lo[2]}
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("bin_dir")
@@ -247,12 +302,19 @@ def main():
     ap.add_argument("--mission", default=os.path.join(ROOT, "configs", "missions", "sysid.yaml"))
     ap.add_argument("--aircraft", default=os.path.join(ROOT, "configs", "aircraft", "aerosonde.yaml"))
     ap.add_argument("--out", default=os.path.join(HERE, "results", "bench_sysid.json"))
-    ap.add_argument("--work", help="keep the runs here (default: a temporary directory)")
+    ap.add_argument("--work", help="keep the runs here (default: a temporary directory, removed at the end: ~10 GB of CSV logs)")
     ap.add_argument("--no-flights", action="store_true", help="skip the identified file's flights and tern validate")
     args = ap.parse_args()
     tern = os.path.join(os.path.abspath(args.bin_dir), "tern")
-    work = args.work or tempfile.mkdtemp(prefix="bench_sysid_")
-    os.makedirs(work, exist_ok=True)
+    if args.work:
+        os.makedirs(args.work, exist_ok=True)
+        bench(tern, args, args.work)
+    else:
+        with tempfile.TemporaryDirectory(prefix="bench_sysid_") as work:
+            bench(tern, args, work)
+
+
+def bench(tern, args, work):
     seeds = []
     for seed in range(1, args.seeds + 1):
         r = one_seed(tern, seed, args, work)
@@ -262,7 +324,8 @@ def main():
         seeds.append(r)
         print(f"seed {seed}: prior x{r['prior_factor']}, sysid {r['sysid_seconds']:.1f} s on {r['log_seconds']:.0f} s airborne; "
               f"drag at 25 m/s trim: truth {r['drag_at_trim_25']['truth']:.4f}, identified {r['drag_at_trim_25']['identified']:.4f}, "
-              f"prior {r['drag_at_trim_25']['prior']:.4f}", flush=True)
+              f"prior {r['drag_at_trim_25']['prior']:.4f}; the estimate's pitch {math.degrees(r['estimate_pitch_offset_rad']):+.2f} deg "
+              f"off the truth (the frame the truth is compared in)", flush=True)
         if "flies" in r:
             print(f"  hourglass tracking RMS (north/east/alt m, course deg, Va m/s): {json.dumps(r['flies'])}", flush=True)
             print(f"  tern validate NRMSE (true / identified / prior file): {validate_line(r['validate'])}", flush=True)
@@ -274,8 +337,17 @@ def main():
     print(text)
     drag_errors = [abs(s["drag_at_trim_25"]["identified"] - s["drag_at_trim_25"]["truth"]) / s["drag_at_trim_25"]["truth"] for s in seeds]
     print(f"drag at the 25-m/s trim: worst relative error {max(drag_errors):.1%} (target 25 %)")
+    inside = inside_shares(seeds)
+    print(f"truth inside 3 SE: {inside['targeted']:.0%} of the targeted coefficients' estimates, {inside['all']:.0%} of every "
+          f"identified one's (target 90 %)")
+    flown = flies_ratios(seeds)
+    if flown:
+        print(f"the identified file on the hourglass, its figures over the true file's: at worst {flown['worst_ratio']:.2f} "
+              f"({flown['worst_figure']}, seed {flown['worst_seed']}), at best {flown['best_ratio']:.2f} ({flown['best_figure']}, "
+              f"seed {flown['best_seed']}); target within 10 %")
     doc = {"produced_by": f"bench/bench_sysid.py {args.bin_dir} --seeds {args.seeds}", "mission": os.path.relpath(args.mission, ROOT),
-           "aircraft": os.path.relpath(args.aircraft, ROOT), "summary": summary, "drag_worst_relative_error": max(drag_errors), "anaconda_gains": gains,
+           "aircraft": os.path.relpath(args.aircraft, ROOT), "summary": summary, "drag_worst_relative_error": max(drag_errors),
+           "inside_3_se": inside, "flies": flown, "anaconda_gains": gains,
            "seeds": seeds}
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:
