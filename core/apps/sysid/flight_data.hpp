@@ -52,8 +52,8 @@ struct FlightSeries {
   std::vector<double> p_dot, q_dot, r_dot;        ///< angular acceleration, rad/s^2
   std::vector<double> delta_a, delta_e, delta_r;  ///< surface deflections (lagged commands), rad
   std::vector<double> delta_t;                    ///< throttle, 0..1
-  /// the excitation's increments within those (topics/excitation.csv, the signal generator's, or
-  /// ArduPilot's SIDD), lagged and filtered alike, in the same order: delta_a, delta_e, delta_r rad,
+  /// the excitation's increments within those (topics/excitation.csv: the signal generator's),
+  /// lagged and filtered alike, in the same order: delta_a, delta_e, delta_r rad,
   /// delta_t throttle fraction. Independent of the gusts, unlike the commands the controller adds
   /// to them: the instruments of a closed-loop flight (identify.hpp). Empty when the log has none.
   std::vector<double> exc_delta_a, exc_delta_e, exc_delta_r, exc_delta_t;

@@ -418,8 +418,8 @@ enum class FlowAngle { alpha, beta };
 /// The excitation's part of `command` (one of c.a's delta_*) where the log has one that moved
 /// about its trim by more than the excitation test's 0.3 deg (throttle: 0.01); else nullptr. In a
 /// closed-loop flight the controller's share of a command answers the gusts, which are the
-/// regressions' error: only the excitation's share is independent of them (Klein and Morelli sec.
-/// 5.5 and ch. 9, identification in closed loop).
+/// regressions' error: only the excitation's share is independent of them (Soderstrom and Stoica,
+/// *System Identification*, ch. 10: systems operating in closed loop).
 const Col* excitation_part(const Context& c, const Col& command) {
   const AeroSamples& a = c.a;
   const std::tuple<const Col*, const Col*, double> parts[] = {{&a.delta_a, &a.exc_delta_a, 0.3 * kRadPerDeg},
@@ -776,14 +776,15 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
                                            e->name, f.theta[J], se, e->estimate));
       continue;
     }
-    // two estimates further apart than their bounds: one of them is biased (the equation error by
-    // its flow angles' errors, the output error by the turbulence it does not model: process noise,
-    // Klein and Morelli sec. 6.5), and which is not known. The estimate is then their mean, its bound
-    // the larger of theirs and half the gap (the truth between them lies inside it).
+    // the output error further from the equation error than its own bound: one of them is biased
+    // (the equation error by its flow angles' errors; the output error by the turbulence it does not
+    // model, process noise, and by the noise in the flow angles it is driven by: Klein and Morelli
+    // ch. 6), and which is not known. The estimate is then their mean, its bound the larger of
+    // theirs and half the gap (the truth between them lies inside it).
     double theta = f.theta[J];
     std::string method = "output error";
     const double apart = std::abs(f.theta[J] - e->estimate);
-    if (apart > std::hypot(se, e->std_error)) {
+    if (apart > se) {
       se = std::max({se, e->std_error, 0.5 * apart});
       theta = 0.5 * (f.theta[J] + e->estimate);
       method = "mean of equation and output error";
