@@ -66,10 +66,10 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   io.gyro_cross_axis = o.gyro_cross_axis;
   sysid::SysidResult r = sysid::identify(series, prior, io);
-  const std::string options =
-      fmt::format("band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, gyro cross-axis {}, {}",
-                  o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, o.gyro_cross_axis,
-                  o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
+  const std::string options = fmt::format(
+      "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, gyro cross-axis {}, {}",
+      o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, o.gyro_cross_axis,
+      o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate.string(), options};
   sysid::keep_loadable(r, from);
   sysid::write_sysid_outputs(r, from, o.out_dir);

@@ -57,14 +57,14 @@ struct FlightSeries {
   /// delta_t throttle fraction. Independent of the gusts, unlike the commands the controller adds
   /// to them: the instruments of a closed-loop flight (identify.hpp). Empty when the log has none.
   std::vector<double> exc_delta_a, exc_delta_e, exc_delta_r, exc_delta_t;
-  std::vector<double> Va;                         ///< estimator's airspeed, m/s
-  std::vector<double> alpha, beta;                ///< flow angles of the reconstructed flight path, rad (header)
-  std::vector<double> qbar;                       ///< pitot differential pressure, Pa (NaN: no pitot in the log)
-  std::vector<double> phi, theta, psi;            ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
-  std::vector<double> p_n, p_e, p_d;              ///< estimator's position NED from its origin, m
-  std::vector<double> u, v, w;                    ///< estimator's ground velocity, body FRD, m/s
-  std::vector<double> w_n, w_e, w_d;              ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
-  std::vector<unsigned char> valid;               ///< 1 where the estimate was valid and interpolated
+  std::vector<double> Va;               ///< estimator's airspeed, m/s
+  std::vector<double> alpha, beta;      ///< flow angles of the reconstructed flight path, rad (header)
+  std::vector<double> qbar;             ///< pitot differential pressure, Pa (NaN: no pitot in the log)
+  std::vector<double> phi, theta, psi;  ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
+  std::vector<double> p_n, p_e, p_d;    ///< estimator's position NED from its origin, m
+  std::vector<double> u, v, w;          ///< estimator's ground velocity, body FRD, m/s
+  std::vector<double> w_n, w_e, w_d;    ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
+  std::vector<unsigned char> valid;     ///< 1 where the estimate was valid and interpolated
   std::size_t size() const { return t.size(); }
 };
 
