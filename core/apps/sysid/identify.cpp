@@ -412,8 +412,9 @@ std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name)
   return out;
 }
 
-/// Which flow angle a model instrument stands for (sideslip_instrument.hpp).
-enum class FlowAngle { alpha, beta };
+/// What a model instrument stands for (sideslip_instrument.hpp): a flow angle, or a nondimensional
+/// lateral rate.
+enum class Modelled { alpha, beta, p_hat, r_hat };
 
 /// The excitation's part of `command` (one of c.a's delta_*) where the log has one that moved
 /// about its trim by more than the excitation test's 0.3 deg (throttle: 0.01); else nullptr. In a
@@ -431,14 +432,15 @@ const Col* excitation_part(const Context& c, const Col& command) {
   return nullptr;
 }
 
-/// The instrument for alpha (the lift's) or beta (the side force's), put into the spectra under
-/// `key` (sideslip_instrument.hpp): each stretch's flow angle of the linear model for its commands
-/// (elevator and throttle, or aileron and rudder), linearised at the stretch's mean airspeed with
-/// the coefficients known so far. The model is driven by the excitation's part of the commands
-/// where the log has it (excitation_part), by the whole commands otherwise. False (no instrument)
-/// when that model does not trim, with the reason in `why`.
-bool put_flow_instrument(Context& c, FlowAngle angle, const Col& key, std::string& why) {
-  const bool lateral = angle == FlowAngle::beta;
+/// The instrument for alpha (the lift's), beta (the side force's) or p^ and r^ (the rolling and
+/// yawing moments'), put into the spectra under `key` (sideslip_instrument.hpp): each stretch's
+/// response of the linear model to its commands (elevator and throttle, or aileron and rudder),
+/// linearised at the stretch's mean airspeed with the coefficients known so far. The model is
+/// driven by the excitation's part of the commands where the log has it (excitation_part), by the
+/// whole commands otherwise. False (no instrument) when that model does not trim, with the reason
+/// in `why`.
+bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string& why) {
+  const bool lateral = what != Modelled::alpha;
   const Col& u1 = lateral ? c.a.delta_a : c.a.delta_e;
   const Col& u2 = lateral ? c.a.delta_r : c.a.delta_t;
   const bool excited = excitation_part(c, u1) != nullptr || excitation_part(c, u2) != nullptr;
@@ -457,8 +459,14 @@ bool put_flow_instrument(Context& c, FlowAngle angle, const Col& key, std::strin
     const Col f = c.spectra.segment_frequencies(i);
     try {
       const tern::aero::LinearModel m = tern::aero::linearize(model, {Va});
-      Z.segment(first, n) = lateral ? modelled_sideslip(m, f, U1.segment(first, n), U2.segment(first, n))
-                                    : modelled_alpha(m, f, U1.segment(first, n), U2.segment(first, n));
+      const auto u1 = U1.segment(first, n), u2 = U2.segment(first, n);
+      const double half_span = 0.5 * model.b;
+      switch (what) {
+        case Modelled::alpha: Z.segment(first, n) = modelled_alpha(m, f, u1, u2); break;
+        case Modelled::beta: Z.segment(first, n) = modelled_sideslip(m, f, u1, u2); break;
+        case Modelled::p_hat: Z.segment(first, n) = half_span * modelled_roll_rate(m, f, u1, u2); break;
+        case Modelled::r_hat: Z.segment(first, n) = half_span * modelled_yaw_rate(m, f, u1, u2); break;
+      }
     } catch (const std::exception& ex) {
       why = fmt::format("the linear model does not trim at {:.1f} m/s ({})", Va, ex.what());
       return false;
@@ -524,7 +532,7 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
   // the reconstructed alpha misses the vertical gusts: instrumented by the longitudinal model's
   const Col alpha_model(a.size(), 0.0);  // a key: its spectrum is put in the frequency domain
   std::string why;
-  const bool iv = put_flow_instrument(c, FlowAngle::alpha, alpha_model, why);
+  const bool iv = put_model_instrument(c, Modelled::alpha, alpha_model, why);
   if (!iv) c.result.notes.push_back(fmt::format("lift: alpha not instrumented in the band: {}", why));
   band_fit(c, "lift", a.C_L,
            {{"C_L_alpha", &M::C_L_alpha, &a.alpha, alpha, iv ? &alpha_model : nullptr},
@@ -640,16 +648,25 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
 }
 
+/// The instruments of the lateral rates in a closed-loop flight: the lateral model's p^ and r^ for
+/// the excitation (put_model_instrument), or none.
+struct RateInstruments {
+  const Col* p_hat = nullptr;
+  const Col* r_hat = nullptr;
+};
+
 /// The lateral terms of one axis (C_Y, C_ell or C_n: members in the order beta, p, r, delta_a, delta_r);
-/// with `closed_loop`, each command instrumented by its excitation's part where it has one.
+/// with `closed_loop`, each command instrumented by its excitation's part where it has one, and the
+/// rates by `rates`.
 std::vector<Term> lateral_terms(const Context& c, const std::string& axis, const std::array<Member, 5>& m, const Col& beta,
-                                const Signals& x, const Col* beta_instrument = nullptr, bool closed_loop = false) {
+                                const Signals& x, const Col* beta_instrument = nullptr, bool closed_loop = false,
+                                RateInstruments rates = {}) {
   const AeroSamples& a = c.a;
   const Col* da = closed_loop ? excitation_part(c, a.delta_a) : nullptr;
   const Col* dr = closed_loop ? excitation_part(c, a.delta_r) : nullptr;
   return {{axis + "_beta", m[0], &beta, x.beta, beta_instrument},
-          {axis + "_p", m[1], &a.p_hat, x.p},
-          {axis + "_r", m[2], &a.r_hat, x.r},
+          {axis + "_p", m[1], &a.p_hat, x.p, rates.p_hat},
+          {axis + "_r", m[2], &a.r_hat, x.r, rates.r_hat},
           {axis + "_delta_a", m[3], &a.delta_a, x.delta_a, da},
           {axis + "_delta_r", m[4], &a.delta_r, x.delta_r, dr}};
 }
@@ -719,7 +736,7 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
   const AeroSamples& a = c.a;
   const Col beta_model(a.size(), 0.0);  // a key: its spectrum is put in the frequency domain
   std::string why;
-  const bool side_iv = put_flow_instrument(c, FlowAngle::beta, beta_model, why);
+  const bool side_iv = put_model_instrument(c, Modelled::beta, beta_model, why);
   if (!side_iv) c.result.notes.push_back(fmt::format("side force: beta not instrumented: {}", why));
   Signals x = signals(a, alpha, a.beta);
   std::vector<Term> side = lateral_terms(c, "C_Y", {&M::C_Y_beta, &M::C_Y_p, &M::C_Y_r, &M::C_Y_delta_a, &M::C_Y_delta_r}, a.beta, x,
@@ -735,14 +752,27 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
   Col beta = beta_from_side_force(c, accel);
   x = signals(a, alpha, beta);
   const Col* beta_iv = accel ? &a.beta : nullptr;
+  // In closed loop the rates answer the sensors' noise through the controller, as the commands do
+  // (the yaw damper feeds r straight back to the rudder): in the yawing moment they and the commands
+  // are instrumented by the lateral model's response to the excitation. The rolling moment keeps its
+  // own: its signal is some five times larger beside the same noise, and there those instruments
+  // cost more precision than they remove bias (bench seeds 1-5: C_ell_delta_a 5 -> 12 %).
+  const Col p_model(a.size(), 0.0), r_model(a.size(), 0.0);  // keys: their spectra are put in the frequency domain
+  const bool closed = excitation_part(c, a.delta_a) != nullptr || excitation_part(c, a.delta_r) != nullptr;
+  const bool rates_iv =
+      closed && put_model_instrument(c, Modelled::p_hat, p_model, why) && put_model_instrument(c, Modelled::r_hat, r_model, why);
+  if (closed && !rates_iv) c.result.notes.push_back(fmt::format("yaw: the rates not instrumented: {}", why));
+  const RateInstruments rates = rates_iv ? RateInstruments{&p_model, &r_model} : RateInstruments{};
   const std::vector<Term> roll =
       lateral_terms(c, "C_ell", {&M::C_ell_beta, &M::C_ell_p, &M::C_ell_r, &M::C_ell_delta_a, &M::C_ell_delta_r}, beta, x, beta_iv);
   band_fit(c, "roll", a.C_ell, roll);
   bias_fit(c, "C_ell_0", &M::C_ell_0, a.C_ell, roll);
   const std::vector<Term> yaw =
-      lateral_terms(c, "C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, beta, x, beta_iv);
+      lateral_terms(c, "C_n", {&M::C_n_beta, &M::C_n_p, &M::C_n_r, &M::C_n_delta_a, &M::C_n_delta_r}, beta, x, beta_iv, rates_iv, rates);
   band_fit(c, "yaw", a.C_n, yaw);
   bias_fit(c, "C_n_0", &M::C_n_0, a.C_n, yaw);
+  c.spectra.forget(&p_model);
+  c.spectra.forget(&r_model);
   return beta;
 }
 

@@ -37,6 +37,16 @@ Eigen::VectorXcd modelled_sideslip(const tern::aero::LinearModel& m, const std::
   return response(m.A_lat, m.B_lat, 0, m.Va, f_hz, delta_a, delta_r);  // x_lat[0] = v
 }
 
+Eigen::VectorXcd modelled_roll_rate(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
+                                    const Eigen::VectorXcd& delta_r) {
+  return response(m.A_lat, m.B_lat, 1, m.Va, f_hz, delta_a, delta_r);  // x_lat[1] = p
+}
+
+Eigen::VectorXcd modelled_yaw_rate(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
+                                   const Eigen::VectorXcd& delta_r) {
+  return response(m.A_lat, m.B_lat, 2, m.Va, f_hz, delta_a, delta_r);  // x_lat[2] = r
+}
+
 Eigen::VectorXcd modelled_alpha(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_e,
                                 const Eigen::VectorXcd& delta_t) {
   return response(m.A_lon, m.B_lon, 1, m.Va, f_hz, delta_e, delta_t);  // x_lon[1] = w

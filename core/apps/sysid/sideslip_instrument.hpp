@@ -35,6 +35,13 @@ namespace tern::core::sysid {
 Eigen::VectorXcd modelled_sideslip(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
                                    const Eigen::VectorXcd& delta_r);
 
+/// p(f) / Va and r(f) / Va of the same model (rad/m): times b / 2, the nondimensional rates'
+/// instruments in the rolling and yawing moments (identify.hpp).
+Eigen::VectorXcd modelled_roll_rate(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
+                                    const Eigen::VectorXcd& delta_r);
+Eigen::VectorXcd modelled_yaw_rate(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_a,
+                                   const Eigen::VectorXcd& delta_r);
+
 /// alpha(f) of the longitudinal model (x = [u w q theta h], u = [delta_e delta_t], eq. 5.50):
 /// w(f) / Va for the commands' spectra, the lift's instrument likewise.
 Eigen::VectorXcd modelled_alpha(const tern::aero::LinearModel& m, const std::vector<double>& f_hz, const Eigen::VectorXcd& delta_e,
