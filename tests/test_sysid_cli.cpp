@@ -107,5 +107,8 @@ TEST_CASE("tern sysid: each bad input is one error line") {
   write_file("no_actuators/topics/imu.csv", read_file(run / "topics" / "imu.csv"));
   one_line(sysid({(test_dir() / "no_actuators").string(), "--aircraft", kAerosonde, "--out", out}, "actuators"),
            "actuators.csv: no such table");
+  write_file("no_gnss/topics/imu.csv", read_file(run / "topics" / "imu.csv"));
+  write_file("no_gnss/topics/actuators.csv", read_file(run / "topics" / "actuators.csv"));
+  one_line(sysid({(test_dir() / "no_gnss").string(), "--aircraft", kAerosonde, "--out", out}, "gnss"), "gnss.csv: no such table");
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--band", "2", "1"}, "band"), "--band");
 }

@@ -50,7 +50,7 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--band: {} .. {} Hz: expected 0 < LO < HI", o.band.front(), o.band.back()));
   if (o.flow_angles != "accelerometer" && o.flow_angles != "estimator")
     throw ConfigError(fmt::format("--flow-angles: '{}': expected accelerometer or estimator", o.flow_angles));
-  sysid::check_sensor_log(o.log_dir);
+  sysid::check_sensor_log(o.log_dir, o.estimate.empty());
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;

@@ -83,7 +83,7 @@ void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft,
 int validate(const ValidateRequest& o) {
   const std::vector<Aircraft> aircraft = load_all(o.aircraft);
   const fs::path log(o.log_dir);
-  sysid::check_sensor_log(log);
+  sysid::check_sensor_log(log, o.estimate.empty());
   const fs::path dir = o.out_dir ? fs::path(*o.out_dir) : log / "validate";
   fs::create_directories(dir);
   const fs::path estimate = o.estimate.empty() ? replayed_estimate(o, dir) : fs::path(o.estimate);

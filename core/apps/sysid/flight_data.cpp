@@ -103,12 +103,16 @@ Column decimated(const Column& x, std::size_t step) {
 
 }  // namespace
 
-void check_sensor_log(const std::filesystem::path& log_dir) {
+void check_sensor_log(const std::filesystem::path& log_dir, bool replayed) {
   const std::pair<const char*, const char*> tables[] = {
       {"imu.csv", "the IMU's specific force and rates are required"},
-      {"actuators.csv", "the surfaces' commands are required (docs/sensor-log.md, actuators)"}};
+      {"actuators.csv", "the surfaces' commands are required (docs/sensor-log.md, actuators)"},
+      {"gnss.csv",
+       "tern's estimator initialises on GNSS (docs/sensor-log.md); or give --estimate RUN, a run whose topics/state.csv "
+       "holds another estimate"}};
   for (const auto& [name, why] : tables) {
     const std::filesystem::path file = log_dir / "topics" / name;
+    if (std::string(name) == "gnss.csv" && !replayed) continue;
     if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
   }
 }

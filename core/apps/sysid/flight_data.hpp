@@ -79,10 +79,11 @@ struct FlightSeries {
 /// accelerometers' (identify.hpp takes them as instruments). NaN where an input is.
 void flow_angles_from_steady_wind(FlightSeries& s);
 
-/// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv (a
-/// table without rows is found later: no airborne samples, an estimate never valid). Throws ConfigError naming the file ("no such table:
-/// the surfaces' commands are required ...").
-void check_sensor_log(const std::filesystem::path& log_dir);
+/// What a log must hold before anything is replayed: topics/imu.csv and topics/actuators.csv, and
+/// with `replayed` (tern's estimator to run over it) topics/gnss.csv, without which the estimator
+/// never initialises (a table without rows is found later: no airborne samples, an estimate never
+/// valid). Throws ConfigError naming the file ("no such table: the surfaces' commands are required ...").
+void check_sensor_log(const std::filesystem::path& log_dir, bool replayed = true);
 
 /// The estimator's installation, as the estimate's run recorded it in params.csv (the setting
 /// `<instance>.imu_position` and `.imu_mount` of any instance; zero when absent), into `o`.
