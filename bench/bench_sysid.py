@@ -11,7 +11,8 @@ seed, and `tern validate` scores the three files on the sysid flight.
 
 Prints the table (worst seed per coefficient, against the targets) and writes JSON (default
 bench/results/bench_sysid.json). Every figure says what produced it: the truth is the aircraft
-file the simulator flew; the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
+file the simulator flew (C_L_0, C_m_0 and the drag at trim stated in the frame the vehicle measures alpha
+in: estimate_pitch_offset); the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
 """
 import argparse
 import csv
@@ -161,10 +162,10 @@ def one_seed(tern, seed, args, work):
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
     pitch = estimate_pitch_offset(flight, out)
-    truth_imu = truth_in_vehicle_frame(truth["aero"], pitch)
+    truth_frame = truth_in_vehicle_frame(truth["aero"], pitch)
     rows = {}
     for name, c in result["coefficients"].items():
-        true = truth_imu.get(name, 0.0)
+        true = truth_frame.get(name, 0.0)
         rows[name] = {"truth": true, "prior": c["prior"], "estimate": c["estimate"], "std_error": c["std_error"],
                       "identified": c["identified"], "note": c["note"],
                       "relative_error": abs(c["estimate"] - true) / abs(true) if true else None,
