@@ -92,6 +92,31 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
                 "2")
               .first == 0);
   CHECK(read_file(out1 / "aircraft.yaml") == read_file(out2 / "aircraft.yaml"));
+  // a command row that is not a number: one note, the row before it held, the coefficients as before
+  const fs::path holed = test_dir() / "holed";
+  fs::create_directories(holed);
+  fs::copy(run / "topics", holed / "topics", fs::copy_options::recursive);
+  std::istringstream rows(read_file(run / "topics" / "actuators.csv"));
+  std::string csv, line;
+  for (std::size_t k = 0; std::getline(rows, line); ++k) {
+    if (k == 5000) {  // delta_a, the third column
+      const auto a = line.find(',', line.find(',') + 1) + 1, b = line.find(',', a);
+      line = line.substr(0, a) + "nan" + line.substr(b);
+    }
+    csv += line + "\n";
+  }
+  write_file("holed/topics/actuators.csv", csv);
+  const fs::path out3 = test_dir() / "out3";
+  const auto h = sysid(
+      {holed.string(), "--aircraft", prior.string(), "--out", out3.string(), "--estimate", j["produced_by"]["estimate"].get<std::string>()},
+      "holed");
+  INFO(h.second);
+  REQUIRE(h.first == 0);
+  CHECK(h.second.find("actuators.csv: 1 of") != std::string::npos);
+  CHECK(h.second.find("not a number: the row before each held") != std::string::npos);
+  const nlohmann::json jh = nlohmann::json::parse(read_file(out3 / "sysid.json"));
+  CHECK(jh["coefficients"]["C_ell_delta_a"]["estimate"].get<double>() ==
+        doctest::Approx(j["coefficients"]["C_ell_delta_a"]["estimate"].get<double>()).epsilon(0.01));
 }
 
 TEST_CASE("tern sysid: each bad input is one error line") {

@@ -48,14 +48,19 @@ std::vector<std::size_t> usable_imu_rows(const CsvTable& imu, const std::vector<
 }
 
 /// Commands in force at each time of `tq` (the last row at or before it; before the first row,
-/// the first), through a first-order lag of time constant tau (0: none).
+/// the first; a row that is not a number leaves the one before it in force), through a first-order
+/// lag of time constant tau (0: none).
 Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& tq, double tau) {
   Column out(tq.size());
+  const auto first = std::find_if(cmd.begin(), cmd.end(), [](double v) { return std::isfinite(v); });
+  double u = first == cmd.end() ? 0.0 : *first;  // a row that is not a number leaves the one before in force
+  double y = u;
   std::size_t j = 0;
-  double y = cmd.empty() ? 0.0 : cmd.front();
   for (std::size_t k = 0; k < tq.size(); ++k) {
-    while (j + 1 < t_cmd.size() && t_cmd[j + 1] <= tq[k]) ++j;
-    const double u = cmd.empty() ? 0.0 : cmd[j];
+    while (j + 1 < t_cmd.size() && t_cmd[j + 1] <= tq[k]) {
+      ++j;
+      if (std::isfinite(cmd[j])) u = cmd[j];
+    }
     const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
     y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (u - y) : u;
     out[k] = y;
@@ -93,6 +98,16 @@ Column central_difference(const Column& x, const Column& t) {
   return out;
 }
 
+/// One note when `column` of `table` has rows that are not numbers (commands_in_force holds the row
+/// before each).
+void note_not_numbers(const CsvTable& table, const char* column, std::vector<std::string>& notes) {
+  const Column& c = table.at(column);
+  const auto bad = std::count_if(c.begin(), c.end(), [](double v) { return !std::isfinite(v); });
+  if (bad > 0)
+    notes.push_back(
+        fmt::format("{}: {} of {} rows' {} not a number: the row before each held", table.file.string(), bad, c.size(), column));
+}
+
 /// Every `step`-th element.
 Column decimated(const Column& x, std::size_t step) {
   Column out;
@@ -104,15 +119,15 @@ Column decimated(const Column& x, std::size_t step) {
 }  // namespace
 
 void check_sensor_log(const std::filesystem::path& log_dir, bool replayed) {
-  const std::pair<const char*, const char*> tables[] = {
+  std::vector<std::pair<const char*, const char*>> tables = {
       {"imu.csv", "the IMU's specific force and rates are required"},
-      {"actuators.csv", "the surfaces' commands are required (docs/sensor-log.md, actuators)"},
-      {"gnss.csv",
-       "tern's estimator initialises on GNSS (docs/sensor-log.md); or give --estimate RUN, a run whose topics/state.csv "
-       "holds another estimate"}};
+      {"actuators.csv", "the surfaces' commands are required (docs/sensor-log.md, actuators)"}};
+  if (replayed)
+    tables.emplace_back("gnss.csv",
+                        "tern's estimator initialises on GNSS (docs/sensor-log.md); or give --estimate RUN, a run whose topics/state.csv "
+                        "holds another estimate");
   for (const auto& [name, why] : tables) {
     const std::filesystem::path file = log_dir / "topics" / name;
-    if (std::string(name) == "gnss.csv" && !replayed) continue;
     if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
   }
 }
@@ -219,7 +234,10 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const Column p = rate("gyro_x", "b_x"), q = rate("gyro_y", "b_y"), r = rate("gyro_z", "b_z");
   const std::size_t step = o.rate_hz > 0.0 ? std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1.0 / (dt * o.rate_hz)))) : 1;
   auto keep = [&](const Column& c) { return decimated(c, step); };
-  auto command = [&](const char* name) { return keep(lp(commands_in_force(act.at("t"), act.at(name), t, o.servo_tau))); };
+  auto command = [&](const char* name) {
+    note_not_numbers(act, name, s.notes);
+    return keep(lp(commands_in_force(act.at("t"), act.at(name), t, o.servo_tau)));
+  };
   s.t = keep(t);
   const Column p_dot = central_difference(p, t), q_dot = central_difference(q, t), r_dot = central_difference(r, t);
   Column ax = lp(pick("accel_x")), ay = lp(pick("accel_y")), az = lp(pick("accel_z"));
@@ -235,7 +253,10 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
   if (std::filesystem::exists(excitation)) {
     const CsvTable ex = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
-    auto part = [&](const char* name) { return keep(lp(commands_in_force(ex.at("t"), ex.at(name), t, o.servo_tau))); };
+    auto part = [&](const char* name) {
+      note_not_numbers(ex, name, s.notes);
+      return keep(lp(commands_in_force(ex.at("t"), ex.at(name), t, o.servo_tau)));
+    };
     s.exc_delta_a = part("delta_a"), s.exc_delta_e = part("delta_e"), s.exc_delta_r = part("delta_r"), s.exc_delta_t = part("delta_t");
   }
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
@@ -267,6 +288,7 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
   if (std::filesystem::exists(pitot)) {
     const CsvTable dp = read_table(pitot, {"t", "pressure"}, "");
+    note_not_numbers(dp, "pressure", s.notes);
     Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
     s.qbar = keep(lp(q));
   }

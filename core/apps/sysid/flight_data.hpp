@@ -27,6 +27,7 @@
 #pragma once
 
 #include <filesystem>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -65,6 +66,7 @@ struct FlightSeries {
   std::vector<double> u, v, w;          ///< estimator's ground velocity, body FRD, m/s
   std::vector<double> w_n, w_e, w_d;    ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
   std::vector<unsigned char> valid;     ///< 1 where the estimate was valid and interpolated
+  std::vector<std::string> notes;       ///< one line per table whose rows were not all numbers (the row before each held)
   std::size_t size() const { return t.size(); }
 };
 

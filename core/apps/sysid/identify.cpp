@@ -899,6 +899,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
           "docs/system-identification.md)");
   }
   SysidResult r;
+  r.notes = series.notes;
   r.aircraft = prior;
   r.pitot_scale = scale.k;
   r.wind_n = scale.w_n, r.wind_e = scale.w_e;

@@ -17,6 +17,43 @@ namespace {
 
 using tern::core::sysid::FlightSeries;
 
+/// The multisine added to the surfaces at time t (rad): disjoint harmonic sets of 0.15 Hz per surface
+/// (Schroeder-like phases), `amplitude` split over four lines each, half of it on the aileron.
+tern::sim::Deltas multisine(double t, double amplitude) {
+  tern::sim::Deltas d{};
+  for (int k = 1; k <= 12; ++k) {
+    const double f = k * 0.15, ph = tern::kPi * k * k / 12.0;
+    const double w = amplitude * std::sin(2.0 * tern::kPi * f * t + ph) / 4.0;
+    if (k % 3 == 0)
+      d.delta_e += w;
+    else if (k % 3 == 1)
+      d.delta_a += 0.5 * w;
+    else
+      d.delta_r += w;
+  }
+  return d;
+}
+
+/// One sample of the series at time t from the model's state x, its derivative dx, forces fm and
+/// deflections d, with the flow angles given (the air's, or the flight path's); `last` ends the stretch.
+void record(FlightSeries& s, double t, const tern::sim::StateVector& x, const tern::sim::StateVector& dx,
+            const tern::sim::ForcesMoments& fm, const tern::sim::Deltas& d, double mass, double alpha, double beta, bool last) {
+  namespace sim = tern::sim;
+  const Eigen::Vector3d f = fm.specific_force(mass);
+  const Eigen::Vector3d euler = tern::euler_from_quaternion(sim::attitude(x));
+  s.t.push_back(t);
+  s.a_x.push_back(f.x()), s.a_y.push_back(f.y()), s.a_z.push_back(f.z());
+  s.p.push_back(x[sim::P]), s.q.push_back(x[sim::Q]), s.r.push_back(x[sim::R]);
+  s.p_dot.push_back(dx[sim::P]), s.q_dot.push_back(dx[sim::Q]), s.r_dot.push_back(dx[sim::R]);
+  s.delta_a.push_back(d.delta_a), s.delta_e.push_back(d.delta_e), s.delta_r.push_back(d.delta_r), s.delta_t.push_back(d.delta_t);
+  s.Va.push_back(fm.air.Va), s.alpha.push_back(alpha), s.beta.push_back(beta), s.qbar.push_back(std::nan(""));
+  s.phi.push_back(euler.x()), s.theta.push_back(euler.y()), s.psi.push_back(euler.z());
+  s.p_n.push_back(x[sim::PN]), s.p_e.push_back(x[sim::PE]), s.p_d.push_back(std::min(x[sim::PD], -50.0));
+  s.u.push_back(x[sim::U]), s.v.push_back(x[sim::V]), s.w.push_back(x[sim::W]);
+  s.w_n.push_back(0.0), s.w_e.push_back(0.0), s.w_d.push_back(0.0);
+  s.valid.push_back(last ? 0 : 1);
+}
+
 /// Appends `seconds` of flight from the trim at Va, the surfaces trim + multisine (rad).
 void fly(const tern::Aircraft& ac, double Va, double seconds, double amplitude, FlightSeries& s) {
   namespace sim = tern::sim;
@@ -24,34 +61,12 @@ void fly(const tern::Aircraft& ac, double Va, double seconds, double amplitude, 
   sim::StateVector x = trim.x;
   const double dt = 1.0 / 200.0, t0 = s.t.empty() ? 0.0 : s.t.back() + 1.0;
   for (double t = 0.0; t < seconds; t += dt) {
+    const sim::Deltas m = multisine(t, amplitude);
     sim::Deltas d = trim.delta;
-    // disjoint harmonic sets of 1/seconds per surface (Schroeder-like phases)
-    for (int k = 1; k <= 12; ++k) {
-      const double f = k * 0.15, ph = tern::kPi * k * k / 12.0;
-      const double w = amplitude * std::sin(2.0 * tern::kPi * f * t + ph) / 4.0;
-      if (k % 3 == 0)
-        d.delta_e += w;
-      else if (k % 3 == 1)
-        d.delta_a += 0.5 * w;
-      else
-        d.delta_r += w;
-    }
+    d.delta_a += m.delta_a, d.delta_e += m.delta_e, d.delta_r += m.delta_r;
     sim::ForcesMoments fm;
     const sim::StateVector dx = sim::derivative(ac, x, d, {}, &fm);
-    const sim::AirData air = fm.air;
-    const Eigen::Vector3d f = fm.specific_force(ac.mass);
-    const Eigen::Vector3d euler = tern::euler_from_quaternion(sim::attitude(x));
-    s.t.push_back(t0 + t);
-    s.a_x.push_back(f.x()), s.a_y.push_back(f.y()), s.a_z.push_back(f.z());
-    s.p.push_back(x[sim::P]), s.q.push_back(x[sim::Q]), s.r.push_back(x[sim::R]);
-    s.p_dot.push_back(dx[sim::P]), s.q_dot.push_back(dx[sim::Q]), s.r_dot.push_back(dx[sim::R]);
-    s.delta_a.push_back(d.delta_a), s.delta_e.push_back(d.delta_e), s.delta_r.push_back(d.delta_r), s.delta_t.push_back(d.delta_t);
-    s.Va.push_back(air.Va), s.alpha.push_back(air.alpha), s.beta.push_back(air.beta), s.qbar.push_back(std::nan(""));
-    s.phi.push_back(euler.x()), s.theta.push_back(euler.y()), s.psi.push_back(euler.z());
-    s.p_n.push_back(x[sim::PN]), s.p_e.push_back(x[sim::PE]), s.p_d.push_back(std::min(x[sim::PD], -50.0));
-    s.u.push_back(x[sim::U]), s.v.push_back(x[sim::V]), s.w.push_back(x[sim::W]);
-    s.w_n.push_back(0.0), s.w_e.push_back(0.0), s.w_d.push_back(0.0);
-    s.valid.push_back(t + dt < seconds ? 1 : 0);  // the last sample of a stretch ends it
+    record(s, t0 + t, x, dx, fm, d, ac.mass, fm.air.alpha, fm.air.beta, !(t + dt < seconds));
     x = sim::rk4_step(ac, x, d, {}, dt);
   }
 }
@@ -66,36 +81,23 @@ void fly_closed_loop(const tern::Aircraft& ac, double Va, double seconds, bool e
   sim::StateVector x = trim.x;
   const double dt = 1.0 / 200.0, t0 = s.t.empty() ? 0.0 : s.t.back() + 1.0;
   for (double t = 0.0; t < seconds; t += dt) {
-    double ea = 0.0, er = 0.0, ee = 0.0, gust = 0.0;
-    for (int k = 1; k <= 12; ++k) {
-      const double f = k * 0.15, ph = tern::kPi * k * k / 12.0, w = 0.06 * std::sin(2.0 * tern::kPi * f * t + ph) / 4.0;
-      (k % 3 == 0 ? ee : k % 3 == 1 ? ea : er) += k % 3 == 1 ? 0.5 * w : w;
-      gust += 0.4 * std::sin(2.0 * tern::kPi * (f + 0.05) * t + 1.3 * k);  // m/s, between the excitation's lines
-    }
-    const Eigen::Vector3d euler = tern::euler_from_quaternion(sim::attitude(x));
+    const sim::Deltas m = multisine(t, 0.06);
+    double gust = 0.0;
+    for (int k = 1; k <= 12; ++k) gust += 0.4 * std::sin(2.0 * tern::kPi * (k * 0.15 + 0.05) * t + 1.3 * k);  // m/s, between the lines
+    const double phi = tern::euler_from_quaternion(sim::attitude(x)).x();
     sim::Deltas d = trim.delta;
-    d.delta_e += ee;
-    d.delta_a += ea - 0.2 * x[sim::P] - 0.5 * euler.x();
-    d.delta_r += er + 0.5 * x[sim::R];  // C_n_delta_r < 0: a positive rudder yaws left
+    d.delta_e += m.delta_e;
+    d.delta_a += m.delta_a - 0.2 * x[sim::P] - 0.5 * phi;
+    d.delta_r += m.delta_r + 0.5 * x[sim::R];  // C_n_delta_r < 0: a positive rudder yaws left
     sim::Wind wind;
     wind.gust_body = Eigen::Vector3d(0.0, gust, 0.0);
     sim::ForcesMoments fm;
     const sim::StateVector dx = sim::derivative(ac, x, d, wind, &fm);
-    const Eigen::Vector3d f = fm.specific_force(ac.mass);
     const Eigen::Vector3d v(x[sim::U], x[sim::V], x[sim::W]);
-    s.t.push_back(t0 + t);
-    s.a_x.push_back(f.x()), s.a_y.push_back(f.y()), s.a_z.push_back(f.z());
-    s.p.push_back(x[sim::P]), s.q.push_back(x[sim::Q]), s.r.push_back(x[sim::R]);
-    s.p_dot.push_back(dx[sim::P]), s.q_dot.push_back(dx[sim::Q]), s.r_dot.push_back(dx[sim::R]);
-    s.delta_a.push_back(d.delta_a), s.delta_e.push_back(d.delta_e), s.delta_r.push_back(d.delta_r), s.delta_t.push_back(d.delta_t);
-    if (excitation) s.exc_delta_a.push_back(ea), s.exc_delta_e.push_back(ee), s.exc_delta_r.push_back(er), s.exc_delta_t.push_back(0.0);
-    s.Va.push_back(fm.air.Va), s.alpha.push_back(std::atan2(v.z(), v.x())), s.beta.push_back(std::asin(v.y() / v.norm()));
-    s.qbar.push_back(std::nan(""));
-    s.phi.push_back(euler.x()), s.theta.push_back(euler.y()), s.psi.push_back(euler.z());
-    s.p_n.push_back(x[sim::PN]), s.p_e.push_back(x[sim::PE]), s.p_d.push_back(std::min(x[sim::PD], -50.0));
-    s.u.push_back(v.x()), s.v.push_back(v.y()), s.w.push_back(v.z());
-    s.w_n.push_back(0.0), s.w_e.push_back(0.0), s.w_d.push_back(0.0);
-    s.valid.push_back(t + dt < seconds ? 1 : 0);
+    record(s, t0 + t, x, dx, fm, d, ac.mass, std::atan2(v.z(), v.x()), std::asin(v.y() / v.norm()), !(t + dt < seconds));
+    if (excitation)
+      s.exc_delta_a.push_back(m.delta_a), s.exc_delta_e.push_back(m.delta_e), s.exc_delta_r.push_back(m.delta_r),
+          s.exc_delta_t.push_back(0.0);
     x = sim::rk4_step(ac, x, d, wind, dt);
   }
 }
