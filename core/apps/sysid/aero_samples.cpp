@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::core::sysid {
 

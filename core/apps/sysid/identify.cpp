@@ -14,7 +14,7 @@
 #include "sysid/regression.hpp"
 #include "sysid/sideslip_instrument.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::core::sysid {
 

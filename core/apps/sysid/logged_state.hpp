@@ -1,6 +1,6 @@
 // core/apps/sysid/logged_state.hpp: the uavbook model's state, inputs and wind at one sample of a
 // flight series (flight_data.hpp), as validate and its one-step residuals start from them.
-//   state  x = [p_n p_e p_d  u v w  e0..e3  p q r] (tern_sim_aero/model.hpp): the estimator's
+//   state  x = [p_n p_e p_d  u v w  e0..e3  p q r] (tern/aero/model.hpp): the estimator's
 //          position NED and ground velocity in body FRD, its Euler angles (3-2-1) made into the
 //          quaternion by make_state, and the body rates (gyro less the estimated bias)
 //   inputs the commands in force (through the servo lag): delta_e delta_a delta_r (rad), delta_t
@@ -10,7 +10,7 @@
 #include <cstddef>
 
 #include "sysid/flight_data.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::core::sysid {
 

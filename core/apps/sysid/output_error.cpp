@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <unsupported/Eigen/LevenbergMarquardt>
 
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::core::sysid {
 

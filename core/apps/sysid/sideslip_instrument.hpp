@@ -16,7 +16,7 @@
 //
 // The model: Beard and McLain ch. 5 (sec. 5.5, eq. 5.43), x = [v p r phi psi], u = [delta_a
 // delta_r], linearised about the trim at the stretch's mean airspeed by `tern aero linearize`'s
-// code (sim_aero/tools/linear_model.hpp). At frequency f: x(f) = (j 2 pi f I - A)^-1 B u(f),
+// code (tern/aero/linear_model.hpp). At frequency f: x(f) = (j 2 pi f I - A)^-1 B u(f),
 // beta(f) = v(f) / Va.
 //
 // Units: Hz, rad; the spectra are finite Fourier transforms (regression.hpp's `fourier`).
@@ -27,7 +27,7 @@
 
 #include <Eigen/Core>
 
-#include "linear_model.hpp"
+#include "tern/aero/linear_model.hpp"
 
 namespace tern::core::sysid {
 

@@ -1,5 +1,5 @@
 // core/apps/sysid/validate.hpp: the simulator scored against a flight log (`tern validate`): the
-// uavbook 6-DOF model (tern_sim_aero/model.hpp, never a second model) driven open loop by the
+// uavbook 6-DOF model (tern/aero/model.hpp, never a second model) driven open loop by the
 // logged surface and throttle commands, from the logged (estimated) state.
 //
 // Method (output error of a simulation, then equation error at each sample):

@@ -21,7 +21,7 @@ ordered_json method_json(const ValidationRun& run) {
              "the log on the IMU's time base (core/apps/sysid/flight_data.hpp): commands in force through each file's servo lag, "
              "every channel through one zero-phase low-pass"}}},
           {"simulation",
-           "sim_aero's uavbook model (tern_sim_aero/model.hpp) open loop: each window starts from the logged state, the estimator's "
+           "sim_aero's uavbook model (tern/aero/model.hpp) open loop: each window starts from the logged state, the estimator's "
            "wind at its first sample held steady, the logged commands held between samples, RK4 in steps of at most max_step_s"},
           {"window_s", run.options.window_s},
           {"min_height_m", run.options.min_height},

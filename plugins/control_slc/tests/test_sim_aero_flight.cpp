@@ -12,7 +12,7 @@
 #include "control_tecs.hpp"
 #include "tern/aircraft.hpp"
 #include "tern_sim_aero/simulator.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 #include "tern_sim_aero/wind.hpp"
 
 using namespace tern;

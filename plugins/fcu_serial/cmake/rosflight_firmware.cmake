@@ -124,7 +124,7 @@ function(tern_fcu_serial_add_sil world_lib)
   set(sil ${TERN_FCU_SERIAL_DIR}/tools/sil)
   add_executable(tern-fcu-sil ${TERN_FCU_SERIAL_DIR}/tools/tern_fcu_sil.cpp ${sil}/sil.cpp ${sil}/sil_world.cpp
                               ${sil}/sil_params.cpp ${sil}/sil_bench.cpp ${sil}/sil_board.cpp)
-  target_link_libraries(tern-fcu-sil PRIVATE tern_rosflight_firmware ${world_lib} tern_fcu_serial_core tern_sim_aero_core CLI11::CLI11 yaml-cpp)
+  target_link_libraries(tern-fcu-sil PRIVATE tern_rosflight_firmware ${world_lib} tern_fcu_serial_core tern_aero tern_sim_aero_core CLI11::CLI11 yaml-cpp)
   set_target_properties(tern-fcu-sil PROPERTIES RUNTIME_OUTPUT_DIRECTORY ${TERN_BIN_DIR})
   tern_install_program(tern-fcu-sil)
   # The board alone (no firmware code: its Board interface header only).

@@ -15,7 +15,7 @@
 #include "sim_aero_plugin.hpp"
 #include "tern/testing/harness.hpp"
 #include "tern_sim_aero/simulator.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 
 namespace {
 volatile double g_sink = 0;

@@ -34,7 +34,7 @@
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 
 namespace tern::sim_aero {
 

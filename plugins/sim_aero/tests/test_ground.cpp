@@ -8,7 +8,7 @@
 
 #include "tern/aircraft.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/simulator.hpp"
 #include "tern_sim_aero/wind.hpp"
 #include "statistics.hpp"

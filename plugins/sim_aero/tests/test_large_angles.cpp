@@ -8,7 +8,7 @@
 
 #include "tern/aircraft.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 using tern::Aircraft;
 using tern::kPi;

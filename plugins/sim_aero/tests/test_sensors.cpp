@@ -14,7 +14,7 @@
 #include "tern/math.hpp"
 #include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/earth_field.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/profiles.hpp"
 #include "tern_sim_aero/rangefinder.hpp"
 #include "tern_sim_aero/sensors.hpp"

@@ -18,10 +18,10 @@
 #include "statistics.hpp"
 #include "tern/aircraft.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/sensors.hpp"
 #include "tern_sim_aero/simulator.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 #include "tern_sim_aero/wind.hpp"
 
 using tern::Aircraft;

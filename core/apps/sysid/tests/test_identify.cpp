@@ -10,8 +10,8 @@
 #include "sysid/regression.hpp"
 #include "sysid/sysid_output.hpp"
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/model.hpp"
+#include "tern/aero/trim.hpp"
 
 namespace {
 

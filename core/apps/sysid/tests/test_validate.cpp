@@ -13,7 +13,7 @@
 #include "config/error.hpp"
 #include "sysid/logged_state.hpp"
 #include "sysid/validate.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 
 using namespace tern;
 using namespace tern::core::sysid;

@@ -9,6 +9,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/wind.hpp"
 #include "util.hpp"
 #include "world.hpp"

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "tern/aero/model.hpp"
 #include "tern/math.hpp"
 #include "tern_sim_aero/simulator.hpp"
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "../emulator/util.hpp"
+#include "tern/aero/model.hpp"
 #include "sil.hpp"
 
 namespace tern::fcu::sil {

@@ -17,7 +17,7 @@
 #include <Eigen/Core>
 #include <boost/random/normal_distribution.hpp>
 
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/sensors.hpp"
 
 namespace tern::sim {

@@ -19,7 +19,7 @@
 #include "tern/geodesy.hpp"
 #include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/random.hpp"
 
 namespace tern::sim {

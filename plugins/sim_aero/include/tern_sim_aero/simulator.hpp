@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "tern/aircraft.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern_sim_aero/wind.hpp"
 
 namespace tern::sim {

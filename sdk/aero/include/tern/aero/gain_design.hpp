@@ -1,4 +1,4 @@
-// gain_design.hpp: `tern aero gains` (issue 11): Beard & McLain ch. 6 successive loop closure from
+// tern/aero/gain_design.hpp: `tern aero gains` (issue 11): Beard & McLain ch. 6 successive loop closure from
 // the ch. 5 transfer-function coefficients, flat control_slc gains. Plain C++, no host types.
 #pragma once
 
@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "linear_model.hpp"
+#include "tern/aero/linear_model.hpp"
 
 namespace tern::aero {
 

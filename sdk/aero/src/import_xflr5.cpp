@@ -1,5 +1,5 @@
-// import_xflr5.cpp: XFLR5 v6 analysis-log reader of `tern aero import` (see aero_import.hpp).
-#include "aero_import.hpp"
+// import_xflr5.cpp: XFLR5 v6 analysis-log reader of `tern aero import` (see tern/aero/import.hpp).
+#include "tern/aero/import.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-// aero_import.hpp: `tern aero import` (issue 11): VSPAERO stability output (.stab, optional .polar)
+// tern/aero/import.hpp: `tern aero import` (issue 11): VSPAERO stability output (.stab, optional .polar)
 // or XFLR5's analysis log of a stability polar, in the layouts the tools' writers produce
 // (docs/aircraft-modelling.md) -> tern's coefficient names (per radian, body axes, reference
 // S/b/c) -> a tern aircraft file. Every coefficient the tool does not give is reported (Default

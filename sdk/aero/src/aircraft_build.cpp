@@ -1,6 +1,6 @@
 // aircraft_build.cpp: mass files, the tern aircraft built from a tool's derivatives, and its YAML
-// (see aero_import.hpp).
-#include "aero_import.hpp"
+// (see tern/aero/import.hpp).
+#include "tern/aero/import.hpp"
 
 #include <cmath>
 #include <iomanip>

@@ -1,5 +1,5 @@
 // The uavbook model: air data, forces and moments, equations of motion, RK4 (see model.hpp).
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 #include <algorithm>
 #include <cmath>

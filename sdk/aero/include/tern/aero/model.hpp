@@ -1,4 +1,4 @@
-// tern_sim_aero/model.hpp: the uavbook 6-DOF fixed-wing model (Beard & McLain, *Small Unmanned
+// tern/aero/model.hpp: the uavbook 6-DOF fixed-wing model (Beard & McLain, *Small Unmanned
 // Aircraft*): air data (sec. 2.3), forces and moments (ch. 4 and the propulsion supplement),
 // the 13-state equations of motion with a quaternion (ch. 3, appendix B), a ground-contact
 // model, and a fixed-step RK4 integrator.

@@ -1,5 +1,5 @@
-// import_vspaero.cpp: VSPAERO .stab and .polar readers of `tern aero import` (see aero_import.hpp).
-#include "aero_import.hpp"
+// import_vspaero.cpp: VSPAERO .stab and .polar readers of `tern aero import` (see tern/aero/import.hpp).
+#include "tern/aero/import.hpp"
 
 #include <algorithm>
 #include <cmath>

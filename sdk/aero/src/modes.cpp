@@ -1,5 +1,5 @@
-// modes.cpp: see modes.hpp.
-#include "modes.hpp"
+// modes.cpp: see tern/aero/modes.hpp.
+#include "tern/aero/modes.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "tern/math.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::aero {
 namespace {

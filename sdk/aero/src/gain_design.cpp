@@ -1,12 +1,12 @@
-// gain_design.cpp: uavbook ch. 6 successive loop closure (see gain_design.hpp).
-#include "gain_design.hpp"
+// gain_design.cpp: uavbook ch. 6 successive loop closure (see tern/aero/gain_design.hpp).
+#include "tern/aero/gain_design.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern/math.hpp"
 
 namespace tern::aero {

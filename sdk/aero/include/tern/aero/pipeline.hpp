@@ -1,13 +1,13 @@
-// aero_pipeline.hpp: the aerodynamic modelling pipeline of `tern aero import|linearize|gains`
+// tern/aero/pipeline.hpp: the aerodynamic modelling pipeline of `tern aero import|linearize|gains`
 // (issues 11, 22), one header per step:
-//  * aero_import.hpp: VSPAERO / XFLR5 stability derivatives -> a tern aircraft file
+//  * import.hpp: VSPAERO / XFLR5 stability derivatives -> a tern aircraft file
 //    (import_vspaero.cpp, import_xflr5.cpp, aircraft_build.cpp);
 //  * linear_model.hpp: uavbook ch. 5 state-space models and transfer functions (linearize.cpp);
 //  * modes.hpp: the dynamic modes of those models and the textbook approximations (modes.cpp);
 //  * gain_design.hpp: uavbook ch. 6 successive loop closure (gain_design.cpp).
 #pragma once
 
-#include "aero_import.hpp"
-#include "gain_design.hpp"
-#include "linear_model.hpp"
-#include "modes.hpp"
+#include "tern/aero/import.hpp"
+#include "tern/aero/gain_design.hpp"
+#include "tern/aero/linear_model.hpp"
+#include "tern/aero/modes.hpp"

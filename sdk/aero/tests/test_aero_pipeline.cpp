@@ -15,7 +15,7 @@
 #include <Eigen/Eigenvalues>
 #include <yaml-cpp/yaml.h>
 
-#include "aero_pipeline.hpp"
+#include "tern/aero/pipeline.hpp"
 #include "tern/aircraft.hpp"
 #include "tern/math.hpp"
 

@@ -1,4 +1,4 @@
-// tern-aero: the simulator's aircraft model on the command line (`tern aero ...` runs it).
+// tern-aero: the uavbook aircraft model (tern_aero) on the command line (`tern aero ...` runs it).
 //
 //   tern-aero eval --aircraft FILE --state JSON --delta JSON [--wind JSON]
 //       Air data, propeller, body forces and moments, and the 13-state derivative at one state.
@@ -38,10 +38,10 @@
 #include <nlohmann/json.hpp>
 
 #include "tern/aircraft.hpp"
-#include "tern_sim_aero/model.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/model.hpp"
+#include "tern/aero/trim.hpp"
 
-#include "aero_pipeline.hpp"
+#include "tern/aero/pipeline.hpp"
 #include "tern/math.hpp"
 
 using json = nlohmann::ordered_json;

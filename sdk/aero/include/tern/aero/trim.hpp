@@ -1,4 +1,4 @@
-// tern_sim_aero/trim.hpp: trim of the uavbook model (Beard & McLain, ch. 5).
+// tern/aero/trim.hpp: trim of the uavbook model (Beard & McLain, ch. 5).
 //
 // Finds the state and inputs at which the aircraft flies at airspeed Va, flight-path angle gamma
 // and turn radius R with constant alpha, beta, p, q, r (no wind). The book minimises the
@@ -14,7 +14,7 @@
 #include <string>
 
 #include "tern/aircraft.hpp"
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 
 namespace tern::sim {
 

@@ -1,10 +1,10 @@
-// linearize.cpp: uavbook ch. 5 linear models about a trim (see linear_model.hpp).
-#include "linear_model.hpp"
+// linearize.cpp: uavbook ch. 5 linear models about a trim (see tern/aero/linear_model.hpp).
+#include "tern/aero/linear_model.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "tern_sim_aero/model.hpp"
+#include "tern/aero/model.hpp"
 #include "tern/math.hpp"
 
 namespace tern::aero {

@@ -1,4 +1,4 @@
-// modes.hpp: the dynamic modes of the uavbook ch. 5 linear models (`tern aero linearize`, issue 22):
+// tern/aero/modes.hpp: the dynamic modes of the uavbook ch. 5 linear models (`tern aero linearize`, issue 22):
 // short period and phugoid (longitudinal), roll, spiral and dutch roll (lateral), and the
 // textbook approximations of each, a second computation to check them against.
 //
@@ -19,7 +19,7 @@
 #include <string>
 #include <vector>
 
-#include "linear_model.hpp"
+#include "tern/aero/linear_model.hpp"
 #include "tern/aircraft.hpp"
 
 namespace tern::aero {

@@ -1,5 +1,5 @@
 // Trim by Newton's method on the uavbook model (see trim.hpp).
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 
 #include <cmath>
 #include <sstream>

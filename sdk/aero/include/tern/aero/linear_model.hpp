@@ -1,5 +1,5 @@
-// linear_model.hpp: `tern aero linearize` (issue 11): Beard & McLain ch. 5 state-space models about
-// a trim (central differences of sim_aero's nonlinear model) and the transfer-function
+// tern/aero/linear_model.hpp: `tern aero linearize` (issue 11): Beard & McLain ch. 5 state-space models about
+// a trim (central differences of the uavbook nonlinear model, model.hpp) and the transfer-function
 // coefficients of sec. 5.4. Plain C++ (Eigen), no host or plugin types.
 //
 // Errors: compute_trim's (std::runtime_error, one line) when the trim does not exist.
@@ -11,7 +11,7 @@
 #include <Eigen/Core>
 
 #include "tern/aircraft.hpp"
-#include "tern_sim_aero/trim.hpp"
+#include "tern/aero/trim.hpp"
 
 namespace tern::aero {
 
