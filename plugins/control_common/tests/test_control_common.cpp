@@ -7,7 +7,7 @@
 #include "tern/math.hpp"
 #include "control_common/autopilot.hpp"
 #include "control_common/pid.hpp"
-#include "linear_model.hpp"
+#include "control_common/testing/linear_model.hpp"
 
 using namespace tern::control;
 

@@ -1,5 +1,5 @@
 // control_slc plugin tests: the plugin in the SDK harness, flying the uavbook's linearised
-// models (plugins/control_common/tests/linear_model.hpp) with the gains files
+// models (control_common/testing/linear_model.hpp) with the gains files
 // configs/gains/*.yaml, as the host would run it.
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "closed_loop.hpp"
+#include "control_common/testing/closed_loop.hpp"
 #include "control_slc.hpp"
 
 using namespace tern;

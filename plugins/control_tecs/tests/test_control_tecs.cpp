@@ -1,5 +1,5 @@
 // control_tecs tests: the TECS law alone, and the plugin in the SDK harness flying the uavbook's
-// linearised models (plugins/control_common/tests/linear_model.hpp) with the gains files
+// linearised models (control_common/testing/linear_model.hpp) with the gains files
 // configs/gains/*_tecs.yaml.
 #define DOCTEST_CONFIG_IMPLEMENT_WITH_MAIN
 #include <doctest/doctest.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <limits>
 
-#include "closed_loop.hpp"
+#include "control_common/testing/closed_loop.hpp"
 #include "control_tecs.hpp"
 
 using namespace tern;

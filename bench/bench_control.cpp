@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "closed_loop.hpp"
+#include "control_common/testing/closed_loop.hpp"
 #include "control_slc.hpp"
 #include "control_tecs.hpp"
 

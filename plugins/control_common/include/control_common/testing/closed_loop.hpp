@@ -13,7 +13,7 @@
 
 #include <yaml-cpp/yaml.h>
 
-#include "linear_model.hpp"
+#include "control_common/testing/linear_model.hpp"
 #include "tern/math.hpp"
 #include "tern/testing/harness.hpp"
 

@@ -1,5 +1,5 @@
-// control_slc and control_tecs flying sim_aero's nonlinear 6-DOF model (Beard & McLain ch. 3-4,
-// plugins/sim_aero's algorithm library) with the gains files: the step-response requirements
+// control_slc and control_tecs flying the nonlinear 6-DOF model (Beard & McLain ch. 3-4,
+// tern/aero/model.hpp, in sim_aero's world) with the gains files: the step-response requirements
 // of issue 5 on the full model, and a takeoff from rest through takeoff -> climb -> cruise.
 // The state is the simulator's truth (no estimator).
 #include <doctest/doctest.h>
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <string>
 
-#include "closed_loop.hpp"
+#include "control_common/testing/closed_loop.hpp"
 #include "control_slc.hpp"
 #include "control_tecs.hpp"
 #include "tern/aircraft.hpp"
