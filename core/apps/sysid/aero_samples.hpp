@@ -6,7 +6,7 @@
 //
 // Forces, body FRD: F = m a - (T_p, 0, 0), a the specific force, T_p the prior's propeller thrust
 // at the inflow V_xz and throttle delta_t (the gear is never in the data: airborne samples only).
-// Lift and drag on the x-z plane's flow, as sim_aero's model (tern/aero/model.hpp):
+// Lift and drag on the x-z plane's flow, as the uavbook model (tern/aero/model.hpp):
 //   C_L = (sin(alpha) F_x - cos(alpha) F_z) / (qbar_xz S),  C_D = -(cos(alpha) F_x + sin(alpha) F_z) / (qbar_xz S)
 //   qbar_xz = rho V_xz^2 / 2,  V_xz = Va cos(beta);  C_Y = F_y / (qbar S),  qbar = rho Va^2 / 2.
 // Moments from J w' + w x (J w) (book eq. 3.17 solved for the moments; J with -Jxz off the

@@ -40,7 +40,7 @@ const std::map<std::string, Member>& moment_table() {
   return table;
 }
 
-/// The book's Gamma coefficients (eq. 3.13, tern/aircraft.hpp, as sim_aero's model uses them) and 1 / J_y.
+/// The book's Gamma coefficients (eq. 3.13, tern/aircraft.hpp, as the uavbook model, tern/aero/model.hpp, uses them) and 1 / J_y.
 struct Gammas : InertiaGammas {
   double inv_Jy;
 };

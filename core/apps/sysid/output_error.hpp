@@ -11,7 +11,7 @@
 //       + C_ell_delta_r delta_r) - Q_p,
 //   m = qbar cos^2(beta) S c (C_m_0 + C_m_alpha alpha + C_m_q c q / (2 V_xz) + C_m_delta_e delta_e),
 //   n = qbar S b (C_n_0 + ... the same terms as l with C_n_*),
-// (sim_aero's model in its linear range, tern/aero/model.hpp), driven by the measured Va (from
+// (the uavbook model in its linear range, tern/aero/model.hpp), driven by the measured Va (from
 // qbar), alpha, beta, the commands in force and the prior's propeller torque Q_p, all linearly
 // interpolated between samples, RK4 over each sample interval. A group of axes is integrated (pitch:
 // q; lateral: p and r, coupled through Jxz and the cross derivatives); the other rates enter the

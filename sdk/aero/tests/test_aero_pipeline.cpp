@@ -25,7 +25,7 @@ using doctest::Approx;
 
 namespace {
 
-const std::string kData = TERN_SIM_AERO_TEST_DATA;
+const std::string kData = TERN_AERO_SAMPLES_DIR;
 const std::string kAircraft = TERN_AIRCRAFT_DIR;
 using tern::kPi;
 
