@@ -431,7 +431,7 @@ int gains_cmd(const std::string& file, double Va, const tern::aero::DesignOption
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tern aero: the sim_aero aircraft model (Beard & McLain) on the command line"};
+  CLI::App app{"tern aero: the uavbook aircraft model (Beard & McLain) on the command line"};
   app.require_subcommand(1);
   std::string file, state_s, delta_s, wind_s;
   double Va = 0, gamma = 0, R = std::numeric_limits<double>::infinity(), altitude = 100.0;

@@ -4,10 +4,10 @@
 // model, and a fixed-step RK4 integrator.
 //
 // Large angles (where this model leaves the book; at beta = 0 with the flow from ahead, within
-// the blending angle, it is the book's, checked term by term in tests/test_sim_aero.cpp). The
-// book's derivatives describe flight; an aircraft parked in a crosswind or a tailwind meets flow
-// from the side or from behind, where they would give forces no airframe makes (a 7 m/s
-// crosswind at rest: alpha undefined, 26 N of "lift"). So:
+// the blending angle, it is the book's, checked term by term in
+// plugins/sim_aero/tests/test_sim_aero.cpp). The book's derivatives describe flight; an aircraft
+// parked in a crosswind or a tailwind meets flow from the side or from behind, where they would
+// give forces no airframe makes (a 7 m/s crosswind at rest: alpha undefined, 26 N of "lift"). So:
 //  * Lift, drag and pitching moment act on the flow in the body x-z plane: dynamic pressure
 //    qbar cos^2(beta), speed V_xz = Va cos(beta) (the independence principle of yawed wings:
 //    R. T. Jones, NACA Report 863, 1947; the spanwise flow makes no lift). A pure crosswind
