@@ -269,15 +269,4 @@ class Host {
   fs::path swap_dir_;  // private copies of swapped-in libraries
 };
 
-/// The latest message on `topic` into `out` when what feeds it (Host::topic_source) writes type T;
-/// false when nothing feeds it, nothing was written yet, or it carries another type. For tick
-/// observers (the console's telemetry, the MAVLink endpoint), on the flight thread.
-template <class T>
-bool latest_message(const Host& host, const std::string& topic, T& out) {
-  const OutputBase* o = host.topic_source(topic);
-  if (o == nullptr || o->sequence() == 0 || o->type().name != T::type_name) return false;
-  out = *static_cast<const T*>(o->data());
-  return true;
-}
-
 }  // namespace tern::core
