@@ -31,6 +31,8 @@ struct ParamSetting {
   std::string option{};
   /// Where an error about the value starts: "file:line:col: field" or the option.
   std::string location() const;
+  /// Where the value came from, for the flight log's params.csv: the option, else "file:line".
+  std::string source() const;
 };
 
 struct InstanceConfig {
