@@ -45,7 +45,7 @@
 
 #include "files/log_file.hpp"
 #include "mcap/mcap_writer.hpp"
-#include "record/scene_channels.hpp"
+#include "ros/scene_channels.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
