@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include <Eigen/LU>
+
 #include "sysid/regression.hpp"
 
 namespace tern::core::sysid {
