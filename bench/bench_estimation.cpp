@@ -65,7 +65,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config/cli_overrides.hpp"
-#include "record/common_frame.hpp"
+#include "tern/common_frame.hpp"
 #include "config/config.hpp"
 #include "config/error.hpp"
 #include "flight/host.hpp"
@@ -222,7 +222,7 @@ void add_outage_tick(OutageResult& r, const Outage& o, double s, double e) {
 // Estimate and raw-sensor errors of one tick (all against the truth of the tick, in its frame).
 void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, const tern::msg::Gnss* g, const tern::msg::Baro* b, double s,
               const Outage& outage) {
-  const Eigen::Vector3d p = tern::core::estimate_in_truth_frame(x, t);
+  const Eigen::Vector3d p = tern::estimate_in_truth_frame(x, t);
   const double dn = p.x() - t.p_n, de = p.y() - t.p_e;
   add_outage_tick(f.outage, outage, s, std::hypot(dn, de));
   f.est[N].add(dn);
@@ -255,7 +255,7 @@ void add_tick(Flight& f, const tern::msg::State& x, const tern::msg::State& t, c
     f.nees[NEES_ATT].add(nees_per_dim(d.angle() * d.axis(), x.P_diag, tern::msg::State::P_attitude));
   }
   if (g != nullptr) {
-    const Eigen::Vector3d q = tern::core::fix_in_truth_frame(*g, t);
+    const Eigen::Vector3d q = tern::fix_in_truth_frame(*g, t);
     f.gnss[N].add(q.x() - t.p_n);
     f.gnss[E].add(q.y() - t.p_e);
     f.gnss[HORIZ].add(std::hypot(q.x() - t.p_n, q.y() - t.p_e));
@@ -299,7 +299,7 @@ Flight fly(const std::string& mission, const std::string& profile, const tern::c
     if (!f.home.set) {
       const auto* g = latest<tern::msg::Gnss>(gnss_src);
       const auto* b = latest<tern::msg::Baro>(baro_src);
-      f.home = {true, t->p_d, x->p_d, g ? tern::core::fix_in_truth_frame(*g, *t).z() : std::nan(""),
+      f.home = {true, t->p_d, x->p_d, g ? tern::fix_in_truth_frame(*g, *t).z() : std::nan(""),
                 b ? tern::isa_pressure_altitude(b->pressure) : std::nan("")};
     }
     if (s < t0 || state_src->sequence() == last_seq) return;

@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "record/common_frame.hpp"
+#include "tern/common_frame.hpp"
 #include "graph/loader.hpp"
 #include "replay/replay_source.hpp"
 #include "e2e_util.hpp"
@@ -135,7 +135,7 @@ TEST_CASE("a realistic-profile flight: GNSS fixes off and late from the first se
   CHECK(std::stod(first[col(head, "t")]) == doctest::Approx(0.12));
   CHECK(std::stoll(first[col(head, "time_of_validity")]) == 0);
   // the first fix is already off (steady-state Gauss-Markov start), by a receiver's metres, not centimetres
-  const CommonFrame sim_frame({40.2463724, -111.6474138, 1387.0});
+  const tern::CommonFrame sim_frame({40.2463724, -111.6474138, 1387.0});
   const Eigen::Vector3d p0 =
       sim_frame.ned({std::stod(first[col(head, "lat")]), std::stod(first[col(head, "lon")]), std::stod(first[col(head, "alt")])});
   const double rest_d = -p0.z();  // truth at t = 0: at rest on the ground at the origin

@@ -59,6 +59,29 @@ TEST_CASE("the flight log: header with units, one row per message, resolved conf
   CHECK(timing["instances"]["sensor"]["steps"] == 801);
 }
 
+TEST_CASE("params.csv: a value from the config is logged with its file and line, even at its default; a request's source lasts") {
+  std::string yaml = base_config();
+  yaml.replace(yaml.find("rate: 100}"), 10, "rate: 100, params: {kp: 0.05}}");  // kp's default, on line 8
+  HostOptions o;
+  o.quiet = true;
+  o.duration = 0.1;
+  o.log_dir = test_dir() / "param_sources";
+  const fs::path file = write_file("param_sources.yaml", yaml);
+  Host h(load_config(file), o);
+  h.build();
+  const FlightResult first = h.fly();
+  REQUIRE(first.ok);
+  const auto params = lines(read_file(first.run_dir / "params.csv"));
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl.kp,0.05," + file.string() + ":8") != params.end());
+  CHECK(std::find(params.begin(), params.end(), "0.000000000,ctl.h_target,30,default") != params.end());
+  h.request_param("ctl.kp", 0.2, "console");  // between flights: applied at the next flight's first tick
+  REQUIRE(h.fly().ok);
+  const FlightResult third = h.fly();
+  REQUIRE(third.ok);
+  const auto later = lines(read_file(third.run_dir / "params.csv"));
+  CHECK(std::find(later.begin(), later.end(), "0.000000000,ctl.kp,0.2,console") != later.end());
+}
+
 TEST_CASE("phase router: takeoff -> climb -> cruise hands actuators to the cruise controller") {
   const FlightResult r = fly_yaml(kRouted, "router");
   REQUIRE(r.ok);

@@ -10,12 +10,12 @@
 #include <limits>
 #include <thread>
 
-#include "record/cdr_columns.hpp"
+#include "ros/cdr_columns.hpp"
 #include "record/flight_log.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
 #include "mcap/mcap_recover.hpp"
-#include "record/ros_channels.hpp"
+#include "ros/ros_channels.hpp"
 #include "tern/msg/all.hpp"
 #include "test_util.hpp"
 

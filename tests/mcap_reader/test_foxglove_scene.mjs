@@ -1,4 +1,4 @@
-// Foxglove's 3-D panel on a tern flight log (issue 65; core/host/record/scene_channels.hpp), read
+// Foxglove's 3-D panel on a tern flight log (issue 65; core/formats/ros/scene_channels.hpp), read
 // with Foxglove's own libraries as the panel reads it: @mcap/core opens RUN's flight.mcap, the
 // scene's channels are decoded with their ros2msg schemas (@foxglove/rosmsg,
 // @foxglove/rosmsg2-serialization), and:

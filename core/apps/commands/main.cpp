@@ -65,7 +65,7 @@ int main(int argc, char** argv) {
   if (int rc = 0; run_extension(argc, argv, rc)) return rc;
 #if defined(TERN_WITH_DDS)
   register_dds_external_links();  // `plugin: external` instances (external_plugin.hpp)
-  register_dds_mcap_channels();   // the MCAP log's ROS-typed channels (record/ros_channels.hpp)
+  register_dds_mcap_channels();   // the MCAP log's ROS-typed channels (core/formats/ros/ros_channels.hpp)
 #endif
   CLI::App app{
       "tern: a fixed-wing autopilot framework for research.\n"

@@ -15,26 +15,15 @@ nlohmann::json ned(const Eigen::Vector3d& v) { return {num(v.x()), num(v.y()), n
 }  // namespace
 
 std::function<void(Nanos)> TelemetryTap::observer(const Host& host) {
-  next_ = 0;
+  topics_ = TopicTap(period_);
   return [this, &host](Nanos now) {
-    if (now == 0) next_ = 0;  // a new flight
-    if (now < next_) return;
-    next_ = now + period_;
-    take(host, now);
+    if (topics_.take(host, now)) take(host);
   };
 }
 
-void TelemetryTap::take(const Host& host, Nanos now) {
+void TelemetryTap::take(const Host& host) {
   Snapshot& s = staging_;
-  s.t = now;
-  s.has_state = latest_message(host, "state", s.state);
-  s.has_command = latest_message(host, "controller_command", s.command);
-  s.has_internals = latest_message(host, "controller_internals", s.internals);
-  s.has_actuators = latest_message(host, "actuators", s.actuators);
-  s.has_phase = latest_message(host, "flight_phase", s.phase);
-  s.has_waypoints = latest_message(host, "waypoints", s.waypoints);
-  s.has_path = latest_message(host, "current_path", s.path);
-  s.has_rc = latest_message(host, "rc", s.rc);
+  static_cast<FlightTopics&>(s) = topics_.topics();
   const auto& h = host.handovers();
   s.handovers = h.size();
   s.active = h.empty() ? "" : h.back().to;

@@ -2,14 +2,12 @@
 // slowing it down.
 //
 // TelemetryTap is a tick observer (Host::add_tick_observer): on the flight thread, at most every
-// `period` of flight time (40 ms: 25 Hz, the 20-50 Hz), it copies the latest message of a
-// few topics into a Snapshot and hands it over under a mutex held only for the copy; the console's
-// server thread takes the latest with latest() and never blocks the flight for longer than that
-// copy. A topic nobody writes leaves its part of the snapshot invalid (has_* false).
-//
-// Topics read: state (estimate), controller_command (Va_c, h_c, chi_c), controller_internals
-// (phi_c, theta_c), actuators, flight_phase, waypoints, current_path, rc (the receiver: manual
-// override, failsafe), and the router's handovers (fallback engaged, why).
+// `period` of flight time (40 ms: 25 Hz, the 20-50 Hz), it copies the flight's watched
+// topics (flight/flight_topics.hpp: the estimate, the controller's commands and internals, the
+// actuators, the phase, the path and waypoints, the receiver) and the router's handovers (fallback
+// engaged, why) into a Snapshot and hands it over under a mutex held only for the copy; the
+// console's server thread takes the latest with latest() and never blocks the flight for longer
+// than that copy. A topic nobody writes leaves its part of the snapshot invalid (has_* false).
 #pragma once
 
 #include <cstdint>
@@ -20,7 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "tern/msg/all.hpp"
+#include "flight/flight_topics.hpp"
 #include "tern/port.hpp"
 
 namespace tern::core {
@@ -35,19 +33,9 @@ struct Traffic {
   double psi = 0;                  ///< rad
 };
 
-struct Snapshot {
-  std::uint64_t seq = 0;  ///< increases with every new snapshot (0: none yet)
-  Nanos t = 0;            ///< flight time, ns
-  bool has_state = false, has_command = false, has_internals = false, has_actuators = false;
-  bool has_phase = false, has_waypoints = false, has_path = false, has_rc = false;
-  msg::State state;
-  msg::ControllerCommand command;
-  msg::ControllerInternals internals;
-  msg::Actuators actuators;
-  msg::FlightPhase phase;
-  msg::WaypointList waypoints;
-  msg::CurrentPath path;
-  msg::Rc rc;
+/// What the page is shown: the watched topics and the safety side.
+struct Snapshot : FlightTopics {
+  std::uint64_t seq = 0;                ///< increases with every new snapshot (0: none yet)
   std::size_t handovers = 0;            ///< controller changes this flight
   std::string active, handover_reason;  ///< controller flying now ("": none); why the last change happened
   std::vector<Traffic> traffic;         ///< the other vehicles of a multi-vehicle flight
@@ -61,7 +49,7 @@ nlohmann::json to_json(const Snapshot& s, bool with_waypoints);
 class TelemetryTap {
  public:
   /// period: flight time between snapshots, ns (> 0).
-  explicit TelemetryTap(Nanos period) : period_(period) {}
+  explicit TelemetryTap(Nanos period) : period_(period), topics_(period) {}
   /// The tick observer for `host`; valid while this tap lives.
   std::function<void(Nanos)> observer(const Host& host);
   /// A copy of the latest snapshot (seq 0: none yet). Any thread.
@@ -71,10 +59,10 @@ class TelemetryTap {
   void set_traffic(std::function<std::vector<Traffic>()> source) { traffic_ = std::move(source); }
 
  private:
-  void take(const Host& host, Nanos now);
+  void take(const Host& host);
 
   Nanos period_;
-  Nanos next_ = 0;    // flight thread only
+  TopicTap topics_;   // flight thread only
   Snapshot staging_;  // flight thread only
   std::function<std::vector<Traffic>()> traffic_;
   mutable std::mutex mu_;

@@ -5,8 +5,8 @@
 
 #include <fmt/format.h>
 
-#include "record/cdr_columns.hpp"
-#include "record/csv_rows.hpp"
+#include "ros/cdr_columns.hpp"
+#include "csv/csv_rows.hpp"
 #include "files/log_file.hpp"
 #include "mcap/mcap_reader.hpp"
 

@@ -2,14 +2,13 @@
 #include "mavlink/flight_view.hpp"
 
 #include "flight/host.hpp"
-#include "tern/msg/all.hpp"
 
 namespace tern::core::mavlink {
 namespace {
 constexpr Nanos kViewPeriod = 20'000'000;  // flight time between copies, ns (50 Hz)
 }
 
-FlightWatch::FlightWatch(Host& host) : host_(host) {
+FlightWatch::FlightWatch(Host& host) : host_(host), topics_(kViewPeriod) {
   id_ = host.add_tick_observer([this](Nanos now) { observe(now); });
 }
 
@@ -23,25 +22,15 @@ FlightView FlightWatch::view() const {
 }
 
 void FlightWatch::observe(Nanos now) {
-  if (now == 0) {  // a new flight: its planner publishes its lists from 1 again
-    next_ = 0;
-    seen_seq_ = 0;
-  }
-  if (now < next_) return;
-  next_ = now + kViewPeriod;
-  msg::State s;
-  msg::FlightPhase phase;
-  msg::CurrentPath path;
-  const bool has_state = latest_message(host_, "state", s) && s.origin_valid;
-  const bool has_phase = latest_message(host_, "flight_phase", phase);
-  const bool has_path = latest_message(host_, "current_path", path);
+  if (now == 0) seen_seq_ = 0;  // a new flight: its planner publishes its lists from 1 again
+  if (!topics_.take(host_, now)) return;
+  const FlightTopics& t = topics_.topics();
+  const msg::State& s = t.state;
+  const bool has_state = t.has_state && s.origin_valid;
+  const bool has_phase = t.has_phase;
+  const std::uint64_t seq = t.waypoints_seq;
   std::shared_ptr<msg::WaypointList> list;
-  const OutputBase* wps = host_.topic_source("waypoints");
-  const std::uint64_t seq = wps != nullptr ? wps->sequence() : 0;
-  if (seq != seen_seq_ && seq > 0) {
-    list = std::make_shared<msg::WaypointList>();
-    latest_message(host_, "waypoints", *list);
-  }
+  if (seq != seen_seq_ && seq > 0) list = std::make_shared<msg::WaypointList>(t.waypoints);
   seen_seq_ = seq;
   std::lock_guard lk(mu_);
   if (has_state) {
@@ -50,8 +39,8 @@ void FlightWatch::observe(Nanos now) {
     view_.p_ned = {s.p_n, s.p_e, s.p_d};
   }
   view_.has_phase = has_phase;
-  if (has_phase) view_.phase = phase.phase;
-  view_.waypoint_index = has_path ? path.waypoint_index : -1;
+  if (has_phase) view_.phase = t.phase.phase;
+  view_.waypoint_index = t.has_path ? t.path.waypoint_index : -1;
   view_.list_seq = seq;
   if (list) view_.list = std::move(list);
 }

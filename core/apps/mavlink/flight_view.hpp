@@ -1,9 +1,10 @@
 // core/apps/mavlink/flight_view.hpp: what the ground station's mission and command handlers
 // (mission_protocol.hpp, gcs_commands.hpp) read of a flight, copied on the flight thread.
 //
-// A tick observer copies, every 20 ms of flight time, the estimate's position and origin (topic
-// `state`: the estimate, never truth), the phase (`flight_phase`), the waypoint being flown
-// (`current_path`) and, when the path planner has published a new one, its list (`waypoints`);
+// A tick observer copies every 20 ms of flight time (the watched topics: flight/flight_topics.hpp)
+// the estimate's position and origin (topic `state`: the estimate, never truth), the phase
+// (`flight_phase`), the waypoint being flown (`current_path`) and, when the path planner has
+// published a new one, its list (`waypoints`);
 // the link's thread reads the latest copy (view()). It only reads topics: a flight flies the same
 // bytes with or without it.
 //
@@ -16,6 +17,7 @@
 
 #include <Eigen/Core>
 
+#include "flight/flight_topics.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/msg/path.hpp"
 #include "tern/msg/phase.hpp"
@@ -56,7 +58,7 @@ class FlightWatch {
   void observe(Nanos now);
   Host& host_;
   int id_ = 0;
-  Nanos next_ = 0;              // flight thread
+  TopicTap topics_;             // flight thread
   std::uint64_t seen_seq_ = 0;  // flight thread: the `waypoints` sequence copied last
   mutable std::mutex mu_;
   FlightView view_;  // under mu_

@@ -106,7 +106,6 @@ struct GcsLink::Impl {
   // ---- flight thread ----
   void observe(Nanos now) {
     if (now == 0) {  // a new flight
-      next_snapshot = 0;
       last_phase.reset();
       handovers_seen = 0;
     }
@@ -116,19 +115,10 @@ struct GcsLink::Impl {
       const auto& h = handovers[handovers_seen++];
       push_event(MAV_SEVERITY_WARNING, "controller " + h.to + ": " + h.reason);
     }
-    if (now < next_snapshot) return;
-    next_snapshot = now + kSnapshotPeriod;
+    if (!topics_tap.take(host, now)) return;
     Snapshot& s = staging;
     s.any = true;
-    s.t = now;
-    s.has_state = latest_message(host, "state", s.state);
-    s.has_phase = latest_message(host, "flight_phase", s.phase);
-    s.has_gnss = latest_message(host, "gnss", s.gnss);
-    s.has_actuators = latest_message(host, "actuators", s.actuators);
-    s.has_rc = latest_message(host, "rc", s.rc);
-    s.has_command = latest_message(host, "controller_command", s.command);
-    s.has_internals = latest_message(host, "controller_internals", s.internals);
-    s.has_path = latest_message(host, "current_path", s.path);
+    static_cast<FlightTopics&>(s) = topics_tap.topics();
     if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
       last_phase = s.phase.phase;
       push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));
@@ -421,7 +411,7 @@ struct GcsLink::Impl {
   std::unique_ptr<GcsCommands> commands;
 
   // flight thread only
-  Nanos next_snapshot = 0;
+  TopicTap topics_tap{kSnapshotPeriod};
   Snapshot staging;
   std::optional<msg::Phase> last_phase;
   std::size_t handovers_seen = 0;

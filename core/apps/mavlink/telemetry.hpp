@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "flight/flight_topics.hpp"
 #include "mavlink/mavlink_codec.hpp"
 #include "mavlink/mavlink_messages.hpp"
 #include "tern/geodesy.hpp"
@@ -23,20 +24,9 @@
 
 namespace tern::core::mavlink {
 
-/// The latest of what the GCS is shown, copied on the flight thread.
-struct Snapshot {
-  bool any = false;  ///< a flight has ticked since the link started
-  Nanos t = 0;       ///< flight time of the copy, ns (MAVLink's "time since boot")
-  bool has_state = false, has_phase = false, has_gnss = false, has_actuators = false, has_rc = false;
-  bool has_command = false, has_internals = false, has_path = false;
-  msg::State state;
-  msg::FlightPhase phase;
-  msg::Gnss gnss;
-  msg::Actuators actuators;
-  msg::Rc rc;
-  msg::ControllerCommand command;
-  msg::ControllerInternals internals;
-  msg::CurrentPath path;
+/// The latest of what the GCS is shown: the watched topics (flight/flight_topics.hpp), copied on the flight thread.
+struct Snapshot : FlightTopics {
+  bool any = false;  ///< a flight has ticked since the link started (t: MAVLink's "time since boot")
   /// The mission: items on `waypoints` (nullopt: none published since the link started; a served
   /// host's last list between flights), and the waypoint current_path flies to
   /// (path.waypoint_index), as published (NED, or lat/lon/alt when lla).

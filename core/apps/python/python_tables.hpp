@@ -1,5 +1,5 @@
 // core/apps/python/python_tables.hpp: a topic table of the CSV log (topics/<name>.csv, written by
-// record/csv_rows.hpp) parsed into a numpy structured array for tern.Run (tern/run.py). tern.Run
+// core/formats/csv/csv_rows.hpp) parsed into a numpy structured array for tern.Run (tern/run.py). tern.Run
 // makes the array's dtype from the header (a column's kind and unit); this fills it: every cell
 // with std::from_chars (the exact inverse of the log's std::to_chars), the rows split over two
 // threads, without the GIL. Errors throw ConfigError naming the file, line and column.

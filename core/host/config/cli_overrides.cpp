@@ -138,16 +138,4 @@ void apply_overrides(MissionConfig& c, const CliOverrides& o) {
   }
 }
 
-std::map<std::string, std::string> param_options(const MissionConfig& c) {
-  std::map<std::string, std::string> out;
-  auto add = [&out](const std::string& instance, const std::map<std::string, ParamSetting>& params) {
-    for (const auto& [name, s] : params)
-      if (!s.option.empty()) out[instance + "." + name] = s.option;
-  };
-  for (const auto& ic : c.plugins) add(ic.name, ic.params);
-  add("phase_machine", c.phase_params);
-  add("metrics", c.metrics_params);
-  return out;
-}
-
 }  // namespace tern::core

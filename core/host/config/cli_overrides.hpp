@@ -51,8 +51,4 @@ std::map<msg::Phase, std::string> parse_phase_entries(const MissionConfig& confi
 /// not YAML, a table without takeoff, climb or cruise, --fallback without a table.
 void apply_overrides(MissionConfig& config, const CliOverrides& o);
 
-/// The parameters a command-line option set: "instance.param" -> the option ("--set ...",
-/// "--skip-preflight"), for the flight log's params.csv.
-std::map<std::string, std::string> param_options(const MissionConfig& config);
-
 }  // namespace tern::core

@@ -173,6 +173,12 @@ void check_log_topics(const MissionConfig& c, const std::vector<std::string>& pu
 
 std::string ParamSetting::location() const { return option.empty() ? where(file, node) + field : option; }
 
+std::string ParamSetting::source() const {
+  if (!option.empty()) return option;
+  if (!node.IsDefined() || node.Mark().is_null()) return file.string();
+  return file.string() + ":" + std::to_string(node.Mark().line + 1);
+}
+
 ParamValue to_param_value(const YAML::Node& node, const fs::path& file, const std::string& field) {
   if (node.IsSequence()) {
     std::vector<double> v;

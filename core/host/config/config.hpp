@@ -31,6 +31,8 @@ struct ParamSetting {
   std::string option{};
   /// Where an error about the value starts: "file:line:col: field" or the option.
   std::string location() const;
+  /// Where the value came from, for the flight log's params.csv: the option, else "file:line".
+  std::string source() const;
 };
 
 struct InstanceConfig {
@@ -82,7 +84,7 @@ struct LogConfig {
   LogLevel level = LogLevel::replay;
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
-  bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (record/ros_channels.hpp)
+  bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (core/formats/ros/ros_channels.hpp)
   /// MCAP: the chunks' zstd level, kZstdLevelMin..kZstdLevelMax; unset: McapWriter::Options' default
   std::optional<int> zstd_level;
   double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)

@@ -252,6 +252,21 @@ std::vector<std::pair<std::string, const ParamBase*>> Host::parameters() const {
   return out;
 }
 
+std::map<std::string, std::string> Host::param_sources() const {
+  std::map<std::string, std::string> out;
+  for (const auto& inst : instances_)
+    for (const auto& [name, setting] : inst->cfg.params) out[inst->cfg.name + "." + name] = setting.source();
+  for (const auto& [name, source] : requested_sources_) out[name] = source;
+  return out;
+}
+
+RemoteQueue::ParamRecorder Host::param_recorder(Running& f) {
+  return [this, &f](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
+    requested_sources_[name] = source;
+    f.recorder.param(t, name, p, source);
+  };
+}
+
 std::string Host::graph_text() const {
   std::string s = fmt::format("mission '{}' ({}), base rate {} Hz, seed {}\n", config_.name, config_.file.string(),
                               1e9 / static_cast<double>(base_period_), seed_);
@@ -358,15 +373,13 @@ bool Host::begin_flight() {
   }
   Running& f = *running_;
   f.r.run_dir = f.recorder.dir();
-  f.recorder.start(resolved_config_yaml(facts(f.duration)), parameters(), param_options(config_));
+  f.recorder.start(resolved_config_yaml(facts(f.duration)), parameters(), param_sources());
   f.recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), f.duration, seed_, f.r.run_dir.string());
   if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
-  remote_.apply_start_only(
-      [&f](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) { f.recorder.param(t, name, p, source); },
-      *logger_);             // asked for between flights: before the plugins read them
-  remote_.take_go_around();  // one asked for between flights is not for this flight
+  remote_.apply_start_only(param_recorder(f), *logger_);  // asked for between flights: before the plugins read them
+  remote_.take_go_around();                               // one asked for between flights is not for this flight
   router_.prepare_flight();
   held_.new_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one
@@ -395,10 +408,7 @@ bool Host::tick() {
   Running& f = *running_;
   Scheduler& clock = *f.clock;
   if (f.ended || !clock.next(g_stop_signal.load(std::memory_order_relaxed))) return !(f.ended = true);
-  const auto record_param = [&f](Nanos t, const std::string& name, const ParamBase& p, const std::string& source) {
-    f.recorder.param(t, name, p, source);
-  };
-  remote_.apply(clock.now(), record_param, *logger_);
+  remote_.apply(clock.now(), param_recorder(f), *logger_);
   take_go_around(clock.now());
   const EndRequest end = run_tick(clock);
   failsafes_.tick(clock.now(), phase_machine_, remote_, graph_);

@@ -135,6 +135,10 @@ class Host {
   std::string graph_dot() const;
   /// Every parameter: "instance.name" -> ParamBase.
   std::vector<std::pair<std::string, const ParamBase*>> parameters() const;
+  /// Where each parameter set by something other than its default got its value: the request
+  /// applied last (its source: "python", "console", "dds", "mavlink"), else the config's
+  /// "file:line" or the command-line option (ParamSetting::source()). For params.csv.
+  std::map<std::string, std::string> param_sources() const;
   const std::vector<Handover>& handovers() const { return router_.handovers(); }
   std::shared_ptr<spdlog::logger> logger() const { return logger_; }
   /// Asks for a parameter change ("instance.param"), from any thread (command line, DDS). It is
@@ -233,6 +237,8 @@ class Host {
   bool start_instances(FlightResult& r);
   EndRequest run_tick(Scheduler& clock);
   void notify_observer(Nanos now);
+  /// Records a parameter's change in the flight's log and keeps its source (param_sources()).
+  RemoteQueue::ParamRecorder param_recorder(Running& f);
   void finish_flight(FlightRecorder& recorder, FlightResult& r, double duration_s);
   /// The watchdog's way out (watchdog.hpp), on its thread: the log's end, then _exit.
   [[noreturn]] void emergency_end(FlightRecorder& recorder, FlightResult& r, double duration_s);
@@ -265,19 +271,9 @@ class Host {
   int next_observer_id_ = 1;
   Watchdog watchdog_;
   HeldMessages held_;
+  std::map<std::string, std::string> requested_sources_;  // flight thread: the source of each request applied, by "instance.param"
   int swaps_ = 0;
   fs::path swap_dir_;  // private copies of swapped-in libraries
 };
-
-/// The latest message on `topic` into `out` when what feeds it (Host::topic_source) writes type T;
-/// false when nothing feeds it, nothing was written yet, or it carries another type. For tick
-/// observers (the console's telemetry, the MAVLink endpoint), on the flight thread.
-template <class T>
-bool latest_message(const Host& host, const std::string& topic, T& out) {
-  const OutputBase* o = host.topic_source(topic);
-  if (o == nullptr || o->sequence() == 0 || o->type().name != T::type_name) return false;
-  out = *static_cast<const T*>(o->data());
-  return true;
-}
 
 }  // namespace tern::core

@@ -70,6 +70,9 @@ SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
     throw ConfigError("swap " + instance + " <- " + so.string() +
                       " refused (its ports do not fit the graph), the old plugin keeps flying: " + e.what());
   }
+  // the new plugin took the config's values: what requests set on the old one is gone
+  for (auto it = requested_sources_.lower_bound(instance + "."); it != requested_sources_.end() && it->first.rfind(instance + ".", 0) == 0;)
+    it = requested_sources_.erase(it);
   if (idx == phase_machine_idx_) phase_machine_ = nullptr;  // (never: built-ins are not swappable)
   const fs::path old_path = fresh->lib ? fresh->lib->info().path : fs::path();
   const bool shared = fresh->lib && fresh->lib.use_count() > 1;

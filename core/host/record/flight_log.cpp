@@ -1,8 +1,8 @@
 #include "record/flight_log.hpp"
 
-#include "record/cdr_columns.hpp"
-#include "record/csv_rows.hpp"
-#include "record/ros_channels.hpp"
+#include "ros/cdr_columns.hpp"
+#include "csv/csv_rows.hpp"
+#include "ros/ros_channels.hpp"
 
 #include <algorithm>
 #include <charconv>

@@ -45,7 +45,7 @@
 
 #include "files/log_file.hpp"
 #include "mcap/mcap_writer.hpp"
-#include "record/scene_channels.hpp"
+#include "ros/scene_channels.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
@@ -95,7 +95,7 @@ class FlightLog {
                         std::string_view type_name = {});
   /// Copies one message of topic `index` (msg_size bytes at data), logged at flight time t.
   void capture(std::size_t index, Nanos t, const void* data);
-  /// A parameter value at time t ("default", "config", "cli", "dds" ... as source).
+  /// A parameter value at time t (its source: "default", "file:line", "--set ...", "dds" ...).
   void param(Nanos t, const std::string& qualified_name, const std::string& value, const std::string& source);
   /// Hands buffered rows to the writer (call at least every kFlushPeriodNs of wall time), and
   /// reports a write error the writer met since.

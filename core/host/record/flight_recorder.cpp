@@ -73,13 +73,12 @@ FlightRecorder::~FlightRecorder() {
 }
 
 void FlightRecorder::start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params,
-                           const std::map<std::string, std::string>& options) {
+                           const std::map<std::string, std::string>& sources) {
   log_.write_file("config.yaml", config_yaml);
   log_.write_file("definitions.json", log_definitions_json());
   for (const auto& [name, p] : params) {
-    const auto option = options.find(name);
-    const bool set = !(p->value() == p->default_value());
-    log_.param(0, name, param_text(p->value()), option != options.end() ? option->second : set ? "config" : "default");
+    const auto source = sources.find(name);
+    log_.param(0, name, param_text(p->value()), source != sources.end() ? source->second : "default");
   }
 }
 

@@ -54,11 +54,11 @@ class FlightRecorder {
 
   const fs::path& dir() const { return log_.dir(); }
 
-  /// Writes config.yaml and every parameter's starting value (source: the command-line option
-  /// that set it, from `options` (name -> option: param_options()), else "config" when it
-  /// differs from its default, else "default").
+  /// Writes config.yaml and every parameter's starting value with where it came from: `sources`
+  /// (name -> the config's file:line, the command-line option, or the request that set it last:
+  /// Host::param_sources()), else "default".
   void start(const std::string& config_yaml, const std::vector<std::pair<std::string, const ParamBase*>>& params,
-             const std::map<std::string, std::string>& options);
+             const std::map<std::string, std::string>& sources);
   /// Chooses the topics of `graph` to log (see above); warns (naming `config_file`) of topics
   /// `log.topics` names that nobody publishes. The graph must not change until the flight ends.
   /// The log's files as `log` (log.format, log.chunk_size) asks.

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "record/common_frame.hpp"
+#include "tern/common_frame.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {

@@ -215,7 +215,7 @@ class DdsClient {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Gives the MCAP flight log its ROS-typed channels (core/host/record/ros_channels.hpp): ROSplane's
+/// Gives the MCAP flight log its ROS-typed channels (core/formats/ros/ros_channels.hpp): ROSplane's
 /// profile's topics in their ROS types, encoded by this bridge's conversions. Call once at start-up.
 void register_dds_mcap_channels();
 

@@ -1,4 +1,4 @@
-// core/apps/dds/src/mcap_ros_channels.cpp: the MCAP log's ROS-typed channels (record/ros_channels.hpp),
+// core/apps/dds/src/mcap_ros_channels.cpp: the MCAP log's ROS-typed channels (core/formats/ros/ros_channels.hpp),
 // from the bridge's own conversions: the topics, names and types of ROSplane's profile
 // (rosplane_profile.cpp), the tern -> ROS conversion of each (convert.cpp) and Fast DDS's CDR
 // serialisation of the generated type, with the encapsulation header, as rosbag2 stores it.
@@ -11,7 +11,7 @@
 
 #include "dds_bridge.hpp"
 #include "dds_internal.hpp"
-#include "record/ros_channels.hpp"
+#include "ros/ros_channels.hpp"
 
 namespace tern::core {
 

@@ -99,7 +99,7 @@ TEST_CASE("flight recorder: run directory, config, parameter sources, topics thi
       same_second.close(closed);
     }
 
-    rec.start("name: unit\nseed: 7\n", params.list(), {{"ctl.ki", "--set ctl.ki=0.1"}});
+    rec.start("name: unit\nseed: 7\n", params.list(), {{"ctl.gain", "unit.yaml:4"}, {"ctl.ki", "--set ctl.ki=0.1"}});
     CHECK(read_file(dir / "config.yaml") == "name: unit\nseed: 7\n");
     rec.choose_topics(sim.graph, config.log, config.file, *host_log);
     host_log->info("while recording");
@@ -130,7 +130,7 @@ TEST_CASE("flight recorder: run directory, config, parameter sources, topics thi
     const auto param_rows = rows(dir / "params.csv", 3);
     REQUIRE(param_rows.size() == 3);
     CHECK(cells(param_rows[0])[1] == "ctl.gain");
-    CHECK(cells(param_rows[0])[3] == "config");
+    CHECK(cells(param_rows[0])[3] == "unit.yaml:4");
     CHECK(cells(param_rows[1])[3] == "default");
     CHECK(cells(param_rows[2])[3] == "--set ctl.ki=0.1");
     CHECK(read_file(dir / "tern.log").find("tern: while recording") != std::string::npos);

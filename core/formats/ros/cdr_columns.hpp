@@ -1,4 +1,4 @@
-// core/host/record/cdr_columns.hpp: a logged message in ROS 2's wire encoding (CDR) and its
+// core/formats/ros/cdr_columns.hpp: a logged message in ROS 2's wire encoding (CDR) and its
 // `ros2msg` schema, from the message's flat log columns (tern/reflect.hpp layout()).
 //
 // The schema is tern_msgs/msg/<Name> (<Name>: the type name after "tern/"), one field per log

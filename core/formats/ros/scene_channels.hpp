@@ -1,4 +1,4 @@
-// core/host/record/scene_channels.hpp: the 3-D scene in the MCAP flight log, for Foxglove's 3-D
+// core/formats/ros/scene_channels.hpp: the 3-D scene in the MCAP flight log, for Foxglove's 3-D
 // panel (and RViz-minded tools): transforms and markers, ROS 2 types (scene_msgs.hpp), written
 // beside the ROS-typed copies (ros_channels.hpp; log.ros_channels: false leaves both out).
 //
@@ -43,7 +43,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "record/ros_channels.hpp"
+#include "ros/ros_channels.hpp"
 
 namespace tern::core {
 

@@ -1,4 +1,4 @@
-// core/host/record/csv_rows.hpp: a topic's CSV table as the flight log writes it (flight_log.hpp),
+// core/formats/csv/csv_rows.hpp: a topic's CSV table as the flight log writes it (flight_log.hpp),
 // shared by the log's writer thread and `tern export csv` so that both write the same bytes.
 //
 // Header: "t [s],<name> [<unit>],..."; one row per message: the flight time as exact decimal

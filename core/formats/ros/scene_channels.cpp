@@ -1,12 +1,12 @@
-#include "record/scene_channels.hpp"
+#include "ros/scene_channels.hpp"
 
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <utility>
 
-#include "record/common_frame.hpp"
-#include "record/scene_msgs.hpp"
+#include "tern/common_frame.hpp"
+#include "ros/scene_msgs.hpp"
 #include "tern/aircraft.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/path.hpp"

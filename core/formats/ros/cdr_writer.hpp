@@ -1,4 +1,4 @@
-// core/host/record/cdr_writer.hpp: a ROS 2 message written field by field in CDR, as rmw
+// core/formats/ros/cdr_writer.hpp: a ROS 2 message written field by field in CDR, as rmw
 // implementations send it and rosbag2 stores it (XCDR1, plain CDR, little-endian): the 4-byte
 // encapsulation header 00 01 00 00, then each primitive little-endian, aligned to its own size
 // counted from the end of the header; a string is a uint32 length counting its terminating NUL,

@@ -1,4 +1,4 @@
-// record/ros_channels.hpp: the ROS 2 types of the MCAP flight log (issue 44).
+// core/formats/ros/ros_channels.hpp: the ROS 2 types of the MCAP flight log (issue 44).
 //
 // Beside each topic's own channel (tern_msgs, every column, what `tern export csv` reads), a
 // topic that tern also speaks on the wire in a ROS type gets a second channel in that type, named

@@ -1,4 +1,4 @@
-// core/host/record/common_frame.hpp: estimate and truth in one frame. An estimator's NED position is
+// sdk/include/tern/common_frame.hpp: estimate and truth in one frame. An estimator's NED position is
 // about its own origin (estimator_ekf: the first GNSS fix, itself off by the receiver's error);
 // the simulator's truth is about the simulator's origin. Both State messages carry their
 // origin's latitude, longitude and altitude, so every figure that compares them (flight metrics,
@@ -11,13 +11,14 @@
 
 #include <Eigen/Core>
 
+#include "tern/export.hpp"
 #include "tern/geodesy.hpp"
 #include "tern/msg/all.hpp"
 
-namespace tern::core {
+namespace tern {
 
 /// NED (m) about a reference origin of geodetic points and of NED positions about other origins.
-class CommonFrame {
+class TERN_API CommonFrame {
  public:
   explicit CommonFrame(const GeoPoint& reference) : local_(reference) {}
   const GeoPoint& reference() const { return local_.origin(); }
@@ -38,9 +39,9 @@ inline Eigen::Vector3d position_of(const msg::State& s) { return {s.p_n, s.p_e, 
 
 /// The estimate's position in the truth's frame. When either has no origin (origin_valid false)
 /// both are taken to share one frame and the estimate is returned as it is.
-Eigen::Vector3d estimate_in_truth_frame(const msg::State& estimate, const msg::State& truth);
+TERN_API Eigen::Vector3d estimate_in_truth_frame(const msg::State& estimate, const msg::State& truth);
 
 /// A GNSS fix's position in the truth's frame (NaN when the truth has no origin or there is no fix).
-Eigen::Vector3d fix_in_truth_frame(const msg::Gnss& fix, const msg::State& truth);
+TERN_API Eigen::Vector3d fix_in_truth_frame(const msg::Gnss& fix, const msg::State& truth);
 
-}  // namespace tern::core
+}  // namespace tern

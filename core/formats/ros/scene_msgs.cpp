@@ -1,9 +1,9 @@
-#include "record/scene_msgs.hpp"
+#include "ros/scene_msgs.hpp"
 
 #include <map>
 #include <utility>
 
-#include "record/cdr_writer.hpp"
+#include "ros/cdr_writer.hpp"
 
 namespace tern::core {
 

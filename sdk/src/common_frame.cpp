@@ -1,10 +1,10 @@
-#include "record/common_frame.hpp"
+#include "tern/common_frame.hpp"
 
 #include <cmath>
 #include <limits>
 #include <optional>
 
-namespace tern::core {
+namespace tern {
 
 Eigen::Vector3d CommonFrame::ned(const GeoPoint& p) const { return local_.to_ned(p); }
 
@@ -36,4 +36,4 @@ Eigen::Vector3d fix_in_truth_frame(const msg::Gnss& fix, const msg::State& truth
   return frame_of(truth).ned({fix.lat, fix.lon, fix.alt});
 }
 
-}  // namespace tern::core
+}  // namespace tern

@@ -1,4 +1,4 @@
-#include "record/csv_rows.hpp"
+#include "csv/csv_rows.hpp"
 
 #include <charconv>
 #include <cstdint>

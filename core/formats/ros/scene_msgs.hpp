@@ -1,4 +1,4 @@
-// core/host/record/scene_msgs.hpp: the ROS 2 messages of the MCAP log's 3-D scene
+// core/formats/ros/scene_msgs.hpp: the ROS 2 messages of the MCAP log's 3-D scene
 // (scene_channels.hpp), their ros2msg schemas and their CDR encoding (cdr_writer.hpp):
 //   tf2_msgs/msg/TFMessage            transforms (/tf), a list of geometry_msgs/TransformStamped
 //   visualization_msgs/msg/MarkerArray markers (the aircraft model, the mission, the path)

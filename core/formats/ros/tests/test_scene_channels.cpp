@@ -11,8 +11,8 @@
 
 #include <Eigen/Geometry>
 
-#include "record/scene_channels.hpp"
-#include "record/scene_msgs.hpp"
+#include "ros/scene_channels.hpp"
+#include "ros/scene_msgs.hpp"
 #include "tern/math.hpp"
 #include "tern/msg/state.hpp"
 

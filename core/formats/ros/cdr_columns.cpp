@@ -1,4 +1,4 @@
-#include "record/cdr_columns.hpp"
+#include "ros/cdr_columns.hpp"
 
 #include <array>
 #include <cstring>

@@ -1,4 +1,4 @@
-#include "record/ros_channels.hpp"
+#include "ros/ros_channels.hpp"
 
 namespace tern::core {
 namespace {

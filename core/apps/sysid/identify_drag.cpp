@@ -1,0 +1,87 @@
+// core/apps/sysid/identify_drag.cpp: the polar (identify_drag.hpp).
+#include "sysid/identify_drag.hpp"
+
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "sysid/instrumentation.hpp"
+#include "tern/math.hpp"
+#include "tern/aero/model.hpp"
+
+namespace tern::core::sysid {
+
+namespace {
+
+/// The drag coefficient with the body forces turned through `alpha`.
+Col drag_at(const AeroSamples& a, const Col& alpha) {
+  Col C_D(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) C_D[k] = -(std::cos(alpha[k]) * a.C_X[k] + std::sin(alpha[k]) * a.C_Z[k]);
+  return C_D;
+}
+
+/// The polar's trim windows (instrumentation.hpp): C_D - C_D_q q^ - C_D_delta_e delta_e, C_Lw =
+/// C_L_scale (C_L_0 + C_L_alpha alpha) (sim_aero's drag_coefficient in the linear range) and the
+/// accelerometer bias's regressor -m cos(alpha) / (qbar_xz S), each a window's mean.
+std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, const Col& alpha, const Aircraft& ac, double C_L_scale) {
+  const Col C_D = drag_at(a, alpha);
+  Col z(a.size()), clw(a.size()), bias(a.size());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    z[k] = C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
+    clw[k] = C_L_scale * (c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k]);
+    const double V_xz = a.Va[k] * std::cos(a.beta[k]);
+    bias[k] = -ac.mass * std::cos(alpha[k]) / (0.5 * ac.rho * V_xz * V_xz * ac.S);
+  }
+  const Col zm = window_means(z, c.L), cm = window_means(clw, c.L), bm = window_means(bias, c.L);
+  std::vector<PolarWindow> w(zm.size());
+  for (std::size_t i = 0; i < zm.size(); ++i) w[i] = {zm[i], cm[i], bm[i]};
+  return w;
+}
+
+/// sigma widened by what `shifted` moved the estimate by (a consider term: the pitot scale's).
+void widen(NuisanceEstimate& e, const NuisanceEstimate& shifted) {
+  if (e.identified && shifted.identified) e.std_error = std::hypot(e.std_error, shifted.estimate - e.estimate);
+}
+
+}  // namespace
+
+void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples* at_k_plus_sigma, double C_L_scale) {
+  DragPolar p = drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias);
+  if (at_k_plus_sigma != nullptr) {
+    const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3,
+                                   c.o.fit_accel_x_bias);
+    widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x);
+  }
+  c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows});
+  c.coef.C_D_p = p.C_D_p.estimate;
+  const Term tp{"C_D_p", &AeroCoefficients::C_D_p, nullptr, {}};
+  CoefficientEstimate& r = record(c, tp, "trim");
+  r.std_error = p.C_D_p.std_error;
+  r.identified = true;
+  const double prior_e = c.result.aircraft.e;
+  if (p.e.identified) {
+    c.result.aircraft.e = p.e.estimate;
+    c.result.notes.push_back(fmt::format("e (Oswald factor): {:.3f} +- {:.2g} (prior {:.3f}), from the polar's slope {:.4f} +- {:.2g}",
+                                         p.e.estimate, p.e.std_error, prior_e, p.K.estimate, p.K.std_error));
+  } else {
+    c.result.notes.push_back(fmt::format("e (Oswald factor): kept, {}", p.K.note));
+  }
+  c.result.oswald = p.e;
+  c.result.accel_x_bias = p.bias_x;
+  if (!p.bias_x.identified) c.result.notes.push_back(fmt::format("accelerometer x bias: {}; 0 taken", p.bias_x.note));
+  for (const Term& t :
+       {Term{"C_D_q", &AeroCoefficients::C_D_q, nullptr, {}}, Term{"C_D_delta_e", &AeroCoefficients::C_D_delta_e, nullptr, {}}})
+    record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
+}
+
+void drag_at_trim(SysidResult& r, const Aircraft& prior, const Col& alpha, const AeroSamples& a) {
+  double al = 0.0, de = 0.0;
+  for (std::size_t k = 0; k < a.size(); ++k) al += alpha[k], de += a.delta_e[k];
+  al /= static_cast<double>(a.size()), de /= static_cast<double>(a.size());
+  r.C_D_trim_prior = sim::drag_coefficient(prior, al) + prior.aero.C_D_delta_e * de;
+  r.C_D_trim = sim::drag_coefficient(r.aircraft, al) + r.aircraft.aero.C_D_delta_e * de;
+  const double C_L = sim::lift_coefficient(r.aircraft, al) + r.aircraft.aero.C_L_delta_e * de;
+  r.C_D_per_deg = C_L * kRadPerDeg / r.C_D_trim;
+}
+
+}  // namespace tern::core::sysid

@@ -1,0 +1,88 @@
+// core/apps/sysid/identify_moments.cpp: the pitching moment, output error, the gyros' coupling (identify_moments.hpp).
+#include "sysid/identify_moments.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <tuple>
+
+#include <fmt/format.h>
+
+namespace tern::core::sysid {
+
+void pitching_moment(Context& c, const Col& alpha, bool accel) {
+  const AeroSamples& a = c.a;
+  const Signals x = signals(a, alpha, a.beta);
+  const std::vector<Term> pitch = {{"C_m_alpha", &M::C_m_alpha, &alpha, x.alpha, accel ? &a.alpha : nullptr},
+                                   {"C_m_q", &M::C_m_q, &a.q_hat, x.q},
+                                   {"C_m_delta_e", &M::C_m_delta_e, &a.delta_e, x.delta_e}};
+  band_fit(c, "pitch", a.C_m, pitch);
+  bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
+}
+
+void refine(Context& c, const RateData& d, RateAxes axes) {
+  std::vector<std::string> free;
+  for (const auto& e : c.result.coefficients) {
+    const bool pitch = e.name.rfind("C_m_", 0) == 0, lateral = e.name.rfind("C_ell_", 0) == 0 || e.name.rfind("C_n_", 0) == 0;
+    if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
+  }
+  if (free.empty()) return;
+  const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
+  const std::vector<std::string> outputs =
+      axes == RateAxes::pitch ? std::vector<std::string>{"pitch rate"} : std::vector<std::string>{"roll rate", "yaw rate"};
+  std::string rms;
+  for (std::size_t a = 0; a < outputs.size(); ++a) {
+    const auto A = static_cast<Eigen::Index>(a);
+    c.result.fits.push_back({outputs[a], "output error", f.r_squared[A], f.rms[A], f.samples});
+    rms += fmt::format("{}{} {:.4f} -> {:.4f} rad/s", a ? ", " : "", outputs[a], f.rms_start[A], f.rms[A]);
+  }
+  c.result.notes.push_back(fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations",
+                                       axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations));
+  for (std::size_t j = 0; j < free.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    auto e = std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),
+                          [&](const CoefficientEstimate& x) { return x.name == free[j]; });
+    double se = f.std_error[J];
+    if (se > c.o.max_relative_error * std::abs(f.theta[J])) {
+      c.result.notes.push_back(fmt::format("{}: output error poorly determined ({:.4g} +- {:.2g}); the equation error's {:.4g} kept",
+                                           e->name, f.theta[J], se, e->estimate));
+      continue;
+    }
+    // the output error further from the equation error than its own bound: one of them is biased
+    // (the equation error by its flow angles' errors; the output error by the turbulence it does not
+    // model, process noise, and by the noise in the flow angles it is driven by: Klein and Morelli
+    // ch. 6), and which is not known. The estimate is then their mean, its bound the larger of
+    // theirs and half the gap (the truth between them lies inside it).
+    double theta = f.theta[J];
+    std::string method = "output error";
+    const double apart = std::abs(f.theta[J] - e->estimate);
+    if (apart > se) {
+      se = std::max({se, e->std_error, 0.5 * apart});
+      theta = 0.5 * (f.theta[J] + e->estimate);
+      method = "mean of equation and output error";
+    }
+    e->estimate = theta, e->std_error = se, e->method = method;
+    c.coef.*moment_coefficient(e->name) = theta;
+  }
+}
+
+void consider_gyro_coupling(Context& c) {
+  const AeroCoefficients& m = c.coef;
+  const Aircraft& ac = c.result.aircraft;
+  const std::array<std::tuple<const char*, double, const char*, double>, 5> pairs = {
+      {{"C_ell_beta", m.C_ell_beta, "C_n_beta", m.C_n_beta},
+       {"C_ell_p", m.C_ell_p, "C_n_p", m.C_n_p},
+       {"C_ell_r", m.C_ell_r, "C_n_r", m.C_n_r},
+       {"C_ell_delta_a", m.C_ell_delta_a, "C_n_delta_a", m.C_n_delta_a},
+       {"C_ell_delta_r", m.C_ell_delta_r, "C_n_delta_r", m.C_n_delta_r}}};
+  const double k = c.o.gyro_cross_axis;
+  for (CoefficientEstimate& e : c.result.coefficients) {
+    if (!e.identified) continue;
+    for (const auto& [roll, C_ell, yaw, C_n] : pairs) {
+      if (e.name == yaw) e.std_error = std::hypot(e.std_error, k * (ac.Jz / ac.Jx) * C_ell);
+      if (e.name == roll) e.std_error = std::hypot(e.std_error, k * (ac.Jx / ac.Jz) * C_n);
+    }
+  }
+}
+
+}  // namespace tern::core::sysid
