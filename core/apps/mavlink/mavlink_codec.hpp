@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "mavlink/common_messages.hpp"
+#include "mavlink/link_counters.hpp"
 #include "tern/mavlink/frame.hpp"
 
 namespace tern::core::mavlink {
@@ -59,21 +60,6 @@ template <class T>
 T decode(const Frame& f) {
   return T::unpack(f.payload.data());
 }
-
-/// What was received and dropped, for SYS_STATUS (drop_rate_comm, errors_comm) and the end-of-run
-/// line. Counts since construction.
-struct Counters {
-  std::uint64_t datagrams = 0;   ///< UDP datagrams read
-  std::uint64_t frames = 0;      ///< frames with a good checksum of a known message
-  std::uint64_t bad_crc = 0;     ///< frames of a known id whose checksum failed
-  std::uint64_t truncated = 0;   ///< a frame cut short by the datagram's end
-  std::uint64_t unknown_id = 0;  ///< well-formed frames of a message tern does not know
-  std::uint64_t mavlink1 = 0;    ///< MAVLink 1 frames (0xFE): not spoken
-  std::uint64_t junk_bytes = 0;  ///< bytes skipped looking for a start-of-frame
-  std::uint64_t bad_length = 0;  ///< a known message longer than its definition
-  std::uint64_t noise = 0;       ///< datagrams without a start-of-frame byte at all
-  std::uint64_t dropped() const { return bad_crc + truncated + unknown_id + mavlink1 + bad_length + noise; }
-};
 
 /// Reads the frames of one UDP datagram (a datagram holds whole frames; nothing is carried over to
 /// the next one). Returns the good frames in order; counts the rest in `c`.

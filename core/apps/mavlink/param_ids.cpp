@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstdio>
 
-#include "mavlink/mavlink_messages.hpp"
+#include "mavlink/mavlink_enums.hpp"
 #include "tern/fnv1a.hpp"
 
 namespace tern::core::mavlink {
