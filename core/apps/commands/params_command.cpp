@@ -8,7 +8,7 @@
 #include "commands/commands.hpp"
 #include "commands/host_preparation.hpp"
 #include "commands/param_text.hpp"
-#include "mavlink/mavlink_messages.hpp"
+#include "mavlink/mavlink_enums.hpp"
 #include "mavlink/param_ids.hpp"
 
 namespace tern::core {

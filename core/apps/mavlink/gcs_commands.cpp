@@ -37,18 +37,18 @@ GcsCommands::GcsCommands(Host& host, const FlightWatch& flight, MissionProtocol&
 bool GcsCommands::on_frame(const Frame& f) {
   Command c;
   std::uint8_t sys = 0, comp = 0;
-  if (f.msgid == COMMAND_LONG) {
-    const CommandLong m = decode_command_long(f.payload);
+  if (f.msgid == CommandLong::kId) {
+    const auto m = decode<CommandLong>(f);
     sys = m.target_system, comp = m.target_component;
     c.id = m.command;
-    for (std::size_t i = 0; i < 4; ++i) c.param[i] = m.param[i];
-    c.has_position = std::isfinite(m.param[4]) && std::isfinite(m.param[5]) && !(m.param[4] == 0.0f && m.param[5] == 0.0f);
-    c.lat = m.param[4], c.lon = m.param[5], c.alt = m.param[6];  // COMMAND_LONG: degrees, m MSL
-  } else if (f.msgid == COMMAND_INT) {
-    const CommandInt m = decode_command_int(f.payload);
+    c.param = {m.param1, m.param2, m.param3, m.param4};
+    c.has_position = std::isfinite(m.param5) && std::isfinite(m.param6) && !(m.param5 == 0.0f && m.param6 == 0.0f);
+    c.lat = m.param5, c.lon = m.param6, c.alt = m.param7;  // COMMAND_LONG: degrees, m MSL
+  } else if (f.msgid == CommandInt::kId) {
+    const auto m = decode<CommandInt>(f);
     sys = m.target_system, comp = m.target_component;
     c.id = m.command;
-    c.param = m.param;
+    c.param = {m.param1, m.param2, m.param3, m.param4};
     c.has_position = !(m.x == 0 && m.y == 0) && m.x != INT32_MAX && m.y != INT32_MAX;
     c.lat = m.x / kE7, c.lon = m.y / kE7;
     const bool rel = m.frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || m.frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
@@ -65,7 +65,7 @@ bool GcsCommands::on_frame(const Frame& f) {
   ack.result = r.result;
   ack.target_system = f.sysid;
   ack.target_component = f.compid;
-  out_.send(COMMAND_ACK, encode(ack));
+  out_.send(CommandAck::kId, encode(ack));
   return true;
 }
 
@@ -92,7 +92,7 @@ GcsCommands::Result GcsCommands::run(const Command& c) {
     }
     case MAV_CMD_REQUEST_MESSAGE:
       return request_message(std::isfinite(c.param[0]) && c.param[0] >= 0.0f ? static_cast<std::uint32_t>(c.param[0]) : UINT32_MAX, v);
-    case MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES: return request_message(AUTOPILOT_VERSION, v);
+    case MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES: return request_message(AutopilotVersion::kId, v);
     case MAV_CMD_SET_MESSAGE_INTERVAL:
       return {MAV_RESULT_DENIED, "message intervals are fixed (docs/ground-station.md): message " + fixed(c.param[0], 0) + " unchanged"};
     default: return {MAV_RESULT_UNSUPPORTED, ""};
@@ -189,17 +189,18 @@ GcsCommands::Result GcsCommands::set_mode(const Command& c, const FlightView& v)
 }
 
 GcsCommands::Result GcsCommands::request_message(std::uint32_t id, const FlightView& v) {
-  if (id == AUTOPILOT_VERSION) {
-    out_.send(AUTOPILOT_VERSION, encode(autopilot_version(system_id_)));
+  if (id == AutopilotVersion::kId) {
+    out_.send(AutopilotVersion::kId, encode(autopilot_version(system_id_)));
     return {MAV_RESULT_ACCEPTED, ""};
   }
-  if (id == HOME_POSITION) {
+  if (id == HomePosition::kId) {
     if (!v.has_state) return {MAV_RESULT_TEMPORARILY_REJECTED, "no home yet: the estimate has no origin"};
     HomePosition h;
     h.latitude = static_cast<std::int32_t>(std::llround(v.origin.lat * kE7));
     h.longitude = static_cast<std::int32_t>(std::llround(v.origin.lon * kE7));
     h.altitude = static_cast<std::int32_t>(std::llround(v.origin.alt * 1000.0));
-    out_.send(HOME_POSITION, encode(h));
+    h.q = {1, 0, 0, 0};  // identity (w, x, y, z)
+    out_.send(HomePosition::kId, encode(h));
     return {MAV_RESULT_ACCEPTED, ""};
   }
   return {MAV_RESULT_UNSUPPORTED, ""};

@@ -87,9 +87,7 @@ struct GcsLink::Impl {
   /// The mission protocol and the commands (mission_protocol.hpp, gcs_commands.hpp), answering through this link.
   void start_mission_and_commands() {
     const Outbox out{[this](std::uint32_t id, const std::vector<std::uint8_t>& payload) { send_frame(id, payload); },
-                     [this](std::uint8_t severity, const std::string& text) {
-                       say(StatusText{severity, text});
-                     }};
+                     [this](std::uint8_t severity, const std::string& text) { say(severity, text); }};
     const auto dir =
         std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
     watch = std::make_unique<FlightWatch>(host);
@@ -188,29 +186,29 @@ struct GcsLink::Impl {
     heard(sender);
     for (const Frame& f : frames) {
       switch (f.msgid) {
-        case PARAM_REQUEST_LIST: {
-          const auto m = decode_param_request_list(f.payload);
+        case ParamRequestList::kId: {
+          const auto m = decode<ParamRequestList>(f);
           if (for_us(m.target_system, m.target_component)) list_cursor = 0;
           break;
         }
-        case PARAM_REQUEST_READ: {
-          const auto m = decode_param_request_read(f.payload);
+        case ParamRequestRead::kId: {
+          const auto m = decode<ParamRequestRead>(f);
           if (!for_us(m.target_system, m.target_component)) break;
           std::optional<std::size_t> i;
           if (m.param_index >= 0 && static_cast<std::size_t>(m.param_index) < table.params().size())
             i = static_cast<std::size_t>(m.param_index);
           else if (m.param_index < 0)
-            i = table.find(m.param_id);
+            i = table.find(to_string(m.param_id));
           if (i)
             send_param(*i);
           else
-            say(StatusText{MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : m.param_id)});
+            say(MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : to_string(m.param_id)));
           break;
         }
-        case PARAM_SET: on_param_set(decode_param_set(f.payload)); break;
-        case TIMESYNC: on_timesync(decode_timesync(f.payload), f); break;
-        case HEARTBEAT:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
-          if (decode_heartbeat(f.payload).type == MAV_TYPE_GCS) host.ground_link_heard();
+        case ParamSet::kId: on_param_set(decode<ParamSet>(f)); break;
+        case Timesync::kId: on_timesync(decode<Timesync>(f), f); break;
+        case Heartbeat::kId:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
+          if (decode<Heartbeat>(f).type == MAV_TYPE_GCS) host.ground_link_heard();
           break;
         default:  // missions, commands; else our own messages echoed, a GCS's other traffic
           if (!mission->on_frame(f)) commands->on_frame(f);
@@ -233,14 +231,14 @@ struct GcsLink::Impl {
 
   void on_param_set(const ParamSet& m) {
     if (!for_us(m.target_system, m.target_component)) return;
-    const auto i = table.find(m.param_id);
+    const auto i = table.find(to_string(m.param_id));
     if (!i) {
-      say(StatusText{MAV_SEVERITY_WARNING, "no parameter " + m.param_id});
+      say(MAV_SEVERITY_WARNING, "no parameter " + to_string(m.param_id));
       return;
     }
     const MavParam& mp = table.params()[*i];
     const ParamBase* p = param(mp.qualified);
-    std::optional<ParamValue> accepted;
+    std::optional<tern::ParamValue> accepted;
     std::string why;
     if (p == nullptr) {
       why = mp.qualified + ": no longer in the mission (an instance was swapped)";
@@ -248,8 +246,8 @@ struct GcsLink::Impl {
       why = mp.qualified + ": not a finite value";
     } else {
       try {
-        const ParamValue v = p->validate(from_mav_value(m.param_value, mp.kind));  // throws ParamError
-        host.request_param(mp.qualified, v, "mavlink");                            // throws: start-only in flight
+        const tern::ParamValue v = p->validate(from_mav_value(m.param_value, mp.kind));  // throws ParamError
+        host.request_param(mp.qualified, v, "mavlink");                                  // throws: start-only in flight
         accepted = v;
       } catch (const std::exception& e) {
         why = e.what();
@@ -259,7 +257,7 @@ struct GcsLink::Impl {
       pending[mp.qualified] = {*accepted, Clock::now()};
       send_param(*i);
     } else {
-      say(StatusText{MAV_SEVERITY_WARNING, why});
+      say(MAV_SEVERITY_WARNING, why);
       if (p != nullptr) send_param(*i);  // refused: the value it keeps, as PX4 answers
     }
   }
@@ -275,10 +273,10 @@ struct GcsLink::Impl {
   /// it at the start of the next tick, a served host's between flights at the next flight's) is
   /// reported as set, as PX4 echoes a PARAM_SET; it is forgotten once the parameter holds it, or a
   /// second after it was asked in flight (another client may have changed the parameter since).
-  ParamValue current(const std::string& qualified, const ParamBase& p) {
+  tern::ParamValue current(const std::string& qualified, const ParamBase& p) {
     const auto it = pending.find(qualified);
     if (it == pending.end()) return p.value();
-    ParamValue now = p.value();
+    tern::ParamValue now = p.value();
     if (now == it->second.first || (host.flying() && Clock::now() - it->second.second > std::chrono::seconds(1))) {
       pending.erase(it);
       return now;
@@ -290,8 +288,8 @@ struct GcsLink::Impl {
     const MavParam& mp = table.params()[i];
     const ParamBase* p = param(mp.qualified);
     if (p == nullptr) return;
-    ParamValueMsg v;
-    v.param_id = mp.id;
+    ParamValue v;
+    v.param_id = to_chars<16>(mp.id);
     v.param_value = to_mav_value(current(mp.qualified, *p));
     v.param_type = mp.mav_type;
     v.param_count = static_cast<std::uint16_t>(table.params().size());
@@ -306,32 +304,16 @@ struct GcsLink::Impl {
   }
 
   /// A text to the GCS, in chunks when it is longer than 50 characters.
-  void say(const StatusText& t) {
-    if (t.text.size() > 50 && ++text_id == 0) ++text_id;  // ids of chunked texts: 1, 2, ... (0: one chunk)
-    for (const auto& chunk : statustext_chunks(t.severity, t.text, text_id)) send(chunk);
+  void say(std::uint8_t severity, const std::string& text) {
+    if (text.size() > 50 && ++text_id == 0) ++text_id;  // ids of chunked texts: 1, 2, ... (0: one chunk)
+    for (const auto& chunk : statustext_chunks(severity, text, text_id)) send(chunk);
   }
 
+  /// A generated message struct (mavlink/common_messages.hpp) in a frame.
   template <class M>
   void send(const M& m) {
-    const auto bytes = encode(m);
-    send_frame(msgid_of(m), bytes);
+    send_frame(M::kId, encode(m));
   }
-
-  static std::uint32_t msgid_of(const Heartbeat&) { return HEARTBEAT; }
-  static std::uint32_t msgid_of(const SysStatus&) { return SYS_STATUS; }
-  static std::uint32_t msgid_of(const GpsRawInt&) { return GPS_RAW_INT; }
-  static std::uint32_t msgid_of(const Attitude&) { return ATTITUDE; }
-  static std::uint32_t msgid_of(const GlobalPositionInt&) { return GLOBAL_POSITION_INT; }
-  static std::uint32_t msgid_of(const VfrHud&) { return VFR_HUD; }
-  static std::uint32_t msgid_of(const HomePosition&) { return HOME_POSITION; }
-  static std::uint32_t msgid_of(const ParamValueMsg&) { return PARAM_VALUE; }
-  static std::uint32_t msgid_of(const StatusText&) { return STATUSTEXT; }
-  static std::uint32_t msgid_of(const SystemTime&) { return SYSTEM_TIME; }
-  static std::uint32_t msgid_of(const MissionCurrent&) { return MISSION_CURRENT; }
-  static std::uint32_t msgid_of(const NavControllerOutput&) { return NAV_CONTROLLER_OUTPUT; }
-  static std::uint32_t msgid_of(const Timesync&) { return TIMESYNC; }
-  static std::uint32_t msgid_of(const WindCov&) { return WIND_COV; }
-  static std::uint32_t msgid_of(const ExtendedSysState&) { return EXTENDED_SYS_STATE; }
 
   Counters link_counters() const {
     std::lock_guard lk(counters_mu);
@@ -367,7 +349,7 @@ struct GcsLink::Impl {
       ev.swap(events);
     }
     mission_of(watch->view(), s);
-    for (const auto& e : ev) say(StatusText{e.severity, e.text});
+    for (const auto& e : ev) say(e.severity, e.text);
     if (due(next_heartbeat, std::chrono::milliseconds(1000), now)) {
       send(heartbeat(s, host.flying()));
       send(sys_status(s, topics, link_counters()));
@@ -428,7 +410,7 @@ struct GcsLink::Impl {
   // the link's thread only
   std::map<udp::endpoint, Clock::time_point> peers;
   std::optional<std::size_t> list_cursor;
-  std::map<std::string, std::pair<ParamValue, Clock::time_point>> pending;  // accepted sets not yet applied
+  std::map<std::string, std::pair<tern::ParamValue, Clock::time_point>> pending;  // accepted sets not yet applied
   std::uint8_t seq = 0;
   std::uint16_t text_id = 0;
   std::optional<GeoOrigin> origin;

@@ -35,7 +35,7 @@
 #include <utility>
 #include <vector>
 
-#include "mavlink/mavlink_codec.hpp"
+#include "mavlink/link_counters.hpp"
 
 namespace tern::core {
 

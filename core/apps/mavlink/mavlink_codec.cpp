@@ -1,43 +1,22 @@
-// core/apps/mavlink/mavlink_codec.cpp: MAVLink 2 frames (mavlink_codec.hpp).
+// core/apps/mavlink/mavlink_codec.cpp: MAVLink 2 frames in UDP datagrams (mavlink_codec.hpp).
 #include "mavlink/mavlink_codec.hpp"
+
+#include <algorithm>
 
 namespace tern::core::mavlink {
 
-std::uint16_t crc_accumulate(std::uint8_t b, std::uint16_t crc) {
-  // CRC-16/MCRF4XX, polynomial 0x1021 reflected, as https://mavlink.io/en/guide/crc.html gives it
-  std::uint8_t t = static_cast<std::uint8_t>(b ^ static_cast<std::uint8_t>(crc & 0xFF));
-  t = static_cast<std::uint8_t>(t ^ (t << 4));
-  return static_cast<std::uint16_t>((crc >> 8) ^ (t << 8) ^ (t << 3) ^ (t >> 4));
-}
-
-std::uint16_t crc_x25(const std::uint8_t* data, std::size_t n, std::uint16_t crc) {
-  for (std::size_t i = 0; i < n; ++i) crc = crc_accumulate(data[i], crc);
-  return crc;
+std::optional<MessageInfo> message_info(std::uint32_t msgid) {
+  for (const MessageInfo& m : kDialect)
+    if (m.id == msgid) return m;
+  return std::nullopt;
 }
 
 std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload, std::uint8_t seq, std::uint8_t sysid,
                                        std::uint8_t compid) {
   const MessageInfo info = *message_info(msgid);
-  std::size_t len = payload.size() < kMaxPayload ? payload.size() : kMaxPayload;
-  while (len > 1 && payload[len - 1] == 0) --len;  // zero trimming; one byte always stays
-  if (len == 0) len = 1;
-  std::vector<std::uint8_t> out;
-  out.reserve(kHeaderLen + len + 2);
-  out.push_back(kMagicV2);
-  out.push_back(static_cast<std::uint8_t>(len));
-  out.push_back(0);  // incompat_flags: unsigned
-  out.push_back(0);  // compat_flags
-  out.push_back(seq);
-  out.push_back(sysid);
-  out.push_back(compid);
-  out.push_back(static_cast<std::uint8_t>(msgid & 0xFF));
-  out.push_back(static_cast<std::uint8_t>((msgid >> 8) & 0xFF));
-  out.push_back(static_cast<std::uint8_t>((msgid >> 16) & 0xFF));
-  for (std::size_t i = 0; i < len; ++i) out.push_back(i < payload.size() ? payload[i] : 0);
-  std::uint16_t crc = crc_x25(out.data() + 1, out.size() - 1);
-  crc = crc_accumulate(info.crc_extra, crc);
-  out.push_back(static_cast<std::uint8_t>(crc & 0xFF));
-  out.push_back(static_cast<std::uint8_t>(crc >> 8));
+  std::vector<std::uint8_t> out(kHeaderLen + std::max<std::size_t>(payload.size(), 1) + ::tern::mavlink::kChecksumLength, 0);
+  std::copy(payload.begin(), payload.end(), out.begin() + kHeaderLen);
+  out.resize(::tern::mavlink::finish_frame_v2(out.data(), payload.size(), seq, sysid, compid, msgid, info.crc_extra));
   return out;
 }
 
@@ -49,11 +28,12 @@ std::vector<Frame> parse_datagram(const std::uint8_t* data, std::size_t n, Count
   while (i < n) {
     if (data[i] == kMagicV1) {  // a MAVLink 1 frame: len at [1], 6 header bytes, 2 checksum bytes
       ++c.mavlink1;
-      if (i + 1 >= n || i + 8 + data[i + 1] > n) {
+      constexpr std::size_t v1_overhead = ::tern::mavlink::kHeaderLengthV1 + ::tern::mavlink::kChecksumLength;
+      if (i + 1 >= n || i + v1_overhead + data[i + 1] > n) {
         ++c.truncated;
         return frames;
       }
-      i += 8 + data[i + 1];
+      i += v1_overhead + data[i + 1];
       continue;
     }
     if (data[i] != kMagicV2) {
@@ -65,40 +45,34 @@ std::vector<Frame> parse_datagram(const std::uint8_t* data, std::size_t n, Count
       ++c.truncated;
       return frames;
     }
-    const std::uint8_t len = data[i + 1];
-    const bool signed_frame = (data[i + 2] & kIncompatSigned) != 0;
-    const std::size_t total = kHeaderLen + len + 2 + (signed_frame ? kSignatureLen : 0);
+    const ::tern::mavlink::HeaderV2 h = ::tern::mavlink::read_header_v2(data + i);
+    const std::size_t total = h.frame_length();
     if (n - i < total) {
       ++c.truncated;
       return frames;
     }
-    const std::uint32_t msgid = static_cast<std::uint32_t>(data[i + 7]) | (static_cast<std::uint32_t>(data[i + 8]) << 8) |
-                                (static_cast<std::uint32_t>(data[i + 9]) << 16);
-    const auto info = message_info(msgid);
+    const auto info = message_info(h.msgid);
     if (!info) {
       ++c.unknown_id;
       i += total;
       continue;
     }
-    std::uint16_t crc = crc_x25(data + i + 1, kHeaderLen - 1 + len);
-    crc = crc_accumulate(info->crc_extra, crc);
-    const std::uint16_t got = static_cast<std::uint16_t>(data[i + kHeaderLen + len] | (data[i + kHeaderLen + len + 1] << 8));
-    if (crc != got) {
+    if (!::tern::mavlink::checksum_matches(data + i, kHeaderLen + h.len, info->crc_extra)) {
       ++c.bad_crc;
       ++i;  // a start byte inside noise: look for the next one
       continue;
     }
-    if (len > info->length) {
+    if (h.len > info->length) {
       ++c.bad_length;
       i += total;
       continue;
     }
     Frame f;
-    f.seq = data[i + 4];
-    f.sysid = data[i + 5];
-    f.compid = data[i + 6];
-    f.msgid = msgid;
-    f.payload.assign(data + i + kHeaderLen, data + i + kHeaderLen + len);
+    f.seq = h.seq;
+    f.sysid = h.sysid;
+    f.compid = h.compid;
+    f.msgid = h.msgid;
+    f.payload.assign(data + i + kHeaderLen, data + i + kHeaderLen + h.len);
     f.payload.resize(info->length, 0);  // zero-filled past what was sent
     frames.push_back(std::move(f));
     ++c.frames;

@@ -1,28 +1,20 @@
-// core/apps/mavlink/mission_messages.hpp: the common-dialect messages of the mission protocol
+// core/apps/mavlink/mission_messages.hpp: the enum values of the mission protocol
 // (https://mavlink.io/en/services/mission.html) and the command protocol
-// (https://mavlink.io/en/services/command.html), and AUTOPILOT_VERSION, as plain structs packed in
-// MAVLink's wire order (wire.hpp).
+// (https://mavlink.io/en/services/command.html) that tern uses. Their messages (MISSION_*,
+// COMMAND_*, AUTOPILOT_VERSION) are structs generated from common.xml (mavlink/common_messages.hpp,
+// through mavlink_messages.hpp).
 //
-// Source: github.com/mavlink/mavlink message_definitions/v1.0/common.xml at commit de1e078a; field
-// names and units are the XML's. CRC_EXTRA values and layouts: tests/mavlink/crc_extra_mission.txt
-// and the enum values tests/mavlink/enums_mission.txt (both from tests/mavlink/crc_extra_from_xml.py),
-// checked against this file by core/apps/mavlink/tests/test_mission_items.cpp.
-//
-// Errors: none thrown; decode_* read a full-length (zero-filled) payload, as parse_datagram gives.
+// Source: github.com/mavlink/mavlink message_definitions/v1.0/common.xml at commit de1e078a. The
+// enum values are checked against tests/mavlink/enums_mission.txt and the generated CRC_EXTRA
+// values and lengths against tests/mavlink/crc_extra_mission.txt (both from
+// tests/mavlink/crc_extra_from_xml.py) by core/apps/mavlink/tests/test_mission_items.cpp.
 #pragma once
 
-#include <array>
 #include <cstdint>
-#include <vector>
 
 #include "mavlink/mavlink_messages.hpp"
 
 namespace tern::core::mavlink {
-
-// Message ids (common.xml)
-inline constexpr std::uint32_t MISSION_REQUEST = 40, MISSION_SET_CURRENT = 41, MISSION_REQUEST_LIST = 43, MISSION_COUNT = 44,
-                               MISSION_CLEAR_ALL = 45, MISSION_ACK = 47, MISSION_REQUEST_INT = 51, MISSION_ITEM_INT = 73, COMMAND_INT = 75,
-                               COMMAND_LONG = 76, COMMAND_ACK = 77, AUTOPILOT_VERSION = 148;
 
 // MAV_CMD: the mission items and commands tern takes
 inline constexpr std::uint16_t MAV_CMD_NAV_WAYPOINT = 16, MAV_CMD_NAV_LOITER_UNLIM = 17, MAV_CMD_NAV_LOITER_TURNS = 18,
@@ -51,89 +43,5 @@ inline constexpr std::uint8_t MAV_RESULT_ACCEPTED = 0, MAV_RESULT_TEMPORARILY_RE
 inline constexpr std::uint64_t MAV_PROTOCOL_CAPABILITY_MISSION_FLOAT = 1, MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT = 2,
                                MAV_PROTOCOL_CAPABILITY_MISSION_INT = 4, MAV_PROTOCOL_CAPABILITY_COMMAND_INT = 8,
                                MAV_PROTOCOL_CAPABILITY_MAVLINK2 = 8192;
-
-/// The rows message_info() adds for these messages: name, id, CRC_EXTRA, full payload length.
-const std::vector<MessageDef>& mission_messages();
-
-/// MISSION_ITEM_INT (73): one mission item. x, y: latitude, longitude degE7 in the global frames;
-/// z: altitude m (MSL in GLOBAL(_INT), above home in GLOBAL_RELATIVE_ALT(_INT)); param1-4 as the
-/// command (MAV_CMD) defines them.
-struct MissionItemInt {
-  float param1 = 0, param2 = 0, param3 = 0, param4 = 0;
-  std::int32_t x = 0, y = 0;
-  float z = 0;
-  std::uint16_t seq = 0, command = 0;
-  std::uint8_t target_system = 0, target_component = 0, frame = 0, current = 0, autocontinue = 1;
-  std::uint8_t mission_type = MAV_MISSION_TYPE_MISSION;
-};
-/// MISSION_REQUEST (40, deprecated: answered with MISSION_ITEM_INT) and MISSION_REQUEST_INT (51).
-struct MissionRequest {
-  std::uint16_t seq = 0;
-  std::uint8_t target_system = 0, target_component = 0, mission_type = MAV_MISSION_TYPE_MISSION;
-};
-/// MISSION_SET_CURRENT (41)
-struct MissionSetCurrent {
-  std::uint16_t seq = 0;
-  std::uint8_t target_system = 0, target_component = 0;
-};
-/// MISSION_REQUEST_LIST (43) and MISSION_CLEAR_ALL (45): the same fields.
-struct MissionTarget {
-  std::uint8_t target_system = 0, target_component = 0, mission_type = MAV_MISSION_TYPE_MISSION;
-};
-/// MISSION_COUNT (44); opaque_id 0: tern does not version its missions.
-struct MissionCount {
-  std::uint16_t count = 0;
-  std::uint8_t target_system = 0, target_component = 0, mission_type = MAV_MISSION_TYPE_MISSION;
-  std::uint32_t opaque_id = 0;
-};
-/// MISSION_ACK (47): type is a MAV_MISSION_RESULT.
-struct MissionAck {
-  std::uint8_t target_system = 0, target_component = 0, type = MAV_MISSION_ACCEPTED, mission_type = MAV_MISSION_TYPE_MISSION;
-  std::uint32_t opaque_id = 0;
-};
-/// COMMAND_LONG (76): param5-7 are x, y, z of a positional command (latitude and longitude in
-/// degrees, not degE7).
-struct CommandLong {
-  std::array<float, 7> param{};  ///< param1 .. param7
-  std::uint16_t command = 0;
-  std::uint8_t target_system = 0, target_component = 0, confirmation = 0;
-};
-/// COMMAND_INT (75): x, y degE7 in the global frames, z m.
-struct CommandInt {
-  std::array<float, 4> param{};  ///< param1 .. param4
-  std::int32_t x = 0, y = 0;
-  float z = 0;
-  std::uint16_t command = 0;
-  std::uint8_t target_system = 0, target_component = 0, frame = 0, current = 0, autocontinue = 0;
-};
-/// COMMAND_ACK (77): result is a MAV_RESULT.
-struct CommandAck {
-  std::uint16_t command = 0;
-  std::uint8_t result = MAV_RESULT_ACCEPTED, progress = 0;
-  std::int32_t result_param2 = 0;
-  std::uint8_t target_system = 0, target_component = 0;
-};
-/// AUTOPILOT_VERSION (148): capabilities (MAV_PROTOCOL_CAPABILITY bits), versions, uid.
-struct AutopilotVersion {
-  std::uint64_t capabilities = 0, uid = 0;
-  std::uint32_t flight_sw_version = 0, middleware_sw_version = 0, os_sw_version = 0, board_version = 0;
-  std::uint16_t vendor_id = 0, product_id = 0;
-};
-
-std::vector<std::uint8_t> encode(const MissionItemInt& m);
-std::vector<std::uint8_t> encode(const MissionRequest& m);  ///< as MISSION_REQUEST_INT
-std::vector<std::uint8_t> encode(const MissionCount& m);
-std::vector<std::uint8_t> encode(const MissionAck& m);
-std::vector<std::uint8_t> encode(const CommandAck& m);
-std::vector<std::uint8_t> encode(const AutopilotVersion& m);
-
-MissionItemInt decode_mission_item_int(const std::vector<std::uint8_t>& p);
-MissionRequest decode_mission_request(const std::vector<std::uint8_t>& p);  ///< MISSION_REQUEST or _INT: one layout
-MissionSetCurrent decode_mission_set_current(const std::vector<std::uint8_t>& p);
-MissionTarget decode_mission_target(const std::vector<std::uint8_t>& p);  ///< MISSION_REQUEST_LIST or MISSION_CLEAR_ALL
-MissionCount decode_mission_count(const std::vector<std::uint8_t>& p);
-MissionAck decode_mission_ack(const std::vector<std::uint8_t>& p);
-CommandLong decode_command_long(const std::vector<std::uint8_t>& p);
-CommandInt decode_command_int(const std::vector<std::uint8_t>& p);
 
 }  // namespace tern::core::mavlink

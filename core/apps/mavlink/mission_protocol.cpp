@@ -53,14 +53,14 @@ MissionProtocol::~MissionProtocol() {
 
 bool MissionProtocol::on_frame(const Frame& f) {
   switch (f.msgid) {
-    case MISSION_COUNT: on_count(f); return true;
-    case MISSION_ITEM_INT: on_item(f); return true;
-    case MISSION_REQUEST:
-    case MISSION_REQUEST_INT: on_request(f); return true;
-    case MISSION_REQUEST_LIST: on_list(f); return true;
-    case MISSION_CLEAR_ALL: on_clear(f); return true;
-    case MISSION_SET_CURRENT: on_set_current(f); return true;
-    case MISSION_ACK: return true;  // the end of a download: nothing kept
+    case MissionCount::kId: on_count(f); return true;
+    case MissionItemInt::kId: on_item(f); return true;
+    case MissionRequest::kId:
+    case MissionRequestInt::kId: on_request(f); return true;
+    case MissionRequestList::kId: on_list(f); return true;
+    case MissionClearAll::kId: on_clear(f); return true;
+    case MissionSetCurrent::kId: on_set_current(f); return true;
+    case MissionAck::kId: return true;  // the end of a download: nothing kept
     default: return false;
   }
 }
@@ -74,19 +74,19 @@ void MissionProtocol::ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t resu
   a.target_system = sys;
   a.target_component = comp;
   a.type = result;
-  out_.send(MISSION_ACK, encode(a));
+  out_.send(MissionAck::kId, encode(a));
 }
 
 void MissionProtocol::request(const Upload& u) {
-  MissionRequest r;
+  MissionRequestInt r;
   r.seq = u.next;
   r.target_system = u.gcs_sys;
   r.target_component = u.gcs_comp;
-  out_.send(MISSION_REQUEST_INT, encode(r));
+  out_.send(MissionRequestInt::kId, encode(r));
 }
 
 void MissionProtocol::on_count(const Frame& f) {
-  const MissionCount m = decode_mission_count(f.payload);
+  const auto m = decode<MissionCount>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   upload_.reset();  // a new count restarts an upload
   if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
@@ -104,7 +104,7 @@ void MissionProtocol::on_count(const Frame& f) {
 }
 
 void MissionProtocol::on_item(const Frame& f) {
-  const MissionItemInt it = decode_mission_item_int(f.payload);
+  const auto it = decode<MissionItemInt>(f);
   if (!for_us(it.target_system, it.target_component) || !upload_ || it.mission_type != MAV_MISSION_TYPE_MISSION) return;
   Upload& u = *upload_;
   if (it.seq != u.next) return request(u);  // out of order: the one expected, again
@@ -176,19 +176,25 @@ std::filesystem::path MissionProtocol::write(const std::string& text) {
 }
 
 void MissionProtocol::on_request(const Frame& f) {
-  const MissionRequest r = decode_mission_request(f.payload);
-  if (!for_us(r.target_system, r.target_component)) return;
-  if (r.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
-  if (r.seq >= download_.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE);
-  MissionItemInt it = download_[r.seq];
-  it.target_system = f.sysid;
-  it.target_component = f.compid;
-  it.mission_type = MAV_MISSION_TYPE_MISSION;
-  out_.send(MISSION_ITEM_INT, encode(it));
+  // MISSION_REQUEST (deprecated) and MISSION_REQUEST_INT ask alike; both are answered with MISSION_ITEM_INT
+  const auto answer = [&](const auto& r) {
+    if (!for_us(r.target_system, r.target_component)) return;
+    if (r.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+    if (r.seq >= download_.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE);
+    MissionItemInt it = download_[r.seq];
+    it.target_system = f.sysid;
+    it.target_component = f.compid;
+    it.mission_type = MAV_MISSION_TYPE_MISSION;
+    out_.send(MissionItemInt::kId, encode(it));
+  };
+  if (f.msgid == MissionRequest::kId)
+    answer(decode<MissionRequest>(f));
+  else
+    answer(decode<MissionRequestInt>(f));
 }
 
 void MissionProtocol::on_list(const Frame& f) {
-  const MissionTarget m = decode_mission_target(f.payload);
+  const auto m = decode<MissionRequestList>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
   download_ = items();
@@ -196,11 +202,11 @@ void MissionProtocol::on_list(const Frame& f) {
   c.count = static_cast<std::uint16_t>(download_.size());
   c.target_system = f.sysid;
   c.target_component = f.compid;
-  out_.send(MISSION_COUNT, encode(c));
+  out_.send(MissionCount::kId, encode(c));
 }
 
 void MissionProtocol::on_clear(const Frame& f) {
-  const MissionTarget m = decode_mission_target(f.payload);
+  const auto m = decode<MissionClearAll>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   if (m.mission_type != MAV_MISSION_TYPE_MISSION && m.mission_type != MAV_MISSION_TYPE_ALL)
     return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
@@ -222,7 +228,7 @@ void MissionProtocol::on_clear(const Frame& f) {
 }
 
 void MissionProtocol::on_set_current(const Frame& f) {
-  const MissionSetCurrent m = decode_mission_set_current(f.payload);
+  const auto m = decode<MissionSetCurrent>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   const std::string why = fly_from(m.seq);
   if (!why.empty()) out_.say(MAV_SEVERITY_WARNING, "MISSION_SET_CURRENT " + std::to_string(m.seq) + " refused: " + why);

@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <cstdio>
 
-#include "mavlink/mavlink_messages.hpp"
+#include "mavlink/mavlink_enums.hpp"
 #include "tern/fnv1a.hpp"
 
 namespace tern::core::mavlink {
@@ -53,14 +53,14 @@ std::vector<std::pair<std::string, std::string>> ParamTable::shortened() const {
   return out;
 }
 
-float to_mav_value(const ParamValue& v) {
+float to_mav_value(const tern::ParamValue& v) {
   if (const auto* d = std::get_if<double>(&v)) return static_cast<float>(*d);
   if (const auto* i = std::get_if<std::int64_t>(&v)) return static_cast<float>(*i);
   if (const auto* b = std::get_if<bool>(&v)) return *b ? 1.0f : 0.0f;
   return std::nanf("");  // text and vector parameters are not in the table
 }
 
-ParamValue from_mav_value(float v, ParamKind kind) {
+tern::ParamValue from_mav_value(float v, ParamKind kind) {
   switch (kind) {
     case ParamKind::integer: return static_cast<std::int64_t>(std::llround(v));
     case ParamKind::boolean: return std::lround(v) != 0;

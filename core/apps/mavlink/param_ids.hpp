@@ -56,9 +56,9 @@ class ParamTable {
 std::string shorten_param_id(const std::string& qualified, int salt = 0);
 
 /// The value sent in PARAM_VALUE's float for a tern value of kind `kind`.
-float to_mav_value(const ParamValue& v);
+float to_mav_value(const tern::ParamValue& v);
 /// PARAM_SET's float as a tern value of kind `kind`: a real as the shortest decimal that reads back
 /// as that float, an integer or boolean rounded to the nearest.
-ParamValue from_mav_value(float v, ParamKind kind);
+tern::ParamValue from_mav_value(float v, ParamKind kind);
 
 }  // namespace tern::core::mavlink

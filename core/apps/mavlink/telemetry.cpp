@@ -93,9 +93,12 @@ SysStatus sys_status(const Snapshot& s, const std::set<std::string>& topics, con
     present |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
     if (s.has_rc && s.rc.failsafe) unhealthy |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
   }
-  m.present = present;
-  m.enabled = present;
-  m.health = present & ~unhealthy;
+  m.onboard_control_sensors_present = present;
+  m.onboard_control_sensors_enabled = present;
+  m.onboard_control_sensors_health = present & ~unhealthy;
+  m.voltage_battery = UINT16_MAX;  // no battery: the XML's invalid values
+  m.current_battery = -1;
+  m.battery_remaining = -1;
   const std::uint64_t seen = link.frames + link.dropped();
   m.drop_rate_comm = seen == 0 ? 0 : static_cast<std::uint16_t>(std::min<std::uint64_t>(10000, link.dropped() * 10000 / seen));
   m.errors_comm = static_cast<std::uint16_t>(std::min<std::uint64_t>(UINT16_MAX, link.dropped()));
@@ -173,7 +176,8 @@ HomePosition home(const Snapshot& s) {
   m.latitude = deg_e7(s.state.origin_lat);
   m.longitude = deg_e7(s.state.origin_lon);
   m.altitude = mm(s.state.origin_alt);
-  return m;  // x y z 0: home is the local frame's origin; q identity and no approach vector
+  m.q = {1, 0, 0, 0};  // identity (w, x, y, z)
+  return m;            // x y z 0: home is the local frame's origin; no approach vector
 }
 
 std::optional<NavControllerOutput> nav_controller(const Snapshot& s, std::optional<GeoOrigin>& origin) {

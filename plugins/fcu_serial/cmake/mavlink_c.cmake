@@ -17,12 +17,13 @@ function(tern_fcu_mavlink_c target dialect)
   add_custom_command(
     OUTPUT ${header}
     COMMAND ${TERN_FCU_MAVLINK_C_PYTHON} ${gen}/generate_c.py ${xml} ${dir}
-    DEPENDS ${gen}/generate_c.py ${gen}/generate.py ${gen}/c_api_core.h.in ${xml}
+    DEPENDS ${gen}/generate_c.py ${TERN_MAVLINK_DIR}/generate.py ${gen}/c_api_core.h.in ${xml}
     COMMENT "fcu_serial: MAVLink 1.0 C API (${name}/mavlink.h) from ${xml}"
     VERBATIM)
   add_custom_target(${target}_generate DEPENDS ${header})
   add_library(${target} INTERFACE)
   target_include_directories(${target} INTERFACE ${dir})
+  target_link_libraries(${target} INTERFACE tern_mavlink)  # the checksum (tern/mavlink/frame.hpp)
   add_dependencies(${target} ${target}_generate)
 endfunction()
 

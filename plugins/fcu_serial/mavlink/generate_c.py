@@ -10,7 +10,7 @@ NAME_ENUM_END=max+1} NAME;` and, for every message, MAVLINK_MSG_ID_<NAME> (and _
 the packed struct mavlink_<name>_t with the fields in wire order, and mavlink_msg_<name>_pack,
 _pack_chan, _encode, _encode_chan, _decode and _get_<field>; then the framing (checksum, the
 per-channel sequence counter, mavlink_msg_to_send_buffer) and the parser (mavlink_parse_char),
-from c_api_core.h.in. The XML parsing, wire order and CRC_EXTRA are generate.py's.
+from c_api_core.h.in. The XML parsing, wire order and CRC_EXTRA are sdk/mavlink/generate.py's.
 
 Behaviour that differs from mavgen's output (on purpose): a char[N] argument of _pack is copied
 up to its terminating NUL and zero-filled (mavgen copies N bytes, reading past a short string);
@@ -22,7 +22,8 @@ Python 3 standard library only.
 import os
 import sys
 
-import generate
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "..", "sdk", "mavlink"))
+import generate  # noqa: E402  (sdk/mavlink/generate.py: the one MAVLink generator)
 
 CORE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "c_api_core.h.in")
 C_TYPES = {t: t for t in generate.SIZES}  # char, uint8_t ... double: the same names in C
@@ -71,10 +72,7 @@ def read_messages(root, path):
         raise SystemExit(f"{path}: {e}")
     ids = {}
     for m in msgs:
-        if not 0 <= m.id <= 255:
-            raise SystemExit(f"{path}: message {m.name}: id {m.id} does not fit MAVLink 1.0 (0..255)")
-        if m.length > 255:
-            raise SystemExit(f"{path}: message {m.name}: payload of {m.length} bytes exceeds 255")
+        generate.check(m, 1, path)
         if m.id in ids:
             raise SystemExit(f"{path}: message {m.name}: id {m.id} is already {ids[m.id]}")
         ids[m.id] = m.name
@@ -243,18 +241,6 @@ def header_text(path, msgs, enums, version):
     return "\n".join(lines + ["", "#endif  // MAVLINK_H", ""])
 
 
-def write_if_changed(path, text):
-    try:
-        with open(path) as f:
-            if f.read() == text:
-                return
-    except OSError:
-        pass
-    os.makedirs(os.path.dirname(path), exist_ok=True)
-    with open(path, "w") as f:
-        f.write(text)
-
-
 def main(argv):
     if len(argv) != 3:
         raise SystemExit("usage: generate_c.py DIALECT.xml OUT_DIR")
@@ -263,7 +249,7 @@ def main(argv):
     msgs, enums = read_messages(root, path), read_enums(root, path)
     text = header_text(path, msgs, enums, dialect_version(root, path))
     dialect = os.path.splitext(os.path.basename(path))[0]
-    write_if_changed(os.path.join(out_dir, dialect, "mavlink.h"), text)
+    generate.write_if_changed(os.path.join(out_dir, dialect, "mavlink.h"), text)
 
 
 if __name__ == "__main__":

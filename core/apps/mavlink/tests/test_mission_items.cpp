@@ -6,7 +6,6 @@
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <set>
 #include <sstream>
 
 #include "mavlink/mavlink_codec.hpp"
@@ -31,6 +30,7 @@ MissionItemInt at(std::uint16_t seq, std::uint16_t command, double north, double
   it.seq = seq;
   it.command = command;
   it.frame = MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+  it.autocontinue = 1;
   it.x = static_cast<std::int32_t>(std::llround(g.lat * 1e7));
   it.y = static_cast<std::int32_t>(std::llround(g.lon * 1e7));
   it.z = static_cast<float>(up);
@@ -42,6 +42,7 @@ MissionItemInt speed(std::uint16_t seq, float Va) {
   it.seq = seq;
   it.command = MAV_CMD_DO_CHANGE_SPEED;
   it.frame = MAV_FRAME_MISSION;
+  it.autocontinue = 1;
   it.param2 = Va;
   it.param3 = -1.0f;
   return it;
@@ -80,7 +81,6 @@ std::vector<std::string> rows(const std::string& file) {
 TEST_CASE("the mission and command messages' CRC_EXTRA and lengths are common.xml's (crc_extra_mission.txt)") {
   const std::map<std::string, int> size = {{"uint8_t", 1}, {"int8_t", 1}, {"uint16_t", 2}, {"int16_t", 2}, {"uint32_t", 4},
                                            {"int32_t", 4}, {"float", 4},  {"uint64_t", 8}, {"char", 1}};
-  std::set<std::uint32_t> seen;
   for (const std::string& line : rows("crc_extra_mission.txt")) {
     std::istringstream head(line);
     std::uint32_t id = 0;
@@ -98,12 +98,8 @@ TEST_CASE("the mission and command messages' CRC_EXTRA and lengths are common.xm
     REQUIRE(info.has_value());
     CHECK(info->crc_extra == crc);
     CHECK(info->length == full);
-    seen.insert(id);
   }
-  for (const auto& d : mission_messages()) {
-    INFO(d.name);
-    CHECK(seen.count(d.id) == 1);
-  }
+  // that every message of the generated table is in this file or crc_extra_common.txt: test_mavlink_codec.cpp
 }
 
 TEST_CASE("the enum values of the mission and commands are common.xml's (enums_mission.txt)") {
@@ -179,11 +175,11 @@ TEST_CASE("a MISSION_ITEM_INT survives a frame, trailing zeros trimmed") {
   MissionItemInt it = plan()[4];
   it.target_system = 1;
   it.target_component = 1;
-  const auto bytes = encode_frame(MISSION_ITEM_INT, encode(it), 3, 255, 190);
+  const auto bytes = encode_frame(MissionItemInt::kId, encode(it), 3, 255, 190);
   Counters c;
   const auto frames = parse_datagram(bytes.data(), bytes.size(), c);
   REQUIRE(frames.size() == 1);
-  const MissionItemInt back = decode_mission_item_int(frames[0].payload);
+  const MissionItemInt back = decode<MissionItemInt>(frames[0]);
   CHECK(back.seq == 4);
   CHECK(back.command == MAV_CMD_NAV_LOITER_TURNS);
   CHECK(back.x == it.x);

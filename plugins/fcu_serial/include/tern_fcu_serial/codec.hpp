@@ -1,9 +1,10 @@
 // tern_fcu_serial/codec.hpp: MAVLink 1.0 framing for the ROSflight dialect (rosflight.xml).
 //
 // Frame: 0xFE, payload length, sequence, system id, component id, message id, payload,
-// checksum (X.25 over length..payload, then the message's CRC_EXTRA; little-endian). The message
-// structs, their wire order and CRC_EXTRA come from rosflight.xml (generated at build time by
-// mavlink/generate.py into tern_fcu_serial/messages.hpp).
+// checksum (X.25 over length..payload, then the message's CRC_EXTRA; little-endian): the SDK's
+// tern/mavlink/frame.hpp writes and checks it. The message structs, their wire order and
+// CRC_EXTRA come from rosflight.xml (generated at build time by sdk/mavlink/generate.py into
+// tern_fcu_serial/messages.hpp).
 //
 // Parser: a byte-at-a-time state machine. It never throws and never allocates after
 // construction. A frame whose header names an unknown message id or a length that does not
@@ -21,13 +22,19 @@
 #include <variant>
 #include <vector>
 
+#include "tern/mavlink/fields.hpp"
+#include "tern/mavlink/frame.hpp"
 #include "tern_fcu_serial/messages.hpp"
-#include "tern_fcu_serial/wire.hpp"
 
 namespace tern::fcu::mavlink {
 
-inline constexpr std::uint8_t kStx = 0xFE;       ///< MAVLink 1.0 start byte
-inline constexpr std::size_t kHeaderLength = 6;  ///< STX len seq sys comp msgid
+using ::tern::mavlink::crc_accumulate;
+using ::tern::mavlink::crc_calculate;
+using ::tern::mavlink::kCrcInit;
+using ::tern::mavlink::to_chars;
+using ::tern::mavlink::to_string;
+inline constexpr std::uint8_t kStx = ::tern::mavlink::kStxV1;                   ///< MAVLink 1.0 start byte
+inline constexpr std::size_t kHeaderLength = ::tern::mavlink::kHeaderLengthV1;  ///< STX len seq sys comp msgid
 inline constexpr std::size_t kMaxFrameLength = kHeaderLength + 255 + 2;
 
 /// Dialect entry of a message id, or nullptr if rosflight.xml does not define it.
@@ -113,10 +120,7 @@ class Parser {
       case State::payload:
         buf_[n_++] = b;
         if (n_ == kHeaderLength + buf_[1] + 2) {
-          std::uint16_t crc = crc_calculate(buf_.data() + 1, n_ - 3);
-          crc = crc_accumulate(info_->crc_extra, crc);
-          const std::uint16_t got = static_cast<std::uint16_t>(buf_[n_ - 2] | (buf_[n_ - 1] << 8));
-          if (crc != got) {
+          if (!::tern::mavlink::checksum_matches(buf_.data(), n_ - 2, info_->crc_extra)) {
             ++stats_.bad_crc;
             return fail();
           }
@@ -179,18 +183,8 @@ std::optional<Message> decode(const Frame& f);
 /// returns the frame length.
 template <class T>
 std::size_t encode(const T& msg, std::uint8_t seq, std::uint8_t sysid, std::uint8_t compid, std::uint8_t* out) {
-  out[0] = kStx;
-  out[1] = T::kLength;
-  out[2] = seq;
-  out[3] = sysid;
-  out[4] = compid;
-  out[5] = T::kId;
   msg.pack(out + kHeaderLength);
-  std::uint16_t crc = crc_calculate(out + 1, kHeaderLength - 1 + T::kLength);
-  crc = crc_accumulate(T::kCrcExtra, crc);
-  out[kHeaderLength + T::kLength] = static_cast<std::uint8_t>(crc & 0xFF);
-  out[kHeaderLength + T::kLength + 1] = static_cast<std::uint8_t>(crc >> 8);
-  return kHeaderLength + T::kLength + 2;
+  return ::tern::mavlink::finish_frame_v1(out, T::kLength, seq, sysid, compid, T::kId, T::kCrcExtra);
 }
 
 /// A sender: its system/component ids and its sequence counter.
@@ -221,20 +215,5 @@ class Encoder {
   std::uint8_t sysid_, compid_;
   std::uint8_t seq_ = 0;
 };
-
-/// Copies a fixed-size MAVLink char array (not necessarily NUL-terminated) into a string.
-template <std::size_t N>
-std::string to_string(const std::array<char, N>& a) {
-  std::size_t n = 0;
-  while (n < N && a[n] != '\0') ++n;
-  return std::string(a.data(), n);
-}
-/// Fills a MAVLink char array from s (truncated to N; NUL-padded).
-template <std::size_t N>
-std::array<char, N> to_chars(std::string_view s) {
-  std::array<char, N> a{};
-  for (std::size_t i = 0; i < N && i < s.size(); ++i) a[i] = s[i];
-  return a;
-}
 
 }  // namespace tern::fcu::mavlink
