@@ -4,7 +4,7 @@ to run; a Python exception is one line naming the script's file and line, and th
 handles it as any plugin's (a routed controller: the fallback flies on; anything else: the flight
 ends, its log kept); a hang in an isolated instance is killed; bad declarations are one line;
 parameters change in flight; the plugin's library reloads between flights (a hot swap) with the
-interpreter alive; the Python path follower commands what the C++ one does; the templates fly."""
+interpreter alive, and makes nothing that points into it (no pybind11 internals); the Python path follower commands what the C++ one does; the templates fly."""
 import json
 import re
 import subprocess
@@ -148,6 +148,27 @@ def test_python_follower_reloads_between_flights_and_matches_the_cpp_one(tmp_pat
         host.reset(seed=1)
         assert host.step_until(41.0)
         assert abs(host.read("controller_command")["chi_c"] - commands[0]["chi_c"]) < 0.05  # one law in two languages
+
+
+def test_the_plugin_makes_no_pybind11_internals(tmp_path):
+    """The plugin's library is unloaded with the interpreter alive (a hot swap), so nothing it makes
+    may point into it. Its messages and parameters go through pybind11's object wrappers
+    (sdk/python), which must never make pybind11's internals (kept in builtins, with pointers into
+    the library that made them): a flight from the command line, where no other pybind11 module is
+    loaded, steps and re-reads its parameters without them."""
+    probe = script(tmp_path, "probe.py", "import builtins\nclass Probe:\n    inputs = {'state': 'State'}\n"
+                   "    outputs = {'controller_command': 'ControllerCommand'}\n"
+                   "    params = {'Va': (17.0, 'm/s'), 'h': [70.0], 'tag': 'probe', 'on': True, 'n': 3}\n"
+                   "    def step(self, now, inputs):\n"
+                   "        made = [k for k in vars(builtins) if k.startswith('__pybind11_internals')]\n"
+                   "        assert not made and self.tag == 'probe' and self.on and self.n == 3, made\n"
+                   "        return {'controller_command': {'Va_c': self.Va, 'h_c': self.h[0], 'chi_c': inputs['state'].chi}}\n")
+    r = cli("fly", FOLLOWER, "--duration", "5", "--set", f"follower.script={probe}", "--set", "follower.Va=16.5",
+            "--log-dir", tmp_path, "--log-level", "full", "-q", check=False)
+    assert r.returncode == 0, r.stdout + r.stderr
+    header, *rows = open(f"{run_dir(r.stdout)}/topics/controller_command.csv").read().split()
+    column = header.split(",").index("Va_c")
+    assert len(rows) > 100 and {float(row.split(",")[column]) for row in rows} == {16.5}
 
 
 @pytest.mark.parametrize("kind,end", [("path_follower", "duration"), ("controller", "landed")])

@@ -1,15 +1,36 @@
 #include "python/python_host.hpp"
 
+#include <optional>
+
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
 #include "commands/mission_check.hpp"
 #include "config/error.hpp"
 #include "graph/message_columns.hpp"
-#include "python/python_messages.hpp"
 #include "tern/msg/sensors.hpp"
 
 namespace tern::core::python {
+
+namespace {
+
+/// {field: number} as (field, value) pairs for `topic`; a key that is not a str or a value that
+/// is not a real number (tern/python/conversion.hpp) throws ConfigError naming the topic and the
+/// field. The fields' names and ranges are checked where they are held (held_messages.hpp).
+std::vector<std::pair<std::string, double>> message_fields(const std::string& topic, const py::dict& fields) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const auto& [key, value] : fields) {
+    if (!py::isinstance<py::str>(key))
+      throw ConfigError(fmt::format("topic '{}': field name {} is not a str", topic, tern::python::repr_of(key)));
+    const std::string name = key.cast<std::string>();
+    const std::optional<double> x = tern::python::number(value);
+    if (!x) throw ConfigError(fmt::format("topic '{}': field '{}': {} is not a number", topic, name, tern::python::repr_of(value)));
+    out.emplace_back(name, *x);
+  }
+  return out;
+}
+
+}  // namespace
 
 HostPreparation preparation(const PythonFlightOptions& o) {
   HostPreparation p;
@@ -105,9 +126,9 @@ py::list PythonHost::handovers() const {
 
 std::string PythonHost::topic_list() const { return fmt::format("{}", fmt::join(topics(), ", ")); }
 
-const std::vector<reflect::Column>& PythonHost::columns_of(const MsgType& type) const {
+const tern::python::MessageColumns& PythonHost::columns_of(const MsgType& type) const {
   auto it = columns_.find(type.name);
-  if (it == columns_.end()) it = columns_.emplace(std::string(type.name), type.columns()).first;
+  if (it == columns_.end()) it = columns_.emplace(std::string(type.name), tern::python::MessageColumns(type.columns())).first;
   return it->second;
 }
 
@@ -115,8 +136,9 @@ py::object PythonHost::read(const std::string& topic, const std::optional<std::v
   const OutputBase* o = host_->topic_source(topic);
   if (o == nullptr)
     throw ConfigError(fmt::format("Host.read: no topic '{}' in mission '{}'; its topics: {}", topic, host_->config().name, topic_list()));
-  const std::vector<reflect::Column>& columns = columns_of(o->type());
-  if (!fields) return o->sequence() == 0 ? py::none() : py::object(message_dict(columns, o->data()));
+  const tern::python::MessageColumns& message = columns_of(o->type());
+  if (!fields) return o->sequence() == 0 ? py::none() : py::object(message.to_dict(o->data()));
+  const std::vector<reflect::Column>& columns = message.columns();
   py::tuple out(fields->size());
   for (std::size_t i = 0; i < fields->size(); ++i) {
     const reflect::Column* c = find_column(columns, (*fields)[i]);
@@ -135,7 +157,7 @@ void PythonHost::write(const std::string& topic, const py::dict& fields) {
     return;
   }
   msg::Rc rc;
-  const auto& columns = columns_of(msg_type_v<msg::Rc>);
+  const auto& columns = columns_of(msg_type_v<msg::Rc>).columns();
   for (const auto& [name, v] : values) {
     const reflect::Column* c = find_column(columns, name);
     if (c == nullptr) throw ConfigError(fmt::format("topic 'pilot' (tern/Rc): no field '{}'; its fields: {}", name, column_names(columns)));
@@ -147,13 +169,19 @@ void PythonHost::write(const std::string& topic, const py::dict& fields) {
 
 py::object PythonHost::get_param(const std::string& name) const {
   for (const auto& [qualified, p] : host_->parameters())
-    if (qualified == name) return param_object(p->value());
+    if (qualified == name) return tern::python::param_object(p->value());
   throw ConfigError(
       fmt::format("Host.get_param: no parameter '{}' in mission '{}' (tern params CONFIG lists them)", name, host_->config().name));
 }
 
 void PythonHost::set_param(const std::string& name, const py::handle& value) {
-  host_->request_param(name, param_value(name, value), "python");
+  ParamValue v;
+  try {
+    v = tern::python::param_value(value, fmt::format("parameter '{}': a value", name));
+  } catch (const tern::python::ConversionError& e) {
+    throw ConfigError(e.what());
+  }
+  host_->request_param(name, std::move(v), "python");
 }
 
 void PythonHost::swap(const std::string& instance, const std::string& so) {

@@ -5,7 +5,7 @@
 //                    (plugins take their seed when configured) with the swaps made so far
 //   step(n)          n ticks of the base rate (Host::tick, the CLI's loop); step_until(t) up to
 //                    flight time t s; both return False once the flight has ended
-//   read(topic)      the latest message on an output as a dict (python_messages.hpp); with
+//   read(topic)      the latest message on an output as a dict (tern/python/conversion.hpp); with
 //                    fields=[...] those fields' values as a tuple of floats (no dict: quicker)
 //   write(topic, d)  fields held on a plugin's output (Host::hold_message) until release(topic);
 //                    `pilot`: the pilot's sticks (Host::set_pilot)
@@ -30,6 +30,7 @@
 
 #include "commands/host_preparation.hpp"
 #include "flight/host.hpp"
+#include "tern/python/conversion.hpp"
 
 namespace tern::core::python {
 
@@ -91,7 +92,7 @@ class PythonHost {
   void begin();
   std::string topic_list() const;
   /// The log columns of a message type, computed once per type.
-  const std::vector<reflect::Column>& columns_of(const MsgType& type) const;
+  const tern::python::MessageColumns& columns_of(const MsgType& type) const;
 
   std::string config_file_;
   PythonFlightOptions options_;
@@ -103,7 +104,7 @@ class PythonHost {
   std::string end_reason_;
   std::string last_run_dir_;
   Nanos ended_at_ = 0;
-  mutable std::map<std::string, std::vector<reflect::Column>, std::less<>> columns_;  // by message type name
+  mutable std::map<std::string, tern::python::MessageColumns, std::less<>> columns_;  // by message type name
 };
 
 }  // namespace tern::core::python

@@ -10,8 +10,10 @@
 //     unloaded (RTLD_NODELETE): a hot-swap unloads the plugin, never the interpreter.
 // It is never finalised (numpy and other extensions do not survive a second initialisation).
 //
-// Only the plain C API is used (no pybind11): no Python object created here carries a pointer
-// into this shared object's code, so the host can unload it (hot-swap) with the interpreter alive.
+// No Python object created by the plugin carries a pointer into this shared object's code, so the
+// host can unload it (hot-swap) with the interpreter alive: the plain C API here, and the SDK's
+// conversion of messages and parameters (tern/python/conversion.hpp), which uses pybind11's object
+// wrappers only and never makes pybind11's internals.
 #pragma once
 
 #include <Python.h>

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -13,33 +14,8 @@ namespace tern::python_plugin {
 namespace {
 
 template <class T>
-T read_as(const void* bytes, std::size_t offset) {
-  T v;
-  std::memcpy(&v, static_cast<const char*>(bytes) + offset, sizeof(T));
-  return v;
-}
-
-template <class T>
 void write_as(void* bytes, std::size_t offset, T v) {
   std::memcpy(static_cast<char*>(bytes) + offset, &v, sizeof(T));
-}
-
-PyObject* column_value(const reflect::Column& c, const void* m) {
-  using reflect::Scalar;
-  switch (c.kind) {
-    case Scalar::f64: return PyFloat_FromDouble(read_as<double>(m, c.offset));
-    case Scalar::f32: return PyFloat_FromDouble(read_as<float>(m, c.offset));
-    case Scalar::i64: return PyLong_FromLongLong(read_as<std::int64_t>(m, c.offset));
-    case Scalar::i32: return PyLong_FromLong(read_as<std::int32_t>(m, c.offset));
-    case Scalar::i16: return PyLong_FromLong(read_as<std::int16_t>(m, c.offset));
-    case Scalar::i8: return PyLong_FromLong(read_as<std::int8_t>(m, c.offset));
-    case Scalar::u64: return PyLong_FromUnsignedLongLong(read_as<std::uint64_t>(m, c.offset));
-    case Scalar::u32: return PyLong_FromUnsignedLong(read_as<std::uint32_t>(m, c.offset));
-    case Scalar::u16: return PyLong_FromUnsignedLong(read_as<std::uint16_t>(m, c.offset));
-    case Scalar::u8: return PyLong_FromUnsignedLong(read_as<std::uint8_t>(m, c.offset));
-    case Scalar::boolean: return PyBool_FromLong(read_as<bool>(m, c.offset) ? 1 : 0);
-  }
-  return nullptr;
 }
 
 // The integer range of an integer column.
@@ -84,21 +60,17 @@ bool is_integer_kind(reflect::Scalar k) { return k != reflect::Scalar::f64 && k 
 
 }  // namespace
 
-MessageColumns::MessageColumns(std::string type_name, std::vector<reflect::Column> columns)
+MessageObjects::MessageObjects(std::string type_name, std::vector<reflect::Column> columns)
     : type_name_(std::move(type_name)), columns_(std::move(columns)) {
-  for (std::size_t i = 0; i < columns_.size(); ++i) {
-    keys_.push_back(Ref::take(PyUnicode_InternFromString(columns_[i].name.c_str())));
-    index_.emplace(columns_[i].name, i);
-    if (columns_[i].name == "stamp" && columns_[i].kind == reflect::Scalar::i64) stamp_ = &columns_[i];
+  const auto& cs = columns_.columns();
+  for (std::size_t i = 0; i < cs.size(); ++i) {
+    index_.emplace(cs[i].name, i);
+    if (cs[i].name == "stamp" && cs[i].kind == reflect::Scalar::i64) stamp_ = &cs[i];
   }
 }
 
-Ref MessageColumns::to_python(const void* bytes) const {
-  Ref kwargs = Ref::take(PyDict_New());
-  for (std::size_t i = 0; i < columns_.size(); ++i) {
-    Ref v = Ref::take(column_value(columns_[i], bytes));
-    if (PyDict_SetItem(kwargs.get(), keys_[i].get(), v.get()) != 0) throw_python_error();
-  }
+Ref MessageObjects::to_python(const void* bytes) const {
+  const python::py::dict kwargs = columns_.to_dict(bytes);
   static PyObject* namespace_type = nullptr;  // types.SimpleNamespace, alive as long as the interpreter
   if (namespace_type == nullptr) {
     Ref types = Ref::take(PyImport_ImportModule("types"));
@@ -106,10 +78,10 @@ Ref MessageColumns::to_python(const void* bytes) const {
     Py_INCREF(namespace_type);
   }
   Ref no_args = Ref::take(PyTuple_New(0));
-  return Ref::take(PyObject_Call(namespace_type, no_args.get(), kwargs.get()));
+  return Ref::take(PyObject_Call(namespace_type, no_args.get(), kwargs.ptr()));
 }
 
-void MessageColumns::from_python(PyObject* fields, void* bytes, Nanos now, const std::string& port) const {
+void MessageObjects::from_python(PyObject* fields, void* bytes, Nanos now, const std::string& port) const {
   if (stamp_ != nullptr) write_as<std::int64_t>(bytes, stamp_->offset, now);
   Ref mapping = PyDict_Check(fields) ? Ref::borrow(fields) : Ref::take(PyObject_GetAttrString(fields, "__dict__"));
   if (!PyDict_Check(mapping.get()))
@@ -122,25 +94,22 @@ void MessageColumns::from_python(PyObject* fields, void* bytes, Nanos now, const
     const auto it = index_.find(name);
     if (it == index_.end())
       throw PythonError(fmt::format("output '{}': {} has no column '{}' (its columns: {})", port, type_name_, name, names()));
-    set(columns_[it->second], value, bytes, port);
+    set(columns_.columns()[it->second], value, bytes, port);
   }
 }
 
-void MessageColumns::set(const reflect::Column& c, PyObject* value, void* bytes, const std::string& port) const {
+void MessageObjects::set(const reflect::Column& c, PyObject* value, void* bytes, const std::string& port) const {
   const auto wrong = [&](const char* wanted) {
     return PythonError(fmt::format("output '{}': column '{}' of {} takes {}, not {}", port, c.name, type_name_, wanted, text_of(value)));
   };
+  const std::optional<double> number = python::number(value);
   if (c.kind == reflect::Scalar::boolean) {  // True/False, or a number that is 0 or 1 (numpy's bool_, 1.0)
-    const double x = PyBool_Check(value) ? (value == Py_True ? 1.0 : 0.0) : PyNumber_Check(value) ? PyFloat_AsDouble(value) : -1.0;
-    if (x == -1.0 && PyErr_Occurred() != nullptr) PyErr_Clear();
-    if (x != 0.0 && x != 1.0) throw wrong("a bool");
-    write_as<bool>(bytes, c.offset, x == 1.0);
+    if (!number || (*number != 0.0 && *number != 1.0)) throw wrong("a bool");
+    write_as<bool>(bytes, c.offset, *number == 1.0);
     return;
   }
-  if (PyUnicode_Check(value) || PyBytes_Check(value) || !PyNumber_Check(value))
-    throw wrong(is_integer_kind(c.kind) ? "an integer" : "a number");
-  const double x = PyFloat_AsDouble(value);
-  if (x == -1.0 && PyErr_Occurred() != nullptr) throw_python_error();
+  if (!number) throw wrong(is_integer_kind(c.kind) ? "an integer" : "a number");
+  const double x = *number;
   if (!is_integer_kind(c.kind)) {
     if (c.kind == reflect::Scalar::f32)
       write_as<float>(bytes, c.offset, static_cast<float>(x));
@@ -160,9 +129,9 @@ void MessageColumns::set(const reflect::Column& c, PyObject* value, void* bytes,
   }
 }
 
-std::string MessageColumns::names() const {
+std::string MessageObjects::names() const {
   std::string out;
-  for (const auto& c : columns_) out += (out.empty() ? "" : ", ") + c.name;
+  for (const auto& c : columns_.columns()) out += (out.empty() ? "" : ", ") + c.name;
   return out;
 }
 

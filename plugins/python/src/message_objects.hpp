@@ -1,6 +1,7 @@
-// plugins/python/src/message_objects.hpp: tern's messages as Python objects and back, by their log
-// columns (tern/reflect.hpp layout<T>(): "phi", "p_n", "r_n", "quat_w", "aux_0" ...), so a Python
-// plugin sees the names the flight log and `tern.Run` use.
+// plugins/python/src/message_objects.hpp: tern's messages as a Python plugin's objects and back, by
+// their log columns (tern/reflect.hpp layout<T>(): "phi", "p_n", "r_n", "quat_w", "aux_0" ...), so a
+// Python plugin sees the names the flight log and `tern.Run` use. The columns' values are the
+// SDK's Python conversion (tern/python/conversion.hpp), the one tern.Host's dicts are made with.
 //
 // In:  a message is a types.SimpleNamespace with one attribute per column: bool for a boolean
 //      column, int for an integer one (stamp: ns), float otherwise (SI units, the log's).
@@ -18,15 +19,16 @@
 #include <vector>
 
 #include "interpreter.hpp"
+#include "tern/python/conversion.hpp"
 #include "tern/reflect.hpp"
 #include "tern/time.hpp"
 
 namespace tern::python_plugin {
 
-/// One message type's columns, with their names as Python strings made once.
-class MessageColumns {
+/// One message type's columns as a plugin's objects. Destroy it with the GIL held.
+class MessageObjects {
  public:
-  MessageColumns(std::string type_name, std::vector<reflect::Column> columns);
+  MessageObjects(std::string type_name, std::vector<reflect::Column> columns);
   /// The message at `bytes` as a new SimpleNamespace.
   Ref to_python(const void* bytes) const;
   /// Fills the message at `bytes` (already a default message) from `fields` (see above) for the
@@ -38,8 +40,7 @@ class MessageColumns {
   std::string names() const;
 
   std::string type_name_;
-  std::vector<reflect::Column> columns_;
-  std::vector<Ref> keys_;  ///< interned column names, in columns_' order
+  python::MessageColumns columns_;
   std::unordered_map<std::string, std::size_t> index_;
   const reflect::Column* stamp_ = nullptr;
 };

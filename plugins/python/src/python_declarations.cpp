@@ -4,6 +4,8 @@
 #include <cctype>
 #include <filesystem>
 #include <limits>
+#include <optional>
+#include <variant>
 
 #include <fmt/format.h>
 
@@ -32,17 +34,6 @@ bool is_method(PyObject* cls, const std::string& name) {
   if (PyObject_HasAttrString(cls, name.c_str()) == 0) return false;
   Ref attr = Ref::take(PyObject_GetAttrString(cls, name.c_str()));
   return PyCallable_Check(attr.get()) != 0;
-}
-
-Ref python_value(const ParamValue& v) {
-  if (const auto* b = std::get_if<bool>(&v)) return Ref::borrow(*b ? Py_True : Py_False);
-  if (const auto* i = std::get_if<std::int64_t>(&v)) return Ref::take(PyLong_FromLongLong(*i));
-  if (const auto* d = std::get_if<double>(&v)) return Ref::take(PyFloat_FromDouble(*d));
-  if (const auto* s = std::get_if<std::string>(&v)) return Ref::take(PyUnicode_FromString(s->c_str()));
-  const auto& xs = std::get<std::vector<double>>(v);
-  Ref list = Ref::take(PyList_New(static_cast<Py_ssize_t>(xs.size())));
-  for (std::size_t k = 0; k < xs.size(); ++k) PyList_SET_ITEM(list.get(), static_cast<Py_ssize_t>(k), PyFloat_FromDouble(xs[k]));
-  return list;
 }
 
 }  // namespace
@@ -131,7 +122,7 @@ template <class T>
 void PythonPlugin::add_input(const std::string& port, const std::string& description, Need need) {
   auto p = std::make_unique<Input<T>>();
   declare(*p, port, description, need);
-  inputs_py_.push_back({p.get(), std::make_shared<const MessageColumns>(std::string(T::type_name), reflect::layout<T>()),
+  inputs_py_.push_back({p.get(), std::make_shared<const MessageObjects>(std::string(T::type_name), reflect::layout<T>()),
                         Ref::take(PyUnicode_FromString(port.c_str())), 0, Ref::borrow(Py_None)});
   owned_ports_.push_back(std::move(p));
 }
@@ -142,7 +133,7 @@ void PythonPlugin::add_output(const std::string& port, const std::string& descri
   declare(*p, port, description);
   auto scratch = std::make_shared<T>();
   Output<T>* raw = p.get();
-  outputs_py_.push_back({p.get(), std::make_shared<const MessageColumns>(std::string(T::type_name), reflect::layout<T>()),
+  outputs_py_.push_back({p.get(), std::make_shared<const MessageObjects>(std::string(T::type_name), reflect::layout<T>()),
                          [scratch] {
                            *scratch = T{};
                            return static_cast<void*>(scratch.get());
@@ -171,39 +162,20 @@ void PythonPlugin::declare_params() {
     if (n > 1) ps.unit = text_of(PyTuple_GET_ITEM(spec, 1));
     const auto bound = [&](Py_ssize_t k, double fallback) {
       if (n <= k || PyTuple_GET_ITEM(spec, k) == Py_None) return fallback;
-      const double x = PyFloat_AsDouble(PyTuple_GET_ITEM(spec, k));
-      if (x == -1.0 && PyErr_Occurred() != nullptr) {
-        PyErr_Clear();
-        fail(fmt::format("parameter '{}': its bound {} is not a number", name, text_of(PyTuple_GET_ITEM(spec, k))));
-      }
-      return x;
+      const std::optional<double> x = python::number(PyTuple_GET_ITEM(spec, k));
+      if (!x) fail(fmt::format("parameter '{}': its bound {} is not a number", name, text_of(PyTuple_GET_ITEM(spec, k))));
+      return *x;
     };
     ps.min = bound(2, -std::numeric_limits<double>::infinity());
     ps.max = bound(3, std::numeric_limits<double>::infinity());
     if (n > 4) ps.description = text_of(PyTuple_GET_ITEM(spec, 4));
-    if (PyBool_Check(value)) {
-      add_param<bool>(name, value == Py_True, ps);
-    } else if (PyLong_Check(value)) {
-      add_param<std::int64_t>(name, PyLong_AsLongLong(value), ps);
-    } else if (PyFloat_Check(value)) {
-      add_param<double>(name, PyFloat_AsDouble(value), ps);
-    } else if (PyUnicode_Check(value)) {
-      add_param<std::string>(name, text_of(value), ps);
-    } else if (PyList_Check(value) || PyTuple_Check(value)) {
-      std::vector<double> xs;
-      Ref seq = Ref::take(PySequence_Fast(value, "a list"));
-      for (Py_ssize_t k = 0; k < PySequence_Fast_GET_SIZE(seq.get()); ++k) {
-        const double x = PyFloat_AsDouble(PySequence_Fast_GET_ITEM(seq.get(), k));
-        if (x == -1.0 && PyErr_Occurred() != nullptr) {
-          PyErr_Clear();
-          fail(fmt::format("parameter '{}': element {} of its default is not a number", name, k));
-        }
-        xs.push_back(x);
-      }
-      add_param<std::vector<double>>(name, std::move(xs), ps);
-    } else {
-      fail(fmt::format("parameter '{}': a default of bool, int, float, str or a list of numbers, not {}", name, text_of(value)));
+    ParamValue default_value;
+    try {
+      default_value = python::param_value(value, fmt::format("parameter '{}': a default", name));
+    } catch (const python::ConversionError& e) {
+      fail(e.what());
     }
+    std::visit([&](auto& v) { add_param(name, std::move(v), ps); }, default_value);
   }
 }
 
@@ -218,8 +190,8 @@ void PythonPlugin::add_param(const std::string& name, T default_value, ParamSpec
 
 void PythonPlugin::push_params() {
   for (const auto& p : params_py_) {
-    Ref value = python_value(p.param->value());
-    if (PyObject_SetAttr(instance_.get(), p.name.get(), value.get()) != 0) throw_python_error();
+    const python::py::object value = python::param_object(p.param->value());
+    if (PyObject_SetAttr(instance_.get(), p.name.get(), value.ptr()) != 0) throw_python_error();
   }
 }
 

@@ -3,6 +3,7 @@
 #include "python_plugin.hpp"
 
 #include <algorithm>
+#include <optional>
 
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -79,7 +80,7 @@ void PythonPlugin::reset() {
 void PythonPlugin::take_over(const msg::Actuators& last_command) {
   Gil gil;
   if (instance_ && PyObject_HasAttrString(instance_.get(), "take_over") != 0) {
-    const MessageColumns columns(std::string(msg::Actuators::type_name), reflect::layout<msg::Actuators>());
+    const MessageObjects columns(std::string(msg::Actuators::type_name), reflect::layout<msg::Actuators>());
     Ref last = columns.to_python(&last_command);
     Ref args = Ref::take(PyTuple_Pack(1, last.get()));
     call("take_over", args.get());
@@ -116,12 +117,9 @@ std::vector<std::pair<std::string, double>> PythonPlugin::summary_figures() cons
   PyObject *key = nullptr, *value = nullptr;
   Py_ssize_t pos = 0;
   while (PyDict_Next(figures.get(), &pos, &key, &value)) {
-    const double x = PyFloat_AsDouble(value);
-    if (x == -1.0 && PyErr_Occurred() != nullptr) {
-      PyErr_Clear();
-      fail(fmt::format("summary()['{}'] is not a number: {}", text_of(key), text_of(value)));
-    }
-    out.emplace_back(text_of(key), x);
+    const std::optional<double> x = python::number(value);
+    if (!x) fail(fmt::format("summary()['{}'] is not a number: {}", text_of(key), text_of(value)));
+    out.emplace_back(text_of(key), *x);
   }
   return out;
 }

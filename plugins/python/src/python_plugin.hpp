@@ -69,14 +69,14 @@ class PythonPlugin final : public Plugin {
  private:
   struct InputSlot {
     InputBase* port;
-    std::shared_ptr<const MessageColumns> columns;
+    std::shared_ptr<const MessageObjects> columns;
     Ref key;                      ///< the port's name as a Python string
     std::uint64_t converted = 0;  ///< the source's sequence number `message` was made from
     Ref message;                  ///< the latest message as a Python object (None before one)
   };
   struct OutputSlot {
     OutputBase* port;
-    std::shared_ptr<const MessageColumns> columns;
+    std::shared_ptr<const MessageObjects> columns;
     std::function<void*()> fresh;   ///< a default message of the port's type, to fill
     std::function<void()> publish;  ///< publishes what fresh() returned
   };

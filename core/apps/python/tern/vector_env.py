@@ -25,7 +25,8 @@ first reset's seed), without options: the same seeds give the same sequence of e
 import numpy as np
 
 from tern._tern import Error
-from tern.env import FlightEnv, _box
+from tern.flight_env import FlightEnv
+from tern.spaces import batch
 
 AUTORESET_MODES = ("next_step", "same_step")
 
@@ -76,8 +77,8 @@ class VectorFlightEnv:
                     raise Error(f"VectorFlightEnv: sub-environment {i}'s {name} {b} differs from sub-environment 0's {a}")
         self.single_observation_space = first.observation_space
         self.single_action_space = first.action_space
-        self.observation_space = _batch(first.observation_space, self.num_envs)
-        self.action_space = _batch(first.action_space, self.num_envs)
+        self.observation_space = batch(first.observation_space, self.num_envs)
+        self.action_space = batch(first.action_space, self.num_envs)
         self._obs = np.zeros(self.observation_space.shape, dtype=np.float64)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._started = False
@@ -143,13 +144,6 @@ class VectorFlightEnv:
 
     def __repr__(self):
         return f"VectorFlightEnv({self.num_envs}, autoreset_mode='{self.autoreset_mode}')"
-
-
-def _batch(space, n):
-    """The space of num_envs rows of `space` (Gymnasium's batch_space for a Box)."""
-    low = np.broadcast_to(space.low, (n,) + space.shape)
-    high = np.broadcast_to(space.high, (n,) + space.shape)
-    return _box(np.array(low), np.array(high))
 
 
 def _add_info(infos, info, i, n):
