@@ -166,8 +166,8 @@ def test_the_plugin_makes_no_pybind11_internals(tmp_path):
     r = cli("fly", FOLLOWER, "--duration", "5", "--set", f"follower.script={probe}", "--set", "follower.Va=16.5",
             "--log-dir", tmp_path, "--log-level", "full", "-q", check=False)
     assert r.returncode == 0, r.stdout + r.stderr
-    header, *rows = open(f"{run_dir(r.stdout)}/topics/controller_command.csv").read().split()
-    column = header.split(",").index("Va_c")
+    header, *rows = open(f"{run_dir(r.stdout)}/topics/controller_command.csv").read().splitlines()
+    column = [name.split(" [")[0] for name in header.split(",")].index("Va_c")  # "Va_c [m/s]"
     assert len(rows) > 100 and {float(row.split(",")[column]) for row in rows} == {16.5}
 
 
