@@ -51,7 +51,10 @@ TEST_CASE("issue 19: the default mission with every plugin isolated logs byte-id
   for (const auto& [name, text] : fa) {
     INFO(name);
     REQUIRE(fb.count(name));
-    CHECK(text == fb.at(name));
+    if (name == "params.csv")  // the configs differ in their name or layout: the sources' file:line with them
+      CHECK(config_sources_neutral(text) == config_sources_neutral(fb.at(name)));
+    else
+      CHECK(text == fb.at(name));
   }
   CHECK(summary(a)["instances"] == summary(b)["instances"]);  // the plugins' summary figures crossed
 }

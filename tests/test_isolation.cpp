@@ -73,7 +73,10 @@ TEST_CASE("isolated or not, the same seed gives byte-identical CSV logs (paramet
     INFO(name);
     REQUIRE(fb.count(name));
     CHECK(text.size() > 0);
-    CHECK(text == fb.at(name));
+    if (name == "params.csv")  // the configs differ in their name or layout: the sources' file:line with them
+      CHECK(config_sources_neutral(text) == config_sources_neutral(fb.at(name)));
+    else
+      CHECK(text == fb.at(name));
   }
   CHECK(fb.at("actuators.csv").find(",0.25") != std::string::npos);  // the live change reached the child
   // summaries cross (stop), log lines cross (to tern.log, under the instance's name)
