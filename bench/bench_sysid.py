@@ -158,7 +158,7 @@ def one_seed(tern, seed, args, work):
     flight = run_dir(run([tern, "fly", mission, "--seed", str(seed), "--log-dir", work, "--log-format", "csv", "-q"]).stdout)
     out = os.path.join(work, f"sysid_{seed}")
     t0 = time.monotonic()
-    run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"])
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
     pitch = estimate_pitch_offset(flight, out)
@@ -232,7 +232,7 @@ def anaconda_gains(tern, seed, work):
     factor = 0.6 if seed % 2 == 1 else 1.5
     prior = scaled_prior(truth_file, factor, os.path.join(work, f"anaconda_prior_{seed}.yaml"))
     out = os.path.join(work, f"sysid_anaconda_{seed}")
-    run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"])
     gains = os.path.join(out, "gains.yaml")
     run([tern, "aero", "gains", "--aircraft", os.path.join(out, "aircraft.yaml"), "--Va", "17", "--out", gains])
     figures = {}
