@@ -22,15 +22,17 @@ fs::path replay_config(const EstimatorReplay& o) {
   return default_config().parent_path().parent_path() / "replay" / "estimator.yaml";
 }
 
-}  // namespace
-
+/// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
+/// `tern export csv LOG` writes them (export/mcap_csv_export.hpp), which the replay then reads.
 void tables_from_mcap(const fs::path& log_dir) {
   const fs::path mcap = log_dir / "flight.mcap";
   if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
   const CsvExportReport r = export_csv(mcap, log_dir / "topics");
-  std::fprintf(stderr, "%zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
+  std::fprintf(stderr, "replay: %zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
                r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
 }
+
+}  // namespace
 
 FlightResult replay_estimator(const EstimatorReplay& o) {
   tables_from_mcap(o.log_dir);

@@ -1,7 +1,5 @@
 #include "replay/sensor_log_meta.hpp"
 
-#include <cmath>
-
 #include <fmt/format.h>
 
 #include "config/error.hpp"
@@ -61,29 +59,6 @@ void apply_sensor_log_settings(MissionConfig& mc, const SensorLogSettings& s) {
       ic.params[name] = ParamSetting{value, s.file, field, true, ""};
     }
   }
-}
-
-std::optional<AirborneWindow> read_airborne_window(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) return std::nullopt;
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("{}:{}: {}", file.string(), e.mark.line + 1, e.msg));
-  }
-  const YAML::Node a = root.IsMap() ? root["airborne"] : YAML::Node();
-  if (!a) return std::nullopt;
-  AirborneWindow w;
-  try {
-    if (!a.IsSequence() || a.size() != 2) throw YAML::Exception(a.Mark(), "");
-    w.start_s = a[0].as<double>();
-    w.end_s = a[1].as<double>();
-  } catch (const YAML::Exception&) {
-    throw ConfigError(where(file, a, "airborne") + ": expected [start_s, end_s] (two numbers, s of the log's t)");
-  }
-  if (!(std::isfinite(w.start_s) && std::isfinite(w.end_s) && w.start_s < w.end_s))
-    throw ConfigError(where(file, a, "airborne") + fmt::format(": [{}, {}]: start must be before end", w.start_s, w.end_s));
-  return w;
 }
 
 }  // namespace tern::core
