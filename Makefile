@@ -90,13 +90,20 @@ test: build
 bench: build
 	cmake --build $(BUILD) --target bench
 
-# The MAVLink parser of fcu_serial under libFuzzer (clang), FUZZ_SECONDS long.
+# The parsers under libFuzzer (clang, ASan+UBSan), each FUZZ_SECONDS long: fcu_serial's MAVLink,
+# the MCAP reader and the sensor-log tables (tests/fuzz). Each target's corpus grows in
+# $(BUILD)-fuzz/corpus/<target>, seeded from tests/fuzz/corpus/<target> where the repository has one.
+FUZZ_TARGETS := fuzz_mavlink fuzz_mcap_reader fuzz_csv_table
 fuzz: deps
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"
 	CXX=clang++ cmake -S . -B $(BUILD)-fuzz -G Ninja -DTERN_PLUGINS=fcu_serial
-	cmake --build $(BUILD)-fuzz -j $(JOBS) --target fuzz_mavlink
-	mkdir -p $(BUILD)-fuzz/corpus
-	$(BUILD)-fuzz/bin/fuzz_mavlink -max_total_time=$(FUZZ_SECONDS) $(BUILD)-fuzz/corpus
+	cmake --build $(BUILD)-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p $(BUILD)-fuzz/corpus/$$t; \
+	  seeds=; [ -d tests/fuzz/corpus/$$t ] && seeds=tests/fuzz/corpus/$$t; \
+	  echo "fuzz: $$t, $(FUZZ_SECONDS) s"; \
+	  $(BUILD)-fuzz/bin/$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 $(BUILD)-fuzz/corpus/$$t $$seeds || exit 1; \
+	done
 
 # ---- arm64 (issue 41; docs/companion-computer.md, "Building for arm64") ----------------------
 # `make arm64` cross-builds everything for aarch64 into build-arm64 with Debian's cross toolchain

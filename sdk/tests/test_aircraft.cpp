@@ -68,3 +68,19 @@ TEST_CASE("aircraft: a word where a number belongs is refused with the word") {
 TEST_CASE("aircraft: a missing file is one error naming it") {
   CHECK(error_of("/nonexistent/aircraft.yaml") == "/nonexistent/aircraft.yaml: cannot open aircraft file");
 }
+
+TEST_CASE("aircraft: moments of inertia that no rigid body has (the triangle inequality) name the field") {
+  const std::string f = anaconda_with("  Jz:", "  Jz: 0.7");  // Jx + Jy = 0.62695 kg m^2
+  const std::string e = error_of(f);
+  CHECK(e.rfind(f + ": inertia.Jz: 0.7 kg m^2 exceeds Jx + Jy = 0.62695 kg m^2", 0) == 0);
+  std::filesystem::remove(f);
+  const std::string plate = anaconda_with("  Jz:", "  Jz: 0.62695");  // a flat plate: the limit, allowed
+  CHECK(error_of(plate) == "");
+  std::filesystem::remove(plate);
+}
+
+TEST_CASE("aircraft: a directory or a device given as the file is one line naming it") {
+  const std::string dir = std::filesystem::temp_directory_path().string();
+  CHECK(error_of(dir) == dir + ": aircraft file is a directory");
+  CHECK(error_of("/dev/zero") == "/dev/zero: aircraft file is not a regular file (a character device)");
+}

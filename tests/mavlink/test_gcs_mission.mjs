@@ -15,7 +15,7 @@
 //   - uploads 10 items and reads them back identical; MISSION_SET_CURRENT keeps them;
 //   - an arm in flight is DENIED with a STATUSTEXT; DO_REPOSITION to a point 300 m away: the
 //     aircraft (GLOBAL_POSITION_INT) goes there and orbits it; NAV_RETURN_TO_LAUNCH lists a return;
-//     MISSION_START flies the upload again; an unknown command is UNSUPPORTED, SET_MESSAGE_INTERVAL DENIED;
+//     MISSION_START flies the upload again (with NaN items it is DENIED and changes nothing); an unknown command is UNSUPPORTED, SET_MESSAGE_INTERVAL DENIED;
 //   - a 100-item mission (50 waypoints, 50 speed changes) uploaded and read back: prints the time
 //     ("bench: ..."; the target, under 1 s, is the bench's, not asserted here); MISSION_CLEAR_ALL.
 // Exit 0 when all hold; 1 with one line per failure.
@@ -231,6 +231,9 @@ try {
     listed = await download()
   }
   check(listed.length === 1 && listed[0].command === Cmd.NAV_RETURN_TO_LAUNCH, 'the download lists the return')
+  check(await command(Cmd.MISSION_START, [NaN, NaN]) === common.MavResult.DENIED, 'MISSION_START with NaN items: MAV_RESULT_DENIED')
+  listed = await download()
+  check(listed.length === 1 && listed[0].command === Cmd.NAV_RETURN_TO_LAUNCH, 'a refused MISSION_START leaves the mission flown as it was')
   check(await command(Cmd.MISSION_START, [0, 0]) === common.MavResult.ACCEPTED, 'MISSION_START accepted')
   check(differences(plan, await download()).length === 0, 'MISSION_START flies the uploaded plan again (it reads back)')
   check(await command(183, [1, 1500]) === common.MavResult.UNSUPPORTED, 'an unknown command (DO_SET_SERVO): MAV_RESULT_UNSUPPORTED')

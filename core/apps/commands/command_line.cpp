@@ -3,6 +3,8 @@
 
 #include <cstdio>
 
+#include "tern/input_file.hpp"
+
 #ifndef TERN_SOURCE_DIR
 #define TERN_SOURCE_DIR ""
 #endif
@@ -30,16 +32,31 @@ fs::path default_config() {
   return fs::path("configs/missions/default.yaml");
 }
 
+std::string terminal_line(const std::string& msg) {
+  const std::string escaped = printable(msg, std::string::npos);
+  std::string out;
+  std::size_t word = 0;  // characters since the last space
+  for (std::size_t i = 0; i < escaped.size(); ++i) {
+    word = escaped[i] == ' ' ? 0 : word + 1;
+    if (word <= kMaxEchoChars) {
+      out += escaped[i];
+    } else if (word == kMaxEchoChars + 1) {
+      out += "...";
+    }
+  }
+  return out;
+}
+
 int fail(const std::string& msg) {
-  std::fprintf(stderr, "tern: error: %s\n", msg.c_str());
+  std::fprintf(stderr, "tern: error: %s\n", terminal_line(msg).c_str());
   return 1;
 }
 
 bool report_missions(const MissionReport& r, bool notes) {
   if (notes)
-    for (const auto& n : r.notes) std::fprintf(stderr, "tern: note: %s\n", n.c_str());
-  for (const auto& w : r.warnings) std::fprintf(stderr, "tern: warning: %s\n", w.c_str());
-  for (const auto& e : r.errors) std::fprintf(stderr, "tern: error: %s\n", e.c_str());
+    for (const auto& n : r.notes) std::fprintf(stderr, "tern: note: %s\n", terminal_line(n).c_str());
+  for (const auto& w : r.warnings) std::fprintf(stderr, "tern: warning: %s\n", terminal_line(w).c_str());
+  for (const auto& e : r.errors) std::fprintf(stderr, "tern: error: %s\n", terminal_line(e).c_str());
   return r.errors.empty();
 }
 

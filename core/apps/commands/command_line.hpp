@@ -27,7 +27,10 @@ std::filesystem::path exe_dir();
 /// the source tree's for a build tree's, else configs/missions/default.yaml (relative).
 std::filesystem::path default_config();
 
-/// Prints "tern: error: MSG" on stderr; returns 1 (the exit status).
+/// `msg` for one line of the terminal: control characters escaped (tern/input_file.hpp's printable)
+/// and every word (a run without a space: a name, a value) cut to kMaxEchoChars characters, then "...".
+std::string terminal_line(const std::string& msg);
+/// Prints "tern: error: MSG" (terminal_line) on stderr; returns 1 (the exit status).
 int fail(const std::string& msg);
 
 /// Prints the warnings and errors of `r` (and its notes, with `notes`: `tern check`) on stderr;

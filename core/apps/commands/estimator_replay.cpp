@@ -5,6 +5,7 @@
 
 #include "commands/commands.hpp"
 #include "config/cli_overrides.hpp"
+#include "config/error.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "replay/replay_source.hpp"
 #include "replay/sensor_log_meta.hpp"
@@ -22,6 +23,9 @@ fs::path replay_config(const EstimatorReplay& o) {
   return default_config().parent_path().parent_path() / "replay" / "estimator.yaml";
 }
 
+/// True when the replay flies the log's own config.yaml (no --config).
+bool log_config(const EstimatorReplay& o) { return o.config.empty() && fs::exists(fs::path(o.log_dir) / "config.yaml"); }
+
 /// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
 /// `tern export csv LOG` writes them (export/mcap_csv_export.hpp), which the replay then reads.
 void tables_from_mcap(const fs::path& log_dir) {
@@ -32,18 +36,34 @@ void tables_from_mcap(const fs::path& log_dir) {
                r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
 }
 
+/// A log never runs code (docs/hostile-inputs.md): the log's own config.yaml is a record of the
+/// flight, not a trusted file, so its plugin_path is dropped (plugins come from the install,
+/// TERN_PLUGIN_PATH and --config) and an instance naming a library by path, or a Python script, is
+/// refused before anything is loaded.
+void forget_log_code(MissionConfig& mc) {
+  mc.plugin_path.clear();
+  for (const InstanceConfig& ic : mc.plugins) {
+    const bool path = ic.plugin.find('/') != std::string::npos || fs::path(ic.plugin).extension() == ".so";
+    const bool script = ic.plugin.rfind("python_", 0) == 0;
+    if (!path && !script) continue;
+    throw ConfigError(where(mc.file, ic.node["plugin"]) + ic.label() + ".plugin: '" + ic.plugin + "': a log's config.yaml never " +
+                      (path ? "loads the library it names" : "runs the Python script it names") +
+                      " (plugins come from the install and TERN_PLUGIN_PATH): give --config naming the estimator");
+  }
+}
+
 }  // namespace
 
 FlightResult replay_estimator(const EstimatorReplay& o) {
   tables_from_mcap(o.log_dir);
   MissionConfig mc = load_config(replay_config(o).string());
+  if (log_config(o)) forget_log_code(mc);
   mc.phases.clear();  // an estimator alone: no controllers, no phases, no mission
   mc.fallback.reset();
   mc.phase_params.clear();
   mc.mission = YAML::Node();
   // a real flight's log (no config.yaml of its own) is named after its directory
-  if (o.config.empty() && !fs::exists(fs::path(o.log_dir) / "config.yaml"))
-    mc.name = fs::absolute(o.log_dir).lexically_normal().filename().string();
+  if (o.config.empty() && !log_config(o)) mc.name = fs::absolute(o.log_dir).lexically_normal().filename().string();
   mc.name = mc.name + "-replay";
   if (mc.log.format == LogFormat::mcap) mc.log.format = LogFormat::both;  // the replay report reads the tables
   if (o.level) mc.log.level = *o.level;

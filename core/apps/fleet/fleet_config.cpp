@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
@@ -194,7 +195,7 @@ bool is_fleet(const YAML::Node& root) { return root.IsMap() && root["vehicles"];
 
 bool is_fleet_file(const fs::path& file) {
   try {
-    return is_fleet(YAML::LoadFile(file.string()));
+    return is_fleet(load_yaml_file(file, "config file"));  // bounded: /dev/zero is no fleet (tern/input_file.hpp)
   } catch (const std::exception&) {
     return false;
   }

@@ -4,18 +4,25 @@
 #include <archive_entry.h>
 #include <stdlib.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
 #include <fmt/format.h>
 
 #include "import/sensor_log_writer.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
 namespace fs = std::filesystem;
 
 namespace {
+
+/// bytes: the most an archive may unpack to (a zip bomb stops here; a flight log is far smaller).
+constexpr std::uint64_t kMaxUnpackedBytes = std::uint64_t{4} << 30;
+/// The most members an archive may hold.
+constexpr std::size_t kMaxMembers = 100'000;
 
 using Reader = std::unique_ptr<archive, decltype(&archive_read_free)>;
 using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
@@ -26,8 +33,9 @@ fs::path make_temp_dir() {
   return pattern;
 }
 
-/// Copies the current member's data from `in` to the disk writer `out`.
-void copy_data(archive* in, archive* out, const fs::path& file, const char* member) {
+/// Copies the current member's data from `in` to the disk writer `out`, counting the bytes
+/// unpacked so far in `total` (at most kMaxUnpackedBytes: a zip bomb stops there).
+void copy_data(archive* in, archive* out, const fs::path& file, const char* member, std::uint64_t& total) {
   const void* buf = nullptr;
   size_t size = 0;
   la_int64_t offset = 0;
@@ -35,9 +43,24 @@ void copy_data(archive* in, archive* out, const fs::path& file, const char* memb
     const int r = archive_read_data_block(in, &buf, &size, &offset);
     if (r == ARCHIVE_EOF) return;
     if (r < ARCHIVE_OK) throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(in)));
+    total += size;
+    if (total > kMaxUnpackedBytes)
+      throw ImportError(fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(), member,
+                                    kMaxUnpackedBytes));
     if (archive_write_data_block(out, buf, size, offset) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out)));
   }
+}
+
+/// "" for a member tern unpacks (a regular file or a directory), else what it is: a symlink (its
+/// target would be read in the member's place: a file outside the archive, /dev/zero, or another
+/// member standing in for the one named), a hard link, a device, a FIFO, a socket.
+std::string member_kind_problem(archive_entry* entry) {
+  if (const char* target = archive_entry_symlink(entry)) return fmt::format("is a symlink (to '{}')", printable(target));
+  if (const char* target = archive_entry_hardlink(entry)) return fmt::format("is a hard link (to '{}')", printable(target));
+  const mode_t type = archive_entry_filetype(entry);
+  if (type == AE_IFREG || type == AE_IFDIR) return "";
+  return type == AE_IFLNK ? "is a symlink" : type == AE_IFCHR || type == AE_IFBLK ? "is a device" : "is not a regular file";
 }
 
 /// A relative member name without "..".
@@ -60,17 +83,24 @@ void unpack(const fs::path& file, const fs::path& into) {
   // used): an absolute or ".." member name is refused here instead
   archive_write_disk_set_options(out.get(), ARCHIVE_EXTRACT_SECURE_NODOTDOT | ARCHIVE_EXTRACT_SECURE_SYMLINKS);
   archive_entry* entry = nullptr;
+  std::uint64_t unpacked = 0;
+  std::size_t members = 0;
   for (;;) {
     const int r = archive_read_next_header(in.get(), &entry);
     if (r == ARCHIVE_EOF) break;
     if (r < ARCHIVE_WARN) throw ImportError(fmt::format("{}: {}", file.string(), archive_error_string(in.get())));
     const std::string member = archive_entry_pathname(entry);
     if (!safe_member(member))
-      throw ImportError(fmt::format("{}: member '{}' would be written outside the directory", file.string(), member));
+      throw ImportError(fmt::format("{}: member '{}' would be written outside the directory", file.string(), printable(member)));
+    if (const std::string kind = member_kind_problem(entry); !kind.empty())
+      throw ImportError(
+          fmt::format("{}: member '{}' {}: an archive's members must be regular files", file.string(), printable(member), kind));
+    if (++members > kMaxMembers)
+      throw ImportError(fmt::format("{}: more than {} members (docs/hostile-inputs.md)", file.string(), kMaxMembers));
     archive_entry_set_pathname(entry, (into / member).c_str());
     if (archive_write_header(out.get(), entry) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
-    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str());
+    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str(), unpacked);
     if (archive_write_finish_entry(out.get()) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
   }

@@ -6,6 +6,8 @@
 
 #include <fmt/format.h>
 
+#include "tern/input_file.hpp"
+
 namespace tern::core {
 
 namespace {
@@ -39,7 +41,10 @@ bool blank(const std::string& row) {
 
 }  // namespace
 
-TextTable::TextTable(std::filesystem::path file, Separator separator) : file_(std::move(file)), separator_(separator), in_(file_) {
+TextTable::TextTable(std::filesystem::path file, Separator separator) : file_(std::move(file)), separator_(separator) {
+  if (const std::string p = input_file_problem(file_, kMaxTableBytes); !p.empty() && std::filesystem::exists(file_))
+    throw ImportError(fmt::format("{}: the table {}", printable(file_.string()), p));
+  in_.open(file_);
   if (!in_) throw ImportError(fmt::format("{}: cannot open it", file_.string()));
   if (separator_ != Separator::comma) return;
   if (!std::getline(in_, row_)) throw ImportError(fmt::format("{}: empty (a CSV header line was expected)", file_.string()));

@@ -85,8 +85,13 @@ GcsCommands::Result GcsCommands::run(const Command& c) {
       return {MAV_RESULT_ACCEPTED, "go-around asked: the phase machine takes it on the approach or in the flare"};
     case MAV_CMD_DO_SET_MODE: return set_mode(c, v);
     case MAV_CMD_MISSION_START: {
-      const float first = std::isfinite(c.param[0]) && c.param[0] > 0.0f ? c.param[0] : 0.0f;
-      const std::string why = mission_.fly_from(static_cast<std::uint16_t>(std::min(first, 65535.0f)));
+      // param1 the first item, param2 the last (0: to the end): item numbers, or the command is
+      // refused before the mission is touched (a NaN is no item: it must not restart the mission)
+      for (std::size_t k = 0; k < 2; ++k)
+        if (!(c.param[k] >= 0.0f && c.param[k] <= 65535.0f && c.param[k] == std::floor(c.param[k])))
+          return {MAV_RESULT_DENIED, "mission start refused: param" + std::to_string(k + 1) + " (" + (k == 0 ? "first" : "last") +
+                                         " item) " + fixed(c.param[k], 2) + " is not an item number 0..65535"};
+      const std::string why = mission_.fly_from(static_cast<std::uint16_t>(c.param[0]));
       if (!why.empty()) return {MAV_RESULT_DENIED, "mission start refused: " + why};
       return {MAV_RESULT_ACCEPTED, ""};
     }

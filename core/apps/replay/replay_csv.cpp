@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "replay/table_limits.hpp"
 
 namespace tern::core {
 
@@ -63,6 +64,7 @@ const std::vector<double>& CsvTable::at(const std::string& name) const {
 }
 
 CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted) {
+  check_table_file(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(fmt::format("{}: cannot open", file.string()));
   CsvTable table;
@@ -129,6 +131,7 @@ std::vector<std::string> split_quoted(const std::string& line) {
 }  // namespace
 
 ParamHistory read_params_csv(const std::filesystem::path& file) {
+  check_table_file(file);
   std::ifstream in(file, std::ios::binary);
   if (!in) throw ConfigError(fmt::format("{}: cannot open", file.string()));
   ParamHistory h;

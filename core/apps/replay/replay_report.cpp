@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include "config/config.hpp"
 #include "config/error.hpp"
 #include "replay/replay_report_parts.hpp"
 
@@ -24,12 +25,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 /// sensor_log.yaml's `airborne: [start_s, end_s]`, if the file and the key are there.
 std::optional<ReplayWindow> airborne_from_yaml(const std::filesystem::path& file) {
   if (!std::filesystem::exists(file)) return std::nullopt;
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("{}:{}: {}", file.string(), e.mark.line + 1, e.msg));
-  }
+  const YAML::Node root = load_yaml(file, "sensor log description");  // bounded (tern/input_file.hpp)
   const YAML::Node a = root.IsMap() ? root["airborne"] : YAML::Node();
   if (!a) return std::nullopt;
   double start = 0.0, end = 0.0;

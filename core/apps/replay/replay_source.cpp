@@ -1,9 +1,11 @@
 #include "replay/replay_source.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
+#include <optional>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -12,23 +14,12 @@
 #include <spdlog/logger.h>
 
 #include "config/error.hpp"
+#include "replay/table_limits.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
 namespace {
-
-/// "12.345000000" -> 12345000000 ns, exactly.
-Nanos parse_time(const std::string& s) {
-  const auto dot = s.find('.');
-  long long sec = 0, frac = 0;
-  std::from_chars(s.data(), s.data() + (dot == std::string::npos ? s.size() : dot), sec);
-  if (dot != std::string::npos) {
-    std::string f = s.substr(dot + 1);
-    f.resize(9, '0');
-    std::from_chars(f.data(), f.data() + 9, frac);
-  }
-  return sec * 1'000'000'000LL + (s.rfind('-', 0) == 0 ? -frac : frac);
-}
 
 /// One cell into the message field at `dst`; false if it is not a number. An empty cell or "nan"
 /// is NaN (a reference that lacks a field).
@@ -71,8 +62,9 @@ bool store_cell(const reflect::Column& c, char* p, const std::string& cell) {
 }
 
 /// The header's columns mapped onto T's layout by name; a unit in brackets other than the
-/// layout's is an error (docs/sensor-log.md). Column 0 is `t [s]`.
-std::vector<const reflect::Column*> map_columns(const std::filesystem::path& csv, const std::string& header,
+/// layout's is an error (docs/sensor-log.md), and so is a column the topic requires missing
+/// (table_limits.hpp). Column 0 is `t [s]`.
+std::vector<const reflect::Column*> map_columns(const std::filesystem::path& csv, const std::string& topic, const std::string& header,
                                                 const std::vector<reflect::Column>& layout) {
   std::vector<const reflect::Column*> cols;
   std::string item;
@@ -92,6 +84,9 @@ std::vector<const reflect::Column*> map_columns(const std::filesystem::path& csv
   }
   if (cols.empty() || header.rfind("t [s]", 0) != 0)
     throw ConfigError(csv.string() + ":1: the first column must be 't [s]' (docs/sensor-log.md)");
+  for (const std::string& name : required_columns(topic))
+    if (std::none_of(cols.begin(), cols.end(), [&](const reflect::Column* c) { return c != nullptr && c->name == name; }))
+      throw ConfigError(fmt::format("{}:1: no column '{}': the {} table needs it (docs/sensor-log.md)", csv.string(), name, topic));
   return cols;
 }
 
@@ -105,12 +100,13 @@ template <class T>
 class Track final : public ReplaySource::TrackBase {
  public:
   /// `nan_expected`: a table whose NaN cells mean "not given" (reference), not worth a warning.
-  Track(const std::filesystem::path& csv, bool nan_expected) : out_(std::make_unique<Output<T>>()) {
+  Track(const std::filesystem::path& csv, const std::string& topic, bool nan_expected) : out_(std::make_unique<Output<T>>()) {
+    check_table_file(csv);
     std::ifstream in(csv);
     std::string header;
     std::getline(in, header);
     const auto layout = reflect::layout<T>();
-    const auto cols = map_columns(csv, header, layout);
+    const auto cols = map_columns(csv, topic, header, layout);
     std::string line, cell;
     std::size_t lineno = 1;
     while (std::getline(in, line)) {
@@ -153,7 +149,11 @@ class Track final : public ReplaySource::TrackBase {
     std::string cell;
     for (std::stringstream ls(line); std::getline(ls, cell, ','); ++i) {
       if (i == 0) {
-        t = parse_time(cell);
+        const std::optional<Nanos> parsed = parse_log_time(cell);
+        if (!parsed)
+          throw ConfigError(fmt::format("{}:{}: t [s] '{}' is not a decimal number of seconds within {} s of the log's origin",
+                                        csv.string(), lineno, printable(cell), kMaxLogTime));
+        t = *parsed;
         continue;
       }
       if (i >= cols.size() || cols[i] == nullptr) continue;
@@ -167,6 +167,8 @@ class Track final : public ReplaySource::TrackBase {
     if (i != cols.size())
       throw ConfigError(csv.string() + ":" + std::to_string(lineno) + ": expected " + std::to_string(cols.size()) + " values, got " +
                         std::to_string(i) + " (a truncated log?)");
+    t_check_.check(csv, lineno, t);
+    if constexpr (std::is_same_v<decltype(msg.stamp), Nanos>) stamp_check_.check(csv, lineno, msg.stamp);
     if (!rows_.empty() && t < rows_.back().first) {
       if (p_.backwards++ == 0) p_.first_backwards_line = lineno;
       return;
@@ -181,6 +183,7 @@ class Track final : public ReplaySource::TrackBase {
   std::string partial_;
   std::vector<std::string> warnings_;
   TableProblems p_;
+  RowTimes t_check_{"t"}, stamp_check_{"stamp"};
 };
 
 }  // namespace
@@ -195,7 +198,7 @@ void ReplaySource::configure() {
     using T = decltype(tag);
     const auto csv = dir_ / "topics" / (topic + ".csv");
     if (!std::filesystem::exists(csv)) return;
-    auto track = std::make_unique<Track<T>>(csv, topic == "reference");
+    auto track = std::make_unique<Track<T>>(csv, topic, topic == "reference");
     if (!track->partial_last_line().empty()) log().warn("replay: {}", track->partial_last_line());
     for (const auto& w : track->warnings()) log().warn("replay: {}", w);
     track->feedback = feedback;
@@ -213,6 +216,8 @@ void ReplaySource::configure() {
   add(msg::Reference{}, "reference");
   if (!std::filesystem::exists(dir_ / "topics" / "imu.csv"))
     throw ConfigError("replay: '" + dir_.string() + "' has no topics/imu.csv to replay");
+  if (tracks_.front()->rows() == 0)
+    throw ConfigError((dir_ / "topics" / "imu.csv").string() + ": the IMU table has no rows: nothing to replay");
   end_ = tracks_.front()->last_time();
 }
 

@@ -5,8 +5,9 @@
 // topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the estimator's
 // side-force model reads; played one tick late, as a feedback edge is seen in flight), the
 // simulator's `truth` and another estimator's `reference` (those present), mapping columns by
-// name onto the message layout (a unit in brackets must be the layout's; a column the table lacks
-// keeps the message's default, NaN for the reference); at each tick it publishes every row whose
+// name onto the message layout (a unit in brackets must be the layout's; a column the sensor needs
+// must be there, an optional one the table lacks keeps the message's default, NaN for the
+// reference; the file, the columns and the times within table_limits.hpp's bounds); at each tick it publishes every row whose
 // time `t` is <= now, in order, each one a message of its own (several rows of one topic inside one
 // tick reach a consumer with a queue each: tern/port.hpp). The replay ends at the first tick at or
 // after the last IMU row (end_time()), so that row is played; rows of other topics after that tick

@@ -20,12 +20,7 @@ SensorLogSettings read_sensor_log_settings(const std::filesystem::path& log_dir)
   const auto file = log_dir / "sensor_log.yaml";
   if (!std::filesystem::exists(file)) return s;
   s.file = file;
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError(fmt::format("{}:{}:{}: not YAML: {}", file.string(), e.mark.line + 1, e.mark.column + 1, e.msg));
-  }
+  const YAML::Node root = load_yaml(file, "sensor log description");  // bounded (tern/input_file.hpp)
   if (!root.IsMap()) throw ConfigError(file.string() + ": not a map of keys (docs/sensor-log.md)");
   const YAML::Node version = root["tern_sensor_log"];
   if (!version || !version.IsScalar() || version.as<std::string>() != "1")

@@ -19,6 +19,9 @@ namespace tern::core::mcap {
 inline constexpr char kMagic[8] = {'\x89', 'M', 'C', 'A', 'P', '0', '\r', '\n'};
 /// Opcode (1 byte) and content length (8 bytes) before each record's content.
 inline constexpr std::size_t kRecordPrefix = 9;
+/// bytes: the largest uncompressed chunk the reader unpacks (a chunk declaring more is damaged):
+/// twice tern's largest log.chunk_size (1 GiB), room for the chunk's last message.
+inline constexpr std::uint64_t kMaxChunkBytes = std::uint64_t{2} << 30;
 
 enum class Op : std::uint8_t {
   header = 0x01,

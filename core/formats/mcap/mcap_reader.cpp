@@ -1,9 +1,12 @@
 #include "mcap/mcap_reader.hpp"
 
 #include <cstring>
+#include <limits>
 
 #include <fmt/format.h>
 #include <zstd.h>
+
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
@@ -44,7 +47,11 @@ std::map<std::string, std::string> read_map(In& in) {
 }
 }  // namespace
 
-McapReader::McapReader(fs::path path) : path_(std::move(path)), in_(path_, std::ios::binary) {
+McapReader::McapReader(fs::path path) : path_(std::move(path)) {
+  // a regular file only: a device (/dev/zero) or a FIFO has no size to check records against
+  if (const std::string p = input_file_problem(path_, std::numeric_limits<std::uintmax_t>::max()); !p.empty() && fs::exists(path_))
+    throw McapError(fmt::format("{}: {}", printable(path_.string()), p));
+  in_.open(path_, std::ios::binary);
   if (!in_) throw McapError(fmt::format("{}: cannot open: {}", path_.string(), std::strerror(errno)));
   std::error_code ec;
   size_ = fs::file_size(path_, ec);
@@ -148,7 +155,13 @@ void McapReader::chunk_messages(const McapRecord& r, std::string& buffer, const 
   const std::string compression = in.str();
   const std::string_view data = in.bytes(in.u64());
   if (!in.ok) damaged(r.offset, "chunk record too short");
+  if (size > mcap::kMaxChunkBytes)
+    damaged(r.offset,
+            fmt::format("chunk declares {} bytes uncompressed, more than the {} this reader unpacks", size, mcap::kMaxChunkBytes));
   if (compression == "zstd") {
+    const unsigned long long frame = ZSTD_getFrameContentSize(data.data(), data.size());
+    if (frame != ZSTD_CONTENTSIZE_UNKNOWN && frame != ZSTD_CONTENTSIZE_ERROR && frame != size)
+      damaged(r.offset, fmt::format("chunk declares {} bytes uncompressed, its zstd frame {}", size, frame));
     buffer.resize(size);
     const std::size_t n = ZSTD_decompress(buffer.data(), buffer.size(), data.data(), data.size());
     if (ZSTD_isError(n) || n != size)

@@ -12,6 +12,7 @@
 #include "config/error.hpp"
 #include "config/external_spec.hpp"
 #include "config/failsafe_config.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
@@ -61,11 +62,9 @@ std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const
 YAML::Node load_yaml(const fs::path& file, const char* what) {
   if (!fs::exists(file)) throw ConfigError(std::string(what) + " '" + file.string() + "' not found");
   try {
-    return YAML::LoadFile(file.string());
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(where(file, e.mark) + "YAML syntax error: " + e.msg);
-  } catch (const YAML::BadFile&) {
-    throw ConfigError(std::string("cannot read ") + what + " '" + file.string() + "'");
+    return load_yaml_file(file, what);  // a regular file, bounded (tern/input_file.hpp)
+  } catch (const std::runtime_error& e) {
+    throw ConfigError(e.what());
   }
 }
 
@@ -241,7 +240,11 @@ MissionConfig load_config(const fs::path& file_in) {
   if (root.IsMap() && root["vehicles"])
     throw ConfigError(where(file, root["vehicles"]) +
                       "vehicles: a multi-vehicle mission: `tern fly` and `tern check` take it (docs/multi-vehicle.md), not this command");
-  return config_from_yaml(root, file);
+  try {
+    return config_from_yaml(root, file);
+  } catch (const YAML::Exception& e) {  // a value of a type no reader expected there (a key that is a list)
+    throw ConfigError(where(file, e.mark) + e.msg);
+  }
 }
 
 // ---- config_from_yaml's readers, one per section of the mission file, in the order it calls them

@@ -3,13 +3,14 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
+#include <filesystem>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
 #include "entry_text.hpp"
 #include "number_text.hpp"
+#include "tern/input_file.hpp"
 #include "tern/math.hpp"
 
 namespace tern::path {
@@ -447,17 +448,26 @@ Mission parse_mission_text(const std::string& text, const std::string& source) {
   } catch (const YAML::Exception& e) {
     throw MissionError(source + ":" + std::to_string(e.mark.line + 1) + ": " + e.msg);
   }
+  try {
+    check_yaml_size(root, source);
+  } catch (const std::runtime_error& e) {
+    throw MissionError(e.what());
+  }
   Mission m = parse_map(root, Ctx{source, 0}, false, {});
   m.source = source;
   return m;
 }
 
 Mission load_mission_file(const std::filesystem::path& file) {
-  std::ifstream f(file);
-  if (!f) throw MissionError(file.string() + ": cannot read the mission file");
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return parse_mission_text(ss.str(), file.string());
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec)) throw MissionError(printable(file.string()) + ": cannot read the mission file");
+  std::string text;
+  try {
+    text = read_text_file(file, "mission file");  // a regular file, bounded (tern/input_file.hpp)
+  } catch (const std::runtime_error& e) {
+    throw MissionError(e.what());
+  }
+  return parse_mission_text(text, file.string());
 }
 
 Eigen::Vector3d lla_to_ned(const Eigen::Vector3d& lla, const GeoPoint& o) {

@@ -1,0 +1,152 @@
+#!/usr/bin/env python3
+"""The hostile inputs of test_hostile.sh, generated small into WORK (nothing large is committed).
+
+usage: make_inputs.py REPO WORK
+
+WORK/logs/<case>/   sensor logs (docs/sensor-log.md): `good` (11 s of a still aircraft at 400 Hz),
+                    `code` (good + a config.yaml setting plugin_path: [.]), `jump` (IMU t and stamp
+                    jumping by 1e9 s = 1e18 ns from row 4000), `no_gyro_z`, `empty_imu`, `zero_imu`
+                    (imu.csv a symlink to /dev/zero)
+WORK/configs/       mission configs: the default mission made absolute, each with one hostile part
+WORK/dir/           an empty directory, given where a file is expected
+WORK/alfa.tar.gz    an ALFA archive whose raw-IMU member is a symlink
+WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
+"""
+import io
+import os
+import struct
+import sys
+import tarfile
+
+import yaml
+
+REPO, WORK = sys.argv[1], sys.argv[2]
+MISSIONS = os.path.join(REPO, "configs", "missions")
+IMU_RATE = 400  # Hz
+JUMP_ROW = 4000  # the first IMU row (0-based) after the jump
+JUMP_NS = 10**18
+
+
+def table(path, columns, rows):
+    with open(path, "w") as f:
+        f.write(",".join(["t [s]"] + columns) + "\n")
+        for t_ns, values in rows:
+            f.write(f"{t_ns // 10**9}.{t_ns % 10**9:09d},{t_ns}," + ",".join(values) + "\n")
+
+
+def imu_rows(n, jump_at=None):
+    for k in range(n):
+        t = k * (10**9 // IMU_RATE) + (JUMP_NS if jump_at is not None and k >= jump_at else 0)
+        yield t, ["0", "0", "-9.80665", "0", "0", "0"]
+
+
+IMU_COLUMNS = ["stamp", "accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"]
+
+
+def sensor_log(name, imu=IMU_COLUMNS, imu_rows_=None):
+    d = os.path.join(WORK, "logs", name)
+    os.makedirs(os.path.join(d, "topics"))
+    rows = list(imu_rows(4400) if imu_rows_ is None else imu_rows_)
+    if imu != IMU_COLUMNS:  # drop the missing columns' values
+        keep = [IMU_COLUMNS.index(c) - 1 for c in imu[1:]]
+        rows = [(t, [v[i] for i in keep]) for t, v in rows]
+    table(os.path.join(d, "topics", "imu.csv"), imu, rows)
+    fix = ["0", "3", "12", "47.397", "8.545", "488", "0", "0", "0", "0.5", "0.8", "0.2"]
+    table(os.path.join(d, "topics", "gnss.csv"),
+          ["stamp", "time_of_validity", "fix_type", "num_sats", "lat", "lon", "alt", "vel_n", "vel_e", "vel_d", "h_acc", "v_acc", "s_acc"],
+          [(k * 10**8, fix) for k in range(110)])
+    table(os.path.join(d, "topics", "actuators.csv"), ["stamp", "delta_a", "delta_e", "delta_r", "delta_t"],
+          [(k * 2 * 10**7, ["0", "0", "0", "0"]) for k in range(550)])
+    return d
+
+
+def sensor_logs():
+    sensor_log("good")
+    code = sensor_log("code")
+    with open(os.path.join(REPO, "configs", "replay", "estimator.yaml")) as f:
+        config = yaml.safe_load(f)
+    config["plugin_path"] = ["."]  # the log's own directory, where its libtern_estimator_ekf.so lies
+    with open(os.path.join(code, "config.yaml"), "w") as f:
+        yaml.safe_dump(config, f)
+    sensor_log("jump", imu_rows_=imu_rows(4400, JUMP_ROW))
+    sensor_log("no_gyro_z", imu=[c for c in IMU_COLUMNS if c != "gyro_z"])
+    sensor_log("empty_imu", imu_rows_=[])
+    zero = sensor_log("zero_imu")
+    os.remove(os.path.join(zero, "topics", "imu.csv"))
+    os.symlink("/dev/zero", os.path.join(zero, "topics", "imu.csv"))
+
+
+def default_config():
+    """configs/missions/default.yaml with every path in it made absolute."""
+    with open(os.path.join(MISSIONS, "default.yaml")) as f:
+        c = yaml.safe_load(f)
+    c["aircraft"] = os.path.normpath(os.path.join(MISSIONS, c["aircraft"]))
+    for p in c["plugins"]:
+        if "param_file" in p:
+            p["param_file"] = os.path.normpath(os.path.join(MISSIONS, p["param_file"]))
+    c["mission"]["file"] = os.path.normpath(os.path.join(MISSIONS, c["mission"]["file"]))
+    return c
+
+
+def write_config(name, edit):
+    c = default_config()
+    edit(c)
+    with open(os.path.join(WORK, "configs", name + ".yaml"), "w") as f:
+        yaml.safe_dump(c, f, width=10**9)
+
+
+def configs():
+    os.makedirs(os.path.join(WORK, "configs"))
+    os.makedirs(os.path.join(WORK, "dir"))
+    zero = os.path.join(WORK, "zero_waypoints.yaml")
+    os.symlink("/dev/zero", zero)
+    write_config("zero_waypoints", lambda c: c["mission"].update(file=zero))
+    write_config("aircraft_dir", lambda c: c.update(aircraft=os.path.join(WORK, "dir")))
+    write_config("param_dir", lambda c: c["plugins"][-1].update(param_file=os.path.join(WORK, "dir")))
+    with open(default_config()["aircraft"]) as f:
+        aircraft = yaml.safe_load(f)
+    i = aircraft["inertia"]
+    i["Jz"] = round(i["Jx"] + i["Jy"] + 0.1, 6)  # Jz > Jx + Jy: no rigid body
+    bad = os.path.join(WORK, "bad_inertia.yaml")
+    with open(bad, "w") as f:
+        yaml.safe_dump(aircraft, f)
+    write_config("bad_inertia", lambda c: c.update(aircraft=bad))
+    write_config("escape", lambda c: c.update(name="\x1b[31mred\x07"))
+    write_config("long_name", lambda c: c["plugins"][0].update(plugin="a" * 100000))
+    # an alias bomb: 10^6 nodes once expanded, 60 lines as written
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
+    for k in range(1, 6):
+        lines.append(f"a{k}: &a{k} [" + ", ".join([f"*a{k - 1}"] * 10) + "]")
+    with open(os.path.join(WORK, "configs", "alias_bomb.yaml"), "w") as f:
+        f.write("\n".join(lines) + "\nname: bomb\nmission: *a5\n")
+
+
+def alfa_archive():
+    """An ALFA sequence whose raw IMU is a symlink: the filtered IMU must not stand in for it."""
+    with tarfile.open(os.path.join(WORK, "alfa.tar.gz"), "w:gz") as tar:
+        link = tarfile.TarInfo("seq/carbonZ_2018-07-18-mavros-imu-data_raw.csv")
+        link.type, link.linkname = tarfile.SYMTYPE, "/etc/passwd"
+        tar.addfile(link)
+        data = b"%time,field.header.stamp\n"
+        filtered = tarfile.TarInfo("seq/carbonZ_2018-07-18-mavros-imu-data.csv")
+        filtered.size = len(data)
+        tar.addfile(filtered, io.BytesIO(data))
+
+
+def mcap_chunk():
+    """A valid MCAP header, then a chunk declaring 2^62 bytes uncompressed (https://mcap.dev/spec)."""
+    def record(op, content):
+        return struct.pack("<BQ", op, len(content)) + content
+    magic = b"\x89MCAP0\r\n"
+    header = struct.pack("<I", 0) + struct.pack("<I", 0)  # profile, library: empty strings
+    chunk = struct.pack("<QQQI", 0, 0, 2**62, 0) + struct.pack("<I", 0) + struct.pack("<Q", 0)  # no compression, no records
+    data_end = struct.pack("<I", 0)
+    with open(os.path.join(WORK, "chunk.mcap"), "wb") as f:
+        f.write(magic + record(0x01, header) + record(0x06, chunk) + record(0x0F, data_end))
+        f.write(record(0x02, struct.pack("<QQI", 0, 0, 0)) + magic)
+
+
+sensor_logs()
+configs()
+alfa_archive()
+mcap_chunk()

@@ -1,0 +1,115 @@
+#!/usr/bin/env bash
+# Hostile inputs (issue 78, docs/hostile-inputs.md), as a user or a stranger's file hands them to
+# tern: each is refused with a non-zero exit and one line "tern: error: ..." naming the file, field
+# or value; never a signal, a time-out (30 s each), memory beyond 3 GB of address space (ulimit -v)
+# or a raw control character on the terminal. And a log never runs code: a flight log holding a
+# libtern_estimator_ekf.so and a config.yaml with `plugin_path: [.]` replays with the installed
+# estimator, the log's library never loaded (its constructor would write a marker file).
+# The inputs are generated small (make_inputs.py); nothing large is committed.
+# usage: test_hostile.sh TERN MARKER_LIBRARY REPO_DIR PYTHON3
+set -uo pipefail
+tern=$1 marker_lib=$2 repo=$3 python=$4
+work=$(mktemp -d "${TMPDIR:-/tmp}/tern-hostile-XXXXXX")
+trap 'rm -rf "$work"' EXIT
+"$python" "$repo/tests/hostile/make_inputs.py" "$repo" "$work" || { echo "FAIL: make_inputs.py"; exit 1; }
+failures=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+
+# run NAME CMD...: runs CMD bounded (30 s, 3 GB of address space) with its output in $work/NAME.*;
+# sets rc.
+run() {
+  local name=$1
+  shift
+  rc=0
+  (ulimit -v 3000000 && exec timeout -s KILL 30 "$@") > "$work/$name.out" 2> "$work/$name.err" || rc=$?
+}
+
+# refused NAME TEXT CMD...: a non-zero exit that is no signal nor time-out, exactly one error line,
+# holding TEXT, and no control character on stderr.
+refused() {
+  local name=$1 text=$2
+  shift 2
+  run "$name" "$@"
+  local err="$work/$name.err" lines
+  lines=$(grep -c '^tern: error: ' "$err")
+  if [ "$rc" -eq 0 ]; then
+    fail "$name: accepted (exit 0)"
+  elif [ "$rc" -ge 124 ]; then
+    fail "$name: exit $rc (a signal or the 30-s time-out)"
+  elif [ "$lines" -ne 1 ]; then
+    fail "$name: $lines error lines"
+  elif ! grep '^tern: error: ' "$err" | grep -qF -- "$text"; then
+    fail "$name: the error does not name '$text': $(grep '^tern: error: ' "$err" | cut -c1-300)"
+  elif LC_ALL=C grep -q $'[\x01-\x08\x0b-\x1f\x7f]' "$err"; then
+    fail "$name: a raw control character on stderr"
+  elif [ "$(wc -L < "$err")" -gt 2000 ]; then
+    fail "$name: a line of $(wc -L < "$err") characters"
+  else
+    echo "ok: $name: $(grep '^tern: error: ' "$err" | cut -c1-220)"
+  fi
+}
+
+logs=$work/logs configs=$work/configs
+
+# ---- a log never runs code ----------------------------------------------------------------------
+cp "$marker_lib" "$logs/code/libtern_estimator_ekf.so"
+export TERN_HOSTILE_MARKER=$work/marker
+run log_code "$tern" replay "$logs/code" --log-dir "$work/replays" -q
+if [ -e "$work/marker" ]; then
+  fail "log_code: tern replay loaded the log's libtern_estimator_ekf.so"
+elif [ "$rc" -ne 0 ]; then
+  fail "log_code: the replay with the installed estimator failed (exit $rc): $(tail -1 "$work/log_code.err")"
+else
+  echo "ok: log_code: replayed with the installed estimator, the log's library never loaded"
+fi
+# the control: a plugin path the user sets does load the library (so the marker shows a load)
+TERN_PLUGIN_PATH=$logs/code run log_code_control "$tern" replay "$logs/code" --log-dir "$work/replays" -q
+[ -e "$work/marker" ] || fail "log_code_control: a library on TERN_PLUGIN_PATH was not loaded: the marker cannot show a load"
+rm -f "$work/marker"
+refused log_code_path "never loads the library it names" \
+  "$tern" replay "$("$python" -c '
+import sys, yaml
+d = sys.argv[1]
+c = yaml.safe_load(open(d + "/config.yaml"))
+c.pop("plugin_path")
+c["plugins"][0]["plugin"] = "./libtern_estimator_ekf.so"
+yaml.safe_dump(c, open(d + "/config.yaml", "w"))
+print(d)' "$logs/code")" --log-dir "$work/replays"
+[ -e "$work/marker" ] && fail "log_code_path: the library named by path was loaded"
+
+# ---- files that are no files: a directory, /dev/zero ---------------------------------------------
+refused waypoints_dev_zero "zero_waypoints.yaml: mission file is not a regular file (a character device)" \
+  "$tern" check "$configs/zero_waypoints.yaml"
+refused imu_dev_zero "imu.csv: the table is not a regular file (a character device)" "$tern" replay "$logs/zero_imu" --log-dir "$work/replays"
+refused mission_directory "dir: config file is a directory" "$tern" check "$work/dir"
+refused param_file_directory "dir: parameter file is a directory" "$tern" check "$configs/param_dir.yaml"
+refused aircraft_directory "dir: aircraft file is a directory" "$tern" check "$configs/aircraft_dir.yaml"
+
+# ---- time stamps jumping by 1e18 ns from row 4000 (line 4002): one line, no hang -----------------
+jump_text="imu.csv:4002: t [s] '1000000010.000000000'"
+refused jump_replay "$jump_text" "$tern" replay "$logs/jump" --log-dir "$work/replays"
+refused jump_sysid "$jump_text" "$tern" sysid "$logs/jump" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
+refused jump_validate "$jump_text" "$tern" validate "$logs/jump" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/validate"
+
+# ---- silently wrong, now refused -----------------------------------------------------------------
+refused inertia_triangle "bad_inertia.yaml: inertia.Jz:" "$tern" check "$configs/bad_inertia.yaml"
+refused inertia_triangle_sysid "bad_inertia.yaml: inertia.Jz:" "$tern" sysid "$logs/good" --aircraft "$work/bad_inertia.yaml" --out "$work/sysid"
+refused imu_without_gyro_z "imu.csv:1: no column 'gyro_z'" "$tern" replay "$logs/no_gyro_z" --log-dir "$work/replays"
+refused alfa_symlink_member "member 'seq/carbonZ_2018-07-18-mavros-imu-data_raw.csv' is a symlink" \
+  "$tern" import alfa "$work/alfa.tar.gz" "$work/alfa_out"
+
+# ---- clearer lines ---------------------------------------------------------------------------------
+refused alias_bomb "alias_bomb.yaml: more than 100000 YAML nodes" "$tern" check "$configs/alias_bomb.yaml"
+refused empty_imu "imu.csv: the IMU table has no rows" "$tern" replay "$logs/empty_imu" --log-dir "$work/replays"
+refused empty_imu_sysid "imu.csv: the IMU table has no rows" \
+  "$tern" sysid "$logs/empty_imu" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
+refused mcap_chunk_length "chunk declares 4611686018427387904 bytes uncompressed" \
+  "$tern" export csv "$work/chunk.mcap" --out "$work/chunk_tables"
+refused control_characters "name: '\\x1b[31mred\\x07'" "$tern" check "$configs/escape.yaml"
+refused long_name "aaaa..." "$tern" check "$configs/long_name.yaml"
+
+if [ "$failures" -ne 0 ]; then
+  echo "hostile: $failures failure(s)"
+  exit 1
+fi
+echo "hostile: every input answered in one line"
