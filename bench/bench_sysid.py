@@ -26,6 +26,8 @@ import time
 
 import yaml
 
+import foreign_log
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
 # issue 62's targets: relative error of the worst seed
@@ -108,11 +110,12 @@ def read_columns(path, names):
     return out
 
 
-def estimate_pitch_offset(flight, sysid_out, min_height=10.0):
+def estimate_pitch_offset(flight, sysid_out, min_height=10.0, shift_s=0.0):
     """rad: the mean of the estimate's pitch less the simulator's over the airborne estimate that sysid used
     (its replay's state.csv against the flight's truth.csv). The flight path's alpha is the true one plus this
     offset (the ground calibration's level, the IMU's mounting, the estimator's own bias): the frame the
-    vehicle measures in. Read here only to state the truth in that frame."""
+    vehicle measures in. Read here only to state the truth in that frame. shift_s: the estimate's clock
+    less the truth's (a log rewritten by foreign_log.py starts later)."""
     truth = read_columns(os.path.join(flight, "topics", "truth.csv"), ["t", "theta"])
     replay = os.path.join(sysid_out, "replay")
     state_file = os.path.join(replay, os.listdir(replay)[0], "topics", "state.csv")
@@ -120,7 +123,8 @@ def estimate_pitch_offset(flight, sysid_out, min_height=10.0):
     tt, th = truth["t"], truth["theta"]
     total, n, j = 0.0, 0, 0
     for t, theta, valid, p_d in zip(est["t"], est["theta"], est["valid"], est["p_d"]):
-        if not (valid > 0.5 and -p_d > min_height and math.isfinite(theta)):
+        t += shift_s
+        if not (valid > 0.5 and (shift_s > 0.0 or -p_d > min_height) and math.isfinite(theta)):
             continue
         while j + 1 < len(tt) and tt[j + 1] <= t:
             j += 1
@@ -156,12 +160,16 @@ def one_seed(tern, seed, args, work):
     prior = scaled_prior(truth_file, factor, os.path.join(work, f"prior_{seed}.yaml"))
     mission = mission_copy(args.mission, os.path.join(work, f"sysid_{seed}.yaml"), aircraft=truth_file)
     flight = run_dir(run([tern, "fly", mission, "--seed", str(seed), "--log-dir", work, "--log-format", "csv", "-q"]).stdout)
+    truth_flight, shift = flight, 0.0
+    if args.foreign:
+        flight = os.path.join(work, f"foreign_{seed}")
+        shift = foreign_log.rewrite(truth_flight, flight, *args.foreign, declare_airborne=args.declare_airborne)
     out = os.path.join(work, f"sysid_{seed}")
     t0 = time.monotonic()
-    run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"])
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
-    pitch = estimate_pitch_offset(flight, out)
+    pitch = estimate_pitch_offset(truth_flight, out, shift_s=shift)
     truth_frame = truth_in_vehicle_frame(truth["aero"], pitch)
     rows = {}
     for name, c in result["coefficients"].items():
@@ -232,7 +240,7 @@ def anaconda_gains(tern, seed, work):
     factor = 0.6 if seed % 2 == 1 else 1.5
     prior = scaled_prior(truth_file, factor, os.path.join(work, f"anaconda_prior_{seed}.yaml"))
     out = os.path.join(work, f"sysid_anaconda_{seed}")
-    run([tern, "sysid", flight, "--aircraft", prior, "--out", out])
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"])
     gains = os.path.join(out, "gains.yaml")
     run([tern, "aero", "gains", "--aircraft", os.path.join(out, "aircraft.yaml"), "--Va", "17", "--out", gains])
     figures = {}
@@ -302,10 +310,17 @@ def main():
     ap.add_argument("--seeds", type=int, default=5)
     ap.add_argument("--mission", default=os.path.join(ROOT, "configs", "missions", "sysid.yaml"))
     ap.add_argument("--aircraft", default=os.path.join(ROOT, "configs", "aircraft", "aerosonde.yaml"))
-    ap.add_argument("--out", default=os.path.join(HERE, "results", "bench_sysid.json"))
+    ap.add_argument("--out", help="JSON (default bench/results/bench_sysid.json, with --foreign bench_sysid_foreign.json)")
     ap.add_argument("--work", help="keep the runs here (default: a temporary directory, removed at the end: ~10 GB of CSV logs)")
     ap.add_argument("--no-flights", action="store_true", help="skip the identified file's flights and tern validate")
+    ap.add_argument("--foreign", type=float, nargs=4, metavar=("DELAY_MS", "IMU_HZ", "ACT_HZ", "START_M"),
+                    help="identify from the flight rewritten as another autopilot's log (foreign_log.py): no excitation table, "
+                         "commands acting DELAY_MS after their stamps, the IMU at IMU_HZ, the commands at ACT_HZ, the log starting "
+                         "START_M above the ground, e.g. 10 200 50 50")
+    ap.add_argument("--declare-airborne", action="store_true", help="with --foreign: sensor_log.yaml declares the airborne window")
     args = ap.parse_args()
+    if not args.out:
+        args.out = os.path.join(HERE, "results", "bench_sysid_foreign.json" if args.foreign else "bench_sysid.json")
     tern = os.path.join(os.path.abspath(args.bin_dir), "tern")
     if args.work:
         os.makedirs(args.work, exist_ok=True)

@@ -59,9 +59,10 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   const fs::path run = fly({"--log-format", "csv"}, "flight");
   const fs::path prior = scaled_aircraft(kAerosonde, 0.6, "prior.yaml");
   const fs::path out1 = test_dir() / "out1", out2 = test_dir() / "out2";
-  const auto r = sysid({run.string(), "--aircraft", prior.string(), "--out", out1.string()}, "1");
+  const auto r = sysid({run.string(), "--aircraft", prior.string(), "--out", out1.string(), "--keep-estimate"}, "1");
   INFO(r.second);
   REQUIRE(r.first == 0);
+  CHECK(fs::exists(out1 / "replay"));  // kept: --estimate below reads it
   const nlohmann::json j = nlohmann::json::parse(read_file(out1 / "sysid.json"));
   const tern::Aircraft truth = tern::load_aircraft(kAerosonde);
   auto check = [&](const char* name, double truth_value, double tolerance) {

@@ -26,16 +26,6 @@ fs::path replay_config(const EstimatorReplay& o) {
 /// True when the replay flies the log's own config.yaml (no --config).
 bool log_config(const EstimatorReplay& o) { return o.config.empty() && fs::exists(fs::path(o.log_dir) / "config.yaml"); }
 
-/// A flight logged as MCAP only (log.format mcap): its tables exported into LOG/topics first, as
-/// `tern export csv LOG` writes them (export/mcap_csv_export.hpp), which the replay then reads.
-void tables_from_mcap(const fs::path& log_dir) {
-  const fs::path mcap = log_dir / "flight.mcap";
-  if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
-  const CsvExportReport r = export_csv(mcap, log_dir / "topics");
-  std::fprintf(stderr, "replay: %zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
-               r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
-}
-
 /// A log never runs code (docs/hostile-inputs.md): the log's own config.yaml is a record of the
 /// flight, not a trusted file, so its plugin_path is dropped (plugins come from the install,
 /// TERN_PLUGIN_PATH and --config) and an instance naming a library by path, or a Python script, is
@@ -53,6 +43,14 @@ void forget_log_code(MissionConfig& mc) {
 }
 
 }  // namespace
+
+void tables_from_mcap(const fs::path& log_dir) {
+  const fs::path mcap = log_dir / "flight.mcap";
+  if (fs::exists(log_dir / "topics") || !fs::exists(mcap)) return;
+  const CsvExportReport r = export_csv(mcap, log_dir / "topics");
+  std::fprintf(stderr, "%zu topic tables exported from %s into topics/ (tern export csv)%s\n", r.rows.size(), mcap.c_str(),
+               r.stopped.empty() ? "" : (": the file stops early, " + r.stopped).c_str());
+}
 
 FlightResult replay_estimator(const EstimatorReplay& o) {
   tables_from_mcap(o.log_dir);

@@ -4,8 +4,11 @@
 // system identification: the estimator, then the regression).
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <string>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 #include "config/config.hpp"
@@ -28,6 +31,27 @@ struct EstimatorReplay {
   /// hands them back. Klein and Morelli, *Aircraft System Identification*, ch. 10: the flight
   /// path is reconstructed from the kinematic equations, independently of the aerodynamic model.
   bool kinematic = false;
+};
+
+/// A flight logged as MCAP only (log.format mcap, as `make fly` writes it): its tables exported
+/// into LOG/topics, as `tern export csv LOG` writes them (export/mcap_csv_export.hpp), so that the
+/// replay, sysid and validate read them; one line on stderr says so. Nothing when LOG/topics exists
+/// or there is no LOG/flight.mcap. Throws McapError naming the file and the field.
+void tables_from_mcap(const std::filesystem::path& log_dir);
+
+/// The estimator's replay that sysid or validate made for itself (log level sysid: the state at
+/// every message, hundreds of MB for a long flight), removed when the command ends however it ends,
+/// unless `keep` (--keep-estimate: --estimate takes it next time).
+struct ReplayScratch {
+  std::filesystem::path dir;
+  bool keep = false;
+  ReplayScratch(std::filesystem::path d, bool k) : dir(std::move(d)), keep(k) {}
+  ReplayScratch(const ReplayScratch&) = delete;
+  ReplayScratch& operator=(const ReplayScratch&) = delete;
+  ~ReplayScratch() {
+    std::error_code ignored;  // a directory that cannot be removed stays; nothing else depends on it
+    if (!keep && !dir.empty()) std::filesystem::remove_all(dir, ignored);
+  }
 };
 
 /// Flies the estimator alone (no controllers, phases or mission) over the log's sensors; a log

@@ -13,6 +13,7 @@
 #include "sysid/flight_data.hpp"
 #include "sysid/identify.hpp"
 #include "sysid/sysid_output.hpp"
+#include "sysid/verdicts.hpp"
 
 namespace tern::core {
 
@@ -26,6 +27,7 @@ struct SysidOptionsCli {
   double oe_window = sysid::OutputErrorOptions{}.window_s;
   bool no_output_error = false;
   bool accel_x_bias = false;
+  bool keep_estimate = false;
   double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
   std::vector<std::string> sets;
 };
@@ -50,7 +52,9 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--band: {} .. {} Hz: expected 0 < LO < HI", o.band.front(), o.band.back()));
   if (o.flow_angles != "accelerometer" && o.flow_angles != "estimator")
     throw ConfigError(fmt::format("--flow-angles: '{}': expected accelerometer or estimator", o.flow_angles));
+  tables_from_mcap(o.log_dir);  // a run directory logged as MCAP only
   sysid::check_sensor_log(o.log_dir, o.estimate.empty());
+  const ReplayScratch scratch(o.estimate.empty() ? fs::path(o.out_dir) / "replay" : fs::path(), o.keep_estimate);
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
@@ -66,15 +70,19 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   io.gyro_cross_axis = o.gyro_cross_axis;
   sysid::SysidResult r = sysid::identify(series, prior, io);
+  sysid::apply_verdicts(r, prior, io);
   const std::string options = fmt::format(
       "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, gyro cross-axis {}, {}",
       o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, o.gyro_cross_axis,
       o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
-  const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate.string(), options};
+  const std::string estimate_text =
+      o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
+  const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate_text, options};
   sysid::keep_loadable(r, from);
   sysid::write_sysid_outputs(r, from, o.out_dir);
   std::printf("%s", sysid::format_sysid_table(r).c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
+  std::printf("%s\n", sysid::identified_summary(r).c_str());
   std::printf("wrote %s/aircraft.yaml, sysid.json, index.html\n", o.out_dir.c_str());
   return 0;
 }
@@ -111,6 +119,9 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--gyro-cross-axis", o->gyro_cross_axis,
                 "rad/rad: the largest share of one gyro axis's rate in another's (cross-axis sensitivity and mounting; default 0.02): "
                 "widens the rolling and yawing moments' bounds, which cannot see it");
+  c->add_flag("--keep-estimate", o->keep_estimate,
+              "keep the estimator's replay of the log in DIR/replay (the state at every message: hundreds of MB for a long flight; "
+              "--estimate DIR/replay/<run> takes it next time)");
   c->add_option("--set", o->sets, "INSTANCE.PARAM=VALUE: an estimator parameter for the replay, as tern replay --set")
       ->type_name("INSTANCE.PARAM=VALUE");
   return {c, [o] { return run_sysid(*o); }};

@@ -4,7 +4,8 @@
 // the log at log level sysid (commands/estimator_replay.hpp), as it must be for a real flight's
 // log, which records no state at every message; a tern flight's log is treated alike (--estimate
 // names a run to take it from instead, e.g. a previous validate's estimate/). Writes
-// DIR/validate.json, DIR/index.html and the replay's run as DIR/estimate (default DIR: LOG/validate).
+// DIR/validate.json, DIR/index.html (default DIR: LOG/validate), and with --keep-estimate the
+// replay's run as DIR/estimate.
 // Exit status 0, or 1 with one error line (an aircraft file, no actuators table, an estimate
 // never valid, no airborne window).
 #include <cstdio>
@@ -34,6 +35,7 @@ struct ValidateRequest {
   std::string estimate;  ///< a run whose topics/state.csv is the estimate (empty: replay the log)
   sysid::ValidateOptions options;
   bool quiet = false;
+  bool keep_estimate = false;
 };
 
 /// Every aircraft file read before the replay, so that a bad file fails at once (one line).
@@ -73,6 +75,7 @@ void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft,
     const sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
     if (i == 0) {
       run.windows = sysid::airborne_windows(s, run.options, run.log);
+      run.airborne = sysid::airborne_mask(s, run.options.ground).rule;
       run.t = s.t;
       for (std::size_t c = 0; c < sysid::kChannels; ++c) run.measured[c] = s.*sysid::kChannelSpecs[c].measured;
     }
@@ -83,15 +86,17 @@ void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft,
 int validate(const ValidateRequest& o) {
   const std::vector<Aircraft> aircraft = load_all(o.aircraft);
   const fs::path log(o.log_dir);
+  tables_from_mcap(log);  // a run directory logged as MCAP only
   sysid::check_sensor_log(log, o.estimate.empty());
   const fs::path dir = o.out_dir ? fs::path(*o.out_dir) : log / "validate";
   fs::create_directories(dir);
   const fs::path estimate = o.estimate.empty() ? replayed_estimate(o, dir) : fs::path(o.estimate);
+  const ReplayScratch scratch(o.estimate.empty() ? estimate : fs::path(), o.keep_estimate);
   sysid::ValidationRun run;
   run.log = o.log_dir;
-  run.estimate = o.estimate.empty()
-                     ? "tern replay of the log (its estimator, log level sysid: the state at every message), kept as estimate/"
-                     : "topics/state.csv of " + o.estimate + " (--estimate)";
+  run.estimate = o.estimate.empty() ? fmt::format("tern replay of the log (its estimator, log level sysid: the state at every message), {}",
+                                                  o.keep_estimate ? "kept as estimate/" : "not kept (--keep-estimate)")
+                                    : "topics/state.csv of " + o.estimate + " (--estimate)";
   run.options = o.options;
   score_all(run, aircraft, o.aircraft, log, estimate);
   sysid::write_text_file(dir / "validate.json", sysid::validate_json(run).dump(2) + "\n");
@@ -116,7 +121,9 @@ Command add_validate_command(CLI::App& app) {
   c->add_option("--window", o->options.window_s, "seconds between re-initialisations of the simulation from the log")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  c->add_option("--min-height", o->options.min_height, "m above the estimator's origin for a sample to count as airborne")
+  c->add_option("--min-height", o->options.ground.min_height,
+                "m above the ground where the aircraft stood still for a sample to count as airborne (a log without "
+                "sensor_log.yaml's airborne window)")
       ->capture_default_str();
   c->add_option("--min-airspeed", o->options.min_Va, "m/s of airspeed for a sample to count as airborne")->capture_default_str();
   c->add_option("--config", o->config,
@@ -125,6 +132,9 @@ Command add_validate_command(CLI::App& app) {
                 "a run directory whose topics/state.csv is the estimate at every message (e.g. a previous validate's estimate/), "
                 "instead of replaying the log")
       ->check(CLI::ExistingDirectory);
+  c->add_flag("--keep-estimate", o->keep_estimate,
+              "keep the estimator's replay of the log as DIR/estimate (the state at every message: hundreds of MB for a long "
+              "flight; --estimate DIR/estimate takes it next time)");
   c->add_flag("-q,--quiet", o->quiet, "print only where the results went");
   return {c, [o] { return validate(*o); }};
 }

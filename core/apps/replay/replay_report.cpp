@@ -6,11 +6,10 @@
 #include <fstream>
 
 #include <fmt/format.h>
-#include <yaml-cpp/yaml.h>
 
-#include "config/config.hpp"
 #include "config/error.hpp"
 #include "replay/replay_report_parts.hpp"
+#include "replay/sensor_log_meta.hpp"
 
 namespace tern::core {
 
@@ -20,25 +19,6 @@ namespace {
 
 bool ends_with(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
-}
-
-/// sensor_log.yaml's `airborne: [start_s, end_s]`, if the file and the key are there.
-std::optional<ReplayWindow> airborne_from_yaml(const std::filesystem::path& file) {
-  if (!std::filesystem::exists(file)) return std::nullopt;
-  const YAML::Node root = load_yaml(file, "sensor log description");  // bounded (tern/input_file.hpp)
-  const YAML::Node a = root.IsMap() ? root["airborne"] : YAML::Node();
-  if (!a) return std::nullopt;
-  double start = 0.0, end = 0.0;
-  try {
-    if (!a.IsSequence() || a.size() != 2) throw YAML::Exception(a.Mark(), "");
-    start = a[0].as<double>();
-    end = a[1].as<double>();
-  } catch (const YAML::Exception&) {
-    throw ConfigError(where(file, a) + "airborne: expected [start_s, end_s] (two numbers, s of the log's t)");
-  }
-  if (!(std::isfinite(start) && std::isfinite(end) && start < end))
-    throw ConfigError(where(file, a) + fmt::format("airborne: [{}, {}]: start must be before end", start, end));
-  return ReplayWindow{start, end, fmt::format("sensor_log.yaml airborne: [{}, {}] s", start, end)};
 }
 
 }  // namespace
@@ -57,7 +37,8 @@ void add_sample_time(CsvTable& table) {
 }
 
 ReplayWindow find_window(const RunTables& run) {
-  if (auto w = airborne_from_yaml(run.dir / "sensor_log.yaml")) return *w;
+  if (auto w = read_airborne_window(run.dir / "sensor_log.yaml"))
+    return {w->start_s, w->end_s, fmt::format("sensor_log.yaml airborne: [{}, {}] s", w->start_s, w->end_s)};
   const auto& t = run.state.at("t");
   const ReplayWindow whole{t.front(), t.back(), ""};
   if (!run.gnss) return {whole.start_s, whole.end_s, "the whole replay (no sensor_log.yaml airborne, no gnss.csv)"};

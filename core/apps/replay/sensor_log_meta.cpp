@@ -1,5 +1,7 @@
 #include "replay/sensor_log_meta.hpp"
 
+#include <cmath>
+
 #include <fmt/format.h>
 
 #include "config/error.hpp"
@@ -54,6 +56,24 @@ void apply_sensor_log_settings(MissionConfig& mc, const SensorLogSettings& s) {
       ic.params[name] = ParamSetting{value, s.file, field, true, ""};
     }
   }
+}
+
+std::optional<AirborneWindow> read_airborne_window(const std::filesystem::path& file) {
+  if (!std::filesystem::exists(file)) return std::nullopt;
+  const YAML::Node root = load_yaml(file, "sensor log description");  // bounded (tern/input_file.hpp)
+  const YAML::Node a = root.IsMap() ? root["airborne"] : YAML::Node();
+  if (!a) return std::nullopt;
+  AirborneWindow w;
+  try {
+    if (!a.IsSequence() || a.size() != 2) throw YAML::Exception(a.Mark(), "");
+    w.start_s = a[0].as<double>();
+    w.end_s = a[1].as<double>();
+  } catch (const YAML::Exception&) {
+    throw ConfigError(where(file, a, "airborne") + ": expected [start_s, end_s] (two numbers, s of the log's t)");
+  }
+  if (!(std::isfinite(w.start_s) && std::isfinite(w.end_s) && w.start_s < w.end_s))
+    throw ConfigError(where(file, a, "airborne") + fmt::format(": [{}, {}]: start must be before end", w.start_s, w.end_s));
+  return w;
 }
 
 }  // namespace tern::core

@@ -37,4 +37,14 @@ SensorLogSettings read_sensor_log_settings(const std::filesystem::path& log_dir)
 /// parameters have other names): give them with --set.
 void apply_sensor_log_settings(MissionConfig& mc, const SensorLogSettings& s);
 
+/// The airborne part a log declares: sensor_log.yaml's `airborne: [start_s, end_s]` (s, the log's t).
+struct AirborneWindow {
+  double start_s = 0.0, end_s = 0.0;
+};
+
+/// `file`'s `airborne`, if the file and the key are there (the replay report's window; the airborne
+/// samples of `tern sysid` and `tern validate`). Throws ConfigError "file:line:col: airborne: ..."
+/// when the file is not YAML or the value is not two finite numbers with start before end.
+std::optional<AirborneWindow> read_airborne_window(const std::filesystem::path& file);
+
 }  // namespace tern::core

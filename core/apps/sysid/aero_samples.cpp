@@ -17,15 +17,14 @@ double median(std::vector<double> v) {
 }
 
 std::vector<std::size_t> airborne(const FlightSeries& s, const AirborneFilter& f) {
+  const std::vector<unsigned char> up = airborne_mask(s, f.ground).up;
   std::vector<double> va;
   for (std::size_t k = 0; k < s.size(); ++k)
-    if (s.valid[k] && -s.p_d[k] > f.min_height && std::isfinite(s.Va[k])) va.push_back(s.Va[k]);
+    if (up[k] && std::isfinite(s.Va[k])) va.push_back(s.Va[k]);
   const double min_Va = f.min_Va_ratio * median(va);
   std::vector<std::size_t> keep;
   for (std::size_t k = 0; k < s.size(); ++k)
-    if (s.valid[k] && -s.p_d[k] > f.min_height && s.Va[k] > min_Va && std::abs(s.alpha[k]) < f.max_flow_angle &&
-        std::abs(s.beta[k]) < f.max_flow_angle)
-      keep.push_back(k);
+    if (up[k] && s.Va[k] > min_Va && std::abs(s.alpha[k]) < f.max_flow_angle && std::abs(s.beta[k]) < f.max_flow_angle) keep.push_back(k);
   return keep;
 }
 

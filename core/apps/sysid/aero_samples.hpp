@@ -24,6 +24,7 @@
 
 #include <vector>
 
+#include "sysid/airborne.hpp"
 #include "sysid/flight_data.hpp"
 #include "tern/aircraft.hpp"
 
@@ -45,7 +46,7 @@ struct AeroSamples {
 
 /// Which samples count as flight (the rest never enter a regression).
 struct AirborneFilter {
-  double min_height = 10.0;     ///< m above the estimator's origin
+  AirborneRule ground;          ///< off the ground (airborne.hpp): the log's window, else above where it stood still
   double min_Va_ratio = 0.6;    ///< Va above this fraction of the airborne median
   double max_flow_angle = 0.3;  ///< rad: |alpha|, |beta| beyond it leave the linear model
 };

@@ -10,6 +10,7 @@
 
 #include "config/error.hpp"
 #include "replay/replay_csv.hpp"
+#include "replay/sensor_log_meta.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
@@ -295,6 +296,8 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const Column v = keep(valid);
   s.valid.resize(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;
+  const std::filesystem::path meta = log_dir / "sensor_log.yaml";
+  if (const auto w = read_airborne_window(meta)) s.declared_airborne = DeclaredAirborne{w->start_s, w->end_s, meta.string()};
   return s;
 }
 

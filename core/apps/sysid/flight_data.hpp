@@ -9,6 +9,7 @@
 //   LOG/topics/diff_pressure.csv (optional) the pitot's differential pressure: the dynamic
 //                             pressure the airframe met, gusts included (the estimator's Va, from
 //                             its steady wind, misses them)
+//   LOG/sensor_log.yaml       (optional) its `airborne: [start_s, end_s]`: where the log says it flew
 //   EST/topics/state.csv      the estimator's attitude, gyro bias, air data (Va, alpha, beta from
 //                             the wind triangle), wind and position: a `tern replay` of LOG at
 //                             log level sysid (the state at every message), or LOG itself
@@ -27,6 +28,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -45,6 +47,12 @@ struct FlightSeriesOptions {
   double steady_wind_s = 30.0;
 };
 
+/// The airborne part a log declares (sensor_log.yaml's `airborne`), in the log's t.
+struct DeclaredAirborne {
+  double start_s = 0.0, end_s = 0.0;  ///< s
+  std::string source;                 ///< the file it came from
+};
+
 /// One vector per channel, all of length size(); sample k of each belongs to time t[k].
 struct FlightSeries {
   std::vector<double> t;                          ///< s, log time
@@ -58,15 +66,16 @@ struct FlightSeries {
   /// delta_t throttle fraction. Independent of the gusts, unlike the commands the controller adds
   /// to them: the instruments of a closed-loop flight (identify.hpp). Empty when the log has none.
   std::vector<double> exc_delta_a, exc_delta_e, exc_delta_r, exc_delta_t;
-  std::vector<double> Va;               ///< estimator's airspeed, m/s
-  std::vector<double> alpha, beta;      ///< flow angles of the reconstructed flight path, rad (header)
-  std::vector<double> qbar;             ///< pitot differential pressure, Pa (NaN: no pitot in the log)
-  std::vector<double> phi, theta, psi;  ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
-  std::vector<double> p_n, p_e, p_d;    ///< estimator's position NED from its origin, m
-  std::vector<double> u, v, w;          ///< estimator's ground velocity, body FRD, m/s
-  std::vector<double> w_n, w_e, w_d;    ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
-  std::vector<unsigned char> valid;     ///< 1 where the estimate was valid and interpolated
-  std::vector<std::string> notes;       ///< one line per table whose rows were not all numbers (the row before each held)
+  std::vector<double> Va;                             ///< estimator's airspeed, m/s
+  std::vector<double> alpha, beta;                    ///< flow angles of the reconstructed flight path, rad (header)
+  std::vector<double> qbar;                           ///< pitot differential pressure, Pa (NaN: no pitot in the log)
+  std::vector<double> phi, theta, psi;                ///< estimator's attitude, 3-2-1 Euler, rad (psi unwrapped)
+  std::vector<double> p_n, p_e, p_d;                  ///< estimator's position NED from its origin, m
+  std::vector<double> u, v, w;                        ///< estimator's ground velocity, body FRD, m/s
+  std::vector<double> w_n, w_e, w_d;                  ///< the steady wind, NED, m/s: the estimator's low-passed; w_d 0 (header)
+  std::vector<unsigned char> valid;                   ///< 1 where the estimate was valid and interpolated
+  std::vector<std::string> notes;                     ///< one line per table whose rows were not all numbers (the row before each held)
+  std::optional<DeclaredAirborne> declared_airborne;  ///< LOG/sensor_log.yaml's `airborne`, if any (airborne.hpp)
   std::size_t size() const { return t.size(); }
 };
 

@@ -49,7 +49,9 @@ std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const
 
 SysidResult identify(const FlightSeries& series, const Aircraft& prior, const SysidOptions& o) {
   if (aero_samples(series, prior, o.airborne).size() < 2)
-    throw std::runtime_error("no airborne samples: the estimate never valid above the height floor");
+    throw std::runtime_error(
+        fmt::format("no airborne samples (airborne: {}; then Va above {:g} of its median, |alpha|, |beta| below {:g} rad)",
+                    airborne_mask(series, o.airborne.ground).rule, o.airborne.min_Va_ratio, o.airborne.max_flow_angle));
   const AirspeedScale scale = airspeed_scale(series, aero_samples(series, prior, o.airborne).source, prior.rho, o.max_correlation);
   const double k = scale.k.identified ? scale.k.estimate : 1.0;
   const AeroSamples a = aero_samples(series, prior, o.airborne, k);

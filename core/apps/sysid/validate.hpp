@@ -4,8 +4,9 @@
 //
 // Method (output error of a simulation, then equation error at each sample):
 //  * Windows. The series (flight_data.hpp) is cut into windows of `window_s` seconds where the
-//    aircraft is airborne at every sample: the estimate valid and finite, height above the
-//    estimator's origin (-p_d) above `min_height`, Va above `min_Va` (so no ground contact). Each
+//    aircraft is airborne at every sample: airborne.hpp's rule (the log's declared window, else
+//    above the ground where it stood still, never above the estimator's origin), the estimate
+//    finite, Va above `min_Va` (so no ground contact). Each
 //    airborne stretch is tiled from its start; its last piece shorter than a window is not scored.
 //  * Simulation. At each window's first sample the model's state is the logged one (position
 //    p_n p_e p_d, ground velocity u v w in body FRD, Euler angles phi theta psi, body rates p q r
@@ -45,16 +46,17 @@
 #include <string>
 #include <vector>
 
+#include "sysid/airborne.hpp"
 #include "sysid/flight_data.hpp"
 #include "tern/aircraft.hpp"
 
 namespace tern::core::sysid {
 
 struct ValidateOptions {
-  double window_s = 5.0;     ///< s, re-initialisation interval (window length), > 0
-  double min_height = 10.0;  ///< m above the estimator's origin for a sample to count as airborne
-  double min_Va = 8.0;       ///< m/s, airspeed for a sample to count as airborne
-  double max_step = 0.005;   ///< s, longest RK4 step between two samples
+  double window_s = 5.0;    ///< s, re-initialisation interval (window length), > 0
+  AirborneRule ground;      ///< off the ground (airborne.hpp): the log's window, else above where it stood still
+  double min_Va = 8.0;      ///< m/s, airspeed for a sample to count as airborne
+  double max_step = 0.005;  ///< s, longest RK4 step between two samples
 };
 
 /// The scored channels, in the order of every table: body rates, air data, attitude.

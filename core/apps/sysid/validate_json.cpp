@@ -24,7 +24,8 @@ ordered_json method_json(const ValidationRun& run) {
            "sim_aero's uavbook model (tern/aero/model.hpp) open loop: each window starts from the logged state, the estimator's "
            "wind at its first sample held steady, the logged commands held between samples, RK4 in steps of at most max_step_s"},
           {"window_s", run.options.window_s},
-          {"min_height_m", run.options.min_height},
+          {"airborne", run.airborne},
+          {"min_height_m", run.options.ground.min_height},
           {"min_Va_mps", run.options.min_Va},
           {"max_step_s", run.options.max_step},
           {"nrmse", "RMS(predicted - measured) / std(measured), population std over the scored samples"},

@@ -23,6 +23,7 @@ struct ValidationRun {
   ValidateOptions options;
   FlightSeriesOptions series;  ///< filter and rate of the series (each file's own servo lag: AircraftScore)
   std::vector<Window> windows;
+  std::string airborne;                                 ///< the airborne rule that held (airborne.hpp), one line
   std::vector<double> t;                                ///< s, the series' time
   std::array<std::vector<double>, kChannels> measured;  ///< the measured channels (kChannelSpecs)
   std::vector<AircraftScore> files;

@@ -34,11 +34,9 @@ std::string cell(double v, int decimals) { return std::isfinite(v) ? fmt::format
 
 std::string header(const ValidationRun& run) {
   std::string out = fmt::format("tern validate: {}\n  estimate: {}\n", run.log, run.estimate);
-  out += fmt::format(
-      "  windows: {} of {:g} s re-initialised from the log ({:.1f} s, {} scored samples)\n  airborne: estimate valid, "
-      "height above the origin > {:g} m, Va > {:g} m/s\n",
-      run.windows.size(), run.options.window_s, scored_seconds(run), scored_samples(run.windows), run.options.min_height,
-      run.options.min_Va);
+  out += fmt::format("  windows: {} of {:g} s re-initialised from the log ({:.1f} s, {} scored samples)\n  airborne: {}, Va > {:g} m/s\n",
+                     run.windows.size(), run.options.window_s, scored_seconds(run), scored_samples(run.windows), run.airborne,
+                     run.options.min_Va);
   for (std::size_t i = 0; i < run.files.size(); ++i) {
     const AircraftScore& f = run.files[i];
     out += fmt::format("  [{}] {} ({}, servo lag {:g} s){}\n", i + 1, f.file, f.name, f.servo_tau,

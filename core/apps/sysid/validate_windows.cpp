@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "sysid/airborne.hpp"
 #include "sysid/validate.hpp"
 
 namespace tern::core::sysid {
@@ -19,20 +20,11 @@ bool estimate_finite(const FlightSeries& s, std::size_t k) {
   return true;
 }
 
-/// Seconds of the series where `flag` holds (each sample counts its interval to the next).
-double seconds_where(const FlightSeries& s, const std::vector<unsigned char>& flag) {
-  double total = 0.0;
-  for (std::size_t k = 0; k + 1 < s.size(); ++k)
-    if (flag[k]) total += s.t[k + 1] - s.t[k];
-  return total;
-}
-
 }  // namespace
 
 std::vector<unsigned char> airborne(const FlightSeries& s, const ValidateOptions& o) {
-  std::vector<unsigned char> up(s.size(), 0);
-  for (std::size_t k = 0; k < s.size(); ++k)
-    up[k] = s.valid[k] && estimate_finite(s, k) && -s.p_d[k] > o.min_height && s.Va[k] > o.min_Va ? 1 : 0;
+  std::vector<unsigned char> up = airborne_mask(s, o.ground).up;
+  for (std::size_t k = 0; k < s.size(); ++k) up[k] = up[k] && estimate_finite(s, k) && s.Va[k] > o.min_Va ? 1 : 0;
   return up;
 }
 
@@ -60,9 +52,8 @@ std::vector<Window> airborne_windows(const FlightSeries& s, const ValidateOption
   }
   if (windows.empty())
     throw ConfigError(
-        fmt::format("{}: no {:g}-s window airborne (estimate valid, height above the origin > {:g} m, Va > {:g} m/s): "
-                    "{:.1f} s airborne in all, in stretches shorter than a window",
-                    log, o.window_s, o.min_height, o.min_Va, seconds_where(s, up)));
+        fmt::format("{}: no {:g}-s window airborne ({}; Va > {:g} m/s): {:.1f} s airborne in all, in stretches shorter than a window", log,
+                    o.window_s, airborne_mask(s, o.ground).rule, o.min_Va, seconds_where(s, up)));
   return windows;
 }
 

@@ -1,0 +1,113 @@
+// core/apps/sysid/verdicts.cpp: the honest verdicts of `tern sysid` (verdicts.hpp).
+#include "sysid/verdicts.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include <fmt/format.h>
+
+namespace tern::core::sysid {
+
+namespace {
+
+/// An axis of the regressions: the prefix of its coefficients' names, its fits' axis names, and
+/// the manoeuvre that excites it.
+struct Axis {
+  const char* prefix;
+  const char* fit;         ///< AxisFit::axis of the trim and band fits
+  const char* output_fit;  ///< AxisFit::axis of the output-error fit ("" when none)
+  const char* manoeuvre;
+};
+
+constexpr std::array<Axis, 6> kAxes{{
+    {"C_L_", "lift", "", "straight legs at several airspeeds, and an elevator doublet or chirp"},
+    {"C_D_", "drag", "", "straight legs at several airspeeds"},
+    {"C_Y_", "side force", "", "a rudder doublet"},
+    {"C_ell_", "roll", "roll rate", "an aileron 3-2-1-1 or multisine"},
+    {"C_m_", "pitch", "pitch rate", "an elevator doublet or chirp"},
+    {"C_n_", "yaw", "yaw rate", "a rudder doublet"},
+}};
+
+const Axis* axis_of(const std::string& name) {
+  for (const Axis& a : kAxes)
+    if (name.rfind(a.prefix, 0) == 0) return &a;
+  return nullptr;
+}
+
+/// The fit a coefficient came from (its axis, in its method's domain), or nullptr.
+const AxisFit* fit_of(const SysidResult& r, const CoefficientEstimate& c) {
+  const Axis* a = axis_of(c.name);
+  if (!a) return nullptr;
+  const std::string axis = c.method == "output error" ? a->output_fit : a->fit;
+  for (const AxisFit& f : r.fits)
+    if (f.axis == axis && f.domain == c.method) return &f;
+  return nullptr;
+}
+
+/// Why `c` fails the rule, or "" when it holds.
+std::string failure(const SysidResult& r, const CoefficientEstimate& c, double max_relative_error) {
+  if (const AxisFit* f = fit_of(r, c); f && !(f->r_squared >= 0.0))
+    return fmt::format("its {} fit ({}) explains less than the mean: R^2 {:.2f}", f->axis, f->domain, f->r_squared);
+  if (!(c.std_error <= max_relative_error * std::abs(c.estimate)))
+    return fmt::format("its standard error {:.2g} exceeds {:g} of the estimate {:.4g}", c.std_error, max_relative_error, c.estimate);
+  return "";
+}
+
+void reject_oswald(SysidResult& r, const Aircraft& prior, const std::string& why) {
+  r.oswald.identified = false, r.oswald.note = why, r.oswald.estimate = prior.e, r.oswald.std_error = 0.0;
+  r.aircraft.e = prior.e;
+  r.notes.push_back(fmt::format("e (Oswald factor): not adopted: {}; the prior {:.3f} kept", why, prior.e));
+}
+
+void check_oswald(SysidResult& r, const Aircraft& prior, double max_relative_error, bool lift_rejected) {
+  if (!r.oswald.identified) return;
+  const auto drag = std::find_if(r.fits.begin(), r.fits.end(), [](const AxisFit& f) { return f.axis == "drag" && f.domain == "trim"; });
+  if (lift_rejected)
+    reject_oswald(r, prior, "the polar's slope rests on the lift's trim terms, which were not adopted");
+  else if (drag != r.fits.end() && !(drag->r_squared >= 0.0))
+    reject_oswald(r, prior, fmt::format("the drag's trim fit explains less than the mean: R^2 {:.2f}", drag->r_squared));
+  else if (!(r.oswald.std_error <= max_relative_error * std::abs(r.oswald.estimate)))
+    reject_oswald(r, prior,
+                  fmt::format("its standard error {:.2g} exceeds {:g} of the estimate {:.3f}", r.oswald.std_error, max_relative_error,
+                              r.oswald.estimate));
+}
+
+void note_unexcited_axes(SysidResult& r) {
+  for (const Axis& a : kAxes) {
+    const CoefficientEstimate* first = nullptr;
+    bool any = false;
+    for (const auto& c : r.coefficients) {
+      if (c.name.rfind(a.prefix, 0) != 0) continue;
+      any = any || c.identified;
+      if (!first && !c.identified) first = &c;
+    }
+    if (!any && first)
+      r.notes.push_back(fmt::format("{}: nothing identified ({}: {}); fly {} (configs/missions/sysid.yaml flies each)", a.fit, first->name,
+                                    first->note, a.manoeuvre));
+  }
+}
+
+}  // namespace
+
+void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o) {
+  bool lift_rejected = false;
+  for (auto& c : r.coefficients) {
+    if (!c.identified) continue;
+    const std::string why = failure(r, c, o.max_relative_error);
+    if (why.empty()) continue;
+    lift_rejected = lift_rejected || (c.method == "trim" && c.name.rfind("C_L_", 0) == 0);
+    c.note = "not adopted: " + why;
+    c.estimate = c.prior, c.std_error = 0.0, c.identified = false;
+    r.notes.push_back(fmt::format("{}: {}; the prior {:.4g} kept", c.name, c.note, c.prior));
+  }
+  check_oswald(r, prior, o.max_relative_error, lift_rejected);
+  note_unexcited_axes(r);
+}
+
+std::string identified_summary(const SysidResult& r) {
+  const auto n = std::count_if(r.coefficients.begin(), r.coefficients.end(), [](const CoefficientEstimate& c) { return c.identified; });
+  return fmt::format("identified {} of {} coefficients (the rest keep the prior, each with its reason)", n, r.coefficients.size());
+}
+
+}  // namespace tern::core::sysid

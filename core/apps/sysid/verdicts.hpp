@@ -1,0 +1,29 @@
+// core/apps/sysid/verdicts.hpp: the honest verdicts of `tern sysid` (issue 76, item 5;
+// docs/system-identification.md, step 7): what the identification adopts, checked once more at the
+// end against the documented rule, whichever step produced it.
+//  * A coefficient whose own regression explains less than the mean (R^2 < 0 on its axis and
+//    domain: lift, drag, side force, roll, pitch, yaw; trim, band or output error), or whose
+//    standard error exceeds `max_relative_error` of its estimate, keeps the prior, with one note.
+//  * The Oswald factor likewise (the drag's trim fit, its own bound), and it falls with the lift's
+//    trim terms, on whose C_L the polar's slope rests.
+//  * An axis the log left without any identified coefficient says so once, with the first reason
+//    and the manoeuvre that excites it (configs/missions/sysid.yaml flies each).
+// The estimates the later steps computed from a rejected one are not redone: the note says which
+// coefficients the file keeps from the prior, and sysid.json keeps every figure.
+#pragma once
+
+#include <string>
+
+#include "sysid/identify.hpp"
+
+namespace tern::core::sysid {
+
+/// Applies the rule (header) to `r` in place: coefficients and the Oswald factor back to the prior
+/// with their notes (r.aircraft.e too; its coefficients follow from r.coefficients when
+/// keep_loadable, sysid_output.hpp, builds the file), one note per rejection and per unexcited axis.
+void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o);
+
+/// "identified N of M coefficients" (M: every coefficient the result reports).
+std::string identified_summary(const SysidResult& r);
+
+}  // namespace tern::core::sysid
