@@ -221,6 +221,9 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   if (const YAML::Node s = doc["servos"]) {
     read_section(s, "servos",
                  {{"tau", &ac.servo_tau, false, kTimeConstant},
+                  {"delay_a", &ac.servo_delay_a, false, kTimeConstant},
+                  {"delay_e", &ac.servo_delay_e, false, kTimeConstant},
+                  {"delay_r", &ac.servo_delay_r, false, kTimeConstant},
                   {"max_delta_a", &ac.max_delta_a, false, kAngle},
                   {"max_delta_e", &ac.max_delta_e, false, kAngle},
                   {"max_delta_r", &ac.max_delta_r, false, kAngle}},
@@ -505,6 +508,9 @@ void validate_aircraft(const Aircraft& ac) {
   positive(ac.prop.V_max, "propulsion.V_max", "V");
   if (!(ac.prop.C_Q_0 > 0)) fail(src, "propulsion.C_Q_0", "value " + num(ac.prop.C_Q_0) + " must be > 0 (static torque)");
   nonneg(ac.servo_tau, "servos.tau", "s");
+  nonneg(ac.servo_delay_a, "servos.delay_a", "s");
+  nonneg(ac.servo_delay_e, "servos.delay_e", "s");
+  nonneg(ac.servo_delay_r, "servos.delay_r", "s");
   positive(ac.max_delta_a, "servos.max_delta_a", "rad");
   positive(ac.max_delta_e, "servos.max_delta_e", "rad");
   positive(ac.max_delta_r, "servos.max_delta_r", "rad");

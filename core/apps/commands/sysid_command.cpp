@@ -2,10 +2,13 @@
 // aerodynamic coefficients from a flight log (docs/system-identification.md): tern's estimator
 // replays the log (attitude, wind, alpha, beta), then sysid/identify.hpp's regressions;
 // sysid/sysid_output.hpp's files.
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "commands/commands.hpp"
 #include "commands/estimator_replay.hpp"
@@ -29,6 +32,7 @@ struct SysidOptionsCli {
   bool accel_x_bias = false;
   bool keep_estimate = false;
   double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
+  std::vector<double> command_delay_ms;  ///< empty: the prior's servos.delay_*; 1 value: every surface; 3: aileron, elevator, rudder
   std::vector<std::string> sets;
 };
 
@@ -46,6 +50,22 @@ fs::path estimate_of(const SysidOptionsCli& o) {
   return r.run_dir;
 }
 
+/// s, aileron, elevator, rudder: each command's delay after its stamp: --command-delay, else the
+/// prior's servos.delay_a, _e, _r (flight_data.hpp pairs each command with the motion it makes).
+std::array<double, 3> command_delays(const SysidOptionsCli& o, const Aircraft& prior) {
+  if (o.command_delay_ms.empty()) return {prior.servo_delay_a, prior.servo_delay_e, prior.servo_delay_r};
+  if (o.command_delay_ms.size() != 1 && o.command_delay_ms.size() != 3)
+    throw ConfigError(fmt::format("--command-delay: {} values: expected one (every surface) or three (aileron elevator rudder), ms",
+                                  o.command_delay_ms.size()));
+  std::array<double, 3> d{};
+  for (std::size_t i = 0; i < 3; ++i) {
+    const double ms = o.command_delay_ms[o.command_delay_ms.size() == 1 ? 0 : i];
+    if (!(std::abs(ms) <= 1000.0)) throw ConfigError(fmt::format("--command-delay: {} ms: expected -1000 .. 1000", ms));
+    d[i] = 1e-3 * ms;
+  }
+  return d;
+}
+
 int run_sysid(const SysidOptionsCli& o) {
   const Aircraft prior = load_aircraft(o.aircraft);
   if (o.band.size() != 2 || !(o.band[0] > 0.0) || !(o.band[1] > o.band[0]))
@@ -58,6 +78,7 @@ int run_sysid(const SysidOptionsCli& o) {
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
+  so.command_delay_s = command_delays(o, prior);
   sysid::read_installation(estimate, so);
   const sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, so);
   sysid::SysidOptions io;
@@ -70,10 +91,14 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   io.gyro_cross_axis = o.gyro_cross_axis;
   sysid::SysidResult r = sysid::identify(series, prior, io);
+  r.command_delay_s = so.command_delay_s;
   sysid::apply_verdicts(r, prior, io);
   const std::string options = fmt::format(
-      "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, gyro cross-axis {}, {}",
-      o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, o.gyro_cross_axis,
+      "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, command delay "
+      "{} ms, gyro cross-axis {}, {}",
+      o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
+      fmt::join(std::array<double, 3>{1e3 * so.command_delay_s[0], 1e3 * so.command_delay_s[1], 1e3 * so.command_delay_s[2]}, "/"),
+      o.gyro_cross_axis,
       o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const std::string estimate_text =
       o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
@@ -119,6 +144,11 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--gyro-cross-axis", o->gyro_cross_axis,
                 "rad/rad: the largest share of one gyro axis's rate in another's (cross-axis sensitivity and mounting; default 0.02): "
                 "widens the rolling and yawing moments' bounds, which cannot see it");
+  c->add_option("--command-delay", o->command_delay_ms,
+                "MS or A E R: each surface's command acts this long after its stamp (ms; one value for every surface, or aileron "
+                "elevator rudder; negative: the log stamps it late); default: the prior's servos.delay_a, _e, _r, else 0. A positive "
+                "delay is written into aircraft.yaml's servos (docs/system-identification.md)")
+      ->expected(1, 3);
   c->add_flag("--keep-estimate", o->keep_estimate,
               "keep the estimator's replay of the log in DIR/replay (the state at every message: hundreds of MB for a long flight; "
               "--estimate DIR/replay/<run> takes it next time)");

@@ -65,13 +65,14 @@ fs::path replayed_estimate(const ValidateRequest& o, const fs::path& dir) {
   return estimate;
 }
 
-/// Each file scored on the series loaded with its own servo lag; the windows (and the measured
-/// channels) from the first, the same samples for all.
+/// Each file scored on the series loaded with its own servo lag and delays (servos.tau, delay_*);
+/// the windows (and the measured channels) from the first, the same samples for all.
 void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft, const std::vector<std::string>& files, const fs::path& log,
                const fs::path& estimate) {
   sysid::read_installation(estimate, run.series);
   for (std::size_t i = 0; i < aircraft.size(); ++i) {
     run.series.servo_tau = aircraft[i].servo_tau;
+    run.series.command_delay_s = {aircraft[i].servo_delay_a, aircraft[i].servo_delay_e, aircraft[i].servo_delay_r};
     const sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
     if (i == 0) {
       run.windows = sysid::airborne_windows(s, run.options, run.log);

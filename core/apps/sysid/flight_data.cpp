@@ -235,9 +235,14 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const Column p = rate("gyro_x", "b_x"), q = rate("gyro_y", "b_y"), r = rate("gyro_z", "b_z");
   const std::size_t step = o.rate_hz > 0.0 ? std::max<std::size_t>(1, static_cast<std::size_t>(std::lround(1.0 / (dt * o.rate_hz)))) : 1;
   auto keep = [&](const Column& c) { return decimated(c, step); };
-  auto command = [&](const char* name) {
+  // a command that acts `delay` after its stamp is in force from its stamp plus the delay
+  auto delayed = [](Column t_cmd, double delay) {
+    for (double& v : t_cmd) v += delay;
+    return t_cmd;
+  };
+  auto command = [&](const char* name, double delay) {
     note_not_numbers(act, name, s.notes);
-    return keep(lp(commands_in_force(act.at("t"), act.at(name), t, o.servo_tau)));
+    return keep(lp(commands_in_force(delayed(act.at("t"), delay), act.at(name), t, o.servo_tau)));
   };
   s.t = keep(t);
   const Column p_dot = central_difference(p, t), q_dot = central_difference(q, t), r_dot = central_difference(r, t);
@@ -250,15 +255,18 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   s.a_x = keep(ax), s.a_y = keep(ay), s.a_z = keep(az);
   s.p_dot = keep(p_dot), s.q_dot = keep(q_dot), s.r_dot = keep(r_dot);
   s.p = keep(p), s.q = keep(q), s.r = keep(r);
-  s.delta_a = command("delta_a"), s.delta_e = command("delta_e"), s.delta_r = command("delta_r"), s.delta_t = command("delta_t");
+  const auto& d = o.command_delay_s;
+  s.delta_a = command("delta_a", d[0]), s.delta_e = command("delta_e", d[1]), s.delta_r = command("delta_r", d[2]);
+  s.delta_t = command("delta_t", 0.0);
   const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
   if (std::filesystem::exists(excitation)) {
     const CsvTable ex = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
-    auto part = [&](const char* name) {
+    auto part = [&](const char* name, double delay) {
       note_not_numbers(ex, name, s.notes);
-      return keep(lp(commands_in_force(ex.at("t"), ex.at(name), t, o.servo_tau)));
+      return keep(lp(commands_in_force(delayed(ex.at("t"), delay), ex.at(name), t, o.servo_tau)));
     };
-    s.exc_delta_a = part("delta_a"), s.exc_delta_e = part("delta_e"), s.exc_delta_r = part("delta_r"), s.exc_delta_t = part("delta_t");
+    s.exc_delta_a = part("delta_a", d[0]), s.exc_delta_e = part("delta_e", d[1]), s.exc_delta_r = part("delta_r", d[2]);
+    s.exc_delta_t = part("delta_t", 0.0);
   }
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
   // a gap) the filter sees the nearest value and the result stays NaN

@@ -15,10 +15,10 @@
 //                             log level sysid (the state at every message), or LOG itself
 // The IMU's axes are turned into the body's (imu_mount) and its specific force moved to the CG
 // (imu_position: a_cg = a - w' x r - w x (w x r)), as the estimator is configured to do.
-// The time base is the IMU's. At each IMU sample the command in force is the last actuators row at
-// or before it (a command that changes between two IMU samples counts from the next), passed
-// through the prior's first-order servo lag (servos.tau). The estimate is interpolated linearly
-// (angles unwrapped), never across a gap longer than 1 s. Every channel is then low-passed by the
+// The time base is the IMU's. At each IMU sample the command in force is the last actuators row
+// whose stamp plus its surface's delay (command_delay_s) is at or before it (a command that
+// changes between two IMU samples counts from the next), passed through the prior's first-order
+// servo lag (servos.tau). The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is then low-passed by the
 // same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear
 // relation between channels holds after filtering as before it; the angular acceleration is the
 // central difference of the filtered rate; then the samples are decimated to `rate_hz`.
@@ -27,6 +27,7 @@
 // (a missing table, a column it lacks, fewer than two seconds of estimate).
 #pragma once
 
+#include <array>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -38,6 +39,9 @@ namespace tern::core::sysid {
 
 struct FlightSeriesOptions {
   double servo_tau = 0.0;                                  ///< s, first-order lag from command to deflection (0: none)
+  /// s, aileron, elevator, rudder: each command acts this long after its stamp (command_delay.hpp;
+  /// negative: the log stamps it late). Before the servo lag; the excitation's parts alike.
+  std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};
   double filter_hz = 10.0;                                 ///< Hz, cut-off of the zero-phase low-pass (0: no filter)
   double rate_hz = 50.0;                                   ///< Hz, rate of the series after decimation (0: the IMU's)
   Eigen::Vector3d imu_position = Eigen::Vector3d::Zero();  ///< m, body FRD from the CG (the estimator's)

@@ -48,6 +48,7 @@
 // max_relative_error of the estimate.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -118,6 +119,9 @@ struct SysidResult {
   double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
   NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar
   NuisanceEstimate oswald;                      ///< e, from the polar's slope
+  /// s, aileron, elevator, rudder: the delay between a command's stamp and its effect with which the
+  /// series was loaded (FlightSeriesOptions::command_delay_s; set by the caller)
+  std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};
   std::vector<std::string> notes;               ///< one line each: what the log could not support, and why
   std::vector<AxisSeries> series;
 };

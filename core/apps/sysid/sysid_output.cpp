@@ -23,6 +23,9 @@ std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
         "{}: aero: not a tern aircraft file (a map 'aero' of the uavbook's coefficients); convert it with tern aero import", from.prior));
   for (const auto& c : r.coefficients) doc["aero"][c.name] = c.estimate;
   if (doc["wing"] && doc["wing"].IsMap()) doc["wing"]["e"] = r.aircraft.e;
+  // the delays the series was paired with are the servos' (a negative one is the log's stamping, not theirs)
+  for (std::size_t i = 0; i < r.command_delay_s.size(); ++i)
+    if (r.command_delay_s[i] > 0.0) doc["servos"][std::string("delay_") + "aer"[i]] = r.command_delay_s[i];
   doc["name"] = r.aircraft.name + "-identified";
   YAML::Emitter e;
   e.SetDoublePrecision(6);
@@ -94,8 +97,17 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   j["instrumentation"] = {{"pitot_scale", nuisance(r.pitot_scale, "Va_true / Va_pitot")},
                           {"accel_x_bias", nuisance(r.accel_x_bias, "m/s^2")},
                           {"wind_ne", {r.wind_n, r.wind_e}}};
+  j["command_delay_s"] = {{"aileron", r.command_delay_s[0]}, {"elevator", r.command_delay_s[1]}, {"rudder", r.command_delay_s[2]}};
   j["notes"] = r.notes;
   return j;
+}
+
+/// "command delay: aileron 10 ms, elevator 10 ms, rudder 10 ms (each command paired with the motion ...)".
+std::string delay_line(const SysidResult& r) {
+  const auto& d = r.command_delay_s;
+  return fmt::format("command delay: aileron {:g} ms, elevator {:g} ms, rudder {:g} ms (each command paired with the motion that "
+                     "long after its stamp: --command-delay, or the prior's servos.delay_*)",
+                     1e3 * d[0], 1e3 * d[1], 1e3 * d[2]);
 }
 
 /// One SVG panel: measured (black) and predicted (orange) against time.
@@ -129,6 +141,7 @@ std::string html(const SysidResult& r, const SysidProvenance& from) {
   for (const auto& s : r.series) panels += svg_panel(s);
   std::string notes;
   for (const auto& n : r.notes) notes += "<li>" + n + "</li>\n";
+  notes += "<li>" + delay_line(r) + "</li>\n";
   return fmt::format(
       "<!doctype html><html><head><meta charset='utf-8'><title>tern sysid: {}</title>"
       "<style>body{{font-family:sans-serif}} td,th{{padding:2px 8px;text-align:right}} "
@@ -185,6 +198,7 @@ std::string format_sysid_table(const SysidResult& r) {
   };
   out += fmt::format("pitot scale {}, accelerometer x bias {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
                      line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"));
+  out += delay_line(r) + "\n";
   for (const auto& f : r.fits)
     out +=
         fmt::format("fit {:<10} {:<4} R^2 {:.3f}, rms residual {:.3g}, {} rows\n", f.axis, f.domain, f.r_squared, f.rms_residual, f.rows);

@@ -114,6 +114,11 @@ struct Aircraft {
   AeroCoefficients aero;
   Propulsion prop;
   double servo_tau = 0.0;                                                         ///< first-order servo time constant, s (0: no lag)
+  /// s, >= 0: aileron, elevator, rudder: the dead time between a command and the surface's first move
+  /// (servos.delay_a, delay_e, delay_r; 0 each by default). Read by tern sysid and tern validate,
+  /// which pair each logged command with the motion it makes (tern sysid --command-delay writes them);
+  /// sim_aero's servos do not delay (their lag is servo_tau).
+  double servo_delay_a = 0.0, servo_delay_e = 0.0, servo_delay_r = 0.0;
   double max_delta_a = 0.785398, max_delta_e = 0.785398, max_delta_r = 0.785398;  ///< rad
   Gear gear;
 
