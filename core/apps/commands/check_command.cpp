@@ -6,6 +6,7 @@
 #include "commands/commands.hpp"
 #include "commands/fleet_command.hpp"
 #include "commands/host_preparation.hpp"
+#include "tern/aircraft.hpp"
 
 namespace tern::core {
 
@@ -22,6 +23,8 @@ int check(const CheckOptions& o) {
   const std::unique_ptr<Host> host = describing_host(o.config, o.prep);
   std::fputs((o.dot ? host->graph_dot() : host->graph_text()).c_str(), stdout);
   std::fflush(stdout);
+  // the aircraft file as the flight's simulator will read it (tern/aircraft.hpp: ranges, inertia)
+  if (!host->config().aircraft.empty()) load_aircraft(host->config().aircraft.string());
   const bool ok = report_missions(check_missions(*host), true);
   if (ok && !o.dot) std::printf("config OK: %s\n", host->config().file.c_str());
   return ok ? 0 : 1;

@@ -98,8 +98,7 @@ int run_sysid(const SysidOptionsCli& o) {
       "{} ms, gyro cross-axis {}, {}",
       o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
       fmt::join(std::array<double, 3>{1e3 * so.command_delay_s[0], 1e3 * so.command_delay_s[1], 1e3 * so.command_delay_s[2]}, "/"),
-      o.gyro_cross_axis,
-      o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
+      o.gyro_cross_axis, o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const std::string estimate_text =
       o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
   const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate_text, options};

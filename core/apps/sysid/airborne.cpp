@@ -49,7 +49,7 @@ AirborneMask airborne_mask(const FlightSeries& s, const AirborneRule& rule) {
   m.rule = fmt::format(
       "estimate valid, more than {:g} m above the ground where the aircraft stood still ({:.1f} m from the estimator's "
       "origin; ground speed below {:g} m/s)",
-      rule.min_height, ground, rule.still_speed);
+      rule.min_height, std::abs(ground) < 0.05 ? 0.0 : ground, rule.still_speed);  // never "-0.0 m"
   return m;
 }
 

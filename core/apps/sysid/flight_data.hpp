@@ -18,10 +18,10 @@
 // The time base is the IMU's. At each IMU sample the command in force is the last actuators row
 // whose stamp plus its surface's delay (command_delay_s) is at or before it (a command that
 // changes between two IMU samples counts from the next), passed through the prior's first-order
-// servo lag (servos.tau). The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is then low-passed by the
-// same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear
-// relation between channels holds after filtering as before it; the angular acceleration is the
-// central difference of the filtered rate; then the samples are decimated to `rate_hz`.
+// servo lag (servos.tau). The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is
+// then low-passed by the same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear relation between
+// channels holds after filtering as before it; the angular acceleration is the central difference of the filtered rate; then the samples
+// are decimated to `rate_hz`.
 //
 // Units SI, angles rad, body frame FRD, NED. Errors: ConfigError, one line naming the file
 // (a missing table, a column it lacks, fewer than two seconds of estimate).
@@ -38,7 +38,7 @@
 namespace tern::core::sysid {
 
 struct FlightSeriesOptions {
-  double servo_tau = 0.0;                                  ///< s, first-order lag from command to deflection (0: none)
+  double servo_tau = 0.0;  ///< s, first-order lag from command to deflection (0: none)
   /// s, aileron, elevator, rudder: each command acts this long after its stamp (command_delay.hpp;
   /// negative: the log stamps it late). Before the servo lag; the excitation's parts alike.
   std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};

@@ -122,7 +122,7 @@ struct SysidResult {
   /// s, aileron, elevator, rudder: the delay between a command's stamp and its effect with which the
   /// series was loaded (FlightSeriesOptions::command_delay_s; set by the caller)
   std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};
-  std::vector<std::string> notes;               ///< one line each: what the log could not support, and why
+  std::vector<std::string> notes;  ///< one line each: what the log could not support, and why
   std::vector<AxisSeries> series;
 };
 

@@ -105,9 +105,10 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
 /// "command delay: aileron 10 ms, elevator 10 ms, rudder 10 ms (each command paired with the motion ...)".
 std::string delay_line(const SysidResult& r) {
   const auto& d = r.command_delay_s;
-  return fmt::format("command delay: aileron {:g} ms, elevator {:g} ms, rudder {:g} ms (each command paired with the motion that "
-                     "long after its stamp: --command-delay, or the prior's servos.delay_*)",
-                     1e3 * d[0], 1e3 * d[1], 1e3 * d[2]);
+  return fmt::format(
+      "command delay: aileron {:g} ms, elevator {:g} ms, rudder {:g} ms (each command paired with the motion that "
+      "long after its stamp: --command-delay, or the prior's servos.delay_*)",
+      1e3 * d[0], 1e3 * d[1], 1e3 * d[2]);
 }
 
 /// One SVG panel: measured (black) and predicted (orange) against time.

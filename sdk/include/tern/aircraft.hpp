@@ -113,7 +113,7 @@ struct Aircraft {
   bool stall_blend = true;
   AeroCoefficients aero;
   Propulsion prop;
-  double servo_tau = 0.0;                                                         ///< first-order servo time constant, s (0: no lag)
+  double servo_tau = 0.0;  ///< first-order servo time constant, s (0: no lag)
   /// s, >= 0: aileron, elevator, rudder: the dead time between a command and the surface's first move
   /// (servos.delay_a, delay_e, delay_r; 0 each by default). Read by tern sysid and tern validate,
   /// which pair each logged command with the motion it makes (tern sysid --command-delay writes them);

@@ -132,8 +132,8 @@ TEST_CASE("bad logs: an estimate never valid, or no whole window airborne, is on
   std::fill(never.valid.begin(), never.valid.end(), 0);
   CHECK_THROWS_WITH_AS(airborne_windows(never, o, "LOG"), doctest::Contains("LOG: the estimate never became valid"),
                        tern::core::ConfigError);
-  for (std::size_t k = 0; k < s.size(); ++k)  // on the ground (height 0) but for 2 s at 4-6 s and 3 s at 8-11 s
-    if (!((s.t[k] >= 4 && s.t[k] < 6) || (s.t[k] >= 8 && s.t[k] < 11))) s.p_d[k] = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k)  // standing on the ground (height 0) but for 2 s at 4-6 s and 3 s at 8-11 s
+    if (!((s.t[k] >= 4 && s.t[k] < 6) || (s.t[k] >= 8 && s.t[k] < 11))) s.p_d[k] = 0.0, s.u[k] = s.v[k] = s.w[k] = 0.0;
   CHECK_THROWS_WITH_AS(airborne_windows(s, o, "LOG"), doctest::Contains("LOG: no 5-s window airborne"), tern::core::ConfigError);
   ValidateOptions two = o;
   two.window_s = 2.0;
