@@ -1,8 +1,12 @@
 """tern plot: the 3-D replay on index.html (issue 65). What the page's scene needs, taken from the
 loaded runs (tern_plot_load.load_run: CSV and MCAP runs alike) and downsampled to RATE_HZ, is
-written as view3d_data.js (`window.TERN_VIEW3D = {...}`) beside index.html, with view3d.js (the
-scene, core/apps/console/view3d*.js bundled with three.js at build time) copied from tern plot's
-share directory; both load from disk without a server. A topic the run lacks (a killed flight, a
+written as view3d_data.js (`window.TERN_VIEW3D = {...}`) beside index.html. The scene, view3d.js
+(core/apps/console/view3d*.js bundled with three.js at build time, ~0.6 MB), is not copied into
+every run (issue 80): one copy, tern-view3d-<its sha256's first 12 hex digits>.js, sits in the
+directory that holds the run directories (runs/), written by the first run that needs it; the page
+loads it from there, else (a run moved away from its siblings) from tern plot's install, else it
+says how to get it back. All of it from disk, without a server. Plots written anywhere but a run's
+plots/ directory get their own copy. A topic the run lacks (a killed flight, a
 hardware log without truth) leaves its part out and one line on the page names what is missing.
 
 Per vehicle: the truth's and the estimate's positions (NED, m) and 3-2-1 Euler angles (rad), the
@@ -13,10 +17,12 @@ structure nose and tail points). For the run: the mission's waypoints, home and 
 runway. Positions in the main estimator's NED (the figures' frame); a fleet's in the world NED
 (tern_plot_fleet.py's frame)."""
 
+import hashlib
 import html
 import json
 import math
 import os
+import pathlib
 import shutil
 
 import numpy as np
@@ -222,9 +228,46 @@ def scene_box(vehicles, waypoints):
     return round(float(max(hi[0] - lo[0], hi[1] - lo[1], 100.0) * 1.2), 1), [round(float(x), 1) for x in (lo + hi) / 2]
 
 
+def shared_bundle(src, out_dir):
+    """view3d.js where the page finds it (module docstring): its path relative to out_dir."""
+    with open(src, "rb") as f:
+        name = f"tern-view3d-{hashlib.sha256(f.read()).hexdigest()[:12]}.js"
+    out_dir = os.path.abspath(out_dir)
+    if os.path.basename(out_dir) == "plots":  # <runs>/<run>/plots: one copy in <runs>
+        target = os.path.join(os.path.dirname(os.path.dirname(out_dir)), name)
+        try:
+            if not os.path.isfile(target):
+                tmp = f"{target}.{os.getpid()}.tmp"  # whole or absent, whoever writes it first
+                shutil.copyfile(src, tmp)
+                os.replace(tmp, target)
+            return os.path.relpath(target, out_dir)
+        except OSError:
+            pass  # a read-only parent: the run keeps its own copy
+    shutil.copyfile(src, os.path.join(out_dir, BUNDLE))
+    return BUNDLE
+
+
+def bundle_loader(candidates):
+    """A script that loads the first of `candidates` (URLs) that exists, else says where it looked."""
+    urls = json.dumps(candidates).replace("</", "<\\/")  # never a closing tag inside the script
+    return ("<script>(function (urls) {\n"
+            "  function next(i) {\n"
+            "    if (i >= urls.length) {\n"
+            "      document.getElementById('view3d').textContent = '3-D replay: view3d.js not found (' + urls.join(', ') +\n"
+            "        '): run tern-plot on this run again to write it';\n"
+            "      return;\n"
+            "    }\n"
+            "    var s = document.createElement('script');\n"
+            "    s.src = urls[i];\n"
+            "    s.onerror = function () { next(i + 1); };\n"
+            "    document.body.appendChild(s);\n"
+            "  }\n"
+            f"  next(0);\n}})({urls});</script>\n")
+
+
 def write_view3d(out_dir, vehicles, waypoints, home, runway, missing):
-    """view3d_data.js and view3d.js into out_dir; the index.html section (HTML), or "" with a
-    note when view3d.js is not installed."""
+    """view3d_data.js into out_dir, view3d.js where the page finds it (shared_bundle); the
+    index.html section (HTML), or a note when view3d.js is not installed."""
     src = bundle_path()
     esc = html.escape
     if src is None:
@@ -237,10 +280,13 @@ def write_view3d(out_dir, vehicles, waypoints, home, runway, missing):
             "missing": [f"missing in this run: {'; '.join(missing)}"] if missing else [], "vehicles": vehicles}
     with open(os.path.join(out_dir, DATA), "w", encoding="utf-8") as f:
         f.write("window.TERN_VIEW3D = " + json.dumps(data, separators=(",", ":"), allow_nan=False) + ";\n")
-    shutil.copyfile(src, os.path.join(out_dir, BUNDLE))
+    page_src = shared_bundle(src, out_dir)
+    candidates = [pathlib.PurePath(page_src).as_posix()]
+    if page_src != BUNDLE:
+        candidates.append(pathlib.Path(src).resolve().as_uri())
     return (f'<h2 id="replay3d">3-D replay</h2>\n<div id="view3d"></div>\n<p class="hint">Drag to turn, wheel to zoom '
             "(free camera: the models drawn larger, their span 1/25 of the scene; follow: at their size); the URL's <code>#t=SECONDS</code> opens the "
-            f'replay at that time.</p>\n<script src="{esc(DATA)}"></script>\n<script src="{esc(BUNDLE)}"></script>\n')
+            f'replay at that time.</p>\n<script src="{esc(DATA)}"></script>\n' + bundle_loader(candidates))
 
 
 VIEW3D_STYLE = """

@@ -14,7 +14,9 @@ the SwiftShader software renderer:
   * uav2's replay (read from its flight.mcap) has both tracks and draws;
   * the fleet's replay has both vehicles, each in its own colour, 300 m apart at the start;
   * a truncated run (a killed flight: no truth, no controller_internals, state.csv cut mid-line)
-    still draws its estimate and shows one line naming what is missing.
+    still draws its estimate and shows one line naming what is missing;
+  * a run's own plots hold no view3d.js: one copy beside the runs serves them all, and a run
+    copied away from it draws with tern plot's installed copy.
 Optionally saves a screenshot of uav1's replay. Exit status 77 (ctest: skipped) with a message
 only when Chromium, chromedriver or Python's selenium is missing here.
 """
@@ -177,8 +179,20 @@ def main(tern, keep):
         lines = data_of(os.path.join(truncated, "plots"))["missing"]
         assert len(lines) == 1 and "truth" in lines[0] and "controller_internals" in lines[0], lines
 
+        # one copy of the scene beside the runs, not one per run (issue 80); a run moved away from
+        # its siblings still opens, with the installed copy
+        r = subprocess.run([plot, a], capture_output=True, text=True, timeout=600)
+        assert r.returncode == 0, r.stderr[-2000:]
+        assert not os.path.exists(os.path.join(a, "plots", "view3d.js")), "view3d.js copied into the run"
+        shared = [f for f in os.listdir(logs) if f.startswith("tern-view3d-") and f.endswith(".js")]
+        assert len(shared) == 1, f"the runs' directory holds {shared}"
+        moved = os.path.join(tmp, "elsewhere", "lone")
+        shutil.copytree(a, moved)
+
         driver = browser()
         try:
+            check_replay(driver, os.path.join(moved, "plots", "index.html"), tmp)
+            print("a run moved away from the shared view3d.js: drawn with the installed one")
             check_replay(driver, os.path.join(plots, "uav1", "index.html"), tmp, keep)
             check_replay(driver, os.path.join(plots, "uav2", "index.html"), tmp)
             s = open_at(driver, os.path.join(plots, "index.html"), 30)
