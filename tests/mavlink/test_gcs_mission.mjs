@@ -8,7 +8,8 @@
 //   - AUTOPILOT_VERSION (MAV_CMD_REQUEST_MESSAGE) with MISSION_INT, COMMAND_INT, PARAM_FLOAT, MAVLINK2;
 //     HOME_POSITION on request;
 //   - downloads the configured mission before any upload (the planner's list as items);
-//   - hostile mission traffic: a count of 65535 (NO_SPACE), a FENCE upload (UNSUPPORTED), items out of
+//   - hostile mission traffic: a count of 65535 (NO_SPACE), a FENCE upload and a RALLY download (UNSUPPORTED, the ACK
+//     carrying their mission type), items out of
 //     order (the expected one asked again), an upload abandoned half way (re-requested, then
 //     OPERATION_CANCELLED) leave the mission as it was; bad items (DO_JUMP, a LOCAL_NED frame) are
 //     refused with their MAV_MISSION_RESULT and a STATUSTEXT naming the item;
@@ -134,6 +135,11 @@ try {
   check((await huge).type === R.NO_SPACE, 'MISSION_COUNT 65535 answered MAV_MISSION_NO_SPACE')
   const fence = await upload([item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, h.lat, h.lon, 50)], 1)
   check(fence.type === R.UNSUPPORTED, `a FENCE upload answered MAV_MISSION_UNSUPPORTED (${fence.type})`)
+  check(fence.missionType === 1, `... in a MISSION_ACK whose mission_type is FENCE, as a planner matches it (${fence.missionType})`)
+  const rally = gcs.next('MISSION_ACK', () => true, 3000)
+  gcs.send(Object.assign(target(new common.MissionRequestList()), { missionType: 2 }))
+  const r2 = await rally
+  check(r2.type === R.UNSUPPORTED && r2.missionType === 2, `a RALLY download answered UNSUPPORTED with mission_type RALLY (${r2.type}, ${r2.missionType})`)
   // out of order: item 2 first; the vehicle asks for 0 again
   const again = gcs.next('MISSION_REQUEST_INT', (d) => d.seq === 0, 2000)
   const first = gcs.next('MISSION_REQUEST_INT', (d) => d.seq === 0, 2000)

@@ -69,12 +69,22 @@ bool MissionProtocol::for_us(std::uint8_t sys, std::uint8_t comp) const {
   return (sys == 0 || sys == system_id_) && (comp == 0 || comp == MAV_COMP_ID_AUTOPILOT1);
 }
 
-void MissionProtocol::ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result) {
+void MissionProtocol::ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result, std::uint8_t mission_type) {
   MissionAck a;
   a.target_system = sys;
   a.target_component = comp;
   a.type = result;
+  a.mission_type = mission_type;
   out_.send(MissionAck::kId, encode(a));
+}
+
+void MissionProtocol::refuse_type(const Frame& f, std::uint8_t mission_type) {
+  const char* what = mission_type == MAV_MISSION_TYPE_FENCE   ? "geofence"
+                     : mission_type == MAV_MISSION_TYPE_RALLY ? "rally points"
+                                                              : "mission type";
+  out_.say(MAV_SEVERITY_WARNING, std::string(what) + " (mission type " + std::to_string(mission_type) +
+                                     ") not supported over MAVLink: the config's failsafe geometry applies");
+  ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED, mission_type);
 }
 
 void MissionProtocol::request(const Upload& u) {
@@ -89,7 +99,7 @@ void MissionProtocol::on_count(const Frame& f) {
   const auto m = decode<MissionCount>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   upload_.reset();  // a new count restarts an upload
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, m.mission_type);
   if (m.count > kMaxItems) {
     out_.say(MAV_SEVERITY_WARNING, "mission of " + std::to_string(m.count) + " items refused: at most " + std::to_string(kMaxItems));
     return ack(f.sysid, f.compid, MAV_MISSION_NO_SPACE);
@@ -179,7 +189,7 @@ void MissionProtocol::on_request(const Frame& f) {
   // MISSION_REQUEST (deprecated) and MISSION_REQUEST_INT ask alike; both are answered with MISSION_ITEM_INT
   const auto answer = [&](const auto& r) {
     if (!for_us(r.target_system, r.target_component)) return;
-    if (r.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+    if (r.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, r.mission_type);
     if (r.seq >= download_.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE);
     MissionItemInt it = download_[r.seq];
     it.target_system = f.sysid;
@@ -196,7 +206,7 @@ void MissionProtocol::on_request(const Frame& f) {
 void MissionProtocol::on_list(const Frame& f) {
   const auto m = decode<MissionRequestList>(f);
   if (!for_us(m.target_system, m.target_component)) return;
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, m.mission_type);
   download_ = items();
   MissionCount c;
   c.count = static_cast<std::uint16_t>(download_.size());
@@ -208,8 +218,7 @@ void MissionProtocol::on_list(const Frame& f) {
 void MissionProtocol::on_clear(const Frame& f) {
   const auto m = decode<MissionClearAll>(f);
   if (!for_us(m.target_system, m.target_component)) return;
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION && m.mission_type != MAV_MISSION_TYPE_ALL)
-    return ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED);
+  if (m.mission_type != MAV_MISSION_TYPE_MISSION && m.mission_type != MAV_MISSION_TYPE_ALL) return refuse_type(f, m.mission_type);
   upload_.reset();
   msg::MissionEdit e;
   e.id = next_edit_id();
@@ -218,13 +227,13 @@ void MissionProtocol::on_clear(const Frame& f) {
     host_.edit_mission(e);
   } catch (const std::exception& err) {
     out_.say(MAV_SEVERITY_WARNING, std::string("mission not cleared: ") + err.what());
-    return ack(f.sysid, f.compid, MAV_MISSION_ERROR);
+    return ack(f.sysid, f.compid, MAV_MISSION_ERROR, m.mission_type);
   }
   Uploaded none;
   none.list_seq = flight_.view().list_seq;
   uploaded_ = std::move(none);
   commanded_ = false;
-  ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED);
+  ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED, m.mission_type);
 }
 
 void MissionProtocol::on_set_current(const Frame& f) {

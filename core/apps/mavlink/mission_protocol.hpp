@@ -104,7 +104,11 @@ class MissionProtocol {
   void on_set_current(const Frame& f);
   void finish_upload();
   void request(const Upload& u);
-  void ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result);
+  /// MISSION_ACK to (sys, comp): `result` (MAV_MISSION_RESULT) for the list of `mission_type`
+  /// (MAV_MISSION_TYPE: a planner matches the answer to its transfer by it).
+  void ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result, std::uint8_t mission_type = MAV_MISSION_TYPE_MISSION);
+  /// A list other than the mission's (a geofence, rally points) refused with its type and one STATUSTEXT.
+  void refuse_type(const Frame& f, std::uint8_t mission_type);
   bool for_us(std::uint8_t sys, std::uint8_t comp) const;
   bool ours_flown(const FlightView& v) const;
   std::filesystem::path write(const std::string& text);
