@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "aircraft_cli_util.hpp"
@@ -118,6 +119,38 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   const nlohmann::json jh = nlohmann::json::parse(read_file(out3 / "sysid.json"));
   CHECK(jh["coefficients"]["C_ell_delta_a"]["estimate"].get<double>() ==
         doctest::Approx(j["coefficients"]["C_ell_delta_a"]["estimate"].get<double>()).epsilon(0.01));
+  // commands stamped 10 ms before they act (another autopilot's log): --command-delay 10 pairs them
+  // with their motion again, and the identified file's servos carry the delay
+  const fs::path late = test_dir() / "late";
+  fs::create_directories(late);
+  fs::copy(run / "topics", late / "topics", fs::copy_options::recursive);
+  std::istringstream act(read_file(run / "topics" / "actuators.csv"));
+  std::string shifted;
+  for (std::size_t k = 0; std::getline(act, line); ++k) {
+    if (k > 0) {  // t [s], stamp [ns]: 10 ms earlier
+      const auto a = line.find(','), b = line.find(',', a + 1);
+      const long long stamp = std::stoll(line.substr(a + 1, b - a - 1)) - 10'000'000;
+      line = fmt::format("{:.9f},{}", static_cast<double>(stamp) * 1e-9, stamp) + line.substr(b);
+    }
+    shifted += line + "\n";
+  }
+  write_file("late/topics/actuators.csv", shifted);
+  const fs::path out4 = test_dir() / "out4";
+  const auto d = sysid({late.string(), "--aircraft", prior.string(), "--out", out4.string(), "--estimate",
+                        j["produced_by"]["estimate"].get<std::string>(), "--command-delay", "10"},
+                       "late");
+  INFO(d.second);
+  REQUIRE(d.first == 0);
+  CHECK(d.second.find("command delay: aileron 10 ms, elevator 10 ms, rudder 10 ms") != std::string::npos);
+  const nlohmann::json jd = nlohmann::json::parse(read_file(out4 / "sysid.json"));
+  for (const char* name : {"C_ell_delta_a", "C_ell_p", "C_m_delta_e", "C_n_delta_r"}) {
+    CAPTURE(name);
+    CHECK(jd["coefficients"][name]["estimate"].get<double>() ==
+          doctest::Approx(j["coefficients"][name]["estimate"].get<double>()).epsilon(0.02));
+  }
+  const tern::Aircraft with_delay = tern::load_aircraft((out4 / "aircraft.yaml").string());
+  CHECK(with_delay.servo_delay_a == doctest::Approx(0.010));
+  CHECK(with_delay.servo_delay_r == doctest::Approx(0.010));
 }
 
 TEST_CASE("tern sysid: each bad input is one error line") {
@@ -137,4 +170,6 @@ TEST_CASE("tern sysid: each bad input is one error line") {
   write_file("no_gnss/topics/actuators.csv", read_file(run / "topics" / "actuators.csv"));
   one_line(sysid({(test_dir() / "no_gnss").string(), "--aircraft", kAerosonde, "--out", out}, "gnss"), "gnss.csv: no such table");
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--band", "2", "1"}, "band"), "--band");
+  one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--command-delay", "1", "2"}, "delay"),
+           "--command-delay: 2 values");
 }

@@ -72,13 +72,14 @@ int run_sysid(const SysidOptionsCli& o) {
     throw ConfigError(fmt::format("--band: {} .. {} Hz: expected 0 < LO < HI", o.band.front(), o.band.back()));
   if (o.flow_angles != "accelerometer" && o.flow_angles != "estimator")
     throw ConfigError(fmt::format("--flow-angles: '{}': expected accelerometer or estimator", o.flow_angles));
+  const std::array<double, 3> delays = command_delays(o, prior);
   tables_from_mcap(o.log_dir);  // a run directory logged as MCAP only
   sysid::check_sensor_log(o.log_dir, o.estimate.empty());
   const ReplayScratch scratch(o.estimate.empty() ? fs::path(o.out_dir) / "replay" : fs::path(), o.keep_estimate);
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
-  so.command_delay_s = command_delays(o, prior);
+  so.command_delay_s = delays;
   sysid::read_installation(estimate, so);
   const sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, so);
   sysid::SysidOptions io;

@@ -24,8 +24,10 @@ std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
   for (const auto& c : r.coefficients) doc["aero"][c.name] = c.estimate;
   if (doc["wing"] && doc["wing"].IsMap()) doc["wing"]["e"] = r.aircraft.e;
   // the delays the series was paired with are the servos' (a negative one is the log's stamping, not theirs)
-  for (std::size_t i = 0; i < r.command_delay_s.size(); ++i)
-    if (r.command_delay_s[i] > 0.0) doc["servos"][std::string("delay_") + "aer"[i]] = r.command_delay_s[i];
+  for (std::size_t i = 0; i < r.command_delay_s.size(); ++i) {
+    const std::string key = std::string("delay_") + "aer"[i];
+    if (r.command_delay_s[i] > 0.0 || (doc["servos"] && doc["servos"][key])) doc["servos"][key] = std::max(r.command_delay_s[i], 0.0);
+  }
   doc["name"] = r.aircraft.name + "-identified";
   YAML::Emitter e;
   e.SetDoublePrecision(6);
