@@ -11,7 +11,7 @@
 //   - hostile mission traffic: a count of 65535 (NO_SPACE), a FENCE upload and a RALLY download (UNSUPPORTED, the ACK
 //     carrying their mission type), items out of
 //     order (the expected one asked again), an upload abandoned half way (re-requested, then
-//     OPERATION_CANCELLED) leave the mission as it was; bad items (DO_JUMP, a LOCAL_NED frame) are
+//     OPERATION_CANCELLED) leave the mission as it was; bad items (a DO_JUMP past the end, a LOCAL_NED frame) are
 //     refused with their MAV_MISSION_RESULT and a STATUSTEXT naming the item;
 //   - uploads 10 items and reads them back identical; MISSION_SET_CURRENT keeps them;
 //   - an arm in flight is DENIED with a STATUSTEXT; DO_REPOSITION to a point 300 m away: the
@@ -168,9 +168,9 @@ try {
   // ---- bad items ----
   const jumpText = gcs.next('STATUSTEXT', (d) => d.text.startsWith('mission item 2 '), 3000)
   const jump = await upload([item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, ...at(100, 0), 60),
-    item(1, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, ...at(0, 100), 60), item(2, Cmd.DO_JUMP, Frame.MISSION, 0, 0, 0, [0, 3, 0, 0])])
-  check(jump.type === R.UNSUPPORTED, `DO_JUMP refused: MAV_MISSION_UNSUPPORTED (${jump.type})`)
-  check((await jumpText).text.includes('MAV_CMD 177'), 'a STATUSTEXT names item 2 and its command')
+    item(1, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, ...at(0, 100), 60), item(2, Cmd.DO_JUMP, Frame.MISSION, 0, 0, 0, [9, 3, 0, 0])])
+  check(jump.type === R.INVALID_PARAM1, `a DO_JUMP past the mission's end refused: MAV_MISSION_INVALID_PARAM1 (${jump.type})`)
+  check((await jumpText).text.includes('DO_JUMP'), 'a STATUSTEXT names item 2 and its command')
   const local = await upload([item(0, Cmd.NAV_WAYPOINT, Frame.LOCAL_NED, 0, 0, -60)])
   check(local.type === R.UNSUPPORTED_FRAME, `a LOCAL_NED item refused: MAV_MISSION_UNSUPPORTED_FRAME (${local.type})`)
 

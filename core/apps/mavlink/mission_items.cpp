@@ -125,6 +125,7 @@ std::string command_name(std::uint16_t c) {
     case MAV_CMD_NAV_TAKEOFF: return "NAV_TAKEOFF";
     case MAV_CMD_DO_CHANGE_SPEED: return "DO_CHANGE_SPEED";
     case MAV_CMD_DO_LAND_START: return "DO_LAND_START";
+    case MAV_CMD_DO_JUMP: return "DO_JUMP";
     default: return "MAV_CMD " + std::to_string(c);
   }
 }
@@ -137,6 +138,13 @@ void check_item(const MissionItemInt& it) {
     return;
   }
   if (it.command == MAV_CMD_DO_LAND_START) return;
+  if (it.command == MAV_CMD_DO_JUMP) {
+    if (!(it.param1 >= 0.0f && it.param1 < 65536.0f && std::floor(it.param1) == it.param1))
+      refuse(it, MAV_MISSION_INVALID_PARAM1, "jump to " + num(it.param1) + ": an item's seq (a whole number >= 0)");
+    if (!(it.param2 >= -1.0f && it.param2 < 65536.0f && std::floor(it.param2) == it.param2))
+      refuse(it, MAV_MISSION_INVALID_PARAM2, "repeat " + num(it.param2) + ": a whole number >= 0, or -1 (for ever)");
+    return;
+  }
   if (!is_nav_item(it.command)) refuse(it, MAV_MISSION_UNSUPPORTED, "not a mission item tern flies (docs/ground-station.md)");
   if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
     refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
@@ -156,13 +164,51 @@ void check_item(const MissionItemInt& it) {
   if (it.command == MAV_CMD_NAV_LAND && std::isinf(it.param4)) refuse(it, MAV_MISSION_INVALID_PARAM4, "heading " + num(it.param4) + " deg");
 }
 
+namespace {
+
+/// Where a DO_JUMP at `i` sends the mission: its target's index, after checking that it exists; a
+/// repeat of -1 is only taken as the last item back to the first nav item (then `loop`).
+std::size_t jump_target(const std::vector<MissionItemInt>& items, std::size_t i, bool& loop) {
+  const MissionItemInt& it = items[i];
+  const auto target = static_cast<std::size_t>(it.param1);
+  if (target >= items.size())
+    refuse(it, MAV_MISSION_INVALID_PARAM1, "jump to item " + num(it.param1) + ": the mission has " + std::to_string(items.size()));
+  if (it.param2 == -1.0f) {
+    std::size_t first_nav = 0;
+    while (first_nav < items.size() && !is_nav_item(items[first_nav].command)) ++first_nav;
+    if (i + 1 != items.size() || target > first_nav)
+      refuse(it, MAV_MISSION_INVALID_PARAM2,
+             "repeat -1 (for ever): tern loops a whole mission only (a DO_JUMP as the last item, back to the first nav item)");
+    loop = true;
+  }
+  return target;
+}
+
+}  // namespace
+
 path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& home, std::vector<std::uint16_t>* nav_seq) {
   path::Mission m;
   m.loop = false;
   m.source = "MAVLink upload";
   double Va_d = 0.0;
-  for (const MissionItemInt& it : items) {
-    check_item(it);
+  for (const MissionItemInt& it : items) check_item(it);
+  std::vector<long> jumps_left(items.size(), 0);
+  for (std::size_t i = 0; i < items.size(); ++i)
+    if (items[i].command == MAV_CMD_DO_JUMP) jumps_left[i] = static_cast<long>(items[i].param2);
+  // the items in the order they fly, each jump taken as often as it says (bounded: every step either
+  // adds a waypoint, of which there are at most kMaxFlownWaypoints, or uses up a jump or an item)
+  std::size_t steps = 0;
+  for (std::size_t i = 0; i < items.size(); ++i) {
+    const MissionItemInt& it = items[i];
+    if (++steps > 64 * (kMaxFlownWaypoints + items.size()))
+      refuse(it, MAV_MISSION_NO_SPACE, "its DO_JUMPs go round more than the mission can hold");
+    if (it.command == MAV_CMD_DO_JUMP) {
+      const std::size_t target = jump_target(items, i, m.loop);
+      if (m.loop || jumps_left[i] == 0) continue;
+      --jumps_left[i];
+      i = target - 1;  // the loop's ++i lands on the target (unsigned: 0 - 1 + 1 is 0)
+      continue;
+    }
     if (it.command == MAV_CMD_DO_CHANGE_SPEED) {
       if (it.param2 > 0.0f) Va_d = it.param2;
       if (it.param2 == -2.0f) Va_d = 0.0;
@@ -181,6 +227,8 @@ path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrig
       if (m.waypoints.empty()) refuse(it, MAV_MISSION_INVALID, "the first nav item: no altitude before it to return home at");
       w.w.z() = m.waypoints.back().w.z();
     }
+    if (m.waypoints.size() == kMaxFlownWaypoints)
+      refuse(it, MAV_MISSION_NO_SPACE, "its DO_JUMPs unroll the mission past " + std::to_string(kMaxFlownWaypoints) + " waypoints");
     m.waypoints.push_back(w);
     if (nav_seq) nav_seq->push_back(it.seq);
   }

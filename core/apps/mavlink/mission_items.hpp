@@ -21,6 +21,11 @@
 //                            manager's default): the Va_d of the nav items after it.
 //   DO_LAND_START (189)      a marker (where a landing sequence begins, as QGroundControl's landing
 //                            pattern sends it): no waypoint; MAV_CMD_DO_LAND_START flies the land item.
+//   DO_JUMP (177)            param1: the item (seq) to go on from, param2: how many times (the jump
+//                            is taken that many times, then the mission goes on past it; counts are
+//                            never reset, as PX4 and ArduPilot count them). The upload is unrolled
+//                            into the waypoints it flies (at most kMaxFlownWaypoints); -1 (for ever)
+//                            only as the last item back to the first nav item: the mission loops.
 // Frames: nav items GLOBAL (0) / GLOBAL_INT (5): z m MSL; GLOBAL_RELATIVE_ALT (3) /
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; x, y degE7 (in MISSION_ITEM_INT every global frame
 // carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
@@ -65,6 +70,9 @@ bool is_nav_item(std::uint16_t command);
 
 /// Checks one item as it arrives (command, frame, parameters, position ranges). Throws ItemError.
 void check_item(const MissionItemInt& item);
+
+/// The most waypoints an upload may unroll into through its DO_JUMPs.
+inline constexpr std::size_t kMaxFlownWaypoints = 1000;
 
 /// The tern mission of a whole upload (items in seq order, each passing check_item), about `home`.
 /// `nav_seq` (optional) receives the seq of the item each waypoint came from. Throws ItemError.

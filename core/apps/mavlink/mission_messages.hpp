@@ -19,7 +19,7 @@ namespace tern::core::mavlink {
 // MAV_CMD: the mission items and commands tern takes
 inline constexpr std::uint16_t MAV_CMD_NAV_WAYPOINT = 16, MAV_CMD_NAV_LOITER_UNLIM = 17, MAV_CMD_NAV_LOITER_TURNS = 18,
                                MAV_CMD_NAV_LOITER_TIME = 19, MAV_CMD_NAV_RETURN_TO_LAUNCH = 20, MAV_CMD_NAV_LAND = 21,
-                               MAV_CMD_NAV_TAKEOFF = 22, MAV_CMD_DO_SET_MODE = 176, MAV_CMD_DO_CHANGE_SPEED = 178,
+                               MAV_CMD_NAV_TAKEOFF = 22, MAV_CMD_DO_SET_MODE = 176, MAV_CMD_DO_JUMP = 177, MAV_CMD_DO_CHANGE_SPEED = 178,
                                MAV_CMD_DO_LAND_START = 189, MAV_CMD_DO_GO_AROUND = 191, MAV_CMD_DO_REPOSITION = 192,
                                MAV_CMD_MISSION_START = 300, MAV_CMD_COMPONENT_ARM_DISARM = 400, MAV_CMD_SET_MESSAGE_INTERVAL = 511,
                                MAV_CMD_REQUEST_MESSAGE = 512, MAV_CMD_REQUEST_AUTOPILOT_CAPABILITIES = 520;

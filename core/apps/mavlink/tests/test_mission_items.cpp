@@ -107,6 +107,7 @@ TEST_CASE("the enum values of the mission and commands are common.xml's (enums_m
       {"MAV_CMD_COMPONENT_ARM_DISARM", MAV_CMD_COMPONENT_ARM_DISARM},
       {"MAV_CMD_DO_CHANGE_SPEED", MAV_CMD_DO_CHANGE_SPEED},
       {"MAV_CMD_DO_GO_AROUND", MAV_CMD_DO_GO_AROUND},
+      {"MAV_CMD_DO_JUMP", MAV_CMD_DO_JUMP},
       {"MAV_CMD_DO_LAND_START", MAV_CMD_DO_LAND_START},
       {"MAV_CMD_DO_REPOSITION", MAV_CMD_DO_REPOSITION},
       {"MAV_CMD_DO_SET_MODE", MAV_CMD_DO_SET_MODE},
@@ -294,10 +295,17 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
     }
     return {-1, ""};
   };
-  MissionItemInt jump = at(3, 177, 0, 0, 0);  // DO_JUMP
-  auto r = refused(jump);
+  MissionItemInt servo = at(3, 183, 0, 0, 0);  // DO_SET_SERVO
+  auto r = refused(servo);
   CHECK(r.first == MAV_MISSION_UNSUPPORTED);
-  CHECK(r.second == "mission item 3 (MAV_CMD 177): not a mission item tern flies (docs/ground-station.md)");
+  CHECK(r.second == "mission item 3 (MAV_CMD 183): not a mission item tern flies (docs/ground-station.md)");
+  MissionItemInt jump = at(3, MAV_CMD_DO_JUMP, 0, 0, 0);
+  jump.param1 = 1.5f;
+  CHECK(refused(jump).first == MAV_MISSION_INVALID_PARAM1);
+  jump.param1 = 1.0f, jump.param2 = -2.0f;
+  CHECK(refused(jump).first == MAV_MISSION_INVALID_PARAM2);
+  jump.param2 = NAN;
+  CHECK(refused(jump).first == MAV_MISSION_INVALID_PARAM2);
   MissionItemInt local = at(2, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
   local.frame = 1;  // LOCAL_NED
   CHECK(refused(local).first == MAV_MISSION_UNSUPPORTED_FRAME);
@@ -331,4 +339,52 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   MissionItemInt land = at(0, MAV_CMD_NAV_LAND, 0, 0, 0);
   land.param4 = NAN;
   CHECK_THROWS_AS(to_mission({land}, GeoOrigin(kHome)), ItemError);
+}
+
+TEST_CASE("DO_JUMP: the upload unrolled into the waypoints it flies, as PX4 and ArduPilot count jumps") {
+  const GeoOrigin home(kHome);
+  const auto jump = [](std::uint16_t seq, float target, float repeat) {
+    MissionItemInt it = at(seq, MAV_CMD_DO_JUMP, 0, 0, 0);
+    it.frame = MAV_FRAME_MISSION;
+    it.param1 = target, it.param2 = repeat;
+    return it;
+  };
+  // a survey leg flown three times (the jump taken twice), then home
+  std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_TAKEOFF, 0, 0, 40), at(1, MAV_CMD_NAV_WAYPOINT, 400, 0, 60),
+                                       at(2, MAV_CMD_NAV_WAYPOINT, 400, 300, 60), jump(3, 1, 2),
+                                       at(4, MAV_CMD_NAV_RETURN_TO_LAUNCH, 0, 0, 0)};
+  std::vector<std::uint16_t> nav_seq;
+  path::Mission m = to_mission(items, home, &nav_seq);
+  CHECK(nav_seq == std::vector<std::uint16_t>{0, 1, 2, 1, 2, 1, 2, 4});
+  CHECK_FALSE(m.loop);
+  CHECK(m.waypoints[3].w.x() == doctest::Approx(400.0).epsilon(1e-4));
+  // nested: the inner jump's count is used up on the first pass and never reset
+  items = {at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50), at(1, MAV_CMD_NAV_WAYPOINT, 200, 0, 50), jump(2, 1, 1), jump(3, 0, 1)};
+  nav_seq.clear();
+  to_mission(items, home, &nav_seq);
+  CHECK(nav_seq == std::vector<std::uint16_t>{0, 1, 1, 0, 1});
+  // for ever, from the last item back to the first nav item: the mission loops
+  items = {at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50), at(1, MAV_CMD_NAV_WAYPOINT, 200, 0, 50), jump(2, 0, -1)};
+  m = to_mission(items, home);
+  CHECK(m.loop);
+  CHECK(m.waypoints.size() == 2);
+  const auto refused = [&](const std::vector<MissionItemInt>& list) -> std::pair<int, std::string> {
+    try {
+      to_mission(list, home);
+    } catch (const ItemError& e) {
+      return {e.result(), e.what()};
+    }
+    return {-1, ""};
+  };
+  // for ever anywhere else, a target past the end, and a loop that would never end in waypoints
+  items = {at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50), jump(1, 0, -1), at(2, MAV_CMD_NAV_WAYPOINT, 200, 0, 50)};
+  CHECK(refused(items).first == MAV_MISSION_INVALID_PARAM2);
+  items = {at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50), jump(1, 7, 1)};
+  const auto past = refused(items);
+  CHECK(past.first == MAV_MISSION_INVALID_PARAM1);
+  CHECK(past.second == "mission item 1 (DO_JUMP): jump to item 7: the mission has 2");
+  items = {at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50), jump(1, 0, 65535)};
+  CHECK(refused(items).first == MAV_MISSION_NO_SPACE);
+  items = {jump(0, 0, 65535), at(1, MAV_CMD_NAV_WAYPOINT, 100, 0, 50)};  // a jump to itself: no waypoint, bounded
+  CHECK(refused(items).first == MAV_MISSION_NO_SPACE);
 }
