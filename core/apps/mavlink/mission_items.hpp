@@ -29,7 +29,8 @@
 // Frames: nav items GLOBAL (0) / GLOBAL_INT (5): z m MSL; GLOBAL_RELATIVE_ALT (3) /
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; x, y degE7 (in MISSION_ITEM_INT every global frame
 // carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
-// An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission.
+// An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission, unless a
+// final DO_JUMP for ever loops it.
 //
 // A download of the planner's list (msg::WaypointList, NED) gives the items back in
 // GLOBAL_RELATIVE_ALT: waypoint -> NAV_WAYPOINT, loiter -> LOITER_TIME / LOITER_TURNS /
