@@ -5,6 +5,7 @@
 // param_file, remap, phases, fallback, phase_machine, metrics, failsafes), and the planner's reader
 // of its `mission:` section (tern/path/mission.hpp parse_mission_section). Any bytes: a config, or
 // ConfigError / MissionError (one line); never a crash, a hang, another exception or unbounded memory.
+// The same bytes are also read as a waypoint file (parse_mission_text: tern's format or ROSplane's).
 // The file lies in a directory of its own under TMPDIR (a relative param_file: or mission file:
 // resolves there); nothing is written.
 #include <cstdint>
@@ -37,6 +38,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       }
     }
   } catch (const ConfigError& e) {
+    tern::fuzz::note(e);
+  }
+  // the same bytes as a waypoint file (`mission: {file:}`, `tern mission load`): tern's or ROSplane's
+  try {
+    const std::string text(reinterpret_cast<const char*>(data), size);
+    (void)tern::path::parse_mission_text(text, "fuzz.yaml");
+  } catch (const tern::path::MissionError& e) {
     tern::fuzz::note(e);
   }
   return 0;

@@ -53,6 +53,14 @@ bool as_bool(const YAML::Node& n, const Ctx& c, const std::string& field) {
   }
 }
 
+/// A map's key as a name: a list or a map where a key belongs (`{[1, 2]: 3}`) is refused here,
+/// not left to yaml-cpp's bare "bad conversion".
+std::string key_name(const YAML::Node& key, const Ctx& c, const std::string& where) {
+  if (!key.IsScalar())
+    throw MissionError(c.prefix(key) + where + "a key is a name, got a " + (key.IsSequence() ? "list" : key.IsMap() ? "map" : "null"));
+  return key.Scalar();
+}
+
 Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& field) {
   if (!n.IsSequence() || n.size() != 3) throw MissionError(c.prefix(n) + field + ": expected a list of 3 numbers");
   Eigen::Vector3d v;
@@ -183,7 +191,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
   bool lla_flag = false;
   ItemKeys k;
   for (const auto& kv : n) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, c, name + ": ");
     const YAML::Node& v = kv.second;
     const std::string field = name + "." + key;
     if (key == "ned" || key == "w") {
@@ -275,7 +283,7 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
   }
   bool have_file = false, have_wps = false;
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, c, "");
     if (key == "loop") {
       m.loop = as_bool(kv.second, c, "loop");
     } else if (key == "loops") {
