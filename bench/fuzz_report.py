@@ -134,7 +134,7 @@ def main():
     print(f"fuzz: wrote {a.out}")
     bad = [t for t, r in results.items() if r["crashes"] or r["exit_code"] != 0]
     if bad:
-        print(f"fuzz: found something in {', '.join(bad)} (bench/results/fuzz.json, the artifacts above)", file=sys.stderr)
+        print(f"fuzz: found something in {', '.join(bad)} ({a.out}, the artifacts above)", file=sys.stderr)
         return 1
     return 0
 

@@ -17,10 +17,19 @@
 
 namespace tern::fuzz {
 
+/// A path of this process's, removed (with what it holds) when the process exits normally.
+struct Scratch {
+  std::filesystem::path path;
+  ~Scratch() {
+    std::error_code ec;
+    std::filesystem::remove_all(path, ec);
+  }
+};
+
 /// Writes `data` to this process's input file (in TMPDIR) and returns its path.
 inline std::filesystem::path as_file(const std::uint8_t* data, std::size_t size, const char* extension) {
-  static const std::filesystem::path file =
-      std::filesystem::temp_directory_path() / ("tern-fuzz-" + std::to_string(::getpid()) + extension);
+  static const Scratch scratch{std::filesystem::temp_directory_path() / ("tern-fuzz-" + std::to_string(::getpid()) + extension)};
+  const std::filesystem::path& file = scratch.path;
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return file;
 }
@@ -35,11 +44,12 @@ inline void note(const std::exception& e) {
 /// Writes `data` to `name` in this process's own directory (TMPDIR/tern-fuzz-<pid>.d, created)
 /// and returns the file's path.
 inline std::filesystem::path in_dir(const std::uint8_t* data, std::size_t size, const char* name) {
-  static const std::filesystem::path dir = [] {
+  static const Scratch scratch{[] {
     auto d = std::filesystem::temp_directory_path() / ("tern-fuzz-" + std::to_string(::getpid()) + ".d");
     std::filesystem::create_directories(d);
     return d;
-  }();
+  }()};
+  const std::filesystem::path& dir = scratch.path;
   const auto file = dir / name;
   std::ofstream(file, std::ios::binary | std::ios::trunc).write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
   return file;
