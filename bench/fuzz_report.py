@@ -109,14 +109,27 @@ def main():
     ap.add_argument("--build", required=True, help="the fuzz build directory (build-fuzz)")
     ap.add_argument("--seconds", type=int, required=True, help="seconds per target")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "fuzz.json"))
+    ap.add_argument("--merge", action="store_true",
+                    help="keep the other targets' entries of an existing report (each entry names its own commit and date)")
     ap.add_argument("targets", nargs="+")
     a = ap.parse_args()
     build = os.path.abspath(a.build)
-    results = {t: run_target(build, t, a.seconds) for t in a.targets}
-    clang = subprocess.run(["clang++", "--version"], capture_output=True, text=True).stdout.splitlines()
     commit = subprocess.run(["git", "-C", ROOT, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
+    now = datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")
+    results = {}
+    if a.merge and os.path.exists(a.out):
+        with open(a.out) as f:
+            old = json.load(f)
+        for t, r in old.get("targets", {}).items():
+            r.setdefault("commit", old.get("commit"))
+            r.setdefault("date", old.get("date"))
+            r.setdefault("seconds", old.get("seconds_per_target"))
+            results[t] = r
+    for t in a.targets:
+        results[t] = dict(run_target(build, t, a.seconds), commit=commit, date=now, seconds=a.seconds)
+    clang = subprocess.run(["clang++", "--version"], capture_output=True, text=True).stdout.splitlines()
     report = {
-        "date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
+        "date": now,
         "commit": commit,
         "compiler": clang[0] if clang else None,
         "cpus": os.cpu_count(),
@@ -132,7 +145,7 @@ def main():
         json.dump(report, f, indent=2)
         f.write("\n")
     print(f"fuzz: wrote {a.out}")
-    bad = [t for t, r in results.items() if r["crashes"] or r["exit_code"] != 0]
+    bad = [t for t in a.targets if results[t]["crashes"] or results[t]["exit_code"] != 0]
     if bad:
         print(f"fuzz: found something in {', '.join(bad)} ({a.out}, the artifacts above)", file=sys.stderr)
         return 1

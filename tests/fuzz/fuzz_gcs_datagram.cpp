@@ -52,9 +52,9 @@ void take(const std::vector<Frame>& frames) {
   for (const Frame& f : frames) {
     const auto info = message_info(f.msgid);
     if (!info || f.payload.size() != info->length) __builtin_trap();
-    repack_any<Heartbeat, ParamRequestRead, ParamRequestList, ParamSet, MissionRequest, MissionSetCurrent, MissionRequestList,
-               MissionCount, MissionClearAll, MissionAck, MissionRequestInt, MissionItemInt, CommandInt, CommandLong, CommandAck,
-               Timesync, Statustext>(f);
+    repack_any<Heartbeat, ParamRequestRead, ParamRequestList, ParamSet, MissionRequest, MissionSetCurrent, MissionRequestList, MissionCount,
+               MissionClearAll, MissionAck, MissionRequestInt, MissionItemInt, CommandInt, CommandLong, CommandAck, Timesync, Statustext>(
+        f);
     if (f.msgid == MissionItemInt::kId) {
       MissionItemInt it = decode<MissionItemInt>(f);
       it.seq = static_cast<std::uint16_t>(upload.size());  // the protocol takes items in seq order only
@@ -67,7 +67,8 @@ void take(const std::vector<Frame>& frames) {
     } else if (f.msgid == ParamSet::kId) {
       const auto m = decode<ParamSet>(f);
       if (const auto i = params().find(to_string(m.param_id))) (void)from_mav_value(m.param_value, params().params()[*i].kind);
-      for (auto kind : {tern::ParamKind::real, tern::ParamKind::integer, tern::ParamKind::boolean}) (void)from_mav_value(m.param_value, kind);
+      for (auto kind : {tern::ParamKind::real, tern::ParamKind::integer, tern::ParamKind::boolean})
+        (void)from_mav_value(m.param_value, kind);
     } else if (f.msgid == ParamRequestRead::kId) {
       (void)params().find(to_string(decode<ParamRequestRead>(f).param_id));
     }

@@ -2,8 +2,8 @@
 // (the declarations and the spec's summary: ulog_reader.hpp).
 #include <charconv>
 #include <cmath>
-#include <limits>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "import/ulog_reader.hpp"
@@ -110,7 +110,7 @@ Format parse_format(std::string_view text) {
 }
 
 namespace {
-constexpr std::size_t kMaxDataPayload = 65535 - 2;  // a message's uint16 size, less the 'D' message's msg_id
+constexpr std::size_t kMaxDataPayload = 65535 - 2;            // a message's uint16 size, less the 'D' message's msg_id
 constexpr std::size_t kMaxExpansions = std::size_t{1} << 17;  // a 65533-byte message of 1-byte structs: 2 x 65533
 }  // namespace
 

@@ -34,7 +34,9 @@ SensorLogSettings read_sensor_log_settings(const std::filesystem::path& log_dir)
       // a key that is a list or a map (`{[1, 2]: 3}`): yaml-cpp's bare "bad conversion" otherwise
       if (!kv.first.IsScalar())
         throw ConfigError(where(file, kv.first, "estimator") + ": a parameter name is expected as key, got a " +
-                          (kv.first.IsSequence() ? "list" : kv.first.IsMap() ? "map" : "null"));
+                          (kv.first.IsSequence() ? "list"
+                           : kv.first.IsMap()    ? "map"
+                                                 : "null"));
       const auto name = kv.first.as<std::string>();
       if (!kv.second.IsScalar() && !kv.second.IsSequence())
         throw ConfigError(where(file, kv.second, "estimator." + name) + ": expected a value or a list");

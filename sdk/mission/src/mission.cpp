@@ -370,6 +370,11 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     } catch (const YAML::Exception& e) {
       throw MissionError(source + ":" + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) + ": " + e.msg);
     }
+    // "wp:x" (no space after the colon) starts a chunk but is one scalar to YAML, not a map with wp
+    if (!doc.IsMap())
+      throw MissionError(source + ":" + std::to_string(chunks[k].first) + ": wp " + std::to_string(k + 1) +
+                         ": expected 'wp:' and the waypoint, got '" + printable(chunks[k].second.substr(0, chunks[k].second.find('\n'))) +
+                         "'");
     m.waypoints.push_back(parse_entry(doc["wp"], c, "wp " + std::to_string(k + 1), 0.0));
     m.waypoints.back().line = chunks[k].first;  // the entry's `wp:` line
   }
