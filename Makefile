@@ -90,20 +90,23 @@ test: build
 bench: build
 	cmake --build $(BUILD) --target bench
 
-# The parsers under libFuzzer (clang, ASan+UBSan), each FUZZ_SECONDS long: fcu_serial's MAVLink,
-# the MCAP reader and the sensor-log tables (tests/fuzz). Each target's corpus grows in
-# $(BUILD)-fuzz/corpus/<target>, seeded from tests/fuzz/corpus/<target> where the repository has one.
-FUZZ_TARGETS := fuzz_mavlink fuzz_mcap_reader fuzz_csv_table
+# The parsers of outside bytes under libFuzzer (clang, ASan+UBSan; docs/hostile-inputs.md,
+# "Fuzzing"), one after the other, each FUZZ_SECONDS long: fcu_serial's MAVLink, the MCAP reader,
+# the sensor-log tables, the ULog reader, the ground station's datagrams and mission checks, the
+# mission config and waypoint files, sensor_log.yaml, the imported text tables and aero files, the
+# console's requests (tests/fuzz). Each target's corpus grows in $(BUILD)-fuzz/corpus/<target>,
+# seeded from tests/fuzz/corpus/<target>, with tests/fuzz/dict/<target>.dict where there is one;
+# bench/fuzz_report.py runs them and writes FUZZ_REPORT (executions, CPU seconds, corpus size,
+# crashes per target), then fails if any target found something (its input in
+# $(BUILD)-fuzz/fuzz_artifacts/<target>).
+FUZZ_TARGETS := fuzz_mavlink fuzz_mcap_reader fuzz_csv_table fuzz_ulog_reader fuzz_gcs_datagram fuzz_mission_yaml \
+  fuzz_sensor_log_yaml fuzz_text_table fuzz_console_command
+FUZZ_REPORT ?= bench/results/fuzz.json
 fuzz: deps
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"
 	CXX=clang++ cmake -S . -B $(BUILD)-fuzz -G Ninja -DTERN_PLUGINS=fcu_serial
 	cmake --build $(BUILD)-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
-	@for t in $(FUZZ_TARGETS); do \
-	  mkdir -p $(BUILD)-fuzz/corpus/$$t; \
-	  seeds=; [ -d tests/fuzz/corpus/$$t ] && seeds=tests/fuzz/corpus/$$t; \
-	  echo "fuzz: $$t, $(FUZZ_SECONDS) s"; \
-	  $(BUILD)-fuzz/bin/$$t -max_total_time=$(FUZZ_SECONDS) -rss_limit_mb=2048 $(BUILD)-fuzz/corpus/$$t $$seeds || exit 1; \
-	done
+	python3 bench/fuzz_report.py --build $(BUILD)-fuzz --seconds $(FUZZ_SECONDS) --out $(FUZZ_REPORT) $(FUZZ_TARGETS)
 
 # ---- arm64 (issue 41; docs/companion-computer.md, "Building for arm64") ----------------------
 # `make arm64` cross-builds everything for aarch64 into build-arm64 with Debian's cross toolchain

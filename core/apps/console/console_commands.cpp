@@ -41,6 +41,11 @@ double stick(const json& j, const char* name, double lo, double hi) {
 
 json error(const std::string& message) { return {{"type", "error"}, {"message", message}}; }
 
+/// The answer's text. A message may quote the request's bytes (the JSON parser's "last read:
+/// '...'"), which need not be UTF-8 (a binary WebSocket frame): replaced by U+FFFD, where dump()'s
+/// default would throw out of handle_request and out of the console's I/O thread.
+std::string text_of(const json& j) { return j.dump(-1, ' ', false, json::error_handler_t::replace); }
+
 }  // namespace
 
 json param_catalogue(const Host& host) {
@@ -83,15 +88,15 @@ std::string handle_request(Host& host, const std::string& text) {
       const std::string name = j.at("name").get<std::string>();
       const ParamValue v = param_value(j.at("value"));
       host.request_param(name, v, "console");
-      return json{{"type", "param_ok"}, {"name", name}, {"value", to_json(v)}}.dump();
+      return text_of(json{{"type", "param_ok"}, {"name", name}, {"value", to_json(v)}});
     }
     if (type == "pilot") {
       host.set_pilot(pilot_from_json(j));
       return "";
     }
-    return error("unknown request type '" + type + "' (param, pilot)").dump();
+    return text_of(error("unknown request type '" + type + "' (param, pilot)"));
   } catch (const std::exception& e) {  // bad JSON, a missing field, a refused value
-    return error(e.what()).dump();
+    return text_of(error(e.what()));
   }
 }
 

@@ -1,7 +1,9 @@
 // core/apps/import/ulog_layout.cpp: ULog formats, their flattened data layouts and value decoding
 // (the declarations and the spec's summary: ulog_reader.hpp).
 #include <charconv>
+#include <cmath>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 
 #include "import/ulog_reader.hpp"
@@ -107,10 +109,18 @@ Format parse_format(std::string_view text) {
   return f;
 }
 
+namespace {
+constexpr std::size_t kMaxDataPayload = 65535 - 2;            // a message's uint16 size, less the 'D' message's msg_id
+constexpr std::size_t kMaxExpansions = std::size_t{1} << 17;  // a 65533-byte message of 1-byte structs: 2 x 65533
+}  // namespace
+
 Subscription::Subscription(std::string topic, std::uint8_t multi, std::uint16_t id, const std::map<std::string, Format>& formats)
     : name(std::move(topic)), multi_id(multi), msg_id(id) {
   flatten("", name, formats, 0);
   for (std::size_t i = 0; i < fields_.size(); ++i) index_.emplace(fields_[i].name, i);
+  if (padded_size_ > kMaxDataPayload)
+    throw std::invalid_argument("format '" + name + "' is " + std::to_string(padded_size_) + " bytes, more than the " +
+                                std::to_string(kMaxDataPayload) + " a data message ('D') carries");
   if (!fields_.empty()) size_ = fields_.back().offset + base_type_size(fields_.back().type);
   if (auto it = index_.find("timestamp"); it != index_.end()) timestamp_ = &fields_[it->second];
 }
@@ -123,6 +133,14 @@ void Subscription::flatten(const std::string& prefix, const std::string& type, c
     const auto base = base_type_from_name(m.type);
     const bool padding = m.name.rfind("_padding", 0) == 0;
     for (std::size_t i = 0; i < m.count; ++i) {
+      // arrays of nested arrays multiply: stop at what one data message can carry (a format of
+      // 65535 x 65535 bytes, or of 65535^16 empty structs, would otherwise never finish)
+      if (padded_size_ > kMaxDataPayload)
+        throw std::invalid_argument("format '" + name + "' is more than " + std::to_string(kMaxDataPayload) +
+                                    " bytes, more than a data message ('D') carries (at '" + prefix + m.name + "')");
+      if (++expansions_ > kMaxExpansions)
+        throw std::invalid_argument("format '" + name + "' expands to more than " + std::to_string(kMaxExpansions) +
+                                    " members (nested arrays of empty formats?)");
       std::string leaf = prefix + m.name;
       if (m.count > 1) leaf += "[" + std::to_string(i) + "]";
       if (!base) {
@@ -144,6 +162,15 @@ double DataMessage::value(const Field& f) const { return decode<double>(f.type, 
 
 std::int64_t DataMessage::integer(const Field& f) const {
   if (f.type == BaseType::uint64) return static_cast<std::int64_t>(load<std::uint64_t>(payload_ + f.offset));
+  if (!is_integer_type(f.type)) {
+    // a float where a log's format puts one (any field may be declared float): truncated toward
+    // zero, NaN as 0 and beyond int64's range saturated (converting those is undefined behaviour)
+    const double v = decode<double>(f.type, payload_ + f.offset);
+    if (std::isnan(v)) return 0;
+    if (v >= 9223372036854775807.0) return std::numeric_limits<std::int64_t>::max();
+    if (v <= -9223372036854775808.0) return std::numeric_limits<std::int64_t>::min();
+    return static_cast<std::int64_t>(v);
+  }
   return decode<std::int64_t>(f.type, payload_ + f.offset);
 }
 

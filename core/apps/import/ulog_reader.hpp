@@ -94,7 +94,8 @@ class Subscription {
   /// The top-level "timestamp" field (uint64 us since boot), or nullptr.
   const Field* timestamp() const { return timestamp_; }
 
-  /// Flattens `name`'s format. Throws std::invalid_argument naming a missing nested format.
+  /// Flattens `name`'s format. Throws std::invalid_argument naming a missing nested format, or a
+  /// layout larger than a data message can carry (65533 bytes) or of more than 2^17 members.
   Subscription(std::string name, std::uint8_t multi_id, std::uint16_t msg_id, const std::map<std::string, Format>& formats);
 
  private:
@@ -103,6 +104,7 @@ class Subscription {
   std::map<std::string, std::size_t, std::less<>> index_;
   std::size_t size_ = 0;
   std::size_t padded_size_ = 0;
+  std::size_t expansions_ = 0;  ///< members flattened so far (bounded: nested arrays multiply)
   const Field* timestamp_ = nullptr;
 };
 
@@ -113,7 +115,7 @@ class DataMessage {
   const Subscription& subscription() const { return *sub_; }
   /// The field's value converted to double (integers above 2^53 lose precision: use integer()).
   double value(const Field& field) const;
-  /// The field's value as a 64-bit integer (floats truncated toward zero).
+  /// The field's value as a 64-bit integer (floats truncated toward zero, NaN as 0, saturated beyond int64).
   std::int64_t integer(const Field& field) const;
   /// The value of the named field; throws std::out_of_range naming the topic and field if absent.
   double value(std::string_view flat_name) const;

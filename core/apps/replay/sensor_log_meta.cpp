@@ -31,6 +31,12 @@ SensorLogSettings read_sensor_log_settings(const std::filesystem::path& log_dir)
   if (const YAML::Node est = root["estimator"]) {
     if (!est.IsMap()) throw ConfigError(where(file, est, "estimator") + ": expected a map of parameter: value");
     for (const auto& kv : est) {
+      // a key that is a list or a map (`{[1, 2]: 3}`): yaml-cpp's bare "bad conversion" otherwise
+      if (!kv.first.IsScalar())
+        throw ConfigError(where(file, kv.first, "estimator") + ": a parameter name is expected as key, got a " +
+                          (kv.first.IsSequence() ? "list"
+                           : kv.first.IsMap()    ? "map"
+                                                 : "null"));
       const auto name = kv.first.as<std::string>();
       if (!kv.second.IsScalar() && !kv.second.IsSequence())
         throw ConfigError(where(file, kv.second, "estimator." + name) + ": expected a value or a list");

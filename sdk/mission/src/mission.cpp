@@ -53,6 +53,14 @@ bool as_bool(const YAML::Node& n, const Ctx& c, const std::string& field) {
   }
 }
 
+/// A map's key as a name: a list or a map where a key belongs (`{[1, 2]: 3}`) is refused here,
+/// not left to yaml-cpp's bare "bad conversion".
+std::string key_name(const YAML::Node& key, const Ctx& c, const std::string& where) {
+  if (!key.IsScalar())
+    throw MissionError(c.prefix(key) + where + "a key is a name, got a " + (key.IsSequence() ? "list" : key.IsMap() ? "map" : "null"));
+  return key.Scalar();
+}
+
 Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& field) {
   if (!n.IsSequence() || n.size() != 3) throw MissionError(c.prefix(n) + field + ": expected a list of 3 numbers");
   Eigen::Vector3d v;
@@ -183,7 +191,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
   bool lla_flag = false;
   ItemKeys k;
   for (const auto& kv : n) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, c, name + ": ");
     const YAML::Node& v = kv.second;
     const std::string field = name + "." + key;
     if (key == "ned" || key == "w") {
@@ -275,7 +283,7 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
   }
   bool have_file = false, have_wps = false;
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, c, "");
     if (key == "loop") {
       m.loop = as_bool(kv.second, c, "loop");
     } else if (key == "loops") {
@@ -362,6 +370,11 @@ Mission parse_rosplane(const std::string& text, const std::string& source) {
     } catch (const YAML::Exception& e) {
       throw MissionError(source + ":" + std::to_string(chunks[k].first + (e.mark.line >= 0 ? e.mark.line : 0)) + ": " + e.msg);
     }
+    // "wp:x" (no space after the colon) starts a chunk but is one scalar to YAML, not a map with wp
+    if (!doc.IsMap())
+      throw MissionError(source + ":" + std::to_string(chunks[k].first) + ": wp " + std::to_string(k + 1) +
+                         ": expected 'wp:' and the waypoint, got '" + printable(chunks[k].second.substr(0, chunks[k].second.find('\n'))) +
+                         "'");
     m.waypoints.push_back(parse_entry(doc["wp"], c, "wp " + std::to_string(k + 1), 0.0));
     m.waypoints.back().line = chunks[k].first;  // the entry's `wp:` line
   }
