@@ -63,7 +63,9 @@ void Conversion::add_imu() {
       m.stamp = *t;
       for (int i = 0; i < 3; ++i) m.gyro[i] = d.value(*gyro[i]), m.accel[i] = d.value(*accel[i]);
       if (!m.gyro.allFinite() || !m.accel.allFinite()) return void(++nan_rows_);
-      if (rel && d.integer(*rel) != kInvalidRelative) max_accel_relative_us_ = std::max(max_accel_relative_us_, std::abs(d.integer(*rel)));
+      const std::int64_t relative = rel ? d.integer(*rel) : kInvalidRelative;
+      if (relative != kInvalidRelative && relative != std::numeric_limits<std::int64_t>::min())  // |INT64_MIN| is no int64
+        max_accel_relative_us_ = std::max(max_accel_relative_us_, std::abs(relative));
       imu_intervals.add(m.stamp);
       imu_.push(m);
     };
@@ -86,7 +88,7 @@ void Conversion::add_mag(const std::string& source) {
       return [this, ga, &rel](const DataMessage& d) {
         const std::int64_t r = d.integer(rel);
         if (r == kInvalidRelative) return;
-        const auto t = stamp(static_cast<std::int64_t>(d.timestamp()) + r);
+        const auto t = stamp(offset_us(d.timestamp(), r));
         if (!t || *t <= last_combined_mag_) return;  // the same sample, repeated in every sensor_combined row
         last_combined_mag_ = *t;
         write_mag(*t, d.value(*ga[0]), d.value(*ga[1]), d.value(*ga[2]));
@@ -115,7 +117,7 @@ void Conversion::add_baro(const std::string& source) {
       if (rel) {
         const std::int64_t r = d.integer(*rel);
         if (r == kInvalidRelative) return;
-        t = stamp(static_cast<std::int64_t>(d.timestamp()) + r);
+        t = stamp(offset_us(d.timestamp(), r));
         if (!t || *t <= last_combined_baro_) return;
         last_combined_baro_ = *t;
       } else {

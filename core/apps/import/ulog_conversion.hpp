@@ -3,11 +3,13 @@
 // that turn one PX4 topic's data messages into sensor-log rows (the mapping: ulog_import.hpp).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -93,13 +95,26 @@ class Conversion {
     for (const auto& h : it->second) h(d);
   }
 
-  /// us since boot -> the log's clock, ns; nullopt (counted) before the log's start.
+  /// us since boot -> the log's clock, ns; nullopt (counted) before the log's start. Throws
+  /// std::runtime_error for a time no int64 ns clock holds (a corrupt file), never overflows.
   std::optional<Nanos> stamp(std::int64_t t_us) {
     if (t_us < static_cast<std::int64_t>(origin_us_)) {
       ++before_start_;
       return std::nullopt;
     }
-    return (t_us - static_cast<std::int64_t>(origin_us_)) * 1000;
+    const std::int64_t span_us = t_us - static_cast<std::int64_t>(origin_us_);
+    if (span_us > std::numeric_limits<std::int64_t>::max() / 1000)
+      throw std::runtime_error("ULog: timestamp " + std::to_string(t_us) + " us: beyond any clock's range after the log's start (" +
+                               std::to_string(origin_us_) + " us): a corrupt file?");
+    return span_us * 1000;
+  }
+  /// timestamp + relative (us) without overflow: saturated, for stamp() to refuse.
+  static std::int64_t offset_us(std::uint64_t timestamp, std::int64_t relative) {
+    const auto t = static_cast<std::int64_t>(std::min<std::uint64_t>(timestamp, std::numeric_limits<std::int64_t>::max()));
+    std::int64_t out = 0;
+    if (__builtin_add_overflow(t, relative, &out))
+      return relative > 0 ? std::numeric_limits<std::int64_t>::max() : std::numeric_limits<std::int64_t>::min();
+    return out;
   }
   /// The sample's time: timestamp_sample if the format has it, else timestamp.
   std::optional<Nanos> sample_stamp(const ulog::DataMessage& d, const ulog::Field* timestamp_sample) {

@@ -10,6 +10,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core::sysid {
 
@@ -17,7 +18,7 @@ namespace {
 
 /// The prior's document with aero.<name> replaced by each estimate (and wing.e by the polar's).
 std::string aircraft_yaml(const SysidResult& r, const SysidProvenance& from) {
-  YAML::Node doc = YAML::LoadFile(from.prior);
+  YAML::Node doc = load_yaml_file(from.prior, "aircraft file");
   if (!doc["aero"] || !doc["aero"].IsMap())
     throw ConfigError(fmt::format(
         "{}: aero: not a tern aircraft file (a map 'aero' of the uavbook's coefficients); convert it with tern aero import", from.prior));

@@ -11,6 +11,7 @@
 
 #include "aero_text.hpp"
 #include "tern/atmosphere.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::aero {
 using namespace text;
@@ -28,12 +29,7 @@ Eigen::Matrix2d stab_T(double alpha) {
 }  // namespace
 
 MassProperties load_mass_file(const std::string& path) {
-  YAML::Node doc;
-  try {
-    doc = YAML::LoadFile(path);
-  } catch (const YAML::Exception& e) {
-    fail(path, "file", e.what());
-  }
+  const YAML::Node doc = load_yaml_file(path, "mass file");  // bounded: size, regular file, alias bombs
   MassProperties m;
   auto rd = [&](const YAML::Node& n, const std::string& field) {
     if (!n) fail(path, field, "missing required field");
