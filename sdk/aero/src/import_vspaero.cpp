@@ -2,6 +2,7 @@
 #include "tern/aero/import.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -312,8 +313,12 @@ ToolDerivatives parse_vspaero_stab(const std::string& path, const VspaeroOptions
       if (ctl_col[q] == ctl_col[r]) fail(path, "controls", ctl_col[r] + " is both the " + kRole[q] + " and the " + kRole[r]);
     const int k = col(ctl_col[r]);
     std::string name = ctl_col[r];
-    const std::size_t gi = static_cast<std::size_t>(std::stoi(ctl_col[r].substr(7)) - 1);
-    if (gi < p.groups.size()) name += " (" + p.groups[gi] + ")";
+    // the group's name when the column is ConGrp_<n> of the case list (a column named otherwise, e.g.
+    // ConGrp_x or a number past any int, has none: never std::stoi's exception)
+    const std::string n_text = ctl_col[r].substr(7);
+    std::size_t n = 0;
+    const auto [end, ec] = std::from_chars(n_text.data(), n_text.data() + n_text.size(), n);
+    if (ec == std::errc() && end == n_text.data() + n_text.size() && n >= 1 && n <= p.groups.size()) name += " (" + p.groups[n - 1] + ")";
     mapped.push_back(std::string(kRole[r]) + " = " + (ctl_sign[r] < 0 ? "-" : "") + name + ", " + p.units[static_cast<std::size_t>(k)]);
   }
   t.notes.push_back("control groups: " + (mapped.empty() ? std::string("none read") : join(mapped, "; ")) + " [file: " + groups_list + "]");
