@@ -59,20 +59,20 @@ std::string read_text_file(const fs::path& file, const char* what, std::uintmax_
 }
 
 void check_yaml_size(const YAML::Node& root, const fs::path& file) {
-  std::vector<YAML::Node> todo{root};
+  std::vector<YAML::Node> pending{root};
   std::size_t seen = 0;
-  while (!todo.empty()) {
-    const YAML::Node n = todo.back();
-    todo.pop_back();
+  while (!pending.empty()) {
+    const YAML::Node n = pending.back();
+    pending.pop_back();
     if (++seen > kMaxYamlNodes)
       throw std::runtime_error(printable(file.string()) + ": more than " + std::to_string(kMaxYamlNodes) +
                                " YAML nodes once its aliases are expanded (an alias bomb?)");
     if (n.IsSequence()) {
-      for (const auto& item : n) todo.push_back(item);
+      for (const auto& item : n) pending.push_back(item);
     } else if (n.IsMap()) {
       for (const auto& kv : n) {
-        todo.push_back(kv.first);
-        todo.push_back(kv.second);
+        pending.push_back(kv.first);
+        pending.push_back(kv.second);
       }
     }
   }

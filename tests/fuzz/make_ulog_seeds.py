@@ -27,12 +27,12 @@ def main():
         if kind == "F":
             name, _, fields = payload.decode().partition(":")
             formats[name] = (raw, [f.split(" ")[0].split("[")[0] for f in fields.split(";") if f])
-    needed, todo = [], list(topics)
-    while todo:  # the topics' formats and every format nested in them
-        name = todo.pop()
+    needed, pending = [], list(topics)
+    while pending:  # the topics' formats and every format nested in them
+        name = pending.pop()
         if name in formats and name not in needed:
             needed.append(name)
-            todo.extend(formats[name][1])
+            pending.extend(formats[name][1])
     kept = {"I": 4, "P": 6, "M": 2, "Q": 2, "L": 2, "C": 1, "S": 1, "O": 1}
     ids, per_id, body = set(), {}, bytearray(data[:16])
     for kind, raw, payload in messages(data):

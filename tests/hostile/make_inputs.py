@@ -14,6 +14,7 @@ WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
 """
 import io
 import os
+import re
 import struct
 import sys
 import tarfile
@@ -34,10 +35,17 @@ def table(path, columns, rows):
             f.write(f"{t_ns // 10**9}.{t_ns % 10**9:09d},{t_ns}," + ",".join(values) + "\n")
 
 
+def standard_gravity():
+    """m/s^2: the SDK's one declaration (sdk/include/tern/math.hpp, kStandardGravity)."""
+    with open(os.path.join(REPO, "sdk", "include", "tern", "math.hpp")) as f:
+        return re.search(r"kStandardGravity = ([0-9.]+);", f.read()).group(1)
+
+
 def imu_rows(n, jump_at=None):
+    at_rest = ["0", "0", "-" + standard_gravity(), "0", "0", "0"]  # level and still: the accelerometer reads -g on z
     for k in range(n):
         t = k * (10**9 // IMU_RATE) + (JUMP_NS if jump_at is not None and k >= jump_at else 0)
-        yield t, ["0", "0", "-9.80665", "0", "0", "0"]
+        yield t, at_rest
 
 
 IMU_COLUMNS = ["stamp", "accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"]
