@@ -25,7 +25,7 @@ DEBIAN_PACKAGES := cmake ninja-build ccache g++ make pkg-config \
 FUZZ_PACKAGES := clang libclang-rt-14-dev
 FUZZ_SECONDS ?= 60
 
-.PHONY: all deps install-packages configure build fly campaign test bench fuzz clean \
+.PHONY: all deps install-packages configure build fly campaign test bench fuzz sanitize tsan clean \
   arm64-deps arm64-binfmt arm64 arm64-test arm64-ctest arm64-flight
 
 all: build
@@ -108,6 +108,37 @@ fuzz: deps
 	cmake --build $(BUILD)-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
 	python3 bench/fuzz_report.py --build $(BUILD)-fuzz --seconds $(FUZZ_SECONDS) --out $(FUZZ_REPORT) $(FUZZ_TARGETS)
 
+# Sanitizer builds (issue 78; docs/hostile-inputs.md, "Sanitizers"): `make sanitize` builds every
+# target with AddressSanitizer and UndefinedBehaviorSanitizer (GCC, -O1, line tables) in
+# $(BUILD)-asan and runs the whole ctest suite there; `make tsan` builds with ThreadSanitizer in
+# $(BUILD)-tsan and runs the tests of tern's threaded parts (TSAN_TESTS: the served host and its
+# console, the ground station's link, the DDS bridge, the log writer, Python's host, fleets,
+# campaigns). A finding stops the process it is in (halt_on_error) and fails its test; the
+# suppression files (tests/sanitizers/) name each third-party library and its upstream issue.
+# Tests keep their time-outs times SANITIZE_TIMEOUT_SCALE (the instrumented code is slower).
+SANITIZE_BUILD ?= $(BUILD)-asan
+TSAN_BUILD ?= $(BUILD)-tsan
+SANITIZE_TIMEOUT_SCALE ?= 4
+SANITIZER_CMAKE_ARGS := -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
+  -DTERN_TEST_TIMEOUT_SCALE=$(SANITIZE_TIMEOUT_SCALE)
+SANITIZER_DIR := $(CURDIR)/tests/sanitizers
+ASAN_ENV := ASAN_OPTIONS=halt_on_error=1:detect_leaks=1:detect_stack_use_after_return=1:strict_string_checks=1 \
+  LSAN_OPTIONS=suppressions=$(SANITIZER_DIR)/lsan.supp:print_suppressions=0 \
+  UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+TSAN_ENV := TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(SANITIZER_DIR)/tsan.supp
+TSAN_TESTS ?= served|console|mavlink|gcs|dds|durable_log|mcap|python|fleet|campaign|realtime|swap
+SANITIZE_CTEST_ARGS ?=
+
+sanitize: deps
+	cmake -S . -B $(SANITIZE_BUILD) -G Ninja -DTERN_SANITIZE=address,undefined $(SANITIZER_CMAKE_ARGS)
+	cmake --build $(SANITIZE_BUILD) -j $(JOBS)
+	cd $(SANITIZE_BUILD) && $(ASAN_ENV) ctest --output-on-failure -j $(JOBS) $(SANITIZE_CTEST_ARGS)
+
+tsan: deps
+	cmake -S . -B $(TSAN_BUILD) -G Ninja -DTERN_SANITIZE=thread $(SANITIZER_CMAKE_ARGS)
+	cmake --build $(TSAN_BUILD) -j $(JOBS)
+	cd $(TSAN_BUILD) && $(TSAN_ENV) ctest --output-on-failure -j $(JOBS) -R '$(TSAN_TESTS)' $(SANITIZE_CTEST_ARGS)
+
 # ---- arm64 (issue 41; docs/companion-computer.md, "Building for arm64") ----------------------
 # `make arm64` cross-builds everything for aarch64 into build-arm64 with Debian's cross toolchain
 # and its multiarch :arm64 -dev packages (cmake/toolchain-aarch64-linux-gnu.cmake). `make
@@ -185,4 +216,4 @@ arm64-flight: arm64
 	python3 tests/arm64/compare_arch.py $(ARM64_RUNS)/x86-64/*/ $(ARM64_RUNS)/arm64/*/ --json $(ARM64_RUNS)/compare.json
 
 clean:
-	rm -rf $(BUILD) $(BUILD)-fuzz $(ARM64_BUILD)
+	rm -rf $(BUILD) $(BUILD)-fuzz $(SANITIZE_BUILD) $(TSAN_BUILD) $(ARM64_BUILD)
