@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include <fmt/format.h>
 
@@ -99,10 +100,10 @@ void FailsafeMonitor::link(const FailsafeInputs& in, std::vector<FailsafeEvent>&
   if (silent <= c.timeout || !in.airborne || !last_position_) return;
   link_lost_at_ = in.now;
   const double h = c.altitude.value_or(-last_position_->z());
-  out.push_back(
-      {in.now, "link_loss", "return_home",
-       fmt::format("ground station silent for {:.1f} s (timeout {} s): return home, loiter at altitude {:.1f} m", silent, c.timeout, h),
-       Eigen::Vector3d(0.0, 0.0, -h), c.radius});
+  const Return r = return_point(last_position_->head<2>(), h, [](double rally_h) { return rally_h; });
+  out.push_back({in.now, "link_loss", "return_home",
+                 fmt::format("ground station silent for {:.1f} s (timeout {} s): return, {}", silent, c.timeout, r.detail), r.centre,
+                 c.radius});
 }
 
 FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s) const {
@@ -111,7 +112,7 @@ FailsafeMonitor::Breach FailsafeMonitor::fence_breach(const msg::State& s) const
   if (c.max_distance && std::hypot(s.p_n, s.p_e) > *c.max_distance) return Breach::max_distance;
   if (c.max_altitude && h > *c.max_altitude) return Breach::max_altitude;
   if (c.min_altitude && floor_armed_ && h < *c.min_altitude) return Breach::min_altitude;
-  if (!c.polygon.empty() && !inside_polygon(c.polygon, {s.p_n, s.p_e})) return Breach::polygon;
+  if (!inside_zones(c.zones, {s.p_n, s.p_e})) return Breach::zone;
   return Breach::none;
 }
 
@@ -122,7 +123,7 @@ std::string FailsafeMonitor::describe(Breach b, const msg::State& s) const {
       return fmt::format("{:.1f} m from home, beyond max_distance {} m", std::hypot(s.p_n, s.p_e), *c.max_distance);
     case Breach::max_altitude: return fmt::format("altitude {:.1f} m above max_altitude {} m", s.altitude(), *c.max_altitude);
     case Breach::min_altitude: return fmt::format("altitude {:.1f} m below min_altitude {} m", s.altitude(), *c.min_altitude);
-    case Breach::polygon: return fmt::format("n {:.1f} e {:.1f} m outside the polygon", s.p_n, s.p_e);
+    case Breach::zone: return fmt::format("n {:.1f} e {:.1f} m outside the fence's zones", s.p_n, s.p_e);
     case Breach::none: break;
   }
   return "";
@@ -144,10 +145,32 @@ void FailsafeMonitor::geofence(const FailsafeInputs& in, std::vector<FailsafeEve
   fence_breached_at_ = in.now;
   const double lo = c.min_altitude ? *c.min_altitude + c.altitude_margin : -1e9;
   const double hi = c.max_altitude ? *c.max_altitude - c.altitude_margin : 1e9;
-  const double h = std::clamp(in.state->altitude(), lo, std::max(lo, hi));
-  out.push_back({in.now, "geofence", "return_home",
-                 fmt::format("geofence breached: {}: return inside, loiter at home at altitude {:.1f} m", describe(breach, *in.state), h),
-                 Eigen::Vector3d(0.0, 0.0, -h), c.radius});
+  const auto clamped = [&](double h) { return std::clamp(h, lo, std::max(lo, hi)); };
+  const std::string what = "geofence breached: " + describe(breach, *in.state);
+  const Eigen::Vector3d here(in.state->p_n, in.state->p_e, -clamped(in.state->altitude()));
+  switch (c.action) {
+    case FenceAction::report: out.push_back({in.now, "geofence", "report", what + ": reported, the mission goes on"}); return;
+    case FenceAction::loiter:
+      out.push_back({in.now, "geofence", "loiter",
+                     fmt::format("{}: loiter here (n {:.1f} e {:.1f} m) at altitude {:.1f} m", what, here.x(), here.y(), -here.z()),
+                     here, c.radius});
+      return;
+    case FenceAction::return_home: {
+      const Return r = return_point(here.head<2>(), clamped(in.state->altitude()), clamped);
+      out.push_back({in.now, "geofence", "return_home", fmt::format("{}: return inside, {}", what, r.detail), r.centre, c.radius});
+      return;
+    }
+  }
+}
+
+FailsafeMonitor::Return FailsafeMonitor::return_point(const Eigen::Vector2d& from, double home_h,
+                                                      const std::function<double(double)>& clamp_h) const {
+  const std::optional<std::size_t> i = nearest_rally(config_.rally, config_.geofence.zones, from);
+  if (!i) return {Eigen::Vector3d(0.0, 0.0, -home_h), fmt::format("loiter at home at altitude {:.1f} m", home_h)};
+  const Eigen::Vector3d& p = config_.rally[*i];
+  const double h = clamp_h(p.z());
+  return {Eigen::Vector3d(p.x(), p.y(), -h),
+          fmt::format("loiter at rally point {} (n {:.1f} e {:.1f} m) at altitude {:.1f} m", *i, p.x(), p.y(), h)};
 }
 
 }  // namespace tern::core

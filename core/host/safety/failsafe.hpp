@@ -18,16 +18,20 @@
 //               resumes the mission with a mission edit, as after PX4's Hold).
 //   link_loss   a ground station was heard (any request through the DDS bridge or a heartbeat:
 //               Host::ground_link_heard()) and has been silent for `timeout` s -> return home
-//               (loiter at home at `altitude`, default the altitude at that moment). Heard
+//               (loiter at home at `altitude`, default the altitude at that moment; or at the
+//               nearest rally point, at its altitude, when one is nearer than home). Heard
 //               again: logged; the aircraft keeps loitering at home. With terminate_after, a
 //               link still lost that long after the engagement terminates the flight.
 //   geofence    the estimate is farther than max_distance from home (horizontally), above
 //               max_altitude, below min_altitude (once it has been above it in the air, and not
 //               since the final approach or the flare, which descend through the floor by design,
 //               as PX4's geofence leaves the landing out: after a go-around, once above it again)
-//               or outside the polygon -> return inside: loiter at home at the altitude clamped into
-//               [min_altitude + altitude_margin, max_altitude - altitude_margin]. Back inside:
-//               logged; the aircraft keeps loitering at home.
+//               or outside the zones (inside_zones: its polygons and circles, the config's or a
+//               ground station's) -> by `action`: return_home (default): return inside, loiter at
+//               the nearest rally point or home (nearest_rally) at the altitude clamped into
+//               [min_altitude + altitude_margin, max_altitude - altitude_margin]; loiter: there,
+//               at that altitude; report: the event alone. Back inside: logged; the aircraft
+//               keeps loitering.
 //   terminate   (link_loss.terminate_after) flight termination, PX4's and ArduPilot AFS's last
 //               resort: the motor off and the surfaces set by the action:
 //                 glide  delta_t 0, surfaces neutral (PX4: PWM_MAIN_FAILn at their trims)
@@ -36,6 +40,7 @@
 //               The termination holds for the rest of the flight.
 #pragma once
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -62,7 +67,7 @@ struct FailsafeInputs {
 struct FailsafeEvent {
   Nanos t = 0;
   std::string cause;                                 ///< gnss_loss, gnss_back, link_loss, link_back, geofence, geofence_inside, terminate
-  std::string action;                                ///< loiter, return_home, terminate, none
+  std::string action;                                ///< loiter, return_home, terminate, report (a geofence breach reported only), none
   std::string detail;                                ///< one line for the log and summary.json
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  ///< loiter/return_home: orbit centre NED, m
   double radius = 0.0;                               ///< m (0: the path manager's turn radius)
@@ -85,9 +90,16 @@ class FailsafeMonitor {
   void gnss(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
   void link(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
   void geofence(const FailsafeInputs& in, std::vector<FailsafeEvent>& out);
-  enum class Breach { none, max_distance, max_altitude, min_altitude, polygon };
+  enum class Breach { none, max_distance, max_altitude, min_altitude, zone };
   /// The first fence limit the estimate is beyond (checked every tick: no formatting).
   Breach fence_breach(const msg::State& s) const;
+  /// Where a return from (n, e) `from` goes: the nearest rally point (its altitude through
+  /// `clamp_h`) or home (at `home_h`), and those words for the event.
+  struct Return {
+    Eigen::Vector3d centre;  // NED m
+    std::string detail;
+  };
+  Return return_point(const Eigen::Vector2d& from, double home_h, const std::function<double(double)>& clamp_h) const;
   /// `b` in words with the estimate's figures, for the event.
   std::string describe(Breach b, const msg::State& s) const;
 

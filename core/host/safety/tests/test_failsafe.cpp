@@ -158,7 +158,7 @@ TEST_CASE("failsafe: geofence: distance, altitudes and polygon each breach; the 
   CHECK(poly.run(0.0, 1.0, at(90, 90, 50), 100.0).empty());
   ev = poly.run(1.01, 1.02, at(90, 110, 50), 100.0);
   REQUIRE(ev.size() == 1);
-  CHECK(ev[0].detail.find("outside the polygon") != std::string::npos);
+  CHECK(ev[0].detail.find("outside the fence's zones") != std::string::npos);
 }
 
 TEST_CASE("failsafe config: defaults, and one line naming the field and value for bad input") {
@@ -186,4 +186,69 @@ TEST_CASE("failsafe config: defaults, and one line naming the field and value fo
   CHECK(error_of("geofence: {min_altitude: 50, max_altitude: 60}").find("less than 2 x altitude_margin") != std::string::npos);
   CHECK(error_of("geofence: {}").find("no limit") != std::string::npos);
   CHECK(error_of("gnss_los: {}").find("unknown key 'gnss_los'") != std::string::npos);
+}
+
+TEST_CASE("geofence zones: inside one inclusion group whole, inside no exclusion (common.xml's FENCE rule)") {
+  const FenceZone square{true, 0, {{100, -100}, {100, 100}, {-100, 100}, {-100, -100}}, Eigen::Vector2d::Zero(), 0.0};
+  const FenceZone circle{true, 0, {}, Eigen::Vector2d(100, 0), 60.0};
+  const FenceZone far{true, 1, {}, Eigen::Vector2d(1000, 0), 50.0};
+  const FenceZone hole{false, 0, {}, Eigen::Vector2d(0, 50), 20.0};
+  CHECK(inside_zones({}, {5000, 5000}));  // no zone: no limit
+  CHECK(inside_zones({square}, {90, 90}));
+  CHECK_FALSE(inside_zones({square}, {90, 110}));
+  // group 0 is the intersection of the square and the circle; group 1 another place
+  CHECK(inside_zones({square, circle, far}, {90, 0}));
+  CHECK_FALSE(inside_zones({square, circle, far}, {0, 0}));   // in the square, not the circle
+  CHECK(inside_zones({square, circle, far}, {1020, 0}));      // group 1 whole
+  CHECK_FALSE(inside_zones({square, circle, far}, {500, 0}));  // in no group
+  // an exclusion zone alone: everywhere but inside it
+  CHECK(inside_zones({hole}, {0, 0}));
+  CHECK_FALSE(inside_zones({hole}, {0, 45}));
+  CHECK_FALSE(inside_zones({square, hole}, {10, 50}));
+}
+
+TEST_CASE("rally points: a return goes to the nearest one the fence allows, or home when home is nearer") {
+  const std::vector<Eigen::Vector3d> rally{{400, 0, 80}, {0, 600, 60}, {900, 0, 70}};
+  const FenceZone keep_out{false, 0, {}, Eigen::Vector2d(900, 0), 30.0};
+  CHECK(nearest_rally(rally, {}, {450, 50}) == std::optional<std::size_t>(0));
+  CHECK(nearest_rally(rally, {}, {50, 500}) == std::optional<std::size_t>(1));
+  CHECK(nearest_rally(rally, {}, {1000, 0}) == std::optional<std::size_t>(2));
+  CHECK(nearest_rally(rally, {keep_out}, {1000, 0}) == std::optional<std::size_t>(0));  // the nearest is fenced off
+  CHECK_FALSE(nearest_rally(rally, {}, {100, 100}));                                     // home is nearer
+  CHECK_FALSE(nearest_rally({}, {}, {1000, 0}));
+
+  // the link-loss return flies to it at the rally point's altitude
+  FailsafeConfig c = parse("link_loss: {timeout: 3, altitude: 90}\nrally: [[400, 0, 80], [0, 600, 60]]");
+  Watch m(c);
+  auto ev = m.run(0.0, 10.0, at(450, 50, 70), 100.0, 3.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].centre == Eigen::Vector3d(400.0, 0.0, -80.0));
+  CHECK(ev[0].detail.find("rally point 0") != std::string::npos);
+  Watch near_home(c);
+  ev = near_home.run(0.0, 10.0, at(50, 50, 70), 100.0, 3.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].centre == Eigen::Vector3d(0.0, 0.0, -90.0));
+}
+
+TEST_CASE("geofence action: report goes on, loiter stays where the breach was, return_home goes to a rally point") {
+  FailsafeConfig c = parse("geofence: {max_distance: 400, max_altitude: 150, action: loiter}\nrally: [[350, 0, 200]]");
+  Watch loiter(c);
+  auto ev = loiter.run(0.0, 0.01, at(410, 0, 160), 100.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].action == "loiter");
+  CHECK(ev[0].centre == Eigen::Vector3d(410.0, 0.0, -140.0));
+  c.geofence.action = FenceAction::report;
+  Watch report(c);
+  ev = report.run(0.0, 0.01, at(410, 0, 100), 100.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].action == "report");
+  c.geofence.action = FenceAction::return_home;
+  Watch back(c);
+  ev = back.run(0.0, 0.01, at(410, 0, 100), 100.0);
+  REQUIRE(ev.size() == 1);
+  CHECK(ev[0].action == "return_home");
+  CHECK(ev[0].centre == Eigen::Vector3d(350.0, 0.0, -140.0));  // the rally point's 200 m clamped under max_altitude - margin
+  CHECK(error_of("geofence: {max_distance: 400, action: panic}").find("'panic' is not report, loiter or return_home") != std::string::npos);
+  CHECK(error_of("rally: [[1, 2]]").find("failsafes.rally[0]: expected [n, e, altitude above home]") != std::string::npos);
+  CHECK(error_of("rally: [[1, 2, -5]]").find("failsafes.rally[0][2]: -5 m is below 0") != std::string::npos);
 }
