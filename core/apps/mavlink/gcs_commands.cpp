@@ -26,7 +26,7 @@ std::string fixed(double v, int digits) {
 AutopilotVersion autopilot_version(std::uint8_t system_id) {
   AutopilotVersion a;
   a.capabilities = MAV_PROTOCOL_CAPABILITY_MISSION_INT | MAV_PROTOCOL_CAPABILITY_PARAM_FLOAT | MAV_PROTOCOL_CAPABILITY_COMMAND_INT |
-                   MAV_PROTOCOL_CAPABILITY_MAVLINK2;
+                   MAV_PROTOCOL_CAPABILITY_MAVLINK2 | MAV_PROTOCOL_CAPABILITY_MISSION_FENCE | MAV_PROTOCOL_CAPABILITY_MISSION_RALLY;
   a.uid = system_id;
   return a;
 }
@@ -160,6 +160,14 @@ GcsCommands::Result GcsCommands::return_home(const FlightView& v) {
   e.set_current_wp = true;
   e.waypoint.type = msg::Waypoint::return_home;
   e.waypoint.w = Eigen::Vector3d(0.0, 0.0, v.p_ned.z());
+  const FailsafeStation::Geometry g = host_.fence_geometry();
+  if (const auto i = nearest_rally(g.rally, g.zones, v.p_ned.head<2>())) {  // the nearest rally point, as the failsafes return
+    const Eigen::Vector3d& r = g.rally[*i];
+    e.waypoint.type = msg::Waypoint::loiter;
+    e.waypoint.w = Eigen::Vector3d(r.x(), r.y(), -r.z());
+    mission_.keep_mission();
+    return edit(e, "return to rally point " + std::to_string(*i) + " at " + fixed(r.z(), 0) + " m (nearer than home)");
+  }
   mission_.keep_mission();
   return edit(e, "return to launch at " + fixed(-v.p_ned.z(), 0) + " m");
 }

@@ -7,7 +7,8 @@
 //                               refused in the air (DENIED); arm in preflight: ACCEPTED (the arming
 //                               checks take off once they pass); disarm on the ground: the flight
 //                               ends (Host::abort_flight); no flight running: arm DENIED.
-//   NAV_RETURN_TO_LAUNCH (20)   return_home at the current altitude (as the link-loss failsafe).
+//   NAV_RETURN_TO_LAUNCH (20)   return_home at the current altitude (as the link-loss failsafe), or a loiter at
+//                               the nearest rally point at its altitude when one is nearer than home.
 //   DO_REPOSITION (192)         "fly here": loiter at (x, y, z) (z NaN: the current altitude;
 //                               no position: here), radius |param3| (< 0 counter-clockwise; 0 or
 //                               NaN: the path manager's turn radius), param1 > 0: airspeed m/s.
@@ -44,7 +45,8 @@ class Host;
 namespace mavlink {
 
 /// AUTOPILOT_VERSION's capabilities: MISSION_INT, PARAM_FLOAT, COMMAND_INT, MAVLINK2 (what
-/// QGroundControl reads before it uses the _INT mission and command messages).
+/// QGroundControl reads before it uses the _INT mission and command messages), MISSION_FENCE and
+/// MISSION_RALLY (its geofence and rally point editors).
 AutopilotVersion autopilot_version(std::uint8_t system_id);
 
 class GcsCommands {

@@ -106,6 +106,7 @@ struct GcsLink::Impl {
     if (now == 0) {  // a new flight
       last_phase.reset();
       handovers_seen = 0;
+      failsafes_seen = 0;
     }
     const auto& handovers = host.handovers();
     if (handovers.size() < handovers_seen) handovers_seen = 0;
@@ -113,10 +114,19 @@ struct GcsLink::Impl {
       const auto& h = handovers[handovers_seen++];
       push_event(MAV_SEVERITY_WARNING, "controller " + h.to + ": " + h.reason);
     }
+    const auto& failsafes = host.failsafe_events();
+    if (failsafes.size() < failsafes_seen) failsafes_seen = 0;
+    while (failsafes_seen < failsafes.size()) {  // each engagement and its end, as the log says it
+      const FailsafeEvent& e = failsafes[failsafes_seen++];
+      push_event(e.action == "none" ? MAV_SEVERITY_INFO : MAV_SEVERITY_WARNING, "failsafe " + e.cause + ": " + e.detail);
+    }
     if (!topics_tap.take(host, now)) return;
     Snapshot& s = staging;
     s.any = true;
     static_cast<FlightTopics&>(s) = topics_tap.topics();
+    const FailsafeStation::FenceStatus fence = host.fence_status();
+    s.fence_enabled = fence.enabled;
+    s.fence_breached = fence.breached;
     if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
       last_phase = s.phase.phase;
       push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));
@@ -397,6 +407,7 @@ struct GcsLink::Impl {
   Snapshot staging;
   std::optional<msg::Phase> last_phase;
   std::size_t handovers_seen = 0;
+  std::size_t failsafes_seen = 0;  // failsafe events already said
 
   // under mu
   std::mutex mu;

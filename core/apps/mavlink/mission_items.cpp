@@ -13,19 +13,9 @@ namespace {
 
 constexpr double kE7 = 1e7;  // degE7 per degree
 
-bool relative(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT; }
+std::string num(double v) { return item_number(v); }
 
-std::string where(const MissionItemInt& it) { return "mission item " + std::to_string(it.seq) + " (" + command_name(it.command) + "): "; }
-
-std::string num(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.17g", v);
-  return b;
-}
-
-[[noreturn]] void refuse(const MissionItemInt& it, std::uint8_t result, const std::string& why) {
-  throw ItemError(result, where(it) + why);
-}
+[[noreturn]] void refuse(const MissionItemInt& it, std::uint8_t result, const std::string& why) { refuse_item(it, result, why); }
 
 /// NED of the item's position; x = y = 0 (no position given): above home at z.
 Eigen::Vector3d ned_of(const MissionItemInt& it, const GeoOrigin& home) {
@@ -109,6 +99,27 @@ MissionItemInt nav_item(const msg::Waypoint& w, const GeoOrigin& home) {
 
 }  // namespace
 
+bool relative(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT; }
+
+std::string item_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+void refuse_item(const MissionItemInt& it, std::uint8_t result, const std::string& why) {
+  throw ItemError(result, "mission item " + std::to_string(it.seq) + " (" + command_name(it.command) + "): " + why);
+}
+
+void check_position(const MissionItemInt& it) {
+  if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
+    refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
+           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
+  if (it.x < -90 * 10'000'000 || it.x > 90 * 10'000'000) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "latitude " + num(it.x / kE7) + " deg");
+  if (it.y < -180 * 10'000'000 || it.y > 180 * 10'000'000)
+    refuse(it, MAV_MISSION_INVALID_PARAM6_Y, "longitude " + num(it.y / kE7) + " deg");
+}
+
 bool is_nav_item(std::uint16_t c) {
   return c == MAV_CMD_NAV_WAYPOINT || c == MAV_CMD_NAV_TAKEOFF || c == MAV_CMD_NAV_LOITER_UNLIM || c == MAV_CMD_NAV_LOITER_TURNS ||
          c == MAV_CMD_NAV_LOITER_TIME || c == MAV_CMD_NAV_RETURN_TO_LAUNCH || c == MAV_CMD_NAV_LAND;
@@ -126,6 +137,12 @@ std::string command_name(std::uint16_t c) {
     case MAV_CMD_DO_CHANGE_SPEED: return "DO_CHANGE_SPEED";
     case MAV_CMD_DO_LAND_START: return "DO_LAND_START";
     case MAV_CMD_DO_JUMP: return "DO_JUMP";
+    case MAV_CMD_NAV_FENCE_RETURN_POINT: return "NAV_FENCE_RETURN_POINT";
+    case MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION: return "NAV_FENCE_POLYGON_VERTEX_INCLUSION";
+    case MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION: return "NAV_FENCE_POLYGON_VERTEX_EXCLUSION";
+    case MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION: return "NAV_FENCE_CIRCLE_INCLUSION";
+    case MAV_CMD_NAV_FENCE_CIRCLE_EXCLUSION: return "NAV_FENCE_CIRCLE_EXCLUSION";
+    case MAV_CMD_NAV_RALLY_POINT: return "NAV_RALLY_POINT";
     default: return "MAV_CMD " + std::to_string(c);
   }
 }
@@ -146,12 +163,7 @@ void check_item(const MissionItemInt& it) {
     return;
   }
   if (!is_nav_item(it.command)) refuse(it, MAV_MISSION_UNSUPPORTED, "not a mission item tern flies (docs/ground-station.md)");
-  if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
-    refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
-           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
-  if (it.x < -90 * 10'000'000 || it.x > 90 * 10'000'000) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "latitude " + num(it.x / kE7) + " deg");
-  if (it.y < -180 * 10'000'000 || it.y > 180 * 10'000'000)
-    refuse(it, MAV_MISSION_INVALID_PARAM6_Y, "longitude " + num(it.y / kE7) + " deg");
+  check_position(it);
   if (!std::isfinite(it.z) && it.command != MAV_CMD_NAV_RETURN_TO_LAUNCH)
     refuse(it, MAV_MISSION_INVALID_PARAM7, "altitude " + num(it.z) + ": not a number");
   if (it.command == MAV_CMD_NAV_WAYPOINT && std::isfinite(it.param1) && it.param1 != 0.0f)

@@ -66,6 +66,16 @@ class ItemError : public std::runtime_error {
 /// "NAV_WAYPOINT", ..., or the number of a command tern does not take ("MAV_CMD 183").
 std::string command_name(std::uint16_t command);
 
+/// The item's frame gives z above home (GLOBAL_RELATIVE_ALT, _INT) rather than MSL.
+bool relative(std::uint8_t frame);
+/// A parameter's value as the refusals print it (every digit of a float; nan, inf).
+std::string item_number(double v);
+/// Throws ItemError(result, "mission item <seq> (<command>): <why>").
+[[noreturn]] void refuse_item(const MissionItemInt& item, std::uint8_t result, const std::string& why);
+/// Checks a positioned item's frame (GLOBAL(_INT), GLOBAL_RELATIVE_ALT(_INT)), latitude and
+/// longitude ranges. Throws ItemError.
+void check_position(const MissionItemInt& item);
+
 /// A nav item: one that becomes a waypoint (not DO_CHANGE_SPEED or DO_LAND_START).
 bool is_nav_item(std::uint16_t command);
 

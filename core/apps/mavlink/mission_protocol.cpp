@@ -8,6 +8,7 @@
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
+#include "mavlink/fence_items.hpp"
 #include "mavlink/mission_items.hpp"
 #include "tern/msg/mission.hpp"
 
@@ -79,12 +80,14 @@ void MissionProtocol::ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t resu
 }
 
 void MissionProtocol::refuse_type(const Frame& f, std::uint8_t mission_type) {
-  const char* what = mission_type == MAV_MISSION_TYPE_FENCE   ? "geofence"
-                     : mission_type == MAV_MISSION_TYPE_RALLY ? "rally points"
-                                                              : "mission type";
-  out_.say(MAV_SEVERITY_WARNING, std::string(what) + " (mission type " + std::to_string(mission_type) +
-                                     ") not supported over MAVLink: the config's failsafe geometry applies");
+  out_.say(MAV_SEVERITY_WARNING, "mission type " + std::to_string(mission_type) + " unknown: tern takes MISSION, FENCE and RALLY");
   ack(f.sysid, f.compid, MAV_MISSION_UNSUPPORTED, mission_type);
+}
+
+bool MissionProtocol::known_type(std::uint8_t t) { return t <= MAV_MISSION_TYPE_RALLY; }
+
+std::string MissionProtocol::type_name(std::uint8_t t) {
+  return t == MAV_MISSION_TYPE_FENCE ? "geofence" : t == MAV_MISSION_TYPE_RALLY ? "rally points" : "mission";
 }
 
 void MissionProtocol::request(const Upload& u) {
@@ -92,6 +95,7 @@ void MissionProtocol::request(const Upload& u) {
   r.seq = u.next;
   r.target_system = u.gcs_sys;
   r.target_component = u.gcs_comp;
+  r.mission_type = u.type;
   out_.send(MissionRequestInt::kId, encode(r));
 }
 
@@ -99,30 +103,36 @@ void MissionProtocol::on_count(const Frame& f) {
   const auto m = decode<MissionCount>(f);
   if (!for_us(m.target_system, m.target_component)) return;
   upload_.reset();  // a new count restarts an upload
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, m.mission_type);
+  if (!known_type(m.mission_type)) return refuse_type(f, m.mission_type);
+  const std::string what = type_name(m.mission_type);
   if (m.count > kMaxItems) {
-    out_.say(MAV_SEVERITY_WARNING, "mission of " + std::to_string(m.count) + " items refused: at most " + std::to_string(kMaxItems));
-    return ack(f.sysid, f.compid, MAV_MISSION_NO_SPACE);
+    out_.say(MAV_SEVERITY_WARNING, what + " of " + std::to_string(m.count) + " items refused: at most " + std::to_string(kMaxItems));
+    return ack(f.sysid, f.compid, MAV_MISSION_NO_SPACE, m.mission_type);
   }
   if (!flight_.view().has_state) {
-    out_.say(MAV_SEVERITY_WARNING, "mission refused: no position estimate yet (its origin places lat/lon)");
-    return ack(f.sysid, f.compid, MAV_MISSION_DENIED);
+    out_.say(MAV_SEVERITY_WARNING, what + " refused: no position estimate yet (its origin places lat/lon)");
+    return ack(f.sysid, f.compid, MAV_MISSION_DENIED, m.mission_type);
   }
-  upload_ = Upload{m.count, 0, f.sysid, f.compid, {}, Clock::now(), 0};
+  upload_ = Upload{m.count, 0, f.sysid, f.compid, m.mission_type, {}, Clock::now(), 0};
   if (m.count == 0) return finish_upload();
   request(*upload_);
 }
 
 void MissionProtocol::on_item(const Frame& f) {
   const auto it = decode<MissionItemInt>(f);
-  if (!for_us(it.target_system, it.target_component) || !upload_ || it.mission_type != MAV_MISSION_TYPE_MISSION) return;
+  if (!for_us(it.target_system, it.target_component) || !upload_ || it.mission_type != upload_->type) return;
   Upload& u = *upload_;
   if (it.seq != u.next) return request(u);  // out of order: the one expected, again
   try {
-    check_item(it);
+    if (u.type == MAV_MISSION_TYPE_FENCE)
+      check_fence_item(it);
+    else if (u.type == MAV_MISSION_TYPE_RALLY)
+      check_rally_item(it);
+    else
+      check_item(it);
   } catch (const ItemError& e) {
     out_.say(MAV_SEVERITY_WARNING, e.what());
-    ack(u.gcs_sys, u.gcs_comp, e.result());
+    ack(u.gcs_sys, u.gcs_comp, e.result(), u.type);
     upload_.reset();
     return;
   }
@@ -137,6 +147,28 @@ void MissionProtocol::on_item(const Frame& f) {
 void MissionProtocol::finish_upload() {
   const Upload u = std::move(*upload_);
   upload_.reset();
+  if (u.type == MAV_MISSION_TYPE_MISSION) return finish_mission(u);
+  const FlightView v = flight_.view();
+  const GeoOrigin home(v.origin);
+  try {
+    if (u.type == MAV_MISSION_TYPE_FENCE) {
+      std::vector<FenceZone> zones = to_zones(u.items, home);
+      out_.say(MAV_SEVERITY_INFO, "geofence of " + std::to_string(zones.size()) + " zones accepted");
+      host_.set_fence_zones(std::move(zones));
+    } else {
+      std::vector<Eigen::Vector3d> rally = to_rally(u.items, home);
+      out_.say(MAV_SEVERITY_INFO, std::to_string(rally.size()) + " rally points accepted: a return goes to the nearest or home");
+      host_.set_rally_points(std::move(rally));
+    }
+  } catch (const ItemError& e) {
+    out_.say(MAV_SEVERITY_WARNING, e.what());
+    return ack(u.gcs_sys, u.gcs_comp, e.result(), u.type);
+  }
+  kept_[u.type] = u.items;
+  ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_ACCEPTED, u.type);
+}
+
+void MissionProtocol::finish_mission(const Upload& u) {
   const FlightView v = flight_.view();
   const auto refuse = [&](std::uint8_t result, const std::string& why) {
     out_.say(MAV_SEVERITY_WARNING, why);
@@ -189,12 +221,13 @@ void MissionProtocol::on_request(const Frame& f) {
   // MISSION_REQUEST (deprecated) and MISSION_REQUEST_INT ask alike; both are answered with MISSION_ITEM_INT
   const auto answer = [&](const auto& r) {
     if (!for_us(r.target_system, r.target_component)) return;
-    if (r.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, r.mission_type);
-    if (r.seq >= download_.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE);
-    MissionItemInt it = download_[r.seq];
+    if (!known_type(r.mission_type)) return refuse_type(f, r.mission_type);
+    const std::vector<MissionItemInt>& listed = download_[r.mission_type];
+    if (r.seq >= listed.size()) return ack(f.sysid, f.compid, MAV_MISSION_INVALID_SEQUENCE, r.mission_type);
+    MissionItemInt it = listed[r.seq];
     it.target_system = f.sysid;
     it.target_component = f.compid;
-    it.mission_type = MAV_MISSION_TYPE_MISSION;
+    it.mission_type = r.mission_type;
     out_.send(MissionItemInt::kId, encode(it));
   };
   if (f.msgid == MissionRequest::kId)
@@ -206,20 +239,32 @@ void MissionProtocol::on_request(const Frame& f) {
 void MissionProtocol::on_list(const Frame& f) {
   const auto m = decode<MissionRequestList>(f);
   if (!for_us(m.target_system, m.target_component)) return;
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION) return refuse_type(f, m.mission_type);
-  download_ = items();
+  if (!known_type(m.mission_type)) return refuse_type(f, m.mission_type);
+  std::vector<MissionItemInt>& listed = download_[m.mission_type];
+  listed = items(m.mission_type);
   MissionCount c;
-  c.count = static_cast<std::uint16_t>(download_.size());
+  c.count = static_cast<std::uint16_t>(listed.size());
   c.target_system = f.sysid;
   c.target_component = f.compid;
+  c.mission_type = m.mission_type;
   out_.send(MissionCount::kId, encode(c));
 }
 
 void MissionProtocol::on_clear(const Frame& f) {
   const auto m = decode<MissionClearAll>(f);
   if (!for_us(m.target_system, m.target_component)) return;
-  if (m.mission_type != MAV_MISSION_TYPE_MISSION && m.mission_type != MAV_MISSION_TYPE_ALL) return refuse_type(f, m.mission_type);
+  if (!known_type(m.mission_type) && m.mission_type != MAV_MISSION_TYPE_ALL) return refuse_type(f, m.mission_type);
   upload_.reset();
+  const bool all = m.mission_type == MAV_MISSION_TYPE_ALL;
+  if (all || m.mission_type == MAV_MISSION_TYPE_FENCE) {
+    host_.set_fence_zones({});
+    kept_[MAV_MISSION_TYPE_FENCE] = std::vector<MissionItemInt>{};
+  }
+  if (all || m.mission_type == MAV_MISSION_TYPE_RALLY) {
+    host_.set_rally_points({});
+    kept_[MAV_MISSION_TYPE_RALLY] = std::vector<MissionItemInt>{};
+  }
+  if (!all && m.mission_type != MAV_MISSION_TYPE_MISSION) return ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED, m.mission_type);
   msg::MissionEdit e;
   e.id = next_edit_id();
   e.op = msg::MissionEdit::clear;
@@ -247,9 +292,9 @@ void MissionProtocol::on_tick() {
   if (!upload_ || Clock::now() - upload_->asked < kRetryPeriod) return;
   Upload& u = *upload_;
   if (u.retries >= kRetries) {
-    out_.say(MAV_SEVERITY_WARNING, "mission upload given up: item " + std::to_string(u.next) + " not received after " +
-                                       std::to_string(kRetries + 1) + " requests; the mission is unchanged");
-    ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_OPERATION_CANCELLED);
+    out_.say(MAV_SEVERITY_WARNING, type_name(u.type) + " upload given up: item " + std::to_string(u.next) + " not received after " +
+                                       std::to_string(kRetries + 1) + " requests; the " + type_name(u.type) + " is unchanged");
+    ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_OPERATION_CANCELLED, u.type);
     upload_.reset();
     return;
   }
@@ -266,6 +311,16 @@ bool MissionProtocol::ours_flown(const FlightView& v) const {
     if (std::none_of(uploaded_->waypoints.begin(), uploaded_->waypoints.end(), [&](const msg::Waypoint& w) { return same(w, p.items[i]); }))
       return false;
   return true;
+}
+
+std::vector<MissionItemInt> MissionProtocol::items(std::uint8_t mission_type) const {
+  if (mission_type == MAV_MISSION_TYPE_MISSION) return items();
+  if (kept_[mission_type]) return *kept_[mission_type];
+  const FlightView v = flight_.view();
+  if (!v.has_state) return {};
+  const auto g = host_.fence_geometry();  // the config's
+  const GeoOrigin home(v.origin);
+  return mission_type == MAV_MISSION_TYPE_FENCE ? fence_items(g.zones, home) : rally_items(g.rally, home);
 }
 
 std::vector<MissionItemInt> MissionProtocol::items() const {

@@ -1,6 +1,7 @@
 // core/apps/mavlink/mission_protocol.hpp: the vehicle's side of MAVLink's mission protocol
-// (https://mavlink.io/en/services/mission.html), mission type MISSION only (FENCE and RALLY are
-// answered MAV_MISSION_UNSUPPORTED), on the link's thread (gcs_link.hpp).
+// (https://mavlink.io/en/services/mission.html) for its three lists: MISSION, FENCE (the geofence's
+// zones) and RALLY (rally points), on the link's thread (gcs_link.hpp). Every MISSION_COUNT,
+// MISSION_REQUEST_INT and MISSION_ACK carries the list's mission_type.
 //
 // Upload: MISSION_COUNT -> MISSION_REQUEST_INT 0 .. n-1 (each re-sent after kRetryPeriod without
 // the item, at most kRetries times, then the upload ends with MISSION_ACK OPERATION_CANCELLED, as
@@ -18,7 +19,13 @@
 // made (or is still to be made from them; set_current only renumbers it), else the planner's list
 // (the configured mission, a failsafe's loiter, a mission loaded over DDS, a "fly here") as items
 // (mission_items.hpp to_items).
-// MISSION_CLEAR_ALL: mission edit clear (the path manager then orbits home), ACK.
+// FENCE and RALLY: the same upload, each item checked as it arrives and the whole list at the end
+// (fence_items.hpp); an accepted list replaces the config's zones or rally points in the host's
+// failsafes (Host::set_fence_zones, set_rally_points) from the next tick on, and is what a
+// download gives back, item for item. Before any upload a download gives the config's
+// (failsafes.geofence.polygon, failsafes.rally) as items.
+// MISSION_CLEAR_ALL: mission edit clear (the path manager then orbits home), ACK; of FENCE or
+// RALLY: no zones or rally points (the config's distance and altitude limits stay); of ALL: all three.
 // MISSION_SET_CURRENT: the item `seq` (a DO_CHANGE_SPEED: the nav item after it) flown next
 // (mission edit set_current; an uploaded mission is loaded again first, so the index is its own).
 //
@@ -26,6 +33,7 @@
 // STATUSTEXT) and dropped; nothing throws out of the handlers except what Outbox throws.
 #pragma once
 
+#include <array>
 #include <chrono>
 #include <cstdint>
 #include <filesystem>
@@ -69,6 +77,8 @@ class MissionProtocol {
 
   /// The mission tern flies now as items (the download's).
   std::vector<MissionItemInt> items() const;
+  /// The items of list `mission_type` (MISSION, FENCE, RALLY) a download gives.
+  std::vector<MissionItemInt> items(std::uint8_t mission_type) const;
   /// The seq of the item flown now (MISSION_CURRENT), or nullopt (no mission, nothing flown yet).
   std::optional<std::uint16_t> current_seq() const;
   /// Before a command replaces the planner's list (return to launch, "fly here", loiter): keeps
@@ -85,6 +95,7 @@ class MissionProtocol {
   struct Upload {
     std::uint16_t count = 0, next = 0;
     std::uint8_t gcs_sys = 0, gcs_comp = 0;
+    std::uint8_t type = MAV_MISSION_TYPE_MISSION;  // MAV_MISSION_TYPE
     std::vector<MissionItemInt> items;
     std::chrono::steady_clock::time_point asked;
     int retries = 0;
@@ -103,12 +114,15 @@ class MissionProtocol {
   void on_clear(const Frame& f);
   void on_set_current(const Frame& f);
   void finish_upload();
+  void finish_mission(const Upload& u);
   void request(const Upload& u);
   /// MISSION_ACK to (sys, comp): `result` (MAV_MISSION_RESULT) for the list of `mission_type`
   /// (MAV_MISSION_TYPE: a planner matches the answer to its transfer by it).
   void ack(std::uint8_t sys, std::uint8_t comp, std::uint8_t result, std::uint8_t mission_type = MAV_MISSION_TYPE_MISSION);
-  /// A list other than the mission's (a geofence, rally points) refused with its type and one STATUSTEXT.
+  /// A mission_type other than MISSION, FENCE and RALLY refused with its type and one STATUSTEXT.
   void refuse_type(const Frame& f, std::uint8_t mission_type);
+  static bool known_type(std::uint8_t mission_type);
+  static std::string type_name(std::uint8_t mission_type);
   bool for_us(std::uint8_t sys, std::uint8_t comp) const;
   bool ours_flown(const FlightView& v) const;
   std::filesystem::path write(const std::string& text);
@@ -120,7 +134,8 @@ class MissionProtocol {
   std::filesystem::path dir_;
   std::optional<Upload> upload_;
   std::optional<Uploaded> uploaded_;
-  std::vector<MissionItemInt> download_;  // the items of the last MISSION_COUNT sent
+  std::array<std::vector<MissionItemInt>, 3> download_;  // per mission_type: the items of the last MISSION_COUNT sent
+  std::array<std::optional<std::vector<MissionItemInt>>, 3> kept_;  // FENCE, RALLY: as uploaded (or cleared)
   std::uint32_t files_ = 0, edits_ = 0;
   bool commanded_ = false;  // a command's list (return, loiter) replaced the mission kept in uploaded_
 };

@@ -93,6 +93,10 @@ SysStatus sys_status(const Snapshot& s, const std::set<std::string>& topics, con
     present |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
     if (s.has_rc && s.rc.failsafe) unhealthy |= MAV_SYS_STATUS_SENSOR_RC_RECEIVER;
   }
+  if (s.fence_enabled) {
+    present |= MAV_SYS_STATUS_GEOFENCE;
+    if (s.fence_breached) unhealthy |= MAV_SYS_STATUS_GEOFENCE;
+  }
   m.onboard_control_sensors_present = present;
   m.onboard_control_sensors_enabled = present;
   m.onboard_control_sensors_health = present & ~unhealthy;

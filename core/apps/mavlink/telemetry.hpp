@@ -32,6 +32,8 @@ struct Snapshot : FlightTopics {
   /// (path.waypoint_index), as published (NED, or lat/lon/alt when lla).
   std::optional<std::uint32_t> mission_items;
   std::optional<msg::Waypoint> target;
+  /// The geofence: on with a limit, and breached now (Host::fence_status()).
+  bool fence_enabled = false, fence_breached = false;
 };
 
 /// HEARTBEAT: MAV_TYPE_FIXED_WING; custom_mode is tern's Phase code (tern/msg/phase.hpp); armed
@@ -39,7 +41,8 @@ struct Snapshot : FlightTopics {
 /// switch is on; CRITICAL in an RC failsafe. `flying`: Host::flying().
 Heartbeat heartbeat(const Snapshot& s, bool flying);
 /// SYS_STATUS: the sensors present (topics with a producer: `topics`), unhealthy when the
-/// estimator reports them degraded; link drops from `link` (bad datagrams / all seen).
+/// estimator reports them degraded; the geofence (MAV_SYS_STATUS_GEOFENCE) present and enabled
+/// when on, unhealthy while breached; link drops from `link` (bad datagrams / all seen).
 SysStatus sys_status(const Snapshot& s, const std::set<std::string>& topics, const Counters& link);
 Attitude attitude(const Snapshot& s);
 /// GLOBAL_POSITION_INT: the estimate's NED position about its origin, through `origin` (a cache

@@ -83,6 +83,7 @@ Host::Host(MissionConfig config, HostOptions options)
       created_ns_(wall_ns()) {
   calibrate_step_clock();  // before anything is timed
   seed_ = options_.seed.value_or(config_.seed);
+  failsafes_.configure(config_.failsafes);
 }
 
 Host::~Host() {

@@ -160,6 +160,16 @@ class Host {
   /// heartbeat. The link-loss failsafe (failsafe.hpp) acts only once this has been called in a
   /// flight.
   void ground_link_heard() { failsafes_.ground_link_heard(); }
+  /// A ground station's geofence zones and rally points (MAVLink's FENCE and RALLY; any thread):
+  /// they replace the config's (failsafes.geofence.polygon, failsafes.rally) from the next tick
+  /// on, in this flight and the next ones (failsafe_station.hpp).
+  void set_fence_zones(std::vector<FenceZone> zones) { failsafes_.set_zones(std::move(zones)); }
+  void set_rally_points(std::vector<Eigen::Vector3d> rally) { failsafes_.set_rally(std::move(rally)); }
+  /// The zones and rally points in force, and whether the fence is on and breached (any thread).
+  FailsafeStation::Geometry fence_geometry() const { return failsafes_.geometry(); }
+  FailsafeStation::FenceStatus fence_status() const { return failsafes_.fence_status(); }
+  /// The failsafe events of this flight (the flight thread: a tick observer).
+  const std::vector<FailsafeEvent>& failsafe_events() const { return failsafes_.events(); }
   /// Hands a pilot's sticks and switches (the console's keyboard or gamepad) to topic `pilot` at
   /// the start of the next tick, the latest one winning; sim_aero reports them on `rc`. Any
   /// thread. Throws ConfigError when no instance reads `pilot`.

@@ -81,6 +81,8 @@ class FailsafeMonitor {
  public:
   void set_config(const FailsafeConfig& c) { config_ = c; }
   const FailsafeConfig& config() const { return config_; }
+  /// The geofence is breached now (engaged, not yet back inside).
+  bool fence_breached() const { return fence_breached_at_.has_value(); }
   /// A new flight: nothing engaged, nothing seen.
   void restart();
   /// The events of this tick, in the order gnss, link, geofence.

@@ -16,8 +16,52 @@ FailsafeStation::FailsafeStation(std::shared_ptr<spdlog::logger> log) : log_(std
   terminate_out_.set_identity("actuators", "the failsafe's flight termination command");
 }
 
+void FailsafeStation::configure(const FailsafeConfig& config) {
+  std::lock_guard lk(mu_);
+  base_ = config;
+}
+
+void FailsafeStation::set_zones(std::vector<FenceZone> zones) {
+  std::lock_guard lk(mu_);
+  zones_ = std::move(zones);
+  changed_ = true;
+}
+
+void FailsafeStation::set_rally(std::vector<Eigen::Vector3d> rally) {
+  std::lock_guard lk(mu_);
+  rally_ = std::move(rally);
+  changed_ = true;
+}
+
+FailsafeConfig FailsafeStation::effective() const {
+  FailsafeConfig c = base_;
+  if (zones_) {
+    c.geofence.zones = *zones_;
+    c.geofence.enabled = c.geofence.enabled || !zones_->empty();
+  }
+  if (rally_) c.rally = *rally_;
+  return c;
+}
+
+FailsafeStation::Geometry FailsafeStation::geometry() const {
+  std::lock_guard lk(mu_);
+  const FailsafeConfig c = effective();
+  return {c.geofence.zones, c.rally};
+}
+
+FailsafeStation::FenceStatus FailsafeStation::fence_status() const {
+  return {fence_enabled_.load(std::memory_order_relaxed), fence_breached_.load(std::memory_order_relaxed)};
+}
+
 void FailsafeStation::start_flight(const FailsafeConfig& config, const PortGraph& graph) {
-  monitor_.set_config(config);
+  configure(config);
+  {
+    std::lock_guard lk(mu_);
+    monitor_.set_config(effective());
+    changed_ = false;
+  }
+  fence_enabled_ = monitor_.config().geofence.enabled && monitor_.config().geofence.limits();
+  fence_breached_ = false;
   monitor_.restart();
   state_ = graph.writer_of<msg::State>("state");
   gnss_ = graph.writer_of<msg::Gnss>("gnss");
@@ -41,6 +85,14 @@ void FailsafeStation::tick(Nanos now, const PhaseMachine* phase_machine, RemoteQ
     heard_seen_ = h;
     link_heard_ = now;
   }
+  {
+    std::lock_guard lk(mu_);
+    if (changed_) {
+      monitor_.set_config(effective());
+      changed_ = false;
+      fence_enabled_ = monitor_.config().geofence.enabled && monitor_.config().geofence.limits();
+    }
+  }
   FailsafeInputs in;
   in.now = now;
   in.airborne = airborne;
@@ -49,6 +101,7 @@ void FailsafeStation::tick(Nanos now, const PhaseMachine* phase_machine, RemoteQ
   in.link_heard = link_heard_;
   in.landing = msg::on_final(phase);
   for (const FailsafeEvent& e : monitor_.check(in)) act(e, max_deflection, remote);
+  fence_breached_.store(monitor_.fence_breached(), std::memory_order_relaxed);
   if (terminated_) {
     msg::Actuators a = terminate_out_.last();
     a.stamp = now;
@@ -77,7 +130,9 @@ void FailsafeStation::act(const FailsafeEvent& e, double max_deflection, RemoteQ
   edit.op = msg::MissionEdit::add;
   edit.set_current_wp = true;
   edit.publish_now = true;
-  edit.waypoint.type = e.action == "loiter" ? msg::Waypoint::loiter : msg::Waypoint::return_home;
+  // a return to a rally point (centre away from home) is a loiter there
+  const bool home = e.centre.x() == 0.0 && e.centre.y() == 0.0;
+  edit.waypoint.type = e.action == "loiter" || !home ? msg::Waypoint::loiter : msg::Waypoint::return_home;
   edit.waypoint.w = e.centre;
   edit.waypoint.loiter_radius = e.radius;
   remote.edit_mission(edit);

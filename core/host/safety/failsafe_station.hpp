@@ -15,11 +15,16 @@
 // termination binds `actuators` to the station's own output (the termination command) for the
 // rest of the flight, rebinding it every tick in case the phase router routed the topic since.
 // With no instance reading `mission_edit` an engagement is logged as an error and not flown.
+//
+// A ground station's geofence and rally points (MAVLink's FENCE and RALLY, set_zones / set_rally
+// from its thread) replace the config's from the next tick on, for this flight and the next ones;
+// geometry() and fence_status() read them from any thread.
 #pragma once
 
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -40,6 +45,25 @@ class FailsafeStation {
 
   /// Before the first tick: the config, the `state` and `gnss` writers of `graph`.
   void start_flight(const FailsafeConfig& config, const PortGraph& graph);
+  /// The config's failsafes, before a flight (what geometry() gives until a ground station uploads).
+  void configure(const FailsafeConfig& config);
+  /// A ground station's geofence zones (any thread; empty: none, the config's distance and
+  /// altitude limits stay), in force from the next tick on. An upload turns the geofence on.
+  void set_zones(std::vector<FenceZone> zones);
+  /// A ground station's rally points (n, e, altitude above home; m), as set_zones.
+  void set_rally(std::vector<Eigen::Vector3d> rally);
+  /// The zones and rally points in force, the config's or a ground station's (any thread).
+  struct Geometry {
+    std::vector<FenceZone> zones;
+    std::vector<Eigen::Vector3d> rally;
+  };
+  Geometry geometry() const;
+  /// The geofence has a limit and is on; the estimate is beyond it now (any thread).
+  struct FenceStatus {
+    bool enabled = false;
+    bool breached = false;
+  };
+  FenceStatus fence_status() const;
   /// The ground station was heard (any thread).
   void ground_link_heard() { heard_.fetch_add(1, std::memory_order_relaxed); }
   /// At the end of a tick at flight time `now`. The failsafes engage only in the air: the phase
@@ -50,6 +74,8 @@ class FailsafeStation {
 
  private:
   void act(const FailsafeEvent& e, double max_deflection, RemoteQueue& remote);
+  /// The config with a ground station's zones and rally points (under mu_).
+  FailsafeConfig effective() const;
 
   std::shared_ptr<spdlog::logger> log_;
   FailsafeMonitor monitor_;
@@ -62,6 +88,12 @@ class FailsafeStation {
   std::vector<FailsafeEvent> events_;
   bool terminated_ = false;
   Output<msg::Actuators> terminate_out_;
+  mutable std::mutex mu_;  // guards the four below
+  FailsafeConfig base_;
+  std::optional<std::vector<FenceZone>> zones_;
+  std::optional<std::vector<Eigen::Vector3d>> rally_;
+  bool changed_ = false;  // an upload the monitor has not taken yet
+  std::atomic<bool> fence_enabled_{false}, fence_breached_{false};
 };
 
 }  // namespace tern::core
