@@ -8,8 +8,8 @@
 //   - AUTOPILOT_VERSION (MAV_CMD_REQUEST_MESSAGE) with MISSION_INT, COMMAND_INT, PARAM_FLOAT, MAVLINK2;
 //     HOME_POSITION on request;
 //   - downloads the configured mission before any upload (the planner's list as items);
-//   - hostile mission traffic: a count of 65535 (NO_SPACE), a FENCE upload and a RALLY download (UNSUPPORTED, the ACK
-//     carrying their mission type), items out of
+//   - hostile mission traffic: a count of 65535 (NO_SPACE), a waypoint in a FENCE upload and a
+//     download of mission type 7 (UNSUPPORTED, the ACK carrying their mission type), items out of
 //     order (the expected one asked again), an upload abandoned half way (re-requested, then
 //     OPERATION_CANCELLED) leave the mission as it was; bad items (a DO_JUMP past the end, a LOCAL_NED frame) are
 //     refused with their MAV_MISSION_RESULT and a STATUSTEXT naming the item;
@@ -133,13 +133,13 @@ try {
   const huge = gcs.next('MISSION_ACK', () => true, 3000)
   gcs.send(Object.assign(target(new common.MissionCount()), { count: 65535, missionType: 0 }))
   check((await huge).type === R.NO_SPACE, 'MISSION_COUNT 65535 answered MAV_MISSION_NO_SPACE')
-  const fence = await upload([item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, h.lat, h.lon, 50)], 1)
-  check(fence.type === R.UNSUPPORTED, `a FENCE upload answered MAV_MISSION_UNSUPPORTED (${fence.type})`)
+  const fence = await upload([Object.assign(item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, h.lat, h.lon, 50), { missionType: 1 })], 1)
+  check(fence.type === R.UNSUPPORTED, `a NAV_WAYPOINT in a FENCE upload answered MAV_MISSION_UNSUPPORTED (${fence.type})`)
   check(fence.missionType === 1, `... in a MISSION_ACK whose mission_type is FENCE, as a planner matches it (${fence.missionType})`)
-  const rally = gcs.next('MISSION_ACK', () => true, 3000)
-  gcs.send(Object.assign(target(new common.MissionRequestList()), { missionType: 2 }))
-  const r2 = await rally
-  check(r2.type === R.UNSUPPORTED && r2.missionType === 2, `a RALLY download answered UNSUPPORTED with mission_type RALLY (${r2.type}, ${r2.missionType})`)
+  const unknown = gcs.next('MISSION_ACK', () => true, 3000)
+  gcs.send(Object.assign(target(new common.MissionRequestList()), { missionType: 7 }))
+  const r7 = await unknown
+  check(r7.type === R.UNSUPPORTED && r7.missionType === 7, `a download of mission type 7 answered UNSUPPORTED with that mission_type (${r7.type}, ${r7.missionType})`)
   // out of order: item 2 first; the vehicle asks for 0 again
   const again = gcs.next('MISSION_REQUEST_INT', (d) => d.seq === 0, 2000)
   const first = gcs.next('MISSION_REQUEST_INT', (d) => d.seq === 0, 2000)

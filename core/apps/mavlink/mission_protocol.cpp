@@ -120,8 +120,16 @@ void MissionProtocol::on_count(const Frame& f) {
 
 void MissionProtocol::on_item(const Frame& f) {
   const auto it = decode<MissionItemInt>(f);
-  if (!for_us(it.target_system, it.target_component) || !upload_ || it.mission_type != upload_->type) return;
+  if (!for_us(it.target_system, it.target_component) || !upload_) return;
   Upload& u = *upload_;
+  if (it.mission_type != u.type) {  // one transfer at a time: an item of another list ends it
+    out_.say(MAV_SEVERITY_WARNING, "mission item " + std::to_string(it.seq) + " of mission type " + std::to_string(it.mission_type) +
+                                       " during a " + type_name(u.type) + " upload: the upload ends, the " + type_name(u.type) +
+                                       " is unchanged");
+    ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_ERROR, u.type);
+    upload_.reset();
+    return;
+  }
   if (it.seq != u.next) return request(u);  // out of order: the one expected, again
   try {
     if (u.type == MAV_MISSION_TYPE_FENCE)

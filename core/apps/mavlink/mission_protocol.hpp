@@ -6,7 +6,7 @@
 // Upload: MISSION_COUNT -> MISSION_REQUEST_INT 0 .. n-1 (each re-sent after kRetryPeriod without
 // the item, at most kRetries times, then the upload ends with MISSION_ACK OPERATION_CANCELLED, as
 // PX4's retry timeout) -> MISSION_ITEM_INT -> MISSION_ACK. An item out of order is not taken: the
-// one expected is requested again. A new MISSION_COUNT restarts the upload (an abandoned one is
+// one expected is requested again; an item of another mission_type ends the upload (MAV_MISSION_ERROR). A new MISSION_COUNT restarts the upload (an abandoned one is
 // dropped). Each item is checked as it arrives, the whole mission at the end, with the planner's
 // own reader (mission_items.hpp, tern/path/mission.hpp); a refusal ends the upload with the
 // MAV_MISSION_RESULT and one STATUSTEXT naming the item and the mission is unchanged. An accepted
