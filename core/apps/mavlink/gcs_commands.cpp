@@ -5,6 +5,7 @@
 #include <cstdio>
 
 #include "flight/host.hpp"
+#include "mavlink/component_metadata.hpp"
 #include "mavlink/mission_items.hpp"
 
 namespace tern::core::mavlink {
@@ -214,6 +215,18 @@ GcsCommands::Result GcsCommands::request_message(std::uint32_t id, const FlightV
     h.altitude = static_cast<std::int32_t>(std::llround(v.origin.alt * 1000.0));
     h.q = {1, 0, 0, 0};  // identity (w, x, y, z)
     out_.send(HomePosition::kId, encode(h));
+    return {MAV_RESULT_ACCEPTED, ""};
+  }
+  if (id == ComponentMetadata::kId) {  // QGroundControl's parameter metadata (component_metadata.hpp)
+    ComponentMetadata m;
+    m.uri = tern::mavlink::to_chars<100>(kGeneralMetadataUri);  // file_crc 0: generated at start, not cached
+    out_.send(ComponentMetadata::kId, encode(m));
+    return {MAV_RESULT_ACCEPTED, ""};
+  }
+  if (id == ComponentInformation::kId) {  // the same, as QGroundControl before 4.3 asks
+    ComponentInformation m;
+    m.general_metadata_uri = tern::mavlink::to_chars<100>(kGeneralMetadataUri);
+    out_.send(ComponentInformation::kId, encode(m));
     return {MAV_RESULT_ACCEPTED, ""};
   }
   return {MAV_RESULT_UNSUPPORTED, ""};

@@ -21,7 +21,9 @@
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
+#include "mavlink/component_metadata.hpp"
 #include "mavlink/gcs_commands.hpp"
+#include "mavlink/mavlink_ftp.hpp"
 #include "mavlink/mavlink_messages.hpp"
 #include "mavlink/mission_protocol.hpp"
 #include "mavlink/param_ids.hpp"
@@ -73,7 +75,13 @@ void check_endpoint(const std::string& text, const std::string& what) { parse(te
 
 struct GcsLink::Impl {
   Impl(Host& h, const GcsOptions& o)
-      : host(h), options(o), socket(io), timer(io), configured_peer(parse(o.send_to, "--gcs")), table(numeric_params(h)) {
+      : host(h),
+        options(o),
+        socket(io),
+        timer(io),
+        configured_peer(parse(o.send_to, "--gcs")),
+        table(numeric_params(h)),
+        ftp(metadata_files(table, h)) {
     const udp::endpoint local = parse(o.bind, "--gcs-bind");
     boost::system::error_code ec;
     socket.open(udp::v4(), ec);
@@ -93,6 +101,12 @@ struct GcsLink::Impl {
     watch = std::make_unique<FlightWatch>(host);
     mission = std::make_unique<MissionProtocol>(host, *watch, out, options.system_id, dir);
     commands = std::make_unique<GcsCommands>(host, *watch, *mission, out, options.system_id);
+  }
+
+  /// What MAVLink FTP serves: the component metadata (component_metadata.hpp).
+  static std::map<std::string, std::string> metadata_files(const ParamTable& t, const Host& h) {
+    MetadataFiles m = component_metadata(t, h.parameters());
+    return {{kGeneralMetadataFile, std::move(m.general)}, {kParameterMetadataFile, std::move(m.parameters)}};
   }
 
   static std::vector<std::pair<std::string, ParamKind>> numeric_params(const Host& h) {
@@ -217,6 +231,7 @@ struct GcsLink::Impl {
         }
         case ParamSet::kId: on_param_set(decode<ParamSet>(f)); break;
         case Timesync::kId: on_timesync(decode<Timesync>(f), f); break;
+        case FileTransferProtocol::kId: on_ftp(decode<FileTransferProtocol>(f), f); break;
         case Heartbeat::kId:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
           if (decode<Heartbeat>(f).type == MAV_TYPE_GCS) host.ground_link_heard();
           break;
@@ -233,6 +248,18 @@ struct GcsLink::Impl {
     if (m.tc1 != 0 || !for_us(m.target_system, m.target_component)) return;
     const auto since = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started).count();
     send(Timesync{std::max<std::int64_t>(1, since), m.ts1, f.sysid, f.compid});
+  }
+
+  /// MAVLink FTP (mavlink_ftp.hpp): each answer addressed back to the asking system and component.
+  void on_ftp(const FileTransferProtocol& m, const Frame& f) {
+    if (!for_us(m.target_system, m.target_component)) return;
+    for (const FtpPayload& p : ftp.answer(m.payload)) {
+      FileTransferProtocol a;
+      a.target_system = f.sysid;
+      a.target_component = f.compid;
+      a.payload = p;
+      send(a);
+    }
   }
 
   bool for_us(std::uint8_t sys, std::uint8_t comp) const {
@@ -394,6 +421,7 @@ struct GcsLink::Impl {
   udp::endpoint configured_peer, bound, sender;
   std::array<std::uint8_t, 2048> rx{};
   ParamTable table;
+  FtpServer ftp;  // the link's thread
   std::set<std::string> topics;
   std::thread thread;
   int observer_id = 0;
