@@ -19,23 +19,16 @@
 //     acted on (the download lists the return);
 //   - MISSION_CLEAR_ALL of FENCE and RALLY empties both lists.
 // Exit 0 when all hold; 1 with one line per failure.
-import { spawn } from 'node:child_process'
-import fs from 'node:fs'
-import path from 'node:path'
 import { common } from 'node-mavlink'
 import { openGcs } from './gcs_client.mjs'
+import { flyWithGcs, missionClient, report, reporter } from './gcs_session.mjs'
 
 const [tern, mission, work] = process.argv.slice(2)
 if (!tern || !mission || !work) {
   console.error('usage: node test_gcs_fence.mjs TERN MISSION WORK_DIR')
   process.exit(2)
 }
-fs.mkdirSync(work, { recursive: true })
-const failures = []
-const check = (ok, what) => {
-  if (!ok) failures.push(what)
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`)
-}
+const { failures, check } = reporter()
 const R = common.MavMissionResult
 const Cmd = common.MavCmd
 const Frame = common.MavFrame
@@ -44,59 +37,10 @@ const GEOFENCE = 1 << 20 // MAV_SYS_STATUS_GEOFENCE
 const M = 111320 // m per degree of latitude (flat earth: enough within a km)
 
 const gcs = await openGcs()
-const target = (m) => Object.assign(m, { targetSystem: 1, targetComponent: 1 })
-
-function item(seq, command, frame, lat, lon, z, params, missionType) {
-  const it = target(new common.MissionItemInt())
-  Object.assign(it, { seq, command, frame, x: Math.round(lat * 1e7), y: Math.round(lon * 1e7), z: Math.fround(z), current: 0, autocontinue: 1, missionType })
-  ;[it.param1, it.param2, it.param3, it.param4] = params.map(Math.fround)
-  return it
-}
-async function upload(items, missionType, ms = 5000) {
-  const stop = gcs.listen('MISSION_REQUEST_INT', (r) => { if (r.missionType === missionType && r.seq < items.length) gcs.send(items[r.seq]) })
-  const ack = gcs.next('MISSION_ACK', (a) => a.missionType === missionType, ms)
-  gcs.send(Object.assign(target(new common.MissionCount()), { count: items.length, missionType }))
-  try {
-    return await ack
-  } finally {
-    stop()
-  }
-}
-async function download(missionType) {
-  const countP = gcs.next('MISSION_COUNT', (c) => c.missionType === missionType, 3000)
-  gcs.send(Object.assign(target(new common.MissionRequestList()), { missionType }))
-  const { count } = await countP
-  const items = []
-  for (let seq = 0; seq < count; seq++) {
-    const p = gcs.next('MISSION_ITEM_INT', (d) => d.seq === seq && d.missionType === missionType, 3000)
-    gcs.send(Object.assign(target(new common.MissionRequestInt()), { seq, missionType }))
-    items.push(await p)
-  }
-  gcs.send(Object.assign(target(new common.MissionAck()), { type: R.ACCEPTED, missionType }))
-  return items
-}
-const same = (a, b) => (Number.isNaN(a) && Number.isNaN(b)) || a === b
-const differences = (sent, back) => {
-  if (sent.length !== back.length) return [`${back.length} items, not ${sent.length}`]
-  const fields = ['seq', 'command', 'frame', 'x', 'y', 'z', 'param1', 'param2', 'param3', 'param4', 'missionType']
-  return sent.flatMap((s, i) => fields.filter((f) => !same(s[f], back[i][f])).map((f) => `item ${i} ${f}: ${s[f]} -> ${back[i][f]}`))
-}
-async function command(id, params = []) {
-  const c = target(new common.CommandLong())
-  c.command = id
-  for (let k = 0; k < 7; k++) c[`_param${k + 1}`] = params[k] ?? 0
-  const ack = gcs.next('COMMAND_ACK', (d) => d.command === id, 5000)
-  gcs.send(c)
-  return (await ack).result
-}
+const { target, item, upload, download, differences, command } = missionClient(gcs)
 const metres = (a, b) => Math.hypot((a.lat - b.lat) * M, (a.lon - b.lon) * M * Math.cos((a.lat * Math.PI) / 180))
 
-const logDir = path.join(work, 'runs')
-const child = spawn(tern, ['fly', mission, '--realtime', '--duration', '120', '--log-dir', logDir, '-q',
-  '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] })
-let out = ''
-child.stdout.on('data', (d) => { out += d })
-const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })))
+const flight = flyWithGcs(tern, mission, work, gcs, 120)
 
 try {
   await gcs.next('HEARTBEAT', (d) => (d.baseMode & 128) !== 0, 20000) // armed: flying
@@ -193,10 +137,5 @@ try {
   console.log(`FAIL ${e.message}`)
 }
 
-child.kill('SIGINT')
-const { code, signal } = await exited
-console.log(out.trim())
-check(code === 0 || code === 130 || signal === 'SIGINT', `tern fly ended (code ${code}, signal ${signal})`)
-gcs.close()
-if (failures.length) console.log(`${failures.length} failure(s)`)
-process.exit(failures.length ? 1 : 0)
+await flight.finish(check)
+process.exit(report(failures, gcs))

@@ -14,11 +14,9 @@
 //   - hostile FTP: a file that does not exist (NAK FileNotFound), a write (NAK UnknownCommand),
 //     a read on a closed session (NAK InvalidSession).
 // Exit 0 when all hold; 1 with one line per failure.
-import { spawn } from 'node:child_process'
-import fs from 'node:fs'
-import path from 'node:path'
 import { common, MavLinkData, MavLinkPacketField, MSG_ID_MAGIC_NUMBER } from 'node-mavlink'
 import { openGcs, REGISTRY } from './gcs_client.mjs'
+import { flyWithGcs, missionClient, report, reporter } from './gcs_session.mjs'
 
 // COMPONENT_METADATA (397) is not in node-mavlink's common set: its layout from common.xml
 // (tests/mavlink/crc_extra_common.txt: CRC_EXTRA 182, 108 bytes)
@@ -47,26 +45,13 @@ if (!tern || !mission || !work) {
   console.error('usage: node test_gcs_metadata.mjs TERN MISSION WORK_DIR')
   process.exit(2)
 }
-fs.mkdirSync(work, { recursive: true })
-const failures = []
-const check = (ok, what) => {
-  if (!ok) failures.push(what)
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`)
-}
+const { failures, check } = reporter()
 const Cmd = common.MavCmd
 const OP = { TERMINATE: 1, OPEN_RO: 4, READ: 5, WRITE: 7, BURST: 15, ACK: 128, NAK: 129 }
 const ERR = { EOF: 6, UNKNOWN: 7, INVALID_SESSION: 4, NOT_FOUND: 10 }
 
 const gcs = await openGcs()
-const target = (m) => Object.assign(m, { targetSystem: 1, targetComponent: 1 })
-async function command(id, params = []) {
-  const c = target(new common.CommandLong())
-  c.command = id
-  for (let k = 0; k < 7; k++) c[`_param${k + 1}`] = params[k] ?? 0
-  const ack = gcs.next('COMMAND_ACK', (d) => d.command === id, 5000)
-  gcs.send(c)
-  return (await ack).result
-}
+const { target, command } = missionClient(gcs)
 
 // ---- a MAVLink FTP client (https://mavlink.io/en/services/ftp.html) ----
 let seq = 0
@@ -112,11 +97,7 @@ async function download(file, burst) {
   return { text: buf.toString('utf8'), size, got, session: open.session, closed: closed.opcode === OP.ACK }
 }
 
-const child = spawn(tern, ['fly', mission, '--realtime', '--duration', '60', '--log-dir', path.join(work, 'runs'), '-q',
-  '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] })
-let out = ''
-child.stdout.on('data', (d) => { out += d })
-const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })))
+const flight = flyWithGcs(tern, mission, work, gcs, 60)
 
 try {
   await gcs.next('HEARTBEAT', () => true, 20000)
@@ -169,10 +150,5 @@ try {
   console.log(`FAIL ${e.message}`)
 }
 
-child.kill('SIGINT')
-const { code, signal } = await exited
-console.log(out.trim())
-check(code === 0 || code === 130 || signal === 'SIGINT', `tern fly ended (code ${code}, signal ${signal})`)
-gcs.close()
-if (failures.length) console.log(`${failures.length} failure(s)`)
-process.exit(failures.length ? 1 : 0)
+await flight.finish(check)
+process.exit(report(failures, gcs))

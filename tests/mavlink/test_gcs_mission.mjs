@@ -20,91 +20,28 @@
 //   - a 100-item mission (50 waypoints, 50 speed changes) uploaded and read back: prints the time
 //     ("bench: ..."; the target, under 1 s, is the bench's, not asserted here); MISSION_CLEAR_ALL.
 // Exit 0 when all hold; 1 with one line per failure.
-import { spawn } from 'node:child_process'
-import fs from 'node:fs'
-import path from 'node:path'
 import { common } from 'node-mavlink'
 import { openGcs } from './gcs_client.mjs'
+import { flyWithGcs, missionClient, report, reporter } from './gcs_session.mjs'
 
 const [tern, mission, work] = process.argv.slice(2)
 if (!tern || !mission || !work) {
   console.error('usage: node test_gcs_mission.mjs TERN MISSION WORK_DIR')
   process.exit(2)
 }
-fs.mkdirSync(work, { recursive: true })
-const failures = []
-const check = (ok, what) => {
-  if (!ok) failures.push(what)
-  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`)
-}
+const { failures, check } = reporter()
 const R = common.MavMissionResult
 const Cmd = common.MavCmd
 const Frame = common.MavFrame
 const M = 111320 // m per degree of latitude (a GCS's flat-earth placement: tern converts with GeographicLib)
 
 const gcs = await openGcs()
-const target = (m) => Object.assign(m, { targetSystem: 1, targetComponent: 1 })
-
-// ---- the mission protocol, as a GCS runs it ----
-function item(seq, command, frame, lat, lon, z, params = [0, 0, 0, 0]) {
-  const it = target(new common.MissionItemInt())
-  // z and the params travel as float32: the values a GCS holds after sending them
-  Object.assign(it, { seq, command, frame, x: Math.round(lat * 1e7), y: Math.round(lon * 1e7), z: Math.fround(z), current: 0, autocontinue: 1, missionType: 0 })
-  ;[it.param1, it.param2, it.param3, it.param4] = params.map(Math.fround)
-  return it
-}
-/** Uploads `items` answering every MISSION_REQUEST_INT (a GCS answers whatever is asked); the ACK. */
-async function upload(items, missionType = 0, ms = 5000) {
-  const stop = gcs.listen('MISSION_REQUEST_INT', (r) => { if (r.seq < items.length) gcs.send(items[r.seq]) })
-  const ack = gcs.next('MISSION_ACK', () => true, ms)
-  gcs.send(Object.assign(target(new common.MissionCount()), { count: items.length, missionType }))
-  try {
-    return await ack
-  } finally {
-    stop()
-  }
-}
-async function download() {
-  const countP = gcs.next('MISSION_COUNT', () => true, 3000)
-  gcs.send(Object.assign(target(new common.MissionRequestList()), { missionType: 0 }))
-  const { count } = await countP
-  const items = []
-  for (let seq = 0; seq < count; seq++) {
-    const p = gcs.next('MISSION_ITEM_INT', (d) => d.seq === seq, 3000)
-    gcs.send(Object.assign(target(new common.MissionRequestInt()), { seq, missionType: 0 }))
-    items.push(await p)
-  }
-  gcs.send(Object.assign(target(new common.MissionAck()), { type: R.ACCEPTED, missionType: 0 }))
-  return items
-}
-const same = (a, b) => (Number.isNaN(a) && Number.isNaN(b)) || a === b
-const differences = (sent, back) => {
-  if (sent.length !== back.length) return [`${back.length} items, not ${sent.length}`]
-  const fields = ['seq', 'command', 'frame', 'x', 'y', 'z', 'param1', 'param2', 'param3', 'param4', 'autocontinue']
-  return sent.flatMap((s, i) => fields.filter((f) => !same(s[f], back[i][f])).map((f) => `item ${i} ${f}: ${s[f]} -> ${back[i][f]}`))
-}
-async function command(id, params = [], frame = null, position = null) {
-  const c = target(frame === null ? new common.CommandLong() : new common.CommandInt())
-  c.command = id
-  for (let k = 0; k < 7; k++) c[`_param${k + 1}`] = params[k] ?? 0
-  if (frame !== null) {
-    c.frame = frame
-    ;[c._param5, c._param6, c._param7] = position
-  }
-  const ack = gcs.next('COMMAND_ACK', (d) => d.command === id, 5000)
-  gcs.send(c)
-  return (await ack).result
-}
+const { target, item, upload, download, differences, command } = missionClient(gcs)
 /** Metres between two lat/lon (deg) points, flat-earth (enough within a km). */
 const metres = (a, b) => Math.hypot((a.lat - b.lat) * M, (a.lon - b.lon) * M * Math.cos((a.lat * Math.PI) / 180))
 
 // ---- fly ----
-const logDir = path.join(work, 'runs')
-const child = spawn(tern, ['fly', mission, '--realtime', '--duration', '150', '--log-dir', logDir, '-q',
-  '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] })
-let out = ''
-child.stdout.on('data', (d) => { out += d })
-const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })))
+const flight = flyWithGcs(tern, mission, work, gcs, 150)
 
 try {
   await gcs.next('HEARTBEAT', (d) => (d.baseMode & 128) !== 0, 20000) // armed: flying
@@ -133,7 +70,7 @@ try {
   const huge = gcs.next('MISSION_ACK', () => true, 3000)
   gcs.send(Object.assign(target(new common.MissionCount()), { count: 65535, missionType: 0 }))
   check((await huge).type === R.NO_SPACE, 'MISSION_COUNT 65535 answered MAV_MISSION_NO_SPACE')
-  const fence = await upload([Object.assign(item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, h.lat, h.lon, 50), { missionType: 1 })], 1)
+  const fence = await upload([item(0, Cmd.NAV_WAYPOINT, Frame.GLOBAL_RELATIVE_ALT_INT, h.lat, h.lon, 50, [0, 0, 0, 0], 1)], 1)
   check(fence.type === R.UNSUPPORTED, `a NAV_WAYPOINT in a FENCE upload answered MAV_MISSION_UNSUPPORTED (${fence.type})`)
   check(fence.missionType === 1, `... in a MISSION_ACK whose mission_type is FENCE, as a planner matches it (${fence.missionType})`)
   const unknown = gcs.next('MISSION_ACK', () => true, 3000)
@@ -269,10 +206,5 @@ try {
   console.log(`FAIL ${e.message}`)
 }
 
-child.kill('SIGINT')
-const { code, signal } = await exited
-console.log(out.trim())
-check(code === 0 || code === 130 || signal === 'SIGINT', `tern fly ended (code ${code}, signal ${signal})`)
-gcs.close()
-if (failures.length) console.log(`${failures.length} failure(s)`)
-process.exit(failures.length ? 1 : 0)
+await flight.finish(check)
+process.exit(report(failures, gcs))
