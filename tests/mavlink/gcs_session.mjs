@@ -30,11 +30,12 @@ export function report(failures, gcs) {
   return failures.length ? 1 : 0
 }
 
-/** `tern fly MISSION --realtime --duration SECONDS --gcs` talking to `gcs`, its log in WORK/runs. */
-export function flyWithGcs(tern, mission, work, gcs, seconds) {
+/** `tern fly MISSION --realtime --duration SECONDS --gcs` talking to `gcs` (flight time `speed`
+ * times wall time), its log in WORK/runs. */
+export function flyWithGcs(tern, mission, work, gcs, seconds, speed = 1) {
   fs.mkdirSync(work, { recursive: true })
   const logDir = path.join(work, 'runs')
-  const child = spawn(tern, ['fly', mission, '--realtime', '--duration', String(seconds), '--log-dir', logDir, '-q',
+  const child = spawn(tern, ['fly', mission, '--realtime', '--speed', String(speed), '--duration', String(seconds), '--log-dir', logDir, '-q',
     '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] })
   let out = ''
   child.stdout.on('data', (d) => { out += d })
