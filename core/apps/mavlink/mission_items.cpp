@@ -99,7 +99,11 @@ MissionItemInt nav_item(const msg::Waypoint& w, const GeoOrigin& home) {
 
 }  // namespace
 
-bool relative(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT; }
+bool terrain(std::uint8_t frame) { return frame == MAV_FRAME_GLOBAL_TERRAIN_ALT || frame == MAV_FRAME_GLOBAL_TERRAIN_ALT_INT; }
+
+bool relative(std::uint8_t frame) {
+  return frame == MAV_FRAME_GLOBAL_RELATIVE_ALT || frame == MAV_FRAME_GLOBAL_RELATIVE_ALT_INT || terrain(frame);
+}
 
 std::string item_number(double v) {
   char b[32];
@@ -114,7 +118,7 @@ void refuse_item(const MissionItemInt& it, std::uint8_t result, const std::strin
 void check_position(const MissionItemInt& it) {
   if (it.frame != MAV_FRAME_GLOBAL && it.frame != MAV_FRAME_GLOBAL_INT && !relative(it.frame))
     refuse(it, MAV_MISSION_UNSUPPORTED_FRAME,
-           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT) and GLOBAL_RELATIVE_ALT(_INT)");
+           "frame " + std::to_string(it.frame) + ": tern takes GLOBAL(_INT), GLOBAL_RELATIVE_ALT(_INT) and GLOBAL_TERRAIN_ALT(_INT)");
   if (it.x < -90 * 10'000'000 || it.x > 90 * 10'000'000) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "latitude " + num(it.x / kE7) + " deg");
   if (it.y < -180 * 10'000'000 || it.y > 180 * 10'000'000)
     refuse(it, MAV_MISSION_INVALID_PARAM6_Y, "longitude " + num(it.y / kE7) + " deg");

@@ -27,8 +27,10 @@
 //                            into the waypoints it flies (at most kMaxFlownWaypoints); -1 (for ever)
 //                            only as the last item back to the first nav item: the mission loops.
 // Frames: nav items GLOBAL (0) / GLOBAL_INT (5): z m MSL; GLOBAL_RELATIVE_ALT (3) /
-// GLOBAL_RELATIVE_ALT_INT (6): z m above home; x, y degE7 (in MISSION_ITEM_INT every global frame
-// carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
+// GLOBAL_RELATIVE_ALT_INT (6): z m above home; GLOBAL_TERRAIN_ALT (10) / _INT (11): z m above the
+// terrain, flown as above home (tern has no terrain model: flat ground at home's altitude, as the
+// simulator's world; the upload says so in a STATUSTEXT); x, y degE7 (in MISSION_ITEM_INT every
+// global frame carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
 // An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission, unless a
 // final DO_JUMP for ever loops it.
 //
@@ -66,14 +68,17 @@ class ItemError : public std::runtime_error {
 /// "NAV_WAYPOINT", ..., or the number of a command tern does not take ("MAV_CMD 183").
 std::string command_name(std::uint16_t command);
 
-/// The item's frame gives z above home (GLOBAL_RELATIVE_ALT, _INT) rather than MSL.
+/// The item's frame gives z above the terrain (GLOBAL_TERRAIN_ALT, _INT).
+bool terrain(std::uint8_t frame);
+/// The item's frame gives z above home (GLOBAL_RELATIVE_ALT, _INT), or above the terrain, which
+/// tern takes as flat at home's altitude (it has no terrain model; the simulator's ground is flat).
 bool relative(std::uint8_t frame);
 /// A parameter's value as the refusals print it (every digit of a float; nan, inf).
 std::string item_number(double v);
 /// Throws ItemError(result, "mission item <seq> (<command>): <why>").
 [[noreturn]] void refuse_item(const MissionItemInt& item, std::uint8_t result, const std::string& why);
-/// Checks a positioned item's frame (GLOBAL(_INT), GLOBAL_RELATIVE_ALT(_INT)), latitude and
-/// longitude ranges. Throws ItemError.
+/// Checks a positioned item's frame (GLOBAL(_INT), GLOBAL_RELATIVE_ALT(_INT), GLOBAL_TERRAIN_ALT(_INT)),
+/// latitude and longitude ranges. Throws ItemError.
 void check_position(const MissionItemInt& item);
 
 /// A nav item: one that becomes a waypoint (not DO_CHANGE_SPEED or DO_LAND_START).

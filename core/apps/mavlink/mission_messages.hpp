@@ -29,7 +29,8 @@ inline constexpr std::uint16_t MAV_CMD_NAV_WAYPOINT = 16, MAV_CMD_NAV_LOITER_UNL
 // MAV_FRAME (GLOBAL and GLOBAL_RELATIVE_ALT carry degE7 in the _INT messages, as GLOBAL_INT and
 // GLOBAL_RELATIVE_ALT_INT, which common.xml deprecates in their favour)
 inline constexpr std::uint8_t MAV_FRAME_GLOBAL = 0, MAV_FRAME_MISSION = 2, MAV_FRAME_GLOBAL_RELATIVE_ALT = 3, MAV_FRAME_GLOBAL_INT = 5,
-                              MAV_FRAME_GLOBAL_RELATIVE_ALT_INT = 6;
+                              MAV_FRAME_GLOBAL_RELATIVE_ALT_INT = 6, MAV_FRAME_GLOBAL_TERRAIN_ALT = 10,
+                              MAV_FRAME_GLOBAL_TERRAIN_ALT_INT = 11;
 inline constexpr std::uint8_t MAV_MISSION_TYPE_MISSION = 0, MAV_MISSION_TYPE_FENCE = 1, MAV_MISSION_TYPE_RALLY = 2,
                               MAV_MISSION_TYPE_ALL = 255;
 // MAV_MISSION_RESULT

@@ -203,6 +203,10 @@ void MissionProtocol::finish_mission(const Upload& u) {
   }
   out_.say(MAV_SEVERITY_INFO, "mission of " + std::to_string(up.items.size()) + " items accepted: " + std::to_string(up.waypoints.size()) +
                                   " waypoints, flown once");
+  const auto over_terrain = std::count_if(up.items.begin(), up.items.end(), [](const MissionItemInt& it) { return terrain(it.frame); });
+  if (over_terrain > 0)
+    out_.say(MAV_SEVERITY_WARNING, std::to_string(over_terrain) +
+                                       " items above terrain flown above home: tern has no terrain model (flat ground at home's altitude)");
   uploaded_ = std::move(up);
   commanded_ = false;
   ack(u.gcs_sys, u.gcs_comp, MAV_MISSION_ACCEPTED);

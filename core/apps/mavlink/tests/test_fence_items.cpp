@@ -79,7 +79,7 @@ TEST_CASE("FENCE refusals: a polygon cut short or mixed, a return point, home ou
   CHECK(refusal({at(0, MAV_CMD_NAV_FENCE_RETURN_POINT, 0, 0, 0)}) == MAV_MISSION_UNSUPPORTED);
   CHECK(refusal({at(0, MAV_CMD_NAV_WAYPOINT, 0, 0, 0)}) == MAV_MISSION_UNSUPPORTED);
   MissionItemInt odd_frame = at(0, MAV_CMD_NAV_FENCE_CIRCLE_INCLUSION, 0, 0, 300);
-  odd_frame.frame = 10;  // terrain
+  odd_frame.frame = 1;  // LOCAL_NED
   CHECK(refusal({odd_frame}) == MAV_MISSION_UNSUPPORTED_FRAME);
   CHECK(refusal({}) == MAV_MISSION_ACCEPTED);  // an empty fence: no zone
 }

@@ -134,6 +134,8 @@ TEST_CASE("the enum values of the mission and commands are common.xml's (enums_m
       {"MAV_FRAME_GLOBAL_INT", MAV_FRAME_GLOBAL_INT},
       {"MAV_FRAME_GLOBAL_RELATIVE_ALT", MAV_FRAME_GLOBAL_RELATIVE_ALT},
       {"MAV_FRAME_GLOBAL_RELATIVE_ALT_INT", MAV_FRAME_GLOBAL_RELATIVE_ALT_INT},
+      {"MAV_FRAME_GLOBAL_TERRAIN_ALT", MAV_FRAME_GLOBAL_TERRAIN_ALT},
+      {"MAV_FRAME_GLOBAL_TERRAIN_ALT_INT", MAV_FRAME_GLOBAL_TERRAIN_ALT_INT},
       {"MAV_FRAME_MISSION", MAV_FRAME_MISSION},
       {"MAV_MISSION_ACCEPTED", MAV_MISSION_ACCEPTED},
       {"MAV_MISSION_DENIED", MAV_MISSION_DENIED},
@@ -334,6 +336,14 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   nan_alt.z = NAN;
   CHECK(refused(nan_alt).first == MAV_MISSION_INVALID_PARAM7);
   CHECK(refused(at(0, MAV_CMD_NAV_WAYPOINT, 10, 10, 50)).first == -1);
+  // above the terrain: taken as above home (flat ground at home's altitude)
+  MissionItemInt over_terrain = at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50);
+  over_terrain.frame = MAV_FRAME_GLOBAL_TERRAIN_ALT;
+  CHECK(refused(over_terrain).first == -1);
+  CHECK(to_mission({over_terrain}, GeoOrigin(kHome)).waypoints[0].w.z() == doctest::Approx(-50.0).epsilon(1e-4));  // the curvature at 100 m
+  MissionItemInt body = over_terrain;
+  body.frame = 12;  // BODY_NED
+  CHECK(refused(body).first == MAV_MISSION_UNSUPPORTED_FRAME);
   // DO_LAND_START (QGroundControl's landing pattern) is a marker: taken, no waypoint
   MissionItemInt marker = speed(1, 0.0f);
   marker.command = MAV_CMD_DO_LAND_START;
