@@ -54,8 +54,8 @@ MetadataFiles component_metadata(const ParamTable& table, const std::vector<std:
   out.general = json{{"version", 1},
                      {"vendorName", "tern"},
                      {"modelName", "tern fixed-wing autopilot"},
-                     {"metadataTypes", json::array({{{"type", COMP_METADATA_TYPE_PARAMETER},
-                                                     {"uri", std::string("mftp://") + kParameterMetadataFile}}})}}
+                     {"metadataTypes",
+                      json::array({{{"type", COMP_METADATA_TYPE_PARAMETER}, {"uri", std::string("mftp://") + kParameterMetadataFile}}})}}
                     .dump();
   return out;
 }

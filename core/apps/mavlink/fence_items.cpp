@@ -7,7 +7,7 @@
 namespace tern::core::mavlink {
 namespace {
 
-constexpr double kE7 = 1e7;  // degE7 per degree
+constexpr double kE7 = 1e7;                   // degE7 per degree
 constexpr std::uint16_t kMaxVertices = 1000;  // a polygon's vertex count (the longest upload: MissionProtocol::kMaxItems)
 
 bool is_polygon(std::uint16_t c) {

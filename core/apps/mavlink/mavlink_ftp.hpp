@@ -24,8 +24,8 @@
 
 namespace tern::core::mavlink {
 
-inline constexpr std::size_t kFtpPayload = 251;  ///< FILE_TRANSFER_PROTOCOL.payload
-inline constexpr std::size_t kFtpHeader = 12;    ///< the header above
+inline constexpr std::size_t kFtpPayload = 251;                    ///< FILE_TRANSFER_PROTOCOL.payload
+inline constexpr std::size_t kFtpHeader = 12;                      ///< the header above
 inline constexpr std::size_t kFtpData = kFtpPayload - kFtpHeader;  ///< 239
 
 // MAV_FTP_OPCODE and MAV_FTP_ERR (common.xml)

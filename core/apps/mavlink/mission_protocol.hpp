@@ -6,11 +6,10 @@
 // Upload: MISSION_COUNT -> MISSION_REQUEST_INT 0 .. n-1 (each re-sent after kRetryPeriod without
 // the item, at most kRetries times, then the upload ends with MISSION_ACK OPERATION_CANCELLED, as
 // PX4's retry timeout) -> MISSION_ITEM_INT -> MISSION_ACK. An item out of order is not taken: the
-// one expected is requested again; an item of another mission_type ends the upload (MAV_MISSION_ERROR). A new MISSION_COUNT restarts the upload (an abandoned one is
-// dropped). Each item is checked as it arrives, the whole mission at the end, with the planner's
-// own reader (mission_items.hpp, tern/path/mission.hpp); a refusal ends the upload with the
-// MAV_MISSION_RESULT and one STATUSTEXT naming the item and the mission is unchanged. An accepted
-// mission is written as a tern waypoint file and handed to the planner with one mission edit
+// one expected is requested again; an item of another mission_type ends the upload (MAV_MISSION_ERROR). A new MISSION_COUNT restarts the
+// upload (an abandoned one is dropped). Each item is checked as it arrives, the whole mission at the end, with the planner's own reader
+// (mission_items.hpp, tern/path/mission.hpp); a refusal ends the upload with the MAV_MISSION_RESULT and one STATUSTEXT naming the item and
+// the mission is unchanged. An accepted mission is written as a tern waypoint file and handed to the planner with one mission edit
 // load_file (Host::edit_mission, as `tern mission load` does): it replaces the mission, its loop
 // setting included, at the next tick, in flight or before the next flight.
 // Download: MISSION_REQUEST_LIST -> MISSION_COUNT -> MISSION_REQUEST_INT (or the deprecated
@@ -134,7 +133,7 @@ class MissionProtocol {
   std::filesystem::path dir_;
   std::optional<Upload> upload_;
   std::optional<Uploaded> uploaded_;
-  std::array<std::vector<MissionItemInt>, 3> download_;  // per mission_type: the items of the last MISSION_COUNT sent
+  std::array<std::vector<MissionItemInt>, 3> download_;             // per mission_type: the items of the last MISSION_COUNT sent
   std::array<std::optional<std::vector<MissionItemInt>>, 3> kept_;  // FENCE, RALLY: as uploaded (or cleared)
   std::uint32_t files_ = 0, edits_ = 0;
   bool commanded_ = false;  // a command's list (return, loiter) replaced the mission kept in uploaded_

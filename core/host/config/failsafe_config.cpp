@@ -151,7 +151,8 @@ void read_geofence(const Reader& r, const YAML::Node& n, GeofenceConfig& c) {
 
 std::vector<Eigen::Vector3d> read_rally(const Reader& r, const YAML::Node& n) {
   const std::string field = "failsafes.rally";
-  if (!n.IsSequence()) throw ConfigError(where(r.file, n) + field + ": expected a list of [n, e, altitude] points (m), got " + r.value_of(n));
+  if (!n.IsSequence())
+    throw ConfigError(where(r.file, n) + field + ": expected a list of [n, e, altitude] points (m), got " + r.value_of(n));
   std::vector<Eigen::Vector3d> points;
   for (std::size_t i = 0; i < n.size(); ++i) {
     const std::string at = fmt::format("{}[{}]", field, i);

@@ -152,8 +152,8 @@ void FailsafeMonitor::geofence(const FailsafeInputs& in, std::vector<FailsafeEve
     case FenceAction::report: out.push_back({in.now, "geofence", "report", what + ": reported, the mission goes on"}); return;
     case FenceAction::loiter:
       out.push_back({in.now, "geofence", "loiter",
-                     fmt::format("{}: loiter here (n {:.1f} e {:.1f} m) at altitude {:.1f} m", what, here.x(), here.y(), -here.z()),
-                     here, c.radius});
+                     fmt::format("{}: loiter here (n {:.1f} e {:.1f} m) at altitude {:.1f} m", what, here.x(), here.y(), -here.z()), here,
+                     c.radius});
       return;
     case FenceAction::return_home: {
       const Return r = return_point(here.head<2>(), clamped(in.state->altitude()), clamped);

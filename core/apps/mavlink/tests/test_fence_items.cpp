@@ -70,7 +70,7 @@ TEST_CASE("a FENCE upload: an inclusion polygon, an exclusion circle; back to th
 
 TEST_CASE("FENCE refusals: a polygon cut short or mixed, a return point, home outside, bad parameters") {
   const auto V = MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION;
-  CHECK(refusal({at(0, V, 500, -500, 4), at(1, V, 500, 500, 4), at(2, V, -500, 500, 4)}) == MAV_MISSION_INVALID);  // 3 of 4
+  CHECK(refusal({at(0, V, 500, -500, 4), at(1, V, 500, 500, 4), at(2, V, -500, 500, 4)}) == MAV_MISSION_INVALID);     // 3 of 4
   CHECK(refusal({at(0, V, 500, -500, 3), at(1, V, 500, 500, 3), at(2, V, -500, 500, 3, 1)}) == MAV_MISSION_INVALID);  // two groups
   CHECK(refusal({at(0, V, 500, -500, 2), at(1, V, 500, 500, 2)}) == MAV_MISSION_INVALID_PARAM1);
   CHECK(refusal({at(0, V, 1000, 1000, 3), at(1, V, 1000, 1100, 3), at(2, V, 1100, 1100, 3)}) == MAV_MISSION_DENIED);  // home outside

@@ -33,7 +33,9 @@ FtpMessage one(FtpServer& s, const FtpPayload& p) {
   return FtpMessage::parse(a[0]);
 }
 
-std::uint32_t u32(const FtpMessage& m) { return m.data[0] | (m.data[1] << 8) | (m.data[2] << 16) | (static_cast<std::uint32_t>(m.data[3]) << 24); }
+std::uint32_t u32(const FtpMessage& m) {
+  return m.data[0] | (m.data[1] << 8) | (m.data[2] << 16) | (static_cast<std::uint32_t>(m.data[3]) << 24);
+}
 
 }  // namespace
 
@@ -75,7 +77,8 @@ TEST_CASE("MAVLink FTP: open, read, burst read, the resend rule, and the errors 
   CHECK(one(s, request(11, MAV_FTP_OPCODE_READFILE, session, 0, "", 10)).data[0] == MAV_FTP_ERR_INVALIDSESSION);
   CHECK(one(s, request(12, MAV_FTP_OPCODE_OPENFILERO, 0, 0, "nope.json")).data[0] == MAV_FTP_ERR_FILENOTFOUND);
   for (std::uint16_t k = 0; k < FtpServer::kMaxSessions; ++k)
-    CHECK(one(s, request(static_cast<std::uint16_t>(20 + k), MAV_FTP_OPCODE_OPENFILERO, 0, 0, "general.json")).opcode == MAV_FTP_OPCODE_ACK);
+    CHECK(one(s, request(static_cast<std::uint16_t>(20 + k), MAV_FTP_OPCODE_OPENFILERO, 0, 0, "general.json")).opcode ==
+          MAV_FTP_OPCODE_ACK);
   CHECK(one(s, request(30, MAV_FTP_OPCODE_OPENFILERO, 0, 0, "general.json")).data[0] == MAV_FTP_ERR_NOSESSIONSAVAILABLE);
   CHECK(one(s, request(31, MAV_FTP_OPCODE_RESETSESSION)).opcode == MAV_FTP_OPCODE_ACK);
   CHECK(one(s, request(32, 7 /* WriteFile */)).data[0] == MAV_FTP_ERR_UNKNOWNCOMMAND);
@@ -110,7 +113,8 @@ TEST_CASE("component metadata: every MAVLink parameter described under its id, i
   wind.set_identity("wind_enabled_with_a_long_name", "sim.wind_enabled_with_a_long_name", ParamSpec("", 0, 1, "wind on"), true);
   const std::vector<std::pair<std::string, const ParamBase*>> params{
       {"slc.roll_kp", &kp}, {"sim.init_altitude", &alt}, {"sim.wind_enabled_with_a_long_name", &wind}};
-  const ParamTable table({{"slc.roll_kp", ParamKind::real}, {"sim.init_altitude", ParamKind::real},
+  const ParamTable table({{"slc.roll_kp", ParamKind::real},
+                          {"sim.init_altitude", ParamKind::real},
                           {"sim.wind_enabled_with_a_long_name", ParamKind::boolean}});
   const MetadataFiles m = component_metadata(table, params);
   const auto general = nlohmann::json::parse(m.general);

@@ -198,8 +198,8 @@ TEST_CASE("geofence zones: inside one inclusion group whole, inside no exclusion
   CHECK_FALSE(inside_zones({square}, {90, 110}));
   // group 0 is the intersection of the square and the circle; group 1 another place
   CHECK(inside_zones({square, circle, far}, {90, 0}));
-  CHECK_FALSE(inside_zones({square, circle, far}, {0, 0}));   // in the square, not the circle
-  CHECK(inside_zones({square, circle, far}, {1020, 0}));      // group 1 whole
+  CHECK_FALSE(inside_zones({square, circle, far}, {0, 0}));    // in the square, not the circle
+  CHECK(inside_zones({square, circle, far}, {1020, 0}));       // group 1 whole
   CHECK_FALSE(inside_zones({square, circle, far}, {500, 0}));  // in no group
   // an exclusion zone alone: everywhere but inside it
   CHECK(inside_zones({hole}, {0, 0}));
@@ -214,7 +214,7 @@ TEST_CASE("rally points: a return goes to the nearest one the fence allows, or h
   CHECK(nearest_rally(rally, {}, {50, 500}) == std::optional<std::size_t>(1));
   CHECK(nearest_rally(rally, {}, {1000, 0}) == std::optional<std::size_t>(2));
   CHECK(nearest_rally(rally, {keep_out}, {1000, 0}) == std::optional<std::size_t>(0));  // the nearest is fenced off
-  CHECK_FALSE(nearest_rally(rally, {}, {100, 100}));                                     // home is nearer
+  CHECK_FALSE(nearest_rally(rally, {}, {100, 100}));                                    // home is nearer
   CHECK_FALSE(nearest_rally({}, {}, {1000, 0}));
 
   // the link-loss return flies to it at the rally point's altitude
