@@ -194,7 +194,8 @@ try {
   const t1 = performance.now()
   const bigBack = await download()
   const t2 = performance.now()
-  check(bigAck.type === R.ACCEPTED && differences(big, bigBack).length === 0, 'a mission of 100 items uploads and reads back identical')
+  check(bigAck.type === R.ACCEPTED && differences(big, bigBack).length === 0,
+    `a mission of 100 items uploads and reads back identical (${bigAck.type}; ${differences(big, bigBack).slice(0, 3).join('; ')})`)
   console.log(`bench: mission of 100 items over loopback: upload ${(t1 - t0).toFixed(1)} ms, read back ${(t2 - t1).toFixed(1)} ms, total ${(t2 - t0).toFixed(1)} ms`)
   const cleared = gcs.next('MISSION_ACK', () => true, 3000)
   gcs.send(Object.assign(target(new common.MissionClearAll()), { missionType: 0 }))

@@ -185,6 +185,7 @@ void MissionProtocol::finish_mission(const Upload& u) {
   Uploaded up;
   up.items = u.items;
   up.list_seq = v.list_seq;
+  up.handed = Clock::now();
   try {
     const path::Mission m = to_mission(u.items, GeoOrigin(v.origin), &up.nav_seq);
     if (m.waypoints.size() > msg::WaypointList::kCapacity)
@@ -288,6 +289,7 @@ void MissionProtocol::on_clear(const Frame& f) {
   }
   Uploaded none;
   none.list_seq = flight_.view().list_seq;
+  none.handed = Clock::now();
   uploaded_ = std::move(none);
   commanded_ = false;
   ack(f.sysid, f.compid, MAV_MISSION_ACCEPTED, m.mission_type);
@@ -318,11 +320,17 @@ void MissionProtocol::on_tick() {
 bool MissionProtocol::ours_flown(const FlightView& v) const {
   if (v.list_seq == uploaded_->list_seq || !v.list) return true;  // handed over, not yet listed by the planner
   const msg::WaypointList& p = *v.list;
-  if (p.count == 0 || p.count > uploaded_->waypoints.size()) return p.count == 0 && uploaded_->waypoints.empty();
-  for (std::uint32_t i = 0; i < p.count; ++i)
-    if (std::none_of(uploaded_->waypoints.begin(), uploaded_->waypoints.end(), [&](const msg::Waypoint& w) { return same(w, p.items[i]); }))
-      return false;
-  return true;
+  bool ours = true;
+  if (p.count == 0 || p.count > uploaded_->waypoints.size())
+    ours = p.count == 0 && uploaded_->waypoints.empty();
+  else
+    for (std::uint32_t i = 0; i < p.count && ours; ++i)
+      ours = std::any_of(uploaded_->waypoints.begin(), uploaded_->waypoints.end(),
+                         [&](const msg::Waypoint& w) { return same(w, p.items[i]); });
+  if (ours) uploaded_->listed = true;
+  // a list the planner published before it applied the edit (its old mission, republished)
+  // (not after a command replaced it: then the list is the command's)
+  return ours || (!uploaded_->listed && !commanded_ && Clock::now() - uploaded_->handed < kHandover);
 }
 
 std::vector<MissionItemInt> MissionProtocol::items(std::uint8_t mission_type) const {
@@ -369,6 +377,7 @@ void MissionProtocol::keep_mission() {
     if (is_nav(it)) kept.nav_seq.push_back(it.seq);
   for (std::uint32_t i = 0; i < v.list->count; ++i) kept.waypoints.push_back(v.list->items[i]);
   kept.list_seq = v.list_seq;
+  kept.listed = true;  // the list flown now
   try {
     kept.file = write(mission_text(to_mission(*v.list)));
   } catch (const std::exception& e) {
@@ -390,6 +399,8 @@ std::string MissionProtocol::fly_from(std::uint16_t seq) {
     if (kept) {  // loaded again: the planner's list may be renumbered (set_current) or replaced (a command)
       host_.edit_mission(load_edit(next_edit_id(), uploaded_->file));
       uploaded_->list_seq = v.list_seq;
+      uploaded_->handed = Clock::now();
+      uploaded_->listed = false;
     }
     msg::MissionEdit e;
     e.id = next_edit_id();

@@ -105,7 +105,12 @@ class MissionProtocol {
     std::vector<msg::Waypoint> waypoints;  // NED, as the planner lists them
     std::uint64_t list_seq = 0;            // the planner's list count when it was handed over
     std::filesystem::path file;
+    std::chrono::steady_clock::time_point handed{};  // when it was handed over (wall time)
+    mutable bool listed = false;                     // the planner has listed it since
   };
+  /// How long after a hand-over another list of the planner's is taken for one it published
+  /// before applying the edit (it applies it at its next tick: well within this at any --speed).
+  static constexpr std::chrono::milliseconds kHandover{2000};
   void on_count(const Frame& f);
   void on_item(const Frame& f);
   void on_request(const Frame& f);
@@ -123,6 +128,8 @@ class MissionProtocol {
   static bool known_type(std::uint8_t mission_type);
   static std::string type_name(std::uint8_t mission_type);
   bool for_us(std::uint8_t sys, std::uint8_t comp) const;
+  /// The planner flies the upload (or the mission kept) now: it lists it, or has not applied the
+  /// hand-over yet (no list since, or another one within kHandover before it ever listed ours).
   bool ours_flown(const FlightView& v) const;
   std::filesystem::path write(const std::string& text);
 
