@@ -19,11 +19,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// bytes: the most an archive may unpack to (a zip bomb stops here; a flight log is far smaller).
-constexpr std::uint64_t kMaxUnpackedBytes = std::uint64_t{4} << 30;
-/// The most members an archive may hold.
-constexpr std::size_t kMaxMembers = 100'000;
-
 using Reader = std::unique_ptr<archive, decltype(&archive_read_free)>;
 using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
 
@@ -34,8 +29,8 @@ fs::path make_temp_dir() {
 }
 
 /// Copies the current member's data from `in` to the disk writer `out`, counting the bytes
-/// unpacked so far in `total` (at most kMaxUnpackedBytes: a zip bomb stops there).
-void copy_data(archive* in, archive* out, const fs::path& file, const char* member, std::uint64_t& total) {
+/// unpacked so far in `total` (at most `max_bytes`: a zip bomb stops there).
+void copy_data(archive* in, archive* out, const fs::path& file, const char* member, std::uint64_t& total, std::uint64_t max_bytes) {
   const void* buf = nullptr;
   size_t size = 0;
   la_int64_t offset = 0;
@@ -44,9 +39,9 @@ void copy_data(archive* in, archive* out, const fs::path& file, const char* memb
     if (r == ARCHIVE_EOF) return;
     if (r < ARCHIVE_OK) throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(in)));
     total += size;
-    if (total > kMaxUnpackedBytes)
-      throw ImportError(fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(), member,
-                                    kMaxUnpackedBytes));
+    if (total > max_bytes)
+      throw ImportError(
+          fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(), member, max_bytes));
     if (archive_write_data_block(out, buf, size, offset) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out)));
   }
@@ -72,7 +67,7 @@ bool safe_member(const std::string& member) {
   return true;
 }
 
-void unpack(const fs::path& file, const fs::path& into) {
+void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& limits) {
   Reader in(archive_read_new(), archive_read_free);
   archive_read_support_format_all(in.get());
   archive_read_support_filter_all(in.get());
@@ -95,12 +90,12 @@ void unpack(const fs::path& file, const fs::path& into) {
     if (const std::string kind = member_kind_problem(entry); !kind.empty())
       throw ImportError(
           fmt::format("{}: member '{}' {}: an archive's members must be regular files", file.string(), printable(member), kind));
-    if (++members > kMaxMembers)
-      throw ImportError(fmt::format("{}: more than {} members (docs/hostile-inputs.md)", file.string(), kMaxMembers));
+    if (++members > limits.max_members)
+      throw ImportError(fmt::format("{}: more than {} members (docs/hostile-inputs.md)", file.string(), limits.max_members));
     archive_entry_set_pathname(entry, (into / member).c_str());
     if (archive_write_header(out.get(), entry) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
-    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str(), unpacked);
+    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str(), unpacked, limits.max_bytes);
     if (archive_write_finish_entry(out.get()) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
   }
@@ -108,7 +103,7 @@ void unpack(const fs::path& file, const fs::path& into) {
 
 }  // namespace
 
-ArchiveInput::ArchiveInput(const fs::path& input) : input_(input) {
+ArchiveInput::ArchiveInput(const fs::path& input, const ArchiveLimits& limits) : input_(input) {
   std::error_code ec;
   if (fs::is_directory(input, ec)) {
     dir_ = input;
@@ -117,7 +112,7 @@ ArchiveInput::ArchiveInput(const fs::path& input) : input_(input) {
   if (!fs::exists(input, ec)) throw ImportError(fmt::format("{}: no such file or directory", input.string()));
   temp_ = make_temp_dir();
   try {
-    unpack(input, temp_);
+    unpack(input, temp_, limits);
   } catch (...) {
     fs::remove_all(temp_, ec);
     throw;
