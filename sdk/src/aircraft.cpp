@@ -33,7 +33,9 @@ namespace {
 std::string key_text(const YAML::Node& key, const std::string& source, const std::string& where) {
   if (!key.IsScalar())
     fail_at(key, source, where.empty() ? "(document)" : where,
-            std::string("a key is a name, got a ") + (key.IsSequence() ? "list" : key.IsMap() ? "map" : "null"));
+            std::string("a key is a name, got a ") + (key.IsSequence() ? "list"
+                                                      : key.IsMap()    ? "map"
+                                                                       : "null"));
   return key.Scalar();
 }
 

@@ -30,10 +30,11 @@ void check(const tern::Aircraft& ac) {
   if (!finite(g.G1 + g.G2 + g.G3 + g.G4 + g.G5 + g.G6 + g.G7 + g.G8)) __builtin_trap();
   if (!finite(ac.AR()) || !(ac.AR() > 0)) __builtin_trap();
   const auto& a = ac.aero;
-  for (double v : {a.C_L_0, a.C_L_alpha, a.C_L_q, a.C_L_delta_e, a.C_D_0, a.C_D_alpha, a.C_D_p, a.C_D_q, a.C_D_delta_e, a.C_m_0,
-                   a.C_m_alpha, a.C_m_q, a.C_m_delta_e, a.C_Y_0, a.C_Y_beta, a.C_Y_p, a.C_Y_r, a.C_Y_delta_a, a.C_Y_delta_r, a.C_ell_0,
-                   a.C_ell_beta, a.C_ell_p, a.C_ell_r, a.C_ell_delta_a, a.C_ell_delta_r, a.C_n_0, a.C_n_beta, a.C_n_p, a.C_n_r,
-                   a.C_n_delta_a, a.C_n_delta_r})
+  for (double v :
+       {a.C_L_0,         a.C_L_alpha,   a.C_L_q,       a.C_L_delta_e, a.C_D_0,       a.C_D_alpha,   a.C_D_p,      a.C_D_q,
+        a.C_D_delta_e,   a.C_m_0,       a.C_m_alpha,   a.C_m_q,       a.C_m_delta_e, a.C_Y_0,       a.C_Y_beta,   a.C_Y_p,
+        a.C_Y_r,         a.C_Y_delta_a, a.C_Y_delta_r, a.C_ell_0,     a.C_ell_beta,  a.C_ell_p,     a.C_ell_r,    a.C_ell_delta_a,
+        a.C_ell_delta_r, a.C_n_0,       a.C_n_beta,    a.C_n_p,       a.C_n_r,       a.C_n_delta_a, a.C_n_delta_r})
     if (!finite(v)) __builtin_trap();
   const auto& p = ac.prop;
   if (!(p.D_prop > 0 && p.K_Q > 0 && p.R_motor > 0 && p.V_max > 0 && p.C_Q_0 > 0)) __builtin_trap();

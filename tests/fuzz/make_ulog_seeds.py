@@ -5,7 +5,11 @@ nested formats they name), a few info/parameter messages, and the first data mes
 topics with a logged string, a sync and a dropout where the log has them. The messages are copied
 byte for byte; only the selection is ours.
 
-  make_ulog_seeds.py LOG.ulg OUT.ulg TOPIC [TOPIC ...]
+  make_ulog_seeds.py LOG.ulg OUT.ulg TOPIC [TOPIC ...] [--param NAME ...] [--rows N]
+
+--param keeps the named parameters ('P' messages) besides the first six (fuzz_ulog_conversion's
+seeds keep MAV_TYPE and the EKF2 delays and positions `tern import ulog` maps); --rows keeps N data
+messages per topic (default 3).
 """
 import struct
 import sys
@@ -20,7 +24,16 @@ def messages(data):
 
 
 def main():
-    src, out, topics = sys.argv[1], sys.argv[2], set(sys.argv[3:])
+    args, params, rows = sys.argv[3:], set(), 3
+    while "--param" in args:
+        i = args.index("--param")
+        params.add(args[i + 1])
+        del args[i:i + 2]
+    if "--rows" in args:
+        i = args.index("--rows")
+        rows = int(args[i + 1])
+        del args[i:i + 2]
+    src, out, topics = sys.argv[1], sys.argv[2], set(args)
     data = open(src, "rb").read()
     formats = {}
     for kind, raw, payload in messages(data):
@@ -47,9 +60,11 @@ def main():
                 body += raw
         elif kind == "D":
             msg_id = struct.unpack_from("<H", payload, 0)[0]
-            if msg_id in ids and per_id.get(msg_id, 0) < 3:
+            if msg_id in ids and per_id.get(msg_id, 0) < rows:
                 per_id[msg_id] = per_id.get(msg_id, 0) + 1
                 body += raw
+        elif kind == "P" and payload[1:1 + payload[0]].decode(errors="replace").split(" ")[-1] in params:
+            body += raw
         elif kept.get(kind, 0) > 0:
             kept[kind] -= 1
             body += raw

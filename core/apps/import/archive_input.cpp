@@ -36,8 +36,8 @@ fs::path make_temp_dir() {
 }
 
 [[noreturn]] void too_large(const fs::path& file, const std::string& member, std::uint64_t max_bytes) {
-  throw ImportError(
-      fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(), printable(member), max_bytes));
+  throw ImportError(fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(),
+                                printable(member), max_bytes));
 }
 
 /// Copies the current member's data from `in` to the disk writer `out`. `total`: the bytes the

@@ -96,7 +96,9 @@ class Conversion {
   }
 
   /// us since boot -> the log's clock, ns; nullopt (counted) before the log's start. Throws
-  /// std::runtime_error for a time no int64 ns clock holds (a corrupt file), never overflows.
+  /// std::out_of_range for a time no int64 ns clock holds (a corrupt file; import_ulog names the
+  /// file, as for a missing field: fuzz_ulog_conversion found a std::runtime_error escaping it),
+  /// never overflows.
   std::optional<Nanos> stamp(std::int64_t t_us) {
     if (t_us < static_cast<std::int64_t>(origin_us_)) {
       ++before_start_;
@@ -104,8 +106,8 @@ class Conversion {
     }
     const std::int64_t span_us = t_us - static_cast<std::int64_t>(origin_us_);
     if (span_us > std::numeric_limits<std::int64_t>::max() / 1000)
-      throw std::runtime_error("ULog: timestamp " + std::to_string(t_us) + " us: beyond any clock's range after the log's start (" +
-                               std::to_string(origin_us_) + " us): a corrupt file?");
+      throw std::out_of_range("timestamp " + std::to_string(t_us) + " us: beyond any clock's range after the log's start (" +
+                              std::to_string(origin_us_) + " us): a corrupt file?");
     return span_us * 1000;
   }
   /// timestamp + relative (us) without overflow: saturated, for stamp() to refuse.
