@@ -733,6 +733,48 @@ TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' 
   fs::remove(p);
 }
 
+TEST_CASE("tern import ulog: a parameter not a number, a time beyond any clock, a format holding a newline: one ImportError line") {
+  // fuzz_ulog_conversion's findings: std::invalid_argument and std::runtime_error escaped import_ulog
+  // (tern import then named no file and left its sensor log behind), and an error quoted the file raw
+  const auto import_error = [](const std::string& name, const UlogBytes& u) {
+    const fs::path p = scratch_copy(name + ".ulg", u.bytes());
+    std::string e;
+    try {
+      (void)import_sample(name, p.parent_path());
+    } catch (const tern::core::ImportError& x) {
+      e = x.what();
+    }
+    fs::remove_all(fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name));
+    fs::remove(p);
+    CHECK(e.rfind(p.string() + ": ", 0) == 0);
+    CHECK(e.find('\n') == std::string::npos);
+    return e.substr(std::min(e.size(), p.string().size() + 2));
+  };
+  const auto imu = [](UlogBytes& u) {
+    u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+    u.subscribe(0, "sensor_combined");
+  };
+  {
+    UlogBytes u(1'000'000);
+    imu(u);
+    u.param<std::uint32_t>("char[4]", "EKF2_GPS_DELAY", 0x41414141);
+    u.data(0, 1'004'000, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("param_text", u) == "parameter 'EKF2_GPS_DELAY': ulog value of type 'char[4]' is not a number");
+  }
+  {
+    UlogBytes u(1'000'000);
+    imu(u);
+    u.data(0, std::uint64_t{1} << 62, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("far_future", u) ==
+          "timestamp 4611686018427387904 us: beyond any clock's range after the log's start (1000000 us): a corrupt file?");
+  }
+  {
+    UlogBytes u(1'000'000);
+    u.format("sensor\ncombined");
+    CHECK(import_error("newline_format", u) == "byte 16: format message ('F'): format 'sensor\\ncombined' has no 'name:'");
+  }
+}
+
 TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {
   const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_act_cli_" + std::to_string(::getpid()));
   fs::remove_all(tmp);

@@ -122,10 +122,17 @@ class Conversion {
   std::optional<Nanos> sample_stamp(const ulog::DataMessage& d, const ulog::Field* timestamp_sample) {
     return stamp(timestamp_sample ? d.integer(*timestamp_sample) : static_cast<std::int64_t>(d.timestamp()));
   }
+  /// A PX4 parameter's value; nullopt if the log has none. Throws std::out_of_range (import_ulog
+  /// names the file) for one that is not a number (fuzz_ulog_conversion: Value::number()'s
+  /// std::invalid_argument escaped import_ulog).
   std::optional<double> param(const std::string& name) const {
     const auto it = params_.find(name);
     if (it == params_.end()) return std::nullopt;
-    return it->second.number();
+    try {
+      return it->second.number();
+    } catch (const std::invalid_argument& e) {
+      throw std::out_of_range("parameter '" + name + "': " + e.what());
+    }
   }
 
   // Each registers the handler factory of one output's source topic.

@@ -13,6 +13,7 @@
 
 #include "import/importers.hpp"
 #include "import/ulog_conversion.hpp"
+#include "tern/input_file.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {
@@ -335,8 +336,8 @@ ImportReport import_ulog(const fs::path& in, SensorLogWriter& out, const Command
     return convert(ulg, out, commands);
   } catch (const ulog::UlogError& e) {
     throw ImportError(e.what());
-  } catch (const std::out_of_range& e) {
-    throw ImportError(ulg.string() + ": " + e.what());
+  } catch (const std::out_of_range& e) {  // names from the file (a topic, a field, a type): one line
+    throw ImportError(ulg.string() + ": " + printable(e.what(), ulog::kMaxErrorChars));
   }
 }
 
