@@ -11,6 +11,8 @@
 // the report counts reads (replay/replay_csv.hpp) with as many rows as the report says. The .ulg
 // and the sensor log are this process's, under TMPDIR; the sensor log is removed after each input.
 #include <cstdint>
+#include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -36,6 +38,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       SensorLogWriter writer(out);
       report = import_ulog(ulg, writer, mapping);
     }
+    if (std::getenv("TERN_FUZZ_VERBOSE"))  // what a seed gives
+      for (const auto& [topic, rows] : report.rows)
+        std::fprintf(stderr, "%s: %llu rows\n", topic.c_str(), static_cast<unsigned long long>(rows));
     // what tern replay reads of it
     try {
       (void)read_sensor_log_settings(out);

@@ -740,11 +740,11 @@ TEST_CASE("tern import ulog: a parameter not a number, a time beyond any clock, 
     const fs::path p = scratch_copy(name + ".ulg", u.bytes());
     std::string e;
     try {
-      (void)import_sample(name, p.parent_path());
+      (void)import_sample(p.stem().string(), p.parent_path());
     } catch (const tern::core::ImportError& x) {
       e = x.what();
     }
-    fs::remove_all(fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + name));
+    fs::remove_all(fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + p.stem().string()));
     fs::remove(p);
     CHECK(e.rfind(p.string() + ": ", 0) == 0);
     CHECK(e.find('\n') == std::string::npos);
@@ -756,8 +756,8 @@ TEST_CASE("tern import ulog: a parameter not a number, a time beyond any clock, 
   };
   {
     UlogBytes u(1'000'000);
+    u.param<std::uint32_t>("char[4]", "EKF2_GPS_DELAY", 0x41414141);  // in the definitions: before the subscriptions
     imu(u);
-    u.param<std::uint32_t>("char[4]", "EKF2_GPS_DELAY", 0x41414141);
     u.data(0, 1'004'000, {0, 0, 0, 0, 0, -9.8f});
     CHECK(import_error("param_text", u) == "parameter 'EKF2_GPS_DELAY': ulog value of type 'char[4]' is not a number");
   }
