@@ -770,9 +770,41 @@ TEST_CASE("tern import ulog: a parameter not a number, a time beyond any clock, 
   }
   {
     UlogBytes u(1'000'000);
+    u.param<float>("float", "MAV_TYPE", 1e20f);  // converting it to int was undefined behaviour
+    imu(u);
+    u.data(0, 1'004'000, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("mav_type_float", u) == "parameter 'MAV_TYPE': 1e+20 is not an integer");
+  }
+  {
+    UlogBytes u(1'000'000);
     u.format("sensor\ncombined");
     CHECK(import_error("newline_format", u) == "byte 16: format message ('F'): format 'sensor\\ncombined' has no 'name:'");
   }
+}
+
+TEST_CASE("tern import ulog: CA_ROTOR_COUNT 2^31 - 1 looks at actuator_motors' own controls only (it looped for minutes)") {
+  UlogBytes u(1'000'000);
+  u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+  u.format("actuator_servos:uint64_t timestamp;float[8] control");
+  u.format("actuator_motors:uint64_t timestamp;float[4] control");
+  u.param<std::int32_t>("int32_t", "CA_AIRFRAME", 1);
+  u.param<std::int32_t>("int32_t", "CA_ROTOR_COUNT", 2147483647);
+  u.param<std::int32_t>("int32_t", "CA_SV_CS_COUNT", 1);
+  u.param<float>("float", "CA_SV_CS0_TRQ_R", 1.0f);
+  u.subscribe(0, "sensor_combined");
+  u.subscribe(1, "actuator_servos");
+  u.subscribe(2, "actuator_motors");
+  u.data(0, 1'004'000, {0, 0, 0, 0, 0, static_cast<float>(-tern::kStandardGravity)});
+  u.data(2, 1'005'000, {0.2f, 0.4f, 0, 0});
+  u.data(1, 1'006'000, {0.5f, 0, 0, 0, 0, 0, 0, 0});
+  const fs::path p = scratch_copy("rotors.ulg", u.bytes());
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+  REQUIRE(i.report.rows.at("actuators") == 1);
+  CHECK(std::stod(cells(i.lines("actuators").at(1)).at(5)) == doctest::Approx(0.15).epsilon(1e-6));  // the mean of the 4 motors
+  fs::remove_all(i.dir);
+  fs::remove(p);
 }
 
 TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {
