@@ -28,6 +28,17 @@ namespace {
   fail(source + ":" + std::to_string(n.Mark().line + 1), field, what);
 }
 
+/// A map's key as text (a field's name): a key is a name, never a list, a map or nothing (yaml-cpp's
+/// as<std::string>() would throw its bare "bad conversion", naming no file). `where`: the map's field.
+std::string key_text(const YAML::Node& key, const std::string& source, const std::string& where) {
+  if (!key.IsScalar())
+    fail_at(key, source, where.empty() ? "(document)" : where,
+            std::string("a key is a name, got a ") + (key.IsSequence() ? "list"
+                                                      : key.IsMap()    ? "map"
+                                                                       : "null"));
+  return key.Scalar();
+}
+
 std::string num(double v) {
   std::ostringstream s;
   s << v;
@@ -99,7 +110,7 @@ void read_section(const YAML::Node& sec, const std::string& prefix, const std::v
   if (!sec.IsMap()) fail(source, prefix, "expected a map");
   std::set<std::string> seen;
   for (const auto& kv : sec) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_text(kv.first, source, prefix);
     const std::string path = prefix.empty() ? key : prefix + "." + key;
     if (extra_keys.count(key)) continue;
     bool found = false;
@@ -126,7 +137,7 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   static const std::set<std::string> kTop = {"name", "description", "source",     "mass",   "inertia", "environment",
                                              "wing", "aero",        "propulsion", "servos", "gear"};
   for (const auto& kv : doc) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_text(kv.first, source, "");
     if (!kTop.count(key)) fail(source, key, "unknown key");
   }
   auto section = [&](const char* name, bool required) -> YAML::Node {
@@ -134,7 +145,10 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
     if (!n && required) fail(source, name, "missing required section");
     return n;
   };
-  if (doc["name"]) ac.name = doc["name"].as<std::string>();
+  if (const YAML::Node name = doc["name"]) {
+    if (!name.IsScalar()) fail_at(name, source, "name", "expected a name");
+    ac.name = name.Scalar();
+  }
   if (!doc["mass"]) fail(source, "mass", "missing required field");
   ac.mass = read_double(doc["mass"], source, "mass", kMass);
 
@@ -247,7 +261,7 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
       if (!st.IsMap() || st.size() == 0) fail(source, "gear.structure", "expected a map of name: [x, y, z]");
       gr.structure.clear();
       for (const auto& kv : st) {
-        const std::string name = kv.first.as<std::string>();
+        const std::string name = key_text(kv.first, source, "gear.structure");
         const std::string f = "gear.structure." + name;
         if (!kv.second.IsSequence() || kv.second.size() != 3) fail(source, f, "expected [x, y, z] in m");
         gr.structure.emplace_back(
@@ -375,7 +389,7 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
   // Wildcard node first, so that node-specific values override it (ROS 2 semantics).
   std::vector<std::pair<std::string, YAML::Node>> nodes;
   for (const auto& kv : doc) {
-    const std::string node = kv.first.as<std::string>();
+    const std::string node = key_text(kv.first, source, "");
     if (!kNodes.count(node)) fail(source, node, "unknown node (tern reads /**, /fixedwing_forces_and_moments, /standalone_dynamics)");
     if (node == "/**")
       nodes.insert(nodes.begin(), {node, kv.second});
@@ -383,10 +397,11 @@ Aircraft parse_rosflight(const YAML::Node& doc, const std::string& source) {
       nodes.emplace_back(node, kv.second);
   }
   for (const auto& [node, body] : nodes) {
+    if (!body.IsMap()) fail(source, node, "expected 'ros__parameters:' map");
     const YAML::Node params = body["ros__parameters"];
-    if (!body.IsMap() || !params || !params.IsMap()) fail(source, node, "expected 'ros__parameters:' map");
+    if (!params || !params.IsMap()) fail(source, node, "expected 'ros__parameters:' map");
     for (const auto& kv : params) {
-      const std::string key = kv.first.as<std::string>();
+      const std::string key = key_text(kv.first, source, node + ".ros__parameters");
       const std::string field = node + ".ros__parameters." + key;
       if (kZeroOnly.count(key)) {
         const double v = read_double(kv.second, source, field, kCoefficient);

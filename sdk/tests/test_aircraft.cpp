@@ -84,3 +84,33 @@ TEST_CASE("aircraft: a directory or a device given as the file is one line namin
   CHECK(error_of(dir) == dir + ": aircraft file is a directory");
   CHECK(error_of("/dev/zero") == "/dev/zero: aircraft file is not a regular file (a character device)");
 }
+
+TEST_CASE("aircraft: a list or a map as a key, or a map as the name, is one line naming the file, line and field") {
+  // fuzz_aircraft_yaml's finding: yaml-cpp's bare "bad conversion" escaped the loader, naming no file
+  const std::string f = anaconda_with("  C_Q_2:", "  ? {C_Q_2: -0.011779}\n  : 1");
+  const std::string e = error_of(f);
+  CHECK(e.rfind(f + ":", 0) == 0);
+  CHECK(e.find(": propulsion: a key is a name, got a map") != std::string::npos);
+  std::filesystem::remove(f);
+  const std::string top = anaconda_with("name:", "[name, x]: anaconda");
+  CHECK(error_of(top).find(": (document): a key is a name, got a list") != std::string::npos);
+  std::filesystem::remove(top);
+  const std::string name = anaconda_with("name:", "name: {first: ana}");
+  CHECK(error_of(name).find(": name: expected a name") != std::string::npos);
+  std::filesystem::remove(name);
+}
+
+TEST_CASE("aircraft: a ROSflight node that is not a map, or a list as a parameter's key, names the file") {
+  const std::filesystem::path out = std::filesystem::temp_directory_path() / "tern_sdk_test_rosflight.yaml";
+  {
+    std::ofstream o(out);
+    o << "/**:\n  ros__parameters:\n    rho: 1.2682\n/fixedwing_forces_and_moments: 3\n";
+  }
+  CHECK(error_of(out.string()) == out.string() + ": /fixedwing_forces_and_moments: expected 'ros__parameters:' map");
+  {
+    std::ofstream o(out);
+    o << "/**:\n  ros__parameters:\n    [rho, mass]: 1.2682\n";
+  }
+  CHECK(error_of(out.string()).find(": /**.ros__parameters: a key is a name, got a list") != std::string::npos);
+  std::filesystem::remove(out);
+}

@@ -5,7 +5,19 @@ nested formats they name), a few info/parameter messages, and the first data mes
 topics with a logged string, a sync and a dropout where the log has them. The messages are copied
 byte for byte; only the selection is ours.
 
-  make_ulog_seeds.py LOG.ulg OUT.ulg TOPIC [TOPIC ...]
+  make_ulog_seeds.py LOG.ulg OUT.ulg TOPIC [TOPIC ...] [--param NAME ...] [--rows N]
+
+--param keeps the named parameters ('P' messages) besides the first six (fuzz_ulog_conversion's
+seeds keep MAV_TYPE and the EKF2 delays and positions `tern import ulog` maps); --rows keeps N data
+messages per topic (default 3).
+
+  make_ulog_seeds.py --px4-control-allocation OUT.ulg
+
+writes instead a small log of PX4 v1.13+'s control allocation, which the samples predate (as
+tests/real_data/test_ulog.cpp's UlogBytes writes one): a fixed wing's sensor_combined,
+vehicle_gps_position (timestamp_sample, time_utc_usec), actuator_servos and actuator_motors, and
+the parameters MAV_TYPE, CA_AIRFRAME, CA_ROTOR_COUNT, CA_SV_CS_COUNT, CA_SV_CS<i>_TRQ_R/P/Y,
+EKF2_GPS_DELAY.
 """
 import struct
 import sys
@@ -19,8 +31,53 @@ def messages(data):
         pos += 3 + size
 
 
+def control_allocation(out):
+    def msg(kind, payload):
+        return struct.pack("<HB", len(payload), ord(kind)) + payload
+
+    def param(type_, name, fmt, value):
+        key = f"{type_} {name}".encode()
+        return msg("P", bytes([len(key)]) + key + struct.pack(fmt, value))
+
+    body = b"ULog\x01\x12\x35\x01" + struct.pack("<Q", 1_000_000)
+    body += msg("F", b"sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2")
+    body += msg("F", b"vehicle_gps_position:uint64_t timestamp;uint64_t timestamp_sample;uint64_t time_utc_usec;int32_t lat;"
+                     b"int32_t lon;int32_t alt;float eph;float epv;float vel_n_m_s;float vel_e_m_s;float vel_d_m_s;uint8_t fix_type;"
+                     b"uint8_t satellites_used")
+    body += msg("F", b"actuator_servos:uint64_t timestamp;uint64_t timestamp_sample;float[8] control")
+    body += msg("F", b"actuator_motors:uint64_t timestamp;uint64_t timestamp_sample;float[4] control")
+    for name, value in (("MAV_TYPE", 1), ("CA_AIRFRAME", 1), ("CA_ROTOR_COUNT", 1), ("CA_SV_CS_COUNT", 3)):
+        body += param("int32_t", name, "<i", value)
+    for i, trq in enumerate(((-0.5, 0.0, 0.0), (0.5, 0.0, 0.0), (0.0, 1.0, 0.0))):
+        for axis, v in zip("RPY", trq):
+            body += param("float", f"CA_SV_CS{i}_TRQ_{axis}", "<f", v)
+    body += param("float", "EKF2_GPS_DELAY", "<f", 110.0)
+    for msg_id, topic in enumerate((b"sensor_combined", b"vehicle_gps_position", b"actuator_servos", b"actuator_motors")):
+        body += msg("A", b"\0" + struct.pack("<H", msg_id) + topic)
+    for k in range(4):
+        t = 1_004_000 + 4000 * k
+        body += msg("D", struct.pack("<HQ6f", 0, t, 0.01, 0.0, 0.0, 0.0, 0.0, -9.8))
+        body += msg("D", struct.pack("<HQQ4f", 3, t, t - 500, 0.6, 0.0, 0.0, 0.0))
+        body += msg("D", struct.pack("<HQQ8f", 2, t + 1000, t - 500, -0.2, 0.2, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0))
+    body += msg("D", struct.pack("<HQQQiiifffffBB", 1, 1_010_000, 1_009_000, 1_531_929_211_000_000, 473_890_000, 80_340_000, 470_000,
+                                 1.2, 1.8, 12.0, 3.0, -0.5, 3, 12))
+    open(out, "wb").write(body)
+    print(f"{out}: {len(body)} bytes")
+
+
 def main():
-    src, out, topics = sys.argv[1], sys.argv[2], set(sys.argv[3:])
+    if sys.argv[1] == "--px4-control-allocation":
+        return control_allocation(sys.argv[2])
+    args, params, rows = sys.argv[3:], set(), 3
+    while "--param" in args:
+        i = args.index("--param")
+        params.add(args[i + 1])
+        del args[i:i + 2]
+    if "--rows" in args:
+        i = args.index("--rows")
+        rows = int(args[i + 1])
+        del args[i:i + 2]
+    src, out, topics = sys.argv[1], sys.argv[2], set(args)
     data = open(src, "rb").read()
     formats = {}
     for kind, raw, payload in messages(data):
@@ -47,9 +104,11 @@ def main():
                 body += raw
         elif kind == "D":
             msg_id = struct.unpack_from("<H", payload, 0)[0]
-            if msg_id in ids and per_id.get(msg_id, 0) < 3:
+            if msg_id in ids and per_id.get(msg_id, 0) < rows:
                 per_id[msg_id] = per_id.get(msg_id, 0) + 1
                 body += raw
+        elif kind == "P" and payload[1:1 + payload[0]].decode(errors="replace").split(" ")[-1] in params:
+            body += raw
         elif kept.get(kind, 0) > 0:
             kept[kind] -= 1
             body += raw

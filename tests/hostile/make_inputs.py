@@ -10,6 +10,8 @@ WORK/logs/<case>/   sensor logs (docs/sensor-log.md): `good` (11 s of a still ai
 WORK/configs/       mission configs: the default mission made absolute, each with one hostile part
 WORK/dir/           an empty directory, given where a file is expected
 WORK/alfa.tar.gz    an ALFA archive whose raw-IMU member is a symlink
+WORK/sparse.tar.gz  an ALFA archive whose raw-IMU member is a GNU sparse file declaring 8 GiB (13 bytes
+                    of data, then a hole): more than the 4 GiB an archive may unpack to
 WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
 """
 import io
@@ -141,6 +143,18 @@ def alfa_archive():
         tar.addfile(filtered, io.BytesIO(data))
 
 
+def sparse_archive():
+    """A raw IMU stored as a GNU sparse 1.0 member (pax headers, its map in the data) of 8 GiB."""
+    data = b"%time,field\n0"
+    body = f"1\n0\n{len(data)}\n".encode().ljust(512, b"\0") + data
+    member = tarfile.TarInfo("seq/GNUSparseFile.0/carbonZ_2018-07-18-mavros-imu-data_raw.csv")
+    member.size = len(body)
+    member.pax_headers = {"GNU.sparse.major": "1", "GNU.sparse.minor": "0", "GNU.sparse.realsize": str(8 << 30),
+                          "GNU.sparse.name": "seq/carbonZ_2018-07-18-mavros-imu-data_raw.csv"}
+    with tarfile.open(os.path.join(WORK, "sparse.tar.gz"), "w:gz", format=tarfile.PAX_FORMAT) as tar:
+        tar.addfile(member, io.BytesIO(body))
+
+
 def mcap_chunk():
     """A valid MCAP header, then a chunk declaring 2^62 bytes uncompressed (https://mcap.dev/spec)."""
     def record(op, content):
@@ -157,4 +171,5 @@ def mcap_chunk():
 sensor_logs()
 configs()
 alfa_archive()
+sparse_archive()
 mcap_chunk()

@@ -1,7 +1,9 @@
 // test_filter: an estimator test plugin. Steps on `imu`; publishes `state` = truth, and counts
 // steps in which the imu it reads was not published in the same tick (ordering check). Can be
 // told to fail from a given time (fail_mode: segv, hang, exit; misbehave.hpp) and to log a line
-// per second of flight (log_every_s), for the isolation and watchdog tests.
+// per second of flight (log_every_s), for the isolation and watchdog tests. With `origin` the state
+// carries a valid origin (47.389 N, 8.034 E, 470 m: an aligned estimator with a GNSS fix), for what
+// needs one (the ground station's mission protocol: fuzz_mission_protocol).
 #include "misbehave.hpp"
 #include "tern/plugin.hpp"
 #include <spdlog/spdlog.h>
@@ -15,6 +17,7 @@ class TestFilter final : public tern::Plugin {
     declare(state_, "state");
     declare(edits_, "mission_edit", "counts runtime mission edits", tern::Need::optional);
     declare(valid_, "valid", false, tern::ParamSpec("", 0, 0, "publish the state as valid, status ok (an aligned estimator)"));
+    declare(origin_, "origin", false, tern::ParamSpec("", 0, 0, "publish a valid origin (47.389 N, 8.034 E, 470 m MSL) with the state"));
     declare(fail_mode_, "fail_mode", "none", tern::ParamSpec("", 0, 0, "how to fail").one_of({"none", "segv", "hang", "exit"}));
     declare(fail_at_, "fail_at", 0.0, tern::ParamSpec("s", 0.0, 1e6, "flight time from which to fail"));
     declare(log_every_, "log_every_s", 0.0, tern::ParamSpec("s", 0.0, 1e6, "log one info line this often (0: never)"));
@@ -34,6 +37,10 @@ class TestFilter final : public tern::Plugin {
       s.valid = true;
       s.status = tern::msg::StateStatus::ok;
     }
+    if (origin_()) {
+      s.origin_valid = true;
+      s.origin_lat = 47.389, s.origin_lon = 8.034, s.origin_alt = 470.0;
+    }
     state_.publish(s);
     ++steps_;
   }
@@ -49,7 +56,7 @@ class TestFilter final : public tern::Plugin {
   tern::Input<tern::msg::State> truth_;
   tern::Output<tern::msg::State> state_;
   tern::Input<tern::msg::MissionEdit> edits_;
-  tern::Param<bool> valid_;
+  tern::Param<bool> valid_, origin_;
   tern::Param<std::string> fail_mode_;
   tern::Param<double> fail_at_, log_every_;
   long stale_ = 0, steps_ = 0, edits_seen_ = 0, last_edit_id_ = 0;

@@ -733,6 +733,80 @@ TEST_CASE("tern import ulog: PX4 v1.13+'s actuator_servos through the surfaces' 
   fs::remove(p);
 }
 
+TEST_CASE("tern import ulog: a parameter not a number, a time beyond any clock, a format holding a newline: one ImportError line") {
+  // fuzz_ulog_conversion's findings: std::invalid_argument and std::runtime_error escaped import_ulog
+  // (tern import then named no file and left its sensor log behind), and an error quoted the file raw
+  const auto import_error = [](const std::string& name, const UlogBytes& u) {
+    const fs::path p = scratch_copy(name + ".ulg", u.bytes());
+    std::string e;
+    try {
+      (void)import_sample(p.stem().string(), p.parent_path());
+    } catch (const tern::core::ImportError& x) {
+      e = x.what();
+    }
+    fs::remove_all(fs::temp_directory_path() / ("tern_test_ulog_import_" + std::to_string(::getpid()) + "_" + p.stem().string()));
+    fs::remove(p);
+    CHECK(e.rfind(p.string() + ": ", 0) == 0);
+    CHECK(e.find('\n') == std::string::npos);
+    return e.substr(std::min(e.size(), p.string().size() + 2));
+  };
+  const auto imu = [](UlogBytes& u) {
+    u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+    u.subscribe(0, "sensor_combined");
+  };
+  {
+    UlogBytes u(1'000'000);
+    u.param<std::uint32_t>("char[4]", "EKF2_GPS_DELAY", 0x41414141);  // in the definitions: before the subscriptions
+    imu(u);
+    u.data(0, 1'004'000, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("param_text", u) == "parameter 'EKF2_GPS_DELAY': ulog value of type 'char[4]' is not a number");
+  }
+  {
+    UlogBytes u(1'000'000);
+    imu(u);
+    u.data(0, std::uint64_t{1} << 62, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("far_future", u) ==
+          "timestamp 4611686018427387904 us: beyond any clock's range after the log's start (1000000 us): a corrupt file?");
+  }
+  {
+    UlogBytes u(1'000'000);
+    u.param<float>("float", "MAV_TYPE", 1e20f);  // converting it to int was undefined behaviour
+    imu(u);
+    u.data(0, 1'004'000, {0, 0, 0, 0, 0, -9.8f});
+    CHECK(import_error("mav_type_float", u) == "parameter 'MAV_TYPE': 1e+20 is not an integer");
+  }
+  {
+    UlogBytes u(1'000'000);
+    u.format("sensor\ncombined");
+    CHECK(import_error("newline_format", u) == "byte 16: format message ('F'): format 'sensor\\ncombined' has no 'name:'");
+  }
+}
+
+TEST_CASE("tern import ulog: CA_ROTOR_COUNT 2^31 - 1 looks at actuator_motors' own controls only (it looped for minutes)") {
+  UlogBytes u(1'000'000);
+  u.format("sensor_combined:uint64_t timestamp;float[3] gyro_rad;float[3] accelerometer_m_s2");
+  u.format("actuator_servos:uint64_t timestamp;float[8] control");
+  u.format("actuator_motors:uint64_t timestamp;float[4] control");
+  u.param<std::int32_t>("int32_t", "CA_AIRFRAME", 1);
+  u.param<std::int32_t>("int32_t", "CA_ROTOR_COUNT", 2147483647);
+  u.param<std::int32_t>("int32_t", "CA_SV_CS_COUNT", 1);
+  u.param<float>("float", "CA_SV_CS0_TRQ_R", 1.0f);
+  u.subscribe(0, "sensor_combined");
+  u.subscribe(1, "actuator_servos");
+  u.subscribe(2, "actuator_motors");
+  u.data(0, 1'004'000, {0, 0, 0, 0, 0, static_cast<float>(-tern::kStandardGravity)});
+  u.data(2, 1'005'000, {0.2f, 0.4f, 0, 0});
+  u.data(1, 1'006'000, {0.5f, 0, 0, 0, 0, 0, 0, 0});
+  const fs::path p = scratch_copy("rotors.ulg", u.bytes());
+  tern::core::CommandMapping m;
+  m.max_deflection = std::array<double, 3>{0.35, 0.30, 0.40};
+  const Imported i = import_sample(p.stem().string(), p.parent_path(), m);
+  REQUIRE(i.report.rows.at("actuators") == 1);
+  CHECK(std::stod(cells(i.lines("actuators").at(1)).at(5)) == doctest::Approx(0.15).epsilon(1e-6));  // the mean of the 4 motors
+  fs::remove_all(i.dir);
+  fs::remove(p);
+}
+
 TEST_CASE("tern import ulog --max-deflection: actuators.csv written; a deflection not in rad: one error line" * kNeedsSamples) {
   const fs::path tmp = fs::temp_directory_path() / ("tern_test_ulog_act_cli_" + std::to_string(::getpid()));
   fs::remove_all(tmp);

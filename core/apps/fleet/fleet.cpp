@@ -230,7 +230,7 @@ void Fleet::forward_edits() {
     if (e.out->sequence() == e.seen) continue;
     e.seen = e.out->sequence();
     Vehicle& v = vehicles_[e.vehicle];
-    if (v.active) v.host->edit_mission(*static_cast<const msg::MissionEdit*>(e.out->data()));
+    if (v.active) v.host->edit_mission(*static_cast<const msg::MissionEdit*>(e.out->data()), /*own=*/true);
   }
 }
 

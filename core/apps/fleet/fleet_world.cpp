@@ -90,7 +90,7 @@ void Fleet::hold(std::size_t i, Nanos now) {
   e.waypoint.type = msg::Waypoint::loiter;
   e.waypoint.w = Eigen::Vector3d(s->p_n, s->p_e, s->p_d - config_.separation.hold_climb);
   e.waypoint.Va_d = s->Va > 1.0 ? s->Va : 0.0;
-  v.host->edit_mission(e);
+  v.host->edit_mission(e, /*own=*/true);  // a safety hold: never refused
   log_->warn("t={:.3f} s: separation: {} holds over ({:.0f}, {:.0f}) {:.0f} m higher", to_seconds(now), v.name, s->p_n, s->p_e,
              config_.separation.hold_climb);
 }

@@ -4,6 +4,7 @@
 #include <archive_entry.h>
 #include <stdlib.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -19,12 +20,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// bytes: the most an archive may unpack to (a zip bomb stops here; a flight log is far smaller).
-constexpr std::uint64_t kMaxUnpackedBytes = std::uint64_t{4} << 30;
-/// The most members an archive may hold.
-constexpr std::size_t kMaxMembers = 100'000;
-
 using Reader = std::unique_ptr<archive, decltype(&archive_read_free)>;
+
+/// libarchive's error text of `a`, for one line (it may have none).
+std::string error_text(archive* a) {
+  const char* e = archive_error_string(a);
+  return e ? printable(e) : std::string("error ") + std::to_string(archive_errno(a));
+}
 using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
 
 fs::path make_temp_dir() {
@@ -33,22 +35,28 @@ fs::path make_temp_dir() {
   return pattern;
 }
 
-/// Copies the current member's data from `in` to the disk writer `out`, counting the bytes
-/// unpacked so far in `total` (at most kMaxUnpackedBytes: a zip bomb stops there).
-void copy_data(archive* in, archive* out, const fs::path& file, const char* member, std::uint64_t& total) {
+[[noreturn]] void too_large(const fs::path& file, const std::string& member, std::uint64_t max_bytes) {
+  throw ImportError(fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(),
+                                printable(member), max_bytes));
+}
+
+/// Copies the current member's data from `in` to the disk writer `out`. `total`: the bytes the
+/// members before this one take on disk (their sizes: a sparse member's holes count); at most
+/// `max_bytes` with this member's data, a zip bomb stops there. A data block's end, not its size,
+/// counts: a block written at an offset past the member's end leaves a hole that counts too.
+void copy_data(archive* in, archive* out, const fs::path& file, const std::string& member, std::uint64_t total, std::uint64_t max_bytes) {
   const void* buf = nullptr;
   size_t size = 0;
   la_int64_t offset = 0;
   for (;;) {
     const int r = archive_read_data_block(in, &buf, &size, &offset);
     if (r == ARCHIVE_EOF) return;
-    if (r < ARCHIVE_OK) throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(in)));
-    total += size;
-    if (total > kMaxUnpackedBytes)
-      throw ImportError(fmt::format("{}: {}: the archive unpacks to more than {} bytes (docs/hostile-inputs.md)", file.string(), member,
-                                    kMaxUnpackedBytes));
+    if (r < ARCHIVE_OK) throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(in)));
+    if (offset < 0 || static_cast<std::uint64_t>(offset) > max_bytes || size > max_bytes - static_cast<std::uint64_t>(offset) ||
+        total > max_bytes - static_cast<std::uint64_t>(offset) - size)
+      too_large(file, member, max_bytes);
     if (archive_write_data_block(out, buf, size, offset) < ARCHIVE_OK)
-      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out)));
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(out)));
   }
 }
 
@@ -72,12 +80,12 @@ bool safe_member(const std::string& member) {
   return true;
 }
 
-void unpack(const fs::path& file, const fs::path& into) {
+void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& limits) {
   Reader in(archive_read_new(), archive_read_free);
   archive_read_support_format_all(in.get());
   archive_read_support_filter_all(in.get());
   if (archive_read_open_filename(in.get(), file.c_str(), 1 << 16) != ARCHIVE_OK)
-    throw ImportError(fmt::format("{}: {}", file.string(), archive_error_string(in.get())));
+    throw ImportError(fmt::format("{}: {}", file.string(), error_text(in.get())));
   Writer out(archive_write_disk_new(), archive_write_free);
   // members are written under `into` (an absolute path, so libarchive's NOABSOLUTEPATHS cannot be
   // used): an absolute or ".." member name is refused here instead
@@ -88,27 +96,46 @@ void unpack(const fs::path& file, const fs::path& into) {
   for (;;) {
     const int r = archive_read_next_header(in.get(), &entry);
     if (r == ARCHIVE_EOF) break;
-    if (r < ARCHIVE_WARN) throw ImportError(fmt::format("{}: {}", file.string(), archive_error_string(in.get())));
-    const std::string member = archive_entry_pathname(entry);
+    if (r < ARCHIVE_WARN) throw ImportError(fmt::format("{}: {}", file.string(), error_text(in.get())));
+    // a header libarchive read with a warning may have no name (a malformed pax record), or one the
+    // locale cannot spell: its UTF-8 form then, else the member is refused (fuzz_archive's finding:
+    // a null name made std::string throw std::logic_error out of ArchiveInput)
+    const char* name = archive_entry_pathname(entry);
+    if (name == nullptr) name = archive_entry_pathname_utf8(entry);
+    if (name == nullptr)
+      throw ImportError(fmt::format("{}: member {} has no name ({})", file.string(), members + 1,
+                                    r == ARCHIVE_WARN ? error_text(in.get()) : std::string("no path in its header")));
+    const std::string member = name;
     if (!safe_member(member))
       throw ImportError(fmt::format("{}: member '{}' would be written outside the directory", file.string(), printable(member)));
     if (const std::string kind = member_kind_problem(entry); !kind.empty())
       throw ImportError(
           fmt::format("{}: member '{}' {}: an archive's members must be regular files", file.string(), printable(member), kind));
-    if (++members > kMaxMembers)
-      throw ImportError(fmt::format("{}: more than {} members (docs/hostile-inputs.md)", file.string(), kMaxMembers));
+    if (++members > limits.max_members)
+      throw ImportError(fmt::format("{}: more than {} members (docs/hostile-inputs.md)", file.string(), limits.max_members));
+    // the size the member declares is what it takes on disk (the writer extends a file to it: a
+    // sparse member's holes), before a byte is written
+    const la_int64_t declared = archive_entry_size_is_set(entry) ? archive_entry_size(entry) : 0;
+    if (declared < 0 || static_cast<std::uint64_t>(declared) > limits.max_bytes - unpacked) too_large(file, member, limits.max_bytes);
     archive_entry_set_pathname(entry, (into / member).c_str());
+    // the archive's permissions are not kept: the user reads every file and can remove the directory
+    // (a read-only directory member would leave the temporary directory behind)
+    archive_entry_set_perm(entry, archive_entry_filetype(entry) == AE_IFDIR ? 0755 : 0644);
     if (archive_write_header(out.get(), entry) < ARCHIVE_OK)
-      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
-    if (archive_entry_size(entry) > 0) copy_data(in.get(), out.get(), file, member.c_str(), unpacked);
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(out.get())));
+    if (declared > 0) copy_data(in.get(), out.get(), file, member, unpacked, limits.max_bytes);
     if (archive_write_finish_entry(out.get()) < ARCHIVE_OK)
-      throw ImportError(fmt::format("{}: {}: {}", file.string(), member, archive_error_string(out.get())));
+      throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(out.get())));
+    std::error_code ec;  // what the member takes: its declared size, or as far as its data went
+    const auto on_disk = fs::file_size(into / member, ec);
+    unpacked += std::max<std::uint64_t>(static_cast<std::uint64_t>(declared), ec ? 0 : on_disk);
+    if (unpacked > limits.max_bytes) too_large(file, member, limits.max_bytes);
   }
 }
 
 }  // namespace
 
-ArchiveInput::ArchiveInput(const fs::path& input) : input_(input) {
+ArchiveInput::ArchiveInput(const fs::path& input, const ArchiveLimits& limits) : input_(input) {
   std::error_code ec;
   if (fs::is_directory(input, ec)) {
     dir_ = input;
@@ -117,7 +144,7 @@ ArchiveInput::ArchiveInput(const fs::path& input) : input_(input) {
   if (!fs::exists(input, ec)) throw ImportError(fmt::format("{}: no such file or directory", input.string()));
   temp_ = make_temp_dir();
   try {
-    unpack(input, temp_);
+    unpack(input, temp_, limits);
   } catch (...) {
     fs::remove_all(temp_, ec);
     throw;

@@ -3,15 +3,27 @@
 // temporary directory that is removed again when the ArchiveInput goes.
 #pragma once
 
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
 namespace tern::core {
 
+/// What an archive may unpack to (docs/hostile-inputs.md); more is an ImportError and the
+/// temporary directory is removed.
+struct ArchiveLimits {
+  /// bytes: all members together (a zip bomb stops here; a flight log is far smaller)
+  std::uint64_t max_bytes = std::uint64_t{4} << 30;
+  /// the most members an archive may hold
+  std::size_t max_members = 100'000;
+};
+
 class ArchiveInput {
  public:
-  /// Throws ImportError naming the archive (and the member) if it cannot be read or unpacked.
-  explicit ArchiveInput(const std::filesystem::path& input);
+  /// Throws ImportError naming the archive (and the member) if it cannot be read or unpacked
+  /// within `limits`.
+  explicit ArchiveInput(const std::filesystem::path& input, const ArchiveLimits& limits = {});
   ~ArchiveInput();
   ArchiveInput(const ArchiveInput&) = delete;
   ArchiveInput& operator=(const ArchiveInput&) = delete;

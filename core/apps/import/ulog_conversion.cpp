@@ -192,8 +192,13 @@ void Conversion::add_gnss(const std::string& source) {
       m.s_acc = sacc ? d.value(*sacc) : 0.0;
       m.hdop = hdop ? d.value(*hdop) : 0.0;
       m.vdop = vdop ? d.value(*vdop) : 0.0;
-      if (ts)
-        m.time_of_validity = std::max<Nanos>(0, (d.integer(*ts) - static_cast<std::int64_t>(origin_us_)) * 1000 - delay);  // 0: unknown
+      if (ts) {  // 0: unknown (before the log's start, or no int64 ns time: never an overflow)
+        const std::int64_t sample = d.integer(*ts);
+        Nanos valid = 0;
+        if (sample > origin() && sample - origin() <= std::numeric_limits<std::int64_t>::max() / 1000 &&
+            !__builtin_sub_overflow((sample - origin()) * 1000, delay, &valid))
+          m.time_of_validity = std::max<Nanos>(0, valid);
+      }
       if (!std::isfinite(m.lat) || !std::isfinite(m.lon) || !std::isfinite(m.alt) || !m.vel.allFinite() || !std::isfinite(m.h_acc) ||
           !std::isfinite(m.v_acc) || !std::isfinite(m.s_acc) || !std::isfinite(m.hdop) || !std::isfinite(m.vdop))
         return void(++nan_rows_);
@@ -292,9 +297,10 @@ void Conversion::add_actuators(const std::string& source, const CommandMapping& 
       const NormalisedCommand c{d.value(*u[0]), d.value(*u[1]), d.value(*u[2]), d.value(*u[3])};
       if (!std::isfinite(c.roll) || !std::isfinite(c.pitch) || !std::isfinite(c.yaw) || !std::isfinite(c.throttle))
         return void(++nan_actuator_rows_);
-      if (ts && d.integer(*ts) > 0) {  // the gyro sample the command was computed from
-        const std::int64_t lag = static_cast<std::int64_t>(d.timestamp()) - d.integer(*ts);
-        control_latency_sum_us_ += lag, ++control_latency_count_;
+      std::int64_t lag = 0, sum = 0;  // the gyro sample the command was computed from (a lag no int64 holds: none)
+      if (ts && d.integer(*ts) > 0 && !__builtin_sub_overflow(offset_us(d.timestamp(), 0), d.integer(*ts), &lag) &&
+          !__builtin_add_overflow(control_latency_sum_us_, lag, &sum)) {
+        control_latency_sum_us_ = sum, ++control_latency_count_;
         control_latency_max_us_ = std::max(control_latency_max_us_, lag);
       }
       const msg::Actuators a = actuators_from_normalised(*t, c, mapping);

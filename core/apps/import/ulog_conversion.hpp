@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <functional>
@@ -12,6 +13,7 @@
 #include <limits>
 #include <map>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -96,17 +98,24 @@ class Conversion {
   }
 
   /// us since boot -> the log's clock, ns; nullopt (counted) before the log's start. Throws
-  /// std::runtime_error for a time no int64 ns clock holds (a corrupt file), never overflows.
+  /// std::out_of_range for a time no int64 ns clock holds (a corrupt file; import_ulog names the
+  /// file, as for a missing field: fuzz_ulog_conversion found a std::runtime_error escaping it),
+  /// never overflows.
   std::optional<Nanos> stamp(std::int64_t t_us) {
-    if (t_us < static_cast<std::int64_t>(origin_us_)) {
+    if (t_us < origin()) {
       ++before_start_;
       return std::nullopt;
     }
-    const std::int64_t span_us = t_us - static_cast<std::int64_t>(origin_us_);
+    const std::int64_t span_us = t_us - origin();  // both >= 0: no overflow
     if (span_us > std::numeric_limits<std::int64_t>::max() / 1000)
-      throw std::runtime_error("ULog: timestamp " + std::to_string(t_us) + " us: beyond any clock's range after the log's start (" +
-                               std::to_string(origin_us_) + " us): a corrupt file?");
+      throw std::out_of_range("timestamp " + std::to_string(t_us) + " us: beyond any clock's range after the log's start (" +
+                              std::to_string(origin_us_) + " us): a corrupt file?");
     return span_us * 1000;
+  }
+  /// The header's start timestamp (us) as an int64, saturated (a corrupt header's 2^63 and more:
+  /// fuzz_ulog_conversion found stamp()'s subtraction overflowing).
+  std::int64_t origin() const {
+    return static_cast<std::int64_t>(std::min<std::uint64_t>(origin_us_, std::numeric_limits<std::int64_t>::max()));
   }
   /// timestamp + relative (us) without overflow: saturated, for stamp() to refuse.
   static std::int64_t offset_us(std::uint64_t timestamp, std::int64_t relative) {
@@ -120,10 +129,33 @@ class Conversion {
   std::optional<Nanos> sample_stamp(const ulog::DataMessage& d, const ulog::Field* timestamp_sample) {
     return stamp(timestamp_sample ? d.integer(*timestamp_sample) : static_cast<std::int64_t>(d.timestamp()));
   }
+  /// A PX4 parameter's value; nullopt if the log has none. Throws std::out_of_range (import_ulog
+  /// names the file) for one that is not a number (fuzz_ulog_conversion: Value::number()'s
+  /// std::invalid_argument escaped import_ulog).
   std::optional<double> param(const std::string& name) const {
     const auto it = params_.find(name);
     if (it == params_.end()) return std::nullopt;
-    return it->second.number();
+    try {
+      return it->second.number();
+    } catch (const std::invalid_argument& e) {
+      throw std::out_of_range("parameter '" + name + "': " + e.what());
+    }
+  }
+
+  /// An integer PX4 parameter (MAV_TYPE, CA_SV_CS_COUNT, ...); nullopt if the log has none. Throws
+  /// std::out_of_range for a value that is no int (a float parameter of NaN or 1e20: converting it
+  /// was undefined behaviour, fuzz_ulog_conversion).
+  std::optional<int> integer_param(const std::string& name) const {
+    const std::optional<double> v = param(name);
+    if (!v) return std::nullopt;
+    if (!(*v >= std::numeric_limits<int>::min() && *v <= std::numeric_limits<int>::max()) || *v != std::trunc(*v))
+      throw std::out_of_range("parameter '" + name + "': " + fmt_number(*v) + " is not an integer");
+    return static_cast<int>(*v);
+  }
+  static std::string fmt_number(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
   }
 
   // Each registers the handler factory of one output's source topic.

@@ -13,6 +13,7 @@
 
 #include "import/importers.hpp"
 #include "import/ulog_conversion.hpp"
+#include "tern/input_file.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core {
@@ -160,7 +161,7 @@ std::string no_deflection_line(const std::string& file, const std::string& topic
 void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, const CommandMapping& mapping, ImportReport& report,
                             std::vector<std::string>& notes) {
   const std::string file = r.path().string();
-  const int count = static_cast<int>(c.param("CA_SV_CS_COUNT").value_or(0.0));
+  const int count = c.integer_param("CA_SV_CS_COUNT").value_or(0);
   std::array<std::vector<double>, 3> e;
   std::string surfaces;
   const ulog::Subscription servos("actuator_servos", 0, 0, r.formats());
@@ -188,13 +189,14 @@ void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& 
   // throttle: a fixed wing's (CA_AIRFRAME 1) motors all push forward; a VTOL's forward motors are
   // those whose thrust axis CA_ROTOR<i>_AX_X points forward
   std::vector<int> motors;
-  const int rotors = static_cast<int>(c.param("CA_ROTOR_COUNT").value_or(0.0));
+  const int rotors = c.integer_param("CA_ROTOR_COUNT").value_or(0);
   const bool fixed_wing = c.param("CA_AIRFRAME").value_or(-1.0) == 1.0;
   if (holds_data(s, r, "actuator_motors")) {
     const ulog::Subscription m("actuator_motors", 0, 0, r.formats());
-    for (int i = 0; i < rotors; ++i)
-      if ((fixed_wing || c.param(fmt::format("CA_ROTOR{}_AX_X", i)).value_or(0.0) > 0.5) && m.field(fmt::format("control[{}]", i)))
-        motors.push_back(i);
+    // the motors actuator_motors has (control[] is one array: past its end no rotor has a field;
+    // CA_ROTOR_COUNT 2^31 - 1 would otherwise loop for minutes, fuzz_ulog_conversion)
+    for (int i = 0; i < rotors && m.field(fmt::format("control[{}]", i)); ++i)
+      if (fixed_wing || c.param(fmt::format("CA_ROTOR{}_AX_X", i)).value_or(0.0) > 0.5) motors.push_back(i);
   }
   c.add_servo_actuators(e, motors, mapping);
   notes.push_back(
@@ -215,7 +217,7 @@ void choose_servo_actuators(const Survey& s, const ulog::Reader& r, Conversion& 
 void choose_actuators(const Survey& s, const ulog::Reader& r, Conversion& c, const CommandMapping& mapping, ImportReport& report,
                       std::vector<std::string>& notes) {
   const std::string file = r.path().string();
-  const int mav_type = static_cast<int>(c.param("MAV_TYPE").value_or(0.0));
+  const int mav_type = c.integer_param("MAV_TYPE").value_or(0);
   const std::string source = is_vtol(mav_type) ? "actuator_controls_1" : "actuator_controls_0";
   if (!holds_data(s, r, source)) {
     if (holds_data(s, r, "actuator_servos")) return choose_servo_actuators(s, r, c, mapping, report, notes);
@@ -335,8 +337,8 @@ ImportReport import_ulog(const fs::path& in, SensorLogWriter& out, const Command
     return convert(ulg, out, commands);
   } catch (const ulog::UlogError& e) {
     throw ImportError(e.what());
-  } catch (const std::out_of_range& e) {
-    throw ImportError(ulg.string() + ": " + e.what());
+  } catch (const std::out_of_range& e) {  // names from the file (a topic, a field, a type): one line
+    throw ImportError(ulg.string() + ": " + printable(e.what(), ulog::kMaxErrorChars));
   }
 }
 

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "tern/input_file.hpp"
+
 namespace tern::core::ulog {
 
 namespace {
@@ -62,7 +64,9 @@ Reader::Reader(const std::filesystem::path& file) : path_(file), stream_buffer_(
 Reader::~Reader() = default;
 
 void Reader::fail(std::uint64_t offset, const std::string& what) const {
-  throw UlogError(path_.string() + ": byte " + std::to_string(offset) + ": " + what);
+  // `what` may quote the file (a key, a format, a type name): one line, control characters escaped
+  // (fuzz_ulog_conversion: a parameter key holding a newline), at most kMaxErrorChars
+  throw UlogError(path_.string() + ": byte " + std::to_string(offset) + ": " + printable(what, kMaxErrorChars));
 }
 
 bool Reader::read_message(Message& m, std::uint64_t limit) {

@@ -47,10 +47,13 @@
 
 namespace tern::core::ulog {
 
-/// A ULog file that cannot be read: "<file>: byte <offset>: <what>".
+/// A ULog file that cannot be read: "<file>: byte <offset>: <what>", one line (what the file says
+/// in it is printable(), tern/input_file.hpp).
 struct UlogError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+/// characters: the most of an error's text after the file and offset (it may quote the file).
+inline constexpr std::size_t kMaxErrorChars = 1000;
 
 /// The spec's basic types (sizes in bytes: int8/uint8/bool/char 1, int16 2, int32/float 4, int64/double 8).
 enum class BaseType : std::uint8_t { int8, uint8, int16, uint16, int32, uint32, int64, uint64, float32, float64, boolean, character };

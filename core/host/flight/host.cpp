@@ -178,10 +178,10 @@ void Host::request_param(const std::string& qualified, const ParamValue& value, 
   remote_.request_param(*target, qualified, checked, source);
 }
 
-void Host::edit_mission(const msg::MissionEdit& edit) {
+void Host::edit_mission(const msg::MissionEdit& edit, bool own) {
   if (!remote_.takes_mission_edits())
     throw ConfigError(config_.file.string() + ": no plugin instance reads topic 'mission_edit' (add a path_planner)");
-  remote_.edit_mission(edit);
+  remote_.edit_mission(edit, own);
 }
 
 void Host::go_around(const std::string& source) {

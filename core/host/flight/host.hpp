@@ -149,8 +149,13 @@ class Host {
   void request_param(const std::string& qualified, const ParamValue& value, const std::string& source);
   /// Queues a mission edit (from any thread: command line, DDS). It is published on topic
   /// `mission_edit` at the start of the next tick, where the path planner applies it. Throws
-  /// ConfigError when no instance reads `mission_edit`.
-  void edit_mission(const msg::MissionEdit& edit);
+  /// ConfigError when no instance reads `mission_edit`, or when RemoteQueue::kMaxQueued edits
+  /// already wait, unless `own`: an edit of tern's own making (a fleet's coordination or
+  /// separation hold) is never refused.
+  void edit_mission(const msg::MissionEdit& edit, bool own = false);
+  /// Mission edits waiting for a tick (between flights: for the next flight's first ticks, one
+  /// per tick). Any thread.
+  std::size_t queued_mission_edits() const { return remote_.queued_edits(); }
   /// The operator's go-around (any thread: tern go-around, the DDS service `go_around`), from
   /// `source`: handed to the phase machine at the start of the next tick, which takes it on the
   /// approach or in the flare (phase_machine.hpp) and logs it either way. Throws ConfigError

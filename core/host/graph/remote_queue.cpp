@@ -5,18 +5,31 @@
 
 #include <spdlog/spdlog.h>
 
+#include "config/error.hpp"
+
 namespace tern::core {
 
 void RemoteQueue::request_param(ParamBase& param, std::string qualified_name, ParamValue value, std::string source) {
   std::lock_guard lk(mu_);
+  if (params_.size() >= kMaxQueued)
+    throw ConfigError(qualified_name + ": not changed: " + std::to_string(kMaxQueued) +
+                      " parameter changes already wait for the next tick (a flood of requests between flights?)");
   params_.push_back({&param, std::move(qualified_name), std::move(value), std::move(source)});
   pending_.store(true, std::memory_order_release);
 }
 
-void RemoteQueue::edit_mission(const msg::MissionEdit& edit) {
+void RemoteQueue::edit_mission(const msg::MissionEdit& edit, bool own) {
   std::lock_guard lk(mu_);
+  if (!own && edits_.size() >= kMaxQueued)
+    throw ConfigError("mission edit #" + std::to_string(edit.id) + " refused: " + std::to_string(kMaxQueued) +
+                      " mission edits already wait for the next ticks (a flood of requests between flights?)");
   edits_.push_back(edit);
   pending_.store(true, std::memory_order_release);
+}
+
+std::size_t RemoteQueue::queued_edits() const {
+  std::lock_guard lk(mu_);
+  return edits_.size();
 }
 
 void RemoteQueue::request_go_around(std::string source) {

@@ -11,6 +11,9 @@
 // next flight. Pilot input (the console's sticks and switches) is a latest-value slot: the newest
 // msg::Rc set before a tick is published on topic `pilot` at its start (sim_aero reports it on
 // `rc`); older ones are dropped, as a receiver drops stale frames.
+// The queues are bounded (kMaxQueued each): a request beyond is refused, not held, so that a
+// ground station or a DDS client flooding requests between flights (nothing drains the queue then)
+// cannot grow the host's memory without bound (fuzz_mission_protocol).
 #pragma once
 
 #include <atomic>
@@ -32,16 +35,26 @@ namespace tern::core {
 
 class RemoteQueue {
  public:
+  /// The most parameter changes, and the most mission edits, waiting for the next flight's ticks.
+  /// A tick applies every parameter change and publishes one edit; the planner keeps
+  /// msg::MissionEdit::kQueue of them.
+  static constexpr std::size_t kMaxQueued = 1000;
+
   /// Records one applied change: flight time, qualified name ("slc.roll_kp"), the parameter
   /// (holding its new value), source.
   using ParamRecorder = std::function<void(Nanos, const std::string&, const ParamBase&, const std::string&)>;
 
-  /// Queues `param` = `value` (already validated by param.validate()). Any thread.
+  /// Queues `param` = `value` (already validated by param.validate()). Any thread. Throws
+  /// ConfigError when kMaxQueued changes already wait.
   void request_param(ParamBase& param, std::string qualified_name, ParamValue value, std::string source);
   /// Whether the port graph took the output for mission edits (some plugin reads `mission_edit`).
   bool takes_mission_edits() const { return mission_edit_out_ != nullptr; }
-  /// Queues a mission edit (takes_mission_edits() first). Any thread.
-  void edit_mission(const msg::MissionEdit& edit);
+  /// Queues a mission edit (takes_mission_edits() first). Any thread. Throws ConfigError when
+  /// kMaxQueued edits already wait, unless `own` (the host's own edits, a failsafe's loiter or
+  /// return: never refused).
+  void edit_mission(const msg::MissionEdit& edit, bool own = false);
+  /// Mission edits waiting for their tick (one is published per tick). Any thread.
+  std::size_t queued_edits() const;
 
   /// Queues the operator's go-around, from `source` (any thread); the flight thread takes it with
   /// take_go_around() and hands it to the phase machine.
@@ -76,7 +89,7 @@ class RemoteQueue {
     ParamValue value;
     std::string source;
   };
-  std::mutex mu_;
+  mutable std::mutex mu_;
   std::vector<ParamRequest> params_;      // under mu_
   std::vector<msg::MissionEdit> edits_;   // under mu_
   std::optional<msg::Rc> pilot_;          // under mu_

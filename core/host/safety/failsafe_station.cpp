@@ -135,7 +135,7 @@ void FailsafeStation::act(const FailsafeEvent& e, double max_deflection, RemoteQ
   edit.waypoint.type = e.action == "loiter" || !home ? msg::Waypoint::loiter : msg::Waypoint::return_home;
   edit.waypoint.w = e.centre;
   edit.waypoint.loiter_radius = e.radius;
-  remote.edit_mission(edit);
+  remote.edit_mission(edit, /*own=*/true);  // never refused, however many requests wait
 }
 
 }  // namespace tern::core

@@ -13,6 +13,7 @@
 #include <spdlog/sinks/null_sink.h>
 #include <spdlog/spdlog.h>
 
+#include "config/error.hpp"
 #include "graph/remote_queue.hpp"
 
 using namespace tern;
@@ -116,6 +117,36 @@ TEST_CASE("remote queue: mission edits reach topic mission_edit one per tick, in
   }
   r.q.apply(from_seconds(5.0), r.recorder(), r.log);
   CHECK(out->sequence() == 3);  // nothing left
+}
+
+TEST_CASE("remote queue: at most kMaxQueued edits and parameter changes wait; one more is refused, not held") {
+  // fuzz_mission_protocol's finding: between flights nothing drains the queue, and a ground
+  // station's MISSION_CLEAR_ALL flood grew the host's memory without bound
+  Rig r;
+  r.q.renew_mission_edit_output();
+  r.q.keep_mission_edit_output(true);
+  msg::MissionEdit e;
+  e.op = msg::MissionEdit::clear;
+  for (std::size_t k = 0; k < RemoteQueue::kMaxQueued; ++k) {
+    e.id = static_cast<std::uint32_t>(k + 1);
+    r.q.edit_mission(e);
+    r.q.request_param(r.gain, "ctl.gain", 2.0, "dds");
+  }
+  e.id = 1001;
+  CHECK_THROWS_WITH_AS(
+      r.q.edit_mission(e),
+      "mission edit #1001 refused: 1000 mission edits already wait for the next ticks (a flood of requests between flights?)", ConfigError);
+  CHECK_THROWS_WITH_AS(
+      r.q.request_param(r.gain, "ctl.gain", 3.0, "dds"),
+      "ctl.gain: not changed: 1000 parameter changes already wait for the next tick (a flood of requests between flights?)", ConfigError);
+  CHECK_NOTHROW(r.q.edit_mission(e, /*own=*/true));  // a failsafe's edit is never refused
+  CHECK(r.q.queued_edits() == RemoteQueue::kMaxQueued + 1);
+  r.q.apply(from_seconds(1.0), r.recorder(), r.log);  // every change and one edit
+  r.q.apply(from_seconds(1.01), r.recorder(), r.log);
+  CHECK(r.q.queued_edits() == RemoteQueue::kMaxQueued - 1);
+  CHECK(r.changes.size() == RemoteQueue::kMaxQueued);
+  CHECK_NOTHROW(r.q.edit_mission(e));
+  CHECK_NOTHROW(r.q.request_param(r.gain, "ctl.gain", 3.0, "dds"));
 }
 
 TEST_CASE("remote queue: a graph that does not take the mission-edit output drops it") {
