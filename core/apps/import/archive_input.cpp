@@ -21,13 +21,13 @@ namespace fs = std::filesystem;
 namespace {
 
 using Reader = std::unique_ptr<archive, decltype(&archive_read_free)>;
+using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
 
 /// libarchive's error text of `a`, for one line (it may have none).
 std::string error_text(archive* a) {
   const char* e = archive_error_string(a);
   return e ? printable(e) : std::string("error ") + std::to_string(archive_errno(a));
 }
-using Writer = std::unique_ptr<archive, decltype(&archive_write_free)>;
 
 fs::path make_temp_dir() {
   std::string pattern = (fs::temp_directory_path() / "tern-import-XXXXXX").string();
@@ -123,7 +123,8 @@ void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& lim
     archive_entry_set_perm(entry, archive_entry_filetype(entry) == AE_IFDIR ? 0755 : 0644);
     if (archive_write_header(out.get(), entry) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(out.get())));
-    if (declared > 0) copy_data(in.get(), out.get(), file, member, unpacked, limits.max_bytes);
+    // (a member whose header gives no size is copied too, within the limit)
+    if (declared > 0 || !archive_entry_size_is_set(entry)) copy_data(in.get(), out.get(), file, member, unpacked, limits.max_bytes);
     if (archive_write_finish_entry(out.get()) < ARCHIVE_OK)
       throw ImportError(fmt::format("{}: {}: {}", file.string(), printable(member), error_text(out.get())));
     std::error_code ec;  // what the member takes: its declared size, or as far as its data went
