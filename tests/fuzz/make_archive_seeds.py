@@ -19,6 +19,8 @@ import sys
 import tarfile
 import zipfile
 
+from seed_files import write_seeds
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 TEXT = os.path.join(HERE, "corpus", "fuzz_text_table")
 BAG = "carbonZ_2018-07-18-15-53-31_1_engine_failure"
@@ -112,10 +114,7 @@ def main():
         "regression_sparse_1gib.tar.gz": tar_bytes("w:gz", [sparse_member(raw_imu, 1 << 30)]),
         "bomb.tar.bz2": tar_bytes("w:bz2", [regular(raw_imu, bytes(17 << 20))]),
     }
-    for name, data in seeds.items():
-        with open(os.path.join(out, name), "wb") as f:
-            f.write(data)
-        print(f"{name}: {len(data)} bytes")
+    write_seeds(out, seeds)
 
 
 if __name__ == "__main__":

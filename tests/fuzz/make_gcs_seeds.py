@@ -9,6 +9,8 @@ import os
 import struct
 import sys
 
+from seed_files import write_seeds
+
 CRC_EXTRA = {"HEARTBEAT": (0, 50), "PARAM_REQUEST_READ": (20, 214), "PARAM_REQUEST_LIST": (21, 159), "PARAM_SET": (23, 168),
              "MISSION_COUNT": (44, 221), "MISSION_CLEAR_ALL": (45, 232), "MISSION_ACK": (47, 153), "MISSION_ITEM_INT": (73, 38),
              "MISSION_REQUEST_LIST": (43, 132), "MISSION_SET_CURRENT": (41, 28), "COMMAND_LONG": (76, 152)}
@@ -61,11 +63,7 @@ def main():
         "mixed.bin": b"\xfe\x09\x00\xff\xbe\x00" + hb + b"\x00\x00" + b"noise\x00" + frame("HEARTBEAT", hb, 16)
         + frame("HEARTBEAT", hb, 17)[:8],
     }
-    os.makedirs(out, exist_ok=True)
-    for name, data in seeds.items():
-        with open(os.path.join(out, name), "wb") as f:
-            f.write(data)
-        print(f"{name}: {len(data)} bytes")
+    write_seeds(out, seeds)
 
 
 if __name__ == "__main__":

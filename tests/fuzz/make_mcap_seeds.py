@@ -15,6 +15,8 @@ import subprocess
 import sys
 import zlib
 
+from seed_files import standard_gravity, write_seeds
+
 MAGIC = b"\x89MCAP0\r\n"
 OP = {"header": 0x01, "footer": 0x02, "schema": 0x03, "channel": 0x04, "message": 0x05, "chunk": 0x06, "message_index": 0x07,
       "chunk_index": 0x08, "attachment": 0x09, "statistics": 0x0B, "metadata": 0x0C, "data_end": 0x0F, "summary_offset": 0x0E}
@@ -39,7 +41,7 @@ def smap(pairs):
 
 def imu_cdr(t_ns, k):
     # CDR little-endian header, then stamp and six doubles (aligned to 8 from the header's end)
-    return b"\x00\x01\x00\x00" + struct.pack("<q6d", t_ns, 0.01 * k, -0.02, -9.81, 0.001 * k, 0.0, -0.003)
+    return b"\x00\x01\x00\x00" + struct.pack("<q6d", t_ns, 0.01 * k, -0.02, -float(standard_gravity()), 0.001 * k, 0.0, -0.003)
 
 
 def message(channel, seq, t_ns, data):
@@ -102,10 +104,7 @@ def main():
         "flight_uncompressed.mcap": flight(compress=False)[0],
         "flight_loose_messages.mcap": flight(loose=True)[0],
     }
-    for name, data in seeds.items():
-        with open(os.path.join(out, name), "wb") as f:
-            f.write(data)
-        print(f"{name}: {len(data)} bytes")
+    write_seeds(out, seeds)
 
 
 if __name__ == "__main__":

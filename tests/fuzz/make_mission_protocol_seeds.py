@@ -16,6 +16,8 @@ import os
 import struct
 import sys
 
+from seed_files import write_seeds
+
 NAN = float("nan")
 MISSION, FENCE, RALLY, ALL = 0, 1, 2, 255
 LENGTH = {0: 9, 1: 38, 2: 3, 3: 5, 4: 5, 5: 3, 6: 4, 7: 8}  # the messages' full wire lengths (crc_extra_mission.txt)
@@ -97,10 +99,7 @@ def main():
         item(1, 16, 6, 47.39, 8.03, 60.0, p1=NAN, p2=NAN, p3=NAN) + count(2) + m[0] + fence[0] + request_int(65535) + request(7, 3) +
         set_current(65535) + call(0, 65535) + rec(0, struct.pack("<HBBB", 2, 9, 9, MISSION), flags=0) + ack(15, 1),
     }
-    for name, data in seeds.items():
-        with open(os.path.join(out, name), "wb") as f:
-            f.write(data)
-        print(f"{name}: {len(data)} bytes")
+    write_seeds(out, seeds)
 
 
 if __name__ == "__main__":

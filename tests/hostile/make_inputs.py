@@ -16,12 +16,14 @@ WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
 """
 import io
 import os
-import re
 import struct
 import sys
 import tarfile
 
 import yaml
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "fuzz"))
+from seed_files import standard_gravity  # noqa: E402 (the shared reader of tern/math.hpp)
 
 REPO, WORK = sys.argv[1], sys.argv[2]
 MISSIONS = os.path.join(REPO, "configs", "missions")
@@ -35,12 +37,6 @@ def table(path, columns, rows):
         f.write(",".join(["t [s]"] + columns) + "\n")
         for t_ns, values in rows:
             f.write(f"{t_ns // 10**9}.{t_ns % 10**9:09d},{t_ns}," + ",".join(values) + "\n")
-
-
-def standard_gravity():
-    """m/s^2: the SDK's one declaration (sdk/include/tern/math.hpp, kStandardGravity)."""
-    with open(os.path.join(REPO, "sdk", "include", "tern", "math.hpp")) as f:
-        return re.search(r"kStandardGravity = ([0-9.]+);", f.read()).group(1)
 
 
 def imu_rows(n, jump_at=None):
