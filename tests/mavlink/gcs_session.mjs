@@ -31,12 +31,12 @@ export function report(failures, gcs) {
 }
 
 /** `tern fly MISSION --realtime --duration SECONDS --gcs` talking to `gcs` (flight time `speed`
- * times wall time), its log in WORK/runs. */
-export function flyWithGcs(tern, mission, work, gcs, seconds, speed = 1) {
+ * times wall time, `extra` options after), its log in WORK/runs. */
+export function flyWithGcs(tern, mission, work, gcs, seconds, speed = 1, extra = []) {
   fs.mkdirSync(work, { recursive: true })
   const logDir = path.join(work, 'runs')
   const child = spawn(tern, ['fly', mission, '--realtime', '--speed', String(speed), '--duration', String(seconds), '--log-dir', logDir, '-q',
-    '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0'], { stdio: ['ignore', 'pipe', 'inherit'] })
+    '--gcs', `127.0.0.1:${gcs.port}`, '--gcs-bind', '127.0.0.1:0', ...extra], { stdio: ['ignore', 'pipe', 'inherit'] })
   let out = ''
   child.stdout.on('data', (d) => { out += d })
   const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })))

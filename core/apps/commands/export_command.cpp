@@ -4,12 +4,19 @@
 //            nothing is overwritten (export/mcap_csv_export.hpp)
 //   recover  a file cut short rewritten complete, up to its last complete chunk, as
 //            RUN/flight.recovered.mcap (or --out FILE) (mcap/mcap_recover.hpp)
+//   plan     `tern export plan CONFIG OUT.plan`: a config's mission (or a run's config.yaml) as a
+//            QGroundControl plan (commands/plan_export.hpp); OUT is not overwritten
 // Prints what was written; exit status 0, or 1 with one error line.
 #include <memory>
 
 #include <fmt/format.h>
 
+#include <fstream>
+
 #include "commands/commands.hpp"
+#include "commands/host_preparation.hpp"
+#include "config/error.hpp"
+#include "commands/plan_export.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
 #include "mcap/mcap_recover.hpp"
@@ -24,6 +31,7 @@ struct ExportOptions {
   std::size_t chunk_size = McapWriter::Options{}.chunk_bytes;
   CLI::App* csv = nullptr;
   CLI::App* recover = nullptr;
+  CLI::App* plan = nullptr;
 };
 
 fs::path mcap_of(const std::string& run) { return fs::is_directory(run) ? fs::path(run) / "flight.mcap" : fs::path(run); }
@@ -50,11 +58,26 @@ int run_recover(const ExportOptions& o) {
   return 0;
 }
 
+/// The config's mission as a QGroundControl plan (plan_export.hpp); nothing is overwritten.
+int run_plan(const ExportOptions& o) {
+  if (fs::exists(o.out)) return fail(fmt::format("export plan: {} exists; nothing was overwritten", o.out));
+  const std::string text = plan_of(*describing_host(o.run, HostPreparation{}));
+  std::ofstream out(o.out, std::ios::binary);
+  out << text;
+  out.close();
+  if (!out) return fail(fmt::format("export plan: {}: cannot be written", o.out));
+  fmt::print("{} -> {}\n", o.run, o.out);
+  return 0;
+}
+
 int run_export(const ExportOptions& o) {
   try {
+    if (o.plan->parsed()) return run_plan(o);
     return o.csv->parsed() ? run_csv(o) : run_recover(o);
   } catch (const McapError& e) {
     return fail(fmt::format("export: {}", e.what()));
+  } catch (const ConfigError& e) {
+    return fail(fmt::format("export plan: {}", e.what()));
   }
 }
 
@@ -62,7 +85,8 @@ int run_export(const ExportOptions& o) {
 
 Command add_export_command(CLI::App& app) {
   auto o = std::make_shared<ExportOptions>();
-  auto* c = app.add_subcommand("export", "a flight's MCAP log as CSV tables, or recovered after a killed flight (docs/logs.md)");
+  auto* c = app.add_subcommand(
+      "export", "a flight's MCAP log as CSV tables, or recovered after a killed flight (docs/logs.md); a mission as a QGroundControl plan");
   c->require_subcommand(1);
   o->csv = c->add_subcommand("csv", "write the topic tables the CSV log would have written (RUN/topics/*.csv)");
   o->csv->add_option("run", o->run, "run directory (its flight.mcap) or an .mcap file")->required();
@@ -72,6 +96,9 @@ Command add_export_command(CLI::App& app) {
   o->recover->add_option("--out", o->out, "file to write (default RUN/flight.recovered.mcap)");
   o->recover->add_option("--chunk-size", o->chunk_size, "bytes of messages per chunk (default: the log's, 1 MiB)")
       ->check(CLI::Range(1024, 1 << 30));
+  o->plan = c->add_subcommand("plan", "write a mission config's mission, geofence and rally points as a QGroundControl plan");
+  o->plan->add_option("config", o->run, "mission config, or a run directory's config.yaml")->required();
+  o->plan->add_option("out", o->out, "the .plan file to write")->required();
   return {c, [o] { return run_export(*o); }};
 }
 

@@ -4,11 +4,18 @@
 #include <cstdio>
 
 #include "config/error.hpp"
+#include "mavlink/plan_config.hpp"
 #include "commands/override_options.hpp"
 
 namespace tern::core {
 
-void add_mission_override_options(CLI::App* cmd, HostPreparation& p) { add_override_options(cmd, p.overrides); }
+void add_mission_override_options(CLI::App* cmd, HostPreparation& p) {
+  add_override_options(cmd, p.overrides);
+  cmd->add_option("--plan", p.plan,
+                  "a QGroundControl plan (.plan): its mission replaces the config's, its home is the simulator's origin, its "
+                  "geofence and rally points the failsafes' (docs/ground-station.md)")
+      ->type_name("FILE.plan");
+}
 
 void add_skip_preflight_option(CLI::App* cmd, HostPreparation& p) {
   cmd->add_flag("--skip-preflight", p.skip_preflight,
@@ -107,6 +114,7 @@ PreparedMission prepare_mission(const std::string& config_file, const HostPrepar
 PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p) {
   PreparedMission m{std::move(config)};
   MissionConfig& mc = m.config;
+  if (p.plan) apply_plan(mc, *p.plan);  // first: a --set of the origin wins over the plan's home
   apply_overrides(mc, p.overrides);
   if (p.skip_preflight) apply_skip_preflight(mc);
   if (p.log_level) apply_log_level(mc, *p.log_level);

@@ -29,6 +29,7 @@ namespace tern::core {
 /// The command line's changes to a mission and its host, as parsed (each command takes a subset).
 struct HostPreparation {
   CliOverrides overrides;
+  std::optional<std::string> plan;           ///< --plan FILE.plan: a QGroundControl plan flown (mavlink/plan_config.hpp)
   bool skip_preflight = false;               ///< --skip-preflight: take off at t = 0 without the arming checks
   std::optional<std::string> log_level;      ///< --log-level: summary, decimated or full
   std::optional<std::string> log_format;     ///< --log-format: csv, mcap or both
@@ -40,7 +41,7 @@ struct HostPreparation {
   std::string gcs_bind = "127.0.0.1:14580";  ///< --gcs-bind ADDR:PORT: the vehicle's own UDP address
 };
 
-/// --set, --phases, --fallback (override_options.hpp).
+/// --set, --phases, --fallback (override_options.hpp), --plan FILE.plan.
 void add_mission_override_options(CLI::App* cmd, HostPreparation& p);
 /// --skip-preflight.
 void add_skip_preflight_option(CLI::App* cmd, HostPreparation& p);

@@ -39,11 +39,8 @@ path::MissionLimits limits_of(const Host& host) {
   path::MissionLimits l;
   l.max_distance = c.check.max_waypoint_distance;
   l.max_distance_name = "check.max_waypoint_distance";
+  l.origin = world_origin(host);
   for (const auto& inst : host.instances()) {
-    if (inst->info.name == "sim_aero" && !l.origin) {
-      const auto lat = number(*inst, "origin_lat"), lon = number(*inst, "origin_lon"), alt = number(*inst, "origin_alt");
-      if (lat && lon && alt) l.origin = GeoPoint{*lat, *lon, *alt};
-    }
     if (inst->info.name == "path_manager") {
       const auto r = number(*inst, "R_min");
       if (r && (!l.R_min || *r > *l.R_min)) {
@@ -95,6 +92,27 @@ MissionReport check_missions(const Host& host) {
     }
   }
   return r;
+}
+
+std::optional<GeoPoint> world_origin(const Host& host) {
+  for (const auto& inst : host.instances()) {
+    if (inst->info.name != "sim_aero") continue;
+    const auto lat = number(*inst, "origin_lat"), lon = number(*inst, "origin_lon"), alt = number(*inst, "origin_alt");
+    if (lat && lon && alt) return GeoPoint{*lat, *lon, *alt};
+  }
+  return std::nullopt;
+}
+
+std::optional<path::Mission> planned_mission(const Host& host) {
+  const MissionConfig& c = host.config();
+  for (const auto& inst : host.instances()) {
+    if (inst->info.name != "path_planner") continue;
+    const std::string file = text(*inst, "mission_file");
+    if (!file.empty()) return path::load_mission_file(file);
+    if (c.mission && !c.mission.IsNull()) return path::parse_mission_section(c.mission, c.dir, c.file.string());
+    return std::nullopt;
+  }
+  return std::nullopt;
 }
 
 MissionReport check_missions(const MissionConfig& config) {

@@ -15,10 +15,13 @@
 // Each problem is one line naming file:line and the field.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "config/config.hpp"
+#include "tern/geodesy.hpp"
+#include "tern/path/mission.hpp"
 
 namespace tern::core {
 
@@ -37,5 +40,13 @@ MissionReport check_missions(const Host& host);
 /// The same for `config`, through a host built to describe it (plugins configured, nothing flown).
 /// Throws ConfigError as building a host does.
 MissionReport check_missions(const MissionConfig& config);
+
+/// The world's origin of `host`: its first sim_aero instance's origin_lat, origin_lon, origin_alt
+/// (none: no simulator; then the origin is the first GNSS fix).
+std::optional<GeoPoint> world_origin(const Host& host);
+
+/// The mission `host`'s first path_planner flies: its mission_file, else the config's `mission:`
+/// section (none: no planner, or neither). Throws path::MissionError.
+std::optional<path::Mission> planned_mission(const Host& host);
 
 }  // namespace tern::core

@@ -13,12 +13,17 @@
 //   NAV_LOITER_UNLIM (17)    loiter until the mission changes; param3: radius m (< 0: counter-
 //   NAV_LOITER_TURNS (18)    clockwise; 0 or NaN: the path manager's turn radius), param1: turns > 0
 //   NAV_LOITER_TIME (19)     or time s > 0.
+//   NAV_LOITER_TO_ALT (31)   loiter until at z (within the path manager's altitude_band), then on:
+//                            param2 radius as param3 above; param1 (heading required) must be 0.
 //   NAV_RETURN_TO_LAUNCH (20) return_home at the altitude of the item before (tern's return_home).
 //   NAV_LAND (21)            land with the touchdown point at its position (x = y = 0: home) and
 //                            runway heading param4 (deg; NaN: the course from the item before);
 //                            glide slope, flare and decision heights are tern's defaults (item.hpp).
 //   DO_CHANGE_SPEED (178)    param1 0 (airspeed), param2 m/s > 0 (-1: no change, -2: the path
-//                            manager's default): the Va_d of the nav items after it.
+//                            manager's default): the Va_d of the nav items after it. param1 1
+//                            (ground speed): their Vg_min, the least ground speed, as ArduPlane flies
+//                            it (MIN_GNDSPD): the path manager raises the airspeed in a headwind.
+//                            (-2: none). param3 (throttle) is not flown.
 //   DO_LAND_START (189)      a marker (where a landing sequence begins, as QGroundControl's landing
 //                            pattern sends it): no waypoint; MAV_CMD_DO_LAND_START flies the land item.
 //   DO_JUMP (177)            param1: the item (seq) to go on from, param2: how many times (the jump
@@ -26,6 +31,9 @@
 //                            never reset, as PX4 and ArduPilot count them). The upload is unrolled
 //                            into the waypoints it flies (at most kMaxFlownWaypoints); -1 (for ever)
 //                            only as the last item back to the first nav item: the mission loops.
+// z NaN (QGroundControl's "above terrain" item whose terrain height it could not fetch, PX4's "the
+// current altitude"): the altitude of the nav item flown before it (NAV_WAYPOINT, loiters,
+// RETURN_TO_LAUNCH); not for NAV_TAKEOFF and NAV_LAND, nor for the first nav item.
 // Frames: nav items GLOBAL (0) / GLOBAL_INT (5): z m MSL; GLOBAL_RELATIVE_ALT (3) /
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; GLOBAL_TERRAIN_ALT (10) / _INT (11): z m above the
 // terrain, flown as above home (tern has no terrain model: flat ground at home's altitude, as the
@@ -36,8 +44,8 @@
 //
 // A download of the planner's list (msg::WaypointList, NED) gives the items back in
 // GLOBAL_RELATIVE_ALT: waypoint -> NAV_WAYPOINT, loiter -> LOITER_TIME / LOITER_TURNS /
-// LOITER_UNLIM, return_home -> NAV_RETURN_TO_LAUNCH, land -> NAV_LAND, and a DO_CHANGE_SPEED before
-// each item whose Va_d differs from the one before (the list's loop and a waypoint's chi_d have no
+// LOITER_TO_ALT / LOITER_UNLIM, return_home -> NAV_RETURN_TO_LAUNCH, land -> NAV_LAND, and a DO_CHANGE_SPEED before
+// each item whose Va_d (type 0) or Vg_min (type 1) differs from the one before (the list's loop and a waypoint's chi_d have no
 // item: not listed).
 //
 // Errors: ItemError (a std::runtime_error) with the MAV_MISSION_RESULT for the MISSION_ACK and one
@@ -94,8 +102,13 @@ inline constexpr std::size_t kMaxFlownWaypoints = 1000;
 /// `nav_seq` (optional) receives the seq of the item each waypoint came from. Throws ItemError.
 path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& home, std::vector<std::uint16_t>* nav_seq = nullptr);
 
-/// The items of the planner's list (NED about `home`), seq from 0.
+/// The items of the planner's list (NED about `home`), seq from 0; its loop has no item.
 std::vector<MissionItemInt> to_items(const msg::WaypointList& list, const GeoOrigin& home);
+
+/// The items of a NED mission (lla entries converted), seq from 0, its loops as DO_JUMP: `loops`
+/// before a final land item (repeat loops - 1, back to the first nav item), a mission that loops
+/// without landing a last DO_JUMP (repeat loops - 1, or -1 for ever), as to_mission reads them back.
+std::vector<MissionItemInt> to_items(const path::Mission& m, const GeoOrigin& home);
 
 /// The planner's list as a tern mission (NED, its loop and loops kept), e.g. to load it again.
 path::Mission to_mission(const msg::WaypointList& list);

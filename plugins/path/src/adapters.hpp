@@ -100,7 +100,7 @@ class ManagerPlugin final : public Plugin {
   Output<msg::CurrentPath> path_;
   Param<double> R_min_, default_altitude_, default_airspeed_, min_separation_, turn_bank_, wind_tau_;
   Param<std::int64_t> land_attempts_;
-  Param<double> flare_time_;
+  Param<double> flare_time_, altitude_band_;
   Param<bool> orbit_last_;
   Param<std::string> corner_;
 

@@ -20,10 +20,10 @@ std::string fmt(double v, int decimals = 1) {
 }
 
 bool same(const MissionPoint& a, const MissionPoint& b) {
-  return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d && a.type == b.type &&
+  return a.w == b.w && a.chi_d == b.chi_d && a.use_chi == b.use_chi && a.Va_d == b.Va_d && a.Vg_min == b.Vg_min && a.type == b.type &&
          a.loiter.radius == b.loiter.radius && a.loiter.direction == b.loiter.direction && a.loiter.time == b.loiter.time &&
-         a.loiter.turns == b.loiter.turns && a.land.glide_slope == b.land.glide_slope && a.land.flare_height == b.land.flare_height &&
-         a.land.decision_height == b.land.decision_height;
+         a.loiter.turns == b.loiter.turns && a.loiter.to_altitude == b.loiter.to_altitude && a.land.glide_slope == b.land.glide_slope &&
+         a.land.flare_height == b.land.flare_height && a.land.decision_height == b.land.decision_height;
 }
 
 bool orbits(const MissionPoint& w) { return w.type == ItemType::loiter || w.type == ItemType::return_home; }
@@ -48,6 +48,7 @@ void PathManager::set_config(const ManagerConfig& c) {
   positive(c.R_min, "R_min");
   positive(c.default_airspeed, "default_airspeed");
   positive(c.min_separation, "min_separation");
+  positive(c.altitude_band, "altitude_band");
   if (!std::isfinite(c.default_altitude)) throw std::invalid_argument("path manager: default_altitude must be finite");
   if (!(c.turn_bank >= 0.0 && c.turn_bank <= 1.4))
     throw std::invalid_argument("path manager: turn_bank must be in [0, 1.4] rad, got " + fmt(c.turn_bank, 6));
@@ -76,8 +77,13 @@ void PathManager::inform_once(const std::string& key, const std::string& text) {
   if (first_notice(key) && info_) info_(text);
 }
 
-double PathManager::airspeed(const MissionPoint& w) const {
-  return (std::isfinite(w.Va_d) && w.Va_d > 0.0) ? w.Va_d : cfg_.default_airspeed;
+double PathManager::airspeed(const MissionPoint& w) const { return airspeed_along(w, Vec3::Zero()); }
+
+double PathManager::airspeed_along(const MissionPoint& w, const Vec3& q) const {
+  const double Va = (std::isfinite(w.Va_d) && w.Va_d > 0.0) ? w.Va_d : cfg_.default_airspeed;
+  if (!(w.Vg_min > 0.0) || lands(w)) return Va;
+  if (q.head<2>().norm() < 1e-9) return std::max(Va, w.Vg_min + wind_.head<2>().norm());  // every course
+  return std::max(Va, (w.Vg_min * q.head<2>().normalized() - wind_.head<2>()).norm());
 }
 
 void PathManager::set_wind(const Vec3& wind) {
@@ -428,7 +434,8 @@ bool PathManager::loiter_done(const Vec3& p, double t) {
   loiter_angle_ = bearing;
   const LoiterSpec& l = e.wp.loiter;
   if (e.wp.type != ItemType::loiter) return false;  // return_home: until the mission changes
-  return (l.time > 0.0 && t - loiter_since_ >= l.time) || (l.turns > 0.0 && loiter_swept_ >= 2.0 * kPi * l.turns);
+  return (l.time > 0.0 && t - loiter_since_ >= l.time) || (l.turns > 0.0 && loiter_swept_ >= 2.0 * kPi * l.turns) ||
+         (l.to_altitude && std::fabs(d.z()) <= cfg_.altitude_band);
 }
 
 PathSegment PathManager::current_segment() const {
@@ -453,6 +460,7 @@ PathSegment PathManager::current_segment() const {
       s.type = PathSegment::Type::line;
       s.r = prev_;
       s.q = unit3(prev_, wt.w, switch_n_);
+      s.Va_d = airspeed_along(wt, s.q);
       break;
     case Stage::fillet_orbit: orbit(fillet_.c, fillet_.lambda); break;
     case Stage::dubins_1:
@@ -461,6 +469,7 @@ PathSegment PathManager::current_segment() const {
       s.type = PathSegment::Type::line;
       s.r = dubins_.z1;
       s.q = unit3(dubins_.z1, dubins_.z2, dubins_.q1);
+      s.Va_d = airspeed_along(wt, s.q);
       break;
     case Stage::dubins_4:
     case Stage::dubins_5: orbit(dubins_.ce, dubins_.lambda_e); break;

@@ -36,6 +36,9 @@ void ManagerPlugin::configure() {
                     "a land item's glide path is aimed ground speed x flare_time - flare_height / tan(glide_slope) before its "
                     "touchdown point (the flare's float in the wind, as ArduPlane's LAND_FLARE_SEC); 0: at the touchdown point"));
   land_attempts_.on_change([this](const std::int64_t&) { rebuild(); });
+  declare(altitude_band_, "altitude_band", ManagerConfig{}.altitude_band,
+          ParamSpec("m", 0.1, 1000.0, "a loiter to an altitude (MAVLink NAV_LOITER_TO_ALT) goes on within this of its altitude"));
+  altitude_band_.on_change([this](const double&) { rebuild(); });
   flare_time_.on_change([this](const double&) { rebuild(); });
   turn_bank_.on_change([this](const double&) { rebuild(); });
   R_min_.on_change([this](const double&) { rebuild(); });
@@ -61,6 +64,7 @@ ManagerConfig ManagerPlugin::config() const {
   c.turn_bank = turn_bank_();
   c.land_attempts = static_cast<int>(land_attempts_());
   c.flare_time = flare_time_();
+  c.altitude_band = altitude_band_();
   return c;
 }
 
@@ -94,7 +98,8 @@ void ManagerPlugin::step(Nanos now) {
       wps[i].use_chi = w.use_chi;
       wps[i].Va_d = w.Va_d;
       wps[i].type = item_type_of(w.type);
-      wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns};
+      wps[i].Vg_min = w.Vg_min;
+      wps[i].loiter = {w.loiter_radius, w.loiter_direction >= 0 ? 1 : -1, w.loiter_time, w.loiter_turns, w.loiter_to_altitude};
       wps[i].land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
     }
     manager_->set_waypoints(wps, list.loop, list.immediate, static_cast<int>(std::min<std::uint32_t>(list.loops, 100000)));

@@ -18,7 +18,8 @@ MissionWaypoint from_msg(const msg::Waypoint& w) {
   m.use_chi = w.use_chi;
   m.Va_d = w.Va_d;
   m.type = item_type_of(w.type);
-  m.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns};
+  m.Vg_min = w.Vg_min;
+  m.loiter = {w.loiter_radius, w.loiter_direction, w.loiter_time, w.loiter_turns, w.loiter_to_altitude};
   m.land = {w.land_glide_slope, w.land_flare_height, w.land_decision_height};
   return m;
 }
@@ -35,6 +36,8 @@ msg::Waypoint to_msg(const MissionWaypoint& m) {
   w.loiter_direction = static_cast<std::int8_t>(m.loiter.direction >= 0 ? 1 : -1);
   w.loiter_time = m.loiter.time;
   w.loiter_turns = m.loiter.turns;
+  w.loiter_to_altitude = m.loiter.to_altitude;
+  w.Vg_min = m.Vg_min;
   w.land_glide_slope = m.land.glide_slope;
   w.land_flare_height = m.land.flare_height;
   w.land_decision_height = m.land.decision_height;

@@ -62,7 +62,7 @@ TEST_CASE("mission: ROSplane format errors name the file, line and field") {
                        "m.yaml:3: unexpected top-level entry 'foo: 1' in a ROSplane mission file (only wp: entries)", MissionError);
   CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  chi: 1\n", "m.yaml"),
                        "m.yaml:3: wp 1: unknown key 'chi' (expected ned, w, lla, chi_d, use_chi, Va_d, va_d, type, radius, direction, "
-                       "time, turns, altitude, heading, glide_slope, flare_height, decision_height)",
+                       "time, turns, to_altitude, Vg_min, altitude, heading, glide_slope, flare_height, decision_height)",
                        MissionError);
 }
 
@@ -277,8 +277,9 @@ TEST_CASE("mission: bad land items give one line naming file:line, the item, the
   CHECK(error_of(before + "heading: 0, flare_height: abc}") ==
         "mission config (mission:):3: waypoints[1].flare_height: 'abc' is not a number");
   CHECK(error_of(before + "heading: 0, radius: 50}") ==
-        "mission config (mission:):3: waypoints[1]: a land item takes no radius, direction, time or turns (those are loiter keys)");
-  CHECK(error_of(before + "heading: 0, turns: 1}").find("takes no radius, direction, time or turns") != std::string::npos);
+        "mission config (mission:):3: waypoints[1]: a land item takes no radius, direction, time, turns or to_altitude (those are loiter "
+        "keys)");
+  CHECK(error_of(before + "heading: 0, turns: 1}").find("takes no radius, direction, time, turns or to_altitude") != std::string::npos);
   CHECK(error_of(before + "heading: 0, use_chi: true}") ==
         "mission config (mission:):3: waypoints[1]: use_chi: true is for waypoints (a land item always arrives on its heading)");
   CHECK(error_of(before + "heading: 0, altitude: 0}") ==
@@ -297,7 +298,7 @@ TEST_CASE("mission: a land item is the last, and is reached") {
         "mission config (mission:):4: waypoints[2]: comes after the land item waypoints[1], which ends the mission: never reached");
   CHECK(error_of("waypoints:\n  - {type: return_home, altitude: 70}\n  - {type: land, ned: [0, 0, 0], heading: 0}") ==
         "mission config (mission:):3: waypoints[1]: never reached: the item before it (return_home) orbits until the mission changes (a "
-        "loiter before a landing needs time or turns)");
+        "loiter before a landing needs time, turns or to_altitude)");
   CHECK(
       error_of("waypoints:\n  - {type: loiter, ned: [600, 0, -70]}\n  - {type: land, ned: [0, 0, 0], heading: 0}").find("never reached") !=
       std::string::npos);

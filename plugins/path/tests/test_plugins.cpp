@@ -516,6 +516,47 @@ TEST_CASE("manager: a loiter with a time leaves after that long on the orbit; a 
   CHECK(stay.manager.loiter_turns_flown() > 5.0);
 }
 
+TEST_CASE("manager: a loiter to an altitude climbs on the orbit and goes on once within altitude_band of it") {
+  Flight f;
+  MissionPoint climb = loiter_at({300, 0, -150}, 100.0, -1, 0.0, 0.0);
+  climb.loiter.to_altitude = true;
+  f.manager.set_waypoints({climb, MissionPoint{{-300, 0, -150}, 0.0, false, 17.0, ItemType::waypoint, {}}}, false);
+  f.run(0.01);
+  REQUIRE(f.manager.target() == 0);
+  double left_at_h = -1.0;
+  for (int k = 0; k < 20000 && f.manager.target() == 0; ++k) {
+    f.run(0.05);
+    left_at_h = f.aircraft.h;
+  }
+  CHECK(f.manager.target() == 1);
+  CHECK(left_at_h >= 150.0 - ManagerConfig{}.altitude_band);  // from 70 m: it climbed before it left
+  CHECK(f.finite);
+}
+
+TEST_CASE("manager: Vg_min raises the airspeed into the wind (wind triangle), never below Va_d or on a land item") {
+  Flight f;
+  f.manager.set_wind(Vec3(-8.0, 0.0, 0.0));  // 8 m/s from the north
+  MissionPoint north{{600, 0, -70}, 0.0, false, 15.0, ItemType::waypoint, {}};
+  north.Vg_min = 12.0;
+  MissionPoint south{{-600, 0, -70}, 0.0, false, 15.0, ItemType::waypoint, {}};
+  south.Vg_min = 12.0;
+  f.manager.set_waypoints({north, south}, false);
+  f.run(0.01);
+  REQUIRE(f.seg.type == PathSegment::Type::line);
+  CHECK(f.seg.Va_d == Approx(20.0));  // |12 north - (-8 north)|: 20 m/s of air for 12 over the ground
+  f.run(120.0);
+  REQUIRE(f.manager.target() == 1);
+  if (f.seg.type == PathSegment::Type::line) CHECK(f.seg.Va_d == Approx(15.0));  // downwind: Va_d already gives 23 m/s
+  MissionPoint loiter = loiter_at({0, 0, -70}, 100.0, 1, 0.0, 0.0);
+  loiter.Vg_min = 12.0;
+  f.manager.set_waypoints({loiter}, false, true);
+  f.run(0.01);
+  CHECK(f.seg.Va_d == Approx(20.0));  // an orbit meets the headwind: Vg_min + |wind|
+  MissionPoint land{{0, 0, 0}, 0.0, false, 15.0, ItemType::land, {}};
+  land.Vg_min = 12.0;
+  CHECK(f.manager.airspeed(land) == 15.0);
+}
+
 TEST_CASE("manager: an immediate return_home replaces the route at once and orbits home at its altitude for good") {
   Flight f;
   f.manager.set_waypoints(hourglass(), true);

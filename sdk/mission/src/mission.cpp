@@ -92,15 +92,15 @@ double as_non_negative(const YAML::Node& n, const Ctx& c, const std::string& fie
 
 /// The entry's keys that only some item types take; checked once the type is known.
 struct ItemKeys {
-  bool radius = false, direction = false, time = false, turns = false, chi = false;  // given
+  bool radius = false, direction = false, time = false, turns = false, to_altitude = false, chi = false;  // given
   bool chi_d = false, heading = false, land = false;  // given; land: glide_slope, flare_height or decision_height
   YAML::Node altitude, heading_value;                 // (null when not given)
 };
 
 // A land item: the keys it takes, and its runway heading (`heading`, or ROSplane's `chi_d`).
 void finish_land(MissionWaypoint& wp, const ItemKeys& k, const YAML::Node& n, const Ctx& c, const std::string& name) {
-  if (k.radius || k.direction || k.time || k.turns)
-    throw MissionError(c.prefix(n) + name + ": a land item takes no radius, direction, time or turns (those are loiter keys)");
+  if (k.radius || k.direction || k.time || k.turns || k.to_altitude)
+    throw MissionError(c.prefix(n) + name + ": a land item takes no radius, direction, time, turns or to_altitude (those are loiter keys)");
   if (wp.use_chi) throw MissionError(c.prefix(n) + name + ": use_chi: true is for waypoints (a land item always arrives on its heading)");
   if (k.heading && k.chi_d) throw MissionError(c.prefix(n) + name + ": give the runway heading once: heading or chi_d, not both");
   if (k.heading) wp.chi_d = as_double(k.heading_value, c, name + ".heading");
@@ -118,11 +118,12 @@ void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YA
   if (wp.type != ItemType::land && k.land)
     throw MissionError(c.prefix(n) + name + ": glide_slope, flare_height and decision_height are for land items (type: land)");
   if (wp.type == ItemType::land) finish_land(wp, k, n, c, name);
-  if (!orbit && (k.radius || k.direction || k.time || k.turns))
-    throw MissionError(c.prefix(n) + name + ": radius, direction, time and turns are for loiter and return_home items (type: loiter)");
+  if (!orbit && (k.radius || k.direction || k.time || k.turns || k.to_altitude))
+    throw MissionError(c.prefix(n) + name +
+                       ": radius, direction, time, turns and to_altitude are for loiter and return_home items (type: loiter)");
   if (orbit && k.chi) throw MissionError(c.prefix(n) + name + ": a " + type + " item takes no chi_d or use_chi");
-  if (wp.type == ItemType::return_home && (k.time || k.turns))
-    throw MissionError(c.prefix(n) + name + ": return_home loiters until the mission changes: no time or turns");
+  if (wp.type == ItemType::return_home && (k.time || k.turns || k.to_altitude))
+    throw MissionError(c.prefix(n) + name + ": return_home loiters until the mission changes: no time, turns or to_altitude");
   if (wp.type != ItemType::return_home && k.altitude.IsDefined() && !k.altitude.IsNull())
     throw MissionError(c.prefix(n) + name + ": altitude is for return_home items (others give a position)");
   if (wp.type == ItemType::return_home) {
@@ -135,9 +136,9 @@ void finish_item(MissionWaypoint& wp, int positions, const ItemKeys& k, const YA
   if (positions > 1) throw MissionError(c.prefix(n) + name + ": more than one position (ned, w, lla)");
 }
 
-const std::vector<std::string> kEntryKeys = {"ned",      "w",       "lla",         "chi_d",        "use_chi",        "Va_d",
-                                             "va_d",     "type",    "radius",      "direction",    "time",           "turns",
-                                             "altitude", "heading", "glide_slope", "flare_height", "decision_height"};
+const std::vector<std::string> kEntryKeys = {
+    "ned",  "w",     "lla",         "chi_d",  "use_chi",  "Va_d",    "va_d",        "type",         "radius",         "direction",
+    "time", "turns", "to_altitude", "Vg_min", "altitude", "heading", "glide_slope", "flare_height", "decision_height"};
 
 // The keys of loiter, return_home and land items (item.hpp); false for any other key.
 bool parse_item_key(const std::string& key, const YAML::Node& v, const Ctx& c, const std::string& field, MissionWaypoint& wp, ItemKeys& k) {
@@ -155,6 +156,9 @@ bool parse_item_key(const std::string& key, const YAML::Node& v, const Ctx& c, c
   } else if (key == "turns") {
     wp.loiter.turns = as_non_negative(v, c, field, " turns");
     k.turns = true;
+  } else if (key == "to_altitude") {
+    wp.loiter.to_altitude = as_bool(v, c, field);
+    k.to_altitude = true;
   } else if (key == "heading") {
     k.heading = true;
     k.heading_value = v;
@@ -213,6 +217,8 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
       k.chi = true;
     } else if (key == "Va_d" || key == "va_d") {
       wp.Va_d = as_double(v, c, field);
+    } else if (key == "Vg_min") {
+      wp.Vg_min = as_double(v, c, field);
     } else if (!parse_item_key(key, v, c, field, wp, k)) {
       throw MissionError(c.prefix(kv.first) + name + ": ", key, kEntryKeys);
     }
@@ -240,7 +246,8 @@ void fill_return_home_altitudes(Mission& m) {
 }
 
 bool orbits_forever(const MissionWaypoint& wp) {
-  return wp.type == ItemType::return_home || (wp.type == ItemType::loiter && wp.loiter.time <= 0.0 && wp.loiter.turns <= 0.0);
+  return wp.type == ItemType::return_home ||
+         (wp.type == ItemType::loiter && wp.loiter.time <= 0.0 && wp.loiter.turns <= 0.0 && !wp.loiter.to_altitude);
 }
 
 }  // namespace
@@ -253,7 +260,7 @@ void check_land_last(const Mission& m) {
     if (i + 1 < w.size()) throw MissionError(entry_prefix(m, w[i + 1]) + "comes after " + land + ", which ends the mission: never reached");
     if (i > 0 && orbits_forever(w[i - 1]))
       throw MissionError(entry_prefix(m, w[i]) + "never reached: the item before it (" + item_type_name(w[i - 1].type) +
-                         ") orbits until the mission changes (a loiter before a landing needs time or turns)");
+                         ") orbits until the mission changes (a loiter before a landing needs time, turns or to_altitude)");
   }
 }
 
@@ -432,6 +439,8 @@ void validate_waypoint(const MissionWaypoint& wp, const std::string& where) {
   if (!std::isfinite(wp.chi_d)) throw MissionError(where + ": chi_d is not finite");
   if (!std::isfinite(wp.Va_d) || wp.Va_d < 0.0)
     throw MissionError(where + ": Va_d " + num(wp.Va_d) + " m/s must be >= 0 (0: default airspeed)");
+  if (!std::isfinite(wp.Vg_min) || wp.Vg_min < 0.0)
+    throw MissionError(where + ": Vg_min " + num(wp.Vg_min) + " m/s must be >= 0 (0: no least ground speed)");
   if (!std::isfinite(wp.loiter.radius) || wp.loiter.radius < 0.0)
     throw MissionError(where + ": loiter radius " + num(wp.loiter.radius) + " m must be >= 0 (0: the path manager's turn radius)");
   if (wp.loiter.direction != 1 && wp.loiter.direction != -1)

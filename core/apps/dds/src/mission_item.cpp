@@ -18,7 +18,8 @@ std::string item_text(const msg::Waypoint& w) {
   const char* dir = w.loiter_direction < 0 ? "ccw" : "cw";
   switch (w.type) {
     case msg::Waypoint::loiter:
-      return fmt::format(" loiter: radius {} m {}, {} turns, {} s (0: no limit)", w.loiter_radius, dir, w.loiter_turns, w.loiter_time);
+      return fmt::format(" loiter: radius {} m {}, {} turns, {} s (0: no limit){}", w.loiter_radius, dir, w.loiter_turns, w.loiter_time,
+                         w.loiter_to_altitude ? ", until at its altitude" : "");
     case msg::Waypoint::return_home: return fmt::format(" return_home: radius {} m {}", w.loiter_radius, dir);
     case msg::Waypoint::land:
       return fmt::format(" land (chi_d: the runway heading): glide slope {} rad, flare {} m, decision {} m", w.land_glide_slope,

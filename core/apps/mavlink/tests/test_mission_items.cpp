@@ -122,6 +122,7 @@ TEST_CASE("the enum values of the mission and commands are common.xml's (enums_m
       {"MAV_CMD_MISSION_START", MAV_CMD_MISSION_START},
       {"MAV_CMD_NAV_LAND", MAV_CMD_NAV_LAND},
       {"MAV_CMD_NAV_LOITER_TIME", MAV_CMD_NAV_LOITER_TIME},
+      {"MAV_CMD_NAV_LOITER_TO_ALT", MAV_CMD_NAV_LOITER_TO_ALT},
       {"MAV_CMD_NAV_LOITER_TURNS", MAV_CMD_NAV_LOITER_TURNS},
       {"MAV_CMD_NAV_LOITER_UNLIM", MAV_CMD_NAV_LOITER_UNLIM},
       {"MAV_CMD_NAV_RETURN_TO_LAUNCH", MAV_CMD_NAV_RETURN_TO_LAUNCH},
@@ -329,12 +330,18 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   CHECK(refused(north).first == MAV_MISSION_INVALID_PARAM5_X);
   MissionItemInt turns = at(0, MAV_CMD_NAV_LOITER_TURNS, 0, 0, 50);
   CHECK(refused(turns).first == MAV_MISSION_INVALID_PARAM1);  // 0 turns
-  MissionItemInt ground_speed = speed(0, 12.0f);
-  ground_speed.param1 = 1.0f;
-  CHECK(refused(ground_speed).first == MAV_MISSION_INVALID_PARAM1);
-  MissionItemInt nan_alt = at(0, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
-  nan_alt.z = NAN;
-  CHECK(refused(nan_alt).first == MAV_MISSION_INVALID_PARAM7);
+  MissionItemInt climb_speed = speed(0, 2.0f);
+  climb_speed.param1 = 2.0f;  // SPEED_TYPE_CLIMB_SPEED
+  CHECK(refused(climb_speed).first == MAV_MISSION_INVALID_PARAM1);
+  MissionItemInt nan_land = at(0, MAV_CMD_NAV_LAND, 0, 0, 0);
+  nan_land.z = NAN;  // a touchdown needs its altitude (a waypoint of NaN keeps the one before: below)
+  CHECK(refused(nan_land).first == MAV_MISSION_INVALID_PARAM7);
+  MissionItemInt inf_alt = at(0, MAV_CMD_NAV_WAYPOINT, 0, 0, 50);
+  inf_alt.z = INFINITY;
+  CHECK(refused(inf_alt).first == MAV_MISSION_INVALID_PARAM7);
+  MissionItemInt heading_required = at(0, MAV_CMD_NAV_LOITER_TO_ALT, 0, 0, 50);
+  heading_required.param1 = 1.0f;
+  CHECK(refused(heading_required).first == MAV_MISSION_INVALID_PARAM1);
   CHECK(refused(at(0, MAV_CMD_NAV_WAYPOINT, 10, 10, 50)).first == -1);
   // above the terrain: taken as above home (flat ground at home's altitude)
   MissionItemInt over_terrain = at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50);
@@ -405,4 +412,66 @@ TEST_CASE("DO_JUMP: the upload unrolled into the waypoints it flies, as PX4 and 
   CHECK(refused(items).first == MAV_MISSION_NO_SPACE);
   items = {jump(0, 0, 65535), at(1, MAV_CMD_NAV_WAYPOINT, 100, 0, 50)};  // a jump to itself: no waypoint, bounded
   CHECK(refused(items).first == MAV_MISSION_NO_SPACE);
+}
+
+TEST_CASE("QGroundControl's fixed-wing items: LOITER_TO_ALT, a ground speed, an altitude left NaN") {
+  const GeoOrigin home(kHome);
+  MissionItemInt climb = at(1, MAV_CMD_NAV_LOITER_TO_ALT, 0, 600, 80);
+  climb.param2 = -200.0f;  // counter-clockwise, 200 m
+  MissionItemInt ground = speed(2, 18.0f);
+  ground.param1 = 1.0f;  // SPEED_TYPE_GROUNDSPEED
+  MissionItemInt keep = at(3, MAV_CMD_NAV_LOITER_TURNS, 400, 600, 0);
+  keep.frame = MAV_FRAME_GLOBAL;  // QGroundControl's "calc above terrain" item without its terrain query: alt NaN
+  keep.z = NAN;
+  keep.param1 = 2.0f;
+  keep.param3 = 250.0f;
+  const std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_WAYPOINT, 300, 0, 120), climb, ground, keep};
+  const path::Mission m = to_mission(items, home);
+  REQUIRE(m.waypoints.size() == 3);
+  const path::MissionWaypoint& c = m.waypoints[1];
+  CHECK(c.type == path::ItemType::loiter);
+  CHECK(c.loiter.to_altitude);
+  CHECK(c.loiter.radius == 200.0);
+  CHECK(c.loiter.direction == -1);
+  CHECK(c.loiter.time == 0.0);
+  CHECK(c.loiter.turns == 0.0);
+  CHECK(c.w.z() == doctest::Approx(-80.0).epsilon(1e-3));
+  CHECK(c.Vg_min == 0.0);
+  const path::MissionWaypoint& k = m.waypoints[2];
+  CHECK(k.Vg_min == 18.0);
+  CHECK(k.Va_d == 0.0);       // a ground speed leaves the airspeed as it was
+  CHECK(k.w.z() == c.w.z());  // NaN: the altitude of the item before
+  CHECK(k.w.x() == doctest::Approx(400.0).epsilon(1e-3));
+  // the first nav item has nothing before it to keep
+  MissionItemInt first = keep;
+  first.seq = 0;
+  CHECK_THROWS_AS(to_mission({first}, home), ItemError);
+  // read back: LOITER_TO_ALT with its signed radius in param2, the ground speed as type 1
+  const path::Mission again = path::parse_mission_text(mission_text(m), "test");
+  REQUIRE(again.waypoints.size() == 3);
+  CHECK(again.waypoints[1].loiter.to_altitude);
+  CHECK(again.waypoints[2].Vg_min == 18.0);
+  msg::WaypointList list;
+  list.count = 3;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const path::MissionWaypoint& p = again.waypoints[i];
+    msg::Waypoint& w = list.items[i];
+    w.w = p.w;
+    w.type = static_cast<std::uint8_t>(p.type);
+    w.Vg_min = p.Vg_min;
+    w.loiter_radius = p.loiter.radius;
+    w.loiter_direction = static_cast<std::int8_t>(p.loiter.direction);
+    w.loiter_turns = p.loiter.turns;
+    w.loiter_to_altitude = p.loiter.to_altitude;
+  }
+  const std::vector<MissionItemInt> back = to_items(list, home);
+  REQUIRE(back.size() == 4);
+  CHECK(back[1].command == MAV_CMD_NAV_LOITER_TO_ALT);
+  CHECK(back[1].param1 == 0.0f);
+  CHECK(back[1].param2 == -200.0f);
+  CHECK(back[2].command == MAV_CMD_DO_CHANGE_SPEED);
+  CHECK(back[2].param1 == 1.0f);
+  CHECK(back[2].param2 == 18.0f);
+  CHECK(back[3].command == MAV_CMD_NAV_LOITER_TURNS);
+  CHECK(back[3].z == doctest::Approx(80.0).epsilon(1e-3));
 }

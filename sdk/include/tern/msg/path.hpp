@@ -16,7 +16,8 @@ namespace tern::msg {
 ///   waypoint      fly to w (ROSplane's meaning of every entry)
 ///   loiter        orbit w: radius loiter_radius, direction loiter_direction; leave after
 ///                 loiter_time s or loiter_turns turns on the orbit, whichever comes first
-///                 (both 0: loiter until the mission changes)
+///                 (both 0: loiter until the mission changes); with loiter_to_altitude,
+///                 also once the aircraft is at w's altitude (MAVLink NAV_LOITER_TO_ALT)
 ///   return_home   orbit home (the origin, n = e = 0) at altitude -w.z(), radius and direction
 ///                 as a loiter, until the mission changes; w's n and e are ignored
 ///   land          land: w is the touchdown point, chi_d the runway heading (tern/path/item.hpp
@@ -30,11 +31,13 @@ struct Waypoint {
   double chi_d = 0.0;                           ///< desired course at the waypoint, rad (used when use_chi)
   bool use_chi = false;                         ///< fly a Dubins path honouring chi_d, else a fillet
   double Va_d = 0.0;                            ///< desired airspeed, m/s
+  double Vg_min = 0.0;                          ///< least ground speed, m/s (0: none): raises the airspeed in a headwind
   std::uint8_t type = waypoint;                 ///< Type: waypoint (0), loiter (1), return_home (2), land (3)
   double loiter_radius = 0.0;                   ///< orbit radius, m, >= 0 (0: the path manager's turn radius)
   std::int8_t loiter_direction = 1;             ///< 1 clockwise, -1 counter-clockwise (seen from above)
   double loiter_time = 0.0;                     ///< loiter: s on the orbit before going on, >= 0 (0: no limit)
   double loiter_turns = 0.0;                    ///< loiter: turns on the orbit before going on, >= 0 (0: no limit)
+  bool loiter_to_altitude = false;              ///< loiter: go on once at w's altitude (path manager's altitude_band)
   double land_glide_slope = 0.0873;             ///< land: glide-path angle, rad, (0, 0.35]
   double land_flare_height = 4.0;               ///< land: flare begins this high above the touchdown point, m, > 0
   double land_decision_height = 12.0;           ///< land: stabilised-approach check below this height, m, > flare height
@@ -53,6 +56,8 @@ struct Waypoint {
     v(&Waypoint::land_glide_slope, "land_glide_slope", "rad");
     v(&Waypoint::land_flare_height, "land_flare_height", "m");
     v(&Waypoint::land_decision_height, "land_decision_height", "m");
+    v(&Waypoint::Vg_min, "Vg_min", "m/s");
+    v(&Waypoint::loiter_to_altitude, "loiter_to_altitude", "bool");
   }
 };
 

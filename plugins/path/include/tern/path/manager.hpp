@@ -82,8 +82,9 @@ struct MissionPoint {
   bool use_chi = false;   ///< arrive with course chi_d (Dubins path), else fillet/line
   double Va_d = 0.0;      ///< desired airspeed, m/s; <= 0: the manager's default_airspeed
   ItemType type = ItemType::waypoint;
-  LoiterSpec loiter;  ///< loiter and return_home items (return_home: n and e ignored)
-  LandSpec land;      ///< land items (chi_d: the runway heading; w: the touchdown point)
+  LoiterSpec loiter;    ///< loiter and return_home items (return_home: n and e ignored)
+  LandSpec land;        ///< land items (chi_d: the runway heading; w: the touchdown point)
+  double Vg_min = 0.0;  ///< least ground speed, m/s (0: none): airspeed() raises Va_d in a headwind
 };
 
 /// A loiter's time and turns count once |distance to the centre - radius| <= kOnOrbit * radius.
@@ -112,6 +113,9 @@ struct ManagerConfig {
   /// the final approach is planned. 0: aimed at the touchdown point. ArduPlane's LAND_FLARE_SEC
   /// plays the same part (default 2 s).
   double flare_time = 3.0;
+  /// A loiter with LoiterSpec::to_altitude goes on once the estimated altitude is within this of
+  /// the item's, m, > 0 (the altitude loop's steady band: it settles, it does not cross exactly).
+  double altitude_band = 5.0;
 };
 
 class PathManager {
@@ -192,6 +196,13 @@ class PathManager {
   /// Number of the waypoints as they are flown (after repeats were skipped).
   std::size_t active_count() const { return wps_.size(); }
 
+  /// The item's airspeed (Va_d, else default_airspeed); with Vg_min (not on a land item) at least
+  /// Vg_min + |wind|, the ground speed's floor on every course (an orbit's headwind side).
+  double airspeed(const MissionPoint& w) const;
+  /// The same on a line of horizontal direction q (zero: every course): at least |Vg_min q - wind|,
+  /// the airspeed whose wind triangle (B&M eq. 2.10) gives Vg_min along q.
+  double airspeed_along(const MissionPoint& w, const Vec3& q) const;
+
  private:
   struct Entry {
     MissionPoint wp;
@@ -203,7 +214,6 @@ class PathManager {
   void begin_segment(const Vec3& p, double chi);
   void advance(const Vec3& p, double chi);
   std::optional<std::size_t> next_of(std::size_t i) const;
-  double airspeed(const MissionPoint& w) const;
   /// True the first time `key` comes up for this list (and not within kRewarnInterval of its last).
   bool first_notice(const std::string& key);
   void warn_once(const std::string& key, const std::string& text);

@@ -1,5 +1,5 @@
 // tern/path/item.hpp: what a mission item asks the aircraft to do at its position: pass it
-// (ROSplane's only kind), loiter there, return home and loiter, or land there. Plain C++, no
+// (ROSplane's only kind), loiter there (for a time, turns or until an altitude), return home and loiter, or land there. Plain C++, no
 // host types; msg::Waypoint carries the same fields (type, loiter_*, land_*).
 #pragma once
 
@@ -18,6 +18,9 @@ struct LoiterSpec {
   int direction = 1;    ///< 1 clockwise, -1 counter-clockwise, seen from above (B&M's lambda)
   double time = 0.0;    ///< s on the orbit before going on, >= 0; 0: no time limit
   double turns = 0.0;   ///< turns on the orbit before going on, >= 0; 0: no turn limit
+  /// Go on once the aircraft has reached the item's altitude on the orbit (within the path
+  /// manager's `altitude_band`): MAVLink's NAV_LOITER_TO_ALT, a climb or descent in circles.
+  bool to_altitude = false;
 };
 
 /// The approach and flare of a land item. The item's position is the touchdown (aim) point, NED

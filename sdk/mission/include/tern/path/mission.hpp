@@ -36,8 +36,10 @@
 // and tern's mission items (item.hpp; ROSplane files may use them too):
 //   type: waypoint | loiter | return_home | land   (default waypoint)
 //   radius: m >= 0 (0: the path manager's turn radius), direction: cw | ccw (default cw),
-//   time: s >= 0, turns: >= 0                  (loiter only; both 0 or absent: loiter until the
-//                                              mission changes)
+//   time: s >= 0, turns: >= 0, to_altitude: bool   (loiter only; to_altitude: go on once at the
+//                                              item's altitude; none: loiter until the mission changes)
+//   Vg_min: m/s >= 0                           (least ground speed: the path manager raises the
+//                                              airspeed in a headwind; 0: none)
 //   altitude: m above home                     (return_home only, instead of a position; absent:
 //                                              the altitude of the item before it)
 //   heading: rad in [-2 pi, 2 pi]              (land only, required: the runway heading, the
@@ -52,7 +54,7 @@
 // origin); items after a return_home are never reached. A land item's position (ned or lla)
 // is the touchdown point; it takes no radius, direction, time, turns, altitude or use_chi:
 // true. It is the mission's last item (an item after it is an error) and must be reached (not
-// after a return_home or a loiter without time or turns: an error). A mission ending with a
+// after a return_home or a loiter without time, turns or to_altitude: an error). A mission ending with a
 // land item flies the items before it once, or `loops` times: `loop` alone is moot there, and
 // `loop: true` without `loops` (never landing) is an error; a file's `loop: true` gives way when
 // a config's section appends a land item to it.
@@ -101,6 +103,9 @@ struct MissionWaypoint {
   double chi_d = 0.0;    ///< desired course at the waypoint, rad
   bool use_chi = false;  ///< arrive with course chi_d (Dubins path)
   double Va_d = 0.0;     ///< desired airspeed, m/s (0: the path manager's default)
+  /// Least ground speed, m/s, >= 0 (0: none): the path manager raises the airspeed above Va_d
+  /// where the estimated wind would leave less (MAVLink DO_CHANGE_SPEED type 1, as ArduPlane flies it).
+  double Vg_min = 0.0;
   ItemType type = ItemType::waypoint;
   LoiterSpec loiter;   ///< loiter and return_home items
   LandSpec land;       ///< land items (chi_d: the runway heading)
@@ -146,7 +151,7 @@ std::vector<MissionWaypoint> resolve_to_ned(const std::vector<MissionWaypoint>& 
 void validate_waypoint(const MissionWaypoint& wp, const std::string& where);
 
 /// Checks that a land item ends the mission (no item after it) and is reached (the item before
-/// it is not a return_home or a loiter without time or turns). The readers call it; a mission
+/// it is not a return_home or a loiter without time, turns or to_altitude). The readers call it; a mission
 /// edit calls it on the list it would make. Throws MissionError naming the item ("source:line:
 /// field: ", Mission::source for entries not read from text).
 void check_land_last(const Mission& m);

@@ -1,0 +1,59 @@
+// QGroundControl's own fixed-wing test plan (tests/data/qgc_plans/PX4SITL-ArduPlane.plan) uploaded
+// over MAVLink unchanged, as QGroundControl's Plan view sends it, against node-mavlink playing the
+// ground station:
+//
+//   node test_gcs_plan.mjs TERN MISSION WORK_DIR
+//
+// It flies MISSION with `tern fly --realtime --speed 3 --gcs --plan` the same plan (so that home is
+// the plan's), then uploads the plan's items as MISSION_ITEM_INTs (params as QGroundControl writes
+// them, null as NaN; degrees as degE7): every item accepted (a NAV_LOITER_TO_ALT, a DO_CHANGE_SPEED
+// of ground speed, a loiter whose altitude is NaN, a terrain-frame waypoint among them), read back
+// equal, HOME_POSITION at the plan's planned home, and MISSION_CURRENT following the upload.
+// Exit 0 when all hold; 1 with one line per failure.
+import fs from 'node:fs'
+import path from 'node:path'
+import { common } from 'node-mavlink'
+import { openGcs } from './gcs_client.mjs'
+import { flyWithGcs, missionClient, report, reporter } from './gcs_session.mjs'
+
+const [tern, mission, work] = process.argv.slice(2)
+if (!tern || !mission || !work) {
+  console.error('usage: node test_gcs_plan.mjs TERN MISSION WORK_DIR')
+  process.exit(2)
+}
+const { failures, check } = reporter()
+const R = common.MavMissionResult
+const Cmd = common.MavCmd
+const planFile = path.join(path.dirname(new URL(import.meta.url).pathname), '..', 'data', 'qgc_plans', 'PX4SITL-ArduPlane.plan')
+const plan = JSON.parse(fs.readFileSync(planFile, 'utf8'))
+
+const gcs = await openGcs()
+const { item, upload, download, differences, command } = missionClient(gcs)
+const flight = flyWithGcs(tern, mission, work, gcs, 600, 3, ['--plan', planFile])
+const num = (v) => (v === null ? NaN : v)
+
+try {
+  await gcs.next('HEARTBEAT', (d) => (d.baseMode & 128) !== 0, 20000) // armed: flying
+  const homeP = gcs.next('HOME_POSITION', () => true, 3000)
+  await command(Cmd.REQUEST_MESSAGE, [242])
+  const home = await homeP
+  const [lat0, lon0] = plan.mission.plannedHomePosition
+  const off = Math.hypot(home.latitude / 1e7 - lat0, home.longitude / 1e7 - lon0) * 111320
+  check(off < 20, `HOME_POSITION ${off.toFixed(1)} m from the plan's planned home (the world's origin, the first fix's noise)`)
+  const items = plan.mission.items.map((j, seq) => {
+    const p = j.params.map(num)
+    return item(seq, j.command, j.frame, p[4], p[5], p[6], p.slice(0, 4))
+  })
+  const ack = await upload(items)
+  check(ack.type === R.ACCEPTED, `QGroundControl's ${items.length} items accepted (${ack.type}; ${gcs.texts.slice(-1)})`)
+  const diff = differences(items, await download())
+  check(diff.length === 0, `read back equal${diff.length ? ': ' + diff.join('; ') : ''}`)
+  const current = await gcs.next('MISSION_CURRENT', (m) => m.seq >= 1, 60000)
+  check(current.total === items.length, `MISSION_CURRENT follows the upload: item ${current.seq} of ${current.total}`)
+} catch (e) {
+  failures.push(e.message)
+  console.log(`FAIL ${e.message}`)
+}
+
+await flight.finish(check)
+process.exit(report(failures, gcs))
