@@ -120,7 +120,10 @@ if grep -v -- "$work" "$work/plugins/build/CMakeCache.txt" | grep -q -e "$build"
   fail "the generated projects see tern's source or build tree"
 fi
 cmake --build "$work/plugins/build" -j 2 > "$work/build.log" 2>&1 || { grep -B2 -A10 -m3 'error' "$work/build.log"; fail "build of the generated projects"; }
-if grep -q 'warning:' "$work/build.log"; then grep -m5 'warning:' "$work/build.log"; fail "the generated projects compile with warnings"; fi
+# (a sanitizer build's installed libraries pull in the sanitizer runtime, whose own link-time
+# notes on tmpnam name libasan/libtsan, not the generated code: not counted)
+warnings="$(grep 'warning:' "$work/build.log" | grep -v -E 'lib[at]san\.so[.0-9]*: warning: the use of' || true)"
+if [ -n "$warnings" ]; then head -5 <<< "$warnings"; fail "the generated projects compile with warnings"; fi
 ctest --test-dir "$work/plugins/build" --output-on-failure -j 2 > "$work/ctest.log" 2>&1 || { cat "$work/ctest.log"; fail "ctest of the generated projects"; }
 n_tests="$(grep -c 'Test *#' "$work/ctest.log" || true)"
 [ "$n_tests" -eq 21 ] || { cat "$work/ctest.log"; fail "expected 21 tests of the generated projects, ran $n_tests"; }

@@ -119,7 +119,17 @@ function(tern_fcu_serial_add_sil world_lib)
     file(CREATE_LINK "${eigen_dir}" "${shim}/eigen" SYMBOLIC)
     target_include_directories(tern_rosflight_firmware SYSTEM PRIVATE "${shim}")
   endif()
-  target_compile_definitions(tern_rosflight_firmware PUBLIC GIT_VERSION_HASH=0x${TERN_RF_HASH} GIT_VERSION_STRING="${TERN_RF_DESC}")
+  # The version string padded with NULs to the 50 characters of ROSFLIGHT_VERSION's field: the
+  # firmware's send_version hands the string to mavlink_msg_rosflight_version_pack, which copies
+  # all 50 bytes (a shorter literal is read past its end: AddressSanitizer's global-buffer-overflow
+  # in mav_array_memcpy under `make sanitize`).
+  string(LENGTH "${TERN_RF_DESC}" desc_length)
+  set(padded "${TERN_RF_DESC}")
+  while(desc_length LESS 50)
+    string(APPEND padded "\\0")
+    math(EXPR desc_length "${desc_length} + 1")
+  endwhile()
+  target_compile_definitions(tern_rosflight_firmware PUBLIC GIT_VERSION_HASH=0x${TERN_RF_HASH} GIT_VERSION_STRING="${padded}")
   target_compile_options(tern_rosflight_firmware PRIVATE -w)  # third-party code, compiled as it is
   set(sil ${TERN_FCU_SERIAL_DIR}/tools/sil)
   add_executable(tern-fcu-sil ${TERN_FCU_SERIAL_DIR}/tools/tern_fcu_sil.cpp ${sil}/sil.cpp ${sil}/sil_world.cpp
