@@ -10,6 +10,8 @@
 //   - GLOBAL_POSITION_INT from each, at positions more than 50 m apart (they fly 150 m apart);
 //   - PARAM_SET slc.course_kp addressed to system 2: answered by system 2 alone; read back from
 //     each (PARAM_REQUEST_READ, after the set was applied): 2 holds the new value, 1 and 3 the old;
+//   - a rally point (the mission protocol, mission_type RALLY) uploaded to system 2: acknowledged by
+//     2 alone; downloaded from each: 2 has it, 1 and 3 none;
 //   - MAV_CMD_REQUEST_MESSAGE AUTOPILOT_VERSION to system 3: acknowledged by 3 alone, whose
 //     AUTOPILOT_VERSION has uid 3; to system 0 (every system): acknowledged by all three;
 //   - the same command to system 9, which no vehicle has: no answer, and the end-of-run line counts
@@ -17,7 +19,7 @@
 // Exit 0 when all hold; 1 with one line per failure.
 import { common } from 'node-mavlink'
 import { openGcs } from './gcs_client.mjs'
-import { flyWithGcs, report, reporter } from './gcs_session.mjs'
+import { flyWithGcs, missionClient, report, reporter } from './gcs_session.mjs'
 
 const [tern, mission, work] = process.argv.slice(2)
 if (!tern || !mission || !work) {
@@ -83,6 +85,16 @@ try {
   for (const s of SYSTEMS) back.push(await courseKp(s))
   check(back[1] === value && back[0] === before && back[2] === before,
     `slc.course_kp read back from systems 1, 2, 3: ${back.join(', ')} (${before}, ${value}, ${before})`)
+
+  const RALLY = 2
+  const rally = missionClient(gcs, 2)
+  const point = rally.item(0, common.MavCmd.NAV_RALLY_POINT, common.MavFrame.GLOBAL_RELATIVE_ALT_INT, where[2].lat, where[2].lon, 90, [0, 0, 0, 0], RALLY)
+  const acked = senders('MISSION_ACK', 1500)
+  check((await rally.upload([point], RALLY)).type === common.MavMissionResult.ACCEPTED, 'a rally point uploaded to system 2 accepted')
+  check(sorted(await acked) === '2', `its MISSION_ACK from systems ${sorted(await acked)} (2)`)
+  const points = []
+  for (const s of SYSTEMS) points.push((await missionClient(gcs, s).download(RALLY)).length)
+  check(points.join(',') === '0,1,0', `rally points downloaded from systems 1, 2, 3: ${points.join(', ')} (0, 1, 0)`)
 
   const versions = senders('AUTOPILOT_VERSION', 1500)
   const uid = gcs.next('AUTOPILOT_VERSION', (d, h) => h.sysid === 3, 1500)

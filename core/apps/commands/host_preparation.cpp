@@ -147,7 +147,11 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
 #if defined(TERN_WITH_DDS)
   if (m.dds.enabled) bridge_ = std::make_unique<DdsBridge>(host, m.dds);
 #endif
-  if (p.gcs) gcs_ = std::make_unique<GcsEndpoint>(p, std::vector<mavlink::LinkedVehicle>{{&host, "", 1}});
+  if (p.gcs) {
+    mavlink::LinkedVehicle vehicle;  // the mission's one: system id 1
+    vehicle.host = &host;
+    gcs_ = std::make_unique<GcsEndpoint>(p, std::vector<mavlink::LinkedVehicle>{vehicle});
+  }
 }
 
 TickObservers::~TickObservers() = default;

@@ -179,8 +179,6 @@ struct GcsLink::Impl {
   std::map<udp::endpoint, Clock::time_point> peers;
 };
 
-GcsLink::GcsLink(Host& host, const GcsOptions& options) : GcsLink(std::vector<LinkedVehicle>{{&host, "", options.system_id}}, options) {}
-
 GcsLink::GcsLink(const std::vector<LinkedVehicle>& vehicles, const GcsOptions& options) : impl_(std::make_unique<Impl>(vehicles, options)) {
   for (auto& v : impl_->vehicles) {
     GcsVehicle* vehicle = v.get();
@@ -208,7 +206,9 @@ std::string GcsLink::describe() const {
   return out;
 }
 
-std::vector<std::pair<std::string, std::string>> GcsLink::shortened_ids() const { return impl_->vehicles.front()->shortened_ids(); }
+std::vector<std::pair<std::string, std::string>> GcsLink::shortened_ids() const {
+  return impl_->vehicles.empty() ? std::vector<std::pair<std::string, std::string>>{} : impl_->vehicles.front()->shortened_ids();
+}
 
 Counters GcsLink::counters() const { return impl_->link_counters(); }
 

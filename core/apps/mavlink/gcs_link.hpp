@@ -36,11 +36,11 @@ namespace mavlink {
 
 struct GcsOptions {
   std::string send_to = "127.0.0.1:14550";  ///< ADDR:PORT, IPv4: where telemetry goes before a GCS is heard
-  std::string bind = "127.0.0.1:14580";     ///< ADDR:PORT, IPv4: the vehicle's own address (port 0: a free one)
-  std::uint8_t system_id = 1;               ///< MAVLink system id of the vehicle (1-255; one vehicle)
+  std::string bind = "127.0.0.1:14580";     ///< ADDR:PORT, IPv4: the vehicles' own address (port 0: a free one)
 };
 
-/// A vehicle of a fleet on the endpoint: its host, its name and its MAVLink system id (1-255).
+/// A vehicle on the endpoint: its host, its name (a fleet's vehicle; "" for one mission's) and
+/// its MAVLink system id (1-255; a mission's one vehicle is 1, as PX4's and ArduPilot's default).
 struct LinkedVehicle {
   Host* host = nullptr;
   std::string name;
@@ -53,11 +53,9 @@ void check_endpoint(const std::string& text, const std::string& what);
 
 class GcsLink {
  public:
-  /// Binds the socket and starts the thread; adds a tick observer to `host` (construct between
-  /// flights). Throws ConfigError: a bad address, or a port that cannot be bound.
-  GcsLink(Host& host, const GcsOptions& options);
-  /// Several vehicles on the one port (a fleet's; options.system_id unused). Throws ConfigError as
-  /// above, or when two vehicles share a system id.
+  /// Binds the socket and starts the thread; adds a tick observer to each vehicle's host
+  /// (construct between flights). Throws ConfigError: a bad address, a port that cannot be bound,
+  /// two vehicles with one system id.
   GcsLink(const std::vector<LinkedVehicle>& vehicles, const GcsOptions& options);
   ~GcsLink();  ///< removes the observers, stops the thread
   GcsLink(const GcsLink&) = delete;
