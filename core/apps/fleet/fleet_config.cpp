@@ -168,8 +168,9 @@ std::uint8_t load_system_id(const YAML::Node& v, const fs::path& f, const Vehicl
     throw ConfigError(where(f, v) + out.field + " (" + out.name + "): no MAVLink system id left (255 at most): give it system_id: 1-255");
   }
   if (const auto it = taken.find(id); it != taken.end())
-    throw ConfigError(where(f, v["system_id"] ? v["system_id"] : v) + field + ": MAVLink system id " + std::to_string(id) + " of " +
-                      out.name + " is " + it->second + "'s already (system_id: gives each vehicle its own, 1-255)");
+    throw ConfigError(where(f, v["system_id"] ? v["system_id"] : v) + field + ": MAVLink system id " + std::to_string(id) +
+                      (v["system_id"] ? "" : " (its place in vehicles:)") + " of " + out.name + " is " + it->second +
+                      "'s already (system_id: gives each vehicle its own, 1-255)");
   return static_cast<std::uint8_t>(id);
 }
 
