@@ -6,8 +6,9 @@
 #      least one conflict, and the `hold` response flown: uav2 ends the flight higher than it began;
 #   3. a crash contained: uav2's isolated filter dies (SIGSEGV) at t = 5 s; uav2's flight ends
 #      "plugin_failed", uav1 flies to the end, the fleet's exit status is 1 and its summary says so;
-#   4. bad input: two vehicles with one name, a vehicle without a mission, a coordination port on
-#      an unknown vehicle: one line naming the file and the field.
+#   4. bad input: two vehicles with one name, a vehicle without a mission, two vehicles with one
+#      MAVLink system id, one out of 1-255, a coordination port on an unknown vehicle: one line
+#      naming the file and the field.
 # and 2b: the shipped coordination examples (rendezvous: three arrivals within 1 s; formation).
 # usage: test_fleet.sh TERN REPO_DIR PYTHON3 TEST_PLUGIN_DIR
 set -euo pipefail
@@ -106,6 +107,18 @@ grep -v '^mission:' "$work/crash.yaml" > "$work/nomission.yaml"
 if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/nomission.yaml" > "$work/nomission.out" 2>&1; then echo "FAIL: a vehicle without a mission accepted"; exit 1; fi
 grep -q "nomission.yaml:.*vehicles\[0\] (uav1): no mission" "$work/nomission.out" || { cat "$work/nomission.out"; echo "FAIL: error line"; exit 1; }
 [ "$(wc -l < "$work/nomission.out")" -eq 1 ] || { cat "$work/nomission.out"; echo "FAIL: more than one line"; exit 1; }
+# MAVLink system ids (--gcs): one another vehicle has already, one out of 1-255; a free one taken
+sed 's/{name: uav2,/{name: uav2, system_id: 1,/' "$work/crash.yaml" > "$work/sysid.yaml"
+if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/sysid.yaml" > "$work/sysid.out" 2>&1; then echo "FAIL: two vehicles with system id 1 accepted"; exit 1; fi
+grep -q "sysid.yaml:.*vehicles\[1\].system_id: MAVLink system id 1 of uav2 is uav1's already" "$work/sysid.out" ||
+  { cat "$work/sysid.out"; echo "FAIL: error line"; exit 1; }
+sed 's/{name: uav2,/{name: uav2, system_id: 256,/' "$work/crash.yaml" > "$work/sysid.yaml"
+if TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/sysid.yaml" > "$work/sysid.out" 2>&1; then echo "FAIL: system id 256 accepted"; exit 1; fi
+grep -q "sysid.yaml:.*vehicles\[1\].system_id: expected a MAVLink system id, an integer 1-255, got '256'" "$work/sysid.out" ||
+  { cat "$work/sysid.out"; echo "FAIL: error line"; exit 1; }
+[ "$(wc -l < "$work/sysid.out")" -eq 1 ] || { cat "$work/sysid.out"; echo "FAIL: more than one line"; exit 1; }
+sed 's/{name: uav2,/{name: uav2, system_id: 7,/' "$work/crash.yaml" > "$work/sysid.yaml"
+TERN_PLUGIN_PATH=$test_plugins "$tern" check "$work/sysid.yaml" > "$work/sysid.out" 2>&1 || { cat "$work/sysid.out"; echo "FAIL: system id 7 refused"; exit 1; }
 # a coordination port that names an unknown vehicle
 sed 's|      start_phase: cruise|      start_phase: cruise\n    remap: {uav2/state: uav9/state}|' "$repo/configs/missions/rendezvous.yaml" |
   sed "s|\.\./|$repo/configs/|g" > "$work/unknown.yaml"

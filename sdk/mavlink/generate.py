@@ -11,7 +11,8 @@ The dialect's <include>s are read from its folder, each file once (common.xml in
 standard.xml, which includes minimal.xml).
 
 For every message of the table the output lists its id, payload length (base plus extensions in
-wire protocol 2.0), base length and CRC_EXTRA; for each MESSAGE_NAME it also emits a struct with
+wire protocol 2.0), base length, CRC_EXTRA and where its target_system field is (a router's
+target_system_ofs); for each MESSAGE_NAME it also emits a struct with
 the fields in definition order and pack()/unpack() of the kLength payload bytes in wire order.
 Framing and checksum are tern/mavlink/frame.hpp's (one implementation for both versions).
 
@@ -151,6 +152,12 @@ class Message:
             self.fields += ext
             self.ordered += ext
         self.length = sum(f.wire for f in self.fields)
+        self.target_system_offset = -1  # where target_system is in the payload (wire order), as MAVLink's target_system_ofs
+        off = 0
+        for f in self.ordered:
+            if f.name == "target_system":
+                self.target_system_offset = off
+            off += f.wire
 
 
 def camel(name):
@@ -211,13 +218,14 @@ def check(m, wire, path):
 def table_code(msgs, wire):
     id_type = "std::uint8_t" if wire == 1 else "std::uint32_t"
     lines = [
-        "/// Messages of the dialect: id, payload length (with extensions in MAVLink 2), base length, CRC_EXTRA.",
+        "/// Messages of the dialect: id, payload length (with extensions in MAVLink 2), base length, CRC_EXTRA, name, and the",
+        "/// offset of the target_system field in the payload (-1: the message has none; routers send it to every system).",
         f"struct MessageInfo {{ {id_type} id; std::uint8_t length; std::uint8_t min_length; std::uint8_t crc_extra; "
-        "const char* name; };",
+        "const char* name; std::int16_t target_system_offset; };",
         f"inline constexpr std::array<MessageInfo, {len(msgs)}> kDialect{{{{",
     ]
     for m in sorted(msgs, key=lambda m: m.id):
-        lines.append(f"    {{{m.id}, {m.length}, {m.min_length}, {m.crc_extra}, \"{m.name}\"}},")
+        lines.append(f"    {{{m.id}, {m.length}, {m.min_length}, {m.crc_extra}, \"{m.name}\", {m.target_system_offset}}},")
     return lines + ["}};", ""]
 
 

@@ -2,9 +2,10 @@
 // node-mavlink's reader (its own splitter, CRCs and message classes), as QGroundControl would hold.
 //
 //   const gcs = await openGcs()          // bound to a free port: gcs.port
-//   await gcs.next('HEARTBEAT', (d) => ..., ms)   // the next such message (rejects after ms)
+//   await gcs.next('HEARTBEAT', (d, h) => ..., ms)   // the next such message (rejects after ms); h: its
+//                                        // frame's header (h.sysid: the vehicle's system id)
 //   gcs.send(msg)                        // to the address the vehicle's packets came from
-//   const stop = gcs.listen('MISSION_REQUEST_INT', (d) => ...)   // every such message until stop()
+//   const stop = gcs.listen('MISSION_REQUEST_INT', (d, h) => ...)   // every such message until stop()
 //   gcs.texts                            // every STATUSTEXT so far; gcs.crcErrors: frames node-mavlink refused
 import dgram from 'node:dgram'
 import { Readable } from 'node:stream'
@@ -31,9 +32,9 @@ export async function openGcs() {
     const name = clazz.MSG_NAME
     gcs.seen[name] = (gcs.seen[name] || 0) + 1
     if (name === 'STATUSTEXT') gcs.texts.push(data.text)
-    for (const l of [...gcs.listeners]) if (l.name === name) l.fn(data)
+    for (const l of [...gcs.listeners]) if (l.name === name) l.fn(data, packet.header)
     for (const w of [...gcs.waiters]) {
-      if (w.name === name && w.match(data)) {
+      if (w.name === name && w.match(data, packet.header)) {
         gcs.waiters.splice(gcs.waiters.indexOf(w), 1)
         clearTimeout(w.timer)
         w.resolve(data)

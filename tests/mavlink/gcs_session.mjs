@@ -42,22 +42,23 @@ export function flyWithGcs(tern, mission, work, gcs, seconds, speed = 1, extra =
   const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve({ code, signal })))
   return {
     logDir,
-    /** Stops the flight (SIGINT), prints its output and checks that it ended cleanly. */
+    /** Stops the flight (SIGINT), prints its output and checks that it ended cleanly; the output. */
     async finish(check) {
       child.kill('SIGINT')
       const { code, signal } = await exited
       console.log(out.trim())
       check(code === 0 || code === 130 || signal === 'SIGINT', `tern fly ended (code ${code}, signal ${signal})`)
+      return out
     },
   }
 }
 
 const same = (a, b) => (Number.isNaN(a) && Number.isNaN(b)) || a === b
 
-/** A ground station's side of the mission and command protocols on `gcs` (vehicle 1, autopilot 1). */
-export function missionClient(gcs) {
+/** A ground station's side of the mission and command protocols on `gcs` (vehicle `system`, autopilot 1). */
+export function missionClient(gcs, system = 1) {
   const R = common.MavMissionResult
-  const target = (m) => Object.assign(m, { targetSystem: 1, targetComponent: 1 })
+  const target = (m) => Object.assign(m, { targetSystem: system, targetComponent: 1 })
   /** A MISSION_ITEM_INT; z and the params travel as float32: the values a GCS holds after sending them. */
   function item(seq, command, frame, lat, lon, z, params = [0, 0, 0, 0], missionType = 0) {
     const it = target(new common.MissionItemInt())

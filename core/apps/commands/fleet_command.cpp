@@ -80,15 +80,20 @@ int fly_fleet(const std::string& file, const FleetFlyOptions& o) {
   install_signal_handlers();
   FleetResult r;
   {
-    // each vehicle's DDS bridge, in its namespace; the console and the MAVLink endpoint (one each)
-    // on the focused vehicle, the console drawing the others as traffic on its track
+    // each vehicle's DDS bridge, in its namespace; the console on the focused vehicle, drawing the
+    // others as traffic on its track; the MAVLink endpoint: every vehicle on its one port, each
+    // with its system id
     std::vector<std::unique_ptr<TickObservers>> observers;
+    std::vector<mavlink::LinkedVehicle> linked;
     for (std::size_t i = 0; i < fleet.size(); ++i) {
       HostPreparation p = o.prep;
       p.console = o.prep.console && i == focus;
-      if (i != focus) p.gcs.reset();
+      p.gcs.reset();
       observers.push_back(std::make_unique<TickObservers>(fleet.vehicle(i), p, prepared[i], o.fleet.realtime));
+      linked.push_back({&fleet.vehicle(i), fleet.vehicle_name(i), fleet.config().vehicles[i].system_id});
     }
+    std::unique_ptr<GcsEndpoint> gcs;
+    if (o.prep.gcs) gcs = std::make_unique<GcsEndpoint>(o.prep, linked);
     if (Console* console = observers[focus]->console())
       console->set_traffic([&fleet, focus] {
         std::vector<Traffic> out;

@@ -73,7 +73,8 @@ Command add_fly_command(CLI::App& app) {
   add_gcs_options(c, o->prep);
   c->add_option(
       "--console-vehicle", o->console_vehicle,
-      "a multi-vehicle mission: the vehicle the console and --gcs follow (default the first; the console draws the others on its track)");
+      "a multi-vehicle mission: the vehicle the console follows (default the first; the console draws the others on its track; --gcs "
+      "serves every vehicle, each with its MAVLink system id)");
   add_skip_preflight_option(c, o->prep);
   c->add_option("--log-dir", o->log_dir, "directory for the run directory (default: the config's log.dir, else ./runs)");
   add_log_level_option(c, o->prep);

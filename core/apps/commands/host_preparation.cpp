@@ -156,25 +156,33 @@ TickObservers::TickObservers(Host& host, const HostPreparation& p, const Prepare
   if (m.dds.enabled) bridge_ = std::make_unique<DdsBridge>(host, m.dds);
 #endif
   if (p.gcs) {
-    mavlink::GcsOptions g;
-    g.send_to = p.gcs->empty() ? g.send_to : *p.gcs;
-    g.bind = p.gcs_bind;
-    gcs_ = std::make_unique<mavlink::GcsLink>(host, g);
-    std::printf("mavlink: %s (%zu ids shortened to 16 characters: tern params CONFIG --mavlink)\n", gcs_->describe().c_str(),
-                gcs_->shortened_ids().size());
-    std::fflush(stdout);
+    mavlink::LinkedVehicle vehicle;  // the mission's one: system id 1
+    vehicle.host = &host;
+    gcs_ = std::make_unique<GcsEndpoint>(p, std::vector<mavlink::LinkedVehicle>{vehicle});
   }
 }
 
-TickObservers::~TickObservers() {
-  if (!gcs_) return;
-  const mavlink::Counters c = gcs_->counters();
+TickObservers::~TickObservers() = default;
+
+GcsEndpoint::GcsEndpoint(const HostPreparation& p, const std::vector<mavlink::LinkedVehicle>& vehicles) {
+  mavlink::GcsOptions g;
+  g.send_to = p.gcs && !p.gcs->empty() ? *p.gcs : g.send_to;
+  g.bind = p.gcs_bind;
+  link_ = std::make_unique<mavlink::GcsLink>(vehicles, g);
+  std::printf("mavlink: %s (%zu ids shortened to 16 characters: tern params CONFIG --mavlink)\n", link_->describe().c_str(),
+              link_->shortened_ids().size());
+  std::fflush(stdout);
+}
+
+GcsEndpoint::~GcsEndpoint() {
+  const mavlink::Counters c = link_->counters();
   std::printf(
       "mavlink: %llu datagrams, %llu frames; dropped: %llu bad CRC, %llu truncated, %llu unknown ids, %llu MAVLink 1, %llu too long, %llu "
-      "noise\n",
+      "noise; %llu for no vehicle here\n",
       static_cast<unsigned long long>(c.datagrams), static_cast<unsigned long long>(c.frames), static_cast<unsigned long long>(c.bad_crc),
       static_cast<unsigned long long>(c.truncated), static_cast<unsigned long long>(c.unknown_id),
-      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length), static_cast<unsigned long long>(c.noise));
+      static_cast<unsigned long long>(c.mavlink1), static_cast<unsigned long long>(c.bad_length), static_cast<unsigned long long>(c.noise),
+      static_cast<unsigned long long>(c.other_system));
   std::fflush(stdout);
 }
 

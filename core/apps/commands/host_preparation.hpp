@@ -12,6 +12,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -80,6 +81,20 @@ PreparedMission prepare_loaded(MissionConfig config, const HostPreparation& p);
 /// Host::build() do.
 std::unique_ptr<Host> describing_host(const std::string& config_file, const HostPreparation& p, Producers producers = Producers::required);
 
+/// The MAVLink endpoint of --gcs (mavlink/gcs_link.hpp) for one vehicle or a fleet's on one port:
+/// its addresses printed on stdout when it opens, what it received and dropped when it closes.
+class GcsEndpoint {
+ public:
+  /// Throws ConfigError: a port that cannot be bound, two vehicles with one system id.
+  GcsEndpoint(const HostPreparation& p, const std::vector<mavlink::LinkedVehicle>& vehicles);
+  ~GcsEndpoint();
+  GcsEndpoint(const GcsEndpoint&) = delete;
+  GcsEndpoint& operator=(const GcsEndpoint&) = delete;
+
+ private:
+  std::unique_ptr<mavlink::GcsLink> link_;
+};
+
 /// The observers of a host's ticks for as long as this lives: the console when --console was
 /// given (its URL printed on stdout), then the DDS bridge when the mission is bridged, then the
 /// MAVLink endpoint with --gcs (its addresses printed on stdout).
@@ -104,7 +119,7 @@ class TickObservers {
 #if defined(TERN_WITH_DDS)
   std::unique_ptr<DdsBridge> bridge_;
 #endif
-  std::unique_ptr<mavlink::GcsLink> gcs_;
+  std::unique_ptr<GcsEndpoint> gcs_;
 };
 
 }  // namespace tern::core

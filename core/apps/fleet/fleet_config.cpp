@@ -1,6 +1,7 @@
 #include "fleet/fleet_config.hpp"
 
 #include <algorithm>
+#include <map>
 #include <set>
 
 #include <fmt/format.h>
@@ -119,7 +120,7 @@ VehicleConfig load_vehicle(const YAML::Node& root, const YAML::Node& v, const fs
   out.field = "vehicles[" + std::to_string(i) + "]";
   if (!v.IsMap()) throw ConfigError(where(f, v) + out.field + ": expected a map (name, initial, mission, ...)");
   std::vector<std::string> keys = kVehicleOverrides;
-  keys.insert(keys.end(), {"name", "initial", "params"});
+  keys.insert(keys.end(), {"name", "initial", "params", "system_id"});
   check_keys(v, f, out.field, keys);
   if (!v["name"] || !v["name"].IsScalar()) throw ConfigError(where(f, v) + out.field + ": missing name (an identifier, e.g. uav1)");
   out.name = v["name"].Scalar();
@@ -148,6 +149,29 @@ VehicleConfig load_vehicle(const YAML::Node& root, const YAML::Node& v, const fs
   apply_initial(out.config, v["initial"], f, out.field);
   apply_params(out.config, v["params"], f, out.field);
   return out;
+}
+
+// `system_id:` of vehicle `v` (the i-th), or i + 1; one another vehicle of `taken` has already is refused.
+std::uint8_t load_system_id(const YAML::Node& v, const fs::path& f, const VehicleConfig& out, std::size_t i,
+                            const std::map<int, std::string>& taken) {
+  int id = static_cast<int>(i) + 1;
+  const std::string field = out.field + ".system_id";
+  if (const YAML::Node n = v["system_id"]) {
+    try {
+      id = n.IsScalar() ? n.as<int>() : 0;
+    } catch (const YAML::Exception&) {
+      id = 0;
+    }
+    if (id < 1 || id > 255)
+      throw ConfigError(where(f, n) + field + ": expected a MAVLink system id, an integer 1-255, got '" + text_of(n) + "'");
+  } else if (id > 255) {
+    throw ConfigError(where(f, v) + out.field + " (" + out.name + "): no MAVLink system id left (255 at most): give it system_id: 1-255");
+  }
+  if (const auto it = taken.find(id); it != taken.end())
+    throw ConfigError(where(f, v["system_id"] ? v["system_id"] : v) + field + ": MAVLink system id " + std::to_string(id) +
+                      (v["system_id"] ? "" : " (its place in vehicles:)") + " of " + out.name + " is " + it->second +
+                      "'s already (system_id: gives each vehicle its own, 1-255)");
+  return static_cast<std::uint8_t>(id);
 }
 
 SeparationConfig load_separation(const YAML::Node& s, const fs::path& f) {
@@ -217,11 +241,14 @@ FleetConfig load_fleet(const fs::path& file_in) {
   if (!vs.IsSequence() || vs.size() == 0) throw ConfigError(where(f, vs) + "vehicles: expected a non-empty list of vehicles");
   std::set<std::string> names;
   std::vector<std::string> order;
+  std::map<int, std::string> system_ids;  // MAVLink system id -> vehicle
   for (std::size_t i = 0; i < vs.size(); ++i) {
     VehicleConfig v = load_vehicle(root, vs[i], f, i);
     if (!names.insert(v.name).second)
       throw ConfigError(where(f, vs[i]["name"]) + v.field + ".name: vehicle name '" + v.name + "' is used twice");
     order.push_back(v.name);
+    v.system_id = load_system_id(vs[i], f, v, i, system_ids);
+    system_ids[v.system_id] = v.name;
     out.vehicles.push_back(std::move(v));
   }
   const MissionConfig& first = out.vehicles.front().config;

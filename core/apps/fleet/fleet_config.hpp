@@ -8,7 +8,7 @@
 //   plugins, phases, fallback, phase_machine, metrics,      the stack every vehicle flies, as in a
 //   failsafes, aircraft, mission, check, base_rate          one-vehicle mission (config.hpp)
 //   vehicles: [{name, aircraft, initial, mission, phases,   each vehicle: a name (an identifier) and
-//               fallback, failsafes, params}]               what differs from the shared stack
+//               fallback, failsafes, params, system_id}]    what differs from the shared stack
 //   coordination: [plugin instances]                        coordination plugins (kind coordination)
 //   separation: {min_distance, response, hold_climb}        the separation monitor (separation.hpp)
 //
@@ -16,7 +16,9 @@
 // put over it, checked as a one-vehicle mission is (config_from_yaml); its `initial:` and the
 // world go to its sim_aero instance's parameters (init_*, wind, turbulence, origin_lat/lon/alt),
 // `params:` ("instance.param": value) to any instance's. Its DDS namespace is the vehicle's name
-// (under the mission's dds.namespace when that is given). Errors are one line naming the file,
+// (under the mission's dds.namespace when that is given); its MAVLink system id on the ground-station
+// port (--gcs, docs/ground-station.md) is `system_id:` (1-255, unique), by default its place in
+// `vehicles:` counted from 1. Errors are one line naming the file,
 // the vehicle and the field (ConfigError).
 #pragma once
 
@@ -42,9 +44,10 @@ struct SeparationConfig {
 };
 
 struct VehicleConfig {
-  std::string name;      ///< an identifier: names its log directory, DDS namespace and topics
-  MissionConfig config;  ///< its own mission: the shared stack with its keys put over it
-  std::string field;     ///< "vehicles[2]" (with the name: error messages)
+  std::string name;            ///< an identifier: names its log directory, DDS namespace and topics
+  MissionConfig config;        ///< its own mission: the shared stack with its keys put over it
+  std::string field;           ///< "vehicles[2]" (with the name: error messages)
+  std::uint8_t system_id = 1;  ///< MAVLink system id with --gcs: `system_id:`, or its place in `vehicles:` from 1
 };
 
 struct FleetConfig {

@@ -1,19 +1,16 @@
-// core/apps/mavlink/gcs_link.cpp: the MAVLink ground-station endpoint (gcs_link.hpp).
+// core/apps/mavlink/gcs_link.cpp: the MAVLink ground-station endpoint (gcs_link.hpp): the socket,
+// the peers, the counts and the routing by target system; each vehicle's side is gcs_vehicle.cpp.
 #include "mavlink/gcs_link.hpp"
 
-#include <algorithm>
 #include <array>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <deque>
 #include <filesystem>
 #include <map>
 #include <mutex>
 #include <optional>
 #include <set>
 #include <thread>
-#include <vector>
 
 #include <unistd.h>
 
@@ -21,15 +18,7 @@
 
 #include "config/error.hpp"
 #include "flight/host.hpp"
-#include "mavlink/component_metadata.hpp"
-#include "mavlink/gcs_commands.hpp"
-#include "mavlink/mavlink_ftp.hpp"
-#include "mavlink/mavlink_messages.hpp"
-#include "mavlink/mission_protocol.hpp"
-#include "mavlink/param_ids.hpp"
-#include "mavlink/telemetry.hpp"
-#include "tern/geodesy.hpp"
-#include "tern/msg/all.hpp"
+#include "mavlink/gcs_vehicle.hpp"
 
 namespace tern::core::mavlink {
 namespace {
@@ -38,11 +27,8 @@ namespace asio = boost::asio;
 using udp = asio::ip::udp;
 using Clock = std::chrono::steady_clock;
 
-constexpr Nanos kSnapshotPeriod = 20'000'000;  // flight time between copies, ns (50 Hz)
 constexpr std::size_t kMaxPeers = 8;
 constexpr auto kPeerTimeout = std::chrono::seconds(10);
-constexpr std::size_t kMaxEvents = 32;      // STATUSTEXTs waiting to be sent
-constexpr std::size_t kParamsPerTick = 25;  // PARAM_VALUEs of a list sent per 10-ms tick
 constexpr auto kTick = std::chrono::milliseconds(10);
 
 udp::endpoint parse(const std::string& text, const std::string& what) {
@@ -64,108 +50,36 @@ udp::endpoint parse(const std::string& text, const std::string& what) {
   return {addr, static_cast<unsigned short>(p)};
 }
 
-struct Event {
-  std::uint8_t severity;
-  std::string text;
-};
-
 }  // namespace
 
 void check_endpoint(const std::string& text, const std::string& what) { parse(text, what); }
 
 struct GcsLink::Impl {
-  Impl(Host& h, const GcsOptions& o)
-      : host(h),
-        options(o),
-        socket(io),
-        timer(io),
-        configured_peer(parse(o.send_to, "--gcs")),
-        table(numeric_params(h)),
-        ftp(metadata_files(table, h)) {
+  Impl(const std::vector<LinkedVehicle>& linked, const GcsOptions& o)
+      : options(o), socket(io), timer(io), configured_peer(parse(o.send_to, "--gcs")) {
     const udp::endpoint local = parse(o.bind, "--gcs-bind");
     boost::system::error_code ec;
     socket.open(udp::v4(), ec);
     if (!ec) socket.bind(local, ec);
     if (ec) throw ConfigError("--gcs-bind " + o.bind + ": cannot bind the MAVLink port: " + ec.message());
     bound = socket.local_endpoint();
-    for (const auto& t : host.topics()) topics.insert(t.name);
-    start_mission_and_commands();
-  }
-
-  /// The mission protocol and the commands (mission_protocol.hpp, gcs_commands.hpp), answering through this link.
-  void start_mission_and_commands() {
-    const Outbox out{[this](std::uint32_t id, const std::vector<std::uint8_t>& payload) { send_frame(id, payload); },
-                     [this](std::uint8_t severity, const std::string& text) { say(severity, text); }};
-    const auto dir =
-        std::filesystem::temp_directory_path() / ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()));
-    watch = std::make_unique<FlightWatch>(host);
-    mission = std::make_unique<MissionProtocol>(host, *watch, out, options.system_id, dir);
-    commands = std::make_unique<GcsCommands>(host, *watch, *mission, out, options.system_id);
-  }
-
-  /// What MAVLink FTP serves: the component metadata (component_metadata.hpp).
-  static std::map<std::string, std::string> metadata_files(const ParamTable& t, const Host& h) {
-    MetadataFiles m = component_metadata(t, h.parameters());
-    return {{kGeneralMetadataFile, std::move(m.general)}, {kParameterMetadataFile, std::move(m.parameters)}};
-  }
-
-  static std::vector<std::pair<std::string, ParamKind>> numeric_params(const Host& h) {
-    std::vector<std::pair<std::string, ParamKind>> out;
-    for (const auto& [name, p] : h.parameters()) out.emplace_back(name, p->kind());
-    return out;
-  }
-
-  // ---- flight thread ----
-  void observe(Nanos now) {
-    if (now == 0) {  // a new flight
-      last_phase.reset();
-      handovers_seen = 0;
-      failsafes_seen = 0;
+    std::set<std::uint8_t> ids;
+    for (const LinkedVehicle& v : linked) {
+      if (v.system_id == 0 || !ids.insert(v.system_id).second)
+        throw ConfigError("--gcs: vehicle " + v.name + ": MAVLink system id " + std::to_string(v.system_id) +
+                          (v.system_id == 0 ? " is not 1-255" : " is another vehicle's"));
+      names.push_back(v.name);
+      vehicles.push_back(std::make_unique<GcsVehicle>(
+          *v.host, v.system_id, [this](const std::vector<std::uint8_t>& f) { send(f); }, upload_dir(v.system_id)));
     }
-    const auto& handovers = host.handovers();
-    if (handovers.size() < handovers_seen) handovers_seen = 0;
-    while (handovers_seen < handovers.size()) {
-      const auto& h = handovers[handovers_seen++];
-      push_event(MAV_SEVERITY_WARNING, "controller " + h.to + ": " + h.reason);
-    }
-    const auto& failsafes = host.failsafe_events();
-    if (failsafes.size() < failsafes_seen) failsafes_seen = 0;
-    while (failsafes_seen < failsafes.size()) {  // each engagement and its end, as the log says it
-      const FailsafeEvent& e = failsafes[failsafes_seen++];
-      push_event(e.action == "none" ? MAV_SEVERITY_INFO : MAV_SEVERITY_WARNING, "failsafe " + e.cause + ": " + e.detail);
-    }
-    if (!topics_tap.take(host, now)) return;
-    Snapshot& s = staging;
-    s.any = true;
-    static_cast<FlightTopics&>(s) = topics_tap.topics();
-    const FailsafeStation::FenceStatus fence = host.fence_status();
-    s.fence_enabled = fence.enabled;
-    s.fence_breached = fence.breached;
-    if (s.has_phase && (!last_phase || *last_phase != s.phase.phase)) {
-      last_phase = s.phase.phase;
-      push_event(MAV_SEVERITY_INFO, "phase " + std::string(msg::phase_name(s.phase.phase)));
-    }
-    std::lock_guard lk(mu);
-    latest = s;
   }
 
-  /// The mission's size and the waypoint flown to, from the mission side's copy of `waypoints`
-  /// and `current_path` (flight_view.hpp: one copy of the list, made when the planner republishes it).
-  static void mission_of(const FlightView& v, Snapshot& s) {
-    s.mission_items.reset();
-    s.target.reset();
-    if (!v.list) return;
-    s.mission_items = v.list->count;
-    if (v.waypoint_index >= 0 && static_cast<std::uint32_t>(v.waypoint_index) < v.list->count)
-      s.target = v.list->items[static_cast<std::size_t>(v.waypoint_index)];
+  /// Where vehicle `system_id`'s accepted mission uploads are written (mission_protocol.hpp).
+  std::filesystem::path upload_dir(std::uint8_t system_id) const {
+    return std::filesystem::temp_directory_path() /
+           ("tern-mavlink-" + std::to_string(::getpid()) + "-" + std::to_string(bound.port()) + "-" + std::to_string(system_id));
   }
 
-  void push_event(std::uint8_t severity, std::string text) {
-    std::lock_guard lk(mu);
-    if (events.size() < kMaxEvents) events.push_back({severity, std::move(text)});
-  }
-
-  // ---- the link's thread ----
   void start() {
     receive();
     schedule();
@@ -184,7 +98,8 @@ struct GcsLink::Impl {
     timer.expires_after(kTick);
     timer.async_wait([this](const boost::system::error_code& ec) {
       if (ec) return;
-      guarded([&] { on_tick(); });
+      const Counters c = link_counters();
+      for (auto& v : vehicles) guarded([&] { v->on_tick(c); });
       schedule();
     });
   }
@@ -208,130 +123,22 @@ struct GcsLink::Impl {
     }
     if (frames.empty()) return;
     heard(sender);
-    for (const Frame& f : frames) {
-      switch (f.msgid) {
-        case ParamRequestList::kId: {
-          const auto m = decode<ParamRequestList>(f);
-          if (for_us(m.target_system, m.target_component)) list_cursor = 0;
-          break;
-        }
-        case ParamRequestRead::kId: {
-          const auto m = decode<ParamRequestRead>(f);
-          if (!for_us(m.target_system, m.target_component)) break;
-          std::optional<std::size_t> i;
-          if (m.param_index >= 0 && static_cast<std::size_t>(m.param_index) < table.params().size())
-            i = static_cast<std::size_t>(m.param_index);
-          else if (m.param_index < 0)
-            i = table.find(to_string(m.param_id));
-          if (i)
-            send_param(*i);
-          else
-            say(MAV_SEVERITY_WARNING, "no parameter " + (m.param_index >= 0 ? std::to_string(m.param_index) : to_string(m.param_id)));
-          break;
-        }
-        case ParamSet::kId: on_param_set(decode<ParamSet>(f)); break;
-        case Timesync::kId: on_timesync(decode<Timesync>(f), f); break;
-        case FileTransferProtocol::kId: on_ftp(decode<FileTransferProtocol>(f), f); break;
-        case Heartbeat::kId:  // a ground station's heartbeat feeds the link-loss failsafe, as the DDS bridge's does
-          if (decode<Heartbeat>(f).type == MAV_TYPE_GCS) host.ground_link_heard();
-          break;
-        default:  // missions, commands; else our own messages echoed, a GCS's other traffic
-          if (!mission->on_frame(f)) commands->on_frame(f);
-          break;
-      }
+    for (const Frame& f : frames) route(f);
+  }
+
+  /// To the vehicle the frame's target_system names, to every vehicle for 0 or no target
+  /// (MAVLink's routing); for a system no vehicle has: counted and ignored.
+  void route(const Frame& f) {
+    const std::optional<std::uint8_t> to = target_system(f);
+    bool taken = false;
+    for (auto& v : vehicles) {
+      if (to && *to != 0 && *to != v->system_id()) continue;
+      taken = true;
+      guarded([&] { v->on_frame(f); });
     }
-  }
-
-  /// A request (tc1 0) is answered with the link's wall-clock time since it started (ns, never 0:
-  /// flight time may run at any speed, and a GCS estimates a clock offset), addressed back.
-  void on_timesync(const Timesync& m, const Frame& f) {
-    if (m.tc1 != 0 || !for_us(m.target_system, m.target_component)) return;
-    const auto since = std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now() - started).count();
-    send(Timesync{std::max<std::int64_t>(1, since), m.ts1, f.sysid, f.compid});
-  }
-
-  /// MAVLink FTP (mavlink_ftp.hpp): each answer addressed back to the asking system and component.
-  void on_ftp(const FileTransferProtocol& m, const Frame& f) {
-    if (!for_us(m.target_system, m.target_component)) return;
-    for (const FtpPayload& p : ftp.answer(m.payload)) {
-      FileTransferProtocol a;
-      a.target_system = f.sysid;
-      a.target_component = f.compid;
-      a.payload = p;
-      send(a);
-    }
-  }
-
-  bool for_us(std::uint8_t sys, std::uint8_t comp) const {
-    return (sys == 0 || sys == options.system_id) && (comp == 0 || comp == MAV_COMP_ID_AUTOPILOT1);
-  }
-
-  void on_param_set(const ParamSet& m) {
-    if (!for_us(m.target_system, m.target_component)) return;
-    const auto i = table.find(to_string(m.param_id));
-    if (!i) {
-      say(MAV_SEVERITY_WARNING, "no parameter " + to_string(m.param_id));
-      return;
-    }
-    const MavParam& mp = table.params()[*i];
-    const ParamBase* p = param(mp.qualified);
-    std::optional<tern::ParamValue> accepted;
-    std::string why;
-    if (p == nullptr) {
-      why = mp.qualified + ": no longer in the mission (an instance was swapped)";
-    } else if (!std::isfinite(m.param_value)) {
-      why = mp.qualified + ": not a finite value";
-    } else {
-      try {
-        const tern::ParamValue v = p->validate(from_mav_value(m.param_value, mp.kind));  // throws ParamError
-        host.request_param(mp.qualified, v, "mavlink");                                  // throws: start-only in flight
-        accepted = v;
-      } catch (const std::exception& e) {
-        why = e.what();
-      }
-    }
-    if (accepted) {
-      pending[mp.qualified] = {*accepted, Clock::now()};
-      send_param(*i);
-    } else {
-      say(MAV_SEVERITY_WARNING, why);
-      if (p != nullptr) send_param(*i);  // refused: the value it keeps, as PX4 answers
-    }
-  }
-
-  /// The host's parameter `qualified` now (a served host's swap replaces instances), or nullptr.
-  const ParamBase* param(const std::string& qualified) const {
-    for (const auto& [name, p] : host.parameters())
-      if (name == qualified) return p;
-    return nullptr;
-  }
-
-  /// The value a GCS is told: a change accepted but not yet applied (Host::request_param applies
-  /// it at the start of the next tick, a served host's between flights at the next flight's) is
-  /// reported as set, as PX4 echoes a PARAM_SET; it is forgotten once the parameter holds it, or a
-  /// second after it was asked in flight (another client may have changed the parameter since).
-  tern::ParamValue current(const std::string& qualified, const ParamBase& p) {
-    const auto it = pending.find(qualified);
-    if (it == pending.end()) return p.value();
-    tern::ParamValue now = p.value();
-    if (now == it->second.first || (host.flying() && Clock::now() - it->second.second > std::chrono::seconds(1))) {
-      pending.erase(it);
-      return now;
-    }
-    return it->second.first;
-  }
-
-  void send_param(std::size_t i) {
-    const MavParam& mp = table.params()[i];
-    const ParamBase* p = param(mp.qualified);
-    if (p == nullptr) return;
-    ParamValue v;
-    v.param_id = to_chars<16>(mp.id);
-    v.param_value = to_mav_value(current(mp.qualified, *p));
-    v.param_type = mp.mav_type;
-    v.param_count = static_cast<std::uint16_t>(table.params().size());
-    v.param_index = static_cast<std::uint16_t>(i);
-    send(v);
+    if (taken) return;
+    std::lock_guard lk(counters_mu);
+    ++counters.other_system;
   }
 
   void heard(const udp::endpoint& from) {
@@ -340,107 +147,29 @@ struct GcsLink::Impl {
     if (peers.count(from) != 0 || peers.size() < kMaxPeers) peers[from] = now;
   }
 
-  /// A text to the GCS, in chunks when it is longer than 50 characters.
-  void say(std::uint8_t severity, const std::string& text) {
-    if (text.size() > 50 && ++text_id == 0) ++text_id;  // ids of chunked texts: 1, 2, ... (0: one chunk)
-    for (const auto& chunk : statustext_chunks(severity, text, text_id)) send(chunk);
-  }
-
-  /// A generated message struct (mavlink/common_messages.hpp) in a frame.
-  template <class M>
-  void send(const M& m) {
-    send_frame(M::kId, encode(m));
-  }
-
   Counters link_counters() const {
     std::lock_guard lk(counters_mu);
     return counters;
   }
-  static std::uint64_t unix_us() {
-    using namespace std::chrono;
-    return static_cast<std::uint64_t>(duration_cast<microseconds>(system_clock::now().time_since_epoch()).count());
-  }
 
-  void send_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload) {
-    const auto frame = encode_frame(msgid, payload, seq++, options.system_id, MAV_COMP_ID_AUTOPILOT1);
+  /// A vehicle's frame to the configured GCS address and to every peer heard.
+  void send(const std::vector<std::uint8_t>& frame) {
     boost::system::error_code ec;
     socket.send_to(asio::buffer(frame), configured_peer, 0, ec);  // nobody listening: nothing to do
     for (const auto& [peer, when] : peers)
       if (peer != configured_peer) socket.send_to(asio::buffer(frame), peer, 0, ec);
   }
 
-  /// Every `period` of wall time, from the link's start.
-  bool due(Clock::time_point& next, std::chrono::milliseconds period, Clock::time_point now) {
-    if (now < next) return false;
-    next = std::max(next + period, now);
-    return true;
-  }
-
-  void on_tick() {
-    const auto now = Clock::now();
-    Snapshot s;
-    std::deque<Event> ev;
-    {
-      std::lock_guard lk(mu);
-      s = latest;
-      ev.swap(events);
-    }
-    mission_of(watch->view(), s);
-    for (const auto& e : ev) say(e.severity, e.text);
-    if (due(next_heartbeat, std::chrono::milliseconds(1000), now)) {
-      send(heartbeat(s, host.flying()));
-      send(sys_status(s, topics, link_counters()));
-      send(SystemTime{unix_us(), static_cast<std::uint32_t>(s.t / 1'000'000)});
-      if (const auto m = extended_sys_state(s)) send(*m);
-      if (auto m = mission_current(s)) {  // seq and total as the GCS's mission items (mission_protocol.hpp)
-        if (const auto seq = mission->current_seq()) m->seq = *seq;
-        m->total = static_cast<std::uint16_t>(std::min<std::size_t>(mission->items().size(), UINT16_MAX - 1));
-        send(*m);
-      }
-      if (const auto m = wind_cov(s)) send(*m);
-    }
-    const bool state = s.has_state && s.state.valid && s.state.origin_valid;
-    if (state && due(next_attitude, std::chrono::milliseconds(50), now)) send(attitude(s));
-    if (state && due(next_position, std::chrono::milliseconds(200), now)) {
-      send(global_position(s, origin));
-      if (const auto m = nav_controller(s, origin)) send(*m);
-    }
-    if (s.has_state && due(next_hud, std::chrono::milliseconds(250), now)) send(vfr_hud(s));
-    if (s.has_gnss && due(next_gps, std::chrono::milliseconds(500), now)) send(gps_raw(s));
-    if (s.has_state && s.state.origin_valid && due(next_home, std::chrono::milliseconds(2000), now)) send(home(s));
-    for (std::size_t k = 0; k < kParamsPerTick && list_cursor && *list_cursor < table.params().size(); ++k) send_param((*list_cursor)++);
-    if (list_cursor && *list_cursor >= table.params().size()) list_cursor.reset();
-    mission->on_tick();
-  }
-
-  Host& host;
   GcsOptions options;
   asio::io_context io;
   udp::socket socket;
   asio::steady_timer timer;
   udp::endpoint configured_peer, bound, sender;
   std::array<std::uint8_t, 2048> rx{};
-  ParamTable table;
-  FtpServer ftp;  // the link's thread
-  std::set<std::string> topics;
   std::thread thread;
-  int observer_id = 0;
-  Clock::time_point started = Clock::now();
-  std::unique_ptr<FlightWatch> watch;
-  std::unique_ptr<MissionProtocol> mission;
-  std::unique_ptr<GcsCommands> commands;
-
-  // flight thread only
-  TopicTap topics_tap{kSnapshotPeriod};
-  Snapshot staging;
-  std::optional<msg::Phase> last_phase;
-  std::size_t handovers_seen = 0;
-  std::size_t failsafes_seen = 0;  // failsafe events already said
-
-  // under mu
-  std::mutex mu;
-  Snapshot latest;
-  std::deque<Event> events;
+  std::vector<std::string> names;                     // the vehicles', in order
+  std::vector<std::unique_ptr<GcsVehicle>> vehicles;  // run on the link's thread (observe: the flight thread)
+  std::vector<int> observer_ids;
 
   // under counters_mu
   mutable std::mutex counters_mu;
@@ -448,22 +177,18 @@ struct GcsLink::Impl {
 
   // the link's thread only
   std::map<udp::endpoint, Clock::time_point> peers;
-  std::optional<std::size_t> list_cursor;
-  std::map<std::string, std::pair<tern::ParamValue, Clock::time_point>> pending;  // accepted sets not yet applied
-  std::uint8_t seq = 0;
-  std::uint16_t text_id = 0;
-  std::optional<GeoOrigin> origin;
-  Clock::time_point next_heartbeat{}, next_attitude{}, next_position{}, next_hud{}, next_gps{}, next_home{};
 };
 
-GcsLink::GcsLink(Host& host, const GcsOptions& options) : impl_(std::make_unique<Impl>(host, options)) {
-  Impl* impl = impl_.get();
-  impl->observer_id = host.add_tick_observer([impl](Nanos now) { impl->observe(now); });
-  impl->start();
+GcsLink::GcsLink(const std::vector<LinkedVehicle>& vehicles, const GcsOptions& options) : impl_(std::make_unique<Impl>(vehicles, options)) {
+  for (auto& v : impl_->vehicles) {
+    GcsVehicle* vehicle = v.get();
+    impl_->observer_ids.push_back(vehicle->host().add_tick_observer([vehicle](Nanos now) { vehicle->observe(now); }));
+  }
+  impl_->start();
 }
 
 GcsLink::~GcsLink() {
-  impl_->host.remove_tick_observer(impl_->observer_id);
+  for (std::size_t i = 0; i < impl_->observer_ids.size(); ++i) impl_->vehicles[i]->host().remove_tick_observer(impl_->observer_ids[i]);
   // io.stop() makes run() return once the handler running now (if any) is done, whatever else is
   // queued: cancelling the timer and closing the socket from a posted handler did not always end
   // it, as a tick or a datagram already completed re-armed itself (mavlink_flood hung under load)
@@ -472,17 +197,19 @@ GcsLink::~GcsLink() {
 }
 
 std::string GcsLink::describe() const {
-  std::string out =
-      "udp " + impl_->bound.address().to_string() + ":" + std::to_string(impl_->bound.port()) + " -> " + impl_->options.send_to;
-  out += ", " + std::to_string(impl_->table.params().size()) + " parameters";
+  const Impl& m = *impl_;
+  std::string out = "udp " + m.bound.address().to_string() + ":" + std::to_string(m.bound.port()) + " -> " + m.options.send_to;
+  if (m.vehicles.size() == 1) return out + ", " + std::to_string(m.vehicles[0]->param_count()) + " parameters";
+  for (std::size_t i = 0; i < m.vehicles.size(); ++i)
+    out += (i == 0 ? ", systems " : ", ") + std::to_string(m.vehicles[i]->system_id()) + " " + m.names[i] + " (" +
+           std::to_string(m.vehicles[i]->param_count()) + " parameters)";
   return out;
 }
 
-std::vector<std::pair<std::string, std::string>> GcsLink::shortened_ids() const { return impl_->table.shortened(); }
-
-Counters GcsLink::counters() const {
-  std::lock_guard lk(impl_->counters_mu);
-  return impl_->counters;
+std::vector<std::pair<std::string, std::string>> GcsLink::shortened_ids() const {
+  return impl_->vehicles.empty() ? std::vector<std::pair<std::string, std::string>>{} : impl_->vehicles.front()->shortened_ids();
 }
+
+Counters GcsLink::counters() const { return impl_->link_counters(); }
 
 }  // namespace tern::core::mavlink

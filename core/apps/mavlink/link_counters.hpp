@@ -19,6 +19,9 @@ struct Counters {
   std::uint64_t junk_bytes = 0;  ///< bytes skipped looking for a start-of-frame
   std::uint64_t bad_length = 0;  ///< a known message longer than its definition
   std::uint64_t noise = 0;       ///< datagrams without a start-of-frame byte at all
+  /// Good frames addressed to a system no vehicle on the endpoint has (ignored, as MAVLink's
+  /// routing has it; not errors: not in dropped()).
+  std::uint64_t other_system = 0;
   std::uint64_t dropped() const { return bad_crc + truncated + unknown_id + mavlink1 + bad_length + noise; }
 };
 

@@ -11,6 +11,13 @@ std::optional<MessageInfo> message_info(std::uint32_t msgid) {
   return std::nullopt;
 }
 
+std::optional<std::uint8_t> target_system(const Frame& f) {
+  const auto info = message_info(f.msgid);
+  if (!info || info->target_system_offset < 0) return std::nullopt;
+  const auto at = static_cast<std::size_t>(info->target_system_offset);
+  return at < f.payload.size() ? f.payload[at] : std::uint8_t{0};  // an extension not sent reads 0
+}
+
 std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload, std::uint8_t seq, std::uint8_t sysid,
                                        std::uint8_t compid) {
   const MessageInfo info = *message_info(msgid);

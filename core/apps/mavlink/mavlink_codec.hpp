@@ -42,6 +42,11 @@ struct Frame {
 /// The table row (CRC_EXTRA, full payload length) of a message id tern knows; nullopt for others.
 std::optional<MessageInfo> message_info(std::uint32_t msgid);
 
+/// The system a frame is addressed to: its message's target_system field (0: every system, as
+/// MAVLink's routing has it), or nullopt for a message without one (HEARTBEAT, PARAM_VALUE: every
+/// system's too). `f` as parse_datagram delivers it (a known id, the payload full length).
+std::optional<std::uint8_t> target_system(const Frame& f);
+
 /// Serialises `payload` (the full length; trailing zeros are trimmed here) as a MAVLink 2 frame of
 /// message `msgid` from `sysid`/`compid` with sequence number `seq`. `msgid` must be a known id.
 std::vector<std::uint8_t> encode_frame(std::uint32_t msgid, const std::vector<std::uint8_t>& payload, std::uint8_t seq, std::uint8_t sysid,

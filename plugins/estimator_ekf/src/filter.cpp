@@ -28,7 +28,9 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
 // multiplications and additions in the same order whatever the vector width: on x86-64 they are
 // also built for AVX (4 doubles, where the baseline has 2), chosen at load time where the CPU has
 // it, with identical results (no FMA: that would round differently). AVX-512 was slower here.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+// Not under ThreadSanitizer: the clones' ifunc resolver runs while the plugin is relocated, before
+// TSan's runtime can take its instrumented calls, and dlopen crashes (SEGV in the resolver).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
 #define TERN_EKF_AVX_CLONES __attribute__((target_clones("avx", "default")))
 #else
 #define TERN_EKF_AVX_CLONES

@@ -94,6 +94,24 @@ TEST_CASE("a frame round-trips, trimmed of trailing zeros and zero-filled on rea
   CHECK(vv.param_type == MAV_PARAM_TYPE_INT32);
 }
 
+TEST_CASE("a frame's target system: the field where the wire order puts it; none for a message to every system") {
+  const auto read_back = [](std::uint32_t id, const std::vector<std::uint8_t>& payload) {
+    const auto bytes = encode_frame(id, payload, 0, 255, 190);
+    Counters c;
+    const auto frames = parse_datagram(bytes.data(), bytes.size(), c);
+    REQUIRE(frames.size() == 1);
+    return target_system(frames[0]);
+  };
+  CHECK(read_back(ParamSet::kId, encode(ParamSet{2, 1, to_chars<16>("slc.roll_kp"), 0.5f, MAV_PARAM_TYPE_REAL32})) == 2);
+  CommandLong c;
+  c.target_system = 3;
+  c.command = 400;
+  CHECK(read_back(CommandLong::kId, encode(c)) == 3);                  // after the seven floats and the command
+  CHECK(read_back(Timesync::kId, encode(Timesync{0, 5, 4, 1})) == 4);  // an extension field
+  CHECK(read_back(Timesync::kId, encode(Timesync{0, 5, 0, 0})) == 0);  // not sent: 0, every system
+  CHECK_FALSE(read_back(Heartbeat::kId, encode(Heartbeat{6, 8, 0, 0, 0, 3})).has_value());
+}
+
 TEST_CASE("two frames in one datagram, and hostile bytes counted and dropped") {
   auto a = encode_frame(ParamRequestList::kId, encode(ParamRequestList{1, 1}), 0, 255, 190);
   const auto b = encode_frame(Heartbeat::kId, encode(Heartbeat{MAV_TYPE_GCS, 8, 0, 0, 4, 3}), 1, 255, 190);
