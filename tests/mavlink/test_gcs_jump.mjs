@@ -3,7 +3,7 @@
 //
 //   node test_gcs_jump.mjs TERN MISSION WORK_DIR
 //
-// It flies MISSION with `tern fly --realtime --speed 3 --gcs`, uploads
+// It flies MISSION with `tern fly --realtime --speed 6 --gcs`, uploads
 //   0 NAV_WAYPOINT A, 1 NAV_WAYPOINT B, 2 DO_JUMP to 0 repeat 2, 3 NAV_WAYPOINT C, 4 NAV_LOITER_UNLIM
 // and follows MISSION_CURRENT (1 Hz of wall time, legs of 300 m: several samples each): the items
 // flown are 0 1 0 1 0 1 3 4 (the jump taken twice, as PX4 and ArduPilot count it), and the
@@ -26,7 +26,7 @@ const M = 111320 // m per degree of latitude (flat earth: enough within a km)
 
 const gcs = await openGcs()
 const { item, upload, download, differences, command } = missionClient(gcs)
-const flight = flyWithGcs(tern, mission, work, gcs, 400, 3)
+const flight = flyWithGcs(tern, mission, work, gcs, 400, 6)
 
 try {
   await gcs.next('HEARTBEAT', (d) => (d.baseMode & 128) !== 0, 20000) // armed: flying
