@@ -111,6 +111,8 @@ static int discover(dds_entity_t pp) {
       found = found || (strcmp(n->node_namespace, in_ns("/%s")) == 0 && strcmp(n->node_name, "ctl") == 0);
     }
     printf("\n");
+    dds_sample_free(&info, &rmw_dds_common_msg_dds__ParticipantEntitiesInfo__desc, DDS_FREE_CONTENTS);
+    memset(&info, 0, sizeof info);
   }
   return found ? 0 : -1;
 }
@@ -123,7 +125,9 @@ static int read_state(dds_entity_t pp) {
   if (take_one(r, &s) != 0) return -1;
   printf("rt/%s/state: stamp %d.%09u p_d %.3f va %.3f quat.w %.4f\n", ns, s.header.stamp.sec, s.header.stamp.nanosec, s.p_d, s.va,
          s.quat.w);
-  return s.va > 0 ? 0 : -1;
+  const int ok = s.va > 0 ? 0 : -1;
+  dds_sample_free(&s, &rosplane_msgs_msg_dds__State__desc, DDS_FREE_CONTENTS);
+  return ok;
 }
 
 static int set_parameter(dds_entity_t pp) {
@@ -145,13 +149,17 @@ static int set_parameter(dds_entity_t pp) {
     return -1;
   printf("set_parameters /%s/ctl kp 0.125: successful %d reason '%s'\n", ns, rs.results._buffer[0].successful,
          rs.results._buffer[0].reason);
-  if (!rs.results._buffer[0].successful) return -1;
+  const int successful = rs.results._buffer[0].successful;
+  dds_sample_free(&rs, &rcl_interfaces_srv_dds__SetParameters_Response__desc, DDS_FREE_CONTENTS);
+  if (!successful) return -1;
   rcl_interfaces_msg_dds__ParameterEvent_ e;
   memset(&e, 0, sizeof e);
   if (take_one(ev, &e) != 0 || e.changed_parameters._length != 1) return -1;
   printf("rt/parameter_events: node %s changed %s = %g\n", e.node, e.changed_parameters._buffer[0].name,
          e.changed_parameters._buffer[0].value.double_value);
-  return strcmp(e.node, in_ns("/%s/ctl")) == 0 && e.changed_parameters._buffer[0].value.double_value == 0.125 ? 0 : -1;
+  const int ok = strcmp(e.node, in_ns("/%s/ctl")) == 0 && e.changed_parameters._buffer[0].value.double_value == 0.125 ? 0 : -1;
+  dds_sample_free(&e, &rcl_interfaces_msg_dds__ParameterEvent__desc, DDS_FREE_CONTENTS);
+  return ok;
 }
 
 static int describe_parameter(dds_entity_t pp) {
@@ -169,7 +177,9 @@ static int describe_parameter(dds_entity_t pp) {
   if (d->floating_point_range._length == 1)
     printf(" range [%g, %g]", d->floating_point_range._buffer[0].from_value, d->floating_point_range._buffer[0].to_value);
   printf("\n");
-  return d->type == 3 && d->floating_point_range._length == 1 ? 0 : -1;
+  const int ok = d->type == 3 && d->floating_point_range._length == 1 ? 0 : -1;
+  dds_sample_free(&rs, &rcl_interfaces_srv_dds__DescribeParameters_Response__desc, DDS_FREE_CONTENTS);
+  return ok;
 }
 
 static int add_waypoint(dds_entity_t pp) {
@@ -180,7 +190,9 @@ static int add_waypoint(dds_entity_t pp) {
            &rosplane_msgs_srv_dds__AddWaypoint_Response__desc, &rs) != 0)
     return -1;
   printf("add_waypoint [120, -80, -50] va_d 17: success %d message '%s'\n", rs.success, rs.message);
-  return rs.success ? 0 : -1;
+  const int ok = rs.success ? 0 : -1;
+  dds_sample_free(&rs, &rosplane_msgs_srv_dds__AddWaypoint_Response__desc, DDS_FREE_CONTENTS);
+  return ok;
 }
 
 int main(int argc, char** argv) {

@@ -231,20 +231,28 @@ int main(int argc, char** argv) {
     dds_sample_info_t info;
     p[0] = &s_in;
     memset(&s_in, 0, sizeof s_in);
-    while (dds_take(rs, p, &info, 1, 1) == 1)
+    while (dds_take(rs, p, &info, 1, 1) == 1) {
       if (info.valid_data) {
         state = s_in;
+        state.header.frame_id = NULL; /* s_in's string, freed below */
         state_t = stamp_ns(&s_in.header.stamp);
         last_input = dds_time();
       }
+      dds_sample_free(&s_in, &rosplane_msgs_msg_dds__State__desc, DDS_FREE_CONTENTS); /* the strings a take allocates */
+      memset(&s_in, 0, sizeof s_in);
+    }
     p[0] = &c_in;
     memset(&c_in, 0, sizeof c_in);
-    while (dds_take(rc, p, &info, 1, 1) == 1)
+    while (dds_take(rc, p, &info, 1, 1) == 1) {
       if (info.valid_data) {
         cmd = c_in;
+        cmd.header.frame_id = NULL;
         cmd_t = stamp_ns(&c_in.header.stamp);
         last_input = dds_time();
       }
+      dds_sample_free(&c_in, &rosplane_msgs_msg_dds__ControllerCommands__desc, DDS_FREE_CONTENTS);
+      memset(&c_in, 0, sizeof c_in);
+    }
     if (state_t >= 0 && state_t == cmd_t && state_t > done_t) {
       const double dt = done_t < 0 ? 0.0 : (double)(state_t - done_t) * 1e-9;
       rosflight_msgs_msg_dds__Command_ out;
