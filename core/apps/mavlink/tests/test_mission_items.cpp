@@ -37,6 +37,27 @@ MissionItemInt at(std::uint16_t seq, std::uint16_t command, double north, double
   return it;
 }
 
+/// The planner's list of a NED mission, as the path planner publishes it.
+msg::WaypointList list_of(const path::Mission& m) {
+  msg::WaypointList list;
+  list.count = static_cast<std::uint32_t>(m.waypoints.size());
+  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
+    const path::MissionWaypoint& p = m.waypoints[i];
+    msg::Waypoint& w = list.items[i];
+    w.w = p.w;
+    w.Va_d = p.Va_d;
+    w.Vg_min = p.Vg_min;
+    w.type = static_cast<std::uint8_t>(p.type);
+    w.chi_d = p.chi_d;
+    w.loiter_radius = p.loiter.radius;
+    w.loiter_direction = static_cast<std::int8_t>(p.loiter.direction);
+    w.loiter_time = p.loiter.time;
+    w.loiter_turns = p.loiter.turns;
+    w.loiter_to_altitude = p.loiter.to_altitude;
+  }
+  return list;
+}
+
 MissionItemInt speed(std::uint16_t seq, float Va) {
   MissionItemInt it;
   it.seq = seq;
@@ -258,21 +279,7 @@ TEST_CASE("the planner's list comes back as the items that made it") {
   const GeoOrigin home(kHome);
   const std::vector<MissionItemInt> sent = plan();
   const path::Mission m = path::parse_mission_text(mission_text(to_mission(sent, home)), "test");
-  msg::WaypointList list;
-  list.count = static_cast<std::uint32_t>(m.waypoints.size());
-  for (std::size_t i = 0; i < m.waypoints.size(); ++i) {
-    auto& w = list.items[i];
-    const auto& p = m.waypoints[i];
-    w.w = p.w;
-    w.Va_d = p.Va_d;
-    w.type = static_cast<std::uint8_t>(p.type);
-    w.chi_d = p.chi_d;
-    w.loiter_radius = p.loiter.radius;
-    w.loiter_direction = static_cast<std::int8_t>(p.loiter.direction);
-    w.loiter_time = p.loiter.time;
-    w.loiter_turns = p.loiter.turns;
-  }
-  const std::vector<MissionItemInt> back = to_items(list, home);
+  const std::vector<MissionItemInt> back = to_items(list_of(m), home);
   REQUIRE(back.size() == sent.size());
   for (std::size_t i = 0; i < sent.size(); ++i) {
     INFO(i);
@@ -451,20 +458,7 @@ TEST_CASE("QGroundControl's fixed-wing items: LOITER_TO_ALT, a ground speed, an 
   REQUIRE(again.waypoints.size() == 3);
   CHECK(again.waypoints[1].loiter.to_altitude);
   CHECK(again.waypoints[2].Vg_min == 18.0);
-  msg::WaypointList list;
-  list.count = 3;
-  for (std::size_t i = 0; i < 3; ++i) {
-    const path::MissionWaypoint& p = again.waypoints[i];
-    msg::Waypoint& w = list.items[i];
-    w.w = p.w;
-    w.type = static_cast<std::uint8_t>(p.type);
-    w.Vg_min = p.Vg_min;
-    w.loiter_radius = p.loiter.radius;
-    w.loiter_direction = static_cast<std::int8_t>(p.loiter.direction);
-    w.loiter_turns = p.loiter.turns;
-    w.loiter_to_altitude = p.loiter.to_altitude;
-  }
-  const std::vector<MissionItemInt> back = to_items(list, home);
+  const std::vector<MissionItemInt> back = to_items(list_of(again), home);
   REQUIRE(back.size() == 4);
   CHECK(back[1].command == MAV_CMD_NAV_LOITER_TO_ALT);
   CHECK(back[1].param1 == 0.0f);
