@@ -91,11 +91,12 @@ bench: build
 	cmake --build $(BUILD) --target bench
 
 # The parsers of outside bytes under libFuzzer (clang, ASan+UBSan; docs/hostile-inputs.md,
-# "Fuzzing"), one after the other, each FUZZ_SECONDS long: fcu_serial's MAVLink, the MCAP reader,
+# "Fuzzing"), JOBS at a time, each FUZZ_SECONDS long: fcu_serial's MAVLink, the MCAP reader,
 # the sensor-log tables, the ULog reader, the ground station's datagrams and mission checks, the
 # mission config and waypoint files, sensor_log.yaml, the imported text tables and aero files, the
 # console's requests, the aircraft file, `tern import`'s archives, the MCAP recovery, the ULog
-# conversion into a sensor log, the ground station's mission protocol (tests/fuzz). Each target's
+# conversion into a sensor log, the ground station's mission protocol, QGroundControl's plan files
+# (tests/fuzz). Each target's
 # corpus grows in $(BUILD)-fuzz/corpus/<target>, seeded from tests/fuzz/corpus/<target>, with
 # tests/fuzz/dict/<target>.dict where there is one;
 # bench/fuzz_report.py runs them and writes FUZZ_REPORT (executions, CPU seconds, corpus size,
@@ -103,13 +104,13 @@ bench: build
 # $(BUILD)-fuzz/fuzz_artifacts/<target>).
 FUZZ_TARGETS := fuzz_mavlink fuzz_mcap_reader fuzz_csv_table fuzz_ulog_reader fuzz_gcs_datagram fuzz_mission_yaml \
   fuzz_sensor_log_yaml fuzz_text_table fuzz_console_command fuzz_aircraft_yaml fuzz_archive fuzz_mcap_recovery \
-  fuzz_ulog_conversion fuzz_mission_protocol
+  fuzz_ulog_conversion fuzz_mission_protocol fuzz_plan_file
 FUZZ_REPORT ?= bench/results/fuzz.json
 fuzz: deps
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"
 	CXX=clang++ cmake -S . -B $(BUILD)-fuzz -G Ninja -DTERN_PLUGINS=fcu_serial
 	cmake --build $(BUILD)-fuzz -j $(JOBS) --target $(FUZZ_TARGETS)
-	python3 bench/fuzz_report.py --build $(BUILD)-fuzz --seconds $(FUZZ_SECONDS) --out $(FUZZ_REPORT) $(FUZZ_TARGETS)
+	python3 bench/fuzz_report.py --build $(BUILD)-fuzz --seconds $(FUZZ_SECONDS) --jobs $(JOBS) --out $(FUZZ_REPORT) $(FUZZ_TARGETS)
 
 # Sanitizer builds (issue 78; docs/hostile-inputs.md, "Sanitizers"): `make sanitize` builds every
 # target with AddressSanitizer and UndefinedBehaviorSanitizer (GCC, -O1, line tables) in

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
-"""Runs the libFuzzer targets one after the other and writes what each did (`make fuzz`, issue 78).
+"""Runs the libFuzzer targets, JOBS at a time, and writes what each did (`make fuzz`, issue 78).
 
-  fuzz_report.py --build build-fuzz --seconds N [--out bench/results/fuzz.json] TARGET...
+  fuzz_report.py --build build-fuzz --seconds N [--jobs J] [--out bench/results/fuzz.json] TARGET...
 
 Each target runs N seconds (-max_total_time) on its corpus, BUILD/corpus/<target>, seeded from
 tests/fuzz/corpus/<target> when the repository has one, with tests/fuzz/dict/<target>.dict when
@@ -17,6 +17,7 @@ written, with their kind). Exit status 1 when any target crashed or did not fini
 the report is written.
 """
 import argparse
+import concurrent.futures
 import datetime
 import json
 import os
@@ -108,6 +109,7 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--build", required=True, help="the fuzz build directory (build-fuzz)")
     ap.add_argument("--seconds", type=int, required=True, help="seconds per target")
+    ap.add_argument("--jobs", type=int, default=1, help="targets fuzzed at once (each one process, one core)")
     ap.add_argument("--out", default=os.path.join(ROOT, "bench", "results", "fuzz.json"))
     ap.add_argument("--merge", action="store_true",
                     help="keep the other targets' entries of an existing report (each entry names its own commit and date)")
@@ -125,14 +127,17 @@ def main():
             r.setdefault("date", old.get("date"))
             r.setdefault("seconds", old.get("seconds_per_target"))
             results[t] = r
-    for t in a.targets:
-        results[t] = dict(run_target(build, t, a.seconds), commit=commit, date=now, seconds=a.seconds)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, a.jobs)) as pool:  # each waits on its own process
+        runs = {t: pool.submit(run_target, build, t, a.seconds) for t in a.targets}
+        for t in a.targets:
+            results[t] = dict(runs[t].result(), commit=commit, date=now, seconds=a.seconds)
     clang = subprocess.run(["clang++", "--version"], capture_output=True, text=True).stdout.splitlines()
     report = {
         "date": now,
         "commit": commit,
         "compiler": clang[0] if clang else None,
         "cpus": os.cpu_count(),
+        "jobs": a.jobs,
         "seconds_per_target": a.seconds,
         "flags": "-fsanitize=fuzzer,address,undefined; -rss_limit_mb=2048 -timeout=10",
         "targets": results,
