@@ -21,10 +21,12 @@ std::string exact(double v) {
   return b;
 }
 
-/// --set INSTANCE.origin_*=... for every sim_aero instance: the world's origin at the plan's home.
+/// --set INSTANCE.origin_*=... for every sim_aero instance: the world's origin at the plan's home;
+/// a path_planner's own mission_file is cleared (the plan's mission is the config's section).
 void place_world(MissionConfig& config, const GeoPoint& home) {
   CliOverrides o;
   for (const InstanceConfig& i : config.plugins) {
+    if (i.plugin == "path_planner" && i.params.count("mission_file") != 0) o.sets.push_back(i.name + ".mission_file=''");
     if (i.plugin != "sim_aero") continue;
     o.sets.push_back(i.name + ".origin_lat=" + exact(home.lat));
     o.sets.push_back(i.name + ".origin_lon=" + exact(home.lon));
