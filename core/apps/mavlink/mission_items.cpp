@@ -199,8 +199,8 @@ void check_item(const MissionItemInt& it) {
   const bool keeps_altitude = it.command != MAV_CMD_NAV_TAKEOFF && it.command != MAV_CMD_NAV_LAND;  // NaN: the item before's
   if (!std::isfinite(it.z) && it.command != MAV_CMD_NAV_RETURN_TO_LAUNCH && !(std::isnan(it.z) && keeps_altitude))
     refuse(it, MAV_MISSION_INVALID_PARAM7, "altitude " + num(it.z) + ": not a number");
-  if (it.command == MAV_CMD_NAV_LOITER_TO_ALT && it.param1 != 0.0f)
-    refuse(it, MAV_MISSION_INVALID_PARAM1, "heading required " + num(it.param1) + ": tern leaves the orbit once at the altitude (0)");
+  if (it.command == MAV_CMD_NAV_LOITER_TO_ALT && it.param1 != 0.0f && it.param1 != 1.0f)  // MAV_BOOL
+    refuse(it, MAV_MISSION_INVALID_PARAM1, "heading required " + num(it.param1) + ": 0 or 1");
   if (it.command == MAV_CMD_NAV_LOITER_TO_ALT && std::isinf(it.param2))
     refuse(it, MAV_MISSION_INVALID_PARAM2, "radius " + num(it.param2) + " m");
   if (it.command == MAV_CMD_NAV_WAYPOINT && std::isfinite(it.param1) && it.param1 != 0.0f)

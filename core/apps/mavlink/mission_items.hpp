@@ -14,7 +14,8 @@
 //   NAV_LOITER_TURNS (18)    clockwise; 0 or NaN: the path manager's turn radius), param1: turns > 0
 //   NAV_LOITER_TIME (19)     or time s > 0.
 //   NAV_LOITER_TO_ALT (31)   loiter until at z (within the path manager's altitude_band), then on:
-//                            param2 radius as param3 above; param1 (heading required) must be 0.
+//                            param2 radius as param3 above; param1 (heading required) 0 or 1: the
+//                            path to the next item starts where the orbit is left and turns onto it.
 //   NAV_RETURN_TO_LAUNCH (20) return_home at the altitude of the item before (tern's return_home).
 //   NAV_LAND (21)            land with the touchdown point at its position (x = y = 0: home) and
 //                            runway heading param4 (deg; NaN: the course from the item before);

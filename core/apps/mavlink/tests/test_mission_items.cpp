@@ -347,8 +347,10 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   inf_alt.z = INFINITY;
   CHECK(refused(inf_alt).first == MAV_MISSION_INVALID_PARAM7);
   MissionItemInt heading_required = at(0, MAV_CMD_NAV_LOITER_TO_ALT, 0, 0, 50);
-  heading_required.param1 = 1.0f;
+  heading_required.param1 = 2.0f;  // MAV_BOOL: 0 or 1
   CHECK(refused(heading_required).first == MAV_MISSION_INVALID_PARAM1);
+  heading_required.param1 = 1.0f;  // QGroundControl's landing pattern asks for it: the path turns onto the next leg
+  CHECK(refused(heading_required).first == -1);
   CHECK(refused(at(0, MAV_CMD_NAV_WAYPOINT, 10, 10, 50)).first == -1);
   // above the terrain: taken as above home (flat ground at home's altitude)
   MissionItemInt over_terrain = at(0, MAV_CMD_NAV_WAYPOINT, 100, 0, 50);
