@@ -76,6 +76,7 @@ def sensor_logs():
         yaml.safe_dump(config, f)
     sensor_log("jump", imu_rows_=imu_rows(4400, JUMP_ROW))
     sensor_log("no_gyro_z", imu=[c for c in IMU_COLUMNS if c != "gyro_z"])
+    sensor_log("gyro_x_twice", imu=IMU_COLUMNS + ["gyro_x"])  # which of the two is the field? (found by fuzz_csv_table)
     sensor_log("empty_imu", imu_rows_=[])
     zero = sensor_log("zero_imu")
     os.remove(os.path.join(zero, "topics", "imu.csv"))

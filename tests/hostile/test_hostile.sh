@@ -106,6 +106,7 @@ refused jump_validate "$jump_text" "$tern" validate "$logs/jump" --aircraft "$re
 refused inertia_triangle "bad_inertia.yaml: inertia.Jz:" "$tern" check "$configs/bad_inertia.yaml"
 refused inertia_triangle_sysid "bad_inertia.yaml: inertia.Jz:" "$tern" sysid "$logs/good" --aircraft "$work/bad_inertia.yaml" --out "$work/sysid"
 refused imu_without_gyro_z "imu.csv:1: no column 'gyro_z'" "$tern" replay "$logs/no_gyro_z" --log-dir "$work/replays"
+refused imu_column_twice "imu.csv:1: column 'gyro_x' twice in the header" "$tern" replay "$logs/gyro_x_twice" --log-dir "$work/replays"
 refused alfa_symlink_member "member 'seq/carbonZ_2018-07-18-mavros-imu-data_raw.csv' is a symlink" \
   "$tern" import alfa "$work/alfa.tar.gz" "$work/alfa_out"
 # a sparse member's holes count: 8 GiB declared in a few hundred bytes (fuzz_archive's finding)

@@ -10,6 +10,7 @@
 
 #include "config/error.hpp"
 #include "replay/table_limits.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::core {
 
@@ -76,7 +77,10 @@ CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std
   std::vector<std::vector<double>*> target(cells.size(), nullptr);
   for (std::size_t i = 0; i < cells.size(); ++i) {
     const std::string name = field_name(cells[i]);
-    if (wanted.empty() || std::find(wanted.begin(), wanted.end(), name) != wanted.end()) target[i] = &table.columns[name];
+    if (!wanted.empty() && std::find(wanted.begin(), wanted.end(), name) == wanted.end()) continue;
+    if (table.columns.count(name) != 0)  // two cells would fill one column: which is the field?
+      throw ConfigError(fmt::format("{}:1: column '{}' twice in the header", file.string(), printable(name)));
+    target[i] = &table.columns[name];
   }
   const std::size_t width = cells.size();
   for (std::size_t lineno = 2; std::getline(in, line); ++lineno) {

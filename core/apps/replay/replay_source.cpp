@@ -80,6 +80,8 @@ std::vector<const reflect::Column*> map_columns(const std::filesystem::path& csv
         throw ConfigError(fmt::format("{}:1: column {} '{}': unit '{}', expected '{}' (docs/sensor-log.md)", csv.string(), cols.size() + 1,
                                       name, unit, col->unit));
     }
+    if (col != nullptr && !cols.empty() && std::find(cols.begin(), cols.end(), col) != cols.end())
+      throw ConfigError(fmt::format("{}:1: column '{}' twice in the header (docs/sensor-log.md)", csv.string(), name));
     cols.push_back(cols.empty() ? nullptr : col);
   }
   if (cols.empty() || header.rfind("t [s]", 0) != 0)
