@@ -230,7 +230,7 @@ Plan parse_plan(const std::string& text, const std::string& source) {
   json root;
   try {
     root = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // a syntax error, or a number past a double (out_of_range 406)
     throw PlanError(source + ": not JSON (" + std::string(e.what()).substr(0, 120) + ")");
   }
   const Field top{source, ""};

@@ -103,6 +103,8 @@ TEST_CASE("a plan with a fence, rally points, a DO_JUMP and a landing pattern; w
 
 TEST_CASE("a plan that is not one is refused in one line naming the field") {
   CHECK(error_of("{").find("x.plan: not JSON") == 0);
+  // a number past a double (found by fuzz_plan_file: nlohmann's out_of_range, not a parse_error)
+  CHECK(error_of(R"({"fileType": "Plan", "version": 33e3333})").find("x.plan: not JSON") == 0);
   CHECK(error_of(R"({"fileType": "Mission"})") == "x.plan: fileType: not a QGroundControl plan (expected \"fileType\": \"Plan\")");
   CHECK(error_of(R"({"fileType": "Plan"})") == "x.plan: mission: missing");
   const std::string bad_param =
