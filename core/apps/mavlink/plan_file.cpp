@@ -103,6 +103,13 @@ MissionItemInt simple_item(const json& j, const Field& f) {
   return it;
 }
 
+/// An item's doJumpId: a whole number >= 0 (QGroundControl numbers its items from 1).
+long jump_id(const json& v, const Field& f) {
+  const double id = number(v, f);
+  if (!(id >= 0.0 && id < 2147483648.0 && std::floor(id) == id)) f.fail("expected a whole number >= 0, got " + shown(v));
+  return static_cast<long>(id);
+}
+
 /// QGroundControl's fixed-wing landing pattern, as it uploads it: DO_LAND_START, a loiter down to
 /// the approach altitude (NAV_LOITER_TO_ALT, or a NAV_WAYPOINT without useLoiterToAlt), NAV_LAND.
 std::vector<MissionItemInt> landing_pattern(const json& j, const Field& f) {
@@ -136,8 +143,7 @@ std::vector<MissionItemInt> complex_items(const json& j, const Field& f, std::ma
   std::vector<MissionItemInt> out;
   for (std::size_t i = 0; i < items.size(); ++i) {
     out.push_back(simple_item(items[i], items_field[i]));
-    if (const json* id = optional_member(items[i], "doJumpId"))
-      jump_ids[static_cast<long>(number(*id, items_field[i] / "doJumpId"))] = next_seq + i;
+    if (const json* id = optional_member(items[i], "doJumpId")) jump_ids[jump_id(*id, items_field[i] / "doJumpId")] = next_seq + i;
   }
   return out;
 }
@@ -146,8 +152,9 @@ std::vector<MissionItemInt> complex_items(const json& j, const Field& f, std::ma
 void resolve_jumps(std::vector<MissionItemInt>& items, const std::map<long, std::size_t>& jump_ids, const Field& f) {
   for (MissionItemInt& it : items) {
     if (it.command != MAV_CMD_DO_JUMP) continue;
-    const auto target = jump_ids.find(std::lround(it.param1));
-    if (!std::isfinite(it.param1) || target == jump_ids.end())
+    const bool whole = it.param1 >= 0.0f && it.param1 < 2147483648.0f && std::floor(it.param1) == it.param1;
+    const auto target = whole ? jump_ids.find(static_cast<long>(it.param1)) : jump_ids.end();
+    if (target == jump_ids.end())
       (f / "items").fail("DO_JUMP (item " + std::to_string(it.seq) + ") to doJumpId " + std::to_string(it.param1) + ": no item has it");
     it.param1 = static_cast<float>(target->second);
   }
@@ -161,7 +168,7 @@ std::vector<MissionItemInt> mission_items(const json& mission, const Field& f) {
     const Field fi = (f / "items")[i];
     const json& type = member(items[i], "type", fi);
     if (type == "SimpleItem") {
-      if (const json* id = optional_member(items[i], "doJumpId")) jump_ids[static_cast<long>(number(*id, fi / "doJumpId"))] = out.size();
+      if (const json* id = optional_member(items[i], "doJumpId")) jump_ids[jump_id(*id, fi / "doJumpId")] = out.size();
       out.push_back(simple_item(items[i], fi));
     } else if (type == "ComplexItem") {
       for (const MissionItemInt& it : complex_items(items[i], fi, jump_ids, out.size())) out.push_back(it);

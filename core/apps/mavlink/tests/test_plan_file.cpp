@@ -115,6 +115,10 @@ TEST_CASE("a plan that is not one is refused in one line naming the field") {
       R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 177,
       "frame": 2, "doJumpId": 1, "params": [9, 1, 0, 0, 0, 0, 0]}]}})";
   CHECK(error_of(bad_jump).find("x.plan: mission.items: DO_JUMP (item 0) to doJumpId 9") == 0);
+  const std::string huge_id =  // found by fuzz_plan_file: the id was converted to long past its range
+      R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 16,
+      "frame": 3, "doJumpId": 1.8e158, "params": [0, 0, 0, 0, 47.01, 8, 50]}]}})";
+  CHECK(error_of(huge_id) == "x.plan: mission.items[0].doJumpId: expected a whole number >= 0, got 1.8e+158");
   const std::string far =
       R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 16,
       "frame": 3, "params": [0, 0, 0, 0, 1e300, 8, 50]}]}})";
