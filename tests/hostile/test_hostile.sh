@@ -104,6 +104,14 @@ refused jump_validate "$jump_text" "$tern" validate "$logs/jump" --aircraft "$re
 
 # ---- silently wrong, now refused -----------------------------------------------------------------
 refused inertia_triangle "bad_inertia.yaml: inertia.Jz:" "$tern" check "$configs/bad_inertia.yaml"
+# QGroundControl plans (--plan): /dev/zero, a link to it, a directory, a plan cut short mid-item
+ln -s /dev/zero "$work/zero.plan"
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+head -c 700 "$here/../data/qgc_plans/PX4SITL-ArduPlane.plan" > "$work/cut.plan"
+refused plan_dev_zero "--plan: /dev/zero: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan /dev/zero
+refused plan_link_to_zero "zero.plan: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/zero.plan"
+refused plan_directory "--plan: $work: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work"
+refused plan_cut_short "cut.plan: not JSON" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/cut.plan"
 refused inertia_triangle_sysid "bad_inertia.yaml: inertia.Jz:" "$tern" sysid "$logs/good" --aircraft "$work/bad_inertia.yaml" --out "$work/sysid"
 refused imu_without_gyro_z "imu.csv:1: no column 'gyro_z'" "$tern" replay "$logs/no_gyro_z" --log-dir "$work/replays"
 refused imu_column_twice "imu.csv:1: column 'gyro_x' twice in the header" "$tern" replay "$logs/gyro_x_twice" --log-dir "$work/replays"

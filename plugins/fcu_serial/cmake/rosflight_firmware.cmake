@@ -119,10 +119,13 @@ function(tern_fcu_serial_add_sil world_lib)
     file(CREATE_LINK "${eigen_dir}" "${shim}/eigen" SYMBOLIC)
     target_include_directories(tern_rosflight_firmware SYSTEM PRIVATE "${shim}")
   endif()
-  # The version string padded with NULs to the 50 characters of ROSFLIGHT_VERSION's field: the
-  # firmware's send_version hands the string to mavlink_msg_rosflight_version_pack, which copies
-  # all 50 bytes (a shorter literal is read past its end: AddressSanitizer's global-buffer-overflow
-  # in mav_array_memcpy under `make sanitize`).
+  # The version string padded with NULs to the 50 characters of ROSFLIGHT_VERSION's field. In the
+  # firmware (e8cf6a0f): src/comm_manager.cpp CommManager::command_callback (COMMAND_SEND_VERSION)
+  # calls comm_link_.send_version(sysid_, GIT_VERSION_STRING); src/mavlink_adapter.cpp
+  # MavlinkAdapter::send_version passes it to mavlink_msg_rosflight_version_pack
+  # (comms/mavlink/v1.0/rosflight/mavlink_msg_rosflight_version.h), whose mav_array_memcpy copies
+  # all 50 bytes: a shorter literal is read past its end (AddressSanitizer's global-buffer-overflow
+  # under `make sanitize`). tern-fcu-sil compiles that code unchanged; only the macro's value is ours.
   string(LENGTH "${TERN_RF_DESC}" desc_length)
   set(padded "${TERN_RF_DESC}")
   while(desc_length LESS 50)
