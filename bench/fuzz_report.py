@@ -6,7 +6,9 @@
 Each target runs N seconds (-max_total_time) on its corpus, BUILD/corpus/<target>, seeded from
 tests/fuzz/corpus/<target> when the repository has one, with tests/fuzz/dict/<target>.dict when
 there is one; at most 2 GB of memory and 10 s per input (a slower input is a hang: libFuzzer's
-timeout-* artifact). Its output goes to BUILD/fuzz_logs/<target>.log, what it finds to
+timeout-* artifact). The targets that read a file (loaders, archives, MCAP) write each input to
+TMPDIR first: it is set to a directory of /dev/shm where the machine has one (on disk, those
+targets spent most of their time waiting for the file system, not fuzzing). Its output goes to BUILD/fuzz_logs/<target>.log, what it finds to
 BUILD/fuzz_artifacts/<target>/ (crash-*, leak-*, timeout-*, oom-*: the input that did it).
 
 Per target, from libFuzzer's final lines (-print_final_stats=1): executions
@@ -22,6 +24,7 @@ import datetime
 import json
 import os
 import re
+import shutil
 import subprocess
 import sys
 import time
@@ -52,6 +55,14 @@ def corpus_size(directory):
     return len(files), sum(os.path.getsize(f) for f in files)
 
 
+def scratch_dir(build):
+    """TMPDIR for the targets: memory-backed where the machine has /dev/shm, else BUILD/fuzz_tmp."""
+    base = "/dev/shm" if os.access("/dev/shm", os.W_OK) else build
+    path = os.path.join(base, f"tern-fuzz-{os.getpid()}")
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
 def run_target(build, target, seconds):
     binary = os.path.join(build, "bin", target)
     if not os.path.exists(binary):
@@ -75,7 +86,8 @@ def run_target(build, target, seconds):
     print(f"fuzz: {target}, {seconds} s", flush=True)
     start = time.monotonic()
     with open(log_path, "w") as log:
-        proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=build)
+        env = dict(os.environ, TMPDIR=scratch_dir(build))
+        proc = subprocess.Popen(cmd, stdout=log, stderr=subprocess.STDOUT, cwd=build, env=env)
         _, status, usage = os.wait4(proc.pid, 0)
     wall = time.monotonic() - start
     exit_code = os.waitstatus_to_exitcode(status)
@@ -131,6 +143,7 @@ def main():
         runs = {t: pool.submit(run_target, build, t, a.seconds) for t in a.targets}
         for t in a.targets:
             results[t] = dict(runs[t].result(), commit=commit, date=now, seconds=a.seconds)
+    shutil.rmtree(scratch_dir(build), ignore_errors=True)
     clang = subprocess.run(["clang++", "--version"], capture_output=True, text=True).stdout.splitlines()
     report = {
         "date": now,

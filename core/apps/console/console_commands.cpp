@@ -55,7 +55,7 @@ json param_catalogue(const Host& host) {
     json e = {{"name", name},
               {"instance", name.substr(0, name.find('.'))},
               {"kind", param_kind_name(p->kind())},
-              {"value", to_json(p->value())},
+              {"value", to_json(host.param_value(*p))},
               {"default", to_json(p->default_value())},
               {"unit", s.unit},
               {"choices", s.choices},

@@ -214,8 +214,8 @@ struct GcsVehicle::Impl {
   /// second after it was asked in flight (another client may have changed the parameter since).
   tern::ParamValue current(const std::string& qualified, const ParamBase& p) {
     const auto it = pending.find(qualified);
-    if (it == pending.end()) return p.value();
-    tern::ParamValue now = p.value();
+    if (it == pending.end()) return host.param_value(p);
+    tern::ParamValue now = host.param_value(p);
     if (now == it->second.first || (host.flying() && Clock::now() - it->second.second > std::chrono::seconds(1))) {
       pending.erase(it);
       return now;

@@ -169,7 +169,7 @@ void PythonHost::write(const std::string& topic, const py::dict& fields) {
 
 py::object PythonHost::get_param(const std::string& name) const {
   for (const auto& [qualified, p] : host_->parameters())
-    if (qualified == name) return tern::python::param_object(p->value());
+    if (qualified == name) return tern::python::param_object(host_->param_value(*p));
   throw ConfigError(
       fmt::format("Host.get_param: no parameter '{}' in mission '{}' (tern params CONFIG lists them)", name, host_->config().name));
 }

@@ -135,6 +135,9 @@ class Host {
   std::string graph_dot() const;
   /// Every parameter: "instance.name" -> ParamBase.
   std::vector<std::pair<std::string, const ParamBase*>> parameters() const;
+  /// A parameter's value (one of parameters()), read from any thread: a request_param() is applied
+  /// under the same lock. Readers off the flight thread (ground station, DDS bridge, console) use it.
+  ParamValue param_value(const ParamBase& param) const { return remote_.value_of(param); }
   /// Where each parameter set by something other than its default got its value: the request
   /// applied last (its source: "python", "console", "dds", "mavlink"), else the config's
   /// "file:line" or the command-line option (ParamSetting::source()). For params.csv.

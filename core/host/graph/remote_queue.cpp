@@ -72,12 +72,22 @@ void RemoteQueue::keep_mission_edit_output(bool taken) {
   if (!taken) mission_edit_out_.reset();
 }
 
+void RemoteQueue::set_value(const ParamRequest& rq) {
+  std::lock_guard lk(values_mu_);
+  rq.param->set(rq.value);
+}
+
+ParamValue RemoteQueue::value_of(const ParamBase& param) const {
+  std::lock_guard lk(values_mu_);
+  return param.value();
+}
+
 void RemoteQueue::apply_start_only(const ParamRecorder& record, spdlog::logger& log) {
   std::lock_guard lk(mu_);
   const auto first = std::stable_partition(params_.begin(), params_.end(), [](const ParamRequest& rq) { return rq.param->spec().live; });
   for (auto rq = first; rq != params_.end(); ++rq) {
     try {
-      rq->param->set(rq->value);
+      set_value(*rq);
       record(0, rq->name, *rq->param, rq->source);
       log.info("{} = {} ({}, before the start)", rq->name, to_string(rq->param->value()), rq->source);
     } catch (const std::exception& e) {
@@ -120,7 +130,7 @@ void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& 
   }
   for (auto& rq : params) {
     try {
-      rq.param->set(rq.value);
+      set_value(rq);
       record(now, rq.name, *rq.param, rq.source);
       log.info("t={:.3f} s: {} = {} ({})", to_seconds(now), rq.name, to_string(rq.param->value()), rq.source);
     } catch (const std::exception& e) {

@@ -82,6 +82,11 @@ class RemoteQueue {
   /// between flights), recorded at t = 0; the live ones stay queued for the first tick.
   void apply_start_only(const ParamRecorder& record, spdlog::logger& log);
 
+  /// `param`'s value, read from any thread (a ground station's or the DDS bridge's): apply() and
+  /// apply_start_only() change values under the same lock. The flight thread, which is the only
+  /// writer, reads its parameters directly.
+  ParamValue value_of(const ParamBase& param) const;
+
  private:
   struct ParamRequest {
     ParamBase* param;
@@ -89,7 +94,10 @@ class RemoteQueue {
     ParamValue value;
     std::string source;
   };
+  /// Sets one queued change under values_mu_ (throws what the parameter's set() throws).
+  void set_value(const ParamRequest& rq);
   mutable std::mutex mu_;
+  mutable std::mutex values_mu_;  // held while a queued change is set, and by value_of()
   std::vector<ParamRequest> params_;      // under mu_
   std::vector<msg::MissionEdit> edits_;   // under mu_
   std::optional<msg::Rc> pilot_;          // under mu_
