@@ -8,7 +8,10 @@
 // the plan's), then uploads the plan's items as MISSION_ITEM_INTs (params as QGroundControl writes
 // them, null as NaN; degrees as degE7): every item accepted (a NAV_LOITER_TO_ALT, a DO_CHANGE_SPEED
 // of ground speed, a loiter whose altitude is NaN, a terrain-frame waypoint among them), read back
-// equal, HOME_POSITION at the plan's planned home, and MISSION_CURRENT following the upload.
+// equal, HOME_POSITION at the plan's planned home, and MISSION_CURRENT following the upload. Then a
+// mission with DO_SET_HOME (where the aircraft is, and a location given) before its
+// RETURN_TO_LAUNCH: accepted and read back equal; a DO_SET_HOME whose param1 is 2 refused with
+// INVALID_PARAM1 and a STATUSTEXT naming the item.
 // Exit 0 when all hold; 1 with one line per failure.
 import fs from 'node:fs'
 import path from 'node:path'
@@ -50,6 +53,20 @@ try {
   check(diff.length === 0, `read back equal${diff.length ? ': ' + diff.join('; ') : ''}`)
   const current = await gcs.next('MISSION_CURRENT', (m) => m.seq >= 1, 60000)
   check(current.total === items.length, `MISSION_CURRENT follows the upload: item ${current.seq} of ${current.total}`)
+  const [lat, lon] = [lat0 + 0.004, lon0]
+  const Rel = common.MavFrame.GLOBAL_RELATIVE_ALT_INT
+  const rehome = [item(0, Cmd.NAV_WAYPOINT, Rel, lat, lon, 80), item(1, Cmd.DO_SET_HOME, common.MavFrame.MISSION, 0, 0, 0, [1, 0, 0, 0]),
+    item(2, Cmd.NAV_WAYPOINT, Rel, lat, lon + 0.004, 60), item(3, Cmd.DO_SET_HOME, Rel, lat0, lon0 + 0.004, 0, [0, 0, 0, NaN]),
+    item(4, Cmd.NAV_RETURN_TO_LAUNCH, Rel, 0, 0, 0)]
+  const rehomed = await upload(rehome)
+  check(rehomed.type === R.ACCEPTED, `DO_SET_HOME (current, and a location) before RTL accepted (${rehomed.type}; ${gcs.texts.slice(-1)})`)
+  const rediff = differences(rehome, await download())
+  check(rediff.length === 0, `DO_SET_HOME's mission read back equal${rediff.length ? ': ' + rediff.join('; ') : ''}`)
+  rehome[1].param1 = 2
+  const refused = await upload(rehome)
+  const said = gcs.texts.slice(-4).join('') // STATUSTEXT carries 50 characters a message
+  check(refused.type === R.INVALID_PARAM1 && said.includes('mission item 1 (DO_SET_HOME)'),
+    `DO_SET_HOME with param1 2 refused INVALID_PARAM1 (${refused.type}) naming the item (${said})`)
 } catch (e) {
   failures.push(e.message)
   console.log(`FAIL ${e.message}`)

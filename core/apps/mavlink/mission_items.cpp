@@ -17,13 +17,15 @@ std::string num(double v) { return item_number(v); }
 
 [[noreturn]] void refuse(const MissionItemInt& it, std::uint8_t result, const std::string& why) { refuse_item(it, result, why); }
 
-/// NED of the item's position; x = y = 0 (no position given): above home at z. z NaN (the
-/// altitude of the item before, to_mission fills it in): down NaN.
-Eigen::Vector3d ned_of(const MissionItemInt& it, const GeoOrigin& home) {
+/// NED of the item's position, about the origin; x = y = 0 (no position given): above `home` (NED,
+/// where DO_SET_HOME put it) at z. A relative z is above home's altitude. z NaN (the altitude of the
+/// item before, to_mission fills it in): down NaN.
+Eigen::Vector3d ned_of(const MissionItemInt& it, const GeoOrigin& origin, const Eigen::Vector3d& home) {
   const bool keep = std::isnan(it.z);
-  const double alt = keep ? home.origin().alt : relative(it.frame) ? home.origin().alt + it.z : it.z;
-  Eigen::Vector3d p(0.0, 0.0, home.origin().alt - alt);
-  if (it.x != 0 || it.y != 0) p = home.to_ned(it.x / kE7, it.y / kE7, alt);
+  const double home_alt = origin.origin().alt - home.z();
+  const double alt = keep ? home_alt : relative(it.frame) ? home_alt + it.z : it.z;
+  Eigen::Vector3d p(home.x(), home.y(), origin.origin().alt - alt);
+  if (it.x != 0 || it.y != 0) p = origin.to_ned(it.x / kE7, it.y / kE7, alt);
   if (keep) p.z() = std::nan("");
   return p;
 }
@@ -41,7 +43,8 @@ path::LoiterSpec loiter_of(const MissionItemInt& it) {
   return l;
 }
 
-path::MissionWaypoint waypoint_of(const MissionItemInt& it, const GeoOrigin& home, double Va_d, double Vg_min) {
+path::MissionWaypoint waypoint_of(const MissionItemInt& it, const GeoOrigin& origin, const Eigen::Vector3d& home, double Va_d,
+                                  double Vg_min) {
   path::MissionWaypoint w;
   w.Va_d = Va_d;
   w.Vg_min = Vg_min;
@@ -54,9 +57,9 @@ path::MissionWaypoint waypoint_of(const MissionItemInt& it, const GeoOrigin& hom
       w.type = path::ItemType::loiter;
       w.loiter = loiter_of(it);
       break;
-    case MAV_CMD_NAV_RETURN_TO_LAUNCH:
-      w.type = path::ItemType::return_home;
-      w.w = Eigen::Vector3d(0.0, 0.0, std::nan(""));  // the altitude of the item before (mission.hpp)
+    case MAV_CMD_NAV_RETURN_TO_LAUNCH:  // at the altitude of the item before (mission.hpp)
+      w.w = Eigen::Vector3d(home.x(), home.y(), std::nan(""));
+      w.type = home.head<2>().isZero() ? path::ItemType::return_home : path::ItemType::loiter;  // a home moved: loiter there
       return w;
     case MAV_CMD_NAV_LAND:
       w.type = path::ItemType::land;
@@ -64,8 +67,16 @@ path::MissionWaypoint waypoint_of(const MissionItemInt& it, const GeoOrigin& hom
       break;
     default: break;  // NAV_WAYPOINT, NAV_TAKEOFF
   }
-  w.w = ned_of(it, home);
+  w.w = ned_of(it, origin, home);
   return w;
+}
+
+/// The home a DO_SET_HOME moves to (NED about the origin): param1 1, where the aircraft is when the
+/// mission reaches it (the nav item flown before it; none yet: still on the ground at home, no
+/// change); param1 0, the location it gives (a relative altitude is above the current home's).
+Eigen::Vector3d home_of(const MissionItemInt& it, const GeoOrigin& origin, const Eigen::Vector3d& home, const path::Mission& m) {
+  if (it.param1 == 1.0f) return m.waypoints.empty() ? home : m.waypoints.back().w;
+  return ned_of(it, origin, home);
 }
 
 MissionItemInt item(std::uint16_t command, std::uint8_t frame) {
@@ -168,6 +179,7 @@ std::string command_name(std::uint16_t c) {
     case MAV_CMD_DO_CHANGE_SPEED: return "DO_CHANGE_SPEED";
     case MAV_CMD_DO_LAND_START: return "DO_LAND_START";
     case MAV_CMD_DO_JUMP: return "DO_JUMP";
+    case MAV_CMD_DO_SET_HOME: return "DO_SET_HOME";
     case MAV_CMD_NAV_FENCE_RETURN_POINT: return "NAV_FENCE_RETURN_POINT";
     case MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION: return "NAV_FENCE_POLYGON_VERTEX_INCLUSION";
     case MAV_CMD_NAV_FENCE_POLYGON_VERTEX_EXCLUSION: return "NAV_FENCE_POLYGON_VERTEX_EXCLUSION";
@@ -187,6 +199,15 @@ void check_item(const MissionItemInt& it) {
     return;
   }
   if (it.command == MAV_CMD_DO_LAND_START) return;
+  if (it.command == MAV_CMD_DO_SET_HOME) {
+    if (it.param1 != 0.0f && it.param1 != 1.0f)
+      refuse(it, MAV_MISSION_INVALID_PARAM1, "use current " + num(it.param1) + ": 1 (where the aircraft is) or 0 (the location given)");
+    if (it.param1 == 1.0f) return;
+    check_position(it);
+    if (it.x == 0 && it.y == 0) refuse(it, MAV_MISSION_INVALID_PARAM5_X, "the location given (param1 0) has no latitude and longitude");
+    if (!std::isfinite(it.z)) refuse(it, MAV_MISSION_INVALID_PARAM7, "altitude " + num(it.z) + ": not a number");
+    return;
+  }
   if (it.command == MAV_CMD_DO_JUMP) {
     if (!(it.param1 >= 0.0f && it.param1 < 65536.0f && std::floor(it.param1) == it.param1))
       refuse(it, MAV_MISSION_INVALID_PARAM1, "jump to " + num(it.param1) + ": an item's seq (a whole number >= 0)");
@@ -262,8 +283,9 @@ void take_from_before(path::MissionWaypoint& w, const MissionItemInt& it, const 
 
 }  // namespace
 
-path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& home, std::vector<std::uint16_t>* nav_seq) {
+path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& origin, std::vector<std::uint16_t>* nav_seq) {
   path::Mission m;
+  Eigen::Vector3d home = Eigen::Vector3d::Zero();  // NED about the origin; DO_SET_HOME moves it
   m.loop = false;
   m.source = "MAVLink upload";
   Speeds speeds;
@@ -286,8 +308,9 @@ path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrig
       continue;
     }
     if (it.command == MAV_CMD_DO_CHANGE_SPEED) speeds.apply(it);
-    if (!is_nav_item(it.command)) continue;  // DO_CHANGE_SPEED; DO_LAND_START: a marker
-    path::MissionWaypoint w = waypoint_of(it, home, speeds.Va_d, speeds.Vg_min);
+    if (it.command == MAV_CMD_DO_SET_HOME) home = home_of(it, origin, home, m);
+    if (!is_nav_item(it.command)) continue;  // DO_CHANGE_SPEED, DO_SET_HOME; DO_LAND_START: a marker
+    path::MissionWaypoint w = waypoint_of(it, origin, home, speeds.Va_d, speeds.Vg_min);
     take_from_before(w, it, m);
     if (m.waypoints.size() == kMaxFlownWaypoints)
       refuse(it, MAV_MISSION_NO_SPACE, "its DO_JUMPs unroll the mission past " + std::to_string(kMaxFlownWaypoints) + " waypoints");

@@ -27,6 +27,15 @@
 //                            (-2: none). param3 (throttle) is not flown.
 //   DO_LAND_START (189)      a marker (where a landing sequence begins, as QGroundControl's landing
 //                            pattern sends it): no waypoint; MAV_CMD_DO_LAND_START flies the land item.
+//   DO_SET_HOME (179)        moves home, for the items after it (as ArduPlane and PX4 fly it: home is
+//                            where the aircraft returns and lands): param1 1, to where the aircraft
+//                            is when the mission reaches it (the nav item before it; none: no
+//                            change), param1 0, to the location it gives (frames as nav items,
+//                            latitude and longitude required). After it NAV_RETURN_TO_LAUNCH is a
+//                            LOITER_UNLIM over the new home, an item at x = y = 0 (takeoff, land)
+//                            is at the new home, and a relative altitude is above the new home's.
+//                            The frame's origin (the estimate's) does not move; nor do the failsafes'
+//                            returns, which go to the origin or a rally point. param2-4 not used.
 //   DO_JUMP (177)            param1: the item (seq) to go on from, param2: how many times (the jump
 //                            is taken that many times, then the mission goes on past it; counts are
 //                            never reset, as PX4 and ArduPilot count them). The upload is unrolled
@@ -39,7 +48,7 @@
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; GLOBAL_TERRAIN_ALT (10) / _INT (11): z m above the
 // terrain, flown as above home (tern has no terrain model: flat ground at home's altitude, as the
 // simulator's world; the upload says so in a STATUSTEXT); x, y degE7 (in MISSION_ITEM_INT every
-// global frame carries degE7). DO_CHANGE_SPEED and DO_LAND_START take any frame (QGroundControl sends MISSION, 2).
+// global frame carries degE7). DO_CHANGE_SPEED, DO_LAND_START and DO_SET_HOME with param1 1 take any frame (QGroundControl sends MISSION, 2).
 // An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission, unless a
 // final DO_JUMP for ever loops it.
 //
@@ -90,7 +99,7 @@ std::string item_number(double v);
 /// latitude and longitude ranges. Throws ItemError.
 void check_position(const MissionItemInt& item);
 
-/// A nav item: one that becomes a waypoint (not DO_CHANGE_SPEED or DO_LAND_START).
+/// A nav item: one that becomes a waypoint (not DO_CHANGE_SPEED, DO_SET_HOME, DO_LAND_START or DO_JUMP).
 bool is_nav_item(std::uint16_t command);
 
 /// Checks one item as it arrives (command, frame, parameters, position ranges). Throws ItemError.
@@ -99,7 +108,8 @@ void check_item(const MissionItemInt& item);
 /// The most waypoints an upload may unroll into through its DO_JUMPs.
 inline constexpr std::size_t kMaxFlownWaypoints = 1000;
 
-/// The tern mission of a whole upload (items in seq order, each passing check_item), about `home`.
+/// The tern mission of a whole upload (items in seq order, each passing check_item), NED about
+/// `home`, the estimate's origin (which a DO_SET_HOME item does not move).
 /// `nav_seq` (optional) receives the seq of the item each waypoint came from. Throws ItemError.
 path::Mission to_mission(const std::vector<MissionItemInt>& items, const GeoOrigin& home, std::vector<std::uint16_t>* nav_seq = nullptr);
 

@@ -139,6 +139,7 @@ TEST_CASE("the enum values of the mission and commands are common.xml's (enums_m
       {"MAV_PROTOCOL_CAPABILITY_MISSION_RALLY", MAV_PROTOCOL_CAPABILITY_MISSION_RALLY},
       {"MAV_CMD_DO_LAND_START", MAV_CMD_DO_LAND_START},
       {"MAV_CMD_DO_REPOSITION", MAV_CMD_DO_REPOSITION},
+      {"MAV_CMD_DO_SET_HOME", MAV_CMD_DO_SET_HOME},
       {"MAV_CMD_DO_SET_MODE", MAV_CMD_DO_SET_MODE},
       {"MAV_CMD_MISSION_START", MAV_CMD_MISSION_START},
       {"MAV_CMD_NAV_LAND", MAV_CMD_NAV_LAND},
@@ -373,6 +374,60 @@ TEST_CASE("an item tern cannot fly is refused with the result a GCS shows and th
   MissionItemInt land = at(0, MAV_CMD_NAV_LAND, 0, 0, 0);
   land.param4 = NAN;
   CHECK_THROWS_AS(to_mission({land}, GeoOrigin(kHome)), ItemError);
+  // DO_SET_HOME: param1 a MAV_BOOL; the location given needs a latitude, a longitude and an altitude
+  MissionItemInt set_home = at(4, MAV_CMD_DO_SET_HOME, 0, 0, 0);
+  set_home.param1 = 2.0f;
+  CHECK(refused(set_home).first == MAV_MISSION_INVALID_PARAM1);
+  set_home.param1 = 1.0f;
+  set_home.frame = MAV_FRAME_MISSION;
+  CHECK(refused(set_home).first == -1);  // where the aircraft is: no location, any frame
+  set_home.param1 = 0.0f;
+  CHECK(refused(set_home).first == MAV_MISSION_UNSUPPORTED_FRAME);
+  set_home.frame = MAV_FRAME_GLOBAL_RELATIVE_ALT_INT;
+  set_home.x = set_home.y = 0;
+  r = refused(set_home);
+  CHECK(r.first == MAV_MISSION_INVALID_PARAM5_X);
+  CHECK(r.second == "mission item 4 (DO_SET_HOME): the location given (param1 0) has no latitude and longitude");
+  set_home = at(4, MAV_CMD_DO_SET_HOME, 100, 100, 0);
+  set_home.param1 = 0.0f;
+  set_home.z = NAN;
+  CHECK(refused(set_home).first == MAV_MISSION_INVALID_PARAM7);
+}
+
+TEST_CASE("DO_SET_HOME moves the home the items after it return to, land at and climb above") {
+  const GeoOrigin origin(kHome);
+  MissionItemInt here = at(2, MAV_CMD_DO_SET_HOME, 0, 0, 0);
+  here.frame = MAV_FRAME_MISSION;
+  here.param1 = 1.0f;  // where the aircraft is: at item 1
+  const std::vector<MissionItemInt> items = {at(0, MAV_CMD_NAV_TAKEOFF, 0, 0, 40), at(1, MAV_CMD_NAV_WAYPOINT, 500, 0, 60), here,
+                                             at(3, MAV_CMD_NAV_WAYPOINT, 500, 300, 20), at(4, MAV_CMD_NAV_RETURN_TO_LAUNCH, 0, 0, 0)};
+  const path::Mission m = to_mission(items, origin);
+  REQUIRE(m.waypoints.size() == 4);
+  const Eigen::Vector3d home = m.waypoints[1].w;  // item 1's position, 60 m up
+  CHECK(m.waypoints[2].w.z() == doctest::Approx(home.z() - 20.0).epsilon(1e-3));  // 20 m above the new home (the curvature at 300 m)
+  CHECK(m.waypoints[3].type == path::ItemType::loiter);                          // RTL: over the new home, until the mission changes
+  CHECK(m.waypoints[3].loiter.time == 0.0);
+  CHECK(m.waypoints[3].loiter.turns == 0.0);
+  CHECK(m.waypoints[3].w.head<2>().isApprox(home.head<2>()));
+  CHECK(m.waypoints[3].w.z() == m.waypoints[2].w.z());  // at the altitude of the item before, as any RTL
+  // a given location (GLOBAL_RELATIVE_ALT: above the current home); a land item at x = y = 0 lands there
+  MissionItemInt there = at(1, MAV_CMD_DO_SET_HOME, 0, 800, 0);
+  there.param1 = 0.0f;
+  MissionItemInt land_home = at(2, MAV_CMD_NAV_LAND, 0, 0, 0);
+  land_home.x = land_home.y = 0;  // no position: at home
+  land_home.param4 = NAN;         // the course from the item before
+  const path::Mission l = to_mission({at(0, MAV_CMD_NAV_WAYPOINT, 0, 400, 50), there, land_home}, origin);
+  REQUIRE(l.waypoints.size() == 2);
+  CHECK(l.waypoints[1].w.y() == doctest::Approx(800.0).epsilon(1e-4));
+  CHECK(std::fabs(l.waypoints[1].w.x()) < 0.01);
+  CHECK(l.waypoints[1].chi_d == doctest::Approx(tern::kPi / 2));  // the course from item 0 to the new home
+  // before any nav item "here" is the ground at home: no change; the frame's origin never moves
+  here.seq = 0;
+  const path::Mission first =
+      to_mission({here, at(1, MAV_CMD_NAV_WAYPOINT, 300, 0, 50), at(2, MAV_CMD_NAV_RETURN_TO_LAUNCH, 0, 0, 0)}, origin);
+  REQUIRE(first.waypoints.size() == 2);
+  CHECK(first.waypoints[1].type == path::ItemType::return_home);
+  CHECK(first.waypoints[0].w.z() == doctest::Approx(-50.0).epsilon(1e-3));
 }
 
 TEST_CASE("DO_JUMP: the upload unrolled into the waypoints it flies, as PX4 and ArduPilot count jumps") {
