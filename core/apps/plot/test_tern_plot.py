@@ -273,13 +273,11 @@ class TernPlotRuns(unittest.TestCase):
         self.assertEqual(out[-1], f"plots: {plots}/")
         self.assertNotIn("note:", r.stdout)   # every topic present, waypoints readable
         self.assertEqual(r.stderr, "")
+        # a run without tune tables or a land item: no tune.png, no landing.png, and no note about either
+        self.assertFalse(os.path.exists(os.path.join(plots, "tune.png")))
+        self.assertFalse(os.path.exists(os.path.join(plots, "landing.png")))
 
-    def test_a_tune_run_gets_tune_png_and_a_plain_run_none(self):
-        plain = os.path.join(self.tmp, "plain")
-        write_run(plain)
-        r = run_plot("--strict", plain)
-        self.assertEqual(r.returncode, 0, r.stderr)
-        self.assertFalse(os.path.exists(os.path.join(plain, "plots", "tune.png")))
+    def test_a_tune_run_gets_tune_png(self):   # a plain run gets none: test_full_run_writes_every_figure_and_lists_them
         run = os.path.join(self.tmp, "tune")
         write_run(run)
         t = [40.0 + 0.01 * k for k in range(600)]
@@ -323,11 +321,7 @@ class TernPlotRuns(unittest.TestCase):
             self.assertIn('<img src="landing.png"', f.read())
 
     def test_no_landing_figure_without_a_land_item_or_an_approach(self):
-        plain = os.path.join(self.tmp, "plain")
-        write_run(plain)
-        r = run_plot("--strict", plain)   # no land item: nothing to say, no note
-        self.assertEqual(r.returncode, 0, r.stderr)
-        self.assertFalse(os.path.exists(os.path.join(plain, "plots", "landing.png")))
+        # a plain run (no land item: nothing to say, no note): test_full_run_writes_every_figure_and_lists_them
         run = os.path.join(self.tmp, "no_land_item")
         write_landing_run(run, land_item=False, approached=False)
         r = run_plot(run)
