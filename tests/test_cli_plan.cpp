@@ -1,6 +1,7 @@
 // Issue 79 item 5: QGroundControl's .plan files. QGroundControl's own fixed-wing test plan flies in
 // simulation unchanged (`tern fly --plan`) to its landing; a config's mission is written as a plan
-// (`tern export plan`) that reads back (`tern check --plan`); a bad plan is one line naming the field.
+// (`tern export plan`) that reads back (`tern check --plan`); a bad plan is one line naming the field;
+// a run's plan (`tern export plan RUN`) is the mission as its log says it flew.
 #include <doctest/doctest.h>
 
 #include <nlohmann/json.hpp>
@@ -71,4 +72,29 @@ TEST_CASE("a config's mission written as a plan reads back; a bad plan is one li
   std::tie(rc, out) = run_cli({"check", kDefault, "--plan", refused.string()});
   CHECK(rc == 1);
   CHECK(out.find("mission item 1 (MAV_CMD 183): not a mission item tern flies") != std::string::npos);
+}
+
+TEST_CASE("a run's plan is the mission as it flew, read from its MCAP log; without a list, the config's") {
+  const fs::path logs = test_dir() / "export_runs";
+  fs::remove_all(logs);
+  auto [rc, out] = run_cli({"fly", kDefault, "--duration", "20", "--log-format", "mcap", "-q", "--log-dir", logs.string()});
+  REQUIRE(rc == 0);
+  fs::path run;
+  for (const auto& e : fs::directory_iterator(logs)) run = e.path();
+  REQUIRE(fs::exists(run / "flight.mcap"));
+  REQUIRE_FALSE(fs::exists(run / "topics"));
+  const fs::path flown = test_dir() / "flown.plan", configured = test_dir() / "configured.plan";
+  fs::remove(flown), fs::remove(configured);
+  std::tie(rc, out) = run_cli({"export", "plan", run.string(), flown.string()});
+  INFO(out);
+  REQUIRE(rc == 0);
+  CHECK(out.find("the mission as flown (its last waypoint list, revision 1") != std::string::npos);
+  REQUIRE(run_cli({"export", "plan", kDefault, configured.string()}).first == 0);
+  CHECK(read_file(flown) == read_file(configured));  // nothing changed it in flight: the config's, loops and all
+  fs::remove(run / "flight.mcap");
+  fs::remove(flown);
+  std::tie(rc, out) = run_cli({"export", "plan", run.string(), flown.string()});
+  CHECK(rc == 0);
+  CHECK(out.find("the log has no waypoint list: the config's mission") != std::string::npos);
+  CHECK(read_file(flown) == read_file(configured));
 }

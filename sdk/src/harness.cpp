@@ -27,7 +27,7 @@ std::optional<ParamValue> Harness::configured_value(const std::string& param, co
   if (it == params_.end()) return std::nullopt;
   if (spec.is_path && std::holds_alternative<std::string>(it->second) && !options_.config_dir.empty()) {
     std::filesystem::path p(std::get<std::string>(it->second));
-    if (p.is_relative()) return ParamValue((options_.config_dir / p).lexically_normal().string());
+    if (!p.empty() && p.is_relative()) return ParamValue((options_.config_dir / p).lexically_normal().string());  // "": none
   }
   return it->second;
 }

@@ -11,8 +11,11 @@
 // equal, HOME_POSITION at the plan's planned home, and MISSION_CURRENT following the upload. Then a
 // mission with DO_SET_HOME (where the aircraft is, and a location given) before its
 // RETURN_TO_LAUNCH: accepted and read back equal; a DO_SET_HOME whose param1 is 2 refused with
-// INVALID_PARAM1 and a STATUSTEXT naming the item.
+// INVALID_PARAM1 and a STATUSTEXT naming the item. After the flight, `tern export plan RUN` writes
+// the mission as flown, the last upload's: its two waypoints and the return as a loiter over the
+// home its second DO_SET_HOME gave.
 // Exit 0 when all hold; 1 with one line per failure.
+import { spawnSync } from 'node:child_process'
 import fs from 'node:fs'
 import path from 'node:path'
 import { common } from 'node-mavlink'
@@ -67,10 +70,29 @@ try {
   const said = gcs.texts.slice(-4).join('') // STATUSTEXT carries 50 characters a message
   check(refused.type === R.INVALID_PARAM1 && said.includes('mission item 1 (DO_SET_HOME)'),
     `DO_SET_HOME with param1 2 refused INVALID_PARAM1 (${refused.type}) naming the item (${said})`)
+  // the upload flown a while before the flight ends (MISSION_CURRENT comes at 1 Hz; the planner lists it at its next step)
+  let flying = null
+  for (let k = 0; k < 2; k++) flying = await gcs.next('MISSION_CURRENT', (m) => m.total === rehome.length, 10000)
+  check(flying.total === rehome.length, `the refused upload left the DO_SET_HOME mission flown (${flying.total} items)`)
 } catch (e) {
   failures.push(e.message)
   console.log(`FAIL ${e.message}`)
 }
 
 await flight.finish(check)
+try {
+  const run = path.join(flight.logDir, fs.readdirSync(flight.logDir).sort().at(-1)) // this flight's: the newest
+  const out = path.join(work, 'flown.plan')
+  fs.rmSync(out, { force: true })
+  const exported = spawnSync(tern, ['export', 'plan', run, out], { encoding: 'utf8' })
+  check(exported.status === 0, `tern export plan RUN (${exported.status}): ${exported.stdout.trim()} ${exported.stderr.trim()}`)
+  const nav = JSON.parse(fs.readFileSync(out, 'utf8')).mission.items.filter((i) => i.command < 100)
+  check(nav.map((i) => i.command).join() === '16,16,17', `the plan as flown: nav items ${nav.map((i) => i.command).join()} (16,16,17)`)
+  const [, , lat, lon] = [0, 0, ...nav[2].params.slice(4, 6)]
+  const off = Math.hypot(lat - plan.mission.plannedHomePosition[0], (lon - plan.mission.plannedHomePosition[1] - 0.004) * Math.cos(lat * Math.PI / 180)) * 111320
+  check(off < 1, `its return loiters over the home DO_SET_HOME gave (${off.toFixed(2)} m off)`)
+} catch (e) {
+  failures.push(e.message)
+  console.log(`FAIL ${e.message}`)
+}
 process.exit(report(failures, gcs))

@@ -17,6 +17,7 @@
 #include "commands/host_preparation.hpp"
 #include "config/error.hpp"
 #include "commands/plan_export.hpp"
+#include "export/flown_mission.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
 #include "mcap/mcap_recover.hpp"
@@ -61,11 +62,17 @@ int run_recover(const ExportOptions& o) {
 /// The config's mission as a QGroundControl plan (plan_export.hpp); nothing is overwritten.
 int run_plan(const ExportOptions& o) {
   if (fs::exists(o.out)) return fail(fmt::format("export plan: {} exists; nothing was overwritten", o.out));
-  const std::string text = plan_of(*describing_host(o.run, HostPreparation{}));
+  // a run directory: the mission as it flew (its log's last waypoint list), about its config's home
+  const bool run_dir = fs::is_directory(o.run);
+  const std::string config = run_dir ? (fs::path(o.run) / "config.yaml").string() : o.run;
+  const std::optional<msg::WaypointList> flown = run_dir ? last_waypoint_list(o.run) : std::nullopt;
+  if (run_dir && !flown) fmt::print("{}: the log has no waypoint list: the config's mission\n", o.run);
+  const std::string text = plan_of(*describing_host(config, HostPreparation{}), flown ? &*flown : nullptr);
   std::ofstream out(o.out, std::ios::binary);
   out << text;
   out.close();
   if (!out) return fail(fmt::format("export plan: {}: cannot be written", o.out));
+  if (flown) fmt::print("{}: the mission as flown (its last waypoint list, revision {}, t = {:.1f} s)\n", o.run, flown->revision, to_seconds(flown->stamp));
   fmt::print("{} -> {}\n", o.run, o.out);
   return 0;
 }
@@ -96,8 +103,9 @@ Command add_export_command(CLI::App& app) {
   o->recover->add_option("--out", o->out, "file to write (default RUN/flight.recovered.mcap)");
   o->recover->add_option("--chunk-size", o->chunk_size, "bytes of messages per chunk (default: the log's, 1 MiB)")
       ->check(CLI::Range(1024, 1 << 30));
-  o->plan = c->add_subcommand("plan", "write a mission config's mission, geofence and rally points as a QGroundControl plan");
-  o->plan->add_option("config", o->run, "mission config, or a run directory's config.yaml")->required();
+  o->plan = c->add_subcommand("plan",
+                              "write a mission config's mission (a run's: as it flew), geofence and rally points as a QGroundControl plan");
+  o->plan->add_option("config", o->run, "mission config, or a run directory (the mission as its log says it flew)")->required();
   o->plan->add_option("out", o->out, "the .plan file to write")->required();
   return {c, [o] { return run_export(*o); }};
 }

@@ -9,23 +9,31 @@
 #include "mavlink/plan_file.hpp"
 
 namespace tern::core {
+namespace {
 
-std::string plan_of(const Host& host) {
-  const std::string config = host.config().file.string();
-  const std::optional<GeoPoint> origin = world_origin(host);
-  if (!origin) throw ConfigError(config + ": no sim_aero instance: a plan needs the home its items are placed about");
+/// The items of the mission the config's path planner flies.
+std::vector<mavlink::MissionItemInt> config_items(const Host& host, const GeoOrigin& home) {
   std::optional<path::Mission> m;
   try {
     m = planned_mission(host);
   } catch (const path::MissionError& e) {
     throw ConfigError(e.what());
   }
-  if (!m) throw ConfigError(config + ": no path_planner mission to write");
+  if (!m) throw ConfigError(host.config().file.string() + ": no path_planner mission to write");
+  m->waypoints = path::resolve_to_ned(m->waypoints, home.origin());
+  return mavlink::to_items(*m, home);
+}
+
+}  // namespace
+
+std::string plan_of(const Host& host, const msg::WaypointList* flown) {
+  const std::string config = host.config().file.string();
+  const std::optional<GeoPoint> origin = world_origin(host);
+  if (!origin) throw ConfigError(config + ": no sim_aero instance: a plan needs the home its items are placed about");
   const GeoOrigin home(*origin);
-  m->waypoints = path::resolve_to_ned(m->waypoints, *origin);
   mavlink::Plan plan;
   plan.home = *origin;
-  plan.mission = mavlink::to_items(*m, home);
+  plan.mission = flown ? mavlink::to_items(mavlink::to_mission(*flown), home) : config_items(host, home);  // loops kept: DO_JUMP
   const FailsafeConfig& f = host.config().failsafes;
   plan.fence = mavlink::fence_items(f.geofence.zones, home);
   plan.rally = mavlink::rally_items(f.rally, home);

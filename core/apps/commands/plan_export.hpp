@@ -4,6 +4,8 @@
 
 #include <string>
 
+#include "tern/msg/path.hpp"
+
 namespace tern::core {
 
 class Host;
@@ -12,7 +14,9 @@ class Host;
 /// first path_planner's mission as MISSION items (mission_items.hpp to_items: its loops as
 /// DO_JUMP), home at the simulator's origin, the failsafes' geofence zones and rally points, the
 /// path manager's default_airspeed as cruiseSpeed. Throws ConfigError (no simulator: no home to
-/// place the items about; no mission; a mission that cannot be read).
-std::string plan_of(const Host& host);
+/// place the items about; no mission; a mission that cannot be read). With `flown` (a run's last
+/// waypoint list, export/flown_mission.hpp), that list is the plan's mission instead of the
+/// config's: the mission as the run flew it, ground-station uploads and edits included.
+std::string plan_of(const Host& host, const msg::WaypointList* flown = nullptr);
 
 }  // namespace tern::core

@@ -45,7 +45,8 @@ struct Table {
 
 class Exporter {
  public:
-  Exporter(const fs::path& file, const fs::path& out_dir) : reader_(file), out_dir_(out_dir) {}
+  Exporter(const fs::path& file, const fs::path& out_dir, const std::set<std::string>& only)
+      : reader_(file), out_dir_(out_dir), only_(only) {}
   CsvExportReport run();
 
  private:
@@ -55,6 +56,7 @@ class Exporter {
 
   McapReader reader_;
   fs::path out_dir_;
+  std::set<std::string> only_;  // empty: every topic
   LogHealth health_;
   std::map<std::uint16_t, McapSchema> schemas_;
   std::map<std::uint16_t, Table> tables_;
@@ -74,6 +76,7 @@ void Exporter::add_channel(const McapChannel& c) {
   }
   Table t;
   t.topic = c.topic.substr(c.topic.rfind('/') + 1);
+  if (!only_.empty() && !only_.count(t.topic)) return;
   t.columns = schema_columns(schema->second, reader_.path());
   for (const auto& col : t.columns) t.msg_size = col.offset + reflect::scalar_size(col.kind);
   const fs::path csv = out_dir_ / (t.topic + ".csv");
@@ -135,6 +138,8 @@ CsvExportReport Exporter::run() {
 
 }  // namespace
 
-CsvExportReport export_csv(const fs::path& mcap_file, const fs::path& out_dir) { return Exporter(mcap_file, out_dir).run(); }
+CsvExportReport export_csv(const fs::path& mcap_file, const fs::path& out_dir, const std::set<std::string>& only) {
+  return Exporter(mcap_file, out_dir, only).run();
+}
 
 }  // namespace tern::core

@@ -12,6 +12,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -26,7 +27,8 @@ struct CsvExportReport {
 };
 
 /// Reads `mcap_file`, writes `out_dir`/<topic>.csv (created; an existing table is an error:
-/// nothing is overwritten). Throws McapError with one line naming the file and the field.
-CsvExportReport export_csv(const fs::path& mcap_file, const fs::path& out_dir);
+/// nothing is overwritten), for the topics in `only` (empty: every topic). Throws McapError with
+/// one line naming the file and the field.
+CsvExportReport export_csv(const fs::path& mcap_file, const fs::path& out_dir, const std::set<std::string>& only = {});
 
 }  // namespace tern::core

@@ -28,7 +28,7 @@ class InstanceContext final : public Context {
     ParamValue v = to_param_value(it->second.node, it->second.file, it->second.field);
     if (spec.is_path && std::holds_alternative<std::string>(v)) {
       fs::path p(std::get<std::string>(v));
-      if (p.is_relative()) v = (it->second.file.parent_path() / p).lexically_normal().string();
+      if (!p.empty() && p.is_relative()) v = (it->second.file.parent_path() / p).lexically_normal().string();  // "": none
     }
     return v;
   }
