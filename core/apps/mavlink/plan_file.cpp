@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "mavlink/mission_items.hpp"
+
 namespace tern::core::mavlink {
 namespace {
 
@@ -82,6 +84,19 @@ MissionItemInt item(std::uint16_t command, std::uint8_t frame, std::uint8_t type
 
 bool global(std::uint8_t frame) { return frame != MAV_FRAME_MISSION; }
 
+/// param5 or param6 of an item without a position (MISSION_ITEM_INT carries them as int32): NaN is 0.
+std::int32_t int32_param(double v, const Field& f) {
+  if (!std::isfinite(v)) return 0;
+  if (!(v >= -2147483648.0 && v <= 2147483647.0)) f.fail(item_number(v) + ": MISSION_ITEM_INT carries this parameter as an int32");
+  return static_cast<std::int32_t>(v);
+}
+
+/// Numbers items 0.. as MISSION_ITEM_INT's uint16 seq does; more than it holds: one line.
+void number_items(std::vector<MissionItemInt>& items, const Field& f) {
+  if (items.size() > 65535) f.fail(std::to_string(items.size()) + " items: a MAVLink list holds at most 65535");
+  for (std::size_t k = 0; k < items.size(); ++k) items[k].seq = static_cast<std::uint16_t>(k);
+}
+
 /// A SimpleItem: command, frame, params[7] (null: NaN), autoContinue.
 MissionItemInt simple_item(const json& j, const Field& f) {
   const double command = number(member(j, "command", f), f / "command");
@@ -96,8 +111,8 @@ MissionItemInt simple_item(const json& j, const Field& f) {
   it.param1 = static_cast<float>(p[0]), it.param2 = static_cast<float>(p[1]);
   it.param3 = static_cast<float>(p[2]), it.param4 = static_cast<float>(p[3]);
   const bool has_position = global(it.frame) && std::isfinite(p[4]) && std::isfinite(p[5]);
-  it.x = has_position ? degE7(p[4], (f / "params")[4]) : static_cast<std::int32_t>(std::isfinite(p[4]) ? p[4] : 0.0);
-  it.y = has_position ? degE7(p[5], (f / "params")[5]) : static_cast<std::int32_t>(std::isfinite(p[5]) ? p[5] : 0.0);
+  it.x = has_position ? degE7(p[4], (f / "params")[4]) : int32_param(p[4], (f / "params")[4]);
+  it.y = has_position ? degE7(p[5], (f / "params")[5]) : int32_param(p[5], (f / "params")[5]);
   it.z = static_cast<float>(p[6]);
   it.autocontinue = boolean(j, "autoContinue", true, f) ? 1 : 0;
   return it;
@@ -176,7 +191,7 @@ std::vector<MissionItemInt> mission_items(const json& mission, const Field& f) {
       (fi / "type").fail(shown(type) + ": expected \"SimpleItem\" or \"ComplexItem\"");
     }
   }
-  for (std::size_t k = 0; k < out.size(); ++k) out[k].seq = static_cast<std::uint16_t>(k);
+  number_items(out, f / "items");
   resolve_jumps(out, jump_ids, f);
   return out;
 }
@@ -211,7 +226,7 @@ std::vector<MissionItemInt> fence_items_of(const json& fence, const Field& f) {
       out.push_back(it);
     }
   }
-  for (std::size_t k = 0; k < out.size(); ++k) out[k].seq = static_cast<std::uint16_t>(k);
+  number_items(out, f);
   return out;
 }
 
@@ -225,9 +240,9 @@ std::vector<MissionItemInt> rally_items_of(const json& rally, const Field& f) {
     MissionItemInt it = item(MAV_CMD_NAV_RALLY_POINT, MAV_FRAME_GLOBAL_RELATIVE_ALT, MAV_MISSION_TYPE_RALLY);
     it.x = degE7(c.x(), fp), it.y = degE7(c.y(), fp);
     it.z = static_cast<float>(c.z());
-    it.seq = static_cast<std::uint16_t>(i);
     out.push_back(it);
   }
+  number_items(out, f / "points");
   return out;
 }
 
@@ -302,7 +317,8 @@ json fence_json(const std::vector<MissionItemInt>& fence) {
       continue;
     }
     json vertices = json::array();
-    const auto n = static_cast<std::size_t>(it.param1);
+    // param1: the polygon's vertex count (fence_items writes it; anything else: this vertex alone)
+    const std::size_t n = it.param1 >= 1.0f && it.param1 <= static_cast<float>(fence.size() - i) ? static_cast<std::size_t>(it.param1) : 1;
     for (std::size_t k = i; k < i + n && k < fence.size(); ++k) vertices.push_back({fence[k].x / kE7, fence[k].y / kE7});
     polygons.push_back({{"inclusion", it.command == MAV_CMD_NAV_FENCE_POLYGON_VERTEX_INCLUSION}, {"polygon", vertices}, {"version", 1}});
     i += n > 0 ? n - 1 : 0;

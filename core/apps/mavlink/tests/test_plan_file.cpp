@@ -123,6 +123,10 @@ TEST_CASE("a plan that is not one is refused in one line naming the field") {
       R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 16,
       "frame": 3, "params": [0, 0, 0, 0, 1e300, 8, 50]}]}})";
   CHECK(error_of(far).find("x.plan: mission.items[0].params[4]: expected degrees") == 0);
+  const std::string wide =  // a MISSION-frame item's param5 travels as MISSION_ITEM_INT's int32 x
+      R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 178,
+      "frame": 2, "params": [0, 15, -1, 0, 1e300, 0, 0]}]}})";
+  CHECK(error_of(wide) == "x.plan: mission.items[0].params[4]: 1.0000000000000001e+300: MISSION_ITEM_INT carries this parameter as an int32");
   CHECK(error_of(R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8], "items": []}})") ==
         "x.plan: mission.plannedHomePosition: expected [lat, lon, alt]");
 }
