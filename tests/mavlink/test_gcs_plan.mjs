@@ -37,13 +37,13 @@ const gcs = await openGcs()
 const { item, upload, download, differences, command } = missionClient(gcs)
 const flight = flyWithGcs(tern, mission, work, gcs, 600, 3, ['--plan', planFile])
 const num = (v) => (v === null ? NaN : v)
+const [lat0, lon0] = plan.mission.plannedHomePosition
 
 try {
   await gcs.next('HEARTBEAT', (d) => (d.baseMode & 128) !== 0, 20000) // armed: flying
   const homeP = gcs.next('HOME_POSITION', () => true, 3000)
   await command(Cmd.REQUEST_MESSAGE, [242])
   const home = await homeP
-  const [lat0, lon0] = plan.mission.plannedHomePosition
   const off = Math.hypot(home.latitude / 1e7 - lat0, home.longitude / 1e7 - lon0) * 111320
   check(off < 20, `HOME_POSITION ${off.toFixed(1)} m from the plan's planned home (the world's origin, the first fix's noise)`)
   const items = plan.mission.items.map((j, seq) => {
@@ -56,7 +56,7 @@ try {
   check(diff.length === 0, `read back equal${diff.length ? ': ' + diff.join('; ') : ''}`)
   const current = await gcs.next('MISSION_CURRENT', (m) => m.seq >= 1, 60000)
   check(current.total === items.length, `MISSION_CURRENT follows the upload: item ${current.seq} of ${current.total}`)
-  const [lat, lon] = [lat0 + 0.004, lon0]
+  const [lat, lon] = [lat0 + 0.004, lon0] // 445 m north of home
   const Rel = common.MavFrame.GLOBAL_RELATIVE_ALT_INT
   const rehome = [item(0, Cmd.NAV_WAYPOINT, Rel, lat, lon, 80), item(1, Cmd.DO_SET_HOME, common.MavFrame.MISSION, 0, 0, 0, [1, 0, 0, 0]),
     item(2, Cmd.NAV_WAYPOINT, Rel, lat, lon + 0.004, 60), item(3, Cmd.DO_SET_HOME, Rel, lat0, lon0 + 0.004, 0, [0, 0, 0, NaN]),
@@ -88,8 +88,8 @@ try {
   check(exported.status === 0, `tern export plan RUN (${exported.status}): ${exported.stdout.trim()} ${exported.stderr.trim()}`)
   const nav = JSON.parse(fs.readFileSync(out, 'utf8')).mission.items.filter((i) => i.command < 100)
   check(nav.map((i) => i.command).join() === '16,16,17', `the plan as flown: nav items ${nav.map((i) => i.command).join()} (16,16,17)`)
-  const [, , lat, lon] = [0, 0, ...nav[2].params.slice(4, 6)]
-  const off = Math.hypot(lat - plan.mission.plannedHomePosition[0], (lon - plan.mission.plannedHomePosition[1] - 0.004) * Math.cos(lat * Math.PI / 180)) * 111320
+  const [lat, lon] = nav[2].params.slice(4, 6) // the loiter's; the home given: (lat0, lon0 + 0.004)
+  const off = Math.hypot(lat - lat0, (lon - lon0 - 0.004) * Math.cos(lat * Math.PI / 180)) * 111320
   check(off < 1, `its return loiters over the home DO_SET_HOME gave (${off.toFixed(2)} m off)`)
 } catch (e) {
   failures.push(e.message)
