@@ -112,6 +112,11 @@ refused plan_dev_zero "--plan: /dev/zero: not a file" "$tern" check "$here/../..
 refused plan_link_to_zero "zero.plan: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/zero.plan"
 refused plan_directory "--plan: $work: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work"
 refused plan_cut_short "cut.plan: not JSON" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/cut.plan"
+# a run's waypoint list whose count and stamp no list has (tern export plan RUN)
+mkdir -p "$work/bad_list/topics"
+printf 't [s],stamp [ns],revision [],count [],loop [bool],loops [],immediate [bool]\n0,1e300,1,1000000000,0,0,0\n' > "$work/bad_list/topics/waypoints.csv"
+printf 't [s],stamp [ns],revision [],index []\n' > "$work/bad_list/topics/waypoints_items.csv"
+refused plan_of_a_bad_list "waypoints.csv: row 2: stamp 1e+300: expected a whole number" "$tern" export plan "$work/bad_list" "$work/bad.plan"
 refused inertia_triangle_sysid "bad_inertia.yaml: inertia.Jz:" "$tern" sysid "$logs/good" --aircraft "$work/bad_inertia.yaml" --out "$work/sysid"
 refused imu_without_gyro_z "imu.csv:1: no column 'gyro_z'" "$tern" replay "$logs/no_gyro_z" --log-dir "$work/replays"
 refused imu_column_twice "imu.csv:1: column 'gyro_x' twice in the header" "$tern" replay "$logs/gyro_x_twice" --log-dir "$work/replays"

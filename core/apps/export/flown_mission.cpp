@@ -33,30 +33,37 @@ msg::Waypoint waypoint_at(const CsvTable& items, std::size_t row) {
   msg::Waypoint w;
   for (const reflect::Column& c : reflect::layout<msg::Waypoint>()) {
     const double v = items.at(c.name)[row];
-    if (const std::string problem = column_problem(c, v); !problem.empty())
+    const bool real = c.kind == reflect::Scalar::f64 || c.kind == reflect::Scalar::f32;  // NaN kept (the log's own value)
+    if (const std::string problem = real ? "" : column_problem(c, v); !problem.empty())
       throw ConfigError(fmt::format("{}: row {}: {}", items.file.string(), row + 2, problem));
     set_column_value(c, &w, v);
   }
   return w;
 }
 
+/// Cell `row` of column `name` of `t`, a whole number in [0, max]; else one line naming the file.
+double whole(const CsvTable& t, const std::string& name, std::size_t row, double max) {
+  const double v = t.at(name)[row];
+  if (!(v >= 0 && v <= max && std::floor(v) == v))
+    throw ConfigError(fmt::format("{}: row {}: {} {}: expected a whole number 0 .. {}", t.file.string(), row + 2, name, v, max));
+  return v;
+}
+
 /// The list of the last row of `lists`, its items from `items` (the rows of its revision).
 msg::WaypointList list_of(const CsvTable& lists, const CsvTable& items) {
   const std::size_t last = lists.rows - 1;
+  constexpr double kMaxStamp = 9.2e18, kMaxU32 = 4294967295.0;
   msg::WaypointList list;
-  list.stamp = static_cast<Nanos>(lists.at("stamp")[last]);
-  list.revision = static_cast<std::uint32_t>(lists.at("revision")[last]);
-  const double count = lists.at("count")[last];
-  if (!(count >= 0 && count <= static_cast<double>(msg::WaypointList::kCapacity)))
-    throw ConfigError(fmt::format("{}: last row: count {} (0..{})", lists.file.string(), count, msg::WaypointList::kCapacity));
-  list.count = static_cast<std::uint32_t>(count);
+  list.stamp = static_cast<Nanos>(whole(lists, "stamp", last, kMaxStamp));
+  list.revision = static_cast<std::uint32_t>(whole(lists, "revision", last, kMaxU32));
+  list.count = static_cast<std::uint32_t>(whole(lists, "count", last, static_cast<double>(msg::WaypointList::kCapacity)));
   list.loop = lists.at("loop")[last] != 0.0;
-  list.loops = static_cast<std::uint32_t>(std::fmax(0.0, lists.at("loops")[last]));
+  list.loops = static_cast<std::uint32_t>(whole(lists, "loops", last, kMaxU32));
   std::vector<bool> seen(list.count, false);
   for (std::size_t r = 0; r < items.rows; ++r) {
     if (items.at("revision")[r] != list.revision) continue;
-    const double i = items.at("index")[r];
-    if (!(i >= 0 && i < count)) continue;  // a list of the same revision logged again
+    const double i = whole(items, "index", r, static_cast<double>(msg::WaypointList::kCapacity));
+    if (i >= list.count) continue;  // not in this list
     list.items[static_cast<std::size_t>(i)] = waypoint_at(items, r);
     seen[static_cast<std::size_t>(i)] = true;
   }
