@@ -72,7 +72,9 @@ int run_plan(const ExportOptions& o) {
   out << text;
   out.close();
   if (!out) return fail(fmt::format("export plan: {}: cannot be written", o.out));
-  if (flown) fmt::print("{}: the mission as flown (its last waypoint list, revision {}, t = {:.1f} s)\n", o.run, flown->revision, to_seconds(flown->stamp));
+  if (flown)
+    fmt::print("{}: the mission as flown (its last waypoint list, revision {}, t = {:.1f} s)\n", o.run, flown->revision,
+               to_seconds(flown->stamp));
   fmt::print("{} -> {}\n", o.run, o.out);
   return 0;
 }

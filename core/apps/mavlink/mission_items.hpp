@@ -48,9 +48,9 @@
 // GLOBAL_RELATIVE_ALT_INT (6): z m above home; GLOBAL_TERRAIN_ALT (10) / _INT (11): z m above the
 // terrain, flown as above home (tern has no terrain model: flat ground at home's altitude, as the
 // simulator's world; the upload says so in a STATUSTEXT); x, y degE7 (in MISSION_ITEM_INT every
-// global frame carries degE7). DO_CHANGE_SPEED, DO_LAND_START and DO_SET_HOME with param1 1 take any frame (QGroundControl sends MISSION, 2).
-// An uploaded mission flies once (loop: false), as PX4 and ArduPilot fly a GCS's mission, unless a
-// final DO_JUMP for ever loops it.
+// global frame carries degE7). DO_CHANGE_SPEED, DO_LAND_START and DO_SET_HOME with param1 1 take
+// any frame (QGroundControl sends MISSION, 2). An uploaded mission flies once (loop: false), as PX4
+// and ArduPilot fly a GCS's mission, unless a final DO_JUMP for ever loops it.
 //
 // A download of the planner's list (msg::WaypointList, NED) gives the items back in
 // GLOBAL_RELATIVE_ALT: waypoint -> NAV_WAYPOINT, loiter -> LOITER_TIME / LOITER_TURNS /

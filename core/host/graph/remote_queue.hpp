@@ -97,7 +97,7 @@ class RemoteQueue {
   /// Sets one queued change under values_mu_ (throws what the parameter's set() throws).
   void set_value(const ParamRequest& rq);
   mutable std::mutex mu_;
-  mutable std::mutex values_mu_;  // held while a queued change is set, and by value_of()
+  mutable std::mutex values_mu_;          // held while a queued change is set, and by value_of()
   std::vector<ParamRequest> params_;      // under mu_
   std::vector<msg::MissionEdit> edits_;   // under mu_
   std::optional<msg::Rc> pilot_;          // under mu_

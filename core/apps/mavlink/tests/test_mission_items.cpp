@@ -403,9 +403,9 @@ TEST_CASE("DO_SET_HOME moves the home the items after it return to, land at and 
                                              at(3, MAV_CMD_NAV_WAYPOINT, 500, 300, 20), at(4, MAV_CMD_NAV_RETURN_TO_LAUNCH, 0, 0, 0)};
   const path::Mission m = to_mission(items, origin);
   REQUIRE(m.waypoints.size() == 4);
-  const Eigen::Vector3d home = m.waypoints[1].w;  // item 1's position, 60 m up
+  const Eigen::Vector3d home = m.waypoints[1].w;                                  // item 1's position, 60 m up
   CHECK(m.waypoints[2].w.z() == doctest::Approx(home.z() - 20.0).epsilon(1e-3));  // 20 m above the new home (the curvature at 300 m)
-  CHECK(m.waypoints[3].type == path::ItemType::loiter);                          // RTL: over the new home, until the mission changes
+  CHECK(m.waypoints[3].type == path::ItemType::loiter);                           // RTL: over the new home, until the mission changes
   CHECK(m.waypoints[3].loiter.time == 0.0);
   CHECK(m.waypoints[3].loiter.turns == 0.0);
   CHECK(m.waypoints[3].w.head<2>().isApprox(home.head<2>()));

@@ -126,7 +126,8 @@ TEST_CASE("a plan that is not one is refused in one line naming the field") {
   const std::string wide =  // a MISSION-frame item's param5 travels as MISSION_ITEM_INT's int32 x
       R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8, 400], "items": [{"type": "SimpleItem", "command": 178,
       "frame": 2, "params": [0, 15, -1, 0, 1e300, 0, 0]}]}})";
-  CHECK(error_of(wide) == "x.plan: mission.items[0].params[4]: 1.0000000000000001e+300: MISSION_ITEM_INT carries this parameter as an int32");
+  CHECK(error_of(wide) ==
+        "x.plan: mission.items[0].params[4]: 1.0000000000000001e+300: MISSION_ITEM_INT carries this parameter as an int32");
   CHECK(error_of(R"({"fileType": "Plan", "mission": {"plannedHomePosition": [47, 8], "items": []}})") ==
         "x.plan: mission.plannedHomePosition: expected [lat, lon, alt]");
 }
