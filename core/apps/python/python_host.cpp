@@ -79,7 +79,10 @@ void PythonHost::reset(std::optional<std::uint64_t> seed) {
   if (running_) end();
   if (seed && *seed != seed_) {
     options_.seed = *seed;
-    build();
+    if (host_->reseed(*seed))
+      seed_ = *seed;  // the libraries, instances and port graph stay
+    else
+      build();
   }
   begin();
 }

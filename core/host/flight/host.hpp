@@ -196,6 +196,13 @@ class Host {
   /// Between flights: a new phase -> controller table (and fallback). Throws ConfigError (and
   /// keeps the old table) if flying or invalid (a phase or the fallback not a controller).
   void set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback);
+  /// Between flights: the seed of the next flights, every instance's derived from it as at build(),
+  /// without rebuilding anything (Python's reset(seed)): a flight flown after it is the flight a
+  /// host built with that seed flies, for plugins that draw from Context::seed() in start() (tern's
+  /// do; plugin.hpp asks it). False, and nothing changed, when an instance runs in a child process
+  /// (its seed was given at its spawn): rebuild the host then. Throws ConfigError if flying.
+  bool reseed(std::uint64_t seed);
+  std::uint64_t seed() const { return seed_; }
   /// Flight length of the next flights (nullopt: the option or the config's duration).
   void set_duration(std::optional<double> seconds) { duration_override_ = seconds; }
   /// Holds fields of `topic`'s message (log column names, e.g. "delta_a" of `actuators`): after

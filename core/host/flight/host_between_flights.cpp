@@ -1,5 +1,6 @@
 // core/host/flight/host_between_flights.cpp: what a served host changes between flights (host.hpp):
-// a plugin swapped for another .so (or a rebuild of the same), a new phase -> controller table.
+// a plugin swapped for another .so (or a rebuild of the same), a new phase -> controller table, a
+// new seed.
 #include <unistd.h>
 
 #include <algorithm>
@@ -88,6 +89,15 @@ SwapReport Host::swap(const std::string& instance, const fs::path& so_in) {
   if (report.same())
     logger_->warn("swap {}: same library (sha256 {}) as the one running: did the build fail?", instance, report.new_sha256);
   return report;
+}
+
+bool Host::reseed(std::uint64_t seed) {
+  if (flying_) throw ConfigError("reseed refused: a flight is in progress; change the seed between flights");
+  for (const auto& inst : instances_)
+    if (inst->isolated) return false;  // its child process took the seed when it was spawned
+  seed_ = seed;
+  for (auto& inst : instances_) reseed_instance(*inst, seed);
+  return true;
 }
 
 void Host::set_phases(const std::map<msg::Phase, std::string>& phases, const std::optional<std::string>& fallback) {

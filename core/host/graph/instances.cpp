@@ -44,6 +44,8 @@ class InstanceContext final : public Context {
     if (!end_) end_ = EndRequest{reason, detail};
   }
 
+  /// The instance's seed for the flights from now on (reseed_instance).
+  void set_seed(std::uint64_t seed) { seed_ = seed; }
   std::optional<EndRequest> take_end_request() { return std::exchange(end_, std::nullopt); }
   const std::string& last_param() const { return last_param_; }
   const std::set<std::string>& used() const { return used_; }
@@ -146,5 +148,7 @@ void configure_instance(Instance& inst, const InstanceSetup& setup) {
   check_unknown_params(inst, setup.log);
   apply_remaps_and_trigger(inst, setup.config.file, field);
 }
+
+void reseed_instance(Instance& inst, std::uint64_t flight_seed) { inst.ctx->set_seed(derive_seed(flight_seed, inst.cfg.name)); }
 
 }  // namespace tern::core

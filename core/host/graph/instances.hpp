@@ -73,4 +73,10 @@ struct InstanceSetup {
 /// Attaches a context to `inst.plugin` and configures it (see above). Throws ConfigError.
 void configure_instance(Instance& inst, const InstanceSetup& setup);
 
+/// Gives a configured instance the seed of flights flown with `flight_seed` (as configure_instance
+/// derives it). The plugin reads it at its next start (Context::seed()); what it drew from the
+/// old seed at configure time stays, so only plugins that draw at start may be reseeded
+/// (Host::reseed).
+void reseed_instance(Instance& inst, std::uint64_t flight_seed);
+
 }  // namespace tern::core

@@ -114,7 +114,8 @@ class TERN_API Context {
   /// already resolved relative to the file that set it when the parameter is a path.
   virtual std::optional<ParamValue> configured_value(const std::string& param, const ParamSpec& spec) const = 0;
   /// Random seed for this instance: derived from the mission seed and the instance name, so that
-  /// instances draw independent streams and a flight is repeatable.
+  /// instances draw independent streams and a flight is repeatable. It may change between flights
+  /// (Python's reset(seed) reseeds a built host): draw from it in start(), not in configure().
   virtual std::uint64_t seed() const = 0;
   /// Logger named after the instance, writing to the console and the flight's text log.
   virtual std::shared_ptr<spdlog::logger> logger() const = 0;
