@@ -17,7 +17,7 @@
 #include "commands/host_preparation.hpp"
 #include "config/error.hpp"
 #include "commands/plan_export.hpp"
-#include "export/flown_mission.hpp"
+#include "commands/flown_mission.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
 #include "mcap/mcap_recover.hpp"

@@ -1,5 +1,5 @@
-// core/apps/export/flown_mission.cpp: a run's last waypoint list from its log (flown_mission.hpp).
-#include "export/flown_mission.hpp"
+// core/apps/commands/flown_mission.cpp: a run's last waypoint list from its log (flown_mission.hpp).
+#include "commands/flown_mission.hpp"
 
 #include <cmath>
 #include <system_error>

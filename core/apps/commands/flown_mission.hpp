@@ -1,4 +1,4 @@
-// core/apps/export/flown_mission.hpp: the mission a run flew, read back from its log: the path
+// core/apps/commands/flown_mission.hpp: the mission a run flew, read back from its log: the path
 // planner's last waypoint list (topic `waypoints`, tern/WaypointList), with whatever a ground
 // station uploaded or edited and a failsafe added in flight. `tern export plan RUN` writes it as a
 // QGroundControl plan (commands/plan_export.hpp).

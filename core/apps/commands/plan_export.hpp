@@ -15,7 +15,7 @@ class Host;
 /// DO_JUMP), home at the simulator's origin, the failsafes' geofence zones and rally points, the
 /// path manager's default_airspeed as cruiseSpeed. Throws ConfigError (no simulator: no home to
 /// place the items about; no mission; a mission that cannot be read). With `flown` (a run's last
-/// waypoint list, export/flown_mission.hpp), that list is the plan's mission instead of the
+/// waypoint list, commands/flown_mission.hpp), that list is the plan's mission instead of the
 /// config's: the mission as the run flew it, ground-station uploads and edits included.
 std::string plan_of(const Host& host, const msg::WaypointList* flown = nullptr);
 
