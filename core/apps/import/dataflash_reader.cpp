@@ -178,7 +178,9 @@ std::vector<std::string> DataflashStats::warnings(const std::string& file) const
 
 Reader::Reader(const std::filesystem::path& file) : path_(file), stream_buffer_(1 << 16) {
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(file, ec)) throw DataflashError(file.string() + ": not a regular file");
+  const auto status = std::filesystem::status(file, ec);
+  if (!std::filesystem::exists(status)) throw DataflashError(file.string() + ": no such file");
+  if (!std::filesystem::is_regular_file(status)) throw DataflashError(file.string() + ": not a regular file: nothing is read from it");
   size_ = std::filesystem::file_size(file, ec);
   if (ec) throw DataflashError(file.string() + ": cannot read: " + ec.message());
   in_.rdbuf()->pubsetbuf(stream_buffer_.data(), static_cast<std::streamsize>(stream_buffer_.size()));
