@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -468,6 +469,34 @@ TEST_CASE("tern import dataflash: hostile files: one line naming the file, the m
     DataflashBytes d;
     CHECK(import_error("no_imu", d.bytes()) == "no IMU messages (GyrX, AccX, ... of instance 0): a sensor log needs an imu topic");
   }
+}
+
+TEST_CASE("tern import dataflash: 60 copies of the synthetic log with 1-40 random bytes changed: each imports or gives one line") {
+  const std::string good = synthetic_log();
+  const char* more = std::getenv("TERN_DATAFLASH_MUTANTS");  // more copies by hand: TERN_DATAFLASH_MUTANTS=3000
+  const int copies = more ? std::max(1, std::atoi(more)) : 60;
+  std::uint64_t state = 0x9E3779B97F4A7C15ull;  // a fixed xorshift sequence: the same copies every run
+  auto next = [&] {
+    state ^= state << 13, state ^= state >> 7, state ^= state << 17;
+    return state;
+  };
+  int imported = 0, refused = 0;
+  for (int copy = 0; copy < copies; ++copy) {
+    std::string bad = good;
+    const int changes = 1 + static_cast<int>(next() % 40);
+    for (int k = 0; k < changes; ++k) bad[next() % bad.size()] = static_cast<char>(next() & 0xff);
+    const std::string name = "mutant" + std::to_string(copy);
+    try {
+      (void)import_bytes(name, bad, deflections());
+      ++imported;
+    } catch (const tern::core::ImportError& e) {
+      CHECK(std::string(e.what()).find('\n') == std::string::npos);
+      ++refused;
+    }
+    fs::remove_all(fs::temp_directory_path() / ("tern_test_dataflash_out_" + std::to_string(::getpid()) + "_" + name));
+  }
+  CHECK(imported + refused == copies);
+  MESSAGE(imported << " imported, " << refused << " refused");
 }
 
 TEST_CASE("tern import dataflash FILE DIR on the command line: rows printed; /dev/zero and a bad FMT one line, exit 1, nothing left") {

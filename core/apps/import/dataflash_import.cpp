@@ -91,6 +91,9 @@ bool wanted_param(const std::string& name) {
   return name.rfind("SERVO", 0) == 0 || names.count(name);
 }
 
+/// A reference value: an infinity (a corrupt float) as NaN, "not given" (the reference's columns may be NaN).
+double finite_or_nan(double v) { return std::isfinite(v) ? v : std::numeric_limits<double>::quiet_NaN(); }
+
 /// Whether m is instance 0 of its message (I, or C for the EKF's core; none: instance 0).
 bool instance0(const Message& m) {
   const Field* i = m.format().field("I");
@@ -388,7 +391,7 @@ class Conversion {
           if (const auto t = stamp(m)) {
             msg::Reference r;
             r.stamp = *t;
-            r.v_n = m.value(*v[0]), r.v_e = m.value(*v[1]), r.v_d = m.value(*v[2]);
+            r.v_n = finite_or_nan(m.value(*v[0])), r.v_e = finite_or_nan(m.value(*v[1])), r.v_d = finite_or_nan(m.value(*v[2]));
             ref_.push(r);
           }
         };
@@ -401,7 +404,7 @@ class Conversion {
           if (const auto t = stamp(m)) {
             msg::Reference r;
             r.stamp = *t;
-            r.w_n = m.value(*n), r.w_e = m.value(*e);
+            r.w_n = finite_or_nan(m.value(*n)), r.w_e = finite_or_nan(m.value(*e));
             ref_.push(r);
           }
         };
@@ -435,6 +438,8 @@ class Conversion {
         for (std::size_t i = 1; i < ch.size(); ++i) pwm[i] = ch[i] ? m.value(*ch[i]) : 0.0;
         const auto c = command_from_rcou(pwm, map);
         if (!c) return void(++outputs_off_);
+        if (!std::isfinite(c->roll) || !std::isfinite(c->pitch) || !std::isfinite(c->yaw) || !std::isfinite(c->throttle))
+          return void(++nan_rows_);
         const msg::Actuators a = actuators_from_normalised(*t, *c, mapping);
         actuator_intervals.add(a.stamp);
         act_.push(a);
@@ -527,8 +532,8 @@ class Conversion {
       if (!t) return;
       msg::Reference r;
       r.stamp = *t;
-      r.phi = m.value(*roll) * kRadPerDeg, r.theta = m.value(*pitch) * kRadPerDeg;
-      r.psi = std::remainder(m.value(*yaw) * kRadPerDeg, 2.0 * kPi);  // ArduPilot's 0..360 deg as (-pi, pi]
+      r.phi = finite_or_nan(m.value(*roll) * kRadPerDeg), r.theta = finite_or_nan(m.value(*pitch) * kRadPerDeg);
+      r.psi = finite_or_nan(std::remainder(m.value(*yaw) * kRadPerDeg, 2.0 * kPi));  // ArduPilot's 0..360 deg as (-pi, pi]
       if (r.psi <= -kPi) r.psi += 2.0 * kPi;
       ref_.push(r);
     };
@@ -540,7 +545,7 @@ class Conversion {
       if (!t) return;
       msg::Reference r;
       r.stamp = *t;
-      r.lat = m.value(*lat), r.lon = m.value(*lng), r.alt = m.value(*alt);
+      r.lat = finite_or_nan(m.value(*lat)), r.lon = finite_or_nan(m.value(*lng)), r.alt = finite_or_nan(m.value(*alt));
       ref_.push(r);
     };
   }
