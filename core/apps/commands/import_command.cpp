@@ -1,13 +1,15 @@
 // core/apps/commands/import_command.cpp: `tern import FORMAT INPUT OUT_DIR`: another project's
 // flight log into a sensor log (docs/sensor-log.md) that `tern replay` reads. FORMAT names the
 // converter (import/importers.hpp); INPUT is the log as shipped: a directory, or a .zip /
-// .tar.gz archive (unpacked into a temporary directory, import/archive_input.hpp). Prints the
+// .tar.gz archive (unpacked into a temporary directory, import/archive_input.hpp), or the log file
+// itself (a PX4 .ulg, an ArduPilot .bin). Prints the
 // rows written per topic and every warning; exit status 0, or 1 with one error line.
 // The surfaces' commands (topics/actuators.csv) need the full deflections the log's normalised
 // commands stand for: --max-deflection A E R (rad); --command-delay and --rc-channels as
 // import/surface_commands.hpp says.
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <functional>
 #include <map>
 #include <memory>
@@ -33,6 +35,7 @@ const std::map<std::string, Importer>& importers() {
       {"inertialnav", [](const fs::path& in, SensorLogWriter& out, const CommandMapping&) { return import_inertialnav(in, out); }},
       {"alfa", [](const fs::path& in, SensorLogWriter& out, const CommandMapping& c) { return import_alfa(in, out, c); }},
       {"ulog", [](const fs::path& in, SensorLogWriter& out, const CommandMapping& c) { return import_ulog(in, out, c); }},
+      {"dataflash", [](const fs::path& in, SensorLogWriter& out, const CommandMapping& c) { return import_dataflash(in, out, c); }},
   };
   return all;
 }
@@ -78,9 +81,18 @@ int run_import(const ImportOptions& o) {
   std::error_code ec;
   const bool out_existed = fs::exists(o.out_dir, ec);
   try {
-    // A PX4 .ulg is a file, not an archive: it is its own input.
-    const bool ulg_file = fs::is_regular_file(o.input) && fs::path(o.input).extension() == ".ulg";
-    if (!ulg_file) archive = std::make_unique<ArchiveInput>(o.input);
+    // A PX4 .ulg is a file, not an archive: it is its own input. So is an ArduPilot DataFlash log
+    // (.bin, .BIN, or any name that is no archive's: a device or FIFO is then refused as not a
+    // regular file, naming it, instead of being unpacked).
+    const std::string name = fs::path(o.input).filename().string();
+    auto ends_with = [&](const char* s) {
+      return name.size() >= std::strlen(s) && name.compare(name.size() - std::strlen(s), std::string::npos, s) == 0;
+    };
+    const bool archive_name = ends_with(".zip") || ends_with(".tar") || ends_with(".tar.gz") || ends_with(".tgz") ||
+                              ends_with(".tar.bz2") || ends_with(".tar.xz");
+    const bool log_file = (fs::is_regular_file(o.input, ec) && fs::path(o.input).extension() == ".ulg") ||
+                          (o.format == "dataflash" && !fs::is_directory(o.input, ec) && !archive_name);
+    if (!log_file) archive = std::make_unique<ArchiveInput>(o.input);
     SensorLogWriter out(o.out_dir);
     out.set_origin(fs::path(o.input).filename().string());
     const ImportReport report = it->second(archive ? archive->dir() : fs::path(o.input), out, *mapping);
@@ -102,7 +114,7 @@ Command add_import_command(CLI::App& app) {
   for (const auto& [name, f] : importers()) formats += (formats.empty() ? "" : " | ") + name;
   auto* c = app.add_subcommand("import", "convert another project's flight log into a sensor log for tern replay (docs/sensor-log.md)");
   c->add_option("format", o->format, formats)->required();
-  c->add_option("input", o->input, "the log as shipped: a directory, or a .zip / .tar.gz archive")->required();
+  c->add_option("input", o->input, "the log as shipped: a directory, a .zip / .tar.gz archive, or a .ulg / .bin file")->required();
   c->add_option("out_dir", o->out_dir, "the sensor log to write (a new or empty directory)")->required();
   c->add_option("--max-deflection", o->max_deflection,
                 "A E R: the full aileron, elevator and rudder deflections (rad) a normalised command of 1 stands for (the aircraft "

@@ -31,4 +31,10 @@ ImportReport import_alfa(const std::filesystem::path& in, SensorLogWriter& out, 
 /// commands from actuator_controls where the log has them and `commands` states the full deflections.
 ImportReport import_ulog(const std::filesystem::path& in, SensorLogWriter& out, const CommandMapping& commands = {});
 
+/// An ArduPilot DataFlash log (.bin): IMU, GPS/GPA, BARO, ARSP, MAG, ATT/POS, ... (the mapping:
+/// import/dataflash_import.hpp). `in`: the .bin file, or a directory holding one .bin. The surfaces'
+/// commands from RCOU through the log's SERVOn_FUNCTION parameters, and SIDD's excitation, where
+/// `commands` states the full deflections.
+ImportReport import_dataflash(const std::filesystem::path& in, SensorLogWriter& out, const CommandMapping& commands = {});
+
 }  // namespace tern::core
