@@ -1,7 +1,11 @@
 #include "record/flight_report.hpp"
 
+#include <filesystem>
 #include <fstream>
-#include <iterator>
+#include <map>
+#include <mutex>
+#include <sstream>
+#include <tuple>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -123,6 +127,32 @@ void phases_json(const PhaseMachine& pm, const PhaseRouter& router, nlohmann::or
   j["fallback_engaged"] = router.fallback_engaged();
 }
 
+// FNV-1a of a library's bytes, hex, read once per version of the file (its path, size and
+// modification time): every flight's summary names its libraries, and reading them byte by byte
+// again at every flight's end cost tern.env.FlightEnv's reset most of its time. A file that
+// cannot be read hashes as no bytes, and is not kept.
+std::string library_fnv1a(const std::filesystem::path& path) {
+  namespace fs = std::filesystem;
+  using Version = std::tuple<std::uintmax_t, fs::file_time_type, std::string>;
+  static std::mutex mu;
+  static std::map<std::string, Version> known;  // path -> size, time, hash
+  std::error_code size_ec, time_ec;
+  const std::uintmax_t size = fs::file_size(path, size_ec);
+  const fs::file_time_type time = fs::last_write_time(path, time_ec);
+  const bool versioned = !size_ec && !time_ec;
+  std::lock_guard lk(mu);
+  const auto it = known.find(path.string());
+  if (versioned && it != known.end() && std::get<0>(it->second) == size && std::get<1>(it->second) == time) return std::get<2>(it->second);
+  std::ifstream lib(path, std::ios::binary);
+  std::ostringstream bytes;
+  if (lib) bytes << lib.rdbuf();
+  reflect::Fnv1a h;
+  h.bytes(bytes.str());
+  const std::string hex = fmt::format("{:016x}", h.h);
+  if (versioned && lib) known[path.string()] = Version{size, time, hex};
+  return hex;
+}
+
 // Per instance: plugin, library (path and FNV-1a of its bytes), steps, its summary() figures.
 nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance>>& instances) {
   auto out = nlohmann::ordered_json::object();
@@ -131,11 +161,7 @@ nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance
     x["plugin"] = inst->info.name;
     if (!inst->builtin) {
       x["library"] = inst->source.string();
-      std::ifstream lib(inst->info.path, std::ios::binary);
-      reflect::Fnv1a h;
-      std::string bytes((std::istreambuf_iterator<char>(lib)), std::istreambuf_iterator<char>());
-      h.bytes(bytes);
-      x["library_fnv1a"] = fmt::format("{:016x}", h.h);
+      x["library_fnv1a"] = library_fnv1a(inst->info.path);
     }
     x["steps"] = inst->stats.steps;
     for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
