@@ -112,6 +112,14 @@ refused plan_dev_zero "--plan: /dev/zero: not a file" "$tern" check "$here/../..
 refused plan_link_to_zero "zero.plan: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/zero.plan"
 refused plan_directory "--plan: $work: not a file" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work"
 refused plan_cut_short "cut.plan: not JSON" "$tern" check "$here/../../configs/missions/default.yaml" --plan "$work/cut.plan"
+# ArduPilot DataFlash logs (tern import dataflash): a link to /dev/zero, a log cut short before any
+# IMU message, a FMT that gives one label for its three fields
+ln -s /dev/zero "$work/zero.bin"
+head -c 300 "$repo/tests/fuzz/corpus/fuzz_dataflash/plane.bin" > "$work/cut.bin"
+"$python" -c "import sys; f = b'fff'.ljust(16, b'\\0'); sys.stdout.buffer.write(b'\\xa3\\x95\\x80\\x81\\x0f' + b'ABCD' + f + b'a'.ljust(64, b'\\0'))" > "$work/lying_fmt.bin"
+refused dataflash_link_to_zero "zero.bin: not a regular file" "$tern" import dataflash "$work/zero.bin" "$work/df_zero"
+refused dataflash_cut_short "cut.bin: no IMU messages" "$tern" import dataflash "$work/cut.bin" "$work/df_cut"
+refused dataflash_lying_fmt "lying_fmt.bin: byte 0: FMT of type 129 'ABCD': field 'labels': 1 labels for the 3 fields" "$tern" import dataflash "$work/lying_fmt.bin" "$work/df_fmt"
 # a run's waypoint list whose count and stamp no list has (tern export plan RUN)
 mkdir -p "$work/bad_list/topics"
 printf 't [s],stamp [ns],revision [],count [],loop [bool],loops [],immediate [bool]\n0,1e300,1,1000000000,0,0,0\n' > "$work/bad_list/topics/waypoints.csv"

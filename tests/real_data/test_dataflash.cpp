@@ -27,6 +27,8 @@
 #include "import/dataflash_import.hpp"
 #include "import/dataflash_reader.hpp"
 #include "import/importers.hpp"
+#include "tern/atmosphere.hpp"
+#include "tern/math.hpp"
 
 namespace fs = std::filesystem;
 
@@ -164,7 +166,7 @@ std::string synthetic_log(const Options& o = {}) {
   parm("ARSPD_RATIO", 2.0), parm("GPS_DELAY_MS", 150), parm("EK3_HGT_DELAY", 60);
   for (int k = 0; k < 1600; ++k) {  // IMU 400 Hz, instance 0 and 1
     const double t = kT0 + 0.0025 * k;
-    d.msg(IMU, {us(t), 0.0, 0.1 * std::sin(t), 0.05, -0.02, 0.5, 0.1, -9.81, 0.0, 0.0, 41.25, 1.0, 1.0, 400.0, 400.0});
+    d.msg(IMU, {us(t), 0.0, 0.1 * std::sin(t), 0.05, -0.02, 0.5, 0.1, -tern::kGravity, 0.0, 0.0, 41.25, 1.0, 1.0, 400.0, 400.0});
     d.msg(IMU, {us(t), 1.0, 9.0, 9.0, 9.0, 9.0, 9.0, 9.0, 0.0, 0.0, 40.0, 1.0, 1.0, 400.0, 400.0});
     if (o.garbage && k % 97 == 5) d.garbage(std::string("\x01\x02\xA3\x03garbage", 11));
     if (o.unknown && k == 10) d.raw_message(200, std::string(20, '\x55'));
@@ -296,7 +298,7 @@ TEST_CASE("tern import dataflash: a synthetic ArduPlane log's sensors, in the se
   CHECK(imu.at(2).at(1) == "2500000");
   CHECK(i.at("imu", 2, "gyro_x [rad/s]") == doctest::Approx(0.1 * std::sin(kT0 + 0.0025)).epsilon(1e-6));
   CHECK(i.at("imu", 1, "gyro_y [rad/s]") == doctest::Approx(0.05).epsilon(1e-6));
-  CHECK(i.at("imu", 1, "accel_z [m/s^2]") == doctest::Approx(-9.81).epsilon(1e-6));  // FRD: level at rest -g
+  CHECK(i.at("imu", 1, "accel_z [m/s^2]") == doctest::Approx(-tern::kGravity).epsilon(1e-6));  // FRD: level at rest -g
   CHECK(i.at("imu", 1, "temperature [K]") == doctest::Approx(41.25 + 273.15));
   // GPS: L (1e-7 deg), e (cm), speed and course as NED, VZ down; GPA's accuracies (C: cm, / 100)
   CHECK(i.at("gnss", 1, "lat [deg]") == doctest::Approx(kLat).epsilon(1e-12));
@@ -313,10 +315,10 @@ TEST_CASE("tern import dataflash: a synthetic ArduPlane log's sensors, in the se
   CHECK(i.at("gnss", 1, "v_acc [m]") == doctest::Approx(2.5));
   CHECK(i.at("gnss", 1, "s_acc [m/s]") == doctest::Approx(0.3));
   CHECK(i.at("gnss", 2, "stamp [ns]") == 200000000);
-  // BARO Pa, degC * 100; ARSP DiffPress * ARSPD_RATIO 2 * 1.225 / 2; MAG mGauss
+  // BARO Pa, degC * 100; ARSP DiffPress * ARSPD_RATIO 2 * rho0 / 2; MAG mGauss
   CHECK(i.at("baro", 2, "pressure [Pa]") == doctest::Approx(95040.0));
   CHECK(i.at("baro", 1, "temperature [K]") == doctest::Approx(25.5 + 273.15));
-  CHECK(i.at("diff_pressure", 1, "pressure [Pa]") == doctest::Approx(240.0 * 2.0 * 1.225 / 2.0));
+  CHECK(i.at("diff_pressure", 1, "pressure [Pa]") == doctest::Approx(240.0 * 2.0 * tern::kIsaSeaLevelDensity / 2.0));
   CHECK(i.at("diff_pressure", 1, "temperature [K]") == doctest::Approx(293.15));
   CHECK(i.at("mag", 1, "field_x [T]") == doctest::Approx(200e-7));
   CHECK(i.at("mag", 1, "field_y [T]") == doctest::Approx(-50e-7));

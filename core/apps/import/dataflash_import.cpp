@@ -746,9 +746,9 @@ ImportReport convert(const fs::path& bin, SensorLogWriter& out, const CommandMap
     const double r = ratio && *ratio > 0.0 ? *ratio : kArspdRatioDefault;
     c.add_diff_pressure(r * kIsaSeaLevelDensity / 2.0);
     notes.push_back(fmt::format(
-        "diff_pressure: ARSP DiffPress * ARSPD_RATIO ({}{}) * 1.225 / 2, so that the estimator's EAS sqrt(2 p / 1.225) is ArduPilot's "
+        "diff_pressure: ARSP DiffPress * ARSPD_RATIO ({}{}) * {} / 2, so that the estimator's EAS sqrt(2 p / {}) is ArduPilot's "
         "Airspeed sqrt(DiffPress * ARSPD_RATIO)",
-        r, ratio ? "" : ", ArduPilot's default: not in the log"));
+        r, ratio ? "" : ", ArduPilot's default: not in the log", kIsaSeaLevelDensity, kIsaSeaLevelDensity));
   }
   if (source("gnss", "GPS", "no GPS messages (without GNSS the estimator never initialises)")) {
     c.add_gnss();
