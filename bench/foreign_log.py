@@ -14,7 +14,8 @@ What another autopilot's log differs by, each a switch, all on by default:
     time_of_validity with them).
 sensor_log.yaml says what was done (notes), carries the IMU timing the estimator needs at that rate
 (imu_max_dt, imu_timeout, imu_reinit_gap, as tern import writes them) and, with --declare-airborne, the
-airborne window (the rest of the log, as an independent simulator would declare it). config.yaml (the
+airborne window as an independent simulator would declare it: from the log's start to the touchdown (the truth's
+last time 0.5 m above the ground; the landing's roll-out is not airborne). config.yaml (the
 flight's estimator configuration) is kept: a user replays with their own vehicle's.
 Returns/prints the time cut from the start (s), so that a bench can put the truth on the new clock.
 """
@@ -114,6 +115,19 @@ def start_time(run, height):
     raise SystemExit(f"foreign_log: {path}: the truth never stands {height} m above its start")
 
 
+def touchdown_time(run):
+    """s: the truth's last time more than 0.5 m above its first sample (the log's end without truth): where an
+    independent simulator's declared airborne window ends (the landing's roll-out is on the ground)."""
+    path = os.path.join(run, "topics", "truth.csv")
+    if not os.path.exists(path):
+        return None
+    header, rows = read_table(path)
+    it, ipd = column(header, "t"), column(header, "p_d")
+    ground = float(rows[0][ipd])
+    airborne = [float(r[it]) for r in rows if ground - float(r[ipd]) > 0.5]
+    return airborne[-1] if airborne else None
+
+
 def rewrite(run, out, command_delay_ms=10.0, imu_rate=200.0, actuator_rate=50.0, start_height=50.0, declare_airborne=False):
     cut = start_time(run, start_height)
     os.makedirs(os.path.join(out, "topics"), exist_ok=True)
@@ -140,7 +154,9 @@ def rewrite(run, out, command_delay_ms=10.0, imu_rate=200.0, actuator_rate=50.0,
     lines = ["tern_sensor_log: 1", "estimator:", f"  imu_max_dt: {max(0.05, 1.5 * dt):g}", f"  imu_timeout: {max(0.02, 2 * dt):g}",
              f"  imu_reinit_gap: {max(0.5, 5 * dt):g}"]
     if declare_airborne:
-        lines.append(f"airborne: [0, {last_t:.3f}]")
+        touchdown = touchdown_time(run)
+        end = min(last_t, touchdown - cut) if touchdown is not None else last_t
+        lines.append(f"airborne: [0, {end:.3f}]")
     lines += ["notes:", f'  - "rewritten from {os.path.abspath(run)} by bench/foreign_log.py: no excitation table, no truth"',
               f'  - "commands stamped {command_delay_ms:g} ms before they act; IMU {imu_rate:g} Hz (block means), '
               f'actuators {actuator_rate:g} Hz (held)"',

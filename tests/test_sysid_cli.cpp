@@ -141,7 +141,7 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
                        "late");
   INFO(d.second);
   REQUIRE(d.first == 0);
-  CHECK(d.second.find("command delay: aileron 10 ms, elevator 10 ms, rudder 10 ms") != std::string::npos);
+  CHECK(d.second.find("command delay: aileron 10.0 ms, elevator 10.0 ms, rudder 10.0 ms") != std::string::npos);
   const nlohmann::json jd = nlohmann::json::parse(read_file(out4 / "sysid.json"));
   for (const char* name : {"C_ell_delta_a", "C_ell_p", "C_m_delta_e", "C_n_delta_r"}) {
     CAPTURE(name);
@@ -151,6 +151,24 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   const tern::Aircraft with_delay = tern::load_aircraft((out4 / "aircraft.yaml").string());
   CHECK(with_delay.servo_delay_a == doctest::Approx(0.010));
   CHECK(with_delay.servo_delay_r == doctest::Approx(0.010));
+  // without --command-delay the delays come from the flight (sysid/command_delay.hpp): the late log's
+  // aileron and rudder act 10 ms later than the same flight's, within their bounds
+  const fs::path out5 = test_dir() / "out5";
+  const auto e = sysid(
+      {late.string(), "--aircraft", prior.string(), "--out", out5.string(), "--estimate", j["produced_by"]["estimate"].get<std::string>()},
+      "late-estimated");
+  INFO(e.second);
+  REQUIRE(e.first == 0);
+  const nlohmann::json je = nlohmann::json::parse(read_file(out5 / "sysid.json"));
+  for (const char* surface : {"aileron", "rudder"}) {
+    CAPTURE(surface);
+    const double own = j["command_delay_s"][surface].get<double>(), late_s = je["command_delay_s"][surface].get<double>();
+    const double bound = je["command_delay_estimate"][surface]["std_error"].get<double>();
+    CHECK(je["command_delay_estimate"][surface]["identified"].get<bool>());
+    CHECK(bound < 0.005);
+    CHECK(std::abs(late_s - own - 0.010) <= 3.0 * bound + 0.002);
+  }
+  CHECK(e.second.find("note: command delay (aileron): ") != std::string::npos);
 }
 
 TEST_CASE("tern sysid: each bad input is one error line") {

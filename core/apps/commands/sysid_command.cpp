@@ -14,6 +14,8 @@
 #include "commands/estimator_replay.hpp"
 #include "config/error.hpp"
 #include "sysid/flight_data.hpp"
+#include "sysid/command_delay.hpp"
+#include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
 #include "sysid/sysid_output.hpp"
 #include "sysid/verdicts.hpp"
@@ -50,8 +52,8 @@ fs::path estimate_of(const SysidOptionsCli& o) {
   return r.run_dir;
 }
 
-/// s, aileron, elevator, rudder: each command's delay after its stamp: --command-delay, else the
-/// prior's servos.delay_a, _e, _r (flight_data.hpp pairs each command with the motion it makes).
+/// s, aileron, elevator, rudder: each command's delay after its stamp: --command-delay (held), else
+/// the prior's servos.delay_a, _e, _r (where the estimate starts: sysid/command_delay.hpp).
 std::array<double, 3> command_delays(const SysidOptionsCli& o, const Aircraft& prior) {
   if (o.command_delay_ms.empty()) return {prior.servo_delay_a, prior.servo_delay_e, prior.servo_delay_r};
   if (o.command_delay_ms.size() != 1 && o.command_delay_ms.size() != 3)
@@ -81,7 +83,6 @@ int run_sysid(const SysidOptionsCli& o) {
   so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
   so.command_delay_s = delays;
   sysid::read_installation(estimate, so);
-  const sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, so);
   sysid::SysidOptions io;
   io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;
   io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
@@ -91,14 +92,22 @@ int run_sysid(const SysidOptionsCli& o) {
   if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   io.gyro_cross_axis = o.gyro_cross_axis;
-  sysid::SysidResult r = sysid::identify(series, prior, io);
-  r.command_delay_s = so.command_delay_s;
+  sysid::DelayOptions timing;
+  timing.estimate.fill(o.command_delay_ms.empty());  // --command-delay fixes them; else from the prior's, estimated
+  const auto load = [&](const std::array<double, 3>& delays) {
+    sysid::FlightSeriesOptions with = so;
+    with.command_delay_s = delays;
+    sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, with);
+    sysid::recover_excitation(series);  // a log without topics/excitation.csv (excitation_recovery.hpp)
+    return series;
+  };
+  sysid::SysidResult r = sysid::identify_timed(load, delays, prior, io, timing);
   sysid::apply_verdicts(r, prior, io);
   const std::string options = fmt::format(
       "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, command delay "
       "{} ms, gyro cross-axis {}, {}",
       o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
-      fmt::join(std::array<double, 3>{1e3 * so.command_delay_s[0], 1e3 * so.command_delay_s[1], 1e3 * so.command_delay_s[2]}, "/"),
+      fmt::join(std::array<double, 3>{1e3 * r.command_delay_s[0], 1e3 * r.command_delay_s[1], 1e3 * r.command_delay_s[2]}, "/"),
       o.gyro_cross_axis, o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const std::string estimate_text =
       o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
@@ -146,8 +155,9 @@ Command add_sysid_command(CLI::App& app) {
                 "widens the rolling and yawing moments' bounds, which cannot see it");
   c->add_option("--command-delay", o->command_delay_ms,
                 "MS or A E R: each surface's command acts this long after its stamp (ms; one value for every surface, or aileron "
-                "elevator rudder; negative: the log stamps it late); default: the prior's servos.delay_a, _e, _r, else 0. A positive "
-                "delay is written into aircraft.yaml's servos (docs/system-identification.md)")
+                "elevator rudder; negative: the log stamps it late), held; default: estimated from the flight by the output error, "
+                "starting from the prior's servos.delay_a, _e, _r. A positive delay is written into aircraft.yaml's servos "
+                "(docs/system-identification.md)")
       ->expected(1, 3);
   c->add_flag("--keep-estimate", o->keep_estimate,
               "keep the estimator's replay of the log in DIR/replay (the state at every message: hundreds of MB for a long flight; "

@@ -77,6 +77,11 @@ struct SysidOptions {
   /// cross-axis sensitivity plus the board's mounting error; MEMS gyros: 1-2 %). Not identifiable
   /// from the moments (consider_gyro_coupling): it widens the rolling and yawing moments' bounds.
   double gyro_cross_axis = 0.02;
+  /// The timing pass (command_delay.hpp): the output error also fits each surface's delay beside
+  /// its axis's moment coefficients (those the band identified and the damping and control
+  /// derivatives), into SysidResult::delay_shift. The coefficients of such a pass are not the
+  /// identification's: identify_timed() loads the series again with the delays and identifies.
+  bool estimate_delays = false;
 };
 
 struct CoefficientEstimate {
@@ -122,6 +127,10 @@ struct SysidResult {
   /// s, aileron, elevator, rudder: the delay between a command's stamp and its effect with which the
   /// series was loaded (FlightSeriesOptions::command_delay_s; set by the caller)
   std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};
+  /// s, aileron, elevator, rudder: how much later than command_delay_s the commands act, from the
+  /// output error (SysidOptions::estimate_delays; command_delay.hpp), with its standard error;
+  /// identified false where not estimated (given, or the axis not fitted)
+  std::array<NuisanceEstimate, 3> delay_shift;
   std::vector<std::string> notes;  ///< one line each: what the log could not support, and why
   std::vector<AxisSeries> series;
 };

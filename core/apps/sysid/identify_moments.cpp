@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -20,11 +21,73 @@ void pitching_moment(Context& c, const Col& alpha, bool accel) {
   bias_fit(c, "C_m_0", &M::C_m_0, a.C_m, pitch);
 }
 
+namespace {
+
+/// s, the elevator delays the pitch rate's timing fit is profiled over (timing_fit): a 20-ms grid
+/// from commands stamped late to a slow servo bus
+constexpr std::array<double, 7> kPitchDelayGrid = {-0.04, -0.02, 0.0, 0.02, 0.04, 0.06, 0.08};
+
+/// The timing pass's parameters beyond the identified coefficients (SysidOptions::estimate_delays):
+/// the damping and control derivatives, which a shifted command trades against, and the delays.
+void add_timing(RateAxes axes, std::vector<std::string>& free) {
+  const std::vector<std::string> extra = axes == RateAxes::pitch
+                                             ? std::vector<std::string>{"C_m_0", "C_m_alpha", "C_m_q", "C_m_delta_e", kDelayNames[1]}
+                                             : std::vector<std::string>{"C_ell_beta", "C_ell_p",     "C_ell_delta_a", "C_n_beta",
+                                                                        "C_n_r",      "C_n_delta_r", kDelayNames[0],  kDelayNames[2]};
+  for (const auto& name : extra)
+    if (std::find(free.begin(), free.end(), name) == free.end()) free.push_back(name);
+}
+
+/// The delays of a timing pass's fit into the result (identify.hpp, delay_shift).
+void take_delays(Context& c, const OutputErrorFit& f) {
+  for (std::size_t j = 0; j < f.names.size(); ++j)
+    for (std::size_t s = 0; s < kDelayNames.size(); ++s)
+      if (f.names[j] == kDelayNames[s]) {
+        const auto J = static_cast<Eigen::Index>(j);
+        c.result.delay_shift[s] = {f.theta[J], f.std_error[J], true, ""};
+      }
+}
+
+/// The timing pass's fit of one group of axes. The pitch rate's is first profiled over a grid of
+/// elevator delays (the coefficients fitted at each): its output error's basin is narrow (a pitch
+/// attitude hold's gains are high) and from a poor equation-error start the joint fit can run off
+/// to commands half a second early. The lateral axes' fit starts from the delays given.
+OutputErrorFit timing_fit(Context& c, const RateData& d, RateAxes axes, const std::vector<std::string>& free) {
+  OutputErrorOptions o = c.o.output_error;
+  AeroCoefficients start = c.coef;
+  if (axes == RateAxes::pitch) {
+    std::vector<std::string> coefficients = free;
+    coefficients.erase(std::remove(coefficients.begin(), coefficients.end(), kDelayNames[1]), coefficients.end());
+    OutputErrorOptions profile = o;
+    profile.max_relaxations = 1;
+    double best = std::numeric_limits<double>::infinity();
+    for (const double tau : kPitchDelayGrid) {
+      profile.command_shift_s[1] = o.command_shift_s[1] + tau;
+      const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, coefficients, profile);
+      if (f.rms[0] < best) {
+        best = f.rms[0];
+        o.command_shift_s[1] = profile.command_shift_s[1];
+        start = c.coef;
+        for (std::size_t j = 0; j < coefficients.size(); ++j)
+          start.*moment_coefficient(coefficients[j]) = f.theta[static_cast<Eigen::Index>(j)];
+      }
+    }
+  }
+  return output_error(d, c.result.aircraft, start, axes, free, o);
+}
+
+}  // namespace
+
 void refine(Context& c, const RateData& d, RateAxes axes) {
   std::vector<std::string> free;
   for (const auto& e : c.result.coefficients) {
     const bool pitch = e.name.rfind("C_m_", 0) == 0, lateral = e.name.rfind("C_ell_", 0) == 0 || e.name.rfind("C_n_", 0) == 0;
     if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
+  }
+  if (c.o.estimate_delays) {
+    add_timing(axes, free);
+    take_delays(c, timing_fit(c, d, axes, free));
+    return;
   }
   if (free.empty()) return;
   const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);

@@ -2,6 +2,7 @@
 #include "sysid/output_error.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <stdexcept>
@@ -38,6 +39,37 @@ const std::map<std::string, Member>& moment_table() {
                                                       {"C_n_delta_a", &M::C_n_delta_a},
                                                       {"C_n_delta_r", &M::C_n_delta_r}};
   return table;
+}
+
+/// One free parameter: a moment coefficient, or the delay of one surface's commands (surface 0
+/// aileron, 1 elevator, 2 rudder; s, on top of the delay the data was loaded with).
+struct Param {
+  Member member = nullptr;
+  int surface = -1;
+};
+
+Param param_of(const std::string& name) {
+  for (int s = 0; s < 3; ++s)
+    if (name == kDelayNames[static_cast<std::size_t>(s)]) return {nullptr, s};
+  return {moment_coefficient(name), -1};
+}
+
+/// x at t_k - tau for every k of one run of consecutive windows [b, e), linearly interpolated
+/// between the run's samples and held at its ends.
+void shift_run(const std::vector<double>& t, const std::vector<double>& x, double tau, std::size_t b, std::size_t e,
+               std::vector<double>& out) {
+  std::size_t j = b;
+  for (std::size_t k = b; k < e; ++k) {
+    const double s = t[k] - tau;
+    if (s <= t[b]) {
+      out[k] = x[b];
+    } else if (s >= t[e - 1]) {
+      out[k] = x[e - 1];
+    } else {
+      while (t[j + 1] < s) ++j;
+      out[k] = x[j] + (s - t[j]) / (t[j + 1] - t[j]) * (x[j + 1] - x[j]);
+    }
+  }
 }
 
 /// The book's Gamma coefficients (eq. 3.13, tern/aircraft.hpp, as the uavbook model, tern/aero/model.hpp, uses them) and 1 / J_y.
@@ -81,8 +113,9 @@ Eigen::Vector3d rate_derivative(const Gammas& G, const M& A, const Input& u, con
 /// The simulation: inputs per sample, which rates are integrated, the held coefficients.
 class RateModel {
  public:
-  RateModel(const RateData& d, const Aircraft& ac, const M& base, RateAxes axes, const std::vector<Member>& free, bool hold_commands)
-      : d_(d), G_(gammas_of(ac)), base_(base), free_(free), hold_commands_(hold_commands) {
+  RateModel(const RateData& d, const Aircraft& ac, const M& base, RateAxes axes, const std::vector<Param>& free, bool hold_commands,
+            const std::array<double, 3>& shift = {0.0, 0.0, 0.0})
+      : d_(d), G_(gammas_of(ac)), base_(base), free_(free), shift_(shift), hold_commands_(hold_commands) {
     for (std::size_t k = 0; k < d.size(); ++k) {
       Input u;
       const double qbar = 0.5 * ac.rho * d.Va[k] * d.Va[k], cb = std::cos(d.beta[k]);
@@ -95,6 +128,11 @@ class RateModel {
     outputs_ = axes == RateAxes::pitch ? std::vector<int>{1} : std::vector<int>{0, 2};
     integrated_ = axes == RateAxes::pitch ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(1, 0, 1);
     for (const auto& [b, e] : d.windows) residual_rows_ += e - b - 1;
+    for (const auto& w : d.windows)  // runs of consecutive windows: a shifted command reaches back across their joins
+      if (!runs_.empty() && runs_.back().second == w.first)
+        runs_.back().second = w.second;
+      else
+        runs_.push_back(w);
   }
   const std::vector<int>& outputs() const { return outputs_; }
   Eigen::Index ny() const { return static_cast<Eigen::Index>(outputs_.size()); }
@@ -103,20 +141,32 @@ class RateModel {
 
   M coefficients(const Eigen::VectorXd& theta) const {
     M A = base_;
-    for (std::size_t j = 0; j < free_.size(); ++j) A.*free_[j] = theta[static_cast<Eigen::Index>(j)];
+    for (std::size_t j = 0; j < free_.size(); ++j)
+      if (free_[j].member) A.*free_[j].member = theta[static_cast<Eigen::Index>(j)];
     return A;
   }
 
-  /// Simulated rates at every sample (measured outside the windows).
-  std::vector<Eigen::Vector3d> simulate(const M& A) const {
-    std::vector<Eigen::Vector3d> out(in_.size());
-    for (std::size_t k = 0; k < in_.size(); ++k) out[k] = in_[k].w;
+  /// s, aileron, elevator, rudder: the delays theta carries (the held shift for those it does not)
+  std::array<double, 3> delays(const Eigen::VectorXd& theta) const {
+    std::array<double, 3> tau = shift_;
+    for (std::size_t j = 0; j < free_.size(); ++j)
+      if (free_[j].surface >= 0) tau[static_cast<std::size_t>(free_[j].surface)] = theta[static_cast<Eigen::Index>(j)];
+    return tau;
+  }
+
+  /// Simulated rates at every sample (measured outside the windows), each surface's commands
+  /// acting `tau` later than the data has them.
+  std::vector<Eigen::Vector3d> simulate(const M& A, const std::array<double, 3>& tau = {0.0, 0.0, 0.0}) const {
+    const std::vector<Input> shifted = tau == std::array<double, 3>{0.0, 0.0, 0.0} ? std::vector<Input>{} : delayed(tau);
+    const std::vector<Input>& in = shifted.empty() ? in_ : shifted;
+    std::vector<Eigen::Vector3d> out(in.size());
+    for (std::size_t k = 0; k < in.size(); ++k) out[k] = in[k].w;
     for (const auto& [b, e] : d_.windows) {
-      Eigen::Vector3d w = in_[b].w;
+      Eigen::Vector3d w = in[b].w;
       for (std::size_t k = b; k + 1 < e; ++k) {
         const double h = d_.t[k + 1] - d_.t[k];
-        const Input& u0 = in_[k];
-        Input u1 = in_[k + 1];
+        const Input& u0 = in[k];
+        Input u1 = in[k + 1];
         Input um = lerp(u0, u1, 0.5);
         if (hold_commands_) {
           um.da = u1.da = u0.da, um.de = u1.de = u0.de, um.dr = u1.dr = u0.dr;
@@ -138,7 +188,7 @@ class RateModel {
 
   /// Measured less simulated rates, rows (sample, output) sample-major.
   Eigen::VectorXd residuals(const Eigen::VectorXd& theta) const {
-    const std::vector<Eigen::Vector3d> y = simulate(coefficients(theta));
+    const std::vector<Eigen::Vector3d> y = simulate(coefficients(theta), delays(theta));
     Eigen::VectorXd v(rows() * ny());
     Eigen::Index i = 0;
     for (const auto& [b, e] : d_.windows)
@@ -158,11 +208,28 @@ class RateModel {
   }
 
  private:
+  /// The inputs with each surface's commands shifted by its delay over every run of windows.
+  std::vector<Input> delayed(const std::array<double, 3>& tau) const {
+    std::vector<Input> in = in_;
+    const std::array<const std::vector<double>*, 3> commands = {&d_.delta_a, &d_.delta_e, &d_.delta_r};
+    const std::array<double Input::*, 3> fields = {&Input::da, &Input::de, &Input::dr};
+    std::vector<double> x(in_.size());
+    for (std::size_t s = 0; s < 3; ++s) {
+      if (tau[s] == 0.0) continue;
+      for (const auto& [b, e] : runs_) shift_run(d_.t, *commands[s], tau[s], b, e, x);
+      for (const auto& [b, e] : runs_)
+        for (std::size_t k = b; k < e; ++k) in[k].*fields[s] = x[k];
+    }
+    return in;
+  }
+
   const RateData& d_;
   Gammas G_;
   M base_;
-  std::vector<Member> free_;
+  std::vector<Param> free_;
+  std::array<double, 3> shift_;
   std::vector<Input> in_;
+  std::vector<std::pair<std::size_t, std::size_t>> runs_;
   std::vector<int> outputs_;
   Eigen::Vector3d integrated_;
   std::size_t residual_rows_ = 0;
@@ -308,23 +375,26 @@ OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const Aero
     usable += e - b >= 3 ? 1 : 0;
   }
   if (usable == 0) throw std::invalid_argument("output error: no window of 3 samples or more");
-  std::vector<Member> members;
+  std::vector<Param> params;
   OutputErrorFit fit;
   fit.axes = axes, fit.names = free;
   fit.start.resize(static_cast<Eigen::Index>(free.size()));
   for (std::size_t j = 0; j < free.size(); ++j) {
-    moment_coefficient(free[j]);
-    const bool pitch = free[j].rfind("C_m_", 0) == 0;
+    params.push_back(param_of(free[j]));
+    const bool pitch = params.back().member ? free[j].rfind("C_m_", 0) == 0 : params.back().surface == 1;
     if (pitch != (axes == RateAxes::pitch))
       throw std::invalid_argument(
           fmt::format("output error: {} is not in the {} axes' moments", free[j], axes == RateAxes::pitch ? "pitch" : "lateral"));
-    members.push_back(moment_coefficient(free[j]));
-    fit.start[static_cast<Eigen::Index>(j)] = start.*members.back();
+    const int surface = params.back().surface;
+    fit.start[static_cast<Eigen::Index>(j)] =
+        params.back().member ? start.*params.back().member : o.command_shift_s[static_cast<std::size_t>(surface)];
   }
-  const RateModel model(d, prior, start, axes, members, o.hold_commands);
+  const RateModel model(d, prior, start, axes, params, o.hold_commands, o.command_shift_s);
   const Eigen::Index ny = model.ny();
   Eigen::VectorXd theta = fit.start;
-  const Eigen::VectorXd scale = theta.cwiseAbs().cwiseMax(1e-3);
+  Eigen::VectorXd scale = theta.cwiseAbs().cwiseMax(1e-3);
+  for (std::size_t j = 0; j < params.size(); ++j)  // a delay's difference step: 1e-4 of 10 ms
+    if (params[j].surface >= 0) scale[static_cast<Eigen::Index>(j)] = 0.01;
   Eigen::VectorXd v = model.residuals(theta);
   fit.rms_start = rms_per_output(v, ny);
   Eigen::MatrixXd R = covariance(v, ny);

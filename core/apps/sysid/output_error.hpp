@@ -18,6 +18,14 @@
 // inertial coupling as measured. Each window of the data restarts from the measured rates (the
 // simulation does not carry one gust's error through the flight).
 //
+// The commands' timing. Besides the coefficients, theta can carry a delay per surface
+// ("delay_a", "delay_e", "delay_r", s): the surface's commands act that much later than the data
+// has them, linearly interpolated between samples over each run of consecutive windows (held at its
+// start). Klein and Morelli ch. 10 (data compatibility) fit such a time shift beside the model's
+// parameters: in a closed loop the equation error cannot tell a late command from a controller
+// that feeds the rate back (the command is computed from the rate it is regressed beside), while
+// the simulated rates, integrated from the commands alone, depend on when the commands act.
+//
 // The fit. theta (the free coefficients) minimises J = sum_k v_k^T R^-1 v_k, v_k the measured less
 // the simulated rates, by Eigen's Levenberg-Marquardt (unsupported/Eigen/LevenbergMarquardt, MINPACK's
 // lmder) with central-difference sensitivities; R, the residual covariance, is re-estimated from
@@ -35,6 +43,7 @@
 // name, a coefficient not in the axes' moments, or no window with at least 3 samples.
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -45,6 +54,9 @@
 #include "tern/aircraft.hpp"
 
 namespace tern::core::sysid {
+
+/// The names of the commands' delays among output_error's free parameters (header): aileron, elevator, rudder.
+inline constexpr std::array<const char*, 3> kDelayNames = {"delay_a", "delay_e", "delay_r"};
 
 /// Which rates the model integrates.
 enum class RateAxes { pitch, lateral };
@@ -57,6 +69,9 @@ struct OutputErrorOptions {
   int max_evaluations = 400;      ///< model simulations per Levenberg-Marquardt fit
   double theta_tolerance = 1e-3;  ///< relaxation stops when no coefficient moves more than this many standard errors
   bool hold_commands = false;     ///< the surfaces held over each sample interval (raw zero-order-hold data) instead of interpolated
+  /// s, aileron, elevator, rudder: each surface's commands act this much later than the data has
+  /// them (header, "The commands' timing"); a free delay starts here
+  std::array<double, 3> command_shift_s = {0.0, 0.0, 0.0};
 };
 
 /// The measured side, one entry per sample (every vector the same length); windows are runs of
@@ -96,7 +111,8 @@ RateData rate_data(const AeroSamples& a, const std::vector<double>& alpha, const
 std::vector<Eigen::Vector3d> simulate_rates(const RateData& d, const Aircraft& prior, const AeroCoefficients& aero, RateAxes axes);
 
 /// Fits the coefficients named in `free` (keys of the aircraft file among C_ell_*, C_m_*, C_n_*
-/// of the axes' moments) from `start`, the others held (header).
+/// of the axes' moments; and kDelayNames' delays of the axes' surfaces, from o.command_shift_s) from
+/// `start`, the others held (header).
 OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const AeroCoefficients& start, RateAxes axes,
                             const std::vector<std::string>& free, const OutputErrorOptions& o);
 

@@ -101,6 +101,9 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
                           {"accel_x_bias", nuisance(r.accel_x_bias, "m/s^2")},
                           {"wind_ne", {r.wind_n, r.wind_e}}};
   j["command_delay_s"] = {{"aileron", r.command_delay_s[0]}, {"elevator", r.command_delay_s[1]}, {"rudder", r.command_delay_s[2]}};
+  j["command_delay_estimate"] = {{"aileron", nuisance(r.delay_shift[0], "s after the starting delay")},
+                                 {"elevator", nuisance(r.delay_shift[1], "s after the starting delay")},
+                                 {"rudder", nuisance(r.delay_shift[2], "s after the starting delay")}};
   j["notes"] = r.notes;
   return j;
 }
@@ -109,8 +112,8 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
 std::string delay_line(const SysidResult& r) {
   const auto& d = r.command_delay_s;
   return fmt::format(
-      "command delay: aileron {:g} ms, elevator {:g} ms, rudder {:g} ms (each command paired with the motion that "
-      "long after its stamp: --command-delay, or the prior's servos.delay_*)",
+      "command delay: aileron {:.1f} ms, elevator {:.1f} ms, rudder {:.1f} ms (each command paired with the motion that "
+      "long after its stamp: estimated from the flight, or given by --command-delay)",
       1e3 * d[0], 1e3 * d[1], 1e3 * d[2]);
 }
 

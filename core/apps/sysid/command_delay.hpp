@@ -1,0 +1,43 @@
+// core/apps/sysid/command_delay.hpp: when the surfaces' commands act, estimated from the flight
+// (issue 76: logs from other autopilots stamp a command when it was computed; the surface moves a
+// servo bus, a mixer cycle or a servo's dead time later).
+//
+// Two passes of identify() (identify.hpp):
+//  1. The timing pass (SysidOptions::estimate_delays) on the series loaded with the starting delays
+//     (the prior's servos.delay_*): the equation error, then the output error of the pitch rate
+//     and of the roll and yaw rates with each surface's delay free beside the axis's coefficients
+//     (output_error.hpp, "The commands' timing"; Klein and Morelli, *Aircraft System
+//     Identification*, 2006, ch. 10: the data's time shifts fitted with the model). The
+//     equation error alone cannot do it in a closed loop: a controller that feeds the rate back
+//     makes a command computed from the rate look like one acting early, so a least-squares
+//     search over the delay is pulled toward commands acting before their stamps.
+//  2. Each delay adopted when its standard error is at most max_std_error_s and it stays within
+//     max_delay_s of a stamp; the series loaded again with the adopted delays and identified
+//     (equation error and output error on the same timing).
+// A surface whose delay is given (estimate[i] false) keeps it; so does every surface when the
+// output error is off (its one line says so).
+#pragma once
+
+#include <array>
+#include <functional>
+
+#include "sysid/identify.hpp"
+
+namespace tern::core::sysid {
+
+/// The series with each command acting `command_delay_s` (s, aileron, elevator, rudder) after its stamp.
+using SeriesLoader = std::function<FlightSeries(const std::array<double, 3>& command_delay_s)>;
+
+struct DelayOptions {
+  std::array<bool, 3> estimate = {true, true, true};  ///< aileron, elevator, rudder: estimated (else held at the start)
+  double max_std_error_s = 0.005;                     ///< s, a delay less certain than this is not adopted
+  double max_delay_s = 0.25;                          ///< s, |delay| beyond this is not adopted (a log's clocks, not a servo)
+};
+
+/// identify() with the commands' delays estimated (header); the result's command_delay_s are the
+/// delays the identification used, delay_shift each one's estimate against the start, one note per
+/// surface. Throws what identify() and `load` throw.
+SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>& start_s, const Aircraft& prior, const SysidOptions& o,
+                           const DelayOptions& d);
+
+}  // namespace tern::core::sysid
