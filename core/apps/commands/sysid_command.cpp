@@ -94,10 +94,11 @@ int run_sysid(const SysidOptionsCli& o) {
   io.gyro_cross_axis = o.gyro_cross_axis;
   sysid::DelayOptions timing;
   timing.estimate.fill(o.command_delay_ms.empty());  // --command-delay fixes them; else from the prior's, estimated
+  const sysid::FlightTables tables = sysid::read_flight_tables(o.log_dir, estimate);
   const auto load = [&](const std::array<double, 3>& delays) {
     sysid::FlightSeriesOptions with = so;
     with.command_delay_s = delays;
-    sysid::FlightSeries series = sysid::load_flight_series(o.log_dir, estimate, with);
+    sysid::FlightSeries series = sysid::series_from_tables(tables, with);
     sysid::recover_excitation(series);  // a log without topics/excitation.csv (excitation_recovery.hpp)
     return series;
   };

@@ -43,30 +43,35 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
   }
   SysidOptions timing = o;
   timing.estimate_delays = true;
-  const SysidResult pass = identify(first, prior, timing);
+  SysidResult pass = identify(first, prior, timing);
+  const std::array<NuisanceEstimate, 3> shift = pass.delay_shift;
   std::array<double, 3> delays = start_s;
+  std::array<bool, 3> taken = {false, false, false};
+  bool moved = false;
   std::vector<std::string> lines;
   for (std::size_t i = 0; i < 3; ++i) {
-    if (!d.estimate[i]) {
-      lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
-      continue;
-    }
-    const NuisanceEstimate& s = pass.delay_shift[i];
     std::string why;
-    if (adopted(s, start_s[i], d, why)) {
-      delays[i] = start_s[i] + s.estimate;
-      lines.push_back(fmt::format("command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}", kSurfaces[i],
-                                  1e3 * delays[i], 1e3 * s.std_error, kRates[i]));
-    } else {
-      lines.push_back(
-          fmt::format("command delay ({}): not estimated ({}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
-                      s.identified ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * (start_s[i] + s.estimate), 1e3 * s.std_error, why) : why,
-                      1e3 * start_s[i], "aer"[i]));
-    }
+    taken[i] = d.estimate[i] && adopted(shift[i], start_s[i], d, why);
+    if (taken[i]) delays[i] = start_s[i] + shift[i].estimate, moved = moved || std::abs(shift[i].estimate) > d.min_shift_s;
+    if (!d.estimate[i])
+      lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
+    else if (!taken[i])
+      lines.push_back(fmt::format("command delay ({}): not estimated ({}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
+                                  shift[i].identified ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * (start_s[i] + shift[i].estimate),
+                                                                    1e3 * shift[i].std_error, why)
+                                                      : why,
+                                  1e3 * start_s[i], "aer"[i]));
   }
-  SysidResult r = delays == start_s ? identify(first, prior, o) : identify(load(delays), prior, o);
-  r.command_delay_s = delays;
-  r.delay_shift = pass.delay_shift;
+  for (std::size_t i = 0; i < 3; ++i)
+    if (taken[i])
+      lines.push_back(fmt::format(
+          "command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}{}", kSurfaces[i], 1e3 * delays[i],
+          1e3 * shift[i].std_error, kRates[i],
+          moved ? ""
+                : fmt::format(" (within {:g} ms of the {:g} ms it started from, which stays)", 1e3 * d.min_shift_s, 1e3 * start_s[i])));
+  SysidResult r = moved ? identify(load(delays), prior, o) : std::move(pass);
+  r.command_delay_s = moved ? delays : start_s;
+  r.delay_shift = shift;
   r.notes.insert(r.notes.begin(), lines.begin(), lines.end());
   return r;
 }

@@ -12,8 +12,9 @@
 //     makes a command computed from the rate look like one acting early, so a least-squares
 //     search over the delay is pulled toward commands acting before their stamps.
 //  2. Each delay adopted when its standard error is at most max_std_error_s and it stays within
-//     max_delay_s of a stamp; the series loaded again with the adopted delays and identified
-//     (equation error and output error on the same timing).
+//     max_delay_s of a stamp. Where an adopted delay moved by more than min_shift_s, the series is
+//     built again with the adopted delays and identified (equation error and output error on the
+//     same timing); else the first pass's identification stands.
 // A surface whose delay is given (estimate[i] false) keeps it; so does every surface when the
 // output error is off (its one line says so).
 #pragma once
@@ -32,6 +33,8 @@ struct DelayOptions {
   std::array<bool, 3> estimate = {true, true, true};  ///< aileron, elevator, rudder: estimated (else held at the start)
   double max_std_error_s = 0.005;                     ///< s, a delay less certain than this is not adopted
   double max_delay_s = 0.25;                          ///< s, |delay| beyond this is not adopted (a log's clocks, not a servo)
+  /// s, a shift smaller than this (a few degrees of phase at the band's 4 Hz) does not call for a second pass
+  double min_shift_s = 0.003;
 };
 
 /// identify() with the commands' delays estimated (header); the result's command_delay_s are the

@@ -2,6 +2,7 @@
 #include "sysid/flight_data.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 
@@ -16,6 +17,8 @@
 namespace tern::core::sysid {
 
 namespace {
+
+constexpr std::array<const char*, 6> kImuNames = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
 
 constexpr double kMaxGap = 1.0;  ///< s: the estimate is not interpolated across a longer gap
 
@@ -188,18 +191,33 @@ void flow_angles_from_steady_wind(FlightSeries& s) {
   }
 }
 
-FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
-                                const FlightSeriesOptions& o) {
-  const std::vector<std::string> imu_names = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
-  std::vector<std::string> imu_wanted = imu_names;
+FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir) {
+  std::vector<std::string> imu_wanted(kImuNames.begin(), kImuNames.end());
   imu_wanted.push_back("t");
-  const CsvTable imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
-  const CsvTable act = read_table(log_dir / "topics" / "actuators.csv", {"t", "delta_a", "delta_e", "delta_r", "delta_t"},
-                                  "the surfaces' commands are required (docs/sensor-log.md, actuators)");
+  FlightTables f;
+  f.imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
+  f.actuators = read_table(log_dir / "topics" / "actuators.csv", {"t", "delta_a", "delta_e", "delta_r", "delta_t"},
+                           "the surfaces' commands are required (docs/sensor-log.md, actuators)");
   const std::vector<std::string> state_names = {"t",    "valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha",
                                                 "beta", "p_n",   "p_e", "p_d",   "u",   "v",   "w",   "w_n", "w_e", "w_d"};
-  const CsvTable st = read_table(estimate_dir / "topics" / "state.csv", state_names, "the estimate (tern replay LOG) is required");
+  f.state = read_table(estimate_dir / "topics" / "state.csv", state_names, "the estimate (tern replay LOG) is required");
+  const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
+  if (std::filesystem::exists(excitation)) f.excitation = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
+  const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
+  if (std::filesystem::exists(pitot)) f.diff_pressure = read_table(pitot, {"t", "pressure"}, "");
+  const std::filesystem::path meta = log_dir / "sensor_log.yaml";
+  if (const auto w = read_airborne_window(meta)) f.declared_airborne = DeclaredAirborne{w->start_s, w->end_s, meta.string()};
+  return f;
+}
 
+FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
+                                const FlightSeriesOptions& o) {
+  return series_from_tables(read_flight_tables(log_dir, estimate_dir), o);
+}
+
+FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions& o) {
+  const CsvTable &imu = f.imu, &act = f.actuators, &st = f.state;
+  const std::vector<std::string> imu_names(kImuNames.begin(), kImuNames.end());
   const std::vector<std::size_t> rows = usable_imu_rows(imu, imu_names);
   if (rows.size() < 3) throw ConfigError(fmt::format("{}: fewer than 3 usable IMU rows", imu.file.string()));
   // the IMU's axes turned into the body's (the estimator's imu_mount)
@@ -258,9 +276,8 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const auto& d = o.command_delay_s;
   s.delta_a = command("delta_a", d[0]), s.delta_e = command("delta_e", d[1]), s.delta_r = command("delta_r", d[2]);
   s.delta_t = command("delta_t", 0.0);
-  const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
-  if (std::filesystem::exists(excitation)) {
-    const CsvTable ex = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
+  if (f.excitation) {
+    const CsvTable& ex = *f.excitation;
     auto part = [&](const char* name, double delay) {
       note_not_numbers(ex, name, s.notes);
       return keep(lp(commands_in_force(delayed(ex.at("t"), delay), ex.at(name), t, o.servo_tau)));
@@ -294,9 +311,8 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   s.w_d.assign(s.t.size(), 0.0);
   flow_angles_from_steady_wind(s);
   s.qbar = Column(s.t.size(), std::nan(""));
-  const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
-  if (std::filesystem::exists(pitot)) {
-    const CsvTable dp = read_table(pitot, {"t", "pressure"}, "");
+  if (f.diff_pressure) {
+    const CsvTable& dp = *f.diff_pressure;
     note_not_numbers(dp, "pressure", s.notes);
     Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
     s.qbar = keep(lp(q));
@@ -304,8 +320,7 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
   const Column v = keep(valid);
   s.valid.resize(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;
-  const std::filesystem::path meta = log_dir / "sensor_log.yaml";
-  if (const auto w = read_airborne_window(meta)) s.declared_airborne = DeclaredAirborne{w->start_s, w->end_s, meta.string()};
+  s.declared_airborne = f.declared_airborne;
   return s;
 }
 

@@ -35,6 +35,8 @@
 
 #include <Eigen/Core>
 
+#include "replay/replay_csv.hpp"
+
 namespace tern::core::sysid {
 
 struct FlightSeriesOptions {
@@ -105,8 +107,22 @@ void check_sensor_log(const std::filesystem::path& log_dir, bool replayed = true
 /// Throws ConfigError naming params.csv when a value is not a 3-vector.
 void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o);
 
-/// Reads and conditions the series (header). `log_dir` holds imu.csv and actuators.csv under
-/// topics/, `estimate_dir` state.csv under topics/ (the two may be the same run).
+/// The tables a series is built from, each read once: a second series with other options (the
+/// commands' delays: command_delay.hpp) needs no second read of a log of hundreds of MB.
+struct FlightTables {
+  CsvTable imu, actuators, state;                     ///< topics/imu.csv, actuators.csv; the estimate's state.csv
+  std::optional<CsvTable> excitation, diff_pressure;  ///< topics/excitation.csv, diff_pressure.csv, if the log has them
+  std::optional<DeclaredAirborne> declared_airborne;  ///< sensor_log.yaml's `airborne`
+};
+
+/// Reads the tables (header). `log_dir` holds imu.csv and actuators.csv under topics/,
+/// `estimate_dir` state.csv under topics/ (the two may be the same run).
+FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir);
+
+/// Conditions the series from the tables (header).
+FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOptions& options);
+
+/// read_flight_tables, then series_from_tables.
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
                                 const FlightSeriesOptions& options);
 

@@ -77,10 +77,10 @@ struct SysidOptions {
   /// cross-axis sensitivity plus the board's mounting error; MEMS gyros: 1-2 %). Not identifiable
   /// from the moments (consider_gyro_coupling): it widens the rolling and yawing moments' bounds.
   double gyro_cross_axis = 0.02;
-  /// The timing pass (command_delay.hpp): the output error also fits each surface's delay beside
-  /// its axis's moment coefficients (those the band identified and the damping and control
-  /// derivatives), into SysidResult::delay_shift. The coefficients of such a pass are not the
-  /// identification's: identify_timed() loads the series again with the delays and identifies.
+  /// The timing pass (command_delay.hpp): before each output-error refinement, an output-error
+  /// fit of each surface's delay beside its axis's moment coefficients (those the band identified
+  /// and the damping and control derivatives), into SysidResult::delay_shift; the refinement itself
+  /// is on the delays the series was loaded with.
   bool estimate_delays = false;
 };
 

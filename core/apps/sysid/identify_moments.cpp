@@ -85,9 +85,9 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
   }
   if (c.o.estimate_delays) {
-    add_timing(axes, free);
-    take_delays(c, timing_fit(c, d, axes, free));
-    return;
+    std::vector<std::string> timed = free;
+    add_timing(axes, timed);
+    take_delays(c, timing_fit(c, d, axes, timed));
   }
   if (free.empty()) return;
   const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
