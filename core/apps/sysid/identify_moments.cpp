@@ -27,8 +27,14 @@ namespace {
 /// from commands stamped late to a slow servo bus
 constexpr std::array<double, 7> kPitchDelayGrid = {-0.04, -0.02, 0.0, 0.02, 0.04, 0.06, 0.08};
 
-/// The timing pass's parameters beyond the identified coefficients (SysidOptions::estimate_delays):
-/// the damping and control derivatives, which a shifted command trades against, and the delays.
+/// The timing fits' cost (they run beside the refinement): the profile's fits stop after this many
+/// simulations, and the joint fit after two relaxations (its delays settle in the first)
+constexpr int kProfileEvaluations = 80;
+constexpr int kTimingRelaxations = 2;
+
+/// The timing fit's parameters (SysidOptions::estimate_delays): the delays and the derivatives a
+/// shifted command trades against (the damping and control derivatives, the static stability
+/// beside them); the other coefficients held at the equation error's values.
 void add_timing(RateAxes axes, std::vector<std::string>& free) {
   const std::vector<std::string> extra = axes == RateAxes::pitch
                                              ? std::vector<std::string>{"C_m_0", "C_m_alpha", "C_m_q", "C_m_delta_e", kDelayNames[1]}
@@ -59,7 +65,7 @@ OutputErrorFit timing_fit(Context& c, const RateData& d, RateAxes axes, const st
     std::vector<std::string> coefficients = free;
     coefficients.erase(std::remove(coefficients.begin(), coefficients.end(), kDelayNames[1]), coefficients.end());
     OutputErrorOptions profile = o;
-    profile.max_relaxations = 1;
+    profile.max_relaxations = 1, profile.max_evaluations = kProfileEvaluations;
     double best = std::numeric_limits<double>::infinity();
     for (const double tau : kPitchDelayGrid) {
       profile.command_shift_s[1] = o.command_shift_s[1] + tau;
@@ -73,6 +79,7 @@ OutputErrorFit timing_fit(Context& c, const RateData& d, RateAxes axes, const st
       }
     }
   }
+  o.max_relaxations = std::min(o.max_relaxations, kTimingRelaxations);
   return output_error(d, c.result.aircraft, start, axes, free, o);
 }
 
@@ -85,7 +92,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
   }
   if (c.o.estimate_delays) {
-    std::vector<std::string> timed = free;
+    std::vector<std::string> timed;
     add_timing(axes, timed);
     take_delays(c, timing_fit(c, d, axes, timed));
   }

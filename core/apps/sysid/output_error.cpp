@@ -157,8 +157,9 @@ class RateModel {
   /// Simulated rates at every sample (measured outside the windows), each surface's commands
   /// acting `tau` later than the data has them.
   std::vector<Eigen::Vector3d> simulate(const M& A, const std::array<double, 3>& tau = {0.0, 0.0, 0.0}) const {
-    const std::vector<Input> shifted = tau == std::array<double, 3>{0.0, 0.0, 0.0} ? std::vector<Input>{} : delayed(tau);
-    const std::vector<Input>& in = shifted.empty() ? in_ : shifted;
+    const bool shifted = tau != std::array<double, 3>{0.0, 0.0, 0.0};
+    if (shifted) delay_into(tau, scratch_);
+    const std::vector<Input>& in = shifted ? scratch_ : in_;
     std::vector<Eigen::Vector3d> out(in.size());
     for (std::size_t k = 0; k < in.size(); ++k) out[k] = in[k].w;
     for (const auto& [b, e] : d_.windows) {
@@ -208,9 +209,9 @@ class RateModel {
   }
 
  private:
-  /// The inputs with each surface's commands shifted by its delay over every run of windows.
-  std::vector<Input> delayed(const std::array<double, 3>& tau) const {
-    std::vector<Input> in = in_;
+  /// The inputs with each surface's commands shifted by its delay over every run of windows, into `in`.
+  void delay_into(const std::array<double, 3>& tau, std::vector<Input>& in) const {
+    in = in_;
     const std::array<const std::vector<double>*, 3> commands = {&d_.delta_a, &d_.delta_e, &d_.delta_r};
     const std::array<double Input::*, 3> fields = {&Input::da, &Input::de, &Input::dr};
     std::vector<double> x(in_.size());
@@ -220,7 +221,6 @@ class RateModel {
       for (const auto& [b, e] : runs_)
         for (std::size_t k = b; k < e; ++k) in[k].*fields[s] = x[k];
     }
-    return in;
   }
 
   const RateData& d_;
@@ -229,6 +229,7 @@ class RateModel {
   std::vector<Param> free_;
   std::array<double, 3> shift_;
   std::vector<Input> in_;
+  mutable std::vector<Input> scratch_;  ///< the shifted inputs of the last simulation (no allocation per simulation)
   std::vector<std::pair<std::size_t, std::size_t>> runs_;
   std::vector<int> outputs_;
   Eigen::Vector3d integrated_;
