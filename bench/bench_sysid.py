@@ -241,8 +241,7 @@ def anaconda_gains(tern, seed, work):
     factor = 0.6 if seed % 2 == 1 else 1.5
     prior = scaled_prior(truth_file, factor, os.path.join(work, f"anaconda_prior_{seed}.yaml"))
     out = os.path.join(work, f"sysid_anaconda_{seed}")
-    given = ["--command-delay", str(args.command_delay)] if args.command_delay is not None else []
-    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"] + given)
+    run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"])
     gains = os.path.join(out, "gains.yaml")
     run([tern, "aero", "gains", "--aircraft", os.path.join(out, "aircraft.yaml"), "--Va", "17", "--out", gains])
     figures = {}

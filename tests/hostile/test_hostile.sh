@@ -101,6 +101,9 @@ jump_text="imu.csv:4002: t [s] '1000000010.000000000'"
 refused jump_replay "$jump_text" "$tern" replay "$logs/jump" --log-dir "$work/replays"
 refused jump_sysid "$jump_text" "$tern" sysid "$logs/jump" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
 refused jump_validate "$jump_text" "$tern" validate "$logs/jump" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/validate"
+# a time with two signs (found by fuzz_csv_table: "--880690500" parsed as -880690500 and negated)
+cp -r "$logs/jump" "$work/double_sign" && sed -i '4002s/^[^,]*/--880690500/' "$work/double_sign/topics/imu.csv"
+refused double_sign "imu.csv:4002: t [s] '--880690500' is not a decimal number" "$tern" replay "$work/double_sign" --log-dir "$work/replays"
 
 # ---- silently wrong, now refused -----------------------------------------------------------------
 refused inertia_triangle "bad_inertia.yaml: inertia.Jz:" "$tern" check "$configs/bad_inertia.yaml"

@@ -847,6 +847,7 @@ TEST_CASE("tern import ulog: the conversions, on hand-checked values") {
   CHECK(east.lon - 10.0 == doctest::Approx(2 * 1000.0 / 6371000.0 * 180.0 / M_PI).epsilon(1e-6));
   CHECK(east.lat == doctest::Approx(60.0).epsilon(1e-6));
   CHECK(iso_date_from_utc_usec(1618986658600345ull) == "2021-04-21");
+  CHECK(iso_date_from_utc_usec(8'385'000'000'000'000'000ull) == "");  // year 267695 (fuzz_ulog_conversion): no date
 
   std::vector<tern::Nanos> out;
   ReorderWindow<tern::msg::Mag> w(100, [&](const tern::msg::Mag& m) { out.push_back(m.stamp); });

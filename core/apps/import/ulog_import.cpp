@@ -49,7 +49,8 @@ LatLon px4_reproject(double ref_lat_deg, double ref_lon_deg, double north_m, dou
 std::string iso_date_from_utc_usec(std::uint64_t utc_usec) {
   const std::time_t secs = static_cast<std::time_t>(utc_usec / 1000000);
   std::tm tm{};
-  gmtime_r(&secs, &tm);
+  // a date an ISO YYYY-MM-DD holds, or none (a corrupt time_utc_usec reaches years past 9999)
+  if (gmtime_r(&secs, &tm) == nullptr || tm.tm_year + 1900 > 9999) return "";
   return fmt::format("{:04d}-{:02d}-{:02d}", tm.tm_year + 1900, tm.tm_mon + 1, tm.tm_mday);
 }
 

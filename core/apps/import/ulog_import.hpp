@@ -74,7 +74,8 @@ struct LatLon {
 /// formulas). PX4's vehicle_local_position x/y are relative to ref_lat/ref_lon by this projection.
 LatLon px4_reproject(double ref_lat_deg, double ref_lon_deg, double north_m, double east_m);
 
-/// The ISO date ("2021-04-21") of a UTC time in us since 1970 (vehicle_gps_position.time_utc_usec).
+/// The ISO date ("2021-04-21") of a UTC time in us since 1970 (vehicle_gps_position.time_utc_usec);
+/// "" for a time past 9999-12-31 (a corrupt field: sensor_log.yaml's date is YYYY-MM-DD).
 std::string iso_date_from_utc_usec(std::uint64_t utc_usec);
 
 /// Puts rows that arrive almost in time order into time order: a row is released once a row

@@ -39,7 +39,8 @@ std::optional<Nanos> parse_log_time(const std::string& s) {
   const char* dot = std::find(begin, end, '.');
   long long sec = 0;
   const auto [p, ec] = std::from_chars(begin, dot, sec);
-  if (ec != std::errc() || p != dot || sec > static_cast<long long>(kMaxLogTime)) return std::nullopt;
+  // one sign at most: "--5" would come back from from_chars as -5, and its negation as 5 past the bound
+  if (ec != std::errc() || p != dot || sec < 0 || sec > static_cast<long long>(kMaxLogTime)) return std::nullopt;
   long long frac = 0;
   if (dot != end) {
     std::string f(dot + 1, end);

@@ -5,6 +5,7 @@
 
 #include <fmt/format.h>
 #include <zstd.h>
+#include <memory>
 
 #include "tern/input_file.hpp"
 
@@ -146,6 +147,32 @@ McapMessage McapReader::message(std::string_view content, std::uint64_t offset) 
   return m;
 }
 
+void McapReader::unpack_zstd(std::uint64_t offset, std::string_view frame, std::uint64_t size, std::string& buffer) const {
+  // streamed into a buffer that grows with what the frame gives (doubling from 1 MiB, never past
+  // the declared size): a few bytes declaring gigabytes take no more memory than they unpack to
+  const std::unique_ptr<ZSTD_DCtx, std::size_t (*)(ZSTD_DCtx*)> dctx(ZSTD_createDCtx(), ZSTD_freeDCtx);
+  buffer.resize(static_cast<std::size_t>(std::min<std::uint64_t>(size, std::uint64_t{1} << 20)));
+  ZSTD_inBuffer in{frame.data(), frame.size(), 0};
+  ZSTD_outBuffer out{buffer.data(), buffer.size(), 0};
+  std::size_t left = 1;  // ZSTD_decompressStream: 0 once the frame is complete
+  for (;;) {
+    left = ZSTD_decompressStream(dctx.get(), &out, &in);
+    if (ZSTD_isError(left)) damaged(offset, fmt::format("chunk does not decompress (zstd: {})", ZSTD_getErrorName(left)));
+    if (left == 0) break;
+    if (out.pos < out.size) {
+      if (in.pos == in.size) break;  // the frame ends before it is complete
+      continue;
+    }
+    if (out.size >= size) break;  // the declared size reached and the frame goes on
+    buffer.resize(static_cast<std::size_t>(std::min<std::uint64_t>(size, 2 * std::uint64_t{out.size})));
+    out.dst = buffer.data(), out.size = buffer.size();
+  }
+  if (left != 0 || out.pos != size)
+    damaged(offset, fmt::format("chunk does not decompress (zstd: {} bytes of the {} declared{})", out.pos, size,
+                                left != 0 ? ", the frame incomplete or longer" : ""));
+  buffer.resize(out.pos);
+}
+
 void McapReader::chunk_messages(const McapRecord& r, std::string& buffer, const std::function<void(const McapMessage&)>& each) const {
   In in{r.content.data(), r.content.data() + r.content.size()};
   in.u64();  // message_start_time
@@ -162,10 +189,7 @@ void McapReader::chunk_messages(const McapRecord& r, std::string& buffer, const 
     const unsigned long long frame = ZSTD_getFrameContentSize(data.data(), data.size());
     if (frame != ZSTD_CONTENTSIZE_UNKNOWN && frame != ZSTD_CONTENTSIZE_ERROR && frame != size)
       damaged(r.offset, fmt::format("chunk declares {} bytes uncompressed, its zstd frame {}", size, frame));
-    buffer.resize(size);
-    const std::size_t n = ZSTD_decompress(buffer.data(), buffer.size(), data.data(), data.size());
-    if (ZSTD_isError(n) || n != size)
-      damaged(r.offset, fmt::format("chunk does not decompress (zstd: {})", ZSTD_isError(n) ? ZSTD_getErrorName(n) : "wrong size"));
+    unpack_zstd(r.offset, data, size, buffer);
   } else if (compression.empty()) {
     buffer.assign(data);
   } else {

@@ -76,6 +76,8 @@ class McapReader {
 
  private:
   [[noreturn]] void damaged(std::uint64_t offset, const std::string& what) const;
+  /// A chunk's zstd frame into `buffer`, exactly `size` bytes (McapError otherwise).
+  void unpack_zstd(std::uint64_t offset, std::string_view frame, std::uint64_t size, std::string& buffer) const;
   fs::path path_;
   std::ifstream in_;
   std::uint64_t offset_ = 0;
