@@ -73,7 +73,8 @@ void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft,
   for (std::size_t i = 0; i < aircraft.size(); ++i) {
     run.series.servo_tau = aircraft[i].servo_tau;
     run.series.command_delay_s = {aircraft[i].servo_delay_a, aircraft[i].servo_delay_e, aircraft[i].servo_delay_r};
-    const sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
+    sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
+    sysid::put_ground_at_zero(s, run.options.ground);  // the model's gear at the log's ground, not at its first fix
     if (i == 0) {
       run.windows = sysid::airborne_windows(s, run.options, run.log);
       run.airborne = sysid::airborne_mask(s, run.options.ground).rule;

@@ -2,6 +2,7 @@
 #include "sysid/airborne.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -19,6 +20,9 @@ AirborneMask declared(const FlightSeries& s, const DeclaredAirborne& w) {
   return m;
 }
 
+/// m: how far below its lowest sample put_ground_at_zero puts the ground of a log that never stood still
+constexpr double kClearBelow = 1000.0;
+
 }  // namespace
 
 double seconds_where(const FlightSeries& s, const std::vector<unsigned char>& flag) {
@@ -28,14 +32,34 @@ double seconds_where(const FlightSeries& s, const std::vector<unsigned char>& fl
   return total;
 }
 
-AirborneMask airborne_mask(const FlightSeries& s, const AirborneRule& rule) {
-  if (s.declared_airborne) return declared(s, *s.declared_airborne);
+std::optional<double> ground_height(const FlightSeries& s, const AirborneRule& rule) {
   std::vector<unsigned char> still(s.size(), 0);
   std::vector<double> heights;
   for (std::size_t k = 0; k < s.size(); ++k)
     if (s.valid[k] && std::isfinite(s.p_d[k]) && ground_speed(s, k) < rule.still_speed) still[k] = 1, heights.push_back(-s.p_d[k]);
+  if (heights.empty() || seconds_where(s, still) < rule.min_still_s) return std::nullopt;
+  std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(heights.size() / 2), heights.end());
+  return heights[heights.size() / 2];
+}
+
+void put_ground_at_zero(FlightSeries& s, const AirborneRule& rule) {
+  double ground = 0.0;
+  if (const auto h = ground_height(s, rule)) {
+    ground = *h;
+  } else {  // never on the ground in the log: the ground far below its lowest sample
+    double lowest = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < s.size(); ++k)
+      if (s.valid[k] && std::isfinite(s.p_d[k])) lowest = std::min(lowest, -s.p_d[k]);
+    ground = std::isfinite(lowest) ? lowest - kClearBelow : 0.0;
+  }
+  for (double& d : s.p_d) d += ground;
+}
+
+AirborneMask airborne_mask(const FlightSeries& s, const AirborneRule& rule) {
+  if (s.declared_airborne) return declared(s, *s.declared_airborne);
   AirborneMask m{std::vector<unsigned char>(s.size(), 0), ""};
-  if (heights.empty() || seconds_where(s, still) < rule.min_still_s) {
+  const std::optional<double> ground_found = ground_height(s, rule);
+  if (!ground_found) {
     for (std::size_t k = 0; k < s.size(); ++k) m.up[k] = s.valid[k];
     m.rule = fmt::format(
         "estimate valid (the aircraft never stood still: ground speed never below {:g} m/s for {:g} s, so no ground "
@@ -43,8 +67,7 @@ AirborneMask airborne_mask(const FlightSeries& s, const AirborneRule& rule) {
         rule.still_speed, rule.min_still_s);
     return m;
   }
-  std::nth_element(heights.begin(), heights.begin() + static_cast<std::ptrdiff_t>(heights.size() / 2), heights.end());
-  const double ground = heights[heights.size() / 2];
+  const double ground = *ground_found;
   for (std::size_t k = 0; k < s.size(); ++k) m.up[k] = s.valid[k] && -s.p_d[k] > ground + rule.min_height ? 1 : 0;
   m.rule = fmt::format(
       "estimate valid, more than {:g} m above the ground where the aircraft stood still ({:.1f} m from the estimator's "

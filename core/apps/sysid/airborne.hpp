@@ -17,6 +17,7 @@
 // on top of this one (aero_samples.hpp, validate.hpp).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,16 @@ struct AirborneMask {
 
 /// Seconds of the series where `flag` holds (each sample counts its interval to the next).
 double seconds_where(const FlightSeries& s, const std::vector<unsigned char>& flag);
+
+/// m above the estimator's origin: the ground where the aircraft stood still (the median height of
+/// those samples, header); none when the log never stands still.
+std::optional<double> ground_height(const FlightSeries& s, const AirborneRule& rule);
+
+/// The series' p_d moved so that the ground is at p_d = 0, where the uavbook model's gear touches
+/// (tern/aero/model.hpp): by ground_height, or, for a log that never stood still (one that starts
+/// in the air and ends there), 1000 m below its lowest sample. The estimator's origin is the first
+/// fix: 50 m up for a log that starts in the air, and there its ground would be.
+void put_ground_at_zero(FlightSeries& s, const AirborneRule& rule);
 
 /// The airborne samples of `s` (header). Never throws; `up` is all 0 when the estimate is never valid.
 AirborneMask airborne_mask(const FlightSeries& s, const AirborneRule& rule);
