@@ -518,10 +518,11 @@ bool Host::start_instances(FlightResult& r) {
 EndRequest Host::run_tick(Scheduler& clock) {
   const Nanos now = clock.now();
   const auto step = [&clock, this](Instance& inst) {
-    const Nanos before = inst.stats.total_ns;
     watchdog_.enter(inst.cfg.name, clock.now(), inst.isolated == nullptr, clock.step_start_ticks());
-    std::string error = clock.step(*inst.plugin, inst.stats);
-    watchdog_.leave(inst.stats, inst.failure().empty() ? inst.stats.total_ns - before : 0, *logger_);  // a failed child: its own line
+    std::string error;
+    const Nanos dt = clock.step(*inst.plugin, error);
+    watchdog_.leave(inst.stats, inst.failure().empty() ? dt : 0, *logger_);  // a failed child: its own line
+    inst.stats.add(dt);  // after leave(), which parks a step the watchdog claimed: its thread reads the stats then
     return error;
   };
   clock.start_steps();

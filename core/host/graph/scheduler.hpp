@@ -92,9 +92,11 @@ class Scheduler {
   bool due(std::int64_t divisor, const InputBase* trigger) const { return trigger ? trigger->updated() : tick_ % divisor == 0; }
   /// Marks the start of this tick's steps (for the first step's time).
   void start_steps();
-  /// Steps `plugin` at now(), adds its duration to `stats` and marks its inputs seen. Returns
-  /// what it threw ("" if nothing).
-  std::string step(Plugin& plugin, StepStats& stats);
+  /// Steps `plugin` at now() and marks its inputs seen; `error` gets what it threw ("" if
+  /// nothing). Returns the step's duration, ns, for the caller to add to the instance's StepStats
+  /// once the watchdog has let the step go (Watchdog::leave, watchdog.hpp): a step the watchdog
+  /// gave up on must not write them while the watchdog thread writes the flight's end from them.
+  Nanos step(Plugin& plugin, std::string& error);
 
   /// Every 64th tick, or every tick when paced: time to look at the wall clock (flush the log,
   /// redraw the status line, pace).
