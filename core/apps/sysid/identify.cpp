@@ -96,7 +96,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
     refine(c, d, RateAxes::pitch);
     refine(c, d, RateAxes::lateral);
   }
-  if (accel) consider_lift_terms(c);
+  if (accel) consider_lift_terms(c), consider_sideslip_scale(c);
   consider_gyro_coupling(c);
   r.aircraft.aero = coef;
   drag_at_trim(r, prior, alpha, a);

@@ -1,7 +1,9 @@
 // core/apps/sysid/identify_lateral.cpp: the side force, the rolling and the yawing moments (identify_lateral.hpp).
 #include "sysid/identify_lateral.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 
 #include <fmt/format.h>
@@ -93,6 +95,19 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
   c.spectra.forget(&p_model);
   c.spectra.forget(&r_model);
   return beta;
+}
+
+void consider_sideslip_scale(Context& c) {
+  auto& all = c.result.coefficients;
+  const auto C_Y_beta = std::find_if(all.begin(), all.end(), [](const CoefficientEstimate& e) { return e.name == "C_Y_beta"; });
+  if (C_Y_beta == all.end() || C_Y_beta->identified) return;
+  for (CoefficientEstimate& e : all)
+    if (e.identified && (e.name == "C_ell_beta" || e.name == "C_n_beta"))
+      e.std_error = std::hypot(e.std_error, kPriorUncertainty * e.estimate);
+  c.result.notes.push_back(
+      fmt::format("C_ell_beta, C_n_beta: beta from the side force rests on the prior's C_Y_beta (not identified); "
+                  "their bounds carry its uncertainty ({:g} of the estimate)",
+                  kPriorUncertainty));
 }
 
 }  // namespace tern::core::sysid
