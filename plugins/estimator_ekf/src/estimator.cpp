@@ -147,6 +147,8 @@ void Estimator::apply_models_config() {
   mag_heading_.gate = cfg_.mag_heading_gate;
   baro_.sigma = cfg_.baro_sigma / (cfg_.rho * cfg_.gravity);
   baro_.rho_g = cfg_.rho * cfg_.gravity;
+  baro_.cross_flow_sigma = cfg_.baro_cross_flow_sigma;
+  baro_.gravity = cfg_.gravity;
   baro_.gate = cfg_.baro_gate;
   pitot_.rho = cfg_.rho;
   pitot_.sigma = cfg_.diff_pressure_sigma;

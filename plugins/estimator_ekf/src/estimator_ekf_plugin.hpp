@@ -161,6 +161,10 @@ class EstimatorEkf final : public tern::Plugin {
     s.emplace_back("mag_resumes", static_cast<double>(estimator_.mag_resumes()));
     s.emplace_back("filter_resets", static_cast<double>(estimator_.filter_resets()));
     s.emplace_back("inflations", static_cast<double>(estimator_.inflations()));
+    s.emplace_back("gnss_constellation_jumps", static_cast<double>(estimator_.constellation_jumps()));
+    // the largest variance factor of each robustly fused sensor's inflations (0: never)
+    s.emplace_back("gnss_inflation_max", estimator_.inflation_max(Sensor::gnss));
+    s.emplace_back("baro_inflation_max", estimator_.inflation_max(Sensor::baro));
     // The GNSS start-up checks: the wait from the first fix to the one that passed (s), when one did.
     const auto& checks = estimator_.gnss_checks();
     if (checks.passed()) s.emplace_back("gnss_checks_wait", tern::to_seconds(checks.passed_stamp() - checks.first_stamp()));

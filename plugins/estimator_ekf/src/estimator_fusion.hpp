@@ -45,6 +45,8 @@ UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model
   const double beta = std::min(model.stats.last_nis / model.gate, 1e4);
   filter_.inflate(first, n, beta);
   ++inflations_;
+  double& worst = inflation_max_[static_cast<std::size_t>(s)];
+  worst = std::max(worst, beta);
   push(imu_stamp_, EventKind::inflated, s, beta);
   return fuse(model, z, t_v);
 }

@@ -16,8 +16,9 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   // north and east only.
   msg::Gnss m = fix;
   if (!cfg_.use_gnss_vel_d) m.vel.z() = initialized_ ? filter_.x().v.z() : 0.0;
-  if (static_cast<int>(m.fix_type) < cfg_.min_fix_type) {
-    ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix: not usable, not invalid
+  const bool poor = gnss_checks_.passed() && !cfg_.gnss_checks.usable_in_flight(m.h_acc, m.v_acc, m.s_acc);
+  if (static_cast<int>(m.fix_type) < cfg_.min_fix_type || poor) {
+    ++counters_[static_cast<int>(Sensor::gnss)].received;  // no fix, or one its receiver calls poor: not usable, not invalid
     if (!gnss_checks_.passed()) check_gnss_start(m, false);
     return false;
   }
@@ -54,6 +55,7 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
     return true;
   }
   set_gnss_noise();
+  if (cfg_.gnss_constellation_jumps) add_constellation_jump(m);
   const UpdateResult r = fuse_robust(Sensor::gnss, gnss_pos_, p, t_v, idx::p, 3);
   if (r == UpdateResult::invalid && history_.full()) {
     push(m.stamp, EventKind::too_old, Sensor::gnss, to_seconds(imu_stamp_ - t_v));
@@ -61,7 +63,10 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   if (r == UpdateResult::rejected) {
     if (gnss_reject_since_ < 0) gnss_reject_since_ = m.stamp;
     const double innovation = (p - gnss_pos_.h(filter_.x())).norm();
-    if (to_seconds(m.stamp - gnss_reject_since_) > cfg_.gnss_reset_time && gnss_reset_allowed(m.stamp, innovation)) {
+    // a fix its receiver marks degraded is fused (within its reported accuracy) but resets the
+    // position only when the estimate itself is lost (further from it than gnss_fault_distance)
+    const bool trusted = !gnss_checks_.degraded(m) || innovation > cfg_.gnss_fault_distance;
+    if (to_seconds(m.stamp - gnss_reject_since_) > cfg_.gnss_reset_time && trusted && gnss_reset_allowed(m.stamp, innovation)) {
       reset_to_gnss(m.stamp, p, m.vel, t_v);
       push(m.stamp, EventKind::gnss_reset, Sensor::gnss, innovation);
       return true;
@@ -150,6 +155,43 @@ void Estimator::use_reported_accuracy(const msg::Gnss& m) {
     gnss_vel_sigma_h_ = std::max(cfg_.gnss_vel_sigma_h, m.s_acc);
     gnss_vel_sigma_v_ = std::max(cfg_.gnss_vel_sigma_v, m.s_acc);
   }
+}
+
+void Estimator::add_constellation_jump(const msg::Gnss& m) {
+  // A fix from another set of satellites (their count or the reported dilution changed) is
+  // another solution. For nested sets (satellites lost or regained) the larger set's error e_L
+  // and the smaller's e_S = e_L + d differ by d, independent of e_L, whose covariance is the
+  // difference of the two solutions' (least squares from a subset of the ranges; Kaplan &
+  // Hegarty sec. 11.2): per axis, the difference of the reported accuracies squared, s_S^2 - s_L^2.
+  // To a worse set: e <- e + d, the GNSS error state's variance grows by it. To a better set:
+  // e_L = (s_L^2 / s_S^2) e_S + w, Var(w) = s_L^2 (1 - s_L^2 / s_S^2): the state shrinks towards
+  // zero, and so does its covariance. Either way the jump moves e_gnss, not the position, and is
+  // not rejected as an outlier.
+  const Vec3 steady = gnss_error_variance();
+  const double floor2 = cfg_.gnss_accuracy_floor * cfg_.gnss_accuracy_floor;
+  const double h2 = reported_h_acc_ ? std::max(m.h_acc * m.h_acc, floor2) : steady.x();
+  const Vec3 acc2(h2, h2, m.v_acc > 0.0 && std::isfinite(m.v_acc) ? std::max(m.v_acc * m.v_acc, floor2) : steady.z());
+  const bool changed = prev_num_sats_ >= 0 && (m.num_sats != prev_num_sats_ || m.hdop != prev_hdop_);
+  const Vec3 before = prev_acc2_;
+  prev_num_sats_ = m.num_sats;
+  prev_hdop_ = m.hdop;
+  prev_acc2_ = acc2;
+  if (!changed) return;
+  Vec3 a = Vec3::Ones(), q = Vec3::Zero();
+  for (int i = 0; i < 3; ++i) {
+    if (acc2(i) >= before(i)) {
+      q(i) = acc2(i) - before(i);
+    } else {
+      a(i) = acc2(i) / before(i);
+      q(i) = acc2(i) * (1.0 - a(i));
+    }
+  }
+  ErrVec dx = ErrVec::Zero();
+  dx.segment<3>(idx::eg) = (a - Vec3::Ones()).cwiseProduct(filter_.x().e_gnss);
+  filter_.inject(dx);
+  filter_.scale_covariance(idx::eg, a);
+  filter_.add_variance(idx::eg, q);
+  ++constellation_jumps_;
 }
 
 void Estimator::set_gnss_noise() {

@@ -98,7 +98,7 @@ bool Estimator::recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3
   if (rv != UpdateResult::rejected) return false;
   watch_course(m, gnss_vel_reject_since_ < 0);
   if (gnss_vel_reject_since_ < 0) gnss_vel_reject_since_ = m.stamp;
-  if (cfg_.gnss_yaw_reset_time <= 0.0 || !airborne(m.stamp) || m.vel.head<2>().norm() < 5.0 ||
+  if (cfg_.gnss_yaw_reset_time <= 0.0 || !airborne(m.stamp) || m.vel.head<2>().norm() < 5.0 || gnss_checks_.degraded(m) ||
       to_seconds(m.stamp - gnss_vel_reject_since_) < cfg_.gnss_yaw_reset_time)
     return false;
   // The yaw is the likely cause only if it is further from the GNSS yaw than that can err: the

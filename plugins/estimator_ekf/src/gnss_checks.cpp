@@ -54,7 +54,11 @@ bool GnssChecks::update(const msg::Gnss& fix, bool usable, Motion motion) {
     reset_drift();  // a fix gap: the next displacement is not a drift over one interval
   }
   const auto mask = static_cast<std::uint32_t>(c_.mask);
-  failing_ = (fix_failures(fix, usable) | drift_failing_) & (mask | gnss_check::fix);
+  // In the air a receiver cannot settle as on the ground (its antenna turns from part of the sky
+  // in every bank): the in-flight limits apply, as after the checks have passed (PX4
+  // runSimplifiedChecks).
+  const std::uint32_t quality = motion == Motion::in_air ? flight_failures(fix, usable) : fix_failures(fix, usable);
+  failing_ = (quality | drift_failing_) & (mask | gnss_check::fix);
   if (failing_ != 0) {
     last_fail_ = fix.stamp;
   } else if (to_seconds(fix.stamp - last_fail_) >= c_.hold_time) {
@@ -72,6 +76,14 @@ std::uint32_t GnssChecks::fix_failures(const msg::Gnss& f, bool usable) const {
   if (above(f.h_acc, c_.max_h_acc)) fail |= gnss_check::eph;
   if (above(f.v_acc, c_.max_v_acc)) fail |= gnss_check::epv;
   if (above(f.s_acc, c_.max_s_acc)) fail |= gnss_check::sacc;
+  return fail;
+}
+
+std::uint32_t GnssChecks::flight_failures(const msg::Gnss& f, bool usable) const {
+  std::uint32_t fail = usable ? 0u : gnss_check::fix;
+  if (above(f.h_acc, c_.flight_max_h_acc)) fail |= gnss_check::eph;
+  if (above(f.v_acc, c_.flight_max_v_acc)) fail |= gnss_check::epv;
+  if (above(f.s_acc, c_.flight_max_s_acc)) fail |= gnss_check::sacc;
   return fail;
 }
 

@@ -242,10 +242,11 @@ TEST_CASE("a settling receiver at rest: the origin and the barometer's datum com
     CHECK(std::fabs(a.alt_error) < 1.0);
     CHECK(std::fabs(a.e_gnss) < 1.0);
     // the first fix is 18 m off, and the barometer's datum with it: a minute later the filter
-    // still holds the barometer's altitude and explains the settled fixes as a GNSS error
+    // still holds much of the barometer's altitude and explains the settled fixes as a GNSS error
+    // (less of it where the receiver reports its accuracy improving: gnss_constellation_jumps)
     CHECK(std::fabs(b.origin_error.z()) > 15.0);
-    CHECK(std::fabs(b.alt_error) > 10.0);
-    CHECK(std::fabs(b.e_gnss) > 10.0);
+    CHECK(std::fabs(b.alt_error) > 5.0);
+    CHECK(std::fabs(b.e_gnss) > 5.0);
   }
 }
 

@@ -92,12 +92,26 @@ void realistic_mag(SensorParams& p) {
   p.mag_resolution = 1e-4 / 1090.0;                          // T: HMC5883L at +-1.3 Ga, 1090 LSB/Ga (0.92 mG)
 }
 
+// The static port's position error (sensors.hpp, PX4 EKF2's EKF2_PCOEF_* model). No fixed-wing set
+// is published; the one tuned set we have is PX4 PR #19507's, from a multicopter's flight log with
+// its tuning script: XP -0.314, XN -0.284, YP -0.753, YN -0.598. Along x, 5 % of the dynamic
+// pressure, inside the certification limit for the whole pitot-static system (FAR 23.1325(e):
+// 30 ft per 100 kt, 6.8 % of q at 100 kt). Across the body, the tuned set's side coefficients (a
+// flow across the fuselage, as across the multicopter's body); along z, which it does not tune,
+// the size of its x coefficients.
+void realistic_static_port(SensorParams& p) {
+  p.baro_static_error = 0.05;
+  p.baro_static_error_yp = -0.753;
+  p.baro_static_error_yn = -0.598;
+  p.baro_static_error_z = -0.3;
+}
+
 // TE MS5611-01BA03 barometer.
 void realistic_baro(SensorParams& p) {
-  p.baro_noise = 1.2;                    // Pa: resolution RMS 0.012 mbar at OSR 4096
-  p.baro_bias_range = 150.0;             // Pa: absolute accuracy +-1.5 mbar (25 C, 750..1100 mbar)
-  p.baro_bias_walk = 0.5;                // Pa/sqrt(s): thermal drift in flight
-  p.baro_static_error = 0.05;            // static-port error 5 % of the dynamic pressure (typical installation)
+  p.baro_noise = 1.2;         // Pa: resolution RMS 0.012 mbar at OSR 4096
+  p.baro_bias_range = 150.0;  // Pa: absolute accuracy +-1.5 mbar (25 C, 750..1100 mbar)
+  p.baro_bias_walk = 0.5;     // Pa/sqrt(s): thermal drift in flight
+  realistic_static_port(p);
   p.baro_resolution = 1.0;               // Pa: the compensated pressure P in 0.01 mbar
   p.baro_temperature_resolution = 0.01;  // K: TEMP in 0.01 degC
 }
@@ -111,6 +125,28 @@ void realistic_pitot(SensorParams& p) {
   p.diff_scale_range = 0.05;                       // +-5 %: installation (probe position, pitot/static tubes)
   p.diff_resolution = 13789.5 / 13107.0;           // Pa per count (1.05)
   p.diff_temperature_resolution = 200.0 / 2047.0;  // K: 11 bits over -50..150 degC
+}
+
+// The antenna's sky (gnss_sky.hpp) and the receiver's platform model. The 12 satellites lie above
+// u-blox's default elevation mask (UBX-CFG-NAV5 minElev, 5 deg). A patch antenna's gain at its own
+// horizon is already 10-15 dB below its zenith's; below its plane the ground plane and the airframe
+// shade it: the cutoff is the antenna's plane. A satellite back in view is tracked after the M8's
+// hot-start time (1 s; its ephemeris is still held). No fix is output beyond the default PDOP
+// mask (UBX-CFG-NAV5 pDop, 25.0). The dynamic platform model is u-blox's
+// "Airborne <2g" (dynModel 7, "recommended for typical airborne environments"; Paparazzi's
+// gps_ubx_ucenter default): its velocity output follows up to 2 g (our reading of the model's
+// bound). u-blox publishes no filter bandwidth; the time constant the change beyond the bound takes
+// to catch up is the largest the shipped real flight does not contradict: the PX4 Zurich 2014
+// flight's fixes (turns of 1-4 g) against PX4's own estimate, each fix's velocity less that
+// estimate's passed through this model, 0.815 m/s RMS horizontally for 0.01-0.2 s, 0.825 for 0.5 s.
+void realistic_gnss_sky(SensorParams& p) {
+  p.gnss_sky = true;
+  p.gnss_elevation_mask = 5.0 * kRadPerDeg;
+  p.gnss_antenna_cutoff = 0.0;
+  p.gnss_reacquisition = 1.0;
+  p.gnss_pdop_mask = 25.0;
+  p.gnss_max_acceleration = 2.0 * kG0;
+  p.gnss_lag_tau = 0.2;
 }
 
 // u-blox NEO-M8N. Datasheet: 2.5 m CEP horizontal (24 h static, open sky; per-axis sigma
@@ -129,6 +165,7 @@ void realistic_gnss(SensorParams& p) {
   p.gnss_v_acc = 2.5;
   p.gnss_s_acc = 0.05;
   p.gnss_num_sats = 12;
+  realistic_gnss_sky(p);
 }
 
 SensorParams realistic() {

@@ -75,6 +75,22 @@ Eigen::Vector3d quantized(const Eigen::Vector3d& v, double lsb) { return lsb > 0
 
 double gm_phi(double dt, double tau) { return tau > 0 ? std::exp(-std::max(dt, 0.0) / tau) : 0.0; }
 
+// The sky as the receiver's parameters describe it (gnss_sky.hpp); no satellites without gnss_sky.
+GnssSkyParams sky_params(const SensorParams& p) {
+  GnssSkyParams s;
+  s.satellites = p.gnss_sky ? p.gnss_num_sats : 0;
+  s.elevation_mask = p.gnss_elevation_mask;
+  s.antenna_cutoff = p.gnss_antenna_cutoff;
+  s.reacquisition = p.gnss_reacquisition;
+  s.pdop_mask = p.gnss_pdop_mask;
+  s.horizontal_sigma = p.gnss_h_sigma;
+  s.velocity_sigma = p.gnss_vel_noise;
+  s.range_tau = p.gnss_tau;
+  s.max_acceleration = p.gnss_max_acceleration;
+  s.lag_tau = p.gnss_lag_tau;
+  return s;
+}
+
 /// Specific force at a point r (body) off the CG: f_cg + omega_dot x r + omega x (omega x r).
 Eigen::Vector3d specific_force_at(const Truth& t, const Eigen::Vector3d& r) {
   const Eigen::Vector3d w = t.x.segment<3>(P);
@@ -87,7 +103,8 @@ Sensors::Sensors(const SensorParams& p, std::uint64_t seed)
       seed_(seed),
       origin_(std::make_unique<WorldGeodesy>(GeoPoint{p.origin_lat, p.origin_lon, p.origin_alt})),
       earth_field_(sim::earth_field(p)),
-      mount_T_(tern::rotation_from_euler(p.imu_misalignment.x(), p.imu_misalignment.y(), p.imu_misalignment.z()).transpose()) {
+      mount_T_(tern::rotation_from_euler(p.imu_misalignment.x(), p.imu_misalignment.y(), p.imu_misalignment.z()).transpose()),
+      gnss_sky_(sky_params(p), seed) {
   reset();
 }
 Sensors::~Sensors() = default;
@@ -144,6 +161,9 @@ void Sensors::reset() {
   gnss_gm_ = draw_gnss_start(gnss_sigma());
   gnss_vel_gm_ = draw_gnss_start(Eigen::Vector3d::Constant(p_.gnss_vel_noise));
   mag_gm_.setZero();
+  gnss_sky_.reset();
+  gnss_time_ = 0.0;
+  effects_ = SensorEffects{};
   boot_ = BootCalibration{};
   accel_cal_ = draw_accel_calibration();
 }
@@ -213,13 +233,20 @@ MagSample Sensors::mag(const Truth& t, double dt) {
   return m;
 }
 
-// Static pressure + bias + noise + static-port error c q (q = rho Va^2 / 2).
+// Static pressure + bias + noise + the static port's position error (SensorParams::baro_static_error).
+double Sensors::static_port_error(const Truth& t) const {
+  const Eigen::Vector3d& v = t.fm.air.v_air;  // relative wind, body FRD
+  const double k_y = v.y() > 0.0 ? p_.baro_static_error_yp : p_.baro_static_error_yn;
+  return 0.5 * t.rho * (p_.baro_static_error * v.x() * v.x() + k_y * v.y() * v.y() + p_.baro_static_error_z * v.z() * v.z());
+}
+
 BaroSample Sensors::baro(const Truth& t, double dt) {
   baro_bias_ += p_.baro_bias_walk * std::sqrt(std::max(dt, 0.0)) * gauss();
   const double h = p_.origin_alt - t.x[PD];
-  const double q = 0.5 * t.rho * t.fm.air.Va * t.fm.air.Va;
+  const double static_error = static_port_error(t);
+  effects_.baro_static_error_max = std::max(effects_.baro_static_error_max, std::fabs(static_error));
   BaroSample m;
-  m.pressure = quantized(standard_pressure(h) + p_.baro_static_error * q + baro_bias_ + p_.baro_noise * gauss(), p_.baro_resolution);
+  m.pressure = quantized(standard_pressure(h) + static_error + baro_bias_ + p_.baro_noise * gauss(), p_.baro_resolution);
   if (p_.calibrate_at_boot) m.pressure = boot_.baro(m.pressure, dt);
   m.temperature = quantized(standard_temperature(h), p_.baro_temperature_resolution);
   return m;
@@ -245,24 +272,40 @@ void Sensors::step_gnss_errors(double dt) {
   gnss_vel_gm_ = phi_v * gnss_vel_gm_ + p_.gnss_vel_noise * std::sqrt(1.0 - phi_v * phi_v) * gauss3();
 }
 
-// The antenna's position p + R r + e and velocity R (v + omega x r) + e_v (R: body -> NED).
+// The antenna's position p + R r + e and velocity R (v + omega x r) + e_v (R: body -> NED), plus
+// what the sky the antenna sees adds (gnss_sky.hpp; nothing while it sees the whole sky).
 GnssSample Sensors::gnss(const Truth& t, double dt) {
   step_gnss_errors(dt);
   const Eigen::Matrix3d R = attitude(t.x).toRotationMatrix();
   const Eigen::Vector3d r = p_.gnss_antenna_position;
   const Eigen::Vector3d w = t.x.segment<3>(P), v = t.x.segment<3>(U);
+  const Eigen::Vector3d vel = R * (v + w.cross(r));
+  gnss_time_ += std::max(dt, 0.0);
+  const GnssSkyFix sky = gnss_sky_.step(gnss_time_, dt, R * Eigen::Vector3d(0.0, 0.0, -1.0), vel);
+  count_effects(sky);
   GnssSample m;
-  const GeoPoint fix = origin_->to_geodetic(t.x.segment<3>(PN) + R * r + gnss_gm_);
+  m.num_sats = gnss_sky_.modelled() ? sky.tracked : p_.gnss_num_sats;
+  m.fix = sky.fix;
+  if (!sky.fix) return m;
+  const GeoPoint fix = origin_->to_geodetic(t.x.segment<3>(PN) + R * r + gnss_gm_ + sky.position_error);
   m.lat = fix.lat;
   m.lon = fix.lon;
   m.alt = fix.alt;
-  m.vel_ned = R * (v + w.cross(r)) + gnss_vel_gm_;
-  m.h_acc = p_.gnss_h_acc;
-  m.v_acc = p_.gnss_v_acc;
-  m.s_acc = p_.gnss_s_acc;
-  m.num_sats = p_.gnss_num_sats;
-  m.fix = true;
+  m.vel_ned = vel + gnss_vel_gm_ + sky.velocity_error;
+  m.h_acc = p_.gnss_h_acc * sky.hdop_ratio;
+  m.v_acc = p_.gnss_v_acc * sky.vdop_ratio;
+  // the receiver's filter sees its residuals grow beyond its platform model: its speed accuracy does too
+  m.s_acc = std::hypot(p_.gnss_s_acc * sky.pdop_ratio, sky.velocity_lag);
+  m.hdop = sky.hdop;
+  m.vdop = sky.vdop;
   return m;
+}
+
+void Sensors::count_effects(const GnssSkyFix& sky) {
+  ++effects_.gnss_fixes;
+  if (gnss_sky_.modelled() && sky.tracked < p_.gnss_num_sats) ++effects_.gnss_degraded;
+  if (!sky.fix) ++effects_.gnss_lost;
+  effects_.gnss_velocity_lag_max = std::max(effects_.gnss_velocity_lag_max, sky.velocity_lag);
 }
 
 bool SensorSchedule::dropped(std::int64_t t) const {

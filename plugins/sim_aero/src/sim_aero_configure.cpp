@@ -147,6 +147,8 @@ void SimAero::declare_error_model() {
   }
   declare(gnss_start_steady_, "gnss_start_steady", d.gnss_start_steady,
           ParamSpec("", 0, 0, "GNSS position error starts in its steady state (false: at zero)").start_only());
+  declare(gnss_sky_, "gnss_sky", d.gnss_sky,
+          ParamSpec("", 0, 0, "the GNSS antenna's sky view: satellites lost when it faces away from them (gnss_sky.hpp)").start_only());
   declare(calibrate_at_boot_, "calibrate_at_boot", d.calibrate_at_boot,
           ParamSpec("", 0, 0, "the FCU calibrates the gyro and zeroes the pitot at power-up, arming after (ROSflight sensors.cpp)")
               .start_only());
@@ -164,6 +166,7 @@ void SimAero::declare_error_model() {
   for (auto& p : sensor_vectors_) track_explicit(p);
   for (auto& p : actuator_reals_) track_explicit(p);
   track_explicit(gnss_start_steady_);
+  track_explicit(gnss_sky_);
   track_explicit(calibrate_at_boot_);
   track_explicit(accel_calibrated_level_);
   track_explicit(accel_calibrated_at_power_up_);
@@ -195,6 +198,7 @@ void SimAero::apply_profile_defaults() {
     }
     for (std::size_t i = 0; i < std::size(kActuatorReals); ++i) take(actuator_reals_[i], da.*kActuatorReals[i].field);
     take(gnss_start_steady_, d.gnss_start_steady);
+    take(gnss_sky_, d.gnss_sky);
     take(calibrate_at_boot_, d.calibrate_at_boot);
     take(accel_calibrated_level_, d.accel_calibrated_level);
     take(accel_calibrated_at_power_up_, d.accel_calibrated_at_power_up);
@@ -219,6 +223,7 @@ sim::SensorParams SimAero::sensor_params() const {
     p.*kSensorVectors[i].field = Eigen::Vector3d(v[0], v[1], v[2]);
   }
   p.gnss_start_steady = gnss_start_steady_();
+  p.gnss_sky = gnss_sky_();
   p.calibrate_at_boot = calibrate_at_boot_();
   p.accel_calibrated_level = accel_calibrated_level_();
   p.accel_calibrated_at_power_up = accel_calibrated_at_power_up_();

@@ -173,6 +173,7 @@ class SimAero final : public tern::Plugin {
   std::array<tern::Param<double>, std::size(kActuatorReals)> actuator_reals_;
   tern::Param<double> truth_rate_, rc_rate_, status_rate_;
   tern::Param<bool> gnss_start_steady_;
+  tern::Param<bool> gnss_sky_;
   tern::Param<bool> calibrate_at_boot_;
   tern::Param<bool> accel_calibrated_level_;
   tern::Param<bool> accel_calibrated_at_power_up_;

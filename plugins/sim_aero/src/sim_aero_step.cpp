@@ -4,6 +4,22 @@
 
 namespace tern::sim_aero {
 
+namespace {
+// A receiver's 3-D fix from the world's GNSS sample.
+void fill_fix(msg::Gnss& out, const sim::GnssSample& m) {
+  out.fix_type = msg::FixType::fix_3d;
+  out.lat = m.lat;
+  out.lon = m.lon;
+  out.alt = m.alt;
+  out.vel = m.vel_ned;
+  out.h_acc = m.h_acc;
+  out.v_acc = m.v_acc;
+  out.s_acc = m.s_acc;
+  out.hdop = m.hdop;
+  out.vdop = m.vdop;
+}
+}  // namespace
+
 void SimAero::step(Nanos now) {
   if (!f_.sim) initialise();
   sim::Deltas cmd = f_.default_cmd;
@@ -34,6 +50,15 @@ void SimAero::step(Nanos now) {
 std::vector<std::pair<std::string, double>> SimAero::summary() const {
   std::vector<std::pair<std::string, double>> s = {{"sim_steps", static_cast<double>(f_.steps)},
                                                    {"sim_crashed", f_.sim && f_.sim->crashed() ? 1.0 : 0.0}};
+  if (f_.sensors) {
+    // what the installation and the sky did to the sensors (sim::SensorEffects)
+    const sim::SensorEffects& e = f_.sensors->effects();
+    s.insert(s.end(), {{"gnss_fixes", e.gnss_fixes},
+                       {"gnss_fixes_degraded", e.gnss_degraded},
+                       {"gnss_fixes_lost", e.gnss_lost},
+                       {"gnss_velocity_lag_max_mps", e.gnss_velocity_lag_max},
+                       {"baro_static_error_max_pa", e.baro_static_error_max}});
+  }
   if (f_.sim && f_.sim->crashed()) {
     const ImpactFacts m = impact();
     s.insert(s.end(), {{"impact_t_s", m.t},
@@ -165,15 +190,8 @@ void SimAero::publish_due(Nanos t) {
     if (ok) {
       const auto m = f_.sensors->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
       gnss_.schedule.last_sample = t;
-      out.fix_type = msg::FixType::fix_3d;
       out.num_sats = static_cast<std::uint8_t>(m.num_sats);
-      out.lat = m.lat;
-      out.lon = m.lon;
-      out.alt = m.alt;
-      out.vel = m.vel_ned;
-      out.h_acc = m.h_acc;
-      out.v_acc = m.v_acc;
-      out.s_acc = m.s_acc;
+      if (m.fix) fill_fix(out, m);  // else the antenna sees too few satellites: a report without a fix
       if (gnss_.non_finite(t)) out.lat = out.lon = out.alt = kNaN;
     } else if (!gnss_.schedule.enabled) {
       return;  // switched off: silent

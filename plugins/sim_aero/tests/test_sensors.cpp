@@ -548,14 +548,25 @@ TEST_CASE("sensors: magnetometer hard iron, soft iron and motor field") {
 // ---------------------------------------------------------------- air data -------------------
 
 TEST_CASE("sensors: barometer static-port error and pitot installation scale") {
-  const SensorParams pb = ideal_with([](SensorParams& p) { p.baro_static_error = 0.05; });
+  const SensorParams pb = ideal_with([](SensorParams& p) {
+    p.baro_static_error = 0.05;
+    p.baro_static_error_yp = -0.3;
+    p.baro_static_error_yn = 0.2;
+    p.baro_static_error_z = -0.1;
+  });
   Sensors b(pb, 1);
   Truth t = level_truth();
   t.rho = 1.2;
-  t.fm.air.Va = 20.0;
+  t.fm.air.v_air = Eigen::Vector3d(20.0, 0.0, 0.0);
   const double p_static = standard_pressure(pb.origin_alt + 100);
   CHECK(b.baro(t, 0.01).pressure - p_static == doctest::Approx(0.05 * 0.5 * 1.2 * 400).epsilon(1e-6));
-  t.fm.air.Va = 0.0;
+  // each body component of the relative wind with its own coefficient; y by its sign
+  t.fm.air.v_air = Eigen::Vector3d(20.0, 5.0, 4.0);
+  CHECK(b.baro(t, 0.01).pressure - p_static == doctest::Approx(0.6 * (0.05 * 400 - 0.3 * 25 - 0.1 * 16)).epsilon(1e-6));
+  t.fm.air.v_air = Eigen::Vector3d(20.0, -5.0, -4.0);
+  CHECK(b.baro(t, 0.01).pressure - p_static == doctest::Approx(0.6 * (0.05 * 400 + 0.2 * 25 - 0.1 * 16)).epsilon(1e-6));
+  CHECK(b.effects().baro_static_error_max == doctest::Approx(0.6 * (0.05 * 400 + 0.2 * 25 - 0.1 * 16)).epsilon(1e-9));
+  t.fm.air.v_air.setZero();
   CHECK(b.baro(t, 0.01).pressure == p_static);
   const SensorParams pd = ideal_with([](SensorParams& p) { p.diff_scale_range = 0.05; });
   t.fm.air.v_air = Eigen::Vector3d(20, 0, 0);

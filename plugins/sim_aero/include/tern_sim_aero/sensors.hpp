@@ -19,6 +19,7 @@
 #include "tern/geodesy.hpp"
 #include "tern/magnetic_model.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
+#include "tern_sim_aero/gnss_sky.hpp"
 #include "tern/aero/model.hpp"
 #include "tern_sim_aero/random.hpp"
 
@@ -108,7 +109,16 @@ struct SensorParams {
   double baro_noise = 4.0;         ///< Pa
   double baro_bias_range = 500.0;  ///< Pa
   double baro_bias_walk = 1.0;     ///< Pa/sqrt(s)
-  double baro_static_error = 0.0;  ///< static-port error, fraction of the dynamic pressure (p + c q)
+  /// Static-port position error: the port reads p + 0.5 rho (K_x u_r^2 + K_y v_r^2 + K_z w_r^2),
+  /// (u_r, v_r, w_r) the relative wind in body FRD, each K a fraction of that component's dynamic
+  /// pressure (PX4 EKF2's EKF2_PCOEF_XP/YP/YN/Z model, ArduPilot's BARO1_WCF_*): K_x =
+  /// baro_static_error (flow from ahead), K_y = baro_static_error_yp for v_r > 0 (the relative wind
+  /// from the right), baro_static_error_yn for v_r < 0, K_z = baro_static_error_z. With
+  /// alpha = beta = 0 the error is baro_static_error times the dynamic pressure.
+  double baro_static_error = 0.0;
+  double baro_static_error_yp = 0.0;
+  double baro_static_error_yn = 0.0;
+  double baro_static_error_z = 0.0;
   // differential pressure (ROSflight: 100 Hz, 1.15 Pa)
   double diff_noise = 1.15;       ///< Pa
   double diff_bias_range = 0.15;  ///< Pa
@@ -130,7 +140,22 @@ struct SensorParams {
   double gnss_h_acc = 0.21 * 3.0;  ///< reported horizontal accuracy, m
   double gnss_v_acc = 0.40 * 3.0;  ///< reported vertical accuracy, m
   double gnss_s_acc = 0.01;        ///< reported speed accuracy, m/s
-  int gnss_num_sats = 12;
+  int gnss_num_sats = 12;          ///< satellites in the solution (with gnss_sky: above the elevation mask)
+  /// The antenna's view of the sky (gnss_sky.hpp): gnss_num_sats satellites above
+  /// gnss_elevation_mask; those below gnss_antenna_cutoff above the antenna's plane (body up) are
+  /// lost, and tracked again gnss_reacquisition after they return. The whole sky's solution keeps
+  /// the errors above (gnss_h_sigma, gnss_vel_noise, the reported accuracies); fewer satellites
+  /// move it and scale the reported accuracies by the dilution of precision; fewer than four: no fix.
+  bool gnss_sky = false;
+  double gnss_elevation_mask = 0.0;  ///< rad
+  double gnss_antenna_cutoff = 0.0;  ///< rad above the antenna's plane
+  double gnss_reacquisition = 0.0;   ///< s
+  double gnss_pdop_mask = 0.0;       ///< no fix with a larger PDOP (u-blox UBX-CFG-NAV5 pDop; 0: no mask)
+  /// The receiver's dynamic platform model (u-blox UBX-CFG-NAV5 dynModel): its velocity output
+  /// follows accelerations up to gnss_max_acceleration (m/s^2; 0: every one); what is beyond lags,
+  /// catching up with the time constant gnss_lag_tau (s).
+  double gnss_max_acceleration = 0.0;
+  double gnss_lag_tau = 0.0;
   // downward range finder (rangefinder.hpp; Garmin LIDAR-Lite v3's specifications in every
   // profile but `ideal`: ROSflight's simulator has none)
   double range_noise_near = 0.025;                           ///< m, 1 sigma below range_far_from
@@ -143,6 +168,16 @@ struct SensorParams {
   double origin_lat = 40.2463724;    ///< deg
   double origin_lon = -111.6474138;  ///< deg
   double origin_alt = 1387.0;        ///< m above mean sea level (the ground, p_d = 0)
+};
+
+/// How often the world's installation and sky degraded the sensors since reset(): the figures a
+/// bench shows beside the estimator's (if never, the effects were not there).
+struct SensorEffects {
+  int gnss_fixes = 0;                ///< GNSS samples taken
+  int gnss_degraded = 0;             ///< of them, solutions from fewer than every satellite in the sky
+  int gnss_lost = 0;                 ///< of them, no fix (fewer than four satellites)
+  double gnss_velocity_lag_max = 0;  ///< m/s: the largest lag of the dynamic platform model
+  double baro_static_error_max = 0;  ///< Pa: the largest |static-port error|
 };
 
 /// What the sensors see of the true aircraft at one instant.
@@ -174,6 +209,7 @@ struct GnssSample {
   Eigen::Vector3d vel_ned = Eigen::Vector3d::Zero();
   double h_acc = 0, v_acc = 0, s_acc = 0;
   int num_sats = 0;
+  double hdop = 0, vdop = 0;  ///< of the satellites used (0: the sky is not modelled)
 };
 
 /// 1976 standard atmosphere below 11 km: pressure (Pa) and temperature (K) at altitude h (m MSL).
@@ -229,6 +265,7 @@ class Sensors {
   /// The stored accelerometer offset subtracted from every sample (accel_calibrated_level), m/s^2;
   /// zero without it or when the firmware refused it.
   const Eigen::Vector3d& accel_calibration() const { return accel_cal_; }
+  const SensorEffects& effects() const { return effects_; }
   /// Current GNSS position error of the antenna fix (the Gauss-Markov state), NED, m.
   const Eigen::Vector3d& gnss_error() const { return gnss_gm_; }
   const WorldGeodesy& origin() const { return *origin_; }
@@ -250,6 +287,8 @@ class Sensors {
   Eigen::Vector3d draw_accel_calibration();
   Eigen::Vector3d white_and_vibration(double sigma, double vibration_full, double throttle);
   void step_gnss_errors(double dt);
+  double static_port_error(const Truth& t) const;
+  void count_effects(const GnssSkyFix& sky);
   SensorParams p_;
   std::uint64_t seed_;
   Rng rng_;
@@ -263,6 +302,9 @@ class Sensors {
   Eigen::Vector3d mag_hard_;          ///< hard iron, T (per seed)
   double diff_scale_ = 1.0;           ///< pitot installation scale (per seed)
   Eigen::Vector3d accel_bias_, gyro_bias_, mag_gm_, gnss_gm_, gnss_vel_gm_;
+  GnssSky gnss_sky_;
+  double gnss_time_ = 0.0;  ///< s since reset, the sum of the fixes' dt (the sky's clock)
+  SensorEffects effects_;
   Eigen::Vector3d accel_cal_ = Eigen::Vector3d::Zero();  ///< stored accelerometer offset (per seed)
   double baro_bias_ = 0, diff_bias_ = 0;
   BootCalibration boot_;

@@ -204,6 +204,10 @@ class Estimator {
   const NormalForce& normal_force_model() const { return normal_force_; }
   std::uint64_t gnss_resets() const { return gnss_resets_; }
   std::uint64_t inflations() const { return inflations_; }
+  /// Fixes whose satellites changed, each taken as a jump of the GNSS error (gnss_constellation_jumps).
+  std::uint64_t constellation_jumps() const { return constellation_jumps_; }
+  /// The largest variance factor an inflation of the states `s` measures has applied (0: never inflated).
+  double inflation_max(Sensor s) const { return inflation_max_[static_cast<std::size_t>(s)]; }
   std::uint64_t mag_resets() const { return mag_resets_; }
   /// The Earth's field the magnetometer is compared with: the model's at the origin once it is
   /// set (mag_field_from_model), else the configured one.
@@ -270,6 +274,7 @@ class Estimator {
   UpdateResult fuse_gnss_velocity_ne(const Vec3& vel, Nanos t_v);
   void use_reported_accuracy(const msg::Gnss& m);
   Vec3 gnss_error_variance() const;
+  void add_constellation_jump(const msg::Gnss& m);
   void reset_to_gnss(Nanos stamp, const Vec3& p, const Vec3& vel, Nanos t_v);
   /// Sets the sensor states of a re-initialisation (x, P0) to the filter's before it: gyro and
   /// accelerometer biases, S_g, b_m, k_sp with their covariance among themselves.
@@ -328,6 +333,10 @@ class Estimator {
     Vec3 gyro;   ///< angular rate, body axes
   };
   std::deque<ImuRecord> pre_init_imu_;
+  int prev_num_sats_ = -1;  // the last fused fix's satellites and HDOP (add_constellation_jump)
+  double prev_hdop_ = 0.0;
+  Vec3 prev_acc2_ = Vec3::Zero();  // its accuracies squared (h, h, v), m^2
+  std::uint64_t constellation_jumps_ = 0;
   Vec3 prev_fix_vel_ = Vec3::Zero();
   Nanos prev_fix_tv_ = -1;
   /// Held still over the last second of pre_init_imu_: the mean angular rate and the rate's RMS
@@ -356,6 +365,7 @@ class Estimator {
   StateHistory history_;
   ProcessNoise process_;  // cfg_.process with the GNSS error walks from the reported accuracy
   std::uint64_t inflations_ = 0;
+  std::array<double, kSensorCount> inflation_max_{};
   Nanos last_gnss_reset_ = -1;
   Nanos gnss_reject_since_ = -1;
   Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)

@@ -93,6 +93,12 @@ struct EstimatorConfig {
   /// accepted 77 % of the positions (93 % with it horizontally, at a mean NIS of 6.8; vertically
   /// too: mean NIS 5.8).
   double gnss_vel_accel_scale = 0.05;
+  /// A fix from other satellites than the last (its num_sats or hdop changed: the antenna turned
+  /// from part of the sky, a satellite rose or set) is another solution, its error a jump from the
+  /// last one's: the GNSS error state's variance grows by the change of the reported accuracy
+  /// squared, and stays within the new accuracy squared, before the fix is fused. false: the
+  /// error only wanders.
+  bool gnss_constellation_jumps = true;
   double gnss_pos_accel_scale = 0.05;
   double gnss_pos_gate = kChi2_999[3];
   double gnss_vel_gate = kChi2_999[3];
@@ -219,6 +225,10 @@ struct EstimatorConfig {
   // barometer
   double baro_sigma = 4.0;  ///< Pa
   double baro_gate = kChi2_999[1];
+  /// The static port's cross-flow coefficients (PX4 EKF2_PCOEF_YP/YN/Z), unknown: 1 sigma, as a
+  /// fraction of the cross-flow's dynamic pressure (BaroAltitude): a coefficient anywhere in PX4's
+  /// range for them, +-0.5, uniformly: 0.5 / sqrt(3) = 0.29.
+  double baro_cross_flow_sigma = 0.29;
   int baro_calibration_count = 100;  ///< samples averaged for the ground calibration
   // pitot and sideslip
   double diff_pressure_sigma = 1.15;  ///< Pa
@@ -396,6 +406,10 @@ struct EstimatorConfig {
     v(&C::mag_reset_window, "mag_reset_window",
       ParamSpec("s", 0.0, 1e6, "yaw resets to the magnetometer only within this long after initialisation (0: never)"));
     v(&C::baro_sigma, "baro_noise", ParamSpec("Pa", 1e-3, 1000.0, "static-pressure noise, 1 sigma"));
+    v(&C::baro_cross_flow_sigma, "baro_cross_flow_sigma",
+      ParamSpec("", 0.0, 2.0,
+                "uncertainty of the static port's unmodelled cross-flow coefficients (PX4 EKF2_PCOEF_Y*/Z), 1 sigma: the barometer's "
+                "noise grows with the body's sideslip and angle-of-attack flow"));
     v(&C::baro_gate, "baro_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of the barometric altitude (1 dof; 0: off)"));
     v(&C::diff_pressure_sigma, "diff_pressure_noise", ParamSpec("Pa", 1e-3, 100.0, "differential-pressure noise, 1 sigma"));
     v(&C::airspeed_gust_sigma, "airspeed_gust_sigma",
@@ -519,6 +533,10 @@ struct EstimatorConfig {
       ParamSpec("", 0, 1,
                 "use the receiver's reported h_acc/v_acc (steady sigma of the GNSS error, at least gnss_accuracy_floor) "
                 "and s_acc (velocity noise, where larger than gnss_vel_noise_*)"));
+    v(&C::gnss_constellation_jumps, "gnss_constellation_jumps",
+      ParamSpec("", 0, 1,
+                "a fix from other satellites (num_sats or hdop changed) jumps: the GNSS error state's variance grows by "
+                "the change of the reported accuracy squared"));
     v(&C::gnss_accuracy_floor, "gnss_accuracy_floor",
       ParamSpec("m", 0.01, 100.0,
                 "the least steady GNSS position error a reported accuracy is taken for, and the least white noise of a fix "

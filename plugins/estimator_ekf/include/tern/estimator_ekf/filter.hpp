@@ -386,6 +386,27 @@ class Filter {
     for (int i = first; i < first + n; ++i) P_(i, i) += (beta - 1.0) * P_(i, i);
   }
 
+  /// Adds independent variance `var` (each >= 0) to the error states from `first`: a state that
+  /// just changed by an unknown amount of that variance (the GNSS error when the receiver's
+  /// satellites change). P stays positive definite.
+  template <int N>
+  void add_variance(int first, const Eigen::Matrix<double, N, 1>& var) {
+    step_covariance();
+    for (int i = 0; i < N; ++i) P_(first + i, first + i) += var(i);
+  }
+
+  /// Scales the error states from `first` by `a` in the covariance (P <- D P D, D = diag(a) there,
+  /// 1 elsewhere): the covariance half of a linear transition e <- a e of those states (the
+  /// caller moves their nominal values). P stays positive semi-definite.
+  template <int N>
+  void scale_covariance(int first, const Eigen::Matrix<double, N, 1>& a) {
+    step_covariance();
+    for (int i = 0; i < N; ++i) {
+      P_.row(first + i) *= a(i);
+      P_.col(first + i) *= a(i);
+    }
+  }
+
   /// Caps the variances of the n error states from `first` at max_var by scaling their rows and
   /// columns (P <- D P D with D diagonal: P stays positive definite, the correlation
   /// coefficients stay). For a random-walk state that no measurement reaches for a while (the

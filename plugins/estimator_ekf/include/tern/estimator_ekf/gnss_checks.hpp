@@ -105,6 +105,17 @@ struct GnssCheckConfig {
   /// s: while waiting, a change of the failing checks is reported at most this often (the phase
   /// machine's preflight_report_interval, 5 s).
   double report_interval = 5.0;
+  /// Once the start-up checks have passed, and before while flying, a fix is used only while its
+  /// reported accuracies stay within these (PX4 gnss_checks.cpp runSimplifiedChecks: hacc > 50, vacc > 50, sacc > 10 fail):
+  /// a receiver that says its solution is this poor is not fused, and cannot reset the estimate.
+  double flight_max_h_acc = 50.0;  ///< m
+  double flight_max_v_acc = 50.0;  ///< m
+  double flight_max_s_acc = 10.0;  ///< m/s
+  /// After the start-up checks: the fix's reported accuracies within the flight limits (0 or
+  /// unreported: not checked).
+  bool usable_in_flight(double h_acc, double v_acc, double s_acc) const {
+    return !(h_acc > flight_max_h_acc) && !(v_acc > flight_max_v_acc) && !(s_acc > flight_max_s_acc);
+  }
 
   template <class V>
   static void describe(V& v) {
@@ -131,6 +142,12 @@ struct GnssCheckConfig {
     v(&C::drift_time_constant, "gnss_drift_time_constant", ParamSpec("s", 0.1, 100.0, "time constant of the drift filters"));
     v(&C::in_air_ground_speed, "gnss_check_in_air_speed",
       ParamSpec("m/s", 0.5, 100.0, "GNSS ground speed from which the start-up checks take the aircraft as flying (drift checks off)"));
+    v(&C::flight_max_h_acc, "gnss_flight_max_eph",
+      ParamSpec("m", 1.0, 1000.0, "after the start-up checks, fixes reporting a larger horizontal accuracy are not used (PX4: 50 m)"));
+    v(&C::flight_max_v_acc, "gnss_flight_max_epv",
+      ParamSpec("m", 1.0, 1000.0, "after the start-up checks, fixes reporting a larger vertical accuracy are not used (PX4: 50 m)"));
+    v(&C::flight_max_s_acc, "gnss_flight_max_sacc",
+      ParamSpec("m/s", 0.1, 100.0, "after the start-up checks, fixes reporting a larger speed accuracy are not used (PX4: 10 m/s)"));
     v(&C::report_interval, "gnss_check_report_interval",
       ParamSpec("s", 0.0, 600.0, "while waiting for the GNSS checks, changes of the failing checks are reported at most this often"));
   }
@@ -160,11 +177,16 @@ class GnssChecks {
   double v_drift() const { return v_drift_; }
   double h_speed() const { return h_speed_; }
   double v_speed() const { return v_speed_; }
+  /// The fix fails an enabled quality check of the start-up set (satellites, DOP, reported
+  /// accuracies; not the drifts): the receiver itself says its solution is degraded. Usable for
+  /// every fix, before and after passed().
+  bool degraded(const msg::Gnss& fix) const { return (fix_failures(fix, true) & c_.mask) != 0; }
   /// The failing checks with their values and limits, e.g. "vertical drift 0.83 m/s > 0.2".
   std::string describe_failing() const;
 
  private:
   std::uint32_t fix_failures(const msg::Gnss& f, bool usable) const;
+  std::uint32_t flight_failures(const msg::Gnss& f, bool usable) const;  ///< the in-flight limits only
   void run_drift(const msg::Gnss& f, Motion motion);
   void reset_drift();
 

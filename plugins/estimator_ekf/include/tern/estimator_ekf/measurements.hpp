@@ -141,14 +141,25 @@ struct MagHeading : Measurement<MagHeading, 1> {
 /// it varies with the airspeed where b_baro does not, which separates the two: the takeoff run
 /// (q_bar from 0 to ~100 Pa at a constant height) and every change of airspeed. At a constant
 /// airspeed k_sp stays its prior and out of the altitude.
+/// The port's error from the flow across the body (PX4's EKF2_PCOEF_Y*/Z terms: K_y v_r^2 +
+/// K_z w_r^2, times rho / 2) is not modelled; its coefficients, unknown, are taken as zero with
+/// sigma cross_flow_sigma, and the noise carries what they may add: cross_flow_sigma
+/// (v_r^2 + w_r^2) / (2 g), m, in root-sum-square with sigma (a consider term: in a knife edge or a
+/// pull the barometer is trusted less rather than rejected).
 struct BaroAltitude : Measurement<BaroAltitude, 1> {
   double sigma = 0.33;                                    ///< m (4 Pa / (rho g))
+  double cross_flow_sigma = 0.0;                          ///< the cross-flow coefficients' uncertainty, fraction of their dynamic pressure
+  double gravity = kStandardGravity;                      ///< m/s^2
   double rho_g = kIsaSeaLevelDensity * kStandardGravity;  ///< Pa per metre of height (air density times gravity)
   double dynamic_pressure = 0.0;                          ///< q_bar, Pa (>= 0)
   double q_datum = 0.0;                                   ///< q_0, the mean dynamic pressure of the calibration, Pa
   Vec h(const NominalState& x) const { return Vec(-x.p.z() + x.b_baro - x.k_sp * (dynamic_pressure - q_datum) / rho_g); }
   Jac jacobian(const NominalState& x) const;
-  Noise noise(const NominalState& /*x*/) const { return Noise(sigma * sigma); }
+  Noise noise(const NominalState& x) const {
+    const Vec3 va = x.air_velocity_body();
+    const double cross = cross_flow_sigma * (va.y() * va.y() + va.z() * va.z()) / (2.0 * gravity);
+    return Noise(sigma * sigma + cross * cross);
+  }
 };
 
 /// Pitot airspeed: z = sqrt(2 p_diff / rho), m/s, the airspeed along the pitot tube from the
