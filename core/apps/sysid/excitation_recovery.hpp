@@ -33,7 +33,7 @@ struct ExcitationRecoveryOptions {
   double highpass_s = 10.0;     ///< s, window of the moving mean subtracted (1 / the band's low edge)
   double max_lag_s = 0.06;      ///< s, the regressors' longest lag
   double outlier_sigmas = 2.5;  ///< residual / robust spread beyond which a sample is left out of the fit
-  int passes = 4;               ///< fits, each leaving out the previous one's outliers
+  int passes = 4;               ///< fits, each leaving out the previous one's outliers (>= 1; 1: none left out)
 };
 
 /// Fills s.exc_delta_a, _e, _r and _t from the commands (header) when they are empty; appends one
