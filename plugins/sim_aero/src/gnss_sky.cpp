@@ -74,9 +74,9 @@ void GnssSky::reset() {
     const double el = std::asin(s_mask + (1.0 - s_mask) * u(rng_));
     los_.emplace_back(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));
   }
-  const Dops whole = dilutions_of_precision(los_);
-  range_sigma_ = std::isfinite(whole.h) ? p_.horizontal_sigma * std::sqrt(2.0) / whole.h : 0.0;
-  range_rate_sigma_ = std::isfinite(whole.p) ? p_.velocity_sigma * std::sqrt(3.0) / whole.p : 0.0;
+  whole_ = dilutions_of_precision(los_);
+  range_sigma_ = std::isfinite(whole_.h) ? p_.horizontal_sigma * std::sqrt(2.0) / whole_.h : 0.0;
+  range_rate_sigma_ = std::isfinite(whole_.p) ? p_.velocity_sigma * std::sqrt(3.0) / whole_.p : 0.0;
   for (int i = 0; i < count; ++i) range_error_.push_back(range_sigma_ * n(rng_));
   in_view_since_.assign(static_cast<std::size_t>(count), -std::numeric_limits<double>::infinity());
   tracked_.assign(static_cast<std::size_t>(count), true);
@@ -116,50 +116,57 @@ Eigen::Vector3d GnssSky::platform_lag(double dt, const Eigen::Vector3d& velocity
   return lag_;
 }
 
+// Every satellite's errors advance, tracked or not (a fixed sequence of draws): the range errors'
+// Gauss-Markov step; the range-rate errors, white, returned.
+Eigen::VectorXd GnssSky::advance_errors(double dt) {
+  boost::random::normal_distribution<double> n(0.0, 1.0);
+  const double phi = p_.range_tau > 0.0 ? std::exp(-std::max(dt, 0.0) / p_.range_tau) : 0.0;
+  Eigen::VectorXd rate_error(static_cast<Eigen::Index>(los_.size()));
+  for (std::size_t i = 0; i < los_.size(); ++i) {
+    range_error_[i] = phi * range_error_[i] + range_sigma_ * std::sqrt(1.0 - phi * phi) * n(rng_);
+    rate_error(static_cast<Eigen::Index>(i)) = range_rate_sigma_ * n(rng_);
+  }
+  return rate_error;
+}
+
+// The tracked set's solution less the whole sky's, for the range errors and the range-rate errors.
+void GnssSky::solution_errors(const Eigen::VectorXd& rate_error, GnssSkyFix& f) const {
+  std::vector<Eigen::Vector3d> seen;
+  Eigen::VectorXd range_seen(f.tracked), rate_seen(f.tracked);
+  for (std::size_t i = 0; i < los_.size(); ++i) {
+    if (!tracked_[i]) continue;
+    const auto k = static_cast<Eigen::Index>(seen.size());
+    range_seen(k) = range_error_[i];
+    rate_seen(k) = rate_error(static_cast<Eigen::Index>(i));
+    seen.push_back(los_[i]);
+  }
+  const Eigen::Map<const Eigen::VectorXd> range(range_error_.data(), static_cast<Eigen::Index>(range_error_.size()));
+  const Geometry H_all = geometry(los_), H_seen = geometry(seen);
+  f.position_error = solution_error(H_seen, range_seen) - solution_error(H_all, range);
+  f.velocity_error += solution_error(H_seen, rate_seen) - solution_error(H_all, rate_error);
+}
+
 GnssSkyFix GnssSky::step(double t, double dt, const Eigen::Vector3d& boresight_ned, const Eigen::Vector3d& velocity_ned) {
   GnssSkyFix f;
   f.velocity_error = platform_lag(dt, velocity_ned);
   f.velocity_lag = f.velocity_error.norm();
   if (!modelled()) return f;
-  // Every satellite's errors advance, tracked or not (a fixed sequence of draws).
-  boost::random::normal_distribution<double> n(0.0, 1.0);
-  const double phi = p_.range_tau > 0.0 ? std::exp(-std::max(dt, 0.0) / p_.range_tau) : 0.0;
-  const auto count = static_cast<Eigen::Index>(los_.size());
-  Eigen::VectorXd rate_error(count);
-  for (Eigen::Index i = 0; i < count; ++i) {
-    auto& e = range_error_[static_cast<std::size_t>(i)];
-    e = phi * e + range_sigma_ * std::sqrt(1.0 - phi * phi) * n(rng_);
-    rate_error(i) = range_rate_sigma_ * n(rng_);
-  }
+  const Eigen::VectorXd rate_error = advance_errors(dt);
   update_tracking(t, boresight_ned);
   std::vector<Eigen::Vector3d> seen;
-  std::vector<Eigen::Index> index;
-  for (Eigen::Index i = 0; i < count; ++i) {
-    if (tracked_[static_cast<std::size_t>(i)]) {
-      seen.push_back(los_[static_cast<std::size_t>(i)]);
-      index.push_back(i);
-    }
-  }
+  for (std::size_t i = 0; i < los_.size(); ++i)
+    if (tracked_[i]) seen.push_back(los_[i]);
   f.tracked = static_cast<int>(seen.size());
-  const Dops all = dilutions_of_precision(los_), now = dilutions_of_precision(seen);
+  const Dops now = dilutions_of_precision(seen);
   f.fix = std::isfinite(now.p) && (p_.pdop_mask <= 0.0 || now.p <= p_.pdop_mask);
   if (!f.fix) return f;
   f.hdop = now.h;
   f.vdop = now.v;
   f.pdop = now.p;
-  f.hdop_ratio = now.h / all.h;
-  f.vdop_ratio = now.v / all.v;
-  f.pdop_ratio = now.p / all.p;
-  if (f.tracked == count) return f;
-  const Eigen::Map<const Eigen::VectorXd> range(range_error_.data(), count);
-  const Geometry H_all = geometry(los_), H_seen = geometry(seen);
-  Eigen::VectorXd range_seen(f.tracked), rate_seen(f.tracked);
-  for (int k = 0; k < f.tracked; ++k) {
-    range_seen(k) = range(index[static_cast<std::size_t>(k)]);
-    rate_seen(k) = rate_error(index[static_cast<std::size_t>(k)]);
-  }
-  f.position_error = solution_error(H_seen, range_seen) - solution_error(H_all, range);
-  f.velocity_error += solution_error(H_seen, rate_seen) - solution_error(H_all, rate_error);
+  f.hdop_ratio = now.h / whole_.h;
+  f.vdop_ratio = now.v / whole_.v;
+  f.pdop_ratio = now.p / whole_.p;
+  if (f.tracked < static_cast<int>(los_.size())) solution_errors(rate_error, f);
   return f;
 }
 

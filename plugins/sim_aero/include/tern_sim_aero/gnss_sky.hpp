@@ -60,6 +60,13 @@ struct GnssSkyFix {
   double velocity_lag = 0.0;                                    ///< m/s: |the platform model's lag| (in velocity_error)
 };
 
+/// Dilutions of precision of a set of lines of sight (unit, NED): horizontal, vertical and
+/// position (Kaplan & Hegarty sec. 11.2.1, G = (H^T H)^-1). Fewer than four: every one infinite.
+struct Dops {
+  double h, v, p;
+};
+Dops dilutions_of_precision(const std::vector<Eigen::Vector3d>& los);
+
 class GnssSky {
  public:
   /// Draws the constellation from `seed` (a stream of its own: the world's other draws do not
@@ -78,8 +85,11 @@ class GnssSky {
  private:
   void update_tracking(double t, const Eigen::Vector3d& boresight_ned);
   Eigen::Vector3d platform_lag(double dt, const Eigen::Vector3d& velocity_ned);
+  Eigen::VectorXd advance_errors(double dt);
+  void solution_errors(const Eigen::VectorXd& rate_error, GnssSkyFix& f) const;
   GnssSkyParams p_;
   std::uint64_t seed_;
+  Dops whole_{};                                       ///< of every satellite
   double range_sigma_ = 0.0, range_rate_sigma_ = 0.0;  ///< per satellite, from the whole sky's DOPs
   Rng rng_;
   std::vector<Eigen::Vector3d> los_;
@@ -90,12 +100,5 @@ class GnssSky {
   Eigen::Vector3d lag_ = Eigen::Vector3d::Zero();  ///< output less the truth, NED, m/s
   bool velocity_started_ = false;
 };
-
-/// Dilutions of precision of a set of lines of sight (unit, NED): horizontal, vertical and
-/// position (Kaplan & Hegarty sec. 11.2.1, G = (H^T H)^-1). Fewer than four: every one infinite.
-struct Dops {
-  double h, v, p;
-};
-Dops dilutions_of_precision(const std::vector<Eigen::Vector3d>& los);
 
 }  // namespace tern::sim
