@@ -161,6 +161,11 @@ Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
           {&a.delta_r, false, angle, "rudder never moved more than 0.3 deg about its trim"}};
 }
 
+CoefficientEstimate* find_estimate(SysidResult& r, const std::string& name) {
+  const auto it = std::find_if(r.coefficients.begin(), r.coefficients.end(), [&](const CoefficientEstimate& e) { return e.name == name; });
+  return it == r.coefficients.end() ? nullptr : &*it;
+}
+
 std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name) {
   auto& all = c.result.coefficients;
   const auto it = std::find_if(all.begin(), all.end(), [&](const CoefficientEstimate& e) { return e.name == name; });

@@ -78,5 +78,7 @@ LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& col
 /// The band's estimate of `name`, taken out of the result (reported, not adopted); nullopt if the
 /// band did not identify it.
 std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name);
+/// The estimate of the coefficient `name` in r.coefficients; null when it has none.
+CoefficientEstimate* find_estimate(SysidResult& r, const std::string& name);
 
 }  // namespace tern::core::sysid

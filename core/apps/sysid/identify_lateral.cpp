@@ -98,10 +98,9 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
 }
 
 void consider_sideslip_scale(Context& c) {
-  auto& all = c.result.coefficients;
-  const auto C_Y_beta = std::find_if(all.begin(), all.end(), [](const CoefficientEstimate& e) { return e.name == "C_Y_beta"; });
-  if (C_Y_beta == all.end() || C_Y_beta->identified) return;
-  for (CoefficientEstimate& e : all)
+  const CoefficientEstimate* C_Y_beta = find_estimate(c.result, "C_Y_beta");
+  if (C_Y_beta == nullptr || C_Y_beta->identified) return;
+  for (CoefficientEstimate& e : c.result.coefficients)
     if (e.identified && (e.name == "C_ell_beta" || e.name == "C_n_beta"))
       e.std_error = std::hypot(e.std_error, kPriorUncertainty * e.estimate);
   c.result.notes.push_back(

@@ -122,12 +122,9 @@ void consider_lift_terms(Context& c) {
   const double ratio = std::abs(c.coef.C_m_alpha / c.coef.C_L_alpha);
   const std::pair<const char*, const char*> pairs[] = {{"C_m_q", "C_L_q"}, {"C_m_delta_e", "C_L_delta_e"}};
   for (const auto& [moment, lift] : pairs) {
-    const auto find = [&](const char* name) {
-      return std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),
-                          [&](const CoefficientEstimate& e) { return e.name == name; });
-    };
-    const auto m = find(moment), l = find(lift);
-    if (m == c.result.coefficients.end() || l == c.result.coefficients.end() || !m->identified || l->identified) continue;
+    CoefficientEstimate* m = find_estimate(c.result, moment);
+    const CoefficientEstimate* l = find_estimate(c.result, lift);
+    if (m == nullptr || l == nullptr || !m->identified || l->identified) continue;
     const double consider = ratio * kPriorUncertainty * std::abs(l->prior);
     m->std_error = std::hypot(m->std_error, consider);
   }

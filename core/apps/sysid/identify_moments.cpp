@@ -110,8 +110,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
                                        axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations));
   for (std::size_t j = 0; j < free.size(); ++j) {
     const auto J = static_cast<Eigen::Index>(j);
-    auto e = std::find_if(c.result.coefficients.begin(), c.result.coefficients.end(),
-                          [&](const CoefficientEstimate& x) { return x.name == free[j]; });
+    CoefficientEstimate* e = find_estimate(c.result, free[j]);
     double se = f.std_error[J];
     if (se > c.o.max_relative_error * std::abs(f.theta[J])) {
       c.result.notes.push_back(fmt::format("{}: output error poorly determined ({:.4g} +- {:.2g}); the equation error's {:.4g} kept",
