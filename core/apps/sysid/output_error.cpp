@@ -209,17 +209,24 @@ class RateModel {
   }
 
  private:
-  /// The inputs with each surface's commands shifted by its delay over every run of windows, into `in`.
+  /// The inputs with each surface's commands shifted by its delay over every run of windows, into
+  /// `in`: a copy of in_ taken once, whose command fields are rewritten for the surfaces shifted
+  /// now and restored for those shifted last time only.
   void delay_into(const std::array<double, 3>& tau, std::vector<Input>& in) const {
-    in = in_;
+    if (in.size() != in_.size()) in = in_, scratch_tau_ = {0.0, 0.0, 0.0};
     const std::array<const std::vector<double>*, 3> commands = {&d_.delta_a, &d_.delta_e, &d_.delta_r};
     const std::array<double Input::*, 3> fields = {&Input::da, &Input::de, &Input::dr};
-    std::vector<double> x(in_.size());
+    shifted_.resize(in_.size());
     for (std::size_t s = 0; s < 3; ++s) {
-      if (tau[s] == 0.0) continue;
-      for (const auto& [b, e] : runs_) shift_run(d_.t, *commands[s], tau[s], b, e, x);
-      for (const auto& [b, e] : runs_)
-        for (std::size_t k = b; k < e; ++k) in[k].*fields[s] = x[k];
+      if (tau[s] == scratch_tau_[s]) continue;
+      if (tau[s] == 0.0) {
+        for (std::size_t k = 0; k < in.size(); ++k) in[k].*fields[s] = in_[k].*fields[s];
+      } else {
+        for (const auto& [b, e] : runs_) shift_run(d_.t, *commands[s], tau[s], b, e, shifted_);
+        for (const auto& [b, e] : runs_)
+          for (std::size_t k = b; k < e; ++k) in[k].*fields[s] = shifted_[k];
+      }
+      scratch_tau_[s] = tau[s];
     }
   }
 
@@ -229,7 +236,9 @@ class RateModel {
   std::vector<Param> free_;
   std::array<double, 3> shift_;
   std::vector<Input> in_;
-  mutable std::vector<Input> scratch_;  ///< the shifted inputs of the last simulation (no allocation per simulation)
+  mutable std::vector<Input> scratch_;           ///< the shifted inputs of the last simulation (no allocation per simulation)
+  mutable std::array<double, 3> scratch_tau_{};  ///< s, the shifts scratch_ holds
+  mutable std::vector<double> shifted_;          ///< one surface's shifted commands
   std::vector<std::pair<std::size_t, std::size_t>> runs_;
   std::vector<int> outputs_;
   Eigen::Vector3d integrated_;
