@@ -197,19 +197,9 @@ inline AerobaticResult fly_aerobatics(std::uint64_t seed, const EstimatorConfig&
     imu.gyro = imu_s.gyro;
     est.add_imu(imu);
     if (k % 40 == 0) {
-      const auto g = sensors.gnss(tr, 0.1);
-      msg::Gnss m;
-      m.stamp = t + gnss_late;
+      // the world's fix, or none where the antenna sees too few satellites (inverted: gnss_sky)
+      msg::Gnss m = sim::gnss_message(sensors.gnss(tr, 0.1), t + gnss_late);
       m.time_of_validity = epoch == GnssEpoch::reported ? t : 0;
-      m.fix_type = msg::FixType::fix_3d;
-      m.num_sats = g.num_sats;
-      m.lat = g.lat;
-      m.lon = g.lon;
-      m.alt = g.alt;
-      m.vel = g.vel_ned;
-      m.h_acc = g.h_acc;
-      m.v_acc = g.v_acc;
-      m.s_acc = g.s_acc;
       pending.push_back(m);
     }
     while (!pending.empty() && pending.front().stamp <= t) {

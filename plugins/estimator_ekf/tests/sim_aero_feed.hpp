@@ -32,17 +32,8 @@ class SimAeroFeed {
     return r;
   }
   msg::Gnss gnss() {
-    const auto m = sensors_.gnss(truth(), 0.1);
-    msg::Gnss r;
-    r.stamp = sim_.now();
-    r.fix_type = msg::FixType::fix_3d;
-    r.lat = m.lat;
-    r.lon = m.lon;
-    r.alt = m.alt;
-    r.vel = m.vel_ned;
-    r.h_acc = m.h_acc;
-    r.v_acc = m.v_acc;
-    r.s_acc = m.s_acc;
+    msg::Gnss r = sim::gnss_message(sensors_.gnss(truth(), 0.1), sim_.now());
+    r.time_of_validity = 0;  // the stamp is the epoch
     return r;
   }
   msg::Baro baro() {

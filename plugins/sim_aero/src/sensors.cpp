@@ -308,6 +308,24 @@ void Sensors::count_effects(const GnssSkyFix& sky) {
   effects_.gnss_velocity_lag_max = std::max(effects_.gnss_velocity_lag_max, sky.velocity_lag);
 }
 
+msg::Gnss gnss_message(const GnssSample& m, Nanos stamp) {
+  msg::Gnss out;
+  out.stamp = out.time_of_validity = stamp;
+  out.num_sats = static_cast<std::uint8_t>(std::clamp(m.num_sats, 0, 255));
+  if (!m.fix) return out;
+  out.fix_type = msg::FixType::fix_3d;
+  out.lat = m.lat;
+  out.lon = m.lon;
+  out.alt = m.alt;
+  out.vel = m.vel_ned;
+  out.h_acc = m.h_acc;
+  out.v_acc = m.v_acc;
+  out.s_acc = m.s_acc;
+  out.hdop = m.hdop;
+  out.vdop = m.vdop;
+  return out;
+}
+
 bool SensorSchedule::dropped(std::int64_t t) const {
   if (!enabled) return true;
   for (const auto& [a, b] : dropouts) {

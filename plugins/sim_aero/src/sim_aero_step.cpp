@@ -4,22 +4,6 @@
 
 namespace tern::sim_aero {
 
-namespace {
-// A receiver's 3-D fix from the world's GNSS sample.
-void fill_fix(msg::Gnss& out, const sim::GnssSample& m) {
-  out.fix_type = msg::FixType::fix_3d;
-  out.lat = m.lat;
-  out.lon = m.lon;
-  out.alt = m.alt;
-  out.vel = m.vel_ned;
-  out.h_acc = m.h_acc;
-  out.v_acc = m.v_acc;
-  out.s_acc = m.s_acc;
-  out.hdop = m.hdop;
-  out.vdop = m.vdop;
-}
-}  // namespace
-
 void SimAero::step(Nanos now) {
   if (!f_.sim) initialise();
   sim::Deltas cmd = f_.default_cmd;
@@ -185,13 +169,10 @@ void SimAero::publish_due(Nanos t) {
   });
   run(gnss_, [&](bool ok) {
     msg::Gnss out;
-    out.stamp = t;
-    out.time_of_validity = t;
+    out.stamp = out.time_of_validity = t;
     if (ok) {
-      const auto m = f_.sensors->gnss(get_truth(), gnss_.schedule.dt_since_last(t));
+      out = sim::gnss_message(f_.sensors->gnss(get_truth(), gnss_.schedule.dt_since_last(t)), t);
       gnss_.schedule.last_sample = t;
-      out.num_sats = static_cast<std::uint8_t>(m.num_sats);
-      if (m.fix) fill_fix(out, m);  // else the antenna sees too few satellites: a report without a fix
       if (gnss_.non_finite(t)) out.lat = out.lon = out.alt = kNaN;
     } else if (!gnss_.schedule.enabled) {
       return;  // switched off: silent

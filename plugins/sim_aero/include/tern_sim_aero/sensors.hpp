@@ -18,6 +18,7 @@
 
 #include "tern/geodesy.hpp"
 #include "tern/magnetic_model.hpp"
+#include "tern/msg/sensors.hpp"
 #include "tern_sim_aero/boot_calibration.hpp"
 #include "tern_sim_aero/gnss_sky.hpp"
 #include "tern/aero/model.hpp"
@@ -211,6 +212,11 @@ struct GnssSample {
   int num_sats = 0;
   double hdop = 0, vdop = 0;  ///< of the satellites used (0: the sky is not modelled)
 };
+
+/// The receiver's message for a sample (tern/msg/sensors.hpp), stamped `stamp` (its time of
+/// validity too): a 3-D fix, or, where the sample has none (GnssSample::fix false: the antenna
+/// sees too few satellites), a report without a fix that counts the satellites.
+msg::Gnss gnss_message(const GnssSample& m, Nanos stamp);
 
 /// 1976 standard atmosphere below 11 km: pressure (Pa) and temperature (K) at altitude h (m MSL).
 double standard_pressure(double h);
