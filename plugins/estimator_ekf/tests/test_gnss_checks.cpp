@@ -315,3 +315,55 @@ TEST_CASE("a check failing within the hold drops the start: origin, estimate and
   CHECK(dropped == 1);
   CHECK(calibrated == 2);
 }
+
+TEST_CASE("a fix from fewer satellites moves the GNSS error state, not the position (gnss_constellation_jumps)") {
+  // From 60 to 90 s the receiver keeps 5 satellites: it reports 4 m / 6 m and its solution is
+  // 5 m north and 6 m up of the whole sky's (within 1.5 of its new accuracies); at 90 s the sky returns.
+  struct Outcome {
+    double worst_h = 0.0, worst_v = 0.0, after = 0.0;
+    std::uint64_t resets = 0, jumps = 0;
+  };
+  const auto run = [](bool jumps) {
+    EstimatorConfig cfg = truth_sim_config();
+    cfg.gnss_constellation_jumps = jumps;
+    TruthSim sim(SimOptions{});
+    Estimator est(cfg);
+    Hooks h;
+    h.gnss = [](msg::Gnss& g) {
+      const double t = to_seconds(g.stamp);
+      if (t >= 60.0 && t < 90.0) {
+        g.num_sats = 5;
+        g.h_acc = 4.0;
+        g.v_acc = 6.0;
+        g.lat += 5.0 / 111200.0;
+        g.alt += 6.0;
+      }
+      return true;
+    };
+    Outcome r;
+    fly(sim, est, 120.0, h, [&](const Truth& t, const Estimator& e) {
+      if (to_seconds(sim.now()) < 60.0 || !e.initialized()) return;
+      const Eigen::Vector3d d = e.filter().x().p - truth_position(t, e, sim);
+      r.worst_h = std::max(r.worst_h, d.head<2>().norm());
+      r.worst_v = std::max(r.worst_v, std::fabs(d.z()));
+      r.after = d.norm();
+    });
+    r.resets = est.gnss_resets();
+    r.jumps = est.constellation_jumps();
+    return r;
+  };
+  const Outcome on = run(true), off = run(false);
+  std::printf(
+      "5 satellites for 30 s, the fix 5 m north, 6 m up: worst error %.2f m horizontal, %.2f m vertical, %.2f m at 120 s "
+      "(%llu jumps; without the jumps %.2f, %.2f, %.2f m, %llu GNSS resets)\n",
+      on.worst_h, on.worst_v, on.after, static_cast<unsigned long long>(on.jumps), off.worst_h, off.worst_v, off.after,
+      static_cast<unsigned long long>(off.resets));
+  CHECK(on.jumps == 2);
+  CHECK(on.resets == 0);
+  // the jump went into e_gnss: the position held within 2 m of the truth ...
+  CHECK(on.worst_h < 2.0);
+  CHECK(on.worst_v < 2.5);
+  CHECK(on.after < 1.0);
+  // ... where without the jump model the fixes pulled it along
+  CHECK(off.worst_h > on.worst_h + 1.0);
+}
