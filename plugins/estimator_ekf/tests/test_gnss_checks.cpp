@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "fly.hpp"
+#include "tern/geodesy.hpp"
 #include "tern/estimator_ekf/estimator.hpp"
 #include "tern/estimator_ekf/gnss_checks.hpp"
 #include "truth_sim.hpp"
@@ -335,8 +336,9 @@ TEST_CASE("a fix from fewer satellites moves the GNSS error state, not the posit
         g.num_sats = 5;
         g.h_acc = 4.0;
         g.v_acc = 6.0;
-        g.lat += 5.0 / 111200.0;
-        g.alt += 6.0;
+        const GeoPoint moved = GeoOrigin(g.lat, g.lon, g.alt).to_geodetic(Eigen::Vector3d(5.0, 0.0, -6.0));
+        g.lat = moved.lat;
+        g.alt = moved.alt;
       }
       return true;
     };

@@ -11,10 +11,11 @@
 #include <Eigen/Cholesky>
 #include <boost/random/normal_distribution.hpp>
 
+#include "tern/math.hpp"
+
 namespace tern::sim {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr std::uint64_t kSkyStream = 0x5a7e111e5ull;  // the sky's own stream of the seed
 
 using Geometry = Eigen::Matrix<double, Eigen::Dynamic, 4>;
@@ -50,8 +51,8 @@ Dops dilutions_of_precision(const std::vector<Eigen::Vector3d>& los) {
 
 GnssSky::GnssSky(const GnssSkyParams& p, std::uint64_t seed) : p_(p), seed_(seed) {
   check(p.satellites >= 0 && p.satellites <= 64, "satellites " + std::to_string(p.satellites) + " outside 0..64");
-  check(p.elevation_mask >= 0.0 && p.elevation_mask < 0.5 * kPi, "elevation_mask outside [0, 90) deg");
-  check(std::fabs(p.antenna_cutoff) < 0.5 * kPi, "antenna_cutoff outside (-90, 90) deg");
+  check(p.elevation_mask >= 0.0 && p.elevation_mask < 0.5 * tern::kPi, "elevation_mask outside [0, 90) deg");
+  check(std::fabs(p.antenna_cutoff) < 0.5 * tern::kPi, "antenna_cutoff outside (-90, 90) deg");
   check(p.max_acceleration <= 0.0 || p.lag_tau > 0.0, "a platform bound needs lag_tau > 0");
   check(p.reacquisition >= 0.0 && p.horizontal_sigma >= 0.0 && p.velocity_sigma >= 0.0 && p.range_tau >= 0.0 && p.pdop_mask >= 0.0 &&
             p.max_acceleration >= 0.0,
@@ -69,7 +70,7 @@ void GnssSky::reset() {
   los_.clear();
   range_error_.clear();
   for (int i = 0; i < count; ++i) {
-    const double az = 2.0 * kPi * (i + u(rng_)) / count;
+    const double az = 2.0 * tern::kPi * (i + u(rng_)) / count;
     const double s_mask = std::sin(p_.elevation_mask);
     const double el = std::asin(s_mask + (1.0 - s_mask) * u(rng_));
     los_.emplace_back(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), -std::sin(el));

@@ -6,12 +6,14 @@
 #include <stdexcept>
 #include <vector>
 
+#include "tern/math.hpp"
 #include "tern_sim_aero/gnss_sky.hpp"
 
 using namespace tern::sim;
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+constexpr double kDeg = tern::kRadPerDeg;
+constexpr double kG0 = tern::kStandardGravity;
 const Eigen::Vector3d kUp(0.0, 0.0, -1.0), kDown(0.0, 0.0, 1.0), kEast(0.0, 1.0, 0.0);
 
 GnssSkyParams twelve() {
@@ -96,19 +98,19 @@ TEST_CASE("gnss sky: on a knife edge half the sky is lost: the accuracy worsens 
 
 TEST_CASE("gnss sky: beyond the platform model's bound the velocity lags, then catches up") {
   GnssSkyParams p;  // no sky: only the receiver's filter
-  p.max_acceleration = 2.0 * 9.80665;
+  p.max_acceleration = 2.0 * kG0;
   p.lag_tau = 0.5;
   GnssSky sky(p, 1);
   CHECK(sky.step(0.1, 0.1, kUp, Eigen::Vector3d(20, 0, 0)).velocity_error.isZero());
   // 2 g: followed
   Eigen::Vector3d v(20, 0, 0);
-  CHECK(sky.step(0.2, 0.1, kUp, v += Eigen::Vector3d(0, 0, -1.9 * 9.80665 * 0.1)).velocity_error.isZero());
+  CHECK(sky.step(0.2, 0.1, kUp, v += Eigen::Vector3d(0, 0, -1.9 * kG0 * 0.1)).velocity_error.isZero());
   // 4 g for 0.5 s: the 2 g beyond the bound lag, each fix's share decaying with 0.5 s
   GnssSkyFix f;
   double expected = 0.0;
   for (int k = 0; k < 5; ++k) {
-    f = sky.step(0.3 + 0.1 * k, 0.1, kUp, v += Eigen::Vector3d(0, 0, -4.0 * 9.80665 * 0.1));
-    expected = std::exp(-0.2) * expected + 2.0 * 9.80665 * 0.1;
+    f = sky.step(0.3 + 0.1 * k, 0.1, kUp, v += Eigen::Vector3d(0, 0, -4.0 * kG0 * 0.1));
+    expected = std::exp(-0.2) * expected + 2.0 * kG0 * 0.1;
   }
   CHECK(f.velocity_error.z() == doctest::Approx(expected));  // the output's climb rate lags (NED: +)
   CHECK(f.velocity_lag == doctest::Approx(expected));
