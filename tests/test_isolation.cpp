@@ -181,6 +181,8 @@ TEST_CASE("an in-process step stuck in an endless loop ends `tern fly` within th
   const auto s = nlohmann::json::parse(read_file(run / "summary.json"));
   CHECK(s["end_reason"] == "watchdog");
   CHECK(s["end_detail"].get<std::string>().rfind("filter at t=0.500 s: a step still running after", 0) == 0);
+  CHECK(s["instances"]["filter"]["summary"] == "not read: its step was still running when the flight ended");
+  CHECK(s["instances"]["ctl"].contains("steps"));  // the others' figures are read as ever
   CHECK(count_lines_with(read_file(run / "tern.log"), "past the watchdog's hard budget of 400 ms") == 1);
   CHECK(count_lines_with(console, "error") == 1);
   for (const auto& e : fs::directory_iterator(run / "topics")) {

@@ -393,11 +393,12 @@ bool Host::begin_flight() {
   flight_start_ms_ = static_cast<double>(f.clock->wall_start() - fly_entry) * 1e-6;
   watchdog_.arm(
       config_.watchdog, [] { return g_stop_signal.load(); },
-      [this](const std::string& reason, const std::string& detail) {
+      [this](const std::string& reason, const std::string& detail, const std::string& running) {
         Running& g = *running_;
         g.r.ok = reason != "watchdog";
         g.r.end_reason = reason;
         g.r.end_detail = detail;
+        g.r.stuck_instance = running;
         g.r.flown = g.clock->now();
         g.r.wall_s = g.clock->wall_s();
         emergency_end(g.recorder, g.r, g.duration);

@@ -153,8 +153,9 @@ std::string library_fnv1a(const std::filesystem::path& path) {
   return hex;
 }
 
-// Per instance: plugin, library (path and FNV-1a of its bytes), steps, its summary() figures.
-nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance>>& instances) {
+// Per instance: plugin, library (path and FNV-1a of its bytes), steps, its summary() figures;
+// for the instance `stuck` (a step the watchdog gave up on, still running) a note instead.
+nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance>>& instances, const std::string& stuck) {
   auto out = nlohmann::ordered_json::object();
   for (const auto& inst : instances) {
     nlohmann::ordered_json x;
@@ -164,7 +165,10 @@ nlohmann::ordered_json instances_json(const std::vector<std::unique_ptr<Instance
       x["library_fnv1a"] = library_fnv1a(inst->info.path);
     }
     x["steps"] = inst->stats.steps;
-    for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
+    if (inst->cfg.name == stuck)
+      x["summary"] = "not read: its step was still running when the flight ended";
+    else
+      for (const auto& [k, v] : inst->plugin->summary()) x[k] = v;
     out[inst->cfg.name] = x;
   }
   return out;
@@ -221,7 +225,7 @@ std::string summary_json(const FlightFacts& f, const FlightResult& r) {
   for (const auto& e : f.failsafes)
     fs.push_back({{"t_s", to_seconds(e.t)}, {"cause", e.cause}, {"action", e.action}, {"detail", e.detail}});
   j["failsafes"] = fs;
-  j["instances"] = instances_json(f.instances);
+  j["instances"] = instances_json(f.instances, r.stuck_instance);
   if (f.metrics) j["metrics"] = metrics_json(*f.metrics);
   if (!r.realtime.is_null()) j["realtime"] = r.realtime;  // paced flights only: wall-clock figures
   return j.dump(2) + "\n";

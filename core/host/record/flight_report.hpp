@@ -35,6 +35,9 @@ struct FlightResult {
   std::string end_reason;  ///< "duration", "aborted" (Host::abort_flight), "SIGINT", "SIGTERM", "SIGHUP", "error: ...", or a plugin's
                            ///< end_flight reason ("crash")
   std::string end_detail;  ///< with a plugin's end_flight: "instance at t=...: what it said"; else empty
+  /// A flight the watchdog ended: the instance whose step never returned. Its summary() is not
+  /// called (its step still runs on the flight thread); summary.json says so instead.
+  std::string stuck_instance;
   bool ok = true;
   std::string log_error;  ///< the flight log's first write error: some of the log is missing ("" if none)
   Nanos flown = 0;

@@ -84,7 +84,7 @@ void Watchdog::run() {
     const std::string detail = verdict(s, reason);
     if (detail.empty() || !started_.compare_exchange_strong(s, -1)) continue;
     lock.unlock();
-    emergency_(reason, detail);  // does not return
+    emergency_(reason, detail, *name_);  // does not return
     return;
   }
 }

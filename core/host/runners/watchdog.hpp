@@ -41,9 +41,11 @@ namespace tern::core {
 
 class Watchdog {
  public:
-  /// Runs on the watchdog thread with the end reason ("watchdog" or "SIGINT"/"SIGTERM"/"SIGHUP")
-  /// and a detail naming the instance; must not return (it ends the process).
-  using Emergency = std::function<void(const std::string& reason, const std::string& detail)>;
+  /// Runs on the watchdog thread with the end reason ("watchdog" or "SIGINT"/"SIGTERM"/"SIGHUP"),
+  /// a detail naming the instance, and the instance whose step is still running (the handler
+  /// must not read that instance's state: its step may write it at any moment); must not return
+  /// (it ends the process).
+  using Emergency = std::function<void(const std::string& reason, const std::string& detail, const std::string& running)>;
   /// Reads the pending stop signal (0: none).
   using StopSignal = std::function<int()>;
 

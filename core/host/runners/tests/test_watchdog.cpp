@@ -24,7 +24,7 @@ using namespace std::chrono_literals;
 namespace {
 
 struct Emergency {
-  std::string reason, detail;
+  std::string reason, detail, running;
 };
 
 /// Arms `w` with soft/hard budgets (ms) and a stop signal read from `sig`; the emergency
@@ -37,8 +37,8 @@ std::future<Emergency> arm(Watchdog& w, double soft_ms, double hard_ms, const st
   budgets.hard_ms = hard_ms;
   w.arm(
       budgets, [&sig] { return sig.load(); },
-      [done](const std::string& reason, const std::string& detail) {
-        done->set_value({reason, detail});
+      [done](const std::string& reason, const std::string& detail, const std::string& running) {
+        done->set_value({reason, detail, running});
       });
   return done->get_future();
 }
@@ -64,6 +64,7 @@ TEST_CASE("watchdog: a policed step stuck past hard_ms ends the flight from the 
   CHECK(e.reason == "watchdog");
   CHECK(e.detail.find("stuck_controller at t=12.500 s") == 0);
   CHECK(e.detail.find("hard budget of 100 ms") != std::string::npos);
+  CHECK(e.running == "stuck_controller");  // the host does not read its summary()
   w.disarm();
 }
 
