@@ -82,6 +82,41 @@ TEST_CASE("params.csv: a value from the config is logged with its file and line,
   CHECK(std::find(later.begin(), later.end(), "0.000000000,ctl.kp,0.2,console") != later.end());
 }
 
+TEST_CASE("config.yaml of a host's later flights (a new seed, a changed parameter) is what a fresh host writes") {
+  HostOptions o;
+  o.quiet = true;
+  o.duration = 0.05;
+  o.log_dir = test_dir() / "resolved_runs";
+  const fs::path file = write_file("resolved.yaml", kRouted);
+  const auto fresh = [&](std::uint64_t seed, const std::string& yaml) {
+    write_file("resolved.yaml", yaml);
+    HostOptions f = o;
+    f.seed = seed;
+    Host h(load_config(file), f);
+    h.build();
+    const FlightResult r = h.fly();
+    write_file("resolved.yaml", kRouted);
+    return read_file(r.run_dir / "config.yaml");
+  };
+  Host h(load_config(file), o);
+  h.build();
+  REQUIRE(h.fly().ok);
+  REQUIRE(h.reseed(11));
+  const std::string second = read_file(h.fly().run_dir / "config.yaml");
+  CHECK(second.find("\nseed: 11\n") != std::string::npos);
+  CHECK(second == fresh(11, kRouted));
+  h.request_param("ctl.kp", 0.2, "console");  // taken at the next flight's first tick
+  REQUIRE(h.fly().ok);
+  REQUIRE(h.reseed(123456789012));  // a longer seed than the text it replaces
+  const std::string fourth = read_file(h.fly().run_dir / "config.yaml");
+  std::string with_kp = kRouted;
+  with_kp.replace(with_kp.find("rate: 100}"), 10, "rate: 100, params: {kp: 0.2}}");
+  CHECK(fourth.find("kp: 0.2") != std::string::npos);
+  CHECK(fourth == fresh(123456789012, with_kp));
+  REQUIRE(h.reseed(5));
+  CHECK(read_file(h.fly().run_dir / "config.yaml") == fresh(5, with_kp));
+}
+
 TEST_CASE("phase router: takeoff -> climb -> cruise hands actuators to the cruise controller") {
   const FlightResult r = fly_yaml(kRouted, "router");
   REQUIRE(r.ok);

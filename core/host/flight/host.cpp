@@ -374,7 +374,7 @@ bool Host::begin_flight() {
   }
   Running& f = *running_;
   f.r.run_dir = f.recorder.dir();
-  f.recorder.start(resolved_config_yaml(facts(f.duration)), parameters(), param_sources());
+  f.recorder.start(resolved_config_.text(facts(f.duration)), parameters(), param_sources());
   f.recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), f.duration, seed_, f.r.run_dir.string());

@@ -43,6 +43,7 @@
 #include "config/config.hpp"
 #include "safety/failsafe_station.hpp"
 #include "record/flight_report.hpp"
+#include "record/resolved_config.hpp"
 #include "flight/held_messages.hpp"
 #include "flight/load_instances.hpp"
 #include "record/metrics.hpp"
@@ -287,6 +288,7 @@ class Host {
   std::int64_t created_ns_ = 0;
   double start_to_first_tick_ms_ = 0;
   double flight_start_ms_ = 0;
+  ResolvedConfig resolved_config_;  // config.yaml, emitted again only when more than the seed changed
   bool built_ = false;
   std::atomic<bool> flying_{false};
   std::atomic<bool> abort_{false};  // abort_flight() asked; cleared when a flight starts

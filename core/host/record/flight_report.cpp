@@ -19,23 +19,6 @@ namespace tern::core {
 
 namespace {
 
-YAML::Node to_yaml(const ParamValue& v) {
-  YAML::Node n;
-  std::visit(
-      [&](const auto& x) {
-        using T = std::decay_t<decltype(x)>;
-        if constexpr (std::is_same_v<T, std::vector<double>>) {
-          n = YAML::Node(YAML::NodeType::Sequence);
-          for (double d : x) n.push_back(d);
-          n.SetStyle(YAML::EmitterStyle::Flow);
-        } else {
-          n = x;
-        }
-      },
-      v);
-  return n;
-}
-
 std::string fmt_ns(double ns) {
   if (ns < 1e3) return fmt::format("{:.0f} ns", ns);
   if (ns < 1e6) return fmt::format("{:.1f} us", ns / 1e3);
@@ -43,51 +26,6 @@ std::string fmt_ns(double ns) {
 }
 
 }  // namespace
-
-std::string resolved_config_yaml(const FlightFacts& f) {
-  YAML::Node root = YAML::Clone(f.config.root);
-  // paths made absolute: the resolved config lives in the run directory, not beside the original
-  if (!f.config.aircraft.empty()) root["aircraft"] = f.config.aircraft.string();
-  if (root["plugin_path"]) {
-    YAML::Node pp(YAML::NodeType::Sequence);
-    for (const auto& d : f.config.plugin_path) pp.push_back(d.string());
-    root["plugin_path"] = pp;
-  }
-  if (root["log"] && root["log"]["dir"]) root["log"]["dir"] = f.config.log.dir.string();
-  if (root["mission"] && root["mission"].IsMap() && root["mission"]["file"] && root["mission"]["file"].IsScalar()) {
-    const fs::path mf(root["mission"]["file"].Scalar());
-    if (mf.is_relative()) root["mission"]["file"] = (f.config.dir / mf).lexically_normal().string();
-  }
-  root["name"] = f.config.name;
-  if (!f.config.phases.empty()) {  // the table flown (--phases, `tern phases` between flights)
-    YAML::Node ph;
-    for (const auto& [phase, instance] : f.config.phases) ph[std::string(msg::phase_name(phase))] = instance;
-    ph.SetStyle(YAML::EmitterStyle::Flow);
-    root["phases"] = ph;
-  }
-  if (f.config.fallback) root["fallback"] = *f.config.fallback;
-  root["seed"] = f.seed;
-  root["duration"] = f.duration_s;
-  for (const auto& inst : f.instances) {
-    if (inst->builtin) {
-      YAML::Node pm;
-      for (const auto* p : inst->plugin->params()) pm[p->name()] = to_yaml(p->value());
-      if (pm.size() > 0) root[inst->cfg.name] = pm;  // phase_machine:, metrics: (replay has none)
-      continue;
-    }
-    YAML::Node entry = root["plugins"][inst->cfg.index];
-    entry.remove("param_file");
-    YAML::Node params;
-    for (const auto* p : inst->plugin->params()) params[p->name()] = to_yaml(p->value());
-    entry["params"] = params;
-    entry["library"] = inst->info.path.string();
-  }
-  YAML::Emitter e;
-  e << root;
-  std::string head = "# resolved from " + f.config.file.string() + "\n";
-  if (!f.config.overrides.empty()) head += fmt::format("# with {}\n", fmt::join(f.config.overrides, " "));
-  return head + e.c_str() + "\n";
-}
 
 namespace {
 

@@ -1,8 +1,7 @@
 // core/host/record/flight_report.hpp: what a flight did, as the flight log's documents and the console
 // summary.
 //
-//   config.yaml    the config as flown: every parameter's effective value, absolute paths,
-//                  the seed and the duration
+//   config.yaml    the config as flown: resolved_config.hpp
 //   summary.json   mission, seed, end reason, phases and controller handovers, per instance
 //                  its library (path, FNV-1a of its bytes), steps and summary() figures, the
 //                  metrics (RMSE tables, waypoint passages); same config + seed: same bytes,
@@ -70,7 +69,6 @@ struct FlightFacts {
   const std::vector<FailsafeEvent>& failsafes;  ///< engagements and cleared causes, in time order
 };
 
-std::string resolved_config_yaml(const FlightFacts& f);
 std::string summary_json(const FlightFacts& f, const FlightResult& r);
 std::string timing_json(const FlightFacts& f, const FlightResult& r);
 std::string summary_text(const FlightFacts& f, const FlightResult& r);
