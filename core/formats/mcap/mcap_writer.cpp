@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 
 #include <zlib.h>
@@ -93,7 +94,7 @@ void McapWriter::sync() {
   if (synced_ || fd_ < 0) return;
   std::uint64_t chunk_length = 0;
   std::map<std::uint16_t, std::uint64_t> index_offsets;
-  std::string b = chunk_records(chunk_length, index_offsets);
+  std::string b = chunk_records(chunk_length, index_offsets, false);  // overwritten soon: not worth compressing
   const std::uint64_t keep = size_;
   write(b);  // at size_, over the previous provisional chunk
   if (fd_ < 0) return;
@@ -125,6 +126,8 @@ std::uint16_t McapWriter::add_channel(std::uint16_t schema, std::string_view top
   if (sequence_.empty()) sequence_.push_back(0);  // ids from 1
   const auto id = static_cast<std::uint16_t>(sequence_.size());
   sequence_.push_back(0);
+  channel_counts_.resize(sequence_.size());
+  chunk_.index.resize(sequence_.size());
   std::string b;
   const std::size_t c = begin_record(b, Op::channel);
   Out{b}.u16(id);
@@ -140,6 +143,10 @@ std::uint16_t McapWriter::add_channel(std::uint16_t schema, std::string_view top
 
 void McapWriter::message(std::uint16_t channel, std::uint64_t log_time, std::string_view data) {
   std::lock_guard lk(mu_);
+  message_locked(channel, log_time, data);
+}
+
+void McapWriter::message_locked(std::uint16_t channel, std::uint64_t log_time, std::string_view data) {
   if (fd_ < 0) return;
   std::string& r = chunk_.records;
   chunk_.index[channel].emplace_back(log_time, r.size());
@@ -158,25 +165,31 @@ void McapWriter::message(std::uint16_t channel, std::uint64_t log_time, std::str
   if (r.size() >= options_.chunk_bytes) write_chunk_locked();
 }
 
-std::string McapWriter::chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets) {
+std::string McapWriter::chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets, bool compress) {
   const std::string& r = chunk_.records;
-  compressed_.resize(ZSTD_compressBound(r.size()));
-  const std::size_t n =
-      ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zstd_), compressed_.data(), compressed_.size(), r.data(), r.size(), options_.zstd_level);
-  compressed_.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail with a bound-sized buffer
+  if (compress) {
+    compressed_.resize(ZSTD_compressBound(r.size()));
+    const std::size_t n =
+        ZSTD_compressCCtx(static_cast<ZSTD_CCtx*>(zstd_), compressed_.data(), compressed_.size(), r.data(), r.size(), options_.zstd_level);
+    compressed_.resize(ZSTD_isError(n) ? 0 : n);  // cannot fail with a bound-sized buffer
+  }
+  const std::string& data = compress ? compressed_ : r;
   std::string b;
   const std::size_t c = begin_record(b, Op::chunk);
   Out{b}.u64(chunk_.start);
   Out{b}.u64(chunk_.end);
   Out{b}.u64(r.size());
   Out{b}.u32(mcap::crc32(r));
-  Out{b}.str("zstd");
-  Out{b}.u64(compressed_.size());
-  b += compressed_;
+  Out{b}.str(compress ? "zstd" : "");
+  Out{b}.u64(data.size());
+  b += data;
   end_record(b, c);
   const std::uint64_t chunk_start = size_;
   chunk_length = b.size();
-  for (const auto& [channel, entries] : chunk_.index) {
+  for (std::size_t id = 0; id < chunk_.index.size(); ++id) {
+    const auto& entries = chunk_.index[id];
+    if (entries.empty()) continue;
+    const auto channel = static_cast<std::uint16_t>(id);
     index_offsets[channel] = chunk_start + b.size();
     const std::size_t m = begin_record(b, Op::message_index);
     Out{b}.u16(channel);
@@ -195,7 +208,7 @@ void McapWriter::write_chunk_locked() {
   std::uint64_t chunk_length = 0;
   std::map<std::uint16_t, std::uint64_t> index_offsets;
   const std::uint64_t chunk_start = size_;
-  const std::string b = chunk_records(chunk_length, index_offsets);
+  const std::string b = chunk_records(chunk_length, index_offsets, true);
   write(b);
   synced_ = true;
   if (fd_ >= 0) {
@@ -205,7 +218,7 @@ void McapWriter::write_chunk_locked() {
     end_ = std::max(end_, chunk_.end);
   }
   chunk_.records.clear();  // keeps its capacity: the next chunk reuses it
-  chunk_.index.clear();
+  for (auto& entries : chunk_.index) entries.clear();  // keeps their capacity too
   chunk_.start = UINT64_MAX;
   chunk_.end = 0;
 }
@@ -304,10 +317,12 @@ void McapWriter::write_summary_locked() {
   Out{stats}.u32(chunk_count_);
   Out{stats}.u64(messages_ ? start_ : 0);
   Out{stats}.u64(messages_ ? end_ : 0);
-  Out{stats}.u32(static_cast<std::uint32_t>(channel_counts_.size() * 10));
-  for (const auto& [channel, count] : channel_counts_) {
-    Out{stats}.u16(channel);
-    Out{stats}.u64(count);
+  const auto used = static_cast<std::uint32_t>(channel_counts_.size() - std::count(channel_counts_.begin(), channel_counts_.end(), 0));
+  Out{stats}.u32(used * 10);
+  for (std::size_t id = 0; id < channel_counts_.size(); ++id) {
+    if (channel_counts_[id] == 0) continue;  // a channel without messages is not listed
+    Out{stats}.u16(static_cast<std::uint16_t>(id));
+    Out{stats}.u64(channel_counts_[id]);
   }
   end_record(stats, s);
   group(Op::schema, schemas_);

@@ -5,8 +5,9 @@
 // indexes), its offsets and the footer.
 //
 // Durability without losing determinism: sync() (the flight log calls it at least every
-// FlightLog::kFlushPeriodNs of wall time) writes the open chunk as it stands, compressed with its
-// indexes, where the chunk will go; the next sync() or the full chunk overwrites it (pwrite, then
+// FlightLog::kFlushPeriodNs of wall time) writes the open chunk as it stands, with its indexes,
+// where the chunk will go, uncompressed (compression "", as the spec allows: it is overwritten
+// soon, and compressing it at every sync was a third of the writer's zstd time); the next sync() or the full chunk overwrites it (pwrite, then
 // the file cut to its new end). So the file on disk always ends with complete chunks, and the
 // finished file's chunk boundaries depend on the messages only (chunk size), never on the wall
 // clock: the same config and seed give the same bytes.
@@ -59,6 +60,17 @@ class McapWriter {
   std::uint16_t add_channel(std::uint16_t schema, std::string_view topic, std::string_view message_encoding, const Metadata& metadata);
   /// A message into the open chunk (sequence: the channel's count, publish_time = log_time, ns).
   void message(std::uint16_t channel, std::uint64_t log_time, std::string_view data);
+  /// Many messages under one lock (the flight log's writer thread hands them over by the
+  /// thousand): message() without taking the lock each time. Declare nothing while one lives.
+  class Batch {
+   public:
+    explicit Batch(McapWriter& w) : w_(w), lock_(w.mu_) {}
+    void message(std::uint16_t channel, std::uint64_t log_time, std::string_view data) { w_.message_locked(channel, log_time, data); }
+
+   private:
+    McapWriter& w_;
+    std::lock_guard<std::mutex> lock_;
+  };
   /// Writes the open chunk as it stands (above), to be overwritten by its next state.
   void sync();
   void metadata(std::string_view name, const Metadata& values);
@@ -70,14 +82,16 @@ class McapWriter {
  private:
   struct OpenChunk {
     std::string records;
-    std::map<std::uint16_t, std::vector<std::pair<std::uint64_t, std::uint64_t>>> index;  // channel -> (log_time, offset)
+    std::vector<std::vector<std::pair<std::uint64_t, std::uint64_t>>> index;  // by channel id: (log_time, offset)
     std::uint64_t start = UINT64_MAX, end = 0;
   };
+  void message_locked(std::uint16_t channel, std::uint64_t log_time, std::string_view data);
   /// Writes `bytes` at size_ (over a provisional chunk) and cuts the file after them.
   void write(const std::string& bytes);
   void restore_provisional();
   /// The open chunk and its message indexes, serialised; `chunk_length` = the chunk record's.
-  std::string chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets);
+  /// `compress`: zstd (a complete chunk), else stored as it is (a provisional one).
+  std::string chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets, bool compress);
   /// Writes the open chunk for good and starts a new one.
   void write_chunk_locked();
   std::string chunk_index_record(const std::string& compressed, std::uint64_t chunk_start, std::uint64_t chunk_length,
@@ -97,8 +111,8 @@ class McapWriter {
   std::string compressed_;
   // the summary's groups, serialised as they are learnt
   std::string schemas_, channels_, chunk_indexes_, attachment_indexes_, metadata_indexes_;
-  std::vector<std::uint32_t> sequence_;  // per channel id
-  std::map<std::uint16_t, std::uint64_t> channel_counts_;
+  std::vector<std::uint32_t> sequence_;       // per channel id
+  std::vector<std::uint64_t> channel_counts_;  // per channel id
   std::uint64_t messages_ = 0, start_ = UINT64_MAX, end_ = 0;
   std::uint32_t schema_count_ = 0, chunk_count_ = 0, attachment_count_ = 0, metadata_count_ = 0;
   bool finished_ = false;

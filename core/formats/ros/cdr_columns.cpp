@@ -76,19 +76,33 @@ std::string tern_schema_text(const std::vector<reflect::Column>& columns) {
   return s;
 }
 
-void encode_cdr(const std::vector<reflect::Column>& columns, const char* msg, std::string& out) {
-  out.append(kHeader, sizeof kHeader);
-  const std::size_t base = out.size();
-  if (columns.empty()) out.push_back('\0');
+CdrEncoder::CdrEncoder(const std::vector<reflect::Column>& columns) {
+  std::size_t pos = 0;  // in the body, after the header
+  if (columns.empty()) pos = 1;  // the one zero byte of a message without members
   for (const auto& c : columns) {
     const std::size_t n = reflect::scalar_size(c.kind);
-    out.resize(base + aligned(out.size() - base, n), '\0');
+    pos = aligned(pos, n);
     if (c.kind == reflect::Scalar::boolean)
-      out.push_back(msg[c.offset] ? '\1' : '\0');
+      bools_.emplace_back(c.offset, sizeof kHeader + pos);
+    else if (!runs_.empty() && runs_.back().from + runs_.back().n == c.offset && runs_.back().to + runs_.back().n == sizeof kHeader + pos)
+      runs_.back().n += n;  // adjacent in the message and in the encoding: one copy
     else
-      out.append(msg + c.offset, n);  // little-endian host
+      runs_.push_back({c.offset, sizeof kHeader + pos, n});
+    pos += n;
   }
+  size_ = sizeof kHeader + pos;
 }
+
+void CdrEncoder::append(const char* msg, std::string& out) const {
+  const std::size_t base = out.size();
+  out.resize(base + size_, '\0');  // padding and the empty message's byte: zeros
+  char* o = out.data() + base;
+  std::memcpy(o, kHeader, sizeof kHeader);
+  for (const Run& r : runs_) std::memcpy(o + r.to, msg + r.from, r.n);  // little-endian host
+  for (const auto& [from, to] : bools_) o[to] = msg[from] ? '\1' : '\0';
+}
+
+void encode_cdr(const std::vector<reflect::Column>& columns, const char* msg, std::string& out) { CdrEncoder(columns).append(msg, out); }
 
 bool decode_cdr(const std::vector<reflect::Column>& columns, std::string_view data, char* msg) {
   if (data.size() < sizeof kHeader || data[0] != 0x00 || data[1] != 0x01) return false;

@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "tern/reflect.hpp"
@@ -34,7 +35,28 @@ std::string_view ros2msg_type(reflect::Scalar kind);
 /// The scalar kind of a ros2msg primitive type; nullopt for any other type.
 std::optional<reflect::Scalar> scalar_of_ros2msg(std::string_view type);
 
-/// Appends the CDR encoding (header included) of the message at `msg` to `out`.
+/// The CDR encoding (above) of one message layout, worked out once: its size and the copies that
+/// make it (columns adjacent in the message and in the encoding copied as one). The flight log
+/// encodes every message of a topic with its topic's encoder.
+class CdrEncoder {
+ public:
+  CdrEncoder() = default;  ///< for a message without columns, as CdrEncoder({})
+  explicit CdrEncoder(const std::vector<reflect::Column>& columns);
+  /// Bytes of every message's encoding, header included.
+  std::size_t size() const { return size_; }
+  /// Appends the encoding of the message at `msg` (the columns' layout) to `out`.
+  void append(const char* msg, std::string& out) const;
+
+ private:
+  struct Run {
+    std::size_t from, to, n;  // bytes at msg + from go to encoding + to
+  };
+  std::vector<Run> runs_;
+  std::vector<std::pair<std::size_t, std::size_t>> bools_;  // (from, to): one byte 0/1 each
+  std::size_t size_ = 5;  // the header and the empty message's one byte
+};
+
+/// Appends the CDR encoding (header included) of the message at `msg` to `out` (CdrEncoder, once).
 void encode_cdr(const std::vector<reflect::Column>& columns, const char* msg, std::string& out);
 /// Decodes `data` (CDR, header included) into the message at `msg` (columns' offsets); false if
 /// the header is not little-endian CDR or the data ends early.

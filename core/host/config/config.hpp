@@ -85,7 +85,7 @@ struct LogConfig {
   LogFormat format = LogFormat::csv;
   std::size_t chunk_size = 1024 * 1024;  ///< bytes of messages per MCAP chunk, uncompressed
   bool ros_channels = true;              ///< MCAP: each topic's copy in its ROS 2 type too (core/formats/ros/ros_channels.hpp)
-  /// MCAP: the chunks' zstd level, kZstdLevelMin..kZstdLevelMax; unset: McapWriter::Options' default
+  /// MCAP: the chunks' zstd level, kZstdLevelMin..kZstdLevelMax; unset: FlightRecorder::default_zstd_level
   std::optional<int> zstd_level;
   double decimated_rate = 10.0;  ///< Hz, every topic's limit at level decimated (> 0)
   /// Hz, the limit of the topics not kept in full at levels replay and sysid, and of the ROS-typed

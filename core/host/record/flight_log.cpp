@@ -87,6 +87,7 @@ std::size_t FlightLog::add_topic(const std::string& topic, std::vector<reflect::
     const auto schema = mcap_->add_schema(tern_schema_name(type_name, topic), "ros2msg", tern_schema_text(t->columns));
     // the CSV header keeps the names and units `tern export csv` writes
     t->channel = mcap_->add_channel(schema, "/" + topic, "cdr", {{"tern.csv_header", header.substr(0, header.size() - 1)}});
+    t->cdr = CdrEncoder(t->columns);
     if (format_.mcap_ros_channels) add_ros_channels(*t, type_name);
   }
   topics_.push_back(std::move(t));
@@ -253,6 +254,7 @@ void FlightLog::write_chunk(const Chunk& c, std::unique_ptr<char[]>& text, std::
 }
 
 void FlightLog::write_mcap(const std::vector<char>& bytes) {
+  McapWriter::Batch batch(*mcap_);
   std::size_t off = 0;
   while (off + sizeof(std::uint64_t) + sizeof(Nanos) <= bytes.size()) {
     std::uint64_t index;
@@ -261,8 +263,8 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
     const Nanos when = load_time(bytes.data() + off + sizeof index);
     const char* msg = bytes.data() + off + sizeof index + sizeof(Nanos);
     cdr_.clear();
-    encode_cdr(t.columns, msg, cdr_);
-    mcap_->message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
+    t.cdr.append(msg, cdr_);
+    batch.message(t.channel, static_cast<std::uint64_t>(when), cdr_);  // flight time >= 0
     // the same message in its ROS type; the record sits at any offset and the message struct
     // (Eigen members) wants its alignment
     if (!t.copies.empty()) {
@@ -274,7 +276,7 @@ void FlightLog::write_mcap(const std::vector<char>& bytes) {
       copy.last = when;
       ros_samples_.clear();
       copy.encode(aligned_.data(), ros_samples_);
-      for (const std::string& sample : ros_samples_) mcap_->message(copy.channel, static_cast<std::uint64_t>(when), sample);
+      for (const std::string& sample : ros_samples_) batch.message(copy.channel, static_cast<std::uint64_t>(when), sample);
     }
     off += sizeof index + sizeof(Nanos) + t.msg_size;
   }

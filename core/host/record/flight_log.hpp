@@ -45,6 +45,7 @@
 
 #include "files/log_file.hpp"
 #include "mcap/mcap_writer.hpp"
+#include "ros/cdr_columns.hpp"
 #include "ros/scene_channels.hpp"
 #include "tern/port.hpp"
 #include "tern/reflect.hpp"
@@ -119,6 +120,7 @@ class FlightLog {
     std::size_t msg_size = 0;
     std::unique_ptr<LogFile> file;  // null without CSV
     std::uint16_t channel = 0;      // MCAP channel (0: no MCAP)
+    CdrEncoder cdr;                 // its messages on that channel
     struct Copy {                   // a ROS-typed channel this topic feeds (ros_channels.hpp, scene_channels.hpp)
       std::uint16_t channel = 0;
       std::function<void(const void*, std::vector<std::string>&)> encode;

@@ -61,8 +61,10 @@ class FlightRecorder {
              const std::map<std::string, std::string>& sources);
   /// Chooses the topics of `graph` to log (see above); warns (naming `config_file`) of topics
   /// `log.topics` names that nobody publishes. The graph must not change until the flight ends.
-  /// The log's files as `log` (log.format, log.chunk_size) asks.
+  /// The log's files as `log` (log.format, log.chunk_size, log.zstd_level) asks.
   static FlightLog::Format format_of(const LogConfig& log);
+  /// The chunks' zstd level when log.zstd_level is unset: 2 up to level replay, 1 above (below).
+  static int default_zstd_level(LogLevel level);
   void choose_topics(const PortGraph& graph, const LogConfig& log, const fs::path& config_file, spdlog::logger& warn);
   /// Hz: the most messages a second of `topic` that `log` keeps (0: every message).
   static double topic_rate(const LogConfig& log, const std::string& topic);
