@@ -217,7 +217,7 @@ void McapWriter::write_chunk_locked() {
     start_ = std::min(start_, chunk_.start);
     end_ = std::max(end_, chunk_.end);
   }
-  chunk_.records.clear();  // keeps its capacity: the next chunk reuses it
+  chunk_.records.clear();                              // keeps its capacity: the next chunk reuses it
   for (auto& entries : chunk_.index) entries.clear();  // keeps their capacity too
   chunk_.start = UINT64_MAX;
   chunk_.end = 0;

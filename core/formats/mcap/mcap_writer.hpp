@@ -7,10 +7,9 @@
 // Durability without losing determinism: sync() (the flight log calls it at least every
 // FlightLog::kFlushPeriodNs of wall time) writes the open chunk as it stands, with its indexes,
 // where the chunk will go, uncompressed (compression "", as the spec allows: it is overwritten
-// soon, and compressing it at every sync was a third of the writer's zstd time); the next sync() or the full chunk overwrites it (pwrite, then
-// the file cut to its new end). So the file on disk always ends with complete chunks, and the
-// finished file's chunk boundaries depend on the messages only (chunk size), never on the wall
-// clock: the same config and seed give the same bytes.
+// soon, and compressing it at every sync was a third of the writer's zstd time); the next sync() or the full chunk overwrites it (pwrite,
+// then the file cut to its new end). So the file on disk always ends with complete chunks, and the finished file's chunk boundaries depend
+// on the messages only (chunk size), never on the wall clock: the same config and seed give the same bytes.
 //
 // Memory is bounded: one open chunk (about the chunk size) and two compressed copies; the summary
 // keeps a few dozen bytes per chunk. Every byte written reached the kernel with write(2), so a
@@ -111,7 +110,7 @@ class McapWriter {
   std::string compressed_;
   // the summary's groups, serialised as they are learnt
   std::string schemas_, channels_, chunk_indexes_, attachment_indexes_, metadata_indexes_;
-  std::vector<std::uint32_t> sequence_;       // per channel id
+  std::vector<std::uint32_t> sequence_;        // per channel id
   std::vector<std::uint64_t> channel_counts_;  // per channel id
   std::uint64_t messages_ = 0, start_ = UINT64_MAX, end_ = 0;
   std::uint32_t schema_count_ = 0, chunk_count_ = 0, attachment_count_ = 0, metadata_count_ = 0;

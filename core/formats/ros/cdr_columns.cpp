@@ -77,7 +77,7 @@ std::string tern_schema_text(const std::vector<reflect::Column>& columns) {
 }
 
 CdrEncoder::CdrEncoder(const std::vector<reflect::Column>& columns) {
-  std::size_t pos = 0;  // in the body, after the header
+  std::size_t pos = 0;           // in the body, after the header
   if (columns.empty()) pos = 1;  // the one zero byte of a message without members
   for (const auto& c : columns) {
     const std::size_t n = reflect::scalar_size(c.kind);

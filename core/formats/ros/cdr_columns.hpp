@@ -53,7 +53,7 @@ class CdrEncoder {
   };
   std::vector<Run> runs_;
   std::vector<std::pair<std::size_t, std::size_t>> bools_;  // (from, to): one byte 0/1 each
-  std::size_t size_ = 5;  // the header and the empty message's one byte
+  std::size_t size_ = 5;                                    // the header and the empty message's one byte
 };
 
 /// Appends the CDR encoding (header included) of the message at `msg` to `out` (CdrEncoder, once).

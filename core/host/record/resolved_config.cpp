@@ -40,8 +40,7 @@ std::string inputs_but_seed(const FlightFacts& f) {
   if (f.config.fallback) s += fmt::format("fallback={}\n", *f.config.fallback);
   for (const auto& inst : f.instances) {
     s += fmt::format("[{}] {}\n", inst->cfg.name, inst->info.path.string());
-    for (const auto* p : inst->plugin->params())
-      std::visit([&](const auto& x) { s += fmt::format("{}={}\n", p->name(), x); }, p->value());
+    for (const auto* p : inst->plugin->params()) std::visit([&](const auto& x) { s += fmt::format("{}={}\n", p->name(), x); }, p->value());
   }
   return s;
 }

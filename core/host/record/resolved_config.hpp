@@ -25,10 +25,10 @@ class ResolvedConfig {
   const std::string& text(const FlightFacts& f);
 
  private:
-  std::string inputs_;              // what the kept text was made of, but the seed
-  std::string text_;                // the kept text
-  std::size_t seed_at_ = 0;         // where its top-level seed's digits start ...
-  std::size_t seed_length_ = 0;     // ... and how many (0: not found, emit every time)
+  std::string inputs_;           // what the kept text was made of, but the seed
+  std::string text_;             // the kept text
+  std::size_t seed_at_ = 0;      // where its top-level seed's digits start ...
+  std::size_t seed_length_ = 0;  // ... and how many (0: not found, emit every time)
 };
 
 }  // namespace tern::core
