@@ -87,6 +87,13 @@ def bad_input(tmp):
         lines = r.stderr.strip().splitlines()
         check(r.returncode == 1 and len(lines) == 1 and "bad.yaml" in lines[0] and field in lines[0] and value in lines[0],
               f"bad input {field} is one line naming file, field and value: {r.stderr.strip()!r}")
+    # files that are no campaign file: a link to /dev/zero (read without bound before), a directory
+    zero = os.path.join(tmp, "zero.yaml")
+    os.symlink("/dev/zero", zero)
+    for path, text in ((zero, "campaign file is not a regular file (a character device)"), (tmp, "campaign file is a directory")):
+        r = subprocess.run([TERN, "campaign", path, "--out", os.path.join(tmp, "bad")], capture_output=True, text=True, timeout=60)
+        lines = r.stderr.strip().splitlines()
+        check(r.returncode == 1 and len(lines) == 1 and path in lines[0] and text in lines[0], f"{path}: one line: {r.stderr.strip()!r}")
 
 
 def resume(tmp, reference):

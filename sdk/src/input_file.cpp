@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 namespace tern {
@@ -83,6 +84,9 @@ YAML::Node load_yaml_file(const fs::path& file, const char* what) {
   YAML::Node root;
   try {
     root = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {  // yaml-cpp's own words: "bad file"
+    throw std::runtime_error(printable(file.string()) + ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1) +
+                             ": YAML nested too deeply (more than yaml-cpp's parser takes)");
   } catch (const YAML::Exception& e) {
     const std::string at = e.mark.is_null() ? "" : ":" + std::to_string(e.mark.line + 1) + ":" + std::to_string(e.mark.column + 1);
     throw std::runtime_error(printable(file.string()) + at + ": YAML syntax error: " + printable(e.msg));

@@ -57,6 +57,10 @@ TEST_CASE("input file: a YAML alias bomb is refused before anything walks it, a 
   CHECK(syntax.find(": YAML syntax error: ") != std::string::npos);
   std::ofstream(f) << "a: &a [1, 2]\nb: [*a, *a]\n";  // aliases within the bound: read
   CHECK(error_of_yaml(f) == "");
+  std::ofstream(f) << "a: " + std::string(5000, '[') + std::string(5000, ']') + "\n";  // yaml-cpp's own words: "bad file"
+  const std::string deep = error_of_yaml(f);
+  CHECK(deep.rfind(f.string() + ":1:", 0) == 0);
+  CHECK(deep.find(": YAML nested too deeply") != std::string::npos);
   std::filesystem::remove(f);
 }
 

@@ -126,6 +126,8 @@ def configs():
         lines.append(f"a{k}: &a{k} [" + ", ".join([f"*a{k - 1}"] * 10) + "]")
     with open(os.path.join(WORK, "configs", "alias_bomb.yaml"), "w") as f:
         f.write("\n".join(lines) + "\nname: bomb\nmission: *a5\n")
+    with open(os.path.join(WORK, "configs", "deep.yaml"), "w") as f:  # 5000 nested sequences, one line
+        f.write("name: deep\nmission: " + "[" * 5000 + "]" * 5000 + "\n")
 
 
 def alfa_archive():

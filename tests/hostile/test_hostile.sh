@@ -139,6 +139,7 @@ refused alfa_sparse_member "the archive unpacks to more than 4294967296 bytes" \
 
 # ---- clearer lines ---------------------------------------------------------------------------------
 refused alias_bomb "alias_bomb.yaml: more than 100000 YAML nodes" "$tern" check "$configs/alias_bomb.yaml"
+refused deep_nesting "deep.yaml:2:10010: YAML nested too deeply" "$tern" check "$configs/deep.yaml"
 refused empty_imu "imu.csv: the IMU table has no rows" "$tern" replay "$logs/empty_imu" --log-dir "$work/replays"
 refused empty_imu_sysid "imu.csv: the IMU table has no rows" \
   "$tern" sysid "$logs/empty_imu" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"

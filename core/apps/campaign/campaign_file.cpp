@@ -8,6 +8,7 @@
 
 #include "config/config.hpp"
 #include "config/error.hpp"
+#include "tern/input_file.hpp"
 
 namespace tern::campaign {
 
@@ -142,9 +143,9 @@ CampaignFile load_campaign(const fs::path& file_in) {
   if (!fs::exists(f)) throw ConfigError("campaign file '" + f.string() + "' not found");
   YAML::Node root;
   try {
-    root = YAML::LoadFile(f.string());
-  } catch (const YAML::ParserException& e) {
-    throw ConfigError(where(f, e.mark) + "YAML syntax error: " + e.msg);
+    root = load_yaml_file(f, "campaign file");  // a regular file, bounded (tern/input_file.hpp)
+  } catch (const std::runtime_error& e) {
+    throw ConfigError(e.what());
   }
   if (!root.IsMap()) throw ConfigError(f.string() + ": a campaign file is a map of key: value");
   core::check_keys(root, f, "", {"name", "base", "seed", "flights", "duration", "log", "dispersions", "criteria", "worst_by"});
