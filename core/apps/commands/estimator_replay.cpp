@@ -65,6 +65,10 @@ FlightResult replay_estimator(const EstimatorReplay& o) {
   mc.name = mc.name + "-replay";
   if (mc.log.format == LogFormat::mcap) mc.log.format = LogFormat::both;  // the replay report reads the tables
   if (o.level) mc.log.level = *o.level;
+  if (o.estimate_only) {
+    mc.log.all_topics = false;
+    mc.log.topics = {"state"};
+  }
   apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
   CliOverrides cli;
   if (o.kinematic)
@@ -74,7 +78,7 @@ FlightResult replay_estimator(const EstimatorReplay& o) {
   cli.sets.insert(cli.sets.end(), o.sets.begin(), o.sets.end());
   apply_overrides(mc, cli);
   HostOptions opt;
-  opt.replay = replay_source(fs::absolute(o.log_dir));
+  opt.replay = replay_source(fs::absolute(o.log_dir), !o.estimate_only);
   opt.quiet = o.quiet;
   if (o.out_dir) opt.log_dir = fs::path(*o.out_dir);
   Host host(std::move(mc), opt);

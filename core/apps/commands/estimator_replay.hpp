@@ -31,6 +31,11 @@ struct EstimatorReplay {
   /// hands them back. Klein and Morelli, *Aircraft System Identification*, ch. 10: the flight
   /// path is reconstructed from the kinematic equations, independently of the aerodynamic model.
   bool kinematic = false;
+  /// Only the estimate: the replay logs topics/state.csv alone (with config.yaml and params.csv)
+  /// and reads no truth or reference from the log, as sysid and validate need it; at level sysid
+  /// the rest (the sensors and the truth written again, 400 Hz each) was most of a 600-s log's
+  /// replay time and of its disk.
+  bool estimate_only = false;
 };
 
 /// A flight logged as MCAP only (log.format mcap, as `make fly` writes it): its tables exported

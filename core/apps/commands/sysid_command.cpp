@@ -48,6 +48,7 @@ fs::path estimate_of(const SysidOptionsCli& o) {
   req.level = LogLevel::sysid;
   req.quiet = true;
   req.kinematic = true;  // the estimate not shaped by any file's coefficients (estimator_replay.hpp)
+  req.estimate_only = true;
   const FlightResult r = replay_estimator(req);
   return r.run_dir;
 }

@@ -57,6 +57,7 @@ fs::path replayed_estimate(const ValidateRequest& o, const fs::path& dir) {
   req.level = LogLevel::sysid;
   req.quiet = true;
   req.kinematic = true;  // the estimate not shaped by any file's coefficients (estimator_replay.hpp)
+  req.estimate_only = true;
   const FlightResult r = replay_estimator(req);
   if (exit_status(r) != 0)
     throw ConfigError(fmt::format("{}: the estimator's replay ended with {} {}", o.log_dir, r.end_reason, r.end_detail));

@@ -190,7 +190,7 @@ class Track final : public ReplaySource::TrackBase {
 
 }  // namespace
 
-ReplaySource::ReplaySource(std::filesystem::path run_dir) : dir_(std::move(run_dir)) {}
+ReplaySource::ReplaySource(std::filesystem::path run_dir, bool comparisons) : dir_(std::move(run_dir)), comparisons_(comparisons) {}
 ReplaySource::~ReplaySource() = default;
 
 void ReplaySource::configure() {
@@ -214,8 +214,10 @@ void ReplaySource::configure() {
   add(msg::DiffPressure{}, "diff_pressure");
   add(msg::Mag{}, "mag");
   add(msg::Actuators{}, "actuators", true);
-  add(msg::State{}, "truth");
-  add(msg::Reference{}, "reference");
+  if (comparisons_) {
+    add(msg::State{}, "truth");
+    add(msg::Reference{}, "reference");
+  }
   if (!std::filesystem::exists(dir_ / "topics" / "imu.csv"))
     throw ConfigError("replay: '" + dir_.string() + "' has no topics/imu.csv to replay");
   if (tracks_.front()->rows() == 0)
@@ -240,8 +242,8 @@ void ReplaySource::step(Nanos now) {
   for (auto& t : tracks_) t->publish_until(t->feedback ? now - 1 : now);
 }
 
-RecordedSourceFactory replay_source(std::filesystem::path run_dir) {
-  return [run_dir = std::move(run_dir)] { return std::make_unique<ReplaySource>(run_dir); };
+RecordedSourceFactory replay_source(std::filesystem::path run_dir, bool comparisons) {
+  return [run_dir = std::move(run_dir), comparisons] { return std::make_unique<ReplaySource>(run_dir, comparisons); };
 }
 
 }  // namespace tern::core

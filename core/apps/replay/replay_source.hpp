@@ -4,7 +4,8 @@
 // The host's built-in I/O instance `replay` (host/graph/recorded_source.hpp). At configure it reads LOG/topics/<t>.csv for the sensor
 // topics imu, gnss, baro, diff_pressure, mag, the controllers' `actuators` (which the estimator's
 // side-force model reads; played one tick late, as a feedback edge is seen in flight), the
-// simulator's `truth` and another estimator's `reference` (those present), mapping columns by
+// simulator's `truth` and another estimator's `reference` (those present; not read when the
+// replay compares nothing, as sysid's and validate's estimate), mapping columns by
 // name onto the message layout (a unit in brackets must be the layout's; a column the sensor needs
 // must be there, an optional one the table lacks keeps the message's default, NaN for the
 // reference; the file, the columns and the times within table_limits.hpp's bounds); at each tick it publishes every row whose
@@ -29,7 +30,9 @@ namespace tern::core {
 
 class ReplaySource final : public RecordedSource {
  public:
-  explicit ReplaySource(std::filesystem::path run_dir);
+  /// `comparisons`: also play the log's `truth` and `reference` (what `tern replay` scores the
+  /// estimate against).
+  explicit ReplaySource(std::filesystem::path run_dir, bool comparisons = true);
   ~ReplaySource() override;
   void configure() override;
   void start() override;
@@ -59,11 +62,12 @@ class ReplaySource final : public RecordedSource {
 
  private:
   std::filesystem::path dir_;
+  bool comparisons_ = true;
   std::vector<std::unique_ptr<TrackBase>> tracks_;
   Nanos end_ = 0;
 };
 
-/// HostOptions::replay for the sensor log in `run_dir`.
-RecordedSourceFactory replay_source(std::filesystem::path run_dir);
+/// HostOptions::replay for the sensor log in `run_dir` (`comparisons`: ReplaySource's).
+RecordedSourceFactory replay_source(std::filesystem::path run_dir, bool comparisons = true);
 
 }  // namespace tern::core

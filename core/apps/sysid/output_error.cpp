@@ -283,10 +283,17 @@ struct Whitened : Eigen::DenseFunctor<double> {
     return J.allFinite() ? 0 : -1;
   }
 
+  /// Each sample's ny outputs times L^-1 (written out: Eigen's product of a dynamic matrix and a
+  /// segment allocated a temporary per sample, a tenth of a sysid run).
   Eigen::VectorXd whiten(const Eigen::VectorXd& v) const {
     const Eigen::Index ny = model_.ny();
     Eigen::VectorXd out(v.size());
-    for (Eigen::Index i = 0; i < v.size(); i += ny) out.segment(i, ny) = Linv_ * v.segment(i, ny);
+    for (Eigen::Index i = 0; i < v.size(); i += ny)
+      for (Eigen::Index a = 0; a < ny; ++a) {
+        double s = 0.0;
+        for (Eigen::Index b = 0; b < ny; ++b) s += Linv_(a, b) * v[i + b];
+        out[i + a] = s;
+      }
     return out;
   }
 

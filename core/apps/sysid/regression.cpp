@@ -10,6 +10,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
 
+#include "tern/avx_clones.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
@@ -77,6 +78,9 @@ LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::Vecto
   return e;
 }
 
+// Built for AVX too (tern/avx_clones.hpp): the block of phasors is 2 AVX registers a line, where
+// the baseline takes 4; the same results.
+TERN_AVX_CLONES
 Eigen::VectorXcd fourier(const std::vector<double>& x, const std::vector<double>& t, const std::vector<double>& f_hz) {
   if (x.size() != t.size()) throw std::invalid_argument("fourier: x and t differ in length");
   Eigen::VectorXcd out = Eigen::VectorXcd::Zero(static_cast<Eigen::Index>(f_hz.size()));

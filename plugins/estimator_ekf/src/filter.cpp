@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 
+#include "tern/avx_clones.hpp"
+
 namespace tern::ekf {
 
 NominalState boxplus(const NominalState& x, const ErrVec& dx) {
@@ -26,18 +28,9 @@ NominalState boxplus(const NominalState& x, const ErrVec& dx) {
 
 // The covariance's O(n^2) loops run over P's contiguous columns, each element by the same
 // multiplications and additions in the same order whatever the vector width: on x86-64 they are
-// also built for AVX (4 doubles, where the baseline has 2), chosen at load time where the CPU has
-// it, with identical results (no FMA: that would round differently). AVX-512 was slower here.
-// Not under ThreadSanitizer: the clones' ifunc resolver runs while the plugin is relocated, before
-// TSan's runtime can take its instrumented calls, and dlopen crashes (SEGV in the resolver).
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_THREAD__)
-#define TERN_EKF_AVX_CLONES __attribute__((target_clones("avx", "default")))
-#else
-#define TERN_EKF_AVX_CLONES
-#endif
-
+// also built for AVX (tern/avx_clones.hpp), with identical results. AVX-512 was slower here.
 // One pass over each column with M <= 3 terms (the models' dimensions), a pass per term beyond.
-TERN_EKF_AVX_CLONES
+TERN_AVX_CLONES
 void downdate(Cov& P, const double* Wt, int M) {
   constexpr int n = kErrDim;
   for (int j = 0; j < n; ++j) {
@@ -62,7 +55,7 @@ void downdate(Cov& P, const double* Wt, int M) {
   }
 }
 
-TERN_EKF_AVX_CLONES
+TERN_AVX_CLONES
 void P_times_Ht(const Cov& P, const double* H, int M, double* PHt) {
   constexpr int n = kErrDim;
   std::fill(PHt, PHt + n * M, 0.0);
@@ -77,7 +70,7 @@ void P_times_Ht(const Cov& P, const double* H, int M, double* PHt) {
   }
 }
 
-TERN_EKF_AVX_CLONES
+TERN_AVX_CLONES
 bool all_finite(const Cov& P) {
   constexpr int N = kErrDim * kErrDim, L = 16;  // 16 running sums: four vectors' lanes, added in parallel
   const double* p = P.data();
@@ -123,7 +116,7 @@ namespace {
 /// step_covariance()'s step 1: B = P Phi^T on the columns of p, v and theta, in place:
 ///   P_p += T P_v;  P_v += P_th V_th^T + P_ba V_ba^T;  P_th = P_th Th^T + P_bg Bg^T + P_S S^T
 /// (V_th = Phi_v,theta, ...), each sum over k in order k = 0, 1, ...
-TERN_EKF_AVX_CLONES
+TERN_AVX_CLONES
 void step_columns(Cov& P, double T, const Mat3& v_th, const Mat3& v_ba, const Mat3& th_th, const Mat3& th_bg, const Mat39& th_sg) {
   constexpr int n = kErrDim;
   auto col = [&P](int c) { return P.col(c).data(); };
