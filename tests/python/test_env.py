@@ -74,3 +74,34 @@ def test_per_episode_options_and_bad_actions(env):
         env2 = tern.env.FlightEnv(action_fields=("delta_x",), episode_s=0.1, start_s=0.1)
         env2.reset(seed=1)
         env2.step(np.zeros(1))
+
+
+def test_new_parameter_values_keep_the_host_and_fly_as_a_fresh_one(env):
+    """options={"set": ...} between episodes: the host stays (no rebuild), its parameters change
+    between flights, and each episode is the one a host built with those values flies, a live
+    parameter read at start() included (sim_aero's wind sets its trim); dropping a value goes back
+    to the config's."""
+    gains = np.array([0.4, -0.05])
+
+    def episode(e, seed, sets):
+        obs, _ = e.reset(seed=seed, options={"set": sets})
+        out = [obs]
+        for _ in range(100):
+            obs, *_ = e.step(np.array([gains @ obs[:2]]))
+            out.append(obs)
+        return np.array(out)
+
+    host = env.host
+    cases = [{"slc.roll_kp": 0.7}, {"sim.wind": [3.0, -2.0, 0.0]}, {}, {"sim.sensor_profile": "ideal"}]
+    reused = [episode(env, 20 + i, sets) for i, sets in enumerate(cases)]
+    assert env.host is host
+    assert env.host.get_param("sim.sensor_profile") == "ideal"
+    for i, sets in enumerate(cases):
+        fresh = tern.env.FlightEnv(episode_s=2.0, start_s=1.0, set=sets)
+        assert episode(fresh, 20 + i, {}).tobytes() == reused[i].tobytes(), sets
+        fresh.close()
+    episode(env, 30, {})
+    plain = tern.env.FlightEnv(episode_s=0.1, start_s=0.1)
+    for name in ("sim.wind", "sim.sensor_profile", "slc.roll_kp"):
+        assert env.host.get_param(name) == plain.host.get_param(name), name
+    plain.close()

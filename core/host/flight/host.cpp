@@ -374,13 +374,16 @@ bool Host::begin_flight() {
   }
   Running& f = *running_;
   f.r.run_dir = f.recorder.dir();
+  // asked for between flights: in force from the start, so config.yaml, params.csv's first rows
+  // (with the request's source) and the plugins' start() all see it
+  remote_.apply_before_start(
+      [this](Nanos, const std::string& name, const ParamBase&, const std::string& source) { requested_sources_[name] = source; }, *logger_);
   f.recorder.start(resolved_config_.text(facts(f.duration)), parameters(), param_sources());
   f.recorder.choose_topics(graph_, config_.log, config_.file, *logger_);
   logger_->info("flight '{}': {} instances, base rate {} Hz, {} s, seed {}, log {}", config_.name, instances_.size(),
                 1e9 / static_cast<double>(base_period_), f.duration, seed_, f.r.run_dir.string());
   if (!config_.overrides.empty()) logger_->info("command line: {}", fmt::join(config_.overrides, " "));
-  remote_.apply_start_only(param_recorder(f), *logger_);  // asked for between flights: before the plugins read them
-  remote_.take_go_around();                               // one asked for between flights is not for this flight
+  remote_.take_go_around();  // one asked for between flights is not for this flight
   router_.prepare_flight();
   held_.new_flight();
   for (auto& inst : instances_) inst->take_end_request();  // a request from between flights does not end this one

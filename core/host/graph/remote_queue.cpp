@@ -82,10 +82,9 @@ ParamValue RemoteQueue::value_of(const ParamBase& param) const {
   return param.value();
 }
 
-void RemoteQueue::apply_start_only(const ParamRecorder& record, spdlog::logger& log) {
+void RemoteQueue::apply_before_start(const ParamRecorder& record, spdlog::logger& log) {
   std::lock_guard lk(mu_);
-  const auto first = std::stable_partition(params_.begin(), params_.end(), [](const ParamRequest& rq) { return rq.param->spec().live; });
-  for (auto rq = first; rq != params_.end(); ++rq) {
+  for (auto rq = params_.begin(); rq != params_.end(); ++rq) {
     try {
       set_value(*rq);
       record(0, rq->name, *rq->param, rq->source);
@@ -94,7 +93,7 @@ void RemoteQueue::apply_start_only(const ParamRecorder& record, spdlog::logger& 
       log.error("{} not changed: {}", rq->name, e.what());
     }
   }
-  params_.erase(first, params_.end());
+  params_.clear();
 }
 
 void RemoteQueue::apply(Nanos now, const ParamRecorder& record, spdlog::logger& log) {

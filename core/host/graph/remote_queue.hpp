@@ -78,12 +78,14 @@ class RemoteQueue {
   /// pilot input and the first queued mission edit and applies every queued parameter change, recording each with
   /// `record`. A value the parameter refuses now is logged as an error and not applied.
   void apply(Nanos now, const ParamRecorder& record, spdlog::logger& log);
-  /// Before a flight's start(): applies the queued changes of start-only parameters (asked for
-  /// between flights), recorded at t = 0; the live ones stay queued for the first tick.
-  void apply_start_only(const ParamRecorder& record, spdlog::logger& log);
+  /// Before a flight's start(): applies every queued parameter change (asked for between
+  /// flights), start-only and live alike, recorded at t = 0: the flight is then the one a host
+  /// built with those values flies (a plugin may read a live parameter in start() too, as
+  /// sim_aero's wind sets its trim).
+  void apply_before_start(const ParamRecorder& record, spdlog::logger& log);
 
   /// `param`'s value, read from any thread (a ground station's or the DDS bridge's): apply() and
-  /// apply_start_only() change values under the same lock. The flight thread, which is the only
+  /// apply_before_start() change values under the same lock. The flight thread, which is the only
   /// writer, reads its parameters directly.
   ParamValue value_of(const ParamBase& param) const;
 

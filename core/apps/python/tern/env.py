@@ -22,8 +22,11 @@ gathers them (and registers them with Gymnasium).
 
 Per episode, reset(seed=, options={"set": {...}, "config": FILE}) chooses the seed (sensor
 noise, turbulence), parameter overrides (wind: {"sim.wind": [vn, ve, vd]}, sensors:
-{"sim.sensor_profile": "ideal"}, gains) and the mission; a new seed, config or override builds the
-host anew, else it is reset as `tern serve`'s flights are.
+{"sim.sensor_profile": "ideal"}, gains) and the mission. A new config builds the host anew; a new
+seed or new override values reset it as `tern serve`'s flights are (its libraries, instances and
+port graph stay; the values are set between flights as Host.set_param sets them: a flight the
+same as a fresh host's with those values), unless an override given at construction is dropped
+(its value without it is the config's, which only a new host knows).
 
 The default task (learn.yaml: the Anaconda released at trim at 100 m, flying the hourglass) is
 the roll loop: the action is the aileron (delta_a, rad), the observation [phi_c - phi, p, phi_c]

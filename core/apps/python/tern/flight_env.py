@@ -72,7 +72,8 @@ class FlightEnv:
             raise Error(f"FlightEnv: {len(self.action_fields)} action fields, {len(action_low)} low and {len(action_high)} high bounds")
         self.action_space = box(action_low, action_high)
         self._host = None
-        self._host_key = None
+        self._host_config = None
+        self._flying = False  # an episode's flight is open (its log not yet discarded)
         self._rng = np.random.default_rng()
         self._build(self.config, self._set, None)
         n = len(self._observe(self._zero_values()))
@@ -92,6 +93,7 @@ class FlightEnv:
         self._discard_log()
         self._host.release(self.action_topic)
         self._host.reset(flight_seed)
+        self._flying = True
         self._host.step_until(self.start_s)
         self._handovers = len(self._host.handovers)
         self._end_t = self._host.time + self.episode_s
@@ -129,7 +131,6 @@ class FlightEnv:
 
     def close(self):
         if self._host is not None:
-            self._host.end()
             self._discard_log()
             self._host = None
         if self._own_log_dir and not self._keep_logs:
@@ -143,21 +144,50 @@ class FlightEnv:
     # ---- inside ----------------------------------------------------------------------------
 
     def _build(self, config, sets, seed):
-        key = (config, tuple(sorted((k, repr(v)) for k, v in sets.items())))
-        if self._host is not None and key == self._host_key:
+        """The host for an episode of `config` with the parameter values `sets`: the one flying
+        when only values differ (changed between flights, Host.set_param), else a new one."""
+        if self._host is not None and config == self._host_config and self._retune(sets):
             return
         if self._host is not None:
-            self._host.end()
             self._discard_log()
         self._host = Host(config, seed=seed, set=sets, log_dir=self._log_dir, log_level=self._log_level)
-        self._host_key = key
+        self._host_config = config
+        self._built_sets = dict(sets)  # their values without the set are not known here
+        self._host_sets = dict(sets)   # the values in force
+        self._config_values = {}       # a parameter's value before the first set that changed it
         ticks = 1.0 / (self.control_rate_hz * self._host.base_period)
         if abs(ticks - round(ticks)) > 1e-9 or round(ticks) < 1:
             raise Error(f"FlightEnv: control_rate_hz {self.control_rate_hz} is not the host's base rate "
                         f"({1.0 / self._host.base_period:g} Hz) divided by a whole number")
         self._ticks = int(round(ticks))
 
+    def _retune(self, sets):
+        """Moves the flying host's parameters from the values in force to `sets`, between flights
+        (a plugin reads a parameter live or at start(): tern/param.hpp); False, nothing changed,
+        when one set at the build would go back to the config's value, which only a new host knows."""
+        if any(n not in sets and n in self._built_sets for n in self._host_sets):
+            return False
+        changes = {n: self._config_values[n] for n in self._host_sets if n not in sets}
+        changes.update({n: v for n, v in sets.items() if n not in self._host_sets or repr(self._host_sets[n]) != repr(v)})
+        if not changes:
+            return True
+        self._discard_log()  # the last episode's flight ends first
+        try:
+            for name, value in changes.items():
+                if name not in self._built_sets and name not in self._config_values:
+                    self._config_values[name] = self._host.get_param(name)
+                self._host.set_param(name, value)
+        except Error:
+            self._host_config = None  # half changed: the next episode builds anew
+            raise
+        self._host_sets = dict(sets)
+        return True
+
     def _discard_log(self):
+        """Ends the episode's flight, if one is open, and removes its log (unless keep_logs)."""
+        if not self._flying:
+            return
+        self._flying = False
         run = self._host.end()
         if run is not None and not self._keep_logs:
             shutil.rmtree(run.dir, ignore_errors=True)

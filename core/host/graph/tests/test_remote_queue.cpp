@@ -1,7 +1,7 @@
 // RemoteQueue alone: requests from other threads wait for the next tick; parameter changes are
 // applied in arrival order and recorded with the tick's time and source; a value refused at
 // apply time is not applied and not recorded; start-only changes asked between flights are
-// applied before the start (at t = 0), the live ones at the first tick; mission edits reach
+// applied before the start (at t = 0), live ones too; mission edits reach
 // the planner one per tick, in order; pilot input is a latest-value slot.
 #include <doctest/doctest.h>
 
@@ -79,22 +79,19 @@ TEST_CASE("remote queue: a value the parameter refuses when applied keeps the ol
   CHECK(r.changes[0].value == to_string(ParamValue(5.0)));
 }
 
-TEST_CASE("remote queue: between flights, start-only changes apply before the start at t = 0; live ones wait for the first tick") {
+TEST_CASE("remote queue: between flights, every change (start-only and live) applies before the start at t = 0") {
   Rig r;
   r.q.request_param(r.gain, "ctl.gain", 2.0, "cli");
   r.q.request_param(r.profile, "sim.profile", std::string("gusty"), "cli");
-  r.q.apply_start_only(r.recorder(), r.log);
+  r.q.apply_before_start(r.recorder(), r.log);
   CHECK(r.profile() == "gusty");
-  CHECK(r.gain() == 1.0);
-  REQUIRE(r.changes.size() == 1);
-  CHECK(r.changes[0].t == 0);
-  CHECK(r.changes[0].name == "sim.profile");
-
-  r.q.apply(from_seconds(0.01), r.recorder(), r.log);
   CHECK(r.gain() == 2.0);
   REQUIRE(r.changes.size() == 2);
-  CHECK(r.changes[1].t == from_seconds(0.01));
-  CHECK(r.profile() == "gusty");  // not applied twice
+  CHECK(r.changes[0].t == 0);
+  CHECK(r.changes[1].t == 0);
+
+  r.q.apply(from_seconds(0.01), r.recorder(), r.log);
+  CHECK(r.changes.size() == 2);  // not applied twice
 }
 
 TEST_CASE("remote queue: mission edits reach topic mission_edit one per tick, in arrival order, stamped with the tick") {
