@@ -119,7 +119,9 @@ def complete(text: str) -> bool:
     """Whether bash parses `text` as whole commands (not a line continued, an open quote or if)."""
     if text.rstrip().endswith("\\"):
         return False
-    r = subprocess.run(["bash", "-n", "-c", text], capture_output=True, text=True)
+    # a syntax check needs no sanitizer runtime (a preloaded ThreadSanitizer crashes bash)
+    env = {k: v for k, v in os.environ.items() if k != "LD_PRELOAD"}
+    r = subprocess.run(["bash", "-n", "-c", text], capture_output=True, text=True, env=env)
     return r.returncode == 0
 
 

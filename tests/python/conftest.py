@@ -5,6 +5,11 @@ from pathlib import Path
 
 import pytest
 
+# Under a sanitizer build the runtime is preloaded for this interpreter (tests/CMakeLists.txt); it
+# is not for the programs the tests start: tern links it itself, and a preloaded ThreadSanitizer
+# crashes an uninstrumented bash (tern new-plugin's script) at its start.
+os.environ.pop("LD_PRELOAD", None)
+
 SOURCE = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("TERN_BUILD_DIR", SOURCE / "build"))
 LEARN = SOURCE / "configs" / "missions" / "learn.yaml"

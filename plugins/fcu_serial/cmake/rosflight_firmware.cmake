@@ -181,6 +181,6 @@ function(tern_fcu_serial_add_sil_tests)
     add_test(NAME mavlink_flood_sil
              COMMAND bash ${CMAKE_SOURCE_DIR}/tests/mavlink/test_gcs_flood.sh $<TARGET_FILE:tern>
                      ${CMAKE_SOURCE_DIR}/configs/missions/default_sil.yaml 150 ${TERN_FCU_SERIAL_PYTHON})
-    set_tests_properties(mavlink_flood_sil PROPERTIES TIMEOUT 300)
+    set_tests_properties(mavlink_flood_sil PROPERTIES TIMEOUT 300 ENVIRONMENT "TERN_TEST_TIMEOUT_SCALE=${TERN_TEST_TIMEOUT_SCALE}")
   endif()
 endfunction()
