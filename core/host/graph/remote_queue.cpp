@@ -1,6 +1,5 @@
 #include "graph/remote_queue.hpp"
 
-#include <algorithm>
 #include <utility>
 
 #include <spdlog/spdlog.h>
