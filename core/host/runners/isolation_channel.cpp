@@ -27,6 +27,7 @@ class Writer {
  public:
   explicit Writer(char* out) : out_(out) {}
   void bytes(const void* p, std::size_t n) {
+    if (n == 0) return;  // an empty text or list: its data() may be null, which memcpy must not get
     if (used_ + n > kTextBytes) throw std::length_error("parameter changes exceed the isolation channel's text area");
     std::memcpy(out_ + used_, p, n);
     used_ += n;
@@ -47,6 +48,7 @@ class Reader {
   Reader(const char* in, std::size_t used) : in_(in), used_(used) {}
   bool more() const { return at_ < used_; }
   void bytes(void* p, std::size_t n) {
+    if (n == 0) return;  // into an empty text or list, whose data() may be null
     if (at_ + n > used_) throw std::runtime_error("truncated parameter record in the isolation channel");
     std::memcpy(p, in_ + at_, n);
     at_ += n;
