@@ -12,14 +12,12 @@
 using namespace tern::sim;
 
 namespace {
-constexpr double kDeg = tern::kRadPerDeg;
-constexpr double kG0 = tern::kStandardGravity;
 const Eigen::Vector3d kUp(0.0, 0.0, -1.0), kDown(0.0, 0.0, 1.0), kEast(0.0, 1.0, 0.0);
 
 GnssSkyParams twelve() {
   GnssSkyParams p;
   p.satellites = 12;
-  p.elevation_mask = 10.0 * kDeg;
+  p.elevation_mask = 10.0 * tern::kRadPerDeg;
   p.antenna_cutoff = 0.0;
   p.reacquisition = 1.0;
   p.horizontal_sigma = 1.2;
@@ -32,7 +30,7 @@ GnssSkyParams twelve() {
 TEST_CASE("gnss sky: dilutions of precision of a known geometry; fewer than four satellites give none") {
   // the zenith and three on the horizon 120 deg apart: H^T H is diagonal with 1.5, 1.5, 1, 4 and
   // the clock couples with the vertical; G's position block gives HDOP sqrt(4/3), VDOP sqrt(4/3)
-  const double c = std::cos(120.0 * kDeg), s = std::sin(120.0 * kDeg);
+  const double c = std::cos(120.0 * tern::kRadPerDeg), s = std::sin(120.0 * tern::kRadPerDeg);
   std::vector<Eigen::Vector3d> los{{0, 0, -1}, {1, 0, 0}, {c, s, 0}, {c, -s, 0}};
   const Dops d = dilutions_of_precision(los);
   CHECK(d.h == doctest::Approx(std::sqrt(4.0 / 3.0)));
@@ -98,19 +96,19 @@ TEST_CASE("gnss sky: on a knife edge half the sky is lost: the accuracy worsens 
 
 TEST_CASE("gnss sky: beyond the platform model's bound the velocity lags, then catches up") {
   GnssSkyParams p;  // no sky: only the receiver's filter
-  p.max_acceleration = 2.0 * kG0;
+  p.max_acceleration = 2.0 * tern::kStandardGravity;
   p.lag_tau = 0.5;
   GnssSky sky(p, 1);
   CHECK(sky.step(0.1, 0.1, kUp, Eigen::Vector3d(20, 0, 0)).velocity_error.isZero());
   // 2 g: followed
   Eigen::Vector3d v(20, 0, 0);
-  CHECK(sky.step(0.2, 0.1, kUp, v += Eigen::Vector3d(0, 0, -1.9 * kG0 * 0.1)).velocity_error.isZero());
+  CHECK(sky.step(0.2, 0.1, kUp, v += Eigen::Vector3d(0, 0, -1.9 * tern::kStandardGravity * 0.1)).velocity_error.isZero());
   // 4 g for 0.5 s: the 2 g beyond the bound lag, each fix's share decaying with 0.5 s
   GnssSkyFix f;
   double expected = 0.0;
   for (int k = 0; k < 5; ++k) {
-    f = sky.step(0.3 + 0.1 * k, 0.1, kUp, v += Eigen::Vector3d(0, 0, -4.0 * kG0 * 0.1));
-    expected = std::exp(-0.2) * expected + 2.0 * kG0 * 0.1;
+    f = sky.step(0.3 + 0.1 * k, 0.1, kUp, v += Eigen::Vector3d(0, 0, -4.0 * tern::kStandardGravity * 0.1));
+    expected = std::exp(-0.2) * expected + 2.0 * tern::kStandardGravity * 0.1;
   }
   CHECK(f.velocity_error.z() == doctest::Approx(expected));  // the output's climb rate lags (NED: +)
   CHECK(f.velocity_lag == doctest::Approx(expected));
@@ -124,7 +122,7 @@ TEST_CASE("gnss sky: the same seed draws the same sky; parameters outside their 
   GnssSky a(twelve(), 5), b(twelve(), 5), c(twelve(), 6);
   CHECK(a.lines_of_sight() == b.lines_of_sight());
   CHECK(a.lines_of_sight() != c.lines_of_sight());
-  for (const auto& los : a.lines_of_sight()) CHECK(-los.z() >= std::sin(10.0 * kDeg) - 1e-12);
+  for (const auto& los : a.lines_of_sight()) CHECK(-los.z() >= std::sin(10.0 * tern::kRadPerDeg) - 1e-12);
   GnssSkyParams bad = twelve();
   bad.satellites = 65;
   CHECK_THROWS_AS(GnssSky(bad, 1), std::invalid_argument);
