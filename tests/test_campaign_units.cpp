@@ -1,12 +1,16 @@
 // The campaign's pure pieces (core/apps/campaign): counter-based draws, the Wilson interval,
-// percentiles, summary flattening and the pass/fail criteria. Whole campaigns: test_campaign.py.
+// percentiles, summary flattening, the pass/fail criteria and the campaign file's bounds. Whole
+// campaigns: test_campaign.py.
 #include <doctest/doctest.h>
 
 #include <cmath>
 
+#include "campaign_file.hpp"
 #include "campaign_report.hpp"
+#include "config/error.hpp"
 #include "counter_rng.hpp"
 #include "flight_row.hpp"
+#include "test_util.hpp"
 
 using namespace tern::campaign;
 
@@ -77,4 +81,19 @@ TEST_CASE("criteria: numbers, booleans and text; a failed or missing figure says
   CHECK(row.why ==
         "metrics.max_cross_track_m = 17.25 (needs < 15); end_reason = crash (needs == duration); metrics.nope < 1: no such figure in "
         "summary.json");
+}
+
+TEST_CASE("a grid of more than kMaxFlights points is refused before its size wraps (16 grids of 16 values: 2^64 points, issue 78)") {
+  write_file("grid_base.yaml", "name: base\n");
+  std::string text = "base: grid_base.yaml\ndispersions:\n";
+  for (int i = 0; i < 16; ++i)
+    text += "  aircraft.aero.C_" + std::to_string(i) + ": {dist: grid, values: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}\n";
+  const auto file = write_file("grid_2_64.yaml", text);
+  CHECK_THROWS_WITH_AS(load_campaign(file),
+                       doctest::Contains((file.string() + ":10:").c_str()),  // C_7: 16^7 points, times 16 past 1e9
+                       tern::core::ConfigError);
+  CHECK_THROWS_WITH_AS(load_campaign(file), doctest::Contains("aircraft.aero.C_7: the grid would have more than 1e+09 points"),
+                       tern::core::ConfigError);
+  const auto ok = write_file("grid_ok.yaml", "base: grid_base.yaml\ndispersions:\n  aircraft.mass: {dist: grid, values: [-0.1, 0, 0.1]}\n");
+  CHECK(load_campaign(ok).flights == 3);
 }

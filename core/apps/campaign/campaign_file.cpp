@@ -172,12 +172,18 @@ CampaignFile load_campaign(const fs::path& file_in) {
     if (!ds.IsMap()) throw ConfigError(where(f, ds) + "dispersions: expected a map PARAMETER: {dist: ...}");
     for (const auto& kv : ds) c.dispersions.push_back(dispersion(kv.first.Scalar(), kv.second, f));
   }
-  for (const auto& d : c.dispersions)
-    if (d.dist == Dist::grid) c.grid_points *= d.values.size();
+  for (const auto& d : c.dispersions) {
+    if (d.dist != Dist::grid) continue;
+    if (c.grid_points > kMaxFlights / d.values.size())  // (the product would also wrap past 2^64)
+      throw ConfigError(where(f, d.node) + "dispersions: " + d.target +
+                        fmt::format(": the grid would have more than {:.0e} points (the product of the grid dispersions' sizes)",
+                                    static_cast<double>(kMaxFlights)));
+    c.grid_points *= d.values.size();
+  }
   c.flights = c.grid_points;
   if (const YAML::Node n = root["flights"]) {
     const double v = number(n, f, "flights");
-    if (!(v >= 1 && v <= 1e9 && v == std::floor(v)))
+    if (!(v >= 1 && v <= static_cast<double>(kMaxFlights) && v == std::floor(v)))
       throw ConfigError(where(f, n) + "flights: expected a whole number >= 1, got '" + n.Scalar() + "'");
     c.flights = static_cast<std::size_t>(v);
   }

@@ -3,7 +3,7 @@
 //   name: hourglass_dispersion          # names the output directory (default: the file's stem)
 //   base: ../missions/default.yaml      # the mission every flight flies (relative to this file)
 //   seed: 2026                          # campaign seed, 0 .. 2^64-1
-//   flights: 200                        # default: the number of grid points (1 without a grid)
+//   flights: 200                        # default: the number of grid points (1 without a grid); at most kMaxFlights
 //   duration: 300                       # s, optional: overrides the base mission's
 //   log: summary                        # log level of each flight: summary | decimated | full
 //   dispersions:                        # drawn per flight; units are the parameter's own
@@ -81,6 +81,9 @@ struct CampaignFile {
   std::string worst_by;         ///< "" when no numeric criterion and none given
   std::size_t grid_points = 1;  ///< product of the grid dispersions' sizes
 };
+
+/// The most flights a campaign may ask for, by `flights:` or by its grid's points.
+inline constexpr std::size_t kMaxFlights = 1000000000;
 
 /// Loads and checks the file's own shape (parameters are checked against the base mission by
 /// validate_dispersions, dispersion.hpp). Throws core::ConfigError.

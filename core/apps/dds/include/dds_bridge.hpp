@@ -127,6 +127,17 @@ class DdsBridge {
   };
   /// The bridged topics: tern topic, DDS topic name (rt/...), DDS type name, QoS and depth.
   std::vector<Published> published() const;
+  /// The services served, by their ROS names ("tern/add_waypoint", "tern/status", and each
+  /// instance's parameter services, "tern/filter/set_parameters"), sorted.
+  std::vector<std::string> services() const;
+  /// Answers one request to `service` (a name services() lists) as if it came from the wire,
+  /// without DDS traffic: `request` is the serialized request (CDR with its 4-byte encapsulation
+  /// header, as a DATA submessage carries it), decoded by the service's type and handled as a
+  /// client's request is (the host's thread-safe API; a mission edit or parameter change queued
+  /// for the next tick). Returns the reply serialized the same way, or nullopt when the bytes do
+  /// not decode as the request type (a sample the wire drops). Throws DdsError for an unknown
+  /// service. For tests and tests/fuzz/fuzz_dds_request.
+  std::optional<std::vector<std::uint8_t>> answer(const std::string& service, const std::vector<std::uint8_t>& request);
   /// Samples written so far on a tern topic (0 for an unknown one).
   std::uint64_t samples_written(const std::string& topic) const;
 

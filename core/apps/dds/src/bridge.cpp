@@ -19,6 +19,7 @@
 #include "stamp_clock.hpp"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
+#include "tern/input_file.hpp"
 #include "tern/msg/all.hpp"
 #include "tern/reflect.hpp"
 #include "tern_msgs/srv/ServicesPubSubTypes.h"
@@ -73,6 +74,7 @@ struct DdsBridge::Impl {
   std::vector<std::unique_ptr<Writer>> writers;  // grows at run time (bridge_topic): under writers_mu
   mutable std::mutex writers_mu;
   std::vector<std::shared_ptr<fdds::DataReaderListener>> servers;
+  std::vector<ServiceEndpoint*> endpoints;    // the servers' (answer(): without the wire)
   RosNode bridge_node;                        // "/<ns>/bridge": entities of the bridge itself
   std::unique_ptr<RosParameters> ros_params;  // a ROS 2 node per instance (rcl_interfaces)
   std::unique_ptr<RosGraph> graph;            // ros_discovery_info
@@ -301,6 +303,7 @@ struct DdsBridge::Impl {
   void add_server(std::shared_ptr<Server> server) {
     bridge_node.readers.push_back(server->reader()->guid());
     bridge_node.writers.push_back(server->writer()->guid());
+    endpoints.push_back(server.get());
     servers.push_back(std::move(server));
   }
 
@@ -536,6 +539,23 @@ std::vector<DdsBridge::Published> DdsBridge::published() const {
   for (const auto& w : impl_->writers)
     out.push_back({w->topic, topic_name(impl_->options.ns, w->dds_name), w->type->dds_type, w->qos, w->depth});
   return out;
+}
+
+std::vector<std::string> DdsBridge::services() const {
+  std::vector<std::string> out;
+  for (const auto* e : impl_->endpoints) out.push_back(e->service_name());
+  for (const auto* e : impl_->ros_params->endpoints()) out.push_back(e->service_name());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+std::optional<std::vector<std::uint8_t>> DdsBridge::answer(const std::string& service, const std::vector<std::uint8_t>& request) {
+  std::vector<ServiceEndpoint*> all = impl_->ros_params->endpoints();
+  all.insert(all.end(), impl_->endpoints.begin(), impl_->endpoints.end());
+  for (auto* e : all)
+    if (e->service_name() == service) return e->answer(request);
+  const std::string hint = service.size() <= kMaxEchoChars ? did_you_mean(service, services()) : "";  // (a distance per name)
+  throw DdsError("DDS: no service '" + printable(service) + "' on this vehicle" + hint);
 }
 
 std::uint64_t DdsBridge::samples_written(const std::string& topic) const {

@@ -83,7 +83,7 @@ TypeEntry entry(std::function<void(const M&, typename PS::type&, Nanos epoch)> c
   TypeEntry e;
   e.tern_type = M::type_name;
   e.fingerprint = reflect::fingerprint<M>();
-  e.make_type = [] { return new PS(); };
+  e.make_type = [] { return new Decoding<PS>(); };  // bytes Fast CDR refuses are dropped (decoding_type.hpp)
   e.make_sample = [] { return std::shared_ptr<void>(new typename PS::type(), [](void* p) { delete static_cast<typename PS::type*>(p); }); };
   e.convert = [convert](const void* m, void* s, Nanos epoch, const std::function<void()>& write) {
     convert(*static_cast<const M*>(m), *static_cast<typename PS::type*>(s), epoch);

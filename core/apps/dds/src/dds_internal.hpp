@@ -4,9 +4,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <string>
 #include <string_view>
@@ -29,6 +31,7 @@
 
 #include "answered_requests.hpp"
 #include "dds_bridge.hpp"
+#include "decoding_type.hpp"
 #include "matched_readers.hpp"
 #include "tern/time.hpp"
 
@@ -80,10 +83,11 @@ const std::vector<TypeEntry>& all_types();
 /// Polls `cond` every 2 ms until it holds or `timeout` passes.
 bool wait_until(const std::function<bool()>& cond, std::chrono::milliseconds timeout);
 
-/// Registers type T (a fastddsgen PubSubType) once on the participant; returns its topic.
+/// Registers type T (a fastddsgen PubSubType, as Decoding<T>: bytes Fast CDR refuses are dropped)
+/// once on the participant; returns its topic.
 template <class PubSub>
 fdds::Topic* make_topic(fdds::DomainParticipant* p, const std::string& name) {
-  fdds::TypeSupport ts(new PubSub());
+  fdds::TypeSupport ts(new Decoding<PubSub>());
   const std::string tname = ts.get_type_name();
   if (p->find_type(tname).empty()) ts.register_type(p);
   if (auto* d = p->find_topic(name, Duration(0, 0))) return d;
@@ -92,17 +96,29 @@ fdds::Topic* make_topic(fdds::DomainParticipant* p, const std::string& name) {
   return t;
 }
 
+/// A served service's path from a request's bytes to its reply's, without the wire
+/// (DdsBridge::answer: tests and tests/fuzz/fuzz_dds_request).
+class ServiceEndpoint {
+ public:
+  virtual ~ServiceEndpoint() = default;
+  /// The service's ROS name: "<ns>/<service>" ("tern/add_waypoint", "tern/filter/set_parameters").
+  virtual const std::string& service_name() const = 0;
+  /// `request`: the serialized request (CDR, its 4-byte encapsulation first). The reply serialized
+  /// the same way, or nullopt when the bytes do not decode (the wire drops such a sample).
+  virtual std::optional<std::vector<std::uint8_t>> answer(const std::vector<std::uint8_t>& request) = 0;
+};
+
 /// Server side of one service: answers each request on a Fast DDS thread with `handler`, the
 /// reply carrying the request's sample identity as related_sample_identity. `on_request` (may be
 /// empty) is called first, for every request (the host's ground_link_heard()).
 template <class ReqPS, class RespPS>
-class ServiceServer final : public fdds::DataReaderListener {
+class ServiceServer final : public fdds::DataReaderListener, public ServiceEndpoint {
  public:
   using Req = typename ReqPS::type;
   using Resp = typename RespPS::type;
   ServiceServer(fdds::DomainParticipant* p, fdds::Publisher* pub, fdds::Subscriber* sub, const std::string& ns, const std::string& service,
                 std::function<void()> on_request, std::function<Resp(const Req&)> handler)
-      : on_request_(std::move(on_request)), handler_(std::move(handler)) {
+      : name_(ns.empty() ? service : ns + "/" + service), on_request_(std::move(on_request)), handler_(std::move(handler)) {
     writer_ = pub->create_datawriter(make_topic<RespPS>(p, reply_topic(ns, service)), service_writer_qos(), &matched_,
                                      fdds::StatusMask::publication_matched());
     reader_ = sub->create_datareader(make_topic<ReqPS>(p, request_topic(ns, service)), service_reader_qos(), this);
@@ -121,6 +137,21 @@ class ServiceServer final : public fdds::DataReaderListener {
       if (id && first == nullptr) answered_.remember(*id, resp);
       reply(info, resp);
     }
+  }
+  const std::string& service_name() const override { return name_; }
+  std::optional<std::vector<std::uint8_t>> answer(const std::vector<std::uint8_t>& request) override {
+    eprosima::fastrtps::rtps::SerializedPayload_t in(static_cast<std::uint32_t>(request.size()));
+    std::copy(request.begin(), request.end(), in.data);
+    in.length = static_cast<std::uint32_t>(request.size());
+    Req req;
+    if (!Decoding<ReqPS>().deserialize(&in, &req)) return std::nullopt;
+    std::lock_guard lk(mu_);
+    if (on_request_) on_request_();
+    Resp resp = handler_(req);
+    RespPS type;
+    eprosima::fastrtps::rtps::SerializedPayload_t out(type.getSerializedSizeProvider(&resp)());
+    if (!type.serialize(&resp, &out)) throw DdsError("DDS: service '" + name_ + "': its reply does not serialize");
+    return std::vector<std::uint8_t>(out.data, out.data + out.length);
   }
   /// The number of request ids remembered.
   std::size_t remembered() const { return answered_.size(); }
@@ -143,6 +174,7 @@ class ServiceServer final : public fdds::DataReaderListener {
     writer_->write(const_cast<Resp*>(&resp), wp);
   }
 
+  std::string name_;
   std::function<void()> on_request_;
   std::function<Resp(const Req&)> handler_;
   fdds::DataWriter* writer_ = nullptr;

@@ -25,6 +25,7 @@ struct RosParameters::Impl {
   std::function<void(const std::function<void()>&)> on_flight_thread;
   fdds::DataWriter* events = nullptr;
   std::vector<std::shared_ptr<void>> servers;
+  std::vector<ServiceEndpoint*> endpoints;  // the servers' (answer(): without the wire)
   std::vector<RosNode> nodes;
 
   /// The instance's parameters by plain name (read where values are stable).
@@ -42,6 +43,7 @@ struct RosParameters::Impl {
         participant, publisher, subscriber, ns, service, [this] { host.ground_link_heard(); }, std::move(fn));
     node.readers.push_back(s->reader()->guid());
     node.writers.push_back(s->writer()->guid());
+    endpoints.push_back(s.get());
     servers.push_back(std::move(s));
   }
 
@@ -203,5 +205,7 @@ RosParameters::~RosParameters() = default;
 std::vector<RosNode> RosParameters::nodes() const { return impl_->nodes; }
 
 eprosima::fastrtps::rtps::GUID_t RosParameters::events_writer() const { return impl_->events->guid(); }
+
+std::vector<ServiceEndpoint*> RosParameters::endpoints() const { return impl_->endpoints; }
 
 }  // namespace tern::core::ddsi

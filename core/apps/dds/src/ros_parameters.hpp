@@ -27,6 +27,8 @@ struct DdsOptions;
 
 namespace tern::core::ddsi {
 
+class ServiceEndpoint;
+
 class RosParameters {
  public:
   /// `on_flight_thread` runs a read where parameter values are stable (the bridge's).
@@ -37,6 +39,8 @@ class RosParameters {
   std::vector<RosNode> nodes() const;
   /// The parameter-event writer (it belongs to the bridge's node).
   eprosima::fastrtps::rtps::GUID_t events_writer() const;
+  /// The parameter services (DdsBridge::answer).
+  std::vector<ServiceEndpoint*> endpoints() const;
 
  private:
   struct Impl;

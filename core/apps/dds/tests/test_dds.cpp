@@ -10,6 +10,7 @@
 #include <set>
 #include <thread>
 
+#include <fastrtps/xmlparser/XMLProfileManager.h>
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
@@ -734,4 +735,147 @@ TEST_CASE("dds: each instance is a ROS 2 node serving rcl_interfaces' parameter 
   CHECK(std::get<double>(described.default_value) == 0.05);
   CHECK(client.param_get("sensor.h0").read_only);
   ddsi::delete_participant(p);
+}
+
+namespace {
+
+/// Bytes written as they are on a topic of any type name: what a hostile or broken participant
+/// sends (serialize copies the sample's bytes, encapsulation header included).
+class RawBytesType final : public fdds::TopicDataType {
+ public:
+  explicit RawBytesType(const std::string& type_name) {
+    setName(type_name.c_str());
+    m_typeSize = 1024;
+    m_isGetKeyDefined = false;
+  }
+  bool serialize(void* data, eprosima::fastrtps::rtps::SerializedPayload_t* payload) override {
+    const auto& bytes = *static_cast<std::vector<std::uint8_t>*>(data);
+    std::copy(bytes.begin(), bytes.end(), payload->data);
+    payload->length = static_cast<std::uint32_t>(bytes.size());
+    return true;
+  }
+  bool deserialize(eprosima::fastrtps::rtps::SerializedPayload_t*, void*) override { return false; }
+  std::function<std::uint32_t()> getSerializedSizeProvider(void* data) override {
+    return [data] { return static_cast<std::uint32_t>(static_cast<std::vector<std::uint8_t>*>(data)->size()); };
+  }
+  void* createData() override { return new std::vector<std::uint8_t>(); }
+  void deleteData(void* data) override { delete static_cast<std::vector<std::uint8_t>*>(data); }
+  bool getKey(void*, eprosima::fastrtps::rtps::InstanceHandle_t*, bool) override { return false; }
+};
+
+}  // namespace
+
+TEST_CASE("dds: a request whose bytes no client writes (a bad encapsulation, a bool of 2) is dropped; the vehicle serves on (issue 78)") {
+  // as between processes: every sample through the UDP transport and Fast DDS's receive threads
+  // (within one process Fast DDS hands a sample to the reader in the writer's own call)
+  auto settings = eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings();
+  const auto intraprocess = settings.intraprocess_delivery;
+  settings.intraprocess_delivery = eprosima::fastrtps::INTRAPROCESS_OFF;
+  eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(settings);
+  struct Restore {
+    eprosima::fastrtps::IntraprocessDeliveryType was;
+    ~Restore() {
+      auto s = eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings();
+      s.intraprocess_delivery = was;
+      eprosima::fastrtps::xmlparser::XMLProfileManager::library_settings(s);
+    }
+  } restore{intraprocess};
+  DdsOptions opt = options_on(52);
+  Flight f("dds_undecodable", 4.0, "phases: {takeoff: ctl, climb: ctl, cruise: ctl}\nphase_machine: {preflight: false}\n");
+  DdsBridge bridge(*f.host, opt);
+  auto* p = ddsi::make_participant(opt, "hostile");
+  auto* pub = p->create_publisher(fdds::PUBLISHER_QOS_DEFAULT);
+  rosplane_msgs::srv::AddWaypoint_RequestPubSubType real;
+  fdds::TypeSupport raw(new RawBytesType(real.getName()));
+  REQUIRE(raw.register_type(p) == ReturnCode_t::RETCODE_OK);
+  auto* topic = p->create_topic(ddsi::request_topic("tern", "add_waypoint"), raw.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
+  auto* w = pub->create_datawriter(topic, ddsi::service_writer_qos());
+  REQUIRE(w != nullptr);
+  REQUIRE(ddsi::wait_until(
+      [&] {
+        fdds::PublicationMatchedStatus s;
+        w->get_publication_matched_status(s);
+        return s.current_count > 0;
+      },
+      std::chrono::seconds(10)));
+  f.start();
+  // a valid request's bytes (CDR, little endian), then two that Fast CDR refuses
+  rosplane_msgs::srv::AddWaypoint_Request rq;
+  rq.w({100.0F, -50.0F, -40.0F});
+  rq.va_d(18.0F);
+  eprosima::fastrtps::rtps::SerializedPayload_t sp(real.getSerializedSizeProvider(&rq)());
+  REQUIRE(real.serialize(&rq, &sp));
+  std::vector<std::uint8_t> bad_bool(sp.data, sp.data + sp.length), bad_header = bad_bool;
+  REQUIRE(bad_bool.size() > 16);
+  bad_bool[4 + 12] = 2;  // `lla` (after w[3]): a CDR boolean is 0 or 1
+  bad_header[0] = 7;     // the encapsulation's first byte is 0
+  REQUIRE(w->write(&bad_header));
+  REQUIRE(w->write(&bad_bool));
+  DdsClient client(opt, std::chrono::seconds(20));
+  tern::msg::Waypoint wp;
+  wp.w = Eigen::Vector3d(100.0, -50.0, -40.0);
+  wp.Va_d = 18.0;
+  client.mission_add(wp);  // answered: the vehicle is alive and serving
+  const FlightResult r = f.finish();
+  REQUIRE(r.ok);
+  const auto s = nlohmann::json::parse(read_file(r.run_dir / "summary.json"));
+  CHECK(s["instances"]["filter"]["mission_edits"] == 1.0);
+  ddsi::delete_participant(p);
+}
+
+namespace {
+
+template <class PubSub>
+std::vector<std::uint8_t> serialized(typename PubSub::type sample) {
+  PubSub type;
+  eprosima::fastrtps::rtps::SerializedPayload_t p(type.getSerializedSizeProvider(&sample)());
+  REQUIRE(type.serialize(&sample, &p));
+  return {p.data, p.data + p.length};
+}
+
+template <class PubSub>
+typename PubSub::type deserialized(const std::vector<std::uint8_t>& bytes) {
+  eprosima::fastrtps::rtps::SerializedPayload_t p(static_cast<std::uint32_t>(bytes.size()));
+  std::copy(bytes.begin(), bytes.end(), p.data);
+  p.length = static_cast<std::uint32_t>(bytes.size());
+  typename PubSub::type sample;
+  REQUIRE(PubSub().deserialize(&p, &sample));
+  return sample;
+}
+
+}  // namespace
+
+TEST_CASE("dds: answer(): a request's bytes as the wire hands them get the reply's; bytes that do not decode get none") {
+  Flight f("dds_answer", 1.0);
+  DdsBridge bridge(*f.host, options_on(53));
+  const auto services = bridge.services();
+  for (const char* s : {"tern/add_waypoint", "tern/status", "tern/param_save", "tern/ctl/set_parameters", "tern/filter/list_parameters"})
+    CHECK_MESSAGE(std::count(services.begin(), services.end(), s) == 1, s);
+  rosplane_msgs::srv::AddWaypoint_Request rq;
+  rq.w({100.0F, -50.0F, -40.0F});
+  rq.va_d(18.0F);
+  auto bytes = serialized<rosplane_msgs::srv::AddWaypoint_RequestPubSubType>(rq);
+  const auto reply = bridge.answer("tern/add_waypoint", bytes);
+  REQUIRE(reply.has_value());
+  const auto r = deserialized<rosplane_msgs::srv::AddWaypoint_ResponsePubSubType>(*reply);
+  CHECK(r.success());
+  CHECK(f.host->queued_mission_edits() == 1);
+  bytes[4 + 12] = 2;  // `lla`, a CDR boolean, neither 0 nor 1
+  CHECK_FALSE(bridge.answer("tern/add_waypoint", bytes).has_value());
+  CHECK_FALSE(bridge.answer("tern/add_waypoint", {}).has_value());
+  CHECK(f.host->queued_mission_edits() == 1);
+  rcl_interfaces::srv::SetParameters_Request set;
+  rcl_interfaces::msg::Parameter kp;
+  kp.name("kp");
+  kp.value().type(3);             // PARAMETER_DOUBLE
+  kp.value().double_value(20.0);  // outside [0, 10]
+  set.parameters({kp});
+  const auto set_reply = bridge.answer("tern/ctl/set_parameters", serialized<rcl_interfaces::srv::SetParameters_RequestPubSubType>(set));
+  REQUIRE(set_reply.has_value());
+  const auto sr = deserialized<rcl_interfaces::srv::SetParameters_ResponsePubSubType>(*set_reply);
+  REQUIRE(sr.results().size() == 1);
+  CHECK_FALSE(sr.results()[0].successful());
+  CHECK(sr.results()[0].reason().find("kp") != std::string::npos);
+  CHECK_THROWS_WITH_AS(bridge.answer("tern/add_waypoints", bytes),
+                       "DDS: no service 'tern/add_waypoints' on this vehicle (did you mean 'tern/add_waypoint'?)", DdsError);
 }
