@@ -59,7 +59,8 @@ ReplayWindow find_window(const RunTables& run) {
 EstimatorCounters estimator_counters(const nlohmann::ordered_json& summary) {
   EstimatorCounters c;
   if (!summary.contains("instances") || !summary["instances"].is_object()) return c;
-  for (const auto& [name, inst] : summary["instances"].items()) {
+  for (const auto& item : summary["instances"].items()) {
+    const auto& inst = item.value();  // (not a structured binding: clang 14, make fuzz's, cannot capture one)
     if (!inst.is_object()) continue;
     auto number = [&](const std::string& key) { return inst.contains(key) && inst[key].is_number() ? inst[key].get<double>() : NAN; };
     for (const auto& [key, value] : inst.items()) {
@@ -71,7 +72,7 @@ EstimatorCounters estimator_counters(const nlohmann::ordered_json& summary) {
       }
     }
     if (!c.models.empty()) {
-      c.instance = name;
+      c.instance = item.key();
       return c;
     }
     c.resets.clear();
