@@ -104,7 +104,7 @@ bench: build
 # $(BUILD)-fuzz/fuzz_artifacts/<target>).
 FUZZ_TARGETS := fuzz_mavlink fuzz_mcap_reader fuzz_csv_table fuzz_ulog_reader fuzz_gcs_datagram fuzz_mission_yaml \
   fuzz_sensor_log_yaml fuzz_text_table fuzz_console_command fuzz_aircraft_yaml fuzz_archive fuzz_mcap_recovery \
-  fuzz_ulog_conversion fuzz_mission_protocol fuzz_plan_file fuzz_dataflash
+  fuzz_ulog_conversion fuzz_mission_protocol fuzz_plan_file fuzz_dataflash fuzz_campaign_file fuzz_dds_request
 FUZZ_REPORT ?= bench/results/fuzz.json
 fuzz: deps
 	@$(MAKE) --no-print-directory install-packages PACKAGES="$(FUZZ_PACKAGES)"

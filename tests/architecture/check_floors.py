@@ -96,7 +96,8 @@ class House:
 
     def _walk(self, d: Path):
         for p in sorted(d.iterdir()):
-            if p.name in SKIP or p.is_symlink():
+            # (build-fuzz, build-asan, build-tsan: make fuzz's and the sanitizers' trees, .gitignore's /build-*/)
+            if p.name in SKIP or p.name.startswith("build-") or p.is_symlink():
                 continue
             if p.is_dir():
                 yield from self._walk(p)

@@ -150,9 +150,15 @@ CampaignFile load_campaign(const fs::path& file_in) {
   if (!root.IsMap()) throw ConfigError(f.string() + ": a campaign file is a map of key: value");
   core::check_keys(root, f, "", {"name", "base", "seed", "flights", "duration", "log", "dispersions", "criteria", "worst_by"});
   c.name = root["name"] ? text_of(root["name"]) : f.stem().string();
+  // the output directory's name (campaigns/<name>): one plain folder name, nothing above it
+  if (c.name.empty() || c.name == "." || c.name == ".." || c.name.find('/') != std::string::npos ||
+      std::any_of(c.name.begin(), c.name.end(), [](char ch) { return static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f; }))
+    throw ConfigError((root["name"] ? where(f, root["name"]) : f.string() + ": ") + "name: '" + printable(c.name) +
+                      "' is not a folder name (it names the output directory campaigns/<name>)");
   if (!root["base"]) throw ConfigError(f.string() + ": base: missing (the mission config every flight flies)");
   c.base = (f.parent_path() / text_of(root["base"])).lexically_normal();
-  if (!fs::exists(c.base)) throw ConfigError(where(f, root["base"]) + "base: '" + c.base.string() + "' not found");
+  std::error_code ec;  // (a name too long for the file system: not found, not an exception)
+  if (!fs::exists(c.base, ec)) throw ConfigError(where(f, root["base"]) + "base: '" + printable(c.base.string()) + "' not found");
   if (root["seed"]) {
     const auto s = root["seed"].IsScalar() ? core::parse_seed(root["seed"].Scalar()) : std::nullopt;
     if (!s) throw ConfigError(where(f, root["seed"]) + "seed: expected an integer 0 .. 2^64-1, got '" + text_of(root["seed"]) + "'");

@@ -1,6 +1,6 @@
 // core/apps/campaign/campaign_file.hpp: a campaign file (configs/campaigns/*.yaml), loaded.
 //
-//   name: hourglass_dispersion          # names the output directory (default: the file's stem)
+//   name: hourglass_dispersion          # names the output directory, one folder name (default: the file's stem)
 //   base: ../missions/default.yaml      # the mission every flight flies (relative to this file)
 //   seed: 2026                          # campaign seed, 0 .. 2^64-1
 //   flights: 200                        # default: the number of grid points (1 without a grid); at most kMaxFlights

@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "tern/input_file.hpp"
+
 namespace tern::core {
 
 std::string where(const std::filesystem::path& file, const YAML::Mark& mark) {
@@ -66,12 +68,17 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
                 const std::vector<std::string>& allowed) {
   for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
+    if (!kv.first.IsScalar())  // (as<std::string>() would throw yaml-cpp's bare "bad conversion")
+      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "a key is a name, got a " +
+                        (kv.first.IsSequence() ? "list"
+                         : kv.first.IsMap()    ? "map"
+                                               : "null"));
+    const std::string key = kv.first.Scalar();
     bool ok = false;
     for (const auto& a : allowed) ok = ok || a == key;
     if (!ok) {
-      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "unknown key '" + key + "'" +
-                        did_you_mean(key, allowed));
+      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "unknown key '" + printable(key) + "'" +
+                        (key.size() <= kMaxEchoChars ? did_you_mean(key, allowed) : ""));
     }
   }
 }

@@ -273,7 +273,9 @@ struct DdsBridge::Impl {
       names.push_back(t.name);
       if (t.name == topic) info = &t;
     }
-    if (info == nullptr) throw DdsError("bridge_topic: no instance publishes topic '" + topic + "'" + did_you_mean(topic, names));
+    if (info == nullptr)
+      throw DdsError("bridge_topic: no instance publishes topic '" + printable(topic) + "'" +
+                     (topic.size() <= kMaxEchoChars ? did_you_mean(topic, names) : ""));
     const TypeEntry* type = find_type(info->type_name);
     if (type == nullptr || type->fingerprint != info->fingerprint)
       throw DdsError("bridge_topic: topic '" + topic + "' carries " + info->type_name + ", which has no DDS type");
@@ -513,7 +515,8 @@ DdsBridge::DdsBridge(Host& host, const DdsOptions& options) : impl_(std::make_un
   m.stamps.start(m.participant, m.publisher);
   m.bridge_node.ns = "/" + options.ns;
   m.bridge_node.name = "bridge";
-  m.ros_params = std::make_unique<RosParameters>(host, options, m.participant, m.publisher, m.subscriber,
+  // the bridge's own copy of the options: RosParameters keeps a reference (the caller's may be a temporary)
+  m.ros_params = std::make_unique<RosParameters>(host, m.options, m.participant, m.publisher, m.subscriber,
                                                  [impl = &m](const std::function<void()>& fn) { impl->on_flight_thread(fn); });
   m.graph = std::make_unique<RosGraph>(m.participant, m.publisher);
   // after ros_params and graph: a bridge_topic request may arrive at once, and announce() uses both

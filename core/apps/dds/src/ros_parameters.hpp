@@ -31,7 +31,8 @@ class ServiceEndpoint;
 
 class RosParameters {
  public:
-  /// `on_flight_thread` runs a read where parameter values are stable (the bridge's).
+  /// `on_flight_thread` runs a read where parameter values are stable (the bridge's). `options` is
+  /// kept by reference: it must outlive this object (the bridge passes its own copy).
   RosParameters(Host& host, const DdsOptions& options, eprosima::fastdds::dds::DomainParticipant* p, eprosima::fastdds::dds::Publisher* pub,
                 eprosima::fastdds::dds::Subscriber* sub, std::function<void(const std::function<void()>&)> on_flight_thread);
   ~RosParameters();

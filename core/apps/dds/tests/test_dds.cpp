@@ -869,13 +869,18 @@ TEST_CASE("dds: answer(): a request's bytes as the wire hands them get the reply
   kp.name("kp");
   kp.value().type(3);             // PARAMETER_DOUBLE
   kp.value().double_value(20.0);  // outside [0, 10]
-  set.parameters({kp});
+  rcl_interfaces::msg::Parameter h = kp;
+  h.name("h_target");
+  h.value().double_value(40.0);
+  set.parameters({kp, h});  // (the accepted one is published on /parameter_events with the bridge's
+                            // options, which outlive the temporary the bridge was built from)
   const auto set_reply = bridge.answer("tern/ctl/set_parameters", serialized<rcl_interfaces::srv::SetParameters_RequestPubSubType>(set));
   REQUIRE(set_reply.has_value());
   const auto sr = deserialized<rcl_interfaces::srv::SetParameters_ResponsePubSubType>(*set_reply);
-  REQUIRE(sr.results().size() == 1);
+  REQUIRE(sr.results().size() == 2);
   CHECK_FALSE(sr.results()[0].successful());
   CHECK(sr.results()[0].reason().find("kp") != std::string::npos);
+  CHECK(sr.results()[1].successful());
   CHECK_THROWS_WITH_AS(bridge.answer("tern/add_waypoints", bytes),
                        "DDS: no service 'tern/add_waypoints' on this vehicle (did you mean 'tern/add_waypoint'?)", DdsError);
 }
