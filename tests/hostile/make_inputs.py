@@ -13,12 +13,15 @@ WORK/alfa.tar.gz    an ALFA archive whose raw-IMU member is a symlink
 WORK/sparse.tar.gz  an ALFA archive whose raw-IMU member is a GNU sparse file declaring 8 GiB (13 bytes
                     of data, then a hole): more than the 4 GiB an archive may unpack to
 WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
+WORK/bad_crc.mcap   an MCAP file whose chunk's CRC-32 is not its records'
+WORK/plugins/       a libtern_estimator_ekf.so that is no ELF file (a text file)
 """
 import io
 import os
 import struct
 import sys
 import tarfile
+import zlib
 
 import yaml
 
@@ -78,6 +81,17 @@ def sensor_logs():
     sensor_log("no_gyro_z", imu=[c for c in IMU_COLUMNS if c != "gyro_z"])
     sensor_log("gyro_x_twice", imu=IMU_COLUMNS + ["gyro_x"])  # which of the two is the field? (found by fuzz_csv_table)
     sensor_log("empty_imu", imu_rows_=[])
+    utf16 = os.path.join(sensor_log("utf16_imu"), "topics", "imu.csv")  # as a Windows tool may save it
+    with open(utf16, encoding="utf-8") as f:
+        text = f.read()
+    with open(utf16, "w", encoding="utf-16") as f:
+        f.write(text)
+    wide = os.path.join(sensor_log("wide_row"), "topics", "imu.csv")  # one row with three values too many
+    with open(wide) as f:
+        rows = f.read().split("\n")
+    rows[4] += ",1,2,3"
+    with open(wide, "w") as f:
+        f.write("\n".join(rows))
     zero = sensor_log("zero_imu")
     os.remove(os.path.join(zero, "topics", "imu.csv"))
     os.symlink("/dev/zero", os.path.join(zero, "topics", "imu.csv"))
@@ -119,6 +133,13 @@ def configs():
         yaml.safe_dump(aircraft, f)
     write_config("bad_inertia", lambda c: c.update(aircraft=bad))
     write_config("escape", lambda c: c.update(name="\x1b[31mred\x07"))
+    write_config("nan_duration", lambda c: c.update(duration=float("nan")))
+    write_config("inf_rate", lambda c: c.update(base_rate=float("inf")))
+    write_config("list_duration", lambda c: c.update(duration=[1, 2]))
+    os.makedirs(os.path.join(WORK, "plugins"))
+    with open(os.path.join(WORK, "plugins", "libtern_estimator_ekf.so"), "w") as f:
+        f.write("not a library\n")
+    write_config("not_elf_plugin", lambda c: c.update(plugin_path=[os.path.join(WORK, "plugins")]))
     write_config("long_name", lambda c: c["plugins"][0].update(plugin="a" * 100000))
     # an alias bomb: 10^6 nodes once expanded, 60 lines as written
     lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x, x]"]
@@ -167,8 +188,24 @@ def mcap_chunk():
         f.write(record(0x02, struct.pack("<QQI", 0, 0, 0)) + magic)
 
 
+def mcap_bad_crc():
+    """A chunk holding one Schema record whose declared CRC-32 is not that of its records."""
+    def record(op, content):
+        return struct.pack("<BQ", op, len(content)) + content
+    def text(s):
+        return struct.pack("<I", len(s)) + s
+    magic = b"\x89MCAP0\r\n"
+    schema = record(0x03, struct.pack("<H", 1) + text(b"tern/Imu") + text(b"jsonschema") + struct.pack("<I", 2) + b"{}")
+    crc = (zlib.crc32(schema) ^ 0xFFFF) or 1  # wrong, and not 0 (0: "not computed")
+    chunk = struct.pack("<QQQI", 0, 0, len(schema), crc) + text(b"") + struct.pack("<Q", len(schema)) + schema
+    with open(os.path.join(WORK, "bad_crc.mcap"), "wb") as f:
+        f.write(magic + record(0x01, text(b"") + text(b"")) + record(0x06, chunk) + record(0x0F, struct.pack("<I", 0)))
+        f.write(record(0x02, struct.pack("<QQI", 0, 0, 0)) + magic)
+
+
 sensor_logs()
 configs()
 alfa_archive()
 sparse_archive()
 mcap_chunk()
+mcap_bad_crc()

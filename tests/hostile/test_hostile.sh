@@ -145,6 +145,17 @@ refused empty_imu_sysid "imu.csv: the IMU table has no rows" \
   "$tern" sysid "$logs/empty_imu" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
 refused mcap_chunk_length "chunk declares 4611686018427387904 bytes uncompressed" \
   "$tern" export csv "$work/chunk.mcap" --out "$work/chunk_tables"
+refused mcap_bad_crc "bad_crc.mcap: byte 25: chunk's CRC-32 does not match its records" \
+  "$tern" export csv "$work/bad_crc.mcap" --out "$work/crc_tables"
+refused nan_number "nan_duration.yaml" "$tern" check "$configs/nan_duration.yaml"
+refused inf_number "base_rate: expected a number, got '.inf'" "$tern" check "$configs/inf_rate.yaml"
+refused list_as_number "duration: expected a number, got <list>" "$tern" check "$configs/list_duration.yaml"
+refused plugin_not_elf "libtern_estimator_ekf.so': not an ELF file" "$tern" check "$configs/not_elf_plugin.yaml"
+truncated="$work/plugins_cut"  # the first 5000 bytes of a built plugin: an interrupted copy
+mkdir -p "$truncated" && head -c 5000 "$(dirname "$tern")/../plugins/libtern_control_slc.so" > "$truncated/libtern_control_slc.so"
+TERN_PLUGIN_PATH="$truncated" refused plugin_truncated "libtern_control_slc.so': truncated" "$tern" check "$repo/configs/missions/default.yaml"
+refused utf16_table "imu.csv:1: the first column must be 't [s]'" "$tern" replay "$logs/utf16_imu" --log-dir "$work/replays"
+refused too_many_columns "imu.csv:5: expected 8 values, got 11 (more cells than the header names)" "$tern" replay "$logs/wide_row" --log-dir "$work/replays"
 refused control_characters "name: '\\x1b[31mred\\x07'" "$tern" check "$configs/escape.yaml"
 refused long_name "aaaa..." "$tern" check "$configs/long_name.yaml"
 

@@ -168,7 +168,7 @@ class Track final : public ReplaySource::TrackBase {
     if (!line.empty() && line.back() == ',') ++i;  // a last empty cell
     if (i != cols.size())
       throw ConfigError(csv.string() + ":" + std::to_string(lineno) + ": expected " + std::to_string(cols.size()) + " values, got " +
-                        std::to_string(i) + " (a truncated log?)");
+                        std::to_string(i) + (i < cols.size() ? " (a truncated log?)" : " (more cells than the header names)"));
     t_check_.check(csv, lineno, t);
     if constexpr (std::is_same_v<decltype(msg.stamp), Nanos>) stamp_check_.check(csv, lineno, msg.stamp);
     if (!rows_.empty() && t < rows_.back().first) {
