@@ -24,9 +24,9 @@ struct RosParameters::Impl {
   fdds::Subscriber* subscriber;
   std::function<void(const std::function<void()>&)> on_flight_thread;
   fdds::DataWriter* events = nullptr;
-  std::vector<std::shared_ptr<void>> servers;
-  std::vector<ServiceEndpoint*> endpoints;  // the servers' (answer(): without the wire)
-  std::vector<RosNode> nodes;
+  std::vector<std::shared_ptr<void>> servers{};
+  std::vector<ServiceEndpoint*> endpoints{};  // the servers' (answer(): without the wire)
+  std::vector<RosNode> nodes{};
 
   /// The instance's parameters by plain name (read where values are stable).
   std::map<std::string, const ParamBase*> params_of(const std::string& instance) const {
