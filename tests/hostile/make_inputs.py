@@ -136,6 +136,8 @@ def configs():
     write_config("nan_duration", lambda c: c.update(duration=float("nan")))
     write_config("inf_rate", lambda c: c.update(base_rate=float("inf")))
     write_config("list_duration", lambda c: c.update(duration=[1, 2]))
+    self_param = os.path.join(WORK, "configs", "self_param.yaml")  # an instance's parameter file: the config itself
+    write_config("self_param", lambda c: c["plugins"][-1].update(param_file=self_param))
     os.makedirs(os.path.join(WORK, "plugins"))
     with open(os.path.join(WORK, "plugins", "libtern_estimator_ekf.so"), "w") as f:
         f.write("not a library\n")

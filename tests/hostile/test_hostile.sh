@@ -150,6 +150,7 @@ refused mcap_bad_crc "bad_crc.mcap: byte 25: chunk's CRC-32 does not match its r
 refused nan_number "nan_duration.yaml" "$tern" check "$configs/nan_duration.yaml"
 refused inf_number "base_rate: expected a number, got '.inf'" "$tern" check "$configs/inf_rate.yaml"
 refused list_as_number "duration: expected a number, got <list>" "$tern" check "$configs/list_duration.yaml"
+refused self_param_file "self_param.yaml:" "$tern" check "$configs/self_param.yaml"
 refused plugin_not_elf "libtern_estimator_ekf.so': not an ELF file" "$tern" check "$configs/not_elf_plugin.yaml"
 truncated="$work/plugins_cut"  # the first 5000 bytes of a built plugin: an interrupted copy
 mkdir -p "$truncated" && head -c 5000 "$(dirname "$tern")/../plugins/libtern_control_slc.so" > "$truncated/libtern_control_slc.so"

@@ -88,7 +88,7 @@ void apply_params(MissionConfig& c, const YAML::Node& params, const fs::path& f,
   std::vector<std::string> names;
   for (const auto& ic : c.plugins) names.push_back(ic.name);
   for (const auto& kv : params) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, f, field + ".params");
     const auto dot = key.find('.');
     InstanceConfig* target = nullptr;
     for (auto& ic : c.plugins)
@@ -128,7 +128,7 @@ VehicleConfig load_vehicle(const YAML::Node& root, const YAML::Node& v, const fs
     throw ConfigError(where(f, v["name"]) + out.field + ".name: " + bad);
   YAML::Node vroot(YAML::NodeType::Map);
   for (const auto& kv : root) {
-    const std::string key = kv.first.as<std::string>();
+    const std::string key = key_name(kv.first, f, "");
     if (std::find(kFleetOnly.begin(), kFleetOnly.end(), key) == kFleetOnly.end()) vroot[key] = kv.second;
   }
   for (const auto& key : kVehicleOverrides)

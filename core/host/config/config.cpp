@@ -51,8 +51,8 @@ fs::path resolve(const fs::path& base_dir, const std::string& p) {
 std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const fs::path& file, const std::string& field, bool strict) {
   std::map<std::string, ParamSetting> out;
   for (const auto& kv : map) {
-    const std::string key = kv.first.as<std::string>();
-    out[key] = ParamSetting{kv.second, file, field + "." + key, strict};
+    const std::string key = key_name(kv.first, file, field);
+    out[key] = ParamSetting{kv.second, file, field.empty() ? key : field + "." + key, strict};
   }
   return out;
 }
@@ -319,7 +319,7 @@ void read_log_rates(const YAML::Node& log, const fs::path& f, MissionConfig& c) 
   if (const YAML::Node rates = log["rates"]) {
     require_map(rates, f, "log.rates");
     for (const auto& kv : rates) {
-      const std::string k = kv.first.as<std::string>();
+      const std::string k = key_name(kv.first, f, "log.rates");
       const double r = as_number(kv.second, f, "log.rates." + k);
       if (r < 0) throw ConfigError(where(f, kv.second) + "log.rates." + k + ": must be >= 0 Hz (0: every message)");
       c.log.rates[k] = r;
@@ -429,8 +429,10 @@ InstanceConfig read_instance(const YAML::Node& p, std::size_t i, const std::stri
   }
   if (const YAML::Node rm = p["remap"]) {
     require_map(rm, f, field + ".remap");
-    for (const auto& kv : rm)
-      ic.remap[kv.first.as<std::string>()] = as_string(kv.second, f, field + ".remap." + kv.first.as<std::string>());
+    for (const auto& kv : rm) {
+      const std::string port = key_name(kv.first, f, field + ".remap");
+      ic.remap[port] = as_string(kv.second, f, field + ".remap." + port);
+    }
   }
   return ic;
 }

@@ -65,15 +65,18 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
   return " (did you mean '" + best + "'?)";
 }
 
+std::string key_name(const YAML::Node& key, const std::filesystem::path& file, const std::string& field) {
+  if (!key.IsScalar()) {
+    const char* what = key.IsSequence() ? "list" : key.IsMap() ? "map" : "null";
+    throw ConfigError(where(file, key) + (field.empty() ? "" : field + ": ") + "a key is a name, got a " + what);
+  }
+  return key.Scalar();
+}
+
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
                 const std::vector<std::string>& allowed) {
   for (const auto& kv : map) {
-    if (!kv.first.IsScalar())  // (as<std::string>() would throw yaml-cpp's bare "bad conversion")
-      throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "a key is a name, got a " +
-                        (kv.first.IsSequence() ? "list"
-                         : kv.first.IsMap()    ? "map"
-                                               : "null"));
-    const std::string key = kv.first.Scalar();
+    const std::string key = key_name(kv.first, file, field);
     bool ok = false;
     for (const auto& a : allowed) ok = ok || a == key;
     if (!ok) {

@@ -36,8 +36,13 @@ std::size_t edit_distance(std::string_view a, std::string_view b);
 /// " (did you mean 'x'?)" when a candidate is close enough, else "".
 std::string did_you_mean(std::string_view word, const std::vector<std::string>& candidates);
 
+/// A map's key as text. A key that is no scalar (a list, a map, nothing: an anchor with no key)
+/// throws ConfigError "file:line:col: field: a key is a name, got a list" (`field` empty: no
+/// "field: " part), where yaml-cpp's as<std::string>() says only "bad conversion".
+std::string key_name(const YAML::Node& key, const std::filesystem::path& file, const std::string& field);
+
 /// Throws ConfigError "file:line:col: field: unknown key 'k' (did you mean ...)" for the first key
-/// of `map` not in `allowed` (`field` empty: no "field: " part).
+/// of `map` not in `allowed` (`field` empty: no "field: " part; a key that is no name: key_name's).
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
                 const std::vector<std::string>& allowed);
 
