@@ -74,6 +74,7 @@ World& world() {
     d.enabled = true;
     d.domain = 229;
     made.bridge = std::make_unique<DdsBridge>(*made.host, d);
+    fs::create_directories(made.runs);  // where param_save may write
     return made;
   }();
   return w;
@@ -213,5 +214,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   w.host->fly();
   std::error_code ec;
   fs::remove_all(w.runs, ec);
+  fs::create_directories(w.runs, ec);  // where param_save may write (the run directories' parent)
   return 0;
 }
