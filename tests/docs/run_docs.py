@@ -210,7 +210,9 @@ def environment(home: Path, cache: Path, lock: Path) -> dict:
            "SHELL": "/bin/bash", "XDG_CACHE_HOME": str(cache), "MPLBACKEND": "Agg",
            "CCACHE_DIR": str(cache / "ccache"), "CCACHE_BASEDIR": str(cache.parent), "CCACHE_NOHASHDIR": "1",
            "TERN_DOCS_MAKE_LOCK": str(lock)}
-    for k in ("USER", "LOGNAME", "TMPDIR", "TZ"):
+    # (LD_PRELOAD and the sanitizers' options: only a sanitizer build's tests set them, for the
+    # Python that imports its instrumented module: tests/CMakeLists.txt, TERN_SANITIZER_PYTHON_ENV)
+    for k in ("USER", "LOGNAME", "TMPDIR", "TZ", "LD_PRELOAD", "ASAN_OPTIONS", "UBSAN_OPTIONS", "LSAN_OPTIONS"):
         if k in os.environ:
             env[k] = os.environ[k]
     if shutil.which("ccache"):
