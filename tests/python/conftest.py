@@ -7,8 +7,18 @@ import pytest
 
 # Under a sanitizer build the runtime is preloaded for this interpreter (tests/CMakeLists.txt); it
 # is not for the programs the tests start: tern links it itself, and a preloaded ThreadSanitizer
-# crashes an uninstrumented bash (tern new-plugin's script) at its start.
-os.environ.pop("LD_PRELOAD", None)
+# crashes an uninstrumented bash (tern new-plugin's script) at its start. A test that starts
+# another Python which imports tern hands it SANITIZER_PRELOAD (python_env()).
+SANITIZER_PRELOAD = os.environ.pop("LD_PRELOAD", None)
+
+
+def python_env(**extra):
+    """The environment of a child python3 that imports tern: this one's, with the sanitizer's
+    preload back (in a sanitizer build) and `extra`."""
+    env = {**os.environ, **extra}
+    if SANITIZER_PRELOAD:
+        env["LD_PRELOAD"] = SANITIZER_PRELOAD
+    return env
 
 SOURCE = Path(__file__).resolve().parents[2]
 BUILD = Path(os.environ.get("TERN_BUILD_DIR", SOURCE / "build"))

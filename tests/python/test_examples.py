@@ -3,20 +3,19 @@ else one line saying torch is absent and the numpy fallback flown; either way it
 cloned policy flown on held-out seeds beside the controller."""
 import importlib.util
 import json
-import os
 import subprocess
 import sys
 
 import pytest
 
-from conftest import BUILD, SOURCE
+from conftest import BUILD, SOURCE, python_env
 
 EXAMPLE = SOURCE / "core" / "apps" / "python" / "examples" / "clone_roll_policy.py"
 HAS_TORCH = importlib.util.find_spec("torch") is not None
 
 
 def run(*args, cwd):
-    env = {**os.environ, "PYTHONPATH": str(BUILD / "python")}
+    env = python_env(PYTHONPATH=str(BUILD / "python"))
     return subprocess.run([sys.executable, str(EXAMPLE), *args], capture_output=True, text=True, env=env, cwd=cwd, timeout=240)
 
 
