@@ -18,27 +18,14 @@
 #include "config/config.hpp"
 #include "console/console_commands.hpp"
 #include "flight/host.hpp"
-#include "fuzz_input.hpp"
+#include "fuzz_host.hpp"
 
 using namespace tern::core;
 
 namespace {
 
 Host& host() {
-  static const std::unique_ptr<Host> h = [] {
-    const std::string config = std::string("name: console_fuzz\nduration: 1\nplugin_path: [") + TERN_FUZZ_TEST_PLUGIN_DIR +
-                               "]\nplugins:\n"
-                               "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
-                               "  - {name: filter, plugin: test_filter, trigger: imu}\n"
-                               "  - {name: ctl, plugin: test_controller, rate: 100}\n";
-    const auto file = tern::fuzz::in_dir(reinterpret_cast<const std::uint8_t*>(config.data()), config.size(), "console.yaml");
-    HostOptions o;
-    o.quiet = true;
-    o.log_dir = file.parent_path() / "runs";
-    auto made = std::make_unique<Host>(load_config(file), o);
-    made->build();
-    return made;
-  }();
+  static const std::unique_ptr<Host> h = tern::fuzz::test_plugin_host("console_fuzz").host;
   return *h;
 }
 

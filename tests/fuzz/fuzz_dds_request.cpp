@@ -39,7 +39,7 @@
 #include "dds_bridge.hpp"
 #include "decoding_type.hpp"
 #include "flight/host.hpp"
-#include "fuzz_input.hpp"
+#include "fuzz_host.hpp"
 #include "rcl_interfaces/srv/ParametersPubSubTypes.h"
 #include "rosplane_msgs/srv/AddWaypointPubSubTypes.h"
 #include "std_srvs/srv/TriggerPubSubTypes.h"
@@ -58,19 +58,11 @@ struct World {
 
 World& world() {
   static World w = [] {
-    const std::string config = std::string("name: dds_request_fuzz\nduration: 0.2\nplugin_path: [") + TERN_FUZZ_TEST_PLUGIN_DIR +
-                               "]\nplugins:\n"
-                               "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
-                               "  - {name: filter, plugin: test_filter, trigger: imu, params: {valid: true, origin: true}}\n"
-                               "  - {name: ctl, plugin: test_controller, rate: 100}\n";
-    const auto file = tern::fuzz::in_dir(reinterpret_cast<const std::uint8_t*>(config.data()), config.size(), "dds_request.yaml");
+    auto built = tern::fuzz::test_plugin_host("dds_request_fuzz");
     World made;
-    HostOptions o;
-    o.quiet = true;
-    o.log_dir = made.runs = file.parent_path() / "runs";
-    made.host = std::make_unique<Host>(load_config(file), o);
-    made.host->build();
-    DdsOptions d = parse_dds_options(YAML::Node(), file);
+    made.host = std::move(built.host);
+    made.runs = built.runs;
+    DdsOptions d = parse_dds_options(YAML::Node(), built.config);
     d.enabled = true;
     d.domain = 229;
     made.bridge = std::make_unique<DdsBridge>(*made.host, d);

@@ -37,7 +37,7 @@
 
 #include "config/config.hpp"
 #include "flight/host.hpp"
-#include "fuzz_input.hpp"
+#include "fuzz_host.hpp"
 #include "mavlink/flight_view.hpp"
 #include "mavlink/mission_protocol.hpp"
 
@@ -58,27 +58,19 @@ struct World {
 
 World& world() {
   static World w = [] {
-    const std::string config = std::string("name: mission_protocol_fuzz\nduration: 0.2\nplugin_path: [") + TERN_FUZZ_TEST_PLUGIN_DIR +
-                               "]\nplugins:\n"
-                               "  - {name: sensor, plugin: test_sensor, rate: 400}\n"
-                               "  - {name: filter, plugin: test_filter, trigger: imu, params: {valid: true, origin: true}}\n"
-                               "  - {name: ctl, plugin: test_controller, rate: 100}\n"
-                               "failsafes:\n"
-                               "  geofence: {max_distance: 2000, min_altitude: 0, max_altitude: 300,\n"
-                               "             polygon: [[600, -400], [600, 400], [-600, 400], [-600, -400]]}\n"
-                               "  rally: [[300, 200, 80]]\n";
-    const auto file = tern::fuzz::in_dir(reinterpret_cast<const std::uint8_t*>(config.data()), config.size(), "mission_protocol.yaml");
+    auto built = tern::fuzz::test_plugin_host("mission_protocol_fuzz",
+                                              "failsafes:\n"
+                                              "  geofence: {max_distance: 2000, min_altitude: 0, max_altitude: 300,\n"
+                                              "             polygon: [[600, -400], [600, 400], [-600, 400], [-600, -400]]}\n"
+                                              "  rally: [[300, 200, 80]]\n");
     World made;
-    HostOptions o;
-    o.quiet = true;
-    o.log_dir = made.runs = file.parent_path() / "runs";
-    made.host = std::make_unique<Host>(load_config(file), o);
-    made.host->build();
+    made.host = std::move(built.host);
+    made.runs = built.runs;
     made.watch = std::make_unique<FlightWatch>(*made.host);
     made.host->fly();  // the flight view gets the estimate's origin
     if (!made.watch->view().has_state) __builtin_trap();
     made.config = made.host->fence_geometry();
-    made.dir = file.parent_path() / "mission";
+    made.dir = built.dir / "mission";
     return made;
   }();
   return w;

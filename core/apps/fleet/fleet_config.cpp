@@ -103,10 +103,10 @@ void apply_params(MissionConfig& c, const YAML::Node& params, const fs::path& f,
 // The vehicle's DDS namespace: its name, under the mission's dds.namespace when one is given.
 // One /clock for the fleet (every vehicle's sim time is the same): the first vehicle's bridge
 // publishes it, the others' have clock_rate 0.
-YAML::Node vehicle_dds(const YAML::Node& dds, const std::string& name, bool first) {
+YAML::Node vehicle_dds(const YAML::Node& dds, const std::string& name, bool first, const fs::path& f) {
   YAML::Node out(YAML::NodeType::Map);
   if (dds && dds.IsMap())
-    for (const auto& kv : dds) out[kv.first.as<std::string>()] = kv.second;
+    for (const auto& kv : dds) out[key_name(kv.first, f, "dds")] = kv.second;
   std::string ns = name;
   if (dds && dds.IsMap() && dds["namespace"] && dds["namespace"].IsScalar() && !dds["namespace"].Scalar().empty())
     ns = dds["namespace"].Scalar() + "/" + name;
@@ -134,7 +134,7 @@ VehicleConfig load_vehicle(const YAML::Node& root, const YAML::Node& v, const fs
   for (const auto& key : kVehicleOverrides)
     if (v[key]) vroot[key] = v[key];
   vroot["name"] = out.name;
-  vroot["dds"] = vehicle_dds(root["dds"], out.name, i == 0);
+  vroot["dds"] = vehicle_dds(root["dds"], out.name, i == 0, f);
   try {
     out.config = config_from_yaml(vroot, f);
   } catch (const ConfigError& e) {

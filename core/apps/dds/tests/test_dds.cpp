@@ -78,6 +78,12 @@ bool reader_matched(fdds::DataReader* r) {
   return s.current_count > 0;
 }
 
+bool writer_matched(fdds::DataWriter* w) {
+  fdds::PublicationMatchedStatus s;
+  w->get_publication_matched_status(s);
+  return s.current_count > 0;
+}
+
 /// A reader of rt/tern/estimated_state as ROSplane's nodes subscribe (rclcpp's
 /// create_subscription(topic, 10): reliable, volatile, keep-last 10).
 fdds::DataReader* rosplane_state_reader(fdds::DomainParticipant* p, fdds::Subscriber* sub) {
@@ -284,13 +290,7 @@ TEST_CASE("dds: a reader receives `state` from a flying host; every socket is on
   auto* topic = ddsi::make_topic<rosplane_msgs::msg::StatePubSubType>(p, "rt/tern/state");
   auto* reader = sub->create_datareader(topic, ddsi::reader_qos(DdsQos::best_effort));
   REQUIRE(reader != nullptr);
-  REQUIRE(ddsi::wait_until(
-      [&] {
-        fdds::SubscriptionMatchedStatus s;
-        reader->get_subscription_matched_status(s);
-        return s.current_count > 0;
-      },
-      std::chrono::seconds(10)));
+  REQUIRE(ddsi::wait_until([&] { return reader_matched(reader); }, std::chrono::seconds(10)));
   // DDS on with the default config: nothing listens or sends on a non-loopback address
   const auto sockets = socket_addresses();
   CHECK(sockets.size() >= 4);  // two participants, each with metatraffic and user unicast sockets
@@ -791,13 +791,7 @@ TEST_CASE("dds: a request whose bytes no client writes (a bad encapsulation, a b
   auto* topic = p->create_topic(ddsi::request_topic("tern", "add_waypoint"), raw.get_type_name(), fdds::TOPIC_QOS_DEFAULT);
   auto* w = pub->create_datawriter(topic, ddsi::service_writer_qos());
   REQUIRE(w != nullptr);
-  REQUIRE(ddsi::wait_until(
-      [&] {
-        fdds::PublicationMatchedStatus s;
-        w->get_publication_matched_status(s);
-        return s.current_count > 0;
-      },
-      std::chrono::seconds(10)));
+  REQUIRE(ddsi::wait_until([&] { return writer_matched(w); }, std::chrono::seconds(10)));
   f.start();
   // a valid request's bytes (CDR, little endian), then two that Fast CDR refuses
   rosplane_msgs::srv::AddWaypoint_Request rq;
