@@ -206,3 +206,26 @@ TEST_CASE("tern replay accepts a log whose last line is partial: dropped with on
   const fs::path replayed = the_run(test_dir() / "partial_replay");
   CHECK(last_row_time(read_file(replayed / "topics" / "state.csv")) == 2.0);
 }
+
+TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the same log with LF") {
+  const tern::core::FlightResult flown = fly_yaml(base_config(), "crlf_orig");
+  REQUIRE(flown.ok);
+  const fs::path crlf = test_dir() / "crlf_log";
+  fs::remove_all(crlf);
+  fs::copy(flown.run_dir, crlf, fs::copy_options::recursive);
+  for (const auto& table : fs::directory_iterator(crlf / "topics")) {  // as a spreadsheet on Windows saves them
+    std::string text = read_file(table.path()), out;
+    for (const char c : text) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    std::ofstream(table.path(), std::ios::binary | std::ios::trunc) << out;
+  }
+  const auto replay = [](const fs::path& log, const std::string& name) {
+    const fs::path out = test_dir() / (name + ".out");
+    const int rc = run_tern({"replay", log.string(), "-q", "--log-dir", (test_dir() / name).string()}, out);
+    INFO(read_file(out));
+    CHECK(rc == 0);
+    return read_file(the_run(test_dir() / name) / "topics" / "state.csv");
+  };
+  const std::string lf_state = replay(flown.run_dir, "lf_replay");
+  CHECK(lf_state.size() > 1000);
+  CHECK(replay(crlf, "crlf_replay") == lf_state);
+}

@@ -95,27 +95,49 @@ YAML::Node load_yaml_file(const fs::path& file, const char* what) {
   return root;
 }
 
+namespace {
+
+/// The length of the UTF-8 sequence of a character at text[i] (1 to 4 bytes: a lead byte and its
+/// continuation bytes), or 0 when the bytes there are no such sequence (a stray continuation byte,
+/// a lead byte cut short, 0xC0, 0xC1 or 0xF5..0xFF: RFC 3629, section 4).
+std::size_t utf8_length(std::string_view text, std::size_t i) {
+  const auto c = static_cast<unsigned char>(text[i]);
+  const std::size_t n = c < 0x80 ? 1 : (c >= 0xc2 && c <= 0xdf) ? 2 : (c >= 0xe0 && c <= 0xef) ? 3 : (c >= 0xf0 && c <= 0xf4) ? 4 : 0;
+  if (n == 0 || i + n > text.size()) return 0;
+  for (std::size_t k = 1; k < n; ++k)
+    if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) return 0;
+  return n;
+}
+
+}  // namespace
+
 std::string printable(std::string_view text, std::size_t max_chars) {
   std::string out;
   std::size_t n = 0;
-  for (std::size_t i = 0; i < text.size(); ++i, ++n) {
+  const auto escape = [&out](unsigned char c) {
+    char hex[8];
+    std::snprintf(hex, sizeof hex, "\\x%02x", c);
+    out += hex;
+  };
+  for (std::size_t i = 0; i < text.size(); ++n) {
     if (n == max_chars) return out + "...";
     const auto c = static_cast<unsigned char>(text[i]);
-    const bool c1 = c == 0xc2 && i + 1 < text.size() && static_cast<unsigned char>(text[i + 1]) < 0xa0 &&
-                    static_cast<unsigned char>(text[i + 1]) >= 0x80;  // U+0080..U+009F: C1 controls (CSI)
+    const std::size_t len = utf8_length(text, i);
+    const bool c1 = len == 2 && c == 0xc2 && static_cast<unsigned char>(text[i + 1]) < 0xa0;  // U+0080..U+009F: C1 controls (CSI)
     if (c == '\n') {
       out += "\\n";
     } else if (c == '\t') {
       out += "\\t";
     } else if (c == '\r') {
       out += "\\r";
-    } else if (c < 0x20 || c == 0x7f || c1) {
-      char hex[8];
-      std::snprintf(hex, sizeof hex, "\\x%02x", c1 ? static_cast<unsigned char>(text[++i]) : c);
-      out += hex;
+    } else if (c1) {
+      escape(static_cast<unsigned char>(text[i + 1]));
+    } else if (len == 0 || c < 0x20 || c == 0x7f) {
+      escape(c);  // a control character, or a byte of no UTF-8 character (0x9b alone: CSI to an 8-bit terminal)
     } else {
-      out += static_cast<char>(c);
+      out.append(text.substr(i, len));
     }
+    i += len == 0 ? 1 : len;
   }
   return out;
 }

@@ -64,11 +64,19 @@ TEST_CASE("input file: a YAML alias bomb is refused before anything walks it, a 
   std::filesystem::remove(f);
 }
 
-TEST_CASE("printable: control characters escaped, long text cut") {
+TEST_CASE("printable: control characters and bytes of no UTF-8 character escaped, long text cut") {
   CHECK(printable("plain name") == "plain name");
   CHECK(printable("\x1b[31mred\x07\n") == "\\x1b[31mred\\x07\\n");
   CHECK(printable("\xc2\x9b"
-                  "2J") == "\\x9b2J");               // U+009B, the C1 CSI
-  CHECK(printable("caf\xc3\xa9") == "caf\xc3\xa9");  // UTF-8 letters kept
+                  "2J") == "\\x9b2J");                                                   // U+009B, the C1 CSI
+  CHECK(printable("caf\xc3\xa9") == "caf\xc3\xa9");                                      // UTF-8 letters kept
+  CHECK(printable("\xe2\x82\xac \xf0\x9f\x9b\xa9") == "\xe2\x82\xac \xf0\x9f\x9b\xa9");  // 3- and 4-byte characters kept
+  // bytes of no UTF-8 character: a lone 0x9b (CSI to a terminal of 8-bit controls), a stray
+  // continuation byte, a lead byte cut short, 0xff
+  CHECK(printable("\x9b"
+                  "2J") == "\\x9b2J");
+  CHECK(printable("a\x8a\xc3") == "a\\x8a\\xc3");
+  CHECK(printable("\xe2\x82z\xff") == "\\xe2\\x82z\\xff");
+  CHECK(printable("\xc3\xa9\xc3\xa9\xc3\xa9", 2) == "\xc3\xa9\xc3\xa9...");  // characters counted, not bytes
   CHECK(printable(std::string(300, 'a')) == std::string(200, 'a') + "...");
 }

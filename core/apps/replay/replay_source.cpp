@@ -61,6 +61,11 @@ bool store_cell(const reflect::Column& c, char* p, const std::string& cell) {
   return false;
 }
 
+/// A line of a table written with Windows' line ends (CRLF: a spreadsheet's export), without its '\r'.
+void drop_carriage_return(std::string& line) {
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+}
+
 /// The header's columns mapped onto T's layout by name; a unit in brackets other than the
 /// layout's is an error (docs/sensor-log.md), and so is a column the topic requires missing
 /// (table_limits.hpp). Column 0 is `t [s]`.
@@ -107,12 +112,14 @@ class Track final : public ReplaySource::TrackBase {
     std::ifstream in(csv);
     std::string header;
     std::getline(in, header);
+    drop_carriage_return(header);
     const auto layout = reflect::layout<T>();
     const auto cols = map_columns(csv, topic, header, layout);
     std::string line, cell;
     std::size_t lineno = 1;
     while (std::getline(in, line)) {
       ++lineno;
+      drop_carriage_return(line);
       if (line.empty()) continue;
       if (in.eof()) {  // no line end: the flight was cut off while writing this row
         partial_ = fmt::format(
@@ -201,8 +208,8 @@ void ReplaySource::configure() {
     const auto csv = dir_ / "topics" / (topic + ".csv");
     if (!std::filesystem::exists(csv)) return;
     auto track = std::make_unique<Track<T>>(csv, topic, topic == "reference");
-    if (!track->partial_last_line().empty()) log().warn("replay: {}", track->partial_last_line());
-    for (const auto& w : track->warnings()) log().warn("replay: {}", w);
+    if (!track->partial_last_line().empty()) log().warn("{}", track->partial_last_line());
+    for (const auto& w : track->warnings()) log().warn("{}", w);
     track->feedback = feedback;
     track->topic = topic;
     this->declare(track->output(), topic, "recorded " + topic);

@@ -56,8 +56,9 @@ TERN_API YAML::Node load_yaml_file(const std::filesystem::path& file, const char
 /// kMaxYamlNodes nodes with its aliases expanded; stops counting there.
 TERN_API void check_yaml_size(const YAML::Node& root, const std::filesystem::path& file);
 
-/// `text` for one line of a terminal message: control characters (newlines, escape sequences)
-/// written as \n, \t, \r or \xHH, and cut to `max_chars` characters followed by "..." when longer.
+/// `text` for one line of a terminal message: control characters (newlines, escape sequences, C1
+/// controls) and bytes that are no UTF-8 character (RFC 3629) written as \n, \t, \r or \xHH, so
+/// that the result is printable UTF-8; cut to `max_chars` characters followed by "..." when longer.
 TERN_API std::string printable(std::string_view text, std::size_t max_chars = kMaxEchoChars);
 
 }  // namespace tern
