@@ -223,6 +223,10 @@ std::vector<std::string> UlogDataStats::warnings(const std::string& file) const 
   add(wrong_size, "data message(s) of the wrong size for their format: skipped");
   add(unknown_types, "message(s) of a type the ULog spec does not define: skipped");
   add(corrupt_regions, "corrupt region(s) skipped to the next sync marker");
+  if (unread_bytes)
+    out.push_back(file + ": byte " + std::to_string(unread_from) + ": " + unread_reason +
+                  ", and no sync marker after it to resume from: the data ends there (the last " + std::to_string(unread_bytes) +
+                  " bytes not read)");
   return out;
 }
 

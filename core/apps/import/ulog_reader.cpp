@@ -192,9 +192,10 @@ UlogDataStats Reader::read_data(const DataHandler& handler) {
   for (const std::uint64_t off : appended_) {
     if (off < data_start_) fail(data_start_, "appended-data offset " + std::to_string(off) + " lies inside the definitions section");
     read_data_span(handler, off, stats);
+    if (stats.unread_bytes) break;
     pos_ = off;
   }
-  read_data_span(handler, size_, stats);
+  if (!stats.unread_bytes) read_data_span(handler, size_, stats);
   stats.last_timestamp = last_timestamp_;
   return stats;
 }
@@ -216,7 +217,13 @@ void Reader::read_data_span(const DataHandler& h, std::uint64_t limit, UlogDataS
     } else if (problem == "wrong size") {
       note(stats.wrong_size);
     } else {
-      if (!resync(m.offset + 1, limit)) fail(m.offset, problem + ", and no sync marker after it to resume from");
+      if (!resync(m.offset + 1, limit)) {  // the data before it kept, as pyulog keeps it
+        if (!stats.first_problem_offset) stats.first_problem_offset = m.offset;
+        stats.unread_from = m.offset;
+        stats.unread_reason = printable(problem, kMaxErrorChars);
+        stats.unread_bytes = size_ - m.offset;
+        return;
+      }
       note(stats.corrupt_regions);
     }
   }

@@ -21,11 +21,12 @@
 //
 // Errors (UlogError, one line "<file>: byte <offset>: <what>"): no ULog magic, a file cut short in the
 // header or the definitions, unknown incompatible flag bits (the spec: a parser must refuse such a
-// log), a format that does not parse, a subscription to an undefined format, a corrupt message header
-// in the data section with no sync marker after it to resume from. Tolerated and counted
+// log), a format that does not parse, a subscription to an undefined format. Tolerated and counted
 // (UlogDataStats): the data section's last message cut short (a log whose writer stopped), data
 // messages of an unknown subscription or of the wrong size, unknown message types (the spec: skip
-// them), corrupt regions skipped up to the next sync marker.
+// them), corrupt regions skipped up to the next sync marker; a corrupt message header with no sync
+// marker after it ends the data there, what came before it kept (as pyulog keeps it: a log whose
+// storage failed mid-flight still gives the flight up to the failure).
 // Appended data ('B' incompat bit 0, DATA_APPENDED): the data section is read up to each appended
 // offset in turn (a message crossing an offset was cut by the original writer: counted as truncated)
 // and continues at that offset.
@@ -171,6 +172,10 @@ struct UlogDataStats {
   std::uint64_t wrong_size = 0;            ///< 'D' messages shorter than their format or longer than its padded size
   std::uint64_t unknown_types = 0;         ///< messages of a type the spec does not define (skipped)
   std::uint64_t corrupt_regions = 0;       ///< corrupt message headers skipped up to the next sync marker
+  /// A corrupt message header with no sync marker after it: the data from there to the file's end
+  /// is not read (unread_bytes of it, from byte unread_from; unread_reason: the header's problem).
+  std::uint64_t unread_from = 0, unread_bytes = 0;
+  std::string unread_reason;
   std::uint64_t first_problem_offset = 0;  ///< byte offset of the first of the above (0: none)
   std::uint64_t last_timestamp = 0;        ///< the largest data timestamp, us since boot
   /// One line per kind of problem counted (empty if none).
