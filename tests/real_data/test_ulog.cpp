@@ -386,9 +386,10 @@ TEST_CASE("ulog reader: corrupt and cut files give one line naming the file and 
     CHECK(c0.topics.at("vehicle_attitude (0, 36)").count == 1);  // what came before it kept
     const auto w = c0.stats.warnings(p.string());
     REQUIRE(w.size() == 1);
-    CHECK(w[0] == p.string() + ": byte 36766: corrupt message header (type 0x00, size 74), and no sync marker after it to resume from: "
-                               "the data ends there (the last " +
-                                   std::to_string(good.size() - 36766) + " bytes not read)");
+    CHECK(w[0] == p.string() +
+                      ": byte 36766: corrupt message header (type 0x00, size 74), and no sync marker after it to resume from: "
+                      "the data ends there (the last " +
+                      std::to_string(good.size() - 36766) + " bytes not read)");
     fs::remove(p);
 
     std::string bad2 = small;

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tern/input_file.hpp"
+
 namespace tern::aero::text {
 
 void fail(const std::string& file, const std::string& field, const std::string& what) {
@@ -15,8 +17,7 @@ void fail(const std::string& file, const std::string& field, const std::string& 
 }
 
 std::vector<std::string> read_lines(const std::string& path) {
-  std::ifstream f(path);
-  if (!f) fail(path, "file", "cannot open");
+  std::istringstream f(read_text_file(path, "file"));  // a regular file of at most kMaxTextFileBytes
   std::vector<std::string> lines;
   std::string l;
   while (std::getline(f, l)) {

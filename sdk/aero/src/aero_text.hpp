@@ -14,7 +14,9 @@ namespace tern::aero::text {
 /// Throws std::runtime_error("file: field: what").
 [[noreturn]] void fail(const std::string& file, const std::string& field, const std::string& what);
 
-/// The lines of a text file without trailing '\r'; fail(path, "file", ...) if it cannot be opened.
+/// The lines of a text file without trailing '\r'. Throws std::runtime_error "PATH: file ..." for
+/// what is no regular file of at most kMaxTextFileBytes (tern/input_file.hpp read_text_file: a
+/// directory, a device, a file too large) or cannot be read.
 std::vector<std::string> read_lines(const std::string& path);
 
 /// Whitespace-separated words of s.

@@ -412,6 +412,10 @@ TEST_CASE("malformed input: one line naming the file and field") {
   check_one_line("Sref_ 0.5 Lunit^2\nCref_ 0.2 Lunit\n",
                  ": derivative table: no 'Coef Total Alpha Beta p q r Mach U ...' column names found");
   CHECK_THROWS_WITH_AS(aero::parse_xflr5(kData + "/sample_vspaero.stab"), doctest::Contains(": CLa: missing"), std::runtime_error);
+  // no regular file: nothing is read from it
+  CHECK_THROWS_WITH_AS(aero::parse_vspaero_stab(kData), doctest::Contains((kData + ": file is a directory").c_str()), std::runtime_error);
+  CHECK_THROWS_WITH_AS(aero::parse_xflr5("/dev/zero"), doctest::Contains("/dev/zero: file is not a regular file (a character device)"),
+                       std::runtime_error);
   std::string polar = read_file(kData + "/sample_vspaero_v6.polar");
   polar += "0.0 0.05 9.0 0.27\n";
   write_file(p, polar);

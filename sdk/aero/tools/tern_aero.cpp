@@ -249,8 +249,9 @@ int import_cmd(const ImportArgs& a) {
     if (a.mass > 0 || !a.inertia.empty()) throw std::runtime_error("import: give --mass-file or --mass/--inertia, not both");
     m = tern::aero::load_mass_file(a.mass_file);
   } else {
-    if (!(a.mass > 0) || a.inertia.size() != 4)
+    if (a.mass == 0 || a.inertia.size() != 4)
       throw std::runtime_error("import: give --mass KG and --inertia Jx Jy Jz Jxz (kg m^2), or --mass-file FILE");
+    if (!(a.mass > 0) || !std::isfinite(a.mass)) throw std::runtime_error("import: --mass: expected kg > 0, got " + std::to_string(a.mass));
     m = {a.mass, a.inertia[0], a.inertia[1], a.inertia[2], a.inertia[3]};
   }
   if (a.vspaero.empty() && (!a.controls.empty() || !std::isnan(a.aoa)))
