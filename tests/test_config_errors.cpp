@@ -36,6 +36,13 @@ TEST_CASE("unknown keys suggest the closest valid one") {
   CHECK(e.find(":9:40: plugins[3]: unknown key 'rat' (did you mean 'rate'?)") != std::string::npos);
 }
 
+TEST_CASE("a key given twice in one map is refused: YAML forbids it, and yaml-cpp would read the first silently") {
+  CHECK(build_error(base_config("", "seed: 3\n")) ==  // base_config sets seed on line 2
+        (test_dir() / "cfg.yaml").string() + ":5:1: key 'seed' given twice (first at line 2): one of the two would be ignored");
+  const std::string e = build_error(base_config("  - {name: x, plugin: test_controller, rate: 100, params: {kp: 1, kp: 2}}\n"));
+  CHECK(e.find(":9:67: plugins[3].params: key 'kp' given twice (first at line 9): one of the two would be ignored") != std::string::npos);
+}
+
 TEST_CASE("log.format, log.chunk_size, log.ros_channels, log.zstd_level: one line naming the key and the value") {
   auto with_log = [](const std::string& log) {
     std::string y = base_config();

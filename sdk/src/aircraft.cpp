@@ -116,6 +116,7 @@ void read_section(const YAML::Node& sec, const std::string& prefix, const std::v
     bool found = false;
     for (const auto& f : fields) {
       if (key == f.key) {
+        if (seen.count(key)) fail_at(kv.first, source, path, "given twice: one of the two would be ignored");
         *f.dst = read_double(kv.second, source, path, f.lim);
         seen.insert(key);
         found = true;
@@ -136,9 +137,11 @@ Aircraft parse_tern(const YAML::Node& doc, const std::string& source) {
   ac.source = source;
   static const std::set<std::string> kTop = {"name", "description", "source",     "mass",   "inertia", "environment",
                                              "wing", "aero",        "propulsion", "servos", "gear"};
+  std::set<std::string> top;
   for (const auto& kv : doc) {
     const std::string key = key_text(kv.first, source, "");
     if (!kTop.count(key)) fail(source, key, "unknown key");
+    if (!top.insert(key).second) fail_at(kv.first, source, key, "given twice: one of the two would be ignored");
   }
   auto section = [&](const char* name, bool required) -> YAML::Node {
     YAML::Node n = doc[name];

@@ -59,6 +59,17 @@ TEST_CASE("aircraft: a NaN names the file, the line, the field and the value") {
   std::filesystem::remove(f);
 }
 
+TEST_CASE("aircraft: a field or a section given twice names the second (yaml-cpp would read the first silently)") {
+  const std::string f = anaconda_with("  C_L_alpha:", "  C_L_alpha: 5.0\n  C_L_alpha: 4.0");
+  const std::string e = error_of(f);
+  CHECK(e.rfind(f + ":", 0) == 0);
+  CHECK(e.find(": aero.C_L_alpha: given twice: one of the two would be ignored") != std::string::npos);
+  std::filesystem::remove(f);
+  const std::string top = anaconda_with("mass:", "mass: 2\nmass: 3");
+  CHECK(error_of(top).find(": mass: given twice: one of the two would be ignored") != std::string::npos);
+  std::filesystem::remove(top);
+}
+
 TEST_CASE("aircraft: a word where a number belongs is refused with the word") {
   const std::string f = anaconda_with("mass:", "mass: heavy");
   CHECK(error_of(f).find("mass: expected a number, got 'heavy'") != std::string::npos);

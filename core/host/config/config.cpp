@@ -50,6 +50,7 @@ fs::path resolve(const fs::path& base_dir, const std::string& p) {
 
 std::map<std::string, ParamSetting> params_from_map(const YAML::Node& map, const fs::path& file, const std::string& field, bool strict) {
   std::map<std::string, ParamSetting> out;
+  check_unique_keys(map, file, field);
   for (const auto& kv : map) {
     const std::string key = key_name(kv.first, file, field);
     out[key] = ParamSetting{kv.second, file, field.empty() ? key : field + "." + key, strict};

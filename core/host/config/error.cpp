@@ -73,8 +73,21 @@ std::string key_name(const YAML::Node& key, const std::filesystem::path& file, c
   return key.Scalar();
 }
 
+void check_unique_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field) {
+  std::vector<std::pair<std::string, YAML::Mark>> seen;
+  for (const auto& kv : map) {
+    const std::string key = key_name(kv.first, file, field);
+    for (const auto& [name, mark] : seen)
+      if (name == key)
+        throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "key '" + printable(key) +
+                          "' given twice (first at line " + std::to_string(mark.line + 1) + "): one of the two would be ignored");
+    seen.emplace_back(key, kv.first.Mark());
+  }
+}
+
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
                 const std::vector<std::string>& allowed) {
+  check_unique_keys(map, file, field);
   for (const auto& kv : map) {
     const std::string key = key_name(kv.first, file, field);
     bool ok = false;

@@ -41,8 +41,14 @@ std::string did_you_mean(std::string_view word, const std::vector<std::string>& 
 /// "field: " part), where yaml-cpp's as<std::string>() says only "bad conversion".
 std::string key_name(const YAML::Node& key, const std::filesystem::path& file, const std::string& field);
 
+/// Throws ConfigError "file:line:col: field: key 'k' given twice (first at line N): one of the two
+/// would be ignored" for a key `map` holds twice (YAML forbids it, yaml-cpp keeps both and reads
+/// the first; a key that is no name: key_name's).
+void check_unique_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field);
+
 /// Throws ConfigError "file:line:col: field: unknown key 'k' (did you mean ...)" for the first key
-/// of `map` not in `allowed` (`field` empty: no "field: " part; a key that is no name: key_name's).
+/// of `map` not in `allowed`, and check_unique_keys' error (`field` empty: no "field: " part; a key
+/// that is no name: key_name's).
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,
                 const std::vector<std::string>& allowed);
 
