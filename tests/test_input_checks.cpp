@@ -3,6 +3,7 @@
 // a plugin reads only at start.
 #include <doctest/doctest.h>
 
+#include "commands/command_line.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
 
@@ -120,4 +121,13 @@ TEST_CASE("check: the mission check's distance limit is a positive number of met
         cfg_path() + ":5:32: check.max_waypoint_distance: must be > 0 m, got -1");
   CHECK(build_error(base_config("", "check: {max_waypoint_distanse: 1}\n")) ==
         cfg_path() + ":5:9: check: unknown key 'max_waypoint_distanse' (did you mean 'max_waypoint_distance'?)");
+}
+
+TEST_CASE("what a vehicle sends reaches the terminal escaped, its line ends kept (tern echo, topics, param, mission)") {
+  using tern::core::terminal_text;
+  CHECK(terminal_text("phase: \x1b]0;owned\x07"
+                      "cruise\nVa: 17\n") == "phase: \\x1b]0;owned\\x07cruise\nVa: 17\n");
+  CHECK(terminal_text("a\r\nb") == "a\\r\nb");
+  CHECK(terminal_text(std::string(500, 'x')) == std::string(500, 'x'));  // nothing cut
+  CHECK(terminal_text("") == "");
 }

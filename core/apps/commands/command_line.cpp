@@ -1,6 +1,7 @@
 // core/apps/commands/command_line.cpp: what every command of `tern` shares (command_line.hpp).
 #include "commands/command_line.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "tern/input_file.hpp"
@@ -43,6 +44,17 @@ std::string terminal_line(const std::string& msg) {
     } else if (word == kMaxEchoChars + 1) {
       out += "...";
     }
+  }
+  return out;
+}
+
+std::string terminal_text(const std::string& text) {
+  std::string out;
+  for (std::size_t start = 0; start <= text.size();) {
+    const std::size_t end = std::min(text.find('\n', start), text.size());
+    out += printable(std::string_view(text).substr(start, end - start), std::string::npos);
+    if (end < text.size()) out += '\n';
+    start = end + 1;
   }
   return out;
 }

@@ -30,6 +30,9 @@ std::filesystem::path default_config();
 /// `msg` for one line of the terminal: control characters escaped (tern/input_file.hpp's printable)
 /// and every word (a run without a space: a name, a value) cut to kMaxEchoChars characters, then "...".
 std::string terminal_line(const std::string& msg);
+/// `text` of several lines for the terminal: each line's control characters escaped (printable),
+/// its line ends kept, nothing cut. For what another process sent (a vehicle's samples over DDS).
+std::string terminal_text(const std::string& text);
 /// Prints "tern: error: MSG" (terminal_line) on stderr; returns 1 (the exit status).
 int fail(const std::string& msg);
 

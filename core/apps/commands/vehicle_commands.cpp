@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -21,6 +22,14 @@
 namespace tern::core {
 
 namespace {
+
+/// Prints what a vehicle answered (any participant on the DDS domain may answer) with its control
+/// characters escaped (terminal_text): an escape sequence in a name or a string field never reaches
+/// the terminal raw.
+template <class... Args>
+void print_remote(fmt::format_string<Args...> format, Args&&... args) {
+  std::fputs(terminal_text(fmt::format(format, std::forward<Args>(args)...)).c_str(), stdout);
+}
 
 /// How a client finds and talks to the vehicle.
 struct ClientOptions {
@@ -79,9 +88,9 @@ Command add_topics(CLI::App& app) {
   return {c, [c, o] {
             return with_client(c, *o, [](DdsClient& client) {
               const DdsStatus st = client.status();
-              fmt::print("vehicle: mission '{}' ({}), {}{}\n", st.mission, st.config_file, st.flying ? "flying" : "idle",
-                         st.flying ? fmt::format(" t={:.1f} s phase {}", st.flight_time, st.phase) : "");
-              for (const auto& [name, type] : st.topics) fmt::print("{:<40} {}\n", name, type);
+              print_remote("vehicle: mission '{}' ({}), {}{}\n", st.mission, st.config_file, st.flying ? "flying" : "idle",
+                           st.flying ? fmt::format(" t={:.1f} s phase {}", st.flight_time, st.phase) : "");
+              for (const auto& [name, type] : st.topics) print_remote("{:<40} {}\n", name, type);
               return 0;
             });
           }};
@@ -102,7 +111,7 @@ Command add_echo(CLI::App& app) {
               client.echo(o.topic, [&](const std::string& sample) {
                 const auto f = o.field.empty() ? std::optional<std::string>(sample) : sample_field(sample, o.field);
                 if (!f) throw DdsError("topic '" + o.topic + "' has no field '" + o.field + "'");
-                fmt::print("{}---\n", *f);
+                print_remote("{}---\n", *f);
                 std::fflush(stdout);
                 return !o.once && stop_signal() == 0;
               });
@@ -149,24 +158,24 @@ Command add_param(CLI::App& app) {
   return {c, [c, o] {
             return with_client(c, *o, [&o = *o](DdsClient& client) {
               auto show = [](const DdsParam& p) {
-                fmt::print("{:<34} {:<16} (default {}, {}{}) {}\n", p.name, to_string(p.value), to_string(p.default_value),
-                           p.unit.empty() ? "" : p.unit + ", ", fmt::format("[{}, {}]", p.min, p.max), p.description);
+                print_remote("{:<34} {:<16} (default {}, {}{}) {}\n", p.name, to_string(p.value), to_string(p.default_value),
+                             p.unit.empty() ? "" : p.unit + ", ", fmt::format("[{}, {}]", p.min, p.max), p.description);
               };
               if (o.list->parsed()) {
                 for (const auto& p : client.param_list(o.prefix)) show(p);
               } else if (o.get->parsed()) {
                 show(client.param_get(o.name));
               } else if (o.describe->parsed()) {
-                fmt::print("{}", describe_param(client.param_get(o.name)));
+                print_remote("{}", describe_param(client.param_get(o.name)));
               } else if (o.set->parsed()) {
                 const ParamValue v = to_param_value(YAML::Load(o.value), "command line", o.name);
                 const bool start_only = client.param_get(o.name).read_only;  // the vehicle refuses those in flight
                 client.param_set(o.name, v);
-                fmt::print(
+                print_remote(
                     "{} = {} ({})\n", o.name, to_string(v),
                     start_only ? "start-only: takes effect when the vehicle's next flight starts" : "applied at the vehicle's next tick");
               } else if (o.save->parsed()) {
-                fmt::print("saved: {}\n", client.param_save(o.file, o.overwrite));
+                print_remote("saved: {}\n", client.param_save(o.file, o.overwrite));
               }
               return 0;
             });
@@ -217,15 +226,15 @@ Command add_mission(CLI::App& app) {
                 wp.Va_d = o.Va;
                 if (o.land) wp.type = msg::Waypoint::land;
                 client.mission_add(wp, o.set_current, true);
-                fmt::print("{} added\n", o.land ? "land item" : "waypoint");
+                print_remote("{} added\n", o.land ? "land item" : "waypoint");
               } else if (o.load->parsed()) {
                 client.mission_load(o.file);
-                fmt::print("mission loaded: {}\n", o.file);
+                print_remote("mission loaded: {}\n", o.file);
               } else if (o.print->parsed()) {
-                fmt::print("{}\n", client.mission_print());
+                print_remote("{}\n", client.mission_print());
               } else {
                 client.mission_clear();
-                fmt::print("mission cleared\n");
+                print_remote("mission cleared\n");
               }
               return 0;
             });
@@ -240,7 +249,7 @@ Command add_go_around(CLI::App& app) {
                        *o);
   return {c, [c, o] {
             return with_client(c, *o, [](DdsClient& client) {
-              fmt::print("{}\n", client.go_around());
+              print_remote("{}\n", client.go_around());
               return 0;
             });
           }};
