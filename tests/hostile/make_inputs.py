@@ -13,6 +13,8 @@ WORK/dir/           an empty directory, given where a file is expected
 WORK/alfa.tar.gz    an ALFA archive whose raw-IMU member is a symlink
 WORK/sparse.tar.gz  an ALFA archive whose raw-IMU member is a GNU sparse file declaring 8 GiB (13 bytes
                     of data, then a hole): more than the 4 GiB an archive may unpack to
+WORK/mtree.tar      an mtree listing naming /etc/passwd as a member's contents (mtree(5) contents=)
+WORK/dot.tar        a tar whose regular member is named '.'
 WORK/chunk.mcap     an MCAP file whose chunk declares 2^62 bytes uncompressed
 WORK/bad_crc.mcap   an MCAP file whose chunk's CRC-32 is not its records'
 WORK/plugins/       a libtern_estimator_ekf.so that is no ELF file (a text file)
@@ -183,6 +185,17 @@ def sparse_archive():
         tar.addfile(member, io.BytesIO(body))
 
 
+def other_archives():
+    """An mtree "archive" (a listing whose members' bytes come from this machine's files), and a
+    tar whose regular member is named '.' (fuzz_archive's finding: it replaced the directory)."""
+    with open(os.path.join(WORK, "mtree.tar"), "w") as f:
+        f.write("#mtree\nseq/carbonZ_2018-07-18-mavros-imu-data_raw.csv type=file contents=/etc/passwd\n")
+    dot = tarfile.TarInfo(".")
+    dot.size = 2
+    with tarfile.open(os.path.join(WORK, "dot.tar"), "w") as tar:
+        tar.addfile(dot, io.BytesIO(b"x\n"))
+
+
 def mcap_chunk():
     """A valid MCAP header, then a chunk declaring 2^62 bytes uncompressed (https://mcap.dev/spec)."""
     def record(op, content):
@@ -215,5 +228,6 @@ sensor_logs()
 configs()
 alfa_archive()
 sparse_archive()
+other_archives()
 mcap_chunk()
 mcap_bad_crc()

@@ -136,6 +136,10 @@ refused alfa_symlink_member "member 'seq/carbonZ_2018-07-18-mavros-imu-data_raw.
 # a sparse member's holes count: 8 GiB declared in a few hundred bytes (fuzz_archive's finding)
 refused alfa_sparse_member "the archive unpacks to more than 4294967296 bytes" \
   "$tern" import alfa "$work/sparse.tar.gz" "$work/sparse_out"
+# an mtree listing is no archive tern reads (its members' bytes would come from this machine's files)
+refused alfa_mtree "mtree.tar: Unrecognized archive format" "$tern" import alfa "$work/mtree.tar" "$work/mtree_out"
+refused alfa_dot_member "dot.tar: member '.' names the archive's top directory, but is no directory" \
+  "$tern" import alfa "$work/dot.tar" "$work/dot_out"
 
 # ---- clearer lines ---------------------------------------------------------------------------------
 refused alias_bomb "alias_bomb.yaml: more than 100000 YAML nodes" "$tern" check "$configs/alias_bomb.yaml"

@@ -82,8 +82,14 @@ bool safe_member(const std::string& member) {
 
 void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& limits) {
   Reader in(archive_read_new(), archive_read_free);
-  archive_read_support_format_all(in.get());
-  archive_read_support_filter_all(in.get());
+  // the formats tern import documents (a flight log's archive as shipped: .zip, .tar with gzip,
+  // bzip2 or xz), not libarchive's all: its mtree format reads a member's bytes from any path of
+  // this machine (contents=/etc/shadow), and some of its filters run an external program
+  archive_read_support_format_zip(in.get());
+  archive_read_support_format_tar(in.get());
+  archive_read_support_filter_gzip(in.get());
+  archive_read_support_filter_bzip2(in.get());
+  archive_read_support_filter_xz(in.get());
   if (archive_read_open_filename(in.get(), file.c_str(), 1 << 16) != ARCHIVE_OK)
     throw ImportError(fmt::format("{}: {}", file.string(), error_text(in.get())));
   Writer out(archive_write_disk_new(), archive_write_free);
@@ -106,6 +112,11 @@ void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& lim
       throw ImportError(fmt::format("{}: member {} has no name ({})", file.string(), members + 1,
                                     r == ARCHIVE_WARN ? error_text(in.get()) : std::string("no path in its header")));
     const std::string member = name;
+    if (fs::path(member).lexically_normal() == ".") {  // the directory unpacked into itself ("./" of `tar c .`)
+      if (archive_entry_filetype(entry) == AE_IFDIR) continue;
+      throw ImportError(
+          fmt::format("{}: member '{}' names the archive's top directory, but is no directory", file.string(), printable(member)));
+    }
     if (!safe_member(member))
       throw ImportError(fmt::format("{}: member '{}' would be written outside the directory", file.string(), printable(member)));
     if (const std::string kind = member_kind_problem(entry); !kind.empty())

@@ -1,6 +1,7 @@
 // core/apps/import/archive_input.hpp: `tern import`'s INPUT as a directory: a directory as it is,
-// an archive as shipped (.zip, .tar.gz, .tgz, .tar: read by libarchive) unpacked into a fresh
-// temporary directory that is removed again when the ArchiveInput goes.
+// an archive as shipped (.zip, .tar.gz, .tgz, .tar.bz2, .tar.xz, .tar: read by libarchive's zip and
+// tar readers, whatever the name says) unpacked into a fresh temporary directory that is removed
+// again when the ArchiveInput goes.
 #pragma once
 
 #include <cstddef>
