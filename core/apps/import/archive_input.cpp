@@ -83,8 +83,9 @@ bool safe_member(const std::string& member) {
 void unpack(const fs::path& file, const fs::path& into, const ArchiveLimits& limits) {
   Reader in(archive_read_new(), archive_read_free);
   // the formats tern import documents (a flight log's archive as shipped: .zip, .tar with gzip,
-  // bzip2 or xz), not libarchive's all: its mtree format reads a member's bytes from any path of
-  // this machine (contents=/etc/shadow), and some of its filters run an external program
+  // bzip2 or xz), not libarchive's all: its mtree format is a listing that names files of this
+  // machine as the members' contents (mtree(5): contents=), and some of its filters run an
+  // external program
   archive_read_support_format_zip(in.get());
   archive_read_support_format_tar(in.get());
   archive_read_support_filter_gzip(in.get());
