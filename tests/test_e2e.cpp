@@ -101,7 +101,7 @@ TEST_CASE("the estimator's configuration does not depend on the simulator's sens
   };
   const auto base = ekf_params(default_mission_with({}), "indep_a.yaml");
   const auto changed = ekf_params(default_mission_with({{"turbulence: light",
-                                                         "turbulence: light\n      sensor_profile: realistic\n"
+                                                         "turbulence: light\n"  // sensor_profile: realistic already
                                                          "      accel_noise: 0.7\n      gyro_noise: 0.01\n      gnss_h_sigma: 4.0\n"
                                                          "      gnss_vel_noise: 0.3\n      gnss_tau: 60\n      mag_noise: 1.0e-6\n"
                                                          "      baro_noise: 9.0\n      diff_pressure_noise: 3.0\n      gnss_latency: 0.2\n"

@@ -166,12 +166,12 @@ struct DataHandler {
 
 /// What read_data() tolerated, and the log's time span.
 struct UlogDataStats {
-  std::uint64_t messages = 0;              ///< messages of the data section read
-  std::uint64_t truncated = 0;             ///< a message cut short (the end of the file, or an appended offset)
-  std::uint64_t unknown_msg_id = 0;        ///< 'D' messages of no current subscription
-  std::uint64_t wrong_size = 0;            ///< 'D' messages shorter than their format or longer than its padded size
-  std::uint64_t unknown_types = 0;         ///< messages of a type the spec does not define (skipped)
-  std::uint64_t corrupt_regions = 0;       ///< corrupt message headers skipped up to the next sync marker
+  std::uint64_t messages = 0;         ///< messages of the data section read
+  std::uint64_t truncated = 0;        ///< a message cut short (the end of the file, or an appended offset)
+  std::uint64_t unknown_msg_id = 0;   ///< 'D' messages of no current subscription
+  std::uint64_t wrong_size = 0;       ///< 'D' messages shorter than their format or longer than its padded size
+  std::uint64_t unknown_types = 0;    ///< messages of a type the spec does not define (skipped)
+  std::uint64_t corrupt_regions = 0;  ///< corrupt message headers skipped up to the next sync marker
   /// A corrupt message header with no sync marker after it: the data from there to the file's end
   /// is not read (unread_bytes of it, from byte unread_from; unread_reason: the header's problem).
   std::uint64_t unread_from = 0, unread_bytes = 0;
