@@ -8,7 +8,8 @@ WORK/logs/<case>/   sensor logs (docs/sensor-log.md): `good` (11 s of a still ai
                     jumping by 1e9 s = 1e18 ns from row 4000), `no_gyro_z`, `empty_imu`, `zero_imu`
                     (imu.csv a symlink to /dev/zero)
 WORK/configs/       mission configs: the default mission made absolute, each with one hostile part
-                    (fleet_dds_key.yaml: configs/missions/crossing.yaml with a hostile dds key)
+                    (fleet_dds_key.yaml: configs/missions/crossing.yaml with a hostile dds key;
+                    dup_key.yaml: the default mission with `duration:` given twice)
 WORK/dir/           an empty directory, given where a file is expected
 WORK/alfa.tar.gz    an ALFA archive whose raw-IMU member is a symlink
 WORK/sparse.tar.gz  an ALFA archive whose raw-IMU member is a GNU sparse file declaring 8 GiB (13 bytes
@@ -146,6 +147,10 @@ def configs():
         f.write("not a library\n")
     write_config("not_elf_plugin", lambda c: c.update(plugin_path=[os.path.join(WORK, "plugins")]))
     write_config("long_name", lambda c: c["plugins"][0].update(plugin="a" * 100000))
+    # a key given twice: the default mission's duration again at the end
+    with open(os.path.join(WORK, "configs", "dup_key.yaml"), "w") as f:
+        yaml.safe_dump(default_config(), f, width=10**9)
+        f.write("duration: 5\n")
     # a fleet (configs/missions/crossing.yaml) whose dds map has a key that is a list
     with open(os.path.join(MISSIONS, "crossing.yaml")) as f:
         fleet = f.read()

@@ -155,6 +155,7 @@ refused nan_number "nan_duration.yaml" "$tern" check "$configs/nan_duration.yaml
 refused inf_number "base_rate: expected a number, got '.inf'" "$tern" check "$configs/inf_rate.yaml"
 refused list_as_number "duration: expected a number, got <list>" "$tern" check "$configs/list_duration.yaml"
 refused self_param_file "self_param.yaml:" "$tern" check "$configs/self_param.yaml"
+refused key_twice "key 'duration' given twice (first at line" "$tern" check "$configs/dup_key.yaml"
 refused fleet_key_list "fleet_dds_key.yaml:2:3: dds: a key is a name, got a list" "$tern" check "$configs/fleet_dds_key.yaml"
 refused plugin_not_elf "libtern_estimator_ekf.so': not an ELF file" "$tern" check "$configs/not_elf_plugin.yaml"
 truncated="$work/plugins_cut"  # the first 5000 bytes of a built plugin: an interrupted copy
