@@ -126,6 +126,12 @@ TEST_CASE("mission: bad input gives one clear line naming the field and value") 
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], w: [1, 2, 3]}"), "more than one position"));
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], use_chi: maybe}"), "waypoints[0].use_chi: 'maybe' is not true or false"));
   CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], speed: 3}"), "unknown key 'speed'"));
+  // a key given twice (yaml-cpp would read the first): in a waypoint, in the mission's map, in a ROSplane wp
+  CHECK(contains(error_of("waypoints:\n  - {ned: [1, 2, 3], va_d: 15,\n     va_d: 25}"),
+                 ":3: waypoints[0]: key 'va_d' given twice (first at line 2): one of the two would be ignored"));
+  CHECK(contains(error_of("loops: 2\nwaypoints: [[1, 2, -3]]\nloops: 3"), ":3: key 'loops' given twice (first at line 1)"));
+  CHECK_THROWS_WITH_AS(parse_mission_text("wp:\n  w: [1, 2, 3]\n  va_d: 15\n  va_d: 25\n", "m.yaml"),
+                       "m.yaml:4: wp 1: key 'va_d' given twice (first at line 3): one of the two would be ignored", MissionError);
   CHECK(contains(error_of("waypoint: []"), ":1: unknown key 'waypoint'"));
   CHECK(contains(error_of("file: nowhere.yaml"), "nowhere.yaml: cannot read the mission file"));
   CHECK(contains(error_of("loops: 2.5\nwaypoints: [[1, 2, -3]]"), "loops: 2.5 is not a whole number of loops in [1, 1000]"));

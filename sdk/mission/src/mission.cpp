@@ -61,6 +61,20 @@ std::string key_name(const YAML::Node& key, const Ctx& c, const std::string& whe
   return key.Scalar();
 }
 
+/// Throws MissionError "<source>:<line>: WHERE key 'k' given twice (first at line N)" for a key
+/// `map` holds twice (YAML forbids it; yaml-cpp keeps both, and a lookup reads the first).
+void check_unique_keys(const YAML::Node& map, const Ctx& c, const std::string& where) {
+  std::vector<std::pair<std::string, int>> seen;  // key, its line
+  for (const auto& kv : map) {
+    const std::string key = key_name(kv.first, c, where);
+    for (const auto& [name, line] : seen)
+      if (name == key)
+        throw MissionError(c.prefix(kv.first) + where + "key '" + printable(key) + "' given twice (first at line " + std::to_string(line) +
+                           "): one of the two would be ignored");
+    seen.emplace_back(key, kv.first.Mark().line + 1 + c.line_offset);
+  }
+}
+
 Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& field) {
   if (!n.IsSequence() || n.size() != 3) throw MissionError(c.prefix(n) + field + ": expected a list of 3 numbers");
   Eigen::Vector3d v;
@@ -191,6 +205,7 @@ MissionWaypoint parse_entry(const YAML::Node& n, const Ctx& c, const std::string
     return wp;
   }
   if (!n.IsMap()) throw MissionError(c.prefix(n) + name + ": expected [n, e, d] or a map with ned, w or lla");
+  check_unique_keys(n, c, name + ": ");
   int positions = 0;
   bool lla_flag = false;
   ItemKeys k;
@@ -283,6 +298,7 @@ Mission parse_map(const YAML::Node& root, const Ctx& c, bool allow_file, const s
   m.source = c.source;
   if (!root || root.IsNull()) return m;
   if (!root.IsMap()) throw MissionError(c.prefix(root) + "expected a map with waypoints (or file)");
+  check_unique_keys(root, c, "");
   double default_Va = 0.0;
   if (root["Va_d"]) {
     default_Va = as_double(root["Va_d"], c, "Va_d");
