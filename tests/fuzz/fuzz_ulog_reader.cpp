@@ -57,7 +57,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     h.on_logged_string = [](const LoggedString& s) { (void)s.level_name(); };
     h.on_parameter = [](const std::string&, const Value& v, std::uint64_t) { touch(v); };
     const UlogDataStats stats = r.read_data(h);
-    (void)stats.warnings(file.string());
+    // data that ends at a corrupt header: the rest of the file, named in one more warning
+    if (stats.unread_bytes != 0 &&
+        (stats.unread_from + stats.unread_bytes != size || stats.first_problem_offset > stats.unread_from || stats.unread_reason.empty()))
+      __builtin_trap();
+    const auto warnings = stats.warnings(file.string());
+    if (stats.unread_bytes != 0 && warnings.back().find(" bytes not read)") == std::string::npos) __builtin_trap();
   } catch (const UlogError&) {
   }
   return 0;
