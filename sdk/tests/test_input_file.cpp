@@ -9,6 +9,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "tern/input_file.hpp"
+#include "tern/yaml_keys.hpp"
 
 using namespace tern;
 
@@ -79,4 +80,14 @@ TEST_CASE("printable: control characters and bytes of no UTF-8 character escaped
   CHECK(printable("\xe2\x82z\xff") == "\\xe2\\x82z\\xff");
   CHECK(printable("\xc3\xa9\xc3\xa9\xc3\xa9", 2) == "\xc3\xa9\xc3\xa9...");  // characters counted, not bytes
   CHECK(printable(std::string(300, 'a')) == std::string(200, 'a') + "...");
+}
+
+TEST_CASE("repeated_key: the first key a map gives twice, where it stands first and again") {
+  const auto r = tern::repeated_key(YAML::Load("a: 1\nb: 2\n[x]: 3\nb: 4\na: 5\n"));
+  REQUIRE(r.has_value());
+  CHECK(r->key == "b");  // the first repeat, b on line 4; a list as a key is skipped
+  CHECK(r->first.line == 1);
+  CHECK(r->again.line == 3);
+  CHECK_FALSE(tern::repeated_key(YAML::Load("a: 1\nb: 2\n")).has_value());
+  CHECK_FALSE(tern::repeated_key(YAML::Load("[a, a]")).has_value());  // no map
 }

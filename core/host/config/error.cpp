@@ -5,6 +5,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "tern/input_file.hpp"
+#include "tern/yaml_keys.hpp"
 
 namespace tern::core {
 
@@ -74,15 +75,9 @@ std::string key_name(const YAML::Node& key, const std::filesystem::path& file, c
 }
 
 void check_unique_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field) {
-  std::vector<std::pair<std::string, YAML::Mark>> seen;
-  for (const auto& kv : map) {
-    const std::string key = key_name(kv.first, file, field);
-    for (const auto& [name, mark] : seen)
-      if (name == key)
-        throw ConfigError(where(file, kv.first) + (field.empty() ? "" : field + ": ") + "key '" + printable(key) +
-                          "' given twice (first at line " + std::to_string(mark.line + 1) + "): one of the two would be ignored");
-    seen.emplace_back(key, kv.first.Mark());
-  }
+  if (const auto r = repeated_key(map))
+    throw ConfigError(where(file, r->again) + (field.empty() ? "" : field + ": ") + "key '" + printable(r->key) +
+                      "' given twice (first at line " + std::to_string(r->first.line + 1) + "): one of the two would be ignored");
 }
 
 void check_keys(const YAML::Node& map, const std::filesystem::path& file, const std::string& field,

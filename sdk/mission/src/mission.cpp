@@ -12,6 +12,7 @@
 #include "number_text.hpp"
 #include "tern/input_file.hpp"
 #include "tern/math.hpp"
+#include "tern/yaml_keys.hpp"
 
 namespace tern::path {
 
@@ -20,11 +21,12 @@ namespace {
 std::string num(double v) { return number_text(v); }
 
 /// "<source>: line N: " (line N omitted when unknown).
-std::string at(const std::string& source, const YAML::Node& n, int line_offset = 0) {
-  const auto m = n.Mark();
+std::string at(const std::string& source, const YAML::Mark& m, int line_offset = 0) {
   if (m.line >= 0) return source + ":" + std::to_string(m.line + 1 + line_offset) + ": ";
   return source + ": ";
 }
+
+std::string at(const std::string& source, const YAML::Node& n, int line_offset = 0) { return at(source, n.Mark(), line_offset); }
 
 struct Ctx {
   std::string source;
@@ -62,17 +64,11 @@ std::string key_name(const YAML::Node& key, const Ctx& c, const std::string& whe
 }
 
 /// Throws MissionError "<source>:<line>: WHERE key 'k' given twice (first at line N)" for a key
-/// `map` holds twice (YAML forbids it; yaml-cpp keeps both, and a lookup reads the first).
+/// `map` holds twice (tern/yaml_keys.hpp).
 void check_unique_keys(const YAML::Node& map, const Ctx& c, const std::string& where) {
-  std::vector<std::pair<std::string, int>> seen;  // key, its line
-  for (const auto& kv : map) {
-    const std::string key = key_name(kv.first, c, where);
-    for (const auto& [name, line] : seen)
-      if (name == key)
-        throw MissionError(c.prefix(kv.first) + where + "key '" + printable(key) + "' given twice (first at line " + std::to_string(line) +
-                           "): one of the two would be ignored");
-    seen.emplace_back(key, kv.first.Mark().line + 1 + c.line_offset);
-  }
+  if (const auto r = repeated_key(map))
+    throw MissionError(at(c.source, r->again, c.line_offset) + where + "key '" + printable(r->key) + "' given twice (first at line " +
+                       std::to_string(r->first.line + 1 + c.line_offset) + "): one of the two would be ignored");
 }
 
 Eigen::Vector3d as_vec3(const YAML::Node& n, const Ctx& c, const std::string& field) {
