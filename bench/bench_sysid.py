@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON]: system identification against the truth.
+"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash]]: system identification against the truth.
 
 Issue 62's bench. For each seed: the truth aircraft (default the Aerosonde, configs/aircraft/aerosonde.yaml)
 flies configs/missions/sysid.yaml (excitation on every surface at three airspeeds, `realistic` sensors,
@@ -9,8 +9,13 @@ truth file. Then the identified file flies: the default mission's hourglass on t
 gains (configs/gains/<aircraft>.yaml) with the true file, the identified file and the prior, same
 seed, and `tern validate` scores the three files on the sysid flight.
 
+With --foreign the flight is first rewritten as another autopilot's log (foreign_log.py); with --dataflash
+as well, that log goes through an ArduPilot DataFlash file (dataflash_log.py: RCOU through SERVOn_* parameters,
+--max-deflection from the truth file's servos) and `tern import dataflash`, and sysid reads the imported log
+(the estimator's config.yaml and the airborne window stated beside it, as a user would).
+
 Prints the table (worst seed per coefficient, against the targets) and writes JSON (default
-bench/results/bench_sysid.json). Every figure says what produced it: the truth is the aircraft
+bench/results/bench_sysid[_foreign][_dataflash][_<aircraft>].json, the aircraft named unless the Aerosonde). Every figure says what produced it: the truth is the aircraft
 file the simulator flew (C_L_0, C_m_0 and the drag at trim stated in the frame the vehicle measures alpha
 in: estimate_pitch_offset); the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
 """
@@ -26,6 +31,7 @@ import time
 
 import yaml
 
+import dataflash_log
 import foreign_log
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -164,6 +170,10 @@ def one_seed(tern, seed, args, work):
     if args.foreign:
         flight = os.path.join(work, f"foreign_{seed}")
         shift = foreign_log.rewrite(truth_flight, flight, *args.foreign, declare_airborne=args.declare_airborne)
+    dataflash = None
+    if args.dataflash:
+        flight, dataflash = through_dataflash(tern, flight, truth_file, work, seed)
+        shift += dataflash["origin_s"]
     out = os.path.join(work, f"sysid_{seed}")
     t0 = time.monotonic()
     given = ["--command-delay", str(args.command_delay)] if args.command_delay is not None else []
@@ -188,7 +198,23 @@ def one_seed(tern, seed, args, work):
             for name, doc in (("truth", truth), ("identified", identified), ("prior", prior_doc))}
     return {"seed": seed, "prior_factor": factor, "flight": flight, "sysid_seconds": seconds,
             "log_seconds": result.get("airborne_s"), "estimate_pitch_offset_rad": pitch, "coefficients": rows, "drag_at_trim_25": drag,
-            "identified_file": os.path.join(out, "aircraft.yaml"), "prior_file": prior}
+            "identified_file": os.path.join(out, "aircraft.yaml"), "prior_file": prior,
+            **({"dataflash": dataflash} if dataflash else {})}
+
+
+def through_dataflash(tern, foreign, truth_file, work, seed):
+    """The rewritten log as an ArduPilot DataFlash file and back through `tern import dataflash` (dataflash_log.py),
+    the full deflections the truth file's servos; returns the imported log and what was done: the .bin, the
+    imported clock's offset (origin_s, s), the parameters written, and the round trip's check against the source."""
+    throws = dataflash_log.max_deflection(truth_file)
+    bin_file, imported = os.path.join(work, f"foreign_{seed}.bin"), os.path.join(work, f"dataflash_{seed}")
+    done = dataflash_log.write(foreign, bin_file, throws, dataflash_log.flight_date(foreign))
+    dataflash_log.import_bin(tern, bin_file, imported, throws)
+    dataflash_log.carry_over(foreign, imported, done["origin_s"])
+    report, ok = dataflash_log.check(foreign, imported, done["origin_s"], throws)
+    if not ok:
+        sys.exit(f"bench_sysid: seed {seed}: the DataFlash round trip lost rows or values:\n" + "\n".join(dataflash_log.check_lines(report)))
+    return imported, {**done, "bin": bin_file, "round_trip_within_resolution": ok, "round_trip": report}
 
 
 def flies(tern, seed_result, args, work):
@@ -305,6 +331,18 @@ def flies_ratios(seeds):
             "best_seed": lo[2]}
 
 
+def log_route(args):
+    """What sysid read, in words (the JSON's log_route)."""
+    if not args.foreign:
+        return "the tern flight's own log (CSV)"
+    route = "the flight rewritten by bench/foreign_log.py (commands {:g} ms late, IMU {:g} Hz, commands {:g} Hz, from {:g} m up)".format(
+        *args.foreign)
+    if args.dataflash:
+        route += (", written as an ArduPilot DataFlash .bin by bench/dataflash_log.py (RCOU through SERVO1-4: aileron, elevator, "
+                  "throttle, rudder reversed) and read back by tern import dataflash --max-deflection (the truth file's servos)")
+    return route
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("bin_dir")
@@ -319,11 +357,19 @@ def main():
                          "commands acting DELAY_MS after their stamps, the IMU at IMU_HZ, the commands at ACT_HZ, the log starting "
                          "START_M above the ground, e.g. 10 200 50 50")
     ap.add_argument("--declare-airborne", action="store_true", help="with --foreign: sensor_log.yaml declares the airborne window")
+    ap.add_argument("--dataflash", action="store_true",
+                    help="with --foreign: the rewritten log goes through an ArduPilot DataFlash file (dataflash_log.py) and "
+                         "`tern import dataflash`; sysid reads the imported log")
     ap.add_argument("--command-delay", type=float, metavar="MS",
                     help="tell tern sysid the commands' delay (--command-delay MS), as a user who knows their servos' would")
     args = ap.parse_args()
+    if args.dataflash and not args.foreign:
+        ap.error("--dataflash rewrites the --foreign log: give --foreign too")
     if not args.out:
-        args.out = os.path.join(HERE, "results", "bench_sysid_foreign.json" if args.foreign else "bench_sysid.json")
+        stem = os.path.splitext(os.path.basename(args.aircraft))[0]
+        name = "bench_sysid" + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \
+            ("" if stem == "aerosonde" else f"_{stem}")
+        args.out = os.path.join(HERE, "results", name + ".json")
     tern = os.path.join(os.path.abspath(args.bin_dir), "tern")
     if args.work:
         os.makedirs(args.work, exist_ok=True)
@@ -345,6 +391,10 @@ def bench(tern, args, work):
               f"drag at 25 m/s trim: truth {r['drag_at_trim_25']['truth']:.4f}, identified {r['drag_at_trim_25']['identified']:.4f}, "
               f"prior {r['drag_at_trim_25']['prior']:.4f}; the estimate's pitch {math.degrees(r['estimate_pitch_offset_rad']):+.2f} deg "
               f"off the truth (the frame the truth is compared in)", flush=True)
+        if "dataflash" in r:
+            d = r["dataflash"]
+            print(f"  through {d['bin']} ({d['bytes']} bytes) and tern import dataflash: every row back within the format's "
+                  f"resolution; the imported clock starts {d['origin_s']:.4f} s into the rewritten log", flush=True)
         if "flies" in r:
             print(f"  hourglass tracking RMS (north/east/alt m, course deg, Va m/s): {json.dumps(r['flies'])}", flush=True)
             print(f"  tern validate NRMSE (true / identified / prior file): {validate_line(r['validate'])}", flush=True)
@@ -364,7 +414,8 @@ def bench(tern, args, work):
         print(f"the identified file on the hourglass, its figures over the true file's: at worst {flown['worst_ratio']:.2f} "
               f"({flown['worst_figure']}, seed {flown['worst_seed']}), at best {flown['best_ratio']:.2f} ({flown['best_figure']}, "
               f"seed {flown['best_seed']}); target within 10 %")
-    doc = {"produced_by": "bench/bench_sysid.py " + " ".join(sys.argv[1:]), "mission": os.path.relpath(args.mission, ROOT),
+    doc = {"produced_by": "bench/bench_sysid.py " + " ".join(sys.argv[1:]), "log_route": log_route(args),
+           "mission": os.path.relpath(args.mission, ROOT),
            "aircraft": os.path.relpath(args.aircraft, ROOT), "summary": summary, "drag_worst_relative_error": max(drag_errors),
            "inside_3_se": inside, "flies": flown, "anaconda_gains": gains,
            "seeds": seeds}

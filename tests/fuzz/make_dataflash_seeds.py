@@ -3,7 +3,8 @@
 (ArduPilot's libraries/AP_Logger/LogStructure.h: every message 0xA3 0x95 type; FMT, type 128 of 89
 bytes, defines each type's length, name, format characters and labels; c C e E are stored * 100 and L
 as degrees * 1e7), with the messages and labels `tern import dataflash` reads, as ArduPlane 4.5 writes
-them (tests/real_data/test_dataflash.cpp's DataflashBytes writes the same in C++):
+them (tests/real_data/test_dataflash.cpp's DataflashBytes writes the same in C++). The encoder (Log) and
+the layouts are bench/dataflash_log.py's, which writes whole flights with them:
 
   make_dataflash_seeds.py OUT_DIR
 
@@ -13,55 +14,17 @@ them (tests/real_data/test_dataflash.cpp's DataflashBytes writes the same in C++
                      type no FMT defines
 """
 import math
-import struct
 import sys
 from pathlib import Path
 
-SIZES = {"b": 1, "B": 1, "M": 1, "h": 2, "H": 2, "c": 2, "C": 2, "i": 4, "I": 4, "e": 4, "E": 4, "L": 4, "f": 4,
-         "n": 4, "q": 8, "Q": 8, "d": 8, "N": 16, "Z": 64, "a": 64}
-PACK = {"b": "b", "B": "B", "M": "B", "h": "h", "H": "H", "c": "h", "C": "H", "i": "i", "I": "I", "e": "i", "E": "I",
-        "L": "i", "f": "f", "q": "q", "Q": "Q", "d": "d"}
-SCALE = {"c": 100, "C": 100, "e": 100, "E": 100, "L": 1e7}
-
-
-class Log:
-    def __init__(self):
-        self.out = bytearray()
-        self.formats = {}
-        self.fmt(128, "FMT", "BBnNZ", "Type,Length,Name,Format,Columns")
-
-    def fmt(self, kind, name, format, labels):
-        self.formats[kind] = format
-        length = 3 + sum(SIZES[c] for c in format)
-        body = struct.pack("<BB4s16s64s", kind, length, name.encode(), format.encode(), labels.encode())
-        self.out += b"\xa3\x95" + bytes([128]) + body
-
-    def msg(self, kind, *values):
-        body = bytearray()
-        for c, v in zip(self.formats[kind], values, strict=True):
-            if c in "nNZ":
-                body += v.encode().ljust(SIZES[c], b"\0")
-            else:
-                x = v * SCALE.get(c, 1)
-                body += struct.pack("<" + PACK[c], x if c in "fd" else int(round(x)))
-        self.out += b"\xa3\x95" + bytes([kind]) + body
+# the encoder and ArduPlane 4.5's layouts, shared with the bench's DataFlash writer (one definition of each)
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "bench"))
+from dataflash_log import Log  # noqa: E402
 
 
 def plane(garbage=False):
     d = Log()
-    d.fmt(64, "PARM", "QNff", "TimeUS,Name,Value,Default")
-    d.fmt(91, "MSG", "QZ", "TimeUS,Message")
-    d.fmt(130, "IMU", "QBffffffIIfBBHH", "TimeUS,I,GyrX,GyrY,GyrZ,AccX,AccY,AccZ,EG,EA,T,GH,AH,GHz,AHz")
-    d.fmt(131, "GPS", "QBBIHBcLLeffffB", "TimeUS,I,Status,GMS,GWk,NSats,HDop,Lat,Lng,Alt,Spd,GCrs,VZ,Yaw,U")
-    d.fmt(132, "GPA", "QBCCCCfBIHH", "TimeUS,I,VDop,HAcc,VAcc,SAcc,YAcc,VV,SMS,Delta,Und")
-    d.fmt(133, "BARO", "QBfffcfIffB", "TimeUS,I,Alt,AltAMSL,Press,Temp,CRt,SMS,Offset,GndTemp,H")
-    d.fmt(134, "ARSP", "QBffcffBBffB", "TimeUS,I,Airspeed,DiffPress,Temp,RawPress,Offset,U,H,Hp,TR,Pri")
-    d.fmt(135, "MAG", "QBhhhhhhhhhBI", "TimeUS,I,MagX,MagY,MagZ,OfsX,OfsY,OfsZ,MOX,MOY,MOZ,Health,S")
-    d.fmt(136, "RCOU", "QHHHHHHHHHHHHHH", "TimeUS,C1,C2,C3,C4,C5,C6,C7,C8,C9,C10,C11,C12,C13,C14")
-    d.fmt(137, "ATT", "QccccCCCCB", "TimeUS,DesRoll,Roll,DesPitch,Pitch,DesYaw,Yaw,ErrRP,ErrYaw,AEKF")
-    d.fmt(138, "POS", "QLLfff", "TimeUS,Lat,Lng,Alt,RelHomeAlt,RelOriginAlt")
-    d.fmt(139, "SIDS", "QBfffffff", "TimeUS,Ax,Mag,FSt,FSp,TFin,TC,TR,TFout")
-    d.fmt(140, "SIDD", "Qfffffffff", "TimeUS,Time,Targ,F,Gx,Gy,Gz,Ax,Ay,Az")
+    d.define()  # PARM 64, MSG 91, IMU 130 .. SIDD 140: dataflash_log.ARDUPLANE_45
     t0 = 5_000_000
     d.msg(91, t0, "ArduPlane V4.5.7 (seed)")
     for name, value in [("SERVO1_FUNCTION", 4), ("SERVO2_FUNCTION", 19), ("SERVO3_FUNCTION", 70), ("SERVO5_FUNCTION", 21),
