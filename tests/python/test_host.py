@@ -73,6 +73,38 @@ def test_bad_input_raises_naming_it(host):
     assert host.step(4)  # the flight goes on
 
 
+def test_control_is_write_step_and_read_in_one_call(logs):
+    """tern.Control flies what write(), step() and read() fly, bit for bit, and names bad input."""
+    pairs = [("state", "phi"), ("controller_internals", "phi_c"), ("state", "p")]
+    by_call, by_hand = tern.Host(LEARN, log_dir=logs), tern.Host(LEARN, log_dir=logs)
+    control = by_call.control("actuators", ["delta_a", "delta_r"], pairs)
+    assert len(control) == 3
+    for h in (by_call, by_hand):
+        h.reset(3)
+    assert np.array_equal(control.read(), np.zeros(3))  # nothing published yet: 0, as read(topic, fields)
+    for k in range(60):
+        action = None if k % 20 == 5 else np.array([0.01 * (k % 7), -0.02])
+        going, obs = control(action, 4)
+        if action is None:
+            by_hand.release("actuators")
+        else:
+            by_hand.write("actuators", {"delta_a": action[0], "delta_r": action[1]})
+        assert going == by_hand.step(4)
+        assert obs.tolist() == [by_hand.read(t, [f])[0] for t, f in pairs]
+    assert by_call.read("actuators") == by_hand.read("actuators")
+    with pytest.raises(tern.Error, match="2 fields of 'actuators'"):
+        control(np.zeros(3), 1)
+    with pytest.raises(tern.Error, match="not a finite number"):
+        control(np.array([math.nan, 0.0]), 1)
+    with pytest.raises(tern.Error, match="no field 'phy'"):
+        by_call.control("actuators", ["delta_a"], [("state", "phy")]).read()
+    with pytest.raises(tern.Error, match="no action fields"):
+        by_call.control("actuators", [], pairs)
+    assert by_call.handover_count == len(by_call.handovers)
+    for h in (by_call, by_hand):
+        h.end()
+
+
 def test_params_seed_and_swap(host):
     host.reset(1)
     assert host.get_param("slc.roll_kp") != 0.5

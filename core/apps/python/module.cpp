@@ -16,10 +16,12 @@
 #include "config/error.hpp"
 #include "export/mcap_csv_export.hpp"
 #include "mcap/mcap_reader.hpp"
+#include "python/python_control.hpp"
 #include "python/python_host.hpp"
 #include "python/python_tables.hpp"
 
 namespace py = pybind11;
+using tern::core::python::PythonControl;
 using tern::core::python::PythonFlightOptions;
 using tern::core::python::PythonHost;
 
@@ -122,6 +124,7 @@ PYBIND11_MODULE(_tern, m) {
       .def_property_readonly("base_period", &PythonHost::base_period)
       .def_property_readonly("topics", &PythonHost::topics)
       .def_property_readonly("handovers", &PythonHost::handovers)
+      .def_property_readonly("handover_count", &PythonHost::handover_count)
       .def("read", &PythonHost::read, py::arg("topic"), py::arg("fields") = py::none())
       .def("write", &PythonHost::write, py::arg("topic"), py::arg("fields"))
       .def("add_waypoint", &PythonHost::add_waypoint, py::arg("w"), py::arg("Va_d"), py::kw_only(), py::arg("chi_d") = 0.0,
@@ -135,5 +138,18 @@ PYBIND11_MODULE(_tern, m) {
       .def("get_param", &PythonHost::get_param, py::arg("name"))
       .def("set_param", &PythonHost::set_param, py::arg("name"), py::arg("value"))
       .def("swap", &PythonHost::swap, py::arg("instance"), py::arg("so"))
-      .def("end", &PythonHost::end);
+      .def("end", &PythonHost::end)
+      .def(
+          "control",
+          [](PythonHost& h, std::string topic, std::vector<std::string> fields,
+             std::vector<std::pair<std::string, std::string>> observation) {
+            return std::make_unique<PythonControl>(h, std::move(topic), std::move(fields), std::move(observation));
+          },
+          py::arg("topic"), py::arg("fields"), py::arg("observation"), py::keep_alive<0, 1>(),
+          "a tern.Control: write(topic, fields' values), step(ticks) and read each (topic, field) of observation in one call");
+  py::class_<PythonControl>(m, "Control")
+      .def("__call__", &PythonControl::operator(), py::arg("action"), py::arg("ticks"),
+           "holds action (None: releases the topic), flies ticks, returns (going, observation array)")
+      .def("read", &PythonControl::read, "the observation now (0 for a topic not yet published)")
+      .def("__len__", &PythonControl::observation_size);
 }

@@ -135,26 +135,36 @@ const tern::python::MessageColumns& PythonHost::columns_of(const MsgType& type) 
   return it->second;
 }
 
-py::object PythonHost::read(const std::string& topic, const std::optional<std::vector<std::string>>& fields) const {
+const OutputBase& PythonHost::topic_output(const std::string& topic) const {
   const OutputBase* o = host_->topic_source(topic);
   if (o == nullptr)
     throw ConfigError(fmt::format("Host.read: no topic '{}' in mission '{}'; its topics: {}", topic, host_->config().name, topic_list()));
-  const tern::python::MessageColumns& message = columns_of(o->type());
-  if (!fields) return o->sequence() == 0 ? py::none() : py::object(message.to_dict(o->data()));
-  const std::vector<reflect::Column>& columns = message.columns();
+  return *o;
+}
+
+const reflect::Column& PythonHost::field_column(const std::string& topic, const OutputBase& output, const std::string& field) const {
+  const std::vector<reflect::Column>& columns = columns_of(output.type()).columns();
+  const reflect::Column* c = find_column(columns, field);
+  if (c == nullptr)
+    throw ConfigError(
+        fmt::format("Host.read: topic '{}' ({}): no field '{}'; its fields: {}", topic, output.type().name, field, column_names(columns)));
+  return *c;
+}
+
+py::object PythonHost::read(const std::string& topic, const std::optional<std::vector<std::string>>& fields) const {
+  const OutputBase& o = topic_output(topic);
+  if (!fields) return o.sequence() == 0 ? py::none() : py::object(columns_of(o.type()).to_dict(o.data()));
   py::tuple out(fields->size());
   for (std::size_t i = 0; i < fields->size(); ++i) {
-    const reflect::Column* c = find_column(columns, (*fields)[i]);
-    if (c == nullptr)
-      throw ConfigError(fmt::format("Host.read: topic '{}' ({}): no field '{}'; its fields: {}", topic, o->type().name, (*fields)[i],
-                                    column_names(columns)));
-    out[i] = py::float_(o->sequence() == 0 ? 0.0 : column_value(*c, o->data()));
+    const reflect::Column& c = field_column(topic, o, (*fields)[i]);
+    out[i] = py::float_(o.sequence() == 0 ? 0.0 : column_value(c, o.data()));
   }
   return out;
 }
 
-void PythonHost::write(const std::string& topic, const py::dict& fields) {
-  const auto values = message_fields(topic, fields);
+void PythonHost::write(const std::string& topic, const py::dict& fields) { write_fields(topic, message_fields(topic, fields)); }
+
+void PythonHost::write_fields(const std::string& topic, const std::vector<std::pair<std::string, double>>& values) {
   if (topic != "pilot" || !host_->takes_pilot()) {
     host_->hold_message(topic, values);
     return;

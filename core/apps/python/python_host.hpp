@@ -10,6 +10,8 @@
 //   write(topic, d)  fields held on a plugin's output (Host::hold_message) until release(topic);
 //                    `pilot`: the pilot's sticks (Host::set_pilot)
 //   get_param/set_param, swap(instance, so) between flights (Host::swap), end() -> run dir
+//   control(topic, fields, observation) -> tern.Control: write, step and read in one call
+//                    (python_control.hpp)
 //   add_waypoint(w, Va_d, ...), clear_waypoints(), load_mission(file): mission edits, ROSplane's
 //                    services (Host::edit_mission, applied by the path planner at the next tick;
 //                    python_mission.cpp)
@@ -71,8 +73,17 @@ class PythonHost {
   /// The running (or last) flight's controller handovers (the safety net's: phase_router.hpp)
   /// as dicts {t [s], from, to, reason}.
   py::list handovers() const;
+  /// How many handovers the running (or last) flight has had: len(handovers) without building them.
+  std::size_t handover_count() const { return host_->handovers().size(); }
   py::object read(const std::string& topic, const std::optional<std::vector<std::string>>& fields) const;
   void write(const std::string& topic, const py::dict& fields);
+  /// write() of (field, value) pairs.
+  void write_fields(const std::string& topic, const std::vector<std::pair<std::string, double>>& fields);
+  /// The output publishing `topic` now (its current producer); ConfigError naming the mission's
+  /// topics when there is none.
+  const OutputBase& topic_output(const std::string& topic) const;
+  /// `field`'s column in `output`'s message type; ConfigError listing its fields when it has none.
+  const reflect::Column& field_column(const std::string& topic, const OutputBase& output, const std::string& field) const;
   bool release(const std::string& topic) { return host_->release_message(topic); }
   py::object get_param(const std::string& name) const;
   void set_param(const std::string& name, const py::handle& value);
