@@ -44,7 +44,7 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
   SysidOptions timing = o;
   timing.estimate_delays = true;
   SysidResult pass = identify(first, prior, timing);
-  const std::array<NuisanceEstimate, 3> shift = pass.delay_shift;
+  std::array<NuisanceEstimate, 3> shift = pass.delay_shift;  // identified: adopted (below)
   std::array<double, 3> delays = start_s;
   std::array<bool, 3> taken = {false, false, false};
   bool moved = false;
@@ -53,14 +53,16 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
     std::string why;
     taken[i] = d.estimate[i] && adopted(shift[i], start_s[i], d, why);
     if (taken[i]) delays[i] = start_s[i] + shift[i].estimate, moved = moved || std::abs(shift[i].estimate) > d.min_shift_s;
+    const bool fitted = shift[i].identified;
     if (!d.estimate[i])
       lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
     else if (!taken[i])
-      lines.push_back(fmt::format("command delay ({}): not estimated ({}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
-                                  shift[i].identified ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * (start_s[i] + shift[i].estimate),
-                                                                    1e3 * shift[i].std_error, why)
-                                                      : why,
-                                  1e3 * start_s[i], "aer"[i]));
+      lines.push_back(fmt::format(
+          "command delay ({}): not estimated ({}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
+          fitted ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * (start_s[i] + shift[i].estimate), 1e3 * shift[i].std_error, why) : why,
+          1e3 * start_s[i], "aer"[i]));
+    // sysid.json's command_delay_estimate: identified means adopted; a fit it refused says why
+    if (!taken[i]) shift[i].identified = false, shift[i].note = d.estimate[i] ? why : "given";
   }
   for (std::size_t i = 0; i < 3; ++i)
     if (taken[i])

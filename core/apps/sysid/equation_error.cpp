@@ -96,7 +96,7 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
         const LsEstimate moved = least_squares_frequency(X, shifted, instrumented ? &Z : nullptr);
         e.std_error = (e.std_error.cwiseAbs2() + (moved.theta - e.theta).cwiseAbs2()).cwiseSqrt();
       }
-      c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows});
+      c.result.fits.push_back({axis, "band", e.r_squared, std::sqrt(e.s2), e.rows, e.r_squared_generalized});
       for (std::size_t j = 0; j < free.size(); ++j) {
         c.coef.*free[j].member = e.theta[static_cast<Eigen::Index>(j)];
         CoefficientEstimate& r = record(c, free[j], "band");

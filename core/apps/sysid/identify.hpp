@@ -103,6 +103,9 @@ struct AxisFit {
   double r_squared = 0.0;
   double rms_residual = 0.0;  ///< coefficient units (band: per frequency row); output error: rad/s
   std::size_t rows = 0;
+  /// An instrumental-variable fit's generalized R^2 (regression.hpp), which the verdicts judge it
+  /// by; r_squared for the others.
+  double r_squared_generalized = 0.0;
 };
 
 /// A measured coefficient and the identified model's over the longest airborne stretch (plots).

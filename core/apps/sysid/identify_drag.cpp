@@ -52,7 +52,7 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
                                    c.o.fit_accel_x_bias);
     widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x);
   }
-  c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows});
+  c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows, p.r_squared});
   c.coef.C_D_p = p.C_D_p.estimate;
   const Term tp{"C_D_p", &AeroCoefficients::C_D_p, nullptr, {}};
   CoefficientEstimate& r = record(c, tp, "trim");

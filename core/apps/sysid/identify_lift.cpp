@@ -99,7 +99,7 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
     e = lift_trim_considered(c);
   }
   c.coef.C_L_0 = e.theta[0], c.coef.C_L_alpha = e.theta[1];
-  c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows});
+  c.result.fits.push_back({"lift", "trim", e.r_squared, std::sqrt(e.s2), e.rows, e.r_squared_generalized});
   for (int j = 0; j < 2; ++j) {
     CoefficientEstimate& r = record(c, j == 0 ? t0 : ta, "trim");
     r.std_error = e.std_error[j];

@@ -103,7 +103,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
   std::string rms;
   for (std::size_t a = 0; a < outputs.size(); ++a) {
     const auto A = static_cast<Eigen::Index>(a);
-    c.result.fits.push_back({outputs[a], "output error", f.r_squared[A], f.rms[A], f.samples});
+    c.result.fits.push_back({outputs[a], "output error", f.r_squared[A], f.rms[A], f.samples, f.r_squared[A]});
     rms += fmt::format("{}{} {:.4f} -> {:.4f} rad/s", a ? ", " : "", outputs[a], f.rms_start[A], f.rms[A]);
   }
   c.result.notes.push_back(fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations",

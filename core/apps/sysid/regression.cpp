@@ -52,6 +52,11 @@ LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std
   e.std_error = cov.diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
   const double zc = (z.array() - z.mean()).matrix().squaredNorm();
   e.r_squared = zc > 0.0 ? 1.0 - v.squaredNorm() / zc : 0.0;
+  e.r_squared_generalized = e.r_squared;
+  if (instruments != nullptr && zc > 0.0) {  // X^ theta = Z (Z^T Z)^-1 Z^T X theta
+    const Eigen::VectorXd fitted = Z * inverse_spd(Z.transpose() * Z) * (Z.transpose() * (X * e.theta));
+    e.r_squared_generalized = 1.0 - (z - fitted).squaredNorm() / zc;
+  }
   return e;
 }
 
@@ -75,6 +80,12 @@ LsEstimate least_squares_frequency(const Eigen::MatrixXcd& X, const Eigen::Vecto
   e.std_error = (D * M * D.transpose()).diagonal().cwiseMax(0.0).cwiseSqrt().cwiseMax(e.std_error_white);
   const double zz = z.squaredNorm();
   e.r_squared = zz > 0.0 ? 1.0 - v.squaredNorm() / zz : 0.0;
+  e.r_squared_generalized = e.r_squared;
+  if (instruments != nullptr && zz > 0.0) {  // X^ theta = Z Re(Z^H Z)^-1 Re(Z^H X theta): real parameters
+    const Eigen::VectorXcd Xt = X * e.theta.cast<std::complex<double>>();
+    const Eigen::VectorXd g = inverse_spd((Z.adjoint() * Z).real()) * (Z.adjoint() * Xt).real();
+    e.r_squared_generalized = 1.0 - (z - Z * g.cast<std::complex<double>>()).squaredNorm() / zz;
+  }
   return e;
 }
 

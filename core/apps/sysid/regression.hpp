@@ -34,13 +34,21 @@ struct LsEstimate {
   Eigen::VectorXd residual;         ///< z - X theta (time domain; magnitudes in the frequency domain)
   double s2 = 0.0;                  ///< residual variance, z units^2
   double r_squared = 0.0;           ///< 1 - |v|^2 / |z - mean(z)|^2 (frequency domain: |z~|^2)
+  /// With instruments, Pesaran and Smith's generalized R^2 (Econometrica 62(3), 1994, "A
+  /// generalized R^2 criterion for regression models estimated by the instrumental variables
+  /// method"): 1 - |z - X^ theta|^2 / |z - mean(z)|^2, X^ = P_Z X the regressors the instruments
+  /// predict. An instrumented regressor's own error (the gust in a reconstructed alpha) is in v
+  /// and can make r_squared negative for a model that holds; it is not in z - X^ theta. Without
+  /// instruments: r_squared.
+  double r_squared_generalized = 0.0;
   std::size_t rows = 0;
 };
 
 /// Time-domain least squares with the coloured-residual covariance (header). max_lag in samples.
 /// With `instruments` Z (the shape of X), the instrumental-variable estimate theta = (Z^T X)^-1
 /// Z^T z (K&M sec. 5.5), covariance D [sum_i sum_j z_i R_vv(i-j) z_j^T] D^T, D = (Z^T X)^-1:
-/// consistent when a regressor carries an error that Z's columns do not correlate with.
+/// consistent when a regressor carries an error that Z's columns do not correlate with;
+/// r_squared_generalized then judges the fit.
 LsEstimate least_squares(const Eigen::MatrixXd& X, const Eigen::VectorXd& z, std::size_t max_lag,
                          const Eigen::MatrixXd* instruments = nullptr);
 

@@ -88,8 +88,12 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
       j["coefficients"][c.name]["equation_error"] = {{"estimate", c.equation_error}, {"std_error", c.equation_error_std_error}};
   }
   for (const auto& f : r.fits)
-    j["fits"].push_back(
-        {{"axis", f.axis}, {"domain", f.domain}, {"r_squared", f.r_squared}, {"rms_residual", f.rms_residual}, {"rows", f.rows}});
+    j["fits"].push_back({{"axis", f.axis},
+                         {"domain", f.domain},
+                         {"r_squared", f.r_squared},
+                         {"r_squared_generalized", f.r_squared_generalized},
+                         {"rms_residual", f.rms_residual},
+                         {"rows", f.rows}});
   j["drag_at_trim"] = {{"prior", r.C_D_trim_prior}, {"identified", r.C_D_trim}, {"change_per_deg_of_alpha", r.C_D_per_deg}};
   j["oswald_e"] = r.aircraft.e;
   const auto nuisance = [](const NuisanceEstimate& e, const char* unit) {
@@ -206,9 +210,13 @@ std::string format_sysid_table(const SysidResult& r) {
   out += fmt::format("pitot scale {}, accelerometer x bias {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
                      line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"));
   out += delay_line(r) + "\n";
-  for (const auto& f : r.fits)
-    out +=
-        fmt::format("fit {:<10} {:<4} R^2 {:.3f}, rms residual {:.3g}, {} rows\n", f.axis, f.domain, f.r_squared, f.rms_residual, f.rows);
+  for (const auto& f : r.fits) {
+    // an instrumented fit is judged by its generalized R^2 (regression.hpp): both shown
+    const std::string generalized =
+        f.r_squared_generalized != f.r_squared ? fmt::format(" (instrumented: generalized R^2 {:.3f})", f.r_squared_generalized) : "";
+    out += fmt::format("fit {:<10} {:<4} R^2 {:.3f}{}, rms residual {:.3g}, {} rows\n", f.axis, f.domain, f.r_squared, generalized,
+                       f.rms_residual, f.rows);
+  }
   return out;
 }
 

@@ -47,8 +47,8 @@ const AxisFit* fit_of(const SysidResult& r, const CoefficientEstimate& c) {
 
 /// Why `c` fails the rule, or "" when it holds.
 std::string failure(const SysidResult& r, const CoefficientEstimate& c, double max_relative_error) {
-  if (const AxisFit* f = fit_of(r, c); f && !(f->r_squared >= 0.0))
-    return fmt::format("its {} fit ({}) explains less than the mean: R^2 {:.2f}", f->axis, f->domain, f->r_squared);
+  if (const AxisFit* f = fit_of(r, c); f && !(f->r_squared_generalized >= 0.0))
+    return fmt::format("its {} fit ({}) explains less than the mean: R^2 {:.2f}", f->axis, f->domain, f->r_squared_generalized);
   if (!(c.std_error <= max_relative_error * std::abs(c.estimate)))
     return fmt::format("its standard error {:.2g} exceeds {:g} of the estimate {:.4g}", c.std_error, max_relative_error, c.estimate);
   return "";
@@ -65,8 +65,8 @@ void check_oswald(SysidResult& r, const Aircraft& prior, double max_relative_err
   const auto drag = std::find_if(r.fits.begin(), r.fits.end(), [](const AxisFit& f) { return f.axis == "drag" && f.domain == "trim"; });
   if (lift_rejected)
     reject_oswald(r, prior, "the polar's slope rests on the lift's trim terms, which were not adopted");
-  else if (drag != r.fits.end() && !(drag->r_squared >= 0.0))
-    reject_oswald(r, prior, fmt::format("the drag's trim fit explains less than the mean: R^2 {:.2f}", drag->r_squared));
+  else if (drag != r.fits.end() && !(drag->r_squared_generalized >= 0.0))
+    reject_oswald(r, prior, fmt::format("the drag's trim fit explains less than the mean: R^2 {:.2f}", drag->r_squared_generalized));
   else if (!(r.oswald.std_error <= max_relative_error * std::abs(r.oswald.estimate)))
     reject_oswald(r, prior,
                   fmt::format("its standard error {:.2g} exceeds {:g} of the estimate {:.3f}", r.oswald.std_error, max_relative_error,
