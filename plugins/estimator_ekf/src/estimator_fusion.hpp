@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 
 #include "tern/estimator_ekf/estimator.hpp"
@@ -43,7 +44,11 @@ UpdateResult Estimator::fuse_robust(Sensor s, Model& model, const typename Model
   // sensor wrong for this long. Inflate the variances of the states the sensor measures so the
   // innovation sits near the gate, and fuse again.
   const double beta = std::min(model.stats.last_nis / model.gate, 1e4);
-  filter_.inflate(first, n, beta);
+  // each state's variance at most the square of the innovation on its axis (Filter::inflate), the
+  // innovation as gated: at the measurement's time of validity
+  std::array<double, 3> cap{};
+  for (std::size_t i = 0; i < cap.size(); ++i) cap[i] = model.stats.last_innovation[i] * model.stats.last_innovation[i];
+  filter_.inflate(first, n, beta, Model::kDim == n && n <= 3 ? cap.data() : nullptr);
   ++inflations_;
   double& worst = inflation_max_[static_cast<std::size_t>(s)];
   worst = std::max(worst, beta);

@@ -480,6 +480,13 @@ TEST_CASE("covariance inflation adds independent variance: fusing p + e afterwar
   CHECK(f.P()(idx::p, idx::v) == P0(idx::p, idx::v));
   CHECK(f.P()(idx::v, idx::v) == P0(idx::v, idx::v));
   CHECK(Eigen::LLT<Cov>(f.P()).info() == Eigen::Success);
+  // capped: no variance beyond the square of its axis's innovation, none lowered
+  const Cov P1 = f.P();
+  const double cap[3] = {2.0 * P1(idx::p, idx::p), 0.5 * P1(idx::p + 1, idx::p + 1), 1e9};
+  f.inflate(idx::p, 3, 4.0, cap);
+  CHECK(f.P()(idx::p, idx::p) == doctest::Approx(cap[0]));
+  CHECK(f.P()(idx::p + 1, idx::p + 1) == P1(idx::p + 1, idx::p + 1));
+  CHECK(f.P()(idx::p + 2, idx::p + 2) == doctest::Approx(4.0 * P1(idx::p + 2, idx::p + 2)));
   // GNSS-like structure: p = z0 - e, var(e) = 1, corr(p, e) = -0.999. Inflate p x25, then fuse
   // z = p + e (sigma 0.1): var(e) must stay near 1 (nothing measures e alone).
   Cov P = Cov::Identity() * 1e-2;

@@ -78,6 +78,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -289,9 +290,11 @@ struct UpdateStats {
   std::uint64_t invalid = 0;
   std::uint64_t consecutive_rejected = 0;  ///< rejections since the last accepted update
   double last_nis = 0.0;                   ///< normalised innovation squared of the last gated update
-  double nis_sum = 0.0;                    ///< sum of the NIS of every gated update (accepted or rejected)...
-  std::uint64_t nis_count = 0;             ///< ...and their number: mean NIS = nis_sum / nis_count
-  double max_ratio = -1.0;                 ///< largest NIS / gate since take_max_ratio() (-1: none)
+  /// its innovation's first (up to) three components, as gated (at the measurement's time of validity)
+  std::array<double, 3> last_innovation{};
+  double nis_sum = 0.0;         ///< sum of the NIS of every gated update (accepted or rejected)...
+  std::uint64_t nis_count = 0;  ///< ...and their number: mean NIS = nis_sum / nis_count
+  double max_ratio = -1.0;      ///< largest NIS / gate since take_max_ratio() (-1: none)
   double mean_nis() const { return nis_count > 0 ? nis_sum / static_cast<double>(nis_count) : 0.0; }
   /// The largest test ratio since the last call, -1 when there was no gated update.
   double take_max_ratio() {
@@ -381,9 +384,17 @@ class Filter {
   /// rows and columns instead would also scale the correlations with the other states: for the
   /// GNSS position (z = p + e_gnss, p and e_gnss strongly anti-correlated) the next fix would
   /// then tell the filter it had learnt e_gnss (measured: position NEES 165).
-  void inflate(int first, int n, double beta) {
+  /// `cap` (n values, or null): no state's variance grows beyond cap[i] (the square of the
+  /// innovation on its axis: the state drifted by at most the whole disagreement). Uncapped, a
+  /// GNSS fix whose height the barometer keeps contradicting doubled the horizontal variances
+  /// with every 10-Hz fix, the height's own inflation undone by the barometer each time.
+  void inflate(int first, int n, double beta, const double* cap = nullptr) {
     step_covariance();
-    for (int i = first; i < first + n; ++i) P_(i, i) += (beta - 1.0) * P_(i, i);
+    for (int i = first; i < first + n; ++i) {
+      double add = (beta - 1.0) * P_(i, i);
+      if (cap != nullptr) add = std::min(add, std::max(0.0, cap[i - first] - P_(i, i)));
+      P_(i, i) += add;
+    }
   }
 
   /// Adds independent variance `var` (each >= 0) to the error states from `first`: a state that
@@ -507,6 +518,7 @@ UpdateResult Filter::update(Model& model, const typename Model::Vec& z, const No
   }
   const double nis = y.dot(llt.solve(y));
   model.stats.last_nis = nis;
+  for (int i = 0; i < std::min(M, 3); ++i) model.stats.last_innovation[static_cast<std::size_t>(i)] = y(i);
   model.stats.nis_sum += nis;
   ++model.stats.nis_count;
   if (model.gate > 0.0) model.stats.max_ratio = std::max(model.stats.max_ratio, nis / model.gate);
