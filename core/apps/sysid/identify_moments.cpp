@@ -106,8 +106,10 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     c.result.fits.push_back({outputs[a], "output error", f.r_squared[A], f.rms[A], f.samples, f.r_squared[A]});
     rms += fmt::format("{}{} {:.4f} -> {:.4f} rad/s", a ? ", " : "", outputs[a], f.rms_start[A], f.rms[A]);
   }
-  c.result.notes.push_back(fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations",
-                                       axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations));
+  c.result.notes.push_back(
+      fmt::format("output error ({}): {} coefficients, residual rms {}; {} relaxations, {} simulations{}",
+                  axes == RateAxes::pitch ? "pitch" : "roll and yaw", free.size(), rms, f.relaxations, f.evaluations,
+                  f.budget_spent ? fmt::format(" (its budget of {} spent: not converged)", c.o.output_error.max_simulations) : ""));
   for (std::size_t j = 0; j < free.size(); ++j) {
     const auto J = static_cast<Eigen::Index>(j);
     CoefficientEstimate* e = find_estimate(c.result, free[j]);

@@ -416,10 +416,17 @@ OutputErrorFit output_error(const RateData& d, const Aircraft& prior, const Aero
   fit.rms_start = rms_per_output(v, ny);
   Eigen::MatrixXd R = covariance(v, ny);
   Eigen::MatrixXd J;
+  const int per_step = 1 + static_cast<int>(params.size());  // a residual and a finite-difference Jacobian
   for (fit.relaxations = 1; fit.relaxations <= std::max(1, o.max_relaxations); ++fit.relaxations) {
+    const int left = o.max_simulations - fit.evaluations;
+    if (fit.relaxations > 1 && left < per_step) {
+      fit.budget_spent = true;
+      --fit.relaxations;  // this one not made
+      break;
+    }
     Whitened f(model, R, scale, fit.evaluations);
     Eigen::LevenbergMarquardt<Whitened> lm(f);
-    lm.setMaxfev(o.max_evaluations);
+    lm.setMaxfev(std::max(1, std::min(o.max_evaluations, left / per_step)));
     const Eigen::VectorXd before = theta;
     lm.minimize(theta);
     v = model.residuals(theta);

@@ -63,10 +63,14 @@ enum class RateAxes { pitch, lateral };
 
 struct OutputErrorOptions {
   bool enabled = true;
-  double window_s = 5.0;          ///< s, the simulation restarts from the measured rates this often (> 0)
-  double max_lag_s = 2.0;         ///< s, longest lag of the residual autocorrelation in the coloured bound
-  int max_relaxations = 5;        ///< fits with R fixed, R re-estimated after each (>= 1)
-  int max_evaluations = 400;      ///< model simulations per Levenberg-Marquardt fit
+  double window_s = 5.0;      ///< s, the simulation restarts from the measured rates this often (> 0)
+  double max_lag_s = 2.0;     ///< s, longest lag of the residual autocorrelation in the coloured bound
+  int max_relaxations = 5;    ///< fits with R fixed, R re-estimated after each (>= 1)
+  int max_evaluations = 400;  ///< model simulations per Levenberg-Marquardt fit
+  /// model simulations in all, the finite-difference Jacobians' included: no further relaxation
+  /// once spent. Tern's and the foreign benches' flights take 25-90 (pitch) and 336-506 (roll and
+  /// yaw); a log the model cannot follow took 3529 (21 s of a 28-s sysid run).
+  int max_simulations = 1200;
   double theta_tolerance = 1e-3;  ///< relaxation stops when no coefficient moves more than this many standard errors
   bool hold_commands = false;     ///< the surfaces held over each sample interval (raw zero-order-hold data) instead of interpolated
   /// s, aileron, elevator, rudder: each surface's commands act this much later than the data has
@@ -97,6 +101,7 @@ struct OutputErrorFit {
   Eigen::VectorXd rms_start, rms;        ///< rad/s per output: the start's and the estimate's residuals
   Eigen::VectorXd r_squared;             ///< per output, 1 - sum v^2 / sum (z - mean z)^2
   int relaxations = 0, evaluations = 0;  ///< fits made, model simulations in all
+  bool budget_spent = false;             ///< relaxation stopped by max_simulations
   std::size_t samples = 0;               ///< residual samples per output
 };
 
