@@ -19,8 +19,9 @@ the units ArduPilot logs and `tern import dataflash` converts back (core/apps/im
        h_acc, v_acc, s_acc          TimeUS) VDop (* 100), HAcc, VAcc (cm), SAcc (cm/s), VV 1
                                     time_of_validity is not in the format: stamp - time_of_validity -> GPS_DELAY_MS
   baro pressure (Pa), temp (K)    BARO Press (Pa), Temp (degC * 100); Alt, AltAMSL the ISA pressure altitudes
-  diff_pressure pressure (Pa)     ARSP DiffPress = p * 2 / (ARSPD_RATIO * 1.225) (Pa; ArduPilot's EAS is
-                                    sqrt(DiffPress * ARSPD_RATIO), the estimator's sqrt(2 p / 1.225)); Airspeed that EAS
+  diff_pressure pressure (Pa)     ARSP DiffPress = p * 2 / (ARSPD_RATIO * rho0) (Pa; ArduPilot's EAS is
+                                    sqrt(DiffPress * ARSPD_RATIO), the estimator's sqrt(2 p / rho0), rho0 the ISA's
+                                    sea-level density, tern/atmosphere.hpp); Airspeed that EAS
   mag  field (T), body FRD        MAG MagX/Y/Z (mGauss = 1e-7 T, int16)
   actuators delta_a/e/r (rad),    RCOU C1..C4 (us) through PARM SERVOn_FUNCTION/MIN/TRIM/MAX/REVERSED (SERVOS):
        delta_t (0..1)               ArduPilot's roll right, nose up, nose right commands u = delta_a / max_a,
@@ -47,6 +48,8 @@ import shutil
 import struct
 import subprocess
 import sys
+
+import sdk_constants
 
 # ---- the format (LogStructure.h); tests/fuzz/make_dataflash_seeds.py imports these
 
@@ -115,7 +118,11 @@ class Log:
 BOOT_US = 90_000_000  # us: the log's first sample 90 s after ArduPilot's boot (TimeUS counts from boot)
 FIRMWARE = "ArduPlane V4.5.7 (tern bench/dataflash_log.py)"
 ARSPD_RATIO = 1.9936  # ArduPilot's default
-RHO0 = 1.225  # kg/m^3: ArduPilot's and tern's sea-level density (EAS)
+# kg/m^3: ArduPilot's and tern's sea-level density (EAS), and the ISA's barometric formula (Pa, 1/m, -)
+RHO0 = sdk_constants.constant("atmosphere.hpp", "kIsaSeaLevelDensity")
+P0 = sdk_constants.constant("atmosphere.hpp", "kIsaSeaLevelPressure")
+ISA_K = sdk_constants.constant("atmosphere.hpp", "kIsaPressureLapse")
+ISA_N = sdk_constants.constant("atmosphere.hpp", "kIsaPressureExponent")
 KELVIN = 273.15
 GPS_EPOCH_UNIX = 315964800  # 1980-01-06 00:00:00 UTC
 LEAP_SECONDS = 18  # GPS - UTC since 2017
@@ -166,7 +173,7 @@ def gps_week_ms(date, t_s):
 
 def isa_altitude(p_pa):
     """m: the ISA troposphere's pressure altitude (docs/sensor-log.md, baro)."""
-    return (1.0 - (p_pa / 101325.0) ** (1.0 / 5.25588)) / 2.25577e-5
+    return (1.0 - (p_pa / P0) ** (1.0 / ISA_N)) / ISA_K
 
 
 # ---- what the log's own files say: the aircraft's servo throws, the date, the installation
@@ -276,7 +283,7 @@ def baro_values(t_us, r, p_ground):
 
 
 def arsp_values(t_us, r, ratio):
-    """ARSP: DiffPress Pa such that ArduPilot's EAS sqrt(DiffPress * ratio) is the ideal pitot's sqrt(2 p / 1.225)."""
+    """ARSP: DiffPress Pa such that ArduPilot's EAS sqrt(DiffPress * ratio) is the ideal pitot's sqrt(2 p / RHO0)."""
     dp = r["pressure"] * 2.0 / (ratio * RHO0)
     return (t_us, 0, math.sqrt(max(dp * ratio, 0.0)), dp, r.get("temperature", KELVIN + 15.0) - KELVIN, dp, 0.0, 1, 1,
             1.0, 0.0, 0)

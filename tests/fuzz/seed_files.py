@@ -1,15 +1,16 @@
 """What the seed makers of tests/fuzz (make_*_seeds.py) and the hostile-input maker share:
 writing a target's seeds, and the SDK's constants read from their one declaration."""
 import os
-import re
+import sys
 
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+sys.path.insert(0, os.path.join(REPO, "bench"))
+import sdk_constants  # noqa: E402 (the SDK's constants, read from their headers)
 
 
 def standard_gravity():
     """m/s^2, as text: the SDK's one declaration (sdk/include/tern/math.hpp, kStandardGravity)."""
-    with open(os.path.join(REPO, "sdk", "include", "tern", "math.hpp")) as f:
-        return re.search(r"kStandardGravity = ([0-9.]+);", f.read()).group(1)
+    return sdk_constants.literal("math.hpp", "kStandardGravity")
 
 
 def write_seeds(out, seeds):
