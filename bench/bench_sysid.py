@@ -209,9 +209,7 @@ def through_dataflash(tern, foreign, truth_file, work, seed):
     throws = dataflash_log.max_deflection(truth_file)
     bin_file, imported = os.path.join(work, f"foreign_{seed}.bin"), os.path.join(work, f"dataflash_{seed}")
     done = dataflash_log.write(foreign, bin_file, throws, dataflash_log.flight_date(foreign))
-    dataflash_log.import_bin(tern, bin_file, imported, throws)
-    dataflash_log.carry_over(foreign, imported, done["origin_s"])
-    report, ok = dataflash_log.check(foreign, imported, done["origin_s"], throws)
+    _, report, ok = dataflash_log.read_back(tern, foreign, bin_file, imported, done["origin_s"], throws)
     if not ok:
         sys.exit(f"bench_sysid: seed {seed}: the DataFlash round trip lost rows or values:\n" + "\n".join(dataflash_log.check_lines(report)))
     return imported, {**done, "bin": bin_file, "round_trip_within_resolution": ok, "round_trip": report}

@@ -433,6 +433,16 @@ def carry_over(src_dir, imported_dir, origin_s):
                     f"airborne: [{start:.6f}, {end:.6f}]\n")
 
 
+def read_back(tern, src_dir, out_bin, imported_dir, origin_s, throws):
+    """The .bin back through `tern import dataflash` into imported_dir (made anew), what its user states beside it
+    carried over (carry_over), and the round trip checked against the source: (tern's account, report, ok)."""
+    shutil.rmtree(imported_dir, ignore_errors=True)
+    account = import_bin(tern, out_bin, imported_dir, throws)
+    carry_over(src_dir, imported_dir, origin_s)
+    report, ok = check(src_dir, imported_dir, origin_s, throws)
+    return account, report, ok
+
+
 def resolutions(throws):
     """(table, column) -> (absolute, relative) tolerance of the round trip: half the format's step (float32: half
     an ulp, 6e-8 relative; c C e: 0.005; L: 0.5e-7 deg; MAG: 0.5 mGauss; RCOU: half a microsecond of the
@@ -511,10 +521,8 @@ def main():
           f"commands clamped {done['clamped_commands']}")
     if a.check:
         imported = os.path.splitext(a.out)[0] + ".imported"
-        shutil.rmtree(imported, ignore_errors=True)
-        print(import_bin(os.path.join(a.check, "tern"), a.out, imported, throws), end="")
-        carry_over(a.log, imported, done["origin_s"])
-        report, ok = check(a.log, imported, done["origin_s"], throws)
+        account, report, ok = read_back(os.path.join(a.check, "tern"), a.log, a.out, imported, done["origin_s"], throws)
+        print(account, end="")
         print("\n".join(["round trip (column max error (share of its tolerance used)):"] + check_lines(report)))
         print("round trip: " + ("every row and value back within the format's resolution" if ok else "FAILED"))
         sys.exit(0 if ok else 1)
