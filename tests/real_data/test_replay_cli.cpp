@@ -109,7 +109,10 @@ std::string line_after(const std::string& table, const std::string& row) {
 TEST_CASE("the PX4 Zurich 2014 replay explains its anomalies where it shows them (report notes, replay_report.json)") {
   const fs::path log = import_flight("inertialnav", kZurich, "zurich_notes");
   const fs::path runs = scratch("zurich_notes_runs");
-  const Run r = run("replay " + log.string() + " --log-dir " + runs.string());  // not -q: the printed report
+  // not -q: the printed report. Every compass sample fused (mag_fusion_interval 0, as before that
+  // setting): the notes' subject here is a 3-axis model rejected at the launch, which fusing at
+  // 50 Hz turns into a few samples accepted.
+  const Run r = run("replay " + log.string() + " --log-dir " + runs.string() + " --set ekf.mag_fusion_interval=0");
   INFO(r.output);
   REQUIRE(r.status == 0);
   std::ifstream in(fs::directory_iterator(runs)->path() / "replay_report.json");

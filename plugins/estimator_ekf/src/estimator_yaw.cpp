@@ -10,6 +10,12 @@
 
 namespace tern::ekf {
 
+namespace {
+/// Share of mag_fusion_interval after which the next sample is fused (a stream at the interval's
+/// rate keeps every sample through its stamps' jitter; one at twice the rate keeps every other).
+constexpr double kMagIntervalShare = 0.75;
+}  // namespace
+
 bool Estimator::add_mag(const msg::Mag& m) {
   const double n = m.field.norm();
   const bool ok = m.field.allFinite() && n > 1e-7 && n < 1e-3;
@@ -25,6 +31,10 @@ bool Estimator::add_mag(const msg::Mag& m) {
     test_stopped_mag(m.stamp, z);
     return true;
   }
+  if (mag_fused_stamp_ >= 0 && m.stamp >= mag_fused_stamp_ &&
+      to_seconds(m.stamp - mag_fused_stamp_) < kMagIntervalShare * cfg_.mag_fusion_interval)
+    return true;
+  mag_fused_stamp_ = m.stamp;
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   const Nanos t_v = valid_at(Sensor::mag, m.stamp);
   // The field's direction in the air only (PX4 EKF2's automatic EKF2_MAG_TYPE): on the ground a

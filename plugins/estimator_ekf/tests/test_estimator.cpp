@@ -261,6 +261,31 @@ TEST_CASE("the magnetometer: its heading on the ground, the field's direction in
   CHECK(h.mag_heading_model().stats.accepted >= 450);
 }
 
+TEST_CASE("a 100-Hz magnetometer is fused at most every mag_fusion_interval: its lasting error weighs as a 50-Hz one's") {
+  // Each 50-Hz sample of the truth simulation also arrives 10 ms earlier: a 100-Hz compass.
+  const auto fused_per_second = [](double interval) {
+    EstimatorConfig c = truth_sim_config();
+    c.mag_fusion_interval = interval;
+    TruthSim sim(mixed_flight());
+    Estimator est(c);
+    Hooks h;
+    h.mag = [&](msg::Mag& m) {
+      msg::Mag earlier = m;
+      earlier.stamp -= 10'000'000;
+      est.add_mag(earlier);
+      return true;
+    };
+    fly(sim, est, 10.0, h);
+    const auto n0 = est.mag_model().stats.accepted + est.mag_model().stats.rejected;
+    fly(sim, est, 10.0, h);
+    return (est.mag_model().stats.accepted + est.mag_model().stats.rejected - n0) / 10.0;
+  };
+  const double every_20ms = fused_per_second(0.02), every_sample = fused_per_second(0.0);
+  std::printf("100-Hz magnetometer: %.1f samples fused a second at mag_fusion_interval 0.02 s, %.1f at 0\n", every_20ms, every_sample);
+  CHECK(every_20ms == doctest::Approx(50.0).epsilon(0.02));
+  CHECK(every_sample == doctest::Approx(100.0).epsilon(0.02));
+}
+
 TEST_CASE("a static-port error (5 % of the dynamic pressure) is learnt from the changes of airspeed") {
   SimOptions o = mixed_flight();
   o.baro_static_error = 0.05;
