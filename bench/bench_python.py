@@ -67,8 +67,15 @@ def env_rate(steps, episode_s, start_s=5.0):
         bare.reset(seed=k + 2)
         bare_reset += time.perf_counter() - t0
     bare_reset /= n
-    host = bare.host  # Host.step(4) alone, the action held still (the floor the Python adds to)
-    host.reset(1)
+    host = bare.host
+    host_reset = 0.0  # Host.reset(seed) alone, after an episode's flight (untimed), as FlightEnv calls it
+    for k in range(n):
+        host.step(int(round(episode_s * 400)))
+        t0 = time.perf_counter()
+        host.reset(k + 100)
+        host_reset += time.perf_counter() - t0
+    host_reset /= n
+    host.reset(1)  # Host.step(4) alone, the action held still (the floor the Python adds to)
     host.write("actuators", {"delta_a": 0.0})
     t0 = time.perf_counter()
     for _ in range(steps):
@@ -78,7 +85,7 @@ def env_rate(steps, episode_s, start_s=5.0):
     bare.close()
     return {"steps": steps, "episodes": episodes, "episode_s": episode_s, "start_s": start_s, "steps_per_s": steps / stepping,
             "steps_per_s_with_resets": steps / (stepping + resetting), "reset_s": resetting / episodes,
-            "reset_without_start_flight_s": bare_reset, "start_flight_s": resetting / episodes - bare_reset,
+            "reset_without_start_flight_s": bare_reset, "start_flight_s": resetting / episodes - bare_reset, "host_reset_s": host_reset,
             "host_step4_per_s": raw, "real_time_factor": steps / stepping * 0.01}
 
 
@@ -191,6 +198,7 @@ def main():
     print(f"{'  reset (new seed; host kept), s':<52} {env['reset_s']:12.4f}")
     print(f"{'    of which the 5-s start flown, s':<52} {env['start_flight_s']:12.4f}")
     print(f"{'    the rest: log ended and removed, next begun, s':<52} {env['reset_without_start_flight_s']:12.4f}")
+    print(f"{'    Host.reset(seed) alone, s':<52} {env['host_reset_s']:12.4f}")
     print(f"{'Host.step(4) alone per second':<52} {env['host_step4_per_s']:12.0f}")
     print(f"{'real-time factor':<52} {env['real_time_factor']:12.0f}  >= 200")
     for vec in vecs:

@@ -8,12 +8,14 @@ Everything pinned to one core (--cpu, default the last), the whole process, medi
    `tern fly -q` at log levels summary, replay (MCAP: what `make fly` writes) and full (MCAP):
    wall time, real-time factor (flight time / wall time), the log writer's CPU time, the run
    directory's bytes; for replay also with `tern-plot`'s figures, as `make fly` leaves it.
-2. Resets on learn.yaml: Host.reset(seed) with a new seed each time (the flight's start: plugins
-   reset, the log's run directory), and FlightEnv.reset() (the same, then the 5 s of flight before
-   an episode starts).
+2. Resets on learn.yaml: Host.reset(seed) with a new seed each time, after an episode's flight
+   (the flight's start: plugins reset, the log's run directory), and FlightEnv.reset() (the same,
+   then the 5 s of flight before an episode starts).
 3. tern.env.FlightEnv() with its default episodes (10 s after a 5-s start, 100-Hz control),
    environment steps per second with a linear roll policy, resets included; VectorFlightEnv of
-   1, 2 and 4 sub-environments the same way (sub-environment steps per second).
+   1, 2 and 4 sub-environments the same way (sub-environment steps per second, autoresets).
+   2 and 3 are bench_python.py's env_rate and vector_rate (one implementation of each figure;
+   bench_python.py adds their parts: the reset split, Host.step(4) alone, runs without resets).
 4. The machine's single-thread figure beside them: the same core's zlib level-1 compression and
    SHA-256 throughput on a fixed 64-MB buffer, so that figures from machines of other speeds can
    be compared (the issue's targets were set on a faster machine).
@@ -79,57 +81,18 @@ def log_levels(build, repeat, cpu):
 
 
 def python_figures(repeat):
-    """Resets and environment steps, in this process (already pinned)."""
-    import numpy as np
-    import tern.env
-    from tern.vector_env import VectorFlightEnv
-    gains = np.array([1.5, -0.1])
-    env = tern.env.FlightEnv()
-    env.reset(seed=1)
-    host = env.host
-    seed = [100]
-
-    def host_reset():
-        seed[0] += 1
-        host.reset(seed[0])
-
-    def env_reset():
-        seed[0] += 1
-        env.reset(seed=seed[0])
-
-    def timed(f, n):
-        t0 = time.perf_counter()
-        for _ in range(n):
-            f()
-        return (time.perf_counter() - t0) / n
-
-    out = {"host_reset_ms": statistics.median(timed(host_reset, 100) * 1e3 for _ in range(repeat)),
-           "flight_env_reset_ms": statistics.median(timed(env_reset, 20) * 1e3 for _ in range(repeat))}
-
-    def env_steps(steps=20000):
-        obs, _ = env.reset(seed=1)
-        t0 = time.perf_counter()
-        for _ in range(steps):
-            obs, _, terminated, truncated, _ = env.step(np.array([gains @ obs[:2]]))
-            if terminated or truncated:
-                obs, _ = env.reset()
-        return steps / (time.perf_counter() - t0)
-
-    out["flight_env_steps_per_s"] = statistics.median(env_steps() for _ in range(repeat))
-    env.close()
-    out["vector_env"] = []
+    """Resets and environment steps, in this process (already pinned), measured by bench_python's
+    own functions (one implementation of each figure), `repeat` times: the medians."""
+    import bench_python
+    envs = [bench_python.env_rate(20000, 10.0) for _ in range(repeat)]
+    out = {"host_reset_ms": statistics.median(e["host_reset_s"] for e in envs) * 1e3,
+           "flight_env_reset_ms": statistics.median(e["reset_s"] for e in envs) * 1e3,
+           "flight_env_steps_per_s": statistics.median(e["steps_per_s_with_resets"] for e in envs),
+           "flight_env": "bench_python.env_rate(20000, 10.0): FlightEnv's default episodes (10 s after a 5-s start), resets included",
+           "vector_env": []}
     for n in (1, 2, 4):
-        venv = VectorFlightEnv(n)
-        rates = []
-        for _ in range(repeat):
-            obs, _ = venv.reset(seed=1)
-            steps = 20000 // n
-            t0 = time.perf_counter()
-            for _ in range(steps):
-                obs, _, _, _, _ = venv.step((obs[:, :2] @ gains)[:, None])
-            rates.append(steps * n / (time.perf_counter() - t0))
-        venv.close()
-        out["vector_env"].append({"num_envs": n, "steps_per_s": statistics.median(rates)})
+        vecs = [bench_python.vector_rate(20000, 10.0, n) for _ in range(repeat)]
+        out["vector_env"].append({"num_envs": n, "steps_per_s": statistics.median(v["steps_per_s_with_autoresets"] for v in vecs)})
     return out
 
 
@@ -161,6 +124,7 @@ def main():
     a = ap.parse_args()
     build = Path(a.build).resolve()
     sys.path.insert(0, str(build / "python"))
+    sys.path.insert(0, str(ROOT / "bench"))
     os.environ.setdefault("TERN_BUILD_DIR", str(build))
     os.sched_setaffinity(0, {a.cpu})
     m = machine()
