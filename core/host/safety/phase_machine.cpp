@@ -207,7 +207,15 @@ PreflightLimits PhaseMachine::limits() const {
 
 void PhaseMachine::start() {
   reset();
-  if (!preflight_()) log().warn("preflight skipped: the takeoff begins at t = 0 on whatever the estimator has");
+  if (preflight_()) {
+    preflight_skip_warned_ = false;
+  } else {
+    constexpr const char* kSkipped = "preflight skipped: the takeoff begins at t = 0 on whatever the estimator has";
+    if (std::exchange(preflight_skip_warned_, true))
+      log().info("{} (as in this host's earlier flights)", kSkipped);
+    else
+      log().warn("{}", kSkipped);
+  }
 }
 
 void PhaseMachine::reset() {

@@ -168,6 +168,9 @@ class PhaseMachine final : public Plugin {
     bool takeoff_checked = false;                  ///< the takeoff's abort criteria are watched
     std::string abort_reason;                      ///< why the takeoff was aborted ("" : it was not)
   } f_;
+  /// The host's flights have skipped preflight since the last one that did not (the warning is
+  /// given once, then kept at info: a learning environment's thousands of resets repeat it).
+  bool preflight_skip_warned_ = false;
 };
 
 }  // namespace tern::core

@@ -111,11 +111,15 @@ void ControllerPlugin::step(Nanos now) {
   } else {
     out = autopilot().update(mode, x, c, sticks, dt);
   }
+  if (s.valid) flight_.state_valid_once = true;
   if (out.held) {
     ++flight_.held_steps;
-    if (!flight_.holding) {
+    if (!flight_.holding && !s.valid && !flight_.state_valid_once) {
+      // every flight starts so (an air release before the estimator's first solution): not a fault
+      log().info("state not valid yet (estimator not initialised) at t = {:.3f} s; holding the last actuator command", to_seconds(now));
+    } else if (!flight_.holding) {
       log().warn("{} at t = {:.3f} s; holding the last actuator command",
-                 s.valid ? "non-finite state, command or sticks" : "state not valid (estimator not initialised)", to_seconds(now));
+                 s.valid ? "non-finite state, command or sticks" : "state not valid (estimator lost its solution)", to_seconds(now));
     }
   } else if (flight_.holding) {
     log().info("inputs valid again at t = {:.3f} s; control resumed", to_seconds(now));

@@ -96,6 +96,7 @@ class ControllerPlugin : public Plugin {
     std::optional<Nanos> last_step;
     std::optional<Command> hold_command;  ///< before the first command: hold the first state's
     bool holding = false;                 ///< the last step held the previous command
+    bool state_valid_once = false;        ///< the estimator's state has been valid in this flight
     std::uint64_t held_steps = 0;
     std::uint64_t manual_steps = 0;
   } flight_;
