@@ -1,6 +1,7 @@
 // core/apps/sysid/model_instruments.cpp: the linear model's instruments (model_instruments.hpp).
 #include "sysid/model_instruments.hpp"
 
+#include <cmath>
 #include <tuple>
 
 #include <fmt/format.h>
@@ -21,6 +22,40 @@ const Col* excitation_part(const Context& c, const Col& command) {
   return nullptr;
 }
 
+namespace {
+
+/// rad: the flight-path angles tried, in this order, when the model does not trim level at a
+/// stretch's airspeed: up to 10 deg of descent or climb, 2 deg apart.
+constexpr double kGammaStep = 2.0 * kRadPerDeg;
+constexpr int kGammaSteps = 5;
+
+/// The linear model at airspeed Va: level if it trims there, else on the nearest flight path that
+/// does (gamma_out, rad). A prior whose drag is 1.5 times the aircraft's needs more than full
+/// throttle to hold the fastest stretches level; the instrument needs the model's alpha and pitch
+/// response, which a few degrees of descent hardly change (lift W cos gamma), not a throttle the
+/// motor has. Throws the level trim's error when none trims.
+tern::aero::LinearModel linearize_near_level(const Aircraft& model, double Va, double& gamma_out) {
+  tern::sim::TrimRequest r;
+  r.Va = Va;
+  try {
+    gamma_out = 0.0;
+    return tern::aero::linearize(model, r);
+  } catch (const std::exception& level) {
+    for (int k = 1; k <= kGammaSteps; ++k)
+      for (const double sign : {-1.0, 1.0}) {
+        r.gamma = sign * k * kGammaStep;
+        try {
+          gamma_out = r.gamma;
+          return tern::aero::linearize(model, r);
+        } catch (const std::exception&) {
+        }
+      }
+    throw;
+  }
+}
+
+}  // namespace
+
 bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string& why) {
   const bool lateral = what != Modelled::alpha;
   const Col& u1 = lateral ? c.a.delta_a : c.a.delta_e;
@@ -33,6 +68,7 @@ bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string
   Eigen::VectorXcd Z(U1.size());
   Aircraft model = c.result.aircraft;
   model.aero = c.coef;
+  double steepest = 0.0, steepest_Va = 0.0;  // the flight path furthest from level the model trimmed on
   for (std::size_t i = 0; i < c.L.segments.size(); ++i) {
     const auto [b, e] = c.L.segments[i];
     double Va = 0.0;
@@ -40,7 +76,9 @@ bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string
     const auto [first, n] = c.spectra.segment_rows()[i];
     const Col f = c.spectra.segment_frequencies(i);
     try {
-      const tern::aero::LinearModel m = tern::aero::linearize(model, {Va});
+      double gamma = 0.0;
+      const tern::aero::LinearModel m = linearize_near_level(model, Va, gamma);
+      if (std::fabs(gamma) > std::fabs(steepest)) steepest = gamma, steepest_Va = Va;
       const auto u1 = U1.segment(first, n), u2 = U2.segment(first, n);
       const double half_span = 0.5 * model.b;
       switch (what) {
@@ -55,6 +93,12 @@ bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string
     }
   }
   c.spectra.put(&key, std::move(Z));
+  static constexpr const char* kNames[] = {"alpha", "beta", "p^", "r^"};
+  if (steepest != 0.0)
+    c.result.notes.push_back(
+        fmt::format("{}'s instrument: the linear model does not trim level at {:.1f} m/s with its throttle in "
+                    "[0, 1]; linearised on a flight path of {:+.0f} deg there (and nearer level elsewhere)",
+                    kNames[static_cast<int>(what)], steepest_Va, steepest / kRadPerDeg));
   return true;
 }
 

@@ -160,6 +160,45 @@ TEST_CASE("exact flights at three airspeeds: every excited coefficient from a pr
   CHECK(std::abs(r.C_D_trim - r.C_D_trim_prior) > 0.0);
 }
 
+TEST_CASE("a prior too draggy to trim level at the fastest airspeed still instruments alpha: on a descending flight path") {
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  tern::Aircraft prior = wrong_prior(truth);
+  const auto trims = [&](double Va) {
+    try {
+      tern::sim::compute_trim(prior, {Va});
+      return true;
+    } catch (const std::exception&) {
+      return false;
+    }
+  };
+  // parasitic drag (the Aerosonde's file has none) until level at 30 m/s needs more than full throttle
+  for (prior.aero.C_D_p = 0.02; prior.aero.C_D_p < 1.0 && trims(30.0);) prior.aero.C_D_p *= 1.25;
+  REQUIRE_FALSE(trims(30.0));
+  REQUIRE(trims(20.0));
+  tern::core::sysid::SysidOptions o;
+  o.output_error.hold_commands = true;
+  const auto r = tern::core::sysid::identify(s, prior, o);
+  bool descended = false, refused = false;
+  for (const auto& n : r.notes) {
+    descended = descended || n.find("alpha's instrument: the linear model does not trim level at") != std::string::npos;
+    refused = refused || n.find("alpha not instrumented") != std::string::npos;
+  }
+  CHECK(descended);
+  CHECK_FALSE(refused);
+  for (const auto& [name, value] : {std::pair<const char*, double>{"C_m_q", truth.aero.C_m_q},
+                                    {"C_m_delta_e", truth.aero.C_m_delta_e},
+                                    {"C_L_alpha", truth.aero.C_L_alpha}}) {
+    bool identified = false;
+    const double e = coefficient(r, name, &identified);
+    CAPTURE(name);
+    CAPTURE(e);
+    CHECK(identified);
+    CHECK(std::abs(e - value) <= 0.03 * std::abs(value));
+  }
+}
+
 TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
   const tern::Aircraft truth = aerosonde();
   FlightSeries s;
