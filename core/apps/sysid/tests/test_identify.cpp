@@ -9,6 +9,7 @@
 #include "sysid/identify.hpp"
 #include "sysid/regression.hpp"
 #include "sysid/sysid_output.hpp"
+#include "sysid/verdicts.hpp"
 #include "tern/math.hpp"
 #include "tern/aero/model.hpp"
 #include "tern/aero/trim.hpp"
@@ -197,6 +198,32 @@ TEST_CASE("a prior too draggy to trim level at the fastest airspeed still instru
     CHECK(identified);
     CHECK(std::abs(e - value) <= 0.03 * std::abs(value));
   }
+}
+
+TEST_CASE("a damping derivative or lift slope of the sign physics forbids is not adopted, however tight its bound") {
+  namespace sysid = tern::core::sysid;
+  const tern::Aircraft prior = aerosonde();
+  sysid::SysidResult r;
+  r.aircraft = prior;
+  const auto add = [&](const char* name, double prior_value, double estimate) {
+    sysid::CoefficientEstimate c;
+    c.name = name, c.prior = prior_value, c.estimate = estimate, c.std_error = 0.01 * std::abs(estimate), c.identified = true;
+    c.method = "output error";
+    r.coefficients.push_back(c);
+  };
+  add("C_ell_p", -0.5, 0.3);     // roll "driven" by its own rate
+  add("C_L_alpha", 5.6, -0.29);  // lift falling with alpha
+  add("C_m_q", -38.0, -30.0);    // right sign: stands
+  add("C_m_alpha", -2.7, 0.4);   // statically unstable airframes exist: stands
+  sysid::apply_verdicts(r, prior, {});
+  for (std::size_t k : {0u, 1u}) {
+    CAPTURE(r.coefficients[k].name);
+    CHECK_FALSE(r.coefficients[k].identified);
+    CHECK(r.coefficients[k].estimate == r.coefficients[k].prior);
+    CHECK(r.coefficients[k].note.find("not adopted: its sign") == 0);
+  }
+  CHECK(r.coefficients[2].identified);
+  CHECK(r.coefficients[3].identified);
 }
 
 TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
