@@ -40,7 +40,7 @@ tern::aero::LinearModel linearize_near_level(const Aircraft& model, double Va, d
   try {
     gamma_out = 0.0;
     return tern::aero::linearize(model, r);
-  } catch (const std::exception& level) {
+  } catch (const std::exception&) {  // rethrown below when no flight path trims
     for (int k = 1; k <= kGammaSteps; ++k)
       for (const double sign : {-1.0, 1.0}) {
         r.gamma = sign * k * kGammaStep;
