@@ -101,8 +101,9 @@ def resume(tmp, reference):
     p = subprocess.Popen([TERN, "campaign", CAMPAIGN, "--out", out, "--no-plots", "--workers", "1"], stdout=subprocess.PIPE,
                          stderr=subprocess.PIPE, text=True)
     deadline = time.time() + 60
+    # a 20-s flight takes some 30 ms here: poll often enough that the interrupt lands before the last one ends
     while len(summaries(out)) < 2 and time.time() < deadline and p.poll() is None:
-        time.sleep(0.05)
+        time.sleep(0.002)
     p.send_signal(signal.SIGINT)
     p.communicate(timeout=60)
     done = {s: os.stat(s).st_mtime_ns for s in summaries(out)}
