@@ -141,7 +141,7 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   initialized_ = true;
   inflight_yaw_aligned_ = false;  // a yaw from the magnetometer (or none): the first fixes in flight confirm it
   init_stamp_ = m.stamp;
-  mag_reject_since_ = mag_fused_stamp_ = -1;
+  mag_reject_since_ = mag_slot_ = -1;
   gnss_reject_since_ = -1;
   rate_ = x.rate(imu_samples_ > 0 ? gyro_avg_ : Vec3::Zero());
   push(m.stamp, EventKind::initialized, Sensor::gnss, have_mag ? 1.0 : 0.0);

@@ -371,7 +371,7 @@ class Estimator {
   Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)
   std::uint64_t gnss_resets_ = 0, filter_resets_ = 0, mag_resets_ = 0;
   Nanos mag_reject_since_ = -1;
-  Nanos mag_fused_stamp_ = -1;  ///< the last magnetometer sample fused (mag_fusion_interval), -1: none
+  Nanos mag_slot_ = -1;  ///< the next magnetometer fusion slot (mag_fusion_interval), -1: the next sample takes one
   Nanos init_stamp_ = -1;
   double last_Va_ = 0.0;  // airspeed of the last applicable pitot sample, m/s (0: none)
   Nanos last_Va_stamp_ = -1;

@@ -137,10 +137,11 @@ struct EstimatorConfig {
   /// iron's heading-dependent error, disturbances): every fused sample adds the same information,
   /// so a 100-Hz compass fused whole weighs twice the 50-Hz stream mag_sigma was set for, against
   /// the GNSS velocity's view of the yaw. ArduPilot's EKF2 and EKF3 fuse any non-IMU sensor at most
-  /// every 50 ms (sensorIntervalMin_ms). A sample is fused once 3/4 of this has passed since the last
-  /// fused one (kMagIntervalShare: a 50-Hz stream's jitter keeps every sample). 0: every sample.
-  /// PX4 Zurich 2014 (compass at 100 Hz): course 3.63 -> 3.02 deg RMS, horizontal velocity 1.18 ->
-  /// 1.02 m/s against the fixes (bench_real_flights; 25-67 Hz all give 2.93-3.01 deg), with one
+  /// every 50 ms (sensorIntervalMin_ms). One sample per slot of this length, the slots following
+  /// each other (not the samples), so a faster stream of any rate averages this rate; a sample up to
+  /// a quarter of it early takes its slot (a 50-Hz stream's jitter keeps every sample). 0: every sample.
+  /// PX4 Zurich 2014 (compass at 100 Hz): course 3.63 -> 3.03 deg RMS, horizontal velocity 1.18 ->
+  /// 1.01 m/s against the fixes (bench_real_flights; the log thinned to 20-67 Hz: 2.93-3.01 deg), with one
   /// velocity reset more (71.4 s, the end of a 4-g pull-up whose speed the estimate lost 4 m/s of
   /// against both the fixes and PX4's own estimate; fusing every sample, that gap stayed 2 s unreset).
   double mag_fusion_interval = 0.02;
