@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "sysid/model_instruments.hpp"
+#include "sysid/verdicts.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
@@ -60,6 +61,12 @@ void lift_band_rejected(Context& c, const std::string& why) {
     }
 }
 
+/// Why physics forbids the band's C_L_q (verdicts.hpp), "" when it does not or was not identified.
+std::string band_C_L_q_sign(Context& c) {
+  const CoefficientEstimate* q = find_estimate(c.result, "C_L_q");
+  return q != nullptr && q->identified ? forbidden_sign(q->name, q->estimate) : "";
+}
+
 }  // namespace
 
 void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excitation& delta_e) {
@@ -91,14 +98,12 @@ void lift(Context& c, const Excitation& alpha, const Excitation& q, const Excita
     lift_band_rejected(c, fmt::format("the reconstructed alpha explains R^2 {:.2f} of the lift in the band (gusts the flight path misses)",
                                       fit->r_squared));
     e = lift_trim_considered(c);
-  } else if (const CoefficientEstimate* q = find_estimate(c.result, "C_L_q"); q != nullptr && q->identified && q->estimate < 0.0) {
-    // a pitch rate raises the tail's (or a canard's) angle of attack: C_L_q > 0 on every fixed wing
-    // (Etkin and Reid, *Dynamics of Flight*, sec. 5.5). A negative one is the band's alpha taking the
-    // elevator's and the pitch rate's parts the wrong way (a foreign Anaconda log: C_L_q -66 against
-    // 7.95, C_L_delta_e -1.9, then a trim C_L_alpha of -0.29 and every pitch derivative lost)
-    lift_band_rejected(c, fmt::format("C_L_q {:.3g} +- {:.2g} from the band, negative (a pitch rate raises the tail's lift): the band's "
-                                      "alpha does not separate it",
-                                      q->estimate, q->std_error));
+  } else if (const std::string sign = band_C_L_q_sign(c); !sign.empty()) {
+    // a C_L_q physics forbids (verdicts.hpp) is the band's alpha taking the elevator's and the pitch
+    // rate's parts the wrong way (a foreign Anaconda log: C_L_q -66 against 7.95, C_L_delta_e -1.9,
+    // then a trim C_L_alpha of -0.29 and every pitch derivative lost): the band's terms go back to the
+    // prior before alpha is reconstructed through them
+    lift_band_rejected(c, fmt::format("C_L_q from the band, {}: the band's alpha does not separate it", sign));
     e = lift_trim_considered(c);
   } else if (band && std::abs(band->estimate - e.theta[1]) > std::max(3.0 * band->std_error, 0.05 * std::abs(e.theta[1]))) {
     lift_band_rejected(

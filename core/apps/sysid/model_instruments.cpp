@@ -54,6 +54,16 @@ tern::aero::LinearModel linearize_near_level(const Aircraft& model, double Va, d
   }
 }
 
+const char* name_of(Modelled what) {
+  switch (what) {
+    case Modelled::alpha: return "alpha";
+    case Modelled::beta: return "beta";
+    case Modelled::p_hat: return "p^";
+    case Modelled::r_hat: return "r^";
+  }
+  return "?";
+}
+
 }  // namespace
 
 bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string& why) {
@@ -93,12 +103,11 @@ bool put_model_instrument(Context& c, Modelled what, const Col& key, std::string
     }
   }
   c.spectra.put(&key, std::move(Z));
-  static constexpr const char* kNames[] = {"alpha", "beta", "p^", "r^"};
   if (steepest != 0.0)
     c.result.notes.push_back(
         fmt::format("{}'s instrument: the linear model does not trim level at {:.1f} m/s with its throttle in "
                     "[0, 1]; linearised on a flight path of {:+.0f} deg there (and nearer level elsewhere)",
-                    kNames[static_cast<int>(what)], steepest_Va, steepest / kRadPerDeg));
+                    name_of(what), steepest_Va, steepest / kRadPerDeg));
   return true;
 }
 

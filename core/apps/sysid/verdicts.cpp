@@ -11,6 +11,22 @@ namespace tern::core::sysid {
 
 namespace {
 
+/// Coefficients whose sign physics fixes on every fixed wing in its linear range (Etkin and Reid,
+/// *Dynamics of Flight*, 3rd ed., ch. 5; Beard and McLain ch. 4): an estimate of the other sign
+/// is a fit that failed, however small its standard error.
+struct Signed {
+  const char* name;
+  double sign;
+  const char* why;
+};
+constexpr std::array<Signed, 5> kSigned{{
+    {"C_L_alpha", 1.0, "lift grows with alpha below the stall"},
+    {"C_L_q", 1.0, "a pitch rate raises the tail's angle of attack"},
+    {"C_m_q", -1.0, "pitch damping"},
+    {"C_ell_p", -1.0, "roll damping"},
+    {"C_n_r", -1.0, "yaw damping"},
+}};
+
 /// An axis of the regressions: the prefix of its coefficients' names, its fits' axis names, and
 /// the manoeuvre that excites it.
 struct Axis {
@@ -45,27 +61,9 @@ const AxisFit* fit_of(const SysidResult& r, const CoefficientEstimate& c) {
   return nullptr;
 }
 
-/// Coefficients whose sign physics fixes on every fixed wing in its linear range (Etkin and Reid,
-/// *Dynamics of Flight*, 3rd ed., ch. 5; Beard and McLain ch. 4): an estimate of the other sign
-/// is a fit that failed, however small its standard error.
-struct Signed {
-  const char* name;
-  double sign;
-  const char* why;
-};
-constexpr std::array<Signed, 5> kSigned{{
-    {"C_L_alpha", 1.0, "lift grows with alpha below the stall"},
-    {"C_L_q", 1.0, "a pitch rate raises the tail's angle of attack"},
-    {"C_m_q", -1.0, "pitch damping"},
-    {"C_ell_p", -1.0, "roll damping"},
-    {"C_n_r", -1.0, "yaw damping"},
-}};
-
 /// Why `c` fails the rule, or "" when it holds.
 std::string failure(const SysidResult& r, const CoefficientEstimate& c, double max_relative_error) {
-  for (const Signed& s : kSigned)
-    if (c.name == s.name && !(s.sign * c.estimate > 0.0))
-      return fmt::format("its sign: {:.4g}, where {} makes it {}", c.estimate, s.why, s.sign > 0 ? "positive" : "negative");
+  if (std::string sign = forbidden_sign(c.name, c.estimate); !sign.empty()) return sign;
   if (const AxisFit* f = fit_of(r, c); f && !(f->r_squared_generalized >= 0.0))
     return fmt::format("its {} fit ({}) explains less than the mean: R^2 {:.2f}", f->axis, f->domain, f->r_squared_generalized);
   if (!(c.std_error <= max_relative_error * std::abs(c.estimate)))
@@ -108,6 +106,13 @@ void note_unexcited_axes(SysidResult& r) {
 }
 
 }  // namespace
+
+std::string forbidden_sign(const std::string& name, double estimate) {
+  for (const Signed& s : kSigned)
+    if (name == s.name && !(s.sign * estimate > 0.0))
+      return fmt::format("its sign: {:.4g}, where {} makes it {}", estimate, s.why, s.sign > 0 ? "positive" : "negative");
+  return "";
+}
 
 void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o) {
   bool lift_rejected = false;

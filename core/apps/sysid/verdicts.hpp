@@ -25,6 +25,11 @@ namespace tern::core::sysid {
 /// keep_loadable, sysid_output.hpp, builds the file), one note per rejection and per unexcited axis.
 void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o);
 
+/// Why physics forbids `estimate` for coefficient `name` on a fixed wing in its linear range (its
+/// sign: C_L_alpha and C_L_q positive; C_m_q, C_ell_p and C_n_r negative, zero included), or ""
+/// when it does not (every other coefficient, any sign).
+std::string forbidden_sign(const std::string& name, double estimate);
+
 /// "identified N of M coefficients" (M: every coefficient the result reports).
 std::string identified_summary(const SysidResult& r);
 

@@ -224,6 +224,10 @@ TEST_CASE("a damping derivative or lift slope of the sign physics forbids is not
   }
   CHECK(r.coefficients[2].identified);
   CHECK(r.coefficients[3].identified);
+  // the same rule the lift's band applies to its C_L_q before alpha is reconstructed from the lift
+  CHECK(sysid::forbidden_sign("C_L_q", -66.0).find("its sign: -66") == 0);
+  CHECK(sysid::forbidden_sign("C_L_q", 7.95).empty());
+  CHECK(sysid::forbidden_sign("C_n_r", 0.0).find("its sign") == 0);
 }
 
 TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
