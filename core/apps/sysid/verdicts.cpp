@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -51,6 +53,13 @@ const Axis* axis_of(const std::string& name) {
   return nullptr;
 }
 
+/// Standard errors within which an estimate cannot be told from 0 (the two-sided 95 % bound).
+constexpr double kZeroBound = 2.0;
+
+/// A fit's generalized R^2 at or above which its axis counts as excited: the flight moved what the
+/// axis models, so coefficients it leaves unadopted are not for want of a manoeuvre.
+constexpr double kExcitedRSquared = 0.5;
+
 /// The fit a coefficient came from (its axis, in its method's domain), or nullptr.
 const AxisFit* fit_of(const SysidResult& r, const CoefficientEstimate& c) {
   const Axis* a = axis_of(c.name);
@@ -66,8 +75,11 @@ std::string failure(const SysidResult& r, const CoefficientEstimate& c, double m
   if (std::string sign = forbidden_sign(c.name, c.estimate); !sign.empty()) return sign;
   if (const AxisFit* f = fit_of(r, c); f && !(f->r_squared_generalized >= 0.0))
     return fmt::format("its {} fit ({}) explains less than the mean: R^2 {:.2f}", f->axis, f->domain, f->r_squared_generalized);
-  if (!(c.std_error <= max_relative_error * std::abs(c.estimate)))
+  if (!(c.std_error <= max_relative_error * std::abs(c.estimate))) {
+    if (std::abs(c.estimate) <= kZeroBound * c.std_error)
+      return fmt::format("indistinguishable from 0: {:.2g} +- {:.2g} (a relative bound cannot hold at 0)", c.estimate, c.std_error);
     return fmt::format("its standard error {:.2g} exceeds {:g} of the estimate {:.4g}", c.std_error, max_relative_error, c.estimate);
+  }
   return "";
 }
 
@@ -90,16 +102,30 @@ void check_oswald(SysidResult& r, const Aircraft& prior, double max_relative_err
                               r.oswald.estimate));
 }
 
+/// The best generalized R^2 of the axis's fits (trim, band, output error), or -inf without one.
+double best_fit(const SysidResult& r, const Axis& a) {
+  double best = -std::numeric_limits<double>::infinity();
+  for (const AxisFit& f : r.fits)
+    if (f.axis == a.fit || (*a.output_fit && f.axis == a.output_fit)) best = std::max(best, f.r_squared_generalized);
+  return best;
+}
+
 void note_unexcited_axes(SysidResult& r) {
   for (const Axis& a : kAxes) {
     const CoefficientEstimate* first = nullptr;
-    bool any = false;
+    // the drag polar's slope is the drag axis's too (the Oswald factor, from the drag's trim fit)
+    bool any = a.fit == std::string_view("drag") && r.oswald.identified;
     for (const auto& c : r.coefficients) {
       if (c.name.rfind(a.prefix, 0) != 0) continue;
       any = any || c.identified;
       if (!first && !c.identified) first = &c;
     }
-    if (!any && first)
+    if (any || !first) continue;
+    const double fit = best_fit(r, a);
+    if (fit >= kExcitedRSquared)
+      r.notes.push_back(fmt::format("{}: nothing identified ({}: {}), though the flight excited it (its fit explains R^2 {:.2f})", a.fit,
+                                    first->name, first->note, fit));
+    else
       r.notes.push_back(fmt::format("{}: nothing identified ({}: {}); fly {} (configs/missions/sysid.yaml flies each)", a.fit, first->name,
                                     first->note, a.manoeuvre));
   }

@@ -3,13 +3,16 @@
 // end against the documented rule, whichever step produced it.
 //  * A coefficient whose own regression explains less than the mean (R^2 < 0 on its axis and
 //    domain: lift, drag, side force, roll, pitch, yaw; trim, band or output error), or whose
-//    standard error exceeds `max_relative_error` of its estimate, or whose sign physics forbids
+//    standard error exceeds `max_relative_error` of its estimate (at the default 0.5: an estimate
+//    within two standard errors of 0, said "indistinguishable from 0"), or whose sign physics forbids
 //    (C_L_alpha, C_L_q > 0; C_m_q, C_ell_p, C_n_r < 0 on every fixed wing), keeps the prior, with
 //    one note.
 //  * The Oswald factor likewise (the drag's trim fit, its own bound), and it falls with the lift's
 //    trim terms, on whose C_L the polar's slope rests.
-//  * An axis the log left without any identified coefficient says so once, with the first reason
-//    and the manoeuvre that excites it (configs/missions/sysid.yaml flies each).
+//  * An axis the log left without any identified coefficient (for the drag, the Oswald factor
+//    counts) says so once, with the first reason, and, unless one of its fits explains R^2 >= 0.5
+//    of the data (the flight excited it), the manoeuvre that excites it
+//    (configs/missions/sysid.yaml flies each).
 // The estimates the later steps computed from a rejected one are not redone: the note says which
 // coefficients the file keeps from the prior, and sysid.json keeps every figure.
 #pragma once

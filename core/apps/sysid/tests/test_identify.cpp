@@ -230,6 +230,39 @@ TEST_CASE("a damping derivative or lift slope of the sign physics forbids is not
   CHECK(sysid::forbidden_sign("C_n_r", 0.0).find("its sign") == 0);
 }
 
+TEST_CASE(
+    "an estimate within two standard errors of 0 is called indistinguishable from 0, and no manoeuvre is advised for an excited axis") {
+  namespace sysid = tern::core::sysid;
+  const tern::Aircraft prior = aerosonde();
+  sysid::SysidResult r;
+  r.aircraft = prior;
+  const auto add = [&](const char* name, double estimate, double std_error, const char* method) {
+    sysid::CoefficientEstimate c;
+    c.name = name, c.prior = 0.0, c.estimate = estimate, c.std_error = std_error, c.identified = true, c.method = method;
+    r.coefficients.push_back(c);
+  };
+  add("C_D_p", 6.4e-5, 0.0022, "trim");       // the Aerosonde's C_D_p is 0: a relative bound never holds
+  add("C_Y_beta", -0.4, 0.15, "band");        // beyond 2 standard errors of 0, short of a 0.2 relative bound
+  add("C_n_delta_a", -0.004, 0.003, "band");  // near 0, on an axis whose fit explains the data
+  r.oswald.identified = true, r.oswald.estimate = 0.67, r.oswald.std_error = 0.02;  // the drag polar's slope, identified
+  sysid::AxisFit yaw;
+  yaw.axis = "yaw", yaw.domain = "band", yaw.r_squared_generalized = 0.58;
+  r.fits.push_back(yaw);
+  sysid::SysidOptions o;
+  o.max_relative_error = 0.2;  // at the default 0.5 the relative rule and the bound of 0 coincide
+  sysid::apply_verdicts(r, prior, o);
+  CHECK(r.coefficients[0].note.find("not adopted: indistinguishable from 0: 6.4e-05 +- 0.0022") == 0);
+  CHECK(r.coefficients[1].note.find("not adopted: its standard error 0.15 exceeds 0.2") == 0);
+  const auto note = [&](const std::string& start) {
+    for (const auto& n : r.notes)
+      if (n.rfind(start, 0) == 0) return n;
+    return std::string();
+  };
+  CHECK(note("drag: nothing identified").empty());  // the Oswald factor is the drag's
+  CHECK(note("yaw: nothing identified").find("though the flight excited it (its fit explains R^2 0.58)") != std::string::npos);
+  CHECK(note("side force: nothing identified").find("fly a rudder doublet") != std::string::npos);  // no side-force fit at all
+}
+
 TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
   const tern::Aircraft truth = aerosonde();
   FlightSeries s;
