@@ -15,9 +15,12 @@
 //                             log level sysid (the state at every message), or LOG itself
 // The IMU's axes are turned into the body's (imu_mount) and its specific force moved to the CG
 // (imu_position: a_cg = a - w' x r - w x (w x r)), as the estimator is configured to do.
-// The time base is the IMU's. At each IMU sample the command in force is the last actuators row
-// whose stamp plus its surface's delay (command_delay_s) is at or before it (a command that
-// changes between two IMU samples counts from the next), passed through the prior's first-order
+// The time base is the IMU's, interpolated linearly onto a base of at most 5 ms when the IMU is
+// logged slower (a 50-Hz IMU: 4 samples an interval), so that a command's timing is not rounded to
+// the IMU's interval. At each base sample the command in force is the last actuators row whose
+// stamp plus its surface's delay (command_delay_s) is at or before it (a command that changes
+// between two samples counts from the next); commands logged more than 30 ms apart are samples
+// of a faster controller's output and are joined linearly instead. Then the prior's first-order
 // servo lag (servos.tau). The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is
 // then low-passed by the same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear relation between
 // channels holds after filtering as before it; the angular acceleration is the central difference of the filtered rate; then the samples

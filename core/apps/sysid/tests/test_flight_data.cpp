@@ -1,0 +1,85 @@
+// The commands' timing in a flight's series (flight_data.hpp) when the log is slower than the
+// controller: an IMU logged at 50 Hz, commands logged at 10 Hz (issue 76: logs from other
+// autopilots), on tables whose answers are known.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "sysid/flight_data.hpp"
+
+using namespace tern::core::sysid;
+
+namespace {
+
+// A table of `n` rows at `hz` from t = 0: each named column filled by f(name, t).
+tern::core::CsvTable table(double hz, std::size_t n, const std::vector<std::string>& names,
+                           const std::function<double(const std::string&, double)>& f) {
+  tern::core::CsvTable c;
+  c.file = "synthetic.csv";
+  c.rows = n;
+  for (std::size_t k = 0; k < n; ++k) {
+    const double t = static_cast<double>(k) / hz;
+    c.columns["t"].push_back(t);
+    for (const auto& name : names) c.columns[name].push_back(f(name, t));
+  }
+  return c;
+}
+
+// A still, level flight's tables (IMU at imu_hz, the estimate at 100 Hz) with the actuators'
+// aileron `delta_a(t)` logged at act_hz.
+FlightTables flight(double imu_hz, double act_hz, const std::function<double(double)>& delta_a, double seconds = 10.0) {
+  FlightTables f;
+  f.imu = table(imu_hz, static_cast<std::size_t>(seconds * imu_hz), {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"},
+                [](const std::string& n, double) { return n == "accel_z" ? -9.80665 : 0.0; });
+  f.actuators = table(act_hz, static_cast<std::size_t>(seconds * act_hz), {"delta_a", "delta_e", "delta_r", "delta_t"},
+                      [&](const std::string& n, double t) { return n == "delta_a" ? delta_a(t) : 0.0; });
+  f.state = table(100.0, static_cast<std::size_t>(seconds * 100.0),
+                  {"valid", "b_x", "b_y", "b_z", "Va", "phi", "theta", "psi", "p_n", "p_e", "p_d", "u", "v", "w", "w_n", "w_e"},
+                  [](const std::string& n, double) { return n == "valid"            ? 1.0
+                                                            : n == "Va" || n == "u" ? 20.0
+                                                                                    : 0.0; });
+  return f;
+}
+
+}  // namespace
+
+TEST_CASE("a command between two samples of a 50-Hz IMU takes effect when it was stamped, not at the next IMU sample") {
+  // the aileron's 400-Hz row at 5.0125 s steps it, between the IMU's samples at 5.00 and 5.02 s:
+  // over 5.00-5.04 s it is 1 for 0.6875 of the time. The series unfiltered and undecimated, on
+  // its base: a 5-ms base samples that within one step (0.625); the IMU's 20-ms one gave 0.5.
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0, o.filter_hz = 0.0;
+  const double step_s = 5.0125;
+  const FlightSeries s = series_from_tables(flight(50.0, 400.0, [&](double t) { return t >= step_s - 1e-9 ? 1.0 : 0.0; }), o);
+  CHECK(s.t[1] - s.t[0] == doctest::Approx(0.005));
+  double sum = 0.0;
+  int n = 0;
+  for (std::size_t k = 0; k < s.t.size(); ++k)
+    if (s.t[k] >= 5.0 - 1e-9 && s.t[k] < 5.04 - 1e-9) sum += s.delta_a[k], ++n;
+  CHECK(std::abs(sum / n - 0.6875) <= 0.0625 + 1e-9);
+  o.rate_hz = 50.0, o.filter_hz = 10.0;  // decimated, the series keeps the IMU's 50-Hz samples' times
+  const FlightSeries d = series_from_tables(flight(50.0, 400.0, [&](double t) { return t >= step_s - 1e-9 ? 1.0 : 0.0; }), o);
+  CHECK(d.t[1] == doctest::Approx(0.02));
+  CHECK(d.t.size() == 500);
+}
+
+TEST_CASE("commands logged at 10 Hz are joined linearly, not held for 100 ms; at 100 Hz each row is held") {
+  FlightSeriesOptions o;
+  const auto ramp = [](double t) { return 0.1 * t; };  // rad: a slow ramp the controller computed at its own rate
+  const FlightSeries sampled = series_from_tables(flight(200.0, 10.0, ramp), o);
+  const FlightSeries every = series_from_tables(flight(200.0, 100.0, ramp), o);
+  double worst_sampled = 0.0, worst_every = 0.0;
+  for (std::size_t k = 0; k < sampled.t.size(); ++k) {
+    if (sampled.t[k] < 2.0 || sampled.t[k] > 8.0) continue;  // the filter's ends aside
+    worst_sampled = std::max(worst_sampled, std::abs(sampled.delta_a[k] - ramp(sampled.t[k])));
+    worst_every = std::max(worst_every, std::abs(every.delta_a[k] - ramp(every.t[k]) + 0.1 * 0.005));
+  }
+  CHECK(worst_sampled < 1e-3);  // held, the 10-Hz rows lag the ramp by 0.005 rad on average
+  CHECK(worst_every < 1e-3);    // 100-Hz rows held: the ramp half a row (5 ms) late
+  bool noted = false;
+  for (const auto& n : sampled.notes) noted = noted || n.find("commands logged every 100 ms") != std::string::npos;
+  CHECK(noted);
+}
