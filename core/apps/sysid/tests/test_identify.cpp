@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <random>
 
 #include "sysid/identify.hpp"
 #include "sysid/regression.hpp"
@@ -159,6 +160,32 @@ TEST_CASE("exact flights at three airspeeds: every excited coefficient from a pr
     CHECK(std::abs(e - value) <= 0.03 * std::abs(value));
   }
   CHECK(std::abs(r.C_D_trim - r.C_D_trim_prior) > 0.0);
+}
+
+TEST_CASE("an output error whose simulated rates explain under half the measured variance is not used: the equation error stands") {
+  // the pitch rate read through noise four times its own spread (a log whose simulation cannot
+  // follow it, as on the estimator's gust-free airspeed without a pitot): the output error of the
+  // pitch rate explains little, and its estimates are not averaged with the equation error's
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  double mean = 0.0, var = 0.0;
+  for (const double q : s.q) mean += q / static_cast<double>(s.q.size());
+  for (const double q : s.q) var += (q - mean) * (q - mean) / static_cast<double>(s.q.size());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> noise(0.0, 4.0 * std::sqrt(var));
+  for (double& q : s.q) q += noise(rng);
+  tern::core::sysid::SysidOptions o;
+  o.output_error.hold_commands = true;
+  const auto r = tern::core::sysid::identify(s, wrong_prior(truth), o);
+  bool noted = false;
+  for (const auto& n : r.notes) noted = noted || n.rfind("output error (pitch): its simulated rates explain R^2", 0) == 0;
+  CHECK(noted);
+  for (const auto& c : r.coefficients)
+    if (c.name.rfind("C_m_", 0) == 0 && c.identified) {
+      CAPTURE(c.name);
+      CHECK(c.method.find("output error") == std::string::npos);
+    }
 }
 
 TEST_CASE("a prior too draggy to trim level at the fastest airspeed still instruments alpha: on a descending flight path") {
