@@ -27,14 +27,17 @@ constexpr double kMaxGap = 1.0;  ///< s: the estimate is not interpolated across
 /// command's timing up to its step: on an IMU logged at 50 Hz the output error then fitted the
 /// aileron's delay 10 ms long and C_ell_p and C_ell_delta_a came out 40 % large (a rolling moment
 /// whose damping and control power trade with the delay in closed loop); interpolated onto a 5-ms
-/// base they came out within 2 %. 200 Hz: a fifth of a 4-Hz period's quarter.
+/// base they came out within 2 % (the bench's seed 3). 5 ms: 7 deg of phase at the band's 4 Hz.
 constexpr double kMaxBaseStep = 0.005;
 
 /// s: commands logged at most this far apart are each held until the next row (a controller's every
 /// output: ROSplane 100 Hz, PX4 250 Hz, ArduPlane 50-400 Hz); rows further apart are samples of a
 /// faster controller's output (ArduPilot's RCOU at 10-25 Hz), joined linearly: held, they would
-/// lag by half their interval. On 10-Hz rows held, the output error fitted the commands acting
-/// 25-35 ms before their stamps and C_ell_p came out 12-34 % large; joined, 1-6 %.
+/// lag by half their interval. On the bench's seed 3 at 10 Hz, held, the output error fitted the
+/// commands acting 25-35 ms before their stamps and C_ell_p came out 12-34 % large; joined, 1-6 %.
+/// Over seeds 1-5 the roll's worst seed at 10 Hz stays some 35 % off (seed 1: 6 -> 37 %, seeds 3
+/// and 4: 34 -> 1 % and 32 -> 16 %, the IMU at 50 Hz): a 10-Hz record keeps little of a 3-Hz
+/// multisine.
 constexpr double kMaxHeldInterval = 0.03;
 
 using Column = std::vector<double>;
