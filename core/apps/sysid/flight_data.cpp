@@ -84,7 +84,8 @@ Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& t
       if (std::isfinite(cmd[j])) u = cmd[j];
     }
     double v = u;
-    if (joined && j + 1 < t_cmd.size() && t_cmd[j] <= tq[k] && std::isfinite(cmd[j + 1]) && std::isfinite(cmd[j]))
+    if (joined && j + 1 < t_cmd.size() && t_cmd[j] <= tq[k] && t_cmd[j + 1] > t_cmd[j] && std::isfinite(cmd[j + 1]) &&
+        std::isfinite(cmd[j]))
       v = cmd[j] + (tq[k] - t_cmd[j]) / (t_cmd[j + 1] - t_cmd[j]) * (cmd[j + 1] - cmd[j]);
     const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
     y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (v - y) : v;
@@ -136,10 +137,11 @@ void note_not_numbers(const CsvTable& table, const char* column, std::vector<std
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every
 /// interval, n the least for which the median interval / n is at most kMaxBaseStep (5 % spared, for
 /// a clock's jitter): the logged samples kept, a gap stretched as before. n = 1 (the columns as
-/// they are) at 190 Hz or faster. Returns n.
+/// they are) at 190 Hz or faster, and for rows more than kMaxGap apart. Returns n.
 std::size_t interpolate_to_base(std::map<std::string, Column>& cols) {
-  const Column& t = cols.at("t");
-  const auto n = static_cast<std::size_t>(std::ceil(median_interval(t) / kMaxBaseStep - 0.05));
+  const double logged = median_interval(cols.at("t"));
+  if (!(logged > kMaxBaseStep && logged <= kMaxGap)) return 1;  // NaN, or rows too far apart to be a flight's IMU
+  const auto n = static_cast<std::size_t>(std::ceil(logged / kMaxBaseStep - 0.05));
   if (n <= 1) return 1;
   for (auto& [name, c] : cols) {
     Column fine;
