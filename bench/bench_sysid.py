@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash]]: system identification against the truth.
+"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash] [--no-pitot]]: system identification against the truth.
 
 Issue 62's bench. For each seed: the truth aircraft (default the Aerosonde, configs/aircraft/aerosonde.yaml)
 flies configs/missions/sysid.yaml (excitation on every surface at three airspeeds, `realistic` sensors,
@@ -12,7 +12,8 @@ seed, and `tern validate` scores the three files on the sysid flight.
 With --foreign the flight is first rewritten as another autopilot's log (foreign_log.py); with --dataflash
 as well, that log goes through an ArduPilot DataFlash file (dataflash_log.py: RCOU through SERVOn_* parameters,
 --max-deflection from the truth file's servos) and `tern import dataflash`, and sysid reads the imported log
-(the estimator's config.yaml and the airborne window stated beside it, as a user would).
+(the estimator's config.yaml and the airborne window stated beside it, as a user would); with --no-pitot the
+rewritten log has no pitot (diff_pressure.csv left out).
 
 Prints the table (worst seed per coefficient, against the targets) and writes JSON (default
 bench/results/bench_sysid[_foreign][_dataflash][_<aircraft>].json, the aircraft named unless the Aerosonde). Every figure says what produced it: the truth is the aircraft
@@ -171,7 +172,7 @@ def one_seed(tern, seed, args, work):
     truth_flight, shift = flight, 0.0
     if args.foreign:
         flight = os.path.join(work, f"foreign_{seed}")
-        shift = foreign_log.rewrite(truth_flight, flight, *args.foreign, declare_airborne=args.declare_airborne)
+        shift = foreign_log.rewrite(truth_flight, flight, *args.foreign, declare_airborne=args.declare_airborne, pitot=not args.no_pitot)
     dataflash = None
     if args.dataflash:
         flight, dataflash = through_dataflash(tern, flight, truth_file, work, seed)
@@ -340,8 +341,8 @@ def log_route(args):
     """What sysid read, in words (the JSON's log_route)."""
     if not args.foreign:
         return "the tern flight's own log (CSV)"
-    route = "the flight rewritten by bench/foreign_log.py (commands {:g} ms late, IMU {:g} Hz, commands {:g} Hz, from {:g} m up)".format(
-        *args.foreign)
+    route = "the flight rewritten by bench/foreign_log.py (commands {:g} ms late, IMU {:g} Hz, commands {:g} Hz, from {:g} m up{})".format(
+        *args.foreign, ", no pitot" if args.no_pitot else "")
     if args.dataflash:
         route += (", written as an ArduPilot DataFlash .bin by bench/dataflash_log.py (RCOU through SERVO1-4: aileron, elevator, "
                   "throttle, rudder reversed) and read back by tern import dataflash --max-deflection (the truth file's servos)")
@@ -362,14 +363,15 @@ def main():
                          "commands acting DELAY_MS after their stamps, the IMU at IMU_HZ, the commands at ACT_HZ, the log starting "
                          "START_M above the ground, e.g. 10 200 50 50")
     ap.add_argument("--declare-airborne", action="store_true", help="with --foreign: sensor_log.yaml declares the airborne window")
+    ap.add_argument("--no-pitot", action="store_true", help="with --foreign: the log without the pitot (diff_pressure.csv left out)")
     ap.add_argument("--dataflash", action="store_true",
                     help="with --foreign: the rewritten log goes through an ArduPilot DataFlash file (dataflash_log.py) and "
                          "`tern import dataflash`; sysid reads the imported log")
     ap.add_argument("--command-delay", type=float, metavar="MS",
                     help="tell tern sysid the commands' delay (--command-delay MS), as a user who knows their servos' would")
     args = ap.parse_args()
-    if args.dataflash and not args.foreign:
-        ap.error("--dataflash rewrites the --foreign log: give --foreign too")
+    if (args.dataflash or args.no_pitot) and not args.foreign:
+        ap.error("--dataflash and --no-pitot rewrite the --foreign log: give --foreign too")
     if not args.out:
         stem = os.path.splitext(os.path.basename(args.aircraft))[0]
         name = "bench_sysid" + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \

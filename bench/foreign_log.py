@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""foreign_log.py RUN OUT [--command-delay MS] [--imu-rate HZ] [--actuator-rate HZ] [--start-height M] [--declare-airborne]:
+"""foreign_log.py RUN OUT [--command-delay MS] [--imu-rate HZ] [--actuator-rate HZ] [--start-height M] [--declare-airborne] [--no-pitot]:
 a tern flight rewritten to look like another autopilot's log (issue 76: identification on the flights users bring).
 
 What another autopilot's log differs by, each a switch, all on by default:
@@ -12,6 +12,8 @@ What another autopilot's log differs by, each a switch, all on by default:
   * a log that starts in the air: every table cut before the truth first stands --start-height m (default
     50) above its start, and every time moved so that the log starts at 0 (t and stamp; the GNSS's
     time_of_validity with them).
+With --no-pitot the pitot's diff_pressure.csv is left out (an aircraft without one: the airspeed is then
+the estimator's, from its wind).
 sensor_log.yaml says what was done (notes), carries the IMU timing the estimator needs at that rate
 (imu_max_dt, imu_timeout, imu_reinit_gap, as tern import writes them) and, with --declare-airborne, the
 airborne window as an independent simulator would declare it: from the log's start to the touchdown (the truth's
@@ -128,13 +130,13 @@ def touchdown_time(run):
     return airborne[-1] if airborne else None
 
 
-def rewrite(run, out, command_delay_ms=10.0, imu_rate=200.0, actuator_rate=50.0, start_height=50.0, declare_airborne=False):
+def rewrite(run, out, command_delay_ms=10.0, imu_rate=200.0, actuator_rate=50.0, start_height=50.0, declare_airborne=False, pitot=True):
     cut = start_time(run, start_height)
     os.makedirs(os.path.join(out, "topics"), exist_ok=True)
     last_t = 0.0
     for name in SENSORS + ("actuators",):
         src = os.path.join(run, "topics", f"{name}.csv")
-        if not os.path.exists(src):
+        if not os.path.exists(src) or (name == "diff_pressure" and not pitot):
             continue
         header, rows = read_table(src)
         it = column(header, "t")
@@ -161,6 +163,8 @@ def rewrite(run, out, command_delay_ms=10.0, imu_rate=200.0, actuator_rate=50.0,
               f'  - "commands stamped {command_delay_ms:g} ms before they act; IMU {imu_rate:g} Hz (block means), '
               f'actuators {actuator_rate:g} Hz (held)"',
               f'  - "the log starts {cut:.3f} s into the flight ({start_height:g} m above its start), at t = 0"']
+    if not pitot:
+        lines.append('  - "no diff_pressure.csv: an aircraft without a pitot"')
     with open(os.path.join(out, "sensor_log.yaml"), "w") as f:
         f.write("\n".join(lines) + "\n")
     return cut
@@ -175,8 +179,9 @@ def main():
     ap.add_argument("--actuator-rate", type=float, default=50.0, help="Hz (default 50; 0: as logged)")
     ap.add_argument("--start-height", type=float, default=50.0, help="m above the start where the log begins (0: the whole flight)")
     ap.add_argument("--declare-airborne", action="store_true", help="write sensor_log.yaml's airborne window")
+    ap.add_argument("--no-pitot", action="store_true", help="leave the pitot's diff_pressure.csv out")
     a = ap.parse_args()
-    cut = rewrite(a.run, a.out, a.command_delay, a.imu_rate, a.actuator_rate, a.start_height, a.declare_airborne)
+    cut = rewrite(a.run, a.out, a.command_delay, a.imu_rate, a.actuator_rate, a.start_height, a.declare_airborne, not a.no_pitot)
     print(f"foreign_log: {a.out} (cut {cut:.3f} s from the start)")
 
 
