@@ -299,7 +299,7 @@ TEST_CASE("tern import dataflash: a synthetic ArduPlane log's sensors, in the se
   CHECK(i.at("imu", 2, "gyro_x [rad/s]") == doctest::Approx(0.1 * std::sin(kT0 + 0.0025)).epsilon(1e-6));
   CHECK(i.at("imu", 1, "gyro_y [rad/s]") == doctest::Approx(0.05).epsilon(1e-6));
   CHECK(i.at("imu", 1, "accel_z [m/s^2]") == doctest::Approx(-tern::kGravity).epsilon(1e-6));  // FRD: level at rest -g
-  CHECK(i.at("imu", 1, "temperature [K]") == doctest::Approx(41.25 + 273.15));
+  CHECK(i.at("imu", 1, "temperature [K]") == doctest::Approx(41.25 + tern::kZeroCelsius));
   // GPS: L (1e-7 deg), e (cm), speed and course as NED, VZ down; GPA's accuracies (C: cm, / 100)
   CHECK(i.at("gnss", 1, "lat [deg]") == doctest::Approx(kLat).epsilon(1e-12));
   CHECK(i.at("gnss", 1, "lon [deg]") == doctest::Approx(kLon).epsilon(1e-12));
@@ -317,7 +317,7 @@ TEST_CASE("tern import dataflash: a synthetic ArduPlane log's sensors, in the se
   CHECK(i.at("gnss", 2, "stamp [ns]") == 200000000);
   // BARO Pa, degC * 100; ARSP DiffPress * ARSPD_RATIO 2 * rho0 / 2; MAG mGauss
   CHECK(i.at("baro", 2, "pressure [Pa]") == doctest::Approx(95040.0));
-  CHECK(i.at("baro", 1, "temperature [K]") == doctest::Approx(25.5 + 273.15));
+  CHECK(i.at("baro", 1, "temperature [K]") == doctest::Approx(25.5 + tern::kZeroCelsius));
   CHECK(i.at("diff_pressure", 1, "pressure [Pa]") == doctest::Approx(240.0 * 2.0 * tern::kIsaSeaLevelDensity / 2.0));
   CHECK(i.at("diff_pressure", 1, "temperature [K]") == doctest::Approx(293.15));
   CHECK(i.at("mag", 1, "field_x [T]") == doctest::Approx(200e-7));

@@ -67,8 +67,6 @@ using dataflash::Message;
 using ulog_import::ReorderWindow;
 
 constexpr Nanos kReorderWindow = kNanosPerSecond;
-constexpr double kCelsiusToKelvin = 273.15;
-constexpr double kNoTemperature = 288.15;  // the message default, written when the log has none
 constexpr double kMilligaussToTesla = 1e-7;
 constexpr double kArspdRatioDefault = 1.9936;  // ArduPilot's ARSPD_RATIO default
 constexpr int kRcouChannels = 14;              // RCOU's C1..C14 (15 and up are in RCO2, not read)
@@ -274,7 +272,7 @@ class Conversion {
         i.stamp = *t;
         for (int k = 0; k < 3; ++k)
           i.gyro[k] = m.value(*v[static_cast<std::size_t>(k)]), i.accel[k] = m.value(*v[static_cast<std::size_t>(k + 3)]);
-        i.temperature = temp ? temperature_k(m.value(*temp)) : (++no_temperature_, kNoTemperature);
+        i.temperature = temperature_k(temp ? m.value(*temp) : std::nan(""));
         if (!i.gyro.allFinite() || !i.accel.allFinite()) return void(++nan_rows_);
         imu_intervals.add(i.stamp);
         imu_.push(i);
@@ -306,7 +304,7 @@ class Conversion {
         msg::Baro b;
         b.stamp = *t;
         b.pressure = m.value(*press);
-        b.temperature = temp ? temperature_k(m.value(*temp)) : (++no_temperature_, kNoTemperature);
+        b.temperature = temperature_k(temp ? m.value(*temp) : std::nan(""));
         if (!std::isfinite(b.pressure)) return void(++nan_rows_);
         baro_.push(b);
       };
@@ -322,7 +320,7 @@ class Conversion {
         msg::DiffPressure d;
         d.stamp = *t;
         d.pressure = m.value(*dp) * factor;
-        d.temperature = temp ? temperature_k(m.value(*temp)) : (++no_temperature_, kNoTemperature);
+        d.temperature = temperature_k(temp ? m.value(*temp) : std::nan(""));
         if (!std::isfinite(d.pressure)) return void(++nan_rows_);
         dp_.push(d);
       };
@@ -494,7 +492,8 @@ class Conversion {
     warn(unmatched_gpa_, "GPA message(s) without a GPS message of the same TimeUS before them: their accuracies are not used");
     warn(excitation_dropped_, "SIDD row(s) outside a mixer-axis manoeuvre (SIDS Ax 10-13) or NaN: dropped");
     if (no_temperature_)
-      notes.push_back(fmt::format("{} imu/baro/diff_pressure rows without a usable temperature: 288.15 K written", no_temperature_));
+      notes.push_back(fmt::format("{} imu/baro/diff_pressure rows without a usable temperature: {:.2f} K written", no_temperature_,
+                                  msg::Baro{}.temperature));
     if (gpa_rows_) notes.push_back(fmt::format("gnss: h_acc, v_acc, s_acc, vdop from GPA ({} of the GPS rows)", gpa_rows_));
   }
 
@@ -504,11 +503,7 @@ class Conversion {
   std::uint64_t excitation_rows = 0;
 
  private:
-  double temperature_k(double celsius) {
-    if (std::isfinite(celsius) && celsius > -100.0 && celsius < 150.0) return celsius + kCelsiusToKelvin;
-    ++no_temperature_;
-    return kNoTemperature;
-  }
+  double temperature_k(double celsius) { return kelvin_from_celsius(celsius, no_temperature_); }
   void flush_gnss() {
     if (pending_gnss_) gnss_.push(*pending_gnss_);
     pending_gnss_.reset();

@@ -14,6 +14,7 @@
 #include "import/sensor_log_writer.hpp"
 #include "tern/time.hpp"
 #include "tern/atmosphere.hpp"
+#include "tern/msg/sensors.hpp"
 
 namespace tern::core {
 
@@ -77,6 +78,15 @@ class AirborneWindow {
  private:
   std::optional<Nanos> first_, last_;
 };
+
+/// A log's sensor temperature in deg C as the message's kelvin: celsius + 273.15 within -100 to
+/// 150 deg C; else (not a number, a sensor's "none" code) counted in `missing` and the message's
+/// default (msg::Baro's 288.15 K, the ISA's sea level), which a note then says was written.
+inline double kelvin_from_celsius(double celsius, std::uint64_t& missing) {
+  if (std::isfinite(celsius) && celsius > -100.0 && celsius < 150.0) return celsius + kZeroCelsius;
+  ++missing;
+  return msg::Baro{}.temperature;
+}
 
 /// Pitot differential pressure from an equivalent airspeed (EAS is defined at sea-level
 /// density): 0.5 * 1.225 kg/m^3 * EAS^2, Pa.

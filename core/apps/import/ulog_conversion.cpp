@@ -17,14 +17,6 @@ using ulog::Subscription;
 
 constexpr std::int64_t kInvalidRelative = 0x7fffffff;  // PX4's RELATIVE_TIMESTAMP_INVALID
 constexpr double kGaussToTesla = 1e-4;
-constexpr double kCelsiusToKelvin = 273.15;
-constexpr double kNoTemperature = 288.15;  // the message default, written when the log has none
-
-double temperature_k(double celsius, std::uint64_t& missing) {
-  if (std::isfinite(celsius) && celsius > -100.0 && celsius < 150.0) return celsius + kCelsiusToKelvin;
-  ++missing;
-  return kNoTemperature;
-}
 
 }  // namespace
 
@@ -128,7 +120,7 @@ void Conversion::add_baro(const std::string& source) {
       m.stamp = *t;
       m.pressure = use_height ? isa_pressure_from_height(d.value(*height)) : d.value(*pressure);
       if (hpa && m.pressure < 2000.0) m.pressure *= 100.0;  // sensor_baro in hPa (older PX4) or Pa
-      m.temperature = temp ? temperature_k(d.value(*temp), no_temperature_) : (++no_temperature_, kNoTemperature);
+      m.temperature = kelvin_from_celsius(temp ? d.value(*temp) : std::nan(""), no_temperature_);
       if (!std::isfinite(m.pressure)) return void(++nan_rows_);
       baro_.push(m);
     };
@@ -150,7 +142,7 @@ void Conversion::add_diff_pressure(const std::string& source) {
       msg::DiffPressure m;
       m.stamp = *t;
       m.pressure = eas ? diff_pressure_from_eas(d.value(*value)) : d.value(*value);
-      m.temperature = temp ? temperature_k(d.value(*temp), no_temperature_) : (++no_temperature_, kNoTemperature);
+      m.temperature = kelvin_from_celsius(temp ? d.value(*temp) : std::nan(""), no_temperature_);
       if (!std::isfinite(m.pressure)) return void(++nan_rows_);
       dp_.push(m);
     };
@@ -370,8 +362,9 @@ void Conversion::finish(const std::string& file, std::vector<std::string>& notes
                     1e-3 * static_cast<double>(control_latency_max_us_)));
   warn(course_velocity_, "GNSS row(s) without a valid NED velocity (vel_ned_valid 0): north/east from vel_m_s and cog_rad");
   if (no_temperature_)
-    notes.push_back(fmt::format("{} baro/diff_pressure rows without a usable temperature: 288.15 K written", no_temperature_));
-  notes.push_back("imu temperature: not in sensor_combined; the message default 288.15 K is written");
+    notes.push_back(
+        fmt::format("{} baro/diff_pressure rows without a usable temperature: {:.2f} K written", no_temperature_, msg::Baro{}.temperature));
+  notes.push_back(fmt::format("imu temperature: not in sensor_combined; the message default {:.2f} K is written", msg::Imu{}.temperature));
   if (max_accel_relative_us_ > 0)
     notes.push_back(fmt::format("imu stamp: sensor_combined.timestamp (the gyro's); the accelerometer's differs by up to {} us",
                                 max_accel_relative_us_));

@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "fcu_serial_plugin.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace tern::fcu_serial {
 
@@ -139,7 +140,7 @@ bool FcuSerial::take_imu(const mav::SmallImu& s, const fcu::Received& r, tern::N
   out.stamp = i.stamp.ns;
   out.accel = Eigen::Vector3d(s.xacc, s.yacc, s.zacc);
   out.gyro = Eigen::Vector3d(s.xgyro, s.ygyro, s.zgyro);
-  out.temperature = s.temperature < 150.0f ? s.temperature + 273.15 : s.temperature;  // deg C or K
+  out.temperature = s.temperature < 150.0f ? s.temperature + tern::kZeroCelsius : s.temperature;  // deg C or K
   if (due.imu) ++s_.imu_superseded;
   due.imu = out;
   return true;

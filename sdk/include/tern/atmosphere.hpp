@@ -8,6 +8,7 @@
 
 namespace tern {
 
+inline constexpr double kZeroCelsius = 273.15;            ///< K: 0 deg C (the kelvin's definition, SI Brochure sec. 2.3.1)
 inline constexpr double kIsaSeaLevelPressure = 101325.0;  ///< Pa, p0
 inline constexpr double kIsaSeaLevelDensity = 1.225;      ///< kg/m^3, rho0 (15 degC, p0)
 /// The barometric formula p = p0 (1 - k h)^n: k = L / T0 (L = 0.0065 K/m, T0 = 288.15 K) and
