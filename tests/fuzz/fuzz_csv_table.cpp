@@ -1,16 +1,64 @@
 // fuzz_csv_table: libFuzzer target for the sensor-log table readers (core/apps/replay/replay_csv.hpp)
-// that `tern replay`, `sysid` and `validate` use on a log's topics/*.csv and params.csv, and for
-// the time parser of replay's tables (table_limits.hpp). Any bytes: a table, or ConfigError (one
-// line); never a crash, an out-of-bounds read or a hang.
+// that `tern replay`, `sysid` and `validate` use on a log's topics/*.csv and params.csv, for
+// the time parser of replay's tables (table_limits.hpp), and for what sysid builds from such a
+// table (sysid/flight_data.hpp series_from_tables: a table read taken as the IMU's, and as the
+// actuators', beside a still, valid 10-s flight's other tables: any stamps, gaps, duplicates and
+// rates, NaN). Any bytes: a table and a series of matching columns, or ConfigError (one line);
+// never a crash, an out-of-bounds read or a hang.
+#include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "config/error.hpp"
 #include "fuzz_input.hpp"
 #include "replay/replay_csv.hpp"
 #include "replay/table_limits.hpp"
+#include "sysid/flight_data.hpp"
 
 using namespace tern::core;
+
+namespace {
+
+// A table of 0.1-s rows over 10 s with `names` filled by f(name).
+template <std::size_t N>
+CsvTable still(const std::array<const char*, N>& names, double (*f)(const std::string&)) {
+  CsvTable c;
+  c.file = "still.csv";
+  for (int k = 0; k <= 100; ++k) {
+    c.columns["t"].push_back(0.1 * k);
+    for (const char* n : names) c.columns[n].push_back(f(n));
+  }
+  c.rows = 101;
+  return c;
+}
+
+double zero(const std::string&) { return 0.0; }
+
+// series_from_tables on the table as the IMU's (its columns those) and as the actuators'.
+void series_of(const CsvTable& t) {
+  sysid::FlightTables f;
+  f.imu = still(sysid::kImuColumns, zero);
+  f.actuators = still(sysid::kCommandColumns, zero);
+  f.state = still(sysid::kStateColumns, [](const std::string& n) { return n == "valid" ? 1.0 : n == "Va" || n == "u" ? 20.0 : 0.0; });
+  const auto has = [&](const auto& names) {
+    for (const char* n : names)
+      if (!t.has(n)) return false;
+    return t.has("t");
+  };
+  for (const bool as_imu : {true, false}) {
+    if (!(as_imu ? has(sysid::kImuColumns) : has(sysid::kCommandColumns))) continue;
+    sysid::FlightTables g = f;
+    (as_imu ? g.imu : g.actuators) = t;
+    try {
+      const sysid::FlightSeries s = sysid::series_from_tables(g, {});
+      if (s.delta_a.size() != s.t.size() || s.p.size() != s.t.size()) __builtin_trap();  // one value per sample
+    } catch (const ConfigError&) {
+    }
+  }
+}
+
+}  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto file = tern::fuzz::as_file(data, size, ".csv");
@@ -18,6 +66,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const CsvTable t = read_csv_table(file);
     for (const auto& [name, column] : t.columns)
       if (column.size() != t.rows) __builtin_trap();  // every column holds one value per row
+    series_of(t);
   } catch (const ConfigError&) {
   }
   try {

@@ -14,6 +14,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "import/archive_input.hpp"
+#include "import/import_support.hpp"
 #include "import/importers.hpp"
 #include "record/flight_log.hpp"
 #include "tern/msg/estimator.hpp"
@@ -126,6 +127,16 @@ bool has_warning(const ImportReport& r, const std::string& part) {
 }
 
 }  // namespace
+
+TEST_CASE("a log's temperature in deg C: kelvin within -100..150 deg C; NaN, infinities and sensor codes counted, the default written") {
+  std::uint64_t missing = 0;
+  CHECK(tern::core::kelvin_from_celsius(25.0, missing) == doctest::Approx(298.15));
+  CHECK(tern::core::kelvin_from_celsius(-40.0, missing) == doctest::Approx(233.15));
+  CHECK(missing == 0);
+  for (const double bad : {std::nan(""), HUGE_VAL, -HUGE_VAL, 150.0, -100.0, 327.67, -273.15})
+    CHECK(tern::core::kelvin_from_celsius(bad, missing) == tern::msg::Baro{}.temperature);
+  CHECK(missing == 7);
+}
 
 TEST_CASE("sensor log tables have a tern flight log's header") {
   TempDir d;

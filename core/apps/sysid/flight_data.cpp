@@ -18,8 +18,6 @@ namespace tern::core::sysid {
 
 namespace {
 
-constexpr std::array<const char*, 6> kImuNames = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
-
 constexpr double kMaxGap = 1.0;  ///< s: the estimate is not interpolated across a longer gap
 
 /// s: the longest step of the series' time base before decimation. A command is in force from the
@@ -84,8 +82,7 @@ Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& t
       if (std::isfinite(cmd[j])) u = cmd[j];
     }
     double v = u;
-    if (joined && j + 1 < t_cmd.size() && t_cmd[j] <= tq[k] && t_cmd[j + 1] > t_cmd[j] && std::isfinite(cmd[j + 1]) &&
-        std::isfinite(cmd[j]))
+    if (joined && j + 1 < t_cmd.size() && t_cmd[j] <= tq[k] && std::isfinite(cmd[j + 1]) && std::isfinite(cmd[j]))
       v = cmd[j] + (tq[k] - t_cmd[j]) / (t_cmd[j + 1] - t_cmd[j]) * (cmd[j + 1] - cmd[j]);
     const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
     y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (v - y) : v;
@@ -152,6 +149,27 @@ std::size_t interpolate_to_base(std::map<std::string, Column>& cols) {
     c = std::move(fine);
   }
   return n;
+}
+
+/// `table` without the rows whose time is not a number or earlier than the row before (counted
+/// in one note): a stamp that is not a number would otherwise hold every later row back.
+CsvTable in_time_order(const CsvTable& table, std::vector<std::string>& notes) {
+  const Column& t = table.at("t");
+  std::vector<std::size_t> keep;
+  for (std::size_t k = 0; k < table.rows; ++k)
+    if (std::isfinite(t[k]) && (keep.empty() || t[k] >= t[keep.back()])) keep.push_back(k);
+  if (keep.size() == table.rows) return table;
+  CsvTable out = table;
+  for (auto& [name, column] : out.columns) {
+    Column c;
+    c.reserve(keep.size());
+    for (const std::size_t k : keep) c.push_back(column[k]);
+    column = std::move(c);
+  }
+  out.rows = keep.size();
+  notes.push_back(fmt::format("{}: {} of {} rows whose time is not a number or goes back: dropped", table.file.string(),
+                              table.rows - keep.size(), table.rows));
+  return out;
 }
 
 /// Every `step`-th element.
@@ -234,17 +252,20 @@ void flow_angles_from_steady_wind(FlightSeries& s) {
 }
 
 FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir) {
-  std::vector<std::string> imu_wanted(kImuNames.begin(), kImuNames.end());
+  std::vector<std::string> imu_wanted(kImuColumns.begin(), kImuColumns.end());
   imu_wanted.push_back("t");
   FlightTables f;
   f.imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
-  f.actuators = read_table(log_dir / "topics" / "actuators.csv", {"t", "delta_a", "delta_e", "delta_r", "delta_t"},
+  const auto with_t = [](const auto& names) {
+    std::vector<std::string> v{"t"};
+    v.insert(v.end(), names.begin(), names.end());
+    return v;
+  };
+  f.actuators = read_table(log_dir / "topics" / "actuators.csv", with_t(kCommandColumns),
                            "the surfaces' commands are required (docs/sensor-log.md, actuators)");
-  const std::vector<std::string> state_names = {"t",    "valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha",
-                                                "beta", "p_n",   "p_e", "p_d",   "u",   "v",   "w",   "w_n", "w_e", "w_d"};
-  f.state = read_table(estimate_dir / "topics" / "state.csv", state_names, "the estimate (tern replay LOG) is required");
+  f.state = read_table(estimate_dir / "topics" / "state.csv", with_t(kStateColumns), "the estimate (tern replay LOG) is required");
   const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
-  if (std::filesystem::exists(excitation)) f.excitation = read_table(excitation, {"t", "delta_a", "delta_e", "delta_r", "delta_t"}, "");
+  if (std::filesystem::exists(excitation)) f.excitation = read_table(excitation, with_t(kCommandColumns), "");
   const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
   if (std::filesystem::exists(pitot)) f.diff_pressure = read_table(pitot, {"t", "pressure"}, "");
   const std::filesystem::path meta = log_dir / "sensor_log.yaml";
@@ -258,8 +279,10 @@ FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std:
 }
 
 FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions& o) {
-  const CsvTable &imu = f.imu, &act = f.actuators, &st = f.state;
-  const std::vector<std::string> imu_names(kImuNames.begin(), kImuNames.end());
+  const CsvTable &imu = f.imu, &st = f.state;
+  std::vector<std::string> notes;
+  const CsvTable act = in_time_order(f.actuators, notes);
+  const std::vector<std::string> imu_names(kImuColumns.begin(), kImuColumns.end());
   const std::vector<std::size_t> rows = usable_imu_rows(imu, imu_names);
   if (rows.size() < 3) throw ConfigError(fmt::format("{}: fewer than 3 usable IMU rows", imu.file.string()));
   // the IMU's axes turned into the body's (the estimator's imu_mount)
@@ -279,6 +302,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   const std::size_t n = interpolate_to_base(body);
   auto pick = [&](const std::string& name) { return body.at(name); };
   FlightSeries s;
+  s.notes = std::move(notes);
   if (n > 1)
     s.notes.push_back(
         fmt::format("{}: logged every {:.1f} ms, interpolated linearly onto a {:.1f}-ms base: a command's timing is not "
@@ -332,7 +356,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   s.delta_a = command("delta_a", d[0]), s.delta_e = command("delta_e", d[1]), s.delta_r = command("delta_r", d[2]);
   s.delta_t = command("delta_t", 0.0);
   if (f.excitation) {
-    const CsvTable& ex = *f.excitation;
+    const CsvTable ex = in_time_order(*f.excitation, s.notes);
     const bool ex_joined = ex.rows > 2 && median_interval(ex.at("t")) > kMaxHeldInterval;
     auto part = [&](const char* name, double delay) {
       note_not_numbers(ex, name, s.notes);
@@ -368,7 +392,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   flow_angles_from_steady_wind(s);
   s.qbar = Column(s.t.size(), std::nan(""));
   if (f.diff_pressure) {
-    const CsvTable& dp = *f.diff_pressure;
+    const CsvTable dp = in_time_order(*f.diff_pressure, s.notes);
     note_not_numbers(dp, "pressure", s.notes);
     Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
     s.qbar = keep(lp(q));

@@ -110,6 +110,14 @@ void check_sensor_log(const std::filesystem::path& log_dir, bool replayed = true
 /// Throws ConfigError naming params.csv when a value is not a 3-vector.
 void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o);
 
+/// The columns read of each table besides its time "t" (read_flight_tables refuses a table
+/// without them): topics/imu.csv (m/s^2, rad/s, body FRD as logged), actuators.csv and
+/// excitation.csv (rad, throttle 0..1), the estimate's state.csv (docs/sensor-log.md, docs/logs.md).
+inline constexpr std::array<const char*, 6> kImuColumns = {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"};
+inline constexpr std::array<const char*, 4> kCommandColumns = {"delta_a", "delta_e", "delta_r", "delta_t"};
+inline constexpr std::array<const char*, 19> kStateColumns = {"valid", "phi", "theta", "psi", "b_x", "b_y", "b_z", "Va",  "alpha", "beta",
+                                                              "p_n",   "p_e", "p_d",   "u",   "v",   "w",   "w_n", "w_e", "w_d"};
+
 /// The tables a series is built from, each read once: a second series with other options (the
 /// commands' delays: command_delay.hpp) needs no second read of a log of hundreds of MB.
 struct FlightTables {

@@ -14,6 +14,11 @@ namespace tern::fcu_serial {
 namespace {
 fcu::HostTime host_now() { return {fcu::steady_ns()}; }
 constexpr tern::Nanos kRcCheckAfter = 1'000'000'000;  // the start-up RC check: 1 s of flight
+/// SMALL_IMU's temperature is the board's ImuStruct::temperature, sent as it is by
+/// CommManager::send_imu (rosflight_firmware src/comm_manager.cpp, via Sensors::get_imu()). This
+/// firmware's include/interface/board.h declares it in K; a board that fills it in deg C (the
+/// firmware's own test/test_board.cpp imu_read writes 25.0) reads below this, and is converted.
+constexpr float kCelsiusBelow = 150.0f;
 }  // namespace
 
 void FcuSerial::step(tern::Nanos now) {
@@ -140,7 +145,7 @@ bool FcuSerial::take_imu(const mav::SmallImu& s, const fcu::Received& r, tern::N
   out.stamp = i.stamp.ns;
   out.accel = Eigen::Vector3d(s.xacc, s.yacc, s.zacc);
   out.gyro = Eigen::Vector3d(s.xgyro, s.ygyro, s.zgyro);
-  out.temperature = s.temperature < 150.0f ? s.temperature + tern::kZeroCelsius : s.temperature;  // deg C or K
+  out.temperature = s.temperature < kCelsiusBelow ? s.temperature + tern::kZeroCelsius : s.temperature;  // deg C or K
   if (due.imu) ++s_.imu_superseded;
   due.imu = out;
   return true;

@@ -3,19 +3,22 @@
 // autopilots), on tables whose answers are known.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <functional>
 #include <string>
 #include <vector>
 
 #include "sysid/flight_data.hpp"
+#include "tern/math.hpp"
 
 using namespace tern::core::sysid;
 
 namespace {
 
 // A table of `n` rows at `hz` from t = 0: each named column filled by f(name, t).
-tern::core::CsvTable table(double hz, std::size_t n, const std::vector<std::string>& names,
+template <std::size_t N>
+tern::core::CsvTable table(double hz, std::size_t n, const std::array<const char*, N>& names,
                            const std::function<double(const std::string&, double)>& f) {
   tern::core::CsvTable c;
   c.file = "synthetic.csv";
@@ -32,15 +35,13 @@ tern::core::CsvTable table(double hz, std::size_t n, const std::vector<std::stri
 // aileron `delta_a(t)` logged at act_hz.
 FlightTables flight(double imu_hz, double act_hz, const std::function<double(double)>& delta_a, double seconds = 10.0) {
   FlightTables f;
-  f.imu = table(imu_hz, static_cast<std::size_t>(seconds * imu_hz), {"accel_x", "accel_y", "accel_z", "gyro_x", "gyro_y", "gyro_z"},
-                [](const std::string& n, double) { return n == "accel_z" ? -9.80665 : 0.0; });
-  f.actuators = table(act_hz, static_cast<std::size_t>(seconds * act_hz), {"delta_a", "delta_e", "delta_r", "delta_t"},
+  f.imu = table(imu_hz, static_cast<std::size_t>(seconds * imu_hz), kImuColumns,
+                [](const std::string& n, double) { return n == "accel_z" ? -tern::kStandardGravity : 0.0; });
+  f.actuators = table(act_hz, static_cast<std::size_t>(seconds * act_hz), kCommandColumns,
                       [&](const std::string& n, double t) { return n == "delta_a" ? delta_a(t) : 0.0; });
-  f.state = table(100.0, static_cast<std::size_t>(seconds * 100.0),
-                  {"valid", "b_x", "b_y", "b_z", "Va", "phi", "theta", "psi", "p_n", "p_e", "p_d", "u", "v", "w", "w_n", "w_e"},
-                  [](const std::string& n, double) { return n == "valid"            ? 1.0
-                                                            : n == "Va" || n == "u" ? 20.0
-                                                                                    : 0.0; });
+  f.state = table(100.0, static_cast<std::size_t>(seconds * 100.0), kStateColumns, [](const std::string& n, double) {
+    return n == "valid" ? 1.0 : n == "Va" || n == "u" ? 20.0 : 0.0;
+  });
   return f;
 }
 
@@ -82,4 +83,37 @@ TEST_CASE("commands logged at 10 Hz are joined linearly, not held for 100 ms; at
   bool noted = false;
   for (const auto& n : sampled.notes) noted = noted || n.find("commands logged every 100 ms") != std::string::npos;
   CHECK(noted);
+}
+
+TEST_CASE(
+    "hostile tables: IMU rows seconds apart are not interpolated; a command row stamped NaN or going back is dropped, not holding the "
+    "rest") {
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0;
+  // the IMU at 0.5 Hz (rows 2 s apart, beyond the 1-s gap): the series keeps its rows, no factor of 400
+  const FlightSeries sparse = series_from_tables(flight(0.5, 10.0, [](double t) { return 0.1 * t; }), o);
+  CHECK(sparse.t.size() == 5);
+  // commands at 10 Hz (joined): the row at 5.0 s repeated on its stamp with another value, the
+  // row at 6.0 s stamped NaN, the one at 7.0 s stamped 1 s back, a NaN command at 8.0 s
+  FlightTables f = flight(200.0, 10.0, [](double t) { return 0.1 * t; });
+  auto& act = f.actuators;
+  for (auto& [name, col] : act.columns) col.insert(col.begin() + 51, name == "delta_a" ? 0.9 : col[50]);
+  ++act.rows;
+  act.columns.at("t")[61] = std::nan("");
+  act.columns.at("t")[71] -= 1.0;
+  act.columns.at("delta_a")[81] = std::nan("");
+  const FlightSeries s = series_from_tables(f, o);
+  bool finite = true;
+  double at_9 = std::nan("");
+  for (std::size_t k = 0; k < s.t.size(); ++k) {
+    finite = finite && std::isfinite(s.delta_a[k]);
+    if (std::abs(s.t[k] - 9.0) < 1e-9) at_9 = s.delta_a[k];
+  }
+  CHECK(finite);
+  CHECK(at_9 == doctest::Approx(0.9).epsilon(1e-3));  // the ramp after them (a NaN stamp froze it at 0.5 before)
+  int noted = 0;
+  for (const auto& n : s.notes)
+    noted += n.find("2 of 101 rows whose time is not a number or goes back: dropped") != std::string::npos ||
+             n.find("not a number: the row before each held") != std::string::npos;
+  CHECK(noted == 2);
 }
