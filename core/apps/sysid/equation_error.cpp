@@ -51,6 +51,19 @@ Eigen::MatrixXd window_matrix(const Context& c, const std::vector<const Col*>& c
 
 }  // namespace
 
+std::size_t least_determined(const Eigen::VectorXd& estimate, const Eigen::VectorXd& std_error, const std::vector<double>& prior,
+                             const std::vector<bool>& failed) {
+  std::size_t worst = failed.size();
+  double worst_ratio = -1.0;
+  for (std::size_t j = 0; j < failed.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    const double size = prior[j] != 0.0 ? std::abs(prior[j]) : std::abs(estimate[J]);
+    const double ratio = std_error[J] / std::max(size, 1e-300);
+    if (failed[j] && (worst == failed.size() || ratio > worst_ratio)) worst = j, worst_ratio = ratio;
+  }
+  return worst;
+}
+
 CoefficientEstimate& record(Context& c, const Term& t, const std::string& method) {
   CoefficientEstimate e;
   e.name = t.name;
@@ -106,13 +119,10 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
       break;
     }
     // one term at a time, the least determined first: of two collinear terms the other may then stand
-    std::size_t worst = free.size();
-    double worst_ratio = -1.0;
-    for (std::size_t j = 0; j < free.size(); ++j) {
-      const auto J = static_cast<Eigen::Index>(j);
-      const double ratio = e.std_error[J] / std::max(std::abs(e.theta[J]), 1e-300);
-      if (bad.count(free[j].name) && (worst == free.size() || ratio > worst_ratio)) worst = j, worst_ratio = ratio;
-    }
+    std::vector<double> prior(free.size());
+    std::vector<bool> failed(free.size());
+    for (std::size_t j = 0; j < free.size(); ++j) prior[j] = c.prior.*free[j].member, failed[j] = bad.count(free[j].name) > 0;
+    const std::size_t worst = least_determined(e.theta, e.std_error, prior, failed);
     why[free[worst].name] = bad.at(free[worst].name);
     free.erase(free.begin() + static_cast<std::ptrdiff_t>(worst));
   }

@@ -63,9 +63,18 @@ CoefficientEstimate& record(Context& c, const Term& t, const std::string& method
 
 /// z = sum of terms, in the frequency domain over the band. Terms not excited keep the prior (moved
 /// to the left side); of those collinear or poorly determined after a fit, the least determined
-/// (largest standard error / |estimate|) keeps its prior and the others are fitted again. What the
+/// (least_determined) keeps its prior and the others are fitted again. What the
 /// kept priors' uncertainty (kPriorUncertainty) moves the fitted terms by is added to their bounds.
 void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms);
+
+/// Of the terms `failed` after a band fit, the one to keep at its prior first (band_fit): the
+/// largest standard error against the size its prior expects, |prior| (|estimate| where the prior
+/// is 0). A weak instrument can throw an estimate far from any value (C_Y_beta +1.9 +- 2.2 against
+/// a prior of -0.59): measured against itself it would look better determined than a small term
+/// (C_Y_delta_a -1.4 +- 1.1 against 0.045) that costs the fit little to hold. failed.size() when
+/// none failed.
+std::size_t least_determined(const Eigen::VectorXd& estimate, const Eigen::VectorXd& std_error, const std::vector<double>& prior,
+                             const std::vector<bool>& failed);
 
 /// A bias term from the trim windows: mean of z less the model's other terms.
 void bias_fit(Context& c, const std::string& name, Member member, const Col& z, const std::vector<Term>& terms);

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <random>
 
+#include "sysid/equation_error.hpp"
 #include "sysid/identify.hpp"
 #include "sysid/regression.hpp"
 #include "sysid/sysid_output.hpp"
@@ -303,6 +304,21 @@ TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says 
   bool said = false;
   for (const auto& n : r.notes) said = said || n.find("C_n_delta_r: not identifiable: rudder never moved") != std::string::npos;
   CHECK(said);
+}
+
+TEST_CASE("of several poorly determined terms the one least determined against its prior keeps it first") {
+  // the side force of the Anaconda's seed-3 foreign log: beta, delta_a, delta_r as a weak instrument left them
+  Eigen::VectorXd estimate(3), se(3);
+  estimate << 1.9, -1.39, -0.451;
+  se << 2.2, 1.1, 0.51;
+  const std::vector<double> prior = {-0.588, 0.045, 0.114};
+  using tern::core::sysid::least_determined;
+  CHECK(least_determined(estimate, se, prior, {true, true, true}) == 1);   // C_Y_delta_a: 24 of its prior's size
+  CHECK(least_determined(estimate, se, prior, {true, false, true}) == 2);  // then C_Y_delta_r: 4.5 against C_Y_beta's 3.7
+  CHECK(least_determined(estimate, se, prior, {true, false, false}) == 0);
+  CHECK(least_determined(estimate, se, prior, {false, false, false}) == 3);  // none failed
+  // a prior of 0 says nothing of the size: the estimate's is taken
+  CHECK(least_determined(estimate, se, {-0.588, 0.0, 0.114}, {true, true, true}) == 2);
 }
 
 TEST_CASE("the coloured-residual bound is wider than the white one when the residuals are correlated") {
