@@ -20,19 +20,20 @@ Col drag_at(const AeroSamples& a, const Col& alpha) {
   return C_D;
 }
 
-/// The polar's trim windows (instrumentation.hpp): C_D - C_D_q q^ - C_D_delta_e delta_e, C_Lw =
-/// C_L_scale (C_L_0 + C_L_alpha alpha) (sim_aero's drag_coefficient in the linear range) and the
-/// accelerometer bias's regressor -m cos(alpha) / (qbar_xz S), each a window's mean.
+/// The polar's trim windows (instrumentation.hpp): C_D - C_D_q q^ - C_D_delta_e delta_e, C_Lw^2 with
+/// C_Lw = C_L_scale (C_L_0 + C_L_alpha alpha) (sim_aero's drag_coefficient in the linear range) and
+/// the accelerometer bias's regressor -m cos(alpha) / (qbar_xz S), each a window's mean.
 std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, const Col& alpha, const Aircraft& ac, double C_L_scale) {
   const Col C_D = drag_at(a, alpha);
-  Col z(a.size()), clw(a.size()), bias(a.size());
+  Col z(a.size()), clw2(a.size()), bias(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
     z[k] = C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
-    clw[k] = C_L_scale * (c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k]);
+    const double C_Lw = C_L_scale * (c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k]);
+    clw2[k] = C_Lw * C_Lw;
     const double V_xz = a.Va[k] * std::cos(a.beta[k]);
     bias[k] = -ac.mass * std::cos(alpha[k]) / (0.5 * ac.rho * V_xz * V_xz * ac.S);
   }
-  const Col zm = window_means(z, c.L), cm = window_means(clw, c.L), bm = window_means(bias, c.L);
+  const Col zm = window_means(z, c.L), cm = window_means(clw2, c.L), bm = window_means(bias, c.L);
   std::vector<PolarWindow> w(zm.size());
   for (std::size_t i = 0; i < zm.size(); ++i) w[i] = {zm[i], cm[i], bm[i]};
   return w;

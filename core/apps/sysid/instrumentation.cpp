@@ -72,7 +72,7 @@ DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_re
   Eigen::VectorXd z(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PolarWindow& p = w[static_cast<std::size_t>(i)];
-    X(i, 0) = 1.0, X(i, 1) = p.C_Lw * p.C_Lw, X(i, 2) = p.bias_regressor;
+    X(i, 0) = 1.0, X(i, 1) = p.C_Lw_squared, X(i, 2) = p.bias_regressor;
     z[i] = p.C_D;
   }
   DragPolar out;

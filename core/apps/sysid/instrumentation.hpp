@@ -60,11 +60,13 @@ struct AirspeedScale {
 AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation);
 
 /// One trim window's means for the polar: the measured drag coefficient (thrust removed, forces
-/// turned through alpha), the lift model's C_Lw, and the bias regressor -m cos(alpha) / (qbar S)
-/// (s^2/m: times b in m/s^2 gives a drag coefficient).
+/// turned through alpha), the lift model's C_Lw squared, and the bias regressor -m cos(alpha) /
+/// (qbar S) (s^2/m: times b in m/s^2 gives a drag coefficient). The mean of C_Lw^2, not the square
+/// of its mean: in turbulence alpha moves about its trim within a window, and the induced drag
+/// follows the square of each moment's lift (the window's mean drag is K (mean^2 + variance)).
 struct PolarWindow {
   double C_D = 0.0;
-  double C_Lw = 0.0;
+  double C_Lw_squared = 0.0;
   double bias_regressor = 0.0;
 };
 

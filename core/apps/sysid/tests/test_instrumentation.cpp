@@ -59,7 +59,7 @@ void windows(double Va, const std::vector<double>& loads, double k_est, std::mt1
     const double C_L = lift / (qbar_true * kS);
     const double drag_force = qbar_true * kS * (kCDp + C_L * C_L / (tern::kPi * kE * kAR));
     const double measured = drag_force - kMass * kBias * std::cos(alpha);
-    w.push_back({measured / (qbar * kS) + noise(rng), lift / (qbar * kS), -kMass * std::cos(alpha) / (qbar * kS)});
+    w.push_back({measured / (qbar * kS) + noise(rng), std::pow(lift / (qbar * kS), 2), -kMass * std::cos(alpha) / (qbar * kS)});
   }
 }
 
