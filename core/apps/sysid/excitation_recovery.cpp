@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
@@ -27,6 +28,25 @@ std::vector<double> highpassed(const std::vector<double>& x, std::size_t half) {
     const std::size_t b = k > half ? k - half : 0, e = std::min(n, k + half + 1);
     const std::size_t c = count[e] - count[b];
     out[k] = std::isfinite(x[k]) && c > 0 ? x[k] - (sum[e] - sum[b]) / static_cast<double>(c) : std::nan("");
+  }
+  return out;
+}
+
+/// x through a first-order low-pass of time constant tau (s) at step dt, causal as a controller
+/// is; restarted from the sample after each NaN (NaN there).
+std::vector<double> lowpassed(const std::vector<double>& x, double tau, double dt) {
+  const double a = dt / (tau + dt);
+  std::vector<double> out(x.size(), std::nan(""));
+  bool started = false;
+  double y = 0.0;
+  for (std::size_t k = 0; k < x.size(); ++k) {
+    if (!std::isfinite(x[k])) {
+      started = false;
+      continue;
+    }
+    y = started ? y + a * (x[k] - y) : x[k];
+    started = true;
+    out[k] = y;
   }
   return out;
 }
@@ -113,6 +133,7 @@ void recover_excitation(FlightSeries& s, const ExcitationRecoveryOptions& o) {
       for (std::size_t k = lag; k < n; ++k) col[k] = h[k - lag];
       X.push_back(std::move(col));
     }
+    for (const double tau : o.lowpass_s) X.push_back(lowpassed(h, tau, dt));
   }
   std::vector<unsigned char> usable(n, 0);
   for (std::size_t k = 0; k < n; ++k) {
@@ -120,6 +141,14 @@ void recover_excitation(FlightSeries& s, const ExcitationRecoveryOptions& o) {
     for (const auto& col : X) ok = ok && std::isfinite(col[k]);
     usable[k] = ok ? 1 : 0;
   }
+  std::string lowpass_words;
+  for (std::size_t i = 0; i < o.lowpass_s.size(); ++i)
+    lowpass_words += fmt::format("{}{:g}",
+                                 i == 0                        ? " and through low-passes of "
+                                 : i + 1 == o.lowpass_s.size() ? " and "
+                                                               : ", ",
+                                 o.lowpass_s[i]);
+  if (!o.lowpass_s.empty()) lowpass_words += " s";
   const std::array<std::pair<const char*, std::vector<double>*>, 4> commands = {
       {{"aileron", &s.delta_a}, {"elevator", &s.delta_e}, {"rudder", &s.delta_r}, {"throttle", &s.delta_t}}};
   const std::array<std::vector<double>*, 4> parts = {&s.exc_delta_a, &s.exc_delta_e, &s.exc_delta_r, &s.exc_delta_t};
@@ -132,9 +161,9 @@ void recover_excitation(FlightSeries& s, const ExcitationRecoveryOptions& o) {
                           f.valid)
             : fmt::format(
                   "excitation ({}): no excitation table; recovered as the command less its feedback of phi, theta, p, q, r, "
-                  "beta, Va and height at lags 0-{:.0f} ms, fitted outside the manoeuvres (R^2 {:.2f}, {:.0f} % of the samples left out; "
-                  "two-stage method, Ljung sec. 13.5)",
-                  commands[i].first, 1e3 * static_cast<double>(lags) * dt, f.r_squared, 100.0 * f.left_out));
+                  "beta, Va and height at lags 0-{:.0f} ms{}, fitted outside the manoeuvres (R^2 {:.2f}, {:.0f} % of the samples left "
+                  "out; two-stage method, Ljung sec. 13.5)",
+                  commands[i].first, 1e3 * static_cast<double>(lags) * dt, lowpass_words, f.r_squared, 100.0 * f.left_out));
   }
 }
 

@@ -11,7 +11,12 @@
 //     references, trims and integrators of the outer loops move slower than the band).
 //  2. Each command regressed by least squares on what a fixed-wing autopilot's inner loops feed
 //     back, from the estimate (phi, theta, p, q, r, beta, Va and height), each at lags of 0 to
-//     max_lag_s (the controller's own latency and the command's delay), robustly: the samples whose
+//     max_lag_s (the controller's own latency and the command's delay) and through first-order
+//     low-passes of time constants lowpass_s (the memory a controller keeps of a state: a yaw
+//     damper's washout, r less r low-passed, the book's at 0.5 rad/s; a PI loop's integrator,
+//     which within the band acts as a low-pass of the error; a basis of first-order filters,
+//     as Laguerre functions are, Heuberger, Van den Hof and Wahlberg, *Modelling and
+//     Identification with Rational Orthogonal Basis Functions*, 2005), robustly: the samples whose
 //     residual exceeds outlier_sigmas of the residuals' robust spread (1.4826 times their median
 //     absolute deviation) are left out and the fit repeated, so that the manoeuvres (the part
 //     the feedback does not explain) do not bend the controller's model.
@@ -25,13 +30,17 @@
 // Errors: none; a surface with fewer valid samples than regressors keeps no excitation (its note says so).
 #pragma once
 
+#include <vector>
+
 #include "sysid/flight_data.hpp"
 
 namespace tern::core::sysid {
 
 struct ExcitationRecoveryOptions {
-  double highpass_s = 10.0;     ///< s, window of the moving mean subtracted (1 / the band's low edge)
-  double max_lag_s = 0.06;      ///< s, the regressors' longest lag
+  double highpass_s = 10.0;  ///< s, window of the moving mean subtracted (1 / the band's low edge)
+  double max_lag_s = 0.06;   ///< s, the regressors' longest lag
+  /// s, time constants of the first-order low-passes each state is fed back through besides its lags
+  std::vector<double> lowpass_s = {0.5, 2.0, 8.0};
   double outlier_sigmas = 2.5;  ///< residual / robust spread beyond which a sample is left out of the fit
   int passes = 4;               ///< fits, each leaving out the previous one's outliers (>= 1; 1: none left out)
 };

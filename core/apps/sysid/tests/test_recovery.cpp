@@ -123,3 +123,43 @@ TEST_CASE("excitation recovery: the command less the controller's feedback is th
   recover_excitation(logged);
   CHECK(logged.exc_delta_a == std::vector<double>(n, 1.0));
 }
+
+TEST_CASE("excitation recovery: a controller with memory (a washed-out yaw damper, a PI roll loop) is modelled too") {
+  const std::size_t n = static_cast<std::size_t>(300 * kRate);
+  std::mt19937 rng(11);
+  FlightSeries s = still_series(n);
+  s.phi = smooth(rng, n, 0.2);
+  s.p = smooth(rng, n, 0.5);
+  s.r = smooth(rng, n, 0.2);
+  for (std::size_t k = 0; k < n; ++k) s.Va[k] = 20.0, s.p_d[k] = -100.0, s.u[k] = 20.0;
+  const std::vector<double> e_a = manoeuvres(n, 0.05), e_r = manoeuvres(n, 0.05);
+  // the book's yaw damper: delta_r = k_r (r less r through a 0.5-rad/s washout's low-pass); the
+  // roll loop: proportional, derivative and integral of the roll error (uavbook sec. 6.3.1)
+  const double dt = 1.0 / kRate;
+  double r_low = 0.0, phi_integral = 0.0;
+  for (std::size_t k = 0; k < n; ++k) {
+    r_low += 0.5 * dt * (s.r[k] - r_low);
+    phi_integral += s.phi[k] * dt;
+    s.delta_r[k] = -0.5 * (s.r[k] - r_low) + e_r[k];
+    s.delta_a[k] = -0.4 * s.phi[k] - 0.1 * s.p[k] - 0.2 * phi_integral + e_a[k];
+  }
+  FlightSeries lags_only = s;
+  ExcitationRecoveryOptions o;
+  o.lowpass_s.clear();
+  recover_excitation(lags_only, o);
+  recover_excitation(s);
+  // what the recovery leaves of the controller's answer: the recovered less the injected
+  auto leak = [&](const std::vector<double>& recovered, const std::vector<double>& injected) {
+    std::vector<double> d(n);
+    for (std::size_t k = 0; k < n; ++k) d[k] = recovered[k] - injected[k];
+    return rms(d) / rms(injected);
+  };
+  CAPTURE(leak(lags_only.exc_delta_r, e_r));
+  CAPTURE(leak(lags_only.exc_delta_a, e_a));
+  CAPTURE(leak(s.exc_delta_r, e_r));
+  CAPTURE(leak(s.exc_delta_a, e_a));
+  CHECK(leak(s.exc_delta_r, e_r) < 0.1);
+  CHECK(leak(s.exc_delta_a, e_a) < 0.1);
+  CHECK(leak(lags_only.exc_delta_a, e_a) > 2.0 * leak(s.exc_delta_a, e_a));  // the integrator's memory (0.22 against 0.07)
+  CHECK(s.notes.back().find("low-passes of 0.5, 2 and 8 s") != std::string::npos);
+}
