@@ -53,6 +53,9 @@ Eigen::MatrixXd window_matrix(const Context& c, const std::vector<const Col*>& c
 
 std::size_t least_determined(const Eigen::VectorXd& estimate, const Eigen::VectorXd& std_error, const std::vector<double>& prior,
                              const std::vector<bool>& failed) {
+  const auto n = static_cast<Eigen::Index>(failed.size());
+  if (estimate.size() != n || std_error.size() != n || prior.size() != failed.size())
+    throw std::invalid_argument("least_determined: estimate, std_error, prior and failed differ in length");
   std::size_t worst = failed.size();
   double worst_ratio = -1.0;
   for (std::size_t j = 0; j < failed.size(); ++j) {

@@ -72,7 +72,7 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
 /// is 0). A weak instrument can throw an estimate far from any value (C_Y_beta +1.9 +- 2.2 against
 /// a prior of -0.59): measured against itself it would look better determined than a small term
 /// (C_Y_delta_a -1.4 +- 1.1 against 0.045) that costs the fit little to hold. failed.size() when
-/// none failed.
+/// none failed. Errors: std::invalid_argument when the four differ in length.
 std::size_t least_determined(const Eigen::VectorXd& estimate, const Eigen::VectorXd& std_error, const std::vector<double>& prior,
                              const std::vector<bool>& failed);
 

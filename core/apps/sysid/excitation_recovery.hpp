@@ -39,7 +39,7 @@ namespace tern::core::sysid {
 struct ExcitationRecoveryOptions {
   double highpass_s = 10.0;  ///< s, window of the moving mean subtracted (1 / the band's low edge)
   double max_lag_s = 0.06;   ///< s, the regressors' longest lag
-  /// s, time constants of the first-order low-passes each state is fed back through besides its lags
+  /// s, time constants (each > 0) of the first-order low-passes each state is fed back through besides its lags
   std::vector<double> lowpass_s = {0.5, 2.0, 8.0};
   double outlier_sigmas = 2.5;  ///< residual / robust spread beyond which a sample is left out of the fit
   int passes = 4;               ///< fits, each leaving out the previous one's outliers (>= 1; 1: none left out)

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 
 #include "sysid/equation_error.hpp"
 #include "sysid/identify.hpp"
@@ -339,6 +340,7 @@ TEST_CASE("of several poorly determined terms the one least determined against i
   CHECK(least_determined(estimate, se, prior, {false, false, false}) == 3);  // none failed
   // a prior of 0 says nothing of the size: the estimate's is taken
   CHECK(least_determined(estimate, se, {-0.588, 0.0, 0.114}, {true, true, true}) == 2);
+  CHECK_THROWS_AS(least_determined(estimate, se, {-0.588, 0.045}, {true, true, true}), std::invalid_argument);
 }
 
 TEST_CASE("the coloured-residual bound is wider than the white one when the residuals are correlated") {
