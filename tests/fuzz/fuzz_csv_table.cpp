@@ -3,7 +3,8 @@
 // the time parser of replay's tables (table_limits.hpp), and for what sysid builds from such a
 // table (sysid/flight_data.hpp series_from_tables: a table read taken as the IMU's, and as the
 // actuators', beside a still, valid 10-s flight's other tables: any stamps, gaps, duplicates and
-// rates, NaN). Any bytes: a table and a series of matching columns, or ConfigError (one line);
+// rates, NaN), and the excitation recovered from that series (sysid/excitation_recovery.hpp: its lags and
+// low-passes over gaps and NaN). Any bytes: a table and a series of matching columns, or ConfigError (one line);
 // never a crash, an out-of-bounds read or a hang.
 #include <array>
 #include <cstdint>
@@ -14,6 +15,7 @@
 #include "fuzz_input.hpp"
 #include "replay/replay_csv.hpp"
 #include "replay/table_limits.hpp"
+#include "sysid/excitation_recovery.hpp"
 #include "sysid/flight_data.hpp"
 
 using namespace tern::core;
@@ -51,8 +53,10 @@ void series_of(const CsvTable& t) {
     sysid::FlightTables g = f;
     (as_imu ? g.imu : g.actuators) = t;
     try {
-      const sysid::FlightSeries s = sysid::series_from_tables(g, {});
+      sysid::FlightSeries s = sysid::series_from_tables(g, {});
       if (s.delta_a.size() != s.t.size() || s.p.size() != s.t.size()) __builtin_trap();  // one value per sample
+      sysid::recover_excitation(s);  // no excitation table: the controller's feedback fitted and taken out
+      if (s.size() >= 3 && s.exc_delta_r.size() != s.t.size()) __builtin_trap();
     } catch (const ConfigError&) {
     }
   }
