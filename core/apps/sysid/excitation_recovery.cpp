@@ -3,10 +3,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include <Eigen/Dense>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 namespace tern::core::sysid {
 
@@ -118,6 +120,9 @@ Fit feedback_fit(const std::vector<double>& command, const std::vector<std::vect
 }  // namespace
 
 void recover_excitation(FlightSeries& s, const ExcitationRecoveryOptions& o) {
+  for (const double tau : o.lowpass_s)
+    if (!(tau > 0.0 && std::isfinite(tau)))
+      throw std::invalid_argument(fmt::format("excitation recovery: a low-pass time constant of {} s (each must be > 0)", tau));
   if (!s.exc_delta_a.empty() || s.size() < 3) return;
   const std::size_t n = s.size();
   const double dt = (s.t.back() - s.t.front()) / static_cast<double>(n - 1);
@@ -141,14 +146,8 @@ void recover_excitation(FlightSeries& s, const ExcitationRecoveryOptions& o) {
     for (const auto& col : X) ok = ok && std::isfinite(col[k]);
     usable[k] = ok ? 1 : 0;
   }
-  std::string lowpass_words;
-  for (std::size_t i = 0; i < o.lowpass_s.size(); ++i)
-    lowpass_words += fmt::format("{}{:g}",
-                                 i == 0                        ? " and through low-passes of "
-                                 : i + 1 == o.lowpass_s.size() ? " and "
-                                                               : ", ",
-                                 o.lowpass_s[i]);
-  if (!o.lowpass_s.empty()) lowpass_words += " s";
+  const std::string lowpass_words =
+      o.lowpass_s.empty() ? "" : fmt::format(" and through first-order low-passes of {} s", fmt::join(o.lowpass_s, ", "));
   const std::array<std::pair<const char*, std::vector<double>*>, 4> commands = {
       {{"aileron", &s.delta_a}, {"elevator", &s.delta_e}, {"rudder", &s.delta_r}, {"throttle", &s.delta_t}}};
   const std::array<std::vector<double>*, 4> parts = {&s.exc_delta_a, &s.exc_delta_e, &s.exc_delta_r, &s.exc_delta_t};

@@ -27,7 +27,8 @@
 // autopilot's own estimate against tern's) stays in the recovered excitation and, with it, some of
 // the gusts: the instruments then remove less of the loop's bias than a logged excitation does.
 //
-// Errors: none; a surface with fewer valid samples than regressors keeps no excitation (its note says so).
+// Errors: std::invalid_argument for a low-pass time constant that is not > 0; a surface with fewer
+// valid samples than regressors keeps no excitation (its note says so).
 #pragma once
 
 #include <vector>

@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "sysid/airborne.hpp"
@@ -47,6 +48,16 @@ std::vector<double> manoeuvres(std::size_t n, double amplitude) {
     if (into >= 0.0 && into < 1.4) e[k] = amplitude * units[static_cast<int>(into / 0.2)];
   }
   return e;
+}
+
+// A still series in level flight at 20 m/s, 100 m up, its roll, roll rate and yaw rate smooth signals.
+FlightSeries flying_series(std::mt19937& rng, std::size_t n) {
+  FlightSeries s = still_series(n);
+  s.phi = smooth(rng, n, 0.2);
+  s.p = smooth(rng, n, 0.5);
+  s.r = smooth(rng, n, 0.2);
+  for (std::size_t k = 0; k < n; ++k) s.Va[k] = 20.0, s.p_d[k] = -100.0, s.u[k] = 20.0;
+  return s;
 }
 
 double correlation(const std::vector<double>& a, const std::vector<double>& b) {
@@ -92,15 +103,12 @@ TEST_CASE("airborne: the ground is where the aircraft stood still; a log that ne
 TEST_CASE("excitation recovery: the command less the controller's feedback is the injected manoeuvre") {
   const std::size_t n = static_cast<std::size_t>(120 * kRate);
   std::mt19937 rng(7);
-  FlightSeries s = still_series(n);
-  s.phi = smooth(rng, n, 0.2);
+  FlightSeries s = flying_series(rng, n);
   s.theta = smooth(rng, n, 0.05);
-  s.p = smooth(rng, n, 0.5);
   s.q = smooth(rng, n, 0.3);
-  s.r = smooth(rng, n, 0.2);
   s.beta = smooth(rng, n, 0.03);
   const std::vector<double> dVa = smooth(rng, n, 1.0);
-  for (std::size_t k = 0; k < n; ++k) s.Va[k] = 20.0 + dVa[k], s.p_d[k] = -100.0, s.u[k] = 20.0;
+  for (std::size_t k = 0; k < n; ++k) s.Va[k] += dVa[k];
   // the autopilot: the aileron and the elevator feed back roll and pitch and add manoeuvres; the
   // rudder and the throttle are feedback only
   const std::vector<double> e_a = manoeuvres(n, 0.1), e_e = manoeuvres(n, 0.05);
@@ -127,11 +135,7 @@ TEST_CASE("excitation recovery: the command less the controller's feedback is th
 TEST_CASE("excitation recovery: a controller with memory (a washed-out yaw damper, a PI roll loop) is modelled too") {
   const std::size_t n = static_cast<std::size_t>(300 * kRate);
   std::mt19937 rng(11);
-  FlightSeries s = still_series(n);
-  s.phi = smooth(rng, n, 0.2);
-  s.p = smooth(rng, n, 0.5);
-  s.r = smooth(rng, n, 0.2);
-  for (std::size_t k = 0; k < n; ++k) s.Va[k] = 20.0, s.p_d[k] = -100.0, s.u[k] = 20.0;
+  FlightSeries s = flying_series(rng, n);
   const std::vector<double> e_a = manoeuvres(n, 0.05), e_r = manoeuvres(n, 0.05);
   // the book's yaw damper: delta_r = k_r (r less r through a 0.5-rad/s washout's low-pass); the
   // roll loop: proportional, derivative and integral of the roll error (uavbook sec. 6.3.1)
@@ -161,5 +165,9 @@ TEST_CASE("excitation recovery: a controller with memory (a washed-out yaw dampe
   CHECK(leak(s.exc_delta_r, e_r) < 0.1);
   CHECK(leak(s.exc_delta_a, e_a) < 0.1);
   CHECK(leak(lags_only.exc_delta_a, e_a) > 2.0 * leak(s.exc_delta_a, e_a));  // the integrator's memory (0.22 against 0.07)
-  CHECK(s.notes.back().find("low-passes of 0.5, 2 and 8 s") != std::string::npos);
+  CHECK(s.notes.back().find("low-passes of 0.5, 2, 8 s") != std::string::npos);
+  FlightSeries refused = lags_only;
+  refused.exc_delta_a.clear();
+  o.lowpass_s = {2.0, 0.0};
+  CHECK_THROWS_AS(recover_excitation(refused, o), std::invalid_argument);
 }
