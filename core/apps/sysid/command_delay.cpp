@@ -2,6 +2,7 @@
 #include "sysid/command_delay.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -29,7 +30,81 @@ bool adopted(const NuisanceEstimate& shift, double start, const DelayOptions& d,
   return true;
 }
 
+/// The delay the adopted surfaces share: their delays' mean weighted by 1 / SE^2, and its standard
+/// error; nullopt when none was adopted. One output loop (a mixer cycle, a servo bus) drives every
+/// surface, so a surface whose own delay the flight leaves undetermined takes the others' timing.
+std::optional<NuisanceEstimate> shared_delay(const std::array<double, 3>& delays, const std::array<NuisanceEstimate, 3>& shift,
+                                             const std::array<bool, 3>& taken) {
+  double weights = 0.0, sum = 0.0;
+  for (std::size_t i = 0; i < 3; ++i)
+    if (taken[i]) {
+      const double w = 1.0 / std::max(shift[i].std_error * shift[i].std_error, 1e-12);
+      weights += w, sum += w * delays[i];
+    }
+  if (weights == 0.0) return std::nullopt;
+  NuisanceEstimate e;
+  e.estimate = sum / weights, e.std_error = std::sqrt(1.0 / weights), e.identified = true;
+  return e;
+}
+
+/// Whether a surface left undetermined takes the shared delay: its own fit, where it has one,
+/// within `sigmas` of its standard error (and the shared one's) of it; `why` says why not.
+bool takes_shared(const NuisanceEstimate& own, double own_delay, const NuisanceEstimate& shared, double sigmas, std::string& why) {
+  if (!own.identified) return true;
+  const double spread = std::hypot(own.std_error, shared.std_error);
+  if (std::abs(own_delay - shared.estimate) <= sigmas * spread) return true;
+  why = fmt::format("{:.1f} ms, its own fit, is {:.1f} standard errors from the other surfaces' {:.1f} ms", 1e3 * own_delay,
+                    std::abs(own_delay - shared.estimate) / spread, 1e3 * shared.estimate);
+  return false;
+}
+
 }  // namespace
+
+DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<NuisanceEstimate, 3> shift, const DelayOptions& d) {
+  DelayChoice c{start_s, {}, {}, false};
+  std::array<bool, 3> taken = {false, false, false};
+  std::array<std::string, 3> why;
+  for (std::size_t i = 0; i < 3; ++i) {
+    taken[i] = d.estimate[i] && adopted(shift[i], start_s[i], d, why[i]);
+    if (taken[i]) c.delays[i] = start_s[i] + shift[i].estimate, c.moved = c.moved || std::abs(shift[i].estimate) > d.min_shift_s;
+  }
+  const std::optional<NuisanceEstimate> shared = shared_delay(c.delays, shift, taken);
+  for (std::size_t i = 0; i < 3; ++i) {
+    if (taken[i]) continue;
+    if (!d.estimate[i]) {
+      c.lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
+      shift[i].identified = false, shift[i].note = "given";
+      continue;
+    }
+    const double own_delay = start_s[i] + shift[i].estimate;
+    const std::string own =
+        shift[i].identified ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * own_delay, 1e3 * shift[i].std_error, why[i]) : why[i];
+    std::string refused;
+    if (shared && takes_shared(shift[i], own_delay, *shared, d.shared_sigmas, refused)) {
+      c.delays[i] = shared->estimate, c.moved = c.moved || std::abs(c.delays[i] - start_s[i]) > d.min_shift_s;
+      c.lines.push_back(
+          fmt::format("command delay ({}): not estimated alone ({}); {:.1f} +- {:.1f} ms taken, the other surfaces' "
+                      "(one output loop drives every servo)",
+                      kSurfaces[i], own, 1e3 * shared->estimate, 1e3 * shared->std_error));
+      shift[i].identified = false, shift[i].note = why[i] + "; the other surfaces' delay taken";
+      continue;
+    }
+    c.lines.push_back(fmt::format("command delay ({}): not estimated ({}{}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
+                                  own, refused.empty() ? "" : "; " + refused, 1e3 * start_s[i], "aer"[i]));
+    // sysid.json's command_delay_estimate: identified means adopted; a fit it refused says why
+    shift[i].identified = false, shift[i].note = why[i];
+  }
+  for (std::size_t i = 0; i < 3; ++i)
+    if (taken[i])
+      c.lines.push_back(fmt::format(
+          "command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}{}", kSurfaces[i], 1e3 * c.delays[i],
+          1e3 * shift[i].std_error, kRates[i],
+          c.moved ? ""
+                  : fmt::format(" (within {:g} ms of the {:g} ms it started from, which stays)", 1e3 * d.min_shift_s, 1e3 * start_s[i])));
+  if (!c.moved) c.delays = start_s;
+  c.shift = shift;
+  return c;
+}
 
 SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>& start_s, const Aircraft& prior, const SysidOptions& o,
                            const DelayOptions& d) {
@@ -44,37 +119,11 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
   SysidOptions timing = o;
   timing.estimate_delays = true;
   SysidResult pass = identify(first, prior, timing);
-  std::array<NuisanceEstimate, 3> shift = pass.delay_shift;  // identified: adopted (below)
-  std::array<double, 3> delays = start_s;
-  std::array<bool, 3> taken = {false, false, false};
-  bool moved = false;
-  std::vector<std::string> lines;
-  for (std::size_t i = 0; i < 3; ++i) {
-    std::string why;
-    taken[i] = d.estimate[i] && adopted(shift[i], start_s[i], d, why);
-    if (taken[i]) delays[i] = start_s[i] + shift[i].estimate, moved = moved || std::abs(shift[i].estimate) > d.min_shift_s;
-    const bool fitted = shift[i].identified;
-    if (!d.estimate[i])
-      lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
-    else if (!taken[i])
-      lines.push_back(fmt::format(
-          "command delay ({}): not estimated ({}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
-          fitted ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * (start_s[i] + shift[i].estimate), 1e3 * shift[i].std_error, why) : why,
-          1e3 * start_s[i], "aer"[i]));
-    // sysid.json's command_delay_estimate: identified means adopted; a fit it refused says why
-    if (!taken[i]) shift[i].identified = false, shift[i].note = d.estimate[i] ? why : "given";
-  }
-  for (std::size_t i = 0; i < 3; ++i)
-    if (taken[i])
-      lines.push_back(fmt::format(
-          "command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}{}", kSurfaces[i], 1e3 * delays[i],
-          1e3 * shift[i].std_error, kRates[i],
-          moved ? ""
-                : fmt::format(" (within {:g} ms of the {:g} ms it started from, which stays)", 1e3 * d.min_shift_s, 1e3 * start_s[i])));
-  SysidResult r = moved ? identify(load(delays), prior, o) : std::move(pass);
-  r.command_delay_s = moved ? delays : start_s;
-  r.delay_shift = shift;
-  r.notes.insert(r.notes.begin(), lines.begin(), lines.end());
+  const DelayChoice c = choose_delays(start_s, pass.delay_shift, d);
+  SysidResult r = c.moved ? identify(load(c.delays), prior, o) : std::move(pass);
+  r.command_delay_s = c.delays;
+  r.delay_shift = c.shift;
+  r.notes.insert(r.notes.begin(), c.lines.begin(), c.lines.end());
   return r;
 }
 

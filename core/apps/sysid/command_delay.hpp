@@ -15,6 +15,10 @@
 //     max_delay_s of a stamp. Where an adopted delay moved by more than min_shift_s, the series is
 //     built again with the adopted delays and identified (equation error and output error on the
 //     same timing); else the first pass's identification stands.
+//  3. A surface whose own delay is not adopted (a rudder the flight hardly moves) takes the adopted
+//     surfaces' delay, weighted by their standard errors, when its own fit agrees with it within
+//     shared_sigmas: one output loop (a mixer cycle, a servo bus) drives every surface. Else, or
+//     when none was adopted, it keeps the prior's servos.delay_*.
 // A surface whose delay is given (estimate[i] false) keeps it; so does every surface when the
 // output error is off (its one line says so).
 #pragma once
@@ -35,7 +39,20 @@ struct DelayOptions {
   double max_delay_s = 0.25;                          ///< s, |delay| beyond this is not adopted (a log's clocks, not a servo)
   /// s, a shift smaller than this (a few degrees of phase at the band's 4 Hz) does not call for a second pass
   double min_shift_s = 0.003;
+  /// a surface whose own delay is not adopted takes the adopted surfaces' (weighted) delay when its
+  /// own fit, if it has one, lies within this many standard errors of it; else the prior's
+  double shared_sigmas = 3.0;
 };
+
+/// The delays the timing pass's estimates lead to (steps 2 and 3 above).
+struct DelayChoice {
+  std::array<double, 3> delays;           ///< s, aileron, elevator, rudder: the start where nothing moved
+  std::array<NuisanceEstimate, 3> shift;  ///< against the start; identified where adopted, else a note says why
+  std::vector<std::string> lines;         ///< one per surface, for SysidResult::notes
+  bool moved = false;                     ///< a delay moved beyond min_shift_s: the series is loaded again
+};
+/// `shift`: the timing pass's SysidResult::delay_shift against `start_s` (s).
+DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<NuisanceEstimate, 3> shift, const DelayOptions& d);
 
 /// identify() with the commands' delays estimated (header); the result's command_delay_s are the
 /// delays the identification used, delay_shift each one's estimate against the start, one note per
