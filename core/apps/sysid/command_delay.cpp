@@ -16,7 +16,7 @@ constexpr std::array<const char*, 3> kRates = {"the roll and yaw rates", "the pi
 /// Whether the timing pass's estimate for one surface is adopted; `why` says why not.
 bool adopted(const NuisanceEstimate& shift, double start, const DelayOptions& d, std::string& why) {
   if (!shift.identified) {
-    why = "its axis had no output-error fit";
+    why = shift.note.empty() ? "its axis had no output-error fit" : shift.note;
     return false;
   }
   if (!(shift.std_error <= d.max_std_error_s)) {

@@ -163,7 +163,7 @@ LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& col
 }
 
 Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
-  const double angle = 0.3 * kRadPerDeg, rate = 5.0 * kRadPerDeg;
+  const double angle = kMinAngleMotion, rate = 5.0 * kRadPerDeg;
   return {{&alpha, false, angle, "alpha never moved more than 0.3 deg about its trim"},
           {&beta, false, angle, "sideslip never moved more than 0.3 deg about its trim"},
           {&a.p, true, 2.0 * rate, "roll rate never above 10 deg/s"},

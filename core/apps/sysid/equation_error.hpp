@@ -11,6 +11,7 @@
 #include "sysid/identify.hpp"
 #include "sysid/regression.hpp"
 #include "sysid/spectra.hpp"
+#include "tern/math.hpp"
 
 namespace tern::core::sysid {
 
@@ -50,6 +51,9 @@ struct Context {
 /// from XFLR5 or the book's sister aircraft: x0.6 .. x1.5); its effect on the estimates fitted
 /// beside it is added to their bounds (a consider covariance).
 constexpr double kPriorUncertainty = 0.5;
+
+/// rad, RMS about its trim: a flow angle or a surface that moved less excites nothing.
+inline constexpr double kMinAngleMotion = 0.3 * kRadPerDeg;
 
 /// The excitation tests (identify.hpp), worded for the log.
 struct Signals {

@@ -13,23 +13,28 @@ namespace {
 
 using Vec7 = Eigen::Matrix<double, 7, 1>;
 
+/// Whether the rudder moves nothing (a flying wing's file: its three rudder derivatives 0).
+bool rudderless(const Aircraft& ac) { return ac.aero.C_Y_delta_r == 0.0 && ac.aero.C_ell_delta_r == 0.0 && ac.aero.C_n_delta_r == 0.0; }
+
 struct Problem {
   const Aircraft& ac;
   TrimRequest req;
   double psi_dot;
+  bool beta_free;  ///< z[5] is beta (the rudder held at 0), else delta_r (beta 0)
 
+  double beta(const Vec7& z) const { return beta_free ? z[5] : 0.0; }
   StateVector state(const Vec7& z) const {
-    const double alpha = z[0], phi = z[1], theta = z[2];
-    const Eigen::Vector3d v(req.Va * std::cos(alpha), 0.0, req.Va * std::sin(alpha));
+    const double alpha = z[0], phi = z[1], theta = z[2], b = beta(z);
+    const Eigen::Vector3d v(req.Va * std::cos(alpha) * std::cos(b), req.Va * std::sin(b), req.Va * std::sin(alpha) * std::cos(b));
     const Eigen::Vector3d pqr(-psi_dot * std::sin(theta), psi_dot * std::sin(phi) * std::cos(theta),
                               psi_dot * std::cos(phi) * std::cos(theta));
     return make_state(Eigen::Vector3d(0, 0, -req.altitude), v, phi, theta, req.psi, pqr);
   }
-  static Deltas deltas(const Vec7& z) {
+  Deltas deltas(const Vec7& z) const {
     Deltas d;
     d.delta_e = z[3];
     d.delta_a = z[4];
-    d.delta_r = z[5];
+    d.delta_r = beta_free ? 0.0 : z[5];
     d.delta_t = z[6];
     return d;
   }
@@ -56,7 +61,7 @@ TrimResult compute_trim(const Aircraft& ac, const TrimRequest& req) {
   if (!std::isfinite(req.gamma) || std::fabs(req.gamma) >= 1.5) throw std::runtime_error(what + ": |gamma| must be < 1.5 rad");
   if (std::isnan(req.R) || std::fabs(req.R) < 1.0) throw std::runtime_error(what + ": |R| must be >= 1 m (inf for straight flight)");
   if (!std::isfinite(req.altitude) || !std::isfinite(req.psi)) throw std::runtime_error(what + ": altitude and psi must be finite");
-  Problem pb{ac, req, std::isinf(req.R) ? 0.0 : req.Va * std::cos(req.gamma) / req.R};
+  Problem pb{ac, req, std::isinf(req.R) ? 0.0 : req.Va * std::cos(req.gamma) / req.R, rudderless(ac)};
 
   // Initial guess: lift = weight, pitch-moment balance, coordinated bank.
   const double qS = 0.5 * ac.rho * req.Va * req.Va * ac.S;
@@ -102,11 +107,11 @@ TrimResult compute_trim(const Aircraft& ac, const TrimRequest& req) {
   }
   TrimResult out;
   out.x = pb.state(z);
-  out.delta = Problem::deltas(z);
+  out.delta = pb.deltas(z);
   out.alpha = z[0];
   out.phi = z[1];
   out.theta = z[2];
-  out.beta = 0.0;
+  out.beta = pb.beta(z);
   out.residual = r.norm();
   out.iterations = it;
   auto limit = [&](double v, double lim, const char* name) {

@@ -473,3 +473,28 @@ TEST_CASE("a closed-loop flight in a lateral gust: the excitation's part of the 
   CHECK(error[1] < 0.05);  // measured 0.013 with the excitation, 0.29 with the whole commands
   CHECK(error[0] > 2.0 * error[1]);
 }
+
+TEST_CASE("a flying wing (no rudder): it trims in sideslip, and the timing fit leaves the still rudder out") {
+  tern::Aircraft truth = aerosonde();
+  truth.aero.C_Y_delta_r = truth.aero.C_ell_delta_r = truth.aero.C_n_delta_r = 0.0;
+  const tern::sim::TrimResult trim = tern::sim::compute_trim(truth, {25.0, 0.0, 150.0});
+  CHECK(trim.delta.delta_r == 0.0);
+  CHECK(trim.residual < 1e-8);
+  CHECK(std::abs(trim.beta) > 1e-4);  // the turn's side force and yawing moment balanced in sideslip
+  FlightSeries s;
+  // open loop and no rudder to damp the yaw: short stretches, before the spiral mode diverges
+  for (const double Va : {20.0, 25.0, 30.0})
+    for (int k = 0; k < 3; ++k) fly(truth, Va, 12.0, 0.25, s);
+  for (double& d : s.delta_r) d = 0.0;  // a log without a rudder channel
+  tern::core::sysid::SysidOptions o;
+  o.estimate_delays = true;
+  const auto r = tern::core::sysid::identify(s, wrong_prior(truth), o);
+  // the rudder's delay and C_n_delta_r out of the timing fit: the aileron's delay keeps a finite bound
+  CHECK(r.delay_shift[0].identified);
+  CHECK(std::isfinite(r.delay_shift[0].std_error));
+  CHECK(std::abs(r.delay_shift[0].estimate) < 0.005);  // within the 200-Hz series' step of the truth's 0
+  CHECK_FALSE(r.delay_shift[2].identified);
+  CHECK(r.delay_shift[2].note == "the rudder never moved more than 0.3 deg about its trim");
+  CHECK(coefficient(r, "C_ell_p") == doctest::Approx(truth.aero.C_ell_p).epsilon(0.1));
+  CHECK(coefficient(r, "C_ell_delta_a") == doctest::Approx(truth.aero.C_ell_delta_a).epsilon(0.1));
+}

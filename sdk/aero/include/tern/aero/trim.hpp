@@ -7,7 +7,10 @@
 // unknowns alpha, phi, theta, delta_e, delta_a, delta_r, delta_t; conditions u', v', w', p', q',
 // r' = 0 and h' = Va sin(gamma); the turn is coordinated (beta = 0) with heading rate
 // psi' = Va cos(gamma) / R (book sec. 5.3) and body rates from psi' with phi' = theta' = 0
-// (book eq. 3.2).
+// (book eq. 3.2). An aircraft without a rudder (a flying wing: C_Y_delta_r, C_ell_delta_r and
+// C_n_delta_r all 0) cannot coordinate: it trims with delta_r = 0 and beta among the unknowns in
+// its place (the sideslip that balances the side force and the yawing moment the ailerons and the
+// propeller leave).
 #pragma once
 
 #include <limits>
@@ -29,7 +32,7 @@ struct TrimRequest {
 struct TrimResult {
   StateVector x = StateVector::Zero();             ///< trim state (position (0, 0, -altitude))
   Deltas delta;                                    ///< trim inputs
-  double alpha = 0, beta = 0, phi = 0, theta = 0;  ///< rad
+  double alpha = 0, beta = 0, phi = 0, theta = 0;  ///< rad (beta 0 but for an aircraft without a rudder)
   double residual = 0;                             ///< norm of the trim conditions at the solution
   int iterations = 0;
 };
