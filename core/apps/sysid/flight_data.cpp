@@ -131,6 +131,19 @@ void note_not_numbers(const CsvTable& table, const char* column, std::vector<std
         fmt::format("{}: {} of {} rows' {} not a number: the row before each held", table.file.string(), bad, c.size(), column));
 }
 
+/// Throws ConfigError when `column` of the actuators' table has rows and none is a number (a
+/// surface's channel never logged): the identification would take it as a surface that never
+/// moved and fit the moments without it. A table without rows (a flight that ended before its
+/// controllers ran) is left to the checks of the estimate's validity and of the excitation.
+void require_commands(const CsvTable& table, const char* column) {
+  const Column& c = table.at(column);
+  if (!c.empty() && std::none_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); }))
+    throw ConfigError(
+        fmt::format("{}: {} is a number in none of its {} rows: the surfaces' commands are required (log 0 for a "
+                    "surface the aircraft does not have; docs/sensor-log.md, actuators)",
+                    table.file.string(), column, c.size()));
+}
+
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every
 /// interval, n the least for which the median interval / n is at most kMaxBaseStep (5 % spared, for
 /// a clock's jitter): the logged samples kept, a gap stretched as before. n = 1 (the columns as
@@ -338,6 +351,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
                     "linearly (held, they would lag by half that)",
                     act.file.string(), 1e3 * median_interval(act.at("t"))));
   auto command = [&](const char* name, double delay) {
+    require_commands(act, name);
     note_not_numbers(act, name, s.notes);
     return keep(lp(commands_in_force(delayed(act.at("t"), delay), act.at(name), t, o.servo_tau, joined)));
   };

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "config/error.hpp"
 #include "sysid/flight_data.hpp"
 #include "tern/math.hpp"
 
@@ -116,4 +117,17 @@ TEST_CASE(
     noted += n.find("2 of 101 rows whose time is not a number or goes back: dropped") != std::string::npos ||
              n.find("not a number: the row before each held") != std::string::npos;
   CHECK(noted == 2);
+}
+
+TEST_CASE("an aileron channel that is a number in no row is refused, not taken for a still surface") {
+  FlightTables f = flight(200.0, 100.0, [](double) { return std::nan(""); });
+  try {
+    (void)series_from_tables(f, FlightSeriesOptions{});
+    FAIL("expected a ConfigError");
+  } catch (const tern::core::ConfigError& e) {
+    CHECK(std::string(e.what()).find("synthetic.csv: delta_a is a number in none of its 1000 rows") != std::string::npos);
+  }
+  // a flying wing's rudder, logged as 0: a surface that never moved, accepted
+  f = flight(200.0, 100.0, [](double t) { return 0.05 * std::sin(t); });
+  CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
 }
