@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -87,6 +88,26 @@ Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& t
     const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
     y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (v - y) : v;
     out[k] = y;
+  }
+  return out;
+}
+
+/// At each time of `tq`, whether the command in force there (commands_in_force) is more than
+/// kMaxGap older than it: the last row that is a number lies further back (a run of rows that are
+/// not numbers, the table's own gap, its end). Before the first row, not stale (the first row held
+/// back, as commands_in_force does).
+std::vector<unsigned char> stale_commands(const Column& t_cmd, const Column& cmd, const Column& tq) {
+  std::vector<unsigned char> out(tq.size(), 0);
+  double last = -std::numeric_limits<double>::infinity();
+  bool started = false;
+  std::size_t j = 0;
+  for (std::size_t k = 0; k < tq.size(); ++k) {
+    while (j < t_cmd.size() && t_cmd[j] <= tq[k]) {
+      started = true;
+      if (std::isfinite(cmd[j])) last = t_cmd[j];
+      ++j;
+    }
+    out[k] = started && !(tq[k] - last <= kMaxGap) ? 1 : 0;
   }
   return out;
 }
@@ -350,10 +371,14 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
         fmt::format("{}: commands logged every {:.0f} ms: a record of a faster controller's output, its rows joined "
                     "linearly (held, they would lag by half that)",
                     act.file.string(), 1e3 * median_interval(act.at("t"))));
+  std::vector<unsigned char> stale(t.size(), 0);  // a command held more than kMaxGap: its samples not valid
   auto command = [&](const char* name, double delay) {
     require_commands(act, name);
     note_not_numbers(act, name, s.notes);
-    return keep(lp(commands_in_force(delayed(act.at("t"), delay), act.at(name), t, o.servo_tau, joined)));
+    const Column t_cmd = delayed(act.at("t"), delay);
+    const std::vector<unsigned char> old = stale_commands(t_cmd, act.at(name), t);
+    for (std::size_t k = 0; k < t.size(); ++k) stale[k] = stale[k] || old[k];
+    return keep(lp(commands_in_force(t_cmd, act.at(name), t, o.servo_tau, joined)));
   };
   s.t = keep(t);
   const Column p_dot = central_difference(p, t), q_dot = central_difference(q, t), r_dot = central_difference(r, t);
@@ -411,7 +436,16 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
     Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
     s.qbar = keep(lp(q));
   }
-  const Column v = keep(valid);
+  Column v = valid;
+  std::size_t held = 0;
+  for (std::size_t k = 0; k < v.size(); ++k)
+    if (stale[k] && std::isfinite(v[k]) && v[k] > 0.5) v[k] = 0.0, ++held;
+  if (held > 0)
+    s.notes.push_back(
+        fmt::format("{}: {:.1f} s of the estimate's valid samples left out: a command there last logged more than "
+                    "{:g} s before (rows that are not numbers, or none)",
+                    act.file.string(), static_cast<double>(held) * dt, kMaxGap));
+  v = keep(v);
   s.valid.resize(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;
   s.declared_airborne = f.declared_airborne;

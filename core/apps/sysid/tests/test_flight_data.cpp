@@ -131,3 +131,19 @@ TEST_CASE("an aileron channel that is a number in no row is refused, not taken f
   f = flight(200.0, 100.0, [](double t) { return 0.05 * std::sin(t); });
   CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
 }
+
+TEST_CASE("a command held over rows that are not numbers for more than 1 s leaves its samples out; a short run is held") {
+  // delta_a not a number from 3 to 6 s (a dropped channel) and from 8.0 to 8.5 s (a glitch)
+  const FlightTables f = flight(200.0, 100.0, [](double t) { return (t > 3.0 && t < 6.0) || (t > 8.0 && t < 8.5) ? std::nan("") : 0.01; });
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0, o.filter_hz = 0.0;
+  const FlightSeries s = series_from_tables(f, o);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double t = s.t[k];
+    if (t > 4.05 && t < 5.95) CHECK_MESSAGE(s.valid[k] == 0, "t = ", t);
+    if ((t > 1.0 && t < 3.9) || (t > 6.1 && t < 9.5)) CHECK_MESSAGE(s.valid[k] == 1, "t = ", t);
+  }
+  bool noted = false;
+  for (const auto& n : s.notes) noted = noted || n.find("a command there last logged more than 1 s before") != std::string::npos;
+  CHECK(noted);
+}
