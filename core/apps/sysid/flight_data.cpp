@@ -92,7 +92,7 @@ Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& t
   return out;
 }
 
-/// At each time of `tq`, whether the command in force there (commands_in_force) is more than
+/// At each time of `tq`, whether the command (or pressure) in force there (commands_in_force) is more than
 /// kMaxGap older than it: the last row that is a number lies further back (a run of rows that are
 /// not numbers, the table's own gap, its end). Before the first row, not stale (the first row held
 /// back, as commands_in_force does).
@@ -433,8 +433,12 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   if (f.diff_pressure) {
     const CsvTable dp = in_time_order(*f.diff_pressure, s.notes);
     note_not_numbers(dp, "pressure", s.notes);
-    Column q = commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0);
-    s.qbar = keep(lp(q));
+    // a pressure last logged more than kMaxGap before is not held: those samples are left out (the
+    // estimator's airspeed there, beside the scaled pitot's elsewhere, bent the pitching moment)
+    const Column q = lp(commands_in_force(dp.at("t"), dp.at("pressure"), t, 0.0));
+    const std::vector<unsigned char> old = stale_commands(dp.at("t"), dp.at("pressure"), t);
+    for (std::size_t k = 0; k < t.size(); ++k) stale[k] = stale[k] || old[k];
+    s.qbar = keep(q);
   }
   Column v = valid;
   std::size_t held = 0;
@@ -442,9 +446,9 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
     if (stale[k] && std::isfinite(v[k]) && v[k] > 0.5) v[k] = 0.0, ++held;
   if (held > 0)
     s.notes.push_back(
-        fmt::format("{}: {:.1f} s of the estimate's valid samples left out: a command there last logged more than "
-                    "{:g} s before (rows that are not numbers, or none)",
-                    act.file.string(), static_cast<double>(held) * dt, kMaxGap));
+        fmt::format("{:.1f} s of the estimate's valid samples left out: a command (actuators.csv) or the pitot's pressure "
+                    "(diff_pressure.csv) there last logged more than {:g} s before (rows that are not numbers, or none)",
+                    static_cast<double>(held) * dt, kMaxGap));
   v = keep(v);
   s.valid.resize(v.size());
   for (std::size_t k = 0; k < v.size(); ++k) s.valid[k] = std::isfinite(v[k]) && v[k] > 0.5 ? 1 : 0;
