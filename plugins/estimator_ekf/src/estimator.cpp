@@ -37,6 +37,12 @@ std::string describe(const Event& e) {
       std::snprintf(buf, sizeof buf,
                     "gnss: a start-up check failed before they had held: origin, estimate and barometer calibration dropped");
       break;
+    case EventKind::gnss_epoch_ignored:
+      std::snprintf(buf, sizeof buf,
+                    "gnss: time_of_validity %.3f s before the fix's stamp, not a receiver's latency (another clock?): the stamps "
+                    "less gnss_delay taken for every such fix",
+                    e.value);
+      break;
     case EventKind::gnss_checks_passed:
       std::snprintf(buf, sizeof buf, "gnss: start-up checks passed, %.1f s after the first fix", e.value);
       break;

@@ -10,6 +10,22 @@
 
 namespace tern::ekf {
 
+namespace {
+/// s: a receiver reports its fix at most a few hundred ms after the epoch it holds for (u-blox: 20-
+/// 200 ms); a time_of_validity further back than this is on another clock (a GPS time of week, a
+/// boot time), and taken, it held every fix as too old for the filter's history.
+constexpr double kMaxGnssEpochAge = 1.0;
+}  // namespace
+
+Nanos Estimator::gnss_epoch(const msg::Gnss& m) {
+  if (m.time_of_validity <= 0) return m.stamp;  // not given
+  const double age = to_seconds(m.stamp - m.time_of_validity);
+  if (age >= 0.0 && age <= kMaxGnssEpochAge) return m.time_of_validity;
+  if (!epoch_ignored_) push(m.stamp, EventKind::gnss_epoch_ignored, Sensor::gnss, age);
+  epoch_ignored_ = true;
+  return m.stamp;
+}
+
 bool Estimator::add_gnss(const msg::Gnss& fix) {
   // Without the receiver's down velocity (use_gnss_vel_d false) the fix's vel_d is not data:
   // everything below takes the estimate's (0 before initialisation), and the update fuses
@@ -31,7 +47,7 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
   if (!gnss_checks_.passed() && !check_gnss_start(m, true)) return false;
   // The receiver's epoch when the driver gives it (sim_aero does; over ROSflight's link it is
   // the stamp), minus the configured delay.
-  const Nanos epoch = m.time_of_validity > 0 && m.time_of_validity <= m.stamp ? m.time_of_validity : m.stamp;
+  const Nanos epoch = gnss_epoch(m);
   const Nanos t_v = valid_at(Sensor::gnss, epoch);
   const Vec3 p_before = filter_.x().p;
   if (!origin_) {

@@ -700,6 +700,31 @@ TEST_CASE("a GNSS fix fused at its time of validity: 120 ms late gives the estim
   CHECK(naive.pos_h.rms() > late.pos_h.rms() + 0.5);  // 120 ms at 20 m/s is 2.4 m along track
 }
 
+TEST_CASE("a time_of_validity on another clock (5000 s before the stamps) is refused once and the stamps taken") {
+  TruthSim sim(mixed_flight());
+  Estimator est(truth_sim_config());
+  const Nanos later = from_seconds(10000.0);  // the log's clock: every stamp 10000 s on
+  Hooks h;
+  h.imu = [&](msg::Imu& m) { return m.stamp += later, true; };
+  h.baro = [&](msg::Baro& m) { return m.stamp += later, true; };
+  h.pitot = [&](msg::DiffPressure& m) { return m.stamp += later, true; };
+  h.mag = [&](msg::Mag& m) { return m.stamp += later, true; };
+  h.gnss = [&](msg::Gnss& g) {
+    g.stamp += later;
+    g.time_of_validity = g.stamp - from_seconds(5000.0);  // a receiver's epoch on a clock of its own
+    return true;
+  };
+  Errors e;
+  fly(sim, est, 40.0, h, [&](const Truth& t, const Estimator& x) {
+    if (sim.now() > from_seconds(20.0)) e.add(t, x, sim);
+  });
+  REQUIRE(est.initialized());  // taken, every fix was too old for the history and the filter never started
+  CHECK(e.vel.rms() < 0.5);
+  int said = 0;
+  for (const Event& ev : est.take_events()) said += ev.kind == EventKind::gnss_epoch_ignored;
+  CHECK(said == 1);
+}
+
 TEST_CASE("a silent IMU makes the state invalid within 50 ms; valid again within 2 s of its return") {
   Converged c;
   CHECK(c.est.status() == msg::StateStatus::ok);

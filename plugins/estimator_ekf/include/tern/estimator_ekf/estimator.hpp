@@ -114,12 +114,14 @@ enum class EventKind : std::uint8_t {
   gnss_checks_passed,
   origin_dropped,
   mag_resumed,
-  launch_yaw_alignment
+  launch_yaw_alignment,
+  gnss_epoch_ignored
 };
 
 /// Something worth a log line. `value`: the gap for imu_gap and imu_lost, the innovation norm
 /// for gnss_reset, the variance factor for inflated, the age (s) for too_old, the failing checks
-/// (gnss_check bits) for gnss_checks_failing, the wait since the first fix (s) for gnss_checks_passed.
+/// (gnss_check bits) for gnss_checks_failing, the wait since the first fix (s) for gnss_checks_passed,
+/// the stamp less the receiver's time_of_validity (s) for gnss_epoch_ignored.
 struct Event {
   Nanos stamp = 0;
   EventKind kind = EventKind::initialized;
@@ -263,6 +265,9 @@ class Estimator {
   template <class Model>
   UpdateResult fuse_robust(Sensor s, Model& model, const typename Model::Vec& z, Nanos t_v, int first, int n);
   bool gnss_reset_allowed(Nanos stamp, double innovation) const;
+  /// The fix's epoch: its time_of_validity when that is at most kMaxGnssEpochAge before its stamp
+  /// (not after it), else the stamp (valid_at then takes gnss_delay off); the first refusal is an event.
+  Nanos gnss_epoch(const msg::Gnss& m);
   /// Until the start-up checks have held: one fix through them, with their events. True when the
   /// fix may be used (every check passing); a failing one drops an unsettled start.
   bool check_gnss_start(const msg::Gnss& m, bool usable);
@@ -368,6 +373,7 @@ class Estimator {
   std::array<double, kSensorCount> inflation_max_{};
   Nanos last_gnss_reset_ = -1;
   Nanos gnss_reject_since_ = -1;
+  bool epoch_ignored_ = false;         // a fix's time_of_validity refused (said once)
   Vec3 output_offset_ = Vec3::Zero();  // published position = filter position + this (decays)
   std::uint64_t gnss_resets_ = 0, filter_resets_ = 0, mag_resets_ = 0;
   Nanos mag_reject_since_ = -1;
