@@ -57,7 +57,7 @@ fs::path fly(const std::vector<std::string>& extra, const std::string& name) {
 }  // namespace
 
 TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and pitch stiffness from a prior x0.6") {
-  const fs::path run = fly({"--log-format", "csv"}, "flight");
+  const fs::path run = fly({"--log-format", "both"}, "flight");  // the tables, and flight.mcap for the MCAP check below
   const fs::path prior = scaled_aircraft(kAerosonde, 0.6, "prior.yaml");
   const fs::path out1 = test_dir() / "out1", out2 = test_dir() / "out2";
   const auto r = sysid({run.string(), "--aircraft", prior.string(), "--out", out1.string(), "--keep-estimate"}, "1");
@@ -94,6 +94,23 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
                 "2")
               .first == 0);
   CHECK(read_file(out1 / "aircraft.yaml") == read_file(out2 / "aircraft.yaml"));
+  // the same flight as `tern fly --log-format mcap` leaves it (flight.mcap, no tables): exported
+  // first (tern export csv), then identified as the tables are
+  const fs::path mcap_run = test_dir() / "mcap_run";
+  fs::create_directories(mcap_run);
+  fs::copy_file(run / "flight.mcap", mcap_run / "flight.mcap");
+  fs::copy_file(run / "config.yaml", mcap_run / "config.yaml");
+  const fs::path out6 = test_dir() / "out6";
+  const auto m = sysid({mcap_run.string(), "--aircraft", prior.string(), "--out", out6.string()}, "mcap");
+  INFO(m.second);
+  REQUIRE(m.first == 0);
+  CHECK(fs::exists(mcap_run / "topics" / "actuators.csv"));
+  const nlohmann::json jm = nlohmann::json::parse(read_file(out6 / "sysid.json"));
+  for (const char* name : {"C_L_alpha", "C_m_q", "C_ell_p", "C_n_r"}) {
+    CAPTURE(name);
+    CHECK(jm["coefficients"][name]["estimate"].get<double>() ==
+          doctest::Approx(j["coefficients"][name]["estimate"].get<double>()).epsilon(0.01));
+  }
   // a command row that is not a number: one note, the row before it held, the coefficients as before
   const fs::path holed = test_dir() / "holed";
   fs::create_directories(holed);
