@@ -11,9 +11,10 @@
 namespace tern::ekf {
 
 namespace {
-/// s: a receiver reports its fix at most a few hundred ms after the epoch it holds for (u-blox: 20-
-/// 200 ms); a time_of_validity further back than this is on another clock (a GPS time of week, a
-/// boot time), and taken, it held every fix as too old for the filter's history.
+/// s: a receiver reports its fix within its navigation latency of the epoch it holds for (tens to a
+/// few hundred ms; tern's configs and docs use 0.12 s (a u-blox M8N) and 0.21 s); a time_of_validity
+/// further back is on another clock (a GPS time of week, a boot time), and taken, it held every fix
+/// as too old for the filter's history.
 constexpr double kMaxGnssEpochAge = 1.0;
 }  // namespace
 
