@@ -147,3 +147,25 @@ TEST_CASE("a command held over rows that are not numbers for more than 1 s leave
   for (const auto& n : s.notes) noted = noted || n.find("there last logged more than 1 s before") != std::string::npos;
   CHECK(noted);
 }
+
+TEST_CASE("a pitot whose rows stop for more than 1 s leaves those samples out, not its last pressure held") {
+  FlightTables f = flight(200.0, 100.0, [](double) { return 0.01; });
+  const std::array<const char*, 1> pressure = {"pressure"};
+  tern::core::CsvTable dp = table(50.0, 500, pressure, [](const std::string&, double) { return 245.0; });  // Pa: 20 m/s
+  tern::core::CsvTable gap;  // no rows from 3 to 6 s: the pitot's channel dropped
+  gap.file = dp.file;
+  for (std::size_t k = 0; k < dp.rows; ++k) {
+    const double t = dp.columns["t"][k];
+    if (t > 3.0 && t < 6.0) continue;
+    gap.columns["t"].push_back(t), gap.columns["pressure"].push_back(dp.columns["pressure"][k]), ++gap.rows;
+  }
+  f.diff_pressure = gap;
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0, o.filter_hz = 0.0;
+  const FlightSeries s = series_from_tables(f, o);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double t = s.t[k];
+    if (t > 4.05 && t < 5.95) CHECK_MESSAGE(s.valid[k] == 0, "t = ", t);
+    if ((t > 1.0 && t < 3.9) || (t > 6.1 && t < 9.5)) CHECK_MESSAGE(s.valid[k] == 1, "t = ", t);
+  }
+}
