@@ -39,21 +39,11 @@ constexpr int kTimingRelaxations = 2;
 /// (truth -38.2), and their mean was adopted 85 % off.
 constexpr double kMinOutputErrorRSquared = 0.5;
 
-/// Whether surface s (aileron, elevator, rudder) moved more than kMinAngleMotion RMS about each
-/// window's mean command: a surface the flight never moved times nothing.
-bool surface_moved(const RateData& d, std::size_t s) {
-  const std::vector<double>& delta = s == 0 ? d.delta_a : s == 1 ? d.delta_e : d.delta_r;
-  double sum = 0.0;
-  std::size_t n = 0;
-  for (const auto& [begin, end] : d.windows) {
-    if (end <= begin) continue;
-    double mean = 0.0;
-    for (std::size_t k = begin; k < end; ++k) mean += delta[k];
-    mean /= static_cast<double>(end - begin);
-    for (std::size_t k = begin; k < end; ++k) sum += (delta[k] - mean) * (delta[k] - mean);
-    n += end - begin;
-  }
-  return n > 0 && std::sqrt(sum / static_cast<double>(n)) > kMinAngleMotion;
+/// Whether surface s (aileron, elevator, rudder) moved: the equation error's test of a command
+/// (signals(), its RMS about the trim windows' means above kMinAngleMotion).
+bool surface_moved(const Context& c, std::size_t s) {
+  const Col& delta = s == 0 ? c.a.delta_a : s == 1 ? c.a.delta_e : c.a.delta_r;
+  return rms(detrended(delta, c.L)) > kMinAngleMotion;
 }
 
 /// The timing fit's parameters (SysidOptions::estimate_delays): the delays and the derivatives a
@@ -61,19 +51,19 @@ bool surface_moved(const RateData& d, std::size_t s) {
 /// beside them); the other coefficients held at the equation error's values. A surface that never
 /// moved brings neither its delay nor its control derivative (they would leave the fit singular);
 /// its delay_shift says why.
-void add_timing(Context& c, const RateData& d, RateAxes axes, std::vector<std::string>& free) {
+void add_timing(Context& c, RateAxes axes, std::vector<std::string>& free) {
+  static constexpr std::array<const char*, 3> kSurface = {"aileron", "elevator", "rudder"};
   static constexpr std::array<const char*, 3> kControl = {"C_ell_delta_a", "C_m_delta_e", "C_n_delta_r"};
-  static constexpr std::array<const char*, 3> kStill = {"the aileron never moved more than 0.3 deg about its trim",
-                                                        "the elevator never moved more than 0.3 deg about its trim",
-                                                        "the rudder never moved more than 0.3 deg about its trim"};
   const std::vector<std::string> extra = axes == RateAxes::pitch
                                              ? std::vector<std::string>{"C_m_0", "C_m_alpha", "C_m_q", "C_m_delta_e", kDelayNames[1]}
                                              : std::vector<std::string>{"C_ell_beta", "C_ell_p",     "C_ell_delta_a", "C_n_beta",
                                                                         "C_n_r",      "C_n_delta_r", kDelayNames[0],  kDelayNames[2]};
   std::array<bool, 3> still{};
   for (std::size_t s = 0; s < 3; ++s)
-    if (std::find(extra.begin(), extra.end(), kDelayNames[s]) != extra.end() && !surface_moved(d, s))
-      still[s] = true, c.result.delay_shift[s] = {0.0, 0.0, false, kStill[s]};
+    if (std::find(extra.begin(), extra.end(), kDelayNames[s]) != extra.end() && !surface_moved(c, s))
+      still[s] = true,
+      c.result.delay_shift[s] = {
+          0.0, 0.0, false, fmt::format("the {} never moved more than {:g} deg about its trim", kSurface[s], kMinAngleMotion / kRadPerDeg)};
   for (const auto& name : extra) {
     bool skip = false;
     for (std::size_t s = 0; s < 3; ++s) skip = skip || (still[s] && (name == kDelayNames[s] || name == kControl[s]));
@@ -130,7 +120,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
   }
   if (c.o.estimate_delays) {
     std::vector<std::string> timed;
-    add_timing(c, d, axes, timed);
+    add_timing(c, axes, timed);
     take_delays(c, timing_fit(c, d, axes, timed));
   }
   if (free.empty()) return;

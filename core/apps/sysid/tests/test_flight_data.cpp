@@ -46,6 +46,20 @@ FlightTables flight(double imu_hz, double act_hz, const std::function<double(dou
   return f;
 }
 
+// The series of a flight whose table stops for 3 to 6 s (unfiltered, undecimated): checks that its
+// samples are left out more than 1 s into the stop, and kept elsewhere (a 0.5-s stop among them).
+FlightSeries without_3_to_6_s(const FlightTables& f) {
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0, o.filter_hz = 0.0;
+  FlightSeries s = series_from_tables(f, o);
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double t = s.t[k];
+    if (t > 4.05 && t < 5.95) CHECK_MESSAGE(s.valid[k] == 0, "t = ", t);
+    if ((t > 1.0 && t < 3.9) || (t > 6.1 && t < 9.5)) CHECK_MESSAGE(s.valid[k] == 1, "t = ", t);
+  }
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("a command between two samples of a 50-Hz IMU takes effect when it was stamped, not at the next IMU sample") {
@@ -135,14 +149,7 @@ TEST_CASE("an aileron channel that is a number in no row is refused, not taken f
 TEST_CASE("a command held over rows that are not numbers for more than 1 s leaves its samples out; a short run is held") {
   // delta_a not a number from 3 to 6 s (a dropped channel) and from 8.0 to 8.5 s (a glitch)
   const FlightTables f = flight(200.0, 100.0, [](double t) { return (t > 3.0 && t < 6.0) || (t > 8.0 && t < 8.5) ? std::nan("") : 0.01; });
-  FlightSeriesOptions o;
-  o.rate_hz = 0.0, o.filter_hz = 0.0;
-  const FlightSeries s = series_from_tables(f, o);
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const double t = s.t[k];
-    if (t > 4.05 && t < 5.95) CHECK_MESSAGE(s.valid[k] == 0, "t = ", t);
-    if ((t > 1.0 && t < 3.9) || (t > 6.1 && t < 9.5)) CHECK_MESSAGE(s.valid[k] == 1, "t = ", t);
-  }
+  const FlightSeries s = without_3_to_6_s(f);
   bool noted = false;
   for (const auto& n : s.notes) noted = noted || n.find("there last logged more than 1 s before") != std::string::npos;
   CHECK(noted);
@@ -160,12 +167,5 @@ TEST_CASE("a pitot whose rows stop for more than 1 s leaves those samples out, n
     gap.columns["t"].push_back(t), gap.columns["pressure"].push_back(dp.columns["pressure"][k]), ++gap.rows;
   }
   f.diff_pressure = gap;
-  FlightSeriesOptions o;
-  o.rate_hz = 0.0, o.filter_hz = 0.0;
-  const FlightSeries s = series_from_tables(f, o);
-  for (std::size_t k = 0; k < s.size(); ++k) {
-    const double t = s.t[k];
-    if (t > 4.05 && t < 5.95) CHECK_MESSAGE(s.valid[k] == 0, "t = ", t);
-    if ((t > 1.0 && t < 3.9) || (t > 6.1 && t < 9.5)) CHECK_MESSAGE(s.valid[k] == 1, "t = ", t);
-  }
+  const FlightSeries s = without_3_to_6_s(f);
 }
