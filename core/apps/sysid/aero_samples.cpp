@@ -49,6 +49,7 @@ AeroSamples aero_samples(const FlightSeries& s, const Aircraft& ac, const Airbor
     a.C_X.push_back(Fx / qS_xz), a.C_Z.push_back(Fz / qS_xz);
     a.C_Y.push_back(Fy / qS);
     a.C_ell.push_back(l / (qS * ac.b));
+    a.C_ell_prop.push_back(prop.Q_p / (qS * ac.b));
     a.C_m.push_back(m / (qS_xz * ac.c));
     a.C_n.push_back(n / (qS * ac.b));
     a.alpha.push_back(alpha), a.beta.push_back(beta);

@@ -39,8 +39,9 @@ struct AeroSamples {
   std::vector<double> delta_a, delta_e, delta_r, delta_t;
   std::vector<double> exc_delta_a, exc_delta_e, exc_delta_r, exc_delta_t;  ///< the excitation's part (FlightSeries), or empty
   std::vector<double> Va;                                                  ///< m/s, from qbar
-  std::vector<double> p, q, r;                                             ///< rad/s (the excitation tests read them)
-  std::vector<std::size_t> source;                                         ///< index of each sample in the FlightSeries
+  std::vector<double> C_ell_prop;   ///< the prior's propeller torque added back to C_ell, Q_p / (qbar S b)
+  std::vector<double> p, q, r;      ///< rad/s (the excitation tests read them)
+  std::vector<std::size_t> source;  ///< index of each sample in the FlightSeries
   std::size_t size() const { return t.size(); }
 };
 

@@ -11,6 +11,7 @@
 #include "sysid/identify_lift.hpp"
 #include "sysid/identify_moments.hpp"
 #include "sysid/instrumentation.hpp"
+#include "sysid/trim_terms.hpp"
 #include "tern/aero/model.hpp"
 
 namespace tern::core::sysid {
@@ -98,6 +99,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   }
   if (accel) consider_lift_terms(c), consider_sideslip_scale(c);
   consider_gyro_coupling(c);
+  consider_slopes_in_trim_terms(c, alpha, beta);
   r.aircraft.aero = coef;
   drag_at_trim(r, prior, alpha, a);
   r.series = axis_series(a, L, coef, r.aircraft, alpha, beta);

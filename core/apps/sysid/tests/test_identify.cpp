@@ -312,6 +312,33 @@ TEST_CASE(
   CHECK(note("side force: nothing identified").find("fly a rudder doublet") != std::string::npos);  // no side-force fit at all
 }
 
+TEST_CASE("the trim terms' bounds hold the propeller's torque and the slopes they are extrapolated with") {
+  // C_ell_0 is the rolling moment left once the prior propeller's torque is added back: that torque is
+  // a kept prior, uncertain by kPriorUncertainty, and so is C_ell_0 by as much of its coefficient.
+  // Exact data: before, C_ell_0's bound was the windows' spread alone (1e-6 here).
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  tern::core::sysid::SysidOptions o;
+  o.output_error.hold_commands = true;
+  const auto r = tern::core::sysid::identify(s, truth, o);
+  double torque = 0.0;
+  for (std::size_t k = 0; k < s.size(); ++k) {
+    const double V_xz = s.Va[k] * std::cos(s.beta[k]);
+    const double qSb = 0.5 * truth.rho * s.Va[k] * s.Va[k] * truth.S * truth.b;
+    torque += tern::sim::propulsion(truth, V_xz, s.delta_t[k]).Q_p / qSb / static_cast<double>(s.size());
+  }
+  REQUIRE(std::abs(torque) > 1e-4);
+  double se_ell = 0.0, se_m = 0.0, se_alpha = 0.0;
+  coefficient(r, "C_ell_0", nullptr, &se_ell);
+  coefficient(r, "C_m_0", nullptr, &se_m);
+  coefficient(r, "C_m_alpha", nullptr, &se_alpha);
+  CHECK(se_ell >= 0.45 * std::abs(torque));
+  // C_m_0 is the pitching moment extrapolated from the trims' alpha and elevator back to 0: C_m_alpha's
+  // bound alone times the alpha the windows flew at (before: 2 deg's worth; now 6.6)
+  CHECK(se_m >= se_alpha * 4.0 * tern::kRadPerDeg);
+}
+
 TEST_CASE("a flight without rudder excitation keeps the rudder's prior and says why") {
   const tern::Aircraft truth = aerosonde();
   FlightSeries s;
