@@ -501,6 +501,32 @@ TEST_CASE("a closed-loop flight in a lateral gust: the excitation's part of the 
   CHECK(error[0] > 2.0 * error[1]);
 }
 
+TEST_CASE("beta from the side force carries C_Y_beta's scale: the beta derivatives' bounds carry its relative uncertainty") {
+  // instruments from the whole commands (no excitation table) leave C_Y_beta off by a third; beta,
+  // and with it C_ell_beta and C_n_beta, take that scale
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly_closed_loop(truth, Va, 60.0, false, s);
+  tern::core::sysid::SysidOptions o;
+  o.output_error.enabled = false;
+  const auto r = tern::core::sysid::identify(s, wrong_prior(truth), o);
+  bool identified = false;
+  double se_Y = 0.0;
+  const double C_Y_beta = coefficient(r, "C_Y_beta", &identified, &se_Y);
+  REQUIRE(identified);
+  for (const auto& [name, value] : {std::pair{"C_ell_beta", truth.aero.C_ell_beta}, std::pair{"C_n_beta", truth.aero.C_n_beta}}) {
+    double se = 0.0;
+    const double e = coefficient(r, name, &identified, &se);
+    const std::string coefficient_name = name;
+    CAPTURE(coefficient_name);
+    CAPTURE(e);
+    CAPTURE(se);
+    if (!identified) continue;
+    CHECK(se >= se_Y / std::abs(C_Y_beta) * std::abs(e));
+    CHECK(std::abs(e - value) <= 3.0 * se);  // before: C_ell_beta -0.091 +- 0.0015 (truth -0.13), C_n_beta 0.052 +- 0.0039 (0.073)
+  }
+}
+
 TEST_CASE("a flying wing (no rudder): it trims in sideslip, and the timing fit leaves the still rudder out") {
   tern::Aircraft truth = aerosonde();
   truth.aero.C_Y_delta_r = truth.aero.C_ell_delta_r = truth.aero.C_n_delta_r = 0.0;
