@@ -142,6 +142,12 @@ void consider_lift_terms(Context& c) {
     const double consider = ratio * kPriorUncertainty * std::abs(l->prior);
     m->std_error = std::hypot(m->std_error, consider);
   }
+  // the lift's alpha is scaled by 1 / C_L_alpha, and C_m_alpha with it
+  CoefficientEstimate* m_alpha = find_estimate(c.result, "C_m_alpha");
+  const CoefficientEstimate* L_alpha = find_estimate(c.result, "C_L_alpha");
+  if (m_alpha == nullptr || L_alpha == nullptr || !m_alpha->identified) return;
+  const double relative = L_alpha->identified ? L_alpha->std_error / std::abs(L_alpha->estimate) : kPriorUncertainty;
+  m_alpha->std_error = std::hypot(m_alpha->std_error, relative * m_alpha->estimate);
 }
 
 }  // namespace tern::core::sysid
