@@ -5,7 +5,6 @@
 #include <cmath>
 #include <numeric>
 #include <string_view>
-#include <utility>
 
 namespace tern::core::sysid {
 
