@@ -58,11 +58,6 @@ bool takes_shared(const NuisanceEstimate& own, double own_delay, const NuisanceE
   return false;
 }
 
-/// Whether a delay's shift from its start is one the data tells from none.
-bool distinguished(const NuisanceEstimate& shift, const DelayOptions& d) {
-  return std::abs(shift.estimate) > d.shift_sigmas * shift.std_error;
-}
-
 }  // namespace
 
 DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<NuisanceEstimate, 3> shift, const DelayOptions& d) {
@@ -71,7 +66,7 @@ DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<Nuisa
   std::array<std::string, 3> why;
   for (std::size_t i = 0; i < 3; ++i) {
     taken[i] = d.estimate[i] && adopted(shift[i], start_s[i], d, why[i]);
-    if (taken[i]) c.delays[i] = start_s[i] + shift[i].estimate, c.moved = c.moved || distinguished(shift[i], d);
+    if (taken[i]) c.delays[i] = start_s[i] + shift[i].estimate, c.moved = c.moved || shift[i].estimate != 0.0;
   }
   const std::optional<NuisanceEstimate> shared = shared_delay(c.delays, shift, taken);
   for (std::size_t i = 0; i < 3; ++i) {
@@ -86,7 +81,7 @@ DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<Nuisa
         shift[i].identified ? fmt::format("{:.1f} +- {:.1f} ms, {}", 1e3 * own_delay, 1e3 * shift[i].std_error, why[i]) : why[i];
     std::string refused;
     if (shared && takes_shared(shift[i], own_delay, *shared, d.shared_sigmas, refused)) {
-      c.delays[i] = shared->estimate, c.moved = c.moved || distinguished({c.delays[i] - start_s[i], shared->std_error, true, ""}, d);
+      c.delays[i] = shared->estimate, c.moved = c.moved || c.delays[i] != start_s[i];
       c.lines.push_back(
           fmt::format("command delay ({}): not estimated alone ({}); {:.1f} +- {:.1f} ms taken, the other surfaces' "
                       "(one output loop drives every servo)",
@@ -101,11 +96,8 @@ DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<Nuisa
   }
   for (std::size_t i = 0; i < 3; ++i)
     if (taken[i])
-      c.lines.push_back(fmt::format("command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}{}", kSurfaces[i],
-                                    1e3 * c.delays[i], 1e3 * shift[i].std_error, kRates[i],
-                                    c.moved ? ""
-                                            : fmt::format(" (within {:g} standard errors of the {:g} ms it started from, which stays)",
-                                                          d.shift_sigmas, 1e3 * start_s[i])));
+      c.lines.push_back(fmt::format("command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}", kSurfaces[i],
+                                    1e3 * c.delays[i], 1e3 * shift[i].std_error, kRates[i]));
   if (!c.moved) c.delays = start_s;
   c.shift = shift;
   return c;
