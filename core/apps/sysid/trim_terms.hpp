@@ -8,8 +8,8 @@ namespace tern::core::sysid {
 /// The trim terms C_Y_0, C_ell_0, C_m_0 and C_n_0 are the force or moment at zero flow angles,
 /// rates and deflections: an extrapolation from the flight, where each regressor x_j sits near its
 /// mean over the trim windows, m_j. A slope off by d_j moves the term by -d_j m_j (bias_fit takes
-/// the windows' mean residual with the slopes held), which neither bias_fit's bound (the spread of
-/// the windows' means) nor the output error's (white residuals, Klein and Morelli sec. 6.4) holds.
+/// the windows' mean residual with the slopes held): bias_fit's bound (the spread of the windows'
+/// means) leaves that out, and the output error's, from the rates' residuals, held it too narrowly.
 /// Each identified trim term's standard error grows, in quadrature, by sum_j (s_j m_j)^2, with s_j
 /// the slope's standard error, or kPriorUncertainty of its prior where the prior was kept (a
 /// consider covariance, as consider_lift_terms). C_ell_0 holds besides kPriorUncertainty of the
