@@ -10,7 +10,6 @@ namespace tern::core::sysid {
 
 namespace {
 
-constexpr std::array<const char*, 3> kSurfaces = {"aileron", "elevator", "rudder"};
 constexpr std::array<const char*, 3> kRates = {"the roll and yaw rates", "the pitch rate", "the roll and yaw rates"};
 
 /// Whether the timing pass's estimate for one surface is adopted; `why` says why not.
@@ -72,7 +71,7 @@ DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<Nuisa
   for (std::size_t i = 0; i < 3; ++i) {
     if (taken[i]) continue;
     if (!d.estimate[i]) {
-      c.lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaces[i], 1e3 * start_s[i]));
+      c.lines.push_back(fmt::format("command delay ({}): {:g} ms, given", kSurfaceNames[i], 1e3 * start_s[i]));
       shift[i].identified = false, shift[i].note = "given";
       continue;
     }
@@ -85,19 +84,19 @@ DelayChoice choose_delays(const std::array<double, 3>& start_s, std::array<Nuisa
       c.lines.push_back(
           fmt::format("command delay ({}): not estimated alone ({}); {:.1f} +- {:.1f} ms taken, the other surfaces' "
                       "(one output loop drives every servo)",
-                      kSurfaces[i], own, 1e3 * shared->estimate, 1e3 * shared->std_error));
+                      kSurfaceNames[i], own, 1e3 * shared->estimate, 1e3 * shared->std_error));
       shift[i].identified = false, shift[i].note = why[i] + "; the other surfaces' delay taken";
       continue;
     }
-    c.lines.push_back(fmt::format("command delay ({}): not estimated ({}{}); {:g} ms taken (the prior's servos.delay_{})", kSurfaces[i],
+    c.lines.push_back(fmt::format("command delay ({}): not estimated ({}{}); {:g} ms taken (the prior's servos.delay_{})", kSurfaceNames[i],
                                   own, refused.empty() ? "" : "; " + refused, 1e3 * start_s[i], "aer"[i]));
     // sysid.json's command_delay_estimate: identified means adopted; a fit it refused says why
     shift[i].identified = false, shift[i].note = why[i];
   }
   for (std::size_t i = 0; i < 3; ++i)
     if (taken[i])
-      c.lines.push_back(fmt::format("command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}", kSurfaces[i],
-                                    1e3 * c.delays[i], 1e3 * shift[i].std_error, kRates[i]));
+      c.lines.push_back(fmt::format("command delay ({}): {:.1f} +- {:.1f} ms after its stamp, from the output error of {}",
+                                    kSurfaceNames[i], 1e3 * c.delays[i], 1e3 * shift[i].std_error, kRates[i]));
   if (!c.moved) c.delays = start_s;
   c.shift = shift;
   return c;

@@ -100,7 +100,8 @@ Col lateral(Context& c, const Col& alpha, bool accel) {
 void consider_sideslip_scale(Context& c) {
   const CoefficientEstimate* C_Y_beta = find_estimate(c.result, "C_Y_beta");
   if (C_Y_beta == nullptr) return;
-  const double relative = C_Y_beta->identified ? C_Y_beta->std_error / std::abs(C_Y_beta->estimate) : kPriorUncertainty;
+  const double relative =
+      C_Y_beta->identified && C_Y_beta->estimate != 0.0 ? C_Y_beta->std_error / std::abs(C_Y_beta->estimate) : kPriorUncertainty;
   for (CoefficientEstimate& e : c.result.coefficients)
     if (e.identified && (e.name == "C_ell_beta" || e.name == "C_n_beta")) e.std_error = std::hypot(e.std_error, relative * e.estimate);
   if (C_Y_beta->identified) return;

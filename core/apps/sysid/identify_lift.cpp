@@ -146,7 +146,8 @@ void consider_lift_terms(Context& c) {
   CoefficientEstimate* m_alpha = find_estimate(c.result, "C_m_alpha");
   const CoefficientEstimate* L_alpha = find_estimate(c.result, "C_L_alpha");
   if (m_alpha == nullptr || L_alpha == nullptr || !m_alpha->identified) return;
-  const double relative = L_alpha->identified ? L_alpha->std_error / std::abs(L_alpha->estimate) : kPriorUncertainty;
+  const double relative =
+      L_alpha->identified && L_alpha->estimate != 0.0 ? L_alpha->std_error / std::abs(L_alpha->estimate) : kPriorUncertainty;
   m_alpha->std_error = std::hypot(m_alpha->std_error, relative * m_alpha->estimate);
 }
 

@@ -52,7 +52,6 @@ bool surface_moved(const Context& c, std::size_t s) {
 /// moved brings neither its delay nor its control derivative (they would leave the fit singular);
 /// its delay_shift says why.
 void add_timing(Context& c, RateAxes axes, std::vector<std::string>& free) {
-  static constexpr std::array<const char*, 3> kSurface = {"aileron", "elevator", "rudder"};
   static constexpr std::array<const char*, 3> kControl = {"C_ell_delta_a", "C_m_delta_e", "C_n_delta_r"};
   const std::vector<std::string> extra = axes == RateAxes::pitch
                                              ? std::vector<std::string>{"C_m_0", "C_m_alpha", "C_m_q", "C_m_delta_e", kDelayNames[1]}
@@ -61,9 +60,9 @@ void add_timing(Context& c, RateAxes axes, std::vector<std::string>& free) {
   std::array<bool, 3> still{};
   for (std::size_t s = 0; s < 3; ++s)
     if (std::find(extra.begin(), extra.end(), kDelayNames[s]) != extra.end() && !surface_moved(c, s))
-      still[s] = true,
-      c.result.delay_shift[s] = {
-          0.0, 0.0, false, fmt::format("the {} never moved more than {:g} deg about its trim", kSurface[s], kMinAngleMotion / kRadPerDeg)};
+      still[s] = true, c.result.delay_shift[s] = {0.0, 0.0, false,
+                                                  fmt::format("the {} never moved more than {:g} deg about its trim", kSurfaceNames[s],
+                                                              kMinAngleMotion / kRadPerDeg)};
   for (const auto& name : extra) {
     bool skip = false;
     for (std::size_t s = 0; s < 3; ++s) skip = skip || (still[s] && (name == kDelayNames[s] || name == kControl[s]));

@@ -57,6 +57,8 @@ namespace tern::core::sysid {
 
 /// The names of the commands' delays among output_error's free parameters (header): aileron, elevator, rudder.
 inline constexpr std::array<const char*, 3> kDelayNames = {"delay_a", "delay_e", "delay_r"};
+/// The surfaces those delays are of, in the same order, as notes name them.
+inline constexpr std::array<const char*, 3> kSurfaceNames = {"aileron", "elevator", "rudder"};
 
 /// Which rates the model integrates.
 enum class RateAxes { pitch, lateral };

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <string_view>
+#include <vector>
 
 namespace tern::core::sysid {
 
@@ -17,7 +18,7 @@ struct Slope {
 
 struct TrimTerm {
   const char* name;
-  std::array<Slope, 5> slopes;  ///< unused entries have x == nullptr
+  std::vector<Slope> slopes;
 };
 
 double mean_over_trim(const Col& x, const Layout& L) {
@@ -30,24 +31,17 @@ double mean_over_trim(const Col& x, const Layout& L) {
 void consider_slopes_in_trim_terms(Context& c, const Col& alpha, const Col& beta) {
   const AeroSamples& a = c.a;
   const std::array<TrimTerm, 4> terms = {{
-      {"C_Y_0",
-       {{{"C_Y_beta", &beta}, {"C_Y_p", &a.p_hat}, {"C_Y_r", &a.r_hat}, {"C_Y_delta_a", &a.delta_a}, {"C_Y_delta_r", &a.delta_r}}}},
+      {"C_Y_0", {{"C_Y_beta", &beta}, {"C_Y_p", &a.p_hat}, {"C_Y_r", &a.r_hat}, {"C_Y_delta_a", &a.delta_a}, {"C_Y_delta_r", &a.delta_r}}},
       {"C_ell_0",
-       {{{"C_ell_beta", &beta},
-         {"C_ell_p", &a.p_hat},
-         {"C_ell_r", &a.r_hat},
-         {"C_ell_delta_a", &a.delta_a},
-         {"C_ell_delta_r", &a.delta_r}}}},
-      {"C_m_0", {{{"C_m_alpha", &alpha}, {"C_m_q", &a.q_hat}, {"C_m_delta_e", &a.delta_e}, {nullptr, nullptr}, {nullptr, nullptr}}}},
-      {"C_n_0",
-       {{{"C_n_beta", &beta}, {"C_n_p", &a.p_hat}, {"C_n_r", &a.r_hat}, {"C_n_delta_a", &a.delta_a}, {"C_n_delta_r", &a.delta_r}}}},
+       {{"C_ell_beta", &beta}, {"C_ell_p", &a.p_hat}, {"C_ell_r", &a.r_hat}, {"C_ell_delta_a", &a.delta_a}, {"C_ell_delta_r", &a.delta_r}}},
+      {"C_m_0", {{"C_m_alpha", &alpha}, {"C_m_q", &a.q_hat}, {"C_m_delta_e", &a.delta_e}}},
+      {"C_n_0", {{"C_n_beta", &beta}, {"C_n_p", &a.p_hat}, {"C_n_r", &a.r_hat}, {"C_n_delta_a", &a.delta_a}, {"C_n_delta_r", &a.delta_r}}},
   }};
   for (const TrimTerm& t : terms) {
     CoefficientEstimate* e = find_estimate(c.result, t.name);
     if (e == nullptr || !e->identified) continue;
     double variance = e->std_error * e->std_error;
     for (const Slope& s : t.slopes) {
-      if (s.x == nullptr) continue;
       const CoefficientEstimate* slope = find_estimate(c.result, s.name);
       if (slope == nullptr) continue;
       const double sigma = slope->identified ? slope->std_error : kPriorUncertainty * std::abs(slope->prior);
