@@ -15,11 +15,12 @@
 //     max_delay_s of a stamp. Where an adopted delay moved at all, the series is built again with
 //     the adopted delays and identified (equation error and output error on the same timing); else
 //     the first pass's identification stands. Not above a threshold: on a 47-ms roll mode (the
-//     Aerosonde's) milliseconds matter. The sysid mission flown in the `ideal` world (no sensor
-//     error, no turbulence): the aileron's 1.5 +- 0.2 ms, kept at 0 as under 3 ms (the former
-//     rule), left C_ell_p, C_ell_delta_a and C_ell_r 10 % small at 25-35 of their bounds (now 5-6 %);
-//     on the bench's seed 3, delays of -1.0, 0.7 and -3.1 ms (none beyond 2 standard errors) give
-//     C_n_r -7.5 % where the first pass has -10.6 %.
+//     Aerosonde's) each millisecond moves C_ell_p by some 2 % and C_n_r by 3 %. The sysid mission
+//     flown in the `ideal` world (no sensor error, no turbulence; the estimator told the IMU sits at
+//     the CG, as that world's does), whose commands act 1.25 ms before their stamps (the
+//     simulator's servo answers a command over the whole 2.5-ms step it arrives at): with the
+//     commands at 0 ms, C_ell_p -3.0 %, C_ell_delta_a +3.0 %, C_n_r -5.1 %; the timing pass's
+//     -0.5 ms gives -2.0, +2.1 and -3.0 %; the true -1.25 ms -0.5, +0.9 and -1.7 %.
 //  3. A surface whose own delay is not adopted (a rudder the flight hardly moves) takes the adopted
 //     surfaces' delay, weighted by their standard errors, when its own fit agrees with it within
 //     shared_sigmas: one output loop (a mixer cycle, a servo bus) drives every surface. Else, or

@@ -70,24 +70,37 @@ std::vector<std::size_t> usable_imu_rows(const CsvTable& imu, const std::vector<
 
 /// Commands in force at each time of `tq` (the last row at or before it; before the first row,
 /// the first; a row that is not a number leaves the one before it in force; `joined`: between two
-/// rows, the line joining them), through a first-order lag of time constant tau (0: none).
+/// rows, the line joining them), through a first-order lag of time constant tau (0: none). The lag
+/// is solved exactly from each row's own instant (a step's or a ramp's response), not from the
+/// sample of tq after it: a command acts from its stamp plus its delay, wherever that falls
+/// between two samples.
 Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& tq, double tau, bool joined = false) {
   Column out(tq.size());
+  if (tq.empty()) return out;
   const auto first = std::find_if(cmd.begin(), cmd.end(), [](double v) { return std::isfinite(v); });
   double u = first == cmd.end() ? 0.0 : *first;  // a row that is not a number leaves the one before in force
+  std::size_t j = 0;                              // the row in force from t_cmd[j] on
+  auto input = [&](double t) {                    // the command at t, row j in force
+    const bool line = joined && j + 1 < t_cmd.size() && t >= t_cmd[j] && std::isfinite(cmd[j]) && std::isfinite(cmd[j + 1]);
+    return line ? cmd[j] + (t - t_cmd[j]) / (t_cmd[j + 1] - t_cmd[j]) * (cmd[j + 1] - cmd[j]) : u;
+  };
+  double s = t_cmd.empty() ? tq.front() : std::min(tq.front(), t_cmd.front());
   double y = u;
-  std::size_t j = 0;
+  auto advance = [&](double e) {  // y from s to e, the input a line between them: exact
+    if (!(e > s) || tau <= 0.0) return void(s = std::max(s, e));
+    const double u_s = input(s), u_e = input(e), b = (u_e - u_s) / (e - s);
+    y = u_e - b * tau + (y - u_s + b * tau) * std::exp(-(e - s) / tau);
+    s = e;
+  };
   for (std::size_t k = 0; k < tq.size(); ++k) {
+    if (!t_cmd.empty() && s < t_cmd.front() && t_cmd.front() < tq[k]) advance(t_cmd.front());  // the first row's line starts there
     while (j + 1 < t_cmd.size() && t_cmd[j + 1] <= tq[k]) {
+      advance(t_cmd[j + 1]);
       ++j;
       if (std::isfinite(cmd[j])) u = cmd[j];
     }
-    double v = u;
-    if (joined && j + 1 < t_cmd.size() && t_cmd[j] <= tq[k] && std::isfinite(cmd[j + 1]) && std::isfinite(cmd[j]))
-      v = cmd[j] + (tq[k] - t_cmd[j]) / (t_cmd[j + 1] - t_cmd[j]) * (cmd[j + 1] - cmd[j]);
-    const double dt = k == 0 ? 0.0 : tq[k] - tq[k - 1];
-    y = tau > 0.0 ? y + (1.0 - std::exp(-dt / tau)) * (v - y) : v;
-    out[k] = y;
+    advance(tq[k]);
+    out[k] = tau > 0.0 ? y : input(tq[k]);
   }
   return out;
 }

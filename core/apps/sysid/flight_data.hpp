@@ -21,7 +21,8 @@
 // stamp plus its surface's delay (command_delay_s) is at or before it (a command that changes
 // between two samples counts from the next); commands logged more than 30 ms apart are samples
 // of a faster controller's output and are joined linearly instead. Then the prior's first-order
-// servo lag (servos.tau). The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is
+// servo lag (servos.tau), solved exactly from each row's own instant (its stamp plus its delay), not
+// from the base sample after it: a delay below the base's interval moves the deflection by itself. The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is
 // then low-passed by the same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear relation between
 // channels holds after filtering as before it; the angular acceleration is the central difference of the filtered rate; then the samples
 // are decimated to `rate_hz`.

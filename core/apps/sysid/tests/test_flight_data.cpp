@@ -169,3 +169,37 @@ TEST_CASE("a pitot whose rows stop for more than 1 s leaves those samples out, n
   f.diff_pressure = gap;
   const FlightSeries s = without_3_to_6_s(f);
 }
+
+TEST_CASE("the servo lag answers a command from its own instant: a delay below the IMU's interval moves the deflection by itself") {
+  // the aileron steps to 1 at 5.0 s (a 100-Hz row); the prior's servo lags 20 ms; the IMU at 400 Hz
+  // (2.5-ms samples). Each delay from 0 to 2.5 ms puts the step between the same two samples; the
+  // deflection is 1 - exp(-(t - 5.0 - delay) / tau) at every sample after it, to rounding. Solved
+  // on the samples' grid the lag started at the next sample's instant with the whole interval's
+  // response: the 0.5-, 1.5- and 2.4-ms delays gave one series.
+  const double tau = 0.02, step_s = 5.0;
+  for (const double delay : {0.0, 0.0005, 0.0015, 0.0024, 0.004}) {
+    FlightSeriesOptions o;
+    o.rate_hz = 0.0, o.filter_hz = 0.0, o.servo_tau = tau;
+    o.command_delay_s = {delay, 0.0, 0.0};
+    const FlightSeries s = series_from_tables(flight(400.0, 100.0, [&](double t) { return t >= step_s - 1e-9 ? 1.0 : 0.0; }), o);
+    double worst = 0.0;
+    for (std::size_t k = 0; k < s.t.size(); ++k) {
+      const double since = s.t[k] - step_s - delay;
+      const double expected = since <= 0.0 ? 0.0 : 1.0 - std::exp(-since / tau);
+      worst = std::max(worst, std::abs(s.delta_a[k] - expected));
+    }
+    CHECK_MESSAGE(worst < 1e-9, "delay ", delay * 1e3, " ms");
+  }
+}
+
+TEST_CASE("commands joined linearly through the servo lag: a ramp's deflection trails it by the lag's time constant, exactly") {
+  // 10-Hz rows of a ramp 0.1 t (joined): through a first-order lag the deflection settles to the
+  // ramp delayed by tau, 0.1 (t - tau), at every sample, not only at the rows' stamps
+  FlightSeriesOptions o;
+  o.rate_hz = 0.0, o.filter_hz = 0.0, o.servo_tau = 0.05;
+  const FlightSeries s = series_from_tables(flight(200.0, 10.0, [](double t) { return 0.1 * t; }), o);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < s.t.size(); ++k)
+    if (s.t[k] > 2.0 && s.t[k] < 9.0) worst = std::max(worst, std::abs(s.delta_a[k] - 0.1 * (s.t[k] - 0.05)));
+  CHECK(worst < 1e-9);
+}
