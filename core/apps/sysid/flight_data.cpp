@@ -79,8 +79,8 @@ Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& t
   if (tq.empty()) return out;
   const auto first = std::find_if(cmd.begin(), cmd.end(), [](double v) { return std::isfinite(v); });
   double u = first == cmd.end() ? 0.0 : *first;  // a row that is not a number leaves the one before in force
-  std::size_t j = 0;                              // the row in force from t_cmd[j] on
-  auto input = [&](double t) {                    // the command at t, row j in force
+  std::size_t j = 0;                             // the row in force from t_cmd[j] on
+  auto input = [&](double t) {                   // the command at t, row j in force
     const bool line = joined && j + 1 < t_cmd.size() && t >= t_cmd[j] && std::isfinite(cmd[j]) && std::isfinite(cmd[j + 1]);
     return line ? cmd[j] + (t - t_cmd[j]) / (t_cmd[j + 1] - t_cmd[j]) * (cmd[j + 1] - cmd[j]) : u;
   };

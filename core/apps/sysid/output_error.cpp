@@ -13,6 +13,7 @@
 #include <unsupported/Eigen/LevenbergMarquardt>
 
 #include "tern/aero/model.hpp"
+#include "tern/math.hpp"
 
 namespace tern::core::sysid {
 
@@ -54,23 +55,52 @@ Param param_of(const std::string& name) {
   return {moment_coefficient(name), -1};
 }
 
-/// x at t_k - tau for every k of one run of consecutive windows [b, e), linearly interpolated
-/// between the run's samples and held at its ends.
+/// The weights of a fractional delay of f samples (0 <= f < 1) by a Lanczos-windowed sinc of
+/// kLanczosLobes lobes (shift_run: the tap k - whole - i weighs w[i + kLanczosLobes - 1], i from
+/// 1 - kLanczosLobes to kLanczosLobes). Why not linear interpolation between samples, the former
+/// shift: the commands are low-passed at filter_hz (10 Hz) before the output error samples them at
+/// 50 Hz, and linear interpolation passed a 5-Hz component at 0.95 of its amplitude half a sample
+/// off and whole at a whole sample; the fit's cost then favours delays near whole samples of the
+/// series as loaded. The Anaconda's foreign-log bench flight (seed 2, true prior): the aileron's delay
+/// 1.0 ms with linear interpolation, 1.9 ms with this kernel; the coefficients come right at 3.7-4 ms.
+/// Duchon, "Lanczos filtering in one and two dimensions", J. Appl. Meteor. 18 (1979).
+constexpr int kLanczosLobes = 4;
+std::array<double, 2 * kLanczosLobes> lanczos_weights(double f) {
+  auto sinc = [](double v) { return std::abs(v) < 1e-12 ? 1.0 : std::sin(kPi * v) / (kPi * v); };
+  std::array<double, 2 * kLanczosLobes> w{};
+  double sum = 0.0;
+  for (int i = 1 - kLanczosLobes; i <= kLanczosLobes; ++i) {
+    const double z = static_cast<double>(i) - f;
+    w[static_cast<std::size_t>(i + kLanczosLobes - 1)] = sinc(z) * sinc(z / kLanczosLobes);
+    sum += w[static_cast<std::size_t>(i + kLanczosLobes - 1)];
+  }
+  for (double& v : w) v /= sum;  // a constant passes unchanged
+  return w;
+}
+
+}  // namespace
+
 void shift_run(const std::vector<double>& t, const std::vector<double>& x, double tau, std::size_t b, std::size_t e,
                std::vector<double>& out) {
-  std::size_t j = b;
+  if (e - b < 2) {
+    for (std::size_t k = b; k < e; ++k) out[k] = x[k];
+    return;
+  }
+  const double samples = tau / ((t[e - 1] - t[b]) / static_cast<double>(e - 1 - b));
+  const double whole = std::floor(samples);
+  const auto w = lanczos_weights(samples - whole);
+  const auto first = static_cast<long>(b), last = static_cast<long>(e) - 1, back = static_cast<long>(whole);
   for (std::size_t k = b; k < e; ++k) {
-    const double s = t[k] - tau;
-    if (s <= t[b]) {
-      out[k] = x[b];
-    } else if (s >= t[e - 1]) {
-      out[k] = x[e - 1];
-    } else {
-      while (t[j + 1] < s) ++j;
-      out[k] = x[j] + (s - t[j]) / (t[j + 1] - t[j]) * (x[j + 1] - x[j]);
+    double sum = 0.0;
+    for (int i = 1 - kLanczosLobes; i <= kLanczosLobes; ++i) {
+      const long j = std::clamp(static_cast<long>(k) - back - i, first, last);
+      sum += w[static_cast<std::size_t>(i + kLanczosLobes - 1)] * x[static_cast<std::size_t>(j)];
     }
+    out[k] = sum;
   }
 }
+
+namespace {
 
 /// The book's Gamma coefficients (eq. 3.13, tern/aircraft.hpp, as the uavbook model, tern/aero/model.hpp, uses them) and 1 / J_y.
 struct Gammas : InertiaGammas {
