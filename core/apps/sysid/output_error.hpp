@@ -21,9 +21,10 @@
 // The commands' timing. Besides the coefficients, theta can carry a delay per surface
 // ("delay_a", "delay_e", "delay_r", s): the surface's commands act that much later than the data
 // has them, shifted over each run of consecutive windows by a windowed-sinc fractional delay
-// (exact for the low-passed commands; held at the run's ends). Klein and Morelli ch. 10 (data compatibility) fit such a time shift beside
-// the model's parameters: in a closed loop the equation error cannot tell a late command from a controller that feeds the rate back (the
-// command is computed from the rate it is regressed beside), while the simulated rates, integrated from the commands alone, depend on when
+// (shift_run; held at the run's ends). Klein and Morelli ch. 10 (data compatibility) fit such a
+// time shift beside the model's parameters: in a closed loop the equation error cannot tell a late
+// command from a controller that feeds the rate back (the command is computed from the rate it is
+// regressed beside), while the simulated rates, integrated from the commands alone, depend on when
 // the commands act.
 //
 // The fit. theta (the free coefficients) minimises J = sum_k v_k^T R^-1 v_k, v_k the measured less
@@ -55,11 +56,11 @@
 
 namespace tern::core::sysid {
 
-/// x (sampled at t) at t_k - tau for each k of one run of consecutive samples [b, e), into out[b, e):
-/// a fractional delay by a Lanczos-windowed sinc over the run's mean interval (at 50 Hz within
-/// 0.4 % of a sinusoid up to 5 Hz and 0.8 % at 10 Hz; linear interpolation between samples loses up
-/// to 5 % of a 5-Hz component), the run's first and last samples held beyond its ends. How the output error shifts a surface's commands by
-/// its delay (header). out's size at least e.
+/// x (sampled at t) at t_k - tau for each k of one run of consecutive samples [b, e), into
+/// out[b, e): a fractional delay by a Lanczos-windowed sinc over the run's mean interval (at 50 Hz
+/// within 0.4 % of a sinusoid up to 5 Hz and 0.8 % at 10 Hz, where linear interpolation between
+/// samples loses 5 and 17 %), the run's first and last samples held beyond its ends. How the output
+/// error shifts a surface's commands by its delay (header). out.size() >= e.
 void shift_run(const std::vector<double>& t, const std::vector<double>& x, double tau, std::size_t b, std::size_t e,
                std::vector<double>& out);
 
