@@ -8,9 +8,11 @@
 // file (flyable); the same log gives the same bytes; every bad input is one error line.
 #include <doctest/doctest.h>
 
+#include <array>
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -136,8 +138,10 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   const nlohmann::json jh = nlohmann::json::parse(read_file(out3 / "sysid.json"));
   CHECK(jh["coefficients"]["C_ell_delta_a"]["estimate"].get<double>() ==
         doctest::Approx(j["coefficients"]["C_ell_delta_a"]["estimate"].get<double>()).epsilon(0.01));
-  // commands stamped 10 ms before they act (another autopilot's log): --command-delay 10 pairs them
-  // with their motion again, and the identified file's servos carry the delay
+  // commands stamped 10 ms before they act (another autopilot's log): given the flight's own delays
+  // plus 10 ms, --command-delay pairs them with their motion as the flight's own identification did
+  // (the lag answers each command from its own instant: the same series to rounding), and the
+  // identified file's servos carry the delays
   const fs::path late = test_dir() / "late";
   fs::create_directories(late);
   fs::copy(run / "topics", late / "topics", fs::copy_options::recursive);
@@ -153,21 +157,29 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   }
   write_file("late/topics/actuators.csv", shifted);
   const fs::path out4 = test_dir() / "out4";
-  const auto d = sysid({late.string(), "--aircraft", prior.string(), "--out", out4.string(), "--estimate",
-                        j["produced_by"]["estimate"].get<std::string>(), "--command-delay", "10"},
-                       "late");
+  std::array<double, 3> given{};  // s
+  std::vector<std::string> args = {
+      late.string(),    "--aircraft", prior.string(), "--out", out4.string(), "--estimate", j["produced_by"]["estimate"].get<std::string>(),
+      "--command-delay"};
+  for (std::size_t i = 0; i < 3; ++i) {
+    given[i] = j["command_delay_s"][std::array{"aileron", "elevator", "rudder"}[i]].get<double>() + 0.010;
+    args.push_back(fmt::format("{:.9f}", 1e3 * given[i]));
+  }
+  const auto d = sysid(args, "late");
   INFO(d.second);
   REQUIRE(d.first == 0);
-  CHECK(d.second.find("command delay: aileron 10.0 ms, elevator 10.0 ms, rudder 10.0 ms") != std::string::npos);
   const nlohmann::json jd = nlohmann::json::parse(read_file(out4 / "sysid.json"));
+  CHECK(jd["command_delay_s"]["aileron"].get<double>() == doctest::Approx(given[0]));
+  CHECK(jd["command_delay_s"]["rudder"].get<double>() == doctest::Approx(given[2]));
   for (const char* name : {"C_ell_delta_a", "C_ell_p", "C_m_delta_e", "C_n_delta_r"}) {
     CAPTURE(name);
     CHECK(jd["coefficients"][name]["estimate"].get<double>() ==
           doctest::Approx(j["coefficients"][name]["estimate"].get<double>()).epsilon(0.02));
   }
   const tern::Aircraft with_delay = tern::load_aircraft((out4 / "aircraft.yaml").string());
-  CHECK(with_delay.servo_delay_a == doctest::Approx(0.010));
-  CHECK(with_delay.servo_delay_r == doctest::Approx(0.010));
+  REQUIRE(given[0] > 0.0);  // the flight's own delays are a few ms: a positive one is written
+  CHECK(with_delay.servo_delay_a == doctest::Approx(given[0]));
+  if (given[2] > 0.0) CHECK(with_delay.servo_delay_r == doctest::Approx(given[2]));
   // without --command-delay the delays come from the flight (sysid/command_delay.hpp): the late log's
   // aileron and rudder act 10 ms later than the same flight's, within their bounds
   const fs::path out5 = test_dir() / "out5";

@@ -22,10 +22,10 @@
 // between two samples counts from the next); commands logged more than 30 ms apart are samples
 // of a faster controller's output and are joined linearly instead. Then the prior's first-order
 // servo lag (servos.tau), solved exactly from each row's own instant (its stamp plus its delay), not
-// from the base sample after it: a delay below the base's interval moves the deflection by itself. The estimate is interpolated linearly (angles unwrapped), never across a gap longer than 1 s. Every channel is
-// then low-passed by the same zero-phase filter (a second-order Butterworth run forward and backward), so that a linear relation between
-// channels holds after filtering as before it; the angular acceleration is the central difference of the filtered rate; then the samples
-// are decimated to `rate_hz`.
+// from the base sample after it: a delay below the base's interval moves the deflection by itself. The estimate is interpolated linearly
+// (angles unwrapped), never across a gap longer than 1 s. Every channel is then low-passed by the same zero-phase filter (a second-order
+// Butterworth run forward and backward), so that a linear relation between channels holds after filtering as before it; the angular
+// acceleration is the central difference of the filtered rate; then the samples are decimated to `rate_hz`.
 //
 // Units SI, angles rad, body frame FRD, NED. Errors: ConfigError, one line naming the file
 // (a missing table, a column it lacks, fewer than two seconds of estimate).
