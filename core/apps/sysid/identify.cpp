@@ -93,7 +93,11 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   const Col beta = lateral(c, alpha, accel);
   for (auto& e : r.coefficients) e.equation_error = e.estimate, e.equation_error_std_error = e.std_error;
   if (o.output_error.enabled) {
-    const RateData d = rate_data(a, alpha, beta, L.segments, prior, o.output_error.window_s);
+    RateData d = rate_data(a, alpha, beta, L.segments, prior, o.output_error.window_s);
+    if (accel) {  // the flow angles from the forces carry the commands' force terms (beta_from_side_force, alpha_from_lift)
+      d.beta_per_delta_a = -coef.C_Y_delta_a / coef.C_Y_beta, d.beta_per_delta_r = -coef.C_Y_delta_r / coef.C_Y_beta;
+      d.alpha_per_delta_e = -coef.C_L_delta_e / coef.C_L_alpha;
+    }
     refine(c, d, RateAxes::pitch);
     refine(c, d, RateAxes::lateral);
   }

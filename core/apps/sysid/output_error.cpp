@@ -258,6 +258,11 @@ class RateModel {
       }
       scratch_tau_[s] = tau[s];
     }
+    // the flow angles' parts of the commands move with them (RateData)
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      in[k].beta = in_[k].beta + d_.beta_per_delta_a * (in[k].da - in_[k].da) + d_.beta_per_delta_r * (in[k].dr - in_[k].dr);
+      in[k].alpha = in_[k].alpha + d_.alpha_per_delta_e * (in[k].de - in_[k].de);
+    }
   }
 
   const RateData& d_;

@@ -21,11 +21,10 @@
 // The commands' timing. Besides the coefficients, theta can carry a delay per surface
 // ("delay_a", "delay_e", "delay_r", s): the surface's commands act that much later than the data
 // has them, shifted over each run of consecutive windows by a windowed-sinc fractional delay
-// (shift_run; held at the run's ends). Klein and Morelli ch. 10 (data compatibility) fit such a
-// time shift beside the model's parameters: in a closed loop the equation error cannot tell a late
-// command from a controller that feeds the rate back (the command is computed from the rate it is
-// regressed beside), while the simulated rates, integrated from the commands alone, depend on when
-// the commands act.
+// (shift_run; held at the run's ends), the flow angles' parts of them with them (RateData). Klein and Morelli ch. 10 (data compatibility)
+// fit such a time shift beside the model's parameters: in a closed loop the equation error cannot tell a late command from a controller
+// that feeds the rate back (the command is computed from the rate it is regressed beside), while the simulated rates, integrated from the
+// commands alone, depend on when the commands act.
 //
 // The fit. theta (the free coefficients) minimises J = sum_k v_k^T R^-1 v_k, v_k the measured less
 // the simulated rates, by Eigen's Levenberg-Marquardt (unsupported/Eigen/LevenbergMarquardt, MINPACK's
@@ -99,6 +98,11 @@ struct RateData {
   std::vector<double> Q_p;                                   ///< N m, the prior's propeller torque
   std::vector<double> p, q, r;                               ///< rad/s, measured
   std::vector<std::pair<std::size_t, std::size_t>> windows;  ///< [begin, end) of each window
+  /// rad/rad: how much of each command the flow angles above carry, where they were reconstructed
+  /// from the forces (identify.hpp): beta from the side force -C_Y_delta_a / C_Y_beta of the aileron
+  /// and -C_Y_delta_r / C_Y_beta of the rudder, alpha from the lift -C_L_delta_e / C_L_alpha of the
+  /// elevator. A command shifted by its delay moves that part with it (0: angles that do not).
+  double beta_per_delta_a = 0.0, beta_per_delta_r = 0.0, alpha_per_delta_e = 0.0;
   std::size_t size() const { return t.size(); }
 };
 

@@ -157,3 +157,28 @@ TEST_CASE("output error: a command shifted by a fraction of a sample keeps its a
   tern::core::sysid::shift_run(t, one, 0.013, 0, 5, out);
   for (const double v : out) CHECK(v == doctest::Approx(1.0).epsilon(1e-12));
 }
+
+TEST_CASE("output error: a sideslip reconstructed from the side force moves its rudder part with the rudder's delay") {
+  // beta as sysid reconstructs it from the side force carries -C_Y_delta_r / C_Y_beta of the
+  // rudder at the series' timing. The rates simulated with the rudder acting 12 ms late, in the
+  // moments and in beta alike, noise-free; the fit frees the rudder's delay and C_n_delta_r. With
+  // beta_per_delta_r the shifted rudder's part of beta moves too and both come back; without it
+  // the fit found the delay at -1.2 ms (C_n_beta times the rudder's part of beta, pinned at the
+  // stamps, outweighed the shift of C_n_delta_r's).
+  const tern::Aircraft ac = aerosonde();
+  const double delay = 0.012, per_rudder = -ac.aero.C_Y_delta_r / ac.aero.C_Y_beta;
+  RateData late = synthetic(ac, ac.aero, RateAxes::lateral, 0.0, 1);
+  RateData d = late;
+  for (std::size_t k = 0; k < late.size(); ++k) {
+    const double t = late.t[k];
+    late.delta_r[k] = multisine(t - delay, 1, 0.06);
+    late.beta[k] = d.beta[k] + per_rudder * late.delta_r[k];
+    d.beta[k] += per_rudder * d.delta_r[k];  // the series as loaded: the rudder's part at its stamps
+  }
+  const std::vector<Eigen::Vector3d> w = tern::core::sysid::simulate_rates(late, ac, ac.aero, RateAxes::lateral);
+  for (std::size_t k = 0; k < d.size(); ++k) d.p[k] = w[k].x(), d.q[k] = w[k].y(), d.r[k] = w[k].z();
+  d.beta_per_delta_r = per_rudder;
+  const OutputErrorFit f = output_error(d, ac, ac.aero, RateAxes::lateral, {"C_n_delta_r", "delay_r"}, {});
+  CHECK(f.theta[1] == doctest::Approx(delay).epsilon(0.01));
+  CHECK(f.theta[0] == doctest::Approx(ac.aero.C_n_delta_r).epsilon(0.002));
+}
