@@ -87,6 +87,7 @@ void shift_run(const std::vector<double>& t, const std::vector<double>& x, doubl
     return;
   }
   const double samples = tau / ((t[e - 1] - t[b]) / static_cast<double>(e - 1 - b));
+  if (!std::isfinite(samples)) throw std::invalid_argument("shift_run: a run whose times do not increase, or a delay that is not a number");
   const double whole = std::floor(samples);
   const auto w = lanczos_weights(samples - whole);
   const auto first = static_cast<long>(b), last = static_cast<long>(e) - 1, back = static_cast<long>(whole);
@@ -259,6 +260,7 @@ class RateModel {
       scratch_tau_[s] = tau[s];
     }
     // the flow angles' parts of the commands move with them (RateData)
+    if (d_.beta_per_delta_a == 0.0 && d_.beta_per_delta_r == 0.0 && d_.alpha_per_delta_e == 0.0) return;
     for (std::size_t k = 0; k < in.size(); ++k) {
       in[k].beta = in_[k].beta + d_.beta_per_delta_a * (in[k].da - in_[k].da) + d_.beta_per_delta_r * (in[k].dr - in_[k].dr);
       in[k].alpha = in_[k].alpha + d_.alpha_per_delta_e * (in[k].de - in_[k].de);

@@ -59,7 +59,8 @@ namespace tern::core::sysid {
 /// out[b, e): a fractional delay by a Lanczos-windowed sinc over the run's mean interval (at 50 Hz
 /// within 0.4 % of a sinusoid up to 5 Hz and 0.8 % at 10 Hz, where linear interpolation between
 /// samples loses 5 and 17 %), the run's first and last samples held beyond its ends. How the output
-/// error shifts a surface's commands by its delay (header). out.size() >= e.
+/// error shifts a surface's commands by its delay (header). out.size() >= e. Errors:
+/// std::invalid_argument for a run whose times do not increase or a tau that is not a number.
 void shift_run(const std::vector<double>& t, const std::vector<double>& x, double tau, std::size_t b, std::size_t e,
                std::vector<double>& out);
 

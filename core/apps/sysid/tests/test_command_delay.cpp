@@ -60,7 +60,8 @@ TEST_CASE("choose_delays: nothing adopted keeps the prior's delays; a given dela
 }
 
 TEST_CASE("choose_delays: any adopted shift calls for a second pass, however small") {
-  // the ideal world's aileron: 1.5 +- 0.2 ms (C_ell_p 10 % small when it was kept at 0 as under 3 ms)
+  // a 1.5 +- 0.2 ms aileron, under the former 3-ms rule: each millisecond moves C_ell_p by some 2 %
+  // on the Aerosonde's 47-ms roll mode (command_delay.hpp)
   const DelayChoice small = choose_delays({0.0, 0.0, 0.0}, {fit(0.0015, 0.0002), fit(0.0005, 0.001), fit(0.0005, 0.0003)}, DelayOptions{});
   CHECK(small.moved);
   CHECK(small.delays[0] == doctest::Approx(0.0015));

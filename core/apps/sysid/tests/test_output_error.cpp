@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
+#include <vector>
 
 #include "sysid/output_error.hpp"
 #include "tern/math.hpp"
@@ -156,6 +158,10 @@ TEST_CASE("output error: a command shifted by a fraction of a sample keeps its a
   std::vector<double> t = {0.0, 0.02, 0.04, 0.06, 0.08}, one(5, 1.0), out(5);
   tern::core::sysid::shift_run(t, one, 0.013, 0, 5, out);
   for (const double v : out) CHECK(v == doctest::Approx(1.0).epsilon(1e-12));
+  // a run whose times stand still, a delay that is not a number: one clear error, not a wild index
+  const std::vector<double> still(5, 1.0);
+  CHECK_THROWS_AS(tern::core::sysid::shift_run(still, one, 0.013, 0, 5, out), std::invalid_argument);
+  CHECK_THROWS_AS(tern::core::sysid::shift_run(t, one, std::nan(""), 0, 5, out), std::invalid_argument);
 }
 
 TEST_CASE("output error: a sideslip reconstructed from the side force moves its rudder part with the rudder's delay") {
