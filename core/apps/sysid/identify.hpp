@@ -127,6 +127,10 @@ struct SysidResult {
   double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
   NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar
   NuisanceEstimate oswald;                      ///< e, from the polar's slope
+  /// e from the polar's slope fitted again with C_D_p at the prior: what the verdicts adopt in
+  /// oswald's place when they reject C_D_p (verdicts.hpp), so that the polar keeps the drag the
+  /// trim windows measured
+  NuisanceEstimate oswald_C_D_p_held;
   /// s, aileron, elevator, rudder: the delay between a command's stamp and its effect with which the
   /// series was loaded (FlightSeriesOptions::command_delay_s; set by the caller)
   std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};

@@ -47,11 +47,13 @@ void widen(NuisanceEstimate& e, const NuisanceEstimate& shifted) {
 }  // namespace
 
 void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples* at_k_plus_sigma, double C_L_scale) {
-  DragPolar p = drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias);
+  const double C_D_p_prior = c.prior.C_D_p;
+  DragPolar p =
+      drag_polar(polar_windows(c, c.a, alpha, prior, 1.0), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias, C_D_p_prior);
   if (at_k_plus_sigma != nullptr) {
     const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3,
-                                   c.o.fit_accel_x_bias);
-    widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x);
+                                   c.o.fit_accel_x_bias, C_D_p_prior);
+    widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x), widen(p.e_held, q.e_held);
   }
   c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows, p.r_squared});
   c.coef.C_D_p = p.C_D_p.estimate;
@@ -68,6 +70,7 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
     c.result.notes.push_back(fmt::format("e (Oswald factor): kept, {}", p.K.note));
   }
   c.result.oswald = p.e;
+  c.result.oswald_C_D_p_held = p.e_held;
   c.result.accel_x_bias = p.bias_x;
   if (!p.bias_x.identified) c.result.notes.push_back(fmt::format("accelerometer x bias: {}; 0 taken", p.bias_x.note));
   for (const Term& t :

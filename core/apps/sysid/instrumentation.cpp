@@ -23,6 +23,17 @@ constexpr std::size_t kWindMaxLag = 60;
 
 double mean(const Eigen::VectorXd& x) { return x.size() ? x.mean() : 0.0; }
 
+/// The polar's slope K +- sigma and the Oswald factor 1 / (pi AR K) from it, identified when K > 0
+/// and sigma below `max_relative_error` of K.
+void slope(double K, double sigma, double AR, double max_relative_error, NuisanceEstimate& K_out, NuisanceEstimate& e_out) {
+  K_out = {K, sigma, K > 0.0 && sigma < max_relative_error * K, ""};
+  if (K_out.identified) {
+    e_out = {1.0 / (kPi * AR * K), sigma / (kPi * AR * K * K), true, ""};
+  } else {
+    K_out.note = e_out.note = fmt::format("the polar's slope {:.4f} +- {:.2g} is not determined", K, sigma);
+  }
+}
+
 }  // namespace
 
 AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation) {
@@ -65,7 +76,8 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
   return out;
 }
 
-DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias) {
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias,
+                     double C_D_p_prior) {
   if (w.size() < 4) throw std::invalid_argument(fmt::format("drag polar: {} trim windows, at least 4 needed", w.size()));
   const auto n = static_cast<Eigen::Index>(w.size());
   Eigen::MatrixXd X(n, 3);
@@ -99,12 +111,10 @@ DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_re
     e = least_squares(X.leftCols(2), z, max_lag);
   }
   out.C_D_p = {e.theta[0], e.std_error[0], true, ""};
-  out.K = {e.theta[1], e.std_error[1], e.theta[1] > 0.0 && e.std_error[1] < max_relative_error * e.theta[1], ""};
-  if (out.K.identified) {
-    out.e = {1.0 / (kPi * AR * out.K.estimate), out.K.std_error / (kPi * AR * out.K.estimate * out.K.estimate), true, ""};
-  } else {
-    out.K.note = out.e.note = fmt::format("the polar's slope {:.4f} +- {:.2g} is not determined", e.theta[1], e.std_error[1]);
-  }
+  const double K_std_error = e.std_error[1];
+  slope(e.theta[1], K_std_error, AR, max_relative_error, out.K, out.e);
+  const LsEstimate held = least_squares(X.middleCols(1, with_bias ? 2 : 1), (z.array() - C_D_p_prior).matrix(), max_lag);
+  slope(held.theta[0], K_std_error, AR, max_relative_error, out.K_held, out.e_held);
   out.r_squared = e.r_squared, out.rms_residual = std::sqrt(e.s2), out.rows = e.rows;
   return out;
 }

@@ -72,8 +72,12 @@ struct PolarWindow {
 
 struct DragPolar {
   NuisanceEstimate C_D_p;
-  NuisanceEstimate K;       ///< the polar's slope 1 / (pi e AR)
-  NuisanceEstimate e;       ///< Oswald factor from K (standard error by first-order propagation)
+  NuisanceEstimate K;  ///< the polar's slope 1 / (pi e AR)
+  NuisanceEstimate e;  ///< Oswald factor from K (standard error by first-order propagation)
+  /// the slope and Oswald factor with C_D_p held at the prior (`C_D_p_prior`): z - C_D_p_prior =
+  /// K C_Lw^2 (+ the bias when fitted). Their bounds are the joint fit's K bound (it carries C_D_p's
+  /// uncertainty), propagated at K_held.
+  NuisanceEstimate K_held, e_held;
   NuisanceEstimate bias_x;  ///< m/s^2, accelerometer x bias (0, not identified, at one airspeed)
   double r_squared = 0.0, rms_residual = 0.0;
   std::size_t rows = 0;
@@ -86,6 +90,11 @@ struct DragPolar {
 /// more than `max_relative_error` of it (the data did not separate it). e is identified when K > 0
 /// and K's standard error is below `max_relative_error` of K. Throws std::invalid_argument with
 /// fewer than four windows. `fit_bias` false: the bias is not a parameter (0, not identified).
-DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias = true);
+/// K_held and e_held: the same with C_D_p held at `C_D_p_prior` (DragPolar), for a C_D_p the
+/// verdicts reject. Without them, a rejected C_D_p beside the joint slope moves the polar at trim by
+/// the C_D_p dropped (on the book's Aerosonde C_D_p is 0 and the joint fit's 0.0021 +- 0.0024, half
+/// the drag at trim).
+DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_relative_error, std::size_t max_lag, bool fit_bias = true,
+                     double C_D_p_prior = 0.0);
 
 }  // namespace tern::core::sysid

@@ -89,6 +89,20 @@ void reject_oswald(SysidResult& r, const Aircraft& prior, const std::string& why
   r.notes.push_back(fmt::format("e (Oswald factor): not adopted: {}; the prior {:.3f} kept", why, prior.e));
 }
 
+/// C_D_p back at the prior: the Oswald factor from the slope fitted through it (SysidResult::
+/// oswald_C_D_p_held), not the joint fit's, which leaned on the C_D_p dropped.
+void hold_polar_at_prior_C_D_p(SysidResult& r, const Aircraft& prior) {
+  if (!r.oswald.identified) return;
+  const NuisanceEstimate held = r.oswald_C_D_p_held;
+  if (!held.identified) return reject_oswald(r, prior, "with C_D_p at the prior, " + held.note);
+  r.notes.push_back(
+      fmt::format("e (Oswald factor): {:.3f} +- {:.2g} from the polar's slope fitted again with C_D_p at the prior "
+                  "(beside the C_D_p not adopted, the joint fit's {:.3f} would move the drag at trim)",
+                  held.estimate, held.std_error, r.oswald.estimate));
+  r.oswald = held;
+  r.aircraft.e = held.estimate;
+}
+
 void check_oswald(SysidResult& r, const Aircraft& prior, double max_relative_error, bool lift_rejected) {
   if (!r.oswald.identified) return;
   const auto drag = std::find_if(r.fits.begin(), r.fits.end(), [](const AxisFit& f) { return f.axis == "drag" && f.domain == "trim"; });
@@ -141,16 +155,18 @@ std::string forbidden_sign(const std::string& name, double estimate) {
 }
 
 void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o) {
-  bool lift_rejected = false;
+  bool lift_rejected = false, C_D_p_rejected = false;
   for (auto& c : r.coefficients) {
     if (!c.identified) continue;
     const std::string why = failure(r, c, o.max_relative_error);
     if (why.empty()) continue;
     lift_rejected = lift_rejected || (c.method == "trim" && c.name.rfind("C_L_", 0) == 0);
+    C_D_p_rejected = C_D_p_rejected || c.name == "C_D_p";
     c.note = "not adopted: " + why;
     c.estimate = c.prior, c.std_error = 0.0, c.identified = false;
     r.notes.push_back(fmt::format("{}: {}; the prior {:.4g} kept", c.name, c.note, c.prior));
   }
+  if (C_D_p_rejected) hold_polar_at_prior_C_D_p(r, prior);
   check_oswald(r, prior, o.max_relative_error, lift_rejected);
   note_unexcited_axes(r);
 }

@@ -8,7 +8,9 @@
 //    (C_L_alpha, C_L_q > 0; C_m_q, C_ell_p, C_n_r < 0 on every fixed wing), keeps the prior, with
 //    one note.
 //  * The Oswald factor likewise (the drag's trim fit, its own bound), and it falls with the lift's
-//    trim terms, on whose C_L the polar's slope rests.
+//    trim terms, on whose C_L the polar's slope rests. Where C_D_p is not adopted, the Oswald factor
+//    is the slope's fitted again with C_D_p at the prior (SysidResult::oswald_C_D_p_held): the
+//    joint fit's slope beside the prior's C_D_p would move the drag at trim by the C_D_p dropped.
 //  * An axis the log left without any identified coefficient (for the drag, the Oswald factor
 //    counts) says so once, with the first reason, and, unless one of its fits explains R^2 >= 0.5
 //    of the data (the flight excited it), the manoeuvre that excites it

@@ -294,6 +294,8 @@ TEST_CASE(
   add("C_Y_beta", -0.4, 0.15, "band");        // beyond 2 standard errors of 0, short of a 0.2 relative bound
   add("C_n_delta_a", -0.004, 0.003, "band");  // near 0, on an axis whose fit explains the data
   r.oswald.identified = true, r.oswald.estimate = 0.67, r.oswald.std_error = 0.02;  // the drag polar's slope, identified
+  r.aircraft.e = 0.67;
+  r.oswald_C_D_p_held = {0.71, 0.025, true, ""};  // the slope through the prior's C_D_p
   sysid::AxisFit yaw;
   yaw.axis = "yaw", yaw.domain = "band", yaw.r_squared_generalized = 0.58;
   r.fits.push_back(yaw);
@@ -308,6 +310,11 @@ TEST_CASE(
     return std::string();
   };
   CHECK(note("drag: nothing identified").empty());  // the Oswald factor is the drag's
+  // C_D_p back at the prior: e from the slope fitted through it, not the joint fit's
+  CHECK(r.oswald.estimate == 0.71);
+  CHECK(r.aircraft.e == 0.71);
+  CHECK(note("e (Oswald factor): 0.710 +- 0.025 from the polar's slope fitted again with C_D_p at the prior").find("0.670") !=
+        std::string::npos);
   CHECK(note("yaw: nothing identified").find("though the flight excited it (its fit explains R^2 0.58)") != std::string::npos);
   CHECK(note("side force: nothing identified").find("fly a rudder doublet") != std::string::npos);  // no side-force fit at all
 }
