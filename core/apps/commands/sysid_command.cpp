@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -17,6 +18,7 @@
 #include "sysid/command_delay.hpp"
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/motor_lag.hpp"
 #include "sysid/sysid_output.hpp"
 #include "sysid/verdicts.hpp"
 
@@ -35,6 +37,7 @@ struct SysidOptionsCli {
   bool keep_estimate = false;
   double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
   std::vector<double> command_delay_ms;  ///< empty: the prior's servos.delay_*; 1 value: every surface; 3: aileron, elevator, rudder
+  std::optional<double> motor_tau_s;     ///< unset: estimated (sysid/motor_lag.hpp)
   std::vector<std::string> sets;
 };
 
@@ -67,6 +70,20 @@ std::array<double, 3> command_delays(const SysidOptionsCli& o, const Aircraft& p
     d[i] = 1e-3 * ms;
   }
   return d;
+}
+
+/// The thrust's lag behind the throttle: --motor-tau (held), else estimated from `series` (loaded
+/// with the servos' lag), starting from the servos' (sysid/motor_lag.hpp).
+sysid::MotorLag motor_lag(const SysidOptionsCli& o, const sysid::FlightTables& tables, const sysid::FlightSeries& series,
+                          const Aircraft& prior, const sysid::SysidOptions& io) {
+  if (o.motor_tau_s) {
+    if (!(*o.motor_tau_s >= 0.0 && *o.motor_tau_s <= 5.0))
+      throw ConfigError(fmt::format("--motor-tau: {} s: expected 0 .. 5", *o.motor_tau_s));
+    return {
+        {*o.motor_tau_s, 0.0, false, "given (--motor-tau)"}, {}, fmt::format("motor lag: {:.3f} s, given (--motor-tau)", *o.motor_tau_s)};
+  }
+  const auto throttle = [&](double tau) { return sysid::throttle_in_force(tables, series.t, tau); };
+  return sysid::estimate_motor_lag(series, throttle, prior, io.airborne, prior.servo_tau);
 }
 
 int run_sysid(const SysidOptionsCli& o) {
@@ -103,7 +120,11 @@ int run_sysid(const SysidOptionsCli& o) {
     sysid::recover_excitation(series);  // a log without topics/excitation.csv (excitation_recovery.hpp)
     return series;
   };
+  const sysid::MotorLag motor = motor_lag(o, tables, load(delays), prior, io);
+  so.motor_tau = motor.tau.estimate;
   sysid::SysidResult r = sysid::identify_timed(load, delays, prior, io, timing);
+  r.motor_tau = motor.tau;
+  r.notes.insert(r.notes.begin(), motor.line);
   sysid::apply_verdicts(r, prior, io);
   const std::string options = fmt::format(
       "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, command delay "
@@ -161,6 +182,9 @@ Command add_sysid_command(CLI::App& app) {
                 "starting from the prior's servos.delay_a, _e, _r. A positive delay is written into aircraft.yaml's servos "
                 "(docs/system-identification.md)")
       ->expected(1, 3);
+  c->add_option("--motor-tau", o->motor_tau_s,
+                "S: the thrust's first-order lag behind the throttle's command (the motor and propeller spinning up), held; default: "
+                "estimated from the x force (docs/system-identification.md)");
   c->add_flag("--keep-estimate", o->keep_estimate,
               "keep the estimator's replay of the log in DIR/replay (the state at every message: hundreds of MB for a long flight; "
               "--estimate DIR/replay/<run> takes it next time)");

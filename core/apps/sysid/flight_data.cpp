@@ -320,6 +320,14 @@ FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std:
   return f;
 }
 
+std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau) {
+  std::vector<std::string> notes;
+  const CsvTable act = in_time_order(tables.actuators, notes);
+  require_commands(act, "delta_t");
+  const bool joined = act.rows > 2 && median_interval(act.at("t")) > kMaxHeldInterval;
+  return commands_in_force(act.at("t"), act.at("delta_t"), t, tau, joined);
+}
+
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
                                 const FlightSeriesOptions& o) {
   return series_from_tables(read_flight_tables(log_dir, estimate_dir), o);
@@ -385,13 +393,13 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
                     "linearly (held, they would lag by half that)",
                     act.file.string(), 1e3 * median_interval(act.at("t"))));
   std::vector<unsigned char> stale(t.size(), 0);  // a command held more than kMaxGap: its samples not valid
-  auto command = [&](const char* name, double delay) {
+  auto command = [&](const char* name, double delay, double tau) {
     require_commands(act, name);
     note_not_numbers(act, name, s.notes);
     const Column t_cmd = delayed(act.at("t"), delay);
     const std::vector<unsigned char> old = stale_commands(t_cmd, act.at(name), t);
     for (std::size_t k = 0; k < t.size(); ++k) stale[k] = stale[k] || old[k];
-    return keep(lp(commands_in_force(t_cmd, act.at(name), t, o.servo_tau, joined)));
+    return keep(lp(commands_in_force(t_cmd, act.at(name), t, tau, joined)));
   };
   s.t = keep(t);
   const Column p_dot = central_difference(p, t), q_dot = central_difference(q, t), r_dot = central_difference(r, t);
@@ -405,8 +413,9 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   s.p_dot = keep(p_dot), s.q_dot = keep(q_dot), s.r_dot = keep(r_dot);
   s.p = keep(p), s.q = keep(q), s.r = keep(r);
   const auto& d = o.command_delay_s;
-  s.delta_a = command("delta_a", d[0]), s.delta_e = command("delta_e", d[1]), s.delta_r = command("delta_r", d[2]);
-  s.delta_t = command("delta_t", 0.0);
+  s.delta_a = command("delta_a", d[0], o.servo_tau), s.delta_e = command("delta_e", d[1], o.servo_tau);
+  s.delta_r = command("delta_r", d[2], o.servo_tau);
+  s.delta_t = command("delta_t", 0.0, o.motor_tau.value_or(o.servo_tau));
   if (f.excitation) {
     const CsvTable ex = in_time_order(*f.excitation, s.notes);
     const bool ex_joined = ex.rows > 2 && median_interval(ex.at("t")) > kMaxHeldInterval;

@@ -45,6 +45,9 @@ namespace tern::core::sysid {
 
 struct FlightSeriesOptions {
   double servo_tau = 0.0;  ///< s, first-order lag from command to deflection (0: none)
+  /// s, first-order lag from the throttle's command to the thrust (the motor and propeller spinning
+  /// up: motor_lag.hpp); unset: servo_tau, as the surfaces'
+  std::optional<double> motor_tau;
   /// s, aileron, elevator, rudder: each command acts this long after its stamp (command_delay.hpp;
   /// negative: the log stamps it late). Before the servo lag; the excitation's parts alike.
   std::array<double, 3> command_delay_s = {0.0, 0.0, 0.0};
@@ -133,6 +136,11 @@ FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std:
 
 /// Conditions the series from the tables (header).
 FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOptions& options);
+
+/// The throttle at the series' samples `s.t` (s), each command in force from its stamp through a
+/// first-order lag of `tau` s (solved from each row's instant; rows logged slower than 30 ms joined
+/// by lines, as series_from_tables does), neither filtered nor decimated: motor_lag.hpp's search.
+std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau);
 
 /// read_flight_tables, then series_from_tables.
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,

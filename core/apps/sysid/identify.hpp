@@ -126,6 +126,7 @@ struct SysidResult {
   NuisanceEstimate pitot_scale;                 ///< Va_true = k Va_pitot, from the wind triangle (instrumentation.hpp)
   double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
   NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar
+  NuisanceEstimate motor_tau;                   ///< s, the thrust's lag behind the throttle (motor_lag.hpp; set by the caller)
   NuisanceEstimate oswald;                      ///< e, from the polar's slope
   /// e from the polar's slope fitted again with C_D_p at the prior: what the verdicts adopt in
   /// oswald's place when they reject C_D_p (verdicts.hpp), so that the polar keeps the drag the

@@ -103,6 +103,7 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   j["oswald"] = nuisance(r.oswald, "");
   j["instrumentation"] = {{"pitot_scale", nuisance(r.pitot_scale, "Va_true / Va_pitot")},
                           {"accel_x_bias", nuisance(r.accel_x_bias, "m/s^2")},
+                          {"motor_tau", nuisance(r.motor_tau, "s")},
                           {"wind_ne", {r.wind_n, r.wind_e}}};
   j["command_delay_s"] = {{"aileron", r.command_delay_s[0]}, {"elevator", r.command_delay_s[1]}, {"rudder", r.command_delay_s[2]}};
   j["command_delay_estimate"] = {{"aileron", nuisance(r.delay_shift[0], "s after the starting delay")},
@@ -207,8 +208,8 @@ std::string format_sysid_table(const SysidResult& r) {
   const auto line = [](const NuisanceEstimate& e, const char* fmt_identified) {
     return e.identified ? fmt::format(fmt::runtime(fmt_identified), e.estimate, e.std_error) : "not identifiable (" + e.note + ")";
   };
-  out += fmt::format("pitot scale {}, accelerometer x bias {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
-                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"));
+  out += fmt::format("pitot scale {}, accelerometer x bias {}, motor lag {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
+                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"), line(r.motor_tau, "{:.3f} +- {:.2g} s"));
   out += delay_line(r) + "\n";
   for (const auto& f : r.fits) {
     // an instrumented fit is judged by its generalized R^2 (regression.hpp): both shown

@@ -10,6 +10,7 @@
 
 #include "sysid/equation_error.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/motor_lag.hpp"
 #include "sysid/regression.hpp"
 #include "sysid/sysid_output.hpp"
 #include "sysid/verdicts.hpp"
@@ -108,6 +109,31 @@ void fly_closed_loop(const tern::Aircraft& ac, double Va, double seconds, bool e
       s.exc_delta_a.push_back(m.delta_a), s.exc_delta_e.push_back(m.delta_e), s.exc_delta_r.push_back(m.delta_r),
           s.exc_delta_t.push_back(0.0);
     x = sim::rk4_step(ac, x, d, wind, dt);
+  }
+}
+
+/// Appends `seconds` of flight from the trim at Va with the surfaces' multisine and a throttle of
+/// trim + 0.04 sin at 0.3, 0.7 and 1.3 Hz, the thrust answering the throttle through a first-order
+/// lag of `motor_tau` s; the series logs the commanded throttle.
+void fly_throttle(const tern::Aircraft& ac, double Va, double seconds, double motor_tau, FlightSeries& s) {
+  namespace sim = tern::sim;
+  const sim::TrimResult trim = sim::compute_trim(ac, {Va});
+  sim::StateVector x = trim.x;
+  const double dt = 1.0 / 200.0, t0 = s.t.empty() ? 0.0 : s.t.back() + 1.0;
+  double thrust_throttle = trim.delta.delta_t;
+  for (double t = 0.0; t < seconds; t += dt) {
+    const sim::Deltas m = multisine(t, 0.04);
+    sim::Deltas command = trim.delta;
+    command.delta_a += m.delta_a, command.delta_e += m.delta_e, command.delta_r += m.delta_r;
+    for (const double f : {0.3, 0.7, 1.3}) command.delta_t += 0.04 * std::sin(2.0 * tern::kPi * f * t + f);
+    sim::Deltas d = command;
+    d.delta_t = thrust_throttle;
+    sim::ForcesMoments fm;
+    const sim::StateVector dx = sim::derivative(ac, x, d, sim::Wind{}, &fm);
+    record(s, t0 + t, x, dx, fm, command, ac.mass, fm.air.alpha, fm.air.beta, !(t + dt < seconds));
+    x = sim::rk4_step(ac, x, d, sim::Wind{}, dt);
+    thrust_throttle +=
+        motor_tau > 0.0 ? (1.0 - std::exp(-dt / motor_tau)) * (command.delta_t - thrust_throttle) : command.delta_t - thrust_throttle;
   }
 }
 
@@ -580,4 +606,39 @@ TEST_CASE("a flying wing (no rudder): it trims in sideslip, and the timing fit l
   CHECK(r.delay_shift[2].note == "the rudder never moved more than 0.3 deg about its trim");
   CHECK(coefficient(r, "C_ell_p") == doctest::Approx(truth.aero.C_ell_p).epsilon(0.1));
   CHECK(coefficient(r, "C_ell_delta_a") == doctest::Approx(truth.aero.C_ell_delta_a).epsilon(0.1));
+}
+
+TEST_CASE("the motor's lag from the x force: 0.1 s found within 0.01 s, and none where the thrust follows at once") {
+  // Before: the throttle took the servos' lag (0.02 s); the x force then carried the thrust of the
+  // commands, not of the lagged throttle. The logged throttle is the command; `throttle` lags it
+  // by each tau on the series' own samples.
+  namespace sysid = tern::core::sysid;
+  const tern::Aircraft ac = aerosonde();
+  for (const double truth : {0.1, 0.0}) {
+    FlightSeries s;
+    for (const double Va : {20.0, 25.0, 30.0}) fly_throttle(ac, Va, 40.0, truth, s);
+    const std::vector<double> command = s.delta_t;
+    const auto throttle = [&](double tau) {
+      std::vector<double> out(command.size());
+      double y = command.front();
+      for (std::size_t k = 0; k < command.size(); ++k) {
+        const double dt = k == 0 || s.t[k] - s.t[k - 1] > 0.1 ? 0.0 : s.t[k] - s.t[k - 1];
+        if (dt == 0.0) y = command[k];  // a new stretch starts at its trim
+        y += tau > 0.0 ? (1.0 - std::exp(-dt / tau)) * (command[k] - y) : command[k] - y;
+        out[k] = y;
+      }
+      return out;
+    };
+    const sysid::MotorLag m = sysid::estimate_motor_lag(s, throttle, ac, sysid::SysidOptions{}.airborne, 0.02);
+    CAPTURE(truth);
+    CAPTURE(m.line);
+    if (truth > 0.0) {
+      REQUIRE(m.tau.identified);
+      CHECK(std::abs(m.tau.estimate - truth) <= 0.01);
+      CHECK(m.tau.std_error < 0.02);
+    } else {
+      CHECK(m.tau.estimate <= 0.02);
+    }
+  }
+  CHECK_THROWS_AS(sysid::estimate_motor_lag(FlightSeries{}, {}, ac, {}, 0.02, {0.0, 0.005}), std::invalid_argument);
 }
