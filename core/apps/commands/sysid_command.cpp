@@ -127,9 +127,10 @@ int run_sysid(const SysidOptionsCli& o) {
   r.notes.insert(r.notes.begin(), motor.line);
   sysid::apply_verdicts(r, prior, io);
   const std::string options = fmt::format(
-      "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, command delay "
+      "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, motor tau {} s, "
+      "command delay "
       "{} ms, gyro cross-axis {}, {}",
-      o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau,
+      o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, motor.tau.estimate,
       fmt::join(std::array<double, 3>{1e3 * r.command_delay_s[0], 1e3 * r.command_delay_s[1], 1e3 * r.command_delay_s[2]}, "/"),
       o.gyro_cross_axis, o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
   const std::string estimate_text =

@@ -419,12 +419,12 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   if (f.excitation) {
     const CsvTable ex = in_time_order(*f.excitation, s.notes);
     const bool ex_joined = ex.rows > 2 && median_interval(ex.at("t")) > kMaxHeldInterval;
-    auto part = [&](const char* name, double delay) {
+    auto part = [&](const char* name, double delay, double tau) {
       note_not_numbers(ex, name, s.notes);
-      return keep(lp(commands_in_force(delayed(ex.at("t"), delay), ex.at(name), t, o.servo_tau, ex_joined)));
+      return keep(lp(commands_in_force(delayed(ex.at("t"), delay), ex.at(name), t, tau, ex_joined)));
     };
-    s.exc_delta_a = part("delta_a", d[0]), s.exc_delta_e = part("delta_e", d[1]), s.exc_delta_r = part("delta_r", d[2]);
-    s.exc_delta_t = part("delta_t", 0.0);
+    s.exc_delta_a = part("delta_a", d[0], o.servo_tau), s.exc_delta_e = part("delta_e", d[1], o.servo_tau);
+    s.exc_delta_r = part("delta_r", d[2], o.servo_tau), s.exc_delta_t = part("delta_t", 0.0, o.motor_tau.value_or(o.servo_tau));
   }
   // the estimate: interpolated, then filtered alike; where it is NaN (before the first row, across
   // a gap) the filter sees the nearest value and the result stays NaN

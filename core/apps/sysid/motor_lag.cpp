@@ -84,12 +84,13 @@ MotorLag estimate_motor_lag(const FlightSeries& series, const ThrottleAt& thrott
   } else {
     out.tau = {tau, 0.5 * (hi - lo), true, ""};
   }
-  out.line = out.tau.identified
-                 ? fmt::format(
-                       "motor lag: {:.3f} s (within {:.3f}-{:.3f} s), the thrust's first-order lag behind the throttle, from the "
-                       "x force (its residual {:.1f} % below the {:.3f} s it was loaded with)",
-                       tau, lo, hi, 100.0 * (1.0 - least / at_start), start_tau)
-                 : fmt::format("motor lag: {:.3f} s kept (the servos' lag): {}", start_tau, out.tau.note);
+  const std::string span =
+      hi - lo < o.step_s ? fmt::format("to the grid's {:g} s", o.step_s) : fmt::format("within {:.3f}-{:.3f} s", lo, hi);
+  out.line = out.tau.identified ? fmt::format(
+                                      "motor lag: {:.3f} s ({}), the thrust's first-order lag behind the throttle, from the x "
+                                      "force (its residual {:.1f} % below the {:.3f} s it would be loaded with)",
+                                      tau, span, 100.0 * (1.0 - least / at_start), start_tau)
+                                : fmt::format("motor lag: {:.3f} s kept (the servos' lag): {}", start_tau, out.tau.note);
   return out;
 }
 
