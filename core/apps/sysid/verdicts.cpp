@@ -21,8 +21,9 @@ struct Signed {
   double sign;
   const char* why;
 };
-constexpr std::array<Signed, 5> kSigned{{
+constexpr std::array<Signed, 6> kSigned{{
     {"C_L_alpha", 1.0, "lift grows with alpha below the stall"},
+    {"C_D_p", 1.0, "the parasitic drag opposes the flow"},
     {"C_L_q", 1.0, "a pitch rate raises the tail's angle of attack"},
     {"C_m_q", -1.0, "pitch damping"},
     {"C_ell_p", -1.0, "roll damping"},

@@ -5,7 +5,7 @@
 //    domain: lift, drag, side force, roll, pitch, yaw; trim, band or output error), or whose
 //    standard error exceeds `max_relative_error` of its estimate (at the default 0.5: an estimate
 //    within two standard errors of 0, said "indistinguishable from 0"), or whose sign physics forbids
-//    (C_L_alpha, C_L_q > 0; C_m_q, C_ell_p, C_n_r < 0 on every fixed wing), keeps the prior, with
+//    (C_L_alpha, C_L_q, C_D_p > 0; C_m_q, C_ell_p, C_n_r < 0 on every fixed wing), keeps the prior, with
 //    one note.
 //  * The Oswald factor likewise (the drag's trim fit, its own bound), and it falls with the lift's
 //    trim terms, on whose C_L the polar's slope rests. Where C_D_p is not adopted, the Oswald factor
@@ -31,7 +31,7 @@ namespace tern::core::sysid {
 void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o);
 
 /// Why physics forbids `estimate` for coefficient `name` on a fixed wing in its linear range (its
-/// sign: C_L_alpha and C_L_q positive; C_m_q, C_ell_p and C_n_r negative, zero included), or ""
+/// sign: C_L_alpha, C_L_q and C_D_p positive; C_m_q, C_ell_p and C_n_r negative, zero included), or ""
 /// when it does not (every other coefficient, any sign).
 std::string forbidden_sign(const std::string& name, double estimate);
 

@@ -303,6 +303,9 @@ TEST_CASE("a damping derivative or lift slope of the sign physics forbids is not
   CHECK(sysid::forbidden_sign("C_L_q", -66.0).find("its sign: -66") == 0);
   CHECK(sysid::forbidden_sign("C_L_q", 7.95).empty());
   CHECK(sysid::forbidden_sign("C_n_r", 0.0).find("its sign") == 0);
+  // a negative parasitic drag (the no-pitot bench's seed 3: -0.014 +- 0.0053) is a failed fit
+  CHECK(sysid::forbidden_sign("C_D_p", -0.014).find("its sign: -0.014") == 0);
+  CHECK(sysid::forbidden_sign("C_D_p", 0.043).empty());
 }
 
 TEST_CASE(
