@@ -66,8 +66,9 @@ MotorLag estimate_motor_lag(const FlightSeries& series, const ThrottleAt& thrott
   std::size_t best = 0;
   for (std::size_t i = 0; i <= steps; ++i) {
     const double tau = static_cast<double>(i) * o.step_s;
-    out.curve.emplace_back(tau, residual(series, throttle(tau), prior, airborne, o.highpass_s));
-    if (!(out.curve[best].second <= out.curve.back().second)) best = i;
+    const double r = residual(series, throttle(tau), prior, airborne, o.highpass_s);
+    out.curve.emplace_back(tau, r);
+    if (std::isfinite(r) && !(out.curve[best].second <= r)) best = i;  // a NaN residual is never the least
   }
   const double at_start = residual(series, throttle(start_tau), prior, airborne, o.highpass_s);
   const auto [tau, least] = out.curve[best];
@@ -85,7 +86,7 @@ MotorLag estimate_motor_lag(const FlightSeries& series, const ThrottleAt& thrott
     out.tau = {tau, 0.5 * (hi - lo), true, ""};
   }
   const std::string span =
-      hi - lo < o.step_s ? fmt::format("to the grid's {:g} s", o.step_s) : fmt::format("within {:.3f}-{:.3f} s", lo, hi);
+      hi - lo < 0.5 * o.step_s ? fmt::format("to the grid's {:g} s", o.step_s) : fmt::format("within {:.3f}-{:.3f} s", lo, hi);
   out.line = out.tau.identified ? fmt::format(
                                       "motor lag: {:.3f} s ({}), the thrust's first-order lag behind the throttle, from the x "
                                       "force (its residual {:.1f} % below the {:.3f} s it would be loaded with)",
