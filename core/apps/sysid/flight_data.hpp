@@ -137,7 +137,7 @@ FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std:
 /// Conditions the series from the tables (header).
 FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOptions& options);
 
-/// The throttle at the series' samples `s.t` (s), each command in force from its stamp through a
+/// The throttle at the times `t` (s; the series' samples), each command in force from its stamp through a
 /// first-order lag of `tau` s (solved from each row's instant; rows logged slower than 30 ms joined
 /// by lines, as series_from_tables does), neither filtered nor decimated: motor_lag.hpp's search.
 std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau);

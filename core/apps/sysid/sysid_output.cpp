@@ -209,7 +209,9 @@ std::string format_sysid_table(const SysidResult& r) {
     return e.identified ? fmt::format(fmt::runtime(fmt_identified), e.estimate, e.std_error) : "not identifiable (" + e.note + ")";
   };
   out += fmt::format("pitot scale {}, accelerometer x bias {}, motor lag {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
-                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"), line(r.motor_tau, "{:.3f} +- {:.2g} s"));
+                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"),
+                     r.motor_tau.identified ? fmt::format("{:.3f} +- {:.2g} s", r.motor_tau.estimate, r.motor_tau.std_error)
+                                            : fmt::format("{:.3f} s ({})", r.motor_tau.estimate, r.motor_tau.note));
   out += delay_line(r) + "\n";
   for (const auto& f : r.fits) {
     // an instrumented fit is judged by its generalized R^2 (regression.hpp): both shown
