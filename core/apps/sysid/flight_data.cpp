@@ -145,6 +145,10 @@ double median_interval(const Column& t) {
   return d[d.size() / 2];
 }
 
+/// Whether a command table's rows are a slower controller's record, to be joined by lines rather
+/// than held (kMaxHeldInterval).
+bool joined_rows(const CsvTable& table) { return table.rows > 2 && median_interval(table.at("t")) > kMaxHeldInterval; }
+
 Column central_difference(const Column& x, const Column& t) {
   Column out(x.size(), 0.0);
   for (std::size_t k = 1; k + 1 < x.size(); ++k) out[k] = (x[k + 1] - x[k - 1]) / (t[k + 1] - t[k - 1]);
@@ -324,7 +328,7 @@ std::vector<double> throttle_in_force(const FlightTables& tables, const std::vec
   std::vector<std::string> notes;
   const CsvTable act = in_time_order(tables.actuators, notes);
   require_commands(act, "delta_t");
-  const bool joined = act.rows > 2 && median_interval(act.at("t")) > kMaxHeldInterval;
+  const bool joined = joined_rows(act);
   return commands_in_force(act.at("t"), act.at("delta_t"), t, tau, joined);
 }
 
@@ -386,7 +390,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
     for (double& v : t_cmd) v += delay;
     return t_cmd;
   };
-  const bool joined = act.rows > 2 && median_interval(act.at("t")) > kMaxHeldInterval;
+  const bool joined = joined_rows(act);
   if (joined)
     s.notes.push_back(
         fmt::format("{}: commands logged every {:.0f} ms: a record of a faster controller's output, its rows joined "
@@ -418,7 +422,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   s.delta_t = command("delta_t", 0.0, o.motor_tau.value_or(o.servo_tau));
   if (f.excitation) {
     const CsvTable ex = in_time_order(*f.excitation, s.notes);
-    const bool ex_joined = ex.rows > 2 && median_interval(ex.at("t")) > kMaxHeldInterval;
+    const bool ex_joined = joined_rows(ex);
     auto part = [&](const char* name, double delay, double tau) {
       note_not_numbers(ex, name, s.notes);
       return keep(lp(commands_in_force(delayed(ex.at("t"), delay), ex.at(name), t, tau, ex_joined)));

@@ -140,6 +140,7 @@ FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOp
 /// The throttle at the times `t` (s; the series' samples), each command in force from its stamp through a
 /// first-order lag of `tau` s (solved from each row's instant; rows logged slower than 30 ms joined
 /// by lines, as series_from_tables does), neither filtered nor decimated: motor_lag.hpp's search.
+/// Throws ConfigError when actuators.csv's delta_t is a number in none of its rows.
 std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau);
 
 /// read_flight_tables, then series_from_tables.

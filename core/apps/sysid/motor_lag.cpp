@@ -81,7 +81,7 @@ MotorLag estimate_motor_lag(const FlightSeries& series, const ThrottleAt& thrott
   } else if (best == steps) {
     out.tau.note = fmt::format("the x force's residual falls to the grid's top ({:g} s): no first-order lag explains it", o.max_tau_s);
   } else if (!(least < at_start * (1.0 - o.min_gain))) {
-    out.tau.note = fmt::format("the x force's residual at {:.3f} s is within {:g} of the loaded lag's", tau, o.min_gain);
+    out.tau.note = fmt::format("the x force's residual at {:.3f} s is within {:g} % of the servos' lag's", tau, 100.0 * o.min_gain);
   } else {
     out.tau = {tau, 0.5 * (hi - lo), true, ""};
   }
