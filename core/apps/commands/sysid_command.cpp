@@ -20,6 +20,7 @@
 #include "sysid/identify.hpp"
 #include "sysid/motor_lag.hpp"
 #include "sysid/sysid_output.hpp"
+#include "sysid/identify_drag.hpp"
 #include "sysid/verdicts.hpp"
 
 namespace tern::core {
@@ -38,6 +39,7 @@ struct SysidOptionsCli {
   double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
   std::vector<double> command_delay_ms;  ///< empty: the prior's servos.delay_*; 1 value: every surface; 3: aileron, elevator, rudder
   std::optional<double> motor_tau_s;     ///< unset: estimated (sysid/motor_lag.hpp)
+  std::vector<double> pitot_scale;       ///< empty: estimated; K, or K and its standard error (held)
   std::vector<std::string> sets;
 };
 
@@ -107,6 +109,12 @@ int run_sysid(const SysidOptionsCli& o) {
   if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   io.fit_accel_x_bias = o.accel_x_bias;
+  if (!o.pitot_scale.empty()) {
+    const double k = o.pitot_scale[0], se = o.pitot_scale.size() > 1 ? o.pitot_scale[1] : 0.0;
+    if (!(k >= 0.5 && k <= 2.0)) throw ConfigError(fmt::format("--pitot-scale: {}: expected 0.5 .. 2 (Va_true / Va_pitot)", k));
+    if (!(se >= 0.0 && se < 0.5)) throw ConfigError(fmt::format("--pitot-scale: standard error {}: expected 0 .. 0.5", se));
+    io.pitot_scale = k, io.pitot_scale_std_error = se;
+  }
   if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   io.gyro_cross_axis = o.gyro_cross_axis;
@@ -137,6 +145,7 @@ int run_sysid(const SysidOptionsCli& o) {
       o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
   const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate_text, options};
   sysid::keep_loadable(r, from);
+  sysid::drag_at_trim(r, prior);  // on the file as written: after the verdicts and keep_loadable
   sysid::write_sysid_outputs(r, from, o.out_dir);
   std::printf("%s", sysid::format_sysid_table(r).c_str());
   for (const auto& n : r.notes) std::printf("note: %s\n", n.c_str());
@@ -186,6 +195,10 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--motor-tau", o->motor_tau_s,
                 "S: the thrust's first-order lag behind the throttle's command (the motor and propeller spinning up), held; default: "
                 "estimated from the x force (docs/system-identification.md)");
+  c->add_option("--pitot-scale", o->pitot_scale,
+                "K [SE]: the true airspeed over the pitot's, measured (a calibration), and its standard error (default 0), held; "
+                "default: estimated from the wind triangle where the flight turns (docs/system-identification.md)")
+      ->expected(1, 2);
   c->add_flag("--keep-estimate", o->keep_estimate,
               "keep the estimator's replay of the log in DIR/replay (the state at every message: hundreds of MB for a long flight; "
               "--estimate DIR/replay/<run> takes it next time)");

@@ -1,6 +1,7 @@
 // core/apps/sysid/identify.cpp: the equation-error identification (identify.hpp).
 #include "sysid/identify.hpp"
 
+#include <cmath>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -53,8 +54,11 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
     throw std::runtime_error(
         fmt::format("no airborne samples (airborne: {}; then Va above {:g} of its median, |alpha|, |beta| below {:g} rad)",
                     airborne_mask(series, o.airborne.ground).rule, o.airborne.min_Va_ratio, o.airborne.max_flow_angle));
-  const AirspeedScale scale = airspeed_scale(series, aero_samples(series, prior, o.airborne).source, prior.rho, o.max_correlation);
-  const double k = scale.k.identified ? scale.k.estimate : 1.0;
+  const std::vector<std::size_t> rows = aero_samples(series, prior, o.airborne).source;
+  const AirspeedScale scale = std::isnan(o.pitot_scale)
+                                  ? airspeed_scale(series, rows, prior.rho, o.max_correlation)
+                                  : stated_airspeed_scale(series, rows, prior.rho, o.pitot_scale, o.pitot_scale_std_error);
+  const double k = scale.k.estimate;  // 1 where the wind triangle could not tell it
   const AeroSamples a = aero_samples(series, prior, o.airborne, k);
   const Layout L = layout_of(a, o.trim_window_s, o.min_segment_s);
   if (L.segments.empty())
@@ -73,7 +77,8 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   r.aircraft = prior;
   r.pitot_scale = scale.k;
   r.wind_n = scale.w_n, r.wind_e = scale.w_e;
-  if (!scale.k.identified) r.notes.push_back(fmt::format("pitot scale: not identifiable: {}; 1 taken", scale.k.note));
+  if (!scale.k.identified && std::isnan(o.pitot_scale))
+    r.notes.push_back(fmt::format("pitot scale: not identifiable: {}; 1 taken", scale.k.note));
   r.samples = a.size(), r.segments = L.segments.size();
   for (const auto& [b, e] : L.segments) r.airborne_s += a.t[e - 1] - a.t[b];
   AeroCoefficients coef = prior.aero;
@@ -82,7 +87,8 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   lift(c, x0.alpha, x0.q, x0.delta_e);
   const bool accel = o.flow_angles == FlowAngles::accelerometer;
   const Col alpha = accel ? alpha_from_lift(c) : a.alpha;
-  if (scale.k.identified) {
+  trim_point(r, alpha, a);        // the drag's consider terms are taken there
+  if (scale.k.std_error > 0.0) {  // estimated, or stated with its bound
     const double k_hi = k + scale.k.std_error;
     const AeroSamples a_hi = aero_samples(series, prior, o.airborne, k_hi);
     drag(c, alpha, prior, &a_hi, (k / k_hi) * (k / k_hi));
@@ -105,7 +111,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   consider_gyro_coupling(c);
   consider_slopes_in_trim_terms(c, alpha, beta);
   r.aircraft.aero = coef;
-  drag_at_trim(r, prior, alpha, a);
+  drag_at_trim(r, prior);
   r.series = axis_series(a, L, coef, r.aircraft, alpha, beta);
   for (const auto& e : r.coefficients)
     if (!e.identified) r.notes.push_back(fmt::format("{}: not identifiable: {}; the prior {:.4g} kept", e.name, e.note, e.prior));

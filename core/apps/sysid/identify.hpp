@@ -49,6 +49,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,10 @@ struct SysidOptions {
   double max_relative_error = 0.5;  ///< standard error / |estimate| beyond which the prior is kept
   OutputErrorOptions output_error;  ///< step 4, the rotational axes' output-error refinement
   bool fit_accel_x_bias = false;    ///< the accelerometer's x bias as a parameter of the polar (instrumentation.hpp)
+  /// Va_true / Va_pitot stated by the user (a calibration) and its standard error, held
+  /// (stated_airspeed_scale); NaN: estimated from the wind triangle (airspeed_scale)
+  double pitot_scale = std::numeric_limits<double>::quiet_NaN();
+  double pitot_scale_std_error = 0.0;
   /// rad/rad, >= 0: the largest share of one gyro axis's rate in another's reading (the datasheet's
   /// cross-axis sensitivity plus the board's mounting error; MEMS gyros: 1-2 %). Not identifiable
   /// from the moments (consider_gyro_coupling): it widens the rolling and yawing moments' bounds.
@@ -122,7 +127,16 @@ struct SysidResult {
   std::size_t segments = 0;  ///< airborne stretches transformed
   double airborne_s = 0.0;
   double C_D_trim_prior = 0.0, C_D_trim = 0.0;  ///< drag at the flight's mean trim, prior and identified
+  /// C_D_trim's standard error: the trim windows' bound on the polar there, with the pitot scale's
+  /// (identify_drag.hpp); NaN where the polar is the prior's (neither C_D_p nor e adopted)
+  double C_D_trim_std_error = std::numeric_limits<double>::quiet_NaN();
   double C_D_per_deg = 0.0;                     ///< how much 1 deg of alpha (or pitch) bias moves C_D at trim, fraction
+  double trim_alpha = 0.0, trim_delta_e = 0.0;  ///< rad: the flight's mean alpha and elevator, where the drag at trim is taken
+  double polar_C_Lw_squared_mean = 0.0;         ///< the polar's trim windows' mean C_Lw^2 (DragPolar)
+  NuisanceEstimate polar_C_D_at_mean;           ///< the polar there, the pitot scale's shift in its bound (DragPolar)
+  double polar_pitot_shift = 0.0;               ///< what one standard error of the pitot scale moves the polar there by
+  double polar_kept_terms = 0.0;                ///< what the kept C_D_q, C_D_delta_e's prior uncertainty moves the drag at trim by
+  double polar_K_std_error = 0.0;               ///< the polar's slope's bound, the pitot scale's shift in it
   NuisanceEstimate pitot_scale;                 ///< Va_true = k Va_pitot, from the wind triangle (instrumentation.hpp)
   double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
   NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar

@@ -2,6 +2,7 @@
 #include "sysid/identify_drag.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include <fmt/format.h>
 
@@ -23,11 +24,12 @@ Col drag_at(const AeroSamples& a, const Col& alpha) {
 /// The polar's trim windows (instrumentation.hpp): C_D - C_D_q q^ - C_D_delta_e delta_e, C_Lw^2 with
 /// C_Lw = C_L_scale (C_L_0 + C_L_alpha alpha) (sim_aero's drag_coefficient in the linear range) and
 /// the accelerometer bias's regressor -m cos(alpha) / (qbar_xz S), each a window's mean.
-std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, const Col& alpha, const Aircraft& ac, double C_L_scale) {
+std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, const Col& alpha, const Aircraft& ac, double C_L_scale,
+                                       double kept_scale = 1.0) {
   const Col C_D = drag_at(a, alpha);
   Col z(a.size()), clw2(a.size()), bias(a.size());
   for (std::size_t k = 0; k < a.size(); ++k) {
-    z[k] = C_D[k] - c.coef.C_D_q * a.q_hat[k] - c.coef.C_D_delta_e * a.delta_e[k];
+    z[k] = C_D[k] - kept_scale * (c.coef.C_D_q * a.q_hat[k] + c.coef.C_D_delta_e * a.delta_e[k]);
     const double C_Lw = C_L_scale * (c.coef.C_L_0 + c.coef.C_L_alpha * alpha[k]);
     clw2[k] = C_Lw * C_Lw;
     const double V_xz = a.Va[k] * std::cos(a.beta[k]);
@@ -37,6 +39,19 @@ std::vector<PolarWindow> polar_windows(const Context& c, const AeroSamples& a, c
   std::vector<PolarWindow> w(zm.size());
   for (std::size_t i = 0; i < zm.size(); ++i) w[i] = {zm[i], cm[i], bm[i]};
   return w;
+}
+
+/// What the kept C_D_q and C_D_delta_e (kPriorUncertainty of their prior) move the polar at the
+/// flight's trim by: the windows take the change up in the polar, the trim's own elevator term
+/// adds it back, and the two differ where the elevator's trim moves with the airspeed.
+double kept_terms_at_trim(const Context& c, const Col& alpha, const Aircraft& prior, const DragPolar& p) {
+  const double s = 1.0 + kPriorUncertainty;
+  const DragPolar q =
+      drag_polar(polar_windows(c, c.a, alpha, prior, 1.0, s), prior.AR(), c.o.max_relative_error, 3, c.o.fit_accel_x_bias, c.prior.C_D_p);
+  const double C_Lw = c.coef.C_L_0 + c.coef.C_L_alpha * c.result.trim_alpha;
+  const double polar =
+      (q.C_D_at_mean.estimate - p.C_D_at_mean.estimate) + (C_Lw * C_Lw - p.C_Lw_squared_mean) * (q.K.estimate - p.K.estimate);
+  return std::abs(polar + (s - 1.0) * c.coef.C_D_delta_e * c.result.trim_delta_e);
 }
 
 /// sigma widened by what `shifted` moved the estimate by (a consider term: the pitot scale's).
@@ -54,7 +69,13 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
     const DragPolar q = drag_polar(polar_windows(c, *at_k_plus_sigma, alpha, prior, C_L_scale), prior.AR(), c.o.max_relative_error, 3,
                                    c.o.fit_accel_x_bias, C_D_p_prior);
     widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x), widen(p.e_held, q.e_held);
+    widen(p.C_D_at_mean, q.C_D_at_mean);
+    c.result.polar_pitot_shift = std::abs(q.C_D_at_mean.estimate - p.C_D_at_mean.estimate);
   }
+  c.result.polar_kept_terms = kept_terms_at_trim(c, alpha, prior, p);
+  c.result.polar_C_Lw_squared_mean = p.C_Lw_squared_mean;
+  c.result.polar_C_D_at_mean = p.C_D_at_mean;
+  c.result.polar_K_std_error = p.K.std_error;
   c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows, p.r_squared});
   c.coef.C_D_p = p.C_D_p.estimate;
   const Term tp{"C_D_p", &AeroCoefficients::C_D_p, nullptr, {}};
@@ -78,14 +99,25 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
     record(c, t, "trim").note = "kept: small beside the polar's terms at trim";
 }
 
-void drag_at_trim(SysidResult& r, const Aircraft& prior, const Col& alpha, const AeroSamples& a) {
+void trim_point(SysidResult& r, const Col& alpha, const AeroSamples& a) {
   double al = 0.0, de = 0.0;
   for (std::size_t k = 0; k < a.size(); ++k) al += alpha[k], de += a.delta_e[k];
-  al /= static_cast<double>(a.size()), de /= static_cast<double>(a.size());
+  r.trim_alpha = al / static_cast<double>(a.size()), r.trim_delta_e = de / static_cast<double>(a.size());
+}
+
+void drag_at_trim(SysidResult& r, const Aircraft& prior) {
+  const double al = r.trim_alpha, de = r.trim_delta_e;
   r.C_D_trim_prior = sim::drag_coefficient(prior, al) + prior.aero.C_D_delta_e * de;
   r.C_D_trim = sim::drag_coefficient(r.aircraft, al) + r.aircraft.aero.C_D_delta_e * de;
   const double C_L = sim::lift_coefficient(r.aircraft, al) + r.aircraft.aero.C_L_delta_e * de;
   r.C_D_per_deg = C_L * kRadPerDeg / r.C_D_trim;
+  const CoefficientEstimate* C_D_p = find_estimate(r, "C_D_p");
+  const bool from_data = r.oswald.identified || (C_D_p != nullptr && C_D_p->identified);
+  const double C_Lw = r.aircraft.aero.C_L_0 + r.aircraft.aero.C_L_alpha * al;  // the polar windows' lift model (polar_windows)
+  r.C_D_trim_std_error =
+      from_data && r.polar_C_D_at_mean.identified
+          ? std::hypot(r.polar_C_D_at_mean.std_error, (C_Lw * C_Lw - r.polar_C_Lw_squared_mean) * r.polar_K_std_error, r.polar_kept_terms)
+          : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace tern::core::sysid

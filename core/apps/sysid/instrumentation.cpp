@@ -36,43 +36,81 @@ void slope(double K, double sigma, double AR, double max_relative_error, Nuisanc
 
 }  // namespace
 
-AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation) {
-  AirspeedScale out;
-  out.k.estimate = 1.0;
+namespace {
+
+/// The wind triangle's rows over every kWindStride-th sample of `idx` with a pitot reading:
+/// X = [Va_pitot cos(alpha) cos(beta), R(0,0), R(1,0)] (k's regressor, the wind's N and E columns
+/// along body x), z = u_ground (instrumentation.hpp).
+struct WindTriangle {
+  Eigen::MatrixXd X;
+  Eigen::VectorXd z;
+};
+
+WindTriangle wind_triangle(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho) {
   std::vector<std::size_t> use;
   for (std::size_t i = 0; i < idx.size(); i += kWindStride)
     if (std::isfinite(s.qbar[idx[i]]) && s.qbar[idx[i]] > 0.0) use.push_back(idx[i]);
-  out.samples = use.size();
-  if (use.size() < 10) {
-    out.k.note = "no pitot in the log (the airspeed is the estimator's)";
-    return out;
-  }
   const auto n = static_cast<Eigen::Index>(use.size());
-  Eigen::MatrixXd X(n, 3);
-  Eigen::VectorXd z(n);
+  WindTriangle w{Eigen::MatrixXd(n, 3), Eigen::VectorXd(n)};
   for (Eigen::Index i = 0; i < n; ++i) {
     const std::size_t k = use[static_cast<std::size_t>(i)];
     const Eigen::Matrix3d R = rotation_from_euler(s.phi[k], s.theta[k], s.psi[k]);
     const double Va_pitot = std::sqrt(2.0 * s.qbar[k] / rho);
     // u_ground - (R^T w)_x = k Va_pitot cos(alpha) cos(beta); the vertical wind taken as 0
-    X(i, 0) = Va_pitot * std::cos(s.alpha[k]) * std::cos(s.beta[k]);
-    X(i, 1) = R(0, 0), X(i, 2) = R(1, 0);
-    z[i] = s.u[k];
+    w.X(i, 0) = Va_pitot * std::cos(s.alpha[k]) * std::cos(s.beta[k]);
+    w.X(i, 1) = R(0, 0), w.X(i, 2) = R(1, 0);
+    w.z[i] = s.u[k];
+  }
+  return w;
+}
+
+constexpr const char* kNoPitot = "no pitot in the log (the airspeed is the estimator's)";
+
+}  // namespace
+
+AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation) {
+  AirspeedScale out;
+  out.k.estimate = 1.0;
+  const WindTriangle t = wind_triangle(s, idx, rho);
+  out.samples = static_cast<std::size_t>(t.z.size());
+  if (out.samples < 10) {
+    out.k.note = kNoPitot;
+    return out;
   }
   // k's regressor against what the wind's columns explain of it (uncentred: no intercept in the
   // model), as a multiple correlation; rank-revealing, so one heading (the wind's columns constant
   // and collinear with each other) is caught too
-  const Eigen::MatrixXd W = X.rightCols(2);
-  const Eigen::VectorXd explained = W * W.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(X.col(0));
-  const double r = explained.norm() / X.col(0).norm();
+  const Eigen::MatrixXd W = t.X.rightCols(2);
+  const Eigen::VectorXd explained = W * W.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(t.X.col(0));
+  const double r = explained.norm() / t.X.col(0).norm();
   if (r > max_correlation) {
     out.k.note = fmt::format("airspeed and the wind's projection collinear (|r| {:.2f}): fly turns", r);
     return out;
   }
-  const LsEstimate e = least_squares(X, z, kWindMaxLag);
+  const LsEstimate e = least_squares(t.X, t.z, kWindMaxLag);
   out.k = {e.theta[0], e.std_error[0], true, ""};
   out.w_n = e.theta[1], out.w_e = e.theta[2];
   out.rms_residual = std::sqrt(e.s2);
+  return out;
+}
+
+AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error) {
+  if (!(k >= 0.5 && k <= 2.0) || !(std_error >= 0.0 && std_error < 0.5))
+    throw std::invalid_argument(fmt::format("pitot scale {} +- {}: expected 0.5 .. 2 and a standard error 0 .. 0.5", k, std_error));
+  AirspeedScale out;
+  out.k = {k, std_error, false, kStatedPitotScale};
+  const WindTriangle t = wind_triangle(s, idx, rho);
+  out.samples = static_cast<std::size_t>(t.z.size());
+  if (out.samples < 10) {
+    out.k.note = std::string(kStatedPitotScale) + "; " + kNoPitot;
+    return out;
+  }
+  // the wind along body x with k held: rank-revealing, so one heading gives the wind's least-norm part
+  const Eigen::MatrixXd W = t.X.rightCols(2);
+  const Eigen::VectorXd v = t.z - k * t.X.col(0);
+  const Eigen::Vector2d w = W.jacobiSvd(Eigen::ComputeThinU | Eigen::ComputeThinV).solve(v);
+  out.w_n = w[0], out.w_e = w[1];
+  out.rms_residual = std::sqrt((v - W * w).squaredNorm() / static_cast<double>(v.size()));
   return out;
 }
 
@@ -113,6 +151,11 @@ DragPolar drag_polar(const std::vector<PolarWindow>& w, double AR, double max_re
   out.C_D_p = {e.theta[0], e.std_error[0], true, ""};
   const double K_std_error = e.std_error[1];
   slope(e.theta[1], K_std_error, AR, max_relative_error, out.K, out.e);
+  Eigen::MatrixXd centred = X.leftCols(with_bias ? 3 : 2);
+  out.C_Lw_squared_mean = mean(X.col(1));
+  centred.col(1).array() -= out.C_Lw_squared_mean;
+  const LsEstimate at_mean = least_squares(centred, z, max_lag);
+  out.C_D_at_mean = {at_mean.theta[0], at_mean.std_error[0], true, ""};
   const LsEstimate held = least_squares(X.middleCols(1, with_bias ? 2 : 1), (z.array() - C_D_p_prior).matrix(), max_lag);
   slope(held.theta[0], K_std_error, AR, max_relative_error, out.K_held, out.e_held);
   out.r_squared = e.r_squared, out.rms_residual = std::sqrt(e.s2), out.rows = e.rows;

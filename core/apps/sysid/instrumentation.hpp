@@ -59,6 +59,17 @@ struct AirspeedScale {
 /// `max_correlation` (no turn), or fewer than ten samples hold a pitot reading.
 AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double max_correlation);
 
+/// The note of a pitot scale the user stated (tern sysid --pitot-scale: a calibration run), not estimated.
+inline constexpr const char* kStatedPitotScale = "given (--pitot-scale)";
+
+/// A stated pitot scale k +- std_error (not identified: its note kStatedPitotScale), the flight's
+/// constant wind fitted beside it over the same rows as airspeed_scale's. Where turbulence leaves
+/// the wind triangle's k uncertain (the body-axis gusts' mean over the flight looks like a scale:
+/// 0.8 % in ten minutes of light turbulence) and the drag at trim with it (identify_drag.hpp), a
+/// calibrated pitot's scale narrows both. Throws std::invalid_argument for k outside 0.5 .. 2 or a
+/// standard error outside 0 .. 0.5.
+AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error);
+
 /// One trim window's means for the polar: the measured drag coefficient (thrust removed, forces
 /// turned through alpha), the lift model's C_Lw squared, and the bias regressor -m cos(alpha) /
 /// (qbar S) (s^2/m: times b in m/s^2 gives a drag coefficient). The mean of C_Lw^2, not the square
@@ -79,6 +90,12 @@ struct DragPolar {
   /// uncertainty), propagated at K_held.
   NuisanceEstimate K_held, e_held;
   NuisanceEstimate bias_x;  ///< m/s^2, accelerometer x bias (0, not identified, at one airspeed)
+  /// The polar at the windows' mean C_Lw^2 (C_Lw_squared_mean): the fit again with that regressor
+  /// centred, whose intercept is the drag there and its bound the data's, whatever the split between
+  /// C_D_p and the slope (the two are correlated: their bounds added overstate it). The drag at trim's
+  /// bound (identify_drag.hpp) starts from it.
+  double C_Lw_squared_mean = 0.0;
+  NuisanceEstimate C_D_at_mean;
   double r_squared = 0.0, rms_residual = 0.0;
   std::size_t rows = 0;
 };

@@ -76,6 +76,14 @@ void keep_loadable(SysidResult& r, const SysidProvenance& from) {
 
 namespace {
 
+/// "0.0116 +- 0.0030 (26 %, the pitot scale's bound alone 0.0025)", or "0.0022 (the prior's polar)"
+/// where no bound was found.
+std::string drag_at_trim_text(const SysidResult& r) {
+  if (!std::isfinite(r.C_D_trim_std_error)) return fmt::format("{:.4f} (the prior's polar)", r.C_D_trim);
+  return fmt::format("{:.4f} +- {:.4f} ({:.0f} %, the pitot scale's bound alone {:.4f})", r.C_D_trim, r.C_D_trim_std_error,
+                     100.0 * r.C_D_trim_std_error / std::abs(r.C_D_trim), r.polar_pitot_shift);
+}
+
 nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   nlohmann::json j;
   j["produced_by"] = {
@@ -94,7 +102,13 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
                          {"r_squared_generalized", f.r_squared_generalized},
                          {"rms_residual", f.rms_residual},
                          {"rows", f.rows}});
-  j["drag_at_trim"] = {{"prior", r.C_D_trim_prior}, {"identified", r.C_D_trim}, {"change_per_deg_of_alpha", r.C_D_per_deg}};
+  j["drag_at_trim"] = {{"prior", r.C_D_trim_prior},
+                       {"identified", r.C_D_trim},
+                       {"std_error", std::isfinite(r.C_D_trim_std_error) ? nlohmann::json(r.C_D_trim_std_error) : nlohmann::json()},
+                       {"std_error_pitot_scale", r.polar_pitot_shift},
+                       {"alpha", r.trim_alpha},
+                       {"delta_e", r.trim_delta_e},
+                       {"change_per_deg_of_alpha", r.C_D_per_deg}};
   j["oswald_e"] = r.aircraft.e;
   const auto nuisance = [](const NuisanceEstimate& e, const char* unit) {
     return nlohmann::json{
@@ -159,13 +173,13 @@ std::string html(const SysidResult& r, const SysidProvenance& from) {
       "<style>body{{font-family:sans-serif}} td,th{{padding:2px 8px;text-align:right}} "
       "td:first-child,td:last-child{{text-align:left}}</style>"
       "</head><body><h1>tern sysid: {}</h1><p>log {}<br>prior {}<br>estimate {}<br>{}</p>"
-      "<p>{} airborne samples in {} stretches, {:.0f} s. Drag at trim: prior {:.4f}, identified {:.4f}; 1 deg of alpha bias moves it by "
+      "<p>{} airborne samples in {} stretches, {:.0f} s. Drag at trim: prior {:.4f}, identified {}; 1 deg of alpha bias moves it by "
       "{:.0f} %.</p>"
       "<table><tr><th>coefficient</th><th>prior</th><th>estimate</th><th>std error</th><th>method</th><th>equation "
       "error</th><th></th></tr>\n{}</table>"
       "<ul>{}</ul>{}</body></html>\n",
       r.aircraft.name, r.aircraft.name, from.log, from.prior, from.estimate, from.options, r.samples, r.segments, r.airborne_s,
-      r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg, rows, notes, panels);
+      r.C_D_trim_prior, drag_at_trim_text(r), 100.0 * r.C_D_per_deg, rows, notes, panels);
 }
 
 }  // namespace
@@ -203,13 +217,15 @@ std::string format_sysid_table(const SysidResult& r) {
   for (const auto& c : r.coefficients)
     out += fmt::format("{:<14} {:>10.4g} {:>10.4g} {:>9}  {}\n", c.name, c.prior, c.estimate,
                        c.identified ? fmt::format("{:.2g}", c.std_error) : "-", c.identified ? c.method : "prior kept: " + c.note);
-  out += fmt::format("drag at trim: prior {:.4f}, identified {:.4f} (1 deg of alpha or pitch bias moves it by {:.0f} %)\n",
-                     r.C_D_trim_prior, r.C_D_trim, 100.0 * r.C_D_per_deg);
+  out += fmt::format("drag at trim: prior {:.4f}, identified {}; 1 deg of alpha or pitch bias moves it by {:.0f} %\n", r.C_D_trim_prior,
+                     drag_at_trim_text(r), 100.0 * r.C_D_per_deg);
   const auto line = [](const NuisanceEstimate& e, const char* fmt_identified) {
     return e.identified ? fmt::format(fmt::runtime(fmt_identified), e.estimate, e.std_error) : "not identifiable (" + e.note + ")";
   };
-  out += fmt::format("pitot scale {}, accelerometer x bias {}, motor lag {}\n", line(r.pitot_scale, "{:.3f} +- {:.2g}"),
-                     line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"),
+  const std::string pitot = r.pitot_scale.note.rfind(kStatedPitotScale, 0) == 0
+                                ? fmt::format("{:.3f} +- {:.2g} ({})", r.pitot_scale.estimate, r.pitot_scale.std_error, r.pitot_scale.note)
+                                : line(r.pitot_scale, "{:.3f} +- {:.2g}");
+  out += fmt::format("pitot scale {}, accelerometer x bias {}, motor lag {}\n", pitot, line(r.accel_x_bias, "{:.3f} +- {:.2g} m/s^2"),
                      r.motor_tau.identified ? fmt::format("{:.3f} +- {:.2g} s", r.motor_tau.estimate, r.motor_tau.std_error)
                                             : fmt::format("{:.3f} s ({})", r.motor_tau.estimate, r.motor_tau.note));
   out += delay_line(r) + "\n";

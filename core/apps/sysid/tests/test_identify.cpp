@@ -10,6 +10,7 @@
 
 #include "sysid/equation_error.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/identify_drag.hpp"
 #include "sysid/motor_lag.hpp"
 #include "sysid/regression.hpp"
 #include "sysid/sysid_output.hpp"
@@ -344,6 +345,17 @@ TEST_CASE(
   CHECK(r.aircraft.e == 0.71);
   CHECK(note("e (Oswald factor): 0.710 +- 0.025 from the polar's slope fitted again with C_D_p at the prior").find("0.670") !=
         std::string::npos);
+  // the drag at trim taken again on the polar the verdicts left (the held e, C_D_p at the prior's 0),
+  // its bound the windows' at their mean C_Lw^2 carried to the trim's along the slope's
+  r.trim_alpha = 0.06, r.trim_delta_e = -0.1;
+  r.polar_C_Lw_squared_mean = 0.3, r.polar_C_D_at_mean = {0.0045, 0.0004, true, ""}, r.polar_K_std_error = 0.002;
+  sysid::drag_at_trim(r, prior);
+  CHECK(r.C_D_trim == doctest::Approx(tern::sim::drag_coefficient(r.aircraft, 0.06) - 0.1 * prior.aero.C_D_delta_e).epsilon(1e-12));
+  const double C_Lw = prior.aero.C_L_0 + prior.aero.C_L_alpha * 0.06;
+  CHECK(r.C_D_trim_std_error == doctest::Approx(std::hypot(0.0004, (C_Lw * C_Lw - 0.3) * 0.002)).epsilon(1e-12));
+  r.oswald.identified = false;  // neither C_D_p nor e adopted: the prior's polar has no bound from the data
+  sysid::drag_at_trim(r, prior);
+  CHECK(std::isnan(r.C_D_trim_std_error));
   CHECK(note("yaw: nothing identified").find("though the flight excited it (its fit explains R^2 0.58)") != std::string::npos);
   CHECK(note("side force: nothing identified").find("fly a rudder doublet") != std::string::npos);  // no side-force fit at all
 }
