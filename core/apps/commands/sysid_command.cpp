@@ -18,9 +18,9 @@
 #include "sysid/command_delay.hpp"
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/identify_drag.hpp"
 #include "sysid/motor_lag.hpp"
 #include "sysid/sysid_output.hpp"
-#include "sysid/identify_drag.hpp"
 #include "sysid/verdicts.hpp"
 
 namespace tern::core {

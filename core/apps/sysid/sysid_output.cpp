@@ -76,12 +76,13 @@ void keep_loadable(SysidResult& r, const SysidProvenance& from) {
 
 namespace {
 
-/// "0.0116 +- 0.0030 (26 %, the pitot scale's bound alone 0.0025)", or "0.0022 (the prior's polar)"
-/// where no bound was found.
+/// "0.0116 +- 0.0030 (26 %, the pitot scale's bound alone 0.0025)" (without the pitot's part where
+/// the scale has no bound), or "0.0022 (the prior's polar)" where no bound was found.
 std::string drag_at_trim_text(const SysidResult& r) {
   if (!std::isfinite(r.C_D_trim_std_error)) return fmt::format("{:.4f} (the prior's polar)", r.C_D_trim);
-  return fmt::format("{:.4f} +- {:.4f} ({:.0f} %, the pitot scale's bound alone {:.4f})", r.C_D_trim, r.C_D_trim_std_error,
-                     100.0 * r.C_D_trim_std_error / std::abs(r.C_D_trim), r.polar_pitot_shift);
+  const std::string pitot = r.polar_pitot_shift > 0.0 ? fmt::format(", the pitot scale's bound alone {:.4f}", r.polar_pitot_shift) : "";
+  return fmt::format("{:.4f} +- {:.4f} ({:.0f} %{})", r.C_D_trim, r.C_D_trim_std_error, 100.0 * r.C_D_trim_std_error / std::abs(r.C_D_trim),
+                     pitot);
 }
 
 nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
