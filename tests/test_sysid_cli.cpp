@@ -96,6 +96,25 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
                 "2")
               .first == 0);
   CHECK(read_file(out1 / "aircraft.yaml") == read_file(out2 / "aircraft.yaml"));
+  // the drag at trim with its bound, most of it the wind triangle's pitot scale's; a stated scale
+  // (a calibration, --pitot-scale K SE) is held and leaves the drag a narrower bound
+  const auto& drag = j["drag_at_trim"];
+  CAPTURE(drag.dump());
+  REQUIRE(drag["std_error"].is_number());
+  CHECK(drag["std_error"].get<double>() > 0.0);
+  CHECK(drag["std_error_pitot_scale"].get<double>() <= drag["std_error"].get<double>());
+  const double k = j["instrumentation"]["pitot_scale"]["estimate"];
+  const fs::path out7 = test_dir() / "out7";
+  const auto p = sysid({run.string(), "--aircraft", prior.string(), "--out", out7.string(), "--estimate",
+                        j["produced_by"]["estimate"].get<std::string>(), "--pitot-scale", fmt::format("{}", k), "0.0005"},
+                       "pitot");
+  INFO(p.second);
+  REQUIRE(p.first == 0);
+  CHECK(p.second.find("(given (--pitot-scale))") != std::string::npos);
+  const nlohmann::json jp = nlohmann::json::parse(read_file(out7 / "sysid.json"));
+  CHECK(jp["instrumentation"]["pitot_scale"]["estimate"].get<double>() == k);
+  CHECK(jp["instrumentation"]["pitot_scale"]["note"] == "given (--pitot-scale)");
+  CHECK(jp["drag_at_trim"]["std_error"].get<double>() < drag["std_error"].get<double>());
   // the same flight as `tern fly --log-format mcap` leaves it (flight.mcap, no tables): exported
   // first (tern export csv), then identified as the tables are
   const fs::path mcap_run = test_dir() / "mcap_run";
@@ -219,4 +238,6 @@ TEST_CASE("tern sysid: each bad input is one error line") {
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--band", "2", "1"}, "band"), "--band");
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--command-delay", "1", "2"}, "delay"),
            "--command-delay: 2 values");
+  one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--pitot-scale", "3"}, "pitot"),
+           "--pitot-scale: 3: expected 0.5 .. 2");
 }
