@@ -34,10 +34,6 @@ void slope(double K, double sigma, double AR, double max_relative_error, Nuisanc
   }
 }
 
-}  // namespace
-
-namespace {
-
 /// The wind triangle's rows over every kWindStride-th sample of `idx` with a pitot reading:
 /// X = [Va_pitot cos(alpha) cos(beta), R(0,0), R(1,0)] (k's regressor, the wind's N and E columns
 /// along body x), z = u_ground (instrumentation.hpp).
