@@ -119,6 +119,15 @@ struct AxisSeries {
   std::vector<double> t, measured, predicted;
 };
 
+/// The parts of the drag at trim's bound (identify_drag.hpp's drag_at_trim), from the polar's fit.
+struct TrimDragBound {
+  double C_Lw_squared_mean = 0.0;  ///< the polar's trim windows' mean C_Lw^2 (DragPolar)
+  NuisanceEstimate C_D_at_mean;    ///< the polar there, the pitot scale's shift in its bound (DragPolar)
+  double K_std_error = 0.0;        ///< the polar's slope's bound, the pitot scale's shift in it
+  double pitot_shift = 0.0;        ///< what one standard error of the pitot scale moves the polar at the mean by
+  double kept_terms = 0.0;         ///< what the kept C_D_q, C_D_delta_e's prior uncertainty moves the drag at trim by
+};
+
 struct SysidResult {
   Aircraft aircraft;  ///< the prior with the identified coefficients
   std::vector<CoefficientEstimate> coefficients;
@@ -132,11 +141,7 @@ struct SysidResult {
   double C_D_trim_std_error = std::numeric_limits<double>::quiet_NaN();
   double C_D_per_deg = 0.0;                     ///< how much 1 deg of alpha (or pitch) bias moves C_D at trim, fraction
   double trim_alpha = 0.0, trim_delta_e = 0.0;  ///< rad: the flight's mean alpha and elevator, where the drag at trim is taken
-  double polar_C_Lw_squared_mean = 0.0;         ///< the polar's trim windows' mean C_Lw^2 (DragPolar)
-  NuisanceEstimate polar_C_D_at_mean;           ///< the polar there, the pitot scale's shift in its bound (DragPolar)
-  double polar_pitot_shift = 0.0;               ///< what one standard error of the pitot scale moves the polar there by
-  double polar_kept_terms = 0.0;                ///< what the kept C_D_q, C_D_delta_e's prior uncertainty moves the drag at trim by
-  double polar_K_std_error = 0.0;               ///< the polar's slope's bound, the pitot scale's shift in it
+  TrimDragBound trim_drag_bound;                ///< what C_D_trim_std_error is made of (identify_drag.hpp)
   NuisanceEstimate pitot_scale;                 ///< Va_true = k Va_pitot, from the wind triangle (instrumentation.hpp)
   double wind_n = 0.0, wind_e = 0.0;            ///< m/s, the constant wind fitted beside the pitot scale
   NuisanceEstimate accel_x_bias;                ///< m/s^2, the accelerometer's x bias, jointly with the polar

@@ -70,12 +70,11 @@ void drag(Context& c, const Col& alpha, const Aircraft& prior, const AeroSamples
                                    c.o.fit_accel_x_bias, C_D_p_prior);
     widen(p.C_D_p, q.C_D_p), widen(p.K, q.K), widen(p.e, q.e), widen(p.bias_x, q.bias_x), widen(p.e_held, q.e_held);
     widen(p.C_D_at_mean, q.C_D_at_mean);
-    c.result.polar_pitot_shift = std::abs(q.C_D_at_mean.estimate - p.C_D_at_mean.estimate);
+    c.result.trim_drag_bound.pitot_shift = std::abs(q.C_D_at_mean.estimate - p.C_D_at_mean.estimate);
   }
-  c.result.polar_kept_terms = kept_terms_at_trim(c, alpha, prior, p);
-  c.result.polar_C_Lw_squared_mean = p.C_Lw_squared_mean;
-  c.result.polar_C_D_at_mean = p.C_D_at_mean;
-  c.result.polar_K_std_error = p.K.std_error;
+  TrimDragBound& bound = c.result.trim_drag_bound;
+  bound.kept_terms = kept_terms_at_trim(c, alpha, prior, p);
+  bound.C_Lw_squared_mean = p.C_Lw_squared_mean, bound.C_D_at_mean = p.C_D_at_mean, bound.K_std_error = p.K.std_error;
   c.result.fits.push_back({"drag", "trim", p.r_squared, p.rms_residual, p.rows, p.r_squared});
   c.coef.C_D_p = p.C_D_p.estimate;
   const Term tp{"C_D_p", &AeroCoefficients::C_D_p, nullptr, {}};
@@ -114,10 +113,10 @@ void drag_at_trim(SysidResult& r, const Aircraft& prior) {
   const CoefficientEstimate* C_D_p = find_estimate(r, "C_D_p");
   const bool from_data = r.oswald.identified || (C_D_p != nullptr && C_D_p->identified);
   const double C_Lw = r.aircraft.aero.C_L_0 + r.aircraft.aero.C_L_alpha * al;  // the polar windows' lift model (polar_windows)
-  r.C_D_trim_std_error =
-      from_data && r.polar_C_D_at_mean.identified
-          ? std::hypot(r.polar_C_D_at_mean.std_error, (C_Lw * C_Lw - r.polar_C_Lw_squared_mean) * r.polar_K_std_error, r.polar_kept_terms)
-          : std::numeric_limits<double>::quiet_NaN();
+  const TrimDragBound& b = r.trim_drag_bound;
+  r.C_D_trim_std_error = from_data && b.C_D_at_mean.identified
+                             ? std::hypot(b.C_D_at_mean.std_error, (C_Lw * C_Lw - b.C_Lw_squared_mean) * b.K_std_error, b.kept_terms)
+                             : std::numeric_limits<double>::quiet_NaN();
 }
 
 }  // namespace tern::core::sysid

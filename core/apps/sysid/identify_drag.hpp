@@ -22,10 +22,10 @@ void trim_point(SysidResult& r, const Col& alpha, const AeroSamples& a);
 /// C_D_trim_std_error (NaN where the polar is the prior's) adds three parts:
 ///  * the trim windows' bound on the polar at their mean C_Lw^2, carried to the trim's C_Lw^2 along
 ///    the slope's bound;
-///  * in both, the pitot scale's standard error (r.polar_pitot_shift at the windows' mean): the
+///  * in both, the pitot scale's standard error (r.trim_drag_bound.pitot_shift at the windows' mean): the
 ///    thrust the drag is measured against follows the airspeed (the book's Aerosonde at 23 m/s:
 ///    1.9 N per m/s, some 0.2 N of its 1-N drag per percent of scale; docs/system-identification.md);
-///  * what the kept C_D_q, C_D_delta_e's prior uncertainty moves it by (r.polar_kept_terms).
+///  * what the kept C_D_q, C_D_delta_e's prior uncertainty moves it by (r.trim_drag_bound.kept_terms).
 void drag_at_trim(SysidResult& r, const Aircraft& prior);
 
 }  // namespace tern::core::sysid

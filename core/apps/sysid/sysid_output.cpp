@@ -80,7 +80,8 @@ namespace {
 /// the scale has no bound), or "0.0022 (the prior's polar)" where no bound was found.
 std::string drag_at_trim_text(const SysidResult& r) {
   if (!std::isfinite(r.C_D_trim_std_error)) return fmt::format("{:.4f} (the prior's polar)", r.C_D_trim);
-  const std::string pitot = r.polar_pitot_shift > 0.0 ? fmt::format(", the pitot scale's bound alone {:.4f}", r.polar_pitot_shift) : "";
+  const std::string pitot =
+      r.trim_drag_bound.pitot_shift > 0.0 ? fmt::format(", the pitot scale's bound alone {:.4f}", r.trim_drag_bound.pitot_shift) : "";
   return fmt::format("{:.4f} +- {:.4f} ({:.0f} %{})", r.C_D_trim, r.C_D_trim_std_error, 100.0 * r.C_D_trim_std_error / std::abs(r.C_D_trim),
                      pitot);
 }
@@ -106,7 +107,7 @@ nlohmann::json to_json(const SysidResult& r, const SysidProvenance& from) {
   j["drag_at_trim"] = {{"prior", r.C_D_trim_prior},
                        {"identified", r.C_D_trim},
                        {"std_error", std::isfinite(r.C_D_trim_std_error) ? nlohmann::json(r.C_D_trim_std_error) : nlohmann::json()},
-                       {"std_error_pitot_scale", r.polar_pitot_shift},
+                       {"std_error_pitot_scale", r.trim_drag_bound.pitot_shift},
                        {"alpha", r.trim_alpha},
                        {"delta_e", r.trim_delta_e},
                        {"change_per_deg_of_alpha", r.C_D_per_deg}};

@@ -348,7 +348,8 @@ TEST_CASE(
   // the drag at trim taken again on the polar the verdicts left (the held e, C_D_p at the prior's 0),
   // its bound the windows' at their mean C_Lw^2 carried to the trim's along the slope's
   r.trim_alpha = 0.06, r.trim_delta_e = -0.1;
-  r.polar_C_Lw_squared_mean = 0.3, r.polar_C_D_at_mean = {0.0045, 0.0004, true, ""}, r.polar_K_std_error = 0.002;
+  r.trim_drag_bound.C_Lw_squared_mean = 0.3, r.trim_drag_bound.C_D_at_mean = {0.0045, 0.0004, true, ""},
+  r.trim_drag_bound.K_std_error = 0.002;
   sysid::drag_at_trim(r, prior);
   CHECK(r.C_D_trim == doctest::Approx(tern::sim::drag_coefficient(r.aircraft, 0.06) - 0.1 * prior.aero.C_D_delta_e).epsilon(1e-12));
   const double C_Lw = prior.aero.C_L_0 + prior.aero.C_L_alpha * 0.06;
