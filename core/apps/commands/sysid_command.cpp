@@ -19,6 +19,7 @@
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
 #include "sysid/identify_drag.hpp"
+#include "sysid/instrumentation.hpp"
 #include "sysid/motor_lag.hpp"
 #include "sysid/sysid_output.hpp"
 #include "sysid/verdicts.hpp"
@@ -110,10 +111,13 @@ int run_sysid(const SysidOptionsCli& o) {
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   io.fit_accel_x_bias = o.accel_x_bias;
   if (!o.pitot_scale.empty()) {
-    const double k = o.pitot_scale[0], se = o.pitot_scale.size() > 1 ? o.pitot_scale[1] : 0.0;
-    if (!(k >= 0.5 && k <= 2.0)) throw ConfigError(fmt::format("--pitot-scale: {}: expected 0.5 .. 2 (Va_true / Va_pitot)", k));
-    if (!(se >= 0.0 && se < 0.5)) throw ConfigError(fmt::format("--pitot-scale: standard error {}: expected 0 .. 0.5", se));
-    io.pitot_scale = k, io.pitot_scale_std_error = se;
+    io.pitot_scale = o.pitot_scale[0], io.pitot_scale_std_error = o.pitot_scale.size() > 1 ? o.pitot_scale[1] : 0.0;
+    if (!(io.pitot_scale >= sysid::kMinPitotScale && io.pitot_scale <= sysid::kMaxPitotScale))
+      throw ConfigError(fmt::format("--pitot-scale: {}: expected {:g} .. {:g} (Va_true / Va_pitot)", io.pitot_scale, sysid::kMinPitotScale,
+                                    sysid::kMaxPitotScale));
+    if (!(io.pitot_scale_std_error >= 0.0 && io.pitot_scale_std_error < sysid::kMaxPitotScaleStdError))
+      throw ConfigError(
+          fmt::format("--pitot-scale: standard error {}: expected 0 .. {:g}", io.pitot_scale_std_error, sysid::kMaxPitotScaleStdError));
   }
   if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
     throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));

@@ -91,8 +91,10 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
 }
 
 AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error) {
-  if (!(k >= 0.5 && k <= 2.0) || !(std_error >= 0.0 && std_error < 0.5))
-    throw std::invalid_argument(fmt::format("pitot scale {} +- {}: expected 0.5 .. 2 and a standard error 0 .. 0.5", k, std_error));
+  if (!(k >= kMinPitotScale && k <= kMaxPitotScale))
+    throw std::invalid_argument(fmt::format("{}: expected {:g} .. {:g} (Va_true / Va_pitot)", k, kMinPitotScale, kMaxPitotScale));
+  if (!(std_error >= 0.0 && std_error < kMaxPitotScaleStdError))
+    throw std::invalid_argument(fmt::format("standard error {}: expected 0 .. {:g}", std_error, kMaxPitotScaleStdError));
   AirspeedScale out;
   out.k = {k, std_error, false, kStatedPitotScale};
   const WindTriangle t = wind_triangle(s, idx, rho);
