@@ -79,9 +79,7 @@ std::array<double, 3> command_delays(const SysidOptionsCli& o, const Aircraft& p
 /// with the servos' lag), starting from the servos' (sysid/motor_lag.hpp).
 sysid::MotorLag motor_lag(const SysidOptionsCli& o, const sysid::FlightTables& tables, const sysid::FlightSeries& series,
                           const Aircraft& prior, const sysid::SysidOptions& io) {
-  if (o.motor_tau_s) {
-    if (!(*o.motor_tau_s >= 0.0 && *o.motor_tau_s <= 5.0))
-      throw ConfigError(fmt::format("--motor-tau: {} s: expected 0 .. 5", *o.motor_tau_s));
+  if (o.motor_tau_s) {  // checked by identify_options
     return {
         {*o.motor_tau_s, 0.0, false, "given (--motor-tau)"}, {}, fmt::format("motor lag: {:.3f} s, given (--motor-tau)", *o.motor_tau_s)};
   }
@@ -89,27 +87,24 @@ sysid::MotorLag motor_lag(const SysidOptionsCli& o, const sysid::FlightTables& t
   return sysid::estimate_motor_lag(series, throttle, prior, io.airborne, prior.servo_tau);
 }
 
-int run_sysid(const SysidOptionsCli& o) {
-  const Aircraft prior = load_aircraft(o.aircraft);
+/// The identification's options from the command line, each checked before the log is replayed
+/// (a bad value is one error line, not one after the replay's seconds).
+sysid::SysidOptions identify_options(const SysidOptionsCli& o) {
   if (o.band.size() != 2 || !(o.band[0] > 0.0) || !(o.band[1] > o.band[0]))
     throw ConfigError(fmt::format("--band: {} .. {} Hz: expected 0 < LO < HI", o.band.front(), o.band.back()));
   if (o.flow_angles != "accelerometer" && o.flow_angles != "estimator")
     throw ConfigError(fmt::format("--flow-angles: '{}': expected accelerometer or estimator", o.flow_angles));
-  const std::array<double, 3> delays = command_delays(o, prior);
-  tables_from_mcap(o.log_dir);  // a run directory logged as MCAP only
-  sysid::check_sensor_log(o.log_dir, o.estimate.empty());
-  const ReplayScratch scratch(o.estimate.empty() ? fs::path(o.out_dir) / "replay" : fs::path(), o.keep_estimate);
-  const fs::path estimate = estimate_of(o);
-  sysid::FlightSeriesOptions so;
-  so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
-  so.command_delay_s = delays;
-  sysid::read_installation(estimate, so);
+  if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
+  if (o.motor_tau_s && !(*o.motor_tau_s >= 0.0 && *o.motor_tau_s <= 5.0))
+    throw ConfigError(fmt::format("--motor-tau: {} s: expected 0 .. 5", *o.motor_tau_s));
+  if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
+    throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
   sysid::SysidOptions io;
   io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;
   io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
-  if (!(o.oe_window > 0.0)) throw ConfigError(fmt::format("--output-error-window: {} s: expected > 0", o.oe_window));
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
   io.fit_accel_x_bias = o.accel_x_bias;
+  io.gyro_cross_axis = o.gyro_cross_axis;
   if (!o.pitot_scale.empty()) {
     io.pitot_scale = o.pitot_scale[0], io.pitot_scale_std_error = o.pitot_scale.size() > 1 ? o.pitot_scale[1] : 0.0;
     if (!(io.pitot_scale >= sysid::kMinPitotScale && io.pitot_scale <= sysid::kMaxPitotScale))
@@ -119,9 +114,21 @@ int run_sysid(const SysidOptionsCli& o) {
       throw ConfigError(
           fmt::format("--pitot-scale: standard error {}: expected 0 .. {:g}", io.pitot_scale_std_error, sysid::kMaxPitotScaleStdError));
   }
-  if (!(o.gyro_cross_axis >= 0.0 && o.gyro_cross_axis < 0.5))
-    throw ConfigError(fmt::format("--gyro-cross-axis: {}: expected 0 <= value < 0.5 (rad/rad)", o.gyro_cross_axis));
-  io.gyro_cross_axis = o.gyro_cross_axis;
+  return io;
+}
+
+int run_sysid(const SysidOptionsCli& o) {
+  const Aircraft prior = load_aircraft(o.aircraft);
+  const sysid::SysidOptions io = identify_options(o);
+  const std::array<double, 3> delays = command_delays(o, prior);
+  tables_from_mcap(o.log_dir);  // a run directory logged as MCAP only
+  sysid::check_sensor_log(o.log_dir, o.estimate.empty());
+  const ReplayScratch scratch(o.estimate.empty() ? fs::path(o.out_dir) / "replay" : fs::path(), o.keep_estimate);
+  const fs::path estimate = estimate_of(o);
+  sysid::FlightSeriesOptions so;
+  so.servo_tau = prior.servo_tau, so.filter_hz = o.filter_hz, so.rate_hz = o.rate_hz;
+  so.command_delay_s = delays;
+  sysid::read_installation(estimate, so);
   sysid::DelayOptions timing;
   timing.estimate.fill(o.command_delay_ms.empty());  // --command-delay fixes them; else from the prior's, estimated
   const sysid::FlightTables tables = sysid::read_flight_tables(o.log_dir, estimate);
