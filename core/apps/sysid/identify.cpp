@@ -12,6 +12,7 @@
 #include "sysid/identify_lift.hpp"
 #include "sysid/identify_moments.hpp"
 #include "sysid/instrumentation.hpp"
+#include "sysid/pitot_scale_share.hpp"
 #include "sysid/trim_terms.hpp"
 #include "tern/aero/model.hpp"
 
@@ -110,6 +111,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   if (accel) consider_lift_terms(c), consider_sideslip_scale(c);
   consider_gyro_coupling(c);
   consider_slopes_in_trim_terms(c, alpha, beta);
+  consider_pitot_scale(r.coefficients, scale.k.std_error / k);  // 0 without a pitot scale's bound
   r.aircraft.aero = coef;
   drag_at_trim(r, prior);
   r.series = axis_series(a, L, coef, r.aircraft, alpha, beta);

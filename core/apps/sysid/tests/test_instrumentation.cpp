@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "sysid/instrumentation.hpp"
+#include "sysid/pitot_scale_share.hpp"
 #include "tern/math.hpp"
 
 namespace {
@@ -200,4 +201,27 @@ TEST_CASE("a stated pitot scale is held, not estimated: the wind fitted beside i
   CHECK(std::isfinite(one.w_e));
   CHECK_THROWS_AS(tern::core::sysid::stated_airspeed_scale(s, all(s), kRho, 0.3, 0.0), std::invalid_argument);
   CHECK_THROWS_AS(tern::core::sysid::stated_airspeed_scale(s, all(s), kRho, 1.0, -0.1), std::invalid_argument);
+}
+
+TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a rate derivative's as k^-1, the drag's not at all") {
+  using tern::core::sysid::CoefficientEstimate;
+  auto row = [](const char* name, double estimate, double se, bool identified = true) {
+    CoefficientEstimate e;
+    e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
+    return e;
+  };
+  std::vector<CoefficientEstimate> c = {row("C_ell_delta_a", 0.17, 0.003), row("C_ell_p", -0.5, 0.004),
+                                        row("C_m_q", -38.0, 0.0),          row("C_n_0", -1e-4, 3e-5),
+                                        row("C_D_p", 0.02, 0.001),         row("C_Y_delta_a", 0.075, 0.0, false)};
+  const double relative = 0.01;  // sigma_k / k
+  tern::core::sysid::consider_pitot_scale(c, relative);
+  CHECK(c[0].std_error == doctest::Approx(std::hypot(0.003, 2 * relative * 0.17)));
+  CHECK(c[1].std_error == doctest::Approx(std::hypot(0.004, relative * 0.5)));
+  CHECK(c[2].std_error == doctest::Approx(relative * 38.0));
+  CHECK(c[3].std_error == doctest::Approx(std::hypot(3e-5, 2 * relative * 1e-4)));
+  CHECK(c[4].std_error == 0.001);  // the polar's bound carries the scale already
+  CHECK(c[5].std_error == 0.0);    // a kept prior has no bound to widen
+  const std::vector<CoefficientEstimate> before = c;
+  tern::core::sysid::consider_pitot_scale(c, 0.0);  // no scale's bound (no pitot, or a stated exact one)
+  for (std::size_t i = 0; i < c.size(); ++i) CHECK(c[i].std_error == before[i].std_error);
 }
