@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash] [--no-pitot]]: system identification against the truth.
+"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash] [--no-pitot] | --book [--book-speeds VA ...]]: system identification against the truth.
 
 Issue 62's bench. For each seed: the truth aircraft (default the Aerosonde, configs/aircraft/aerosonde.yaml)
 flies configs/missions/sysid.yaml (excitation on every surface at three airspeeds, `realistic` sensors,
@@ -15,8 +15,13 @@ as well, that log goes through an ArduPilot DataFlash file (dataflash_log.py: RC
 (the estimator's config.yaml and the airborne window stated beside it, as a user would); with --no-pitot the
 rewritten log has no pitot (diff_pressure.csv left out).
 
+With --book the flight is not tern's at all: bench/book_sim.py, a simulator written independently from the uavbook
+(its own ch.-6 autopilot with the roll and yaw loops closed, Dryden gusts, a 200-Hz IMU, commands at 50 Hz acting one
+5-ms sample late, no excitation table, 300 s all airborne), writes the sensor-log format, and sysid reads it as it
+would another simulator's log; the truth's pitch (the estimate's frame) from its book_truth.csv.
+
 Prints the table (worst seed per coefficient, against the targets) and writes JSON (default
-bench/results/bench_sysid[_foreign][_dataflash][_<aircraft>].json, the aircraft named unless the Aerosonde). Every figure says what produced it: the truth is the aircraft
+bench/results/bench_sysid[_book][_foreign][_dataflash][_<aircraft>].json, the aircraft named unless the Aerosonde). Every figure says what produced it: the truth is the aircraft
 file the simulator flew (C_L_0, C_m_0 and the drag at trim stated in the frame the vehicle measures alpha
 in: estimate_pitch_offset); the estimate is sysid.json's; the relative error is |estimate - truth| / |truth|.
 """
@@ -117,13 +122,13 @@ def read_columns(path, names):
     return out
 
 
-def estimate_pitch_offset(flight, sysid_out, min_height=10.0, shift_s=0.0):
+def estimate_pitch_offset(flight, sysid_out, min_height=10.0, shift_s=0.0, truth_file=None):
     """rad: the mean of the estimate's pitch less the simulator's over the airborne estimate that sysid used
     (its replay's state.csv against the flight's truth.csv). The flight path's alpha is the true one plus this
     offset (the ground calibration's level, the IMU's mounting, the estimator's own bias): the frame the
     vehicle measures in. Read here only to state the truth in that frame. shift_s: the estimate's clock
     less the truth's (a log rewritten by foreign_log.py starts later)."""
-    truth = read_columns(os.path.join(flight, "topics", "truth.csv"), ["t", "theta"])
+    truth = read_columns(truth_file or os.path.join(flight, "topics", "truth.csv"), ["t", "theta"])
     replay = os.path.join(sysid_out, "replay")
     state_file = os.path.join(replay, os.listdir(replay)[0], "topics", "state.csv")
     est = read_columns(state_file, ["t", "theta", "valid", "p_d"])
@@ -167,9 +172,13 @@ def one_seed(tern, seed, args, work):
     prior = scaled_prior(truth_file, factor, os.path.join(work, f"prior_{seed}.yaml"))
     # on the aircraft's own gains (the Anaconda on sysid.yaml's Aerosonde gains had a pitch-rate loop 3.5 times as stiff as on
     # its own, and its pitch derivatives came out 20-29 % low)
-    mission = mission_copy(args.mission, os.path.join(work, f"sysid_{seed}.yaml"), aircraft=truth_file, gains=own_gains(truth_file))
-    flight = run_dir(run([tern, "fly", mission, "--seed", str(seed), "--log-dir", work, "--log-format", "csv", "-q"]).stdout)
-    truth_flight, shift = flight, 0.0
+    if args.book:
+        flight = fly_book(truth_file, seed, args, work)
+        truth_flight, shift, truth_table = flight, 0.0, os.path.join(flight, "book_truth.csv")
+    else:
+        mission = mission_copy(args.mission, os.path.join(work, f"sysid_{seed}.yaml"), aircraft=truth_file, gains=own_gains(truth_file))
+        flight = run_dir(run([tern, "fly", mission, "--seed", str(seed), "--log-dir", work, "--log-format", "csv", "-q"]).stdout)
+        truth_flight, shift, truth_table = flight, 0.0, None
     if args.foreign:
         flight = os.path.join(work, f"foreign_{seed}")
         shift = foreign_log.rewrite(truth_flight, flight, *args.foreign, declare_airborne=args.declare_airborne, pitot=not args.no_pitot)
@@ -183,7 +192,8 @@ def one_seed(tern, seed, args, work):
     run([tern, "sysid", flight, "--aircraft", prior, "--out", out, "--keep-estimate"] + given)
     seconds = time.monotonic() - t0
     result = json.load(open(os.path.join(out, "sysid.json")))
-    pitch = estimate_pitch_offset(truth_flight, out, shift_s=shift)
+    # the book's log is all airborne and starts in the air: its origin (the first fix) is 100 m up
+    pitch = estimate_pitch_offset(truth_flight, out, min_height=-math.inf if args.book else 10.0, shift_s=shift, truth_file=truth_table)
     truth_frame = truth_in_vehicle_frame(truth["aero"], pitch)
     rows = {}
     for name, c in result["coefficients"].items():
@@ -227,6 +237,15 @@ def through_dataflash(tern, foreign, truth_file, work, seed):
     if not ok:
         sys.exit(f"bench_sysid: seed {seed}: the DataFlash round trip lost rows or values:\n" + "\n".join(dataflash_log.check_lines(report)))
     return imported, {**done, "bin": bin_file, "round_trip_within_resolution": ok, "round_trip": report}
+
+
+def fly_book(truth_file, seed, args, work):
+    """The flight from the independent simulator (book_sim.py: the uavbook's equations, its own ch.-6 autopilot,
+    commands one 5-ms sample late, no excitation table, the log all airborne), in the sensor-log format."""
+    out = os.path.join(work, f"book_{seed}")
+    speeds = ["--speeds", *map(str, args.book_speeds)] if args.book_speeds else []
+    run([sys.executable, os.path.join(HERE, "book_sim.py"), "--aircraft", truth_file, "--out", out, "--seed", str(seed)] + speeds)
+    return out
 
 
 def own_gains(aircraft):
@@ -350,6 +369,10 @@ def flies_ratios(seeds):
 
 def log_route(args):
     """What sysid read, in words (the JSON's log_route)."""
+    if args.book:
+        return ("bench/book_sim.py's flight (an independent uavbook simulator: its own ch.-6 autopilot, Dryden gusts, the IMU at 200 Hz, "
+                "commands at 50 Hz acting one 5-ms sample after their stamps, no excitation table, 300 s all airborne{})").format(
+                    f", legs at {' '.join(map(str, args.book_speeds))} m/s" if args.book_speeds else "")
     if not args.foreign:
         return "the tern flight's own log (CSV)"
     route = "the flight rewritten by bench/foreign_log.py (commands {:g} ms late, IMU {:g} Hz, commands {:g} Hz, from {:g} m up{})".format(
@@ -378,14 +401,20 @@ def main():
     ap.add_argument("--dataflash", action="store_true",
                     help="with --foreign: the rewritten log goes through an ArduPilot DataFlash file (dataflash_log.py) and "
                          "`tern import dataflash`; sysid reads the imported log")
+    ap.add_argument("--book", action="store_true",
+                    help="identify from bench/book_sim.py's flight (an independent simulator written from the uavbook) instead of tern's")
+    ap.add_argument("--book-speeds", type=float, nargs="+", metavar="VA",
+                    help="with --book: the legs' airspeeds (m/s; book_sim.py's default 20 25 30; the Anaconda: 17 21 25)")
     ap.add_argument("--command-delay", type=float, metavar="MS",
                     help="tell tern sysid the commands' delay (--command-delay MS), as a user who knows their servos' would")
     args = ap.parse_args()
     if (args.dataflash or args.no_pitot) and not args.foreign:
         ap.error("--dataflash and --no-pitot rewrite the --foreign log: give --foreign too")
+    if args.book and args.foreign:
+        ap.error("--book and --foreign are two routes: give one")
     if not args.out:
         stem = os.path.splitext(os.path.basename(args.aircraft))[0]
-        name = "bench_sysid" + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \
+        name = "bench_sysid" + ("_book" if args.book else "") + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \
             ("" if stem == "aerosonde" else f"_{stem}")
         args.out = os.path.join(HERE, "results", name + ".json")
     tern = os.path.join(os.path.abspath(args.bin_dir), "tern")
