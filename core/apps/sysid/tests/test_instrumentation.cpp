@@ -210,9 +210,9 @@ TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a
     e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
     return e;
   };
-  std::vector<CoefficientEstimate> c = {row("C_ell_delta_a", 0.17, 0.003), row("C_ell_p", -0.5, 0.004),
-                                        row("C_m_q", -38.0, 0.0),          row("C_n_0", -1e-4, 3e-5),
-                                        row("C_D_p", 0.02, 0.001),         row("C_Y_delta_a", 0.075, 0.0, false)};
+  std::vector<CoefficientEstimate> c = {
+      row("C_ell_delta_a", 0.17, 0.003), row("C_ell_p", -0.5, 0.004),           row("C_m_q", -38.0, 0.0),         row("C_n_0", -1e-4, 3e-5),
+      row("C_D_p", 0.02, 0.001),         row("C_Y_delta_a", 0.075, 0.0, false), row("C_n_delta_r", -0.069, 0.002)};
   const double relative = 0.01;  // sigma_k / k
   tern::core::sysid::consider_pitot_scale(c, relative);
   CHECK(c[0].std_error == doctest::Approx(std::hypot(0.003, 2 * relative * 0.17)));
@@ -221,6 +221,8 @@ TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a
   CHECK(c[3].std_error == doctest::Approx(std::hypot(3e-5, 2 * relative * 1e-4)));
   CHECK(c[4].std_error == 0.001);  // the polar's bound carries the scale already
   CHECK(c[5].std_error == 0.0);    // a kept prior has no bound to widen
+  // a surface's derivative, though its name ends in _r
+  CHECK(c[6].std_error == doctest::Approx(std::hypot(0.002, 2 * relative * 0.069)));
   const std::vector<CoefficientEstimate> before = c;
   tern::core::sysid::consider_pitot_scale(c, 0.0);  // no scale's bound (no pitot, or a stated exact one)
   for (std::size_t i = 0; i < c.size(); ++i) CHECK(c[i].std_error == before[i].std_error);
