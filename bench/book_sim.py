@@ -37,10 +37,16 @@ import time
 import numpy as np
 import yaml
 
-G = 9.81
+import sdk_constants
+
+G = sdk_constants.constant("math.hpp", "kGravity")  # the book's g
 ORIGIN = (47.3977, 8.5456, 488.0)            # lat deg, lon deg, alt m (ground level)
 MAG_NED = (2.151e-5, 0.130e-5, 4.323e-5)    # T: WMM-2025 at the origin on 2025-06-01 (D 3.47, I 63.51 deg)
-D2R = math.pi / 180.0
+D2R = sdk_constants.constant("math.hpp", "kPi") / 180.0  # tern/math.hpp's kRadPerDeg
+# the ISA's barometric formula p = p0 (1 - k h)^n (tern/atmosphere.hpp)
+P0 = sdk_constants.constant("atmosphere.hpp", "kIsaSeaLevelPressure")
+ISA_K = sdk_constants.constant("atmosphere.hpp", "kIsaPressureLapse")
+ISA_N = sdk_constants.constant("atmosphere.hpp", "kIsaPressureExponent")
 
 
 # ----------------------------------------------------------------------------------------------
@@ -471,11 +477,11 @@ class Schedule:
 # Sensors (ch. 7)
 # ----------------------------------------------------------------------------------------------
 def isa_pressure(h_msl):
-    return 101325.0 * (1.0 - 2.25577e-5 * h_msl) ** 5.25588
+    return P0 * (1.0 - ISA_K * h_msl) ** ISA_N
 
 
 def isa_altitude(p):
-    return (1.0 - (p / 101325.0) ** (1.0 / 5.25588)) / 2.25577e-5
+    return (1.0 - (p / P0) ** (1.0 / ISA_N)) / ISA_K
 
 
 def ned_to_lla(pn, pe, pd):

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <stdexcept>
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -107,12 +108,11 @@ sysid::SysidOptions identify_options(const SysidOptionsCli& o) {
   io.gyro_cross_axis = o.gyro_cross_axis;
   if (!o.pitot_scale.empty()) {
     io.pitot_scale = o.pitot_scale[0], io.pitot_scale_std_error = o.pitot_scale.size() > 1 ? o.pitot_scale[1] : 0.0;
-    if (!(io.pitot_scale >= sysid::kMinPitotScale && io.pitot_scale <= sysid::kMaxPitotScale))
-      throw ConfigError(fmt::format("--pitot-scale: {}: expected {:g} .. {:g} (Va_true / Va_pitot)", io.pitot_scale, sysid::kMinPitotScale,
-                                    sysid::kMaxPitotScale));
-    if (!(io.pitot_scale_std_error >= 0.0 && io.pitot_scale_std_error < sysid::kMaxPitotScaleStdError))
-      throw ConfigError(
-          fmt::format("--pitot-scale: standard error {}: expected 0 .. {:g}", io.pitot_scale_std_error, sysid::kMaxPitotScaleStdError));
+    try {
+      sysid::check_stated_pitot_scale(io.pitot_scale, io.pitot_scale_std_error);
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(fmt::format("--pitot-scale: {}", e.what()));
+    }
   }
   return io;
 }

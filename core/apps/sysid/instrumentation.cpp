@@ -90,11 +90,15 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
   return out;
 }
 
-AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error) {
+void check_stated_pitot_scale(double k, double std_error) {
   if (!(k >= kMinPitotScale && k <= kMaxPitotScale))
     throw std::invalid_argument(fmt::format("{}: expected {:g} .. {:g} (Va_true / Va_pitot)", k, kMinPitotScale, kMaxPitotScale));
   if (!(std_error >= 0.0 && std_error < kMaxPitotScaleStdError))
     throw std::invalid_argument(fmt::format("standard error {}: expected 0 .. {:g}", std_error, kMaxPitotScaleStdError));
+}
+
+AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error) {
+  check_stated_pitot_scale(k, std_error);
   AirspeedScale out;
   out.k = {k, std_error, false, kStatedPitotScale};
   const WindTriangle t = wind_triangle(s, idx, rho);

@@ -62,6 +62,11 @@ AirspeedScale airspeed_scale(const FlightSeries& s, const std::vector<std::size_
 /// The stated pitot scale's valid range (Va_true / Va_pitot) and its standard error's upper limit.
 inline constexpr double kMinPitotScale = 0.5, kMaxPitotScale = 2.0, kMaxPitotScaleStdError = 0.5;
 
+/// Throws std::invalid_argument naming the value for a stated pitot scale k outside kMinPitotScale ..
+/// kMaxPitotScale or a standard error outside 0 .. kMaxPitotScaleStdError (what stated_airspeed_scale
+/// and `tern sysid --pitot-scale` accept).
+void check_stated_pitot_scale(double k, double std_error);
+
 /// The note of a pitot scale the user stated (tern sysid --pitot-scale: a calibration run), not estimated.
 inline constexpr const char* kStatedPitotScale = "given (--pitot-scale)";
 
@@ -69,8 +74,7 @@ inline constexpr const char* kStatedPitotScale = "given (--pitot-scale)";
 /// constant wind fitted beside it over the same rows as airspeed_scale's. Where turbulence leaves
 /// the wind triangle's k uncertain (the body-axis gusts' mean over the flight looks like a scale:
 /// 0.8 % in ten minutes of light turbulence) and the drag at trim with it (identify_drag.hpp), a
-/// calibrated pitot's scale narrows both. Throws std::invalid_argument naming the value for k outside
-/// kMinPitotScale .. kMaxPitotScale or a standard error outside 0 .. kMaxPitotScaleStdError.
+/// calibrated pitot's scale narrows both. Throws what check_stated_pitot_scale throws.
 AirspeedScale stated_airspeed_scale(const FlightSeries& s, const std::vector<std::size_t>& idx, double rho, double k, double std_error);
 
 /// One trim window's means for the polar: the measured drag coefficient (thrust removed, forces
