@@ -108,7 +108,7 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
     refine(c, d, RateAxes::pitch);
     refine(c, d, RateAxes::lateral);
   }
-  if (accel) consider_lift_terms(c), consider_sideslip_scale(c);
+  if (accel) consider_lift_terms(c), consider_sideslip_scale(c), consider_side_force_terms(r);
   consider_gyro_coupling(c);
   consider_slopes_in_trim_terms(c, alpha, beta);
   consider_pitot_scale(r.coefficients, scale.k.std_error / k);  // 0 without a pitot scale's bound

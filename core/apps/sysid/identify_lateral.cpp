@@ -5,6 +5,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include <fmt/format.h>
 
@@ -109,6 +111,30 @@ void consider_sideslip_scale(Context& c) {
       fmt::format("C_ell_beta, C_n_beta: beta from the side force rests on the prior's C_Y_beta (not identified); "
                   "their bounds carry its uncertainty ({:g} of the estimate)",
                   kPriorUncertainty));
+}
+
+void consider_side_force_terms(SysidResult& r) {
+  const CoefficientEstimate* C_Y_beta = find_estimate(r, "C_Y_beta");
+  if (C_Y_beta == nullptr || C_Y_beta->estimate == 0.0) return;
+  for (const char* suffix : {"_delta_a", "_delta_r", "_p", "_r"}) {
+    const CoefficientEstimate* force = find_estimate(r, std::string("C_Y") + suffix);
+    if (force == nullptr) continue;
+    const double sigma = force->identified ? force->std_error : kPriorUncertainty * std::abs(force->estimate);
+    if (sigma == 0.0) continue;
+    std::vector<std::string> carried;
+    for (const char* axis : {"C_ell", "C_n"}) {
+      const CoefficientEstimate* slope = find_estimate(r, std::string(axis) + "_beta");
+      CoefficientEstimate* e = find_estimate(r, axis + std::string(suffix));
+      if (slope == nullptr || e == nullptr || !e->identified) continue;
+      e->std_error = std::hypot(e->std_error, slope->estimate / C_Y_beta->estimate * sigma);
+      if (!force->identified) carried.push_back(e->name);
+    }
+    if (!force->identified && !carried.empty())
+      r.notes.push_back(
+          fmt::format("{}: beta from the side force rests on the prior's {} (not identified); their bounds carry "
+                      "its uncertainty ({:g} of it) through C_ell_beta and C_n_beta",
+                      fmt::join(carried, ", "), force->name, kPriorUncertainty));
+  }
 }
 
 }  // namespace tern::core::sysid

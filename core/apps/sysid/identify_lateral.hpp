@@ -25,4 +25,15 @@ Col lateral(Context& c, const Col& alpha, bool accel);
 /// C_n_beta 38 % off the truth, each outside three of its bounds.
 void consider_sideslip_scale(Context& c);
 
+/// beta from the side force also carries the side force's other terms: a C_Y_delta_r off by d
+/// puts -d / C_Y_beta delta_r into beta, and the moments' fits give C_ell_delta_r (C_n_delta_r)
+/// off by C_ell_beta (C_n_beta) d / C_Y_beta, correlated with the rudder as it is; no residual shows
+/// it. So C_*_delta_a, C_*_delta_r, C_*_p and C_*_r carry |C_*_beta / C_Y_beta| times the
+/// uncertainty of C_Y_delta_a, C_Y_delta_r, C_Y_p, C_Y_r, in quadrature (a consider covariance):
+/// its standard error where identified, kPriorUncertainty of the prior where kept (0 for a term
+/// held at 0). bench/book_sim.py's Aerosonde, seed 1, the x0.6 prior: C_Y_delta_r kept at 0.114
+/// (truth 0.19) moved C_ell_delta_r from 0.0024 to -0.0074 at 15 of its bounds and C_n_delta_r by
+/// +9 % at 4 (predicted by the formula: -0.0077 and +8 %).
+void consider_side_force_terms(SysidResult& r);
+
 }  // namespace tern::core::sysid

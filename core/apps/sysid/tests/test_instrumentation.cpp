@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "sysid/identify_lateral.hpp"
 #include "sysid/instrumentation.hpp"
 #include "sysid/pitot_scale_share.hpp"
 #include "tern/math.hpp"
@@ -226,4 +227,30 @@ TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a
   const std::vector<CoefficientEstimate> before = c;
   tern::core::sysid::consider_pitot_scale(c, 0.0);  // no scale's bound (no pitot, or a stated exact one)
   for (std::size_t i = 0; i < c.size(); ++i) CHECK(c[i].std_error == before[i].std_error);
+}
+
+TEST_CASE("consider_side_force_terms: a side-force term's uncertainty reaches the moments' matching terms through beta") {
+  using tern::core::sysid::CoefficientEstimate;
+  auto row = [](const char* name, double estimate, double se, bool identified = true) {
+    CoefficientEstimate e;
+    e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
+    return e;
+  };
+  tern::core::sysid::SysidResult r;
+  r.coefficients = {row("C_Y_beta", -0.98, 0.05),           row("C_ell_beta", -0.13, 0.005),     row("C_n_beta", 0.073, 0.004),
+                    row("C_Y_delta_r", 0.114, 0.0, false),  row("C_Y_delta_a", 0.075, 0.01),     row("C_Y_p", 0.0, 0.0, false),
+                    row("C_ell_delta_r", -0.0074, 0.00064), row("C_n_delta_r", -0.0626, 0.0016), row("C_ell_delta_a", 0.17, 0.004),
+                    row("C_n_delta_a", -0.011, 0.0, false), row("C_ell_p", -0.5, 0.006)};
+  tern::core::sysid::consider_side_force_terms(r);
+  const auto se = [&](const char* name) { return tern::core::sysid::find_estimate(r, name)->std_error; };
+  // the kept C_Y_delta_r: 0.5 of its prior, times C_*_beta / C_Y_beta
+  CHECK(se("C_ell_delta_r") == doctest::Approx(std::hypot(0.00064, 0.13 / 0.98 * 0.5 * 0.114)));
+  CHECK(se("C_n_delta_r") == doctest::Approx(std::hypot(0.0016, 0.073 / 0.98 * 0.5 * 0.114)));
+  // the identified C_Y_delta_a: its own bound
+  CHECK(se("C_ell_delta_a") == doctest::Approx(std::hypot(0.004, 0.13 / 0.98 * 0.01)));
+  CHECK(se("C_n_delta_a") == 0.0);   // kept: no bound to widen
+  CHECK(se("C_ell_p") == 0.006);     // C_Y_p held at 0: nothing carried
+  CHECK(se("C_ell_beta") == 0.005);  // the scale's share is consider_sideslip_scale's
+  REQUIRE(r.notes.size() == 1);
+  CHECK(r.notes[0].find("C_ell_delta_r, C_n_delta_r: beta from the side force rests on the prior's C_Y_delta_r") == 0);
 }
