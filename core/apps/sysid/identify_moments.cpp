@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <tuple>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -183,12 +184,17 @@ void consider_gyro_coupling(Context& c) {
        {"C_ell_delta_a", m.C_ell_delta_a, "C_n_delta_a", m.C_n_delta_a},
        {"C_ell_delta_r", m.C_ell_delta_r, "C_n_delta_r", m.C_n_delta_r}}};
   const double k = c.o.gyro_cross_axis;
+  // the rate regressors' share: each damping or cross derivative takes kappa times its axis's other rate term
+  const std::array<std::pair<const char*, double>, 4> regressors = {
+      {{"C_ell_r", m.C_ell_p}, {"C_ell_p", m.C_ell_r}, {"C_n_r", m.C_n_p}, {"C_n_p", m.C_n_r}}};
   for (CoefficientEstimate& e : c.result.coefficients) {
     if (!e.identified) continue;
     for (const auto& [roll, C_ell, yaw, C_n] : pairs) {
       if (e.name == yaw) e.std_error = std::hypot(e.std_error, k * (ac.Jz / ac.Jx) * C_ell);
       if (e.name == roll) e.std_error = std::hypot(e.std_error, k * (ac.Jx / ac.Jz) * C_n);
     }
+    for (const auto& [name, other] : regressors)
+      if (e.name == name) e.std_error = std::hypot(e.std_error, k * other);
   }
 }
 

@@ -659,3 +659,36 @@ TEST_CASE("the motor's lag from the x force: 0.1 s found within 0.015 s, and at 
   }
   CHECK_THROWS_AS(sysid::estimate_motor_lag(FlightSeries{}, {}, ac, {}, 0.02, {0.0, 0.005}), std::invalid_argument);
 }
+
+TEST_CASE("gyros that read a share of each other's rate: the rate derivatives' bounds carry it") {
+  // a roll gyro reading p + kappa r and a yaw gyro reading r + kappa p (a datasheet's cross-axis
+  // sensitivity): the rolling moment's p regressor then carries kappa r, and C_ell_r comes out
+  // C_ell_r - kappa C_ell_p, which no residual shows
+  const tern::Aircraft truth = aerosonde();
+  FlightSeries s;
+  for (const double Va : {20.0, 25.0, 30.0}) fly(truth, Va, 40.0, 0.06, s);
+  const double kappa = 0.02;
+  for (std::size_t k = 0; k < s.t.size(); ++k) {
+    const double p = s.p[k], r = s.r[k], p_dot = s.p_dot[k], r_dot = s.r_dot[k];
+    s.p[k] = p + kappa * r, s.r[k] = r + kappa * p;
+    s.p_dot[k] = p_dot + kappa * r_dot, s.r_dot[k] = r_dot + kappa * p_dot;
+  }
+  tern::core::sysid::SysidOptions o;
+  o.output_error.hold_commands = true;
+  for (const double stated : {0.0, kappa}) {
+    o.gyro_cross_axis = stated;
+    const auto r = tern::core::sysid::identify(s, wrong_prior(truth), o);
+    bool identified = false;
+    double se = 0.0;
+    const double e = coefficient(r, "C_ell_r", &identified, &se);
+    CAPTURE(stated);
+    CAPTURE(e);
+    CAPTURE(se);
+    REQUIRE(identified);
+    CHECK(std::abs(e - truth.aero.C_ell_r) > 0.5 * kappa * std::abs(truth.aero.C_ell_p));  // the coupling's bias is there
+    if (stated > 0.0)
+      CHECK(std::abs(e - truth.aero.C_ell_r) <= 3.0 * se);
+    else
+      CHECK(std::abs(e - truth.aero.C_ell_r) > 3.0 * se);  // a bound without it does not hold the truth
+  }
+}
