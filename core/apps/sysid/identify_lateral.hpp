@@ -33,7 +33,7 @@ void consider_sideslip_scale(Context& c);
 /// its standard error where identified, kPriorUncertainty of the prior where kept (0 for a term
 /// held at 0). bench/book_sim.py's Aerosonde, seed 1, the x0.6 prior: C_Y_delta_r kept at 0.114
 /// (truth 0.19) moved C_ell_delta_r from 0.0024 to -0.0074 at 15 of its bounds and C_n_delta_r by
-/// +9 % at 4 (predicted by the formula: -0.0077 and +8 %).
+/// -9 % at 4 (predicted by the formula: -0.0077 and -8 %).
 void consider_side_force_terms(SysidResult& r);
 
 }  // namespace tern::core::sysid

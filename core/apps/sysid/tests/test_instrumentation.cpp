@@ -77,6 +77,13 @@ void windows_without_bias(double Va, std::mt19937& rng, std::vector<PolarWindow>
   }
 }
 
+/// One row of an identification's coefficients, as the consider terms read them.
+tern::core::sysid::CoefficientEstimate row(const char* name, double estimate, double se, bool identified = true) {
+  tern::core::sysid::CoefficientEstimate e;
+  e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
+  return e;
+}
+
 }  // namespace
 
 TEST_CASE("three airspeeds in turns: the pitot scale, the accelerometer's x bias, C_D_p and e within their bounds") {
@@ -206,11 +213,6 @@ TEST_CASE("a stated pitot scale is held, not estimated: the wind fitted beside i
 
 TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a rate derivative's as k^-1, the drag's not at all") {
   using tern::core::sysid::CoefficientEstimate;
-  auto row = [](const char* name, double estimate, double se, bool identified = true) {
-    CoefficientEstimate e;
-    e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
-    return e;
-  };
   std::vector<CoefficientEstimate> c = {
       row("C_ell_delta_a", 0.17, 0.003), row("C_ell_p", -0.5, 0.004),           row("C_m_q", -38.0, 0.0),         row("C_n_0", -1e-4, 3e-5),
       row("C_D_p", 0.02, 0.001),         row("C_Y_delta_a", 0.075, 0.0, false), row("C_n_delta_r", -0.069, 0.002)};
@@ -230,12 +232,6 @@ TEST_CASE("consider_pitot_scale: the scale's share of each bound goes as k^-2, a
 }
 
 TEST_CASE("consider_side_force_terms: a side-force term's uncertainty reaches the moments' matching terms through beta") {
-  using tern::core::sysid::CoefficientEstimate;
-  auto row = [](const char* name, double estimate, double se, bool identified = true) {
-    CoefficientEstimate e;
-    e.name = name, e.estimate = estimate, e.std_error = se, e.identified = identified;
-    return e;
-  };
   tern::core::sysid::SysidResult r;
   r.coefficients = {row("C_Y_beta", -0.98, 0.05),           row("C_ell_beta", -0.13, 0.005),     row("C_n_beta", 0.073, 0.004),
                     row("C_Y_delta_r", 0.114, 0.0, false),  row("C_Y_delta_a", 0.075, 0.01),     row("C_Y_p", 0.0, 0.0, false),
