@@ -412,6 +412,8 @@ def main():
         ap.error("--dataflash and --no-pitot rewrite the --foreign log: give --foreign too")
     if args.book and args.foreign:
         ap.error("--book and --foreign are two routes: give one")
+    if args.book_speeds and not args.book:
+        ap.error("--book-speeds are the --book flight's legs: give --book too")
     if not args.out:
         stem = os.path.splitext(os.path.basename(args.aircraft))[0]
         name = "bench_sysid" + ("_book" if args.book else "") + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \

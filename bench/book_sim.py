@@ -757,6 +757,10 @@ def summary(fl, wall):
     print(f"  bank     {s['phi'].min() * d:6.1f} .. {s['phi'].max() * d:6.1f} deg")
     print(f"  max |p| {np.abs(s['p']).max() * d:.1f}, |q| {np.abs(s['q']).max() * d:.1f}, "
           f"|r| {np.abs(s['r']).max() * d:.1f} deg/s")
+    # the truth's sensor biases: here for the one who ran it, not in the log the estimator reads
+    b = fl.sens
+    print("  sensor biases (truth, not in the log): gyro " + " ".join(f"{v:.5f}" for v in b.gyro_bias) + " rad/s, accel "
+          + " ".join(f"{v:.4f}" for v in b.accel_bias) + f" m/s^2, baro {b.baro_bias:.1f} Pa")
     warn = []
     if s["h"].min() < 30:
         warn.append("below 30 m")
@@ -781,7 +785,16 @@ def parse_args(argv):
     ap.add_argument("--excitation-table", action="store_true")
     ap.add_argument("--pitot", choices=("body-x", "full"), default="full")
     ap.add_argument("--speeds", type=float, nargs="+", default=(20.0, 25.0, 30.0))
-    return ap.parse_args(argv)
+    args = ap.parse_args(argv)
+    if not (args.duration > 0.0 and args.imu_rate > 0.0):
+        ap.error(f"--duration {args.duration:g} s, --imu-rate {args.imu_rate:g} Hz: expected both > 0")
+    if not 0.0 < args.cmd_rate <= args.imu_rate:
+        ap.error(f"--cmd-rate {args.cmd_rate:g} Hz: expected > 0 and at most --imu-rate ({args.imu_rate:g} Hz)")
+    if args.cmd_delay_samples < 0:
+        ap.error(f"--cmd-delay-samples {args.cmd_delay_samples}: expected >= 0")
+    if not all(v > 0.0 for v in args.speeds):
+        ap.error(f"--speeds {' '.join(f'{v:g}' for v in args.speeds)}: expected airspeeds > 0 m/s")
+    return args
 
 
 def print_gains(fl):
@@ -797,7 +810,6 @@ def log_notes(args, P, fl):
     """sensor_log.yaml's notes: what a reader of the log needs to know about this simulation."""
     delay_ms = args.cmd_delay_samples / args.imu_rate * 1e3
     pitot = "0.5 rho Va^2" if args.pitot == "full" else "0.5 rho u_r^2, the body-x flow"
-    s = fl.sens
     return [
         "simulated: Beard & McLain's equations (ch. 3, 4.2-4.4), sensors of ch. 7; no truth in topics/",
         "topics/reference.csv is the simulator's TRUE attitude, position, ground velocity and wind "
@@ -808,8 +820,6 @@ def log_notes(args, P, fl):
         f"pitot: {args.pitot} ({pitot}), rho {P['rho']}",
         f"wind: steady N {args.wind[0]} E {args.wind[1]} m/s; Dryden turbulence {args.turbulence}",
         f"seed {args.seed}; speeds {' '.join(f'{v:g}' for v in args.speeds)} m/s",
-        "sensor biases (truth): gyro " + " ".join(f"{v:.5f}" for v in s.gyro_bias) + " rad/s, accel "
-        + " ".join(f"{v:.4f}" for v in s.accel_bias) + f" m/s^2, baro {s.baro_bias:.1f} Pa",
     ]
 
 
