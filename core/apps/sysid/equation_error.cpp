@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include "sysid/band_weights.hpp"
 #include "sysid/jackknife.hpp"
 #include "tern/math.hpp"
 
@@ -78,7 +79,7 @@ CoefficientEstimate& record(Context& c, const Term& t, const std::string& method
   return c.result.coefficients.back();
 }
 
-void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms) {
+void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms, Rows rows) {
   std::vector<Term> free;
   std::map<std::string, std::string> why;
   for (const Term& t : terms) {
@@ -102,13 +103,25 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     if (X.rows() <= X.cols())
       throw std::runtime_error(fmt::format("{}: too few frequency rows in {}..{} Hz", axis, c.o.band_lo_hz, c.o.band_hi_hz));
     LsEstimate e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
+    // with instruments the estimate rests on Z: collinear instruments leave it undetermined (judged
+    // on the rows as measured: weights that single out a few rows do not make regressors collinear)
+    const Eigen::MatrixXd R = column_correlation(instrumented ? Z : X);
+    const Eigen::VectorXd w = rows == Rows::weighted ? residual_power_weights(c.spectra.row_frequencies(), e.residual) : Eigen::VectorXd();
+    if (w.size() > 0) {  // the rows weighted by the inverse of the first fit's residual power (band_weights.hpp)
+      X = w.asDiagonal() * X, Z = w.asDiagonal() * Z, zf = w.asDiagonal() * zf;
+      const Eigen::VectorXd equal_rows = e.theta;
+      e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
+      // an instrument that shares some of the noise biases the two fits differently: what they
+      // disagree by goes into the bound
+      e.std_error = (e.std_error.cwiseAbs2() + (e.theta - equal_rows).cwiseAbs2()).cwiseSqrt();
+    }
     e.std_error = e.std_error.cwiseMax(batch_scatter(c.spectra, X, zf, Z, instrumented));
-    // with instruments the estimate rests on Z: collinear instruments leave it undetermined
-    const std::map<std::string, std::string> bad = failures(c, free, e, column_correlation(instrumented ? Z : X));
+    const std::map<std::string, std::string> bad = failures(c, free, e, R);
     if (bad.empty()) {
       for (const Term& t : terms) {  // the kept priors as consider parameters
         if (!why.count(t.name)) continue;
-        const Eigen::VectorXcd shifted = zf - kPriorUncertainty * (c.prior.*t.member) * c.spectra.of(*t.x);
+        const Eigen::VectorXcd x = w.size() > 0 ? Eigen::VectorXcd(w.asDiagonal() * c.spectra.of(*t.x)) : c.spectra.of(*t.x);
+        const Eigen::VectorXcd shifted = zf - kPriorUncertainty * (c.prior.*t.member) * x;
         const LsEstimate moved = least_squares_frequency(X, shifted, instrumented ? &Z : nullptr);
         e.std_error = (e.std_error.cwiseAbs2() + (moved.theta - e.theta).cwiseAbs2()).cwiseSqrt();
       }

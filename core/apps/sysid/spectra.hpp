@@ -51,6 +51,15 @@ class Spectra {
   const std::vector<std::pair<Eigen::Index, Eigen::Index>>& segment_rows() const { return rows_; }
   /// The frequencies (Hz) of segment i's rows.
   Col segment_frequencies(std::size_t i) const { return frequencies(L_.segments[i].first, L_.segments[i].second); }
+  /// The frequency (Hz) of every row, in the spectra's row order.
+  Col row_frequencies() const {
+    Col f;
+    for (const auto& [b, e] : L_.segments) {
+      const Col fi = frequencies(b, e);
+      f.insert(f.end(), fi.begin(), fi.end());
+    }
+    return f;
+  }
   /// A spectrum made in the frequency domain (an instrument), served as `of(*key)` until forget(key):
   /// the cache is keyed by address, so a key must be forgotten before it goes out of scope.
   void put(const Col* key, Eigen::VectorXcd spectrum) { cache_[key] = std::move(spectrum); }
