@@ -79,7 +79,7 @@ CoefficientEstimate& record(Context& c, const Term& t, const std::string& method
   return c.result.coefficients.back();
 }
 
-void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms, Rows rows) {
+void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms) {
   std::vector<Term> free;
   std::map<std::string, std::string> why;
   for (const Term& t : terms) {
@@ -106,7 +106,7 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     // with instruments the estimate rests on Z: collinear instruments leave it undetermined (judged
     // on the rows as measured: weights that single out a few rows do not make regressors collinear)
     const Eigen::MatrixXd R = column_correlation(instrumented ? Z : X);
-    const Eigen::VectorXd w = rows == Rows::weighted ? residual_power_weights(c.spectra.row_frequencies(), e.residual) : Eigen::VectorXd();
+    const Eigen::VectorXd w = residual_power_weights(c.spectra.row_frequencies(), e.residual);
     if (w.size() > 0) {  // the rows weighted by the inverse of the first fit's residual power (band_weights.hpp)
       X = w.asDiagonal() * X, Z = w.asDiagonal() * Z, zf = w.asDiagonal() * zf;
       const Eigen::VectorXd equal_rows = e.theta;

@@ -69,14 +69,12 @@ CoefficientEstimate& record(Context& c, const Term& t, const std::string& method
 /// to the left side); of those collinear or poorly determined after a fit, the least determined
 /// (least_determined) keeps its prior and the others are fitted again. What the
 /// kept priors' uncertainty (kPriorUncertainty) moves the fitted terms by is added to their bounds.
-/// Rows::weighted: the fit is made twice, the second with the rows weighted by the inverse of the
-/// first's residual power about their frequency (band_weights.hpp: the residual's power differs
-/// across the band, the gusts the flight path misses at its low end); what the two disagree by is
-/// added to the bounds (an instrument that shares some of the noise biases them differently).
-/// Collinearity is judged on the rows unweighted. Rows::equal where the residual holds a model
-/// error that such weights would favour (the rolling moment's: its commands' timing).
-enum class Rows { equal, weighted };
-void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms, Rows rows = Rows::weighted);
+/// Each fit is made twice, the second with the rows weighted by the inverse of the first's residual
+/// power about their frequency (band_weights.hpp: the residual's power differs across the band, the
+/// gusts the flight path misses at its low end); what the two disagree by is added to the bounds (an
+/// instrument that shares some of the noise biases them differently). Collinearity is judged on the
+/// rows unweighted.
+void band_fit(Context& c, const std::string& axis, const Col& z, const std::vector<Term>& terms);
 
 /// Of the terms `failed` after a band fit, the one to keep at its prior first (band_fit): the
 /// largest standard error against the size its prior expects, |prior| (|estimate| where the prior
