@@ -22,12 +22,12 @@ Eigen::VectorXd residual_power_weights(const std::vector<double>& f, const Eigen
   for (std::size_t k = 0; k < n; ++k)
     cum[k + 1] = cum[k] + residual[static_cast<Eigen::Index>(order[k])] * residual[static_cast<Eigen::Index>(order[k])];
   const std::size_t span = std::min(std::max<std::size_t>(neighbours, 1), n);
-  const double floor = kMinPowerShare * cum[n] / static_cast<double>(n);
+  const double least = kMinPowerShare * cum[n] / static_cast<double>(n);
   Eigen::VectorXd w(static_cast<Eigen::Index>(n));
   for (std::size_t k = 0; k < n; ++k) {
     const std::size_t lo = std::min(k - std::min(k, span / 2), n - span);
     const double power = (cum[lo + span] - cum[lo]) / static_cast<double>(span);
-    w[static_cast<Eigen::Index>(order[k])] = 1.0 / std::max(power, floor);
+    w[static_cast<Eigen::Index>(order[k])] = 1.0 / std::max(power, least);
   }
   w /= w.mean();
   return w.cwiseSqrt();

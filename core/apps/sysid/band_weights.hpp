@@ -9,7 +9,7 @@
 // cleanest. Weighting each row by the inverse of the residual power at its frequency is the
 // frequency-domain maximum-likelihood (generalised least squares) estimate for residuals
 // independent from frequency to frequency with a power that varies (Pintelon and Schoukens,
-// *System Identification: A Frequency Domain Approach*, 2nd ed., 2012, ch. 9 and sec. 7.3;
+// *System Identification: A Frequency Domain Approach*, 2nd ed., 2012, on weighted least squares;
 // Klein and Morelli, *Aircraft System Identification*, 2006, sec. 5.2.1 on coloured residuals).
 // The power is estimated from a first, unweighted fit's residual (a two-stage estimate), smoothed
 // over the `neighbours` rows nearest in frequency across all segments.
