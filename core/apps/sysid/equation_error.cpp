@@ -106,22 +106,22 @@ void band_fit(Context& c, const std::string& axis, const Col& z, const std::vect
     // with instruments the estimate rests on Z: collinear instruments leave it undetermined (judged
     // on the rows as measured: weights that single out a few rows do not make regressors collinear)
     const Eigen::MatrixXd R = column_correlation(instrumented ? Z : X);
-    const Eigen::VectorXd w = residual_power_weights(c.spectra.row_frequencies(), e.residual);
-    if (w.size() > 0) {  // the rows weighted by the inverse of the first fit's residual power (band_weights.hpp)
-      X = w.asDiagonal() * X, Z = w.asDiagonal() * Z, zf = w.asDiagonal() * zf;
-      const Eigen::VectorXd equal_rows = e.theta;
-      e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
-      // an instrument that shares some of the noise biases the two fits differently: what they
-      // disagree by goes into the bound
-      e.std_error = (e.std_error.cwiseAbs2() + (e.theta - equal_rows).cwiseAbs2()).cwiseSqrt();
-    }
+    // the rows weighted by the inverse of the first fit's residual power (band_weights.hpp; an exact
+    // fit has nothing to weight)
+    Eigen::VectorXd w = residual_power_weights(c.spectra.row_frequencies(), e.residual);
+    if (w.size() == 0) w = Eigen::VectorXd::Ones(X.rows());
+    X = w.asDiagonal() * X, Z = w.asDiagonal() * Z, zf = w.asDiagonal() * zf;
+    const Eigen::VectorXd equal_rows = e.theta;
+    e = least_squares_frequency(X, zf, instrumented ? &Z : nullptr);
+    // an instrument that shares some of the noise biases the two fits differently: what they
+    // disagree by goes into the bound
+    e.std_error = (e.std_error.cwiseAbs2() + (e.theta - equal_rows).cwiseAbs2()).cwiseSqrt();
     e.std_error = e.std_error.cwiseMax(batch_scatter(c.spectra, X, zf, Z, instrumented));
     const std::map<std::string, std::string> bad = failures(c, free, e, R);
     if (bad.empty()) {
       for (const Term& t : terms) {  // the kept priors as consider parameters
         if (!why.count(t.name)) continue;
-        const Eigen::VectorXcd x = w.size() > 0 ? Eigen::VectorXcd(w.asDiagonal() * c.spectra.of(*t.x)) : c.spectra.of(*t.x);
-        const Eigen::VectorXcd shifted = zf - kPriorUncertainty * (c.prior.*t.member) * x;
+        const Eigen::VectorXcd shifted = zf - kPriorUncertainty * (c.prior.*t.member) * (w.asDiagonal() * c.spectra.of(*t.x));
         const LsEstimate moved = least_squares_frequency(X, shifted, instrumented ? &Z : nullptr);
         e.std_error = (e.std_error.cwiseAbs2() + (moved.theta - e.theta).cwiseAbs2()).cwiseSqrt();
       }
