@@ -213,10 +213,12 @@ TEST_CASE("every stock plugin of the default mission unloads for real when the h
   for (const auto& p : libs) CHECK_MESSAGE(!is_loaded(p), p.string() << " is still mapped after the host unloaded it");
 }
 
-TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduces its estimate exactly") {
-  const FlightResult flown = fly_mission("default.yaml", "e2e_replay_orig", 120.0);
-  REQUIRE(flown.ok);
-  MissionConfig mc = load_config(flown.run_dir / "config.yaml");  // the resolved config in the log
+namespace {
+
+/// The estimator over `flown`'s recorded sensors, as `tern replay` runs it (the resolved config in
+/// the log, without its mission, phases and fallback), built; the caller flies it.
+std::unique_ptr<Host> replay_host(const FlightResult& flown, const std::string& logdir) {
+  MissionConfig mc = load_config(flown.run_dir / "config.yaml");
   mc.phases.clear();
   mc.fallback.reset();
   mc.phase_params.clear();
@@ -224,19 +226,44 @@ TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduce
   HostOptions o;
   o.quiet = true;
   o.replay = replay_source(flown.run_dir);
-  o.log_dir = test_dir() / "e2e_replay";
-  Host h(std::move(mc), o);
-  h.build();
-  CHECK(h.schedule() == std::vector<std::string>{"replay", "ekf", "metrics"});
-  CHECK(h.replay_end() == 120'000'000'000);
-  h.set_duration(tern::to_seconds(h.replay_end()));
-  const FlightResult r = h.fly();
+  o.log_dir = test_dir() / logdir;
+  auto h = std::make_unique<Host>(std::move(mc), o);
+  h->build();
+  h->set_duration(tern::to_seconds(h->replay_end()));
+  return h;
+}
+
+}  // namespace
+
+TEST_CASE("tern replay: the estimator over a flight's recorded sensors reproduces its estimate exactly") {
+  const FlightResult flown = fly_mission("default.yaml", "e2e_replay_orig", 120.0);
+  REQUIRE(flown.ok);
+  const auto h = replay_host(flown, "e2e_replay");
+  CHECK(h->schedule() == std::vector<std::string>{"replay", "ekf", "metrics"});
+  CHECK(h->replay_end() == 120'000'000'000);
+  const FlightResult r = h->fly();
   REQUIRE(r.ok);
   CHECK(read_file(r.run_dir / "topics" / "state.csv") == read_file(flown.run_dir / "topics" / "state.csv"));
   // and it is an estimate: better than the raw GNSS fixes over the same window (the fixes' error
   // is the world's draw: 4.2 m north in this flight, the estimate's 2.4 m)
   const auto m = summary(r)["metrics"];
   CHECK(m["estimation_rmse"]["north_m"].get<double>() < m["raw_gnss_rmse"]["north_m"].get<double>());
+}
+
+TEST_CASE("tern replay of a flight flown at 1000 Hz plays at that base rate and reproduces its estimate") {
+  // The replay's own instance used to run at a fixed 400 Hz, which a 1000-Hz base rate cannot
+  // serve (1000 / 400 = 2.5): `tern replay`, `sysid` and `validate` refused such a flight's log.
+  const std::string text =
+      default_mission_with({{"    rate: 400\n    params:\n      init_mode: ground",
+                             "    rate: 1000\n    params:\n      imu_rate: 1000\n      init_mode: ground"},
+                            {"    rate: 400                            # on the clock", "    rate: 1000  # on the clock"}});
+  const FlightResult flown = fly_text(text, "default_1khz.yaml", "e2e_replay_1khz_orig", 20.0);
+  REQUIRE(flown.ok);
+  const auto h = replay_host(flown, "e2e_replay_1khz");
+  CHECK(h->base_period() == 1'000'000);
+  const FlightResult r = h->fly();
+  REQUIRE(r.ok);
+  CHECK(read_file(r.run_dir / "topics" / "state.csv") == read_file(flown.run_dir / "topics" / "state.csv"));
 }
 
 TEST_CASE("the EKF's side-force model follows the turbulent wind better than the zero-sideslip assumption") {

@@ -1,6 +1,7 @@
 // core/host/flight/load_instances.cpp: a mission's instances loaded (load_instances.hpp).
 #include "flight/load_instances.hpp"
 
+#include <algorithm>
 #include <map>
 #include <utility>
 
@@ -32,13 +33,24 @@ void isolate_instance(Instance& inst, const InstanceSetup& setup) {
 
 namespace {
 
+/// Hz: the replay plays at every tick of the host's base rate: the config's base_rate, else its
+/// fastest instance's (the base rate resolve_rates takes then), else 400 Hz (no instance has a rate).
+/// A fixed 400 Hz could not be served by the base rate of a flight flown at 1000 Hz.
+double replay_rate(const MissionConfig& config) {
+  if (config.base_rate) return *config.base_rate;
+  double fastest = 0.0;
+  for (const auto& ic : config.plugins)
+    if (ic.rate) fastest = std::max(fastest, *ic.rate);
+  return fastest > 0.0 ? fastest : 400.0;
+}
+
 std::unique_ptr<Instance> replay_instance(const InstanceSetup& setup, const RecordedSourceFactory& make, RecordedSource*& replay) {
   const MissionConfig& config = setup.config;
   auto inst = std::make_unique<Instance>();
   inst->cfg.index = config.plugins.size() + 2;
   inst->cfg.name = "replay";
   inst->cfg.plugin = "replay (built in)";
-  inst->cfg.rate = config.base_rate.value_or(400.0);
+  inst->cfg.rate = replay_rate(config);
   inst->builtin = true;
   inst->info = PluginInfo{"replay", PluginKind::io, "recorded sensor and truth topics of a flight log", {}, {}};
   auto rp = make();
