@@ -17,11 +17,11 @@ bool Estimator::add_imu(const msg::Imu& m) {
   imu_stamp_ = m.stamp;
   const Vec3 gyro = R_bi_ * m.gyro;
   const Vec3 accel = imu_to_cg(R_bi_ * m.accel, gyro, dt);
-  // The last second of samples: the initialisation's, and the GNSS start-up checks' rest test
-  // (still()) until they have held, a provisional start included.
+  // The last kPreInitImuSpan of samples: the initialisation's, and the GNSS start-up checks' rest
+  // test (still(), over the last second) until they have held, a provisional start included.
   if (!initialized_ || !gnss_checks_.passed()) {
     pre_init_imu_.push_back({m.stamp, accel, gyro});
-    while (m.stamp - pre_init_imu_.front().stamp > kNanosPerSecond) pre_init_imu_.pop_front();
+    while (m.stamp - pre_init_imu_.front().stamp > kPreInitImuSpan) pre_init_imu_.pop_front();
   } else if (!pre_init_imu_.empty()) {
     pre_init_imu_.clear();
   }

@@ -25,12 +25,18 @@ Eigen::Matrix<double, 9, 9> sensitivity_covariance(double scale_sigma, double cr
 
 bool Estimator::still() const {
   if (pre_init_imu_.empty()) return false;
+  // the last second of samples
+  const Nanos newest = pre_init_imu_.back().stamp;
+  const auto last_second = [newest](const ImuRecord& r) { return newest - r.stamp <= kNanosPerSecond; };
   Vec3 mean = Vec3::Zero();
-  for (const ImuRecord& r : pre_init_imu_) mean += r.gyro;
-  mean /= static_cast<double>(pre_init_imu_.size());
+  std::size_t n = 0;
+  for (const ImuRecord& r : pre_init_imu_)
+    if (last_second(r)) mean += r.gyro, ++n;
+  mean /= static_cast<double>(n);
   double sq = 0.0;
-  for (const ImuRecord& r : pre_init_imu_) sq += (r.gyro - mean).squaredNorm();
-  const double rms = std::sqrt(sq / static_cast<double>(pre_init_imu_.size()));
+  for (const ImuRecord& r : pre_init_imu_)
+    if (last_second(r)) sq += (r.gyro - mean).squaredNorm();
+  const double rms = std::sqrt(sq / static_cast<double>(n));
   return mean.norm() < cfg_.rest_rate_max && rms < cfg_.rest_rate_max;
 }
 
@@ -53,11 +59,11 @@ void Estimator::try_initialize(const msg::Gnss& m, const Vec3& p_ned, Nanos t_v)
   if (!have_mag && expect_mag_ && to_seconds(m.stamp - origin_stamp_) < cfg_.mag_init_wait) return;
 
   // Moving: the specific force is not gravity alone. With the fix before this one (at most
-  // 0.5 s old) the kinematic acceleration is the GNSS velocity difference, and the attitude
+  // kMaxInitFixGap old) the kinematic acceleration is the GNSS velocity difference, and the attitude
   // comes from the specific force in both frames plus the field; without it, wait for the next fix.
   const bool moving = m.vel.norm() >= 0.5;
   const double dt_fix = prev_fix_tv_ < 0 ? 0.0 : to_seconds(t_v - prev_fix_tv_);
-  const std::optional<Vec3> f_body = dt_fix > 0.0 && dt_fix <= 0.5 ? mean_specific_force(prev_fix_tv_, t_v) : std::nullopt;
+  const std::optional<Vec3> f_body = dt_fix > 0.0 && dt_fix <= kMaxInitFixGap ? mean_specific_force(prev_fix_tv_, t_v) : std::nullopt;
   if (moving && !f_body) return;
 
   NominalState x;

@@ -214,6 +214,30 @@ TEST_CASE("flight: straight, turns (30 and 60 deg bank), climb; accuracy after c
   CHECK(e.Va.rms() < 0.3);
 }
 
+TEST_CASE("a 1-Hz receiver: an in-flight start initialises from two fixes a second apart, in a turn") {
+  // A log that starts in the air with the GNSS at 1 Hz (u-blox's default rate) used to wait for
+  // two fixes at most 0.5 s apart, which never come: the estimate stayed invalid for the whole flight.
+  constexpr double deg = kPi / 180.0;
+  SimOptions o;
+  o.psi0 = -2.0;
+  o.phi0 = 30.0 * deg;  // a steady turn from the start: 18 deg/s of yaw between the two fixes
+  TruthSim sim(o);
+  Estimator est(truth_sim_config());
+  int fixes = 0;
+  Hooks one_hz;
+  one_hz.gnss = [&fixes](msg::Gnss&) { return fixes++ % 10 == 0; };  // TruthSim's receiver gives 10 Hz
+  fly(sim, est, 2.6, one_hz);
+  REQUIRE(est.initialized());
+  Errors e;
+  fly(sim, est, 30.0, one_hz);
+  fly(sim, est, 30.0, one_hz, [&](const Truth& t, const Estimator& x) { e.add(t, x, sim); });
+  print("1-Hz receiver, turning", e);
+  CHECK(est.state().valid);
+  CHECK(e.att.rms() < 1.0 * deg);
+  CHECK(e.yaw.rms() < 2.0 * deg);
+  CHECK(e.pos_h.rms() < 2.0);
+}
+
 TEST_CASE("a magnetometer offset (hard iron, 2 uT) is learnt in the turns; the heading does not keep it") {
   TruthSim sim(mixed_flight());
   Estimator est(truth_sim_config());

@@ -328,9 +328,9 @@ class Estimator {
 
   // pre-initialisation averages
   Vec3 accel_avg_ = Vec3::Zero(), gyro_avg_ = Vec3::Zero(), mag_avg_ = Vec3::Zero();
-  // before initialisation: the specific force of the last second, by IMU stamp, and the previous
-  // fix's velocity and time of validity. The mean specific force between two fixes' times of
-  // validity against their velocity difference gives an in-flight initialisation's attitude
+  // before initialisation: the specific force of the last kPreInitImuSpan, by IMU stamp, and the
+  // previous fix's velocity and time of validity. The mean specific force between two fixes' times
+  // of validity against their velocity difference gives an in-flight initialisation's attitude
   // (by time of validity: a fix arrives its latency late, after IMU samples of later motion).
   struct ImuRecord {
     Nanos stamp;
@@ -338,6 +338,12 @@ class Estimator {
     Vec3 gyro;   ///< angular rate, body axes
   };
   std::deque<ImuRecord> pre_init_imu_;
+  /// ns: pre_init_imu_'s span: two fixes of a 1-Hz receiver (kMaxInitFixGap apart at most) and its
+  /// latency before them
+  static constexpr Nanos kPreInitImuSpan = 2 * kNanosPerSecond;
+  /// s: the longest interval between two fixes whose velocity difference initialises the attitude
+  /// in flight: a 1-Hz receiver's (the slowest common rate; u-blox's default) with its jitter
+  static constexpr double kMaxInitFixGap = 1.5;
   int prev_num_sats_ = -1;  // the last fused fix's satellites and HDOP (add_constellation_jump)
   double prev_hdop_ = 0.0;
   Vec3 prev_acc2_ = Vec3::Zero();  // its accuracies squared (h, h, v), m^2
