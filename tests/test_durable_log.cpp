@@ -12,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "replay/table_limits.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
 
@@ -228,4 +229,46 @@ TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the s
   const std::string lf_state = replay(flown.run_dir, "lf_replay");
   CHECK(lf_state.size() > 1000);
   CHECK(replay(crlf, "crlf_replay") == lf_state);
+}
+
+TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanosecond, exponents read, anything else refused") {
+  using tern::core::parse_log_time;
+  CHECK(parse_log_time("12.345000000") == 12'345'000'000);
+  CHECK(parse_log_time("-0.5") == -500'000'000);
+  CHECK(parse_log_time("564.0074999999999") == 564'007'500'000);         // Python's repr of 564.0075
+  CHECK(parse_log_time("564.00749999949") == 564'007'499'999);           // the 10th decimal 4: down
+  CHECK(parse_log_time("0.9999999995") == 1'000'000'000);                // rounded up into the next second
+  CHECK(parse_log_time("5.640075000000000000e+02") == 564'007'500'000);  // numpy.savetxt's default
+  CHECK(parse_log_time("2.5E-3") == 2'500'000);
+  CHECK(parse_log_time("86400") == 86'400'000'000'000);
+  for (const char* bad : {"", "--5", "+5", ".5", "5.0x", "1e", "1e+", "1e21", "1e999999999", "86400.000000001", "8.64001e4", "nan", " 5"})
+    CHECK_MESSAGE(!parse_log_time(bad), bad);
+}
+
+TEST_CASE("tern replay reads `t` written with more than 9 decimals (a float's shortest form) as the same log") {
+  const tern::core::FlightResult flown = fly_yaml(base_config(), "decimals_orig");
+  REQUIRE(flown.ok);
+  const fs::path log = test_dir() / "decimals_log";
+  fs::remove_all(log);
+  fs::copy(flown.run_dir, log, fs::copy_options::recursive);
+  for (const auto& table : fs::directory_iterator(log / "topics")) {  // "2.002500000" -> "2.0025000004999": the same ns
+    std::string text = read_file(table.path()), out;
+    bool first_cell = false;
+    for (const char c : text) {
+      if (first_cell && c == ',') out += "4999", first_cell = false;
+      if (c == '\n') first_cell = true;
+      out += c;
+    }
+    std::ofstream(table.path(), std::ios::trunc) << out;
+  }
+  const auto replay = [](const fs::path& dir, const std::string& name) {
+    const fs::path out = test_dir() / (name + ".out");
+    const int rc = run_tern({"replay", dir.string(), "-q", "--log-dir", (test_dir() / name).string()}, out);
+    INFO(read_file(out));
+    CHECK(rc == 0);
+    return read_file(the_run(test_dir() / name) / "topics" / "state.csv");
+  };
+  const std::string state = replay(flown.run_dir, "decimals_9");
+  CHECK(state.size() > 1000);
+  CHECK(replay(log, "decimals_13") == state);
 }

@@ -5,6 +5,8 @@
 #include <charconv>
 #include <cmath>
 #include <map>
+#include <string>
+#include <string_view>
 
 #include <fmt/format.h>
 
@@ -32,23 +34,64 @@ const std::vector<std::string>& required_columns(const std::string& topic) {
   return it == kRequired.end() ? kNone : it->second;
 }
 
+namespace {
+
+/// The digits of a decimal number with one point at most ("12.5": "125", 2 before the point);
+/// nullopt for anything else, an empty integer part included.
+struct Decimal {
+  std::string digits;
+  long point = 0;  ///< digits before the decimal point
+};
+std::optional<Decimal> decimal_digits(std::string_view v) {
+  const auto dot = v.find('.');
+  const std::string_view whole = v.substr(0, dot), frac = dot == std::string_view::npos ? std::string_view() : v.substr(dot + 1);
+  const auto digits_only = [](std::string_view d) { return d.find_first_not_of("0123456789") == std::string_view::npos; };
+  if (whole.empty() || !digits_only(whole) || !digits_only(frac)) return std::nullopt;
+  return Decimal{std::string(whole) + std::string(frac), static_cast<long>(whole.size())};
+}
+
+/// The exponent of "...e+02" / "...E-3": |exponent| at most kMaxTimeExponent (a time of up to a day
+/// needs no more; a bound keeps "1e999999999" from spelling out a billion digits).
+constexpr long kMaxTimeExponent = 20;
+std::optional<long> exponent(std::string_view v) {
+  if (!v.empty() && v[0] == '+') v.remove_prefix(1);
+  long x = 0;
+  const auto [p, ec] = std::from_chars(v.data(), v.data() + v.size(), x);
+  if (v.empty() || ec != std::errc() || p != v.data() + v.size() || x > kMaxTimeExponent || x < -kMaxTimeExponent) return std::nullopt;
+  return x;
+}
+
+}  // namespace
+
 std::optional<Nanos> parse_log_time(const std::string& s) {
-  const bool negative = !s.empty() && s[0] == '-';
-  const char* begin = s.data() + (negative ? 1 : 0);
-  const char* end = s.data() + s.size();
-  const char* dot = std::find(begin, end, '.');
-  long long sec = 0;
-  const auto [p, ec] = std::from_chars(begin, dot, sec);
-  // one sign at most: "--5" would come back from from_chars as -5, and its negation as 5 past the bound
-  if (ec != std::errc() || p != dot || sec < 0 || sec > static_cast<long long>(kMaxLogTime)) return std::nullopt;
-  long long frac = 0;
-  if (dot != end) {
-    std::string f(dot + 1, end);
-    if (f.size() > 9 || f.find_first_not_of("0123456789") != std::string::npos) return std::nullopt;
-    f.resize(9, '0');
-    std::from_chars(f.data(), f.data() + 9, frac);
+  std::string_view v(s);
+  const bool negative = !v.empty() && v[0] == '-';
+  if (negative) v.remove_prefix(1);
+  long exp10 = 0;
+  if (const auto e = v.find_first_of("eE"); e != std::string_view::npos) {
+    const std::optional<long> x = exponent(v.substr(e + 1));
+    if (!x) return std::nullopt;
+    exp10 = *x;
+    v = v.substr(0, e);
   }
-  const Nanos t = sec * kNanosPerSecond + frac;
+  std::optional<Decimal> d = decimal_digits(v);  // one sign at most: "--5" is not a number
+  if (!d) return std::nullopt;
+  // the point moved by the exponent, the digits padded with zeros to reach it
+  long point = d->point + exp10;
+  if (point < 0) d->digits.insert(0, static_cast<std::size_t>(-point), '0'), point = 0;
+  if (point > static_cast<long>(d->digits.size())) d->digits.append(static_cast<std::size_t>(point) - d->digits.size(), '0');
+  const std::string whole = d->digits.substr(0, static_cast<std::size_t>(point));
+  std::string frac = d->digits.substr(static_cast<std::size_t>(point));
+  const auto first = whole.find_first_not_of('0');
+  if (first != std::string::npos && whole.size() - first > 6) return std::nullopt;  // beyond kMaxLogTime's 86400 s
+  long long sec = 0;
+  if (first != std::string::npos) std::from_chars(whole.data() + first, whole.data() + whole.size(), sec);
+  // nanoseconds: more than 9 decimals (a float's shortest form, 564.0074999999999) round to the nearest
+  const bool round_up = frac.size() > 9 && frac[9] >= '5';
+  frac.resize(9, '0');
+  long long ns = 0;
+  std::from_chars(frac.data(), frac.data() + 9, ns);
+  const Nanos t = sec * kNanosPerSecond + ns + (round_up ? 1 : 0);
   if (t > static_cast<Nanos>(kMaxLogTime) * kNanosPerSecond) return std::nullopt;
   return negative ? -t : t;
 }

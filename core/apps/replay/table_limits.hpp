@@ -31,8 +31,10 @@ void check_table_file(const std::filesystem::path& file);
 /// optional ones): imu's accel_x..gyro_z, baro's pressure, ...; none for truth and reference.
 const std::vector<std::string>& required_columns(const std::string& topic);
 
-/// `t [s]`'s text ("12.345000000", "-0.5") as ns, exactly; nullopt when it is not a decimal number
-/// of seconds within kMaxLogTime.
+/// `t [s]`'s text ("12.345000000", "-0.5", "5.640075e+02") as ns: exactly to 9 decimals, more
+/// rounded to the nearest ns (half up: "564.0074999999999" is 564007500000); nullopt when it is not
+/// a decimal number of seconds (one sign, digits before any point, an exponent of at most 20)
+/// within kMaxLogTime.
 std::optional<Nanos> parse_log_time(const std::string& text);
 
 /// The times of one table's rows, checked in file order: throws ConfigError "<file>:<line>: <column>
