@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string_view>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -169,10 +170,20 @@ void note_not_numbers(const CsvTable& table, const char* column, std::vector<std
         fmt::format("{}: {} of {} rows' {} not a number: the row before each held", table.file.string(), bad, c.size(), column));
 }
 
+/// rad: no control surface deflects further (a log in degrees passes it at 1.6 deg)
+constexpr double kMaxSurfaceDeflection = kPi / 2.0;
+/// the throttle's documented 0 (idle) .. 1 (full), with room for an autopilot's overshoot or a
+/// reversible motor's -1 (a percentage or a pulse width in microseconds passes it at once)
+constexpr double kMinThrottle = -1.0, kMaxThrottle = 1.5;
+
 /// Throws ConfigError when `column` of the actuators' table has rows and none is a number (a
 /// surface's channel never logged): the identification would take it as a surface that never
 /// moved and fit the moments without it. A table without rows (a flight that ended before its
-/// controllers ran) is left to the checks of the estimate's validity and of the excitation.
+/// controllers ran) is left to the checks of the estimate's validity and of the excitation. Also
+/// when a value lies outside what the column's unit allows (a surface beyond
+/// kMaxSurfaceDeflection: degrees logged as radians; the throttle outside kMinThrottle ..
+/// kMaxThrottle: a percentage or a pulse width): identified, those gave C_m_delta_e 96 % small
+/// and exit 0.
 void require_commands(const CsvTable& table, const char* column) {
   const Column& c = table.at(column);
   if (!c.empty() && std::none_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); }))
@@ -180,6 +191,17 @@ void require_commands(const CsvTable& table, const char* column) {
         fmt::format("{}: {} is a number in none of its {} rows: the surfaces' commands are required (log 0 for a "
                     "surface the aircraft does not have; docs/sensor-log.md, actuators)",
                     table.file.string(), column, c.size()));
+  const bool throttle = std::string_view(column) == "delta_t";
+  const double lo = throttle ? kMinThrottle : -kMaxSurfaceDeflection, hi = throttle ? kMaxThrottle : kMaxSurfaceDeflection;
+  const auto out = std::find_if(c.begin(), c.end(), [lo, hi](double v) { return v < lo || v > hi; });
+  if (out == c.end()) return;
+  const double t = table.at("t")[static_cast<std::size_t>(out - c.begin())];
+  throw ConfigError(throttle ? fmt::format("{}: delta_t is {:g} at t = {:g} s: the throttle is 0 (idle) .. 1 (full), not a percentage or "
+                                           "a pulse width (docs/sensor-log.md, actuators)",
+                                           table.file.string(), *out, t)
+                             : fmt::format("{}: {} is {:g} rad at t = {:g} s: a surface deflects less than pi/2 rad (90 deg); degrees "
+                                           "logged as radians? (docs/sensor-log.md, actuators)",
+                                           table.file.string(), column, *out, t));
 }
 
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every

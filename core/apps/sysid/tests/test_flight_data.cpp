@@ -9,6 +9,8 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "config/error.hpp"
 #include "sysid/flight_data.hpp"
 #include "tern/math.hpp"
@@ -143,6 +145,33 @@ TEST_CASE("an aileron channel that is a number in no row is refused, not taken f
   }
   // a flying wing's rudder, logged as 0: a surface that never moved, accepted
   f = flight(200.0, 100.0, [](double t) { return 0.05 * std::sin(t); });
+  CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
+}
+
+TEST_CASE("commands in another unit are refused: surfaces in degrees, the throttle in percent or microseconds") {
+  // a 20-deg aileron doublet logged in degrees under delta_a [rad]
+  FlightTables f = flight(200.0, 100.0, [](double t) { return t > 5.0 && t < 6.0 ? 20.0 : 0.5; });
+  try {
+    (void)series_from_tables(f, FlightSeriesOptions{});
+    FAIL("expected a ConfigError");
+  } catch (const tern::core::ConfigError& e) {
+    CHECK(std::string(e.what()).find("synthetic.csv: delta_a is 20 rad at t = 5.01 s: a surface deflects less than pi/2 rad") !=
+          std::string::npos);
+  }
+  for (const double throttle : {62.0, 1540.0}) {  // percent, a pulse width
+    f = flight(200.0, 100.0, [](double) { return 0.0; });
+    f.actuators.columns["delta_t"].assign(f.actuators.rows, throttle);
+    try {
+      (void)series_from_tables(f, FlightSeriesOptions{});
+      FAIL("expected a ConfigError");
+    } catch (const tern::core::ConfigError& e) {
+      CHECK(std::string(e.what()).find(fmt::format("synthetic.csv: delta_t is {:g} at t = 0 s: the throttle is 0 (idle) .. 1 (full)",
+                                                   throttle)) != std::string::npos);
+    }
+  }
+  // the documented ranges pass: a 1.5-rad surface, the throttle 0 .. 1
+  f = flight(200.0, 100.0, [](double t) { return t < 1.0 ? 1.5 : -1.5; });
+  f.actuators.columns["delta_t"].assign(f.actuators.rows, 1.0);
   CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
 }
 
