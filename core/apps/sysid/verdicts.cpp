@@ -15,19 +15,25 @@ namespace {
 
 /// Coefficients whose sign physics fixes on every fixed wing in its linear range (Etkin and Reid,
 /// *Dynamics of Flight*, 3rd ed., ch. 5; Beard and McLain ch. 4): an estimate of the other sign
-/// is a fit that failed, however small its standard error.
+/// is a fit that failed, however small its standard error. The three control derivatives' signs
+/// are the sensor log's definitions of its commands (docs/sensor-log.md, actuators: the uavbook's
+/// sec. 4.2): one of the other sign is a log whose surface is the other way round, as PX4's and
+/// ArduPilot's normalised commands are for two axes.
 struct Signed {
   const char* name;
   double sign;
   const char* why;
 };
-constexpr std::array<Signed, 6> kSigned{{
+constexpr std::array<Signed, 9> kSigned{{
     {"C_L_alpha", 1.0, "lift grows with alpha below the stall"},
     {"C_D_p", 1.0, "the parasitic drag opposes the flow"},
     {"C_L_q", 1.0, "a pitch rate raises the tail's angle of attack"},
     {"C_m_q", -1.0, "pitch damping"},
     {"C_ell_p", -1.0, "roll damping"},
     {"C_n_r", -1.0, "yaw damping"},
+    {"C_ell_delta_a", 1.0, "delta_a > 0 rolls right (docs/sensor-log.md: the log's aileron may be the other way round)"},
+    {"C_m_delta_e", -1.0, "delta_e > 0 pitches the nose down (docs/sensor-log.md: the log's elevator may be the other way round)"},
+    {"C_n_delta_r", -1.0, "delta_r > 0 yaws the nose left (docs/sensor-log.md: the log's rudder may be the other way round)"},
 }};
 
 /// An axis of the regressions: the prefix of its coefficients' names, its fits' axis names, and

@@ -31,8 +31,9 @@ namespace tern::core::sysid {
 void apply_verdicts(SysidResult& r, const Aircraft& prior, const SysidOptions& o);
 
 /// Why physics forbids `estimate` for coefficient `name` on a fixed wing in its linear range (its
-/// sign: C_L_alpha, C_L_q and C_D_p positive; C_m_q, C_ell_p and C_n_r negative, zero included), or ""
-/// when it does not (every other coefficient, any sign).
+/// sign: C_L_alpha, C_L_q and C_D_p positive; C_m_q, C_ell_p and C_n_r negative; by the sensor
+/// log's definitions of its commands C_ell_delta_a positive, C_m_delta_e and C_n_delta_r negative;
+/// zero included), or "" when it does not (every other coefficient, any sign).
 std::string forbidden_sign(const std::string& name, double estimate);
 
 /// "identified N of M coefficients" (M: every coefficient the result reports).

@@ -307,6 +307,14 @@ TEST_CASE("a damping derivative or lift slope of the sign physics forbids is not
   // a negative parasitic drag (the no-pitot bench's seed 3: -0.014 +- 0.0053) is a failed fit
   CHECK(sysid::forbidden_sign("C_D_p", -0.014).find("its sign: -0.014") == 0);
   CHECK(sysid::forbidden_sign("C_D_p", 0.043).empty());
+  // the control derivatives' signs are the sensor log's definitions of its commands: a log whose
+  // elevator is the other way round (PX4's and ArduPilot's normalised pitch) gave C_m_delta_e +0.856
+  CHECK(sysid::forbidden_sign("C_m_delta_e", 0.8555).find("its sign: 0.8555, where delta_e > 0 pitches the nose down") == 0);
+  CHECK(sysid::forbidden_sign("C_m_delta_e", -0.99).empty());
+  CHECK(sysid::forbidden_sign("C_ell_delta_a", -0.17).find("its sign: -0.17, where delta_a > 0 rolls right") == 0);
+  CHECK(sysid::forbidden_sign("C_ell_delta_a", 0.17).empty());
+  CHECK(sysid::forbidden_sign("C_n_delta_r", 0.069).find("its sign: 0.069, where delta_r > 0 yaws the nose left") == 0);
+  CHECK(sysid::forbidden_sign("C_n_delta_r", -0.069).empty());
 }
 
 TEST_CASE(
