@@ -204,6 +204,26 @@ void require_commands(const CsvTable& table, const char* column) {
                                            table.file.string(), column, *out, t));
 }
 
+/// m/s^2: the median of the accelerometer's z above which the IMU is not FRD. In FRD the specific
+/// force's z is about -g on the ground and -g times the load factor in flight (the lift pushes up);
+/// an IMU with its z up (FLU, ROS's base_link) reads about +g, and no flight spends half its time
+/// inverted.
+constexpr double kMaxMedianAccelZ = 0.5 * kStandardGravity;
+
+/// Throws ConfigError when the median of `accel_z` (the body's, after imu_mount) exceeds
+/// kMaxMedianAccelZ: identified, an FLU log gave C_m_delta_e +0.90 and C_ell_beta +0.11 and exited 0.
+void require_frd_accelerometer(const CsvTable& imu, Column accel_z) {
+  if (accel_z.empty()) return;
+  auto mid = accel_z.begin() + static_cast<std::ptrdiff_t>(accel_z.size() / 2);
+  std::nth_element(accel_z.begin(), mid, accel_z.end());
+  if (!(*mid > kMaxMedianAccelZ)) return;
+  throw ConfigError(
+      fmt::format("{}: accel_z's median is {:+.2f} m/s^2: an FRD accelerometer reads about -9.8 on z at rest and in "
+                  "level flight; these axes point z up (FLU, as ROS's base_link) or the IMU is upside down: turn its "
+                  "columns to FRD or give its mounting (sensor_log.yaml estimator: imu_mount; docs/sensor-log.md)",
+                  imu.file.string(), *mid));
+}
+
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every
 /// interval, n the least for which the median interval / n is at most kMaxBaseStep (5 % spared, for
 /// a clock's jitter): the logged samples kept, a gap stretched as before. n = 1 (the columns as
@@ -379,6 +399,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   }
   body["t"].resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) body["t"][k] = imu.at("t")[rows[k]];
+  require_frd_accelerometer(imu, body.at("accel_z"));
   const double logged_dt = median_interval(body.at("t"));
   const std::size_t n = interpolate_to_base(body);
   auto pick = [&](const std::string& name) { return body.at(name); };

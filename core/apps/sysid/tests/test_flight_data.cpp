@@ -148,6 +148,22 @@ TEST_CASE("an aileron channel that is a number in no row is refused, not taken f
   CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
 }
 
+TEST_CASE("an accelerometer whose z points up (FLU, ROS's base_link) is refused; FRD passes") {
+  FlightTables f = flight(200.0, 100.0, [](double) { return 0.0; });
+  for (double& a : f.imu.columns["accel_z"]) a = -a;  // +g at rest
+  try {
+    (void)series_from_tables(f, FlightSeriesOptions{});
+    FAIL("expected a ConfigError");
+  } catch (const tern::core::ConfigError& e) {
+    CHECK(std::string(e.what()).find("synthetic.csv: accel_z's median is +9.81 m/s^2: an FRD accelerometer reads about -9.8 on z") !=
+          std::string::npos);
+  }
+  // the same log with its mounting given (rolled 180 deg) passes
+  FlightSeriesOptions o;
+  o.imu_mount = Eigen::Vector3d(tern::kPi, 0.0, 0.0);
+  CHECK_NOTHROW((void)series_from_tables(f, o));
+}
+
 TEST_CASE("commands in another unit are refused: surfaces in degrees, the throttle in percent or microseconds") {
   // a 20-deg aileron doublet logged in degrees under delta_a [rad]
   FlightTables f = flight(200.0, 100.0, [](double t) { return t > 5.0 && t < 6.0 ? 20.0 : 0.5; });
