@@ -224,6 +224,27 @@ void require_frd_accelerometer(const CsvTable& imu, Column accel_z) {
                   imu.file.string(), *mid));
 }
 
+/// rad/s: the RMS angular rate above which the gyros are not in rad/s. tern's aerobatics mission
+/// (rolls and loops) flies at 0.96 rad/s RMS, its sysid manoeuvres at 0.24; the same logged in
+/// deg/s read 55 and 14.
+constexpr double kMaxGyroRms = 4.0;
+
+/// Throws ConfigError when the gyros' RMS rate over the log exceeds kMaxGyroRms: replayed, a log in
+/// deg/s had the estimator reset its velocity and yaw hundreds of times, and sysid then found "no
+/// airborne stretch of 10 s".
+void require_rad_per_s_gyro(const CsvTable& imu, const std::map<std::string, Column>& body) {
+  const Column &p = body.at("gyro_x"), &q = body.at("gyro_y"), &r = body.at("gyro_z");
+  if (p.empty()) return;
+  double sum = 0.0;
+  for (std::size_t k = 0; k < p.size(); ++k) sum += p[k] * p[k] + q[k] * q[k] + r[k] * r[k];
+  const double rms = std::sqrt(sum / static_cast<double>(p.size()));
+  if (!(rms > kMaxGyroRms)) return;
+  throw ConfigError(
+      fmt::format("{}: the gyros' RMS rate is {:.1f} rad/s ({:.0f} deg/s): no fixed wing turns that fast through a "
+                  "whole flight (tern's aerobatics: 0.96 rad/s); deg/s logged as rad/s? (docs/sensor-log.md, imu)",
+                  imu.file.string(), rms, rms / kRadPerDeg));
+}
+
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every
 /// interval, n the least for which the median interval / n is at most kMaxBaseStep (5 % spared, for
 /// a clock's jitter): the logged samples kept, a gap stretched as before. n = 1 (the columns as
@@ -400,6 +421,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   body["t"].resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) body["t"][k] = imu.at("t")[rows[k]];
   require_frd_accelerometer(imu, body.at("accel_z"));
+  require_rad_per_s_gyro(imu, body);
   const double logged_dt = median_interval(body.at("t"));
   const std::size_t n = interpolate_to_base(body);
   auto pick = [&](const std::string& name) { return body.at(name); };

@@ -164,6 +164,20 @@ TEST_CASE("an accelerometer whose z points up (FLU, ROS's base_link) is refused;
   CHECK_NOTHROW((void)series_from_tables(f, o));
 }
 
+TEST_CASE("gyros logged in deg/s are refused; rad/s at an aerobatic rate passes") {
+  FlightTables f = flight(200.0, 100.0, [](double) { return 0.0; });
+  auto& p = f.imu.columns["gyro_x"];
+  for (std::size_t k = 0; k < p.size(); ++k) p[k] = 1.5 * std::sin(0.1 * static_cast<double>(k));  // rolls: 1.06 rad/s RMS
+  CHECK_NOTHROW((void)series_from_tables(f, FlightSeriesOptions{}));
+  for (double& v : p) v /= tern::kRadPerDeg;  // the same in deg/s: 61 "rad/s" RMS
+  try {
+    (void)series_from_tables(f, FlightSeriesOptions{});
+    FAIL("expected a ConfigError");
+  } catch (const tern::core::ConfigError& e) {
+    CHECK(std::string(e.what()).find("synthetic.csv: the gyros' RMS rate is 60.8 rad/s") != std::string::npos);
+  }
+}
+
 TEST_CASE("commands in another unit are refused: surfaces in degrees, the throttle in percent or microseconds") {
   // a 20-deg aileron doublet logged in degrees under delta_a [rad]
   FlightTables f = flight(200.0, 100.0, [](double t) { return t > 5.0 && t < 6.0 ? 20.0 : 0.5; });
