@@ -224,6 +224,28 @@ void require_frd_accelerometer(const CsvTable& imu, Column accel_z) {
                   imu.file.string(), *mid));
 }
 
+/// m/s^2: the range of the specific force's median magnitude in m/s^2. It is g at rest and g
+/// times the load factor in flight (tern's aerobatics mission: 1.0-1.1 g); an accelerometer in g
+/// reads 1, one in mg or cm/s^2 hundreds.
+constexpr double kMinMedianAccel = 0.5 * kStandardGravity, kMaxMedianAccel = 3.0 * kStandardGravity;
+
+/// Throws ConfigError when the median of the specific force's magnitude lies outside
+/// kMinMedianAccel .. kMaxMedianAccel: identified, a log in g gave 12 of 29 coefficients (C_ell_p
+/// 24 % large) and exited 0.
+void require_m_per_s2_accelerometer(const CsvTable& imu, const std::map<std::string, Column>& body) {
+  const Column &x = body.at("accel_x"), &y = body.at("accel_y"), &z = body.at("accel_z");
+  if (x.empty()) return;
+  Column norm(x.size());
+  for (std::size_t k = 0; k < x.size(); ++k) norm[k] = std::sqrt(x[k] * x[k] + y[k] * y[k] + z[k] * z[k]);
+  auto mid = norm.begin() + static_cast<std::ptrdiff_t>(norm.size() / 2);
+  std::nth_element(norm.begin(), mid, norm.end());
+  if (*mid >= kMinMedianAccel && *mid <= kMaxMedianAccel) return;
+  throw ConfigError(
+      fmt::format("{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about 9.8 at "
+                  "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
+                  imu.file.string(), *mid, *mid < kMinMedianAccel ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?"));
+}
+
 /// rad/s: the RMS angular rate above which the gyros are not in rad/s. tern's aerobatics mission
 /// (rolls and loops) flies at 0.96 rad/s RMS, its sysid manoeuvres at 0.24; the same logged in
 /// deg/s read 55 and 14.
@@ -420,6 +442,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   }
   body["t"].resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) body["t"][k] = imu.at("t")[rows[k]];
+  require_m_per_s2_accelerometer(imu, body);
   require_frd_accelerometer(imu, body.at("accel_z"));
   require_rad_per_s_gyro(imu, body);
   const double logged_dt = median_interval(body.at("t"));
