@@ -6,7 +6,6 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <string_view>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -14,6 +13,7 @@
 #include "config/error.hpp"
 #include "replay/replay_csv.hpp"
 #include "replay/sensor_log_meta.hpp"
+#include "sysid/log_units.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
@@ -170,20 +170,11 @@ void note_not_numbers(const CsvTable& table, const char* column, std::vector<std
         fmt::format("{}: {} of {} rows' {} not a number: the row before each held", table.file.string(), bad, c.size(), column));
 }
 
-/// rad: no control surface deflects further (a log in degrees passes it at 1.6 deg)
-constexpr double kMaxSurfaceDeflection = kPi / 2.0;
-/// the throttle's documented 0 (idle) .. 1 (full), with room for an autopilot's overshoot or a
-/// reversible motor's -1 (a percentage or a pulse width in microseconds passes it at once)
-constexpr double kMinThrottle = -1.0, kMaxThrottle = 1.5;
-
 /// Throws ConfigError when `column` of the actuators' table has rows and none is a number (a
 /// surface's channel never logged): the identification would take it as a surface that never
 /// moved and fit the moments without it. A table without rows (a flight that ended before its
-/// controllers ran) is left to the checks of the estimate's validity and of the excitation. Also
-/// when a value lies outside what the column's unit allows (a surface beyond
-/// kMaxSurfaceDeflection: degrees logged as radians; the throttle outside kMinThrottle ..
-/// kMaxThrottle: a percentage or a pulse width): identified, those gave C_m_delta_e 96 % small
-/// and exit 0.
+/// controllers ran) is left to the checks of the estimate's validity and of the excitation. A value
+/// outside its unit's range is refused too (log_units.hpp).
 void require_commands(const CsvTable& table, const char* column) {
   const Column& c = table.at(column);
   if (!c.empty() && std::none_of(c.begin(), c.end(), [](double v) { return std::isfinite(v); }))
@@ -191,80 +182,7 @@ void require_commands(const CsvTable& table, const char* column) {
         fmt::format("{}: {} is a number in none of its {} rows: the surfaces' commands are required (log 0 for a "
                     "surface the aircraft does not have; docs/sensor-log.md, actuators)",
                     table.file.string(), column, c.size()));
-  const bool throttle = std::string_view(column) == "delta_t";
-  const double lo = throttle ? kMinThrottle : -kMaxSurfaceDeflection, hi = throttle ? kMaxThrottle : kMaxSurfaceDeflection;
-  const auto out = std::find_if(c.begin(), c.end(), [lo, hi](double v) { return v < lo || v > hi; });
-  if (out == c.end()) return;
-  const double t = table.at("t")[static_cast<std::size_t>(out - c.begin())];
-  throw ConfigError(throttle ? fmt::format("{}: delta_t is {:g} at t = {:g} s: the throttle is 0 (idle) .. 1 (full), not a percentage or "
-                                           "a pulse width (docs/sensor-log.md, actuators)",
-                                           table.file.string(), *out, t)
-                             : fmt::format("{}: {} is {:g} rad at t = {:g} s: a surface deflects less than pi/2 rad (90 deg); degrees "
-                                           "logged as radians? (docs/sensor-log.md, actuators)",
-                                           table.file.string(), column, *out, t));
-}
-
-/// m/s^2: the median of the accelerometer's z above which the IMU is not FRD. In FRD the specific
-/// force's z is about -g on the ground and -g times the load factor in flight (the lift pushes up);
-/// an IMU with its z up (FLU, ROS's base_link) reads about +g, and no flight spends half its time
-/// inverted.
-constexpr double kMaxMedianAccelZ = 0.5 * kStandardGravity;
-
-/// Throws ConfigError when the median of `accel_z` (the body's, after imu_mount) exceeds
-/// kMaxMedianAccelZ: identified, an FLU log gave C_m_delta_e +0.90 and C_ell_beta +0.11 and exited 0.
-void require_frd_accelerometer(const CsvTable& imu, Column accel_z) {
-  if (accel_z.empty()) return;
-  auto mid = accel_z.begin() + static_cast<std::ptrdiff_t>(accel_z.size() / 2);
-  std::nth_element(accel_z.begin(), mid, accel_z.end());
-  if (!(*mid > kMaxMedianAccelZ)) return;
-  throw ConfigError(
-      fmt::format("{}: accel_z's median is {:+.2f} m/s^2: an FRD accelerometer reads about -9.8 on z at rest and in "
-                  "level flight; these axes point z up (FLU, as ROS's base_link) or the IMU is upside down: turn its "
-                  "columns to FRD or give its mounting (sensor_log.yaml estimator: imu_mount; docs/sensor-log.md)",
-                  imu.file.string(), *mid));
-}
-
-/// m/s^2: the range of the specific force's median magnitude in m/s^2. It is g at rest and g
-/// times the load factor in flight (tern's aerobatics mission: 1.0-1.1 g); an accelerometer in g
-/// reads 1, one in mg or cm/s^2 hundreds.
-constexpr double kMinMedianAccel = 0.5 * kStandardGravity, kMaxMedianAccel = 3.0 * kStandardGravity;
-
-/// Throws ConfigError when the median of the specific force's magnitude lies outside
-/// kMinMedianAccel .. kMaxMedianAccel: identified, a log in g gave 12 of 29 coefficients (C_ell_p
-/// 24 % large) and exited 0.
-void require_m_per_s2_accelerometer(const CsvTable& imu, const std::map<std::string, Column>& body) {
-  const Column &x = body.at("accel_x"), &y = body.at("accel_y"), &z = body.at("accel_z");
-  if (x.empty()) return;
-  Column norm(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) norm[k] = std::sqrt(x[k] * x[k] + y[k] * y[k] + z[k] * z[k]);
-  auto mid = norm.begin() + static_cast<std::ptrdiff_t>(norm.size() / 2);
-  std::nth_element(norm.begin(), mid, norm.end());
-  if (*mid >= kMinMedianAccel && *mid <= kMaxMedianAccel) return;
-  throw ConfigError(
-      fmt::format("{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about 9.8 at "
-                  "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
-                  imu.file.string(), *mid, *mid < kMinMedianAccel ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?"));
-}
-
-/// rad/s: the RMS angular rate above which the gyros are not in rad/s. tern's aerobatics mission
-/// (rolls and loops) flies at 0.96 rad/s RMS, its sysid manoeuvres at 0.24; the same logged in
-/// deg/s read 55 and 14.
-constexpr double kMaxGyroRms = 4.0;
-
-/// Throws ConfigError when the gyros' RMS rate over the log exceeds kMaxGyroRms: replayed, a log in
-/// deg/s had the estimator reset its velocity and yaw hundreds of times, and sysid then found "no
-/// airborne stretch of 10 s".
-void require_rad_per_s_gyro(const CsvTable& imu, const std::map<std::string, Column>& body) {
-  const Column &p = body.at("gyro_x"), &q = body.at("gyro_y"), &r = body.at("gyro_z");
-  if (p.empty()) return;
-  double sum = 0.0;
-  for (std::size_t k = 0; k < p.size(); ++k) sum += p[k] * p[k] + q[k] * q[k] + r[k] * r[k];
-  const double rms = std::sqrt(sum / static_cast<double>(p.size()));
-  if (!(rms > kMaxGyroRms)) return;
-  throw ConfigError(
-      fmt::format("{}: the gyros' RMS rate is {:.1f} rad/s ({:.0f} deg/s): no fixed wing turns that fast through a "
-                  "whole flight (tern's aerobatics: 0.96 rad/s); deg/s logged as rad/s? (docs/sensor-log.md, imu)",
-                  imu.file.string(), rms, rms / kRadPerDeg));
+  require_command_unit(table, column);
 }
 
 /// Each column (the time `t` among them) with n - 1 samples interpolated linearly into every
@@ -442,9 +360,7 @@ FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions
   }
   body["t"].resize(rows.size());
   for (std::size_t k = 0; k < rows.size(); ++k) body["t"][k] = imu.at("t")[rows[k]];
-  require_m_per_s2_accelerometer(imu, body);
-  require_frd_accelerometer(imu, body.at("accel_z"));
-  require_rad_per_s_gyro(imu, body);
+  require_imu_units(imu, body);
   const double logged_dt = median_interval(body.at("t"));
   const std::size_t n = interpolate_to_base(body);
   auto pick = [&](const std::string& name) { return body.at(name); };
