@@ -115,6 +115,29 @@ TEST_CASE("tern sysid: sysid.yaml's flight identifies the Aerosonde's lift and p
   CHECK(jp["instrumentation"]["pitot_scale"]["estimate"].get<double>() == k);
   CHECK(jp["instrumentation"]["pitot_scale"]["note"] == "given (--pitot-scale)");
   CHECK(jp["drag_at_trim"]["std_error"].get<double>() < drag["std_error"].get<double>());
+  // the pitot's pressure logged in hPa as Pa: the scale comes out near 10, and one note says why
+  const fs::path hpa = test_dir() / "hpa_run";
+  fs::remove_all(hpa);
+  fs::copy(run, hpa, fs::copy_options::recursive);
+  {
+    std::istringstream in(read_file(hpa / "topics" / "diff_pressure.csv"));
+    std::string line, out;
+    std::getline(in, line);
+    out = line + "\n";
+    while (std::getline(in, line)) {  // t, stamp, pressure [Pa], ...: the third cell / 100
+      const auto a = line.find(',', line.find(',') + 1), b = line.find(',', a + 1);
+      out += line.substr(0, a + 1) + fmt::format("{}", std::stod(line.substr(a + 1, b - a - 1)) / 100.0) + line.substr(b) + "\n";
+    }
+    write_file(hpa / "topics" / "diff_pressure.csv", out);
+  }
+  const auto in_hpa = sysid({hpa.string(), "--aircraft", prior.string(), "--out", (test_dir() / "out_hpa").string(), "--estimate",
+                             j["produced_by"]["estimate"].get<std::string>()},
+                            "hpa");
+  INFO(in_hpa.second);
+  CHECK(in_hpa.first == 0);
+  CHECK(in_hpa.second.find("no pitot is that far off") != std::string::npos);
+  CHECK(in_hpa.second.find("hPa or mbar logged as Pa?") != std::string::npos);
+  CHECK(p.second.find("no pitot is that far off") == std::string::npos);
   // the same flight as `tern fly --log-format mcap` leaves it (flight.mcap, no tables): exported
   // first (tern export csv), then identified as the tables are
   const fs::path mcap_run = test_dir() / "mcap_run";

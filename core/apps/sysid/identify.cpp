@@ -19,6 +19,10 @@
 namespace tern::core::sysid {
 
 namespace {
+/// The true airspeed over the pitot's beyond which (or below whose inverse) the scale is not a
+/// calibration but a unit: a pitot-static probe reads within some 10-20 % of the true airspeed
+/// (position error, a blocked or misaligned port); a pressure in hPa gives 10.
+constexpr double kMaxPlausiblePitotScale = 1.5;
 
 /// Each axis's measured and predicted coefficient over the longest stretch.
 std::vector<AxisSeries> axis_series(const AeroSamples& a, const Layout& L, const AeroCoefficients& m, const Aircraft& ac, const Col& alpha,
@@ -80,6 +84,12 @@ SysidResult identify(const FlightSeries& series, const Aircraft& prior, const Sy
   r.wind_n = scale.w_n, r.wind_e = scale.w_e;
   if (!scale.k.identified && std::isnan(o.pitot_scale))
     r.notes.push_back(fmt::format("pitot scale: not identifiable: {}; 1 taken", scale.k.note));
+  if (scale.k.identified && (k > kMaxPlausiblePitotScale || k < 1.0 / kMaxPlausiblePitotScale))
+    r.notes.push_back(
+        fmt::format("pitot scale {:.3g} (the true airspeed over the pitot's): no pitot is that far off, they read within "
+                    "some 10-20 %; the pressure logged is {:.3g} of what it should be: hPa or mbar logged as Pa? "
+                    "(docs/sensor-log.md, diff_pressure)",
+                    k, 1.0 / (k * k)));
   r.samples = a.size(), r.segments = L.segments.size();
   for (const auto& [b, e] : L.segments) r.airborne_s += a.t[e - 1] - a.t[b];
   AeroCoefficients coef = prior.aero;
