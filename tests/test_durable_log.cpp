@@ -7,6 +7,7 @@
 #include <sys/resource.h>
 
 #include <csignal>
+#include <functional>
 #include <ctime>
 #include <iomanip>
 
@@ -208,27 +209,42 @@ TEST_CASE("tern replay accepts a log whose last line is partial: dropped with on
   CHECK(last_row_time(read_file(replayed / "topics" / "state.csv")) == 2.0);
 }
 
-TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the same log with LF") {
-  const tern::core::FlightResult flown = fly_yaml(base_config(), "crlf_orig");
+namespace {
+
+/// `tern replay` of `log` into test_dir() / name (exit 0): its state.csv.
+std::string replayed_state(const fs::path& log, const std::string& name) {
+  const fs::path out = test_dir() / (name + ".out");
+  const int rc = run_tern({"replay", log.string(), "-q", "--log-dir", (test_dir() / name).string()}, out);
+  INFO(read_file(out));
+  CHECK(rc == 0);
+  return read_file(the_run(test_dir() / name) / "topics" / "state.csv");
+}
+
+/// A short flight's log and its copy with every table's text turned by `rewrite` replay to the same
+/// state.csv.
+void check_same_replay(const std::string& name, const std::function<std::string(const std::string&)>& rewrite) {
+  const tern::core::FlightResult flown = fly_yaml(base_config(), name + "_orig");
   REQUIRE(flown.ok);
-  const fs::path crlf = test_dir() / "crlf_log";
-  fs::remove_all(crlf);
-  fs::copy(flown.run_dir, crlf, fs::copy_options::recursive);
-  for (const auto& table : fs::directory_iterator(crlf / "topics")) {  // as a spreadsheet on Windows saves them
-    std::string text = read_file(table.path()), out;
-    for (const char c : text) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
-    std::ofstream(table.path(), std::ios::binary | std::ios::trunc) << out;
+  const fs::path copy = test_dir() / (name + "_log");
+  fs::remove_all(copy);
+  fs::copy(flown.run_dir, copy, fs::copy_options::recursive);
+  for (const auto& table : fs::directory_iterator(copy / "topics")) {
+    const std::string text = rewrite(read_file(table.path()));  // before the file is truncated
+    std::ofstream(table.path(), std::ios::binary | std::ios::trunc) << text;
   }
-  const auto replay = [](const fs::path& log, const std::string& name) {
-    const fs::path out = test_dir() / (name + ".out");
-    const int rc = run_tern({"replay", log.string(), "-q", "--log-dir", (test_dir() / name).string()}, out);
-    INFO(read_file(out));
-    CHECK(rc == 0);
-    return read_file(the_run(test_dir() / name) / "topics" / "state.csv");
-  };
-  const std::string lf_state = replay(flown.run_dir, "lf_replay");
-  CHECK(lf_state.size() > 1000);
-  CHECK(replay(crlf, "crlf_replay") == lf_state);
+  const std::string state = replayed_state(flown.run_dir, name + "_replay");
+  CHECK(state.size() > 1000);
+  CHECK(replayed_state(copy, name + "_copy_replay") == state);
+}
+
+}  // namespace
+
+TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the same log with LF") {
+  check_same_replay("crlf", [](const std::string& text) {  // as a spreadsheet on Windows saves them
+    std::string out;
+    for (const char c : text) out += c == '\n' ? std::string("\r\n") : std::string(1, c);
+    return out;
+  });
 }
 
 TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanosecond, exponents read, anything else refused") {
@@ -246,29 +262,14 @@ TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanose
 }
 
 TEST_CASE("tern replay reads `t` written with more than 9 decimals (a float's shortest form) as the same log") {
-  const tern::core::FlightResult flown = fly_yaml(base_config(), "decimals_orig");
-  REQUIRE(flown.ok);
-  const fs::path log = test_dir() / "decimals_log";
-  fs::remove_all(log);
-  fs::copy(flown.run_dir, log, fs::copy_options::recursive);
-  for (const auto& table : fs::directory_iterator(log / "topics")) {  // "2.002500000" -> "2.0025000004999": the same ns
-    std::string text = read_file(table.path()), out;
+  check_same_replay("decimals", [](const std::string& text) {  // "2.002500000" -> "2.0025000004999": the same ns
+    std::string out;
     bool first_cell = false;
     for (const char c : text) {
       if (first_cell && c == ',') out += "4999", first_cell = false;
       if (c == '\n') first_cell = true;
       out += c;
     }
-    std::ofstream(table.path(), std::ios::trunc) << out;
-  }
-  const auto replay = [](const fs::path& dir, const std::string& name) {
-    const fs::path out = test_dir() / (name + ".out");
-    const int rc = run_tern({"replay", dir.string(), "-q", "--log-dir", (test_dir() / name).string()}, out);
-    INFO(read_file(out));
-    CHECK(rc == 0);
-    return read_file(the_run(test_dir() / name) / "topics" / "state.csv");
-  };
-  const std::string state = replay(flown.run_dir, "decimals_9");
-  CHECK(state.size() > 1000);
-  CHECK(replay(log, "decimals_13") == state);
+    return out;
+  });
 }
