@@ -264,3 +264,32 @@ TEST_CASE("tern sysid: each bad input is one error line") {
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--pitot-scale", "3"}, "pitot"),
            "--pitot-scale: 3: expected 0.5 .. 2");
 }
+
+TEST_CASE("tern replay of a log from elsewhere with its IMU at 25 Hz: the IMU's time-outs follow its interval") {
+  // sysid.yaml's first 120 s, its tables copied without config.yaml (a log another autopilot
+  // wrote in the documented format) and the IMU kept at every 16th row (400 -> 25 Hz). Under the
+  // estimator's defaults (imu_timeout 0.02 s) such an IMU timed out between every two samples and
+  // the estimate was never valid.
+  const fs::path run = fly({"--duration", "120"}, "imu25_flight");
+  const fs::path log = test_dir() / "imu25_log";
+  fs::remove_all(log);
+  fs::create_directories(log / "topics");
+  for (const char* t : {"gnss", "baro", "diff_pressure", "mag", "actuators"})
+    fs::copy_file(run / "topics" / (std::string(t) + ".csv"), log / "topics" / (std::string(t) + ".csv"));
+  std::istringstream imu(read_file(run / "topics" / "imu.csv"));
+  std::string line, kept;
+  for (std::size_t k = 0; std::getline(imu, line); ++k)
+    if (k == 0 || (k - 1) % 16 == 0) kept += line + "\n";
+  write_file(log / "topics" / "imu.csv", kept);
+  write_file(log / "sensor_log.yaml", "tern_sensor_log: 1\n");
+  const fs::path out = test_dir() / "imu25_replay.txt";
+  REQUIRE(run_tern({"replay", log.string(), "-q", "--log-dir", (test_dir() / "imu25_replay").string()}, out) == 0);
+  const fs::path replayed = run_dir_of(out);
+  const nlohmann::json s = nlohmann::json::parse(read_file(replayed / "summary.json"));
+  CAPTURE(s["instances"]["ekf"].dump());
+  CHECK(s["instances"]["ekf"]["imu_timeouts"].get<double>() == 0.0);
+  const nlohmann::json report = nlohmann::json::parse(read_file(replayed / "replay_report.json"));
+  CHECK(report["validity"]["share_valid"].get<double>() > 0.95);
+  // where the setting came from, in the replay's parameter table
+  CHECK(read_file(replayed / "params.csv").find("imu.csv's longest interval, 0.04 s") != std::string::npos);
+}

@@ -1,14 +1,22 @@
 // core/apps/commands/estimator_replay.cpp: the estimator over a sensor log (estimator_replay.hpp).
 #include "commands/estimator_replay.hpp"
 
+#include <algorithm>
 #include <cstdio>
+#include <fstream>
+#include <optional>
+#include <string>
+
+#include <fmt/format.h>
 
 #include "commands/commands.hpp"
 #include "config/cli_overrides.hpp"
 #include "config/error.hpp"
 #include "export/mcap_csv_export.hpp"
+#include "import/sensor_log_writer.hpp"
 #include "replay/replay_source.hpp"
 #include "replay/sensor_log_meta.hpp"
+#include "replay/table_limits.hpp"
 
 namespace tern::core {
 
@@ -25,6 +33,38 @@ fs::path replay_config(const EstimatorReplay& o) {
 
 /// True when the replay flies the log's own config.yaml (no --config).
 bool log_config(const EstimatorReplay& o) { return o.config.empty() && fs::exists(fs::path(o.log_dir) / "config.yaml"); }
+
+/// For a log without a config.yaml of its own (another simulator's or autopilot's, in the
+/// documented format): the IMU's timing its topics/imu.csv implies (import's
+/// imu_timing_settings() of its longest interval) for every estimator_ekf instance, each where
+/// neither sensor_log.yaml nor the replay's config sets it. Under the defaults an IMU logged at
+/// 25 Hz timed out between every two samples (15276 warnings over 611 s) and the estimate was
+/// never valid. Reads imu.csv's first column only; a table it cannot read is left to the replay's
+/// reader, whose error names the line.
+void apply_imu_timing(MissionConfig& mc, const fs::path& log_dir, const SensorLogSettings& s) {
+  std::ifstream in(log_dir / "topics" / "imu.csv");
+  std::string line;
+  if (!std::getline(in, line)) return;  // the header
+  std::optional<Nanos> last;
+  Nanos longest = 0;
+  while (std::getline(in, line)) {
+    const std::optional<Nanos> t = parse_log_time(line.substr(0, line.find(',')));
+    if (!t) return;
+    if (last && *t > *last) longest = std::max(longest, *t - *last);
+    last = t;
+  }
+  if (longest == 0) return;
+  const YAML::Node settings = imu_timing_settings(longest);
+  for (auto& ic : mc.plugins) {
+    if (ic.plugin != "estimator_ekf") continue;
+    for (const auto& kv : settings) {
+      const auto name = kv.first.as<std::string>();
+      if (s.estimator.count(name) || ic.params.count(name)) continue;
+      ic.params[name] = ParamSetting{kv.second, log_dir / "topics" / "imu.csv", "estimator." + name, true,
+                                     fmt::format("imu.csv's longest interval, {:g} s", to_seconds(longest))};
+    }
+  }
+}
 
 /// A log never runs code (docs/hostile-inputs.md): the log's own config.yaml is a record of the
 /// flight, not a trusted file, so its plugin_path is dropped (plugins come from the install,
@@ -69,7 +109,9 @@ FlightResult replay_estimator(const EstimatorReplay& o) {
     mc.log.all_topics = false;
     mc.log.topics = {"state"};
   }
-  apply_sensor_log_settings(mc, read_sensor_log_settings(o.log_dir));
+  const SensorLogSettings settings = read_sensor_log_settings(o.log_dir);
+  apply_sensor_log_settings(mc, settings);
+  if (!log_config(o)) apply_imu_timing(mc, o.log_dir, settings);  // a log from elsewhere: its IMU's rate
   CliOverrides cli;
   if (o.kinematic)
     for (const InstanceConfig& i : mc.plugins)

@@ -93,7 +93,7 @@ std::map<std::string, std::uint64_t> SensorLogWriter::rows() const {
   return r;
 }
 
-YAML::Node SensorLogWriter::imu_timing_settings(Nanos max_interval) {
+YAML::Node imu_timing_settings(Nanos max_interval) {
   const double dt = to_seconds(max_interval);
   YAML::Node n(YAML::NodeType::Map);
   n["imu_max_dt"] = std::max(0.05, 1.5 * dt);

@@ -55,6 +55,13 @@ struct SensorLogMeta {
   std::vector<std::string> notes;  ///< what the converter assumed, one line each
 };
 
+/// estimator_ekf's IMU timing for an IMU whose longest interval is `max_interval`: the defaults
+/// (400 Hz: imu_max_dt 0.05 s, imu_timeout 0.02 s, imu_reinit_gap 0.5 s) where they hold, else
+/// 1.5x (integrate every interval whole), 2x (no time-out between two samples) and 5x it. What
+/// `tern import` writes into sensor_log.yaml, and what `tern replay` takes for a log from elsewhere
+/// that does not set them (commands/estimator_replay.hpp).
+YAML::Node imu_timing_settings(Nanos max_interval);
+
 class SensorLogWriter {
  public:
   /// Creates out_dir (and its parents). Throws ImportError if out_dir exists and is not an
@@ -79,7 +86,7 @@ class SensorLogWriter {
 
   /// Writes sensor_log.yaml and flushes every table. Throws ImportError if anything could not
   /// be written (disk full, ...). Call once. The IMU's timing settings the estimator needs for
-  /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings()) are added to
+  /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings(), above) are added to
   /// meta.estimator where the importer did not set them, and so is the time-out of every other
   /// sensor slower than 2.5 Hz (slow_sensor_timeouts()).
   void finish(const SensorLogMeta& meta);
@@ -101,10 +108,6 @@ class SensorLogWriter {
   };
   Topic& topic_slot(std::string_view topic, std::vector<reflect::Column> columns, std::size_t size, std::uint64_t fingerprint);
   static void check_order(std::string_view topic, const Topic& t, Nanos stamp);
-  /// estimator_ekf's IMU timing for an IMU whose longest interval is `max_interval`: the defaults
-  /// (400 Hz: imu_max_dt 0.05 s, imu_timeout 0.02 s, imu_reinit_gap 0.5 s) where they hold, else
-  /// 1.5x (integrate every interval whole), 2x (no time-out between two samples) and 5x it.
-  static YAML::Node imu_timing_settings(Nanos max_interval);
   /// `<sensor>_timeout` (gnss, baro, diff_pressure, mag) for each such topic whose mean interval
   /// is longer than 0.4 s (slower than 2.5 Hz: estimator_ekf's time-outs, 0.5-1 s, would report
   /// gaps between two samples): 2.5 mean intervals, always longer than the default. A faster
