@@ -292,4 +292,11 @@ TEST_CASE("tern replay of a log from elsewhere with its IMU at 25 Hz: the IMU's 
   CHECK(report["validity"]["share_valid"].get<double>() > 0.95);
   // where the setting came from, in the replay's parameter table
   CHECK(read_file(replayed / "params.csv").find("imu.csv's longest interval, 0.04 s") != std::string::npos);
+  // its IMU table a link to /dev/zero: refused in one line before the intervals are read (no endless read)
+  fs::remove(log / "topics" / "imu.csv");
+  fs::create_symlink("/dev/zero", log / "topics" / "imu.csv");
+  const fs::path zero_out = test_dir() / "imu_zero_replay.txt";
+  CHECK(run_tern({"replay", log.string(), "-q", "--log-dir", (test_dir() / "imu_zero_replay").string()}, zero_out) != 0);
+  const std::string console = read_file(zero_out);
+  CHECK(console.find((log / "topics" / "imu.csv").string() + ": the table") != std::string::npos);
 }

@@ -39,10 +39,13 @@ bool log_config(const EstimatorReplay& o) { return o.config.empty() && fs::exist
 /// imu_timing_settings() of its longest interval) for every estimator_ekf instance, each where
 /// neither sensor_log.yaml nor the replay's config sets it. Under the defaults an IMU logged at
 /// 25 Hz timed out between every two samples (15276 warnings over 611 s) and the estimate was
-/// never valid. Reads imu.csv's first column only; a table it cannot read is left to the replay's
-/// reader, whose error names the line.
+/// never valid. Reads imu.csv's first column only, after replay's file check (table_limits.hpp); a
+/// row it cannot read is left to the replay's reader, whose error names the line.
 void apply_imu_timing(MissionConfig& mc, const fs::path& log_dir, const SensorLogSettings& s) {
-  std::ifstream in(log_dir / "topics" / "imu.csv");
+  const fs::path imu_csv = log_dir / "topics" / "imu.csv";
+  if (!fs::exists(imu_csv)) return;  // the replay's reader says it is missing
+  check_table_file(imu_csv);         // a directory, a device, a FIFO or more than 1 GiB: its one line, before any read
+  std::ifstream in(imu_csv);
   std::string line;
   if (!std::getline(in, line)) return;  // the header
   std::optional<Nanos> last;
@@ -60,7 +63,7 @@ void apply_imu_timing(MissionConfig& mc, const fs::path& log_dir, const SensorLo
     for (const auto& kv : settings) {
       const auto name = kv.first.as<std::string>();
       if (s.estimator.count(name) || ic.params.count(name)) continue;
-      ic.params[name] = ParamSetting{kv.second, log_dir / "topics" / "imu.csv", "estimator." + name, true,
+      ic.params[name] = ParamSetting{kv.second, imu_csv, "estimator." + name, true,
                                      fmt::format("imu.csv's longest interval, {:g} s", to_seconds(longest))};
     }
   }

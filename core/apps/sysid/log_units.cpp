@@ -4,10 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <string_view>
+#include <utility>
 
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "sysid/aero_samples.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
@@ -30,16 +32,14 @@ constexpr double kMaxMedianAccelZ = 0.5 * kStandardGravity;
 
 /// Throws ConfigError when the median of `accel_z` (the body's, after imu_mount) exceeds
 /// kMaxMedianAccelZ: identified, an FLU log gave C_m_delta_e +0.90 and C_ell_beta +0.11 and exited 0.
-void require_frd_accelerometer(const CsvTable& imu, Column accel_z) {
-  if (accel_z.empty()) return;
-  auto mid = accel_z.begin() + static_cast<std::ptrdiff_t>(accel_z.size() / 2);
-  std::nth_element(accel_z.begin(), mid, accel_z.end());
-  if (!(*mid > kMaxMedianAccelZ)) return;
+void require_frd_accelerometer(const CsvTable& imu, const Column& accel_z) {
+  const double mid = median(accel_z);
+  if (!(mid > kMaxMedianAccelZ)) return;
   throw ConfigError(
-      fmt::format("{}: accel_z's median is {:+.2f} m/s^2: an FRD accelerometer reads about -9.8 on z at rest and in "
+      fmt::format("{}: accel_z's median is {:+.2f} m/s^2: an FRD accelerometer reads about {:.1f} on z at rest and in "
                   "level flight; these axes point z up (FLU, as ROS's base_link) or the IMU is upside down: turn its "
                   "columns to FRD or give its mounting (sensor_log.yaml estimator: imu_mount; docs/sensor-log.md)",
-                  imu.file.string(), *mid));
+                  imu.file.string(), mid, -kStandardGravity));
 }
 
 /// m/s^2: the range of the specific force's median magnitude in m/s^2. It is g at rest and g
@@ -55,13 +55,12 @@ void require_m_per_s2_accelerometer(const CsvTable& imu, const std::map<std::str
   if (x.empty()) return;
   Column norm(x.size());
   for (std::size_t k = 0; k < x.size(); ++k) norm[k] = std::sqrt(x[k] * x[k] + y[k] * y[k] + z[k] * z[k]);
-  auto mid = norm.begin() + static_cast<std::ptrdiff_t>(norm.size() / 2);
-  std::nth_element(norm.begin(), mid, norm.end());
-  if (*mid >= kMinMedianAccel && *mid <= kMaxMedianAccel) return;
-  throw ConfigError(
-      fmt::format("{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about 9.8 at "
-                  "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
-                  imu.file.string(), *mid, *mid < kMinMedianAccel ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?"));
+  const double mid = median(std::move(norm));
+  if (mid >= kMinMedianAccel && mid <= kMaxMedianAccel) return;
+  throw ConfigError(fmt::format(
+      "{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about {:.1f} at "
+      "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
+      imu.file.string(), mid, kStandardGravity, mid < kMinMedianAccel ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?"));
 }
 
 /// rad/s: the RMS angular rate above which the gyros are not in rad/s. tern's aerobatics mission
@@ -94,12 +93,13 @@ void require_command_unit(const CsvTable& table, const char* column) {
   const auto out = std::find_if(c.begin(), c.end(), [lo, hi](double v) { return v < lo || v > hi; });
   if (out == c.end()) return;
   const double t = table.at("t")[static_cast<std::size_t>(out - c.begin())];
-  throw ConfigError(throttle ? fmt::format("{}: delta_t is {:g} at t = {:g} s: the throttle is 0 (idle) .. 1 (full), not a percentage or "
-                                           "a pulse width (docs/sensor-log.md, actuators)",
-                                           table.file.string(), *out, t)
-                             : fmt::format("{}: {} is {:g} rad at t = {:g} s: a surface deflects less than pi/2 rad (90 deg); degrees "
-                                           "logged as radians? (docs/sensor-log.md, actuators)",
-                                           table.file.string(), column, *out, t));
+  throw ConfigError(throttle
+                        ? fmt::format("{}: delta_t is {:g} at t = {:g} s: the throttle is 0 (idle) .. 1 (full), not a percentage or "
+                                      "a pulse width (docs/sensor-log.md, actuators)",
+                                      table.file.string(), *out, t)
+                        : fmt::format("{}: {} is {:g} rad at t = {:g} s: a surface deflects less than {:.4g} rad ({:g} deg); degrees "
+                                      "logged as radians? (docs/sensor-log.md, actuators)",
+                                      table.file.string(), column, *out, t, kMaxSurfaceDeflection, kMaxSurfaceDeflection / kRadPerDeg));
 }
 
 void require_imu_units(const CsvTable& imu, const std::map<std::string, Column>& body) {
