@@ -8,12 +8,6 @@
 
 namespace tern::core::sysid {
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
-
 namespace {
 
 std::vector<std::size_t> airborne(const FlightSeries& s, const AirborneFilter& f) {

@@ -45,9 +45,6 @@ struct AeroSamples {
   std::size_t size() const { return t.size(); }
 };
 
-/// The median of v (the upper of the two middle values for an even count); 0 when v is empty.
-double median(std::vector<double> v);
-
 /// Which samples count as flight (the rest never enter a regression).
 struct AirborneFilter {
   AirborneRule ground;          ///< off the ground (airborne.hpp): the log's window, else above where it stood still

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <utility>
 
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
@@ -142,8 +143,7 @@ Column interpolated(const Column& ts, const Column& v, const Column& tq) {
 double median_interval(const Column& t) {
   Column d;
   for (std::size_t k = 1; k < t.size(); ++k) d.push_back(t[k] - t[k - 1]);
-  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-  return d[d.size() / 2];
+  return median(std::move(d));
 }
 
 /// Whether a command table's rows are a slower controller's record, to be joined by lines rather
@@ -268,6 +268,12 @@ Eigen::Vector3d installation(const std::filesystem::path& estimate, const std::s
 void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o) {
   o.imu_position = installation(estimate_dir, "imu_position");
   o.imu_mount = installation(estimate_dir, "imu_mount");
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
+  return v[v.size() / 2];
 }
 
 std::vector<double> zero_phase_lowpass(const std::vector<double>& x, double cutoff_hz, double dt_s) {

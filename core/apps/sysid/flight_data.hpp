@@ -147,6 +147,9 @@ std::vector<double> throttle_in_force(const FlightTables& tables, const std::vec
 FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
                                 const FlightSeriesOptions& options);
 
+/// The median of v (the upper of the two middle values for an even count); 0 when v is empty.
+double median(std::vector<double> v);
+
 /// A second-order Butterworth low-pass at `cutoff_hz` for samples `dt_s` apart, run forward and
 /// backward over `x` (zero phase, magnitude squared). The ends start from the first and last
 /// values. Used for every channel alike; exposed for tests.

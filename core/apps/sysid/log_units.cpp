@@ -9,7 +9,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
-#include "sysid/aero_samples.hpp"
+#include "sysid/flight_data.hpp"
 #include "tern/math.hpp"
 
 namespace tern::core::sysid {
