@@ -15,10 +15,12 @@
 #include <vector>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <nlohmann/json.hpp>
 
 #include "aircraft_cli_util.hpp"
 #include "tern/aircraft.hpp"
+#include "tern/math.hpp"
 
 namespace {
 
@@ -263,6 +265,25 @@ TEST_CASE("tern sysid: each bad input is one error line") {
            "--command-delay: 2 values");
   one_line(sysid({run.string(), "--aircraft", kAerosonde, "--out", out, "--pitot-scale", "3"}, "pitot"),
            "--pitot-scale: 3: expected 0.5 .. 2");
+  // a log in another unit (its accelerometer in g) is refused before the estimator is replayed over
+  // it: its gnss.csv here is no table at all, which the replay would have stopped at first
+  const fs::path in_g = test_dir() / "in_g";
+  fs::remove_all(in_g);
+  fs::create_directories(in_g / "topics");
+  fs::copy_file(run / "topics" / "actuators.csv", in_g / "topics" / "actuators.csv");
+  write_file(in_g / "topics" / "gnss.csv", "not a table\n");
+  std::string imu_in_g;
+  for (const auto& l : lines(read_file(run / "topics" / "imu.csv"))) {
+    std::vector<std::string> cells;
+    std::istringstream row(l);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    if (imu_in_g.empty()) REQUIRE(cells.at(2) == "accel_x [m/s^2]");
+    for (std::size_t i = 2; i < 5 && !imu_in_g.empty(); ++i)
+      cells.at(i) = fmt::format("{:.9g}", std::stod(cells.at(i)) / tern::kStandardGravity);
+    imu_in_g += fmt::format("{}\n", fmt::join(cells, ","));
+  }
+  write_file(in_g / "topics" / "imu.csv", imu_in_g);
+  one_line(sysid({in_g.string(), "--aircraft", kAerosonde, "--out", out}, "in_g"), "g logged as m/s^2?");
 }
 
 TEST_CASE("tern replay of a log from elsewhere with its IMU at 25 Hz: the IMU's time-outs follow its interval") {

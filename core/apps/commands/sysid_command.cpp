@@ -123,6 +123,7 @@ int run_sysid(const SysidOptionsCli& o) {
   const std::array<double, 3> delays = command_delays(o, prior);
   tables_from_mcap(o.log_dir);  // a run directory logged as MCAP only
   sysid::check_sensor_log(o.log_dir, o.estimate.empty());
+  sysid::FlightTables tables = sysid::read_log_tables(o.log_dir);  // their units checked before the replay
   const ReplayScratch scratch(o.estimate.empty() ? fs::path(o.out_dir) / "replay" : fs::path(), o.keep_estimate);
   const fs::path estimate = estimate_of(o);
   sysid::FlightSeriesOptions so;
@@ -131,7 +132,7 @@ int run_sysid(const SysidOptionsCli& o) {
   sysid::read_installation(estimate, so);
   sysid::DelayOptions timing;
   timing.estimate.fill(o.command_delay_ms.empty());  // --command-delay fixes them; else from the prior's, estimated
-  const sysid::FlightTables tables = sysid::read_flight_tables(o.log_dir, estimate);
+  sysid::read_estimate_table(tables, estimate);
   const auto load = [&](const std::array<double, 3>& delays) {
     sysid::FlightSeriesOptions with = so;
     with.command_delay_s = delays;

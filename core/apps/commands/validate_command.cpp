@@ -68,13 +68,13 @@ fs::path replayed_estimate(const ValidateRequest& o, const fs::path& dir) {
 
 /// Each file scored on the series loaded with its own servo lag and delays (servos.tau, delay_*);
 /// the windows (and the measured channels) from the first, the same samples for all.
-void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft, const std::vector<std::string>& files, const fs::path& log,
-               const fs::path& estimate) {
+void score_all(sysid::ValidationRun& run, const std::vector<Aircraft>& aircraft, const std::vector<std::string>& files,
+               const sysid::FlightTables& tables, const fs::path& estimate) {
   sysid::read_installation(estimate, run.series);
   for (std::size_t i = 0; i < aircraft.size(); ++i) {
     run.series.servo_tau = aircraft[i].servo_tau;
     run.series.command_delay_s = {aircraft[i].servo_delay_a, aircraft[i].servo_delay_e, aircraft[i].servo_delay_r};
-    sysid::FlightSeries s = sysid::load_flight_series(log, estimate, run.series);
+    sysid::FlightSeries s = sysid::series_from_tables(tables, run.series);
     sysid::put_ground_at_zero(s, run.options.ground);  // the model's gear at the log's ground, not at its first fix
     if (i == 0) {
       run.windows = sysid::airborne_windows(s, run.options, run.log);
@@ -91,6 +91,7 @@ int validate(const ValidateRequest& o) {
   const fs::path log(o.log_dir);
   tables_from_mcap(log);  // a run directory logged as MCAP only
   sysid::check_sensor_log(log, o.estimate.empty());
+  sysid::FlightTables tables = sysid::read_log_tables(log);  // read once for every file, their units checked before the replay
   const fs::path dir = o.out_dir ? fs::path(*o.out_dir) : log / "validate";
   fs::create_directories(dir);
   const fs::path estimate = o.estimate.empty() ? replayed_estimate(o, dir) : fs::path(o.estimate);
@@ -101,7 +102,8 @@ int validate(const ValidateRequest& o) {
                                                   o.keep_estimate ? "kept as estimate/" : "not kept (--keep-estimate)")
                                     : "topics/state.csv of " + o.estimate + " (--estimate)";
   run.options = o.options;
-  score_all(run, aircraft, o.aircraft, log, estimate);
+  sysid::read_estimate_table(tables, estimate);
+  score_all(run, aircraft, o.aircraft, tables, estimate);
   sysid::write_text_file(dir / "validate.json", sysid::validate_json(run).dump(2) + "\n");
   sysid::write_text_file(dir / "index.html", sysid::validate_html(run));
   if (!o.quiet) std::printf("%s\n", sysid::format_validate_table(run).c_str());

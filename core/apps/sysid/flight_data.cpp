@@ -311,25 +311,54 @@ void flow_angles_from_steady_wind(FlightSeries& s) {
   }
 }
 
-FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir) {
-  std::vector<std::string> imu_wanted(kImuColumns.begin(), kImuColumns.end());
-  imu_wanted.push_back("t");
+namespace {
+
+/// log_units.hpp's checks that need neither the estimate nor the IMU's mounting (a rotation keeps
+/// every magnitude) on the log's own tables, so that a log in another unit is one line before it
+/// is replayed, not after the replay's warnings (gyros in deg/s: 629 of them).
+void require_units_before_replay(const FlightTables& f) {
+  for (const char* c : kCommandColumns) require_commands(f.actuators, c);
+  const std::vector<std::string> names(kImuColumns.begin(), kImuColumns.end());
+  const std::vector<std::size_t> rows = usable_imu_rows(f.imu, names);
+  std::map<std::string, Column> usable;
+  for (const auto& n : names) {
+    Column& c = usable[n];
+    c.reserve(rows.size());
+    for (const std::size_t k : rows) c.push_back(f.imu.at(n)[k]);
+  }
+  require_imu_magnitudes(f.imu, usable);
+}
+
+std::vector<std::string> with_t(const auto& names) {
+  std::vector<std::string> v{"t"};
+  v.insert(v.end(), names.begin(), names.end());
+  return v;
+}
+
+}  // namespace
+
+FlightTables read_log_tables(const std::filesystem::path& log_dir) {
   FlightTables f;
-  f.imu = read_table(log_dir / "topics" / "imu.csv", imu_wanted, "the IMU's specific force and rates are required");
-  const auto with_t = [](const auto& names) {
-    std::vector<std::string> v{"t"};
-    v.insert(v.end(), names.begin(), names.end());
-    return v;
-  };
+  f.imu = read_table(log_dir / "topics" / "imu.csv", with_t(kImuColumns), "the IMU's specific force and rates are required");
   f.actuators = read_table(log_dir / "topics" / "actuators.csv", with_t(kCommandColumns),
                            "the surfaces' commands are required (docs/sensor-log.md, actuators)");
-  f.state = read_table(estimate_dir / "topics" / "state.csv", with_t(kStateColumns), "the estimate (tern replay LOG) is required");
   const std::filesystem::path excitation = log_dir / "topics" / "excitation.csv";
   if (std::filesystem::exists(excitation)) f.excitation = read_table(excitation, with_t(kCommandColumns), "");
   const std::filesystem::path pitot = log_dir / "topics" / "diff_pressure.csv";
   if (std::filesystem::exists(pitot)) f.diff_pressure = read_table(pitot, {"t", "pressure"}, "");
   const std::filesystem::path meta = log_dir / "sensor_log.yaml";
   if (const auto w = read_airborne_window(meta)) f.declared_airborne = DeclaredAirborne{w->start_s, w->end_s, meta.string()};
+  require_units_before_replay(f);
+  return f;
+}
+
+void read_estimate_table(FlightTables& tables, const std::filesystem::path& estimate_dir) {
+  tables.state = read_table(estimate_dir / "topics" / "state.csv", with_t(kStateColumns), "the estimate (tern replay LOG) is required");
+}
+
+FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir) {
+  FlightTables f = read_log_tables(log_dir);
+  read_estimate_table(f, estimate_dir);
   return f;
 }
 
@@ -339,11 +368,6 @@ std::vector<double> throttle_in_force(const FlightTables& tables, const std::vec
   require_commands(act, "delta_t");
   const bool joined = joined_rows(act);
   return commands_in_force(act.at("t"), act.at("delta_t"), t, tau, joined);
-}
-
-FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
-                                const FlightSeriesOptions& o) {
-  return series_from_tables(read_flight_tables(log_dir, estimate_dir), o);
 }
 
 FlightSeries series_from_tables(const FlightTables& f, const FlightSeriesOptions& o) {

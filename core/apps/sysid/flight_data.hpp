@@ -130,8 +130,17 @@ struct FlightTables {
   std::optional<DeclaredAirborne> declared_airborne;  ///< sensor_log.yaml's `airborne`
 };
 
-/// Reads the tables (header). `log_dir` holds imu.csv and actuators.csv under topics/,
-/// `estimate_dir` state.csv under topics/ (the two may be the same run).
+/// The log's own tables (all but the estimate's state), read before the log is replayed: imu.csv
+/// and actuators.csv under `log_dir`/topics/, excitation.csv and diff_pressure.csv if there, and
+/// sensor_log.yaml's airborne window. The checks of log_units.hpp that the IMU's mounting leaves
+/// alone (the commands' units, the specific force's and the rates' magnitudes) are made here, so
+/// that a log in another unit fails before its replay; ConfigError naming the file.
+FlightTables read_log_tables(const std::filesystem::path& log_dir);
+
+/// The estimate's topics/state.csv under `estimate_dir` into `tables`.
+void read_estimate_table(FlightTables& tables, const std::filesystem::path& estimate_dir);
+
+/// read_log_tables, then read_estimate_table (the two directories may be the same run).
 FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir);
 
 /// Conditions the series from the tables (header).
@@ -142,10 +151,6 @@ FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOp
 /// by lines, as series_from_tables does), neither filtered nor decimated: motor_lag.hpp's search.
 /// Throws ConfigError when actuators.csv's delta_t is a number in none of its rows.
 std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau);
-
-/// read_flight_tables, then series_from_tables.
-FlightSeries load_flight_series(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir,
-                                const FlightSeriesOptions& options);
 
 /// The median of v (the upper of the two middle values for an even count); 0 when v is empty.
 double median(std::vector<double> v);

@@ -102,10 +102,14 @@ void require_command_unit(const CsvTable& table, const char* column) {
                                       table.file.string(), column, *out, t, kMaxSurfaceDeflection, kMaxSurfaceDeflection / kRadPerDeg));
 }
 
+void require_imu_magnitudes(const CsvTable& imu, const std::map<std::string, Column>& columns) {
+  require_m_per_s2_accelerometer(imu, columns);
+  require_rad_per_s_gyro(imu, columns);
+}
+
 void require_imu_units(const CsvTable& imu, const std::map<std::string, Column>& body) {
-  require_m_per_s2_accelerometer(imu, body);
+  require_imu_magnitudes(imu, body);
   require_frd_accelerometer(imu, body.at("accel_z"));
-  require_rad_per_s_gyro(imu, body);
 }
 
 }  // namespace tern::core::sysid

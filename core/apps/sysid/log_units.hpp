@@ -23,8 +23,13 @@ namespace tern::core::sysid {
 /// range; the table has a `t` column. Values that are not numbers are not judged.
 void require_command_unit(const CsvTable& actuators, const char* column);
 
-/// The IMU's columns in the body's axes (imu_mount applied: accel_x .. gyro_z, m/s^2 and rad/s,
-/// every column the same length) against their units and FRD; `imu` names the file.
+/// The IMU's columns (accel_x .. gyro_z, m/s^2 and rad/s, every column the same length, every
+/// value finite) against their units: the magnitudes' checks, which any rotation of the axes leaves
+/// alone, so that they hold before the IMU's mounting is known (before the log is replayed).
+void require_imu_magnitudes(const CsvTable& imu, const std::map<std::string, std::vector<double>>& columns);
+
+/// The IMU's columns in the body's axes (imu_mount applied) against their units and FRD:
+/// require_imu_magnitudes and accel_z's median; `imu` names the file.
 void require_imu_units(const CsvTable& imu, const std::map<std::string, std::vector<double>>& body);
 
 }  // namespace tern::core::sysid
