@@ -247,6 +247,17 @@ TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the s
   });
 }
 
+TEST_CASE("tern replay reads a log whose tables begin with a UTF-8 byte order mark as the same log without") {
+  check_same_replay("bom", [](const std::string& text) { return "\xEF\xBB\xBF" + text; });  // Excel's "CSV UTF-8", pandas' utf-8-sig
+}
+
+TEST_CASE("a clock in seconds since 1970 is refused with how to bring it to the log's start") {
+  using tern::core::unix_time_hint;
+  CHECK(unix_time_hint(1732871234.5).find("seconds since 1970 (2024-11-29 09:07:14 UTC)?") != std::string::npos);
+  CHECK(unix_time_hint(1732871234.5).find("subtract the first row's t") != std::string::npos);
+  for (const double t : {86400.5, 9.0e8, 5.0e9, -1732871234.5}) CHECK_MESSAGE(unix_time_hint(t).empty(), t);  // not a date of a flight log
+}
+
 TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanosecond, exponents read, anything else refused") {
   using tern::core::parse_log_time;
   CHECK(parse_log_time("12.345000000") == 12'345'000'000);

@@ -64,6 +64,10 @@ const std::vector<double>& CsvTable::at(const std::string& name) const {
   return it->second;
 }
 
+void drop_byte_order_mark(std::string& header) {
+  if (header.rfind("\xEF\xBB\xBF", 0) == 0) header.erase(0, 3);
+}
+
 CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted) {
   check_table_file(file);
   std::ifstream in(file, std::ios::binary);
@@ -72,6 +76,7 @@ CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std
   table.file = file;
   std::string line;
   std::getline(in, line);
+  drop_byte_order_mark(line);
   std::vector<std::string_view> cells;
   split(line, cells);
   std::vector<std::vector<double>*> target(cells.size(), nullptr);

@@ -31,6 +31,10 @@ struct CsvTable {
   const std::vector<double>& at(const std::string& name) const;
 };
 
+/// A table's header line without the UTF-8 byte order mark that Excel's "CSV UTF-8", pandas'
+/// encoding="utf-8-sig" and PowerShell write before it (the first column would read "\xEF\xBB\xBFt").
+void drop_byte_order_mark(std::string& header);
+
 /// Reads `file`, keeping the columns named in `wanted` (all when empty). Throws ConfigError.
 CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted = {});
 

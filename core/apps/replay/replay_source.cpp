@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <limits>
 #include <optional>
@@ -14,6 +15,7 @@
 #include <spdlog/logger.h>
 
 #include "config/error.hpp"
+#include "replay/replay_csv.hpp"
 #include "replay/table_limits.hpp"
 #include "tern/input_file.hpp"
 
@@ -112,6 +114,7 @@ class Track final : public ReplaySource::TrackBase {
     std::ifstream in(csv);
     std::string header;
     std::getline(in, header);
+    drop_byte_order_mark(header);
     drop_carriage_return(header);
     const auto layout = reflect::layout<T>();
     const auto cols = map_columns(csv, topic, header, layout);
@@ -160,8 +163,9 @@ class Track final : public ReplaySource::TrackBase {
       if (i == 0) {
         const std::optional<Nanos> parsed = parse_log_time(cell);
         if (!parsed)
-          throw ConfigError(fmt::format("{}:{}: t [s] '{}' is not a decimal number of seconds within {} s of the log's origin",
-                                        csv.string(), lineno, printable(cell), kMaxLogTime));
+          throw ConfigError(fmt::format("{}:{}: t [s] '{}' is not a decimal number of seconds within {} s of the log's origin{}",
+                                        csv.string(), lineno, printable(cell), kMaxLogTime,
+                                        unix_time_hint(std::strtod(cell.c_str(), nullptr))));
         t = *parsed;
         continue;
       }

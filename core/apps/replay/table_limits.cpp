@@ -3,11 +3,13 @@
 
 #include <algorithm>
 #include <charconv>
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <string>
 #include <string_view>
 
+#include <fmt/chrono.h>
 #include <fmt/format.h>
 
 #include "config/error.hpp"
@@ -96,11 +98,21 @@ std::optional<Nanos> parse_log_time(const std::string& s) {
   return negative ? -t : t;
 }
 
+std::string unix_time_hint(double seconds) {
+  constexpr double kYear2001 = 978307200.0, kYear2100 = 4102444800.0;  // s since 1970-01-01 UTC
+  if (!(seconds >= kYear2001 && seconds < kYear2100)) return "";
+  const auto when = std::chrono::sys_seconds(std::chrono::seconds(static_cast<long long>(seconds)));
+  return fmt::format(
+      ": seconds since 1970 ({:%Y-%m-%d %H:%M:%S} UTC)? the log's clock starts near its first row: subtract the first row's t from "
+      "every table's t (and its stamp from every stamp and time_of_validity)",
+      when);
+}
+
 void RowTimes::check(const std::filesystem::path& file, std::size_t line, Nanos t) {
   const Nanos bound = static_cast<Nanos>(kMaxLogTime) * kNanosPerSecond;
   if (t > bound || t < -bound)
-    throw ConfigError(fmt::format("{}:{}: {} {} s is more than {} s from the log's origin (docs/hostile-inputs.md)",
-                                  printable(file.string()), line, column_, to_seconds(t), kMaxLogTime));
+    throw ConfigError(fmt::format("{}:{}: {} {} s is more than {} s from the log's origin{} (docs/hostile-inputs.md)",
+                                  printable(file.string()), line, column_, to_seconds(t), kMaxLogTime, unix_time_hint(to_seconds(t))));
   const Nanos gap = static_cast<Nanos>(kMaxRowGap) * kNanosPerSecond;
   if (last_ && t > *last_ && t - *last_ > gap)
     throw ConfigError(

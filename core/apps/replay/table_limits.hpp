@@ -37,6 +37,12 @@ const std::vector<std::string>& required_columns(const std::string& topic);
 /// within kMaxLogTime.
 std::optional<Nanos> parse_log_time(const std::string& text);
 
+/// What to add to an error naming a time of `seconds` on the log's clock that is beyond
+/// kMaxLogTime: where it looks like seconds since the Unix epoch (2001 .. 2100, a ROS bag's
+/// header stamps exported as they are), that and how to bring the clock to the log's start;
+/// else "".
+std::string unix_time_hint(double seconds);
+
 /// The times of one table's rows, checked in file order: throws ConfigError "<file>:<line>: <column>
 /// <value>: ... after the row before (...): more than the 600 s a table may pause" for a pause
 /// longer than kMaxRowGap, or a time beyond kMaxLogTime.
