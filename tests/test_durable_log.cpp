@@ -6,6 +6,7 @@
 #include <doctest/doctest.h>
 #include <sys/resource.h>
 
+#include <cmath>
 #include <csignal>
 #include <functional>
 #include <ctime>
@@ -13,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "config/error.hpp"
+#include "replay/sensor_units.hpp"
 #include "replay/table_limits.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
@@ -256,6 +259,33 @@ TEST_CASE("a clock in seconds since 1970 is refused with how to bring it to the 
   CHECK(unix_time_hint(1732871234.5).find("seconds since 1970 (2024-11-29 09:07:14 UTC)?") != std::string::npos);
   CHECK(unix_time_hint(1732871234.5).find("subtract the first row's t") != std::string::npos);
   for (const double t : {86400.5, 9.0e8, 5.0e9, -1732871234.5}) CHECK_MESSAGE(unix_time_hint(t).empty(), t);  // not a date of a flight log
+}
+
+TEST_CASE("a barometer or a magnetometer logged in another unit is refused in one line naming the unit") {
+  using tern::core::require_field_unit;
+  using tern::core::require_pressure_unit;
+  const auto refusal = [](const auto& check, std::vector<double> v) {
+    try {
+      check(std::move(v));
+    } catch (const tern::core::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  const auto pressure = [](std::vector<double> v) { require_pressure_unit("baro.csv", std::move(v)); };
+  const auto field = [](std::vector<double> v) { require_field_unit("mag.csv", std::move(v)); };
+  // a flight at 1400 m (its NaN rows ignored), at sea level, at 5000 m; a field of 48 uT, of 300 uT beside a motor
+  for (const std::vector<double>& ok : {std::vector<double>{85000.0, std::nan(""), 84990.0}, {101325.0}, {54020.0}})
+    CHECK(refusal(pressure, ok).empty());
+  for (const std::vector<double>& ok : {std::vector<double>{48e-6, 49e-6}, {300e-6}, {}}) CHECK(refusal(field, ok).empty());
+  CHECK(refusal(pressure, {850.0, 849.0, 851.0}).find("the pressure's median is 850 Pa") != std::string::npos);
+  CHECK(refusal(pressure, {850.0}).find("hPa (mbar) logged as Pa?") != std::string::npos);
+  CHECK(refusal(pressure, {85.0}).find("kPa logged as Pa?") != std::string::npos);
+  CHECK(refusal(pressure, {12.3}).find("psi logged as Pa?") != std::string::npos);
+  CHECK(refusal(field, {0.48}).find("gauss logged as T?") != std::string::npos);
+  CHECK(refusal(field, {480.0}).find("milligauss logged as T?") != std::string::npos);
+  CHECK(refusal(field, {48.0}).find("microtesla logged as T?") != std::string::npos);
+  CHECK(refusal(field, {48000.0}).find("nanotesla logged as T?") != std::string::npos);
 }
 
 TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanosecond, exponents read, anything else refused") {

@@ -16,6 +16,7 @@
 
 #include "config/error.hpp"
 #include "replay/replay_csv.hpp"
+#include "replay/sensor_units.hpp"
 #include "replay/table_limits.hpp"
 #include "tern/input_file.hpp"
 
@@ -105,6 +106,23 @@ struct TableProblems {
   std::size_t first_backwards_line = 0, first_nan_line = 0;
 };
 
+/// The table's values against their units where a wrong unit would have every sample refused
+/// (sensor_units.hpp): the barometer's and the magnetometer's; the others as read.
+template <class T>
+void require_units(const std::filesystem::path&, const std::vector<std::pair<Nanos, T>>&) {}
+void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Baro>>& rows) {
+  std::vector<double> p;
+  p.reserve(rows.size());
+  for (const auto& [t, m] : rows) p.push_back(m.pressure);
+  require_pressure_unit(csv, std::move(p));
+}
+void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Mag>>& rows) {
+  std::vector<double> b;
+  b.reserve(rows.size());
+  for (const auto& [t, m] : rows) b.push_back(m.field.norm());
+  require_field_unit(csv, std::move(b));
+}
+
 template <class T>
 class Track final : public ReplaySource::TrackBase {
  public:
@@ -133,6 +151,7 @@ class Track final : public ReplaySource::TrackBase {
       }
       read_row(csv, line, lineno, cols, nan_expected);
     }
+    require_units(csv, rows_);
     if (p_.backwards)
       warnings_.push_back(fmt::format("{}: {} rows whose time goes backwards dropped (first at line {})", csv.string(), p_.backwards,
                                       p_.first_backwards_line));
