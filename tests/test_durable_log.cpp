@@ -286,6 +286,20 @@ TEST_CASE("a barometer or a magnetometer logged in another unit is refused in on
   CHECK(refusal(field, {480.0}).find("milligauss logged as T?") != std::string::npos);
   CHECK(refusal(field, {48.0}).find("microtesla logged as T?") != std::string::npos);
   CHECK(refusal(field, {48000.0}).find("nanotesla logged as T?") != std::string::npos);
+  // the GNSS's fixes in the estimator's ranges, and PX4's integer lat (deg * 1e7), alt in mm, speed in cm/s
+  const auto gnss = [](tern::core::GnssFixes f) { return [f](std::vector<double>) { tern::core::require_gnss_units("gnss.csv", f); }; };
+  CHECK(refusal(gnss({{47.4, -47.4}, {8.5, -122.0}, {488.0, -20.0}, {18.0, 0.0}}), {}).empty());
+  CHECK(refusal(gnss({{473977418.0}, {8.5}, {488.0}, {18.0}}), {})
+            .find("degrees * 1e7 (PX4's and ArduPilot's integer latitude) logged as deg?") != std::string::npos);
+  CHECK(refusal(gnss({{47.4}, {8.5}, {488000.0}, {18.0}}), {}).find("mm or cm logged as m?") != std::string::npos);
+  CHECK(refusal(gnss({{47.4}, {8.5}, {488.0}, {1800.0}}), {}).find("mm/s or cm/s logged as m/s?") != std::string::npos);
+  // a pitot the right way round (on the ground, then flying at 20 m/s) passes; swapped tubes do not
+  const auto pitot = [](std::vector<double> v) { tern::core::require_pitot_sign("diff_pressure.csv", std::move(v)); };
+  std::vector<double> flight(100, 245.0);
+  for (std::size_t k = 0; k < 30; ++k) flight[k] = k % 2 ? -3.0 : 2.0;  // the ground's noise about 0
+  CHECK(refusal(pitot, flight).empty());
+  for (double& p : flight) p = -p;
+  CHECK(refusal(pitot, flight).find("its tubes are swapped") != std::string::npos);
 }
 
 TEST_CASE("a log's `t [s]`: up to 9 decimals exactly, more rounded to the nanosecond, exponents read, anything else refused") {

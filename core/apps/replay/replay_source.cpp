@@ -123,6 +123,21 @@ void require_units(const std::filesystem::path& csv, const std::vector<std::pair
   require_field_unit(csv, std::move(b));
 }
 
+void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Gnss>>& rows) {
+  GnssFixes f;
+  for (const auto& [t, m] : rows) {
+    if (m.fix_type != msg::FixType::fix_2d && m.fix_type != msg::FixType::fix_3d) continue;
+    f.lat.push_back(m.lat), f.lon.push_back(m.lon), f.alt.push_back(m.alt), f.speed.push_back(m.vel.norm());
+  }
+  require_gnss_units(csv, std::move(f));
+}
+void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::DiffPressure>>& rows) {
+  std::vector<double> p;
+  p.reserve(rows.size());
+  for (const auto& [t, m] : rows) p.push_back(m.pressure);
+  require_pitot_sign(csv, std::move(p));
+}
+
 template <class T>
 class Track final : public ReplaySource::TrackBase {
  public:
@@ -200,7 +215,10 @@ class Track final : public ReplaySource::TrackBase {
       throw ConfigError(csv.string() + ":" + std::to_string(lineno) + ": expected " + std::to_string(cols.size()) + " values, got " +
                         std::to_string(i) + (i < cols.size() ? " (a truncated log?)" : " (more cells than the header names)"));
     t_check_.check(csv, lineno, t);
-    if constexpr (std::is_same_v<decltype(msg.stamp), Nanos>) stamp_check_.check(csv, lineno, msg.stamp);
+    if constexpr (std::is_same_v<decltype(msg.stamp), Nanos>) {
+      stamp_check_.check(csv, lineno, msg.stamp);
+      check_stamp_at_t(csv, lineno, t, msg.stamp);
+    }
     if (!rows_.empty() && t < rows_.back().first) {
       if (p_.backwards++ == 0) p_.first_backwards_line = lineno;
       return;

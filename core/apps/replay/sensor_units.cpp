@@ -3,8 +3,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -28,6 +30,21 @@ std::optional<double> finite_median(std::vector<double> v) {
 constexpr double kMinPressure = 10e3, kMaxPressure = 120e3;
 /// T: the magnetometer's median field's bound (header), and the Earth's field the units are named by
 constexpr double kMaxField = 1e-3, kEarthField = 50e-6;
+
+/// The fraction `q` (0 .. 1) of the finite values: the value below which that share lies;
+/// nullopt when there is none.
+std::optional<double> finite_quantile(std::vector<double> v, double q) {
+  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
+  if (v.empty()) return std::nullopt;
+  const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), at, v.end());
+  return *at;
+}
+
+/// The ranges the estimator holds a fix to (estimator_ekf's add_gnss): deg, deg, m, m/s
+constexpr double kMaxLat = 90.0, kMaxLon = 180.0, kMinAlt = -1000.0, kMaxAlt = 20000.0, kMaxSpeed = 200.0;
+/// Pa: the pitot's reversed reading that no flight the right way round leaves (9 m/s backwards)
+constexpr double kMinPitotQuantile = -50.0;
 
 /// Of `units` (name, the reading in that unit of what the documented unit reads as 1), the one
 /// whose reading of `reference` is nearest (in log ratio) `median`; "" when none is within 2x.
@@ -62,6 +79,34 @@ void require_field_unit(const std::filesystem::path& file, std::vector<double> m
       fmt::format("{}: the field's median magnitude is {:.4g} T: the Earth's is 22-67 uT (2.2e-05 .. 6.7e-05 T){} "
                   "(docs/sensor-log.md, mag: T)",
                   file.string(), *mid, unit.empty() ? "" : fmt::format("; {} logged as T?", unit)));
+}
+
+void require_gnss_units(const std::filesystem::path& file, GnssFixes fixes) {
+  // each column's median against the estimator's range, with the units a log beyond it is in
+  const auto require = [&](const char* column, std::vector<double> v, double lo, double hi, const char* unit, const char* likely) {
+    const std::optional<double> mid = finite_median(std::move(v));
+    if (!mid || (*mid >= lo && *mid <= hi)) return;
+    throw ConfigError(
+        fmt::format("{}: {}'s median over the fixes is {:.6g} {}: the estimator takes {:g} .. {:g} {} and refuses every "
+                    "fix beyond; {} logged as {}? (docs/sensor-log.md, gnss)",
+                    file.string(), column, *mid, unit, lo, hi, unit, likely, unit));
+  };
+  for (double& x : fixes.lat) x = std::fabs(x);
+  for (double& x : fixes.lon) x = std::fabs(x);
+  require("|lat|", std::move(fixes.lat), 0.0, kMaxLat, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer latitude)");
+  require("|lon|", std::move(fixes.lon), 0.0, kMaxLon, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer longitude)");
+  require("alt", std::move(fixes.alt), kMinAlt, kMaxAlt, "m", "mm or cm");
+  require("the ground speed", std::move(fixes.speed), 0.0, kMaxSpeed, "m/s", "mm/s or cm/s");
+}
+
+void require_pitot_sign(const std::filesystem::path& file, std::vector<double> pressure) {
+  const std::optional<double> low = finite_quantile(pressure, 0.05), high = finite_quantile(std::move(pressure), 0.95);
+  if (!low || *low >= kMinPitotQuantile || -*low <= std::max(*high, 0.0)) return;
+  throw ConfigError(
+      fmt::format("{}: the pressure's 5th percentile is {:.4g} Pa and its 95th {:.4g} Pa: a pitot reads the dynamic pressure, "
+                  "positive in flight; its tubes are swapped (the static port on the total) or the column negated: log "
+                  "total minus static (docs/sensor-log.md, diff_pressure)",
+                  file.string(), *low, *high));
 }
 
 }  // namespace tern::core

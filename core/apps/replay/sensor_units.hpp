@@ -1,11 +1,11 @@
-// core/apps/replay/sensor_units.hpp: a sensor log's barometer and magnetometer tables against their
-// columns' units (docs/sensor-log.md: pressure in Pa, field in T), before `tern replay` plays
-// them. A table in another unit parses and plays, and every sample of it is refused by the
-// estimator as out of range: a barometer in hPa gave one warning ("baro: invalid sample
-// rejected ... further ones are only counted") and an estimate without its height sensor.
-// Each check is on the median over the table, a statistic no flight in the right unit leaves, and
-// throws ConfigError, one line naming the file, the median and the likely unit (sysid's checks of
-// the IMU and the commands: sysid/log_units.hpp).
+// core/apps/replay/sensor_units.hpp: a sensor log's GNSS, barometer, pitot and magnetometer tables
+// against their columns' units and signs (docs/sensor-log.md), before `tern replay` plays them.
+// A table in another unit parses and plays, and the estimator refuses every sample of it as out
+// of range: a barometer in hPa gave one warning ("baro: invalid sample rejected ... further ones
+// are only counted") and an estimate without its height sensor; a GNSS altitude in cm one
+// warning and an estimate that never started. Each check is on a statistic over the table that
+// no flight in the right unit leaves, and throws ConfigError, one line naming the file, the value
+// and the likely unit (sysid's checks of the IMU and the commands: sysid/log_units.hpp).
 #pragma once
 
 #include <filesystem>
@@ -22,5 +22,23 @@ void require_pressure_unit(const std::filesystem::path& file, std::vector<double
 /// is 22-67 uT, a motor's or a battery's beside the magnetometer a few hundred); else ConfigError
 /// naming gauss, milligauss, microtesla or nanotesla by the ratio to 50 uT.
 void require_field_unit(const std::filesystem::path& file, std::vector<double> magnitude);
+
+/// gnss.csv's fixes (rows with a 2-D or 3-D fix; finite values): the medians of |lat| within
+/// 90 deg, of |lon| within 180 deg, of alt within -1000 .. 20000 m and of the ground speed
+/// |(vel_n, vel_e, vel_d)| within 200 m/s, the ranges the estimator holds a fix to (outside
+/// them every fix is refused and the estimate never starts: sysid then stopped at "no airborne
+/// samples"); else ConfigError naming deg * 1e7 (PX4's and ArduPilot's integer lat, lon), mm or cm,
+/// mm/s or cm/s by the ratio.
+struct GnssFixes {
+  std::vector<double> lat, lon, alt, speed;  ///< deg, deg, m, m/s
+};
+void require_gnss_units(const std::filesystem::path& file, GnssFixes fixes);
+
+/// diff_pressure.csv's `pressure` (Pa) read the right way round: refused (ConfigError naming
+/// swapped tubes or a negated column) when its 5th percentile is below -50 Pa (a 9-m/s airspeed
+/// the wrong way) and further below 0 than its 95th percentile above: a pitot whose total and
+/// static ports are swapped reads minus the dynamic pressure in flight, and sysid identified
+/// nothing from it ("0 of 29", exit 0).
+void require_pitot_sign(const std::filesystem::path& file, std::vector<double> pressure);
 
 }  // namespace tern::core

@@ -43,6 +43,16 @@ std::optional<Nanos> parse_log_time(const std::string& text);
 /// else "".
 std::string unix_time_hint(double seconds);
 
+/// The most a row's `stamp` may lie from its `t` (s): both are the time the sample reached the
+/// estimator on the log's clock (docs/sensor-log.md), in s and in ns; a sensor's own latency
+/// belongs in sensor_log.yaml's delays or the GNSS's time_of_validity.
+inline constexpr double kMaxStampFromT = 1.0;
+
+/// Throws ConfigError "<file>:<line>: stamp ... is ... s from t ..." (with the unit the stamp looks
+/// to be in: microseconds, milliseconds or seconds) when `stamp` lies more than kMaxStampFromT from
+/// `t` (both ns): a log with its stamps in microseconds replayed with 219858 IMU time-out warnings.
+void check_stamp_at_t(const std::filesystem::path& file, std::size_t line, Nanos t, Nanos stamp);
+
 /// The times of one table's rows, checked in file order: throws ConfigError "<file>:<line>: <column>
 /// <value>: ... after the row before (...): more than the 600 s a table may pause" for a pause
 /// longer than kMaxRowGap, or a time beyond kMaxLogTime.
