@@ -111,9 +111,11 @@ std::string unix_time_hint(double seconds) {
 void check_stamp_at_t(const std::filesystem::path& file, std::size_t line, Nanos t, Nanos stamp) {
   const double t_s = to_seconds(t), stamp_s = to_seconds(stamp);
   if (std::fabs(stamp_s - t_s) <= kMaxStampFromT) return;
-  std::string unit;  // stamp over t: 1e-3 microseconds, 1e-6 milliseconds, 1e-9 seconds (within a factor of 3)
-  for (const auto& [name, ratio] : {std::pair{"microseconds", 1e-3}, {"milliseconds", 1e-6}, {"seconds", 1e-9}})
-    if (t_s != 0.0 && std::fabs(std::log10(stamp_s / (t_s * ratio))) < 0.5) unit = fmt::format("; stamp in {} logged as ns?", name);
+  std::string unit;  // stamp over t 1e-3, 1e-6, 1e-9 (within a factor of 3): which of the two is in another unit
+  for (const auto& [which, ratio] : {std::pair{"t in milliseconds or stamp in microseconds", 1e-3},
+                                     {"t in microseconds or stamp in milliseconds", 1e-6},
+                                     {"t in nanoseconds or stamp in seconds", 1e-9}})
+    if (t_s != 0.0 && std::fabs(std::log10(stamp_s / (t_s * ratio))) < 0.5) unit = fmt::format("; {}?", which);
   throw ConfigError(
       fmt::format("{}:{}: stamp {} ns is {:.6g} s from t {} s: both are the time the sample reached the estimator, t in s "
                   "and stamp in ns (docs/sensor-log.md){}",

@@ -48,9 +48,9 @@ std::string unix_time_hint(double seconds);
 /// belongs in sensor_log.yaml's delays or the GNSS's time_of_validity.
 inline constexpr double kMaxStampFromT = 1.0;
 
-/// Throws ConfigError "<file>:<line>: stamp ... is ... s from t ..." (with the unit the stamp looks
-/// to be in: microseconds, milliseconds or seconds) when `stamp` lies more than kMaxStampFromT from
-/// `t` (both ns): a log with its stamps in microseconds replayed with 219858 IMU time-out warnings.
+/// Throws ConfigError "<file>:<line>: stamp ... is ... s from t ..." (with the units their ratio
+/// points to: t in ms or stamp in us, ...) when `stamp` lies more than kMaxStampFromT from `t`
+/// (both ns): a log with its stamps in microseconds replayed with 219858 IMU time-out warnings.
 void check_stamp_at_t(const std::filesystem::path& file, std::size_t line, Nanos t, Nanos stamp);
 
 /// The times of one table's rows, checked in file order: throws ConfigError "<file>:<line>: <column>
