@@ -110,6 +110,12 @@ struct TableProblems {
 /// (sensor_units.hpp): the barometer's and the magnetometer's; the others as read.
 template <class T>
 void require_units(const std::filesystem::path&, const std::vector<std::pair<Nanos, T>>&) {}
+void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Imu>>& rows) {
+  std::vector<double> f, w;
+  f.reserve(rows.size()), w.reserve(rows.size());
+  for (const auto& [t, m] : rows) f.push_back(m.accel.norm()), w.push_back(m.gyro.norm());
+  require_imu_magnitudes(csv, std::move(f), w);
+}
 void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Baro>>& rows) {
   std::vector<double> p;
   p.reserve(rows.size());

@@ -12,6 +12,7 @@
 
 #include "config/error.hpp"
 #include "tern/atmosphere.hpp"
+#include "tern/math.hpp"
 
 namespace tern::core {
 
@@ -25,6 +26,14 @@ std::optional<double> finite_median(std::vector<double> v) {
   std::nth_element(v.begin(), mid, v.end());
   return *mid;
 }
+
+/// m/s^2: the range of the specific force's median magnitude (header)
+constexpr double kMinMedianAccel = 0.5 * kStandardGravity, kMaxMedianAccel = 3.0 * kStandardGravity;
+/// m/s^2: below this a median |f| is no accelerometer in g (1 g at rest and in level flight) but one
+/// with gravity taken out (a phone's or a ROS driver's linear acceleration)
+constexpr double kMinMedianAccelInG = 0.7;
+/// rad/s: the RMS angular rate above which the gyros are not in rad/s (header)
+constexpr double kMaxGyroRms = 4.0;
 
 /// Pa: the barometer's median pressure's range (header)
 constexpr double kMinPressure = 10e3, kMaxPressure = 120e3;
@@ -59,6 +68,29 @@ std::string likely_unit(double median, double reference, std::initializer_list<s
 }
 
 }  // namespace
+
+void require_imu_magnitudes(const std::filesystem::path& file, std::vector<double> specific_force, const std::vector<double>& rate) {
+  if (const std::optional<double> mid = finite_median(std::move(specific_force));
+      mid && !(*mid >= kMinMedianAccel && *mid <= kMaxMedianAccel)) {
+    const char* likely = *mid > kMaxMedianAccel       ? "mg or cm/s^2 logged as m/s^2?"
+                         : *mid >= kMinMedianAccelInG ? "g logged as m/s^2?"
+                                                      : "gravity taken out (a linear acceleration)? the estimator needs the specific force";
+    throw ConfigError(
+        fmt::format("{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about {:.1f} at "
+                    "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
+                    file.string(), *mid, kStandardGravity, likely));
+  }
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const double w : rate)
+    if (std::isfinite(w)) sum += w * w, ++n;
+  const double rms = n ? std::sqrt(sum / static_cast<double>(n)) : 0.0;
+  if (!(rms > kMaxGyroRms)) return;
+  throw ConfigError(
+      fmt::format("{}: the gyros' RMS rate is {:.1f} rad/s ({:.0f} deg/s): no fixed wing turns that fast through a whole flight "
+                  "(tern's aerobatics: 0.96 rad/s); deg/s logged as rad/s? (docs/sensor-log.md, imu)",
+                  file.string(), rms, rms / kRadPerDeg));
+}
 
 void require_pressure_unit(const std::filesystem::path& file, std::vector<double> pressure) {
   const std::optional<double> mid = finite_median(std::move(pressure));

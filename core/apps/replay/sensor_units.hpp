@@ -13,6 +13,14 @@
 
 namespace tern::core {
 
+/// imu.csv's magnitudes, one per finite row: the specific force's |f| (m/s^2) and the rates' |w|
+/// (rad/s). Refused (ConfigError) when the median |f| lies outside 0.5 g .. 3 g (g at rest, g
+/// times the load factor in flight: tern's aerobatics 1.0-1.1 g), naming g, a gravity-removed
+/// (linear) acceleration, or mg and cm/s^2; or when the RMS |w| exceeds 4 rad/s (tern's aerobatics
+/// 0.96, its sysid manoeuvres 0.24), naming deg/s. Any rotation of the IMU's axes keeps both:
+/// they hold before its mounting is known.
+void require_imu_magnitudes(const std::filesystem::path& file, std::vector<double> specific_force, const std::vector<double>& rate);
+
 /// baro.csv's `pressure` (Pa): the median of the finite values within 10 kPa (16 km up) ..
 /// 120 kPa (above any sea-level pressure measured); else ConfigError naming hPa, kPa, psi or inHg
 /// by the ratio to the standard atmosphere's 101325 Pa.

@@ -9,6 +9,7 @@
 #include <fmt/format.h>
 
 #include "config/error.hpp"
+#include "replay/sensor_units.hpp"
 #include "sysid/flight_data.hpp"
 #include "tern/math.hpp"
 
@@ -42,48 +43,6 @@ void require_frd_accelerometer(const CsvTable& imu, const Column& accel_z) {
                   imu.file.string(), mid, -kStandardGravity));
 }
 
-/// m/s^2: the range of the specific force's median magnitude in m/s^2. It is g at rest and g
-/// times the load factor in flight (tern's aerobatics mission: 1.0-1.1 g); an accelerometer in g
-/// reads 1, one in mg or cm/s^2 hundreds.
-constexpr double kMinMedianAccel = 0.5 * kStandardGravity, kMaxMedianAccel = 3.0 * kStandardGravity;
-
-/// Throws ConfigError when the median of the specific force's magnitude lies outside
-/// kMinMedianAccel .. kMaxMedianAccel: identified, a log in g gave 12 of 29 coefficients (C_ell_p
-/// 24 % large) and exited 0.
-void require_m_per_s2_accelerometer(const CsvTable& imu, const std::map<std::string, Column>& body) {
-  const Column &x = body.at("accel_x"), &y = body.at("accel_y"), &z = body.at("accel_z");
-  if (x.empty()) return;
-  Column norm(x.size());
-  for (std::size_t k = 0; k < x.size(); ++k) norm[k] = std::sqrt(x[k] * x[k] + y[k] * y[k] + z[k] * z[k]);
-  const double mid = median(std::move(norm));
-  if (mid >= kMinMedianAccel && mid <= kMaxMedianAccel) return;
-  throw ConfigError(fmt::format(
-      "{}: the specific force's median magnitude is {:.4g} m/s^2: an accelerometer reads about {:.1f} at "
-      "rest and in level flight; {} (docs/sensor-log.md, imu: m/s^2)",
-      imu.file.string(), mid, kStandardGravity, mid < kMinMedianAccel ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?"));
-}
-
-/// rad/s: the RMS angular rate above which the gyros are not in rad/s. tern's aerobatics mission
-/// (rolls and loops) flies at 0.96 rad/s RMS, its sysid manoeuvres at 0.24; the same logged in
-/// deg/s read 55 and 14.
-constexpr double kMaxGyroRms = 4.0;
-
-/// Throws ConfigError when the gyros' RMS rate over the log exceeds kMaxGyroRms: replayed, a log in
-/// deg/s had the estimator reset its velocity and yaw hundreds of times, and sysid then found "no
-/// airborne stretch of 10 s".
-void require_rad_per_s_gyro(const CsvTable& imu, const std::map<std::string, Column>& body) {
-  const Column &p = body.at("gyro_x"), &q = body.at("gyro_y"), &r = body.at("gyro_z");
-  if (p.empty()) return;
-  double sum = 0.0;
-  for (std::size_t k = 0; k < p.size(); ++k) sum += p[k] * p[k] + q[k] * q[k] + r[k] * r[k];
-  const double rms = std::sqrt(sum / static_cast<double>(p.size()));
-  if (!(rms > kMaxGyroRms)) return;
-  throw ConfigError(
-      fmt::format("{}: the gyros' RMS rate is {:.1f} rad/s ({:.0f} deg/s): no fixed wing turns that fast through a "
-                  "whole flight (tern's aerobatics: 0.96 rad/s); deg/s logged as rad/s? (docs/sensor-log.md, imu)",
-                  imu.file.string(), rms, rms / kRadPerDeg));
-}
-
 }  // namespace
 
 void require_command_unit(const CsvTable& table, const char* column) {
@@ -103,8 +62,12 @@ void require_command_unit(const CsvTable& table, const char* column) {
 }
 
 void require_imu_magnitudes(const CsvTable& imu, const std::map<std::string, Column>& columns) {
-  require_m_per_s2_accelerometer(imu, columns);
-  require_rad_per_s_gyro(imu, columns);
+  const Column &ax = columns.at("accel_x"), &ay = columns.at("accel_y"), &az = columns.at("accel_z");
+  const Column &p = columns.at("gyro_x"), &q = columns.at("gyro_y"), &r = columns.at("gyro_z");
+  Column f(ax.size()), w(p.size());
+  for (std::size_t k = 0; k < ax.size(); ++k) f[k] = std::sqrt(ax[k] * ax[k] + ay[k] * ay[k] + az[k] * az[k]);
+  for (std::size_t k = 0; k < p.size(); ++k) w[k] = std::sqrt(p[k] * p[k] + q[k] * q[k] + r[k] * r[k]);
+  core::require_imu_magnitudes(imu.file, std::move(f), w);  // replay/sensor_units.hpp: the replay's own check
 }
 
 void require_imu_units(const CsvTable& imu, const std::map<std::string, Column>& body) {

@@ -6,9 +6,10 @@
 // naming the file, the value and the likely unit:
 //   - a surface command beyond pi/2 rad (degrees logged as radians), a throttle outside -1 .. 1.5
 //     (the documented 0 .. 1; a percentage or a pulse width): the first such row, with its time;
-//   - the specific force's median magnitude outside 0.5 g .. 3 g (g, mg or cm/s^2 as m/s^2);
-//   - accel_z's median above +g/2 (the IMU's z up: FLU, as ROS's base_link, or upside down);
-//   - the gyros' RMS rate over the log above 4 rad/s (deg/s logged as rad/s).
+//   - the specific force's median magnitude outside 0.5 g .. 3 g (g, mg or cm/s^2 as m/s^2, or
+//     gravity taken out) and the gyros' RMS rate over the log above 4 rad/s (deg/s logged as
+//     rad/s): replay/sensor_units.hpp's, which `tern replay` makes too;
+//   - accel_z's median above +g/2 (the IMU's z up: FLU, as ROS's base_link, or upside down).
 #pragma once
 
 #include <map>

@@ -165,13 +165,17 @@ TEST_CASE("an accelerometer whose z points up (FLU, ROS's base_link) is refused;
   CHECK_NOTHROW((void)series_from_tables(f, o));
 }
 
-TEST_CASE("an accelerometer in g or in mg is refused, naming the median it read") {
+TEST_CASE("an accelerometer in g or in mg, or with gravity taken out, is refused, naming the median it read") {
   for (const double unit : {1.0 / tern::kStandardGravity, 1000.0 / tern::kStandardGravity}) {
     FlightTables f = flight(200.0, 100.0, [](double) { return 0.0; });
     for (double& a : f.imu.columns["accel_z"]) a *= unit;
     const std::string median = fmt::format("{:.4g}", tern::kStandardGravity * unit);  // "1", "1000"
     CHECK(refusal(f).find("synthetic.csv: the specific force's median magnitude is " + median + " m/s^2") != std::string::npos);
+    CHECK(refusal(f).find(unit < 1.0 ? "g logged as m/s^2?" : "mg or cm/s^2 logged as m/s^2?") != std::string::npos);
   }
+  FlightTables f = flight(200.0, 100.0, [](double) { return 0.0; });
+  for (double& a : f.imu.columns["accel_z"]) a += tern::kStandardGravity;  // a linear acceleration: level flight reads 0
+  CHECK(refusal(f).find("gravity taken out (a linear acceleration)?") != std::string::npos);
 }
 
 TEST_CASE("gyros logged in deg/s are refused; rad/s at an aerobatic rate passes") {
