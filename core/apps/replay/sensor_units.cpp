@@ -13,6 +13,7 @@
 #include "config/error.hpp"
 #include "tern/atmosphere.hpp"
 #include "tern/math.hpp"
+#include "tern/msg/sensors.hpp"
 
 namespace tern::core {
 
@@ -50,8 +51,6 @@ std::optional<double> finite_quantile(std::vector<double> v, double q) {
   return *at;
 }
 
-/// The ranges the estimator holds a fix to (estimator_ekf's add_gnss): deg, deg, m, m/s
-constexpr double kMaxLat = 90.0, kMaxLon = 180.0, kMinAlt = -1000.0, kMaxAlt = 20000.0, kMaxSpeed = 200.0;
 /// Pa: the pitot's reversed reading that no flight the right way round leaves (9 m/s backwards)
 constexpr double kMinPitotQuantile = -50.0;
 
@@ -125,10 +124,10 @@ void require_gnss_units(const std::filesystem::path& file, GnssFixes fixes) {
   };
   for (double& x : fixes.lat) x = std::fabs(x);
   for (double& x : fixes.lon) x = std::fabs(x);
-  require("|lat|", std::move(fixes.lat), 0.0, kMaxLat, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer latitude)");
-  require("|lon|", std::move(fixes.lon), 0.0, kMaxLon, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer longitude)");
-  require("alt", std::move(fixes.alt), kMinAlt, kMaxAlt, "m", "mm or cm");
-  require("the ground speed", std::move(fixes.speed), 0.0, kMaxSpeed, "m/s", "mm/s or cm/s");
+  require("|lat|", std::move(fixes.lat), 0.0, msg::kGnssMaxAbsLat, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer latitude)");
+  require("|lon|", std::move(fixes.lon), 0.0, msg::kGnssMaxAbsLon, "deg", "degrees * 1e7 (PX4's and ArduPilot's integer longitude)");
+  require("alt", std::move(fixes.alt), msg::kGnssMinAlt, msg::kGnssMaxAlt, "m", "mm or cm");
+  require("the ground speed", std::move(fixes.speed), 0.0, msg::kGnssMaxSpeed, "m/s", "mm/s or cm/s");
 }
 
 void require_pitot_sign(const std::filesystem::path& file, std::vector<double> pressure) {

@@ -31,9 +31,9 @@ void require_pressure_unit(const std::filesystem::path& file, std::vector<double
 /// naming gauss, milligauss, microtesla or nanotesla by the ratio to 50 uT.
 void require_field_unit(const std::filesystem::path& file, std::vector<double> magnitude);
 
-/// gnss.csv's fixes (rows with a 2-D or 3-D fix; finite values): the medians of |lat| within
-/// 90 deg, of |lon| within 180 deg, of alt within -1000 .. 20000 m and of the ground speed
-/// |(vel_n, vel_e, vel_d)| within 200 m/s, the ranges the estimator holds a fix to (outside
+/// gnss.csv's fixes (rows with a 2-D or 3-D fix; finite values): the medians of |lat|, |lon|,
+/// alt and the ground speed |(vel_n, vel_e, vel_d)| within the ranges the estimator holds a fix
+/// to (tern/msg/sensors.hpp kGnssMaxAbsLat ..: 90 deg, 180 deg, -1000 .. 20000 m, 200 m/s; outside
 /// them every fix is refused and the estimate never starts: sysid then stopped at "no airborne
 /// samples"); else ConfigError naming deg * 1e7 (PX4's and ArduPilot's integer lat, lon), mm or cm,
 /// mm/s or cm/s by the ratio.

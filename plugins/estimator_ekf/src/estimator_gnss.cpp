@@ -39,8 +39,9 @@ bool Estimator::add_gnss(const msg::Gnss& fix) {
     if (!gnss_checks_.passed()) check_gnss_start(m, false);
     return false;
   }
-  const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) && m.vel.allFinite() && std::fabs(m.lat) <= 90.0 &&
-                  std::fabs(m.lon) <= 180.0 && m.alt > -1000.0 && m.alt < 20000.0 && m.vel.norm() < 200.0;
+  const bool ok = std::isfinite(m.lat) && std::isfinite(m.lon) && std::isfinite(m.alt) && m.vel.allFinite() &&
+                  std::fabs(m.lat) <= msg::kGnssMaxAbsLat && std::fabs(m.lon) <= msg::kGnssMaxAbsLon && m.alt > msg::kGnssMinAlt &&
+                  m.alt < msg::kGnssMaxAlt && m.vel.norm() < msg::kGnssMaxSpeed;
   const bool was_timed_out = counters_[static_cast<int>(Sensor::gnss)].timed_out;
   if (!accept(Sensor::gnss, m.stamp, ok)) return false;
   // The receiver has to settle first: fixes that fail a start-up check count (received,

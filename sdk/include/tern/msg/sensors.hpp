@@ -34,6 +34,11 @@ struct Imu {
 /// GNSS fix type, as u-blox and ROSflight report it.
 enum class FixType : std::uint8_t { none = 0, dead_reckoning = 1, fix_2d = 2, fix_3d = 3 };
 
+/// The range of a GNSS fix's values that a fixed wing's receiver can report (deg, deg, m above
+/// mean sea level, m/s): the estimator refuses a fix beyond it, `tern replay` a table whose median
+/// is (a unit other than the documented one: core/apps/replay/sensor_units.hpp).
+inline constexpr double kGnssMaxAbsLat = 90.0, kGnssMaxAbsLon = 180.0, kGnssMinAlt = -1000.0, kGnssMaxAlt = 20000.0, kGnssMaxSpeed = 200.0;
+
 /// GNSS receiver solution, topic `gnss` (ROSflight: 10 Hz).
 struct Gnss {
   static constexpr std::string_view type_name = "tern/Gnss";
