@@ -107,7 +107,7 @@ struct TableProblems {
 };
 
 /// The table's values against their units where a wrong unit would have every sample refused
-/// (sensor_units.hpp): the barometer's and the magnetometer's; the others as read.
+/// (sensor_units.hpp): the IMU's, GNSS's, barometer's, pitot's and magnetometer's; the others as read.
 template <class T>
 void require_units(const std::filesystem::path&, const std::vector<std::pair<Nanos, T>>&) {}
 void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Imu>>& rows) {
@@ -128,7 +128,6 @@ void require_units(const std::filesystem::path& csv, const std::vector<std::pair
   for (const auto& [t, m] : rows) b.push_back(m.field.norm());
   require_field_unit(csv, std::move(b));
 }
-
 void require_units(const std::filesystem::path& csv, const std::vector<std::pair<Nanos, msg::Gnss>>& rows) {
   GnssFixes f;
   for (const auto& [t, m] : rows) {

@@ -1,4 +1,4 @@
-// core/apps/replay/sensor_units.cpp: the barometer's and magnetometer's units (sensor_units.hpp).
+// core/apps/replay/sensor_units.cpp: a sensor log's tables against their units (sensor_units.hpp).
 #include "replay/sensor_units.hpp"
 
 #include <algorithm>
