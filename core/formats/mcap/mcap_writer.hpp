@@ -95,7 +95,7 @@ class McapWriter {
   std::string chunk_records(std::uint64_t& chunk_length, std::map<std::uint16_t, std::uint64_t>& index_offsets, bool compress);
   /// Writes the open chunk for good and starts a new one.
   void write_chunk_locked();
-  std::string chunk_index_record(const std::string& compressed, std::uint64_t chunk_start, std::uint64_t chunk_length,
+  std::string chunk_index_record(std::uint64_t compressed_size, std::uint64_t chunk_start, std::uint64_t chunk_length,
                                  const std::map<std::uint16_t, std::uint64_t>& index_offsets, std::uint64_t index_length) const;
   void write_summary_locked();
 
@@ -108,8 +108,9 @@ class McapWriter {
   std::string provisional_;  // the provisional chunk at size_, as written (restored if a write fails)
   bool synced_ = true;       // the provisional chunk holds the whole open chunk
   OpenChunk chunk_;
-  void* zstd_ = nullptr;  // ZSTD_CCtx, reused
-  std::string compressed_;
+  void* zstd_ = nullptr;    // ZSTD_CCtx, reused
+  std::string compressed_;  // the last complete chunk's zstd frame: its first compressed_size_ bytes (the rest spare)
+  std::size_t compressed_size_ = 0;
   // the summary's groups, serialised as they are learnt
   std::string schemas_, channels_, chunk_indexes_, attachment_indexes_, metadata_indexes_;
   std::vector<std::uint32_t> sequence_;        // per channel id
