@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "config/error.hpp"
+#include "replay/replay_csv.hpp"
 #include "replay/sensor_units.hpp"
 #include "replay/table_limits.hpp"
 #include "test_process.hpp"
@@ -252,6 +253,21 @@ TEST_CASE("tern replay reads a log whose tables end their lines in CRLF as the s
 
 TEST_CASE("tern replay reads a log whose tables begin with a UTF-8 byte order mark as the same log without") {
   check_same_replay("bom", [](const std::string& text) { return "\xEF\xBB\xBF" + text; });  // Excel's "CSV UTF-8", pandas' utf-8-sig
+}
+
+TEST_CASE("a table separated by semicolons or tabs is refused at its header, naming the separator") {
+  const auto refusal = [](const std::string& header) {
+    try {
+      tern::core::require_comma_separated("imu.csv", header);
+    } catch (const tern::core::ConfigError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK(refusal("t [s];stamp [ns];accel_x [m/s^2]").find("imu.csv:1: the header's cells are separated by ';'") != std::string::npos);
+  CHECK(refusal("t [s]\tstamp [ns]").find("separated by tabs") != std::string::npos);
+  CHECK(refusal("t [s],stamp [ns],note;free text").empty());  // commas: a semicolon inside a cell is the cell's
+  CHECK(refusal("t [s]").empty());                            // one column: the columns' own check names what is missing
 }
 
 TEST_CASE("a clock in seconds since 1970 is refused with how to bring it to the log's start") {

@@ -68,6 +68,16 @@ void drop_byte_order_mark(std::string& header) {
   if (header.rfind("\xEF\xBB\xBF", 0) == 0) header.erase(0, 3);
 }
 
+void require_comma_separated(const std::filesystem::path& file, const std::string& header) {
+  if (header.find(',') != std::string::npos) return;
+  const char* by = header.find(';') != std::string::npos ? "';'" : header.find('\t') != std::string::npos ? "tabs" : nullptr;
+  if (!by) return;  // one column, or none: the columns' own checks name what is missing
+  throw ConfigError(
+      fmt::format("{}:1: the header's cells are separated by {}: the tables are comma-separated, with a point for "
+                  "the decimals (docs/sensor-log.md); a spreadsheet in a locale with decimal commas exports semicolons",
+                  file.string(), by));
+}
+
 CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted) {
   check_table_file(file);
   std::ifstream in(file, std::ios::binary);
@@ -77,6 +87,7 @@ CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std
   std::string line;
   std::getline(in, line);
   drop_byte_order_mark(line);
+  require_comma_separated(file, line);
   std::vector<std::string_view> cells;
   split(line, cells);
   std::vector<std::vector<double>*> target(cells.size(), nullptr);

@@ -35,6 +35,11 @@ struct CsvTable {
 /// encoding="utf-8-sig" and PowerShell write before it (the first column would read "\xEF\xBB\xBFt").
 void drop_byte_order_mark(std::string& header);
 
+/// Throws ConfigError "<file>:1: the header's cells are separated by ';' ..." when `header` has no
+/// comma but a semicolon or a tab: a spreadsheet's "CSV" in a locale with decimal commas (or a
+/// tab-separated export) was refused on its second line, its whole row shown as one cell.
+void require_comma_separated(const std::filesystem::path& file, const std::string& header);
+
 /// Reads `file`, keeping the columns named in `wanted` (all when empty). Throws ConfigError.
 CsvTable read_csv_table(const std::filesystem::path& file, const std::vector<std::string>& wanted = {});
 

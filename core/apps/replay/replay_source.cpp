@@ -154,6 +154,7 @@ class Track final : public ReplaySource::TrackBase {
     std::getline(in, header);
     drop_byte_order_mark(header);
     drop_carriage_return(header);
+    require_comma_separated(csv, header);
     const auto layout = reflect::layout<T>();
     const auto cols = map_columns(csv, topic, header, layout);
     std::string line, cell;
