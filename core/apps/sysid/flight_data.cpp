@@ -33,10 +33,12 @@ constexpr double kMaxBaseStep = 0.005;
 
 /// s: commands logged at most this far apart are each held until the next row (a controller's every
 /// output: ROSplane 100 Hz, PX4 250 Hz, ArduPlane 50-400 Hz); rows further apart are samples of a
-/// faster controller's output (ArduPilot's RCOU at 10-25 Hz), joined by a band-limited
-/// interpolation (band_limited_rows): held, they would lag by half their interval (on the bench's
-/// seed 3 at 10 Hz the output error fitted the commands acting 25-35 ms before their stamps and
-/// C_ell_p came out 12-34 % large; joined by lines, 1-6 %, but 27-31 % on seeds 1 and 4).
+/// faster controller's output (ArduPilot's RCOU at 10-25 Hz), joined linearly: held, they would
+/// lag by half their interval. On the bench's seed 3 at 10 Hz, held, the output error fitted the
+/// commands acting 25-35 ms before their stamps and C_ell_p came out 12-34 % large; joined, 1-6 %.
+/// Over seeds 1-5 the roll's worst seed at 10 Hz stays some 35 % off (seed 1: 6 -> 37 %, seeds 3
+/// and 4: 34 -> 1 % and 32 -> 16 %, the IMU at 50 Hz): a 10-Hz record keeps little of a 3-Hz
+/// multisine.
 constexpr double kMaxHeldInterval = 0.03;
 
 using Column = std::vector<double>;
@@ -68,52 +70,13 @@ std::vector<std::size_t> usable_imu_rows(const CsvTable& imu, const std::vector<
   return rows;
 }
 
-/// Sub-rows per interval of a slow command table's record (band_limited_rows): 8 over a 10-Hz
-/// record's 100 ms, the lines between them then within 1 % of the kernel's own response to 4 Hz.
-constexpr int kRowUpsample = 8;
-
-/// The rows (t, v) with kRowUpsample - 1 rows between every two, their values the
-/// Lanczos-windowed sinc's (lanczos_weights) over each run of rows that are numbers and at most
-/// kMaxGap apart (a run's first and last values held beyond it); a row that is not a number kept
-/// as it is, between runs. The record of a faster controller's output (joined_rows) sampled every
-/// 100 ms and joined by lines passed its 2-Hz content at 0.88 and its 4-Hz at 0.57, and in closed
-/// loop the roll damping and the aileron's power traded: C_ell_p 27 % small and C_ell_delta_a
-/// 28 % large, at 7 bounds (a 10-Hz copy of a foreign log the 100-Hz one identifies within 3 %).
-std::pair<Column, Column> band_limited_rows(const Column& t, const Column& v) {
-  Column to, vo;
-  to.reserve(t.size() * kRowUpsample), vo.reserve(t.size() * kRowUpsample);
-  for (std::size_t b = 0; b < t.size();) {
-    std::size_t e = b + 1;
-    while (std::isfinite(v[b]) && e < t.size() && std::isfinite(v[e]) && t[e] - t[e - 1] <= kMaxGap) ++e;
-    const auto first = static_cast<long>(b), last = static_cast<long>(e) - 1;
-    for (std::size_t k = b; k < e; ++k) {
-      to.push_back(t[k]), vo.push_back(v[k]);
-      if (k + 1 == e) break;
-      for (int m = 1; m < kRowUpsample; ++m) {  // x(k + m/N) = x((k + 1) - f), f = 1 - m/N
-        const double frac = static_cast<double>(m) / kRowUpsample;
-        const auto w = lanczos_weights(1.0 - frac);
-        double sum = 0.0;
-        for (int i = 1 - kLanczosLobes; i <= kLanczosLobes; ++i)
-          sum += w[static_cast<std::size_t>(i + kLanczosLobes - 1)] *
-                 v[static_cast<std::size_t>(std::clamp(static_cast<long>(k) + 1 - i, first, last))];
-        to.push_back(t[k] + frac * (t[k + 1] - t[k])), vo.push_back(sum);
-      }
-    }
-    b = e;
-  }
-  return {std::move(to), std::move(vo)};
-}
-
 /// Commands in force at each time of `tq` (the last row at or before it; before the first row,
 /// the first; a row that is not a number leaves the one before it in force; `joined`: between two
-/// rows, the band-limited record's (band_limited_rows), lines between its sub-rows), through a
-/// first-order lag of time constant tau (0: none). The lag is solved exactly from each row's own
-/// instant (a step's or a ramp's response), not from the sample of tq after it: a command acts
-/// from its stamp plus its delay, wherever that falls between two samples.
-Column commands_in_force(const Column& t_rows, const Column& rows, const Column& tq, double tau, bool joined = false) {
-  std::pair<Column, Column> fine;
-  if (joined) fine = band_limited_rows(t_rows, rows);
-  const Column &t_cmd = joined ? fine.first : t_rows, &cmd = joined ? fine.second : rows;
+/// rows, the line joining them), through a first-order lag of time constant tau (0: none). The lag
+/// is solved exactly from each row's own instant (a step's or a ramp's response), not from the
+/// sample of tq after it: a command acts from its stamp plus its delay, wherever that falls
+/// between two samples.
+Column commands_in_force(const Column& t_cmd, const Column& cmd, const Column& tq, double tau, bool joined = false) {
   Column out(tq.size());
   if (tq.empty()) return out;
   const auto first = std::find_if(cmd.begin(), cmd.end(), [](double v) { return std::isfinite(v); });
@@ -305,19 +268,6 @@ Eigen::Vector3d installation(const std::filesystem::path& estimate, const std::s
 void read_installation(const std::filesystem::path& estimate_dir, FlightSeriesOptions& o) {
   o.imu_position = installation(estimate_dir, "imu_position");
   o.imu_mount = installation(estimate_dir, "imu_mount");
-}
-
-std::array<double, 2 * kLanczosLobes> lanczos_weights(double f) {
-  auto sinc = [](double v) { return std::abs(v) < 1e-12 ? 1.0 : std::sin(kPi * v) / (kPi * v); };
-  std::array<double, 2 * kLanczosLobes> w{};
-  double sum = 0.0;
-  for (int i = 1 - kLanczosLobes; i <= kLanczosLobes; ++i) {
-    const double z = static_cast<double>(i) - f;
-    w[static_cast<std::size_t>(i + kLanczosLobes - 1)] = sinc(z) * sinc(z / kLanczosLobes);
-    sum += w[static_cast<std::size_t>(i + kLanczosLobes - 1)];
-  }
-  for (double& v : w) v /= sum;  // a constant passes unchanged
-  return w;
 }
 
 double median(std::vector<double> v) {

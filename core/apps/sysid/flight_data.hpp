@@ -152,19 +152,6 @@ FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOp
 /// Throws ConfigError when actuators.csv's delta_t is a number in none of its rows.
 std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau);
 
-/// The lobes of the Lanczos-windowed sinc sysid interpolates with between samples (a command table's
-/// slow rows: commands_in_force; a delayed command: output_error.hpp shift_run).
-inline constexpr int kLanczosLobes = 4;
-
-/// The weights of a fractional delay of f samples (0 <= f < 1) by a Lanczos-windowed sinc of
-/// kLanczosLobes lobes: x(k - f) = sum over i from 1 - kLanczosLobes to kLanczosLobes of
-/// w[i + kLanczosLobes - 1] x[k - i]; normalised, so that a constant passes unchanged. Why not
-/// linear interpolation between samples: it passes a component of frequency f at sinc^2(f T) of
-/// its amplitude on average (T the interval: a 10-Hz record's 2-Hz component at 0.88, its 4-Hz one
-/// at 0.57), this kernel at 1.00 and 0.95. Duchon, "Lanczos filtering in one and two dimensions",
-/// J. Appl. Meteor. 18 (1979).
-std::array<double, 2 * kLanczosLobes> lanczos_weights(double f);
-
 /// The median of v (the upper of the two middle values for an even count); 0 when v is empty.
 double median(std::vector<double> v);
 

@@ -55,6 +55,29 @@ Param param_of(const std::string& name) {
   return {moment_coefficient(name), -1};
 }
 
+/// The weights of a fractional delay of f samples (0 <= f < 1) by a Lanczos-windowed sinc of
+/// kLanczosLobes lobes (shift_run: the tap k - whole - i weighs w[i + kLanczosLobes - 1], i from
+/// 1 - kLanczosLobes to kLanczosLobes). Why not linear interpolation between samples, the former
+/// shift: the commands are low-passed at filter_hz (10 Hz) before the output error samples them at
+/// 50 Hz, and linear interpolation passed a 5-Hz component at 0.95 of its amplitude half a sample
+/// off and whole at a whole sample; the fit's cost then favours delays near whole samples of the
+/// series as loaded. The Anaconda's foreign-log bench flight (seed 2, true prior): the aileron's delay
+/// 1.0 ms with linear interpolation, 1.9 ms with this kernel; the coefficients come right at 3.7-4 ms.
+/// Duchon, "Lanczos filtering in one and two dimensions", J. Appl. Meteor. 18 (1979).
+constexpr int kLanczosLobes = 4;
+std::array<double, 2 * kLanczosLobes> lanczos_weights(double f) {
+  auto sinc = [](double v) { return std::abs(v) < 1e-12 ? 1.0 : std::sin(kPi * v) / (kPi * v); };
+  std::array<double, 2 * kLanczosLobes> w{};
+  double sum = 0.0;
+  for (int i = 1 - kLanczosLobes; i <= kLanczosLobes; ++i) {
+    const double z = static_cast<double>(i) - f;
+    w[static_cast<std::size_t>(i + kLanczosLobes - 1)] = sinc(z) * sinc(z / kLanczosLobes);
+    sum += w[static_cast<std::size_t>(i + kLanczosLobes - 1)];
+  }
+  for (double& v : w) v /= sum;  // a constant passes unchanged
+  return w;
+}
+
 }  // namespace
 
 void shift_run(const std::vector<double>& t, const std::vector<double>& x, double tau, std::size_t b, std::size_t e,
