@@ -20,6 +20,7 @@
 #include "replay/table_limits.hpp"
 #include "test_process.hpp"
 #include "test_util.hpp"
+#include "tern/atmosphere.hpp"
 
 namespace {
 
@@ -291,7 +292,9 @@ TEST_CASE("a barometer or a magnetometer logged in another unit is refused in on
   const auto pressure = [](std::vector<double> v) { require_pressure_unit("baro.csv", std::move(v)); };
   const auto field = [](std::vector<double> v) { require_field_unit("mag.csv", std::move(v)); };
   // a flight at 1400 m (its NaN rows ignored), at sea level, at 5000 m; a field of 48 uT, of 300 uT beside a motor
-  for (const std::vector<double>& ok : {std::vector<double>{85000.0, std::nan(""), 84990.0}, {101325.0}, {54020.0}})
+  for (const std::vector<double>& ok : {std::vector<double>{tern::isa_pressure(1400.0), std::nan(""), tern::isa_pressure(1401.0)},
+                                        {tern::kIsaSeaLevelPressure},
+                                        {tern::isa_pressure(5000.0)}})
     CHECK(refusal(pressure, ok).empty());
   for (const std::vector<double>& ok : {std::vector<double>{48e-6, 49e-6}, {300e-6}, {}}) CHECK(refusal(field, ok).empty());
   CHECK(refusal(pressure, {850.0, 849.0, 851.0}).find("the pressure's median is 850 Pa") != std::string::npos);

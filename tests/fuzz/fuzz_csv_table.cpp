@@ -4,9 +4,13 @@
 // table (sysid/flight_data.hpp series_from_tables: a table read taken as the IMU's, and as the
 // actuators', beside a still, valid 10-s flight's other tables: any stamps, gaps, duplicates and
 // rates, NaN), and the excitation recovered from that series (sysid/excitation_recovery.hpp: its lags and
-// low-passes over gaps and NaN). Any bytes: a table and a series of matching columns, or ConfigError (one line);
-// never a crash, an out-of-bounds read or a hang.
+// low-passes over gaps and NaN); and replay's unit checks (sensor_units.hpp: each column taken as a
+// barometer's, a magnetometer's, an IMU's, a GNSS's and a pitot's values, NaN and empty included),
+// its stamp-against-t check and hint for a clock since 1970 (table_limits.hpp) and its separator
+// check (replay_csv.hpp) on the same bytes. Any bytes: a table and a series of matching columns, or
+// ConfigError (one line); never a crash, an out-of-bounds read or a hang.
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -14,6 +18,7 @@
 #include "config/error.hpp"
 #include "fuzz_input.hpp"
 #include "replay/replay_csv.hpp"
+#include "replay/sensor_units.hpp"
 #include "replay/table_limits.hpp"
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/flight_data.hpp"
@@ -62,6 +67,33 @@ void series_of(const CsvTable& t) {
   }
 }
 
+// Each of replay's unit checks on `v` (ConfigError or nothing).
+void unit_checks(const std::vector<double>& v, const std::vector<double>& t, const std::vector<double>* stamp) {
+  const std::vector<void (*)(const std::vector<double>&)> checks = {
+      [](const std::vector<double>& x) { require_pressure_unit("baro.csv", x); },
+      [](const std::vector<double>& x) { require_field_unit("mag.csv", x); },
+      [](const std::vector<double>& x) { require_imu_magnitudes("imu.csv", x, x); },
+      [](const std::vector<double>& x) {
+        require_gnss_units("gnss.csv", {x, x, x, x});
+      },
+      [](const std::vector<double>& x) { require_pitot_sign("diff_pressure.csv", x); },
+  };
+  for (const auto& check : checks) {
+    try {
+      check(v);
+    } catch (const ConfigError&) {
+    }
+  }
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    (void)unix_time_hint(t[k]);
+    if (!stamp || !std::isfinite(t[k]) || !std::isfinite((*stamp)[k]) || std::fabs(t[k]) > 1e9 || std::fabs((*stamp)[k]) > 9e18) continue;
+    try {
+      check_stamp_at_t("imu.csv", k + 2, static_cast<tern::Nanos>(t[k] * 1e9), static_cast<tern::Nanos>((*stamp)[k]));
+    } catch (const ConfigError&) {
+    }
+  }
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -71,6 +103,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const auto& [name, column] : t.columns)
       if (column.size() != t.rows) __builtin_trap();  // every column holds one value per row
     series_of(t);
+    const std::vector<double> none;
+    for (const auto& [name, column] : t.columns)
+      unit_checks(column, t.has("t") ? t.at("t") : none, t.has("stamp") ? &t.at("stamp") : nullptr);
+  } catch (const ConfigError&) {
+  }
+  try {
+    require_comma_separated(file, std::string(reinterpret_cast<const char*>(data), size).substr(0, 200));
   } catch (const ConfigError&) {
   }
   try {

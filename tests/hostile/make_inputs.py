@@ -96,6 +96,28 @@ def sensor_logs():
     rows[4] += ",1,2,3"
     with open(wide, "w") as f:
         f.write("\n".join(rows))
+    # a barometer in hPa (a median of 850 "Pa"), NaN rows among it: refused naming the unit, not
+    # played as out of range with one warning (core/apps/replay/sensor_units.hpp)
+    hpa = sensor_log("baro_hpa")
+    table(os.path.join(hpa, "topics", "baro.csv"), ["stamp", "pressure"],
+          [(k * 10**7, ["nan" if k % 7 == 0 else "850.0"]) for k in range(1100)])
+    # IMU stamps in microseconds beside t in seconds (table_limits.hpp check_stamp_at_t)
+    us = os.path.join(sensor_log("stamp_us"), "topics", "imu.csv")
+    with open(us) as f:
+        lines = f.read().split("\n")
+    for i in range(1, len(lines)):
+        if lines[i]:
+            cells = lines[i].split(",")
+            cells[1] = str(int(cells[1]) // 1000)
+            lines[i] = ",".join(cells)
+    with open(us, "w") as f:
+        f.write("\n".join(lines))
+    # the IMU's table separated by semicolons (a spreadsheet's CSV in a locale with decimal commas)
+    semi = os.path.join(sensor_log("semicolons"), "topics", "imu.csv")
+    with open(semi) as f:
+        text = f.read()
+    with open(semi, "w") as f:
+        f.write(text.replace(",", ";"))
     zero = sensor_log("zero_imu")
     os.remove(os.path.join(zero, "topics", "imu.csv"))
     os.symlink("/dev/zero", os.path.join(zero, "topics", "imu.csv"))

@@ -19,14 +19,16 @@ namespace tern::core {
 
 namespace {
 
-/// The median of the finite values (the upper of the two middle ones); nullopt when there is none.
-std::optional<double> finite_median(std::vector<double> v) {
+/// The finite values' element at `rank` (0 .. 1) of their sorted order: rank 0.5 the median (the
+/// upper of the two middle ones), 0.05 the 5th percentile; nullopt when there is none.
+std::optional<double> finite_rank(std::vector<double> v, double rank) {
   v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
   if (v.empty()) return std::nullopt;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
+  const auto at = v.begin() + static_cast<std::ptrdiff_t>(rank * static_cast<double>(v.size()));
+  std::nth_element(v.begin(), std::min(at, v.end() - 1), v.end());
+  return *std::min(at, v.end() - 1);
 }
+std::optional<double> finite_median(std::vector<double> v) { return finite_rank(std::move(v), 0.5); }
 
 /// m/s^2: the range of the specific force's median magnitude (header)
 constexpr double kMinMedianAccel = 0.5 * kStandardGravity, kMaxMedianAccel = 3.0 * kStandardGravity;
@@ -38,18 +40,11 @@ constexpr double kMaxGyroRms = 4.0;
 
 /// Pa: the barometer's median pressure's range (header)
 constexpr double kMinPressure = 10e3, kMaxPressure = 120e3;
-/// T: the magnetometer's median field's bound (header), and the Earth's field the units are named by
-constexpr double kMaxField = 1e-3, kEarthField = 50e-6;
-
-/// The fraction `q` (0 .. 1) of the finite values: the value below which that share lies;
-/// nullopt when there is none.
-std::optional<double> finite_quantile(std::vector<double> v, double q) {
-  v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
-  if (v.empty()) return std::nullopt;
-  const auto at = v.begin() + static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), at, v.end());
-  return *at;
-}
+/// T: the magnetometer's median field's bound (header); the Earth's field at its surface (the
+/// World Magnetic Model's range, equator to poles) and a typical value the units are named by
+constexpr double kMaxField = 1e-3, kMinEarthField = 22e-6, kMaxEarthField = 67e-6, kEarthField = 50e-6;
+/// Pa per pound-force per square inch and per inch of mercury (NIST SP 811, appendix B.8)
+constexpr double kPaPerPsi = 6894.757, kPaPerInHg = 3386.389;
 
 /// Pa: the pitot's reversed reading that no flight the right way round leaves (9 m/s backwards)
 constexpr double kMinPitotQuantile = -50.0;
@@ -95,7 +90,7 @@ void require_pressure_unit(const std::filesystem::path& file, std::vector<double
   const std::optional<double> mid = finite_median(std::move(pressure));
   if (!mid || (*mid >= kMinPressure && *mid <= kMaxPressure)) return;
   const std::string unit =
-      likely_unit(*mid, kIsaSeaLevelPressure, {{"hPa (mbar)", 1e-2}, {"kPa", 1e-3}, {"psi", 1.0 / 6894.757}, {"inHg", 1.0 / 3386.389}});
+      likely_unit(*mid, kIsaSeaLevelPressure, {{"hPa (mbar)", 1e-2}, {"kPa", 1e-3}, {"psi", 1.0 / kPaPerPsi}, {"inHg", 1.0 / kPaPerInHg}});
   throw ConfigError(fmt::format(
       "{}: the pressure's median is {:.4g} Pa: a barometer reads about {:.0f} Pa at sea level and {:.0f} at "
       "5000 m{} (docs/sensor-log.md, baro: Pa)",
@@ -107,9 +102,10 @@ void require_field_unit(const std::filesystem::path& file, std::vector<double> m
   if (!mid || *mid <= kMaxField) return;
   const std::string unit = likely_unit(*mid, kEarthField, {{"gauss", 1e4}, {"milligauss", 1e7}, {"microtesla", 1e6}, {"nanotesla", 1e9}});
   throw ConfigError(
-      fmt::format("{}: the field's median magnitude is {:.4g} T: the Earth's is 22-67 uT (2.2e-05 .. 6.7e-05 T){} "
+      fmt::format("{}: the field's median magnitude is {:.4g} T: the Earth's is {:g}-{:g} uT ({:g} .. {:g} T){} "
                   "(docs/sensor-log.md, mag: T)",
-                  file.string(), *mid, unit.empty() ? "" : fmt::format("; {} logged as T?", unit)));
+                  file.string(), *mid, kMinEarthField * 1e6, kMaxEarthField * 1e6, kMinEarthField, kMaxEarthField,
+                  unit.empty() ? "" : fmt::format("; {} logged as T?", unit)));
 }
 
 void require_gnss_units(const std::filesystem::path& file, GnssFixes fixes) {
@@ -131,7 +127,7 @@ void require_gnss_units(const std::filesystem::path& file, GnssFixes fixes) {
 }
 
 void require_pitot_sign(const std::filesystem::path& file, std::vector<double> pressure) {
-  const std::optional<double> low = finite_quantile(pressure, 0.05), high = finite_quantile(std::move(pressure), 0.95);
+  const std::optional<double> low = finite_rank(pressure, 0.05), high = finite_rank(std::move(pressure), 0.95);
   if (!low || *low >= kMinPitotQuantile || -*low <= std::max(*high, 0.0)) return;
   throw ConfigError(
       fmt::format("{}: the pressure's 5th percentile is {:.4g} Pa and its 95th {:.4g} Pa: a pitot reads the dynamic pressure, "

@@ -23,7 +23,7 @@ void require_imu_magnitudes(const std::filesystem::path& file, std::vector<doubl
 
 /// baro.csv's `pressure` (Pa): the median of the finite values within 10 kPa (16 km up) ..
 /// 120 kPa (above any sea-level pressure measured); else ConfigError naming hPa, kPa, psi or inHg
-/// by the ratio to the standard atmosphere's 101325 Pa.
+/// by the ratio to the standard atmosphere's sea-level pressure (tern/atmosphere.hpp).
 void require_pressure_unit(const std::filesystem::path& file, std::vector<double> pressure);
 
 /// mag.csv's field magnitude (T): the median of the finite values at most 1 mT (the Earth's field

@@ -356,12 +356,6 @@ void read_estimate_table(FlightTables& tables, const std::filesystem::path& esti
   tables.state = read_table(estimate_dir / "topics" / "state.csv", with_t(kStateColumns), "the estimate (tern replay LOG) is required");
 }
 
-FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir) {
-  FlightTables f = read_log_tables(log_dir);
-  read_estimate_table(f, estimate_dir);
-  return f;
-}
-
 std::vector<double> throttle_in_force(const FlightTables& tables, const std::vector<double>& t, double tau) {
   std::vector<std::string> notes;
   const CsvTable act = in_time_order(tables.actuators, notes);

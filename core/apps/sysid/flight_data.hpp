@@ -140,9 +140,6 @@ FlightTables read_log_tables(const std::filesystem::path& log_dir);
 /// The estimate's topics/state.csv under `estimate_dir` into `tables`.
 void read_estimate_table(FlightTables& tables, const std::filesystem::path& estimate_dir);
 
-/// read_log_tables, then read_estimate_table (the two directories may be the same run).
-FlightTables read_flight_tables(const std::filesystem::path& log_dir, const std::filesystem::path& estimate_dir);
-
 /// Conditions the series from the tables (header).
 FlightSeries series_from_tables(const FlightTables& tables, const FlightSeriesOptions& options);
 
