@@ -171,7 +171,7 @@ LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& col
   const Eigen::Map<const Eigen::VectorXd> zz(zm.data(), static_cast<Eigen::Index>(zm.size()));
   const Eigen::MatrixXd* iv = instruments.empty() ? nullptr : &Z;
   LsEstimate e = least_squares(X, zz, 3, iv);
-  e.std_error = e.std_error.cwiseMax(trim_jackknife(c.L, X, zz, iv));
+  e.std_error = e.std_error.cwiseMax(trim_jackknife(c.L, c.o.trim_window_s, X, zz, iv));
   return e;
 }
 

@@ -41,11 +41,11 @@
 // identified it. The standard error is the largest of the white-residual Cramer-Rao bound, the one
 // that accounts for coloured residuals (the time domain's residual autocorrelation, the frequency
 // domain's per-frequency residual power) and the delete-one-batch jackknife over the flight's
-// two-minute pieces; the lift's also carries what the kept terms beside it, uncertain by half
-// their prior, move it by. A coefficient is not identified (the prior is kept, with one line saying
-// why) when its regressor was not excited (e.g. "pitch rate never above 5 deg/s"), when it is
-// collinear with another regressor (|r| > max_correlation), or when its standard error exceeds
-// max_relative_error of the estimate.
+// two-minute pieces (the trim fits': over 30-s blocks of windows); the lift's also carries what
+// the kept terms beside it, uncertain by half their prior, move it by. A coefficient is not
+// identified (the prior is kept, with one line saying why) when its regressor was not excited
+// (e.g. "pitch rate never above 5 deg/s"), when it is collinear with another regressor
+// (|r| > max_correlation), or when its standard error exceeds max_relative_error of the estimate.
 #pragma once
 
 #include <array>

@@ -1,6 +1,7 @@
 // core/apps/sysid/jackknife.cpp: the delete-one-batch jackknife (jackknife.hpp).
 #include "sysid/jackknife.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/LU>
@@ -11,15 +12,13 @@ namespace tern::core::sysid {
 
 namespace {
 
-/// The batch (segment piece) each trim window starts in; windows outside every piece: the last batch + 1.
-std::vector<std::size_t> window_batches(const Layout& L) {
-  std::vector<std::size_t> batch;
-  for (const auto& w : L.windows) {
-    std::size_t i = 0;
-    while (i < L.segments.size() && !(w.front() >= L.segments[i].first && w.front() < L.segments[i].second)) ++i;
-    batch.push_back(i);
-  }
-  return batch;
+/// The block each trim window falls in: runs of `per_block` consecutive windows (the last run
+/// shorter than half of it joins the one before).
+std::vector<std::size_t> window_blocks(std::size_t windows, std::size_t per_block) {
+  const std::size_t blocks = std::max<std::size_t>(1, (windows + per_block / 2) / per_block);
+  std::vector<std::size_t> block(windows);
+  for (std::size_t i = 0; i < windows; ++i) block[i] = std::min(i / per_block, blocks - 1);
+  return block;
 }
 
 }  // namespace
@@ -50,17 +49,19 @@ Eigen::VectorXd batch_scatter(const Spectra& spectra, const Eigen::MatrixXcd& X,
   return jackknife_se(thetas, X.cols());
 }
 
-Eigen::VectorXd trim_jackknife(const Layout& L, const Eigen::MatrixXd& X, const Eigen::VectorXd& z, const Eigen::MatrixXd* Z) {
-  const std::vector<std::size_t> batch = window_batches(L);
+Eigen::VectorXd trim_jackknife(const Layout& L, double window_s, const Eigen::MatrixXd& X, const Eigen::VectorXd& z,
+                               const Eigen::MatrixXd* Z) {
+  const auto per_block = static_cast<std::size_t>(std::max(1.0, std::ceil(kTrimBlock / window_s)));
+  const std::vector<std::size_t> block = window_blocks(L.windows.size(), per_block);
   std::vector<Eigen::VectorXd> thetas;
-  for (std::size_t b = 0; b <= L.segments.size(); ++b) {
+  for (std::size_t b = 0; !block.empty() && b <= block.back(); ++b) {
     std::vector<Eigen::Index> keep;
-    for (std::size_t i = 0; i < batch.size(); ++i)
-      if (batch[i] != b) keep.push_back(static_cast<Eigen::Index>(i));
-    if (keep.size() == batch.size() || keep.size() <= 3 * static_cast<std::size_t>(X.cols())) continue;
+    for (std::size_t i = 0; i < block.size(); ++i)
+      if (block[i] != b) keep.push_back(static_cast<Eigen::Index>(i));
+    if (keep.size() <= 3 * static_cast<std::size_t>(X.cols())) continue;
     const Eigen::MatrixXd Xb = X(keep, Eigen::all), Zb = Z != nullptr ? Eigen::MatrixXd((*Z)(keep, Eigen::all)) : Xb;
     const Eigen::VectorXd zb = z(keep);
-    if (std::abs((Zb.transpose() * Xb).determinant()) < 1e-12 * (Zb.norm() * Xb.norm())) continue;  // a batch held every airspeed
+    if (std::abs((Zb.transpose() * Xb).determinant()) < 1e-12 * (Zb.norm() * Xb.norm())) continue;  // a block held every airspeed
     thetas.push_back(least_squares(Xb, zb, 3, Z != nullptr ? &Zb : nullptr).theta);
   }
   return jackknife_se(thetas, X.cols());

@@ -24,8 +24,16 @@ Eigen::VectorXd jackknife_se(const std::vector<Eigen::VectorXd>& thetas, Eigen::
 Eigen::VectorXd batch_scatter(const Spectra& spectra, const Eigen::MatrixXcd& X, const Eigen::VectorXcd& z, const Eigen::MatrixXcd& Z,
                               bool iv);
 
-/// The delete-one-batch jackknife of a trim fit (batch_scatter's, over the windows of each batch):
-/// what the flight's pieces, each at its own airspeeds, disagree by. Zero with fewer than three.
-Eigen::VectorXd trim_jackknife(const Layout& L, const Eigen::MatrixXd& X, const Eigen::VectorXd& z, const Eigen::MatrixXd* Z);
+/// s: the trim jackknife's blocks of consecutive windows span at least this: several times the
+/// gusts' correlation time (Dryden's longitudinal scale, 200 m at low altitude, at 25 m/s: 8 s;
+/// uavbook sec. 4.4), so that the blocks' errors are nearly independent, and enough blocks (nine in
+/// 300 s) that the bound is not one of three pieces' scatter (2 degrees of freedom).
+constexpr double kTrimBlock = 30.0;
+
+/// The delete-one-block jackknife of a trim fit (Kunsch 1989; Efron and Tibshirani ch. 11): the
+/// fit without each block of consecutive trim windows (window_s each, kTrimBlock together) in
+/// turn. Zero with fewer than three blocks.
+Eigen::VectorXd trim_jackknife(const Layout& L, double window_s, const Eigen::MatrixXd& X, const Eigen::VectorXd& z,
+                               const Eigen::MatrixXd* Z);
 
 }  // namespace tern::core::sysid
