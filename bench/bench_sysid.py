@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash] [--no-pitot] | --book [--book-speeds VA ...]]: system identification against the truth.
+"""bench_sysid.py BIN_DIR [--seeds N] [--mission FILE] [--aircraft FILE] [--out JSON] [--foreign ... [--dataflash] [--no-pitot] | --book [--book-speeds VA ...] [--book-calm]]: system identification against the truth.
 
 Issue 62's bench. For each seed: the truth aircraft (default the Aerosonde, configs/aircraft/aerosonde.yaml)
 flies configs/missions/sysid.yaml (excitation on every surface at three airspeeds, `realistic` sensors,
@@ -244,6 +244,7 @@ def fly_book(truth_file, seed, args, work):
     commands one 5-ms sample late, no excitation table, the log all airborne), in the sensor-log format."""
     out = os.path.join(work, f"book_{seed}")
     speeds = ["--speeds", *map(str, args.book_speeds)] if args.book_speeds else []
+    speeds += ["--turbulence", "none", "--wind", "0", "0"] if args.book_calm else []
     run([sys.executable, os.path.join(HERE, "book_sim.py"), "--aircraft", truth_file, "--out", out, "--seed", str(seed)] + speeds)
     return out
 
@@ -370,8 +371,9 @@ def flies_ratios(seeds):
 def log_route(args):
     """What sysid read, in words (the JSON's log_route)."""
     if args.book:
-        return ("bench/book_sim.py's flight (an independent uavbook simulator: its own ch.-6 autopilot, Dryden gusts, the IMU at 200 Hz, "
+        return ("bench/book_sim.py's flight (an independent uavbook simulator: its own ch.-6 autopilot, {}, the IMU at 200 Hz, "
                 "commands at 50 Hz acting one 5-ms sample after their stamps, no excitation table, 300 s all airborne{})").format(
+                    "calm air (no gusts, no wind)" if args.book_calm else "Dryden gusts",
                     f", legs at {' '.join(map(str, args.book_speeds))} m/s" if args.book_speeds else "")
     if not args.foreign:
         return "the tern flight's own log (CSV)"
@@ -405,6 +407,8 @@ def main():
                     help="identify from bench/book_sim.py's flight (an independent simulator written from the uavbook) instead of tern's")
     ap.add_argument("--book-speeds", type=float, nargs="+", metavar="VA",
                     help="with --book: the legs' airspeeds (m/s; book_sim.py's default 20 25 30; the Anaconda: 17 21 25)")
+    ap.add_argument("--book-calm", action="store_true",
+                    help="with --book: calm air (book_sim.py --turbulence none --wind 0 0), as a simpler simulator flies")
     ap.add_argument("--command-delay", type=float, metavar="MS",
                     help="tell tern sysid the commands' delay (--command-delay MS), as a user who knows their servos' would")
     args = ap.parse_args()
@@ -412,11 +416,11 @@ def main():
         ap.error("--dataflash and --no-pitot rewrite the --foreign log: give --foreign too")
     if args.book and args.foreign:
         ap.error("--book and --foreign are two routes: give one")
-    if args.book_speeds and not args.book:
-        ap.error("--book-speeds are the --book flight's legs: give --book too")
+    if (args.book_speeds or args.book_calm) and not args.book:
+        ap.error("--book-speeds and --book-calm shape the --book flight: give --book too")
     if not args.out:
         stem = os.path.splitext(os.path.basename(args.aircraft))[0]
-        name = "bench_sysid" + ("_book" if args.book else "") + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \
+        name = "bench_sysid" + ("_book" if args.book else "") + ("_calm" if args.book_calm else "") + ("_foreign" if args.foreign else "") + ("_dataflash" if args.dataflash else "") + \
             ("" if stem == "aerosonde" else f"_{stem}")
         args.out = os.path.join(HERE, "results", name + ".json")
     tern = os.path.join(os.path.abspath(args.bin_dir), "tern")

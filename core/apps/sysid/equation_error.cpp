@@ -35,7 +35,7 @@ std::map<std::string, std::string> failures(Context& c, const std::vector<Term>&
         break;
       }
     if (!bad.count(free[j].name) && e.std_error[J] > c.o.max_relative_error * std::abs(e.theta[J]))
-      bad[free[j].name] = fmt::format("poorly determined: {:.3g} +- {:.2g}", e.theta[J], e.std_error[J]);
+      bad[free[j].name] = fmt::format("{}: {:.3g} +- {:.2g}", kPoorlyDetermined, e.theta[J], e.std_error[J]);
   }
   return bad;
 }

@@ -62,6 +62,10 @@ struct Signals {
 
 Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta);
 
+/// The start of the note a band fit gives a term excited and not collinear whose bound exceeds
+/// max_relative_error of its estimate (band_fit): the output error tries such a term again (refine).
+inline constexpr const char* kPoorlyDetermined = "poorly determined";
+
 /// Term t's estimate as it stands in c.coef, recorded in the result by `method`; returns the record.
 CoefficientEstimate& record(Context& c, const Term& t, const std::string& method);
 

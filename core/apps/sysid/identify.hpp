@@ -31,7 +31,9 @@
 //     roll and yaw rates together, simulated over windows of the flight from the measured rates,
 //     driven by step 2's alpha and beta, the commands and qbar; the moment coefficients the band
 //     identified (and the bias terms) refined by Levenberg-Marquardt from their equation-error
-//     values. Those the band did not identify keep the prior: output error does not free them.
+//     values; a dominant derivative the band left poorly determined (excited, not collinear) is
+//     freed from the prior and adopted if the output error determines it (identify_moments.hpp);
+//     the others the band did not identify keep the prior.
 //     The reported standard error is the output error's (coloured-residual) bound, never below
 //     the equation error's when the two estimates disagree by more than their bounds combined;
 //     an output-error estimate poorly determined (max_relative_error) is not adopted.

@@ -113,13 +113,49 @@ OutputErrorFit timing_fit(Context& c, const RateData& d, RateAxes axes, const st
   return output_error(d, c.result.aircraft, start, axes, free, o);
 }
 
+/// The retried terms (free[from...]) the output error fit f leaves undetermined: back to the prior
+/// with a note, out of `free`. Returns whether any went (the rest are then fitted again).
+bool drop_undetermined(Context& c, std::vector<std::string>& free, std::size_t from, const OutputErrorFit& f) {
+  std::vector<std::string> kept(free.begin(), free.begin() + static_cast<std::ptrdiff_t>(from));
+  for (std::size_t j = from; j < free.size(); ++j) {
+    const auto J = static_cast<Eigen::Index>(j);
+    CoefficientEstimate* e = find_estimate(c.result, free[j]);
+    if (retry_determined(c.o.max_relative_error, *e, f.theta[J], f.std_error[J]))
+      kept.push_back(free[j]);
+    else
+      e->note += fmt::format("; output error {:.3g} +- {:.2g}", f.theta[J], f.std_error[J]);
+  }
+  const bool dropped = kept.size() < free.size();
+  free = std::move(kept);
+  return dropped;
+}
+
+/// A retried term the output error determined: adopted, with a note saying so.
+void adopt_retried(Context& c, CoefficientEstimate& e, double theta, double se) {
+  c.result.notes.push_back(fmt::format("{}: the band left it {}; the output error's {:.4g} +- {:.2g} adopted", e.name, e.note, theta, se));
+  e.identified = true, e.note.clear(), e.estimate = theta, e.std_error = se, e.method = "output error";
+  c.coef.*moment_coefficient(e.name) = theta;
+}
+
 }  // namespace
 
+bool retried_by_output_error(const CoefficientEstimate& e) {
+  return !e.identified && e.method == "band" && e.note.rfind(kPoorlyDetermined, 0) == 0 &&
+         std::find(kDominant.begin(), kDominant.end(), e.name) != kDominant.end();
+}
+
+bool retry_determined(double max_relative_error, const CoefficientEstimate& e, double theta, double se) {
+  const double size = std::min(std::abs(theta), e.prior != 0.0 ? std::abs(e.prior) : std::abs(theta));
+  return se <= max_relative_error * size;
+}
+
 void refine(Context& c, const RateData& d, RateAxes axes) {
-  std::vector<std::string> free;
+  std::vector<std::string> free, retried;
   for (const auto& e : c.result.coefficients) {
     const bool pitch = e.name.rfind("C_m_", 0) == 0, lateral = e.name.rfind("C_ell_", 0) == 0 || e.name.rfind("C_n_", 0) == 0;
-    if (e.identified && (axes == RateAxes::pitch ? pitch : lateral)) free.push_back(e.name);
+    if (!(axes == RateAxes::pitch ? pitch : lateral)) continue;
+    if (e.identified) free.push_back(e.name);
+    if (retried_by_output_error(e)) retried.push_back(e.name);
   }
   if (c.o.estimate_delays) {
     std::vector<std::string> timed;
@@ -127,7 +163,10 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     take_delays(c, timing_fit(c, d, axes, timed));
   }
   if (free.empty()) return;
-  const OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
+  const std::size_t identified = free.size();
+  free.insert(free.end(), retried.begin(), retried.end());
+  OutputErrorFit f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
+  if (drop_undetermined(c, free, identified, f)) f = output_error(d, c.result.aircraft, c.coef, axes, free, c.o.output_error);
   const std::vector<std::string> outputs =
       axes == RateAxes::pitch ? std::vector<std::string>{"pitch rate"} : std::vector<std::string>{"roll rate", "yaw rate"};
   std::string rms;
@@ -151,6 +190,13 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
     const auto J = static_cast<Eigen::Index>(j);
     CoefficientEstimate* e = find_estimate(c.result, free[j]);
     double se = f.std_error[J];
+    if (j >= identified) {
+      if (retry_determined(c.o.max_relative_error, *e, f.theta[J], se))
+        adopt_retried(c, *e, f.theta[J], se);
+      else
+        e->note += fmt::format("; output error {:.3g} +- {:.2g}", f.theta[J], se);
+      continue;
+    }
     if (se > c.o.max_relative_error * std::abs(f.theta[J])) {
       c.result.notes.push_back(fmt::format("{}: output error poorly determined ({:.4g} +- {:.2g}); the equation error's {:.4g} kept",
                                            e->name, f.theta[J], se, e->estimate));

@@ -3,6 +3,8 @@
 // axes, and the gyros' roll-yaw coupling in the bounds.
 #pragma once
 
+#include <array>
+
 #include "sysid/equation_error.hpp"
 
 namespace tern::core::sysid {
@@ -10,8 +12,34 @@ namespace tern::core::sysid {
 /// The pitching moment in the band, alpha from the lift instrumented by the reconstruction's (step 3).
 void pitching_moment(Context& c, const Col& alpha, bool accel);
 
+/// The moments' dominant derivatives (each axis's stiffness, damping and control power; Klein and
+/// Morelli sec. 9.1), which the output error tries again when the band left them undetermined
+/// (retried_by_output_error). The cross derivatives stay where the band left them: retried as well
+/// on 20 logs (tern's own and its foreign rewrites, bench/foreign_log.py), they moved C_n_r and
+/// C_n_beta by up to 7 % of the truth either way and the yaw rate's fit (tern validate) 5 % worse
+/// on two of three.
+inline constexpr std::array<const char*, 9> kDominant = {"C_m_alpha",     "C_m_q",    "C_m_delta_e", "C_ell_beta", "C_ell_p",
+                                                         "C_ell_delta_a", "C_n_beta", "C_n_r",       "C_n_delta_r"};
+
+/// Whether the band left e, a dominant derivative, undetermined by its bound alone (excited, not
+/// collinear; its note kPoorlyDetermined): refine then frees it in the output error, on the whole
+/// record's simulated rates, from the prior. In calm air (bench/book_sim.py --turbulence none) the
+/// yaw band's pieces disagreed on C_n_r by 55 % of it and the prior, 40 % off, was kept; retried,
+/// C_n_r came out within 1 %.
+bool retried_by_output_error(const CoefficientEstimate& e);
+
+/// Whether the output error determines a retried term: its bound se within max_relative_error of
+/// the estimate theta and of the size its prior expects (|prior|, as least_determined measures a
+/// band's terms: an estimate thrown far from any value looks well determined against itself).
+/// Against the estimate alone C_ell_delta_r (prior 0.0014) was adopted at -0.010 to -0.013 +- 0.004
+/// on the foreign rewrites of tern's flights (the truth +0.0024, outside 3 bounds on two of ten).
+bool retry_determined(double max_relative_error, const CoefficientEstimate& e, double theta, double se);
+
 /// The output-error refinement (output_error.hpp) of one group of axes: the coefficients of the
-/// axes' moments the equation error identified, from their estimates; the others held.
+/// axes' moments the equation error identified, from their estimates, and the dominant ones it left
+/// poorly determined (retried_by_output_error), from the prior: those the output error determines
+/// (retry_determined) are adopted; the others go back to the prior and the rest are fitted again
+/// without them. The others held.
 void refine(Context& c, const RateData& d, RateAxes axes);
 
 /// The gyros' roll-yaw coupling as a consider covariance. A yaw gyro that reads r + kappa p puts

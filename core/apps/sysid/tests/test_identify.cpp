@@ -10,6 +10,7 @@
 
 #include "sysid/equation_error.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/identify_moments.hpp"
 #include "sysid/identify_drag.hpp"
 #include "sysid/motor_lag.hpp"
 #include "sysid/regression.hpp"
@@ -699,4 +700,25 @@ TEST_CASE("gyros that read a share of each other's rate: the rate derivatives' b
     else
       CHECK(std::abs(e - truth.aero.C_ell_r) > 3.0 * se);  // a bound without it does not hold the truth
   }
+}
+
+TEST_CASE("the output error retries a dominant derivative the band left poorly determined, judged against its prior's size") {
+  using tern::core::sysid::CoefficientEstimate;
+  // calm air, bench/book_sim.py: the yaw band's pieces disagreed on C_n_r, the prior 40 % off
+  CoefficientEstimate n_r{"C_n_r", -0.057, -0.057, 0.0, false, "band", "poorly determined: -0.0764 +- 0.042"};
+  CHECK(tern::core::sysid::retried_by_output_error(n_r));
+  CHECK(tern::core::sysid::retry_determined(0.5, n_r, -0.0947, 0.0022));
+  // a cross derivative stays where the band left it; so do a term it found collinear or not excited
+  CHECK_FALSE(tern::core::sysid::retried_by_output_error(
+      {"C_ell_delta_r", 0.00144, 0.00144, 0.0, false, "band", "poorly determined: 0.0035 +- 0.0048"}));
+  CHECK_FALSE(tern::core::sysid::retried_by_output_error({"C_n_r", -0.057, -0.057, 0.0, false, "band", "collinear with C_n_p (r = 0.97)"}));
+  CHECK_FALSE(tern::core::sysid::retried_by_output_error({"C_n_r", -0.057, -0.057, 0.0, false, "band", "yaw rate never above 5 deg/s"}));
+  CHECK_FALSE(tern::core::sysid::retried_by_output_error({"C_n_r", -0.057, -0.09, 0.01, true, "band", ""}));
+  // bounded within half of itself but not of the size the prior expects: thrown far from any value
+  const CoefficientEstimate small{"C_ell_delta_r", 0.0014, 0.0014, 0.0, false, "band", "poorly determined: 0.0035 +- 0.0048"};
+  CHECK_FALSE(tern::core::sysid::retry_determined(0.5, small, -0.012, 0.004));
+  CHECK(tern::core::sysid::retry_determined(0.5, small, 0.0016, 0.0005));
+  // a prior of 0 says nothing of the size: the estimate's is taken
+  CHECK(tern::core::sysid::retry_determined(0.5, {"C_n_beta", 0.0, 0.0, 0.0, false, "band", ""}, 0.07, 0.01));
+  CHECK_FALSE(tern::core::sysid::retry_determined(0.5, {"C_n_beta", 0.0, 0.0, 0.0, false, "band", ""}, 0.07, 0.04));
 }
