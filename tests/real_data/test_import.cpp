@@ -214,6 +214,11 @@ TEST_CASE("inertialnav: the Zurich PX4 flight, from its zip as shipped") {
                     ": no surface commands in this log (InertialNav's files hold sensors and the onboard estimate only): no "
                     "actuators.csv written (tern sysid needs one)"));
   CHECK(!fs::exists(log / "topics" / "actuators.csv"));
+  // the warnings stay in sensor_log.yaml's notes (tern sysid names the one of a missing table)
+  int kept = 0;
+  for (const auto& n : YAML::LoadFile((log / "sensor_log.yaml").string())["notes"])
+    kept += n.as<std::string>().rfind("import warning: ", 0) == 0 ? 1 : 0;
+  CHECK(kept == 2);
 
   SUBCASE("imu: IMU.txt line 2, ms -> ns, gyro rad/s and accel m/s^2 already body FRD") {
     // "8.2111359e+00 8.2111359e+00 1.5411900e-01 2.6476000e-02 5.3018000e-02 1.3661700e+00 3.2541300e-01 -9.0435160e+00"
@@ -280,6 +285,13 @@ TEST_CASE("inertialnav: the Zurich PX4 flight, from its zip as shipped") {
     CHECK(y["estimator"]["rho"].as<double>() == doctest::Approx(1.225));  // EAS2TAS 1.0 in timing.txt
     CHECK(y["notes"].size() >= 5);
   }
+}
+
+TEST_CASE("an archive's warnings name the archive, not the directory it was unpacked into") {
+  const tern::core::ArchiveInput a(kZurich);
+  const std::string zip = kZurich.string();
+  CHECK(a.readable(a.dir().string() + ": no surface commands") == zip + ": no surface commands");
+  CHECK(a.readable((a.dir() / "GPS.txt").string() + ":12: bad row") == zip + ":GPS.txt:12: bad row");
 }
 
 TEST_CASE("inertialnav: without GPSraw.txt the velocity comes from speed and course; bad rows give one line") {

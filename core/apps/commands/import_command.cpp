@@ -95,6 +95,7 @@ int run_import(const ImportOptions& o) {
     if (!log_file) archive = std::make_unique<ArchiveInput>(o.input);
     SensorLogWriter out(o.out_dir);
     out.set_origin(fs::path(o.input).filename().string());
+    if (archive) out.set_readable([&archive](const std::string& w) { return archive->readable(w); });
     const ImportReport report = it->second(archive ? archive->dir() : fs::path(o.input), out, *mapping);
     fmt::print("{} -> {}\n", o.input, o.out_dir);
     for (const auto& [topic, rows] : report.rows) fmt::print("  {:<14} {:>9} rows\n", topic, rows);

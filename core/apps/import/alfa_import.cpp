@@ -358,7 +358,7 @@ ImportReport import_alfa(const fs::path& in, SensorLogWriter& out, const Command
     const double t_fail = engine_failure_s(inputs.engines, t0);
     if (std::isfinite(t_fail)) n.push_back(fmt::format("engine failure flag set from t = {:.2f} s (failure_status/engines)", t_fail));
   }
-  out.finish(meta);
+  out.finish(meta, report.warnings);
   report.rows = out.rows();
   return report;
 }

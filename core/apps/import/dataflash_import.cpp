@@ -777,7 +777,7 @@ ImportReport convert(const fs::path& bin, SensorLogWriter& out, const CommandMap
   if (!s.firmware.empty() && s.firmware.rfind("ArduPlane", 0) != 0)
     report.warnings.push_back(
         fmt::format("{}: the firmware is '{}', not ArduPlane: its servo outputs may not be a fixed wing's surfaces", file, s.firmware));
-  out.finish(meta);
+  out.finish(meta, report.warnings);
   report.rows = out.rows();
   return report;
 }

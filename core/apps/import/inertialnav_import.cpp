@@ -269,7 +269,7 @@ ImportReport import_inertialnav(const fs::path& in, SensorLogWriter& out) {
                   "only): no actuators.csv written (tern sysid needs one)",
                   dir.string()));
   airborne.write_to(meta);
-  out.finish(meta);
+  out.finish(meta, report.warnings);
   report.rows = out.rows();
   return report;
 }

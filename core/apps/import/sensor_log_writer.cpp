@@ -118,10 +118,11 @@ YAML::Node SensorLogWriter::slow_sensor_timeouts() const {
   return n;
 }
 
-void SensorLogWriter::finish(const SensorLogMeta& meta) {
+void SensorLogWriter::finish(const SensorLogMeta& meta, const std::vector<std::string>& warnings) {
   if (finished_) return;
   finished_ = true;
   SensorLogMeta m = meta;
+  for (const auto& w : warnings) m.notes.push_back(std::string(kImportWarning) + (readable_ ? readable_(w) : w));
   // the settings this log implies, where the importer did not set them itself
   const auto add_unset = [&m](const YAML::Node& settings) {
     for (const auto& kv : settings) {

@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -43,6 +44,11 @@ struct ImportReport {
   std::map<std::string, std::uint64_t> rows;
   std::vector<std::string> warnings;
 };
+
+/// The start of a note in sensor_log.yaml that keeps one of the import's warnings
+/// (SensorLogWriter::finish): what the import said of a table it did not write, read again by
+/// tern sysid when that table is missing.
+inline constexpr std::string_view kImportWarning = "import warning: ";
 
 /// sensor_log.yaml's content (docs/sensor-log.md).
 struct SensorLogMeta {
@@ -89,10 +95,15 @@ class SensorLogWriter {
   /// this log (imu_max_dt, imu_timeout, imu_reinit_gap: imu_timing_settings(), above) are added to
   /// meta.estimator where the importer did not set them, and so is the time-out of every other
   /// sensor slower than 2.5 Hz (slow_sensor_timeouts()).
-  void finish(const SensorLogMeta& meta);
+  /// `warnings` (the import's, ImportReport::warnings) are kept beside the notes, each as
+  /// "import warning: ...", so that the log says later what the import said once (a table not
+  /// written and why: tern sysid names it when the table is missing).
+  void finish(const SensorLogMeta& meta, const std::vector<std::string>& warnings = {});
 
   /// The input's name (the archive or directory imported), written as `origin:` by finish().
   void set_origin(std::string origin) { origin_ = std::move(origin); }
+  /// How a warning names the input as the user gave it (an archive's unpacked files: its own name).
+  void set_readable(std::function<std::string(const std::string&)> readable) { readable_ = std::move(readable); }
   /// Rows written so far per topic.
   std::map<std::string, std::uint64_t> rows() const;
   const std::filesystem::path& dir() const { return dir_; }
@@ -118,6 +129,7 @@ class SensorLogWriter {
   FlightLog log_;
   std::map<std::string, Topic, std::less<>> topics_;
   std::string origin_;
+  std::function<std::string(const std::string&)> readable_;
   bool finished_ = false;
 };
 

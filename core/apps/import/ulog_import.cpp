@@ -320,7 +320,7 @@ ImportReport convert(const fs::path& ulg, SensorLogWriter& out, const CommandMap
   meta.date = c.date;
   if (meta.date.empty())
     report.warnings.push_back(file + ": no GNSS fix with a UTC time: the flight's date is unknown (the magnetic model's date is not set)");
-  out.finish(meta);
+  out.finish(meta, report.warnings);
   report.rows = out.rows();
   return report;
 }

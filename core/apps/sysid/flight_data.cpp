@@ -12,6 +12,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
+#include "import/sensor_log_writer.hpp"
 #include "replay/replay_csv.hpp"
 #include "replay/sensor_log_meta.hpp"
 #include "sysid/log_units.hpp"
@@ -236,6 +237,29 @@ Column decimated(const Column& x, std::size_t step) {
 
 }  // namespace
 
+namespace {
+
+/// What `tern import` said of `table` when it made this log (sensor_log.yaml's notes kept from its
+/// warnings, kImportWarning), as "; sensor_log.yaml: ..." to follow an error; "" when it said
+/// nothing of it or the file is not there or not YAML (the error stands on its own).
+std::string import_said(const std::filesystem::path& meta, const std::string& table) {
+  std::string said;
+  try {
+    if (!std::filesystem::exists(meta)) return "";
+    const YAML::Node notes = YAML::LoadFile(meta.string())["notes"];
+    if (!notes.IsSequence()) return "";
+    for (const auto& n : notes) {
+      const std::string text = n.IsScalar() ? n.Scalar() : "";
+      if (text.rfind(kImportWarning, 0) == 0 && text.find(table) != std::string::npos) said += "; sensor_log.yaml: " + text;
+    }
+  } catch (const YAML::Exception&) {
+    return "";
+  }
+  return said;
+}
+
+}  // namespace
+
 void check_sensor_log(const std::filesystem::path& log_dir, bool replayed) {
   std::vector<std::pair<const char*, const char*>> tables = {
       {"imu.csv", "the IMU's specific force and rates are required"},
@@ -246,7 +270,8 @@ void check_sensor_log(const std::filesystem::path& log_dir, bool replayed) {
                         "holds another estimate");
   for (const auto& [name, why] : tables) {
     const std::filesystem::path file = log_dir / "topics" / name;
-    if (!std::filesystem::exists(file)) throw ConfigError(fmt::format("{}: no such table: {}", file.string(), why));
+    if (!std::filesystem::exists(file))
+      throw ConfigError(fmt::format("{}: no such table: {}{}", file.string(), why, import_said(log_dir / "sensor_log.yaml", name)));
   }
 }
 
