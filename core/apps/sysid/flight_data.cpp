@@ -235,10 +235,6 @@ Column decimated(const Column& x, std::size_t step) {
   return out;
 }
 
-}  // namespace
-
-namespace {
-
 /// What `tern import` said of `table` when it made this log (sensor_log.yaml's notes kept from its
 /// warnings, kImportWarning), as "; sensor_log.yaml: ..." to follow an error; "" when it said
 /// nothing of it or the file is not there or not YAML (the error stands on its own).
