@@ -1,9 +1,11 @@
 // fuzz_sensor_log_yaml: libFuzzer target for a sensor log's sensor_log.yaml
 // (core/apps/replay/sensor_log_meta.hpp), as `tern replay`, `sysid` and `validate` read it from a
 // log directory someone sent: the format version, the date (the magnetic model's decimal year), the
-// estimator settings, applied to an estimator_ekf instance of a config, and the airborne window.
+// estimator settings, applied to an estimator_ekf instance of a config, the airborne window, and
+// the import's warnings read back for a missing table's error (sysid/import_notes.hpp).
 // Any bytes: settings, or ConfigError (one line: file, line, column, field); never a crash, a
-// hang, another exception or a window that is not two finite numbers with start before end. The
+// hang, another exception, a window that is not two finite numbers with start before end or an
+// import note that is not one line starting "; sensor_log.yaml: import warning: ". The
 // file lies in a directory of its own under TMPDIR; nothing is written.
 #include <cmath>
 #include <cstdint>
@@ -12,6 +14,7 @@
 #include "config/error.hpp"
 #include "fuzz_input.hpp"
 #include "replay/sensor_log_meta.hpp"
+#include "sysid/import_notes.hpp"
 
 using namespace tern::core;
 
@@ -35,5 +38,9 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const ConfigError& e) {
     tern::fuzz::note(e);
   }
+  const std::string said = tern::core::sysid::import_said(file, "actuators.csv");  // never throws
+  if (!said.empty() && said.rfind("; sensor_log.yaml: import warning: ", 0) != 0) __builtin_trap();
+  for (const char ch : said)
+    if (static_cast<unsigned char>(ch) < 0x20) __builtin_trap();
   return 0;
 }

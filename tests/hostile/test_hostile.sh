@@ -147,6 +147,8 @@ refused deep_nesting "deep.yaml:2:10010: YAML nested too deeply" "$tern" check "
 refused empty_imu "imu.csv: the IMU table has no rows" "$tern" replay "$logs/empty_imu" --log-dir "$work/replays"
 refused empty_imu_sysid "imu.csv: the IMU table has no rows" \
   "$tern" sysid "$logs/empty_imu" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
+refused noted_sysid "sensor_log.yaml: import warning: log.bin: no actuators.csv written without --max-deflection A E R" \
+  "$tern" sysid "$logs/no_actuators_noted" --aircraft "$repo/configs/aircraft/anaconda.yaml" --out "$work/sysid"
 refused mcap_chunk_length "chunk declares 4611686018427387904 bytes uncompressed" \
   "$tern" export csv "$work/chunk.mcap" --out "$work/chunk_tables"
 refused mcap_bad_crc "bad_crc.mcap: byte 25: chunk's CRC-32 does not match its records" \

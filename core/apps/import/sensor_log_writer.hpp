@@ -27,6 +27,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "import/sensor_log_notes.hpp"
 #include "record/flight_log.hpp"
 #include "tern/reflect.hpp"
 
@@ -44,11 +45,6 @@ struct ImportReport {
   std::map<std::string, std::uint64_t> rows;
   std::vector<std::string> warnings;
 };
-
-/// The start of a note in sensor_log.yaml that keeps one of the import's warnings
-/// (SensorLogWriter::finish): what the import said of a table it did not write, read again by
-/// tern sysid when that table is missing.
-inline constexpr std::string_view kImportWarning = "import warning: ";
 
 /// sensor_log.yaml's content (docs/sensor-log.md).
 struct SensorLogMeta {

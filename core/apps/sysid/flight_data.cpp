@@ -12,9 +12,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "config/error.hpp"
-#include "import/sensor_log_writer.hpp"
 #include "replay/replay_csv.hpp"
 #include "replay/sensor_log_meta.hpp"
+#include "sysid/import_notes.hpp"
 #include "sysid/log_units.hpp"
 #include "tern/math.hpp"
 
@@ -233,25 +233,6 @@ Column decimated(const Column& x, std::size_t step) {
   out.reserve(x.size() / step + 1);
   for (std::size_t k = 0; k < x.size(); k += step) out.push_back(x[k]);
   return out;
-}
-
-/// What `tern import` said of `table` when it made this log (sensor_log.yaml's notes kept from its
-/// warnings, kImportWarning), as "; sensor_log.yaml: ..." to follow an error; "" when it said
-/// nothing of it or the file is not there or not YAML (the error stands on its own).
-std::string import_said(const std::filesystem::path& meta, const std::string& table) {
-  std::string said;
-  try {
-    if (!std::filesystem::exists(meta)) return "";
-    const YAML::Node notes = YAML::LoadFile(meta.string())["notes"];
-    if (!notes.IsSequence()) return "";
-    for (const auto& n : notes) {
-      const std::string text = n.IsScalar() ? n.Scalar() : "";
-      if (text.rfind(kImportWarning, 0) == 0 && text.find(table) != std::string::npos) said += "; sensor_log.yaml: " + text;
-    }
-  } catch (const YAML::Exception&) {
-    return "";
-  }
-  return said;
 }
 
 }  // namespace

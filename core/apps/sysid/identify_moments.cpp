@@ -113,6 +113,11 @@ OutputErrorFit timing_fit(Context& c, const RateData& d, RateAxes axes, const st
   return output_error(d, c.result.aircraft, start, axes, free, o);
 }
 
+/// A retried term the output error left undetermined: the prior kept, the note saying what it found.
+void note_undetermined(CoefficientEstimate& e, double theta, double se) {
+  e.note += fmt::format("; output error {:.3g} +- {:.2g}", theta, se);
+}
+
 /// The retried terms (free[from...]) the output error fit f leaves undetermined: back to the prior
 /// with a note, out of `free`. Returns whether any went (the rest are then fitted again).
 bool drop_undetermined(Context& c, std::vector<std::string>& free, std::size_t from, const OutputErrorFit& f) {
@@ -123,7 +128,7 @@ bool drop_undetermined(Context& c, std::vector<std::string>& free, std::size_t f
     if (retry_determined(c.o.max_relative_error, *e, f.theta[J], f.std_error[J]))
       kept.push_back(free[j]);
     else
-      e->note += fmt::format("; output error {:.3g} +- {:.2g}", f.theta[J], f.std_error[J]);
+      note_undetermined(*e, f.theta[J], f.std_error[J]);
   }
   const bool dropped = kept.size() < free.size();
   free = std::move(kept);
@@ -194,7 +199,7 @@ void refine(Context& c, const RateData& d, RateAxes axes) {
       if (retry_determined(c.o.max_relative_error, *e, f.theta[J], se))
         adopt_retried(c, *e, f.theta[J], se);
       else
-        e->note += fmt::format("; output error {:.3g} +- {:.2g}", f.theta[J], se);
+        note_undetermined(*e, f.theta[J], se);
       continue;
     }
     if (se > c.o.max_relative_error * std::abs(f.theta[J])) {
