@@ -889,7 +889,7 @@ TEST_CASE("a good compass: the yaw GSF agrees, no reset") {
   CHECK(est.gnss_resets() == 0);
 }
 
-TEST_CASE("a GNSS without a down velocity (use_gnss_vel_d false): north and east fused, the climb not held back") {
+TEST_CASE("a GNSS without a down velocity, or one its gate rejects: north and east fused, the climb not held back") {
   // mavros' GPS_RAW_INT velocity has no down component and is written as 0 (the ALFA import)
   const auto climb_error = [](bool use_vel_d, UpdateStats* stats) {
     TruthSim sim(mixed_flight());  // climbs at gamma 0.1 rad (~1.7 m/s) from 60 to 75 s
@@ -913,7 +913,11 @@ TEST_CASE("a GNSS without a down velocity (use_gnss_vel_d false): north and east
   const double err_ne = climb_error(false, &without_vd);
   MESSAGE("v_d RMS in the climb: vel_d = 0 fused " << err_fused << " m/s, north-east only " << err_ne << " m/s");
   CHECK(err_ne < 0.1);
-  CHECK(err_fused > 3.0 * err_ne);
+  // Configured with the down velocity it lacks, the receiver's three axes fail their gate in the
+  // climb and its north and east are fused alone (as PX4 EKF2 gates them apart): the climb is not
+  // held back either (before, fusing the false 0 left v_d 3 times as far off).
+  CHECK(with_vd.rejected > 0);
+  CHECK(err_fused < 1.5 * err_ne);
   CHECK(without_vd.accepted > 300);
   CHECK(without_vd.rejected == 0);
   CHECK(without_vd.nis_count == without_vd.accepted);
