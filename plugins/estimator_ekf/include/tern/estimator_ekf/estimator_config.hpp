@@ -101,6 +101,9 @@ struct EstimatorConfig {
   bool gnss_constellation_jumps = true;
   double gnss_pos_accel_scale = 0.05;
   double gnss_pos_gate = kChi2_999[3];
+  /// Chi-square gate of the GNSS velocity's three axes; a fix that fails it is fused in north and
+  /// east alone (GnssVelocityNE, this gate at 2 dof), as PX4 EKF2 gates the horizontal velocity and
+  /// the vertical apart: a receiver's down velocity lags most in a pull (estimator_gnss.cpp).
   double gnss_vel_gate = kChi2_999[3];
   /// Fuse the GNSS's down velocity. false: the receiver (or the log) has none (a sensor log's
   /// metadata sets it, docs/sensor-log.md): the north and east rows are fused (GnssVelocityNE,
@@ -368,7 +371,7 @@ struct EstimatorConfig {
     v(&C::gnss_pos_accel_scale, "gnss_pos_accel_scale",
       ParamSpec("s^2", 0.0, 1.0, "GNSS position noise added per m/s^2 of manoeuvring acceleration (root-sum-square)"));
     v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
-    v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof; 0: off)"));
+    v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof, then north and east at 2 dof; 0: off)"));
     v(&C::use_gnss_vel_d, "use_gnss_vel_d",
       ParamSpec("", 0, 1, "fuse the GNSS down velocity (false: a receiver or log without one; north and east only)"));
     v(&C::gnss_reset_time, "gnss_reset_time",
