@@ -371,7 +371,8 @@ struct EstimatorConfig {
     v(&C::gnss_pos_accel_scale, "gnss_pos_accel_scale",
       ParamSpec("s^2", 0.0, 1.0, "GNSS position noise added per m/s^2 of manoeuvring acceleration (root-sum-square)"));
     v(&C::gnss_pos_gate, "gnss_pos_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS position (3 dof; 0: off)"));
-    v(&C::gnss_vel_gate, "gnss_vel_gate", ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof, then north and east at 2 dof; 0: off)"));
+    v(&C::gnss_vel_gate, "gnss_vel_gate",
+      ParamSpec("", 0.0, 1e6, "chi-square gate of GNSS velocity (3 dof, then north and east at 2 dof; 0: off)"));
     v(&C::use_gnss_vel_d, "use_gnss_vel_d",
       ParamSpec("", 0, 1, "fuse the GNSS down velocity (false: a receiver or log without one; north and east only)"));
     v(&C::gnss_reset_time, "gnss_reset_time",
