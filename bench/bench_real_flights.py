@@ -6,7 +6,9 @@ launch, InertialNav's text set; the ALFA Carbon-Z T-28 with its engine failure; 
 licences in data/real_flights/README.md) with `tern import`, replays each with `tern replay`
 (configs/replay/estimator.yaml and the log's sensor_log.yaml: docs/replay-your-own-flight.md),
 and reads the replay's replay_report.json (core/apps/replay/replay_report.hpp: every figure says
-its window and rule). Prints one table per flight against issue 43's targets and writes JSON
+its window and rule). Prints one table per flight against issue 43's targets (issue 61's course and
+velocity; issue 77's tighter ones and no estimator reset in the air, counted from the replay's
+tern.log from the airborne window's start, the launch's yaw alignment not a reset) and writes JSON
 (default bench/results/real_flights.json).
 
 A target a figure misses is printed with the explanation the replay report derived from the
@@ -45,7 +47,14 @@ TARGETS = [
     ("horizontal position vs fixes, RMS m", ("gnss", "position_horizontal", "rms"), "<=", 3.0),
     ("GNSS positions accepted", ("gnss", "share_pos_accepted"), ">=", 0.9),
     ("GNSS velocities accepted", ("gnss", "share_vel_accepted"), ">=", 0.9),
+    # issue 77: the course and velocity on real aerobatics, with no reset in the air
+    ("course vs GNSS, RMS deg (issue 77)", ("gnss", "course", "rms"), "<=", 3.5),
+    ("horizontal velocity vs GNSS, RMS m/s (issue 77)", ("gnss", "velocity_horizontal", "rms"), "<=", 1.1),
 ]
+# an estimator event that resets part of the state (plugins/estimator_ekf/src/estimator.cpp's event
+# texts: "... reset to GNSS", "... yaw reset to the GNSS course", "... reset to the magnetometer",
+# "... re-initialising"); the launch's yaw alignment (launch_course_error) is not one
+RESET = re.compile(r"ekf: t=([0-9.]+) s: (.*(?:reset to|re-initialising).*)")
 
 
 def get(d, path):
@@ -72,6 +81,14 @@ def replay(tern, flights, name, tmp, sets):
     run_dir = os.path.join(runs, os.listdir(runs)[0])
     with open(os.path.join(run_dir, "replay_report.json")) as f:
         return log, run_dir, json.load(f)
+
+
+def resets_in_air(run_dir, start_s):
+    """The estimator's resets in the replay's tern.log from the airborne window's start on (issue 77:
+    none after the launch): (t, what) each."""
+    with open(os.path.join(run_dir, "tern.log")) as f:
+        found = [RESET.search(line) for line in f]
+    return [(float(m.group(1)), m.group(2)) for m in found if m and float(m.group(1)) >= start_s]
 
 
 def estimator_nis(report):
@@ -141,6 +158,10 @@ def main():
                 v = get(rep, path)
                 rows.append({"figure": label, "value": v, "target": f"{op} {target}", "verdict": check(v, op, target),
                              "note": note_for(rep, path)})
+            resets = resets_in_air(run_dir, get(rep, ("window", "start_s")) or 0.0)
+            rows.append({"figure": "estimator resets in the air (issue 77)", "value": len(resets), "target": "== 0",
+                         "verdict": check(len(resets), "==", 0),
+                         "note": "; ".join(f"t={t:.2f} s: {what}" for t, what in resets) or None})
             nis = estimator_nis(rep)
             for model, v in nis.items():
                 rows.append({"figure": f"mean NIS {model}", "value": v, "target": "in [0.3, 3]",
