@@ -167,11 +167,11 @@ ArchiveInput::ArchiveInput(const fs::path& input, const ArchiveLimits& limits) :
 
 std::string ArchiveInput::readable(std::string text) const {
   if (temp_.empty()) return text;
-  const std::string from = temp_.string() + "/", to = input_.string() + ":";
-  for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
-  // the unpacked directory itself (an importer naming the whole input): the archive's name
-  const std::string dir = temp_.string(), name = input_.string();
-  for (std::size_t at = text.find(dir); at != std::string::npos; at = text.find(dir, at + name.size())) text.replace(at, dir.size(), name);
+  const auto replace_every = [&text](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size())) text.replace(at, from.size(), to);
+  };
+  replace_every(temp_.string() + "/", input_.string() + ":");  // a file in the archive: archive:member
+  replace_every(temp_.string(), input_.string());              // the unpacked directory itself: the archive
   return text;
 }
 

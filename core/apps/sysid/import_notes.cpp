@@ -11,8 +11,7 @@ namespace tern::core::sysid {
 std::string import_said(const std::filesystem::path& sensor_log_yaml, const std::string& table) {
   std::string said;
   try {
-    if (!input_file_problem(sensor_log_yaml, kMaxTextFileBytes).empty()) return "";
-    const YAML::Node notes = load_yaml_file(sensor_log_yaml, "sensor log description")["notes"];  // bounded
+    const YAML::Node notes = load_yaml_file(sensor_log_yaml, "sensor log description")["notes"];  // within its bounds, or throws
     if (!notes.IsSequence()) return "";
     for (const auto& n : notes) {
       if (!n.IsScalar()) continue;
