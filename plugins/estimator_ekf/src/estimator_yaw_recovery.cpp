@@ -30,7 +30,9 @@ void Estimator::watch_course(const msg::Gnss& m, bool restart) {
 }
 
 bool Estimator::align_yaw_in_flight(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v) {
-  if (inflight_yaw_aligned_ || cfg_.launch_course_error <= 0.0 || !airborne(m.stamp)) return false;
+  // In motion, not airborne(): a hand launch reaches the 5 m/s below a fix before the pitot's
+  // min_airspeed (config, launch_course_error).
+  if (inflight_yaw_aligned_ || cfg_.launch_course_error <= 0.0) return false;
   const Eigen::Vector2d v_gnss = m.vel.head<2>(), v = filter_.x().v.head<2>();
   const Vec3 e = euler_from_quaternion(filter_.x().q);
   if (v_gnss.norm() < kCourseMinSpeed || v.norm() < kCourseMinSpeed || std::fabs(e.y()) > kCourseMaxPitch) return false;

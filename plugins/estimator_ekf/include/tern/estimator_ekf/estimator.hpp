@@ -405,12 +405,13 @@ class Estimator {
   /// The GSF's yaw and sigma when it has converged, else the GNSS course and gnss_yaw_sigma.
   std::pair<double, double> gnss_yaw(const msg::Gnss& m) const;
   bool gsf_converged() const;
-  /// The first yaw alignment in flight (launch_course_error): until a fix in the air confirms the
-  /// yaw, a rejected velocity whose course is off the filter's by more than launch_course_error
+  /// The first yaw alignment in flight (launch_course_error): until a fix in motion (fix and filter
+  /// at >= 5 m/s, not airborne()'s pitot) confirms the yaw, a rejected velocity whose course is off
+  /// the filter's by more than launch_course_error
   /// turns the yaw by that difference, resets velocity and position to the fix and stops the
   /// magnetometer as reset_yaw_to_gnss does. True after the alignment's reset.
   bool align_yaw_in_flight(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);
-  bool inflight_yaw_aligned_ = false;  ///< a fix in the air confirmed the yaw, or a yaw reset to the GNSS set it
+  bool inflight_yaw_aligned_ = false;  ///< a fix in motion confirmed the yaw, or a yaw reset to the GNSS set it
   /// After the fix's velocity update `rv`: in the air, velocities rejected for gnss_yaw_reset_time
   /// reset velocity and position to the fix, and the yaw too if it is off. True after a reset.
   bool recover_velocity(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);

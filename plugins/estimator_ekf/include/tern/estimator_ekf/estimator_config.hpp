@@ -168,7 +168,9 @@ struct EstimatorConfig {
   double gnss_yaw_reset_time = 1.0;
   /// rad: the first yaw alignment in flight, for a launch or takeoff with a yaw the magnetometer
   /// gave on the ground (a miscalibrated compass, a hangar's or a car's iron): until a GNSS
-  /// velocity in the air (fix and filter at >= 5 m/s, pitch within 45 deg) is accepted with its
+  /// velocity in motion (fix and filter at >= 5 m/s horizontally, pitch within 45 deg; PX4's
+  /// fixed-wing land detector leaves "landed" above the same 5 m/s, LNDFW_VEL_XY_MAX: the pitot's
+  /// min_airspeed comes later on a hand launch) is accepted with its
   /// course within this of the filter's velocity course, a rejected one further off turns the yaw
   /// by the difference at once (the launch threw the aircraft along its nose: the difference is the
   /// yaw's error, whatever the wind), resets velocity and position to the fix and stops the
@@ -179,7 +181,10 @@ struct EstimatorConfig {
   /// EKFGSF_reset_delay) of rejection: on the PX4 Zurich 2014 hand launch, with the compass's yaw
   /// 34 deg off, six fixes were 37-44 deg off the course; with it the yaw is aligned at 17.55 s
   /// instead of 18.34 s: course 4.90 -> 3.63 deg RMS, velocity 1.216 -> 1.182 m/s over the
-  /// flight (bench_real_flights), no other reset. 0: no such alignment (the former rules).
+  /// flight (bench_real_flights), no other reset. Waiting for the pitot's min_airspeed (8 m/s,
+  /// reached at 17.44 s there) instead of the 5 m/s of motion left the first fix of the airborne
+  /// window (17.55 s, valid at 17.34) 39 deg off; aligned at the first fix at 5 m/s (17.16 s):
+  /// course 3.62 -> 3.18 deg, velocity 1.09 -> 0.99 m/s. 0: no such alignment (the former rules).
   double launch_course_error = 0.5;
   /// rad: the yaw uncertainty after such a reset from the course (the GSF not converged): the
   /// crab angle a wind of 5 m/s gives at 14 m/s; also the least yaw difference that counts.
@@ -397,8 +402,8 @@ struct EstimatorConfig {
                 "in the air, GNSS velocity rejected this long resets yaw to the GNSS course and stops the magnetometer (0: never)"));
     v(&C::launch_course_error, "launch_course_error",
       ParamSpec("rad", 0.0, 3.2,
-                "first yaw alignment in flight: a rejected GNSS velocity whose course is off the filter's by more turns the yaw by the "
-                "difference, until a fix confirms the yaw (PX4 ecl realignYawGPS; 0: off)"));
+                "first yaw alignment in motion: a rejected GNSS velocity (fix and filter at >= 5 m/s) whose course is off the filter's by "
+                "more turns the yaw by the difference, until a fix confirms the yaw (PX4 ecl realignYawGPS; 0: off)"));
     v(&C::gnss_yaw_sigma, "gnss_yaw_sigma", ParamSpec("rad", 0.01, 3.2, "yaw uncertainty after a yaw reset to the GNSS course, 1 sigma"));
     v(&C::gsf_max_sigma, "gsf_max_sigma",
       ParamSpec("rad", 0.0, 1.0, "the yaw GSF (IMU and GNSS velocity alone) counts as converged below this 1 sigma (0: it does not run)"));
