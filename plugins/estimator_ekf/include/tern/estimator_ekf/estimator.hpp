@@ -407,9 +407,9 @@ class Estimator {
   bool gsf_converged() const;
   /// The first yaw alignment in flight (launch_course_error): until a fix in motion (fix and filter
   /// at >= 5 m/s, not airborne()'s pitot) confirms the yaw, a rejected velocity whose course is off
-  /// the filter's by more than launch_course_error
-  /// turns the yaw by that difference, resets velocity and position to the fix and stops the
-  /// magnetometer as reset_yaw_to_gnss does. True after the alignment's reset.
+  /// the filter's by more than launch_course_error turns the yaw by that difference, resets
+  /// velocity and position to the fix and stops the magnetometer as reset_yaw_to_gnss does. True
+  /// after the alignment's reset.
   bool align_yaw_in_flight(UpdateResult rv, const msg::Gnss& m, const Vec3& p, Nanos t_v);
   bool inflight_yaw_aligned_ = false;  ///< a fix in motion confirmed the yaw, or a yaw reset to the GNSS set it
   /// After the fix's velocity update `rv`: in the air, velocities rejected for gnss_yaw_reset_time
