@@ -322,7 +322,18 @@ def validate_line(v):
     if "error" in v:
         return v["error"]
     files = v["aircraft"]
-    return ", ".join(f"{ch} " + " / ".join(f"{f['channels'][ch]['nrmse']:.3f}" for f in files) for ch in ("p", "q", "r", "alpha", "theta"))
+    return ", ".join(f"{ch} " + " / ".join(f"{f['channels'][ch]['nrmse']:.3f}" for f in files) for ch in ("p", "q", "r", "alpha", "theta")) + \
+        ", overall " + " / ".join(f"{f['overall_nrmse']:.3f}" for f in files)
+
+
+def validate_ranks(seeds):
+    """Per seed, whether tern validate's overall NRMSE ranks the true file above the prior (validate.hpp, "Overall"); the
+    seeds where it does not."""
+    scored = [s for s in seeds if "aircraft" in s.get("validate", {})]
+    if not scored:
+        return None
+    misses = [s["seed"] for s in scored if s["validate"]["aircraft"][0]["overall_nrmse"] >= s["validate"]["aircraft"][2]["overall_nrmse"]]
+    return {"seeds": len(scored), "true_above_prior": len(scored) - len(misses), "misses": misses}
 
 
 def table(seeds):
@@ -469,6 +480,10 @@ def bench(tern, args, work):
     inside = inside_shares(seeds)
     print(f"truth inside 3 SE: {inside['targeted']:.0%} of the targeted coefficients' estimates, {inside['all']:.0%} of every "
           f"identified one's (target 90 %)")
+    ranks = validate_ranks(seeds)
+    if ranks:
+        print(f"tern validate ranks the true file above the prior (overall NRMSE) on {ranks['true_above_prior']} of {ranks['seeds']} "
+              f"seeds{'; not on ' + str(ranks['misses']) if ranks['misses'] else ''}")
     flown = flies_ratios(seeds)
     if flown:
         print(f"the identified file on the hourglass, its figures over the true file's: at worst {flown['worst_ratio']:.2f} "
@@ -478,7 +493,7 @@ def bench(tern, args, work):
            "mission": os.path.relpath(args.mission, ROOT),
            "aircraft": os.path.relpath(args.aircraft, ROOT), "summary": summary, "drag_worst_relative_error": max(drag_errors),
            "drag_inside_3_se": {"inside": sum(drag_inside), "bounded": len(drag_inside), "seeds": len(seeds)},
-           "inside_3_se": inside, "flies": flown, "anaconda_gains": gains,
+           "inside_3_se": inside, "validate_ranks": ranks, "flies": flown, "anaconda_gains": gains,
            "seeds": seeds}
     os.makedirs(os.path.dirname(args.out), exist_ok=True)
     with open(args.out, "w") as f:

@@ -62,6 +62,11 @@ TEST_CASE("tern validate: the true Aerosonde fits its own flight clearly better 
   // estimate that read alpha from the lift through the true file's C_L had it near 0, and scored
   // that file by itself)
   CHECK(a_z_truth < 0.75 * a_z_prior);
+  // the overall row ranks the files: the true one first, in the JSON and in the printed line
+  CHECK(j["overall"]["channels"].size() == 8);
+  CHECK(j["aircraft"][0]["overall_nrmse"].get<double>() < 0.75 * j["aircraft"][1]["overall_nrmse"].get<double>());
+  CHECK(j["overall"]["ranking"] == nlohmann::json::array({kAerosonde, scaled.string()}));
+  CHECK(text.find("best first: [1] < [2]\n") != std::string::npos);
   CHECK(read_file(out1 / "index.html").find("<svg") != std::string::npos);
   REQUIRE(validate({run.string(), "--aircraft", kAerosonde, "--aircraft", scaled.string(), "--out", out2.string(), "-q"}, "2").first == 0);
   CHECK(read_file(out1 / "validate.json") == read_file(out2 / "validate.json"));

@@ -28,6 +28,13 @@
 //    (Klein and Morelli, *Aircraft System Identification*, 2006, ch. 11: comparing measured and
 //    model waveforms, Theil's inequality coefficient; Jategaonkar, *Flight Vehicle System
 //    Identification*, ch. 11, model validation; H. Theil, *Economic Forecasts and Policy*, 1961.)
+//  * Overall, to rank the files: per file the geometric mean of its NRMSE over the channels every
+//    file has a finite NRMSE in (the same channels for all), exp(mean(ln NRMSE_c)). A file x %
+//    better on every channel scores x % better; a channel the turbulence dominates, where every
+//    file's NRMSE sits near 1 (p, r, beta in light turbulence: the true file and a x1.5 prior
+//    0.245 / 0.243 in p on the Anaconda's sysid flight), moves it little, while the channels a
+//    wrong model loses (q, Va, theta: 0.61 / 0.87, 0.12 / 0.70, 0.35 / 2.48 there) decide it. The
+//    measured channels' std normalises each, so units and magnitudes do not weigh.
 //  * One-step residuals (equation error: Klein and Morelli ch. 5), at every scored sample, from
 //    the logged state, wind and commands at that sample: measured minus model specific force
 //    (forces_moments(...).specific_force: what the accelerometer measures) against a_x a_y a_z,
@@ -113,6 +120,16 @@ struct AircraftScore {
   std::array<AxisResidual, kAxes> one_step;
   Prediction prediction;
 };
+
+/// The files' overall scores on one log (header, "Overall").
+struct OverallScores {
+  std::vector<std::string> channels;  ///< the channels averaged over (kChannelSpecs' names): finite for every file
+  std::vector<double> nrmse;          ///< per file, in the files' order: the geometric mean of its NRMSE over `channels`; NaN if none
+  std::vector<std::size_t> ranking;   ///< indices of the files, best (smallest) first; ties in the files' order
+};
+
+/// The overall scores of `files` (header). A channel whose NRMSE is 0 for a file counts as 1e-12.
+OverallScores overall_scores(const std::vector<AircraftScore>& files);
 
 /// True at each sample where the aircraft counts as airborne (header).
 std::vector<unsigned char> airborne(const FlightSeries& s, const ValidateOptions& o);

@@ -66,13 +66,22 @@ ordered_json file_json(const AircraftScore& f) {
 }  // namespace
 
 ordered_json validate_json(const ValidationRun& run) {
-  ordered_json files = ordered_json::array();
-  for (const AircraftScore& f : run.files) files.push_back(file_json(f));
+  const OverallScores overall = overall_scores(run.files);
+  ordered_json files = ordered_json::array(), ranking = ordered_json::array();
+  for (std::size_t i = 0; i < run.files.size(); ++i) {
+    files.push_back(file_json(run.files[i]));
+    files.back()["overall_nrmse"] = number(overall.nrmse[i]);
+  }
+  for (const std::size_t i : overall.ranking) ranking.push_back(run.files[i].file);
   return {{"log", run.log},
           {"method", method_json(run)},
           {"scored_samples", scored_samples(run.windows)},
           {"scored_seconds", scored_seconds(run)},
           {"windows", windows_json(run)},
+          {"overall",
+           {{"rule", "per file the geometric mean of its NRMSE over `channels` (finite for every file); ranking: the files, best first"},
+            {"channels", overall.channels},
+            {"ranking", ranking}}},
           {"aircraft", files}};
 }
 

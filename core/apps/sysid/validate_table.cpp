@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "sysid/validate_report.hpp"
 #include "tern/math.hpp"
@@ -61,6 +62,17 @@ std::string channel_rows(const ValidationRun& run) {
   return out;
 }
 
+/// The overall row under the channels (validate.hpp, "Overall") and the line ranking the files.
+std::string overall_rows(const ValidationRun& run) {
+  const OverallScores o = overall_scores(run.files);
+  std::string out = fmt::format("{:<8}{:<8}", "overall", "");
+  for (const double v : o.nrmse) out += fmt::format("{:>12}{:>9}{:>9}", cell(v, 3), "", "");
+  out.erase(out.find_last_not_of(' ') + 1);
+  out += fmt::format("\nranked by the overall NRMSE (geometric mean over {}), best first:", fmt::join(o.channels, " "));
+  for (std::size_t i = 0; i < o.ranking.size(); ++i) out += fmt::format("{}[{}]", i ? " < " : " ", o.ranking[i] + 1);
+  return out + "\n";
+}
+
 std::string residual_rows(const ValidationRun& run) {
   std::string out = fmt::format("\none-step residual RMS (measured - model at the logged state)\n{:<8}{:<8}{:<6}", "axis", "unit", "coef");
   for (std::size_t i = 0; i < run.files.size(); ++i) out += fmt::format("{:>12}{:>10}", fmt::format("[{}] RMS", i + 1), "as coef");
@@ -77,7 +89,7 @@ std::string residual_rows(const ValidationRun& run) {
 }  // namespace
 
 std::string format_validate_table(const ValidationRun& run) {
-  return header(run) + channel_rows(run) + residual_rows(run) +
+  return header(run) + channel_rows(run) + overall_rows(run) + residual_rows(run) +
          "\nNRMSE: RMS error / std of the measured channel over the scored samples; Theil's U: RMS error / (RMS measured +\n"
          "RMS predicted); 0 is a perfect fit (Klein and Morelli ch. 11; docs/validate.md)\n";
 }

@@ -109,6 +109,37 @@ TEST_CASE("the true aircraft scores ~0 on its own flight; coefficients x0.6 scor
   CHECK(good.prediction.diverged == 0);
 }
 
+TEST_CASE("overall_scores: the geometric mean over the channels every file has, the files ranked best first") {
+  auto file = [](std::array<double, kChannels> nrmse) {
+    AircraftScore f;
+    for (std::size_t c = 0; c < kChannels; ++c) f.fit[c].nrmse = nrmse[c];
+    return f;
+  };
+  const double nan = std::nan("");
+  // [1] better than [2] on every channel but p, where the turbulence leaves both near 1; [3] misses beta (NaN)
+  const AircraftScore a = file({0.25, 0.6, 0.85, 0.12, 0.8, 0.9, 0.08, 0.35});
+  const AircraftScore b = file({0.24, 0.87, 0.87, 0.7, 0.83, 0.92, 0.27, 2.5});
+  const AircraftScore c = file({0.5, 0.5, 0.5, 0.5, 0.5, nan, 0.5, 0.5});
+  const OverallScores o = overall_scores({b, a, c});
+  CHECK(o.channels == std::vector<std::string>{"p", "q", "r", "Va", "alpha", "phi", "theta"});  // beta: not every file has it
+  double log_a = 0.0;
+  for (const std::size_t ch : {0, 1, 2, 3, 4, 6, 7}) log_a += std::log(a.fit[ch].nrmse);
+  CHECK(o.nrmse[1] == doctest::Approx(std::exp(log_a / 7.0)).epsilon(1e-12));
+  CHECK(o.nrmse[2] == doctest::Approx(0.5));
+  CHECK(o.ranking == std::vector<std::size_t>{1, 2, 0});  // a (0.29), c (0.5), b (0.6)
+  // a file x % better on every channel scores x % better; ties keep the files' order
+  AircraftScore half = a;
+  for (auto& f : half.fit) f.nrmse *= 0.5;
+  const OverallScores h = overall_scores({a, half, a});
+  CHECK(h.nrmse[1] == doctest::Approx(0.5 * h.nrmse[0]).epsilon(1e-12));
+  CHECK(h.ranking == std::vector<std::size_t>{1, 0, 2});
+  // no channel every file has: NaN scores, the files' own order
+  const OverallScores none = overall_scores({file({nan, nan, nan, nan, nan, nan, nan, nan}), a});
+  CHECK(none.channels.empty());
+  CHECK(std::isnan(none.nrmse[0]));
+  CHECK(none.ranking == std::vector<std::size_t>{0, 1});
+}
+
 TEST_CASE("channel_fit: NRMSE and Theil's U of a known error; angles compared across +-pi") {
   std::vector<double> y, yhat;
   for (int k = 0; k < 101; ++k) y.push_back(std::sin(0.1 * k)), yhat.push_back(std::sin(0.1 * k) + 0.1);
