@@ -19,6 +19,7 @@
 #include "sysid/command_delay.hpp"
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
+#include "sysid/prior_update.hpp"
 #include "sysid/identify_drag.hpp"
 #include "sysid/instrumentation.hpp"
 #include "sysid/motor_lag.hpp"
@@ -36,6 +37,7 @@ struct SysidOptionsCli {
   double filter_hz = sysid::FlightSeriesOptions{}.filter_hz, rate_hz = sysid::FlightSeriesOptions{}.rate_hz;
   double oe_window = sysid::OutputErrorOptions{}.window_s;
   bool no_output_error = false;
+  bool held_at_prior = false;
   bool accel_x_bias = false;
   bool keep_estimate = false;
   double gyro_cross_axis = sysid::SysidOptions{}.gyro_cross_axis;
@@ -104,6 +106,7 @@ sysid::SysidOptions identify_options(const SysidOptionsCli& o) {
   io.band_lo_hz = o.band[0], io.band_hi_hz = o.band[1], io.trim_window_s = o.trim_window;
   io.flow_angles = o.flow_angles == "estimator" ? sysid::FlowAngles::estimator : sysid::FlowAngles::accelerometer;
   io.output_error.enabled = !o.no_output_error, io.output_error.window_s = o.oe_window;
+  io.scale_held_priors = !o.held_at_prior;
   io.fit_accel_x_bias = o.accel_x_bias;
   io.gyro_cross_axis = o.gyro_cross_axis;
   if (!o.pitot_scale.empty()) {
@@ -145,14 +148,16 @@ int run_sysid(const SysidOptionsCli& o) {
   sysid::SysidResult r = sysid::identify_timed(load, delays, prior, io, timing);
   r.motor_tau = motor.tau;
   r.notes.insert(r.notes.begin(), motor.line);
-  sysid::apply_verdicts(r, prior, io);
+  sysid::apply_verdicts(r, prior, io);  // a moved held term (prior_update.hpp) rejected goes back to its moved value
+  sysid::restore_prior(r);
   const std::string options = fmt::format(
       "band {}..{} Hz, trim windows {} s, flow angles from the {}, low-pass {} Hz, {} Hz samples, servo tau {} s, motor tau {} s, "
       "command delay "
-      "{} ms, gyro cross-axis {}, {}",
+      "{} ms, gyro cross-axis {}, {}, held terms {}",
       o.band[0], o.band[1], o.trim_window, o.flow_angles, o.filter_hz, o.rate_hz, prior.servo_tau, motor.tau.estimate,
       fmt::join(std::array<double, 3>{1e3 * r.command_delay_s[0], 1e3 * r.command_delay_s[1], 1e3 * r.command_delay_s[2]}, "/"),
-      o.gyro_cross_axis, o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window));
+      o.gyro_cross_axis, o.no_output_error ? "equation error only" : fmt::format("output error over {} s windows", o.oe_window),
+      o.held_at_prior ? "at the prior (--held-at-prior)" : "scaled with their surface's identified derivative");
   const std::string estimate_text =
       o.estimate.empty() && !o.keep_estimate ? "tern's estimator replayed over the log (not kept: --keep-estimate)" : estimate.string();
   const sysid::SysidProvenance from{o.log_dir, o.aircraft, estimate_text, options};
@@ -192,6 +197,9 @@ Command add_sysid_command(CLI::App& app) {
   c->add_option("--output-error-window", o->oe_window,
                 "s: the output-error step restarts its simulated rates from the measured ones this often (default 5)");
   c->add_flag("--no-output-error", o->no_output_error, "equation error only (the rotational axes' output-error refinement skipped)");
+  c->add_flag("--held-at-prior", o->held_at_prior,
+              "terms the flight leaves undetermined keep the prior's values (default: C_L_q, C_L_delta_e, C_Y_delta_a, C_n_delta_a "
+              "and C_ell_delta_r take their surface's identified-over-prior ratio, core/apps/sysid/prior_update.hpp)");
   c->add_flag("--accel-x-bias", o->accel_x_bias,
               "fit the accelerometer's x bias jointly with the drag polar (needs several airspeeds and a polar model that holds: "
               "docs/system-identification.md)");

@@ -6,6 +6,9 @@
 
 #include <fmt/format.h>
 
+#include "sysid/prior_update.hpp"
+#include "sysid/verdicts.hpp"
+
 namespace tern::core::sysid {
 
 namespace {
@@ -55,6 +58,15 @@ bool takes_shared(const NuisanceEstimate& own, double own_delay, const NuisanceE
   why = fmt::format("{:.1f} ms, its own fit, is {:.1f} standard errors from the other surfaces' {:.1f} ms", 1e3 * own_delay,
                     std::abs(own_delay - shared.estimate) / spread, 1e3 * shared.estimate);
   return false;
+}
+
+/// The prior with the held terms moved (prior_update.hpp) after `pass`'s verdicts; the given one
+/// when o.scale_held_priors is off.
+ScaledPrior held_moved(const SysidResult& pass, const Aircraft& prior, const SysidOptions& o) {
+  if (!o.scale_held_priors) return {prior, {}};
+  SysidResult judged = pass;
+  apply_verdicts(judged, prior, o);
+  return scaled_prior(judged, prior);
 }
 
 }  // namespace
@@ -108,6 +120,10 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
   const bool any = d.estimate[0] || d.estimate[1] || d.estimate[2];
   if (!any || !o.output_error.enabled) {
     SysidResult r = identify(first, prior, o);
+    if (const ScaledPrior s = held_moved(r, prior, o); !s.scaled.empty()) {
+      r = identify(first, s.prior, o);
+      r.held_scaled = s.scaled;
+    }
     r.command_delay_s = start_s;
     if (any) r.notes.push_back("command delays: not estimated (the output error is off); the prior's servos.delay_* taken");
     return r;
@@ -116,7 +132,9 @@ SysidResult identify_timed(const SeriesLoader& load, const std::array<double, 3>
   timing.estimate_delays = true;
   SysidResult pass = identify(first, prior, timing);
   const DelayChoice c = choose_delays(start_s, pass.delay_shift, d);
-  SysidResult r = c.moved ? identify(load(c.delays), prior, o) : std::move(pass);
+  const ScaledPrior s = held_moved(pass, prior, o);
+  SysidResult r = c.moved || !s.scaled.empty() ? identify(c.moved ? load(c.delays) : first, s.prior, o) : std::move(pass);
+  r.held_scaled = s.scaled;
   r.command_delay_s = c.delays;
   r.delay_shift = c.shift;
   r.notes.insert(r.notes.begin(), c.lines.begin(), c.lines.end());

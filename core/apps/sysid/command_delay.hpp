@@ -13,8 +13,11 @@
 //     search over the delay is pulled toward commands acting before their stamps.
 //  2. Each delay adopted when its standard error is at most max_std_error_s and it stays within
 //     max_delay_s of a stamp. Where an adopted delay moved at all, the series is built again with
-//     the adopted delays and identified (equation error and output error on the same timing); else
-//     the first pass's identification stands. Not above a threshold: on a 47-ms roll mode (the
+//     the adopted delays and identified (equation error and output error on the same timing); where
+//     the first pass's verdicts (verdicts.hpp) let held terms move with their surface
+//     (prior_update.hpp, SysidOptions::scale_held_priors), that identification is on the moved
+//     prior (SysidResult::held_scaled; the caller's restore_prior after its verdicts); else the
+//     first pass's identification stands. Not above a threshold: on a 47-ms roll mode (the
 //     Aerosonde's) each millisecond moves C_ell_p by some 2 % and C_n_r by 3 %. The sysid mission
 //     flown in the `ideal` world (no sensor error, no turbulence; the estimator told the IMU sits at
 //     the CG, as that world's does), whose commands act 1.25 ms before their stamps (the

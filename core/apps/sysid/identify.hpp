@@ -89,6 +89,9 @@ struct SysidOptions {
   /// and the damping and control derivatives), into SysidResult::delay_shift; the refinement itself
   /// is on the delays the series was loaded with.
   bool estimate_delays = false;
+  /// identify_timed (command_delay.hpp): the held terms of prior_update.hpp's pairs moved with the
+  /// identified derivative of the same surface, and the flight identified again on them
+  bool scale_held_priors = true;
 };
 
 struct CoefficientEstimate {
@@ -130,6 +133,14 @@ struct TrimDragBound {
   double kept_terms = 0.0;         ///< what the kept C_D_q, C_D_delta_e's prior uncertainty moves the drag at trim by
 };
 
+/// A held term's prior moved with an identified derivative of the same surface (prior_update.hpp).
+struct HeldScaling {
+  std::string held, reference;  ///< the aircraft file's keys
+  double ratio = 1.0;           ///< the reference's identified value over its prior
+  double given = 0.0;           ///< the held term's prior as given
+  std::string note;             ///< what its note says
+};
+
 struct SysidResult {
   Aircraft aircraft;  ///< the prior with the identified coefficients
   std::vector<CoefficientEstimate> coefficients;
@@ -160,6 +171,9 @@ struct SysidResult {
   /// output error (SysidOptions::estimate_delays; command_delay.hpp), with its standard error;
   /// identified false where not estimated (given, or the axis not fitted)
   std::array<NuisanceEstimate, 3> delay_shift;
+  /// the held terms identified on a prior moved with their surface's identified derivative
+  /// (prior_update.hpp); their `prior` is the moved one until restore_prior
+  std::vector<HeldScaling> held_scaled;
   std::vector<std::string> notes;  ///< one line each: what the log could not support, and why
   std::vector<AxisSeries> series;
 };

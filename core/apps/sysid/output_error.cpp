@@ -128,17 +128,21 @@ Input lerp(const Input& a, const Input& b, double s) {
   return o;
 }
 
-/// The rates' derivative (header's moment equations) at rates w.
-Eigen::Vector3d rate_derivative(const Gammas& G, const M& A, const Input& u, const Eigen::Vector3d& w) {
+/// The rates' derivative (header's moment equations) at rates w: only the integrated ones (the
+/// pitch axis's q', or the lateral axes' p' and r'), the others 0 (the simulation takes them as
+/// measured, RateModel::simulate).
+Eigen::Vector3d rate_derivative(const Gammas& G, const M& A, const Input& u, const Eigen::Vector3d& w, bool pitch) {
   const double p = w.x(), q = w.y(), r = w.z();
+  if (pitch) {
+    const double m = u.qSc * (A.C_m_0 + A.C_m_alpha * u.alpha + A.C_m_delta_e * u.de + u.kc * A.C_m_q * q);
+    return {0.0, G.G5 * p * r - G.G6 * (p * p - r * r) + m * G.inv_Jy, 0.0};
+  }
   const double l = u.qSb * (A.C_ell_0 + A.C_ell_beta * u.beta + A.C_ell_delta_a * u.da + A.C_ell_delta_r * u.dr +
                             u.kb * (A.C_ell_p * p + A.C_ell_r * r)) -
                    u.Q_p;
-  const double m = u.qSc * (A.C_m_0 + A.C_m_alpha * u.alpha + A.C_m_delta_e * u.de + u.kc * A.C_m_q * q);
   const double n =
       u.qSb * (A.C_n_0 + A.C_n_beta * u.beta + A.C_n_delta_a * u.da + A.C_n_delta_r * u.dr + u.kb * (A.C_n_p * p + A.C_n_r * r));
-  return {G.G1 * p * q - G.G2 * q * r + G.G3 * l + G.G4 * n, G.G5 * p * r - G.G6 * (p * p - r * r) + m * G.inv_Jy,
-          G.G7 * p * q - G.G1 * q * r + G.G4 * l + G.G8 * n};
+  return {G.G1 * p * q - G.G2 * q * r + G.G3 * l + G.G4 * n, 0.0, G.G7 * p * q - G.G1 * q * r + G.G4 * l + G.G8 * n};
 }
 
 /// The simulation: inputs per sample, which rates are integrated, the held coefficients.
@@ -156,7 +160,8 @@ class RateModel {
       u.w = {d.p[k], d.q[k], d.r[k]};
       in_.push_back(u);
     }
-    outputs_ = axes == RateAxes::pitch ? std::vector<int>{1} : std::vector<int>{0, 2};
+    pitch_ = axes == RateAxes::pitch;
+    outputs_ = pitch_ ? std::vector<int>{1} : std::vector<int>{0, 2};
     integrated_ = axes == RateAxes::pitch ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(1, 0, 1);
     for (const auto& [b, e] : d.windows) residual_rows_ += e - b - 1;
     for (const auto& w : d.windows)  // runs of consecutive windows: a shifted command reaches back across their joins
@@ -207,10 +212,10 @@ class RateModel {
         auto at = [&](const Input& u, const Eigen::Vector3d& x) {
           return integrated_.cwiseProduct(x) + (Eigen::Vector3d::Ones() - integrated_).cwiseProduct(u.w);
         };
-        const Eigen::Vector3d k1 = rate_derivative(G_, A, u0, at(u0, w));
-        const Eigen::Vector3d k2 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k1));
-        const Eigen::Vector3d k3 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k2));
-        const Eigen::Vector3d k4 = rate_derivative(G_, A, u1, at(u1, w + h * k3));
+        const Eigen::Vector3d k1 = rate_derivative(G_, A, u0, at(u0, w), pitch_);
+        const Eigen::Vector3d k2 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k1), pitch_);
+        const Eigen::Vector3d k3 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k2), pitch_);
+        const Eigen::Vector3d k4 = rate_derivative(G_, A, u1, at(u1, w + h * k3), pitch_);
         w = at(u1, w + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
         out[k + 1] = w;
       }
@@ -281,6 +286,7 @@ class RateModel {
   Eigen::Vector3d integrated_;
   std::size_t residual_rows_ = 0;
   bool hold_commands_ = false;
+  bool pitch_ = false;  ///< the pitch rate integrated (else roll and yaw)
 };
 
 /// The residuals v (rows x ny, sample-major) as a matrix.

@@ -216,9 +216,12 @@ void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, cons
 
 std::string format_sysid_table(const SysidResult& r) {
   std::string out = fmt::format("{:<14} {:>10} {:>10} {:>9}  {}\n", "coefficient", "prior", "estimate", "std err", "");
-  for (const auto& c : r.coefficients)
+  for (const auto& c : r.coefficients) {
+    const bool moved = !c.identified && c.estimate != c.prior;  // a held term moved with its surface (prior_update.hpp)
     out += fmt::format("{:<14} {:>10.4g} {:>10.4g} {:>9}  {}\n", c.name, c.prior, c.estimate,
-                       c.identified ? fmt::format("{:.2g}", c.std_error) : "-", c.identified ? c.method : "prior kept: " + c.note);
+                       c.identified ? fmt::format("{:.2g}", c.std_error) : "-",
+                       c.identified ? c.method : (moved ? "prior scaled: " : "prior kept: ") + c.note);
+  }
   out += fmt::format("drag at trim: prior {:.4f}, identified {}; 1 deg of alpha or pitch bias moves it by {:.0f} %\n", r.C_D_trim_prior,
                      drag_at_trim_text(r), 100.0 * r.C_D_per_deg);
   const auto line = [](const NuisanceEstimate& e, const char* fmt_identified) {
