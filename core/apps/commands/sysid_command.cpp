@@ -19,10 +19,10 @@
 #include "sysid/command_delay.hpp"
 #include "sysid/excitation_recovery.hpp"
 #include "sysid/identify.hpp"
-#include "sysid/prior_update.hpp"
 #include "sysid/identify_drag.hpp"
 #include "sysid/instrumentation.hpp"
 #include "sysid/motor_lag.hpp"
+#include "sysid/prior_update.hpp"
 #include "sysid/sysid_output.hpp"
 #include "sysid/verdicts.hpp"
 
