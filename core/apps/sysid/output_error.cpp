@@ -361,15 +361,26 @@ void bounds(const Eigen::MatrixXd& J, const Eigen::VectorXd& e, Eigen::Index ny,
   const Eigen::MatrixXd E = as_rows(e, ny);
   const Eigen::MatrixXd Minv = (J.transpose() * J).inverse();
   fit.std_error_white = Minv.diagonal().cwiseMax(0.0).cwiseSqrt();
-  Eigen::MatrixXd mk = Eigen::MatrixXd::Zero(np, np);
-  for (Eigen::Index lag = 0; lag <= std::min(max_lag, n - 1); ++lag) {
-    const Eigen::MatrixXd Ree = E.topRows(n - lag).transpose() * E.bottomRows(n - lag) / static_cast<double>(n);
-    Eigen::MatrixXd C = Eigen::MatrixXd::Zero(np, np);
-    for (Eigen::Index a = 0; a < ny; ++a)
-      for (Eigen::Index b = 0; b < ny; ++b)
-        C += Ree(a, b) * G[static_cast<std::size_t>(a)].topRows(n - lag).transpose() * G[static_cast<std::size_t>(b)].bottomRows(n - lag);
-    mk += lag == 0 ? C : Eigen::MatrixXd(C + C.transpose());
-  }
+  // mk = C_0 + sum over lags >= 1 of (C_lag + C_lag^T), C_lag = sum_ab Ree_lag(a, b) G_a[0, n - lag)^T
+  // G_b[lag, n): with S = sum over lags >= 0 of C_lag = sum_ab G_a^T H_ab, H_ab[k] = sum_lag
+  // Ree_lag(a, b) G_b[k + lag] (each G_b filtered once by the lags' weights, not multiplied out per
+  // lag), mk = S + S^T - C_0 (C_0 symmetric)
+  const Eigen::Index lags = std::min(max_lag, n - 1);
+  std::vector<Eigen::MatrixXd> Ree(static_cast<std::size_t>(lags + 1));
+  for (Eigen::Index lag = 0; lag <= lags; ++lag)
+    Ree[static_cast<std::size_t>(lag)] = E.topRows(n - lag).transpose() * E.bottomRows(n - lag) / static_cast<double>(n);
+  Eigen::MatrixXd S = Eigen::MatrixXd::Zero(np, np), C0 = Eigen::MatrixXd::Zero(np, np), H(n, np);
+  for (Eigen::Index a = 0; a < ny; ++a)
+    for (Eigen::Index b = 0; b < ny; ++b) {
+      const Eigen::MatrixXd& Ga = G[static_cast<std::size_t>(a)];
+      const Eigen::MatrixXd& Gb = G[static_cast<std::size_t>(b)];
+      H.setZero();
+      for (Eigen::Index lag = 0; lag <= lags; ++lag)
+        H.topRows(n - lag) += Ree[static_cast<std::size_t>(lag)](a, b) * Gb.bottomRows(n - lag);
+      S += Ga.transpose() * H;
+      C0 += Ree[0](a, b) * Ga.transpose() * Gb;
+    }
+  const Eigen::MatrixXd mk = S + S.transpose() - C0;
   Eigen::MatrixXd batches = Eigen::MatrixXd::Zero(np, np);
   Eigen::Index at = 0;
   for (const auto& [b, end] : d.windows) {
