@@ -160,9 +160,9 @@ class RateModel {
       u.w = {d.p[k], d.q[k], d.r[k]};
       in_.push_back(u);
     }
+    midpoints(in_, mid_);
     pitch_ = axes == RateAxes::pitch;
     outputs_ = pitch_ ? std::vector<int>{1} : std::vector<int>{0, 2};
-    integrated_ = axes == RateAxes::pitch ? Eigen::Vector3d(0, 1, 0) : Eigen::Vector3d(1, 0, 1);
     for (const auto& [b, e] : d.windows) residual_rows_ += e - b - 1;
     for (const auto& w : d.windows)  // runs of consecutive windows: a shifted command reaches back across their joins
       if (!runs_.empty() && runs_.back().second == w.first)
@@ -196,27 +196,31 @@ class RateModel {
     const bool shifted = tau != std::array<double, 3>{0.0, 0.0, 0.0};
     if (shifted) delay_into(tau, scratch_);
     const std::vector<Input>& in = shifted ? scratch_ : in_;
+    const std::vector<Input>& mid = shifted ? scratch_mid_ : mid_;
     std::vector<Eigen::Vector3d> out(in.size());
     for (std::size_t k = 0; k < in.size(); ++k) out[k] = in[k].w;
+    // the integrated rates from x, the others measured at the stage's time
+    const auto at = [this](const Input& u, const Eigen::Vector3d& x) -> Eigen::Vector3d {
+      return pitch_ ? Eigen::Vector3d(u.w.x(), x.y(), u.w.z()) : Eigen::Vector3d(x.x(), u.w.y(), x.z());
+    };
     for (const auto& [b, e] : d_.windows) {
       Eigen::Vector3d w = in[b].w;
       for (std::size_t k = b; k + 1 < e; ++k) {
         const double h = d_.t[k + 1] - d_.t[k];
         const Input& u0 = in[k];
-        Input u1 = in[k + 1];
-        Input um = lerp(u0, u1, 0.5);
-        if (hold_commands_) {
-          um.da = u1.da = u0.da, um.de = u1.de = u0.de, um.dr = u1.dr = u0.dr;
+        const Input* u1 = &in[k + 1];
+        const Input* um = &mid[k];
+        Input held1, heldm;
+        if (hold_commands_) {  // the commands of sample k over the whole interval
+          held1 = *u1, heldm = *um;
+          heldm.da = held1.da = u0.da, heldm.de = held1.de = u0.de, heldm.dr = held1.dr = u0.dr;
+          u1 = &held1, um = &heldm;
         }
-        // the integrated rates from w, the others measured at each stage's time
-        auto at = [&](const Input& u, const Eigen::Vector3d& x) {
-          return integrated_.cwiseProduct(x) + (Eigen::Vector3d::Ones() - integrated_).cwiseProduct(u.w);
-        };
         const Eigen::Vector3d k1 = rate_derivative(G_, A, u0, at(u0, w), pitch_);
-        const Eigen::Vector3d k2 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k1), pitch_);
-        const Eigen::Vector3d k3 = rate_derivative(G_, A, um, at(um, w + 0.5 * h * k2), pitch_);
-        const Eigen::Vector3d k4 = rate_derivative(G_, A, u1, at(u1, w + h * k3), pitch_);
-        w = at(u1, w + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
+        const Eigen::Vector3d k2 = rate_derivative(G_, A, *um, at(*um, w + 0.5 * h * k1), pitch_);
+        const Eigen::Vector3d k3 = rate_derivative(G_, A, *um, at(*um, w + 0.5 * h * k2), pitch_);
+        const Eigen::Vector3d k4 = rate_derivative(G_, A, *u1, at(*u1, w + h * k3), pitch_);
+        w = at(*u1, w + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4));
         out[k + 1] = w;
       }
     }
@@ -249,7 +253,8 @@ class RateModel {
   /// `in`: a copy of in_ taken once, whose command fields are rewritten for the surfaces shifted
   /// now and restored for those shifted last time only.
   void delay_into(const std::array<double, 3>& tau, std::vector<Input>& in) const {
-    if (in.size() != in_.size()) in = in_, scratch_tau_ = {0.0, 0.0, 0.0};
+    bool changed = in.size() != in_.size();
+    if (changed) in = in_, scratch_tau_ = {0.0, 0.0, 0.0};
     const std::array<const std::vector<double>*, 3> commands = {&d_.delta_a, &d_.delta_e, &d_.delta_r};
     const std::array<double Input::*, 3> fields = {&Input::da, &Input::de, &Input::dr};
     shifted_.resize(in_.size());
@@ -262,14 +267,23 @@ class RateModel {
         for (const auto& [b, e] : runs_)
           for (std::size_t k = b; k < e; ++k) in[k].*fields[s] = shifted_[k];
       }
-      scratch_tau_[s] = tau[s];
+      scratch_tau_[s] = tau[s], changed = true;
     }
+    if (!changed) return;  // scratch_ and scratch_mid_ hold these delays' inputs
     // the flow angles' parts of the commands move with them (RateData)
-    if (d_.beta_per_delta_a == 0.0 && d_.beta_per_delta_r == 0.0 && d_.alpha_per_delta_e == 0.0) return;
-    for (std::size_t k = 0; k < in.size(); ++k) {
-      in[k].beta = in_[k].beta + d_.beta_per_delta_a * (in[k].da - in_[k].da) + d_.beta_per_delta_r * (in[k].dr - in_[k].dr);
-      in[k].alpha = in_[k].alpha + d_.alpha_per_delta_e * (in[k].de - in_[k].de);
-    }
+    if (d_.beta_per_delta_a != 0.0 || d_.beta_per_delta_r != 0.0 || d_.alpha_per_delta_e != 0.0)
+      for (std::size_t k = 0; k < in.size(); ++k) {
+        in[k].beta = in_[k].beta + d_.beta_per_delta_a * (in[k].da - in_[k].da) + d_.beta_per_delta_r * (in[k].dr - in_[k].dr);
+        in[k].alpha = in_[k].alpha + d_.alpha_per_delta_e * (in[k].de - in_[k].de);
+      }
+    midpoints(in, scratch_mid_);
+  }
+
+  /// mid[k]: the inputs halfway between samples k and k + 1 (RK4's middle stages), taken once per
+  /// set of inputs rather than at every step of every simulation.
+  static void midpoints(const std::vector<Input>& in, std::vector<Input>& mid) {
+    mid.resize(in.empty() ? 0 : in.size() - 1);
+    for (std::size_t k = 0; k + 1 < in.size(); ++k) mid[k] = lerp(in[k], in[k + 1], 0.5);
   }
 
   const RateData& d_;
@@ -278,12 +292,13 @@ class RateModel {
   std::vector<Param> free_;
   std::array<double, 3> shift_;
   std::vector<Input> in_;
+  std::vector<Input> mid_;                       ///< in_'s midpoints (midpoints)
   mutable std::vector<Input> scratch_;           ///< the shifted inputs of the last simulation (no allocation per simulation)
+  mutable std::vector<Input> scratch_mid_;       ///< scratch_'s midpoints
   mutable std::array<double, 3> scratch_tau_{};  ///< s, the shifts scratch_ holds
   mutable std::vector<double> shifted_;          ///< one surface's shifted commands
   std::vector<std::pair<std::size_t, std::size_t>> runs_;
   std::vector<int> outputs_;
-  Eigen::Vector3d integrated_;
   std::size_t residual_rows_ = 0;
   bool hold_commands_ = false;
   bool pitch_ = false;  ///< the pitch rate integrated (else roll and yaw)
