@@ -13,18 +13,19 @@
 //   C_Y_delta_a <- C_ell_delta_a the aileron's lift: its side force and its rolling moment
 //   C_n_delta_a <- C_ell_delta_a the aileron's lift: its adverse yaw and its rolling moment
 //   C_ell_delta_r <- C_n_delta_r the fin's lift from the rudder: its rolling and yawing arms
-// A prior right in its ratios and wrong in its scale is then right; one right in scale keeps it
-// (the ratio is 1 within the reference's bound); one wrong in a ratio stays as wrong as it was.
+// A prior right in its ratios and wrong in its scale is then right within the reference's bound;
+// one right in scale keeps it (the ratio is 1 within the reference's bound); one wrong in a ratio
+// stays as wrong as it was.
 // The ratio is taken only where the reference was identified, its prior is not 0 and the ratio lies
 // within kMinRatio .. kMaxRatio (outside, the prior is not off in scale but in sign or unit).
 // The consider terms (kPriorUncertainty of the held value) still widen the bounds beside it.
 //
-// Measured (bench_sysid.py's logs, five seeds each, priors x0.6 / x1.5: tern's sysid flight flown by
-// the Aerosonde and by the Anaconda, the Aerosonde's rewritten as two other autopilots' logs, the
-// book simulator's Aerosonde and Anaconda): the twelve targets met on the worst seed 8 / 6 / 6 / 7 /
-// 11 / 7 of 12 with the held terms at the prior, 10 / 7 / 9 / 6 / 12 / 8 moved; the moved terms
-// within 1-17 % of the truth where the prior had them 40-50 % off. Errors: none (a term or
-// reference missing from the result is left as it is).
+// Measured on the eight benches of bench_sysid.py (tern's sysid flight flown by the Aerosonde and
+// by the Anaconda, rewritten as other autopilots' logs and through a DataFlash file, the book
+// simulator's Aerosonde and Anaconda; five seeds each, priors x0.6 / x1.5): the twelve targets met
+// on the worst seed 58 -> 73 of 96 (docs/system-identification.md, section 6, the table); the
+// moved terms within 1-17 % of the truth where the prior had them 40-50 % off. Errors: none (a term
+// or reference missing from the result is left as it is).
 #pragma once
 
 #include <array>
