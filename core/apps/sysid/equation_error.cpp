@@ -187,9 +187,13 @@ Signals signals(const AeroSamples& a, const Col& alpha, const Col& beta) {
           {&a.delta_r, false, angle, "rudder never moved more than 0.3 deg about its trim"}};
 }
 
-CoefficientEstimate* find_estimate(SysidResult& r, const std::string& name) {
+const CoefficientEstimate* find_estimate(const SysidResult& r, const std::string& name) {
   const auto it = std::find_if(r.coefficients.begin(), r.coefficients.end(), [&](const CoefficientEstimate& e) { return e.name == name; });
   return it == r.coefficients.end() ? nullptr : &*it;
+}
+
+CoefficientEstimate* find_estimate(SysidResult& r, const std::string& name) {
+  return const_cast<CoefficientEstimate*>(find_estimate(static_cast<const SysidResult&>(r), name));
 }
 
 std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name) {

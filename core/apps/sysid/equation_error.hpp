@@ -102,5 +102,6 @@ LsEstimate trim_fit(Context& c, const Col& z, const std::vector<const Col*>& col
 std::optional<CoefficientEstimate> take_out(Context& c, const std::string& name);
 /// The estimate of the coefficient `name` in r.coefficients; null when it has none.
 CoefficientEstimate* find_estimate(SysidResult& r, const std::string& name);
+const CoefficientEstimate* find_estimate(const SysidResult& r, const std::string& name);
 
 }  // namespace tern::core::sysid

@@ -203,6 +203,7 @@ class RateModel {
     const auto at = [this](const Input& u, const Eigen::Vector3d& x) -> Eigen::Vector3d {
       return pitch_ ? Eigen::Vector3d(u.w.x(), x.y(), u.w.z()) : Eigen::Vector3d(x.x(), u.w.y(), x.z());
     };
+    Input held1, heldm;  // hold_commands_: the next sample's and the midpoint's inputs with sample k's commands
     for (const auto& [b, e] : d_.windows) {
       Eigen::Vector3d w = in[b].w;
       for (std::size_t k = b; k + 1 < e; ++k) {
@@ -210,7 +211,6 @@ class RateModel {
         const Input& u0 = in[k];
         const Input* u1 = &in[k + 1];
         const Input* um = &mid[k];
-        Input held1, heldm;
         if (hold_commands_) {  // the commands of sample k over the whole interval
           held1 = *u1, heldm = *um;
           heldm.da = held1.da = u0.da, heldm.de = held1.de = u0.de, heldm.dr = held1.dr = u0.dr;

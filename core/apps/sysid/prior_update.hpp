@@ -37,17 +37,18 @@
 namespace tern::core::sysid {
 
 struct HeldPair {
-  const char* held;       ///< the aircraft file's key of the term moved
-  const char* reference;  ///< the identified derivative whose ratio it takes
-  const char* shared;     ///< what they share, as the note says it
+  const char* held;                  ///< the aircraft file's key of the term moved
+  double AeroCoefficients::*member;  ///< that term in the aircraft
+  const char* reference;             ///< the identified derivative whose ratio it takes
+  const char* shared;                ///< what they share, as the note says it
 };
 
 inline constexpr std::array<HeldPair, 5> kHeldPairs = {{
-    {"C_L_delta_e", "C_m_delta_e", "the elevator's lift"},
-    {"C_L_q", "C_m_q", "the tail's lift from the pitch rate"},
-    {"C_Y_delta_a", "C_ell_delta_a", "the aileron's lift"},
-    {"C_n_delta_a", "C_ell_delta_a", "the aileron's lift"},
-    {"C_ell_delta_r", "C_n_delta_r", "the fin's lift from the rudder"},
+    {"C_L_delta_e", &AeroCoefficients::C_L_delta_e, "C_m_delta_e", "the elevator's lift"},
+    {"C_L_q", &AeroCoefficients::C_L_q, "C_m_q", "the tail's lift from the pitch rate"},
+    {"C_Y_delta_a", &AeroCoefficients::C_Y_delta_a, "C_ell_delta_a", "the aileron's lift"},
+    {"C_n_delta_a", &AeroCoefficients::C_n_delta_a, "C_ell_delta_a", "the aileron's lift"},
+    {"C_ell_delta_r", &AeroCoefficients::C_ell_delta_r, "C_n_delta_r", "the fin's lift from the rudder"},
 }};
 
 /// The identified-over-prior ratios a reference may carry to its held terms.
