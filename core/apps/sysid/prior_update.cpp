@@ -12,7 +12,7 @@ ScaledPrior scaled_prior(const SysidResult& judged, const Aircraft& prior) {
   for (const HeldPair& p : kHeldPairs) {
     const CoefficientEstimate* held = find_estimate(judged, p.held);
     const CoefficientEstimate* ref = find_estimate(judged, p.reference);
-    if (held == nullptr || held->identified || ref == nullptr || !ref->identified || ref->prior == 0.0) continue;
+    if (held == nullptr || ref == nullptr || !ref->identified || ref->prior == 0.0) continue;
     const double ratio = ref->estimate / ref->prior;
     if (!(ratio >= kMinRatio && ratio <= kMaxRatio)) continue;
     s.prior.aero.*p.member = prior.aero.*p.member * ratio;

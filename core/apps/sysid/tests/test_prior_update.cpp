@@ -23,33 +23,35 @@ CoefficientEstimate estimate(const std::string& name, double prior, double value
 
 }  // namespace
 
-TEST_CASE("scaled_prior: a held term takes its surface's identified-over-prior ratio; nothing else moves") {
+TEST_CASE("scaled_prior: a paired term takes its surface's identified-over-prior ratio, held or identified; nothing else moves") {
   const Aircraft prior = load_aircraft(kAerosonde);
   const AeroCoefficients& p = prior.aero;
   SysidResult pass;
   pass.coefficients = {estimate("C_m_delta_e", p.C_m_delta_e, 1.5 * p.C_m_delta_e, true),  // the elevator 1.5x the prior
                        estimate("C_L_delta_e", p.C_L_delta_e, p.C_L_delta_e, false),
                        estimate("C_m_q", p.C_m_q, 0.7 * p.C_m_q, true),
-                       estimate("C_L_q", p.C_L_q, 3.0, true),  // identified: stays where the flight put it
+                       estimate("C_L_q", p.C_L_q, 3.0, true),  // identified: its prior moves all the same (the next pass may hold it)
                        estimate("C_ell_delta_a", p.C_ell_delta_a, 5.0 * p.C_ell_delta_a, true),  // 5x: not a scale error
                        estimate("C_Y_delta_a", p.C_Y_delta_a, p.C_Y_delta_a, false),
                        estimate("C_n_delta_a", p.C_n_delta_a, p.C_n_delta_a, false),
                        estimate("C_n_delta_r", p.C_n_delta_r, p.C_n_delta_r, false),  // the reference not identified
                        estimate("C_ell_delta_r", p.C_ell_delta_r, p.C_ell_delta_r, false)};
   const ScaledPrior s = scaled_prior(pass, prior);
-  REQUIRE(s.scaled.size() == 1);
+  REQUIRE(s.scaled.size() == 2);
   CHECK(s.scaled[0].held == "C_L_delta_e");
   CHECK(s.scaled[0].reference == "C_m_delta_e");
   CHECK(s.scaled[0].ratio == doctest::Approx(1.5));
   CHECK(s.scaled[0].given == p.C_L_delta_e);
   CHECK(s.prior.aero.C_L_delta_e == doctest::Approx(1.5 * p.C_L_delta_e));
-  CHECK(s.prior.aero.C_L_q == p.C_L_q);
+  CHECK(s.scaled[1].held == "C_L_q");
+  CHECK(s.prior.aero.C_L_q == doctest::Approx(0.7 * p.C_L_q));
   CHECK(s.prior.aero.C_Y_delta_a == p.C_Y_delta_a);
   CHECK(s.prior.aero.C_n_delta_a == p.C_n_delta_a);
   CHECK(s.prior.aero.C_ell_delta_r == p.C_ell_delta_r);
   CHECK(s.prior.aero.C_m_delta_e == p.C_m_delta_e);  // the reference itself is the flight's to identify
   // a reference whose sign flipped (ratio < 0), or whose prior is 0, moves nothing
   pass.coefficients[0].estimate = -p.C_m_delta_e;
+  pass.coefficients[2].identified = false;
   CHECK(scaled_prior(pass, prior).scaled.empty());
   pass.coefficients[0].prior = 0.0;
   CHECK(scaled_prior(pass, prior).scaled.empty());
@@ -69,4 +71,12 @@ TEST_CASE("restore_prior: the prior the user gave, and a note and a notes line s
   CHECK(r.notes[0] == "C_Y_delta_a: not identifiable: poorly determined: 1 +- 9; scaled with C_ell_delta_a (x1.600) to 0.072");
   CHECK(r.notes[1] == "C_ell_delta_a: something else");
   CHECK(r.coefficients[1].prior == 0.2);
+  // a moved term the pass on the moved prior identified: the given prior back, the flight's estimate and an empty note kept
+  r.coefficients.push_back(estimate("C_n_delta_a", 1.6 * -0.01, -0.012, true));
+  r.held_scaled.push_back({"C_n_delta_a", "C_ell_delta_a", 1.6, -0.01, "scaled with C_ell_delta_a (x1.600) to -0.016"});
+  restore_prior(r);
+  CHECK(r.coefficients[2].prior == -0.01);
+  CHECK(r.coefficients[2].estimate == -0.012);
+  CHECK(r.coefficients[2].note.empty());
+  CHECK(r.notes.size() == 2);
 }
