@@ -68,8 +68,8 @@ struct ScaledPrior {
 };
 
 /// The given prior with each kHeldPairs term scaled by its reference's ratio (header), where
-/// `judged` identified the reference. `judged`: an identification
-/// on `prior`, its verdicts applied (verdicts.hpp: a term they reject is held too).
+/// `judged` identified the reference. `judged`: an identification on `prior`, its verdicts applied
+/// (verdicts.hpp: a reference they reject moves nothing).
 ScaledPrior scaled_prior(const SysidResult& judged, const Aircraft& prior);
 
 /// After the verdicts of an identification on a scaled prior (r.held_scaled): each moved term's
