@@ -217,7 +217,9 @@ void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, cons
 std::string format_sysid_table(const SysidResult& r) {
   std::string out = fmt::format("{:<14} {:>10} {:>10} {:>9}  {}\n", "coefficient", "prior", "estimate", "std err", "");
   for (const auto& c : r.coefficients) {
-    const bool moved = !c.identified && c.estimate != c.prior;  // a held term moved with its surface (prior_update.hpp)
+    // a held term whose prior moved with its surface (prior_update.hpp, r.held_scaled)
+    const bool moved =
+        !c.identified && std::any_of(r.held_scaled.begin(), r.held_scaled.end(), [&](const HeldScaling& h) { return h.held == c.name; });
     out += fmt::format("{:<14} {:>10.4g} {:>10.4g} {:>9}  {}\n", c.name, c.prior, c.estimate,
                        c.identified ? fmt::format("{:.2g}", c.std_error) : "-",
                        c.identified ? c.method : (moved ? "prior scaled: " : "prior kept: ") + c.note);

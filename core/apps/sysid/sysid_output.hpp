@@ -36,7 +36,8 @@ void write_sysid_outputs(const SysidResult& r, const SysidProvenance& from, cons
 /// `text` written to `file` (a command's output file); throws ConfigError "FILE: cannot write".
 void write_text_file(const std::filesystem::path& file, const std::string& text);
 
-/// The coefficient table as printed: name, prior, estimate, standard error, identified or why not.
+/// The coefficient table as printed: name, prior, estimate, standard error, identified or why not
+/// ("prior scaled: " for a held term r.held_scaled moved with its surface, else "prior kept: ").
 std::string format_sysid_table(const SysidResult& r);
 
 }  // namespace tern::core::sysid

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "sysid/prior_update.hpp"
+#include "sysid/sysid_output.hpp"
 #include "tern/aircraft.hpp"
 
 using namespace tern;
@@ -79,4 +80,21 @@ TEST_CASE("restore_prior: the prior the user gave, and a note and a notes line s
   CHECK(r.coefficients[2].estimate == -0.012);
   CHECK(r.coefficients[2].note.empty());
   CHECK(r.notes.size() == 2);
+}
+
+TEST_CASE("format_sysid_table: a held term moved with its surface says \"prior scaled\", one left at the prior \"prior kept\"") {
+  SysidResult r;
+  r.coefficients = {estimate("C_Y_delta_a", 0.045, 0.072, false), estimate("C_L_q", 4.77, 4.77, false),
+                    estimate("C_n_delta_a", -0.01, -0.012, true)};
+  r.held_scaled = {{"C_Y_delta_a", "C_ell_delta_a", 1.6, 0.045, "scaled with C_ell_delta_a (x1.600) to 0.072"},
+                   {"C_n_delta_a", "C_ell_delta_a", 1.6, -0.01, "scaled with C_ell_delta_a (x1.600) to -0.016"}};
+  const std::string table = format_sysid_table(r);
+  auto line = [&](const std::string& name) {
+    const std::size_t at = table.find(name + " ");
+    REQUIRE(at != std::string::npos);
+    return table.substr(at, table.find('\n', at) - at);
+  };
+  CHECK(line("C_Y_delta_a").find("prior scaled: poorly determined") != std::string::npos);
+  CHECK(line("C_L_q").find("prior kept: poorly determined") != std::string::npos);
+  CHECK(line("C_n_delta_a").find("prior") == std::string::npos);  // identified: its method, not a prior's
 }
